@@ -1,0 +1,74 @@
+/* ini.h: strict INI scene files.
+ *
+ * Syntax: `[section]` headers, `key = value` lines, `#` starts a comment
+ * (anywhere outside double quotes), blank lines ignored. A section may
+ * repeat (the FEM scene's [support] and [load]); each occurrence is an
+ * instance, numbered from 0 in file order. A key may appear once per
+ * instance.
+ *
+ * Strictness is by use: every ini_get_* call records the section and key as
+ * known, whether or not the file has them. After the consumer has read all
+ * it understands, ini_check_unused() reports the first key or section the
+ * file has that nobody asked for, naming file:line and the keys that are
+ * accepted in that section.
+ *
+ * Every error message starts with "file:line: " when a line is known.
+ */
+#ifndef RODSIM_INI_H
+#define RODSIM_INI_H
+
+#include <stddef.h>
+
+typedef struct ini_doc ini_doc;
+
+/* Parses the file at path. Returns NULL and writes a message into err on a
+ * missing file or a syntax error. */
+ini_doc *ini_load(const char *path, char *err, size_t errlen);
+/* Parses text held in memory; `name` stands for the file name in messages. */
+ini_doc *ini_parse(const char *name, const char *text, char *err, size_t errlen);
+void ini_destroy(ini_doc *doc);
+
+/* Applies "section.key=value" (command-line --set), replacing the value in
+ * the first instance of the section, or adding the key (and the section)
+ * when absent. Messages about it name "--set section.key" instead of a line. */
+int ini_set(ini_doc *doc, const char *assignment, char *err, size_t errlen);
+
+const char *ini_filename(const ini_doc *doc);
+/* Scene name: the file's base name without directory and extension. */
+void ini_scene_name(const ini_doc *doc, char *out, size_t outlen);
+/* Directory of the file ("." when none), for paths relative to the scene. */
+void ini_directory(const ini_doc *doc, char *out, size_t outlen);
+
+/* Number of instances of a section in the file (marks it known). */
+int ini_section_count(ini_doc *doc, const char *section);
+
+/* Lookups in instance `index` of `section`. Each returns 1 when the key is
+ * present and parsed, 0 when absent (out untouched), -1 on a bad value
+ * (message in err, naming file:line, section, key, and what is accepted). */
+int ini_get_string(ini_doc *doc, const char *section, int index, const char *key,
+                   const char **out, char *err, size_t errlen);
+int ini_get_double(ini_doc *doc, const char *section, int index, const char *key,
+                   double *out, char *err, size_t errlen);
+int ini_get_int(ini_doc *doc, const char *section, int index, const char *key,
+                int *out, char *err, size_t errlen);
+/* Exactly n numbers separated by blanks or commas. */
+int ini_get_vector(ini_doc *doc, const char *section, int index, const char *key,
+                   double *out, int n, char *err, size_t errlen);
+/* One of the words in `choices` (NULL-terminated); *out is its position. */
+int ini_get_choice(ini_doc *doc, const char *section, int index, const char *key,
+                   const char *const *choices, int *out, char *err, size_t errlen);
+/* "true|false|yes|no|on|off|1|0" */
+int ini_get_bool(ini_doc *doc, const char *section, int index, const char *key,
+                 int *out, char *err, size_t errlen);
+
+/* Writes "file:line: [section] key = value: " followed by the formatted
+ * text into err, for range checks done by the consumer. Returns -1. */
+int ini_error(const ini_doc *doc, const char *section, int index, const char *key,
+              char *err, size_t errlen, const char *fmt, ...)
+    __attribute__((format(printf, 7, 8)));
+
+/* Reports the first section or key present in the file that no ini_get_*
+ * or ini_section_count call asked for. Returns 0 when all were used. */
+int ini_check_unused(const ini_doc *doc, char *err, size_t errlen);
+
+#endif

@@ -1,0 +1,209 @@
+/* rod.h: the Cosserat rod model (fixed for a run), its state (changes every
+ * step), tip loads and the time-stepping schemes behind one interface.
+ *
+ * Units are SI throughout. Equations are cited from
+ * shared/reference/cosserat-rod-thesis.txt (the "thesis").
+ *
+ * Conventions (thesis section 4.2):
+ *   - node i = 0 is the clamped end (s = 0), node NS-1 the free end (s = L);
+ *   - the rod starts straight along +x with d3 = +x, d1 = +y, d2 = +z;
+ *   - every vector in the state except position and frame is stored in
+ *     director components (on d1, d2, d3), as the thesis writes them.
+ *
+ * The simulation layer knows nothing of OpenGL, PNG or video.
+ */
+#ifndef RODSIM_ROD_H
+#define RODSIM_ROD_H
+
+#include <stddef.h>
+
+typedef enum {
+    ROD_SCHEME_THESIS = 0, /* chapter 4 as written: forward Euler, central differences */
+    ROD_SCHEME_IMPLICIT,   /* theta-method (backward Euler / Crank-Nicolson), Newton */
+    ROD_SCHEME_STATIC,     /* equilibrium under the load at each output time */
+    ROD_SCHEME_COUNT
+} rod_scheme_kind;
+
+typedef enum {
+    ROD_FRAME_DIRECTOR = 0, /* components on d1 d2 d3 of the tip: a follower load (thesis 4.2) */
+    ROD_FRAME_GLOBAL        /* components on x y z: a dead load */
+} rod_load_frame;
+
+typedef enum {
+    ROD_PROFILE_STEP = 0, /* full load from t = 0 */
+    ROD_PROFILE_RAMP,     /* linear from 0 at t = 0 to full at t = t1, then held */
+    ROD_PROFILE_PULSE,    /* full load for t1 <= t < t2, zero otherwise */
+    ROD_PROFILE_IMPULSE,  /* thesis fig. 10: +load for 0 <= t < t1, -load for t1 <= t < 2 t1 */
+    ROD_PROFILE_TABLE     /* piecewise linear from a CSV table, held after its last row */
+} rod_profile_kind;
+
+/* A time table: rows of (t, factor) when columns == 2, scaling the scene's
+ * force and moment, or (t, fx, fy, fz, mx, my, mz) when columns == 7,
+ * replacing them. Times strictly increase. Owned by the model's creator. */
+typedef struct rod_table {
+    int rows;
+    int columns;   /* 2 or 7 */
+    double *data;  /* (rows x columns), s then N / N m */
+} rod_table;
+
+typedef struct rod_profile {
+    rod_profile_kind kind;
+    double t1, t2; /* s; meaning per kind above */
+    rod_table table;
+} rod_profile;
+
+/* Options of the run: which scheme, its step, how long. */
+typedef struct rod_options {
+    rod_scheme_kind scheme;
+    double dt;                   /* s; <= 0 means auto */
+    double duration;             /* s of simulated time */
+    double theta;                /* implicit scheme: 1 = backward Euler, 0.5 = Crank-Nicolson */
+    double newton_tolerance;     /* implicit/static: relative residual to stop Newton */
+    int newton_max_iterations;   /* implicit/static */
+    int exact_rotation;          /* thesis scheme: 1 = exact exponential map with angle |u| ds;
+                                    0 = (4.6) literally, with sin(ds) and 1 - cos(ds) */
+} rod_options;
+
+/* The model: fixed for a run. Fill the inputs (rod_model_default() gives
+ * table 1 of the thesis), then call rod_model_derive(). */
+typedef struct rod_model {
+    /* inputs: geometry and material (scene [rod]) */
+    double length;               /* L, m */
+    double diameter;             /* d, m */
+    double density;              /* rho, kg/m^3 */
+    double youngs_modulus;       /* E, Pa */
+    double shear_modulus;        /* G, Pa */
+    int nodes;                   /* NS >= 3 */
+    double rotary_inertia_scale; /* multiplies the physical rotary inertia; 1 = physical */
+
+    /* inputs: loads (scene [tip] and [loads]) */
+    rod_load_frame tip_frame;
+    double tip_force[3];          /* N, on tip_frame */
+    double tip_moment[3];         /* N m, on tip_frame */
+    rod_profile profile;          /* time profile of the tip force and moment */
+    double distributed_force[3];  /* N/m along the rod, global x y z (gravity = m g) */
+    double linear_damping;        /* N s/m^2: force per length = -c v */
+    double angular_damping;       /* N m s/m: moment per length = -c_w omega */
+
+    rod_options options;
+
+    /* derived by rod_model_derive() */
+    double ds;                   /* m, L / (NS - 1)   (4.1) */
+    double area;                 /* m^2, pi d^2 / 4 */
+    double second_moment;        /* I1 = I2 = pi d^4 / 64, m^4 */
+    double polar_moment;         /* J = pi d^4 / 32, m^4 */
+    double stiffness[3];         /* B = diag(E I, E I, G J), N m^2   (3.5) */
+    double mass_per_length;      /* m = rho A, kg/m */
+    double rotary_inertia[3];    /* rho (I, I, J) * rotary_inertia_scale, kg m */
+} rod_model;
+
+/* The state: everything that changes during a run. Arrays are allocated by
+ * rod_state_create() for model->nodes nodes. */
+typedef struct rod_state {
+    int nodes;
+    double time;              /* s */
+    double *position;         /* (nodes x 3), m, global x y z */
+    double *frame;            /* (nodes x 9), row-major 3x3 rotation Q with columns d1 d2 d3
+                                 in global components: d_k = column k of Q */
+    double *velocity;         /* (nodes x 3), m/s, director components */
+    double *angular_velocity; /* (nodes x 3), rad/s, director components */
+    double *darboux;          /* (nodes x 3), 1/m, director components; see `staggered` */
+    double *contact_force;    /* (nodes x 3), N, director components; see `staggered` */
+    int staggered;            /* 0: darboux and contact_force live at the nodes;
+                                 1: entry i < nodes-1 lives at the segment midpoint i+1/2
+                                 (in the frame there) and entry nodes-1 is the tip value */
+} rod_state;
+
+/* Outcome of a step or a solve. */
+typedef enum {
+    ROD_OK = 0,
+    ROD_UNSTABLE,       /* the scheme diverged: message says what and what would work */
+    ROD_NO_CONVERGENCE, /* Newton did not converge */
+    ROD_FAILED          /* out of memory or another failure */
+} rod_status;
+
+typedef struct rod_report {
+    char message[768];      /* for people: what diverged, the limit broken, what would work */
+    double suggested_dt;    /* s, a step that would work, or 0 when none is known */
+    double suggested_scale; /* a rotary_inertia_scale that would work, or 0 */
+    int newton_iterations;  /* of the last step (implicit, static) */
+} rod_report;
+
+/* Model --------------------------------------------------------------- */
+
+/* Table 1 of the thesis: L = 1 m, d = 1 mm, rho = 850, E = 87.5 MPa,
+ * G = 31.25 MPa, NS = 51, T = 10 s; no load, implicit scheme, dt auto. */
+rod_model rod_model_default(void);
+
+/* Fills the derived fields. Returns 0, or -1 with a message naming the
+ * offending quantity and what is accepted when an input is not physical. */
+int rod_model_derive(rod_model *m, char *err, size_t errlen);
+
+/* Releases what the model owns (the profile table). */
+void rod_model_release(rod_model *m);
+
+/* Profile factor in [-1, 1] at time t, s (1 for step). For a 7-column
+ * table use rod_tip_load() instead. */
+double rod_profile_factor(const rod_profile *p, double t);
+
+/* Tip force (N) and moment (N m) at time t, on the model's tip_frame. */
+void rod_tip_load(const rod_model *m, double t, double force[3], double moment[3]);
+
+/* First cantilever bending frequency 1.8751^2/(2 pi L^2) sqrt(EI/m), Hz. */
+double rod_first_bending_frequency(const rod_model *m);
+
+/* State --------------------------------------------------------------- */
+
+rod_state *rod_state_create(const rod_model *m);
+void rod_state_destroy(rod_state *s);
+/* Straight along +x, at rest, unloaded, t = 0 (thesis 4.2 initial condition). */
+void rod_state_reset(const rod_model *m, rod_state *s);
+/* Kinetic energy, J (translational + rotational, lumped at the nodes). */
+double rod_kinetic_energy(const rod_model *m, const rod_state *s);
+/* Largest |Q^T Q - I| entry over all frames. */
+double rod_frame_orthonormality_error(const rod_state *s);
+/* Largest relative deviation of |r_{i+1} - r_i| from ds. */
+double rod_segment_length_error(const rod_model *m, const rod_state *s);
+/* 1 when every number in the state is finite. */
+int rod_state_is_finite(const rod_state *s);
+
+/* Schemes ------------------------------------------------------------- */
+
+typedef struct rod_scheme_ops {
+    const char *name; /* as in scene files: "thesis", "implicit", "static" */
+    /* Sizes all scratch memory; returns NULL with a message on failure. */
+    void *(*create)(const rod_model *m, char *err, size_t errlen);
+    /* Advances s by dt (the static scheme: solves equilibrium at s->time + dt). */
+    rod_status (*step)(void *work, const rod_model *m, rod_state *s, double dt,
+                       rod_report *report);
+    void (*destroy)(void *work);
+    /* Largest dt believed stable for this model, s (INFINITY when unconditional),
+     * and which limit decides it (a static string). May be NULL. */
+    double (*stable_dt)(const rod_model *m, const char **limit);
+} rod_scheme_ops;
+
+extern const rod_scheme_ops rod_scheme_thesis;
+extern const rod_scheme_ops rod_scheme_implicit;
+extern const rod_scheme_ops rod_scheme_static;
+
+const rod_scheme_ops *rod_scheme_get(rod_scheme_kind kind);
+/* Scheme by scene name; NULL when unknown. */
+const rod_scheme_ops *rod_scheme_find(const char *name, rod_scheme_kind *kind);
+
+/* A solver: the chosen scheme and its scratch memory. */
+typedef struct rod_solver {
+    const rod_scheme_ops *ops;
+    void *work;
+} rod_solver;
+
+int rod_solver_init(rod_solver *solver, const rod_model *m, char *err, size_t errlen);
+rod_status rod_solver_step(rod_solver *solver, const rod_model *m, rod_state *s, double dt,
+                           rod_report *report);
+void rod_solver_release(rod_solver *solver);
+
+/* The time step the run will use: options.dt if > 0, else the scheme's
+ * stable limit times a safety factor (capped for accuracy); `why` says
+ * which limit decided it. */
+double rod_choose_dt(const rod_model *m, const char **why);
+
+#endif

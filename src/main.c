@@ -1,0 +1,13 @@
+/* main.c: the rodsim command line (frame placeholder). */
+#include <stdio.h>
+#include <string.h>
+
+int main(int argc, char **argv)
+{
+    if (argc > 1 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+        printf("usage: rodsim run SCENE | rodsim fem SCENE\n");
+        return 0;
+    }
+    fprintf(stderr, "rodsim: no command given; see rodsim --help\n");
+    return 2;
+}
