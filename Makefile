@@ -7,7 +7,7 @@ DEBS    := build-essential pkg-config libosmesa6-dev libpng-dev libfreetype-dev 
            libavcodec-dev libavformat-dev libswscale-dev libavutil-dev liblapacke-dev liblapack-dev \
            libblas-dev
 WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes
-CFLAGS  ?= -O2 -g
+CFLAGS  ?= -O3 -g
 ALL_CFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(EXTRA_CFLAGS) -Iinclude \
              $(shell pkg-config --cflags $(PKGS) 2>/dev/null) -DRODSIM_SOURCE_DIR='"$(CURDIR)"'
 LDLIBS  = $(shell pkg-config --libs $(PKGS) 2>/dev/null) -llapack -lblas -lpthread -lm

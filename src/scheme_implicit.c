@@ -49,7 +49,10 @@
 #include "vec3.h"
 
 #define BLOCK 9            /* unknowns per block: N(3), v(3), omega(3) */
-#define BAND (2 * BLOCK - 1) /* kl = ku: block tridiagonal, 9x9 blocks */
+/* Half bandwidth kl = ku of the Jacobian in the block order (N, v, omega):
+ * the angular momentum rows of node b reach omega of nodes b-1 and b+1, 11
+ * places away; every other coupling is nearer. */
+#define BAND 11
 #define MAX_SPLIT_DEPTH 12
 
 typedef struct implicit_work {
@@ -86,6 +89,8 @@ typedef struct implicit_work {
     double moment_scale; /* N m, residual scaling of moment balances */
     double var_scale[3]; /* typical N (N), v (m/s), omega (rad/s) for FD steps */
     double jacobian_dt;  /* dt the factorisation was made for */
+    int start_valid;     /* frame0, d3mid0, moment0 hold the state at start_time */
+    double start_time;
 } implicit_work;
 
 static void destroy(void *p)
@@ -110,7 +115,7 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->nodes = m->nodes;
     w->blocks = m->nodes - 1;
     w->unknowns = BLOCK * w->blocks;
-    w->ldab = 3 * BAND + 1; /* 2 kl + ku + 1 */
+    w->ldab = 3 * BAND + 1; /* 2 kl + ku + 1: U gains kl diagonals by pivoting */
     size_t u = (size_t)w->unknowns;
     w->x = calloc(u, sizeof(double));
     w->dx = calloc(u, sizeof(double));
@@ -307,8 +312,36 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
 static double max_abs(const double *a, int n)
 {
     double worst = 0.0;
-    for (int i = 0; i < n; i++) worst = fmax(worst, fabs(a[i]));
+    for (int i = 0; i < n; i++) {
+        double v = fabs(a[i]);
+        if (v > worst || v != v) worst = v; /* a NaN wins, so it is never "converged" */
+    }
     return worst;
+}
+
+/* Solves A x = b in place with the factors of LAPACKE_dgbtrf (band storage,
+ * kl = ku = BAND): the same arithmetic as dgbtrs, written out because the
+ * library call's per-column BLAS overhead dominated at this size. */
+static void band_solve(const implicit_work *w, double *b)
+{
+    const int n = w->unknowns, kl = BAND, kv = 2 * BAND, ld = w->ldab;
+    const double *ab = w->band;
+    for (int j = 0; j < n - 1; j++) { /* L: row interchanges and unit lower factor */
+        int p = w->pivot[j] - 1;
+        if (p != j) { double t = b[p]; b[p] = b[j]; b[j] = t; }
+        double bj = b[j];
+        if (bj == 0.0) continue;
+        int lm = n - 1 - j < kl ? n - 1 - j : kl;
+        const double *col = &ab[(size_t)j * ld + kv + 1];
+        for (int i = 0; i < lm; i++) b[j + 1 + i] -= col[i] * bj;
+    }
+    for (int j = n - 1; j >= 0; j--) { /* U: upper band of width kl + ku */
+        const double *col = &ab[(size_t)j * ld];
+        double bj = b[j] / col[kv];
+        b[j] = bj;
+        int top = j - kv < 0 ? 0 : j - kv;
+        for (int i = top; i < j; i++) b[i] -= col[kv + i - j] * bj;
+    }
 }
 
 /* Finite-difference Jacobian by 3-colouring of the blocks, factored in place.
@@ -334,6 +367,8 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
                 int row_lo = BLOCK * (b - 2), row_hi = BLOCK * (b + 1); /* blocks b-1..b+1 */
                 if (row_lo < 0) row_lo = 0;
                 if (row_hi > nu) row_hi = nu;
+                if (row_lo < col - ku) row_lo = col - ku;
+                if (row_hi > col + kl + 1) row_hi = col + kl + 1;
                 for (int row = row_lo; row < row_hi; row++) {
                     double d = (w->perturbed[row] - w->residual[row]) / h;
                     w->band[(size_t)(kl + ku + row - col) + (size_t)col * (size_t)ld] = d;
@@ -363,9 +398,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         report->newton_iterations = it;
         if (norm <= tol) return 0;
         memcpy(w->dx, w->residual, (size_t)nu * sizeof(double));
-        lapack_int info = LAPACKE_dgbtrs_work(LAPACK_COL_MAJOR, 'N', nu, BAND, BAND, 1, w->band,
-                                              w->ldab, w->pivot, w->dx, nu);
-        if (info != 0) return -1;
+        band_solve(w, w->dx);
         for (int i = 0; i < nu; i++) w->x[i] -= w->dx[i];
         residual(w, m, w->x, t, dt, w->residual);
         double next = max_abs(w->residual, nu);
@@ -408,12 +441,16 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
                        rod_report *report)
 {
     const int n = w->nodes;
-    const double theta = m->options.theta;
-    /* start-of-step quantities */
-    memcpy(w->frame0, s->frame, (size_t)n * 9 * sizeof(double));
+    /* start-of-step quantities; the previous step left them in place when the
+     * state is the one it produced */
+    if (!w->start_valid || w->start_time != s->time ||
+        memcmp(w->frame0, s->frame, (size_t)n * 9 * sizeof(double)) != 0) {
+        memcpy(w->frame0, s->frame, (size_t)n * 9 * sizeof(double));
+        elastic_state(m, w->frame0, w->darboux1, w->mid1, w->d3mid0, w->moment0);
+    }
+    w->start_valid = 0;
     memcpy(w->omega0, s->angular_velocity, (size_t)n * 3 * sizeof(double));
     for (int i = 0; i < n; i++) m3_mul_v(&w->vel0[3 * i], &s->frame[9 * i], &s->velocity[3 * i]);
-    elastic_state(m, w->frame0, w->darboux1, w->mid1, w->d3mid0, w->moment0);
     tip_load_global(m, s->time, &w->frame0[9 * (n - 1)], w->tipf0, w->tipm0);
 
     /* initial guess: the start-of-step values; N from the stored contact force */
@@ -426,14 +463,13 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
     }
     if (newton(w, m, s->time, dt, report)) return -1;
 
-    /* accept: frames, positions, velocities, strains, forces */
-    residual(w, m, w->x, s->time, dt, w->residual); /* leaves frame1, darboux1, mid1 at x */
+    /* accept: Newton's last residual evaluation was at x, so frame1, darboux1,
+     * mid1 and moment1 describe the end of the step */
     for (int i = 1; i < n; i++) {
         memcpy(&s->frame[9 * i], &w->frame1[9 * i], 9 * sizeof(double));
         m3_orthonormalize(&s->frame[9 * i]);
     }
-    rod_darboux_from_frames(m, s->frame, s->darboux);
-    rod_midpoint_frames(m, s->frame, s->darboux, w->mid1);
+    memcpy(s->darboux, w->darboux1, (size_t)(n - 1) * 3 * sizeof(double));
     rod_positions_from_midframes(m, w->mid1, s->position);
     v3_set(&s->velocity[0], 0, 0, 0);
     v3_set(&s->angular_velocity[0], 0, 0, 0);
@@ -449,7 +485,12 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
     m3_mul_tv(&s->contact_force[3 * (n - 1)], &s->frame[9 * (n - 1)], f);
     m3_mul_tv(mo, &s->frame[9 * (n - 1)], mo);
     for (int k = 0; k < 3; k++) s->darboux[3 * (n - 1) + k] = mo[k] / m->stiffness[k];
-    (void)theta;
+    /* the next step starts here */
+    memcpy(w->frame0, s->frame, (size_t)n * 9 * sizeof(double));
+    memcpy(w->moment0, w->moment1, (size_t)(n - 1) * 3 * sizeof(double));
+    for (int j = 0; j + 1 < n; j++) m3_column(&w->d3mid0[3 * j], &w->mid1[9 * j], 2);
+    w->start_time = s->time;
+    w->start_valid = 1;
     return 0;
 }
 

@@ -25,15 +25,17 @@ void m3_identity(double r[9])
 
 void m3_exp(double r[9], const double phi[3])
 {
-    double angle2 = v3_dot(phi, phi);
-    double a, b; /* sin(x)/x and (1 - cos x)/x^2, by series near 0 */
-    if (angle2 < 1e-8) {
-        a = 1.0 - angle2 / 6.0 + angle2 * angle2 / 120.0;
-        b = 0.5 - angle2 / 24.0 + angle2 * angle2 / 720.0;
+    double t = v3_dot(phi, phi); /* angle^2 */
+    double a, b;                 /* sin(x)/x and (1 - cos x)/x^2 */
+    if (t < 2.5e-3) {
+        /* |angle| < 0.05: Taylor series to x^8, truncation below 1e-20; the
+         * common case (dt omega, ds u), and it avoids sin, cos and sqrt */
+        a = 1.0 - t / 6.0 * (1.0 - t / 20.0 * (1.0 - t / 42.0 * (1.0 - t / 72.0)));
+        b = 0.5 - t / 24.0 * (1.0 - t / 30.0 * (1.0 - t / 56.0 * (1.0 - t / 90.0)));
     } else {
-        double angle = sqrt(angle2);
+        double angle = sqrt(t);
         a = sin(angle) / angle;
-        b = (1.0 - cos(angle)) / angle2;
+        b = (1.0 - cos(angle)) / t;
     }
     double x = phi[0], y = phi[1], z = phi[2];
     r[0] = 1.0 - b * (y * y + z * z);
@@ -53,14 +55,18 @@ void m3_log(double phi[3], const double q[9])
     if (c > 1.0) c = 1.0;
     if (c < -1.0) c = -1.0;
     double w[3] = {q[7] - q[5], q[2] - q[6], q[3] - q[1]}; /* 2 sin(angle) axis */
-    double s = 0.5 * v3_norm(w);
-    double angle = atan2(s, c);
-    if (angle < 1e-6) {
-        v3_scale(phi, w, 0.5 * (1.0 + angle * angle / 6.0));
+    double s2 = 0.25 * v3_dot(w, w);                       /* sin^2(angle) */
+    if (c > 0.0 && s2 < 2.5e-3) {
+        /* angle < 0.05: angle/sin(angle) = asin(s)/s as a series in s^2,
+         * truncation below 1e-20; no trigonometric call */
+        double k = 1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0 + s2 * (5.0 / 112.0 + s2 * 35.0 / 1152.0)));
+        v3_scale(phi, w, 0.5 * k);
         return;
     }
+    double s = sqrt(s2);
+    double angle = atan2(s, c);
     if (M_PI - angle > 1e-6) {
-        v3_scale(phi, w, 0.5 * angle / sin(angle));
+        v3_scale(phi, w, 0.5 * angle / s);
         return;
     }
     /* near pi: axis from the symmetric part, sign from w */
@@ -78,8 +84,8 @@ void m3_log(double phi[3], const double q[9])
 
 void m3_orthonormalize(double q[9])
 {
-    /* Two Newton steps of the polar decomposition: q <- (q + q^-T) / 2 is
-     * cheaper as q <- q (3 I - q^T q) / 2 near a rotation. */
+    /* Newton-Schulz steps towards the polar factor, q <- q (3 I - q^T q) / 2,
+     * which converge quadratically near a rotation (one suffices after a step). */
     for (int it = 0; it < 2; it++) {
         double qtq[9], corr[9], out[9];
         m3_mul_tn(qtq, q, q);
