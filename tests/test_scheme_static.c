@@ -100,26 +100,31 @@ static void test_table2_deflections(void)
     }
 }
 
-/* Convergence in ds: follower P = 1e-6 N against the elastica. */
+/* Convergence in ds: P = 1e-6 N, follower and dead, against the elastica. */
 static void test_convergence_order(void)
 {
     const int grids[4] = {11, 21, 51, 101};
-    double errors[4];
     rod_model m = static_model(51, ROD_FRAME_DIRECTOR);
-    elastica_tip exact;
-    elastica_follower_load(m.stiffness[0], 1.0, 1e-6, 0.0, 0.0, elastica_steps, &exact);
-    for (int g = 0; g < 4; g++) {
-        int ok;
-        double y = tip_deflection(grids[g], ROD_FRAME_DIRECTOR, 1e-6, &ok);
-        errors[g] = fabs(y - exact.y) / exact.y;
-        printf("     follower P=1e-6 N, NS=%d: tip y %.9f, elastica %.9f, relative error %.3e\n",
-               grids[g], y, exact.y, errors[g]);
-    }
-    for (int g = 1; g < 4; g++) {
-        double ratio = (double)(grids[g] - 1) / (grids[g - 1] - 1);
-        double order = log(errors[g - 1] / errors[g]) / log(ratio);
-        check(order > 1.8 && order < 2.2, "observed order NS=%d -> %d: %.3f (expected 2)",
-              grids[g - 1], grids[g], order);
+    for (int frame = 0; frame < 2; frame++) {
+        rod_load_frame load_frame = frame == 0 ? ROD_FRAME_DIRECTOR : ROD_FRAME_GLOBAL;
+        const char *kind = frame == 0 ? "follower" : "dead";
+        double errors[4];
+        elastica_tip exact;
+        if (frame == 0) elastica_follower_load(m.stiffness[0], 1.0, 1e-6, 0.0, 0.0, elastica_steps, &exact);
+        else elastica_dead_load(m.stiffness[0], 1.0, 0.0, 1e-6, 0.0, elastica_steps, &exact);
+        for (int g = 0; g < 4; g++) {
+            int ok;
+            double y = tip_deflection(grids[g], load_frame, 1e-6, &ok);
+            errors[g] = fabs(y - exact.y) / exact.y;
+            printf("     %s P=1e-6 N, NS=%d: tip y %.9f, elastica %.9f, relative error %.3e\n", kind,
+                   grids[g], y, exact.y, errors[g]);
+        }
+        for (int g = 1; g < 4; g++) {
+            double ratio = (double)(grids[g] - 1) / (grids[g - 1] - 1);
+            double order = log(errors[g - 1] / errors[g]) / log(ratio);
+            check(order > 1.8 && order < 2.2, "%s: observed order NS=%d -> %d: %.3f (expected 2)", kind,
+                  grids[g - 1], grids[g], order);
+        }
     }
 }
 
@@ -148,10 +153,12 @@ static void test_quarter_circle(void)
         double predicted = (half / sin(half) - 1.0) * hypot(radius, radius);
         errors[g] = distance / m.length;
         char what[160];
+        /* each coordinate is off by the chord factor x/sin x - 1; allow 1.2x */
+        double tolerance = 1.2 * (half / sin(half) - 1.0);
         snprintf(what, sizeof what, "NS=%d quarter circle: tip x vs 2L/pi", grids[g]);
-        check_rel(what, tip[0], radius, 1e-3);
+        check_rel(what, tip[0], radius, tolerance);
         snprintf(what, sizeof what, "NS=%d quarter circle: tip y vs 2L/pi", grids[g]);
-        check_rel(what, tip[1], radius, 1e-3);
+        check_rel(what, tip[1], radius, tolerance);
         check_abs("tip z stays 0", tip[2], 0.0, 1e-12);
         snprintf(what, sizeof what, "NS=%d quarter circle: |tip - (2L/pi, 2L/pi)| vs chord error (x/sin x - 1) |r_tip|",
                  grids[g]);
@@ -214,6 +221,50 @@ static void test_twist(void)
     m3_column(d1, &s->frame[9 * (s->nodes - 1)], 0);
     check_abs("tip d1 turned by M3 L/C about x: z component", d1[2], sin(expected * m.length), 1e-12);
     rod_state_destroy(s);
+}
+
+/* A dead moment M in a general direction, twist and bending together, with
+ * B1 = B2 = EI: from M = Q B u constant, d3' = Q (u x e3) = (M/EI) x d3, so
+ * d3 precesses about M at the rate |M|/EI and the centreline is a helix
+ * about M (exact for any C); r(L) = L e_par + sin(wL)/w e_perp + (1 - cos wL)/w (n x e). */
+static void test_helix(void)
+{
+    const int grids[2] = {51, 101};
+    double errors[2];
+    for (int g = 0; g < 2; g++) {
+        rod_model m = static_model(grids[g], ROD_FRAME_GLOBAL);
+        double ei = m.stiffness[0];
+        double moment[3] = {0.5 * ei / m.length, 1.0 * ei / m.length, 0.7 * ei / m.length};
+        v3_copy(m.tip_moment, moment);
+        rod_state *s;
+        rod_report report;
+        rod_status status = solve(&m, &s, &report);
+        check(status == ROD_OK, "dead moment (0.5, 1, 0.7) EI/L, NS=%d solves (%d Newton iterations)",
+              grids[g], report.newton_iterations);
+        double rate = v3_norm(moment) / ei, axis[3], along[3], across[3], binormal[3], exact[3];
+        double e[3] = {1.0, 0.0, 0.0};
+        v3_scale(axis, moment, 1.0 / v3_norm(moment));
+        v3_scale(along, axis, v3_dot(axis, e));
+        v3_sub(across, e, along);
+        v3_cross(binormal, axis, e);
+        double l = m.length;
+        for (int k = 0; k < 3; k++)
+            exact[k] = l * along[k] + sin(rate * l) / rate * across[k] + (1.0 - cos(rate * l)) / rate * binormal[k];
+        const double *tip = tip_of(s);
+        double diff[3];
+        v3_sub(diff, tip, exact);
+        errors[g] = v3_norm(diff);
+        printf("     helix NS=%d: tip (%.9f %.9f %.9f), exact (%.9f %.9f %.9f)\n", grids[g], tip[0], tip[1],
+               tip[2], exact[0], exact[1], exact[2]);
+        /* second order (checked below); 1e-4 m at ds = 0.02 m bounds the measured 3.1e-5 m */
+        check_abs("helix: |tip - exact| / L", errors[g] / l, 0.0, 1e-4 * pow(50.0 / (grids[g] - 1), 2));
+        double d3[3];
+        m3_column(d3, &s->frame[9 * (s->nodes - 1)], 2);
+        check_abs("helix: tip d3 . M/|M| is conserved (= e_x . M/|M|)", v3_dot(d3, axis), axis[0], 1e-9);
+        rod_state_destroy(s);
+    }
+    double order = log(errors[0] / errors[1]) / log(2.0);
+    check(order > 1.8 && order < 2.2, "helix: observed order NS=51 -> 101: %.3f", order);
 }
 
 static void test_large_deflection(void)
@@ -370,6 +421,7 @@ int main(void)
     test_quarter_circle();
     test_full_circle();
     test_twist();
+    test_helix();
     test_large_deflection();
     test_fine_grid();
     test_distributed_load();
