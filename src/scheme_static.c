@@ -178,6 +178,13 @@ static void tip_load_global(const rod_model *m, const static_load *load, const d
     }
 }
 
+/* N_{j+1/2} at the trial point: the force unknown of node j + 1. */
+static void trial_force(const static_work *w, const double *increment, int j, double force[3])
+{
+    const double *change = &increment[UNKNOWNS_PER_NODE * j + 3];
+    for (int k = 0; k < 3; k++) force[k] = w->force[3 * j + k] + w->force_scale * change[k];
+}
+
 /* Residual of the discrete equilibrium at frames Q_i exp(phi_i) and forces
  * N + force_scale dN, with (phi, dN) = `increment`. Writes `out` and leaves
  * the trial frames, Darboux vectors and midpoint frames in the work. */
@@ -202,15 +209,8 @@ static void evaluate_residual(static_work *w, const rod_model *m, const static_l
     double tip_force[3], tip_moment[3];
     tip_load_global(m, load, &w->frame_trial[9 * (n - 1)], tip_force, tip_moment);
 
-    /* N_{j+1/2} is the force unknown of node j + 1 */
-#define FORCE_AT(j, out3)                                                                  \
-    do {                                                                                   \
-        const double *dn_ = &increment[UNKNOWNS_PER_NODE * (j) + 3];                       \
-        for (int k_ = 0; k_ < 3; k_++) (out3)[k_] = w->force[3 * (j) + k_] + w->force_scale * dn_[k_]; \
-    } while (0)
-
     double force_left[3], d3_left[3], torque_left[3];
-    FORCE_AT(0, force_left);
+    trial_force(w, increment, 0, force_left);
     m3_column(d3_left, &w->mid[0], 2);
     v3_cross(torque_left, d3_left, force_left);
     for (int i = 1; i < n; i++) {
@@ -218,10 +218,12 @@ static void evaluate_residual(static_work *w, const rod_model *m, const static_l
         const double *moment_left = &w->moment[3 * (i - 1)];
         if (i < n - 1) {
             double force_right[3], d3_right[3], torque_right[3];
-            FORCE_AT(i, force_right);
+            trial_force(w, increment, i, force_right);
             m3_column(d3_right, &w->mid[9 * i], 2);
             v3_cross(torque_right, d3_right, force_right);
             const double *moment_right = &w->moment[3 * i];
+            /* (3.3)_1 and (3.3)_2 without inertia, integrated over the cell
+             * between midpoints i-1/2 and i+1/2 (global components) */
             for (int k = 0; k < 3; k++) {
                 row[k] = w->force_row_scale *
                          (force_right[k] - force_left[k] + ds * load->distributed[k]);
@@ -231,7 +233,7 @@ static void evaluate_residual(static_work *w, const rod_model *m, const static_l
             }
             v3_copy(force_left, force_right);
             v3_copy(torque_left, torque_right);
-        } else { /* tip half cell */
+        } else { /* tip half cell: N(L) = N_bar, M(L) = M_bar (thesis 4.2 boundary condition) */
             for (int k = 0; k < 3; k++) {
                 row[k] = w->force_row_scale *
                          (tip_force[k] - force_left[k] + 0.5 * ds * load->distributed[k]);
@@ -240,7 +242,6 @@ static void evaluate_residual(static_work *w, const rod_model *m, const static_l
             }
         }
     }
-#undef FORCE_AT
 }
 
 /* Forces that satisfy the force balance exactly for the current tip frame:
