@@ -76,7 +76,7 @@ static void test_table2_deflections(void)
         int ok;
         double p = loads[k];
         check_rel("PL^3/3EI formula itself", p / (3.0 * ei), linear[k], 1e-5);
-        elastica_tip follower, dead;
+        elastica_tip follower = {0}, dead = {0};
         elastica_follower_load(ei, 1.0, p, 0.0, 0.0, elastica_steps, &follower);
         elastica_dead_load(ei, 1.0, 0.0, p, 0.0, elastica_steps, &dead);
 
@@ -275,7 +275,7 @@ static void test_large_deflection(void)
         for (int g = 0; g < 2; g++) {
             rod_model m = static_model(grids[g], frame == 0 ? ROD_FRAME_DIRECTOR : ROD_FRAME_GLOBAL);
             double ei = m.stiffness[0], p = 10.0 * ei / (m.length * m.length);
-            elastica_tip exact;
+            elastica_tip exact = {0};
             if (frame == 0) {
                 m.tip_force[0] = p;
                 elastica_follower_load(ei, m.length, p, 0.0, 0.0, elastica_steps, &exact);
