@@ -280,6 +280,11 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
                  "the model's %d nodes", dt, w->nodes);
         return ROD_FAILED;
     }
+    if (s->time == 0.0) { /* a fresh (or reset) run: forget the last run's history */
+        w->steps = 0;
+        w->previous_max_omega = 0.0;
+        w->growth_count = 0;
+    }
     w->steps++;
 
     memcpy(w->old_velocity, v, (size_t)ns * 3 * sizeof(double));
