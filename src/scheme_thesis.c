@@ -83,6 +83,7 @@ typedef struct thesis_work {
     double *new_omega;    /* (nodes x 3), rad/s, omega^{j+1} while (4.12) reads omega^j */
     double previous_max_omega; /* rad/s, max |omega| after the last step */
     int growth_count;          /* consecutive steps with growth > GROWTH_FACTOR */
+    double last_growth;        /* max|omega| ratio of the last finite step */
     long steps;                /* steps taken since create */
 } thesis_work;
 
@@ -284,6 +285,7 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
         w->steps = 0;
         w->previous_max_omega = 0.0;
         w->growth_count = 0;
+        w->last_growth = 0.0;
     }
     w->steps++;
 
@@ -426,7 +428,9 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
     char what[256];
     if (!isfinite(max_omega) || !isfinite(max_u) || !isfinite(max_norm(nf, ns)) ||
         !isfinite(max_norm(v, ns))) {
-        snprintf(what, sizeof what, "the state became non-finite");
+        snprintf(what, sizeof what,
+                 "the state became non-finite (max |omega| had grown by a factor %.3g in the "
+                 "step before)", w->last_growth);
         return unstable(m, w, s->time, report, what);
     }
     if (max_u > 2.0 / m->diameter) {
@@ -437,6 +441,7 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
     }
     double growth = w->previous_max_omega > 0.0 ? max_omega / w->previous_max_omega : 0.0;
     w->growth_count = growth > GROWTH_FACTOR ? w->growth_count + 1 : 0;
+    w->last_growth = growth;
     w->previous_max_omega = max_omega;
     if (w->growth_count >= GROWTH_STEPS) {
         snprintf(what, sizeof what,
