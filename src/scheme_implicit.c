@@ -403,8 +403,9 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         residual(w, m, w->x, t, dt, w->residual);
         double next = max_abs(w->residual, nu);
         if (!isfinite(next)) return -1;
-        if (next > 0.25 * norm && !fresh) {
-            /* slow: a stale Jacobian; refresh it at the current iterate */
+        if (next > 0.25 * norm && next > 10.0 * tol && !fresh) {
+            /* slow, and not merely at the round-off floor near the tolerance:
+             * a stale Jacobian; refresh it at the current iterate */
             if (factor_jacobian(w, m, t, dt)) return -1;
             fresh = 1;
         }
