@@ -90,6 +90,9 @@ typedef struct implicit_work {
     double var_scale[3]; /* typical N (N), v (m/s), omega (rad/s) for FD steps */
     double jacobian_dt;  /* dt the factorisation was made for */
     int start_valid;     /* frame0, d3mid0, moment0 hold the state at start_time */
+    double *x_last;      /* (unknowns) solution of the last step, ending at start_time */
+    double *x_before;    /* (unknowns) solution of the step before it */
+    double dt_last;      /* s, length of the last step; 0 when x_before is not usable */
     double start_time;
 } implicit_work;
 
@@ -97,7 +100,7 @@ static void destroy(void *p)
 {
     implicit_work *w = p;
     if (!w) return;
-    double **arrays[] = {&w->x, &w->dx, &w->residual, &w->perturbed, &w->band,
+    double **arrays[] = {&w->x, &w->dx, &w->x_last, &w->x_before, &w->residual, &w->perturbed, &w->band,
                          &w->frame0, &w->omega0, &w->vel0, &w->d3mid0, &w->moment0,
                          &w->tipf0, &w->tipm0, &w->frame1, &w->frame_th, &w->darboux1,
                          &w->mid1, &w->moment1, &w->save_frame, &w->save_pos, &w->save_vel,
@@ -120,6 +123,8 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->x = calloc(u, sizeof(double));
     w->dx = calloc(u, sizeof(double));
     w->residual = calloc(u, sizeof(double));
+    w->x_last = calloc(u, sizeof(double));
+    w->x_before = calloc(u, sizeof(double));
     w->perturbed = calloc(u, sizeof(double));
     w->band = calloc((size_t)w->ldab * u, sizeof(double));
     w->pivot = calloc(u, sizeof *w->pivot);
@@ -140,7 +145,7 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->save_vel = calloc(n * 3, sizeof(double));
     w->save_omega = calloc(n * 3, sizeof(double));
     w->save_force = calloc(n * 3, sizeof(double));
-    if (!w->x || !w->dx || !w->residual || !w->perturbed || !w->band || !w->pivot ||
+    if (!w->x || !w->dx || !w->x_last || !w->x_before || !w->residual || !w->perturbed || !w->band || !w->pivot ||
         !w->frame0 || !w->omega0 || !w->vel0 || !w->d3mid0 || !w->moment0 || !w->tipf0 ||
         !w->tipm0 || !w->frame1 || !w->frame_th || !w->darboux1 || !w->mid1 || !w->moment1 ||
         !w->save_frame || !w->save_pos || !w->save_vel || !w->save_omega || !w->save_force)
@@ -444,23 +449,31 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
     const int n = w->nodes;
     /* start-of-step quantities; the previous step left them in place when the
      * state is the one it produced */
-    if (!w->start_valid || w->start_time != s->time ||
-        memcmp(w->frame0, s->frame, (size_t)n * 9 * sizeof(double)) != 0) {
+    int continuing = w->start_valid && w->start_time == s->time &&
+                     memcmp(w->frame0, s->frame, (size_t)n * 9 * sizeof(double)) == 0;
+    if (!continuing) {
         memcpy(w->frame0, s->frame, (size_t)n * 9 * sizeof(double));
         elastic_state(m, w->frame0, w->darboux1, w->mid1, w->d3mid0, w->moment0);
+        w->dt_last = 0.0;
     }
     w->start_valid = 0;
     memcpy(w->omega0, s->angular_velocity, (size_t)n * 3 * sizeof(double));
     for (int i = 0; i < n; i++) m3_mul_v(&w->vel0[3 * i], &s->frame[9 * i], &s->velocity[3 * i]);
     tip_load_global(m, s->time, &w->frame0[9 * (n - 1)], w->tipf0, w->tipm0);
 
-    /* initial guess: the start-of-step values; N from the stored contact force */
-    for (int b = 1; b < n; b++) {
-        double *xb = &w->x[BLOCK * (b - 1)];
-        int j = b - 1;
-        m3_mul_v(xb, &w->mid1[9 * j], &s->contact_force[3 * j]);
-        v3_copy(xb + 3, &w->vel0[3 * b]);
-        v3_copy(xb + 6, &w->omega0[3 * b]);
+    /* initial guess: the start-of-step values (N from the stored contact
+     * force), or, continuing a run, the last two solutions extrapolated */
+    if (continuing && w->dt_last > 0.0) {
+        double ratio = dt / w->dt_last;
+        for (int i = 0; i < w->unknowns; i++)
+            w->x[i] = w->x_last[i] + ratio * (w->x_last[i] - w->x_before[i]);
+    } else {
+        for (int b = 1; b < n; b++) {
+            double *xb = &w->x[BLOCK * (b - 1)];
+            m3_mul_v(xb, &w->mid1[9 * (b - 1)], &s->contact_force[3 * (b - 1)]);
+            v3_copy(xb + 3, &w->vel0[3 * b]);
+            v3_copy(xb + 6, &w->omega0[3 * b]);
+        }
     }
     if (newton(w, m, s->time, dt, report)) return -1;
 
@@ -492,6 +505,11 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
     for (int j = 0; j + 1 < n; j++) m3_column(&w->d3mid0[3 * j], &w->mid1[9 * j], 2);
     w->start_time = s->time;
     w->start_valid = 1;
+    /* the last solution becomes the one before; a first step (dt_last = 0)
+     * has no predecessor, so the next step cannot extrapolate yet */
+    memcpy(w->x_before, continuing ? w->x_last : w->x, (size_t)w->unknowns * sizeof(double));
+    memcpy(w->x_last, w->x, (size_t)w->unknowns * sizeof(double));
+    w->dt_last = continuing ? dt : 0.0;
     return 0;
 }
 
