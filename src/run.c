@@ -215,7 +215,13 @@ static void print_summary(const char *scene_path, const char *scene, const rod_m
                : m->options.theta == 0.5 ? ", Crank-Nicolson" : "");
     if (m->options.scheme == ROD_SCHEME_THESIS)
         printf(" (%s rotation)", m->options.exact_rotation ? "exact" : "(4.6) literal");
-    printf(", dt = %.6g s (%s)\n", dt, why);
+    double interval = 1.0 / out->fps;
+    if (dt > interval)
+        printf(", dt = %.6g s (steps end at every output time 1/fps; the scheme's own "
+               "choice %.6g s: %s)\n",
+               interval, dt, why);
+    else
+        printf(", dt = %.6g s (%s)\n", dt, why);
     printf("  output   %g s simulated, %d frames at %d fps\n", m->options.duration, frames,
            out->fps);
     fflush(stdout);
