@@ -40,6 +40,26 @@ int run_read_output(ini_doc *doc, run_output *out, char *err, size_t errlen);
 /* Output times k/fps <= duration, plus the end time when it is not one of them. */
 int run_frame_count(double duration, int fps);
 
+/* What a run cost. */
+typedef struct run_stats {
+    long steps;
+    double wall_seconds;  /* s, of stepping and recording */
+    double smallest_step; /* s */
+    double largest_step;  /* s */
+    int non_finite;       /* 1 when the run stopped on a non-finite state */
+} run_stats;
+
+/* Steps `solver` from the state s (at t = 0) to m->options.duration with steps
+ * of at most dt, appending a frame to rec at t = 0 and at every output time
+ * (run_frame_count); the step that crosses an output time is shortened to
+ * land on it exactly. Stops at the first step that is not ROD_OK or leaves a
+ * non-finite state (then ROD_UNSTABLE with stats->non_finite = 1); report
+ * holds the scheme's message. rec should have room for every frame so that
+ * nothing is allocated while stepping. */
+rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
+                        rod_recording *rec, double dt, int fps, rod_report *report,
+                        run_stats *stats);
+
 /* Writes t,node,s,x,y,z,d3x,d3y,d3z,twist (s, -, m, m, m, m, -, -, -, 1/m),
  * one row per node per frame, with a header row, atomically (outfile.h).
  * Returns 0, or -1 with a message. */

@@ -227,10 +227,11 @@ static void print_summary(const char *scene_path, const char *scene, const rod_m
     fflush(stdout);
 }
 
-/* Advances s to `target` (s), in steps of at most dt, the last one shortened to land on it.
- * Returns the step status; *steps counts the steps taken. */
+/* Advances s to `target` (s) in steps of at most dt; the step that reaches it is
+ * shortened to land on it exactly, and when less than 1.5 dt remain the rest is
+ * split into two equal steps, so no sliver of a step is ever taken. */
 static rod_status advance_to(rod_solver *solver, const rod_model *m, rod_state *s, double dt,
-                             double target, rod_report *report, long *steps, int *non_finite)
+                             double target, rod_report *report, run_stats *stats)
 {
     while (s->time < target) {
         double remaining = target - s->time;
@@ -239,19 +240,46 @@ static rod_status advance_to(rod_solver *solver, const rod_model *m, rod_state *
         if (remaining <= dt * (1.0 + 1e-9)) {
             h = remaining;
             lands = 1;
-        } else if (remaining < dt * 1.001) {
-            h = 0.5 * remaining; /* avoid a sliver of a step after this one */
+        } else if (remaining < 1.5 * dt) {
+            h = 0.5 * remaining;
         }
         rod_status status = rod_solver_step(solver, m, s, h, report);
-        (*steps)++;
+        stats->steps++;
+        if (h < stats->smallest_step || stats->steps == 1) stats->smallest_step = h;
+        if (h > stats->largest_step) stats->largest_step = h;
         if (status != ROD_OK) return status;
         if (!rod_state_is_finite(s)) {
-            *non_finite = 1;
+            stats->non_finite = 1;
             return ROD_UNSTABLE;
         }
         if (lands) s->time = target; /* no drift of output times from rounding */
     }
     return ROD_OK;
+}
+
+rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
+                        rod_recording *rec, double dt, int fps, rod_report *report,
+                        run_stats *stats)
+{
+    memset(stats, 0, sizeof *stats);
+    memset(report, 0, sizeof *report);
+    int frames = run_frame_count(m->options.duration, fps);
+    double start = wall_seconds();
+    rod_status status = ROD_OK;
+    if (rod_recording_append(rec, m, s)) {
+        status = ROD_FAILED;
+        snprintf(report->message, sizeof report->message, "out of memory while recording");
+    }
+    for (int k = 1; k < frames && status == ROD_OK; k++) {
+        status = advance_to(solver, m, s, dt, output_time(k, m->options.duration, fps), report,
+                            stats);
+        if (status == ROD_OK && rod_recording_append(rec, m, s)) {
+            status = ROD_FAILED;
+            snprintf(report->message, sizeof report->message, "out of memory while recording");
+        }
+    }
+    stats->wall_seconds = wall_seconds() - start;
+    return status;
 }
 
 /* Prints what went wrong in a step and returns the exit status for it. */
@@ -338,21 +366,13 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
         goto done;
     }
     rod_report report;
-    memset(&report, 0, sizeof report);
-    long steps = 0;
-    int non_finite = 0;
-    double start = wall_seconds();
-    if (rod_recording_append(rec, m, s)) goto oom;
-    for (int k = 1; k < frames; k++) {
-        double target = output_time(k, m->options.duration, out->fps);
-        rod_status st = advance_to(&solver, m, s, dt, target, &report, &steps, &non_finite);
-        if (st != ROD_OK) {
-            status = report_step_failure(st, non_finite, m, s, dt, &report);
-            goto done;
-        }
-        if (rod_recording_append(rec, m, s)) goto oom;
+    run_stats stats;
+    rod_status st = run_simulate(&solver, m, s, rec, dt, out->fps, &report, &stats);
+    if (st != ROD_OK) {
+        status = report_step_failure(st, stats.non_finite, m, s,
+                                     stats.largest_step > 0.0 ? stats.largest_step : dt, &report);
+        goto done;
     }
-    double wall = wall_seconds() - start;
 
     if (a->csv && run_write_csv(rec, a->csv, err, sizeof err)) {
         fprintf(stderr, "rodsim run: %s\n", err);
@@ -363,14 +383,11 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
         goto done;
     }
     if (!a->quiet) {
-        print_result(m, s, steps, wall);
+        print_result(m, s, stats.steps, stats.wall_seconds);
         if (a->csv) printf("        wrote %s (%d frames x %d nodes)\n", a->csv, frames, m->nodes);
         if (!a->no_video) printf("        video: none yet (the renderer is not wired in)\n");
     }
     status = RUN_EXIT_OK;
-    goto done;
-oom:
-    fprintf(stderr, "rodsim run: out of memory while recording frames\n");
 done:
     rod_recording_destroy(rec);
     rod_state_destroy(s);

@@ -14,6 +14,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "recording.h"
+#include "rod.h"
+#include "run.h"
 #include "test.h"
 
 static char tmp_dir[] = "/tmp/rodsim_cli_XXXXXX";
@@ -235,8 +238,85 @@ static void test_unstable_writes_nothing(void)
     unlink(scene);
 }
 
+/* A stand-in scheme for the run loop: moves the tip along +y at 1 m/s (so its
+ * y equals the time), logs every step, and turns the state into NaN at
+ * t >= fake_nan_time. */
+static double fake_steps[64];
+static int fake_step_count;
+static double fake_nan_time = INFINITY;
+
+static void *fake_create(const rod_model *m, char *err, size_t errlen)
+{
+    (void)m; (void)err; (void)errlen;
+    return malloc(1);
+}
+
+static rod_status fake_step(void *work, const rod_model *m, rod_state *s, double dt,
+                            rod_report *report)
+{
+    (void)work; (void)m; (void)report;
+    if (fake_step_count < 64) fake_steps[fake_step_count] = dt;
+    fake_step_count++;
+    s->time += dt;
+    s->position[3 * (s->nodes - 1) + 1] = s->time;
+    if (s->time >= fake_nan_time) s->velocity[0] = NAN;
+    return ROD_OK;
+}
+
+static const rod_scheme_ops fake_scheme = {"fake", fake_create, fake_step, free, NULL};
+
+static void test_run_loop(void)
+{
+    rod_model m = rod_model_default();
+    char err[256];
+    m.nodes = 5;
+    m.options.duration = 0.25;
+    rod_model_derive(&m, err, sizeof err);
+    const int fps = 10;
+    int frames = run_frame_count(m.options.duration, fps); /* 0, 0.1, 0.2, 0.25 */
+    rod_solver solver = {&fake_scheme, fake_scheme.create(&m, err, sizeof err)};
+    rod_state *s = rod_state_create(&m);
+    rod_recording *rec = rod_recording_create(&m, "loop", frames);
+    rod_report report;
+    run_stats stats;
+    fake_step_count = 0;
+    /* dt = 0.03: 0 -> 0.1 in 0.03, 0.03, then 0.04 left (< 1.5 dt) as 0.02 + 0.02;
+     * 0.2 -> 0.25: 0.05 left as 0.025 + 0.025 */
+    rod_status st = run_simulate(&solver, &m, s, rec, 0.03, fps, &report, &stats);
+    check(st == ROD_OK && rec->frame_count == 4 && frames == 4,
+          "run loop: 4 frames for 0.25 s at 10 fps (t = 0 and the end included): %d",
+          rec->frame_count);
+    int times_exact = rec->frame_count == 4 && rec->time[0] == 0.0 && rec->time[1] == 0.1 &&
+                      rec->time[2] == 0.2 && rec->time[3] == 0.25;
+    check(times_exact, "run loop: frames land exactly on 0, 0.1, 0.2, 0.25 s");
+    check(stats.steps == 10 && fake_step_count == 10, "run loop: 4 + 4 + 2 steps: %ld",
+          stats.steps);
+    check_abs("run loop: largest step = dt", stats.largest_step, 0.03, 1e-15);
+    check_abs("run loop: smallest step = (0.1 - 0.06)/2, no sliver", stats.smallest_step, 0.02,
+              1e-12);
+    double tip_y = rec->position[(3 * (size_t)m.nodes) * 2 + 3 * (m.nodes - 1) + 1];
+    check_abs("run loop: the frame at 0.2 s holds the state at 0.2 s (tip y = t)", tip_y, 0.2,
+              1e-12);
+
+    /* a state that turns NaN stops the run as unstable, before the next frame */
+    rod_recording_destroy(rec);
+    rec = rod_recording_create(&m, "loop", frames);
+    rod_state_reset(&m, s);
+    fake_nan_time = 0.15;
+    st = run_simulate(&solver, &m, s, rec, 0.03, fps, &report, &stats);
+    check(st == ROD_UNSTABLE && stats.non_finite && rec->frame_count == 2,
+          "run loop: a non-finite state stops the run (status %d, frames kept %d)", (int)st,
+          rec->frame_count);
+    fake_nan_time = INFINITY;
+    rod_recording_destroy(rec);
+    rod_state_destroy(s);
+    rod_solver_release(&solver);
+    rod_model_release(&m);
+}
+
 int main(void)
 {
+    test_run_loop();
     if (!check(mkdtemp(tmp_dir) != NULL, "temporary directory")) return test_finish();
     snprintf(out_dir, sizeof out_dir, "%s/out", tmp_dir);
     snprintf(csv_path, sizeof csv_path, "%s/result.csv", out_dir);
