@@ -1,23 +1,492 @@
-/* scheme_implicit.c: placeholder until the scheme lands (frame commit only). */
+/* scheme_implicit.c: the rod equations (3.15) advanced by the theta-method
+ * (backward Euler by default, Crank-Nicolson at theta = 1/2), all unknowns of
+ * a step solved together by Newton's method on one banded system.
+ *
+ * Grid (staggered, which avoids the odd/even decoupling of one collocated
+ * grid): velocity v and angular velocity omega at the nodes i = 0..NS-1;
+ * Darboux vector u and contact force N at the segment midpoints i+1/2.
+ *
+ * Unknowns of a step, per block b = 1..NS-1 (9 each, 9 (NS-1) in all):
+ *   N_{b-1/2}  contact force, global components (the multiplier of (3.14));
+ *   v_b        velocity at the end of the step, global components;
+ *   omega_b    angular velocity at the end of the step, director components.
+ * u is not an unknown: the frames advance by the exact exponential map
+ *   Q_i(t+dt) = Q_i(t) exp(dt [omega_bar_i]x),  omega_bar = theta w(t+dt) + (1-theta) w(t)
+ * (integrating (3.1)_2), and u_{i+1/2} = log(Q_i^T Q_{i+1}) / ds (integrating
+ * (3.1)_1 exactly over the segment). The compatibility equation (3.10) then
+ * holds exactly in discrete form and frames and curvature never drift apart.
+ *
+ * Equations, per block b:
+ *   (3.14) inextensible, unshearable: (v_bar_{b} - v_bar_{b-1}) dt / ds
+ *          = d3_{b-1/2}(t+dt) - d3_{b-1/2}(t), the time difference of
+ *          r_{i+1} - r_i = ds d3_{i+1/2}; so r(t+dt) = r(t) + dt v_bar agrees
+ *          with the centreline integrated from d3 (3.12).
+ *   (3.6)_1 (written in the fixed frame, (3.3)_1) over the cell of node b:
+ *          m w_b (v_b - v_b(t)) / dt = N_{b+1/2} - N_{b-1/2} + w_b (T - c v_bar)
+ *   (3.6)_2 in director components of node b:
+ *          I w_b (omega - omega(t)) / dt + w_b omega_bar x I omega_bar
+ *          = Q^T [ M_{b+1/2} - M_{b-1/2} + ds/2 (d3 x N)_{b+1/2} + ds/2 (d3 x N)_{b-1/2} ]
+ *            - w_b c_w omega_bar,      M_{i+1/2} = Q_{i+1/2} B u_{i+1/2}  (3.4)
+ *   with w_b = ds inside and ds/2 at the free end, where N_{NS-1/2} and
+ *   M_{NS-1/2} are the tip force and moment (4.2) and the tip force has no arm.
+ * Elastic terms are theta-weighted between the start and the end of the step.
+ *
+ * Newton: the Jacobian is built by finite differences with a 3-colouring of
+ * the block-tridiagonal pattern (27 residual evaluations), factored by
+ * LAPACK's banded LU with partial pivoting, and reused across iterations and
+ * steps while it keeps converging (refreshed when convergence slows). A step
+ * whose Newton iteration fails is split in two, recursively, before giving up.
+ */
 #include "rod.h"
 
+#include <lapacke.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+
+#include "rod_geometry.h"
+#include "vec3.h"
+
+#define BLOCK 9            /* unknowns per block: N(3), v(3), omega(3) */
+#define BAND (2 * BLOCK - 1) /* kl = ku: block tridiagonal, 9x9 blocks */
+#define MAX_SPLIT_DEPTH 12
+
+typedef struct implicit_work {
+    int nodes, blocks, unknowns;
+    int ldab;
+    double *x;         /* (unknowns) current Newton iterate */
+    double *dx;        /* (unknowns) correction */
+    double *residual;  /* (unknowns) scaled residual at x */
+    double *perturbed; /* (unknowns) residual at a perturbed x */
+    double *band;      /* (ldab x unknowns) LU factors, LAPACK band storage */
+    lapack_int *pivot; /* (unknowns) */
+    int have_factor;   /* band holds a usable factorisation */
+
+    /* start of the step */
+    double *frame0;    /* (nodes x 9) */
+    double *omega0;    /* (nodes x 3) director */
+    double *vel0;      /* (nodes x 3) global */
+    double *d3mid0;    /* (nodes-1 x 3) */
+    double *moment0;   /* (nodes-1 x 3) global, M_{i+1/2} */
+    double *tipf0, *tipm0; /* (3) tip force and moment at the start, global */
+
+    /* end of the step, for the iterate x */
+    double *frame1;    /* (nodes x 9) */
+    double *frame_th;  /* (nodes x 9) frame at the theta point (= frame1 for theta = 1) */
+    double *darboux1;  /* (nodes-1 x 3) */
+    double *mid1;      /* (nodes-1 x 9) midpoint frames */
+    double *moment1;   /* (nodes-1 x 3) global */
+
+    /* a saved copy of the state for step splitting */
+    double *save_frame, *save_pos, *save_vel, *save_omega, *save_force;
+    double save_time;
+
+    double force_scale;  /* N, residual scaling of force balances */
+    double moment_scale; /* N m, residual scaling of moment balances */
+    double var_scale[3]; /* typical N (N), v (m/s), omega (rad/s) for FD steps */
+    double jacobian_dt;  /* dt the factorisation was made for */
+} implicit_work;
+
+static void destroy(void *p)
+{
+    implicit_work *w = p;
+    if (!w) return;
+    double **arrays[] = {&w->x, &w->dx, &w->residual, &w->perturbed, &w->band,
+                         &w->frame0, &w->omega0, &w->vel0, &w->d3mid0, &w->moment0,
+                         &w->tipf0, &w->tipm0, &w->frame1, &w->frame_th, &w->darboux1,
+                         &w->mid1, &w->moment1, &w->save_frame, &w->save_pos, &w->save_vel,
+                         &w->save_omega, &w->save_force};
+    for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) free(*arrays[k]);
+    free(w->pivot);
+    free(w);
+}
 
 static void *create(const rod_model *m, char *err, size_t errlen)
 {
-    (void)m;
-    snprintf(err, errlen, "scheme 'implicit' is not implemented yet");
+    implicit_work *w = calloc(1, sizeof *w);
+    if (!w) goto oom;
+    size_t n = (size_t)m->nodes;
+    w->nodes = m->nodes;
+    w->blocks = m->nodes - 1;
+    w->unknowns = BLOCK * w->blocks;
+    w->ldab = 3 * BAND + 1; /* 2 kl + ku + 1 */
+    size_t u = (size_t)w->unknowns;
+    w->x = calloc(u, sizeof(double));
+    w->dx = calloc(u, sizeof(double));
+    w->residual = calloc(u, sizeof(double));
+    w->perturbed = calloc(u, sizeof(double));
+    w->band = calloc((size_t)w->ldab * u, sizeof(double));
+    w->pivot = calloc(u, sizeof *w->pivot);
+    w->frame0 = calloc(n * 9, sizeof(double));
+    w->omega0 = calloc(n * 3, sizeof(double));
+    w->vel0 = calloc(n * 3, sizeof(double));
+    w->d3mid0 = calloc(n * 3, sizeof(double));
+    w->moment0 = calloc(n * 3, sizeof(double));
+    w->tipf0 = calloc(3, sizeof(double));
+    w->tipm0 = calloc(3, sizeof(double));
+    w->frame1 = calloc(n * 9, sizeof(double));
+    w->frame_th = calloc(n * 9, sizeof(double));
+    w->darboux1 = calloc(n * 3, sizeof(double));
+    w->mid1 = calloc(n * 9, sizeof(double));
+    w->moment1 = calloc(n * 3, sizeof(double));
+    w->save_frame = calloc(n * 9, sizeof(double));
+    w->save_pos = calloc(n * 3, sizeof(double));
+    w->save_vel = calloc(n * 3, sizeof(double));
+    w->save_omega = calloc(n * 3, sizeof(double));
+    w->save_force = calloc(n * 3, sizeof(double));
+    if (!w->x || !w->dx || !w->residual || !w->perturbed || !w->band || !w->pivot ||
+        !w->frame0 || !w->omega0 || !w->vel0 || !w->d3mid0 || !w->moment0 || !w->tipf0 ||
+        !w->tipm0 || !w->frame1 || !w->frame_th || !w->darboux1 || !w->mid1 || !w->moment1 ||
+        !w->save_frame || !w->save_pos || !w->save_vel || !w->save_omega || !w->save_force)
+        goto oom;
+
+    /* Scales: the largest of the applied loads and the rod's own elastic
+     * force EI/L^2, so that an unloaded rod still has a sensible scale. */
+    double L = m->length, EI = m->stiffness[0];
+    double fpeak = 0.0, mmax = 0.0;
+    if (m->profile.kind == ROD_PROFILE_TABLE && m->profile.table.columns == 7) {
+        const rod_table *t = &m->profile.table;
+        for (int r = 0; r < t->rows; r++)
+            for (int k = 0; k < 3; k++) {
+                fpeak = fmax(fpeak, fabs(t->data[r * 7 + 1 + k]));
+                mmax = fmax(mmax, fabs(t->data[r * 7 + 4 + k]));
+            }
+    } else {
+        double scale = 1.0;
+        if (m->profile.kind == ROD_PROFILE_TABLE)
+            for (int r = 0; r < m->profile.table.rows; r++)
+                scale = fmax(scale, fabs(m->profile.table.data[2 * r + 1]));
+        fpeak = scale * v3_norm(m->tip_force);
+        mmax = scale * v3_norm(m->tip_moment);
+    }
+    double q = v3_norm(m->distributed_force) * L; /* N/m over the length */
+    w->force_scale = fmax(fmax(EI / (L * L), fpeak), fmax(mmax / L, q));
+    w->moment_scale = w->force_scale * L;
+    double f1 = rod_first_bending_frequency(m);
+    w->var_scale[0] = w->force_scale;
+    w->var_scale[1] = 2.0 * M_PI * f1 * L * 1e-3;
+    w->var_scale[2] = 2.0 * M_PI * f1 * 1e-3;
+    return w;
+oom:
+    snprintf(err, errlen, "implicit scheme: out of memory for %d nodes", m->nodes);
+    destroy(w);
     return NULL;
 }
 
-static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, rod_report *r)
+/* Tip force and moment at time t in global components, given the tip frame. */
+static void tip_load_global(const rod_model *m, double t, const double *tip_frame,
+                            double force[3], double moment[3])
 {
-    (void)work; (void)m; (void)s; (void)dt;
-    snprintf(r->message, sizeof r->message, "scheme 'implicit' is not implemented yet");
-    return ROD_FAILED;
+    double f[3], mo[3];
+    rod_tip_load(m, t, f, mo);
+    if (m->tip_frame == ROD_FRAME_DIRECTOR) {
+        m3_mul_v(force, tip_frame, f);
+        m3_mul_v(moment, tip_frame, mo);
+    } else {
+        v3_copy(force, f);
+        v3_copy(moment, mo);
+    }
 }
 
-static void destroy(void *work) { free(work); }
+/* Midpoint d3 and elastic moment M = Q_mid B u (global) for given frames. */
+static void elastic_state(const rod_model *m, const double *frame, double *darboux, double *mid,
+                          double *d3mid, double *moment)
+{
+    rod_darboux_from_frames(m, frame, darboux);
+    rod_midpoint_frames(m, frame, darboux, mid);
+    for (int j = 0; j + 1 < m->nodes; j++) {
+        double bu[3];
+        for (int k = 0; k < 3; k++) bu[k] = m->stiffness[k] * darboux[3 * j + k];
+        m3_mul_v(&moment[3 * j], &mid[9 * j], bu);
+        if (d3mid) m3_column(&d3mid[3 * j], &mid[9 * j], 2);
+    }
+}
 
-const rod_scheme_ops rod_scheme_implicit = {"implicit", create, step, destroy, NULL};
+static inline const double *block_force(const double *x, int b) { return &x[BLOCK * (b - 1)]; }
+static inline const double *block_vel(const double *x, int b) { return &x[BLOCK * (b - 1) + 3]; }
+static inline const double *block_omega(const double *x, int b) { return &x[BLOCK * (b - 1) + 6]; }
+
+/* Scaled residual of the step t -> t + dt at the iterate x. */
+static void residual(implicit_work *w, const rod_model *m, const double *x, double t, double dt,
+                     double *res)
+{
+    const int n = w->nodes;
+    const double theta = m->options.theta, ds = m->ds, mass = m->mass_per_length;
+    const double *inertia = m->rotary_inertia;
+
+    /* frames at the end of the step and at the theta point */
+    memcpy(&w->frame1[0], &w->frame0[0], 9 * sizeof(double));
+    memcpy(&w->frame_th[0], &w->frame0[0], 9 * sizeof(double));
+    for (int i = 1; i < n; i++) {
+        double wbar[3], rot[9];
+        const double *om = block_omega(x, i);
+        for (int k = 0; k < 3; k++)
+            wbar[k] = dt * (theta * om[k] + (1.0 - theta) * w->omega0[3 * i + k]);
+        m3_exp(rot, wbar);
+        m3_mul(&w->frame1[9 * i], &w->frame0[9 * i], rot);
+        if (theta < 1.0) {
+            v3_scale(wbar, wbar, theta);
+            m3_exp(rot, wbar);
+            m3_mul(&w->frame_th[9 * i], &w->frame0[9 * i], rot);
+        } else {
+            memcpy(&w->frame_th[9 * i], &w->frame1[9 * i], 9 * sizeof(double));
+        }
+    }
+    elastic_state(m, w->frame1, w->darboux1, w->mid1, NULL, w->moment1);
+
+    double tipf1[3], tipm1[3], tipf[3], tipm[3];
+    tip_load_global(m, t + dt, &w->frame_th[9 * (n - 1)], tipf1, tipm1);
+    for (int k = 0; k < 3; k++) {
+        tipf[k] = theta * tipf1[k] + (1.0 - theta) * w->tipf0[k];
+        tipm[k] = theta * tipm1[k] + (1.0 - theta) * w->tipm0[k];
+    }
+
+    const double fs = 1.0 / w->force_scale, ms = 1.0 / w->moment_scale;
+    for (int b = 1; b < n; b++) {
+        double *r = &res[BLOCK * (b - 1)];
+        const int j = b - 1; /* segment to the left of node b */
+        const double wb = (b == n - 1) ? 0.5 * ds : ds;
+
+        /* (3.14) constraint on segment j, dimensionless */
+        double vbar_l[3] = {0, 0, 0}, vbar_r[3], d3_1[3];
+        const double *vr = block_vel(x, b);
+        for (int k = 0; k < 3; k++) vbar_r[k] = theta * vr[k] + (1.0 - theta) * w->vel0[3 * b + k];
+        if (b > 1) {
+            const double *vl = block_vel(x, b - 1);
+            for (int k = 0; k < 3; k++)
+                vbar_l[k] = theta * vl[k] + (1.0 - theta) * w->vel0[3 * (b - 1) + k];
+        }
+        m3_column(d3_1, &w->mid1[9 * j], 2);
+        for (int k = 0; k < 3; k++)
+            r[k] = (vbar_r[k] - vbar_l[k]) * dt / ds - (d3_1[k] - w->d3mid0[3 * j + k]);
+
+        /* (3.3)_1 linear momentum of the cell of node b, global */
+        const double *n_left = block_force(x, b);
+        const double *n_right = (b < n - 1) ? block_force(x, b + 1) : tipf;
+        for (int k = 0; k < 3; k++) {
+            double inertial = wb * mass * (vr[k] - w->vel0[3 * b + k]) / dt;
+            double external = wb * (m->distributed_force[k] - m->linear_damping * vbar_r[k]);
+            r[3 + k] = (inertial - (n_right[k] - n_left[k]) - external) * fs;
+        }
+
+        /* (3.6)_2 angular momentum of the cell of node b, director components */
+        double total[3], d3l[3], cr[3];
+        for (int k = 0; k < 3; k++) {
+            double m_right = (b < n - 1)
+                                 ? theta * w->moment1[3 * b + k] + (1.0 - theta) * w->moment0[3 * b + k]
+                                 : tipm[k];
+            double m_left = theta * w->moment1[3 * j + k] + (1.0 - theta) * w->moment0[3 * j + k];
+            total[k] = m_right - m_left;
+            d3l[k] = theta * d3_1[k] + (1.0 - theta) * w->d3mid0[3 * j + k];
+        }
+        v3_cross(cr, d3l, n_left);
+        v3_axpy(total, 0.5 * ds, cr);
+        if (b < n - 1) {
+            double d3r[3], d3r1[3];
+            m3_column(d3r1, &w->mid1[9 * b], 2);
+            for (int k = 0; k < 3; k++) d3r[k] = theta * d3r1[k] + (1.0 - theta) * w->d3mid0[3 * b + k];
+            v3_cross(cr, d3r, n_right);
+            v3_axpy(total, 0.5 * ds, cr);
+        }
+        double body[3], wbar[3], iw[3], gyro[3];
+        m3_mul_tv(body, &w->frame_th[9 * b], total);
+        const double *om = block_omega(x, b);
+        for (int k = 0; k < 3; k++) {
+            wbar[k] = theta * om[k] + (1.0 - theta) * w->omega0[3 * b + k];
+            iw[k] = inertia[k] * wbar[k];
+        }
+        v3_cross(gyro, wbar, iw);
+        for (int k = 0; k < 3; k++) {
+            double inertial = wb * (inertia[k] * (om[k] - w->omega0[3 * b + k]) / dt + gyro[k]);
+            r[6 + k] = (inertial - body[k] + wb * m->angular_damping * wbar[k]) * ms;
+        }
+    }
+}
+
+static double max_abs(const double *a, int n)
+{
+    double worst = 0.0;
+    for (int i = 0; i < n; i++) worst = fmax(worst, fabs(a[i]));
+    return worst;
+}
+
+/* Finite-difference Jacobian by 3-colouring of the blocks, factored in place.
+ * Returns 0, or -1 when the matrix is singular. */
+static int factor_jacobian(implicit_work *w, const rod_model *m, double t, double dt)
+{
+    const int nu = w->unknowns, kl = BAND, ku = BAND, ld = w->ldab;
+    memset(w->band, 0, (size_t)ld * (size_t)nu * sizeof(double));
+    residual(w, m, w->x, t, dt, w->residual);
+    for (int color = 0; color < 3; color++) {
+        for (int comp = 0; comp < BLOCK; comp++) {
+            double *xp = w->dx; /* scratch copy of x */
+            memcpy(xp, w->x, (size_t)nu * sizeof(double));
+            for (int b = 1 + color; b < w->nodes; b += 3) {
+                int col = BLOCK * (b - 1) + comp;
+                double h = 1e-7 * fmax(fabs(xp[col]), w->var_scale[comp / 3]);
+                xp[col] += h;
+            }
+            residual(w, m, xp, t, dt, w->perturbed);
+            for (int b = 1 + color; b < w->nodes; b += 3) {
+                int col = BLOCK * (b - 1) + comp;
+                double h = xp[col] - w->x[col];
+                int row_lo = BLOCK * (b - 2), row_hi = BLOCK * (b + 1); /* blocks b-1..b+1 */
+                if (row_lo < 0) row_lo = 0;
+                if (row_hi > nu) row_hi = nu;
+                for (int row = row_lo; row < row_hi; row++) {
+                    double d = (w->perturbed[row] - w->residual[row]) / h;
+                    w->band[(size_t)(kl + ku + row - col) + (size_t)col * (size_t)ld] = d;
+                }
+            }
+        }
+    }
+    lapack_int info = LAPACKE_dgbtrf_work(LAPACK_COL_MAJOR, nu, nu, kl, ku, w->band, ld, w->pivot);
+    w->have_factor = (info == 0);
+    w->jacobian_dt = dt;
+    return info == 0 ? 0 : -1;
+}
+
+/* Newton on one step; on success the iterate x holds the solution. */
+static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod_report *report)
+{
+    const int nu = w->unknowns;
+    const double tol = m->options.newton_tolerance;
+    const int max_it = m->options.newton_max_iterations;
+    if (!w->have_factor || w->jacobian_dt != dt) {
+        if (factor_jacobian(w, m, t, dt)) return -1;
+    }
+    residual(w, m, w->x, t, dt, w->residual);
+    double norm = max_abs(w->residual, nu);
+    int fresh = 0; /* the factorisation was made at this step */
+    for (int it = 0; it < max_it; it++) {
+        report->newton_iterations = it;
+        if (norm <= tol) return 0;
+        memcpy(w->dx, w->residual, (size_t)nu * sizeof(double));
+        lapack_int info = LAPACKE_dgbtrs_work(LAPACK_COL_MAJOR, 'N', nu, BAND, BAND, 1, w->band,
+                                              w->ldab, w->pivot, w->dx, nu);
+        if (info != 0) return -1;
+        for (int i = 0; i < nu; i++) w->x[i] -= w->dx[i];
+        residual(w, m, w->x, t, dt, w->residual);
+        double next = max_abs(w->residual, nu);
+        if (!isfinite(next)) return -1;
+        if (next > 0.25 * norm && !fresh) {
+            /* slow: a stale Jacobian; refresh it at the current iterate */
+            if (factor_jacobian(w, m, t, dt)) return -1;
+            fresh = 1;
+        }
+        norm = next;
+    }
+    report->newton_iterations = max_it;
+    return norm <= tol ? 0 : -1;
+}
+
+static void save_state(implicit_work *w, const rod_state *s)
+{
+    size_t n = (size_t)w->nodes;
+    memcpy(w->save_frame, s->frame, n * 9 * sizeof(double));
+    memcpy(w->save_pos, s->position, n * 3 * sizeof(double));
+    memcpy(w->save_vel, s->velocity, n * 3 * sizeof(double));
+    memcpy(w->save_omega, s->angular_velocity, n * 3 * sizeof(double));
+    memcpy(w->save_force, s->contact_force, n * 3 * sizeof(double));
+    w->save_time = s->time;
+}
+
+static void restore_state(const implicit_work *w, rod_state *s)
+{
+    size_t n = (size_t)w->nodes;
+    memcpy(s->frame, w->save_frame, n * 9 * sizeof(double));
+    memcpy(s->position, w->save_pos, n * 3 * sizeof(double));
+    memcpy(s->velocity, w->save_vel, n * 3 * sizeof(double));
+    memcpy(s->angular_velocity, w->save_omega, n * 3 * sizeof(double));
+    memcpy(s->contact_force, w->save_force, n * 3 * sizeof(double));
+    s->time = w->save_time;
+}
+
+/* One theta-method step without splitting. Returns 0 or -1 (no convergence). */
+static int single_step(implicit_work *w, const rod_model *m, rod_state *s, double dt,
+                       rod_report *report)
+{
+    const int n = w->nodes;
+    const double theta = m->options.theta;
+    /* start-of-step quantities */
+    memcpy(w->frame0, s->frame, (size_t)n * 9 * sizeof(double));
+    memcpy(w->omega0, s->angular_velocity, (size_t)n * 3 * sizeof(double));
+    for (int i = 0; i < n; i++) m3_mul_v(&w->vel0[3 * i], &s->frame[9 * i], &s->velocity[3 * i]);
+    elastic_state(m, w->frame0, w->darboux1, w->mid1, w->d3mid0, w->moment0);
+    tip_load_global(m, s->time, &w->frame0[9 * (n - 1)], w->tipf0, w->tipm0);
+
+    /* initial guess: the start-of-step values; N from the stored contact force */
+    for (int b = 1; b < n; b++) {
+        double *xb = &w->x[BLOCK * (b - 1)];
+        int j = b - 1;
+        m3_mul_v(xb, &w->mid1[9 * j], &s->contact_force[3 * j]);
+        v3_copy(xb + 3, &w->vel0[3 * b]);
+        v3_copy(xb + 6, &w->omega0[3 * b]);
+    }
+    if (newton(w, m, s->time, dt, report)) return -1;
+
+    /* accept: frames, positions, velocities, strains, forces */
+    residual(w, m, w->x, s->time, dt, w->residual); /* leaves frame1, darboux1, mid1 at x */
+    for (int i = 1; i < n; i++) {
+        memcpy(&s->frame[9 * i], &w->frame1[9 * i], 9 * sizeof(double));
+        m3_orthonormalize(&s->frame[9 * i]);
+    }
+    rod_darboux_from_frames(m, s->frame, s->darboux);
+    rod_midpoint_frames(m, s->frame, s->darboux, w->mid1);
+    rod_positions_from_midframes(m, w->mid1, s->position);
+    v3_set(&s->velocity[0], 0, 0, 0);
+    v3_set(&s->angular_velocity[0], 0, 0, 0);
+    for (int b = 1; b < n; b++) {
+        m3_mul_tv(&s->velocity[3 * b], &s->frame[9 * b], block_vel(w->x, b));
+        v3_copy(&s->angular_velocity[3 * b], block_omega(w->x, b));
+        m3_mul_tv(&s->contact_force[3 * (b - 1)], &w->mid1[9 * (b - 1)], block_force(w->x, b));
+    }
+    /* tip entries (staggered convention): N_bar and B^-1 M_bar, director components */
+    double f[3], mo[3];
+    s->time += dt;
+    tip_load_global(m, s->time, &s->frame[9 * (n - 1)], f, mo);
+    m3_mul_tv(&s->contact_force[3 * (n - 1)], &s->frame[9 * (n - 1)], f);
+    m3_mul_tv(mo, &s->frame[9 * (n - 1)], mo);
+    for (int k = 0; k < 3; k++) s->darboux[3 * (n - 1) + k] = mo[k] / m->stiffness[k];
+    (void)theta;
+    return 0;
+}
+
+static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double dt,
+                      rod_report *report, int depth)
+{
+    if (single_step(w, m, s, dt, report) == 0) return 0;
+    if (depth >= MAX_SPLIT_DEPTH) return -1;
+    w->have_factor = 0;
+    if (split_step(w, m, s, 0.5 * dt, report, depth + 1)) return -1;
+    w->have_factor = 0;
+    return split_step(w, m, s, 0.5 * dt, report, depth + 1);
+}
+
+static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod_report *report)
+{
+    implicit_work *w = p;
+    s->staggered = 1;
+    save_state(w, s);
+    if (split_step(w, m, s, dt, report, 0) == 0) return ROD_OK;
+    restore_state(w, s);
+    w->have_factor = 0;
+    snprintf(report->message, sizeof report->message,
+             "implicit scheme: Newton's method did not converge at t = %.6g s even after "
+             "splitting the step %g s into %d parts (tolerance %.1e). The load may exceed what "
+             "the rod can carry in equilibrium, or change too abruptly; try a smaller dt or a "
+             "ramped load profile.",
+             s->time, dt, 1 << MAX_SPLIT_DEPTH, m->options.newton_tolerance);
+    report->suggested_dt = dt / (1 << MAX_SPLIT_DEPTH);
+    return ROD_NO_CONVERGENCE;
+}
+
+static double stable_dt(const rod_model *m, const char **limit)
+{
+    (void)m;
+    if (limit) *limit = "implicit: unconditionally stable (no stability limit)";
+    return INFINITY;
+}
+
+const rod_scheme_ops rod_scheme_implicit = {"implicit", create, step, destroy, stable_dt};
