@@ -293,12 +293,15 @@ static int report_step_failure(rod_status status, int non_finite, const rod_mode
         if (non_finite) fprintf(stderr, ": the state is no longer finite");
         fprintf(stderr, "\n");
         if (report->message[0]) fprintf(stderr, "  %s\n", report->message);
-        if (report->suggested_dt > 0.0)
-            fprintf(stderr, "  a step that would work: --set solver.dt=%g\n", report->suggested_dt);
-        if (report->suggested_scale > 0.0)
-            fprintf(stderr, "  a rotary inertia scale that would work: --set "
-                            "rod.rotary_inertia_scale=%g\n",
+        if (report->suggested_scale > 0.0 && report->suggested_dt > 0.0)
+            fprintf(stderr, "  what would work: --set rod.rotary_inertia_scale=%g --set "
+                            "solver.dt=%g\n",
+                    report->suggested_scale, report->suggested_dt);
+        else if (report->suggested_scale > 0.0)
+            fprintf(stderr, "  what would work: --set rod.rotary_inertia_scale=%g\n",
                     report->suggested_scale);
+        else if (report->suggested_dt > 0.0)
+            fprintf(stderr, "  what would work: --set solver.dt=%g\n", report->suggested_dt);
         if (!report->message[0] && report->suggested_dt <= 0.0)
             fprintf(stderr, "  try a smaller solver.dt, or --set solver.scheme=implicit "
                             "(stable for any dt)\n");
@@ -344,7 +347,11 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
     if (ops->stable_dt && m->options.dt > 0.0) {
         const char *limit = "";
         double stable = ops->stable_dt(m, &limit);
-        if (isfinite(stable) && dt > stable)
+        if (isfinite(stable) && stable <= 0.0)
+            fprintf(stderr, "rodsim run: warning: the %s scheme has no stable dt for this "
+                            "model (%s); expect divergence\n",
+                    ops->name, limit);
+        else if (isfinite(stable) && dt > stable)
             fprintf(stderr, "rodsim run: warning: dt = %g s is above the %s scheme's stable "
                             "limit %g s (%s); expect divergence\n",
                     dt, ops->name, stable, limit);
