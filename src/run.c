@@ -302,9 +302,11 @@ static int report_step_failure(rod_status status, int non_finite, const rod_mode
                     report->suggested_scale);
         else if (report->suggested_dt > 0.0)
             fprintf(stderr, "  what would work: --set solver.dt=%g\n", report->suggested_dt);
-        if (!report->message[0] && report->suggested_dt <= 0.0)
-            fprintf(stderr, "  try a smaller solver.dt, or --set solver.scheme=implicit "
-                            "(stable for any dt)\n");
+        if (!report->message[0] && report->suggested_dt <= 0.0 && report->suggested_scale <= 0.0)
+            fprintf(stderr, "  try a smaller solver.dt%s\n",
+                    m->options.scheme == ROD_SCHEME_IMPLICIT
+                        ? " or a slower load (tip.profile = ramp T)"
+                        : ", or --set solver.scheme=implicit");
         fprintf(stderr, "  nothing was written.\n");
         return RUN_EXIT_BAD_INPUT;
     }
