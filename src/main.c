@@ -1,13 +1,51 @@
-/* main.c: the rodsim command line (frame placeholder). */
+/* main.c: the rodsim command line: a table of subcommands. Only main decides
+ * the exit status (0 success, 2 bad input/usage/unstable run, 1 other failure). */
 #include <stdio.h>
 #include <string.h>
 
+#include "outfile.h"
+#include "run.h"
+
+typedef struct command {
+    const char *name;
+    int (*run)(int argc, char **argv); /* argv[0] is the command name; returns the exit status */
+    const char *summary;
+} command;
+
+/* Another subcommand (fem, ...) is one more row here. */
+static const command commands[] = {
+    {"run", run_command, "simulate a rod scene; write its CSV (and video, when rendered)"},
+};
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: rodsim COMMAND [options]   (rodsim COMMAND --help for its options)\n\n"
+               "commands:\n");
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        fprintf(f, "  %-6s %s\n", commands[i].name, commands[i].summary);
+    fprintf(f, "\nexit status: 0 success, 2 bad input or usage (or a numerically unstable run),\n"
+               "1 any other failure.\n");
+}
+
 int main(int argc, char **argv)
 {
-    if (argc > 1 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
-        printf("usage: rodsim run SCENE | rodsim fem SCENE\n");
+    if (argc < 2) {
+        fprintf(stderr, "rodsim: no command given\n");
+        usage(stderr);
+        return 2;
+    }
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
+        strcmp(argv[1], "help") == 0) {
+        usage(stdout);
         return 0;
     }
-    fprintf(stderr, "rodsim: no command given; see rodsim --help\n");
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
+        if (strcmp(argv[1], commands[i].name) == 0) {
+            outfile_install_signal_cleanup();
+            return commands[i].run(argc - 1, argv + 1);
+        }
+    }
+    fprintf(stderr, "rodsim: unknown command '%s'\n", argv[1]);
+    usage(stderr);
     return 2;
 }
