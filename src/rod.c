@@ -26,7 +26,7 @@ rod_model rod_model_default(void)
     m.options.dt = 0.0;
     m.options.duration = 10.0;
     m.options.theta = 1.0;
-    m.options.newton_tolerance = 1e-10;
+    m.options.newton_tolerance = 1e-8;
     m.options.newton_max_iterations = 25;
     m.options.exact_rotation = 1;
     return m;

@@ -116,7 +116,7 @@ static int read_solver(ini_doc *doc, rod_model *m, char *err, size_t errlen)
         return -1;
     if (!(o->newton_tolerance > 0.0 && o->newton_tolerance < 1.0))
         return ini_error(doc, "solver", 0, "newton_tolerance", err, errlen,
-                         "must be in (0, 1): relative residual that ends Newton, e.g. 1e-10");
+                         "must be in (0, 1): relative residual that ends Newton, e.g. 1e-8");
     if (ini_get_int(doc, "solver", 0, "newton_max_iterations", &o->newton_max_iterations, err,
                     errlen) < 0)
         return -1;

@@ -476,6 +476,8 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
         }
     }
     if (newton(w, m, s->time, dt, report)) return -1;
+    for (int i = 0; i < w->unknowns; i++)
+        if (!isfinite(w->x[i])) return -1; /* never accept a non-finite solution */
 
     /* accept: Newton's last residual evaluation was at x, so frame1, darboux1,
      * mid1 and moment1 describe the end of the step */
