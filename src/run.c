@@ -343,6 +343,15 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
     char err[RUN_ERR_LEN] = "";
     const char *why = "";
     double dt = rod_choose_dt(m, &why);
+    if (!(dt > 0.0)) {
+        /* dt = auto found no stable step (the thesis scheme below its rotary
+         * inertia threshold): run at one step per frame, where the scheme
+         * detects the divergence within a few steps and says what would work */
+        fprintf(stderr, "rodsim run: the %s scheme has no stable time step for this model (%s)\n",
+                rod_scheme_get(m->options.scheme)->name, why);
+        dt = 1.0 / out->fps;
+        why = "no stable dt exists; one step per frame to report the divergence";
+    }
     int frames = run_frame_count(m->options.duration, out->fps);
     if (!a->quiet) print_summary(a->scene, scene, m, dt, why, out, frames);
     const rod_scheme_ops *ops = rod_scheme_get(m->options.scheme);

@@ -41,7 +41,7 @@ static void stabilise(rod_model *m)
     if (rod_solver_init(&solver, m, err, sizeof err)) return;
     rod_state *s = rod_state_create(m);
     rod_report report;
-    double dt = rod_choose_dt(m, NULL);
+    double dt = 1.0 / 60.0; /* any dt: below the threshold scale it diverges at every dt */
     for (int k = 0; k < 10; k++)
         if (rod_solver_step(&solver, m, s, dt, &report) != ROD_OK) break;
     rod_solver_release(&solver);
