@@ -288,8 +288,8 @@ static int report_step_failure(rod_status status, int non_finite, const rod_mode
 {
     const char *scheme = rod_scheme_get(m->options.scheme)->name;
     if (status == ROD_UNSTABLE) {
-        fprintf(stderr, "rodsim run: the %s scheme diverged at t = %g s (dt = %g s)", scheme,
-                s->time, dt);
+        fprintf(stderr, "rodsim run: the %s scheme stopped: the run became unstable at t = %g s "
+                        "(dt = %g s)", scheme, s->time, dt);
         if (non_finite) fprintf(stderr, ": the state is no longer finite");
         fprintf(stderr, "\n");
         if (report->message[0]) fprintf(stderr, "  %s\n", report->message);

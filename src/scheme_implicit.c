@@ -526,14 +526,52 @@ static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double
     return split_step(w, m, s, 0.5 * dt, report, depth + 1);
 }
 
+/* Largest bend between neighbouring frames, |u| ds (rad), and where. */
+static double sharpest_bend(const rod_model *m, const rod_state *s, int *segment)
+{
+    double worst = 0.0;
+    *segment = 0;
+    for (int j = 0; j + 1 < m->nodes; j++) {
+        double angle = v3_norm(&s->darboux[3 * j]) * m->ds;
+        if (angle > worst) { worst = angle; *segment = j; }
+    }
+    return worst;
+}
+
+/* A bend of more than this between neighbouring frames is not resolved by
+ * the grid (the segments fold; the log map nears its singularity at pi). */
+#define UNRESOLVED_BEND 1.0 /* rad */
+
+static rod_status unresolved(const rod_model *m, const rod_state *s, double angle, int segment,
+                             rod_report *report)
+{
+    double curvature = angle / m->ds;
+    int nodes_needed = (int)ceil(m->length * curvature / 0.3) + 1; /* 0.3 rad per segment */
+    snprintf(report->message, sizeof report->message,
+             "implicit scheme: the rod bends more sharply than the grid resolves at t = %.6g s: "
+             "|u| = %.4g 1/m at s = %.4g m, a turn of %.2f rad between neighbouring nodes "
+             "(limit %.1f rad; bend radius %.3g m against ds = %.3g m). The load drives the rod "
+             "into a kink: raise rod.nodes to at least %d, or reduce or slow the load.",
+             s->time, curvature, (segment + 0.5) * m->ds, angle, UNRESOLVED_BEND,
+             1.0 / curvature, m->ds, nodes_needed);
+    return ROD_UNSTABLE;
+}
+
 static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod_report *report)
 {
     implicit_work *w = p;
     s->staggered = 1;
     save_state(w, s);
-    if (split_step(w, m, s, dt, report, 0) == 0) return ROD_OK;
+    int segment;
+    if (split_step(w, m, s, dt, report, 0) == 0) {
+        double angle = sharpest_bend(m, s, &segment);
+        if (angle <= UNRESOLVED_BEND) return ROD_OK;
+        return unresolved(m, s, angle, segment, report);
+    }
     restore_state(w, s);
     w->have_factor = 0;
+    double angle = sharpest_bend(m, s, &segment);
+    if (angle > 0.5 * UNRESOLVED_BEND) return unresolved(m, s, angle, segment, report);
     snprintf(report->message, sizeof report->message,
              "implicit scheme: Newton's method did not converge at t = %.6g s even after "
              "splitting the step %g s into %d parts (tolerance %.1e). The load may exceed what "

@@ -268,6 +268,31 @@ static void test_energy(void)
     rod_state_destroy(s);
 }
 
+/* The thesis' impulse (0.25 N on d1 for 5 ms, then -0.25 N) on table 1's rod
+ * bends the tip within sqrt(EI/F) = 4 mm, far below ds: the scheme must stop
+ * with a message naming the unresolved bend, not return a folded rod. */
+static void test_unresolved_kink(void)
+{
+    rod_model m = table1(51, 5e-4, 1.0);
+    m.tip_force[0] = 0.25;
+    m.profile.kind = ROD_PROFILE_IMPULSE;
+    m.profile.t1 = 0.005;
+    char err[256];
+    rod_solver solver;
+    rod_solver_init(&solver, &m, err, sizeof err);
+    rod_state *s = rod_state_create(&m);
+    rod_report report;
+    rod_status st = ROD_OK;
+    int k;
+    for (k = 0; k < 40 && st == ROD_OK; k++) st = rod_solver_step(&solver, &m, s, 5e-4, &report);
+    check(st == ROD_UNSTABLE && strstr(report.message, "raise rod.nodes") != NULL,
+          "0.25 N impulse at NS = 51 stops after %d steps as unresolved: '%.120s...'", k,
+          report.message);
+    check(rod_state_is_finite(s), "the state left behind is finite");
+    rod_solver_release(&solver);
+    rod_state_destroy(s);
+}
+
 int main(void)
 {
     test_table2();
@@ -276,5 +301,6 @@ int main(void)
     test_first_frequency();
     test_stability();
     test_energy();
+    test_unresolved_kink();
     return test_finish();
 }
