@@ -204,7 +204,7 @@ static void test_first_frequency(void)
     double f = spectral_peak(y, n, dt, 0.02, 0.08);
     check_rel("first bending frequency (Crank-Nicolson, NS=51, dt=0.1 s) vs 1.8751^2/(2 pi L^2) "
               "sqrt(EI/m)",
-              f, 0.0448854, 0.02);
+              f, 0.0448854, 1e-3); /* the issue asks 2%; we reach 1.5e-4 */
     check_rel("model's own formula agrees with the hand value 0.0448854 Hz",
               rod_first_bending_frequency(&m), 0.0448854, 1e-5);
     rod_state_destroy(s);
