@@ -107,7 +107,7 @@ video_writer *video_writer_create(const char *path, int width, int height, int f
         return NULL;
     }
     v->scaler = sws_getContext(width, height, AV_PIX_FMT_RGB24, width, height, AV_PIX_FMT_YUV420P,
-                               SWS_BILINEAR | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT, NULL, NULL,
+                               SWS_BICUBIC | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT, NULL, NULL,
                                NULL);
     if (!v->scaler) {
         snprintf(err, errlen, "%s: cannot set up the RGB to yuv420p converter", path);
