@@ -27,6 +27,17 @@ void gl_target_bind(gl_target *t);
 /* Resolves the samples and reads the pixels into out (same size), top row
  * first. Returns 0, or -1 when the sizes differ or GL reports an error. */
 int gl_target_read(gl_target *t, image *out);
+/* Resolves and reads only the box x, y, width, height (image coordinates:
+ * y down) as RGBA into rgba (width x height x 4), rows bottom-up (GL's
+ * order). For drawing that touches a known part of the picture only: the
+ * multisample resolve costs time in proportion to the area. 0, or -1. */
+int gl_target_read_box_rgba(gl_target *t, int x, int y, int width, int height,
+                            unsigned char *rgba);
+/* The two halves of gl_target_read_box_rgba, so that several boxes can be
+ * resolved and then read with one glReadPixels (one wait for the GL). */
+int gl_target_resolve_box(gl_target *t, int x, int y, int width, int height);
+int gl_target_read_resolved_rgba(gl_target *t, int x, int y, int width, int height,
+                                 unsigned char *rgba);
 /* Samples actually in use. */
 int gl_target_samples(const gl_target *t);
 

@@ -19,6 +19,7 @@ struct gl_renderer {
     GLuint vao, vbo, ibo;       /* per-frame triangles */
     GLuint line_vao, line_vbo;  /* static lines */
     int max_vertices, max_indices, max_line_vertices, line_count;
+    unsigned char *box_pixels; /* (height x width x 4), RGBA of the last read rectangle */
     GLint u_view_projection, u_lit, u_orthographic, u_eye, u_view_direction, u_key, u_fill;
 };
 
@@ -47,6 +48,12 @@ gl_renderer *gl_renderer_create(int width, int height, int samples, int max_vert
     r->context = gl_context_create(16, 16, err, errlen);
     if (!r->context) {
         free(r);
+        return NULL;
+    }
+    r->box_pixels = malloc((size_t)width * (size_t)height * 4);
+    if (!r->box_pixels) {
+        snprintf(err, errlen, "gl: out of memory");
+        gl_renderer_destroy(r);
         return NULL;
     }
     r->target = gl_target_create(width, height, samples, err, errlen);
@@ -107,6 +114,7 @@ void gl_renderer_destroy(gl_renderer *r)
     if (r->program) glDeleteProgram(r->program);
     gl_target_destroy(r->target);
     gl_context_destroy(r->context);
+    free(r->box_pixels);
     free(r);
 }
 
@@ -131,17 +139,11 @@ static void normalized(float out[3], double x, double y, double z)
     out[2] = (float)(z / n);
 }
 
-void gl_renderer_draw(gl_renderer *r, const render_camera *cam, const render_vertex *vertices,
-                      int vertex_count, const unsigned *indices, int index_count,
-                      const unsigned char background[3])
+static void set_camera(gl_renderer *r, const render_camera *cam)
 {
-    gl_target_bind(r->target);
-    glClearColor(background[0] / 255.0f, background[1] / 255.0f, background[2] / 255.0f, 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE); /* ribbons and caps are seen from both sides */
     glUseProgram(r->program);
-
     float matrix[16];
     for (int i = 0; i < 16; i++) matrix[i] = (float)cam->view_projection[i];
     glUniformMatrix4fv(r->u_view_projection, 1, GL_FALSE, matrix);
@@ -159,28 +161,67 @@ void gl_renderer_draw(gl_renderer *r, const render_camera *cam, const render_ver
                0.5 * d[2] - 0.2 * u[2] + 0.9 * rt[2]);
     glUniform3fv(r->u_key, 1, key);
     glUniform3fv(r->u_fill, 1, fill);
+}
 
+int gl_renderer_draw_backdrop(gl_renderer *r, const render_camera *cam,
+                              const unsigned char background[3], image *out)
+{
+    gl_target_bind(r->target);
+    glDisable(GL_SCISSOR_TEST);
+    glClearColor(background[0] / 255.0f, background[1] / 255.0f, background[2] / 255.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    set_camera(r, cam);
     if (r->line_count > 0) {
         glUniform1i(r->u_lit, 0);
         glBindVertexArray(r->line_vao);
         glDrawArrays(GL_LINES, 0, r->line_count);
+        glBindVertexArray(0);
     }
-    if (vertex_count > r->max_vertices) vertex_count = r->max_vertices;
-    if (index_count > r->max_indices) index_count = r->max_indices;
-    if (index_count > 0) {
-        glUniform1i(r->u_lit, 1);
-        glBindVertexArray(r->vao);
-        glBindBuffer(GL_ARRAY_BUFFER, r->vbo);
-        glBufferSubData(GL_ARRAY_BUFFER, 0,
-                        (GLsizeiptr)((size_t)vertex_count * sizeof(render_vertex)), vertices);
-        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0,
-                        (GLsizeiptr)((size_t)index_count * sizeof(unsigned)), indices);
-        glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, NULL);
-    }
-    glBindVertexArray(0);
+    return gl_target_read(r->target, out);
 }
 
-int gl_renderer_read(gl_renderer *r, image *out)
+const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera *cam,
+                                            const render_vertex *vertices, int vertex_count,
+                                            const unsigned *indices, int index_count,
+                                            const int *boxes, int box_count, int read_box[4])
 {
-    return gl_target_read(r->target, out);
+    gl_target_bind(r->target);
+    set_camera(r, cam);
+    if (vertex_count > r->max_vertices) vertex_count = r->max_vertices;
+    if (index_count > r->max_indices) index_count = r->max_indices;
+    glUniform1i(r->u_lit, 1);
+    glBindVertexArray(r->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, r->vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)((size_t)vertex_count * sizeof(render_vertex)),
+                    vertices);
+    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, (GLsizeiptr)((size_t)index_count * sizeof(unsigned)),
+                    indices);
+    glClearColor(0, 0, 0, 0);
+    glEnable(GL_SCISSOR_TEST);
+    for (int b = 0; b < box_count; b++) {
+        const int *box = &boxes[4 * b];
+        glScissor(box[0], cam->height - (box[1] + box[3]), box[2], box[3]);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        if (index_count > 0) glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, NULL);
+    }
+    glDisable(GL_SCISSOR_TEST);
+    glBindVertexArray(0);
+    /* resolve each box, then read their bounding rectangle at once */
+    int lo_x = cam->width, lo_y = cam->height, hi_x = 0, hi_y = 0;
+    for (int b = 0; b < box_count; b++) {
+        const int *box = &boxes[4 * b];
+        if (gl_target_resolve_box(r->target, box[0], box[1], box[2], box[3])) return NULL;
+        lo_x = box[0] < lo_x ? box[0] : lo_x;
+        lo_y = box[1] < lo_y ? box[1] : lo_y;
+        hi_x = box[0] + box[2] > hi_x ? box[0] + box[2] : hi_x;
+        hi_y = box[1] + box[3] > hi_y ? box[1] + box[3] : hi_y;
+    }
+    read_box[0] = lo_x;
+    read_box[1] = lo_y;
+    read_box[2] = hi_x - lo_x;
+    read_box[3] = hi_y - lo_y;
+    if (box_count > 0 &&
+        gl_target_read_resolved_rgba(r->target, lo_x, lo_y, hi_x - lo_x, hi_y - lo_y, r->box_pixels))
+        return NULL;
+    return r->box_pixels;
 }

@@ -38,6 +38,7 @@ static const float moment_color[3] = {0.16f, 0.62f, 0.26f};
 #define FRAME_TOP 0.15
 #define FRAME_BOTTOM 0.15
 #define FRAME_SIDE 0.05
+#define TILE 64 /* pixels; llvmpipe's own tile size */
 
 /* ------------------------------------------------------------------ options */
 
@@ -977,11 +978,99 @@ typedef struct renderer {
     grid grid;
     overlay overlay;
     gl_renderer *gl;
+    image *backdrop;             /* background and grid, drawn once */
+    double pad;                  /* m, reach of the geometry around the points that carry it */
+    int tiles_x, tiles_y;        /* tile grid over the picture, TILE pixels, from the bottom */
+    unsigned char *tile_marked;  /* (tiles_y x tiles_x) */
+    int (*boxes)[4];             /* disjoint boxes over the marked tiles: x, y (down), w, h */
+    int box_count;
 } renderer;
+
+/* Pixels per metre at a point (perspective: at its depth). */
+static double pixels_per_metre(const render_camera *cam, const double p[3])
+{
+    if (cam->orthographic) return 1.0 / cam->metres_per_pixel;
+    double to_eye[3];
+    v3_sub(to_eye, cam->eye, p);
+    return cam->height / (2 * v3_dot(to_eye, cam->direction) * tan(0.5 * PERSPECTIVE_FOVY));
+}
+
+/* Marks the tiles under the screen box of the points (padded by pad, m). */
+static void mark_points(renderer *r, const double *points, int count, double pad)
+{
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int i = 0; i < count; i++) {
+        double pixel[2];
+        if (render_project(&r->camera, &points[3 * i], pixel)) {
+            /* behind the camera: cannot bound it, draw everything */
+            lo[0] = lo[1] = -INFINITY;
+            hi[0] = hi[1] = INFINITY;
+            break;
+        }
+        double reach = pad * pixels_per_metre(&r->camera, &points[3 * i]) + 3;
+        lo[0] = fmin(lo[0], pixel[0] - reach);
+        hi[0] = fmax(hi[0], pixel[0] + reach);
+        lo[1] = fmin(lo[1], pixel[1] - reach);
+        hi[1] = fmax(hi[1], pixel[1] + reach);
+    }
+    int height = r->camera.height;
+    /* tiles count from the bottom row of pixels (GL's origin), TILE pixels square */
+    int tx0 = (int)fmax(0, floor(lo[0] / TILE)), tx1 = (int)fmin(r->tiles_x - 1, floor(hi[0] / TILE));
+    int ty0 = (int)fmax(0, floor((height - hi[1]) / TILE));
+    int ty1 = (int)fmin(r->tiles_y - 1, floor((height - lo[1]) / TILE));
+    for (int ty = ty0; ty <= ty1; ty++)
+        for (int tx = tx0; tx <= tx1; tx++) r->tile_marked[ty * r->tiles_x + tx] = 1;
+}
+
+/* The disjoint boxes that hold this frame's tube, stripe, clamp and arrows:
+ * only they are cleared, drawn, resolved and read (the multisample resolve
+ * is llvmpipe's main cost), the rest of the picture is the backdrop. */
+static void frame_boxes(renderer *r, int frame)
+{
+    const rod_recording *rec = r->rec;
+    memset(r->tile_marked, 0, (size_t)r->tiles_x * (size_t)r->tiles_y);
+    for (int k = 0; k + 1 < rec->nodes; k++)
+        mark_points(r, node_position(rec, frame, k), 2, r->pad);
+    double centre[3], axes[3][3], half[3], corners[8 * 3];
+    clamp_box(rec, r->radius, centre, axes, half);
+    for (int corner = 0; corner < 8; corner++) {
+        double *p = &corners[3 * corner];
+        v3_copy(p, centre);
+        for (int a = 0; a < 3; a++) v3_axpy(p, (corner >> a & 1 ? 1 : -1) * half[a], axes[a]);
+    }
+    mark_points(r, corners, 8, 0);
+    for (int which = 0; r->o->arrows && which < 2; which++) {
+        double ends[6], d[3], length;
+        if (!arrow_geometry(&r->arrows, rec, frame, which, ends, d, &length)) continue;
+        v3_copy(&ends[3], ends);
+        v3_axpy(&ends[3], length, d);
+        mark_points(r, ends, 2, r->arrows.style.head_radius);
+    }
+    /* runs of marked tiles in each tile row become boxes */
+    r->box_count = 0;
+    int width = r->camera.width, height = r->camera.height;
+    for (int ty = 0; ty < r->tiles_y; ty++)
+        for (int tx = 0; tx < r->tiles_x; tx++) {
+            if (!r->tile_marked[ty * r->tiles_x + tx]) continue;
+            int run = tx;
+            while (run + 1 < r->tiles_x && r->tile_marked[ty * r->tiles_x + run + 1]) run++;
+            int gl_y0 = ty * TILE, gl_y1 = (ty + 1) * TILE < height ? (ty + 1) * TILE : height;
+            int x1 = (run + 1) * TILE < width ? (run + 1) * TILE : width;
+            int *box = r->boxes[r->box_count++];
+            box[0] = tx * TILE;
+            box[1] = height - gl_y1;
+            box[2] = x1 - tx * TILE;
+            box[3] = gl_y1 - gl_y0;
+            tx = run;
+        }
+}
 
 static void renderer_destroy(renderer *r)
 {
     gl_renderer_destroy(r->gl);
+    image_destroy(r->backdrop);
+    free(r->tile_marked);
+    free(r->boxes);
     text_font_destroy(r->overlay.title);
     text_font_destroy(r->overlay.body);
     free(r->mesh.vertices);
@@ -1040,6 +1129,22 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
         return -1;
     }
     if (o->grid) gl_renderer_set_lines(r->gl, r->grid.lines, r->grid.count);
+    r->pad = STRIPE_LIFT * r->radius;
+    r->tiles_x = (o->width + TILE - 1) / TILE;
+    r->tiles_y = (o->height + TILE - 1) / TILE;
+    r->tile_marked = malloc((size_t)r->tiles_x * (size_t)r->tiles_y);
+    r->boxes = malloc((size_t)r->tiles_x * (size_t)r->tiles_y * sizeof *r->boxes);
+    r->backdrop = image_create(o->width, o->height);
+    if (!r->tile_marked || !r->boxes) {
+        snprintf(err, errlen, "render: out of memory");
+        renderer_destroy(r);
+        return -1;
+    }
+    if (!r->backdrop || gl_renderer_draw_backdrop(r->gl, &r->camera, o->background, r->backdrop)) {
+        snprintf(err, errlen, "render: cannot draw the backdrop (out of memory or OpenGL error)");
+        renderer_destroy(r);
+        return -1;
+    }
     return 0;
 }
 
@@ -1051,9 +1156,32 @@ static int renderer_draw(renderer *r, int frame, image *out)
     if (r->o->stripe != RENDER_STRIPE_OFF) add_stripe(m, r->rec, frame, r->radius, r->o->stripe);
     add_clamp(m, r->rec, r->radius);
     if (r->o->arrows) add_arrows(m, &r->arrows, r->rec, frame);
-    gl_renderer_draw(r->gl, &r->camera, m->vertices, m->vertex_count, m->indices, m->index_count,
-                     r->o->background);
-    if (gl_renderer_read(r->gl, out)) return -1;
+    frame_boxes(r, frame);
+    int read_box[4];
+    const unsigned char *rgba = gl_renderer_draw_boxes(r->gl, &r->camera, m->vertices,
+                                                       m->vertex_count, m->indices, m->index_count,
+                                                       &r->boxes[0][0], r->box_count, read_box);
+    if (!rgba) return -1;
+    /* premultiplied rod over the backdrop: out = C + (1 - alpha) B, inside the boxes only
+     * (the read rectangle outside them holds stale pixels) */
+    memcpy(out->rgb, r->backdrop->rgb, (size_t)out->width * (size_t)out->height * 3);
+    for (int b = 0; b < r->box_count; b++) {
+        const int *box = r->boxes[b];
+        for (int y = box[1]; y < box[1] + box[3]; y++) {
+            int row = read_box[1] + read_box[3] - 1 - y; /* GL rows run bottom-up */
+            const unsigned char *src =
+                rgba + ((size_t)row * (size_t)read_box[2] + (size_t)(box[0] - read_box[0])) * 4;
+            unsigned char *dst = out->rgb + ((size_t)y * (size_t)out->width + (size_t)box[0]) * 3;
+            for (int x = 0; x < box[2]; x++, src += 4, dst += 3) {
+                unsigned keep = 255u - src[3];
+                if (keep == 255) continue;
+                for (int c = 0; c < 3; c++) {
+                    unsigned v = src[c] + (dst[c] * keep + 127) / 255;
+                    dst[c] = (unsigned char)(v > 255 ? 255 : v);
+                }
+            }
+        }
+    }
     if (r->o->overlay) draw_overlay(out, &r->overlay, r->rec, r->o, frame);
     return 0;
 }
