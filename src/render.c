@@ -1279,6 +1279,15 @@ int render_recording(const rod_recording *rec, const render_options *o, const ch
     }
     if (!status && q.video) status = video_writer_finish(q.video, err, errlen);
     if (!status && o->poster) status = image_write_png(last, poster_path, err, errlen);
+    if (status && q.frames_dir) {
+        /* a failed run leaves no partial frame sequence either */
+        for (int k = 0; k < q.consumed; k++) {
+            char path[OUTFILE_PATH_MAX];
+            snprintf(path, sizeof path, "%s/%05d.png", frames_dir, k);
+            unlink(path);
+        }
+        rmdir(frames_dir);
+    }
     video_writer_destroy(q.video); /* removes the video unless finished */
     for (int i = 0; i < QUEUE_SLOTS; i++) image_destroy(q.slots[i]);
     renderer_destroy(&r);
