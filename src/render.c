@@ -1282,7 +1282,7 @@ int render_recording(const rod_recording *rec, const render_options *o, const ch
     if (status && q.frames_dir) {
         /* a failed run leaves no partial frame sequence either */
         for (int k = 0; k < q.consumed; k++) {
-            char path[OUTFILE_PATH_MAX];
+            char path[OUTFILE_PATH_MAX + 16];
             snprintf(path, sizeof path, "%s/%05d.png", frames_dir, k);
             unlink(path);
         }
