@@ -14,6 +14,7 @@
 
 #include "ini.h"
 #include "recording.h"
+#include "render.h"
 #include "rod.h"
 
 /* Exit statuses of every command (PRODUCT.md "Command line"). */
@@ -31,6 +32,7 @@ typedef struct run_output {
     int width;  /* video pixels, even, 16..7680 */
     int height; /* video pixels, even, 16..4320 */
     int crf;    /* H.264 constant rate factor, 0 (lossless) .. 51 */
+    render_options render; /* every [render] key, for the renderer (fps .. crf copied in) */
 } run_output;
 
 /* Defaults (30 fps, 1280 x 720, crf 20), then the scene's [render] keys.

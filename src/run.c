@@ -56,6 +56,13 @@ int run_read_output(ini_doc *doc, run_output *out, char *err, size_t errlen)
                              keys[k].hi, keys[k].even ? ", even (yuv420p video)" : "",
                              keys[k].what);
     }
+    /* the renderer's own keys (camera, stripe, samples, ...) on the same section */
+    render_options_default(&out->render);
+    if (render_options_read(doc, &out->render, err, errlen)) return -1;
+    out->render.fps = out->fps;
+    out->render.width = out->width;
+    out->render.height = out->height;
+    out->render.crf = out->crf;
     return 0;
 }
 
@@ -106,11 +113,7 @@ int run_write_csv(const rod_recording *rec, const char *path, char *err, size_t 
 int run_write_video(const rod_recording *rec, const run_output *out, const char *out_dir,
                     char *err, size_t errlen)
 {
-    /* renderer integration: the lead wires render here (frames of `rec` at out->fps,
-     * out->width x out->height, H.264 at out->crf, into out_dir/<scene>.mp4). Until then
-     * no video is written, and the caller says so. */
-    (void)rec; (void)out; (void)out_dir; (void)err; (void)errlen;
-    return 0;
+    return render_recording(rec, &out->render, out_dir, rec->scene, 1, err, errlen);
 }
 
 typedef struct run_args {
@@ -403,7 +406,10 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
     if (!a->quiet) {
         print_result(m, s, stats.steps, stats.wall_seconds);
         if (a->csv) printf("        wrote %s (%d frames x %d nodes)\n", a->csv, frames, m->nodes);
-        if (!a->no_video) printf("        video: none yet (the renderer is not wired in)\n");
+        if (!a->no_video)
+            printf("        wrote %s/%s.mp4 and %s/%s.png (%d frames, %dx%d)\n", a->out_dir,
+                   rec->scene, a->out_dir, rec->scene, rec->frame_count, out->width,
+                   out->height);
     }
     status = RUN_EXIT_OK;
 done:

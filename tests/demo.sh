@@ -1,15 +1,22 @@
 #!/bin/sh
-# make demo: runs the headline scene into out/. Until the renderer lands this
-# is the simulation alone: it writes out/suture.csv (the centreline at every
-# frame) and prints the run's summary; the lead wires the video in run.c.
+# make demo: renders the headline scenes into out/:
+#   out/suture.mp4 (+ .png poster, + .csv centreline): a suture bent and
+#     twisted by its tip loads;
+#   out/buckling_twist.mp4 (+ .png): the rod buckling under a twisting moment,
+#     the stripe (a material line) showing the twist.
 cd "$(dirname "$0")/.." || exit 1
 bin=build/release/rodsim
 [ -x "$bin" ] || { echo "demo: $bin is missing; run make first" >&2; exit 1; }
 mkdir -p out
-"$bin" run scenes/suture.ini -o out --csv out/suture.csv
-status=$?
-if [ "$status" -ne 0 ]; then
-    echo "demo: rodsim run scenes/suture.ini failed with exit status $status" >&2
-    exit "$status"
-fi
-echo "demo: wrote out/suture.csv ($(wc -l <out/suture.csv) lines)"
+for scene in suture buckling_twist; do
+    csv=""
+    [ "$scene" = suture ] && csv="--csv out/suture.csv"
+    # shellcheck disable=SC2086
+    "$bin" run "scenes/$scene.ini" -o out $csv
+    status=$?
+    if [ "$status" -ne 0 ]; then
+        echo "demo: rodsim run scenes/$scene.ini failed with exit status $status" >&2
+        exit "$status"
+    fi
+done
+echo "demo: wrote out/suture.mp4, out/suture.png, out/suture.csv, out/buckling_twist.mp4, out/buckling_twist.png"

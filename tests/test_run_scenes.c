@@ -1,0 +1,89 @@
+/* test_run_scenes.c: every scene in scenes/ runs and renders end to end
+ * through the real binary (short duration, small frames: the scene's own
+ * physics, shortened), and its video decodes to the expected frame count,
+ * size and duration; the poster PNG has the video's size and is not blank. */
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "test.h"
+#include "test_media.h"
+
+#define WIDTH 192
+#define HEIGHT 108
+#define FPS 10
+#define DURATION 0.5 /* s: frames at 0, 0.1, ..., 0.5 */
+
+/* Fraction of pixels that differ from the top-left corner (the background). */
+static double non_background(const image *img)
+{
+    long differ = 0, n = (long)img->width * img->height;
+    for (long i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++)
+            if (abs(img->rgb[3 * i + c] - img->rgb[c]) > 24) { differ++; break; }
+    return (double)differ / (double)n;
+}
+
+static void run_scene(const char *dir, const char *file)
+{
+    char scene[512], out[] = "/tmp/rodsim_scenesXXXXXX", cmd[2048], path[1024], name[256];
+    if (snprintf(scene, sizeof scene, "%s/%s", dir, file) >= (int)sizeof scene) return;
+    snprintf(name, sizeof name, "%.*s", (int)(strlen(file) - 4), file);
+    if (!mkdtemp(out)) {
+        check(0, "mkdtemp");
+        return;
+    }
+    snprintf(cmd, sizeof cmd,
+             "%s run %s --quiet -o %s --set solver.duration=%g --set render.fps=%d "
+             "--set render.width=%d --set render.height=%d > %s/log.txt 2>&1",
+             RODSIM_BIN, scene, out, DURATION, FPS, WIDTH, HEIGHT, out);
+    int status = system(cmd);
+    check(status == 0, "%s: rodsim run exits 0 (status %d)", name, status);
+    snprintf(path, sizeof path, "%s/%s.mp4", out, name);
+    decoded video;
+    if (decode_video(path, &video) == 0) {
+        int expected = (int)(DURATION * FPS + 0.5) + 1;
+        check(video.frames == expected && video.width == WIDTH && video.height == HEIGHT,
+              "%s: video has %d frames of %dx%d (expected %d of %dx%d)", name, video.frames,
+              video.width, video.height, expected, WIDTH, HEIGHT);
+        check_rel("video duration, s", video.duration, (double)expected / FPS, 1e-6);
+        decoded_release(&video);
+    } else {
+        check(0, "%s: %s decodes", name, path);
+    }
+    char err[256];
+    snprintf(path, sizeof path, "%s/%s.png", out, name);
+    image *poster = image_read_png(path, err, sizeof err);
+    if (poster) {
+        double drawn = non_background(poster);
+        check(poster->width == WIDTH && poster->height == HEIGHT && drawn > 0.01 && drawn < 0.9,
+              "%s: poster %dx%d, %.1f%% of pixels drawn (rod, grid, text; not blank)", name,
+              poster->width, poster->height, 100 * drawn);
+        image_destroy(poster);
+    } else {
+        check(0, "%s: poster readable (%s)", name, err);
+    }
+    remove_tree(out);
+}
+
+int main(void)
+{
+    const char *dir = RODSIM_SOURCE_DIR "/scenes";
+    DIR *d = opendir(dir);
+    if (!check(d != NULL, "scenes/ directory opens")) return test_finish();
+    char names[64][128];
+    int count = 0;
+    struct dirent *e;
+    while ((e = readdir(d)) && count < 64) {
+        size_t n = strlen(e->d_name);
+        /* rod scenes only: the FEM scenes run through `rodsim fem` in test_fem */
+        if (n > 4 && strcmp(e->d_name + n - 4, ".ini") == 0 && strncmp(e->d_name, "fishing", 7))
+            if (snprintf(names[count], sizeof names[0], "%s", e->d_name) < (int)sizeof names[0])
+                count++;
+    }
+    closedir(d);
+    check(count >= 9, "found %d rod scenes", count);
+    for (int i = 0; i < count; i++) run_scene(dir, names[i]);
+    return test_finish();
+}
