@@ -87,7 +87,7 @@ int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errle
 {
     if (read_int_range(doc, "width", &o->width, 16, 7680, err, errlen) ||
         read_int_range(doc, "height", &o->height, 16, 4320, err, errlen) ||
-        read_int_range(doc, "fps", &o->fps, 1, 240, err, errlen) ||
+        read_int_range(doc, "fps", &o->fps, 1, 1000, err, errlen) ||
         read_int_range(doc, "crf", &o->crf, 0, 51, err, errlen) ||
         read_int_range(doc, "samples", &o->samples, 0, 16, err, errlen) ||
         read_int_range(doc, "sides", &o->sides, 6, 128, err, errlen))
