@@ -6,7 +6,12 @@
 #include <string.h>
 #include <sys/wait.h>
 
+#include <unistd.h>
+
 #include "fem.h"
+#include "fem_cli.h"
+#include "image.h"
+#include "plot.h"
 #include "test.h"
 
 #define DEG (M_PI / 180.0)
@@ -281,6 +286,176 @@ static void test_mechanism_library(void)
     fem_model_destroy(m);
 }
 
+/* ---- the real binary ---------------------------------------------------- */
+
+static char temp_dir[64];
+
+static void write_file(const char *path, const char *text)
+{
+    FILE *fp = fopen(path, "w");
+    if (!fp) return;
+    fputs(text, fp);
+    fclose(fp);
+}
+
+/* Runs `rodsim fem SCENE ARGS`; returns the exit status, output in out. */
+static int run_fem(const char *scene_text, const char *args, char *out, size_t outlen)
+{
+    char scene[128], command[1024];
+    snprintf(scene, sizeof scene, "%s/scene.ini", temp_dir);
+    write_file(scene, scene_text);
+    snprintf(command, sizeof command, "%s fem %s %s 2>&1", RODSIM_BIN, scene, args);
+    FILE *pipe = popen(command, "r");
+    if (!pipe) return -1;
+    size_t used = fread(out, 1, outlen - 1, pipe);
+    out[used] = '\0';
+    int status = pclose(pipe);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+#define ROD_MATERIAL "[material]\nyoungs_modulus = 100e6\nradius = 0.05\n"
+#define ROD_GEOMETRY "[geometry]\nlength = 2\nangle = 0\nelements = 4\n"
+#define TIP_LOAD "[load]\nnode = 5\nforce = 0 -20\n"
+
+static void expect_bad_input(const char *what, const char *scene_text, const char *needle1,
+                             const char *needle2)
+{
+    char out[4096];
+    int status = run_fem(scene_text, "--no-png", out, sizeof out);
+    out[strcspn(out, "\n")] = '\0';
+    check(status == 2 && strstr(out, needle1) && strstr(out, needle2),
+          "%s: exit %d (expected 2), message '%s' names '%s' and '%s'", what, status, out, needle1,
+          needle2);
+}
+
+static void test_command_errors(void)
+{
+    expect_bad_input("pinned only (mechanism)",
+                     ROD_MATERIAL ROD_GEOMETRY "[support]\nnode = 1\ntype = pinned\n" TIP_LOAD,
+                     "mechanism", "theta (rotation) of node 1");
+    expect_bad_input("no support (mechanism)", ROD_MATERIAL ROD_GEOMETRY TIP_LOAD, "mechanism",
+                     "u (x displacement) of node 1");
+    expect_bad_input("zero-length element",
+                     ROD_MATERIAL "[geometry]\nnodes = 0 0, 1 0, 1 0\n"
+                                  "[support]\nnode = 1\ntype = clamped\n",
+                     "scene.ini:5:", "zero length");
+    expect_bad_input("load on a missing node",
+                     ROD_MATERIAL ROD_GEOMETRY "[support]\nnode = 1\ntype = clamped\n"
+                                               "[load]\nnode = 7\nforce = 0 -1\n",
+                     "scene.ini:12:", "accepted: 1 .. 5");
+    expect_bad_input("negative E",
+                     "[material]\nyoungs_modulus = -5\nradius = 0.05\n" ROD_GEOMETRY
+                     "[support]\nnode = 1\ntype = clamped\n",
+                     "scene.ini:2:", "must be > 0");
+    expect_bad_input("zero radius",
+                     "[material]\nyoungs_modulus = 1e8\nradius = 0\n" ROD_GEOMETRY
+                     "[support]\nnode = 1\ntype = clamped\n",
+                     "scene.ini:3:", "radius");
+    expect_bad_input("unknown key",
+                     ROD_MATERIAL ROD_GEOMETRY "[support]\nnode = 1\ntype = clamped\nstiff = 1\n",
+                     "scene.ini:11:", "stiff");
+    expect_bad_input("unknown support type",
+                     ROD_MATERIAL ROD_GEOMETRY "[support]\nnode = 1\ntype = glued\n",
+                     "scene.ini:10:", "clamped | pinned | roller");
+}
+
+/* The binary's CSV tip deflection and the PNG's size. */
+static void test_command_outputs(void)
+{
+    char out[8192], args[512], csv[128], png[128];
+    snprintf(csv, sizeof csv, "%s/table.csv", temp_dir);
+    snprintf(png, sizeof png, "%s/rod.png", temp_dir);
+    snprintf(args, sizeof args, "--csv %s --png %s --set plot.width=900 --set plot.height=600",
+             csv, png);
+    int status = run_fem(ROD_MATERIAL ROD_GEOMETRY "[support]\nnode = 1\ntype = clamped\n" TIP_LOAD,
+                         args, out, sizeof out);
+    check(status == 0, "valid scene: exit %d (expected 0)", status);
+    FILE *fp = fopen(csv, "r");
+    char header[256] = "";
+    double tip_w = NAN;
+    if (fp) {
+        if (!fgets(header, sizeof header, fp)) header[0] = '\0';
+        char line[512];
+        while (fgets(line, sizeof line, fp)) {
+            int node;
+            double x, z, u, w, theta;
+            if (sscanf(line, "%d,%lf,%lf,%lf,%lf,%lf", &node, &x, &z, &u, &w, &theta) == 6 &&
+                node == 5)
+                tip_w = w;
+        }
+        fclose(fp);
+    }
+    header[strcspn(header, "\n")] = '\0';
+    check(strncmp(header, "node,x,z,u,w,theta", 18) == 0, "CSV header '%.40s'", header);
+    double area, I;
+    fem_circular_section(lab_radius, &area, &I);
+    check_rel("CSV tip w of the binary = -PL^3/3EI", tip_w, -20.0 * 8.0 / (3 * lab_youngs * I),
+              1e-9);
+    char err[512] = "";
+    image *img = image_read_png(png, err, sizeof err);
+    check(img && img->width == 900 && img->height == 600, "figure PNG %dx%d (expected 900x600) %s",
+          img ? img->width : 0, img ? img->height : 0, err);
+    image_destroy(img);
+    remove(csv);
+    remove(png);
+}
+
+static int pixel_is(const image *img, double x, double y, const unsigned char rgb[3], int tol)
+{
+    int ix = (int)lround(x), iy = (int)lround(y);
+    if (ix < 0 || iy < 0 || ix >= img->width || iy >= img->height) return 0;
+    const unsigned char *p = &img->rgb[((size_t)iy * img->width + ix) * 3];
+    return abs(p[0] - rgb[0]) <= tol && abs(p[1] - rgb[1]) <= tol && abs(p[2] - rgb[2]) <= tol;
+}
+
+/* The deformed tip in the figure sits where beam theory puts it: the tip
+ * node's ring marker is centred there and the curve passes through the
+ * analytic deflection just before the tip. */
+static void test_figure_tip(void)
+{
+    double P = 20.0;
+    fem_model *m = cantilever(4, 0.0, 0.0, -P, 0.0);
+    fem_solution *s = m ? solve(m) : NULL;
+    if (!s) { fem_model_destroy(m); return; }
+    double EI = lab_youngs * m->second_moment;
+    double scale = fem_auto_scale(m, s);
+    check(scale == 2.0, "automatic scale for a 0.109 m tip deflection of a 2 m rod: %g "
+                        "(0.15 x 2 / 0.109 = 2.76, rounded down to 2)", scale);
+    fem_figure_options options = {.width = 1000, .height = 700, .scale = 0, .title = "tip test"};
+    plot *figure = fem_figure_create(m, s, &options, scale, "tip");
+    char path[128], err[512] = "";
+    snprintf(path, sizeof path, "%s/tip.png", temp_dir);
+    int rc = figure ? plot_write_png(figure, path, err, sizeof err) : -1;
+    image *img = rc == 0 ? image_read_png(path, err, sizeof err) : NULL;
+    if (check(img != NULL, "figure written and read back (%s)", err)) {
+        double tip_x = lab_length, tip_z = -scale * P * pow(lab_length, 3) / (3 * EI);
+        double px, py;
+        plot_data_to_pixel(figure, tip_x, tip_z, &px, &py);
+        int ring = 0;
+        const double angles[5] = {0, 45, 90, 135, 180}; /* not below: the load arrow is there */
+        for (int i = 0; i < 5; i++)
+            ring += pixel_is(img, px + 5 * cos(angles[i] * DEG), py - 5 * sin(angles[i] * DEG),
+                             fem_deformed_rgb, 60);
+        check(ring == 5, "tip marker ring centred on beam theory's tip (%.1f, %.1f) px: %d of 5 "
+                         "probes in the deformed colour", px, py, ring);
+        /* the undeformed tip is 0.217 m (about 100 px) above: no ring there */
+        double ux, uy;
+        plot_data_to_pixel(figure, tip_x, 0.0, &ux, &uy);
+        check(!pixel_is(img, ux + 5, uy, fem_deformed_rgb, 60) && fabs(uy - py) > 50,
+              "no deformed tip at the undeformed position (%.0f px away)", fabs(uy - py));
+        /* inside the last element: x = 1.9 m, w = -P x^2 (3L - x) / 6EI */
+        double x = 1.9, w = -P * x * x * (3 * lab_length - x) / (6 * EI);
+        plot_data_to_pixel(figure, x, scale * w, &px, &py);
+        check(pixel_is(img, px, py, fem_deformed_rgb, 60),
+              "deformed curve passes through beam theory's w(1.9 m) at (%.1f, %.1f) px", px, py);
+        image_destroy(img);
+    }
+    remove(path);
+    plot_destroy(figure);
+    fem_solution_destroy(s);
+    fem_model_destroy(m);
+}
+
 int main(void)
 {
     test_straight_cantilever();
@@ -291,5 +466,15 @@ int main(void)
     test_curved_equilibrium();
     test_simply_supported();
     test_mechanism_library();
+    snprintf(temp_dir, sizeof temp_dir, "/tmp/rodsim_test_fem_XXXXXX");
+    if (check(mkdtemp(temp_dir) != NULL, "temporary directory %s", temp_dir)) {
+        test_command_errors();
+        test_command_outputs();
+        test_figure_tip();
+        char scene[128];
+        snprintf(scene, sizeof scene, "%s/scene.ini", temp_dir);
+        remove(scene);
+        rmdir(temp_dir);
+    }
     return test_finish();
 }
