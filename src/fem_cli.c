@@ -636,14 +636,12 @@ int fem_command(int argc, char **argv)
         snprintf(err, sizeof err, "out of memory");
         goto done;
     }
-    fem_status solved = fem_solve(model, solution, err, sizeof err);
+    char solve_err[768] = "";
+    fem_status solved = fem_solve(model, solution, solve_err, sizeof solve_err);
     if (solved != FEM_OK) {
-        if (solved != FEM_FAILURE) {
-            /* prefix the scene so the message says which file */
-            char message[1024];
-            snprintf(message, sizeof message, "%s: %s", scene_path, err);
-            snprintf(err, sizeof err, "%s", message);
-        }
+        /* a mechanism or bad model: name the scene it came from */
+        snprintf(err, sizeof err, "%s: %s", solved == FEM_FAILURE ? "rodsim" : scene_path,
+                 solve_err);
         status = solved == FEM_FAILURE ? 1 : 2;
         goto done;
     }
