@@ -646,12 +646,31 @@ int fem_command(int argc, char **argv)
         goto done;
     }
 
+    /* round-off: the relative error is about 1e-16 x the condition number */
+    double roundoff = 1.1e-16 * solution->condition_number;
+    if (roundoff > 1e-2) {
+        snprintf(err, sizeof err,
+                 "%s: %d elements make the stiffness matrix too ill-conditioned for double "
+                 "precision (condition number %.2g: round-off of about %.0f %% in the "
+                 "displacements); use fewer elements: the cubic elements are exact at the nodes "
+                 "for nodal loads, a few per member suffice",
+                 scene_path, model->node_count - 1, solution->condition_number,
+                 fmin(100.0, 100 * roundoff));
+        status = 2;
+        goto done;
+    }
+    if (roundoff > 1e-6)
+        fprintf(stderr, "rodsim fem: warning: condition number %.2g: the displacements may carry "
+                        "a relative round-off error of about %.1g; fewer elements would be more "
+                        "accurate\n", solution->condition_number, roundoff);
+
     char scene_name[256];
     ini_scene_name(doc, scene_name, sizeof scene_name);
     double scale = options.scale > 0 ? options.scale : fem_auto_scale(model, solution);
-    printf("rodsim fem: %s: %d nodes, %d elements, E = %g Pa, A = %.6g m^2, I = %.6g m^4\n\n",
+    printf("rodsim fem: %s: %d nodes, %d elements, E = %g Pa, A = %.6g m^2, I = %.6g m^4\n"
+           "condition number of the (equilibrated) stiffness: %.3g\n\n",
            scene_path, model->node_count, model->node_count - 1, model->youngs_modulus,
-           model->area, model->second_moment);
+           model->area, model->second_moment, solution->condition_number);
     print_table(stdout, model, solution);
     fflush(stdout);
 

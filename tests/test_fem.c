@@ -354,6 +354,10 @@ static void test_command_errors(void)
     expect_bad_input("unknown key",
                      ROD_MATERIAL ROD_GEOMETRY "[support]\nnode = 1\ntype = clamped\nstiff = 1\n",
                      "scene.ini:11:", "stiff");
+    expect_bad_input("20000 elements (round-off would swamp the result)",
+                     ROD_MATERIAL "[geometry]\nlength = 2\nelements = 20000\n"
+                     "[support]\nnode = 1\ntype = clamped\n",
+                     "ill-conditioned", "use fewer elements");
     expect_bad_input("unknown support type",
                      ROD_MATERIAL ROD_GEOMETRY "[support]\nnode = 1\ntype = glued\n",
                      "scene.ini:10:", "clamped | pinned | roller");
