@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <unistd.h>
+
 #include "image.h"
 #include "plot.h"
 #include "test.h"
@@ -32,9 +34,12 @@ static int is_colour(const image *img, int x, int y, int r, int g, int b, int to
     return abs(px[0] - r) <= tolerance && abs(px[1] - g) <= tolerance && abs(px[2] - b) <= tolerance;
 }
 
+static char temp_dir[64];
+
 static void test_figure_pixels(void)
 {
-    const char *path = "build/test_plot_figure.png";
+    char path[128];
+    snprintf(path, sizeof path, "%s/figure.png", temp_dir);
     char err[512] = "";
     plot *p = plot_create(640, 400);
     if (!check(p != NULL, "plot created")) return;
@@ -94,7 +99,8 @@ static void test_figure_pixels(void)
 static void test_mappings(void)
 {
     char err[512] = "";
-    const char *path = "build/test_plot_mapping.png";
+    char path[128];
+    snprintf(path, sizeof path, "%s/mapping.png", temp_dir);
     plot *p = plot_create(800, 400);
     if (!p) return;
     plot_set_equal_aspect(p, 1);
@@ -135,7 +141,11 @@ static void test_mappings(void)
 int main(void)
 {
     test_nice_ticks();
-    test_figure_pixels();
-    test_mappings();
+    snprintf(temp_dir, sizeof temp_dir, "/tmp/rodsim_test_plot_XXXXXX");
+    if (check(mkdtemp(temp_dir) != NULL, "temporary directory %s", temp_dir)) {
+        test_figure_pixels();
+        test_mappings();
+        rmdir(temp_dir); /* stays when RODSIM_KEEP_TEST_OUTPUT kept the figure */
+    }
     return test_finish();
 }
