@@ -440,7 +440,7 @@ static int max_tick_label_width(plot *p, text_font *f, double first, double step
 
 /* Legend rows and their widest text; places the legend in the axes corner
  * that covers the fewest data points. */
-static void layout_legend(plot *p, plot_fonts *fonts)
+static int layout_legend(plot *p, plot_fonts *fonts)
 {
     int rows = 0, widest = 0;
     for (int i = 0; i < p->series_count; i++) {
@@ -452,7 +452,7 @@ static void layout_legend(plot *p, plot_fonts *fonts)
     p->legend_row = text_ascent(fonts->legend) + text_descent(fonts->legend) + 8;
     if (rows == 0) {
         p->legend_width = p->legend_height = 0;
-        return;
+        return 0;
     }
     int sample = 40;
     p->legend_width = 12 + sample + 10 + widest + 12;
@@ -490,27 +490,12 @@ static void layout_legend(plot *p, plot_fonts *fonts)
     }
     p->legend_left = (best & 1) ? p->right - margin - p->legend_width : p->left + margin;
     p->legend_top = (best & 2) ? p->bottom - margin - p->legend_height : p->top + margin;
+    return best_count;
 }
 
-static void layout(plot *p, plot_fonts *fonts)
+/* Box, view and ticks for the given range (axis units). */
+static void layout_range(plot *p, plot_fonts *fonts, double range[4])
 {
-    double range[4];
-    if (p->fixed_limits) {
-        range[0] = axis_value(p->limits[0], p->log_x);
-        range[1] = axis_value(p->limits[1], p->log_x);
-        range[2] = axis_value(p->limits[2], p->log_y);
-        range[3] = axis_value(p->limits[3], p->log_y);
-        if (!isfinite(range[0]) || !isfinite(range[1]) || range[0] >= range[1]) {
-            range[0] = 0;
-            range[1] = 1;
-        }
-        if (!isfinite(range[2]) || !isfinite(range[3]) || range[2] >= range[3]) {
-            range[2] = 0;
-            range[3] = 1;
-        }
-    } else {
-        data_range(p, range);
-    }
     int tick_height = text_ascent(fonts->tick) + text_descent(fonts->tick);
     int label_height = text_ascent(fonts->label) + text_descent(fonts->label);
     int pad = 10, tick_len = 6;
@@ -519,7 +504,7 @@ static void layout(plot *p, plot_fonts *fonts)
     /* tick label widths depend on the range and the range (equal aspect) on
      * the box: two passes settle it */
     for (int pass = 0; pass < 3; pass++) {
-        memcpy(p->view, range, sizeof range);
+        memcpy(p->view, range, 4 * sizeof *range);
         p->x_tick_count = plot_nice_ticks(p->view[0], p->view[1], MAX_TICKS, &p->x_tick_first,
                                           &p->x_tick_step);
         p->y_tick_count = plot_nice_ticks(p->view[2], p->view[3], MAX_TICKS, &p->y_tick_first,
@@ -563,7 +548,39 @@ static void layout(plot *p, plot_fonts *fonts)
         range[3] = p->view[3];
     }
     p->laid_out = 1;
-    layout_legend(p, fonts);
+}
+
+static void layout(plot *p, plot_fonts *fonts)
+{
+    double range[4];
+    if (p->fixed_limits) {
+        range[0] = axis_value(p->limits[0], p->log_x);
+        range[1] = axis_value(p->limits[1], p->log_x);
+        range[2] = axis_value(p->limits[2], p->log_y);
+        range[3] = axis_value(p->limits[3], p->log_y);
+        if (!isfinite(range[0]) || !isfinite(range[1]) || range[0] >= range[1]) {
+            range[0] = 0;
+            range[1] = 1;
+        }
+        if (!isfinite(range[2]) || !isfinite(range[3]) || range[2] >= range[3]) {
+            range[2] = 0;
+            range[3] = 1;
+        }
+    } else {
+        data_range(p, range);
+    }
+    layout_range(p, fonts, range);
+    int covered = layout_legend(p, fonts);
+    if (covered > 0 && !p->fixed_limits && p->legend_height > 0) {
+        /* every corner hides data: make headroom above the data for the
+         * legend (a top corner is tried first), unless that would squash it */
+        double fraction = (p->legend_height + 24.0) / (p->bottom - p->top);
+        if (fraction < 0.6) {
+            range[3] = range[2] + (range[3] - range[2]) / (1.0 - fraction);
+            layout_range(p, fonts, range);
+            layout_legend(p, fonts);
+        }
+    }
 }
 
 /* Everything drawn with GL, in order: grid, series (clipped), frame, ticks, legend. */
@@ -770,7 +787,7 @@ static void draw_text(plot *p, image *img, plot_fonts *fonts)
     }
     if (p->title) {
         int w = text_width(fonts->title, p->title);
-        int x = (p->left + p->right - w) / 2;
+        int x = (p->width - w) / 2;
         if (x < 4) x = 4;
         text_draw(img, fonts->title, x, 10 + text_ascent(fonts->title), p->title, ink);
     }
