@@ -3,6 +3,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "fem_cli.h"
+
 #include "outfile.h"
 #include "run.h"
 
@@ -12,9 +14,10 @@ typedef struct command {
     const char *summary;
 } command;
 
-/* Another subcommand (fem, ...) is one more row here. */
+/* Another subcommand is one more row here. */
 static const command commands[] = {
-    {"run", run_command, "simulate a rod scene; write its CSV (and video, when rendered)"},
+    {"run", run_command, "simulate a rod scene; render its video and poster, write its CSV"},
+    {"fem", fem_command, "solve a 2-D beam FEM scene (the fishing rod); print, plot, tabulate"},
 };
 
 static void usage(FILE *f)
