@@ -8,6 +8,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 static int test_passed_count, test_failed_count;
 
@@ -53,6 +54,19 @@ static inline int test_finish(void)
 {
     printf("%d passed, %d failed\n", test_passed_count, test_failed_count);
     return test_failed_count ? 1 : 0;
+}
+
+/* 1 when the scene file is a beam FEM scene (rodsim fem: it has a [material]
+ * section); rod scenes (rodsim run) do not. */
+static inline int test_is_fem_scene(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) return 0;
+    char line[512];
+    int fem = 0;
+    while (!fem && fgets(line, sizeof line, f)) fem = strncmp(line, "[material]", 10) == 0;
+    fclose(f);
+    return fem;
 }
 
 /* 1 under the sanitizer build (tests may shorten long runs there). */

@@ -77,8 +77,12 @@ int main(void)
     struct dirent *e;
     while ((e = readdir(d)) && count < 64) {
         size_t n = strlen(e->d_name);
+        char path[600];
+        if (n <= 4 || strcmp(e->d_name + n - 4, ".ini") != 0 ||
+            snprintf(path, sizeof path, "%s/%s", dir, e->d_name) >= (int)sizeof path)
+            continue;
         /* rod scenes only: the FEM scenes run through `rodsim fem` in test_fem */
-        if (n > 4 && strcmp(e->d_name + n - 4, ".ini") == 0 && strncmp(e->d_name, "fishing", 7))
+        if (!test_is_fem_scene(path))
             if (snprintf(names[count], sizeof names[0], "%s", e->d_name) < (int)sizeof names[0])
                 count++;
     }
