@@ -37,6 +37,34 @@ typedef enum {
     ROD_PROFILE_TABLE     /* piecewise linear from a CSV table, held after its last row */
 } rod_profile_kind;
 
+/* End conditions. The root is at s = 0, the tip at s = L; the rod starts
+ * straight along +x. A held tip slides freely along x (a sleeve on the x
+ * axis): an inextensible rod whose ends were both fixed in place could not
+ * bend at all. */
+typedef enum {
+    ROD_END_CLAMPED = 0, /* root: position and frame held. tip: on the x axis (y = z = 0),
+                            sliding along x, bending rotations held (d3 stays along x),
+                            free to twist about x */
+    ROD_END_PINNED,      /* root: position held, twist about x held, free to bend (a ball
+                            joint with a torsion stop). tip: on the x axis, sliding along x,
+                            free to rotate */
+    ROD_END_FREE         /* tip only: nothing held; the tip loads act */
+} rod_end_kind;
+
+/* Which physics a run models (scene [physics]). Switching one off removes
+ * its cost where a scheme can exploit it, and says so. */
+typedef struct rod_physics {
+    int twist;          /* 1: torsion dynamics; 0: twist quasi-static (no torsional rotary
+                           inertia), so a scene without twisting load does not pay for
+                           torsion waves */
+    int rotary_inertia; /* 1: rho I1, rho I2, rho J; 0: none (rotations quasi-static) */
+    int gravity;        /* 1: [loads] gravity and distributed_force act; 0: the scene
+                           reader leaves distributed_force at 0 */
+    int damping;        /* 1: [loads] damping acts; 0: the scene reader leaves it at 0 */
+    int planar;         /* 1: when every load lies in the x-y plane, schemes that can solve the
+                           planar problem (exact, fewer unknowns); 0: always 3-D */
+} rod_physics;
+
 /* A time table: rows of (t, factor) when columns == 2, scaling the scene's
  * force and moment, or (t, fx, fy, fz, mx, my, mz) when columns == 7,
  * replacing them. Times strictly increase. Owned by the model's creator. */
@@ -85,6 +113,11 @@ typedef struct rod_model {
     double linear_damping;        /* N s/m^2: force per length = -c v */
     double angular_damping;       /* N m s/m: moment per length = -c_w omega */
 
+    /* inputs: end conditions and physics switches (scene [ends], [physics]) */
+    rod_end_kind root_end;        /* clamped (default) or pinned */
+    rod_end_kind tip_end;         /* free (default), pinned or clamped */
+    rod_physics physics;          /* all on by default */
+
     rod_options options;
 
     /* derived by rod_model_derive() */
@@ -94,7 +127,8 @@ typedef struct rod_model {
     double polar_moment;         /* J = pi d^4 / 32, m^4 */
     double stiffness[3];         /* B = diag(E I, E I, G J), N m^2   (3.5) */
     double mass_per_length;      /* m = rho A, kg/m */
-    double rotary_inertia[3];    /* rho (I, I, J) * rotary_inertia_scale, kg m */
+    double rotary_inertia[3];    /* rho (I, I, J) * rotary_inertia_scale, kg m; zero where
+                                    physics.rotary_inertia / physics.twist are off */
 } rod_model;
 
 /* The state: everything that changes during a run. Arrays are allocated by
@@ -141,6 +175,17 @@ int rod_model_derive(rod_model *m, char *err, size_t errlen);
 
 /* Releases what the model owns (the profile table). */
 void rod_model_release(rod_model *m);
+
+/* 1 when every load keeps the rod in the x-y plane: tip force on d1/d3 (or
+ * global x, y), tip moment about d2 (or global z), distributed force in x-y,
+ * and the ends allow it. Independent of physics.planar. */
+int rod_model_loads_planar(const rod_model *m);
+
+/* For a scheme that models only a clamped root and a free tip: 0 when the
+ * model has those ends, else -1 with a message naming the scheme, the end
+ * condition asked for and what to use instead. */
+int rod_model_require_cantilever(const rod_model *m, const char *scheme, char *err,
+                                 size_t errlen);
 
 /* Profile factor in [-1, 1] at time t, s (1 for step). For a 7-column
  * table use rod_tip_load() instead. */

@@ -21,6 +21,10 @@ rod_model rod_model_default(void)
     m.nodes = 51;
     m.rotary_inertia_scale = 1.0;
     m.tip_frame = ROD_FRAME_DIRECTOR;
+    m.root_end = ROD_END_CLAMPED;
+    m.tip_end = ROD_END_FREE;
+    m.physics = (rod_physics){.twist = 1, .rotary_inertia = 1, .gravity = 1, .damping = 1,
+                              .planar = 1};
     m.profile.kind = ROD_PROFILE_STEP;
     m.options.scheme = ROD_SCHEME_IMPLICIT;
     m.options.dt = 0.0;
@@ -49,6 +53,7 @@ int rod_model_derive(rod_model *m, char *err, size_t errlen)
     else if (!(m->linear_damping >= 0.0) || !(m->angular_damping >= 0.0)) bad = "damping must be >= 0";
     else if (!(m->options.duration >= 0.0) || !isfinite(m->options.duration)) bad = "duration must be >= 0 s";
     else if (!(m->options.theta >= 0.5 && m->options.theta <= 1.0)) bad = "theta must be in [0.5, 1]";
+    else if (m->root_end == ROD_END_FREE) bad = "the root (s = 0) must be clamped or pinned";
     if (bad) {
         snprintf(err, errlen, "%s", bad);
         return -1;
@@ -66,7 +71,27 @@ int rod_model_derive(rod_model *m, char *err, size_t errlen)
     m->rotary_inertia[0] = m->density * m->second_moment * m->rotary_inertia_scale;
     m->rotary_inertia[1] = m->density * m->second_moment * m->rotary_inertia_scale;
     m->rotary_inertia[2] = m->density * m->polar_moment * m->rotary_inertia_scale;
+    if (!m->physics.twist) m->rotary_inertia[2] = 0.0;
+    if (!m->physics.rotary_inertia) m->rotary_inertia[0] = m->rotary_inertia[1] = m->rotary_inertia[2] = 0.0;
     return 0;
+}
+
+int rod_model_loads_planar(const rod_model *m)
+{
+    /* out-of-plane components: force on d2 (global z), moment on d1/d3 (global x, y) */
+    int force_z = m->tip_frame == ROD_FRAME_DIRECTOR ? 1 : 2;
+    int moment_in = m->tip_frame == ROD_FRAME_DIRECTOR ? 1 : 2; /* the one allowed axis */
+    const rod_profile *p = &m->profile;
+    int table7 = p->kind == ROD_PROFILE_TABLE && p->table.columns == 7;
+    for (int r = 0; r < (table7 ? p->table.rows : 1); r++) {
+        const double *f = table7 ? &p->table.data[7 * r + 1] : m->tip_force;
+        const double *mo = table7 ? &p->table.data[7 * r + 4] : m->tip_moment;
+        if (f[force_z] != 0.0) return 0;
+        for (int k = 0; k < 3; k++)
+            if (k != moment_in && mo[k] != 0.0) return 0;
+    }
+    if (m->distributed_force[2] != 0.0) return 0;
+    return m->root_end == ROD_END_CLAMPED; /* a pinned root may turn out of the plane */
 }
 
 void rod_model_release(rod_model *m)
@@ -74,6 +99,18 @@ void rod_model_release(rod_model *m)
     free(m->profile.table.data);
     m->profile.table.data = NULL;
     m->profile.table.rows = 0;
+}
+
+int rod_model_require_cantilever(const rod_model *m, const char *scheme, char *err,
+                                 size_t errlen)
+{
+    static const char *const names[] = {"clamped", "pinned", "free"};
+    if (m->root_end == ROD_END_CLAMPED && m->tip_end == ROD_END_FREE) return 0;
+    snprintf(err, errlen,
+             "the %s scheme models a cantilever only (ends root = clamped, tip = free); this "
+             "scene asks for root = %s, tip = %s: use a scheme that supports them",
+             scheme, names[m->root_end], names[m->tip_end]);
+    return -1;
 }
 
 /* Row index k with t_k <= t < t_{k+1} (clamped), and the weight of row k+1. */

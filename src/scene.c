@@ -227,12 +227,39 @@ static int read_loads(ini_doc *doc, rod_model *m, double gravity[3], char *err, 
     return 0;
 }
 
+/* Reads [ends] (root, tip) and [physics] (switches, all on by default). */
+static int read_ends_physics(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+{
+    static const char *const root_words[] = {"clamped", "pinned", NULL};
+    static const char *const tip_words[] = {"free", "pinned", "clamped", NULL};
+    static const rod_end_kind tip_kinds[] = {ROD_END_FREE, ROD_END_PINNED, ROD_END_CLAMPED};
+    int which;
+    int rc = ini_get_choice(doc, "ends", 0, "root", root_words, &which, err, errlen);
+    if (rc < 0) return -1;
+    if (rc == 1) m->root_end = which == 0 ? ROD_END_CLAMPED : ROD_END_PINNED;
+    rc = ini_get_choice(doc, "ends", 0, "tip", tip_words, &which, err, errlen);
+    if (rc < 0) return -1;
+    if (rc == 1) m->tip_end = tip_kinds[which];
+    struct { const char *key; int *field; } switches[] = {
+        {"twist", &m->physics.twist},
+        {"rotary_inertia", &m->physics.rotary_inertia},
+        {"gravity", &m->physics.gravity},
+        {"damping", &m->physics.damping},
+        {"planar", &m->physics.planar},
+    };
+    for (size_t k = 0; k < sizeof switches / sizeof switches[0]; k++)
+        if (ini_get_bool(doc, "physics", 0, switches[k].key, switches[k].field, err, errlen) < 0)
+            return -1;
+    return 0;
+}
+
 int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     *m = rod_model_default();
     double gravity[3] = {0.0, 0.0, 0.0}; /* m/s^2 */
     if (read_rod(doc, m, err, errlen) || read_solver(doc, m, err, errlen) ||
-        read_tip(doc, m, err, errlen) || read_loads(doc, m, gravity, err, errlen))
+        read_tip(doc, m, err, errlen) || read_loads(doc, m, gravity, err, errlen) ||
+        read_ends_physics(doc, m, err, errlen))
         goto fail;
     char why[256];
     if (rod_model_derive(m, why, sizeof why)) {
@@ -241,6 +268,9 @@ int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
     }
     /* gravity acts on the mass per length: f = rho A g, added to any given distributed force */
     for (int k = 0; k < 3; k++) m->distributed_force[k] += m->mass_per_length * gravity[k];
+    /* switched-off physics costs nothing: the loads it would add are zero */
+    if (!m->physics.gravity) m->distributed_force[0] = m->distributed_force[1] = m->distributed_force[2] = 0.0;
+    if (!m->physics.damping) m->linear_damping = m->angular_damping = 0.0;
     return 0;
 fail:
     rod_model_release(m);

@@ -112,6 +112,7 @@ static void destroy(void *p)
 
 static void *create(const rod_model *m, char *err, size_t errlen)
 {
+    if (rod_model_require_cantilever(m, "implicit", err, errlen)) return NULL;
     implicit_work *w = calloc(1, sizeof *w);
     if (!w) goto oom;
     size_t n = (size_t)m->nodes;

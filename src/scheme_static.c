@@ -124,6 +124,7 @@ static void *create(const rod_model *m, char *err, size_t errlen)
         snprintf(err, errlen, "static: model not derived (nodes %d, ds %g)", m->nodes, m->ds);
         return NULL;
     }
+    if (rod_model_require_cantilever(m, "static", err, errlen)) return NULL;
     static_work *w = calloc(1, sizeof *w);
     if (!w) {
         snprintf(err, errlen, "static: out of memory");

@@ -179,6 +179,15 @@ static void destroy(void *work)
 
 static void *create(const rod_model *m, char *err, size_t errlen)
 {
+    /* chapter 5: "the scheme ... can be used only where the boundary conditions are of the
+     * mixed kind"; and (4.12) divides by the rotary inertia */
+    if (rod_model_require_cantilever(m, "thesis", err, errlen)) return NULL;
+    if (!(m->rotary_inertia[0] > 0.0) || !(m->rotary_inertia[2] > 0.0)) {
+        snprintf(err, errlen, "the thesis scheme needs the rotary inertia: (4.12) divides by it; "
+                              "set [physics] rotary_inertia = on and twist = on, or use "
+                              "scheme = implicit");
+        return NULL;
+    }
     thesis_work *w = calloc(1, sizeof *w);
     if (!w) {
         snprintf(err, errlen, "thesis scheme: out of memory");
