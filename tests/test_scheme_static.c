@@ -13,7 +13,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "elastica.h"
+#include "reference.h"
 #include "rod.h"
 #include "test.h"
 #include "vec3.h"
