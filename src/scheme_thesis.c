@@ -60,7 +60,24 @@
  *     sqrt(E/(rho s))): dt < 2 ds sqrt(rho s/E) sqrt(1 - 16 ds^2/(d^2 s)).
  *   - twist (u3, omega3; no N coupling): dt < 2 ds sqrt(rho s/G).
  * The stable_dt below evaluates these conditions (damping included) over the
- * discrete modes. */
+ * discrete modes; the twist limit only where torsion is dynamic (see below).
+ *
+ * Physics switches (rod_physics):
+ *  - twist = 0: quasi-static twist, no torsional inertia (rho J = 0). The d3
+ *    component of (4.12) becomes the equilibrium of M3 along the rod,
+ *    C u3' + (u x B u)_3 = 0 with (u x B u)_3 = (B2 - B1) u1 u2 = 0 for the
+ *    round section: u3 = M3_bar / C at every node (4.2). omega3 then follows
+ *    from the d3 component of compatibility (4.5), omega3' = u3_t - (u x omega)_3,
+ *    marched from the clamp (omega3(0) = 0) with the trapezoidal rule. No
+ *    twist wave, so no twist step limit. Angular damping then acts on the
+ *    bending rotations only (a damped quasi-static twist would be a diffusion
+ *    with its own explicit limit).
+ *  - twist = 1 with loads in the x-y plane (rod_model_loads_planar): u1, omega1,
+ *    u3, omega3 stay exactly 0 (no term of (4.5), (4.12) creates them), so the
+ *    twist wave is never excited and does not cap dt. A non-planar load with no
+ *    twisting moment still excites twist at second order through (u x omega)_3:
+ *    the cap stays; twist = 0 removes it.
+ *  - rotary_inertia = 0: impossible here, (4.12) divides by rho I: refused. */
 #include "rod.h"
 
 #include <math.h>
@@ -120,6 +137,13 @@ static const char *const LIMIT_BENDING_HIGH =
 static const char *const LIMIT_TWIST = "twist: dt < 2 ds / sqrt(G/(rho s))";
 static const char *const LIMIT_ANGULAR_DAMPING = "angular damping: dt < 2 rho I s / c_w";
 
+/* 1 when the twist wave is part of the dynamics: torsional inertia on and a
+ * load that can excite u3 (not planar). */
+static int twist_dynamic(const rod_model *m)
+{
+    return m->physics.twist && !rod_model_loads_planar(m);
+}
+
 /* The predicted largest stable dt at rotary_inertia_scale `scale`, s. */
 static double thesis_limit(const rod_model *m, double scale, const char **limit)
 {
@@ -145,7 +169,8 @@ static double thesis_limit(const rod_model *m, double scale, const char **limit)
         }
         if (last) break;
     }
-    double twist = 2.0 * m->ds / sqrt(m->shear_modulus / (m->density * scale));
+    double twist = twist_dynamic(m) ? 2.0 * m->ds / sqrt(m->shear_modulus / (m->density * scale))
+                                    : INFINITY;
     if (twist < best) {
         best = twist;
         which = LIMIT_TWIST;
@@ -182,10 +207,12 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     /* chapter 5: "the scheme ... can be used only where the boundary conditions are of the
      * mixed kind"; and (4.12) divides by the rotary inertia */
     if (rod_model_require_cantilever(m, "thesis", err, errlen)) return NULL;
-    if (!(m->rotary_inertia[0] > 0.0) || !(m->rotary_inertia[2] > 0.0)) {
-        snprintf(err, errlen, "the thesis scheme needs the rotary inertia: (4.12) divides by it; "
-                              "set [physics] rotary_inertia = on and twist = on, or use "
-                              "scheme = implicit");
+    if (!m->physics.rotary_inertia || !(m->rotary_inertia[0] > 0.0) ||
+        (m->physics.twist && !(m->rotary_inertia[2] > 0.0))) {
+        snprintf(err, errlen, "the thesis scheme needs the rotary inertia: (4.12) divides by rho I "
+                              "(an explicit update of omega has nothing to update without it); "
+                              "set [physics] rotary_inertia = on (twist = off is accepted: "
+                              "quasi-static twist), or use scheme = implicit");
         return NULL;
     }
     thesis_work *w = calloc(1, sizeof *w);
@@ -299,6 +326,9 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
     w->steps++;
 
     memcpy(w->old_velocity, v, (size_t)ns * 3 * sizeof(double));
+    const int twist_on = m->physics.twist;
+    const int components = twist_on ? 3 : 2; /* twist off: u3, omega3 from equilibrium below */
+    const double old_twist = u[3 * tip + 2];  /* u3^j: uniform when the twist is quasi-static */
 
     /* 1. (4.5) u(j+1) = u(j) + dt (omega' + u x omega) */
     for (int i = 0; i < tip; i++) {
@@ -311,7 +341,22 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
             v3_scale(dw, dw, 0.5 / ds);
         }
         v3_cross(uxw, &u[3 * i], &om[3 * i]);
-        for (int c = 0; c < 3; c++) u[3 * i + c] += dt * (dw[c] + uxw[c]);
+        for (int c = 0; c < components; c++) u[3 * i + c] += dt * (dw[c] + uxw[c]);
+    }
+
+    /* twist off: u3 = M3_bar / C along the whole rod, from C u3' = (B1 - B2) u1 u2 = 0
+     * (round section); a global tip moment is taken on the tip frame of step j */
+    double t_new = s->time + dt;
+    double force[3], moment[3], tip_force[3], tip_moment[3];
+    rod_tip_load(m, t_new, force, moment);
+    if (!twist_on) {
+        double twist_moment = moment[2];
+        if (m->tip_frame == ROD_FRAME_GLOBAL) {
+            double local[3];
+            m3_mul_tv(local, &q[9 * tip], moment);
+            twist_moment = local[2];
+        }
+        for (int i = 0; i < tip; i++) u[3 * i + 2] = twist_moment / stiffness[2];
     }
 
     /* 2. (4.6)-(4.8) frames from the clamp: Q(i+1) = Q(i) R(u(i)); Q(0) stays clamped */
@@ -322,9 +367,6 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
     }
 
     /* tip loads at t + dt (4.2): N_bar, u(NS) = B^-1 M_bar, director components */
-    double t_new = s->time + dt;
-    double force[3], moment[3], tip_force[3], tip_moment[3];
-    rod_tip_load(m, t_new, force, moment);
     if (m->tip_frame == ROD_FRAME_GLOBAL) {
         m3_mul_tv(tip_force, &q[9 * tip], force);
         m3_mul_tv(tip_moment, &q[9 * tip], moment);
@@ -355,10 +397,21 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
         v3_cross(d3xn, e3, &nf[3 * i]);
         v3_cross(wxiw, wi, iw);
         v3_cross(uxbu, ui, bu);
-        for (int c = 0; c < 3; c++) {
+        for (int c = 0; c < components; c++) {
             double torque = d3xn[c] - m->angular_damping * wi[c] - wxiw[c] +
                             stiffness[c] * du[c] + uxbu[c];
             wn[3 * i + c] = wi[c] + dt * torque / inertia[c];
+        }
+    }
+    if (!twist_on) {
+        /* (4.5)_3: omega3' = u3_t - (u x omega)_3, trapezoidal march from omega3(0) = 0 */
+        double twist_rate = (u[3 * tip + 2] - old_twist) / dt;
+        double g_prev = twist_rate; /* at the clamp omega = 0 */
+        wn[2] = 0.0;
+        for (int i = 1; i < ns; i++) {
+            double g = twist_rate - (u[3 * i] * wn[3 * i + 1] - u[3 * i + 1] * wn[3 * i]);
+            wn[3 * i + 2] = wn[3 * (i - 1) + 2] + 0.5 * ds * (g_prev + g);
+            g_prev = g;
         }
     }
     memcpy(om, wn, (size_t)ns * 3 * sizeof(double));

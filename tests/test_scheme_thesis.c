@@ -550,6 +550,136 @@ static void test_update_order(void)
     rod_model_release(&m);
 }
 
+/* 4. physics switches ------------------------------------------------------- */
+
+/* Runs `steps` steps of dt from rest; returns the status; *s is left as run. */
+static rod_status run_steps(const rod_model *m, rod_state *s, double dt, int steps,
+                            rod_report *report)
+{
+    char err[256];
+    rod_solver solver;
+    if (rod_solver_init(&solver, m, err, sizeof err) != 0) {
+        snprintf(report->message, sizeof report->message, "%s", err);
+        return ROD_FAILED;
+    }
+    rod_status status = ROD_OK;
+    for (int k = 0; k < steps && status == ROD_OK; k++)
+        status = rod_solver_step(&solver, m, s, dt, report);
+    rod_solver_release(&solver);
+    return status;
+}
+
+static double max_state_difference(const rod_state *a, const rod_state *b)
+{
+    double worst = 0.0;
+    for (int i = 0; i < 3 * a->nodes; i++) {
+        worst = fmax(worst, fabs(a->position[i] - b->position[i]));
+        worst = fmax(worst, fabs(a->velocity[i] - b->velocity[i]));
+        worst = fmax(worst, fabs(a->angular_velocity[i] - b->angular_velocity[i]));
+        worst = fmax(worst, fabs(a->darboux[i] - b->darboux[i]));
+        worst = fmax(worst, fabs(a->contact_force[i] - b->contact_force[i]));
+    }
+    for (int i = 0; i < 9 * a->nodes; i++) worst = fmax(worst, fabs(a->frame[i] - b->frame[i]));
+    return worst;
+}
+
+/* Table 2's planar scene: twist is truly absent, so switching it off must
+ * change nothing at all (u3 = omega3 = 0 either way); the twist limit does not
+ * cap stable_dt for a planar load. */
+static void test_twist_off_planar_changes_nothing(void)
+{
+    rod_model on = thesis_model(1e7);
+    on.tip_frame = ROD_FRAME_GLOBAL;
+    on.tip_force[1] = 1e-6;
+    on.profile.kind = ROD_PROFILE_RAMP;
+    on.profile.t1 = 10.0;
+    on.linear_damping = 1e-3;
+    derive(&on);
+    rod_model off = on;
+    off.physics.twist = 0;
+    derive(&off);
+    rod_state *a = rod_state_create(&on), *b = rod_state_create(&off);
+    rod_report ra, rb;
+    rod_status sa = run_steps(&on, a, 0.1, 500, &ra);
+    rod_status sb = run_steps(&off, b, 0.1, 500, &rb);
+    check(sa == ROD_OK && sb == ROD_OK, "planar table 2, twist on and off: both ran 500 steps (%s%s)",
+          ra.message, rb.message);
+    double diff = max_state_difference(a, b);
+    check_abs("planar scene: twist off vs on, largest difference of any state number", diff, 0.0,
+              0.0);
+    const char *limit_on = NULL;
+    double dt_on = rod_scheme_thesis.stable_dt(&on, &limit_on);
+    check(strstr(limit_on, "twist") == NULL,
+          "planar load: stable_dt %.4g s is not capped by twist (%s)", dt_on, limit_on);
+    rod_state_destroy(a);
+    rod_state_destroy(b);
+    rod_model_release(&on);
+    rod_model_release(&off);
+}
+
+/* A material with G > E (not physical, but allowed) makes the twist wave the
+ * fastest: with twist on a non-planar scene is capped by 2 ds/sqrt(G/(rho s))
+ * and diverges above it; with twist off it runs at 1.5 x that cap, and u3 is
+ * M3/C everywhere with the tip d1 turned by M3 L/C (St Venant torsion). */
+static void test_twist_off_removes_twist_cap(void)
+{
+    rod_model on = thesis_model(2e7);
+    on.shear_modulus = 40.0 * on.youngs_modulus;
+    on.tip_moment[2] = 1e-7; /* N m, director M3: a twisting load */
+    on.profile.kind = ROD_PROFILE_RAMP;
+    on.profile.t1 = 20.0;
+    derive(&on);
+    rod_model off = on;
+    off.physics.twist = 0;
+    derive(&off);
+    const char *limit_on = NULL, *limit_off = NULL;
+    double cap_on = rod_scheme_thesis.stable_dt(&on, &limit_on);
+    double cap_off = rod_scheme_thesis.stable_dt(&off, &limit_off);
+    printf("G = 40 E: stable_dt twist on %.4g s (%s), twist off %.4g s (%s)\n", cap_on, limit_on,
+           cap_off, limit_off);
+    check_rel("twist on, G = 40 E: stable_dt vs 2 ds / sqrt(G/(rho s))", cap_on,
+              formula_twist_dt(&on, 2e7), 1e-12);
+    check(cap_off > 2.0 * cap_on && strstr(limit_off, "twist") == NULL,
+          "twist off: the twist cap is gone (%.4g s > 2 x %.4g s)", cap_off, cap_on);
+    double dt = 1.5 * cap_on;
+    int steps = (int)(30.0 / dt);
+    rod_state *a = rod_state_create(&on), *b = rod_state_create(&off);
+    /* seed the twist wave as round-off would */
+    a->angular_velocity[3 * 10 + 2] = 1e-9;
+    rod_report ra, rb;
+    rod_status sa = run_steps(&on, a, dt, steps, &ra);
+    rod_status sb = run_steps(&off, b, dt, steps, &rb);
+    check(sa == ROD_UNSTABLE, "twist on at 1.5 x the twist cap: ROD_UNSTABLE (%s)", ra.message);
+    check(sb == ROD_OK, "twist off at the same dt %.4g s: %d steps ran (%s)", dt, steps, rb.message);
+    double c = off.stiffness[2], m3 = on.tip_moment[2];
+    double worst_u3 = 0.0;
+    for (int i = 0; i < off.nodes; i++)
+        worst_u3 = fmax(worst_u3, fabs(b->darboux[3 * i + 2] - m3 / c));
+    check_abs("twist off: max |u3 - M3/C| along the rod (1/m)", worst_u3, 0.0, 1e-12 * m3 / c);
+    const double *q = &b->frame[9 * (off.nodes - 1)];
+    double d1_angle = atan2(q[6], q[3]); /* d1 = column 0 of Q: (q[0], q[3], q[6]) */
+    check_rel("twist off: tip d1 turned about x by M3 L/C", d1_angle, m3 * off.length / c, 1e-9);
+    rod_state_destroy(a);
+    rod_state_destroy(b);
+    rod_model_release(&on);
+    rod_model_release(&off);
+}
+
+static void test_rotary_inertia_off_refused(void)
+{
+    rod_model m = thesis_model(1e7);
+    m.physics.rotary_inertia = 0;
+    derive(&m);
+    char err[512] = "";
+    rod_solver solver;
+    int rc = rod_solver_init(&solver, &m, err, sizeof err);
+    check(rc != 0 && strstr(err, "rotary_inertia") && strstr(err, "implicit"),
+          "rotary_inertia = off: the thesis scheme refuses, naming the switch and the "
+          "alternative (%s)", err);
+    if (rc == 0) rod_solver_release(&solver);
+    rod_model_release(&m);
+}
+
 int main(void)
 {
     test_physical_inertia_unstable(1.0 / 60.0);
@@ -563,5 +693,8 @@ int main(void)
     test_table2_settles(1e-6, 0);
     test_distributed_load();
     test_stability_limits();
+    test_twist_off_planar_changes_nothing();
+    test_twist_off_removes_twist_cap();
+    test_rotary_inertia_off_refused();
     return test_finish();
 }
