@@ -345,15 +345,26 @@ double rod_choose_dt(const rod_model *m, const char **why)
         if (why) *why = "set in the scene";
         return m->options.dt;
     }
+    if (m->options.scheme == ROD_SCHEME_STATIC) {
+        /* no dynamics: one equilibrium solve per output frame (the run caps steps at 1/fps) */
+        if (why) *why = "static: no time step, one equilibrium solve per output frame";
+        return m->options.duration > 0.0 ? m->options.duration : 1.0;
+    }
+    /* The scheme's stability limit covers only the physics the scene turns on
+     * (e.g. the thesis scheme has no twist cap with twist off or a planar load);
+     * an unconditionally stable scheme is limited by accuracy alone. */
     const rod_scheme_ops *ops = rod_scheme_get(m->options.scheme);
-    const char *limit = "accuracy: 1/20 of the first bending period";
+    const char *const accuracy = "accuracy: 1/20 of the first bending period";
     double accuracy_dt = 1.0 / (20.0 * rod_first_bending_frequency(m));
+    const char *limit = accuracy;
     double stable = ops && ops->stable_dt ? ops->stable_dt(m, &limit) : INFINITY;
-    const double safety = 0.5;
+    const double safety = 0.5; /* forward Euler near its limit amplifies round-off slowly */
     if (isfinite(stable) && safety * stable < accuracy_dt) {
-        if (why) *why = limit;
+        if (why) *why = limit; /* stable = 0: no stable dt exists; the limit says why */
         return safety * stable;
     }
-    if (why) *why = "accuracy: 1/20 of the first bending period";
+    if (why) *why = isfinite(stable) ? accuracy
+                                     : "accuracy: 1/20 of the first bending period (the scheme "
+                                       "is unconditionally stable)";
     return accuracy_dt;
 }
