@@ -73,9 +73,15 @@ void stability_print_table(FILE *f, const stability_row *rows, int n)
     for (int k = 0; k < n; k++) {
         const stability_row *r = &rows[k];
         int never = r->scheme != ROD_SCHEME_STATIC && r->measured_dt <= 0.0;
+        /* short of the prediction (a load, a nonlinearity), or an implicit limit */
+        int short_of = r->unstable_dt > 0.0 &&
+                       (!isfinite(r->predicted.scheme_dt) ||
+                        r->measured_dt < 0.9 * r->predicted.scheme_dt);
         int static_failed = r->scheme == ROD_SCHEME_STATIC && row_outcome(r) != STABILITY_STABLE;
-        if (!never && !static_failed && !r->finding) continue;
-        if (!printed++) fprintf(f, "\nruns that never completed, and findings:\n");
+        if (!never && !static_failed && !r->finding && !short_of) continue;
+        if (!printed++)
+            fprintf(f, "\nwhat stopped the runs that never completed, fell short of the "
+                       "prediction, or are findings (at the smallest unstable dt):\n");
         fprintf(f, "  %s, %s, NS %d, dt %.3g s: %s: %.300s\n", r->c.name,
                 rod_scheme_get(r->scheme)->name, r->c.nodes, r->first_failure.dt,
                 stability_outcome_name(row_outcome(r)), r->first_failure.message);
