@@ -57,6 +57,9 @@
 #define BLOCK_PLANAR 5
 #define BAND_PLANAR 5
 #define MAX_SPLIT_DEPTH 12
+/* Newton iterations one step may spend, splits included: bounds the time a
+ * hopeless step takes (about 1 s at NS = 1001) instead of 4096 x 25 tries. */
+#define STEP_ITERATION_BUDGET 2000
 
 typedef struct implicit_work {
     int nodes, blocks, unknowns;
@@ -100,6 +103,7 @@ typedef struct implicit_work {
     double *x_before;    /* (unknowns) solution of the step before it */
     double dt_last;      /* s, length of the last step; 0 when x_before is not usable */
     double start_time;
+    int budget;          /* Newton iterations left for the current step */
 
     /* planar problem: frames are rotations about z by an angle phi (d3 at phi from +x) */
     double *phi0;      /* (nodes) rad, start of the step */
@@ -525,6 +529,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
     for (int it = 0; it < max_it; it++) {
         report->newton_iterations = it;
         if (norm <= tol) return 0;
+        if (--w->budget < 0) return -1;
         memcpy(w->dx, w->residual, (size_t)nu * sizeof(double));
         band_solve(w, w->dx);
         for (int i = 0; i < nu; i++) w->x[i] -= w->dx[i];
@@ -710,7 +715,7 @@ static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double
                       rod_report *report, int depth)
 {
     if (single_step(w, m, s, dt, report) == 0) return 0;
-    if (depth >= MAX_SPLIT_DEPTH) return -1;
+    if (depth >= MAX_SPLIT_DEPTH || w->budget < 0) return -1;
     w->have_factor = 0;
     if (split_step(w, m, s, 0.5 * dt, report, depth + 1)) return -1;
     w->have_factor = 0;
@@ -753,6 +758,7 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     implicit_work *w = p;
     s->staggered = 1;
     save_state(w, s);
+    w->budget = STEP_ITERATION_BUDGET;
     int segment;
     if (split_step(w, m, s, dt, report, 0) == 0) {
         double angle = sharpest_bend(m, s, &segment);
@@ -764,11 +770,12 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     double angle = sharpest_bend(m, s, &segment);
     if (angle > 0.5 * UNRESOLVED_BEND) return unresolved(m, s, angle, segment, report);
     snprintf(report->message, sizeof report->message,
-             "implicit scheme: Newton's method did not converge at t = %.6g s even after "
-             "splitting the step %g s into %d parts (tolerance %.1e). The load may exceed what "
-             "the rod can carry in equilibrium, or change too abruptly; try a smaller dt or a "
-             "ramped load profile.",
-             s->time, dt, 1 << MAX_SPLIT_DEPTH, m->options.newton_tolerance);
+             "implicit scheme: Newton's method did not converge at t = %.6g s for the step "
+             "dt = %g s, split in halves up to %d parts within %d iterations (tolerance %.1e). "
+             "The load may change too abruptly for this dt, or exceed what the rod can carry; "
+             "try a smaller dt or a ramped load profile.",
+             s->time, dt, 1 << MAX_SPLIT_DEPTH, STEP_ITERATION_BUDGET,
+             m->options.newton_tolerance);
     report->suggested_dt = dt / (1 << MAX_SPLIT_DEPTH);
     return ROD_NO_CONVERGENCE;
 }
