@@ -48,15 +48,24 @@
 #include "rod_geometry.h"
 #include "vec3.h"
 
-#define BLOCK 9            /* unknowns per block: N(3), v(3), omega(3) */
-/* Half bandwidth kl = ku of the Jacobian in the block order (N, v, omega):
- * the angular momentum rows of node b reach omega of nodes b-1 and b+1, 11
- * places away; every other coupling is nearer. */
+/* Unknowns per block: N(3), v(3), omega(3) in 3-D; N(2), v(2), omega_2 in the
+ * plane. Half bandwidth kl = ku of the Jacobian in that block order: the
+ * angular momentum rows of node b reach omega of nodes b-1 and b+1, 11 (3-D)
+ * or 5 (planar) places away; every other coupling is nearer. */
+#define BLOCK 9
 #define BAND 11
+#define BLOCK_PLANAR 5
+#define BAND_PLANAR 5
 #define MAX_SPLIT_DEPTH 12
+/* Newton iterations one step may spend, splits included: bounds the time a
+ * hopeless step takes (about 1 s at NS = 1001) instead of 4096 x 25 tries. */
+#define STEP_ITERATION_BUDGET 2000
 
 typedef struct implicit_work {
     int nodes, blocks, unknowns;
+    int planar;        /* 1: the planar problem (rod_model_loads_planar and physics.planar) */
+    int block, kl;     /* unknowns per block and half bandwidth (BLOCK/BAND or _PLANAR) */
+    int var_kind[BLOCK]; /* per component of a block: 0 force, 1 velocity, 2 angular velocity */
     int ldab;
     double *x;         /* (unknowns) current Newton iterate */
     double *dx;        /* (unknowns) correction */
@@ -94,6 +103,12 @@ typedef struct implicit_work {
     double *x_before;    /* (unknowns) solution of the step before it */
     double dt_last;      /* s, length of the last step; 0 when x_before is not usable */
     double start_time;
+    int budget;          /* Newton iterations left for the current step */
+
+    /* planar problem: frames are rotations about z by an angle phi (d3 at phi from +x) */
+    double *phi0;      /* (nodes) rad, start of the step */
+    double *phi1;      /* (nodes) rad, end of the step, for the iterate x */
+    double *phi_th;    /* (nodes) rad, at the theta point */
 } implicit_work;
 
 static void destroy(void *p)
@@ -104,7 +119,7 @@ static void destroy(void *p)
                          &w->frame0, &w->omega0, &w->vel0, &w->d3mid0, &w->moment0,
                          &w->tipf0, &w->tipm0, &w->frame1, &w->frame_th, &w->darboux1,
                          &w->mid1, &w->moment1, &w->save_frame, &w->save_pos, &w->save_vel,
-                         &w->save_omega, &w->save_force};
+                         &w->save_omega, &w->save_force, &w->phi0, &w->phi1, &w->phi_th};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) free(*arrays[k]);
     free(w->pivot);
     free(w);
@@ -118,8 +133,14 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     size_t n = (size_t)m->nodes;
     w->nodes = m->nodes;
     w->blocks = m->nodes - 1;
-    w->unknowns = BLOCK * w->blocks;
-    w->ldab = 3 * BAND + 1; /* 2 kl + ku + 1: U gains kl diagonals by pivoting */
+    w->planar = m->physics.planar && rod_model_loads_planar(m);
+    w->block = w->planar ? BLOCK_PLANAR : BLOCK;
+    w->kl = w->planar ? BAND_PLANAR : BAND;
+    static const int kinds3[BLOCK] = {0, 0, 0, 1, 1, 1, 2, 2, 2};
+    static const int kinds2[BLOCK_PLANAR] = {0, 0, 1, 1, 2};
+    memcpy(w->var_kind, w->planar ? kinds2 : kinds3, (size_t)w->block * sizeof(int));
+    w->unknowns = w->block * w->blocks;
+    w->ldab = 3 * w->kl + 1; /* 2 kl + ku + 1: U gains kl diagonals by pivoting */
     size_t u = (size_t)w->unknowns;
     w->x = calloc(u, sizeof(double));
     w->dx = calloc(u, sizeof(double));
@@ -146,6 +167,10 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->save_vel = calloc(n * 3, sizeof(double));
     w->save_omega = calloc(n * 3, sizeof(double));
     w->save_force = calloc(n * 3, sizeof(double));
+    w->phi0 = calloc(n, sizeof(double));
+    w->phi1 = calloc(n, sizeof(double));
+    w->phi_th = calloc(n, sizeof(double));
+    if (!w->phi0 || !w->phi1 || !w->phi_th) goto oom;
     if (!w->x || !w->dx || !w->x_last || !w->x_before || !w->residual || !w->perturbed || !w->band || !w->pivot ||
         !w->frame0 || !w->omega0 || !w->vel0 || !w->d3mid0 || !w->moment0 || !w->tipf0 ||
         !w->tipm0 || !w->frame1 || !w->frame_th || !w->darboux1 || !w->mid1 || !w->moment1 ||
@@ -315,6 +340,107 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
     }
 }
 
+/* Planar problem: every load keeps the rod in the x-y plane, so d2 stays
+ * along +z, each frame is a rotation about z by phi (d3 = (cos phi, sin phi),
+ * d1 = (-sin phi, cos phi)), omega = omega_2 d2 and u = u_2 d2 with
+ * u_{i+1/2} = (phi_{i+1} - phi_i) / ds: the same discrete equations as in
+ * 3-D, restricted to the plane (the out-of-plane unknowns stay exactly zero),
+ * with 5 unknowns per block and no rotation matrices. */
+
+/* Tip force (x, y, N) and moment about z (N m) at time t for a tip angle phi. */
+static void tip_load_planar(const rod_model *m, double t, double phi, double force[2],
+                            double *moment)
+{
+    double f[3], mo[3];
+    rod_tip_load(m, t, f, mo);
+    if (m->tip_frame == ROD_FRAME_DIRECTOR) {
+        double c = cos(phi), sn = sin(phi);
+        force[0] = -sn * f[0] + c * f[2]; /* f1 d1 + f3 d3 */
+        force[1] = c * f[0] + sn * f[2];
+        *moment = mo[1];                  /* about d2 = z */
+    } else {
+        force[0] = f[0];
+        force[1] = f[1];
+        *moment = mo[2];
+    }
+}
+
+/* Scaled residual of the planar step; leaves phi1, phi_th, darboux1 (u_2 at
+ * 3j+1) and moment1 (z at 3j+2) for the iterate x. */
+static void residual_planar(implicit_work *w, const rod_model *m, const double *x, double t,
+                            double dt, double *res)
+{
+    const int n = w->nodes, nb = BLOCK_PLANAR;
+    const double theta = m->options.theta, ds = m->ds, mass = m->mass_per_length;
+    const double inertia = m->rotary_inertia[1], stiffness = m->stiffness[1];
+    w->phi1[0] = w->phi_th[0] = w->phi0[0];
+    for (int i = 1; i < n; i++) {
+        double wbar = theta * x[nb * (i - 1) + 4] + (1.0 - theta) * w->omega0[3 * i + 1];
+        w->phi1[i] = w->phi0[i] + dt * wbar;
+        w->phi_th[i] = w->phi0[i] + theta * dt * wbar;
+    }
+    double *d3x = w->mid1, *d3y = w->mid1 + n; /* scratch: d3 at the midpoints, end of step */
+    for (int j = 0; j + 1 < n; j++) {
+        double u = (w->phi1[j + 1] - w->phi1[j]) / ds;
+        double mid = 0.5 * (w->phi1[j] + w->phi1[j + 1]);
+        w->darboux1[3 * j + 1] = u;
+        w->moment1[3 * j + 2] = stiffness * u; /* (3.4) M = B u, about z */
+        d3x[j] = cos(mid);
+        d3y[j] = sin(mid);
+    }
+    double tipf1[2], tipm1, tipf[2], tipm;
+    tip_load_planar(m, t + dt, w->phi_th[n - 1], tipf1, &tipm1);
+    for (int k = 0; k < 2; k++) tipf[k] = theta * tipf1[k] + (1.0 - theta) * w->tipf0[k];
+    tipm = theta * tipm1 + (1.0 - theta) * w->tipm0[2];
+
+    const double fs = 1.0 / w->force_scale, ms = 1.0 / w->moment_scale;
+    for (int b = 1; b < n; b++) {
+        double *r = &res[nb * (b - 1)];
+        const double *xb = &x[nb * (b - 1)];
+        const int j = b - 1;
+        const double wb = (b == n - 1) ? 0.5 * ds : ds;
+        double vr[2], vl[2] = {0.0, 0.0};
+        for (int k = 0; k < 2; k++) {
+            vr[k] = theta * xb[2 + k] + (1.0 - theta) * w->vel0[3 * b + k];
+            if (b > 1) vl[k] = theta * x[nb * (b - 2) + 2 + k] + (1.0 - theta) * w->vel0[3 * (b - 1) + k];
+        }
+        /* (3.14) */
+        r[0] = (vr[0] - vl[0]) * dt / ds - (d3x[j] - w->d3mid0[3 * j]);
+        r[1] = (vr[1] - vl[1]) * dt / ds - (d3y[j] - w->d3mid0[3 * j + 1]);
+        /* (3.3)_1 */
+        const double *n_left = xb;
+        const double *n_right = (b < n - 1) ? xb + nb : tipf;
+        for (int k = 0; k < 2; k++) {
+            double inertial = wb * mass * (xb[2 + k] - w->vel0[3 * b + k]) / dt;
+            double external = wb * (m->distributed_force[k] - m->linear_damping * vr[k]);
+            r[2 + k] = (inertial - (n_right[k] - n_left[k]) - external) * fs;
+        }
+        /* (3.6)_2 about z */
+        double m_left = theta * w->moment1[3 * j + 2] + (1.0 - theta) * w->moment0[3 * j + 2];
+        double m_right = (b < n - 1)
+                             ? theta * w->moment1[3 * b + 2] + (1.0 - theta) * w->moment0[3 * b + 2]
+                             : tipm;
+        double lx = theta * d3x[j] + (1.0 - theta) * w->d3mid0[3 * j];
+        double ly = theta * d3y[j] + (1.0 - theta) * w->d3mid0[3 * j + 1];
+        double total = m_right - m_left + 0.5 * ds * (lx * n_left[1] - ly * n_left[0]);
+        if (b < n - 1) {
+            double rx = theta * d3x[b] + (1.0 - theta) * w->d3mid0[3 * b];
+            double ry = theta * d3y[b] + (1.0 - theta) * w->d3mid0[3 * b + 1];
+            total += 0.5 * ds * (rx * n_right[1] - ry * n_right[0]);
+        }
+        double wbar = theta * xb[4] + (1.0 - theta) * w->omega0[3 * b + 1];
+        double inertial = wb * inertia * (xb[4] - w->omega0[3 * b + 1]) / dt;
+        r[4] = (inertial - total + wb * m->angular_damping * wbar) * ms;
+    }
+}
+
+static void evaluate(implicit_work *w, const rod_model *m, const double *x, double t, double dt,
+                     double *res)
+{
+    if (w->planar) residual_planar(w, m, x, t, dt, res);
+    else residual(w, m, x, t, dt, res);
+}
+
 static double max_abs(const double *a, int n)
 {
     double worst = 0.0;
@@ -330,7 +456,7 @@ static double max_abs(const double *a, int n)
  * library call's per-column BLAS overhead dominated at this size. */
 static void band_solve(const implicit_work *w, double *b)
 {
-    const int n = w->unknowns, kl = BAND, kv = 2 * BAND, ld = w->ldab;
+    const int n = w->unknowns, kl = w->kl, kv = 2 * w->kl, ld = w->ldab;
     const double *ab = w->band;
     for (int j = 0; j < n - 1; j++) { /* L: row interchanges and unit lower factor */
         int p = w->pivot[j] - 1;
@@ -354,23 +480,23 @@ static void band_solve(const implicit_work *w, double *b)
  * Returns 0, or -1 when the matrix is singular. */
 static int factor_jacobian(implicit_work *w, const rod_model *m, double t, double dt)
 {
-    const int nu = w->unknowns, kl = BAND, ku = BAND, ld = w->ldab;
+    const int nu = w->unknowns, kl = w->kl, ku = w->kl, ld = w->ldab, nb = w->block;
     memset(w->band, 0, (size_t)ld * (size_t)nu * sizeof(double));
-    residual(w, m, w->x, t, dt, w->residual);
+    evaluate(w, m, w->x, t, dt, w->residual);
     for (int color = 0; color < 3; color++) {
-        for (int comp = 0; comp < BLOCK; comp++) {
+        for (int comp = 0; comp < nb; comp++) {
             double *xp = w->dx; /* scratch copy of x */
             memcpy(xp, w->x, (size_t)nu * sizeof(double));
             for (int b = 1 + color; b < w->nodes; b += 3) {
-                int col = BLOCK * (b - 1) + comp;
-                double h = 1e-7 * fmax(fabs(xp[col]), w->var_scale[comp / 3]);
+                int col = nb * (b - 1) + comp;
+                double h = 1e-7 * fmax(fabs(xp[col]), w->var_scale[w->var_kind[comp]]);
                 xp[col] += h;
             }
-            residual(w, m, xp, t, dt, w->perturbed);
+            evaluate(w, m, xp, t, dt, w->perturbed);
             for (int b = 1 + color; b < w->nodes; b += 3) {
-                int col = BLOCK * (b - 1) + comp;
+                int col = nb * (b - 1) + comp;
                 double h = xp[col] - w->x[col];
-                int row_lo = BLOCK * (b - 2), row_hi = BLOCK * (b + 1); /* blocks b-1..b+1 */
+                int row_lo = nb * (b - 2), row_hi = nb * (b + 1); /* blocks b-1..b+1 */
                 if (row_lo < 0) row_lo = 0;
                 if (row_hi > nu) row_hi = nu;
                 if (row_lo < col - ku) row_lo = col - ku;
@@ -397,16 +523,17 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
     if (!w->have_factor || w->jacobian_dt != dt) {
         if (factor_jacobian(w, m, t, dt)) return -1;
     }
-    residual(w, m, w->x, t, dt, w->residual);
+    evaluate(w, m, w->x, t, dt, w->residual);
     double norm = max_abs(w->residual, nu);
     int fresh = 0; /* the factorisation was made at this step */
     for (int it = 0; it < max_it; it++) {
         report->newton_iterations = it;
         if (norm <= tol) return 0;
+        if (--w->budget < 0) return -1;
         memcpy(w->dx, w->residual, (size_t)nu * sizeof(double));
         band_solve(w, w->dx);
         for (int i = 0; i < nu; i++) w->x[i] -= w->dx[i];
-        residual(w, m, w->x, t, dt, w->residual);
+        evaluate(w, m, w->x, t, dt, w->residual);
         double next = max_abs(w->residual, nu);
         if (!isfinite(next)) return -1;
         if (next > 0.25 * norm && next > 10.0 * tol && !fresh) {
@@ -444,6 +571,60 @@ static void restore_state(const implicit_work *w, rod_state *s)
 }
 
 /* One theta-method step without splitting. Returns 0 or -1 (no convergence). */
+/* Planar start of a step from the state's frames: phi (unwrapped along the
+ * rod so that u is continuous), and the z parts of the elastic state. */
+static int begin_planar(implicit_work *w, const rod_model *m, const rod_state *s)
+{
+    const int n = w->nodes;
+    for (int i = 0; i < n; i++) {
+        const double *q = &s->frame[9 * i];
+        if (fabs(q[8] - 0.0) > 1e-9 || fabs(q[7] - 1.0) > 1e-9) return -1; /* d2 must be +z */
+        double phi = atan2(q[5], q[2]); /* d3 = (q2, q5, q8) */
+        if (i > 0) phi = w->phi0[i - 1] + remainder(phi - w->phi0[i - 1], 2.0 * M_PI);
+        w->phi0[i] = phi;
+    }
+    for (int j = 0; j + 1 < n; j++) {
+        double mid = 0.5 * (w->phi0[j] + w->phi0[j + 1]);
+        w->moment0[3 * j + 2] = m->stiffness[1] * (w->phi0[j + 1] - w->phi0[j]) / m->ds;
+        w->d3mid0[3 * j] = cos(mid);
+        w->d3mid0[3 * j + 1] = sin(mid);
+        w->d3mid0[3 * j + 2] = 0.0;
+    }
+    return 0;
+}
+
+/* Planar end of a step: frames, strains, positions, velocities and forces
+ * from phi1 and x, in the state's conventions; the next step's start. */
+static void accept_planar(implicit_work *w, const rod_model *m, rod_state *s)
+{
+    const int n = w->nodes, nb = BLOCK_PLANAR;
+    for (int i = 1; i < n; i++) {
+        double c = cos(w->phi1[i]), sn = sin(w->phi1[i]);
+        double *q = &s->frame[9 * i]; /* columns d1 = (-sn, c, 0), d2 = z, d3 = (c, sn, 0) */
+        q[0] = -sn; q[1] = 0.0; q[2] = c;
+        q[3] = c;   q[4] = 0.0; q[5] = sn;
+        q[6] = 0.0; q[7] = 1.0; q[8] = 0.0;
+    }
+    for (int j = 0; j + 1 < n; j++) {
+        double mid = 0.5 * (w->phi1[j] + w->phi1[j + 1]), c = cos(mid), sn = sin(mid);
+        double u = (w->phi1[j + 1] - w->phi1[j]) / m->ds;
+        v3_set(&s->darboux[3 * j], 0.0, u, 0.0);
+        for (int k = 0; k < 3; k++)
+            s->position[3 * (j + 1) + k] = s->position[3 * j + k] + m->ds * (k == 0 ? c : k == 1 ? sn : 0.0);
+        const double *nx = &w->x[nb * j]; /* N_{j+1/2}, global x y */
+        v3_set(&s->contact_force[3 * j], -sn * nx[0] + c * nx[1], 0.0, c * nx[0] + sn * nx[1]);
+        w->moment0[3 * j + 2] = m->stiffness[1] * u;
+        v3_set(&w->d3mid0[3 * j], c, sn, 0.0);
+    }
+    for (int b = 1; b < n; b++) {
+        const double *xb = &w->x[nb * (b - 1)];
+        double c = cos(w->phi1[b]), sn = sin(w->phi1[b]);
+        v3_set(&s->velocity[3 * b], -sn * xb[2] + c * xb[3], 0.0, c * xb[2] + sn * xb[3]);
+        v3_set(&s->angular_velocity[3 * b], 0.0, xb[4], 0.0);
+    }
+    memcpy(w->phi0, w->phi1, (size_t)n * sizeof(double));
+}
+
 static int single_step(implicit_work *w, const rod_model *m, rod_state *s, double dt,
                        rod_report *report)
 {
@@ -455,6 +636,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
     if (!continuing) {
         memcpy(w->frame0, s->frame, (size_t)n * 9 * sizeof(double));
         elastic_state(m, w->frame0, w->darboux1, w->mid1, w->d3mid0, w->moment0);
+        if (w->planar && begin_planar(w, m, s)) return -1;
         w->dt_last = 0.0;
     }
     w->start_valid = 0;
@@ -470,10 +652,19 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
             w->x[i] = w->x_last[i] + ratio * (w->x_last[i] - w->x_before[i]);
     } else {
         for (int b = 1; b < n; b++) {
-            double *xb = &w->x[BLOCK * (b - 1)];
-            m3_mul_v(xb, &w->mid1[9 * (b - 1)], &s->contact_force[3 * (b - 1)]);
-            v3_copy(xb + 3, &w->vel0[3 * b]);
-            v3_copy(xb + 6, &w->omega0[3 * b]);
+            double *xb = &w->x[w->block * (b - 1)], force[3];
+            m3_mul_v(force, &w->mid1[9 * (b - 1)], &s->contact_force[3 * (b - 1)]);
+            if (w->planar) {
+                xb[0] = force[0];
+                xb[1] = force[1];
+                xb[2] = w->vel0[3 * b];
+                xb[3] = w->vel0[3 * b + 1];
+                xb[4] = w->omega0[3 * b + 1];
+            } else {
+                v3_copy(xb, force);
+                v3_copy(xb + 3, &w->vel0[3 * b]);
+                v3_copy(xb + 6, &w->omega0[3 * b]);
+            }
         }
     }
     if (newton(w, m, s->time, dt, report)) return -1;
@@ -481,20 +672,26 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
         if (!isfinite(w->x[i])) return -1; /* never accept a non-finite solution */
 
     /* accept: Newton's last residual evaluation was at x, so frame1, darboux1,
-     * mid1 and moment1 describe the end of the step */
-    for (int i = 1; i < n; i++) {
-        memcpy(&s->frame[9 * i], &w->frame1[9 * i], 9 * sizeof(double));
-        m3_orthonormalize(&s->frame[9 * i]);
+     * mid1 and moment1 (or phi1 in the plane) describe the end of the step */
+    if (w->planar) {
+        accept_planar(w, m, s);
+    } else {
+        for (int i = 1; i < n; i++) {
+            memcpy(&s->frame[9 * i], &w->frame1[9 * i], 9 * sizeof(double));
+            m3_orthonormalize(&s->frame[9 * i]);
+        }
+        memcpy(s->darboux, w->darboux1, (size_t)(n - 1) * 3 * sizeof(double));
+        rod_positions_from_midframes(m, w->mid1, s->position);
+        for (int b = 1; b < n; b++) {
+            m3_mul_tv(&s->velocity[3 * b], &s->frame[9 * b], block_vel(w->x, b));
+            v3_copy(&s->angular_velocity[3 * b], block_omega(w->x, b));
+            m3_mul_tv(&s->contact_force[3 * (b - 1)], &w->mid1[9 * (b - 1)], block_force(w->x, b));
+        }
+        memcpy(w->moment0, w->moment1, (size_t)(n - 1) * 3 * sizeof(double));
+        for (int j = 0; j + 1 < n; j++) m3_column(&w->d3mid0[3 * j], &w->mid1[9 * j], 2);
     }
-    memcpy(s->darboux, w->darboux1, (size_t)(n - 1) * 3 * sizeof(double));
-    rod_positions_from_midframes(m, w->mid1, s->position);
     v3_set(&s->velocity[0], 0, 0, 0);
     v3_set(&s->angular_velocity[0], 0, 0, 0);
-    for (int b = 1; b < n; b++) {
-        m3_mul_tv(&s->velocity[3 * b], &s->frame[9 * b], block_vel(w->x, b));
-        v3_copy(&s->angular_velocity[3 * b], block_omega(w->x, b));
-        m3_mul_tv(&s->contact_force[3 * (b - 1)], &w->mid1[9 * (b - 1)], block_force(w->x, b));
-    }
     /* tip entries (staggered convention): N_bar and B^-1 M_bar, director components */
     double f[3], mo[3];
     s->time += dt;
@@ -504,8 +701,6 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
     for (int k = 0; k < 3; k++) s->darboux[3 * (n - 1) + k] = mo[k] / m->stiffness[k];
     /* the next step starts here */
     memcpy(w->frame0, s->frame, (size_t)n * 9 * sizeof(double));
-    memcpy(w->moment0, w->moment1, (size_t)(n - 1) * 3 * sizeof(double));
-    for (int j = 0; j + 1 < n; j++) m3_column(&w->d3mid0[3 * j], &w->mid1[9 * j], 2);
     w->start_time = s->time;
     w->start_valid = 1;
     /* the last solution becomes the one before; a first step (dt_last = 0)
@@ -520,7 +715,7 @@ static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double
                       rod_report *report, int depth)
 {
     if (single_step(w, m, s, dt, report) == 0) return 0;
-    if (depth >= MAX_SPLIT_DEPTH) return -1;
+    if (depth >= MAX_SPLIT_DEPTH || w->budget < 0) return -1;
     w->have_factor = 0;
     if (split_step(w, m, s, 0.5 * dt, report, depth + 1)) return -1;
     w->have_factor = 0;
@@ -563,6 +758,7 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     implicit_work *w = p;
     s->staggered = 1;
     save_state(w, s);
+    w->budget = STEP_ITERATION_BUDGET;
     int segment;
     if (split_step(w, m, s, dt, report, 0) == 0) {
         double angle = sharpest_bend(m, s, &segment);
@@ -574,11 +770,12 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     double angle = sharpest_bend(m, s, &segment);
     if (angle > 0.5 * UNRESOLVED_BEND) return unresolved(m, s, angle, segment, report);
     snprintf(report->message, sizeof report->message,
-             "implicit scheme: Newton's method did not converge at t = %.6g s even after "
-             "splitting the step %g s into %d parts (tolerance %.1e). The load may exceed what "
-             "the rod can carry in equilibrium, or change too abruptly; try a smaller dt or a "
-             "ramped load profile.",
-             s->time, dt, 1 << MAX_SPLIT_DEPTH, m->options.newton_tolerance);
+             "implicit scheme: Newton's method did not converge at t = %.6g s for the step "
+             "dt = %g s, split in halves up to %d parts within %d iterations (tolerance %.1e). "
+             "The load may change too abruptly for this dt, or exceed what the rod can carry; "
+             "try a smaller dt or a ramped load profile.",
+             s->time, dt, 1 << MAX_SPLIT_DEPTH, STEP_ITERATION_BUDGET,
+             m->options.newton_tolerance);
     report->suggested_dt = dt / (1 << MAX_SPLIT_DEPTH);
     return ROD_NO_CONVERGENCE;
 }

@@ -293,6 +293,70 @@ static void test_unresolved_kink(void)
     rod_state_destroy(s);
 }
 
+/* The planar fast path solves the same discrete equations restricted to the
+ * x-y plane: with every load in the plane it must agree with the 3-D solve
+ * (to the Newton tolerance) and keep z exactly 0. */
+static void test_planar_matches_3d(void)
+{
+    for (int dead = 0; dead < 2; dead++) {
+        double tip3[3], tip2[3];
+        for (int planar = 0; planar < 2; planar++) {
+            rod_model m = table1(51, 1.0 / 60.0, 1.0);
+            if (dead) {
+                m.tip_frame = ROD_FRAME_GLOBAL;
+                v3_set(m.tip_force, -2e-7, 1e-6, 0.0);
+                m.tip_moment[2] = 1e-6;
+                m.distributed_force[1] = -1e-7;
+            } else {
+                v3_set(m.tip_force, 1e-6, 0.0, 3e-7); /* on d1 and d3 */
+                m.tip_moment[1] = 1e-6;               /* about d2 = z */
+            }
+            m.profile.kind = ROD_PROFILE_RAMP;
+            m.profile.t1 = 2.0;
+            m.linear_damping = 4e-4;
+            m.options.newton_tolerance = 1e-12;
+            m.physics.planar = planar;
+            rod_state *s = rod_state_create(&m);
+            run(&m, s, 5.0, 1.0 / 60.0);
+            v3_copy(planar ? tip2 : tip3, tip(s));
+            rod_state_destroy(s);
+        }
+        double diff = hypot(tip2[0] - tip3[0], tip2[1] - tip3[1]);
+        check(diff < 1e-9 && tip2[2] == 0.0,
+              "planar path = 3-D solve, %s loads in the x-y plane: tip (%.10f, %.10f) vs "
+              "(%.10f, %.10f), distance %.2e m, planar z = %g",
+              dead ? "dead" : "follower", tip2[0], tip2[1], tip3[0], tip3[1], diff, tip2[2]);
+    }
+    rod_model m = table1(51, 0.1, 1.0);
+    m.tip_force[1] = 1e-7; /* on d2: out of the plane */
+    check(!rod_model_loads_planar(&m), "a force on d2 is not planar");
+    m = table1(51, 0.1, 1.0);
+    m.tip_moment[2] = 1e-7; /* twisting moment */
+    check(!rod_model_loads_planar(&m), "a twisting moment is not planar");
+}
+
+/* Without rotary inertia the rotations are quasi-static: backward Euler
+ * still settles table 2's first load onto the elastica. */
+static void test_no_rotary_inertia(void)
+{
+    rod_model m = table1(51, 0.5, 1.0);
+    m.physics.rotary_inertia = 0;
+    char err[256];
+    rod_model_derive(&m, err, sizeof err);
+    m.tip_force[0] = 4.5e-7;
+    m.profile.kind = ROD_PROFILE_RAMP;
+    m.profile.t1 = 2.0;
+    m.linear_damping = 4e-4;
+    rod_state *s = rod_state_create(&m);
+    rod_status st = run(&m, s, 150.0, 0.5);
+    elastica_tip exact = {0};
+    elastica_follower_load(m.stiffness[0], m.length, 4.5e-7, 0.0, 0.0, 8000, &exact);
+    check(st == ROD_OK && m.rotary_inertia[0] == 0.0, "rotary inertia off: runs");
+    check_rel("rotary inertia off: settled tip deflection vs the follower elastica", tip(s)[1],
+              exact.y, 1e-3);
+    rod_state_destroy(s);
+}
+
 int main(void)
 {
     test_table2();
@@ -302,5 +366,7 @@ int main(void)
     test_stability();
     test_energy();
     test_unresolved_kink();
+    test_planar_matches_3d();
+    test_no_rotary_inertia();
     return test_finish();
 }
