@@ -45,8 +45,8 @@
  *     holonomic swing-twist condition: the quaternion of Q_0 Q_init^T has no
  *     x component (Q_0 is the straight frame turned about an axis normal to
  *     x). The root moment M(0) = M_{1/2} + ds/2 d3_{1/2} x N_{1/2} (root half
- *     cell, as at the tip) must do no work on the rotations this allows, so
- *     M(0) is parallel to g, the gradient of that condition: rows (M(0) x g)_y,z.
+ *     cell, as at the tip) has no y, z components: the torsion stop acts
+ *     about the fixed x axis (see pinned_root_rows).
  *     A pinned root with a free tip is a mechanism and is refused.
  *   tip pinned / clamped: r_tip = sum ds d3_{j+1/2} must stay on the x axis:
  *     two more unknowns, the support reaction R = (0, R_y, R_z) global added
@@ -273,22 +273,21 @@ static void trial_force(const static_work *w, const double *increment, int j, do
     for (int k = 0; k < 3; k++) force[k] = w->force[3 * j + k] + w->force_scale * change[k];
 }
 
-/* Rows of a pinned root (block 0, rows 0-2): the swing-twist condition and
- * M(0) parallel to its gradient g. q = Q_0 Q_init^T has the quaternion
- * (c, v); under a small turn dw (global) of Q_0, d v_x = (c dw_x + dw_y v_z
- * - dw_z v_y) / 2, so g = (c, v_z, -v_y). */
+/* Rows of a pinned root (block 0, rows 0-2). Twist held: the quaternion
+ * of Q_0 Q_init^T has no x component (a holonomic condition: Q_0 is the
+ * straight frame turned about an axis normal to x). The torsion stop is a
+ * moment about the fixed x axis, so the pin carries no moment about y and z:
+ * M(0)_y = M(0)_z = 0. This is the support Greenhill's problem assumes (an
+ * axial, dead moment at both ends); the stop's moment about x then does a
+ * little work when the root swings, as any dead axial moment does. */
 static void pinned_root_rows(const static_work *w, const double root_moment[3], double *row)
 {
     double q[9];
     m3_mul(q, w->frame_trial, (const double[9]){0, 1, 0, 0, 0, 1, 1, 0, 0}); /* Q_0 Q_init^T */
     double c = 0.5 * sqrt(fmax(1e-300, 1.0 + q[0] + q[4] + q[8]));
-    double v[3] = {(q[7] - q[5]) / (4.0 * c), (q[2] - q[6]) / (4.0 * c), (q[3] - q[1]) / (4.0 * c)};
-    double g[3] = {c, v[2], -v[1]}, normal[3];
-    v3_scale(g, g, 1.0 / v3_norm(g));
-    v3_cross(normal, root_moment, g);
-    row[0] = w->angle_row_scale * 2.0 * v[0];
-    row[1] = w->moment_row_scale * normal[1];
-    row[2] = w->moment_row_scale * normal[2];
+    row[0] = w->angle_row_scale * 2.0 * (q[7] - q[5]) / (4.0 * c);
+    row[1] = w->moment_row_scale * root_moment[1];
+    row[2] = w->moment_row_scale * root_moment[2];
 }
 
 /* Residual of the discrete equilibrium at frames Q_i exp(phi_i) and forces
@@ -833,6 +832,10 @@ int static_straight_determinant(static_work *w, const rod_model *m, double lambd
             for (int c = k + 1; c < size; c++) a[(size_t)r * size + c] -= f * a[(size_t)k * size + c];
         }
     }
+    /* The phi unknowns are on the twisted directors: w_global = e^{i theta_i} w_director
+     * with theta_i = u3 s_i, so det K_director = det K_global e^{i sum theta_i}; report
+     * the global one, whose phase does not wind with the twist. */
+    for (int i = 0; i < n; i++) angle -= twist_rate * m->ds * i;
     *log_abs = log_sum;
     *phase = remainder(angle, 2.0 * M_PI);
     return 0;
