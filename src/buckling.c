@@ -124,11 +124,13 @@ int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_t
         snprintf(err, errlen,
                  "buckling: no loss of stability of the straight rod up to lambda = %g (tip "
                  "force %g N, moment %g N m along %s, on the %s frame): the tangent stiffness "
-                 "stays regular. A follower compressive force on a cantilever (Beck's column) "
-                 "is like that: it loses stability by flutter, which a static criterion cannot "
-                 "detect", lambda_max, lambda_max * m->tip_force[axis],
+                 "stays regular%s", lambda_max, lambda_max * m->tip_force[axis],
                  lambda_max * m->tip_moment[axis], axis_name,
-                 m->tip_frame == ROD_FRAME_DIRECTOR ? "follower (tip director)" : "dead (global)");
+                 m->tip_frame == ROD_FRAME_DIRECTOR ? "follower (tip director)" : "dead (global)",
+                 m->tip_frame == ROD_FRAME_DIRECTOR
+                     ? ". A follower compressive force on a cantilever (Beck's column) is like "
+                       "that: it loses stability by flutter, which a static criterion cannot detect"
+                     : "");
         goto done;
     }
     while (high.lambda - low.lambda > relative_tolerance * high.lambda && !isinf(high.log_abs)) {
