@@ -458,12 +458,35 @@ static void build_jacobian(static_work *w, const rod_model *m, const static_load
 
 /* Solves J step = -residual with the Jacobian of build_jacobian (the band
  * is overwritten by its LU). For a held tip, J = [A B; C 0] by block
- * elimination: A X = B, A y = -r_band, (C X) dR = C y + r_border,
- * step_band = y - X dR. Returns 0, or -1 when singular. */
+ * elimination. A alone (the tip reaction fixed) is singular for a pinned
+ * root: the rod would swing about the pin. So the reaction is split as
+ * R = R'' + G x, with G x = a transverse spring on the tip's turn (a tip
+ * force -k L times its tilt, k L^3/EI = tip_spring), which only moves the
+ * unknown: A' = A + B G is regular for every end pair (a beam pinned or
+ * clamped at the root with that spring at its tip has no zero-load mode)
+ * and stays banded (G reaches the tip block only). Then A' X = B,
+ * A' y = -r_band, (C X) dR'' = C y + r_border, step = y - X dR'',
+ * dR = dR'' + G step. Returns 0, or -1 when singular. */
 static int solve_newton_step(static_work *w)
 {
-    int nb = w->band_unknowns;
+    static const double tip_spring = 10.0;
+    int nb = w->band_unknowns, tip_block = UNKNOWNS_PER_NODE * (w->nodes - 1);
+    double spring[2][3] = {{0}}; /* G on the tip's phi, in force_scale per rad */
     for (int i = 0; i < w->unknowns; i++) w->newton_step[i] = -w->residual[i];
+    if (w->border) {
+        /* global turn omega = Q_tip phi; the tip moves by L (omega_z, -omega_y) */
+        const double *q_tip = &w->frame[9 * (w->nodes - 1)];
+        double coupling = w->force_row_scale * w->force_scale;
+        for (int b = 0; b < 3; b++) {
+            spring[0][b] = -tip_spring * q_tip[6 + b];
+            spring[1][b] = tip_spring * q_tip[3 + b];
+            for (int k = 0; k < 2; k++) {
+                int row = tip_block + 1 + k, col = tip_block + b;
+                w->band[(size_t)col * w->band_rows + (BAND_LOWER + BAND_UPPER + row - col)] +=
+                    coupling * spring[k][b];
+            }
+        }
+    }
     lapack_int info = LAPACKE_dgbtrf(LAPACK_COL_MAJOR, nb, nb, BAND_LOWER, BAND_UPPER, w->band,
                                      w->band_rows, w->pivots);
     if (info != 0) return -1;
@@ -487,10 +510,12 @@ static int solve_newton_step(static_work *w)
     if (!(fabs(det) > 0.0) || !isfinite(det)) return -1;
     double d_reaction[2] = {(schur[1][1] * rhs[0] - schur[0][1] * rhs[1]) / det,
                             (schur[0][0] * rhs[1] - schur[1][0] * rhs[0]) / det};
-    for (int l = 0; l < 2; l++) {
-        w->newton_step[nb + l] = d_reaction[l];
+    for (int l = 0; l < 2; l++)
         for (int i = 0; i < nb; i++)
             w->newton_step[i] -= w->border_solution[(size_t)l * nb + i] * d_reaction[l];
+    for (int k = 0; k < 2; k++) {
+        w->newton_step[nb + k] = d_reaction[k];
+        for (int b = 0; b < 3; b++) w->newton_step[nb + k] += spring[k][b] * w->newton_step[tip_block + b];
     }
     return 0;
 }
