@@ -25,7 +25,7 @@
  * and N_{i-1/2}; equations of node i involve nodes i-1, i, i+1 only, so the
  * Jacobian is banded (kl = ku = 11). It is formed by finite differences
  * with 3 colours (nodes 3 apart never share an equation): 18 residual
- * evaluations per Newton iteration, then LAPACK dgbsv. Newton has a step
+ * evaluations per Newton iteration, then a banded LU (LAPACK dgbtrf, bordered for a held tip). Newton has a step
  * limit and a backtracking line search; a load increment is split into
  * sub-steps (load continuation) when it is large or when Newton fails.
  *
