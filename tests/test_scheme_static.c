@@ -414,6 +414,142 @@ static void test_no_convergence_report(void)
     rod_state_destroy(s);
 }
 
+/* End conditions under a small distributed load q along -y (q L^3/EI = 1e-3,
+ * linear regime), against the classical beam formulas:
+ *   pinned-pinned (root pinned, tip pinned on its sleeve): midspan 5 q L^4/(384 EI),
+ *     support reaction q L/2;
+ *   clamped-clamped (tip clamped, sliding along x): midspan q L^4/(384 EI), tip
+ *     moment q L^2/12. The sleeve leaves the tip free to slide, which small
+ *     deflections do not notice (no axial force arises: the classic beam);
+ *   propped cantilever (root clamped, tip pinned): tip reaction 3 q L/8.
+ * The tip's contact_force entry is the applied tip force plus the reaction
+ * (tip directors), its darboux entry B^-1 (applied + reaction moment). */
+typedef struct end_result {
+    double midspan;  /* -y at the middle node, m */
+    double reaction; /* tip reaction, global y, N */
+    double moment;   /* tip bending moment about z, N m */
+    double tip_y;    /* m */
+    int ok;
+} end_result;
+
+static end_result solve_ends(int nodes, rod_end_kind root, rod_end_kind tip, double q)
+{
+    rod_model m = static_model(nodes, ROD_FRAME_GLOBAL);
+    m.root_end = root;
+    m.tip_end = tip;
+    m.distributed_force[1] = -q;
+    rod_state *s;
+    rod_report report;
+    end_result r = {0};
+    r.ok = solve(&m, &s, &report) == ROD_OK;
+    const double *q_tip = &s->frame[9 * (nodes - 1)];
+    double force[3], bu[3], moment[3];
+    m3_mul_v(force, q_tip, &s->contact_force[3 * (nodes - 1)]);
+    for (int k = 0; k < 3; k++) bu[k] = m.stiffness[k] * s->darboux[3 * (nodes - 1) + k];
+    m3_mul_v(moment, q_tip, bu);
+    r.midspan = -s->position[3 * ((nodes - 1) / 2) + 1];
+    r.reaction = force[1];
+    r.moment = moment[2];
+    r.tip_y = tip_of(s)[1];
+    rod_state_destroy(s);
+    return r;
+}
+
+static void test_end_conditions(void)
+{
+    const int grids[3] = {11, 21, 41};
+    rod_model m = static_model(21, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], length = m.length;
+    double q = 1e-3 * ei / pow(length, 3);
+    const struct {
+        rod_end_kind root, tip;
+        double midspan; /* reference, m */
+        const char *name;
+    } cases[3] = {
+        {ROD_END_PINNED, ROD_END_PINNED, 5.0 * q * pow(length, 4) / (384.0 * ei), "pinned-pinned, 5qL^4/384EI"},
+        {ROD_END_CLAMPED, ROD_END_CLAMPED, q * pow(length, 4) / (384.0 * ei), "clamped-clamped sliding, qL^4/384EI"},
+        {ROD_END_CLAMPED, ROD_END_PINNED, 0.0, "propped cantilever"},
+    };
+    for (int c = 0; c < 3; c++) {
+        double errors[3];
+        for (int g = 0; g < 3; g++) {
+            end_result r = solve_ends(grids[g], cases[c].root, cases[c].tip, q);
+            char what[200];
+            check(r.ok, "%s NS=%d solves", cases[c].name, grids[g]);
+            check(fabs(r.tip_y) < 1e-15 * length, "%s NS=%d: tip held on the x axis, y = %.2e m",
+                  cases[c].name, grids[g], r.tip_y);
+            double tol = 0.05 * pow(10.0 / (grids[g] - 1), 2); /* second order (checked below) */
+            if (c < 2) {
+                snprintf(what, sizeof what, "%s NS=%d: midspan deflection", cases[c].name, grids[g]);
+                check_rel(what, r.midspan, cases[c].midspan, tol);
+                errors[g] = fabs(r.midspan - cases[c].midspan) / cases[c].midspan;
+            }
+            if (c == 0) {
+                snprintf(what, sizeof what, "pinned-pinned NS=%d: tip reaction vs qL/2 (statics)", grids[g]);
+                check_rel(what, r.reaction, 0.5 * q * length, 1e-6);
+            }
+            if (c == 1) {
+                snprintf(what, sizeof what, "clamped-clamped NS=%d: tip reaction vs qL/2 (symmetry)", grids[g]);
+                check_rel(what, r.reaction, 0.5 * q * length, 1e-6);
+                snprintf(what, sizeof what, "clamped-clamped NS=%d: tip reaction moment vs qL^2/12", grids[g]);
+                check_rel(what, -r.moment, q * length * length / 12.0, tol);
+            }
+            if (c == 2) {
+                snprintf(what, sizeof what, "propped cantilever NS=%d: tip reaction vs 3qL/8", grids[g]);
+                check_rel(what, r.reaction, 3.0 * q * length / 8.0, tol);
+                errors[g] = fabs(r.reaction - 3.0 * q * length / 8.0) / (3.0 * q * length / 8.0);
+            }
+        }
+        for (int g = 1; g < 3; g++) {
+            double order = log(errors[g - 1] / errors[g]) / log((double)(grids[g] - 1) / (grids[g - 1] - 1));
+            check(order > 1.8 && order < 2.2, "%s: observed order NS=%d -> %d: %.3f (errors %.3e -> %.3e)",
+                  cases[c].name, grids[g - 1], grids[g], order, errors[g - 1], errors[g]);
+        }
+    }
+}
+
+/* At a held tip the loads along free directions still act: a twisting
+ * moment about x twists a clamped-clamped (sliding) rod uniformly,
+ * u3 = M/C, and an axial pull on a pinned-pinned rod is carried as N = P. */
+static void test_held_tip_free_directions(void)
+{
+    rod_model m = static_model(21, ROD_FRAME_GLOBAL);
+    m.tip_end = ROD_END_CLAMPED;
+    double twist_moment = 0.3 * m.stiffness[2] / m.length;
+    m.tip_moment[0] = twist_moment;
+    rod_state *s;
+    rod_report report;
+    check(solve(&m, &s, &report) == ROD_OK, "clamped-clamped with a twisting moment solves");
+    check_rel("clamped-clamped: u3 at the middle vs M/C", s->darboux[3 * 10 + 2],
+              twist_moment / m.stiffness[2], 1e-9);
+    rod_state_destroy(s);
+
+    m = static_model(21, ROD_FRAME_GLOBAL);
+    m.root_end = ROD_END_PINNED;
+    m.tip_end = ROD_END_PINNED;
+    m.tip_force[0] = 2.0 * m.stiffness[0] / (m.length * m.length);
+    m.distributed_force[1] = -1e-3 * m.stiffness[0] / pow(m.length, 3);
+    check(solve(&m, &s, &report) == ROD_OK, "pinned-pinned with an axial pull and q solves");
+    double n_root[3], mid0[9], half[3], rot[9];
+    v3_scale(half, &s->darboux[0], 0.5 * m.ds);
+    m3_exp(rot, half);
+    m3_mul(mid0, &s->frame[0], rot);
+    m3_mul_v(n_root, mid0, &s->contact_force[0]);
+    check_rel("pinned-pinned: the axial pull reaches the root (N_x at the first midpoint)", n_root[0],
+              m.tip_force[0], 1e-9);
+    check(tip_of(s)[0] < m.length && tip_of(s)[0] > 0.99 * m.length,
+          "the pinned tip slid along x: x_tip = %.9f m < L", tip_of(s)[0]);
+    rod_state_destroy(s);
+
+    /* refusal: a pinned root with a free tip is a mechanism */
+    m = static_model(21, ROD_FRAME_GLOBAL);
+    m.root_end = ROD_END_PINNED;
+    rod_solver solver;
+    char err[512] = "";
+    check(rod_solver_init(&solver, &m, err, sizeof err) != 0 && strstr(err, "mechanism"),
+          "root pinned, tip free refused: '%s'", err);
+}
+
 int main(void)
 {
     test_table2_deflections();
@@ -427,5 +563,7 @@ int main(void)
     test_distributed_load();
     test_quasi_static_path();
     test_no_convergence_report();
+    test_end_conditions();
+    test_held_tip_free_directions();
     return test_finish();
 }
