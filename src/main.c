@@ -8,6 +8,7 @@
 #include "outfile.h"
 #include "run.h"
 #include "stability_cli.h"
+#include "validate_cli.h"
 
 typedef struct command {
     const char *name;
@@ -20,6 +21,7 @@ static const command commands[] = {
     {"run", run_command, "simulate a rod scene; render its video and poster, write its CSV"},
     {"fem", fem_command, "solve a 2-D beam FEM scene (the fishing rod); print, plot, tabulate"},
     {"stability", stability_command, "largest stable dt per scheme at the extremes; table, map"},
+    {"validate", validate_command, "run the validation cases: errors, orders of convergence"},
 };
 
 static void usage(FILE *f)
@@ -27,7 +29,7 @@ static void usage(FILE *f)
     fprintf(f, "usage: rodsim COMMAND [options]   (rodsim COMMAND --help for its options)\n\n"
                "commands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
-        fprintf(f, "  %-6s %s\n", commands[i].name, commands[i].summary);
+        fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].summary);
     fprintf(f, "\nexit status: 0 success, 2 bad input or usage (or a numerically unstable run),\n"
                "1 any other failure.\n");
 }
