@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "fem_cli.h"
+#include "figure_cli.h"
 
 #include "outfile.h"
 #include "run.h"
@@ -18,6 +19,7 @@ typedef struct command {
 static const command commands[] = {
     {"run", run_command, "simulate a rod scene; render its video and poster, write its CSV"},
     {"fem", fem_command, "solve a 2-D beam FEM scene (the fishing rod); print, plot, tabulate"},
+    {"figure", figure_command, "regenerate the thesis' figures (parallel sweeps) as PNG plots"},
 };
 
 static void usage(FILE *f)

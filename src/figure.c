@@ -1,0 +1,554 @@
+/* figure.c: the sweep machinery (points, CSV, parallel processes) and the
+ * figures themselves (see figure.h). */
+#include "figure.h"
+
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "outfile.h"
+#include "plot.h"
+#include "reference.h"
+#include "rod.h"
+
+struct figure_def {
+    const char *name;
+    const char *summary;
+    const char *columns; /* CSV header, "point," then the value columns */
+    int value_columns;
+    int full_points, quick_points;
+    const char *const *outputs;
+    int (*compute)(int point, int quick, figure_points *out, char *err, size_t errlen);
+    int (*draw)(const figure_points *points, int quick, const char *out_dir, FILE *summary,
+                char *err, size_t errlen);
+};
+
+/* ---- rows ------------------------------------------------------------------ */
+
+void figure_points_init(figure_points *p, const figure_def *f)
+{
+    memset(p, 0, sizeof *p);
+    p->columns = f->value_columns;
+}
+
+void figure_points_release(figure_points *p)
+{
+    free(p->data);
+    memset(p, 0, sizeof *p);
+}
+
+int figure_points_add(figure_points *p, int point, const double *values)
+{
+    int width = 1 + p->columns;
+    if (p->rows == p->capacity) {
+        int capacity = p->capacity ? 2 * p->capacity : 64;
+        double *data = realloc(p->data, (size_t)capacity * (size_t)width * sizeof *data);
+        if (!data) return -1;
+        p->data = data;
+        p->capacity = capacity;
+    }
+    double *row = &p->data[(size_t)p->rows * (size_t)width];
+    row[0] = point;
+    memcpy(row + 1, values, (size_t)p->columns * sizeof *values);
+    p->rows++;
+    return 0;
+}
+
+static const double *row_of(const figure_points *p, int r)
+{
+    return &p->data[(size_t)r * (size_t)(1 + p->columns)];
+}
+
+/* ---- simulations shared by the figures -------------------------------------- */
+
+static double now_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Steps the model from rest to t_end with steps of dt. 0, or -1 with the scheme's message. */
+static int settle(const rod_model *m, rod_state *s, double t_end, double dt, char *err,
+                  size_t errlen)
+{
+    rod_solver solver;
+    if (rod_solver_init(&solver, m, err, errlen)) return -1;
+    rod_report report = {0};
+    rod_status status = ROD_OK;
+    long steps = lround(ceil((t_end - s->time) / dt - 1e-9));
+    for (long k = 0; k < steps && status == ROD_OK; k++)
+        status = rod_solver_step(&solver, m, s, dt, &report);
+    rod_solver_release(&solver);
+    if (status != ROD_OK || !rod_state_is_finite(s)) {
+        snprintf(err, errlen, "%s scheme failed at t = %g s: %s", m->options.scheme ==
+                 ROD_SCHEME_THESIS ? "thesis" : m->options.scheme == ROD_SCHEME_IMPLICIT
+                 ? "implicit" : "static", s->time, report.message);
+        return -1;
+    }
+    return 0;
+}
+
+static const unsigned char scheme_rgb[ROD_SCHEME_COUNT][3] = {
+    {200, 110, 0},  /* thesis: orange */
+    {200, 30, 30},  /* implicit: red */
+    {0, 90, 200},   /* static: blue */
+};
+static const char *const scheme_names[ROD_SCHEME_COUNT] = {"thesis", "implicit", "static"};
+
+static plot_style marker_style(const unsigned char rgb[3], double size, int filled)
+{
+    plot_style s = plot_style_line(rgb[0], rgb[1], rgb[2], 2.0, PLOT_SOLID);
+    s.marker_size = size;
+    s.filled = 1;
+    if (filled) memcpy(s.fill_rgb, rgb, 3);
+    else s.fill_rgb[0] = s.fill_rgb[1] = s.fill_rgb[2] = 255;
+    return s;
+}
+
+static int write_plot(plot *p, const char *out_dir, const char *file, char *err, size_t errlen)
+{
+    char path[OUTFILE_PATH_MAX];
+    snprintf(path, sizeof path, "%s/%s", out_dir, file);
+    return plot_write_png(p, path, err, errlen);
+}
+
+/* ---- table2: tip deflection against the tip force ---------------------------- */
+
+/* Thesis table 2: P (N) and its "simulated" tip deflections (m). */
+static const double table2_loads[3] = {4.5e-7, 8e-7, 1e-6};
+static const double table2_thesis_values[3] = {0.0352, 0.0627, 0.0782};
+static const double table2_full_loads[] = {1e-7, 2e-7, 3e-7, 4.5e-7, 6e-7, 8e-7, 1e-6, 1.2e-6};
+#define TABLE2_FULL_LOADS ((int)(sizeof table2_full_loads / sizeof table2_full_loads[0]))
+#define TABLE2_NODES 51
+static const rod_scheme_kind table2_schemes[3] = {ROD_SCHEME_STATIC, ROD_SCHEME_IMPLICIT,
+                                                  ROD_SCHEME_THESIS};
+static const char *const table2_outputs[] = {"table2.png", "table2_ratio.png", NULL};
+
+/* Table 1's rod, NS = 51, under a dead tip load P along +y (scenes/table2_*.ini:
+ * the frame PL^3/3EI and the dead-load elastica assume), settled:
+ *   static:   one equilibrium solve;
+ *   implicit: backward Euler, dt = 0.5 s, load ramped over 2 s, damping 4e-4
+ *             N s/m^2 (about critical for mode 1), state at 150 s;
+ *   thesis:   rotary_inertia_scale 1e7 (it diverges without), dt = 0.1 s,
+ *             ramp 10 s, damping 1e-3, state at 300 s (README "### thesis"). */
+static int table2_compute(int point, int quick, figure_points *out, char *err, size_t errlen)
+{
+    rod_scheme_kind scheme = table2_schemes[point % 3];
+    double load = quick ? table2_loads[point / 3] : table2_full_loads[point / 3];
+    rod_model m = rod_model_default();
+    m.nodes = TABLE2_NODES;
+    m.tip_frame = ROD_FRAME_GLOBAL;
+    m.tip_force[1] = load;
+    m.options.scheme = scheme;
+    double t_end = 1.0, dt = 1.0;
+    if (scheme == ROD_SCHEME_IMPLICIT) {
+        m.options.theta = 1.0;
+        m.profile.kind = ROD_PROFILE_RAMP;
+        m.profile.t1 = 2.0;
+        m.linear_damping = 4e-4;
+        t_end = 150.0;
+        dt = 0.5;
+    } else if (scheme == ROD_SCHEME_THESIS) {
+        m.rotary_inertia_scale = 1e7;
+        m.profile.kind = ROD_PROFILE_RAMP;
+        m.profile.t1 = 10.0;
+        m.linear_damping = 1e-3;
+        t_end = 300.0;
+        dt = 0.1;
+    }
+    m.options.dt = dt;
+    if (rod_model_derive(&m, err, errlen)) return -1;
+    rod_state *s = rod_state_create(&m);
+    if (!s) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    int rc = settle(&m, s, t_end, dt, err, errlen);
+    if (rc == 0) {
+        const double *tip = &s->position[3 * (s->nodes - 1)];
+        double values[4] = {(double)scheme, load, tip[0], tip[1]};
+        rc = figure_points_add(out, point, values);
+    }
+    rod_state_destroy(s);
+    return rc;
+}
+
+static int table2_draw(const figure_points *points, int quick, const char *out_dir,
+                       FILE *summary, char *err, size_t errlen)
+{
+    (void)quick;
+    rod_model m = rod_model_default();
+    if (rod_model_derive(&m, err, errlen)) return -1;
+    double ei = m.stiffness[0], length = m.length;
+    double cubic = length * length * length / (3.0 * ei); /* PL^3/3EI per newton */
+
+    /* independent curves: linear theory and the dead-load elastica */
+    enum { CURVE = 50 };
+    double p_max = 1.25e-6;
+    double cx[CURVE], linear[CURVE], elastica[CURVE], elastica_ratio[CURVE], ones[CURVE];
+    for (int i = 0; i < CURVE; i++) {
+        double load = p_max * (i + 1e-3) / (CURVE - 1); /* from ~0: the ratio is 0/0 at 0 */
+        elastica_tip tip;
+        if (elastica_dead_load(ei, length, 0.0, load, 0.0, 8000, &tip)) {
+            snprintf(err, errlen, "elastica: no solution bracketed at P = %g N", load);
+            return -1;
+        }
+        cx[i] = load * 1e9;                 /* nN */
+        linear[i] = load * cubic * 1e3;     /* mm */
+        elastica[i] = tip.y * 1e3;
+        elastica_ratio[i] = tip.y / (load * cubic);
+        ones[i] = 1.0;
+    }
+
+    /* simulated points, per scheme */
+    int n = points->rows;
+    double *sx = malloc((size_t)(n + 1) * sizeof *sx);
+    double *sy = malloc((size_t)(n + 1) * sizeof *sy);
+    double *sr = malloc((size_t)(n + 1) * sizeof *sr);
+    plot *deflection = plot_create(1200, 800), *ratio = plot_create(1200, 800);
+    int rc = (!sx || !sy || !sr || !deflection || !ratio) ? -1 : 0;
+    if (rc) snprintf(err, errlen, "out of memory");
+
+    if (rc == 0) {
+        plot_set_title(deflection, "Thesis table 2: cantilever tip deflection under a tip force "
+                                   "(L = 1 m, d = 1 mm, NS = 51)");
+        plot_set_axis_labels(deflection, "tip force P [nN]", "tip deflection y [mm]");
+        plot_set_limits(deflection, 0, 1300, 0, 100);
+        plot_set_title(ratio, "Table 2 relative to linear theory: y / (P L^3 / 3 E I)");
+        plot_set_axis_labels(ratio, "tip force P [nN]", "y / (P L^3 / 3 E I)");
+        plot_set_limits(ratio, 0, 1300, 0.98, 1.025);
+        plot_style theory = plot_style_line(120, 120, 120, 2.0, PLOT_DASHED);
+        plot_style exact = plot_style_line(0, 0, 0, 2.0, PLOT_SOLID);
+        rc |= plot_add_line(deflection, cx, linear, CURVE, theory, "P L^3 / 3 E I (linear)");
+        rc |= plot_add_line(deflection, cx, elastica, CURVE, exact, "elastica (exact, dead load)");
+        rc |= plot_add_line(ratio, cx, ones, CURVE, theory, "P L^3 / 3 E I (linear)");
+        rc |= plot_add_line(ratio, cx, elastica_ratio, CURVE, exact,
+                            "elastica (exact, dead load)");
+        static const double sizes[3] = {16, 11, 7};
+        for (int k = 0; k < 3 && rc == 0; k++) {
+            rod_scheme_kind scheme = table2_schemes[k];
+            int count = 0;
+            for (int r = 0; r < n; r++) {
+                const double *row = row_of(points, r);
+                if ((int)row[1] != (int)scheme) continue;
+                double load = row[2], y = row[4];
+                sx[count] = load * 1e9;
+                sy[count] = y * 1e3;
+                sr[count] = y / (load * cubic);
+                count++;
+                elastica_tip tip;
+                elastica_dead_load(ei, length, 0.0, load, 0.0, 8000, &tip);
+                if (summary)
+                    fprintf(summary,
+                            "table2: %-8s P = %.3g N: tip y = %.6f m; PL^3/3EI %.6f (%+.2f%%), "
+                            "elastica %.6f (%+.2e)\n",
+                            scheme_names[scheme], load, y, load * cubic,
+                            100.0 * (y / (load * cubic) - 1.0), tip.y, y / tip.y - 1.0);
+            }
+            if (count == 0) continue;
+            char legend[64];
+            snprintf(legend, sizeof legend, "%s scheme (simulated)", scheme_names[scheme]);
+            plot_style style = marker_style(scheme_rgb[scheme], sizes[k], k != 0);
+            rc |= plot_add_markers(deflection, sx, sy, count, style, NULL, 0, 0, legend);
+            rc |= plot_add_markers(ratio, sx, sr, count, style, NULL, 0, 0, legend);
+        }
+        /* the thesis' own numbers (its table 2) */
+        double tx[3], ty[3], tr[3];
+        for (int i = 0; i < 3; i++) {
+            tx[i] = table2_loads[i] * 1e9;
+            ty[i] = table2_thesis_values[i] * 1e3;
+            tr[i] = table2_thesis_values[i] / (table2_loads[i] * cubic);
+        }
+        static const char *const labels[3] = {"0.0352 m", "0.0627 m", "0.0782 m"};
+        plot_style thesis = plot_style_line(0, 150, 60, 2.5, PLOT_SOLID);
+        thesis.marker_size = 14;
+        thesis.filled = 0;
+        rc |= plot_add_markers(deflection, tx, ty, 3, thesis, labels, 22, 30,
+                               "thesis table 2 (its simulation)");
+        rc |= plot_add_markers(ratio, tx, tr, 3, thesis, labels, -40, -22,
+                               "thesis table 2 (its simulation)");
+        if (rc) snprintf(err, errlen, "out of memory");
+    }
+    if (rc == 0) rc = write_plot(deflection, out_dir, "table2.png", err, errlen);
+    if (rc == 0) rc = write_plot(ratio, out_dir, "table2_ratio.png", err, errlen);
+    plot_destroy(deflection);
+    plot_destroy(ratio);
+    free(sx);
+    free(sy);
+    free(sr);
+    return rc;
+}
+
+/* ---- the list ---------------------------------------------------------------- */
+
+static const figure_def figure_table2 = {
+    .name = "table2",
+    .summary = "thesis table 2 as a chart: tip deflection against P, every scheme, "
+               "PL^3/3EI, the elastica, the thesis' values",
+    .columns = "point,scheme,load_N,tip_x_m,tip_y_m",
+    .value_columns = 4,
+    .full_points = 3 * TABLE2_FULL_LOADS,
+    .quick_points = 9,
+    .outputs = table2_outputs,
+    .compute = table2_compute,
+    .draw = table2_draw,
+};
+
+static const figure_def *const figures[] = {
+    &figure_table2,
+    NULL,
+};
+
+const figure_def *const *figure_list(void) { return figures; }
+
+const figure_def *figure_find(const char *name)
+{
+    for (int i = 0; figures[i]; i++)
+        if (strcmp(figures[i]->name, name) == 0) return figures[i];
+    return NULL;
+}
+
+const char *figure_name(const figure_def *f) { return f->name; }
+const char *figure_summary(const figure_def *f) { return f->summary; }
+const char *figure_columns(const figure_def *f) { return f->columns; }
+const char *const *figure_outputs(const figure_def *f) { return f->outputs; }
+int figure_point_count(const figure_def *f, int quick)
+{
+    return quick ? f->quick_points : f->full_points;
+}
+
+int figure_compute_point(const figure_def *f, int point, int quick, figure_points *out,
+                         char *err, size_t errlen)
+{
+    int count = figure_point_count(f, quick);
+    if (point < 0 || point >= count) {
+        snprintf(err, errlen, "figure %s has points 0 .. %d%s; no point %d", f->name, count - 1,
+                 quick ? " with --quick" : "", point);
+        return -1;
+    }
+    return f->compute(point, quick, out, err, errlen);
+}
+
+int figure_draw(const figure_def *f, const figure_points *points, int quick,
+                const char *out_dir, FILE *summary, char *err, size_t errlen)
+{
+    /* every point must have contributed: a lost CSV must not draw a thinner figure */
+    int count = figure_point_count(f, quick);
+    char *seen = calloc((size_t)count, 1);
+    if (!seen) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    for (int r = 0; r < points->rows; r++) {
+        int k = (int)row_of(points, r)[0];
+        if (k >= 0 && k < count) seen[k] = 1;
+    }
+    int missing = -1;
+    for (int k = 0; k < count && missing < 0; k++)
+        if (!seen[k]) missing = k;
+    free(seen);
+    if (missing >= 0) {
+        snprintf(err, errlen, "figure %s: no rows for point %d (of 0 .. %d)", f->name, missing,
+                 count - 1);
+        return -1;
+    }
+    if (outfile_mkdirs(out_dir, err, errlen)) return -1;
+    return f->draw(points, quick, out_dir, summary, err, errlen);
+}
+
+/* ---- CSV --------------------------------------------------------------------- */
+
+int figure_points_write_csv(const figure_def *f, const figure_points *points, FILE *out)
+{
+    fprintf(out, "%s\n", f->columns);
+    for (int r = 0; r < points->rows; r++) {
+        const double *row = row_of(points, r);
+        fprintf(out, "%d", (int)row[0]);
+        for (int c = 1; c <= points->columns; c++) fprintf(out, ",%.17g", row[c]);
+        fputc('\n', out);
+    }
+    return ferror(out) ? -1 : 0;
+}
+
+int figure_points_read_csv(const figure_def *f, const char *path, figure_points *points,
+                           char *err, size_t errlen)
+{
+    FILE *in = fopen(path, "r");
+    if (!in) {
+        snprintf(err, errlen, "%s: cannot read: %s", path, strerror(errno));
+        return -1;
+    }
+    char line[4096];
+    int line_number = 0, rc = 0;
+    double values[64];
+    if (!fgets(line, sizeof line, in) || (line_number = 1, strcspn(line, "\r\n") !=
+                                          strlen(f->columns)) ||
+        strncmp(line, f->columns, strlen(f->columns)) != 0) {
+        snprintf(err, errlen, "%s:1: expected the header \"%s\" of figure %s", path, f->columns,
+                 f->name);
+        rc = -1;
+    }
+    while (rc == 0 && fgets(line, sizeof line, in)) {
+        line_number++;
+        if (line[strspn(line, " \t\r\n")] == '\0') continue;
+        char *p = line, *end;
+        errno = 0;
+        long point = strtol(p, &end, 10);
+        int ok = end != p && point >= 0 && point < 1000000;
+        p = end;
+        for (int c = 0; ok && c < points->columns; c++) {
+            if (*p != ',') { ok = 0; break; }
+            p++;
+            values[c] = strtod(p, &end);
+            if (end == p) ok = 0;
+            p = end;
+        }
+        if (ok && p[strspn(p, " \t\r\n")] != '\0') ok = 0;
+        if (!ok) {
+            snprintf(err, errlen, "%s:%d: expected a point index and %d numbers separated by "
+                     "commas (columns %s)", path, line_number, points->columns, f->columns);
+            rc = -1;
+        } else if (figure_points_add(points, (int)point, values)) {
+            snprintf(err, errlen, "out of memory");
+            rc = -1;
+        }
+    }
+    fclose(in);
+    return rc;
+}
+
+/* ---- parallel sweep ------------------------------------------------------------ */
+
+typedef struct sweep_task {
+    int figure; /* index into figs */
+    int point;
+    pid_t pid;  /* 0: not started; -1: finished */
+    char path[OUTFILE_PATH_MAX];
+} sweep_task;
+
+/* In the child: compute the point, write its CSV, exit. Never returns. */
+static void run_child(const figure_def *f, const sweep_task *t, int quick)
+{
+    char err[1024] = "";
+    figure_points rows;
+    figure_points_init(&rows, f);
+    int rc = figure_compute_point(f, t->point, quick, &rows, err, sizeof err);
+    if (rc == 0) {
+        FILE *out = fopen(t->path, "w");
+        rc = !out || figure_points_write_csv(f, &rows, out) ? -1 : 0;
+        if (out && fclose(out)) rc = -1;
+        if (rc) snprintf(err, sizeof err, "cannot write the point's CSV in %.900s", t->path);
+    }
+    if (rc) fprintf(stderr, "rodsim figure %s: point %d: %s\n", f->name, t->point, err);
+    figure_points_release(&rows);
+    fflush(NULL);
+    _exit(rc ? 1 : 0);
+}
+
+int figure_sweep(const figure_def *const *figs, int n, int quick, int jobs, FILE *log,
+                 figure_points *out, char *err, size_t errlen)
+{
+    int total = 0;
+    for (int k = 0; k < n; k++) {
+        figure_points_init(&out[k], figs[k]);
+        total += figure_point_count(figs[k], quick);
+    }
+    double start = now_seconds();
+    if (jobs <= 1) {
+        int done = 0;
+        for (int k = 0; k < n; k++) {
+            int count = figure_point_count(figs[k], quick);
+            for (int i = 0; i < count; i++) {
+                char why[1024];
+                if (figure_compute_point(figs[k], i, quick, &out[k], why, sizeof why)) {
+                    snprintf(err, errlen, "figure %s, point %d: %s", figs[k]->name, i, why);
+                    return -1;
+                }
+                if (log)
+                    fprintf(log, "  %s point %d/%d done (%d of %d, %.1f s)\n", figs[k]->name,
+                            i + 1, count, ++done, total, now_seconds() - start);
+            }
+        }
+        return 0;
+    }
+
+    sweep_task *tasks = calloc((size_t)total, sizeof *tasks);
+    char dir[] = "/tmp/rodsim-figure-XXXXXX";
+    if (!tasks || !mkdtemp(dir)) {
+        snprintf(err, errlen, tasks ? "cannot create a temporary directory: %s" : "out of memory",
+                 strerror(errno));
+        free(tasks);
+        return -1;
+    }
+    int t = 0;
+    for (int k = 0; k < n; k++)
+        for (int i = 0; i < figure_point_count(figs[k], quick); i++, t++) {
+            tasks[t].figure = k;
+            tasks[t].point = i;
+            snprintf(tasks[t].path, sizeof tasks[t].path, "%s/%s-%d.csv", dir, figs[k]->name, i);
+        }
+
+    int next = 0, running = 0, done = 0, failed = -1;
+    while (done < total && !(failed >= 0 && running == 0)) {
+        while (failed < 0 && running < jobs && next < total) {
+            fflush(NULL); /* the child must not repeat the parent's buffered output */
+            pid_t pid = fork();
+            if (pid == 0) run_child(figs[tasks[next].figure], &tasks[next], quick);
+            if (pid < 0) {
+                if (running == 0) {
+                    snprintf(err, errlen, "cannot start a process: %s", strerror(errno));
+                    failed = next;
+                }
+                break; /* try again when one finishes */
+            }
+            tasks[next++].pid = pid;
+            running++;
+        }
+        if (running == 0) break;
+        int status;
+        pid_t pid = waitpid(-1, &status, 0);
+        if (pid < 0) {
+            if (errno == EINTR) continue;
+            snprintf(err, errlen, "waiting for the point processes: %s", strerror(errno));
+            failed = failed >= 0 ? failed : 0;
+            break;
+        }
+        for (int i = 0; i < next; i++) {
+            if (tasks[i].pid != pid) continue;
+            tasks[i].pid = -1;
+            running--;
+            done++;
+            const figure_def *f = figs[tasks[i].figure];
+            if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+                if (failed < 0) {
+                    snprintf(err, errlen, "figure %s, point %d failed (%s; its message is above)",
+                             f->name, tasks[i].point,
+                             WIFSIGNALED(status) ? strsignal(WTERMSIG(status)) : "exit status 1");
+                    failed = i;
+                }
+            } else if (log) {
+                fprintf(log, "  %s point %d/%d done (%d of %d, %.1f s)\n", f->name,
+                        tasks[i].point + 1, figure_point_count(f, quick), done, total,
+                        now_seconds() - start);
+            }
+        }
+    }
+    /* collect in point order, then clean up */
+    int rc = failed >= 0 ? -1 : 0;
+    for (int i = 0; i < total; i++) {
+        if (rc == 0)
+            rc = figure_points_read_csv(figs[tasks[i].figure], tasks[i].path,
+                                        &out[tasks[i].figure], err, errlen);
+        unlink(tasks[i].path);
+    }
+    rmdir(dir);
+    free(tasks);
+    return rc;
+}
