@@ -8,6 +8,7 @@
 
 #include "outfile.h"
 #include "run.h"
+#include "validate_cli.h"
 
 typedef struct command {
     const char *name;
@@ -20,6 +21,7 @@ static const command commands[] = {
     {"run", run_command, "simulate a rod scene; render its video and poster, write its CSV"},
     {"fem", fem_command, "solve a 2-D beam FEM scene (the fishing rod); print, plot, tabulate"},
     {"figure", figure_command, "regenerate the thesis' figures (parallel sweeps) as PNG plots"},
+    {"validate", validate_command, "run the validation cases: errors, orders of convergence"},
 };
 
 static void usage(FILE *f)
