@@ -19,6 +19,7 @@
 #include "rod.h"
 #include "scene.h"
 #include "spectrum.h"
+#include "validate.h"
 
 struct figure_def {
     const char *name;
@@ -475,6 +476,186 @@ static int impulse_draw(const figure_points *points, int quick, const char *out_
     return rc;
 }
 
+/* ---- pareto: error against wall time ------------------------------------------- */
+
+/* One run of validate_run: a case, a scheme, NS and a dt factor (times the
+ * case's default dt; 1 for settled cases, whose answer does not depend on dt). */
+typedef struct pareto_run {
+    const char *case_name;
+    rod_scheme_kind scheme;
+    int nodes;
+    double dt_factor;
+} pareto_run;
+
+#define PARETO_DEFLECTION "tip_load_small"
+#define PARETO_FREQUENCY "bending_frequency_1"
+static const pareto_run pareto_full[] = {
+    {PARETO_DEFLECTION, ROD_SCHEME_STATIC, 11, 1}, {PARETO_DEFLECTION, ROD_SCHEME_STATIC, 21, 1},
+    {PARETO_DEFLECTION, ROD_SCHEME_STATIC, 51, 1}, {PARETO_DEFLECTION, ROD_SCHEME_STATIC, 101, 1},
+    {PARETO_DEFLECTION, ROD_SCHEME_STATIC, 201, 1}, {PARETO_DEFLECTION, ROD_SCHEME_STATIC, 401, 1},
+    {PARETO_DEFLECTION, ROD_SCHEME_IMPLICIT, 11, 1}, {PARETO_DEFLECTION, ROD_SCHEME_IMPLICIT, 21, 1},
+    {PARETO_DEFLECTION, ROD_SCHEME_IMPLICIT, 51, 1}, {PARETO_DEFLECTION, ROD_SCHEME_IMPLICIT, 101, 1},
+    {PARETO_DEFLECTION, ROD_SCHEME_IMPLICIT, 201, 1}, {PARETO_DEFLECTION, ROD_SCHEME_IMPLICIT, 401, 1},
+    {PARETO_DEFLECTION, ROD_SCHEME_THESIS, 11, 1}, {PARETO_DEFLECTION, ROD_SCHEME_THESIS, 21, 1},
+    {PARETO_DEFLECTION, ROD_SCHEME_THESIS, 51, 1}, {PARETO_DEFLECTION, ROD_SCHEME_THESIS, 101, 1},
+    {PARETO_DEFLECTION, ROD_SCHEME_THESIS, 201, 1},
+    {PARETO_FREQUENCY, ROD_SCHEME_IMPLICIT, 11, 1}, {PARETO_FREQUENCY, ROD_SCHEME_IMPLICIT, 21, 1},
+    {PARETO_FREQUENCY, ROD_SCHEME_IMPLICIT, 51, 1}, {PARETO_FREQUENCY, ROD_SCHEME_IMPLICIT, 101, 1},
+    {PARETO_FREQUENCY, ROD_SCHEME_IMPLICIT, 201, 1},
+    {PARETO_FREQUENCY, ROD_SCHEME_IMPLICIT, 51, 8}, {PARETO_FREQUENCY, ROD_SCHEME_IMPLICIT, 51, 4},
+    {PARETO_FREQUENCY, ROD_SCHEME_IMPLICIT, 51, 2}, {PARETO_FREQUENCY, ROD_SCHEME_IMPLICIT, 51, 0.5},
+    {PARETO_FREQUENCY, ROD_SCHEME_IMPLICIT, 21, 4}, {PARETO_FREQUENCY, ROD_SCHEME_IMPLICIT, 21, 2},
+    {PARETO_FREQUENCY, ROD_SCHEME_THESIS, 11, 1}, {PARETO_FREQUENCY, ROD_SCHEME_THESIS, 21, 1},
+    {PARETO_FREQUENCY, ROD_SCHEME_THESIS, 51, 1}, {PARETO_FREQUENCY, ROD_SCHEME_THESIS, 101, 1},
+};
+static const pareto_run pareto_quick[] = {
+    {PARETO_DEFLECTION, ROD_SCHEME_STATIC, 11, 1}, {PARETO_DEFLECTION, ROD_SCHEME_STATIC, 21, 1},
+    {PARETO_DEFLECTION, ROD_SCHEME_IMPLICIT, 11, 1},
+    {PARETO_FREQUENCY, ROD_SCHEME_IMPLICIT, 11, 1}, {PARETO_FREQUENCY, ROD_SCHEME_IMPLICIT, 11, 4},
+};
+#define PARETO_FULL ((int)(sizeof pareto_full / sizeof pareto_full[0]))
+#define PARETO_QUICK ((int)(sizeof pareto_quick / sizeof pareto_quick[0]))
+static const char *const pareto_outputs[] = {"pareto.png", "pareto_frequency.png", NULL};
+
+/* validate_run, repeated while a run is short (< 0.3 s in all) and the best
+ * wall time kept: one run of a millisecond is mostly timer and cache noise,
+ * and other processes share the cores. The computed values repeat exactly. */
+static int pareto_compute(int point, int quick, figure_points *out, char *err, size_t errlen)
+{
+    const pareto_run *run = quick ? &pareto_quick[point] : &pareto_full[point];
+    double dt = run->dt_factor * validate_default_dt(run->case_name, run->scheme, run->nodes);
+    validate_row row, best;
+    memset(&best, 0, sizeof best);
+    double spent = 0;
+    for (int repeat = 0; repeat < 5 && spent < 0.3; repeat++) {
+        memset(&row, 0, sizeof row);
+        double start = now_seconds();
+        int status = validate_run(run->case_name, run->scheme, run->nodes, dt, &row);
+        spent += now_seconds() - start;
+        if (status < 0 || status == 1) {
+            snprintf(err, errlen, "validate_run(%s, %s, NS %d): %s", run->case_name,
+                     scheme_names[run->scheme], run->nodes, row.note);
+            return -1;
+        }
+        if (repeat == 0 || row.wall_seconds < best.wall_seconds) best = row;
+        if (row.status != 0) break; /* a diverged run: data, not repeated */
+    }
+    double values[10] = {(double)validate_case_index(run->case_name), (double)run->scheme,
+                         (double)run->nodes, run->dt_factor, best.dt, best.computed,
+                         best.reference, best.relative_error, best.wall_seconds,
+                         (double)best.status};
+    if (figure_points_add(out, point, values)) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    return 0;
+}
+
+static int pareto_chart(const figure_points *points, const char *case_name, const char *file,
+                        const char *title, const char *out_dir, FILE *summary, char *err,
+                        size_t errlen)
+{
+    int case_index = validate_case_index(case_name), n = points->rows;
+    double *x = malloc((size_t)n * sizeof *x), *y = malloc((size_t)n * sizeof *y);
+    char (*label_text)[24] = malloc((size_t)n * sizeof *label_text);
+    const char **labels = malloc((size_t)n * sizeof *labels);
+    plot *p = plot_create(1200, 800);
+    int rc = (!x || !y || !label_text || !labels || !p) ? -1 : 0;
+    if (rc == 0) {
+        plot_set_title(p, title);
+        plot_set_axis_labels(p, "wall time per run [s] (best of repeats, one core)",
+                             "relative error");
+        plot_set_log(p, 1, 1);
+    }
+    /* a curve per scheme across NS at the default dt; for dynamic cases also a
+     * curve per NS across dt. Axes span whole decades (log ticks at 10^k). */
+    double x_lo = INFINITY, x_hi = 0, y_lo = INFINITY, y_hi = 0;
+    for (int scheme = 0; scheme < ROD_SCHEME_COUNT && rc == 0; scheme++) {
+        static const int dt_sweep_nodes_list[3] = {51, 21, 11};
+        for (int sweep = 0; sweep < 4 && rc == 0; sweep++) {
+            int count = 0, varied = 0;
+            int dt_sweep_nodes = sweep > 0 ? dt_sweep_nodes_list[sweep - 1] : 0;
+            for (int r = 0; r < n; r++) {
+                const double *row = row_of(points, r);
+                if ((int)row[1] != case_index || (int)row[2] != scheme) continue;
+                /* row: point, case, scheme, nodes, dt_factor, dt, computed, reference,
+                 * relative_error, wall, status */
+                int nodes = (int)row[3], is_default = row[4] == 1.0;
+                double dt = row[5], error = row[8], wall = row[9];
+                if (sweep == 0 ? !is_default : nodes != dt_sweep_nodes) continue;
+                if (row[10] != 0 || !(error > 0)) continue; /* diverged: no error to plot */
+                varied += !is_default;
+                x_lo = fmin(x_lo, wall);
+                x_hi = fmax(x_hi, wall);
+                y_lo = fmin(y_lo, error);
+                y_hi = fmax(y_hi, error);
+                x[count] = wall;
+                y[count] = error;
+                if (sweep == 0) snprintf(label_text[count], sizeof label_text[count], "%d", nodes);
+                else snprintf(label_text[count], sizeof label_text[count], "%.3g s", dt);
+                labels[count] = label_text[count];
+                count++;
+                if (summary && (sweep == 0 || !is_default))
+                    fprintf(summary, "pareto %s: %-8s NS = %3d dt = %-8.4g error %.3e, %.4f s\n",
+                            case_name, scheme_names[scheme], nodes, dt, error, wall);
+            }
+            if (count == 0 || (sweep > 0 && (count < 2 || varied == 0))) continue;
+            /* sort by wall time so the line runs left to right */
+            for (int i = 1; i < count; i++)
+                for (int j = i; j > 0 && x[j] < x[j - 1]; j--) {
+                    double t = x[j]; x[j] = x[j - 1]; x[j - 1] = t;
+                    t = y[j]; y[j] = y[j - 1]; y[j - 1] = t;
+                    const char *l = labels[j]; labels[j] = labels[j - 1]; labels[j - 1] = l;
+                }
+            char legend[96];
+            const unsigned char *rgb = scheme_rgb[scheme];
+            plot_style line = plot_style_line(rgb[0], rgb[1], rgb[2], 2.0,
+                                              sweep == 0 ? PLOT_SOLID : PLOT_DASHED);
+            plot_style mark = marker_style(rgb, 10, sweep == 0);
+            if (sweep == 0)
+                snprintf(legend, sizeof legend, "%s: NS = 11 ... (labels), default dt",
+                         scheme_names[scheme]);
+            else
+                snprintf(legend, sizeof legend, "%s: NS = %d, dt varied (labels)",
+                         scheme_names[scheme], dt_sweep_nodes);
+            if (count >= 2) rc |= plot_add_line(p, x, y, count, line, NULL);
+            rc |= plot_add_markers(p, x, y, count, mark, labels, 9, sweep == 0 ? -14 : 16,
+                                   legend);
+        }
+    }
+    if (rc) snprintf(err, errlen, "out of memory");
+    if (rc == 0 && x_hi > 0 && y_hi > 0) {
+        /* whole decades, at least 5 of them: plot.h then ticks every decade
+         * (narrower log ranges get half-decade ticks labelled 0.0316228) */
+        double x0 = floor(log10(x_lo)), x1 = ceil(log10(x_hi) + 0.3);
+        double y0 = floor(log10(y_lo) - 0.3), y1 = ceil(log10(y_hi) + 0.5);
+        while (x1 - x0 < 5) x1 - log10(x_hi) < log10(x_lo) - x0 ? x1++ : x0--;
+        while (y1 - y0 < 5) y1 - log10(y_hi) < log10(y_lo) - y0 ? y1++ : y0--;
+        plot_set_limits(p, pow(10, x0), pow(10, x1), pow(10, y0), pow(10, y1));
+    }
+    if (rc == 0) rc = write_plot(p, out_dir, file, err, errlen);
+    plot_destroy(p);
+    free(x);
+    free(y);
+    free(label_text);
+    free(labels);
+    return rc;
+}
+
+static int pareto_draw(const figure_points *points, int quick, const char *out_dir,
+                       FILE *summary, char *err, size_t errlen)
+{
+    (void)quick;
+    int rc = pareto_chart(points, PARETO_DEFLECTION, "pareto.png",
+                          "Error against cost: tip deflection under P = 4.5e-7 N (vs elastica)",
+                          out_dir, summary, err, errlen);
+    if (rc == 0)
+        rc = pareto_chart(points, PARETO_FREQUENCY, "pareto_frequency.png",
+                          "Error against cost: first bending frequency vs (beta_1 L)^2 sqrt(EI/m) / (2 pi L^2)",
+                          out_dir, summary, err, errlen);
+    return rc;
+}
+
 /* ---- the list ---------------------------------------------------------------- */
 
 static const figure_def figure_table2 = {
@@ -503,10 +684,25 @@ static const figure_def figure_impulse = {
     .draw = impulse_draw,
 };
 
+static const figure_def figure_pareto = {
+    .name = "pareto",
+    .summary = "error against wall time, log-log, one curve per scheme across NS (and dt): "
+               "table 2's deflection and the first bending frequency (validate_run)",
+    .columns = "point,case,scheme,nodes,dt_factor,dt_s,computed,reference,relative_error,"
+               "wall_s,status",
+    .value_columns = 10,
+    .full_points = PARETO_FULL,
+    .quick_points = PARETO_QUICK,
+    .outputs = pareto_outputs,
+    .compute = pareto_compute,
+    .draw = pareto_draw,
+};
+
 /* The longest point first: `all` then finishes sooner on few cores. */
 static const figure_def *const figures[] = {
     &figure_impulse,
     &figure_table2,
+    &figure_pareto,
     NULL,
 };
 
