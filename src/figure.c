@@ -14,6 +14,7 @@
 
 #include "outfile.h"
 #include "plot.h"
+#include "buckling.h"
 #include "ini.h"
 #include "reference.h"
 #include "rod.h"
@@ -658,6 +659,195 @@ static int pareto_draw(const figure_points *points, int quick, const char *out_d
     return rc;
 }
 
+/* ---- buckling: critical axial force and twisting moment ------------------------ */
+
+typedef enum { BUCKLE_AXIAL = 0, BUCKLE_TWIST_PINNED, BUCKLE_TWIST_CLAMPED } buckle_kind;
+
+#define BUCKLING_NODES 51
+static const double buckling_lengths_full[] = {0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0};
+static const double buckling_lengths_quick[] = {0.5, 1.0, 2.0};
+static const double buckling_diameters_full[] = {0.25e-3, 0.5e-3, 0.75e-3, 1e-3, 1.25e-3,
+                                                 1.5e-3, 2e-3, 2.5e-3};
+static const double buckling_diameters_quick[] = {0.5e-3, 1e-3, 2e-3};
+#define COUNT(a) ((int)(sizeof a / sizeof a[0]))
+static const char *const buckling_length_outputs[] = {"buckling_length.png", NULL};
+static const char *const buckling_diameter_outputs[] = {"buckling_diameter.png", NULL};
+static const char *const twist_diameter_outputs[] = {"twist_diameter.png", NULL};
+
+/* The theory: Euler's clamped-free load, Greenhill's pinned or clamped moment. */
+static double buckling_theory(buckle_kind kind, double ei, double length)
+{
+    return kind == BUCKLE_AXIAL ? reference_euler_cantilever(ei, length)
+         : kind == BUCKLE_TWIST_PINNED ? reference_greenhill_pinned(ei, length)
+                                       : reference_greenhill_clamped(ei, length);
+}
+
+/* Table 1's rod at length L and diameter d, NS = 51: rod_buckling_factor on a
+ * unit dead load (axial force -EI/L^2 along x at a free tip of a clamped root,
+ * or an axial twisting moment EI/L with both ends pinned or both clamped, the
+ * tip sliding along x: buckling.h). Row: kind, L (m), d (m), critical load
+ * (N or N m), theory (same unit). */
+static int buckling_point(buckle_kind kind, double length, double diameter, int point,
+                          figure_points *out, char *err, size_t errlen)
+{
+    rod_model m = rod_model_default();
+    m.nodes = BUCKLING_NODES;
+    m.length = length;
+    m.diameter = diameter;
+    m.options.scheme = ROD_SCHEME_STATIC;
+    m.tip_frame = ROD_FRAME_GLOBAL;
+    if (rod_model_derive(&m, err, errlen)) return -1;
+    double ei = m.stiffness[0], unit;
+    if (kind == BUCKLE_AXIAL) {
+        unit = ei / (length * length);
+        m.tip_force[0] = -unit;
+    } else {
+        unit = ei / length;
+        m.tip_moment[0] = unit;
+        m.root_end = m.tip_end = kind == BUCKLE_TWIST_PINNED ? ROD_END_PINNED : ROD_END_CLAMPED;
+    }
+    if (rod_model_derive(&m, err, errlen)) return -1;
+    double lambda = 0;
+    if (rod_buckling_factor(&m, 20.0, 1e-7, &lambda, err, errlen)) return -1;
+    double values[5] = {(double)kind, length, diameter, lambda * unit,
+                        buckling_theory(kind, ei, length)};
+    if (figure_points_add(out, point, values)) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    return 0;
+}
+
+static int buckling_length_compute(int point, int quick, figure_points *out, char *err,
+                                   size_t errlen)
+{
+    double length = quick ? buckling_lengths_quick[point] : buckling_lengths_full[point];
+    return buckling_point(BUCKLE_AXIAL, length, 1e-3, point, out, err, errlen);
+}
+
+static int buckling_diameter_compute(int point, int quick, figure_points *out, char *err,
+                                     size_t errlen)
+{
+    double d = quick ? buckling_diameters_quick[point] : buckling_diameters_full[point];
+    return buckling_point(BUCKLE_AXIAL, 1.0, d, point, out, err, errlen);
+}
+
+/* Points alternate pinned, clamped at each diameter. */
+static int twist_diameter_compute(int point, int quick, figure_points *out, char *err,
+                                  size_t errlen)
+{
+    double d = quick ? buckling_diameters_quick[point / 2] : buckling_diameters_full[point / 2];
+    return buckling_point(point % 2 ? BUCKLE_TWIST_CLAMPED : BUCKLE_TWIST_PINNED, 1.0, d, point,
+                          out, err, errlen);
+}
+
+/* One chart: x = L (m) or d (mm), y = the critical load in micro-units; the
+ * theory as a curve over the points' range, the computed loads as markers. */
+static int buckling_chart(const figure_points *points, int against_diameter, const char *file,
+                          const char *title, const char *y_label, const char *out_dir,
+                          FILE *summary, char *err, size_t errlen)
+{
+    enum { CURVE = 200 };
+    int n = points->rows;
+    double *x = malloc((size_t)n * sizeof *x), *y = malloc((size_t)n * sizeof *y);
+    double cx[CURVE], cy[CURVE];
+    plot *p = plot_create(1200, 800);
+    int rc = (!x || !y || !p || n < 1) ? -1 : 0;
+    if (rc == 0) {
+        plot_set_title(p, title);
+        plot_set_axis_labels(p, against_diameter ? "rod diameter d [mm]" : "rod length L [m]",
+                             y_label);
+    }
+    rod_model base = rod_model_default();
+    double lo = INFINITY, hi = 0, y_hi = 0;
+    for (int r = 0; r < n; r++) {
+        const double *row = row_of(points, r);
+        double v = against_diameter ? row[3] : row[2];
+        lo = fmin(lo, v);
+        hi = fmax(hi, v);
+        y_hi = fmax(y_hi, fmax(row[4], row[5]));
+    }
+    static const unsigned char kind_rgb[3][3] = {{0, 90, 200}, {0, 90, 200}, {200, 30, 30}};
+    static const char *const kind_theory[3] = {
+        "theory: Euler, clamped-free, pi^2 E I / (4 L^2)",
+        "theory: Greenhill, pinned ends, 2 pi E I / L",
+        "theory: Greenhill, clamped ends, 8.9868 E I / L"};
+    static const char *const kind_computed[3] = {
+        "computed: rod_buckling_factor, static scheme, NS = 51",
+        "computed: pinned ends (NS = 51)", "computed: clamped ends (NS = 51)"};
+    for (int kind = 0; kind < 3 && rc == 0; kind++) {
+        int count = 0;
+        for (int r = 0; r < n; r++) {
+            const double *row = row_of(points, r);
+            if ((int)row[1] != kind) continue;
+            x[count] = against_diameter ? 1e3 * row[3] : row[2];
+            y[count] = 1e6 * row[4];
+            count++;
+            if (summary)
+                fprintf(summary, "%s: L = %g m, d = %g mm: computed %.6e, theory %.6e "
+                        "(relative error %.2e)\n", file, row[2], 1e3 * row[3], row[4], row[5],
+                        fabs(row[4] / row[5] - 1.0));
+        }
+        if (count == 0) continue;
+        for (int i = 0; i < CURVE; i++) {
+            double v = lo + (hi - lo) * i / (CURVE - 1.0);
+            double length = against_diameter ? 1.0 : v, d = against_diameter ? v : 1e-3;
+            double ei = base.youngs_modulus * M_PI * pow(d, 4) / 64.0;
+            cx[i] = against_diameter ? 1e3 * v : v;
+            cy[i] = 1e6 * buckling_theory((buckle_kind)kind, ei, length);
+        }
+        const unsigned char *rgb = kind_rgb[kind];
+        rc |= plot_add_line(p, cx, cy, CURVE, plot_style_line(rgb[0], rgb[1], rgb[2], 2.0,
+                                                               PLOT_SOLID), kind_theory[kind]);
+        rc |= plot_add_markers(p, x, y, count, marker_style(rgb, 12, 0), NULL, 0, 0,
+                               kind_computed[kind]);
+    }
+    if (rc == 0) {
+        char note[160];
+        int twist = strncmp(file, "twist", 5) == 0;
+        snprintf(note, sizeof note, "E = %.3g MPa, %s, dead %s; tip slides along x%s",
+                 1e-6 * base.youngs_modulus, against_diameter ? "L = 1 m" : "d = 1 mm",
+                 twist ? "axial moment" : "axial force", twist ? "" : "");
+        rc |= plot_add_legend_note(p, note);
+        double x0 = against_diameter ? 1e3 * lo : lo, x1 = against_diameter ? 1e3 * hi : hi;
+        plot_set_limits(p, 0, x1 + 0.05 * (x1 - x0), 0, 1e6 * y_hi * 1.25);
+    }
+    if (rc) snprintf(err, errlen, n < 1 ? "no points" : "out of memory");
+    if (rc == 0) rc = write_plot(p, out_dir, file, err, errlen);
+    plot_destroy(p);
+    free(x);
+    free(y);
+    return rc;
+}
+
+static int buckling_length_draw(const figure_points *points, int quick, const char *out_dir,
+                                FILE *summary, char *err, size_t errlen)
+{
+    (void)quick;
+    return buckling_chart(points, 0, "buckling_length.png",
+                          "Thesis fig. 8: axial tip force that buckles the rod, against its length",
+                          "critical axial force [uN]", out_dir, summary, err, errlen);
+}
+
+static int buckling_diameter_draw(const figure_points *points, int quick, const char *out_dir,
+                                  FILE *summary, char *err, size_t errlen)
+{
+    (void)quick;
+    return buckling_chart(points, 1, "buckling_diameter.png",
+                          "Thesis fig. 9: axial tip force that buckles the rod, against its "
+                          "diameter", "critical axial force [uN]", out_dir, summary, err, errlen);
+}
+
+static int twist_diameter_draw(const figure_points *points, int quick, const char *out_dir,
+                               FILE *summary, char *err, size_t errlen)
+{
+    (void)quick;
+    return buckling_chart(points, 1, "twist_diameter.png",
+                          "Thesis fig. 7: twisting moment that buckles the rod, against its "
+                          "diameter", "critical twisting moment [uN m]", out_dir, summary, err,
+                          errlen);
+}
+
 /* ---- the list ---------------------------------------------------------------- */
 
 static const figure_def figure_table2 = {
@@ -700,11 +890,52 @@ static const figure_def figure_pareto = {
     .draw = pareto_draw,
 };
 
+#define BUCKLING_COLUMNS "point,kind,length_m,diameter_m,critical,theory"
+static const figure_def figure_buckling_length = {
+    .name = "buckling-length",
+    .summary = "thesis fig. 8: axial force that buckles the rod against L, with pi^2 EI/(4L^2)",
+    .columns = BUCKLING_COLUMNS,
+    .value_columns = 5,
+    .full_points = COUNT(buckling_lengths_full),
+    .quick_points = COUNT(buckling_lengths_quick),
+    .outputs = buckling_length_outputs,
+    .compute = buckling_length_compute,
+    .draw = buckling_length_draw,
+};
+
+static const figure_def figure_buckling_diameter = {
+    .name = "buckling-diameter",
+    .summary = "thesis fig. 9: axial force that buckles the rod against d, with pi^2 EI/(4L^2)",
+    .columns = BUCKLING_COLUMNS,
+    .value_columns = 5,
+    .full_points = COUNT(buckling_diameters_full),
+    .quick_points = COUNT(buckling_diameters_quick),
+    .outputs = buckling_diameter_outputs,
+    .compute = buckling_diameter_compute,
+    .draw = buckling_diameter_draw,
+};
+
+static const figure_def figure_twist_diameter = {
+    .name = "twist-diameter",
+    .summary = "thesis fig. 7: twisting moment that buckles the rod against d, pinned and "
+               "clamped ends, with Greenhill 2 pi EI/L and 8.9868 EI/L",
+    .columns = BUCKLING_COLUMNS,
+    .value_columns = 5,
+    .full_points = 2 * COUNT(buckling_diameters_full),
+    .quick_points = 2 * COUNT(buckling_diameters_quick),
+    .outputs = twist_diameter_outputs,
+    .compute = twist_diameter_compute,
+    .draw = twist_diameter_draw,
+};
+
 /* The longest point first: `all` then finishes sooner on few cores. */
 static const figure_def *const figures[] = {
     &figure_impulse,
-    &figure_table2,
     &figure_pareto,
+    &figure_table2,
+    &figure_twist_diameter,
+    &figure_buckling_length,
+    &figure_buckling_diameter,
     NULL,
 };
 
