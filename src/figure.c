@@ -446,9 +446,17 @@ static int impulse_draw(const figure_points *points, int quick, const char *out_
                 double band = fmin(fmax(0.15 * fn, 1.5 * resolution), 0.5);
                 double tip_peak = spectrum_peak(tip_mm, n, IMPULSE_SAMPLE, fn - band, fn + band);
                 double mid_peak = spectrum_peak(mid_mm, n, IMPULSE_SAMPLE, fn - band, fn + band);
-                fprintf(summary, "impulse: mode %d: analytical %.4f Hz; tip peak %.4f Hz (%+.2e), "
-                        "mid-point peak %.4f Hz (%+.2e)\n", mode, fn, tip_peak,
-                        tip_peak / fn - 1.0, mid_peak, mid_peak / fn - 1.0);
+                /* a mode with a node near L/2 barely moves the mid-point: no peak there */
+                double tip_level = spectrum_magnitude(tip_mm, n, IMPULSE_SAMPLE, tip_peak);
+                double mid_level = spectrum_magnitude(mid_mm, n, IMPULSE_SAMPLE, fn);
+                fprintf(summary, "impulse: mode %d: analytical %.4f Hz; tip peak %.4f Hz (%+.2e)",
+                        mode, fn, tip_peak, tip_peak / fn - 1.0);
+                if (mid_level > 0.05 * tip_level)
+                    fprintf(summary, ", mid-point peak %.4f Hz (%+.2e)\n", mid_peak,
+                            mid_peak / fn - 1.0);
+                else
+                    fprintf(summary, "; mid-point: no peak (%.2g of the tip's level: a node "
+                            "near L/2)\n", mid_level / tip_level);
             }
         }
         plot_style mark = plot_style_line(0, 140, 60, 1.5, PLOT_SOLID);
