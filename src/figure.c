@@ -813,9 +813,9 @@ static int buckling_chart(const figure_points *points, int against_diameter, con
     if (rc == 0) {
         char note[160];
         int twist = strncmp(file, "twist", 5) == 0;
-        snprintf(note, sizeof note, "E = %.3g MPa, %s, dead %s; tip slides along x%s",
-                 1e-6 * base.youngs_modulus, against_diameter ? "L = 1 m" : "d = 1 mm",
-                 twist ? "axial moment" : "axial force", twist ? "" : "");
+        snprintf(note, sizeof note, "E = %.3g MPa, %s, dead %s", 1e-6 * base.youngs_modulus,
+                 against_diameter ? "L = 1 m" : "d = 1 mm",
+                 twist ? "axial moment; the tip slides along x" : "axial force; free tip");
         rc |= plot_add_legend_note(p, note);
         double x0 = against_diameter ? 1e3 * lo : lo, x1 = against_diameter ? 1e3 * hi : hi;
         plot_set_limits(p, 0, x1 + 0.05 * (x1 - x0), 0, 1e6 * y_hi * 1.25);
