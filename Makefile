@@ -24,7 +24,7 @@ TEST_BIN:= $(patsubst tests/%.c,$(BUILD)/tests/%,$(TESTS))
 BENCHES := $(wildcard tests/bench_*.c)
 BENCH_BIN := $(patsubst tests/%.c,$(BUILD)/tests/%,$(BENCHES))
 
-.PHONY: all deps rodsim tests test test-release test-asan demo bench clean
+.PHONY: all deps rodsim tests test test-release test-asan demo bench figures clean
 .DEFAULT_GOAL := all
 
 all: rodsim
@@ -80,6 +80,12 @@ bench: deps
 demo: deps
 	@$(MAKE) --no-print-directory BUILD=build/release rodsim
 	@sh tests/demo.sh
+
+# The thesis' figures into out/figures/, every point of every figure in parallel
+# (one process per point, as many at once as there are cores).
+figures: deps
+	@$(MAKE) --no-print-directory BUILD=build/release rodsim
+	./rodsim figure all --out out/figures
 
 clean:
 	rm -rf build rodsim

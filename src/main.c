@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "fem_cli.h"
+#include "figure_cli.h"
 
 #include "outfile.h"
 #include "run.h"
@@ -21,6 +22,7 @@ static const command commands[] = {
     {"run", run_command, "simulate a rod scene; render its video and poster, write its CSV"},
     {"fem", fem_command, "solve a 2-D beam FEM scene (the fishing rod); print, plot, tabulate"},
     {"stability", stability_command, "largest stable dt per scheme at the extremes; table, map"},
+    {"figure", figure_command, "regenerate the thesis' figures (parallel sweeps) as PNG plots"},
     {"validate", validate_command, "run the validation cases: errors, orders of convergence"},
 };
 
