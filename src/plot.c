@@ -374,6 +374,30 @@ int plot_axes_box(const plot *p, int *left, int *top, int *right, int *bottom)
     return 0;
 }
 
+/* Ticks of a log axis (range in log10 units) at whole decades only, so the
+ * labels read 0.1, 1, 10: a range shorter than two decades is widened to the
+ * decades around it. Returns the tick count. */
+static int log_ticks(double *lo, double *hi, double *first, double *step)
+{
+    if (!(*hi > *lo) || !isfinite(*lo) || !isfinite(*hi)) {
+        *first = floor(*lo);
+        *step = 1.0;
+        return 1;
+    }
+    if (floor(*hi + 1e-9) - ceil(*lo - 1e-9) < 1.0) {
+        *lo = floor(*lo + 1e-9);
+        *hi = ceil(*hi - 1e-9);
+        if (*hi - *lo < 1.0) *hi = *lo + 1.0;
+    }
+    int count = plot_nice_ticks(*lo, *hi, MAX_TICKS, first, step);
+    if (*step < 1.0) {
+        *step = 1.0;
+        *first = ceil(*lo - 1e-9);
+        count = (int)floor(*hi + 1e-9 - *first) + 1;
+    }
+    return count;
+}
+
 /* Tick label text: as many decimals as the step needs; plain "0" at zero. */
 static void tick_text(double value, double step, int log_axis, char *out, size_t outlen)
 {
@@ -509,6 +533,10 @@ static void layout_range(plot *p, plot_fonts *fonts, double range[4])
                                           &p->x_tick_step);
         p->y_tick_count = plot_nice_ticks(p->view[2], p->view[3], MAX_TICKS, &p->y_tick_first,
                                           &p->y_tick_step);
+        if (p->log_x)
+            p->x_tick_count = log_ticks(&p->view[0], &p->view[1], &p->x_tick_first, &p->x_tick_step);
+        if (p->log_y)
+            p->y_tick_count = log_ticks(&p->view[2], &p->view[3], &p->y_tick_first, &p->y_tick_step);
         int y_tick_width = max_tick_label_width(p, fonts->tick, p->y_tick_first, p->y_tick_step,
                                                 p->y_tick_count, p->log_y);
         int left_margin = pad + (p->y_label ? label_height + pad : 0) + y_tick_width + 4 + tick_len;
