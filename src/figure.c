@@ -628,20 +628,28 @@ static int pareto_chart(const figure_points *points, const char *case_name, cons
                 snprintf(legend, sizeof legend, "%s: NS = %d, dt varied (labels)",
                          scheme_names[scheme], dt_sweep_nodes);
             if (count >= 2) rc |= plot_add_line(p, x, y, count, line, NULL);
-            rc |= plot_add_markers(p, x, y, count, mark, labels, sweep == 0 ? 9 : -62,
-                                   sweep == 0 ? -14 : 12, legend);
+            if (sweep == 0) {
+                rc |= plot_add_markers(p, x, y, count, mark, labels, 9, -14, legend);
+            } else {
+                /* dt labels alternate below and above the points: neighbours
+                 * in wall time sit close together and their labels would overlap */
+                const char *below[64] = {0}, *above[64] = {0};
+                int shown = count < 64 ? count : 64;
+                for (int i = 0; i < shown; i++) (i % 2 ? above : below)[i] = labels[i];
+                rc |= plot_add_markers(p, x, y, shown, mark, below, -30, 18, legend);
+                rc |= plot_add_markers(p, x, y, shown, mark, above, -30, -12, NULL);
+            }
         }
     }
     if (rc == 0 && strcmp(case_name, PARETO_FREQUENCY) == 0)
         rc |= plot_add_legend_note(p, "thesis: rotary inertia x ~1e7 to run at all; halves f1");
     if (rc) snprintf(err, errlen, "out of memory");
     if (rc == 0 && x_hi > 0 && y_hi > 0) {
-        /* whole decades, at least 5 of them: plot.h then ticks every decade
-         * (narrower log ranges get half-decade ticks labelled 0.0316228) */
+        /* whole decades, at least 3 of them, with room for the point labels */
         double x0 = floor(log10(x_lo)), x1 = ceil(log10(x_hi) + 0.3);
         double y0 = floor(log10(y_lo) - 0.3), y1 = ceil(log10(y_hi) + 0.5);
-        while (x1 - x0 < 5) x1 - log10(x_hi) < log10(x_lo) - x0 ? x1++ : x0--;
-        while (y1 - y0 < 5) y1 - log10(y_hi) < log10(y_lo) - y0 ? y1++ : y0--;
+        while (x1 - x0 < 3) x1 - log10(x_hi) < log10(x_lo) - x0 ? x1++ : x0--;
+        while (y1 - y0 < 3) y1 - log10(y_hi) < log10(y_lo) - y0 ? y1++ : y0--;
         plot_set_limits(p, pow(10, x0), pow(10, x1), pow(10, y0), pow(10, y1));
     }
     if (rc == 0) rc = write_plot(p, out_dir, file, err, errlen);
