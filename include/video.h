@@ -18,6 +18,8 @@ video_writer *video_writer_create(const char *path, int width, int height, int f
                                   const char *preset, char *err, size_t errlen);
 /* Encodes one frame (same size as the writer). 0, or -1 with a message. */
 int video_writer_add(video_writer *v, const image *frame, char *err, size_t errlen);
+/* Seconds spent so far converting RGB to yuv420p and encoding + muxing. */
+void video_writer_times(const video_writer *v, double *convert, double *encode);
 /* Flushes the encoder, writes the index and renames the file into place. */
 int video_writer_finish(video_writer *v, char *err, size_t errlen);
 /* Frees everything; an unfinished file is removed. */

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "outfile.h"
 
@@ -23,7 +24,15 @@ struct video_writer {
     int width, height;
     int64_t next_pts;
     int header_written, finished;
+    double convert_seconds, encode_seconds; /* for the benchmark */
 };
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
 
 static void av_message(char *err, size_t errlen, const char *path, const char *what, int code)
 {
@@ -173,16 +182,30 @@ int video_writer_add(video_writer *v, const image *frame, char *err, size_t errl
         snprintf(err, errlen, "%s: out of memory", v->file.path);
         return -1;
     }
+    double start = now_seconds();
     const uint8_t *source[1] = {frame->rgb};
     const int stride[1] = {3 * frame->width};
     sws_scale(v->scaler, source, stride, 0, v->height, v->frame->data, v->frame->linesize);
     v->frame->pts = v->next_pts++;
-    return encode(v, v->frame, err, errlen);
+    double converted = now_seconds();
+    int status = encode(v, v->frame, err, errlen);
+    v->convert_seconds += converted - start;
+    v->encode_seconds += now_seconds() - converted;
+    return status;
+}
+
+void video_writer_times(const video_writer *v, double *convert, double *encode_seconds)
+{
+    *convert = v->convert_seconds;
+    *encode_seconds = v->encode_seconds;
 }
 
 int video_writer_finish(video_writer *v, char *err, size_t errlen)
 {
-    if (encode(v, NULL, err, errlen)) return -1;
+    double start = now_seconds();
+    int status = encode(v, NULL, err, errlen); /* the frames x264 still holds */
+    v->encode_seconds += now_seconds() - start;
+    if (status) return -1;
     int code = av_write_trailer(v->format);
     if (code < 0) {
         av_message(err, errlen, v->file.path, "cannot finish the MP4", code);

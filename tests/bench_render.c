@@ -39,8 +39,10 @@ int main(void)
     /* render + encode at the default 4x MSAA, then without MSAA (what antialiasing costs) */
     double pipeline[2];
     const int samples[2] = {o.samples, 0};
+    render_timing timing[2];
     for (int run = 0; run < 2; run++) {
         o.samples = samples[run];
+        o.timing = &timing[run];
         double start = now_seconds();
         if (render_recording(rec, &o, dir, "bench", 1, err, sizeof err)) {
             fprintf(stderr, "bench_render: %s\n", err);
@@ -65,6 +67,8 @@ int main(void)
         return 1;
     }
     double floor_rate = FRAMES / (now_seconds() - start);
+    double floor_convert, floor_encode;
+    video_writer_times(v, &floor_convert, &floor_encode);
     video_writer_destroy(v);
     unlink(path);
     rmdir(dir);
@@ -79,6 +83,17 @@ int main(void)
            1000 / pipeline[1]);
     printf("  floor (encoder fed blank frames): %6.1f frames/s (%.2f ms/frame)\n", floor_rate,
            1000 / floor_rate);
+    printf("  where the time goes, ms per frame (drawing thread | writing thread):\n");
+    for (int run = 0; run < 2; run++) {
+        const render_timing *t = &timing[run];
+        double per = 1000.0 / t->frames;
+        printf("    %dx MSAA: mesh %.2f, gl %.2f, composite %.2f, overlay %.2f, wait %.2f | "
+               "convert %.2f, encode %.2f; wall %.2f\n", samples[run], per * t->mesh, per * t->gl,
+               per * t->composite, per * t->overlay, per * t->wait, per * t->convert,
+               per * t->encode, per * t->wall);
+    }
+    printf("    floor: convert %.2f, encode %.2f\n", 1000 * floor_convert / FRAMES,
+           1000 * floor_encode / FRAMES);
     printf("  ratio floor / render+encode: %.2f at %dx MSAA, %.2f without "
            "(target <= 1.3 and >= 80 frames/s)\n", floor_rate / pipeline[0], samples[0],
            floor_rate / pipeline[1]);
