@@ -1,6 +1,6 @@
 /* video.h: H.264 MP4 writer (libx264 through libavcodec, MP4 through
- * libavformat, RGB to yuv420p through libswscale). The only module that
- * includes libav*. The file is written under a temporary name and renamed
+ * libavformat, RGB to yuv420p (BT.709) by hand, only where a frame changed
+ * since the one before). The only module that includes libav*. The file is written under a temporary name and renamed
  * by video_writer_finish(); destroying an unfinished writer removes it. */
 #ifndef RODSIM_VIDEO_H
 #define RODSIM_VIDEO_H
