@@ -142,7 +142,12 @@ static void normalized(float out[3], double x, double y, double z)
 static void set_camera(gl_renderer *r, const render_camera *cam)
 {
     glEnable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE); /* ribbons and caps are seen from both sides */
+    /* Back faces are culled: every surface is closed and wound outward
+     * (render.c add_triangle); the stripe band lies on the tube, so its
+     * back is inside. The shader still lights both sides. */
+    glEnable(GL_CULL_FACE);
+    glFrontFace(GL_CCW);
+    glCullFace(GL_BACK);
     glUseProgram(r->program);
     float matrix[16];
     for (int i = 0; i < 16; i++) matrix[i] = (float)cam->view_projection[i];
