@@ -38,7 +38,9 @@ static const float moment_color[3] = {0.16f, 0.62f, 0.26f};
 #define FRAME_TOP 0.15
 #define FRAME_BOTTOM 0.15
 #define FRAME_SIDE 0.05
-#define TILE 64 /* pixels; llvmpipe's own tile size */
+/* pixels; measured with 4x MSAA: less area to clear and resolve than 64
+ * (llvmpipe's tile), and fewer boxes (GL calls) than 16 */
+#define TILE 32
 
 /* ------------------------------------------------------------------ options */
 
