@@ -106,6 +106,8 @@ static void convert_changed(video_writer *v, const unsigned char *rgb)
     size_t row_bytes = (size_t)v->width * 3;
     for (int y = 0; y < v->height; y += 2) {
         size_t at = (size_t)y * row_bytes;
+        /* most row pairs are unchanged: one comparison settles them */
+        if (v->have_previous && memcmp(rgb + at, v->previous + at, 2 * row_bytes) == 0) continue;
         for (int x0 = 0; x0 < v->width; x0 += CHUNK) {
             int x1 = x0 + CHUNK < v->width ? x0 + CHUNK : v->width;
             size_t from = at + (size_t)x0 * 3, bytes = (size_t)(x1 - x0) * 3;
