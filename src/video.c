@@ -171,6 +171,11 @@ video_writer *video_writer_create(const char *path, int width, int height, int f
     v->codec->time_base = (AVRational){1, fps};
     v->codec->framerate = (AVRational){fps, 1};
     v->codec->gop_size = 2 * fps;
+    /* No B-frames: measured on the bench's 720p rod frames, x264 veryfast used
+     * 15-25% less CPU (render + encode 15-20% more frames/s) for a file 24%
+     * larger at the same CRF, and PSNR against the source frames 50.9 dB
+     * against 50.5 with B-frames: not a worse picture. */
+    v->codec->max_b_frames = 0;
     /* BT.709, limited range: what browsers assume for HD H.264 */
     v->codec->colorspace = AVCOL_SPC_BT709;
     v->codec->color_primaries = AVCOL_PRI_BT709;
