@@ -24,8 +24,10 @@ void gl_renderer_set_lines(gl_renderer *r, const render_vertex *lines, int count
 int gl_renderer_draw_backdrop(gl_renderer *r, const render_camera *cam,
                               const unsigned char background[3], image *out);
 /* The moving part: clears each box (4 ints each: x, y, width, height in
- * pixels, y down; boxes disjoint) to transparent, draws the lit triangles
- * clipped to it, resolves it, and reads the boxes' bounding rectangle back
+ * pixels, y down; boxes disjoint, covering the triangles) to transparent,
+ * draws the lit triangles once with back faces culled (closed surfaces,
+ * wound counter-clockwise seen from outside), resolves each box, and reads
+ * the boxes' bounding rectangle back
  * as premultiplied RGBA (coverage in alpha), rows bottom-up; read_box gets
  * that rectangle (x, y, width, height). Only the boxes cost much time
  * (clear, multisample resolve). Returns the pixels, owned by r and valid

@@ -40,7 +40,25 @@ typedef struct render_options {
     int overlay;                 /* text: scene, time, scheme, loads */
     int frames_png;              /* also write every frame as PNG */
     int poster;                  /* write the last frame as <scene>.png */
+    struct render_timing *timing; /* NULL (default): not measured; else filled (make bench) */
 } render_options;
+
+/* Where render_recording's time went (seconds summed over the frames), for
+ * the benchmark. The drawing thread (mesh .. overlay) and the writing thread
+ * (convert .. png) run at the same time, so the parts add up to more than
+ * the wall time when the overlap works. */
+typedef struct render_timing {
+    double mesh;      /* tube, stripe, clamp, arrow triangles and the tile boxes */
+    double gl;        /* upload, clear, draw, resolve, read back (llvmpipe) */
+    double composite; /* backdrop copy and the boxes blended over it */
+    double overlay;   /* text */
+    double wait;      /* drawing thread waiting for a free queue slot */
+    double convert;   /* RGB to yuv420p */
+    double encode;    /* x264 and the MP4 muxer */
+    double png;       /* PNG frames */
+    double wall;      /* the whole call */
+    int frames;
+} render_timing;
 
 void render_options_default(render_options *o);
 /* Reads [render] (all keys optional) over the defaults. 0, or -1 with a

@@ -142,7 +142,12 @@ static void normalized(float out[3], double x, double y, double z)
 static void set_camera(gl_renderer *r, const render_camera *cam)
 {
     glEnable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE); /* ribbons and caps are seen from both sides */
+    /* Back faces are culled: every surface is closed and wound outward
+     * (render.c add_triangle); the stripe band lies on the tube, so its
+     * back is inside. The shader still lights both sides. */
+    glEnable(GL_CULL_FACE);
+    glFrontFace(GL_CCW);
+    glCullFace(GL_BACK);
     glUseProgram(r->program);
     float matrix[16];
     for (int i = 0; i < 16; i++) matrix[i] = (float)cam->view_projection[i];
@@ -202,9 +207,11 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
         const int *box = &boxes[4 * b];
         glScissor(box[0], cam->height - (box[1] + box[3]), box[2], box[3]);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        if (index_count > 0) glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, NULL);
     }
     glDisable(GL_SCISSOR_TEST);
+    /* One draw for all boxes: the boxes cover the geometry by construction,
+     * and whatever lands outside them is never resolved or read. */
+    if (index_count > 0) glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, NULL);
     glBindVertexArray(0);
     /* resolve each box, then read their bounding rectangle at once */
     int lo_x = cam->width, lo_y = cam->height, hi_x = 0, hi_y = 0;
