@@ -197,6 +197,32 @@ static void test_cli(void)
     check(status == 0 && strncmp(output, "case,scheme,nodes,dt,computed,reference", 39) == 0 &&
               strstr(output, "\nfull_circle,static,11,"),
           "rodsim validate --csv -: exit %d, CSV header and row", status);
+    /* --print-commands: one line per point; running a line gives that point's row */
+    const char *print[] = {"validate", "--case", "full_circle", "--scheme", "static", "--nodes",
+                           "11", "--nodes", "21", "--print-commands", NULL};
+    status = run_rodsim(print, output, sizeof output);
+    int lines = 0;
+    for (char *line = output; (line = strstr(line, "\nrodsim validate --case full_circle ")); line++)
+        lines++;
+    char *first = strstr(output, "\nrodsim validate ");
+    check(status == 0 && lines == 2 && first, "--print-commands: exit %d, %d command lines (want 2)",
+          status, lines);
+    if (first) {
+        /* run the first line's arguments (up to "--csv -") through the binary */
+        char command[512];
+        snprintf(command, sizeof command, "%s", first + 8); /* skip "\nrodsim " */
+        char *cut = strstr(command, " > ");
+        if (cut) *cut = '\0';
+        const char *args[32];
+        int n = 0;
+        for (char *tok = strtok(command, " \n"); tok && n < 31; tok = strtok(NULL, " \n"))
+            args[n++] = tok;
+        args[n] = NULL;
+        static char point_output[8192];
+        status = run_rodsim(args, point_output, sizeof point_output);
+        check(status == 0 && strstr(point_output, "\nfull_circle,static,11,") != NULL,
+              "a printed command, run, gives the point's CSV row (exit %d)", status);
+    }
     const char *bad_case[] = {"validate", "--case", "tip_load_huge", NULL};
     status = run_rodsim(bad_case, output, sizeof output);
     check(status == 2 && strstr(output, "unknown case") && strstr(output, "tip_load_small"),
