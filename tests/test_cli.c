@@ -4,23 +4,21 @@
  * and its CSV has the header, frames x nodes rows, s = node ds, and a tip
  * deflection near PL^3/3EI; a diverging thesis-scheme run exits 2 and writes
  * nothing. */
-#include <dirent.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "recording.h"
 #include "rod.h"
 #include "run.h"
 #include "test.h"
+#include "test_process.h"
 
 static char tmp_dir[] = "/tmp/rodsim_cli_XXXXXX";
-static char out_dir[64], csv_path[96], log_path[64];
+static char out_dir[64], csv_path[96];
 
 static const char valid_rod[] = "[rod]\nlength = 1.0\ndiameter = 0.001\ndensity = 850\n"
                                 "youngs_modulus = 87.5e6\nshear_modulus = 31.25e6\nnodes = 11\n";
@@ -34,50 +32,11 @@ static void write_file(const char *path, const char *text)
     }
 }
 
-/* Runs rodsim with args (NULL-terminated, without argv[0]); stdout and stderr
- * go to `output`. Returns the exit status, or -1 when it did not exit. */
-static int run_rodsim(const char *const *args, char *output, size_t outlen)
-{
-    const char *argv[32];
-    int n = 0;
-    argv[n++] = RODSIM_BIN;
-    for (int i = 0; args[i] && n < 31; i++) argv[n++] = args[i];
-    argv[n] = NULL;
-    fflush(stdout);
-    pid_t pid = fork();
-    if (pid == 0) {
-        int fd = open(log_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (fd < 0) _exit(127);
-        dup2(fd, 1);
-        dup2(fd, 2);
-        close(fd);
-        execv(RODSIM_BIN, (char *const *)argv);
-        _exit(127);
-    }
-    int status = 0;
-    if (pid < 0 || waitpid(pid, &status, 0) != pid) return -1;
-    output[0] = '\0';
-    FILE *f = fopen(log_path, "r");
-    if (f) {
-        size_t got = fread(output, 1, outlen - 1, f);
-        output[got] = '\0';
-        fclose(f);
-    }
-    unlink(log_path);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 /* Number of entries in out_dir (0 when it does not exist). */
 static int out_dir_entries(void)
 {
-    DIR *d = opendir(out_dir);
-    if (!d) return 0;
-    int n = 0;
-    struct dirent *e;
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
-    closedir(d);
-    return n;
+    int n = test_dir_entries(out_dir);
+    return n < 0 ? 0 : n;
 }
 
 /* Writes `text` as bad.ini, runs it with --csv into out_dir (plus an optional
@@ -90,7 +49,7 @@ static void expect_rejected(const char *what, const char *text, const char *set,
     if (text) write_file(scene, text);
     const char *args[] = {"run", text ? scene : "/nonexistent/scene.ini", "-o", out_dir, "--csv",
                           csv_path, "--no-video", set ? "--set" : NULL, set, NULL};
-    int status = run_rodsim(args, output, sizeof output);
+    int status = test_run_rodsim(args, output, sizeof output);
     char *nl = strchr(output, '\n');
     if (nl && !strstr(nl, "usage")) *nl = '\0'; /* print the first line */
     check(status == 2 && strstr(output, needle1) && strstr(output, needle2) &&
@@ -140,22 +99,22 @@ static void test_usage(void)
 {
     char output[8192];
     const char *help[] = {"--help", NULL};
-    check(run_rodsim(help, output, sizeof output) == 0 && strstr(output, "run"),
+    check(test_run_rodsim(help, output, sizeof output) == 0 && strstr(output, "run"),
           "rodsim --help: exit 0, lists 'run'");
     const char *run_help[] = {"run", "--help", NULL};
-    check(run_rodsim(run_help, output, sizeof output) == 0 && strstr(output, "--csv") &&
+    check(test_run_rodsim(run_help, output, sizeof output) == 0 && strstr(output, "--csv") &&
               strstr(output, "--set"),
           "rodsim run --help: exit 0, lists --set and --csv");
     const char *none[] = {NULL};
-    check(run_rodsim(none, output, sizeof output) == 2, "rodsim without a command: exit 2");
+    check(test_run_rodsim(none, output, sizeof output) == 2, "rodsim without a command: exit 2");
     const char *unknown[] = {"fly", NULL};
-    check(run_rodsim(unknown, output, sizeof output) == 2 && strstr(output, "fly"),
+    check(test_run_rodsim(unknown, output, sizeof output) == 2 && strstr(output, "fly"),
           "unknown command: exit 2, named");
     const char *bad_option[] = {"run", "x.ini", "--fast", NULL};
-    check(run_rodsim(bad_option, output, sizeof output) == 2 && strstr(output, "--fast"),
+    check(test_run_rodsim(bad_option, output, sizeof output) == 2 && strstr(output, "--fast"),
           "unknown option: exit 2, named");
     const char *no_scene[] = {"run", NULL};
-    check(run_rodsim(no_scene, output, sizeof output) == 2, "run without SCENE: exit 2");
+    check(test_run_rodsim(no_scene, output, sizeof output) == 2, "run without SCENE: exit 2");
 }
 
 /* Reads the CSV: returns rows (excluding the header) and checks each row. */
@@ -171,7 +130,7 @@ static void test_csv_end_to_end(void)
              valid_rod);
     write_file(scene, text);
     const char *args[] = {"run", scene, "-o", out_dir, "--csv", csv_path, "--no-video", NULL};
-    int status = run_rodsim(args, output, sizeof output);
+    int status = test_run_rodsim(args, output, sizeof output);
     check(status == 0, "tiny static scene runs end to end: exit %d\n%s", status, output);
     FILE *f = fopen(csv_path, "r");
     if (!check(f != NULL, "CSV %s written", csv_path)) {
@@ -230,7 +189,7 @@ static void test_unstable_writes_nothing(void)
              valid_rod);
     write_file(scene, text);
     const char *args[] = {"run", scene, "-o", out_dir, "--csv", csv_path, "--no-video", NULL};
-    int status = run_rodsim(args, output, sizeof output);
+    int status = test_run_rodsim(args, output, sizeof output);
     check(status == 2 && strstr(output, "diverged") && out_dir_entries() == 0,
           "thesis scheme, physical rotary inertia: exit %d (want 2), says it diverged, out dir "
           "entries %d\n%s",
@@ -320,12 +279,10 @@ int main(void)
     if (!check(mkdtemp(tmp_dir) != NULL, "temporary directory")) return test_finish();
     snprintf(out_dir, sizeof out_dir, "%s/out", tmp_dir);
     snprintf(csv_path, sizeof csv_path, "%s/result.csv", out_dir);
-    snprintf(log_path, sizeof log_path, "%s/log.txt", tmp_dir);
     test_usage();
     test_bad_scenes();
     test_csv_end_to_end();
     test_unstable_writes_nothing();
-    rmdir(out_dir);
-    rmdir(tmp_dir);
+    test_remove_tree(tmp_dir);
     return test_finish();
 }

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "image.h"
+#include "test_process.h"
 
 #ifndef DECODE_KEEP
 #define DECODE_KEEP 12 /* frames kept as RGB images */
@@ -104,21 +105,6 @@ static inline long box_offset(const char *path, const char *type)
     }
     fclose(fp);
     return found;
-}
-
-static inline void remove_tree(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return;
-    struct dirent *e;
-    char path[1200];
-    while ((e = readdir(d))) {
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-        if (snprintf(path, sizeof path, "%s/%s", dir, e->d_name) >= (int)sizeof path) continue;
-        if (unlink(path)) remove_tree(path);
-    }
-    closedir(d);
-    rmdir(dir);
 }
 
 static inline void decoded_release(decoded *d)

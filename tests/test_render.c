@@ -11,6 +11,7 @@
 #include "render.h"
 #include "synthetic_recording.h"
 #include "test.h"
+#include "test_process.h"
 
 static double max_distance(const double *a, const double *b, int n, int *where)
 {
@@ -86,33 +87,6 @@ static void make_temp_dir(char *dir, size_t len, const char *tag)
 {
     snprintf(dir, len, "/tmp/rodsim_test_render_%s_%ld", tag, (long)getpid());
     mkdir(dir, 0777);
-}
-
-static int count_entries(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return -1;
-    int n = 0;
-    struct dirent *e;
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
-    closedir(d);
-    return n;
-}
-
-static void remove_dir(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return;
-    struct dirent *e;
-    char path[1200];
-    while ((e = readdir(d))) {
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-        if (unlink(path)) remove_dir(path);
-    }
-    closedir(d);
-    rmdir(dir);
 }
 
 static image *render_poster(const rod_recording *rec, const render_options *o, const char *dir,
@@ -197,7 +171,7 @@ static void test_pixels(void)
           "stripe colour on the twisted rod: %d pixels with the stripe, %d without", counts[1],
           counts[0]);
     rod_recording_destroy(rec);
-    remove_dir(dir);
+    test_remove_tree(dir);
 }
 
 static void test_atomic_failure(void)
@@ -218,10 +192,10 @@ static void test_atomic_failure(void)
     if (fp) fclose(fp);
     o.frames_png = 1;
     status = render_recording(rec, &o, dir, "x", 1, err, sizeof err);
-    check(status == -1 && count_entries(dir) == 1,
+    check(status == -1 && test_dir_entries(dir) == 1,
           "a render failing after the video was opened leaves only the blocker (%d entries): %s",
-          count_entries(dir), err);
-    remove_dir(dir);
+          test_dir_entries(dir), err);
+    test_remove_tree(dir);
     rod_recording_destroy(rec);
 }
 

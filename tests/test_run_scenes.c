@@ -64,7 +64,7 @@ static void run_scene(const char *dir, const char *file)
     } else {
         check(0, "%s: poster readable (%s)", name, err);
     }
-    remove_tree(out);
+    test_remove_tree(out);
 }
 
 int main(void)

@@ -12,6 +12,7 @@
 
 #include "rod.h"
 #include "test.h"
+#include "test_process.h"
 #include "validate.h"
 
 /* table 1: EI = E pi d^4/64 = 87.5e6 x 4.9087e-14 = 4.29515e-6 N m^2 */
@@ -143,47 +144,13 @@ static void test_not_applicable(void)
     }
 }
 
-/* Runs RODSIM_BIN with args; output (stdout and stderr) into `output`. */
-static int run_rodsim(const char *const *args, char *output, size_t outlen)
-{
-    char log_path[] = "/tmp/rodsim_validate_XXXXXX";
-    int fd = mkstemp(log_path);
-    if (fd < 0) return -1;
-    const char *argv[32];
-    int n = 0;
-    argv[n++] = RODSIM_BIN;
-    for (int i = 0; args[i] && n < 31; i++) argv[n++] = args[i];
-    argv[n] = NULL;
-    fflush(stdout);
-    pid_t pid = fork();
-    if (pid == 0) {
-        dup2(fd, 1);
-        dup2(fd, 2);
-        close(fd);
-        execv(RODSIM_BIN, (char *const *)argv);
-        _exit(127);
-    }
-    close(fd);
-    int status = 0;
-    if (pid < 0 || waitpid(pid, &status, 0) != pid) return -1;
-    output[0] = '\0';
-    FILE *f = fopen(log_path, "r");
-    if (f) {
-        size_t got = fread(output, 1, outlen - 1, f);
-        output[got] = '\0';
-        fclose(f);
-    }
-    unlink(log_path);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 static void test_cli(void)
 {
     static char output[65536];
     const char *table[] = {"validate", "--case", "tip_load_small", "--case", "full_circle",
                            "--scheme", "static", "--nodes", "11", "--nodes", "21", "--jobs", "2",
                            NULL};
-    int status = run_rodsim(table, output, sizeof output);
+    int status = test_run_rodsim(table, output, sizeof output);
     int rows = 0;
     for (char *line = output; (line = strstr(line, "\ntip_load_small ")); line++) rows++;
     check(status == 0 && strstr(output, "case") && strstr(output, "rel.error") &&
@@ -193,14 +160,14 @@ static void test_cli(void)
           status, rows);
     const char *csv[] = {"validate", "--case", "full_circle", "--scheme", "static", "--nodes",
                          "11", "--csv", "-", NULL};
-    status = run_rodsim(csv, output, sizeof output);
+    status = test_run_rodsim(csv, output, sizeof output);
     check(status == 0 && strncmp(output, "case,scheme,nodes,dt,computed,reference", 39) == 0 &&
               strstr(output, "\nfull_circle,static,11,"),
           "rodsim validate --csv -: exit %d, CSV header and row", status);
     /* --print-commands: one line per point; running a line gives that point's row */
     const char *print[] = {"validate", "--case", "full_circle", "--scheme", "static", "--nodes",
                            "11", "--nodes", "21", "--print-commands", NULL};
-    status = run_rodsim(print, output, sizeof output);
+    status = test_run_rodsim(print, output, sizeof output);
     int lines = 0;
     for (char *line = output; (line = strstr(line, "\nrodsim validate --case full_circle ")); line++)
         lines++;
@@ -219,20 +186,20 @@ static void test_cli(void)
             args[n++] = tok;
         args[n] = NULL;
         static char point_output[8192];
-        status = run_rodsim(args, point_output, sizeof point_output);
+        status = test_run_rodsim(args, point_output, sizeof point_output);
         check(status == 0 && strstr(point_output, "\nfull_circle,static,11,") != NULL,
               "a printed command, run, gives the point's CSV row (exit %d)", status);
     }
     const char *bad_case[] = {"validate", "--case", "tip_load_huge", NULL};
-    status = run_rodsim(bad_case, output, sizeof output);
+    status = test_run_rodsim(bad_case, output, sizeof output);
     check(status == 2 && strstr(output, "unknown case") && strstr(output, "tip_load_small"),
           "unknown case: exit %d (want 2), message lists the accepted cases", status);
     const char *bad_scheme[] = {"validate", "--scheme", "euler", NULL};
-    status = run_rodsim(bad_scheme, output, sizeof output);
+    status = test_run_rodsim(bad_scheme, output, sizeof output);
     check(status == 2 && strstr(output, "unknown scheme"), "unknown scheme: exit %d (want 2)",
           status);
     const char *bad_nodes[] = {"validate", "--nodes", "2", NULL};
-    status = run_rodsim(bad_nodes, output, sizeof output);
+    status = test_run_rodsim(bad_nodes, output, sizeof output);
     check(status == 2 && strstr(output, "3..100001"), "--nodes 2: exit %d (want 2)", status);
 }
 

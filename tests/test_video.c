@@ -115,6 +115,6 @@ int main(void)
     }
     test_changed_regions_only(dir);
     rod_recording_destroy(rec);
-    remove_tree(dir);
+    test_remove_tree(dir);
     return test_finish();
 }

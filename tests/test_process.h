@@ -1,0 +1,80 @@
+/* test_process.h: helpers for tests that drive the real rodsim binary and
+ * look at what it wrote: run it capturing its output, count the entries of a
+ * directory, remove a scratch directory. Header-only, tests only. */
+#ifndef RODSIM_TEST_PROCESS_H
+#define RODSIM_TEST_PROCESS_H
+
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+/* Runs RODSIM_BIN with args (NULL-terminated, without argv[0]); its stdout
+ * and stderr go to `output`. Returns the exit status, -1 when it did not exit. */
+static inline int test_run_rodsim(const char *const *args, char *output, size_t outlen)
+{
+    char log_path[] = "/tmp/rodsim_test_outputXXXXXX";
+    int fd = mkstemp(log_path);
+    if (fd < 0) return -1;
+    const char *argv[64];
+    int n = 0;
+    argv[n++] = RODSIM_BIN;
+    for (int i = 0; args[i] && n < 63; i++) argv[n++] = args[i];
+    argv[n] = NULL;
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) {
+        dup2(fd, 1);
+        dup2(fd, 2);
+        close(fd);
+        execv(RODSIM_BIN, (char *const *)argv);
+        _exit(127);
+    }
+    close(fd);
+    int status = 0;
+    int waited = pid > 0 && waitpid(pid, &status, 0) == pid;
+    output[0] = '\0';
+    FILE *f = fopen(log_path, "r");
+    if (f) {
+        size_t got = fread(output, 1, outlen - 1, f);
+        output[got] = '\0';
+        fclose(f);
+    }
+    unlink(log_path);
+    if (!waited) return -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/* Entries of a directory other than . and ..; -1 when it does not exist. */
+static inline int test_dir_entries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d) return -1;
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
+    closedir(d);
+    return n;
+}
+
+/* Removes a directory and everything below it. */
+static inline void test_remove_tree(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d) return;
+    struct dirent *e;
+    char path[1400];
+    while ((e = readdir(d))) {
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+        if (snprintf(path, sizeof path, "%s/%s", dir, e->d_name) >= (int)sizeof path) continue;
+        if (unlink(path)) test_remove_tree(path);
+    }
+    closedir(d);
+    rmdir(dir);
+}
+
+#endif
