@@ -73,6 +73,9 @@ typedef struct implicit_work {
     double *perturbed; /* (unknowns) residual at a perturbed x */
     double *band;      /* (ldab x unknowns) LU factors, LAPACK band storage */
     lapack_int *pivot; /* (unknowns) */
+    double *inv_diag;  /* (unknowns) 1 / U_jj of the factorisation: the back substitution
+                          multiplies instead of dividing (a division's latency sits on its
+                          serial critical path) */
     int have_factor;   /* band holds a usable factorisation */
 
     /* start of the step */
@@ -122,6 +125,7 @@ static void destroy(void *p)
                          &w->save_omega, &w->save_force, &w->phi0, &w->phi1, &w->phi_th};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) free(*arrays[k]);
     free(w->pivot);
+    free(w->inv_diag);
     free(w);
 }
 
@@ -150,6 +154,7 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->perturbed = calloc(u, sizeof(double));
     w->band = calloc((size_t)w->ldab * u, sizeof(double));
     w->pivot = calloc(u, sizeof *w->pivot);
+    w->inv_diag = calloc(u, sizeof(double));
     w->frame0 = calloc(n * 9, sizeof(double));
     w->omega0 = calloc(n * 3, sizeof(double));
     w->vel0 = calloc(n * 3, sizeof(double));
@@ -171,7 +176,7 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->phi1 = calloc(n, sizeof(double));
     w->phi_th = calloc(n, sizeof(double));
     if (!w->phi0 || !w->phi1 || !w->phi_th) goto oom;
-    if (!w->x || !w->dx || !w->x_last || !w->x_before || !w->residual || !w->perturbed || !w->band || !w->pivot ||
+    if (!w->x || !w->dx || !w->x_last || !w->x_before || !w->residual || !w->perturbed || !w->band || !w->pivot || !w->inv_diag ||
         !w->frame0 || !w->omega0 || !w->vel0 || !w->d3mid0 || !w->moment0 || !w->tipf0 ||
         !w->tipm0 || !w->frame1 || !w->frame_th || !w->darboux1 || !w->mid1 || !w->moment1 ||
         !w->save_frame || !w->save_pos || !w->save_vel || !w->save_omega || !w->save_force)
@@ -469,7 +474,7 @@ static void band_solve(const implicit_work *w, double *b)
     }
     for (int j = n - 1; j >= 0; j--) { /* U: upper band of width kl + ku */
         const double *col = &ab[(size_t)j * ld];
-        double bj = b[j] / col[kv];
+        double bj = b[j] * w->inv_diag[j];
         b[j] = bj;
         int top = j - kv < 0 ? 0 : j - kv;
         for (int i = top; i < j; i++) b[i] -= col[kv + i - j] * bj;
@@ -511,6 +516,8 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
     lapack_int info = LAPACKE_dgbtrf_work(LAPACK_COL_MAJOR, nu, nu, kl, ku, w->band, ld, w->pivot);
     w->have_factor = (info == 0);
     w->jacobian_dt = dt;
+    if (info == 0)
+        for (int j = 0; j < nu; j++) w->inv_diag[j] = 1.0 / w->band[(size_t)j * (size_t)ld + (size_t)(kl + ku)];
     return info == 0 ? 0 : -1;
 }
 

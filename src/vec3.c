@@ -30,8 +30,10 @@ void m3_exp(double r[9], const double phi[3])
     if (t < 2.5e-3) {
         /* |angle| < 0.05: Taylor series to x^8, truncation below 1e-20; the
          * common case (dt omega, ds u), and it avoids sin, cos and sqrt */
-        a = 1.0 - t / 6.0 * (1.0 - t / 20.0 * (1.0 - t / 42.0 * (1.0 - t / 72.0)));
-        b = 0.5 - t / 24.0 * (1.0 - t / 30.0 * (1.0 - t / 56.0 * (1.0 - t / 90.0)));
+        /* multiplications by the reciprocals (folded at compile time): a
+         * division each costs as much as the whole rest of the function */
+        a = 1.0 - t * (1.0 / 6.0) * (1.0 - t * (1.0 / 20.0) * (1.0 - t * (1.0 / 42.0) * (1.0 - t * (1.0 / 72.0))));
+        b = 0.5 - t * (1.0 / 24.0) * (1.0 - t * (1.0 / 30.0) * (1.0 - t * (1.0 / 56.0) * (1.0 - t * (1.0 / 90.0))));
     } else {
         double angle = sqrt(t);
         a = sin(angle) / angle;
