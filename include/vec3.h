@@ -44,6 +44,34 @@ static inline void m3_mul_tv(double r[3], const double q[9], const double a[3])
 static inline void m3_column(double r[3], const double q[9], int k)
 { r[0] = q[k]; r[1] = q[3 + k]; r[2] = q[6 + k]; }
 
+/* Rodrigues coefficients of exp([phi]x) = I + a [phi]x + b [phi]x^2 for
+ * t = |phi|^2: a = sin(x)/x, b = (1 - cos x)/x^2, x = |phi|. */
+static inline void m3_exp_coefficients(double t, double *a, double *b)
+{
+    if (t < 2.5e-3) {
+        /* |angle| < 0.05: Taylor series to x^8, truncation below 1e-20; the
+         * common case (dt omega, ds u), and it avoids sin, cos and sqrt.
+         * Multiplications by the reciprocals (folded at compile time): a
+         * division each costs as much as the rest of the function. */
+        *a = 1.0 - t * (1.0 / 6.0) * (1.0 - t * (1.0 / 20.0) * (1.0 - t * (1.0 / 42.0) * (1.0 - t * (1.0 / 72.0))));
+        *b = 0.5 - t * (1.0 / 24.0) * (1.0 - t * (1.0 / 30.0) * (1.0 - t * (1.0 / 56.0) * (1.0 - t * (1.0 / 90.0))));
+    } else {
+        double angle = sqrt(t);
+        *a = sin(angle) / angle;
+        *b = (1.0 - cos(angle)) / t;
+    }
+}
+/* r = exp([phi]x) v = v + a phi x v + b phi x (phi x v), the rotation of one
+ * vector without forming the matrix; r may not alias phi or v. */
+static inline void v3_rotate(double r[3], const double phi[3], const double v[3])
+{
+    double a, b, c1[3], c2[3];
+    m3_exp_coefficients(v3_dot(phi, phi), &a, &b);
+    v3_cross(c1, phi, v);
+    v3_cross(c2, phi, c1);
+    for (int k = 0; k < 3; k++) r[k] = v[k] + a * c1[k] + b * c2[k];
+}
+
 /* r = a b; r may not alias a or b */
 void m3_mul(double r[9], const double a[9], const double b[9]);
 /* r = a^T b; r may not alias a or b */

@@ -88,9 +88,12 @@ typedef struct implicit_work {
 
     /* end of the step, for the iterate x */
     double *frame1;    /* (nodes x 9) */
-    double *frame_th;  /* (nodes x 9) frame at the theta point (= frame1 for theta = 1) */
+    double *frame_th;  /* (nodes x 9) frame at the theta point (theta < 1; for theta = 1 the
+                          residual reads frame1) */
     double *darboux1;  /* (nodes-1 x 3) */
-    double *mid1;      /* (nodes-1 x 9) midpoint frames */
+    double *mid1;      /* (nodes-1 x 9) midpoint frames at the start of a run of steps;
+                          scratch of the planar path */
+    double *d3mid1;    /* (nodes-1 x 3) d3 at the midpoints */
     double *moment1;   /* (nodes-1 x 3) global */
 
     /* a saved copy of the state for step splitting */
@@ -121,7 +124,7 @@ static void destroy(void *p)
     double **arrays[] = {&w->x, &w->dx, &w->x_last, &w->x_before, &w->residual, &w->perturbed, &w->band,
                          &w->frame0, &w->omega0, &w->vel0, &w->d3mid0, &w->moment0,
                          &w->tipf0, &w->tipm0, &w->frame1, &w->frame_th, &w->darboux1,
-                         &w->mid1, &w->moment1, &w->save_frame, &w->save_pos, &w->save_vel,
+                         &w->mid1, &w->d3mid1, &w->moment1, &w->save_frame, &w->save_pos, &w->save_vel,
                          &w->save_omega, &w->save_force, &w->phi0, &w->phi1, &w->phi_th};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) free(*arrays[k]);
     free(w->pivot);
@@ -166,6 +169,7 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->frame_th = calloc(n * 9, sizeof(double));
     w->darboux1 = calloc(n * 3, sizeof(double));
     w->mid1 = calloc(n * 9, sizeof(double));
+    w->d3mid1 = calloc(n * 3, sizeof(double));
     w->moment1 = calloc(n * 3, sizeof(double));
     w->save_frame = calloc(n * 9, sizeof(double));
     w->save_pos = calloc(n * 3, sizeof(double));
@@ -178,7 +182,7 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     if (!w->phi0 || !w->phi1 || !w->phi_th) goto oom;
     if (!w->x || !w->dx || !w->x_last || !w->x_before || !w->residual || !w->perturbed || !w->band || !w->pivot || !w->inv_diag ||
         !w->frame0 || !w->omega0 || !w->vel0 || !w->d3mid0 || !w->moment0 || !w->tipf0 ||
-        !w->tipm0 || !w->frame1 || !w->frame_th || !w->darboux1 || !w->mid1 || !w->moment1 ||
+        !w->tipm0 || !w->frame1 || !w->frame_th || !w->darboux1 || !w->mid1 || !w->d3mid1 || !w->moment1 ||
         !w->save_frame || !w->save_pos || !w->save_vel || !w->save_omega || !w->save_force)
         goto oom;
 
@@ -244,6 +248,31 @@ static void elastic_state(const rod_model *m, const double *frame, double *darbo
     }
 }
 
+/* The same as elastic_state for the end of the step, without forming the
+ * midpoint frames Q_{i+1/2} = Q_i exp(h), h = ds/2 u: only d3 = Q_i exp(h) e3
+ * and M = Q_i exp(h) B u are needed, each one rotation of a vector (the
+ * residual evaluates this twice or more per step). */
+static void end_geometry(const rod_model *m, const double *frame, double *darboux,
+                         double *d3mid, double *moment)
+{
+    const double inv_ds = 1.0 / m->ds;
+    for (int j = 0; j + 1 < m->nodes; j++) {
+        double rel[9], phi[3], half[3], bu[3], e3[3] = {0.0, 0.0, 1.0}, local[3];
+        const double *q = &frame[9 * j];
+        m3_mul_tn(rel, q, &frame[9 * (j + 1)]);
+        m3_log(phi, rel);
+        for (int k = 0; k < 3; k++) {
+            darboux[3 * j + k] = phi[k] * inv_ds;
+            half[k] = 0.5 * phi[k];
+            bu[k] = m->stiffness[k] * darboux[3 * j + k];
+        }
+        v3_rotate(local, half, e3);
+        m3_mul_v(&d3mid[3 * j], q, local);
+        v3_rotate(local, half, bu);
+        m3_mul_v(&moment[3 * j], q, local);
+    }
+}
+
 static inline const double *block_force(const double *x, int b) { return &x[BLOCK * (b - 1)]; }
 static inline const double *block_vel(const double *x, int b) { return &x[BLOCK * (b - 1) + 3]; }
 static inline const double *block_omega(const double *x, int b) { return &x[BLOCK * (b - 1) + 6]; }
@@ -255,8 +284,13 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
     const int n = w->nodes;
     const double theta = m->options.theta, ds = m->ds, mass = m->mass_per_length;
     const double *inertia = m->rotary_inertia;
+    /* reciprocals: the loops below multiply (a division per use would cost more
+     * than the rest of the line) */
+    const double inv_dt = 1.0 / dt, dt_ds = dt / ds;
 
-    /* frames at the end of the step and at the theta point */
+    /* frames at the end of the step and at the theta point; for theta = 1
+     * they are the same array */
+    const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
     memcpy(&w->frame1[0], &w->frame0[0], 9 * sizeof(double));
     memcpy(&w->frame_th[0], &w->frame0[0], 9 * sizeof(double));
     for (int i = 1; i < n; i++) {
@@ -270,14 +304,12 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
             v3_scale(wbar, wbar, theta);
             m3_exp(rot, wbar);
             m3_mul(&w->frame_th[9 * i], &w->frame0[9 * i], rot);
-        } else {
-            memcpy(&w->frame_th[9 * i], &w->frame1[9 * i], 9 * sizeof(double));
         }
     }
-    elastic_state(m, w->frame1, w->darboux1, w->mid1, NULL, w->moment1);
+    end_geometry(m, w->frame1, w->darboux1, w->d3mid1, w->moment1);
 
     double tipf1[3], tipm1[3], tipf[3], tipm[3];
-    tip_load_global(m, t + dt, &w->frame_th[9 * (n - 1)], tipf1, tipm1);
+    tip_load_global(m, t + dt, &frame_th[9 * (n - 1)], tipf1, tipm1);
     for (int k = 0; k < 3; k++) {
         tipf[k] = theta * tipf1[k] + (1.0 - theta) * w->tipf0[k];
         tipm[k] = theta * tipm1[k] + (1.0 - theta) * w->tipm0[k];
@@ -298,15 +330,15 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
             for (int k = 0; k < 3; k++)
                 vbar_l[k] = theta * vl[k] + (1.0 - theta) * w->vel0[3 * (b - 1) + k];
         }
-        m3_column(d3_1, &w->mid1[9 * j], 2);
+        v3_copy(d3_1, &w->d3mid1[3 * j]);
         for (int k = 0; k < 3; k++)
-            r[k] = (vbar_r[k] - vbar_l[k]) * dt / ds - (d3_1[k] - w->d3mid0[3 * j + k]);
+            r[k] = (vbar_r[k] - vbar_l[k]) * dt_ds - (d3_1[k] - w->d3mid0[3 * j + k]);
 
         /* (3.3)_1 linear momentum of the cell of node b, global */
         const double *n_left = block_force(x, b);
         const double *n_right = (b < n - 1) ? block_force(x, b + 1) : tipf;
         for (int k = 0; k < 3; k++) {
-            double inertial = wb * mass * (vr[k] - w->vel0[3 * b + k]) / dt;
+            double inertial = wb * mass * (vr[k] - w->vel0[3 * b + k]) * inv_dt;
             double external = wb * (m->distributed_force[k] - m->linear_damping * vbar_r[k]);
             r[3 + k] = (inertial - (n_right[k] - n_left[k]) - external) * fs;
         }
@@ -324,14 +356,14 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
         v3_cross(cr, d3l, n_left);
         v3_axpy(total, 0.5 * ds, cr);
         if (b < n - 1) {
-            double d3r[3], d3r1[3];
-            m3_column(d3r1, &w->mid1[9 * b], 2);
+            double d3r[3];
+            const double *d3r1 = &w->d3mid1[3 * b];
             for (int k = 0; k < 3; k++) d3r[k] = theta * d3r1[k] + (1.0 - theta) * w->d3mid0[3 * b + k];
             v3_cross(cr, d3r, n_right);
             v3_axpy(total, 0.5 * ds, cr);
         }
         double body[3], wbar[3], iw[3], gyro[3];
-        m3_mul_tv(body, &w->frame_th[9 * b], total);
+        m3_mul_tv(body, &frame_th[9 * b], total);
         const double *om = block_omega(x, b);
         for (int k = 0; k < 3; k++) {
             wbar[k] = theta * om[k] + (1.0 - theta) * w->omega0[3 * b + k];
@@ -339,7 +371,7 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
         }
         v3_cross(gyro, wbar, iw);
         for (int k = 0; k < 3; k++) {
-            double inertial = wb * (inertia[k] * (om[k] - w->omega0[3 * b + k]) / dt + gyro[k]);
+            double inertial = wb * (inertia[k] * (om[k] - w->omega0[3 * b + k]) * inv_dt + gyro[k]);
             r[6 + k] = (inertial - body[k] + wb * m->angular_damping * wbar[k]) * ms;
         }
     }
@@ -448,12 +480,17 @@ static void evaluate(implicit_work *w, const rod_model *m, const double *x, doub
 
 static double max_abs(const double *a, int n)
 {
+    /* branch-free (a data-dependent branch per entry mispredicted often):
+     * the maximum, and a separate flag so that a NaN wins and is never
+     * "converged" */
     double worst = 0.0;
+    int nan = 0;
     for (int i = 0; i < n; i++) {
         double v = fabs(a[i]);
-        if (v > worst || v != v) worst = v; /* a NaN wins, so it is never "converged" */
+        worst = v > worst ? v : worst;
+        nan |= v != v;
     }
-    return worst;
+    return nan ? NAN : worst;
 }
 
 /* Solves A x = b in place with the factors of LAPACKE_dgbtrf (band storage,
@@ -679,7 +716,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
         if (!isfinite(w->x[i])) return -1; /* never accept a non-finite solution */
 
     /* accept: Newton's last residual evaluation was at x, so frame1, darboux1,
-     * mid1 and moment1 (or phi1 in the plane) describe the end of the step */
+     * d3mid1 and moment1 (or phi1 in the plane) describe the end of the step */
     if (w->planar) {
         accept_planar(w, m, s);
     } else {
@@ -688,14 +725,22 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
             m3_orthonormalize(&s->frame[9 * i]);
         }
         memcpy(s->darboux, w->darboux1, (size_t)(n - 1) * 3 * sizeof(double));
-        rod_positions_from_midframes(m, w->mid1, s->position);
+        /* centreline from d3 at the midpoints (3.12), as rod_positions_from_midframes */
+        v3_set(s->position, 0.0, 0.0, 0.0);
+        for (int j = 0; j + 1 < n; j++)
+            for (int k = 0; k < 3; k++)
+                s->position[3 * (j + 1) + k] = s->position[3 * j + k] + m->ds * w->d3mid1[3 * j + k];
         for (int b = 1; b < n; b++) {
             m3_mul_tv(&s->velocity[3 * b], &s->frame[9 * b], block_vel(w->x, b));
             v3_copy(&s->angular_velocity[3 * b], block_omega(w->x, b));
-            m3_mul_tv(&s->contact_force[3 * (b - 1)], &w->mid1[9 * (b - 1)], block_force(w->x, b));
+            /* Q_mid^T N = exp(-h) Q_{b-1}^T N, h = ds/2 u, in the frame at the midpoint */
+            double local[3], back[3];
+            m3_mul_tv(local, &w->frame1[9 * (b - 1)], block_force(w->x, b));
+            v3_scale(back, &w->darboux1[3 * (b - 1)], -0.5 * m->ds);
+            v3_rotate(&s->contact_force[3 * (b - 1)], back, local);
         }
         memcpy(w->moment0, w->moment1, (size_t)(n - 1) * 3 * sizeof(double));
-        for (int j = 0; j + 1 < n; j++) m3_column(&w->d3mid0[3 * j], &w->mid1[9 * j], 2);
+        memcpy(w->d3mid0, w->d3mid1, (size_t)(n - 1) * 3 * sizeof(double));
     }
     v3_set(&s->velocity[0], 0, 0, 0);
     v3_set(&s->angular_velocity[0], 0, 0, 0);

@@ -25,20 +25,8 @@ void m3_identity(double r[9])
 
 void m3_exp(double r[9], const double phi[3])
 {
-    double t = v3_dot(phi, phi); /* angle^2 */
-    double a, b;                 /* sin(x)/x and (1 - cos x)/x^2 */
-    if (t < 2.5e-3) {
-        /* |angle| < 0.05: Taylor series to x^8, truncation below 1e-20; the
-         * common case (dt omega, ds u), and it avoids sin, cos and sqrt */
-        /* multiplications by the reciprocals (folded at compile time): a
-         * division each costs as much as the whole rest of the function */
-        a = 1.0 - t * (1.0 / 6.0) * (1.0 - t * (1.0 / 20.0) * (1.0 - t * (1.0 / 42.0) * (1.0 - t * (1.0 / 72.0))));
-        b = 0.5 - t * (1.0 / 24.0) * (1.0 - t * (1.0 / 30.0) * (1.0 - t * (1.0 / 56.0) * (1.0 - t * (1.0 / 90.0))));
-    } else {
-        double angle = sqrt(t);
-        a = sin(angle) / angle;
-        b = (1.0 - cos(angle)) / t;
-    }
+    double a, b; /* sin(x)/x and (1 - cos x)/x^2 */
+    m3_exp_coefficients(v3_dot(phi, phi), &a, &b);
     double x = phi[0], y = phi[1], z = phi[2];
     r[0] = 1.0 - b * (y * y + z * z);
     r[1] = -a * z + b * x * y;
