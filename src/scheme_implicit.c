@@ -494,28 +494,47 @@ static double max_abs(const double *a, int n)
 }
 
 /* Solves A x = b in place with the factors of LAPACKE_dgbtrf (band storage,
- * kl = ku = BAND): the same arithmetic as dgbtrs, written out because the
- * library call's per-column BLAS overhead dominated at this size. */
-static void band_solve(const implicit_work *w, double *b)
+ * kl = ku): the same arithmetic as dgbtrs, written out because the library
+ * call's per-column BLAS overhead dominated at this size. Inlined with kl a
+ * constant, so that the inner loops have fixed lengths away from the ends
+ * (unrolled, vectorised); in the back substitution the entry the next column
+ * needs, b[j-1], is updated first: it alone is on the serial critical path. */
+static inline __attribute__((always_inline)) void band_solve_kl(const implicit_work *w,
+                                                               double *restrict b, const int kl)
 {
-    const int n = w->unknowns, kl = w->kl, kv = 2 * w->kl, ld = w->ldab;
-    const double *ab = w->band;
+    const int n = w->unknowns, kv = 2 * kl, ld = w->ldab;
+    const double *restrict ab = w->band;
+    const double *restrict inv_diag = w->inv_diag;
+    const lapack_int *restrict pivot = w->pivot;
     for (int j = 0; j < n - 1; j++) { /* L: row interchanges and unit lower factor */
-        int p = w->pivot[j] - 1;
-        if (p != j) { double t = b[p]; b[p] = b[j]; b[j] = t; }
-        double bj = b[j];
-        if (bj == 0.0) continue;
-        int lm = n - 1 - j < kl ? n - 1 - j : kl;
+        int p = pivot[j] - 1;
+        double bj = b[p];
+        b[p] = b[j];
+        b[j] = bj;
         const double *col = &ab[(size_t)j * ld + kv + 1];
-        for (int i = 0; i < lm; i++) b[j + 1 + i] -= col[i] * bj;
+        if (j + kl < n) {
+            for (int i = 0; i < kl; i++) b[j + 1 + i] -= col[i] * bj;
+        } else {
+            for (int i = 0; j + 1 + i < n; i++) b[j + 1 + i] -= col[i] * bj;
+        }
     }
     for (int j = n - 1; j >= 0; j--) { /* U: upper band of width kl + ku */
-        const double *col = &ab[(size_t)j * ld];
-        double bj = b[j] * w->inv_diag[j];
+        const double *col = &ab[(size_t)j * ld + kv - j]; /* col[i] = U(i, j) */
+        double bj = b[j] * inv_diag[j];
         b[j] = bj;
-        int top = j - kv < 0 ? 0 : j - kv;
-        for (int i = top; i < j; i++) b[i] -= col[kv + i - j] * bj;
+        if (j >= kv) {
+            b[j - 1] -= col[j - 1] * bj;
+            for (int i = j - kv; i < j - 1; i++) b[i] -= col[i] * bj;
+        } else {
+            for (int i = 0; i < j; i++) b[i] -= col[i] * bj;
+        }
     }
+}
+
+static void band_solve(const implicit_work *w, double *b)
+{
+    if (w->kl == BAND) band_solve_kl(w, b, BAND);
+    else band_solve_kl(w, b, BAND_PLANAR);
 }
 
 /* Finite-difference Jacobian by 3-colouring of the blocks, factored in place.
@@ -721,8 +740,16 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
         accept_planar(w, m, s);
     } else {
         for (int i = 1; i < n; i++) {
-            memcpy(&s->frame[9 * i], &w->frame1[9 * i], 9 * sizeof(double));
-            m3_orthonormalize(&s->frame[9 * i]);
+            /* one Newton-Schulz step towards the nearest rotation,
+             * Q <- Q (3 I - Q^T Q) / 2 (m3_orthonormalize takes two): Q is a
+             * product of rotations, orthonormal to round-off, and the step
+             * converges quadratically, so a second changes nothing */
+            double qtq[9];
+            const double *q = &w->frame1[9 * i];
+            m3_mul_tn(qtq, q, q);
+            for (int k = 0; k < 9; k++) qtq[k] *= -0.5;
+            qtq[0] += 1.5; qtq[4] += 1.5; qtq[8] += 1.5;
+            m3_mul(&s->frame[9 * i], q, qtq);
         }
         memcpy(s->darboux, w->darboux1, (size_t)(n - 1) * 3 * sizeof(double));
         /* centreline from d3 at the midpoints (3.12), as rod_positions_from_midframes */
