@@ -1,4 +1,6 @@
-/* vec3.h: 3-vectors and 3x3 matrices as plain double arrays.
+/* vec3.h: 3-vectors and 3x3 matrices as plain double arrays. The small
+ * functions the schemes call per node are inline (a call costs as much as
+ * their arithmetic).
  * A matrix is row-major double[9]; a frame Q has d1 d2 d3 as its columns. */
 #ifndef RODSIM_VEC3_H
 #define RODSIM_VEC3_H
@@ -44,15 +46,98 @@ static inline void m3_mul_tv(double r[3], const double q[9], const double a[3])
 static inline void m3_column(double r[3], const double q[9], int k)
 { r[0] = q[k]; r[1] = q[3 + k]; r[2] = q[6 + k]; }
 
+/* Rodrigues coefficients of exp([phi]x) = I + a [phi]x + b [phi]x^2 for
+ * t = |phi|^2: a = sin(x)/x, b = (1 - cos x)/x^2, x = |phi|. */
+static inline void m3_exp_coefficients(double t, double *a, double *b)
+{
+    if (t < 2.5e-3) {
+        /* |angle| < 0.05: Taylor series to x^8, truncation below 1e-20; the
+         * common case (dt omega, ds u), and it avoids sin, cos and sqrt.
+         * Multiplications by the reciprocals (folded at compile time): a
+         * division each costs as much as the rest of the function. */
+        *a = 1.0 - t * (1.0 / 6.0) * (1.0 - t * (1.0 / 20.0) * (1.0 - t * (1.0 / 42.0) * (1.0 - t * (1.0 / 72.0))));
+        *b = 0.5 - t * (1.0 / 24.0) * (1.0 - t * (1.0 / 30.0) * (1.0 - t * (1.0 / 56.0) * (1.0 - t * (1.0 / 90.0))));
+    } else {
+        double angle = sqrt(t);
+        *a = sin(angle) / angle;
+        *b = (1.0 - cos(angle)) / t;
+    }
+}
+/* r = exp([phi]x) v = v + a phi x v + b phi x (phi x v), the rotation of one
+ * vector without forming the matrix; r may not alias phi or v. */
+static inline void v3_rotate(double r[3], const double phi[3], const double v[3])
+{
+    double a, b, c1[3], c2[3];
+    m3_exp_coefficients(v3_dot(phi, phi), &a, &b);
+    v3_cross(c1, phi, v);
+    v3_cross(c2, phi, c1);
+    for (int k = 0; k < 3; k++) r[k] = v[k] + a * c1[k] + b * c2[k];
+}
+
 /* r = a b; r may not alias a or b */
-void m3_mul(double r[9], const double a[9], const double b[9]);
+static inline void m3_mul(double r[9], const double a[9], const double b[9])
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            r[3 * i + j] = a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] + a[3 * i + 2] * b[6 + j];
+}
 /* r = a^T b; r may not alias a or b */
-void m3_mul_tn(double r[9], const double a[9], const double b[9]);
+static inline void m3_mul_tn(double r[9], const double a[9], const double b[9])
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            r[3 * i + j] = a[i] * b[j] + a[3 + i] * b[3 + j] + a[6 + i] * b[6 + j];
+}
 void m3_identity(double r[9]);
 /* Rotation exp([phi]x) by the Rodrigues formula, exact for any |phi|, rad. */
-void m3_exp(double r[9], const double phi[3]);
+static inline void m3_exp(double r[9], const double phi[3])
+{
+    double a, b; /* sin(x)/x and (1 - cos x)/x^2 */
+    m3_exp_coefficients(v3_dot(phi, phi), &a, &b);
+    double x = phi[0], y = phi[1], z = phi[2];
+    r[0] = 1.0 - b * (y * y + z * z);
+    r[1] = -a * z + b * x * y;
+    r[2] = a * y + b * x * z;
+    r[3] = a * z + b * x * y;
+    r[4] = 1.0 - b * (x * x + z * z);
+    r[5] = -a * x + b * y * z;
+    r[6] = -a * y + b * x * z;
+    r[7] = a * x + b * y * z;
+    r[8] = 1.0 - b * (x * x + y * y);
+}
 /* Rotation vector phi with exp([phi]x) = q, |phi| <= pi. */
-void m3_log(double phi[3], const double q[9]);
+static inline void m3_log(double phi[3], const double q[9])
+{
+    double c = 0.5 * (q[0] + q[4] + q[8] - 1.0);
+    if (c > 1.0) c = 1.0;
+    if (c < -1.0) c = -1.0;
+    double w[3] = {q[7] - q[5], q[2] - q[6], q[3] - q[1]}; /* 2 sin(angle) axis */
+    double s2 = 0.25 * v3_dot(w, w);                       /* sin^2(angle) */
+    if (c > 0.0 && s2 < 2.5e-3) {
+        /* angle < 0.05: angle/sin(angle) = asin(s)/s as a series in s^2,
+         * truncation below 1e-20; no trigonometric call */
+        double k = 1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0 + s2 * (5.0 / 112.0 + s2 * 35.0 / 1152.0)));
+        v3_scale(phi, w, 0.5 * k);
+        return;
+    }
+    double s = sqrt(s2);
+    double angle = atan2(s, c);
+    if (M_PI - angle > 1e-6) {
+        v3_scale(phi, w, 0.5 * angle / s);
+        return;
+    }
+    /* near pi: axis from the symmetric part, sign from w */
+    double d[3] = {q[0], q[4], q[8]};
+    int k = (d[0] >= d[1] && d[0] >= d[2]) ? 0 : (d[1] >= d[2] ? 1 : 2);
+    double axis[3];
+    axis[k] = sqrt(fmax(0.0, 0.5 * (d[k] + 1.0)));
+    for (int j = 0; j < 3; j++)
+        if (j != k) axis[j] = 0.5 * (q[3 * k + j] + q[3 * j + k]) / (2.0 * axis[k]);
+    double n = v3_norm(axis);
+    v3_scale(axis, axis, 1.0 / n);
+    if (v3_dot(axis, w) < 0.0) v3_scale(axis, axis, -1.0);
+    v3_scale(phi, axis, angle);
+}
 /* Nearest rotation to q (re-orthonormalise a frame that has drifted). */
 void m3_orthonormalize(double q[9]);
 

@@ -73,6 +73,9 @@ typedef struct implicit_work {
     double *perturbed; /* (unknowns) residual at a perturbed x */
     double *band;      /* (ldab x unknowns) LU factors, LAPACK band storage */
     lapack_int *pivot; /* (unknowns) */
+    double *inv_diag;  /* (unknowns) 1 / U_jj of the factorisation: the back substitution
+                          multiplies instead of dividing (a division's latency sits on its
+                          serial critical path) */
     int have_factor;   /* band holds a usable factorisation */
 
     /* start of the step */
@@ -85,9 +88,12 @@ typedef struct implicit_work {
 
     /* end of the step, for the iterate x */
     double *frame1;    /* (nodes x 9) */
-    double *frame_th;  /* (nodes x 9) frame at the theta point (= frame1 for theta = 1) */
+    double *frame_th;  /* (nodes x 9) frame at the theta point (theta < 1; for theta = 1 the
+                          residual reads frame1) */
     double *darboux1;  /* (nodes-1 x 3) */
-    double *mid1;      /* (nodes-1 x 9) midpoint frames */
+    double *mid1;      /* (nodes-1 x 9) midpoint frames at the start of a run of steps;
+                          scratch of the planar path */
+    double *d3mid1;    /* (nodes-1 x 3) d3 at the midpoints */
     double *moment1;   /* (nodes-1 x 3) global */
 
     /* a saved copy of the state for step splitting */
@@ -118,10 +124,11 @@ static void destroy(void *p)
     double **arrays[] = {&w->x, &w->dx, &w->x_last, &w->x_before, &w->residual, &w->perturbed, &w->band,
                          &w->frame0, &w->omega0, &w->vel0, &w->d3mid0, &w->moment0,
                          &w->tipf0, &w->tipm0, &w->frame1, &w->frame_th, &w->darboux1,
-                         &w->mid1, &w->moment1, &w->save_frame, &w->save_pos, &w->save_vel,
+                         &w->mid1, &w->d3mid1, &w->moment1, &w->save_frame, &w->save_pos, &w->save_vel,
                          &w->save_omega, &w->save_force, &w->phi0, &w->phi1, &w->phi_th};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) free(*arrays[k]);
     free(w->pivot);
+    free(w->inv_diag);
     free(w);
 }
 
@@ -150,6 +157,7 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->perturbed = calloc(u, sizeof(double));
     w->band = calloc((size_t)w->ldab * u, sizeof(double));
     w->pivot = calloc(u, sizeof *w->pivot);
+    w->inv_diag = calloc(u, sizeof(double));
     w->frame0 = calloc(n * 9, sizeof(double));
     w->omega0 = calloc(n * 3, sizeof(double));
     w->vel0 = calloc(n * 3, sizeof(double));
@@ -161,6 +169,7 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->frame_th = calloc(n * 9, sizeof(double));
     w->darboux1 = calloc(n * 3, sizeof(double));
     w->mid1 = calloc(n * 9, sizeof(double));
+    w->d3mid1 = calloc(n * 3, sizeof(double));
     w->moment1 = calloc(n * 3, sizeof(double));
     w->save_frame = calloc(n * 9, sizeof(double));
     w->save_pos = calloc(n * 3, sizeof(double));
@@ -171,9 +180,9 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->phi1 = calloc(n, sizeof(double));
     w->phi_th = calloc(n, sizeof(double));
     if (!w->phi0 || !w->phi1 || !w->phi_th) goto oom;
-    if (!w->x || !w->dx || !w->x_last || !w->x_before || !w->residual || !w->perturbed || !w->band || !w->pivot ||
+    if (!w->x || !w->dx || !w->x_last || !w->x_before || !w->residual || !w->perturbed || !w->band || !w->pivot || !w->inv_diag ||
         !w->frame0 || !w->omega0 || !w->vel0 || !w->d3mid0 || !w->moment0 || !w->tipf0 ||
-        !w->tipm0 || !w->frame1 || !w->frame_th || !w->darboux1 || !w->mid1 || !w->moment1 ||
+        !w->tipm0 || !w->frame1 || !w->frame_th || !w->darboux1 || !w->mid1 || !w->d3mid1 || !w->moment1 ||
         !w->save_frame || !w->save_pos || !w->save_vel || !w->save_omega || !w->save_force)
         goto oom;
 
@@ -239,6 +248,31 @@ static void elastic_state(const rod_model *m, const double *frame, double *darbo
     }
 }
 
+/* The same as elastic_state for the end of the step, without forming the
+ * midpoint frames Q_{i+1/2} = Q_i exp(h), h = ds/2 u: only d3 = Q_i exp(h) e3
+ * and M = Q_i exp(h) B u are needed, each one rotation of a vector (the
+ * residual evaluates this twice or more per step). */
+static void end_geometry(const rod_model *m, const double *frame, double *darboux,
+                         double *d3mid, double *moment)
+{
+    const double inv_ds = 1.0 / m->ds;
+    for (int j = 0; j + 1 < m->nodes; j++) {
+        double rel[9], phi[3], half[3], bu[3], e3[3] = {0.0, 0.0, 1.0}, local[3];
+        const double *q = &frame[9 * j];
+        m3_mul_tn(rel, q, &frame[9 * (j + 1)]);
+        m3_log(phi, rel);
+        for (int k = 0; k < 3; k++) {
+            darboux[3 * j + k] = phi[k] * inv_ds;
+            half[k] = 0.5 * phi[k];
+            bu[k] = m->stiffness[k] * darboux[3 * j + k];
+        }
+        v3_rotate(local, half, e3);
+        m3_mul_v(&d3mid[3 * j], q, local);
+        v3_rotate(local, half, bu);
+        m3_mul_v(&moment[3 * j], q, local);
+    }
+}
+
 static inline const double *block_force(const double *x, int b) { return &x[BLOCK * (b - 1)]; }
 static inline const double *block_vel(const double *x, int b) { return &x[BLOCK * (b - 1) + 3]; }
 static inline const double *block_omega(const double *x, int b) { return &x[BLOCK * (b - 1) + 6]; }
@@ -250,8 +284,13 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
     const int n = w->nodes;
     const double theta = m->options.theta, ds = m->ds, mass = m->mass_per_length;
     const double *inertia = m->rotary_inertia;
+    /* reciprocals: the loops below multiply (a division per use would cost more
+     * than the rest of the line) */
+    const double inv_dt = 1.0 / dt, dt_ds = dt / ds;
 
-    /* frames at the end of the step and at the theta point */
+    /* frames at the end of the step and at the theta point; for theta = 1
+     * they are the same array */
+    const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
     memcpy(&w->frame1[0], &w->frame0[0], 9 * sizeof(double));
     memcpy(&w->frame_th[0], &w->frame0[0], 9 * sizeof(double));
     for (int i = 1; i < n; i++) {
@@ -265,14 +304,12 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
             v3_scale(wbar, wbar, theta);
             m3_exp(rot, wbar);
             m3_mul(&w->frame_th[9 * i], &w->frame0[9 * i], rot);
-        } else {
-            memcpy(&w->frame_th[9 * i], &w->frame1[9 * i], 9 * sizeof(double));
         }
     }
-    elastic_state(m, w->frame1, w->darboux1, w->mid1, NULL, w->moment1);
+    end_geometry(m, w->frame1, w->darboux1, w->d3mid1, w->moment1);
 
     double tipf1[3], tipm1[3], tipf[3], tipm[3];
-    tip_load_global(m, t + dt, &w->frame_th[9 * (n - 1)], tipf1, tipm1);
+    tip_load_global(m, t + dt, &frame_th[9 * (n - 1)], tipf1, tipm1);
     for (int k = 0; k < 3; k++) {
         tipf[k] = theta * tipf1[k] + (1.0 - theta) * w->tipf0[k];
         tipm[k] = theta * tipm1[k] + (1.0 - theta) * w->tipm0[k];
@@ -293,15 +330,15 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
             for (int k = 0; k < 3; k++)
                 vbar_l[k] = theta * vl[k] + (1.0 - theta) * w->vel0[3 * (b - 1) + k];
         }
-        m3_column(d3_1, &w->mid1[9 * j], 2);
+        v3_copy(d3_1, &w->d3mid1[3 * j]);
         for (int k = 0; k < 3; k++)
-            r[k] = (vbar_r[k] - vbar_l[k]) * dt / ds - (d3_1[k] - w->d3mid0[3 * j + k]);
+            r[k] = (vbar_r[k] - vbar_l[k]) * dt_ds - (d3_1[k] - w->d3mid0[3 * j + k]);
 
         /* (3.3)_1 linear momentum of the cell of node b, global */
         const double *n_left = block_force(x, b);
         const double *n_right = (b < n - 1) ? block_force(x, b + 1) : tipf;
         for (int k = 0; k < 3; k++) {
-            double inertial = wb * mass * (vr[k] - w->vel0[3 * b + k]) / dt;
+            double inertial = wb * mass * (vr[k] - w->vel0[3 * b + k]) * inv_dt;
             double external = wb * (m->distributed_force[k] - m->linear_damping * vbar_r[k]);
             r[3 + k] = (inertial - (n_right[k] - n_left[k]) - external) * fs;
         }
@@ -319,14 +356,14 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
         v3_cross(cr, d3l, n_left);
         v3_axpy(total, 0.5 * ds, cr);
         if (b < n - 1) {
-            double d3r[3], d3r1[3];
-            m3_column(d3r1, &w->mid1[9 * b], 2);
+            double d3r[3];
+            const double *d3r1 = &w->d3mid1[3 * b];
             for (int k = 0; k < 3; k++) d3r[k] = theta * d3r1[k] + (1.0 - theta) * w->d3mid0[3 * b + k];
             v3_cross(cr, d3r, n_right);
             v3_axpy(total, 0.5 * ds, cr);
         }
         double body[3], wbar[3], iw[3], gyro[3];
-        m3_mul_tv(body, &w->frame_th[9 * b], total);
+        m3_mul_tv(body, &frame_th[9 * b], total);
         const double *om = block_omega(x, b);
         for (int k = 0; k < 3; k++) {
             wbar[k] = theta * om[k] + (1.0 - theta) * w->omega0[3 * b + k];
@@ -334,7 +371,7 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
         }
         v3_cross(gyro, wbar, iw);
         for (int k = 0; k < 3; k++) {
-            double inertial = wb * (inertia[k] * (om[k] - w->omega0[3 * b + k]) / dt + gyro[k]);
+            double inertial = wb * (inertia[k] * (om[k] - w->omega0[3 * b + k]) * inv_dt + gyro[k]);
             r[6 + k] = (inertial - body[k] + wb * m->angular_damping * wbar[k]) * ms;
         }
     }
@@ -443,37 +480,61 @@ static void evaluate(implicit_work *w, const rod_model *m, const double *x, doub
 
 static double max_abs(const double *a, int n)
 {
+    /* branch-free (a data-dependent branch per entry mispredicted often):
+     * the maximum, and a separate flag so that a NaN wins and is never
+     * "converged" */
     double worst = 0.0;
+    int nan = 0;
     for (int i = 0; i < n; i++) {
         double v = fabs(a[i]);
-        if (v > worst || v != v) worst = v; /* a NaN wins, so it is never "converged" */
+        worst = v > worst ? v : worst;
+        nan |= v != v;
     }
-    return worst;
+    return nan ? NAN : worst;
 }
 
 /* Solves A x = b in place with the factors of LAPACKE_dgbtrf (band storage,
- * kl = ku = BAND): the same arithmetic as dgbtrs, written out because the
- * library call's per-column BLAS overhead dominated at this size. */
-static void band_solve(const implicit_work *w, double *b)
+ * kl = ku): the same arithmetic as dgbtrs, written out because the library
+ * call's per-column BLAS overhead dominated at this size. Inlined with kl a
+ * constant, so that the inner loops have fixed lengths away from the ends
+ * (unrolled, vectorised); in the back substitution the entry the next column
+ * needs, b[j-1], is updated first: it alone is on the serial critical path. */
+static inline __attribute__((always_inline)) void band_solve_kl(const implicit_work *w,
+                                                               double *restrict b, const int kl)
 {
-    const int n = w->unknowns, kl = w->kl, kv = 2 * w->kl, ld = w->ldab;
-    const double *ab = w->band;
+    const int n = w->unknowns, kv = 2 * kl, ld = w->ldab;
+    const double *restrict ab = w->band;
+    const double *restrict inv_diag = w->inv_diag;
+    const lapack_int *restrict pivot = w->pivot;
     for (int j = 0; j < n - 1; j++) { /* L: row interchanges and unit lower factor */
-        int p = w->pivot[j] - 1;
-        if (p != j) { double t = b[p]; b[p] = b[j]; b[j] = t; }
-        double bj = b[j];
-        if (bj == 0.0) continue;
-        int lm = n - 1 - j < kl ? n - 1 - j : kl;
+        int p = pivot[j] - 1;
+        double bj = b[p];
+        b[p] = b[j];
+        b[j] = bj;
         const double *col = &ab[(size_t)j * ld + kv + 1];
-        for (int i = 0; i < lm; i++) b[j + 1 + i] -= col[i] * bj;
+        if (j + kl < n) {
+            for (int i = 0; i < kl; i++) b[j + 1 + i] -= col[i] * bj;
+        } else {
+            for (int i = 0; j + 1 + i < n; i++) b[j + 1 + i] -= col[i] * bj;
+        }
     }
     for (int j = n - 1; j >= 0; j--) { /* U: upper band of width kl + ku */
-        const double *col = &ab[(size_t)j * ld];
-        double bj = b[j] / col[kv];
+        const double *col = &ab[(size_t)j * ld + kv - j]; /* col[i] = U(i, j) */
+        double bj = b[j] * inv_diag[j];
         b[j] = bj;
-        int top = j - kv < 0 ? 0 : j - kv;
-        for (int i = top; i < j; i++) b[i] -= col[kv + i - j] * bj;
+        if (j >= kv) {
+            b[j - 1] -= col[j - 1] * bj;
+            for (int i = j - kv; i < j - 1; i++) b[i] -= col[i] * bj;
+        } else {
+            for (int i = 0; i < j; i++) b[i] -= col[i] * bj;
+        }
     }
+}
+
+static void band_solve(const implicit_work *w, double *b)
+{
+    if (w->kl == BAND) band_solve_kl(w, b, BAND);
+    else band_solve_kl(w, b, BAND_PLANAR);
 }
 
 /* Finite-difference Jacobian by 3-colouring of the blocks, factored in place.
@@ -511,6 +572,8 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
     lapack_int info = LAPACKE_dgbtrf_work(LAPACK_COL_MAJOR, nu, nu, kl, ku, w->band, ld, w->pivot);
     w->have_factor = (info == 0);
     w->jacobian_dt = dt;
+    if (info == 0)
+        for (int j = 0; j < nu; j++) w->inv_diag[j] = 1.0 / w->band[(size_t)j * (size_t)ld + (size_t)(kl + ku)];
     return info == 0 ? 0 : -1;
 }
 
@@ -672,23 +735,39 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
         if (!isfinite(w->x[i])) return -1; /* never accept a non-finite solution */
 
     /* accept: Newton's last residual evaluation was at x, so frame1, darboux1,
-     * mid1 and moment1 (or phi1 in the plane) describe the end of the step */
+     * d3mid1 and moment1 (or phi1 in the plane) describe the end of the step */
     if (w->planar) {
         accept_planar(w, m, s);
     } else {
         for (int i = 1; i < n; i++) {
-            memcpy(&s->frame[9 * i], &w->frame1[9 * i], 9 * sizeof(double));
-            m3_orthonormalize(&s->frame[9 * i]);
+            /* one Newton-Schulz step towards the nearest rotation,
+             * Q <- Q (3 I - Q^T Q) / 2 (m3_orthonormalize takes two): Q is a
+             * product of rotations, orthonormal to round-off, and the step
+             * converges quadratically, so a second changes nothing */
+            double qtq[9];
+            const double *q = &w->frame1[9 * i];
+            m3_mul_tn(qtq, q, q);
+            for (int k = 0; k < 9; k++) qtq[k] *= -0.5;
+            qtq[0] += 1.5; qtq[4] += 1.5; qtq[8] += 1.5;
+            m3_mul(&s->frame[9 * i], q, qtq);
         }
         memcpy(s->darboux, w->darboux1, (size_t)(n - 1) * 3 * sizeof(double));
-        rod_positions_from_midframes(m, w->mid1, s->position);
+        /* centreline from d3 at the midpoints (3.12), as rod_positions_from_midframes */
+        v3_set(s->position, 0.0, 0.0, 0.0);
+        for (int j = 0; j + 1 < n; j++)
+            for (int k = 0; k < 3; k++)
+                s->position[3 * (j + 1) + k] = s->position[3 * j + k] + m->ds * w->d3mid1[3 * j + k];
         for (int b = 1; b < n; b++) {
             m3_mul_tv(&s->velocity[3 * b], &s->frame[9 * b], block_vel(w->x, b));
             v3_copy(&s->angular_velocity[3 * b], block_omega(w->x, b));
-            m3_mul_tv(&s->contact_force[3 * (b - 1)], &w->mid1[9 * (b - 1)], block_force(w->x, b));
+            /* Q_mid^T N = exp(-h) Q_{b-1}^T N, h = ds/2 u, in the frame at the midpoint */
+            double local[3], back[3];
+            m3_mul_tv(local, &w->frame1[9 * (b - 1)], block_force(w->x, b));
+            v3_scale(back, &w->darboux1[3 * (b - 1)], -0.5 * m->ds);
+            v3_rotate(&s->contact_force[3 * (b - 1)], back, local);
         }
         memcpy(w->moment0, w->moment1, (size_t)(n - 1) * 3 * sizeof(double));
-        for (int j = 0; j + 1 < n; j++) m3_column(&w->d3mid0[3 * j], &w->mid1[9 * j], 2);
+        memcpy(w->d3mid0, w->d3mid1, (size_t)(n - 1) * 3 * sizeof(double));
     }
     v3_set(&s->velocity[0], 0, 0, 0);
     v3_set(&s->angular_velocity[0], 0, 0, 0);
