@@ -194,22 +194,12 @@ int gl_target_read(gl_target *t, image *out)
 int gl_target_read_box_rgba(gl_target *t, int x, int y, int width, int height,
                             unsigned char *rgba)
 {
-    int gl_y = t->height - (y + height);
-    if (x < 0 || gl_y < 0 || width <= 0 || height <= 0 || x + width > t->width ||
-        y + height > t->height)
-        return -1;
-    /* the scissor box limits the resolve blit to the box (llvmpipe honours it) */
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(x, gl_y, width, height);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, t->draw_fbo);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->resolve_fbo);
-    glBlitFramebuffer(x, gl_y, x + width, gl_y + height, x, gl_y, x + width, gl_y + height,
-                      GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    /* resolve only the box (the scissor limits llvmpipe's blit), then read it */
+    if (gl_target_resolve_box(t, x, y, width, height)) return -1;
     glBindFramebuffer(GL_READ_FRAMEBUFFER, t->resolve_fbo);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(x, gl_y, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    glReadPixels(x, t->height - (y + height), width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
     glBindFramebuffer(GL_FRAMEBUFFER, t->draw_fbo);
-    glDisable(GL_SCISSOR_TEST);
     return glGetError() == GL_NO_ERROR ? 0 : -1;
 }
 
