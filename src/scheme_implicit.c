@@ -6,10 +6,14 @@
  * grid): velocity v and angular velocity omega at the nodes i = 0..NS-1;
  * Darboux vector u and contact force N at the segment midpoints i+1/2.
  *
- * Unknowns of a step, per block b = 1..NS-1 (9 each, 9 (NS-1) in all):
+ * Unknowns of a step, per block b = 1..NS-1 (6 each, 6 (NS-1) in all):
  *   N_{b-1/2}  contact force, global components (the multiplier of (3.14));
- *   v_b        velocity at the end of the step, global components;
  *   omega_b    angular velocity at the end of the step, director components.
+ * The velocity v_b at the end of the step (global components) is not an
+ * unknown either: the linear momentum balance (3.3)_1 below is linear in v_b
+ * and in N, so it gives v_b from the two contact forces beside node b; the
+ * Newton system keeps (3.14) and (3.6)_2 (6 equations per node, half
+ * bandwidth 8 instead of 9 unknowns and 11).
  * u is not an unknown: the frames advance by the exact exponential map
  *   Q_i(t+dt) = Q_i(t) exp(dt [omega_bar_i]x),  omega_bar = theta w(t+dt) + (1-theta) w(t)
  * (integrating (3.1)_2), and u_{i+1/2} = log(Q_i^T Q_{i+1}) / ds (integrating
@@ -21,7 +25,8 @@
  *          = d3_{b-1/2}(t+dt) - d3_{b-1/2}(t), the time difference of
  *          r_{i+1} - r_i = ds d3_{i+1/2}; so r(t+dt) = r(t) + dt v_bar agrees
  *          with the centreline integrated from d3 (3.12).
- *   (3.6)_1 (written in the fixed frame, (3.3)_1) over the cell of node b:
+ *   (3.6)_1 (written in the fixed frame, (3.3)_1) over the cell of node b,
+ *          solved for v_b:
  *          m w_b (v_b - v_b(t)) / dt = N_{b+1/2} - N_{b-1/2} + w_b (T - c v_bar)
  *   (3.6)_2 in director components of node b:
  *          I w_b (omega - omega(t)) / dt + w_b omega_bar x I omega_bar
@@ -32,7 +37,7 @@
  * Elastic terms are theta-weighted between the start and the end of the step.
  *
  * Newton: the Jacobian is built by finite differences with a 3-colouring of
- * the block-tridiagonal pattern (27 residual evaluations), factored by
+ * the block-tridiagonal pattern (18 residual evaluations; 15 in the plane), factored by
  * LAPACK's banded LU with partial pivoting, and reused across iterations and
  * steps while it keeps converging (refreshed when convergence slows). A step
  * whose Newton iteration fails is split in two, recursively, before giving up.
@@ -48,12 +53,13 @@
 #include "rod_geometry.h"
 #include "vec3.h"
 
-/* Unknowns per block: N(3), v(3), omega(3) in 3-D; N(2), v(2), omega_2 in the
- * plane. Half bandwidth kl = ku of the Jacobian in that block order: the
- * angular momentum rows of node b reach omega of nodes b-1 and b+1, 11 (3-D)
- * or 5 (planar) places away; every other coupling is nearer. */
-#define BLOCK 9
-#define BAND 11
+/* Unknowns per block: N(3), omega(3) in 3-D; N(2), v(2), omega_2 in the
+ * plane. Half bandwidth kl = ku of the Jacobian in that block order: 8 in 3-D
+ * (the angular momentum rows of node b reach omega of nodes b-1 and b+1, and
+ * the constraint rows N of the segments beyond, through v) and 5 in the
+ * plane; every other coupling is nearer. */
+#define BLOCK 6
+#define BAND 8
 #define BLOCK_PLANAR 5
 #define BAND_PLANAR 5
 #define MAX_SPLIT_DEPTH 12
@@ -65,7 +71,8 @@ typedef struct implicit_work {
     int nodes, blocks, unknowns;
     int planar;        /* 1: the planar problem (rod_model_loads_planar and physics.planar) */
     int block, kl;     /* unknowns per block and half bandwidth (BLOCK/BAND or _PLANAR) */
-    int var_kind[BLOCK]; /* per component of a block: 0 force, 1 velocity, 2 angular velocity */
+    int var_kind[BLOCK_PLANAR > BLOCK ? BLOCK_PLANAR : BLOCK]; /* per component of a block:
+                                    0 force, 1 velocity, 2 angular velocity */
     int ldab;
     double *x;         /* (unknowns) current Newton iterate */
     double *dx;        /* (unknowns) correction */
@@ -82,6 +89,7 @@ typedef struct implicit_work {
     double *frame0;    /* (nodes x 9) */
     double *omega0;    /* (nodes x 3) director */
     double *vel0;      /* (nodes x 3) global */
+    double *vel1;      /* (nodes x 3) global, end of the step: from N by (3.3)_1 (3-D) */
     double *d3mid0;    /* (nodes-1 x 3) */
     double *moment0;   /* (nodes-1 x 3) global, M_{i+1/2} */
     double *tipf0, *tipm0; /* (3) tip force and moment at the start, global */
@@ -122,7 +130,7 @@ static void destroy(void *p)
     implicit_work *w = p;
     if (!w) return;
     double **arrays[] = {&w->x, &w->dx, &w->x_last, &w->x_before, &w->residual, &w->perturbed, &w->band,
-                         &w->frame0, &w->omega0, &w->vel0, &w->d3mid0, &w->moment0,
+                         &w->frame0, &w->omega0, &w->vel0, &w->vel1, &w->d3mid0, &w->moment0,
                          &w->tipf0, &w->tipm0, &w->frame1, &w->frame_th, &w->darboux1,
                          &w->mid1, &w->d3mid1, &w->moment1, &w->save_frame, &w->save_pos, &w->save_vel,
                          &w->save_omega, &w->save_force, &w->phi0, &w->phi1, &w->phi_th};
@@ -143,7 +151,7 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->planar = m->physics.planar && rod_model_loads_planar(m);
     w->block = w->planar ? BLOCK_PLANAR : BLOCK;
     w->kl = w->planar ? BAND_PLANAR : BAND;
-    static const int kinds3[BLOCK] = {0, 0, 0, 1, 1, 1, 2, 2, 2};
+    static const int kinds3[BLOCK] = {0, 0, 0, 2, 2, 2};
     static const int kinds2[BLOCK_PLANAR] = {0, 0, 1, 1, 2};
     memcpy(w->var_kind, w->planar ? kinds2 : kinds3, (size_t)w->block * sizeof(int));
     w->unknowns = w->block * w->blocks;
@@ -161,6 +169,8 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->frame0 = calloc(n * 9, sizeof(double));
     w->omega0 = calloc(n * 3, sizeof(double));
     w->vel0 = calloc(n * 3, sizeof(double));
+    w->vel1 = calloc(n * 3, sizeof(double));
+    if (!w->vel1) goto oom;
     w->d3mid0 = calloc(n * 3, sizeof(double));
     w->moment0 = calloc(n * 3, sizeof(double));
     w->tipf0 = calloc(3, sizeof(double));
@@ -274,8 +284,7 @@ static void end_geometry(const rod_model *m, const double *frame, double *darbou
 }
 
 static inline const double *block_force(const double *x, int b) { return &x[BLOCK * (b - 1)]; }
-static inline const double *block_vel(const double *x, int b) { return &x[BLOCK * (b - 1) + 3]; }
-static inline const double *block_omega(const double *x, int b) { return &x[BLOCK * (b - 1) + 6]; }
+static inline const double *block_omega(const double *x, int b) { return &x[BLOCK * (b - 1) + 3]; }
 
 /* Scaled residual of the step t -> t + dt at the iterate x. */
 static void residual(implicit_work *w, const rod_model *m, const double *x, double t, double dt,
@@ -315,33 +324,36 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
         tipm[k] = theta * tipm1[k] + (1.0 - theta) * w->tipm0[k];
     }
 
-    const double fs = 1.0 / w->force_scale, ms = 1.0 / w->moment_scale;
+    /* (3.3)_1, linear momentum of the cell of node b (global), solved for the
+     * velocity at the end of the step: linear in N, so v is not an unknown */
+    const double ms = 1.0 / w->moment_scale;
+    const double c = m->linear_damping;
+    v3_set(&w->vel1[0], 0.0, 0.0, 0.0);
+    for (int b = 1; b < n; b++) {
+        const double wb = (b == n - 1) ? 0.5 * ds : ds;
+        const double *n_left = block_force(x, b);
+        const double *n_right = (b < n - 1) ? block_force(x, b + 1) : tipf;
+        const double inv_coeff = 1.0 / (wb * (mass * inv_dt + theta * c));
+        for (int k = 0; k < 3; k++)
+            w->vel1[3 * b + k] =
+                (wb * (mass * inv_dt - (1.0 - theta) * c) * w->vel0[3 * b + k] + n_right[k] -
+                 n_left[k] + wb * m->distributed_force[k]) * inv_coeff;
+    }
     for (int b = 1; b < n; b++) {
         double *r = &res[BLOCK * (b - 1)];
         const int j = b - 1; /* segment to the left of node b */
         const double wb = (b == n - 1) ? 0.5 * ds : ds;
 
         /* (3.14) constraint on segment j, dimensionless */
-        double vbar_l[3] = {0, 0, 0}, vbar_r[3], d3_1[3];
-        const double *vr = block_vel(x, b);
-        for (int k = 0; k < 3; k++) vbar_r[k] = theta * vr[k] + (1.0 - theta) * w->vel0[3 * b + k];
-        if (b > 1) {
-            const double *vl = block_vel(x, b - 1);
-            for (int k = 0; k < 3; k++)
-                vbar_l[k] = theta * vl[k] + (1.0 - theta) * w->vel0[3 * (b - 1) + k];
-        }
+        double d3_1[3];
         v3_copy(d3_1, &w->d3mid1[3 * j]);
-        for (int k = 0; k < 3; k++)
-            r[k] = (vbar_r[k] - vbar_l[k]) * dt_ds - (d3_1[k] - w->d3mid0[3 * j + k]);
-
-        /* (3.3)_1 linear momentum of the cell of node b, global */
+        for (int k = 0; k < 3; k++) {
+            double vbar_r = theta * w->vel1[3 * b + k] + (1.0 - theta) * w->vel0[3 * b + k];
+            double vbar_l = theta * w->vel1[3 * j + k] + (1.0 - theta) * w->vel0[3 * j + k];
+            r[k] = (vbar_r - vbar_l) * dt_ds - (d3_1[k] - w->d3mid0[3 * j + k]);
+        }
         const double *n_left = block_force(x, b);
         const double *n_right = (b < n - 1) ? block_force(x, b + 1) : tipf;
-        for (int k = 0; k < 3; k++) {
-            double inertial = wb * mass * (vr[k] - w->vel0[3 * b + k]) * inv_dt;
-            double external = wb * (m->distributed_force[k] - m->linear_damping * vbar_r[k]);
-            r[3 + k] = (inertial - (n_right[k] - n_left[k]) - external) * fs;
-        }
 
         /* (3.6)_2 angular momentum of the cell of node b, director components */
         double total[3], d3l[3], cr[3];
@@ -372,7 +384,7 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
         v3_cross(gyro, wbar, iw);
         for (int k = 0; k < 3; k++) {
             double inertial = wb * (inertia[k] * (om[k] - w->omega0[3 * b + k]) * inv_dt + gyro[k]);
-            r[6 + k] = (inertial - body[k] + wb * m->angular_damping * wbar[k]) * ms;
+            r[3 + k] = (inertial - body[k] + wb * m->angular_damping * wbar[k]) * ms;
         }
     }
 }
@@ -725,8 +737,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
                 xb[4] = w->omega0[3 * b + 1];
             } else {
                 v3_copy(xb, force);
-                v3_copy(xb + 3, &w->vel0[3 * b]);
-                v3_copy(xb + 6, &w->omega0[3 * b]);
+                v3_copy(xb + 3, &w->omega0[3 * b]);
             }
         }
     }
@@ -758,7 +769,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
             for (int k = 0; k < 3; k++)
                 s->position[3 * (j + 1) + k] = s->position[3 * j + k] + m->ds * w->d3mid1[3 * j + k];
         for (int b = 1; b < n; b++) {
-            m3_mul_tv(&s->velocity[3 * b], &s->frame[9 * b], block_vel(w->x, b));
+            m3_mul_tv(&s->velocity[3 * b], &s->frame[9 * b], &w->vel1[3 * b]);
             v3_copy(&s->angular_velocity[3 * b], block_omega(w->x, b));
             /* Q_mid^T N = exp(-h) Q_{b-1}^T N, h = ds/2 u, in the frame at the midpoint */
             double local[3], back[3];
