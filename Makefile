@@ -17,11 +17,14 @@ LDFLAGS ?=
 BUILD   ?= build/release
 SAN_FLAGS := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 
-SRC     := $(wildcard src/*.c)
-LIB_OBJ := $(patsubst src/%.c,$(BUILD)/obj/%.o,$(filter-out src/main.c,$(SRC)))
-TESTS   := $(wildcard tests/test_*.c)
+# One folder per layer (README "Layout"): src/LAYER/NAME.c, include/LAYER/NAME.h,
+# tests/LAYER/test_NAME.c; benchmarks in tests/bench/.
+SRC     := $(wildcard src/*/*.c)
+HEADERS := $(wildcard include/*/*.h)
+LIB_OBJ := $(patsubst src/%.c,$(BUILD)/obj/%.o,$(filter-out src/cli/main.c,$(SRC)))
+TESTS   := $(filter-out tests/bench/%,$(wildcard tests/*/test_*.c))
 TEST_BIN:= $(patsubst tests/%.c,$(BUILD)/tests/%,$(TESTS))
-BENCHES := $(wildcard tests/bench_*.c)
+BENCHES := $(wildcard tests/bench/bench_*.c)
 BENCH_BIN := $(patsubst tests/%.c,$(BUILD)/tests/%,$(BENCHES))
 
 .PHONY: all deps rodsim tests test test-release test-asan demo bench figures clean
@@ -32,20 +35,20 @@ all: rodsim
 rodsim: $(BUILD)/rodsim
 	@ln -sf $(BUILD)/rodsim rodsim
 
-$(BUILD)/rodsim: $(BUILD)/obj/main.o $(BUILD)/librodsim.a
+$(BUILD)/rodsim: $(BUILD)/obj/cli/main.o $(BUILD)/librodsim.a
 	$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $^ $(LDLIBS)
 
 $(BUILD)/librodsim.a: $(LIB_OBJ)
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
 
-$(BUILD)/obj/%.o: src/%.c $(wildcard include/*.h) Makefile
+$(BUILD)/obj/%.o: src/%.c $(HEADERS) Makefile
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -c -o $@ $<
 
-$(BUILD)/tests/%: tests/%.c tests/test.h $(BUILD)/librodsim.a $(BUILD)/rodsim
+$(BUILD)/tests/%: tests/%.c $(wildcard tests/*.h) $(BUILD)/librodsim.a $(BUILD)/rodsim
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -DRODSIM_BIN='"$(CURDIR)/$(BUILD)/rodsim"' $(LDFLAGS) -o $@ $< $(BUILD)/librodsim.a $(LDLIBS)
+	$(CC) $(ALL_CFLAGS) -Itests -DRODSIM_BIN='"$(CURDIR)/$(BUILD)/rodsim"' $(LDFLAGS) -o $@ $< $(BUILD)/librodsim.a $(LDLIBS)
 
 tests: $(TEST_BIN)
 

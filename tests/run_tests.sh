@@ -12,7 +12,7 @@ export RODSIM_TEST_FLAVOUR="$flavour"
 passed=0
 failed=0
 log=$(mktemp)
-for t in "$build"/tests/test_*; do
+for t in $(find "$build/tests" -type f -name 'test_*' | sort); do
     [ -x "$t" ] || continue
     name=$(basename "$t")
     echo "== $flavour/$name"

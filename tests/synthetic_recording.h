@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "recording.h"
-#include "vec3.h"
+#include "sim/recording.h"
+#include "base/vec3.h"
 
 static inline rod_recording *synthetic_recording_create(int nodes, int frames, double length,
                                                         double diameter)

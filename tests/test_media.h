@@ -13,7 +13,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "image.h"
+#include "render/image.h"
 #include "test_process.h"
 
 #ifndef DECODE_KEEP

@@ -1,0 +1,41 @@
+/* gl_render.h: draws render_vertex triangles and lines with the scene
+ * shader (shaders/scene.*) into a multisampled offscreen target and reads
+ * the picture back. The GL layer of the renderer: owns the context. */
+#ifndef RODSIM_GL_RENDER_H
+#define RODSIM_GL_RENDER_H
+
+#include <stddef.h>
+
+#include "render/image.h"
+#include "render/render.h"
+
+typedef struct gl_renderer gl_renderer;
+
+/* Makes the GL context (current on this thread), the target, the program
+ * and buffers for up to max_vertices / max_indices triangles per frame and
+ * max_line_vertices of static lines. NULL with a message. */
+gl_renderer *gl_renderer_create(int width, int height, int samples, int max_vertices,
+                                int max_indices, int max_line_vertices, char *err, size_t errlen);
+void gl_renderer_destroy(gl_renderer *r);
+/* Static lines (the grid), drawn unlit every frame; count <= max_line_vertices. */
+void gl_renderer_set_lines(gl_renderer *r, const render_vertex *lines, int count);
+/* The static part of the picture, drawn once: clears to background, draws
+ * the lines (multisampled), reads the whole picture into out. 0, or -1. */
+int gl_renderer_draw_backdrop(gl_renderer *r, const render_camera *cam,
+                              const unsigned char background[3], image *out);
+/* The moving part: clears each box (4 ints each: x, y, width, height in
+ * pixels, y down; boxes disjoint, covering the triangles) to transparent,
+ * draws the lit triangles once with back faces culled (closed surfaces,
+ * wound counter-clockwise seen from outside), resolves each box, and reads
+ * the boxes' bounding rectangle back
+ * as premultiplied RGBA (coverage in alpha), rows bottom-up; read_box gets
+ * that rectangle (x, y, width, height). Only the boxes cost much time
+ * (clear, multisample resolve). Returns the pixels, owned by r and valid
+ * until the next call, or NULL on a GL error. */
+const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera *cam,
+                                            const render_vertex *vertices, int vertex_count,
+                                            const unsigned *indices, int index_count,
+                                            const int *boxes, int box_count, int read_box[4]);
+const char *gl_renderer_description(const gl_renderer *r);
+
+#endif

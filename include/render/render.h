@@ -1,0 +1,119 @@
+/* render.h: the headless renderer. Turns a rod_recording (the frames of a
+ * run) into pictures: a tube swept with the rod's own director frames, the
+ * twist stripe, the clamp, the tip load arrows, a backdrop grid with a scale
+ * bar and overlay text; writes the MP4, the poster PNG and, on request,
+ * every frame as PNG.
+ *
+ * Geometry (stripe, tube, camera, projection) is pure C here and testable
+ * without GL; GL drawing lives in gl_render.c, encoding in video.c. */
+#ifndef RODSIM_RENDER_H
+#define RODSIM_RENDER_H
+
+#include <stddef.h>
+
+#include "base/ini.h"
+#include "sim/recording.h"
+
+typedef enum {
+    RENDER_STRIPE_DIRECTOR = 0, /* the material line from the director frames: exact for any shape */
+    RENDER_STRIPE_FORMULA,      /* thesis (4.17) literally: a rotation about x by s u3 */
+    RENDER_STRIPE_OFF
+} render_stripe_mode;
+
+typedef enum { RENDER_CAMERA_PERSPECTIVE = 0, RENDER_CAMERA_ORTHOGRAPHIC } render_camera_kind;
+
+/* Scene [render] section; render_options_default() makes a good picture. */
+typedef struct render_options {
+    int width, height;           /* pixels (even: yuv420p) */
+    int fps;                     /* video frames per second */
+    int crf;                     /* H.264 quality 0 (lossless) .. 51 (worst); 18 looks clean */
+    char preset[16];             /* x264 speed preset: ultrafast .. veryslow */
+    int samples;                 /* multisample antialiasing, 0 = off */
+    double visual_radius;        /* m; <= 0: auto, 1% of the length (never below true radius) */
+    int sides;                   /* tube cross-section polygon, 6..128 */
+    render_stripe_mode stripe;
+    int arrows;                  /* tip force and moment arrows */
+    render_camera_kind camera;
+    double view[3];              /* direction from the target to the eye (any length) */
+    unsigned char background[3]; /* sRGB */
+    int grid;                    /* backdrop grid and scale bar */
+    int overlay;                 /* text: scene, time, scheme, loads */
+    int frames_png;              /* also write every frame as PNG */
+    int poster;                  /* write the last frame as <scene>.png */
+    struct render_timing *timing; /* NULL (default): not measured; else filled (make bench) */
+} render_options;
+
+/* Where render_recording's time went (seconds summed over the frames), for
+ * the benchmark. The drawing thread (mesh .. overlay) and the writing thread
+ * (convert .. png) run at the same time, so the parts add up to more than
+ * the wall time when the overlap works. */
+typedef struct render_timing {
+    double mesh;      /* tube, stripe, clamp, arrow triangles and the tile boxes */
+    double gl;        /* upload, clear, draw, resolve, read back (llvmpipe) */
+    double composite; /* backdrop copy and the boxes blended over it */
+    double overlay;   /* text */
+    double wait;      /* drawing thread waiting for a free queue slot */
+    double convert;   /* RGB to yuv420p */
+    double encode;    /* x264 and the MP4 muxer */
+    double png;       /* PNG frames */
+    double wall;      /* the whole call */
+    int frames;
+} render_timing;
+
+void render_options_default(render_options *o);
+/* Reads [render] (all keys optional) over the defaults. 0, or -1 with a
+ * message naming file:line, the key and what is accepted. */
+int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errlen);
+
+/* Renders every frame of rec: out_dir/<scene>.mp4 when want_video,
+ * out_dir/<scene>.png (last frame) when o->poster, out_dir/<scene>_frames/
+ * NNNNN.png when o->frames_png. Every file is written atomically (outfile.h):
+ * on failure nothing half-written remains. A progress line goes to stderr
+ * when it is a terminal. Returns 0, or -1 with a message. */
+int render_recording(const rod_recording *rec, const render_options *o, const char *out_dir,
+                     const char *scene_name, int want_video, char *err, size_t errlen);
+
+/* ---- geometry, pure C (used by the GL layer and the tests) ---- */
+
+/* The visual tube radius, m: o->visual_radius, or auto. */
+double render_visual_radius(const rod_recording *rec, const render_options *o);
+
+/* Points of the twist stripe of frame `frame` at distance `radius` (m) from
+ * the centreline, into out (nodes x 3, m).
+ * DIRECTOR: r(s) + radius Q(s) a, with a the material direction (director
+ *   components) that points along +z at s = 0 in the first frame: the
+ *   thesis' line through (0, 0, d/2) when radius = d/2.
+ * FORMULA: (4.17) literally: r(s_i) + radius (0, -sin(s_i u3_i), cos(s_i u3_i)),
+ *   s_i = i ds (node i of the recording is R(i+1) of the thesis' 1-based text). */
+void render_stripe_points(const rod_recording *rec, int frame, render_stripe_mode mode,
+                          double radius, double *out);
+
+/* A camera: matrices are column-major 4x4 (OpenGL's layout). */
+typedef struct render_camera {
+    int width, height;          /* pixels */
+    int orthographic;
+    double eye[3], target[3];   /* m */
+    double direction[3];        /* unit, from the target to the eye */
+    double right[3], up[3];     /* unit, screen axes in the world */
+    double view[16], projection[16], view_projection[16];
+    double metres_per_pixel;    /* at the target's depth */
+} render_camera;
+
+/* Frames the whole motion: the bounds over all frames of the tube (visual
+ * radius included), the clamp and the arrows, seen along o->view, leave room
+ * for the overlay text at the top and bottom, and do not change per frame. */
+void render_camera_fit(render_camera *cam, const rod_recording *rec, const render_options *o);
+/* Pixel position (x right, y down, pixel centres at +0.5) of a world point.
+ * Returns 0, or -1 when the point is behind the camera. */
+int render_project(const render_camera *cam, const double point[3], double pixel[2]);
+
+/* One vertex of the drawn geometry: world position (m), unit normal, colour. */
+typedef struct render_vertex {
+    float position[3], normal[3], color[3];
+} render_vertex;
+
+/* Colours the tests can look for (linear 0..1 before lighting). */
+extern const float render_rod_color[3];
+extern const float render_stripe_color[3];
+
+#endif

@@ -1,0 +1,41 @@
+/* recording.h: the frames of a run, as plain arrays, handed from the
+ * simulation to the writers (CSV, renderer). The renderer sees only this:
+ * centreline points, director frames, the twist, time and loads; nothing of
+ * a scheme's internals. Frames are appended at the output rate while the run
+ * goes; writers read them after the run completes, so a diverged run writes
+ * nothing, and the camera can frame the whole motion. */
+#ifndef RODSIM_RECORDING_H
+#define RODSIM_RECORDING_H
+
+#include <stddef.h>
+
+#include "sim/rod.h"
+
+typedef struct rod_recording {
+    /* fixed for the run */
+    int nodes;
+    double length;        /* m */
+    double ds;            /* m, node spacing */
+    double diameter;      /* m, true diameter */
+    char scheme[16];      /* "thesis", "implicit", "static" */
+    char scene[128];      /* scene name (file base name) */
+
+    /* frames */
+    int frame_count;
+    int capacity;
+    double *time;         /* (frames), s */
+    double *position;     /* (frames x nodes x 3), m, global */
+    double *frame;        /* (frames x nodes x 9), row-major Q, columns d1 d2 d3 (global) */
+    double *twist;        /* (frames x nodes), u3 at each node, 1/m (for the (4.17) stripe) */
+    double *tip_force;    /* (frames x 3), N, global components */
+    double *tip_moment;   /* (frames x 3), N m, global components */
+} rod_recording;
+
+/* Room for `capacity` frames (grows when exceeded). NULL when out of memory. */
+rod_recording *rod_recording_create(const rod_model *m, const char *scene, int capacity);
+void rod_recording_destroy(rod_recording *r);
+/* Appends the state as a frame; the tip load at s->time comes from the model.
+ * Returns 0, or -1 when out of memory. */
+int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *s);
+
+#endif

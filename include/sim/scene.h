@@ -1,0 +1,36 @@
+/* scene.h: a rod scene (INI, see README "Scene files") read into a rod_model.
+ *
+ * The keys are those of shared/PRODUCT.md plus the options of rod.h:
+ *   [rod]     length, diameter, density, youngs_modulus, shear_modulus, nodes (all required),
+ *             rotary_inertia_scale
+ *   [solver]  scheme, dt, duration, theta, newton_tolerance, newton_max_iterations,
+ *             exact_rotation
+ *   [tip]     frame, force, moment, profile
+ *   [loads]   gravity, distributed_force, linear_damping, angular_damping
+ * Every bad value is reported as "file:line: [section] key = value: what is accepted"
+ * (ini_error), and nothing is half-filled on failure.
+ */
+#ifndef RODSIM_SCENE_H
+#define RODSIM_SCENE_H
+
+#include <stddef.h>
+
+#include "base/ini.h"
+#include "sim/rod.h"
+
+/* Fills *m from the scene (starting from rod_model_default()), loads a
+ * profile table when the scene names one (path relative to the scene file),
+ * and calls rod_model_derive(). Returns 0, or -1 with a message in err; on
+ * failure *m owns nothing. On success release with rod_model_release().
+ * Marks every key it reads as known; the caller runs ini_check_unused()
+ * after reading the sections it owns itself (e.g. [render]). */
+int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen);
+
+/* Reads a load table (CSV): one header line, then rows of 2 numbers
+ * (t s, factor) or 7 numbers (t s, fx fy fz N, mx my mz N m), separated by
+ * commas; blank lines and '#' comments are skipped; times strictly increase.
+ * Fills *table (data owned by the caller: free(table->data)). Returns 0, or -1
+ * with "path:line: ..." in err. An empty table is an error. */
+int scene_load_table(const char *path, rod_table *table, char *err, size_t errlen);
+
+#endif

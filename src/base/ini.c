@@ -1,0 +1,591 @@
+/* ini.c: strict INI scene files (see ini.h). */
+#include "base/ini.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct ini_entry {
+    char *section;
+    int instance;
+    char *key;
+    char *value;
+    int line;      /* 0 when it came from --set */
+    int used;
+} ini_entry;
+
+typedef struct ini_section {
+    char *name;
+    int instance;
+    int line;      /* 0 when created by --set */
+} ini_section;
+
+typedef struct ini_known {
+    char *section;
+    char *key;     /* NULL: the section itself was asked for */
+} ini_known;
+
+struct ini_doc {
+    char *filename;
+    ini_entry *entries;
+    int entry_count, entry_cap;
+    ini_section *sections;
+    int section_count, section_cap;
+    ini_known *known;
+    int known_count, known_cap;
+};
+
+static char *dup_range(const char *begin, const char *end)
+{
+    size_t n = (size_t)(end - begin);
+    char *s = malloc(n + 1);
+    if (!s) return NULL;
+    memcpy(s, begin, n);
+    s[n] = '\0';
+    return s;
+}
+
+static char *dup_string(const char *s) { return dup_range(s, s + strlen(s)); }
+
+static int grow(void **array, int *cap, int need, size_t size)
+{
+    if (need <= *cap) return 0;
+    int next = *cap ? *cap * 2 : 16;
+    while (next < need) next *= 2;
+    void *p = realloc(*array, (size_t)next * size);
+    if (!p) return -1;
+    *array = p;
+    *cap = next;
+    return 0;
+}
+
+static void trim(const char **begin, const char **end)
+{
+    while (*begin < *end && isspace((unsigned char)**begin)) (*begin)++;
+    while (*end > *begin && isspace((unsigned char)(*end)[-1])) (*end)--;
+}
+
+static int valid_name(const char *begin, const char *end)
+{
+    if (begin == end) return 0;
+    for (const char *p = begin; p < end; p++)
+        if (!isalnum((unsigned char)*p) && *p != '_' && *p != '-') return 0;
+    return 1;
+}
+
+static int section_instances(const ini_doc *doc, const char *name)
+{
+    int n = 0;
+    for (int i = 0; i < doc->section_count; i++)
+        if (strcmp(doc->sections[i].name, name) == 0) n++;
+    return n;
+}
+
+static const ini_section *find_section(const ini_doc *doc, const char *name, int instance)
+{
+    for (int i = 0; i < doc->section_count; i++)
+        if (strcmp(doc->sections[i].name, name) == 0 && doc->sections[i].instance == instance)
+            return &doc->sections[i];
+    return NULL;
+}
+
+static ini_entry *find_entry(const ini_doc *doc, const char *section, int instance,
+                             const char *key)
+{
+    for (int i = 0; i < doc->entry_count; i++) {
+        ini_entry *e = &doc->entries[i];
+        if (e->instance == instance && strcmp(e->section, section) == 0 &&
+            strcmp(e->key, key) == 0)
+            return e;
+    }
+    return NULL;
+}
+
+static int add_section(ini_doc *doc, const char *name, int line)
+{
+    if (grow((void **)&doc->sections, &doc->section_cap, doc->section_count + 1,
+             sizeof *doc->sections))
+        return -1;
+    ini_section *s = &doc->sections[doc->section_count];
+    s->name = dup_string(name);
+    if (!s->name) return -1;
+    s->instance = section_instances(doc, name);
+    s->line = line;
+    doc->section_count++;
+    return 0;
+}
+
+static int add_entry(ini_doc *doc, const char *section, int instance, const char *key,
+                     const char *value, int line)
+{
+    if (grow((void **)&doc->entries, &doc->entry_cap, doc->entry_count + 1, sizeof *doc->entries))
+        return -1;
+    ini_entry *e = &doc->entries[doc->entry_count];
+    e->section = dup_string(section);
+    e->key = dup_string(key);
+    e->value = dup_string(value);
+    if (!e->section || !e->key || !e->value) {
+        free(e->section); free(e->key); free(e->value);
+        return -1;
+    }
+    e->instance = instance;
+    e->line = line;
+    e->used = 0;
+    doc->entry_count++;
+    return 0;
+}
+
+static void mark_known(ini_doc *doc, const char *section, const char *key)
+{
+    for (int i = 0; i < doc->known_count; i++) {
+        ini_known *k = &doc->known[i];
+        if (strcmp(k->section, section) != 0) continue;
+        if ((key == NULL && k->key == NULL) || (key && k->key && strcmp(k->key, key) == 0)) return;
+    }
+    if (grow((void **)&doc->known, &doc->known_cap, doc->known_count + 1, sizeof *doc->known))
+        return; /* only weakens the list of accepted keys in a message */
+    ini_known *k = &doc->known[doc->known_count];
+    k->section = dup_string(section);
+    k->key = key ? dup_string(key) : NULL;
+    if (!k->section || (key && !k->key)) {
+        free(k->section); free(k->key);
+        return;
+    }
+    doc->known_count++;
+}
+
+static void set_error(char *err, size_t errlen, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static void set_error(char *err, size_t errlen, const char *fmt, ...)
+{
+    if (!err || errlen == 0) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
+}
+
+ini_doc *ini_parse(const char *name, const char *text, char *err, size_t errlen)
+{
+    ini_doc *doc = calloc(1, sizeof *doc);
+    if (!doc || !(doc->filename = dup_string(name))) {
+        free(doc);
+        set_error(err, errlen, "%s: out of memory", name);
+        return NULL;
+    }
+    const char *current = NULL; /* section name of the lines being read */
+    char *current_owned = NULL;
+    int line = 0;
+    const char *p = text;
+    while (*p) {
+        line++;
+        const char *eol = strchr(p, '\n');
+        if (!eol) eol = p + strlen(p);
+        /* cut the comment: '#' outside double quotes */
+        const char *end = p;
+        int quoted = 0;
+        while (end < eol && (quoted || *end != '#')) {
+            if (*end == '"') quoted = !quoted;
+            end++;
+        }
+        const char *begin = p;
+        trim(&begin, &end);
+        p = *eol ? eol + 1 : eol;
+        if (begin == end) continue;
+        if (*begin == '[') {
+            if (end[-1] != ']') {
+                set_error(err, errlen, "%s:%d: section header must look like [name]", name, line);
+                goto fail;
+            }
+            const char *nb = begin + 1, *ne = end - 1;
+            trim(&nb, &ne);
+            if (!valid_name(nb, ne)) {
+                set_error(err, errlen, "%s:%d: bad section name (letters, digits, _ and - only)",
+                          name, line);
+                goto fail;
+            }
+            free(current_owned);
+            current_owned = dup_range(nb, ne);
+            if (!current_owned || add_section(doc, current_owned, line)) goto oom;
+            current = current_owned;
+            continue;
+        }
+        const char *eq = memchr(begin, '=', (size_t)(end - begin));
+        if (!eq) {
+            set_error(err, errlen, "%s:%d: expected 'key = value' or '[section]', got '%.*s'",
+                      name, line, (int)(end - begin), begin);
+            goto fail;
+        }
+        if (!current) {
+            set_error(err, errlen, "%s:%d: key outside any section; start with a [section] line",
+                      name, line);
+            goto fail;
+        }
+        const char *kb = begin, *ke = eq, *vb = eq + 1, *ve = end;
+        trim(&kb, &ke);
+        trim(&vb, &ve);
+        if (!valid_name(kb, ke)) {
+            set_error(err, errlen, "%s:%d: bad key name '%.*s' (letters, digits, _ and - only)",
+                      name, line, (int)(ke - kb), kb);
+            goto fail;
+        }
+        if (ve - vb >= 2 && *vb == '"' && ve[-1] == '"') { vb++; ve--; }
+        char *key = dup_range(kb, ke), *value = dup_range(vb, ve);
+        if (!key || !value) { free(key); free(value); goto oom; }
+        int instance = section_instances(doc, current) - 1;
+        ini_entry *twin = find_entry(doc, current, instance, key);
+        if (twin) {
+            set_error(err, errlen, "%s:%d: [%s] %s is given twice (first on line %d)", name, line,
+                      current, key, twin->line);
+            free(key); free(value);
+            goto fail;
+        }
+        int rc = add_entry(doc, current, instance, key, value, line);
+        free(key); free(value);
+        if (rc) goto oom;
+    }
+    free(current_owned);
+    return doc;
+oom:
+    set_error(err, errlen, "%s: out of memory", name);
+fail:
+    free(current_owned);
+    ini_destroy(doc);
+    return NULL;
+}
+
+ini_doc *ini_load(const char *path, char *err, size_t errlen)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        set_error(err, errlen, "%s: cannot open scene file: %s", path, strerror(errno));
+        return NULL;
+    }
+    size_t cap = 4096, len = 0;
+    char *text = malloc(cap);
+    size_t got;
+    while (text && (got = fread(text + len, 1, cap - len - 1, f)) > 0) {
+        len += got;
+        if (len + 1 == cap) {
+            char *bigger = realloc(text, cap * 2);
+            if (!bigger) { free(text); text = NULL; break; }
+            text = bigger;
+            cap *= 2;
+        }
+    }
+    int read_error = ferror(f);
+    fclose(f);
+    if (!text || read_error) {
+        free(text);
+        set_error(err, errlen, "%s: cannot read scene file", path);
+        return NULL;
+    }
+    text[len] = '\0';
+    if (strlen(text) != len) {
+        free(text);
+        set_error(err, errlen, "%s: not a text file (contains a NUL byte)", path);
+        return NULL;
+    }
+    ini_doc *doc = ini_parse(path, text, err, errlen);
+    free(text);
+    return doc;
+}
+
+void ini_destroy(ini_doc *doc)
+{
+    if (!doc) return;
+    for (int i = 0; i < doc->entry_count; i++) {
+        free(doc->entries[i].section);
+        free(doc->entries[i].key);
+        free(doc->entries[i].value);
+    }
+    for (int i = 0; i < doc->section_count; i++) free(doc->sections[i].name);
+    for (int i = 0; i < doc->known_count; i++) {
+        free(doc->known[i].section);
+        free(doc->known[i].key);
+    }
+    free(doc->entries);
+    free(doc->sections);
+    free(doc->known);
+    free(doc->filename);
+    free(doc);
+}
+
+int ini_set(ini_doc *doc, const char *assignment, char *err, size_t errlen)
+{
+    const char *dot = strchr(assignment, '.');
+    const char *eq = strchr(assignment, '=');
+    if (!dot || !eq || dot > eq || !valid_name(assignment, dot) || !valid_name(dot + 1, eq)) {
+        set_error(err, errlen, "--set %s: expected section.key=value, e.g. solver.dt=0.01",
+                  assignment);
+        return -1;
+    }
+    char *section = dup_range(assignment, dot);
+    char *key = dup_range(dot + 1, eq);
+    const char *vb = eq + 1, *ve = eq + strlen(eq);
+    trim(&vb, &ve);
+    if (ve - vb >= 2 && *vb == '"' && ve[-1] == '"') { vb++; ve--; }
+    char *value = dup_range(vb, ve);
+    int rc = -1;
+    if (!section || !key || !value) {
+        set_error(err, errlen, "--set: out of memory");
+        goto done;
+    }
+    if (!find_section(doc, section, 0) && add_section(doc, section, 0)) goto oom;
+    ini_entry *e = find_entry(doc, section, 0, key);
+    if (e) {
+        free(e->value);
+        if (!(e->value = dup_string(value))) goto oom;
+        e->line = 0;
+    } else if (add_entry(doc, section, 0, key, value, 0)) {
+        goto oom;
+    }
+    rc = 0;
+    goto done;
+oom:
+    set_error(err, errlen, "--set: out of memory");
+done:
+    free(section); free(key); free(value);
+    return rc;
+}
+
+const char *ini_filename(const ini_doc *doc) { return doc->filename; }
+
+void ini_scene_name(const ini_doc *doc, char *out, size_t outlen)
+{
+    const char *base = strrchr(doc->filename, '/');
+    base = base ? base + 1 : doc->filename;
+    const char *ext = strrchr(base, '.');
+    size_t n = ext && ext > base ? (size_t)(ext - base) : strlen(base);
+    snprintf(out, outlen, "%.*s", (int)n, base);
+}
+
+void ini_directory(const ini_doc *doc, char *out, size_t outlen)
+{
+    const char *slash = strrchr(doc->filename, '/');
+    if (!slash) snprintf(out, outlen, ".");
+    else if (slash == doc->filename) snprintf(out, outlen, "/");
+    else snprintf(out, outlen, "%.*s", (int)(slash - doc->filename), doc->filename);
+}
+
+int ini_section_count(ini_doc *doc, const char *section)
+{
+    mark_known(doc, section, NULL);
+    return section_instances(doc, section);
+}
+
+/* "file:line: [section] key = value" or "--set section.key=value" */
+static int describe(const ini_doc *doc, const ini_entry *e, const char *section, int index,
+                    const char *key, char *out, size_t outlen)
+{
+    int instances = section_instances(doc, section);
+    char which[32] = "";
+    if (instances > 1) snprintf(which, sizeof which, " #%d", index + 1);
+    if (e && e->line == 0)
+        return snprintf(out, outlen, "--set %s.%s=%s", section, key, e->value);
+    if (e)
+        return snprintf(out, outlen, "%s:%d: [%s%s] %s = %s", doc->filename, e->line, section,
+                         which, key, e->value);
+    const ini_section *s = find_section(doc, section, index);
+    if (s && s->line > 0)
+        return snprintf(out, outlen, "%s:%d: [%s%s] %s", doc->filename, s->line, section, which,
+                        key);
+    return snprintf(out, outlen, "%s: [%s%s] %s", doc->filename, section, which, key);
+}
+
+int ini_error(const ini_doc *doc, const char *section, int index, const char *key, char *err,
+              size_t errlen, const char *fmt, ...)
+{
+    if (!err || errlen == 0) return -1;
+    const ini_entry *e = find_entry(doc, section, index, key);
+    int n = describe(doc, e, section, index, key, err, errlen);
+    if (n < 0 || (size_t)n + 2 >= errlen) return -1;
+    err[n] = ':';
+    err[n + 1] = ' ';
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err + n + 2, errlen - (size_t)n - 2, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+int ini_get_string(ini_doc *doc, const char *section, int index, const char *key,
+                   const char **out, char *err, size_t errlen)
+{
+    (void)err; (void)errlen;
+    mark_known(doc, section, NULL);
+    mark_known(doc, section, key);
+    ini_entry *e = find_entry(doc, section, index, key);
+    if (!e) return 0;
+    e->used = 1;
+    *out = e->value;
+    return 1;
+}
+
+/* Parses a double filling the whole [begin, end); 0 on success. */
+static int parse_number(const char *begin, const char *end, double *out)
+{
+    if (begin == end) return -1;
+    char buf[64];
+    size_t n = (size_t)(end - begin);
+    if (n >= sizeof buf) return -1;
+    memcpy(buf, begin, n);
+    buf[n] = '\0';
+    char *stop;
+    errno = 0;
+    double v = strtod(buf, &stop);
+    if (*stop != '\0' || errno == ERANGE || !isfinite(v)) return -1;
+    /* strtod accepts hex floats and "inf"/"nan"; a scene wants plain decimals */
+    for (const char *c = buf; *c; c++)
+        if (!strchr("0123456789+-.eE", *c)) return -1;
+    *out = v;
+    return 0;
+}
+
+int ini_get_double(ini_doc *doc, const char *section, int index, const char *key, double *out,
+                   char *err, size_t errlen)
+{
+    const char *text;
+    int rc = ini_get_string(doc, section, index, key, &text, err, errlen);
+    if (rc <= 0) return rc;
+    double v;
+    if (parse_number(text, text + strlen(text), &v))
+        return ini_error(doc, section, index, key, err, errlen,
+                         "not a number; expected a decimal such as 0.001 or 87.5e6");
+    *out = v;
+    return 1;
+}
+
+int ini_get_int(ini_doc *doc, const char *section, int index, const char *key, int *out,
+                char *err, size_t errlen)
+{
+    const char *text;
+    int rc = ini_get_string(doc, section, index, key, &text, err, errlen);
+    if (rc <= 0) return rc;
+    char *stop;
+    errno = 0;
+    long v = strtol(text, &stop, 10);
+    if (*text == '\0' || *stop != '\0' || errno == ERANGE || v < -2147483647L || v > 2147483647L)
+        return ini_error(doc, section, index, key, err, errlen,
+                         "not a whole number; expected digits such as 51");
+    *out = (int)v;
+    return 1;
+}
+
+int ini_get_vector(ini_doc *doc, const char *section, int index, const char *key, double *out,
+                   int n, char *err, size_t errlen)
+{
+    const char *text;
+    int rc = ini_get_string(doc, section, index, key, &text, err, errlen);
+    if (rc <= 0) return rc;
+    double values[16];
+    int count = 0;
+    const char *p = text;
+    for (;;) {
+        while (*p && (isspace((unsigned char)*p) || *p == ',')) p++;
+        if (!*p) break;
+        const char *b = p;
+        while (*p && !isspace((unsigned char)*p) && *p != ',') p++;
+        if (count >= n || count >= 16 || parse_number(b, p, &values[count]))
+            return ini_error(doc, section, index, key, err, errlen,
+                             "expected %d number%s separated by spaces, e.g. '%s'", n,
+                             n == 1 ? "" : "s",
+                             n == 3 ? "0 4.5e-7 0" : n == 2 ? "0 -100" : "0");
+        count++;
+    }
+    if (count != n)
+        return ini_error(doc, section, index, key, err, errlen,
+                         "expected %d number%s, got %d", n, n == 1 ? "" : "s", count);
+    memcpy(out, values, (size_t)n * sizeof *out);
+    return 1;
+}
+
+int ini_get_choice(ini_doc *doc, const char *section, int index, const char *key,
+                   const char *const *choices, int *out, char *err, size_t errlen)
+{
+    const char *text;
+    int rc = ini_get_string(doc, section, index, key, &text, err, errlen);
+    if (rc <= 0) return rc;
+    char list[256] = "";
+    size_t used = 0;
+    for (int i = 0; choices[i]; i++) {
+        if (strcmp(text, choices[i]) == 0) {
+            *out = i;
+            return 1;
+        }
+        int w = snprintf(list + used, sizeof list - used, "%s%s", i ? " | " : "", choices[i]);
+        if (w > 0 && used + (size_t)w < sizeof list) used += (size_t)w;
+    }
+    return ini_error(doc, section, index, key, err, errlen, "unknown value; accepted: %s", list);
+}
+
+int ini_get_bool(ini_doc *doc, const char *section, int index, const char *key, int *out,
+                 char *err, size_t errlen)
+{
+    static const char *const words[] = {"false", "true", "no", "yes", "off", "on", "0", "1", NULL};
+    int which;
+    int rc = ini_get_choice(doc, section, index, key, words, &which, err, errlen);
+    if (rc == 1) *out = which % 2;
+    return rc;
+}
+
+static int section_is_known(const ini_doc *doc, const char *section)
+{
+    for (int i = 0; i < doc->known_count; i++)
+        if (strcmp(doc->known[i].section, section) == 0) return 1;
+    return 0;
+}
+
+static void known_list(const ini_doc *doc, const char *section, char *out, size_t outlen)
+{
+    size_t used = 0;
+    out[0] = '\0';
+    for (int i = 0; i < doc->known_count; i++) {
+        const ini_known *k = &doc->known[i];
+        if (section ? (!k->key || strcmp(k->section, section) != 0) : k->key != NULL) continue;
+        const char *word = section ? k->key : k->section;
+        int w = snprintf(out + used, outlen - used, "%s%s", used ? ", " : "", word);
+        if (w < 0 || used + (size_t)w >= outlen) break;
+        used += (size_t)w;
+    }
+}
+
+int ini_check_unused(const ini_doc *doc, char *err, size_t errlen)
+{
+    char list[512];
+    for (int i = 0; i < doc->section_count; i++) {
+        const ini_section *s = &doc->sections[i];
+        if (section_is_known(doc, s->name)) continue;
+        known_list(doc, NULL, list, sizeof list);
+        if (s->line > 0)
+            set_error(err, errlen, "%s:%d: unknown section [%s]; accepted sections: %s",
+                      doc->filename, s->line, s->name, list);
+        else
+            set_error(err, errlen, "--set: unknown section '%s'; accepted sections: %s", s->name,
+                      list);
+        return -1;
+    }
+    for (int i = 0; i < doc->entry_count; i++) {
+        const ini_entry *e = &doc->entries[i];
+        if (e->used) continue;
+        int known = 0;
+        for (int k = 0; k < doc->known_count; k++)
+            if (doc->known[k].key && strcmp(doc->known[k].section, e->section) == 0 &&
+                strcmp(doc->known[k].key, e->key) == 0)
+                known = 1;
+        known_list(doc, e->section, list, sizeof list);
+        const char *what = known ? "is not used here" : "unknown key";
+        if (e->line > 0)
+            set_error(err, errlen, "%s:%d: [%s] %s: %s; accepted keys in [%s]: %s", doc->filename,
+                      e->line, e->section, e->key, what, e->section, list);
+        else
+            set_error(err, errlen, "--set %s.%s: %s; accepted keys in [%s]: %s", e->section,
+                      e->key, what, e->section, list);
+        return -1;
+    }
+    return 0;
+}

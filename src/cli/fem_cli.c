@@ -1,0 +1,705 @@
+/* fem_cli.c: `rodsim fem`: scene reading, tables, figure (see fem_cli.h). */
+#include "cli/fem_cli.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/outfile.h"
+
+#define FEM_MAX_ELEMENTS 100000
+#define FEM_CURVE_SAMPLES 24 /* points per element of the deformed curve */
+
+const unsigned char fem_deformed_rgb[3] = {0, 90, 200};
+static const unsigned char undeformed_rgb[3] = {140, 140, 140};
+static const unsigned char support_rgb[3] = {60, 60, 60};
+static const unsigned char load_rgb[3] = {200, 30, 30};
+
+static const char *const support_names[] = {"clamped", "pinned", "roller", NULL};
+
+/* ---- scene ---------------------------------------------------------------- */
+
+/* A plain decimal filling [begin, end). */
+static int parse_decimal(const char *begin, const char *end, double *out)
+{
+    char buf[64];
+    size_t n = (size_t)(end - begin);
+    if (n == 0 || n >= sizeof buf) return -1;
+    memcpy(buf, begin, n);
+    buf[n] = '\0';
+    for (const char *c = buf; *c; c++)
+        if (!strchr("0123456789+-.eE", *c)) return -1;
+    char *stop;
+    errno = 0;
+    double v = strtod(buf, &stop);
+    if (*stop || errno == ERANGE || !isfinite(v)) return -1;
+    *out = v;
+    return 0;
+}
+
+/* "x1 z1, x2 z2, ..." -> count pairs (x, z may be NULL to count only).
+ * Returns the number of nodes, or -1 on a malformed list. */
+static int parse_node_list(const char *text, double *x, double *z)
+{
+    int count = 0;
+    const char *p = text;
+    for (;;) {
+        const char *pair_end = strchr(p, ',');
+        if (!pair_end) pair_end = p + strlen(p);
+        double values[2];
+        int k = 0;
+        const char *q = p;
+        while (q < pair_end) {
+            while (q < pair_end && isspace((unsigned char)*q)) q++;
+            if (q == pair_end) break;
+            const char *b = q;
+            while (q < pair_end && !isspace((unsigned char)*q)) q++;
+            if (k == 2 || parse_decimal(b, q, &values[k])) return -1;
+            k++;
+        }
+        if (k != 2) return -1;
+        if (x) x[count] = values[0];
+        if (z) z[count] = values[1];
+        count++;
+        if (!*pair_end) break;
+        p = pair_end + 1;
+    }
+    return count;
+}
+
+/* Required positive number. */
+static int read_positive(ini_doc *doc, const char *section, int index, const char *key,
+                         const char *unit, double *out, int required, char *err, size_t errlen)
+{
+    int rc = ini_get_double(doc, section, index, key, out, err, errlen);
+    if (rc < 0) return -1;
+    if (rc == 0)
+        return required ? ini_error(doc, section, index, key, err, errlen,
+                                    "missing; give a value > 0 in %s", unit)
+                        : 0;
+    if (!(*out > 0))
+        return ini_error(doc, section, index, key, err, errlen, "must be > 0 %s", unit);
+    return 1;
+}
+
+static int read_figure(ini_doc *doc, fem_figure_options *figure, char *err, size_t errlen)
+{
+    fem_figure_options f = {.width = 1200, .height = 800, .scale = 0, .title = ""};
+    int rc;
+    if ((rc = ini_get_int(doc, "plot", 0, "width", &f.width, err, errlen)) < 0) return -1;
+    if (rc && (f.width < 64 || f.width > 8192))
+        return ini_error(doc, "plot", 0, "width", err, errlen, "accepted: 64 .. 8192 px");
+    if ((rc = ini_get_int(doc, "plot", 0, "height", &f.height, err, errlen)) < 0) return -1;
+    if (rc && (f.height < 64 || f.height > 8192))
+        return ini_error(doc, "plot", 0, "height", err, errlen, "accepted: 64 .. 8192 px");
+    const char *text;
+    if (ini_get_string(doc, "plot", 0, "scale", &text, err, errlen) == 1 &&
+        strcmp(text, "auto") != 0) {
+        if (parse_decimal(text, text + strlen(text), &f.scale) || !(f.scale > 0))
+            return ini_error(doc, "plot", 0, "scale", err, errlen,
+                             "accepted: auto, or a factor > 0 (1 = true scale)");
+    }
+    if (ini_get_string(doc, "plot", 0, "title", &text, err, errlen) == 1) {
+        size_t n = strlen(text);
+        if (n >= 2 && text[0] == '"' && text[n - 1] == '"') { /* quotes are optional */
+            text++;
+            n -= 2;
+        }
+        if (n >= sizeof f.title)
+            return ini_error(doc, "plot", 0, "title", err, errlen, "longer than %zu characters",
+                             sizeof f.title - 1);
+        memcpy(f.title, text, n);
+        f.title[n] = '\0';
+    }
+    if (figure) *figure = f;
+    return 0;
+}
+
+fem_model *fem_scene_read(ini_doc *doc, fem_figure_options *figure, char *err, size_t errlen)
+{
+    fem_model *m = NULL;
+    double youngs = 0, radius = 0, area = 0, second_moment = 0;
+    if (read_positive(doc, "material", 0, "youngs_modulus", "Pa", &youngs, 1, err, errlen) < 0)
+        return NULL;
+    int has_radius = read_positive(doc, "material", 0, "radius", "m", &radius, 0, err, errlen);
+    if (has_radius < 0) return NULL;
+    int has_area = read_positive(doc, "material", 0, "area", "m^2", &area, 0, err, errlen);
+    if (has_area < 0) return NULL;
+    int has_moment = read_positive(doc, "material", 0, "second_moment", "m^4", &second_moment, 0,
+                                   err, errlen);
+    if (has_moment < 0) return NULL;
+    if (has_radius && (has_area || has_moment)) {
+        ini_error(doc, "material", 0, has_area ? "area" : "second_moment", err, errlen,
+                  "give either radius (solid circle) or area and second_moment, not both");
+        return NULL;
+    }
+    if (!has_radius && !(has_area && has_moment)) {
+        ini_error(doc, "material", 0, has_area ? "second_moment" : "radius", err, errlen,
+                  "missing; give radius (m, solid circular section) or area (m^2) and "
+                  "second_moment (m^4)");
+        return NULL;
+    }
+    if (has_radius) fem_circular_section(radius, &area, &second_moment);
+
+    /* geometry: an explicit node list, or generated from a few numbers */
+    const char *node_text = NULL;
+    int has_nodes = ini_get_string(doc, "geometry", 0, "nodes", &node_text, err, errlen) == 1;
+    double length = 0, angle_deg = 0, curvature_radius = 0;
+    int elements = 4;
+    int has_length = ini_get_double(doc, "geometry", 0, "length", &length, err, errlen);
+    int has_angle = has_length >= 0 ? ini_get_double(doc, "geometry", 0, "angle", &angle_deg, err, errlen) : -1;
+    int has_curvature = has_angle >= 0 ? ini_get_double(doc, "geometry", 0, "curvature_radius",
+                                                        &curvature_radius, err, errlen) : -1;
+    int has_elements = has_curvature >= 0 ? ini_get_int(doc, "geometry", 0, "elements", &elements,
+                                                        err, errlen) : -1;
+    if (has_elements < 0) return NULL;
+    int node_count;
+    if (has_nodes) {
+        if (has_length || has_angle || has_curvature || has_elements) {
+            const char *other = has_length ? "length" : has_angle ? "angle"
+                              : has_curvature ? "curvature_radius" : "elements";
+            ini_error(doc, "geometry", 0, other, err, errlen,
+                      "give either nodes = \"x1 z1, x2 z2, ...\" or length/angle/"
+                      "curvature_radius/elements, not both");
+            return NULL;
+        }
+        node_count = parse_node_list(node_text, NULL, NULL);
+        if (node_count < 2) {
+            ini_error(doc, "geometry", 0, "nodes", err, errlen,
+                      node_count < 0 ? "expected pairs \"x z\" in metres separated by commas, "
+                                       "e.g. 0 0, 0.5 0.2, 1 0.3"
+                                     : "at least 2 nodes are needed");
+            return NULL;
+        }
+        if (node_count > FEM_MAX_ELEMENTS + 1) {
+            ini_error(doc, "geometry", 0, "nodes", err, errlen, "at most %d nodes",
+                      FEM_MAX_ELEMENTS + 1);
+            return NULL;
+        }
+    } else {
+        if (!has_length) {
+            ini_error(doc, "geometry", 0, "length", err, errlen,
+                      "missing; give length (m) [angle (deg), curvature_radius (m), elements] "
+                      "or nodes = \"x1 z1, x2 z2, ...\"");
+            return NULL;
+        }
+        if (!(length > 0)) {
+            ini_error(doc, "geometry", 0, "length", err, errlen, "must be > 0 m");
+            return NULL;
+        }
+        if (elements < 1 || elements > FEM_MAX_ELEMENTS) {
+            ini_error(doc, "geometry", 0, "elements", err, errlen, "accepted: 1 .. %d",
+                      FEM_MAX_ELEMENTS);
+            return NULL;
+        }
+        if (curvature_radius != 0 && fabs(length / curvature_radius) > 2 * M_PI) {
+            ini_error(doc, "geometry", 0, "curvature_radius", err, errlen,
+                      "the arc of length %g m would turn by more than a full circle; "
+                      "accepted: 0 (straight) or |R| >= length / (2 pi) = %g m",
+                      length, length / (2 * M_PI));
+            return NULL;
+        }
+        node_count = elements + 1;
+    }
+
+    int supports = ini_section_count(doc, "support");
+    int loads = ini_section_count(doc, "load");
+    m = fem_model_create(node_count, supports, loads);
+    if (!m) {
+        snprintf(err, errlen, "%s: out of memory for %d nodes", ini_filename(doc), node_count);
+        return NULL;
+    }
+    m->youngs_modulus = youngs;
+    m->area = area;
+    m->second_moment = second_moment;
+    if (has_nodes)
+        parse_node_list(node_text, m->x, m->z);
+    else
+        fem_generate_nodes(length, angle_deg * M_PI / 180.0, curvature_radius, elements, m->x,
+                           m->z);
+    {
+        char check_err[256];
+        if (fem_model_check(m, check_err, sizeof check_err) != FEM_OK) {
+            ini_error(doc, "geometry", 0, has_nodes ? "nodes" : "length", err, errlen, "%s",
+                      check_err);
+            goto fail;
+        }
+    }
+
+    for (int i = 0; i < supports; i++) {
+        int node = 0, type = 0;
+        int rc = ini_get_int(doc, "support", i, "node", &node, err, errlen);
+        if (rc < 0) goto fail;
+        if (rc == 0 || node < 1 || node > node_count) {
+            ini_error(doc, "support", i, "node", err, errlen,
+                      rc == 0 ? "missing; give the node number 1 .. %d"
+                              : "no such node; accepted: 1 .. %d", node_count);
+            goto fail;
+        }
+        rc = ini_get_choice(doc, "support", i, "type", support_names, &type, err, errlen);
+        if (rc < 0) goto fail;
+        if (rc == 0) {
+            ini_error(doc, "support", i, "type", err, errlen,
+                      "missing; accepted: clamped | pinned | roller");
+            goto fail;
+        }
+        m->supports[i].node = node - 1;
+        m->supports[i].type = (fem_support_type)type;
+    }
+    for (int i = 0; i < loads; i++) {
+        int node = 0;
+        int rc = ini_get_int(doc, "load", i, "node", &node, err, errlen);
+        if (rc < 0) goto fail;
+        if (rc == 0 || node < 1 || node > node_count) {
+            ini_error(doc, "load", i, "node", err, errlen,
+                      rc == 0 ? "missing; give the node number 1 .. %d"
+                              : "no such node; accepted: 1 .. %d", node_count);
+            goto fail;
+        }
+        m->loads[i].node = node - 1;
+        if (ini_get_vector(doc, "load", i, "force", m->loads[i].force, 2, err, errlen) < 0 ||
+            ini_get_double(doc, "load", i, "moment", &m->loads[i].moment, err, errlen) < 0)
+            goto fail;
+    }
+    if (read_figure(doc, figure, err, errlen) < 0) goto fail;
+    if (ini_check_unused(doc, err, errlen) != 0) goto fail;
+    return m;
+fail:
+    fem_model_destroy(m);
+    return NULL;
+}
+
+/* ---- figure --------------------------------------------------------------- */
+
+static double structure_extent(const fem_model *m)
+{
+    double xmin = m->x[0], xmax = m->x[0], zmin = m->z[0], zmax = m->z[0];
+    for (int i = 1; i < m->node_count; i++) {
+        xmin = fmin(xmin, m->x[i]);
+        xmax = fmax(xmax, m->x[i]);
+        zmin = fmin(zmin, m->z[i]);
+        zmax = fmax(zmax, m->z[i]);
+    }
+    return fmax(xmax - xmin, zmax - zmin);
+}
+
+double fem_auto_scale(const fem_model *m, const fem_solution *s)
+{
+    double largest = 0;
+    for (int i = 0; i < m->node_count; i++)
+        largest = fmax(largest, hypot(s->displacement[i * 3], s->displacement[i * 3 + 1]));
+    double extent = structure_extent(m);
+    if (!(largest > 0) || !(extent > 0)) return 1.0;
+    double raw = 0.15 * extent / largest;
+    if (raw <= 1.0) return 1.0;
+    double decade = pow(10.0, floor(log10(raw)));
+    double mantissa = raw / decade;
+    return (mantissa >= 5 ? 5 : mantissa >= 2 ? 2 : 1) * decade;
+}
+
+/* Unit direction of the rod at a node, pointing into the structure. */
+static void inward_direction(const fem_model *m, int node, double *tx, double *tz)
+{
+    int a = node, b = node + 1;
+    if (node == m->node_count - 1) {
+        a = node;
+        b = node - 1;
+    }
+    double dx = m->x[b] - m->x[a], dz = m->z[b] - m->z[a], L = hypot(dx, dz);
+    *tx = dx / L;
+    *tz = dz / L;
+}
+
+static int add_support_symbol(plot *p, const fem_model *m, const fem_support *s, double size,
+                              int *legend_done)
+{
+    double nx = m->x[s->node], nz = m->z[s->node];
+    plot_style wall = plot_style_line(support_rgb[0], support_rgb[1], support_rgb[2], 3.0, PLOT_SOLID);
+    plot_style hatch = plot_style_line(support_rgb[0], support_rgb[1], support_rgb[2], 1.5, PLOT_SOLID);
+    plot_style fill = plot_style_line(support_rgb[0], support_rgb[1], support_rgb[2], 0, PLOT_SOLID);
+    fill.fill_rgb[0] = fill.fill_rgb[1] = fill.fill_rgb[2] = 215;
+    int rc = 0;
+    if (s->type == FEM_SUPPORT_CLAMPED) {
+        /* a wall across the rod, hatched on the side away from it */
+        double tx, tz;
+        inward_direction(m, s->node, &tx, &tz);
+        double px = -tz, pz = tx; /* across the rod */
+        double half = 0.5 * size, depth = 0.35 * size;
+        double bx[4] = {nx + px * half, nx - px * half, nx - px * half - tx * depth,
+                        nx + px * half - tx * depth};
+        double bz[4] = {nz + pz * half, nz - pz * half, nz - pz * half - tz * depth,
+                        nz + pz * half - tz * depth};
+        rc |= plot_add_polygon(p, bx, bz, 4, fill, *legend_done & 1 ? NULL : "clamp");
+        *legend_done |= 1;
+        for (int i = 0; i <= 5; i++) {
+            double f = -half + depth + (2 * half - depth) * i / 5.0; /* along the wall */
+            double hx[2] = {nx + px * f, nx + px * (f - depth) - tx * depth};
+            double hz[2] = {nz + pz * f, nz + pz * (f - depth) - tz * depth};
+            rc |= plot_add_line(p, hx, hz, 2, hatch, NULL);
+        }
+        double wx[2] = {bx[0], bx[1]}, wz[2] = {bz[0], bz[1]};
+        rc |= plot_add_line(p, wx, wz, 2, wall, NULL);
+    } else {
+        /* a triangle under the node; a roller stands on a second line */
+        double a = 0.22 * size;
+        double trix[3] = {nx, nx - a, nx + a}, triz[3] = {nz, nz - 1.6 * a, nz - 1.6 * a};
+        const char *name = s->type == FEM_SUPPORT_PINNED ? "pinned support" : "roller support";
+        int bit = s->type == FEM_SUPPORT_PINNED ? 2 : 4;
+        fill.width = 2.0;
+        rc |= plot_add_polygon(p, trix, triz, 3, fill, *legend_done & bit ? NULL : name);
+        *legend_done |= bit;
+        double gx[2] = {nx - 1.5 * a, nx + 1.5 * a}, gz[2] = {nz - 1.6 * a, nz - 1.6 * a};
+        if (s->type == FEM_SUPPORT_ROLLER) gz[0] = gz[1] = nz - 2.1 * a;
+        rc |= plot_add_line(p, gx, gz, 2, wall, NULL);
+    }
+    return rc;
+}
+
+plot *fem_figure_create(const fem_model *m, const fem_solution *s,
+                        const fem_figure_options *options, double scale, const char *scene_name)
+{
+    plot *p = plot_create(options->width, options->height);
+    if (!p) return NULL;
+    int elements = m->node_count - 1;
+    int curve_points = elements * FEM_CURVE_SAMPLES + 1;
+    double *cx = malloc((size_t)curve_points * sizeof *cx);
+    double *cz = malloc((size_t)curve_points * sizeof *cz);
+    double *dx = malloc((size_t)m->node_count * sizeof *dx);
+    double *dz = malloc((size_t)m->node_count * sizeof *dz);
+    char **labels = calloc((size_t)m->node_count, sizeof *labels);
+    char *label_text = malloc((size_t)m->node_count * 12);
+    int rc = (!cx || !cz || !dx || !dz || !labels || !label_text) ? -1 : 0;
+    if (rc == 0) {
+        char title[300];
+        if (options->title[0])
+            snprintf(title, sizeof title, "%s", options->title);
+        else
+            snprintf(title, sizeof title, "FEM: %s", scene_name);
+        plot_set_title(p, title);
+        plot_set_axis_labels(p, "x [m]", "z [m]");
+        plot_set_equal_aspect(p, 1);
+        double extent = structure_extent(m);
+        int legend_done = 0;
+        for (int i = 0; i < m->support_count; i++)
+            rc |= add_support_symbol(p, m, &m->supports[i], 0.12 * extent, &legend_done);
+
+        for (int i = 0; i < m->node_count; i++) {
+            labels[i] = label_text + 12 * i;
+            snprintf(labels[i], 12, "%d", i + 1);
+        }
+        rc |= plot_add_line(p, m->x, m->z, m->node_count,
+                            plot_style_line(undeformed_rgb[0], undeformed_rgb[1], undeformed_rgb[2],
+                                            2.5, PLOT_DASHED),
+                            "undeformed");
+        plot_style small = plot_style_line(undeformed_rgb[0], undeformed_rgb[1], undeformed_rgb[2],
+                                           1.5, PLOT_SOLID);
+        small.marker_size = 6;
+        /* numbers beside the nodes: on the rod's left (upper) side and a little
+         * ahead, which keeps node 1's number off the clamp's hatch */
+        double mx = m->x[m->node_count - 1] - m->x[0], mz = m->z[m->node_count - 1] - m->z[0];
+        double ml = hypot(mx, mz);
+        double tx = ml > 0 ? mx / ml : 1, tz = ml > 0 ? mz / ml : 0;
+        rc |= plot_add_markers(p, m->x, m->z, m->node_count, small, (const char *const *)labels,
+                               -tz * 16 + tx * 9, -(tx * 16 + tz * 9), NULL);
+
+        /* deformed: Hermite cubic inside each element (not chords) */
+        int k = 0;
+        for (int e = 0; e < elements; e++)
+            for (int j = (e == 0 ? 0 : 1); j <= FEM_CURVE_SAMPLES; j++, k++)
+                fem_element_deformed_point(m, s, e, (double)j / FEM_CURVE_SAMPLES, scale, &cx[k],
+                                           &cz[k], NULL, NULL);
+        for (int i = 0; i < m->node_count; i++) {
+            dx[i] = m->x[i] + scale * s->displacement[i * 3];
+            dz[i] = m->z[i] + scale * s->displacement[i * 3 + 1];
+        }
+        char legend[128];
+        if (scale == 1.0)
+            snprintf(legend, sizeof legend, "deformed (true scale, 1:1)");
+        else
+            snprintf(legend, sizeof legend, "deformed (displacements \xc3\x97 %g)", scale);
+        plot_style deformed = plot_style_line(fem_deformed_rgb[0], fem_deformed_rgb[1],
+                                              fem_deformed_rgb[2], 3.5, PLOT_SOLID);
+        rc |= plot_add_line(p, cx, cz, k, deformed, legend);
+        plot_style nodes = deformed;
+        nodes.width = 2.0;
+        nodes.marker_size = 10;
+        rc |= plot_add_markers(p, dx, dz, m->node_count, nodes, NULL, 0, 0, "nodes");
+
+        plot_style arrow = plot_style_line(load_rgb[0], load_rgb[1], load_rgb[2], 3.0, PLOT_SOLID);
+        arrow.marker_size = 18;
+        for (int i = 0; i < m->load_count; i++) {
+            const fem_load *l = &m->loads[i];
+            double magnitude = hypot(l->force[0], l->force[1]);
+            int n = l->node;
+            if (magnitude > 0) {
+                double len = 0.2 * extent;
+                double ax = dx[n], az = dz[n];
+                snprintf(legend, sizeof legend, "load at node %d: F = (%g, %g) N", n + 1,
+                         l->force[0], l->force[1]);
+                rc |= plot_add_arrow(p, ax, az, ax + l->force[0] / magnitude * len,
+                                     az + l->force[1] / magnitude * len, arrow, legend);
+            }
+            if (l->moment != 0) {
+                snprintf(legend, sizeof legend, "moment at node %d: M = %g N m (anticlockwise +)",
+                         n + 1, l->moment);
+                rc |= plot_add_legend_note(p, legend);
+            }
+        }
+        snprintf(legend, sizeof legend, "E = %g MPa, A = %.4g m\xc2\xb2, I = %.4g m\xe2\x81\xb4",
+                 m->youngs_modulus / 1e6, m->area, m->second_moment);
+        rc |= plot_add_legend_note(p, legend);
+    }
+    free(cx);
+    free(cz);
+    free(dx);
+    free(dz);
+    free(labels);
+    free(label_text);
+    if (rc) {
+        plot_destroy(p);
+        return NULL;
+    }
+    return p;
+}
+
+/* ---- tables --------------------------------------------------------------- */
+
+static double displacement_magnitude(const fem_solution *s, int i)
+{
+    return hypot(s->displacement[i * 3], s->displacement[i * 3 + 1]);
+}
+
+static void print_table(FILE *out, const fem_model *m, const fem_solution *s)
+{
+    fprintf(out, "%5s %11s %11s %14s %14s %14s %14s\n", "node", "x [m]", "z [m]", "u [m]",
+            "w [m]", "theta [rad]", "|d| [m]");
+    for (int i = 0; i < m->node_count; i++) {
+        const double *d = &s->displacement[i * 3];
+        fprintf(out, "%5d %11.6f %11.6f %14.6e %14.6e %14.6e %14.6e\n", i + 1, m->x[i], m->z[i],
+                d[0] + 0.0, d[1] + 0.0, d[2] + 0.0, displacement_magnitude(s, i));
+    }
+    fprintf(out, "\nsupport reactions:\n%5s %-8s %14s %14s %14s\n", "node", "type", "Fx [N]",
+            "Fz [N]", "M [N m]");
+    for (int i = 0; i < m->support_count; i++) {
+        const fem_support *sp = &m->supports[i];
+        const double *r = &s->reaction[sp->node * 3];
+        fprintf(out, "%5d %-8s %14.6e %14.6e %14.6e\n", sp->node + 1, support_names[sp->type],
+                r[0] + 0.0, r[1] + 0.0, r[2] + 0.0);
+    }
+}
+
+static int write_csv(const char *path, const fem_model *m, const fem_solution *s, char *err,
+                     size_t errlen)
+{
+    outfile f;
+    if (outfile_open(&f, path, err, errlen)) return -1;
+    fprintf(f.fp, "node,x,z,u,w,theta,displacement\n");
+    for (int i = 0; i < m->node_count; i++) {
+        const double *d = &s->displacement[i * 3];
+        fprintf(f.fp, "%d,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g\n", i + 1, m->x[i], m->z[i],
+                d[0] + 0.0, d[1] + 0.0, d[2] + 0.0, displacement_magnitude(s, i));
+    }
+    if (ferror(f.fp)) {
+        snprintf(err, errlen, "%s: write error", path);
+        outfile_abort(&f);
+        return -1;
+    }
+    return outfile_commit(&f, err, errlen);
+}
+
+static int write_markdown(const char *path, const char *scene, const fem_model *m,
+                          const fem_solution *s, char *err, size_t errlen)
+{
+    outfile f;
+    if (outfile_open(&f, path, err, errlen)) return -1;
+    fprintf(f.fp, "Nodal displacements of `%s` (%d elements; u along x, w along z, theta "
+                  "anticlockwise):\n\n", scene, m->node_count - 1);
+    fprintf(f.fp, "| node | x [m] | z [m] | u [m] | w [m] | theta [rad] | \\|d\\| [m] |\n");
+    fprintf(f.fp, "| ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    for (int i = 0; i < m->node_count; i++) {
+        const double *d = &s->displacement[i * 3];
+        fprintf(f.fp, "| %d | %.4f | %.4f | %.4e | %.4e | %.4e | %.4e |\n", i + 1, m->x[i],
+                m->z[i], d[0] + 0.0, d[1] + 0.0, d[2] + 0.0, displacement_magnitude(s, i));
+    }
+    fprintf(f.fp, "\nSupport reactions:\n\n| node | type | Fx [N] | Fz [N] | M [N m] |\n"
+                  "| ---: | --- | ---: | ---: | ---: |\n");
+    for (int i = 0; i < m->support_count; i++) {
+        const fem_support *sp = &m->supports[i];
+        const double *r = &s->reaction[sp->node * 3];
+        fprintf(f.fp, "| %d | %s | %.4g | %.4g | %.4g |\n", sp->node + 1, support_names[sp->type],
+                r[0] + 0.0, r[1] + 0.0, r[2] + 0.0);
+    }
+    if (ferror(f.fp)) {
+        snprintf(err, errlen, "%s: write error", path);
+        outfile_abort(&f);
+        return -1;
+    }
+    return outfile_commit(&f, err, errlen);
+}
+
+/* ---- command -------------------------------------------------------------- */
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: rodsim fem SCENE [--set section.key=value]... [--csv FILE] [--md FILE]\n"
+            "                        [--png FILE | --no-png] [-o DIR]\n"
+            "Solves a 2-D beam (frame) finite-element scene, prints the nodal table\n"
+            "(node, x, z, u, w, theta, |d|) and the support reactions, and draws the\n"
+            "undeformed and deformed structure into DIR/<scene>.png (DIR defaults to out).\n"
+            "  --set s.k=v  override a scene key (repeatable)\n"
+            "  --csv FILE   nodal table as CSV: node,x,z,u,w,theta,displacement (m, rad)\n"
+            "  --md FILE    nodal table and reactions as Markdown\n"
+            "  --png FILE   figure path instead of DIR/<scene>.png; --no-png: no figure\n"
+            "Exit status: 0 done, 2 bad input or a mechanism, 1 other failure.\n");
+}
+
+int fem_command(int argc, char **argv)
+{
+    const char *scene_path = NULL, *csv_path = NULL, *md_path = NULL, *png_path = NULL;
+    const char *out_dir = "out";
+    int no_png = 0;
+    char err[1024] = "";
+    /* the --set assignments are applied after loading, in order */
+    int set_count = 0;
+    const char **sets = calloc((size_t)(argc > 0 ? argc : 1), sizeof *sets);
+    if (!sets) {
+        fprintf(stderr, "rodsim fem: out of memory\n");
+        return 1;
+    }
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        int has_value = i + 1 < argc;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            usage(stdout);
+            free(sets);
+            return 0;
+        } else if (strcmp(a, "--no-png") == 0) {
+            no_png = 1;
+        } else if ((strcmp(a, "--set") == 0 || strcmp(a, "--csv") == 0 || strcmp(a, "--md") == 0 ||
+                    strcmp(a, "--png") == 0 || strcmp(a, "-o") == 0)) {
+            if (!has_value) {
+                fprintf(stderr, "rodsim fem: %s needs a value\n", a);
+                usage(stderr);
+                free(sets);
+                return 2;
+            }
+            const char *v = argv[++i];
+            if (strcmp(a, "--set") == 0) sets[set_count++] = v;
+            else if (strcmp(a, "--csv") == 0) csv_path = v;
+            else if (strcmp(a, "--md") == 0) md_path = v;
+            else if (strcmp(a, "--png") == 0) png_path = v;
+            else out_dir = v;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            fprintf(stderr, "rodsim fem: unknown option '%s'\n", a);
+            usage(stderr);
+            free(sets);
+            return 2;
+        } else if (!scene_path) {
+            scene_path = a;
+        } else {
+            fprintf(stderr, "rodsim fem: one scene only ('%s' and '%s')\n", scene_path, a);
+            free(sets);
+            return 2;
+        }
+    }
+    if (!scene_path) {
+        fprintf(stderr, "rodsim fem: no scene given\n");
+        usage(stderr);
+        free(sets);
+        return 2;
+    }
+
+    int status = 1;
+    fem_model *model = NULL;
+    fem_solution *solution = NULL;
+    plot *figure = NULL;
+    ini_doc *doc = ini_load(scene_path, err, sizeof err);
+    if (!doc) {
+        status = 2;
+        goto done;
+    }
+    for (int i = 0; i < set_count; i++)
+        if (ini_set(doc, sets[i], err, sizeof err)) {
+            status = 2;
+            goto done;
+        }
+    fem_figure_options options;
+    if (!(model = fem_scene_read(doc, &options, err, sizeof err))) {
+        status = 2;
+        goto done;
+    }
+    if (!(solution = fem_solution_create(model->node_count))) {
+        snprintf(err, sizeof err, "out of memory");
+        goto done;
+    }
+    char solve_err[768] = "";
+    fem_status solved = fem_solve(model, solution, solve_err, sizeof solve_err);
+    if (solved != FEM_OK) {
+        /* a mechanism or bad model: name the scene it came from */
+        snprintf(err, sizeof err, "%s: %s", solved == FEM_FAILURE ? "rodsim" : scene_path,
+                 solve_err);
+        status = solved == FEM_FAILURE ? 1 : 2;
+        goto done;
+    }
+
+    /* round-off: the relative error is about 1e-16 x the condition number */
+    double roundoff = 1.1e-16 * solution->condition_number;
+    if (roundoff > 1e-2) {
+        snprintf(err, sizeof err,
+                 "%s: %d elements make the stiffness matrix too ill-conditioned for double "
+                 "precision (condition number %.2g: round-off of about %.0f %% in the "
+                 "displacements); use fewer elements: the cubic elements are exact at the nodes "
+                 "for nodal loads, a few per member suffice",
+                 scene_path, model->node_count - 1, solution->condition_number,
+                 fmin(100.0, 100 * roundoff));
+        status = 2;
+        goto done;
+    }
+    if (roundoff > 1e-6)
+        fprintf(stderr, "rodsim fem: warning: condition number %.2g: the displacements may carry "
+                        "a relative round-off error of about %.1g; fewer elements would be more "
+                        "accurate\n", solution->condition_number, roundoff);
+
+    char scene_name[256];
+    ini_scene_name(doc, scene_name, sizeof scene_name);
+    double scale = options.scale > 0 ? options.scale : fem_auto_scale(model, solution);
+    printf("rodsim fem: %s: %d nodes, %d elements, E = %g Pa, A = %.6g m^2, I = %.6g m^4\n"
+           "condition number of the (equilibrated) stiffness: %.3g\n\n",
+           scene_path, model->node_count, model->node_count - 1, model->youngs_modulus,
+           model->area, model->second_moment, solution->condition_number);
+    print_table(stdout, model, solution);
+    fflush(stdout);
+
+    if (csv_path && write_csv(csv_path, model, solution, err, sizeof err)) goto done;
+    if (md_path && write_markdown(md_path, scene_name, model, solution, err, sizeof err)) goto done;
+    if (!no_png) {
+        char default_png[1100];
+        if (!png_path) {
+            snprintf(default_png, sizeof default_png, "%s/%s.png", out_dir, scene_name);
+            png_path = default_png;
+        }
+        if (!(figure = fem_figure_create(model, solution, &options, scale, scene_name))) {
+            snprintf(err, sizeof err, "out of memory for the figure");
+            goto done;
+        }
+        if (plot_write_png(figure, png_path, err, sizeof err)) goto done;
+        printf("\nwrote %s (deformation drawn %s)\n", png_path,
+               scale == 1.0 ? "true to scale" : "magnified");
+        if (scale != 1.0) printf("deformation scale: displacements x %g in the figure\n", scale);
+    }
+    if (csv_path) printf("wrote %s\n", csv_path);
+    if (md_path) printf("wrote %s\n", md_path);
+    status = 0;
+done:
+    if (status != 0) fprintf(stderr, "rodsim fem: %s\n", err);
+    plot_destroy(figure);
+    fem_solution_destroy(solution);
+    fem_model_destroy(model);
+    ini_destroy(doc);
+    free(sets);
+    return status;
+}

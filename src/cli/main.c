@@ -1,0 +1,60 @@
+/* main.c: the rodsim command line: a table of subcommands. Only main decides
+ * the exit status (0 success, 2 bad input/usage/unstable run, 1 other failure). */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli/fem_cli.h"
+#include "cli/figure_cli.h"
+
+#include "base/outfile.h"
+#include "cli/run.h"
+#include "cli/stability_cli.h"
+#include "cli/validate_cli.h"
+
+typedef struct command {
+    const char *name;
+    int (*run)(int argc, char **argv); /* argv[0] is the command name; returns the exit status */
+    const char *summary;
+} command;
+
+/* Another subcommand is one more row here. */
+static const command commands[] = {
+    {"run", run_command, "simulate a rod scene; render its video and poster, write its CSV"},
+    {"fem", fem_command, "solve a 2-D beam FEM scene (the fishing rod); print, plot, tabulate"},
+    {"stability", stability_command, "largest stable dt per scheme at the extremes; table, map"},
+    {"figure", figure_command, "regenerate the thesis' figures (parallel sweeps) as PNG plots"},
+    {"validate", validate_command, "run the validation cases: errors, orders of convergence"},
+};
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: rodsim COMMAND [options]   (rodsim COMMAND --help for its options)\n\n"
+               "commands:\n");
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].summary);
+    fprintf(f, "\nexit status: 0 success, 2 bad input or usage (or a numerically unstable run),\n"
+               "1 any other failure.\n");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fprintf(stderr, "rodsim: no command given\n");
+        usage(stderr);
+        return 2;
+    }
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
+        strcmp(argv[1], "help") == 0) {
+        usage(stdout);
+        return 0;
+    }
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
+        if (strcmp(argv[1], commands[i].name) == 0) {
+            outfile_install_signal_cleanup();
+            return commands[i].run(argc - 1, argv + 1);
+        }
+    }
+    fprintf(stderr, "rodsim: unknown command '%s'\n", argv[1]);
+    usage(stderr);
+    return 2;
+}

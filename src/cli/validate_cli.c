@@ -1,0 +1,505 @@
+/* validate_cli.c: `rodsim validate` (see validate_cli.h). The plan is a list
+ * of points (case, scheme, NS, dt); each runs in this process, or with
+ * --jobs N in forked worker processes (one per point, the row sent back
+ * through a pipe). Rows print in plan order as soon as they and every row
+ * before them are done. */
+#include "cli/validate_cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "base/outfile.h"
+#include "study/validate.h"
+
+enum { max_list = 64, max_points = 4096 };
+
+static const int full_nodes[] = {11, 21, 51, 101, 201};
+static const int quick_nodes[] = {11, 21};
+/* dt sweep at the finest NS (where the error in ds is smallest), as
+ * multiples of the case's default dt: the implicit default (2000 steps per
+ * period) is so fine that its time error hides under the error in ds, so the
+ * sweep takes 100, 50 and 25 steps per period; the thesis default sits at
+ * half its stable limit, so the sweep refines it. */
+static const double implicit_dt_factors[] = {20.0, 40.0, 80.0};
+static const double thesis_dt_factors[] = {0.5, 0.25};
+
+typedef struct point {
+    int case_index;
+    rod_scheme_kind scheme;
+    int nodes;
+    double dt;       /* s; 0: the case's default */
+    int ds_sweep;    /* counts for the order in ds */
+    int dt_sweep;    /* counts for the order in dt */
+    int precomputed; /* row already filled (not applicable) */
+} point;
+
+typedef struct plan {
+    point points[max_points];
+    validate_row rows[max_points];
+    int done[max_points];
+    int count;
+} plan;
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: rodsim validate [--case NAME]... [--scheme NAME]... [--nodes N]... [--dt DT]...\n"
+            "                       [--quick] [--csv FILE|-] [--jobs N] [--print-commands]\n\n"
+            "Runs the validation cases against independent references and prints one row per\n"
+            "run (case, scheme, NS, dt, computed, reference, relative error, wall time), then\n"
+            "the observed order of convergence in ds and dt per case and scheme.\n\n"
+            "  --case NAME    a case (repeatable; default all):");
+    for (const char *const *n = validate_case_names(); *n; n++) fprintf(out, " %s", *n);
+    fprintf(out,
+            "\n  --scheme NAME  thesis | implicit | static (repeatable; default all)\n"
+            "  --nodes N      NS, 3..100001 (repeatable; default 11 21 51 101 201)\n"
+            "  --dt DT        s, > 0 (repeatable; default per case: dynamic cases run their\n"
+            "                 default dt at every NS and a dt sweep at the finest NS)\n"
+            "  --quick        NS 11 and 21, implicit frequencies at 200 steps per period and a\n"
+            "                 short dt sweep (the tests' set, seconds)\n"
+            "  --csv FILE     also write the rows as CSV (- for stdout, then no table)\n"
+            "  --jobs N       run points in N worker processes (1..64; default 1)\n"
+            "  --print-commands  print one independent command line per point (for GNU\n"
+            "                 parallel or a job array) instead of running them\n\n"
+            "exit status: 0 every applicable row ran (errors are data), 1 a run failed or\n"
+            "diverged, 2 bad usage.\n");
+}
+
+static int parse_int(const char *text, long lo, long hi, int *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (errno || end == text || *end || v < lo || v > hi) return -1;
+    *out = (int)v;
+    return 0;
+}
+
+static int parse_positive(const char *text, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (errno || end == text || *end || !isfinite(v) || v <= 0.0) return -1;
+    *out = v;
+    return 0;
+}
+
+static const char *status_word(int status)
+{
+    return status == 0 ? "ok" : status == 1 ? "n/a" : "FAILED";
+}
+
+static void print_header(void)
+{
+    printf("%-23s %-8s %5s %10s %14s %14s %10s %8s %-6s %s\n", "case", "scheme", "NS", "dt [s]",
+           "computed", "reference", "rel.error", "wall [s]", "status", "quantity; note");
+}
+
+static void print_row(const validate_row *r)
+{
+    char dt[16], nodes[16];
+    if (r->dt > 0.0) snprintf(dt, sizeof dt, "%.4g", r->dt);
+    else snprintf(dt, sizeof dt, "%s", r->status == 1 ? "-" : "static");
+    if (r->nodes > 0) snprintf(nodes, sizeof nodes, "%d", r->nodes);
+    else snprintf(nodes, sizeof nodes, "-");
+    printf("%-23s %-8s %5s %10s %14.8g %14.8g %10.3e %8.3f %-6s %s%s%s\n", r->case_name, r->scheme,
+           nodes, dt, r->computed, r->reference, r->relative_error, r->wall_seconds,
+           status_word(r->status), r->quantity, r->note[0] ? "; " : "", r->note);
+    fflush(stdout);
+}
+
+static void csv_field(FILE *f, const char *text)
+{
+    fputc('"', f);
+    for (const char *c = text; *c; c++) {
+        if (*c == '"') fputc('"', f);
+        fputc(*c, f);
+    }
+    fputc('"', f);
+}
+
+static void write_csv_rows(FILE *f, const plan *p)
+{
+    fprintf(f, "case,scheme,nodes,dt,computed,reference,relative_error,wall_seconds,status,"
+               "quantity,note\n");
+    for (int k = 0; k < p->count; k++) {
+        const validate_row *r = &p->rows[k];
+        fprintf(f, "%s,%s,%d,%.9g,%.12g,%.12g,%.6e,%.6f,%d,", r->case_name, r->scheme, r->nodes,
+                r->dt, r->computed, r->reference, r->relative_error, r->wall_seconds, r->status);
+        csv_field(f, r->quantity);
+        fputc(',', f);
+        csv_field(f, r->note);
+        fputc('\n', f);
+    }
+}
+
+static int add_point(plan *p, point pt)
+{
+    if (p->count >= max_points) return -1;
+    p->points[p->count++] = pt;
+    return 0;
+}
+
+/* Prints every finished row not yet printed, in plan order. */
+static void flush_rows(plan *p, int *printed, int table)
+{
+    while (*printed < p->count && p->done[*printed]) {
+        if (table) print_row(&p->rows[*printed]);
+        (*printed)++;
+    }
+}
+
+static void run_point(const point *pt, validate_row *row)
+{
+    validate_run(validate_case_names()[pt->case_index], pt->scheme, pt->nodes, pt->dt, row);
+}
+
+/* Runs the points in up to `jobs` forked workers; a worker that dies leaves
+ * a failed row saying so. */
+static void run_parallel(plan *p, int jobs, int table, int *printed)
+{
+    pid_t pids[64];
+    int pipes[64], slot_point[64];
+    int running = 0, next = 0;
+    for (int j = 0; j < jobs; j++) pids[j] = 0;
+    while (next < p->count || running > 0) {
+        while (next < p->count && p->done[next]) next++;
+        if (next < p->count && running < jobs) {
+            int j = 0;
+            while (pids[j]) j++;
+            int fd[2];
+            pid_t pid = -1;
+            if (pipe(fd) == 0) {
+                fflush(stdout);
+                pid = fork();
+                if (pid == 0) {
+                    close(fd[0]);
+                    validate_row row;
+                    run_point(&p->points[next], &row);
+                    ssize_t n = write(fd[1], &row, sizeof row); /* < PIPE_BUF: one write */
+                    _exit(n == (ssize_t)sizeof row ? 0 : 1);
+                }
+                close(fd[1]);
+                if (pid < 0) close(fd[0]);
+            }
+            if (pid < 0) { /* no worker: run it here */
+                run_point(&p->points[next], &p->rows[next]);
+                p->done[next++] = 1;
+                flush_rows(p, printed, table);
+                continue;
+            }
+            pids[j] = pid;
+            pipes[j] = fd[0];
+            slot_point[j] = next++;
+            running++;
+            continue;
+        }
+        int wstatus = 0;
+        pid_t pid = wait(&wstatus);
+        if (pid < 0) break;
+        for (int j = 0; j < jobs; j++) {
+            if (pids[j] != pid) continue;
+            int k = slot_point[j];
+            validate_row *row = &p->rows[k];
+            ssize_t n = read(pipes[j], row, sizeof *row);
+            if (n != (ssize_t)sizeof *row) {
+                const point *pt = &p->points[k];
+                memset(row, 0, sizeof *row);
+                snprintf(row->case_name, sizeof row->case_name, "%s",
+                         validate_case_names()[pt->case_index]);
+                snprintf(row->scheme, sizeof row->scheme, "%s", rod_scheme_get(pt->scheme)->name);
+                row->nodes = pt->nodes;
+                row->dt = pt->dt;
+                row->computed = row->reference = row->relative_error = NAN;
+                row->status = 2;
+                snprintf(row->note, sizeof row->note, "worker process died (%s %d)",
+                         WIFSIGNALED(wstatus) ? "signal" : "exit status",
+                         WIFSIGNALED(wstatus) ? WTERMSIG(wstatus) : WEXITSTATUS(wstatus));
+            }
+            close(pipes[j]);
+            pids[j] = 0;
+            running--;
+            p->done[k] = 1;
+        }
+        flush_rows(p, printed, table);
+    }
+}
+
+/* Observed orders: least-squares slope of log(error) over log(h) for the
+ * rows of one case and scheme in a sweep, and the successive local orders
+ * log(e_k/e_k+1)/log(h_k/h_k+1). */
+static void print_orders(const plan *p)
+{
+    printf("\nobserved order of convergence (least-squares slope of log relative error against "
+           "log h over the runs; local orders between successive runs in brackets):\n");
+    for (int k = 0; k < p->count; k++) {
+        const point *pt = &p->points[k];
+        int first = 1;
+        for (int j = 0; j < k; j++)
+            if (p->points[j].case_index == pt->case_index && p->points[j].scheme == pt->scheme)
+                first = 0;
+        if (!first) continue;
+        for (int sweep = 0; sweep < 2; sweep++) {
+            double h[max_list], err[max_list];
+            int n = 0;
+            double largest = 0.0;
+            for (int j = k; j < p->count && n < max_list; j++) {
+                const point *q = &p->points[j];
+                const validate_row *r = &p->rows[j];
+                if (q->case_index != pt->case_index || q->scheme != pt->scheme) continue;
+                if (!(sweep == 0 ? q->ds_sweep : q->dt_sweep) || r->status != 0) continue;
+                h[n] = sweep == 0 ? 1.0 / (r->nodes - 1) : r->dt;
+                err[n] = r->relative_error;
+                largest = fmax(largest, err[n]);
+                n++;
+            }
+            if (n < 2) continue;
+            printf("  %-23s %-8s in %s: ", validate_case_names()[pt->case_index],
+                   rod_scheme_get(pt->scheme)->name, sweep == 0 ? "ds" : "dt");
+            if (largest < 1e-6) {
+                /* round-off, Newton tolerance or the residual motion of a settling run */
+                printf("every error <= %.1e over %d runs: no discretisation error to observe\n",
+                       largest, n);
+                continue;
+            }
+            /* sort by h, largest first */
+            for (int a = 0; a < n; a++)
+                for (int b = a + 1; b < n; b++)
+                    if (h[b] > h[a]) {
+                        double t = h[a]; h[a] = h[b]; h[b] = t;
+                        t = err[a]; err[a] = err[b]; err[b] = t;
+                    }
+            printf("%.2f over %d runs [", validate_order_fit(h, err, n), n);
+            for (int a = 0; a + 1 < n; a++)
+                printf("%s%.2f", a ? " " : "", log(err[a] / err[a + 1]) / log(h[a] / h[a + 1]));
+            printf("]\n");
+        }
+    }
+}
+
+int validate_command(int argc, char **argv)
+{
+    int case_list[max_list], case_count = 0;
+    rod_scheme_kind scheme_list[ROD_SCHEME_COUNT * 4];
+    int scheme_count = 0;
+    int node_list[max_list], node_count = 0;
+    double dt_list[max_list];
+    int dt_count = 0, quick = 0, jobs = 1, print_commands = 0;
+    const char *csv = NULL;
+    for (int a = 1; a < argc; a++) {
+        const char *opt = argv[a];
+        if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) {
+            usage(stdout);
+            return 0;
+        }
+        if (strcmp(opt, "--quick") == 0) {
+            quick = 1;
+            continue;
+        }
+        if (strcmp(opt, "--print-commands") == 0) {
+            print_commands = 1;
+            continue;
+        }
+        int takes_value = strcmp(opt, "--case") == 0 || strcmp(opt, "--scheme") == 0 ||
+                          strcmp(opt, "--nodes") == 0 || strcmp(opt, "--dt") == 0 ||
+                          strcmp(opt, "--csv") == 0 || strcmp(opt, "--jobs") == 0;
+        if (!takes_value) {
+            fprintf(stderr, "rodsim validate: unknown option '%s'\n", opt);
+            usage(stderr);
+            return 2;
+        }
+        if (a + 1 >= argc) {
+            fprintf(stderr, "rodsim validate: %s needs a value\n", opt);
+            return 2;
+        }
+        const char *value = argv[++a];
+        if (strcmp(opt, "--case") == 0) {
+            int c = validate_case_index(value);
+            if (c < 0) {
+                fprintf(stderr, "rodsim validate: --case '%s': unknown case; accepted:", value);
+                for (const char *const *n = validate_case_names(); *n; n++)
+                    fprintf(stderr, " %s", *n);
+                fprintf(stderr, "\n");
+                return 2;
+            }
+            if (case_count < max_list) case_list[case_count++] = c;
+        } else if (strcmp(opt, "--scheme") == 0) {
+            rod_scheme_kind kind;
+            if (!rod_scheme_find(value, &kind)) {
+                fprintf(stderr, "rodsim validate: --scheme '%s': unknown scheme; accepted: thesis "
+                                "| implicit | static\n", value);
+                return 2;
+            }
+            if (scheme_count < (int)(sizeof scheme_list / sizeof scheme_list[0]))
+                scheme_list[scheme_count++] = kind;
+        } else if (strcmp(opt, "--nodes") == 0) {
+            int n;
+            if (parse_int(value, 3, 100001, &n) || node_count >= max_list) {
+                fprintf(stderr, "rodsim validate: --nodes '%s': accepted: an integer 3..100001 "
+                                "(at most %d values)\n", value, max_list);
+                return 2;
+            }
+            node_list[node_count++] = n;
+        } else if (strcmp(opt, "--dt") == 0) {
+            double dt;
+            if (parse_positive(value, &dt) || dt_count >= max_list) {
+                fprintf(stderr, "rodsim validate: --dt '%s': accepted: a time step > 0 s (at "
+                                "most %d values)\n", value, max_list);
+                return 2;
+            }
+            dt_list[dt_count++] = dt;
+        } else if (strcmp(opt, "--jobs") == 0) {
+            if (parse_int(value, 1, 64, &jobs)) {
+                fprintf(stderr, "rodsim validate: --jobs '%s': accepted: an integer 1..64\n",
+                        value);
+                return 2;
+            }
+        } else {
+            csv = value;
+        }
+    }
+    const char *const *names = validate_case_names();
+    if (case_count == 0)
+        for (int c = 0; names[c]; c++) case_list[case_count++] = c;
+    if (scheme_count == 0)
+        for (int s = 0; s < ROD_SCHEME_COUNT; s++) scheme_list[scheme_count++] = (rod_scheme_kind)s;
+    if (node_count == 0) {
+        const int *defaults = quick ? quick_nodes : full_nodes;
+        node_count = quick ? 2 : 5;
+        for (int k = 0; k < node_count; k++) node_list[k] = defaults[k];
+    }
+    int finest_nodes = node_list[0];
+    for (int k = 1; k < node_count; k++)
+        if (node_list[k] > finest_nodes) finest_nodes = node_list[k];
+
+    plan *p = calloc(1, sizeof *p);
+    if (!p) {
+        fprintf(stderr, "rodsim validate: out of memory\n");
+        return 1;
+    }
+    int too_many = 0;
+    for (int ci = 0; ci < case_count; ci++) {
+        for (int si = 0; si < scheme_count; si++) {
+            const char *name = names[case_list[ci]];
+            rod_scheme_kind scheme = scheme_list[si];
+            point base = {.case_index = case_list[ci], .scheme = scheme};
+            validate_row row;
+            if (!validate_applicable(name, scheme, &row)) {
+                /* one row says why; nothing to run */
+                base.precomputed = 1;
+                if (add_point(p, base) == 0) {
+                    p->rows[p->count - 1] = row;
+                    p->done[p->count - 1] = 1;
+                } else too_many = 1;
+                continue;
+            }
+            int dynamic = validate_case_depends_on_dt(name, scheme);
+            for (int ni = 0; ni < node_count; ni++) {
+                base.nodes = node_list[ni];
+                if (dt_count > 0) {
+                    for (int di = 0; di < dt_count; di++) {
+                        base.dt = dt_list[di];
+                        base.ds_sweep = di == 0;
+                        base.dt_sweep = dynamic && base.nodes == finest_nodes;
+                        too_many |= add_point(p, base) != 0;
+                    }
+                } else {
+                    /* quick: 200 steps per period instead of 2000 for the implicit scheme */
+                    base.dt = quick && dynamic && scheme == ROD_SCHEME_IMPLICIT
+                                  ? 10.0 * validate_default_dt(name, scheme, base.nodes)
+                                  : 0.0;
+                    base.ds_sweep = 1;
+                    /* the thesis default belongs to its sweep; the implicit one is far
+                       finer than its sweep (see implicit_dt_factors) */
+                    base.dt_sweep = dynamic && base.nodes == finest_nodes &&
+                                    scheme == ROD_SCHEME_THESIS;
+                    too_many |= add_point(p, base) != 0;
+                }
+            }
+            if (dynamic && dt_count == 0) {
+                const double *factors =
+                    scheme == ROD_SCHEME_THESIS ? thesis_dt_factors : implicit_dt_factors;
+                int n_factors = scheme == ROD_SCHEME_THESIS ? (quick ? 1 : 2) : (quick ? 2 : 3);
+                double default_dt = validate_default_dt(name, scheme, finest_nodes);
+                for (int f = 0; f < n_factors && default_dt > 0.0; f++) {
+                    point sweep = {.case_index = case_list[ci], .scheme = scheme,
+                                   .nodes = finest_nodes, .dt = factors[f] * default_dt,
+                                   .dt_sweep = 1};
+                    too_many |= add_point(p, sweep) != 0;
+                }
+            }
+        }
+    }
+    if (too_many) {
+        fprintf(stderr, "rodsim validate: more than %d runs asked for; give fewer --case, "
+                        "--scheme, --nodes or --dt\n", max_points);
+        free(p);
+        return 2;
+    }
+
+    if (print_commands) {
+        /* one independent command line per point (a cluster user runs them with
+         * GNU parallel or a job array); each prints its CSV row with a header */
+        printf("# %d points; each line is one run. Concatenate their CSV output (one header)\n"
+               "# for the table; the orders of convergence need the whole set, as\n"
+               "# `rodsim validate` with the same options prints them.\n", p->count);
+        for (int k = 0; k < p->count; k++) {
+            const point *pt = &p->points[k];
+            const char *name = validate_case_names()[pt->case_index];
+            double dt = pt->dt > 0.0 ? pt->dt : validate_default_dt(name, pt->scheme, pt->nodes);
+            printf("rodsim validate --case %s --scheme %s --nodes %d",
+                   name, rod_scheme_get(pt->scheme)->name, pt->nodes);
+            if (dt > 0.0) printf(" --dt %.17g", dt);
+            printf(" --csv - > validate_point_%03d.csv\n", k);
+        }
+        free(p);
+        return 0;
+    }
+
+    int table = !(csv && strcmp(csv, "-") == 0);
+    int printed = 0;
+    if (table) print_header();
+    if (jobs > 1) {
+        run_parallel(p, jobs, table, &printed);
+    } else {
+        for (int k = 0; k < p->count; k++) {
+            if (!p->done[k]) run_point(&p->points[k], &p->rows[k]);
+            p->done[k] = 1;
+            flush_rows(p, &printed, table);
+        }
+    }
+    if (table) print_orders(p);
+
+    int failed = 0;
+    for (int k = 0; k < p->count; k++) failed |= p->rows[k].status == 2;
+    int status = failed ? 1 : 0;
+    if (csv) {
+        if (strcmp(csv, "-") == 0) {
+            write_csv_rows(stdout, p);
+        } else {
+            outfile out;
+            char err[512];
+            if (outfile_open(&out, csv, err, sizeof err) != 0) {
+                fprintf(stderr, "rodsim validate: --csv %s: %s\n", csv, err);
+                status = 1;
+            } else {
+                write_csv_rows(out.fp, p);
+                if (outfile_commit(&out, err, sizeof err) != 0) {
+                    fprintf(stderr, "rodsim validate: --csv %s: %s\n", csv, err);
+                    status = 1;
+                }
+            }
+        }
+    }
+    if (failed && table)
+        printf("\nsome runs FAILED (status 2): see their notes\n");
+    free(p);
+    return status;
+}

@@ -1,0 +1,912 @@
+/* plot.c: figure layout, tessellation and text (see plot.h). The GL drawing
+ * is in gl_plot.c; the text is drawn with text.h on the read-back image. */
+#include "plot/plot.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "plot/gl_plot.h"
+#include "render/image.h"
+#include "render/text.h"
+
+#define PLOT_MSAA_SAMPLES 8
+#define CIRCLE_SEGMENTS 20
+#define MAX_TICKS 9
+
+typedef enum series_kind { SERIES_LINE, SERIES_MARKERS, SERIES_ARROW, SERIES_POLYGON, SERIES_NOTE } series_kind;
+
+typedef struct series {
+    series_kind kind;
+    int n;
+    double *x, *y;       /* (n), data units */
+    plot_style style;
+    char *legend;        /* NULL: no legend entry */
+    char **point_labels; /* (n) or NULL */
+    double label_dx, label_dy;
+} series;
+
+/* Fonts and sizes scaled to the figure. */
+typedef struct plot_fonts {
+    text_font *title, *label, *tick, *legend, *point;
+} plot_fonts;
+
+struct plot {
+    int width, height;                  /* px */
+    char *title, *x_label, *y_label;
+    int equal_aspect, log_x, log_y;
+    int fixed_limits;
+    double limits[4];                   /* xmin xmax ymin ymax (data units) */
+    series *series;
+    int series_count, series_capacity;
+
+    /* layout, valid once laid_out */
+    int laid_out;
+    double view[4];                     /* shown range, in axis units (log10 on log axes) */
+    int left, top, right, bottom;       /* axes box, px */
+    double x_tick_first, x_tick_step, y_tick_first, y_tick_step;
+    int x_tick_count, y_tick_count;
+    int legend_left, legend_top, legend_width, legend_height, legend_row;
+};
+
+/* A growing list of triangle vertices (x y floats, pixels). */
+typedef struct tri_buffer {
+    float *xy;
+    int count, capacity; /* vertices */
+    int failed;
+} tri_buffer;
+
+static void tri_push(tri_buffer *b, double x, double y)
+{
+    if (b->failed) return;
+    if (b->count == b->capacity) {
+        int cap = b->capacity ? 2 * b->capacity : 1024;
+        float *grown = realloc(b->xy, (size_t)cap * 2 * sizeof *grown);
+        if (!grown) {
+            b->failed = 1;
+            return;
+        }
+        b->xy = grown;
+        b->capacity = cap;
+    }
+    b->xy[2 * b->count] = (float)x;
+    b->xy[2 * b->count + 1] = (float)y;
+    b->count++;
+}
+
+static void tri_add(tri_buffer *b, double ax, double ay, double bx, double by, double cx, double cy)
+{
+    tri_push(b, ax, ay);
+    tri_push(b, bx, by);
+    tri_push(b, cx, cy);
+}
+
+/* A segment of width w as a quad. */
+static void tri_segment(tri_buffer *b, double x0, double y0, double x1, double y1, double w)
+{
+    double dx = x1 - x0, dy = y1 - y0, len = hypot(dx, dy);
+    if (len <= 0) return;
+    double nx = -dy / len * w / 2, ny = dx / len * w / 2;
+    tri_add(b, x0 + nx, y0 + ny, x1 + nx, y1 + ny, x1 - nx, y1 - ny);
+    tri_add(b, x0 + nx, y0 + ny, x1 - nx, y1 - ny, x0 - nx, y0 - ny);
+}
+
+static void tri_disc(tri_buffer *b, double cx, double cy, double radius)
+{
+    for (int i = 0; i < CIRCLE_SEGMENTS; i++) {
+        double a0 = 2 * M_PI * i / CIRCLE_SEGMENTS, a1 = 2 * M_PI * (i + 1) / CIRCLE_SEGMENTS;
+        tri_add(b, cx, cy, cx + radius * cos(a0), cy + radius * sin(a0), cx + radius * cos(a1),
+                cy + radius * sin(a1));
+    }
+}
+
+static void tri_ring(tri_buffer *b, double cx, double cy, double r_in, double r_out)
+{
+    for (int i = 0; i < CIRCLE_SEGMENTS; i++) {
+        double a0 = 2 * M_PI * i / CIRCLE_SEGMENTS, a1 = 2 * M_PI * (i + 1) / CIRCLE_SEGMENTS;
+        double c0 = cos(a0), s0 = sin(a0), c1 = cos(a1), s1 = sin(a1);
+        tri_add(b, cx + r_in * c0, cy + r_in * s0, cx + r_out * c0, cy + r_out * s0,
+                cx + r_out * c1, cy + r_out * s1);
+        tri_add(b, cx + r_in * c0, cy + r_in * s0, cx + r_out * c1, cy + r_out * s1,
+                cx + r_in * c1, cy + r_in * s1);
+    }
+}
+
+/* A polyline in pixels, solid or dashed; round joins for thick solid lines. */
+static void tri_polyline(tri_buffer *b, const double *px, const double *py, int n, double w,
+                         plot_dash dash)
+{
+    if (dash == PLOT_SOLID) {
+        for (int i = 0; i + 1 < n; i++) tri_segment(b, px[i], py[i], px[i + 1], py[i + 1], w);
+        if (w > 1.5)
+            for (int i = 1; i + 1 < n; i++) tri_disc(b, px[i], py[i], w / 2);
+        return;
+    }
+    /* dash pattern along the arc length, continued across vertices */
+    double on = dash == PLOT_DASHED ? 4.0 * w + 6 : w, off = dash == PLOT_DASHED ? 2.5 * w + 4 : 1.5 * w + 2;
+    double phase = 0; /* position in the pattern, px */
+    for (int i = 0; i + 1 < n; i++) {
+        double dx = px[i + 1] - px[i], dy = py[i + 1] - py[i], len = hypot(dx, dy);
+        double s = 0;
+        while (s < len) {
+            double period_left = phase < on ? on - phase : on + off - phase;
+            double step = fmin(period_left, len - s);
+            if (phase < on) {
+                double t0 = s / len, t1 = (s + step) / len;
+                tri_segment(b, px[i] + t0 * dx, py[i] + t0 * dy, px[i] + t1 * dx, py[i] + t1 * dy,
+                            w);
+            }
+            s += step;
+            phase += step;
+            if (phase >= on + off - 1e-9) phase = 0;
+        }
+    }
+}
+
+plot_style plot_style_default(void)
+{
+    plot_style s = {.rgb = {0, 0, 0}, .width = 2.0, .dash = PLOT_SOLID, .marker_size = 8.0,
+                    .filled = 1, .fill_rgb = {255, 255, 255}};
+    return s;
+}
+
+plot_style plot_style_line(unsigned char r, unsigned char g, unsigned char b, double width,
+                           plot_dash dash)
+{
+    plot_style s = plot_style_default();
+    s.rgb[0] = r;
+    s.rgb[1] = g;
+    s.rgb[2] = b;
+    s.width = width;
+    s.dash = dash;
+    return s;
+}
+
+plot *plot_create(int width_px, int height_px)
+{
+    if (width_px < 64 || height_px < 64 || width_px > 8192 || height_px > 8192) return NULL;
+    plot *p = calloc(1, sizeof *p);
+    if (!p) return NULL;
+    p->width = width_px;
+    p->height = height_px;
+    return p;
+}
+
+static void series_free(series *s)
+{
+    free(s->x);
+    free(s->y);
+    free(s->legend);
+    if (s->point_labels)
+        for (int i = 0; i < s->n; i++) free(s->point_labels[i]);
+    free(s->point_labels);
+}
+
+void plot_destroy(plot *p)
+{
+    if (!p) return;
+    for (int i = 0; i < p->series_count; i++) series_free(&p->series[i]);
+    free(p->series);
+    free(p->title);
+    free(p->x_label);
+    free(p->y_label);
+    free(p);
+}
+
+static char *copy_text(const char *text)
+{
+    if (!text) return NULL;
+    size_t n = strlen(text) + 1;
+    char *c = malloc(n);
+    if (c) memcpy(c, text, n);
+    return c;
+}
+
+void plot_set_title(plot *p, const char *title)
+{
+    free(p->title);
+    p->title = copy_text(title);
+}
+
+void plot_set_axis_labels(plot *p, const char *x_label, const char *y_label)
+{
+    free(p->x_label);
+    free(p->y_label);
+    p->x_label = copy_text(x_label);
+    p->y_label = copy_text(y_label);
+}
+
+void plot_set_equal_aspect(plot *p, int on) { p->equal_aspect = on; }
+
+void plot_set_log(plot *p, int log_x, int log_y)
+{
+    p->log_x = log_x;
+    p->log_y = log_y;
+}
+
+void plot_set_limits(plot *p, double xmin, double xmax, double ymin, double ymax)
+{
+    p->fixed_limits = xmin < xmax && ymin < ymax;
+    p->limits[0] = xmin;
+    p->limits[1] = xmax;
+    p->limits[2] = ymin;
+    p->limits[3] = ymax;
+}
+
+static series *add_series(plot *p, series_kind kind, const double *x, const double *y, int n,
+                          plot_style style, const char *legend)
+{
+    if (p->series_count == p->series_capacity) {
+        int cap = p->series_capacity ? 2 * p->series_capacity : 8;
+        series *grown = realloc(p->series, (size_t)cap * sizeof *grown);
+        if (!grown) return NULL;
+        p->series = grown;
+        p->series_capacity = cap;
+    }
+    series *s = &p->series[p->series_count];
+    memset(s, 0, sizeof *s);
+    s->kind = kind;
+    s->n = n;
+    s->style = style;
+    if (n > 0) {
+        s->x = malloc((size_t)n * sizeof *s->x);
+        s->y = malloc((size_t)n * sizeof *s->y);
+        if (!s->x || !s->y) {
+            series_free(s);
+            return NULL;
+        }
+        memcpy(s->x, x, (size_t)n * sizeof *x);
+        memcpy(s->y, y, (size_t)n * sizeof *y);
+    }
+    if (legend && !(s->legend = copy_text(legend))) {
+        series_free(s);
+        return NULL;
+    }
+    p->series_count++;
+    p->laid_out = 0;
+    return s;
+}
+
+int plot_add_line(plot *p, const double *x, const double *y, int n, plot_style style,
+                  const char *legend)
+{
+    if (n < 2) return -1;
+    return add_series(p, SERIES_LINE, x, y, n, style, legend) ? 0 : -1;
+}
+
+int plot_add_markers(plot *p, const double *x, const double *y, int n, plot_style style,
+                     const char *const *point_labels, double label_dx, double label_dy,
+                     const char *legend)
+{
+    if (n < 1) return -1;
+    series *s = add_series(p, SERIES_MARKERS, x, y, n, style, legend);
+    if (!s) return -1;
+    s->label_dx = label_dx;
+    s->label_dy = label_dy;
+    if (point_labels) {
+        s->point_labels = calloc((size_t)n, sizeof *s->point_labels);
+        int failed = !s->point_labels;
+        for (int i = 0; i < n && !failed; i++)
+            if (point_labels[i] && !(s->point_labels[i] = copy_text(point_labels[i])))
+                failed = 1;
+        if (failed) {
+            series_free(s);
+            p->series_count--;
+            return -1;
+        }
+    }
+    return 0;
+}
+
+int plot_add_arrow(plot *p, double x0, double y0, double x1, double y1, plot_style style,
+                   const char *legend)
+{
+    double x[2] = {x0, x1}, y[2] = {y0, y1};
+    return add_series(p, SERIES_ARROW, x, y, 2, style, legend) ? 0 : -1;
+}
+
+int plot_add_polygon(plot *p, const double *x, const double *y, int n, plot_style style,
+                     const char *legend)
+{
+    if (n < 3) return -1;
+    return add_series(p, SERIES_POLYGON, x, y, n, style, legend) ? 0 : -1;
+}
+
+int plot_add_legend_note(plot *p, const char *text)
+{
+    return add_series(p, SERIES_NOTE, NULL, NULL, 0, plot_style_default(), text) ? 0 : -1;
+}
+
+int plot_nice_ticks(double lo, double hi, int max_ticks, double *first, double *step)
+{
+    if (max_ticks < 2) max_ticks = 2;
+    double range = hi - lo;
+    if (!(range > 0) || !isfinite(range)) {
+        *first = lo;
+        *step = 1;
+        return 1;
+    }
+    double raw = range / (max_ticks - 1);
+    double decade = pow(10.0, floor(log10(raw)));
+    static const double mantissas[] = {1, 2, 5, 10};
+    double s = 10 * decade;
+    for (int i = 0; i < 4; i++)
+        if (mantissas[i] * decade >= raw * (1 - 1e-9)) {
+            s = mantissas[i] * decade;
+            break;
+        }
+    double f = ceil(lo / s - 1e-9) * s + 0.0; /* + 0.0: no -0 */
+    int count = (int)floor((hi - f) / s + 1e-9) + 1;
+    *first = f;
+    *step = s;
+    return count;
+}
+
+/* Axis value of a data value (log10 on a log axis; NAN when not shown). */
+static double axis_value(double v, int log_axis)
+{
+    if (!log_axis) return v;
+    return v > 0 ? log10(v) : NAN;
+}
+
+static void to_pixel(const plot *p, double x, double y, double *px, double *py)
+{
+    double ax = axis_value(x, p->log_x), ay = axis_value(y, p->log_y);
+    *px = p->left + (ax - p->view[0]) / (p->view[1] - p->view[0]) * (p->right - p->left);
+    *py = p->bottom - (ay - p->view[2]) / (p->view[3] - p->view[2]) * (p->bottom - p->top);
+}
+
+int plot_data_to_pixel(const plot *p, double x, double y, double *px, double *py)
+{
+    if (!p->laid_out) return -1;
+    to_pixel(p, x, y, px, py);
+    return 0;
+}
+
+int plot_axes_box(const plot *p, int *left, int *top, int *right, int *bottom)
+{
+    if (!p->laid_out) return -1;
+    *left = p->left;
+    *top = p->top;
+    *right = p->right;
+    *bottom = p->bottom;
+    return 0;
+}
+
+/* Ticks of a log axis (range in log10 units) at whole decades only, so the
+ * labels read 0.1, 1, 10: a range shorter than two decades is widened to the
+ * decades around it. Returns the tick count. */
+static int log_ticks(double *lo, double *hi, double *first, double *step)
+{
+    if (!(*hi > *lo) || !isfinite(*lo) || !isfinite(*hi)) {
+        *first = floor(*lo);
+        *step = 1.0;
+        return 1;
+    }
+    if (floor(*hi + 1e-9) - ceil(*lo - 1e-9) < 1.0) {
+        *lo = floor(*lo + 1e-9);
+        *hi = ceil(*hi - 1e-9);
+        if (*hi - *lo < 1.0) *hi = *lo + 1.0;
+    }
+    int count = plot_nice_ticks(*lo, *hi, MAX_TICKS, first, step);
+    if (*step < 1.0) {
+        *step = 1.0;
+        *first = ceil(*lo - 1e-9);
+        count = (int)floor(*hi + 1e-9 - *first) + 1;
+    }
+    return count;
+}
+
+/* Tick label text: as many decimals as the step needs; plain "0" at zero. */
+static void tick_text(double value, double step, int log_axis, char *out, size_t outlen)
+{
+    if (log_axis) {
+        snprintf(out, outlen, "%g", pow(10.0, value));
+        return;
+    }
+    if (fabs(value) < 1e-9 * step) value = 0;
+    double magnitude = fmax(fabs(value), step);
+    if (magnitude >= 1e5 || magnitude < 1e-4) {
+        snprintf(out, outlen, "%.3g", value);
+        return;
+    }
+    int decimals = (int)fmax(0, -floor(log10(step) + 1e-9));
+    snprintf(out, outlen, "%.*f", decimals, value);
+}
+
+/* Data range over every series, in axis units. */
+static void data_range(const plot *p, double range[4])
+{
+    range[0] = range[2] = INFINITY;
+    range[1] = range[3] = -INFINITY;
+    for (int i = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        for (int k = 0; k < s->n; k++) {
+            double ax = axis_value(s->x[k], p->log_x), ay = axis_value(s->y[k], p->log_y);
+            if (!isfinite(ax) || !isfinite(ay)) continue;
+            range[0] = fmin(range[0], ax);
+            range[1] = fmax(range[1], ax);
+            range[2] = fmin(range[2], ay);
+            range[3] = fmax(range[3], ay);
+        }
+    }
+    for (int a = 0; a < 2; a++) {
+        double *lo = &range[2 * a], *hi = &range[2 * a + 1];
+        if (!isfinite(*lo)) {
+            *lo = 0;
+            *hi = 1;
+        } else if (*hi - *lo <= 1e-12 * fmax(1, fabs(*lo))) {
+            double pad = fmax(fabs(*lo) * 0.1, 0.5);
+            *lo -= pad;
+            *hi += pad;
+        } else {
+            double pad = 0.05 * (*hi - *lo);
+            *lo -= pad;
+            *hi += pad;
+        }
+    }
+}
+
+static int max_tick_label_width(plot *p, text_font *f, double first, double step, int count,
+                                int log_axis)
+{
+    int widest = 0;
+    char text[64];
+    for (int i = 0; i < count; i++) {
+        tick_text(first + i * step, step, log_axis, text, sizeof text);
+        int w = text_width(f, text);
+        if (w > widest) widest = w;
+    }
+    (void)p;
+    return widest;
+}
+
+/* Legend rows and their widest text; places the legend in the axes corner
+ * that covers the fewest data points. */
+static int layout_legend(plot *p, plot_fonts *fonts)
+{
+    int rows = 0, widest = 0;
+    for (int i = 0; i < p->series_count; i++) {
+        if (!p->series[i].legend) continue;
+        rows++;
+        int w = text_width(fonts->legend, p->series[i].legend);
+        if (w > widest) widest = w;
+    }
+    p->legend_row = text_ascent(fonts->legend) + text_descent(fonts->legend) + 8;
+    if (rows == 0) {
+        p->legend_width = p->legend_height = 0;
+        return 0;
+    }
+    int sample = 40;
+    p->legend_width = 12 + sample + 10 + widest + 12;
+    p->legend_height = rows * p->legend_row + 12;
+    int margin = 12;
+    int best = -1, best_count = 0;
+    /* corners: 1 top right (preferred), 0 top left, 3 bottom right, 2 bottom left */
+    static const int order[4] = {1, 0, 3, 2};
+    for (int c = 0; c < 4; c++) {
+        int corner = order[c];
+        int lx = (corner & 1) ? p->right - margin - p->legend_width : p->left + margin;
+        int ly = (corner & 2) ? p->bottom - margin - p->legend_height : p->top + margin;
+        int covered = 0;
+        for (int i = 0; i < p->series_count; i++) {
+            const series *s = &p->series[i];
+            /* sample the series densely enough to see lines crossing the box */
+            for (int k = 0; k < s->n; k++) {
+                int steps = (s->kind == SERIES_LINE || s->kind == SERIES_POLYGON) && k + 1 < s->n ? 8 : 1;
+                for (int j = 0; j < steps; j++) {
+                    double t = (double)j / steps, px0, py0, px1 = 0, py1 = 0;
+                    to_pixel(p, s->x[k], s->y[k], &px0, &py0);
+                    if (steps > 1) to_pixel(p, s->x[k + 1], s->y[k + 1], &px1, &py1);
+                    double px = steps > 1 ? px0 + t * (px1 - px0) : px0;
+                    double py = steps > 1 ? py0 + t * (py1 - py0) : py0;
+                    if (px >= lx - 4 && px <= lx + p->legend_width + 4 && py >= ly - 4 &&
+                        py <= ly + p->legend_height + 4)
+                        covered++;
+                }
+            }
+        }
+        if (best < 0 || covered < best_count) {
+            best = corner;
+            best_count = covered;
+        }
+    }
+    p->legend_left = (best & 1) ? p->right - margin - p->legend_width : p->left + margin;
+    p->legend_top = (best & 2) ? p->bottom - margin - p->legend_height : p->top + margin;
+    return best_count;
+}
+
+/* Box, view and ticks for the given range (axis units). */
+static void layout_range(plot *p, plot_fonts *fonts, double range[4])
+{
+    int tick_height = text_ascent(fonts->tick) + text_descent(fonts->tick);
+    int label_height = text_ascent(fonts->label) + text_descent(fonts->label);
+    int pad = 10, tick_len = 6;
+    int top_margin = pad + (p->title ? text_ascent(fonts->title) + text_descent(fonts->title) + pad : 0);
+    int bottom_margin = pad + tick_len + 4 + tick_height + (p->x_label ? label_height + pad : 0);
+    /* tick label widths depend on the range and the range (equal aspect) on
+     * the box: two passes settle it */
+    for (int pass = 0; pass < 3; pass++) {
+        memcpy(p->view, range, 4 * sizeof *range);
+        p->x_tick_count = plot_nice_ticks(p->view[0], p->view[1], MAX_TICKS, &p->x_tick_first,
+                                          &p->x_tick_step);
+        p->y_tick_count = plot_nice_ticks(p->view[2], p->view[3], MAX_TICKS, &p->y_tick_first,
+                                          &p->y_tick_step);
+        if (p->log_x)
+            p->x_tick_count = log_ticks(&p->view[0], &p->view[1], &p->x_tick_first, &p->x_tick_step);
+        if (p->log_y)
+            p->y_tick_count = log_ticks(&p->view[2], &p->view[3], &p->y_tick_first, &p->y_tick_step);
+        int y_tick_width = max_tick_label_width(p, fonts->tick, p->y_tick_first, p->y_tick_step,
+                                                p->y_tick_count, p->log_y);
+        int left_margin = pad + (p->y_label ? label_height + pad : 0) + y_tick_width + 4 + tick_len;
+        char last[64];
+        tick_text(p->x_tick_first + (p->x_tick_count - 1) * p->x_tick_step, p->x_tick_step,
+                  p->log_x, last, sizeof last);
+        int right_margin = pad + text_width(fonts->tick, last) / 2 + 4;
+        p->left = left_margin;
+        p->right = p->width - right_margin;
+        p->top = top_margin;
+        p->bottom = p->height - bottom_margin;
+        if (p->right - p->left < 16) p->right = p->left + 16;
+        if (p->bottom - p->top < 16) p->bottom = p->top + 16;
+        if (p->equal_aspect) {
+            /* widen the axis with the fewer pixels per unit so both match */
+            double sx = (p->right - p->left) / (range[1] - range[0]);
+            double sy = (p->bottom - p->top) / (range[3] - range[2]);
+            double s = fmin(sx, sy);
+            double cx = 0.5 * (range[0] + range[1]), cy = 0.5 * (range[2] + range[3]);
+            double hx = 0.5 * (p->right - p->left) / s, hy = 0.5 * (p->bottom - p->top) / s;
+            p->view[0] = cx - hx;
+            p->view[1] = cx + hx;
+            p->view[2] = cy - hy;
+            p->view[3] = cy + hy;
+            p->x_tick_count = plot_nice_ticks(p->view[0], p->view[1], MAX_TICKS,
+                                              &p->x_tick_first, &p->x_tick_step);
+            p->y_tick_count = plot_nice_ticks(p->view[2], p->view[3], MAX_TICKS,
+                                              &p->y_tick_first, &p->y_tick_step);
+        }
+        int new_width = max_tick_label_width(p, fonts->tick, p->y_tick_first, p->y_tick_step,
+                                             p->y_tick_count, p->log_y);
+        if (new_width <= y_tick_width) break;
+        /* wider labels after the aspect fix: reserve them and redo */
+        range[0] = p->view[0];
+        range[1] = p->view[1];
+        range[2] = p->view[2];
+        range[3] = p->view[3];
+    }
+    p->laid_out = 1;
+}
+
+static void layout(plot *p, plot_fonts *fonts)
+{
+    double range[4];
+    if (p->fixed_limits) {
+        range[0] = axis_value(p->limits[0], p->log_x);
+        range[1] = axis_value(p->limits[1], p->log_x);
+        range[2] = axis_value(p->limits[2], p->log_y);
+        range[3] = axis_value(p->limits[3], p->log_y);
+        if (!isfinite(range[0]) || !isfinite(range[1]) || range[0] >= range[1]) {
+            range[0] = 0;
+            range[1] = 1;
+        }
+        if (!isfinite(range[2]) || !isfinite(range[3]) || range[2] >= range[3]) {
+            range[2] = 0;
+            range[3] = 1;
+        }
+    } else {
+        data_range(p, range);
+    }
+    layout_range(p, fonts, range);
+    int covered = layout_legend(p, fonts);
+    if (covered > 0 && !p->fixed_limits && p->legend_height > 0) {
+        /* every corner hides data: make headroom above the data for the
+         * legend (a top corner is tried first), unless that would squash it */
+        double fraction = (p->legend_height + 24.0) / (p->bottom - p->top);
+        if (fraction < 0.6) {
+            range[3] = range[2] + (range[3] - range[2]) / (1.0 - fraction);
+            layout_range(p, fonts, range);
+            layout_legend(p, fonts);
+        }
+    }
+}
+
+/* Everything drawn with GL, in order: grid, series (clipped), frame, ticks, legend. */
+static void draw_geometry(plot *p, gl_plot *g, tri_buffer *b, double *scratch_x, double *scratch_y)
+{
+    static const unsigned char white[3] = {255, 255, 255}, grid[3] = {228, 228, 228},
+                               black[3] = {0, 0, 0}, frame[3] = {40, 40, 40};
+    gl_plot_clear(g, white);
+    b->count = 0;
+    for (int i = 0; i < p->x_tick_count; i++) {
+        double px, py;
+        double v = p->x_tick_first + i * p->x_tick_step;
+        px = p->left + (v - p->view[0]) / (p->view[1] - p->view[0]) * (p->right - p->left);
+        (void)py;
+        tri_segment(b, px, p->top, px, p->bottom, 1.0);
+    }
+    for (int i = 0; i < p->y_tick_count; i++) {
+        double v = p->y_tick_first + i * p->y_tick_step;
+        double py = p->bottom - (v - p->view[2]) / (p->view[3] - p->view[2]) * (p->bottom - p->top);
+        tri_segment(b, p->left, py, p->right, py, 1.0);
+    }
+    gl_plot_triangles(g, b->xy, b->count, grid);
+
+    gl_plot_clip(g, p->left, p->top, p->right, p->bottom);
+    for (int i = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        int n = 0;
+        for (int k = 0; k < s->n; k++) {
+            to_pixel(p, s->x[k], s->y[k], &scratch_x[n], &scratch_y[n]);
+            if (isfinite(scratch_x[n]) && isfinite(scratch_y[n])) n++;
+        }
+        const plot_style *st = &s->style;
+        switch (s->kind) {
+        case SERIES_LINE:
+            b->count = 0;
+            tri_polyline(b, scratch_x, scratch_y, n, st->width, st->dash);
+            gl_plot_triangles(g, b->xy, b->count, st->rgb);
+            break;
+        case SERIES_POLYGON:
+            if (n < 3) break;
+            b->count = 0;
+            for (int k = 1; k + 1 < n; k++)
+                tri_add(b, scratch_x[0], scratch_y[0], scratch_x[k], scratch_y[k],
+                        scratch_x[k + 1], scratch_y[k + 1]);
+            gl_plot_triangles(g, b->xy, b->count, st->fill_rgb);
+            if (st->width > 0) {
+                b->count = 0;
+                scratch_x[n] = scratch_x[0];
+                scratch_y[n] = scratch_y[0];
+                tri_polyline(b, scratch_x, scratch_y, n + 1, st->width, st->dash);
+                gl_plot_triangles(g, b->xy, b->count, st->rgb);
+            }
+            break;
+        case SERIES_MARKERS: {
+            double r = st->marker_size / 2;
+            if (st->filled) {
+                b->count = 0;
+                for (int k = 0; k < n; k++) tri_disc(b, scratch_x[k], scratch_y[k], r);
+                gl_plot_triangles(g, b->xy, b->count, st->fill_rgb);
+            }
+            b->count = 0;
+            for (int k = 0; k < n; k++)
+                tri_ring(b, scratch_x[k], scratch_y[k], fmax(0, r - st->width / 2), r + st->width / 2);
+            gl_plot_triangles(g, b->xy, b->count, st->rgb);
+            break;
+        }
+        case SERIES_ARROW: {
+            if (n < 2) break;
+            double dx = scratch_x[1] - scratch_x[0], dy = scratch_y[1] - scratch_y[0];
+            double len = hypot(dx, dy);
+            if (len <= 0) break;
+            double ux = dx / len, uy = dy / len;
+            double head = fmin(st->marker_size, 0.6 * len), half = head * 0.45;
+            double bx = scratch_x[1] - ux * head, by = scratch_y[1] - uy * head;
+            b->count = 0;
+            tri_segment(b, scratch_x[0], scratch_y[0], bx + ux * 1.0, by + uy * 1.0, st->width);
+            tri_add(b, scratch_x[1], scratch_y[1], bx - uy * half, by + ux * half, bx + uy * half,
+                    by - ux * half);
+            gl_plot_triangles(g, b->xy, b->count, st->rgb);
+            break;
+        }
+        case SERIES_NOTE: break;
+        }
+    }
+    gl_plot_clip_off(g);
+
+    /* frame and outward ticks */
+    b->count = 0;
+    double fw = 1.5;
+    tri_segment(b, p->left - fw / 2, p->top, p->right + fw / 2, p->top, fw);
+    tri_segment(b, p->left - fw / 2, p->bottom, p->right + fw / 2, p->bottom, fw);
+    tri_segment(b, p->left, p->top, p->left, p->bottom, fw);
+    tri_segment(b, p->right, p->top, p->right, p->bottom, fw);
+    for (int i = 0; i < p->x_tick_count; i++) {
+        double v = p->x_tick_first + i * p->x_tick_step;
+        double px = p->left + (v - p->view[0]) / (p->view[1] - p->view[0]) * (p->right - p->left);
+        tri_segment(b, px, p->bottom, px, p->bottom + 6, 1.5);
+    }
+    for (int i = 0; i < p->y_tick_count; i++) {
+        double v = p->y_tick_first + i * p->y_tick_step;
+        double py = p->bottom - (v - p->view[2]) / (p->view[3] - p->view[2]) * (p->bottom - p->top);
+        tri_segment(b, p->left - 6, py, p->left, py, 1.5);
+    }
+    gl_plot_triangles(g, b->xy, b->count, frame);
+
+    /* legend box and samples */
+    if (p->legend_width > 0) {
+        int l = p->legend_left, t = p->legend_top, r = l + p->legend_width, bt = t + p->legend_height;
+        b->count = 0;
+        tri_add(b, l, t, r, t, r, bt);
+        tri_add(b, l, t, r, bt, l, bt);
+        gl_plot_triangles(g, b->xy, b->count, white);
+        b->count = 0;
+        tri_segment(b, l - 0.5, t, r + 0.5, t, 1.0);
+        tri_segment(b, l - 0.5, bt, r + 0.5, bt, 1.0);
+        tri_segment(b, l, t, l, bt, 1.0);
+        tri_segment(b, r, t, r, bt, 1.0);
+        gl_plot_triangles(g, b->xy, b->count, black);
+        int row = 0;
+        for (int i = 0; i < p->series_count; i++) {
+            const series *s = &p->series[i];
+            if (!s->legend) continue;
+            double cy = t + 6 + row * p->legend_row + p->legend_row / 2.0;
+            double x0 = l + 12, x1 = l + 52;
+            const plot_style *st = &s->style;
+            b->count = 0;
+            double sx[2] = {x0, x1}, sy[2] = {cy, cy};
+            switch (s->kind) {
+            case SERIES_LINE:
+                tri_polyline(b, sx, sy, 2, st->width, st->dash);
+                gl_plot_triangles(g, b->xy, b->count, st->rgb);
+                break;
+            case SERIES_MARKERS: {
+                double radius = st->marker_size / 2, cx = 0.5 * (x0 + x1);
+                if (st->filled) {
+                    tri_disc(b, cx, cy, radius);
+                    gl_plot_triangles(g, b->xy, b->count, st->fill_rgb);
+                    b->count = 0;
+                }
+                tri_ring(b, cx, cy, fmax(0, radius - st->width / 2), radius + st->width / 2);
+                gl_plot_triangles(g, b->xy, b->count, st->rgb);
+                break;
+            }
+            case SERIES_ARROW: {
+                double head = fmin(st->marker_size, 14), half = head * 0.45;
+                tri_segment(b, x0, cy, x1 - head + 1, cy, st->width);
+                tri_add(b, x1, cy, x1 - head, cy - half, x1 - head, cy + half);
+                gl_plot_triangles(g, b->xy, b->count, st->rgb);
+                break;
+            }
+            case SERIES_POLYGON: {
+                double h = 7;
+                tri_add(b, x0 + 8, cy - h, x1 - 8, cy - h, x1 - 8, cy + h);
+                tri_add(b, x0 + 8, cy - h, x1 - 8, cy + h, x0 + 8, cy + h);
+                gl_plot_triangles(g, b->xy, b->count, st->fill_rgb);
+                if (st->width > 0) {
+                    b->count = 0;
+                    double qx[5] = {x0 + 8, x1 - 8, x1 - 8, x0 + 8, x0 + 8};
+                    double qy[5] = {cy - h, cy - h, cy + h, cy + h, cy - h};
+                    tri_polyline(b, qx, qy, 5, fmin(st->width, 2), PLOT_SOLID);
+                    gl_plot_triangles(g, b->xy, b->count, st->rgb);
+                }
+                break;
+            }
+            case SERIES_NOTE: break;
+            }
+            row++;
+        }
+    }
+}
+
+static void draw_text(plot *p, image *img, plot_fonts *fonts)
+{
+    static const unsigned char ink[3] = {20, 20, 20};
+    char text[64];
+    int tick_ascent = text_ascent(fonts->tick);
+    for (int i = 0; i < p->x_tick_count; i++) {
+        double v = p->x_tick_first + i * p->x_tick_step;
+        double px = p->left + (v - p->view[0]) / (p->view[1] - p->view[0]) * (p->right - p->left);
+        tick_text(v, p->x_tick_step, p->log_x, text, sizeof text);
+        text_draw(img, fonts->tick, (int)lround(px - text_width(fonts->tick, text) / 2.0),
+                  p->bottom + 6 + 4 + tick_ascent, text, ink);
+    }
+    int y_tick_width = 0;
+    for (int i = 0; i < p->y_tick_count; i++) {
+        double v = p->y_tick_first + i * p->y_tick_step;
+        double py = p->bottom - (v - p->view[2]) / (p->view[3] - p->view[2]) * (p->bottom - p->top);
+        tick_text(v, p->y_tick_step, p->log_y, text, sizeof text);
+        int w = text_width(fonts->tick, text);
+        if (w > y_tick_width) y_tick_width = w;
+        text_draw(img, fonts->tick, p->left - 6 - 4 - w, (int)lround(py + tick_ascent / 2.0 - 1),
+                  text, ink);
+    }
+    if (p->x_label) {
+        int w = text_width(fonts->label, p->x_label);
+        int baseline = p->bottom + 6 + 4 + tick_ascent + text_descent(fonts->tick) + 10 +
+                       text_ascent(fonts->label);
+        text_draw(img, fonts->label, (p->left + p->right - w) / 2, baseline, p->x_label, ink);
+    }
+    if (p->y_label) {
+        int w = text_width(fonts->label, p->y_label);
+        int column = p->left - 6 - 4 - y_tick_width - 10 - text_descent(fonts->label);
+        text_draw_vertical(img, fonts->label, column, (p->top + p->bottom + w) / 2, p->y_label, ink);
+    }
+    if (p->title) {
+        int w = text_width(fonts->title, p->title);
+        int x = (p->width - w) / 2;
+        if (x < 4) x = 4;
+        text_draw(img, fonts->title, x, 10 + text_ascent(fonts->title), p->title, ink);
+    }
+    /* point labels, kept inside the axes box */
+    for (int i = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        if (s->kind != SERIES_MARKERS || !s->point_labels) continue;
+        for (int k = 0; k < s->n; k++) {
+            if (!s->point_labels[k]) continue;
+            double px, py;
+            to_pixel(p, s->x[k], s->y[k], &px, &py);
+            if (!isfinite(px) || !isfinite(py)) continue;
+            int w = text_width(fonts->point, s->point_labels[k]);
+            int x = (int)lround(px + s->label_dx - w / 2.0);
+            int y = (int)lround(py + s->label_dy + text_ascent(fonts->point) / 2.0);
+            if (x < p->left + 2) x = p->left + 2;
+            if (x + w > p->right - 2) x = p->right - 2 - w;
+            if (y - text_ascent(fonts->point) < p->top + 2) y = p->top + 2 + text_ascent(fonts->point);
+            if (y + text_descent(fonts->point) > p->bottom - 2) y = p->bottom - 2 - text_descent(fonts->point);
+            text_draw(img, fonts->point, x, y, s->point_labels[k], s->style.rgb);
+        }
+    }
+    if (p->legend_width > 0) {
+        int row = 0;
+        for (int i = 0; i < p->series_count; i++) {
+            const series *s = &p->series[i];
+            if (!s->legend) continue;
+            double cy = p->legend_top + 6 + row * p->legend_row + p->legend_row / 2.0;
+            int x = s->kind == SERIES_NOTE ? p->legend_left + 12 : p->legend_left + 62;
+            int baseline = (int)lround(cy + (text_ascent(fonts->legend) - text_descent(fonts->legend)) / 2.0);
+            text_draw(img, fonts->legend, x, baseline, s->legend, ink);
+            row++;
+        }
+    }
+}
+
+static void fonts_destroy(plot_fonts *f)
+{
+    text_font_destroy(f->title);
+    text_font_destroy(f->label);
+    text_font_destroy(f->tick);
+    text_font_destroy(f->legend);
+    text_font_destroy(f->point);
+}
+
+int plot_write_png(plot *p, const char *path, char *err, size_t errlen)
+{
+    /* text sizes follow the figure: 1200 x 800 gets 24/18/15/15/14 px */
+    double k = fmax(0.75, fmin(p->width / 1200.0, p->height / 800.0));
+    plot_fonts fonts = {0};
+    int status = -1;
+    gl_plot *g = NULL;
+    image *img = NULL;
+    tri_buffer buffer = {0};
+    double *scratch_x = NULL, *scratch_y = NULL;
+    if (!(fonts.title = text_font_load((int)lround(24 * k), err, errlen)) ||
+        !(fonts.label = text_font_load((int)lround(18 * k), err, errlen)) ||
+        !(fonts.tick = text_font_load((int)lround(15 * k), err, errlen)) ||
+        !(fonts.legend = text_font_load((int)lround(15 * k), err, errlen)) ||
+        !(fonts.point = text_font_load((int)lround(14 * k), err, errlen)))
+        goto done;
+    layout(p, &fonts);
+    int most = 2;
+    for (int i = 0; i < p->series_count; i++)
+        if (p->series[i].n + 1 > most) most = p->series[i].n + 1;
+    scratch_x = malloc((size_t)most * sizeof *scratch_x);
+    scratch_y = malloc((size_t)most * sizeof *scratch_y);
+    img = image_create(p->width, p->height);
+    if (!scratch_x || !scratch_y || !img) {
+        snprintf(err, errlen, "plot: out of memory");
+        goto done;
+    }
+    if (!(g = gl_plot_create(p->width, p->height, PLOT_MSAA_SAMPLES, err, errlen))) goto done;
+    draw_geometry(p, g, &buffer, scratch_x, scratch_y);
+    if (buffer.failed) {
+        snprintf(err, errlen, "plot: out of memory");
+        goto done;
+    }
+    if (gl_plot_read(g, img) != 0) {
+        snprintf(err, errlen, "plot: reading the picture back from GL failed");
+        goto done;
+    }
+    draw_text(p, img, &fonts);
+    if (image_write_png(img, path, err, errlen) != 0) goto done;
+    status = 0;
+done:
+    gl_plot_destroy(g);
+    image_destroy(img);
+    free(buffer.xy);
+    free(scratch_x);
+    free(scratch_y);
+    fonts_destroy(&fonts);
+    return status;
+}

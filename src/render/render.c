@@ -1,0 +1,1342 @@
+/* render.c: the renderer's geometry (pure C) and the frame loop (see
+ * render.h). GL calls go through gl_render.h, encoding through video.h. */
+#include "render/render.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "render/gl_render.h"
+#include "render/image.h"
+#include "base/outfile.h"
+#include "render/text.h"
+#include "base/vec3.h"
+#include "render/video.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+const float render_rod_color[3] = {0.18f, 0.40f, 0.78f};    /* steel blue */
+const float render_stripe_color[3] = {1.00f, 0.76f, 0.08f}; /* amber */
+static const float clamp_color[3] = {0.42f, 0.43f, 0.46f};
+static const float force_color[3] = {0.86f, 0.16f, 0.14f};
+static const float moment_color[3] = {0.16f, 0.62f, 0.26f};
+
+#define ARROW_SIDES 16
+#define ARROW_MAX_VERTICES 200
+#define ARROW_MAX_INDICES 700
+#define GRID_MAX_LINES 200                 /* per direction */
+#define STRIPE_HALF_WIDTH 0.32             /* rad, half the band's angular width */
+#define STRIPE_LIFT 1.025                  /* band radius over the tube radius */
+#define PERSPECTIVE_FOVY (30.0 * M_PI / 180.0)
+/* Fractions of the picture kept free for overlay text (top, bottom) and a side margin. */
+#define FRAME_TOP 0.15
+#define FRAME_BOTTOM 0.15
+#define FRAME_SIDE 0.05
+/* pixels; measured with 4x MSAA: less area to clear and resolve than 64
+ * (llvmpipe's tile), and fewer boxes (GL calls) than 16 */
+#define TILE 32
+
+/* ------------------------------------------------------------------ options */
+
+void render_options_default(render_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->width = 1280;
+    o->height = 720;
+    o->fps = 30;
+    o->crf = 18;
+    snprintf(o->preset, sizeof o->preset, "veryfast");
+    o->samples = 4;
+    o->visual_radius = 0; /* auto */
+    o->sides = 24;
+    o->stripe = RENDER_STRIPE_DIRECTOR;
+    o->arrows = 1;
+    o->camera = RENDER_CAMERA_PERSPECTIVE;
+    /* mostly from +z, tilted: x to the right, y up, the x-y plane of the thesis' figures */
+    v3_set(o->view, 0.30, -0.45, 1.0);
+    o->background[0] = 246;
+    o->background[1] = 247;
+    o->background[2] = 249;
+    o->grid = 1;
+    o->overlay = 1;
+    o->frames_png = 0;
+    o->poster = 1;
+}
+
+static int read_int_range(ini_doc *doc, const char *key, int *out, int lo, int hi, char *err,
+                          size_t errlen)
+{
+    int status = ini_get_int(doc, "render", 0, key, out, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0 && (*out < lo || *out > hi))
+        return ini_error(doc, "render", 0, key, err, errlen, "must be an integer in %d..%d", lo, hi);
+    return 0;
+}
+
+static int hex_digit(int c)
+{
+    return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10
+         : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
+}
+
+int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errlen)
+{
+    if (read_int_range(doc, "width", &o->width, 16, 7680, err, errlen) ||
+        read_int_range(doc, "height", &o->height, 16, 4320, err, errlen) ||
+        read_int_range(doc, "fps", &o->fps, 1, 1000, err, errlen) ||
+        read_int_range(doc, "crf", &o->crf, 0, 51, err, errlen) ||
+        read_int_range(doc, "samples", &o->samples, 0, 16, err, errlen) ||
+        read_int_range(doc, "sides", &o->sides, 6, 128, err, errlen))
+        return -1;
+    if (o->width % 2 || o->height % 2)
+        return ini_error(doc, "render", 0, o->width % 2 ? "width" : "height", err, errlen,
+                         "must be even (H.264 yuv420p halves the colour resolution)");
+
+    static const char *const presets[] = {"ultrafast", "superfast", "veryfast", "faster", "fast",
+                                          "medium", "slow", "slower", "veryslow", NULL};
+    int choice;
+    int status = ini_get_choice(doc, "render", 0, "preset", presets, &choice, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) snprintf(o->preset, sizeof o->preset, "%s", presets[choice]);
+
+    const char *text;
+    status = ini_get_string(doc, "render", 0, "visual_radius", &text, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) {
+        if (strcmp(text, "auto") == 0) {
+            o->visual_radius = 0;
+        } else {
+            char *end;
+            double r = strtod(text, &end);
+            if (end == text || *end != '\0' || !(r > 0) || !isfinite(r))
+                return ini_error(doc, "render", 0, "visual_radius", err, errlen,
+                                 "must be a radius in m (> 0) or auto (1%% of the rod length)");
+            o->visual_radius = r;
+        }
+    }
+
+    static const char *const stripes[] = {"director", "formula", "off", NULL};
+    status = ini_get_choice(doc, "render", 0, "stripe", stripes, &choice, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) o->stripe = (render_stripe_mode)choice;
+    static const char *const cameras[] = {"perspective", "orthographic", NULL};
+    status = ini_get_choice(doc, "render", 0, "camera", cameras, &choice, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) o->camera = (render_camera_kind)choice;
+
+    double view[3];
+    status = ini_get_vector(doc, "render", 0, "view", view, 3, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) {
+        if (!(v3_norm(view) > 0))
+            return ini_error(doc, "render", 0, "view", err, errlen,
+                             "must be a non-zero direction from the rod to the eye, e.g. 0.3 -0.45 1");
+        v3_copy(o->view, view);
+    }
+
+    status = ini_get_string(doc, "render", 0, "background", &text, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) {
+        /* six hex digits; a leading # must be quoted ("#f6f7f9"): # starts an INI comment */
+        const char *hex = text[0] == '#' ? text + 1 : text;
+        int ok = strlen(hex) == 6;
+        for (int i = 0; ok && i < 3; i++) {
+            int hi = hex_digit(hex[2 * i]), lo = hex_digit(hex[2 * i + 1]);
+            ok = hi >= 0 && lo >= 0;
+            if (ok) o->background[i] = (unsigned char)(16 * hi + lo);
+        }
+        if (!ok) {
+            double rgb[3];
+            if (ini_get_vector(doc, "render", 0, "background", rgb, 3, err, errlen) <= 0 ||
+                rgb[0] < 0 || rgb[0] > 1 || rgb[1] < 0 || rgb[1] > 1 || rgb[2] < 0 || rgb[2] > 1)
+                return ini_error(doc, "render", 0, "background", err, errlen,
+                                 "must be rrggbb (hex, or \"#rrggbb\" in quotes) or three numbers in 0..1");
+            for (int i = 0; i < 3; i++) o->background[i] = (unsigned char)lround(255 * rgb[i]);
+        }
+    }
+    if (ini_get_bool(doc, "render", 0, "arrows", &o->arrows, err, errlen) < 0 ||
+        ini_get_bool(doc, "render", 0, "grid", &o->grid, err, errlen) < 0 ||
+        ini_get_bool(doc, "render", 0, "overlay", &o->overlay, err, errlen) < 0 ||
+        ini_get_bool(doc, "render", 0, "frames_png", &o->frames_png, err, errlen) < 0 ||
+        ini_get_bool(doc, "render", 0, "poster", &o->poster, err, errlen) < 0)
+        return -1;
+    return 0;
+}
+
+/* ------------------------------------------------------------------ geometry */
+
+double render_visual_radius(const rod_recording *rec, const render_options *o)
+{
+    double true_radius = 0.5 * rec->diameter;
+    if (o->visual_radius > 0) return o->visual_radius;
+    double r = 0.01 * rec->length;
+    return r > true_radius ? r : true_radius;
+}
+
+static const double *node_position(const rod_recording *rec, int frame, int node)
+{
+    return &rec->position[((size_t)frame * (size_t)rec->nodes + (size_t)node) * 3];
+}
+
+static const double *node_frame(const rod_recording *rec, int frame, int node)
+{
+    return &rec->frame[((size_t)frame * (size_t)rec->nodes + (size_t)node) * 9];
+}
+
+/* Angle in the d1-d2 plane of the material direction that points along +z
+ * at s = 0 in the first frame (the thesis' (0, 0, d/2)); 0 (d1) when the
+ * rod starts along z. */
+static double material_stripe_angle(const rod_recording *rec)
+{
+    const double z[3] = {0, 0, 1};
+    double a[3];
+    m3_mul_tv(a, node_frame(rec, 0, 0), z);
+    if (a[0] * a[0] + a[1] * a[1] < 1e-12) return 0;
+    return atan2(a[1], a[0]);
+}
+
+/* (4.17): the offset of the peripheral line at node i, as a unit direction. */
+static void formula_offset(const rod_recording *rec, int frame, int node, double out[3])
+{
+    double angle = node * rec->ds * rec->twist[(size_t)frame * (size_t)rec->nodes + (size_t)node];
+    v3_set(out, 0, -sin(angle), cos(angle));
+}
+
+void render_stripe_points(const rod_recording *rec, int frame, render_stripe_mode mode,
+                          double radius, double *out)
+{
+    double phi = material_stripe_angle(rec);
+    const double material[3] = {cos(phi), sin(phi), 0};
+    for (int i = 0; i < rec->nodes; i++) {
+        double offset[3];
+        if (mode == RENDER_STRIPE_FORMULA)
+            formula_offset(rec, frame, i, offset);
+        else
+            m3_mul_v(offset, node_frame(rec, frame, i), material);
+        const double *r = node_position(rec, frame, i);
+        for (int c = 0; c < 3; c++) out[3 * i + c] = r[c] + radius * offset[c];
+    }
+}
+
+/* ------------------------------------------------------------------ meshes */
+
+typedef struct mesh {
+    render_vertex *vertices;
+    unsigned *indices;
+    int vertex_count, index_count, max_vertices, max_indices;
+} mesh;
+
+static unsigned add_vertex(mesh *m, const double p[3], const double n[3], const float color[3])
+{
+    if (m->vertex_count >= m->max_vertices) return 0; /* sized by create; never expected */
+    render_vertex *v = &m->vertices[m->vertex_count];
+    for (int c = 0; c < 3; c++) {
+        v->position[c] = (float)p[c];
+        v->normal[c] = (float)n[c];
+        v->color[c] = color[c];
+    }
+    return (unsigned)m->vertex_count++;
+}
+
+/* Adds a triangle wound counter-clockwise seen from the side its vertex
+ * normals point to. Every drawn surface is closed (tube with caps, box,
+ * arrows) and its normals point out, so GL can cull the back faces: half
+ * the triangles, and with 4x multisampling on llvmpipe the triangles are
+ * most of the drawing time. */
+static void add_triangle(mesh *m, unsigned a, unsigned b, unsigned c)
+{
+    if (m->index_count + 3 > m->max_indices) return;
+    const render_vertex *va = &m->vertices[a], *vb = &m->vertices[b], *vc = &m->vertices[c];
+    float ab[3], ac[3], normal_sum[3];
+    for (int i = 0; i < 3; i++) {
+        ab[i] = vb->position[i] - va->position[i];
+        ac[i] = vc->position[i] - va->position[i];
+        normal_sum[i] = va->normal[i] + vb->normal[i] + vc->normal[i];
+    }
+    float facing = (ab[1] * ac[2] - ab[2] * ac[1]) * normal_sum[0] +
+                   (ab[2] * ac[0] - ab[0] * ac[2]) * normal_sum[1] +
+                   (ab[0] * ac[1] - ab[1] * ac[0]) * normal_sum[2];
+    if (facing < 0) {
+        unsigned swap = b;
+        b = c;
+        c = swap;
+    }
+    m->indices[m->index_count++] = a;
+    m->indices[m->index_count++] = b;
+    m->indices[m->index_count++] = c;
+}
+
+/* Unit vectors e1, e2 completing the unit d to a right-handed basis. */
+static void perpendicular_basis(const double d[3], double e1[3], double e2[3])
+{
+    double helper[3] = {0, 0, 0};
+    helper[fabs(d[0]) < 0.6 ? 0 : fabs(d[1]) < 0.6 ? 1 : 2] = 1;
+    v3_cross(e1, helper, d);
+    v3_scale(e1, e1, 1.0 / v3_norm(e1));
+    v3_cross(e2, d, e1);
+}
+
+/* A disc of `sides` around centre in the plane (e1, e2), facing normal. */
+static void add_disc(mesh *m, const double centre[3], const double e1[3], const double e2[3],
+                     double radius, const double normal[3], int sides, const float color[3])
+{
+    unsigned middle = add_vertex(m, centre, normal, color);
+    for (int j = 0; j < sides; j++) {
+        double phi = 2 * M_PI * j / sides, p[3];
+        v3_copy(p, centre);
+        v3_axpy(p, radius * cos(phi), e1);
+        v3_axpy(p, radius * sin(phi), e2);
+        add_vertex(m, p, normal, color);
+    }
+    for (int j = 0; j < sides; j++)
+        add_triangle(m, middle, middle + 1 + (unsigned)j, middle + 1 + (unsigned)((j + 1) % sides));
+}
+
+/* The tube swept with the director frames: ring k at node k in the plane
+ * (d1, d2), so the surface turns with the material; radial normals. */
+static void add_tube(mesh *m, const rod_recording *rec, int frame, double radius, int sides)
+{
+    unsigned first = (unsigned)m->vertex_count;
+    for (int k = 0; k < rec->nodes; k++) {
+        const double *r = node_position(rec, frame, k), *q = node_frame(rec, frame, k);
+        double d1[3], d2[3];
+        m3_column(d1, q, 0);
+        m3_column(d2, q, 1);
+        for (int j = 0; j < sides; j++) {
+            double phi = 2 * M_PI * j / sides, n[3] = {0, 0, 0}, p[3];
+            v3_axpy(n, cos(phi), d1);
+            v3_axpy(n, sin(phi), d2);
+            v3_copy(p, r);
+            v3_axpy(p, radius, n);
+            add_vertex(m, p, n, render_rod_color);
+        }
+    }
+    for (int k = 0; k + 1 < rec->nodes; k++)
+        for (int j = 0; j < sides; j++) {
+            unsigned a = first + (unsigned)(k * sides + j);
+            unsigned b = first + (unsigned)(k * sides + (j + 1) % sides);
+            add_triangle(m, a, a + (unsigned)sides, b + (unsigned)sides);
+            add_triangle(m, a, b + (unsigned)sides, b);
+        }
+    for (int end = 0; end < 2; end++) {
+        int k = end ? rec->nodes - 1 : 0;
+        const double *q = node_frame(rec, frame, k);
+        double d1[3], d2[3], d3[3];
+        m3_column(d1, q, 0);
+        m3_column(d2, q, 1);
+        m3_column(d3, q, 2);
+        if (!end) v3_scale(d3, d3, -1);
+        add_disc(m, node_position(rec, frame, k), d1, d2, radius, d3, sides, render_rod_color);
+    }
+}
+
+/* The stripe as a band painted just above the tube surface, centred on the
+ * angle (in the d1-d2 plane of each node) of the chosen material line. */
+static void add_stripe(mesh *m, const rod_recording *rec, int frame, double radius,
+                       render_stripe_mode mode)
+{
+    double phi_material = material_stripe_angle(rec), previous = phi_material;
+    unsigned first = (unsigned)m->vertex_count;
+    for (int k = 0; k < rec->nodes; k++) {
+        const double *r = node_position(rec, frame, k), *q = node_frame(rec, frame, k);
+        double d1[3], d2[3], d3[3];
+        m3_column(d1, q, 0);
+        m3_column(d2, q, 1);
+        m3_column(d3, q, 2);
+        double phi = phi_material;
+        if (mode == RENDER_STRIPE_FORMULA) {
+            /* (4.17)'s offset, projected on the cross-section so the band stays on the tube */
+            double offset[3];
+            formula_offset(rec, frame, k, offset);
+            v3_axpy(offset, -v3_dot(offset, d3), d3);
+            phi = v3_norm(offset) > 1e-9 ? atan2(v3_dot(offset, d2), v3_dot(offset, d1)) : previous;
+            previous = phi;
+        }
+        for (int c = -1; c <= 1; c++) {
+            double angle = phi + c * STRIPE_HALF_WIDTH, n[3] = {0, 0, 0}, p[3];
+            v3_axpy(n, cos(angle), d1);
+            v3_axpy(n, sin(angle), d2);
+            v3_copy(p, r);
+            v3_axpy(p, STRIPE_LIFT * radius, n);
+            add_vertex(m, p, n, render_stripe_color);
+        }
+    }
+    for (int k = 0; k + 1 < rec->nodes; k++)
+        for (int c = 0; c < 2; c++) {
+            unsigned a = first + (unsigned)(3 * k + c);
+            add_triangle(m, a, a + 3, a + 4);
+            add_triangle(m, a, a + 4, a + 1);
+        }
+}
+
+/* Clamp block behind s = 0, aligned with the frame there. */
+static void clamp_box(const rod_recording *rec, double radius, double centre[3], double axes[3][3],
+                      double half[3])
+{
+    const double *q = node_frame(rec, 0, 0);
+    for (int a = 0; a < 3; a++) m3_column(axes[a], q, a);
+    double side = fmax(4.0 * radius, 0.05 * rec->length);
+    half[0] = half[1] = 0.5 * side;
+    half[2] = 0.5 * fmax(2.5 * radius, 0.03 * rec->length);
+    v3_copy(centre, node_position(rec, 0, 0));
+    v3_axpy(centre, -half[2], axes[2]);
+}
+
+static void add_clamp(mesh *m, const rod_recording *rec, double radius)
+{
+    double centre[3], axes[3][3], half[3];
+    clamp_box(rec, radius, centre, axes, half);
+    for (int a = 0; a < 3; a++)
+        for (int sign = -1; sign <= 1; sign += 2) {
+            int b = (a + 1) % 3, c = (a + 2) % 3;
+            double n[3], face[3];
+            v3_scale(n, axes[a], sign);
+            v3_copy(face, centre);
+            v3_axpy(face, sign * half[a], axes[a]);
+            unsigned first = (unsigned)m->vertex_count;
+            for (int corner = 0; corner < 4; corner++) {
+                double p[3];
+                v3_copy(p, face);
+                v3_axpy(p, (corner & 1 ? 1 : -1) * half[b], axes[b]);
+                v3_axpy(p, (corner & 2 ? 1 : -1) * half[c], axes[c]);
+                add_vertex(m, p, n, clamp_color);
+            }
+            add_triangle(m, first, first + 1, first + 3);
+            add_triangle(m, first, first + 3, first + 2);
+        }
+}
+
+typedef struct arrow_style {
+    double shaft_radius, head_radius, head_length; /* m */
+} arrow_style;
+
+/* A cone from base (radius) to apex along d, with slanted smooth normals. */
+static void add_cone(mesh *m, const double base[3], const double d[3], const double e1[3],
+                     const double e2[3], double radius, double length, const float color[3])
+{
+    unsigned first = (unsigned)m->vertex_count;
+    double apex[3];
+    v3_copy(apex, base);
+    v3_axpy(apex, length, d);
+    for (int j = 0; j < ARROW_SIDES; j++) {
+        double phi = 2 * M_PI * j / ARROW_SIDES, mid = phi + M_PI / ARROW_SIDES;
+        double radial[3] = {0, 0, 0}, n[3], p[3];
+        v3_axpy(radial, cos(phi), e1);
+        v3_axpy(radial, sin(phi), e2);
+        v3_scale(n, radial, length);
+        v3_axpy(n, radius, d);
+        v3_scale(n, n, 1.0 / v3_norm(n));
+        v3_copy(p, base);
+        v3_axpy(p, radius, radial);
+        add_vertex(m, p, n, color);
+        double mid_radial[3] = {0, 0, 0};
+        v3_axpy(mid_radial, cos(mid), e1);
+        v3_axpy(mid_radial, sin(mid), e2);
+        v3_scale(n, mid_radial, length);
+        v3_axpy(n, radius, d);
+        v3_scale(n, n, 1.0 / v3_norm(n));
+        add_vertex(m, apex, n, color);
+    }
+    for (int j = 0; j < ARROW_SIDES; j++) {
+        unsigned a = first + (unsigned)(2 * j), b = first + (unsigned)(2 * ((j + 1) % ARROW_SIDES));
+        add_triangle(m, a, b, a + 1);
+    }
+    double back[3];
+    v3_scale(back, d, -1);
+    add_disc(m, base, e1, e2, radius, back, ARROW_SIDES, color);
+}
+
+/* An arrow from tail along unit d, `length` long; heads = 2 draws the
+ * double head of a moment vector. */
+static void add_arrow(mesh *m, const double tail[3], const double d[3], double length,
+                      const arrow_style *style, int heads, const float color[3])
+{
+    double head_length = fmin(style->head_length, 0.45 * length / heads);
+    double head_radius = style->head_radius * head_length / style->head_length;
+    double shaft_radius = fmin(style->shaft_radius, 0.6 * head_radius);
+    double shaft_length = length - heads * head_length;
+    double e1[3], e2[3];
+    perpendicular_basis(d, e1, e2);
+    unsigned first = (unsigned)m->vertex_count;
+    for (int end = 0; end < 2; end++)
+        for (int j = 0; j < ARROW_SIDES; j++) {
+            double phi = 2 * M_PI * j / ARROW_SIDES, n[3] = {0, 0, 0}, p[3];
+            v3_axpy(n, cos(phi), e1);
+            v3_axpy(n, sin(phi), e2);
+            v3_copy(p, tail);
+            v3_axpy(p, end * shaft_length, d);
+            v3_axpy(p, shaft_radius, n);
+            add_vertex(m, p, n, color);
+        }
+    for (int j = 0; j < ARROW_SIDES; j++) {
+        unsigned a = first + (unsigned)j, b = first + (unsigned)((j + 1) % ARROW_SIDES);
+        add_triangle(m, a, b, b + ARROW_SIDES);
+        add_triangle(m, a, b + ARROW_SIDES, a + ARROW_SIDES);
+    }
+    double back[3];
+    v3_scale(back, d, -1);
+    add_disc(m, tail, e1, e2, shaft_radius, back, ARROW_SIDES, color);
+    for (int h = 0; h < heads; h++) {
+        double base[3];
+        v3_copy(base, tail);
+        v3_axpy(base, shaft_length + h * head_length, d);
+        add_cone(m, base, d, e1, e2, head_radius, head_length, color);
+    }
+}
+
+/* Arrow geometry shared by drawing and camera framing. */
+typedef struct arrow_scales {
+    double force_scale, moment_scale; /* m per N, m per N m; 0 = no arrow */
+    arrow_style style;
+} arrow_scales;
+
+static void arrow_scales_compute(arrow_scales *a, const rod_recording *rec, double radius,
+                                 int enabled)
+{
+    double max_force = 0, max_moment = 0;
+    for (int f = 0; f < rec->frame_count; f++) {
+        max_force = fmax(max_force, v3_norm(&rec->tip_force[3 * f]));
+        max_moment = fmax(max_moment, v3_norm(&rec->tip_moment[3 * f]));
+    }
+    /* the largest load over the run is a fixed fraction of the length: sizes compare across frames */
+    a->force_scale = enabled && max_force > 0 ? 0.25 * rec->length / max_force : 0;
+    a->moment_scale = enabled && max_moment > 0 ? 0.2 * rec->length / max_moment : 0;
+    a->style.shaft_radius = fmax(0.55 * radius, 0.004 * rec->length);
+    a->style.head_radius = 2.4 * a->style.shaft_radius;
+    a->style.head_length = 6.0 * a->style.shaft_radius;
+}
+
+/* Tail, unit direction and length of the force (which = 0) or moment arrow. */
+static int arrow_geometry(const arrow_scales *a, const rod_recording *rec, int frame, int which,
+                          double tail[3], double d[3], double *length)
+{
+    const double *load = which ? &rec->tip_moment[3 * frame] : &rec->tip_force[3 * frame];
+    double scale = which ? a->moment_scale : a->force_scale;
+    double magnitude = v3_norm(load);
+    *length = scale * magnitude;
+    if (!(*length > 1e-4 * rec->length)) return 0;
+    v3_scale(d, load, 1.0 / magnitude);
+    v3_copy(tail, node_position(rec, frame, rec->nodes - 1));
+    return 1;
+}
+
+static void add_arrows(mesh *m, const arrow_scales *a, const rod_recording *rec, int frame)
+{
+    for (int which = 0; which < 2; which++) {
+        double tail[3], d[3], length;
+        if (arrow_geometry(a, rec, frame, which, tail, d, &length))
+            add_arrow(m, tail, d, length, &a->style, which ? 2 : 1,
+                      which ? moment_color : force_color);
+    }
+}
+
+/* ------------------------------------------------------------------ camera */
+
+static void camera_basis(const double view[3], double back[3], double right[3], double up[3])
+{
+    double n = v3_norm(view);
+    if (n > 0) v3_scale(back, view, 1.0 / n);
+    else v3_set(back, 0, 0, 1);
+    /* y is up when looking along z (the thesis' x-y plane), else z is up */
+    double world_up[3] = {0, 0, 1};
+    if (fabs(back[2]) >= fabs(back[0]) && fabs(back[2]) >= fabs(back[1])) v3_set(world_up, 0, 1, 0);
+    v3_cross(right, world_up, back);
+    v3_scale(right, right, 1.0 / v3_norm(right));
+    v3_cross(up, back, right);
+}
+
+/* Points the camera must keep in the picture: every node of every frame
+ * (padded by the tube radius), the clamp's corners and the arrow ends. */
+typedef struct point_cloud {
+    double *points; /* (count x 3), m */
+    int count;
+    double pad;     /* m, added around every point */
+} point_cloud;
+
+static int point_cloud_create(point_cloud *pc, const rod_recording *rec, double radius,
+                              const arrow_scales *arrows)
+{
+    int stride = 1;
+    while ((size_t)(rec->frame_count / stride + 1) * (size_t)rec->nodes > 400000) stride++;
+    size_t capacity = (size_t)(rec->frame_count / stride + 2) * (size_t)rec->nodes +
+                      (size_t)rec->frame_count * 2 + 8;
+    pc->points = malloc(capacity * 3 * sizeof(double));
+    pc->count = 0;
+    pc->pad = radius;
+    if (!pc->points) return -1;
+    for (int f = 0; f < rec->frame_count; f++) {
+        int sampled = f % stride == 0 || f == rec->frame_count - 1;
+        for (int k = 0; sampled && k < rec->nodes; k++)
+            v3_copy(&pc->points[3 * pc->count++], node_position(rec, f, k));
+        for (int which = 0; which < 2; which++) {
+            double tail[3], d[3], length;
+            if (!arrow_geometry(arrows, rec, f, which, tail, d, &length)) continue;
+            double *p = &pc->points[3 * pc->count++];
+            v3_copy(p, tail);
+            v3_axpy(p, length, d);
+        }
+    }
+    double centre[3], axes[3][3], half[3];
+    clamp_box(rec, radius, centre, axes, half);
+    for (int corner = 0; corner < 8; corner++) {
+        double *p = &pc->points[3 * pc->count++];
+        v3_copy(p, centre);
+        for (int a = 0; a < 3; a++) v3_axpy(p, (corner >> a & 1 ? 1 : -1) * half[a], axes[a]);
+    }
+    return 0;
+}
+
+static void look_at(double m[16], const double eye[3], const double right[3], const double up[3],
+                    const double back[3])
+{
+    memset(m, 0, 16 * sizeof(double));
+    for (int c = 0; c < 3; c++) {
+        m[4 * c + 0] = right[c];
+        m[4 * c + 1] = up[c];
+        m[4 * c + 2] = back[c];
+    }
+    m[12] = -v3_dot(right, eye);
+    m[13] = -v3_dot(up, eye);
+    m[14] = -v3_dot(back, eye);
+    m[15] = 1;
+}
+
+static void mat4_mul(double r[16], const double a[16], const double b[16])
+{
+    for (int col = 0; col < 4; col++)
+        for (int row = 0; row < 4; row++) {
+            double sum = 0;
+            for (int k = 0; k < 4; k++) sum += a[4 * k + row] * b[4 * col + k];
+            r[4 * col + row] = sum;
+        }
+}
+
+void render_camera_fit(render_camera *cam, const rod_recording *rec, const render_options *o)
+{
+    memset(cam, 0, sizeof *cam);
+    cam->width = o->width;
+    cam->height = o->height;
+    cam->orthographic = o->camera == RENDER_CAMERA_ORTHOGRAPHIC;
+    double *back = cam->direction, *right = cam->right, *up = cam->up;
+    camera_basis(o->view, back, right, up);
+    double radius = render_visual_radius(rec, o);
+    arrow_scales arrows;
+    arrow_scales_compute(&arrows, rec, radius, o->arrows);
+    point_cloud pc;
+    if (point_cloud_create(&pc, rec, radius, &arrows)) {
+        /* out of memory: frame the first frame's ends */
+        pc.count = 0;
+    }
+    double aspect = (double)o->width / o->height;
+    /* the band of the picture the content may use, as fractions of the half-size */
+    double use_x = 1 - 2 * FRAME_SIDE, use_y = 1 - FRAME_TOP - FRAME_BOTTOM;
+    double centre_shift_y = FRAME_BOTTOM - FRAME_TOP; /* NDC centre of the usable band */
+
+    /* camera-basis coordinates of the content */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    const double *basis[3] = {right, up, back};
+    for (int i = 0; i < pc.count; i++)
+        for (int a = 0; a < 3; a++) {
+            double x = v3_dot(&pc.points[3 * i], basis[a]);
+            lo[a] = fmin(lo[a], x - pc.pad);
+            hi[a] = fmax(hi[a], x + pc.pad);
+        }
+    if (pc.count == 0)
+        for (int a = 0; a < 3; a++) lo[a] = -0.5 * rec->length, hi[a] = 0.5 * rec->length;
+    double centre[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+    double size = fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
+    double near, far, distance, half_height;
+    if (cam->orthographic) {
+        half_height = fmax(0.5 * (hi[1] - lo[1]) / use_y, 0.5 * (hi[0] - lo[0]) / (use_x * aspect));
+        centre[1] -= centre_shift_y * half_height;
+        distance = 0.5 * (hi[2] - lo[2]) + 0.5 * size + 1e-3;
+        near = 1e-4 * size;
+        far = distance + 4 * size;
+        cam->metres_per_pixel = 2 * half_height / o->height;
+    } else {
+        double tan_y = tan(0.5 * PERSPECTIVE_FOVY), tan_x = tan_y * aspect;
+        distance = size;
+        for (int iteration = 0; iteration < 4; iteration++) {
+            /* the nearest eye distance that keeps every padded point inside the usable band */
+            distance = 0;
+            for (int i = 0; i < pc.count; i++) {
+                double x = v3_dot(&pc.points[3 * i], right) - centre[0];
+                double y = v3_dot(&pc.points[3 * i], up) - centre[1];
+                double z = v3_dot(&pc.points[3 * i], back) - centre[2];
+                double need = z + pc.pad + fmax((fabs(x) + pc.pad) / (tan_x * use_x),
+                                                (fabs(y) + pc.pad) / (tan_y * use_y));
+                distance = fmax(distance, need);
+            }
+            if (pc.count == 0) distance = 2 * size;
+            /* re-centre on the projected extent (perspective shifts near parts outward) */
+            double nlo[2] = {INFINITY, INFINITY}, nhi[2] = {-INFINITY, -INFINITY};
+            for (int i = 0; i < pc.count; i++) {
+                double x = v3_dot(&pc.points[3 * i], right) - centre[0];
+                double y = v3_dot(&pc.points[3 * i], up) - centre[1];
+                double depth = distance - (v3_dot(&pc.points[3 * i], back) - centre[2]);
+                double nx = x / (depth * tan_x), ny = y / (depth * tan_y);
+                double px = pc.pad / (depth * tan_x), py = pc.pad / (depth * tan_y);
+                nlo[0] = fmin(nlo[0], nx - px);
+                nhi[0] = fmax(nhi[0], nx + px);
+                nlo[1] = fmin(nlo[1], ny - py);
+                nhi[1] = fmax(nhi[1], ny + py);
+            }
+            if (pc.count == 0) break;
+            centre[0] += 0.5 * (nlo[0] + nhi[0]) * distance * tan_x;
+            centre[1] += 0.5 * (nlo[1] + nhi[1]) * distance * tan_y;
+        }
+        half_height = distance * tan_y;
+        /* shift the content into the usable band's centre (equal bands: no shift) */
+        centre[1] -= centre_shift_y * half_height;
+        double nearest = INFINITY;
+        for (int i = 0; i < pc.count; i++)
+            nearest = fmin(nearest, distance - (v3_dot(&pc.points[3 * i], back) - centre[2]) - pc.pad);
+        near = fmax(0.5 * nearest, 1e-3 * distance);
+        if (!isfinite(near)) near = 1e-3 * distance;
+        far = distance + 6 * size + distance;
+        cam->metres_per_pixel = 2 * half_height / o->height;
+    }
+    free(pc.points);
+
+    for (int c = 0; c < 3; c++) {
+        cam->target[c] = centre[0] * right[c] + centre[1] * up[c] + centre[2] * back[c];
+        cam->eye[c] = cam->target[c] + distance * back[c];
+    }
+    look_at(cam->view, cam->eye, right, up, back);
+    double *p = cam->projection;
+    memset(p, 0, sizeof cam->projection);
+    if (cam->orthographic) {
+        p[0] = 1.0 / (aspect * half_height);
+        p[5] = 1.0 / half_height;
+        p[10] = -2.0 / (far - near);
+        p[14] = -(far + near) / (far - near);
+        p[15] = 1;
+    } else {
+        double f = 1.0 / tan(0.5 * PERSPECTIVE_FOVY);
+        p[0] = f / aspect;
+        p[5] = f;
+        p[10] = (far + near) / (near - far);
+        p[11] = -1;
+        p[14] = 2 * far * near / (near - far);
+    }
+    mat4_mul(cam->view_projection, cam->projection, cam->view);
+}
+
+int render_project(const render_camera *cam, const double point[3], double pixel[2])
+{
+    const double *m = cam->view_projection;
+    double clip[4];
+    for (int row = 0; row < 4; row++)
+        clip[row] = m[row] * point[0] + m[4 + row] * point[1] + m[8 + row] * point[2] + m[12 + row];
+    if (clip[3] <= 0) return -1;
+    pixel[0] = (clip[0] / clip[3] + 1) * 0.5 * cam->width;
+    pixel[1] = (1 - clip[1] / clip[3]) * 0.5 * cam->height;
+    return 0;
+}
+
+/* ------------------------------------------------------------------ grid */
+
+/* Largest 1, 2 or 5 times a power of ten not above x. */
+static double nice_below(double x)
+{
+    double decade = pow(10, floor(log10(x)));
+    double mantissa = x / decade;
+    return decade * (mantissa >= 5 ? 5 : mantissa >= 2 ? 2 : 1);
+}
+
+static void format_length(char *out, size_t outlen, double metres)
+{
+    if (metres >= 1) snprintf(out, outlen, "%g m", metres);
+    else if (metres >= 0.01) snprintf(out, outlen, "%g cm", metres * 100);
+    else if (metres >= 0.001) snprintf(out, outlen, "%g mm", metres * 1000);
+    else snprintf(out, outlen, "%g \xc2\xb5m", metres * 1e6);
+}
+
+typedef struct grid {
+    double spacing;     /* m, one cell */
+    render_vertex *lines;
+    int count, capacity;
+} grid;
+
+/* A backdrop grid on the far side of the motion, in the world plane most
+ * facing the camera, covering what the camera sees of that plane. */
+static void grid_build(grid *g, const rod_recording *rec, const render_camera *cam, double radius,
+                       const unsigned char background[3])
+{
+    g->count = 0;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    size_t n = (size_t)rec->frame_count * (size_t)rec->nodes;
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++) {
+            lo[c] = fmin(lo[c], rec->position[3 * i + c]);
+            hi[c] = fmax(hi[c], rec->position[3 * i + c]);
+        }
+    double size = fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), fmax(hi[2] - lo[2], rec->length * 0.1));
+    int axis = 0;
+    for (int c = 1; c < 3; c++)
+        if (fabs(cam->direction[c]) > fabs(cam->direction[axis])) axis = c;
+    double margin = fmax(4 * radius, 0.1 * size);
+    double plane = cam->direction[axis] > 0 ? lo[axis] - margin : hi[axis] + margin;
+    int b = (axis + 1) % 3, c = (axis + 2) % 3;
+
+    /* where the picture's corner rays meet the plane */
+    double region_lo[2] = {INFINITY, INFINITY}, region_hi[2] = {-INFINITY, -INFINITY};
+    double tan_y = tan(0.5 * PERSPECTIVE_FOVY), aspect = (double)cam->width / cam->height;
+    double half_height = 0.5 * cam->metres_per_pixel * cam->height;
+    for (int corner = 0; corner < 4; corner++) {
+        double sx = corner & 1 ? 1 : -1, sy = corner & 2 ? 1 : -1, origin[3], ray[3];
+        v3_copy(origin, cam->eye);
+        v3_scale(ray, cam->direction, -1);
+        if (cam->orthographic) {
+            v3_axpy(origin, sx * aspect * half_height, cam->right);
+            v3_axpy(origin, sy * half_height, cam->up);
+        } else {
+            v3_axpy(ray, sx * tan_y * aspect, cam->right);
+            v3_axpy(ray, sy * tan_y, cam->up);
+        }
+        double t = fabs(ray[axis]) > 1e-9 ? (plane - origin[axis]) / ray[axis] : -1;
+        double reach = 20 * size;
+        if (!(t > 0) || t * v3_norm(ray) > reach) t = reach / v3_norm(ray);
+        double hit_b = origin[b] + t * ray[b], hit_c = origin[c] + t * ray[c];
+        region_lo[0] = fmin(region_lo[0], hit_b);
+        region_hi[0] = fmax(region_hi[0], hit_b);
+        region_lo[1] = fmin(region_lo[1], hit_c);
+        region_hi[1] = fmax(region_hi[1], hit_c);
+    }
+    g->spacing = nice_below(size / 6);
+    while ((region_hi[0] - region_lo[0]) / g->spacing > GRID_MAX_LINES - 2 ||
+           (region_hi[1] - region_lo[1]) / g->spacing > GRID_MAX_LINES - 2)
+        g->spacing = nice_below(g->spacing * 2.01);
+
+    float minor[3], major[3];
+    for (int k = 0; k < 3; k++) {
+        double bg = background[k] / 255.0, toward = bg > 0.5 ? -1 : 1;
+        minor[k] = (float)(bg + toward * 0.07);
+        major[k] = (float)(bg + toward * 0.16);
+    }
+    const double normal[3] = {0, 0, 1};
+    for (int direction = 0; direction < 2; direction++) {
+        int along = direction ? c : b, across = direction ? b : c;
+        int ia = direction ? 1 : 0, ib = direction ? 0 : 1;
+        long first = (long)floor(region_lo[ia] / g->spacing), last = (long)ceil(region_hi[ia] / g->spacing);
+        for (long k = first; k <= last && g->count + 2 <= g->capacity; k++) {
+            double p[3], q[3];
+            p[axis] = q[axis] = plane;
+            p[along] = q[along] = k * g->spacing;
+            p[across] = region_lo[ib];
+            q[across] = region_hi[ib];
+            const float *color = k % 5 == 0 ? major : minor;
+            render_vertex *v = &g->lines[g->count];
+            for (int e = 0; e < 3; e++) {
+                v[0].position[e] = (float)p[e];
+                v[1].position[e] = (float)q[e];
+                v[0].normal[e] = v[1].normal[e] = (float)normal[e];
+                v[0].color[e] = v[1].color[e] = color[e];
+            }
+            g->count += 2;
+        }
+    }
+}
+
+/* ------------------------------------------------------------------ overlay */
+
+typedef struct overlay {
+    text_font *title, *body;
+    unsigned char ink[3], faint[3];
+    double exaggeration;  /* visual radius / true radius */
+    double bar_metres;    /* scale bar length, m */
+    int bar_pixels;
+    char bar_label[32];
+    char scene[128];
+} overlay;
+
+static void swatch(image *img, int x, int y, int size, const float color[3])
+{
+    unsigned char rgb[3] = {(unsigned char)(255 * color[0]), (unsigned char)(255 * color[1]),
+                            (unsigned char)(255 * color[2])};
+    image_fill_rect(img, x, y, size, size, rgb, 1.0);
+}
+
+static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec,
+                         const render_options *o, int frame)
+{
+    int margin = img->height / 40 + 4, line = text_ascent(ov->body) + text_descent(ov->body) + 4;
+    int y = margin + text_ascent(ov->title);
+    text_draw(img, ov->title, margin, y, ov->scene, ov->ink);
+    char text[256];
+    y += line + 2;
+    snprintf(text, sizeof text, "t = %.3f s      scheme: %s      %d nodes", rec->time[frame],
+             rec->scheme[0] ? rec->scheme : "?", rec->nodes);
+    text_draw(img, ov->body, margin, y, text, ov->ink);
+
+    /* top right: what is not to scale, and what the stripe is */
+    int right = img->width - margin;
+    y = margin + text_ascent(ov->body);
+    if (ov->exaggeration > 1.05) {
+        snprintf(text, sizeof text, "radius exaggerated %.3g\xc3\x97", ov->exaggeration);
+        text_draw(img, ov->body, right - text_width(ov->body, text), y, text, ov->ink);
+        y += line;
+    }
+    if (o->stripe != RENDER_STRIPE_OFF) {
+        const char *what = o->stripe == RENDER_STRIPE_DIRECTOR ? "stripe: material line (director frames)"
+                                                               : "stripe: thesis (4.17)";
+        int w = text_width(ov->body, what), box = text_ascent(ov->body) * 2 / 3;
+        text_draw(img, ov->body, right - w, y, what, ov->faint);
+        swatch(img, right - w - box - 8, y - box, box, render_stripe_color);
+    }
+
+    /* bottom left: the tip loads, keyed by the arrows' colours */
+    const double *force = &rec->tip_force[3 * frame], *moment = &rec->tip_moment[3 * frame];
+    y = img->height - margin - text_descent(ov->body) - line;
+    int box = text_ascent(ov->body) * 2 / 3, x = margin;
+    if (o->arrows) {
+        swatch(img, x, y - box, box, force_color);
+        swatch(img, x, y + line - box, box, moment_color);
+        x += box + 8;
+    }
+    snprintf(text, sizeof text, "tip force  %.3g N   (%.3g, %.3g, %.3g)", v3_norm(force), force[0],
+             force[1], force[2]);
+    text_draw(img, ov->body, x, y, text, ov->ink);
+    snprintf(text, sizeof text, "tip moment  %.3g N m   (%.3g, %.3g, %.3g)", v3_norm(moment),
+             moment[0], moment[1], moment[2]);
+    text_draw(img, ov->body, x, y + line, text, ov->ink);
+
+    /* bottom right: scale bar, measured at the depth of the camera's target */
+    if (ov->bar_pixels > 0) {
+        int bar_y = img->height - margin - text_descent(ov->body) - 4;
+        int bar_x = right - ov->bar_pixels;
+        int thick = img->height / 240 + 2;
+        image_fill_rect(img, bar_x, bar_y - thick, ov->bar_pixels, thick, ov->ink, 1.0);
+        image_fill_rect(img, bar_x, bar_y - 3 * thick, thick, 3 * thick, ov->ink, 1.0);
+        image_fill_rect(img, right - thick, bar_y - 3 * thick, thick, 3 * thick, ov->ink, 1.0);
+        int w = text_width(ov->body, ov->bar_label);
+        text_draw(img, ov->body, bar_x + (ov->bar_pixels - w) / 2, bar_y - 3 * thick - 6,
+                  ov->bar_label, ov->ink);
+    }
+}
+
+/* ------------------------------------------------------------------ frame loop */
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+#define QUEUE_SLOTS 3
+
+/* Frames handed from the drawing thread (GL) to the writing thread
+ * (encoder, PNG): drawing frame k+1 overlaps encoding frame k. */
+typedef struct frame_queue {
+    pthread_mutex_t lock;
+    pthread_cond_t changed;
+    image *slots[QUEUE_SLOTS];
+    int produced, consumed; /* frames handed over, frames written */
+    int done;               /* no more frames will come */
+    int failed;             /* the writer failed: message in err */
+    char err[768];
+    video_writer *video;    /* NULL: no video */
+    const char *frames_dir; /* NULL: no PNG frames */
+    render_timing *timing;  /* NULL: not measured; the writer adds png only */
+} frame_queue;
+
+static void *writer_thread(void *arg)
+{
+    frame_queue *q = arg;
+    for (;;) {
+        pthread_mutex_lock(&q->lock);
+        while (q->consumed == q->produced && !q->done) pthread_cond_wait(&q->changed, &q->lock);
+        if (q->consumed == q->produced) {
+            pthread_mutex_unlock(&q->lock);
+            return NULL;
+        }
+        int index = q->consumed;
+        pthread_mutex_unlock(&q->lock);
+
+        const image *frame = q->slots[index % QUEUE_SLOTS];
+        char err[768] = "";
+        int status = 0;
+        if (q->video) status = video_writer_add(q->video, frame, err, sizeof err);
+        if (!status && q->frames_dir) {
+            double png_start = q->timing ? now_seconds() : 0;
+            char path[OUTFILE_PATH_MAX];
+            snprintf(path, sizeof path, "%s/%05d.png", q->frames_dir, index);
+            status = image_write_png_level(frame, path, 2, err, sizeof err);
+            if (q->timing) q->timing->png += now_seconds() - png_start;
+        }
+        pthread_mutex_lock(&q->lock);
+        if (status) {
+            q->failed = 1;
+            snprintf(q->err, sizeof q->err, "%s", err);
+        } else {
+            q->consumed++;
+        }
+        pthread_cond_broadcast(&q->changed);
+        pthread_mutex_unlock(&q->lock);
+        if (status) return NULL;
+    }
+}
+
+static void progress(int done, int total, double started, int final)
+{
+    double elapsed = now_seconds() - started, rate = done / fmax(elapsed, 1e-9);
+    fprintf(stderr, "\rrodsim: frame %d/%d, %.1f frames/s, %.0f s left   ", done, total, rate,
+            (total - done) / fmax(rate, 1e-9));
+    if (final) fputc('\n', stderr);
+}
+
+/* Everything the frame loop uses, made once. */
+typedef struct renderer {
+    const rod_recording *rec;
+    const render_options *o;
+    render_camera camera;
+    double radius;
+    arrow_scales arrows;
+    mesh mesh;
+    grid grid;
+    overlay overlay;
+    gl_renderer *gl;
+    image *backdrop;             /* background and grid, drawn once */
+    double pad;                  /* m, reach of the geometry around the points that carry it */
+    int tiles_x, tiles_y;        /* tile grid over the picture, TILE pixels, from the bottom */
+    unsigned char *tile_marked;  /* (tiles_y x tiles_x) */
+    int (*boxes)[4];             /* disjoint boxes over the marked tiles: x, y (down), w, h */
+    int box_count;
+} renderer;
+
+/* Pixels per metre at a point (perspective: at its depth). */
+static double pixels_per_metre(const render_camera *cam, const double p[3])
+{
+    if (cam->orthographic) return 1.0 / cam->metres_per_pixel;
+    double to_eye[3];
+    v3_sub(to_eye, cam->eye, p);
+    return cam->height / (2 * v3_dot(to_eye, cam->direction) * tan(0.5 * PERSPECTIVE_FOVY));
+}
+
+/* Marks the tiles under the screen box of the points (padded by pad, m). */
+static void mark_points(renderer *r, const double *points, int count, double pad)
+{
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int i = 0; i < count; i++) {
+        double pixel[2];
+        if (render_project(&r->camera, &points[3 * i], pixel)) {
+            /* behind the camera: cannot bound it, draw everything */
+            lo[0] = lo[1] = -INFINITY;
+            hi[0] = hi[1] = INFINITY;
+            break;
+        }
+        double reach = pad * pixels_per_metre(&r->camera, &points[3 * i]) + 3;
+        lo[0] = fmin(lo[0], pixel[0] - reach);
+        hi[0] = fmax(hi[0], pixel[0] + reach);
+        lo[1] = fmin(lo[1], pixel[1] - reach);
+        hi[1] = fmax(hi[1], pixel[1] + reach);
+    }
+    int height = r->camera.height;
+    /* tiles count from the bottom row of pixels (GL's origin), TILE pixels square */
+    int tx0 = (int)fmax(0, floor(lo[0] / TILE)), tx1 = (int)fmin(r->tiles_x - 1, floor(hi[0] / TILE));
+    int ty0 = (int)fmax(0, floor((height - hi[1]) / TILE));
+    int ty1 = (int)fmin(r->tiles_y - 1, floor((height - lo[1]) / TILE));
+    for (int ty = ty0; ty <= ty1; ty++)
+        for (int tx = tx0; tx <= tx1; tx++) r->tile_marked[ty * r->tiles_x + tx] = 1;
+}
+
+/* The disjoint boxes that hold this frame's tube, stripe, clamp and arrows:
+ * only they are cleared, drawn, resolved and read (the multisample resolve
+ * is llvmpipe's main cost), the rest of the picture is the backdrop. */
+static void frame_boxes(renderer *r, int frame)
+{
+    const rod_recording *rec = r->rec;
+    memset(r->tile_marked, 0, (size_t)r->tiles_x * (size_t)r->tiles_y);
+    for (int k = 0; k + 1 < rec->nodes; k++)
+        mark_points(r, node_position(rec, frame, k), 2, r->pad);
+    double centre[3], axes[3][3], half[3], corners[8 * 3];
+    clamp_box(rec, r->radius, centre, axes, half);
+    for (int corner = 0; corner < 8; corner++) {
+        double *p = &corners[3 * corner];
+        v3_copy(p, centre);
+        for (int a = 0; a < 3; a++) v3_axpy(p, (corner >> a & 1 ? 1 : -1) * half[a], axes[a]);
+    }
+    mark_points(r, corners, 8, 0);
+    for (int which = 0; r->o->arrows && which < 2; which++) {
+        double ends[6], d[3], length;
+        if (!arrow_geometry(&r->arrows, rec, frame, which, ends, d, &length)) continue;
+        v3_copy(&ends[3], ends);
+        v3_axpy(&ends[3], length, d);
+        mark_points(r, ends, 2, r->arrows.style.head_radius);
+    }
+    /* runs of marked tiles in each tile row become boxes */
+    r->box_count = 0;
+    int width = r->camera.width, height = r->camera.height;
+    for (int ty = 0; ty < r->tiles_y; ty++)
+        for (int tx = 0; tx < r->tiles_x; tx++) {
+            if (!r->tile_marked[ty * r->tiles_x + tx]) continue;
+            int run = tx;
+            while (run + 1 < r->tiles_x && r->tile_marked[ty * r->tiles_x + run + 1]) run++;
+            int gl_y0 = ty * TILE, gl_y1 = (ty + 1) * TILE < height ? (ty + 1) * TILE : height;
+            int x1 = (run + 1) * TILE < width ? (run + 1) * TILE : width;
+            int *box = r->boxes[r->box_count++];
+            box[0] = tx * TILE;
+            box[1] = height - gl_y1;
+            box[2] = x1 - tx * TILE;
+            box[3] = gl_y1 - gl_y0;
+            tx = run;
+        }
+}
+
+static void renderer_destroy(renderer *r)
+{
+    gl_renderer_destroy(r->gl);
+    image_destroy(r->backdrop);
+    free(r->tile_marked);
+    free(r->boxes);
+    text_font_destroy(r->overlay.title);
+    text_font_destroy(r->overlay.body);
+    free(r->mesh.vertices);
+    free(r->mesh.indices);
+    free(r->grid.lines);
+}
+
+static int renderer_create(renderer *r, const rod_recording *rec, const render_options *o,
+                           const char *scene_name, char *err, size_t errlen)
+{
+    memset(r, 0, sizeof *r);
+    r->rec = rec;
+    r->o = o;
+    r->radius = render_visual_radius(rec, o);
+    render_camera_fit(&r->camera, rec, o);
+    arrow_scales_compute(&r->arrows, rec, r->radius, o->arrows);
+    int sides = o->sides;
+    r->mesh.max_vertices = rec->nodes * (sides + 3) + 2 * (sides + 1) + 24 + 2 * ARROW_MAX_VERTICES;
+    r->mesh.max_indices = 6 * rec->nodes * (sides + 2) + 6 * sides + 36 + 2 * ARROW_MAX_INDICES;
+    r->mesh.vertices = malloc((size_t)r->mesh.max_vertices * sizeof(render_vertex));
+    r->mesh.indices = malloc((size_t)r->mesh.max_indices * sizeof(unsigned));
+    r->grid.capacity = o->grid ? 4 * (GRID_MAX_LINES + 2) : 0;
+    r->grid.lines = malloc((size_t)(r->grid.capacity + 1) * sizeof(render_vertex));
+    if (!r->mesh.vertices || !r->mesh.indices || !r->grid.lines) {
+        snprintf(err, errlen, "render: out of memory");
+        renderer_destroy(r);
+        return -1;
+    }
+    if (o->grid) grid_build(&r->grid, rec, &r->camera, r->radius, o->background);
+
+    overlay *ov = &r->overlay;
+    snprintf(ov->scene, sizeof ov->scene, "%s", scene_name && *scene_name ? scene_name : rec->scene);
+    int dark = o->background[0] + o->background[1] + o->background[2] < 3 * 128;
+    for (int c = 0; c < 3; c++) {
+        ov->ink[c] = dark ? 235 : 34;
+        ov->faint[c] = dark ? 190 : 80;
+    }
+    ov->exaggeration = rec->diameter > 0 ? r->radius / (0.5 * rec->diameter) : 1;
+    if (o->grid) {
+        ov->bar_metres = nice_below(0.18 * o->width * r->camera.metres_per_pixel);
+        ov->bar_pixels = (int)lround(ov->bar_metres / r->camera.metres_per_pixel);
+        format_length(ov->bar_label, sizeof ov->bar_label, ov->bar_metres);
+    }
+    if (o->overlay) {
+        ov->title = text_font_load(o->height / 22 > 8 ? o->height / 22 : 8, err, errlen);
+        ov->body = ov->title ? text_font_load(o->height / 34 > 7 ? o->height / 34 : 7, err, errlen) : NULL;
+        if (!ov->body) {
+            renderer_destroy(r);
+            return -1;
+        }
+    }
+    r->gl = gl_renderer_create(o->width, o->height, o->samples, r->mesh.max_vertices,
+                               r->mesh.max_indices, r->grid.capacity, err, errlen);
+    if (!r->gl) {
+        renderer_destroy(r);
+        return -1;
+    }
+    if (o->grid) gl_renderer_set_lines(r->gl, r->grid.lines, r->grid.count);
+    r->pad = STRIPE_LIFT * r->radius;
+    r->tiles_x = (o->width + TILE - 1) / TILE;
+    r->tiles_y = (o->height + TILE - 1) / TILE;
+    r->tile_marked = malloc((size_t)r->tiles_x * (size_t)r->tiles_y);
+    r->boxes = malloc((size_t)r->tiles_x * (size_t)r->tiles_y * sizeof *r->boxes);
+    r->backdrop = image_create(o->width, o->height);
+    if (!r->tile_marked || !r->boxes) {
+        snprintf(err, errlen, "render: out of memory");
+        renderer_destroy(r);
+        return -1;
+    }
+    if (!r->backdrop || gl_renderer_draw_backdrop(r->gl, &r->camera, o->background, r->backdrop)) {
+        snprintf(err, errlen, "render: cannot draw the backdrop (out of memory or OpenGL error)");
+        renderer_destroy(r);
+        return -1;
+    }
+    return 0;
+}
+
+static int renderer_draw(renderer *r, int frame, image *out)
+{
+    render_timing *timing = r->o->timing;
+    double t0 = timing ? now_seconds() : 0;
+    mesh *m = &r->mesh;
+    m->vertex_count = m->index_count = 0;
+    add_tube(m, r->rec, frame, r->radius, r->o->sides);
+    if (r->o->stripe != RENDER_STRIPE_OFF) add_stripe(m, r->rec, frame, r->radius, r->o->stripe);
+    add_clamp(m, r->rec, r->radius);
+    if (r->o->arrows) add_arrows(m, &r->arrows, r->rec, frame);
+    frame_boxes(r, frame);
+    double t1 = timing ? now_seconds() : 0;
+    int read_box[4];
+    const unsigned char *rgba = gl_renderer_draw_boxes(r->gl, &r->camera, m->vertices,
+                                                       m->vertex_count, m->indices, m->index_count,
+                                                       &r->boxes[0][0], r->box_count, read_box);
+    if (!rgba) return -1;
+    double t2 = timing ? now_seconds() : 0;
+    /* premultiplied rod over the backdrop: out = C + (1 - alpha) B, inside the boxes only
+     * (the read rectangle outside them holds stale pixels) */
+    memcpy(out->rgb, r->backdrop->rgb, (size_t)out->width * (size_t)out->height * 3);
+    for (int b = 0; b < r->box_count; b++) {
+        const int *box = r->boxes[b];
+        for (int y = box[1]; y < box[1] + box[3]; y++) {
+            int row = read_box[1] + read_box[3] - 1 - y; /* GL rows run bottom-up */
+            const unsigned char *src =
+                rgba + ((size_t)row * (size_t)read_box[2] + (size_t)(box[0] - read_box[0])) * 4;
+            unsigned char *dst = out->rgb + ((size_t)y * (size_t)out->width + (size_t)box[0]) * 3;
+            for (int x = 0; x < box[2]; x++, src += 4, dst += 3) {
+                unsigned keep = 255u - src[3];
+                if (keep == 255) continue;
+                for (int c = 0; c < 3; c++) {
+                    unsigned v = src[c] + (dst[c] * keep + 127) / 255;
+                    dst[c] = (unsigned char)(v > 255 ? 255 : v);
+                }
+            }
+        }
+    }
+    double t3 = timing ? now_seconds() : 0;
+    if (r->o->overlay) draw_overlay(out, &r->overlay, r->rec, r->o, frame);
+    if (timing) {
+        double t4 = now_seconds();
+        timing->mesh += t1 - t0;
+        timing->gl += t2 - t1;
+        timing->composite += t3 - t2;
+        timing->overlay += t4 - t3;
+    }
+    return 0;
+}
+
+int render_recording(const rod_recording *rec, const render_options *o, const char *out_dir,
+                     const char *scene_name, int want_video, char *err, size_t errlen)
+{
+    if (rec->frame_count < 1 || rec->nodes < 2) {
+        snprintf(err, errlen, "render: nothing to render (%d frames, %d nodes)", rec->frame_count,
+                 rec->nodes);
+        return -1;
+    }
+    const char *name = scene_name && *scene_name ? scene_name : rec->scene;
+    char video_path[OUTFILE_PATH_MAX], poster_path[OUTFILE_PATH_MAX], frames_dir[OUTFILE_PATH_MAX];
+    snprintf(video_path, sizeof video_path, "%s/%s.mp4", out_dir, name);
+    snprintf(poster_path, sizeof poster_path, "%s/%s.png", out_dir, name);
+    snprintf(frames_dir, sizeof frames_dir, "%s/%s_frames", out_dir, name);
+
+    renderer r;
+    if (renderer_create(&r, rec, o, name, err, errlen)) return -1;
+    frame_queue q;
+    memset(&q, 0, sizeof q);
+    q.timing = o->timing;
+    double call_start = now_seconds();
+    if (o->timing) memset(o->timing, 0, sizeof *o->timing);
+    int status = 0;
+    for (int i = 0; i < QUEUE_SLOTS; i++)
+        if (!(q.slots[i] = image_create(o->width, o->height))) status = -1;
+    if (status) snprintf(err, errlen, "render: out of memory for %dx%d frames", o->width, o->height);
+    if (!status && want_video) {
+        q.video = video_writer_create(video_path, o->width, o->height, o->fps, o->crf, o->preset,
+                                      err, errlen);
+        if (!q.video) status = -1;
+    }
+    if (!status && o->frames_png) {
+        if (outfile_mkdirs(frames_dir, err, errlen)) status = -1;
+        q.frames_dir = frames_dir;
+    }
+
+    int all_frames = want_video || o->frames_png;
+    int first = all_frames ? 0 : rec->frame_count - 1; /* poster only: draw just the last frame */
+    int total = rec->frame_count - first;
+    int threaded = 0;
+    pthread_t writer;
+    if (!status && all_frames) {
+        threaded = 1;
+        pthread_mutex_init(&q.lock, NULL);
+        pthread_cond_init(&q.changed, NULL);
+        if (pthread_create(&writer, NULL, writer_thread, &q)) {
+            snprintf(err, errlen, "render: cannot start the writer thread");
+            pthread_mutex_destroy(&q.lock);
+            pthread_cond_destroy(&q.changed);
+            threaded = 0;
+            status = -1;
+        }
+    }
+    int show_progress = isatty(2) && total > 1;
+    double started = now_seconds(), last_report = 0;
+    image *last = q.slots[0];
+    for (int k = 0; !status && k < total; k++) {
+        if (threaded) {
+            double wait_start = o->timing ? now_seconds() : 0;
+            pthread_mutex_lock(&q.lock);
+            while (q.produced - q.consumed == QUEUE_SLOTS && !q.failed)
+                pthread_cond_wait(&q.changed, &q.lock);
+            int failed = q.failed;
+            pthread_mutex_unlock(&q.lock);
+            if (o->timing) o->timing->wait += now_seconds() - wait_start;
+            if (failed) break;
+        }
+        last = q.slots[k % QUEUE_SLOTS];
+        if (renderer_draw(&r, first + k, last)) {
+            snprintf(err, errlen, "render: OpenGL failed while drawing frame %d", first + k);
+            status = -1;
+            break;
+        }
+        if (threaded) {
+            pthread_mutex_lock(&q.lock);
+            q.produced++;
+            pthread_cond_broadcast(&q.changed);
+            pthread_mutex_unlock(&q.lock);
+        }
+        if (show_progress && (now_seconds() - last_report > 0.25 || k + 1 == total)) {
+            last_report = now_seconds();
+            progress(k + 1, total, started, k + 1 == total);
+        }
+    }
+    if (threaded) {
+        pthread_mutex_lock(&q.lock);
+        q.done = 1;
+        pthread_cond_broadcast(&q.changed);
+        pthread_mutex_unlock(&q.lock);
+        pthread_join(writer, NULL);
+        pthread_mutex_destroy(&q.lock);
+        pthread_cond_destroy(&q.changed);
+        if (q.failed && !status) {
+            snprintf(err, errlen, "%s", q.err);
+            status = -1;
+        }
+    }
+    if (!status && q.video) status = video_writer_finish(q.video, err, errlen);
+    if (o->timing) {
+        if (q.video) video_writer_times(q.video, &o->timing->convert, &o->timing->encode);
+        o->timing->frames = q.consumed;
+        o->timing->wall = now_seconds() - call_start;
+    }
+    if (!status && o->poster) status = image_write_png(last, poster_path, err, errlen);
+    if (status && q.frames_dir) {
+        /* a failed run leaves no partial frame sequence either */
+        for (int k = 0; k < q.consumed; k++) {
+            char path[OUTFILE_PATH_MAX + 16];
+            snprintf(path, sizeof path, "%s/%05d.png", frames_dir, k);
+            unlink(path);
+        }
+        rmdir(frames_dir);
+    }
+    video_writer_destroy(q.video); /* removes the video unless finished */
+    for (int i = 0; i < QUEUE_SLOTS; i++) image_destroy(q.slots[i]);
+    renderer_destroy(&r);
+    return status;
+}

@@ -1,0 +1,89 @@
+/* recording.c: frames of a run (see recording.h). */
+#include "sim/recording.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/vec3.h"
+
+static int reserve(rod_recording *r, int capacity)
+{
+    size_t n = (size_t)r->nodes, c = (size_t)capacity;
+    double *t = realloc(r->time, c * sizeof *t);
+    if (t) r->time = t;
+    double *p = realloc(r->position, c * n * 3 * sizeof *p);
+    if (p) r->position = p;
+    double *q = realloc(r->frame, c * n * 9 * sizeof *q);
+    if (q) r->frame = q;
+    double *w = realloc(r->twist, c * n * sizeof *w);
+    if (w) r->twist = w;
+    double *f = realloc(r->tip_force, c * 3 * sizeof *f);
+    if (f) r->tip_force = f;
+    double *mo = realloc(r->tip_moment, c * 3 * sizeof *mo);
+    if (mo) r->tip_moment = mo;
+    if (!t || !p || !q || !w || !f || !mo) return -1;
+    r->capacity = capacity;
+    return 0;
+}
+
+rod_recording *rod_recording_create(const rod_model *m, const char *scene, int capacity)
+{
+    rod_recording *r = calloc(1, sizeof *r);
+    if (!r) return NULL;
+    r->nodes = m->nodes;
+    r->length = m->length;
+    r->ds = m->ds;
+    r->diameter = m->diameter;
+    snprintf(r->scheme, sizeof r->scheme, "%s", rod_scheme_get(m->options.scheme)->name);
+    snprintf(r->scene, sizeof r->scene, "%s", scene ? scene : "");
+    if (reserve(r, capacity > 0 ? capacity : 16)) {
+        rod_recording_destroy(r);
+        return NULL;
+    }
+    return r;
+}
+
+void rod_recording_destroy(rod_recording *r)
+{
+    if (!r) return;
+    free(r->time);
+    free(r->position);
+    free(r->frame);
+    free(r->twist);
+    free(r->tip_force);
+    free(r->tip_moment);
+    free(r);
+}
+
+int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *s)
+{
+    if (r->frame_count == r->capacity && reserve(r, 2 * r->capacity)) return -1;
+    size_t k = (size_t)r->frame_count, n = (size_t)r->nodes;
+    r->time[k] = s->time;
+    memcpy(&r->position[k * n * 3], s->position, n * 3 * sizeof(double));
+    memcpy(&r->frame[k * n * 9], s->frame, n * 9 * sizeof(double));
+    for (size_t i = 0; i < n; i++) {
+        /* staggered schemes keep u at midpoints: average to the node */
+        double u3 = s->darboux[3 * i + 2];
+        if (s->staggered && i > 0 && i + 1 < n)
+            u3 = 0.5 * (s->darboux[3 * (i - 1) + 2] + s->darboux[3 * i + 2]);
+        else if (s->staggered && i == 0 && n > 1)
+            u3 = s->darboux[2];
+        r->twist[k * n + i] = u3;
+    }
+    double force[3], moment[3];
+    rod_tip_load(m, s->time, force, moment);
+    if (m->tip_frame == ROD_FRAME_DIRECTOR) {
+        const double *q = &s->frame[9 * (n - 1)];
+        double g[3];
+        m3_mul_v(g, q, force);
+        v3_copy(force, g);
+        m3_mul_v(g, q, moment);
+        v3_copy(moment, g);
+    }
+    v3_copy(&r->tip_force[3 * k], force);
+    v3_copy(&r->tip_moment[3 * k], moment);
+    r->frame_count++;
+    return 0;
+}

@@ -1,0 +1,396 @@
+/* scene.c: a rod scene (INI) read into a rod_model (see scene.h). */
+#include "sim/scene.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PATH_MAX_LEN 1024
+
+/* Reads a required or optional double; returns -1 on a bad value, and on a
+ * missing required key (message names the file, section and key). */
+static int read_double(ini_doc *doc, const char *section, const char *key, int required,
+                       const char *what, double *out, char *err, size_t errlen)
+{
+    int rc = ini_get_double(doc, section, 0, key, out, err, errlen);
+    if (rc < 0) return -1;
+    if (rc == 0 && required)
+        return ini_error(doc, section, 0, key, err, errlen, "missing; required: %s", what);
+    return 0;
+}
+
+/* x > 0 and finite, or an error naming the key and `what`. */
+static int check_positive(ini_doc *doc, const char *section, const char *key, double x,
+                          const char *what, char *err, size_t errlen)
+{
+    if (isfinite(x) && x > 0.0) return 0;
+    return ini_error(doc, section, 0, key, err, errlen, "must be > 0 (%s)", what);
+}
+
+static int read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+{
+    static const struct {
+        const char *key;
+        const char *what;
+        size_t offset;
+    } inputs[] = {
+        {"length", "the rod length in m, e.g. 1.0", offsetof(rod_model, length)},
+        {"diameter", "the diameter in m, e.g. 0.001", offsetof(rod_model, diameter)},
+        {"density", "the density in kg/m^3, e.g. 850", offsetof(rod_model, density)},
+        {"youngs_modulus", "Young's modulus E in Pa, e.g. 87.5e6",
+         offsetof(rod_model, youngs_modulus)},
+        {"shear_modulus", "the shear modulus G in Pa, e.g. 31.25e6",
+         offsetof(rod_model, shear_modulus)},
+    };
+    for (size_t k = 0; k < sizeof inputs / sizeof inputs[0]; k++) {
+        double *field = (double *)((char *)m + inputs[k].offset);
+        if (read_double(doc, "rod", inputs[k].key, 1, inputs[k].what, field, err, errlen) ||
+            check_positive(doc, "rod", inputs[k].key, *field, inputs[k].what, err, errlen))
+            return -1;
+    }
+    if (m->diameter >= m->length)
+        return ini_error(doc, "rod", 0, "diameter", err, errlen,
+                         "must be smaller than the length %g m (a rod is slender)", m->length);
+    int rc = ini_get_int(doc, "rod", 0, "nodes", &m->nodes, err, errlen);
+    if (rc < 0) return -1;
+    if (rc == 0)
+        return ini_error(doc, "rod", 0, "nodes", err, errlen,
+                         "missing; required: the number of nodes NS, 3 to 100001, e.g. 51");
+    if (m->nodes < 3 || m->nodes > 100001)
+        return ini_error(doc, "rod", 0, "nodes", err, errlen,
+                         "must be a whole number from 3 to 100001 (NS, nodes along the rod)");
+    if (read_double(doc, "rod", "rotary_inertia_scale", 0, "", &m->rotary_inertia_scale, err,
+                    errlen) ||
+        check_positive(doc, "rod", "rotary_inertia_scale", m->rotary_inertia_scale,
+                       "1 = physical rotary inertia rho I", err, errlen))
+        return -1;
+    return 0;
+}
+
+static int read_solver(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+{
+    rod_options *o = &m->options;
+    const char *text;
+    if (ini_get_string(doc, "solver", 0, "scheme", &text, err, errlen) == 1 &&
+        !rod_scheme_find(text, &o->scheme)) {
+        char list[128] = "";
+        size_t used = 0;
+        for (int k = 0; k < ROD_SCHEME_COUNT; k++) {
+            int w = snprintf(list + used, sizeof list - used, "%s%s", k ? " | " : "",
+                             rod_scheme_get((rod_scheme_kind)k)->name);
+            if (w > 0 && used + (size_t)w < sizeof list) used += (size_t)w;
+        }
+        return ini_error(doc, "solver", 0, "scheme", err, errlen, "unknown scheme; accepted: %s",
+                         list);
+    }
+    if (ini_get_string(doc, "solver", 0, "dt", &text, err, errlen) == 1) {
+        if (strcmp(text, "auto") == 0) {
+            o->dt = 0.0;
+        } else if (ini_get_double(doc, "solver", 0, "dt", &o->dt, err, errlen) < 0 ||
+                   !(o->dt > 0.0)) {
+            return ini_error(doc, "solver", 0, "dt", err, errlen,
+                             "expected 'auto' or a time step > 0 in s, e.g. 0.001");
+        }
+    }
+    if (read_double(doc, "solver", "duration", 0, "", &o->duration, err, errlen) ||
+        check_positive(doc, "solver", "duration", o->duration, "simulated time in s", err,
+                       errlen))
+        return -1;
+    if (ini_get_string(doc, "solver", 0, "theta", &text, err, errlen) == 1) {
+        if (strcmp(text, "backward_euler") == 0) {
+            o->theta = 1.0;
+        } else if (strcmp(text, "crank_nicolson") == 0) {
+            o->theta = 0.5;
+        } else if (ini_get_double(doc, "solver", 0, "theta", &o->theta, err, errlen) < 0 ||
+                   !(o->theta >= 0.5 && o->theta <= 1.0)) {
+            return ini_error(doc, "solver", 0, "theta", err, errlen,
+                             "expected a number in [0.5, 1] (1 backward Euler, 0.5 "
+                             "Crank-Nicolson) or backward_euler | crank_nicolson");
+        }
+    }
+    if (read_double(doc, "solver", "newton_tolerance", 0, "", &o->newton_tolerance, err,
+                    errlen))
+        return -1;
+    if (!(o->newton_tolerance > 0.0 && o->newton_tolerance < 1.0))
+        return ini_error(doc, "solver", 0, "newton_tolerance", err, errlen,
+                         "must be in (0, 1): relative residual that ends Newton, e.g. 1e-8");
+    if (ini_get_int(doc, "solver", 0, "newton_max_iterations", &o->newton_max_iterations, err,
+                    errlen) < 0)
+        return -1;
+    if (o->newton_max_iterations < 1 || o->newton_max_iterations > 1000)
+        return ini_error(doc, "solver", 0, "newton_max_iterations", err, errlen,
+                         "must be a whole number from 1 to 1000");
+    if (ini_get_bool(doc, "solver", 0, "exact_rotation", &o->exact_rotation, err, errlen) < 0)
+        return -1;
+    return 0;
+}
+
+/* Parses a positive time from a profile word list; 0 or -1. */
+static int profile_time(const char *word, double *out)
+{
+    char *stop;
+    errno = 0;
+    double v = strtod(word, &stop);
+    if (stop == word || *stop != '\0' || errno == ERANGE || !isfinite(v)) return -1;
+    *out = v;
+    return 0;
+}
+
+static int read_profile(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+{
+    static const char accepted[] =
+        "expected step | ramp T | pulse T_on T_off | impulse T | table FILE.csv (times in s)";
+    const char *text;
+    if (ini_get_string(doc, "tip", 0, "profile", &text, err, errlen) != 1) return 0;
+    char words[4][PATH_MAX_LEN];
+    int count = 0;
+    for (const char *p = text;;) {
+        while (*p && isspace((unsigned char)*p)) p++;
+        if (!*p) break;
+        const char *b = p;
+        while (*p && !isspace((unsigned char)*p)) p++;
+        if (count == 4 || (size_t)(p - b) >= PATH_MAX_LEN)
+            return ini_error(doc, "tip", 0, "profile", err, errlen, "%s", accepted);
+        snprintf(words[count++], PATH_MAX_LEN, "%.*s", (int)(p - b), b);
+    }
+    rod_profile *pr = &m->profile;
+    double a = 0.0, b = 0.0;
+    if (count == 1 && strcmp(words[0], "step") == 0) {
+        pr->kind = ROD_PROFILE_STEP;
+    } else if (count == 2 && strcmp(words[0], "ramp") == 0) {
+        if (profile_time(words[1], &a) || !(a > 0.0))
+            return ini_error(doc, "tip", 0, "profile", err, errlen,
+                             "ramp T needs a rise time T > 0 s, e.g. 'ramp 2.0'");
+        pr->kind = ROD_PROFILE_RAMP;
+        pr->t1 = a;
+    } else if (count == 3 && strcmp(words[0], "pulse") == 0) {
+        if (profile_time(words[1], &a) || profile_time(words[2], &b) || !(a >= 0.0) || !(b > a))
+            return ini_error(doc, "tip", 0, "profile", err, errlen,
+                             "pulse T_on T_off needs 0 <= T_on < T_off in s, e.g. 'pulse 0 0.5'");
+        pr->kind = ROD_PROFILE_PULSE;
+        pr->t1 = a;
+        pr->t2 = b;
+    } else if (count == 2 && strcmp(words[0], "impulse") == 0) {
+        if (profile_time(words[1], &a) || !(a > 0.0))
+            return ini_error(doc, "tip", 0, "profile", err, errlen,
+                             "impulse T needs a half-duration T > 0 s, e.g. 'impulse 0.005' "
+                             "(+load for T, then -load for T: thesis fig. 10)");
+        pr->kind = ROD_PROFILE_IMPULSE;
+        pr->t1 = a;
+    } else if (count == 2 && strcmp(words[0], "table") == 0) {
+        char dir[PATH_MAX_LEN], path[2 * PATH_MAX_LEN + 2], table_err[512];
+        if (words[1][0] == '/') {
+            snprintf(path, sizeof path, "%s", words[1]);
+        } else {
+            ini_directory(doc, dir, sizeof dir);
+            snprintf(path, sizeof path, "%s/%s", dir, words[1]);
+        }
+        if (scene_load_table(path, &pr->table, table_err, sizeof table_err))
+            return ini_error(doc, "tip", 0, "profile", err, errlen, "%s", table_err);
+        pr->kind = ROD_PROFILE_TABLE;
+    } else {
+        return ini_error(doc, "tip", 0, "profile", err, errlen, "%s", accepted);
+    }
+    return 0;
+}
+
+static int read_tip(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+{
+    static const char *const frames[] = {"director", "global", NULL};
+    int frame = (int)m->tip_frame;
+    if (ini_get_choice(doc, "tip", 0, "frame", frames, &frame, err, errlen) < 0 ||
+        ini_get_vector(doc, "tip", 0, "force", m->tip_force, 3, err, errlen) < 0 ||
+        ini_get_vector(doc, "tip", 0, "moment", m->tip_moment, 3, err, errlen) < 0)
+        return -1;
+    m->tip_frame = frame == 1 ? ROD_FRAME_GLOBAL : ROD_FRAME_DIRECTOR;
+    return read_profile(doc, m, err, errlen);
+}
+
+/* Reads [loads]; gravity is kept apart until the mass per length is known. */
+static int read_loads(ini_doc *doc, rod_model *m, double gravity[3], char *err, size_t errlen)
+{
+    if (ini_get_vector(doc, "loads", 0, "gravity", gravity, 3, err, errlen) < 0 ||
+        ini_get_vector(doc, "loads", 0, "distributed_force", m->distributed_force, 3, err,
+                       errlen) < 0 ||
+        read_double(doc, "loads", "linear_damping", 0, "", &m->linear_damping, err, errlen) ||
+        read_double(doc, "loads", "angular_damping", 0, "", &m->angular_damping, err, errlen))
+        return -1;
+    if (!(m->linear_damping >= 0.0))
+        return ini_error(doc, "loads", 0, "linear_damping", err, errlen,
+                         "must be >= 0 N s/m^2 (force per length = -c v)");
+    if (!(m->angular_damping >= 0.0))
+        return ini_error(doc, "loads", 0, "angular_damping", err, errlen,
+                         "must be >= 0 N m s/m (moment per length = -c omega)");
+    return 0;
+}
+
+/* Reads [ends] (root, tip) and [physics] (switches, all on by default). */
+static int read_ends_physics(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+{
+    static const char *const root_words[] = {"clamped", "pinned", NULL};
+    static const char *const tip_words[] = {"free", "pinned", "clamped", NULL};
+    static const rod_end_kind tip_kinds[] = {ROD_END_FREE, ROD_END_PINNED, ROD_END_CLAMPED};
+    int which;
+    int rc = ini_get_choice(doc, "ends", 0, "root", root_words, &which, err, errlen);
+    if (rc < 0) return -1;
+    if (rc == 1) m->root_end = which == 0 ? ROD_END_CLAMPED : ROD_END_PINNED;
+    rc = ini_get_choice(doc, "ends", 0, "tip", tip_words, &which, err, errlen);
+    if (rc < 0) return -1;
+    if (rc == 1) m->tip_end = tip_kinds[which];
+    struct { const char *key; int *field; } switches[] = {
+        {"twist", &m->physics.twist},
+        {"rotary_inertia", &m->physics.rotary_inertia},
+        {"gravity", &m->physics.gravity},
+        {"damping", &m->physics.damping},
+        {"planar", &m->physics.planar},
+    };
+    for (size_t k = 0; k < sizeof switches / sizeof switches[0]; k++)
+        if (ini_get_bool(doc, "physics", 0, switches[k].key, switches[k].field, err, errlen) < 0)
+            return -1;
+    return 0;
+}
+
+int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+{
+    *m = rod_model_default();
+    double gravity[3] = {0.0, 0.0, 0.0}; /* m/s^2 */
+    if (read_rod(doc, m, err, errlen) || read_solver(doc, m, err, errlen) ||
+        read_tip(doc, m, err, errlen) || read_loads(doc, m, gravity, err, errlen) ||
+        read_ends_physics(doc, m, err, errlen))
+        goto fail;
+    char why[256];
+    if (rod_model_derive(m, why, sizeof why)) {
+        snprintf(err, errlen, "%s: %s", ini_filename(doc), why);
+        goto fail;
+    }
+    /* gravity acts on the mass per length: f = rho A g, added to any given distributed force */
+    for (int k = 0; k < 3; k++) m->distributed_force[k] += m->mass_per_length * gravity[k];
+    /* switched-off physics costs nothing: the loads it would add are zero */
+    if (!m->physics.gravity) m->distributed_force[0] = m->distributed_force[1] = m->distributed_force[2] = 0.0;
+    if (!m->physics.damping) m->linear_damping = m->angular_damping = 0.0;
+    return 0;
+fail:
+    rod_model_release(m);
+    return -1;
+}
+
+/* Table CSV ------------------------------------------------------------ */
+
+/* Splits a data line into numbers; returns the count, or -1 on a bad field. */
+static int parse_row(char *line, double *values, int max)
+{
+    int count = 0;
+    char *p = line;
+    for (;;) {
+        while (*p == ' ' || *p == '\t') p++;
+        if (!*p) break;
+        char *b = p;
+        while (*p && *p != ',') p++;
+        char *e = p;
+        while (e > b && isspace((unsigned char)e[-1])) e--;
+        if (count == max || e == b) return -1;
+        char keep = *e;
+        *e = '\0';
+        char *stop;
+        errno = 0;
+        double v = strtod(b, &stop);
+        int ok = stop == e && errno != ERANGE && isfinite(v);
+        *e = keep;
+        if (!ok) return -1;
+        values[count++] = v;
+        if (*p == ',') {
+            p++;
+            if (!*p) return -1; /* trailing comma: an empty field */
+        }
+    }
+    return count;
+}
+
+int scene_load_table(const char *path, rod_table *table, char *err, size_t errlen)
+{
+    table->rows = 0;
+    table->columns = 0;
+    table->data = NULL;
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        snprintf(err, errlen, "%s: cannot open load table: %s", path, strerror(errno));
+        return -1;
+    }
+    char line[1024];
+    int line_no = 0, header_seen = 0, capacity = 0, rc = -1;
+    while (fgets(line, sizeof line, f)) {
+        line_no++;
+        size_t n = strlen(line);
+        if (n == sizeof line - 1 && line[n - 1] != '\n') {
+            snprintf(err, errlen, "%s:%d: line longer than %zu characters", path, line_no,
+                     sizeof line - 2);
+            goto done;
+        }
+        char *hash = strchr(line, '#');
+        if (hash) *hash = '\0';
+        for (n = strlen(line); n > 0 && isspace((unsigned char)line[n - 1]); n--) line[n - 1] = '\0';
+        char *start = line;
+        while (isspace((unsigned char)*start)) start++;
+        if (!*start) continue;
+        if (!header_seen) { /* the first non-blank line names the columns */
+            header_seen = 1;
+            continue;
+        }
+        double values[8];
+        int count = parse_row(start, values, 8);
+        if (count != 2 && count != 7) {
+            snprintf(err, errlen,
+                     "%s:%d: expected 2 numbers (t, factor) or 7 numbers (t, fx, fy, fz, mx, my, "
+                     "mz) separated by commas",
+                     path, line_no);
+            goto done;
+        }
+        if (table->columns == 0) {
+            table->columns = count;
+        } else if (count != table->columns) {
+            snprintf(err, errlen, "%s:%d: %d numbers, but the first row has %d", path, line_no,
+                     count, table->columns);
+            goto done;
+        }
+        if (table->rows > 0 && !(values[0] > table->data[(table->rows - 1) * count])) {
+            snprintf(err, errlen, "%s:%d: time %g s does not increase (previous row %g s)", path,
+                     line_no, values[0], table->data[(table->rows - 1) * count]);
+            goto done;
+        }
+        if (table->rows == capacity) {
+            capacity = capacity ? 2 * capacity : 16;
+            double *bigger = realloc(table->data, (size_t)capacity * (size_t)count * sizeof *bigger);
+            if (!bigger) {
+                snprintf(err, errlen, "%s: out of memory", path);
+                goto done;
+            }
+            table->data = bigger;
+        }
+        memcpy(&table->data[table->rows * count], values, (size_t)count * sizeof *values);
+        table->rows++;
+    }
+    if (ferror(f)) {
+        snprintf(err, errlen, "%s: read error", path);
+        goto done;
+    }
+    if (table->rows == 0) {
+        snprintf(err, errlen,
+                 "%s:%d: empty load table: expected a header line, then rows of t,factor or "
+                 "t,fx,fy,fz,mx,my,mz",
+                 path, line_no > 0 ? line_no : 1);
+        goto done;
+    }
+    rc = 0;
+done:
+    fclose(f);
+    if (rc) {
+        free(table->data);
+        table->data = NULL;
+        table->rows = 0;
+        table->columns = 0;
+    }
+    return rc;
+}

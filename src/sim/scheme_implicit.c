@@ -1,0 +1,880 @@
+/* scheme_implicit.c: the rod equations (3.15) advanced by the theta-method
+ * (backward Euler by default, Crank-Nicolson at theta = 1/2), all unknowns of
+ * a step solved together by Newton's method on one banded system.
+ *
+ * Grid (staggered, which avoids the odd/even decoupling of one collocated
+ * grid): velocity v and angular velocity omega at the nodes i = 0..NS-1;
+ * Darboux vector u and contact force N at the segment midpoints i+1/2.
+ *
+ * Unknowns of a step, per block b = 1..NS-1 (6 each, 6 (NS-1) in all):
+ *   N_{b-1/2}  contact force, global components (the multiplier of (3.14));
+ *   omega_b    angular velocity at the end of the step, director components.
+ * The velocity v_b at the end of the step (global components) is not an
+ * unknown either: the linear momentum balance (3.3)_1 below is linear in v_b
+ * and in N, so it gives v_b from the two contact forces beside node b; the
+ * Newton system keeps (3.14) and (3.6)_2 (6 equations per node, half
+ * bandwidth 8 instead of 9 unknowns and 11).
+ * u is not an unknown: the frames advance by the exact exponential map
+ *   Q_i(t+dt) = Q_i(t) exp(dt [omega_bar_i]x),  omega_bar = theta w(t+dt) + (1-theta) w(t)
+ * (integrating (3.1)_2), and u_{i+1/2} = log(Q_i^T Q_{i+1}) / ds (integrating
+ * (3.1)_1 exactly over the segment). The compatibility equation (3.10) then
+ * holds exactly in discrete form and frames and curvature never drift apart.
+ *
+ * Equations, per block b:
+ *   (3.14) inextensible, unshearable: (v_bar_{b} - v_bar_{b-1}) dt / ds
+ *          = d3_{b-1/2}(t+dt) - d3_{b-1/2}(t), the time difference of
+ *          r_{i+1} - r_i = ds d3_{i+1/2}; so r(t+dt) = r(t) + dt v_bar agrees
+ *          with the centreline integrated from d3 (3.12).
+ *   (3.6)_1 (written in the fixed frame, (3.3)_1) over the cell of node b,
+ *          solved for v_b:
+ *          m w_b (v_b - v_b(t)) / dt = N_{b+1/2} - N_{b-1/2} + w_b (T - c v_bar)
+ *   (3.6)_2 in director components of node b:
+ *          I w_b (omega - omega(t)) / dt + w_b omega_bar x I omega_bar
+ *          = Q^T [ M_{b+1/2} - M_{b-1/2} + ds/2 (d3 x N)_{b+1/2} + ds/2 (d3 x N)_{b-1/2} ]
+ *            - w_b c_w omega_bar,      M_{i+1/2} = Q_{i+1/2} B u_{i+1/2}  (3.4)
+ *   with w_b = ds inside and ds/2 at the free end, where N_{NS-1/2} and
+ *   M_{NS-1/2} are the tip force and moment (4.2) and the tip force has no arm.
+ * Elastic terms are theta-weighted between the start and the end of the step.
+ *
+ * Newton: the Jacobian is built by finite differences with a 3-colouring of
+ * the block-tridiagonal pattern (18 residual evaluations; 15 in the plane), factored by
+ * LAPACK's banded LU with partial pivoting, and reused across iterations and
+ * steps while it keeps converging (refreshed when convergence slows). A step
+ * whose Newton iteration fails is split in two, recursively, before giving up.
+ */
+#include "sim/rod.h"
+
+#include <lapacke.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim/rod_geometry.h"
+#include "base/vec3.h"
+
+/* Unknowns per block: N(3), omega(3) in 3-D; N(2), v(2), omega_2 in the
+ * plane. Half bandwidth kl = ku of the Jacobian in that block order: 8 in 3-D
+ * (the angular momentum rows of node b reach omega of nodes b-1 and b+1, and
+ * the constraint rows N of the segments beyond, through v) and 5 in the
+ * plane; every other coupling is nearer. */
+#define BLOCK 6
+#define BAND 8
+#define BLOCK_PLANAR 5
+#define BAND_PLANAR 5
+#define MAX_SPLIT_DEPTH 12
+/* Newton iterations one step may spend, splits included: bounds the time a
+ * hopeless step takes (about 1 s at NS = 1001) instead of 4096 x 25 tries. */
+#define STEP_ITERATION_BUDGET 2000
+
+typedef struct implicit_work {
+    int nodes, blocks, unknowns;
+    int planar;        /* 1: the planar problem (rod_model_loads_planar and physics.planar) */
+    int block, kl;     /* unknowns per block and half bandwidth (BLOCK/BAND or _PLANAR) */
+    int var_kind[BLOCK_PLANAR > BLOCK ? BLOCK_PLANAR : BLOCK]; /* per component of a block:
+                                    0 force, 1 velocity, 2 angular velocity */
+    int ldab;
+    double *x;         /* (unknowns) current Newton iterate */
+    double *dx;        /* (unknowns) correction */
+    double *residual;  /* (unknowns) scaled residual at x */
+    double *perturbed; /* (unknowns) residual at a perturbed x */
+    double *band;      /* (ldab x unknowns) LU factors, LAPACK band storage */
+    lapack_int *pivot; /* (unknowns) */
+    double *inv_diag;  /* (unknowns) 1 / U_jj of the factorisation: the back substitution
+                          multiplies instead of dividing (a division's latency sits on its
+                          serial critical path) */
+    int have_factor;   /* band holds a usable factorisation */
+
+    /* start of the step */
+    double *frame0;    /* (nodes x 9) */
+    double *omega0;    /* (nodes x 3) director */
+    double *vel0;      /* (nodes x 3) global */
+    double *vel1;      /* (nodes x 3) global, end of the step: from N by (3.3)_1 (3-D) */
+    double *d3mid0;    /* (nodes-1 x 3) */
+    double *moment0;   /* (nodes-1 x 3) global, M_{i+1/2} */
+    double *tipf0, *tipm0; /* (3) tip force and moment at the start, global */
+
+    /* end of the step, for the iterate x */
+    double *frame1;    /* (nodes x 9) */
+    double *frame_th;  /* (nodes x 9) frame at the theta point (theta < 1; for theta = 1 the
+                          residual reads frame1) */
+    double *darboux1;  /* (nodes-1 x 3) */
+    double *mid1;      /* (nodes-1 x 9) midpoint frames at the start of a run of steps;
+                          scratch of the planar path */
+    double *d3mid1;    /* (nodes-1 x 3) d3 at the midpoints */
+    double *moment1;   /* (nodes-1 x 3) global */
+
+    /* a saved copy of the state for step splitting */
+    double *save_frame, *save_pos, *save_vel, *save_omega, *save_force;
+    double save_time;
+
+    double force_scale;  /* N, residual scaling of force balances */
+    double moment_scale; /* N m, residual scaling of moment balances */
+    double var_scale[3]; /* typical N (N), v (m/s), omega (rad/s) for FD steps */
+    double jacobian_dt;  /* dt the factorisation was made for */
+    int start_valid;     /* frame0, d3mid0, moment0 hold the state at start_time */
+    double *x_last;      /* (unknowns) solution of the last step, ending at start_time */
+    double *x_before;    /* (unknowns) solution of the step before it */
+    double dt_last;      /* s, length of the last step; 0 when x_before is not usable */
+    double start_time;
+    int budget;          /* Newton iterations left for the current step */
+
+    /* planar problem: frames are rotations about z by an angle phi (d3 at phi from +x) */
+    double *phi0;      /* (nodes) rad, start of the step */
+    double *phi1;      /* (nodes) rad, end of the step, for the iterate x */
+    double *phi_th;    /* (nodes) rad, at the theta point */
+} implicit_work;
+
+static void destroy(void *p)
+{
+    implicit_work *w = p;
+    if (!w) return;
+    double **arrays[] = {&w->x, &w->dx, &w->x_last, &w->x_before, &w->residual, &w->perturbed, &w->band,
+                         &w->frame0, &w->omega0, &w->vel0, &w->vel1, &w->d3mid0, &w->moment0,
+                         &w->tipf0, &w->tipm0, &w->frame1, &w->frame_th, &w->darboux1,
+                         &w->mid1, &w->d3mid1, &w->moment1, &w->save_frame, &w->save_pos, &w->save_vel,
+                         &w->save_omega, &w->save_force, &w->phi0, &w->phi1, &w->phi_th};
+    for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) free(*arrays[k]);
+    free(w->pivot);
+    free(w->inv_diag);
+    free(w);
+}
+
+static void *create(const rod_model *m, char *err, size_t errlen)
+{
+    if (rod_model_require_cantilever(m, "implicit", err, errlen)) return NULL;
+    implicit_work *w = calloc(1, sizeof *w);
+    if (!w) goto oom;
+    size_t n = (size_t)m->nodes;
+    w->nodes = m->nodes;
+    w->blocks = m->nodes - 1;
+    w->planar = m->physics.planar && rod_model_loads_planar(m);
+    w->block = w->planar ? BLOCK_PLANAR : BLOCK;
+    w->kl = w->planar ? BAND_PLANAR : BAND;
+    static const int kinds3[BLOCK] = {0, 0, 0, 2, 2, 2};
+    static const int kinds2[BLOCK_PLANAR] = {0, 0, 1, 1, 2};
+    memcpy(w->var_kind, w->planar ? kinds2 : kinds3, (size_t)w->block * sizeof(int));
+    w->unknowns = w->block * w->blocks;
+    w->ldab = 3 * w->kl + 1; /* 2 kl + ku + 1: U gains kl diagonals by pivoting */
+    size_t u = (size_t)w->unknowns;
+    w->x = calloc(u, sizeof(double));
+    w->dx = calloc(u, sizeof(double));
+    w->residual = calloc(u, sizeof(double));
+    w->x_last = calloc(u, sizeof(double));
+    w->x_before = calloc(u, sizeof(double));
+    w->perturbed = calloc(u, sizeof(double));
+    w->band = calloc((size_t)w->ldab * u, sizeof(double));
+    w->pivot = calloc(u, sizeof *w->pivot);
+    w->inv_diag = calloc(u, sizeof(double));
+    w->frame0 = calloc(n * 9, sizeof(double));
+    w->omega0 = calloc(n * 3, sizeof(double));
+    w->vel0 = calloc(n * 3, sizeof(double));
+    w->vel1 = calloc(n * 3, sizeof(double));
+    if (!w->vel1) goto oom;
+    w->d3mid0 = calloc(n * 3, sizeof(double));
+    w->moment0 = calloc(n * 3, sizeof(double));
+    w->tipf0 = calloc(3, sizeof(double));
+    w->tipm0 = calloc(3, sizeof(double));
+    w->frame1 = calloc(n * 9, sizeof(double));
+    w->frame_th = calloc(n * 9, sizeof(double));
+    w->darboux1 = calloc(n * 3, sizeof(double));
+    w->mid1 = calloc(n * 9, sizeof(double));
+    w->d3mid1 = calloc(n * 3, sizeof(double));
+    w->moment1 = calloc(n * 3, sizeof(double));
+    w->save_frame = calloc(n * 9, sizeof(double));
+    w->save_pos = calloc(n * 3, sizeof(double));
+    w->save_vel = calloc(n * 3, sizeof(double));
+    w->save_omega = calloc(n * 3, sizeof(double));
+    w->save_force = calloc(n * 3, sizeof(double));
+    w->phi0 = calloc(n, sizeof(double));
+    w->phi1 = calloc(n, sizeof(double));
+    w->phi_th = calloc(n, sizeof(double));
+    if (!w->phi0 || !w->phi1 || !w->phi_th) goto oom;
+    if (!w->x || !w->dx || !w->x_last || !w->x_before || !w->residual || !w->perturbed || !w->band || !w->pivot || !w->inv_diag ||
+        !w->frame0 || !w->omega0 || !w->vel0 || !w->d3mid0 || !w->moment0 || !w->tipf0 ||
+        !w->tipm0 || !w->frame1 || !w->frame_th || !w->darboux1 || !w->mid1 || !w->d3mid1 || !w->moment1 ||
+        !w->save_frame || !w->save_pos || !w->save_vel || !w->save_omega || !w->save_force)
+        goto oom;
+
+    /* Scales: the largest of the applied loads and the rod's own elastic
+     * force EI/L^2, so that an unloaded rod still has a sensible scale. */
+    double L = m->length, EI = m->stiffness[0];
+    double fpeak = 0.0, mmax = 0.0;
+    if (m->profile.kind == ROD_PROFILE_TABLE && m->profile.table.columns == 7) {
+        const rod_table *t = &m->profile.table;
+        for (int r = 0; r < t->rows; r++)
+            for (int k = 0; k < 3; k++) {
+                fpeak = fmax(fpeak, fabs(t->data[r * 7 + 1 + k]));
+                mmax = fmax(mmax, fabs(t->data[r * 7 + 4 + k]));
+            }
+    } else {
+        double scale = 1.0;
+        if (m->profile.kind == ROD_PROFILE_TABLE)
+            for (int r = 0; r < m->profile.table.rows; r++)
+                scale = fmax(scale, fabs(m->profile.table.data[2 * r + 1]));
+        fpeak = scale * v3_norm(m->tip_force);
+        mmax = scale * v3_norm(m->tip_moment);
+    }
+    double q = v3_norm(m->distributed_force) * L; /* N/m over the length */
+    w->force_scale = fmax(fmax(EI / (L * L), fpeak), fmax(mmax / L, q));
+    w->moment_scale = w->force_scale * L;
+    double f1 = rod_first_bending_frequency(m);
+    w->var_scale[0] = w->force_scale;
+    w->var_scale[1] = 2.0 * M_PI * f1 * L * 1e-3;
+    w->var_scale[2] = 2.0 * M_PI * f1 * 1e-3;
+    return w;
+oom:
+    snprintf(err, errlen, "implicit scheme: out of memory for %d nodes", m->nodes);
+    destroy(w);
+    return NULL;
+}
+
+/* Tip force and moment at time t in global components, given the tip frame. */
+static void tip_load_global(const rod_model *m, double t, const double *tip_frame,
+                            double force[3], double moment[3])
+{
+    double f[3], mo[3];
+    rod_tip_load(m, t, f, mo);
+    if (m->tip_frame == ROD_FRAME_DIRECTOR) {
+        m3_mul_v(force, tip_frame, f);
+        m3_mul_v(moment, tip_frame, mo);
+    } else {
+        v3_copy(force, f);
+        v3_copy(moment, mo);
+    }
+}
+
+/* Midpoint d3 and elastic moment M = Q_mid B u (global) for given frames. */
+static void elastic_state(const rod_model *m, const double *frame, double *darboux, double *mid,
+                          double *d3mid, double *moment)
+{
+    rod_darboux_from_frames(m, frame, darboux);
+    rod_midpoint_frames(m, frame, darboux, mid);
+    for (int j = 0; j + 1 < m->nodes; j++) {
+        double bu[3];
+        for (int k = 0; k < 3; k++) bu[k] = m->stiffness[k] * darboux[3 * j + k];
+        m3_mul_v(&moment[3 * j], &mid[9 * j], bu);
+        if (d3mid) m3_column(&d3mid[3 * j], &mid[9 * j], 2);
+    }
+}
+
+/* The same as elastic_state for the end of the step, without forming the
+ * midpoint frames Q_{i+1/2} = Q_i exp(h), h = ds/2 u: only d3 = Q_i exp(h) e3
+ * and M = Q_i exp(h) B u are needed, each one rotation of a vector (the
+ * residual evaluates this twice or more per step). */
+static void end_geometry(const rod_model *m, const double *frame, double *darboux,
+                         double *d3mid, double *moment)
+{
+    const double inv_ds = 1.0 / m->ds;
+    for (int j = 0; j + 1 < m->nodes; j++) {
+        double rel[9], phi[3], half[3], bu[3], e3[3] = {0.0, 0.0, 1.0}, local[3];
+        const double *q = &frame[9 * j];
+        m3_mul_tn(rel, q, &frame[9 * (j + 1)]);
+        m3_log(phi, rel);
+        for (int k = 0; k < 3; k++) {
+            darboux[3 * j + k] = phi[k] * inv_ds;
+            half[k] = 0.5 * phi[k];
+            bu[k] = m->stiffness[k] * darboux[3 * j + k];
+        }
+        v3_rotate(local, half, e3);
+        m3_mul_v(&d3mid[3 * j], q, local);
+        v3_rotate(local, half, bu);
+        m3_mul_v(&moment[3 * j], q, local);
+    }
+}
+
+static inline const double *block_force(const double *x, int b) { return &x[BLOCK * (b - 1)]; }
+static inline const double *block_omega(const double *x, int b) { return &x[BLOCK * (b - 1) + 3]; }
+
+/* Scaled residual of the step t -> t + dt at the iterate x. */
+static void residual(implicit_work *w, const rod_model *m, const double *x, double t, double dt,
+                     double *res)
+{
+    const int n = w->nodes;
+    const double theta = m->options.theta, ds = m->ds, mass = m->mass_per_length;
+    const double *inertia = m->rotary_inertia;
+    /* reciprocals: the loops below multiply (a division per use would cost more
+     * than the rest of the line) */
+    const double inv_dt = 1.0 / dt, dt_ds = dt / ds;
+
+    /* frames at the end of the step and at the theta point; for theta = 1
+     * they are the same array */
+    const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
+    memcpy(&w->frame1[0], &w->frame0[0], 9 * sizeof(double));
+    memcpy(&w->frame_th[0], &w->frame0[0], 9 * sizeof(double));
+    for (int i = 1; i < n; i++) {
+        double wbar[3], rot[9];
+        const double *om = block_omega(x, i);
+        for (int k = 0; k < 3; k++)
+            wbar[k] = dt * (theta * om[k] + (1.0 - theta) * w->omega0[3 * i + k]);
+        m3_exp(rot, wbar);
+        m3_mul(&w->frame1[9 * i], &w->frame0[9 * i], rot);
+        if (theta < 1.0) {
+            v3_scale(wbar, wbar, theta);
+            m3_exp(rot, wbar);
+            m3_mul(&w->frame_th[9 * i], &w->frame0[9 * i], rot);
+        }
+    }
+    end_geometry(m, w->frame1, w->darboux1, w->d3mid1, w->moment1);
+
+    double tipf1[3], tipm1[3], tipf[3], tipm[3];
+    tip_load_global(m, t + dt, &frame_th[9 * (n - 1)], tipf1, tipm1);
+    for (int k = 0; k < 3; k++) {
+        tipf[k] = theta * tipf1[k] + (1.0 - theta) * w->tipf0[k];
+        tipm[k] = theta * tipm1[k] + (1.0 - theta) * w->tipm0[k];
+    }
+
+    /* (3.3)_1, linear momentum of the cell of node b (global), solved for the
+     * velocity at the end of the step: linear in N, so v is not an unknown */
+    const double ms = 1.0 / w->moment_scale;
+    const double c = m->linear_damping;
+    v3_set(&w->vel1[0], 0.0, 0.0, 0.0);
+    for (int b = 1; b < n; b++) {
+        const double wb = (b == n - 1) ? 0.5 * ds : ds;
+        const double *n_left = block_force(x, b);
+        const double *n_right = (b < n - 1) ? block_force(x, b + 1) : tipf;
+        const double inv_coeff = 1.0 / (wb * (mass * inv_dt + theta * c));
+        for (int k = 0; k < 3; k++)
+            w->vel1[3 * b + k] =
+                (wb * (mass * inv_dt - (1.0 - theta) * c) * w->vel0[3 * b + k] + n_right[k] -
+                 n_left[k] + wb * m->distributed_force[k]) * inv_coeff;
+    }
+    for (int b = 1; b < n; b++) {
+        double *r = &res[BLOCK * (b - 1)];
+        const int j = b - 1; /* segment to the left of node b */
+        const double wb = (b == n - 1) ? 0.5 * ds : ds;
+
+        /* (3.14) constraint on segment j, dimensionless */
+        double d3_1[3];
+        v3_copy(d3_1, &w->d3mid1[3 * j]);
+        for (int k = 0; k < 3; k++) {
+            double vbar_r = theta * w->vel1[3 * b + k] + (1.0 - theta) * w->vel0[3 * b + k];
+            double vbar_l = theta * w->vel1[3 * j + k] + (1.0 - theta) * w->vel0[3 * j + k];
+            r[k] = (vbar_r - vbar_l) * dt_ds - (d3_1[k] - w->d3mid0[3 * j + k]);
+        }
+        const double *n_left = block_force(x, b);
+        const double *n_right = (b < n - 1) ? block_force(x, b + 1) : tipf;
+
+        /* (3.6)_2 angular momentum of the cell of node b, director components */
+        double total[3], d3l[3], cr[3];
+        for (int k = 0; k < 3; k++) {
+            double m_right = (b < n - 1)
+                                 ? theta * w->moment1[3 * b + k] + (1.0 - theta) * w->moment0[3 * b + k]
+                                 : tipm[k];
+            double m_left = theta * w->moment1[3 * j + k] + (1.0 - theta) * w->moment0[3 * j + k];
+            total[k] = m_right - m_left;
+            d3l[k] = theta * d3_1[k] + (1.0 - theta) * w->d3mid0[3 * j + k];
+        }
+        v3_cross(cr, d3l, n_left);
+        v3_axpy(total, 0.5 * ds, cr);
+        if (b < n - 1) {
+            double d3r[3];
+            const double *d3r1 = &w->d3mid1[3 * b];
+            for (int k = 0; k < 3; k++) d3r[k] = theta * d3r1[k] + (1.0 - theta) * w->d3mid0[3 * b + k];
+            v3_cross(cr, d3r, n_right);
+            v3_axpy(total, 0.5 * ds, cr);
+        }
+        double body[3], wbar[3], iw[3], gyro[3];
+        m3_mul_tv(body, &frame_th[9 * b], total);
+        const double *om = block_omega(x, b);
+        for (int k = 0; k < 3; k++) {
+            wbar[k] = theta * om[k] + (1.0 - theta) * w->omega0[3 * b + k];
+            iw[k] = inertia[k] * wbar[k];
+        }
+        v3_cross(gyro, wbar, iw);
+        for (int k = 0; k < 3; k++) {
+            double inertial = wb * (inertia[k] * (om[k] - w->omega0[3 * b + k]) * inv_dt + gyro[k]);
+            r[3 + k] = (inertial - body[k] + wb * m->angular_damping * wbar[k]) * ms;
+        }
+    }
+}
+
+/* Planar problem: every load keeps the rod in the x-y plane, so d2 stays
+ * along +z, each frame is a rotation about z by phi (d3 = (cos phi, sin phi),
+ * d1 = (-sin phi, cos phi)), omega = omega_2 d2 and u = u_2 d2 with
+ * u_{i+1/2} = (phi_{i+1} - phi_i) / ds: the same discrete equations as in
+ * 3-D, restricted to the plane (the out-of-plane unknowns stay exactly zero),
+ * with 5 unknowns per block and no rotation matrices. */
+
+/* Tip force (x, y, N) and moment about z (N m) at time t for a tip angle phi. */
+static void tip_load_planar(const rod_model *m, double t, double phi, double force[2],
+                            double *moment)
+{
+    double f[3], mo[3];
+    rod_tip_load(m, t, f, mo);
+    if (m->tip_frame == ROD_FRAME_DIRECTOR) {
+        double c = cos(phi), sn = sin(phi);
+        force[0] = -sn * f[0] + c * f[2]; /* f1 d1 + f3 d3 */
+        force[1] = c * f[0] + sn * f[2];
+        *moment = mo[1];                  /* about d2 = z */
+    } else {
+        force[0] = f[0];
+        force[1] = f[1];
+        *moment = mo[2];
+    }
+}
+
+/* Scaled residual of the planar step; leaves phi1, phi_th, darboux1 (u_2 at
+ * 3j+1) and moment1 (z at 3j+2) for the iterate x. */
+static void residual_planar(implicit_work *w, const rod_model *m, const double *x, double t,
+                            double dt, double *res)
+{
+    const int n = w->nodes, nb = BLOCK_PLANAR;
+    const double theta = m->options.theta, ds = m->ds, mass = m->mass_per_length;
+    const double inertia = m->rotary_inertia[1], stiffness = m->stiffness[1];
+    w->phi1[0] = w->phi_th[0] = w->phi0[0];
+    for (int i = 1; i < n; i++) {
+        double wbar = theta * x[nb * (i - 1) + 4] + (1.0 - theta) * w->omega0[3 * i + 1];
+        w->phi1[i] = w->phi0[i] + dt * wbar;
+        w->phi_th[i] = w->phi0[i] + theta * dt * wbar;
+    }
+    double *d3x = w->mid1, *d3y = w->mid1 + n; /* scratch: d3 at the midpoints, end of step */
+    for (int j = 0; j + 1 < n; j++) {
+        double u = (w->phi1[j + 1] - w->phi1[j]) / ds;
+        double mid = 0.5 * (w->phi1[j] + w->phi1[j + 1]);
+        w->darboux1[3 * j + 1] = u;
+        w->moment1[3 * j + 2] = stiffness * u; /* (3.4) M = B u, about z */
+        d3x[j] = cos(mid);
+        d3y[j] = sin(mid);
+    }
+    double tipf1[2], tipm1, tipf[2], tipm;
+    tip_load_planar(m, t + dt, w->phi_th[n - 1], tipf1, &tipm1);
+    for (int k = 0; k < 2; k++) tipf[k] = theta * tipf1[k] + (1.0 - theta) * w->tipf0[k];
+    tipm = theta * tipm1 + (1.0 - theta) * w->tipm0[2];
+
+    const double fs = 1.0 / w->force_scale, ms = 1.0 / w->moment_scale;
+    for (int b = 1; b < n; b++) {
+        double *r = &res[nb * (b - 1)];
+        const double *xb = &x[nb * (b - 1)];
+        const int j = b - 1;
+        const double wb = (b == n - 1) ? 0.5 * ds : ds;
+        double vr[2], vl[2] = {0.0, 0.0};
+        for (int k = 0; k < 2; k++) {
+            vr[k] = theta * xb[2 + k] + (1.0 - theta) * w->vel0[3 * b + k];
+            if (b > 1) vl[k] = theta * x[nb * (b - 2) + 2 + k] + (1.0 - theta) * w->vel0[3 * (b - 1) + k];
+        }
+        /* (3.14) */
+        r[0] = (vr[0] - vl[0]) * dt / ds - (d3x[j] - w->d3mid0[3 * j]);
+        r[1] = (vr[1] - vl[1]) * dt / ds - (d3y[j] - w->d3mid0[3 * j + 1]);
+        /* (3.3)_1 */
+        const double *n_left = xb;
+        const double *n_right = (b < n - 1) ? xb + nb : tipf;
+        for (int k = 0; k < 2; k++) {
+            double inertial = wb * mass * (xb[2 + k] - w->vel0[3 * b + k]) / dt;
+            double external = wb * (m->distributed_force[k] - m->linear_damping * vr[k]);
+            r[2 + k] = (inertial - (n_right[k] - n_left[k]) - external) * fs;
+        }
+        /* (3.6)_2 about z */
+        double m_left = theta * w->moment1[3 * j + 2] + (1.0 - theta) * w->moment0[3 * j + 2];
+        double m_right = (b < n - 1)
+                             ? theta * w->moment1[3 * b + 2] + (1.0 - theta) * w->moment0[3 * b + 2]
+                             : tipm;
+        double lx = theta * d3x[j] + (1.0 - theta) * w->d3mid0[3 * j];
+        double ly = theta * d3y[j] + (1.0 - theta) * w->d3mid0[3 * j + 1];
+        double total = m_right - m_left + 0.5 * ds * (lx * n_left[1] - ly * n_left[0]);
+        if (b < n - 1) {
+            double rx = theta * d3x[b] + (1.0 - theta) * w->d3mid0[3 * b];
+            double ry = theta * d3y[b] + (1.0 - theta) * w->d3mid0[3 * b + 1];
+            total += 0.5 * ds * (rx * n_right[1] - ry * n_right[0]);
+        }
+        double wbar = theta * xb[4] + (1.0 - theta) * w->omega0[3 * b + 1];
+        double inertial = wb * inertia * (xb[4] - w->omega0[3 * b + 1]) / dt;
+        r[4] = (inertial - total + wb * m->angular_damping * wbar) * ms;
+    }
+}
+
+static void evaluate(implicit_work *w, const rod_model *m, const double *x, double t, double dt,
+                     double *res)
+{
+    if (w->planar) residual_planar(w, m, x, t, dt, res);
+    else residual(w, m, x, t, dt, res);
+}
+
+static double max_abs(const double *a, int n)
+{
+    /* branch-free (a data-dependent branch per entry mispredicted often):
+     * the maximum, and a separate flag so that a NaN wins and is never
+     * "converged" */
+    double worst = 0.0;
+    int nan = 0;
+    for (int i = 0; i < n; i++) {
+        double v = fabs(a[i]);
+        worst = v > worst ? v : worst;
+        nan |= v != v;
+    }
+    return nan ? NAN : worst;
+}
+
+/* Solves A x = b in place with the factors of LAPACKE_dgbtrf (band storage,
+ * kl = ku): the same arithmetic as dgbtrs, written out because the library
+ * call's per-column BLAS overhead dominated at this size. Inlined with kl a
+ * constant, so that the inner loops have fixed lengths away from the ends
+ * (unrolled, vectorised); in the back substitution the entry the next column
+ * needs, b[j-1], is updated first: it alone is on the serial critical path. */
+static inline __attribute__((always_inline)) void band_solve_kl(const implicit_work *w,
+                                                               double *restrict b, const int kl)
+{
+    const int n = w->unknowns, kv = 2 * kl, ld = w->ldab;
+    const double *restrict ab = w->band;
+    const double *restrict inv_diag = w->inv_diag;
+    const lapack_int *restrict pivot = w->pivot;
+    for (int j = 0; j < n - 1; j++) { /* L: row interchanges and unit lower factor */
+        int p = pivot[j] - 1;
+        double bj = b[p];
+        b[p] = b[j];
+        b[j] = bj;
+        const double *col = &ab[(size_t)j * ld + kv + 1];
+        if (j + kl < n) {
+            for (int i = 0; i < kl; i++) b[j + 1 + i] -= col[i] * bj;
+        } else {
+            for (int i = 0; j + 1 + i < n; i++) b[j + 1 + i] -= col[i] * bj;
+        }
+    }
+    for (int j = n - 1; j >= 0; j--) { /* U: upper band of width kl + ku */
+        const double *col = &ab[(size_t)j * ld + kv - j]; /* col[i] = U(i, j) */
+        double bj = b[j] * inv_diag[j];
+        b[j] = bj;
+        if (j >= kv) {
+            b[j - 1] -= col[j - 1] * bj;
+            for (int i = j - kv; i < j - 1; i++) b[i] -= col[i] * bj;
+        } else {
+            for (int i = 0; i < j; i++) b[i] -= col[i] * bj;
+        }
+    }
+}
+
+static void band_solve(const implicit_work *w, double *b)
+{
+    if (w->kl == BAND) band_solve_kl(w, b, BAND);
+    else band_solve_kl(w, b, BAND_PLANAR);
+}
+
+/* Finite-difference Jacobian by 3-colouring of the blocks, factored in place.
+ * Returns 0, or -1 when the matrix is singular. */
+static int factor_jacobian(implicit_work *w, const rod_model *m, double t, double dt)
+{
+    const int nu = w->unknowns, kl = w->kl, ku = w->kl, ld = w->ldab, nb = w->block;
+    memset(w->band, 0, (size_t)ld * (size_t)nu * sizeof(double));
+    evaluate(w, m, w->x, t, dt, w->residual);
+    for (int color = 0; color < 3; color++) {
+        for (int comp = 0; comp < nb; comp++) {
+            double *xp = w->dx; /* scratch copy of x */
+            memcpy(xp, w->x, (size_t)nu * sizeof(double));
+            for (int b = 1 + color; b < w->nodes; b += 3) {
+                int col = nb * (b - 1) + comp;
+                double h = 1e-7 * fmax(fabs(xp[col]), w->var_scale[w->var_kind[comp]]);
+                xp[col] += h;
+            }
+            evaluate(w, m, xp, t, dt, w->perturbed);
+            for (int b = 1 + color; b < w->nodes; b += 3) {
+                int col = nb * (b - 1) + comp;
+                double h = xp[col] - w->x[col];
+                int row_lo = nb * (b - 2), row_hi = nb * (b + 1); /* blocks b-1..b+1 */
+                if (row_lo < 0) row_lo = 0;
+                if (row_hi > nu) row_hi = nu;
+                if (row_lo < col - ku) row_lo = col - ku;
+                if (row_hi > col + kl + 1) row_hi = col + kl + 1;
+                for (int row = row_lo; row < row_hi; row++) {
+                    double d = (w->perturbed[row] - w->residual[row]) / h;
+                    w->band[(size_t)(kl + ku + row - col) + (size_t)col * (size_t)ld] = d;
+                }
+            }
+        }
+    }
+    lapack_int info = LAPACKE_dgbtrf_work(LAPACK_COL_MAJOR, nu, nu, kl, ku, w->band, ld, w->pivot);
+    w->have_factor = (info == 0);
+    w->jacobian_dt = dt;
+    if (info == 0)
+        for (int j = 0; j < nu; j++) w->inv_diag[j] = 1.0 / w->band[(size_t)j * (size_t)ld + (size_t)(kl + ku)];
+    return info == 0 ? 0 : -1;
+}
+
+/* Newton on one step; on success the iterate x holds the solution. */
+static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod_report *report)
+{
+    const int nu = w->unknowns;
+    const double tol = m->options.newton_tolerance;
+    const int max_it = m->options.newton_max_iterations;
+    if (!w->have_factor || w->jacobian_dt != dt) {
+        if (factor_jacobian(w, m, t, dt)) return -1;
+    }
+    evaluate(w, m, w->x, t, dt, w->residual);
+    double norm = max_abs(w->residual, nu);
+    int fresh = 0; /* the factorisation was made at this step */
+    for (int it = 0; it < max_it; it++) {
+        report->newton_iterations = it;
+        if (norm <= tol) return 0;
+        if (--w->budget < 0) return -1;
+        memcpy(w->dx, w->residual, (size_t)nu * sizeof(double));
+        band_solve(w, w->dx);
+        for (int i = 0; i < nu; i++) w->x[i] -= w->dx[i];
+        evaluate(w, m, w->x, t, dt, w->residual);
+        double next = max_abs(w->residual, nu);
+        if (!isfinite(next)) return -1;
+        if (next > 0.25 * norm && next > 10.0 * tol && !fresh) {
+            /* slow, and not merely at the round-off floor near the tolerance:
+             * a stale Jacobian; refresh it at the current iterate */
+            if (factor_jacobian(w, m, t, dt)) return -1;
+            fresh = 1;
+        }
+        norm = next;
+    }
+    report->newton_iterations = max_it;
+    return norm <= tol ? 0 : -1;
+}
+
+static void save_state(implicit_work *w, const rod_state *s)
+{
+    size_t n = (size_t)w->nodes;
+    memcpy(w->save_frame, s->frame, n * 9 * sizeof(double));
+    memcpy(w->save_pos, s->position, n * 3 * sizeof(double));
+    memcpy(w->save_vel, s->velocity, n * 3 * sizeof(double));
+    memcpy(w->save_omega, s->angular_velocity, n * 3 * sizeof(double));
+    memcpy(w->save_force, s->contact_force, n * 3 * sizeof(double));
+    w->save_time = s->time;
+}
+
+static void restore_state(const implicit_work *w, rod_state *s)
+{
+    size_t n = (size_t)w->nodes;
+    memcpy(s->frame, w->save_frame, n * 9 * sizeof(double));
+    memcpy(s->position, w->save_pos, n * 3 * sizeof(double));
+    memcpy(s->velocity, w->save_vel, n * 3 * sizeof(double));
+    memcpy(s->angular_velocity, w->save_omega, n * 3 * sizeof(double));
+    memcpy(s->contact_force, w->save_force, n * 3 * sizeof(double));
+    s->time = w->save_time;
+}
+
+/* One theta-method step without splitting. Returns 0 or -1 (no convergence). */
+/* Planar start of a step from the state's frames: phi (unwrapped along the
+ * rod so that u is continuous), and the z parts of the elastic state. */
+static int begin_planar(implicit_work *w, const rod_model *m, const rod_state *s)
+{
+    const int n = w->nodes;
+    for (int i = 0; i < n; i++) {
+        const double *q = &s->frame[9 * i];
+        if (fabs(q[8] - 0.0) > 1e-9 || fabs(q[7] - 1.0) > 1e-9) return -1; /* d2 must be +z */
+        double phi = atan2(q[5], q[2]); /* d3 = (q2, q5, q8) */
+        if (i > 0) phi = w->phi0[i - 1] + remainder(phi - w->phi0[i - 1], 2.0 * M_PI);
+        w->phi0[i] = phi;
+    }
+    for (int j = 0; j + 1 < n; j++) {
+        double mid = 0.5 * (w->phi0[j] + w->phi0[j + 1]);
+        w->moment0[3 * j + 2] = m->stiffness[1] * (w->phi0[j + 1] - w->phi0[j]) / m->ds;
+        w->d3mid0[3 * j] = cos(mid);
+        w->d3mid0[3 * j + 1] = sin(mid);
+        w->d3mid0[3 * j + 2] = 0.0;
+    }
+    return 0;
+}
+
+/* Planar end of a step: frames, strains, positions, velocities and forces
+ * from phi1 and x, in the state's conventions; the next step's start. */
+static void accept_planar(implicit_work *w, const rod_model *m, rod_state *s)
+{
+    const int n = w->nodes, nb = BLOCK_PLANAR;
+    for (int i = 1; i < n; i++) {
+        double c = cos(w->phi1[i]), sn = sin(w->phi1[i]);
+        double *q = &s->frame[9 * i]; /* columns d1 = (-sn, c, 0), d2 = z, d3 = (c, sn, 0) */
+        q[0] = -sn; q[1] = 0.0; q[2] = c;
+        q[3] = c;   q[4] = 0.0; q[5] = sn;
+        q[6] = 0.0; q[7] = 1.0; q[8] = 0.0;
+    }
+    for (int j = 0; j + 1 < n; j++) {
+        double mid = 0.5 * (w->phi1[j] + w->phi1[j + 1]), c = cos(mid), sn = sin(mid);
+        double u = (w->phi1[j + 1] - w->phi1[j]) / m->ds;
+        v3_set(&s->darboux[3 * j], 0.0, u, 0.0);
+        for (int k = 0; k < 3; k++)
+            s->position[3 * (j + 1) + k] = s->position[3 * j + k] + m->ds * (k == 0 ? c : k == 1 ? sn : 0.0);
+        const double *nx = &w->x[nb * j]; /* N_{j+1/2}, global x y */
+        v3_set(&s->contact_force[3 * j], -sn * nx[0] + c * nx[1], 0.0, c * nx[0] + sn * nx[1]);
+        w->moment0[3 * j + 2] = m->stiffness[1] * u;
+        v3_set(&w->d3mid0[3 * j], c, sn, 0.0);
+    }
+    for (int b = 1; b < n; b++) {
+        const double *xb = &w->x[nb * (b - 1)];
+        double c = cos(w->phi1[b]), sn = sin(w->phi1[b]);
+        v3_set(&s->velocity[3 * b], -sn * xb[2] + c * xb[3], 0.0, c * xb[2] + sn * xb[3]);
+        v3_set(&s->angular_velocity[3 * b], 0.0, xb[4], 0.0);
+    }
+    memcpy(w->phi0, w->phi1, (size_t)n * sizeof(double));
+}
+
+static int single_step(implicit_work *w, const rod_model *m, rod_state *s, double dt,
+                       rod_report *report)
+{
+    const int n = w->nodes;
+    /* start-of-step quantities; the previous step left them in place when the
+     * state is the one it produced */
+    int continuing = w->start_valid && w->start_time == s->time &&
+                     memcmp(w->frame0, s->frame, (size_t)n * 9 * sizeof(double)) == 0;
+    if (!continuing) {
+        memcpy(w->frame0, s->frame, (size_t)n * 9 * sizeof(double));
+        elastic_state(m, w->frame0, w->darboux1, w->mid1, w->d3mid0, w->moment0);
+        if (w->planar && begin_planar(w, m, s)) return -1;
+        w->dt_last = 0.0;
+    }
+    w->start_valid = 0;
+    memcpy(w->omega0, s->angular_velocity, (size_t)n * 3 * sizeof(double));
+    for (int i = 0; i < n; i++) m3_mul_v(&w->vel0[3 * i], &s->frame[9 * i], &s->velocity[3 * i]);
+    tip_load_global(m, s->time, &w->frame0[9 * (n - 1)], w->tipf0, w->tipm0);
+
+    /* initial guess: the start-of-step values (N from the stored contact
+     * force), or, continuing a run, the last two solutions extrapolated */
+    if (continuing && w->dt_last > 0.0) {
+        double ratio = dt / w->dt_last;
+        for (int i = 0; i < w->unknowns; i++)
+            w->x[i] = w->x_last[i] + ratio * (w->x_last[i] - w->x_before[i]);
+    } else {
+        for (int b = 1; b < n; b++) {
+            double *xb = &w->x[w->block * (b - 1)], force[3];
+            m3_mul_v(force, &w->mid1[9 * (b - 1)], &s->contact_force[3 * (b - 1)]);
+            if (w->planar) {
+                xb[0] = force[0];
+                xb[1] = force[1];
+                xb[2] = w->vel0[3 * b];
+                xb[3] = w->vel0[3 * b + 1];
+                xb[4] = w->omega0[3 * b + 1];
+            } else {
+                v3_copy(xb, force);
+                v3_copy(xb + 3, &w->omega0[3 * b]);
+            }
+        }
+    }
+    if (newton(w, m, s->time, dt, report)) return -1;
+    for (int i = 0; i < w->unknowns; i++)
+        if (!isfinite(w->x[i])) return -1; /* never accept a non-finite solution */
+
+    /* accept: Newton's last residual evaluation was at x, so frame1, darboux1,
+     * d3mid1 and moment1 (or phi1 in the plane) describe the end of the step */
+    if (w->planar) {
+        accept_planar(w, m, s);
+    } else {
+        for (int i = 1; i < n; i++) {
+            /* one Newton-Schulz step towards the nearest rotation,
+             * Q <- Q (3 I - Q^T Q) / 2 (m3_orthonormalize takes two): Q is a
+             * product of rotations, orthonormal to round-off, and the step
+             * converges quadratically, so a second changes nothing */
+            double qtq[9];
+            const double *q = &w->frame1[9 * i];
+            m3_mul_tn(qtq, q, q);
+            for (int k = 0; k < 9; k++) qtq[k] *= -0.5;
+            qtq[0] += 1.5; qtq[4] += 1.5; qtq[8] += 1.5;
+            m3_mul(&s->frame[9 * i], q, qtq);
+        }
+        memcpy(s->darboux, w->darboux1, (size_t)(n - 1) * 3 * sizeof(double));
+        /* centreline from d3 at the midpoints (3.12), as rod_positions_from_midframes */
+        v3_set(s->position, 0.0, 0.0, 0.0);
+        for (int j = 0; j + 1 < n; j++)
+            for (int k = 0; k < 3; k++)
+                s->position[3 * (j + 1) + k] = s->position[3 * j + k] + m->ds * w->d3mid1[3 * j + k];
+        for (int b = 1; b < n; b++) {
+            m3_mul_tv(&s->velocity[3 * b], &s->frame[9 * b], &w->vel1[3 * b]);
+            v3_copy(&s->angular_velocity[3 * b], block_omega(w->x, b));
+            /* Q_mid^T N = exp(-h) Q_{b-1}^T N, h = ds/2 u, in the frame at the midpoint */
+            double local[3], back[3];
+            m3_mul_tv(local, &w->frame1[9 * (b - 1)], block_force(w->x, b));
+            v3_scale(back, &w->darboux1[3 * (b - 1)], -0.5 * m->ds);
+            v3_rotate(&s->contact_force[3 * (b - 1)], back, local);
+        }
+        memcpy(w->moment0, w->moment1, (size_t)(n - 1) * 3 * sizeof(double));
+        memcpy(w->d3mid0, w->d3mid1, (size_t)(n - 1) * 3 * sizeof(double));
+    }
+    v3_set(&s->velocity[0], 0, 0, 0);
+    v3_set(&s->angular_velocity[0], 0, 0, 0);
+    /* tip entries (staggered convention): N_bar and B^-1 M_bar, director components */
+    double f[3], mo[3];
+    s->time += dt;
+    tip_load_global(m, s->time, &s->frame[9 * (n - 1)], f, mo);
+    m3_mul_tv(&s->contact_force[3 * (n - 1)], &s->frame[9 * (n - 1)], f);
+    m3_mul_tv(mo, &s->frame[9 * (n - 1)], mo);
+    for (int k = 0; k < 3; k++) s->darboux[3 * (n - 1) + k] = mo[k] / m->stiffness[k];
+    /* the next step starts here */
+    memcpy(w->frame0, s->frame, (size_t)n * 9 * sizeof(double));
+    w->start_time = s->time;
+    w->start_valid = 1;
+    /* the last solution becomes the one before; a first step (dt_last = 0)
+     * has no predecessor, so the next step cannot extrapolate yet */
+    memcpy(w->x_before, continuing ? w->x_last : w->x, (size_t)w->unknowns * sizeof(double));
+    memcpy(w->x_last, w->x, (size_t)w->unknowns * sizeof(double));
+    w->dt_last = continuing ? dt : 0.0;
+    return 0;
+}
+
+static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double dt,
+                      rod_report *report, int depth)
+{
+    if (single_step(w, m, s, dt, report) == 0) return 0;
+    if (depth >= MAX_SPLIT_DEPTH || w->budget < 0) return -1;
+    w->have_factor = 0;
+    if (split_step(w, m, s, 0.5 * dt, report, depth + 1)) return -1;
+    w->have_factor = 0;
+    return split_step(w, m, s, 0.5 * dt, report, depth + 1);
+}
+
+/* Largest bend between neighbouring frames, |u| ds (rad), and where. */
+static double sharpest_bend(const rod_model *m, const rod_state *s, int *segment)
+{
+    double worst = 0.0;
+    *segment = 0;
+    for (int j = 0; j + 1 < m->nodes; j++) {
+        double angle = v3_norm(&s->darboux[3 * j]) * m->ds;
+        if (angle > worst) { worst = angle; *segment = j; }
+    }
+    return worst;
+}
+
+/* A bend of more than this between neighbouring frames is not resolved by
+ * the grid (the segments fold; the log map nears its singularity at pi). */
+#define UNRESOLVED_BEND 1.0 /* rad */
+
+static rod_status unresolved(const rod_model *m, const rod_state *s, double angle, int segment,
+                             rod_report *report)
+{
+    double curvature = angle / m->ds;
+    int nodes_needed = (int)ceil(m->length * curvature / 0.3) + 1; /* 0.3 rad per segment */
+    snprintf(report->message, sizeof report->message,
+             "implicit scheme: the rod bends more sharply than the grid resolves at t = %.6g s: "
+             "|u| = %.4g 1/m at s = %.4g m, a turn of %.2f rad between neighbouring nodes "
+             "(limit %.1f rad; bend radius %.3g m against ds = %.3g m). The load drives the rod "
+             "into a kink: raise rod.nodes to at least %d, or reduce or slow the load.",
+             s->time, curvature, (segment + 0.5) * m->ds, angle, UNRESOLVED_BEND,
+             1.0 / curvature, m->ds, nodes_needed);
+    return ROD_UNSTABLE;
+}
+
+static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod_report *report)
+{
+    implicit_work *w = p;
+    s->staggered = 1;
+    save_state(w, s);
+    w->budget = STEP_ITERATION_BUDGET;
+    int segment;
+    if (split_step(w, m, s, dt, report, 0) == 0) {
+        double angle = sharpest_bend(m, s, &segment);
+        if (angle <= UNRESOLVED_BEND) return ROD_OK;
+        return unresolved(m, s, angle, segment, report);
+    }
+    restore_state(w, s);
+    w->have_factor = 0;
+    double angle = sharpest_bend(m, s, &segment);
+    if (angle > 0.5 * UNRESOLVED_BEND) return unresolved(m, s, angle, segment, report);
+    snprintf(report->message, sizeof report->message,
+             "implicit scheme: Newton's method did not converge at t = %.6g s for the step "
+             "dt = %g s, split in halves up to %d parts within %d iterations (tolerance %.1e). "
+             "The load may change too abruptly for this dt, or exceed what the rod can carry; "
+             "try a smaller dt or a ramped load profile.",
+             s->time, dt, 1 << MAX_SPLIT_DEPTH, STEP_ITERATION_BUDGET,
+             m->options.newton_tolerance);
+    report->suggested_dt = dt / (1 << MAX_SPLIT_DEPTH);
+    return ROD_NO_CONVERGENCE;
+}
+
+static double stable_dt(const rod_model *m, const char **limit)
+{
+    (void)m;
+    if (limit) *limit = "implicit: unconditionally stable (no stability limit)";
+    return INFINITY;
+}
+
+const rod_scheme_ops rod_scheme_implicit = {"implicit", create, step, destroy, stable_dt};

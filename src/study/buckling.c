@@ -1,0 +1,147 @@
+/* buckling.c: the load factor at which the straight rod stops being stable.
+ *
+ * The straight rod under axial tip loads (a force along x, a twisting moment
+ * about x) is an equilibrium for every load factor lambda. It is stable while
+ * the tangent stiffness of the discrete equilibrium (the static scheme's
+ * Jacobian, scheme_static.h) at that straight state is regular and of the
+ * unloaded rod's sign; the first lambda where it is singular is the critical
+ * load (the onset of an adjacent bent equilibrium: buckling, divergence).
+ *
+ * The rod is round and the load axial, so bending modes come in pairs turned
+ * 90 degrees about x and the real determinant has a double zero (no sign
+ * change). The static scheme reports instead the complex determinant of the
+ * transverse block (w = y + i z), which has a simple zero: its argument
+ * jumps by pi there and stays constant between zeros (measured: 0, pi/2 or pi
+ * to round-off for the cases in tests/study/test_buckling.c). A zero lies between
+ * two load factors whose determinants differ in argument by more than pi/2.
+ *
+ * Search: lambda = 0, then from lambda_start (a load of 1/50 of the rod's
+ * own scale EI/L^2, EI/L) up by factors of 1.15 to lambda_max, which
+ * brackets the first zero; bisection then narrows it to the tolerance.
+ *
+ * A follower compressive force on a cantilever (Beck's column) never makes
+ * the tangent singular: it loses stability by flutter, a dynamic instability
+ * that a static criterion cannot see; the search reports no loss of
+ * stability up to lambda_max. */
+#include "study/buckling.h"
+
+#include <math.h>
+#include <stdio.h>
+
+#include "sim/scheme_static.h"
+#include "base/vec3.h"
+
+static const double scan_growth = 1.15;
+static const double scan_start_size = 0.02; /* first nonzero load, in EI/L^2 and EI/L units */
+
+typedef struct probe {
+    double lambda, log_abs, phase;
+} probe;
+
+static int probe_at(static_work *w, const rod_model *m, double lambda, probe *p, char *err,
+                    size_t errlen)
+{
+    double residual;
+    p->lambda = lambda;
+    if (static_straight_determinant(w, m, lambda, &p->log_abs, &p->phase, &residual, err, errlen))
+        return -1;
+    if (!(residual < 1e-6)) {
+        snprintf(err, errlen,
+                 "buckling: the straight rod is not an equilibrium at lambda = %g (scaled "
+                 "residual %.2e)", lambda, residual);
+        return -1;
+    }
+    return 0;
+}
+
+/* 1 when a zero of the determinant lies between a and b (or on b). */
+static int crossed(const probe *a, const probe *b)
+{
+    return isinf(b->log_abs) || cos(b->phase - a->phase) < 0.0;
+}
+
+int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_tolerance,
+                        double *lambda, char *err, size_t errlen)
+{
+    if (!(lambda_max > 0.0) || !isfinite(lambda_max)) {
+        snprintf(err, errlen, "buckling: lambda_max must be > 0 (got %g)", lambda_max);
+        return -1;
+    }
+    if (!(relative_tolerance > 0.0 && relative_tolerance <= 0.1)) {
+        snprintf(err, errlen, "buckling: relative_tolerance must be in (0, 0.1] (got %g)",
+                 relative_tolerance);
+        return -1;
+    }
+    /* axial: along d3 for a follower load, along global x for a dead one */
+    int axis = m->tip_frame == ROD_FRAME_DIRECTOR ? 2 : 0;
+    const char *axis_name = m->tip_frame == ROD_FRAME_DIRECTOR ? "d3" : "x";
+    for (int k = 0; k < 3; k++) {
+        if (k == axis) continue;
+        if (m->tip_force[k] != 0.0 || m->tip_moment[k] != 0.0) {
+            snprintf(err, errlen,
+                     "buckling: the tip force (%g %g %g N) and moment (%g %g %g N m) must lie "
+                     "along %s so that the straight rod is an equilibrium; a transverse load "
+                     "bends it from the start (solve it with the static scheme instead)",
+                     m->tip_force[0], m->tip_force[1], m->tip_force[2], m->tip_moment[0],
+                     m->tip_moment[1], m->tip_moment[2], axis_name);
+            return -1;
+        }
+    }
+    if (v3_norm(m->distributed_force) != 0.0) {
+        snprintf(err, errlen,
+                 "buckling: the distributed force (gravity) must be zero (got %g %g %g N/m): "
+                 "it bends the straight rod", m->distributed_force[0], m->distributed_force[1],
+                 m->distributed_force[2]);
+        return -1;
+    }
+    double ei = m->stiffness[0], length = m->length;
+    double size = fabs(m->tip_force[axis]) * length * length / ei +
+                  fabs(m->tip_moment[axis]) * length / ei;
+    if (!(size > 0.0)) {
+        snprintf(err, errlen, "buckling: the tip force and moment along %s are both zero: "
+                 "nothing to scale", axis_name);
+        return -1;
+    }
+    static_work *w = static_work_create(m, err, errlen);
+    if (!w) return -1;
+
+    int rc = -1;
+    probe low, high;
+    if (probe_at(w, m, 0.0, &low, err, errlen)) goto done;
+    double next = fmin(lambda_max, scan_start_size / size);
+    int bracketed = 0;
+    for (;;) {
+        if (probe_at(w, m, next, &high, err, errlen)) goto done;
+        if (crossed(&low, &high)) {
+            bracketed = 1;
+            break;
+        }
+        if (next >= lambda_max) break;
+        low = high;
+        next = fmin(lambda_max, next * scan_growth);
+    }
+    if (!bracketed) {
+        snprintf(err, errlen,
+                 "buckling: no loss of stability of the straight rod up to lambda = %g (tip "
+                 "force %g N, moment %g N m along %s, on the %s frame): the tangent stiffness "
+                 "stays regular%s", lambda_max, lambda_max * m->tip_force[axis],
+                 lambda_max * m->tip_moment[axis], axis_name,
+                 m->tip_frame == ROD_FRAME_DIRECTOR ? "follower (tip director)" : "dead (global)",
+                 m->tip_frame == ROD_FRAME_DIRECTOR
+                     ? ". A follower compressive force on a cantilever (Beck's column) is like "
+                       "that: it loses stability by flutter, which a static criterion cannot detect"
+                     : "");
+        goto done;
+    }
+    while (high.lambda - low.lambda > relative_tolerance * high.lambda && !isinf(high.log_abs)) {
+        probe middle;
+        if (probe_at(w, m, 0.5 * (low.lambda + high.lambda), &middle, err, errlen)) goto done;
+        if (crossed(&low, &middle)) high = middle;
+        else low = middle;
+    }
+    *lambda = isinf(high.log_abs) ? high.lambda : 0.5 * (low.lambda + high.lambda);
+    rc = 0;
+done:
+    static_work_destroy(w);
+    return rc;
+}

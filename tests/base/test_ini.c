@@ -1,0 +1,92 @@
+/* test_ini.c: strict scene parsing. */
+#include <string.h>
+
+#include "base/ini.h"
+#include "test.h"
+
+static void test_values(void)
+{
+    char err[512] = "";
+    const char *text = "# comment\n[rod]\nlength = 1.5 # m\nnodes=51\n"
+                       "[tip]\nforce = 0 4.5e-7 0\nframe = global\n"
+                       "[load]\nnode = 2\n[load]\nnode = 5\n";
+    ini_doc *doc = ini_parse("t.ini", text, err, sizeof err);
+    check(doc != NULL, "parses a valid scene (%s)", err);
+    if (!doc) return;
+    double length = 0, force[3] = {0};
+    int nodes = 0, frame = -1, node2 = 0;
+    static const char *const frames[] = {"director", "global", NULL};
+    check(ini_get_double(doc, "rod", 0, "length", &length, err, sizeof err) == 1 && length == 1.5,
+          "double value with trailing comment: %g", length);
+    check(ini_get_int(doc, "rod", 0, "nodes", &nodes, err, sizeof err) == 1 && nodes == 51,
+          "int value: %d", nodes);
+    check(ini_get_vector(doc, "tip", 0, "force", force, 3, err, sizeof err) == 1 &&
+              force[1] == 4.5e-7,
+          "vector value: %g %g %g", force[0], force[1], force[2]);
+    check(ini_get_choice(doc, "tip", 0, "frame", frames, &frame, err, sizeof err) == 1 &&
+              frame == 1,
+          "choice value: %d", frame);
+    check(ini_section_count(doc, "load") == 2, "repeated section counted twice");
+    ini_get_int(doc, "load", 0, "node", &node2, err, sizeof err);
+    ini_get_int(doc, "load", 1, "node", &node2, err, sizeof err);
+    check(node2 == 5, "second instance of a repeated section: node %d", node2);
+    double absent = 7;
+    check(ini_get_double(doc, "rod", 0, "density", &absent, err, sizeof err) == 0 && absent == 7,
+          "absent key returns 0 and leaves the value");
+    check(ini_check_unused(doc, err, sizeof err) == 0, "all keys used: no error (%s)", err);
+    check(ini_set(doc, "rod.length=2", err, sizeof err) == 0 &&
+              ini_get_double(doc, "rod", 0, "length", &length, err, sizeof err) == 1 &&
+              length == 2.0,
+          "--set overrides a value: %g", length);
+    ini_destroy(doc);
+}
+
+static void expect_error(const char *text, const char *needle, const char *what)
+{
+    char err[512] = "";
+    ini_doc *doc = ini_parse("bad.ini", text, err, sizeof err);
+    if (doc) {
+        double x;
+        int n;
+        double v[3];
+        static const char *const frames[] = {"director", "global", NULL};
+        if (ini_get_double(doc, "rod", 0, "length", &x, err, sizeof err) >= 0 &&
+            ini_get_int(doc, "rod", 0, "nodes", &n, err, sizeof err) >= 0 &&
+            ini_get_vector(doc, "tip", 0, "force", v, 3, err, sizeof err) >= 0 &&
+            ini_get_choice(doc, "tip", 0, "frame", frames, &n, err, sizeof err) >= 0)
+            ini_check_unused(doc, err, sizeof err);
+        ini_destroy(doc);
+    }
+    check(strstr(err, needle) != NULL, "%s: message '%s' contains '%s'", what, err, needle);
+}
+
+static void test_errors(void)
+{
+    expect_error("[rod]\nlength = 1\nlenght = 2\n", "bad.ini:3: [rod] lenght: unknown key",
+                 "unknown key names file:line");
+    expect_error("[rod]\nlength = 1\nlenght = 2\n", "accepted keys in [rod]: length, nodes",
+                 "unknown key lists accepted keys");
+    expect_error("[rodd]\nlength = 1\n", "bad.ini:1: unknown section [rodd]", "unknown section");
+    expect_error("[rod]\nlength = 1.0.0\n", "bad.ini:2: [rod] length = 1.0.0: not a number",
+                 "malformed number");
+    expect_error("[rod]\nnodes = 5.5\n", "bad.ini:2: [rod] nodes = 5.5: not a whole number",
+                 "malformed integer");
+    expect_error("[tip]\nforce = 0 1\n", "bad.ini:2: [tip] force = 0 1: expected 3 numbers",
+                 "short vector");
+    expect_error("[tip]\nframe = local\n", "accepted: director | global", "bad choice");
+    expect_error("length = 1\n", "bad.ini:1: key outside any section", "key before section");
+    expect_error("[rod]\nlength = 1\nlength = 2\n", "given twice", "duplicate key");
+    expect_error("[rod]\nlength\n", "bad.ini:2: expected 'key = value'", "line without =");
+    expect_error("[rod]\nlength = nan\n", "not a number", "nan is refused");
+    char err[256];
+    check(ini_load("/nonexistent/scene.ini", err, sizeof err) == NULL &&
+              strstr(err, "/nonexistent/scene.ini: cannot open") != NULL,
+          "missing file: '%s'", err);
+}
+
+int main(void)
+{
+    test_values();
+    test_errors();
+    return test_finish();
+}

@@ -1,0 +1,137 @@
+/* bench_render.c (make bench, never a test): frames per second of render +
+ * encode at 1280x720 H.264, and the floor: the same encoder fed frames with
+ * nothing drawn. Reports the ratio; no pass/fail on wall time.
+ *
+ * The machine is shared, so every measurement is repeated (argv[1] times,
+ * default 3) and reported as best and worst; CPU time per frame (all
+ * threads) is reported too: it moves much less with the other load. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/resource.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "render/image.h"
+#include "render/render.h"
+#include "synthetic_recording.h"
+#include "render/video.h"
+
+#define FRAMES 240
+#define MAX_REPEATS 20
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* CPU seconds of this process, all threads. */
+static double cpu_seconds(void)
+{
+    struct rusage u;
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+typedef struct measured {
+    double best, worst; /* frames/s */
+    double cpu_ms;      /* CPU ms per frame in the best run */
+    render_timing timing; /* stages in the best run */
+} measured;
+
+static void note(measured *m, int repeat, double rate, double cpu, const render_timing *t)
+{
+    if (repeat == 0 || rate > m->best) {
+        m->best = rate;
+        m->cpu_ms = 1000 * cpu / FRAMES;
+        if (t) m->timing = *t;
+    }
+    if (repeat == 0 || rate < m->worst) m->worst = rate;
+}
+
+int main(int argc, char **argv)
+{
+    int repeats = argc > 1 ? atoi(argv[1]) : 3;
+    if (repeats < 1 || repeats > MAX_REPEATS) repeats = 3;
+    char dir[256], path[400], err[1024];
+    snprintf(dir, sizeof dir, "/tmp/rodsim_bench_render_%ld", (long)getpid());
+    snprintf(path, sizeof path, "%s/bench.mp4", dir);
+    rod_recording *rec = synthetic_recording_create(51, FRAMES, 1.0, 0.001);
+    for (int f = 0; f < FRAMES; f++) {
+        double k = (f + 1.0) / FRAMES;
+        synthetic_arc(rec, f, 0.35 / k, 10.0 * k);
+        rec->time[f] = f / 30.0;
+        rec->tip_force[3 * f + 1] = 4.5e-7 * k;
+        rec->tip_moment[3 * f] = 1e-7 * k;
+    }
+    render_options o;
+    render_options_default(&o);
+    o.poster = 0;
+    image *blank = image_create(o.width, o.height);
+    image_fill(blank, o.background[0], o.background[1], o.background[2]);
+
+    /* render + encode at the default antialiasing, then with none (what it
+     * costs), then the floor: the same encoder, frames of plain background */
+    const int samples[2] = {o.samples, 0};
+    measured pipeline[2], floor_run;
+    for (int repeat = 0; repeat < repeats; repeat++) {
+        for (int run = 0; run < 2; run++) {
+            render_timing timing;
+            o.samples = samples[run];
+            o.timing = &timing;
+            double start = now_seconds(), cpu = cpu_seconds();
+            if (render_recording(rec, &o, dir, "bench", 1, err, sizeof err)) {
+                fprintf(stderr, "bench_render: %s\n", err);
+                return 1;
+            }
+            note(&pipeline[run], repeat, FRAMES / (now_seconds() - start), cpu_seconds() - cpu,
+                 &timing);
+            unlink(path);
+        }
+        o.samples = samples[0];
+        o.timing = NULL;
+        double start = now_seconds(), cpu = cpu_seconds();
+        video_writer *v = video_writer_create(path, o.width, o.height, o.fps, o.crf, o.preset, err,
+                                              sizeof err);
+        for (int f = 0; v && f < FRAMES; f++)
+            if (video_writer_add(v, blank, err, sizeof err)) break;
+        if (!v || video_writer_finish(v, err, sizeof err)) {
+            fprintf(stderr, "bench_render: %s\n", err);
+            return 1;
+        }
+        render_timing floor_timing = {0};
+        video_writer_times(v, &floor_timing.convert, &floor_timing.encode);
+        floor_timing.frames = FRAMES;
+        note(&floor_run, repeat, FRAMES / (now_seconds() - start), cpu_seconds() - cpu,
+             &floor_timing);
+        video_writer_destroy(v);
+        unlink(path);
+    }
+    rmdir(dir);
+    image_destroy(blank);
+    rod_recording_destroy(rec);
+
+    printf("renderer %dx%d, %d frames, %d nodes, %d sides, x264 %s CRF %d; best and worst of %d\n",
+           o.width, o.height, FRAMES, 51, o.sides, o.preset, o.crf, repeats);
+    const char *names[3] = {"render + encode, default AA", "render + encode, no AA     ",
+                            "floor (blank frames)       "};
+    for (int run = 0; run < 3; run++) {
+        const measured *m = run < 2 ? &pipeline[run] : &floor_run;
+        printf("  %s %6.1f .. %6.1f frames/s, CPU %5.2f ms/frame\n", names[run], m->worst, m->best,
+               m->cpu_ms);
+    }
+    printf("  where the time goes, ms per frame (drawing thread | writing thread), best run:\n");
+    for (int run = 0; run < 3; run++) {
+        const render_timing *t = run < 2 ? &pipeline[run].timing : &floor_run.timing;
+        double per = 1000.0 / t->frames;
+        printf("    %s mesh %.2f, gl %.2f, composite %.2f, overlay %.2f, wait %.2f | "
+               "convert %.2f, encode %.2f\n", names[run], per * t->mesh, per * t->gl,
+               per * t->composite, per * t->overlay, per * t->wait, per * t->convert,
+               per * t->encode);
+    }
+    printf("  ratio floor / render+encode (best runs): %.2f with default AA (%d samples), %.2f "
+           "without (target <= 1.3 and >= 80 frames/s)\n", floor_run.best / pipeline[0].best,
+           samples[0], floor_run.best / pipeline[1].best);
+    return 0;
+}

@@ -1,0 +1,323 @@
+/* test_scene.c: scene files -> rod_model. Every scene in scenes/ parses and
+ * derives; a few values are checked against the numbers written in the file
+ * and against hand-computed physics (PL^3/3EI, Euler's load, rho A g);
+ * --set overrides; bad values give file:line and the key; load tables. */
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "base/ini.h"
+#include "cli/run.h"
+#include "sim/scene.h"
+#include "test.h"
+
+#define SCENES RODSIM_SOURCE_DIR "/scenes"
+
+/* Loads and reads a scene file the way `rodsim run` does. 0 on success. */
+static int read_scene_file(const char *path, rod_model *m, run_output *out, char *err,
+                           size_t errlen)
+{
+    ini_doc *doc = ini_load(path, err, errlen);
+    if (!doc) return -1;
+    int rc = scene_read_rod(doc, m, err, errlen);
+    if (rc == 0 && (run_read_output(doc, out, err, errlen) || ini_check_unused(doc, err, errlen))) {
+        rod_model_release(m);
+        rc = -1;
+    }
+    ini_destroy(doc);
+    return rc;
+}
+
+static void test_every_scene_parses(void)
+{
+    DIR *dir = opendir(SCENES);
+    check(dir != NULL, "scenes directory %s opens", SCENES);
+    if (!dir) return;
+    int count = 0;
+    struct dirent *e;
+    while ((e = readdir(dir))) {
+        size_t n = strlen(e->d_name);
+        if (n < 5 || strcmp(e->d_name + n - 4, ".ini") != 0) continue;
+        char path[1024], err[1024] = "";
+        snprintf(path, sizeof path, "%s/%s", SCENES, e->d_name);
+        if (test_is_fem_scene(path)) continue; /* checked by test_fem */
+        rod_model m;
+        run_output out;
+        int ok = read_scene_file(path, &m, &out, err, sizeof err) == 0;
+        check(ok && m.ds > 0.0 && m.stiffness[0] > 0.0, "scene %s parses and derives %s",
+              e->d_name, err);
+        if (ok) rod_model_release(&m);
+        count++;
+    }
+    closedir(dir);
+    check(count >= 9, "scenes/ holds one scene per thesis scenario and the demos: %d files", count);
+}
+
+static void test_scene_values(void)
+{
+    char err[1024] = "";
+    rod_model m;
+    run_output out;
+    /* table 2, P = 8e-7 N: values as written in the file */
+    if (check(read_scene_file(SCENES "/table2_800nN.ini", &m, &out, err, sizeof err) == 0,
+              "table2_800nN.ini reads (%s)", err)) {
+        check(m.nodes == 51 && m.options.scheme == ROD_SCHEME_STATIC &&
+                  m.tip_frame == ROD_FRAME_GLOBAL && m.tip_force[1] == 8e-7 &&
+                  m.youngs_modulus == 87.5e6 && out.fps == 30,
+              "table2_800nN: NS %d, scheme static, global frame, force %g N, E %g Pa, fps %d",
+              m.nodes, m.tip_force[1], m.youngs_modulus, out.fps);
+        /* thesis table 2, y_exp = PL^3/3EI for P = 8e-7 N: 0.0620856 m (issue 2) */
+        double linear = m.tip_force[1] * pow(m.length, 3) / (3.0 * m.stiffness[0]);
+        check_rel("table2_800nN: PL^3/3EI from the scene vs issue value", linear, 0.0620856, 1e-5);
+        rod_model_release(&m);
+    }
+    /* bending moments: |M| L / EI = pi/2, the quarter circle */
+    if (check(read_scene_file(SCENES "/bending_moments.ini", &m, &out, err, sizeof err) == 0,
+              "bending_moments.ini reads (%s)", err)) {
+        double moment = hypot(m.tip_moment[0], m.tip_moment[1]);
+        check_rel("bending_moments: |M| L / EI vs pi/2", moment * m.length / m.stiffness[0],
+                  M_PI / 2.0, 1e-4);
+        rod_model_release(&m);
+    }
+    /* axial buckling: dead load of 2 P_cr, P_cr = pi^2 EI / (4 L^2) */
+    if (check(read_scene_file(SCENES "/buckling_axial.ini", &m, &out, err, sizeof err) == 0,
+              "buckling_axial.ini reads (%s)", err)) {
+        double euler = M_PI * M_PI * 87.5e6 * M_PI * 1e-12 / 64.0 / 4.0; /* by hand, L = 1 */
+        check(m.tip_frame == ROD_FRAME_GLOBAL && m.tip_force[0] < 0.0,
+              "buckling_axial: a dead (global) compressive load along -x");
+        check_rel("buckling_axial: axial force / Euler load", -m.tip_force[0] / euler, 2.0, 1e-3);
+        check_rel("buckling_axial: ramp ends at the duration", m.profile.t1, m.options.duration,
+                  1e-12);
+        rod_model_release(&m);
+    }
+    /* impulse: thesis fig. 10 profile, Crank-Nicolson */
+    if (check(read_scene_file(SCENES "/impulse.ini", &m, &out, err, sizeof err) == 0,
+              "impulse.ini reads (%s)", err)) {
+        check(m.profile.kind == ROD_PROFILE_IMPULSE && m.profile.t1 == 0.005 &&
+                  m.options.theta == 0.5 && m.options.dt == 0.0005,
+              "impulse: profile impulse 0.005 s, theta 0.5, dt 0.0005 s");
+        check(rod_profile_factor(&m.profile, 0.002) == 1.0 &&
+                  rod_profile_factor(&m.profile, 0.007) == -1.0 &&
+                  rod_profile_factor(&m.profile, 0.012) == 0.0,
+              "impulse: +1 during the first 5 ms, -1 during the next, then 0");
+        rod_model_release(&m);
+    }
+    /* gravity: rho A g = 850 * pi/4 * 1e-6 * 9.81 N/m, by hand */
+    if (check(read_scene_file(SCENES "/suture_gravity.ini", &m, &out, err, sizeof err) == 0,
+              "suture_gravity.ini reads (%s)", err)) {
+        check_rel("suture_gravity: distributed force z = -rho A g", m.distributed_force[2],
+                  -850.0 * 0.785398163397448 * 1e-6 * 9.81, 1e-12);
+        check(m.linear_damping == 1e-3 && m.distributed_force[0] == 0.0,
+              "suture_gravity: damping %g N s/m^2", m.linear_damping);
+        rod_model_release(&m);
+    }
+    if (check(read_scene_file(SCENES "/suture.ini", &m, &out, err, sizeof err) == 0,
+              "suture.ini reads (%s)", err)) {
+        check(out.width == 1280 && out.height == 720 && m.tip_moment[2] == 4e-6 &&
+                  m.profile.kind == ROD_PROFILE_RAMP && m.profile.t1 == 4.0,
+              "suture: 1280x720, M3 = %g N m, ramp %g s", m.tip_moment[2], m.profile.t1);
+        rod_model_release(&m);
+    }
+}
+
+static void test_set_overrides(void)
+{
+    char err[1024] = "";
+    ini_doc *doc = ini_load(SCENES "/table2_450nN.ini", err, sizeof err);
+    if (!check(doc != NULL, "table2_450nN.ini loads (%s)", err)) return;
+    rod_model m;
+    int ok = ini_set(doc, "rod.nodes=101", err, sizeof err) == 0 &&
+             ini_set(doc, "tip.force=\"0 8e-7 0\"", err, sizeof err) == 0 &&
+             ini_set(doc, "solver.scheme=thesis", err, sizeof err) == 0 &&
+             ini_set(doc, "solver.dt=0.001", err, sizeof err) == 0 &&
+             ini_set(doc, "rod.nodes=201", err, sizeof err) == 0 && /* later --set wins */
+             ini_set(doc, "loads.gravity=0 0 -9.81", err, sizeof err) == 0 &&
+             scene_read_rod(doc, &m, err, sizeof err) == 0;
+    if (check(ok, "--set overrides apply (%s)", err)) {
+        check(m.nodes == 201 && m.tip_force[1] == 8e-7 && m.options.scheme == ROD_SCHEME_THESIS &&
+                  m.options.dt == 0.001 && m.distributed_force[2] < 0.0,
+              "--set: NS %d (last wins), force %g, scheme thesis, dt %g, gravity added", m.nodes,
+              m.tip_force[1], m.options.dt);
+        check_rel("--set rod.nodes=201: ds = L/200", m.ds, 1.0 / 200.0, 1e-12);
+        rod_model_release(&m);
+    }
+    ini_destroy(doc);
+}
+
+static const char valid_rod[] = "[rod]\nlength = 1.0\ndiameter = 0.001\ndensity = 850\n"
+                                "youngs_modulus = 87.5e6\nshear_modulus = 31.25e6\nnodes = 51\n";
+
+/* Parses valid_rod + extra (or `text` alone when replace is set) and expects an error
+ * containing every needle. */
+static void expect_bad(const char *extra, const char *what, const char *needle1,
+                       const char *needle2)
+{
+    char text[2048], err[1024] = "";
+    snprintf(text, sizeof text, "%s%s", valid_rod, extra);
+    ini_doc *doc = ini_parse("bad.ini", text, err, sizeof err);
+    int failed = 1;
+    if (doc) {
+        rod_model m;
+        run_output out;
+        failed = scene_read_rod(doc, &m, err, sizeof err) != 0;
+        if (!failed) {
+            failed = run_read_output(doc, &out, err, sizeof err) || ini_check_unused(doc, err, sizeof err);
+            rod_model_release(&m);
+        }
+        ini_destroy(doc);
+    }
+    check(failed && strstr(err, needle1) && strstr(err, needle2),
+          "%s: error '%s' names '%s' and '%s'", what, err, needle1, needle2);
+}
+
+static void expect_bad_rod(const char *rod_text, const char *what, const char *needle1,
+                           const char *needle2)
+{
+    char err[1024] = "";
+    ini_doc *doc = ini_parse("bad.ini", rod_text, err, sizeof err);
+    int failed = 1;
+    if (doc) {
+        rod_model m;
+        failed = scene_read_rod(doc, &m, err, sizeof err) != 0;
+        if (!failed) rod_model_release(&m);
+        ini_destroy(doc);
+    }
+    check(failed && strstr(err, needle1) && strstr(err, needle2),
+          "%s: error '%s' names '%s' and '%s'", what, err, needle1, needle2);
+}
+
+static void test_bad_values(void)
+{
+    /* line numbers: valid_rod is 7 lines, so extra text starts on line 8 */
+    expect_bad("[solver]\nscheme = euler\n", "unknown scheme", "bad.ini:9:", "thesis | implicit | static");
+    expect_bad("[solver]\ndt = -1\n", "negative dt", "bad.ini:9:", "auto");
+    expect_bad("[solver]\ntheta = 0.3\n", "theta out of range", "bad.ini:9:", "crank_nicolson");
+    expect_bad("[solver]\nduration = 0\n", "zero duration", "bad.ini:9:", "duration");
+    expect_bad("[tip]\nprofile = wobble\n", "bad profile word", "bad.ini:9:", "ramp T");
+    expect_bad("[tip]\nprofile = ramp\n", "ramp without T", "bad.ini:9:", "profile");
+    expect_bad("[tip]\nprofile = pulse 2 1\n", "pulse off before on", "bad.ini:9:", "T_on < T_off");
+    expect_bad("[tip]\nframe = local\n", "bad frame", "bad.ini:9:", "director | global");
+    expect_bad("[tip]\nforce = 0 1\n", "force with 2 numbers", "bad.ini:9:", "force");
+    expect_bad("[loads]\nlinear_damping = -1\n", "negative damping", "bad.ini:9:", "linear_damping");
+    expect_bad("[render]\nwidth = 641\n", "odd video width", "bad.ini:9:", "even");
+    expect_bad("[render]\ncolour = red\n", "unknown key", "bad.ini:9:", "colour");
+    expect_bad("[camera]\nfov = 30\n", "unknown section", "bad.ini:8:", "camera");
+    expect_bad("[tip]\nprofile = table /nonexistent/load.csv\n", "missing table file",
+               "bad.ini:9:", "/nonexistent/load.csv");
+    expect_bad_rod("[rod]\nlength = -1\ndiameter = 0.001\ndensity = 850\nyoungs_modulus = 1e6\n"
+                   "shear_modulus = 1e6\nnodes = 51\n",
+                   "negative length", "bad.ini:2:", "length");
+    expect_bad_rod("[rod]\nlength = 1\ndiameter = 0.001\ndensity = 850\nyoungs_modulus = 1e6\n"
+                   "shear_modulus = 1e6\nnodes = 2\n",
+                   "NS < 3", "bad.ini:7:", "nodes");
+    expect_bad_rod("[rod]\nlength = 1\ndiameter = 2\ndensity = 850\nyoungs_modulus = 1e6\n"
+                   "shear_modulus = 1e6\nnodes = 51\n",
+                   "diameter >= length", "bad.ini:3:", "diameter");
+    expect_bad_rod("[rod]\nlength = 1\ndiameter = 0.001\ndensity = 85O\nyoungs_modulus = 1e6\n"
+                   "shear_modulus = 1e6\nnodes = 51\n",
+                   "malformed number", "bad.ini:4:", "density");
+    expect_bad_rod("[rod]\nlength = 1\ndiameter = 0.001\ndensity = 850\n"
+                   "shear_modulus = 1e6\nnodes = 51\n",
+                   "missing youngs_modulus", "bad.ini:1:", "[rod] youngs_modulus");
+    expect_bad_rod("[solver]\nscheme = static\n", "no [rod] section", "bad.ini", "[rod] length");
+}
+
+static void write_file(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    if (f) {
+        fputs(text, f);
+        fclose(f);
+    }
+}
+
+static void test_tables(void)
+{
+    char dir[] = "/tmp/rodsim_scene_XXXXXX";
+    if (!check(mkdtemp(dir) != NULL, "temporary directory")) return;
+    char path[256], scene[256], err[1024] = "";
+    rod_table t;
+
+    snprintf(path, sizeof path, "%s/two.csv", dir);
+    write_file(path, "t,factor\n0,0\n1,1\n# hold\n\n3,0.5\n");
+    if (check(scene_load_table(path, &t, err, sizeof err) == 0 && t.rows == 3 && t.columns == 2,
+              "2-column table: %d rows (%s)", t.rows, err)) {
+        rod_profile p = {.kind = ROD_PROFILE_TABLE, .table = t};
+        /* piecewise linear: at t = 2 halfway between 1 and 0.5 */
+        check_abs("table factor at t = 2 s", rod_profile_factor(&p, 2.0), 0.75, 1e-15);
+        free(t.data);
+    }
+    snprintf(path, sizeof path, "%s/seven.csv", dir);
+    write_file(path, "t,fx,fy,fz,mx,my,mz\n0, 0,0,0, 0,0,0\n2, 0,2e-6,0, 0,0,1e-6\n");
+    check(scene_load_table(path, &t, err, sizeof err) == 0 && t.rows == 2 && t.columns == 7 &&
+              t.data[9] == 2e-6,
+          "7-column table (%s)", err);
+    free(t.data);
+
+    snprintf(path, sizeof path, "%s/back.csv", dir);
+    write_file(path, "t,factor\n0,0\n1,1\n1,2\n");
+    check(scene_load_table(path, &t, err, sizeof err) == -1 && strstr(err, "back.csv:4:") &&
+              strstr(err, "increase"),
+          "times must increase: '%s'", err);
+    snprintf(path, sizeof path, "%s/mixed.csv", dir);
+    write_file(path, "t,factor\n0,0\n1,1,2,3,4,5,6\n");
+    check(scene_load_table(path, &t, err, sizeof err) == -1 && strstr(err, "mixed.csv:3:"),
+          "rows of different widths: '%s'", err);
+    snprintf(path, sizeof path, "%s/word.csv", dir);
+    write_file(path, "t,factor\n0,zero\n");
+    check(scene_load_table(path, &t, err, sizeof err) == -1 && strstr(err, "word.csv:2:"),
+          "a word in a data row: '%s'", err);
+
+    /* an empty table, named from a scene relative to the scene's directory */
+    snprintf(path, sizeof path, "%s/empty.csv", dir);
+    write_file(path, "t,factor\n");
+    snprintf(scene, sizeof scene, "%s/s.ini", dir);
+    char text[1024];
+    snprintf(text, sizeof text, "%s[tip]\nforce = 0 1e-7 0\nprofile = table empty.csv\n", valid_rod);
+    write_file(scene, text);
+    rod_model m;
+    run_output out;
+    check(read_scene_file(scene, &m, &out, err, sizeof err) == -1 && strstr(err, "s.ini:10:") &&
+              strstr(err, "profile") && strstr(err, "empty.csv:1:") && strstr(err, "empty"),
+          "empty table: '%s'", err);
+    snprintf(text, sizeof text, "%s[tip]\nforce = 0 1e-7 0\nprofile = table two.csv\n", valid_rod);
+    write_file(scene, text);
+    if (check(read_scene_file(scene, &m, &out, err, sizeof err) == 0 &&
+                  m.profile.kind == ROD_PROFILE_TABLE && m.profile.table.rows == 3,
+              "table path relative to the scene file (%s)", err)) {
+        double f[3], mo[3];
+        rod_tip_load(&m, 0.5, f, mo);
+        check_abs("tip force from the table at t = 0.5 s", f[1], 0.5e-7, 1e-20);
+        rod_model_release(&m);
+    }
+    const char *names[] = {"two.csv", "seven.csv", "back.csv", "mixed.csv", "word.csv",
+                           "empty.csv", "s.ini"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+        unlink(path);
+    }
+    rmdir(dir);
+}
+
+static void test_frame_count(void)
+{
+    check(run_frame_count(10.0, 30) == 301, "10 s at 30 fps: 301 frames (t = 0 included): %d",
+          run_frame_count(10.0, 30));
+    check(run_frame_count(0.1, 30) == 4, "0.1 s at 30 fps: 4 frames: %d", run_frame_count(0.1, 30));
+    check(run_frame_count(1.01, 30) == 32, "1.01 s at 30 fps: 31 regular + the end: %d",
+          run_frame_count(1.01, 30));
+}
+
+int main(void)
+{
+    test_every_scene_parses();
+    test_scene_values();
+    test_set_overrides();
+    test_bad_values();
+    test_tables();
+    test_frame_count();
+    return test_finish();
+}
