@@ -12,6 +12,10 @@
  * file has that nobody asked for, naming file:line and the keys that are
  * accepted in that section.
  *
+ * A consumer may also hold a table of every key it accepts (ini_key):
+ * ini_check_keys() then reports an unknown section or key at its own line,
+ * with the nearest accepted name, before any value is read.
+ *
  * Every error message starts with "file:line: " when a line is known.
  */
 #ifndef RODSIM_INI_H
@@ -70,5 +74,33 @@ int ini_error(const ini_doc *doc, const char *section, int index, const char *ke
 /* Reports the first section or key present in the file that no ini_get_*
  * or ini_section_count call asked for. Returns 0 when all were used. */
 int ini_check_unused(const ini_doc *doc, char *err, size_t errlen);
+
+/* One key a scene may hold, as its reference documents it (`rodsim help
+ * scene` prints these rows). A table ends with a row whose section is NULL. */
+typedef struct ini_key {
+    const char *section;
+    const char *key;
+    const char *unit;     /* SI unit, or "-" */
+    const char *fallback; /* the value used when the key is absent, written as a scene
+                             would write it; or "required"; or "-": absence has the
+                             meaning `meaning` gives */
+    const char *accepted; /* the values accepted, in words */
+    const char *meaning;
+} ini_key;
+
+/* Checks every section and key of the file (and of --set) against the table,
+ * before anything is read. The first unknown one in file order (--set ones
+ * last) is reported at its own line, with the nearest accepted name ("did you
+ * mean density?") and the accepted list. Returns 0, or -1 with the message. */
+int ini_check_keys(const ini_doc *doc, const ini_key *table, char *err, size_t errlen);
+
+/* Edit distance between a and b (insertions, deletions, substitutions and
+ * swaps of two neighbours each count 1), capped at 255. */
+int ini_edit_distance(const char *a, const char *b);
+
+/* The i-th (section, key) an ini_get_* or ini_section_count call asked for
+ * (key NULL for a section-only ask). Returns 0 past the last. Lets a test hold
+ * a reader to its ini_key table. */
+int ini_asked(const ini_doc *doc, int i, const char **section, const char **key);
 
 #endif

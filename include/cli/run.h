@@ -35,9 +35,15 @@ typedef struct run_output {
     render_options render; /* every [render] key, for the renderer (fps .. crf copied in) */
 } run_output;
 
-/* Defaults (30 fps, 1280 x 720, crf 20), then the scene's [render] keys.
- * Returns 0, or -1 with "file:line: [render] key = value: ..." in err. */
+/* The renderer's defaults (render_options_default), then the scene's
+ * [render] keys. Returns 0, or -1 with "file:line: [render] key = value: ..." in err. */
 int run_read_output(ini_doc *doc, run_output *out, char *err, size_t errlen);
+
+/* Reads a whole rod scene the way `rodsim run` does: every section and key
+ * checked against scene_keys_rod first (an unknown one is reported at its
+ * line, with the nearest accepted key), then the model (scene_read_rod), then
+ * [render]. Returns 0, or -1 with a message; on failure *m owns nothing. */
+int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_t errlen);
 
 /* Output times k/fps <= duration, plus the end time when it is not one of them. */
 int run_frame_count(double duration, int fps);

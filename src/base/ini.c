@@ -589,3 +589,189 @@ int ini_check_unused(const ini_doc *doc, char *err, size_t errlen)
     }
     return 0;
 }
+
+/* ---- key tables ----------------------------------------------------------- */
+
+int ini_edit_distance(const char *a, const char *b)
+{
+    /* optimal string alignment: Levenshtein plus swaps of neighbours
+     * ("lenght"), on at most 63 characters of each word */
+    enum { MAX = 64 };
+    int n = (int)strlen(a), m = (int)strlen(b);
+    if (n >= MAX) n = MAX - 1;
+    if (m >= MAX) m = MAX - 1;
+    static const int cap = 255;
+    int d[MAX][MAX];
+    for (int i = 0; i <= n; i++) d[i][0] = i;
+    for (int j = 0; j <= m; j++) d[0][j] = j;
+    for (int i = 1; i <= n; i++) {
+        for (int j = 1; j <= m; j++) {
+            int cost = a[i - 1] == b[j - 1] ? 0 : 1;
+            int best = d[i - 1][j] + 1;
+            if (d[i][j - 1] + 1 < best) best = d[i][j - 1] + 1;
+            if (d[i - 1][j - 1] + cost < best) best = d[i - 1][j - 1] + cost;
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] &&
+                d[i - 2][j - 2] + 1 < best)
+                best = d[i - 2][j - 2] + 1;
+            d[i][j] = best;
+        }
+    }
+    return d[n][m] < cap ? d[n][m] : cap;
+}
+
+/* Whether `word` is close enough to `name` to suggest it: a few edits for
+ * its length (one for short words), or the start of it ("youngs"). */
+static int near_enough(const char *word, const char *name, int *distance)
+{
+    int n = (int)strlen(word);
+    int limit = n <= 4 ? 1 : n <= 8 ? 2 : 3;
+    int d = ini_edit_distance(word, name);
+    if (n >= 3 && strncmp(word, name, (size_t)n) == 0) d = d < limit ? d : limit;
+    *distance = d;
+    return d <= limit && d < n;
+}
+
+static int table_has_section(const ini_key *table, const char *section)
+{
+    for (const ini_key *k = table; k->section; k++)
+        if (strcmp(k->section, section) == 0) return 1;
+    return 0;
+}
+
+static const ini_key *table_find(const ini_key *table, const char *section, const char *key)
+{
+    for (const ini_key *k = table; k->section; k++)
+        if (strcmp(k->section, section) == 0 && strcmp(k->key, key) == 0) return k;
+    return NULL;
+}
+
+/* Comma-separated sections (section NULL) or keys of one section, in table order. */
+static void table_list(const ini_key *table, const char *section, char *out, size_t outlen)
+{
+    size_t used = 0;
+    out[0] = '\0';
+    for (const ini_key *k = table; k->section; k++) {
+        const char *word;
+        if (section) {
+            if (strcmp(k->section, section) != 0) continue;
+            word = k->key;
+        } else {
+            int seen = 0; /* each section once */
+            for (const ini_key *j = table; j < k; j++)
+                if (strcmp(j->section, k->section) == 0) seen = 1;
+            if (seen) continue;
+            word = k->section;
+        }
+        int w = snprintf(out + used, outlen - used, "%s%s", used ? ", " : "", word);
+        if (w < 0 || used + (size_t)w >= outlen) break;
+        used += (size_t)w;
+    }
+}
+
+/* The nearest section name to `word`, or NULL. */
+static const char *nearest_section(const ini_key *table, const char *word)
+{
+    const char *best = NULL;
+    int best_d = 1 << 20, d;
+    for (const ini_key *k = table; k->section; k++)
+        if (near_enough(word, k->section, &d) && d < best_d) {
+            best = k->section;
+            best_d = d;
+        }
+    return best;
+}
+
+/* The nearest key of `section` to `word`; else the nearest key of another
+ * section (*other_section set: "[rod] scheme" is [solver]'s); else NULL. */
+static const ini_key *nearest_key(const ini_key *table, const char *section, const char *word,
+                                  int *other_section)
+{
+    const ini_key *best = NULL;
+    int best_d = 1 << 20, d;
+    *other_section = 0;
+    for (const ini_key *k = table; k->section; k++)
+        if (strcmp(k->section, section) == 0 && near_enough(word, k->key, &d) && d < best_d) {
+            best = k;
+            best_d = d;
+        }
+    if (best) return best;
+    for (const ini_key *k = table; k->section; k++)
+        if (near_enough(word, k->key, &d) && d < best_d) {
+            best = k;
+            best_d = d;
+        }
+    *other_section = best != NULL;
+    return best;
+}
+
+int ini_check_keys(const ini_doc *doc, const ini_key *table, char *err, size_t errlen)
+{
+    /* the first offender in file order; --set ones (line 0) after the file's */
+    const ini_section *bad_section = NULL;
+    const ini_entry *bad_entry = NULL;
+    long first = -1;
+    for (int i = 0; i < doc->section_count; i++) {
+        const ini_section *s = &doc->sections[i];
+        long order = s->line > 0 ? s->line : 1L << 30;
+        if (!table_has_section(table, s->name) && (first < 0 || order < first)) {
+            bad_section = s;
+            first = order;
+        }
+    }
+    for (int i = 0; i < doc->entry_count; i++) {
+        const ini_entry *e = &doc->entries[i];
+        long order = e->line > 0 ? e->line : (1L << 30) + 1 + i;
+        if (table_has_section(table, e->section) && !table_find(table, e->section, e->key) &&
+            (first < 0 || order < first)) {
+            bad_section = NULL;
+            bad_entry = e;
+            first = order;
+        }
+    }
+    char list[768], hint[160] = "";
+    if (bad_section) {
+        const char *near = nearest_section(table, bad_section->name);
+        if (near) snprintf(hint, sizeof hint, " did you mean [%s]?", near);
+        table_list(table, NULL, list, sizeof list);
+        if (bad_section->line > 0) {
+            set_error(err, errlen, "%s:%d: unknown section [%s];%s accepted sections: %s",
+                      doc->filename, bad_section->line, bad_section->name, hint, list);
+        } else {
+            const ini_entry *e = NULL; /* name the --set that made it */
+            for (int i = 0; i < doc->entry_count && !e; i++)
+                if (strcmp(doc->entries[i].section, bad_section->name) == 0) e = &doc->entries[i];
+            set_error(err, errlen, "--set %s.%s=%s: unknown section [%s];%s accepted sections: %s",
+                      bad_section->name, e ? e->key : "", e ? e->value : "", bad_section->name,
+                      hint, list);
+        }
+        return -1;
+    }
+    if (bad_entry) {
+        const ini_entry *e = bad_entry;
+        int other = 0;
+        const ini_key *near = nearest_key(table, e->section, e->key, &other);
+        if (near && other && e->line > 0)
+            snprintf(hint, sizeof hint, " did you mean [%s] %s?", near->section, near->key);
+        else if (near && e->line > 0)
+            snprintf(hint, sizeof hint, " did you mean %s?", near->key);
+        else if (near)
+            snprintf(hint, sizeof hint, " did you mean %s.%s?", near->section, near->key);
+        table_list(table, e->section, list, sizeof list);
+        if (e->line > 0)
+            set_error(err, errlen, "%s:%d: [%s] %s: unknown key;%s accepted keys in [%s]: %s",
+                      doc->filename, e->line, e->section, e->key, hint, e->section, list);
+        else
+            set_error(err, errlen, "--set %s.%s=%s: unknown key;%s accepted keys in [%s]: %s",
+                      e->section, e->key, e->value, hint, e->section, list);
+        return -1;
+    }
+    return 0;
+}
+
+int ini_asked(const ini_doc *doc, int i, const char **section, const char **key)
+{
+    if (i < 0 || i >= doc->known_count) return 0;
+    *section = doc->known[i].section;
+    *key = doc->known[i].key;
+    return 1;
+}

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "base/outfile.h"
+#include "cli/scene_keys.h"
 
 #define FEM_MAX_ELEMENTS 100000
 #define FEM_CURVE_SAMPLES 24 /* points per element of the deformed curve */
@@ -122,6 +123,8 @@ fem_model *fem_scene_read(ini_doc *doc, fem_figure_options *figure, char *err, s
 {
     fem_model *m = NULL;
     double youngs = 0, radius = 0, area = 0, second_moment = 0;
+    /* unknown keys first, at their own line (issue 9) */
+    if (ini_check_keys(doc, scene_keys_beam, err, errlen)) return NULL;
     if (read_positive(doc, "material", 0, "youngs_modulus", "Pa", &youngs, 1, err, errlen) < 0)
         return NULL;
     int has_radius = read_positive(doc, "material", 0, "radius", "m", &radius, 0, err, errlen);
@@ -550,10 +553,12 @@ static void usage(FILE *out)
             "Solves a 2-D beam (frame) finite-element scene, prints the nodal table\n"
             "(node, x, z, u, w, theta, |d|) and the support reactions, and draws the\n"
             "undeformed and deformed structure into DIR/<scene>.png (DIR defaults to out).\n"
+            "Its keys: rodsim help beam.\n"
             "  --set s.k=v  override a scene key (repeatable)\n"
             "  --csv FILE   nodal table as CSV: node,x,z,u,w,theta,displacement (m, rad)\n"
             "  --md FILE    nodal table and reactions as Markdown\n"
             "  --png FILE   figure path instead of DIR/<scene>.png; --no-png: no figure\n"
+            "  -o DIR       directory of the figure (default out)\n"
             "Exit status: 0 done, 2 bad input or a mechanism, 1 other failure.\n");
 }
 

@@ -8,6 +8,7 @@
 
 #include "base/outfile.h"
 #include "cli/run.h"
+#include "cli/scene_keys.h"
 #include "cli/stability_cli.h"
 #include "cli/validate_cli.h"
 
@@ -32,8 +33,34 @@ static void usage(FILE *f)
                "commands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].summary);
+    fprintf(f, "\n  rodsim help COMMAND   the same as rodsim COMMAND --help\n"
+               "  rodsim help scene     every key of a rod scene (run), as a Markdown table\n"
+               "  rodsim help beam      every key of a beam scene (fem), as a Markdown table\n");
     fprintf(f, "\nexit status: 0 success, 2 bad input or usage (or a numerically unstable run),\n"
                "1 any other failure.\n");
+}
+
+/* `rodsim help [COMMAND | scene | beam]`. */
+static int help(int argc, char **argv)
+{
+    if (argc < 3) {
+        usage(stdout);
+        return 0;
+    }
+    if (strcmp(argv[2], "scene") == 0 || strcmp(argv[2], "beam") == 0) {
+        scene_keys_print_markdown(stdout, argv[2][0] == 's' ? scene_keys_rod : scene_keys_beam);
+        return 0;
+    }
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
+        if (strcmp(argv[2], commands[i].name) == 0) {
+            char *args[] = {argv[2], "--help", NULL};
+            return commands[i].run(2, args);
+        }
+    }
+    fprintf(stderr, "rodsim help: unknown topic '%s'; accepted: scene, beam or a command\n",
+            argv[2]);
+    usage(stderr);
+    return 2;
 }
 
 int main(int argc, char **argv)
@@ -43,11 +70,11 @@ int main(int argc, char **argv)
         usage(stderr);
         return 2;
     }
-    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
-        strcmp(argv[1], "help") == 0) {
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         usage(stdout);
         return 0;
     }
+    if (strcmp(argv[1], "help") == 0) return help(argc, argv);
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
         if (strcmp(argv[1], commands[i].name) == 0) {
             outfile_install_signal_cleanup();

@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "base/outfile.h"
+#include "cli/scene_keys.h"
 #include "sim/scene.h"
 
 #define RUN_ERR_LEN 1024
@@ -18,7 +19,7 @@ void run_usage(FILE *f)
             "usage: rodsim run SCENE [--set section.key=value]... [-o DIR] [--csv FILE]\n"
             "                        [--no-video] [--quiet]\n"
             "\n"
-            "Simulates the rod scene SCENE (an INI file, see README 'Scene files').\n"
+            "Simulates the rod scene SCENE (an INI file; its keys: rodsim help scene).\n"
             "  --set section.key=value  override a scene key (repeatable, applied in order),\n"
             "                           e.g. --set solver.scheme=thesis --set tip.force=\"0 8e-7 0\"\n"
             "  -o DIR                   directory for the video (default out/)\n"
@@ -32,37 +33,31 @@ void run_usage(FILE *f)
 
 int run_read_output(ini_doc *doc, run_output *out, char *err, size_t errlen)
 {
-    out->fps = 30;
-    out->width = 1280;
-    out->height = 720;
-    out->crf = 20;
-    static const struct {
-        const char *key;
-        int lo, hi, even;
-        const char *what;
-        size_t offset;
-    } keys[] = {
-        {"fps", 1, 1000, 0, "output frames per simulated second", offsetof(run_output, fps)},
-        {"width", 16, 7680, 1, "video width in pixels", offsetof(run_output, width)},
-        {"height", 16, 4320, 1, "video height in pixels", offsetof(run_output, height)},
-        {"crf", 0, 51, 0, "H.264 quality, 0 lossless .. 51 worst", offsetof(run_output, crf)},
-    };
-    for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++) {
-        int *field = (int *)((char *)out + keys[k].offset);
-        if (ini_get_int(doc, "render", 0, keys[k].key, field, err, errlen) < 0) return -1;
-        if (*field < keys[k].lo || *field > keys[k].hi || (keys[k].even && *field % 2))
-            return ini_error(doc, "render", 0, keys[k].key, err, errlen,
-                             "must be a whole number from %d to %d%s (%s)", keys[k].lo,
-                             keys[k].hi, keys[k].even ? ", even (yuv420p video)" : "",
-                             keys[k].what);
-    }
-    /* the renderer's own keys (camera, stripe, samples, ...) on the same section */
+    /* one set of defaults and range checks for [render]: the renderer's
+     * (until this read its own fps .. crf, and crf defaulted to 20 here, 18
+     * there: issue 8) */
     render_options_default(&out->render);
     if (render_options_read(doc, &out->render, err, errlen)) return -1;
-    out->render.fps = out->fps;
-    out->render.width = out->width;
-    out->render.height = out->height;
-    out->render.crf = out->crf;
+    out->fps = out->render.fps;
+    out->width = out->render.width;
+    out->height = out->render.height;
+    out->crf = out->render.crf;
+    return 0;
+}
+
+int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_t errlen)
+{
+    /* unknown keys first, at their own line (issue 9): a misspelt required
+     * key would otherwise be reported as a missing one */
+    if (ini_check_keys(doc, scene_keys_rod, err, errlen)) {
+        *m = rod_model_default();
+        return -1;
+    }
+    if (scene_read_rod(doc, m, err, errlen)) return -1;
+    if (run_read_output(doc, out, err, errlen) || ini_check_unused(doc, err, errlen)) {
+        rod_model_release(m);
+        return -1;
+    }
     return 0;
 }
 
@@ -448,9 +443,7 @@ int run_command(int argc, char **argv)
     if (!doc) goto fail;
     for (int i = 0; i < a.set_count; i++)
         if (ini_set(doc, a.sets[i], err, sizeof err)) goto fail;
-    if (scene_read_rod(doc, &m, err, sizeof err)) goto fail;
-    if (run_read_output(doc, &out, err, sizeof err) || ini_check_unused(doc, err, sizeof err))
-        goto fail;
+    if (run_read_scene(doc, &m, &out, err, sizeof err)) goto fail;
     ini_scene_name(doc, scene, sizeof scene);
     status = simulate(&a, scene, &m, &out);
     goto done;

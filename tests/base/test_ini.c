@@ -84,9 +84,46 @@ static void test_errors(void)
           "missing file: '%s'", err);
 }
 
+/* Edit distances counted by hand; a key table checked before any read. */
+static void test_key_table(void)
+{
+    static const struct { const char *a, *b; int d; } pairs[] = {
+        {"densty", "density", 1},   /* one deletion */
+        {"lenght", "length", 1},    /* one swap of neighbours */
+        {"kitten", "sitting", 3},   /* k->s, e->i, +g */
+        {"", "abc", 3}, {"node", "node", 0}, {"ca", "abc", 3},
+    };
+    for (size_t i = 0; i < sizeof pairs / sizeof pairs[0]; i++)
+        check(ini_edit_distance(pairs[i].a, pairs[i].b) == pairs[i].d,
+              "edit distance '%s' -> '%s' = %d (by hand %d)", pairs[i].a, pairs[i].b,
+              ini_edit_distance(pairs[i].a, pairs[i].b), pairs[i].d);
+    static const ini_key table[] = {
+        {"rod", "length", "m", "required", "> 0", ""},
+        {"rod", "density", "kg/m^3", "required", "> 0", ""},
+        {"tip", "force", "N", "0 0 0", "3 numbers", ""},
+        {NULL, NULL, NULL, NULL, NULL, NULL},
+    };
+    char err[512] = "";
+    ini_doc *doc = ini_parse("k.ini", "[rod]\nlength = 1\n[tip]\nforce = 0 0 0\n", err, sizeof err);
+    check(doc && ini_check_keys(doc, table, err, sizeof err) == 0, "known keys pass (%s)", err);
+    check(doc && ini_set(doc, "rod.densty=3", err, sizeof err) == 0 &&
+              ini_check_keys(doc, table, err, sizeof err) < 0 &&
+              strstr(err, "--set rod.densty=3: unknown key; did you mean rod.density? "
+                          "accepted keys in [rod]: length, density"),
+          "--set of a misspelt key: '%s'", err);
+    ini_destroy(doc);
+    doc = ini_parse("k.ini", "[rod]\nlength = 1\ndensity = x\n[tipp]\nforce = 1\n", err, sizeof err);
+    check(doc && ini_check_keys(doc, table, err, sizeof err) < 0 &&
+              strstr(err, "k.ini:4: unknown section [tipp]; did you mean [tip]? accepted "
+                          "sections: rod, tip"),
+          "misspelt section at its line: '%s'", err);
+    ini_destroy(doc);
+}
+
 int main(void)
 {
     test_values();
     test_errors();
+    test_key_table();
     return test_finish();
 }

@@ -1,0 +1,155 @@
+/* scene_keys.c: every scene key, with unit, default, accepted values and
+ * meaning (see scene_keys.h). A default here must be the value the reader
+ * uses when the key is absent: tests/cli/test_scene_keys.c sets each one
+ * and checks nothing changes. */
+#include "cli/scene_keys.h"
+
+#define BOOL "boolean"
+
+const ini_key scene_keys_rod[] = {
+    {"rod", "length", "m", "required", "> 0", "L, the rod's length"},
+    {"rod", "diameter", "m", "required", "> 0, < length",
+     "d; bending stiffness EI with I = pi d^4/64, torsion GJ with J = pi d^4/32"},
+    {"rod", "density", "kg/m^3", "required", "> 0", "rho"},
+    {"rod", "youngs_modulus", "Pa", "required", "> 0", "E"},
+    {"rod", "shear_modulus", "Pa", "required", "> 0", "G"},
+    {"rod", "nodes", "-", "required", "3 .. 100001", "NS, nodes along the rod; ds = L/(NS-1)"},
+    {"rod", "rotary_inertia_scale", "-", "1", "> 0",
+     "multiplies rho I and rho J (the thesis scheme needs about 1e7)"},
+
+    {"solver", "scheme", "-", "implicit", "thesis | implicit | static",
+     "how the rod is stepped (README: choosing accuracy against speed)"},
+    {"solver", "dt", "s", "auto", "auto, or > 0",
+     "time step; auto: half the scheme's stable limit, at most 1/20 of the first bending "
+     "period; steps also end at every output time 1/fps"},
+    {"solver", "duration", "s", "10", "> 0", "simulated time"},
+    {"solver", "theta", "-", "1", "0.5 .. 1 | backward_euler | crank_nicolson",
+     "implicit scheme: 1 backward Euler (damps), 0.5 Crank-Nicolson (keeps energy)"},
+    {"solver", "newton_tolerance", "-", "1e-8", "> 0, < 1",
+     "implicit and static schemes: relative residual that ends Newton"},
+    {"solver", "newton_max_iterations", "-", "25", "1 .. 1000", "implicit and static schemes"},
+    {"solver", "exact_rotation", "-", "true", BOOL,
+     "thesis scheme: true the exact exponential map, false (4.6) as printed"},
+
+    {"tip", "frame", "-", "director", "director | global",
+     "director: components on the tip's d1 d2 d3, turning with it (follower load, thesis "
+     "4.2); global: fixed x y z (dead load)"},
+    {"tip", "force", "N", "0 0 0", "3 numbers", "tip force, on `frame`"},
+    {"tip", "moment", "N m", "0 0 0", "3 numbers", "tip moment, on `frame` (M3 twists)"},
+    {"tip", "profile", "s", "step",
+     "step | ramp T | pulse T_on T_off | impulse T | table FILE.csv",
+     "the loads over time: full from t = 0; 0 to full over T; full for T_on <= t < T_off; "
+     "+load for T then -load for T; a CSV t,factor or t,fx,fy,fz,mx,my,mz (path relative "
+     "to the scene)"},
+
+    {"loads", "gravity", "m/s^2", "0 0 0", "3 numbers", "global; adds rho A g per length"},
+    {"loads", "distributed_force", "N/m", "0 0 0", "3 numbers", "global, per length"},
+    {"loads", "linear_damping", "N s/m^2", "0", ">= 0", "force per length -c v"},
+    {"loads", "angular_damping", "N m s/m", "0", ">= 0", "moment per length -c omega"},
+
+    {"ends", "root", "-", "clamped", "clamped | pinned",
+     "pinned: position held, twist about x held, free to bend"},
+    {"ends", "tip", "-", "free", "free | pinned | clamped",
+     "a held tip stays on the x axis, sliding along it (static scheme only)"},
+
+    {"physics", "twist", "-", "on", BOOL, "off: twist quasi-static (no torsion waves)"},
+    {"physics", "rotary_inertia", "-", "on", BOOL, "off: no rotary inertia (implicit scheme)"},
+    {"physics", "gravity", "-", "on", BOOL, "off: [loads] gravity and distributed_force ignored"},
+    {"physics", "damping", "-", "on", BOOL, "off: [loads] damping ignored"},
+    {"physics", "planar", "-", "on", BOOL,
+     "on: loads in the x-y plane are solved as a planar problem (implicit; exact, faster)"},
+
+    {"render", "fps", "1/s", "30", "1 .. 1000",
+     "output frames per simulated second (video and CSV)"},
+    {"render", "width", "px", "1280", "even, 16 .. 7680", "video width"},
+    {"render", "height", "px", "720", "even, 16 .. 4320", "video height"},
+    {"render", "crf", "-", "18", "0 .. 51", "H.264 quality: 0 lossless, lower is better"},
+    {"render", "preset", "-", "veryfast",
+     "ultrafast | superfast | veryfast | faster | fast | medium | slow | slower | veryslow",
+     "x264 speed preset"},
+    {"render", "samples", "-", "4", "0 .. 16", "multisample antialiasing, 0 = off"},
+    {"render", "visual_radius", "m", "auto", "auto, or > 0",
+     "radius drawn; auto: 1 % of the length, never below the true radius"},
+    {"render", "sides", "-", "24", "6 .. 128", "facets around the tube"},
+    {"render", "stripe", "-", "director", "director | formula | off",
+     "the amber material line that shows twist; formula: thesis (4.17) literally"},
+    {"render", "arrows", "-", "true", BOOL, "tip force (red) and moment (green) arrows"},
+    {"render", "grid", "-", "true", BOOL, "backdrop grid and scale bar"},
+    {"render", "overlay", "-", "true", BOOL, "text: scene, time, scheme, nodes, loads"},
+    {"render", "poster", "-", "true", BOOL, "write <scene>.png, the last frame"},
+    {"render", "frames_png", "-", "false", BOOL, "also write <scene>_frames/NNNNN.png"},
+    {"render", "camera", "-", "perspective", "perspective | orthographic", "projection"},
+    {"render", "view", "-", "0.3 -0.45 1", "3 numbers, not all 0",
+     "direction from the rod to the eye"},
+    {"render", "background", "-", "f6f7f9", "rrggbb, \"#rrggbb\" (quoted), or 3 numbers in 0..1",
+     "background colour"},
+    {NULL, NULL, NULL, NULL, NULL, NULL},
+};
+
+const ini_key scene_keys_beam[] = {
+    {"material", "youngs_modulus", "Pa", "required", "> 0", "E"},
+    {"material", "radius", "m", "-", "> 0",
+     "solid circular section: A = pi r^2, I = pi r^4/4 (or give area and second_moment)"},
+    {"material", "area", "m^2", "-", "> 0", "A, with second_moment instead of radius"},
+    {"material", "second_moment", "m^4", "-", "> 0", "I, with area instead of radius"},
+
+    {"geometry", "length", "m", "-", "> 0", "a generated rod of this length (or give nodes)"},
+    {"geometry", "angle", "deg", "0", "a number", "direction at node 1, above the +x axis"},
+    {"geometry", "curvature_radius", "m", "0", "0, or |R| >= length/(2 pi)",
+     "0 straight; R > 0 an arc turning anticlockwise, R < 0 clockwise"},
+    {"geometry", "elements", "-", "4", "1 .. 100000", "elements of the generated rod"},
+    {"geometry", "nodes", "m", "-", "x1 z1, x2 z2, ... (2 or more)",
+     "explicit node positions instead of length .. elements"},
+
+    {"support", "node", "-", "required", "1 .. nodes", "the supported node ([support] repeats)"},
+    {"support", "type", "-", "required", "clamped | pinned | roller",
+     "clamped holds u w theta; pinned u w; roller w"},
+
+    {"load", "node", "-", "required", "1 .. nodes", "the loaded node ([load] repeats)"},
+    {"load", "force", "N", "0 0", "2 numbers", "Fx Fz, global (z up)"},
+    {"load", "moment", "N m", "0", "a number", "anticlockwise positive"},
+
+    {"plot", "width", "px", "1200", "64 .. 8192", "figure width"},
+    {"plot", "height", "px", "800", "64 .. 8192", "figure height"},
+    {"plot", "scale", "-", "auto", "auto, or > 0",
+     "deformation drawn x scale; auto: the largest displacement about 15 % of the structure"},
+    {"plot", "title", "-", "-", "text, < 256 characters", "figure title; absent: FEM: <scene>"},
+    {NULL, NULL, NULL, NULL, NULL, NULL},
+};
+
+/* A table cell: '|' escaped so that it does not end the cell. */
+static void cell(FILE *f, const char *text)
+{
+    for (const char *c = text; *c; c++) {
+        if (*c == '|') fputc('\\', f);
+        fputc(*c, f);
+    }
+}
+
+void scene_keys_print_markdown(FILE *f, const ini_key *table)
+{
+    if (table == scene_keys_beam)
+        fprintf(f, "A beam scene (`rodsim fem`) has the rod scene's syntax. `[support]` and "
+                   "`[load]` repeat, one section per support or load (`--set` changes the "
+                   "first); nodes count from 1. Give either `radius` or `area` and "
+                   "`second_moment`, and either `nodes` or `length` (with `angle`, "
+                   "`curvature_radius`, `elements`).\n\n");
+    else
+        fprintf(f, "A rod scene (`rodsim run`) is INI: `[section]`, then `key = value` lines, "
+                   "`#` comments, SI units. Vectors are numbers separated by blanks or commas; "
+                   "booleans are true, false, yes, no, on, off, 1, 0. `--set section.key=value` "
+                   "overrides any key. An unknown key, a bad value or a missing required one is "
+                   "an error naming `file:line` and what is accepted (exit 2).\n\n");
+    fprintf(f, "| key | unit | default | accepted | meaning |\n| --- | --- | --- | --- | --- |\n");
+    for (const ini_key *k = table; k->section; k++) {
+        fprintf(f, "| `%s.%s` | ", k->section, k->key);
+        cell(f, k->unit);
+        fprintf(f, " | ");
+        cell(f, k->fallback);
+        fprintf(f, " | ");
+        cell(f, k->accepted);
+        fprintf(f, " | ");
+        cell(f, k->meaning);
+        fprintf(f, " |\n");
+    }
+}
