@@ -9,7 +9,7 @@
 const ini_key scene_keys_rod[] = {
     {"rod", "length", "m", "required", "> 0", "L, the rod's length"},
     {"rod", "diameter", "m", "required", "> 0, < length",
-     "d; bending stiffness EI with I = pi d^4/64, torsion GJ with J = pi d^4/32"},
+     "d; EI with I = pi d^4/64, GJ with J = pi d^4/32"},
     {"rod", "density", "kg/m^3", "required", "> 0", "rho"},
     {"rod", "youngs_modulus", "Pa", "required", "> 0", "E"},
     {"rod", "shear_modulus", "Pa", "required", "> 0", "G"},
@@ -18,13 +18,12 @@ const ini_key scene_keys_rod[] = {
      "multiplies rho I and rho J (the thesis scheme needs about 1e7)"},
 
     {"solver", "scheme", "-", "implicit", "thesis | implicit | static",
-     "how the rod is stepped (README: choosing accuracy against speed)"},
+     "how the rod is stepped"},
     {"solver", "dt", "s", "auto", "auto, or > 0",
-     "time step; auto: half the scheme's stable limit, at most 1/20 of the first bending "
-     "period; steps also end at every output time 1/fps"},
+     "auto: half the scheme's stable limit, at most 1/20 of the first bending period"},
     {"solver", "duration", "s", "10", "> 0", "simulated time"},
     {"solver", "theta", "-", "1", "0.5 .. 1 | backward_euler | crank_nicolson",
-     "implicit scheme: 1 backward Euler (damps), 0.5 Crank-Nicolson (keeps energy)"},
+     "implicit: 1 backward Euler (damps), 0.5 Crank-Nicolson"},
     {"solver", "newton_tolerance", "-", "1e-8", "> 0, < 1",
      "implicit and static schemes: relative residual that ends Newton"},
     {"solver", "newton_max_iterations", "-", "25", "1 .. 1000", "implicit and static schemes"},
@@ -32,15 +31,13 @@ const ini_key scene_keys_rod[] = {
      "thesis scheme: true the exact exponential map, false (4.6) as printed"},
 
     {"tip", "frame", "-", "director", "director | global",
-     "director: components on the tip's d1 d2 d3, turning with it (follower load, thesis "
-     "4.2); global: fixed x y z (dead load)"},
+     "director: on the tip's d1 d2 d3, turning with it (follower); global: x y z (dead)"},
     {"tip", "force", "N", "0 0 0", "3 numbers", "tip force, on `frame`"},
     {"tip", "moment", "N m", "0 0 0", "3 numbers", "tip moment, on `frame` (M3 twists)"},
     {"tip", "profile", "s", "step",
      "step | ramp T | pulse T_on T_off | impulse T | table FILE.csv",
-     "the loads over time: full from t = 0; 0 to full over T; full for T_on <= t < T_off; "
-     "+load for T then -load for T; a CSV t,factor or t,fx,fy,fz,mx,my,mz (path relative "
-     "to the scene)"},
+     "full from t = 0; rising over T; on for T_on <= t < T_off; +load for T, then -load "
+     "for T; a load table"},
 
     {"loads", "gravity", "m/s^2", "0 0 0", "3 numbers", "global; adds rho A g per length"},
     {"loads", "distributed_force", "N/m", "0 0 0", "3 numbers", "global, per length"},
@@ -65,8 +62,7 @@ const ini_key scene_keys_rod[] = {
     {"render", "height", "px", "720", "even, 16 .. 4320", "video height"},
     {"render", "crf", "-", "18", "0 .. 51", "H.264 quality: 0 lossless, lower is better"},
     {"render", "preset", "-", "veryfast",
-     "ultrafast | superfast | veryfast | faster | fast | medium | slow | slower | veryslow",
-     "x264 speed preset"},
+     "ultrafast .. veryslow", "x264 speed preset"},
     {"render", "samples", "-", "4", "0 .. 16", "multisample antialiasing, 0 = off"},
     {"render", "visual_radius", "m", "auto", "auto, or > 0",
      "radius drawn; auto: 1 % of the length, never below the true radius"},
@@ -76,12 +72,12 @@ const ini_key scene_keys_rod[] = {
     {"render", "arrows", "-", "true", BOOL, "tip force (red) and moment (green) arrows"},
     {"render", "grid", "-", "true", BOOL, "backdrop grid and scale bar"},
     {"render", "overlay", "-", "true", BOOL, "text: scene, time, scheme, nodes, loads"},
-    {"render", "poster", "-", "true", BOOL, "write <scene>.png, the last frame"},
-    {"render", "frames_png", "-", "false", BOOL, "also write <scene>_frames/NNNNN.png"},
+    {"render", "poster", "-", "true", BOOL, "write SCENE.png, the last frame"},
+    {"render", "frames_png", "-", "false", BOOL, "also write SCENE_frames/NNNNN.png"},
     {"render", "camera", "-", "perspective", "perspective | orthographic", "projection"},
     {"render", "view", "-", "0.3 -0.45 1", "3 numbers, not all 0",
      "direction from the rod to the eye"},
-    {"render", "background", "-", "f6f7f9", "rrggbb, \"#rrggbb\" (quoted), or 3 numbers in 0..1",
+    {"render", "background", "-", "f6f7f9", "rrggbb, \"#rrggbb\", or 3 numbers in 0..1",
      "background colour"},
     {NULL, NULL, NULL, NULL, NULL, NULL},
 };
@@ -113,7 +109,7 @@ const ini_key scene_keys_beam[] = {
     {"plot", "height", "px", "800", "64 .. 8192", "figure height"},
     {"plot", "scale", "-", "auto", "auto, or > 0",
      "deformation drawn x scale; auto: the largest displacement about 15 % of the structure"},
-    {"plot", "title", "-", "-", "text, < 256 characters", "figure title; absent: FEM: <scene>"},
+    {"plot", "title", "-", "-", "text, < 256 characters", "figure title; absent: FEM: SCENE"},
     {NULL, NULL, NULL, NULL, NULL, NULL},
 };
 
@@ -129,17 +125,13 @@ static void cell(FILE *f, const char *text)
 void scene_keys_print_markdown(FILE *f, const ini_key *table)
 {
     if (table == scene_keys_beam)
-        fprintf(f, "A beam scene (`rodsim fem`) has the rod scene's syntax. `[support]` and "
-                   "`[load]` repeat, one section per support or load (`--set` changes the "
-                   "first); nodes count from 1. Give either `radius` or `area` and "
-                   "`second_moment`, and either `nodes` or `length` (with `angle`, "
-                   "`curvature_radius`, `elements`).\n\n");
+        fprintf(f, "A beam scene (`rodsim fem`): the same syntax; `[support]` and `[load]` "
+                   "repeat (`--set` changes the first); nodes count from 1.\n\n");
     else
-        fprintf(f, "A rod scene (`rodsim run`) is INI: `[section]`, then `key = value` lines, "
-                   "`#` comments, SI units. Vectors are numbers separated by blanks or commas; "
-                   "booleans are true, false, yes, no, on, off, 1, 0. `--set section.key=value` "
-                   "overrides any key. An unknown key, a bad value or a missing required one is "
-                   "an error naming `file:line` and what is accepted (exit 2).\n\n");
+        fprintf(f, "A rod scene (`rodsim run`): `[section]`, `key = value`, `#` comments, SI "
+                   "units; vectors: numbers separated by blanks or commas; booleans: true false "
+                   "yes no on off 1 0. A bad key or value is an error naming `file:line` (exit "
+                   "2).\n\n");
     fprintf(f, "| key | unit | default | accepted | meaning |\n| --- | --- | --- | --- | --- |\n");
     for (const ini_key *k = table; k->section; k++) {
         fprintf(f, "| `%s.%s` | ", k->section, k->key);
