@@ -27,7 +27,7 @@ TEST_BIN:= $(patsubst tests/%.c,$(BUILD)/tests/%,$(TESTS))
 BENCHES := $(wildcard tests/bench/bench_*.c)
 BENCH_BIN := $(patsubst tests/%.c,$(BUILD)/tests/%,$(BENCHES))
 
-.PHONY: all deps rodsim tests test test-release test-asan demo bench figures clean
+.PHONY: all deps rodsim tests test test-release test-asan demo bench figures readme clean
 .DEFAULT_GOAL := all
 
 all: rodsim
@@ -89,6 +89,12 @@ demo: deps
 figures: deps
 	@$(MAKE) --no-print-directory BUILD=build/release rodsim
 	./rodsim figure all --out out/figures
+
+# Rewrites the README's generated blocks (command reference, scene keys) from
+# the program's own output; tests/cli/test_readme.c fails when they differ.
+readme:
+	@$(MAKE) --no-print-directory BUILD=build/release rodsim
+	@sh tests/readme.sh update build/release/rodsim README.md
 
 clean:
 	rm -rf build rodsim

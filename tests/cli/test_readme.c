@@ -1,0 +1,111 @@
+/* test_readme.c: the README is the program's own reference. Every generated
+ * block (between "<!-- generated: rodsim ARGS -->" and "<!-- end generated
+ * -->") equals what RODSIM_BIN prints for ARGS (tests/readme.sh check; `make
+ * readme` rewrites them); the README is at most 30 KB (issue 8) and every
+ * repository path it names exists. */
+#include <ctype.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "test.h"
+
+#define README RODSIM_SOURCE_DIR "/README.md"
+
+static void test_generated_blocks(void)
+{
+    char command[2048];
+    snprintf(command, sizeof command, "sh '%s/tests/readme.sh' check '%s' '%s' 2>&1 >/dev/null",
+             RODSIM_SOURCE_DIR, RODSIM_BIN, README);
+    fflush(stdout);
+    FILE *p = popen(command, "r");
+    if (!check(p != NULL, "tests/readme.sh check runs")) return;
+    char line[4096];
+    int same = 0, differ = 0;
+    while (fgets(line, sizeof line, p)) {
+        line[strcspn(line, "\n")] = '\0';
+        if (strncmp(line, "same: ", 6) == 0) {
+            same++;
+            check(1, "README block '%s' is the program's output", line + 6);
+        } else if (strncmp(line, "differs: ", 9) == 0) {
+            differ++;
+            check(0, "README block %s", line + 9);
+        }
+    }
+    int status = pclose(p);
+    /* run, fem, validate, stability, figure, scene, beam */
+    check(status == 0 && differ == 0 && same >= 7,
+          "every generated README block equals the program's output: %d same, %d differ "
+          "(want >= 7 and 0), status %d", same, differ, status);
+}
+
+static char *read_readme(long *size)
+{
+    FILE *f = fopen(README, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    *size = ftell(f);
+    rewind(f);
+    char *text = malloc((size_t)*size + 1);
+    if (text && fread(text, 1, (size_t)*size, f) != (size_t)*size) {
+        free(text);
+        text = NULL;
+    }
+    if (text) text[*size] = '\0';
+    fclose(f);
+    return text;
+}
+
+/* Every word that starts with a source folder ("src/sim/rod.c", "scenes/x.ini")
+ * names a file or folder of the repository. Words with capitals are
+ * placeholders ("tests/LAYER/test_NAME.c") and are skipped. */
+static void test_paths_exist(const char *text)
+{
+    static const char *const roots[] = {"src/", "include/", "tests/", "scenes/", "shaders/", NULL};
+    int named = 0, missing = 0;
+    for (const char *p = text; *p; p++) {
+        if (p > text && (isalnum((unsigned char)p[-1]) || p[-1] == '/' || p[-1] == '_' ||
+                         p[-1] == '.' || p[-1] == '-'))
+            continue;
+        for (int r = 0; roots[r]; r++) {
+            size_t n = strlen(roots[r]);
+            if (strncmp(p, roots[r], n) != 0) continue;
+            size_t len = n;
+            while (isalnum((unsigned char)p[len]) || strchr("_./-", p[len])) len++;
+            while (len > n && strchr(".,:-", p[len - 1])) len--;
+            char word[256];
+            snprintf(word, sizeof word, "%.*s", (int)len, p);
+            int placeholder = 0;
+            for (const char *c = word; *c; c++)
+                if (isupper((unsigned char)*c)) placeholder = 1;
+            if (placeholder || strchr(word, '*')) break;
+            char path[512];
+            snprintf(path, sizeof path, "%s/%s", RODSIM_SOURCE_DIR, word);
+            named++;
+            if (access(path, F_OK) != 0) {
+                missing++;
+                check(0, "README names %s, which is not in the repository", word);
+            }
+            break;
+        }
+    }
+    check(named > 10 && missing == 0, "README names %d repository paths, %d missing", named,
+          missing);
+    check(!strstr(text, "](out/"), "README shows no image from out/ (not committed)");
+    check(!strstr(text, "PRODUCT.md") && !strstr(text, "reference/"),
+          "README names no file outside the repository (PRODUCT.md, reference/)");
+}
+
+int main(void)
+{
+    test_generated_blocks();
+    long size = 0;
+    char *text = read_readme(&size);
+    if (check(text != NULL, "README.md reads")) {
+        check(size <= 30 * 1024, "README.md is %ld bytes, at most 30 KB (%d)", size, 30 * 1024);
+        test_paths_exist(text);
+    }
+    free(text);
+    return test_finish();
+}
