@@ -1,4 +1,4 @@
-/* scene.h: a rod scene (INI, see README "Scene files") read into a rod_model.
+/* scene.h: a rod scene (INI; every key: `rodsim help scene`) read into a rod_model.
  *
  * The keys are those of shared/PRODUCT.md plus the options of rod.h:
  *   [rod]     length, diameter, density, youngs_modulus, shear_modulus, nodes (all required),

@@ -142,7 +142,7 @@ static const char *const table2_outputs[] = {"table2.png", "table2_ratio.png", N
  *   implicit: backward Euler, dt = 0.5 s, load ramped over 2 s, damping 4e-4
  *             N s/m^2 (about critical for mode 1), state at 150 s;
  *   thesis:   rotary_inertia_scale 1e7 (it diverges without), dt = 0.1 s,
- *             ramp 10 s, damping 1e-3, state at 300 s (README "### thesis"). */
+ *             ramp 10 s, damping 1e-3, state at 300 s (scheme_thesis.c: minimum_scale). */
 static int table2_compute(int point, int quick, figure_points *out, char *err, size_t errlen)
 {
     rod_scheme_kind scheme = table2_schemes[point % 3];

@@ -183,8 +183,8 @@ static rod_state *simulate(const rod_model *m, double dt, double duration, sampl
     return s;
 }
 
-/* The thesis scheme diverges with physical rotary inertia (README ###
- * thesis); its report suggests a scale. A short probe of the case's own
+/* The thesis scheme diverges with physical rotary inertia (scheme_thesis.c:
+ * minimum_scale); its report suggests a scale. A short probe of the case's own
  * model reads it, and the case runs with it (said in the note). */
 static void thesis_scale_from_report(rod_model *m, validate_row *row)
 {

@@ -1,5 +1,5 @@
 /* test_validate.c: the validation cases on a few quick rows, each against
- * the tolerance the README states and against hand values of its reference
+ * a tolerance from the theory and against hand values of its reference
  * (independent of reference.c); the order fit on an exact power law; and
  * `rodsim validate` (RODSIM_BIN): header and rows, CSV, bad usage exit 2. */
 #include <fcntl.h>
@@ -67,14 +67,14 @@ static void test_settled_rows(void)
     validate_row row;
     const int nodes = 21;
     const double ds = 1.0 / (nodes - 1);
-    /* README: static and implicit tip loads within 0.3 (ds/L)^2 of the elastica
+    /* static and implicit tip loads within 0.3 (ds/L)^2 of the elastica
      * (measured 0.249 (ds/L)^2) */
     validate_run("tip_load_small", ROD_SCHEME_STATIC, nodes, 0.0, &row);
     if (ran(&row)) {
         check(row.relative_error <= 0.3 * ds * ds,
               "static tip_load_small NS=21: relative error %.3e <= 0.3 (ds/L)^2 = %.3e",
               row.relative_error, 0.3 * ds * ds);
-        /* the elastica lies 0.13 % below PL^3/3EI at this load (README ### static) */
+        /* the elastica lies 0.13 % below PL^3/3EI at this load (README "Accuracy measured") */
         check_rel("tip_load_small reference vs PL^3/3EI by hand (4.5e-7 / (3 EI))",
                   row.reference, 4.5e-7 / (3.0 * table1_ei), 2e-3);
     }
@@ -88,7 +88,7 @@ static void test_settled_rows(void)
         check(row.relative_error < 1e-12 && row.reference == 0.0,
               "static full_circle NS=21: |r_tip|/L = %.2e < 1e-12 (the polygon closes)",
               row.relative_error);
-    /* README: the thesis scheme's frame march is first order: (3/4) ds/L
+    /* the thesis scheme's frame march is first order: (3/4) ds/L
      * above the elastica, within 1.4x that */
     validate_run("tip_load_small", ROD_SCHEME_THESIS, nodes, 0.0, &row);
     if (ran(&row))
@@ -100,7 +100,7 @@ static void test_settled_rows(void)
 static void test_frequency_rows(void)
 {
     validate_row row;
-    /* README: implicit (Crank-Nicolson) bending frequencies within 2e-3 at
+    /* implicit (Crank-Nicolson) bending frequencies within 2e-3 at
      * NS = 21 and 200 steps per period */
     double dt = 10.0 * validate_default_dt("bending_frequency_1", ROD_SCHEME_IMPLICIT, 21);
     check_rel("default dt of bending_frequency_1: 1/2000 of the period 1/0.0448854 Hz", dt,
