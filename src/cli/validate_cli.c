@@ -6,6 +6,7 @@
 #include "cli/validate_cli.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,6 +16,7 @@
 #include <unistd.h>
 
 #include "base/outfile.h"
+#include "cli/print_commands.h"
 #include "study/validate.h"
 
 enum { max_list = 64, max_points = 4096 };
@@ -446,21 +448,34 @@ int validate_command(int argc, char **argv)
 
     if (print_commands) {
         /* one independent command line per point (a cluster user runs them with
-         * GNU parallel or a job array); each prints its CSV row with a header */
+         * GNU parallel or a job array); each prints its CSV row with a header.
+         * The binary by its absolute path: a bare `rodsim` is not on a node's
+         * PATH. A point that does not apply (no NS) is asked for by case and
+         * scheme alone, which prints its n/a row. */
+        char self[PATH_MAX], err[PATH_MAX + 128];
+        if (cli_self_path(self, sizeof self, err, sizeof err)) {
+            fprintf(stderr, "rodsim validate: %s\n", err);
+            free(p);
+            return 1;
+        }
         printf("# %d points; each line is one run. Concatenate their CSV output (one header)\n"
                "# for the table; the orders of convergence need the whole set, as\n"
                "# `rodsim validate` with the same options prints them.\n", p->count);
         for (int k = 0; k < p->count; k++) {
             const point *pt = &p->points[k];
             const char *name = validate_case_names()[pt->case_index];
-            double dt = pt->dt > 0.0 ? pt->dt : validate_default_dt(name, pt->scheme, pt->nodes);
-            printf("rodsim validate --case %s --scheme %s --nodes %d",
-                   name, rod_scheme_get(pt->scheme)->name, pt->nodes);
-            if (dt > 0.0) printf(" --dt %.17g", dt);
+            cli_print_shell_word(stdout, self);
+            printf(" validate --case %s --scheme %s", name, rod_scheme_get(pt->scheme)->name);
+            if (!pt->precomputed) {
+                double dt =
+                    pt->dt > 0.0 ? pt->dt : validate_default_dt(name, pt->scheme, pt->nodes);
+                printf(" --nodes %d", pt->nodes);
+                if (dt > 0.0) printf(" --dt %.17g", dt);
+            }
             printf(" --csv - > validate_point_%03d.csv\n", k);
         }
         free(p);
-        return 0;
+        return fflush(stdout) ? 1 : 0;
     }
 
     int table = !(csv && strcmp(csv, "-") == 0);
