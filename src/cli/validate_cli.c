@@ -10,7 +10,9 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <signal.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -170,6 +172,7 @@ static void run_parallel(plan *p, int jobs, int table, int *printed)
     pid_t pids[64];
     int pipes[64], slot_point[64];
     int running = 0, next = 0;
+    pid_t parent = getpid();
     for (int j = 0; j < jobs; j++) pids[j] = 0;
     while (next < p->count || running > 0) {
         while (next < p->count && p->done[next]) next++;
@@ -182,7 +185,16 @@ static void run_parallel(plan *p, int jobs, int table, int *printed)
                 fflush(stdout);
                 pid = fork();
                 if (pid == 0) {
+                    /* a worker dies with its parent (SIGTERM or kill -9 of the
+                     * parent): it belongs to its process group, and
+                     * PR_SET_PDEATHSIG covers what no handler can */
+                    prctl(PR_SET_PDEATHSIG, SIGKILL);
+                    if (getppid() != parent) _exit(1);
+                    signal(SIGINT, SIG_DFL);
+                    signal(SIGTERM, SIG_DFL);
                     close(fd[0]);
+                    for (int i = 0; i < jobs; i++) /* other workers' pipes */
+                        if (pids[i]) close(pipes[i]);
                     validate_row row;
                     run_point(&p->points[next], &row);
                     ssize_t n = write(fd[1], &row, sizeof row); /* < PIPE_BUF: one write */

@@ -14,6 +14,7 @@
 #include "sim/rod.h"
 #include "test.h"
 #include "test_process.h"
+#include "test_workers.h"
 #include "study/validate.h"
 
 /* table 1: EI = E pi d^4/64 = 87.5e6 x 4.9087e-14 = 4.29515e-6 N m^2 */
@@ -210,6 +211,25 @@ static void test_print_commands_run_anywhere(void)
           "%d of 7 CSVs hold the header and one row of their case", ran, rows_ok);
 }
 
+/* Issue 9: --jobs workers die with their parent (SIGTERM, kill -9), rather
+ * than computing on for nobody (the thesis scheme's second bending frequency
+ * at NS = 21 takes seconds: 192000 steps). */
+static void test_workers_die_with_parent(void)
+{
+    const int signals[2] = {SIGTERM, SIGKILL};
+    for (int k = 0; k < 2; k++) {
+        const char *args[] = {"validate", "--case", "bending_frequency_2", "--scheme", "thesis",
+                              "--nodes", "21", "--jobs", "2", NULL};
+        worker_kill_result r;
+        test_kill_parent_of_workers(args, NULL, signals[k], 30, &r);
+        check(r.workers >= 1 && r.killed == r.workers && r.ended == 0 && r.survived == 0,
+              "validate --jobs 2, %s to the parent: %d worker(s) running, %d died with it "
+              "(SIGKILL), %d ran on and ended, %d still running 30 s later",
+              signals[k] == SIGTERM ? "SIGTERM" : "kill -9", r.workers, r.killed, r.ended,
+              r.survived);
+    }
+}
+
 static void test_cli(void)
 {
     static char output[65536];
@@ -252,5 +272,6 @@ int main(void)
     test_frequency_rows();
     test_not_applicable();
     test_cli();
+    test_workers_die_with_parent();
     return test_finish();
 }
