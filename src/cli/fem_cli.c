@@ -807,6 +807,21 @@ int fem_command(int argc, char **argv)
     char scene_name[256];
     ini_scene_name(doc, scene_name, sizeof scene_name);
     double scale = options.scale > 0 ? options.scale : fem_auto_scale(model, solution);
+    {
+        /* a scale that draws the deformation far larger than the structure
+         * (1e308: infinite coordinates) shows nothing: refuse it */
+        double moved, turned, extent = structure_extent(model);
+        int moved_node, turned_node;
+        fem_largest_motion(model, solution, &moved, &moved_node, &turned, &turned_node);
+        if (options.scale > 0 && moved > 0 && !(scale * moved <= 10 * extent)) {
+            ini_error(doc, "plot", 0, "scale", err, sizeof err,
+                      "draws the largest displacement (%.3g m) %.3g m long, over 10 x the "
+                      "structure's size (%g m); accepted: auto, or at most %.3g here",
+                      moved, scale * moved, extent, 10 * extent / moved);
+            status = 2;
+            goto done;
+        }
+    }
     printf("rodsim fem: %s: %d nodes, %d elements, E = %g Pa, A = %.6g m^2, I = %.6g m^4\n"
            "condition number of the (equilibrated) stiffness: %.3g\n\n",
            scene_path, model->node_count, model->node_count - 1, model->youngs_modulus,

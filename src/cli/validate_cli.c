@@ -451,6 +451,25 @@ int validate_command(int argc, char **argv)
             }
         }
     }
+    /* A --dt far from the case's own (1e-300 or 1e300) made a step count
+     * that overflows, or a run of 0 steps reported "ok" with its initial
+     * value: accept 1e-6 .. 100 x the case's default dt (a finer dt is
+     * refused by the run's own step limit as a row; a coarser one leaves
+     * the frequency cases fewer than 20 steps per period). */
+    for (int k = 0; k < p->count && dt_count > 0; k++) {
+        const point *pt = &p->points[k];
+        if (pt->precomputed) continue;
+        const char *name = names[pt->case_index];
+        double reference_dt = validate_default_dt(name, pt->scheme, pt->nodes);
+        if (reference_dt > 0.0 && !(pt->dt >= 1e-6 * reference_dt && pt->dt <= 100 * reference_dt)) {
+            fprintf(stderr, "rodsim validate: --dt %g: for case %s, scheme %s, NS %d accepted: "
+                            "%.3g .. %.3g s (1e-6 .. 100 x its default dt, %.3g s)\n",
+                    pt->dt, name, rod_scheme_get(pt->scheme)->name, pt->nodes,
+                    1e-6 * reference_dt, 100 * reference_dt, reference_dt);
+            free(p);
+            return 2;
+        }
+    }
     if (too_many) {
         fprintf(stderr, "rodsim validate: more than %d runs asked for; give fewer --case, "
                         "--scheme, --nodes or --dt\n", max_points);

@@ -423,6 +423,9 @@ static void test_command_limits(void)
     status = run_fem(ROD_MATERIAL ROD_GEOMETRY CLAMP TIP_LOAD, "--no-png", out, sizeof out);
     check(status == 0 && !strstr(out, "warning"),
           "the lab's 5 %% deflection: exit %d, no warning", status);
+    /* 20 N on the lab rod: 0.109 m at the tip, drawn 1e307 times larger */
+    expect_bad_input("plot scale 1e308", ROD_MATERIAL ROD_GEOMETRY CLAMP TIP_LOAD
+                     "[plot]\nscale = 1e308\n", "scene.ini:15:", "scale");
     expect_bad_input("a rod scene", "[rod]\nlength = 1\n[solver]\nscheme = implicit\n",
                      "this is a rod scene", "rodsim run");
 }

@@ -214,6 +214,21 @@ static void test_print_commands_run_anywhere(void)
 /* Issue 9: --jobs workers die with their parent (SIGTERM, kill -9), rather
  * than computing on for nobody (the thesis scheme's second bending frequency
  * at NS = 21 takes seconds: 192000 steps). */
+/* Issue 9, the same class: --dt 1e-300 overflowed the step count and printed
+ * an "ok" row of -9223372036854775808 steps; --dt 1e300 ran 0 steps, "ok". */
+static void test_absurd_dt(void)
+{
+    static char output[8192];
+    const char *values[2] = {"1e-300", "1e300"};
+    for (int k = 0; k < 2; k++) {
+        const char *args[] = {"validate", "--case", "bending_frequency_1", "--scheme", "implicit",
+                              "--nodes", "11", "--dt", values[k], NULL};
+        int status = test_run_rodsim(args, output, sizeof output);
+        check(status == 2 && strstr(output, "accepted") && strstr(output, "default dt"),
+              "validate --dt %s: exit %d (want 2), names the accepted range", values[k], status);
+    }
+}
+
 static void test_workers_die_with_parent(void)
 {
     const int signals[2] = {SIGTERM, SIGKILL};
@@ -272,6 +287,7 @@ int main(void)
     test_frequency_rows();
     test_not_applicable();
     test_cli();
+    test_absurd_dt();
     test_workers_die_with_parent();
     return test_finish();
 }
