@@ -289,13 +289,15 @@ static void test_issue9_scene_kind_and_version(void)
     snprintf(expected, sizeof expected, "rodsim %s\n", RODSIM_VERSION);
     const char *dashed[] = {"--version", NULL};
     int status = test_run_rodsim(dashed, output, sizeof output);
-    check(status == 0 && strcmp(output, expected) == 0,
-          "rodsim --version: exit %d, prints '%.40s' (want 'rodsim %s')", status, output,
-          RODSIM_VERSION);
+    int same = strcmp(output, expected) == 0;
+    output[strcspn(output, "\n")] = '\0';
+    check(status == 0 && same, "rodsim --version: exit %d, prints '%.40s' (want 'rodsim %s')",
+          status, output, RODSIM_VERSION);
     const char *word[] = {"version", NULL};
     status = test_run_rodsim(word, output, sizeof output);
-    check(status == 0 && strcmp(output, expected) == 0, "rodsim version: exit %d, '%.40s'",
-          status, output);
+    same = strcmp(output, expected) == 0;
+    output[strcspn(output, "\n")] = '\0';
+    check(status == 0 && same, "rodsim version: exit %d, '%.40s'", status, output);
 }
 
 int main(void)
