@@ -110,6 +110,15 @@ void fem_element_deformed_point(const fem_model *model, const fem_solution *solu
                                 int element, double xi, double scale, double *x, double *z,
                                 double *u, double *w);
 
+/* The rod's length along its elements (sum of the chords), m. */
+double fem_rod_length(const fem_model *model);
+/* The largest nodal displacement |(u, w)| (m) and rotation |theta| (rad),
+ * and their nodes (0-based); NaN when any is not finite, which the caller
+ * refuses like a too large one. */
+void fem_largest_motion(const fem_model *model, const fem_solution *solution,
+                        double *displacement, int *displacement_node, double *rotation,
+                        int *rotation_node);
+
 /* Human name of global DOF index: "w (z displacement) of node 3" (1-based node). */
 void fem_dof_name(int dof, char *out, size_t outlen);
 

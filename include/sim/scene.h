@@ -26,6 +26,10 @@
  * after reading the sections it owns itself (e.g. [render]). */
 int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen);
 
+/* -1 with a message saying to use `rodsim fem` when doc is a beam (FEM) scene
+ * (beam sections and no [rod]); 0 otherwise. */
+int scene_refuse_beam(ini_doc *doc, char *err, size_t errlen);
+
 /* Reads a load table (CSV): one header line, then rows of 2 numbers
  * (t s, factor) or 7 numbers (t s, fx fy fz N, mx my mz N m), separated by
  * commas; blank lines and '#' comments are skipped; times strictly increase.

@@ -11,7 +11,18 @@
 #include "base/outfile.h"
 #include "cli/scene_keys.h"
 
-#define FEM_MAX_ELEMENTS 100000
+/* At most this many elements ([geometry] elements, or nodes - 1), refused
+ * before anything is assembled. Why 5000: with supports at its ends only (the
+ * lab's clamped rod, a simply supported beam) the equilibrated stiffness'
+ * condition number grows like N^4 (measured: 9.8e12 at 1000 elements
+ * clamped, 2.3e14 at 4000 pinned-roller), so past a few thousand elements
+ * round-off swamps the result and the condition check below refuses it
+ * anyway; and LAPACK's estimate of so ill-conditioned a matrix (dpbcon's
+ * rescaled triangular solves) turns quadratic: 2.4 s at 1e4 elements, 28 s
+ * at 2e4, while a larger chain (7e4) fails its Cholesky on round-off and
+ * looked like a mechanism. The cubic elements are exact at the nodes for
+ * nodal loads; 5000 is far beyond what a figure or a table resolves. */
+#define FEM_MAX_ELEMENTS 5000
 #define FEM_CURVE_SAMPLES 24 /* points per element of the deformed curve */
 
 const unsigned char fem_deformed_rgb[3] = {0, 90, 200};
@@ -20,6 +31,29 @@ static const unsigned char support_rgb[3] = {60, 60, 60};
 static const unsigned char load_rgb[3] = {200, 30, 30};
 
 static const char *const support_names[] = {"clamped", "pinned", "roller", NULL};
+
+/* Accepted ranges of the inputs (SI). Wide enough for any physical rod (a
+ * nanowire to a bridge girder, a gel to beyond diamond's 1.2e12 Pa) and
+ * narrow enough that the element stiffnesses EA/L, 12EI/L^3 and the
+ * displacements stay ordinary doubles: no overflow, no underflow to zero. */
+#define FEM_YOUNGS_MIN 1.0      /* Pa */
+#define FEM_YOUNGS_MAX 1e13     /* Pa */
+#define FEM_RADIUS_MIN 1e-9     /* m */
+#define FEM_RADIUS_MAX 1e3      /* m */
+#define FEM_AREA_MIN 1e-18      /* m^2 */
+#define FEM_AREA_MAX 1e6        /* m^2 */
+#define FEM_MOMENT2_MIN 1e-40   /* m^4 */
+#define FEM_MOMENT2_MAX 1e14    /* m^4 */
+#define FEM_LENGTH_MIN 1e-6     /* m, [geometry] length */
+#define FEM_COORD_MAX 1e6       /* m, |length| and |x|, |z| of a node */
+#define FEM_LOAD_MAX 1e12       /* N per force component, N m per moment */
+/* Linear (small-deformation) theory: a displacement above this fraction of
+ * the rod's length, or a rotation above this angle, gets a warning (its
+ * neglected second-order terms, (d/L)^2 and theta^2 / 2, pass 1 % and
+ * 0.5 %); a displacement beyond the rod's whole length is refused: the linear
+ * answer means nothing there (E = 1e-300 gave 1e306 m and exit 0). */
+#define FEM_WARN_DISPLACEMENT 0.1 /* x rod length */
+#define FEM_WARN_ROTATION 0.1     /* rad */
 
 /* ---- scene ---------------------------------------------------------------- */
 
@@ -71,19 +105,42 @@ static int parse_node_list(const char *text, double *x, double *z)
     return count;
 }
 
-/* Required positive number. */
-static int read_positive(ini_doc *doc, const char *section, int index, const char *key,
-                         const char *unit, double *out, int required, char *err, size_t errlen)
+/* A number in [lo, hi] (unit for the message); required or optional.
+ * Returns 1 when given, 0 when absent and optional, -1 with a message. */
+static int read_in_range(ini_doc *doc, const char *section, int index, const char *key,
+                         const char *unit, double lo, double hi, double *out, int required,
+                         char *err, size_t errlen)
 {
     int rc = ini_get_double(doc, section, index, key, out, err, errlen);
     if (rc < 0) return -1;
     if (rc == 0)
         return required ? ini_error(doc, section, index, key, err, errlen,
-                                    "missing; give a value > 0 in %s", unit)
+                                    "missing; give a value in %g .. %g %s", lo, hi, unit)
                         : 0;
-    if (!(*out > 0))
-        return ini_error(doc, section, index, key, err, errlen, "must be > 0 %s", unit);
+    if (!(*out >= lo && *out <= hi))
+        return ini_error(doc, section, index, key, err, errlen, "accepted: %g .. %g %s", lo, hi,
+                         unit);
     return 1;
+}
+
+/* A rod scene ([rod], [solver], [tip]) given to `rodsim fem` would only say
+ * "[material] youngs_modulus: missing": say what it is instead. Decided by
+ * the sections present: no [material] and no [geometry], but a rod section. */
+static int refuse_rod_scene(ini_doc *doc, char *err, size_t errlen)
+{
+    if (ini_section_count(doc, "material") > 0 || ini_section_count(doc, "geometry") > 0)
+        return 0;
+    static const char *const rod_sections[] = {"rod", "solver", "tip"};
+    for (int i = 0; i < 3; i++)
+        if (ini_section_count(doc, rod_sections[i]) > 0) {
+            snprintf(err, errlen,
+                     "%s: this is a rod scene (it has [%s] and no [material] or [geometry]): "
+                     "simulate it with `rodsim run %s`; `rodsim fem` takes a beam scene "
+                     "([material], [geometry], [support], [load])",
+                     ini_filename(doc), rod_sections[i], ini_filename(doc));
+            return -1;
+        }
+    return 0;
 }
 
 static int read_figure(ini_doc *doc, fem_figure_options *figure, char *err, size_t errlen)
@@ -123,16 +180,20 @@ fem_model *fem_scene_read(ini_doc *doc, fem_figure_options *figure, char *err, s
 {
     fem_model *m = NULL;
     double youngs = 0, radius = 0, area = 0, second_moment = 0;
+    if (refuse_rod_scene(doc, err, errlen)) return NULL;
     /* unknown keys first, at their own line (issue 9) */
     if (ini_check_keys(doc, scene_keys_beam, err, errlen)) return NULL;
-    if (read_positive(doc, "material", 0, "youngs_modulus", "Pa", &youngs, 1, err, errlen) < 0)
+    if (read_in_range(doc, "material", 0, "youngs_modulus", "Pa", FEM_YOUNGS_MIN, FEM_YOUNGS_MAX,
+                      &youngs, 1, err, errlen) < 0)
         return NULL;
-    int has_radius = read_positive(doc, "material", 0, "radius", "m", &radius, 0, err, errlen);
+    int has_radius = read_in_range(doc, "material", 0, "radius", "m", FEM_RADIUS_MIN,
+                                   FEM_RADIUS_MAX, &radius, 0, err, errlen);
     if (has_radius < 0) return NULL;
-    int has_area = read_positive(doc, "material", 0, "area", "m^2", &area, 0, err, errlen);
+    int has_area = read_in_range(doc, "material", 0, "area", "m^2", FEM_AREA_MIN, FEM_AREA_MAX,
+                                 &area, 0, err, errlen);
     if (has_area < 0) return NULL;
-    int has_moment = read_positive(doc, "material", 0, "second_moment", "m^4", &second_moment, 0,
-                                   err, errlen);
+    int has_moment = read_in_range(doc, "material", 0, "second_moment", "m^4", FEM_MOMENT2_MIN,
+                                   FEM_MOMENT2_MAX, &second_moment, 0, err, errlen);
     if (has_moment < 0) return NULL;
     if (has_radius && (has_area || has_moment)) {
         ini_error(doc, "material", 0, has_area ? "area" : "second_moment", err, errlen,
@@ -178,8 +239,10 @@ fem_model *fem_scene_read(ini_doc *doc, fem_figure_options *figure, char *err, s
             return NULL;
         }
         if (node_count > FEM_MAX_ELEMENTS + 1) {
-            ini_error(doc, "geometry", 0, "nodes", err, errlen, "at most %d nodes",
-                      FEM_MAX_ELEMENTS + 1);
+            ini_error(doc, "geometry", 0, "nodes", err, errlen,
+                      "%d nodes; accepted: at most %d (%d elements: round-off would swamp "
+                      "a larger chain, and the cubic elements are exact at the nodes)",
+                      node_count, FEM_MAX_ELEMENTS + 1, FEM_MAX_ELEMENTS);
             return NULL;
         }
     } else {
@@ -189,13 +252,20 @@ fem_model *fem_scene_read(ini_doc *doc, fem_figure_options *figure, char *err, s
                       "or nodes = \"x1 z1, x2 z2, ...\"");
             return NULL;
         }
-        if (!(length > 0)) {
-            ini_error(doc, "geometry", 0, "length", err, errlen, "must be > 0 m");
+        if (!(length >= FEM_LENGTH_MIN && length <= FEM_COORD_MAX)) {
+            ini_error(doc, "geometry", 0, "length", err, errlen, "accepted: %g .. %g m",
+                      FEM_LENGTH_MIN, FEM_COORD_MAX);
+            return NULL;
+        }
+        if (!(fabs(angle_deg) <= 360)) {
+            ini_error(doc, "geometry", 0, "angle", err, errlen, "accepted: -360 .. 360 degrees");
             return NULL;
         }
         if (elements < 1 || elements > FEM_MAX_ELEMENTS) {
-            ini_error(doc, "geometry", 0, "elements", err, errlen, "accepted: 1 .. %d",
-                      FEM_MAX_ELEMENTS);
+            ini_error(doc, "geometry", 0, "elements", err, errlen,
+                      "accepted: 1 .. %d (round-off would swamp a larger chain, and the cubic "
+                      "elements are exact at the nodes for nodal loads: a few per member "
+                      "suffice)", FEM_MAX_ELEMENTS);
             return NULL;
         }
         if (curvature_radius != 0 && fabs(length / curvature_radius) > 2 * M_PI) {
@@ -218,9 +288,16 @@ fem_model *fem_scene_read(ini_doc *doc, fem_figure_options *figure, char *err, s
     m->youngs_modulus = youngs;
     m->area = area;
     m->second_moment = second_moment;
-    if (has_nodes)
+    if (has_nodes) {
         parse_node_list(node_text, m->x, m->z);
-    else
+        for (int i = 0; i < node_count; i++)
+            if (!(fabs(m->x[i]) <= FEM_COORD_MAX && fabs(m->z[i]) <= FEM_COORD_MAX)) {
+                ini_error(doc, "geometry", 0, "nodes", err, errlen,
+                          "node %d at (%g, %g) m; accepted: |x|, |z| <= %g m", i + 1, m->x[i],
+                          m->z[i], FEM_COORD_MAX);
+                goto fail;
+            }
+    } else
         fem_generate_nodes(length, angle_deg * M_PI / 180.0, curvature_radius, elements, m->x,
                            m->z);
     {
@@ -266,6 +343,17 @@ fem_model *fem_scene_read(ini_doc *doc, fem_figure_options *figure, char *err, s
         if (ini_get_vector(doc, "load", i, "force", m->loads[i].force, 2, err, errlen) < 0 ||
             ini_get_double(doc, "load", i, "moment", &m->loads[i].moment, err, errlen) < 0)
             goto fail;
+        const fem_load *l = &m->loads[i];
+        if (!(fabs(l->force[0]) <= FEM_LOAD_MAX && fabs(l->force[1]) <= FEM_LOAD_MAX)) {
+            ini_error(doc, "load", i, "force", err, errlen, "accepted: components within "
+                      "+-%g N", FEM_LOAD_MAX);
+            goto fail;
+        }
+        if (!(fabs(l->moment) <= FEM_LOAD_MAX)) {
+            ini_error(doc, "load", i, "moment", err, errlen, "accepted: -%g .. %g N m",
+                      FEM_LOAD_MAX, FEM_LOAD_MAX);
+            goto fail;
+        }
     }
     if (read_figure(doc, figure, err, errlen) < 0) goto fail;
     if (ini_check_unused(doc, err, errlen) != 0) goto fail;
@@ -562,6 +650,53 @@ static void usage(FILE *out)
             "Exit status: 0 done, 2 bad input or a mechanism, 1 other failure.\n");
 }
 
+/* Linear theory holds for small displacements only (see FEM_WARN_*): warns
+ * beyond them; refuses a displacement beyond the rod's length (or a
+ * non-finite one) with a message naming the largest load's file:line. */
+static int check_small_deformation(ini_doc *doc, const fem_model *m, const fem_solution *s,
+                                   char *err, size_t errlen)
+{
+    double moved, turned;
+    int moved_node, turned_node;
+    fem_largest_motion(m, s, &moved, &moved_node, &turned, &turned_node);
+    double length = fem_rod_length(m);
+    if (isfinite(moved) && moved <= length) {
+        if (moved > FEM_WARN_DISPLACEMENT * length || turned > FEM_WARN_ROTATION)
+            fprintf(stderr,
+                    "rodsim fem: warning: large deformation (displacement %.3g m at node %d = "
+                    "%.0f %% of the rod's %g m; rotation %.3g rad at node %d): linear theory "
+                    "assumes displacements << length and rotations << 1 rad, so these numbers "
+                    "are only indicative\n",
+                    moved, moved_node + 1, 100 * moved / length, length, turned, turned_node + 1);
+        return 0;
+    }
+    int largest = 0; /* the load to name: the largest force, else the largest moment */
+    double largest_size = -1;
+    for (int i = 0; i < m->load_count; i++) {
+        const fem_load *l = &m->loads[i];
+        double size = hypot(l->force[0], l->force[1]);
+        if (size == 0) size = 1e-300 * fabs(l->moment); /* forces first */
+        if (size > largest_size) largest_size = size, largest = i;
+    }
+    int by_force = m->load_count > 0 && hypot(m->loads[largest].force[0],
+                                              m->loads[largest].force[1]) > 0;
+    char what[512];
+    if (isfinite(moved))
+        snprintf(what, sizeof what, "the largest displacement, %.3g m at node %d, exceeds the "
+                 "rod's length (%g m)", moved, moved_node + 1, length);
+    else
+        snprintf(what, sizeof what, "the displacement at node %d is not finite", moved_node + 1);
+    if (m->load_count == 0) { /* cannot happen: no load moves nothing */
+        snprintf(err, errlen, "%s: %s", ini_filename(doc), what);
+        return -1;
+    }
+    return ini_error(doc, "load", largest, by_force ? "force" : "moment", err, errlen,
+                     "%s: far outside linear (small-deformation) beam theory; reduce the loads "
+                     "or stiffen the rod ([material] youngs_modulus = %g Pa, A = %g m^2, "
+                     "I = %g m^4)",
+                     what, m->youngs_modulus, m->area, m->second_moment);
+}
+
 int fem_command(int argc, char **argv)
 {
     const char *scene_path = NULL, *csv_path = NULL, *md_path = NULL, *png_path = NULL;
@@ -669,9 +804,29 @@ int fem_command(int argc, char **argv)
                         "a relative round-off error of about %.1g; fewer elements would be more "
                         "accurate\n", solution->condition_number, roundoff);
 
+    if (check_small_deformation(doc, model, solution, err, sizeof err)) {
+        status = 2;
+        goto done;
+    }
+
     char scene_name[256];
     ini_scene_name(doc, scene_name, sizeof scene_name);
     double scale = options.scale > 0 ? options.scale : fem_auto_scale(model, solution);
+    {
+        /* a scale that draws the deformation far larger than the structure
+         * (1e308: infinite coordinates) shows nothing: refuse it */
+        double moved, turned, extent = structure_extent(model);
+        int moved_node, turned_node;
+        fem_largest_motion(model, solution, &moved, &moved_node, &turned, &turned_node);
+        if (options.scale > 0 && moved > 0 && !(scale * moved <= 10 * extent)) {
+            ini_error(doc, "plot", 0, "scale", err, sizeof err,
+                      "draws the largest displacement (%.3g m) %.3g m long, over 10 x the "
+                      "structure's size (%g m); accepted: auto, or at most %.3g here",
+                      moved, scale * moved, extent, 10 * extent / moved);
+            status = 2;
+            goto done;
+        }
+    }
     printf("rodsim fem: %s: %d nodes, %d elements, E = %g Pa, A = %.6g m^2, I = %.6g m^4\n"
            "condition number of the (equilibrated) stiffness: %.3g\n\n",
            scene_path, model->node_count, model->node_count - 1, model->youngs_modulus,

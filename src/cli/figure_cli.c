@@ -5,8 +5,10 @@
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include "cli/print_commands.h"
 #include "study/figure.h"
 #include "base/outfile.h"
 
@@ -138,30 +140,40 @@ static int select_figures(const char *name, const figure_def **out, int *n)
     return 0;
 }
 
-/* This program's path, for command lines that run elsewhere. */
-static void self_path(char *out, size_t outlen)
+/* Every line runs as printed, from any directory and with any PATH: the
+ * binary and the directories by absolute paths, quoted for /bin/sh. */
+static int print_commands(const figure_def *const *figs, int n, const figure_args *a)
 {
-    ssize_t n = readlink("/proc/self/exe", out, outlen - 1);
-    if (n <= 0) snprintf(out, outlen, "rodsim");
-    else out[n] = '\0';
-}
-
-static void print_commands(const figure_def *const *figs, int n, const figure_args *a)
-{
-    char self[PATH_MAX];
-    self_path(self, sizeof self);
+    char self[PATH_MAX], out_dir[PATH_MAX], err[PATH_MAX + 128], path[PATH_MAX + 300];
+    if (cli_self_path(self, sizeof self, err, sizeof err) ||
+        cli_absolute_path(a->out_dir, out_dir, sizeof out_dir, err, sizeof err)) {
+        fprintf(stderr, "rodsim figure: %s\n", err);
+        return EXIT_FAILURE_;
+    }
     const char *quick = a->quick ? " --quick" : "";
     printf("# rodsim figure %s: one independent command per point (run them in any order, in\n"
            "# parallel: grep -v '^#' FILE | parallel; Slurm array: line $SLURM_ARRAY_TASK_ID),\n"
            "# then the '# assemble:' line(s) at the end, which draw from their CSVs.\n",
            a->name);
     for (int k = 0; k < n; k++)
-        for (int i = 0; i < figure_point_count(figs[k], a->quick); i++)
-            printf("%s figure %s --point %d --csv %s/points/%s-%d.csv%s\n", self,
-                   figure_name(figs[k]), i, a->out_dir, figure_name(figs[k]), i, quick);
-    for (int k = 0; k < n; k++)
-        printf("# assemble: %s figure %s --from %s/points --out %s%s\n", self,
-               figure_name(figs[k]), a->out_dir, a->out_dir, quick);
+        for (int i = 0; i < figure_point_count(figs[k], a->quick); i++) {
+            cli_print_shell_word(stdout, self);
+            printf(" figure %s --point %d --csv ", figure_name(figs[k]), i);
+            snprintf(path, sizeof path, "%s/points/%s-%d.csv", out_dir, figure_name(figs[k]), i);
+            cli_print_shell_word(stdout, path);
+            printf("%s\n", quick);
+        }
+    for (int k = 0; k < n; k++) {
+        printf("# assemble: ");
+        cli_print_shell_word(stdout, self);
+        printf(" figure %s --from ", figure_name(figs[k]));
+        snprintf(path, sizeof path, "%s/points", out_dir);
+        cli_print_shell_word(stdout, path);
+        printf(" --out ");
+        cli_print_shell_word(stdout, out_dir);
+        printf("%s\n", quick);
+    }
+    return fflush(stdout) ? EXIT_FAILURE_ : EXIT_OK;
 }
 
 /* --point K --csv FILE: one point, written atomically (or to stdout). */
@@ -219,15 +231,22 @@ int figure_command(int argc, char **argv)
         figure_usage(stderr);
         return EXIT_USAGE;
     }
-    if (a.print_commands) {
-        print_commands(figs, n, &a);
-        return fflush(stdout) ? EXIT_FAILURE_ : EXIT_OK;
-    }
+    if (a.print_commands) return print_commands(figs, n, &a);
     if (a.point >= 0) return compute_one(figs[0], &a);
 
     figure_points points[64];
     int status = EXIT_OK;
     if (a.from_dir) {
+        /* the points' CSVs are the user's input: a missing directory, a
+         * missing or malformed file is bad input (exit 2) */
+        struct stat info;
+        if (stat(a.from_dir, &info) != 0 || !S_ISDIR(info.st_mode)) {
+            fprintf(stderr, "rodsim figure: --from %s: %s; give the directory holding "
+                            "NAME-K.csv (what the --print-commands lines wrote)\n",
+                    a.from_dir, stat(a.from_dir, &info) != 0 ? strerror(errno)
+                                                             : "not a directory");
+            return EXIT_USAGE;
+        }
         for (int k = 0; k < n; k++) figure_points_init(&points[k], figs[k]);
         for (int k = 0; k < n && status == EXIT_OK; k++) {
             for (int i = 0; i < figure_point_count(figs[k], a.quick); i++) {
@@ -235,7 +254,7 @@ int figure_command(int argc, char **argv)
                 snprintf(path, sizeof path, "%s/%s-%d.csv", a.from_dir, figure_name(figs[k]), i);
                 if (figure_points_read_csv(figs[k], path, &points[k], err, sizeof err)) {
                     fprintf(stderr, "rodsim figure: %s\n", err);
-                    status = EXIT_FAILURE_;
+                    status = EXIT_USAGE;
                     break;
                 }
             }

@@ -11,6 +11,15 @@
 #include "cli/scene_keys.h"
 #include "cli/stability_cli.h"
 #include "cli/validate_cli.h"
+#include "cli/version.h"
+
+static int version_command(int argc, char **argv)
+{
+    (void)argc;
+    (void)argv;
+    printf("rodsim %s\n", RODSIM_VERSION);
+    return 0;
+}
 
 typedef struct command {
     const char *name;
@@ -25,11 +34,13 @@ static const command commands[] = {
     {"stability", stability_command, "largest stable dt per scheme at the extremes; table, map"},
     {"figure", figure_command, "regenerate the thesis' figures (parallel sweeps) as PNG plots"},
     {"validate", validate_command, "run the validation cases: errors, orders of convergence"},
+    {"version", version_command, "print rodsim's version (also rodsim --version)"},
 };
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: rodsim COMMAND [options]   (rodsim COMMAND --help for its options)\n\n"
+    fprintf(f, "usage: rodsim COMMAND [options]   (rodsim COMMAND --help for its options)\n"
+               "       rodsim --version\n\n"
                "commands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].summary);
@@ -75,6 +86,8 @@ int main(int argc, char **argv)
         return 0;
     }
     if (strcmp(argv[1], "help") == 0) return help(argc, argv);
+    if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "-V") == 0)
+        return version_command(argc - 1, argv + 1);
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
         if (strcmp(argv[1], commands[i].name) == 0) {
             outfile_install_signal_cleanup();

@@ -49,7 +49,7 @@ int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_
 {
     /* unknown keys first, at their own line (issue 9): a misspelt required
      * key would otherwise be reported as a missing one */
-    if (ini_check_keys(doc, scene_keys_rod, err, errlen)) {
+    if (scene_refuse_beam(doc, err, errlen) || ini_check_keys(doc, scene_keys_rod, err, errlen)) {
         *m = rod_model_default();
         return -1;
     }

@@ -6,15 +6,19 @@
 #include "cli/validate_cli.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <signal.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "base/outfile.h"
+#include "cli/print_commands.h"
 #include "study/validate.h"
 
 enum { max_list = 64, max_points = 4096 };
@@ -168,6 +172,7 @@ static void run_parallel(plan *p, int jobs, int table, int *printed)
     pid_t pids[64];
     int pipes[64], slot_point[64];
     int running = 0, next = 0;
+    pid_t parent = getpid();
     for (int j = 0; j < jobs; j++) pids[j] = 0;
     while (next < p->count || running > 0) {
         while (next < p->count && p->done[next]) next++;
@@ -180,7 +185,16 @@ static void run_parallel(plan *p, int jobs, int table, int *printed)
                 fflush(stdout);
                 pid = fork();
                 if (pid == 0) {
+                    /* a worker dies with its parent (SIGTERM or kill -9 of the
+                     * parent): it belongs to its process group, and
+                     * PR_SET_PDEATHSIG covers what no handler can */
+                    prctl(PR_SET_PDEATHSIG, SIGKILL);
+                    if (getppid() != parent) _exit(1);
+                    signal(SIGINT, SIG_DFL);
+                    signal(SIGTERM, SIG_DFL);
                     close(fd[0]);
+                    for (int i = 0; i < jobs; i++) /* other workers' pipes */
+                        if (pids[i]) close(pipes[i]);
                     validate_row row;
                     run_point(&p->points[next], &row);
                     ssize_t n = write(fd[1], &row, sizeof row); /* < PIPE_BUF: one write */
@@ -437,6 +451,25 @@ int validate_command(int argc, char **argv)
             }
         }
     }
+    /* A --dt far from the case's own (1e-300 or 1e300) made a step count
+     * that overflows, or a run of 0 steps reported "ok" with its initial
+     * value: accept 1e-6 .. 100 x the case's default dt (a finer dt is
+     * refused by the run's own step limit as a row; a coarser one leaves
+     * the frequency cases fewer than 20 steps per period). */
+    for (int k = 0; k < p->count && dt_count > 0; k++) {
+        const point *pt = &p->points[k];
+        if (pt->precomputed) continue;
+        const char *name = names[pt->case_index];
+        double reference_dt = validate_default_dt(name, pt->scheme, pt->nodes);
+        if (reference_dt > 0.0 && !(pt->dt >= 1e-6 * reference_dt && pt->dt <= 100 * reference_dt)) {
+            fprintf(stderr, "rodsim validate: --dt %g: for case %s, scheme %s, NS %d accepted: "
+                            "%.3g .. %.3g s (1e-6 .. 100 x its default dt, %.3g s)\n",
+                    pt->dt, name, rod_scheme_get(pt->scheme)->name, pt->nodes,
+                    1e-6 * reference_dt, 100 * reference_dt, reference_dt);
+            free(p);
+            return 2;
+        }
+    }
     if (too_many) {
         fprintf(stderr, "rodsim validate: more than %d runs asked for; give fewer --case, "
                         "--scheme, --nodes or --dt\n", max_points);
@@ -446,21 +479,34 @@ int validate_command(int argc, char **argv)
 
     if (print_commands) {
         /* one independent command line per point (a cluster user runs them with
-         * GNU parallel or a job array); each prints its CSV row with a header */
+         * GNU parallel or a job array); each prints its CSV row with a header.
+         * The binary by its absolute path: a bare `rodsim` is not on a node's
+         * PATH. A point that does not apply (no NS) is asked for by case and
+         * scheme alone, which prints its n/a row. */
+        char self[PATH_MAX], err[PATH_MAX + 128];
+        if (cli_self_path(self, sizeof self, err, sizeof err)) {
+            fprintf(stderr, "rodsim validate: %s\n", err);
+            free(p);
+            return 1;
+        }
         printf("# %d points; each line is one run. Concatenate their CSV output (one header)\n"
                "# for the table; the orders of convergence need the whole set, as\n"
                "# `rodsim validate` with the same options prints them.\n", p->count);
         for (int k = 0; k < p->count; k++) {
             const point *pt = &p->points[k];
             const char *name = validate_case_names()[pt->case_index];
-            double dt = pt->dt > 0.0 ? pt->dt : validate_default_dt(name, pt->scheme, pt->nodes);
-            printf("rodsim validate --case %s --scheme %s --nodes %d",
-                   name, rod_scheme_get(pt->scheme)->name, pt->nodes);
-            if (dt > 0.0) printf(" --dt %.17g", dt);
+            cli_print_shell_word(stdout, self);
+            printf(" validate --case %s --scheme %s", name, rod_scheme_get(pt->scheme)->name);
+            if (!pt->precomputed) {
+                double dt =
+                    pt->dt > 0.0 ? pt->dt : validate_default_dt(name, pt->scheme, pt->nodes);
+                printf(" --nodes %d", pt->nodes);
+                if (dt > 0.0) printf(" --dt %.17g", dt);
+            }
             printf(" --csv - > validate_point_%03d.csv\n", k);
         }
         free(p);
-        return 0;
+        return fflush(stdout) ? 1 : 0;
     }
 
     int table = !(csv && strcmp(csv, "-") == 0);

@@ -132,6 +132,31 @@ double fem_element_stiffness_global(const fem_model *model, int element, double 
     return L;
 }
 
+double fem_rod_length(const fem_model *m)
+{
+    double length = 0, c, s;
+    for (int e = 0; e + 1 < m->node_count; e++) length += element_axis(m, e, &c, &s);
+    return length;
+}
+
+void fem_largest_motion(const fem_model *m, const fem_solution *sol, double *displacement,
+                        int *displacement_node, double *rotation, int *rotation_node)
+{
+    *displacement = *rotation = 0;
+    *displacement_node = *rotation_node = 0;
+    for (int i = 0; i < m->node_count; i++) {
+        const double *d = &sol->displacement[i * FEM_DOFS_PER_NODE];
+        double moved = hypot(d[0], d[1]), turned = fabs(d[2]);
+        if (!isfinite(moved) || !isfinite(turned)) {
+            *displacement = *rotation = NAN;
+            *displacement_node = *rotation_node = i;
+            return;
+        }
+        if (moved > *displacement) *displacement = moved, *displacement_node = i;
+        if (turned > *rotation) *rotation = turned, *rotation_node = i;
+    }
+}
+
 void fem_dof_name(int dof, char *out, size_t outlen)
 {
     static const char *const names[FEM_DOFS_PER_NODE] = {

@@ -253,11 +253,30 @@ static int read_ends_physics(ini_doc *doc, rod_model *m, char *err, size_t errle
     return 0;
 }
 
+/* A beam (FEM) scene given to `rodsim run` would only say "[rod] length:
+ * missing": say what it is instead. Decided by the sections present: no
+ * [rod] but one of the beam's. Counted only when [rod] is absent, so a rod
+ * scene's list of accepted sections stays its own. */
+int scene_refuse_beam(ini_doc *doc, char *err, size_t errlen)
+{
+    if (ini_section_count(doc, "rod") > 0) return 0;
+    static const char *const beam_sections[] = {"material", "geometry", "support", "load"};
+    for (int i = 0; i < 4; i++)
+        if (ini_section_count(doc, beam_sections[i]) > 0) {
+            snprintf(err, errlen,
+                     "%s: this is a beam (FEM) scene (it has [%s] and no [rod]): solve it with "
+                     "`rodsim fem %s`; `rodsim run` takes a rod scene ([rod], [solver], [tip])",
+                     ini_filename(doc), beam_sections[i], ini_filename(doc));
+            return -1;
+        }
+    return 0;
+}
+
 int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     *m = rod_model_default();
     double gravity[3] = {0.0, 0.0, 0.0}; /* m/s^2 */
-    if (read_rod(doc, m, err, errlen) || read_solver(doc, m, err, errlen) ||
+    if (scene_refuse_beam(doc, err, errlen) || read_rod(doc, m, err, errlen) || read_solver(doc, m, err, errlen) ||
         read_tip(doc, m, err, errlen) || read_loads(doc, m, gravity, err, errlen) ||
         read_ends_physics(doc, m, err, errlen))
         goto fail;

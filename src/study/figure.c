@@ -4,9 +4,11 @@
 
 #include <errno.h>
 #include <math.h>
+#include <poll.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -1026,14 +1028,10 @@ int figure_points_write_csv(const figure_def *f, const figure_points *points, FI
     return ferror(out) ? -1 : 0;
 }
 
-int figure_points_read_csv(const figure_def *f, const char *path, figure_points *points,
-                           char *err, size_t errlen)
+/* Rows from an open stream; `path` names it in messages. */
+static int read_csv_stream(const figure_def *f, FILE *in, const char *path,
+                           figure_points *points, char *err, size_t errlen)
 {
-    FILE *in = fopen(path, "r");
-    if (!in) {
-        snprintf(err, errlen, "%s: cannot read: %s", path, strerror(errno));
-        return -1;
-    }
     char line[4096];
     int line_number = 0, rc = 0;
     double values[64];
@@ -1069,36 +1067,82 @@ int figure_points_read_csv(const figure_def *f, const char *path, figure_points 
             rc = -1;
         }
     }
+    return rc;
+}
+
+int figure_points_read_csv(const figure_def *f, const char *path, figure_points *points,
+                           char *err, size_t errlen)
+{
+    FILE *in = fopen(path, "r");
+    if (!in) {
+        snprintf(err, errlen, "%s: cannot read: %s", path, strerror(errno));
+        return -1;
+    }
+    int rc = read_csv_stream(f, in, path, points, err, errlen);
     fclose(in);
     return rc;
 }
 
 /* ---- parallel sweep ------------------------------------------------------------ */
 
+/* The workers send their rows back through a pipe, as CSV text: no
+ * temporary directory, so nothing is left behind on any exit path, kill -9
+ * included (the old /tmp/rodsim-figure-* directory was, and ignored $TMPDIR). */
 typedef struct sweep_task {
     int figure; /* index into figs */
     int point;
     pid_t pid;  /* 0: not started; -1: finished */
-    char path[OUTFILE_PATH_MAX];
+    int fd;     /* read end of the worker's pipe; -1 when closed */
+    char *text; /* the worker's CSV, as received */
+    size_t length, capacity;
 } sweep_task;
 
-/* In the child: compute the point, write its CSV, exit. Never returns. */
-static void run_child(const figure_def *f, const sweep_task *t, int quick)
+/* In the child: compute the point, write its CSV into the pipe, exit. A
+ * worker belongs to its parent's process group (a Ctrl-C reaches both) and
+ * dies with its parent: PR_SET_PDEATHSIG covers SIGTERM and kill -9 of the
+ * parent, which cannot run any cleanup. Never returns. */
+static void run_child(const figure_def *f, const sweep_task *t, int quick, int fd,
+                      pid_t parent)
 {
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(1); /* the parent died before prctl */
+    signal(SIGINT, SIG_DFL);           /* the parent's handler cleans the parent's files */
+    signal(SIGTERM, SIG_DFL);
     char err[1024] = "";
     figure_points rows;
     figure_points_init(&rows, f);
     int rc = figure_compute_point(f, t->point, quick, &rows, err, sizeof err);
     if (rc == 0) {
-        FILE *out = fopen(t->path, "w");
+        FILE *out = fdopen(fd, "w");
         rc = !out || figure_points_write_csv(f, &rows, out) ? -1 : 0;
         if (out && fclose(out)) rc = -1;
-        if (rc) snprintf(err, sizeof err, "cannot write the point's CSV in %.900s", t->path);
+        if (rc) snprintf(err, sizeof err, "cannot send the point's rows to the parent");
     }
     if (rc) fprintf(stderr, "rodsim figure %s: point %d: %s\n", f->name, t->point, err);
     figure_points_release(&rows);
     fflush(NULL);
     _exit(rc ? 1 : 0);
+}
+
+/* Reads what the worker of task t has sent; closes the pipe at its end.
+ * Returns -1 when out of memory. */
+static int receive(sweep_task *t)
+{
+    if (t->capacity - t->length < 4096) {
+        size_t capacity = t->capacity ? 2 * t->capacity : 16384;
+        char *grown = realloc(t->text, capacity);
+        if (!grown) return -1;
+        t->text = grown;
+        t->capacity = capacity;
+    }
+    ssize_t n = read(t->fd, t->text + t->length, t->capacity - t->length - 1);
+    if (n > 0) {
+        t->length += (size_t)n;
+    } else if (n == 0 || errno != EINTR) {
+        close(t->fd);
+        t->fd = -1;
+    }
+    return 0;
 }
 
 int figure_sweep(const figure_def *const *figs, int n, int quick, int jobs, FILE *log,
@@ -1129,11 +1173,13 @@ int figure_sweep(const figure_def *const *figs, int n, int quick, int jobs, FILE
     }
 
     sweep_task *tasks = calloc((size_t)total, sizeof *tasks);
-    char dir[] = "/tmp/rodsim-figure-XXXXXX";
-    if (!tasks || !mkdtemp(dir)) {
-        snprintf(err, errlen, tasks ? "cannot create a temporary directory: %s" : "out of memory",
-                 strerror(errno));
+    struct pollfd *polls = calloc((size_t)total, sizeof *polls);
+    int *polled = calloc((size_t)total, sizeof *polled); /* task of each pollfd */
+    if (!tasks || !polls || !polled) {
+        snprintf(err, errlen, "out of memory");
         free(tasks);
+        free(polls);
+        free(polled);
         return -1;
     }
     int t = 0;
@@ -1141,36 +1187,73 @@ int figure_sweep(const figure_def *const *figs, int n, int quick, int jobs, FILE
         for (int i = 0; i < figure_point_count(figs[k], quick); i++, t++) {
             tasks[t].figure = k;
             tasks[t].point = i;
-            snprintf(tasks[t].path, sizeof tasks[t].path, "%s/%s-%d.csv", dir, figs[k]->name, i);
+            tasks[t].fd = -1;
         }
 
+    pid_t self = getpid();
     int next = 0, running = 0, done = 0, failed = -1;
     while (done < total && !(failed >= 0 && running == 0)) {
         while (failed < 0 && running < jobs && next < total) {
-            fflush(NULL); /* the child must not repeat the parent's buffered output */
-            pid_t pid = fork();
-            if (pid == 0) run_child(figs[tasks[next].figure], &tasks[next], quick);
-            if (pid < 0) {
+            int fd[2];
+            if (pipe(fd) != 0) {
                 if (running == 0) {
-                    snprintf(err, errlen, "cannot start a process: %s", strerror(errno));
+                    snprintf(err, errlen, "cannot make a pipe: %s", strerror(errno));
                     failed = next;
                 }
                 break; /* try again when one finishes */
             }
+            fflush(NULL); /* the child must not repeat the parent's buffered output */
+            pid_t pid = fork();
+            if (pid == 0) {
+                close(fd[0]);
+                for (int i = 0; i < next; i++) /* other workers' pipes */
+                    if (tasks[i].fd >= 0) close(tasks[i].fd);
+                run_child(figs[tasks[next].figure], &tasks[next], quick, fd[1], self);
+            }
+            close(fd[1]);
+            if (pid < 0) {
+                close(fd[0]);
+                if (running == 0) {
+                    snprintf(err, errlen, "cannot start a process: %s", strerror(errno));
+                    failed = next;
+                }
+                break;
+            }
+            tasks[next].fd = fd[0];
             tasks[next++].pid = pid;
             running++;
         }
         if (running == 0) break;
-        int status;
-        pid_t pid = waitpid(-1, &status, 0);
-        if (pid < 0) {
-            if (errno == EINTR) continue;
-            snprintf(err, errlen, "waiting for the point processes: %s", strerror(errno));
-            failed = failed >= 0 ? failed : 0;
-            break;
+        /* drain every open pipe (a worker blocks when its pipe is full), then
+         * reap the workers whose pipes have closed */
+        int watched = 0;
+        for (int i = 0; i < next; i++)
+            if (tasks[i].fd >= 0) {
+                polls[watched] = (struct pollfd){.fd = tasks[i].fd, .events = POLLIN};
+                polled[watched++] = i;
+            }
+        if (watched > 0) {
+            if (poll(polls, (nfds_t)watched, -1) < 0) {
+                if (errno == EINTR) continue;
+                snprintf(err, errlen, "waiting for the point processes: %s", strerror(errno));
+                failed = failed >= 0 ? failed : 0;
+                break;
+            }
+            int out_of_memory = 0;
+            for (int w = 0; w < watched; w++)
+                if (polls[w].revents) out_of_memory |= receive(&tasks[polled[w]]);
+            if (out_of_memory) {
+                snprintf(err, errlen, "out of memory for the points' rows");
+                failed = failed >= 0 ? failed : 0;
+                break;
+            }
         }
         for (int i = 0; i < next; i++) {
-            if (tasks[i].pid != pid) continue;
+            if (tasks[i].pid <= 0 || tasks[i].fd >= 0) continue;
+            int status;
+            pid_t pid;
+            while ((pid = waitpid(tasks[i].pid, &status, 0)) < 0 && errno == EINTR) {}
+            if (pid < 0) status = 1 << 8; /* already gone: count it as failed */
             tasks[i].pid = -1;
             running--;
             done++;
@@ -1189,15 +1272,35 @@ int figure_sweep(const figure_def *const *figs, int n, int quick, int jobs, FILE
             }
         }
     }
-    /* collect in point order, then clean up */
+    /* a failure or an error above: stop the workers still running */
+    for (int i = 0; i < next; i++) {
+        if (tasks[i].pid > 0) {
+            kill(tasks[i].pid, SIGKILL);
+            while (waitpid(tasks[i].pid, NULL, 0) < 0 && errno == EINTR) {}
+        }
+        if (tasks[i].fd >= 0) close(tasks[i].fd);
+    }
+    /* collect in point order */
     int rc = failed >= 0 ? -1 : 0;
     for (int i = 0; i < total; i++) {
-        if (rc == 0)
-            rc = figure_points_read_csv(figs[tasks[i].figure], tasks[i].path,
-                                        &out[tasks[i].figure], err, errlen);
-        unlink(tasks[i].path);
+        if (rc == 0) {
+            char name[256];
+            snprintf(name, sizeof name, "figure %s, point %d (from its process)",
+                     figs[tasks[i].figure]->name, tasks[i].point);
+            FILE *in = tasks[i].length ? fmemopen(tasks[i].text, tasks[i].length, "r") : NULL;
+            if (!in) {
+                snprintf(err, errlen, "%s: no rows received", name);
+                rc = -1;
+            } else {
+                rc = read_csv_stream(figs[tasks[i].figure], in, name, &out[tasks[i].figure], err,
+                                     errlen);
+                fclose(in);
+            }
+        }
+        free(tasks[i].text);
     }
-    rmdir(dir);
     free(tasks);
+    free(polls);
+    free(polled);
     return rc;
 }

@@ -14,6 +14,7 @@
 #include "sim/recording.h"
 #include "sim/rod.h"
 #include "cli/run.h"
+#include "cli/version.h"
 #include "test.h"
 #include "test_process.h"
 
@@ -273,6 +274,32 @@ static void test_run_loop(void)
     rod_model_release(&m);
 }
 
+/* ---- issue 9 (scene kinds, version) ---------------------------------------- */
+
+/* A beam (FEM) scene given to `rodsim run` said "[rod] length: missing": it
+ * must say it is a beam scene and name `rodsim fem`. `rodsim --version` and
+ * `rodsim version` print the version of include/cli/version.h. */
+static void test_issue9_scene_kind_and_version(void)
+{
+    expect_rejected("a beam scene given to run",
+                    "[material]\nyoungs_modulus = 100e6\nradius = 0.05\n[geometry]\nlength = 2\n"
+                    "[support]\nnode = 1\ntype = clamped\n",
+                    NULL, "this is a beam (FEM) scene", "rodsim fem");
+    char output[4096], expected[64];
+    snprintf(expected, sizeof expected, "rodsim %s\n", RODSIM_VERSION);
+    const char *dashed[] = {"--version", NULL};
+    int status = test_run_rodsim(dashed, output, sizeof output);
+    int same = strcmp(output, expected) == 0;
+    output[strcspn(output, "\n")] = '\0';
+    check(status == 0 && same, "rodsim --version: exit %d, prints '%.40s' (want 'rodsim %s')",
+          status, output, RODSIM_VERSION);
+    const char *word[] = {"version", NULL};
+    status = test_run_rodsim(word, output, sizeof output);
+    same = strcmp(output, expected) == 0;
+    output[strcspn(output, "\n")] = '\0';
+    check(status == 0 && same, "rodsim version: exit %d, '%.40s'", status, output);
+}
+
 int main(void)
 {
     test_run_loop();
@@ -283,6 +310,7 @@ int main(void)
     test_bad_scenes();
     test_csv_end_to_end();
     test_unstable_writes_nothing();
+    test_issue9_scene_kind_and_version();
     test_remove_tree(tmp_dir);
     return test_finish();
 }

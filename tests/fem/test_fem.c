@@ -346,7 +346,7 @@ static void test_command_errors(void)
     expect_bad_input("negative E",
                      "[material]\nyoungs_modulus = -5\nradius = 0.05\n" ROD_GEOMETRY
                      "[support]\nnode = 1\ntype = clamped\n",
-                     "scene.ini:2:", "must be > 0");
+                     "scene.ini:2:", "accepted: 1 .. 1e+13 Pa");
     expect_bad_input("zero radius",
                      "[material]\nyoungs_modulus = 1e8\nradius = 0\n" ROD_GEOMETRY
                      "[support]\nnode = 1\ntype = clamped\n",
@@ -354,13 +354,80 @@ static void test_command_errors(void)
     expect_bad_input("unknown key",
                      ROD_MATERIAL ROD_GEOMETRY "[support]\nnode = 1\ntype = clamped\nstiff = 1\n",
                      "scene.ini:11:", "stiff");
-    expect_bad_input("20000 elements (round-off would swamp the result)",
-                     ROD_MATERIAL "[geometry]\nlength = 2\nelements = 20000\n"
+    /* cond ~ 10 N^4 = 3.9e14 for a clamped rod: round-off about 4 % */
+    expect_bad_input("2500 elements (round-off would swamp the result)",
+                     ROD_MATERIAL "[geometry]\nlength = 2\nelements = 2500\n"
                      "[support]\nnode = 1\ntype = clamped\n",
                      "ill-conditioned", "use fewer elements");
     expect_bad_input("unknown support type",
                      ROD_MATERIAL ROD_GEOMETRY "[support]\nnode = 1\ntype = glued\n",
                      "scene.ini:10:", "clamped | pinned | roller");
+}
+
+#define CLAMP "[support]\nnode = 1\ntype = clamped\n"
+
+/* Issue 9: a huge mesh is refused by its size, before any assembly (it was
+ * called a mechanism, or cost seconds of condition estimate); absurd or
+ * non-finite inputs name file:line; a result outside linear theory is
+ * refused or warned about; a rod scene says it is one. */
+static void test_command_limits(void)
+{
+    char out[4096];
+    /* the library's measures of the result: a 30 degree cantilever of 2 m */
+    fem_model *m = cantilever(4, 30.0, 0.0, -20.0, 0.0);
+    fem_solution *s = m ? solve(m) : NULL;
+    if (s) {
+        double moved, turned;
+        int moved_node, turned_node;
+        fem_largest_motion(m, s, &moved, &moved_node, &turned, &turned_node);
+        double EI = lab_youngs * m->second_moment, area = m->area, c = cos(30 * DEG);
+        /* transverse P cos a L^3 / 3EI and axial P sin a L / EA, at the tip */
+        double transverse = 20 * c * 8 / (3 * EI), axial = 20 * 0.5 * 2 / (lab_youngs * area);
+        check_rel("rod length along the elements = 2 m", fem_rod_length(m), 2.0, 1e-14);
+        check(moved_node == 4 && turned_node == 4, "largest motion at the tip (node %d, %d)",
+              moved_node + 1, turned_node + 1);
+        check_rel("largest displacement = tip |d|", moved, hypot(transverse, axial), 1e-9);
+        check_rel("largest rotation = P cos a L^2 / 2EI", turned, 20 * c * 4 / (2 * EI), 1e-9);
+    }
+    fem_solution_destroy(s);
+    fem_model_destroy(m);
+
+    int status = run_fem(ROD_MATERIAL "[geometry]\nlength = 2\nelements = 70000\n" CLAMP TIP_LOAD,
+                         "--no-png", out, sizeof out);
+    check(status == 2 && strstr(out, "scene.ini:6:") && strstr(out, "elements") &&
+              strstr(out, "1 .. 5000") && !strstr(out, "mechanism"),
+          "70000 elements: exit %d, refused by size naming scene.ini:6 elements and 1 .. 5000, "
+          "not a mechanism: '%.200s'", status, out);
+    expect_bad_input("E = 1e-300", "[material]\nyoungs_modulus = 1e-300\nradius = 0.05\n"
+                     ROD_GEOMETRY CLAMP TIP_LOAD, "scene.ini:2:", "accepted: 1 .. 1e+13 Pa");
+    expect_bad_input("force 1e308", ROD_MATERIAL ROD_GEOMETRY CLAMP
+                     "[load]\nnode = 5\nforce = 0 1e308\n", "scene.ini:13:", "force");
+    expect_bad_input("moment 1e308", ROD_MATERIAL ROD_GEOMETRY CLAMP
+                     "[load]\nnode = 5\nmoment = -1e308\n", "scene.ini:13:", "moment");
+    expect_bad_input("radius 1e-300", "[material]\nyoungs_modulus = 1e8\nradius = 1e-300\n"
+                     ROD_GEOMETRY CLAMP TIP_LOAD, "scene.ini:3:", "radius");
+    expect_bad_input("length 1e300", ROD_MATERIAL "[geometry]\nlength = 1e300\n" CLAMP
+                     TIP_LOAD, "scene.ini:5:", "length");
+    expect_bad_input("node at 1e300 m", ROD_MATERIAL "[geometry]\nnodes = 0 0, 1e300 0\n" CLAMP,
+                     "scene.ini:5:", "nodes");
+    /* E = 1e6 Pa: tip deflection P L^3 / 3EI = 20 x 8 / (3e6 x 4.909e-6) = 10.9 m > 2 m */
+    expect_bad_input("a 10.9 m deflection of a 2 m rod",
+                     "[material]\nyoungs_modulus = 1e6\nradius = 0.05\n" ROD_GEOMETRY CLAMP
+                     TIP_LOAD, "scene.ini:13: [load] force", "exceeds the rod's length");
+    /* E = 1e7 Pa: 1.09 m, 54 % of the length: solved, with a warning */
+    status = run_fem("[material]\nyoungs_modulus = 1e7\nradius = 0.05\n" ROD_GEOMETRY CLAMP
+                     TIP_LOAD, "--no-png", out, sizeof out);
+    check(status == 0 && strstr(out, "warning: large deformation") && strstr(out, "54 %"),
+          "a 1.09 m deflection of a 2 m rod: exit %d (expected 0) with a warning naming 54 %%",
+          status);
+    status = run_fem(ROD_MATERIAL ROD_GEOMETRY CLAMP TIP_LOAD, "--no-png", out, sizeof out);
+    check(status == 0 && !strstr(out, "warning"),
+          "the lab's 5 %% deflection: exit %d, no warning", status);
+    /* 20 N on the lab rod: 0.109 m at the tip, drawn 1e307 times larger */
+    expect_bad_input("plot scale 1e308", ROD_MATERIAL ROD_GEOMETRY CLAMP TIP_LOAD
+                     "[plot]\nscale = 1e308\n", "scene.ini:15:", "scale");
+    expect_bad_input("a rod scene", "[rod]\nlength = 1\n[solver]\nscheme = implicit\n",
+                     "this is a rod scene", "rodsim run");
 }
 
 /* The binary's CSV tip deflection and the PNG's size. */
@@ -473,6 +540,7 @@ int main(void)
     snprintf(temp_dir, sizeof temp_dir, "/tmp/rodsim_test_fem_XXXXXX");
     if (check(mkdtemp(temp_dir) != NULL, "temporary directory %s", temp_dir)) {
         test_command_errors();
+        test_command_limits();
         test_command_outputs();
         test_figure_tip();
         char scene[128];

@@ -3,9 +3,11 @@
  * those computed serially, bit for bit; the --print-commands lines, run by the
  * shell, reproduce the points and the assemble line draws the figure; bad
  * usage exits 2. */
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,6 +16,8 @@
 #include "study/reference.h"
 #include "sim/rod.h"
 #include "test.h"
+#include "test_process.h"
+#include "test_workers.h"
 
 static char temp_dir[64];
 
@@ -246,7 +250,83 @@ static void test_usage(void)
     check(run_shell(command) == 2, "--jobs 0: exit 2");
     snprintf(command, sizeof command, "%s figure table2 --quick --from %s/nothing 2>/dev/null",
              RODSIM_BIN, temp_dir);
-    check(run_shell(command) == 1, "--from a directory without the points: exit 1");
+    check(run_shell(command) == 2, "--from a directory that does not exist: exit 2 (bad input)");
+}
+
+/* ---- issue 9: workers, temporaries, printed commands ------------------------- */
+
+/* The sweep's workers die with the parent, on SIGTERM and on kill -9 (which
+ * runs no cleanup), and nothing is left in $TMPDIR or in the output
+ * directory. The full impulse point computes for seconds, so a worker that
+ * does not die with its parent is still running at the deadline. */
+static void test_workers_die_with_parent(void)
+{
+    const int signals[2] = {SIGTERM, SIGKILL};
+    for (int k = 0; k < 2; k++) {
+        char tmp[128], out[128];
+        snprintf(tmp, sizeof tmp, "%s/tmpdir-XXXXXX", temp_dir);
+        if (!check(mkdtemp(tmp) != NULL, "a $TMPDIR for the sweep")) return;
+        snprintf(out, sizeof out, "%s/killed-out", temp_dir);
+        const char *args[] = {"figure", "impulse", "--jobs", "2", "--out", out, NULL};
+        worker_kill_result r;
+        test_kill_parent_of_workers(args, tmp, signals[k], 10, &r);
+        const char *name = signals[k] == SIGTERM ? "SIGTERM" : "kill -9";
+        check(r.workers >= 1 && r.killed == r.workers && r.ended == 0 && r.survived == 0,
+              "figure --jobs 2, %s to the parent: %d worker(s) running, %d died with it "
+              "(SIGKILL), %d ran on and ended, %d still running 10 s later",
+              name, r.workers, r.killed, r.ended, r.survived);
+        int left = test_dir_entries(tmp), written = test_dir_entries(out);
+        check(left == 0 && written <= 0,
+              "figure, %s: nothing left in $TMPDIR (%d entries) nor in --out (%d)", name, left,
+              written);
+        if (signals[k] == SIGTERM && WIFEXITED(r.parent_status))
+            printf("     note: the parent's exit status after SIGTERM: %d (128 + 15 = 143 is "
+                   "the convention; it is outfile.c's handler that decides)\n",
+                   WEXITSTATUS(r.parent_status));
+        test_remove_tree(tmp);
+        test_remove_tree(out);
+    }
+}
+
+/* --print-commands with a relative --out: each printed line runs as printed
+ * from another directory, without rodsim on PATH, and writes where the
+ * assemble line reads. */
+static void test_print_commands_run_anywhere(void)
+{
+    char command[2400], list_path[128], elsewhere[128];
+    snprintf(list_path, sizeof list_path, "%s/relative-commands.txt", temp_dir);
+    snprintf(elsewhere, sizeof elsewhere, "%s/elsewhere", temp_dir);
+    mkdir(elsewhere, 0777);
+    snprintf(command, sizeof command,
+             "cd %s && %s figure buckling-length --quick --print-commands --out 'rel out' > %s",
+             temp_dir, RODSIM_BIN, list_path);
+    if (!check(run_shell(command) == 0, "--print-commands --out 'rel out' exits 0")) return;
+    FILE *in = fopen(list_path, "r");
+    char line[1024];
+    int points = 0, ran = 0;
+    while (in && fgets(line, sizeof line, in)) {
+        if (line[0] == '#') continue;
+        line[strcspn(line, "\n")] = '\0';
+        points++;
+        snprintf(command, sizeof command, "cd %s && env -i PATH=/nonexistent /bin/sh -c \"%s\"",
+                 elsewhere, line);
+        ran += run_shell(command) == 0;
+    }
+    if (in) fclose(in);
+    int found = 0;
+    for (int k = 0; k < points; k++) {
+        char path[256];
+        snprintf(path, sizeof path, "%s/rel out/points/buckling-length-%d.csv", temp_dir, k);
+        found += access(path, R_OK) == 0;
+    }
+    check(points == 3 && ran == 3 && found == 3 && test_dir_entries(elsewhere) == 0,
+          "printed lines run from another directory without PATH: %d of %d exit 0, %d CSVs "
+          "under the --out given when printing, %d files where they ran", ran, points, found,
+          test_dir_entries(elsewhere));
+    snprintf(command, sizeof command, "%s/rel out", temp_dir);
+    test_remove_tree(command);
+    rmdir(elsewhere);
+    unlink(list_path);
 }
 
 int main(void)
@@ -264,6 +344,8 @@ int main(void)
     test_buckling_values();
     for (int k = 0; k < MAX_FIGURES; k++) figure_points_release(&serial_points[k]);
     test_usage();
+    test_workers_die_with_parent();
+    test_print_commands_run_anywhere();
     rmdir(temp_dir);
     return test_finish();
 }

@@ -3,6 +3,7 @@
  * (independent of reference.c); the order fit on an exact power law; and
  * `rodsim validate` (RODSIM_BIN): header and rows, CSV, bad usage exit 2. */
 #include <fcntl.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,6 +14,7 @@
 #include "sim/rod.h"
 #include "test.h"
 #include "test_process.h"
+#include "test_workers.h"
 #include "study/validate.h"
 
 /* table 1: EI = E pi d^4/64 = 87.5e6 x 4.9087e-14 = 4.29515e-6 N m^2 */
@@ -144,6 +146,105 @@ static void test_not_applicable(void)
     }
 }
 
+/* Runs `line` with /bin/sh in `dir`, PATH emptied of everything (as a node
+ * of a cluster would have no rodsim on it). Returns the exit status. */
+static int run_shell_line(const char *line, const char *dir)
+{
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) {
+        char *const env[] = {"PATH=/nonexistent", NULL};
+        if (chdir(dir) != 0) _exit(126);
+        execle("/bin/sh", "sh", "-c", line, (char *)NULL, env);
+        _exit(127);
+    }
+    int status = 0;
+    if (pid < 0 || waitpid(pid, &status, 0) != pid) return -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/* Issue 9: --print-commands wrote a bare `rodsim` (command not found under
+ * GNU parallel) and `--nodes 0` for the points that do not apply (exit 2).
+ * Every printed line must run as printed, from another directory, without
+ * rodsim on PATH: exit 0, and its CSV holds the header and one row of its
+ * case. The set holds a not-applicable point (buckling_axial, implicit). */
+static void test_print_commands_run_anywhere(void)
+{
+    static char output[65536];
+    const char *print[] = {"validate", "--case", "full_circle", "--case", "buckling_axial",
+                           "--scheme", "static", "--scheme", "implicit", "--nodes", "11",
+                           "--nodes", "21", "--print-commands", NULL};
+    int status = test_run_rodsim(print, output, sizeof output);
+    char self[PATH_MAX] = "";
+    if (!realpath(RODSIM_BIN, self)) snprintf(self, sizeof self, "%s", RODSIM_BIN);
+    char dir[] = "/tmp/rodsim_print_commands_XXXXXX";
+    if (!check(mkdtemp(dir) != NULL, "scratch directory for the printed commands")) return;
+    int lines = 0, ran = 0, absolute = 0, no_zero = 1, rows_ok = 0;
+    for (char *line = strtok(output, "\n"); line; line = strtok(NULL, "\n")) {
+        if (line[0] == '#') continue;
+        lines++;
+        absolute += strncmp(line, self, strlen(self)) == 0 && line[strlen(self)] == ' ';
+        no_zero &= strstr(line, "--nodes 0") == NULL;
+        int k = lines - 1;
+        int rc = run_shell_line(line, dir);
+        ran += rc == 0;
+        if (rc != 0) printf("     line %d exit %d: %s\n", k, rc, line);
+        char path[128], text[4096] = "";
+        snprintf(path, sizeof path, "%s/validate_point_%03d.csv", dir, k);
+        FILE *f = fopen(path, "r");
+        size_t got = f ? fread(text, 1, sizeof text - 1, f) : 0;
+        text[got] = '\0';
+        if (f) fclose(f);
+        const char *name = k < 4 ? "\nfull_circle," : "\nbuckling_axial,";
+        int newlines = 0;
+        for (const char *c = text; *c; c++) newlines += *c == '\n';
+        rows_ok += strncmp(text, "case,scheme,", 12) == 0 && strstr(text, name) && newlines == 2;
+        unlink(path);
+    }
+    rmdir(dir);
+    check(status == 0 && lines == 7 && absolute == 7 && no_zero,
+          "--print-commands: exit %d, %d lines (want 7: 2 x 2 NS x 2 schemes, n/a once), %d "
+          "start with the binary's absolute path %s, no --nodes 0: %s",
+          status, lines, absolute, self, no_zero ? "yes" : "no");
+    check(ran == 7 && rows_ok == 7,
+          "each printed line runs as printed by /bin/sh elsewhere without PATH: %d of 7 exit 0, "
+          "%d of 7 CSVs hold the header and one row of their case", ran, rows_ok);
+}
+
+/* Issue 9: --jobs workers die with their parent (SIGTERM, kill -9), rather
+ * than computing on for nobody (the thesis scheme's second bending frequency
+ * at NS = 21 takes seconds: 192000 steps). */
+/* Issue 9, the same class: --dt 1e-300 overflowed the step count and printed
+ * an "ok" row of -9223372036854775808 steps; --dt 1e300 ran 0 steps, "ok". */
+static void test_absurd_dt(void)
+{
+    static char output[8192];
+    const char *values[2] = {"1e-300", "1e300"};
+    for (int k = 0; k < 2; k++) {
+        const char *args[] = {"validate", "--case", "bending_frequency_1", "--scheme", "implicit",
+                              "--nodes", "11", "--dt", values[k], NULL};
+        int status = test_run_rodsim(args, output, sizeof output);
+        check(status == 2 && strstr(output, "accepted") && strstr(output, "default dt"),
+              "validate --dt %s: exit %d (want 2), names the accepted range", values[k], status);
+    }
+}
+
+static void test_workers_die_with_parent(void)
+{
+    const int signals[2] = {SIGTERM, SIGKILL};
+    for (int k = 0; k < 2; k++) {
+        const char *args[] = {"validate", "--case", "bending_frequency_2", "--scheme", "thesis",
+                              "--nodes", "21", "--jobs", "2", NULL};
+        worker_kill_result r;
+        test_kill_parent_of_workers(args, NULL, signals[k], 30, &r);
+        check(r.workers >= 1 && r.killed == r.workers && r.ended == 0 && r.survived == 0,
+              "validate --jobs 2, %s to the parent: %d worker(s) running, %d died with it "
+              "(SIGKILL), %d ran on and ended, %d still running 30 s later",
+              signals[k] == SIGTERM ? "SIGTERM" : "kill -9", r.workers, r.killed, r.ended,
+              r.survived);
+    }
+}
+
 static void test_cli(void)
 {
     static char output[65536];
@@ -164,32 +265,7 @@ static void test_cli(void)
     check(status == 0 && strncmp(output, "case,scheme,nodes,dt,computed,reference", 39) == 0 &&
               strstr(output, "\nfull_circle,static,11,"),
           "rodsim validate --csv -: exit %d, CSV header and row", status);
-    /* --print-commands: one line per point; running a line gives that point's row */
-    const char *print[] = {"validate", "--case", "full_circle", "--scheme", "static", "--nodes",
-                           "11", "--nodes", "21", "--print-commands", NULL};
-    status = test_run_rodsim(print, output, sizeof output);
-    int lines = 0;
-    for (char *line = output; (line = strstr(line, "\nrodsim validate --case full_circle ")); line++)
-        lines++;
-    char *first = strstr(output, "\nrodsim validate ");
-    check(status == 0 && lines == 2 && first, "--print-commands: exit %d, %d command lines (want 2)",
-          status, lines);
-    if (first) {
-        /* run the first line's arguments (up to "--csv -") through the binary */
-        char command[512];
-        snprintf(command, sizeof command, "%s", first + 8); /* skip "\nrodsim " */
-        char *cut = strstr(command, " > ");
-        if (cut) *cut = '\0';
-        const char *args[32];
-        int n = 0;
-        for (char *tok = strtok(command, " \n"); tok && n < 31; tok = strtok(NULL, " \n"))
-            args[n++] = tok;
-        args[n] = NULL;
-        static char point_output[8192];
-        status = test_run_rodsim(args, point_output, sizeof point_output);
-        check(status == 0 && strstr(point_output, "\nfull_circle,static,11,") != NULL,
-              "a printed command, run, gives the point's CSV row (exit %d)", status);
-    }
+    test_print_commands_run_anywhere();
     const char *bad_case[] = {"validate", "--case", "tip_load_huge", NULL};
     status = test_run_rodsim(bad_case, output, sizeof output);
     check(status == 2 && strstr(output, "unknown case") && strstr(output, "tip_load_small"),
@@ -211,5 +287,7 @@ int main(void)
     test_frequency_rows();
     test_not_applicable();
     test_cli();
+    test_absurd_dt();
+    test_workers_die_with_parent();
     return test_finish();
 }
