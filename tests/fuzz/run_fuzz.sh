@@ -1,7 +1,9 @@
 #!/bin/sh
 # Runs each libFuzzer harness build/fuzz/bin/fuzz_NAME for SECONDS on a copy of
-# its seed corpus tests/fuzz/corpus/NAME/ (new inputs go to a temporary folder,
-# never into the git tree). Each harness counts as one test: it passes when
+# its seed corpus: the edge cases in tests/fuzz/corpus/NAME/, plus the shipped
+# scenes/*.ini (rod scenes for NAME = scene, beam scenes with [material] for
+# fem_scene), so the seeds follow the scenes. New inputs go to a temporary
+# folder, never into the git tree. Each harness counts as one test: it passes when
 # libFuzzer ran out its time without a crash, a sanitizer report, a leak, a
 # timeout (one input > 10 s) or an out-of-memory (> 2048 MB). A failing input is
 # kept in BUILD_DIR/crashes/NAME/ and printed with the command that replays it.
@@ -22,6 +24,11 @@ for bin in "$build"/bin/fuzz_*; do
     work=$(mktemp -d "${TMPDIR:-/tmp}/rodsim-fuzz.XXXXXX")
     mkdir -p "$work/corpus" "$work/tmp"
     [ -d "$seeds" ] && cp "$seeds"/* "$work/corpus/" 2>/dev/null
+    for scene in scenes/*.ini; do
+        if grep -q '^\[material\]' "$scene"; then kind=fem_scene; else kind=scene; fi
+        [ "$kind" = "${name#fuzz_}" ] && cp "$scene" "$work/corpus/"
+    done
+    seeds_n=$(ls "$work/corpus" | wc -l)
     dict=tests/fuzz/${name#fuzz_}.dict
     [ -f "$dict" ] && dict_opt="-dict=$dict" || dict_opt=""
     TMPDIR="$work/tmp" "$bin" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
@@ -30,7 +37,6 @@ for bin in "$build"/bin/fuzz_*; do
     status=$?
     runs=$(grep -E '^stat::number_of_executed_units' "$work/log" | awk '{print $2}')
     cov=$(grep -E '#[0-9]+[[:space:]]+DONE' "$work/log" | sed -n 's/.*cov: \([0-9]*\).*/\1/p' | tail -n 1)
-    seeds_n=$(ls "$seeds" 2>/dev/null | wc -l)
     found=$(ls "$work"/crash-* "$work"/leak-* "$work"/timeout-* "$work"/oom-* 2>/dev/null | head -n 1)
     if [ "$status" -eq 0 ] && [ -z "$found" ]; then
         echo "PASS $name: ${runs:-?} inputs in $seconds s from $seeds_n seeds, coverage ${cov:-?} edges, no crash"
