@@ -5,7 +5,7 @@ CC      ?= cc
 PKGS    := osmesa libpng freetype2 libavcodec libavformat libswscale libavutil lapacke
 DEBS    := build-essential pkg-config libosmesa6-dev libpng-dev libfreetype-dev fonts-dejavu-core \
            libavcodec-dev libavformat-dev libswscale-dev libavutil-dev liblapacke-dev liblapack-dev \
-           libblas-dev
+           libblas-dev clang libclang-rt-dev
 WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes
 CFLAGS  ?= -O3 -g
 ALL_CFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(EXTRA_CFLAGS) -Iinclude \
@@ -27,7 +27,7 @@ TEST_BIN:= $(patsubst tests/%.c,$(BUILD)/tests/%,$(TESTS))
 BENCHES := $(wildcard tests/bench/bench_*.c)
 BENCH_BIN := $(patsubst tests/%.c,$(BUILD)/tests/%,$(BENCHES))
 
-.PHONY: all deps rodsim tests test test-release test-asan demo bench figures readme clean
+.PHONY: all deps rodsim tests test test-release test-asan fuzz fuzzers demo bench figures readme clean
 .DEFAULT_GOAL := all
 
 all: rodsim
@@ -75,6 +75,27 @@ test-release:
 test-asan:
 	@$(MAKE) --no-print-directory BUILD=build/asan CFLAGS="$(SAN_FLAGS)" LDFLAGS="-fsanitize=address,undefined" tests
 	@sh tests/run_tests.sh build/asan
+
+# Fuzzing (make test runs it): each parser's libFuzzer harness, tests/fuzz/fuzz_NAME.c,
+# runs FUZZ_SECONDS on a copy of tests/fuzz/corpus/NAME/ under ASan + UBSan. The
+# library is built with clang into build/fuzz (coverage for libFuzzer); clang and its
+# libFuzzer come from the Debian packages clang and libclang-rt-dev (DEBS).
+FUZZ_SECONDS ?= 30
+FUZZ_CFLAGS := -O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer \
+               -fno-sanitize-recover=undefined
+FUZZERS := $(patsubst tests/fuzz/%.c,build/fuzz/bin/%,$(wildcard tests/fuzz/fuzz_*.c))
+
+fuzzers:
+	@$(MAKE) --no-print-directory BUILD=build/fuzz CC=clang CFLAGS="$(FUZZ_CFLAGS)" \
+	  LDFLAGS="-fsanitize=address,undefined" build/fuzz/librodsim.a $(FUZZERS)
+
+build/fuzz/bin/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz.h build/fuzz/librodsim.a
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -Itests/fuzz -fsanitize=fuzzer,address,undefined -o $@ $< \
+	  build/fuzz/librodsim.a $(LDLIBS)
+
+fuzz: fuzzers
+	@sh tests/fuzz/run_fuzz.sh build/fuzz $(FUZZ_SECONDS)
 
 bench: deps
 	@$(MAKE) --no-print-directory BUILD=build/release rodsim $(patsubst tests/%.c,build/release/tests/%,$(BENCHES))

@@ -1,15 +1,17 @@
 #!/bin/sh
 # The README's test command (make test): builds and runs every test twice,
 # in the release build and under AddressSanitizer + UndefinedBehaviorSanitizer,
-# then prints one closing line "N passed, N failed" over both.
+# then fuzzes each parser for FUZZ_SECONDS (make fuzz: one test per parser),
+# and prints one closing line "N passed, N failed" over all three.
 cd "$(dirname "$0")/.." || exit 1
 status=0
-rm -f build/release/summary build/asan/summary
+rm -f build/release/summary build/asan/summary build/fuzz/summary
 make --no-print-directory test-release || status=1
 make --no-print-directory test-asan || status=1
+make --no-print-directory fuzz || status=1
 passed=0
 failed=0
-for flavour in release asan; do
+for flavour in release asan fuzz; do
     summary=build/$flavour/summary
     if [ -f "$summary" ]; then
         passed=$((passed + $(cut -d' ' -f1 "$summary")))

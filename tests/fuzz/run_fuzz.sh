@@ -1,0 +1,64 @@
+#!/bin/sh
+# Runs each libFuzzer harness build/fuzz/bin/fuzz_NAME for SECONDS on a copy of
+# its seed corpus: the edge cases in tests/fuzz/corpus/NAME/, plus the shipped
+# scenes/*.ini (rod scenes for NAME = scene, beam scenes with [material] for
+# fem_scene), so the seeds follow the scenes. New inputs go to a temporary
+# folder, never into the git tree. Each harness counts as one test: it passes when
+# libFuzzer ran out its time without a crash, a sanitizer report, a leak, a
+# timeout (one input > 10 s) or an out-of-memory (> 2048 MB). A failing input is
+# kept in BUILD_DIR/crashes/NAME/ and printed with the command that replays it.
+# Ends with "N passed, N failed", also written to BUILD_DIR/summary.
+# usage: tests/fuzz/run_fuzz.sh BUILD_DIR SECONDS
+build=$1
+seconds=${2:-30}
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp:print_suppressions=0"
+passed=0
+failed=0
+for bin in "$build"/bin/fuzz_*; do
+    [ -x "$bin" ] || continue
+    name=$(basename "$bin")
+    seeds=tests/fuzz/corpus/${name#fuzz_}
+    echo "== fuzz/$name"
+    work=$(mktemp -d "${TMPDIR:-/tmp}/rodsim-fuzz.XXXXXX")
+    mkdir -p "$work/corpus" "$work/tmp"
+    [ -d "$seeds" ] && cp "$seeds"/* "$work/corpus/" 2>/dev/null
+    for scene in scenes/*.ini; do
+        if grep -q '^\[material\]' "$scene"; then kind=fem_scene; else kind=scene; fi
+        [ "$kind" = "${name#fuzz_}" ] && cp "$scene" "$work/corpus/"
+    done
+    seeds_n=$(ls "$work/corpus" | wc -l)
+    dict=tests/fuzz/${name#fuzz_}.dict
+    [ -f "$dict" ] && dict_opt="-dict=$dict" || dict_opt=""
+    TMPDIR="$work/tmp" "$bin" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+        -print_final_stats=1 -artifact_prefix="$work/" $dict_opt "$work/corpus" \
+        >"$work/log" 2>&1
+    status=$?
+    runs=$(grep -E '^stat::number_of_executed_units' "$work/log" | awk '{print $2}')
+    cov=$(grep -E '#[0-9]+[[:space:]]+DONE' "$work/log" | sed -n 's/.*cov: \([0-9]*\).*/\1/p' | tail -n 1)
+    found=$(ls "$work"/crash-* "$work"/leak-* "$work"/timeout-* "$work"/oom-* 2>/dev/null | head -n 1)
+    if [ "$status" -eq 0 ] && [ -z "$found" ]; then
+        echo "PASS $name: ${runs:-?} inputs in $seconds s from $seeds_n seeds, coverage ${cov:-?} edges, no crash"
+        passed=$((passed + 1))
+    else
+        tail -n 60 "$work/log"
+        if [ -n "$found" ]; then
+            mkdir -p "$build/crashes/$name"
+            cp "$found" "$build/crashes/$name/"
+            kept="$build/crashes/$name/$(basename "$found")"
+            echo "FAIL $name: libFuzzer exit status $status; reproducer $kept (replay: $bin $kept)"
+        else
+            echo "FAIL $name: libFuzzer exit status $status, no reproducer written"
+        fi
+        failed=$((failed + 1))
+    fi
+    rm -rf "$work"
+done
+if [ $((passed + failed)) -eq 0 ]; then
+    echo "FAIL fuzz: no harness in $build/bin"
+    failed=1
+fi
+echo "== fuzz: $passed passed, $failed failed"
+echo "$passed passed, $failed failed" >"$build/summary"
+[ "$failed" -eq 0 ]
