@@ -2,7 +2,12 @@
 # both first install any missing Debian package (see `make deps`).
 
 CC      ?= cc
+# Headers of every package; the binary links only LINK_PKGS: OSMesa and
+# libav* are opened at run time when something is drawn (gl_context.c,
+# video.c; ~40 ms of every start otherwise). TEST_PKGS: tests that decode video.
 PKGS    := osmesa libpng freetype2 libavcodec libavformat libswscale libavutil lapacke
+LINK_PKGS := libpng freetype2 lapacke
+TEST_PKGS := libavcodec libavformat libswscale libavutil
 DEBS    := build-essential pkg-config libosmesa6-dev libpng-dev libfreetype-dev fonts-dejavu-core \
            libavcodec-dev libavformat-dev libswscale-dev libavutil-dev liblapacke-dev liblapack-dev \
            libblas-dev
@@ -10,7 +15,8 @@ WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes
 CFLAGS  ?= -O3 -g
 ALL_CFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(EXTRA_CFLAGS) -Iinclude \
              $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
-LDLIBS  = $(shell pkg-config --libs $(PKGS) 2>/dev/null) -llapack -lblas -lpthread -lm
+LDLIBS  = $(shell pkg-config --libs $(LINK_PKGS) 2>/dev/null) -llapack -lblas -ldl -lpthread -lm
+TEST_LDLIBS = $(shell pkg-config --libs $(TEST_PKGS) 2>/dev/null)
 LDFLAGS ?=
 
 # Build flavours: release (default) and asan (AddressSanitizer + UBSan).
@@ -75,7 +81,7 @@ $(BUILD)/obj/gen/%.o: $(BUILD)/gen/%.c $(HEADERS) Makefile
 # Tests (not the program) may read the source tree: RODSIM_SOURCE_DIR.
 $(BUILD)/tests/%: tests/%.c $(wildcard tests/*.h) $(BUILD)/librodsim.a $(BUILD)/rodsim
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -Itests -DRODSIM_SOURCE_DIR='"$(CURDIR)"' -DRODSIM_BIN='"$(CURDIR)/$(BUILD)/rodsim"' $(LDFLAGS) -o $@ $< $(BUILD)/librodsim.a $(LDLIBS)
+	$(CC) $(ALL_CFLAGS) -Itests -DRODSIM_SOURCE_DIR='"$(CURDIR)"' -DRODSIM_BIN='"$(CURDIR)/$(BUILD)/rodsim"' $(LDFLAGS) -o $@ $< $(BUILD)/librodsim.a $(TEST_LDLIBS) $(LDLIBS)
 
 tests: $(TEST_BIN)
 

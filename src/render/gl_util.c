@@ -1,14 +1,12 @@
 /* gl_util.c: shader programs and offscreen targets (see gl_util.h). */
-#define GL_GLEXT_PROTOTYPES
 #include "render/gl_util.h"
 
-#include <GL/gl.h>
-#include <GL/glext.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/embedded.h"
+#include "render/gl_api.h"
 
 /* The shaders are compiled into the binary (base/embedded.h), so it renders
  * wherever it is installed. For shader development, RODSIM_SHADER_DIR=dir
