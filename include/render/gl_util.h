@@ -1,4 +1,4 @@
-/* gl_util.h: the GL layer's helpers: shader programs from files and a
+/* gl_util.h: the GL layer's helpers: shader programs and a
  * multisampled offscreen render target. Needs a current context
  * (gl_context.h). Only gl_*.c files include GL headers; this header does not. */
 #ifndef RODSIM_GL_UTIL_H
@@ -8,13 +8,11 @@
 
 #include "render/image.h"
 
-/* Compiles and links shaders/NAME.vert and shaders/NAME.frag. The directory
- * is $RODSIM_SHADER_DIR when set, else RODSIM_SOURCE_DIR/shaders (set by the
- * Makefile). Returns the program name (> 0), or 0 with a message naming the
- * file and the GLSL compiler's log. */
+/* Compiles and links shaders/NAME.vert and shaders/NAME.frag, as compiled
+ * into the binary, or as files in $RODSIM_SHADER_DIR when that is set (for
+ * shader development). Returns the program name (> 0), or 0 with a message
+ * naming the file and the GLSL compiler's log. */
 unsigned gl_program_load(const char *name, char *err, size_t errlen);
-/* Directory the shaders are read from. */
-const char *gl_shader_dir(void);
 
 typedef struct gl_target gl_target;
 

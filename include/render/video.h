@@ -1,6 +1,8 @@
 /* video.h: H.264 MP4 writer (libx264 through libavcodec, MP4 through
  * libavformat, RGB to yuv420p (BT.709) by hand, only where a frame changed
- * since the one before). The only module that includes libav*. The file is written under a temporary name and renamed
+ * since the one before). The only module that includes libav*; it opens
+ * them (dlopen) at the first video_writer_create, so a program that writes
+ * no video never loads them. The file is written under a temporary name and renamed
  * by video_writer_finish(); destroying an unfinished writer removes it. */
 #ifndef RODSIM_VIDEO_H
 #define RODSIM_VIDEO_H
@@ -13,7 +15,8 @@ typedef struct video_writer video_writer;
 
 /* path: the final .mp4 name. width and height must be even (yuv420p).
  * crf: 0..51; preset: an x264 preset name ("veryfast"), NULL for "veryfast".
- * The MP4 gets +faststart (index first: plays while downloading). */
+ * The MP4 gets +faststart (index first: plays while downloading). NULL with
+ * a message on failure (a missing libav* library: named, with its package). */
 video_writer *video_writer_create(const char *path, int width, int height, int fps, int crf,
                                   const char *preset, char *err, size_t errlen);
 /* Encodes one frame (same size as the writer). 0, or -1 with a message. */

@@ -1,12 +1,10 @@
 /* gl_plot.c: flat triangles in pixel space for the plot module (see gl_plot.h). */
-#define GL_GLEXT_PROTOTYPES
 #include "plot/gl_plot.h"
 
-#include <GL/gl.h>
-#include <GL/glext.h>
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "render/gl_api.h"
 #include "render/gl_context.h"
 #include "render/gl_util.h"
 

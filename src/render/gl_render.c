@@ -1,14 +1,12 @@
 /* gl_render.c: the renderer's GL layer (see gl_render.h). */
-#define GL_GLEXT_PROTOTYPES
 #include "render/gl_render.h"
 
-#include <GL/gl.h>
-#include <GL/glext.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "render/gl_api.h"
 #include "render/gl_context.h"
 #include "render/gl_util.h"
 

@@ -1,26 +1,17 @@
 /* gl_util.c: shader programs and offscreen targets (see gl_util.h). */
-#define GL_GLEXT_PROTOTYPES
 #include "render/gl_util.h"
 
-#include <GL/gl.h>
-#include <GL/glext.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#ifndef RODSIM_SOURCE_DIR
-#define RODSIM_SOURCE_DIR "."
-#endif
+#include "base/embedded.h"
+#include "render/gl_api.h"
 
-const char *gl_shader_dir(void)
-{
-    static char dir[1024];
-    const char *env = getenv("RODSIM_SHADER_DIR");
-    if (env && *env) return env;
-    snprintf(dir, sizeof dir, "%s/shaders", RODSIM_SOURCE_DIR);
-    return dir;
-}
-
+/* The shaders are compiled into the binary (base/embedded.h), so it renders
+ * wherever it is installed. For shader development, RODSIM_SHADER_DIR=dir
+ * reads dir/NAME.vert and dir/NAME.frag instead, at every program load:
+ * edit shaders/ and rerun, without rebuilding. */
 static char *read_text_file(const char *path)
 {
     FILE *fp = fopen(path, "rb");
@@ -41,14 +32,33 @@ static char *read_text_file(const char *path)
     return text;
 }
 
-static GLuint compile_shader(GLenum kind, const char *path, char *err, size_t errlen)
+/* The source of shader file `file` ("scene.vert"), into *path a name for
+ * messages; free it with free(). NULL with a message when there is none. */
+static char *shader_source(const char *file, char *path, size_t pathlen, char *err, size_t errlen)
 {
-    char *source = read_text_file(path);
-    if (!source) {
-        snprintf(err, errlen, "%s: cannot read shader (set RODSIM_SHADER_DIR to the shaders/ "
-                              "directory)", path);
-        return 0;
+    const char *dir = getenv("RODSIM_SHADER_DIR");
+    if (dir && *dir) {
+        snprintf(path, pathlen, "%s/%s", dir, file);
+        char *text = read_text_file(path);
+        if (!text) snprintf(err, errlen, "%s: cannot read shader (from RODSIM_SHADER_DIR)", path);
+        return text;
     }
+    snprintf(path, pathlen, "shaders/%s", file);
+    const char *text = embedded_text(path);
+    char *copy = text ? malloc(strlen(text) + 1) : NULL;
+    if (!copy) {
+        snprintf(err, errlen, text ? "gl: out of memory" : "%s: no such shader in the binary",
+                 path);
+        return NULL;
+    }
+    return strcpy(copy, text);
+}
+
+static GLuint compile_shader(GLenum kind, const char *file, char *path, size_t pathlen, char *err,
+                             size_t errlen)
+{
+    char *source = shader_source(file, path, pathlen, err, errlen);
+    if (!source) return 0;
     GLuint shader = glCreateShader(kind);
     const char *sources[1] = {source};
     glShaderSource(shader, 1, sources, NULL);
@@ -68,12 +78,14 @@ static GLuint compile_shader(GLenum kind, const char *path, char *err, size_t er
 
 unsigned gl_program_load(const char *name, char *err, size_t errlen)
 {
-    char vert_path[1200], frag_path[1200];
-    snprintf(vert_path, sizeof vert_path, "%s/%s.vert", gl_shader_dir(), name);
-    snprintf(frag_path, sizeof frag_path, "%s/%s.frag", gl_shader_dir(), name);
-    GLuint vert = compile_shader(GL_VERTEX_SHADER, vert_path, err, errlen);
+    char vert_file[256], frag_file[256], vert_path[1200], frag_path[1200];
+    snprintf(vert_file, sizeof vert_file, "%s.vert", name);
+    snprintf(frag_file, sizeof frag_file, "%s.frag", name);
+    GLuint vert = compile_shader(GL_VERTEX_SHADER, vert_file, vert_path, sizeof vert_path, err,
+                                 errlen);
     if (!vert) return 0;
-    GLuint frag = compile_shader(GL_FRAGMENT_SHADER, frag_path, err, errlen);
+    GLuint frag = compile_shader(GL_FRAGMENT_SHADER, frag_file, frag_path, sizeof frag_path, err,
+                                 errlen);
     if (!frag) {
         glDeleteShader(vert);
         return 0;

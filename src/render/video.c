@@ -14,6 +14,7 @@
 #include <libavformat/avformat.h>
 #include <libavutil/opt.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,6 +22,134 @@
 #include <time.h>
 
 #include "base/outfile.h"
+#include "render/dynlib.h"
+
+/* ---- libav* opened when the first video is made (dlopen), not linked ----
+ * Linked, libavcodec/libavformat (and their codecs' libraries) were loaded
+ * and relocated at every start of the program, writing video or not. The
+ * headers still give the types and constants; each function the writer
+ * calls is a pointer in the table `av`, named as the function (the
+ * #defines below), typed as its header declares (checked at compile time). */
+
+/* X(library, return type, name, parameters) */
+#define AV_FUNCTIONS(X)                                                                     \
+    X(AVUTIL, int, av_strerror, (int errnum, char *errbuf, size_t errbuf_size))             \
+    X(AVUTIL, void, av_log_set_level, (int level))                                          \
+    X(AVUTIL, AVFrame *, av_frame_alloc, (void))                                            \
+    X(AVUTIL, int, av_frame_get_buffer, (AVFrame *frame, int align))                        \
+    X(AVUTIL, int, av_frame_make_writable, (AVFrame *frame))                                \
+    X(AVUTIL, void, av_frame_free, (AVFrame **frame))                                       \
+    X(AVUTIL, int, av_opt_set, (void *obj, const char *name, const char *val, int flags))   \
+    X(AVUTIL, int, av_opt_set_int, (void *obj, const char *name, int64_t val, int flags))   \
+    X(AVUTIL, int, av_dict_set, (AVDictionary **pm, const char *key, const char *value,     \
+                                 int flags))                                                \
+    X(AVUTIL, void, av_dict_free, (AVDictionary **m))                                       \
+    X(AVCODEC, const AVCodec *, avcodec_find_encoder_by_name, (const char *name))           \
+    X(AVCODEC, AVCodecContext *, avcodec_alloc_context3, (const AVCodec *codec))            \
+    X(AVCODEC, int, avcodec_open2, (AVCodecContext *avctx, const AVCodec *codec,            \
+                                    AVDictionary **options))                                \
+    X(AVCODEC, int, avcodec_parameters_from_context, (AVCodecParameters *par,               \
+                                                      const AVCodecContext *codec))         \
+    X(AVCODEC, int, avcodec_send_frame, (AVCodecContext *avctx, const AVFrame *frame))      \
+    X(AVCODEC, int, avcodec_receive_packet, (AVCodecContext *avctx, AVPacket *avpkt))       \
+    X(AVCODEC, void, avcodec_free_context, (AVCodecContext **avctx))                        \
+    X(AVCODEC, AVPacket *, av_packet_alloc, (void))                                         \
+    X(AVCODEC, void, av_packet_free, (AVPacket **pkt))                                      \
+    X(AVCODEC, void, av_packet_rescale_ts, (AVPacket *pkt, AVRational src, AVRational dst)) \
+    X(AVFORMAT, int, avformat_alloc_output_context2, (AVFormatContext **ctx,                \
+                                                      const AVOutputFormat *oformat,        \
+                                                      const char *format_name,              \
+                                                      const char *filename))                \
+    X(AVFORMAT, AVStream *, avformat_new_stream, (AVFormatContext *s, const AVCodec *c))    \
+    X(AVFORMAT, int, avio_open, (AVIOContext **s, const char *url, int flags))              \
+    X(AVFORMAT, int, avio_closep, (AVIOContext **s))                                        \
+    X(AVFORMAT, int, avformat_write_header, (AVFormatContext *s, AVDictionary **options))   \
+    X(AVFORMAT, int, av_interleaved_write_frame, (AVFormatContext *s, AVPacket *pkt))       \
+    X(AVFORMAT, int, av_write_trailer, (AVFormatContext *s))                                \
+    X(AVFORMAT, void, avformat_free_context, (AVFormatContext *s))
+
+#define AV_MEMBER(lib, ret, name, params) ret(*name) params;
+static struct {
+    AV_FUNCTIONS(AV_MEMBER)
+} av;
+#undef AV_MEMBER
+#define AV_SAME_TYPE(lib, ret, name, params) \
+    _Static_assert(_Generic(&name, ret(*) params: 1, default: 0), #name " as its header declares it");
+AV_FUNCTIONS(AV_SAME_TYPE)
+#undef AV_SAME_TYPE
+
+/* The sonames of the headers' major versions (what the build compiled
+ * against: the ABI the table's types describe), e.g. libavcodec.so.59 from
+ * Debian 12's package libavcodec59. */
+enum { AVUTIL, AVCODEC, AVFORMAT, AV_LIBRARIES };
+#define AV_LIBRARY(name, major) \
+    {"lib" name ".so." AV_STRINGIFY(major), "lib" name AV_STRINGIFY(major)}
+static const struct {
+    const char *soname, *package;
+} av_libraries[AV_LIBRARIES] = {
+    [AVUTIL] = AV_LIBRARY("avutil", LIBAVUTIL_VERSION_MAJOR),
+    [AVCODEC] = AV_LIBRARY("avcodec", LIBAVCODEC_VERSION_MAJOR),
+    [AVFORMAT] = AV_LIBRARY("avformat", LIBAVFORMAT_VERSION_MAJOR),
+};
+static pthread_once_t av_once = PTHREAD_ONCE_INIT;
+static char av_error[512]; /* empty once the libraries are usable */
+
+static void av_open(void)
+{
+    void *lib[AV_LIBRARIES];
+    for (int i = 0; i < AV_LIBRARIES; i++) {
+        const char *sonames[] = {av_libraries[i].soname, NULL};
+        if (!(lib[i] = dynlib_open(sonames, av_libraries[i].package, av_error, sizeof av_error)))
+            return;
+    }
+    dynlib_function f;
+#define AV_LOAD(library, ret, name, params)                                                  \
+    if (!(f = dynlib_symbol(lib[library], av_libraries[library].soname, #name, av_error,      \
+                            sizeof av_error)))                                                \
+        return;                                                                               \
+    av.name = (ret(*) params)f;
+    AV_FUNCTIONS(AV_LOAD)
+#undef AV_LOAD
+}
+
+/* 0 once libav* are loaded, or -1 with the reason */
+static int av_load(const char *path, char *err, size_t errlen)
+{
+    pthread_once(&av_once, av_open);
+    if (!av_error[0]) return 0;
+    snprintf(err, errlen, "%s: %s", path, av_error);
+    return -1;
+}
+
+/* From here on, the functions' names call through the table. */
+#define av_strerror av.av_strerror
+#define av_log_set_level av.av_log_set_level
+#define av_frame_alloc av.av_frame_alloc
+#define av_frame_get_buffer av.av_frame_get_buffer
+#define av_frame_make_writable av.av_frame_make_writable
+#define av_frame_free av.av_frame_free
+#define av_opt_set av.av_opt_set
+#define av_opt_set_int av.av_opt_set_int
+#define av_dict_set av.av_dict_set
+#define av_dict_free av.av_dict_free
+#define avcodec_find_encoder_by_name av.avcodec_find_encoder_by_name
+#define avcodec_alloc_context3 av.avcodec_alloc_context3
+#define avcodec_open2 av.avcodec_open2
+#define avcodec_parameters_from_context av.avcodec_parameters_from_context
+#define avcodec_send_frame av.avcodec_send_frame
+#define avcodec_receive_packet av.avcodec_receive_packet
+#define avcodec_free_context av.avcodec_free_context
+#define av_packet_alloc av.av_packet_alloc
+#define av_packet_free av.av_packet_free
+#define av_packet_rescale_ts av.av_packet_rescale_ts
+#define avformat_alloc_output_context2 av.avformat_alloc_output_context2
+#define avformat_new_stream av.avformat_new_stream
+#define avio_open av.avio_open
+#define avio_closep av.avio_closep
+#define avformat_write_header av.avformat_write_header
+#define av_interleaved_write_frame av.av_interleaved_write_frame
+#define av_write_trailer av.av_write_trailer
+#define avformat_free_context av.avformat_free_context
 
 struct video_writer {
     outfile file;
@@ -132,6 +261,7 @@ video_writer *video_writer_create(const char *path, int width, int height, int f
                  width, height);
         return NULL;
     }
+    if (av_load(path, err, errlen)) return NULL;
     av_log_set_level(AV_LOG_ERROR); /* x264's banner is not for our users */
     const AVCodec *encoder = avcodec_find_encoder_by_name("libx264");
     if (!encoder) {

@@ -14,6 +14,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "base/embedded.h"
 #include "base/outfile.h"
 #include "plot/plot.h"
 #include "study/buckling.h"
@@ -295,12 +296,23 @@ static int table2_draw(const figure_points *points, int quick, const char *out_d
 
 /* ---- impulse: tip and mid-point after the impulse, and their spectra --------- */
 
-#define IMPULSE_SCENE RODSIM_SOURCE_DIR "/scenes/impulse.ini"
+/* compiled in (base/embedded.h): `rodsim figure` needs no checkout */
+#define IMPULSE_SCENE "scenes/impulse.ini"
 #define IMPULSE_SAMPLE 0.01      /* s between samples: 100 Hz, Nyquist 50 Hz */
 #define IMPULSE_FULL_DURATION 30.0 /* s: the thesis shows 10 s; 30 s resolves 1/30 Hz */
 #define IMPULSE_QUICK_DURATION 1.0
 #define IMPULSE_MODES 6
 #define IMPULSE_F_MAX 4.0        /* Hz shown: modes 1 .. 6 (3.8 Hz) */
+static ini_doc *load_impulse_scene(char *err, size_t errlen)
+{
+    const char *text = embedded_text(IMPULSE_SCENE);
+    if (!text) {
+        snprintf(err, errlen, "%s: not compiled into this binary", IMPULSE_SCENE);
+        return NULL;
+    }
+    return ini_parse(IMPULSE_SCENE, text, err, errlen);
+}
+
 static const char *const impulse_outputs[] = {"impulse.png", "impulse_spectrum.png", NULL};
 
 /* scenes/impulse.ini as it is (implicit Crank-Nicolson, NS = 51, dt = 0.5 ms,
@@ -309,7 +321,7 @@ static const char *const impulse_outputs[] = {"impulse.png", "impulse_spectrum.p
 static int impulse_compute(int point, int quick, figure_points *out, char *err, size_t errlen)
 {
     (void)point;
-    ini_doc *doc = ini_load(IMPULSE_SCENE, err, errlen);
+    ini_doc *doc = load_impulse_scene(err, errlen);
     if (!doc) return -1;
     rod_model m;
     int rc = scene_read_rod(doc, &m, err, errlen);
@@ -359,7 +371,7 @@ static int impulse_draw(const figure_points *points, int quick, const char *out_
                         FILE *summary, char *err, size_t errlen)
 {
     (void)quick;
-    ini_doc *doc = ini_load(IMPULSE_SCENE, err, errlen);
+    ini_doc *doc = load_impulse_scene(err, errlen);
     if (!doc) return -1;
     rod_model m;
     int rc = scene_read_rod(doc, &m, err, errlen);

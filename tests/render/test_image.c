@@ -1,11 +1,10 @@
 /* test_image.c: the graphics base: PNG round trip, text placement, the
  * headless GL context, shader loading and the multisampled target. */
-#define GL_GLEXT_PROTOTYPES
-#include <GL/gl.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "render/gl_api.h"
 #include "render/gl_context.h"
 #include "render/gl_util.h"
 #include "render/image.h"

@@ -1,0 +1,163 @@
+/* test_dynlib.c: the libraries only drawing needs are opened at run time
+ * (issue 9). dynlib opens a library and finds a function in it (cos from
+ * libm gives cos(pi/3) = 1/2) or says which library, which package; the
+ * binary does not link OSMesa or libav* (its ELF NEEDED list); and, with
+ * one of them made unloadable (a mount namespace binds /dev/null over the
+ * file), a run that draws exits 1 naming the library and the Debian package
+ * and leaves no video, while --help and --no-video runs do not notice. */
+#define _GNU_SOURCE /* dladdr */
+#include <dlfcn.h>
+#include <libavcodec/avcodec.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "render/dynlib.h"
+#include "test.h"
+#include "test_process.h"
+
+static char tmp_dir[] = "/tmp/rodsim_dynlib_XXXXXX";
+
+static void test_open_and_symbol(void)
+{
+    char err[512] = "";
+    const char *libm[] = {"libm.so.6", NULL};
+    void *lib = dynlib_open(libm, "libc6", err, sizeof err);
+    dynlib_function f = lib ? dynlib_symbol(lib, "libm.so.6", "cos", err, sizeof err) : NULL;
+    double value = f ? ((double (*)(double))f)(acos(-1.0) / 3) : NAN;
+    check_rel("dynlib: cos(pi/3) through libm.so.6 opened at run time", value, 0.5, 1e-15);
+
+    err[0] = '\0';
+    dynlib_function none = lib ? dynlib_symbol(lib, "libm.so.6", "no_such_function", err,
+                                               sizeof err) : NULL;
+    check(lib && !none && strstr(err, "libm.so.6") && strstr(err, "no_such_function"),
+          "dynlib: a missing function is NULL, message '%s' names it and the library", err);
+
+    err[0] = '\0';
+    const char *missing[] = {"librodsim_missing.so.3", "librodsim_missing.so", NULL};
+    void *nothing = dynlib_open(missing, "rodsim-missing3", err, sizeof err);
+    check(!nothing && strstr(err, "librodsim_missing.so.3, librodsim_missing.so") &&
+              strstr(err, "install the Debian package rodsim-missing3"),
+          "dynlib: a missing library is NULL, message '%s' names every name tried and the "
+          "package", err);
+}
+
+/* The binary's NEEDED entries (readelf -d): what the loader maps at start. */
+static void test_not_linked(void)
+{
+    char command[512], line[512], needed[2048] = "";
+    snprintf(command, sizeof command, "readelf -d '%s' 2>/dev/null", RODSIM_BIN);
+    FILE *p = popen(command, "r");
+    int entries = 0;
+    while (p && fgets(line, sizeof line, p))
+        if (strstr(line, "(NEEDED)")) {
+            entries++;
+            char *name = strchr(line, '[');
+            if (name && strlen(needed) + strlen(name) < sizeof needed - 2) strcat(needed, name);
+        }
+    if (p) pclose(p);
+    for (char *c = needed; *c; c++)
+        if (*c == '\n') *c = ' ';
+    const char *unwanted[] = {"libOSMesa", "libavcodec", "libavformat", "libavutil", "libswscale",
+                              "libGL", NULL};
+    const char *found = NULL;
+    for (int i = 0; unwanted[i]; i++)
+        if (strstr(needed, unwanted[i])) found = unwanted[i];
+    check(entries > 0 && !found, "%s NEEDED: %s(%s linked)", RODSIM_BIN, needed,
+          found ? found : "neither OSMesa nor libav*");
+}
+
+/* The file the loader opens for `soname`, into path; 0 when found. */
+static int library_file(const char *soname, const char *symbol, char *path, size_t pathlen)
+{
+    void *lib = dlopen(soname, RTLD_NOW | RTLD_LOCAL);
+    void *address = lib ? dlsym(lib, symbol) : NULL;
+    Dl_info info;
+    if (!address || !dladdr(address, &info) || !info.dli_fname) return -1;
+    /* resolve the links: binding over the real file hides every name of it */
+    char *real = realpath(info.dli_fname, NULL);
+    if (!real) return -1;
+    snprintf(path, pathlen, "%s", real);
+    free(real);
+    return 0;
+}
+
+/* Runs rodsim `args` with `library` replaced by an empty file. Output into
+ * output; returns the exit status, -2 when no namespace could be made. */
+static int run_without(const char *library, const char *args, char *output, size_t outlen)
+{
+    char command[2048], log[160];
+    snprintf(log, sizeof log, "%s/log", tmp_dir);
+    snprintf(command, sizeof command,
+             "unshare -rm sh -c 'mount --bind /dev/null \"$0\" && exec \"$@\"' '%s' '%s' "
+             "%s >'%s' 2>&1",
+             library, RODSIM_BIN, args, log);
+    fflush(stdout);
+    int status = system(command);
+    output[0] = '\0';
+    FILE *f = fopen(log, "r");
+    if (f) {
+        output[fread(output, 1, outlen - 1, f)] = '\0';
+        fclose(f);
+    }
+    char *nl = strchr(output, '\n');
+    if (nl) *nl = '\0';
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+static void test_missing_at_run_time(const char *soname, const char *symbol, const char *package)
+{
+    char library[1024], output[4096], args[1024], out[160];
+    if (library_file(soname, symbol, library, sizeof library)) {
+        check(0, "cannot find the file of %s", soname);
+        return;
+    }
+    snprintf(out, sizeof out, "%s/out", tmp_dir);
+    snprintf(args, sizeof args,
+             "run '%s/scenes/suture.ini' -o '%s' --set solver.duration=0.1 --set render.width=160 "
+             "--set render.height=120 --quiet",
+             RODSIM_SOURCE_DIR, out);
+    int status = run_without(library, args, output, sizeof output);
+    char mp4[200];
+    snprintf(mp4, sizeof mp4, "%s/suture.mp4", out);
+    check(status == 1 && strstr(output, soname) && strstr(output, package) &&
+              access(mp4, F_OK) != 0,
+          "without %s: a run that draws exits %d (want 1), message '%s' names %s and package "
+          "%s; %s %s", library, status, output, soname, package, mp4,
+          access(mp4, F_OK) ? "not written" : "WRITTEN");
+    test_remove_tree(out);
+
+    snprintf(args, sizeof args, "run '%s/scenes/suture.ini' -o '%s' --set solver.duration=0.1 "
+                                "--no-video --quiet", RODSIM_SOURCE_DIR, out);
+    status = run_without(library, args, output, sizeof output);
+    check(status == 0, "without %s: run --no-video exits %d (want 0) %s", library, status, output);
+    status = run_without(library, "--help", output, sizeof output);
+    check(status == 0, "without %s: --help exits %d (want 0) %s", library, status, output);
+    test_remove_tree(out);
+}
+
+int main(void)
+{
+    test_open_and_symbol();
+    test_not_linked();
+    if (!mkdtemp(tmp_dir)) {
+        check(0, "cannot make a scratch directory");
+        return test_finish();
+    }
+    if (system("unshare -rm true >/dev/null 2>&1") == 0) {
+        test_missing_at_run_time("libOSMesa.so.8", "OSMesaGetProcAddress", "libosmesa6");
+        /* the major version the build compiled against, as video.c asks for */
+        char soname[64], package[64];
+        snprintf(soname, sizeof soname, "libavcodec.so.%d", LIBAVCODEC_VERSION_MAJOR);
+        snprintf(package, sizeof package, "libavcodec%d", LIBAVCODEC_VERSION_MAJOR);
+        test_missing_at_run_time(soname, "avcodec_open2", package);
+    } else {
+        printf("note: no mount namespace here (unshare -rm): the missing-library runs are "
+               "skipped\n");
+    }
+    test_remove_tree(tmp_dir);
+    return test_finish();
+}
