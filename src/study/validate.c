@@ -14,6 +14,10 @@
 #include "base/spectrum.h"
 #include "base/vec3.h"
 
+/* The most steps one validation run may take (the finest default runs take
+ * under 1e5; 4e6 is minutes at NS = 201). */
+#define VALIDATE_MAX_STEPS 4e6
+
 /* rod_buckling_factor (owner: ends) is linked in when its header exists. */
 #if defined(__has_include)
 #if __has_include("study/buckling.h")
@@ -165,7 +169,19 @@ static rod_state *simulate(const rod_model *m, double dt, double duration, sampl
         return NULL;
     }
     memset(report, 0, sizeof *report);
-    long steps = (long)ceil(duration / dt - 1e-9);
+    /* A dt beyond the duration would run no step and report the initial
+     * state as the answer; one far below it would overflow the count or run
+     * for days: either is a failed row, checked before the cast. */
+    double step_count = ceil(duration / dt - 1e-9);
+    if (!(step_count >= 1.0 && step_count <= VALIDATE_MAX_STEPS)) {
+        rod_solver_release(&solver);
+        rod_state_destroy(s);
+        row->status = 2;
+        note(row, "dt %g s gives %.3g steps for %g s; accepted: 1 to %.0f steps", dt, fmax(step_count, 0.0),
+             duration, VALIDATE_MAX_STEPS);
+        return NULL;
+    }
+    long steps = (long)step_count;
     rod_status status = ROD_OK;
     for (long k = 0; k < steps && status == ROD_OK; k++) {
         status = rod_solver_step(&solver, m, s, dt, report);
@@ -441,13 +457,15 @@ static void run_frequency(const case_def *c, rod_scheme_kind scheme, int nodes, 
      * order in ds at NS = 201 with 24. */
     const double periods = c->id == MODE_BENDING_2 || c->id == MODE_BENDING_3 ? 48.0 : 24.0;
     double duration = periods * period;
-    long steps = (long)ceil(duration / dt - 1e-9);
-    if (steps > 4000000) {
+    double step_count = ceil(duration / dt - 1e-9);
+    if (!(step_count >= 1.0 && step_count <= VALIDATE_MAX_STEPS)) {
         row->status = 2;
-        note(row, "dt too small for %g periods (%ld steps)", periods, steps);
+        note(row, "dt %g s gives %.3g steps for %g periods; accepted: 1 to %.0f steps", dt,
+             step_count, periods, VALIDATE_MAX_STEPS);
         rod_model_release(&m);
         return;
     }
+    long steps = (long)step_count;
     /* a short pulse (a tenth of the period) of small impulse: linear response.
      * Target amplitude: tip deflection ~1e-4 L (bending), twist ~1e-3 rad */
     double pulse = fmax(0.1 * period, 2.0 * dt);

@@ -229,6 +229,20 @@ static void test_absurd_dt(void)
     }
 }
 
+/* A settle case has no default dt to bound --dt by: a dt beyond the duration
+ * ran 0 steps and returned the initial (straight) tip as an "ok" answer. */
+static void test_absurd_dt_settle_case(void)
+{
+    const double values[2] = {1e300, 1e-300};
+    for (int k = 0; k < 2; k++) {
+        validate_row row;
+        validate_run("tip_load_small", ROD_SCHEME_THESIS, 11, values[k], &row);
+        check(row.status == 2 && strstr(row.note, "accepted: 1 to"),
+              "tip_load_small thesis dt %g: a FAILED row naming the accepted step count "
+              "(status %d: %s)", values[k], row.status, row.note);
+    }
+}
+
 static void test_workers_die_with_parent(void)
 {
     const int signals[2] = {SIGTERM, SIGKILL};
@@ -288,6 +302,7 @@ int main(void)
     test_not_applicable();
     test_cli();
     test_absurd_dt();
+    test_absurd_dt_settle_case();
     test_workers_die_with_parent();
     return test_finish();
 }
