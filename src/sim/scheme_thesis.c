@@ -124,11 +124,11 @@
  * one large ratio, never two in a row. */
 #define GROWTH_FACTOR 10.0
 #define GROWTH_STEPS 2
-/* Largest relative segment-length error |r_{i+1} - r_i|/ds - 1 a run may reach:
- * legitimate runs stay below 1e-4 (table 2: 5e-5 after 20000 steps at its own
- * dt), a load of 100 x the Euler load reaches 15 %, 1000 x reaches 93 %; 1 % is
- * an error of (|u| ds)^2 with |u| ds = 0.25 rad, past what the march resolves. */
+/* Largest relative segment-length error |r_{i+1} - r_i|/ds - 1 a run may reach
+ * beyond what its curvature explains (see the step): table 2 stays below 1e-4
+ * (5e-5 after 20000 steps at its own dt); 1000 x the Euler load reached 93 %. */
 #define STRETCH_LIMIT 0.01
+#define MAX_TURN 1.0 /* rad, |u| ds: 57 degrees per segment */
 
 typedef struct thesis_work {
     int nodes;
@@ -579,7 +579,7 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
 
     /* divergence: non-finite, curvature beyond the rod's own radius, or growth */
     double max_omega = max_norm(om, ns), max_u = max_norm(u, ns);
-    char what[256];
+    char what[400];
     if (!isfinite(max_omega) || !isfinite(max_u) || !isfinite(max_norm(nf, ns)) ||
         !isfinite(max_norm(v, ns))) {
         snprintf(what, sizeof what,
@@ -595,15 +595,28 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
     }
     int segment = 0;
     double stretch = worst_stretch(m, s, &segment);
-    if (stretch > STRETCH_LIMIT) {
+    /* what the resolution explains: the start of (4.16), R(1) = R(0) + ds/2 (d3(0) +
+       d3(1)), makes segment 2 ds sqrt(5/2 - 3/2 cos(|u| ds)) long; twice that is allowed
+       (validation runs at NS = 11 with ML/EI = 2 pi reach 13 %), while |u| ds stays
+       below MAX_TURN (beyond it the frame march (4.7) does not resolve the bend) */
+    double turn = max_u * ds;
+    double explained = sqrt(2.5 - 1.5 * cos(fmin(turn, MAX_TURN))) - 1.0;
+    double stretch_limit = fmax(STRETCH_LIMIT, 2.0 * explained);
+    if (stretch > stretch_limit || (turn > MAX_TURN && stretch > STRETCH_LIMIT)) {
         /* segments 1-based, as a person counts them along the rod from the clamp */
         double d[3];
         v3_sub(d, &s->position[3 * (segment + 1)], &s->position[3 * segment]);
         snprintf(what, sizeof what,
-                 "segment %d of %d is %.3gx its rest length ds = %.3g m (limit %g %%: the "
+                 "segment %d of %d is %.3gx its rest length ds = %.3g m (limit %.3g %%: the "
                  "centreline (4.16) follows d3, so a stretch means d3 zig-zags from node to node "
-                 "or the curvature is not resolved, |u| ds = %.2g rad)",
-                 segment + 1, ns - 1, v3_norm(d) / ds, ds, 100.0 * STRETCH_LIMIT, max_u * ds);
+                 "or the curvature is not resolved, |u| ds = %.2g rad, resolved up to %g)",
+                 segment + 1, ns - 1, v3_norm(d) / ds, ds,
+                 100.0 * (turn > MAX_TURN ? STRETCH_LIMIT : stretch_limit), turn, MAX_TURN);
+        /* below the threshold scale or above the predicted dt: the stretch is that
+           limit's divergence, and its advice (scale, dt) is what works */
+        double limit_dt = thesis_limit(m, m->rotary_inertia_scale, NULL);
+        if (!(limit_dt > 0.0) || w->largest_dt > limit_dt)
+            return unstable(m, w, s, report, what, NULL);
         /* the start of (4.16), R(1) = R(0) + ds/2 (d3(0) + d3(1)), alone makes segment 2
            ds sqrt(1 + 3/4 (|u| ds)^2): 1 % at |u| ds = 0.16 rad */
         rod_status st = unstable(m, w, s, report, what,
