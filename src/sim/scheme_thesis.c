@@ -77,11 +77,14 @@
  * between these forms and pumps every mode whose frequency is a multiple of
  * half the switching frequency (parametric resonance, eigenvalue near -1 per
  * period): measured growth 1.094 per period (bending) and 1.059 (twist) at
- * NS = 51, dt 0.197 s, divergence after ~1400 steps; 1.002 to 1.016 per step
+ * NS = 51, dt 0.197 s, divergence after ~1400 steps; 1.001 to 1.015 per step
  * for any dt from 0.11 s to 0.2 s with that pattern, none at dt = 0.1 s
- * (10 equal steps). The cure is equal steps (a caller splitting an interval
- * into n equal steps), not a smaller dt: the step records the range of dt it
- * was given and the divergence message says when it varied.
+ * (10 equal steps). Long runs (5000 steps, 1 s frames) fail from dt = 0.163 s
+ * at NS = 51 and from 0.070 s at NS = 101 (limit 0.197 s) with uneven steps,
+ * and run at every dt below the limit with equal ones. The cure is equal steps
+ * (a caller splitting an interval into n equal steps), not a smaller dt: the
+ * step records the range of dt it was given and the divergence message says
+ * when it varied.
  *
  * Segment length: (4.16) builds the centreline from d3 with a leapfrog in s,
  * so odd and even nodes lie on two separately marched polygons; the segment
@@ -91,7 +94,8 @@
  * unresolved curvature separates the two polygons: the rod stretches with no
  * NaN and no large u anywhere. The positions are not integrated: they follow
  * d3 every step, so the stretch is the only trace. The step checks it: more
- * than STRETCH_LIMIT is a diverged run.
+ * than twice what the curvature explains (at least STRETCH_LIMIT), or more
+ * than STRETCH_LIMIT with |u| ds > MAX_TURN, is a diverged run.
  *
  * Physics switches (rod_physics):
  *  - twist = 0: quasi-static twist, no torsional inertia (rho J = 0). The d3
