@@ -86,6 +86,18 @@
  * step records the range of dt it was given and the divergence message says
  * when it varied.
  *
+ * Under a load there is a slow growth at ANY constant dt: about the loaded
+ * equilibrium the out-of-plane bending + twist mode (u1, u3, omega1, omega3)
+ * has spectral radius 1 + 4.5e-6 (dt 0.1 s), 1 + 1.8e-5 (0.2 s) at 0.5 x the
+ * Euler load and 1 + 9e-6 (0.05 s), 1 + 1.5e-4 (0.2 s), 1 + 5.9e-4 (0.4 s) at
+ * 1 x (NS = 51, scale 1.3e7): O(dt^2) per step, O(dt) per second, so it is the
+ * time discretisation, consistent with N^j of (4.12) carrying delta u^j x N
+ * ((4.14), one step old) where symplectic Euler would need u^{j+1}. A planar
+ * load never seeds it (u1 = u3 = 0 exactly); a random seed does: `rodsim
+ * stability`'s trial under 1 x the Euler load (transverse, undamped swing)
+ * stretches 1 % after 2000 to 5400 steps (~900 to 1200 s) at 0.5 to 0.99 x
+ * the limit. Damping (linear_damping) or the implicit scheme removes it.
+ *
  * Segment length: (4.16) builds the centreline from d3 with a leapfrog in s,
  * so odd and even nodes lie on two separately marched polygons; the segment
  * between them is ds only while d3 is smooth on the scale of ds (relative
