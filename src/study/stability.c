@@ -40,9 +40,10 @@ stability_options stability_options_default(int quick)
 {
     stability_options o;
     /* Trial length (issue 9 asked for longer ones): above the thesis limit the top
-     * mode grows by 1.1 to 1.26 per step at 0.1 % over and 1.34 at 1 % (spectral
-     * radius of the step's Jacobian, NS 21 to 101), so the energy bound is passed
-     * within ~40 steps; 400 and 2000 leave a margin of 10 and 50. The slower
+     * mode grows by 1.11 to 1.26 per step at 0.1 % over and 1.33 to 1.39 at 1 %
+     * (spectral radius of the step's Jacobian, NS 21 to 101), so the energy bound
+     * (an amplitude x sqrt(100 NS)) is passed within ~60 steps at 0.1 % over and
+     * ~20 at the bisection's 1 %: 400 and 2000 steps leave a wide margin. The slower
      * growths found (steps of changing size; an out-of-plane mode under load, at
      * any dt: scheme_thesis.c) are not dt limits: longer trials would only move
      * the measured "limit" down with the trial length. */
