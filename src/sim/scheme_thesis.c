@@ -61,6 +61,56 @@
  *   - twist (u3, omega3; no N coupling): dt < 2 ds sqrt(rho s/G).
  * The stable_dt below evaluates these conditions (damping included) over the
  * discrete modes; the twist limit only where torsion is dynamic (see below).
+ * Measured (spectral radius of the step's Jacobian, finite differences about
+ * the straight rod, scale 1e7): the largest constant dt is 0.9666 s at NS = 21
+ * (predicted 0.9836: the one-sided ends shift the top mode), 0.3941 s at
+ * NS = 51 and 0.1971 s at NS = 101 (both within 0.1 %); 0.1 % above it the
+ * top bending mode grows by 1.1 to 1.26 per step, so no slow mode hides
+ * below the limit at a constant step.
+ *
+ * Steps of changing size: the limit above holds for a CONSTANT dt only. Each
+ * step with dt_j is a map that conserves its own dt-dependent quadratic form
+ * (for (4.5) with (4.12), symplectic Euler per mode: omega^2 + c^2 kappa^2 u^2
+ * - dt c^2 kappa^2 u omega ...), and the lag of N (4.14) enters (4.12) as
+ * a (dt_j/dt_{j-1}) (omega^j - omega^{j-1}). A periodic change of dt (a run
+ * landing on output times: 4 x 0.197 s + 2 x 0.106 s per 1 s frame) switches
+ * between these forms and pumps every mode whose frequency is a multiple of
+ * half the switching frequency (parametric resonance, eigenvalue near -1 per
+ * period): measured growth 1.094 per period (bending) and 1.059 (twist) at
+ * NS = 51, dt 0.197 s, divergence after ~1400 steps; 1.001 to 1.015 per step
+ * for any dt from 0.11 s to 0.2 s with that pattern, none at dt = 0.1 s
+ * (10 equal steps). Long runs (5000 steps, 1 s frames) fail from dt = 0.163 s
+ * at NS = 51 and from 0.070 s at NS = 101 (limit 0.197 s) with uneven steps,
+ * and run at every dt below the limit with equal ones. The cure is equal steps
+ * (a caller splitting an interval into n equal steps), not a smaller dt: the
+ * step records the range of dt it was given and the divergence message says
+ * when it varied.
+ *
+ * Under a load there is a slow growth at ANY constant dt: about the loaded
+ * equilibrium the out-of-plane bending + twist mode (u1, u3, omega1, omega3)
+ * has spectral radius 1 + 4.5e-6 (dt 0.1 s), 1 + 1.8e-5 (0.2 s) at 0.5 x the
+ * Euler load and 1 + 9e-6 (0.05 s), 1 + 1.5e-4 (0.2 s), 1 + 5.9e-4 (0.4 s) at
+ * 1 x (NS = 51, scale 1.3e7): O(dt^2) per step, O(dt) per second, so it is the
+ * time discretisation, consistent with N^j of (4.12) carrying delta u^j x N
+ * ((4.14), one step old) where symplectic Euler would need u^{j+1}. A planar
+ * load never seeds it (u1 = u3 = 0 exactly); a random seed does: `rodsim
+ * stability`'s trial under 1 x the Euler load (transverse, undamped swing)
+ * stretches 1 % after 2000 to 5400 steps (~900 to 1200 s) at 0.5 to 0.99 x
+ * the limit. linear_damping does not remove it: with c = 1e-3 N s/m^2 the
+ * same mode grows at 1.8e-3 1/s whatever dt (0.05, 0.2 s) and NS (21, 51,
+ * 101): u1 from 1e-6 to 7.5e-3 in 4000 s at dt 0.1 s, then saturates (a slow
+ * out-of-plane whirl). Its source is not identified (open question).
+ *
+ * Segment length: (4.16) builds the centreline from d3 with a leapfrog in s,
+ * so odd and even nodes lie on two separately marched polygons; the segment
+ * between them is ds only while d3 is smooth on the scale of ds (relative
+ * error ~ (|u| ds)^2, 2e-6 .. 5e-5 for table 2). An odd/even zig-zag of d3 (a
+ * diverging mode that central differences (4.5), (4.12) do not see) or an
+ * unresolved curvature separates the two polygons: the rod stretches with no
+ * NaN and no large u anywhere. The positions are not integrated: they follow
+ * d3 every step, so the stretch is the only trace. The step checks it: more
+ * than twice what the curvature explains (at least STRETCH_LIMIT), or more
+ * than STRETCH_LIMIT with |u| ds > MAX_TURN, is a diverged run.
  *
  * Physics switches (rod_physics):
  *  - twist = 0: quasi-static twist, no torsional inertia (rho J = 0). The d3
@@ -93,6 +143,11 @@
  * one large ratio, never two in a row. */
 #define GROWTH_FACTOR 10.0
 #define GROWTH_STEPS 2
+/* Largest relative segment-length error |r_{i+1} - r_i|/ds - 1 a run may reach
+ * beyond what its curvature explains (see the step): table 2 stays below 1e-4
+ * (5e-5 after 20000 steps at its own dt); 1000 x the Euler load reached 93 %. */
+#define STRETCH_LIMIT 0.01
+#define MAX_TURN 1.0 /* rad, |u| ds: 57 degrees per segment */
 
 typedef struct thesis_work {
     int nodes;
@@ -102,6 +157,7 @@ typedef struct thesis_work {
     int growth_count;          /* consecutive steps with growth > GROWTH_FACTOR */
     double last_growth;        /* max|omega| ratio of the last finite step */
     long steps;                /* steps taken since create */
+    double smallest_dt, largest_dt; /* s, over the steps of this run */
 } thesis_work;
 
 /* Stability limits ---------------------------------------------------- */
@@ -273,11 +329,38 @@ static double max_norm(const double *a, int nodes)
     return worst;
 }
 
-static rod_status unstable(const rod_model *m, const thesis_work *w, double time,
-                           rod_report *r, const char *what)
+/* 1 when twist carries most of the rotational kinetic energy (J omega3^2
+ * against I (omega1^2 + omega2^2)): the diverging mode is a twist mode. */
+static int twist_dominates(const rod_model *m, const rod_state *s)
 {
+    double twist = 0.0, bending = 0.0;
+    for (int i = 0; i < s->nodes; i++) {
+        const double *w = &s->angular_velocity[3 * i];
+        twist += m->rotary_inertia[2] * w[2] * w[2];
+        bending += m->rotary_inertia[0] * (w[0] * w[0] + w[1] * w[1]);
+    }
+    return twist > bending; /* NaN: 0, bending */
+}
+
+/* `advice`: what would work, or NULL for the rotary inertia and dt of the limit. */
+static rod_status unstable(const rod_model *m, const thesis_work *w, const rod_state *state,
+                           rod_report *r, const char *what, const char *advice)
+{
+    const double time = state->time;
     const char *limit = NULL;
     double limit_dt = thesis_limit(m, m->rotary_inertia_scale, &limit);
+    if (limit_dt > 0.0 && twist_dynamic(m) && twist_dominates(m, state)) {
+        /* the growing mode is twist: name its limit, not the (smaller) bending one */
+        limit = LIMIT_TWIST;
+        limit_dt = 2.0 * m->ds / sqrt(m->shear_modulus / (m->density * m->rotary_inertia_scale));
+    }
+    char varied[256] = "";
+    if (w->largest_dt > w->smallest_dt * (1.0 + 1e-6))
+        snprintf(varied, sizeof varied,
+                 " The steps changed size (%.4g s to %.4g s): the limit holds for a constant dt; "
+                 "steps of changing size pump modes parametrically below it, so take equal "
+                 "steps (e.g. a dt that divides the output interval 1/fps).",
+                 w->smallest_dt, w->largest_dt);
     double scale = m->rotary_inertia_scale;
     double min_scale = minimum_scale(m);
     if (limit_dt <= 0.0) {
@@ -289,14 +372,39 @@ static rod_status unstable(const rod_model *m, const thesis_work *w, double time
     double dt_ok = 0.5 * thesis_limit(m, scale, NULL);
     r->suggested_scale = scale;
     r->suggested_dt = dt_ok;
+    if (advice) {
+        snprintf(r->message, sizeof r->message,
+                 "thesis scheme diverged at step %ld (t = %.6g s): %s. Predicted largest stable "
+                 "dt %.3g s (%s).%s What would work: %s",
+                 w->steps, time, what, limit_dt, limit, varied, advice);
+        return ROD_UNSTABLE;
+    }
     snprintf(r->message, sizeof r->message,
              "thesis scheme diverged at step %ld (t = %.6g s): %s. Limit broken: %s "
-             "(rotary_inertia_scale = %.3g, threshold %.3g; predicted largest stable dt %.3g s). "
+             "(rotary_inertia_scale = %.3g, threshold %.3g; predicted largest stable dt %.3g s).%s "
              "What would work: rotary_inertia_scale = %.3g with dt <= %.3g s "
              "(a scaled inertia slows the bending dynamics), or scheme = implicit.",
-             w->steps, time, what, limit, m->rotary_inertia_scale, min_scale, limit_dt, scale,
-             dt_ok);
+             w->steps, time, what, limit, m->rotary_inertia_scale, min_scale, limit_dt, varied,
+             scale, dt_ok);
     return ROD_UNSTABLE;
+}
+
+/* Largest relative segment-length error |r_{i+1} - r_i|/ds - 1 (NaN propagates),
+ * and the segment where it is. */
+static double worst_stretch(const rod_model *m, const rod_state *s, int *segment)
+{
+    double worst = 0.0;
+    *segment = 0;
+    for (int i = 0; i + 1 < s->nodes; i++) {
+        double d[3];
+        v3_sub(d, &s->position[3 * (i + 1)], &s->position[3 * i]);
+        double e = fabs(v3_norm(d) - m->ds) / m->ds;
+        if (!(e <= worst)) {
+            worst = e;
+            *segment = i;
+        }
+    }
+    return worst;
 }
 
 /* The step ------------------------------------------------------------------ */
@@ -322,8 +430,11 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
         w->previous_max_omega = 0.0;
         w->growth_count = 0;
         w->last_growth = 0.0;
+        w->smallest_dt = w->largest_dt = dt;
     }
     w->steps++;
+    if (dt < w->smallest_dt) w->smallest_dt = dt;
+    if (dt > w->largest_dt) w->largest_dt = dt;
 
     memcpy(w->old_velocity, v, (size_t)ns * 3 * sizeof(double));
     const int twist_on = m->physics.twist;
@@ -487,19 +598,52 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
 
     /* divergence: non-finite, curvature beyond the rod's own radius, or growth */
     double max_omega = max_norm(om, ns), max_u = max_norm(u, ns);
-    char what[256];
+    char what[400];
     if (!isfinite(max_omega) || !isfinite(max_u) || !isfinite(max_norm(nf, ns)) ||
         !isfinite(max_norm(v, ns))) {
         snprintf(what, sizeof what,
                  "the state became non-finite (max |omega| had grown by a factor %.3g in the "
                  "step before)", w->last_growth);
-        return unstable(m, w, s->time, report, what);
+        return unstable(m, w, s, report, what, NULL);
     }
     if (max_u > 2.0 / m->diameter) {
         snprintf(what, sizeof what,
                  "max |u| = %.3g 1/m exceeds 2/d = %.3g 1/m (a bend tighter than the rod's radius)",
                  max_u, 2.0 / m->diameter);
-        return unstable(m, w, s->time, report, what);
+        return unstable(m, w, s, report, what, NULL);
+    }
+    int segment = 0;
+    double stretch = worst_stretch(m, s, &segment);
+    /* what the resolution explains: the start of (4.16), R(1) = R(0) + ds/2 (d3(0) +
+       d3(1)), makes segment 2 ds sqrt(5/2 - 3/2 cos(|u| ds)) long; twice that is allowed
+       (validation runs at NS = 11 with ML/EI = 2 pi reach 13 %), while |u| ds stays
+       below MAX_TURN (beyond it the frame march (4.7) does not resolve the bend) */
+    double turn = max_u * ds;
+    double explained = sqrt(2.5 - 1.5 * cos(fmin(turn, MAX_TURN))) - 1.0;
+    double stretch_limit = fmax(STRETCH_LIMIT, 2.0 * explained);
+    if (stretch > stretch_limit || (turn > MAX_TURN && stretch > STRETCH_LIMIT)) {
+        /* segments 1-based, as a person counts them along the rod from the clamp */
+        double d[3];
+        v3_sub(d, &s->position[3 * (segment + 1)], &s->position[3 * segment]);
+        snprintf(what, sizeof what,
+                 "segment %d of %d is %.3gx its rest length ds = %.3g m (limit %.3g %%: the "
+                 "centreline (4.16) follows d3, so a stretch means d3 zig-zags from node to node "
+                 "or the curvature is not resolved, |u| ds = %.2g rad, resolved up to %g)",
+                 segment + 1, ns - 1, v3_norm(d) / ds, ds,
+                 100.0 * (turn > MAX_TURN ? STRETCH_LIMIT : stretch_limit), turn, MAX_TURN);
+        /* below the threshold scale or above the predicted dt: the stretch is that
+           limit's divergence, and its advice (scale, dt) is what works */
+        double limit_dt = thesis_limit(m, m->rotary_inertia_scale, NULL);
+        if (!(limit_dt > 0.0) || w->largest_dt > limit_dt)
+            return unstable(m, w, s, report, what, NULL);
+        /* the start of (4.16), R(1) = R(0) + ds/2 (d3(0) + d3(1)), alone makes segment 2
+           ds sqrt(1 + 3/4 (|u| ds)^2): 1 % at |u| ds = 0.16 rad */
+        rod_status st = unstable(m, w, s, report, what,
+                                 "more nodes (the error grows as (|u| ds)^2), a smaller dt, or "
+                                 "scheme = implicit (segments exactly ds by construction).");
+        report->suggested_dt = 0.0; /* neither dt nor scale alone is known to cure it */
+        report->suggested_scale = 0.0;
+        return st;
     }
     double growth = w->previous_max_omega > 0.0 ? max_omega / w->previous_max_omega : 0.0;
     w->growth_count = growth > GROWTH_FACTOR ? w->growth_count + 1 : 0;
@@ -509,7 +653,7 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
         snprintf(what, sizeof what,
                  "max |omega| grew by a factor %.3g in the last step (%d steps in a row above %g)",
                  growth, GROWTH_STEPS, GROWTH_FACTOR);
-        return unstable(m, w, s->time, report, what);
+        return unstable(m, w, s, report, what, NULL);
     }
     return ROD_OK;
 }
