@@ -12,12 +12,12 @@
 #include <stdlib.h>
 #include <signal.h>
 #include <string.h>
-#include <sys/prctl.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "base/outfile.h"
+#include "base/worker.h"
 #include "cli/print_commands.h"
 #include "study/validate.h"
 
@@ -185,13 +185,7 @@ static void run_parallel(plan *p, int jobs, int table, int *printed)
                 fflush(stdout);
                 pid = fork();
                 if (pid == 0) {
-                    /* a worker dies with its parent (SIGTERM or kill -9 of the
-                     * parent): it belongs to its process group, and
-                     * PR_SET_PDEATHSIG covers what no handler can */
-                    prctl(PR_SET_PDEATHSIG, SIGKILL);
-                    if (getppid() != parent) _exit(1);
-                    signal(SIGINT, SIG_DFL);
-                    signal(SIGTERM, SIG_DFL);
+                    worker_begin(parent); /* dies with its parent */
                     close(fd[0]);
                     for (int i = 0; i < jobs; i++) /* other workers' pipes */
                         if (pids[i]) close(pipes[i]);

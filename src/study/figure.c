@@ -8,7 +8,6 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/prctl.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -16,6 +15,7 @@
 
 #include "base/embedded.h"
 #include "base/outfile.h"
+#include "base/worker.h"
 #include "plot/plot.h"
 #include "study/buckling.h"
 #include "base/ini.h"
@@ -1116,10 +1116,7 @@ typedef struct sweep_task {
 static void run_child(const figure_def *f, const sweep_task *t, int quick, int fd,
                       pid_t parent)
 {
-    prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (getppid() != parent) _exit(1); /* the parent died before prctl */
-    signal(SIGINT, SIG_DFL);           /* the parent's handler cleans the parent's files */
-    signal(SIGTERM, SIG_DFL);
+    worker_begin(parent);
     char err[1024] = "";
     figure_points rows;
     figure_points_init(&rows, f);

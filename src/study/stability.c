@@ -14,6 +14,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "base/worker.h"
 #include "study/reference.h"
 
 /* Kinetic energy past this multiple of (initial + the most work the dead tip
@@ -315,6 +316,7 @@ static void trial_guarded(const stability_case *c, rod_scheme_kind scheme, doubl
     fflush(stdout);
     fflush(stderr);
     double start = now_seconds();
+    pid_t parent = getpid();
     pid_t pid = fork();
     if (pid < 0) {
         close(fd[0]);
@@ -323,6 +325,7 @@ static void trial_guarded(const stability_case *c, rod_scheme_kind scheme, doubl
         return;
     }
     if (pid == 0) {
+        worker_begin(parent); /* dies with its parent */
         close(fd[0]);
         stability_trial result;
         trial_in_process(c, scheme, dt, o, &result);
@@ -487,6 +490,7 @@ int stability_sweep(const stability_case *cases, int n_cases, const rod_scheme_k
             }
             fflush(stdout);
             fflush(stderr);
+            pid_t parent = getpid();
             pid_t pid = fork();
             if (pid < 0) {
                 close(fd[0]);
@@ -496,6 +500,7 @@ int stability_sweep(const stability_case *cases, int n_cases, const rod_scheme_k
                 break;
             }
             if (pid == 0) {
+                worker_begin(parent); /* dies with its parent */
                 close(fd[0]);
                 for (int k = 0; k < running; k++) close(active[k].fd);
                 stability_row row;
