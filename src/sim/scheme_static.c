@@ -29,12 +29,24 @@
  * limit and a backtracking line search; a load increment is split into
  * sub-steps (load continuation) when it is large or when Newton fails.
  *
- * Past the buckling load a straight rod is an (unstable) equilibrium too:
- * Newton started from the straight state under a purely axial load (or a
- * pure twisting moment) stays straight. That is a correct equilibrium, just
- * not the one a perturbed rod would find; add a small transverse load to
- * follow the buckled branch; rod_buckling_factor (buckling.h) finds where
- * the straight rod stops being stable from this scheme's Jacobian.
+ * Past the buckling load a straight rod is an (unstable) equilibrium too,
+ * and Newton finds it. So every answer under dead forces is checked: the
+ * tangent stiffness on the free rotations (the forces N, multipliers of
+ * inextensibility, eliminated by statics) must be positive definite on the
+ * constraint manifold (a held tip's sleeve); its negative eigenvalues are
+ * counted by a band LDL^T (Sylvester's law of inertia). An unstable answer
+ * is left along its critical mode, to the side the load's transverse part
+ * pulls (or +y, with a warning, when the load is symmetric), by an
+ * over-damped descent (pseudo-transient continuation) to a stable rest; when
+ * none is found the step fails rather than return it. A follower load or a
+ * tip moment is not conservative and has no static criterion: not checked.
+ * rod_buckling_factor (buckling.h) finds where the straight rod stops being
+ * stable from this scheme's Jacobian.
+ *
+ * Every loop has a budget (Newton iterations, line-search halvings, load
+ * sub-steps, descent iterations, solves per run), a load whose size in the
+ * rod's scales is not finite is refused, and a bend of more than
+ * ROD_UNRESOLVED_BEND between nodes is refused as the implicit scheme does.
  *
  * End conditions (rod_end_kind in rod.h). Every node i = 0..NS-1 owns a
  * block of 6 unknowns and 6 equations; node 0's block holds phi_0 and 3
@@ -167,9 +179,7 @@ struct static_work {
     double *stiffness_work; /* (3 STIFFNESS_BAND+1 x dofs) copy destroyed by LAPACK */
     lapack_int *stiffness_pivots; /* (dofs) */
     double *constraint;   /* (2 x dofs) row-major: d (y_tip, z_tip) / d omega */
-    double *eigen_values; /* (dofs) */
-    double *eigen_work;   /* (7 dofs) */
-    lapack_int *eigen_iwork; /* (6 dofs): iwork and ifail */
+    double *eigen_work;   /* (2 dofs) inverse iteration: the iterate, K x */
     double *mode;         /* (dofs x 3): mode, and two solves for the constraint */
     int stiffness_fresh;  /* stiffness captured at this step's solution's Newton */
     int have_verdict;     /* the state's unstable-mode count below is known */
@@ -212,9 +222,7 @@ void static_work_destroy(static_work *w)
     free(w->stiffness_work);
     free(w->stiffness_pivots);
     free(w->constraint);
-    free(w->eigen_values);
     free(w->eigen_work);
-    free(w->eigen_iwork);
     free(w->mode);
     free(w);
 }
@@ -312,16 +320,14 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
     w->stiffness_work = malloc((3 * STIFFNESS_BAND + 1) * dofs * sizeof(double));
     w->stiffness_pivots = malloc(dofs * sizeof(lapack_int));
     w->constraint = calloc(2 * dofs, sizeof(double));
-    w->eigen_values = malloc(dofs * sizeof(double));
-    w->eigen_work = malloc(7 * dofs * sizeof(double));
-    w->eigen_iwork = malloc(6 * dofs * sizeof(lapack_int));
+    w->eigen_work = malloc(2 * dofs * sizeof(double));
     w->mode = malloc(3 * dofs * sizeof(double));
     if (!w->frame || !w->force || !w->frame_trial || !w->darboux || !w->mid || !w->mid_base ||
         !w->moment || !w->increment || !w->newton_step || !w->residual || !w->residual_trial ||
         !w->band || !w->border_columns || !w->border_rows || !w->border_solution || !w->pivots ||
         !w->saved_frame || !w->saved_force || !w->dof_node || !w->dof_axis || !w->dof_row ||
         !w->stiffness || !w->stiffness_work || !w->stiffness_pivots || !w->constraint ||
-        !w->eigen_values || !w->eigen_work || !w->eigen_iwork || !w->mode) {
+        !w->eigen_work || !w->mode) {
         static_work_destroy(w);
         snprintf(err, errlen, "static: out of memory for %d nodes", m->nodes);
         return NULL;
@@ -819,7 +825,7 @@ static double inverse_iteration(static_work *w, const double start[3], const dou
 {
     int dofs = w->dofs;
     double *x = w->mode;
-    double *v = w->eigen_work; /* 7 dofs long: v, then K x */
+    double *v = w->eigen_work; /* v, then K x */
     for (int a = 0; a < dofs; a++) v[a] = start[w->dof_axis[a]];
     for (int iteration = 0; iteration < 12; iteration++) {
         if (solve_shifted(w, v, 1)) return NAN;
@@ -1103,13 +1109,16 @@ static void describe_load(const rod_model *m, const static_load *load, char *tex
 }
 
 /* 1 when the loads have a potential, so that stability is the positive
- * definiteness of the tangent stiffness: dead loads. A follower tip load is
- * not conservative (Beck's column loses stability by flutter, which no
- * static criterion sees); it is not checked. */
+ * definiteness of the tangent stiffness: dead forces (tip and distributed).
+ * A follower tip load is not conservative (Beck's column loses stability by
+ * flutter, which no static criterion sees), nor is a dead tip moment in 3-D
+ * (its work on finite rotations depends on the path, Ziegler; a cantilever
+ * bent by one into 3/4 of a circle shows negative eigenvalues in the
+ * symmetric part of its tangent): neither is checked, decided here. */
 static int loads_conservative(const rod_model *m, const static_load *load)
 {
-    return m->tip_frame == ROD_FRAME_GLOBAL ||
-           (v3_norm(load->tip_force) == 0.0 && v3_norm(load->tip_moment) == 0.0);
+    if (v3_norm(load->tip_moment) != 0.0) return 0;
+    return m->tip_frame == ROD_FRAME_GLOBAL || v3_norm(load->tip_force) == 0.0;
 }
 
 /* Checks the solved base point's stability and, when it is unstable,
@@ -1329,6 +1338,34 @@ static double stable_dt(const rod_model *m, const char **limit)
 }
 
 const rod_scheme_ops rod_scheme_static = {"static", create, step, destroy, stable_dt};
+
+int static_unstable_modes(static_work *w, const rod_model *m, const rod_state *s, int *count,
+                          char *err, size_t errlen)
+{
+    int n = w->nodes;
+    static_load load;
+    rod_tip_load(m, s->time, load.tip_force, load.tip_moment);
+    v3_copy(load.distributed, m->distributed_force);
+    if (!loads_conservative(m, &load)) {
+        snprintf(err, errlen, "static: a follower tip load or a tip moment has no static "
+                              "stability criterion (not conservative)");
+        return -1;
+    }
+    memcpy(w->frame, s->frame, (size_t)n * 9 * sizeof(double));
+    w->reaction[0] = w->reaction[1] = 0.0;
+    if (tip_held(w)) { /* the state's tip force entry is the applied force plus R */
+        double applied[3], moment[3], total[3];
+        const double *q_tip = &s->frame[9 * (n - 1)];
+        tip_load_global(m, &load, q_tip, applied, moment);
+        m3_mul_v(total, q_tip, &s->contact_force[3 * (n - 1)]);
+        for (int k = 0; k < 2; k++) w->reaction[k] = total[1 + k] - applied[1 + k];
+    }
+    forces_from_statics(w, m, &load);
+    build_jacobian(w, m, &load);
+    capture_stiffness(w);
+    *count = unstable_modes(w);
+    return 0;
+}
 
 /* Buckling support ---------------------------------------------------- */
 
