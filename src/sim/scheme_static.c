@@ -1289,7 +1289,16 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
         }
     }
     report->newton_iterations = total_iterations;
+    int segment;
     if (why) {
+        /* as the implicit scheme: a failure on the way into a kink is the grid's */
+        rod_darboux_from_frames(m, w->frame, w->darboux); /* the last converged point */
+        double bend = rod_sharpest_bend(m, w->darboux, &segment);
+        if (solved_once && bend > 0.5 * ROD_UNRESOLVED_BEND) {
+            rod_unresolved_bend_message(m, "static", target_time, bend, segment,
+                                        report->message, sizeof report->message);
+            return ROD_UNSTABLE;
+        }
         describe_load(m, &target, text, sizeof text);
         snprintf(report->message, sizeof report->message,
                  "static: Newton did not converge for the load at t = %g s (%.200s): %s; reached "
@@ -1307,7 +1316,6 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
     /* a bend the grid cannot resolve is no answer either (one definition
      * with the implicit scheme: rod_geometry.h), nor worth a stability check */
     rod_darboux_from_frames(m, w->frame, w->darboux);
-    int segment;
     double angle = rod_sharpest_bend(m, w->darboux, &segment);
     if (angle > ROD_UNRESOLVED_BEND) {
         rod_unresolved_bend_message(m, "static", target_time, angle, segment, report->message,
