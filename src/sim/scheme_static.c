@@ -180,6 +180,7 @@ struct static_work {
     lapack_int *stiffness_pivots; /* (dofs) */
     double *constraint;   /* (2 x dofs) row-major: d (y_tip, z_tip) / d omega */
     double *eigen_work;   /* (2 dofs) inverse iteration: the iterate, K x */
+    double *rotation_blocks; /* (nodes x 3 x 9) -d(moment rows of i)/d(omega of i-1, i, i+1) */
     double *mode;         /* (dofs x 3): mode, and two solves for the constraint */
     int stiffness_fresh;  /* stiffness captured at this step's solution's Newton */
     int have_verdict;     /* the state's unstable-mode count below is known */
@@ -223,6 +224,7 @@ void static_work_destroy(static_work *w)
     free(w->stiffness_pivots);
     free(w->constraint);
     free(w->eigen_work);
+    free(w->rotation_blocks);
     free(w->mode);
     free(w);
 }
@@ -321,13 +323,14 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
     w->stiffness_pivots = malloc(dofs * sizeof(lapack_int));
     w->constraint = calloc(2 * dofs, sizeof(double));
     w->eigen_work = malloc(2 * dofs * sizeof(double));
+    w->rotation_blocks = malloc(n * 27 * sizeof(double));
     w->mode = malloc(3 * dofs * sizeof(double));
     if (!w->frame || !w->force || !w->frame_trial || !w->darboux || !w->mid || !w->mid_base ||
         !w->moment || !w->increment || !w->newton_step || !w->residual || !w->residual_trial ||
         !w->band || !w->border_columns || !w->border_rows || !w->border_solution || !w->pivots ||
         !w->saved_frame || !w->saved_force || !w->dof_node || !w->dof_axis || !w->dof_row ||
         !w->stiffness || !w->stiffness_work || !w->stiffness_pivots || !w->constraint ||
-        !w->eigen_work || !w->mode) {
+        !w->eigen_work || !w->mode || !w->rotation_blocks) {
         static_work_destroy(w);
         snprintf(err, errlen, "static: out of memory for %d nodes", m->nodes);
         return NULL;
@@ -624,25 +627,9 @@ static void accept_trial(static_work *w)
 
 /* Stability ----------------------------------------------------------- */
 
-/* Entry of the band Jacobian (before its LU) at (row, col), |row - col| <= 11. */
-static double band_entry(const static_work *w, int row, int col)
-{
-    return w->band[(size_t)col * w->band_rows + (BAND_LOWER + BAND_UPPER + row - col)];
-}
-
 static double *stiffness_at(static_work *w, int a, int b) /* lower band, a >= b */
 {
     return &w->stiffness[(size_t)b * (STIFFNESS_BAND + 1) + (size_t)(a - b)];
-}
-
-/* d (row) / d omega_{node, axis}: the Jacobian's phi columns of the node
- * turned to a global rotation (Q exp(phi) = exp(omega) Q: phi = Q^T omega). */
-static double row_by_rotation(const static_work *w, int row, int node, int axis)
-{
-    const double *q = &w->frame[9 * node];
-    double sum = 0.0;
-    for (int c = 0; c < 3; c++) sum += band_entry(w, row, UNKNOWNS_PER_NODE * node + c) * q[3 * axis + c];
-    return sum;
 }
 
 /* From the Jacobian just built (band before its LU): the reduced tangent
@@ -654,14 +641,37 @@ static double row_by_rotation(const static_work *w, int row, int node, int axis)
  * O(ds^2) (midpoint torques), so K is symmetrised. */
 static void capture_stiffness(static_work *w)
 {
-    int dofs = w->dofs, nb = w->band_unknowns;
+    int dofs = w->dofs, nb = w->band_unknowns, n = w->nodes, ldab = w->band_rows;
     w->stiffness_fresh = 1;
-    for (int a = 0; a < dofs; a++) {
+    /* 3 x 3 blocks -J(moment rows of i, phi of j) Q_j^T, j = i-1, i, i+1
+     * (d omega = Q d phi); a pinned root's moment rows are 0..2 */
+    for (int i = 0; i < n; i++) {
+        int first_row = i == 0 ? 0 : UNKNOWNS_PER_NODE * i + 3;
+        for (int p = 0; p < 3; p++) {
+            int j = i + p - 1;
+            if (j < 0 || j >= n) continue;
+            const double *q = &w->frame[9 * j];
+            double *block = &w->rotation_blocks[27 * i + 9 * p];
+            for (int r = 0; r < 3; r++) {
+                double entry[3];
+                for (int c = 0; c < 3; c++) {
+                    int row = first_row + r, col = UNKNOWNS_PER_NODE * j + c;
+                    entry[c] = w->band[(size_t)col * ldab + (BAND_LOWER + BAND_UPPER + row - col)];
+                }
+                for (int axis = 0; axis < 3; axis++)
+                    block[3 * r + axis] = -(entry[0] * q[3 * axis] + entry[1] * q[3 * axis + 1] +
+                                            entry[2] * q[3 * axis + 2]);
+            }
+        }
+    }
+    for (int a = 0; a < dofs; a++) { /* symmetrised: the discrete balance is variational to O(ds^2) */
+        int i = w->dof_node[a], ra = w->dof_axis[a];
         for (int b = a; b >= 0 && a - b <= STIFFNESS_BAND; b--) {
+            int j = w->dof_node[b], rb = w->dof_axis[b];
             double value = 0.0;
-            if (abs(w->dof_node[a] - w->dof_node[b]) <= 1)
-                value = -0.5 * (row_by_rotation(w, w->dof_row[a], w->dof_node[b], w->dof_axis[b]) +
-                                row_by_rotation(w, w->dof_row[b], w->dof_node[a], w->dof_axis[a]));
+            if (abs(i - j) <= 1)
+                value = 0.5 * (w->rotation_blocks[27 * i + 9 * (j - i + 1) + 3 * ra + rb] +
+                               w->rotation_blocks[27 * j + 9 * (i - j + 1) + 3 * rb + ra]);
             *stiffness_at(w, a, b) = value;
         }
     }
