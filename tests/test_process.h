@@ -13,8 +13,11 @@
 #include <unistd.h>
 
 /* Runs RODSIM_BIN with args (NULL-terminated, without argv[0]); its stdout
- * and stderr go to `output`. Returns the exit status, -1 when it did not exit. */
-static inline int test_run_rodsim(const char *const *args, char *output, size_t outlen)
+ * and stderr go to `output`. When seconds > 0 the run is killed (SIGALRM)
+ * after that long, so a run that never ends fails the test instead of
+ * hanging it. Returns the exit status, -1 when it did not exit. */
+static inline int test_run_rodsim_within(const char *const *args, unsigned seconds, char *output,
+                                         size_t outlen)
 {
     char log_path[] = "/tmp/rodsim_test_outputXXXXXX";
     int fd = mkstemp(log_path);
@@ -30,6 +33,7 @@ static inline int test_run_rodsim(const char *const *args, char *output, size_t 
         dup2(fd, 1);
         dup2(fd, 2);
         close(fd);
+        if (seconds > 0) alarm(seconds); /* survives execv */
         execv(RODSIM_BIN, (char *const *)argv);
         _exit(127);
     }
@@ -46,6 +50,11 @@ static inline int test_run_rodsim(const char *const *args, char *output, size_t 
     unlink(log_path);
     if (!waited) return -1;
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+static inline int test_run_rodsim(const char *const *args, char *output, size_t outlen)
+{
+    return test_run_rodsim_within(args, 0, output, outlen);
 }
 
 /* Entries of a directory other than . and ..; -1 when it does not exist. */

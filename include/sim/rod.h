@@ -158,6 +158,8 @@ typedef enum {
 
 typedef struct rod_report {
     char message[768];      /* for people: what diverged, the limit broken, what would work */
+    char warning[512];      /* for people, on success: a caveat of the answer (e.g. the side
+                               chosen at a symmetric bifurcation), or ""; the first one stays */
     double suggested_dt;    /* s, a step that would work, or 0 when none is known */
     double suggested_scale; /* a rotary_inertia_scale that would work, or 0 */
     int newton_iterations;  /* of the last step (implicit, static) */

@@ -6,6 +6,8 @@
 #ifndef RODSIM_ROD_GEOMETRY_H
 #define RODSIM_ROD_GEOMETRY_H
 
+#include <stddef.h>
+
 #include "sim/rod.h"
 
 /* u_{i+1/2} = log(Q_i^T Q_{i+1}) / ds, director components of the midpoint
@@ -21,5 +23,20 @@ void rod_midpoint_frames(const rod_model *m, const double *frame, const double *
 /* r_0 = 0, r_{i+1} = r_i + ds d3(Q_{i+1/2}): the centreline from d3 (3.12),
  * second order, with segments exactly ds long. Writes position (nodes x 3). */
 void rod_positions_from_midframes(const rod_model *m, const double *mid, double *position);
+
+/* A turn of more than this between neighbouring frames, |u| ds (rad), is not
+ * resolved by the grid (the segments fold; the log map nears its
+ * singularity at pi). One definition for every staggered scheme. */
+#define ROD_UNRESOLVED_BEND 1.0
+
+/* Largest bend between neighbouring frames, |u_{i+1/2}| ds (rad), over the
+ * nodes-1 midpoint Darboux vectors `darboux` (1/m); *segment gets its index. */
+double rod_sharpest_bend(const rod_model *m, const double *darboux, int *segment);
+
+/* Writes for people that the bend `angle` (rad) at midpoint `segment` is not
+ * resolved, at time t (s), naming the scheme and the rod.nodes that would
+ * resolve it (0.3 rad per segment). */
+void rod_unresolved_bend_message(const rod_model *m, const char *scheme, double t, double angle,
+                                 int segment, char *message, size_t length);
 
 #endif

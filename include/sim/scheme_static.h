@@ -33,4 +33,15 @@ int static_straight_determinant(static_work *w, const rod_model *m, double lambd
                                 double *log_abs, double *phase, double *residual, char *err,
                                 size_t errlen);
 
+/* The number of unstable modes of the equilibrium in state `s` (as this
+ * scheme writes it) under the loads at s->time: the negative eigenvalues
+ * (below -1e-3 in the stiffness rows' units, where the unloaded
+ * cantilever's softest mode is about pi^2/4) of the tangent stiffness on
+ * the constraint manifold, the check every static step makes. Returns 0
+ * with *count (-1: undecided, a critical point), or -1 with a message when
+ * the loads are not dead forces (no static criterion for a follower load
+ * or a tip moment: not conservative). */
+int static_unstable_modes(static_work *w, const rod_model *m, const rod_state *s, int *count,
+                          char *err, size_t errlen);
+
 #endif

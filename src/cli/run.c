@@ -398,6 +398,7 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
         fprintf(stderr, "rodsim run: video: %s\n", err);
         goto done;
     }
+    if (report.warning[0]) fprintf(stderr, "rodsim run: warning: %s\n", report.warning);
     if (!a->quiet) {
         print_result(m, s, stats.steps, stats.wall_seconds);
         if (a->csv) printf("        wrote %s (%d frames x %d nodes)\n", a->csv, frames, m->nodes);

@@ -1,6 +1,9 @@
 /* rod_geometry.c: staggered discrete geometry (see rod_geometry.h). */
 #include "sim/rod_geometry.h"
 
+#include <math.h>
+#include <stdio.h>
+
 #include "base/vec3.h"
 
 void rod_darboux_from_frames(const rod_model *m, const double *frame, double *darboux)
@@ -32,4 +35,32 @@ void rod_positions_from_midframes(const rod_model *m, const double *mid, double 
         m3_column(d3, &mid[9 * i], 2);
         for (int k = 0; k < 3; k++) position[3 * (i + 1) + k] = position[3 * i + k] + m->ds * d3[k];
     }
+}
+
+double rod_sharpest_bend(const rod_model *m, const double *darboux, int *segment)
+{
+    double worst = 0.0;
+    *segment = 0;
+    for (int j = 0; j + 1 < m->nodes; j++) {
+        double angle = v3_norm(&darboux[3 * j]) * m->ds;
+        if (angle > worst) {
+            worst = angle;
+            *segment = j;
+        }
+    }
+    return worst;
+}
+
+void rod_unresolved_bend_message(const rod_model *m, const char *scheme, double t, double angle,
+                                 int segment, char *message, size_t length)
+{
+    double curvature = angle / m->ds;
+    int nodes_needed = (int)ceil(m->length * curvature / 0.3) + 1; /* 0.3 rad per segment */
+    snprintf(message, length,
+             "%s scheme: the rod bends more sharply than the grid resolves at t = %.6g s: "
+             "|u| = %.4g 1/m at s = %.4g m, a turn of %.2f rad between neighbouring nodes "
+             "(limit %.1f rad; bend radius %.3g m against ds = %.3g m). The load drives the rod "
+             "into a kink: raise rod.nodes to at least %d, or reduce or slow the load.",
+             scheme, t, curvature, (segment + 0.5) * m->ds, angle, ROD_UNRESOLVED_BEND,
+             1.0 / curvature, m->ds, nodes_needed);
 }

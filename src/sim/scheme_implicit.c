@@ -812,34 +812,11 @@ static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double
     return split_step(w, m, s, 0.5 * dt, report, depth + 1);
 }
 
-/* Largest bend between neighbouring frames, |u| ds (rad), and where. */
-static double sharpest_bend(const rod_model *m, const rod_state *s, int *segment)
-{
-    double worst = 0.0;
-    *segment = 0;
-    for (int j = 0; j + 1 < m->nodes; j++) {
-        double angle = v3_norm(&s->darboux[3 * j]) * m->ds;
-        if (angle > worst) { worst = angle; *segment = j; }
-    }
-    return worst;
-}
-
-/* A bend of more than this between neighbouring frames is not resolved by
- * the grid (the segments fold; the log map nears its singularity at pi). */
-#define UNRESOLVED_BEND 1.0 /* rad */
-
 static rod_status unresolved(const rod_model *m, const rod_state *s, double angle, int segment,
                              rod_report *report)
 {
-    double curvature = angle / m->ds;
-    int nodes_needed = (int)ceil(m->length * curvature / 0.3) + 1; /* 0.3 rad per segment */
-    snprintf(report->message, sizeof report->message,
-             "implicit scheme: the rod bends more sharply than the grid resolves at t = %.6g s: "
-             "|u| = %.4g 1/m at s = %.4g m, a turn of %.2f rad between neighbouring nodes "
-             "(limit %.1f rad; bend radius %.3g m against ds = %.3g m). The load drives the rod "
-             "into a kink: raise rod.nodes to at least %d, or reduce or slow the load.",
-             s->time, curvature, (segment + 0.5) * m->ds, angle, UNRESOLVED_BEND,
-             1.0 / curvature, m->ds, nodes_needed);
+    rod_unresolved_bend_message(m, "implicit", s->time, angle, segment, report->message,
+                                sizeof report->message);
     return ROD_UNSTABLE;
 }
 
@@ -851,14 +828,14 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     w->budget = STEP_ITERATION_BUDGET;
     int segment;
     if (split_step(w, m, s, dt, report, 0) == 0) {
-        double angle = sharpest_bend(m, s, &segment);
-        if (angle <= UNRESOLVED_BEND) return ROD_OK;
+        double angle = rod_sharpest_bend(m, s->darboux, &segment);
+        if (angle <= ROD_UNRESOLVED_BEND) return ROD_OK;
         return unresolved(m, s, angle, segment, report);
     }
     restore_state(w, s);
     w->have_factor = 0;
-    double angle = sharpest_bend(m, s, &segment);
-    if (angle > 0.5 * UNRESOLVED_BEND) return unresolved(m, s, angle, segment, report);
+    double angle = rod_sharpest_bend(m, s->darboux, &segment);
+    if (angle > 0.5 * ROD_UNRESOLVED_BEND) return unresolved(m, s, angle, segment, report);
     snprintf(report->message, sizeof report->message,
              "implicit scheme: Newton's method did not converge at t = %.6g s for the step "
              "dt = %g s, split in halves up to %d parts within %d iterations (tolerance %.1e). "

@@ -29,12 +29,24 @@
  * limit and a backtracking line search; a load increment is split into
  * sub-steps (load continuation) when it is large or when Newton fails.
  *
- * Past the buckling load a straight rod is an (unstable) equilibrium too:
- * Newton started from the straight state under a purely axial load (or a
- * pure twisting moment) stays straight. That is a correct equilibrium, just
- * not the one a perturbed rod would find; add a small transverse load to
- * follow the buckled branch; rod_buckling_factor (buckling.h) finds where
- * the straight rod stops being stable from this scheme's Jacobian.
+ * Past the buckling load a straight rod is an (unstable) equilibrium too,
+ * and Newton finds it. So every answer under dead forces is checked: the
+ * tangent stiffness on the free rotations (the forces N, multipliers of
+ * inextensibility, eliminated by statics) must be positive definite on the
+ * constraint manifold (a held tip's sleeve); its negative eigenvalues are
+ * counted by a band LDL^T (Sylvester's law of inertia). An unstable answer
+ * is left along its critical mode, to the side the load's transverse part
+ * pulls (or +y, with a warning, when the load is symmetric), by an
+ * over-damped descent (pseudo-transient continuation) to a stable rest; when
+ * none is found the step fails rather than return it. A follower load or a
+ * tip moment is not conservative and has no static criterion: not checked.
+ * rod_buckling_factor (buckling.h) finds where the straight rod stops being
+ * stable from this scheme's Jacobian.
+ *
+ * Every loop has a budget (Newton iterations, line-search halvings, load
+ * sub-steps, descent iterations, solves per run), a load whose size in the
+ * rod's scales is not finite is refused, and a bend of more than
+ * ROD_UNRESOLVED_BEND between nodes is refused as the implicit scheme does.
  *
  * End conditions (rod_end_kind in rod.h). Every node i = 0..NS-1 owns a
  * block of 6 unknowns and 6 equations; node 0's block holds phi_0 and 3
@@ -78,7 +90,8 @@ enum {
     BAND_LOWER = 11, /* node i's equations reach the unknowns of nodes i-1..i+1 */
     BAND_UPPER = 11,
     COLOURS = 3,
-    MAX_BORDER = 2   /* tip reaction R_y, R_z and the rows y_tip = z_tip = 0 */
+    MAX_BORDER = 2,  /* tip reaction R_y, R_z and the rows y_tip = z_tip = 0 */
+    STIFFNESS_BAND = 5 /* half bandwidth of the reduced stiffness: up to 3 rotations a node */
 };
 
 /* Largest load change per continuation sub-step, in units of the rod's own
@@ -88,6 +101,24 @@ static const double max_load_increment = 1.0;
 static const double min_load_fraction = 1.0 / 4096.0;
 /* Newton step limit: largest rotation increment of a node, rad. */
 static const double max_rotation_step = 1.0;
+/* Budgets (a step always ends): continuation sub-steps of one step, and
+ * pseudo-time iterations of the descent off an unstable equilibrium. */
+static const int max_sub_steps = 400;
+static const int max_descent_iterations = 300;
+/* Relative load increment once the load is large: a sub-step may add half
+ * the load reached (the rod stiffens), so huge loads take log(size) steps. */
+static const double relative_load_increment = 0.5;
+/* A run of more static solves than this is refused (solver.dt far below the
+ * output interval buys nothing: the equilibrium does not depend on dt). */
+static const double max_solves_per_run = 1e6;
+/* An eigenvalue of the reduced stiffness below -this is a loss of stability.
+ * Unit: the stiffness rows' scale, in which the unloaded cantilever's
+ * softest mode is about pi^2/4 at every NS (buckling at P = P_E (1 + 4e-4)
+ * is seen); the finite-difference Jacobian's noise is ~1e-8 (L/ds)^2. */
+static const double negative_eigenvalue = 1e-3;
+/* The push along the critical mode off an unstable equilibrium: largest
+ * node rotation, rad. */
+static const double mode_push = 0.05;
 
 /* The straight initial frame: d1 = +y, d2 = +z, d3 = +x (thesis 4.2). */
 static const double straight_frame[9] = {0, 0, 1,
@@ -136,6 +167,25 @@ struct static_work {
     double saved_reaction[2];
     double complex *tangent; /* (transverse x transverse) for the buckling determinant, made on first use */
 
+    /* Stability: the tangent stiffness reduced to the free rotations (global
+     * components omega, the forces N eliminated by statics), symmetric, on
+     * `dofs` rotations; K = -Q^T dR/dphi in moment-row units (see
+     * capture_stiffness). Constrained to the held tip's sleeve by `constraint`. */
+    int dofs;
+    int *dof_node;        /* (dofs) */
+    int *dof_axis;        /* (dofs) global axis 0..2 of the rotation */
+    int *dof_row;         /* (dofs) residual row of its moment balance */
+    double *stiffness;    /* (STIFFNESS_BAND+1 x dofs) lower band, column-major */
+    double *stiffness_work; /* (3 STIFFNESS_BAND+1 x dofs) copy destroyed by LAPACK */
+    lapack_int *stiffness_pivots; /* (dofs) */
+    double *constraint;   /* (2 x dofs) row-major: d (y_tip, z_tip) / d omega */
+    double *eigen_work;   /* (2 dofs) inverse iteration: the iterate, K x */
+    double *rotation_blocks; /* (nodes x 3 x 9) -d(moment rows of i)/d(omega of i-1, i, i+1) */
+    double *mode;         /* (dofs x 3): mode, and two solves for the constraint */
+    int stiffness_fresh;  /* stiffness captured at this step's solution's Newton */
+    int have_verdict;     /* the state's unstable-mode count below is known */
+    int negative_modes;   /* of the last solution */
+
     /* the load of the last solved step, the start of the next step's path */
     int have_previous;
     double previous_time; /* s */
@@ -166,6 +216,16 @@ void static_work_destroy(static_work *w)
     free(w->saved_frame);
     free(w->saved_force);
     free(w->tangent);
+    free(w->dof_node);
+    free(w->dof_axis);
+    free(w->dof_row);
+    free(w->stiffness);
+    free(w->stiffness_work);
+    free(w->stiffness_pivots);
+    free(w->constraint);
+    free(w->eigen_work);
+    free(w->rotation_blocks);
+    free(w->mode);
     free(w);
 }
 
@@ -237,10 +297,40 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
     w->pivots = malloc(nb * sizeof(lapack_int));
     w->saved_frame = malloc(n * 9 * sizeof(double));
     w->saved_force = malloc((n - 1) * 3 * sizeof(double));
+    /* the free rotations: none at a clamped root, swing (y, z) at a pinned
+     * one, twist (x) only at a clamped tip, all three elsewhere */
+    size_t most = 3 * n;
+    w->dof_node = malloc(most * sizeof(int));
+    w->dof_axis = malloc(most * sizeof(int));
+    w->dof_row = malloc(most * sizeof(int));
+    if (w->dof_node && w->dof_axis && w->dof_row) {
+        for (int i = 0; i < m->nodes; i++) {
+            for (int axis = 0; axis < 3; axis++) {
+                int row = UNKNOWNS_PER_NODE * i + 3 + axis;
+                if (i == 0 && (m->root_end == ROD_END_CLAMPED || axis == 0)) continue;
+                if (i == 0) row = axis; /* pinned root: rows 1, 2 hold M(0)_y, M(0)_z */
+                if (i == m->nodes - 1 && m->tip_end == ROD_END_CLAMPED && axis > 0) continue;
+                w->dof_node[w->dofs] = i;
+                w->dof_axis[w->dofs] = axis;
+                w->dof_row[w->dofs] = row;
+                w->dofs++;
+            }
+        }
+    }
+    size_t dofs = (size_t)w->dofs;
+    w->stiffness = malloc((STIFFNESS_BAND + 1) * dofs * sizeof(double));
+    w->stiffness_work = malloc((3 * STIFFNESS_BAND + 1) * dofs * sizeof(double));
+    w->stiffness_pivots = malloc(dofs * sizeof(lapack_int));
+    w->constraint = calloc(2 * dofs, sizeof(double));
+    w->eigen_work = malloc(2 * dofs * sizeof(double));
+    w->rotation_blocks = malloc(n * 27 * sizeof(double));
+    w->mode = malloc(3 * dofs * sizeof(double));
     if (!w->frame || !w->force || !w->frame_trial || !w->darboux || !w->mid || !w->mid_base ||
         !w->moment || !w->increment || !w->newton_step || !w->residual || !w->residual_trial ||
         !w->band || !w->border_columns || !w->border_rows || !w->border_solution || !w->pivots ||
-        !w->saved_frame || !w->saved_force) {
+        !w->saved_frame || !w->saved_force || !w->dof_node || !w->dof_axis || !w->dof_row ||
+        !w->stiffness || !w->stiffness_work || !w->stiffness_pivots || !w->constraint ||
+        !w->eigen_work || !w->mode || !w->rotation_blocks) {
         static_work_destroy(w);
         snprintf(err, errlen, "static: out of memory for %d nodes", m->nodes);
         return NULL;
@@ -535,6 +625,388 @@ static void accept_trial(static_work *w)
         w->reaction[k] += w->force_scale * w->increment[w->band_unknowns + k];
 }
 
+/* Stability ----------------------------------------------------------- */
+
+static double *stiffness_at(static_work *w, int a, int b) /* lower band, a >= b */
+{
+    return &w->stiffness[(size_t)b * (STIFFNESS_BAND + 1) + (size_t)(a - b)];
+}
+
+/* From the Jacobian just built (band before its LU): the reduced tangent
+ * stiffness K[a][b] = -d row_a / d omega_b on the free rotations. The
+ * moment rows are -dPi/domega (Pi the potential energy; the forces N are
+ * multipliers of inextensibility, fixed by statics independently of the
+ * frames for dead loads), so K is the Hessian of Pi in global rotations,
+ * in row units. The discrete moment balance is variational only up to
+ * O(ds^2) (midpoint torques), so K is symmetrised. */
+static void capture_stiffness(static_work *w)
+{
+    int dofs = w->dofs, nb = w->band_unknowns, n = w->nodes, ldab = w->band_rows;
+    w->stiffness_fresh = 1;
+    /* 3 x 3 blocks -J(moment rows of i, phi of j) Q_j^T, j = i-1, i, i+1
+     * (d omega = Q d phi); a pinned root's moment rows are 0..2 */
+    for (int i = 0; i < n; i++) {
+        int first_row = i == 0 ? 0 : UNKNOWNS_PER_NODE * i + 3;
+        for (int p = 0; p < 3; p++) {
+            int j = i + p - 1;
+            if (j < 0 || j >= n) continue;
+            const double *q = &w->frame[9 * j];
+            double *block = &w->rotation_blocks[27 * i + 9 * p];
+            for (int r = 0; r < 3; r++) {
+                double entry[3];
+                for (int c = 0; c < 3; c++) {
+                    int row = first_row + r, col = UNKNOWNS_PER_NODE * j + c;
+                    entry[c] = w->band[(size_t)col * ldab + (BAND_LOWER + BAND_UPPER + row - col)];
+                }
+                for (int axis = 0; axis < 3; axis++)
+                    block[3 * r + axis] = -(entry[0] * q[3 * axis] + entry[1] * q[3 * axis + 1] +
+                                            entry[2] * q[3 * axis + 2]);
+            }
+        }
+    }
+    for (int a = 0; a < dofs; a++) { /* symmetrised: the discrete balance is variational to O(ds^2) */
+        int i = w->dof_node[a], ra = w->dof_axis[a];
+        for (int b = a; b >= 0 && a - b <= STIFFNESS_BAND; b--) {
+            int j = w->dof_node[b], rb = w->dof_axis[b];
+            double value = 0.0;
+            if (abs(i - j) <= 1)
+                value = 0.5 * (w->rotation_blocks[27 * i + 9 * (j - i + 1) + 3 * ra + rb] +
+                               w->rotation_blocks[27 * j + 9 * (i - j + 1) + 3 * rb + ra]);
+            *stiffness_at(w, a, b) = value;
+        }
+    }
+    if (!w->border) return;
+    for (int k = 0; k < 2; k++) /* the sleeve rows y_tip = z_tip = 0, by omega */
+        for (int b = 0; b < dofs; b++) {
+            const double *q = &w->frame[9 * w->dof_node[b]];
+            const double *row = &w->border_rows[(size_t)k * nb + UNKNOWNS_PER_NODE * w->dof_node[b]];
+            double sum = 0.0;
+            for (int c = 0; c < 3; c++) sum += row[c] * q[3 * w->dof_axis[b] + c];
+            w->constraint[(size_t)k * dofs + b] = sum;
+        }
+}
+
+/* Factors K - shift I (general band LU in stiffness_work). Returns LAPACK's info. */
+static lapack_int factor_shifted(static_work *w, double shift)
+{
+    int dofs = w->dofs, kd = STIFFNESS_BAND, ldab = 3 * kd + 1;
+    memset(w->stiffness_work, 0, (size_t)ldab * (size_t)dofs * sizeof(double));
+    for (int b = 0; b < dofs; b++)
+        for (int a = b; a < dofs && a - b <= kd; a++) {
+            double value = *stiffness_at(w, a, b) - (a == b ? shift : 0.0);
+            w->stiffness_work[(size_t)b * ldab + (2 * kd + a - b)] = value; /* (a, b) */
+            w->stiffness_work[(size_t)a * ldab + (2 * kd + b - a)] = value; /* (b, a) */
+        }
+    return LAPACKE_dgbtrf_work(LAPACK_COL_MAJOR, dofs, dofs, kd, kd, w->stiffness_work, ldab,
+                               w->stiffness_pivots);
+}
+
+static int solve_shifted(static_work *w, double *x, int columns)
+{
+    int kd = STIFFNESS_BAND;
+    return LAPACKE_dgbtrs_work(LAPACK_COL_MAJOR, 'N', w->dofs, kd, kd, columns, w->stiffness_work,
+                               3 * kd + 1, w->stiffness_pivots, x, w->dofs) == 0 ? 0 : -1;
+}
+
+/* The number of eigenvalues of K below `shift`: the negative pivots of
+ * the band LDL^T of K - shift I without pivoting (Sylvester's law of
+ * inertia; the Sturm count of structural eigen solvers), O(dofs kd^2).
+ * Returns -1 at an exactly zero pivot. */
+static int eigenvalues_below(static_work *w, double shift)
+{
+    int dofs = w->dofs, kd = STIFFNESS_BAND, ldab = kd + 1, count = 0;
+    double *l = w->stiffness_work; /* L below the diagonal, D on it, lower band */
+    memcpy(l, w->stiffness, (size_t)ldab * (size_t)dofs * sizeof(double));
+    for (int j = 0; j < dofs; j++) {
+        int first = j - kd > 0 ? j - kd : 0;
+        double d = l[(size_t)j * ldab] - shift;
+        for (int k = first; k < j; k++) {
+            double ljk = l[(size_t)k * ldab + (j - k)];
+            d -= ljk * ljk * l[(size_t)k * ldab];
+        }
+        if (d == 0.0 || !isfinite(d)) return -1;
+        l[(size_t)j * ldab] = d;
+        if (d < 0.0) count++;
+        for (int i = j + 1; i < dofs && i - j <= kd; i++) {
+            double sum = l[(size_t)j * ldab + (i - j)];
+            for (int k = (i - kd > first ? i - kd : first); k < j; k++)
+                sum -= l[(size_t)k * ldab + (i - k)] * l[(size_t)k * ldab + (j - k)] * l[(size_t)k * ldab];
+            l[(size_t)j * ldab + (i - j)] = sum / d;
+        }
+    }
+    return count;
+}
+
+/* Solves (K - shift I) x = b in place with the LDL^T left by eigenvalues_below. */
+static void ldlt_solve(const static_work *w, double *x)
+{
+    int dofs = w->dofs, kd = STIFFNESS_BAND, ldab = kd + 1;
+    const double *l = w->stiffness_work;
+    for (int j = 0; j < dofs; j++) /* L y = b */
+        for (int i = j + 1; i < dofs && i - j <= kd; i++) x[i] -= l[(size_t)j * ldab + (i - j)] * x[j];
+    for (int j = 0; j < dofs; j++) x[j] /= l[(size_t)j * ldab];
+    for (int j = dofs - 1; j >= 0; j--) /* L^T x = y */
+        for (int i = j + 1; i < dofs && i - j <= kd; i++) x[j] -= l[(size_t)j * ldab + (i - j)] * x[i];
+}
+
+/* The number of eigenvalues below `shift` of K on the constraint manifold.
+ * A held tip adds the sleeve constraints C (2 rows): by Haynsworth's inertia
+ * additivity the KKT matrix [K - shift I, C^T; C, 0] has the inertia of
+ * K - shift I plus that of S = -C (K - shift I)^-1 C^T and, C being of full
+ * rank, 2 negative eigenvalues more than K - shift I on the null space of C.
+ * Returns -1 when it cannot be decided (a zero pivot: shift is an eigenvalue). */
+static int manifold_eigenvalues_below(static_work *w, double shift)
+{
+    int count = eigenvalues_below(w, shift);
+    if (count < 0 || !w->border) return count;
+    int dofs = w->dofs;
+    double *solved = &w->mode[dofs]; /* (K - shift I)^-1 C^T, 2 columns */
+    memcpy(solved, w->constraint, 2 * (size_t)dofs * sizeof(double));
+    ldlt_solve(w, solved);
+    ldlt_solve(w, &solved[dofs]);
+    double schur[2][2];
+    for (int k = 0; k < 2; k++)
+        for (int l = 0; l < 2; l++) {
+            double sum = 0.0;
+            for (int b = 0; b < dofs; b++) sum += w->constraint[(size_t)k * dofs + b] * solved[(size_t)l * dofs + b];
+            schur[k][l] = -sum;
+        }
+    double trace = schur[0][0] + schur[1][1];
+    double det = schur[0][0] * schur[1][1] - 0.25 * pow(schur[0][1] + schur[1][0], 2);
+    if (!isfinite(det) || det == 0.0) return -1;
+    int schur_negative = det < 0.0 ? 1 : trace < 0.0 ? 2 : 0;
+    count += schur_negative - 2;
+    return count < 0 ? 0 : count;
+}
+
+/* The number of unstable modes of the captured stiffness (eigenvalues below
+ * -negative_eigenvalue on the constraint manifold), or -1: undecided. */
+static int unstable_modes(static_work *w)
+{
+    return manifold_eigenvalues_below(w, -negative_eigenvalue);
+}
+
+/* The lowest eigenvalue of K on the constraint manifold, when it is below
+ * `upper` (count there >= 1), by bisection on the count from Gershgorin's
+ * lower bound, to 1e-4 relative. */
+static double lowest_eigenvalue(static_work *w, double upper)
+{
+    int dofs = w->dofs;
+    double low = 0.0;
+    for (int a = 0; a < dofs; a++) {
+        double bound = *stiffness_at(w, a, a);
+        for (int b = a - STIFFNESS_BAND; b <= a + STIFFNESS_BAND; b++) {
+            if (b < 0 || b >= dofs || b == a) continue;
+            bound -= fabs(b < a ? *stiffness_at(w, a, b) : *stiffness_at(w, b, a));
+        }
+        low = fmin(low, bound);
+    }
+    low -= negative_eigenvalue;
+    double high = upper;
+    for (int iteration = 0; iteration < 80 && high - low > 1e-4 * fabs(high) + 1e-12; iteration++) {
+        double middle = 0.5 * (low + high);
+        int count = manifold_eigenvalues_below(w, middle);
+        if (count < 0) count = manifold_eigenvalues_below(w, middle + 1e-9 * (high - low));
+        if (count != 0) high = middle;
+        else low = middle;
+    }
+    return high;
+}
+
+/* y = K x (symmetric, lower band) */
+static void stiffness_multiply(static_work *w, const double *x, double *y)
+{
+    int dofs = w->dofs;
+    for (int a = 0; a < dofs; a++) y[a] = 0.0;
+    for (int b = 0; b < dofs; b++)
+        for (int a = b; a < dofs && a - b <= STIFFNESS_BAND; a++) {
+            double k = *stiffness_at(w, a, b);
+            y[a] += k * x[b];
+            if (a != b) y[b] += k * x[a];
+        }
+}
+
+/* Inverse iteration with the factored K - shift I from `start` (per axis),
+ * kept on the sleeve by Z = A^-1 C^T (columns z, y) and C Z = projection
+ * (determinant det) for a held tip. Writes w->mode; returns the Rayleigh
+ * quotient, NAN on failure. */
+static double inverse_iteration(static_work *w, const double start[3], const double *z,
+                                const double *y, double projection[2][2], double det)
+{
+    int dofs = w->dofs;
+    double *x = w->mode;
+    double *v = w->eigen_work; /* v, then K x */
+    for (int a = 0; a < dofs; a++) v[a] = start[w->dof_axis[a]];
+    for (int iteration = 0; iteration < 12; iteration++) {
+        if (solve_shifted(w, v, 1)) return NAN;
+        if (w->border) { /* v -= Z (C Z)^-1 C v: stay on the sleeve */
+            double cv[2] = {0, 0}, mu[2];
+            for (int k = 0; k < 2; k++)
+                for (int b = 0; b < dofs; b++) cv[k] += w->constraint[(size_t)k * dofs + b] * v[b];
+            mu[0] = (projection[1][1] * cv[0] - projection[0][1] * cv[1]) / det;
+            mu[1] = (projection[0][0] * cv[1] - projection[1][0] * cv[0]) / det;
+            for (int b = 0; b < dofs; b++) v[b] -= z[b] * mu[0] + y[b] * mu[1];
+        }
+        double norm = sqrt(sum_squares(v, dofs));
+        if (!(norm > 0.0) || !isfinite(norm)) return NAN;
+        for (int a = 0; a < dofs; a++) v[a] /= norm;
+    }
+    memcpy(x, v, (size_t)dofs * sizeof(double));
+    double *kx = &w->eigen_work[dofs];
+    stiffness_multiply(w, x, kx);
+    double rayleigh = 0.0;
+    for (int a = 0; a < dofs; a++) rayleigh += x[a] * kx[a];
+    return rayleigh;
+}
+
+/* The critical mode: the eigenvector of K's lowest eigenvalue on the
+ * constraint manifold (found by bisection on the count), by inverse
+ * iteration with a shift just below it, into w->mode (unit norm).
+ * Of a double eigenvalue (the round rod's y and z bending) the x-y plane's
+ * mode is taken: a fixed, documented choice. Returns the Rayleigh quotient, or NAN on failure. */
+static double critical_mode(static_work *w)
+{
+    int dofs = w->dofs;
+    double lowest = lowest_eigenvalue(w, 0.0);
+    double shift = lowest - fmax(0.01 * fabs(lowest), negative_eigenvalue);
+    if (factor_shifted(w, shift) != 0) return NAN;
+    double *z = &w->mode[dofs], *y = &w->mode[2 * dofs];
+    double projection[2][2] = {{0, 0}, {0, 0}}, det = 1.0;
+    if (w->border) { /* Z = A^-1 C^T (2 columns in z and y), and C Z */
+        memcpy(z, w->constraint, 2 * (size_t)dofs * sizeof(double));
+        if (solve_shifted(w, z, 2)) return NAN;
+        for (int k = 0; k < 2; k++)
+            for (int l = 0; l < 2; l++)
+                for (int b = 0; b < dofs; b++)
+                    projection[k][l] += w->constraint[(size_t)k * dofs + b] * z[(size_t)l * dofs + b];
+        det = projection[0][0] * projection[1][1] - projection[0][1] * projection[1][0];
+        if (!(fabs(det) > 0.0)) return NAN;
+    }
+    /* rotations about z first (the x-y plane's mode of a double eigenvalue,
+     * exactly in plane); when that start misses the lowest eigenvalue (a
+     * mode with no z turn), a start leaning on z with some x and y */
+    static const double starts[2][3] = {{0.0, 0.0, 1.0}, {0.1, 0.3, 1.0}}; /* about x, y, z */
+    double rayleigh = NAN;
+    for (int attempt = 0; attempt < 2; attempt++) {
+        rayleigh = inverse_iteration(w, starts[attempt], z, y, projection, det);
+        if (rayleigh <= lowest + 0.05 * fabs(lowest) + negative_eigenvalue) break;
+    }
+    return rayleigh;
+}
+
+/* Turns every node by `scale` times the mode (global rotations). */
+static void turn_along_mode(static_work *w, double scale)
+{
+    double omega[3];
+    int a = 0;
+    for (int i = 0; i < w->nodes; i++) {
+        v3_set(omega, 0.0, 0.0, 0.0);
+        for (; a < w->dofs && w->dof_node[a] == i; a++) omega[w->dof_axis[a]] = scale * w->mode[a];
+        double rot[9], turned[9];
+        m3_exp(rot, omega);
+        m3_mul(turned, rot, &w->frame[9 * i]);
+        m3_orthonormalize(turned);
+        memcpy(&w->frame[9 * i], turned, sizeof turned);
+    }
+}
+
+/* Pushes the base point off an unstable equilibrium along the critical mode
+ * (largest node turn mode_push). The side: the one the load's transverse
+ * part (tip force plus distributed load, across the chord root-tip) pulls
+ * the rod towards, like an imperfection would; when the load has none (a
+ * symmetric bifurcation) the side where the centreline moves to +y (then
+ * +z) and `symmetric` is set: the mirror image is an equally valid answer. */
+static void push_along_mode(static_work *w, const rod_model *m, const static_load *load,
+                            int *symmetric)
+{
+    int n = w->nodes, dofs = w->dofs;
+    rod_darboux_from_frames(m, w->frame, w->darboux);
+    rod_midpoint_frames(m, w->frame, w->darboux, w->mid);
+    /* first-order displacement of the nodes, summed: segment j turns by the
+     * mean of its two nodes' rotations */
+    double omega[2][3], moved[3] = {0, 0, 0}, node_moved[3] = {0, 0, 0};
+    int a = 0;
+    for (int i = 0; i < n; i++) {
+        v3_set(omega[i & 1], 0.0, 0.0, 0.0);
+        for (; a < dofs && w->dof_node[a] == i; a++) omega[i & 1][w->dof_axis[a]] = w->mode[a];
+        if (i == 0) continue;
+        double mean[3], d3[3], dr[3];
+        for (int k = 0; k < 3; k++) mean[k] = 0.5 * (omega[0][k] + omega[1][k]);
+        m3_column(d3, &w->mid[9 * (i - 1)], 2);
+        v3_cross(dr, mean, d3);
+        for (int k = 0; k < 3; k++) {
+            node_moved[k] += m->ds * dr[k];
+            moved[k] += node_moved[k];
+        }
+    }
+    double tip_force[3], tip_moment[3], pull[3], chord[3], across[3];
+    tip_load_global(m, load, &w->frame[9 * (n - 1)], tip_force, tip_moment);
+    for (int k = 0; k < 3; k++) pull[k] = tip_force[k] + m->length * load->distributed[k];
+    double ends[3] = {0, 0, 0}, first[3];
+    for (int j = 0; j + 1 < n; j++) {
+        m3_column(first, &w->mid[9 * j], 2);
+        for (int k = 0; k < 3; k++) ends[k] += m->ds * first[k];
+    }
+    if (v3_norm(ends) > 1e-6 * m->length) v3_scale(chord, ends, 1.0 / v3_norm(ends));
+    else v3_set(chord, 1.0, 0.0, 0.0);
+    v3_scale(across, chord, v3_dot(pull, chord));
+    v3_sub(across, pull, across);
+    double side = v3_dot(moved, across);
+    *symmetric = !(fabs(side) > 1e-9 * v3_norm(moved) * v3_norm(pull));
+    if (*symmetric) side = fabs(moved[1]) > 1e-9 * v3_norm(moved) ? moved[1] : moved[2];
+    double largest = 0.0;
+    for (int b = 0; b < dofs; b++) largest = fmax(largest, fabs(w->mode[b]));
+    double scale = largest > 0.0 ? mode_push / largest : 0.0;
+    turn_along_mode(w, side < 0.0 ? -scale : scale);
+    forces_from_statics(w, m, load);
+}
+
+/* Pseudo-transient continuation (an over-damped motion to rest, implicit
+ * in pseudo-time): (J - c D) step = -R, D the identity on the free
+ * rotations' moment rows, so K + c I is positive definite while c exceeds
+ * -lambda_min(K): every step goes downhill in the potential energy and the
+ * motion leaves an unstable equilibrium, as a real rod would; c -> 0 turns
+ * it into Newton near the stable rest. Returns 0 at residual <= tolerance,
+ * -1 when the budget runs out or a step fails. */
+static int descend(static_work *w, const rod_model *m, const static_load *load, double tolerance,
+                   double relax, int *iterations, double *residual_out)
+{
+    int n = w->nodes, nu = w->unknowns;
+    for (*iterations = 0; *iterations < max_descent_iterations; ++*iterations) {
+        memset(w->increment, 0, (size_t)nu * sizeof(double));
+        evaluate_residual(w, m, load, w->increment, w->residual);
+        double norm = max_abs(w->residual, nu);
+        *residual_out = norm;
+        if (!isfinite(norm)) return -1;
+        if (norm <= tolerance && *iterations > 0) return 0;
+        build_jacobian(w, m, load);
+        capture_stiffness(w);
+        /* stable here (on the sleeve, for a held tip): damping fades to Newton */
+        double lowest = unstable_modes(w) != 0 ? critical_mode(w) : 0.0;
+        if (isnan(lowest)) return -1;
+        double damping = 1.5 * fmax(0.0, -lowest) + relax;
+        relax *= 0.5;
+        for (int a = 0; a < w->dofs; a++) { /* row_a -= c omega_a, omega = Q phi */
+            const double *q = &w->frame[9 * w->dof_node[a]];
+            int row = w->dof_row[a];
+            for (int c = 0; c < 3; c++) {
+                int col = UNKNOWNS_PER_NODE * w->dof_node[a] + c;
+                w->band[(size_t)col * w->band_rows + (BAND_LOWER + BAND_UPPER + row - col)] -=
+                    damping * q[3 * w->dof_axis[a] + c];
+            }
+        }
+        if (solve_newton_step(w) != 0) return -1;
+        double largest_turn = 0.0;
+        for (int i = 0; i < n; i++)
+            largest_turn = fmax(largest_turn, v3_norm(&w->newton_step[UNKNOWNS_PER_NODE * i]));
+        double alpha = largest_turn > max_rotation_step ? max_rotation_step / largest_turn : 1.0;
+        for (int i = 0; i < nu; i++) w->increment[i] = alpha * w->newton_step[i];
+        evaluate_residual(w, m, load, w->increment, w->residual_trial);
+        accept_trial(w);
+    }
+    return -1;
+}
+
 /* Newton on the discrete equilibrium from the base point in the work.
  * Returns 0 when the largest scaled residual is <= tolerance; then the base
  * point is the solution. `iterations` counts Jacobians formed. */
@@ -554,6 +1026,7 @@ static int newton(static_work *w, const rod_model *m, const static_load *load, d
         ++*iterations;
 
         build_jacobian(w, m, load);
+        capture_stiffness(w); /* for the stability check (cheap: 3 x 3 blocks) */
         if (solve_newton_step(w) != 0) return -1; /* singular Jacobian */
 
         /* step limit: no node turns by more than max_rotation_step */
@@ -635,32 +1108,146 @@ static void write_state(static_work *w, const rod_model *m, const static_load *l
     s->staggered = 1;
 }
 
+static void describe_load(const rod_model *m, const static_load *load, char *text, size_t length)
+{
+    snprintf(text, length,
+             "tip force %g %g %g N, tip moment %g %g %g N m on the %s frame, distributed %g %g %g N/m",
+             load->tip_force[0], load->tip_force[1], load->tip_force[2], load->tip_moment[0],
+             load->tip_moment[1], load->tip_moment[2],
+             m->tip_frame == ROD_FRAME_DIRECTOR ? "tip director" : "global",
+             load->distributed[0], load->distributed[1], load->distributed[2]);
+}
+
+/* 1 when the loads have a potential, so that stability is the positive
+ * definiteness of the tangent stiffness: dead forces (tip and distributed).
+ * A follower tip load is not conservative (Beck's column loses stability by
+ * flutter, which no static criterion sees), nor is a dead tip moment in 3-D
+ * (its work on finite rotations depends on the path, Ziegler; a cantilever
+ * bent by one into 3/4 of a circle shows negative eigenvalues in the
+ * symmetric part of its tangent): neither is checked, decided here. */
+static int loads_conservative(const rod_model *m, const static_load *load)
+{
+    if (v3_norm(load->tip_moment) != 0.0) return 0;
+    return m->tip_frame == ROD_FRAME_GLOBAL || v3_norm(load->tip_force) == 0.0;
+}
+
+/* Checks the solved base point's stability and, when it is unstable,
+ * follows the rod off it: a push along the critical mode, then the
+ * over-damped descent to a stable rest (at most `tries` times). Returns
+ * ROD_OK with the base point stable (or not checkable), else a status with
+ * the report's message written. */
+static rod_status settle_stable(static_work *w, const rod_model *m, const static_load *load,
+                                double tolerance, double time, int *iterations, rod_report *report)
+{
+    char text[256];
+    if (!loads_conservative(m, load)) {
+        w->have_verdict = 0;
+        return ROD_OK;
+    }
+    if (!w->stiffness_fresh) {
+        build_jacobian(w, m, load);
+        capture_stiffness(w);
+    }
+    int count = unstable_modes(w);
+    for (int tries = 0; count != 0 && tries < 3; tries++) {
+        double lowest = critical_mode(w);
+        if (isnan(lowest)) break;
+        int symmetric = 0, descent_iterations = 0;
+        double residual = 0.0;
+        push_along_mode(w, m, load, &symmetric);
+        if (symmetric && !report->warning[0])
+            snprintf(report->warning, sizeof report->warning,
+                     "static: at t = %g s the equilibrium on the path was unstable (a symmetric "
+                     "bifurcation: the load has no transverse part that picks a side); the rod "
+                     "was pushed along its buckling mode to the side where it moves towards "
+                     "+y (else +z). The mirror image is an equally valid equilibrium; a small "
+                     "transverse load picks the side.", time);
+        int rc = descend(w, m, load, tolerance, fabs(lowest) + negative_eigenvalue,
+                         &descent_iterations, &residual);
+        *iterations += descent_iterations;
+        if (rc != 0) {
+            describe_load(m, load, text, sizeof text);
+            snprintf(report->message, sizeof report->message,
+                     "static: the equilibrium at t = %g s (%s) is unstable (%d unstable mode%s) "
+                     "and the descent to a stable one did not settle within %d iterations "
+                     "(scaled residual %.3e, tolerance %.1e). The state is left at the last "
+                     "stable time. A ramped load with more output frames (render.fps), or a "
+                     "dynamic scheme (solver.scheme = implicit), follows the rod through the "
+                     "instability.", time, text, count, count == 1 ? "" : "s",
+                     max_descent_iterations, residual, tolerance);
+            return ROD_NO_CONVERGENCE;
+        }
+        count = unstable_modes(w);
+    }
+    if (count != 0) {
+        describe_load(m, load, text, sizeof text);
+        snprintf(report->message, sizeof report->message,
+                 "static: the only equilibrium found at t = %g s (%s) is %s: it is not an "
+                 "answer a real rod would settle in, so it is not returned. Use a dynamic "
+                 "scheme (solver.scheme = implicit) to follow the rod through the "
+                 "instability.", time, text,
+                 count < 0 ? "critical (the tangent stiffness is singular: stability undecided)"
+                           : "unstable (the tangent stiffness is not positive definite)");
+        return ROD_UNSTABLE;
+    }
+    w->have_verdict = 1;
+    w->negative_modes = 0;
+    return ROD_OK;
+}
+
 static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
                        rod_report *report)
 {
     static_work *w = work;
     int n = w->nodes;
     double target_time = s->time + dt;
-    static_load target, start, load;
+    static_load target, start, load, zero;
+    memset(&zero, 0, sizeof zero);
+    char text[256];
     rod_tip_load(m, target_time, target.tip_force, target.tip_moment);
     v3_copy(target.distributed, m->distributed_force);
+    report->newton_iterations = 0;
+    /* A run of static solves far beyond the frames asked for loops for
+     * hours to no purpose: the equilibrium does not depend on dt. */
+    if (m->options.dt > 0.0 && m->options.duration / m->options.dt > max_solves_per_run) {
+        snprintf(report->message, sizeof report->message,
+                 "static: solver.dt = %g s asks for %.3g equilibrium solves over %g s (at most "
+                 "%.0f): the static scheme needs no time step (each output frame is one load "
+                 "increment, and the answer does not depend on dt). Use solver.dt = auto.",
+                 m->options.dt, m->options.duration / m->options.dt, m->options.duration,
+                 max_solves_per_run);
+        return ROD_UNSTABLE;
+    }
     /* The path starts at the load the state was solved for; a state this
      * scheme did not produce (the straight initial rod) is taken as the
      * unloaded equilibrium. */
-    if (w->have_previous && w->previous_time == s->time) start = w->previous;
+    int continuing = w->have_previous && w->previous_time == s->time;
+    if (continuing) start = w->previous;
     else {
-        memset(&start, 0, sizeof start);
+        start = zero;
         w->reaction[0] = w->reaction[1] = 0.0;
+        w->have_verdict = 0;
     }
 
-    double size = load_size(m, &target, &start);
+    double size = load_size(m, &target, &start), target_size = load_size(m, &target, &zero);
+    if (!isfinite(size) || !isfinite(target_size)) {
+        describe_load(m, &target, text, sizeof text);
+        snprintf(report->message, sizeof report->message,
+                 "static: the load at t = %g s (%s) is not finite in the rod's own scales "
+                 "(|F| L^2/EI + |M| L/EI + |T| L^3/EI overflows; EI = %g N m^2, L = %g m): "
+                 "no rod carries it. Give a load of the order of EI/L^2 = %g N.",
+                 target_time, text, m->stiffness[0], m->length,
+                 m->stiffness[0] / (m->length * m->length));
+        return ROD_UNSTABLE;
+    }
     /* Residual rows are per unit length in units of the rod's scales, so the
      * tolerance is relative to the load (and at least to EI/L^2). The log map
      * of nearly equal neighbouring frames loses ~eps/ds in u, which puts a
      * round-off floor of ~eps (L/ds)^2 under the residual (measured 1.6e-10
-     * at NS = 10001); the tolerance never asks for less. */
+     * at NS = 10001); the tolerance never asks for less. The load's size is
+     * finite (checked above), so the tolerance is. */
     double length_ratio = m->length / m->ds;
-    double tolerance = fmax(1.0, load_size(m, &target, &(static_load){0})) *
+    double tolerance = fmax(1.0, target_size) *
                        (m->options.newton_tolerance + DBL_EPSILON * length_ratio * length_ratio);
     int max_iterations = m->options.newton_max_iterations > 0 ? m->options.newton_max_iterations : 25;
 
@@ -672,55 +1259,92 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
     memcpy(w->saved_reaction, w->reaction, sizeof w->reaction);
 
     double reached = 0.0;
-    double largest_fraction = size > max_load_increment ? max_load_increment / size : 1.0;
-    double fraction_step = largest_fraction;
-    int total_iterations = 0, solved_once = 0;
+    double fraction_step = size > max_load_increment ? max_load_increment / size : 1.0;
+    int total_iterations = 0, solved_once = 0, sub_steps = 0;
     double last_residual = 0.0;
     int last_iterations = 0;
+    const char *why = NULL;
     while (reached < 1.0) {
-        double trying = fmin(1.0, reached + fraction_step);
+        if (++sub_steps > max_sub_steps) {
+            why = "the continuation's budget of sub-steps ran out";
+            break;
+        }
+        /* up to max_load_increment, or half the load reached when larger */
+        load_between(&start, &target, reached, &load);
+        double allowed = fmax(max_load_increment, relative_load_increment * load_size(m, &load, &zero));
+        double largest_fraction = size > allowed ? allowed / size : 1.0;
+        double trying = fmin(1.0, reached + fmin(fraction_step, largest_fraction));
         load_between(&start, &target, trying, &load);
         forces_from_statics(w, m, &load);
+        w->stiffness_fresh = 0;
         int rc = newton(w, m, &load, tolerance, max_iterations, &last_iterations, &last_residual);
         total_iterations += last_iterations;
         if (rc == 0) {
+            fraction_step = fmin(2.0 * (trying - reached), 1.0);
             reached = trying;
             solved_once = 1;
             memcpy(w->saved_frame, w->frame, (size_t)n * 9 * sizeof(double));
             memcpy(w->saved_force, w->force, (size_t)(n - 1) * 3 * sizeof(double));
             memcpy(w->saved_reaction, w->reaction, sizeof w->reaction);
-            fraction_step = fmin(2.0 * fraction_step, largest_fraction);
             continue;
         }
         /* back to the last converged point, with a smaller load increment */
         memcpy(w->frame, w->saved_frame, (size_t)n * 9 * sizeof(double));
         memcpy(w->force, w->saved_force, (size_t)(n - 1) * 3 * sizeof(double));
         memcpy(w->reaction, w->saved_reaction, sizeof w->reaction);
-        fraction_step *= 0.5;
+        fraction_step = 0.5 * (trying - reached);
         if (fraction_step < min_load_fraction) {
-            report->newton_iterations = total_iterations;
-            snprintf(report->message, sizeof report->message,
-                     "static: Newton did not converge for the load at t = %g s (tip force %g %g %g N, "
-                     "tip moment %g %g %g N m on the %s frame, distributed %g %g %g N/m): reached "
-                     "%.4g%% of the load change from t = %g s%s; scaled residual %.3e above the "
-                     "tolerance %.1e after %d iterations (newton_max_iterations = %d). The state "
-                     "is left at t = %g s. Smaller load steps (a ramp profile, shorter dt), more "
-                     "Newton iterations or a looser newton_tolerance may work.",
-                     target_time, target.tip_force[0], target.tip_force[1], target.tip_force[2],
-                     target.tip_moment[0], target.tip_moment[1], target.tip_moment[2],
-                     m->tip_frame == ROD_FRAME_DIRECTOR ? "tip director" : "global",
-                     target.distributed[0], target.distributed[1], target.distributed[2],
-                     100.0 * reached, s->time, solved_once ? "" : " (no sub-step converged)",
-                     last_residual, tolerance, last_iterations, max_iterations, s->time);
-            return ROD_NO_CONVERGENCE;
+            why = "the load sub-step fell below its smallest size";
+            break;
         }
+    }
+    report->newton_iterations = total_iterations;
+    int segment;
+    if (why) {
+        /* as the implicit scheme: a failure on the way into a kink is the grid's */
+        rod_darboux_from_frames(m, w->frame, w->darboux); /* the last converged point */
+        double bend = rod_sharpest_bend(m, w->darboux, &segment);
+        if (solved_once && bend > 0.5 * ROD_UNRESOLVED_BEND) {
+            rod_unresolved_bend_message(m, "static", target_time, bend, segment,
+                                        report->message, sizeof report->message);
+            return ROD_UNSTABLE;
+        }
+        describe_load(m, &target, text, sizeof text);
+        snprintf(report->message, sizeof report->message,
+                 "static: Newton did not converge for the load at t = %g s (%.200s): %s; reached "
+                 "%.4g%% of the load change from t = %g s%s; scaled residual %.3e above the "
+                 "tolerance %.1e after %d iterations (newton_max_iterations = %d). The state "
+                 "is left at t = %g s. Smaller load steps (a ramp profile, shorter dt), more "
+                 "Newton iterations or a looser newton_tolerance may work; a load far beyond "
+                 "EI/L^2 = %g N bends the rod into a kink no grid resolves.",
+                 target_time, text, why, 100.0 * reached, s->time,
+                 solved_once ? "" : " (no sub-step converged)", last_residual, tolerance,
+                 last_iterations, max_iterations, s->time,
+                 m->stiffness[0] / (m->length * m->length));
+        return ROD_NO_CONVERGENCE;
+    }
+    /* a bend the grid cannot resolve is no answer either (one definition
+     * with the implicit scheme: rod_geometry.h), nor worth a stability check */
+    rod_darboux_from_frames(m, w->frame, w->darboux);
+    double angle = rod_sharpest_bend(m, w->darboux, &segment);
+    if (angle > ROD_UNRESOLVED_BEND) {
+        rod_unresolved_bend_message(m, "static", target_time, angle, segment, report->message,
+                                    sizeof report->message);
+        return ROD_UNSTABLE;
+    }
+    /* Stability of the answer: the same state as the last solved one keeps
+     * its verdict; otherwise check it, and leave an unstable equilibrium. */
+    if (!(total_iterations == 0 && continuing && w->have_verdict)) {
+        rod_status verdict = settle_stable(w, m, &target, tolerance, target_time,
+                                           &total_iterations, report);
+        report->newton_iterations = total_iterations;
+        if (verdict != ROD_OK) return verdict;
     }
     write_state(w, m, &target, s);
     s->time = target_time;
     w->have_previous = 1;
     w->previous_time = s->time;
     w->previous = target;
-    report->newton_iterations = total_iterations;
     return ROD_OK;
 }
 
@@ -732,6 +1356,34 @@ static double stable_dt(const rod_model *m, const char **limit)
 }
 
 const rod_scheme_ops rod_scheme_static = {"static", create, step, destroy, stable_dt};
+
+int static_unstable_modes(static_work *w, const rod_model *m, const rod_state *s, int *count,
+                          char *err, size_t errlen)
+{
+    int n = w->nodes;
+    static_load load;
+    rod_tip_load(m, s->time, load.tip_force, load.tip_moment);
+    v3_copy(load.distributed, m->distributed_force);
+    if (!loads_conservative(m, &load)) {
+        snprintf(err, errlen, "static: a follower tip load or a tip moment has no static "
+                              "stability criterion (not conservative)");
+        return -1;
+    }
+    memcpy(w->frame, s->frame, (size_t)n * 9 * sizeof(double));
+    w->reaction[0] = w->reaction[1] = 0.0;
+    if (tip_held(w)) { /* the state's tip force entry is the applied force plus R */
+        double applied[3], moment[3], total[3];
+        const double *q_tip = &s->frame[9 * (n - 1)];
+        tip_load_global(m, &load, q_tip, applied, moment);
+        m3_mul_v(total, q_tip, &s->contact_force[3 * (n - 1)]);
+        for (int k = 0; k < 2; k++) w->reaction[k] = total[1 + k] - applied[1 + k];
+    }
+    forces_from_statics(w, m, &load);
+    build_jacobian(w, m, &load);
+    capture_stiffness(w);
+    *count = unstable_modes(w);
+    return 0;
+}
 
 /* Buckling support ---------------------------------------------------- */
 

@@ -33,6 +33,7 @@
 
 static const double scan_growth = 1.15;
 static const double scan_start_size = 0.02; /* first nonzero load, in EI/L^2 and EI/L units */
+static const int max_bisections = 100;      /* 2^-100: below any tolerance in doubles */
 
 typedef struct probe {
     double lambda, log_abs, phase;
@@ -97,6 +98,13 @@ int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_t
     double ei = m->stiffness[0], length = m->length;
     double size = fabs(m->tip_force[axis]) * length * length / ei +
                   fabs(m->tip_moment[axis]) * length / ei;
+    if (!isfinite(size)) { /* scan_start_size / size would be 0: a scan that never moves */
+        snprintf(err, errlen, "buckling: the tip force (%g N) and moment (%g N m) along %s overflow "
+                 "the rod's own scale (|F| L^2/EI + |M| L/EI is not finite, EI = %g N m^2): give "
+                 "a load of the order of EI/L^2 = %g N", m->tip_force[axis], m->tip_moment[axis],
+                 axis_name, ei, ei / (length * length));
+        return -1;
+    }
     if (!(size > 0.0)) {
         snprintf(err, errlen, "buckling: the tip force and moment along %s are both zero: "
                  "nothing to scale", axis_name);
@@ -133,7 +141,12 @@ int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_t
                      : "");
         goto done;
     }
-    while (high.lambda - low.lambda > relative_tolerance * high.lambda && !isinf(high.log_abs)) {
+    /* a budget: halving cannot narrow the bracket below the spacing of
+     * doubles, so a tolerance under ~1e-16 would loop for ever without one */
+    for (int halving = 0; halving < max_bisections && high.lambda - low.lambda >
+                                                          relative_tolerance * high.lambda &&
+                          !isinf(high.log_abs);
+         halving++) {
         probe middle;
         if (probe_at(w, m, 0.5 * (low.lambda + high.lambda), &middle, err, errlen)) goto done;
         if (crossed(&low, &middle)) high = middle;

@@ -2,20 +2,28 @@
  * the small-deflection formulas PL^3/3EI and qL^4/8EI, the planar elastica
  * solved by RK4 shooting in tests/elastica.h, circles under a pure moment,
  * uniform twist u3 = M3/C; plus inextensibility, orthonormal frames and the
- * convergence order in ds.
+ * convergence order in ds; the buckled column (its own RK4 elastica below),
+ * the stability of what is returned, the grid's resolution and the budgets
+ * that make every step end.
  *
  * Geometry of the tests: the rod starts along +x with d1 = +y, d2 = +z
  * (thesis 4.2). A force along d1 (the thesis' N1) or along global +y bends
  * it in the x-y plane; so does a moment about d2 = +z. The elastica angle
  * theta is measured from +x towards +y. */
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "study/reference.h"
 #include "sim/rod.h"
+#include "sim/rod_geometry.h"
+#include "sim/scheme_static.h"
 #include "test.h"
+#include "test_process.h"
 #include "base/vec3.h"
 
 static const int elastica_steps = 8000;
@@ -550,6 +558,386 @@ static void test_held_tip_free_directions(void)
           "root pinned, tip free refused: '%s'", err);
 }
 
+/* Stability, branches, grid resolution and budgets ------------------- */
+
+/* The elastica of a clamped-free column under a dead tip force (fx, fy)
+ * and no tip moment: EI theta'' = -(fy cos theta - fx sin theta) (for
+ * fy = 0: theta'' = -(P/EI) sin theta, P = -fx), by RK4 from the tip
+ * (theta(L) = alpha, theta'(L) = 0) to the root; returns theta(0) and the
+ * tip's position relative to the root. Independent of the scheme: no
+ * frames, no grid, no Newton. */
+static double column_root_angle(double ei, double length, double fx, double fy, double alpha,
+                                double *x, double *y)
+{
+    double z[4] = {alpha, 0.0, 0.0, 0.0}; /* theta, theta', x, y from the tip */
+    double h = -length / elastica_steps;
+    static const double stage_step[4] = {0.0, 0.5, 0.5, 1.0};
+    for (int i = 0; i < elastica_steps; i++) {
+        double k[4][4], t[4];
+        for (int stage = 0; stage < 4; stage++) {
+            for (int j = 0; j < 4; j++)
+                t[j] = z[j] + (stage ? stage_step[stage] * h * k[stage - 1][j] : 0.0);
+            k[stage][0] = t[1];
+            k[stage][1] = -(fy * cos(t[0]) - fx * sin(t[0])) / ei;
+            k[stage][2] = cos(t[0]);
+            k[stage][3] = sin(t[0]);
+        }
+        for (int j = 0; j < 4; j++) z[j] += h / 6.0 * (k[0][j] + 2.0 * k[1][j] + 2.0 * k[2][j] + k[3][j]);
+    }
+    *x = -z[2];
+    *y = -z[3];
+    return z[0];
+}
+
+/* Shooting on the tip angle: the first sign change of theta(0; alpha) for
+ * alpha in (0, pi), then bisection: the branch bent towards +y. */
+static void buckled_column(double ei, double length, double fx, double fy, double tip[2])
+{
+    double x, y, low = 1e-3, high = 0.0;
+    double value_low = column_root_angle(ei, length, fx, fy, low, &x, &y);
+    for (int k = 1; k <= 400; k++) {
+        double alpha = 1e-3 + k * (M_PI - 2e-3) / 400.0;
+        double value = column_root_angle(ei, length, fx, fy, alpha, &x, &y);
+        if ((value < 0.0) != (value_low < 0.0)) {
+            high = alpha;
+            break;
+        }
+        low = alpha;
+        value_low = value;
+    }
+    for (int k = 0; k < 60; k++) {
+        double middle = 0.5 * (low + high);
+        double value = column_root_angle(ei, length, fx, fy, middle, &x, &y);
+        if ((value < 0.0) == (value_low < 0.0)) {
+            low = middle;
+            value_low = value;
+        } else high = middle;
+    }
+    column_root_angle(ei, length, fx, fy, 0.5 * (low + high), &x, &y);
+    tip[0] = x;
+    tip[1] = y;
+}
+
+/* The discrete potential energy of frames `frame` under a dead tip force:
+ * sum ds/2 u.B u - F . r_tip, from the shared geometry (rod_geometry.h), not
+ * from the scheme's residual or Jacobian. */
+static double potential_energy(const rod_model *m, const double *frame, double *darboux,
+                               double *mid, double *position)
+{
+    rod_darboux_from_frames(m, frame, darboux);
+    rod_midpoint_frames(m, frame, darboux, mid);
+    rod_positions_from_midframes(m, mid, position);
+    double energy = 0.0;
+    for (int j = 0; j + 1 < m->nodes; j++)
+        for (int k = 0; k < 3; k++) energy += 0.5 * m->ds * m->stiffness[k] * darboux[3 * j + k] * darboux[3 * j + k];
+    return energy - v3_dot(m->tip_force, &position[3 * (m->nodes - 1)]);
+}
+
+/* Second difference of the energy along a shape of node rotations (global
+ * axis `axis`, angle sin(k pi s / 2L), or a fixed pseudo-random mix when
+ * k = 0): Pi(+e) + Pi(-e) - 2 Pi(0) = e^2 v.H v, first-order terms cancel. */
+static double energy_curvature(const rod_model *m, const rod_state *s, int axis, int k)
+{
+    int n = m->nodes;
+    double *frames = malloc((size_t)n * 9 * sizeof(double));
+    double *darboux = malloc((size_t)n * 3 * sizeof(double));
+    double *mid = malloc((size_t)n * 9 * sizeof(double));
+    double *position = malloc((size_t)n * 3 * sizeof(double));
+    const double amplitude = 1e-3; /* rad */
+    double energy[3];
+    unsigned seed = 12345u;
+    for (int sign = -1; sign <= 1; sign++) {
+        memcpy(frames, s->frame, (size_t)n * 9 * sizeof(double));
+        for (int i = 1; i < n; i++) {
+            double omega[3] = {0, 0, 0}, rot[9], turned[9];
+            double arc = m->ds * i / m->length;
+            if (k > 0) omega[axis] = sign * amplitude * sin(k * M_PI * arc / 2.0);
+            else
+                for (int c = 0; c < 3; c++) {
+                    seed = seed * 1103515245u + 12345u;
+                    omega[c] = sign * amplitude * ((double)(seed >> 8 & 0xffff) / 65535.0 - 0.5);
+                }
+            m3_exp(rot, omega);
+            m3_mul(turned, rot, &frames[9 * i]);
+            memcpy(&frames[9 * i], turned, sizeof turned);
+        }
+        if (k == 0) seed = 12345u; /* the same mix for -e and +e */
+        energy[sign + 1] = potential_energy(m, frames, darboux, mid, position);
+    }
+    free(frames);
+    free(darboux);
+    free(mid);
+    free(position);
+    return energy[0] + energy[2] - 2.0 * energy[1];
+}
+
+static int unstable_count(const rod_model *m, const rod_state *s)
+{
+    char err[256];
+    int count = -2;
+    static_work *w = static_work_create(m, err, sizeof err);
+    if (!w || static_unstable_modes(w, m, s, &count, err, sizeof err)) printf("count: %s\n", err);
+    static_work_destroy(w);
+    return count;
+}
+
+/* The energy rises along every tested shape: the rotations about z, y, x
+ * with k = 1, 2, 3 quarter waves and a random mix. Returns the smallest. */
+static double smallest_energy_curvature(const rod_model *m, const rod_state *s)
+{
+    double smallest = INFINITY;
+    for (int axis = 0; axis < 3; axis++)
+        for (int k = 0; k <= 3; k++) smallest = fmin(smallest, energy_curvature(m, s, axis, k));
+    return smallest;
+}
+
+/* Thesis fig. 4a past buckling: a dead axial force of twice Euler's load
+ * P_E = pi^2 EI/(4 L^2), with (or without) a +y imperfection of 1e-3 of it,
+ * applied at once (a step) from the straight rod. Before the stability
+ * check the scheme returned the straight, unstable equilibrium. */
+static void test_buckled_branch(void)
+{
+    rod_model m = static_model(51, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], p = 2.0 * M_PI * M_PI * ei / (4.0 * m.length * m.length);
+    double exact[2], symmetric_exact[2];
+    buckled_column(ei, m.length, -p, 1e-3 * p, exact);
+    buckled_column(ei, m.length, -p, 0.0, symmetric_exact);
+    printf("     elastica at P = 2 P_E: tip (%.6f, %.6f) m (imperfect, +1e-3 P along y), "
+           "(%.6f, %.6f) m (symmetric)\n", exact[0], exact[1], symmetric_exact[0], symmetric_exact[1]);
+    check_abs("elastica reference itself: tip near (0.071, 0.797) (thesis fig. 4a scene)", exact[0], 0.071, 2e-3);
+
+    for (int imperfect = 1; imperfect >= 0; imperfect--) {
+        v3_set(m.tip_force, -p, imperfect ? 1e-3 * p : 0.0, 0.0);
+        const double *reference = imperfect ? exact : symmetric_exact;
+        const char *kind = imperfect ? "imperfect" : "symmetric";
+        rod_state *s;
+        rod_report report;
+        rod_status status = solve(&m, &s, &report);
+        check(status == ROD_OK, "%s 2 P_E step solves (%d Newton iterations)", kind,
+              report.newton_iterations);
+        const double *tip = tip_of(s);
+        char what[160];
+        /* NS = 51: second-order error, measured 1.3e-3 m in x */
+        snprintf(what, sizeof what, "%s 2 P_E, NS=51: tip x vs buckled elastica", kind);
+        check_abs(what, tip[0], reference[0], 3e-3);
+        snprintf(what, sizeof what, "%s 2 P_E, NS=51: tip y vs buckled elastica", kind);
+        check_rel(what, tip[1], reference[1], 2e-3);
+        check_abs("tip z stays 0 (planar mode of the double eigenvalue)", tip[2], 0.0, 1e-6);
+        check(unstable_count(&m, s) == 0, "%s: the returned equilibrium has 0 negative eigenvalues",
+              kind);
+        double curvature = smallest_energy_curvature(&m, s);
+        check(curvature > 0.0, "%s: the energy rises along every tested shape (smallest second "
+              "difference %.3e J)", kind, curvature);
+        if (imperfect)
+            check(report.warning[0] == '\0', "imperfect: no warning, the load picks the side");
+        else
+            check(strstr(report.warning, "mirror") != NULL && strstr(report.warning, "+y") != NULL,
+                  "symmetric: the side chosen (+y) is a warning naming the mirror image: '%.120s...'",
+                  report.warning);
+        rod_state_destroy(s);
+    }
+
+    /* the energy test has teeth: the straight rod at 2 P_E falls along the first mode */
+    rod_state *straight = rod_state_create(&m);
+    rod_state_reset(&m, straight);
+    double fall = energy_curvature(&m, straight, 2, 1);
+    check(fall < 0.0, "straight rod at 2 P_E: energy second difference along sin(pi s/2L) about z "
+          "is negative (%.3e J): unstable", fall);
+    check(unstable_count(&m, straight) == 2,
+          "straight rod at 2 P_E: 2 negative eigenvalues (the y and z first modes)");
+    v3_set(m.tip_force, -0.9 * p / 2.0, 0.0, 0.0);
+    check(unstable_count(&m, straight) == 0, "straight rod at 0.9 P_E: 0 negative eigenvalues");
+    rod_state_destroy(straight);
+}
+
+/* A ramp to 2 P_E in 10 s with output every 1/30 s and every 1/10 s: both
+ * follow the +y imperfection's side (fps = 10 went to -y before: a step
+ * across P_E landed on the complementary, unstable branch). */
+static void test_branch_independent_of_steps(void)
+{
+    const double intervals[2] = {1.0 / 30.0, 0.1};
+    double tips[2] = {0, 0}, exact[2];
+    rod_model m = static_model(51, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], p = 2.0 * M_PI * M_PI * ei / (4.0 * m.length * m.length);
+    buckled_column(ei, m.length, -p, 1e-3 * p, exact);
+    v3_set(m.tip_force, -p, 1e-3 * p, 0.0);
+    m.profile.kind = ROD_PROFILE_RAMP;
+    m.profile.t1 = 10.0;
+    for (int k = 0; k < 2; k++) {
+        rod_state *s = rod_state_create(&m);
+        rod_solver solver;
+        char err[256];
+        rod_solver_init(&solver, &m, err, sizeof err);
+        int steps = (int)lround(10.0 / intervals[k]), ok = 1;
+        rod_report report;
+        memset(&report, 0, sizeof report);
+        for (int i = 0; i < steps && ok; i++) {
+            ok = rod_solver_step(&solver, &m, s, intervals[k], &report) == ROD_OK;
+            if (!ok) printf("step %d: %s\n", i, report.message);
+        }
+        check(ok, "ramp to 2 P_E in steps of %.4g s solves", intervals[k]);
+        tips[k] = tip_of(s)[1];
+        char what[160];
+        snprintf(what, sizeof what, "ramp, steps of %.4g s: tip y vs buckled elastica (+y side)",
+                 intervals[k]);
+        check_rel(what, tips[k], exact[1], 2e-3);
+        check(unstable_count(&m, s) == 0, "ramp, steps of %.4g s: 0 negative eigenvalues",
+              intervals[k]);
+        rod_solver_release(&solver);
+        rod_state_destroy(s);
+    }
+    check(tips[0] > 0.0 && tips[1] > 0.0, "fps 30 and fps 10 end on the same side: tip y %.6f, %.6f m",
+          tips[0], tips[1]);
+}
+
+/* A pinned-pinned column (sleeve at the tip) at 2 pi^2 EI/L^2: the sleeve
+ * constraint enters the count (the free rod would swing about the pin);
+ * the buckled column is two buckled cantilevers of length L/2 back to back,
+ * so its span is 2 x the cantilever's x at the same P/P_cr, over L/2. */
+static void test_held_tip_buckling(void)
+{
+    rod_model m = static_model(51, ROD_FRAME_GLOBAL);
+    m.root_end = ROD_END_PINNED;
+    m.tip_end = ROD_END_PINNED;
+    double ei = m.stiffness[0], p = 2.0 * M_PI * M_PI * ei / (m.length * m.length);
+    v3_set(m.tip_force, -p, 0.0, 0.0);
+    double half[2];
+    buckled_column(ei, 0.5 * m.length, -p, 0.0, half);
+    rod_state *s;
+    rod_report report;
+    rod_status status = solve(&m, &s, &report);
+    check(status == ROD_OK, "pinned-pinned at 2 P_cr solves");
+    check_abs("pinned-pinned at 2 P_cr: span vs 2 x half-length buckled cantilever", tip_of(s)[0],
+              2.0 * half[0], 3e-3);
+    check(unstable_count(&m, s) == 0, "pinned-pinned buckled: 0 negative eigenvalues on the sleeve");
+    rod_state_destroy(s);
+    rod_state *straight = rod_state_create(&m);
+    rod_state_reset(&m, straight);
+    check(unstable_count(&m, straight) == 2, "pinned-pinned straight at 2 P_cr: 2 negative eigenvalues");
+    v3_set(m.tip_force, -0.9 * p / 2.0, 0.0, 0.0);
+    check(unstable_count(&m, straight) == 0, "pinned-pinned straight at 0.9 P_cr: 0 (the swing about "
+          "the pin is held by the sleeve)");
+    rod_state_destroy(straight);
+}
+
+/* Three nodes cannot carry three quarters of a circle: 2.36 rad between
+ * neighbours; refused like the implicit scheme (one definition). */
+static void test_unresolved_grid(void)
+{
+    rod_model m = static_model(3, ROD_FRAME_GLOBAL);
+    double moment = 2.02404e-5; /* M L / EI = 3 pi / 2 */
+    m.tip_moment[2] = moment;
+    rod_state *s;
+    rod_report report;
+    rod_status status = solve(&m, &s, &report);
+    const char *advice = strstr(report.message, "rod.nodes to at least ");
+    int nodes = advice ? atoi(advice + strlen("rod.nodes to at least ")) : 0;
+    check(status == ROD_UNSTABLE && nodes > 3,
+          "NS=3, ML/EI = 3 pi/2: refused as unresolved, advice rod.nodes >= %d: '%.90s...'", nodes,
+          report.message);
+    check(s->time == 0.0, "the refused state is left as it was");
+    rod_state_destroy(s);
+    /* the advice works: the exact arc's tip (R sin(ML/EI), R (1 - cos(ML/EI))), R = EI/M */
+    if (nodes < 3) return;
+    m = static_model(nodes, ROD_FRAME_GLOBAL);
+    m.tip_moment[2] = moment;
+    double radius = m.stiffness[0] / moment, angle = moment * m.length / m.stiffness[0];
+    status = solve(&m, &s, &report);
+    check(status == ROD_OK, "NS=%d (the advice) solves", nodes);
+    check_rel("advised grid: tip x vs R sin(ML/EI)", tip_of(s)[0], radius * sin(angle), 2e-2);
+    check_rel("advised grid: tip y vs R (1 - cos(ML/EI))", tip_of(s)[1], radius * (1.0 - cos(angle)), 2e-2);
+    rod_state_destroy(s);
+}
+
+static void on_timeout(int signal_number)
+{
+    (void)signal_number;
+    static const char text[] = "FAIL a static solve did not end within its time limit\n";
+    if (write(1, text, sizeof text - 1) < 0) _exit(1);
+    _exit(1);
+}
+
+/* Every loop has a budget: loads that overflow the rod's scales, loads far
+ * beyond what the rod carries, and a time step far below the frames end at
+ * once with a failure and advice (they looped for ever before). */
+static void test_budgets(void)
+{
+    signal(SIGALRM, on_timeout);
+    alarm(120); /* generous for ASan; a run takes well under a second */
+    rod_model m = static_model(51, ROD_FRAME_GLOBAL);
+    m.profile.kind = ROD_PROFILE_RAMP;
+    m.profile.t1 = 2.0;
+    rod_state *s = rod_state_create(&m);
+    rod_solver solver;
+    char err[256];
+    rod_report report;
+
+    v3_set(m.tip_force, 0.0, 1e308, 0.0);
+    rod_solver_init(&solver, &m, err, sizeof err);
+    memset(&report, 0, sizeof report);
+    rod_status status = rod_solver_step(&solver, &m, s, 1.0 / 30.0, &report);
+    check(status == ROD_UNSTABLE && strstr(report.message, "not finite"),
+          "tip force 1e308 N: refused at once: '%.100s...'", report.message);
+    rod_solver_release(&solver);
+
+    m = static_model(51, ROD_FRAME_GLOBAL);
+    m.diameter = 1e-6;
+    char derr[256];
+    rod_model_derive(&m, derr, sizeof derr);
+    m.profile.kind = ROD_PROFILE_RAMP;
+    m.profile.t1 = 2.0;
+    v3_set(m.tip_force, 0.0, 4.5e-7, 0.0); /* P L^2/EI = 1e11 */
+    rod_solver_init(&solver, &m, err, sizeof err);
+    memset(&report, 0, sizeof report);
+    rod_state_reset(&m, s);
+    status = rod_solver_step(&solver, &m, s, 1.0 / 30.0, &report);
+    check(status != ROD_OK && strstr(report.message, "rod.nodes") != NULL,
+          "d = 1e-6 m under 4.5e-7 N (P L^2/EI = %.2g): a failure with advice: '%.100s...'",
+          4.5e-7 / m.stiffness[0], report.message);
+    rod_solver_release(&solver);
+
+    m = static_model(51, ROD_FRAME_GLOBAL);
+    m.options.dt = 1e-12;
+    m.options.duration = 3.0;
+    v3_set(m.tip_force, 0.0, 4.5e-7, 0.0);
+    rod_solver_init(&solver, &m, err, sizeof err);
+    memset(&report, 0, sizeof report);
+    rod_state_reset(&m, s);
+    status = rod_solver_step(&solver, &m, s, 1e-12, &report);
+    check(status == ROD_UNSTABLE && strstr(report.message, "solver.dt = auto"),
+          "solver.dt = 1e-12 s: refused with advice: '%.100s...'", report.message);
+    rod_solver_release(&solver);
+    rod_state_destroy(s);
+
+    /* the same through rodsim run: exit 2 and the advice */
+    static const struct {
+        const char *scene, *set1, *set2, *message;
+    } runs[4] = {
+        {"table2_450nN.ini", "tip.force=0 1e308 0", NULL, "not finite"},
+        {"table2_450nN.ini", "rod.diameter=1e-6", NULL, "rod.nodes"},
+        {"table2_450nN.ini", "solver.dt=1e-12", NULL, "solver.dt = auto"},
+        {"bending_moments.ini", "rod.nodes=3", "tip.moment=0 0 2.02404e-5", "rod.nodes to at least"},
+    };
+    for (int r = 0; r < 4; r++) {
+        char scene[512], output[8192];
+        snprintf(scene, sizeof scene, "%s/scenes/%s", RODSIM_SOURCE_DIR, runs[r].scene);
+        const char *args[16] = {"run", scene, "--no-video", "--set", runs[r].set1};
+        int count = 5;
+        if (runs[r].set2) {
+            args[count++] = "--set";
+            args[count++] = runs[r].set2;
+            args[count++] = "--set";
+            args[count++] = "tip.frame=global";
+        }
+        args[count] = NULL;
+        int code = test_run_rodsim_within(args, 120, output, sizeof output);
+        check(code == 2 && strstr(output, runs[r].message) != NULL,
+              "rodsim run %s --set %s%s%s: exit %d (want 2) with '%s'", runs[r].scene, runs[r].set1,
+              runs[r].set2 ? " --set " : "", runs[r].set2 ? runs[r].set2 : "", code, runs[r].message);
+    }
+    alarm(0);
+}
+
 int main(void)
 {
     test_table2_deflections();
@@ -565,5 +953,10 @@ int main(void)
     test_no_convergence_report();
     test_end_conditions();
     test_held_tip_free_directions();
+    test_buckled_branch();
+    test_branch_independent_of_steps();
+    test_held_tip_buckling();
+    test_unresolved_grid();
+    test_budgets();
     return test_finish();
 }

@@ -188,6 +188,18 @@ static void test_refusals(void)
     check(rod_buckling_factor(&m, 1.0, 1e-6, &lambda, err, sizeof err) == -1 &&
               strstr(err, "no loss of stability"),
           "below the critical load (lambda_max = 1 with P_cr = 2.47 EI/L^2): none: '%s'", err);
+    /* every loop ends: a load that overflows the rod's scale (the scan
+     * started at lambda 0 and never moved), and a tolerance below the
+     * spacing of doubles (the bisection could not narrow the bracket) */
+    m.tip_force[0] = -1e308;
+    check(rod_buckling_factor(&m, 10.0, 1e-6, &lambda, err, sizeof err) == -1 &&
+              strstr(err, "not finite"),
+          "a tip force of -1e308 N is refused: '%s'", err);
+    m.tip_force[0] = -m.stiffness[0];
+    double expected = M_PI * M_PI / 4.0; /* Euler, EI/L^2 units: lambda = P_E L^2/EI here */
+    check(rod_buckling_factor(&m, 10.0, 1e-30, &lambda, err, sizeof err) == 0,
+          "a relative tolerance of 1e-30 ends (bisection budget)");
+    check_rel("...and finds Euler's load (NS = 21)", lambda, expected, 2e-3);
 }
 
 int main(void)
