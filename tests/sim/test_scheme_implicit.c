@@ -358,6 +358,75 @@ static void test_planar_matches_3d(void)
     check(!rod_model_loads_planar(&m), "a twisting moment is not planar");
 }
 
+/* Steps of dt and of dt one ulp longer in turn (what a run loop that lands
+ * on output times passes) are the same step: the Jacobian made for one
+ * serves the other, so the run equals the constant-dt run to round-off and
+ * builds no more Jacobians. It used to rebuild at every change of the last
+ * digit, and each rebuild moved the Newton iterates by up to the tolerance. */
+static void test_dt_last_digit(void)
+{
+    const double dt = 0.01, longer = nextafter(dt, 1.0);
+    const int steps = 150;
+    double tips[2][3];
+    long builds[2];
+    for (int alternate = 0; alternate < 2; alternate++) {
+        rod_model m = table1(21, dt, 1.0);
+        v3_set(m.tip_force, 8e-7, 0.0, 0.0);      /* suture.ini's loads, 3-D */
+        v3_set(m.tip_moment, 0.0, 1.5e-7, 4e-7);
+        m.profile.kind = ROD_PROFILE_RAMP;
+        m.profile.t1 = 0.5;
+        m.linear_damping = 3e-4;
+        char err[256];
+        rod_solver solver;
+        rod_solver_init(&solver, &m, err, sizeof err);
+        rod_state *s = rod_state_create(&m);
+        rod_report report = {0};
+        rod_status st = ROD_OK;
+        for (int k = 0; k < steps && st == ROD_OK; k++)
+            st = rod_solver_step(&solver, &m, s, alternate && k % 2 ? longer : dt, &report);
+        check(st == ROD_OK, "dt %s: %d steps run",
+              alternate ? "alternating by one ulp" : "constant", steps);
+        v3_copy(tips[alternate], tip(s));
+        builds[alternate] = report.jacobian_builds;
+        rod_solver_release(&solver);
+        rod_state_destroy(s);
+    }
+    double deflection = hypot(tips[0][1], tips[0][2]);
+    double diff = sqrt(pow(tips[1][0] - tips[0][0], 2) + pow(tips[1][1] - tips[0][1], 2) +
+                       pow(tips[1][2] - tips[0][2], 2));
+    /* 75 steps one ulp longer move the end time by 75 ulp of dt (1e-16 s): the
+     * tip, at speed below 1 m/s, moves less than 1e-15 m by that */
+    check(deflection > 1e-3 && diff <= 1e-14,
+          "dt alternating by one ulp vs constant dt: tip distance %.2e m (tolerance 1e-14 m, "
+          "tip deflection %.4g m)", diff, deflection);
+    check(builds[1] <= builds[0],
+          "dt alternating by one ulp: %ld Jacobian builds in %d steps, constant dt %ld",
+          builds[1], steps, builds[0]);
+    check(builds[0] < steps / 5, "constant dt: Jacobian builds %ld < %d (steps / 5)", builds[0],
+          steps / 5);
+}
+
+/* A step that is not a positive finite time is refused at once. */
+static void test_bad_dt(void)
+{
+    const double bad[3] = {0.0, -0.01, NAN};
+    for (int c = 0; c < 3; c++) {
+        rod_model m = table1(11, 0.01, 1.0);
+        m.tip_force[0] = 1e-7;
+        char err[256];
+        rod_solver solver;
+        rod_solver_init(&solver, &m, err, sizeof err);
+        rod_state *s = rod_state_create(&m);
+        rod_report report = {0};
+        rod_status st = rod_solver_step(&solver, &m, s, bad[c], &report);
+        check(st == ROD_FAILED && s->time == 0.0 && strstr(report.message, "positive") != NULL &&
+                  report.jacobian_builds == 0,
+              "dt = %g s refused without a step: '%s'", bad[c], report.message);
+        rod_solver_release(&solver);
+        rod_state_destroy(s);
+    }
+}
+
 /* Without rotary inertia the rotations are quasi-static: backward Euler
  * still settles table 2's first load onto the elastica. */
 static void test_no_rotary_inertia(void)
@@ -392,5 +461,7 @@ int main(void)
     test_unresolved_kink();
     test_planar_matches_3d();
     test_no_rotary_inertia();
+    test_dt_last_digit();
+    test_bad_dt();
     return test_finish();
 }
