@@ -888,6 +888,14 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
                  "implicit scheme: the step dt = %g s must be a positive finite time", dt);
         return ROD_FAILED;
     }
+    if (s->time + dt == s->time) {
+        /* below the rounding of t: the step would not advance the time, and a
+         * loop stepping until t reaches a target would never end */
+        snprintf(report->message, sizeof report->message,
+                 "implicit scheme: the step dt = %g s is below the rounding of t = %.17g s and "
+                 "would not advance the time; use a larger solver.dt", dt, s->time);
+        return ROD_FAILED;
+    }
     s->staggered = 1;
     save_state(w, s);
     w->budget = STEP_ITERATION_BUDGET;

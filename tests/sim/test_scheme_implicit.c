@@ -406,22 +406,27 @@ static void test_dt_last_digit(void)
           steps / 5);
 }
 
-/* A step that is not a positive finite time is refused at once. */
+/* A step that is not a positive finite time, or too short to advance t
+ * (1e-14 s at t = 1000 s, below half an ulp of t, 5.7e-14 s), is refused at
+ * once: a loop stepping until t reaches a target would never end. */
 static void test_bad_dt(void)
 {
-    const double bad[3] = {0.0, -0.01, NAN};
-    for (int c = 0; c < 3; c++) {
+    const double bad[4] = {0.0, -0.01, NAN, 1e-14};
+    const char *why[4] = {"positive", "positive", "positive", "advance the time"};
+    for (int c = 0; c < 4; c++) {
         rod_model m = table1(11, 0.01, 1.0);
         m.tip_force[0] = 1e-7;
         char err[256];
         rod_solver solver;
         rod_solver_init(&solver, &m, err, sizeof err);
         rod_state *s = rod_state_create(&m);
+        const double start = c == 3 ? 1000.0 : 0.0;
+        s->time = start;
         rod_report report = {0};
         rod_status st = rod_solver_step(&solver, &m, s, bad[c], &report);
-        check(st == ROD_FAILED && s->time == 0.0 && strstr(report.message, "positive") != NULL &&
+        check(st == ROD_FAILED && s->time == start && strstr(report.message, why[c]) != NULL &&
                   report.jacobian_builds == 0,
-              "dt = %g s refused without a step: '%s'", bad[c], report.message);
+              "dt = %g s at t = %g s refused without a step: '%s'", bad[c], start, report.message);
         rod_solver_release(&solver);
         rod_state_destroy(s);
     }
