@@ -21,26 +21,33 @@ static inline void v3_axpy(double r[3], double k, const double a[3])
 static inline double v3_dot(const double a[3], const double b[3])
 { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 static inline double v3_norm(const double a[3]) { return sqrt(v3_dot(a, a)); }
-/* r = a x b; r may alias neither a nor b */
+/* Aliasing: every helper below reads all of its inputs before it writes r,
+ * so r may be one of them (m3_mul_tv(v, q, v) transforms v in place). The
+ * element-wise ones above are safe as written. */
+
+/* r = a x b */
 static inline void v3_cross(double r[3], const double a[3], const double b[3])
 {
-    r[0] = a[1] * b[2] - a[2] * b[1];
-    r[1] = a[2] * b[0] - a[0] * b[2];
-    r[2] = a[0] * b[1] - a[1] * b[0];
+    const double x = a[1] * b[2] - a[2] * b[1];
+    const double y = a[2] * b[0] - a[0] * b[2];
+    const double z = a[0] * b[1] - a[1] * b[0];
+    r[0] = x; r[1] = y; r[2] = z;
 }
 /* r = Q a (director components -> global) */
 static inline void m3_mul_v(double r[3], const double q[9], const double a[3])
 {
-    r[0] = q[0] * a[0] + q[1] * a[1] + q[2] * a[2];
-    r[1] = q[3] * a[0] + q[4] * a[1] + q[5] * a[2];
-    r[2] = q[6] * a[0] + q[7] * a[1] + q[8] * a[2];
+    const double x = q[0] * a[0] + q[1] * a[1] + q[2] * a[2];
+    const double y = q[3] * a[0] + q[4] * a[1] + q[5] * a[2];
+    const double z = q[6] * a[0] + q[7] * a[1] + q[8] * a[2];
+    r[0] = x; r[1] = y; r[2] = z;
 }
 /* r = Q^T a (global -> director components) */
 static inline void m3_mul_tv(double r[3], const double q[9], const double a[3])
 {
-    r[0] = q[0] * a[0] + q[3] * a[1] + q[6] * a[2];
-    r[1] = q[1] * a[0] + q[4] * a[1] + q[7] * a[2];
-    r[2] = q[2] * a[0] + q[5] * a[1] + q[8] * a[2];
+    const double x = q[0] * a[0] + q[3] * a[1] + q[6] * a[2];
+    const double y = q[1] * a[0] + q[4] * a[1] + q[7] * a[2];
+    const double z = q[2] * a[0] + q[5] * a[1] + q[8] * a[2];
+    r[0] = x; r[1] = y; r[2] = z;
 }
 /* Column k of Q: director d_{k+1} in global components. */
 static inline void m3_column(double r[3], const double q[9], int k)
@@ -64,7 +71,8 @@ static inline void m3_exp_coefficients(double t, double *a, double *b)
     }
 }
 /* r = exp([phi]x) v = v + a phi x v + b phi x (phi x v), the rotation of one
- * vector without forming the matrix; r may not alias phi or v. */
+ * vector without forming the matrix (c1 and c2 are formed before r is
+ * written, and r[k] reads only v[k]: r may be phi or v). */
 static inline void v3_rotate(double r[3], const double phi[3], const double v[3])
 {
     double a, b, c1[3], c2[3];
@@ -74,19 +82,23 @@ static inline void v3_rotate(double r[3], const double phi[3], const double v[3]
     for (int k = 0; k < 3; k++) r[k] = v[k] + a * c1[k] + b * c2[k];
 }
 
-/* r = a b; r may not alias a or b */
+/* r = a b (product into a local first: r may be a or b) */
 static inline void m3_mul(double r[9], const double a[9], const double b[9])
 {
+    double p[9];
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
-            r[3 * i + j] = a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] + a[3 * i + 2] * b[6 + j];
+            p[3 * i + j] = a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] + a[3 * i + 2] * b[6 + j];
+    for (int k = 0; k < 9; k++) r[k] = p[k];
 }
-/* r = a^T b; r may not alias a or b */
+/* r = a^T b (r may be a or b) */
 static inline void m3_mul_tn(double r[9], const double a[9], const double b[9])
 {
+    double p[9];
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
-            r[3 * i + j] = a[i] * b[j] + a[3 + i] * b[3 + j] + a[6 + i] * b[6 + j];
+            p[3 * i + j] = a[i] * b[j] + a[3 + i] * b[3 + j] + a[6 + i] * b[6 + j];
+    for (int k = 0; k < 9; k++) r[k] = p[k];
 }
 void m3_identity(double r[9]);
 /* Rotation exp([phi]x) by the Rodrigues formula, exact for any |phi|, rad. */

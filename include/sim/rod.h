@@ -163,6 +163,8 @@ typedef struct rod_report {
     double suggested_dt;    /* s, a step that would work, or 0 when none is known */
     double suggested_scale; /* a rotary_inertia_scale that would work, or 0 */
     int newton_iterations;  /* of the last step (implicit, static) */
+    long jacobian_builds;   /* implicit: Jacobians built and factored since rod_solver_init
+                               (cumulative, for benches and tests); other schemes leave it */
 } rod_report;
 
 /* Model --------------------------------------------------------------- */

@@ -63,8 +63,11 @@
 #define BLOCK_PLANAR 5
 #define BAND_PLANAR 5
 #define MAX_SPLIT_DEPTH 12
-/* Newton iterations one step may spend, splits included: bounds the time a
- * hopeless step takes (about 1 s at NS = 1001) instead of 4096 x 25 tries. */
+/* Newton iterations one step may spend, splits included (each attempt costs
+ * one more): bounds the time a hopeless step takes (about 1 s at NS = 1001)
+ * instead of 4096 x 25 tries. Every loop of the scheme is bounded: Newton by
+ * newton_max_iterations and this budget, splitting by MAX_SPLIT_DEPTH and
+ * this budget, the rest by the node count. */
 #define STEP_ITERATION_BUDGET 2000
 
 typedef struct implicit_work {
@@ -112,6 +115,7 @@ typedef struct implicit_work {
     double moment_scale; /* N m, residual scaling of moment balances */
     double var_scale[3]; /* typical N (N), v (m/s), omega (rad/s) for FD steps */
     double jacobian_dt;  /* dt the factorisation was made for */
+    long jacobian_builds; /* factorisations since create (rod_report.jacobian_builds) */
     int start_valid;     /* frame0, d3mid0, moment0 hold the state at start_time */
     double *x_last;      /* (unknowns) solution of the last step, ending at start_time */
     double *x_before;    /* (unknowns) solution of the step before it */
@@ -582,11 +586,38 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
         }
     }
     lapack_int info = LAPACKE_dgbtrf_work(LAPACK_COL_MAJOR, nu, nu, kl, ku, w->band, ld, w->pivot);
+    w->jacobian_builds++;
     w->have_factor = (info == 0);
     w->jacobian_dt = dt;
     if (info == 0)
         for (int j = 0; j < nu; j++) w->inv_diag[j] = 1.0 / w->band[(size_t)j * (size_t)ld + (size_t)(kl + ku)];
     return info == 0 ? 0 : -1;
+}
+
+/* 1 when the factorisation made for dt_factored serves a step of dt.
+ *
+ * A relative tolerance, not equality: a caller that lands its steps on
+ * output times passes dt = t_target - t, which differs from the step it
+ * means by the rounding of t, a relative eps t/dt (2e-11 at t = 1e3 s,
+ * dt = 1e-2 s; below 1e-9 up to 4e6 steps); exact equality rebuilt the
+ * Jacobian at nearly every step. The Jacobian only steers Newton's
+ * corrections (convergence is judged on the residual at the true dt), and
+ * one made for dt (1 + delta) slows the iteration by a contraction of order
+ * delta, invisible at delta = 1e-9.
+ *
+ * A real change of dt rebuilds, because the Jacobian cannot be rescaled
+ * exactly: its dt-dependence is not affine in 1/dt. Per block, (3.14)'s
+ * rows depend on N through dt^2 theta / (m w_b ds) (and on the damping
+ * c dt / m, not affinely), (3.6)_2's rows on omega through w_b I / dt
+ * (inertia), dt theta dM/dphi (elastic), and dt-free gyroscopic and damping
+ * terms, and every elastic term is evaluated at the end frames
+ * Q exp(dt omega_bar), nonlinear in dt. No scaling of rows and columns
+ * maps one dt onto another (the four N/omega x constraint/momentum blocks
+ * scale as dt^2, dt, 1 and dt + 1/dt), and the ratio of elastic to
+ * inertial terms, (omega_n dt)^2, is the physics of the step. */
+static int same_dt(double dt_factored, double dt)
+{
+    return fabs(dt - dt_factored) <= 1e-9 * fabs(dt);
 }
 
 /* Newton on one step; on success the iterate x holds the solution. */
@@ -595,7 +626,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
     const int nu = w->unknowns;
     const double tol = m->options.newton_tolerance;
     const int max_it = m->options.newton_max_iterations;
-    if (!w->have_factor || w->jacobian_dt != dt) {
+    if (!w->have_factor || !same_dt(w->jacobian_dt, dt)) {
         if (factor_jacobian(w, m, t, dt)) return -1;
     }
     evaluate(w, m, w->x, t, dt, w->residual);
@@ -804,6 +835,11 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
 static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double dt,
                       rod_report *report, int depth)
 {
+    /* every attempt costs the budget at least one iteration, also one that
+     * fails before Newton iterates (a singular Jacobian): the splits stay
+     * bounded by the budget, not only by 2^MAX_SPLIT_DEPTH attempts, each
+     * with a Jacobian build */
+    if (--w->budget < 0) return -1;
     if (single_step(w, m, s, dt, report) == 0) return 0;
     if (depth >= MAX_SPLIT_DEPTH || w->budget < 0) return -1;
     w->have_factor = 0;
@@ -823,11 +859,27 @@ static rod_status unresolved(const rod_model *m, const rod_state *s, double angl
 static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod_report *report)
 {
     implicit_work *w = p;
+    if (!(dt > 0.0) || !isfinite(dt)) {
+        /* a programming error of the caller; refused rather than split 4096 ways */
+        snprintf(report->message, sizeof report->message,
+                 "implicit scheme: the step dt = %g s must be a positive finite time", dt);
+        return ROD_FAILED;
+    }
+    if (s->time + dt == s->time) {
+        /* below the rounding of t: the step would not advance the time, and a
+         * loop stepping until t reaches a target would never end */
+        snprintf(report->message, sizeof report->message,
+                 "implicit scheme: the step dt = %g s is below the rounding of t = %.17g s and "
+                 "would not advance the time; use a larger solver.dt", dt, s->time);
+        return ROD_FAILED;
+    }
     s->staggered = 1;
     save_state(w, s);
     w->budget = STEP_ITERATION_BUDGET;
     int segment;
-    if (split_step(w, m, s, dt, report, 0) == 0) {
+    int solved = split_step(w, m, s, dt, report, 0) == 0;
+    report->jacobian_builds = w->jacobian_builds;
+    if (solved) {
         double angle = rod_sharpest_bend(m, s->darboux, &segment);
         if (angle <= ROD_UNRESOLVED_BEND) return ROD_OK;
         return unresolved(m, s, angle, segment, report);

@@ -1,20 +1,30 @@
 /* bench_schemes.c: the cost of each scheme, measured in one run (make bench).
- * Prints microseconds per step at NS = 51, 201 and 1001, and wall seconds
- * per simulated second on table 2's first load. Never a test: nothing here
- * passes or fails on time. */
+ * Prints microseconds per step at NS = 51, 201 and 1001, and CPU seconds
+ * per simulated second on table 2's first load. Then the realistic cases
+ * (an undamped step load, every shipped rod scene) twice: by the bench's
+ * own loop of equal steps, and through run_simulate, the loop of
+ * `rodsim run --no-video` (steps landing on the output times), side by side
+ * with their ratio, so that the bench times what a run does. Times are CPU
+ * time (see now()). Never a test: nothing here passes or fails on time. */
+#include <glob.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
 
 #include "base/ini.h"
+#include "cli/run.h"
+#include "sim/recording.h"
 #include "sim/rod.h"
 #include "sim/scene.h"
 
+/* CPU seconds of this process: wall time on an idle machine (the stepping
+ * is single-threaded), and steady on a shared one, where wall time counts
+ * the other processes' turns too. */
 static double now(void)
 {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
@@ -94,6 +104,132 @@ static const variant variants[] = {
     {ROD_SCHEME_STATIC, 1, "static"},
 };
 
+/* What one way of stepping cost. */
+typedef struct timing {
+    double us;  /* CPU microseconds per step, -1 when the run failed */
+    long steps;
+    long jacobian_builds; /* implicit scheme (rod_report.jacobian_builds) */
+} timing;
+
+/* The bench's loop: `steps` steps of exactly dt from the start state. */
+static timing time_equal_steps(const rod_model *m, double dt, long steps)
+{
+    timing r = {-1.0, 0, 0};
+    char err[256];
+    rod_solver solver;
+    if (rod_solver_init(&solver, m, err, sizeof err)) {
+        printf("    (%s)\n", err);
+        return r;
+    }
+    rod_state *s = rod_state_create(m);
+    rod_report report = {0};
+    double start = now();
+    for (r.steps = 0; r.steps < steps; r.steps++) {
+        if (rod_solver_step(&solver, m, s, dt, &report) != ROD_OK) {
+            printf("    (step %ld failed: %.200s)\n", r.steps, report.message);
+            break;
+        }
+    }
+    if (r.steps == steps) r.us = (now() - start) / (double)steps * 1e6;
+    r.jacobian_builds = report.jacobian_builds;
+    rod_solver_release(&solver);
+    rod_state_destroy(s);
+    return r;
+}
+
+/* The run's loop: run_simulate to m->options.duration with steps of at most
+ * dt, recording at every 1/fps, as `rodsim run --no-video` does. */
+static timing time_run_loop(const rod_model *m, double dt, int fps)
+{
+    timing r = {-1.0, 0, 0};
+    char err[256];
+    rod_solver solver;
+    if (rod_solver_init(&solver, m, err, sizeof err)) {
+        printf("    (%s)\n", err);
+        return r;
+    }
+    rod_state *s = rod_state_create(m);
+    rod_recording *rec =
+        rod_recording_create(m, "bench", run_frame_count(m->options.duration, fps));
+    rod_report report = {0};
+    run_stats stats;
+    if (s && rec) {
+        double start = now(); /* not stats.wall_seconds: the same clock as the bench loop */
+        rod_status st = run_simulate(&solver, m, s, rec, dt, fps, &report, &stats);
+        double seconds = now() - start;
+        r.steps = stats.steps;
+        if (st == ROD_OK && stats.steps > 0) r.us = 1e6 * seconds / (double)stats.steps;
+        else printf("    (the run stopped at t = %g s: %.200s)\n", s->time, report.message);
+        r.jacobian_builds = report.jacobian_builds;
+    }
+    rod_recording_destroy(rec);
+    rod_solver_release(&solver);
+    rod_state_destroy(s);
+    return r;
+}
+
+static void print_pair_header(void)
+{
+    printf("%-26s %-9s %9s %4s | %7s %9s %6s | %7s %9s %6s | %6s\n", "case", "scheme", "dt (s)",
+           "fps", "steps", "us/step", "Jac.", "steps", "us/step", "Jac.", "run/");
+    printf("%-26s %-9s %9s %4s | %-24s | %-24s | %6s\n", "", "", "", "",
+           "bench: equal steps of dt", "run: run_simulate", "bench");
+}
+
+/* One case both ways. The bench takes the run's number of steps at dt
+ * capped at 1/fps (the run's own cap), so both cover the same time. */
+static void time_both_ways(const char *label, const rod_model *m, double dt, int fps)
+{
+    double h = fmin(dt, 1.0 / fps);
+    long steps = (long)ceil(m->options.duration / h - 1e-9);
+    timing bench = time_equal_steps(m, h, steps);
+    timing run = time_run_loop(m, dt, fps);
+    printf("%-26s %-9s %9.4g %4d | %7ld %9.2f %6ld | %7ld %9.2f %6ld | %6.2f\n", label,
+           rod_scheme_get(m->options.scheme)->name, h, fps, bench.steps, bench.us,
+           bench.jacobian_builds, run.steps, run.us, run.jacobian_builds,
+           bench.us > 0 && run.us > 0 ? run.us / bench.us : NAN);
+    fflush(stdout);
+}
+
+/* Every rod scene in scenes/ (beam FEM scenes are skipped), as shipped. */
+static void time_shipped_scenes(void)
+{
+    glob_t found;
+    if (glob(RODSIM_SOURCE_DIR "/scenes/*.ini", 0, NULL, &found) != 0) {
+        printf("  no scenes found\n");
+        return;
+    }
+    for (size_t k = 0; k < found.gl_pathc; k++) {
+        const char *path = found.gl_pathv[k];
+        char err[1024], name[128];
+        ini_doc *doc = ini_load(path, err, sizeof err);
+        rod_model m = rod_model_default();
+        run_output out;
+        if (!doc) {
+            printf("  %s\n", err);
+            continue;
+        }
+        if (ini_section_count(doc, "rod") == 0) {
+            ini_destroy(doc);
+            continue; /* not a rod scene (rodsim fem) */
+        }
+        if (scene_read_rod(doc, &m, err, sizeof err) ||
+            run_read_output(doc, &out, err, sizeof err)) {
+            printf("  %s: %s\n", path, err);
+            ini_destroy(doc);
+            rod_model_release(&m);
+            continue;
+        }
+        ini_scene_name(doc, name, sizeof name);
+        ini_destroy(doc);
+        double dt = rod_choose_dt(&m, NULL);
+        if (dt > 0.0) time_both_ways(name, &m, dt, out.fps);
+        else printf("%-26s (no stable dt)\n", name);
+        rod_model_release(&m);
+    }
+    globfree(&found);
+}
+
 int main(void)
 {
     static const int sizes[] = {51, 201, 1001};
@@ -123,7 +259,7 @@ int main(void)
 
     /* the table 2 scene itself (scenes/table2_450nN.ini), run dynamically for
      * the 10 s of the thesis by each time-stepping scheme */
-    printf("\nwall seconds per simulated second, scenes/table2_450nN.ini, 10 s, NS = 51:\n");
+    printf("\nCPU seconds per simulated second, scenes/table2_450nN.ini, 10 s, NS = 51:\n");
     for (size_t a = 0; a < 3; a++) {
         char err[512];
         ini_doc *doc = ini_load(RODSIM_SOURCE_DIR "/scenes/table2_450nN.ini", err, sizeof err);
@@ -150,5 +286,25 @@ int main(void)
                variants[a].label, dt, per_second, 1.0 / per_second,
                m.rotary_inertia_scale != 1.0 ? " (rotary inertia scaled to run)" : "");
     }
+
+    /* what `rodsim run` meets: no damping to settle the rod, and the run
+     * loop's steps landing on the output times; then the shipped scenes */
+    printf("\nrealistic cases, bench loop vs run loop (Jac. = implicit Jacobians built):\n");
+    print_pair_header();
+    for (size_t a = 1; a < 3; a++) {
+        static const int undamped_sizes[] = {51, 201};
+        for (size_t b = 0; b < 2; b++) {
+            rod_model m = table2_model(variants[a].scheme, undamped_sizes[b]);
+            m.profile.kind = ROD_PROFILE_STEP;
+            m.linear_damping = 0.0;
+            m.physics.planar = variants[a].planar;
+            m.options.duration = 10.0;
+            char label[64];
+            snprintf(label, sizeof label, "undamped step %s NS=%d",
+                     variants[a].planar ? "2-D" : "3-D", undamped_sizes[b]);
+            time_both_ways(label, &m, 1.0 / 60.0, 30);
+        }
+    }
+    time_shipped_scenes();
     return 0;
 }

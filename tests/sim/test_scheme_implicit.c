@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "study/reference.h"
+#include "sim/recording.h"
 #include "sim/rod.h"
 #include "base/spectrum.h"
 #include "test.h"
@@ -148,7 +149,56 @@ static void test_uniform_twist(void)
     check(bend < 1e-9 && fabs(tip(s)[1]) < 1e-12 && fabs(tip(s)[2]) < 1e-12,
           "uniform twist: the rod stays straight (|u1,u2| <= %.1e 1/m, tip y %.1e, z %.1e)", bend,
           tip(s)[1], tip(s)[2]);
+    /* the tip entry (B^-1 M(L), (4.2)) and the twist the CSV and the stripe
+     * read at the last node: it was 0, the moment transformed in place */
+    const int last = m.nodes - 1;
+    check_rel("uniform twist: tip entry u3(L) = M3/C", s->darboux[3 * last + 2], 0.5, 1e-9);
+    rod_recording *rec = rod_recording_create(&m, "twist", 1);
+    if (rec && rod_recording_append(rec, &m, s) == 0) {
+        check_rel("uniform twist: recorded twist at the tip node vs M3/C", rec->twist[last], 0.5,
+                  1e-6);
+        check_rel("uniform twist: recorded twist at the tip node vs its neighbour's",
+                  rec->twist[last], rec->twist[last - 1], 1e-6);
+    } else {
+        check(0, "uniform twist: recording the state");
+    }
+    rod_recording_destroy(rec);
     rod_state_destroy(s);
+}
+
+/* The tip entry of the staggered state is B^-1 M(L), the boundary condition
+ * (4.2), with M(L) in the tip's director components: the follower moment
+ * itself, and the dead moment projected on the tip directors. Checked on a
+ * bent and twisted rod, where the tip frame mixes every component. */
+static void test_tip_moment_entry(void)
+{
+    for (int dead = 0; dead < 2; dead++) {
+        rod_model m = table1(21, 0.05, 1.0);
+        m.tip_frame = dead ? ROD_FRAME_GLOBAL : ROD_FRAME_DIRECTOR;
+        v3_set(m.tip_force, 3e-7, -2e-7, 0.0);
+        v3_set(m.tip_moment, 1.2e-6, 1.5e-6, 1.0e-6);
+        m.linear_damping = 4e-4;
+        rod_state *s = rod_state_create(&m);
+        rod_status st = run(&m, s, 1.0, 0.05);
+        const int last = m.nodes - 1;
+        const double *q = &s->frame[9 * last];
+        double moment[3], worst = 0.0;
+        for (int k = 0; k < 3; k++) {
+            /* director component k: d_k . M for a dead load (d_k = column k of Q) */
+            moment[k] = dead ? q[k] * m.tip_moment[0] + q[3 + k] * m.tip_moment[1] +
+                                   q[6 + k] * m.tip_moment[2]
+                             : m.tip_moment[k];
+            double expected = moment[k] / m.stiffness[k];
+            worst = fmax(worst, fabs(s->darboux[3 * last + k] - expected) / fabs(expected));
+        }
+        double tilt = acos(fmin(1.0, q[2])); /* d3 away from +x */
+        check(st == ROD_OK && tilt > 0.05 && worst < 1e-12,
+              "%s tip moment on a bent rod (tip d3 %.3f rad off x): tip entry = B^-1 M(L) "
+              "(4.2), computed (%.9g, %.9g, %.9g) 1/m, worst relative error %.2e",
+              dead ? "dead" : "follower", tilt, s->darboux[3 * last], s->darboux[3 * last + 1],
+              s->darboux[3 * last + 2], worst);
+        rod_state_destroy(s);
+    }
 }
 
 /* Crank-Nicolson after a small impulse: the first bending frequency
@@ -308,6 +358,80 @@ static void test_planar_matches_3d(void)
     check(!rod_model_loads_planar(&m), "a twisting moment is not planar");
 }
 
+/* Steps of dt and of dt one ulp longer in turn (what a run loop that lands
+ * on output times passes) are the same step: the Jacobian made for one
+ * serves the other, so the run equals the constant-dt run to round-off and
+ * builds no more Jacobians. It used to rebuild at every change of the last
+ * digit, and each rebuild moved the Newton iterates by up to the tolerance. */
+static void test_dt_last_digit(void)
+{
+    const double dt = 0.01, longer = nextafter(dt, 1.0);
+    const int steps = 150;
+    double tips[2][3];
+    long builds[2];
+    for (int alternate = 0; alternate < 2; alternate++) {
+        rod_model m = table1(21, dt, 1.0);
+        v3_set(m.tip_force, 8e-7, 0.0, 0.0);      /* suture.ini's loads, 3-D */
+        v3_set(m.tip_moment, 0.0, 1.5e-7, 4e-7);
+        m.profile.kind = ROD_PROFILE_RAMP;
+        m.profile.t1 = 0.5;
+        m.linear_damping = 3e-4;
+        char err[256];
+        rod_solver solver;
+        rod_solver_init(&solver, &m, err, sizeof err);
+        rod_state *s = rod_state_create(&m);
+        rod_report report = {0};
+        rod_status st = ROD_OK;
+        for (int k = 0; k < steps && st == ROD_OK; k++)
+            st = rod_solver_step(&solver, &m, s, alternate && k % 2 ? longer : dt, &report);
+        check(st == ROD_OK, "dt %s: %d steps run",
+              alternate ? "alternating by one ulp" : "constant", steps);
+        v3_copy(tips[alternate], tip(s));
+        builds[alternate] = report.jacobian_builds;
+        rod_solver_release(&solver);
+        rod_state_destroy(s);
+    }
+    double deflection = hypot(tips[0][1], tips[0][2]);
+    double diff = sqrt(pow(tips[1][0] - tips[0][0], 2) + pow(tips[1][1] - tips[0][1], 2) +
+                       pow(tips[1][2] - tips[0][2], 2));
+    /* 75 steps one ulp longer move the end time by 75 ulp of dt (1e-16 s): the
+     * tip, at speed below 1 m/s, moves less than 1e-15 m by that */
+    check(deflection > 1e-3 && diff <= 1e-14,
+          "dt alternating by one ulp vs constant dt: tip distance %.2e m (tolerance 1e-14 m, "
+          "tip deflection %.4g m)", diff, deflection);
+    check(builds[1] <= builds[0],
+          "dt alternating by one ulp: %ld Jacobian builds in %d steps, constant dt %ld",
+          builds[1], steps, builds[0]);
+    check(builds[0] < steps / 5, "constant dt: Jacobian builds %ld < %d (steps / 5)", builds[0],
+          steps / 5);
+}
+
+/* A step that is not a positive finite time, or too short to advance t
+ * (1e-14 s at t = 1000 s, below half an ulp of t, 5.7e-14 s), is refused at
+ * once: a loop stepping until t reaches a target would never end. */
+static void test_bad_dt(void)
+{
+    const double bad[4] = {0.0, -0.01, NAN, 1e-14};
+    const char *why[4] = {"positive", "positive", "positive", "advance the time"};
+    for (int c = 0; c < 4; c++) {
+        rod_model m = table1(11, 0.01, 1.0);
+        m.tip_force[0] = 1e-7;
+        char err[256];
+        rod_solver solver;
+        rod_solver_init(&solver, &m, err, sizeof err);
+        rod_state *s = rod_state_create(&m);
+        const double start = c == 3 ? 1000.0 : 0.0;
+        s->time = start;
+        rod_report report = {0};
+        rod_status st = rod_solver_step(&solver, &m, s, bad[c], &report);
+        check(st == ROD_FAILED && s->time == start && strstr(report.message, why[c]) != NULL &&
+                  report.jacobian_builds == 0,
+              "dt = %g s at t = %g s refused without a step: '%s'", bad[c], start, report.message);
+        rod_solver_release(&solver);
+        rod_state_destroy(s);
+    }
+}
+
 /* Without rotary inertia the rotations are quasi-static: backward Euler
  * still settles table 2's first load onto the elastica. */
 static void test_no_rotary_inertia(void)
@@ -335,11 +459,14 @@ int main(void)
     test_table2();
     test_quarter_circle();
     test_uniform_twist();
+    test_tip_moment_entry();
     test_first_frequency();
     test_stability();
     test_energy();
     test_unresolved_kink();
     test_planar_matches_3d();
     test_no_rotary_inertia();
+    test_dt_last_digit();
+    test_bad_dt();
     return test_finish();
 }
