@@ -37,19 +37,37 @@ typedef enum {
     ROD_PROFILE_TABLE     /* piecewise linear from a CSV table, held after its last row */
 } rod_profile_kind;
 
-/* End conditions. The root is at s = 0, the tip at s = L; the rod starts
- * straight along +x. A held tip slides freely along x (a sleeve on the x
- * axis): an inextensible rod whose ends were both fixed in place could not
- * bend at all. */
+/* End conditions (issue 10), the same words at either end. The root is at
+ * s = 0, the tip at s = L. A held end stays where it starts, or follows its
+ * path (rod_model root_motion / tip_motion), or slides freely along its
+ * `slide` direction (a sleeve: Euler's and Greenhill's columns use
+ * tip_slide = 1 0 0); the force and moment that hold it are reported in
+ * rod_state end_force / end_moment.
+ * A scheme that does not model a combination refuses it at create with a
+ * message naming the end and what it supports (rod_model_require_*). */
 typedef enum {
-    ROD_END_CLAMPED = 0, /* root: position and frame held. tip: on the x axis (y = z = 0),
-                            sliding along x, bending rotations held (d3 stays along x),
-                            free to twist about x */
-    ROD_END_PINNED,      /* root: position held, twist about x held, free to bend (a ball
-                            joint with a torsion stop). tip: on the x axis, sliding along x,
-                            free to rotate */
-    ROD_END_FREE         /* tip only: nothing held; the tip loads act */
+    ROD_END_CLAMPED = 0, /* position and frame held (or driven); a clamped tip that slides
+                            keeps d3 along its slide direction and is free to twist about it */
+    ROD_END_PINNED,      /* position held (or driven), free to rotate (a ball joint); a pinned
+                            root also holds the twist about d3 (a torsion stop), so the rod has
+                            no free rotation about its own axis */
+    ROD_END_FREE         /* nothing held; at the tip the tip loads act */
 } rod_end_kind;
+
+/* A driven end's path: the held end's position (and, for a clamped end, its
+ * rotation from its initial frame) as a function of time, from a table
+ * t,x,y,z[,rx,ry,rz] (scene [ends] root_motion / tip_motion). Opaque: made
+ * and evaluated by sim/path.h. */
+typedef struct rod_path rod_path;
+
+/* A concentrated load at one node (scene [point_load], repeatable): dead
+ * (global components), scaled by the tip's time profile factor (a 2-column
+ * table or step/ramp/pulse; a 7-column table drives only the tip). */
+typedef struct rod_point_load {
+    int node;          /* 0..NS-1, the node nearest the scene's arc length s */
+    double force[3];   /* N, global x y z */
+    double moment[3];  /* N m, global x y z */
+} rod_point_load;
 
 /* Which physics a run models (scene [physics]). Switching one off removes
  * its cost where a scheme can exploit it, and says so. */
@@ -114,9 +132,34 @@ typedef struct rod_model {
     double angular_damping;       /* N m s/m: moment per length = -c_w omega */
 
     /* inputs: end conditions and physics switches (scene [ends], [physics]) */
-    rod_end_kind root_end;        /* clamped (default) or pinned */
+    rod_end_kind root_end;        /* clamped (default), pinned or free */
     rod_end_kind tip_end;         /* free (default), pinned or clamped */
+    double root_slide[3];         /* unit direction, global, along which the held root slides
+                                     freely; 0 0 0 (default): held in place or driven */
+    double tip_slide[3];          /* the same for the tip (1 0 0: Euler's sleeve) */
+    rod_path *root_motion;        /* owned; NULL (default): a held root stays where it starts */
+    rod_path *tip_motion;         /* owned; NULL: a held tip stays where it starts */
+    double needle_radius;         /* m, a curved needle whose back is at the driven tip; 0: none
+                                     (drawn only; no mechanics) */
     rod_physics physics;          /* all on by default */
+
+    /* inputs: starting shape and state (scene [rod]) */
+    double origin[3];             /* m, global: the root at t = 0 (default 0 0 0) */
+    double direction[3];          /* unit, global: the initial tangent of a straight rod
+                                     (default 1 0 0); d1, d2 follow by the smallest rotation
+                                     of (y, z) that takes x to it */
+    double *initial_shape;        /* (nodes x 3) m, global, owned: the starting centreline,
+                                     resampled to equal arc lengths ds; NULL: straight from
+                                     origin along direction. Frames are twist-free along it
+                                     (parallel transport from the root's) */
+    double intrinsic_curvature[3];/* u0, 1/m, director components: M = B (u - u0) (thesis
+                                     nomenclature; (3.5) with a rest curvature) */
+    double initial_velocity[3];   /* m/s, global, the same at every node at t = 0 */
+
+    /* inputs: loads along the rod (scene [point_load], [loads]) */
+    int point_load_count;
+    rod_point_load *point_loads;  /* (point_load_count), owned */
+    double distributed_moment[3]; /* N m/m along the rod, global x y z */
 
     rod_options options;
 
@@ -146,6 +189,10 @@ typedef struct rod_state {
     int staggered;            /* 0: darboux and contact_force live at the nodes;
                                  1: entry i < nodes-1 lives at the segment midpoint i+1/2
                                  (in the frame there) and entry nodes-1 is the tip value */
+    double end_force[2][3];   /* N, global: the force the rod exerts on what holds its root
+                                 [0] and its tip [1] (what a needle holder feels); 0 at a
+                                 free end. Set by every step of a scheme that models ends */
+    double end_moment[2][3];  /* N m, global, likewise */
 } rod_state;
 
 /* Outcome of a step or a solve. */
@@ -205,8 +252,16 @@ double rod_first_bending_frequency(const rod_model *m);
 
 rod_state *rod_state_create(const rod_model *m);
 void rod_state_destroy(rod_state *s);
-/* Straight along +x, at rest, unloaded, t = 0 (thesis 4.2 initial condition). */
+/* t = 0: the starting shape (initial_shape, or straight from origin along
+ * direction: thesis 4.2's initial condition when those are the defaults),
+ * frames twist-free along it, every node moving with initial_velocity, no
+ * angular velocity, darboux from the frames, no contact force. */
 void rod_state_reset(const rod_model *m, rod_state *s);
+/* The internal (contact) force N(s) of the thesis at every node, global
+ * components, N: `out` is (nodes x 3). At a held or driven end it is the
+ * force between the rod and its support; inside, the mean of the two
+ * neighbouring segments' N for a staggered state. */
+void rod_internal_force(const rod_state *s, double *out);
 /* Kinetic energy, J (translational + rotational, lumped at the nodes). */
 double rod_kinetic_energy(const rod_model *m, const rod_state *s);
 /* Largest |Q^T Q - I| entry over all frames. */

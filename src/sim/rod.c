@@ -23,6 +23,7 @@ rod_model rod_model_default(void)
     m.tip_frame = ROD_FRAME_DIRECTOR;
     m.root_end = ROD_END_CLAMPED;
     m.tip_end = ROD_END_FREE;
+    m.direction[0] = 1.0; /* straight along +x from the origin (thesis 4.2) */
     m.physics = (rod_physics){.twist = 1, .rotary_inertia = 1, .gravity = 1, .damping = 1,
                               .planar = 1};
     m.profile.kind = ROD_PROFILE_STEP;
@@ -98,6 +99,11 @@ void rod_model_release(rod_model *m)
 {
     free(m->profile.table.data);
     m->profile.table.data = NULL;
+    free(m->initial_shape);
+    m->initial_shape = NULL;
+    free(m->point_loads);
+    m->point_loads = NULL;
+    m->point_load_count = 0;
     m->profile.table.rows = 0;
 }
 
