@@ -68,7 +68,8 @@ int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errle
 /* Renders every frame of rec: out_dir/<scene>.mp4 when want_video,
  * out_dir/<scene>.png (last frame) when o->poster, out_dir/<scene>_frames/
  * NNNNN.png when o->frames_png. Every file is written atomically (outfile.h):
- * on failure nothing half-written remains. A progress line goes to stderr
+ * on failure nothing half-written remains; inside an outfile transaction
+ * they are named only when the transaction commits. A progress line goes to stderr
  * when it is a terminal. Returns 0, or -1 with a message. */
 int render_recording(const rod_recording *rec, const render_options *o, const char *out_dir,
                      const char *scene_name, int want_video, char *err, size_t errlen);

@@ -1253,9 +1253,11 @@ int render_recording(const rod_recording *rec, const render_options *o, const ch
                                       err, errlen);
         if (!q.video) status = -1;
     }
+    /* the frames go to a hidden directory, renamed into place with the other outputs */
+    outfile frames_out = {.fd = -1, .slot = -1, .watch = -1};
     if (!status && o->frames_png) {
-        if (outfile_mkdirs(frames_dir, err, errlen)) status = -1;
-        q.frames_dir = frames_dir;
+        if (outfile_dir_open(&frames_out, frames_dir, err, errlen)) status = -1;
+        q.frames_dir = frames_out.tmp_path;
     }
 
     int all_frames = want_video || o->frames_png;
@@ -1326,15 +1328,8 @@ int render_recording(const rod_recording *rec, const render_options *o, const ch
         o->timing->wall = now_seconds() - call_start;
     }
     if (!status && o->poster) status = image_write_png(last, poster_path, err, errlen);
-    if (status && q.frames_dir) {
-        /* a failed run leaves no partial frame sequence either */
-        for (int k = 0; k < q.consumed; k++) {
-            char path[OUTFILE_PATH_MAX + 16];
-            snprintf(path, sizeof path, "%s/%05d.png", frames_dir, k);
-            unlink(path);
-        }
-        rmdir(frames_dir);
-    }
+    if (!status && q.frames_dir) status = outfile_commit(&frames_out, err, errlen);
+    if (status) outfile_abort(&frames_out); /* no partial frame sequence either */
     video_writer_destroy(q.video); /* removes the video unless finished */
     for (int i = 0; i < QUEUE_SLOTS; i++) image_destroy(q.slots[i]);
     renderer_destroy(&r);

@@ -56,6 +56,24 @@ void rod_recording_destroy(rod_recording *r)
     free(r);
 }
 
+double rod_recording_node_twist(const rod_state *s, int node)
+{
+    size_t i = (size_t)node, n = (size_t)s->nodes;
+    /* staggered schemes keep u at midpoints: average to the node */
+    double u3 = s->darboux[3 * i + 2];
+    if (s->staggered && i > 0 && i + 1 < n)
+        u3 = 0.5 * (s->darboux[3 * (i - 1) + 2] + s->darboux[3 * i + 2]);
+    else if (s->staggered && i == 0 && n > 1)
+        u3 = s->darboux[2];
+    return u3;
+}
+
+double rod_recording_bytes(int nodes, double frames)
+{
+    /* time, tip force and moment: 7 doubles a frame; position, Q, twist: 13 a node */
+    return frames * ((double)nodes * 13 + 7) * (double)sizeof(double);
+}
+
 int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *s)
 {
     if (r->frame_count == r->capacity && reserve(r, 2 * r->capacity)) return -1;
@@ -63,15 +81,7 @@ int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *
     r->time[k] = s->time;
     memcpy(&r->position[k * n * 3], s->position, n * 3 * sizeof(double));
     memcpy(&r->frame[k * n * 9], s->frame, n * 9 * sizeof(double));
-    for (size_t i = 0; i < n; i++) {
-        /* staggered schemes keep u at midpoints: average to the node */
-        double u3 = s->darboux[3 * i + 2];
-        if (s->staggered && i > 0 && i + 1 < n)
-            u3 = 0.5 * (s->darboux[3 * (i - 1) + 2] + s->darboux[3 * i + 2]);
-        else if (s->staggered && i == 0 && n > 1)
-            u3 = s->darboux[2];
-        r->twist[k * n + i] = u3;
-    }
+    for (size_t i = 0; i < n; i++) r->twist[k * n + i] = rod_recording_node_twist(s, (int)i);
     double force[3], moment[3];
     rod_tip_load(m, s->time, force, moment);
     if (m->tip_frame == ROD_FRAME_DIRECTOR) {
