@@ -46,6 +46,8 @@ void outfile_abort(outfile *f);
 
 /* Opens the transaction of this thread (one at a time). */
 void outfile_transaction_begin(void);
+/* 1 when this thread has a transaction open. */
+int outfile_transaction_active(void);
 /* Names every file committed since outfile_transaction_begin(): all appear or,
  * on an error (reported in err), none. Closes the transaction. */
 int outfile_transaction_commit(char *err, size_t errlen);

@@ -76,8 +76,11 @@ int run_plan_make(const rod_model *m, double dt, int fps, run_plan *p);
  * (per node, x NS) + frames x (video_pixels x the cost of a pixel + the CSV
  * rows when csv). See run.c for the measured model. */
 double run_plan_seconds(const run_plan *p, int nodes, int video_pixels, int csv);
-/* Bytes the video's frames may take in memory: a quarter of physical memory. */
-double run_memory_budget(void);
+/* Bytes of the video's frames kept in memory before the run streams its
+ * video instead (run.c: 256 MiB; for the tests, the environment variables
+ * RODSIM_RECORDING_BUDGET and RODSIM_SAMPLE_BUDGET, bytes, override it and
+ * the 16 MiB of frames a streamed video keeps to frame its camera). */
+double run_recording_budget(void);
 
 /* What a run cost. */
 typedef struct run_stats {

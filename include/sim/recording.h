@@ -30,6 +30,8 @@ typedef struct rod_recording {
     double *twist;        /* (frames x nodes), u3 at each node, 1/m (for the (4.17) stripe) */
     double *tip_force;    /* (frames x 3), N, global components */
     double *tip_moment;   /* (frames x 3), N m, global components */
+    double peak_force;    /* N, the largest |tip force| of every frame appended or noted */
+    double peak_moment;   /* N m, the same for the tip moment */
 } rod_recording;
 
 /* Room for `capacity` frames (grows when exceeded). NULL when out of memory. */
@@ -41,6 +43,14 @@ double rod_recording_node_twist(const rod_state *s, int node);
 /* Bytes a recording of `frames` frames of `nodes` nodes holds (104 per node
  * per frame, 56 per frame): what a run must fit in memory to frame its video. */
 double rod_recording_bytes(int nodes, double frames);
+/* The tip load at s->time from the model, global components: force (N) and
+ * moment (N m). */
+void rod_recording_tip_load(const rod_model *m, const rod_state *s, double force[3],
+                            double moment[3]);
+/* Takes the tip load of a frame that is not kept into the peaks. */
+void rod_recording_note_peaks(rod_recording *r, const rod_model *m, const rod_state *s);
+/* Keeps frames 0, 2, 4, ... (and the peaks): halves a sampled recording. */
+void rod_recording_halve(rod_recording *r);
 /* Appends the state as a frame; the tip load at s->time comes from the model.
  * Returns 0, or -1 when out of memory. */
 int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *s);

@@ -279,6 +279,17 @@ static int place_all(outfile *files, int count, char *err, size_t errlen)
     sigaddset(&hold, SIGTERM);
     pthread_sigmask(SIG_BLOCK, &hold, &old);
     int status = 0;
+    /* what would make a rename fail is found before any rename: a file where
+     * a directory goes or the reverse */
+    for (int i = 0; i < count && !status; i++) {
+        struct stat st;
+        if (stat(files[i].path, &st) == 0 && !S_ISDIR(st.st_mode) != !files[i].is_dir) {
+            snprintf(err, errlen, "%s: is %s, cannot be replaced by the %s", files[i].path,
+                     files[i].is_dir ? "a file" : "a directory",
+                     files[i].is_dir ? "frame directory" : "output file");
+            status = -1;
+        }
+    }
     for (int i = 0; i < count && !status; i++) status = stage(&files[i], err, errlen);
     for (int i = 0; i < count && !status; i++) {
         if (files[i].is_dir ? place_dir(&files[i]) != 0
@@ -342,6 +353,11 @@ void outfile_transaction_begin(void)
 {
     transaction.open = 1;
     transaction.count = 0;
+}
+
+int outfile_transaction_active(void)
+{
+    return transaction.open;
 }
 
 int outfile_transaction_commit(char *err, size_t errlen)

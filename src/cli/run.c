@@ -23,13 +23,28 @@
  * a plan. */
 #define RUN_TIME_BUDGET 3600.0
 
-double run_memory_budget(void)
+/* The video's frames are kept in memory, and framed all at once, up to this
+ * many bytes (rod_recording_bytes; 256 MiB: 48000 frames of NS = 51, 27
+ * minutes of video at 30 fps). A longer run is simulated twice: once to
+ * write the CSV and to keep a sample of frames that frames the camera
+ * (at most RUN_SAMPLE_BUDGET bytes, and the peak loads of every frame), then
+ * again to stream each frame to the encoder as it comes. Memory then does not
+ * grow with the duration; the second pass costs the steps once more. */
+#define RUN_RECORDING_BUDGET (256.0 * 1024 * 1024)
+#define RUN_SAMPLE_BUDGET (16.0 * 1024 * 1024)
+
+/* A budget in bytes from the environment (for the tests), else `fallback`. */
+static double budget_from_env(const char *name, double fallback)
 {
-    /* a quarter of the physical memory, leaving room for the renderer, the
-     * encoder and the rest of the machine */
-    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-    double physical = pages > 0 && page > 0 ? (double)pages * (double)page : 4e9;
-    return 0.25 * physical;
+    const char *env = getenv(name);
+    char *end;
+    double bytes = env ? strtod(env, &end) : 0.0;
+    return env && end != env && bytes > 0.0 ? bytes : fallback;
+}
+
+double run_recording_budget(void)
+{
+    return budget_from_env("RODSIM_RECORDING_BUDGET", RUN_RECORDING_BUDGET);
 }
 
 void run_usage(FILE *f)
@@ -465,6 +480,8 @@ static int check_budget(const run_args *a, const rod_model *m, const run_output 
     const char *scheme = rod_scheme_get(m->options.scheme)->name;
     int video_pixels = a->no_video ? 0 : out->width * out->height;
     double seconds = run_plan_seconds(plan, m->nodes, video_pixels, a->csv != NULL);
+    if (video_pixels && rod_recording_bytes(m->nodes, plan->frames_estimate) > run_recording_budget())
+        seconds += plan->steps_estimate * plan->seconds_per_step; /* streamed: simulated twice */
     char when[48];
     if (!countable) {
         fprintf(stderr,
@@ -496,23 +513,6 @@ static int check_budget(const run_args *a, const rod_model *m, const run_output 
                 video_pixels ? ", a lower render.fps or render.width/height, or --no-video" : "");
         return -1;
     }
-    if (video_pixels) {
-        /* the camera frames the whole motion, so the video's frames are kept
-         * until the run ends; the CSV is written as the run goes */
-        double bytes = rod_recording_bytes(m->nodes, plan->frames_estimate);
-        double budget = run_memory_budget();
-        if (bytes > budget || plan->frames > INT32_MAX) {
-            fprintf(stderr,
-                    "rodsim run: %s: the video keeps every frame in memory until the run ends "
-                    "(the camera frames the whole motion): %lld frames x %d nodes x 104 bytes = "
-                    "%.3g GB, more than the %.3g GB allowed (a quarter of this machine's "
-                    "memory); nothing was run.\n"
-                    "  change: a lower render.fps, a shorter solver.duration or fewer rod.nodes; "
-                    "or --no-video (the CSV needs no memory: it is written as the run goes)\n",
-                    a->scene, (long long)plan->frames, m->nodes, 1e-9 * bytes, 1e-9 * budget);
-            return -1;
-        }
-    }
     return 0;
 }
 
@@ -520,7 +520,10 @@ static int check_budget(const run_args *a, const rod_model *m, const run_output 
  * recording the video is made from (NULL without a video). */
 typedef struct frame_sink {
     FILE *csv;
-    rod_recording *rec;
+    rod_recording *rec;     /* every frame, or a sample (sample_cap > 0) */
+    int sample_cap;         /* > 0: keep every stride-th frame, at most this many */
+    int64_t stride, index;  /* of the sample; frames seen */
+    render_stream *stream;  /* the second pass: frames go to the encoder */
     int failed; /* 1: an output failed (message in the report), not the scheme */
 } frame_sink;
 
@@ -528,6 +531,7 @@ static int on_frame(void *context, const rod_model *m, const rod_state *s, char 
                     size_t errlen)
 {
     frame_sink *sink = context;
+    int64_t index = sink->index++;
     if (sink->csv) {
         run_csv_frame(sink->csv, m, s);
         if (ferror(sink->csv)) {
@@ -536,12 +540,82 @@ static int on_frame(void *context, const rod_model *m, const rod_state *s, char 
             return -1;
         }
     }
+    if (sink->stream) {
+        /* frame 0 stays the run's first (clamp, stripe direction); 1 is this one */
+        if (sink->rec->frame_count > 1) sink->rec->frame_count = 1;
+        if (rod_recording_append(sink->rec, m, s) ||
+            render_stream_frame(sink->stream, sink->rec, sink->rec->frame_count - 1, err,
+                                errlen)) {
+            if (!err[0]) snprintf(err, errlen, "out of memory");
+            sink->failed = 1;
+            return -1;
+        }
+        return 0;
+    }
+    if (sink->rec && sink->sample_cap > 0) {
+        if (index % sink->stride != 0) {
+            rod_recording_note_peaks(sink->rec, m, s);
+            return 0;
+        }
+        if (sink->rec->frame_count == sink->sample_cap) {
+            rod_recording_halve(sink->rec); /* bounded: the sample thins as the run goes */
+            sink->stride *= 2;
+            if (index % sink->stride != 0) {
+                rod_recording_note_peaks(sink->rec, m, s);
+                return 0;
+            }
+        }
+    }
     if (sink->rec && rod_recording_append(sink->rec, m, s)) {
         snprintf(err, errlen, "out of memory while recording the frame at t = %g s", s->time);
         sink->failed = 1;
         return -1;
     }
     return 0;
+}
+
+/* The second pass of a streamed video: the run again from t = 0, every frame
+ * drawn and encoded as it comes. The steps are the same, so are the frames.
+ * 0, or an exit status. */
+static int stream_video(const run_args *a, const char *scene, const rod_model *m,
+                        const run_output *out, const run_plan *plan, rod_solver *solver,
+                        rod_state *s, const rod_recording *sample)
+{
+    char err[RUN_ERR_LEN] = "";
+    rod_solver_release(solver);
+    memset(solver, 0, sizeof *solver);
+    if (rod_solver_init(solver, m, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: cannot restart the scheme for the video: %s\n", err);
+        return RUN_EXIT_FAILURE;
+    }
+    rod_state_reset(m, s);
+    frame_sink sink = {0};
+    sink.rec = rod_recording_create(m, scene, 2);
+    sink.stream = sink.rec ? render_stream_begin(sample, &out->render, a->out_dir, scene, 1,
+                                                 (int)plan->frames, err, sizeof err)
+                           : NULL;
+    int status = RUN_EXIT_FAILURE;
+    if (!sink.stream) {
+        fprintf(stderr, "rodsim run: video: %s\n", sink.rec ? err : "out of memory");
+        goto done;
+    }
+    rod_report report;
+    run_stats stats;
+    rod_status st = run_simulate(solver, m, s, plan, out->fps, on_frame, &sink, &report, &stats);
+    if (st != ROD_OK) {
+        fprintf(stderr, "rodsim run: video: %s\n",
+                sink.failed ? report.message : "the second pass did not repeat the first");
+        goto done;
+    }
+    if (render_stream_finish(sink.stream, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: video: %s\n", err);
+        goto done;
+    }
+    status = 0;
+done:
+    render_stream_destroy(sink.stream);
+    rod_recording_destroy(sink.rec);
+    return status;
 }
 
 /* Copies the finished CSV to standard output. 0, or -1 with a message. */
@@ -612,7 +686,17 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
         goto done;
     }
     s = rod_state_create(m);
-    if (!a->no_video) sink.rec = rod_recording_create(m, scene, (int)plan.frames);
+    int streamed = !a->no_video &&
+                   rod_recording_bytes(m->nodes, plan.frames_estimate) > run_recording_budget();
+    if (streamed) {
+        double frame_bytes = rod_recording_bytes(m->nodes, 1.0);
+        double cap = budget_from_env("RODSIM_SAMPLE_BUDGET", RUN_SAMPLE_BUDGET) / frame_bytes;
+        sink.sample_cap = cap < 2.0 ? 2 : cap > 1e6 ? 1000000 : (int)cap;
+        sink.stride = 1;
+        sink.rec = rod_recording_create(m, scene, sink.sample_cap);
+    } else if (!a->no_video) {
+        sink.rec = rod_recording_create(m, scene, (int)plan.frames);
+    }
     if (!s || (!a->no_video && !sink.rec)) {
         fprintf(stderr, "rodsim run: out of memory for rod.nodes = %d%s\n", m->nodes,
                 a->no_video ? "" : " and the video's frames (render.fps, solver.duration)");
@@ -651,7 +735,27 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
         fprintf(stderr, "rodsim run: %s\n", err);
         goto done;
     }
-    if (!a->no_video && run_write_video(sink.rec, out, a->out_dir, err, sizeof err)) {
+    if (streamed) {
+        /* the sample ends on the last frame, whatever the stride */
+        if (sink.rec->frame_count > 0 &&
+            sink.rec->time[sink.rec->frame_count - 1] != s->time) {
+            if (sink.rec->frame_count == sink.sample_cap) rod_recording_halve(sink.rec);
+            if (rod_recording_append(sink.rec, m, s)) {
+                fprintf(stderr, "rodsim run: out of memory\n");
+                goto done;
+            }
+        }
+        if (!a->quiet)
+            fprintf(talk, "  video    streamed: %lld frames take more than %.3g MB; the camera "
+                          "frames a sample of %d, and the run is simulated again\n",
+                    (long long)plan.frames, 1e-6 * run_recording_budget(),
+                    sink.rec->frame_count);
+        int video_status = stream_video(a, scene, m, out, &plan, &solver, s, sink.rec);
+        if (video_status) {
+            status = video_status;
+            goto done;
+        }
+    } else if (!a->no_video && run_write_video(sink.rec, out, a->out_dir, err, sizeof err)) {
         fprintf(stderr, "rodsim run: video: %s\n", err);
         goto done;
     }
@@ -669,9 +773,9 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
             fprintf(talk, "        wrote %s (%lld frames x %d nodes)\n", a->csv,
                     (long long)plan.frames, m->nodes);
         if (!a->no_video)
-            fprintf(talk, "        wrote %s/%s.mp4 and %s/%s.png (%d frames, %dx%d)\n",
-                    a->out_dir, sink.rec->scene, a->out_dir, sink.rec->scene,
-                    sink.rec->frame_count, out->width, out->height);
+            fprintf(talk, "        wrote %s/%s.mp4 and %s/%s.png (%lld frames, %dx%d)\n",
+                    a->out_dir, scene, a->out_dir, scene, (long long)plan.frames, out->width,
+                    out->height);
     }
     status = RUN_EXIT_OK;
 done:
