@@ -471,6 +471,18 @@ static const char *duration_text(double seconds, char *buf, size_t n)
     return buf;
 }
 
+/* The estimated wall time of the run, s: a streamed video simulates twice. */
+static double estimate_seconds(const run_args *a, const rod_model *m, const run_output *out,
+                               const run_plan *plan)
+{
+    int video_pixels = a->no_video ? 0 : out->width * out->height;
+    double seconds = run_plan_seconds(plan, m->nodes, video_pixels, a->csv != NULL);
+    if (video_pixels &&
+        rod_recording_bytes(m->nodes, plan->frames_estimate) > run_recording_budget())
+        seconds += plan->steps_estimate * plan->seconds_per_step;
+    return seconds;
+}
+
 /* Refuses, before any work, a run that cannot be counted, would outlast the
  * time budget, or whose video frames cannot fit in memory: exit 2 with the
  * numbers and the keys to change. 0 when the run may go. */
@@ -479,10 +491,8 @@ static int check_budget(const run_args *a, const rod_model *m, const run_output 
 {
     const char *scheme = rod_scheme_get(m->options.scheme)->name;
     int video_pixels = a->no_video ? 0 : out->width * out->height;
-    double seconds = run_plan_seconds(plan, m->nodes, video_pixels, a->csv != NULL);
-    if (video_pixels && rod_recording_bytes(m->nodes, plan->frames_estimate) > run_recording_budget())
-        seconds += plan->steps_estimate * plan->seconds_per_step; /* streamed: simulated twice */
-    char when[48];
+    double seconds = estimate_seconds(a, m, out, plan);
+    char when[48], limit[48];
     if (!countable) {
         fprintf(stderr,
                 "rodsim run: %s: this run needs %.3g steps of at most solver.dt = %g s over "
@@ -500,7 +510,7 @@ static int check_budget(const run_args *a, const rod_model *m, const run_output 
                 "%.3g s (solver.duration = %g s, solver.dt = %g s) at ~%.3g us per step (the %s "
                 "scheme at rod.nodes = %d)",
                 a->scene, duration_text(seconds, when, sizeof when),
-                duration_text(RUN_TIME_BUDGET, (char[48]){0}, 48), (long long)plan->steps,
+                duration_text(RUN_TIME_BUDGET, limit, sizeof limit), (long long)plan->steps,
                 plan->step, m->options.duration, dt, 1e6 * plan->seconds_per_step, scheme,
                 m->nodes);
         if (video_pixels)
@@ -656,10 +666,9 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
     if (check_budget(a, m, out, dt, &plan, countable)) return RUN_EXIT_BAD_INPUT;
     int csv_stdout = a->csv && strcmp(a->csv, "-") == 0;
     FILE *talk = csv_stdout ? stderr : stdout; /* stdout carries the CSV then */
-    int video_pixels = a->no_video ? 0 : out->width * out->height;
     if (!a->quiet)
         print_summary(talk, a->scene, scene, m, dt, why, out, &plan,
-                      run_plan_seconds(&plan, m->nodes, video_pixels, a->csv != NULL));
+                      estimate_seconds(a, m, out, &plan));
     const rod_scheme_ops *ops = rod_scheme_get(m->options.scheme);
     if (ops->stable_dt && m->options.dt > 0.0) {
         const char *limit = "";
