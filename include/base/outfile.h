@@ -1,9 +1,18 @@
 /* outfile.h: output files that appear whole or not at all.
  *
- * Everything rodsim writes (CSV, PNG, MP4) is written under a temporary name
- * in the destination's directory and renamed over the final name only when
- * complete. A failure, or SIGINT/SIGTERM, removes the temporary file, so no
- * half-written file is ever left in out/.
+ * Everything rodsim writes (CSV, PNG, MP4) goes first to a nameless file the
+ * kernel removes when the process ends, however it ends (O_TMPFILE in the
+ * destination's directory; its bytes are reachable by the path
+ * /proc/self/fd/N for writers that open by name, such as libavformat). Only a
+ * complete file is linked under its final name. Where O_TMPFILE is not
+ * available (another file system), a hidden name ".STEM.tmpPID.EXT" beside
+ * the destination is used instead; SIGINT/SIGTERM remove it, and
+ * outfile_remove_stale() removes those that a killed process (kill -9) left.
+ *
+ * A transaction groups the outputs of one run: while it is open, committing a
+ * file on this thread only sets it aside; outfile_transaction_commit() gives
+ * them all their names at once (SIGINT and SIGTERM held off meanwhile), and
+ * outfile_transaction_abort() or a signal discards them all.
  */
 #ifndef RODSIM_OUTFILE_H
 #define RODSIM_OUTFILE_H
@@ -15,27 +24,64 @@
 
 typedef struct outfile {
     char path[OUTFILE_PATH_MAX];     /* final name */
-    char tmp_path[OUTFILE_PATH_MAX]; /* where the bytes go until commit */
+    char tmp_path[OUTFILE_PATH_MAX]; /* where the bytes go until commit (may be /proc/self/fd/N) */
     FILE *fp;                        /* open on tmp_path; NULL for outfile_reserve() */
-    int slot;                        /* index in the cleanup registry */
+    int fd;                          /* the O_TMPFILE descriptor, -1 for a named temporary */
+    int slot;                        /* index in the cleanup registry of named temporaries */
+    int is_dir;                      /* made by outfile_dir_open() */
+    int watch;                       /* its outfile_watch_dir() handle, or -1 */
 } outfile;
 
 /* Creates the parent directory if needed and opens a temporary file beside
  * `path` for writing ("wb"). Returns 0, or -1 with a message in err. */
 int outfile_open(outfile *f, const char *path, char *err, size_t errlen);
-/* Like outfile_open but does not open the file: for writers that open the
- * name themselves (libavformat, libpng). Use f->tmp_path. */
+/* Like outfile_open but does not open a FILE: for writers that open the name
+ * themselves (libavformat). Use f->tmp_path. */
 int outfile_reserve(outfile *f, const char *path, char *err, size_t errlen);
-/* Closes (if open) and renames the temporary file to the final name. */
+/* Closes (if open) and gives the file its final name; inside a transaction on
+ * this thread, sets it aside for outfile_transaction_commit(). */
 int outfile_commit(outfile *f, char *err, size_t errlen);
-/* Closes (if open) and removes the temporary file. Safe to call twice. */
+/* Closes (if open) and discards the temporary file. Safe to call twice. */
 void outfile_abort(outfile *f);
+
+/* Opens the transaction of this thread (one at a time). */
+void outfile_transaction_begin(void);
+/* 1 when this thread has a transaction open. */
+int outfile_transaction_active(void);
+/* Names every file committed since outfile_transaction_begin(): all appear or,
+ * on an error (reported in err), none. Closes the transaction. */
+int outfile_transaction_commit(char *err, size_t errlen);
+/* Discards every file set aside and closes the transaction. */
+void outfile_transaction_abort(void);
 
 /* Creates a directory and its parents (like mkdir -p). 0 or -1 with err. */
 int outfile_mkdirs(const char *dir, char *err, size_t errlen);
 
-/* Installs SIGINT/SIGTERM handlers that remove every temporary file not yet
- * committed or aborted, then exit with status 130. Call once from main. */
+/* Checks that `dir` is a directory or can be made (each existing ancestor a
+ * directory). 0, or -1 with a message. Makes nothing. */
+int outfile_check_dir(const char *dir, char *err, size_t errlen);
+
+/* Removes from `dir` the hidden temporaries (".NAME.tmpPID[.EXT]", files or
+ * directories) whose process PID no longer exists. Returns how many. */
+int outfile_remove_stale(const char *dir);
+
+/* Installs SIGINT/SIGTERM handlers that discard every temporary file not yet
+ * committed, then exit with status 128 + the signal (130 for SIGINT, 143 for
+ * SIGTERM). Call once from main. */
 void outfile_install_signal_cleanup(void);
+
+/* A directory of outputs (a frame sequence): made under a hidden name
+ * ".NAME.tmpPID" beside `dir` (f->tmp_path; the signal handler removes it),
+ * then renamed over `dir` (replacing an older one) by outfile_commit(), or,
+ * inside a transaction, with the rest. outfile_abort() removes it. */
+int outfile_dir_open(outfile *f, const char *dir, char *err, size_t errlen);
+
+/* Registers a directory of temporary files (a frame sequence being written)
+ * for removal by the signal handler; returns a handle for
+ * outfile_forget_dir(), or -1 when the table is full. */
+int outfile_watch_dir(const char *dir);
+void outfile_forget_dir(int handle);
+/* Removes a directory and the files directly in it. 0, or -1. */
+int outfile_remove_flat_dir(const char *dir);
 
 #endif

@@ -1,15 +1,22 @@
 /* run.h: `rodsim run`: load a scene, simulate it, write its outputs.
  *
- * The run loop steps the chosen scheme to the scene's duration, records a
- * frame at every output time k/fps (the step that crosses an output time is
- * shortened to land on it), stops at the first unstable or non-finite step
- * with the scheme's advice, and only then writes anything: a diverged run
- * writes nothing.
+ * The run loop steps the chosen scheme to the scene's duration in equal
+ * steps: each frame interval 1/fps is split into n = ceil(interval/dt) steps
+ * of interval/n, so the step is the same all run long (but for the final
+ * partial interval, when the duration is not a whole number of intervals).
+ * Every frame at k/fps goes to the CSV as it comes and, for the video, to a
+ * recording; the run stops at the first unstable or non-finite step with the
+ * scheme's advice. The outputs are one transaction: a diverged, refused,
+ * failed or interrupted run writes nothing.
+ *
+ * Before any work the run is counted (64-bit, checked) and its cost
+ * estimated (run_plan_seconds); an absurd run is refused with exit 2.
  */
 #ifndef RODSIM_RUN_H
 #define RODSIM_RUN_H
 
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #include "base/ini.h"
@@ -45,33 +52,69 @@ int run_read_output(ini_doc *doc, run_output *out, char *err, size_t errlen);
  * [render]. Returns 0, or -1 with a message; on failure *m owns nothing. */
 int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_t errlen);
 
-/* Output times k/fps <= duration, plus the end time when it is not one of them. */
+/* Frame and step counts above this are refused: the time would no longer
+ * advance by a step (t + dt == t) long before 2^63 is reached. */
+#define RUN_MAX_COUNT 1e15
+
+/* Output times k/fps <= duration, plus the end time when it is not one of
+ * them; -1 when that is more than an int holds (run_plan counts in 64 bits). */
 int run_frame_count(double duration, int fps);
+
+/* The counts of a run, fixed before it starts. */
+typedef struct run_plan {
+    int64_t frames;             /* output frames, t = 0 and the end included */
+    int64_t intervals;          /* whole frame intervals 1/fps */
+    int64_t steps_per_interval; /* n = ceil((1/fps) / dt): equal steps in each */
+    double step;                /* s, (1/fps) / n, <= dt */
+    double last_interval;       /* s, the final partial interval (0: none) */
+    int64_t last_steps;         /* steps in it (0: none) */
+    double last_step;           /* s */
+    int64_t steps;              /* all steps */
+    double frames_estimate, steps_estimate; /* the same as doubles, also when uncountable */
+    double seconds_per_step;    /* s, the cost model's estimate for this scheme and NS */
+} run_plan;
+
+/* Plans m->options.duration at fps with steps no longer than dt (s). Returns
+ * 0, or -1 when the counts exceed RUN_MAX_COUNT (the *_estimate fields are
+ * set then too). */
+int run_plan_make(const rod_model *m, double dt, int fps, run_plan *p);
+/* Estimated wall time of the plan, s: steps x the scheme's cost per step
+ * (per node, x NS) + frames x (video_pixels x the cost of a pixel + the CSV
+ * rows when csv). See run.c for the measured model. */
+double run_plan_seconds(const run_plan *p, int nodes, int video_pixels, int csv);
+/* Bytes of the video's frames kept in memory before the run streams its
+ * video instead (run.c: 256 MiB; for the tests, the environment variables
+ * RODSIM_RECORDING_BUDGET and RODSIM_SAMPLE_BUDGET, bytes, override it and
+ * the 16 MiB of frames a streamed video keeps to frame its camera). */
+double run_recording_budget(void);
 
 /* What a run cost. */
 typedef struct run_stats {
-    long steps;
+    int64_t steps;
     double wall_seconds;  /* s, of stepping and recording */
     double smallest_step; /* s */
     double largest_step;  /* s */
     int non_finite;       /* 1 when the run stopped on a non-finite state */
 } run_stats;
 
-/* Steps `solver` from the state s (at t = 0) to m->options.duration with steps
- * of at most dt, appending a frame to rec at t = 0 and at every output time
- * (run_frame_count); the step that crosses an output time is shortened to
- * land on it exactly. Stops at the first step that is not ROD_OK or leaves a
- * non-finite state (then ROD_UNSTABLE with stats->non_finite = 1); report
- * holds the scheme's message. rec should have room for every frame so that
- * nothing is allocated while stepping. */
-rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
-                        rod_recording *rec, double dt, int fps, rod_report *report,
-                        run_stats *stats);
+/* Receives every output frame (the state at an output time). Returns 0, or
+ * -1 with a message in err: the run stops (ROD_FAILED). */
+typedef int (*run_frame_fn)(void *context, const rod_model *m, const rod_state *s, char *err,
+                            size_t errlen);
 
-/* Writes t,node,s,x,y,z,d3x,d3y,d3z,twist (s, -, m, m, m, m, -, -, -, 1/m),
- * one row per node per frame, with a header row, atomically (outfile.h).
- * Returns 0, or -1 with a message. */
-int run_write_csv(const rod_recording *rec, const char *path, char *err, size_t errlen);
+/* Steps `solver` from the state s (at t = 0) through the plan, calling
+ * on_frame (may be NULL) at t = 0 and at every output time (the state's time
+ * set exactly to it). Stops at the first step that is not ROD_OK or leaves a
+ * non-finite state (then ROD_UNSTABLE with stats->non_finite = 1), or when
+ * on_frame fails; report holds the message. */
+rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
+                        const run_plan *plan, int fps, run_frame_fn on_frame, void *context,
+                        rod_report *report, run_stats *stats);
+
+/* The CSV: the header row, then t,node,s,x,y,z,d3x,d3y,d3z,twist (s, -, m, m,
+ * m, m, -, -, -, 1/m), one row per node of the state. */
+void run_csv_header(FILE *f);
+void run_csv_frame(FILE *f, const rod_model *m, const rod_state *s);
 
 /* The renderer's hook: writes the video of `rec` into out_dir. */
 int run_write_video(const rod_recording *rec, const run_output *out, const char *out_dir,

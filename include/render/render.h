@@ -68,10 +68,28 @@ int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errle
 /* Renders every frame of rec: out_dir/<scene>.mp4 when want_video,
  * out_dir/<scene>.png (last frame) when o->poster, out_dir/<scene>_frames/
  * NNNNN.png when o->frames_png. Every file is written atomically (outfile.h):
- * on failure nothing half-written remains. A progress line goes to stderr
+ * on failure nothing half-written remains; inside an outfile transaction
+ * they are named only when the transaction commits. A progress line goes to stderr
  * when it is a terminal. Returns 0, or -1 with a message. */
 int render_recording(const rod_recording *rec, const render_options *o, const char *out_dir,
                      const char *scene_name, int want_video, char *err, size_t errlen);
+
+/* The same, frame by frame, for a run too long to keep (run.c streams it):
+ * `extent` frames the camera, the arrows and the grid (frames sampled over
+ * the whole run, with the peak loads of all; render_recording passes the
+ * recording itself), then render_stream_frame() is called total_frames
+ * times, in order, with a recording whose frame 0 is the run's first (the
+ * clamp and the stripe's material direction) and `frame` the one to draw.
+ * render_stream_finish() completes the outputs (0, or -1 with a message);
+ * render_stream_destroy() frees, discarding what is not finished. */
+typedef struct render_stream render_stream;
+render_stream *render_stream_begin(const rod_recording *extent, const render_options *o,
+                                   const char *out_dir, const char *scene_name, int want_video,
+                                   int total_frames, char *err, size_t errlen);
+int render_stream_frame(render_stream *st, const rod_recording *rec, int frame, char *err,
+                        size_t errlen);
+int render_stream_finish(render_stream *st, char *err, size_t errlen);
+void render_stream_destroy(render_stream *st);
 
 /* ---- geometry, pure C (used by the GL layer and the tests) ---- */
 

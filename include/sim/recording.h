@@ -2,8 +2,9 @@
  * simulation to the writers (CSV, renderer). The renderer sees only this:
  * centreline points, director frames, the twist, time and loads; nothing of
  * a scheme's internals. Frames are appended at the output rate while the run
- * goes; writers read them after the run completes, so a diverged run writes
- * nothing, and the camera can frame the whole motion. */
+ * goes; the renderer reads them after the run completes, so a diverged run
+ * writes nothing, and the camera can frame the whole motion. The CSV does
+ * not need them: it is written frame by frame from the state. */
 #ifndef RODSIM_RECORDING_H
 #define RODSIM_RECORDING_H
 
@@ -29,11 +30,27 @@ typedef struct rod_recording {
     double *twist;        /* (frames x nodes), u3 at each node, 1/m (for the (4.17) stripe) */
     double *tip_force;    /* (frames x 3), N, global components */
     double *tip_moment;   /* (frames x 3), N m, global components */
+    double peak_force;    /* N, the largest |tip force| of every frame appended or noted */
+    double peak_moment;   /* N m, the same for the tip moment */
 } rod_recording;
 
 /* Room for `capacity` frames (grows when exceeded). NULL when out of memory. */
 rod_recording *rod_recording_create(const rod_model *m, const char *scene, int capacity);
 void rod_recording_destroy(rod_recording *r);
+/* u3 at node `node` of the state, 1/m (staggered schemes: the mean of the
+ * midpoints beside it), as the recording and the CSV hold it. */
+double rod_recording_node_twist(const rod_state *s, int node);
+/* Bytes a recording of `frames` frames of `nodes` nodes holds (104 per node
+ * per frame, 56 per frame): what a run must fit in memory to frame its video. */
+double rod_recording_bytes(int nodes, double frames);
+/* The tip load at s->time from the model, global components: force (N) and
+ * moment (N m). */
+void rod_recording_tip_load(const rod_model *m, const rod_state *s, double force[3],
+                            double moment[3]);
+/* Takes the tip load of a frame that is not kept into the peaks. */
+void rod_recording_note_peaks(rod_recording *r, const rod_model *m, const rod_state *s);
+/* Keeps frames 0, 2, 4, ... (and the peaks): halves a sampled recording. */
+void rod_recording_halve(rod_recording *r);
 /* Appends the state as a frame; the tip load at s->time comes from the model.
  * Returns 0, or -1 when out of memory. */
 int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *s);

@@ -1,11 +1,16 @@
 /* run.c: `rodsim run` (see run.h): scene -> model -> run loop -> CSV. */
 #include "cli/run.h"
 
+#include <errno.h>
+#include <limits.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "base/outfile.h"
 #include "cli/scene_keys.h"
@@ -13,22 +18,56 @@
 
 #define RUN_ERR_LEN 1024
 
+/* The time budget: a run estimated (run_plan_seconds) to take longer is
+ * refused up front unless --allow-long is given. An hour: CI renders and
+ * figure runs take seconds to minutes; an hour is a mistake more often than
+ * a plan. */
+#define RUN_TIME_BUDGET 3600.0
+
+/* The video's frames are kept in memory, and framed all at once, up to this
+ * many bytes (rod_recording_bytes; 256 MiB: 48000 frames of NS = 51, 27
+ * minutes of video at 30 fps). A longer run is simulated twice: once to
+ * write the CSV and to keep a sample of frames that frames the camera
+ * (at most RUN_SAMPLE_BUDGET bytes, and the peak loads of every frame), then
+ * again to stream each frame to the encoder as it comes. Memory then does not
+ * grow with the duration; the second pass costs the steps once more. */
+#define RUN_RECORDING_BUDGET (256.0 * 1024 * 1024)
+#define RUN_SAMPLE_BUDGET (16.0 * 1024 * 1024)
+
+/* A budget in bytes from the environment (for the tests), else `fallback`. */
+static double budget_from_env(const char *name, double fallback)
+{
+    const char *env = getenv(name);
+    char *end;
+    double bytes = env ? strtod(env, &end) : 0.0;
+    return env && end != env && bytes > 0.0 ? bytes : fallback;
+}
+
+double run_recording_budget(void)
+{
+    return budget_from_env("RODSIM_RECORDING_BUDGET", RUN_RECORDING_BUDGET);
+}
+
 void run_usage(FILE *f)
 {
     fprintf(f,
             "usage: rodsim run SCENE [--set section.key=value]... [-o DIR] [--csv FILE]\n"
-            "                        [--no-video] [--quiet]\n"
+            "                        [--no-video] [--allow-long] [--quiet]\n"
             "\n"
             "Simulates the rod scene SCENE (an INI file; its keys: rodsim help scene).\n"
             "  --set section.key=value  override a scene key (repeatable, applied in order),\n"
             "                           e.g. --set solver.scheme=thesis --set tip.force=\"0 8e-7 0\"\n"
             "  -o DIR                   directory for the video (default out/)\n"
             "  --csv FILE               write the centreline at every output frame:\n"
-            "                           t,node,s,x,y,z,d3x,d3y,d3z,twist (s, m, 1/m)\n"
+            "                           t,node,s,x,y,z,d3x,d3y,d3z,twist (s, m, 1/m);\n"
+            "                           --csv - writes it to standard output\n"
             "  --no-video               do not render the video\n"
+            "  --allow-long             run even when the estimated time is over 1 hour\n"
             "  --quiet                  print only errors\n"
-            "Exit status: 0 success; 2 bad scene, bad usage or a numerically unstable run\n"
-            "(nothing is written then); 1 any other failure.\n");
+            "The outputs (CSV, video, poster) appear together when the run succeeds, and\n"
+            "none otherwise. Exit status: 0 success; 2 bad scene, bad usage, a run refused up\n"
+            "front (too long, too large) or a numerically unstable run (nothing is written\n"
+            "then); 1 any other failure; 130 SIGINT, 143 SIGTERM.\n");
 }
 
 int run_read_output(ini_doc *doc, run_output *out, char *err, size_t errlen)
@@ -61,48 +100,101 @@ int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_
     return 0;
 }
 
-/* Frames at k/fps for k = 0..n with n/fps <= duration (to a relative 1e-9). */
-static int regular_frames(double duration, int fps)
+/* Whole frame intervals 1/fps in duration (to a relative 1e-9), as a double:
+ * it may be absurdly large, and is checked before it is counted. */
+static double regular_frames(double duration, int fps)
 {
-    return (int)floor(duration * fps * (1.0 + 1e-12) + 1e-9);
+    return floor(duration * fps * (1.0 + 1e-12) + 1e-9);
+}
+
+/* The length of the final partial interval, s (0 when duration is k/fps). */
+static double partial_interval(double duration, int fps, double regular)
+{
+    double rest = duration - regular / fps;
+    return rest > 1e-9 * fmax(1.0, duration) ? rest : 0.0;
 }
 
 int run_frame_count(double duration, int fps)
 {
-    int n = regular_frames(duration, fps);
-    double last = (double)n / fps;
-    return n + 1 + (duration - last > 1e-9 * fmax(1.0, duration) ? 1 : 0);
+    double n = regular_frames(duration, fps);
+    if (!(n >= 0.0) || n > INT_MAX - 2) return -1; /* checked: never wraps */
+    return (int)n + 1 + (partial_interval(duration, fps, n) > 0.0 ? 1 : 0);
 }
 
-/* Output time of frame k (see run_frame_count). */
-static double output_time(int k, double duration, int fps)
+/* Equal steps no longer than dt over an interval: ceil(interval/dt), less a
+ * hair so that an interval of exactly k dt takes k steps, not k + 1. */
+static double steps_for(double interval, double dt)
 {
-    double t = (double)k / fps;
-    return t > duration ? duration : t;
+    double n = ceil(interval / dt * (1.0 - 1e-9));
+    return n < 1.0 ? 1.0 : n;
 }
 
-int run_write_csv(const rod_recording *rec, const char *path, char *err, size_t errlen)
+/* Cost model of a step, us per node (so us per step = this x NS), measured
+ * with `rodsim run scenes/suture.ini --no-video --set rod.nodes=11..201`
+ * on the 2-core development machine and rounded up: thesis 0.23, implicit
+ * 2.4..3.4 (Newton, a banded factorisation per step), static 10..13.
+ * Rendering costs ~45 ns per pixel per frame (1280 x 720: 40 ms), the CSV
+ * ~1.5 us per row. Only an estimate, for refusing the absurd up front. */
+static double step_cost_us_per_node(rod_scheme_kind scheme)
 {
-    outfile f;
-    if (outfile_open(&f, path, err, errlen)) return -1;
-    fprintf(f.fp, "t,node,s,x,y,z,d3x,d3y,d3z,twist\n");
-    size_t n = (size_t)rec->nodes;
-    for (int k = 0; k < rec->frame_count; k++) {
-        for (size_t i = 0; i < n; i++) {
-            const double *r = &rec->position[((size_t)k * n + i) * 3];
-            const double *q = &rec->frame[((size_t)k * n + i) * 9];
-            /* d3 is column 3 of Q (row-major): q[2], q[5], q[8] */
-            fprintf(f.fp, "%.10g,%zu,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n",
-                    rec->time[k], i, (double)i * rec->ds, r[0], r[1], r[2], q[2], q[5], q[8],
-                    rec->twist[(size_t)k * n + i]);
-        }
+    switch (scheme) {
+    case ROD_SCHEME_THESIS: return 0.3;
+    case ROD_SCHEME_IMPLICIT: return 4.0;
+    case ROD_SCHEME_STATIC: return 15.0;
+    default: return 4.0;
     }
-    if (ferror(f.fp)) {
-        snprintf(err, errlen, "%s: write error", path);
-        outfile_abort(&f);
+}
+#define RUN_PIXEL_COST 50e-9 /* s per pixel per rendered frame */
+#define RUN_CSV_ROW_COST 1.5e-6 /* s per CSV row */
+
+int run_plan_make(const rod_model *m, double dt, int fps, run_plan *p)
+{
+    memset(p, 0, sizeof *p);
+    double duration = m->options.duration;
+    double regular = regular_frames(duration, fps);
+    double interval = 1.0 / fps;
+    double rest = partial_interval(duration, fps, regular);
+    double per_interval = steps_for(interval, dt);
+    double last = rest > 0.0 ? steps_for(rest, dt) : 0.0;
+    p->frames_estimate = regular + 1 + (rest > 0.0 ? 1 : 0);
+    p->steps_estimate = regular * per_interval + last;
+    p->seconds_per_step = 1e-6 * step_cost_us_per_node(m->options.scheme) * m->nodes;
+    /* the counts must be exact integers and the steps must advance the time */
+    if (!(p->frames_estimate <= RUN_MAX_COUNT) || !(p->steps_estimate <= RUN_MAX_COUNT))
         return -1;
+    p->frames = (int64_t)p->frames_estimate;
+    p->intervals = (int64_t)regular;
+    p->steps_per_interval = (int64_t)per_interval;
+    p->step = interval / per_interval;
+    p->last_interval = rest;
+    p->last_steps = (int64_t)last;
+    p->last_step = rest > 0.0 ? rest / last : 0.0;
+    p->steps = p->intervals * p->steps_per_interval + p->last_steps;
+    return 0;
+}
+
+double run_plan_seconds(const run_plan *p, int nodes, int video_pixels, int csv)
+{
+    return p->steps_estimate * p->seconds_per_step +
+           p->frames_estimate * (RUN_PIXEL_COST * video_pixels +
+                                 (csv ? RUN_CSV_ROW_COST * nodes : 0.0));
+}
+
+void run_csv_header(FILE *f)
+{
+    fprintf(f, "t,node,s,x,y,z,d3x,d3y,d3z,twist\n");
+}
+
+void run_csv_frame(FILE *f, const rod_model *m, const rod_state *s)
+{
+    for (int i = 0; i < s->nodes; i++) {
+        const double *r = &s->position[3 * i];
+        const double *q = &s->frame[9 * i];
+        /* d3 is column 3 of Q (row-major): q[2], q[5], q[8] */
+        fprintf(f, "%.10g,%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", s->time, i,
+                (double)i * m->ds, r[0], r[1], r[2], q[2], q[5], q[8],
+                rod_recording_node_twist(s, i));
     }
-    return outfile_commit(&f, err, errlen);
 }
 
 int run_write_video(const rod_recording *rec, const run_output *out, const char *out_dir,
@@ -116,11 +208,38 @@ typedef struct run_args {
     const char **sets; /* argv entries after --set */
     int set_count;
     const char *out_dir;
-    const char *csv;
+    const char *csv;   /* "-": standard output */
     int no_video;
     int quiet;
     int help;
+    int allow_long;
 } run_args;
+
+/* The value of an option that takes one: an option word is not a value
+ * (`--csv -o` forgets the file name), except "-" for --csv (stdout). */
+static int option_value(const char *option, const char *value, char *err, size_t errlen)
+{
+    if (value[0] == '\0') {
+        snprintf(err, errlen, "%s needs a value, got an empty one", option);
+        return -1;
+    }
+    if (value[0] == '-' && value[1] != '\0') {
+        snprintf(err, errlen, "%s needs %s, got the option '%s'", option,
+                 strcmp(option, "--set") == 0 ? "section.key=value"
+                 : strcmp(option, "-o") == 0  ? "a directory"
+                                              : "a file name (or - for standard output)",
+                 value);
+        return -1;
+    }
+    if (strcmp(option, "--set") == 0 && !strchr(value, '=')) {
+        snprintf(err, errlen,
+                 "--set expects section.key=value in one argument, got '%s' (write --set "
+                 "%s=VALUE, no space around '=')",
+                 value, value);
+        return -1;
+    }
+    return 0;
+}
 
 /* Parses argv (argv[0] == "run"); 0 or -1 with a message. `sets` must hold argc entries. */
 static int parse_args(int argc, char **argv, run_args *a, char *err, size_t errlen)
@@ -128,25 +247,39 @@ static int parse_args(int argc, char **argv, run_args *a, char *err, size_t errl
     a->out_dir = "out";
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
+        const char *value = NULL, *option = arg;
         int takes_value = strcmp(arg, "--set") == 0 || strcmp(arg, "-o") == 0 ||
                           strcmp(arg, "--csv") == 0;
-        if (takes_value && i + 1 >= argc) {
-            snprintf(err, errlen, "%s needs a value", arg);
-            return -1;
+        if (takes_value) {
+            if (i + 1 >= argc) {
+                snprintf(err, errlen, "%s needs a value", arg);
+                return -1;
+            }
+            value = argv[++i];
+        } else if (strncmp(arg, "--set=", 6) == 0 || strncmp(arg, "--csv=", 6) == 0) {
+            value = arg + 6;
+            option = strncmp(arg, "--set=", 6) == 0 ? "--set" : "--csv";
         }
+        if (value && option_value(option, value, err, errlen)) return -1;
         if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) a->help = 1;
-        else if (strcmp(arg, "--set") == 0) a->sets[a->set_count++] = argv[++i];
-        else if (strncmp(arg, "--set=", 6) == 0) a->sets[a->set_count++] = arg + 6;
-        else if (strcmp(arg, "-o") == 0) a->out_dir = argv[++i];
-        else if (strcmp(arg, "--csv") == 0) a->csv = argv[++i];
-        else if (strncmp(arg, "--csv=", 6) == 0) a->csv = arg + 6;
+        else if (strcmp(option, "--set") == 0) a->sets[a->set_count++] = value;
+        else if (strcmp(option, "-o") == 0) a->out_dir = value;
+        else if (strcmp(option, "--csv") == 0) a->csv = value;
         else if (strcmp(arg, "--no-video") == 0) a->no_video = 1;
+        else if (strcmp(arg, "--allow-long") == 0) a->allow_long = 1;
         else if (strcmp(arg, "--quiet") == 0 || strcmp(arg, "-q") == 0) a->quiet = 1;
         else if (arg[0] == '-' && arg[1] != '\0') {
             snprintf(err, errlen, "unknown option '%s'", arg);
             return -1;
         } else if (a->scene) {
-            snprintf(err, errlen, "only one SCENE may be given ('%s' and '%s')", a->scene, arg);
+            if (i >= 2 && strcmp(argv[i - 2], "--set") == 0)
+                snprintf(err, errlen,
+                         "'%s' follows --set %s: a value with spaces needs quotes "
+                         "(--set tip.force=\"0 4e-7 0\"); only one SCENE may be given",
+                         arg, argv[i - 1]);
+            else
+                snprintf(err, errlen, "only one SCENE may be given ('%s' and '%s')", a->scene,
+                         arg);
             return -1;
         } else {
             a->scene = arg;
@@ -154,10 +287,6 @@ static int parse_args(int argc, char **argv, run_args *a, char *err, size_t errl
     }
     if (!a->help && !a->scene) {
         snprintf(err, errlen, "no SCENE given");
-        return -1;
-    }
-    if (a->csv && a->csv[0] == '\0') {
-        snprintf(err, errlen, "--csv needs a file name");
         return -1;
     }
     return 0;
@@ -184,63 +313,53 @@ static const char *profile_text(const rod_profile *p, char *buf, size_t n)
     return buf;
 }
 
-static void print_summary(const char *scene_path, const char *scene, const rod_model *m,
-                          double dt, const char *why, const run_output *out, int frames)
+static void print_summary(FILE *f, const char *scene_path, const char *scene,
+                          const rod_model *m, double dt, const char *why, const run_output *out,
+                          const run_plan *plan, double estimate)
 {
     char prof[96];
-    printf("rodsim run: %s (%s)\n", scene, scene_path);
-    printf("  rod      L = %g m, d = %g m, rho = %g kg/m^3, E = %g Pa, G = %g Pa\n", m->length,
-           m->diameter, m->density, m->youngs_modulus, m->shear_modulus);
-    printf("           NS = %d nodes, ds = %g m, EI = %.4g N m^2, GJ = %.4g N m^2",
-           m->nodes, m->ds, m->stiffness[0], m->stiffness[2]);
+    fprintf(f, "rodsim run: %s (%s)\n", scene, scene_path);
+    fprintf(f, "  rod      L = %g m, d = %g m, rho = %g kg/m^3, E = %g Pa, G = %g Pa\n",
+            m->length, m->diameter, m->density, m->youngs_modulus, m->shear_modulus);
+    fprintf(f, "           NS = %d nodes, ds = %g m, EI = %.4g N m^2, GJ = %.4g N m^2",
+            m->nodes, m->ds, m->stiffness[0], m->stiffness[2]);
     if (m->rotary_inertia_scale != 1.0)
-        printf(", rotary inertia x %g", m->rotary_inertia_scale);
-    printf("\n");
-    printf("  tip      force (%g, %g, %g) N, moment (%g, %g, %g) N m, %s frame, profile %s\n",
-           m->tip_force[0], m->tip_force[1], m->tip_force[2], m->tip_moment[0],
-           m->tip_moment[1], m->tip_moment[2],
-           m->tip_frame == ROD_FRAME_GLOBAL ? "global (dead load)" : "director (follower)",
-           profile_text(&m->profile, prof, sizeof prof));
+        fprintf(f, ", rotary inertia x %g", m->rotary_inertia_scale);
+    fprintf(f, "\n");
+    fprintf(f, "  tip      force (%g, %g, %g) N, moment (%g, %g, %g) N m, %s frame, profile %s\n",
+            m->tip_force[0], m->tip_force[1], m->tip_force[2], m->tip_moment[0],
+            m->tip_moment[1], m->tip_moment[2],
+            m->tip_frame == ROD_FRAME_GLOBAL ? "global (dead load)" : "director (follower)",
+            profile_text(&m->profile, prof, sizeof prof));
     if (m->distributed_force[0] != 0.0 || m->distributed_force[1] != 0.0 ||
         m->distributed_force[2] != 0.0 || m->linear_damping > 0.0 || m->angular_damping > 0.0)
-        printf("  loads    distributed (%g, %g, %g) N/m, damping %g N s/m^2, %g N m s/m\n",
-               m->distributed_force[0], m->distributed_force[1], m->distributed_force[2],
-               m->linear_damping, m->angular_damping);
-    printf("  solver   scheme %s", rod_scheme_get(m->options.scheme)->name);
+        fprintf(f, "  loads    distributed (%g, %g, %g) N/m, damping %g N s/m^2, %g N m s/m\n",
+                m->distributed_force[0], m->distributed_force[1], m->distributed_force[2],
+                m->linear_damping, m->angular_damping);
+    fprintf(f, "  solver   scheme %s", rod_scheme_get(m->options.scheme)->name);
     if (m->options.scheme == ROD_SCHEME_IMPLICIT)
-        printf(" (theta %g%s)", m->options.theta,
-               m->options.theta == 1.0 ? ", backward Euler"
-               : m->options.theta == 0.5 ? ", Crank-Nicolson" : "");
+        fprintf(f, " (theta %g%s)", m->options.theta,
+                m->options.theta == 1.0 ? ", backward Euler"
+                : m->options.theta == 0.5 ? ", Crank-Nicolson" : "");
     if (m->options.scheme == ROD_SCHEME_THESIS)
-        printf(" (%s rotation)", m->options.exact_rotation ? "exact" : "(4.6) literal");
-    double interval = 1.0 / out->fps;
-    if (dt > interval)
-        printf(", dt = %.6g s (steps end at every output time 1/fps; the scheme's own "
-               "choice %.6g s: %s)\n",
-               interval, dt, why);
-    else
-        printf(", dt = %.6g s (%s)\n", dt, why);
-    printf("  output   %g s simulated, %d frames at %d fps\n", m->options.duration, frames,
-           out->fps);
-    fflush(stdout);
+        fprintf(f, " (%s rotation)", m->options.exact_rotation ? "exact" : "(4.6) literal");
+    fprintf(f, ", dt = %.6g s (%s)\n", dt, why);
+    fprintf(f, "           steps of %.6g s, %lld per frame interval 1/fps (equal steps, none "
+               "longer than dt)\n",
+            plan->step, (long long)plan->steps_per_interval);
+    fprintf(f, "  output   %g s simulated, %lld frames at %d fps, %lld steps, estimated %.3g s\n",
+            m->options.duration, (long long)plan->frames, out->fps, (long long)plan->steps,
+            estimate);
+    fflush(f);
 }
 
-/* Advances s to `target` (s) in steps of at most dt; the step that reaches it is
- * shortened to land on it exactly, and when less than 1.5 dt remain the rest is
- * split into two equal steps, so no sliver of a step is ever taken. */
-static rod_status advance_to(rod_solver *solver, const rod_model *m, rod_state *s, double dt,
-                             double target, rod_report *report, run_stats *stats)
+/* Takes n steps of h from the output time s->time to the next one, `target`.
+ * Equal steps: dt is the same for every step of every whole interval, so an
+ * implicit scheme keeps its Jacobian factorised across them. */
+static rod_status advance(rod_solver *solver, const rod_model *m, rod_state *s, int64_t n,
+                          double h, double target, rod_report *report, run_stats *stats)
 {
-    while (s->time < target) {
-        double remaining = target - s->time;
-        double h = dt;
-        int lands = 0;
-        if (remaining <= dt * (1.0 + 1e-9)) {
-            h = remaining;
-            lands = 1;
-        } else if (remaining < 1.5 * dt) {
-            h = 0.5 * remaining;
-        }
+    for (int64_t j = 0; j < n; j++) {
         rod_status status = rod_solver_step(solver, m, s, h, report);
         stats->steps++;
         if (h < stats->smallest_step || stats->steps == 1) stats->smallest_step = h;
@@ -250,31 +369,31 @@ static rod_status advance_to(rod_solver *solver, const rod_model *m, rod_state *
             stats->non_finite = 1;
             return ROD_UNSTABLE;
         }
-        if (lands) s->time = target; /* no drift of output times from rounding */
     }
+    s->time = target; /* no drift of output times from rounding */
     return ROD_OK;
 }
 
 rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
-                        rod_recording *rec, double dt, int fps, rod_report *report,
-                        run_stats *stats)
+                        const run_plan *plan, int fps, run_frame_fn on_frame, void *context,
+                        rod_report *report, run_stats *stats)
 {
     memset(stats, 0, sizeof *stats);
     memset(report, 0, sizeof *report);
-    int frames = run_frame_count(m->options.duration, fps);
     double start = wall_seconds();
     rod_status status = ROD_OK;
-    if (rod_recording_append(rec, m, s)) {
+    if (on_frame && on_frame(context, m, s, report->message, sizeof report->message))
         status = ROD_FAILED;
-        snprintf(report->message, sizeof report->message, "out of memory while recording");
-    }
-    for (int k = 1; k < frames && status == ROD_OK; k++) {
-        status = advance_to(solver, m, s, dt, output_time(k, m->options.duration, fps), report,
-                            stats);
-        if (status == ROD_OK && rod_recording_append(rec, m, s)) {
+    /* whole intervals (k - 1)/fps .. k/fps, then the partial one to the duration */
+    int64_t intervals = plan->intervals + (plan->last_steps > 0 ? 1 : 0);
+    for (int64_t k = 1; k <= intervals && status == ROD_OK; k++) {
+        int partial = k > plan->intervals;
+        double target = partial ? m->options.duration : fmin((double)k / fps, m->options.duration);
+        status = advance(solver, m, s, partial ? plan->last_steps : plan->steps_per_interval,
+                         partial ? plan->last_step : plan->step, target, report, stats);
+        if (status == ROD_OK && on_frame &&
+            on_frame(context, m, s, report->message, sizeof report->message))
             status = ROD_FAILED;
-            snprintf(report->message, sizeof report->message, "out of memory while recording");
-        }
     }
     stats->wall_seconds = wall_seconds() - start;
     return status;
@@ -322,19 +441,206 @@ static int report_step_failure(rod_status status, int non_finite, const rod_mode
     return RUN_EXIT_FAILURE;
 }
 
-static void print_result(const rod_model *m, const rod_state *s, long steps, double wall)
+static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_t steps,
+                         double wall)
 {
     const double *tip = &s->position[3 * (s->nodes - 1)];
     double dx = tip[0] - m->length, dy = tip[1], dz = tip[2];
-    printf("result: t = %g s, tip at (%.9g, %.9g, %.9g) m\n", s->time, tip[0], tip[1], tip[2]);
-    printf("        tip deflection from (L, 0, 0): %.6g m (transverse %.6g m)\n",
-           sqrt(dx * dx + dy * dy + dz * dz), sqrt(dy * dy + dz * dz));
-    printf("        %ld steps in %.3f s wall, %.2f us per step, %.4g wall s per simulated s\n",
-           steps, wall, steps > 0 ? 1e6 * wall / (double)steps : 0.0,
-           s->time > 0.0 ? wall / s->time : 0.0);
+    fprintf(f, "result: t = %g s, tip at (%.9g, %.9g, %.9g) m\n", s->time, tip[0], tip[1],
+            tip[2]);
+    fprintf(f, "        tip deflection from (L, 0, 0): %.6g m (transverse %.6g m)\n",
+            sqrt(dx * dx + dy * dy + dz * dz), sqrt(dy * dy + dz * dz));
+    fprintf(f, "        %lld steps in %.3f s wall, %.2f us per step, %.4g wall s per simulated s\n",
+            (long long)steps, wall, steps > 0 ? 1e6 * wall / (double)steps : 0.0,
+            s->time > 0.0 ? wall / s->time : 0.0);
 }
 
-/* The simulation and its outputs, once the scene is read. */
+/* "2.5 h", "40 min", "12 s": an estimate a person reads. */
+static const char *duration_text(double seconds, char *buf, size_t n)
+{
+    if (seconds >= 86400 * 365.0) snprintf(buf, n, "%.3g years", seconds / (86400 * 365.0));
+    else if (seconds >= 86400) snprintf(buf, n, "%.3g days", seconds / 86400);
+    else if (seconds >= 3600) snprintf(buf, n, "%.3g h", seconds / 3600);
+    else if (seconds >= 60) snprintf(buf, n, "%.3g min", seconds / 60);
+    else snprintf(buf, n, "%.3g s", seconds);
+    return buf;
+}
+
+/* The estimated wall time of the run, s: a streamed video simulates twice. */
+static double estimate_seconds(const run_args *a, const rod_model *m, const run_output *out,
+                               const run_plan *plan)
+{
+    int video_pixels = a->no_video ? 0 : out->width * out->height;
+    double seconds = run_plan_seconds(plan, m->nodes, video_pixels, a->csv != NULL);
+    if (video_pixels &&
+        rod_recording_bytes(m->nodes, plan->frames_estimate) > run_recording_budget())
+        seconds += plan->steps_estimate * plan->seconds_per_step;
+    return seconds;
+}
+
+/* Refuses, before any work, a run that cannot be counted, would outlast the
+ * time budget, or whose video frames cannot fit in memory: exit 2 with the
+ * numbers and the keys to change. 0 when the run may go. */
+static int check_budget(const run_args *a, const rod_model *m, const run_output *out, double dt,
+                        const run_plan *plan, int countable)
+{
+    const char *scheme = rod_scheme_get(m->options.scheme)->name;
+    int video_pixels = a->no_video ? 0 : out->width * out->height;
+    double seconds = estimate_seconds(a, m, out, plan);
+    char when[48], limit[48];
+    if (!countable) {
+        fprintf(stderr,
+                "rodsim run: %s: this run needs %.3g steps of at most solver.dt = %g s over "
+                "solver.duration = %g s and %.3g frames at render.fps = %d: more than %.0e, "
+                "where the time no longer advances by a step; nothing was run.\n"
+                "  change: a larger solver.dt (or solver.dt = auto), a shorter "
+                "solver.duration, or a lower render.fps\n",
+                a->scene, plan->steps_estimate, dt, m->options.duration, plan->frames_estimate,
+                out->fps, RUN_MAX_COUNT);
+        return -1;
+    }
+    if (seconds > RUN_TIME_BUDGET && !a->allow_long) {
+        fprintf(stderr,
+                "rodsim run: %s: this run would take about %s (the limit is %s): %lld steps of "
+                "%.3g s (solver.duration = %g s, solver.dt = %g s) at ~%.3g us per step (the %s "
+                "scheme at rod.nodes = %d)",
+                a->scene, duration_text(seconds, when, sizeof when),
+                duration_text(RUN_TIME_BUDGET, limit, sizeof limit), (long long)plan->steps,
+                plan->step, m->options.duration, dt, 1e6 * plan->seconds_per_step, scheme,
+                m->nodes);
+        if (video_pixels)
+            fprintf(stderr, ", and %lld video frames of %dx%d (render.fps = %d)",
+                    (long long)plan->frames, out->width, out->height, out->fps);
+        fprintf(stderr, "; nothing was run.\n"
+                        "  to shorten it: a larger solver.dt (solver.dt = auto picks the "
+                        "largest stable one), a shorter solver.duration, fewer rod.nodes%s; or "
+                        "--allow-long to run it anyway\n",
+                video_pixels ? ", a lower render.fps or render.width/height, or --no-video" : "");
+        return -1;
+    }
+    return 0;
+}
+
+/* Where the frames of a run go as they come: the CSV (streamed) and the
+ * recording the video is made from (NULL without a video). */
+typedef struct frame_sink {
+    FILE *csv;
+    rod_recording *rec;     /* every frame, or a sample (sample_cap > 0) */
+    int sample_cap;         /* > 0: keep every stride-th frame, at most this many */
+    int64_t stride, index;  /* of the sample; frames seen */
+    render_stream *stream;  /* the second pass: frames go to the encoder */
+    int failed; /* 1: an output failed (message in the report), not the scheme */
+} frame_sink;
+
+static int on_frame(void *context, const rod_model *m, const rod_state *s, char *err,
+                    size_t errlen)
+{
+    frame_sink *sink = context;
+    int64_t index = sink->index++;
+    if (sink->csv) {
+        run_csv_frame(sink->csv, m, s);
+        if (ferror(sink->csv)) {
+            snprintf(err, errlen, "CSV: write failed at t = %g s (disk full?)", s->time);
+            sink->failed = 1;
+            return -1;
+        }
+    }
+    if (sink->stream) {
+        /* frame 0 stays the run's first (clamp, stripe direction); 1 is this one */
+        if (sink->rec->frame_count > 1) sink->rec->frame_count = 1;
+        if (rod_recording_append(sink->rec, m, s) ||
+            render_stream_frame(sink->stream, sink->rec, sink->rec->frame_count - 1, err,
+                                errlen)) {
+            if (!err[0]) snprintf(err, errlen, "out of memory");
+            sink->failed = 1;
+            return -1;
+        }
+        return 0;
+    }
+    if (sink->rec && sink->sample_cap > 0) {
+        if (index % sink->stride != 0) {
+            rod_recording_note_peaks(sink->rec, m, s);
+            return 0;
+        }
+        if (sink->rec->frame_count == sink->sample_cap) {
+            rod_recording_halve(sink->rec); /* bounded: the sample thins as the run goes */
+            sink->stride *= 2;
+            if (index % sink->stride != 0) {
+                rod_recording_note_peaks(sink->rec, m, s);
+                return 0;
+            }
+        }
+    }
+    if (sink->rec && rod_recording_append(sink->rec, m, s)) {
+        snprintf(err, errlen, "out of memory while recording the frame at t = %g s", s->time);
+        sink->failed = 1;
+        return -1;
+    }
+    return 0;
+}
+
+/* The second pass of a streamed video: the run again from t = 0, every frame
+ * drawn and encoded as it comes. The steps are the same, so are the frames.
+ * 0, or an exit status. */
+static int stream_video(const run_args *a, const char *scene, const rod_model *m,
+                        const run_output *out, const run_plan *plan, rod_solver *solver,
+                        rod_state *s, const rod_recording *sample)
+{
+    char err[RUN_ERR_LEN] = "";
+    rod_solver_release(solver);
+    memset(solver, 0, sizeof *solver);
+    if (rod_solver_init(solver, m, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: cannot restart the scheme for the video: %s\n", err);
+        return RUN_EXIT_FAILURE;
+    }
+    rod_state_reset(m, s);
+    frame_sink sink = {0};
+    sink.rec = rod_recording_create(m, scene, 2);
+    sink.stream = sink.rec ? render_stream_begin(sample, &out->render, a->out_dir, scene, 1,
+                                                 (int)plan->frames, err, sizeof err)
+                           : NULL;
+    int status = RUN_EXIT_FAILURE;
+    if (!sink.stream) {
+        fprintf(stderr, "rodsim run: video: %s\n", sink.rec ? err : "out of memory");
+        goto done;
+    }
+    rod_report report;
+    run_stats stats;
+    rod_status st = run_simulate(solver, m, s, plan, out->fps, on_frame, &sink, &report, &stats);
+    if (st != ROD_OK) {
+        fprintf(stderr, "rodsim run: video: %s\n",
+                sink.failed ? report.message : "the second pass did not repeat the first");
+        goto done;
+    }
+    if (render_stream_finish(sink.stream, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: video: %s\n", err);
+        goto done;
+    }
+    status = 0;
+done:
+    render_stream_destroy(sink.stream);
+    rod_recording_destroy(sink.rec);
+    return status;
+}
+
+/* Copies the finished CSV to standard output. 0, or -1 with a message. */
+static int copy_to_stdout(FILE *f, char *err, size_t errlen)
+{
+    char buf[1 << 16];
+    size_t got;
+    rewind(f);
+    while ((got = fread(buf, 1, sizeof buf, f)) > 0)
+        if (fwrite(buf, 1, got, stdout) != got) break;
+    if (ferror(f) || fflush(stdout) != 0 || ferror(stdout)) {
+        snprintf(err, errlen, "CSV: cannot write to standard output");
+        return -1;
+    }
+    return 0;
+}
+
+/* The simulation and its outputs, once the scene is read. All outputs (CSV,
+ * video, poster, frames) are one transaction: they appear together when the
+ * run succeeds, and none does otherwise (outfile.h). */
 static int simulate(const run_args *a, const char *scene, const rod_model *m,
                     const run_output *out)
 {
@@ -350,8 +656,14 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
         dt = 1.0 / out->fps;
         why = "no stable dt exists; one step per frame to report the divergence";
     }
-    int frames = run_frame_count(m->options.duration, out->fps);
-    if (!a->quiet) print_summary(a->scene, scene, m, dt, why, out, frames);
+    run_plan plan;
+    int countable = run_plan_make(m, dt, out->fps, &plan) == 0;
+    if (check_budget(a, m, out, dt, &plan, countable)) return RUN_EXIT_BAD_INPUT;
+    int csv_stdout = a->csv && strcmp(a->csv, "-") == 0;
+    FILE *talk = csv_stdout ? stderr : stdout; /* stdout carries the CSV then */
+    if (!a->quiet)
+        print_summary(talk, a->scene, scene, m, dt, why, out, &plan,
+                      estimate_seconds(a, m, out, &plan));
     const rod_scheme_ops *ops = rod_scheme_get(m->options.scheme);
     if (ops->stable_dt && m->options.dt > 0.0) {
         const char *limit = "";
@@ -368,51 +680,149 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
 
     rod_solver solver = {0};
     rod_state *s = NULL;
-    rod_recording *rec = NULL;
+    frame_sink sink = {0};
+    outfile csv_file = {.fd = -1, .slot = -1};
     int status = RUN_EXIT_FAILURE;
+    outfile_transaction_begin();
     if (rod_solver_init(&solver, m, err, sizeof err)) {
         fprintf(stderr, "rodsim run: %s: cannot start the %s scheme: %s\n", a->scene, ops->name,
                 err);
         goto done;
     }
     s = rod_state_create(m);
-    rec = rod_recording_create(m, scene, frames);
-    if (!s || !rec) {
-        fprintf(stderr, "rodsim run: out of memory for %d nodes x %d frames\n", m->nodes, frames);
+    int streamed = !a->no_video &&
+                   rod_recording_bytes(m->nodes, plan.frames_estimate) > run_recording_budget();
+    if (streamed) {
+        double frame_bytes = rod_recording_bytes(m->nodes, 1.0);
+        double cap = budget_from_env("RODSIM_SAMPLE_BUDGET", RUN_SAMPLE_BUDGET) / frame_bytes;
+        sink.sample_cap = cap < 2.0 ? 2 : cap > 1e6 ? 1000000 : (int)cap;
+        sink.stride = 1;
+        sink.rec = rod_recording_create(m, scene, sink.sample_cap);
+    } else if (!a->no_video) {
+        sink.rec = rod_recording_create(m, scene, (int)plan.frames);
+    }
+    if (!s || (!a->no_video && !sink.rec)) {
+        fprintf(stderr, "rodsim run: out of memory for rod.nodes = %d%s\n", m->nodes,
+                a->no_video ? "" : " and the video's frames (render.fps, solver.duration)");
         goto done;
     }
+    if (csv_stdout) {
+        sink.csv = tmpfile(); /* copied to stdout when the run has succeeded */
+        if (!sink.csv) {
+            fprintf(stderr, "rodsim run: CSV: cannot make a temporary file: %s\n",
+                    strerror(errno));
+            goto done;
+        }
+    } else if (a->csv) {
+        if (outfile_open(&csv_file, a->csv, err, sizeof err)) {
+            fprintf(stderr, "rodsim run: %s\n", err);
+            goto done;
+        }
+        sink.csv = csv_file.fp;
+    }
+    if (sink.csv) run_csv_header(sink.csv);
+
     rod_report report;
     run_stats stats;
-    rod_status st = run_simulate(&solver, m, s, rec, dt, out->fps, &report, &stats);
+    rod_status st = run_simulate(&solver, m, s, &plan, out->fps, on_frame, &sink, &report,
+                                 &stats);
     if (st != ROD_OK) {
-        status = report_step_failure(st, stats.non_finite, m, s,
-                                     stats.largest_step > 0.0 ? stats.largest_step : dt, &report);
+        if (sink.failed) fprintf(stderr, "rodsim run: %s\n", report.message);
+        else
+            status = report_step_failure(st, stats.non_finite, m, s,
+                                         stats.largest_step > 0.0 ? stats.largest_step : dt,
+                                         &report);
         goto done;
     }
 
-    if (a->csv && run_write_csv(rec, a->csv, err, sizeof err)) {
+    if (a->csv && !csv_stdout && outfile_commit(&csv_file, err, sizeof err)) {
         fprintf(stderr, "rodsim run: %s\n", err);
         goto done;
     }
-    if (!a->no_video && run_write_video(rec, out, a->out_dir, err, sizeof err)) {
+    if (streamed) {
+        /* the sample ends on the last frame, whatever the stride */
+        if (sink.rec->frame_count > 0 &&
+            sink.rec->time[sink.rec->frame_count - 1] != s->time) {
+            if (sink.rec->frame_count == sink.sample_cap) rod_recording_halve(sink.rec);
+            if (rod_recording_append(sink.rec, m, s)) {
+                fprintf(stderr, "rodsim run: out of memory\n");
+                goto done;
+            }
+        }
+        if (!a->quiet)
+            fprintf(talk, "  video    streamed: %lld frames take more than %.3g MB; the camera "
+                          "frames a sample of %d, and the run is simulated again\n",
+                    (long long)plan.frames, 1e-6 * run_recording_budget(),
+                    sink.rec->frame_count);
+        int video_status = stream_video(a, scene, m, out, &plan, &solver, s, sink.rec);
+        if (video_status) {
+            status = video_status;
+            goto done;
+        }
+    } else if (!a->no_video && run_write_video(sink.rec, out, a->out_dir, err, sizeof err)) {
         fprintf(stderr, "rodsim run: video: %s\n", err);
+        goto done;
+    }
+    if (outfile_transaction_commit(err, sizeof err)) {
+        fprintf(stderr, "rodsim run: %s; nothing was written\n", err);
+        goto done;
+    }
+    if (csv_stdout && copy_to_stdout(sink.csv, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: %s\n", err);
         goto done;
     }
     if (report.warning[0]) fprintf(stderr, "rodsim run: warning: %s\n", report.warning);
     if (!a->quiet) {
-        print_result(m, s, stats.steps, stats.wall_seconds);
-        if (a->csv) printf("        wrote %s (%d frames x %d nodes)\n", a->csv, frames, m->nodes);
+        print_result(talk, m, s, stats.steps, stats.wall_seconds);
+        if (a->csv && !csv_stdout)
+            fprintf(talk, "        wrote %s (%lld frames x %d nodes)\n", a->csv,
+                    (long long)plan.frames, m->nodes);
         if (!a->no_video)
-            printf("        wrote %s/%s.mp4 and %s/%s.png (%d frames, %dx%d)\n", a->out_dir,
-                   rec->scene, a->out_dir, rec->scene, rec->frame_count, out->width,
-                   out->height);
+            fprintf(talk, "        wrote %s/%s.mp4 and %s/%s.png (%lld frames, %dx%d)\n",
+                    a->out_dir, scene, a->out_dir, scene, (long long)plan.frames, out->width,
+                    out->height);
     }
     status = RUN_EXIT_OK;
 done:
-    rod_recording_destroy(rec);
+    if (status != RUN_EXIT_OK) {
+        outfile_abort(&csv_file);
+        outfile_transaction_abort();
+    }
+    if (csv_stdout && sink.csv) fclose(sink.csv);
+    rod_recording_destroy(sink.rec);
     rod_state_destroy(s);
     rod_solver_release(&solver);
     return status;
+}
+
+/* Checks the output places before any work: -o must be a directory (or
+ * creatable) when a video is made, and --csv a file in one; then removes the
+ * temporaries a killed run left there. 0, or -1 with a message. */
+static int check_outputs(const run_args *a, char *err, size_t errlen)
+{
+    if (!a->no_video) {
+        if (outfile_check_dir(a->out_dir, err, errlen)) return -1;
+        outfile_remove_stale(a->out_dir);
+    }
+    if (a->csv && strcmp(a->csv, "-") != 0) {
+        struct stat st;
+        if (stat(a->csv, &st) == 0 && S_ISDIR(st.st_mode)) {
+            snprintf(err, errlen, "--csv %s: is a directory, not a file", a->csv);
+            return -1;
+        }
+        char dir[OUTFILE_PATH_MAX];
+        const char *slash = strrchr(a->csv, '/');
+        if (!slash) snprintf(dir, sizeof dir, ".");
+        else if (slash == a->csv) snprintf(dir, sizeof dir, "/");
+        else snprintf(dir, sizeof dir, "%.*s", (int)(slash - a->csv), a->csv);
+        if (slash && slash[1] == '\0') {
+            snprintf(err, errlen, "--csv %s: names a directory, not a file", a->csv);
+            return -1;
+        }
+        if (outfile_check_dir(dir, err, errlen)) return -1;
+        outfile_remove_stale(dir);
+    }
+    return 0;
 }
 
 int run_command(int argc, char **argv)
@@ -435,6 +845,11 @@ int run_command(int argc, char **argv)
         run_usage(stdout);
         free(a.sets);
         return RUN_EXIT_OK;
+    }
+    if (check_outputs(&a, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: %s\n", err);
+        free(a.sets);
+        return RUN_EXIT_BAD_INPUT;
     }
     int status = RUN_EXIT_BAD_INPUT;
     rod_model m = rod_model_default();

@@ -504,6 +504,9 @@ static void arrow_scales_compute(arrow_scales *a, const rod_recording *rec, doub
         max_force = fmax(max_force, v3_norm(&rec->tip_force[3 * f]));
         max_moment = fmax(max_moment, v3_norm(&rec->tip_moment[3 * f]));
     }
+    /* a sampled recording (a streamed video) also knows the frames it dropped */
+    max_force = fmax(max_force, rec->peak_force);
+    max_moment = fmax(max_moment, rec->peak_moment);
     /* the largest load over the run is a fixed fraction of the length: sizes compare across frames */
     a->force_scale = enabled && max_force > 0 ? 0.25 * rec->length / max_force : 0;
     a->moment_scale = enabled && max_moment > 0 ? 0.2 * rec->length / max_moment : 0;
@@ -1050,9 +1053,8 @@ static void mark_points(renderer *r, const double *points, int count, double pad
 /* The disjoint boxes that hold this frame's tube, stripe, clamp and arrows:
  * only they are cleared, drawn, resolved and read (the multisample resolve
  * is llvmpipe's main cost), the rest of the picture is the backdrop. */
-static void frame_boxes(renderer *r, int frame)
+static void frame_boxes(renderer *r, const rod_recording *rec, int frame)
 {
-    const rod_recording *rec = r->rec;
     memset(r->tile_marked, 0, (size_t)r->tiles_x * (size_t)r->tiles_y);
     for (int k = 0; k + 1 < rec->nodes; k++)
         mark_points(r, node_position(rec, frame, k), 2, r->pad);
@@ -1173,17 +1175,19 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
     return 0;
 }
 
-static int renderer_draw(renderer *r, int frame, image *out)
+/* Draws frame `frame` of rec (whose frame 0 is the run's first: the clamp
+ * and the stripe's material direction come from it). */
+static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image *out)
 {
     render_timing *timing = r->o->timing;
     double t0 = timing ? now_seconds() : 0;
     mesh *m = &r->mesh;
     m->vertex_count = m->index_count = 0;
-    add_tube(m, r->rec, frame, r->radius, r->o->sides);
-    if (r->o->stripe != RENDER_STRIPE_OFF) add_stripe(m, r->rec, frame, r->radius, r->o->stripe);
-    add_clamp(m, r->rec, r->radius);
-    if (r->o->arrows) add_arrows(m, &r->arrows, r->rec, frame);
-    frame_boxes(r, frame);
+    add_tube(m, rec, frame, r->radius, r->o->sides);
+    if (r->o->stripe != RENDER_STRIPE_OFF) add_stripe(m, rec, frame, r->radius, r->o->stripe);
+    add_clamp(m, rec, r->radius);
+    if (r->o->arrows) add_arrows(m, &r->arrows, rec, frame);
+    frame_boxes(r, rec, frame);
     double t1 = timing ? now_seconds() : 0;
     int read_box[4];
     const unsigned char *rgba = gl_renderer_draw_boxes(r->gl, &r->camera, m->vertices,
@@ -1212,7 +1216,7 @@ static int renderer_draw(renderer *r, int frame, image *out)
         }
     }
     double t3 = timing ? now_seconds() : 0;
-    if (r->o->overlay) draw_overlay(out, &r->overlay, r->rec, r->o, frame);
+    if (r->o->overlay) draw_overlay(out, &r->overlay, rec, r->o, frame);
     if (timing) {
         double t4 = now_seconds();
         timing->mesh += t1 - t0;
@@ -1223,120 +1227,218 @@ static int renderer_draw(renderer *r, int frame, image *out)
     return 0;
 }
 
-int render_recording(const rod_recording *rec, const render_options *o, const char *out_dir,
-                     const char *scene_name, int want_video, char *err, size_t errlen)
+/* A video being made frame by frame (render.h). */
+struct render_stream {
+    renderer r;
+    frame_queue q;
+    const render_options *o;
+    char poster_path[OUTFILE_PATH_MAX];
+    outfile frames_out;   /* the hidden frame directory */
+    int all_frames;       /* every frame is drawn (video or PNG frames), else the last only */
+    int total;            /* frames to draw */
+    int announced, given; /* frames the run will give, frames given so far */
+    int threaded;
+    pthread_t writer;
+    int show_progress;
+    double started, last_report, call_start;
+    image *last;          /* the last frame drawn: the poster */
+    int own_transaction;  /* 1: no caller's transaction; video, poster, frames are ours */
+    int status;
+    char err[768];
+};
+
+render_stream *render_stream_begin(const rod_recording *extent, const render_options *o,
+                                   const char *out_dir, const char *scene_name, int want_video,
+                                   int total_frames, char *err, size_t errlen)
 {
-    if (rec->frame_count < 1 || rec->nodes < 2) {
-        snprintf(err, errlen, "render: nothing to render (%d frames, %d nodes)", rec->frame_count,
-                 rec->nodes);
-        return -1;
+    if (extent->frame_count < 1 || extent->nodes < 2 || total_frames < 1) {
+        snprintf(err, errlen, "render: nothing to render (%d frames, %d nodes)", total_frames,
+                 extent->nodes);
+        return NULL;
     }
-    const char *name = scene_name && *scene_name ? scene_name : rec->scene;
-    char video_path[OUTFILE_PATH_MAX], poster_path[OUTFILE_PATH_MAX], frames_dir[OUTFILE_PATH_MAX];
+    render_stream *st = calloc(1, sizeof *st);
+    if (!st) {
+        snprintf(err, errlen, "render: out of memory");
+        return NULL;
+    }
+    st->o = o;
+    st->frames_out.fd = st->frames_out.slot = st->frames_out.watch = -1;
+    const char *name = scene_name && *scene_name ? scene_name : extent->scene;
+    char video_path[OUTFILE_PATH_MAX], frames_dir[OUTFILE_PATH_MAX];
     snprintf(video_path, sizeof video_path, "%s/%s.mp4", out_dir, name);
-    snprintf(poster_path, sizeof poster_path, "%s/%s.png", out_dir, name);
+    snprintf(st->poster_path, sizeof st->poster_path, "%s/%s.png", out_dir, name);
     snprintf(frames_dir, sizeof frames_dir, "%s/%s_frames", out_dir, name);
 
-    renderer r;
-    if (renderer_create(&r, rec, o, name, err, errlen)) return -1;
-    frame_queue q;
-    memset(&q, 0, sizeof q);
-    q.timing = o->timing;
-    double call_start = now_seconds();
+    if (renderer_create(&st->r, extent, o, name, err, errlen)) {
+        free(st);
+        return NULL;
+    }
+    /* the video, the poster and the frames appear together, or none */
+    st->own_transaction = !outfile_transaction_active();
+    if (st->own_transaction) outfile_transaction_begin();
+    frame_queue *q = &st->q;
+    q->timing = o->timing;
+    st->call_start = now_seconds();
     if (o->timing) memset(o->timing, 0, sizeof *o->timing);
     int status = 0;
     for (int i = 0; i < QUEUE_SLOTS; i++)
-        if (!(q.slots[i] = image_create(o->width, o->height))) status = -1;
+        if (!(q->slots[i] = image_create(o->width, o->height))) status = -1;
     if (status) snprintf(err, errlen, "render: out of memory for %dx%d frames", o->width, o->height);
     if (!status && want_video) {
-        q.video = video_writer_create(video_path, o->width, o->height, o->fps, o->crf, o->preset,
-                                      err, errlen);
-        if (!q.video) status = -1;
+        q->video = video_writer_create(video_path, o->width, o->height, o->fps, o->crf, o->preset,
+                                       err, errlen);
+        if (!q->video) status = -1;
     }
+    /* the frames go to a hidden directory, renamed into place with the other outputs */
     if (!status && o->frames_png) {
-        if (outfile_mkdirs(frames_dir, err, errlen)) status = -1;
-        q.frames_dir = frames_dir;
+        if (outfile_dir_open(&st->frames_out, frames_dir, err, errlen)) status = -1;
+        q->frames_dir = st->frames_out.tmp_path;
     }
-
-    int all_frames = want_video || o->frames_png;
-    int first = all_frames ? 0 : rec->frame_count - 1; /* poster only: draw just the last frame */
-    int total = rec->frame_count - first;
-    int threaded = 0;
-    pthread_t writer;
-    if (!status && all_frames) {
-        threaded = 1;
-        pthread_mutex_init(&q.lock, NULL);
-        pthread_cond_init(&q.changed, NULL);
-        if (pthread_create(&writer, NULL, writer_thread, &q)) {
+    st->all_frames = want_video || o->frames_png;
+    st->total = st->all_frames ? total_frames : 1;
+    if (!status && st->all_frames) {
+        st->threaded = 1;
+        pthread_mutex_init(&q->lock, NULL);
+        pthread_cond_init(&q->changed, NULL);
+        if (pthread_create(&st->writer, NULL, writer_thread, q)) {
             snprintf(err, errlen, "render: cannot start the writer thread");
-            pthread_mutex_destroy(&q.lock);
-            pthread_cond_destroy(&q.changed);
-            threaded = 0;
+            pthread_mutex_destroy(&q->lock);
+            pthread_cond_destroy(&q->changed);
+            st->threaded = 0;
             status = -1;
         }
     }
-    int show_progress = isatty(2) && total > 1;
-    double started = now_seconds(), last_report = 0;
-    image *last = q.slots[0];
-    for (int k = 0; !status && k < total; k++) {
-        if (threaded) {
-            double wait_start = o->timing ? now_seconds() : 0;
-            pthread_mutex_lock(&q.lock);
-            while (q.produced - q.consumed == QUEUE_SLOTS && !q.failed)
-                pthread_cond_wait(&q.changed, &q.lock);
-            int failed = q.failed;
-            pthread_mutex_unlock(&q.lock);
-            if (o->timing) o->timing->wait += now_seconds() - wait_start;
-            if (failed) break;
-        }
-        last = q.slots[k % QUEUE_SLOTS];
-        if (renderer_draw(&r, first + k, last)) {
-            snprintf(err, errlen, "render: OpenGL failed while drawing frame %d", first + k);
-            status = -1;
-            break;
-        }
-        if (threaded) {
-            pthread_mutex_lock(&q.lock);
-            q.produced++;
-            pthread_cond_broadcast(&q.changed);
-            pthread_mutex_unlock(&q.lock);
-        }
-        if (show_progress && (now_seconds() - last_report > 0.25 || k + 1 == total)) {
-            last_report = now_seconds();
-            progress(k + 1, total, started, k + 1 == total);
+    if (status) {
+        render_stream_destroy(st);
+        return NULL;
+    }
+    st->show_progress = isatty(2) && st->total > 1;
+    st->started = now_seconds();
+    st->last = q->slots[0];
+    st->announced = total_frames;
+    return st;
+}
+
+int render_stream_frame(render_stream *st, const rod_recording *rec, int frame, char *err,
+                        size_t errlen)
+{
+    int index = st->given++;
+    frame_queue *q = &st->q;
+    if (st->status) {
+        snprintf(err, errlen, "%s", st->err);
+        return -1;
+    }
+    /* poster only: draw just the last frame */
+    if (!st->all_frames && index + 1 < st->announced) return 0;
+    int k = st->all_frames ? index : 0;
+    if (st->threaded) {
+        double wait_start = st->o->timing ? now_seconds() : 0;
+        pthread_mutex_lock(&q->lock);
+        while (q->produced - q->consumed == QUEUE_SLOTS && !q->failed)
+            pthread_cond_wait(&q->changed, &q->lock);
+        int failed = q->failed;
+        if (failed) snprintf(st->err, sizeof st->err, "%s", q->err);
+        pthread_mutex_unlock(&q->lock);
+        if (st->o->timing) st->o->timing->wait += now_seconds() - wait_start;
+        if (failed) {
+            st->status = -1;
+            snprintf(err, errlen, "%s", st->err);
+            return -1;
         }
     }
-    if (threaded) {
-        pthread_mutex_lock(&q.lock);
-        q.done = 1;
-        pthread_cond_broadcast(&q.changed);
-        pthread_mutex_unlock(&q.lock);
-        pthread_join(writer, NULL);
-        pthread_mutex_destroy(&q.lock);
-        pthread_cond_destroy(&q.changed);
-        if (q.failed && !status) {
-            snprintf(err, errlen, "%s", q.err);
-            status = -1;
-        }
+    st->last = q->slots[k % QUEUE_SLOTS];
+    if (renderer_draw(&st->r, rec, frame, st->last)) {
+        snprintf(st->err, sizeof st->err, "render: OpenGL failed while drawing frame %d", index);
+        st->status = -1;
+        snprintf(err, errlen, "%s", st->err);
+        return -1;
     }
-    if (!status && q.video) status = video_writer_finish(q.video, err, errlen);
+    if (st->threaded) {
+        pthread_mutex_lock(&q->lock);
+        q->produced++;
+        pthread_cond_broadcast(&q->changed);
+        pthread_mutex_unlock(&q->lock);
+    }
+    if (st->show_progress && (now_seconds() - st->last_report > 0.25 || k + 1 == st->total)) {
+        st->last_report = now_seconds();
+        progress(k + 1, st->total, st->started, k + 1 == st->total);
+    }
+    return 0;
+}
+
+/* Stops the writer thread after the frames it holds; 0, or -1 (message in st->err). */
+static int stop_writer(render_stream *st)
+{
+    if (!st->threaded) return 0;
+    frame_queue *q = &st->q;
+    pthread_mutex_lock(&q->lock);
+    q->done = 1;
+    pthread_cond_broadcast(&q->changed);
+    pthread_mutex_unlock(&q->lock);
+    pthread_join(st->writer, NULL);
+    pthread_mutex_destroy(&q->lock);
+    pthread_cond_destroy(&q->changed);
+    st->threaded = 0;
+    if (q->failed) {
+        snprintf(st->err, sizeof st->err, "%s", q->err);
+        return -1;
+    }
+    return 0;
+}
+
+int render_stream_finish(render_stream *st, char *err, size_t errlen)
+{
+    const render_options *o = st->o;
+    frame_queue *q = &st->q;
+    int status = st->status;
+    if (!status && st->given != st->announced) {
+        snprintf(st->err, sizeof st->err, "render: %d frames given, %d announced", st->given,
+                 st->announced);
+        status = -1;
+    }
+    if (stop_writer(st) && !status) status = -1;
+    if (!status && q->video && video_writer_finish(q->video, st->err, sizeof st->err))
+        status = -1;
     if (o->timing) {
-        if (q.video) video_writer_times(q.video, &o->timing->convert, &o->timing->encode);
-        o->timing->frames = q.consumed;
-        o->timing->wall = now_seconds() - call_start;
+        if (q->video) video_writer_times(q->video, &o->timing->convert, &o->timing->encode);
+        o->timing->frames = q->consumed;
+        o->timing->wall = now_seconds() - st->call_start;
     }
-    if (!status && o->poster) status = image_write_png(last, poster_path, err, errlen);
-    if (status && q.frames_dir) {
-        /* a failed run leaves no partial frame sequence either */
-        for (int k = 0; k < q.consumed; k++) {
-            char path[OUTFILE_PATH_MAX + 16];
-            snprintf(path, sizeof path, "%s/%05d.png", frames_dir, k);
-            unlink(path);
-        }
-        rmdir(frames_dir);
+    if (!status && o->poster && image_write_png(st->last, st->poster_path, st->err, sizeof st->err))
+        status = -1;
+    if (!status && q->frames_dir && outfile_commit(&st->frames_out, st->err, sizeof st->err))
+        status = -1;
+    if (!status && st->own_transaction) {
+        status = outfile_transaction_commit(st->err, sizeof st->err) ? -1 : 0;
+        st->own_transaction = 0;
     }
-    video_writer_destroy(q.video); /* removes the video unless finished */
-    for (int i = 0; i < QUEUE_SLOTS; i++) image_destroy(q.slots[i]);
-    renderer_destroy(&r);
+    st->status = status;
+    if (status) snprintf(err, errlen, "%s", st->err);
+    return status;
+}
+
+void render_stream_destroy(render_stream *st)
+{
+    if (!st) return;
+    stop_writer(st);
+    outfile_abort(&st->frames_out); /* unless committed: no partial frame sequence */
+    video_writer_destroy(st->q.video); /* removes the video unless finished */
+    for (int i = 0; i < QUEUE_SLOTS; i++) image_destroy(st->q.slots[i]);
+    if (st->own_transaction) outfile_transaction_abort();
+    renderer_destroy(&st->r);
+    free(st);
+}
+
+int render_recording(const rod_recording *rec, const render_options *o, const char *out_dir,
+                     const char *scene_name, int want_video, char *err, size_t errlen)
+{
+    render_stream *st = render_stream_begin(rec, o, out_dir, scene_name, want_video,
+                                            rec->frame_count, err, errlen);
+    if (!st) return -1;
+    int status = 0;
+    for (int k = 0; !status && k < rec->frame_count; k++)
+        status = render_stream_frame(st, rec, k, err, errlen);
+    if (!status) status = render_stream_finish(st, err, errlen);
+    render_stream_destroy(st);
     return status;
 }

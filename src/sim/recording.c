@@ -1,6 +1,7 @@
 /* recording.c: frames of a run (see recording.h). */
 #include "sim/recording.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -56,6 +57,24 @@ void rod_recording_destroy(rod_recording *r)
     free(r);
 }
 
+double rod_recording_node_twist(const rod_state *s, int node)
+{
+    size_t i = (size_t)node, n = (size_t)s->nodes;
+    /* staggered schemes keep u at midpoints: average to the node */
+    double u3 = s->darboux[3 * i + 2];
+    if (s->staggered && i > 0 && i + 1 < n)
+        u3 = 0.5 * (s->darboux[3 * (i - 1) + 2] + s->darboux[3 * i + 2]);
+    else if (s->staggered && i == 0 && n > 1)
+        u3 = s->darboux[2];
+    return u3;
+}
+
+double rod_recording_bytes(int nodes, double frames)
+{
+    /* time, tip force and moment: 7 doubles a frame; position, Q, twist: 13 a node */
+    return frames * ((double)nodes * 13 + 7) * (double)sizeof(double);
+}
+
 int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *s)
 {
     if (r->frame_count == r->capacity && reserve(r, 2 * r->capacity)) return -1;
@@ -63,27 +82,52 @@ int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *
     r->time[k] = s->time;
     memcpy(&r->position[k * n * 3], s->position, n * 3 * sizeof(double));
     memcpy(&r->frame[k * n * 9], s->frame, n * 9 * sizeof(double));
-    for (size_t i = 0; i < n; i++) {
-        /* staggered schemes keep u at midpoints: average to the node */
-        double u3 = s->darboux[3 * i + 2];
-        if (s->staggered && i > 0 && i + 1 < n)
-            u3 = 0.5 * (s->darboux[3 * (i - 1) + 2] + s->darboux[3 * i + 2]);
-        else if (s->staggered && i == 0 && n > 1)
-            u3 = s->darboux[2];
-        r->twist[k * n + i] = u3;
-    }
+    for (size_t i = 0; i < n; i++) r->twist[k * n + i] = rod_recording_node_twist(s, (int)i);
     double force[3], moment[3];
+    rod_recording_tip_load(m, s, force, moment);
+    v3_copy(&r->tip_force[3 * k], force);
+    v3_copy(&r->tip_moment[3 * k], moment);
+    r->peak_force = fmax(r->peak_force, v3_norm(force));
+    r->peak_moment = fmax(r->peak_moment, v3_norm(moment));
+    r->frame_count++;
+    return 0;
+}
+
+void rod_recording_tip_load(const rod_model *m, const rod_state *s, double force[3],
+                            double moment[3])
+{
     rod_tip_load(m, s->time, force, moment);
     if (m->tip_frame == ROD_FRAME_DIRECTOR) {
-        const double *q = &s->frame[9 * (n - 1)];
+        const double *q = &s->frame[9 * (size_t)(s->nodes - 1)];
         double g[3];
         m3_mul_v(g, q, force);
         v3_copy(force, g);
         m3_mul_v(g, q, moment);
         v3_copy(moment, g);
     }
-    v3_copy(&r->tip_force[3 * k], force);
-    v3_copy(&r->tip_moment[3 * k], moment);
-    r->frame_count++;
-    return 0;
+}
+
+void rod_recording_note_peaks(rod_recording *r, const rod_model *m, const rod_state *s)
+{
+    double force[3], moment[3];
+    rod_recording_tip_load(m, s, force, moment);
+    r->peak_force = fmax(r->peak_force, v3_norm(force));
+    r->peak_moment = fmax(r->peak_moment, v3_norm(moment));
+}
+
+void rod_recording_halve(rod_recording *r)
+{
+    size_t n = (size_t)r->nodes;
+    int kept = 0;
+    for (int k = 0; k < r->frame_count; k += 2, kept++) {
+        if (k == kept) continue;
+        size_t from = (size_t)k, to = (size_t)kept;
+        r->time[to] = r->time[from];
+        memmove(&r->position[to * n * 3], &r->position[from * n * 3], n * 3 * sizeof(double));
+        memmove(&r->frame[to * n * 9], &r->frame[from * n * 9], n * 9 * sizeof(double));
+        memmove(&r->twist[to * n], &r->twist[from * n], n * sizeof(double));
+        memmove(&r->tip_force[to * 3], &r->tip_force[from * 3], 3 * sizeof(double));
+        memmove(&r->tip_moment[to * 3], &r->tip_moment[from * 3], 3 * sizeof(double));
+    }
+    r->frame_count = kept;
 }

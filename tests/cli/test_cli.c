@@ -4,11 +4,17 @@
  * and its CSV has the header, frames x nodes rows, s = node ds, and a tip
  * deflection near PL^3/3EI; a diverging thesis-scheme run exits 2 and writes
  * nothing. */
+#include <dirent.h>
 #include <math.h>
+#include <signal.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/time.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "sim/recording.h"
@@ -225,35 +231,56 @@ static rod_status fake_step(void *work, const rod_model *m, rod_state *s, double
 
 static const rod_scheme_ops fake_scheme = {"fake", fake_create, fake_step, free, NULL};
 
+/* The frames the run loop hands out, kept in a recording. */
+static int record_frame(void *context, const rod_model *m, const rod_state *s, char *err,
+                        size_t errlen)
+{
+    (void)err;
+    (void)errlen;
+    return rod_recording_append(context, m, s);
+}
+
 static void test_run_loop(void)
 {
     rod_model m = rod_model_default();
     char err[256];
     m.nodes = 5;
-    m.options.duration = 0.25;
+    m.options.duration = 0.26;
     rod_model_derive(&m, err, sizeof err);
     const int fps = 10;
-    int frames = run_frame_count(m.options.duration, fps); /* 0, 0.1, 0.2, 0.25 */
+    int frames = run_frame_count(m.options.duration, fps); /* 0, 0.1, 0.2, 0.26 */
     rod_solver solver = {&fake_scheme, fake_scheme.create(&m, err, sizeof err)};
     rod_state *s = rod_state_create(&m);
     rod_recording *rec = rod_recording_create(&m, "loop", frames);
     rod_report report;
     run_stats stats;
+    run_plan plan;
     fake_step_count = 0;
-    /* dt = 0.03: 0 -> 0.1 in 0.03, 0.03, then 0.04 left (< 1.5 dt) as 0.02 + 0.02;
-     * 0.2 -> 0.25: 0.05 left as 0.025 + 0.025 */
-    rod_status st = run_simulate(&solver, &m, s, rec, 0.03, fps, &report, &stats);
+    /* dt = 0.03: each interval of 0.1 s in ceil(0.1/0.03) = 4 equal steps of
+     * 0.025 s; the final 0.06 s in ceil(0.06/0.03) = 2 steps of 0.03 s */
+    int planned = run_plan_make(&m, 0.03, fps, &plan) == 0;
+    check(planned && plan.frames == 4 && plan.steps_per_interval == 4 && plan.last_steps == 2 &&
+              plan.steps == 10,
+          "run plan: 4 frames, 4 steps per interval, 2 in the last, 10 in all: %lld, %lld, "
+          "%lld, %lld",
+          (long long)plan.frames, (long long)plan.steps_per_interval, (long long)plan.last_steps,
+          (long long)plan.steps);
+    rod_status st = run_simulate(&solver, &m, s, &plan, fps, record_frame, rec, &report, &stats);
     check(st == ROD_OK && rec->frame_count == 4 && frames == 4,
-          "run loop: 4 frames for 0.25 s at 10 fps (t = 0 and the end included): %d",
+          "run loop: 4 frames for 0.26 s at 10 fps (t = 0 and the end included): %d",
           rec->frame_count);
     int times_exact = rec->frame_count == 4 && rec->time[0] == 0.0 && rec->time[1] == 0.1 &&
-                      rec->time[2] == 0.2 && rec->time[3] == 0.25;
-    check(times_exact, "run loop: frames land exactly on 0, 0.1, 0.2, 0.25 s");
-    check(stats.steps == 10 && fake_step_count == 10, "run loop: 4 + 4 + 2 steps: %ld",
-          stats.steps);
-    check_abs("run loop: largest step = dt", stats.largest_step, 0.03, 1e-15);
-    check_abs("run loop: smallest step = (0.1 - 0.06)/2, no sliver", stats.smallest_step, 0.02,
-              1e-12);
+                      rec->time[2] == 0.2 && rec->time[3] == 0.26;
+    check(times_exact, "run loop: frames land exactly on 0, 0.1, 0.2, 0.26 s");
+    check(stats.steps == 10 && fake_step_count == 10, "run loop: 4 + 4 + 2 steps: %lld",
+          (long long)stats.steps);
+    /* the scheme sees one dt, bit for bit, in every whole interval (issue 9:
+     * a dt that changes in its last digit makes the implicit scheme refactor) */
+    int equal = fake_step_count == 10;
+    for (int k = 0; k < 8 && equal; k++) equal = fake_steps[k] == 0.1 / 4;
+    check(equal, "run loop: the 8 steps of the whole intervals all equal 0.1/4 exactly "
+                 "(first %.17g, fourth %.17g)", fake_steps[0], fake_steps[3]);
+    check_abs("run loop: the last interval's steps = 0.06/2", fake_steps[9], 0.03, 1e-15);
     double tip_y = rec->position[(3 * (size_t)m.nodes) * 2 + 3 * (m.nodes - 1) + 1];
     check_abs("run loop: the frame at 0.2 s holds the state at 0.2 s (tip y = t)", tip_y, 0.2,
               1e-12);
@@ -263,11 +290,25 @@ static void test_run_loop(void)
     rec = rod_recording_create(&m, "loop", frames);
     rod_state_reset(&m, s);
     fake_nan_time = 0.15;
-    st = run_simulate(&solver, &m, s, rec, 0.03, fps, &report, &stats);
+    st = run_simulate(&solver, &m, s, &plan, fps, record_frame, rec, &report, &stats);
     check(st == ROD_UNSTABLE && stats.non_finite && rec->frame_count == 2,
           "run loop: a non-finite state stops the run (status %d, frames kept %d)", (int)st,
           rec->frame_count);
     fake_nan_time = INFINITY;
+
+    /* counts past 2^31 are counted, not wrapped (issue 9: duration = 1e9 printed
+     * -2147483646 frames); past RUN_MAX_COUNT they are refused */
+    m.options.duration = 1e9;
+    planned = run_plan_make(&m, 0.005, 30, &plan) == 0;
+    check(planned && plan.frames == 30000000001LL &&
+              plan.steps == 210000000000LL && run_frame_count(1e9, 30) == -1,
+          "1e9 s at 30 fps, dt = 0.005 s: %lld frames (30000000001), %lld steps "
+          "(7 x 3e10 = 210000000000); the int frame count says -1, not a wrapped number",
+          (long long)plan.frames, (long long)plan.steps);
+    m.options.duration = 16;
+    planned = run_plan_make(&m, 1e-300, 30, &plan) == 0;
+    check(!planned && plan.steps_estimate > 1e300,
+          "dt = 1e-300 s: the plan is refused as uncountable (%.3g steps)", plan.steps_estimate);
     rod_recording_destroy(rec);
     rod_state_destroy(s);
     rod_solver_release(&solver);
@@ -300,6 +341,362 @@ static void test_issue9_scene_kind_and_version(void)
     check(status == 0 && same, "rodsim version: exit %d, '%.40s'", status, output);
 }
 
+/* ---- the binary, with what a test needs of the child process ---- */
+
+typedef struct child {
+    pid_t pid;
+    char log[64];
+} child;
+
+/* Starts RODSIM_BIN with args, stdout and stderr to a log file; in `cwd`
+ * when not NULL; file size limited to fsize bytes when > 0 (a full disk:
+ * writes past it fail with EFBIG, SIGXFSZ ignored). */
+static const char *const *child_env; /* "NAME=VALUE" entries for the next child, or NULL */
+
+static int child_start(child *c, const char *const *args, const char *cwd, long fsize)
+{
+    snprintf(c->log, sizeof c->log, "/tmp/rodsim_cli_logXXXXXX");
+    int fd = mkstemp(c->log);
+    if (fd < 0) return -1;
+    const char *argv[64];
+    int n = 0;
+    argv[n++] = RODSIM_BIN;
+    for (int i = 0; args[i] && n < 63; i++) argv[n++] = args[i];
+    argv[n] = NULL;
+    fflush(stdout);
+    c->pid = fork();
+    if (c->pid == 0) {
+        dup2(fd, 1);
+        dup2(fd, 2);
+        close(fd);
+        if (cwd && chdir(cwd) != 0) _exit(126);
+        for (int i = 0; child_env && child_env[i]; i++) putenv((char *)child_env[i]);
+        if (fsize > 0) {
+            struct rlimit limit = {(rlim_t)fsize, (rlim_t)fsize};
+            signal(SIGXFSZ, SIG_IGN);
+            setrlimit(RLIMIT_FSIZE, &limit);
+        }
+        execv(RODSIM_BIN, (char *const *)argv);
+        _exit(127);
+    }
+    close(fd);
+    return c->pid > 0 ? 0 : -1;
+}
+
+/* Waits for the child: its exit status (-1 when killed by a signal), its
+ * output in `output`, its peak resident memory (KiB) in *maxrss_kib. */
+static int child_wait(child *c, char *output, size_t outlen, long *maxrss_kib)
+{
+    int status = 0;
+    struct rusage usage;
+    memset(&usage, 0, sizeof usage);
+    int waited = wait4(c->pid, &status, 0, &usage) == c->pid;
+    if (maxrss_kib) *maxrss_kib = usage.ru_maxrss;
+    output[0] = '\0';
+    FILE *f = fopen(c->log, "r");
+    if (f) {
+        size_t got = fread(output, 1, outlen - 1, f);
+        output[got] = '\0';
+        fclose(f);
+    }
+    unlink(c->log);
+    if (!waited) return -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+static int run_child(const char *const *args, const char *cwd, long fsize, char *output,
+                     size_t outlen, long *maxrss_kib)
+{
+    child c;
+    if (child_start(&c, args, cwd, fsize)) return -1;
+    return child_wait(&c, output, outlen, maxrss_kib);
+}
+
+/* A small dynamic scene: NS = 11, implicit, a ramped tip force. */
+static void write_small_scene(const char *path, const char *extra)
+{
+    char text[2048];
+    snprintf(text, sizeof text,
+             "%s[solver]\nscheme = implicit\ndt = 0.01\nduration = 0.5\n"
+             "[tip]\nforce = 0 2e-7 0\nprofile = ramp 0.2\n[render]\nfps = 10\nwidth = 96\n"
+             "height = 64\n%s",
+             valid_rod, extra ? extra : "");
+    write_file(path, text);
+}
+
+/* Impossible durations and steps are refused up front, exit 2, with the
+ * numbers and the keys to change, and nothing written (issue 9). */
+static void test_refused_runs(void)
+{
+    char scene[96], output[8192];
+    snprintf(scene, sizeof scene, "%s/small.ini", tmp_dir);
+    write_small_scene(scene, NULL);
+    static const struct {
+        const char *set, *what, *needle1, *needle2;
+    } cases[] = {
+        {"solver.duration=1e9", "duration = 1e9 s (frame count past 2^31)", "solver.duration",
+         "--allow-long"},
+        {"solver.dt=1e-300", "dt = 1e-300 s (uncountable steps)", "solver.dt", "nothing was run"},
+        {"solver.dt=1e-9", "implicit at dt = 1e-9 s (years of work)", "solver.dt", "rod.nodes"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        const char *args[] = {"run", scene, "-o", out_dir, "--csv", csv_path, "--set",
+                              cases[i].set, NULL};
+        int status = run_child(args, NULL, 0, output, sizeof output, NULL);
+        check(status == 2 && strstr(output, cases[i].needle1) &&
+                  strstr(output, cases[i].needle2) && out_dir_entries() == 0,
+              "%s: exit %d (want 2), names %s and %s, out dir entries %d\n%s", cases[i].what,
+              status, cases[i].needle1, cases[i].needle2, out_dir_entries(), output);
+    }
+    unlink(scene);
+}
+
+/* Without a video nothing is kept per frame: the peak memory of a run does
+ * not grow with its duration (issue 9: duration = 1e5 peaked at 2.2 GB). */
+static void test_memory_bound(void)
+{
+    char scene[96], output[8192];
+    snprintf(scene, sizeof scene, "%s/small.ini", tmp_dir);
+    write_small_scene(scene, NULL);
+    long rss[2] = {0, 0};
+    const char *durations[] = {"solver.duration=0.1", "solver.duration=60"};
+    for (int i = 0; i < 2; i++) {
+        /* 1000 fps: 60001 frames; a recording would hold 60001 x (11 x 104 + 56) bytes */
+        const char *args[] = {"run", scene, "--no-video", "--quiet", "--set", durations[i],
+                              "--set", "render.fps=1000", "--set", "solver.dt=0.001", NULL};
+        int status = run_child(args, NULL, 0, output, sizeof output, &rss[i]);
+        check(status == 0, "--no-video run of %s exits 0 (%d)\n%s", durations[i], status, output);
+    }
+    double recording_kib = 60001.0 * (11 * 104 + 56) / 1024.0;
+    check(rss[1] - rss[0] < 0.25 * recording_kib,
+          "peak memory of 60 s vs 0.1 s at 1000 fps: %ld KiB vs %ld KiB, growth %ld KiB, under a "
+          "quarter of the %.0f KiB the frames would take",
+          rss[1], rss[0], rss[1] - rss[0], recording_kib);
+    unlink(scene);
+}
+
+/* A video too long to keep in memory is streamed: simulated twice, each frame
+ * encoded as it comes (issue 9). RODSIM_RECORDING_BUDGET = 1 byte streams any
+ * video; RODSIM_SAMPLE_BUDGET bounds the frames kept to frame the camera. */
+static void test_streamed_video(void)
+{
+    char scene[96], output[8192], a[128], b[128];
+    snprintf(scene, sizeof scene, "%s/small.ini", tmp_dir);
+    write_small_scene(scene, NULL);
+    /* the same video kept or streamed: with every frame in the sample, the
+     * camera is the same, and the second pass repeats the first bit for bit */
+    char kept_dir[96], streamed_dir[96];
+    snprintf(kept_dir, sizeof kept_dir, "%s/kept", tmp_dir);
+    snprintf(streamed_dir, sizeof streamed_dir, "%s/streamed", tmp_dir);
+    const char *kept[] = {"run", scene, "-o", kept_dir, "--quiet", NULL};
+    const char *streamed[] = {"run", scene, "-o", streamed_dir, NULL};
+    const char *stream_env[] = {"RODSIM_RECORDING_BUDGET=1", NULL};
+    int status = run_child(kept, NULL, 0, output, sizeof output, NULL);
+    child_env = stream_env;
+    int status2 = run_child(streamed, NULL, 0, output, sizeof output, NULL);
+    child_env = NULL;
+    int same = 1;
+    for (int file = 0; file < 2; file++) {
+        snprintf(a, sizeof a, "%s/small.%s", kept_dir, file ? "png" : "mp4");
+        snprintf(b, sizeof b, "%s/small.%s", streamed_dir, file ? "png" : "mp4");
+        FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
+        int ca = 0, cb = 0;
+        long bytes = 0;
+        while (fa && fb && (ca = fgetc(fa)) == (cb = fgetc(fb)) && ca != EOF) bytes++;
+        if (!fa || !fb || ca != cb || bytes < 100) same = 0;
+        if (fa) fclose(fa);
+        if (fb) fclose(fb);
+    }
+    check(status == 0 && status2 == 0 && strstr(output, "streamed") && same,
+          "a streamed video equals the kept one byte for byte (MP4 and poster; exits %d, %d)",
+          status, status2);
+    test_remove_tree(kept_dir);
+    test_remove_tree(streamed_dir);
+
+    if (test_sanitized()) {
+        check(1, "streamed video memory bound: skipped under the sanitizer (its allocator "
+                 "holds freed memory)");
+        unlink(scene);
+        return;
+    }
+    /* memory: 20 s at 100 fps, NS = 51: 2001 frames, 10.7 MB if kept */
+    const char *sample_env[] = {"RODSIM_RECORDING_BUDGET=1", "RODSIM_SAMPLE_BUDGET=200000", NULL};
+    long rss[2] = {0, 0};
+    const char *durations[] = {"solver.duration=0.2", "solver.duration=20"};
+    child_env = sample_env;
+    for (int i = 0; i < 2; i++) {
+        const char *args[] = {"run", scene, "-o", out_dir, "--quiet", "--set", durations[i],
+                              "--set", "render.fps=100", "--set", "rod.nodes=51", NULL};
+        status = run_child(args, NULL, 0, output, sizeof output, &rss[i]);
+        check(status == 0, "streamed video of %s exits 0 (%d)\n%s", durations[i], status,
+              output);
+    }
+    child_env = NULL;
+    double recording_kib = 2001.0 * (51 * 104 + 56) / 1024.0;
+    check(rss[1] - rss[0] < 0.25 * recording_kib,
+          "peak memory of a streamed 20 s vs 0.2 s video: %ld KiB vs %ld KiB, growth %ld KiB, "
+          "under a quarter of the %.0f KiB its frames would take",
+          rss[1], rss[0], rss[1] - rss[0], recording_kib);
+    test_remove_tree(out_dir);
+    unlink(scene);
+}
+
+/* Command-line values (issue 9). */
+static void test_option_values(void)
+{
+    char scene[96], output[8192];
+    snprintf(scene, sizeof scene, "%s/small.ini", tmp_dir);
+    write_small_scene(scene, NULL);
+    const char *spaced[] = {"run", scene, "--no-video", "--set", "solver.duration", "2", NULL};
+    int status = run_child(spaced, NULL, 0, output, sizeof output, NULL);
+    check(status == 2 && strstr(output, "--set expects section.key=value") &&
+              !strstr(output, "only one SCENE"),
+          "--set solver.duration 2: exit %d, says what --set expects", status);
+    const char *csv_option[] = {"run", scene, "--no-video", "--csv", "-o", out_dir, NULL};
+    status = run_child(csv_option, tmp_dir, 0, output, sizeof output, NULL);
+    char dash_o[96];
+    snprintf(dash_o, sizeof dash_o, "%s/-o", tmp_dir);
+    check(status == 2 && strstr(output, "--csv needs a file name") && access(dash_o, F_OK) != 0,
+          "--csv -o: exit %d, not taken as a file name (no file named -o)", status);
+    unlink(dash_o);
+
+    /* --csv - : the CSV on standard output, no file named '-' */
+    const char *to_stdout[] = {"run", scene, "--no-video", "--csv", "-", "--quiet", NULL};
+    status = run_child(to_stdout, tmp_dir, 0, output, sizeof output, NULL);
+    char dash[96];
+    snprintf(dash, sizeof dash, "%s/-", tmp_dir);
+    int rows = 0;
+    for (const char *p = output; (p = strchr(p, '\n')); p++) rows++;
+    check(status == 0 && strncmp(output, "t,node,s,x,y,z", 14) == 0 && rows == 1 + 6 * 11 &&
+              access(dash, F_OK) != 0,
+          "--csv -: exit %d, the header and 6 frames x 11 nodes on stdout (%d lines), no file "
+          "named '-'",
+          status, rows);
+    unlink(dash);
+
+    /* -o naming a file: bad input before any work, no CSV written */
+    char file[96];
+    snprintf(file, sizeof file, "%s/a_file", tmp_dir);
+    write_file(file, "x");
+    const char *o_file[] = {"run", scene, "-o", file, "--csv", csv_path, NULL};
+    status = run_child(o_file, NULL, 0, output, sizeof output, NULL);
+    check(status == 2 && strstr(output, "not a directory") && out_dir_entries() == 0,
+          "-o naming a file: exit %d (want 2), says so, no CSV written\n%s", status, output);
+    unlink(file);
+    unlink(scene);
+}
+
+/* The outputs of a run appear together or none do (issue 9): a write that
+ * fails in the video (a full disk, here a file size limit) leaves no CSV. */
+static void test_outputs_together(void)
+{
+    char scene[96], output[8192];
+    snprintf(scene, sizeof scene, "%s/small.ini", tmp_dir);
+    write_small_scene(scene, NULL);
+    const char *args[] = {"run", scene, "-o", out_dir, "--csv", csv_path, "--set",
+                          "solver.duration=0.2", "--set", "render.width=640", "--set",
+                          "render.height=480", NULL};
+    /* the CSV (3 frames x 11 rows of < 100 bytes, < 3.3 KB) fits in 8 KB; the
+     * poster, a 640 x 480 PNG with a grid and text, does not */
+    int status = run_child(args, NULL, 8192, output, sizeof output, NULL);
+    check(status == 1 && out_dir_entries() == 0,
+          "a write failing in the video: exit %d (want 1), out dir entries %d (want 0: no "
+          "CSV)\n%s",
+          status, out_dir_entries(), output);
+    status = run_child(args, NULL, 0, output, sizeof output, NULL);
+    check(status == 0 && out_dir_entries() == 3,
+          "without the limit: exit %d, CSV, video and poster written (%d entries)", status,
+          out_dir_entries());
+    test_remove_tree(out_dir);
+    unlink(scene);
+}
+
+/* 1 when the child has a nameless temporary open in `dir` (O_TMPFILE: its
+ * /proc/PID/fd link reads "DIR/#INODE (deleted)"), or a hidden frames
+ * directory there: the run is writing its outputs. */
+static int child_is_writing(pid_t pid, const char *dir)
+{
+    char fd_dir[64], link[384], target[1024];
+    snprintf(fd_dir, sizeof fd_dir, "/proc/%d/fd", (int)pid);
+    DIR *d = opendir(fd_dir);
+    if (!d) return 0;
+    struct dirent *e;
+    int writing = 0;
+    size_t n = strlen(dir);
+    while (!writing && (e = readdir(d))) {
+        snprintf(link, sizeof link, "%s/%s", fd_dir, e->d_name);
+        ssize_t got = readlink(link, target, sizeof target - 1);
+        if (got <= 0) continue;
+        target[got] = '\0';
+        writing = strncmp(target, dir, n) == 0 && target[n] == '/' && strstr(target, "(deleted)");
+    }
+    closedir(d);
+    return writing;
+}
+
+/* SIGINT, SIGTERM and kill -9 mid-render leave nothing (issue 9). */
+static void test_signals(void)
+{
+    char scene[96], output[8192];
+    snprintf(scene, sizeof scene, "%s/small.ini", tmp_dir);
+    write_small_scene(scene, NULL);
+    /* 20 s at 100 fps: 2001 frames, long enough to be caught rendering */
+    const char *args[] = {"run", scene, "-o", out_dir, "--csv", csv_path, "--set",
+                          "solver.duration=20", "--set", "render.fps=100", NULL};
+    static const struct {
+        int sig, want;
+        const char *name;
+    } cases[] = {{SIGTERM, 143, "SIGTERM"}, {SIGINT, 130, "SIGINT"}, {SIGKILL, -1, "SIGKILL"}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        child c;
+        if (!check(child_start(&c, args, NULL, 0) == 0, "start rodsim")) continue;
+        int caught = 0;
+        /* poll (no sleep of a guessed length): the video's temporary is open */
+        for (int tries = 0; tries < 200000 && !caught; tries++) {
+            caught = child_is_writing(c.pid, out_dir);
+            if (!caught) usleep(500);
+        }
+        kill(c.pid, cases[i].sig);
+        int status = child_wait(&c, output, sizeof output, NULL);
+        check(caught && status == cases[i].want && out_dir_entries() == 0,
+              "%s mid-render: exit %d (want %d), out dir entries %d (want 0: no CSV, no "
+              "video, no temporary)",
+              cases[i].name, status, cases[i].want, out_dir_entries());
+    }
+
+    /* a frame sequence is a named hidden directory: a run killed by -9 leaves
+     * it, and the next run into the same directory removes it */
+    char frames_scene[96];
+    snprintf(frames_scene, sizeof frames_scene, "%s/frames.ini", tmp_dir);
+    write_small_scene(frames_scene, "frames_png = yes\n");
+    const char *frames_args[] = {"run", frames_scene, "-o", out_dir, "--set",
+                                 "solver.duration=20", "--set", "render.fps=100", NULL};
+    child c;
+    if (child_start(&c, frames_args, NULL, 0) == 0) {
+        int caught = 0;
+        for (int tries = 0; tries < 200000 && !caught; tries++) {
+            caught = out_dir_entries() > 0;
+            if (!caught) usleep(500);
+        }
+        kill(c.pid, SIGKILL);
+        child_wait(&c, output, sizeof output, NULL);
+        int left = out_dir_entries();
+        const char *next[] = {"run", scene, "-o", out_dir, "--set", "solver.duration=0.2",
+                              "--quiet", NULL};
+        int status = run_child(next, NULL, 0, output, sizeof output, NULL);
+        char stale[128];
+        snprintf(stale, sizeof stale, "%s/.frames_frames.tmp%d", out_dir, (int)c.pid);
+        check(caught && left == 1 && status == 0 && access(stale, F_OK) != 0 &&
+                  out_dir_entries() == 2,
+              "kill -9 left %d hidden frame directory; the next run removed it (exit %d, %d "
+              "entries: its video and poster)",
+              left, status, out_dir_entries());
+    }
+    test_remove_tree(out_dir);
+    unlink(frames_scene);
+    unlink(scene);
+}
+
 int main(void)
 {
     test_run_loop();
@@ -310,6 +707,12 @@ int main(void)
     test_bad_scenes();
     test_csv_end_to_end();
     test_unstable_writes_nothing();
+    test_refused_runs();
+    test_memory_bound();
+    test_streamed_video();
+    test_option_values();
+    test_outputs_together();
+    test_signals();
     test_issue9_scene_kind_and_version();
     test_remove_tree(tmp_dir);
     return test_finish();
