@@ -14,7 +14,6 @@
 
 #include "base/ini.h"
 #include "cli/run.h"
-#include "sim/recording.h"
 #include "sim/rod.h"
 #include "sim/scene.h"
 
@@ -138,7 +137,7 @@ static timing time_equal_steps(const rod_model *m, double dt, long steps)
 }
 
 /* The run's loop: run_simulate to m->options.duration with steps of at most
- * dt, recording at every 1/fps, as `rodsim run --no-video` does. */
+ * dt, as `rodsim run --no-video` does (equal steps per frame interval). */
 static timing time_run_loop(const rod_model *m, double dt, int fps)
 {
     timing r = {-1.0, 0, 0};
@@ -149,20 +148,19 @@ static timing time_run_loop(const rod_model *m, double dt, int fps)
         return r;
     }
     rod_state *s = rod_state_create(m);
-    rod_recording *rec =
-        rod_recording_create(m, "bench", run_frame_count(m->options.duration, fps));
+    run_plan plan;
     rod_report report = {0};
     run_stats stats;
-    if (s && rec) {
+    if (s && run_plan_make(m, dt, fps, &plan) == 0) {
         double start = now(); /* not stats.wall_seconds: the same clock as the bench loop */
-        rod_status st = run_simulate(&solver, m, s, rec, dt, fps, &report, &stats);
+        /* no frame callback: `rodsim run --no-video` without --csv keeps nothing */
+        rod_status st = run_simulate(&solver, m, s, &plan, fps, NULL, NULL, &report, &stats);
         double seconds = now() - start;
         r.steps = stats.steps;
         if (st == ROD_OK && stats.steps > 0) r.us = 1e6 * seconds / (double)stats.steps;
         else printf("    (the run stopped at t = %g s: %.200s)\n", s->time, report.message);
         r.jacobian_builds = report.jacobian_builds;
     }
-    rod_recording_destroy(rec);
     rod_solver_release(&solver);
     rod_state_destroy(s);
     return r;
