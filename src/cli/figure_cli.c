@@ -47,7 +47,7 @@ void figure_usage(FILE *f)
             "figures:\n");
     const figure_def *const *list = figure_list();
     for (int i = 0; list[i]; i++)
-        fprintf(f, "  %-18s %3d points (%d with --quick): %s\n", figure_name(list[i]),
+        fprintf(f, "  %-17s %2d points (%d quick): %s\n", figure_name(list[i]),
                 figure_point_count(list[i], 0), figure_point_count(list[i], 1),
                 figure_summary(list[i]));
 }

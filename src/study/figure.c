@@ -882,8 +882,7 @@ static int twist_diameter_draw(const figure_points *points, int quick, const cha
 
 static const figure_def figure_table2 = {
     .name = "table2",
-    .summary = "thesis table 2 as a chart: tip deflection against P, every scheme, "
-               "PL^3/3EI, the elastica, the thesis' values",
+    .summary = "table 2: tip deflection against P, schemes, PL^3/3EI, elastica",
     .columns = "point,scheme,load_N,tip_x_m,tip_y_m",
     .value_columns = 4,
     .full_points = 3 * TABLE2_FULL_LOADS,
@@ -895,8 +894,7 @@ static const figure_def figure_table2 = {
 
 static const figure_def figure_impulse = {
     .name = "impulse",
-    .summary = "thesis figs. 11-13: tip and mid-point displacement after the impulse and "
-               "their spectra, analytical modal frequencies marked",
+    .summary = "figs. 11-13: impulse response and spectra, modal frequencies",
     .columns = "point,t_s,tip_y_m,mid_y_m",
     .value_columns = 3,
     .full_points = 1,
@@ -908,8 +906,7 @@ static const figure_def figure_impulse = {
 
 static const figure_def figure_pareto = {
     .name = "pareto",
-    .summary = "error against wall time, log-log, one curve per scheme across NS (and dt): "
-               "table 2's deflection and the first bending frequency (validate_run)",
+    .summary = "error against run time per scheme across NS and dt",
     .columns = "point,case,scheme,nodes,dt_factor,dt_s,computed,reference,relative_error,"
                "wall_s,status",
     .value_columns = 10,
@@ -923,7 +920,7 @@ static const figure_def figure_pareto = {
 #define BUCKLING_COLUMNS "point,kind,length_m,diameter_m,critical,theory"
 static const figure_def figure_buckling_length = {
     .name = "buckling-length",
-    .summary = "thesis fig. 8: axial force that buckles the rod against L, with pi^2 EI/(4L^2)",
+    .summary = "fig. 8: axial buckling force against L, pi^2 EI/(4L^2)",
     .columns = BUCKLING_COLUMNS,
     .value_columns = 5,
     .full_points = COUNT(buckling_lengths_full),
@@ -935,7 +932,7 @@ static const figure_def figure_buckling_length = {
 
 static const figure_def figure_buckling_diameter = {
     .name = "buckling-diameter",
-    .summary = "thesis fig. 9: axial force that buckles the rod against d, with pi^2 EI/(4L^2)",
+    .summary = "fig. 9: axial buckling force against d, pi^2 EI/(4L^2)",
     .columns = BUCKLING_COLUMNS,
     .value_columns = 5,
     .full_points = COUNT(buckling_diameters_full),
@@ -947,8 +944,7 @@ static const figure_def figure_buckling_diameter = {
 
 static const figure_def figure_twist_diameter = {
     .name = "twist-diameter",
-    .summary = "thesis fig. 7: twisting moment that buckles the rod against d, pinned and "
-               "clamped ends, with Greenhill 2 pi EI/L and 8.9868 EI/L",
+    .summary = "fig. 7: buckling twisting moment against d, Greenhill",
     .columns = BUCKLING_COLUMNS,
     .value_columns = 5,
     .full_points = 2 * COUNT(buckling_diameters_full),
