@@ -13,7 +13,6 @@
 #include "study/stability.h"
 #include "cli/stability_cli.h"
 #include "test.h"
-#include "test_workers.h"
 
 /* Independent formulas ------------------------------------------------------ */
 
@@ -270,27 +269,9 @@ static void test_wall_limit(void)
           "timeouts, crashes and silent NaN are findings; a reported instability is not");
 }
 
-/* Workers die with the parent (SIGTERM or kill -9): before, both ran on to
- * their own end after the parent was killed. */
-static void test_workers_die_with_parent(void)
-{
-    const int signals[2] = {SIGTERM, SIGKILL};
-    for (int k = 0; k < 2; k++) {
-        const char *args[] = {"stability", "--jobs", "2", NULL};
-        worker_kill_result r;
-        test_kill_parent_of_workers(args, NULL, signals[k], 30, &r);
-        check(r.workers >= 1 && r.killed == r.workers && r.ended == 0 && r.survived == 0,
-              "stability --jobs 2, %s to the parent: %d worker(s) running, %d died with it "
-              "(SIGKILL), %d ran on and ended, %d still running 30 s later",
-              signals[k] == SIGTERM ? "SIGTERM" : "kill -9", r.workers, r.killed, r.ended,
-              r.survived);
-    }
-}
-
 int main(void)
 {
     test_dt_auto();
-    test_workers_die_with_parent();
     test_reduced_grid();
     test_wall_limit();
     return test_finish();
