@@ -1,7 +1,7 @@
 /* render.h: the headless renderer. Turns a rod_recording (the frames of a
  * run) into pictures: a tube swept with the rod's own director frames, the
- * twist stripe, the clamp, the tip load arrows, a backdrop grid with a scale
- * bar and overlay text; writes the MP4, the poster PNG and, on request,
+ * twist stripe, what holds each end (a block, a ball) and the needle, the
+ * tip load arrows, a backdrop grid with a scale bar and overlay text; writes the MP4, the poster PNG and, on request,
  * every frame as PNG.
  *
  * Geometry (stripe, tube, camera, projection) is pure C here and testable
@@ -22,6 +22,19 @@ typedef enum {
 
 typedef enum { RENDER_CAMERA_PERSPECTIVE = 0, RENDER_CAMERA_ORTHOGRAPHIC } render_camera_kind;
 
+/* What holds an end, as drawn (the renderer does not see sim/rod.h; the
+ * caller copies the model's end kinds here). */
+typedef enum {
+    RENDER_END_CLAMPED = 0, /* a block oriented with the end's frame */
+    RENDER_END_PINNED,      /* a ball */
+    RENDER_END_FREE         /* nothing */
+} render_end_kind;
+
+typedef struct render_end {
+    render_end_kind kind;
+    int driven;             /* 1: the end follows a path (named in the overlay) */
+} render_end;
+
 /* Scene [render] section; render_options_default() makes a good picture. */
 typedef struct render_options {
     int width, height;           /* pixels (even: yuv420p) */
@@ -39,6 +52,12 @@ typedef struct render_options {
     int grid;                    /* backdrop grid and scale bar */
     int overlay;                 /* text: scene, time, scheme, loads */
     int frames_png;              /* also write every frame as PNG */
+    render_end ends[2];          /* [0] the root (s = 0), [1] the tip (s = L); default: clamped
+                                    root, free tip (the thesis' cantilever) */
+    double needle_radius;        /* m; > 0: a curved needle whose back is at the tip, drawn
+                                    instead of the tip's block or ball (scene [ends] needle) */
+    double needle_arc;           /* the needle's arc, fraction of a circle: 0.375 (3/8, default)
+                                    or 0.5 (1/2) ([render] needle_arc) */
     int poster;                  /* write the last frame as <scene>.png */
     struct render_timing *timing; /* NULL (default): not measured; else filled (make bench) */
 } render_options;
@@ -118,8 +137,9 @@ typedef struct render_camera {
 } render_camera;
 
 /* Frames the whole motion: the bounds over all frames of the tube (visual
- * radius included), the clamp and the arrows, seen along o->view, leave room
- * for the overlay text at the top and bottom, and do not change per frame. */
+ * radius included), the end glyphs (block, ball, needle) and the arrows,
+ * seen along o->view, leave room for the overlay text at the top and bottom,
+ * and do not change per frame. */
 void render_camera_fit(render_camera *cam, const rod_recording *rec, const render_options *o);
 /* Pixel position (x right, y down, pixel centres at +0.5) of a world point.
  * Returns 0, or -1 when the point is behind the camera. */
@@ -133,5 +153,9 @@ typedef struct render_vertex {
 /* Colours the tests can look for (linear 0..1 before lighting). */
 extern const float render_rod_color[3];
 extern const float render_stripe_color[3];
+extern const float render_clamp_color[3];  /* block of a clamped end */
+extern const float render_ball_color[3];   /* ball of a pinned end */
+extern const float render_needle_color[3]; /* the needle */
+
 
 #endif

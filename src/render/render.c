@@ -23,7 +23,9 @@
 
 const float render_rod_color[3] = {0.18f, 0.40f, 0.78f};    /* steel blue */
 const float render_stripe_color[3] = {1.00f, 0.76f, 0.08f}; /* amber */
-static const float clamp_color[3] = {0.42f, 0.43f, 0.46f};
+const float render_clamp_color[3] = {0.42f, 0.43f, 0.46f};  /* dark steel */
+const float render_ball_color[3] = {0.70f, 0.42f, 0.16f};   /* bronze: apart from rod, stripe, arrows */
+const float render_needle_color[3] = {0.74f, 0.75f, 0.77f}; /* bright steel, lighter than the rod */
 static const float force_color[3] = {0.86f, 0.16f, 0.14f};
 static const float moment_color[3] = {0.16f, 0.62f, 0.26f};
 
@@ -31,6 +33,22 @@ static const float moment_color[3] = {0.16f, 0.62f, 0.26f};
 #define ARROW_MAX_VERTICES 200
 #define ARROW_MAX_INDICES 700
 #define GRID_MAX_LINES 200                 /* per direction */
+#define BALL_STACKS 12
+#define BALL_SLICES 20
+#define BALL_VERTICES ((BALL_STACKS + 1) * (BALL_SLICES + 1))
+#define BALL_INDICES (6 * BALL_STACKS * BALL_SLICES)
+#define BALL_RADIUS 1.6                    /* over the visual radius */
+#define NEEDLE_SEGMENTS 40                 /* along the arc */
+#define NEEDLE_SIDES 12
+#define NEEDLE_VERTICES ((NEEDLE_SEGMENTS + 1) * NEEDLE_SIDES + NEEDLE_SIDES + 1)
+#define NEEDLE_INDICES (6 * NEEDLE_SEGMENTS * NEEDLE_SIDES + 3 * NEEDLE_SIDES)
+#define NEEDLE_POINT 0.18                  /* fraction of the arc that tapers to the point */
+/* one end's glyph at most: block (24 vertices, 36 indices), ball or needle */
+#define GLYPH_VERTICES (24 + BALL_VERTICES + NEEDLE_VERTICES)
+#define GLYPH_INDICES (36 + BALL_INDICES + NEEDLE_INDICES)
+/* points that bound one end's glyph, for framing and tiles: block corners,
+ * ball extremes or the needle's arc */
+#define GLYPH_MAX_POINTS (NEEDLE_SEGMENTS + 1)
 #define STRIPE_HALF_WIDTH 0.32             /* rad, half the band's angular width */
 #define STRIPE_LIFT 1.025                  /* band radius over the tube radius */
 #define PERSPECTIVE_FOVY (30.0 * M_PI / 180.0)
@@ -67,6 +85,10 @@ void render_options_default(render_options *o)
     o->overlay = 1;
     o->frames_png = 0;
     o->poster = 1;
+    o->ends[0].kind = RENDER_END_CLAMPED;
+    o->ends[1].kind = RENDER_END_FREE;
+    o->needle_radius = 0;
+    o->needle_arc = 0.375; /* 3/8 circle: the most common suturing needle */
 }
 
 static int read_int_range(ini_doc *doc, const char *key, int *out, int lo, int hi, char *err,
@@ -160,6 +182,12 @@ int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errle
             for (int i = 0; i < 3; i++) o->background[i] = (unsigned char)lround(255 * rgb[i]);
         }
     }
+    /* the needle's arc is only drawn (it has no mechanics), so it is a [render] key */
+    static const char *const arcs[] = {"3/8", "1/2", NULL};
+    status = ini_get_choice(doc, "render", 0, "needle_arc", arcs, &choice, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) o->needle_arc = choice ? 0.5 : 0.375;
+
     if (ini_get_bool(doc, "render", 0, "arrows", &o->arrows, err, errlen) < 0 ||
         ini_get_bool(doc, "render", 0, "grid", &o->grid, err, errlen) < 0 ||
         ini_get_bool(doc, "render", 0, "overlay", &o->overlay, err, errlen) < 0 ||
@@ -375,23 +403,104 @@ static void add_stripe(mesh *m, const rod_recording *rec, int frame, double radi
         }
 }
 
-/* Clamp block behind s = 0, aligned with the frame there. */
-static void clamp_box(const rod_recording *rec, double radius, double centre[3], double axes[3][3],
-                      double half[3])
+/* ------------------------------------------------------------------ end glyphs */
+
+/* What is drawn at an end: the needle (tip only) replaces the tip's block or
+ * ball, since the holder grips the needle and the thread is swaged into its
+ * back; a free tip with a needle still shows it (a dropped needle). */
+typedef enum { GLYPH_NONE, GLYPH_BLOCK, GLYPH_BALL, GLYPH_NEEDLE } glyph_kind;
+
+static glyph_kind end_glyph(const render_options *o, int end)
 {
-    const double *q = node_frame(rec, 0, 0);
+    if (end == 1 && o->needle_radius > 0) return GLYPH_NEEDLE;
+    switch (o->ends[end].kind) {
+    case RENDER_END_CLAMPED: return GLYPH_BLOCK;
+    case RENDER_END_PINNED: return GLYPH_BALL;
+    default: return GLYPH_NONE;
+    }
+}
+
+static int end_node(const rod_recording *rec, int end) { return end ? rec->nodes - 1 : 0; }
+
+/* The block of a clamped end in frame `frame`: beyond the end (behind s = 0,
+ * past s = L), aligned with the end's frame there, so a driven end carries it. */
+static void clamp_box(const rod_recording *rec, double radius, int frame, int end,
+                      double centre[3], double axes[3][3], double half[3])
+{
+    int node = end_node(rec, end);
+    const double *q = node_frame(rec, frame, node);
     for (int a = 0; a < 3; a++) m3_column(axes[a], q, a);
     double side = fmax(4.0 * radius, 0.05 * rec->length);
     half[0] = half[1] = 0.5 * side;
     half[2] = 0.5 * fmax(2.5 * radius, 0.03 * rec->length);
-    v3_copy(centre, node_position(rec, 0, 0));
-    v3_axpy(centre, -half[2], axes[2]);
+    v3_copy(centre, node_position(rec, frame, node));
+    v3_axpy(centre, end ? half[2] : -half[2], axes[2]);
 }
 
-static void add_clamp(mesh *m, const rod_recording *rec, double radius)
+/* The needle's wire radius, m: as thick as the drawn thread at most (a real
+ * needle is thicker than its thread, but a thicker wire hides the arc),
+ * and thin beside the arc's radius. */
+static double needle_wire(const render_options *o, double radius)
 {
-    double centre[3], axes[3][3], half[3];
-    clamp_box(rec, radius, centre, axes, half);
+    return fmin(0.8 * radius, 0.12 * o->needle_radius);
+}
+
+/* The needle's arc: the circle of radius R through the tip r, tangent to its
+ * d3 there (the back continues the thread), in the plane of d3 and d1,
+ * bending toward d1: p(theta) = r + R sin(theta) d3 + R (1 - cos(theta)) d1,
+ * theta = 0 (back) .. 2 pi arc (point). NEEDLE_SEGMENTS + 1 points into out. */
+static void needle_arc_points(const rod_recording *rec, const render_options *o, int frame,
+                              double *out)
+{
+    int node = rec->nodes - 1;
+    const double *q = node_frame(rec, frame, node), *r = node_position(rec, frame, node);
+    double d1[3], d3[3], big = o->needle_radius;
+    m3_column(d1, q, 0);
+    m3_column(d3, q, 2);
+    for (int k = 0; k <= NEEDLE_SEGMENTS; k++) {
+        double theta = 2 * M_PI * o->needle_arc * k / NEEDLE_SEGMENTS, *p = &out[3 * k];
+        v3_copy(p, r);
+        v3_axpy(p, big * sin(theta), d3);
+        v3_axpy(p, big * (1 - cos(theta)), d1);
+    }
+}
+
+/* Points whose padded hull holds the glyph at `end` in `frame` (padded by
+ * *pad, m); returns how many (0: nothing drawn). *chain = 1 when they are
+ * a polyline (consecutive pairs bound it), 0 when a hull. */
+static int glyph_points(const rod_recording *rec, const render_options *o, double radius, int frame,
+                        int end, double *out, double *pad, int *chain)
+{
+    *pad = 0;
+    *chain = 0;
+    switch (end_glyph(o, end)) {
+    case GLYPH_BLOCK: {
+        double centre[3], axes[3][3], half[3];
+        clamp_box(rec, radius, frame, end, centre, axes, half);
+        for (int corner = 0; corner < 8; corner++) {
+            double *p = &out[3 * corner];
+            v3_copy(p, centre);
+            for (int a = 0; a < 3; a++) v3_axpy(p, (corner >> a & 1 ? 1 : -1) * half[a], axes[a]);
+        }
+        return 8;
+    }
+    case GLYPH_BALL:
+        v3_copy(out, node_position(rec, frame, end_node(rec, end)));
+        *pad = BALL_RADIUS * radius;
+        return 1;
+    case GLYPH_NEEDLE:
+        needle_arc_points(rec, o, frame, out);
+        *pad = needle_wire(o, radius);
+        *chain = 1;
+        return NEEDLE_SEGMENTS + 1;
+    default:
+        return 0;
+    }
+}
+
+static void add_block(mesh *m, const double centre[3], double axes[3][3],
+                      const double half[3])
+{
     for (int a = 0; a < 3; a++)
         for (int sign = -1; sign <= 1; sign += 2) {
             int b = (a + 1) % 3, c = (a + 2) % 3;
@@ -405,11 +514,97 @@ static void add_clamp(mesh *m, const rod_recording *rec, double radius)
                 v3_copy(p, face);
                 v3_axpy(p, (corner & 1 ? 1 : -1) * half[b], axes[b]);
                 v3_axpy(p, (corner & 2 ? 1 : -1) * half[c], axes[c]);
-                add_vertex(m, p, n, clamp_color);
+                add_vertex(m, p, n, render_clamp_color);
             }
             add_triangle(m, first, first + 1, first + 3);
             add_triangle(m, first, first + 3, first + 2);
         }
+}
+
+/* A latitude-longitude sphere with radial normals. */
+static void add_ball(mesh *m, const double centre[3], double ball_radius)
+{
+    unsigned first = (unsigned)m->vertex_count;
+    for (int i = 0; i <= BALL_STACKS; i++) {
+        double polar = M_PI * i / BALL_STACKS;
+        for (int j = 0; j <= BALL_SLICES; j++) {
+            double azimuth = 2 * M_PI * j / BALL_SLICES, p[3];
+            double n[3] = {sin(polar) * cos(azimuth), sin(polar) * sin(azimuth), cos(polar)};
+            v3_copy(p, centre);
+            v3_axpy(p, ball_radius, n);
+            add_vertex(m, p, n, render_ball_color);
+        }
+    }
+    for (int i = 0; i < BALL_STACKS; i++)
+        for (int j = 0; j < BALL_SLICES; j++) {
+            unsigned a = first + (unsigned)(i * (BALL_SLICES + 1) + j), b = a + BALL_SLICES + 1;
+            add_triangle(m, a, b, b + 1);
+            add_triangle(m, a, b + 1, a + 1);
+        }
+}
+
+/* The needle: a thin tube along its arc, closed at the back by a disc, its
+ * last NEEDLE_POINT of the arc tapering to a sharp point (radius 0). */
+static void add_needle(mesh *m, const rod_recording *rec, const render_options *o, int frame,
+                       double radius)
+{
+    double arc[3 * (NEEDLE_SEGMENTS + 1)], wire = needle_wire(o, radius);
+    needle_arc_points(rec, o, frame, arc);
+    const double *q = node_frame(rec, frame, rec->nodes - 1);
+    double d1[3], d2[3], d3[3];
+    m3_column(d1, q, 0);
+    m3_column(d2, q, 1);
+    m3_column(d3, q, 2);
+    unsigned first = (unsigned)m->vertex_count;
+    for (int k = 0; k <= NEEDLE_SEGMENTS; k++) {
+        double theta = 2 * M_PI * o->needle_arc * k / NEEDLE_SEGMENTS;
+        double f = (double)k / NEEDLE_SEGMENTS, taper = fmin(1.0, (1.0 - f) / NEEDLE_POINT);
+        /* the arc's inward normal (toward its centre) and the plane's normal d2 span the ring */
+        double inward[3] = {0, 0, 0};
+        v3_axpy(inward, cos(theta), d1);
+        v3_axpy(inward, -sin(theta), d3);
+        for (int j = 0; j < NEEDLE_SIDES; j++) {
+            double phi = 2 * M_PI * j / NEEDLE_SIDES, n[3] = {0, 0, 0}, p[3];
+            v3_axpy(n, cos(phi), inward);
+            v3_axpy(n, sin(phi), d2);
+            v3_copy(p, &arc[3 * k]);
+            v3_axpy(p, wire * taper, n);
+            add_vertex(m, p, n, render_needle_color);
+        }
+    }
+    for (int k = 0; k < NEEDLE_SEGMENTS; k++)
+        for (int j = 0; j < NEEDLE_SIDES; j++) {
+            unsigned a = first + (unsigned)(k * NEEDLE_SIDES + j);
+            unsigned b = first + (unsigned)(k * NEEDLE_SIDES + (j + 1) % NEEDLE_SIDES);
+            add_triangle(m, a, a + NEEDLE_SIDES, b + NEEDLE_SIDES);
+            add_triangle(m, a, b + NEEDLE_SIDES, b);
+        }
+    double back[3];
+    v3_scale(back, d3, -1);
+    add_disc(m, arc, d1, d2, wire, back, NEEDLE_SIDES, render_needle_color);
+}
+
+static void add_end_glyphs(mesh *m, const rod_recording *rec, const render_options *o, int frame,
+                           double radius)
+{
+    for (int end = 0; end < 2; end++) {
+        switch (end_glyph(o, end)) {
+        case GLYPH_BLOCK: {
+            double centre[3], axes[3][3], half[3];
+            clamp_box(rec, radius, frame, end, centre, axes, half);
+            add_block(m, centre, axes, half);
+            break;
+        }
+        case GLYPH_BALL:
+            add_ball(m, node_position(rec, frame, end_node(rec, end)), BALL_RADIUS * radius);
+            break;
+        case GLYPH_NEEDLE:
+            add_needle(m, rec, o, frame, radius);
+            break;
+        default:
+            break;
+        }
+    }
 }
 
 typedef struct arrow_style {
@@ -555,20 +750,22 @@ static void camera_basis(const double view[3], double back[3], double right[3], 
 }
 
 /* Points the camera must keep in the picture: every node of every frame
- * (padded by the tube radius), the clamp's corners and the arrow ends. */
+ * (padded by the tube radius), the end glyphs and the arrow ends. */
 typedef struct point_cloud {
     double *points; /* (count x 3), m */
     int count;
     double pad;     /* m, added around every point */
 } point_cloud;
 
-static int point_cloud_create(point_cloud *pc, const rod_recording *rec, double radius,
-                              const arrow_scales *arrows)
+static int point_cloud_create(point_cloud *pc, const rod_recording *rec, const render_options *o,
+                              double radius, const arrow_scales *arrows)
 {
     int stride = 1;
     while ((size_t)(rec->frame_count / stride + 1) * (size_t)rec->nodes > 400000) stride++;
+    /* the glyphs every frame (a driven end moves them): at most GLYPH_MAX_POINTS each, or 6
+     * for a ball (its padded centre) */
     size_t capacity = (size_t)(rec->frame_count / stride + 2) * (size_t)rec->nodes +
-                      (size_t)rec->frame_count * 2 + 8;
+                      (size_t)rec->frame_count * (2 + 2 * GLYPH_MAX_POINTS) + 8;
     pc->points = malloc(capacity * 3 * sizeof(double));
     pc->count = 0;
     pc->pad = radius;
@@ -584,13 +781,22 @@ static int point_cloud_create(point_cloud *pc, const rod_recording *rec, double 
             v3_copy(p, tail);
             v3_axpy(p, length, d);
         }
-    }
-    double centre[3], axes[3][3], half[3];
-    clamp_box(rec, radius, centre, axes, half);
-    for (int corner = 0; corner < 8; corner++) {
-        double *p = &pc->points[3 * pc->count++];
-        v3_copy(p, centre);
-        for (int a = 0; a < 3; a++) v3_axpy(p, (corner >> a & 1 ? 1 : -1) * half[a], axes[a]);
+        for (int end = 0; end < 2; end++) {
+            double glyph[3 * GLYPH_MAX_POINTS], pad;
+            int chain, count = glyph_points(rec, o, radius, f, end, glyph, &pad, &chain);
+            for (int i = 0; i < count; i++) {
+                if (pad <= pc->pad) {
+                    v3_copy(&pc->points[3 * pc->count++], &glyph[3 * i]);
+                    continue;
+                }
+                /* a wider pad (the ball): its extremes along x, y, z bound it with pc->pad */
+                for (int a = 0; a < 6; a++) {
+                    double *p = &pc->points[3 * pc->count++];
+                    v3_copy(p, &glyph[3 * i]);
+                    p[a / 2] += a % 2 ? pad : -pad;
+                }
+            }
+        }
     }
     return 0;
 }
@@ -632,7 +838,7 @@ void render_camera_fit(render_camera *cam, const rod_recording *rec, const rende
     arrow_scales arrows;
     arrow_scales_compute(&arrows, rec, radius, o->arrows);
     point_cloud pc;
-    if (point_cloud_create(&pc, rec, radius, &arrows)) {
+    if (point_cloud_create(&pc, rec, o, radius, &arrows)) {
         /* out of memory: frame the first frame's ends */
         pc.count = 0;
     }
@@ -877,6 +1083,23 @@ static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec
     snprintf(text, sizeof text, "t = %.3f s      scheme: %s      %d nodes", rec->time[frame],
              rec->scheme[0] ? rec->scheme : "?", rec->nodes);
     text_draw(img, ov->body, margin, y, text, ov->ink);
+    /* what holds the ends, unless it is the thesis' cantilever (the old scenes look as before) */
+    const render_end *root = &o->ends[0], *tip = &o->ends[1];
+    if (root->kind != RENDER_END_CLAMPED || root->driven || tip->kind != RENDER_END_FREE ||
+        tip->driven || o->needle_radius > 0) {
+        static const char *const kinds[] = {"clamped", "pinned", "free"};
+        int used = snprintf(text, sizeof text, "root %s%s, tip %s%s", kinds[root->kind],
+                            root->driven ? " (driven)" : "", kinds[tip->kind],
+                            tip->driven ? " (driven)" : "");
+        if (o->needle_radius > 0 && used > 0 && (size_t)used < sizeof text) {
+            char radius[32];
+            format_length(radius, sizeof radius, o->needle_radius);
+            snprintf(text + used, sizeof text - (size_t)used, ", needle %s %s", radius,
+                     o->needle_arc > 0.45 ? "1/2" : "3/8");
+        }
+        y += line;
+        text_draw(img, ov->body, margin, y, text, ov->ink);
+    }
 
     /* top right: what is not to scale, and what the stripe is */
     int right = img->width - margin;
@@ -1050,7 +1273,7 @@ static void mark_points(renderer *r, const double *points, int count, double pad
         for (int tx = tx0; tx <= tx1; tx++) r->tile_marked[ty * r->tiles_x + tx] = 1;
 }
 
-/* The disjoint boxes that hold this frame's tube, stripe, clamp and arrows:
+/* The disjoint boxes that hold this frame's tube, stripe, end glyphs and arrows:
  * only they are cleared, drawn, resolved and read (the multisample resolve
  * is llvmpipe's main cost), the rest of the picture is the backdrop. */
 static void frame_boxes(renderer *r, const rod_recording *rec, int frame)
@@ -1058,14 +1281,14 @@ static void frame_boxes(renderer *r, const rod_recording *rec, int frame)
     memset(r->tile_marked, 0, (size_t)r->tiles_x * (size_t)r->tiles_y);
     for (int k = 0; k + 1 < rec->nodes; k++)
         mark_points(r, node_position(rec, frame, k), 2, r->pad);
-    double centre[3], axes[3][3], half[3], corners[8 * 3];
-    clamp_box(rec, r->radius, centre, axes, half);
-    for (int corner = 0; corner < 8; corner++) {
-        double *p = &corners[3 * corner];
-        v3_copy(p, centre);
-        for (int a = 0; a < 3; a++) v3_axpy(p, (corner >> a & 1 ? 1 : -1) * half[a], axes[a]);
+    for (int end = 0; end < 2; end++) {
+        double glyph[3 * GLYPH_MAX_POINTS], pad;
+        int chain, count = glyph_points(rec, r->o, r->radius, frame, end, glyph, &pad, &chain);
+        if (chain)
+            for (int k = 0; k + 1 < count; k++) mark_points(r, &glyph[3 * k], 2, pad);
+        else if (count > 0)
+            mark_points(r, glyph, count, pad);
     }
-    mark_points(r, corners, 8, 0);
     for (int which = 0; r->o->arrows && which < 2; which++) {
         double ends[6], d[3], length;
         if (!arrow_geometry(&r->arrows, rec, frame, which, ends, d, &length)) continue;
@@ -1115,8 +1338,10 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
     render_camera_fit(&r->camera, rec, o);
     arrow_scales_compute(&r->arrows, rec, r->radius, o->arrows);
     int sides = o->sides;
-    r->mesh.max_vertices = rec->nodes * (sides + 3) + 2 * (sides + 1) + 24 + 2 * ARROW_MAX_VERTICES;
-    r->mesh.max_indices = 6 * rec->nodes * (sides + 2) + 6 * sides + 36 + 2 * ARROW_MAX_INDICES;
+    r->mesh.max_vertices =
+        rec->nodes * (sides + 3) + 2 * (sides + 1) + 2 * GLYPH_VERTICES + 2 * ARROW_MAX_VERTICES;
+    r->mesh.max_indices =
+        6 * rec->nodes * (sides + 2) + 6 * sides + 2 * GLYPH_INDICES + 2 * ARROW_MAX_INDICES;
     r->mesh.vertices = malloc((size_t)r->mesh.max_vertices * sizeof(render_vertex));
     r->mesh.indices = malloc((size_t)r->mesh.max_indices * sizeof(unsigned));
     r->grid.capacity = o->grid ? 4 * (GRID_MAX_LINES + 2) : 0;
@@ -1185,7 +1410,7 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
     m->vertex_count = m->index_count = 0;
     add_tube(m, rec, frame, r->radius, r->o->sides);
     if (r->o->stripe != RENDER_STRIPE_OFF) add_stripe(m, rec, frame, r->radius, r->o->stripe);
-    add_clamp(m, rec, r->radius);
+    add_end_glyphs(m, rec, r->o, frame, r->radius);
     if (r->o->arrows) add_arrows(m, &r->arrows, rec, frame);
     frame_boxes(r, rec, frame);
     double t1 = timing ? now_seconds() : 0;

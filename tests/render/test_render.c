@@ -1,6 +1,8 @@
 /* test_render.c: the renderer's geometry (stripe, camera) without and with
  * GL, the [render] options, and atomic failure. */
 #include <dirent.h>
+#include <math.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -174,6 +176,206 @@ static void test_pixels(void)
     test_remove_tree(dir);
 }
 
+/* ---- end glyphs: block, ball, needle (issue 10) ---- */
+
+static int is_ball_colour(const unsigned char *p) { return p[0] > p[1] + 30 && p[1] > p[2] + 20; }
+/* a neutral grey darker than the background: the block and the needle (the
+ * rod, its anti-aliased edges and the background are bluer or brighter) */
+static int is_steel_colour(const unsigned char *p)
+{
+    int r = p[0], g = p[1], b = p[2], mx = r > g ? (r > b ? r : b) : (g > b ? g : b);
+    return b - r >= -6 && b - r <= 12 && abs(2 * g - r - b) <= 16 && mx < 232 && mx > 40;
+}
+
+/* Pixels of a colour class within half (px) of (cx, cy). */
+static int count_near(const image *img, double cx, double cy, double half,
+                      int (*is)(const unsigned char *))
+{
+    int n = 0;
+    for (int y = (int)fmax(0, cy - half); y <= (int)fmin(img->height - 1, cy + half); y++)
+        for (int x = (int)fmax(0, cx - half); x <= (int)fmin(img->width - 1, cx + half); x++)
+            n += is(img->rgb + ((size_t)y * img->width + x) * 3);
+    return n;
+}
+
+static int count_all(const image *img, int (*is)(const unsigned char *))
+{
+    int n = 0;
+    for (int i = 0; i < img->width * img->height; i++) n += is(img->rgb + 3 * i);
+    return n;
+}
+
+typedef struct glyph_view {
+    render_camera cam;
+    double root[2], tip[2];  /* projected ends of the last frame, px */
+    double pixels_per_metre; /* along the rod, from the projected ends */
+} glyph_view;
+
+static image *render_ends(const rod_recording *rec, const render_options *o, const char *dir,
+                          const char *name, glyph_view *view)
+{
+    render_camera_fit(&view->cam, rec, o);
+    size_t last = (size_t)(rec->frame_count - 1) * (size_t)rec->nodes;
+    render_project(&view->cam, &rec->position[3 * last], view->root);
+    render_project(&view->cam, &rec->position[3 * (last + (size_t)rec->nodes - 1)], view->tip);
+    view->pixels_per_metre = 0; /* set by the caller when the rod is straight */
+    return render_poster(rec, o, dir, name);
+}
+
+/* Independent of the renderer: the needle's arc for a rod along +x with
+ * d1 = +y, d3 = +x at the tip (synthetic_arc, straight): the circle of
+ * radius R tangent to x at the tip, bending toward +y. */
+static void needle_point(double length, double big, double theta, double out[3])
+{
+    v3_set(out, length + big * sin(theta), big * (1 - cos(theta)), 0);
+}
+
+static void test_end_glyphs(void)
+{
+    char dir[256];
+    make_temp_dir(dir, sizeof dir, "ends");
+    const double length = 1.0;
+    rod_recording *rec = synthetic_recording_create(41, 1, length, 0.004);
+    synthetic_arc(rec, 0, INFINITY, 0);
+    render_options o = plain_options(480, 270);
+    o.stripe = RENDER_STRIPE_OFF;
+    glyph_view v;
+
+    /* pinned root, clamped tip: the ball at the root, the block at the tip, not the other way */
+    o.ends[0].kind = RENDER_END_PINNED;
+    o.ends[1].kind = RENDER_END_CLAMPED;
+    image *img = render_ends(rec, &o, dir, "pinned_clamped", &v);
+    double ppm = hypot(v.tip[0] - v.root[0], v.tip[1] - v.root[1]) / length;
+    double half = 0.07 * length * ppm; /* the block is 0.05 L, the ball 3.2 visual radii */
+    if (img) {
+        int ball_root = count_near(img, v.root[0], v.root[1], half, is_ball_colour);
+        int ball_tip = count_near(img, v.tip[0], v.tip[1], half, is_ball_colour);
+        int block_root = count_near(img, v.root[0], v.root[1], half, is_steel_colour);
+        int block_tip = count_near(img, v.tip[0], v.tip[1], half, is_steel_colour);
+        /* the ball's disc: pi (1.6 r)^2 px, r = 0.01 L */
+        double ball_area = M_PI * pow(1.6 * 0.01 * length * ppm, 2);
+        check(ball_root > 0.5 * ball_area && ball_tip == 0,
+              "pinned root: %d ball pixels near the root (disc %.0f px), %d near the tip", ball_root,
+              ball_area, ball_tip);
+        /* a pixel where the bronze ball meets the blue rod can blend to grey: a few, not a block */
+        check(block_tip > 40 && block_root <= 4,
+              "clamped tip: %d block pixels near the tip, %d near the pinned root", block_tip,
+              block_root);
+        image_destroy(img);
+    }
+
+    /* the default: the thesis' cantilever (clamped root, free tip) */
+    render_options_default(&o);
+    check(o.ends[0].kind == RENDER_END_CLAMPED && o.ends[1].kind == RENDER_END_FREE &&
+              o.needle_radius == 0 && o.needle_arc == 0.375,
+          "default ends: clamped root, free tip, no needle (3/8 arc when one is given)");
+    o = plain_options(480, 270);
+    o.stripe = RENDER_STRIPE_OFF;
+    o.ends[1].kind = RENDER_END_PINNED;
+    img = render_ends(rec, &o, dir, "clamped_pinned", &v);
+    if (img) {
+        int block_root = count_near(img, v.root[0], v.root[1], half, is_steel_colour);
+        int ball_tip = count_near(img, v.tip[0], v.tip[1], half, is_ball_colour);
+        check(block_root > 40 && ball_tip > 20 &&
+                  count_near(img, v.root[0], v.root[1], half, is_ball_colour) == 0,
+              "clamped root: %d block pixels; pinned tip: %d ball pixels", block_root, ball_tip);
+        image_destroy(img);
+    }
+
+    /* free-free: nothing but the rod */
+    o.ends[0].kind = o.ends[1].kind = RENDER_END_FREE;
+    img = render_ends(rec, &o, dir, "free_free", &v);
+    if (img) {
+        int steel = count_all(img, is_steel_colour), ball = count_all(img, is_ball_colour);
+        int rod = count_all(img, is_rod_colour);
+        check(steel == 0 && ball == 0 && rod > 1000,
+              "free-free: %d block/needle and %d ball pixels, %d rod pixels", steel, ball, rod);
+        image_destroy(img);
+    }
+
+    /* a needle of radius 0.15 L at a driven clamped tip: pixels beyond the tip, on its arc */
+    const double big = 0.15 * length;
+    o.ends[1].kind = RENDER_END_CLAMPED;
+    o.ends[1].driven = 1;
+    for (int arc = 0; arc < 2; arc++) {
+        o.needle_radius = big;
+        o.needle_arc = arc ? 0.5 : 0.375;
+        img = render_ends(rec, &o, dir, arc ? "needle_half" : "needle_3_8", &v);
+        if (!img) continue;
+        double mid[3], far[3], mid_px[2], far_px[2];
+        needle_point(length, big, M_PI * o.needle_arc, mid); /* half way along the arc */
+        needle_point(length, big, 0.8 * M_PI, far);          /* past a 3/8 arc's point */
+        render_project(&v.cam, mid, mid_px);
+        render_project(&v.cam, far, far_px);
+        int beyond = 0;
+        for (int y = 0; y < img->height; y++)
+            for (int x = (int)v.tip[0] + 4; x < img->width; x++)
+                beyond += is_steel_colour(img->rgb + ((size_t)y * img->width + x) * 3);
+        int on_mid = count_near(img, mid_px[0], mid_px[1], 2, is_steel_colour);
+        int on_far = count_near(img, far_px[0], far_px[1], 2, is_steel_colour);
+        check(beyond > 60 && on_mid > 0, "%s needle: %d needle pixels beyond the tip, %d at its "
+              "arc's middle (%.0f, %.0f)", arc ? "1/2" : "3/8", beyond, on_mid, mid_px[0], mid_px[1]);
+        check(arc ? on_far > 0 : on_far == 0,
+              "%s needle: %d needle pixels at theta = 0.8 pi (%.0f, %.0f): %s", arc ? "1/2" : "3/8",
+              on_far, far_px[0], far_px[1], arc ? "on a 1/2 arc" : "past a 3/8 arc's point");
+        image_destroy(img);
+    }
+    o.needle_radius = 0;
+    o.ends[1].kind = RENDER_END_FREE;
+    img = render_ends(rec, &o, dir, "no_needle", &v);
+    if (img) {
+        check(count_all(img, is_steel_colour) == 0, "needle = 0: no needle pixels");
+        image_destroy(img);
+    }
+
+    /* framing: a needle as big as half the rod is not clipped */
+    o.needle_radius = 0.5 * length;
+    o.needle_arc = 0.5;
+    o.ends[1].kind = RENDER_END_CLAMPED;
+    img = render_ends(rec, &o, dir, "big_needle", &v);
+    if (img) {
+        int inside = 1;
+        for (int k = 0; k <= 20; k++) {
+            double p[3], px[2];
+            needle_point(length, 0.5 * length, M_PI * k / 20, p);
+            render_project(&v.cam, p, px);
+            inside &= px[0] > 2 && px[0] < o.width - 2 && px[1] > 2 && px[1] < o.height - 2;
+        }
+        double top[3], top_px[2];
+        needle_point(length, 0.5 * length, 0.9 * M_PI, top);
+        render_project(&v.cam, top, top_px);
+        check(inside && count_near(img, top_px[0], top_px[1], 3, is_steel_colour) > 0,
+              "a needle of radius L/2: its arc projects inside the picture and is drawn near "
+              "its far end (%.0f, %.0f)", top_px[0], top_px[1]);
+        image_destroy(img);
+    }
+    rod_recording_destroy(rec);
+
+    /* a driven clamped tip carries its block: the last frame draws it at the moved tip */
+    rec = synthetic_recording_create(41, 2, length, 0.004);
+    synthetic_arc(rec, 0, INFINITY, 0);
+    synthetic_arc(rec, 1, 0.5, 0); /* the tip moves to 0.5 (sin 2, 1 - cos 2, 0) */
+    o = plain_options(480, 270);
+    o.stripe = RENDER_STRIPE_OFF;
+    o.ends[1].kind = RENDER_END_CLAMPED;
+    o.ends[1].driven = 1;
+    img = render_ends(rec, &o, dir, "driven", &v);
+    if (img) {
+        double start[3] = {length, 0, 0}, moved[3] = {0.5 * sin(2.0), 0.5 * (1 - cos(2.0)), 0};
+        double start_px[2], moved_px[2];
+        render_project(&v.cam, start, start_px);
+        render_project(&v.cam, moved, moved_px);
+        int at_moved = count_near(img, moved_px[0], moved_px[1], half, is_steel_colour);
+        int at_start = count_near(img, start_px[0], start_px[1], half, is_steel_colour);
+        check(at_moved > 40 && at_start == 0,
+              "driven tip: %d block pixels at the moved tip, %d where it started", at_moved,
+              at_start);
+        image_destroy(img);
+    }
+    rod_recording_destroy(rec);
+    if (!getenv("KEEPIT")) test_remove_tree(dir);
+}
+
 static void test_atomic_failure(void)
 {
     char err[1024];
@@ -241,6 +443,7 @@ int main(void)
     test_stripe_geometry();
     test_options();
     test_pixels();
+    test_end_glyphs();
     test_atomic_failure();
     return test_finish();
 }
