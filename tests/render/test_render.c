@@ -373,7 +373,7 @@ static void test_end_glyphs(void)
         image_destroy(img);
     }
     rod_recording_destroy(rec);
-    if (!getenv("KEEPIT")) test_remove_tree(dir);
+    if (!getenv("RODSIM_KEEP_TEST_OUTPUT")) test_remove_tree(dir); /* keep the pictures to look at */
 }
 
 static void test_atomic_failure(void)
@@ -415,21 +415,23 @@ static void test_options(void)
 
     doc = ini_parse("good.ini",
                     "[render]\nwidth = 640\nheight = 360\nvisual_radius = 0.02\nstripe = formula\n"
-                    "camera = orthographic\nview = 0 -1 0\nbackground = \"#102030\"\narrows = off\n",
+                    "camera = orthographic\nview = 0 -1 0\nbackground = \"#102030\"\narrows = off\n"
+                    "needle_arc = 1/2\n",
                     err, sizeof err);
     render_options_default(&o);
     status = render_options_read(doc, &o, err, sizeof err);
     check(status == 0 && o.width == 640 && o.visual_radius == 0.02 && o.stripe == RENDER_STRIPE_FORMULA &&
               o.camera == RENDER_CAMERA_ORTHOGRAPHIC && o.view[1] == -1 && o.background[0] == 16 &&
-              o.background[2] == 48 && o.arrows == 0,
+              o.background[2] == 48 && o.arrows == 0 && o.needle_arc == 0.5,
           "[render] keys read (%s)", status ? err : "ok");
     ini_destroy(doc);
 
     const char *bad[] = {"[render]\nwidth = 641\n", "[render]\nstripe = painted\n",
                          "[render]\nvisual_radius = big\n", "[render]\nview = 0 0 0\n",
-                         "[render]\ncrf = 60\n", "[render]\nbackground = 12\n"};
-    const char *expect[] = {"bad.ini:2", "bad.ini:2", "auto", "view", "0..51", "rrggbb"};
-    for (int i = 0; i < 6; i++) {
+                         "[render]\ncrf = 60\n", "[render]\nbackground = 12\n",
+                         "[render]\nneedle_arc = 5/8\n"};
+    const char *expect[] = {"bad.ini:2", "bad.ini:2", "auto", "view", "0..51", "rrggbb", "3/8"};
+    for (int i = 0; i < 7; i++) {
         doc = ini_parse("bad.ini", bad[i], err, sizeof err);
         render_options_default(&o);
         status = doc ? render_options_read(doc, &o, err, sizeof err) : 0;
