@@ -1,8 +1,8 @@
 /* render.h: the headless renderer. Turns a rod_recording (the frames of a
  * run) into pictures: a tube swept with the rod's own director frames, the
  * twist stripe, what holds each end (a block, a ball) and the needle, the
- * tip load arrows, a backdrop grid with a scale bar and overlay text; writes the MP4, the poster PNG and, on request,
- * every frame as PNG.
+ * tip load arrows, a backdrop grid with a scale bar and overlay text;
+ * writes the MP4, the poster PNG and, on request, every frame as PNG.
  *
  * Geometry (stripe, tube, camera, projection) is pure C here and testable
  * without GL; GL drawing lives in gl_render.c, encoding in video.c. */

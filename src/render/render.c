@@ -24,7 +24,7 @@
 const float render_rod_color[3] = {0.18f, 0.40f, 0.78f};    /* steel blue */
 const float render_stripe_color[3] = {1.00f, 0.76f, 0.08f}; /* amber */
 const float render_clamp_color[3] = {0.42f, 0.43f, 0.46f};  /* dark steel */
-const float render_ball_color[3] = {0.70f, 0.42f, 0.16f};   /* bronze: apart from rod, stripe, arrows */
+const float render_ball_color[3] = {0.70f, 0.42f, 0.16f};   /* bronze, apart from the rest */
 const float render_needle_color[3] = {0.74f, 0.75f, 0.77f}; /* bright steel, lighter than the rod */
 static const float force_color[3] = {0.86f, 0.16f, 0.14f};
 static const float moment_color[3] = {0.16f, 0.62f, 0.26f};
