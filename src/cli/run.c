@@ -84,6 +84,14 @@ int run_read_output(ini_doc *doc, run_output *out, char *err, size_t errlen)
     return 0;
 }
 
+/* The renderer's words for an end (render.h does not see rod.h). */
+static render_end_kind render_end_of(rod_end_kind kind)
+{
+    return kind == ROD_END_PINNED ? RENDER_END_PINNED
+         : kind == ROD_END_FREE   ? RENDER_END_FREE
+                                  : RENDER_END_CLAMPED;
+}
+
 int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_t errlen)
 {
     /* unknown keys first, at their own line (issue 9): a misspelt required
@@ -97,6 +105,12 @@ int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_
         rod_model_release(m);
         return -1;
     }
+    /* the renderer draws what holds each end and the needle (issue 10) */
+    out->render.ends[0].kind = render_end_of(m->root_end);
+    out->render.ends[0].driven = m->root_motion != NULL;
+    out->render.ends[1].kind = render_end_of(m->tip_end);
+    out->render.ends[1].driven = m->tip_motion != NULL;
+    out->render.needle_radius = m->needle_radius;
     return 0;
 }
 

@@ -67,6 +67,7 @@ const ini_key scene_keys_rod[] = {
     {"render", "visual_radius", "m", "auto", "auto, or > 0",
      "radius drawn; auto: 1 % of the length, never below the true radius"},
     {"render", "sides", "-", "24", "6 .. 128", "facets around the tube"},
+    {"render", "needle_arc", "-", "3/8", "3/8 | 1/2", "arc of the needle drawn at the tip ([ends] needle > 0)"},
     {"render", "stripe", "-", "director", "director | formula | off",
      "the amber material line that shows twist; formula: thesis (4.17) literally"},
     {"render", "arrows", "-", "true", BOOL, "tip force (red) and moment (green) arrows"},
