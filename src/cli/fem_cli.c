@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "base/outfile.h"
+#include "cli/args.h"
 #include "cli/scene_keys.h"
 
 /* At most this many elements ([geometry] elements, or nodes - 1), refused
@@ -582,17 +583,27 @@ static void print_table(FILE *out, const fem_model *m, const fem_solution *s)
     }
 }
 
+static void print_csv(FILE *fp, const fem_model *m, const fem_solution *s)
+{
+    fprintf(fp, "node,x,z,u,w,theta,displacement\n");
+    for (int i = 0; i < m->node_count; i++) {
+        const double *d = &s->displacement[i * 3];
+        fprintf(fp, "%d,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g\n", i + 1, m->x[i], m->z[i],
+                d[0] + 0.0, d[1] + 0.0, d[2] + 0.0, displacement_magnitude(s, i));
+    }
+}
+
+/* path "-": standard output, after everything else succeeded. */
 static int write_csv(const char *path, const fem_model *m, const fem_solution *s, char *err,
                      size_t errlen)
 {
+    if (strcmp(path, "-") == 0) {
+        print_csv(stdout, m, s);
+        return fflush(stdout) == 0 ? 0 : (snprintf(err, errlen, "standard output: write error"), -1);
+    }
     outfile f;
     if (outfile_open(&f, path, err, errlen)) return -1;
-    fprintf(f.fp, "node,x,z,u,w,theta,displacement\n");
-    for (int i = 0; i < m->node_count; i++) {
-        const double *d = &s->displacement[i * 3];
-        fprintf(f.fp, "%d,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g\n", i + 1, m->x[i], m->z[i],
-                d[0] + 0.0, d[1] + 0.0, d[2] + 0.0, displacement_magnitude(s, i));
-    }
+    print_csv(f.fp, m, s);
     if (ferror(f.fp)) {
         snprintf(err, errlen, "%s: write error", path);
         outfile_abort(&f);
@@ -728,6 +739,15 @@ int fem_command(int argc, char **argv)
                 return 2;
             }
             const char *v = argv[++i];
+            /* an option word is not a value (--csv -o); "-" is stdout for --csv only */
+            if (cli_option_value(a, v, err, sizeof err) ||
+                (strcmp(v, "-") == 0 && strcmp(a, "--csv") != 0 &&
+                 snprintf(err, sizeof err, "%s needs a %s, got '-' (only --csv writes to "
+                          "standard output)", a, strcmp(a, "-o") == 0 ? "directory" : "file name"))) {
+                fprintf(stderr, "rodsim fem: %s\n", err);
+                free(sets);
+                return 2;
+            }
             if (strcmp(a, "--set") == 0) sets[set_count++] = v;
             else if (strcmp(a, "--csv") == 0) csv_path = v;
             else if (strcmp(a, "--md") == 0) md_path = v;
@@ -827,14 +847,20 @@ int fem_command(int argc, char **argv)
             goto done;
         }
     }
-    printf("rodsim fem: %s: %d nodes, %d elements, E = %g Pa, A = %.6g m^2, I = %.6g m^4\n"
-           "condition number of the (equilibrated) stiffness: %.3g\n\n",
-           scene_path, model->node_count, model->node_count - 1, model->youngs_modulus,
-           model->area, model->second_moment, solution->condition_number);
-    print_table(stdout, model, solution);
-    fflush(stdout);
+    /* --csv -: the CSV alone on standard output, the rest on standard error */
+    int csv_stdout = csv_path && strcmp(csv_path, "-") == 0;
+    FILE *talk = csv_stdout ? stderr : stdout;
+    fprintf(talk, "rodsim fem: %s: %d nodes, %d elements, E = %g Pa, A = %.6g m^2, I = %.6g m^4\n"
+            "condition number of the (equilibrated) stiffness: %.3g\n\n",
+            scene_path, model->node_count, model->node_count - 1, model->youngs_modulus,
+            model->area, model->second_moment, solution->condition_number);
+    print_table(talk, model, solution);
+    fflush(talk);
 
-    if (csv_path && write_csv(csv_path, model, solution, err, sizeof err)) goto done;
+    /* the CSV, the Markdown table and the figure appear together or not at all */
+    outfile_transaction_begin();
+    if (csv_path && !csv_stdout && write_csv(csv_path, model, solution, err, sizeof err))
+        goto done;
     if (md_path && write_markdown(md_path, scene_name, model, solution, err, sizeof err)) goto done;
     if (!no_png) {
         char default_png[1100];
@@ -847,14 +873,20 @@ int fem_command(int argc, char **argv)
             goto done;
         }
         if (plot_write_png(figure, png_path, err, sizeof err)) goto done;
-        printf("\nwrote %s (deformation drawn %s)\n", png_path,
-               scale == 1.0 ? "true to scale" : "magnified");
-        if (scale != 1.0) printf("deformation scale: displacements x %g in the figure\n", scale);
     }
-    if (csv_path) printf("wrote %s\n", csv_path);
-    if (md_path) printf("wrote %s\n", md_path);
+    if (outfile_transaction_commit(err, sizeof err)) goto done;
+    if (csv_stdout && write_csv(csv_path, model, solution, err, sizeof err)) goto done;
+    if (!no_png) {
+        fprintf(talk, "\nwrote %s (deformation drawn %s)\n", png_path,
+                scale == 1.0 ? "true to scale" : "magnified");
+        if (scale != 1.0)
+            fprintf(talk, "deformation scale: displacements x %g in the figure\n", scale);
+    }
+    if (csv_path && !csv_stdout) fprintf(talk, "wrote %s\n", csv_path);
+    if (md_path) fprintf(talk, "wrote %s\n", md_path);
     status = 0;
 done:
+    if (outfile_transaction_active()) outfile_transaction_abort();
     if (status != 0) fprintf(stderr, "rodsim fem: %s\n", err);
     plot_destroy(figure);
     fem_solution_destroy(solution);

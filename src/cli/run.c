@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "base/outfile.h"
+#include "cli/args.h"
 #include "cli/scene_keys.h"
 #include "sim/scene.h"
 
@@ -229,32 +230,6 @@ typedef struct run_args {
     int allow_long;
 } run_args;
 
-/* The value of an option that takes one: an option word is not a value
- * (`--csv -o` forgets the file name), except "-" for --csv (stdout). */
-static int option_value(const char *option, const char *value, char *err, size_t errlen)
-{
-    if (value[0] == '\0') {
-        snprintf(err, errlen, "%s needs a value, got an empty one", option);
-        return -1;
-    }
-    if (value[0] == '-' && value[1] != '\0') {
-        snprintf(err, errlen, "%s needs %s, got the option '%s'", option,
-                 strcmp(option, "--set") == 0 ? "section.key=value"
-                 : strcmp(option, "-o") == 0  ? "a directory"
-                                              : "a file name (or - for standard output)",
-                 value);
-        return -1;
-    }
-    if (strcmp(option, "--set") == 0 && !strchr(value, '=')) {
-        snprintf(err, errlen,
-                 "--set expects section.key=value in one argument, got '%s' (write --set "
-                 "%s=VALUE, no space around '=')",
-                 value, value);
-        return -1;
-    }
-    return 0;
-}
-
 /* Parses argv (argv[0] == "run"); 0 or -1 with a message. `sets` must hold argc entries. */
 static int parse_args(int argc, char **argv, run_args *a, char *err, size_t errlen)
 {
@@ -274,7 +249,7 @@ static int parse_args(int argc, char **argv, run_args *a, char *err, size_t errl
             value = arg + 6;
             option = strncmp(arg, "--set=", 6) == 0 ? "--set" : "--csv";
         }
-        if (value && option_value(option, value, err, errlen)) return -1;
+        if (value && cli_option_value(option, value, err, errlen)) return -1;
         if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) a->help = 1;
         else if (strcmp(option, "--set") == 0) a->sets[a->set_count++] = value;
         else if (strcmp(option, "-o") == 0) a->out_dir = value;

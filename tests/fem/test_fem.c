@@ -471,6 +471,46 @@ static void test_command_outputs(void)
     remove(png);
 }
 
+/* Issue 9: `--csv -` wrote a file named "-"; `--csv -o` took -o as the file
+ * name; and the outputs of one run are one transaction: a figure that cannot
+ * be written leaves no CSV or Markdown table behind. */
+static void test_command_stdout_and_transaction(void)
+{
+    char scene[128], command[1024], out[8192];
+    snprintf(scene, sizeof scene, "%s/scene.ini", temp_dir);
+    write_file(scene, ROD_MATERIAL ROD_GEOMETRY "[support]\nnode = 1\ntype = clamped\n" TIP_LOAD);
+    /* stdout alone: the CSV, header first, 5 nodes; the table goes to stderr */
+    snprintf(command, sizeof command, "cd %s && %s fem %s --no-png --csv - 2>/dev/null", temp_dir,
+             RODSIM_BIN, scene);
+    FILE *pipe = popen(command, "r");
+    size_t used = pipe ? fread(out, 1, sizeof out - 1, pipe) : 0;
+    out[used] = '\0';
+    int status = pipe ? pclose(pipe) : -1;
+    int lines = 0;
+    for (const char *c = out; *c; c++) lines += *c == '\n';
+    char dash[160];
+    snprintf(dash, sizeof dash, "%s/-", temp_dir);
+    check(WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
+              strncmp(out, "node,x,z,u,w,theta", 18) == 0 && lines == 6 && access(dash, F_OK) != 0,
+          "fem --csv -: exit 0, standard output holds only the CSV (header + 5 rows: %d lines), "
+          "no file named '-'", lines);
+    status = run_fem(ROD_MATERIAL ROD_GEOMETRY "[support]\nnode = 1\ntype = clamped\n" TIP_LOAD,
+                     "--no-png --csv -o", out, sizeof out);
+    out[strcspn(out, "\n")] = '\0';
+    check(status == 2 && strstr(out, "--csv needs a file name"),
+          "fem --csv -o: exit %d (want 2): '%s'", status, out);
+    char args[512], csv[160], md[160];
+    snprintf(csv, sizeof csv, "%s/t.csv", temp_dir);
+    snprintf(md, sizeof md, "%s/t.md", temp_dir);
+    snprintf(args, sizeof args, "--csv %s --md %s --png /proc/no_such_dir/f.png", csv, md);
+    status = run_fem(ROD_MATERIAL ROD_GEOMETRY "[support]\nnode = 1\ntype = clamped\n" TIP_LOAD,
+                     args, out, sizeof out);
+    check(status != 0 && access(csv, F_OK) != 0 && access(md, F_OK) != 0,
+          "fem with a figure that cannot be written: exit %d, no CSV and no Markdown left", status);
+    remove(csv);
+    remove(md);
+}
+
 static int pixel_is(const image *img, double x, double y, const unsigned char rgb[3], int tol)
 {
     int ix = (int)lround(x), iy = (int)lround(y);
@@ -542,6 +582,7 @@ int main(void)
         test_command_errors();
         test_command_limits();
         test_command_outputs();
+    test_command_stdout_and_transaction();
         test_figure_tip();
         char scene[128];
         snprintf(scene, sizeof scene, "%s/scene.ini", temp_dir);
