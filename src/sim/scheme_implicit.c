@@ -97,7 +97,10 @@ typedef struct end_condition {
     int hold_omega[3];   /* omega components (director) held at zero by the end */
     double slide[3];     /* unit, global */
     const rod_path *path;/* driven, or NULL */
-    int have_initial;    /* initial_frame is known */
+    int have_initial;    /* initial_frame and anchor are known */
+    double anchor[3];    /* m, global: where a held end started (a point of a slide's line) */
+    double correction[3];/* m/s: this step's return to the anchor (to its line when sliding)
+                            of what rounding moved the end, so that held ends never drift */
     double initial_frame[9]; /* Q_end(0): a driven clamped end's frame is R(t) Q_end(0) */
     /* this step, from the path (independent of the Newton iterate) */
     double vbar[3];      /* (r(t+dt) - r(t)) / dt, global, m/s */
@@ -115,6 +118,7 @@ typedef struct implicit_work {
     int first;         /* first node with an omega block: 0 when the root may turn, else 1 */
     end_condition ends[2];
     double *point_force, *point_moment; /* (nodes x 3) global, unscaled point loads; NULL if none */
+    int distributed_moment; /* 1: the model has one */
     double point_factor; /* theta-mean of the profile factor over the step */
     double *vbar;      /* (nodes x 3) global, the step's mean velocity (3-D) */
     int planar;        /* 1: the planar problem (rod_model_loads_planar and physics.planar) */
@@ -262,6 +266,7 @@ static void *create(const rod_model *m, char *err, size_t errlen)
                 vector_zero(m->distributed_moment) && !m->initial_shape &&
                 m->initial_velocity[2] == 0.0 && m->direction[2] == 0.0;
     w->planar = m->physics.planar && rod_model_loads_planar(m) && plain;
+    w->distributed_moment = !vector_zero(m->distributed_moment);
     w->first = (w->planar || ends[0].clamped) ? 1 : 0;
     w->blocks = m->nodes - w->first;
     w->block = w->planar ? BLOCK_PLANAR : BLOCK;
@@ -434,15 +439,16 @@ static inline const double *block_omega(const implicit_work *w, const double *x,
  * the step (director components): writes the unscaled residual (N m) that a
  * support's moment would balance. The frames and moments at the end of the
  * step are those of the current residual evaluation. */
-static void angular_balance(const implicit_work *w, const rod_model *m, const double *x, int b,
-                            double dt, const double tipm[3], const double *frame_th,
-                            const double om[3], double raw[3])
+static inline __attribute__((always_inline)) void
+angular_balance(const implicit_work *w, const rod_model *m, const double *x, int b, double dt,
+                const double tipm[3], const double *frame_th, const double om[3], double raw[3],
+                const int left, const int right)
 {
-    const int n = w->nodes, j = b - 1;
+    const int j = b - 1;
     const double theta = m->options.theta, ds = m->ds;
-    const double wb = (b == 0 || b == n - 1) ? 0.5 * ds : ds;
+    const double wb = (left && right) ? ds : 0.5 * ds;
     double total[3], cr[3];
-    if (b < n - 1) {
+    if (right) {
         const double *n_right = block_force(w, x, b + 1);
         double d3r[3];
         for (int k = 0; k < 3; k++) {
@@ -454,7 +460,7 @@ static void angular_balance(const implicit_work *w, const rod_model *m, const do
     } else {
         v3_copy(total, tipm);
     }
-    if (b > 0) {
+    if (left) {
         const double *n_left = block_force(w, x, b);
         double d3l[3];
         for (int k = 0; k < 3; k++) {
@@ -464,7 +470,7 @@ static void angular_balance(const implicit_work *w, const rod_model *m, const do
         v3_cross(cr, d3l, n_left);
         v3_axpy(total, 0.5 * ds, cr);
     }
-    v3_axpy(total, wb, m->distributed_moment);
+    if (w->distributed_moment) v3_axpy(total, wb, m->distributed_moment);
     if (w->point_moment) v3_axpy(total, w->point_factor, &w->point_moment[3 * b]);
     double body[3], wbar[3], iw[3], gyro[3];
     m3_mul_tv(body, &frame_th[9 * b], total);
@@ -480,7 +486,91 @@ static void angular_balance(const implicit_work *w, const rod_model *m, const do
     }
 }
 
-/* Scaled residual of the step t -> t + dt at the iterate x. */
+/* Q(t+dt) = Q(t) exp(dt omega_bar) and the theta-point frame of node i, the
+ * held components of omega (mask, or NULL) left out. */
+static inline __attribute__((always_inline)) void
+advance_frame(implicit_work *w, const double *x, int i, double dt, double theta, const int *held)
+{
+    double wbar[3], rot[9];
+    const double *om = block_omega(w, x, i);
+    for (int k = 0; k < 3; k++)
+        wbar[k] = dt * (theta * om[k] + (1.0 - theta) * w->omega0[3 * i + k]);
+    if (held)
+        for (int k = 0; k < 3; k++)
+            if (held[k]) wbar[k] = 0.0;
+    m3_exp(rot, wbar);
+    m3_mul(&w->frame1[9 * i], &w->frame0[9 * i], rot);
+    if (theta < 1.0) {
+        v3_scale(wbar, wbar, theta);
+        m3_exp(rot, wbar);
+        m3_mul(&w->frame_th[9 * i], &w->frame0[9 * i], rot);
+    }
+}
+
+/* An end node's velocity at the end of the step and its mean over the
+ * step (global): its cell's (3.3)_1 when free, the path's when held,
+ * projected on the slide when sliding. `applied` gets the cell's load
+ * (contact forces, distributed and point loads), N. */
+static void end_velocity(implicit_work *w, const rod_model *m, const end_condition *e, int b,
+                         const double n_left[3], const double n_right[3], double dt,
+                         double applied[3])
+{
+    const double theta = m->options.theta, wb = 0.5 * m->ds, c = m->linear_damping;
+    const double mass = m->mass_per_length;
+    for (int k = 0; k < 3; k++) applied[k] = n_right[k] - n_left[k] + wb * m->distributed_force[k];
+    if (w->point_force) v3_axpy(applied, w->point_factor, &w->point_force[3 * b]);
+    double *v1 = &w->vel1[3 * b], *vb = &w->vbar[3 * b];
+    const double *v0 = &w->vel0[3 * b];
+    if (e->held && !e->sliding) {
+        v3_copy(v1, e->vel1);
+        v3_copy(vb, e->vbar);
+        return;
+    }
+    const double inv_coeff = 1.0 / (wb * (mass / dt + theta * c));
+    for (int k = 0; k < 3; k++) {
+        v1[k] = (wb * (mass / dt - (1.0 - theta) * c) * v0[k] + applied[k]) * inv_coeff;
+        vb[k] = theta * v1[k] + (1.0 - theta) * v0[k];
+    }
+    if (e->sliding) { /* a sleeve: only the motion along it */
+        v3_scale(v1, e->slide, v3_dot(v1, e->slide));
+        v3_scale(vb, e->slide, v3_dot(vb, e->slide));
+        v3_add(vb, vb, e->correction);
+    }
+}
+
+/* The theta-mean tip force and moment over the step, global. */
+static void tip_load_mean(const implicit_work *w, const rod_model *m, double t, double dt,
+                          const double *frame_th, double tipf[3], double tipm[3])
+{
+    const double theta = m->options.theta;
+    double tipf1[3], tipm1[3];
+    tip_load_global(m, t + dt, &frame_th[9 * (w->nodes - 1)], tipf1, tipm1);
+    for (int k = 0; k < 3; k++) {
+        tipf[k] = theta * tipf1[k] + (1.0 - theta) * w->tipf0[k];
+        tipm[k] = theta * tipm1[k] + (1.0 - theta) * w->tipm0[k];
+    }
+}
+
+static const double zero3[3] = {0.0, 0.0, 0.0};
+
+/* The angular rows of an end node b (0 or NS-1) that has an omega block:
+ * (3.6)_2, with each held rotation's row replaced by omega_k = 0 (its
+ * unknown is idle). Writes the scaled rows r[0..2]. */
+static void end_angular_rows(implicit_work *w, const rod_model *m, const end_condition *e,
+                             const double *x, int b, double dt, const double tipm[3],
+                             const double *frame_th, double r[3])
+{
+    double raw[3], om[3];
+    const double *xo = block_omega(w, x, b);
+    for (int k = 0; k < 3; k++) om[k] = e->clamped ? e->omega1[k] : e->hold_omega[k] ? 0.0 : xo[k];
+    if (b == 0) angular_balance(w, m, x, b, dt, tipm, frame_th, om, raw, 0, 1);
+    else angular_balance(w, m, x, b, dt, tipm, frame_th, om, raw, 1, 0);
+    for (int k = 0; k < 3; k++)
+        r[k] = (e->clamped || e->hold_omega[k]) ? xo[k] * dt : raw[k] / w->moment_scale;
+}
+
+/* Scaled residual of the step t -> t + dt at the iterate x. Interior nodes
+ * take the loops without end conditions; the two end nodes follow them. */
 static void residual(implicit_work *w, const rod_model *m, const double *x, double t, double dt,
                      double *res)
 {
@@ -494,110 +584,94 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
     /* frames at the end of the step and at the theta point; for theta = 1
      * they are the same array */
     const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
-    for (int i = 0; i < n; i++) {
-        const end_condition *e = i == 0 ? root : i == n - 1 ? tip : NULL;
-        if (e && e->clamped) {
+    for (int i = 1; i < n - 1; i++) advance_frame(w, x, i, dt, theta, NULL);
+    for (int which = 0; which < 2; which++) {
+        const end_condition *e = &w->ends[which];
+        const int i = which ? n - 1 : 0;
+        if (e->clamped) {
             memcpy(&w->frame1[9 * i], e->frame1, 9 * sizeof(double));
             memcpy(&w->frame_th[9 * i], e->frame_th, 9 * sizeof(double));
-            continue;
-        }
-        double wbar[3], rot[9];
-        const double *om = block_omega(w, x, i);
-        for (int k = 0; k < 3; k++)
-            wbar[k] = (e && e->hold_omega[k]) ? 0.0
-                                              : dt * (theta * om[k] + (1.0 - theta) * w->omega0[3 * i + k]);
-        m3_exp(rot, wbar);
-        m3_mul(&w->frame1[9 * i], &w->frame0[9 * i], rot);
-        if (theta < 1.0) {
-            v3_scale(wbar, wbar, theta);
-            m3_exp(rot, wbar);
-            m3_mul(&w->frame_th[9 * i], &w->frame0[9 * i], rot);
+        } else {
+            advance_frame(w, x, i, dt, theta, e->hold_omega);
         }
     }
     end_geometry(m, w->frame1, w->darboux1, w->d3mid1, w->moment1);
-
-    double tipf1[3], tipm1[3], tipf[3], tipm[3];
-    tip_load_global(m, t + dt, &frame_th[9 * (n - 1)], tipf1, tipm1);
-    for (int k = 0; k < 3; k++) {
-        tipf[k] = theta * tipf1[k] + (1.0 - theta) * w->tipf0[k];
-        tipm[k] = theta * tipm1[k] + (1.0 - theta) * w->tipm0[k];
-    }
-    static const double zero[3] = {0.0, 0.0, 0.0};
+    double tipf[3], tipm[3], applied[3];
+    tip_load_mean(w, m, t, dt, frame_th, tipf, tipm);
 
     /* (3.3)_1, linear momentum of the cell of node b (global), solved for the
-     * velocity at the end of the step: linear in N, so v is not an unknown.
-     * A held end's velocity is its path's; what its balance leaves over is
-     * the support's force. */
-    const double ms = 1.0 / w->moment_scale;
+     * velocity at the end of the step: linear in N, so v is not an unknown */
     const double c = m->linear_damping;
-    for (int b = 0; b < n; b++) {
-        const double wb = (b == 0 || b == n - 1) ? 0.5 * ds : ds;
-        const end_condition *e = b == 0 ? root : b == n - 1 ? tip : NULL;
-        const double *n_left = b > 0 ? block_force(w, x, b) : zero;
-        const double *n_right = (b < n - 1) ? block_force(w, x, b + 1) : tipf;
-        double applied[3];
-        for (int k = 0; k < 3; k++) applied[k] = n_right[k] - n_left[k] + wb * m->distributed_force[k];
-        if (w->point_force) v3_axpy(applied, w->point_factor, &w->point_force[3 * b]);
+    const double keep = (mass * inv_dt - (1.0 - theta) * c) / (mass * inv_dt + theta * c);
+    const double push = 1.0 / (ds * (mass * inv_dt + theta * c));
+    for (int b = 1; b < n - 1; b++) {
+        const double *n_left = block_force(w, x, b), *n_right = block_force(w, x, b + 1);
         double *v1 = &w->vel1[3 * b], *vb = &w->vbar[3 * b];
         const double *v0 = &w->vel0[3 * b];
-        if (e && e->held && !e->sliding) {
-            v3_copy(v1, e->vel1);
-            v3_copy(vb, e->vbar);
-        } else {
-            const double inv_coeff = 1.0 / (wb * (mass * inv_dt + theta * c));
-            for (int k = 0; k < 3; k++)
-                v1[k] = (wb * (mass * inv_dt - (1.0 - theta) * c) * v0[k] + applied[k]) * inv_coeff;
-            for (int k = 0; k < 3; k++) vb[k] = theta * v1[k] + (1.0 - theta) * v0[k];
-            if (e && e->sliding) { /* a sleeve: only the motion along it */
-                v3_scale(v1, e->slide, v3_dot(v1, e->slide));
-                v3_scale(vb, e->slide, v3_dot(vb, e->slide));
-            }
+        for (int k = 0; k < 3; k++) {
+            double f = n_right[k] - n_left[k] + ds * m->distributed_force[k];
+            v1[k] = keep * v0[k] + f * push;
         }
-        if (e && e->held) {
-            end_condition *he = b == 0 ? root : tip;
-            for (int k = 0; k < 3; k++)
-                he->reaction[k] = wb * mass * (v1[k] - v0[k]) * inv_dt + wb * c * vb[k] - applied[k];
-        }
+        if (w->point_force)
+            v3_axpy(v1, w->point_factor * push, &w->point_force[3 * b]);
+        for (int k = 0; k < 3; k++) vb[k] = theta * v1[k] + (1.0 - theta) * v0[k];
     }
-    for (int b = first; b < n; b++) {
+    end_velocity(w, m, root, 0, zero3, block_force(w, x, 1), dt, applied);
+    end_velocity(w, m, tip, n - 1, block_force(w, x, n - 1), tipf, dt, applied);
+
+    /* (3.14) constraint on segment b-1 and (3.6)_2 on node b: block b */
+    const double ms = 1.0 / w->moment_scale;
+    for (int b = 1; b < n; b++) {
         double *r = &res[BLOCK * (b - first)];
         const int j = b - 1; /* segment to the left of node b */
-        end_condition *e = b == 0 ? root : b == n - 1 ? tip : NULL;
-
-        if (b > 0) {
-            /* (3.14) constraint on segment j, dimensionless */
-            for (int k = 0; k < 3; k++)
-                r[k] = (w->vbar[3 * b + k] - w->vbar[3 * j + k]) * dt_ds -
-                       (w->d3mid1[3 * j + k] - w->d3mid0[3 * j + k]);
-        } else {
-            /* block 0 has no segment to its left: its first entries are unused */
-            for (int k = 0; k < 3; k++) r[k] = x[k] / w->force_scale;
-        }
-
-        /* (3.6)_2 angular momentum of the cell of node b, director components */
-        double raw[3], om[3];
-        const double *xo = block_omega(w, x, b);
         for (int k = 0; k < 3; k++)
-            om[k] = (e && e->clamped) ? e->omega1[k] : (e && e->hold_omega[k]) ? 0.0 : xo[k];
-        angular_balance(w, m, x, b, dt, tipm, frame_th, om, raw);
-        for (int k = 0; k < 3; k++) r[3 + k] = raw[k] * ms;
-        if (e) {
-            /* a held rotation: its row holds omega_k = 0 (the unknown is idle),
-             * and the balance's leftover is the support's moment */
-            double held_raw[3];
-            for (int k = 0; k < 3; k++) {
-                int held = e->clamped || e->hold_omega[k];
-                held_raw[k] = held ? raw[k] : 0.0;
-                if (held) r[3 + k] = xo[k] * dt;
-            }
-            m3_mul_v(e->reaction_moment, &frame_th[9 * b], held_raw);
-        }
-    }
-    if (first == 1 && root->held) {
-        /* a clamped root has no block: its leftover is the support's moment */
+            r[k] = (w->vbar[3 * b + k] - w->vbar[3 * j + k]) * dt_ds -
+                   (w->d3mid1[3 * j + k] - w->d3mid0[3 * j + k]);
+        if (b == n - 1) break;
         double raw[3];
-        angular_balance(w, m, x, 0, dt, tipm, frame_th, root->omega1, raw);
-        m3_mul_v(root->reaction_moment, &frame_th[0], raw);
+        angular_balance(w, m, x, b, dt, tipm, frame_th, block_omega(w, x, b), raw, 1, 1);
+        for (int k = 0; k < 3; k++) r[3 + k] = raw[k] * ms;
+    }
+    end_angular_rows(w, m, tip, x, n - 1, dt, tipm, frame_th, &res[BLOCK * (n - 1 - first) + 3]);
+    if (first == 0) {
+        /* block 0 has no segment to its left: its first entries are unused */
+        for (int k = 0; k < 3; k++) res[k] = x[k] / w->force_scale;
+        end_angular_rows(w, m, root, x, 0, dt, tipm, frame_th, &res[3]);
+    }
+}
+
+/* What the supports exert on the rod over the accepted step (the leftover
+ * of the held ends' balances), from the residual's last evaluation at x. */
+static void end_reactions(implicit_work *w, const rod_model *m, double t, double dt)
+{
+    const int n = w->nodes;
+    const double theta = m->options.theta, c = m->linear_damping, wb = 0.5 * m->ds;
+    const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
+    double tipf[3], tipm[3];
+    tip_load_mean(w, m, t, dt, frame_th, tipf, tipm);
+    for (int which = 0; which < 2; which++) {
+        end_condition *e = &w->ends[which];
+        const int b = which ? n - 1 : 0;
+        v3_set(e->reaction, 0.0, 0.0, 0.0);
+        v3_set(e->reaction_moment, 0.0, 0.0, 0.0);
+        if (!e->held) continue;
+        double applied[3];
+        const double *n_left = which ? block_force(w, w->x, n - 1) : zero3;
+        const double *n_right = which ? tipf : block_force(w, w->x, 1);
+        for (int k = 0; k < 3; k++) applied[k] = n_right[k] - n_left[k] + wb * m->distributed_force[k];
+        if (w->point_force) v3_axpy(applied, w->point_factor, &w->point_force[3 * b]);
+        const double *v1 = &w->vel1[3 * b], *v0 = &w->vel0[3 * b], *vb = &w->vbar[3 * b];
+        for (int k = 0; k < 3; k++)
+            e->reaction[k] = wb * m->mass_per_length * (v1[k] - v0[k]) / dt + wb * c * vb[k] - applied[k];
+        if (!e->clamped && !e->hold_omega[0] && !e->hold_omega[1] && !e->hold_omega[2]) continue;
+        double raw[3], om[3];
+        for (int k = 0; k < 3; k++)
+            om[k] = e->clamped ? e->omega1[k] : e->hold_omega[k] ? 0.0 : block_omega(w, w->x, b)[k];
+        if (which) angular_balance(w, m, w->x, b, dt, tipm, frame_th, om, raw, 1, 0);
+        else angular_balance(w, m, w->x, b, dt, tipm, frame_th, om, raw, 0, 1);
+        for (int k = 0; k < 3; k++)
+            if (!e->clamped && !e->hold_omega[k]) raw[k] = 0.0; /* balanced by the motion */
+        m3_mul_v(e->reaction_moment, &frame_th[9 * b], raw);
     }
 }
 
@@ -961,16 +1035,27 @@ static void prepare_ends(implicit_work *w, const rod_model *m, const rod_state *
         const int node = which ? n - 1 : 0;
         if (!e->held) continue;
         const double *q0 = &s->frame[9 * node], *r0 = &s->position[3 * node];
-        if (e->path) {
-            rod_pose p1;
-            if (!e->have_initial) {
-                /* Q_end(0) = R(t)^T Q(t) at the first step, so the frame
-                 * follows R(t) Q_end(0) from wherever the run starts */
+        if (!e->have_initial) {
+            /* Q_end(0) = R(t)^T Q(t) at the first step, so the frame
+             * follows R(t) Q_end(0) from wherever the run starts */
+            m3_identity(e->initial_frame);
+            if (e->path) {
                 rod_pose p0;
                 rod_path_eval(e->path, t, &p0);
                 m3_mul_tn(e->initial_frame, p0.rotation, q0);
-                e->have_initial = 1;
             }
+            v3_copy(e->anchor, r0);
+            e->have_initial = 1;
+        }
+        v3_set(e->correction, 0.0, 0.0, 0.0);
+        if (e->sliding) {
+            double off[3];
+            v3_sub(off, e->anchor, r0);
+            v3_axpy(off, -v3_dot(off, e->slide), e->slide);
+            v3_scale(e->correction, off, 1.0 / dt);
+        }
+        if (e->path) {
+            rod_pose p1;
             rod_path_eval(e->path, t + dt, &p1);
             /* from the end's actual position: the step lands on the path
              * exactly, whatever rounding the chain of segments carried */
@@ -982,9 +1067,9 @@ static void prepare_ends(implicit_work *w, const rod_model *m, const rod_state *
                 m3_mul_tv(e->omega1, e->frame1, p1.angular_velocity);
             }
         } else {
-            v3_set(e->vbar, 0.0, 0.0, 0.0);
+            for (int k = 0; k < 3; k++) e->vbar[k] = (e->anchor[k] - r0[k]) / dt;
             v3_set(e->vel1, 0.0, 0.0, 0.0);
-            v3_copy(e->pos1, r0);
+            v3_copy(e->pos1, e->anchor);
             if (e->clamped) {
                 memcpy(e->frame1, q0, 9 * sizeof(double));
                 v3_set(e->omega1, 0.0, 0.0, 0.0);
@@ -1072,13 +1157,23 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
         }
         memcpy(s->darboux, w->darboux1, (size_t)(n - 1) * 3 * sizeof(double));
         /* centreline from d3 at the midpoints (3.12), as rod_positions_from_midframes,
-         * from the root where the step took it */
-        const end_condition *root = &w->ends[0];
-        if (root->held && !root->sliding) v3_copy(s->position, root->pos1);
-        else v3_axpy(s->position, dt, &w->vbar[0]);
-        for (int j = 0; j + 1 < n; j++)
-            for (int k = 0; k < 3; k++)
-                s->position[3 * (j + 1) + k] = s->position[3 * j + k] + m->ds * w->d3mid1[3 * j + k];
+         * from the held end where the step took it (the root when both are
+         * held: the tip's own step returns it to its place) */
+        const end_condition *root = &w->ends[0], *tip_end = &w->ends[1];
+        if (root->held || !tip_end->held) {
+            if (root->held && !root->sliding) v3_copy(s->position, root->pos1);
+            else v3_axpy(s->position, dt, &w->vbar[0]);
+            for (int j = 0; j + 1 < n; j++)
+                for (int k = 0; k < 3; k++)
+                    s->position[3 * (j + 1) + k] = s->position[3 * j + k] + m->ds * w->d3mid1[3 * j + k];
+        } else {
+            double *last = &s->position[3 * (n - 1)];
+            if (!tip_end->sliding) v3_copy(last, tip_end->pos1);
+            else v3_axpy(last, dt, &w->vbar[3 * (n - 1)]);
+            for (int j = n - 2; j >= 0; j--)
+                for (int k = 0; k < 3; k++)
+                    s->position[3 * j + k] = s->position[3 * (j + 1) + k] - m->ds * w->d3mid1[3 * j + k];
+        }
         for (int b = 0; b < n; b++) {
             const end_condition *e = b == 0 ? &w->ends[0] : b == n - 1 ? &w->ends[1] : NULL;
             m3_mul_tv(&s->velocity[3 * b], &s->frame[9 * b], &w->vel1[3 * b]);
@@ -1096,6 +1191,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
             v3_scale(back, &w->darboux1[3 * (b - 1)], -0.5 * m->ds);
             v3_rotate(&s->contact_force[3 * (b - 1)], back, local);
         }
+        end_reactions(w, m, s->time, dt);
         memcpy(w->moment0, w->moment1, (size_t)(n - 1) * 3 * sizeof(double));
         memcpy(w->d3mid0, w->d3mid1, (size_t)(n - 1) * 3 * sizeof(double));
     }

@@ -446,6 +446,88 @@ static void test_point_load_and_moment(void)
     rod_state_destroy(s);
 }
 
+/* (2) upside down: a thread hanging from its tip, held in place (pinned or
+ * clamped), its root free (the rod along +x, gravity -x): the tip holds
+ * m L g at every step. */
+static void test_hanging_from_tip(void)
+{
+    for (int kind = 0; kind < 2; kind++) {
+        rod_model m = ends_model(41, 0.5, ROD_END_FREE, kind ? ROD_END_CLAMPED : ROD_END_PINNED);
+        m.distributed_force[0] = -GRAVITY * m.mass_per_length;
+        rod_state *s = rod_state_create(&m);
+        double expected = -GRAVITY * m.mass_per_length * m.length, worst = 0.0;
+        rod_solver solver;
+        char err[512];
+        int bad = rod_solver_init(&solver, &m, err, sizeof err);
+        check(!bad, "thread hanging from its %s tip: created%s%s", kind ? "clamped" : "pinned",
+              bad ? ": " : "", bad ? err : "");
+        if (bad) {
+            rod_state_destroy(s);
+            continue;
+        }
+        rod_report report;
+        int k, steps = 50;
+        for (k = 0; k < steps; k++) {
+            if (rod_solver_step(&solver, &m, s, 0.01, &report) != ROD_OK) break;
+            worst = fmax(worst, fabs(s->end_force[1][0] - expected) / fabs(expected) +
+                                    fabs(s->end_force[1][1]) + fabs(s->end_force[1][2]));
+        }
+        rod_solver_release(&solver);
+        check(k == steps, "thread hanging from its tip: %d steps", k);
+        char what[200];
+        snprintf(what, sizeof what, "thread hanging from its %s tip: tip force x vs -m L g (worst rel. "
+                 "deviation over every step %.2e)", kind ? "clamped" : "pinned", worst);
+        check_rel(what, s->end_force[1][0], expected, 1e-6);
+        check(worst < 1e-6, "thread hanging from its tip: every step within 1e-6");
+        check(v3_norm(s->end_force[0]) == 0.0 && fabs(s->position[0]) < 1e-12,
+              "thread hanging from its tip: free root, no force, stays put (x = %.2e m)", s->position[0]);
+        rod_state_destroy(s);
+    }
+}
+
+/* Both ends held, the tip in a sleeve along the rod (tip_slide = 1 0 0), a
+ * small uniform load q along +y, settled: the midspan deflection against
+ * linear beam theory (clamped-clamped q L^4/(384 EI), pinned-pinned
+ * 5 q L^4/(384 EI)), each support's force q L/2, and the clamps' moments
+ * q L^2/12. */
+static void test_held_beams(void)
+{
+    for (int clamped = 1; clamped >= 0; clamped--) {
+        rod_end_kind kind = clamped ? ROD_END_CLAMPED : ROD_END_PINNED;
+        rod_model m = ends_model(51, 1.0, kind, kind);
+        m.tip_slide[0] = 1.0;
+        const double q = 1e-6; /* N/m: w/L ~ 1e-3 */
+        m.distributed_force[1] = q;
+        m.linear_damping = 4e-4;
+        rod_state *s = rod_state_create(&m);
+        rod_status st = run_steps(&m, s, 400, 0.5, NULL, NULL);
+        const char *name = clamped ? "clamped-clamped" : "pinned-pinned";
+        check(st == ROD_OK, "%s (tip in a sleeve) under q: settles", name);
+        double L = m.length, EI = m.stiffness[0];
+        char what[200];
+        snprintf(what, sizeof what, "%s under q: midspan deflection vs %s q L^4/(384 EI), m", name,
+                 clamped ? "" : "5");
+        check_rel(what, s->position[3 * (m.nodes / 2) + 1], (clamped ? 1.0 : 5.0) * q * pow(L, 4) / (384.0 * EI),
+                  2e-3);
+        for (int e = 0; e < 2; e++) {
+            snprintf(what, sizeof what, "%s under q: the %s's force on its support (y) vs q L/2, N", name,
+                     e ? "tip" : "root");
+            check_rel(what, s->end_force[e][1], 0.5 * q * L, 1e-4);
+            if (clamped) {
+                snprintf(what, sizeof what, "clamped-clamped under q: the %s's moment on its clamp "
+                         "(|z|) vs q L^2/12, N m", e ? "tip" : "root");
+                check_rel(what, fabs(s->end_moment[e][2]), q * L * L / 12.0, 2e-3);
+            } else {
+                check(v3_norm(s->end_moment[e]) < 1e-9 * q * L * L, "pinned-pinned: no moment at the %s "
+                      "(%.2e N m)", e ? "tip" : "root", v3_norm(s->end_moment[e]));
+            }
+        }
+        check(fabs(s->end_force[1][0]) < 1e-9 * q * L, "%s: the sleeve takes no force along it (%.2e N)",
+              name, s->end_force[1][0]);
+        rod_state_destroy(s);
+    }
+}
+
 /* Combinations the scheme cannot model are refused at create with a message. */
 static void test_refusals(void)
 {
@@ -474,7 +556,9 @@ int main(void)
 #ifdef RODSIM_HAVE_PATH_C
     test_hanging_driven();
 #endif
+    test_hanging_from_tip();
     test_pinned_pinned_frequencies();
+    test_held_beams();
     test_intrinsic_curvature();
     test_point_load_and_moment();
     test_refusals();
