@@ -6,7 +6,8 @@
  * grid): velocity v and angular velocity omega at the nodes i = 0..NS-1;
  * Darboux vector u and contact force N at the segment midpoints i+1/2.
  *
- * Unknowns of a step, per block b = 1..NS-1 (6 each, 6 (NS-1) in all):
+ * Unknowns of a step, per block b = 1..NS-1 (6 each, 6 (NS-1) in all; a
+ * root that may turn adds block 0, see Ends):
  *   N_{b-1/2}  contact force, global components (the multiplier of (3.14));
  *   omega_b    angular velocity at the end of the step, director components.
  * The velocity v_b at the end of the step (global components) is not an
@@ -31,9 +32,12 @@
  *   (3.6)_2 in director components of node b:
  *          I w_b (omega - omega(t)) / dt + w_b omega_bar x I omega_bar
  *          = Q^T [ M_{b+1/2} - M_{b-1/2} + ds/2 (d3 x N)_{b+1/2} + ds/2 (d3 x N)_{b-1/2} ]
- *            - w_b c_w omega_bar,      M_{i+1/2} = Q_{i+1/2} B u_{i+1/2}  (3.4)
- *   with w_b = ds inside and ds/2 at the free end, where N_{NS-1/2} and
- *   M_{NS-1/2} are the tip force and moment (4.2) and the tip force has no arm.
+ *            - w_b c_w omega_bar,      M_{i+1/2} = Q_{i+1/2} B (u_{i+1/2} - u0)  (3.4)
+ *   with w_b = ds inside and ds/2 at either end, where N_{NS-1/2} and
+ *   M_{NS-1/2} are the tip force and moment (4.2) and the tip force has no
+ *   arm; T holds the distributed force, and each node's point loads (times
+ *   the profile factor) join its cell, as the distributed moment joins
+ *   (3.6)_2.
  * Elastic terms are theta-weighted between the start and the end of the step.
  *
  * Ends (issue 10): node 0 and node NS-1 each have a cell of half length
@@ -47,7 +51,10 @@
  * omega_k = 0, and the leftover of those rows is the support's moment. A
  * clamped end's frame is its path's R(t) Q(0), not integrated. The band
  * does not grow: block 0 couples to block 1 as every block to its
- * neighbours. Intrinsic curvature: M = Q_mid B (u - u0) (3.4).
+ * neighbours. A held end's mean velocity over the step returns it to its
+ * place (or its slide's line, or its path) from wherever rounding left it,
+ * so held ends never drift; the centreline is chained from a held end.
+ * The planar path models only today's cantilever; every other case is 3-D.
  *
  * Newton: the Jacobian is built by finite differences with a 3-colouring of
  * the block-tridiagonal pattern (18 residual evaluations; 15 in the plane), factored by
@@ -1286,13 +1293,19 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     w->have_factor = 0;
     double angle = rod_sharpest_bend(m, s->darboux, &segment);
     if (angle > 0.5 * ROD_UNRESOLVED_BEND) return unresolved(m, s, angle, segment, report);
+    const int both_held = w->ends[0].held && !w->ends[0].sliding && w->ends[1].held &&
+                          !w->ends[1].sliding;
     snprintf(report->message, sizeof report->message,
              "implicit scheme: Newton's method did not converge at t = %.6g s for the step "
              "dt = %g s, split in halves up to %d parts within %d iterations (tolerance %.1e). "
              "The load may change too abruptly for this dt, or exceed what the rod can carry; "
-             "try a smaller dt or a ramped load profile.",
+             "try a smaller dt or a ramped load profile.%s",
              s->time, dt, 1 << MAX_SPLIT_DEPTH, STEP_ITERATION_BUDGET,
-             m->options.newton_tolerance);
+             m->options.newton_tolerance,
+             both_held ? " Both ends hold their place: a nearly straight rod between them can "
+                         "neither stretch nor shorten without bending, so its tension is "
+                         "(nearly) undetermined; start it slightly bent (rod.shape, "
+                         "rod.curvature) and let driven ends start from rest." : "");
     report->suggested_dt = dt / (1 << MAX_SPLIT_DEPTH);
     return ROD_NO_CONVERGENCE;
 }

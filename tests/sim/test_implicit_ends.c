@@ -609,6 +609,83 @@ static void test_held_beams(void)
     }
 }
 
+/* A root in a sleeve along the rod (root_slide = 1 0 0), pulled along it by
+ * a dead tip force F and twisted by a tip moment T about it, no other load:
+ * the rod translates rigidly, x_root = F t^2 / (2 m L) (Crank-Nicolson:
+ * exact for a constant acceleration). A clamped sliding root keeps d3 along
+ * the slide and may twist: the spin's angular momentum sum w rho J omega_3
+ * is T t. A pinned one holds the twist (the torsion stop): settled (damped,
+ * backward Euler), the stop takes T and the tip turns by T L / (G J). */
+static void test_sliding_root(void)
+{
+    for (int clamped = 1; clamped >= 0; clamped--) {
+        rod_model m = ends_model(21, clamped ? 0.5 : 1.0, clamped ? ROD_END_CLAMPED : ROD_END_PINNED,
+                                 ROD_END_FREE);
+        m.root_slide[0] = 1.0;
+        if (!clamped) m.angular_damping = 1e-9; /* N m s/m: settles the twist in about a second */
+        m.tip_frame = ROD_FRAME_GLOBAL;
+        const double force = 1e-6, torque = 1e-9; /* N, N m */
+        m.tip_force[0] = force;
+        m.tip_moment[0] = torque;
+        rod_state *s = rod_state_create(&m);
+        rod_status st = run_steps(&m, s, clamped ? 100 : 400, 0.01, NULL, NULL);
+        const char *name = clamped ? "clamped" : "pinned";
+        check(st == ROD_OK, "%s root in a sleeve, pulled and twisted: 100 steps", name);
+        double t = s->time, mass = m.mass_per_length * m.length;
+        char what[200];
+        if (clamped) {
+            snprintf(what, sizeof what, "%s sliding root: x vs F t^2/(2 m L), m", name);
+            check_rel(what, s->position[0], force * t * t / (2.0 * mass), 1e-8);
+        }
+        double off = fabs(s->position[1]) + fabs(s->position[2]);
+        check(off < 1e-15, "%s sliding root: stays on its line (%.2e m)", name, off);
+        if (clamped) {
+            double spin = 0.0;
+            for (int i = 0; i < m.nodes; i++)
+                spin += node_weight(&m, i) * m.rotary_inertia[2] * s->angular_velocity[3 * i + 2];
+            check_rel("clamped sliding root: spin angular momentum sum w rho J omega_3 vs T t, N m s",
+                      spin, torque * t, 1e-8);
+            check(fabs(s->end_force[0][0]) < 1e-15 && fabs(s->end_moment[0][0]) < 1e-15,
+                  "clamped sliding root: the sleeve takes no force or moment along it (%.2e N, %.2e N m)",
+                  s->end_force[0][0], s->end_moment[0][0]);
+        } else {
+            check_rel("pinned sliding root, settled: its stop takes the twisting moment, N m",
+                      s->end_moment[0][0], torque, 1e-6);
+            double d1_tip[3], d1_root[3];
+            m3_column(d1_tip, &s->frame[9 * (m.nodes - 1)], 0);
+            m3_column(d1_root, &s->frame[0], 0);
+            double turn = atan2(v3_dot(d1_tip, (double[3]){0.0, 0.0, 1.0}), v3_dot(d1_tip, d1_root));
+            check_rel("pinned sliding root, settled: tip twist vs T L/(G J), rad", turn,
+                      torque * m.length / m.stiffness[2], 1e-6);
+        }
+        rod_state_destroy(s);
+    }
+}
+
+/* A straight rod held in place at both ends under a load across it has no
+ * solution (it cannot sag without stretching): the failure says why. */
+static void test_straight_held_advice(void)
+{
+    rod_model m = ends_model(11, 1.0, ROD_END_CLAMPED, ROD_END_CLAMPED);
+    m.distributed_force[1] = 1e-6;
+    rod_state *s = rod_state_create(&m);
+    char err[512];
+    rod_solver solver;
+    if (rod_solver_init(&solver, &m, err, sizeof err)) {
+        check(0, "clamped-clamped in place: created (%s)", err);
+        rod_state_destroy(s);
+        return;
+    }
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    rod_status st = rod_solver_step(&solver, &m, s, 0.01, &report);
+    check(st != ROD_OK && strstr(report.message, "Both ends hold their place"),
+          "a straight rod clamped in place at both ends, loaded across: refused with advice: '%.120s...'",
+          report.message);
+    rod_solver_release(&solver);
+    rod_state_destroy(s);
+}
+
 /* Combinations the scheme cannot model are refused at create with a message. */
 static void test_refusals(void)
 {
@@ -643,6 +720,8 @@ int main(void)
     test_held_beams();
     test_intrinsic_curvature();
     test_point_load_and_moment();
+    test_sliding_root();
+    test_straight_held_advice();
     test_refusals();
     return test_finish();
 }
