@@ -1042,9 +1042,10 @@ static void prepare_ends(implicit_work *w, const rod_model *m, const rod_state *
         const int node = which ? n - 1 : 0;
         if (!e->held) continue;
         const double *q0 = &s->frame[9 * node], *r0 = &s->position[3 * node];
-        if (!e->have_initial) {
+        if (!e->have_initial || t == 0.0) {
             /* Q_end(0) = R(t)^T Q(t) at the first step, so the frame
-             * follows R(t) Q_end(0) from wherever the run starts */
+             * follows R(t) Q_end(0) from wherever the run starts (again
+             * when a state is reset to t = 0 for the same solver) */
             m3_identity(e->initial_frame);
             if (e->path) {
                 rod_pose p0;
