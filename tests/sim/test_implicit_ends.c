@@ -341,6 +341,24 @@ static void test_driven_clamped_turn(void)
     check(v3_norm(s->end_force[0]) < 1e-10 && v3_norm(s->end_moment[0]) < 1e-10,
           "driven clamped root at rest again: support force %.2e N, moment %.2e N m",
           v3_norm(s->end_force[0]), v3_norm(s->end_moment[0]));
+    rod_state_destroy(s);
+
+    /* (6) quasi-static: the same slow turn under a small dead load q along
+     * -y; settled at the end pose, the tip's deflection across the turned
+     * rod is linear theory's q cos(beta) L^4 / (8 EI) (the load's share
+     * along the rod only stretches an inextensible rod) */
+    const double q = 1e-7; /* N/m: deflection 3e-3 L */
+    m.distributed_force[1] = -q;
+    s = rod_state_create(&m);
+    st = run_steps(&m, s, 1000, 0.2, NULL, NULL);
+    check(st == ROD_OK, "driven clamped root turned under q: 1000 steps");
+    double across[3] = {-sin(beta), cos(beta), 0.0}, rel[3];
+    v3_sub(rel, &s->position[3 * (m.nodes - 1)], &s->position[0]);
+    check_rel("driven clamped root, slow turn under q: tip deflection across the rod vs "
+              "q cos(beta) L^4/(8 EI), m", -v3_dot(rel, across),
+              q * cos(beta) * pow(m.length, 4) / (8.0 * m.stiffness[0]), 3e-3);
+    check_rel("driven clamped root, settled under q: the clamp carries the weight q L (y), N",
+              s->end_force[0][1], -q * m.length, 1e-5);
     rod_path_destroy(m.root_motion);
     rod_state_destroy(s);
 }
@@ -570,7 +588,8 @@ static void test_hanging_from_tip(void)
  * small uniform load q along +y, settled: the midspan deflection against
  * linear beam theory (clamped-clamped q L^4/(384 EI), pinned-pinned
  * 5 q L^4/(384 EI)), each support's force q L/2, and the clamps' moments
- * q L^2/12. */
+ * q L^2/12. The deflection converges at second order in ds (clamped-clamped:
+ * 1.6e-3 at NS = 51, 4.0e-4 at NS = 101; pinned-pinned 6.9e-4, 2.1e-4). */
 static void test_held_beams(void)
 {
     for (int clamped = 1; clamped >= 0; clamped--) {
