@@ -254,11 +254,12 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     int twist_held = ends[0].clamped || ends[0].hold_omega[2] || ends[1].clamped;
     if (!twist_held && !(m->rotary_inertia[2] > 0.0)) {
         /* nothing resists a rigid turn of the rod about its own axis */
-        snprintf(err, errlen, "implicit scheme: with ends root = %s, tip = %s nothing holds the "
+        static const char *const kinds[] = {"clamped", "pinned", "free"};
+        snprintf(err, errlen, "implicit scheme: with ends root = %s%s, tip = %s%s nothing holds the "
                  "rod's twist, so it needs torsional inertia (physics.twist = 1 and "
-                 "physics.rotary_inertia = 1), or a clamped end or a pinned root",
-                 m->root_end == ROD_END_FREE ? "free" : "pinned",
-                 m->tip_end == ROD_END_FREE ? "free" : m->tip_end == ROD_END_PINNED ? "pinned" : "clamped");
+                 "physics.rotary_inertia = 1), or an end clamped in place or a pinned root",
+                 kinds[m->root_end], ends[0].sliding ? " (sliding)" : "", kinds[m->tip_end],
+                 ends[1].sliding ? " (sliding)" : "");
         return NULL;
     }
     implicit_work *w = calloc(1, sizeof *w);
