@@ -6,7 +6,8 @@
  * grid): velocity v and angular velocity omega at the nodes i = 0..NS-1;
  * Darboux vector u and contact force N at the segment midpoints i+1/2.
  *
- * Unknowns of a step, per block b = 1..NS-1 (6 each, 6 (NS-1) in all):
+ * Unknowns of a step, per block b = 1..NS-1 (6 each, 6 (NS-1) in all; a
+ * root that may turn adds block 0, see Ends):
  *   N_{b-1/2}  contact force, global components (the multiplier of (3.14));
  *   omega_b    angular velocity at the end of the step, director components.
  * The velocity v_b at the end of the step (global components) is not an
@@ -31,10 +32,29 @@
  *   (3.6)_2 in director components of node b:
  *          I w_b (omega - omega(t)) / dt + w_b omega_bar x I omega_bar
  *          = Q^T [ M_{b+1/2} - M_{b-1/2} + ds/2 (d3 x N)_{b+1/2} + ds/2 (d3 x N)_{b-1/2} ]
- *            - w_b c_w omega_bar,      M_{i+1/2} = Q_{i+1/2} B u_{i+1/2}  (3.4)
- *   with w_b = ds inside and ds/2 at the free end, where N_{NS-1/2} and
- *   M_{NS-1/2} are the tip force and moment (4.2) and the tip force has no arm.
+ *            - w_b c_w omega_bar,      M_{i+1/2} = Q_{i+1/2} B (u_{i+1/2} - u0)  (3.4)
+ *   with w_b = ds inside and ds/2 at either end, where N_{NS-1/2} and
+ *   M_{NS-1/2} are the tip force and moment (4.2) and the tip force has no
+ *   arm; T holds the distributed force, and each node's point loads (times
+ *   the profile factor) join its cell, as the distributed moment joins
+ *   (3.6)_2.
  * Elastic terms are theta-weighted between the start and the end of the step.
+ *
+ * Ends (issue 10): node 0 and node NS-1 each have a cell of half length
+ * ds/2. A free end's velocity comes from its cell's (3.3)_1 like any other;
+ * a held end's is prescribed (zero, or its path's), and a sliding end's is
+ * the free one projected on the slide, so v stays eliminated at every end
+ * and the support's force is what that end's balance leaves over (computed
+ * after Newton, never an unknown). The root's omega_0 is an unknown (block
+ * 0, its first three entries unused) when the root may turn (pinned, free,
+ * clamped sliding); rotations an end holds replace their (3.6)_2 rows by
+ * omega_k = 0, and the leftover of those rows is the support's moment. A
+ * clamped end's frame is its path's R(t) Q(0), not integrated. The band
+ * does not grow: block 0 couples to block 1 as every block to its
+ * neighbours. A held end's mean velocity over the step returns it to its
+ * place (or its slide's line, or its path) from wherever rounding left it,
+ * so held ends never drift; the centreline is chained from a held end.
+ * The planar path models only today's cantilever; every other case is 3-D.
  *
  * Newton: the Jacobian is built by finite differences with a 3-colouring of
  * the block-tridiagonal pattern (18 residual evaluations; 15 in the plane), factored by
@@ -50,8 +70,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sim/path.h"
 #include "sim/rod_geometry.h"
 #include "base/vec3.h"
+
+/* A weak reference until sim/path.c is in the library (issue 10, helper P):
+ * create() refuses a driven end while it is missing. Remove this line once
+ * path.c is merged. */
+#pragma weak rod_path_eval
 
 /* Unknowns per block: N(3), omega(3) in 3-D; N(2), v(2), omega_2 in the
  * plane. Half bandwidth kl = ku of the Jacobian in that block order: 8 in 3-D
@@ -70,8 +96,38 @@
  * this budget, the rest by the node count. */
 #define STEP_ITERATION_BUDGET 2000
 
+/* One end's condition, read once from the model (index 0 root, 1 tip). */
+typedef struct end_condition {
+    int held;            /* position held: in place, driven, or on its slide line */
+    int sliding;         /* held on the line through its start along `slide` */
+    int clamped;         /* frame held (clamped, not sliding): from the path, no unknowns */
+    int hold_omega[3];   /* omega components (director) held at zero by the end */
+    double slide[3];     /* unit, global */
+    const rod_path *path;/* driven, or NULL */
+    int have_initial;    /* initial_frame and anchor are known */
+    double anchor[3];    /* m, global: where a held end started (a point of a slide's line) */
+    double correction[3];/* m/s: this step's return to the anchor (to its line when sliding)
+                            of what rounding moved the end, so that held ends never drift */
+    double initial_frame[9]; /* Q_end(0): a driven clamped end's frame is R(t) Q_end(0) */
+    /* this step, from the path (independent of the Newton iterate) */
+    double vbar[3];      /* (r(t+dt) - r(t)) / dt, global, m/s */
+    double vel1[3];      /* velocity at t + dt, global, m/s */
+    double pos1[3];      /* position at t + dt, global, m */
+    double frame1[9], frame_th[9]; /* a clamped end's frame at t + dt and at the theta point */
+    double omega1[3];    /* a clamped end's angular velocity at t + dt, director */
+    /* left over from the last residual: what the support exerts on the rod */
+    double reaction[3];  /* N, global */
+    double reaction_moment[3]; /* N m, global */
+} end_condition;
+
 typedef struct implicit_work {
     int nodes, blocks, unknowns;
+    int first;         /* first node with an omega block: 0 when the root may turn, else 1 */
+    end_condition ends[2];
+    double *point_force, *point_moment; /* (nodes x 3) global, unscaled point loads; NULL if none */
+    int distributed_moment; /* 1: the model has one */
+    double point_factor; /* theta-mean of the profile factor over the step */
+    double *vbar;      /* (nodes x 3) global, the step's mean velocity (3-D) */
     int planar;        /* 1: the planar problem (rod_model_loads_planar and physics.planar) */
     int block, kl;     /* unknowns per block and half bandwidth (BLOCK/BAND or _PLANAR) */
     int var_kind[BLOCK_PLANAR > BLOCK ? BLOCK_PLANAR : BLOCK]; /* per component of a block:
@@ -137,22 +193,90 @@ static void destroy(void *p)
                          &w->frame0, &w->omega0, &w->vel0, &w->vel1, &w->d3mid0, &w->moment0,
                          &w->tipf0, &w->tipm0, &w->frame1, &w->frame_th, &w->darboux1,
                          &w->mid1, &w->d3mid1, &w->moment1, &w->save_frame, &w->save_pos, &w->save_vel,
-                         &w->save_omega, &w->save_force, &w->phi0, &w->phi1, &w->phi_th};
+                         &w->save_omega, &w->save_force, &w->phi0, &w->phi1, &w->phi_th,
+                         &w->point_force, &w->point_moment, &w->vbar};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) free(*arrays[k]);
     free(w->pivot);
     free(w->inv_diag);
     free(w);
 }
 
+static const char *const end_names[2] = {"root", "tip"};
+
+/* Reads one end's condition; -1 with a message when the scheme cannot model it. */
+static int read_end(end_condition *e, int which, rod_end_kind kind, const double slide[3],
+                    const rod_path *path, char *err, size_t errlen)
+{
+    memset(e, 0, sizeof *e);
+    double len = v3_norm(slide);
+    if (kind == ROD_END_FREE) {
+        if (len > 0.0 || path) {
+            snprintf(err, errlen, "implicit scheme: the %s is free, so it cannot %s; make it "
+                     "pinned or clamped (ends.%s)", end_names[which],
+                     path ? "follow a path (ends.*_motion)" : "slide (ends.*_slide)", end_names[which]);
+            return -1;
+        }
+        return 0;
+    }
+    if (!isfinite(len) || (len > 0.0 && path)) {
+        snprintf(err, errlen, "implicit scheme: the %s either slides (ends.%s_slide, a finite "
+                 "direction) or follows a path (ends.%s_motion), not both", end_names[which],
+                 end_names[which], end_names[which]);
+        return -1;
+    }
+    if (path && !rod_path_eval) {
+        snprintf(err, errlen, "implicit scheme: driven ends need sim/path.c in this build");
+        return -1;
+    }
+    e->held = 1;
+    e->path = path;
+    if (len > 0.0) {
+        e->sliding = 1;
+        v3_scale(e->slide, slide, 1.0 / len);
+    }
+    if (kind == ROD_END_CLAMPED) {
+        if (e->sliding) e->hold_omega[0] = e->hold_omega[1] = 1; /* d3 along the slide, may twist */
+        else e->clamped = 1;
+    } else if (which == 0) {
+        e->hold_omega[2] = 1; /* a pinned root is a torsion stop (rod.h) */
+    }
+    return 0;
+}
+
+static int vector_zero(const double a[3]) { return a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0; }
+
 static void *create(const rod_model *m, char *err, size_t errlen)
 {
-    if (rod_model_require_cantilever(m, "implicit", err, errlen)) return NULL;
+    end_condition ends[2];
+    if (read_end(&ends[0], 0, m->root_end, m->root_slide, m->root_motion, err, errlen) ||
+        read_end(&ends[1], 1, m->tip_end, m->tip_slide, m->tip_motion, err, errlen))
+        return NULL;
+    int twist_held = ends[0].clamped || ends[0].hold_omega[2] || ends[1].clamped;
+    if (!twist_held && !(m->rotary_inertia[2] > 0.0)) {
+        /* nothing resists a rigid turn of the rod about its own axis */
+        static const char *const kinds[] = {"clamped", "pinned", "free"};
+        snprintf(err, errlen, "implicit scheme: with ends root = %s%s, tip = %s%s nothing holds the "
+                 "rod's twist, so it needs torsional inertia (physics.twist = 1 and "
+                 "physics.rotary_inertia = 1), or an end clamped in place or a pinned root",
+                 kinds[m->root_end], ends[0].sliding ? " (sliding)" : "", kinds[m->tip_end],
+                 ends[1].sliding ? " (sliding)" : "");
+        return NULL;
+    }
     implicit_work *w = calloc(1, sizeof *w);
     if (!w) goto oom;
     size_t n = (size_t)m->nodes;
+    memcpy(w->ends, ends, sizeof ends);
     w->nodes = m->nodes;
-    w->blocks = m->nodes - 1;
-    w->planar = m->physics.planar && rod_model_loads_planar(m);
+    /* the planar path models today's cantilever only: the new ends, curvature,
+     * point loads, moments and starting states are 3-D here */
+    int plain = ends[0].clamped && !ends[0].path && m->tip_end == ROD_END_FREE &&
+                vector_zero(m->intrinsic_curvature) && m->point_load_count == 0 &&
+                vector_zero(m->distributed_moment) && !m->initial_shape &&
+                m->initial_velocity[2] == 0.0 && m->direction[2] == 0.0;
+    w->planar = m->physics.planar && rod_model_loads_planar(m) && plain;
+    w->distributed_moment = !vector_zero(m->distributed_moment);
+    w->first = (w->planar || ends[0].clamped) ? 1 : 0;
+    w->blocks = m->nodes - w->first;
     w->block = w->planar ? BLOCK_PLANAR : BLOCK;
     w->kl = w->planar ? BAND_PLANAR : BAND;
     static const int kinds3[BLOCK] = {0, 0, 0, 2, 2, 2};
@@ -193,7 +317,27 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->phi0 = calloc(n, sizeof(double));
     w->phi1 = calloc(n, sizeof(double));
     w->phi_th = calloc(n, sizeof(double));
-    if (!w->phi0 || !w->phi1 || !w->phi_th) goto oom;
+    w->vbar = calloc(n * 3, sizeof(double));
+    if (!w->phi0 || !w->phi1 || !w->phi_th || !w->vbar) goto oom;
+    double point_peak = 0.0, point_moment_peak = 0.0;
+    if (m->point_load_count > 0) {
+        w->point_force = calloc(n * 3, sizeof(double));
+        w->point_moment = calloc(n * 3, sizeof(double));
+        if (!w->point_force || !w->point_moment) goto oom;
+        for (int k = 0; k < m->point_load_count; k++) {
+            const rod_point_load *pl = &m->point_loads[k];
+            if (pl->node < 0 || pl->node >= m->nodes) {
+                snprintf(err, errlen, "implicit scheme: point load %d is at node %d; nodes are "
+                         "0..%d", k + 1, pl->node, m->nodes - 1);
+                destroy(w);
+                return NULL;
+            }
+            v3_axpy(&w->point_force[3 * pl->node], 1.0, pl->force);
+            v3_axpy(&w->point_moment[3 * pl->node], 1.0, pl->moment);
+            point_peak = fmax(point_peak, v3_norm(pl->force));
+            point_moment_peak = fmax(point_moment_peak, v3_norm(pl->moment));
+        }
+    }
     if (!w->x || !w->dx || !w->x_last || !w->x_before || !w->residual || !w->perturbed || !w->band || !w->pivot || !w->inv_diag ||
         !w->frame0 || !w->omega0 || !w->vel0 || !w->d3mid0 || !w->moment0 || !w->tipf0 ||
         !w->tipm0 || !w->frame1 || !w->frame_th || !w->darboux1 || !w->mid1 || !w->d3mid1 || !w->moment1 ||
@@ -220,6 +364,8 @@ static void *create(const rod_model *m, char *err, size_t errlen)
         mmax = scale * v3_norm(m->tip_moment);
     }
     double q = v3_norm(m->distributed_force) * L; /* N/m over the length */
+    fpeak = fmax(fpeak, point_peak);
+    mmax = fmax(fmax(mmax, point_moment_peak), v3_norm(m->distributed_moment) * L);
     w->force_scale = fmax(fmax(EI / (L * L), fpeak), fmax(mmax / L, q));
     w->moment_scale = w->force_scale * L;
     double f1 = rod_first_bending_frequency(m);
@@ -256,7 +402,8 @@ static void elastic_state(const rod_model *m, const double *frame, double *darbo
     rod_midpoint_frames(m, frame, darboux, mid);
     for (int j = 0; j + 1 < m->nodes; j++) {
         double bu[3];
-        for (int k = 0; k < 3; k++) bu[k] = m->stiffness[k] * darboux[3 * j + k];
+        for (int k = 0; k < 3; k++)
+            bu[k] = m->stiffness[k] * (darboux[3 * j + k] - m->intrinsic_curvature[k]); /* (3.4) */
         m3_mul_v(&moment[3 * j], &mid[9 * j], bu);
         if (d3mid) m3_column(&d3mid[3 * j], &mid[9 * j], 2);
     }
@@ -278,7 +425,7 @@ static void end_geometry(const rod_model *m, const double *frame, double *darbou
         for (int k = 0; k < 3; k++) {
             darboux[3 * j + k] = phi[k] * inv_ds;
             half[k] = 0.5 * phi[k];
-            bu[k] = m->stiffness[k] * darboux[3 * j + k];
+            bu[k] = m->stiffness[k] * (darboux[3 * j + k] - m->intrinsic_curvature[k]);
         }
         v3_rotate(local, half, e3);
         m3_mul_v(&d3mid[3 * j], q, local);
@@ -287,109 +434,252 @@ static void end_geometry(const rod_model *m, const double *frame, double *darbou
     }
 }
 
-static inline const double *block_force(const double *x, int b) { return &x[BLOCK * (b - 1)]; }
-static inline const double *block_omega(const double *x, int b) { return &x[BLOCK * (b - 1) + 3]; }
-
-/* Scaled residual of the step t -> t + dt at the iterate x. */
-static void residual(implicit_work *w, const rod_model *m, const double *x, double t, double dt,
-                     double *res)
+static inline const double *block_force(const implicit_work *w, const double *x, int b)
 {
-    const int n = w->nodes;
-    const double theta = m->options.theta, ds = m->ds, mass = m->mass_per_length;
-    const double *inertia = m->rotary_inertia;
-    /* reciprocals: the loops below multiply (a division per use would cost more
-     * than the rest of the line) */
-    const double inv_dt = 1.0 / dt, dt_ds = dt / ds;
+    return &x[BLOCK * (b - w->first)]; /* N_{b-1/2}, b >= 1 */
+}
+static inline const double *block_omega(const implicit_work *w, const double *x, int b)
+{
+    return &x[BLOCK * (b - w->first) + 3]; /* omega_b, b >= first */
+}
 
-    /* frames at the end of the step and at the theta point; for theta = 1
-     * they are the same array */
-    const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
-    memcpy(&w->frame1[0], &w->frame0[0], 9 * sizeof(double));
-    memcpy(&w->frame_th[0], &w->frame0[0], 9 * sizeof(double));
-    for (int i = 1; i < n; i++) {
-        double wbar[3], rot[9];
-        const double *om = block_omega(x, i);
-        for (int k = 0; k < 3; k++)
-            wbar[k] = dt * (theta * om[k] + (1.0 - theta) * w->omega0[3 * i + k]);
-        m3_exp(rot, wbar);
-        m3_mul(&w->frame1[9 * i], &w->frame0[9 * i], rot);
-        if (theta < 1.0) {
-            v3_scale(wbar, wbar, theta);
-            m3_exp(rot, wbar);
-            m3_mul(&w->frame_th[9 * i], &w->frame0[9 * i], rot);
+/* (3.6)_2 over the cell of node b for the angular velocity om at the end of
+ * the step (director components): writes the unscaled residual (N m) that a
+ * support's moment would balance. The frames and moments at the end of the
+ * step are those of the current residual evaluation. */
+static inline __attribute__((always_inline)) void
+angular_balance(const implicit_work *w, const rod_model *m, const double *x, int b, double dt,
+                const double tipm[3], const double *frame_th, const double om[3], double raw[3],
+                const int left, const int right)
+{
+    const int j = b - 1;
+    const double theta = m->options.theta, ds = m->ds;
+    const double wb = (left && right) ? ds : 0.5 * ds;
+    double total[3], cr[3];
+    if (right) {
+        const double *n_right = block_force(w, x, b + 1);
+        double d3r[3];
+        for (int k = 0; k < 3; k++) {
+            total[k] = theta * w->moment1[3 * b + k] + (1.0 - theta) * w->moment0[3 * b + k];
+            d3r[k] = theta * w->d3mid1[3 * b + k] + (1.0 - theta) * w->d3mid0[3 * b + k];
         }
+        v3_cross(cr, d3r, n_right);
+        v3_axpy(total, 0.5 * ds, cr);
+    } else {
+        v3_copy(total, tipm);
     }
-    end_geometry(m, w->frame1, w->darboux1, w->d3mid1, w->moment1);
+    if (left) {
+        const double *n_left = block_force(w, x, b);
+        double d3l[3];
+        for (int k = 0; k < 3; k++) {
+            total[k] -= theta * w->moment1[3 * j + k] + (1.0 - theta) * w->moment0[3 * j + k];
+            d3l[k] = theta * w->d3mid1[3 * j + k] + (1.0 - theta) * w->d3mid0[3 * j + k];
+        }
+        v3_cross(cr, d3l, n_left);
+        v3_axpy(total, 0.5 * ds, cr);
+    }
+    if (w->distributed_moment) v3_axpy(total, wb, m->distributed_moment);
+    if (w->point_moment) v3_axpy(total, w->point_factor, &w->point_moment[3 * b]);
+    double body[3], wbar[3], iw[3], gyro[3];
+    m3_mul_tv(body, &frame_th[9 * b], total);
+    const double *inertia = m->rotary_inertia, inv_dt = 1.0 / dt;
+    for (int k = 0; k < 3; k++) {
+        wbar[k] = theta * om[k] + (1.0 - theta) * w->omega0[3 * b + k];
+        iw[k] = inertia[k] * wbar[k];
+    }
+    v3_cross(gyro, wbar, iw);
+    for (int k = 0; k < 3; k++) {
+        double inertial = wb * (inertia[k] * (om[k] - w->omega0[3 * b + k]) * inv_dt + gyro[k]);
+        raw[k] = inertial - body[k] + wb * m->angular_damping * wbar[k];
+    }
+}
 
-    double tipf1[3], tipm1[3], tipf[3], tipm[3];
-    tip_load_global(m, t + dt, &frame_th[9 * (n - 1)], tipf1, tipm1);
+/* Q(t+dt) = Q(t) exp(dt omega_bar) and the theta-point frame of node i, the
+ * held components of omega (mask, or NULL) left out. */
+static inline __attribute__((always_inline)) void
+advance_frame(implicit_work *w, const double *x, int i, double dt, double theta, const int *held)
+{
+    double wbar[3], rot[9];
+    const double *om = block_omega(w, x, i);
+    for (int k = 0; k < 3; k++)
+        wbar[k] = dt * (theta * om[k] + (1.0 - theta) * w->omega0[3 * i + k]);
+    if (held)
+        for (int k = 0; k < 3; k++)
+            if (held[k]) wbar[k] = 0.0;
+    m3_exp(rot, wbar);
+    m3_mul(&w->frame1[9 * i], &w->frame0[9 * i], rot);
+    if (theta < 1.0) {
+        v3_scale(wbar, wbar, theta);
+        m3_exp(rot, wbar);
+        m3_mul(&w->frame_th[9 * i], &w->frame0[9 * i], rot);
+    }
+}
+
+/* An end node's velocity at the end of the step and its mean over the
+ * step (global): its cell's (3.3)_1 when free, the path's when held,
+ * projected on the slide when sliding. `applied` gets the cell's load
+ * (contact forces, distributed and point loads), N. */
+static void end_velocity(implicit_work *w, const rod_model *m, const end_condition *e, int b,
+                         const double n_left[3], const double n_right[3], double dt,
+                         double applied[3])
+{
+    const double theta = m->options.theta, wb = 0.5 * m->ds, c = m->linear_damping;
+    const double mass = m->mass_per_length;
+    for (int k = 0; k < 3; k++) applied[k] = n_right[k] - n_left[k] + wb * m->distributed_force[k];
+    if (w->point_force) v3_axpy(applied, w->point_factor, &w->point_force[3 * b]);
+    double *v1 = &w->vel1[3 * b], *vb = &w->vbar[3 * b];
+    const double *v0 = &w->vel0[3 * b];
+    if (e->held && !e->sliding) {
+        v3_copy(v1, e->vel1);
+        v3_copy(vb, e->vbar);
+        return;
+    }
+    const double inv_coeff = 1.0 / (wb * (mass / dt + theta * c));
+    for (int k = 0; k < 3; k++) {
+        v1[k] = (wb * (mass / dt - (1.0 - theta) * c) * v0[k] + applied[k]) * inv_coeff;
+        vb[k] = theta * v1[k] + (1.0 - theta) * v0[k];
+    }
+    if (e->sliding) { /* a sleeve: only the motion along it */
+        v3_scale(v1, e->slide, v3_dot(v1, e->slide));
+        v3_scale(vb, e->slide, v3_dot(vb, e->slide));
+        v3_add(vb, vb, e->correction);
+    }
+}
+
+/* The theta-mean tip force and moment over the step, global. */
+static void tip_load_mean(const implicit_work *w, const rod_model *m, double t, double dt,
+                          const double *frame_th, double tipf[3], double tipm[3])
+{
+    const double theta = m->options.theta;
+    double tipf1[3], tipm1[3];
+    tip_load_global(m, t + dt, &frame_th[9 * (w->nodes - 1)], tipf1, tipm1);
     for (int k = 0; k < 3; k++) {
         tipf[k] = theta * tipf1[k] + (1.0 - theta) * w->tipf0[k];
         tipm[k] = theta * tipm1[k] + (1.0 - theta) * w->tipm0[k];
     }
+}
+
+static const double zero3[3] = {0.0, 0.0, 0.0};
+
+/* The angular rows of an end node b (0 or NS-1) that has an omega block:
+ * (3.6)_2, with each held rotation's row replaced by omega_k = 0 (its
+ * unknown is idle). Writes the scaled rows r[0..2]. */
+static void end_angular_rows(implicit_work *w, const rod_model *m, const end_condition *e,
+                             const double *x, int b, double dt, const double tipm[3],
+                             const double *frame_th, double r[3])
+{
+    double raw[3], om[3];
+    const double *xo = block_omega(w, x, b);
+    for (int k = 0; k < 3; k++) om[k] = e->clamped ? e->omega1[k] : e->hold_omega[k] ? 0.0 : xo[k];
+    if (b == 0) angular_balance(w, m, x, b, dt, tipm, frame_th, om, raw, 0, 1);
+    else angular_balance(w, m, x, b, dt, tipm, frame_th, om, raw, 1, 0);
+    for (int k = 0; k < 3; k++)
+        r[k] = (e->clamped || e->hold_omega[k]) ? xo[k] * dt : raw[k] / w->moment_scale;
+}
+
+/* Scaled residual of the step t -> t + dt at the iterate x. Interior nodes
+ * take the loops without end conditions; the two end nodes follow them. */
+static void residual(implicit_work *w, const rod_model *m, const double *x, double t, double dt,
+                     double *res)
+{
+    const int n = w->nodes, first = w->first;
+    const double theta = m->options.theta, ds = m->ds, mass = m->mass_per_length;
+    /* reciprocals: the loops below multiply (a division per use would cost more
+     * than the rest of the line) */
+    const double inv_dt = 1.0 / dt, dt_ds = dt / ds;
+    end_condition *root = &w->ends[0], *tip = &w->ends[1];
+
+    /* frames at the end of the step and at the theta point; for theta = 1
+     * they are the same array */
+    const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
+    for (int i = 1; i < n - 1; i++) advance_frame(w, x, i, dt, theta, NULL);
+    for (int which = 0; which < 2; which++) {
+        const end_condition *e = &w->ends[which];
+        const int i = which ? n - 1 : 0;
+        if (e->clamped) {
+            memcpy(&w->frame1[9 * i], e->frame1, 9 * sizeof(double));
+            memcpy(&w->frame_th[9 * i], e->frame_th, 9 * sizeof(double));
+        } else {
+            advance_frame(w, x, i, dt, theta, e->hold_omega);
+        }
+    }
+    end_geometry(m, w->frame1, w->darboux1, w->d3mid1, w->moment1);
+    double tipf[3], tipm[3], applied[3];
+    tip_load_mean(w, m, t, dt, frame_th, tipf, tipm);
 
     /* (3.3)_1, linear momentum of the cell of node b (global), solved for the
      * velocity at the end of the step: linear in N, so v is not an unknown */
-    const double ms = 1.0 / w->moment_scale;
     const double c = m->linear_damping;
-    v3_set(&w->vel1[0], 0.0, 0.0, 0.0);
-    for (int b = 1; b < n; b++) {
-        const double wb = (b == n - 1) ? 0.5 * ds : ds;
-        const double *n_left = block_force(x, b);
-        const double *n_right = (b < n - 1) ? block_force(x, b + 1) : tipf;
-        const double inv_coeff = 1.0 / (wb * (mass * inv_dt + theta * c));
-        for (int k = 0; k < 3; k++)
-            w->vel1[3 * b + k] =
-                (wb * (mass * inv_dt - (1.0 - theta) * c) * w->vel0[3 * b + k] + n_right[k] -
-                 n_left[k] + wb * m->distributed_force[k]) * inv_coeff;
+    const double keep = (mass * inv_dt - (1.0 - theta) * c) / (mass * inv_dt + theta * c);
+    const double push = 1.0 / (ds * (mass * inv_dt + theta * c));
+    for (int b = 1; b < n - 1; b++) {
+        const double *n_left = block_force(w, x, b), *n_right = block_force(w, x, b + 1);
+        double *v1 = &w->vel1[3 * b], *vb = &w->vbar[3 * b];
+        const double *v0 = &w->vel0[3 * b];
+        for (int k = 0; k < 3; k++) {
+            double f = n_right[k] - n_left[k] + ds * m->distributed_force[k];
+            v1[k] = keep * v0[k] + f * push;
+        }
+        if (w->point_force)
+            v3_axpy(v1, w->point_factor * push, &w->point_force[3 * b]);
+        for (int k = 0; k < 3; k++) vb[k] = theta * v1[k] + (1.0 - theta) * v0[k];
     }
+    end_velocity(w, m, root, 0, zero3, block_force(w, x, 1), dt, applied);
+    end_velocity(w, m, tip, n - 1, block_force(w, x, n - 1), tipf, dt, applied);
+
+    /* (3.14) constraint on segment b-1 and (3.6)_2 on node b: block b */
+    const double ms = 1.0 / w->moment_scale;
     for (int b = 1; b < n; b++) {
-        double *r = &res[BLOCK * (b - 1)];
+        double *r = &res[BLOCK * (b - first)];
         const int j = b - 1; /* segment to the left of node b */
-        const double wb = (b == n - 1) ? 0.5 * ds : ds;
+        for (int k = 0; k < 3; k++)
+            r[k] = (w->vbar[3 * b + k] - w->vbar[3 * j + k]) * dt_ds -
+                   (w->d3mid1[3 * j + k] - w->d3mid0[3 * j + k]);
+        if (b == n - 1) break;
+        double raw[3];
+        angular_balance(w, m, x, b, dt, tipm, frame_th, block_omega(w, x, b), raw, 1, 1);
+        for (int k = 0; k < 3; k++) r[3 + k] = raw[k] * ms;
+    }
+    end_angular_rows(w, m, tip, x, n - 1, dt, tipm, frame_th, &res[BLOCK * (n - 1 - first) + 3]);
+    if (first == 0) {
+        /* block 0 has no segment to its left: its first entries are unused */
+        for (int k = 0; k < 3; k++) res[k] = x[k] / w->force_scale;
+        end_angular_rows(w, m, root, x, 0, dt, tipm, frame_th, &res[3]);
+    }
+}
 
-        /* (3.14) constraint on segment j, dimensionless */
-        double d3_1[3];
-        v3_copy(d3_1, &w->d3mid1[3 * j]);
-        for (int k = 0; k < 3; k++) {
-            double vbar_r = theta * w->vel1[3 * b + k] + (1.0 - theta) * w->vel0[3 * b + k];
-            double vbar_l = theta * w->vel1[3 * j + k] + (1.0 - theta) * w->vel0[3 * j + k];
-            r[k] = (vbar_r - vbar_l) * dt_ds - (d3_1[k] - w->d3mid0[3 * j + k]);
-        }
-        const double *n_left = block_force(x, b);
-        const double *n_right = (b < n - 1) ? block_force(x, b + 1) : tipf;
-
-        /* (3.6)_2 angular momentum of the cell of node b, director components */
-        double total[3], d3l[3], cr[3];
-        for (int k = 0; k < 3; k++) {
-            double m_right = (b < n - 1)
-                                 ? theta * w->moment1[3 * b + k] + (1.0 - theta) * w->moment0[3 * b + k]
-                                 : tipm[k];
-            double m_left = theta * w->moment1[3 * j + k] + (1.0 - theta) * w->moment0[3 * j + k];
-            total[k] = m_right - m_left;
-            d3l[k] = theta * d3_1[k] + (1.0 - theta) * w->d3mid0[3 * j + k];
-        }
-        v3_cross(cr, d3l, n_left);
-        v3_axpy(total, 0.5 * ds, cr);
-        if (b < n - 1) {
-            double d3r[3];
-            const double *d3r1 = &w->d3mid1[3 * b];
-            for (int k = 0; k < 3; k++) d3r[k] = theta * d3r1[k] + (1.0 - theta) * w->d3mid0[3 * b + k];
-            v3_cross(cr, d3r, n_right);
-            v3_axpy(total, 0.5 * ds, cr);
-        }
-        double body[3], wbar[3], iw[3], gyro[3];
-        m3_mul_tv(body, &frame_th[9 * b], total);
-        const double *om = block_omega(x, b);
-        for (int k = 0; k < 3; k++) {
-            wbar[k] = theta * om[k] + (1.0 - theta) * w->omega0[3 * b + k];
-            iw[k] = inertia[k] * wbar[k];
-        }
-        v3_cross(gyro, wbar, iw);
-        for (int k = 0; k < 3; k++) {
-            double inertial = wb * (inertia[k] * (om[k] - w->omega0[3 * b + k]) * inv_dt + gyro[k]);
-            r[3 + k] = (inertial - body[k] + wb * m->angular_damping * wbar[k]) * ms;
-        }
+/* What the supports exert on the rod over the accepted step (the leftover
+ * of the held ends' balances), from the residual's last evaluation at x. */
+static void end_reactions(implicit_work *w, const rod_model *m, double t, double dt)
+{
+    const int n = w->nodes;
+    const double theta = m->options.theta, c = m->linear_damping, wb = 0.5 * m->ds;
+    const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
+    double tipf[3], tipm[3];
+    tip_load_mean(w, m, t, dt, frame_th, tipf, tipm);
+    for (int which = 0; which < 2; which++) {
+        end_condition *e = &w->ends[which];
+        const int b = which ? n - 1 : 0;
+        v3_set(e->reaction, 0.0, 0.0, 0.0);
+        v3_set(e->reaction_moment, 0.0, 0.0, 0.0);
+        if (!e->held) continue;
+        double applied[3];
+        const double *n_left = which ? block_force(w, w->x, n - 1) : zero3;
+        const double *n_right = which ? tipf : block_force(w, w->x, 1);
+        for (int k = 0; k < 3; k++) applied[k] = n_right[k] - n_left[k] + wb * m->distributed_force[k];
+        if (w->point_force) v3_axpy(applied, w->point_factor, &w->point_force[3 * b]);
+        const double *v1 = &w->vel1[3 * b], *v0 = &w->vel0[3 * b], *vb = &w->vbar[3 * b];
+        for (int k = 0; k < 3; k++)
+            e->reaction[k] = wb * m->mass_per_length * (v1[k] - v0[k]) / dt + wb * c * vb[k] - applied[k];
+        if (!e->clamped && !e->hold_omega[0] && !e->hold_omega[1] && !e->hold_omega[2]) continue;
+        double raw[3], om[3];
+        for (int k = 0; k < 3; k++)
+            om[k] = e->clamped ? e->omega1[k] : e->hold_omega[k] ? 0.0 : block_omega(w, w->x, b)[k];
+        if (which) angular_balance(w, m, w->x, b, dt, tipm, frame_th, om, raw, 1, 0);
+        else angular_balance(w, m, w->x, b, dt, tipm, frame_th, om, raw, 0, 1);
+        for (int k = 0; k < 3; k++)
+            if (!e->clamped && !e->hold_omega[k]) raw[k] = 0.0; /* balanced by the motion */
+        m3_mul_v(e->reaction_moment, &frame_th[9 * b], raw);
     }
 }
 
@@ -484,6 +774,15 @@ static void residual_planar(implicit_work *w, const rod_model *m, const double *
         double wbar = theta * xb[4] + (1.0 - theta) * w->omega0[3 * b + 1];
         double inertial = wb * inertia * (xb[4] - w->omega0[3 * b + 1]) / dt;
         r[4] = (inertial - total + wb * m->angular_damping * wbar) * ms;
+        if (b == 1) {
+            /* the clamped root's half cell, at rest: the support holds N_{1/2},
+             * M_{1/2} and their arm, and the cell's load */
+            end_condition *root = &w->ends[0];
+            v3_set(root->reaction, -n_left[0] - 0.5 * ds * m->distributed_force[0],
+                   -n_left[1] - 0.5 * ds * m->distributed_force[1], 0.0);
+            v3_set(root->reaction_moment, 0.0, 0.0,
+                   -m_left - 0.5 * ds * (lx * n_left[1] - ly * n_left[0]));
+        }
     }
 }
 
@@ -564,16 +863,16 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
         for (int comp = 0; comp < nb; comp++) {
             double *xp = w->dx; /* scratch copy of x */
             memcpy(xp, w->x, (size_t)nu * sizeof(double));
-            for (int b = 1 + color; b < w->nodes; b += 3) {
-                int col = nb * (b - 1) + comp;
+            for (int b = w->first + color; b < w->nodes; b += 3) {
+                int col = nb * (b - w->first) + comp;
                 double h = 1e-7 * fmax(fabs(xp[col]), w->var_scale[w->var_kind[comp]]);
                 xp[col] += h;
             }
             evaluate(w, m, xp, t, dt, w->perturbed);
-            for (int b = 1 + color; b < w->nodes; b += 3) {
-                int col = nb * (b - 1) + comp;
+            for (int b = w->first + color; b < w->nodes; b += 3) {
+                int col = nb * (b - w->first) + comp;
                 double h = xp[col] - w->x[col];
-                int row_lo = nb * (b - 2), row_hi = nb * (b + 1); /* blocks b-1..b+1 */
+                int row_lo = nb * (b - w->first - 1), row_hi = nb * (b - w->first + 2); /* blocks b-1..b+1 */
                 if (row_lo < 0) row_lo = 0;
                 if (row_hi > nu) row_hi = nu;
                 if (row_lo < col - ku) row_lo = col - ku;
@@ -731,6 +1030,72 @@ static void accept_planar(implicit_work *w, const rod_model *m, rod_state *s)
     memcpy(w->phi0, w->phi1, (size_t)n * sizeof(double));
 }
 
+/* The step's data of the held ends (from their paths; independent of the
+ * Newton iterate) and the point loads' profile factor. */
+static void prepare_ends(implicit_work *w, const rod_model *m, const rod_state *s, double dt)
+{
+    const int n = w->nodes;
+    const double theta = m->options.theta, t = s->time;
+    w->point_factor = theta * rod_profile_factor(&m->profile, t + dt) +
+                      (1.0 - theta) * rod_profile_factor(&m->profile, t);
+    for (int which = 0; which < 2; which++) {
+        end_condition *e = &w->ends[which];
+        const int node = which ? n - 1 : 0;
+        if (!e->held) continue;
+        const double *q0 = &s->frame[9 * node], *r0 = &s->position[3 * node];
+        if (!e->have_initial || t == 0.0) {
+            /* Q_end(0) = R(t)^T Q(t) at the first step, so the frame
+             * follows R(t) Q_end(0) from wherever the run starts (again
+             * when a state is reset to t = 0 for the same solver) */
+            m3_identity(e->initial_frame);
+            if (e->path) {
+                rod_pose p0;
+                rod_path_eval(e->path, t, &p0);
+                m3_mul_tn(e->initial_frame, p0.rotation, q0);
+            }
+            v3_copy(e->anchor, r0);
+            e->have_initial = 1;
+        }
+        v3_set(e->correction, 0.0, 0.0, 0.0);
+        if (e->sliding) {
+            double off[3];
+            v3_sub(off, e->anchor, r0);
+            v3_axpy(off, -v3_dot(off, e->slide), e->slide);
+            v3_scale(e->correction, off, 1.0 / dt);
+        }
+        if (e->path) {
+            rod_pose p1;
+            rod_path_eval(e->path, t + dt, &p1);
+            /* from the end's actual position: the step lands on the path
+             * exactly, whatever rounding the chain of segments carried */
+            for (int k = 0; k < 3; k++) e->vbar[k] = (p1.position[k] - r0[k]) / dt;
+            v3_copy(e->vel1, p1.velocity);
+            v3_copy(e->pos1, p1.position);
+            if (e->clamped) {
+                m3_mul(e->frame1, p1.rotation, e->initial_frame);
+                m3_mul_tv(e->omega1, e->frame1, p1.angular_velocity);
+            }
+        } else {
+            for (int k = 0; k < 3; k++) e->vbar[k] = (e->anchor[k] - r0[k]) / dt;
+            v3_set(e->vel1, 0.0, 0.0, 0.0);
+            v3_copy(e->pos1, e->anchor);
+            if (e->clamped) {
+                memcpy(e->frame1, q0, 9 * sizeof(double));
+                v3_set(e->omega1, 0.0, 0.0, 0.0);
+            }
+        }
+        if (e->clamped) {
+            /* the frame at the theta point: the same rotation, scaled */
+            double rel[9], phi[3], rot[9];
+            m3_mul_tn(rel, q0, e->frame1);
+            m3_log(phi, rel);
+            v3_scale(phi, phi, theta);
+            m3_exp(rot, phi);
+            m3_mul(e->frame_th, q0, rot);
+        }
+    }
+}
+
 static int single_step(implicit_work *w, const rod_model *m, rod_state *s, double dt,
                        rod_report *report)
 {
@@ -749,6 +1114,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
     memcpy(w->omega0, s->angular_velocity, (size_t)n * 3 * sizeof(double));
     for (int i = 0; i < n; i++) m3_mul_v(&w->vel0[3 * i], &s->frame[9 * i], &s->velocity[3 * i]);
     tip_load_global(m, s->time, &w->frame0[9 * (n - 1)], w->tipf0, w->tipm0);
+    prepare_ends(w, m, s, dt);
 
     /* initial guess: the start-of-step values (N from the stored contact
      * force), or, continuing a run, the last two solutions extrapolated */
@@ -757,9 +1123,9 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
         for (int i = 0; i < w->unknowns; i++)
             w->x[i] = w->x_last[i] + ratio * (w->x_last[i] - w->x_before[i]);
     } else {
-        for (int b = 1; b < n; b++) {
-            double *xb = &w->x[w->block * (b - 1)], force[3];
-            m3_mul_v(force, &w->mid1[9 * (b - 1)], &s->contact_force[3 * (b - 1)]);
+        for (int b = w->first; b < n; b++) {
+            double *xb = &w->x[w->block * (b - w->first)], force[3] = {0.0, 0.0, 0.0};
+            if (b > 0) m3_mul_v(force, &w->mid1[9 * (b - 1)], &s->contact_force[3 * (b - 1)]);
             if (w->planar) {
                 xb[0] = force[0];
                 xb[1] = force[1];
@@ -781,7 +1147,12 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
     if (w->planar) {
         accept_planar(w, m, s);
     } else {
-        for (int i = 1; i < n; i++) {
+        for (int i = 0; i < n; i++) {
+            const end_condition *e = i == 0 ? &w->ends[0] : i == n - 1 ? &w->ends[1] : NULL;
+            if (e && e->clamped) {
+                memcpy(&s->frame[9 * i], e->frame1, 9 * sizeof(double));
+                continue;
+            }
             /* one Newton-Schulz step towards the nearest rotation,
              * Q <- Q (3 I - Q^T Q) / 2 (m3_orthonormalize takes two): Q is a
              * product of rotations, orthonormal to round-off, and the step
@@ -794,32 +1165,68 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
             m3_mul(&s->frame[9 * i], q, qtq);
         }
         memcpy(s->darboux, w->darboux1, (size_t)(n - 1) * 3 * sizeof(double));
-        /* centreline from d3 at the midpoints (3.12), as rod_positions_from_midframes */
-        v3_set(s->position, 0.0, 0.0, 0.0);
-        for (int j = 0; j + 1 < n; j++)
-            for (int k = 0; k < 3; k++)
-                s->position[3 * (j + 1) + k] = s->position[3 * j + k] + m->ds * w->d3mid1[3 * j + k];
-        for (int b = 1; b < n; b++) {
+        /* centreline from d3 at the midpoints (3.12), as rod_positions_from_midframes,
+         * from the held end where the step took it (the root when both are
+         * held: the tip's own step returns it to its place) */
+        const end_condition *root = &w->ends[0], *tip_end = &w->ends[1];
+        if (root->held || !tip_end->held) {
+            if (root->held && !root->sliding) v3_copy(s->position, root->pos1);
+            else v3_axpy(s->position, dt, &w->vbar[0]);
+            for (int j = 0; j + 1 < n; j++)
+                for (int k = 0; k < 3; k++)
+                    s->position[3 * (j + 1) + k] = s->position[3 * j + k] + m->ds * w->d3mid1[3 * j + k];
+        } else {
+            double *last = &s->position[3 * (n - 1)];
+            if (!tip_end->sliding) v3_copy(last, tip_end->pos1);
+            else v3_axpy(last, dt, &w->vbar[3 * (n - 1)]);
+            for (int j = n - 2; j >= 0; j--)
+                for (int k = 0; k < 3; k++)
+                    s->position[3 * j + k] = s->position[3 * (j + 1) + k] - m->ds * w->d3mid1[3 * j + k];
+        }
+        for (int b = 0; b < n; b++) {
+            const end_condition *e = b == 0 ? &w->ends[0] : b == n - 1 ? &w->ends[1] : NULL;
             m3_mul_tv(&s->velocity[3 * b], &s->frame[9 * b], &w->vel1[3 * b]);
-            v3_copy(&s->angular_velocity[3 * b], block_omega(w->x, b));
+            if (e && e->clamped) {
+                v3_copy(&s->angular_velocity[3 * b], e->omega1);
+            } else {
+                const double *om = block_omega(w, w->x, b);
+                for (int k = 0; k < 3; k++)
+                    s->angular_velocity[3 * b + k] = (e && e->hold_omega[k]) ? 0.0 : om[k];
+            }
+            if (b == 0) continue;
             /* Q_mid^T N = exp(-h) Q_{b-1}^T N, h = ds/2 u, in the frame at the midpoint */
             double local[3], back[3];
-            m3_mul_tv(local, &w->frame1[9 * (b - 1)], block_force(w->x, b));
+            m3_mul_tv(local, &w->frame1[9 * (b - 1)], block_force(w, w->x, b));
             v3_scale(back, &w->darboux1[3 * (b - 1)], -0.5 * m->ds);
             v3_rotate(&s->contact_force[3 * (b - 1)], back, local);
         }
+        end_reactions(w, m, s->time, dt);
         memcpy(w->moment0, w->moment1, (size_t)(n - 1) * 3 * sizeof(double));
         memcpy(w->d3mid0, w->d3mid1, (size_t)(n - 1) * 3 * sizeof(double));
     }
-    v3_set(&s->velocity[0], 0, 0, 0);
-    v3_set(&s->angular_velocity[0], 0, 0, 0);
-    /* tip entries (staggered convention): N_bar and B^-1 M_bar, director components */
+    if (w->planar) {
+        v3_set(&s->velocity[0], 0, 0, 0);
+        v3_set(&s->angular_velocity[0], 0, 0, 0);
+    }
+    /* what the rod exerts on its supports: minus what they exert on it */
+    for (int which = 0; which < 2; which++) {
+        const end_condition *e = &w->ends[which];
+        v3_scale(s->end_force[which], e->reaction, e->held ? -1.0 : 0.0);
+        v3_scale(s->end_moment[which], e->reaction_moment, e->held ? -1.0 : 0.0);
+    }
+    /* tip entries (staggered convention): N(L) and B^-1 M(L) + u0, director
+     * components; at a held tip the support's force and moment join the load */
     double f[3], mo[3];
     s->time += dt;
     tip_load_global(m, s->time, &s->frame[9 * (n - 1)], f, mo);
+    if (w->ends[1].held) {
+        v3_axpy(f, 1.0, w->ends[1].reaction);
+        v3_axpy(mo, 1.0, w->ends[1].reaction_moment);
+    }
     m3_mul_tv(&s->contact_force[3 * (n - 1)], &s->frame[9 * (n - 1)], f);
     m3_mul_tv(mo, &s->frame[9 * (n - 1)], mo);
-    for (int k = 0; k < 3; k++) s->darboux[3 * (n - 1) + k] = mo[k] / m->stiffness[k];
+    for (int k = 0; k < 3; k++)
+        s->darboux[3 * (n - 1) + k] = mo[k] / m->stiffness[k] + m->intrinsic_curvature[k];
     /* the next step starts here */
     memcpy(w->frame0, s->frame, (size_t)n * 9 * sizeof(double));
     w->start_time = s->time;
@@ -888,13 +1295,19 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     w->have_factor = 0;
     double angle = rod_sharpest_bend(m, s->darboux, &segment);
     if (angle > 0.5 * ROD_UNRESOLVED_BEND) return unresolved(m, s, angle, segment, report);
+    const int both_held = w->ends[0].held && !w->ends[0].sliding && w->ends[1].held &&
+                          !w->ends[1].sliding;
     snprintf(report->message, sizeof report->message,
              "implicit scheme: Newton's method did not converge at t = %.6g s for the step "
              "dt = %g s, split in halves up to %d parts within %d iterations (tolerance %.1e). "
              "The load may change too abruptly for this dt, or exceed what the rod can carry; "
-             "try a smaller dt or a ramped load profile.",
+             "try a smaller dt or a ramped load profile.%s",
              s->time, dt, 1 << MAX_SPLIT_DEPTH, STEP_ITERATION_BUDGET,
-             m->options.newton_tolerance);
+             m->options.newton_tolerance,
+             both_held ? " Both ends hold their place: a nearly straight rod between them can "
+                         "neither stretch nor shorten without bending, so its tension is "
+                         "(nearly) undetermined; start it slightly bent (rod.shape, "
+                         "rod.curvature) and let driven ends start from rest." : "");
     report->suggested_dt = dt / (1 << MAX_SPLIT_DEPTH);
     return ROD_NO_CONVERGENCE;
 }

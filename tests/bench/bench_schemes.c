@@ -14,6 +14,7 @@
 
 #include "base/ini.h"
 #include "cli/run.h"
+#include "sim/path.h"
 #include "sim/rod.h"
 #include "sim/scene.h"
 
@@ -228,6 +229,69 @@ static void time_shipped_scenes(void)
     globfree(&found);
 }
 
+/* Issue 10's ends in the implicit scheme (3-D), each beside today's
+ * cantilever at the same NS: table 2's ramped tip load (on a held tip it
+ * goes to the support) and a small distributed load along +y, so that a
+ * rod held at both ends bends too. The cost per step of each, and its
+ * ratio to the cantilever's (the issue's budget: within 10 %). */
+static void time_ends(void)
+{
+    typedef struct end_case {
+        const char *label;
+        rod_end_kind root, tip;
+        double tip_slide; /* along x */
+        int driven;       /* root driven 1 cm along +z, eased over 10 s (needs sim/path.c) */
+    } end_case;
+    static const end_case cases[] = {
+        {"cantilever (reference)", ROD_END_CLAMPED, ROD_END_FREE, 0.0, 0},
+        {"clamped-clamped, sleeve", ROD_END_CLAMPED, ROD_END_CLAMPED, 1.0, 0},
+        {"pinned-pinned, sleeve", ROD_END_PINNED, ROD_END_PINNED, 1.0, 0},
+        {"free-free", ROD_END_FREE, ROD_END_FREE, 0.0, 0},
+#ifdef RODSIM_HAVE_PATH_C
+        {"cantilever, root driven", ROD_END_CLAMPED, ROD_END_FREE, 0.0, 1},
+#endif
+    };
+    static const int sizes[] = {51, 201};
+    printf("\nends (issue 10), implicit 3-D, dt = 1/60 s, 200 steps: us per step and the ratio "
+           "to the cantilever at the same NS:\n");
+    for (size_t b = 0; b < sizeof sizes / sizeof *sizes; b++) {
+        double reference = -1.0;
+        for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
+            rod_model m = table2_model(ROD_SCHEME_IMPLICIT, sizes[b]);
+            m.physics.planar = 0;
+            m.distributed_force[1] = 1e-6; /* N/m, +y */
+            m.root_end = cases[c].root; /* after derive: it may not accept a free root yet */
+            m.tip_end = cases[c].tip;
+            m.tip_slide[0] = cases[c].tip_slide;
+#ifdef RODSIM_HAVE_PATH_C
+            /* a smooth start (held before t = 0): a driven end that starts
+             * moving at once pulls an inextensible rod with an impulse */
+            enum { ROWS = 101 };
+            double rows[4 * ROWS];
+            for (int r = 0; r < ROWS; r++) {
+                double x = r / (ROWS - 1.0);
+                rows[4 * r] = 10.0 * x;
+                rows[4 * r + 1] = rows[4 * r + 2] = 0.0;
+                rows[4 * r + 3] = 0.01 * x * x * x * (10.0 - 15.0 * x + 6.0 * x * x);
+            }
+            char err[256];
+            if (cases[c].driven && !(m.root_motion = rod_path_create(rows, ROWS, 4, err, sizeof err))) {
+                printf("    (%s)\n", err);
+                continue;
+            }
+#endif
+            timing t = time_equal_steps(&m, 1.0 / 60.0, 200);
+#ifdef RODSIM_HAVE_PATH_C
+            rod_path_destroy(m.root_motion);
+#endif
+            if (c == 0) reference = t.us;
+            printf("  %-26s NS=%-5d %10.2f us per step  %5.3f x cantilever  (%ld Jacobians)\n",
+                   cases[c].label, sizes[b], t.us, reference > 0 && t.us > 0 ? t.us / reference : NAN,
+                   t.jacobian_builds);
+        }
+    }
+}
+
 int main(void)
 {
     static const int sizes[] = {51, 201, 1001};
@@ -304,5 +368,6 @@ int main(void)
         }
     }
     time_shipped_scenes();
+    time_ends();
     return 0;
 }
