@@ -445,6 +445,7 @@ static end_result solve_ends(int nodes, rod_end_kind root, rod_end_kind tip, dou
     rod_model m = static_model(nodes, ROD_FRAME_GLOBAL);
     m.root_end = root;
     m.tip_end = tip;
+    m.tip_slide[0] = 1.0; /* the sleeve along x */
     m.distributed_force[1] = -q;
     rod_state *s;
     rod_report report;
@@ -523,6 +524,7 @@ static void test_held_tip_free_directions(void)
 {
     rod_model m = static_model(21, ROD_FRAME_GLOBAL);
     m.tip_end = ROD_END_CLAMPED;
+    m.tip_slide[0] = 1.0;
     double twist_moment = 0.3 * m.stiffness[2] / m.length;
     m.tip_moment[0] = twist_moment;
     rod_state *s;
@@ -535,6 +537,7 @@ static void test_held_tip_free_directions(void)
     m = static_model(21, ROD_FRAME_GLOBAL);
     m.root_end = ROD_END_PINNED;
     m.tip_end = ROD_END_PINNED;
+    m.tip_slide[0] = 1.0;
     m.tip_force[0] = 2.0 * m.stiffness[0] / (m.length * m.length);
     m.distributed_force[1] = -1e-3 * m.stiffness[0] / pow(m.length, 3);
     check(solve(&m, &s, &report) == ROD_OK, "pinned-pinned with an axial pull and q solves");
@@ -799,6 +802,7 @@ static void test_held_tip_buckling(void)
     rod_model m = static_model(51, ROD_FRAME_GLOBAL);
     m.root_end = ROD_END_PINNED;
     m.tip_end = ROD_END_PINNED;
+    m.tip_slide[0] = 1.0;
     double ei = m.stiffness[0], p = 2.0 * M_PI * M_PI * ei / (m.length * m.length);
     v3_set(m.tip_force, -p, 0.0, 0.0);
     double half[2];
@@ -938,6 +942,221 @@ static void test_budgets(void)
     alarm(0);
 }
 
+/* Issue 10 ------------------------------------------------------------ */
+
+/* The straight rod from `origin` along R x, with frames R Q_init: a state
+ * at t = 0 as rod_state_reset builds it for rod.origin and rod.direction. */
+static void place_straight(const rod_model *m, rod_state *s, const double origin[3],
+                           const double rotation[9])
+{
+    static const double straight[9] = {0, 0, 1, 1, 0, 0, 0, 1, 0};
+    for (int i = 0; i < m->nodes; i++) {
+        double along[3] = {m->ds * i, 0.0, 0.0};
+        m3_mul_v(&s->position[3 * i], rotation, along);
+        v3_add(&s->position[3 * i], &s->position[3 * i], origin);
+        m3_mul(&s->frame[9 * i], rotation, straight);
+    }
+}
+
+/* One static step of `dt` from state s (already placed); prints failures. */
+static rod_status solve_from(const rod_model *m, rod_state *s, double dt, rod_report *report)
+{
+    rod_solver solver;
+    char err[512];
+    memset(report, 0, sizeof *report);
+    if (rod_solver_init(&solver, m, err, sizeof err) != 0) {
+        printf("solver init failed: %s\n", err);
+        return ROD_FAILED;
+    }
+    rod_status status = rod_solver_step(&solver, m, s, dt, report);
+    if (status != ROD_OK) printf("step failed: %s\n", report->message);
+    rod_solver_release(&solver);
+    return status;
+}
+
+/* Intrinsic curvature u0 = (k, 0, 0), no load, clamped root: the rod rests
+ * as a circle arc of radius 1/k about d1 = y, curving towards -z (d3' =
+ * k d1 x d3). The discrete rod is a polygon inscribed in a circle of radius
+ * ds / (2 sin(k ds/2)): relative error (k ds)^2/24 of the radius. And
+ * u0 = (k, 0, tau) rests with u = u0 at every midpoint (a helix). */
+static void test_intrinsic_curvature(void)
+{
+    const int grids[2] = {21, 41};
+    for (int g = 0; g < 2; g++) {
+        rod_model m = static_model(grids[g], ROD_FRAME_GLOBAL);
+        double k = 0.5 * M_PI / m.length; /* a quarter circle */
+        m.intrinsic_curvature[0] = k;
+        rod_state *s;
+        rod_report report;
+        check(solve(&m, &s, &report) == ROD_OK, "u0 = (pi/2L, 0, 0), NS=%d: solves", grids[g]);
+        double radius = 1.0 / k, worst = 0.0, centre[3] = {0.0, 0.0, -radius};
+        for (int i = 0; i < m.nodes; i++) {
+            double d[3];
+            v3_sub(d, &s->position[3 * i], centre);
+            worst = fmax(worst, fabs(v3_norm(d) - radius) / radius);
+        }
+        double polygon = pow(k * m.ds, 2) / 24.0;
+        char what[160];
+        snprintf(what, sizeof what, "u0 quarter circle NS=%d: largest |r - c| / R - 1 vs the polygon's (k ds)^2/24",
+                 grids[g]);
+        check_rel(what, worst, polygon, 1e-3);
+        double tip[3] = {radius, 0.0, -radius};
+        snprintf(what, sizeof what, "u0 quarter circle NS=%d: tip x vs R (arc: tip at (R, 0, -R))", grids[g]);
+        check_rel(what, tip_of(s)[0], tip[0], 2.0 * polygon);
+        snprintf(what, sizeof what, "u0 quarter circle NS=%d: tip z vs -R", grids[g]);
+        check_rel(what, tip_of(s)[2], tip[2], 2.0 * polygon);
+        check(v3_norm(s->end_force[0]) < 1e-15 && v3_norm(s->end_moment[0]) < 1e-15 * m.stiffness[0],
+              "u0 unloaded: no force (%.1e N) or moment (%.1e N m) at the root",
+              v3_norm(s->end_force[0]), v3_norm(s->end_moment[0]));
+        rod_state_destroy(s);
+    }
+    rod_model m = static_model(31, ROD_FRAME_GLOBAL);
+    v3_set(m.intrinsic_curvature, 2.0, 0.0, 1.5);
+    rod_state *s;
+    rod_report report;
+    check(solve(&m, &s, &report) == ROD_OK, "u0 = (2, 0, 1.5) 1/m: solves");
+    double worst = 0.0;
+    for (int j = 0; j + 1 < m.nodes; j++)
+        for (int c = 0; c < 3; c++)
+            worst = fmax(worst, fabs(s->darboux[3 * j + c] - m.intrinsic_curvature[c]));
+    check(worst < 1e-9, "u0 = (2, 0, 1.5): u = u0 at every midpoint (a helix of curvature 2, "
+          "torsion 1.5), largest deviation %.2e 1/m", worst);
+    rod_state_destroy(s);
+}
+
+static rod_point_load *one_point_load(int node, double fx, double fy, double fz)
+{
+    rod_point_load *p = calloc(1, sizeof *p);
+    p->node = node;
+    v3_set(p->force, fx, fy, fz);
+    return p;
+}
+
+/* A point load on a cantilever at mid-span: tip deflection 5 P L^3/48 EI
+ * (small deflection), and by statics exactly: the root feels N(0) = P and
+ * M(0) = (r_p - r_0) x P. A dead distributed moment m: tip deflection
+ * m L^3 / 3 EI (M(s) = m (L - s)). */
+static void test_point_load_and_moment(void)
+{
+    rod_model m = static_model(41, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], length = m.length, p = 1e-4 * ei / (length * length);
+    int middle = (m.nodes - 1) / 2;
+    m.point_loads = one_point_load(middle, 0.0, -p, 0.0);
+    m.point_load_count = 1;
+    rod_state *s;
+    rod_report report;
+    check(solve(&m, &s, &report) == ROD_OK, "point load at mid-span: solves");
+    check_rel("cantilever, point load P at L/2: tip deflection vs 5PL^3/48EI", -tip_of(s)[1],
+              5.0 * p * pow(length, 3) / (48.0 * ei), 1e-3);
+    double arm[3], moment[3];
+    v3_sub(arm, &s->position[3 * middle], &s->position[0]);
+    v3_cross(moment, arm, m.point_loads[0].force);
+    check_rel("point load: root force N(0)_y vs -P (statics)", s->end_force[0][1], -p, 1e-9);
+    check_rel("point load: root moment M(0)_z vs (r_p - r_0) x P (statics)", s->end_moment[0][2],
+              moment[2], 1e-9);
+    check(v3_norm(s->end_force[1]) == 0.0, "free tip: no end force");
+    rod_state_destroy(s);
+    free(m.point_loads);
+
+    m = static_model(41, ROD_FRAME_GLOBAL);
+    double q = 1e-4 * ei / (length * length);
+    v3_set(m.distributed_moment, 0.0, 0.0, q);
+    check(solve(&m, &s, &report) == ROD_OK, "distributed moment: solves");
+    check_rel("cantilever, distributed moment m about z: tip deflection vs mL^3/3EI", tip_of(s)[1],
+              q * pow(length, 3) / (3.0 * ei), 1e-3);
+    check_rel("distributed moment: root moment vs m L (statics)", s->end_moment[0][2], q * length,
+              1e-9);
+    rod_state_destroy(s);
+}
+
+/* Clamped-clamped beam with a centre load P, the tip clamped on a sleeve
+ * along the rod's own (arbitrary) direction: midspan deflection P L^3/192 EI,
+ * each support carries P/2 and the fixed-end moment P L/8 (small
+ * deflection). The rod lies along R x from an arbitrary origin (the root
+ * frame, position and the slide all turned). A tip clamped in place at the
+ * distance L could not deflect at all (inextensible): that is the sleeve's
+ * purpose here. */
+static void test_turned_clamped_beam(void)
+{
+    const int grids[2] = {21, 41};
+    double errors[2];
+    for (int g = 0; g < 2; g++) {
+        rod_model m = static_model(grids[g], ROD_FRAME_GLOBAL);
+        double ei = m.stiffness[0], length = m.length, p = 1e-4 * ei / (length * length);
+        double axis[3] = {0.3, -0.5, 0.7}, rotation[9], origin[3] = {0.2, -0.1, 0.4};
+        m3_exp(rotation, axis);
+        double along[3], across[3], normal[3];
+        m3_column(along, rotation, 0);
+        m3_column(across, rotation, 1);
+        m3_column(normal, rotation, 2);
+        m.tip_end = ROD_END_CLAMPED;
+        v3_copy(m.tip_slide, along);
+        v3_copy(m.origin, origin);
+        v3_copy(m.direction, along);
+        int middle = (m.nodes - 1) / 2;
+        m.point_loads = one_point_load(middle, p * across[0], p * across[1], p * across[2]);
+        m.point_load_count = 1;
+        rod_state *s = rod_state_create(&m);
+        place_straight(&m, s, origin, rotation);
+        rod_report report;
+        check(solve_from(&m, s, 1.0, &report) == ROD_OK, "turned clamped-clamped beam NS=%d: solves",
+              grids[g]);
+        double moved[3];
+        v3_sub(moved, &s->position[3 * middle], origin);
+        double w = v3_dot(moved, across), reference = p * pow(length, 3) / (192.0 * ei);
+        char what[200];
+        snprintf(what, sizeof what, "turned clamped-clamped (sleeve) NS=%d: centre deflection vs PL^3/192EI",
+                 grids[g]);
+        check_rel(what, w, reference, 5.0 / pow(grids[g] - 1, 2)); /* second order: 4/(NS-1)^2 */
+        errors[g] = fabs(w - reference) / reference;
+        snprintf(what, sizeof what, "NS=%d: root force across vs P/2 (symmetry)", grids[g]);
+        check_rel(what, v3_dot(s->end_force[0], across), 0.5 * p, 1e-6);
+        snprintf(what, sizeof what, "NS=%d: tip force across vs P/2 (symmetry)", grids[g]);
+        check_rel(what, v3_dot(s->end_force[1], across), 0.5 * p, 1e-6);
+        check(fabs(v3_dot(s->end_force[1], along)) < 1e-12 * p,
+              "NS=%d: the sleeve carries no force along itself (%.1e N)", grids[g],
+              v3_dot(s->end_force[1], along));
+        snprintf(what, sizeof what, "NS=%d: root moment about the normal vs PL/8", grids[g]);
+        check_rel(what, fabs(v3_dot(s->end_moment[0], normal)), p * length / 8.0, 0.01);
+        snprintf(what, sizeof what, "NS=%d: tip moment about the normal vs PL/8", grids[g]);
+        check_rel(what, fabs(v3_dot(s->end_moment[1], normal)), p * length / 8.0, 0.01);
+        double tip_gap[3];
+        v3_sub(tip_gap, tip_of(s), origin);
+        v3_axpy(tip_gap, -v3_dot(tip_gap, along), along);
+        check(v3_norm(tip_gap) < 1e-14, "NS=%d: the tip stays on its sleeve (off by %.1e m)", grids[g],
+              v3_norm(tip_gap));
+        rod_state_destroy(s);
+        free(m.point_loads);
+    }
+    double order = log(errors[0] / errors[1]) / log(2.0);
+    check(order > 1.8 && order < 2.2, "turned clamped-clamped: observed order %.3f (errors %.3e -> %.3e)",
+          order, errors[0], errors[1]);
+}
+
+/* Refusals at create: free-free, a free root, a sliding root. */
+static void test_static_refusals(void)
+{
+    const struct {
+        rod_end_kind root, tip;
+        double root_slide;
+        const char *expect;
+    } cases[3] = {
+        {ROD_END_FREE, ROD_END_FREE, 0.0, "implicit"},
+        {ROD_END_FREE, ROD_END_CLAMPED, 0.0, "mirrored"},
+        {ROD_END_CLAMPED, ROD_END_PINNED, 1.0, "sliding root"},
+    };
+    for (int c = 0; c < 3; c++) {
+        rod_model m = static_model(11, ROD_FRAME_GLOBAL);
+        m.root_end = cases[c].root;
+        m.tip_end = cases[c].tip;
+        m.root_slide[0] = cases[c].root_slide;
+        char err[512] = "";
+        static_work *w = static_work_create(&m, err, sizeof err);
+        check(!w && strstr(err, cases[c].expect), "refused: '%s'", err);
+        static_work_destroy(w);
+    }
+}
+
 int main(void)
 {
     test_table2_deflections();
@@ -958,5 +1177,9 @@ int main(void)
     test_held_tip_buckling();
     test_unresolved_grid();
     test_budgets();
+    test_intrinsic_curvature();
+    test_point_load_and_moment();
+    test_turned_clamped_beam();
+    test_static_refusals();
     return test_finish();
 }
