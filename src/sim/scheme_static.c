@@ -1848,8 +1848,9 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
             snprintf(report->warning, sizeof report->warning,
                      "static: at t = %g s the held tip moved towards the root of the straight "
                      "rod, which must buckle (inextensible); it was bent towards the root's "
-                     "+d1 (a symmetric choice: the mirror image is an equally valid "
-                     "equilibrium; a small transverse load picks the side).", target_time);
+                     "+d1 to start (a symmetric choice: the mirror image, and for a round rod "
+                     "the shape turned about the chord, are equally valid equilibria; a small "
+                     "transverse load picks the side).", target_time);
         forces_from_statics(w, m, &load);
         w->stiffness_fresh = 0;
         int rc = newton(w, m, &load, tolerance, max_iterations, &last_iterations, &last_residual);

@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "study/reference.h"
+#include "sim/path.h"
 #include "sim/rod.h"
 #include "sim/rod_geometry.h"
 #include "sim/scheme_static.h"
@@ -1157,6 +1158,171 @@ static void test_static_refusals(void)
     }
 }
 
+/* A TEST-ONLY stand-in for sim/path.c until it is merged: weak, so the
+ * real functions replace all three together when path.o is linked. It
+ * interpolates linearly; the tests read the path only at or after its last
+ * row, where every interpolation gives the last row exactly. */
+struct rod_path {
+    int rows, columns;
+    double data[4 * 7];
+};
+
+__attribute__((weak)) rod_path *rod_path_create(const double *data, int rows, int columns,
+                                                char *err, size_t errlen)
+{
+    if (rows < 1 || rows > 4 || (columns != 4 && columns != 7)) {
+        snprintf(err, errlen, "test path: 1..4 rows of 4 or 7 columns");
+        return NULL;
+    }
+    rod_path *p = calloc(1, sizeof *p);
+    p->rows = rows;
+    p->columns = columns;
+    memcpy(p->data, data, (size_t)(rows * columns) * sizeof(double));
+    return p;
+}
+
+__attribute__((weak)) void rod_path_destroy(rod_path *p) { free(p); }
+
+__attribute__((weak)) void rod_path_eval(const rod_path *p, double t, rod_pose *pose)
+{
+    memset(pose, 0, sizeof *pose);
+    int c = p->columns, k = 0;
+    while (k + 1 < p->rows && p->data[(k + 1) * c] <= t) k++;
+    double f = 0.0;
+    if (k + 1 < p->rows && t > p->data[k * c])
+        f = (t - p->data[k * c]) / (p->data[(k + 1) * c] - p->data[k * c]);
+    double rotation[3] = {0, 0, 0};
+    for (int j = 0; j < 3; j++) {
+        double a = p->data[k * c + 1 + j], b = k + 1 < p->rows ? p->data[(k + 1) * c + 1 + j] : a;
+        pose->position[j] = a + f * (b - a);
+        if (c == 7) {
+            double ra = p->data[k * c + 4 + j], rb = k + 1 < p->rows ? p->data[(k + 1) * c + 4 + j] : ra;
+            rotation[j] = ra + f * (rb - ra);
+        }
+    }
+    m3_exp(pose->rotation, rotation);
+}
+
+/* Complete elliptic integrals K(k), E(k) by the arithmetic-geometric mean
+ * (Abramowitz & Stegun 17.6): K = pi / (2 a_N), E = K (1 - sum 2^(n-1) c_n^2). */
+static void elliptic_ke(double k, double *big_k, double *big_e)
+{
+    double a = 1.0, b = sqrt(1.0 - k * k), c = k, sum = 0.5 * c * c, power = 0.5;
+    for (int n = 0; n < 60 && fabs(c) > 1e-17; n++) {
+        double next_a = 0.5 * (a + b), next_b = sqrt(a * b);
+        c = 0.5 * (a - b);
+        a = next_a;
+        b = next_b;
+        power *= 2.0;
+        sum += power * c * c;
+    }
+    *big_k = M_PI / (2.0 * a);
+    *big_e = *big_k * (1.0 - sum);
+}
+
+/* The clamped-clamped elastica, first mode, ends a distance L - e apart
+ * (derived here; e.g. Timoshenko & Gere, Theory of Elastic Stability,
+ * art. 2.7). theta'' + lambda^2 sin theta = 0, lambda^2 = P/EI, theta = 0 at
+ * both ends: four quarter waves of the pendulum between theta = 0 and the
+ * inflection angle alpha, k = sin(alpha/2), each of length K(k)/lambda, so
+ *   P L^2/EI = 16 K^2 (4 pi^2 as k -> 0),
+ * each quarter advances (2E - K)/lambda along the chord and 2k/lambda across:
+ *   e/L = 2 (1 - E/K),  midspan deflection delta/L = k/K.
+ * k from e/L by bisection (e/L grows with k). */
+static void clamped_elastica(double shortening, double *force_factor, double *deflection)
+{
+    double low = 0.0, high = 1.0 - 1e-15;
+    for (int i = 0; i < 200; i++) {
+        double k = 0.5 * (low + high), big_k, big_e;
+        elliptic_ke(k, &big_k, &big_e);
+        if (2.0 * (1.0 - big_e / big_k) < shortening) low = k;
+        else high = k;
+    }
+    double k = 0.5 * (low + high), big_k, big_e;
+    elliptic_ke(k, &big_k, &big_e);
+    *force_factor = 16.0 * big_k * big_k;
+    *deflection = k / big_k;
+}
+
+/* A clamped-clamped rod whose tip is driven towards the root by e (a tip
+ * path, four static steps): the buckled shape's midspan deflection and the
+ * end force against the elastica above, and at vanishing e the critical
+ * load 4 pi^2 EI/L^2. */
+static void test_clamped_clamped_elastica(void)
+{
+    double big_k, big_e;
+    elliptic_ke(sqrt(0.5), &big_k, &big_e);
+    check_rel("reference: K(1/sqrt 2) vs Gamma(1/4)^2 / (4 sqrt pi) = 1.8540746773", big_k,
+              1.8540746773013719, 1e-13);
+    check_rel("reference: E(1/sqrt 2) vs 1.3506438810476755", big_e, 1.3506438810476755, 1e-13);
+    const double shortenings[3] = {1e-5, 0.1, 0.3};
+    for (int c = 0; c < 3; c++) {
+        rod_model m = static_model(101, ROD_FRAME_GLOBAL);
+        double ei = m.stiffness[0], length = m.length, e = shortenings[c] * length;
+        m.tip_end = ROD_END_CLAMPED;
+        double rows[8] = {0.0, length, 0.0, 0.0, 1.0, length - e, 0.0, 0.0};
+        char err[256];
+        m.tip_motion = rod_path_create(rows, 2, 4, err, sizeof err);
+        if (!m.tip_motion) printf("path: %s\n", err);
+        rod_state *s = rod_state_create(&m);
+        rod_solver solver;
+        rod_report report;
+        memset(&report, 0, sizeof report);
+        rod_status status = rod_solver_init(&solver, &m, err, sizeof err) == 0 ? ROD_OK : ROD_FAILED;
+        if (status != ROD_OK) printf("init: %s\n", err);
+        for (int k = 0; k < 4 && status == ROD_OK; k++) {
+            status = rod_solver_step(&solver, &m, s, 0.25, &report);
+            if (status != ROD_OK) printf("step: %s\n", report.message);
+        }
+        check(status == ROD_OK && s->time == 1.0, "clamped-clamped driven e/L = %g: solves (%s)",
+              shortenings[c], report.warning[0] ? "warned of the side" : "no warning");
+        double force_factor, deflection;
+        clamped_elastica(shortenings[c], &force_factor, &deflection);
+        char what[200];
+        snprintf(what, sizeof what, "clamped-clamped e/L = %g NS=101: tip x vs L - e", shortenings[c]);
+        check_rel(what, tip_of(s)[0], length - e, 1e-12);
+        snprintf(what, sizeof what, "clamped-clamped e/L = %g NS=101: end force at the tip P L^2/EI vs "
+                 "elastica 16 K^2", shortenings[c]);
+        check_rel(what, s->end_force[1][0] * length * length / ei, force_factor, 1e-3);
+        snprintf(what, sizeof what, "clamped-clamped e/L = %g NS=101: root force -N(0)_x L^2/EI vs 16 K^2",
+                 shortenings[c]);
+        check_rel(what, -s->end_force[0][0] * length * length / ei, force_factor, 1e-3);
+        if (c == 0) {
+            snprintf(what, sizeof what, "clamped-clamped e/L = 1e-5: end force vs the critical load "
+                     "4 pi^2 EI/L^2");
+            check_rel(what, s->end_force[1][0] * length * length / ei, 4.0 * M_PI * M_PI, 1e-3);
+        }
+        /* a round rod's buckled shape may turn about the chord: a neutral
+         * mode (rotating it with a constant twist offset keeps the clamps and
+         * the energy), so the plane is any; the deflection's size is not */
+        double across[3] = {0.0, s->position[3 * 50 + 1], s->position[3 * 50 + 2]};
+        double mid = v3_norm(across) / length;
+        snprintf(what, sizeof what, "clamped-clamped e/L = %g NS=101: midspan deflection / L vs "
+                 "elastica k/K", shortenings[c]);
+        check_rel(what, mid, deflection, 1e-3);
+        double normal[3] = {0.0, -across[2], across[1]}, off_plane = 0.0;
+        v3_scale(normal, normal, 1.0 / v3_norm(normal));
+        for (int i = 0; i < m.nodes; i++)
+            off_plane = fmax(off_plane, fabs(v3_dot(&s->position[3 * i], normal)));
+        check(fabs(s->end_force[1][1]) < 1e-9 * force_factor * ei &&
+                  fabs(s->end_force[1][2]) < 1e-9 * force_factor * ei && fabs(tip_of(s)[1]) < 1e-14 &&
+                  off_plane < 1e-12 * length,
+              "e/L = %g: planar (largest distance from the plane of x and the midspan deflection "
+              "%.1e m), the tip in place (y %.1e m), no transverse end force (%.1e N)",
+              shortenings[c], off_plane, tip_of(s)[1], s->end_force[1][1]);
+        int count = -2;
+        static_work *w = static_work_create(&m, err, sizeof err);
+        if (w) static_unstable_modes(w, &m, s, &count, err, sizeof err);
+        static_work_destroy(w);
+        check(count == 0, "e/L = %g: the buckled rod is stable (%d negative eigenvalues)",
+              shortenings[c], count);
+        if (m.tip_motion) rod_path_destroy(m.tip_motion);
+        m.tip_motion = NULL;
+        rod_solver_release(&solver);
+        rod_state_destroy(s);
+    }
+}
+
 int main(void)
 {
     test_table2_deflections();
@@ -1181,5 +1347,6 @@ int main(void)
     test_point_load_and_moment();
     test_turned_clamped_beam();
     test_static_refusals();
+    test_clamped_clamped_elastica();
     return test_finish();
 }
