@@ -215,6 +215,7 @@ struct static_work {
      * `dofs` rotations; K = -Q^T dR/dphi in moment-row units (see
      * capture_stiffness). Constrained to the held tip's sleeve by `constraint`. */
     int dofs;
+    int constraint_rows;  /* rows of `constraint`: border, less a degenerate one */
     int *dof_node;        /* (dofs) */
     int *dof_axis;        /* (dofs) the row 0..2 of its node's moment rows (block of 3) */
     double *dof_dir;      /* (dofs x 3) unit global axis of the rotation */
@@ -340,6 +341,9 @@ static void set_initial_ends(static_work *w, const double *position, const doubl
     m3_column(w->root_axes[0], w->root_frame0, 2);
     m3_column(w->root_axes[1], w->root_frame0, 0);
     m3_column(w->root_axes[2], w->root_frame0, 1);
+    /* a pinned root's swing dofs turn about its initial d1, d2 */
+    for (int a = 0; a < w->dofs && w->dof_node[a] == 0; a++)
+        v3_copy(&w->dof_dir[3 * a], w->root_axes[w->dof_axis[a]]);
 }
 
 /* The same from the model, before any state is seen (the buckling module's
@@ -835,8 +839,9 @@ static void build_jacobian(static_work *w, const rod_model *m, const static_load
 
 /* Solves the size x size system a x = b (size <= MAX_BORDER) in place in b
  * by elimination with partial pivoting. Returns -1 when a pivot is below
- * 1e-13 of the matrix's largest entry (singular to round-off). */
-static int solve_small(int size, double a[MAX_BORDER][MAX_BORDER], double b[MAX_BORDER])
+ * `smallest` times the matrix's largest entry (singular). */
+static int solve_small_below(int size, double a[MAX_BORDER][MAX_BORDER], double b[MAX_BORDER],
+                             double smallest)
 {
     double largest = 0.0;
     for (int r = 0; r < size; r++)
@@ -846,7 +851,7 @@ static int solve_small(int size, double a[MAX_BORDER][MAX_BORDER], double b[MAX_
         int pivot = k;
         for (int r = k + 1; r < size; r++)
             if (fabs(a[r][k]) > fabs(a[pivot][k])) pivot = r;
-        if (!(fabs(a[pivot][k]) > 1e-13 * largest)) return -1;
+        if (!(fabs(a[pivot][k]) > smallest * largest)) return -1;
         if (pivot != k) {
             for (int c = 0; c < size; c++) {
                 double t = a[k][c];
@@ -868,6 +873,12 @@ static int solve_small(int size, double a[MAX_BORDER][MAX_BORDER], double b[MAX_
         b[k] /= a[k][k];
     }
     return 0;
+}
+
+/* The same, singular to round-off below 1e-13. */
+static int solve_small(int size, double a[MAX_BORDER][MAX_BORDER], double b[MAX_BORDER])
+{
+    return solve_small_below(size, a, b, 1e-13);
 }
 
 /* Solves J step = -residual with the Jacobian of build_jacobian (the band
@@ -931,7 +942,29 @@ static int solve_newton_step(static_work *w)
         for (int l = 0; l < nr; l++)
             for (int i = 0; i < nb; i++) schur[k][l] += c[i] * w->border_solution[(size_t)l * nb + i];
     }
-    if (solve_small(nr, schur, d_reaction) != 0) return -1;
+    double schur_copy[MAX_BORDER][MAX_BORDER], rhs[MAX_BORDER];
+    memcpy(schur_copy, schur, sizeof schur);
+    memcpy(rhs, d_reaction, sizeof rhs);
+    /* A straight rod between ends held exactly L apart: the chord's length
+     * is stationary, so the axial reaction is undetermined (any tension
+     * balances: an axial force turns no node of a straight rod, so the
+     * Schur complement's axial pivot is round-off; a rod bent by a has one
+     * of ~a^2 relative). Below 1e-9: least squares with a ridge, the
+     * smallest reaction change that meets the other rows. */
+    if (solve_small_below(nr, schur, d_reaction, nr == 3 ? 1e-9 : 1e-13) != 0) {
+        double normal[MAX_BORDER][MAX_BORDER] = {{0}}, largest = 0.0;
+        for (int k = 0; k < nr; k++)
+            for (int l = 0; l < nr; l++) {
+                for (int i = 0; i < nr; i++) normal[k][l] += schur_copy[i][k] * schur_copy[i][l];
+                largest = fmax(largest, fabs(normal[k][l]));
+            }
+        for (int k = 0; k < nr; k++) {
+            d_reaction[k] = 0.0;
+            for (int i = 0; i < nr; i++) d_reaction[k] += schur_copy[i][k] * rhs[i];
+            normal[k][k] += 1e-12 * largest;
+        }
+        if (solve_small(nr, normal, d_reaction) != 0) return -1;
+    }
     for (int l = 0; l < nr; l++)
         for (int i = 0; i < nb; i++)
             w->newton_step[i] -= w->border_solution[(size_t)l * nb + i] * d_reaction[l];
@@ -962,6 +995,79 @@ static void accept_trial(static_work *w)
 static double *stiffness_at(static_work *w, int a, int b) /* lower band, a >= b */
 {
     return &w->stiffness[(size_t)b * (STIFFNESS_BAND + 1) + (size_t)(a - b)];
+}
+
+/* Eigenvalues (left on the diagonal of a) and eigenvectors (columns of v)
+ * of the symmetric 3 x 3 matrix a, by cyclic Jacobi rotations. */
+static void jacobi_3(double a[3][3], double v[3][3])
+{
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) v[r][c] = r == c ? 1.0 : 0.0;
+    for (int sweep = 0; sweep < 50; sweep++) {
+        double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+        double scale = off + a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
+        if (!(off > 1e-32 * scale)) return;
+        for (int p = 0; p < 3; p++)
+            for (int q = p + 1; q < 3; q++) {
+                if (a[p][q] == 0.0) continue;
+                double theta = 0.5 * atan2(2.0 * a[p][q], a[q][q] - a[p][p]);
+                double c = cos(theta), s = sin(theta);
+                for (int k = 0; k < 3; k++) {
+                    double akp = a[k][p], akq = a[k][q];
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for (int k = 0; k < 3; k++) {
+                    double apk = a[p][k], aqk = a[q][k];
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                for (int k = 0; k < 3; k++) {
+                    double vkp = v[k][p], vkq = v[k][q];
+                    v[k][p] = c * vkp - s * vkq;
+                    v[k][q] = s * vkp + c * vkq;
+                }
+            }
+    }
+}
+
+/* A tip held in place at the distance L of a straight rod: its chord's
+ * length is stationary (a second-order constraint), so the three position
+ * rows have rank 2. The stability check then keeps the two independent
+ * combinations (decided: the second-order constraint, which forbids any
+ * transverse motion of such a rod, is not modelled; the check is the
+ * conservative one of a sleeve along the chord). */
+static void reduce_constraints(static_work *w)
+{
+    if (w->constraint_rows != 3) return;
+    int dofs = w->dofs;
+    double gram[3][3], v[3][3];
+    for (int k = 0; k < 3; k++)
+        for (int l = 0; l < 3; l++) {
+            double sum = 0.0;
+            for (int b = 0; b < dofs; b++)
+                sum += w->constraint[(size_t)k * dofs + b] * w->constraint[(size_t)l * dofs + b];
+            gram[k][l] = sum;
+        }
+    jacobi_3(gram, v);
+    double largest = fmax(gram[0][0], fmax(gram[1][1], gram[2][2]));
+    int weak = 0;
+    for (int k = 1; k < 3; k++)
+        if (gram[k][k] < gram[weak][weak]) weak = k;
+    if (!(gram[weak][weak] < 1e-8 * largest)) return; /* the row's size below 1e-4 */
+    double *reduced = w->eigen_work; /* 2 dofs long */
+    int row = 0;
+    for (int k = 0; k < 3; k++) {
+        if (k == weak) continue;
+        for (int b = 0; b < dofs; b++) {
+            double sum = 0.0;
+            for (int l = 0; l < 3; l++) sum += v[l][k] * w->constraint[(size_t)l * dofs + b];
+            reduced[(size_t)row * dofs + b] = sum;
+        }
+        row++;
+    }
+    memcpy(w->constraint, reduced, 2 * (size_t)dofs * sizeof(double));
+    w->constraint_rows = 2;
 }
 
 /* From the Jacobian just built (band before its LU): the reduced tangent
@@ -1012,6 +1118,7 @@ static void capture_stiffness(static_work *w)
             *stiffness_at(w, a, b) = value;
         }
     }
+    w->constraint_rows = w->border;
     if (!w->border) return;
     for (int k = 0; k < w->border; k++) /* the tip position rows, by omega */
         for (int b = 0; b < dofs; b++) {
@@ -1022,6 +1129,7 @@ static void capture_stiffness(static_work *w)
                 sum += row[c] * (q[c] * dir[0] + q[3 + c] * dir[1] + q[6 + c] * dir[2]);
             w->constraint[(size_t)k * dofs + b] = sum;
         }
+    reduce_constraints(w);
 }
 
 /* Factors K - shift I (general band LU in stiffness_work). Returns LAPACK's info. */
@@ -1135,8 +1243,8 @@ static int negative_eigenvalues_small(int size, double a[MAX_BORDER][MAX_BORDER]
 static int manifold_eigenvalues_below(static_work *w, double shift)
 {
     int count = eigenvalues_below(w, shift);
-    if (count < 0 || !w->border) return count;
-    int dofs = w->dofs, nr = w->border;
+    if (count < 0 || !w->constraint_rows) return count;
+    int dofs = w->dofs, nr = w->constraint_rows;
     double *solved = &w->mode[dofs]; /* (K - shift I)^-1 C^T, nr columns */
     memcpy(solved, w->constraint, (size_t)nr * (size_t)dofs * sizeof(double));
     for (int k = 0; k < nr; k++) ldlt_solve(w, &solved[(size_t)k * dofs]);
@@ -1209,7 +1317,7 @@ static void stiffness_multiply(static_work *w, const double *x, double *y)
 static double inverse_iteration(static_work *w, const double start[3], const double *z,
                                 double projection[MAX_BORDER][MAX_BORDER])
 {
-    int dofs = w->dofs, nr = w->border;
+    int dofs = w->dofs, nr = w->constraint_rows;
     double *x = w->mode;
     double *v = w->eigen_work; /* v, then K x */
     for (int a = 0; a < dofs; a++) v[a] = v3_dot(start, &w->dof_dir[3 * a]);
@@ -1243,7 +1351,7 @@ static double inverse_iteration(static_work *w, const double start[3], const dou
  * mode is taken: a fixed, documented choice. Returns the Rayleigh quotient, or NAN on failure. */
 static double critical_mode(static_work *w)
 {
-    int dofs = w->dofs, nr = w->border;
+    int dofs = w->dofs, nr = w->constraint_rows;
     double lowest = lowest_eigenvalue(w, 0.0);
     double shift = lowest - fmax(0.01 * fabs(lowest), negative_eigenvalue);
     if (factor_shifted(w, shift) != 0) return NAN;

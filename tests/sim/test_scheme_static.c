@@ -1323,6 +1323,112 @@ static void test_clamped_clamped_elastica(void)
     }
 }
 
+/* Both ends clamped in place, the tip turned about the axis by phi (a
+ * 7-column path): the rod stays straight and twists uniformly, u3 = phi/L,
+ * and the supports feel the torque C phi / L (the root turned with the
+ * twist, the tip against it). The ends stay exactly L apart, where the
+ * axial reaction is undetermined (any tension balances a straight rod):
+ * the solve takes none. */
+static void test_driven_twist(void)
+{
+    rod_model m = static_model(21, ROD_FRAME_GLOBAL);
+    m.tip_end = ROD_END_CLAMPED;
+    double length = m.length, phi = 1.2, c = m.stiffness[2];
+    double rows[14] = {0.0, length, 0, 0, 0, 0, 0, 1.0, length, 0, 0, phi, 0, 0};
+    char err[256];
+    m.tip_motion = rod_path_create(rows, 2, 7, err, sizeof err);
+    rod_state *s = rod_state_create(&m);
+    rod_report report;
+    check(solve_from(&m, s, 1.0, &report) == ROD_OK, "tip turned by %.1f rad about x: solves", phi);
+    double worst = 0.0;
+    for (int j = 0; j + 1 < m.nodes; j++) worst = fmax(worst, fabs(s->darboux[3 * j + 2] - phi / length));
+    check(worst < 1e-9 * phi / length, "turned tip: u3 = phi/L at every midpoint (largest deviation %.1e 1/m)",
+          worst);
+    check_rel("turned tip: root moment about x vs C phi/L", s->end_moment[0][0], c * phi / length, 1e-9);
+    check_rel("turned tip: tip moment about x vs -C phi/L", s->end_moment[1][0], -c * phi / length, 1e-9);
+    check(fabs(s->end_force[1][0]) < 1e-12 * c / (length * length) && fabs(tip_of(s)[1]) < 1e-15,
+          "turned tip: straight, no axial force (%.1e N)", s->end_force[1][0]);
+    rod_path_destroy(m.tip_motion);
+    m.tip_motion = NULL;
+    rod_state_destroy(s);
+}
+
+/* A clamped root driven to position p and turned by R (a 7-column path)
+ * under a dead tip force F: the answer is the unmoved cantilever's under
+ * R^T F, turned by R and moved by p (frame invariance of the equations). */
+static void test_driven_root(void)
+{
+    rod_model m = static_model(21, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], length = m.length, rotation[9];
+    double turn[3] = {0.4, -0.3, 0.9}, p[3] = {0.1, -0.2, 0.3};
+    double force[3] = {0.2 * ei / (length * length), 1.5 * ei / (length * length), -0.7 * ei / (length * length)};
+    m3_exp(rotation, turn);
+    double rows[14] = {0.0, 0, 0, 0, 0, 0, 0, 1.0, p[0], p[1], p[2], turn[0], turn[1], turn[2]};
+    char err[256];
+    rod_model still = m;
+    m3_mul_tv(still.tip_force, rotation, force);
+    v3_copy(m.tip_force, force);
+    m.root_motion = rod_path_create(rows, 2, 7, err, sizeof err);
+    rod_state *s = rod_state_create(&m), *reference = rod_state_create(&still);
+    rod_report report;
+    check(solve_from(&m, s, 1.0, &report) == ROD_OK, "driven root with a tip force: solves");
+    check(solve_from(&still, reference, 1.0, &report) == ROD_OK, "the same unmoved: solves");
+    double worst = 0.0;
+    for (int i = 0; i < m.nodes; i++) {
+        double expect[3], d[3];
+        m3_mul_v(expect, rotation, &reference->position[3 * i]);
+        v3_add(expect, expect, p);
+        v3_sub(d, &s->position[3 * i], expect);
+        worst = fmax(worst, v3_norm(d));
+    }
+    check(worst < 1e-9 * length, "driven root: positions = R r_still + p (largest deviation %.1e m)", worst);
+    double expect_force[3];
+    m3_mul_v(expect_force, rotation, reference->end_force[0]);
+    check_rel("driven root: root force vs R N_still(0)_y", s->end_force[0][1], expect_force[1], 1e-8);
+    check_rel("driven root: root force vs F (statics)", s->end_force[0][1], force[1], 1e-9);
+    rod_path_destroy(m.root_motion);
+    m.root_motion = NULL;
+    rod_state_destroy(s);
+    rod_state_destroy(reference);
+}
+
+/* Pinned-pinned beam on a sleeve along a turned axis, centre load P:
+ * midspan deflection P L^3/48 EI, each pin carries P/2, no moment across
+ * (the pinned root's rows on its initial d1, d2). */
+static void test_turned_pinned_beam(void)
+{
+    rod_model m = static_model(41, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], length = m.length, p = 1e-4 * ei / (length * length);
+    double axis[3] = {-0.6, 0.2, 0.5}, rotation[9], origin[3] = {-0.3, 0.1, 0.2};
+    m3_exp(rotation, axis);
+    double along[3], across[3], normal[3];
+    m3_column(along, rotation, 0);
+    m3_column(across, rotation, 1);
+    m3_column(normal, rotation, 2);
+    m.root_end = ROD_END_PINNED;
+    m.tip_end = ROD_END_PINNED;
+    v3_copy(m.tip_slide, along);
+    v3_copy(m.origin, origin);
+    v3_copy(m.direction, along);
+    int middle = (m.nodes - 1) / 2;
+    m.point_loads = one_point_load(middle, p * across[0], p * across[1], p * across[2]);
+    m.point_load_count = 1;
+    rod_state *s = rod_state_create(&m);
+    place_straight(&m, s, origin, rotation);
+    rod_report report;
+    check(solve_from(&m, s, 1.0, &report) == ROD_OK, "turned pinned-pinned beam: solves");
+    double moved[3];
+    v3_sub(moved, &s->position[3 * middle], origin);
+    check_rel("turned pinned-pinned (sleeve) NS=41: centre deflection vs PL^3/48EI", v3_dot(moved, across),
+              p * pow(length, 3) / (48.0 * ei), 5.0 / pow(m.nodes - 1, 2));
+    check_rel("turned pinned-pinned: root force across vs P/2", v3_dot(s->end_force[0], across), 0.5 * p, 1e-6);
+    check(fabs(v3_dot(s->end_moment[0], normal)) < 1e-9 * p * length &&
+              fabs(v3_dot(s->end_moment[0], across)) < 1e-9 * p * length,
+          "turned pinned-pinned: no bending moment at the pin (%.1e N m)", v3_norm(s->end_moment[0]));
+    rod_state_destroy(s);
+    free(m.point_loads);
+}
+
 int main(void)
 {
     test_table2_deflections();
@@ -1348,5 +1454,8 @@ int main(void)
     test_turned_clamped_beam();
     test_static_refusals();
     test_clamped_clamped_elastica();
+    test_driven_twist();
+    test_driven_root();
+    test_turned_pinned_beam();
     return test_finish();
 }
