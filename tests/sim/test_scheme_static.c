@@ -1429,6 +1429,29 @@ static void test_turned_pinned_beam(void)
     free(m.point_loads);
 }
 
+/* The stability check with point loads (dead forces: conservative): a
+ * compressive point load of 2 P_E at the tip node (1e-3 of it across,
+ * picking the side) is past buckling: the straight rod is left for the
+ * buckled column, the same as under the tip force; and the buckled answer
+ * has no negative eigenvalue. */
+static void test_point_load_buckling(void)
+{
+    rod_model m = static_model(51, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], p = 2.0 * M_PI * M_PI * ei / (4.0 * m.length * m.length);
+    double exact[2];
+    buckled_column(ei, m.length, -p, 1e-3 * p, exact);
+    m.point_loads = one_point_load(m.nodes - 1, -p, 1e-3 * p, 0.0);
+    m.point_load_count = 1;
+    rod_state *s;
+    rod_report report;
+    check(solve(&m, &s, &report) == ROD_OK, "point load 2 P_E at the tip node: solves");
+    check_abs("point load 2 P_E, NS=51: tip x vs buckled elastica", tip_of(s)[0], exact[0], 3e-3);
+    check_rel("point load 2 P_E, NS=51: tip y vs buckled elastica", tip_of(s)[1], exact[1], 2e-3);
+    check(unstable_count(&m, s) == 0, "point load: the returned equilibrium has 0 negative eigenvalues");
+    rod_state_destroy(s);
+    free(m.point_loads);
+}
+
 int main(void)
 {
     test_table2_deflections();
@@ -1457,5 +1480,6 @@ int main(void)
     test_driven_twist();
     test_driven_root();
     test_turned_pinned_beam();
+    test_point_load_buckling();
     return test_finish();
 }
