@@ -1452,6 +1452,43 @@ static void test_point_load_buckling(void)
     free(m.point_loads);
 }
 
+/* The tip force L^2/EI of a clamped-clamped rod driven in by e (one step). */
+static double driven_clamped_force(int nodes, double shortening)
+{
+    rod_model m = static_model(nodes, ROD_FRAME_GLOBAL);
+    m.tip_end = ROD_END_CLAMPED;
+    double rows[8] = {0.0, m.length, 0.0, 0.0, 1.0, m.length * (1.0 - shortening), 0.0, 0.0};
+    char err[256];
+    m.tip_motion = rod_path_create(rows, 2, 4, err, sizeof err);
+    rod_state *s = rod_state_create(&m);
+    rod_report report;
+    double force = solve_from(&m, s, 1.0, &report) == ROD_OK
+                       ? s->end_force[1][0] * m.length * m.length / m.stiffness[0]
+                       : NAN;
+    rod_path_destroy(m.tip_motion);
+    rod_state_destroy(s);
+    return force;
+}
+
+/* The clamped-clamped elastica's force converges at second order in ds. */
+static void test_clamped_clamped_order(void)
+{
+    const int grids[2] = {51, 101};
+    double force_factor, deflection, errors[2];
+    clamped_elastica(0.1, &force_factor, &deflection);
+    for (int g = 0; g < 2; g++) {
+        double force = driven_clamped_force(grids[g], 0.1);
+        char what[160];
+        snprintf(what, sizeof what, "clamped-clamped e/L = 0.1 in one step, NS=%d: P L^2/EI vs 16 K^2",
+                 grids[g]);
+        check_rel(what, force, force_factor, 4e-3);
+        errors[g] = fabs(force - force_factor) / force_factor;
+    }
+    double order = log(errors[0] / errors[1]) / log(2.0);
+    check(order > 1.8 && order < 2.2, "clamped-clamped force: observed order NS=51 -> 101: %.3f "
+          "(errors %.3e -> %.3e)", order, errors[0], errors[1]);
+}
+
 int main(void)
 {
     test_table2_deflections();
@@ -1481,5 +1518,6 @@ int main(void)
     test_driven_root();
     test_turned_pinned_beam();
     test_point_load_buckling();
+    test_clamped_clamped_order();
     return test_finish();
 }
