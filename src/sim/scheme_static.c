@@ -1662,6 +1662,20 @@ static void load_from_state(const static_work *w, const rod_state *s, static_loa
     m3_orthonormalize(load->tip_rotation);
 }
 
+/* The distance between the held ends' targets, m. */
+static double span_of(const static_load *load)
+{
+    double d[3];
+    v3_sub(d, load->tip_position, load->root_position);
+    return v3_norm(d);
+}
+
+/* 1 when the tip is held in place at the rod's whole length from the root. */
+static int held_span_taut(const static_work *w, const rod_model *m, const static_load *load)
+{
+    return tip_held(w) && !w->tip_sliding && span_of(load) > m->length * (1.0 - 1e-9);
+}
+
 /* Puts the held frames of the base point where `load` has them. */
 static void hold_end_frames(static_work *w, const static_load *load)
 {
@@ -1904,6 +1918,16 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
         w->have_verdict = 0;
     }
 
+    if (tip_held(w) && !w->tip_sliding && span_of(&target) > m->length * (1.0 + 1e-9)) {
+        snprintf(report->message, sizeof report->message,
+                 "static: at t = %g s the held ends are %.9g m apart (root %g %g %g m, tip "
+                 "%g %g %g m), more than the rod's length %g m: an inextensible rod cannot span "
+                 "them. Keep the tip's path within rod.length of the root.", target_time,
+                 span_of(&target), target.root_position[0], target.root_position[1],
+                 target.root_position[2], target.tip_position[0], target.tip_position[1],
+                 target.tip_position[2], m->length);
+        return ROD_FAILED;
+    }
     double size = load_size(w, m, &target, &start), target_size = load_size(w, m, &target, &zero);
     if (!isfinite(size) || !isfinite(target_size)) {
         describe_load(m, &target, text, sizeof text);
@@ -1994,6 +2018,15 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
             return ROD_UNSTABLE;
         }
         describe_load(m, &target, text, sizeof text);
+        if (held_span_taut(w, m, &target)) {
+            snprintf(report->message, sizeof report->message,
+                     "static: at t = %g s the tip is held in place %.9g m from the root, the "
+                     "rod's whole length: an inextensible rod between them cannot deflect, so "
+                     "no transverse load (%.200s) can be carried. Hold the tip on a sleeve "
+                     "(ends.tip_slide), or drive it closer (ends.tip_motion).",
+                     target_time, span_of(&target), text);
+            return ROD_NO_CONVERGENCE;
+        }
         snprintf(report->message, sizeof report->message,
                  "static: Newton did not converge for the load at t = %g s (%.200s): %s; reached "
                  "%.4g%% of the load change from t = %g s%s; scaled residual %.3e above the "

@@ -1489,6 +1489,32 @@ static void test_clamped_clamped_order(void)
           "(errors %.3e -> %.3e)", order, errors[0], errors[1]);
 }
 
+/* A tip held in place at the rod's length cannot carry a transverse load
+ * (inextensible: the rod cannot deflect), and a tip driven further than
+ * the length cannot be reached: both are messages naming the cause. */
+static void test_taut_span_messages(void)
+{
+    rod_model m = static_model(21, ROD_FRAME_GLOBAL);
+    m.tip_end = ROD_END_PINNED;
+    m.distributed_force[1] = -1e-3 * m.stiffness[0] / pow(m.length, 3);
+    rod_state *s = rod_state_create(&m);
+    rod_report report;
+    check(solve_from(&m, s, 1.0, &report) != ROD_OK && strstr(report.message, "cannot deflect") &&
+              strstr(report.message, "tip_slide"),
+          "tip held in place at L under gravity: '%.160s...'", report.message);
+    rod_state_destroy(s);
+    m.distributed_force[1] = 0.0;
+    double rows[8] = {0.0, m.length, 0.0, 0.0, 1.0, 1.1 * m.length, 0.0, 0.0};
+    char err[256];
+    m.tip_motion = rod_path_create(rows, 2, 4, err, sizeof err);
+    s = rod_state_create(&m);
+    check(solve_from(&m, s, 1.0, &report) == ROD_FAILED && strstr(report.message, "more than the rod's length") &&
+              s->time == 0.0,
+          "tip driven to 1.1 L: refused, state left at t = 0: '%.160s...'", report.message);
+    rod_path_destroy(m.tip_motion);
+    rod_state_destroy(s);
+}
+
 int main(void)
 {
     test_table2_deflections();
@@ -1519,5 +1545,6 @@ int main(void)
     test_turned_pinned_beam();
     test_point_load_buckling();
     test_clamped_clamped_order();
+    test_taut_span_messages();
     return test_finish();
 }
