@@ -160,7 +160,8 @@ typedef struct static_load {
     double distributed[3]; /* N/m, global */
     double distributed_moment[3]; /* N m/m, global */
     double point_factor;   /* the profile factor of the point loads */
-    double curvature;      /* fraction of the intrinsic curvature u0 (0 at the straight start) */
+    double curvature;      /* the rest curvature: c u0 + (1 - c) u_start (0 at a start that is
+                              not this scheme's answer, 1 after) */
     double root_position[3], root_rotation[9]; /* m; rotation from the root's initial frame */
     double tip_position[3], tip_rotation[9];   /* m; the held tip's target (a point of its line) */
 } static_load;
@@ -194,6 +195,8 @@ struct static_work {
     double *mid;          /* (nodes-1 x 9) midpoint frames */
     double *mid_base;     /* (nodes-1 x 9) midpoint frames at the base point */
     double *moment;       /* (nodes-1 x 3) M_{j+1/2}, N m, global */
+    double *start_darboux; /* (nodes-1 x 3) u of the state a path started from, 1/m */
+    double start_size;    /* max |u_start - u0| L */
     double *node_force;   /* (nodes x 3) the point loads' forces at profile factor 1, N, global */
     double *node_moment;  /* (nodes x 3) and moments, N m */
     double *increment;    /* (unknowns) trial increment: phi (rad), force (force_scale) */
@@ -250,6 +253,7 @@ void static_work_destroy(static_work *w)
     free(w->mid_base);
     free(w->moment);
     free(w->node_force);
+    free(w->start_darboux);
     free(w->node_moment);
     free(w->increment);
     free(w->newton_step);
@@ -512,6 +516,7 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
     w->mid_base = malloc((n - 1) * 9 * sizeof(double));
     w->moment = malloc((n - 1) * 3 * sizeof(double));
     w->node_force = calloc(n * 3, sizeof(double));
+    w->start_darboux = calloc((n - 1) * 3, sizeof(double));
     w->node_moment = calloc(n * 3, sizeof(double));
     if (w->node_force && w->node_moment)
         for (int p = 0; p < m->point_load_count; p++) {
@@ -571,7 +576,8 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
     w->rotation_blocks = malloc(n * 27 * sizeof(double));
     w->mode = malloc((1 + MAX_BORDER) * dofs * sizeof(double));
     if (!w->frame || !w->force || !w->frame_trial || !w->darboux || !w->mid || !w->mid_base ||
-        !w->moment || !w->node_force || !w->node_moment || !w->increment || !w->newton_step || !w->residual || !w->residual_trial ||
+        !w->moment || !w->node_force || !w->start_darboux || !w->node_moment || !w->increment ||
+        !w->newton_step || !w->residual || !w->residual_trial ||
         !w->band || !w->border_columns || !w->border_rows || !w->border_solution || !w->pivots ||
         !w->saved_frame || !w->saved_force || !w->dof_node || !w->dof_axis || !w->dof_row || !w->dof_dir ||
         !w->stiffness || !w->stiffness_work || !w->stiffness_pivots || !w->constraint ||
@@ -646,15 +652,19 @@ static void pinned_root_rows(const static_work *w, const double root_moment[3], 
     row[2] = w->moment_row_scale * v3_dot(root_moment, w->root_axes[2]);
 }
 
-/* The moment M_{j+1/2} = Q B (u - c u0) (thesis (3.4) with a rest
- * curvature u0, nomenclature), global, for the trial Darboux vectors. */
+/* The moment M_{j+1/2} = Q B (u - u_rest) (thesis (3.4) with a rest
+ * curvature, nomenclature), global, for the trial Darboux vectors. The rest
+ * curvature goes from the starting state's own u (so that any starting
+ * shape is the path's unloaded start: an initial centreline bent without
+ * u0 springs back along the path) to u0. */
 static void midpoint_moments(static_work *w, const rod_model *m, double curvature)
 {
     for (int j = 0; j + 1 < w->nodes; j++) {
-        const double *u = &w->darboux[3 * j];
+        const double *u = &w->darboux[3 * j], *start = &w->start_darboux[3 * j];
         double bu[3];
         for (int k = 0; k < 3; k++)
-            bu[k] = m->stiffness[k] * (u[k] - curvature * m->intrinsic_curvature[k]);
+            bu[k] = m->stiffness[k] * (u[k] - curvature * m->intrinsic_curvature[k] -
+                                       (1.0 - curvature) * start[k]);
         m3_mul_v(&w->moment[3 * j], &w->mid[9 * j], bu);
     }
 }
@@ -1570,7 +1580,7 @@ static double load_size(const static_work *w, const rod_model *m, const static_l
     double size = v3_norm(df) * length * length / ei + v3_norm(dm) * length / ei +
                   v3_norm(dt) * length * length * length / ei +
                   v3_norm(dq) * length * length / ei + fabs(a->point_factor - b->point_factor) * point +
-                  fabs(a->curvature - b->curvature) * v3_norm(m->intrinsic_curvature) * length;
+                  fabs(a->curvature - b->curvature) * w->start_size;
     if (tip_held(w)) {
         double gap[3];
         for (int k = 0; k < 3; k++)
@@ -1645,7 +1655,7 @@ static void target_load(const static_work *w, const rod_model *m, double t, stat
 }
 
 /* The start of a path from a state this scheme did not produce (the initial
- * rod), taken as an equilibrium: no load, no rest curvature, the ends where
+ * rod), taken as an equilibrium: no load, its own curvature at rest, the ends where
  * the state has them. */
 static void load_from_state(const static_work *w, const rod_state *s, static_load *load)
 {
@@ -1765,7 +1775,8 @@ static void write_state(static_work *w, const rod_model *m, const static_load *l
     m3_mul_tv(moment_bar, q_tip, tip_moment);
     for (int k = 0; k < 3; k++)
         s->darboux[3 * (n - 1) + k] =
-            moment_bar[k] / m->stiffness[k] + load->curvature * m->intrinsic_curvature[k];
+            moment_bar[k] / m->stiffness[k] + load->curvature * m->intrinsic_curvature[k] +
+            (1.0 - load->curvature) * w->start_darboux[3 * (n - 2) + k];
     /* the ends */
     memset(s->end_force, 0, sizeof s->end_force);
     memset(s->end_moment, 0, sizeof s->end_moment);
@@ -1914,6 +1925,13 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
     if (continuing) start = w->previous;
     else {
         load_from_state(w, s, &start);
+        rod_darboux_from_frames(m, s->frame, w->start_darboux);
+        w->start_size = 0.0;
+        for (int j = 0; j + 1 < n; j++) {
+            double d[3];
+            v3_sub(d, &w->start_darboux[3 * j], m->intrinsic_curvature);
+            w->start_size = fmax(w->start_size, v3_norm(d) * m->length);
+        }
         memset(w->reaction, 0, sizeof w->reaction);
         w->have_verdict = 0;
     }

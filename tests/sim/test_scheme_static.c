@@ -1515,6 +1515,44 @@ static void test_taut_span_messages(void)
     rod_state_destroy(s);
 }
 
+/* A starting shape bent without a rest curvature (a quarter circle about
+ * z, as an initial centreline gives) is the path's unloaded start: with no
+ * load it springs back straight along the root's d3 (exactly: the only
+ * unloaded equilibrium of a clamped rod with u0 = 0); with u0 equal to its
+ * curvature it stays as it is. */
+static void test_curved_start(void)
+{
+    for (int rest = 0; rest < 2; rest++) {
+        rod_model m = static_model(41, ROD_FRAME_GLOBAL);
+        double k = 0.5 * M_PI / m.length;
+        if (rest) m.intrinsic_curvature[1] = k; /* about d2 = z */
+        rod_state *s = rod_state_create(&m);
+        static const double straight[9] = {0, 0, 1, 1, 0, 0, 0, 1, 0};
+        for (int i = 0; i < m.nodes; i++) {
+            double angle = k * m.ds * i, turn[3] = {0.0, 0.0, angle}, rot[9];
+            m3_exp(rot, turn);
+            m3_mul(&s->frame[9 * i], rot, straight);
+            v3_set(&s->position[3 * i], sin(angle) / k, (1.0 - cos(angle)) / k, 0.0);
+        }
+        rod_report report;
+        rod_status status = solve_from(&m, s, 1.0, &report);
+        check(status == ROD_OK, "curved start, u0 = %s: solves (%d Newton iterations)",
+              rest ? "its curvature" : "0", report.newton_iterations);
+        if (!rest) {
+            double worst = 0.0;
+            for (int i = 0; i < m.nodes; i++)
+                worst = fmax(worst, fabs(s->position[3 * i + 1]) + fabs(s->position[3 * i] - m.ds * i));
+            check(worst < 1e-10 * m.length, "curved start, u0 = 0: springs back straight along x "
+                  "(largest deviation %.1e m)", worst);
+        } else {
+            check(report.newton_iterations == 0 && fabs(tip_of(s)[0] - 1.0 / k) < 1e-3 / k,
+                  "curved start, u0 = its curvature: stays (tip x %.6f m, arc's polygon ~ 1/k = %.6f m)",
+                  tip_of(s)[0], 1.0 / k);
+        }
+        rod_state_destroy(s);
+    }
+}
+
 int main(void)
 {
     test_table2_deflections();
@@ -1546,5 +1584,6 @@ int main(void)
     test_point_load_buckling();
     test_clamped_clamped_order();
     test_taut_span_messages();
+    test_curved_start();
     return test_finish();
 }
