@@ -1553,6 +1553,41 @@ static void test_curved_start(void)
     }
 }
 
+/* Pinned-pinned, both pins in place, the tip driven in by e: two quarter
+ * waves of the same pendulum (L/2 = K/lambda), so P L^2/EI = 4 K^2 and,
+ * as above, e/L = 2 (1 - E/K) and the midspan deflection k L/K. */
+static void test_pinned_pinned_elastica(void)
+{
+    rod_model m = static_model(101, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], length = m.length, shortening = 0.1;
+    m.root_end = ROD_END_PINNED;
+    m.tip_end = ROD_END_PINNED;
+    double rows[8] = {0.0, length, 0.0, 0.0, 1.0, length * (1.0 - shortening), 0.0, 0.0};
+    char err[256];
+    m.tip_motion = rod_path_create(rows, 2, 4, err, sizeof err);
+    rod_state *s = rod_state_create(&m);
+    rod_report report;
+    check(solve_from(&m, s, 1.0, &report) == ROD_OK, "pinned-pinned driven e/L = 0.1: solves");
+    double force_factor, deflection;
+    clamped_elastica(shortening, &force_factor, &deflection);
+    force_factor /= 4.0; /* 16 K^2 -> 4 K^2 */
+    check_rel("pinned-pinned e/L = 0.1 NS=101: tip force P L^2/EI vs elastica 4 K^2",
+              s->end_force[1][0] * length * length / ei, force_factor, 1e-3);
+    double across[3] = {0.0, s->position[3 * 50 + 1], s->position[3 * 50 + 2]};
+    check_rel("pinned-pinned e/L = 0.1 NS=101: midspan deflection / L vs elastica k/K",
+              v3_norm(across) / length, deflection, 1e-3);
+    check(v3_norm(s->end_moment[0]) < 1e-9 * ei / length && v3_norm(s->end_moment[1]) == 0.0,
+          "pinned-pinned: no moment at either pin (%.1e, %.1e N m)", v3_norm(s->end_moment[0]),
+          v3_norm(s->end_moment[1]));
+    int count = -2;
+    static_work *w = static_work_create(&m, err, sizeof err);
+    if (w) static_unstable_modes(w, &m, s, &count, err, sizeof err);
+    static_work_destroy(w);
+    check(count == 0, "pinned-pinned buckled: stable (%d negative eigenvalues)", count);
+    rod_path_destroy(m.tip_motion);
+    rod_state_destroy(s);
+}
+
 int main(void)
 {
     test_table2_deflections();
@@ -1585,5 +1620,6 @@ int main(void)
     test_clamped_clamped_order();
     test_taut_span_messages();
     test_curved_start();
+    test_pinned_pinned_elastica();
     return test_finish();
 }
