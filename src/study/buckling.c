@@ -101,7 +101,7 @@ int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_t
     if (v3_norm(m->intrinsic_curvature) != 0.0 || v3_norm(m->distributed_moment) != 0.0 ||
         m->point_load_count > 0 || m->initial_shape) {
         snprintf(err, errlen,
-                 "buckling: the straight rod must be an equilibrium: no intrinsic curvature, "
+                 "buckling: the straight rod must be an equilibrium: no intrinsic curvature (rod.curvature), "
                  "point loads, distributed moment or initial shape (got |u0| = %g 1/m, %d point "
                  "loads, |m| = %g N m/m%s); solve such a rod with the static scheme instead",
                  v3_norm(m->intrinsic_curvature), m->point_load_count,

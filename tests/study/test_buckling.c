@@ -182,6 +182,16 @@ static void test_refusals(void)
     check(rod_buckling_factor(&m, 10.0, 1e-6, &lambda, err, sizeof err) == -1 && strstr(err, "mechanism"),
           "root pinned with a free tip is refused: '%s'", err);
     m.root_end = ROD_END_CLAMPED;
+    /* issue 10: a tip held in place carries the axial load itself, and a
+     * rest curvature bends the rod from the start */
+    m.tip_end = ROD_END_CLAMPED;
+    check(rod_buckling_factor(&m, 10.0, 1e-6, &lambda, err, sizeof err) == -1 && strstr(err, "tip_slide"),
+          "a tip held in place (no sleeve) is refused: '%s'", err);
+    m.tip_end = ROD_END_FREE;
+    m.intrinsic_curvature[0] = 1.0;
+    check(rod_buckling_factor(&m, 10.0, 1e-6, &lambda, err, sizeof err) == -1 && strstr(err, "intrinsic"),
+          "an intrinsic curvature is refused: '%s'", err);
+    m.intrinsic_curvature[0] = 0.0;
     m.tip_force[0] = 0.0;
     check(rod_buckling_factor(&m, 10.0, 1e-6, &lambda, err, sizeof err) == -1 && strstr(err, "zero"),
           "no load is refused: '%s'", err);
