@@ -40,7 +40,8 @@ int static_straight_determinant(static_work *w, const rod_model *m, double lambd
  * the constraint manifold, the check every static step makes. Returns 0
  * with *count (-1: undecided, a critical point), or -1 with a message when
  * the loads are not dead forces (no static criterion for a follower load
- * or a tip moment: not conservative). */
+ * or a dead moment at the tip, a node or along the rod: not conservative).
+ * Held ends count as constraints (a tip on its sleeve or in place). */
 int static_unstable_modes(static_work *w, const rod_model *m, const rod_state *s, int *count,
                           char *err, size_t errlen);
 

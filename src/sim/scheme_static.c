@@ -33,13 +33,14 @@
  * and Newton finds it. So every answer under dead forces is checked: the
  * tangent stiffness on the free rotations (the forces N, multipliers of
  * inextensibility, eliminated by statics) must be positive definite on the
- * constraint manifold (a held tip's sleeve); its negative eigenvalues are
+ * constraint manifold (a held tip's sleeve or place); its negative eigenvalues are
  * counted by a band LDL^T (Sylvester's law of inertia). An unstable answer
  * is left along its critical mode, to the side the load's transverse part
  * pulls (or +y, with a warning, when the load is symmetric), by an
  * over-damped descent (pseudo-transient continuation) to a stable rest; when
  * none is found the step fails rather than return it. A follower load or a
- * tip moment is not conservative and has no static criterion: not checked.
+ * dead moment (tip, point, distributed) is not conservative and has no
+ * static criterion: not checked.
  * rod_buckling_factor (buckling.h) finds where the straight rod stops being
  * stable from this scheme's Jacobian.
  *
@@ -48,30 +49,47 @@
  * rod's scales is not finite is refused, and a bend of more than
  * ROD_UNRESOLVED_BEND between nodes is refused as the implicit scheme does.
  *
+ * Constitutive law with a rest curvature (issue 10): M = B (u - u0)
+ * (thesis nomenclature, (3.4)); point loads F_i, M_i (dead, global, times
+ * the tip's profile factor) enter node i's balance, a distributed moment m
+ * (dead, global) enters as ds m (ds/2 m in the end half cells).
+ *
  * End conditions (rod_end_kind in rod.h). Every node i = 0..NS-1 owns a
  * block of 6 unknowns and 6 equations; node 0's block holds phi_0 and 3
  * unused unknowns, and a held quantity gets the identity row (its increment
- * is zero):
- *   root clamped: Q_0 held: the whole block is identity rows.
- *   root pinned: Q_0 = Q_0 exp(phi_0); r_0 held. "Twist about x held" is the
- *     holonomic swing-twist condition: the quaternion of Q_0 Q_init^T has no
- *     x component (Q_0 is the straight frame turned about an axis normal to
- *     x). The root moment M(0) = M_{1/2} + ds/2 d3_{1/2} x N_{1/2} (root half
- *     cell, as at the tip) has no y, z components: the torsion stop acts
- *     about the fixed x axis (see pinned_root_rows).
- *     A pinned root with a free tip is a mechanism and is refused.
- *   tip pinned / clamped: r_tip = sum ds d3_{j+1/2} must stay on the x axis:
- *     two more unknowns, the support reaction R = (0, R_y, R_z) global added
- *     to the tip force, and two more rows y_tip = z_tip = 0. Those rows are
- *     dense (every rotation moves the tip), so the linear system is the band
- *     bordered by 2 rows and columns, solved by block elimination (Schur
- *     complement of the band's LU).
- *   tip clamped: the tip moment rows y, z are replaced by d3_tip,y = d3_tip,z
- *     = 0 (bending rotations held, twist about x free); the held moment
- *     components become the reaction.
+ * is zero). The ends' initial poses are the state's at t = 0 (the root's
+ * position r_0 and frame Q_0^init, the tip's likewise); a driven end follows
+ * rod_path_eval (position, and rotation R(t) of its initial frame for a
+ * clamped end), a held one stays where it started. The centreline is
+ * r_0(t) + sum ds d3_{j+1/2} (3.12).
+ *   root clamped: Q_0 = R(t) Q_0^init held: the whole block is identity rows.
+ *   root pinned: Q_0 = Q_0 exp(phi_0); r_0 held. "Twist held" is the
+ *     holonomic swing-twist condition: the quaternion of Q_0 Q_0^init^T has
+ *     no component along the initial d3 (Q_0 is the initial frame turned
+ *     about an axis normal to it). The root moment M(0) = M_{1/2} + ds/2
+ *     (d3_{1/2} x N_{1/2} + m) + M_0 (root half cell, as at the tip) has no
+ *     components on the initial d1, d2: the torsion stop acts about the fixed
+ *     initial d3 (see pinned_root_rows).
+ *     A pinned root with a free tip is a mechanism and is refused; so are a
+ *     free root (the mirrored rod, or the implicit scheme) and a sliding root.
+ *   tip pinned / clamped: r_tip on its sleeve (the line through its target
+ *     along tip_slide: 2 rows, the reaction R on the sleeve's two normals) or
+ *     in place (3 rows, R with 3 components), R added to the tip force. Those
+ *     rows are dense (every rotation moves the tip), so the linear system is
+ *     the band bordered by 2 or 3 rows and columns, solved by block
+ *     elimination (Schur complement of the band's LU).
+ *   tip clamped in place: Q_tip = R(t) Q_tip^init held (identity rows in
+ *     place of the tip moment rows; the moment is the reaction).
+ *   tip clamped on a sleeve: the tip moment rows across the slide are
+ *     replaced by d3_tip . n = 0 for its two normals n (bending held, twist
+ *     about the slide free).
  * Reactions at a held tip are reported in the state's tip entries: the tip
  * contact_force entry is the applied tip force plus R, and the tip darboux
- * entry is B^-1 (applied moment + reaction moment), on the tip directors. */
+ * entry is u0 + B^-1 (applied moment + reaction moment), on the tip
+ * directors; end_force / end_moment are what the rod exerts on its supports
+ * (N(0), M(0) at the root; -R and minus the reaction moment at the tip).
+ * A straight rod whose tip is moved towards its root is bent first
+ * (bend_straight_rod): the chord's first-order change is zero there. */
 #include "sim/scheme_static.h"
 
 #include <complex.h>
@@ -82,15 +100,24 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sim/path.h"
 #include "sim/rod_geometry.h"
 #include "base/vec3.h"
+
+/* Until sim/path.c is linked in, a driven end cannot exist (only
+ * rod_path_create makes a path), so the scheme refers to rod_path_eval
+ * weakly and refuses a path when it is absent. */
+#if defined(__GNUC__)
+extern void rod_path_eval(const rod_path *p, double t, rod_pose *pose) __attribute__((weak));
+#endif
 
 enum {
     UNKNOWNS_PER_NODE = 6,
     BAND_LOWER = 11, /* node i's equations reach the unknowns of nodes i-1..i+1 */
     BAND_UPPER = 11,
     COLOURS = 3,
-    MAX_BORDER = 2,  /* tip reaction R_y, R_z and the rows y_tip = z_tip = 0 */
+    MAX_BORDER = 3,  /* tip reaction components and the tip position rows: 2 for a
+                        tip sliding along a line, 3 for a tip held in place */
     STIFFNESS_BAND = 5 /* half bandwidth of the reduced stiffness: up to 3 rotations a node */
 };
 
@@ -125,14 +152,23 @@ static const double straight_frame[9] = {0, 0, 1,
                                          1, 0, 0,
                                          0, 1, 0};
 
+/* Everything a solve follows along its continuation path: the loads and
+ * the held ends' poses, interpolated together between two solved times. */
 typedef struct static_load {
     double tip_force[3];   /* N, on the model's tip_frame */
     double tip_moment[3];  /* N m, on the model's tip_frame */
     double distributed[3]; /* N/m, global */
+    double distributed_moment[3]; /* N m/m, global */
+    double point_factor;   /* the profile factor of the point loads */
+    double curvature;      /* the rest curvature: c u0 + (1 - c) u_start (0 at a start that is
+                              not this scheme's answer, 1 after) */
+    double root_position[3], root_rotation[9]; /* m; rotation from the root's initial frame */
+    double tip_position[3], tip_rotation[9];   /* m; the held tip's target (a point of its line) */
 } static_load;
 
 struct static_work {
     int nodes;
+    double length;       /* L, m */
     int band_unknowns;   /* 6 nodes: the banded part */
     int border;          /* 0, or 2 when the tip is held (reaction unknowns, position rows) */
     int unknowns;        /* band_unknowns + border */
@@ -147,12 +183,22 @@ struct static_work {
 
     double *frame;        /* (nodes x 9) the Newton base point */
     double *force;        /* (nodes-1 x 3) N_{j+1/2}, N, global, base point */
-    double reaction[2];   /* R_y, R_z at a held tip, N, global, base point */
+    double reaction[MAX_BORDER]; /* held tip's reaction on reaction_dir, N, base point */
+    double reaction_dir[MAX_BORDER][3]; /* unit, global: the held directions of the tip */
+    int tip_sliding;      /* 1: the held tip slides along `slide` (border 2) */
+    double slide[3];      /* unit, global */
+    double root_frame0[9], tip_frame0[9]; /* the ends' frames at t = 0 */
+    double root_position0[3], tip_position0[3]; /* m, the ends at t = 0 */
+    double root_axes[3][3]; /* the root's initial d3, d1, d2: the pinned root's twist axis and swing axes */
     double *frame_trial;  /* (nodes x 9) Q exp(phi) */
     double *darboux;      /* (nodes-1 x 3) 1/m, of the trial frames */
     double *mid;          /* (nodes-1 x 9) midpoint frames */
     double *mid_base;     /* (nodes-1 x 9) midpoint frames at the base point */
     double *moment;       /* (nodes-1 x 3) M_{j+1/2}, N m, global */
+    double *start_darboux; /* (nodes-1 x 3) u of the state a path started from, 1/m */
+    double start_size;    /* max |u_start - u0| L */
+    double *node_force;   /* (nodes x 3) the point loads' forces at profile factor 1, N, global */
+    double *node_moment;  /* (nodes x 3) and moments, N m */
     double *increment;    /* (unknowns) trial increment: phi (rad), force (force_scale) */
     double *newton_step;  /* (unknowns) */
     double *residual;     /* (unknowns) at the base point */
@@ -164,7 +210,7 @@ struct static_work {
     lapack_int *pivots;   /* (band_unknowns) */
     double *saved_frame;  /* (nodes x 9) last converged continuation point */
     double *saved_force;  /* (nodes-1 x 3) */
-    double saved_reaction[2];
+    double saved_reaction[MAX_BORDER];
     double complex *tangent; /* (transverse x transverse) for the buckling determinant, made on first use */
 
     /* Stability: the tangent stiffness reduced to the free rotations (global
@@ -172,16 +218,18 @@ struct static_work {
      * `dofs` rotations; K = -Q^T dR/dphi in moment-row units (see
      * capture_stiffness). Constrained to the held tip's sleeve by `constraint`. */
     int dofs;
+    int constraint_rows;  /* rows of `constraint`: border, less a degenerate one */
     int *dof_node;        /* (dofs) */
-    int *dof_axis;        /* (dofs) global axis 0..2 of the rotation */
+    int *dof_axis;        /* (dofs) the row 0..2 of its node's moment rows (block of 3) */
+    double *dof_dir;      /* (dofs x 3) unit global axis of the rotation */
     int *dof_row;         /* (dofs) residual row of its moment balance */
     double *stiffness;    /* (STIFFNESS_BAND+1 x dofs) lower band, column-major */
     double *stiffness_work; /* (3 STIFFNESS_BAND+1 x dofs) copy destroyed by LAPACK */
     lapack_int *stiffness_pivots; /* (dofs) */
-    double *constraint;   /* (2 x dofs) row-major: d (y_tip, z_tip) / d omega */
+    double *constraint;   /* (border x dofs) row-major: d (tip position rows) / d omega */
     double *eigen_work;   /* (2 dofs) inverse iteration: the iterate, K x */
     double *rotation_blocks; /* (nodes x 3 x 9) -d(moment rows of i)/d(omega of i-1, i, i+1) */
-    double *mode;         /* (dofs x 3): mode, and two solves for the constraint */
+    double *mode;         /* (dofs x (1 + MAX_BORDER)): mode, and the solves for the constraint */
     int stiffness_fresh;  /* stiffness captured at this step's solution's Newton */
     int have_verdict;     /* the state's unstable-mode count below is known */
     int negative_modes;   /* of the last solution */
@@ -204,6 +252,9 @@ void static_work_destroy(static_work *w)
     free(w->mid);
     free(w->mid_base);
     free(w->moment);
+    free(w->node_force);
+    free(w->start_darboux);
+    free(w->node_moment);
     free(w->increment);
     free(w->newton_step);
     free(w->residual);
@@ -218,6 +269,7 @@ void static_work_destroy(static_work *w)
     free(w->tangent);
     free(w->dof_node);
     free(w->dof_axis);
+    free(w->dof_dir);
     free(w->dof_row);
     free(w->stiffness);
     free(w->stiffness_work);
@@ -231,6 +283,119 @@ void static_work_destroy(static_work *w)
 
 static void destroy(void *work) { static_work_destroy(work); }
 
+/* The smallest rotation taking the unit vector a to the unit vector b
+ * (rod.h: how d1, d2 follow the root's direction); a half turn about a
+ * normal of a when b = -a. */
+static void rotation_between(const double a[3], const double b[3], double r[9])
+{
+    double axis[3], c = v3_dot(a, b);
+    v3_cross(axis, a, b);
+    double sine = v3_norm(axis);
+    if (sine < 1e-15 && c < 0.0) { /* opposite: turn by pi about a normal */
+        double other[3] = {0.0, 0.0, 0.0};
+        other[fabs(a[0]) < 0.9 ? 0 : 1] = 1.0;
+        v3_cross(axis, a, other);
+        v3_scale(axis, axis, M_PI / v3_norm(axis));
+    } else if (sine > 0.0) {
+        v3_scale(axis, axis, atan2(sine, c) / sine);
+    }
+    m3_exp(r, axis);
+}
+
+/* Unit vector of v, or 0 when v is zero; -1 when v is not finite or zero. */
+static int unit_or_zero(const double v[3], double out[3])
+{
+    double norm = v3_norm(v);
+    if (!isfinite(norm)) return -1;
+    if (norm == 0.0) {
+        v3_set(out, 0.0, 0.0, 0.0);
+        return 0;
+    }
+    v3_scale(out, v, 1.0 / norm);
+    return 1;
+}
+
+/* The held directions of the tip: the two normals of its slide (the
+ * slide's own frame, so that x gives y and z, as the buckling module's
+ * transverse pairs expect), or x, y, z when held in place. */
+static void set_tip_directions(static_work *w)
+{
+    static const double x_axis[3] = {1, 0, 0}, y_axis[3] = {0, 1, 0}, z_axis[3] = {0, 0, 1};
+    if (w->tip_sliding) {
+        double r[9];
+        rotation_between(x_axis, w->slide, r);
+        m3_mul_v(w->reaction_dir[0], r, y_axis);
+        m3_mul_v(w->reaction_dir[1], r, z_axis);
+        return;
+    }
+    v3_copy(w->reaction_dir[0], x_axis);
+    v3_copy(w->reaction_dir[1], y_axis);
+    v3_copy(w->reaction_dir[2], z_axis);
+}
+
+/* The ends' initial poses from the state at t = 0 (rod_state_reset builds it
+ * from the model's origin, direction and initial shape). */
+static void set_initial_ends(static_work *w, const double *position, const double *frame)
+{
+    int n = w->nodes;
+    memcpy(w->root_frame0, frame, 9 * sizeof(double));
+    memcpy(w->tip_frame0, &frame[9 * (n - 1)], 9 * sizeof(double));
+    v3_copy(w->root_position0, position);
+    v3_copy(w->tip_position0, &position[3 * (n - 1)]);
+    m3_column(w->root_axes[0], w->root_frame0, 2);
+    m3_column(w->root_axes[1], w->root_frame0, 0);
+    m3_column(w->root_axes[2], w->root_frame0, 1);
+    /* a pinned root's swing dofs turn about its initial d1, d2 */
+    for (int a = 0; a < w->dofs && w->dof_node[a] == 0; a++)
+        v3_copy(&w->dof_dir[3 * a], w->root_axes[w->dof_axis[a]]);
+}
+
+/* The same from the model, before any state is seen (the buckling module's
+ * straight rod): straight from origin along direction, or the initial shape. */
+static void initial_ends_from_model(static_work *w, const rod_model *m)
+{
+    static const double x_axis[3] = {1, 0, 0};
+    int n = w->nodes;
+    double direction[3], turn[9], tip_direction[3];
+    if (unit_or_zero(m->direction, direction) != 1) v3_copy(direction, x_axis);
+    v3_copy(tip_direction, direction);
+    double root[3], tip[3];
+    v3_copy(root, m->origin);
+    for (int k = 0; k < 3; k++) tip[k] = root[k] + m->length * direction[k];
+    if (m->initial_shape) {
+        const double *shape = m->initial_shape;
+        v3_copy(root, shape);
+        v3_copy(tip, &shape[3 * (n - 1)]);
+        v3_sub(direction, &shape[3], shape);
+        if (unit_or_zero(direction, direction) != 1) v3_copy(direction, x_axis);
+        v3_sub(tip_direction, &shape[3 * (n - 1)], &shape[3 * (n - 2)]);
+        if (unit_or_zero(tip_direction, tip_direction) != 1) v3_copy(tip_direction, direction);
+    }
+    double *positions = calloc((size_t)n * 3, sizeof(double));
+    double *frames = calloc((size_t)n * 9, sizeof(double));
+    if (!positions || !frames) { /* the defaults: straight along x from 0 */
+        free(positions);
+        free(frames);
+        memcpy(w->root_frame0, straight_frame, sizeof straight_frame);
+        memcpy(w->tip_frame0, straight_frame, sizeof straight_frame);
+        v3_set(w->root_position0, 0.0, 0.0, 0.0);
+        v3_set(w->tip_position0, m->length, 0.0, 0.0);
+        m3_column(w->root_axes[0], straight_frame, 2);
+        m3_column(w->root_axes[1], straight_frame, 0);
+        m3_column(w->root_axes[2], straight_frame, 1);
+        return;
+    }
+    v3_copy(positions, root);
+    v3_copy(&positions[3 * (n - 1)], tip);
+    rotation_between(x_axis, direction, turn);
+    m3_mul(frames, turn, straight_frame);
+    rotation_between(x_axis, tip_direction, turn);
+    m3_mul(&frames[9 * (n - 1)], turn, straight_frame);
+    set_initial_ends(w, positions, frames);
+    free(positions);
+    free(frames);
+}
+
 static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
 {
     static const char *const end_names[] = {"clamped", "pinned", "free"};
@@ -238,8 +403,29 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
         snprintf(err, errlen, "static: model not derived (nodes %d, ds %g)", m->nodes, m->ds);
         return NULL;
     }
+    for (int end = 0; end < 2; end++) {
+        rod_end_kind kind = end == 0 ? m->root_end : m->tip_end;
+        if (kind != ROD_END_FREE && kind != ROD_END_PINNED && kind != ROD_END_CLAMPED) {
+            snprintf(err, errlen, "static: unknown %s end condition %d (accepted: clamped, "
+                     "pinned, free)", end == 0 ? "root" : "tip", (int)kind);
+            return NULL;
+        }
+    }
+    if (m->root_end == ROD_END_FREE && m->tip_end == ROD_END_FREE) {
+        snprintf(err, errlen,
+                 "static: ends root = free, tip = free: a loose thread has no static "
+                 "equilibrium (nothing holds it, so any load moves it away and an unloaded one "
+                 "rests anywhere); use solver.scheme = implicit");
+        return NULL;
+    }
+    /* Decided: a free root with a held tip is the mirrored problem; the
+     * scheme integrates from s = 0, so it asks for the mirror instead. */
     if (m->root_end == ROD_END_FREE) {
-        snprintf(err, errlen, "static: the root (s = 0) must be clamped or pinned");
+        snprintf(err, errlen,
+                 "static: ends root = free, tip = %s: the static scheme holds the root (s = 0) "
+                 "and integrates from it; describe the same rod mirrored (root = %s at the held "
+                 "end, tip = free) or use solver.scheme = implicit", end_names[m->tip_end],
+                 end_names[m->tip_end]);
         return NULL;
     }
     if (m->root_end == ROD_END_PINNED && m->tip_end == ROD_END_FREE) {
@@ -249,12 +435,50 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
                  "root = clamped, or hold the tip (tip = pinned or clamped)");
         return NULL;
     }
-    if (m->tip_end != ROD_END_FREE && m->tip_end != ROD_END_PINNED &&
-        m->tip_end != ROD_END_CLAMPED) {
-        snprintf(err, errlen, "static: unknown tip end condition %d", (int)m->tip_end);
+    double root_slide[3], slide[3];
+    int root_sliding = unit_or_zero(m->root_slide, root_slide);
+    int tip_sliding = unit_or_zero(m->tip_slide, slide);
+    if (root_sliding < 0 || tip_sliding < 0) {
+        snprintf(err, errlen, "static: ends %s_slide is not finite (accepted: a direction, or "
+                 "0 0 0 for an end held in place)", root_sliding < 0 ? "root" : "tip");
         return NULL;
     }
-    (void)end_names;
+    /* Decided: the root is the scheme's fixed point of integration; a root
+     * sleeve is not modelled (a sleeve at the tip is). */
+    if (root_sliding) {
+        snprintf(err, errlen,
+                 "static: ends root_slide = %g %g %g: the static scheme holds the root in "
+                 "place (or drives it along root_motion); a sliding root is not supported. "
+                 "Put the sleeve at the tip (tip_slide), mirroring the rod, or use "
+                 "solver.scheme = implicit", m->root_slide[0], m->root_slide[1], m->root_slide[2]);
+        return NULL;
+    }
+    for (int p = 0; p < m->point_load_count; p++) {
+        const rod_point_load *load = &m->point_loads[p];
+        if (load->node < 0 || load->node >= m->nodes || !isfinite(v3_norm(load->force)) ||
+            !isfinite(v3_norm(load->moment))) {
+            snprintf(err, errlen, "static: point load %d at node %d (force %g %g %g N, moment "
+                     "%g %g %g N m): accepted a node 0..%d and finite values", p + 1, load->node,
+                     load->force[0], load->force[1], load->force[2], load->moment[0],
+                     load->moment[1], load->moment[2], m->nodes - 1);
+            return NULL;
+        }
+    }
+    if (!isfinite(v3_norm(m->intrinsic_curvature)) || !isfinite(v3_norm(m->distributed_moment))) {
+        snprintf(err, errlen, "static: intrinsic_curvature and distributed_moment must be finite");
+        return NULL;
+    }
+    if (m->tip_end == ROD_END_FREE && (tip_sliding || m->tip_motion)) {
+        snprintf(err, errlen, "static: ends tip = free with %s: only a held tip (pinned or "
+                 "clamped) slides or is driven", m->tip_motion ? "tip_motion" : "tip_slide");
+        return NULL;
+    }
+#if defined(__GNUC__)
+    if ((m->root_motion || m->tip_motion) && !rod_path_eval) {
+        snprintf(err, errlen, "static: a driven end needs sim/path.c, which this build lacks");
+        return NULL;
+    }
+#endif
     static_work *w = calloc(1, sizeof *w);
     if (!w) {
         snprintf(err, errlen, "static: out of memory");
@@ -262,10 +486,15 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
     }
     size_t n = (size_t)m->nodes;
     w->nodes = m->nodes;
+    w->length = m->length;
     w->root_end = m->root_end;
     w->tip_end = m->tip_end;
+    w->tip_sliding = tip_sliding;
+    v3_copy(w->slide, slide);
     w->band_unknowns = UNKNOWNS_PER_NODE * m->nodes;
-    w->border = tip_held(w) ? MAX_BORDER : 0;
+    w->border = !tip_held(w) ? 0 : tip_sliding ? 2 : 3;
+    set_tip_directions(w);
+    initial_ends_from_model(w, m);
     w->unknowns = w->band_unknowns + w->border;
     w->band_rows = 2 * BAND_LOWER + BAND_UPPER + 1;
     double ei = m->stiffness[0], length = m->length;
@@ -286,6 +515,16 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
     w->mid = malloc((n - 1) * 9 * sizeof(double));
     w->mid_base = malloc((n - 1) * 9 * sizeof(double));
     w->moment = malloc((n - 1) * 3 * sizeof(double));
+    w->node_force = calloc(n * 3, sizeof(double));
+    w->start_darboux = calloc((n - 1) * 3, sizeof(double));
+    w->node_moment = calloc(n * 3, sizeof(double));
+    if (w->node_force && w->node_moment)
+        for (int p = 0; p < m->point_load_count; p++) {
+            int node = m->point_loads[p].node;
+            if (node < 0 || node >= m->nodes) continue; /* checked below */
+            v3_add(&w->node_force[3 * node], &w->node_force[3 * node], m->point_loads[p].force);
+            v3_add(&w->node_moment[3 * node], &w->node_moment[3 * node], m->point_loads[p].moment);
+        }
     w->increment = malloc(nu * sizeof(double));
     w->newton_step = malloc(nu * sizeof(double));
     w->residual = malloc(nu * sizeof(double));
@@ -297,21 +536,32 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
     w->pivots = malloc(nb * sizeof(lapack_int));
     w->saved_frame = malloc(n * 9 * sizeof(double));
     w->saved_force = malloc((n - 1) * 3 * sizeof(double));
-    /* the free rotations: none at a clamped root, swing (y, z) at a pinned
-     * one, twist (x) only at a clamped tip, all three elsewhere */
+    /* the free rotations: none at a clamped root, swing (about its initial
+     * d1, d2) at a pinned one, the twist about the slide only at a sliding
+     * clamped tip, none at a clamped tip held in place, all three elsewhere */
     size_t most = 3 * n;
     w->dof_node = malloc(most * sizeof(int));
     w->dof_axis = malloc(most * sizeof(int));
+    w->dof_dir = malloc(most * 3 * sizeof(double));
     w->dof_row = malloc(most * sizeof(int));
-    if (w->dof_node && w->dof_axis && w->dof_row) {
+    if (w->dof_node && w->dof_axis && w->dof_row && w->dof_dir) {
         for (int i = 0; i < m->nodes; i++) {
             for (int axis = 0; axis < 3; axis++) {
-                int row = UNKNOWNS_PER_NODE * i + 3 + axis;
+                int row = UNKNOWNS_PER_NODE * i + 3 + axis, sub = axis;
+                double dir[3] = {0, 0, 0};
+                dir[axis] = 1.0;
                 if (i == 0 && (m->root_end == ROD_END_CLAMPED || axis == 0)) continue;
-                if (i == 0) row = axis; /* pinned root: rows 1, 2 hold M(0)_y, M(0)_z */
-                if (i == m->nodes - 1 && m->tip_end == ROD_END_CLAMPED && axis > 0) continue;
+                if (i == 0) { /* pinned root: rows 1, 2 hold M(0) on d1, d2 (initial) */
+                    row = axis;
+                    v3_copy(dir, w->root_axes[axis]);
+                }
+                if (i == m->nodes - 1 && m->tip_end == ROD_END_CLAMPED) {
+                    if (!w->tip_sliding || axis > 0) continue;
+                    v3_copy(dir, w->slide); /* row 3 of the tip: the moment along the slide */
+                }
                 w->dof_node[w->dofs] = i;
-                w->dof_axis[w->dofs] = axis;
+                w->dof_axis[w->dofs] = sub;
+                v3_copy(&w->dof_dir[3 * w->dofs], dir);
                 w->dof_row[w->dofs] = row;
                 w->dofs++;
             }
@@ -321,14 +571,15 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
     w->stiffness = malloc((STIFFNESS_BAND + 1) * dofs * sizeof(double));
     w->stiffness_work = malloc((3 * STIFFNESS_BAND + 1) * dofs * sizeof(double));
     w->stiffness_pivots = malloc(dofs * sizeof(lapack_int));
-    w->constraint = calloc(2 * dofs, sizeof(double));
+    w->constraint = calloc(MAX_BORDER * dofs + 1, sizeof(double));
     w->eigen_work = malloc(2 * dofs * sizeof(double));
     w->rotation_blocks = malloc(n * 27 * sizeof(double));
-    w->mode = malloc(3 * dofs * sizeof(double));
+    w->mode = malloc((1 + MAX_BORDER) * dofs * sizeof(double));
     if (!w->frame || !w->force || !w->frame_trial || !w->darboux || !w->mid || !w->mid_base ||
-        !w->moment || !w->increment || !w->newton_step || !w->residual || !w->residual_trial ||
+        !w->moment || !w->node_force || !w->start_darboux || !w->node_moment || !w->increment ||
+        !w->newton_step || !w->residual || !w->residual_trial ||
         !w->band || !w->border_columns || !w->border_rows || !w->border_solution || !w->pivots ||
-        !w->saved_frame || !w->saved_force || !w->dof_node || !w->dof_axis || !w->dof_row ||
+        !w->saved_frame || !w->saved_force || !w->dof_node || !w->dof_axis || !w->dof_row || !w->dof_dir ||
         !w->stiffness || !w->stiffness_work || !w->stiffness_pivots || !w->constraint ||
         !w->eigen_work || !w->mode || !w->rotation_blocks) {
         static_work_destroy(w);
@@ -344,9 +595,10 @@ static void *create(const rod_model *m, char *err, size_t errlen)
 }
 
 /* Tip force and moment in global components for the tip frame q_tip. */
-static void tip_load_global(const rod_model *m, const static_load *load, const double q_tip[9],
-                            double force[3], double moment[3])
+static void tip_load_global(const static_work *w, const rod_model *m, const static_load *load,
+                            const double q_tip[9], double force[3], double moment[3])
 {
+    int tip = w->nodes - 1;
     if (m->tip_frame == ROD_FRAME_DIRECTOR) { /* follower: N = Q_tip N_bar (thesis 4.2) */
         m3_mul_v(force, q_tip, load->tip_force);
         m3_mul_v(moment, q_tip, load->tip_moment);
@@ -354,6 +606,20 @@ static void tip_load_global(const rod_model *m, const static_load *load, const d
         v3_copy(force, load->tip_force);
         v3_copy(moment, load->tip_moment);
     }
+    /* a point load at the tip node acts with the tip load (dead, global) */
+    v3_axpy(force, load->point_factor, &w->node_force[3 * tip]);
+    v3_axpy(moment, load->point_factor, &w->node_moment[3 * tip]);
+}
+
+/* The held tip's reaction at the trial point (the base point for a NULL
+ * increment), N, global. */
+static void tip_reaction(const static_work *w, const double *increment, double reaction[3])
+{
+    v3_set(reaction, 0.0, 0.0, 0.0);
+    for (int k = 0; k < w->border; k++)
+        v3_axpy(reaction, w->reaction[k] +
+                              (increment ? w->force_scale * increment[w->band_unknowns + k] : 0.0),
+                w->reaction_dir[k]);
 }
 
 /* N_{j+1/2} at the trial point: the force unknown of node j + 1. */
@@ -363,34 +629,60 @@ static void trial_force(const static_work *w, const double *increment, int j, do
     for (int k = 0; k < 3; k++) force[k] = w->force[3 * j + k] + w->force_scale * change[k];
 }
 
-/* Rows of a pinned root (block 0, rows 0-2). Twist held: the quaternion
- * of Q_0 Q_init^T has no x component (a holonomic condition: Q_0 is the
- * straight frame turned about an axis normal to x). The torsion stop is a
- * moment about the fixed x axis, so the pin carries no moment about y and z:
- * M(0)_y = M(0)_z = 0. This is the support Greenhill's problem assumes (an
- * axial, dead moment at both ends); the stop's moment about x then does a
- * little work when the root swings, as any dead axial moment does. */
+/* Rows of a pinned root (block 0, rows 0-2), on its initial frame (t0 =
+ * d3, a0 = d1, b0 = d2 at t = 0). Twist held: the quaternion of
+ * Q_0 Q_init^T has no t0 component (a holonomic condition: Q_0 is the
+ * initial frame turned about an axis normal to t0). The torsion stop is a
+ * moment about the fixed t0 axis, so the pin carries no moment about a0 and
+ * b0: M(0).a0 = M(0).b0 = 0. This is the support Greenhill's problem assumes
+ * (an axial, dead moment at both ends); the stop's moment about t0 then does
+ * a little work when the root swings, as any dead axial moment does. */
 static void pinned_root_rows(const static_work *w, const double root_moment[3], double *row)
 {
-    double q[9];
-    m3_mul(q, w->frame_trial, (const double[9]){0, 1, 0, 0, 0, 1, 1, 0, 0}); /* Q_0 Q_init^T */
+    double q[9], v[3];
+    for (int r = 0; r < 3; r++) /* Q_0 Q_init^T */
+        for (int c = 0; c < 3; c++)
+            q[3 * r + c] = w->frame_trial[3 * r] * w->root_frame0[3 * c] +
+                           w->frame_trial[3 * r + 1] * w->root_frame0[3 * c + 1] +
+                           w->frame_trial[3 * r + 2] * w->root_frame0[3 * c + 2];
     double c = 0.5 * sqrt(fmax(1e-300, 1.0 + q[0] + q[4] + q[8]));
-    row[0] = w->angle_row_scale * 2.0 * (q[7] - q[5]) / (4.0 * c);
-    row[1] = w->moment_row_scale * root_moment[1];
-    row[2] = w->moment_row_scale * root_moment[2];
+    v3_set(v, q[7] - q[5], q[2] - q[6], q[3] - q[1]);
+    row[0] = w->angle_row_scale * 2.0 * v3_dot(v, w->root_axes[0]) / (4.0 * c);
+    row[1] = w->moment_row_scale * v3_dot(root_moment, w->root_axes[1]);
+    row[2] = w->moment_row_scale * v3_dot(root_moment, w->root_axes[2]);
+}
+
+/* The moment M_{j+1/2} = Q B (u - u_rest) (thesis (3.4) with a rest
+ * curvature, nomenclature), global, for the trial Darboux vectors. The rest
+ * curvature goes from the starting state's own u (so that any starting
+ * shape is the path's unloaded start: an initial centreline bent without
+ * u0 springs back along the path) to u0. */
+static void midpoint_moments(static_work *w, const rod_model *m, double curvature)
+{
+    for (int j = 0; j + 1 < w->nodes; j++) {
+        const double *u = &w->darboux[3 * j], *start = &w->start_darboux[3 * j];
+        double bu[3];
+        for (int k = 0; k < 3; k++)
+            bu[k] = m->stiffness[k] * (u[k] - curvature * m->intrinsic_curvature[k] -
+                                       (1.0 - curvature) * start[k]);
+        m3_mul_v(&w->moment[3 * j], &w->mid[9 * j], bu);
+    }
 }
 
 /* Residual of the discrete equilibrium at frames Q_i exp(phi_i) and forces
  * N + force_scale dN, with (phi, dN) = `increment`. Writes `out` and leaves
- * the trial frames, Darboux vectors and midpoint frames in the work. */
+ * the trial frames, Darboux vectors and midpoint frames in the work.
+ * Loads at node i: ds T and ds m (distributed force and moment, half at
+ * the tip), the point load F_i, M_i. */
 static void evaluate_residual(static_work *w, const rod_model *m, const static_load *load,
                               const double *increment, double *out)
 {
     int n = w->nodes;
     double ds = m->ds;
+    int tip_frame_held = w->tip_end == ROD_END_CLAMPED && !w->tip_sliding;
     for (int i = 0; i < n; i++) {
-        if (i == 0 && w->root_end == ROD_END_CLAMPED) { /* Q_0 held */
-            memcpy(w->frame_trial, w->frame, 9 * sizeof(double));
+        if ((i == 0 && w->root_end == ROD_END_CLAMPED) || (i == n - 1 && tip_frame_held)) {
+            memcpy(&w->frame_trial[9 * i], &w->frame[9 * i], 9 * sizeof(double)); /* held */
             continue;
         }
         double rot[9];
@@ -399,16 +691,12 @@ static void evaluate_residual(static_work *w, const rod_model *m, const static_l
     }
     rod_darboux_from_frames(m, w->frame_trial, w->darboux);
     rod_midpoint_frames(m, w->frame_trial, w->darboux, w->mid);
-    for (int j = 0; j + 1 < n; j++) { /* (3.4) M = B u, to global components */
-        const double *u = &w->darboux[3 * j];
-        double bu[3] = {m->stiffness[0] * u[0], m->stiffness[1] * u[1], m->stiffness[2] * u[2]};
-        m3_mul_v(&w->moment[3 * j], &w->mid[9 * j], bu);
-    }
-    double tip_force[3], tip_moment[3];
-    tip_load_global(m, load, &w->frame_trial[9 * (n - 1)], tip_force, tip_moment);
-    if (tip_held(w)) /* the support's reaction on the x axis sleeve */
-        for (int k = 0; k < 2; k++)
-            tip_force[1 + k] += w->reaction[k] + w->force_scale * increment[w->band_unknowns + k];
+    midpoint_moments(w, m, load->curvature);
+    double tip_force[3], tip_moment[3], reaction[3];
+    tip_load_global(w, m, load, &w->frame_trial[9 * (n - 1)], tip_force, tip_moment);
+    tip_reaction(w, increment, reaction);
+    v3_add(tip_force, tip_force, reaction);
+    double pf = load->point_factor;
 
     double force_left[3], d3_left[3], torque_left[3];
     trial_force(w, increment, 0, force_left);
@@ -422,8 +710,10 @@ static void evaluate_residual(static_work *w, const rod_model *m, const static_l
     out[2] = increment[1];
     for (int k = 3; k < UNKNOWNS_PER_NODE; k++) out[k] = increment[k];
     if (w->root_end == ROD_END_PINNED) {
-        double root_moment[3]; /* root half cell: M(0) = M_{1/2} + ds/2 d3_{1/2} x N_{1/2} */
-        for (int k = 0; k < 3; k++) root_moment[k] = w->moment[k] + 0.5 * ds * torque_left[k];
+        double root_moment[3]; /* root half cell: M(0) = M_{1/2} + ds/2 (d3_{1/2} x N_{1/2} + m) + M_0 */
+        for (int k = 0; k < 3; k++)
+            root_moment[k] = w->moment[k] + 0.5 * ds * (torque_left[k] + load->distributed_moment[k]) +
+                             pf * w->node_moment[k];
         pinned_root_rows(w, root_moment, out);
     }
     for (int i = 1; i < n; i++) {
@@ -438,54 +728,63 @@ static void evaluate_residual(static_work *w, const rod_model *m, const static_l
             /* (3.3)_1 and (3.3)_2 without inertia, integrated over the cell
              * between midpoints i-1/2 and i+1/2 (global components) */
             for (int k = 0; k < 3; k++) {
-                row[k] = w->force_row_scale *
-                         (force_right[k] - force_left[k] + ds * load->distributed[k]);
+                row[k] = w->force_row_scale * (force_right[k] - force_left[k] +
+                                               ds * load->distributed[k] + pf * w->node_force[3 * i + k]);
                 row[3 + k] = w->moment_row_scale *
                              (moment_right[k] - moment_left[k] +
-                              0.5 * ds * (torque_right[k] + torque_left[k]));
+                              0.5 * ds * (torque_right[k] + torque_left[k]) +
+                              ds * load->distributed_moment[k] + pf * w->node_moment[3 * i + k]);
             }
             v3_copy(force_left, force_right);
             v3_copy(torque_left, torque_right);
-        } else { /* tip half cell: N(L) = N_bar, M(L) = M_bar (thesis 4.2 boundary condition) */
-            for (int k = 0; k < 3; k++) {
-                row[k] = w->force_row_scale *
-                         (tip_force[k] - force_left[k] + 0.5 * ds * load->distributed[k]);
-                row[3 + k] = w->moment_row_scale *
-                             (tip_moment[k] - moment_left[k] + 0.5 * ds * torque_left[k]);
-            }
-            if (w->tip_end == ROD_END_CLAMPED) { /* d3 held along x; the moment is a reaction */
-                double d3_tip[3];
-                m3_column(d3_tip, &w->frame_trial[9 * (n - 1)], 2);
-                row[4] = w->angle_row_scale * d3_tip[1];
-                row[5] = w->angle_row_scale * d3_tip[2];
-            }
+            continue;
+        }
+        /* tip half cell: N(L) = N_bar, M(L) = M_bar (thesis 4.2 boundary condition) */
+        double balance[3];
+        for (int k = 0; k < 3; k++) {
+            row[k] = w->force_row_scale *
+                     (tip_force[k] - force_left[k] + 0.5 * ds * load->distributed[k]);
+            balance[k] = tip_moment[k] - moment_left[k] +
+                         0.5 * ds * (torque_left[k] + load->distributed_moment[k]);
+            row[3 + k] = w->moment_row_scale * balance[k];
+        }
+        if (tip_frame_held) { /* the frame is held; the moment is a reaction */
+            for (int k = 0; k < 3; k++) row[3 + k] = increment[UNKNOWNS_PER_NODE * i + k];
+        } else if (w->tip_end == ROD_END_CLAMPED) {
+            /* d3 held along the slide, twist about it free: the moment along
+             * the slide balances, the others are reactions */
+            double d3_tip[3];
+            m3_column(d3_tip, &w->frame_trial[9 * (n - 1)], 2);
+            row[3] = w->moment_row_scale * v3_dot(balance, w->slide);
+            row[4] = w->angle_row_scale * v3_dot(d3_tip, w->reaction_dir[0]);
+            row[5] = w->angle_row_scale * v3_dot(d3_tip, w->reaction_dir[1]);
         }
     }
-    if (tip_held(w)) { /* r_tip = sum ds d3_{j+1/2} (3.12) stays on the x axis */
-        double tip[2] = {0.0, 0.0};
-        for (int j = 0; j + 1 < n; j++) {
-            tip[0] += ds * w->mid[9 * j + 5]; /* d3 is column 2: entries 2, 5, 8 */
-            tip[1] += ds * w->mid[9 * j + 8];
-        }
-        out[w->band_unknowns] = w->position_row_scale * tip[0];
-        out[w->band_unknowns + 1] = w->position_row_scale * tip[1];
+    if (tip_held(w)) { /* r_tip = r_0 + sum ds d3_{j+1/2} (3.12): on its line, or in place */
+        double gap[3];
+        v3_sub(gap, load->root_position, load->tip_position);
+        for (int j = 0; j + 1 < n; j++)
+            for (int k = 0; k < 3; k++) gap[k] += ds * w->mid[9 * j + 3 * k + 2];
+        for (int k = 0; k < w->border; k++)
+            out[w->band_unknowns + k] = w->position_row_scale * v3_dot(gap, w->reaction_dir[k]);
     }
 }
 
 /* Forces that satisfy the force balance exactly for the current tip frame
- * and reaction: N_{NS-3/2} = N_tip + ds/2 T, N_{i-1/2} = N_{i+1/2} + ds T. */
+ * and reaction: N_{NS-3/2} = N_tip + ds/2 T, N_{i-1/2} = N_{i+1/2} + ds T + F_i. */
 static void forces_from_statics(static_work *w, const rod_model *m, const static_load *load)
 {
     int n = w->nodes;
-    double tip_force[3], tip_moment[3];
-    tip_load_global(m, load, &w->frame[9 * (n - 1)], tip_force, tip_moment);
-    if (tip_held(w))
-        for (int k = 0; k < 2; k++) tip_force[1 + k] += w->reaction[k];
+    double tip_force[3], tip_moment[3], reaction[3];
+    tip_load_global(w, m, load, &w->frame[9 * (n - 1)], tip_force, tip_moment);
+    tip_reaction(w, NULL, reaction);
     double *last = &w->force[3 * (n - 2)];
-    for (int k = 0; k < 3; k++) last[k] = tip_force[k] + 0.5 * m->ds * load->distributed[k];
+    for (int k = 0; k < 3; k++)
+        last[k] = tip_force[k] + reaction[k] + 0.5 * m->ds * load->distributed[k];
     for (int j = n - 3; j >= 0; j--)
         for (int k = 0; k < 3; k++)
-            w->force[3 * j + k] = w->force[3 * (j + 1) + k] + m->ds * load->distributed[k];
+            w->force[3 * j + k] = w->force[3 * (j + 1) + k] + m->ds * load->distributed[k] +
+                                  load->point_factor * w->node_force[3 * (j + 1) + k];
 }
 
 static double max_abs(const double *a, int count)
@@ -527,23 +826,69 @@ static void build_jacobian(static_work *w, const rod_model *m, const static_load
                     w->band[(size_t)col * ldab + (BAND_LOWER + BAND_UPPER + row - col)] =
                         (w->residual_trial[row] - w->residual[row]) / h;
                 if (!w->border) continue;
-                double moved[2] = {0.0, 0.0};
+                double moved[3] = {0.0, 0.0, 0.0};
                 for (int j = i - 1; j <= i; j++) {
                     if (j < 0 || j > n - 2 || b >= 3) continue;
-                    moved[0] += ds * (w->mid[9 * j + 5] - w->mid_base[9 * j + 5]);
-                    moved[1] += ds * (w->mid[9 * j + 8] - w->mid_base[9 * j + 8]);
+                    for (int k = 0; k < 3; k++)
+                        moved[k] += ds * (w->mid[9 * j + 3 * k + 2] - w->mid_base[9 * j + 3 * k + 2]);
                 }
-                for (int k = 0; k < 2; k++)
-                    w->border_rows[(size_t)k * nb + col] = w->position_row_scale * moved[k] / h;
+                for (int k = 0; k < w->border; k++)
+                    w->border_rows[(size_t)k * nb + col] =
+                        w->position_row_scale * v3_dot(moved, w->reaction_dir[k]) / h;
             }
         }
     }
-    if (w->border) { /* the reaction enters the tip force rows y, z only */
-        memset(w->border_columns, 0, (size_t)nb * 2 * sizeof(double));
-        for (int k = 0; k < 2; k++)
-            w->border_columns[(size_t)k * nb + UNKNOWNS_PER_NODE * (n - 1) + 1 + k] =
-                w->force_row_scale * w->force_scale;
+    if (w->border) { /* the reaction enters the tip force rows along its directions */
+        memset(w->border_columns, 0, (size_t)nb * w->border * sizeof(double));
+        for (int k = 0; k < w->border; k++)
+            for (int r = 0; r < 3; r++)
+                w->border_columns[(size_t)k * nb + UNKNOWNS_PER_NODE * (n - 1) + r] =
+                    w->force_row_scale * w->force_scale * w->reaction_dir[k][r];
     }
+}
+
+/* Solves the size x size system a x = b (size <= MAX_BORDER) in place in b
+ * by elimination with partial pivoting. Returns -1 when a pivot is below
+ * `smallest` times the matrix's largest entry (singular). */
+static int solve_small_below(int size, double a[MAX_BORDER][MAX_BORDER], double b[MAX_BORDER],
+                             double smallest)
+{
+    double largest = 0.0;
+    for (int r = 0; r < size; r++)
+        for (int c = 0; c < size; c++) largest = fmax(largest, fabs(a[r][c]));
+    if (!(largest > 0.0) || !isfinite(largest)) return -1;
+    for (int k = 0; k < size; k++) {
+        int pivot = k;
+        for (int r = k + 1; r < size; r++)
+            if (fabs(a[r][k]) > fabs(a[pivot][k])) pivot = r;
+        if (!(fabs(a[pivot][k]) > smallest * largest)) return -1;
+        if (pivot != k) {
+            for (int c = 0; c < size; c++) {
+                double t = a[k][c];
+                a[k][c] = a[pivot][c];
+                a[pivot][c] = t;
+            }
+            double t = b[k];
+            b[k] = b[pivot];
+            b[pivot] = t;
+        }
+        for (int r = k + 1; r < size; r++) {
+            double f = a[r][k] / a[k][k];
+            for (int c = k; c < size; c++) a[r][c] -= f * a[k][c];
+            b[r] -= f * b[k];
+        }
+    }
+    for (int k = size - 1; k >= 0; k--) {
+        for (int c = k + 1; c < size; c++) b[k] -= a[k][c] * b[c];
+        b[k] /= a[k][k];
+    }
+    return 0;
+}
+
+/* The same, singular to round-off below 1e-13. */
+static int solve_small(int size, double a[MAX_BORDER][MAX_BORDER], double b[MAX_BORDER])
+{
+    return solve_small_below(size, a, b, 1e-13);
 }
 
 /* Solves J step = -residual with the Jacobian of build_jacobian (the band
@@ -551,31 +896,42 @@ static void build_jacobian(static_work *w, const rod_model *m, const static_load
  * elimination. A alone (the tip reaction fixed) is singular for a pinned
  * root: the rod would swing about the pin. So the reaction is split as
  * R = R'' + G x, with G x = a transverse spring on the tip's turn (a tip
- * force -k L times its tilt, k L^3/EI = tip_spring), which only moves the
- * unknown: A' = A + B G is regular for every end pair (a beam pinned or
- * clamped at the root with that spring at its tip has no zero-load mode)
- * and stays banded (G reaches the tip block only). Then A' X = B,
- * A' y = -r_band, (C X) dR'' = C y + r_border, step = y - X dR'',
- * dR = dR'' + G step. Returns 0, or -1 when singular. */
+ * force -k L times its tilt across the initial chord c, k L^3/EI =
+ * tip_spring), which only moves the unknown: A' = A + B G is regular for
+ * every end pair (a beam pinned or clamped at the root with that spring at
+ * its tip has no zero-load mode) and stays banded (G reaches the tip block
+ * only). Then A' X = B, A' y = -r_band, (C X) dR'' = C y + r_border,
+ * step = y - X dR'', dR = dR'' + G step. Returns 0, or -1 when singular. */
 static int solve_newton_step(static_work *w)
 {
     static const double tip_spring = 10.0;
-    int nb = w->band_unknowns, tip_block = UNKNOWNS_PER_NODE * (w->nodes - 1);
-    double spring[2][3] = {{0}}; /* G on the tip's phi, in force_scale per rad */
+    int nb = w->band_unknowns, tip_block = UNKNOWNS_PER_NODE * (w->nodes - 1), nr = w->border;
+    double spring[MAX_BORDER][3] = {{0}}; /* G on the tip's phi, in force_scale per rad */
     for (int i = 0; i < w->unknowns; i++) w->newton_step[i] = -w->residual[i];
-    if (w->border) {
-        /* global turn omega = Q_tip phi; the tip moves by L (omega_z, -omega_y) */
+    if (nr) {
+        /* global turn omega = Q_tip phi; the tip moves by L omega x c, so the
+         * spring along dir_k is -k omega . (c x dir_k) */
         const double *q_tip = &w->frame[9 * (w->nodes - 1)];
+        double chord[3];
+        v3_sub(chord, w->tip_position0, w->root_position0);
+        if (!(v3_norm(chord) > 1e-6 * w->length)) m3_column(chord, w->root_frame0, 2);
+        v3_scale(chord, chord, 1.0 / v3_norm(chord));
         double coupling = w->force_row_scale * w->force_scale;
-        for (int b = 0; b < 3; b++) {
-            spring[0][b] = -tip_spring * q_tip[6 + b];
-            spring[1][b] = tip_spring * q_tip[3 + b];
-            for (int k = 0; k < 2; k++) {
-                int row = tip_block + 1 + k, col = tip_block + b;
-                w->band[(size_t)col * w->band_rows + (BAND_LOWER + BAND_UPPER + row - col)] +=
-                    coupling * spring[k][b];
-            }
+        for (int k = 0; k < nr; k++) {
+            double across[3];
+            v3_cross(across, chord, w->reaction_dir[k]);
+            for (int b = 0; b < 3; b++)
+                spring[k][b] = -tip_spring * (q_tip[b] * across[0] + q_tip[3 + b] * across[1] +
+                                              q_tip[6 + b] * across[2]);
         }
+        for (int b = 0; b < 3; b++)
+            for (int r = 0; r < 3; r++) { /* B G: the tip force rows */
+                double value = 0.0;
+                for (int k = 0; k < nr; k++) value += w->reaction_dir[k][r] * spring[k][b];
+                int row = tip_block + r, col = tip_block + b;
+                w->band[(size_t)col * w->band_rows + (BAND_LOWER + BAND_UPPER + row - col)] +=
+                    coupling * value;
+            }
     }
     lapack_int info = LAPACKE_dgbtrf(LAPACK_COL_MAJOR, nb, nb, BAND_LOWER, BAND_UPPER, w->band,
                                      w->band_rows, w->pivots);
@@ -583,27 +939,46 @@ static int solve_newton_step(static_work *w)
     info = LAPACKE_dgbtrs(LAPACK_COL_MAJOR, 'N', nb, BAND_LOWER, BAND_UPPER, 1, w->band,
                           w->band_rows, w->pivots, w->newton_step, nb);
     if (info != 0) return -1;
-    if (!w->border) return 0;
-    memcpy(w->border_solution, w->border_columns, (size_t)nb * 2 * sizeof(double));
-    info = LAPACKE_dgbtrs(LAPACK_COL_MAJOR, 'N', nb, BAND_LOWER, BAND_UPPER, 2, w->band,
+    if (!nr) return 0;
+    memcpy(w->border_solution, w->border_columns, (size_t)nb * nr * sizeof(double));
+    info = LAPACKE_dgbtrs(LAPACK_COL_MAJOR, 'N', nb, BAND_LOWER, BAND_UPPER, nr, w->band,
                           w->band_rows, w->pivots, w->border_solution, nb);
     if (info != 0) return -1;
-    double schur[2][2] = {{0, 0}, {0, 0}}, rhs[2];
-    for (int k = 0; k < 2; k++) {
+    double schur[MAX_BORDER][MAX_BORDER] = {{0}}, d_reaction[MAX_BORDER];
+    for (int k = 0; k < nr; k++) {
         const double *c = &w->border_rows[(size_t)k * nb];
-        rhs[k] = w->residual[nb + k];
-        for (int i = 0; i < nb; i++) rhs[k] += c[i] * w->newton_step[i];
-        for (int l = 0; l < 2; l++)
+        d_reaction[k] = w->residual[nb + k];
+        for (int i = 0; i < nb; i++) d_reaction[k] += c[i] * w->newton_step[i];
+        for (int l = 0; l < nr; l++)
             for (int i = 0; i < nb; i++) schur[k][l] += c[i] * w->border_solution[(size_t)l * nb + i];
     }
-    double det = schur[0][0] * schur[1][1] - schur[0][1] * schur[1][0];
-    if (!(fabs(det) > 0.0) || !isfinite(det)) return -1;
-    double d_reaction[2] = {(schur[1][1] * rhs[0] - schur[0][1] * rhs[1]) / det,
-                            (schur[0][0] * rhs[1] - schur[1][0] * rhs[0]) / det};
-    for (int l = 0; l < 2; l++)
+    double schur_copy[MAX_BORDER][MAX_BORDER], rhs[MAX_BORDER];
+    memcpy(schur_copy, schur, sizeof schur);
+    memcpy(rhs, d_reaction, sizeof rhs);
+    /* A straight rod between ends held exactly L apart: the chord's length
+     * is stationary, so the axial reaction is undetermined (any tension
+     * balances: an axial force turns no node of a straight rod, so the
+     * Schur complement's axial pivot is round-off; a rod bent by a has one
+     * of ~a^2 relative). Below 1e-9: least squares with a ridge, the
+     * smallest reaction change that meets the other rows. */
+    if (solve_small_below(nr, schur, d_reaction, nr == 3 ? 1e-9 : 1e-13) != 0) {
+        double normal[MAX_BORDER][MAX_BORDER] = {{0}}, largest = 0.0;
+        for (int k = 0; k < nr; k++)
+            for (int l = 0; l < nr; l++) {
+                for (int i = 0; i < nr; i++) normal[k][l] += schur_copy[i][k] * schur_copy[i][l];
+                largest = fmax(largest, fabs(normal[k][l]));
+            }
+        for (int k = 0; k < nr; k++) {
+            d_reaction[k] = 0.0;
+            for (int i = 0; i < nr; i++) d_reaction[k] += schur_copy[i][k] * rhs[i];
+            normal[k][k] += 1e-12 * largest;
+        }
+        if (solve_small(nr, normal, d_reaction) != 0) return -1;
+    }
+    for (int l = 0; l < nr; l++)
         for (int i = 0; i < nb; i++)
             w->newton_step[i] -= w->border_solution[(size_t)l * nb + i] * d_reaction[l];
-    for (int k = 0; k < 2; k++) {
+    for (int k = 0; k < nr; k++) {
         w->newton_step[nb + k] = d_reaction[k];
         for (int b = 0; b < 3; b++) w->newton_step[nb + k] += spring[k][b] * w->newton_step[tip_block + b];
     }
@@ -630,6 +1005,79 @@ static void accept_trial(static_work *w)
 static double *stiffness_at(static_work *w, int a, int b) /* lower band, a >= b */
 {
     return &w->stiffness[(size_t)b * (STIFFNESS_BAND + 1) + (size_t)(a - b)];
+}
+
+/* Eigenvalues (left on the diagonal of a) and eigenvectors (columns of v)
+ * of the symmetric 3 x 3 matrix a, by cyclic Jacobi rotations. */
+static void jacobi_3(double a[3][3], double v[3][3])
+{
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) v[r][c] = r == c ? 1.0 : 0.0;
+    for (int sweep = 0; sweep < 50; sweep++) {
+        double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+        double scale = off + a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
+        if (!(off > 1e-32 * scale)) return;
+        for (int p = 0; p < 3; p++)
+            for (int q = p + 1; q < 3; q++) {
+                if (a[p][q] == 0.0) continue;
+                double theta = 0.5 * atan2(2.0 * a[p][q], a[q][q] - a[p][p]);
+                double c = cos(theta), s = sin(theta);
+                for (int k = 0; k < 3; k++) {
+                    double akp = a[k][p], akq = a[k][q];
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for (int k = 0; k < 3; k++) {
+                    double apk = a[p][k], aqk = a[q][k];
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                for (int k = 0; k < 3; k++) {
+                    double vkp = v[k][p], vkq = v[k][q];
+                    v[k][p] = c * vkp - s * vkq;
+                    v[k][q] = s * vkp + c * vkq;
+                }
+            }
+    }
+}
+
+/* A tip held in place at the distance L of a straight rod: its chord's
+ * length is stationary (a second-order constraint), so the three position
+ * rows have rank 2. The stability check then keeps the two independent
+ * combinations (decided: the second-order constraint, which forbids any
+ * transverse motion of such a rod, is not modelled; the check is the
+ * conservative one of a sleeve along the chord). */
+static void reduce_constraints(static_work *w)
+{
+    if (w->constraint_rows != 3) return;
+    int dofs = w->dofs;
+    double gram[3][3], v[3][3];
+    for (int k = 0; k < 3; k++)
+        for (int l = 0; l < 3; l++) {
+            double sum = 0.0;
+            for (int b = 0; b < dofs; b++)
+                sum += w->constraint[(size_t)k * dofs + b] * w->constraint[(size_t)l * dofs + b];
+            gram[k][l] = sum;
+        }
+    jacobi_3(gram, v);
+    double largest = fmax(gram[0][0], fmax(gram[1][1], gram[2][2]));
+    int weak = 0;
+    for (int k = 1; k < 3; k++)
+        if (gram[k][k] < gram[weak][weak]) weak = k;
+    if (!(gram[weak][weak] < 1e-8 * largest)) return; /* the row's size below 1e-4 */
+    double *reduced = w->eigen_work; /* 2 dofs long */
+    int row = 0;
+    for (int k = 0; k < 3; k++) {
+        if (k == weak) continue;
+        for (int b = 0; b < dofs; b++) {
+            double sum = 0.0;
+            for (int l = 0; l < 3; l++) sum += v[l][k] * w->constraint[(size_t)l * dofs + b];
+            reduced[(size_t)row * dofs + b] = sum;
+        }
+        row++;
+    }
+    memcpy(w->constraint, reduced, 2 * (size_t)dofs * sizeof(double));
+    w->constraint_rows = 2;
 }
 
 /* From the Jacobian just built (band before its LU): the reduced tangent
@@ -664,26 +1112,34 @@ static void capture_stiffness(static_work *w)
             }
         }
     }
-    for (int a = 0; a < dofs; a++) { /* symmetrised: the discrete balance is variational to O(ds^2) */
+    /* symmetrised: the discrete balance is variational to O(ds^2). Dof a is
+     * the turn about dof_dir[a], balanced by row dof_axis[a] of its node's
+     * block of moment rows */
+    for (int a = 0; a < dofs; a++) {
         int i = w->dof_node[a], ra = w->dof_axis[a];
+        const double *dir_a = &w->dof_dir[3 * a];
         for (int b = a; b >= 0 && a - b <= STIFFNESS_BAND; b--) {
             int j = w->dof_node[b], rb = w->dof_axis[b];
+            const double *dir_b = &w->dof_dir[3 * b];
             double value = 0.0;
             if (abs(i - j) <= 1)
-                value = 0.5 * (w->rotation_blocks[27 * i + 9 * (j - i + 1) + 3 * ra + rb] +
-                               w->rotation_blocks[27 * j + 9 * (i - j + 1) + 3 * rb + ra]);
+                value = 0.5 * (v3_dot(&w->rotation_blocks[27 * i + 9 * (j - i + 1) + 3 * ra], dir_b) +
+                               v3_dot(&w->rotation_blocks[27 * j + 9 * (i - j + 1) + 3 * rb], dir_a));
             *stiffness_at(w, a, b) = value;
         }
     }
+    w->constraint_rows = w->border;
     if (!w->border) return;
-    for (int k = 0; k < 2; k++) /* the sleeve rows y_tip = z_tip = 0, by omega */
+    for (int k = 0; k < w->border; k++) /* the tip position rows, by omega */
         for (int b = 0; b < dofs; b++) {
-            const double *q = &w->frame[9 * w->dof_node[b]];
+            const double *q = &w->frame[9 * w->dof_node[b]], *dir = &w->dof_dir[3 * b];
             const double *row = &w->border_rows[(size_t)k * nb + UNKNOWNS_PER_NODE * w->dof_node[b]];
             double sum = 0.0;
-            for (int c = 0; c < 3; c++) sum += row[c] * q[3 * w->dof_axis[b] + c];
+            for (int c = 0; c < 3; c++)
+                sum += row[c] * (q[c] * dir[0] + q[3 + c] * dir[1] + q[6 + c] * dir[2]);
             w->constraint[(size_t)k * dofs + b] = sum;
         }
+    reduce_constraints(w);
 }
 
 /* Factors K - shift I (general band LU in stiffness_work). Returns LAPACK's info. */
@@ -749,33 +1205,71 @@ static void ldlt_solve(const static_work *w, double *x)
         for (int i = j + 1; i < dofs && i - j <= kd; i++) x[j] -= l[(size_t)j * ldab + (i - j)] * x[i];
 }
 
+/* The number of negative eigenvalues of the symmetric size x size matrix a
+ * (size <= MAX_BORDER, destroyed), by cyclic Jacobi rotations; -1 when one
+ * is exactly zero or not finite. */
+static int negative_eigenvalues_small(int size, double a[MAX_BORDER][MAX_BORDER])
+{
+    for (int sweep = 0; sweep < 50; sweep++) {
+        double off = 0.0, scale = 0.0;
+        for (int p = 0; p < size; p++)
+            for (int q = 0; q < size; q++) {
+                if (p != q) off += a[p][q] * a[p][q];
+                scale += a[p][q] * a[p][q];
+            }
+        if (!(off > 1e-30 * scale)) break;
+        for (int p = 0; p < size; p++)
+            for (int q = p + 1; q < size; q++) {
+                if (a[p][q] == 0.0) continue;
+                double theta = 0.5 * atan2(2.0 * a[p][q], a[q][q] - a[p][p]);
+                double c = cos(theta), s = sin(theta);
+                for (int k = 0; k < size; k++) { /* columns p, q */
+                    double akp = a[k][p], akq = a[k][q];
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for (int k = 0; k < size; k++) { /* rows p, q */
+                    double apk = a[p][k], aqk = a[q][k];
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+            }
+    }
+    int count = 0;
+    for (int k = 0; k < size; k++) {
+        if (!isfinite(a[k][k]) || a[k][k] == 0.0) return -1;
+        if (a[k][k] < 0.0) count++;
+    }
+    return count;
+}
+
 /* The number of eigenvalues below `shift` of K on the constraint manifold.
- * A held tip adds the sleeve constraints C (2 rows): by Haynsworth's inertia
- * additivity the KKT matrix [K - shift I, C^T; C, 0] has the inertia of
- * K - shift I plus that of S = -C (K - shift I)^-1 C^T and, C being of full
- * rank, 2 negative eigenvalues more than K - shift I on the null space of C.
+ * A held tip adds its position constraints C (2 rows on a sleeve, 3 held in
+ * place): by Haynsworth's inertia additivity the KKT matrix
+ * [K - shift I, C^T; C, 0] has the inertia of K - shift I plus that of
+ * S = -C (K - shift I)^-1 C^T and, C being of full rank, as many negative
+ * eigenvalues more than K - shift I on the null space of C as C has rows.
  * Returns -1 when it cannot be decided (a zero pivot: shift is an eigenvalue). */
 static int manifold_eigenvalues_below(static_work *w, double shift)
 {
     int count = eigenvalues_below(w, shift);
-    if (count < 0 || !w->border) return count;
-    int dofs = w->dofs;
-    double *solved = &w->mode[dofs]; /* (K - shift I)^-1 C^T, 2 columns */
-    memcpy(solved, w->constraint, 2 * (size_t)dofs * sizeof(double));
-    ldlt_solve(w, solved);
-    ldlt_solve(w, &solved[dofs]);
-    double schur[2][2];
-    for (int k = 0; k < 2; k++)
-        for (int l = 0; l < 2; l++) {
+    if (count < 0 || !w->constraint_rows) return count;
+    int dofs = w->dofs, nr = w->constraint_rows;
+    double *solved = &w->mode[dofs]; /* (K - shift I)^-1 C^T, nr columns */
+    memcpy(solved, w->constraint, (size_t)nr * (size_t)dofs * sizeof(double));
+    for (int k = 0; k < nr; k++) ldlt_solve(w, &solved[(size_t)k * dofs]);
+    double schur[MAX_BORDER][MAX_BORDER];
+    for (int k = 0; k < nr; k++)
+        for (int l = 0; l < nr; l++) {
             double sum = 0.0;
             for (int b = 0; b < dofs; b++) sum += w->constraint[(size_t)k * dofs + b] * solved[(size_t)l * dofs + b];
             schur[k][l] = -sum;
         }
-    double trace = schur[0][0] + schur[1][1];
-    double det = schur[0][0] * schur[1][1] - 0.25 * pow(schur[0][1] + schur[1][0], 2);
-    if (!isfinite(det) || det == 0.0) return -1;
-    int schur_negative = det < 0.0 ? 1 : trace < 0.0 ? 2 : 0;
-    count += schur_negative - 2;
+    for (int k = 0; k < nr; k++) /* symmetric part */
+        for (int l = k + 1; l < nr; l++) schur[k][l] = schur[l][k] = 0.5 * (schur[k][l] + schur[l][k]);
+    int schur_negative = negative_eigenvalues_small(nr, schur);
+    if (schur_negative < 0) return -1;
+    count += schur_negative - nr;
     return count < 0 ? 0 : count;
 }
 
@@ -826,26 +1320,27 @@ static void stiffness_multiply(static_work *w, const double *x, double *y)
         }
 }
 
-/* Inverse iteration with the factored K - shift I from `start` (per axis),
- * kept on the sleeve by Z = A^-1 C^T (columns z, y) and C Z = projection
- * (determinant det) for a held tip. Writes w->mode; returns the Rayleigh
- * quotient, NAN on failure. */
+/* Inverse iteration with the factored K - shift I from `start` (a global
+ * rotation, the same at every node), kept on the constraint manifold by
+ * Z = A^-1 C^T (nr columns) and C Z = projection for a held tip. Writes
+ * w->mode; returns the Rayleigh quotient, NAN on failure. */
 static double inverse_iteration(static_work *w, const double start[3], const double *z,
-                                const double *y, double projection[2][2], double det)
+                                double projection[MAX_BORDER][MAX_BORDER])
 {
-    int dofs = w->dofs;
+    int dofs = w->dofs, nr = w->constraint_rows;
     double *x = w->mode;
     double *v = w->eigen_work; /* v, then K x */
-    for (int a = 0; a < dofs; a++) v[a] = start[w->dof_axis[a]];
+    for (int a = 0; a < dofs; a++) v[a] = v3_dot(start, &w->dof_dir[3 * a]);
     for (int iteration = 0; iteration < 12; iteration++) {
         if (solve_shifted(w, v, 1)) return NAN;
-        if (w->border) { /* v -= Z (C Z)^-1 C v: stay on the sleeve */
-            double cv[2] = {0, 0}, mu[2];
-            for (int k = 0; k < 2; k++)
-                for (int b = 0; b < dofs; b++) cv[k] += w->constraint[(size_t)k * dofs + b] * v[b];
-            mu[0] = (projection[1][1] * cv[0] - projection[0][1] * cv[1]) / det;
-            mu[1] = (projection[0][0] * cv[1] - projection[1][0] * cv[0]) / det;
-            for (int b = 0; b < dofs; b++) v[b] -= z[b] * mu[0] + y[b] * mu[1];
+        if (nr) { /* v -= Z (C Z)^-1 C v: stay on the manifold */
+            double mu[MAX_BORDER] = {0}, a[MAX_BORDER][MAX_BORDER];
+            memcpy(a, projection, sizeof a);
+            for (int k = 0; k < nr; k++)
+                for (int b = 0; b < dofs; b++) mu[k] += w->constraint[(size_t)k * dofs + b] * v[b];
+            if (solve_small(nr, a, mu) != 0) return NAN;
+            for (int k = 0; k < nr; k++)
+                for (int b = 0; b < dofs; b++) v[b] -= z[(size_t)k * dofs + b] * mu[k];
         }
         double norm = sqrt(sum_squares(v, dofs));
         if (!(norm > 0.0) || !isfinite(norm)) return NAN;
@@ -866,21 +1361,19 @@ static double inverse_iteration(static_work *w, const double start[3], const dou
  * mode is taken: a fixed, documented choice. Returns the Rayleigh quotient, or NAN on failure. */
 static double critical_mode(static_work *w)
 {
-    int dofs = w->dofs;
+    int dofs = w->dofs, nr = w->constraint_rows;
     double lowest = lowest_eigenvalue(w, 0.0);
     double shift = lowest - fmax(0.01 * fabs(lowest), negative_eigenvalue);
     if (factor_shifted(w, shift) != 0) return NAN;
-    double *z = &w->mode[dofs], *y = &w->mode[2 * dofs];
-    double projection[2][2] = {{0, 0}, {0, 0}}, det = 1.0;
-    if (w->border) { /* Z = A^-1 C^T (2 columns in z and y), and C Z */
-        memcpy(z, w->constraint, 2 * (size_t)dofs * sizeof(double));
-        if (solve_shifted(w, z, 2)) return NAN;
-        for (int k = 0; k < 2; k++)
-            for (int l = 0; l < 2; l++)
+    double *z = &w->mode[dofs];
+    double projection[MAX_BORDER][MAX_BORDER] = {{0}};
+    if (nr) { /* Z = A^-1 C^T (nr columns), and C Z */
+        memcpy(z, w->constraint, (size_t)nr * (size_t)dofs * sizeof(double));
+        if (solve_shifted(w, z, nr)) return NAN;
+        for (int k = 0; k < nr; k++)
+            for (int l = 0; l < nr; l++)
                 for (int b = 0; b < dofs; b++)
                     projection[k][l] += w->constraint[(size_t)k * dofs + b] * z[(size_t)l * dofs + b];
-        det = projection[0][0] * projection[1][1] - projection[0][1] * projection[1][0];
-        if (!(fabs(det) > 0.0)) return NAN;
     }
     /* rotations about z first (the x-y plane's mode of a double eigenvalue,
      * exactly in plane); when that start misses the lowest eigenvalue (a
@@ -888,7 +1381,7 @@ static double critical_mode(static_work *w)
     static const double starts[2][3] = {{0.0, 0.0, 1.0}, {0.1, 0.3, 1.0}}; /* about x, y, z */
     double rayleigh = NAN;
     for (int attempt = 0; attempt < 2; attempt++) {
-        rayleigh = inverse_iteration(w, starts[attempt], z, y, projection, det);
+        rayleigh = inverse_iteration(w, starts[attempt], z, projection);
         if (rayleigh <= lowest + 0.05 * fabs(lowest) + negative_eigenvalue) break;
     }
     return rayleigh;
@@ -901,7 +1394,8 @@ static void turn_along_mode(static_work *w, double scale)
     int a = 0;
     for (int i = 0; i < w->nodes; i++) {
         v3_set(omega, 0.0, 0.0, 0.0);
-        for (; a < w->dofs && w->dof_node[a] == i; a++) omega[w->dof_axis[a]] = scale * w->mode[a];
+        for (; a < w->dofs && w->dof_node[a] == i; a++)
+            v3_axpy(omega, scale * w->mode[a], &w->dof_dir[3 * a]);
         double rot[9], turned[9];
         m3_exp(rot, omega);
         m3_mul(turned, rot, &w->frame[9 * i]);
@@ -928,7 +1422,8 @@ static void push_along_mode(static_work *w, const rod_model *m, const static_loa
     int a = 0;
     for (int i = 0; i < n; i++) {
         v3_set(omega[i & 1], 0.0, 0.0, 0.0);
-        for (; a < dofs && w->dof_node[a] == i; a++) omega[i & 1][w->dof_axis[a]] = w->mode[a];
+        for (; a < dofs && w->dof_node[a] == i; a++)
+            v3_axpy(omega[i & 1], w->mode[a], &w->dof_dir[3 * a]);
         if (i == 0) continue;
         double mean[3], d3[3], dr[3];
         for (int k = 0; k < 3; k++) mean[k] = 0.5 * (omega[0][k] + omega[1][k]);
@@ -940,8 +1435,9 @@ static void push_along_mode(static_work *w, const rod_model *m, const static_loa
         }
     }
     double tip_force[3], tip_moment[3], pull[3], chord[3], across[3];
-    tip_load_global(m, load, &w->frame[9 * (n - 1)], tip_force, tip_moment);
+    tip_load_global(w, m, load, &w->frame[9 * (n - 1)], tip_force, tip_moment);
     for (int k = 0; k < 3; k++) pull[k] = tip_force[k] + m->length * load->distributed[k];
+    for (int i = 0; i + 1 < n; i++) v3_axpy(pull, load->point_factor, &w->node_force[3 * i]);
     double ends[3] = {0, 0, 0}, first[3];
     for (int j = 0; j + 1 < n; j++) {
         m3_column(first, &w->mid[9 * j], 2);
@@ -987,12 +1483,12 @@ static int descend(static_work *w, const rod_model *m, const static_load *load, 
         double damping = 1.5 * fmax(0.0, -lowest) + relax;
         relax *= 0.5;
         for (int a = 0; a < w->dofs; a++) { /* row_a -= c omega_a, omega = Q phi */
-            const double *q = &w->frame[9 * w->dof_node[a]];
+            const double *q = &w->frame[9 * w->dof_node[a]], *dir = &w->dof_dir[3 * a];
             int row = w->dof_row[a];
             for (int c = 0; c < 3; c++) {
                 int col = UNKNOWNS_PER_NODE * w->dof_node[a] + c;
                 w->band[(size_t)col * w->band_rows + (BAND_LOWER + BAND_UPPER + row - col)] -=
-                    damping * q[3 * w->dof_axis[a] + c];
+                    damping * (q[c] * dir[0] + q[3 + c] * dir[1] + q[6 + c] * dir[2]);
             }
         }
         if (solve_newton_step(w) != 0) return -1;
@@ -1055,17 +1551,51 @@ static int newton(static_work *w, const rod_model *m, const static_load *load, d
     }
 }
 
-/* The size of a load change in the rod's own units: |F| L^2/EI + |M| L/EI + |T| L^3/EI. */
-static double load_size(const rod_model *m, const static_load *a, const static_load *b)
+/* The angle of the rotation a^T b, rad. */
+static double rotation_angle_between(const double a[9], const double b[9])
 {
-    double df[3], dm[3], dt[3], ei = m->stiffness[0], length = m->length;
+    double r[9], phi[3];
+    m3_mul_tn(r, a, b);
+    m3_log(phi, r);
+    return v3_norm(phi);
+}
+
+/* The size of a load change in the rod's own units: |F| L^2/EI + |M| L/EI +
+ * |T| L^3/EI + |m| L^2/EI, the point loads alike, |u0| L for the rest
+ * curvature, and for the held ends 4 |dr|/L (the moved tip's gap across
+ * its sleeve) + 2 |d angle| (a clamped end's turn): about one radian of
+ * bending per unit. */
+static double load_size(const static_work *w, const rod_model *m, const static_load *a,
+                        const static_load *b)
+{
+    double df[3], dm[3], dt[3], dq[3], ei = m->stiffness[0], length = m->length;
     v3_sub(df, a->tip_force, b->tip_force);
     v3_sub(dm, a->tip_moment, b->tip_moment);
     v3_sub(dt, a->distributed, b->distributed);
-    return v3_norm(df) * length * length / ei + v3_norm(dm) * length / ei +
-           v3_norm(dt) * length * length * length / ei;
+    v3_sub(dq, a->distributed_moment, b->distributed_moment);
+    double point = 0.0;
+    for (int i = 0; i < w->nodes; i++)
+        point += v3_norm(&w->node_force[3 * i]) * length * length / ei +
+                 v3_norm(&w->node_moment[3 * i]) * length / ei;
+    double size = v3_norm(df) * length * length / ei + v3_norm(dm) * length / ei +
+                  v3_norm(dt) * length * length * length / ei +
+                  v3_norm(dq) * length * length / ei + fabs(a->point_factor - b->point_factor) * point +
+                  fabs(a->curvature - b->curvature) * w->start_size;
+    if (tip_held(w)) {
+        double gap[3];
+        for (int k = 0; k < 3; k++)
+            gap[k] = (a->tip_position[k] - a->root_position[k]) - (b->tip_position[k] - b->root_position[k]);
+        if (w->tip_sliding) v3_axpy(gap, -v3_dot(gap, w->slide), w->slide);
+        size += 4.0 * v3_norm(gap) / length;
+        if (w->tip_end == ROD_END_CLAMPED && !w->tip_sliding)
+            size += 2.0 * rotation_angle_between(a->tip_rotation, b->tip_rotation);
+    }
+    if (w->root_end == ROD_END_CLAMPED)
+        size += 2.0 * rotation_angle_between(a->root_rotation, b->root_rotation);
+    return size;
 }
 
+/* a + fraction (b - a); rotations along the geodesic a exp(f log(a^T b)). */
 static void load_between(const static_load *a, const static_load *b, double fraction,
                          static_load *out)
 {
@@ -1073,36 +1603,194 @@ static void load_between(const static_load *a, const static_load *b, double frac
         out->tip_force[k] = a->tip_force[k] + fraction * (b->tip_force[k] - a->tip_force[k]);
         out->tip_moment[k] = a->tip_moment[k] + fraction * (b->tip_moment[k] - a->tip_moment[k]);
         out->distributed[k] = a->distributed[k] + fraction * (b->distributed[k] - a->distributed[k]);
+        out->distributed_moment[k] = a->distributed_moment[k] +
+                                     fraction * (b->distributed_moment[k] - a->distributed_moment[k]);
+        out->root_position[k] = a->root_position[k] + fraction * (b->root_position[k] - a->root_position[k]);
+        out->tip_position[k] = a->tip_position[k] + fraction * (b->tip_position[k] - a->tip_position[k]);
+    }
+    out->point_factor = a->point_factor + fraction * (b->point_factor - a->point_factor);
+    out->curvature = a->curvature + fraction * (b->curvature - a->curvature);
+    const double *from[2] = {a->root_rotation, a->tip_rotation}, *to[2] = {b->root_rotation, b->tip_rotation};
+    double *into[2] = {out->root_rotation, out->tip_rotation};
+    for (int e = 0; e < 2; e++) {
+        double r[9], phi[3], step_rotation[9];
+        m3_mul_tn(r, from[e], to[e]);
+        m3_log(phi, r);
+        v3_scale(phi, phi, fraction);
+        m3_exp(step_rotation, phi);
+        m3_mul(into[e], from[e], step_rotation);
     }
 }
 
-/* Writes the solved base point into the state (staggered layout). */
+/* The loads and the held ends' poses at time t: a driven end on its path
+ * (position, and rotation from its initial frame), a held one where it
+ * started (decided: a path's rotation is used only by a clamped end held in
+ * place; a pinned end turns freely and a sliding clamp keeps d3 along its
+ * slide). */
+static void target_load(const static_work *w, const rod_model *m, double t, static_load *load)
+{
+    memset(load, 0, sizeof *load);
+    rod_tip_load(m, t, load->tip_force, load->tip_moment);
+    v3_copy(load->distributed, m->distributed_force);
+    v3_copy(load->distributed_moment, m->distributed_moment);
+    load->point_factor = rod_profile_factor(&m->profile, t);
+    load->curvature = 1.0;
+    v3_copy(load->root_position, w->root_position0);
+    v3_copy(load->tip_position, w->tip_position0);
+    m3_identity(load->root_rotation);
+    m3_identity(load->tip_rotation);
+    const rod_path *paths[2] = {m->root_motion, m->tip_motion};
+    double *positions[2] = {load->root_position, load->tip_position};
+    double *rotations[2] = {load->root_rotation, load->tip_rotation};
+    for (int e = 0; e < 2; e++) {
+        if (!paths[e]) continue;
+#if defined(__GNUC__)
+        if (!rod_path_eval) continue; /* refused at create */
+#endif
+        rod_pose pose;
+        rod_path_eval(paths[e], t, &pose);
+        v3_copy(positions[e], pose.position);
+        memcpy(rotations[e], pose.rotation, sizeof pose.rotation);
+    }
+}
+
+/* The start of a path from a state this scheme did not produce (the initial
+ * rod), taken as an equilibrium: no load, its own curvature at rest, the ends where
+ * the state has them. */
+static void load_from_state(const static_work *w, const rod_state *s, static_load *load)
+{
+    int n = w->nodes;
+    memset(load, 0, sizeof *load);
+    v3_copy(load->root_position, s->position);
+    v3_copy(load->tip_position, &s->position[3 * (n - 1)]);
+    for (int r = 0; r < 3; r++) /* Q Q0^T */
+        for (int c = 0; c < 3; c++) {
+            load->root_rotation[3 * r + c] = v3_dot(&s->frame[3 * r], &w->root_frame0[3 * c]);
+            load->tip_rotation[3 * r + c] = v3_dot(&s->frame[9 * (n - 1) + 3 * r], &w->tip_frame0[3 * c]);
+        }
+    m3_orthonormalize(load->root_rotation);
+    m3_orthonormalize(load->tip_rotation);
+}
+
+/* The distance between the held ends' targets, m. */
+static double span_of(const static_load *load)
+{
+    double d[3];
+    v3_sub(d, load->tip_position, load->root_position);
+    return v3_norm(d);
+}
+
+/* 1 when the tip is held in place at the rod's whole length from the root. */
+static int held_span_taut(const static_work *w, const rod_model *m, const static_load *load)
+{
+    return tip_held(w) && !w->tip_sliding && span_of(load) > m->length * (1.0 - 1e-9);
+}
+
+/* Puts the held frames of the base point where `load` has them. */
+static void hold_end_frames(static_work *w, const static_load *load)
+{
+    int n = w->nodes;
+    if (w->root_end == ROD_END_CLAMPED) m3_mul(w->frame, load->root_rotation, w->root_frame0);
+    if (w->tip_end == ROD_END_CLAMPED && !w->tip_sliding)
+        m3_mul(&w->frame[9 * (n - 1)], load->tip_rotation, w->tip_frame0);
+}
+
+/* A straight rod whose held tip is moved towards its root along the chord
+ * cannot follow to first order (the chord's length changes only to second
+ * order in the turns: the position rows' Jacobian is singular there). So
+ * the rod is bent first into a shape that keeps its ends: turns theta(s)
+ * about the root's initial d2 with theta = a sin(2 pi s/L) (zero at both
+ * ends, no mean: the clamped-clamped mode), or a cos(pi s/L) for pinned
+ * ends (the pinned-pinned mode), of the amplitude that shortens the chord
+ * by the asked e (a^2 L/4 = e), towards the root's +d1. Returns 1 when it
+ * bent the rod (the side is then a choice: `symmetric` in the report). */
+static int bend_straight_rod(static_work *w, const rod_model *m, const static_load *load)
+{
+    int n = w->nodes;
+    if (w->border != 3) return 0;
+    rod_darboux_from_frames(m, w->frame, w->darboux);
+    rod_midpoint_frames(m, w->frame, w->darboux, w->mid);
+    double chord[3] = {0, 0, 0}, target[3];
+    for (int j = 0; j + 1 < n; j++)
+        for (int k = 0; k < 3; k++) chord[k] += m->ds * w->mid[9 * j + 3 * k + 2];
+    v3_sub(target, load->tip_position, load->root_position);
+    double length = m->length, shortening = length - v3_norm(target);
+    if (v3_norm(chord) < length * (1.0 - 1e-10) || shortening <= 1e-10 * length) return 0;
+    double amplitude = fmin(0.5, 2.0 * sqrt(shortening / length));
+    int pinned = w->root_end == ROD_END_PINNED && w->tip_end == ROD_END_PINNED;
+    for (int i = 0; i < n; i++) {
+        if ((i == 0 && w->root_end == ROD_END_CLAMPED) ||
+            (i == n - 1 && w->tip_end == ROD_END_CLAMPED))
+            continue;
+        double s = m->ds * i, omega[3], rot[9], turned[9];
+        double theta = pinned ? amplitude * cos(M_PI * s / length)
+                              : amplitude * sin(2.0 * M_PI * s / length);
+        v3_scale(omega, w->root_axes[2], theta);
+        m3_exp(rot, omega);
+        m3_mul(turned, rot, &w->frame[9 * i]);
+        m3_orthonormalize(turned);
+        memcpy(&w->frame[9 * i], turned, sizeof turned);
+    }
+    return 1;
+}
+
+/* Writes the solved base point into the state (staggered layout), and the
+ * forces and moments the rod exerts on its supports (rod.h end_force):
+ * at the root N(0) and M(0) of the root half cell, at a held tip minus the
+ * support's reaction (the tip half cell's balance). */
 static void write_state(static_work *w, const rod_model *m, const static_load *load, rod_state *s)
 {
     int n = w->nodes;
+    double ds = m->ds, pf = load->point_factor;
     memcpy(s->frame, w->frame, (size_t)n * 9 * sizeof(double));
-    rod_darboux_from_frames(m, s->frame, s->darboux);
-    rod_midpoint_frames(m, s->frame, s->darboux, w->mid);
+    rod_darboux_from_frames(m, w->frame, w->darboux);
+    memcpy(s->darboux, w->darboux, (size_t)(n - 1) * 3 * sizeof(double));
+    rod_midpoint_frames(m, w->frame, w->darboux, w->mid);
     rod_positions_from_midframes(m, w->mid, s->position);
+    for (int i = 0; i < n; i++) v3_add(&s->position[3 * i], &s->position[3 * i], load->root_position);
+    midpoint_moments(w, m, load->curvature);
     for (int j = 0; j + 1 < n; j++) /* midpoint N on the midpoint directors */
         m3_mul_tv(&s->contact_force[3 * j], &w->mid[9 * j], &w->force[3 * j]);
-    /* tip entries: N(L) and u = B^-1 M(L) on the tip directors (thesis 4.2):
-     * the applied load plus the support's reaction at a held tip */
+    /* tip entries: N(L) and u = u0 + B^-1 M(L) on the tip directors (thesis
+     * 4.2): the applied load plus the support's reaction at a held tip */
     const double *q_tip = &s->frame[9 * (n - 1)];
-    double tip_force[3], tip_moment[3], moment_bar[3];
-    tip_load_global(m, load, q_tip, tip_force, tip_moment);
-    if (tip_held(w))
-        for (int k = 0; k < 2; k++) tip_force[1 + k] += w->reaction[k];
-    if (w->tip_end == ROD_END_CLAMPED) { /* M(L) = M_{NS-3/2} - ds/2 d3 x N (tip half cell) */
-        double d3[3], torque[3];
-        m3_column(d3, &w->mid[9 * (n - 2)], 2);
-        v3_cross(torque, d3, &w->force[3 * (n - 2)]);
-        for (int k = 1; k < 3; k++)
-            tip_moment[k] = w->moment[3 * (n - 2) + k] - 0.5 * m->ds * torque[k];
+    double tip_force[3], tip_moment[3], moment_bar[3], reaction[3], d3[3], torque[3];
+    tip_load_global(w, m, load, q_tip, tip_force, tip_moment);
+    tip_reaction(w, NULL, reaction);
+    v3_add(tip_force, tip_force, reaction);
+    /* M(L) = M_{NS-3/2} - ds/2 (d3 x N + m) (tip half cell); it differs from
+     * the applied moment by the clamp's reaction */
+    double tip_internal[3], reaction_moment[3] = {0, 0, 0};
+    m3_column(d3, &w->mid[9 * (n - 2)], 2);
+    v3_cross(torque, d3, &w->force[3 * (n - 2)]);
+    for (int k = 0; k < 3; k++)
+        tip_internal[k] = w->moment[3 * (n - 2) + k] - 0.5 * ds * (torque[k] + load->distributed_moment[k]);
+    if (w->tip_end == ROD_END_CLAMPED) {
+        v3_sub(reaction_moment, tip_internal, tip_moment);
+        if (w->tip_sliding) /* free to twist about the slide */
+            v3_axpy(reaction_moment, -v3_dot(reaction_moment, w->slide), w->slide);
+        v3_add(tip_moment, tip_moment, reaction_moment);
     }
     m3_mul_tv(&s->contact_force[3 * (n - 1)], q_tip, tip_force);
     m3_mul_tv(moment_bar, q_tip, tip_moment);
-    for (int k = 0; k < 3; k++) s->darboux[3 * (n - 1) + k] = moment_bar[k] / m->stiffness[k];
+    for (int k = 0; k < 3; k++)
+        s->darboux[3 * (n - 1) + k] =
+            moment_bar[k] / m->stiffness[k] + load->curvature * m->intrinsic_curvature[k] +
+            (1.0 - load->curvature) * w->start_darboux[3 * (n - 2) + k];
+    /* the ends */
+    memset(s->end_force, 0, sizeof s->end_force);
+    memset(s->end_moment, 0, sizeof s->end_moment);
+    m3_column(d3, &w->mid[0], 2);
+    v3_cross(torque, d3, &w->force[0]);
+    for (int k = 0; k < 3; k++) {
+        s->end_force[0][k] = w->force[k] + 0.5 * ds * load->distributed[k] + pf * w->node_force[k];
+        s->end_moment[0][k] = w->moment[k] + 0.5 * ds * (torque[k] + load->distributed_moment[k]) +
+                              pf * w->node_moment[k];
+    }
+    if (tip_held(w)) {
+        v3_scale(s->end_force[1], reaction, -1.0);
+        v3_scale(s->end_moment[1], reaction_moment, -1.0);
+    }
     memset(s->velocity, 0, (size_t)n * 3 * sizeof(double));
     memset(s->angular_velocity, 0, (size_t)n * 3 * sizeof(double));
     s->staggered = 1;
@@ -1119,15 +1807,20 @@ static void describe_load(const rod_model *m, const static_load *load, char *tex
 }
 
 /* 1 when the loads have a potential, so that stability is the positive
- * definiteness of the tangent stiffness: dead forces (tip and distributed).
- * A follower tip load is not conservative (Beck's column loses stability by
- * flutter, which no static criterion sees), nor is a dead tip moment in 3-D
- * (its work on finite rotations depends on the path, Ziegler; a cantilever
- * bent by one into 3/4 of a circle shows negative eigenvalues in the
- * symmetric part of its tangent): neither is checked, decided here. */
-static int loads_conservative(const rod_model *m, const static_load *load)
+ * definiteness of the tangent stiffness: dead forces (tip, point and
+ * distributed), the rest curvature (its energy is part of the elastic one)
+ * and the held ends (constraints). A follower tip load is not conservative
+ * (Beck's column loses stability by flutter, which no static criterion
+ * sees), nor is a dead moment in 3-D (its work on finite rotations depends
+ * on the path, Ziegler; a cantilever bent by one into 3/4 of a circle shows
+ * negative eigenvalues in the symmetric part of its tangent), at the tip,
+ * at a node or along the rod: none is checked, decided here. */
+static int loads_conservative(const static_work *w, const rod_model *m, const static_load *load)
 {
-    if (v3_norm(load->tip_moment) != 0.0) return 0;
+    if (v3_norm(load->tip_moment) != 0.0 || v3_norm(load->distributed_moment) != 0.0) return 0;
+    if (load->point_factor != 0.0)
+        for (int i = 0; i < w->nodes; i++)
+            if (v3_norm(&w->node_moment[3 * i]) != 0.0) return 0;
     return m->tip_frame == ROD_FRAME_GLOBAL || v3_norm(load->tip_force) == 0.0;
 }
 
@@ -1140,7 +1833,7 @@ static rod_status settle_stable(static_work *w, const rod_model *m, const static
                                 double tolerance, double time, int *iterations, rod_report *report)
 {
     char text[256];
-    if (!loads_conservative(m, load)) {
+    if (!loads_conservative(w, m, load)) {
         w->have_verdict = 0;
         return ROD_OK;
     }
@@ -1202,10 +1895,17 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
     int n = w->nodes;
     double target_time = s->time + dt;
     static_load target, start, load, zero;
-    memset(&zero, 0, sizeof zero);
     char text[256];
-    rod_tip_load(m, target_time, target.tip_force, target.tip_moment);
-    v3_copy(target.distributed, m->distributed_force);
+    /* the state at t = 0 is the initial one (rod_state_reset): its ends are
+     * where held ends stay */
+    if (s->time == 0.0) set_initial_ends(w, s->position, s->frame);
+    target_load(w, m, target_time, &target);
+    zero = target; /* the poses of the target without its loads: the tolerance's scale */
+    memset(zero.tip_force, 0, sizeof zero.tip_force);
+    memset(zero.tip_moment, 0, sizeof zero.tip_moment);
+    memset(zero.distributed, 0, sizeof zero.distributed);
+    memset(zero.distributed_moment, 0, sizeof zero.distributed_moment);
+    zero.point_factor = zero.curvature = 0.0;
     report->newton_iterations = 0;
     /* A run of static solves far beyond the frames asked for loops for
      * hours to no purpose: the equilibrium does not depend on dt. */
@@ -1224,12 +1924,29 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
     int continuing = w->have_previous && w->previous_time == s->time;
     if (continuing) start = w->previous;
     else {
-        start = zero;
-        w->reaction[0] = w->reaction[1] = 0.0;
+        load_from_state(w, s, &start);
+        rod_darboux_from_frames(m, s->frame, w->start_darboux);
+        w->start_size = 0.0;
+        for (int j = 0; j + 1 < n; j++) {
+            double d[3];
+            v3_sub(d, &w->start_darboux[3 * j], m->intrinsic_curvature);
+            w->start_size = fmax(w->start_size, v3_norm(d) * m->length);
+        }
+        memset(w->reaction, 0, sizeof w->reaction);
         w->have_verdict = 0;
     }
 
-    double size = load_size(m, &target, &start), target_size = load_size(m, &target, &zero);
+    if (tip_held(w) && !w->tip_sliding && span_of(&target) > m->length * (1.0 + 1e-9)) {
+        snprintf(report->message, sizeof report->message,
+                 "static: at t = %g s the held ends are %.9g m apart (root %g %g %g m, tip "
+                 "%g %g %g m), more than the rod's length %g m: an inextensible rod cannot span "
+                 "them. Keep the tip's path within rod.length of the root.", target_time,
+                 span_of(&target), target.root_position[0], target.root_position[1],
+                 target.root_position[2], target.tip_position[0], target.tip_position[1],
+                 target.tip_position[2], m->length);
+        return ROD_FAILED;
+    }
+    double size = load_size(w, m, &target, &start), target_size = load_size(w, m, &target, &zero);
     if (!isfinite(size) || !isfinite(target_size)) {
         describe_load(m, &target, text, sizeof text);
         snprintf(report->message, sizeof report->message,
@@ -1253,6 +1970,7 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
 
     memcpy(w->frame, s->frame, (size_t)n * 9 * sizeof(double));
     load_between(&start, &target, 0.0, &load);
+    hold_end_frames(w, &load);
     forces_from_statics(w, m, &load);
     memcpy(w->saved_frame, w->frame, (size_t)n * 9 * sizeof(double));
     memcpy(w->saved_force, w->force, (size_t)(n - 1) * 3 * sizeof(double));
@@ -1271,10 +1989,18 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
         }
         /* up to max_load_increment, or half the load reached when larger */
         load_between(&start, &target, reached, &load);
-        double allowed = fmax(max_load_increment, relative_load_increment * load_size(m, &load, &zero));
+        double allowed = fmax(max_load_increment, relative_load_increment * load_size(w, m, &load, &zero));
         double largest_fraction = size > allowed ? allowed / size : 1.0;
         double trying = fmin(1.0, reached + fmin(fraction_step, largest_fraction));
         load_between(&start, &target, trying, &load);
+        hold_end_frames(w, &load);
+        if (bend_straight_rod(w, m, &load) && !report->warning[0])
+            snprintf(report->warning, sizeof report->warning,
+                     "static: at t = %g s the held tip moved towards the root of the straight "
+                     "rod, which must buckle (inextensible); it was bent towards the root's "
+                     "+d1 to start (a symmetric choice: the mirror image, and for a round rod "
+                     "the shape turned about the chord, are equally valid equilibria; a small "
+                     "transverse load picks the side).", target_time);
         forces_from_statics(w, m, &load);
         w->stiffness_fresh = 0;
         int rc = newton(w, m, &load, tolerance, max_iterations, &last_iterations, &last_residual);
@@ -1310,6 +2036,15 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
             return ROD_UNSTABLE;
         }
         describe_load(m, &target, text, sizeof text);
+        if (held_span_taut(w, m, &target)) {
+            snprintf(report->message, sizeof report->message,
+                     "static: at t = %g s the tip is held in place %.9g m from the root, the "
+                     "rod's whole length: an inextensible rod between them cannot deflect, so "
+                     "no transverse load (%.200s) can be carried. Hold the tip on a sleeve "
+                     "(ends.tip_slide), or drive it closer (ends.tip_motion).",
+                     target_time, span_of(&target), text);
+            return ROD_NO_CONVERGENCE;
+        }
         snprintf(report->message, sizeof report->message,
                  "static: Newton did not converge for the load at t = %g s (%.200s): %s; reached "
                  "%.4g%% of the load change from t = %g s%s; scaled residual %.3e above the "
@@ -1362,21 +2097,22 @@ int static_unstable_modes(static_work *w, const rod_model *m, const rod_state *s
 {
     int n = w->nodes;
     static_load load;
-    rod_tip_load(m, s->time, load.tip_force, load.tip_moment);
-    v3_copy(load.distributed, m->distributed_force);
-    if (!loads_conservative(m, &load)) {
-        snprintf(err, errlen, "static: a follower tip load or a tip moment has no static "
-                              "stability criterion (not conservative)");
+    if (s->time == 0.0) set_initial_ends(w, s->position, s->frame);
+    target_load(w, m, s->time, &load);
+    if (!loads_conservative(w, m, &load)) {
+        snprintf(err, errlen, "static: a follower tip load or a dead moment (tip, point or "
+                              "distributed) has no static stability criterion (not conservative)");
         return -1;
     }
     memcpy(w->frame, s->frame, (size_t)n * 9 * sizeof(double));
-    w->reaction[0] = w->reaction[1] = 0.0;
+    memset(w->reaction, 0, sizeof w->reaction);
     if (tip_held(w)) { /* the state's tip force entry is the applied force plus R */
         double applied[3], moment[3], total[3];
         const double *q_tip = &s->frame[9 * (n - 1)];
-        tip_load_global(m, &load, q_tip, applied, moment);
+        tip_load_global(w, m, &load, q_tip, applied, moment);
         m3_mul_v(total, q_tip, &s->contact_force[3 * (n - 1)]);
-        for (int k = 0; k < 2; k++) w->reaction[k] = total[1 + k] - applied[1 + k];
+        v3_sub(total, total, applied);
+        for (int k = 0; k < w->border; k++) w->reaction[k] = v3_dot(total, w->reaction_dir[k]);
     }
     forces_from_statics(w, m, &load);
     build_jacobian(w, m, &load);
@@ -1448,7 +2184,12 @@ int static_straight_determinant(static_work *w, const rod_model *m, double lambd
         m3_mul(&w->frame[9 * i], rot, straight_frame);
     }
     for (int j = 0; j + 1 < n; j++) v3_set(&w->force[3 * j], load.tip_force[axis], 0.0, 0.0);
-    w->reaction[0] = w->reaction[1] = 0.0;
+    memset(w->reaction, 0, sizeof w->reaction);
+    /* the straight rod along x from 0 (the caller checks the model is that) */
+    load.curvature = 1.0;
+    m3_identity(load.root_rotation);
+    m3_identity(load.tip_rotation);
+    v3_set(load.tip_position, m->length, 0.0, 0.0);
     build_jacobian(w, m, &load);
     *residual = max_abs(w->residual, w->unknowns);
 

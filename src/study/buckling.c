@@ -95,6 +95,39 @@ int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_t
                  m->distributed_force[2]);
         return -1;
     }
+    /* The straight state is the rod along +x from its root, every load
+     * axial: anything else bends it from the start (or, a tip held in place,
+     * carries the axial load itself: the straight rod is then unloaded). */
+    if (v3_norm(m->intrinsic_curvature) != 0.0 || v3_norm(m->distributed_moment) != 0.0 ||
+        m->point_load_count > 0 || m->initial_shape) {
+        snprintf(err, errlen,
+                 "buckling: the straight rod must be an equilibrium: no intrinsic curvature (rod.curvature), "
+                 "point loads, distributed moment or initial shape (got |u0| = %g 1/m, %d point "
+                 "loads, |m| = %g N m/m%s); solve such a rod with the static scheme instead",
+                 v3_norm(m->intrinsic_curvature), m->point_load_count,
+                 v3_norm(m->distributed_moment), m->initial_shape ? ", an initial shape" : "");
+        return -1;
+    }
+    if (!(m->direction[0] > 0.0 && m->direction[1] == 0.0 && m->direction[2] == 0.0)) {
+        snprintf(err, errlen, "buckling: the rod must start along +x (rod.direction = 1 0 0; got "
+                 "%g %g %g): the tip loads' axial component is taken along x",
+                 m->direction[0], m->direction[1], m->direction[2]);
+        return -1;
+    }
+    if (m->tip_end != ROD_END_FREE &&
+        !(m->tip_slide[0] > 0.0 && m->tip_slide[1] == 0.0 && m->tip_slide[2] == 0.0)) {
+        snprintf(err, errlen,
+                 "buckling: a held tip must slide along the rod's axis (ends.tip_slide = 1 0 0, "
+                 "Euler's sleeve; got %g %g %g) so that the axial load reaches the rod; a tip "
+                 "held in place carries it itself. Drive the tip towards the root with the "
+                 "static scheme instead (ends.tip_motion)",
+                 m->tip_slide[0], m->tip_slide[1], m->tip_slide[2]);
+        return -1;
+    }
+    if (m->root_motion || m->tip_motion) {
+        snprintf(err, errlen, "buckling: the ends must be held still (no root_motion or tip_motion)");
+        return -1;
+    }
     double ei = m->stiffness[0], length = m->length;
     double size = fabs(m->tip_force[axis]) * length * length / ei +
                   fabs(m->tip_moment[axis]) * length / ei;

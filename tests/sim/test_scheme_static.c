@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "study/reference.h"
+#include "sim/path.h"
 #include "sim/rod.h"
 #include "sim/rod_geometry.h"
 #include "sim/scheme_static.h"
@@ -445,6 +446,7 @@ static end_result solve_ends(int nodes, rod_end_kind root, rod_end_kind tip, dou
     rod_model m = static_model(nodes, ROD_FRAME_GLOBAL);
     m.root_end = root;
     m.tip_end = tip;
+    m.tip_slide[0] = 1.0; /* the sleeve along x */
     m.distributed_force[1] = -q;
     rod_state *s;
     rod_report report;
@@ -523,6 +525,7 @@ static void test_held_tip_free_directions(void)
 {
     rod_model m = static_model(21, ROD_FRAME_GLOBAL);
     m.tip_end = ROD_END_CLAMPED;
+    m.tip_slide[0] = 1.0;
     double twist_moment = 0.3 * m.stiffness[2] / m.length;
     m.tip_moment[0] = twist_moment;
     rod_state *s;
@@ -535,6 +538,7 @@ static void test_held_tip_free_directions(void)
     m = static_model(21, ROD_FRAME_GLOBAL);
     m.root_end = ROD_END_PINNED;
     m.tip_end = ROD_END_PINNED;
+    m.tip_slide[0] = 1.0;
     m.tip_force[0] = 2.0 * m.stiffness[0] / (m.length * m.length);
     m.distributed_force[1] = -1e-3 * m.stiffness[0] / pow(m.length, 3);
     check(solve(&m, &s, &report) == ROD_OK, "pinned-pinned with an axial pull and q solves");
@@ -799,6 +803,7 @@ static void test_held_tip_buckling(void)
     rod_model m = static_model(51, ROD_FRAME_GLOBAL);
     m.root_end = ROD_END_PINNED;
     m.tip_end = ROD_END_PINNED;
+    m.tip_slide[0] = 1.0;
     double ei = m.stiffness[0], p = 2.0 * M_PI * M_PI * ei / (m.length * m.length);
     v3_set(m.tip_force, -p, 0.0, 0.0);
     double half[2];
@@ -938,6 +943,651 @@ static void test_budgets(void)
     alarm(0);
 }
 
+/* Issue 10 ------------------------------------------------------------ */
+
+/* The straight rod from `origin` along R x, with frames R Q_init: a state
+ * at t = 0 as rod_state_reset builds it for rod.origin and rod.direction. */
+static void place_straight(const rod_model *m, rod_state *s, const double origin[3],
+                           const double rotation[9])
+{
+    static const double straight[9] = {0, 0, 1, 1, 0, 0, 0, 1, 0};
+    for (int i = 0; i < m->nodes; i++) {
+        double along[3] = {m->ds * i, 0.0, 0.0};
+        m3_mul_v(&s->position[3 * i], rotation, along);
+        v3_add(&s->position[3 * i], &s->position[3 * i], origin);
+        m3_mul(&s->frame[9 * i], rotation, straight);
+    }
+}
+
+/* One static step of `dt` from state s (already placed); prints failures. */
+static rod_status solve_from(const rod_model *m, rod_state *s, double dt, rod_report *report)
+{
+    rod_solver solver;
+    char err[512];
+    memset(report, 0, sizeof *report);
+    if (rod_solver_init(&solver, m, err, sizeof err) != 0) {
+        printf("solver init failed: %s\n", err);
+        return ROD_FAILED;
+    }
+    rod_status status = rod_solver_step(&solver, m, s, dt, report);
+    if (status != ROD_OK) printf("step failed: %s\n", report->message);
+    rod_solver_release(&solver);
+    return status;
+}
+
+/* Intrinsic curvature u0 = (k, 0, 0), no load, clamped root: the rod rests
+ * as a circle arc of radius 1/k about d1 = y, curving towards -z (d3' =
+ * k d1 x d3). The discrete rod is a polygon inscribed in a circle of radius
+ * ds / (2 sin(k ds/2)): relative error (k ds)^2/24 of the radius. And
+ * u0 = (k, 0, tau) rests with u = u0 at every midpoint (a helix). */
+static void test_intrinsic_curvature(void)
+{
+    const int grids[2] = {21, 41};
+    for (int g = 0; g < 2; g++) {
+        rod_model m = static_model(grids[g], ROD_FRAME_GLOBAL);
+        double k = 0.5 * M_PI / m.length; /* a quarter circle */
+        m.intrinsic_curvature[0] = k;
+        rod_state *s;
+        rod_report report;
+        check(solve(&m, &s, &report) == ROD_OK, "u0 = (pi/2L, 0, 0), NS=%d: solves", grids[g]);
+        double radius = 1.0 / k, worst = 0.0, centre[3] = {0.0, 0.0, -radius};
+        for (int i = 0; i < m.nodes; i++) {
+            double d[3];
+            v3_sub(d, &s->position[3 * i], centre);
+            worst = fmax(worst, fabs(v3_norm(d) - radius) / radius);
+        }
+        double polygon = pow(k * m.ds, 2) / 24.0;
+        char what[160];
+        snprintf(what, sizeof what, "u0 quarter circle NS=%d: largest |r - c| / R - 1 vs the polygon's (k ds)^2/24",
+                 grids[g]);
+        check_rel(what, worst, polygon, 1e-3);
+        double tip[3] = {radius, 0.0, -radius};
+        snprintf(what, sizeof what, "u0 quarter circle NS=%d: tip x vs R (arc: tip at (R, 0, -R))", grids[g]);
+        check_rel(what, tip_of(s)[0], tip[0], 2.0 * polygon);
+        snprintf(what, sizeof what, "u0 quarter circle NS=%d: tip z vs -R", grids[g]);
+        check_rel(what, tip_of(s)[2], tip[2], 2.0 * polygon);
+        check(v3_norm(s->end_force[0]) < 1e-15 && v3_norm(s->end_moment[0]) < 1e-15 * m.stiffness[0],
+              "u0 unloaded: no force (%.1e N) or moment (%.1e N m) at the root",
+              v3_norm(s->end_force[0]), v3_norm(s->end_moment[0]));
+        rod_state_destroy(s);
+    }
+    rod_model m = static_model(31, ROD_FRAME_GLOBAL);
+    v3_set(m.intrinsic_curvature, 2.0, 0.0, 1.5);
+    rod_state *s;
+    rod_report report;
+    check(solve(&m, &s, &report) == ROD_OK, "u0 = (2, 0, 1.5) 1/m: solves");
+    double worst = 0.0;
+    for (int j = 0; j + 1 < m.nodes; j++)
+        for (int c = 0; c < 3; c++)
+            worst = fmax(worst, fabs(s->darboux[3 * j + c] - m.intrinsic_curvature[c]));
+    check(worst < 1e-9, "u0 = (2, 0, 1.5): u = u0 at every midpoint (a helix of curvature 2, "
+          "torsion 1.5), largest deviation %.2e 1/m", worst);
+    rod_state_destroy(s);
+}
+
+static rod_point_load *one_point_load(int node, double fx, double fy, double fz)
+{
+    rod_point_load *p = calloc(1, sizeof *p);
+    p->node = node;
+    v3_set(p->force, fx, fy, fz);
+    return p;
+}
+
+/* A point load on a cantilever at mid-span: tip deflection 5 P L^3/48 EI
+ * (small deflection), and by statics exactly: the root feels N(0) = P and
+ * M(0) = (r_p - r_0) x P. A dead distributed moment m: tip deflection
+ * m L^3 / 3 EI (M(s) = m (L - s)). */
+static void test_point_load_and_moment(void)
+{
+    rod_model m = static_model(41, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], length = m.length, p = 1e-4 * ei / (length * length);
+    int middle = (m.nodes - 1) / 2;
+    m.point_loads = one_point_load(middle, 0.0, -p, 0.0);
+    m.point_load_count = 1;
+    rod_state *s;
+    rod_report report;
+    check(solve(&m, &s, &report) == ROD_OK, "point load at mid-span: solves");
+    check_rel("cantilever, point load P at L/2: tip deflection vs 5PL^3/48EI", -tip_of(s)[1],
+              5.0 * p * pow(length, 3) / (48.0 * ei), 1e-3);
+    double arm[3], moment[3];
+    v3_sub(arm, &s->position[3 * middle], &s->position[0]);
+    v3_cross(moment, arm, m.point_loads[0].force);
+    check_rel("point load: root force N(0)_y vs -P (statics)", s->end_force[0][1], -p, 1e-9);
+    check_rel("point load: root moment M(0)_z vs (r_p - r_0) x P (statics)", s->end_moment[0][2],
+              moment[2], 1e-9);
+    check(v3_norm(s->end_force[1]) == 0.0, "free tip: no end force");
+    rod_state_destroy(s);
+    free(m.point_loads);
+
+    m = static_model(41, ROD_FRAME_GLOBAL);
+    double q = 1e-4 * ei / (length * length);
+    v3_set(m.distributed_moment, 0.0, 0.0, q);
+    check(solve(&m, &s, &report) == ROD_OK, "distributed moment: solves");
+    check_rel("cantilever, distributed moment m about z: tip deflection vs mL^3/3EI", tip_of(s)[1],
+              q * pow(length, 3) / (3.0 * ei), 1e-3);
+    check_rel("distributed moment: root moment vs m L (statics)", s->end_moment[0][2], q * length,
+              1e-9);
+    rod_state_destroy(s);
+}
+
+/* Clamped-clamped beam with a centre load P, the tip clamped on a sleeve
+ * along the rod's own (arbitrary) direction: midspan deflection P L^3/192 EI,
+ * each support carries P/2 and the fixed-end moment P L/8 (small
+ * deflection). The rod lies along R x from an arbitrary origin (the root
+ * frame, position and the slide all turned). A tip clamped in place at the
+ * distance L could not deflect at all (inextensible): that is the sleeve's
+ * purpose here. */
+static void test_turned_clamped_beam(void)
+{
+    const int grids[2] = {21, 41};
+    double errors[2];
+    for (int g = 0; g < 2; g++) {
+        rod_model m = static_model(grids[g], ROD_FRAME_GLOBAL);
+        double ei = m.stiffness[0], length = m.length, p = 1e-4 * ei / (length * length);
+        double axis[3] = {0.3, -0.5, 0.7}, rotation[9], origin[3] = {0.2, -0.1, 0.4};
+        m3_exp(rotation, axis);
+        double along[3], across[3], normal[3];
+        m3_column(along, rotation, 0);
+        m3_column(across, rotation, 1);
+        m3_column(normal, rotation, 2);
+        m.tip_end = ROD_END_CLAMPED;
+        v3_copy(m.tip_slide, along);
+        v3_copy(m.origin, origin);
+        v3_copy(m.direction, along);
+        int middle = (m.nodes - 1) / 2;
+        m.point_loads = one_point_load(middle, p * across[0], p * across[1], p * across[2]);
+        m.point_load_count = 1;
+        rod_state *s = rod_state_create(&m);
+        place_straight(&m, s, origin, rotation);
+        rod_report report;
+        check(solve_from(&m, s, 1.0, &report) == ROD_OK, "turned clamped-clamped beam NS=%d: solves",
+              grids[g]);
+        double moved[3];
+        v3_sub(moved, &s->position[3 * middle], origin);
+        double w = v3_dot(moved, across), reference = p * pow(length, 3) / (192.0 * ei);
+        char what[200];
+        snprintf(what, sizeof what, "turned clamped-clamped (sleeve) NS=%d: centre deflection vs PL^3/192EI",
+                 grids[g]);
+        check_rel(what, w, reference, 5.0 / pow(grids[g] - 1, 2)); /* second order: 4/(NS-1)^2 */
+        errors[g] = fabs(w - reference) / reference;
+        snprintf(what, sizeof what, "NS=%d: root force across vs P/2 (symmetry)", grids[g]);
+        check_rel(what, v3_dot(s->end_force[0], across), 0.5 * p, 1e-6);
+        snprintf(what, sizeof what, "NS=%d: tip force across vs P/2 (symmetry)", grids[g]);
+        check_rel(what, v3_dot(s->end_force[1], across), 0.5 * p, 1e-6);
+        check(fabs(v3_dot(s->end_force[1], along)) < 1e-12 * p,
+              "NS=%d: the sleeve carries no force along itself (%.1e N)", grids[g],
+              v3_dot(s->end_force[1], along));
+        snprintf(what, sizeof what, "NS=%d: root moment about the normal vs PL/8", grids[g]);
+        check_rel(what, fabs(v3_dot(s->end_moment[0], normal)), p * length / 8.0, 0.01);
+        snprintf(what, sizeof what, "NS=%d: tip moment about the normal vs PL/8", grids[g]);
+        check_rel(what, fabs(v3_dot(s->end_moment[1], normal)), p * length / 8.0, 0.01);
+        double tip_gap[3];
+        v3_sub(tip_gap, tip_of(s), origin);
+        v3_axpy(tip_gap, -v3_dot(tip_gap, along), along);
+        check(v3_norm(tip_gap) < 1e-14, "NS=%d: the tip stays on its sleeve (off by %.1e m)", grids[g],
+              v3_norm(tip_gap));
+        rod_state_destroy(s);
+        free(m.point_loads);
+    }
+    double order = log(errors[0] / errors[1]) / log(2.0);
+    check(order > 1.8 && order < 2.2, "turned clamped-clamped: observed order %.3f (errors %.3e -> %.3e)",
+          order, errors[0], errors[1]);
+}
+
+/* Refusals at create: free-free, a free root, a sliding root. */
+static void test_static_refusals(void)
+{
+    const struct {
+        rod_end_kind root, tip;
+        double root_slide;
+        const char *expect;
+    } cases[3] = {
+        {ROD_END_FREE, ROD_END_FREE, 0.0, "implicit"},
+        {ROD_END_FREE, ROD_END_CLAMPED, 0.0, "mirrored"},
+        {ROD_END_CLAMPED, ROD_END_PINNED, 1.0, "sliding root"},
+    };
+    for (int c = 0; c < 3; c++) {
+        rod_model m = static_model(11, ROD_FRAME_GLOBAL);
+        m.root_end = cases[c].root;
+        m.tip_end = cases[c].tip;
+        m.root_slide[0] = cases[c].root_slide;
+        char err[512] = "";
+        static_work *w = static_work_create(&m, err, sizeof err);
+        check(!w && strstr(err, cases[c].expect), "refused: '%s'", err);
+        static_work_destroy(w);
+    }
+}
+
+/* A TEST-ONLY stand-in for sim/path.c until it is merged: weak, so the
+ * real functions replace all three together when path.o is linked. It
+ * interpolates linearly; the tests read the path only at or after its last
+ * row, where every interpolation gives the last row exactly. */
+struct rod_path {
+    int rows, columns;
+    double data[4 * 7];
+};
+
+__attribute__((weak)) rod_path *rod_path_create(const double *data, int rows, int columns,
+                                                char *err, size_t errlen)
+{
+    if (rows < 1 || rows > 4 || (columns != 4 && columns != 7)) {
+        snprintf(err, errlen, "test path: 1..4 rows of 4 or 7 columns");
+        return NULL;
+    }
+    rod_path *p = calloc(1, sizeof *p);
+    p->rows = rows;
+    p->columns = columns;
+    memcpy(p->data, data, (size_t)(rows * columns) * sizeof(double));
+    return p;
+}
+
+__attribute__((weak)) void rod_path_destroy(rod_path *p) { free(p); }
+
+__attribute__((weak)) void rod_path_eval(const rod_path *p, double t, rod_pose *pose)
+{
+    memset(pose, 0, sizeof *pose);
+    int c = p->columns, k = 0;
+    while (k + 1 < p->rows && p->data[(k + 1) * c] <= t) k++;
+    double f = 0.0;
+    if (k + 1 < p->rows && t > p->data[k * c])
+        f = (t - p->data[k * c]) / (p->data[(k + 1) * c] - p->data[k * c]);
+    double rotation[3] = {0, 0, 0};
+    for (int j = 0; j < 3; j++) {
+        double a = p->data[k * c + 1 + j], b = k + 1 < p->rows ? p->data[(k + 1) * c + 1 + j] : a;
+        pose->position[j] = a + f * (b - a);
+        if (c == 7) {
+            double ra = p->data[k * c + 4 + j], rb = k + 1 < p->rows ? p->data[(k + 1) * c + 4 + j] : ra;
+            rotation[j] = ra + f * (rb - ra);
+        }
+    }
+    m3_exp(pose->rotation, rotation);
+}
+
+/* Complete elliptic integrals K(k), E(k) by the arithmetic-geometric mean
+ * (Abramowitz & Stegun 17.6): K = pi / (2 a_N), E = K (1 - sum 2^(n-1) c_n^2). */
+static void elliptic_ke(double k, double *big_k, double *big_e)
+{
+    double a = 1.0, b = sqrt(1.0 - k * k), c = k, sum = 0.5 * c * c, power = 0.5;
+    for (int n = 0; n < 60 && fabs(c) > 1e-17; n++) {
+        double next_a = 0.5 * (a + b), next_b = sqrt(a * b);
+        c = 0.5 * (a - b);
+        a = next_a;
+        b = next_b;
+        power *= 2.0;
+        sum += power * c * c;
+    }
+    *big_k = M_PI / (2.0 * a);
+    *big_e = *big_k * (1.0 - sum);
+}
+
+/* The clamped-clamped elastica, first mode, ends a distance L - e apart
+ * (derived here; e.g. Timoshenko & Gere, Theory of Elastic Stability,
+ * art. 2.7). theta'' + lambda^2 sin theta = 0, lambda^2 = P/EI, theta = 0 at
+ * both ends: four quarter waves of the pendulum between theta = 0 and the
+ * inflection angle alpha, k = sin(alpha/2), each of length K(k)/lambda, so
+ *   P L^2/EI = 16 K^2 (4 pi^2 as k -> 0),
+ * each quarter advances (2E - K)/lambda along the chord and 2k/lambda across:
+ *   e/L = 2 (1 - E/K),  midspan deflection delta/L = k/K.
+ * k from e/L by bisection (e/L grows with k). */
+static void clamped_elastica(double shortening, double *force_factor, double *deflection)
+{
+    double low = 0.0, high = 1.0 - 1e-15;
+    for (int i = 0; i < 200; i++) {
+        double k = 0.5 * (low + high), big_k, big_e;
+        elliptic_ke(k, &big_k, &big_e);
+        if (2.0 * (1.0 - big_e / big_k) < shortening) low = k;
+        else high = k;
+    }
+    double k = 0.5 * (low + high), big_k, big_e;
+    elliptic_ke(k, &big_k, &big_e);
+    *force_factor = 16.0 * big_k * big_k;
+    *deflection = k / big_k;
+}
+
+/* A clamped-clamped rod whose tip is driven towards the root by e (a tip
+ * path, four static steps): the buckled shape's midspan deflection and the
+ * end force against the elastica above, and at vanishing e the critical
+ * load 4 pi^2 EI/L^2. */
+static void test_clamped_clamped_elastica(void)
+{
+    double big_k, big_e;
+    elliptic_ke(sqrt(0.5), &big_k, &big_e);
+    check_rel("reference: K(1/sqrt 2) vs Gamma(1/4)^2 / (4 sqrt pi) = 1.8540746773", big_k,
+              1.8540746773013719, 1e-13);
+    check_rel("reference: E(1/sqrt 2) vs 1.3506438810476755", big_e, 1.3506438810476755, 1e-13);
+    const double shortenings[3] = {1e-5, 0.1, 0.3};
+    for (int c = 0; c < 3; c++) {
+        rod_model m = static_model(101, ROD_FRAME_GLOBAL);
+        double ei = m.stiffness[0], length = m.length, e = shortenings[c] * length;
+        m.tip_end = ROD_END_CLAMPED;
+        double rows[8] = {0.0, length, 0.0, 0.0, 1.0, length - e, 0.0, 0.0};
+        char err[256];
+        m.tip_motion = rod_path_create(rows, 2, 4, err, sizeof err);
+        if (!m.tip_motion) printf("path: %s\n", err);
+        rod_state *s = rod_state_create(&m);
+        rod_solver solver;
+        rod_report report;
+        memset(&report, 0, sizeof report);
+        rod_status status = rod_solver_init(&solver, &m, err, sizeof err) == 0 ? ROD_OK : ROD_FAILED;
+        if (status != ROD_OK) printf("init: %s\n", err);
+        for (int k = 0; k < 4 && status == ROD_OK; k++) {
+            status = rod_solver_step(&solver, &m, s, 0.25, &report);
+            if (status != ROD_OK) printf("step: %s\n", report.message);
+        }
+        check(status == ROD_OK && s->time == 1.0, "clamped-clamped driven e/L = %g: solves (%s)",
+              shortenings[c], report.warning[0] ? "warned of the side" : "no warning");
+        double force_factor, deflection;
+        clamped_elastica(shortenings[c], &force_factor, &deflection);
+        char what[200];
+        snprintf(what, sizeof what, "clamped-clamped e/L = %g NS=101: tip x vs L - e", shortenings[c]);
+        check_rel(what, tip_of(s)[0], length - e, 1e-12);
+        snprintf(what, sizeof what, "clamped-clamped e/L = %g NS=101: end force at the tip P L^2/EI vs "
+                 "elastica 16 K^2", shortenings[c]);
+        check_rel(what, s->end_force[1][0] * length * length / ei, force_factor, 1e-3);
+        snprintf(what, sizeof what, "clamped-clamped e/L = %g NS=101: root force -N(0)_x L^2/EI vs 16 K^2",
+                 shortenings[c]);
+        check_rel(what, -s->end_force[0][0] * length * length / ei, force_factor, 1e-3);
+        if (c == 0) {
+            snprintf(what, sizeof what, "clamped-clamped e/L = 1e-5: end force vs the critical load "
+                     "4 pi^2 EI/L^2");
+            check_rel(what, s->end_force[1][0] * length * length / ei, 4.0 * M_PI * M_PI, 1e-3);
+        }
+        /* a round rod's buckled shape may turn about the chord: a neutral
+         * mode (rotating it with a constant twist offset keeps the clamps and
+         * the energy), so the plane is any; the deflection's size is not */
+        double across[3] = {0.0, s->position[3 * 50 + 1], s->position[3 * 50 + 2]};
+        double mid = v3_norm(across) / length;
+        snprintf(what, sizeof what, "clamped-clamped e/L = %g NS=101: midspan deflection / L vs "
+                 "elastica k/K", shortenings[c]);
+        check_rel(what, mid, deflection, 1e-3);
+        double normal[3] = {0.0, -across[2], across[1]}, off_plane = 0.0;
+        v3_scale(normal, normal, 1.0 / v3_norm(normal));
+        for (int i = 0; i < m.nodes; i++)
+            off_plane = fmax(off_plane, fabs(v3_dot(&s->position[3 * i], normal)));
+        check(fabs(s->end_force[1][1]) < 1e-9 * force_factor * ei &&
+                  fabs(s->end_force[1][2]) < 1e-9 * force_factor * ei && fabs(tip_of(s)[1]) < 1e-14 &&
+                  off_plane < 1e-12 * length,
+              "e/L = %g: planar (largest distance from the plane of x and the midspan deflection "
+              "%.1e m), the tip in place (y %.1e m), no transverse end force (%.1e N)",
+              shortenings[c], off_plane, tip_of(s)[1], s->end_force[1][1]);
+        int count = -2;
+        static_work *w = static_work_create(&m, err, sizeof err);
+        if (w) static_unstable_modes(w, &m, s, &count, err, sizeof err);
+        static_work_destroy(w);
+        check(count == 0, "e/L = %g: the buckled rod is stable (%d negative eigenvalues)",
+              shortenings[c], count);
+        if (m.tip_motion) rod_path_destroy(m.tip_motion);
+        m.tip_motion = NULL;
+        rod_solver_release(&solver);
+        rod_state_destroy(s);
+    }
+}
+
+/* Both ends clamped in place, the tip turned about the axis by phi (a
+ * 7-column path): the rod stays straight and twists uniformly, u3 = phi/L,
+ * and the supports feel the torque C phi / L (the root turned with the
+ * twist, the tip against it). The ends stay exactly L apart, where the
+ * axial reaction is undetermined (any tension balances a straight rod):
+ * the solve takes none. */
+static void test_driven_twist(void)
+{
+    rod_model m = static_model(21, ROD_FRAME_GLOBAL);
+    m.tip_end = ROD_END_CLAMPED;
+    double length = m.length, phi = 1.2, c = m.stiffness[2];
+    double rows[14] = {0.0, length, 0, 0, 0, 0, 0, 1.0, length, 0, 0, phi, 0, 0};
+    char err[256];
+    m.tip_motion = rod_path_create(rows, 2, 7, err, sizeof err);
+    rod_state *s = rod_state_create(&m);
+    rod_report report;
+    check(solve_from(&m, s, 1.0, &report) == ROD_OK, "tip turned by %.1f rad about x: solves", phi);
+    double worst = 0.0;
+    for (int j = 0; j + 1 < m.nodes; j++) worst = fmax(worst, fabs(s->darboux[3 * j + 2] - phi / length));
+    check(worst < 1e-9 * phi / length, "turned tip: u3 = phi/L at every midpoint (largest deviation %.1e 1/m)",
+          worst);
+    check_rel("turned tip: root moment about x vs C phi/L", s->end_moment[0][0], c * phi / length, 1e-9);
+    check_rel("turned tip: tip moment about x vs -C phi/L", s->end_moment[1][0], -c * phi / length, 1e-9);
+    check(fabs(s->end_force[1][0]) < 1e-12 * c / (length * length) && fabs(tip_of(s)[1]) < 1e-15,
+          "turned tip: straight, no axial force (%.1e N)", s->end_force[1][0]);
+    rod_path_destroy(m.tip_motion);
+    m.tip_motion = NULL;
+    rod_state_destroy(s);
+}
+
+/* A clamped root driven to position p and turned by R (a 7-column path)
+ * under a dead tip force F: the answer is the unmoved cantilever's under
+ * R^T F, turned by R and moved by p (frame invariance of the equations). */
+static void test_driven_root(void)
+{
+    rod_model m = static_model(21, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], length = m.length, rotation[9];
+    double turn[3] = {0.4, -0.3, 0.9}, p[3] = {0.1, -0.2, 0.3};
+    double force[3] = {0.2 * ei / (length * length), 1.5 * ei / (length * length), -0.7 * ei / (length * length)};
+    m3_exp(rotation, turn);
+    double rows[14] = {0.0, 0, 0, 0, 0, 0, 0, 1.0, p[0], p[1], p[2], turn[0], turn[1], turn[2]};
+    char err[256];
+    rod_model still = m;
+    m3_mul_tv(still.tip_force, rotation, force);
+    v3_copy(m.tip_force, force);
+    m.root_motion = rod_path_create(rows, 2, 7, err, sizeof err);
+    rod_state *s = rod_state_create(&m), *reference = rod_state_create(&still);
+    rod_report report;
+    check(solve_from(&m, s, 1.0, &report) == ROD_OK, "driven root with a tip force: solves");
+    check(solve_from(&still, reference, 1.0, &report) == ROD_OK, "the same unmoved: solves");
+    double worst = 0.0;
+    for (int i = 0; i < m.nodes; i++) {
+        double expect[3], d[3];
+        m3_mul_v(expect, rotation, &reference->position[3 * i]);
+        v3_add(expect, expect, p);
+        v3_sub(d, &s->position[3 * i], expect);
+        worst = fmax(worst, v3_norm(d));
+    }
+    check(worst < 1e-9 * length, "driven root: positions = R r_still + p (largest deviation %.1e m)", worst);
+    double expect_force[3];
+    m3_mul_v(expect_force, rotation, reference->end_force[0]);
+    check_rel("driven root: root force vs R N_still(0)_y", s->end_force[0][1], expect_force[1], 1e-8);
+    check_rel("driven root: root force vs F (statics)", s->end_force[0][1], force[1], 1e-9);
+    rod_path_destroy(m.root_motion);
+    m.root_motion = NULL;
+    rod_state_destroy(s);
+    rod_state_destroy(reference);
+}
+
+/* Pinned-pinned beam on a sleeve along a turned axis, centre load P:
+ * midspan deflection P L^3/48 EI, each pin carries P/2, no moment across
+ * (the pinned root's rows on its initial d1, d2). */
+static void test_turned_pinned_beam(void)
+{
+    rod_model m = static_model(41, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], length = m.length, p = 1e-4 * ei / (length * length);
+    double axis[3] = {-0.6, 0.2, 0.5}, rotation[9], origin[3] = {-0.3, 0.1, 0.2};
+    m3_exp(rotation, axis);
+    double along[3], across[3], normal[3];
+    m3_column(along, rotation, 0);
+    m3_column(across, rotation, 1);
+    m3_column(normal, rotation, 2);
+    m.root_end = ROD_END_PINNED;
+    m.tip_end = ROD_END_PINNED;
+    v3_copy(m.tip_slide, along);
+    v3_copy(m.origin, origin);
+    v3_copy(m.direction, along);
+    int middle = (m.nodes - 1) / 2;
+    m.point_loads = one_point_load(middle, p * across[0], p * across[1], p * across[2]);
+    m.point_load_count = 1;
+    rod_state *s = rod_state_create(&m);
+    place_straight(&m, s, origin, rotation);
+    rod_report report;
+    check(solve_from(&m, s, 1.0, &report) == ROD_OK, "turned pinned-pinned beam: solves");
+    double moved[3];
+    v3_sub(moved, &s->position[3 * middle], origin);
+    check_rel("turned pinned-pinned (sleeve) NS=41: centre deflection vs PL^3/48EI", v3_dot(moved, across),
+              p * pow(length, 3) / (48.0 * ei), 5.0 / pow(m.nodes - 1, 2));
+    check_rel("turned pinned-pinned: root force across vs P/2", v3_dot(s->end_force[0], across), 0.5 * p, 1e-6);
+    check(fabs(v3_dot(s->end_moment[0], normal)) < 1e-9 * p * length &&
+              fabs(v3_dot(s->end_moment[0], across)) < 1e-9 * p * length,
+          "turned pinned-pinned: no bending moment at the pin (%.1e N m)", v3_norm(s->end_moment[0]));
+    rod_state_destroy(s);
+    free(m.point_loads);
+}
+
+/* The stability check with point loads (dead forces: conservative): a
+ * compressive point load of 2 P_E at the tip node (1e-3 of it across,
+ * picking the side) is past buckling: the straight rod is left for the
+ * buckled column, the same as under the tip force; and the buckled answer
+ * has no negative eigenvalue. */
+static void test_point_load_buckling(void)
+{
+    rod_model m = static_model(51, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], p = 2.0 * M_PI * M_PI * ei / (4.0 * m.length * m.length);
+    double exact[2];
+    buckled_column(ei, m.length, -p, 1e-3 * p, exact);
+    m.point_loads = one_point_load(m.nodes - 1, -p, 1e-3 * p, 0.0);
+    m.point_load_count = 1;
+    rod_state *s;
+    rod_report report;
+    check(solve(&m, &s, &report) == ROD_OK, "point load 2 P_E at the tip node: solves");
+    check_abs("point load 2 P_E, NS=51: tip x vs buckled elastica", tip_of(s)[0], exact[0], 3e-3);
+    check_rel("point load 2 P_E, NS=51: tip y vs buckled elastica", tip_of(s)[1], exact[1], 2e-3);
+    check(unstable_count(&m, s) == 0, "point load: the returned equilibrium has 0 negative eigenvalues");
+    rod_state_destroy(s);
+    free(m.point_loads);
+}
+
+/* The tip force L^2/EI of a clamped-clamped rod driven in by e (one step). */
+static double driven_clamped_force(int nodes, double shortening)
+{
+    rod_model m = static_model(nodes, ROD_FRAME_GLOBAL);
+    m.tip_end = ROD_END_CLAMPED;
+    double rows[8] = {0.0, m.length, 0.0, 0.0, 1.0, m.length * (1.0 - shortening), 0.0, 0.0};
+    char err[256];
+    m.tip_motion = rod_path_create(rows, 2, 4, err, sizeof err);
+    rod_state *s = rod_state_create(&m);
+    rod_report report;
+    double force = solve_from(&m, s, 1.0, &report) == ROD_OK
+                       ? s->end_force[1][0] * m.length * m.length / m.stiffness[0]
+                       : NAN;
+    rod_path_destroy(m.tip_motion);
+    rod_state_destroy(s);
+    return force;
+}
+
+/* The clamped-clamped elastica's force converges at second order in ds. */
+static void test_clamped_clamped_order(void)
+{
+    const int grids[2] = {51, 101};
+    double force_factor, deflection, errors[2];
+    clamped_elastica(0.1, &force_factor, &deflection);
+    for (int g = 0; g < 2; g++) {
+        double force = driven_clamped_force(grids[g], 0.1);
+        char what[160];
+        snprintf(what, sizeof what, "clamped-clamped e/L = 0.1 in one step, NS=%d: P L^2/EI vs 16 K^2",
+                 grids[g]);
+        check_rel(what, force, force_factor, 4e-3);
+        errors[g] = fabs(force - force_factor) / force_factor;
+    }
+    double order = log(errors[0] / errors[1]) / log(2.0);
+    check(order > 1.8 && order < 2.2, "clamped-clamped force: observed order NS=51 -> 101: %.3f "
+          "(errors %.3e -> %.3e)", order, errors[0], errors[1]);
+}
+
+/* A tip held in place at the rod's length cannot carry a transverse load
+ * (inextensible: the rod cannot deflect), and a tip driven further than
+ * the length cannot be reached: both are messages naming the cause. */
+static void test_taut_span_messages(void)
+{
+    rod_model m = static_model(21, ROD_FRAME_GLOBAL);
+    m.tip_end = ROD_END_PINNED;
+    m.distributed_force[1] = -1e-3 * m.stiffness[0] / pow(m.length, 3);
+    rod_state *s = rod_state_create(&m);
+    rod_report report;
+    check(solve_from(&m, s, 1.0, &report) != ROD_OK && strstr(report.message, "cannot deflect") &&
+              strstr(report.message, "tip_slide"),
+          "tip held in place at L under gravity: '%.160s...'", report.message);
+    rod_state_destroy(s);
+    m.distributed_force[1] = 0.0;
+    double rows[8] = {0.0, m.length, 0.0, 0.0, 1.0, 1.1 * m.length, 0.0, 0.0};
+    char err[256];
+    m.tip_motion = rod_path_create(rows, 2, 4, err, sizeof err);
+    s = rod_state_create(&m);
+    check(solve_from(&m, s, 1.0, &report) == ROD_FAILED && strstr(report.message, "more than the rod's length") &&
+              s->time == 0.0,
+          "tip driven to 1.1 L: refused, state left at t = 0: '%.160s...'", report.message);
+    rod_path_destroy(m.tip_motion);
+    rod_state_destroy(s);
+}
+
+/* A starting shape bent without a rest curvature (a quarter circle about
+ * z, as an initial centreline gives) is the path's unloaded start: with no
+ * load it springs back straight along the root's d3 (exactly: the only
+ * unloaded equilibrium of a clamped rod with u0 = 0); with u0 equal to its
+ * curvature it stays as it is. */
+static void test_curved_start(void)
+{
+    for (int rest = 0; rest < 2; rest++) {
+        rod_model m = static_model(41, ROD_FRAME_GLOBAL);
+        double k = 0.5 * M_PI / m.length;
+        if (rest) m.intrinsic_curvature[1] = k; /* about d2 = z */
+        rod_state *s = rod_state_create(&m);
+        static const double straight[9] = {0, 0, 1, 1, 0, 0, 0, 1, 0};
+        for (int i = 0; i < m.nodes; i++) {
+            double angle = k * m.ds * i, turn[3] = {0.0, 0.0, angle}, rot[9];
+            m3_exp(rot, turn);
+            m3_mul(&s->frame[9 * i], rot, straight);
+            v3_set(&s->position[3 * i], sin(angle) / k, (1.0 - cos(angle)) / k, 0.0);
+        }
+        rod_report report;
+        rod_status status = solve_from(&m, s, 1.0, &report);
+        check(status == ROD_OK, "curved start, u0 = %s: solves (%d Newton iterations)",
+              rest ? "its curvature" : "0", report.newton_iterations);
+        if (!rest) {
+            double worst = 0.0;
+            for (int i = 0; i < m.nodes; i++)
+                worst = fmax(worst, fabs(s->position[3 * i + 1]) + fabs(s->position[3 * i] - m.ds * i));
+            check(worst < 1e-10 * m.length, "curved start, u0 = 0: springs back straight along x "
+                  "(largest deviation %.1e m)", worst);
+        } else {
+            check(report.newton_iterations == 0 && fabs(tip_of(s)[0] - 1.0 / k) < 1e-3 / k,
+                  "curved start, u0 = its curvature: stays (tip x %.6f m, arc's polygon ~ 1/k = %.6f m)",
+                  tip_of(s)[0], 1.0 / k);
+        }
+        rod_state_destroy(s);
+    }
+}
+
+/* Pinned-pinned, both pins in place, the tip driven in by e: two quarter
+ * waves of the same pendulum (L/2 = K/lambda), so P L^2/EI = 4 K^2 and,
+ * as above, e/L = 2 (1 - E/K) and the midspan deflection k L/K. */
+static void test_pinned_pinned_elastica(void)
+{
+    rod_model m = static_model(101, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], length = m.length, shortening = 0.1;
+    m.root_end = ROD_END_PINNED;
+    m.tip_end = ROD_END_PINNED;
+    double rows[8] = {0.0, length, 0.0, 0.0, 1.0, length * (1.0 - shortening), 0.0, 0.0};
+    char err[256];
+    m.tip_motion = rod_path_create(rows, 2, 4, err, sizeof err);
+    rod_state *s = rod_state_create(&m);
+    rod_report report;
+    check(solve_from(&m, s, 1.0, &report) == ROD_OK, "pinned-pinned driven e/L = 0.1: solves");
+    double force_factor, deflection;
+    clamped_elastica(shortening, &force_factor, &deflection);
+    force_factor /= 4.0; /* 16 K^2 -> 4 K^2 */
+    check_rel("pinned-pinned e/L = 0.1 NS=101: tip force P L^2/EI vs elastica 4 K^2",
+              s->end_force[1][0] * length * length / ei, force_factor, 1e-3);
+    double across[3] = {0.0, s->position[3 * 50 + 1], s->position[3 * 50 + 2]};
+    check_rel("pinned-pinned e/L = 0.1 NS=101: midspan deflection / L vs elastica k/K",
+              v3_norm(across) / length, deflection, 1e-3);
+    check(v3_norm(s->end_moment[0]) < 1e-9 * ei / length && v3_norm(s->end_moment[1]) == 0.0,
+          "pinned-pinned: no moment at either pin (%.1e, %.1e N m)", v3_norm(s->end_moment[0]),
+          v3_norm(s->end_moment[1]));
+    int count = -2;
+    static_work *w = static_work_create(&m, err, sizeof err);
+    if (w) static_unstable_modes(w, &m, s, &count, err, sizeof err);
+    static_work_destroy(w);
+    check(count == 0, "pinned-pinned buckled: stable (%d negative eigenvalues)", count);
+    rod_path_destroy(m.tip_motion);
+    rod_state_destroy(s);
+}
+
 int main(void)
 {
     test_table2_deflections();
@@ -958,5 +1608,18 @@ int main(void)
     test_held_tip_buckling();
     test_unresolved_grid();
     test_budgets();
+    test_intrinsic_curvature();
+    test_point_load_and_moment();
+    test_turned_clamped_beam();
+    test_static_refusals();
+    test_clamped_clamped_elastica();
+    test_driven_twist();
+    test_driven_root();
+    test_turned_pinned_beam();
+    test_point_load_buckling();
+    test_clamped_clamped_order();
+    test_taut_span_messages();
+    test_curved_start();
+    test_pinned_pinned_elastica();
     return test_finish();
 }
