@@ -207,7 +207,7 @@ static void test_convergence(void)
             err_a = fmax(err_a, fabs(pose.acceleration[0] - (6 * s * c * c - 3 * s * s * s)));
         }
         rod_path_destroy(p);
-        /* the largest |x'| is 2/sqrt(3) * ... ; relative to the largest values 1.155 and 2.3 */
+        /* relative to the largest |x'| = 2/sqrt(3) and |x''| = 3 */
         printf("    x = sin^3 t, %3d rows: velocity error %.3e (relative %.2e), acceleration "
                "error %.3e (relative %.2e)\n", rows, err_v, err_v / 1.1547, err_a, err_a / 3.0);
         if (previous_v > 0.0 && !(err_v < previous_v / 3.0 && err_a < previous_a / 2.0)) shrinking = 0;
