@@ -445,6 +445,7 @@ static end_result solve_ends(int nodes, rod_end_kind root, rod_end_kind tip, dou
     rod_model m = static_model(nodes, ROD_FRAME_GLOBAL);
     m.root_end = root;
     m.tip_end = tip;
+    if (tip != ROD_END_FREE) m.tip_slide[0] = 1.0; /* issue 10: a held tip stays in place unless it slides; this case is Euler's sleeve */
     m.distributed_force[1] = -q;
     rod_state *s;
     rod_report report;
@@ -523,6 +524,7 @@ static void test_held_tip_free_directions(void)
 {
     rod_model m = static_model(21, ROD_FRAME_GLOBAL);
     m.tip_end = ROD_END_CLAMPED;
+    m.tip_slide[0] = 1.0; /* issue 10: the sleeve along x, explicitly */
     double twist_moment = 0.3 * m.stiffness[2] / m.length;
     m.tip_moment[0] = twist_moment;
     rod_state *s;
@@ -535,6 +537,7 @@ static void test_held_tip_free_directions(void)
     m = static_model(21, ROD_FRAME_GLOBAL);
     m.root_end = ROD_END_PINNED;
     m.tip_end = ROD_END_PINNED;
+    m.tip_slide[0] = 1.0; /* issue 10: the sleeve along x, explicitly */
     m.tip_force[0] = 2.0 * m.stiffness[0] / (m.length * m.length);
     m.distributed_force[1] = -1e-3 * m.stiffness[0] / pow(m.length, 3);
     check(solve(&m, &s, &report) == ROD_OK, "pinned-pinned with an axial pull and q solves");
@@ -799,6 +802,7 @@ static void test_held_tip_buckling(void)
     rod_model m = static_model(51, ROD_FRAME_GLOBAL);
     m.root_end = ROD_END_PINNED;
     m.tip_end = ROD_END_PINNED;
+    m.tip_slide[0] = 1.0; /* issue 10: the sleeve along x, explicitly */
     double ei = m.stiffness[0], p = 2.0 * M_PI * M_PI * ei / (m.length * m.length);
     v3_set(m.tip_force, -p, 0.0, 0.0);
     double half[2];
