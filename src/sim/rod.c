@@ -79,19 +79,25 @@ static void root_frame(const double tangent[3], double q[9])
     m3_mul(q, r, straight);
 }
 
-/* Node tangents of a polygon with segments exactly ds long (initial_shape):
- * inside, the bisector of the two neighbouring segments; at either end the
- * end segment's mirror of the next node's tangent, so that the geodesic
- * midpoint of the two frames beside an end segment has d3 along it (the
- * staggered schemes take d3 at the midpoints as the segment direction, (3.12)).
+/* Node tangents of a polygon with segments exactly ds long (initial_shape).
+ * The staggered schemes take d3 of the midpoint frame, the geodesic midpoint
+ * of the frames at a segment's two nodes, as the segment's direction (3.12),
+ * so the node tangents must satisfy (n_i + n_{i+1}) / |n_i + n_{i+1}| = t_i,
+ * the chord direction: n_{i+1} is n_i reflected about t_i (turned half a turn
+ * about it). That fixes every n_i from n_0, and a poor n_0 leaves an
+ * alternating error that reflections never damp (a zig-zag curvature). n_0 is
+ * the unit vector whose chain stays nearest, in least squares, to the chords'
+ * bisectors (a smooth but not exactly consistent choice): with P_k the
+ * product of the first k reflections, n_0 = sum P_k^T b_k / |...|. A circle's
+ * bisectors already form a chain, so there n_i are its tangents exactly.
  * Writes tangent (nodes x 3); -1 when two segments turn by more than
- * ROD_UNRESOLVED_BEND or fold back, with the node in *bad. */
+ * ROD_UNRESOLVED_BEND, with the node in *bad. */
 static int shape_tangents(const rod_model *m, const double *shape, double *tangent, int *bad)
 {
     const int n = m->nodes;
-    double previous[3] = {0, 0, 0};
+    /* bisectors b_i inside, stored in tangent[] for now */
+    double previous[3] = {0, 0, 0}, t[3];
     for (int j = 0; j + 1 < n; j++) {
-        double t[3];
         v3_sub(t, &shape[3 * (j + 1)], &shape[3 * j]);
         v3_scale(t, t, 1.0 / v3_norm(t));
         if (j > 0) {
@@ -105,14 +111,34 @@ static int shape_tangents(const rod_model *m, const double *shape, double *tange
         }
         v3_copy(previous, t);
     }
-    /* mirrors: n_0 = 2 (n_1 . t_0) t_0 - n_1, likewise at the tip */
+    /* the ends' bisectors: mirrors of their neighbours about the end chords */
     for (int end = 0; end < 2; end++) {
         int node = end ? n - 1 : 0, next = end ? n - 2 : 1, seg = end ? n - 2 : 0;
-        double t[3];
         v3_sub(t, &shape[3 * (seg + 1)], &shape[3 * seg]);
         v3_scale(t, t, 1.0 / v3_norm(t));
         double k = 2.0 * v3_dot(&tangent[3 * next], t);
         for (int c = 0; c < 3; c++) tangent[3 * node + c] = k * t[c] - tangent[3 * next + c];
+    }
+    /* n_0 = sum_k P_k^T b_k normalised; P_{k+1} = (2 t_k t_k^T - I) P_k */
+    double chain[9], sum[3];
+    m3_identity(chain);
+    v3_copy(sum, tangent);
+    for (int k = 0; k + 1 < n; k++) {
+        v3_sub(t, &shape[3 * (k + 1)], &shape[3 * k]);
+        v3_scale(t, t, 1.0 / v3_norm(t));
+        double reflect[9], back[3];
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) reflect[3 * r + c] = 2.0 * t[r] * t[c] - (r == c);
+        m3_mul(chain, reflect, chain);
+        m3_mul_tv(back, chain, &tangent[3 * (k + 1)]);
+        v3_add(sum, sum, back);
+    }
+    v3_scale(tangent, sum, 1.0 / v3_norm(sum));
+    for (int k = 0; k + 1 < n; k++) { /* n_{k+1} = 2 (n_k . t_k) t_k - n_k */
+        v3_sub(t, &shape[3 * (k + 1)], &shape[3 * k]);
+        v3_scale(t, t, 1.0 / v3_norm(t));
+        double along = 2.0 * v3_dot(&tangent[3 * k], t);
+        for (int c = 0; c < 3; c++) tangent[3 * (k + 1) + c] = along * t[c] - tangent[3 * k + c];
     }
     return 0;
 }
