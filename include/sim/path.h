@@ -23,8 +23,9 @@ typedef struct rod_pose {
 } rod_pose;
 
 /* A path from `rows` rows of (t, x, y, z) or (t, x, y, z, rx, ry, rz):
- * `columns` 4 or 7, data row-major. Times strictly increase, values finite.
- * NULL with a message naming the row (1-based) and what is accepted. */
+ * `columns` 4 or 7, data row-major. Times strictly increase, values finite;
+ * 1 to 1e6 rows (one row: a constant pose). NULL with a message naming the
+ * row (1-based) and what is accepted. */
 rod_path *rod_path_create(const double *data, int rows, int columns, char *err, size_t errlen);
 
 /* Reads a CSV file with the header t,x,y,z or t,x,y,z,rx,ry,rz. NULL with a
@@ -38,6 +39,10 @@ int rod_path_columns(const rod_path *p);
 /* The first and last row's time, s. */
 double rod_path_start(const rod_path *p);
 double rod_path_end(const rod_path *p);
+
+/* 1 when every row has z = 0 (and rx = ry = 0): the end stays in the x-y
+ * plane turning about z only (rod_model_loads_planar). */
+int rod_path_planar(const rod_path *p);
 
 /* The pose at time t (any t: held before the first and after the last row). */
 void rod_path_eval(const rod_path *p, double t, rod_pose *pose);

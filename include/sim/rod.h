@@ -224,7 +224,9 @@ rod_model rod_model_default(void);
  * offending quantity and what is accepted when an input is not physical. */
 int rod_model_derive(rod_model *m, char *err, size_t errlen);
 
-/* Releases what the model owns (the profile table). */
+/* Releases what the model owns (the profile table, initial_shape,
+ * point_loads, root_motion, tip_motion) and sets them to NULL. A model copied
+ * by assignment shares them: release exactly one of the copies. */
 void rod_model_release(rod_model *m);
 
 /* 1 when every load keeps the rod in the x-y plane: tip force on d1/d3 (or
@@ -260,7 +262,10 @@ void rod_state_reset(const rod_model *m, rod_state *s);
 /* The internal (contact) force N(s) of the thesis at every node, global
  * components, N: `out` is (nodes x 3). At a held or driven end it is the
  * force between the rod and its support; inside, the mean of the two
- * neighbouring segments' N for a staggered state. */
+ * neighbouring segments' N for a staggered state. Staggered: node 0 is
+ * end_force[0] (N(0), 0 at a free root), node NS-1 the tip entry of
+ * contact_force (N(L): the applied tip force at a free tip, -end_force[1] at
+ * a held one; the scheme writes it). */
 void rod_internal_force(const rod_state *s, double *out);
 /* Kinetic energy, J (translational + rotational, lumped at the nodes). */
 double rod_kinetic_energy(const rod_model *m, const rod_state *s);

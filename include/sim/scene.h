@@ -2,11 +2,16 @@
  *
  * The keys are those of shared/PRODUCT.md plus the options of rod.h:
  *   [rod]     length, diameter, density, youngs_modulus, shear_modulus, nodes (all required),
- *             rotary_inertia_scale
+ *             rotary_inertia_scale, origin, direction, shape, curvature, initial_velocity
  *   [solver]  scheme, dt, duration, theta, newton_tolerance, newton_max_iterations,
  *             exact_rotation
  *   [tip]     frame, force, moment, profile
- *   [loads]   gravity, distributed_force, linear_damping, angular_damping
+ *   [loads]   gravity, distributed_force, linear_damping, angular_damping, distributed_moment
+ *   [point_load] (repeatable) s, force, moment
+ *   [ends]    root, tip, root_motion, tip_motion, root_slide, tip_slide, needle
+ *   [physics] twist, rotary_inertia, gravity, damping, planar
+ * Files named by the scene (profile table, shape, motion paths) are relative
+ * to the scene file's folder unless absolute.
  * Every bad value is reported as "file:line: [section] key = value: what is accepted"
  * (ini_error), and nothing is half-filled on failure.
  */
@@ -18,9 +23,11 @@
 #include "base/ini.h"
 #include "sim/rod.h"
 
-/* Fills *m from the scene (starting from rod_model_default()), loads a
- * profile table when the scene names one (path relative to the scene file),
- * and calls rod_model_derive(). Returns 0, or -1 with a message in err; on
+/* Fills *m from the scene (starting from rod_model_default()), loads the
+ * profile table, the starting shape (resampled to nodes exactly ds apart
+ * along its polyline) and the motion paths the scene names, and calls
+ * rod_model_derive() (its messages about issue 10's inputs are reported at
+ * the key's line). Returns 0, or -1 with a message in err; on
  * failure *m owns nothing. On success release with rod_model_release().
  * Marks every key it reads as known; the caller runs ini_check_unused()
  * after reading the sections it owns itself (e.g. [render]). */

@@ -16,6 +16,17 @@ const ini_key scene_keys_rod[] = {
     {"rod", "nodes", "-", "required", "3 .. 100001", "NS, nodes along the rod; ds = L/(NS-1)"},
     {"rod", "rotary_inertia_scale", "-", "1", "> 0",
      "multiplies rho I and rho J (the thesis scheme needs about 1e7)"},
+    {"rod", "origin", "m", "0 0 0", "3 numbers",
+     "global: the root (node 0) at t = 0; with a shape file, its first point"},
+    {"rod", "direction", "-", "1 0 0", "3 numbers, not all 0",
+     "initial tangent of a straight rod (normalised); d1, d2 turn from y, z by the smallest "
+     "rotation taking x to it"},
+    {"rod", "shape", "-", "straight", "straight | FILE.csv",
+     "FILE.csv: the starting centreline, header x,y,z (m, global), its length = `length` "
+     "(1e-6 relative); nodes placed along it exactly ds apart; frames twist-free along it"},
+    {"rod", "curvature", "1/m", "0 0 0", "3 numbers",
+     "intrinsic Darboux vector u0, director components: M = B (u - u0) (a spool's curl)"},
+    {"rod", "initial_velocity", "m/s", "0 0 0", "3 numbers", "global, every node at t = 0"},
 
     {"solver", "scheme", "-", "implicit", "thesis | implicit | static",
      "how the rod is stepped"},
@@ -43,11 +54,29 @@ const ini_key scene_keys_rod[] = {
     {"loads", "distributed_force", "N/m", "0 0 0", "3 numbers", "global, per length"},
     {"loads", "linear_damping", "N s/m^2", "0", ">= 0", "force per length -c v"},
     {"loads", "angular_damping", "N m s/m", "0", ">= 0", "moment per length -c omega"},
+    {"loads", "distributed_moment", "N m/m", "0 0 0", "3 numbers", "global, per length"},
 
-    {"ends", "root", "-", "clamped", "clamped | pinned",
-     "pinned: position held, twist about x held, free to bend"},
+    {"point_load", "s", "m", "required", "0 .. length",
+     "arc length of the load ([point_load] repeats); it acts at the nearest node"},
+    {"point_load", "force", "N", "0 0 0", "3 numbers", "global (dead), times the [tip] profile"},
+    {"point_load", "moment", "N m", "0 0 0", "3 numbers", "global (dead), times the [tip] profile"},
+
+    {"ends", "root", "-", "clamped", "clamped | pinned | free",
+     "clamped: position and frame held; pinned: position held, twist about d3 held, free to "
+     "bend; free: nothing held"},
     {"ends", "tip", "-", "free", "free | pinned | clamped",
-     "a held tip stays on the x axis, sliding along it (static scheme only)"},
+     "a held tip stays where it starts, unless tip_motion or tip_slide says otherwise"},
+    {"ends", "root_motion", "-", "-", "FILE.csv",
+     "the held root follows a path: header t,x,y,z or t,x,y,z,rx,ry,rz (m; rotation vector "
+     "from the starting frame, rad); first row = where the root starts; C2 between rows, at "
+     "rest at the first and after the last"},
+    {"ends", "tip_motion", "-", "-", "FILE.csv", "the same for the held tip (the needle holder)"},
+    {"ends", "root_slide", "-", "0 0 0", "3 numbers",
+     "direction along which the held root slides freely; 0 0 0: held in place"},
+    {"ends", "tip_slide", "-", "0 0 0", "3 numbers",
+     "the same for the tip; 1 0 0: the sleeve of Euler's and Greenhill's columns"},
+    {"ends", "needle", "m", "0", ">= 0",
+     "radius of a curved needle drawn with its back at the tip; 0: none (no mechanics)"},
 
     {"physics", "twist", "-", "on", BOOL, "off: twist quasi-static (no torsion waves)"},
     {"physics", "rotary_inertia", "-", "on", BOOL, "off: no rotary inertia (implicit scheme)"},

@@ -7,6 +7,8 @@
 #include <string.h>
 
 #include "base/vec3.h"
+#include "sim/path.h"
+#include "sim/rod_geometry.h"
 
 rod_model rod_model_default(void)
 {
@@ -39,6 +41,301 @@ rod_model rod_model_default(void)
 
 static int positive(double x) { return isfinite(x) && x > 0.0; }
 
+static int finite3(const double v[3]) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
+static int zero3(const double v[3]) { return v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0; }
+
+/* The rotation taking unit a to unit b about the axis a x b (the smallest);
+ * exactly the identity when b = a. Antiparallel: half a turn about `spare`
+ * (a unit vector normal to a). */
+static void rotation_between(const double a[3], const double b[3], const double spare[3],
+                             double r[9])
+{
+    double axis[3];
+    v3_cross(axis, a, b);
+    double sine = v3_norm(axis), cosine = v3_dot(a, b);
+    if (sine == 0.0) {
+        if (cosine > 0.0) {
+            m3_identity(r);
+            return;
+        }
+        v3_scale(axis, spare, M_PI);
+    } else {
+        v3_scale(axis, axis, atan2(sine, cosine) / sine);
+    }
+    m3_exp(r, axis);
+}
+
+/* The frame at the root of a rod whose tangent there is `tangent` (unit): the
+ * smallest rotation taking x to it, applied to thesis 4.2's frame (d1 = y,
+ * d2 = z, d3 = x). A rod along -x turns half a turn about z (d1 = -y). */
+static void root_frame(const double tangent[3], double q[9])
+{
+    static const double x[3] = {1, 0, 0}, z[3] = {0, 0, 1};
+    static const double straight[9] = {0, 0, 1,
+                                       1, 0, 0,
+                                       0, 1, 0}; /* columns d1 d2 d3 */
+    double r[9];
+    rotation_between(x, tangent, z, r);
+    m3_mul(q, r, straight);
+}
+
+/* Node tangents of a polygon with segments exactly ds long (initial_shape).
+ * The staggered schemes take d3 of the midpoint frame, the geodesic midpoint
+ * of the frames at a segment's two nodes, as the segment's direction (3.12),
+ * so the node tangents must satisfy (n_i + n_{i+1}) / |n_i + n_{i+1}| = t_i,
+ * the chord direction: n_{i+1} is n_i reflected about t_i (turned half a turn
+ * about it). That fixes every n_i from n_0, and a poor n_0 leaves an
+ * alternating error that reflections never damp (a zig-zag curvature). n_0 is
+ * the unit vector whose chain stays nearest, in least squares, to the chords'
+ * bisectors (a smooth but not exactly consistent choice): with P_k the
+ * product of the first k reflections, n_0 = sum P_k^T b_k / |...|. A circle's
+ * bisectors already form a chain, so there n_i are its tangents exactly.
+ * Writes tangent (nodes x 3); -1 when two segments turn by more than
+ * ROD_UNRESOLVED_BEND, with the node in *bad. */
+static int shape_tangents(const rod_model *m, const double *shape, double *tangent, int *bad)
+{
+    const int n = m->nodes;
+    /* bisectors b_i inside, stored in tangent[] for now */
+    double previous[3] = {0, 0, 0}, t[3];
+    for (int j = 0; j + 1 < n; j++) {
+        v3_sub(t, &shape[3 * (j + 1)], &shape[3 * j]);
+        v3_scale(t, t, 1.0 / v3_norm(t));
+        if (j > 0) {
+            if (acos(fmax(-1.0, fmin(1.0, v3_dot(previous, t)))) > ROD_UNRESOLVED_BEND) {
+                *bad = j;
+                return -1;
+            }
+            double sum[3];
+            v3_add(sum, previous, t);
+            v3_scale(&tangent[3 * j], sum, 1.0 / v3_norm(sum));
+        }
+        v3_copy(previous, t);
+    }
+    /* the ends' bisectors: mirrors of their neighbours about the end chords */
+    for (int end = 0; end < 2; end++) {
+        int node = end ? n - 1 : 0, next = end ? n - 2 : 1, seg = end ? n - 2 : 0;
+        v3_sub(t, &shape[3 * (seg + 1)], &shape[3 * seg]);
+        v3_scale(t, t, 1.0 / v3_norm(t));
+        double k = 2.0 * v3_dot(&tangent[3 * next], t);
+        for (int c = 0; c < 3; c++) tangent[3 * node + c] = k * t[c] - tangent[3 * next + c];
+    }
+    /* n_0 = sum_k P_k^T b_k normalised; P_{k+1} = (2 t_k t_k^T - I) P_k */
+    double chain[9], sum[3];
+    m3_identity(chain);
+    v3_copy(sum, tangent);
+    for (int k = 0; k + 1 < n; k++) {
+        v3_sub(t, &shape[3 * (k + 1)], &shape[3 * k]);
+        v3_scale(t, t, 1.0 / v3_norm(t));
+        double reflect[9], back[3];
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) reflect[3 * r + c] = 2.0 * t[r] * t[c] - (r == c);
+        m3_mul(chain, reflect, chain);
+        m3_mul_tv(back, chain, &tangent[3 * (k + 1)]);
+        v3_add(sum, sum, back);
+    }
+    v3_scale(tangent, sum, 1.0 / v3_norm(sum));
+    for (int k = 0; k + 1 < n; k++) { /* n_{k+1} = 2 (n_k . t_k) t_k - n_k */
+        v3_sub(t, &shape[3 * (k + 1)], &shape[3 * k]);
+        v3_scale(t, t, 1.0 / v3_norm(t));
+        double along = 2.0 * v3_dot(&tangent[3 * k], t);
+        for (int c = 0; c < 3; c++) tangent[3 * (k + 1) + c] = along * t[c] - tangent[3 * k + c];
+    }
+    return 0;
+}
+
+/* Frames along the starting shape, twist-free: the root's by root_frame(),
+ * each next one by the smallest rotation taking the node tangent to the next
+ * (parallel transport: no rotation about d3, so u3 = 0). `tangent` is
+ * (nodes x 3) scratch; NULL shape: straight along m->direction. Returns -1
+ * as shape_tangents(). */
+static int starting_frames(const rod_model *m, double *frame, double *tangent, int *bad)
+{
+    const int n = m->nodes;
+    if (!m->initial_shape) {
+        root_frame(m->direction, frame);
+        for (int i = 1; i < n; i++) memcpy(&frame[9 * i], frame, 9 * sizeof(double));
+        return 0;
+    }
+    if (shape_tangents(m, m->initial_shape, tangent, bad)) return -1;
+    root_frame(tangent, frame);
+    for (int i = 0; i + 1 < n; i++) {
+        double r[9], spare[3];
+        m3_column(spare, &frame[9 * i], 0); /* d1: normal to the tangent */
+        rotation_between(&tangent[3 * i], &tangent[3 * (i + 1)], spare, r);
+        m3_mul(&frame[9 * (i + 1)], r, &frame[9 * i]);
+    }
+    return 0;
+}
+
+/* Where end 0 (root) or 1 (tip) starts, m, global. */
+static void end_start(const rod_model *m, int end, double out[3])
+{
+    if (m->initial_shape) {
+        v3_copy(out, &m->initial_shape[3 * (end ? m->nodes - 1 : 0)]);
+        return;
+    }
+    double unit[3];
+    v3_scale(unit, m->direction, 1.0 / v3_norm(m->direction));
+    for (int k = 0; k < 3; k++) out[k] = m->origin[k] + (end ? m->length : 0.0) * unit[k];
+}
+
+/* The checks of issue 10's inputs. Messages start with the scene key
+ * ("tip_motion: ...") so the scene reader can name its line. */
+static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
+{
+    if (!finite3(m->origin)) {
+        snprintf(err, errlen, "origin: must be 3 finite numbers, m");
+        return -1;
+    }
+    if (!finite3(m->direction) || zero3(m->direction)) {
+        snprintf(err, errlen, "direction: must be 3 finite numbers, not all 0 (the rod's "
+                              "initial tangent, normalised)");
+        return -1;
+    }
+    v3_scale(m->direction, m->direction, 1.0 / v3_norm(m->direction));
+    if (!finite3(m->intrinsic_curvature)) {
+        snprintf(err, errlen, "curvature: must be 3 finite numbers, 1/m (u0, director components)");
+        return -1;
+    }
+    if (!finite3(m->initial_velocity)) {
+        snprintf(err, errlen, "initial_velocity: must be 3 finite numbers, m/s");
+        return -1;
+    }
+    if (!finite3(m->distributed_moment)) {
+        snprintf(err, errlen, "distributed_moment: must be 3 finite numbers, N m/m");
+        return -1;
+    }
+    if (!(m->needle_radius >= 0.0) || !isfinite(m->needle_radius)) {
+        snprintf(err, errlen, "needle: must be a radius >= 0 m (0: no needle)");
+        return -1;
+    }
+    if (m->point_load_count < 0 || (m->point_load_count > 0 && !m->point_loads)) {
+        snprintf(err, errlen, "point_load: %d loads without their array", m->point_load_count);
+        return -1;
+    }
+    for (int i = 0; i < m->point_load_count; i++) {
+        const rod_point_load *p = &m->point_loads[i];
+        if (p->node < 0 || p->node >= m->nodes || !finite3(p->force) || !finite3(p->moment)) {
+            snprintf(err, errlen, "point_load: load %d: node %d must be 0..%d and force, moment "
+                     "finite", i + 1, p->node, m->nodes - 1);
+            return -1;
+        }
+    }
+    if (m->initial_shape) {
+        /* resampled (scene_read_rod): every segment ds long, to 1e-6 */
+        for (int j = 0; j + 1 < m->nodes; j++) {
+            const double *a = &m->initial_shape[3 * j], *b = &m->initial_shape[3 * (j + 1)];
+            double d[3];
+            v3_sub(d, b, a);
+            if (!finite3(a) || !finite3(b) || !(fabs(v3_norm(d) - m->ds) <= 1e-6 * m->ds)) {
+                snprintf(err, errlen, "shape: segment %d is %.9g m long; the starting shape must "
+                         "have NS = %d finite nodes %.9g m apart (length / (NS - 1))", j + 1,
+                         v3_norm(d), m->nodes, m->ds);
+                return -1;
+            }
+        }
+        double *tangent = malloc((size_t)m->nodes * 3 * sizeof(double));
+        if (!tangent) {
+            snprintf(err, errlen, "shape: out of memory");
+            return -1;
+        }
+        int bad = 0, rc = shape_tangents(m, m->initial_shape, tangent, &bad);
+        if (rc == 0) {
+            v3_copy(m->origin, m->initial_shape);
+            v3_copy(m->direction, tangent);
+        }
+        free(tangent);
+        if (rc) {
+            snprintf(err, errlen, "shape: turns by more than %.1f rad between the segments "
+                     "beside node %d (s = %.6g m): the grid does not resolve it; raise rod.nodes "
+                     "or smooth the shape", ROD_UNRESOLVED_BEND, bad, bad * m->ds);
+            return -1;
+        }
+    }
+    struct {
+        const char *name;
+        rod_end_kind kind;
+        double *slide;
+        rod_path *motion;
+    } ends[2] = {{"root", m->root_end, m->root_slide, m->root_motion},
+                 {"tip", m->tip_end, m->tip_slide, m->tip_motion}};
+    for (int e = 0; e < 2; e++) {
+        if ((int)ends[e].kind < 0 || ends[e].kind > ROD_END_FREE) {
+            snprintf(err, errlen, "%s: unknown end condition %d", ends[e].name, (int)ends[e].kind);
+            return -1;
+        }
+        double *slide = ends[e].slide;
+        if (!finite3(slide)) {
+            snprintf(err, errlen, "%s_slide: must be 3 finite numbers (0 0 0: held in place)",
+                     ends[e].name);
+            return -1;
+        }
+        if (!zero3(slide)) {
+            if (ends[e].kind == ROD_END_FREE || ends[e].motion) {
+                snprintf(err, errlen, "%s_slide: the %s is %s: only a held end that is not "
+                         "driven slides (set %s = pinned or clamped, without %s_motion)",
+                         ends[e].name, ends[e].name, ends[e].motion ? "driven" : "free",
+                         ends[e].name, ends[e].name);
+                return -1;
+            }
+            v3_scale(slide, slide, 1.0 / v3_norm(slide));
+        }
+        double start[3];
+        end_start(m, e, start);
+        if (!zero3(slide) && ends[e].kind == ROD_END_CLAMPED) {
+            /* a clamped end that slides keeps d3 along the slide: it must start so */
+            double tangent[3], cross[3];
+            if (m->initial_shape) {
+                const double *a = &m->initial_shape[3 * (e ? m->nodes - 2 : 0)];
+                v3_sub(tangent, &m->initial_shape[3 * (e ? m->nodes - 1 : 1)], a);
+                v3_scale(tangent, tangent, 1.0 / v3_norm(tangent));
+            } else {
+                v3_copy(tangent, m->direction);
+            }
+            v3_cross(cross, tangent, slide);
+            if (v3_norm(cross) > 1e-9) {
+                snprintf(err, errlen, "%s_slide: a clamped %s that slides keeps its tangent d3 "
+                         "along the slide, but it starts along (%.6g, %.6g, %.6g): give a slide "
+                         "along it, or pin the %s", ends[e].name, ends[e].name, tangent[0],
+                         tangent[1], tangent[2], ends[e].name);
+                return -1;
+            }
+        }
+        const rod_path *path = ends[e].motion;
+        if (!path) continue;
+        if (ends[e].kind == ROD_END_FREE) {
+            snprintf(err, errlen, "%s_motion: the %s is free: a driven end must be held (set %s "
+                     "= clamped or pinned)", ends[e].name, ends[e].name, ends[e].name);
+            return -1;
+        }
+        if (ends[e].kind == ROD_END_PINNED && rod_path_columns(path) == 7) {
+            snprintf(err, errlen, "%s_motion: the %s is pinned (free to rotate): its path has no "
+                     "rotation; give t,x,y,z, or set %s = clamped", ends[e].name, ends[e].name,
+                     ends[e].name);
+            return -1;
+        }
+        rod_pose first;
+        rod_path_eval(path, rod_path_start(path), &first);
+        double gap[3], turn = 0.0;
+        v3_sub(gap, first.position, start);
+        for (int k = 0; k < 9; k++) turn = fmax(turn, fabs(first.rotation[k] - (k % 4 == 0)));
+        if (!(v3_norm(gap) <= 1e-6 * m->length)) {
+            snprintf(err, errlen, "%s_motion: the path starts at (%.9g, %.9g, %.9g) m but the %s "
+                     "starts at (%.9g, %.9g, %.9g) m: the first row is the %s's starting "
+                     "position (within 1e-6 of the length)", ends[e].name, first.position[0],
+                     first.position[1], first.position[2], ends[e].name, start[0], start[1],
+                     start[2], ends[e].name);
+            return -1;
+        }
+        if (turn > 0.0) {
+            snprintf(err, errlen, "%s_motion: the first row's rotation must be 0 0 0 (the "
+                     "rotation is from the %s's starting frame)", ends[e].name, ends[e].name);
+            return -1;
+        }
+    }
+    return 0;
+}
+
 int rod_model_derive(rod_model *m, char *err, size_t errlen)
 {
     const char *bad = NULL;
@@ -54,7 +351,6 @@ int rod_model_derive(rod_model *m, char *err, size_t errlen)
     else if (!(m->linear_damping >= 0.0) || !(m->angular_damping >= 0.0)) bad = "damping must be >= 0";
     else if (!(m->options.duration >= 0.0) || !isfinite(m->options.duration)) bad = "duration must be >= 0 s";
     else if (!(m->options.theta >= 0.5 && m->options.theta <= 1.0)) bad = "theta must be in [0.5, 1]";
-    else if (m->root_end == ROD_END_FREE) bad = "the root (s = 0) must be clamped or pinned";
     if (bad) {
         snprintf(err, errlen, "%s", bad);
         return -1;
@@ -74,7 +370,7 @@ int rod_model_derive(rod_model *m, char *err, size_t errlen)
     m->rotary_inertia[2] = m->density * m->polar_moment * m->rotary_inertia_scale;
     if (!m->physics.twist) m->rotary_inertia[2] = 0.0;
     if (!m->physics.rotary_inertia) m->rotary_inertia[0] = m->rotary_inertia[1] = m->rotary_inertia[2] = 0.0;
-    return 0;
+    return derive_ends_and_shape(m, err, errlen);
 }
 
 int rod_model_loads_planar(const rod_model *m)
@@ -92,9 +388,28 @@ int rod_model_loads_planar(const rod_model *m)
             if (k != moment_in && mo[k] != 0.0) return 0;
     }
     if (m->distributed_force[2] != 0.0) return 0;
-    return m->root_end == ROD_END_CLAMPED; /* a pinned root may turn out of the plane */
+    /* issue 10: the starting shape in the x-y plane with d2 = z (so u0 bends about d2 only),
+     * every new load in the plane, slides and paths in it, turning about z only */
+    if (m->origin[2] != 0.0 || m->direction[2] != 0.0 || m->initial_velocity[2] != 0.0) return 0;
+    if (m->intrinsic_curvature[0] != 0.0 || m->intrinsic_curvature[2] != 0.0) return 0;
+    if (m->distributed_moment[0] != 0.0 || m->distributed_moment[1] != 0.0) return 0;
+    if (m->root_slide[2] != 0.0 || m->tip_slide[2] != 0.0) return 0;
+    if (m->initial_shape)
+        for (int i = 0; i < m->nodes; i++)
+            if (m->initial_shape[3 * i + 2] != 0.0) return 0;
+    for (int i = 0; i < m->point_load_count; i++) {
+        const rod_point_load *load = &m->point_loads[i];
+        if (load->force[2] != 0.0 || load->moment[0] != 0.0 || load->moment[1] != 0.0) return 0;
+    }
+    if ((m->root_motion && !rod_path_planar(m->root_motion)) ||
+        (m->tip_motion && !rod_path_planar(m->tip_motion)))
+        return 0;
+    /* a pinned or free root may turn out of the plane (no torsional or bending stop) */
+    return m->root_end == ROD_END_CLAMPED;
 }
 
+/* Releases what the model owns. A model copied by assignment shares these
+ * arrays and paths: release exactly one of the copies. */
 void rod_model_release(rod_model *m)
 {
     free(m->profile.table.data);
@@ -105,17 +420,44 @@ void rod_model_release(rod_model *m)
     m->point_loads = NULL;
     m->point_load_count = 0;
     m->profile.table.rows = 0;
+    rod_path_destroy(m->root_motion);
+    m->root_motion = NULL;
+    rod_path_destroy(m->tip_motion);
+    m->tip_motion = NULL;
 }
 
 int rod_model_require_cantilever(const rod_model *m, const char *scheme, char *err,
                                  size_t errlen)
 {
     static const char *const names[] = {"clamped", "pinned", "free"};
-    if (m->root_end == ROD_END_CLAMPED && m->tip_end == ROD_END_FREE) return 0;
+    if (m->root_end != ROD_END_CLAMPED || m->tip_end != ROD_END_FREE) {
+        snprintf(err, errlen,
+                 "the %s scheme models a cantilever only (ends root = clamped, tip = free); this "
+                 "scene asks for root = %s, tip = %s: use a scheme that supports them",
+                 scheme, names[m->root_end], names[m->tip_end]);
+        return -1;
+    }
+    /* issue 10's inputs, each named by its scene key */
+    const char *key = NULL;
+    if (!zero3(m->origin)) key = "[rod] origin";
+    else if (m->direction[0] != 1.0 || m->direction[1] != 0.0 || m->direction[2] != 0.0)
+        key = "[rod] direction";
+    else if (m->initial_shape) key = "[rod] shape";
+    else if (!zero3(m->intrinsic_curvature)) key = "[rod] curvature";
+    else if (!zero3(m->initial_velocity)) key = "[rod] initial_velocity";
+    else if (m->point_load_count > 0) key = "[point_load]";
+    else if (!zero3(m->distributed_moment)) key = "[loads] distributed_moment";
+    else if (!zero3(m->root_slide)) key = "[ends] root_slide";
+    else if (!zero3(m->tip_slide)) key = "[ends] tip_slide";
+    else if (m->root_motion) key = "[ends] root_motion";
+    else if (m->tip_motion) key = "[ends] tip_motion";
+    else if (m->needle_radius != 0.0) key = "[ends] needle";
+    if (!key) return 0;
     snprintf(err, errlen,
-             "the %s scheme models a cantilever only (ends root = clamped, tip = free); this "
-             "scene asks for root = %s, tip = %s: use a scheme that supports them",
-             scheme, names[m->root_end], names[m->tip_end]);
+             "the %s scheme models the thesis' cantilever only (a straight rod along +x from the "
+             "origin, at rest, clamped at the root, loaded at the tip): it does not support %s; "
+             "remove it, or use a scheme that supports it",
+             scheme, key);
     return -1;
 }
 
@@ -225,18 +567,71 @@ void rod_state_reset(const rod_model *m, rod_state *s)
 {
     size_t n = (size_t)s->nodes;
     s->time = 0.0;
-    memset(s->velocity, 0, n * 3 * sizeof(double));
     memset(s->angular_velocity, 0, n * 3 * sizeof(double));
     memset(s->darboux, 0, n * 3 * sizeof(double));
     memset(s->contact_force, 0, n * 3 * sizeof(double));
-    /* thesis 4.2: d3 along x, d1 along y, d2 along z; columns of Q are d1 d2 d3 */
-    static const double straight[9] = {0, 0, 1,
-                                       1, 0, 0,
-                                       0, 1, 0};
-    for (size_t i = 0; i < n; i++) {
-        memcpy(&s->frame[9 * i], straight, sizeof straight);
-        v3_set(&s->position[3 * i], (double)i * m->ds, 0.0, 0.0);
+    memset(s->end_force, 0, sizeof s->end_force);
+    memset(s->end_moment, 0, sizeof s->end_moment);
+    /* the starting shape: positions exactly its nodes; frames twist-free along it. The
+     * tangents go in the velocity array (n x 3) until the velocities are written. */
+    int bad;
+    if (starting_frames(m, s->frame, s->velocity, &bad)) {
+        /* rod_model_derive() refuses such a shape; a model not derived gets the default */
+        static const double x[3] = {1, 0, 0};
+        root_frame(x, s->frame);
+        for (size_t i = 1; i < n; i++) memcpy(&s->frame[9 * i], s->frame, 9 * sizeof(double));
     }
+    if (m->initial_shape) {
+        memcpy(s->position, m->initial_shape, n * 3 * sizeof(double));
+        /* u_{i+1/2} = log(Q_i^T Q_{i+1}) / ds at the midpoints, as the staggered schemes
+         * compute it (rod_geometry.h); the tip entry repeats the last midpoint's */
+        rod_darboux_from_frames(m, s->frame, s->darboux);
+        v3_copy(&s->darboux[3 * (n - 1)], &s->darboux[3 * (n - 2)]);
+        s->staggered = 1;
+    } else {
+        /* thesis 4.2: straight from the origin along d3 (+x by default: d1 = y, d2 = z) */
+        double d3[3];
+        m3_column(d3, s->frame, 2);
+        for (size_t i = 0; i < n; i++)
+            for (int k = 0; k < 3; k++)
+                s->position[3 * i + k] = m->origin[k] + (double)i * m->ds * d3[k];
+    }
+    /* initial_velocity is global; the state keeps velocity in director components */
+    for (size_t i = 0; i < n; i++) m3_mul_tv(&s->velocity[3 * i], &s->frame[9 * i], m->initial_velocity);
+}
+
+void rod_internal_force(const rod_state *s, double *out)
+{
+    const int n = s->nodes;
+    if (!s->staggered) { /* at the nodes, in the node frames */
+        for (int i = 0; i < n; i++) m3_mul_v(&out[3 * i], &s->frame[9 * i], &s->contact_force[3 * i]);
+        return;
+    }
+    /* N_{j+1/2} is held in the midpoint frame, the geodesic midpoint of Q_j and Q_{j+1}
+     * (Q_j exp(ds/2 [u]x) with u = log(Q_j^T Q_{j+1}) / ds, rod_geometry.h); written into
+     * out[j+1] first, then averaged to the nodes in place (going up, out[j+1] still holds
+     * N_{j+1/2} when node j is done) */
+    for (int j = 0; j + 1 < n; j++) {
+        double rel[9], half[3], local[3];
+        m3_mul_tn(rel, &s->frame[9 * j], &s->frame[9 * (j + 1)]);
+        m3_log(half, rel);
+        v3_scale(half, half, 0.5);
+        v3_rotate(local, half, &s->contact_force[3 * j]);
+        m3_mul_v(&out[3 * (j + 1)], &s->frame[9 * j], local);
+    }
+    /* node 0: N(0), the force the rod exerts on what holds its root (0 at a free root:
+     * Antman's sign, N(s) acts on [0, s] from beyond s) */
+    double previous[3];
+    v3_copy(previous, &out[3]);
+    v3_copy(out, s->end_force[0]);
+    for (int i = 1; i + 1 < n; i++) {
+        double here[3];
+        v3_copy(here, &out[3 * (i + 1)]); /* N_{i+1/2} */
+        for (int k = 0; k < 3; k++) out[3 * i + k] = 0.5 * (previous[k] + here[k]);
+        v3_copy(previous, here);
+    }
+    /* node n-1: the tip entry, N(L), in the tip frame (at a held tip, -end_force[1]) */
+    m3_mul_v(&out[3 * (n - 1)], &s->frame[9 * (n - 1)], &s->contact_force[3 * (n - 1)]);
 }
 
 double rod_kinetic_energy(const rod_model *m, const rod_state *s)

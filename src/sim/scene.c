@@ -8,7 +8,26 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/vec3.h"
+#include "sim/path.h"
+
 #define PATH_MAX_LEN 1024
+/* A starting shape of more points is refused (like a path: 1e6 rows). */
+#define SHAPE_MAX_POINTS 1000000
+
+static int parse_row(char *line, double *values, int max);
+
+/* A file named in the scene: relative to the scene file's folder unless absolute. */
+static void scene_relative(ini_doc *doc, const char *name, char *path, size_t pathlen)
+{
+    char dir[PATH_MAX_LEN];
+    if (name[0] == '/') {
+        snprintf(path, pathlen, "%s", name);
+    } else {
+        ini_directory(doc, dir, sizeof dir);
+        snprintf(path, pathlen, "%s/%s", dir, name);
+    }
+}
 
 /* Reads a required or optional double; returns -1 on a bad value, and on a
  * missing required key (message names the file, section and key). */
@@ -181,13 +200,8 @@ static int read_profile(ini_doc *doc, rod_model *m, char *err, size_t errlen)
         pr->kind = ROD_PROFILE_IMPULSE;
         pr->t1 = a;
     } else if (count == 2 && strcmp(words[0], "table") == 0) {
-        char dir[PATH_MAX_LEN], path[2 * PATH_MAX_LEN + 2], table_err[512];
-        if (words[1][0] == '/') {
-            snprintf(path, sizeof path, "%s", words[1]);
-        } else {
-            ini_directory(doc, dir, sizeof dir);
-            snprintf(path, sizeof path, "%s/%s", dir, words[1]);
-        }
+        char path[2 * PATH_MAX_LEN + 2], table_err[512];
+        scene_relative(doc, words[1], path, sizeof path);
         if (scene_load_table(path, &pr->table, table_err, sizeof table_err))
             return ini_error(doc, "tip", 0, "profile", err, errlen, "%s", table_err);
         pr->kind = ROD_PROFILE_TABLE;
@@ -216,7 +230,9 @@ static int read_loads(ini_doc *doc, rod_model *m, double gravity[3], char *err, 
         ini_get_vector(doc, "loads", 0, "distributed_force", m->distributed_force, 3, err,
                        errlen) < 0 ||
         read_double(doc, "loads", "linear_damping", 0, "", &m->linear_damping, err, errlen) ||
-        read_double(doc, "loads", "angular_damping", 0, "", &m->angular_damping, err, errlen))
+        read_double(doc, "loads", "angular_damping", 0, "", &m->angular_damping, err, errlen) ||
+        ini_get_vector(doc, "loads", 0, "distributed_moment", m->distributed_moment, 3, err,
+                       errlen) < 0)
         return -1;
     if (!(m->linear_damping >= 0.0))
         return ini_error(doc, "loads", 0, "linear_damping", err, errlen,
@@ -227,19 +243,39 @@ static int read_loads(ini_doc *doc, rod_model *m, double gravity[3], char *err, 
     return 0;
 }
 
-/* Reads [ends] (root, tip) and [physics] (switches, all on by default). */
+/* Reads [ends] (root, tip, their slides, paths and the needle) and [physics]
+ * (switches, all on by default). */
 static int read_ends_physics(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
-    static const char *const root_words[] = {"clamped", "pinned", NULL};
+    static const char *const root_words[] = {"clamped", "pinned", "free", NULL};
     static const char *const tip_words[] = {"free", "pinned", "clamped", NULL};
+    static const rod_end_kind root_kinds[] = {ROD_END_CLAMPED, ROD_END_PINNED, ROD_END_FREE};
     static const rod_end_kind tip_kinds[] = {ROD_END_FREE, ROD_END_PINNED, ROD_END_CLAMPED};
     int which;
     int rc = ini_get_choice(doc, "ends", 0, "root", root_words, &which, err, errlen);
     if (rc < 0) return -1;
-    if (rc == 1) m->root_end = which == 0 ? ROD_END_CLAMPED : ROD_END_PINNED;
+    if (rc == 1) m->root_end = root_kinds[which];
     rc = ini_get_choice(doc, "ends", 0, "tip", tip_words, &which, err, errlen);
     if (rc < 0) return -1;
     if (rc == 1) m->tip_end = tip_kinds[which];
+    if (ini_get_vector(doc, "ends", 0, "root_slide", m->root_slide, 3, err, errlen) < 0 ||
+        ini_get_vector(doc, "ends", 0, "tip_slide", m->tip_slide, 3, err, errlen) < 0 ||
+        read_double(doc, "ends", "needle", 0, "", &m->needle_radius, err, errlen))
+        return -1;
+    if (!(m->needle_radius >= 0.0))
+        return ini_error(doc, "ends", 0, "needle", err, errlen,
+                         "must be a radius >= 0 m (0: no needle), e.g. 0.01");
+    static const char *const motion_keys[2] = {"root_motion", "tip_motion"};
+    rod_path **motions[2] = {&m->root_motion, &m->tip_motion};
+    for (int e = 0; e < 2; e++) {
+        const char *text;
+        if (ini_get_string(doc, "ends", 0, motion_keys[e], &text, err, errlen) != 1) continue;
+        char path[2 * PATH_MAX_LEN + 2], why[768];
+        scene_relative(doc, text, path, sizeof path);
+        if (!(*motions[e] = rod_path_load(path, why, sizeof why)))
+            return ini_error(doc, "ends", 0, motion_keys[e], err, errlen,
+                             "%s (a CSV path: header t,x,y,z or t,x,y,z,rx,ry,rz)", why);
+    }
     struct { const char *key; int *field; } switches[] = {
         {"twist", &m->physics.twist},
         {"rotary_inertia", &m->physics.rotary_inertia},
@@ -251,6 +287,231 @@ static int read_ends_physics(ini_doc *doc, rod_model *m, char *err, size_t errle
         if (ini_get_bool(doc, "physics", 0, switches[k].key, switches[k].field, err, errlen) < 0)
             return -1;
     return 0;
+}
+
+/* Reads [point_load] (repeatable): s, force, moment. The load acts at the
+ * node nearest s (nodes are ds apart: round(s / ds)). */
+static int read_point_loads(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+{
+    int count = ini_section_count(doc, "point_load");
+    /* the keys are asked for even without a section: ini strictness is by use */
+    for (int i = 0; i < (count > 0 ? count : 1); i++) {
+        rod_point_load load = {0};
+        double s = -1.0;
+        int has_s = ini_get_double(doc, "point_load", i, "s", &s, err, errlen);
+        if (has_s < 0 ||
+            ini_get_vector(doc, "point_load", i, "force", load.force, 3, err, errlen) < 0 ||
+            ini_get_vector(doc, "point_load", i, "moment", load.moment, 3, err, errlen) < 0)
+            return -1;
+        if (count == 0) break;
+        if (has_s == 0)
+            return ini_error(doc, "point_load", i, "s", err, errlen,
+                             "missing; required: the arc length in m where the load acts, 0 to "
+                             "the length %g (the nearest node)", m->length);
+        if (!(s >= 0.0 && s <= m->length))
+            return ini_error(doc, "point_load", i, "s", err, errlen,
+                             "must be an arc length from 0 to the length %g m (the load acts at "
+                             "the nearest node)", m->length);
+        double ds = m->length / (m->nodes - 1);
+        load.node = (int)lround(s / ds);
+        if (load.node > m->nodes - 1) load.node = m->nodes - 1;
+        if (!m->point_loads) {
+            m->point_loads = calloc((size_t)count, sizeof *m->point_loads);
+            if (!m->point_loads)
+                return ini_error(doc, "point_load", i, "s", err, errlen, "out of memory");
+        }
+        m->point_loads[m->point_load_count++] = load;
+    }
+    return 0;
+}
+
+/* Shape CSV ------------------------------------------------------------ */
+
+/* Reads the polyline of a shape file (header x,y,z, then rows of 3 numbers)
+ * into *points (count x 3, owned by the caller). Returns 0, or -1 with
+ * "file:line: ..." in err; *last_line is the line of the last point. */
+static int load_polyline(const char *path, double **points, int *count, int *last_line,
+                         char *err, size_t errlen)
+{
+    *points = NULL;
+    *count = 0;
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        snprintf(err, errlen, "%s: cannot open the shape: %s", path, strerror(errno));
+        return -1;
+    }
+    char line[1024];
+    int line_no = 0, header = 0, capacity = 0, rc = -1;
+    while (fgets(line, sizeof line, f)) {
+        line_no++;
+        char *hash = strchr(line, '#');
+        if (hash) *hash = '\0';
+        size_t n;
+        for (n = strlen(line); n > 0 && isspace((unsigned char)line[n - 1]); n--) line[n - 1] = '\0';
+        char *start = line;
+        while (isspace((unsigned char)*start)) start++;
+        if (!*start) continue;
+        if (!header) {
+            char compact[64];
+            size_t k = 0;
+            for (const char *c = start; *c && k + 1 < sizeof compact; c++)
+                if (!isspace((unsigned char)*c)) compact[k++] = *c;
+            compact[k] = '\0';
+            if (strcmp(compact, "x,y,z") != 0) {
+                snprintf(err, errlen, "%s:%d: expected the header x,y,z (the centreline's points, "
+                         "global, m)", path, line_no);
+                goto done;
+            }
+            header = 1;
+            continue;
+        }
+        double values[4];
+        int got = parse_row(start, values, 4);
+        if (got != 3) {
+            snprintf(err, errlen, "%s:%d: expected 3 finite numbers x,y,z (m) separated by commas",
+                     path, line_no);
+            goto done;
+        }
+        if (*count == SHAPE_MAX_POINTS) {
+            snprintf(err, errlen, "%s:%d: more than %d points", path, line_no, SHAPE_MAX_POINTS);
+            goto done;
+        }
+        if (*count > 0) {
+            double d[3];
+            v3_sub(d, values, &(*points)[3 * (*count - 1)]);
+            if (v3_norm(d) == 0.0) {
+                snprintf(err, errlen, "%s:%d: the point repeats the previous one (a segment of "
+                         "length 0)", path, line_no);
+                goto done;
+            }
+        }
+        if (*count == capacity) {
+            capacity = capacity ? 2 * capacity : 64;
+            double *bigger = realloc(*points, (size_t)capacity * 3 * sizeof *bigger);
+            if (!bigger) {
+                snprintf(err, errlen, "%s:%d: out of memory", path, line_no);
+                goto done;
+            }
+            *points = bigger;
+        }
+        memcpy(&(*points)[3 * *count], values, 3 * sizeof(double));
+        (*count)++;
+        *last_line = line_no;
+    }
+    if (!header || *count < 2) {
+        snprintf(err, errlen, "%s:%d: a shape needs the header x,y,z and at least 2 points", path,
+                 line_no > 0 ? line_no : 1);
+        goto done;
+    }
+    rc = 0;
+done:
+    fclose(f);
+    if (rc) {
+        free(*points);
+        *points = NULL;
+        *count = 0;
+    }
+    return rc;
+}
+
+/* The rod's nodes along a polyline: node 0 at its first point, each next node
+ * the first point further along the polyline that is exactly ds from the
+ * previous node (linear between the polyline's points). Every segment of the
+ * rod is then exactly ds long, as the inextensible schemes keep it; a curved
+ * polyline is followed chord by chord, so the last node falls short of the
+ * polyline's end by the chords' shortfall, about L (k ds)^2 / 24 for a
+ * curvature k (or beyond it along the last segment, when the polyline is used
+ * up first). Writes nodes (nodes x 3). */
+static void resample(const double *points, int count, int nodes, double ds, double *out)
+{
+    v3_copy(out, points);
+    int j = 0;         /* current polyline segment: points[j] -> points[j+1] */
+    for (int i = 1; i < nodes; i++) {
+        const double *current = &out[3 * (i - 1)];
+        /* advance to the first segment whose end is at least ds away */
+        while (j + 2 < count) {
+            double d[3];
+            v3_sub(d, &points[3 * (j + 1)], current);
+            if (v3_norm(d) >= ds) break;
+            j++;
+        }
+        /* |p_j + tau D - current| = ds, the larger root (the crossing beyond current) */
+        double e[3], dir[3];
+        v3_sub(e, &points[3 * j], current);
+        v3_sub(dir, &points[3 * (j + 1)], &points[3 * j]);
+        double a = v3_dot(dir, dir), b = v3_dot(e, dir), c = v3_dot(e, e) - ds * ds;
+        double tau = (-b + sqrt(fmax(0.0, b * b - a * c))) / a;
+        for (int k = 0; k < 3; k++) out[3 * i + k] = points[3 * j + k] + tau * dir[k];
+    }
+}
+
+/* Reads [rod] origin, direction, shape, curvature, initial_velocity. */
+static int read_start(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+{
+    int has_origin = ini_get_vector(doc, "rod", 0, "origin", m->origin, 3, err, errlen);
+    int has_direction = ini_get_vector(doc, "rod", 0, "direction", m->direction, 3, err, errlen);
+    if (has_origin < 0 || has_direction < 0 ||
+        ini_get_vector(doc, "rod", 0, "curvature", m->intrinsic_curvature, 3, err, errlen) < 0 ||
+        ini_get_vector(doc, "rod", 0, "initial_velocity", m->initial_velocity, 3, err, errlen) < 0)
+        return -1;
+    if (v3_norm(m->direction) == 0.0)
+        return ini_error(doc, "rod", 0, "direction", err, errlen,
+                         "must not be 0 0 0: the rod's initial tangent (normalised), e.g. 1 0 0");
+    const char *text;
+    if (ini_get_string(doc, "rod", 0, "shape", &text, err, errlen) != 1 ||
+        strcmp(text, "straight") == 0)
+        return 0;
+    if (has_origin == 1 || has_direction == 1)
+        return ini_error(doc, "rod", 0, has_origin == 1 ? "origin" : "direction", err, errlen,
+                         "the shape file gives the starting centreline, and origin and direction "
+                         "follow it: remove this key, or set shape = straight");
+    char path[2 * PATH_MAX_LEN + 2], why[2 * PATH_MAX_LEN + 512];
+    scene_relative(doc, text, path, sizeof path);
+    double *points;
+    int count, last_line = 0;
+    if (load_polyline(path, &points, &count, &last_line, why, sizeof why))
+        return ini_error(doc, "rod", 0, "shape", err, errlen,
+                         "%s (accepted: straight | FILE.csv with the header x,y,z)", why);
+    double polyline = 0.0; /* the length is checked on the polyline as given */
+    for (int j = 0; j + 1 < count; j++) {
+        double d[3];
+        v3_sub(d, &points[3 * (j + 1)], &points[3 * j]);
+        polyline += v3_norm(d);
+    }
+    if (!(fabs(polyline - m->length) <= 1e-6 * m->length)) {
+        free(points);
+        return ini_error(doc, "rod", 0, "shape", err, errlen,
+                         "%s:%d: the polyline is %.9g m long (its %d segments), but [rod] length "
+                         "is %.9g m: they must agree within 1e-6 relative", path, last_line,
+                         polyline, count - 1, m->length);
+    }
+    m->initial_shape = malloc((size_t)m->nodes * 3 * sizeof(double));
+    if (!m->initial_shape) {
+        free(points);
+        return ini_error(doc, "rod", 0, "shape", err, errlen, "out of memory");
+    }
+    resample(points, count, m->nodes, m->length / (m->nodes - 1), m->initial_shape);
+    free(points);
+    return 0;
+}
+
+/* rod_model_derive's messages on issue 10's inputs start with the scene key:
+ * report those at the key's line. */
+static int derive_error(ini_doc *doc, const char *why, char *err, size_t errlen)
+{
+    static const struct { const char *key, *section; } keys[] = {
+        {"origin", "rod"}, {"direction", "rod"}, {"shape", "rod"}, {"curvature", "rod"},
+        {"initial_velocity", "rod"}, {"distributed_moment", "loads"}, {"needle", "ends"},
+        {"root_slide", "ends"}, {"tip_slide", "ends"}, {"root_motion", "ends"},
+        {"tip_motion", "ends"},
+    };
+    for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++) {
+        size_t n = strlen(keys[k].key);
+        if (strncmp(why, keys[k].key, n) == 0 && strncmp(why + n, ": ", 2) == 0)
+            return ini_error(doc, keys[k].section, 0, keys[k].key, err, errlen, "%s", why + n + 2);
+    }
+    snprintf(err, errlen, "%s: %s", ini_filename(doc), why);
+    return -1;
 }
 
 /* A beam (FEM) scene given to `rodsim run` would only say "[rod] length:
@@ -276,13 +537,14 @@ int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     *m = rod_model_default();
     double gravity[3] = {0.0, 0.0, 0.0}; /* m/s^2 */
-    if (scene_refuse_beam(doc, err, errlen) || read_rod(doc, m, err, errlen) || read_solver(doc, m, err, errlen) ||
+    if (scene_refuse_beam(doc, err, errlen) || read_rod(doc, m, err, errlen) ||
+        read_start(doc, m, err, errlen) || read_solver(doc, m, err, errlen) ||
         read_tip(doc, m, err, errlen) || read_loads(doc, m, gravity, err, errlen) ||
-        read_ends_physics(doc, m, err, errlen))
+        read_ends_physics(doc, m, err, errlen) || read_point_loads(doc, m, err, errlen))
         goto fail;
-    char why[256];
+    char why[768];
     if (rod_model_derive(m, why, sizeof why)) {
-        snprintf(err, errlen, "%s: %s", ini_filename(doc), why);
+        derive_error(doc, why, err, errlen);
         goto fail;
     }
     /* gravity acts on the mass per length: f = rho A g, added to any given distributed force */

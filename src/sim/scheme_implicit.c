@@ -74,11 +74,6 @@
 #include "sim/rod_geometry.h"
 #include "base/vec3.h"
 
-/* A weak reference until sim/path.c is in the library (issue 10, helper P):
- * create() refuses a driven end while it is missing. Remove this line once
- * path.c is merged. */
-#pragma weak rod_path_eval
-
 /* Unknowns per block: N(3), omega(3) in 3-D; N(2), v(2), omega_2 in the
  * plane. Half bandwidth kl = ku of the Jacobian in that block order: 8 in 3-D
  * (the angular momentum rows of node b reach omega of nodes b-1 and b+1, and
@@ -222,10 +217,6 @@ static int read_end(end_condition *e, int which, rod_end_kind kind, const double
         snprintf(err, errlen, "implicit scheme: the %s either slides (ends.%s_slide, a finite "
                  "direction) or follows a path (ends.%s_motion), not both", end_names[which],
                  end_names[which], end_names[which]);
-        return -1;
-    }
-    if (path && !rod_path_eval) {
-        snprintf(err, errlen, "implicit scheme: driven ends need sim/path.c in this build");
         return -1;
     }
     e->held = 1;

@@ -104,13 +104,6 @@
 #include "sim/rod_geometry.h"
 #include "base/vec3.h"
 
-/* Until sim/path.c is linked in, a driven end cannot exist (only
- * rod_path_create makes a path), so the scheme refers to rod_path_eval
- * weakly and refuses a path when it is absent. */
-#if defined(__GNUC__)
-extern void rod_path_eval(const rod_path *p, double t, rod_pose *pose) __attribute__((weak));
-#endif
-
 enum {
     UNKNOWNS_PER_NODE = 6,
     BAND_LOWER = 11, /* node i's equations reach the unknowns of nodes i-1..i+1 */
@@ -473,12 +466,6 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
                  "clamped) slides or is driven", m->tip_motion ? "tip_motion" : "tip_slide");
         return NULL;
     }
-#if defined(__GNUC__)
-    if ((m->root_motion || m->tip_motion) && !rod_path_eval) {
-        snprintf(err, errlen, "static: a driven end needs sim/path.c, which this build lacks");
-        return NULL;
-    }
-#endif
     static_work *w = calloc(1, sizeof *w);
     if (!w) {
         snprintf(err, errlen, "static: out of memory");
@@ -1644,9 +1631,6 @@ static void target_load(const static_work *w, const rod_model *m, double t, stat
     double *rotations[2] = {load->root_rotation, load->tip_rotation};
     for (int e = 0; e < 2; e++) {
         if (!paths[e]) continue;
-#if defined(__GNUC__)
-        if (!rod_path_eval) continue; /* refused at create */
-#endif
         rod_pose pose;
         rod_path_eval(paths[e], t, &pose);
         v3_copy(positions[e], pose.position);

@@ -735,7 +735,7 @@ static int buckling_point(buckle_kind kind, double length, double diameter, int 
         unit = ei / length;
         m.tip_moment[0] = unit;
         m.root_end = m.tip_end = kind == BUCKLE_TWIST_PINNED ? ROD_END_PINNED : ROD_END_CLAMPED;
-        m.tip_slide[0] = 1.0; /* Greenhill's tip slides along the axis (issue 10) */
+        m.tip_slide[0] = 1.0; /* Greenhill's tip slides along the axis (issue 10: explicit) */
     }
     if (rod_model_derive(&m, err, errlen)) return -1;
     double lambda = 0;

@@ -247,9 +247,7 @@ static void time_ends(void)
         {"clamped-clamped, sleeve", ROD_END_CLAMPED, ROD_END_CLAMPED, 1.0, 0},
         {"pinned-pinned, sleeve", ROD_END_PINNED, ROD_END_PINNED, 1.0, 0},
         {"free-free", ROD_END_FREE, ROD_END_FREE, 0.0, 0},
-#ifdef RODSIM_HAVE_PATH_C
         {"cantilever, root driven", ROD_END_CLAMPED, ROD_END_FREE, 0.0, 1},
-#endif
     };
     static const int sizes[] = {51, 201};
     printf("\nends (issue 10), implicit 3-D, dt = 1/60 s, 200 steps: us per step and the ratio "
@@ -263,7 +261,6 @@ static void time_ends(void)
             m.root_end = cases[c].root; /* after derive: it may not accept a free root yet */
             m.tip_end = cases[c].tip;
             m.tip_slide[0] = cases[c].tip_slide;
-#ifdef RODSIM_HAVE_PATH_C
             /* a smooth start (held before t = 0): a driven end that starts
              * moving at once pulls an inextensible rod with an impulse */
             enum { ROWS = 101 };
@@ -279,11 +276,8 @@ static void time_ends(void)
                 printf("    (%s)\n", err);
                 continue;
             }
-#endif
             timing t = time_equal_steps(&m, 1.0 / 60.0, 200);
-#ifdef RODSIM_HAVE_PATH_C
             rod_path_destroy(m.root_motion);
-#endif
             if (c == 0) reference = t.us;
             printf("  %-26s NS=%-5d %10.2f us per step  %5.3f x cantilever  (%ld Jacobians)\n",
                    cases[c].label, sizes[b], t.us, reference > 0 && t.us > 0 ? t.us / reference : NAN,

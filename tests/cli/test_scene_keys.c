@@ -108,6 +108,23 @@ static int rod_reads_equal(const rod_read *a, const rod_read *b)
                x->options.newton_tolerance == y->options.newton_tolerance &&
                x->options.newton_max_iterations == y->options.newton_max_iterations &&
                x->options.exact_rotation == y->options.exact_rotation;
+    /* issue 10's inputs */
+    same = same && x->needle_radius == y->needle_radius &&
+           (x->root_motion == NULL) == (y->root_motion == NULL) &&
+           (x->tip_motion == NULL) == (y->tip_motion == NULL) &&
+           (x->initial_shape == NULL) == (y->initial_shape == NULL) &&
+           x->point_load_count == y->point_load_count;
+    for (int i = 0; same && i < x->point_load_count; i++) {
+        const rod_point_load *f = &x->point_loads[i], *g = &y->point_loads[i];
+        same = f->node == g->node;
+        for (int k = 0; k < 3; k++) same = same && f->force[k] == g->force[k] && f->moment[k] == g->moment[k];
+    }
+    for (int k = 0; k < 3; k++)
+        same = same && x->origin[k] == y->origin[k] && x->direction[k] == y->direction[k] &&
+               x->intrinsic_curvature[k] == y->intrinsic_curvature[k] &&
+               x->initial_velocity[k] == y->initial_velocity[k] &&
+               x->root_slide[k] == y->root_slide[k] && x->tip_slide[k] == y->tip_slide[k] &&
+               x->distributed_moment[k] == y->distributed_moment[k];
     for (int k = 0; k < 3; k++)
         same = same && x->tip_force[k] == y->tip_force[k] &&
                x->tip_moment[k] == y->tip_moment[k] &&
@@ -142,15 +159,26 @@ static void test_rod_table(void)
     check_reader_matches_table("rod scene", doc, scene_keys_rod);
     ini_destroy(doc);
 
+    /* [point_load] has a required key: its defaults are checked on a scene with one */
+    char with_load[512];
+    snprintf(with_load, sizeof with_load, "%s[point_load]\ns = 0.5\n", valid_rod);
+    rod_read base_load;
+    if (!check(read_rod(with_load, NULL, &base_load, err, sizeof err) == 0 &&
+                   base_load.m.point_load_count == 1 && base_load.m.point_loads[0].node == 25,
+               "a scene with [point_load] s = 0.5 reads: one load at node 25 (%s)", err)) {
+        rod_model_release(&base.m);
+        return;
+    }
     int defaults = 0, wrong = 0;
     for (const ini_key *k = scene_keys_rod; k->section; k++) {
         if (!literal_default(k)) continue;
+        int load = strcmp(k->section, "point_load") == 0;
         char set[256];
         snprintf(set, sizeof set, "%s.%s=%s", k->section, k->key, k->fallback);
         rod_read r;
-        int ok = read_rod(valid_rod, set, &r, err, sizeof err) == 0;
+        int ok = read_rod(load ? with_load : valid_rod, set, &r, err, sizeof err) == 0;
         if (ok) {
-            ok = rod_reads_equal(&base, &r);
+            ok = rod_reads_equal(load ? &base_load : &base, &r);
             rod_model_release(&r.m);
         }
         defaults++;
@@ -165,7 +193,8 @@ static void test_rod_table(void)
           "is absent (%d differ)", defaults, wrong);
     /* the comparison can fail: a value other than the default is seen */
     static const char *const others[] = {"render.crf=20", "physics.planar=off", "tip.frame=global",
-                                         "render.background=000000", NULL};
+                                         "render.background=000000", "rod.direction=0 1 0",
+                                         "ends.root_slide=1 0 0", "point_load.s=0.5", NULL};
     for (int i = 0; others[i]; i++) {
         rod_read r;
         int read = read_rod(valid_rod, others[i], &r, err, sizeof err) == 0;
@@ -173,6 +202,7 @@ static void test_rod_table(void)
               others[i]);
         if (read) rod_model_release(&r.m);
     }
+    rod_model_release(&base_load.m);
     check(base.out.crf == 18 && base.out.render.crf == 18,
           "one crf default: run_output %d, renderer %d (the table says 18)", base.out.crf,
           base.out.render.crf);

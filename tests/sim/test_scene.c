@@ -1,7 +1,10 @@
 /* test_scene.c: scene files -> rod_model. Every scene in scenes/ parses and
  * derives; a few values are checked against the numbers written in the file
  * and against hand-computed physics (PL^3/3EI, Euler's load, rho A g);
- * --set overrides; bad values give file:line and the key; load tables. */
+ * --set overrides; bad values give file:line and the key; load tables;
+ * issue 10's keys (starting shape and state, ends, paths, point loads): read
+ * into the model, shape files resampled to nodes exactly ds apart on the
+ * polyline, and every bad value named at its line. */
 #include <dirent.h>
 #include <math.h>
 #include <stdio.h>
@@ -10,7 +13,9 @@
 #include <unistd.h>
 
 #include "base/ini.h"
+#include "base/vec3.h"
 #include "cli/run.h"
+#include "sim/path.h"
 #include "sim/scene.h"
 #include "test.h"
 
@@ -311,6 +316,184 @@ static void test_frame_count(void)
           run_frame_count(1.01, 30));
 }
 
+/* Reads `text` as dir/s.ini (so files it names are relative to dir). */
+static int read_text_scene(const char *dir, const char *text, rod_model *m, char *err,
+                           size_t errlen)
+{
+    char scene[512];
+    snprintf(scene, sizeof scene, "%s/s.ini", dir);
+    write_file(scene, text);
+    run_output out;
+    return read_scene_file(scene, m, &out, err, errlen);
+}
+
+static void expect_scene_error(const char *dir, const char *extra, const char *what,
+                               const char *needle1, const char *needle2)
+{
+    char text[4096], err[2048] = "";
+    snprintf(text, sizeof text, "%s%s", valid_rod, extra);
+    rod_model m;
+    int failed = read_text_scene(dir, text, &m, err, sizeof err) != 0;
+    if (!failed) rod_model_release(&m);
+    check(failed && strstr(err, needle1) && strstr(err, needle2), "%s: error '%s' names '%s' and '%s'",
+          what, err, needle1, needle2);
+}
+
+static void test_issue10_keys(void)
+{
+    char dir[] = "/tmp/rodsim_ends_XXXXXX";
+    if (!check(mkdtemp(dir) != NULL, "temporary directory")) return;
+    char text[4096], err[2048] = "", path[512];
+    rod_model m;
+
+    /* the starting state, ends and loads as written */
+    snprintf(text, sizeof text, "%s"
+             "origin = 0.1 0.2 0.3\ndirection = 0 0 -2\ncurvature = 0 3 0\ninitial_velocity = 1 2 3\n"
+             "[loads]\ndistributed_moment = 0 0 1e-6\n"
+             "[ends]\nroot = free\ntip = free\nneedle = 0.01\n"
+             "[point_load]\ns = 0.509\nforce = 0 0 -1e-3\n[point_load]\ns = 1\nmoment = 1e-6 0 0\n",
+             valid_rod);
+    if (check(read_text_scene(dir, text, &m, err, sizeof err) == 0, "issue 10 keys read (%s)", err)) {
+        check(m.origin[2] == 0.3 && m.direction[2] == -1.0 && m.intrinsic_curvature[1] == 3.0 &&
+                  m.initial_velocity[1] == 2.0 && m.distributed_moment[2] == 1e-6 &&
+                  m.root_end == ROD_END_FREE && m.tip_end == ROD_END_FREE && m.needle_radius == 0.01,
+              "origin, direction (normalised to 0 0 -1), curvature, initial velocity, distributed "
+              "moment, root = free, needle as written");
+        check(m.point_load_count == 2 && m.point_loads[0].node == 25 &&
+                  m.point_loads[0].force[2] == -1e-3 && m.point_loads[1].node == 50 &&
+                  m.point_loads[1].moment[0] == 1e-6,
+              "two point loads: s = 0.509 m at node %d (nearest, ds = 0.02 m), s = 1 m at node %d",
+              m.point_load_count > 0 ? m.point_loads[0].node : -1,
+              m.point_load_count > 1 ? m.point_loads[1].node : -1);
+        rod_model_release(&m);
+    }
+
+    /* a shape file: a half circle of radius 1/pi (length 1), 2001 points, relative path */
+    snprintf(path, sizeof path, "%s/arc.csv", dir);
+    FILE *f = fopen(path, "w");
+    const double radius = 1.0 / M_PI;
+    if (f) {
+        fprintf(f, "# a half circle\nx, y, z\n");
+        for (int i = 0; i <= 2000; i++) {
+            double a = M_PI * i / 2000.0;
+            fprintf(f, "%.17g,%.17g,0\n", radius * sin(a), radius * (1.0 - cos(a)));
+        }
+        fclose(f);
+    }
+    snprintf(text, sizeof text, "%sshape = arc.csv\n", valid_rod);
+    if (check(read_text_scene(dir, text, &m, err, sizeof err) == 0 && m.initial_shape,
+              "shape = arc.csv (relative to the scene) reads (%s)", err)) {
+        double chord = 0.0, off = 0.0;
+        for (int i = 0; i < m.nodes; i++) {
+            const double *r = &m.initial_shape[3 * i];
+            off = fmax(off, fabs(hypot(r[0], r[1] - radius) - radius));
+            if (i > 0) {
+                double d[3];
+                v3_sub(d, r, r - 3);
+                chord = fmax(chord, fabs(v3_norm(d) - m.ds) / m.ds);
+            }
+        }
+        const double *tip = &m.initial_shape[3 * (m.nodes - 1)];
+        double shortfall = hypot(tip[0], tip[1] - 2.0 * radius);
+        double k = 1.0 / radius;
+        printf("    half circle: last node %.3e m from the polyline's end (chord shortfall, about "
+               "L (k ds)^2 / 24 along the arc: %.3e m)\n", shortfall, k * k * m.ds * m.ds / 24.0);
+        check(chord < 1e-12 && off < 1e-6 && m.initial_shape[0] == 0.0 && m.origin[1] == 0.0 &&
+                  fabs(m.direction[0] - 1.0) < 1e-6,
+              "resampled: every segment ds within %.1e (relative), every node on the circle "
+              "within %.1e m (the polyline's sagitta), origin at the first point, direction "
+              "(%.6f, %.6f, 0) along the start's tangent", chord, off, m.direction[0],
+              m.direction[1]);
+        check(shortfall < 2.0 * k * k * m.ds * m.ds / 24.0,
+              "the last node falls short of the end by %.3e m, below 2 L (k ds)^2/24 = %.3e m",
+              shortfall, 2.0 * k * k * m.ds * m.ds / 24.0);
+        rod_model_release(&m);
+    }
+    /* the same shape with length 1.001: refused, naming the scene line and the shape's last line */
+    snprintf(text, sizeof text, "[rod]\nlength = 1.001\ndiameter = 0.001\ndensity = 850\n"
+             "youngs_modulus = 87.5e6\nshear_modulus = 31.25e6\nnodes = 51\nshape = arc.csv\n");
+    err[0] = '\0';
+    int failed = read_text_scene(dir, text, &m, err, sizeof err) != 0;
+    if (!failed) rod_model_release(&m);
+    check(failed && strstr(err, "s.ini:8:") && strstr(err, "arc.csv:2003:") && strstr(err, "1e-6"),
+          "shape length 1 m against length 1.001 m: '%s'", err);
+
+    static const struct { const char *name, *content, *needle; } shapes[] = {
+        {"head.csv", "x,y\n0,0\n1,0\n", "head.csv:1:"},
+        {"two.csv", "x,y,z\n0,0,0\n1,0\n", "two.csv:3:"},
+        {"nan.csv", "x,y,z\n0,0,0\nnan,0,0\n", "nan.csv:3:"},
+        {"same.csv", "x,y,z\n0,0,0\n0,0,0\n1,0,0\n", "same.csv:3:"},
+        {"one.csv", "x,y,z\n0,0,0\n", "one.csv:2:"},
+    };
+    for (size_t i = 0; i < sizeof shapes / sizeof shapes[0]; i++) {
+        snprintf(path, sizeof path, "%s/%s", dir, shapes[i].name);
+        write_file(path, shapes[i].content);
+        char extra[128];
+        snprintf(extra, sizeof extra, "shape = %s\n", shapes[i].name);
+        expect_scene_error(dir, extra, "bad shape file", "s.ini:8:", shapes[i].needle);
+        unlink(path);
+    }
+    expect_scene_error(dir, "shape = missing.csv\n", "missing shape file", "s.ini:8:", "cannot open");
+    expect_scene_error(dir, "shape = arc.csv\norigin = 1 0 0\n", "origin with a shape", "s.ini:9:",
+                       "remove this key");
+    expect_scene_error(dir, "direction = 0 0 0\n", "zero direction", "s.ini:8:", "0 0 0");
+    expect_scene_error(dir, "shape = curly\n", "a shape word", "s.ini:8:", "straight | FILE.csv");
+
+    /* driven ends: a path relative to the scene, starting where the end starts */
+    snprintf(path, sizeof path, "%s/lift.csv", dir);
+    write_file(path, "t,x,y,z,rx,ry,rz\n0,1,0,0,0,0,0\n1,1,0,0.1,0,0.2,0\n");
+    snprintf(text, sizeof text, "%s[ends]\ntip = clamped\ntip_motion = lift.csv\n", valid_rod);
+    if (check(read_text_scene(dir, text, &m, err, sizeof err) == 0 && m.tip_motion &&
+                  rod_path_columns(m.tip_motion) == 7 && rod_path_end(m.tip_motion) == 1.0,
+              "tip = clamped, tip_motion = lift.csv: a 7-column path ending at 1 s (%s)", err)) {
+        rod_pose pose;
+        rod_path_eval(m.tip_motion, 1.0, &pose);
+        check(pose.position[2] == 0.1, "the path lifts the tip to z = %g m", pose.position[2]);
+        rod_model_release(&m);
+    }
+    expect_scene_error(dir, "[ends]\ntip_motion = lift.csv\n", "a free tip driven", "s.ini:9:",
+                       "the tip is free");
+    expect_scene_error(dir, "[ends]\ntip = pinned\ntip_motion = lift.csv\n", "a pinned tip with a "
+                       "rotation path", "s.ini:10:", "no rotation");
+    expect_scene_error(dir, "[ends]\ntip = clamped\nroot_motion = lift.csv\n",
+                       "a root path starting at the tip", "s.ini:10:", "starts at (0, 0, 0)");
+    snprintf(path, sizeof path, "%s/back.csv", dir);
+    write_file(path, "t,x,y,z\n0,1,0,0\n0,1,0,0\n");
+    expect_scene_error(dir, "[ends]\ntip = pinned\ntip_motion = back.csv\n",
+                       "times that do not increase", "s.ini:10:", "back.csv:3:");
+    unlink(path);
+    snprintf(path, sizeof path, "%s/rot.csv", dir);
+    write_file(path, "t,x,y,z,rx,ry,rz\n0,1,0,0,0,0,0\n1,1,0,0,inf,0,0\n");
+    expect_scene_error(dir, "[ends]\ntip = clamped\ntip_motion = rot.csv\n",
+                       "a rotation that is not finite", "s.ini:10:", "rot.csv:3: rx");
+    unlink(path);
+
+    /* ends, slides, needle, point loads */
+    expect_scene_error(dir, "[ends]\nroot = loose\n", "bad root word", "s.ini:9:",
+                       "clamped | pinned | free");
+    expect_scene_error(dir, "[ends]\ntip_slide = 1 0 0\n", "a free tip that slides", "s.ini:9:",
+                       "the tip is free");
+    expect_scene_error(dir, "[ends]\ntip = clamped\ntip_slide = 0 1 0\n",
+                       "a clamped tip sliding across", "s.ini:10:", "along the slide");
+    expect_scene_error(dir, "[ends]\nneedle = -1\n", "negative needle", "s.ini:9:", ">= 0");
+    expect_scene_error(dir, "[point_load]\ns = 1.5\n", "point load beyond the tip", "s.ini:9:",
+                       "from 0 to the length");
+    expect_scene_error(dir, "[point_load]\nforce = 0 0 1\n", "point load without s", "s.ini:8:",
+                       "missing; required");
+    expect_scene_error(dir, "[point_load]\ns = 0.5\n[point_load]\nforce = 1 0\n",
+                       "second point load's force", "s.ini:11:", "[point_load #2] force");
+    expect_scene_error(dir, "[loads]\ndistributed_moment = 0 1\n", "distributed moment",
+                       "s.ini:9:", "distributed_moment");
+    expect_scene_error(dir, "curvature = 0 nan 0\n", "curvature not a number", "s.ini:8:",
+                       "curvature");
+    const char *names[] = {"arc.csv", "lift.csv", "s.ini"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+        unlink(path);
+    }
+    rmdir(dir);
+}
+
 int main(void)
 {
     test_every_scene_parses();
@@ -319,5 +502,6 @@ int main(void)
     test_bad_values();
     test_tables();
     test_frame_count();
+    test_issue10_keys();
     return test_finish();
 }

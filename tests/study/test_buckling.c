@@ -31,7 +31,7 @@ static rod_model unit_model(int nodes, rod_end_kind root, rod_end_kind tip)
     m.nodes = nodes;
     m.root_end = root;
     m.tip_end = tip;
-    if (tip != ROD_END_FREE) m.tip_slide[0] = 1.0; /* Euler's sleeve along x */
+    if (tip != ROD_END_FREE) m.tip_slide[0] = 1.0; /* issue 10: a held tip stays in place unless it slides; this case is Euler's sleeve */
     m.tip_frame = ROD_FRAME_GLOBAL;
     m.options.scheme = ROD_SCHEME_STATIC;
     if (rod_model_derive(&m, err, sizeof err) != 0) printf("model: %s\n", err);

@@ -1,0 +1,424 @@
+/* path.c: a driven end's path (see path.h).
+ *
+ * Interpolation (decided for issue 10): on each interval between rows, a
+ * quintic Hermite polynomial per component, fixed by the position, velocity
+ * and acceleration at its two rows. Neighbouring intervals share those three
+ * values at their common row, so position, velocity and acceleration are
+ * continuous everywhere (C2), and every row is passed exactly. The values at
+ * the rows:
+ *   - first and last row: velocity 0 and acceleration 0, so the end starts
+ *     from rest and is held after the last row with no jump in acceleration
+ *     (a clamped cubic spline has zero end velocity but a non-zero end
+ *     acceleration: the driving force would jump when the path ends);
+ *   - every other row: the velocity and acceleration of the C2 cubic spline
+ *     through the rows with zero velocity at both ends (one tridiagonal solve
+ *     per component, diagonally dominant, no pivoting needed).
+ * A global quintic spline (C4) would need a pentadiagonal solve and gives
+ * continuity the dynamics does not use (it sees velocity and acceleration).
+ * A path sampled from a smooth motion that starts and ends at rest is
+ * reproduced to second order in the row spacing in acceleration and third in
+ * velocity (tests/sim/test_path.c prints the errors).
+ *
+ * Rotation: the rotation vector r(t) is interpolated component-wise the same
+ * way and R = exp([r]x). The angular velocity, global (space) components,
+ * [omega]x = dR/dt R^T, is
+ *   omega = J(r) r_dot,  J(r) = I + b(q) [r]x + c(q) [r]x^2,
+ *   b = (1 - cos x) / x^2,  c = (x - sin x) / x^3,  x = |r|, q = x^2,
+ * the left Jacobian (the "dexp" of r) of SO(3): G. S. Chirikjian, Stochastic
+ * Models, Information Theory, and Lie Groups, vol. 2 (Birkhauser 2012),
+ * section 10.6 (the Jacobians of SO(3) in exponential coordinates);
+ * A. Iserles, H. Munthe-Kaas, S. Norsett, A. Zanna, Lie-group methods, Acta
+ * Numerica 9 (2000), dexp. Its time derivative, exactly:
+ *   alpha = J r_ddot + 2 (r . r_dot) (b'(q) r x r_dot + c'(q) r x (r x r_dot))
+ *           + c(q) r_dot x (r x r_dot),
+ * with b' and c' the derivatives with respect to q = |r|^2. */
+#include "sim/path.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/vec3.h"
+
+/* A path of more rows is refused: 1e6 rows hold a 1 kHz recording of a
+ * needle holder for 16 minutes, and cost 150 MB with their derivatives. */
+#define PATH_MAX_ROWS 1000000
+
+struct rod_path {
+    int rows;
+    int columns;          /* 4 or 7 */
+    int components;       /* columns - 1: x y z [rx ry rz] */
+    double *time;         /* (rows), s */
+    double *value;        /* (rows x components): m, rad */
+    double *velocity;     /* (rows x components) at the rows: m/s, rad/s */
+    double *acceleration; /* (rows x components) at the rows: m/s^2, rad/s^2 */
+};
+
+void rod_path_destroy(rod_path *p)
+{
+    if (!p) return;
+    free(p->time);
+    free(p->value);
+    free(p->velocity);
+    free(p->acceleration);
+    free(p);
+}
+
+int rod_path_columns(const rod_path *p) { return p->columns; }
+double rod_path_start(const rod_path *p) { return p->time[0]; }
+double rod_path_end(const rod_path *p) { return p->time[p->rows - 1]; }
+
+int rod_path_planar(const rod_path *p)
+{
+    for (int r = 0; r < p->rows; r++) {
+        const double *v = &p->value[r * p->components];
+        if (v[2] != 0.0) return 0;
+        if (p->components == 6 && (v[3] != 0.0 || v[4] != 0.0)) return 0;
+    }
+    return 1;
+}
+
+/* Velocity and acceleration at the rows of one component (stride
+ * `components`): 0 at the ends, the clamped cubic spline's inside.
+ * `diag`, `rhs` are scratch (rows). */
+static void row_derivatives(rod_path *p, int c, double *diag, double *rhs)
+{
+    const int n = p->rows, nc = p->components;
+    const double *t = p->time, *y = p->value;
+    double *v = p->velocity, *a = p->acceleration;
+    v[c] = a[c] = 0.0;
+    v[(n - 1) * nc + c] = a[(n - 1) * nc + c] = 0.0;
+    if (n < 3) return;
+    /* spline accelerations M_i: h_{i-1} M_{i-1} + 2 (h_{i-1} + h_i) M_i + h_i M_{i+1}
+     * = 6 (d_i - d_{i-1}); clamped ends (zero velocity): 2 h_0 M_0 + h_0 M_1 = 6 d_0,
+     * h_{n-2} M_{n-2} + 2 h_{n-2} M_{n-1} = -6 d_{n-2}. Thomas algorithm: the
+     * super-diagonal is h_i, the sub-diagonal h_{i-1}. */
+#define H(i) (t[(i) + 1] - t[(i)])
+#define D(i) ((y[((i) + 1) * nc + c] - y[(i) * nc + c]) / H(i))
+    diag[0] = 2.0 * H(0);
+    rhs[0] = 6.0 * D(0);
+    for (int i = 1; i < n; i++) {
+        double sub = H(i - 1);
+        double b = i < n - 1 ? 2.0 * (H(i - 1) + H(i)) : 2.0 * H(n - 2);
+        double r = i < n - 1 ? 6.0 * (D(i) - D(i - 1)) : -6.0 * D(n - 2);
+        double f = sub / diag[i - 1]; /* super-diagonal of row i-1 is H(i-1) = sub */
+        diag[i] = b - f * sub;
+        rhs[i] = r - f * rhs[i - 1];
+    }
+    /* back substitution: M_{n-1}, then M_i = (rhs_i - h_i M_{i+1}) / diag_i; kept in rhs */
+    rhs[n - 1] /= diag[n - 1];
+    for (int i = n - 2; i >= 0; i--) rhs[i] = (rhs[i] - H(i) * rhs[i + 1]) / diag[i];
+    for (int i = 1; i < n - 1; i++) {
+        a[i * nc + c] = rhs[i];
+        v[i * nc + c] = D(i) - H(i) * (2.0 * rhs[i] + rhs[i + 1]) / 6.0;
+    }
+#undef H
+#undef D
+}
+
+rod_path *rod_path_create(const double *data, int rows, int columns, char *err, size_t errlen)
+{
+    if (columns != 4 && columns != 7) {
+        snprintf(err, errlen, "a path has 4 columns (t, x, y, z) or 7 (t, x, y, z, rx, ry, rz), "
+                              "not %d", columns);
+        return NULL;
+    }
+    if (rows < 1 || rows > PATH_MAX_ROWS) {
+        snprintf(err, errlen, "a path has 1 to %d rows, not %d", PATH_MAX_ROWS, rows);
+        return NULL;
+    }
+    for (int r = 0; r < rows; r++) {
+        const double *row = &data[(size_t)r * (size_t)columns];
+        for (int k = 0; k < columns; k++)
+            if (!isfinite(row[k])) {
+                snprintf(err, errlen, "row %d: column %d is not a finite number", r + 1, k + 1);
+                return NULL;
+            }
+        if (r > 0 && !(row[0] > row[-columns])) {
+            snprintf(err, errlen,
+                     "row %d: time %.17g s does not increase (previous row %.17g s); times must "
+                     "strictly increase", r + 1, row[0], row[-columns]);
+            return NULL;
+        }
+    }
+    rod_path *p = calloc(1, sizeof *p);
+    if (!p) goto oom;
+    const size_t n = (size_t)rows, nc = (size_t)columns - 1;
+    p->rows = rows;
+    p->columns = columns;
+    p->components = columns - 1;
+    p->time = malloc(n * sizeof(double));
+    p->value = malloc(n * nc * sizeof(double));
+    p->velocity = malloc(n * nc * sizeof(double));
+    p->acceleration = malloc(n * nc * sizeof(double));
+    double *diag = malloc(n * sizeof(double)), *rhs = malloc(n * sizeof(double));
+    if (!p->time || !p->value || !p->velocity || !p->acceleration || !diag || !rhs) {
+        free(diag);
+        free(rhs);
+        rod_path_destroy(p);
+        goto oom;
+    }
+    for (size_t r = 0; r < n; r++) {
+        p->time[r] = data[r * (size_t)columns];
+        memcpy(&p->value[r * nc], &data[r * (size_t)columns + 1], nc * sizeof(double));
+    }
+    for (int c = 0; c < p->components; c++) row_derivatives(p, c, diag, rhs);
+    free(diag);
+    free(rhs);
+    return p;
+oom:
+    snprintf(err, errlen, "out of memory for a path of %d rows", rows);
+    return NULL;
+}
+
+/* Value, velocity, acceleration of every component at time t. */
+static void interpolate(const rod_path *p, double t, double *value, double *velocity,
+                        double *acceleration)
+{
+    const int n = p->rows, nc = p->components;
+    if (!(t > p->time[0]) || t >= p->time[n - 1]) { /* held: at rest at the first or last row */
+        int r = (t >= p->time[n - 1]) ? n - 1 : 0;
+        for (int c = 0; c < nc; c++) {
+            value[c] = p->value[r * nc + c];
+            velocity[c] = acceleration[c] = 0.0;
+        }
+        return;
+    }
+    int lo = 0, hi = n - 1; /* time[lo] <= t < time[hi] */
+    while (hi - lo > 1) {
+        int mid = lo + (hi - lo) / 2;
+        if (p->time[mid] <= t) lo = mid; else hi = mid;
+    }
+    const double h = p->time[lo + 1] - p->time[lo], tau = t - p->time[lo], s = tau / h;
+    for (int c = 0; c < nc; c++) {
+        const double y0 = p->value[lo * nc + c], y1 = p->value[(lo + 1) * nc + c];
+        const double v0 = p->velocity[lo * nc + c], v1 = p->velocity[(lo + 1) * nc + c];
+        const double a0 = p->acceleration[lo * nc + c], a1 = p->acceleration[(lo + 1) * nc + c];
+        /* y = y0 + v0 tau + a0 tau^2/2 + x s^3 + w s^4 + z s^5, with x, w, z from
+         * y, y', y'' at tau = h (three linear conditions, solved by hand) */
+        const double A = y1 - y0 - v0 * h - 0.5 * a0 * h * h;
+        const double B = (v1 - v0 - a0 * h) * h;
+        const double C = (a1 - a0) * h * h;
+        const double z = 0.5 * C + 6.0 * A - 3.0 * B;
+        const double w = 7.0 * B - 15.0 * A - C;
+        const double x = A - w - z;
+        const double s2 = s * s;
+        value[c] = y0 + tau * (v0 + 0.5 * a0 * tau) + s2 * s * (x + s * (w + s * z));
+        velocity[c] = v0 + a0 * tau + s2 * (3.0 * x + s * (4.0 * w + 5.0 * s * z)) / h;
+        acceleration[c] = a0 + s * (6.0 * x + s * (12.0 * w + 20.0 * s * z)) / (h * h);
+    }
+}
+
+/* b = (1 - cos x)/x^2, c = (x - sin x)/x^3 and their derivatives with
+ * respect to q = x^2. Series for q < 1 (the closed forms cancel there):
+ * b = sum (-q)^k/(2k+2)!, c = sum (-q)^k/(2k+3)!; 12 terms leave < 1e-22. */
+static void jacobian_coefficients(double q, double *b, double *c, double *db, double *dc)
+{
+    if (q < 1.0) {
+        double fb = 0.5, fc = 1.0 / 6.0; /* 1/(2k+2)!, 1/(2k+3)! at k = 0 */
+        double power = 1.0, previous = 0.0; /* (-q)^k and (-q)^(k-1) */
+        *b = *c = *db = *dc = 0.0;
+        for (int k = 0; k < 12; k++) {
+            *b += power * fb;
+            *c += power * fc;
+            *db -= k * previous * fb; /* d/dq (-q)^k = -k (-q)^(k-1) */
+            *dc -= k * previous * fc;
+            fb /= (double)((2 * k + 3) * (2 * k + 4));
+            fc /= (double)((2 * k + 4) * (2 * k + 5));
+            previous = power;
+            power *= -q;
+        }
+        return;
+    }
+    double x = sqrt(q), sn = sin(x), cs = cos(x);
+    *b = (1.0 - cs) / q;
+    *c = (x - sn) / (q * x);
+    *db = (x * sn - 2.0 * (1.0 - cs)) / (2.0 * q * q);
+    *dc = ((1.0 - cs) * x - 3.0 * (x - sn)) / (2.0 * q * q * x);
+}
+
+void rod_path_eval(const rod_path *p, double t, rod_pose *pose)
+{
+    double value[6], velocity[6], acceleration[6];
+    interpolate(p, t, value, velocity, acceleration);
+    memset(pose, 0, sizeof *pose);
+    for (int k = 0; k < 3; k++) {
+        pose->position[k] = value[k];
+        pose->velocity[k] = velocity[k];
+        pose->acceleration[k] = acceleration[k];
+    }
+    if (p->components < 6) {
+        m3_identity(pose->rotation);
+        return;
+    }
+    const double *r = &value[3], *rd = &velocity[3], *rdd = &acceleration[3];
+    m3_exp(pose->rotation, r);
+    double b, c, db, dc;
+    jacobian_coefficients(v3_dot(r, r), &b, &c, &db, &dc);
+    /* omega = J(r) r_dot = r_dot + b r x r_dot + c r x (r x r_dot) */
+    double rxd[3], rxrxd[3];
+    v3_cross(rxd, r, rd);
+    v3_cross(rxrxd, r, rxd);
+    for (int k = 0; k < 3; k++) pose->angular_velocity[k] = rd[k] + b * rxd[k] + c * rxrxd[k];
+    /* alpha = J(r) r_ddot + dJ/dt r_dot, dJ/dt r_dot = b' r x r_dot + c' r x (r x r_dot)
+     * + c r_dot x (r x r_dot), with b' = 2 (r . r_dot) db/dq (and c' likewise) */
+    double rxdd[3], rxrxdd[3], dxrxd[3];
+    v3_cross(rxdd, r, rdd);
+    v3_cross(rxrxdd, r, rxdd);
+    v3_cross(dxrxd, rd, rxd);
+    const double qdot = 2.0 * v3_dot(r, rd);
+    for (int k = 0; k < 3; k++)
+        pose->angular_acceleration[k] = rdd[k] + b * rxdd[k] + c * rxrxdd[k] +
+                                        qdot * (db * rxd[k] + dc * rxrxd[k]) + c * dxrxd[k];
+}
+
+/* CSV ------------------------------------------------------------------ */
+
+/* Splits a data line at commas into at most `max` numbers (strtod, so "nan"
+ * and "inf" parse: finiteness is checked by the caller with the column).
+ * Returns the count, or -1 at a field that is not a number. */
+static int split_numbers(char *line, double *values, int max)
+{
+    int count = 0;
+    char *p = line;
+    for (;;) {
+        char *b = p;
+        while (*p && *p != ',') p++;
+        char *e = p;
+        while (b < e && isspace((unsigned char)*b)) b++;
+        while (e > b && isspace((unsigned char)e[-1])) e--;
+        if (e == b || count == max) return -1;
+        char keep = *e;
+        *e = '\0';
+        char *stop;
+        errno = 0;
+        double v = strtod(b, &stop);
+        int ok = stop == e && errno != ERANGE;
+        *e = keep;
+        if (!ok) return -1;
+        values[count++] = v;
+        if (!*p) return count;
+        p++; /* past the comma */
+    }
+}
+
+/* 4 or 7 when the line is the header t,x,y,z or t,x,y,z,rx,ry,rz (blanks
+ * around the names allowed), else 0. */
+static int header_columns(const char *line)
+{
+    static const char *const names[] = {"t", "x", "y", "z", "rx", "ry", "rz"};
+    int count = 0;
+    const char *p = line;
+    for (;;) {
+        while (isspace((unsigned char)*p)) p++;
+        const char *b = p;
+        while (*p && *p != ',' && !isspace((unsigned char)*p)) p++;
+        size_t n = (size_t)(p - b);
+        if (count == 7 || strlen(names[count]) != n || strncmp(names[count], b, n) != 0) return 0;
+        count++;
+        while (isspace((unsigned char)*p)) p++;
+        if (!*p) break;
+        if (*p != ',') return 0;
+        p++;
+    }
+    return count == 4 || count == 7 ? count : 0;
+}
+
+rod_path *rod_path_load(const char *filename, char *err, size_t errlen)
+{
+    static const char header_help[] = "expected the header t,x,y,z or t,x,y,z,rx,ry,rz (time s, "
+                                      "position m, rotation vector rad)";
+    FILE *f = fopen(filename, "r");
+    if (!f) {
+        snprintf(err, errlen, "%s: cannot open the path: %s", filename, strerror(errno));
+        return NULL;
+    }
+    char line[1024];
+    int line_no = 0, columns = 0, rows = 0, capacity = 0;
+    double *data = NULL;
+    rod_path *path = NULL;
+    while (fgets(line, sizeof line, f)) {
+        line_no++;
+        size_t n = strlen(line);
+        if (n == sizeof line - 1 && line[n - 1] != '\n' && !feof(f)) {
+            snprintf(err, errlen, "%s:%d: line longer than %zu characters", filename, line_no,
+                     sizeof line - 2);
+            goto done;
+        }
+        char *hash = strchr(line, '#');
+        if (hash) *hash = '\0';
+        for (n = strlen(line); n > 0 && isspace((unsigned char)line[n - 1]); n--) line[n - 1] = '\0';
+        char *start = line;
+        while (isspace((unsigned char)*start)) start++;
+        if (!*start) continue;
+        if (columns == 0) {
+            if (!(columns = header_columns(start))) {
+                snprintf(err, errlen, "%s:%d: %s", filename, line_no, header_help);
+                goto done;
+            }
+            continue;
+        }
+        double values[8];
+        int count = split_numbers(start, values, 8);
+        if (count != columns) {
+            snprintf(err, errlen, "%s:%d: expected %d numbers separated by commas (%s), as the "
+                     "header says", filename, line_no, columns,
+                     columns == 4 ? "t,x,y,z" : "t,x,y,z,rx,ry,rz");
+            goto done;
+        }
+        for (int k = 0; k < count; k++)
+            if (!isfinite(values[k])) {
+                static const char *const names[] = {"t", "x", "y", "z", "rx", "ry", "rz"};
+                snprintf(err, errlen, "%s:%d: %s is not a finite number", filename, line_no,
+                         names[k]);
+                goto done;
+            }
+        if (rows > 0 && !(values[0] > data[(size_t)(rows - 1) * (size_t)columns])) {
+            snprintf(err, errlen, "%s:%d: time %.17g s does not increase (previous row %.17g s); "
+                     "times must strictly increase", filename, line_no, values[0],
+                     data[(size_t)(rows - 1) * (size_t)columns]);
+            goto done;
+        }
+        if (rows == PATH_MAX_ROWS) {
+            snprintf(err, errlen, "%s:%d: more than %d rows: a path is at most %d rows",
+                     filename, line_no, PATH_MAX_ROWS, PATH_MAX_ROWS);
+            goto done;
+        }
+        if (rows == capacity) {
+            capacity = capacity ? 2 * capacity : 64;
+            if (capacity > PATH_MAX_ROWS) capacity = PATH_MAX_ROWS;
+            double *bigger = realloc(data, (size_t)capacity * (size_t)columns * sizeof *bigger);
+            if (!bigger) {
+                snprintf(err, errlen, "%s:%d: out of memory", filename, line_no);
+                goto done;
+            }
+            data = bigger;
+        }
+        memcpy(&data[(size_t)rows * (size_t)columns], values, (size_t)columns * sizeof *values);
+        rows++;
+    }
+    if (ferror(f)) {
+        snprintf(err, errlen, "%s: read error", filename);
+        goto done;
+    }
+    if (columns == 0) {
+        snprintf(err, errlen, "%s:%d: empty path: %s, then rows", filename,
+                 line_no > 0 ? line_no : 1, header_help);
+        goto done;
+    }
+    if (rows == 0) {
+        snprintf(err, errlen, "%s:%d: no rows after the header: at least one row t,x,y,z%s",
+                 filename, line_no, columns == 7 ? ",rx,ry,rz" : "");
+        goto done;
+    }
+    char why[256];
+    path = rod_path_create(data, rows, columns, why, sizeof why);
+    if (!path) snprintf(err, errlen, "%s: %s", filename, why);
+done:
+    free(data);
+    fclose(f);
+    return path;
+}
