@@ -111,10 +111,11 @@ rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
                         const run_plan *plan, int fps, run_frame_fn on_frame, void *context,
                         rod_report *report, run_stats *stats);
 
-/* The CSV: the header row, then t,node,s,x,y,z,d3x,d3y,d3z,twist (s, -, m, m,
- * m, m, -, -, -, 1/m), one row per node of the state. */
+/* The CSV: the header row, then t,node,s,x,y,z,d3x,d3y,d3z,twist,nx,ny,nz (s, -,
+ * m, m, m, m, -, -, -, 1/m, N, N, N), one row per node of the state; n is the
+ * internal force N(s), global (rod_internal_force). 0, or -1 out of memory. */
 void run_csv_header(FILE *f);
-void run_csv_frame(FILE *f, const rod_model *m, const rod_state *s);
+int run_csv_frame(FILE *f, const rod_model *m, const rod_state *s);
 
 /* The renderer's hook: writes the video of `rec` into out_dir. */
 int run_write_video(const rod_recording *rec, const run_output *out, const char *out_dir,

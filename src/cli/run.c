@@ -197,19 +197,26 @@ double run_plan_seconds(const run_plan *p, int nodes, int video_pixels, int csv)
 
 void run_csv_header(FILE *f)
 {
-    fprintf(f, "t,node,s,x,y,z,d3x,d3y,d3z,twist\n");
+    fprintf(f, "t,node,s,x,y,z,d3x,d3y,d3z,twist,nx,ny,nz\n");
 }
 
-void run_csv_frame(FILE *f, const rod_model *m, const rod_state *s)
+int run_csv_frame(FILE *f, const rod_model *m, const rod_state *s)
 {
+    /* N(s), global: the internal force (issue 10), a frame's worth at a time */
+    double *force = malloc((size_t)s->nodes * 3 * sizeof *force);
+    if (!force) return -1;
+    rod_internal_force(s, force);
     for (int i = 0; i < s->nodes; i++) {
         const double *r = &s->position[3 * i];
         const double *q = &s->frame[9 * i];
-        /* d3 is column 3 of Q (row-major): q[2], q[5], q[8] */
-        fprintf(f, "%.10g,%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", s->time, i,
-                (double)i * m->ds, r[0], r[1], r[2], q[2], q[5], q[8],
-                rod_recording_node_twist(s, i));
+        const double *n = &force[3 * i];
+        /* d3 is column 3 of Q (row-major): q[2], q[5], q[8]; + 0.0 prints -0 as 0 */
+        fprintf(f, "%.10g,%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n",
+                s->time, i, (double)i * m->ds, r[0], r[1], r[2], q[2], q[5], q[8],
+                rod_recording_node_twist(s, i), n[0] + 0.0, n[1] + 0.0, n[2] + 0.0);
     }
+    free(force);
+    return 0;
 }
 
 int run_write_video(const rod_recording *rec, const run_output *out, const char *out_dir,
@@ -439,6 +446,15 @@ static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_
             tip[2]);
     fprintf(f, "        tip deflection from (L, 0, 0): %.6g m (transverse %.6g m)\n",
             sqrt(dx * dx + dy * dy + dz * dz), sqrt(dy * dy + dz * dz));
+    static const char *const names[2] = {"root", "tip"};
+    const rod_end_kind kinds[2] = {m->root_end, m->tip_end};
+    for (int e = 0; e < 2; e++) {
+        if (kinds[e] == ROD_END_FREE) continue;
+        const double *F = s->end_force[e], *M = s->end_moment[e];
+        /* what the rod exerts on what holds the end (a needle holder's force) */
+        fprintf(f, "        %s support: force (%.6g, %.6g, %.6g) N, moment (%.6g, %.6g, %.6g) N m\n",
+                names[e], F[0] + 0.0, F[1] + 0.0, F[2] + 0.0, M[0] + 0.0, M[1] + 0.0, M[2] + 0.0);
+    }
     fprintf(f, "        %lld steps in %.3f s wall, %.2f us per step, %.4g wall s per simulated s\n",
             (long long)steps, wall, steps > 0 ? 1e6 * wall / (double)steps : 0.0,
             s->time > 0.0 ? wall / s->time : 0.0);
@@ -527,7 +543,11 @@ static int on_frame(void *context, const rod_model *m, const rod_state *s, char 
     frame_sink *sink = context;
     int64_t index = sink->index++;
     if (sink->csv) {
-        run_csv_frame(sink->csv, m, s);
+        if (run_csv_frame(sink->csv, m, s)) {
+            snprintf(err, errlen, "out of memory");
+            sink->failed = 1;
+            return -1;
+        }
         if (ferror(sink->csv)) {
             snprintf(err, errlen, "CSV: write failed at t = %g s (disk full?)", s->time);
             sink->failed = 1;
@@ -676,6 +696,9 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
     if (rod_solver_init(&solver, m, err, sizeof err)) {
         fprintf(stderr, "rodsim run: %s: cannot start the %s scheme: %s\n", a->scene, ops->name,
                 err);
+        /* a scheme refuses what it does not model (an end combination, a key):
+         * bad input; only running out of memory is another failure */
+        if (!strstr(err, "out of memory")) status = RUN_EXIT_BAD_INPUT;
         goto done;
     }
     s = rod_state_create(m);

@@ -146,17 +146,24 @@ static void test_csv_end_to_end(void)
     }
     char line[512];
     int rows = 0, s_ok = 1, t_ok = 1, unit_ok = 1;
-    double tip_y = NAN, prev[3] = {0}, worst_segment = 0.0;
+    double tip_y = NAN, prev[3] = {0}, worst_segment = 0.0, worst_force = 0.0;
     const int nodes = 11;
-    const double ds = 0.1;
-    check(fgets(line, sizeof line, f) && strcmp(line, "t,node,s,x,y,z,d3x,d3y,d3z,twist\n") == 0,
+    const double ds = 0.1, load = 4.5e-7; /* N */
+    check(fgets(line, sizeof line, f) &&
+              strcmp(line, "t,node,s,x,y,z,d3x,d3y,d3z,twist,nx,ny,nz\n") == 0,
           "CSV header: %s", line);
     while (fgets(line, sizeof line, f)) {
-        double t, s, x, y, z, d3x, d3y, d3z, twist;
+        double t, s, x, y, z, d3x, d3y, d3z, twist, n[3];
         int node;
-        if (sscanf(line, "%lf,%d,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &t, &node, &s, &x, &y, &z, &d3x,
-                   &d3y, &d3z, &twist) != 10)
+        if (sscanf(line, "%lf,%d,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &t, &node, &s, &x,
+                   &y, &z, &d3x, &d3y, &d3z, &twist, &n[0], &n[1], &n[2]) != 13)
             break;
+        /* equilibrium under a dead tip force P alone: N(s) = P at every s, the
+         * root's entry being what the rod exerts on its clamp (issue 10) */
+        if (rows >= 2 * nodes) {
+            double d = sqrt(n[0] * n[0] + (n[1] - load) * (n[1] - load) + n[2] * n[2]) / load;
+            if (d > worst_force) worst_force = d;
+        }
         if (node != rows % nodes || fabs(s - node * ds) > 1e-12) s_ok = 0;
         if (fabs(t - 0.1 * (rows / nodes)) > 1e-12) t_ok = 0;
         if (fabs(d3x * d3x + d3y * d3y + d3z * d3z - 1.0) > 1e-9) unit_ok = 0;
@@ -173,6 +180,10 @@ static void test_csv_end_to_end(void)
     check(rows == 3 * nodes, "CSV rows = frames x nodes: %d, expected 3 x %d = %d", rows, nodes,
           3 * nodes);
     check(s_ok, "CSV node column counts 0..NS-1 and s = node * ds");
+    check(worst_force < 1e-9, "CSV nx,ny,nz of the last frame = the dead tip force (0, P, 0) at "
+          "every node, root included: worst relative deviation %.2e", worst_force);
+    check(strstr(output, "root support: force (0, 4.5e-07, 0) N") != NULL,
+          "summary: the clamp carries the tip force P (root support: force (0, 4.5e-07, 0) N)");
     check(t_ok, "CSV t column = k / fps");
     check(unit_ok, "CSV d3 is a unit vector in every row");
     check(worst_segment < 1e-6, "CSV segments keep their length ds: worst relative change %.2e",
