@@ -1138,10 +1138,11 @@ static int check_points(const sweep *sw, setting *set, uint64_t *digests, char *
         char what[512];
         describe_point(sw, k, what, sizeof what);
         if (arg)
-            snprintf(err, errlen, "--vary %s: point %d of %d (%s): %s", arg, k + 1,
+            snprintf(err, errlen, "--vary %.200s: point %d of %d (%.200s): %.1500s", arg, k + 1,
                      sw->point_count, what, msg);
         else if (what[0])
-            snprintf(err, errlen, "point %d of %d (%s): %s", k + 1, sw->point_count, what, msg);
+            snprintf(err, errlen, "point %d of %d (%.200s): %.1500s", k + 1, sw->point_count,
+                     what, msg);
         else
             snprintf(err, errlen, "%s", msg);
         return -1;

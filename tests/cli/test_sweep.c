@@ -148,6 +148,55 @@ static void test_deflection_against_load(void)
     free(text);
 }
 
+/* first_frequency against the Euler-Bernoulli cantilever (reference.h):
+ * short rods (several periods in the run), a small impulse (linear). */
+static void test_first_frequency(void)
+{
+    char csv[320];
+    snprintf(csv, sizeof csv, "%s/frequency.csv", scratch);
+    const char *args[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/impulse.ini", "--vary",
+                          "rod.length=0.2,0.3", "--set", "tip.force=2.5e-5 0 0", "--set",
+                          "rod.nodes=21", "--set", "solver.dt=0.002", "--measure",
+                          "first_frequency", "--csv", csv, "--quiet", "--jobs", "2", NULL};
+    int rc = test_run_rodsim(args, output, sizeof output);
+    char *text = read_text(csv);
+    check(rc == 0 && text, "impulse sweep over rod.length exits 0 (%d)", rc);
+    double ei = 87.5e6 * M_PI * pow(1e-3, 4) / 64.0, m = 850.0 * M_PI * 1e-6 / 4.0;
+    for (int k = 0; text && k < 2; k++) {
+        char length[32], f[64], what[96];
+        csv_cell(text, k + 1, 0, length, sizeof length);
+        csv_cell(text, k + 1, 1, f, sizeof f);
+        snprintf(what, sizeof what, "L = %s m: first_frequency vs (1.8751^2/2 pi L^2) "
+                                    "sqrt(EI/m)", length);
+        check_rel(what, strtod(f, NULL),
+                  reference_cantilever_frequency(1, ei, m, strtod(length, NULL)), 2e-3);
+    }
+    free(text);
+}
+
+/* max_curvature under a pure tip moment: the elastica is a circular arc of
+ * curvature M/EI (reference.h elastica_pure_moment), at every node. */
+static void test_max_curvature(void)
+{
+    char csv[320];
+    snprintf(csv, sizeof csv, "%s/curvature.csv", scratch);
+    const char *args[] = {"sweep", SCENE, "--vary", "tip.moment[2]=1e-6,4e-6", "--set",
+                          "tip.force=0 0 0", "--measure", "max_curvature", "--csv", csv,
+                          "--quiet", NULL};
+    int rc = test_run_rodsim(args, output, sizeof output);
+    char *text = read_text(csv);
+    check(rc == 0 && text, "pure-moment sweep exits 0 (%d)", rc);
+    double ei = 87.5e6 * M_PI * pow(1e-3, 4) / 64.0;
+    for (int k = 0; text && k < 2; k++) {
+        char moment[32], kappa[64], what[96];
+        csv_cell(text, k + 1, 0, moment, sizeof moment);
+        csv_cell(text, k + 1, 1, kappa, sizeof kappa);
+        snprintf(what, sizeof what, "M = %s N m: max_curvature vs M/EI", moment);
+        check_rel(what, strtod(kappa, NULL), strtod(moment, NULL) / ei, 1e-8);
+    }
+    free(text);
+}
+
 static void test_jobs(void)
 {
     char one[320], two[320];
@@ -395,6 +444,8 @@ int main(void)
     mkdir(scratch, 0755);
     test_fnv();
     test_deflection_against_load();
+    test_first_frequency();
+    test_max_curvature();
     test_jobs();
     test_failing_point();
     test_bad_input();
