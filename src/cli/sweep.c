@@ -21,6 +21,7 @@
 #include "cli/run.h"
 #include "cli/scene_keys.h"
 #include "cli/version.h"
+#include "plot/plot.h"
 
 #define SWEEP_ERR_LEN 2048
 #define SWEEP_MAX_JOBS 64
@@ -38,7 +39,8 @@ void sweep_usage(FILE *f)
     fprintf(f,
             "usage: rodsim sweep SCENE --vary KEY=V1,V2,...|KEY=START:STOP:COUNT[:log] ...\n"
             "       [--set section.key=value]... [--measure WHAT,...] [--jobs N] [--csv FILE]\n"
-            "       [--result DIR [--print-commands | --assemble]] [--allow-long] [--quiet]\n"
+            "       [--result DIR [--print-commands | --assemble]] [--plot X:Y --png FILE]\n"
+            "       [--allow-long] [--quiet]\n"
             "Runs SCENE (no video) at every point of the product of the --vary lists (the\n"
             "first --vary varies slowest) and writes one CSV row per point: the varied keys,\n"
             "the measures, status (ok unstable no_convergence refused failed), message.\n"
@@ -54,6 +56,8 @@ void sweep_usage(FILE *f)
             "  --result DIR   one file per point, DIR/DIGEST.csv; existing ones are not rerun\n"
             "  --print-commands  print one command line per point and the # assemble: line\n"
             "  --assemble     write the CSV from DIR only (exit 1 when a point has no file)\n"
+            "  --plot X:Y --png FILE [--log x|y|xy]  a measure Y against the varied key X, one\n"
+            "                 curve per value of the other varied keys; data in FILE.csv\n"
             "A bad key, value, list or measure: exit 2, nothing run or written.\n");
 }
 
@@ -79,6 +83,10 @@ enum {
 static const char *const measure_names[M_COUNT] = {
     "tip_x", "tip_y", "tip_z", "root_fx", "root_fy", "root_fz", "tip_fx", "tip_fy", "tip_fz",
     "max_curvature", "first_frequency", "steps", "wall_s", "cpu_s"};
+
+/* The unit of each measure, for plot axes. */
+static const char *const measure_units[M_COUNT] = {
+    "m", "m", "m", "N", "N", "N", "N", "N", "N", "1/m", "Hz", "-", "s", "s"};
 
 typedef enum {
     POINT_OK = 0, POINT_UNSTABLE, POINT_NO_CONVERGENCE, POINT_REFUSED, POINT_FAILED,
@@ -129,6 +137,10 @@ typedef struct sweep {
     const char **vary_args; /* as given, for the assemble line */
     const char *measure_arg;
     int point_count;
+    const char *plot_arg, *png, *log_axes; /* --plot X:Y, --png FILE, --log x|y|xy */
+    int plot_x;       /* the varied key on the x axis */
+    int plot_y;       /* the measure on the y axis */
+    char plot_csv[OUTFILE_PATH_MAX]; /* the plotted data, beside the PNG */
 } sweep;
 
 /* Shortest "%.*g" (15..17 digits) that reads back as x: exact, and short
@@ -346,6 +358,71 @@ static int take_value(int argc, char **argv, int *i, const char **out, char *err
     return 0;
 }
 
+/* --plot X:Y: X a varied key with numeric values, Y a measure; with --png. */
+static int parse_plot(sweep *sw, char *err, size_t errlen)
+{
+    if (!sw->plot_arg) {
+        if (sw->png || sw->log_axes) {
+            snprintf(err, errlen, "%s needs --plot X:Y", sw->png ? "--png" : "--log");
+            return -1;
+        }
+        return 0;
+    }
+    if (!sw->png) {
+        snprintf(err, errlen, "--plot %s needs --png FILE", sw->plot_arg);
+        return -1;
+    }
+    if (sw->log_axes && strcmp(sw->log_axes, "x") && strcmp(sw->log_axes, "y") &&
+        strcmp(sw->log_axes, "xy")) {
+        snprintf(err, errlen, "--log %s: accepted x, y, xy", sw->log_axes);
+        return -1;
+    }
+    const char *colon = strrchr(sw->plot_arg, ':');
+    char x[SWEEP_KEY_LEN] = "", varied[512] = "", measures[512] = "";
+    if (colon) snprintf(x, sizeof x, "%.*s", (int)(colon - sw->plot_arg), sw->plot_arg);
+    sw->plot_x = sw->plot_y = -1;
+    for (int i = 0; i < sw->vary_count; i++) {
+        if (strcmp(x, sw->varies[i].name) == 0) sw->plot_x = i;
+        snprintf(varied + strlen(varied), sizeof varied - strlen(varied), "%s%s", i ? ", " : "",
+                 sw->varies[i].name);
+    }
+    for (int m = 0; m < M_COUNT; m++) {
+        if (colon && strcmp(colon + 1, measure_names[m]) == 0) sw->plot_y = m;
+        snprintf(measures + strlen(measures), sizeof measures - strlen(measures), "%s%s",
+                 m ? ", " : "", measure_names[m]);
+    }
+    if (sw->plot_x < 0) {
+        snprintf(err, errlen, "--plot %s: the x axis must be a varied key; accepted: %s",
+                 sw->plot_arg, sw->vary_count ? varied : "(no --vary given)");
+        return -1;
+    }
+    if (sw->plot_y < 0) {
+        snprintf(err, errlen, "--plot %s: the y axis must be a measure; accepted: %s",
+                 sw->plot_arg, measures);
+        return -1;
+    }
+    const vary *v = &sw->varies[sw->plot_x];
+    for (int j = 0; j < v->count; j++) {
+        char *end;
+        double value = strtod(v->values[j], &end);
+        if (end == v->values[j] || *end != '\0' || !isfinite(value)) {
+            snprintf(err, errlen, "--plot %s: the x axis needs numbers; %s has '%s'",
+                     sw->plot_arg, v->name, v->values[j]);
+            return -1;
+        }
+    }
+    /* Decision: the plotted data go beside the figure, FILE.png -> FILE.csv */
+    size_t len = strlen(sw->png);
+    int ext = len > 4 && strcmp(sw->png + len - 4, ".png") == 0;
+    snprintf(sw->plot_csv, sizeof sw->plot_csv, "%.*s.csv", (int)(ext ? len - 4 : len), sw->png);
+    if (sw->csv && strcmp(sw->csv, sw->plot_csv) == 0) {
+        snprintf(err, errlen, "--csv %s is where --png %s puts its plotted data; choose another "
+                              "name", sw->csv, sw->png);
+        return -1;
+    }
+    return 0;
+}
+
 static int parse_args(int argc, char **argv, sweep *sw, char *err, size_t errlen)
 {
     sw->jobs = 1;
@@ -381,6 +458,12 @@ static int parse_args(int argc, char **argv, sweep *sw, char *err, size_t errlen
         } else if (strcmp(a, "--csv") == 0) {
             if (i + 1 < argc && strcmp(argv[i + 1], "-") == 0) sw->csv = argv[++i];
             else if (take_value(argc, argv, &i, &sw->csv, err, errlen)) return -1;
+        } else if (strcmp(a, "--plot") == 0) {
+            if (take_value(argc, argv, &i, &sw->plot_arg, err, errlen)) return -1;
+        } else if (strcmp(a, "--png") == 0) {
+            if (take_value(argc, argv, &i, &sw->png, err, errlen)) return -1;
+        } else if (strcmp(a, "--log") == 0) {
+            if (take_value(argc, argv, &i, &sw->log_axes, err, errlen)) return -1;
         } else if (strcmp(a, "--result") == 0) {
             if (take_value(argc, argv, &i, &sw->result_dir, err, errlen)) return -1;
         } else if (strcmp(a, "--jobs") == 0 || strcmp(a, "-j") == 0) {
@@ -426,6 +509,7 @@ static int parse_args(int argc, char **argv, sweep *sw, char *err, size_t errlen
         snprintf(err, errlen, "--print-commands and --assemble: give one of them");
         return -1;
     }
+    if (parse_plot(sw, err, errlen)) return -1;
     double points = 1.0;
     for (int i = 0; i < sw->vary_count; i++) points *= sw->varies[i].count;
     if (points > SWEEP_MAX_POINTS) {
@@ -1057,6 +1141,120 @@ static void write_csv(FILE *f, const sweep *sw, const point_result *rows)
     }
 }
 
+static const unsigned char curve_rgb[8][3] = {
+    {0, 90, 200}, {200, 30, 30}, {0, 150, 60}, {200, 110, 0},
+    {120, 60, 170}, {0, 150, 160}, {170, 40, 120}, {90, 90, 90}};
+
+/* The axis label of a varied key: its name and the scene table's unit. */
+static void key_label(const vary *v, char *out, size_t n)
+{
+    const char *unit = "-";
+    for (const ini_key *k = scene_keys_rod; k->section; k++) {
+        size_t len = strlen(k->section);
+        if (strncmp(v->key, k->section, len) == 0 && v->key[len] == '.' &&
+            strcmp(v->key + len + 1, k->key) == 0)
+            unit = k->unit;
+    }
+    if (strcmp(unit, "-") == 0) snprintf(out, n, "%s", v->name);
+    else snprintf(out, n, "%s [%s]", v->name, unit);
+}
+
+/* --plot X:Y: one curve per combination of the other varied keys' values
+ * (in point order), the points that are ok, sorted by x; the PNG and its
+ * data (curve,X,Y) beside it. 0, or -1 with a message. */
+static int write_plot(const sweep *sw, const point_result *rows, char *err, size_t errlen)
+{
+    const vary *xv = &sw->varies[sw->plot_x];
+    int curves = sw->point_count / xv->count, rc = 0;
+    double *x = malloc(sizeof(double) * (size_t)xv->count);
+    double *y = malloc(sizeof(double) * (size_t)xv->count);
+    plot *p = plot_create(1200, 800);
+    outfile data = {.fd = -1, .slot = -1};
+    if (!x || !y || !p) {
+        snprintf(err, errlen, "out of memory for the plot");
+        rc = -1;
+        goto done;
+    }
+    if (outfile_open(&data, sw->plot_csv, err, errlen)) {
+        rc = -1;
+        goto done;
+    }
+    char xlabel[SWEEP_KEY_LEN + 32], ylabel[64], title[OUTFILE_PATH_MAX + 256], scene[128];
+    key_label(xv, xlabel, sizeof xlabel);
+    if (strcmp(measure_units[sw->plot_y], "-") == 0)
+        snprintf(ylabel, sizeof ylabel, "%s", measure_names[sw->plot_y]);
+    else
+        snprintf(ylabel, sizeof ylabel, "%s [%s]", measure_names[sw->plot_y],
+                 measure_units[sw->plot_y]);
+    const char *base = strrchr(sw->scene_path, '/');
+    snprintf(scene, sizeof scene, "%.127s", base ? base + 1 : sw->scene_path);
+    snprintf(title, sizeof title, "%s: %s against %s", scene, measure_names[sw->plot_y],
+             xv->name);
+    plot_set_title(p, title);
+    plot_set_axis_labels(p, xlabel, ylabel);
+    if (sw->log_axes) plot_set_log(p, strchr(sw->log_axes, 'x') != NULL,
+                                   strchr(sw->log_axes, 'y') != NULL);
+    fprintf(data.fp, "curve,");
+    csv_field(data.fp, xv->name, 0);
+    fprintf(data.fp, ",%s\n", measure_names[sw->plot_y]);
+    for (int c = 0, seen = 0; c < sw->point_count && seen < curves; c++) {
+        if (value_index(sw, c, sw->plot_x) != 0) continue; /* the first point of a curve */
+        char legend[512] = "";
+        for (int i = 0; i < sw->vary_count; i++) {
+            if (i == sw->plot_x) continue;
+            size_t len = strlen(legend);
+            snprintf(legend + len, sizeof legend - len, "%s%s = %s", len ? ", " : "",
+                     sw->varies[i].name, sw->varies[i].values[value_index(sw, c, i)]);
+        }
+        int n = 0, stride = 1;
+        for (int i = sw->vary_count - 1; i > sw->plot_x; i--) stride *= sw->varies[i].count;
+        for (int j = 0; j < xv->count; j++) {
+            const point_result *r = &rows[c + j * stride];
+            double value = r->value[sw->plot_y];
+            if (r->status != POINT_OK || !isfinite(value)) continue;
+            x[n] = strtod(xv->values[j], NULL);
+            y[n++] = value;
+        }
+        for (int a = 1; a < n; a++) /* by x: a list need not be in order */
+            for (int b = a; b > 0 && x[b - 1] > x[b]; b--) {
+                double t = x[b]; x[b] = x[b - 1]; x[b - 1] = t;
+                t = y[b]; y[b] = y[b - 1]; y[b - 1] = t;
+            }
+        for (int j = 0; j < n; j++) {
+            char nx[40], ny[40];
+            format_double(x[j], nx, sizeof nx);
+            format_double(y[j], ny, sizeof ny);
+            csv_field(data.fp, legend, 1);
+            fprintf(data.fp, ",%s,%s\n", nx, ny);
+        }
+        const unsigned char *rgb = curve_rgb[seen++ % 8];
+        plot_style line = plot_style_line(rgb[0], rgb[1], rgb[2], 2.0, PLOT_SOLID);
+        plot_style marker = line;
+        marker.marker_size = 8.0;
+        marker.filled = 1;
+        memcpy(marker.fill_rgb, rgb, 3);
+        if (n >= 2) rc |= plot_add_line(p, x, y, n, line, NULL);
+        if (n >= 1) rc |= plot_add_markers(p, x, y, n, marker, NULL, 0, 0,
+                                           legend[0] ? legend : NULL);
+    }
+    if (rc) {
+        snprintf(err, errlen, "out of memory for the plot");
+        goto done;
+    }
+    if (ferror(data.fp)) {
+        snprintf(err, errlen, "%s: write failed", sw->plot_csv);
+        rc = -1;
+        goto done;
+    }
+    rc = outfile_commit(&data, err, errlen) || plot_write_png(p, sw->png, err, errlen) ? -1 : 0;
+done:
+    outfile_abort(&data);
+    plot_destroy(p);
+    free(x);
+    free(y);
+    return rc;
+}
+
 /* --print-commands: one line per point (the binary and every path absolute,
  * every setting spelled out), then the line that assembles the CSV. */
 static int print_commands(const sweep *sw, setting *set, char *err, size_t errlen)
@@ -1101,6 +1299,15 @@ static int print_commands(const sweep *sw, setting *set, char *err, size_t errle
     cli_print_shell_word(stdout, sw->measure_arg);
     printf(" --result ");
     cli_print_shell_word(stdout, dir);
+    if (sw->plot_arg) {
+        char png[OUTFILE_PATH_MAX];
+        if (cli_absolute_path(sw->png, png, sizeof png, err, errlen)) return -1;
+        printf(" --plot ");
+        cli_print_shell_word(stdout, sw->plot_arg);
+        printf(" --png ");
+        cli_print_shell_word(stdout, png);
+        if (sw->log_axes) printf(" --log %s", sw->log_axes);
+    }
     printf(" --assemble --csv ");
     if (!sw->csv || strcmp(sw->csv, "-") == 0) {
         printf("-\n");
@@ -1155,16 +1362,19 @@ static int check_outputs(const sweep *sw, char *err, size_t errlen)
 {
     if (sw->result_dir && !sw->print_commands && outfile_check_dir(sw->result_dir, err, errlen))
         return -1;
-    if (sw->csv && strcmp(sw->csv, "-") != 0 && !sw->print_commands) {
+    const char *files[3] = {sw->csv && strcmp(sw->csv, "-") != 0 ? sw->csv : NULL, sw->png,
+                            sw->png ? sw->plot_csv : NULL};
+    for (int i = 0; i < 3 && !sw->print_commands; i++) {
+        if (!files[i]) continue;
         struct stat st;
-        if (stat(sw->csv, &st) == 0 && S_ISDIR(st.st_mode)) {
-            snprintf(err, errlen, "--csv %s: is a directory, not a file", sw->csv);
+        if (stat(files[i], &st) == 0 && S_ISDIR(st.st_mode)) {
+            snprintf(err, errlen, "%s: is a directory, not a file", files[i]);
             return -1;
         }
         char dir[OUTFILE_PATH_MAX];
-        const char *slash = strrchr(sw->csv, '/');
+        const char *slash = strrchr(files[i], '/');
         if (!slash) snprintf(dir, sizeof dir, ".");
-        else snprintf(dir, sizeof dir, "%.*s", (int)(slash - sw->csv + 1), sw->csv);
+        else snprintf(dir, sizeof dir, "%.*s", (int)(slash - files[i] + 1), files[i]);
         if (outfile_check_dir(dir, err, errlen)) return -1;
     }
     return 0;
@@ -1226,13 +1436,9 @@ static int sweep_run(sweep *sw)
     for (int k = 0; k < sw->point_count; k++) failed += pg.rows[k].status != POINT_OK;
     /* a point command (--result without --csv) writes only its result file */
     int to_stdout = sw->csv ? strcmp(sw->csv, "-") == 0 : !sw->result_dir;
-    if (to_stdout) {
-        write_csv(stdout, sw, pg.rows);
-        if (fflush(stdout) != 0 || ferror(stdout)) {
-            fprintf(stderr, "rodsim sweep: cannot write the CSV to standard output\n");
-            goto done;
-        }
-    } else if (sw->csv) {
+    /* the CSV, the figure and its data: all or none (outfile.h) */
+    outfile_transaction_begin();
+    if (sw->csv && !to_stdout) {
         if (outfile_open(&csv, sw->csv, err, sizeof err)) goto fail;
         write_csv(csv.fp, sw, pg.rows);
         if (ferror(csv.fp)) {
@@ -1240,6 +1446,15 @@ static int sweep_run(sweep *sw)
             goto fail;
         }
         if (outfile_commit(&csv, err, sizeof err)) goto fail;
+    }
+    if (sw->plot_arg && write_plot(sw, pg.rows, err, sizeof err)) goto fail;
+    if (outfile_transaction_commit(err, sizeof err)) goto fail;
+    if (to_stdout) {
+        write_csv(stdout, sw, pg.rows);
+        if (fflush(stdout) != 0 || ferror(stdout)) {
+            fprintf(stderr, "rodsim sweep: cannot write the CSV to standard output\n");
+            goto done;
+        }
     }
     if (!sw->quiet)
         fprintf(stderr, "rodsim sweep: %d points: %d run, %d from %s; %d not ok%s%s\n",
@@ -1252,6 +1467,7 @@ fail:
     fprintf(stderr, "rodsim sweep: %s\n", err);
 done:
     outfile_abort(&csv);
+    if (outfile_transaction_active()) outfile_transaction_abort();
     free(set);
     free(pg.rows);
     free(pg.digests);

@@ -5,7 +5,9 @@
  *    elastica (study/reference.h, an independent RK4 shooting solution);
  *  - --jobs 2 writes the same bytes as --jobs 1;
  *  - a point that fails is a row with its status, the others run;
- *  - bad input (unknown key, value, range, measure) exits 2, writes nothing;
+ *  - bad input (unknown key, value, range, measure, plot axis) exits 2,
+ *    writes nothing;
+ *  - --plot: the PNG and the plotted data (the results' numbers, by curve);
  *  - --print-commands lines run from another directory with /bin/sh and
  *    assemble the same CSV; a sweep killed with kill -9 and run again
  *    computes no point twice and gives the uninterrupted CSV. */
@@ -304,6 +306,57 @@ static void test_bad_input(void)
             (const char *const[]){"--print-commands", NULL}, "needs --result DIR");
 }
 
+/* --plot X:Y --png: the PNG, and its data beside it: one curve per value
+ * of the other varied key, the same numbers as the results CSV. */
+static void test_plot(void)
+{
+    char csv[320], png[320], data[320];
+    snprintf(csv, sizeof csv, "%s/rows.csv", scratch);
+    snprintf(png, sizeof png, "%s/figure.png", scratch);
+    snprintf(data, sizeof data, "%s/figure.csv", scratch);
+    const char *args[] = {"sweep", SCENE, "--vary", "rod.nodes=11,21", "--vary",
+                          "tip.force[1]=9e-7,1e-7,4.5e-7", "--measure", "tip_y", "--plot",
+                          "tip.force[1]:tip_y", "--png", png, "--csv", csv, "--quiet", NULL};
+    int rc = test_run_rodsim(args, output, sizeof output);
+    char *rows = read_text(csv), *plotted = read_text(data);
+    FILE *f = fopen(png, "rb");
+    unsigned char magic[8] = {0};
+    if (f) {
+        if (fread(magic, 1, 8, f) != 8) magic[0] = 0;
+        fclose(f);
+    }
+    check(rc == 0 && memcmp(magic, "\x89PNG\r\n\x1a\n", 8) == 0 && rows && plotted,
+          "--plot writes the PNG (signature), the CSV and the plotted data (exit %d)", rc);
+    if (!rows || !plotted) return;
+    /* plotted row j: curve (rod.nodes), x sorted ascending within the curve */
+    static const char *const curve[6] = {"\"rod.nodes = 11\"", "\"rod.nodes = 11\"",
+                                         "\"rod.nodes = 11\"", "\"rod.nodes = 21\"",
+                                         "\"rod.nodes = 21\"", "\"rod.nodes = 21\""};
+    static const int source_row[6] = {2, 3, 1, 5, 6, 4}; /* 1e-7, 4.5e-7, 9e-7 */
+    int same = 1;
+    for (int j = 0; j < 6; j++) {
+        char name[64], x[64], y[64], want_x[64], want_y[64];
+        csv_cell(plotted, j + 1, 0, name, sizeof name);
+        csv_cell(plotted, j + 1, 1, x, sizeof x);
+        csv_cell(plotted, j + 1, 2, y, sizeof y);
+        csv_cell(rows, source_row[j], 1, want_x, sizeof want_x);
+        csv_cell(rows, source_row[j], 2, want_y, sizeof want_y);
+        same &= strcmp(name, curve[j]) == 0 && strtod(x, NULL) == strtod(want_x, NULL) &&
+                strcmp(y, want_y) == 0;
+    }
+    check(same, "the plotted data: 2 curves (rod.nodes), x ascending, the results' tip_y");
+    free(rows);
+    free(plotted);
+    refused("a plot axis that is not a varied key",
+            (const char *const[]){"--vary", "rod.nodes=11,21", "--plot", "tip.force:tip_y",
+                                  "--png", "/dev/null/x.png", NULL},
+            "the x axis must be a varied key; accepted: rod.nodes");
+    refused("a plot axis that is not a measure",
+            (const char *const[]){"--vary", "rod.nodes=11,21", "--plot", "rod.nodes:tip",
+                                  "--png", "/dev/null/x.png", NULL},
+            "the y axis must be a measure; accepted: tip_x");
+}
+
 /* The modification times (ns) of the files in dir, sorted by name into
  * names/times; how many. */
 static int dir_times(const char *dir, char names[][64], long long *times, int max)
@@ -449,6 +502,7 @@ int main(void)
     test_jobs();
     test_failing_point();
     test_bad_input();
+    test_plot();
     test_commands_and_resume();
     test_remove_tree(scratch);
     return test_finish();
