@@ -39,7 +39,7 @@ void sweep_usage(FILE *f)
     fprintf(f,
             "usage: rodsim sweep SCENE --vary KEY=V1,V2,...|KEY=START:STOP:COUNT[:log] ...\n"
             "       [--set section.key=value]... [--measure WHAT,...] [--jobs N] [--csv FILE]\n"
-            "       [--result DIR [--print-commands|--assemble]] [--plot X:Y --png FILE]\n"
+            "       [--result DIR [--print-commands|--assemble]] [--plot X:Y --png|--svg FILE]\n"
             "Runs SCENE (no video) at every point of the product of the --vary lists (the\n"
             "first varies slowest); one CSV row per point: the varied keys, the measures (empty:\n"
             "none), status (ok unstable no_convergence refused failed), message.\n"
@@ -54,8 +54,8 @@ void sweep_usage(FILE *f)
             "  --result DIR   one file per point, DIR/DIGEST.csv; existing ones are not rerun\n"
             "  --print-commands  one command line per point, and the # assemble: line\n"
             "  --assemble     the CSV from DIR only (exit 1 when a point has no file)\n"
-            "  --plot X:Y --png FILE [--log x|y|xy]  measure Y against varied key X, a curve\n"
-            "                 per value of the other varied keys; the data in FILE.csv\n"
+            "  --plot X:Y --png FILE --svg FILE [--log x|y|xy]  measure Y against varied key\n"
+            "                 X, a curve per value of the other varied keys; data in FILE.csv\n"
             "  --allow-long   run points estimated over 1 hour;  --quiet  no progress lines\n"
             "Bad key, value, list, measure or axis: exit 2, nothing run or written.\n");
 }
@@ -136,7 +136,7 @@ typedef struct sweep {
     const char **vary_args; /* as given, for the assemble line */
     const char *measure_arg;
     int point_count;
-    const char *plot_arg, *png, *log_axes; /* --plot X:Y, --png FILE, --log x|y|xy */
+    const char *plot_arg, *png, *svg, *log_axes; /* --plot X:Y, --png, --svg, --log */
     int plot_x;       /* the varied key on the x axis */
     int plot_y;       /* the measure on the y axis */
     char plot_csv[OUTFILE_PATH_MAX]; /* the plotted data, beside the PNG */
@@ -361,14 +361,15 @@ static int take_value(int argc, char **argv, int *i, const char **out, char *err
 static int parse_plot(sweep *sw, char *err, size_t errlen)
 {
     if (!sw->plot_arg) {
-        if (sw->png || sw->log_axes) {
-            snprintf(err, errlen, "%s needs --plot X:Y", sw->png ? "--png" : "--log");
+        if (sw->png || sw->svg || sw->log_axes) {
+            snprintf(err, errlen, "%s needs --plot X:Y",
+                     sw->png ? "--png" : sw->svg ? "--svg" : "--log");
             return -1;
         }
         return 0;
     }
-    if (!sw->png) {
-        snprintf(err, errlen, "--plot %s needs --png FILE", sw->plot_arg);
+    if (!sw->png && !sw->svg) {
+        snprintf(err, errlen, "--plot %s needs --png FILE or --svg FILE (or both)", sw->plot_arg);
         return -1;
     }
     if (sw->log_axes && strcmp(sw->log_axes, "x") && strcmp(sw->log_axes, "y") &&
@@ -410,13 +411,16 @@ static int parse_plot(sweep *sw, char *err, size_t errlen)
             return -1;
         }
     }
-    /* Decision: the plotted data go beside the figure, FILE.png -> FILE.csv */
-    size_t len = strlen(sw->png);
-    int ext = len > 4 && strcmp(sw->png + len - 4, ".png") == 0;
-    snprintf(sw->plot_csv, sizeof sw->plot_csv, "%.*s.csv", (int)(ext ? len - 4 : len), sw->png);
+    /* Decision: the plotted data go beside the figure, FILE.png (or FILE.svg)
+     * -> FILE.csv */
+    const char *figure = sw->png ? sw->png : sw->svg;
+    size_t len = strlen(figure);
+    int ext = len > 4 && (strcmp(figure + len - 4, ".png") == 0 ||
+                          strcmp(figure + len - 4, ".svg") == 0);
+    snprintf(sw->plot_csv, sizeof sw->plot_csv, "%.*s.csv", (int)(ext ? len - 4 : len), figure);
     if (sw->csv && strcmp(sw->csv, sw->plot_csv) == 0) {
-        snprintf(err, errlen, "--csv %s is where --png %s puts its plotted data; choose another "
-                              "name", sw->csv, sw->png);
+        snprintf(err, errlen, "--csv %s is where the figure %s puts its plotted data; choose "
+                              "another name", sw->csv, figure);
         return -1;
     }
     return 0;
@@ -461,6 +465,8 @@ static int parse_args(int argc, char **argv, sweep *sw, char *err, size_t errlen
             if (take_value(argc, argv, &i, &sw->plot_arg, err, errlen)) return -1;
         } else if (strcmp(a, "--png") == 0) {
             if (take_value(argc, argv, &i, &sw->png, err, errlen)) return -1;
+        } else if (strcmp(a, "--svg") == 0) {
+            if (take_value(argc, argv, &i, &sw->svg, err, errlen)) return -1;
         } else if (strcmp(a, "--log") == 0) {
             if (take_value(argc, argv, &i, &sw->log_axes, err, errlen)) return -1;
         } else if (strcmp(a, "--result") == 0) {
@@ -1245,7 +1251,10 @@ static int write_plot(const sweep *sw, const point_result *rows, char *err, size
         rc = -1;
         goto done;
     }
-    rc = outfile_commit(&data, err, errlen) || plot_write_png(p, sw->png, err, errlen) ? -1 : 0;
+    rc = outfile_commit(&data, err, errlen) ||
+                 (sw->png && plot_write_png(p, sw->png, err, errlen)) ||
+                 (sw->svg && plot_write_svg(p, sw->svg, err, errlen))
+             ? -1 : 0;
 done:
     outfile_abort(&data);
     plot_destroy(p);
@@ -1300,11 +1309,18 @@ static int print_commands(const sweep *sw, setting *set, char *err, size_t errle
     cli_print_shell_word(stdout, dir);
     if (sw->plot_arg) {
         char png[OUTFILE_PATH_MAX];
-        if (cli_absolute_path(sw->png, png, sizeof png, err, errlen)) return -1;
+        if (sw->png && cli_absolute_path(sw->png, png, sizeof png, err, errlen)) return -1;
         printf(" --plot ");
         cli_print_shell_word(stdout, sw->plot_arg);
-        printf(" --png ");
-        cli_print_shell_word(stdout, png);
+        if (sw->png) {
+            printf(" --png ");
+            cli_print_shell_word(stdout, png);
+        }
+        if (sw->svg) {
+            if (cli_absolute_path(sw->svg, png, sizeof png, err, errlen)) return -1;
+            printf(" --svg ");
+            cli_print_shell_word(stdout, png);
+        }
         if (sw->log_axes) printf(" --log %s", sw->log_axes);
     }
     printf(" --assemble --csv ");
@@ -1361,9 +1377,9 @@ static int check_outputs(const sweep *sw, char *err, size_t errlen)
 {
     if (sw->result_dir && !sw->print_commands && outfile_check_dir(sw->result_dir, err, errlen))
         return -1;
-    const char *files[3] = {sw->csv && strcmp(sw->csv, "-") != 0 ? sw->csv : NULL, sw->png,
-                            sw->png ? sw->plot_csv : NULL};
-    for (int i = 0; i < 3 && !sw->print_commands; i++) {
+    const char *files[4] = {sw->csv && strcmp(sw->csv, "-") != 0 ? sw->csv : NULL, sw->png,
+                            sw->svg, sw->plot_arg ? sw->plot_csv : NULL};
+    for (int i = 0; i < 4 && !sw->print_commands; i++) {
         if (!files[i]) continue;
         struct stat st;
         if (stat(files[i], &st) == 0 && S_ISDIR(st.st_mode)) {

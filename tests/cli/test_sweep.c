@@ -8,6 +8,7 @@
  *  - bad input (unknown key, value, range, measure, plot axis) exits 2,
  *    writes nothing;
  *  - --plot: the PNG and the plotted data (the results' numbers, by curve);
+ *    the SVG is valid XML and draws its markers where the PNG does;
  *  - --print-commands lines run from another directory with /bin/sh and
  *    assemble the same CSV; a sweep killed with kill -9 and run again
  *    computes no point twice and gives the uninterrupted CSV. */
@@ -22,6 +23,7 @@
 #include <unistd.h>
 
 #include "cli/sweep.h"
+#include "render/image.h"
 #include "study/reference.h"
 #include "test.h"
 #include "test_process.h"
@@ -357,6 +359,52 @@ static void test_plot(void)
             "the y axis must be a measure; accepted: tip_x");
 }
 
+/* --svg: valid XML (xmllint parses it), text as text with real minus
+ * signs, and the same curves as the PNG: at the centre of every marker the
+ * SVG draws, the PNG has a pixel of that marker's colour. */
+static void test_svg(void)
+{
+    char png[320], svg[320], command[800];
+    snprintf(png, sizeof png, "%s/both.png", scratch);
+    snprintf(svg, sizeof svg, "%s/both.svg", scratch);
+    const char *args[] = {"sweep", SCENE, "--vary", "rod.length=0.5,1", "--vary",
+                          "tip.force[1]=-9e-7,1e-7,9e-7", "--measure", "tip_y", "--plot",
+                          "tip.force[1]:tip_y", "--png", png, "--svg", svg, "--quiet", NULL};
+    int rc = test_run_rodsim(args, output, sizeof output);
+    snprintf(command, sizeof command, "xmllint --noout '%s'", svg);
+    int xml = system(command);
+    check(rc == 0 && xml == 0, "--png and --svg written (exit %d); xmllint parses the SVG "
+                               "(status %d)", rc, xml);
+    char *text = read_text(svg);
+    char err[256];
+    image *img = image_read_png(png, err, sizeof err);
+    if (!check(text && img, "read both figures")) {
+        free(text);
+        image_destroy(img);
+        return;
+    }
+    check(strstr(text, ">tip.force[1] [N]</text>") && strstr(text, "\xe2\x88\x92"),
+          "the SVG holds its labels as text, with real minus signs (U+2212)");
+    int circles = 0, matching = 0;
+    for (const char *c = text; (c = strstr(c, "<circle ")); c++) {
+        double cx, cy;
+        unsigned r, g, b;
+        if (sscanf(c, "<circle cx=\"%lf\" cy=\"%lf\" r=\"%*[^\"]\" fill=\"#%2x%2x%2x\"", &cx,
+                   &cy, &r, &g, &b) != 5)
+            continue;
+        circles++;
+        int x = (int)floor(cx), y = (int)floor(cy);
+        if (x < 0 || y < 0 || x >= img->width || y >= img->height) continue;
+        const unsigned char *p = &img->rgb[3 * ((size_t)y * img->width + x)];
+        matching += abs(p[0] - (int)r) <= 12 && abs(p[1] - (int)g) <= 12 && abs(p[2] - (int)b) <= 12;
+    }
+    /* 2 curves x 3 points, and a legend marker per curve */
+    check(circles == 8 && matching == circles,
+          "the PNG has each SVG marker's colour at its centre: %d of %d", matching, circles);
+    free(text);
+    image_destroy(img);
+}
+
 /* The modification times (ns) of the files in dir, sorted by name into
  * names/times; how many. */
 static int dir_times(const char *dir, char names[][64], long long *times, int max)
@@ -503,6 +551,7 @@ int main(void)
     test_failing_point();
     test_bad_input();
     test_plot();
+    test_svg();
     test_commands_and_resume();
     test_remove_tree(scratch);
     return test_finish();
