@@ -9,8 +9,9 @@
  *    writes nothing;
  *  - --plot: the PNG and the plotted data (the results' numbers, by curve);
  *    the SVG is valid XML and draws its markers where the PNG does;
- *  - --print-commands lines run from another directory with /bin/sh and
- *    assemble the same CSV; a sweep killed with kill -9 and run again
+ *  - --print-commands lines run from another directory with /bin/sh, under
+ *    GNU parallel, and one per SLURM_ARRAY_TASK_ID (the README's array
+ *    recipe, without Slurm), and assemble the same CSV; a sweep killed with kill -9 and run again
  *    computes no point twice and gives the uninterrupted CSV. */
 #include <math.h>
 #include <signal.h>
@@ -483,6 +484,38 @@ static void test_commands_and_resume(void)
     check(want && got && strcmp(want, got) == 0,
           "the assembled CSV equals the uninterrupted sweep's");
     free(got);
+
+    /* the same lines under GNU parallel (2 at a time), and as a Slurm array
+     * runs them (README recipe): task k runs the k-th command line only */
+    for (int r = 0; r < 2; r++) {
+        test_remove_tree(results);
+        unlink(assembled);
+        int one_each = 1;
+        if (r == 0) {
+            snprintf(shell, sizeof shell, "cd '%s' && grep -v '^#' '%s' | parallel --will-cite "
+                                          "-j 2", elsewhere, commands);
+            sh = system(shell);
+        } else {
+            for (int task = 1; task <= 6 && sh == 0; task++) {
+                snprintf(shell, sizeof shell,
+                         "cd '%s' && SLURM_ARRAY_TASK_ID=%d sh -c 'grep -v \"^#\" %s | sed -n "
+                         "\"${SLURM_ARRAY_TASK_ID}p\" | sh'",
+                         elsewhere, task, commands);
+                sh = system(shell);
+                one_each &= test_dir_entries(results) == task;
+            }
+        }
+        snprintf(shell, sizeof shell, "cd '%s' && sed -n 's/^# assemble: //p' '%s' | sh "
+                                      "2>/dev/null", elsewhere, commands);
+        sh |= system(shell);
+        got = read_text(assembled);
+        check(sh == 0 && one_each && test_dir_entries(results) == 6 && want && got &&
+                  strcmp(want, got) == 0,
+              "%s: 6 result files%s, the assembled CSV equals the uninterrupted one (sh %d)",
+              r == 0 ? "GNU parallel -j 2" : "SLURM_ARRAY_TASK_ID = 1..6",
+              r == 0 ? "" : ", one more per task", sh);
+        free(got);
+    }
 
     /* kill -9 half way, then again: no point computed twice */
     test_remove_tree(results);
