@@ -1449,8 +1449,8 @@ static int sweep_run(sweep *sw)
     }
     int failed = 0;
     for (int k = 0; k < sw->point_count; k++) failed += pg.rows[k].status != POINT_OK;
-    /* a point command (--result without --csv) writes only its result file */
-    int to_stdout = sw->csv ? strcmp(sw->csv, "-") == 0 : !sw->result_dir;
+    /* a point command (--result, no --vary, no --csv) writes only its result file */
+    int to_stdout = sw->csv ? strcmp(sw->csv, "-") == 0 : !sw->result_dir || sw->vary_count > 0;
     /* the CSV, the figure and its data: all or none (outfile.h) */
     outfile_transaction_begin();
     if (sw->csv && !to_stdout) {
