@@ -8,9 +8,11 @@ CC      ?= cc
 PKGS    := osmesa libpng freetype2 libavcodec libavformat libswscale libavutil lapacke
 LINK_PKGS := libpng freetype2 lapacke
 TEST_PKGS := libavcodec libavformat libswscale libavutil
+# libxml2-utils (xmllint) and parallel (GNU parallel): tests/cli/test_sweep.c parses the
+# sweep's SVG and runs its --print-commands lines under GNU parallel.
 DEBS    := build-essential pkg-config libosmesa6-dev libpng-dev libfreetype-dev fonts-dejavu-core \
            libavcodec-dev libavformat-dev libswscale-dev libavutil-dev liblapacke-dev liblapack-dev \
-           libblas-dev clang libclang-rt-dev
+           libblas-dev clang libclang-rt-dev libxml2-utils parallel
 WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes
 CFLAGS  ?= -O3 -g
 ALL_CFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(EXTRA_CFLAGS) -Iinclude \

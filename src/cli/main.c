@@ -10,6 +10,7 @@
 #include "cli/run.h"
 #include "cli/scene_keys.h"
 #include "cli/stability_cli.h"
+#include "cli/sweep.h"
 #include "cli/validate_cli.h"
 #include "cli/version.h"
 
@@ -31,6 +32,7 @@ typedef struct command {
 static const command commands[] = {
     {"run", run_command, "simulate a rod scene; render its video and poster, write its CSV"},
     {"fem", fem_command, "solve a 2-D beam FEM scene (the fishing rod); print, plot, tabulate"},
+    {"sweep", sweep_command, "run a scene over the product of --vary lists; one CSV row per point"},
     {"stability", stability_command, "largest stable dt per scheme at the extremes; table, map"},
     {"figure", figure_command, "regenerate the thesis' figures (parallel sweeps) as PNG plots"},
     {"validate", validate_command, "run the validation cases: errors, orders of convergence"},

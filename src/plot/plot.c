@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/outfile.h"
 #include "plot/gl_plot.h"
 #include "render/image.h"
 #include "render/text.h"
@@ -907,6 +908,268 @@ done:
     free(buffer.xy);
     free(scratch_x);
     free(scratch_y);
+    fonts_destroy(&fonts);
+    return status;
+}
+
+/* SVG ------------------------------------------------------------------ */
+
+/* Text for SVG: XML entities escaped; with `minus`, an ASCII hyphen before
+ * a digit becomes the real minus sign U+2212 (tick labels). */
+static void svg_text(FILE *f, const char *text, int minus)
+{
+    for (const char *c = text; *c; c++) {
+        if (*c == '&') fputs("&amp;", f);
+        else if (*c == '<') fputs("&lt;", f);
+        else if (*c == '>') fputs("&gt;", f);
+        else if (*c == '"') fputs("&quot;", f);
+        else if (minus && *c == '-' && c[1] >= '0' && c[1] <= '9') fputs("\xe2\x88\x92", f);
+        else fputc(*c, f);
+    }
+}
+
+static void svg_rgb(FILE *f, const unsigned char rgb[3])
+{
+    fprintf(f, "#%02x%02x%02x", rgb[0], rgb[1], rgb[2]);
+}
+
+/* The stroke attributes of a style: colour, width, the dash pattern of
+ * tri_polyline (on/off lengths in px). */
+static void svg_stroke(FILE *f, const plot_style *st)
+{
+    fprintf(f, " fill=\"none\" stroke=\"");
+    svg_rgb(f, st->rgb);
+    fprintf(f, "\" stroke-width=\"%.3g\" stroke-linejoin=\"round\"", st->width);
+    double w = st->width;
+    if (st->dash == PLOT_DASHED) fprintf(f, " stroke-dasharray=\"%.3g %.3g\"", 4.0 * w + 6, 2.5 * w + 4);
+    else if (st->dash == PLOT_DOTTED) fprintf(f, " stroke-dasharray=\"%.3g %.3g\"", w, 1.5 * w + 2);
+}
+
+static void svg_label(FILE *f, double x, double y, int size, const char *text, const char *extra,
+                      int minus)
+{
+    fprintf(f, "<text x=\"%.2f\" y=\"%.2f\" font-size=\"%d\"%s>", x, y, size, extra);
+    svg_text(f, text, minus);
+    fprintf(f, "</text>\n");
+}
+
+static void svg_series(FILE *f, const series *s, const double *px, const double *py, int n)
+{
+    const plot_style *st = &s->style;
+    switch (s->kind) {
+    case SERIES_LINE:
+    case SERIES_POLYGON:
+        if (n < (s->kind == SERIES_LINE ? 2 : 3)) break;
+        fprintf(f, "<%s points=\"", s->kind == SERIES_LINE ? "polyline" : "polygon");
+        for (int k = 0; k < n; k++) fprintf(f, "%s%.2f,%.2f", k ? " " : "", px[k], py[k]);
+        fprintf(f, "\"");
+        if (s->kind == SERIES_LINE) {
+            svg_stroke(f, st);
+        } else {
+            fprintf(f, " fill=\"");
+            svg_rgb(f, st->fill_rgb);
+            fprintf(f, "\"");
+            if (st->width > 0) {
+                fprintf(f, " stroke=\"");
+                svg_rgb(f, st->rgb);
+                fprintf(f, "\" stroke-width=\"%.3g\"", st->width);
+            }
+        }
+        fprintf(f, "/>\n");
+        break;
+    case SERIES_MARKERS:
+        for (int k = 0; k < n; k++) {
+            fprintf(f, "<circle cx=\"%.2f\" cy=\"%.2f\" r=\"%.3g\" fill=\"", px[k], py[k],
+                    st->marker_size / 2);
+            if (st->filled) svg_rgb(f, st->fill_rgb);
+            else fputs("none", f);
+            fprintf(f, "\" stroke=\"");
+            svg_rgb(f, st->rgb);
+            fprintf(f, "\" stroke-width=\"%.3g\"/>\n", st->width);
+        }
+        break;
+    case SERIES_ARROW: {
+        if (n < 2) break;
+        double dx = px[1] - px[0], dy = py[1] - py[0], len = hypot(dx, dy);
+        if (len <= 0) break;
+        double ux = dx / len, uy = dy / len;
+        double head = fmin(st->marker_size, 0.6 * len), half = head * 0.45;
+        double bx = px[1] - ux * head, by = py[1] - uy * head;
+        fprintf(f, "<line x1=\"%.2f\" y1=\"%.2f\" x2=\"%.2f\" y2=\"%.2f\" stroke=\"", px[0], py[0],
+                bx + ux, by + uy);
+        svg_rgb(f, st->rgb);
+        fprintf(f, "\" stroke-width=\"%.3g\"/>\n<polygon points=\"%.2f,%.2f %.2f,%.2f %.2f,%.2f\" "
+                   "fill=\"", st->width, px[1], py[1], bx - uy * half, by + ux * half,
+                bx + uy * half, by - ux * half);
+        svg_rgb(f, st->rgb);
+        fprintf(f, "\"/>\n");
+        break;
+    }
+    case SERIES_NOTE: break;
+    }
+}
+
+/* The same figure as plot_write_png, as SVG: the same layout (the same
+ * fonts measure the text), every line, marker and text at the same pixel
+ * coordinates, text as text. */
+int plot_write_svg(plot *p, const char *path, char *err, size_t errlen)
+{
+    double k = fmax(0.75, fmin(p->width / 1200.0, p->height / 800.0));
+    int size_title = (int)lround(24 * k), size_label = (int)lround(18 * k),
+        size_tick = (int)lround(15 * k), size_legend = (int)lround(15 * k),
+        size_point = (int)lround(14 * k);
+    plot_fonts fonts = {0};
+    outfile out = {.fd = -1, .slot = -1};
+    double *px = NULL, *py = NULL;
+    int status = -1;
+    if (!(fonts.title = text_font_load(size_title, err, errlen)) ||
+        !(fonts.label = text_font_load(size_label, err, errlen)) ||
+        !(fonts.tick = text_font_load(size_tick, err, errlen)) ||
+        !(fonts.legend = text_font_load(size_legend, err, errlen)) ||
+        !(fonts.point = text_font_load(size_point, err, errlen)))
+        goto done;
+    layout(p, &fonts);
+    int most = 2;
+    for (int i = 0; i < p->series_count; i++)
+        if (p->series[i].n + 1 > most) most = p->series[i].n + 1;
+    px = malloc((size_t)most * sizeof *px);
+    py = malloc((size_t)most * sizeof *py);
+    if (!px || !py) {
+        snprintf(err, errlen, "plot: out of memory");
+        goto done;
+    }
+    if (outfile_open(&out, path, err, errlen)) goto done;
+    FILE *f = out.fp;
+    fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+               "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" "
+               "viewBox=\"0 0 %d %d\" font-family=\"DejaVu Sans, Verdana, sans-serif\">\n"
+               "<rect width=\"%d\" height=\"%d\" fill=\"#ffffff\"/>\n",
+            p->width, p->height, p->width, p->height, p->width, p->height);
+    double sx = (p->right - p->left) / (p->view[1] - p->view[0]);
+    double sy = (p->bottom - p->top) / (p->view[3] - p->view[2]);
+    fprintf(f, "<g stroke=\"#e4e4e4\" stroke-width=\"1\">\n");
+    for (int i = 0; i < p->x_tick_count; i++) {
+        double x = p->left + (p->x_tick_first + i * p->x_tick_step - p->view[0]) * sx;
+        fprintf(f, "<line x1=\"%.2f\" y1=\"%d\" x2=\"%.2f\" y2=\"%d\"/>\n", x, p->top, x, p->bottom);
+    }
+    for (int i = 0; i < p->y_tick_count; i++) {
+        double y = p->bottom - (p->y_tick_first + i * p->y_tick_step - p->view[2]) * sy;
+        fprintf(f, "<line x1=\"%d\" y1=\"%.2f\" x2=\"%d\" y2=\"%.2f\"/>\n", p->left, y, p->right, y);
+    }
+    fprintf(f, "</g>\n<clipPath id=\"axes\"><rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\"/>"
+               "</clipPath>\n<g clip-path=\"url(#axes)\">\n",
+            p->left, p->top, p->right - p->left, p->bottom - p->top);
+    for (int i = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        int n = 0;
+        for (int j = 0; j < s->n; j++) {
+            to_pixel(p, s->x[j], s->y[j], &px[n], &py[n]);
+            if (isfinite(px[n]) && isfinite(py[n])) n++;
+        }
+        svg_series(f, s, px, py, n);
+    }
+    fprintf(f, "</g>\n<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"none\" "
+               "stroke=\"#282828\" stroke-width=\"1.5\"/>\n<g stroke=\"#282828\" "
+               "stroke-width=\"1.5\">\n",
+            p->left, p->top, p->right - p->left, p->bottom - p->top);
+    for (int i = 0; i < p->x_tick_count; i++) {
+        double x = p->left + (p->x_tick_first + i * p->x_tick_step - p->view[0]) * sx;
+        fprintf(f, "<line x1=\"%.2f\" y1=\"%d\" x2=\"%.2f\" y2=\"%d\"/>\n", x, p->bottom, x,
+                p->bottom + 6);
+    }
+    for (int i = 0; i < p->y_tick_count; i++) {
+        double y = p->bottom - (p->y_tick_first + i * p->y_tick_step - p->view[2]) * sy;
+        fprintf(f, "<line x1=\"%d\" y1=\"%.2f\" x2=\"%d\" y2=\"%.2f\"/>\n", p->left - 6, y,
+                p->left, y);
+    }
+    fprintf(f, "</g>\n<g fill=\"#141414\">\n");
+    /* text: the positions of draw_text */
+    char text[64];
+    int tick_ascent = text_ascent(fonts.tick), y_tick_width = 0;
+    for (int i = 0; i < p->x_tick_count; i++) {
+        double v = p->x_tick_first + i * p->x_tick_step;
+        tick_text(v, p->x_tick_step, p->log_x, text, sizeof text);
+        svg_label(f, p->left + (v - p->view[0]) * sx, p->bottom + 6 + 4 + tick_ascent, size_tick,
+                  text, " text-anchor=\"middle\"", 1);
+    }
+    for (int i = 0; i < p->y_tick_count; i++) {
+        double v = p->y_tick_first + i * p->y_tick_step;
+        tick_text(v, p->y_tick_step, p->log_y, text, sizeof text);
+        int w = text_width(fonts.tick, text);
+        if (w > y_tick_width) y_tick_width = w;
+        svg_label(f, p->left - 6 - 4, p->bottom - (v - p->view[2]) * sy + tick_ascent / 2.0 - 1,
+                  size_tick, text, " text-anchor=\"end\"", 1);
+    }
+    if (p->x_label)
+        svg_label(f, (p->left + p->right) / 2.0,
+                  p->bottom + 6 + 4 + tick_ascent + text_descent(fonts.tick) + 10 +
+                      text_ascent(fonts.label),
+                  size_label, p->x_label, " text-anchor=\"middle\"", 0);
+    if (p->y_label) {
+        int column = p->left - 6 - 4 - y_tick_width - 10 - text_descent(fonts.label);
+        char rotate[96];
+        snprintf(rotate, sizeof rotate, " text-anchor=\"middle\" transform=\"rotate(-90 %d %.1f)\"",
+                 column, (p->top + p->bottom) / 2.0);
+        svg_label(f, column, (p->top + p->bottom) / 2.0, size_label, p->y_label, rotate, 0);
+    }
+    if (p->title) {
+        int w = text_width(fonts.title, p->title), x = (p->width - w) / 2;
+        svg_label(f, x < 4 ? 4 : x, 10 + text_ascent(fonts.title), size_title, p->title, "", 0);
+    }
+    for (int i = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        if (s->kind != SERIES_MARKERS || !s->point_labels) continue;
+        for (int j = 0; j < s->n; j++) {
+            double x, y;
+            to_pixel(p, s->x[j], s->y[j], &x, &y);
+            if (!s->point_labels[j] || !isfinite(x) || !isfinite(y)) continue;
+            int w = text_width(fonts.point, s->point_labels[j]);
+            double lx = fmin(fmax(x + s->label_dx - w / 2.0, p->left + 2), p->right - 2 - w);
+            double ly = fmin(fmax(y + s->label_dy + text_ascent(fonts.point) / 2.0,
+                                  p->top + 2 + text_ascent(fonts.point)),
+                             p->bottom - 2 - text_descent(fonts.point));
+            char fill[32];
+            snprintf(fill, sizeof fill, " fill=\"#%02x%02x%02x\"", s->style.rgb[0],
+                     s->style.rgb[1], s->style.rgb[2]);
+            svg_label(f, lx, ly, size_point, s->point_labels[j], fill, 0);
+        }
+    }
+    fprintf(f, "</g>\n");
+    if (p->legend_width > 0) {
+        int l = p->legend_left, t = p->legend_top, row = 0;
+        fprintf(f, "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"#ffffff\" "
+                   "stroke=\"#000000\" stroke-width=\"1\"/>\n",
+                l, t, p->legend_width, p->legend_height);
+        for (int i = 0; i < p->series_count; i++) {
+            const series *s = &p->series[i];
+            if (!s->legend) continue;
+            double cy = t + 6 + row * p->legend_row + p->legend_row / 2.0;
+            double sample_x[2] = {l + 12, l + 52}, sample_y[2] = {cy, cy};
+            if (s->kind == SERIES_MARKERS) {
+                double cx = l + 32;
+                svg_series(f, s, &cx, &cy, 1);
+            } else if (s->kind == SERIES_LINE || s->kind == SERIES_ARROW) {
+                svg_series(f, s, sample_x, sample_y, 2);
+            } else if (s->kind == SERIES_POLYGON) {
+                double qx[4] = {l + 20, l + 44, l + 44, l + 20}, qy[4] = {cy - 7, cy - 7, cy + 7, cy + 7};
+                svg_series(f, s, qx, qy, 4);
+            }
+            int x = s->kind == SERIES_NOTE ? l + 12 : l + 62;
+            svg_label(f, x, cy + (text_ascent(fonts.legend) - text_descent(fonts.legend)) / 2.0,
+                      size_legend, s->legend, " fill=\"#141414\"", 0);
+            row++;
+        }
+    }
+    fprintf(f, "</svg>\n");
+    if (ferror(f)) {
+        snprintf(err, errlen, "%s: write failed", path);
+        goto done;
+    }
+    status = outfile_commit(&out, err, errlen);
+done:
+    if (status) outfile_abort(&out);
+    free(px);
+    free(py);
     fonts_destroy(&fonts);
     return status;
 }

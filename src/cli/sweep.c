@@ -1,0 +1,1510 @@
+/* sweep.c: `rodsim sweep` (see sweep.h): points, measures, workers, result
+ * files, command lines. */
+#include "cli/sweep.h"
+
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "base/ini.h"
+#include "base/outfile.h"
+#include "base/spectrum.h"
+#include "base/worker.h"
+#include "cli/print_commands.h"
+#include "cli/run.h"
+#include "cli/scene_keys.h"
+#include "cli/version.h"
+#include "plot/plot.h"
+
+#define SWEEP_ERR_LEN 2048
+#define SWEEP_MAX_JOBS 64
+#define SWEEP_MAX_POINTS 1000000
+#define SWEEP_VALUE_LEN 1024 /* a setting's value, bytes */
+#define SWEEP_KEY_LEN 128
+/* The time budget of one point, as `rodsim run` (run.c): a point estimated
+ * to take longer is a `refused` row unless --allow-long. */
+#define SWEEP_POINT_BUDGET 3600.0
+/* Tip samples kept for first_frequency (3 doubles each): 4M frames, 96 MiB. */
+#define SWEEP_MAX_SAMPLES (1 << 22)
+
+void sweep_usage(FILE *f)
+{
+    fprintf(f,
+            "usage: rodsim sweep SCENE --vary KEY=V1,V2,...|KEY=START:STOP:COUNT[:log] ...\n"
+            "       [--set section.key=value]... [--measure WHAT,...] [--jobs N] [--csv FILE]\n"
+            "       [--result DIR [--print-commands|--assemble]] [--plot X:Y --png|--svg FILE]\n"
+            "Runs SCENE (no video) at every point of the product of the --vary lists (the\n"
+            "first varies slowest); one CSV row per point: the varied keys, the measures (empty:\n"
+            "none), status (ok unstable no_convergence refused failed), message.\n"
+            "  KEY            section.key as --set names it, or a vector's component, 0-based:\n"
+            "                 tip.force[1] is y; whole vectors: 'tip.force=0 1e-7 0,0 2e-7 0'\n"
+            "  --measure      tip_x tip_y tip_z (m, end of run), root_fx.. root_fz, tip_fx..\n"
+            "                 tip_fz (N, on what holds the end), max_curvature (1/m),\n"
+            "                 first_frequency (Hz, tip spectrum), steps, wall_s, cpu_s (s);\n"
+            "                 groups tip, root_force, tip_force, all; default tip,wall_s,cpu_s\n"
+            "  --jobs N       N worker processes (1..64); rows stay in point order\n"
+            "  --csv FILE     the results (default: standard output; - too)\n"
+            "  --result DIR   one file per point, DIR/DIGEST.csv; existing ones are not rerun\n"
+            "  --print-commands  one command line per point, and the # assemble: line\n"
+            "  --assemble     the CSV from DIR only (exit 1 when a point has no file)\n"
+            "  --plot X:Y --png FILE --svg FILE [--log x|y|xy]  measure Y against varied key\n"
+            "                 X, a curve per value of the other varied keys; data in FILE.csv\n"
+            "  --allow-long   run points estimated over 1 hour;  --quiet  no progress lines\n"
+            "Bad key, value, list, measure or axis: exit 2, nothing run or written.\n");
+}
+
+uint64_t sweep_fnv1a64(uint64_t h, const void *bytes, size_t n)
+{
+    const unsigned char *b = bytes;
+    for (size_t i = 0; i < n; i++) {
+        h ^= b[i];
+        h *= 0x100000001b3ULL; /* the FNV 64-bit prime */
+    }
+    return h;
+}
+
+/* Measures ------------------------------------------------------------ */
+
+enum {
+    M_TIP_X, M_TIP_Y, M_TIP_Z,
+    M_ROOT_FX, M_ROOT_FY, M_ROOT_FZ,
+    M_TIP_FX, M_TIP_FY, M_TIP_FZ,
+    M_MAX_CURVATURE, M_FIRST_FREQUENCY, M_STEPS, M_WALL, M_CPU,
+    M_COUNT
+};
+static const char *const measure_names[M_COUNT] = {
+    "tip_x", "tip_y", "tip_z", "root_fx", "root_fy", "root_fz", "tip_fx", "tip_fy", "tip_fz",
+    "max_curvature", "first_frequency", "steps", "wall_s", "cpu_s"};
+
+/* The unit of each measure, for plot axes. */
+static const char *const measure_units[M_COUNT] = {
+    "m", "m", "m", "N", "N", "N", "N", "N", "N", "1/m", "Hz", "-", "s", "s"};
+
+typedef enum {
+    POINT_OK = 0, POINT_UNSTABLE, POINT_NO_CONVERGENCE, POINT_REFUSED, POINT_FAILED,
+    POINT_STATUS_COUNT
+} point_status;
+static const char *const status_names[POINT_STATUS_COUNT] = {"ok", "unstable", "no_convergence",
+                                                             "refused", "failed"};
+
+/* One point's outcome: every measure (NAN where none), so a result file
+ * serves any --measure list. Sent whole through a pipe (< PIPE_BUF). */
+typedef struct point_result {
+    double value[M_COUNT];
+    int status; /* point_status */
+    char message[800];
+} point_result;
+
+/* The sweep ------------------------------------------------------------ */
+
+typedef struct vary {
+    const char *arg;        /* the --vary argument, for messages */
+    char key[SWEEP_KEY_LEN];  /* section.key */
+    char name[SWEEP_KEY_LEN]; /* the CSV column: section.key or section.key[i] */
+    int component;          /* -1: the whole value; else 0-based component */
+    char **values;          /* owned */
+    int count;
+    char base[SWEEP_VALUE_LEN]; /* component: the scene's value of key (or the default) */
+} vary;
+
+typedef struct setting {
+    char key[SWEEP_KEY_LEN];
+    char value[SWEEP_VALUE_LEN];
+} setting;
+
+typedef struct sweep {
+    const char *scene_arg;
+    char scene_path[OUTFILE_PATH_MAX]; /* absolute */
+    char *text;     /* the scene file's bytes, read once */
+    size_t text_len;
+    const char **sets; /* --set arguments */
+    int set_count;
+    vary *varies;
+    int vary_count;
+    int measures[M_COUNT]; /* the columns, in order */
+    int measure_count;
+    int jobs, quiet, allow_long, print_commands, assemble, help;
+    const char *csv;        /* NULL: standard output */
+    const char *result_dir;
+    const char **vary_args; /* as given, for the assemble line */
+    const char *measure_arg;
+    int point_count;
+    const char *plot_arg, *png, *svg, *log_axes; /* --plot X:Y, --png, --svg, --log */
+    int plot_x;       /* the varied key on the x axis */
+    int plot_y;       /* the measure on the y axis */
+    char plot_csv[OUTFILE_PATH_MAX]; /* the plotted data, beside the PNG */
+} sweep;
+
+/* Shortest "%.*g" (15..17 digits) that reads back as x: exact, and short
+ * when the value is; "" for NAN (an empty CSV field: no value). */
+static void format_double(double x, char *out, size_t n)
+{
+    if (isnan(x)) {
+        out[0] = '\0';
+        return;
+    }
+    for (int p = 15; p <= 17; p++) {
+        snprintf(out, n, "%.*g", p, x);
+        if (strtod(out, NULL) == x) return;
+    }
+}
+
+/* The value as ini_set keeps it: blanks trimmed, one pair of quotes off. */
+static void canonical_value(const char *v, char *out, size_t n)
+{
+    const char *b = v, *e = v + strlen(v);
+    while (b < e && (*b == ' ' || *b == '\t')) b++;
+    while (e > b && (e[-1] == ' ' || e[-1] == '\t')) e--;
+    if (e - b >= 2 && *b == '"' && e[-1] == '"') { b++; e--; }
+    snprintf(out, n, "%.*s", (int)(e - b), b);
+}
+
+static void free_sweep(sweep *sw)
+{
+    for (int i = 0; i < sw->vary_count; i++) {
+        for (int j = 0; j < sw->varies[i].count; j++) free(sw->varies[i].values[j]);
+        free(sw->varies[i].values);
+    }
+    free(sw->varies);
+    free(sw->sets);
+    free(sw->vary_args);
+    free(sw->text);
+}
+
+/* Splits a --vary value into its list: V1,V2,... or START:STOP:COUNT[:log].
+ * 0, or -1 with a message naming the argument. */
+static int parse_values(vary *v, const char *list, char *err, size_t errlen)
+{
+    if (list[0] == '\0') {
+        snprintf(err, errlen, "--vary %s: empty list; expected KEY=V1,V2,... or "
+                              "KEY=START:STOP:COUNT[:log]", v->arg);
+        return -1;
+    }
+    if (!strchr(list, ',') && strchr(list, ':')) {
+        /* Decision: a value with ':' and no ',' is a range; a list of one
+         * value that holds ':' cannot be given. */
+        char buf[256], *parts[5];
+        int n = 0;
+        snprintf(buf, sizeof buf, "%s", list);
+        for (char *p = buf, *tok; n < 5 && (tok = strsep(&p, ":")); ) parts[n++] = tok;
+        char *end;
+        double start = n >= 3 ? strtod(parts[0], &end) : 0;
+        int ok = n >= 3 && n <= 4 && end != parts[0] && *end == '\0' && isfinite(start);
+        double stop = ok ? strtod(parts[1], &end) : 0;
+        ok = ok && end != parts[1] && *end == '\0' && isfinite(stop);
+        long count = ok ? strtol(parts[2], &end, 10) : 0;
+        ok = ok && end != parts[2] && *end == '\0';
+        int log_scale = ok && n == 4 && strcmp(parts[3], "log") == 0;
+        if (!ok || (n == 4 && !log_scale)) {
+            snprintf(err, errlen, "--vary %s: a range is START:STOP:COUNT or "
+                                  "START:STOP:COUNT:log (numbers; COUNT a whole number)",
+                     v->arg);
+            return -1;
+        }
+        if (count < 1 || count > SWEEP_MAX_POINTS) {
+            snprintf(err, errlen, "--vary %s: COUNT = %ld; accepted 1 .. %d", v->arg, count,
+                     SWEEP_MAX_POINTS);
+            return -1;
+        }
+        if (log_scale && !(start > 0.0 && stop > 0.0)) {
+            snprintf(err, errlen, "--vary %s: a log range needs START > 0 and STOP > 0", v->arg);
+            return -1;
+        }
+        v->values = calloc((size_t)count, sizeof *v->values);
+        if (!v->values) goto oom;
+        for (long i = 0; i < count; i++) {
+            /* the ends exactly as given; inside, evenly (in log when asked) */
+            double f = count > 1 ? (double)i / (double)(count - 1) : 0.0;
+            double x = i == 0 ? start : i == count - 1 ? stop
+                     : log_scale ? start * pow(stop / start, f) : start + (stop - start) * f;
+            char text[40];
+            format_double(x, text, sizeof text);
+            if (!(v->values[i] = strdup(text))) goto oom;
+            v->count++;
+        }
+        return 0;
+    }
+    int count = 1;
+    for (const char *c = list; *c; c++) count += *c == ',';
+    v->values = calloc((size_t)count, sizeof *v->values);
+    if (!v->values) goto oom;
+    for (const char *b = list;;) {
+        const char *e = strchr(b, ',');
+        size_t len = e ? (size_t)(e - b) : strlen(b);
+        char item[SWEEP_VALUE_LEN];
+        snprintf(item, sizeof item, "%.*s", (int)len, b);
+        char canon[SWEEP_VALUE_LEN];
+        canonical_value(item, canon, sizeof canon);
+        if (canon[0] == '\0' || len >= SWEEP_VALUE_LEN) {
+            snprintf(err, errlen, "--vary %s: value %d is %s", v->arg, v->count + 1,
+                     canon[0] ? "too long" : "empty");
+            return -1;
+        }
+        if (!(v->values[v->count++] = strdup(canon))) goto oom;
+        if (!e) break;
+        b = e + 1;
+    }
+    return 0;
+oom:
+    snprintf(err, errlen, "out of memory");
+    return -1;
+}
+
+/* The key of a --vary: known to the scene key table (the same message as an
+ * unknown --set key, with its suggestion), and `[i]` for a component. */
+static int parse_vary(vary *v, const char *arg, char *err, size_t errlen)
+{
+    memset(v, 0, sizeof *v);
+    v->arg = arg;
+    v->component = -1;
+    const char *eq = strchr(arg, '=');
+    if (!eq || eq == arg) {
+        snprintf(err, errlen, "--vary %s: expected KEY=V1,V2,... or KEY=START:STOP:COUNT[:log]",
+                 arg);
+        return -1;
+    }
+    size_t klen = (size_t)(eq - arg);
+    if (klen >= SWEEP_KEY_LEN) {
+        snprintf(err, errlen, "--vary %s: key too long", arg);
+        return -1;
+    }
+    snprintf(v->name, sizeof v->name, "%.*s", (int)klen, arg);
+    snprintf(v->key, sizeof v->key, "%s", v->name);
+    char *bracket = strchr(v->key, '[');
+    if (bracket) {
+        char *end;
+        long c = strtol(bracket + 1, &end, 10);
+        if (end == bracket + 1 || strcmp(end, "]") != 0 || c < 0 || c > 15) {
+            snprintf(err, errlen, "--vary %s: a component is written section.key[i], i = 0, 1, "
+                                  "2 ... (0-based: tip.force[1] is the y component)", arg);
+            return -1;
+        }
+        v->component = (int)c;
+        *bracket = '\0';
+    }
+    /* the table's check, on a scene holding only this key */
+    char assignment[SWEEP_KEY_LEN + 8];
+    snprintf(assignment, sizeof assignment, "%s=0", v->key);
+    ini_doc *probe = ini_parse("--vary", "", err, errlen);
+    if (!probe) return -1;
+    int rc = ini_set(probe, assignment, err, errlen);
+    if (rc == 0 && ini_check_keys(probe, scene_keys_rod, err, errlen)) {
+        /* "--set KEY=0: unknown key; did you mean ..." -> "--vary ARG: ..." */
+        char prefix[SWEEP_KEY_LEN + 16], rest[SWEEP_ERR_LEN];
+        snprintf(prefix, sizeof prefix, "--set %s: ", assignment);
+        size_t plen = strlen(prefix);
+        snprintf(rest, sizeof rest, "%s", strncmp(err, prefix, plen) == 0 ? err + plen : err);
+        snprintf(err, errlen, "--vary %.200s: %.1800s", arg, rest);
+        rc = -1;
+    } else if (rc) {
+        snprintf(err, errlen, "--vary %s: expected section.key=V1,V2,... (e.g. "
+                              "tip.force[1]=1e-7,2e-7)", arg);
+    }
+    ini_destroy(probe);
+    if (rc) return -1;
+    return parse_values(v, eq + 1, err, errlen);
+}
+
+static int add_measures(sweep *sw, const char *list, char *err, size_t errlen)
+{
+    char buf[512];
+    snprintf(buf, sizeof buf, "%s", list);
+    sw->measure_count = 0;
+    for (char *p = buf, *tok; (tok = strsep(&p, ",")); ) {
+        int first = -1, last = -1;
+        if (strcmp(tok, "tip") == 0) first = M_TIP_X, last = M_TIP_Z;
+        else if (strcmp(tok, "root_force") == 0) first = M_ROOT_FX, last = M_ROOT_FZ;
+        else if (strcmp(tok, "tip_force") == 0) first = M_TIP_FX, last = M_TIP_FZ;
+        else if (strcmp(tok, "all") == 0) first = 0, last = M_COUNT - 1;
+        for (int m = 0; m < M_COUNT && first < 0; m++)
+            if (strcmp(tok, measure_names[m]) == 0) first = last = m;
+        if (first < 0) {
+            char accepted[512] = "";
+            for (int m = 0; m < M_COUNT; m++) {
+                strcat(accepted, measure_names[m]);
+                strcat(accepted, ", ");
+            }
+            snprintf(err, errlen, "--measure %s: unknown measure '%s'; accepted: %sand the "
+                                  "groups tip, root_force, tip_force, all", list, tok, accepted);
+            return -1;
+        }
+        for (int m = first; m <= last; m++) {
+            int seen = 0;
+            for (int i = 0; i < sw->measure_count; i++) seen |= sw->measures[i] == m;
+            if (!seen) sw->measures[sw->measure_count++] = m;
+        }
+    }
+    return 0;
+}
+
+/* An option's value: present, and not an option word. */
+static int take_value(int argc, char **argv, int *i, const char **out, char *err, size_t errlen)
+{
+    const char *opt = argv[*i];
+    if (*i + 1 >= argc || (argv[*i + 1][0] == '-' && argv[*i + 1][1] != '\0')) {
+        snprintf(err, errlen, "%s needs a value%s%s", opt, *i + 1 < argc ? ", got the option " : "",
+                 *i + 1 < argc ? argv[*i + 1] : "");
+        return -1;
+    }
+    *out = argv[++*i];
+    return 0;
+}
+
+/* --plot X:Y: X a varied key with numeric values, Y a measure; with --png. */
+static int parse_plot(sweep *sw, char *err, size_t errlen)
+{
+    if (!sw->plot_arg) {
+        if (sw->png || sw->svg || sw->log_axes) {
+            snprintf(err, errlen, "%s needs --plot X:Y",
+                     sw->png ? "--png" : sw->svg ? "--svg" : "--log");
+            return -1;
+        }
+        return 0;
+    }
+    if (!sw->png && !sw->svg) {
+        snprintf(err, errlen, "--plot %s needs --png FILE or --svg FILE (or both)", sw->plot_arg);
+        return -1;
+    }
+    if (sw->log_axes && strcmp(sw->log_axes, "x") && strcmp(sw->log_axes, "y") &&
+        strcmp(sw->log_axes, "xy")) {
+        snprintf(err, errlen, "--log %s: accepted x, y, xy", sw->log_axes);
+        return -1;
+    }
+    const char *colon = strrchr(sw->plot_arg, ':');
+    char x[SWEEP_KEY_LEN] = "", varied[512] = "", measures[512] = "";
+    if (colon) snprintf(x, sizeof x, "%.*s", (int)(colon - sw->plot_arg), sw->plot_arg);
+    sw->plot_x = sw->plot_y = -1;
+    for (int i = 0; i < sw->vary_count; i++) {
+        if (strcmp(x, sw->varies[i].name) == 0) sw->plot_x = i;
+        snprintf(varied + strlen(varied), sizeof varied - strlen(varied), "%s%s", i ? ", " : "",
+                 sw->varies[i].name);
+    }
+    for (int m = 0; m < M_COUNT; m++) {
+        if (colon && strcmp(colon + 1, measure_names[m]) == 0) sw->plot_y = m;
+        snprintf(measures + strlen(measures), sizeof measures - strlen(measures), "%s%s",
+                 m ? ", " : "", measure_names[m]);
+    }
+    if (sw->plot_x < 0) {
+        snprintf(err, errlen, "--plot %s: the x axis must be a varied key; accepted: %s",
+                 sw->plot_arg, sw->vary_count ? varied : "(no --vary given)");
+        return -1;
+    }
+    if (sw->plot_y < 0) {
+        snprintf(err, errlen, "--plot %s: the y axis must be a measure; accepted: %s",
+                 sw->plot_arg, measures);
+        return -1;
+    }
+    const vary *v = &sw->varies[sw->plot_x];
+    for (int j = 0; j < v->count; j++) {
+        char *end;
+        double value = strtod(v->values[j], &end);
+        if (end == v->values[j] || *end != '\0' || !isfinite(value)) {
+            snprintf(err, errlen, "--plot %s: the x axis needs numbers; %s has '%s'",
+                     sw->plot_arg, v->name, v->values[j]);
+            return -1;
+        }
+    }
+    /* Decision: the plotted data go beside the figure, FILE.png (or FILE.svg)
+     * -> FILE.csv */
+    const char *figure = sw->png ? sw->png : sw->svg;
+    size_t len = strlen(figure);
+    int ext = len > 4 && (strcmp(figure + len - 4, ".png") == 0 ||
+                          strcmp(figure + len - 4, ".svg") == 0);
+    snprintf(sw->plot_csv, sizeof sw->plot_csv, "%.*s.csv", (int)(ext ? len - 4 : len), figure);
+    if (sw->csv && strcmp(sw->csv, sw->plot_csv) == 0) {
+        snprintf(err, errlen, "--csv %s is where the figure %s puts its plotted data; choose "
+                              "another name", sw->csv, figure);
+        return -1;
+    }
+    return 0;
+}
+
+static int parse_args(int argc, char **argv, sweep *sw, char *err, size_t errlen)
+{
+    sw->jobs = 1;
+    sw->sets = calloc((size_t)argc, sizeof *sw->sets);
+    sw->vary_args = calloc((size_t)argc, sizeof *sw->vary_args);
+    sw->varies = calloc((size_t)argc, sizeof *sw->varies);
+    if (!sw->sets || !sw->vary_args || !sw->varies) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    const char *measure = "tip,wall_s,cpu_s";
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *value = NULL;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) sw->help = 1;
+        else if (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0) sw->quiet = 1;
+        else if (strcmp(a, "--allow-long") == 0) sw->allow_long = 1;
+        else if (strcmp(a, "--print-commands") == 0) sw->print_commands = 1;
+        else if (strcmp(a, "--assemble") == 0) sw->assemble = 1;
+        else if (strcmp(a, "--set") == 0) {
+            if (take_value(argc, argv, &i, &value, err, errlen)) return -1;
+            if (!strchr(value, '=')) {
+                snprintf(err, errlen, "--set expects section.key=value in one argument, got "
+                                      "'%s'", value);
+                return -1;
+            }
+            sw->sets[sw->set_count++] = value;
+        } else if (strcmp(a, "--vary") == 0) {
+            if (take_value(argc, argv, &i, &value, err, errlen)) return -1;
+            sw->vary_args[sw->vary_count] = value;
+            if (parse_vary(&sw->varies[sw->vary_count++], value, err, errlen)) return -1;
+        } else if (strcmp(a, "--measure") == 0) {
+            if (take_value(argc, argv, &i, &measure, err, errlen)) return -1;
+        } else if (strcmp(a, "--csv") == 0) {
+            if (i + 1 < argc && strcmp(argv[i + 1], "-") == 0) sw->csv = argv[++i];
+            else if (take_value(argc, argv, &i, &sw->csv, err, errlen)) return -1;
+        } else if (strcmp(a, "--plot") == 0) {
+            if (take_value(argc, argv, &i, &sw->plot_arg, err, errlen)) return -1;
+        } else if (strcmp(a, "--png") == 0) {
+            if (take_value(argc, argv, &i, &sw->png, err, errlen)) return -1;
+        } else if (strcmp(a, "--svg") == 0) {
+            if (take_value(argc, argv, &i, &sw->svg, err, errlen)) return -1;
+        } else if (strcmp(a, "--log") == 0) {
+            if (take_value(argc, argv, &i, &sw->log_axes, err, errlen)) return -1;
+        } else if (strcmp(a, "--result") == 0) {
+            if (take_value(argc, argv, &i, &sw->result_dir, err, errlen)) return -1;
+        } else if (strcmp(a, "--jobs") == 0 || strcmp(a, "-j") == 0) {
+            if (take_value(argc, argv, &i, &value, err, errlen)) return -1;
+            char *end;
+            long jobs = strtol(value, &end, 10);
+            if (end == value || *end != '\0' || jobs < 1 || jobs > SWEEP_MAX_JOBS) {
+                snprintf(err, errlen, "--jobs %s: accepted 1 .. %d", value, SWEEP_MAX_JOBS);
+                return -1;
+            }
+            sw->jobs = (int)jobs;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            snprintf(err, errlen, "unknown option '%s'", a);
+            return -1;
+        } else if (sw->scene_arg) {
+            snprintf(err, errlen, "only one SCENE may be given ('%s' and '%s'; a value with "
+                                  "spaces needs quotes)", sw->scene_arg, a);
+            return -1;
+        } else {
+            sw->scene_arg = a;
+        }
+    }
+    if (sw->help) return 0;
+    if (!sw->scene_arg) {
+        snprintf(err, errlen, "no SCENE given");
+        return -1;
+    }
+    sw->measure_arg = measure;
+    if (add_measures(sw, measure, err, errlen)) return -1;
+    for (int i = 0; i < sw->vary_count; i++)
+        for (int j = 0; j < i; j++)
+            if (strcmp(sw->varies[i].name, sw->varies[j].name) == 0) {
+                snprintf(err, errlen, "--vary %s: %s is already varied by --vary %s",
+                         sw->varies[i].arg, sw->varies[i].name, sw->varies[j].arg);
+                return -1;
+            }
+    if ((sw->print_commands || sw->assemble) && !sw->result_dir) {
+        snprintf(err, errlen, "%s needs --result DIR (where the points' result files go)",
+                 sw->print_commands ? "--print-commands" : "--assemble");
+        return -1;
+    }
+    if (sw->print_commands && sw->assemble) {
+        snprintf(err, errlen, "--print-commands and --assemble: give one of them");
+        return -1;
+    }
+    if (parse_plot(sw, err, errlen)) return -1;
+    double points = 1.0;
+    for (int i = 0; i < sw->vary_count; i++) points *= sw->varies[i].count;
+    if (points > SWEEP_MAX_POINTS) {
+        snprintf(err, errlen, "the --vary lists make %.3g points; at most %d are accepted",
+                 points, SWEEP_MAX_POINTS);
+        return -1;
+    }
+    sw->point_count = (int)points;
+    return 0;
+}
+
+/* Reads the scene's bytes once (they are also the digest's input). */
+static int read_scene(sweep *sw, char *err, size_t errlen)
+{
+    if (cli_absolute_path(sw->scene_arg, sw->scene_path, sizeof sw->scene_path, err, errlen))
+        return -1;
+    FILE *f = fopen(sw->scene_arg, "rb");
+    if (!f) {
+        snprintf(err, errlen, "%s: cannot open scene file: %s", sw->scene_arg, strerror(errno));
+        return -1;
+    }
+    size_t cap = 4096, len = 0, got;
+    char *text = malloc(cap);
+    while (text && (got = fread(text + len, 1, cap - len - 1, f)) > 0) {
+        len += got;
+        if (len + 1 == cap) {
+            char *bigger = realloc(text, cap * 2);
+            if (!bigger) { free(text); text = NULL; break; }
+            text = bigger;
+            cap *= 2;
+        }
+    }
+    int bad = !text || ferror(f);
+    fclose(f);
+    if (bad) {
+        free(text);
+        snprintf(err, errlen, "%s: cannot read scene file", sw->scene_arg);
+        return -1;
+    }
+    text[len] = '\0';
+    if (strlen(text) != len) {
+        free(text);
+        snprintf(err, errlen, "%s: not a text file (contains a NUL byte)", sw->scene_arg);
+        return -1;
+    }
+    sw->text = text;
+    sw->text_len = len;
+    return 0;
+}
+
+/* A component --vary starts from the key's value in the scene, or else its
+ * default (scene_keys.c). */
+static int read_bases(sweep *sw, char *err, size_t errlen)
+{
+    ini_doc *doc = ini_parse(sw->scene_arg, sw->text, err, errlen);
+    if (!doc) return -1;
+    for (int i = 0; i < sw->vary_count; i++) {
+        vary *v = &sw->varies[i];
+        if (v->component < 0) continue;
+        char section[SWEEP_KEY_LEN];
+        snprintf(section, sizeof section, "%s", v->key);
+        char *dot = strchr(section, '.');
+        *dot = '\0';
+        const char *value = NULL;
+        if (ini_get_string(doc, section, 0, dot + 1, &value, err, errlen) != 1) {
+            value = NULL;
+            for (const ini_key *k = scene_keys_rod; k->section; k++)
+                if (strcmp(k->section, section) == 0 && strcmp(k->key, dot + 1) == 0)
+                    value = k->fallback;
+        }
+        snprintf(v->base, sizeof v->base, "%s", value ? value : "");
+    }
+    ini_destroy(doc);
+    return 0;
+}
+
+/* The point's index in each list: the first --vary varies slowest. */
+static int value_index(const sweep *sw, int point, int which)
+{
+    int stride = 1;
+    for (int i = sw->vary_count - 1; i > which; i--) stride *= sw->varies[i].count;
+    return point / stride % sw->varies[which].count;
+}
+
+static setting *find_setting(setting *s, int n, const char *key)
+{
+    for (int i = 0; i < n; i++)
+        if (strcmp(s[i].key, key) == 0) return &s[i];
+    return NULL;
+}
+
+static int compare_settings(const void *a, const void *b)
+{
+    return strcmp(((const setting *)a)->key, ((const setting *)b)->key);
+}
+
+/* Numbers separated by blanks or commas; how many, or -1. */
+static int parse_vector(const char *text, double *out, int max)
+{
+    int n = 0;
+    const char *p = text;
+    for (;;) {
+        while (*p == ' ' || *p == '\t' || *p == ',') p++;
+        if (!*p) return n;
+        char *end;
+        double x = strtod(p, &end);
+        if (end == p || n == max) return -1;
+        out[n++] = x;
+        p = end;
+    }
+}
+
+/* The point's settings: the --set ones (the last of a key wins), then the
+ * point's values, a component put into its key's whole value; sorted by
+ * key. Returns how many, or -1 with a message. `out` holds set_count +
+ * vary_count entries. */
+static int point_settings(const sweep *sw, int point, setting *out, char *err, size_t errlen)
+{
+    int n = 0;
+    for (int i = 0; i < sw->set_count; i++) {
+        const char *eq = strchr(sw->sets[i], '=');
+        char raw[SWEEP_KEY_LEN], key[SWEEP_KEY_LEN];
+        snprintf(raw, sizeof raw, "%.*s", (int)(eq - sw->sets[i]), sw->sets[i]);
+        canonical_value(raw, key, sizeof key);
+        setting *s = find_setting(out, n, key);
+        if (!s) {
+            s = &out[n++];
+            snprintf(s->key, sizeof s->key, "%s", key);
+        }
+        canonical_value(eq + 1, s->value, sizeof s->value);
+    }
+    for (int i = 0; i < sw->vary_count; i++) {
+        const vary *v = &sw->varies[i];
+        const char *value = v->values[value_index(sw, point, i)];
+        setting *s = find_setting(out, n, v->key);
+        if (v->component >= 0) {
+            double x[16], c;
+            char *end;
+            int count = parse_vector(s ? s->value : v->base, x, 16);
+            c = strtod(value, &end);
+            if (count < 0 || end == value || *end != '\0' || !isfinite(c) ||
+                v->component >= count) {
+                if (count <= v->component)
+                    snprintf(err, errlen, "--vary %s: %s is '%s', %d number%s: component %d "
+                                          "does not exist (components are 0-based)",
+                             v->arg, v->key, s ? s->value : v->base, count < 0 ? 0 : count,
+                             count == 1 ? "" : "s", v->component);
+                else
+                    snprintf(err, errlen, "--vary %s: '%s' is not a number (a component takes "
+                                          "one number)", v->arg, value);
+                return -1;
+            }
+            x[v->component] = c;
+            char whole[SWEEP_VALUE_LEN] = "";
+            for (int k = 0; k < count; k++) {
+                char num[40];
+                format_double(x[k], num, sizeof num);
+                if (k) strcat(whole, " ");
+                strcat(whole, num);
+            }
+            if (!s) {
+                s = &out[n++];
+                snprintf(s->key, sizeof s->key, "%s", v->key);
+            }
+            snprintf(s->value, sizeof s->value, "%s", whole);
+            continue;
+        }
+        if (!s) {
+            s = &out[n++];
+            snprintf(s->key, sizeof s->key, "%s", v->key);
+        }
+        snprintf(s->value, sizeof s->value, "%s", value);
+    }
+    qsort(out, (size_t)n, sizeof *out, compare_settings);
+    return n;
+}
+
+/* The point's scene: the file's text with its settings applied. */
+static ini_doc *point_doc(const sweep *sw, const setting *s, int n, char *err, size_t errlen)
+{
+    ini_doc *doc = ini_parse(sw->scene_arg, sw->text, err, errlen);
+    for (int i = 0; doc && i < n; i++) {
+        char assignment[SWEEP_KEY_LEN + SWEEP_VALUE_LEN + 2];
+        snprintf(assignment, sizeof assignment, "%s=%s", s[i].key, s[i].value);
+        if (ini_set(doc, assignment, err, errlen)) {
+            ini_destroy(doc);
+            return NULL;
+        }
+    }
+    return doc;
+}
+
+/* The digest of a point's inputs: version, scene bytes, sorted settings. */
+static uint64_t point_digest(const sweep *sw, const setting *s, int n)
+{
+    static const char version[] = "rodsim " RODSIM_VERSION "\n";
+    uint64_t h = sweep_fnv1a64(SWEEP_FNV_BASIS, version, sizeof version - 1);
+    h = sweep_fnv1a64(h, sw->text, sw->text_len);
+    for (int i = 0; i < n; i++) {
+        h = sweep_fnv1a64(h, "\n", 1);
+        h = sweep_fnv1a64(h, s[i].key, strlen(s[i].key));
+        h = sweep_fnv1a64(h, "=", 1);
+        h = sweep_fnv1a64(h, s[i].value, strlen(s[i].value));
+    }
+    return h;
+}
+
+/* Running a point -------------------------------------------------------- */
+
+static double clock_seconds(clockid_t id)
+{
+    struct timespec ts;
+    clock_gettime(id, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+typedef struct tip_samples {
+    double *xyz; /* (count x 3), m */
+    int64_t count, capacity;
+} tip_samples;
+
+static int sample_tip(void *context, const rod_model *m, const rod_state *s, char *err,
+                      size_t errlen)
+{
+    (void)m, (void)err, (void)errlen;
+    tip_samples *t = context;
+    if (t->count < t->capacity)
+        memcpy(&t->xyz[3 * t->count++], &s->position[3 * (s->nodes - 1)], 3 * sizeof(double));
+    return 0;
+}
+
+/* The first frequency of the tip's motion, Hz: the spectral peak
+ * (spectrum.h) of the tip coordinate that moves most, mean removed, sampled
+ * at the output times 1/fps, searched from 1.5 cycles per run to 0.45 fps
+ * (below Nyquist). Decision: NAN when the tip does not move or the peak sits
+ * at the band's edge (no oscillation in the band: a static or settling run). */
+static double first_frequency(const tip_samples *t, double dt)
+{
+    if (t->count < 8 || t->count < t->capacity) return NAN;
+    int axis = 0;
+    double range[3];
+    for (int a = 0; a < 3; a++) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (int64_t i = 0; i < t->count; i++) {
+            lo = fmin(lo, t->xyz[3 * i + a]);
+            hi = fmax(hi, t->xyz[3 * i + a]);
+        }
+        range[a] = hi - lo;
+        if (range[a] > range[axis]) axis = a;
+    }
+    if (!(range[axis] > 0.0)) return NAN;
+    double *y = malloc(sizeof(double) * (size_t)t->count), mean = 0.0;
+    if (!y) return NAN;
+    for (int64_t i = 0; i < t->count; i++) mean += t->xyz[3 * i + axis];
+    mean /= (double)t->count;
+    for (int64_t i = 0; i < t->count; i++) y[i] = t->xyz[3 * i + axis] - mean;
+    double span = dt * (double)(t->count - 1);
+    double lo = 1.5 / span, hi = 0.45 / dt;
+    double f = lo < hi ? spectrum_peak(y, (int)t->count, dt, lo, hi) : NAN;
+    free(y);
+    if (f < lo + 1e-3 * (hi - lo) || f > hi - 1e-3 * (hi - lo)) return NAN;
+    return f;
+}
+
+static void set_message(point_result *r, point_status status, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static void set_message(point_result *r, point_status status, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(r->message, sizeof r->message, fmt, ap);
+    va_end(ap);
+    r->status = status;
+}
+
+/* Runs one point as `rodsim run --no-video` would (run_read_scene, the dt
+ * and plan of run.c, run_simulate) and measures it. */
+static void run_point(const sweep *sw, int point, point_result *r)
+{
+    double wall0 = clock_seconds(CLOCK_MONOTONIC);
+    double cpu0 = clock_seconds(CLOCK_PROCESS_CPUTIME_ID);
+    memset(r, 0, sizeof *r);
+    for (int i = 0; i < M_COUNT; i++) r->value[i] = NAN;
+    char err[SWEEP_ERR_LEN] = "";
+    setting *set = calloc((size_t)(sw->set_count + sw->vary_count + 1), sizeof *set);
+    rod_model m = rod_model_default();
+    run_output out;
+    rod_solver solver = {0};
+    rod_state *s = NULL;
+    tip_samples tip = {0};
+    ini_doc *doc = NULL;
+    int n = set ? point_settings(sw, point, set, err, sizeof err) : -1;
+    if (n < 0 || !(doc = point_doc(sw, set, n, err, sizeof err)) ||
+        run_read_scene(doc, &m, &out, err, sizeof err)) {
+        set_message(r, POINT_FAILED, "%s", set ? err : "out of memory"); /* checked up front */
+        goto done;
+    }
+    const char *why = "";
+    double dt = rod_choose_dt(&m, &why);
+    if (!(dt > 0.0)) dt = 1.0 / out.fps; /* as run.c: the scheme then reports the divergence */
+    run_plan plan;
+    const char *scheme = rod_scheme_get(m.options.scheme)->name;
+    if (run_plan_make(&m, dt, out.fps, &plan)) {
+        set_message(r, POINT_REFUSED, "%.3g steps and %.3g frames: more than %.0e",
+                    plan.steps_estimate, plan.frames_estimate, RUN_MAX_COUNT);
+        goto done;
+    }
+    double estimate = run_plan_seconds(&plan, m.nodes, 0, 0);
+    if (estimate > SWEEP_POINT_BUDGET && !sw->allow_long) {
+        set_message(r, POINT_REFUSED, "estimated %.3g s (%lld steps of the %s scheme at "
+                                      "NS = %d): over the %.0f s budget; --allow-long runs it",
+                    estimate, (long long)plan.steps, scheme, m.nodes, SWEEP_POINT_BUDGET);
+        goto done;
+    }
+    if (rod_solver_init(&solver, &m, err, sizeof err)) {
+        set_message(r, POINT_REFUSED, "cannot start the %s scheme: %s", scheme, err);
+        goto done;
+    }
+    s = rod_state_create(&m);
+    if (plan.frames <= SWEEP_MAX_SAMPLES) {
+        tip.capacity = plan.frames;
+        tip.xyz = malloc(sizeof(double) * 3 * (size_t)plan.frames);
+    }
+    if (!s || !tip.xyz) {
+        set_message(r, POINT_FAILED, "out of memory for rod.nodes = %d", m.nodes);
+        goto done;
+    }
+    rod_report report;
+    run_stats stats;
+    rod_status st = run_simulate(&solver, &m, s, &plan, out.fps, sample_tip, &tip, &report,
+                                 &stats);
+    r->value[M_STEPS] = (double)stats.steps;
+    if (st != ROD_OK) {
+        point_status ps = st == ROD_UNSTABLE ? POINT_UNSTABLE
+                        : st == ROD_NO_CONVERGENCE ? POINT_NO_CONVERGENCE : POINT_FAILED;
+        char advice[160] = "";
+        if (report.suggested_dt > 0.0 && !report.message[0]) /* the message has its own */
+            snprintf(advice, sizeof advice, "; what would work: solver.dt = %g",
+                     report.suggested_dt);
+        set_message(r, ps, "the %s scheme stopped at t = %g s (dt = %g s)%s%s%s%s", scheme,
+                    s->time, stats.largest_step > 0.0 ? stats.largest_step : dt,
+                    stats.non_finite ? ": the state is no longer finite" : "",
+                    report.message[0] ? ": " : "", report.message, advice);
+        goto done;
+    }
+    const double *t = &s->position[3 * (s->nodes - 1)];
+    for (int a = 0; a < 3; a++) {
+        r->value[M_TIP_X + a] = t[a];
+        r->value[M_ROOT_FX + a] = s->end_force[0][a];
+        r->value[M_TIP_FX + a] = s->end_force[1][a];
+    }
+    double curvature = 0.0;
+    for (int i = 0; i < s->nodes; i++) {
+        const double *u = &s->darboux[3 * i];
+        curvature = fmax(curvature, sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+    }
+    r->value[M_MAX_CURVATURE] = curvature;
+    r->value[M_FIRST_FREQUENCY] = first_frequency(&tip, 1.0 / out.fps);
+    if (report.warning[0]) snprintf(r->message, sizeof r->message, "%s", report.warning);
+    r->status = POINT_OK;
+done:
+    free(tip.xyz);
+    rod_state_destroy(s);
+    rod_solver_release(&solver);
+    rod_model_release(&m);
+    ini_destroy(doc);
+    free(set);
+    r->value[M_WALL] = clock_seconds(CLOCK_MONOTONIC) - wall0;
+    r->value[M_CPU] = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
+}
+
+/* Result files ------------------------------------------------------------ */
+
+/* A CSV field per RFC 4180: quoted when it holds a comma, quote or line
+ * break (quotes doubled), or always when `quote`. */
+static void csv_field(FILE *f, const char *text, int quote)
+{
+    if (!quote && !strpbrk(text, ",\"\r\n")) {
+        fputs(text, f);
+        return;
+    }
+    fputc('"', f);
+    for (const char *c = text; *c; c++) {
+        if (*c == '"') fputc('"', f);
+        fputc(*c, f);
+    }
+    fputc('"', f);
+}
+
+static void result_path(const sweep *sw, uint64_t digest, char *out, size_t n)
+{
+    snprintf(out, n, "%s/%016llx.csv", sw->result_dir, (unsigned long long)digest);
+}
+
+/* DIR/DIGEST.csv: a header of every measure, status, message, and one row.
+ * Written whole or not at all (outfile.h): a killed sweep leaves none half. */
+static int write_result(const sweep *sw, uint64_t digest, const point_result *r, char *err,
+                        size_t errlen)
+{
+    char path[OUTFILE_PATH_MAX];
+    result_path(sw, digest, path, sizeof path);
+    outfile f = {.fd = -1, .slot = -1};
+    if (outfile_open(&f, path, err, errlen)) return -1;
+    for (int m = 0; m < M_COUNT; m++) fprintf(f.fp, "%s,", measure_names[m]);
+    fprintf(f.fp, "status,message\n");
+    for (int m = 0; m < M_COUNT; m++) {
+        char num[40];
+        format_double(r->value[m], num, sizeof num);
+        fprintf(f.fp, "%s,", num);
+    }
+    fprintf(f.fp, "%s,", status_names[r->status]);
+    csv_field(f.fp, r->message, 1);
+    fputc('\n', f.fp);
+    if (ferror(f.fp)) {
+        outfile_abort(&f);
+        snprintf(err, errlen, "%s: write failed", path);
+        return -1;
+    }
+    return outfile_commit(&f, err, errlen);
+}
+
+/* Reads the next CSV field (RFC 4180) at *p into out; 1 when a field
+ * followed by ',' was read, 0 at the end of the record. */
+static int read_field(const char **p, char *out, size_t n)
+{
+    const char *c = *p;
+    size_t len = 0;
+    if (*c == '"') {
+        for (c++; *c && !(c[0] == '"' && c[1] != '"'); c++) {
+            if (c[0] == '"') c++;
+            if (len + 1 < n) out[len++] = *c;
+        }
+        if (*c == '"') c++;
+    } else {
+        for (; *c && *c != ',' && *c != '\n' && *c != '\r'; c++)
+            if (len + 1 < n) out[len++] = *c;
+    }
+    out[len] = '\0';
+    *p = *c == ',' ? c + 1 : c;
+    return *c == ',';
+}
+
+/* 1 when the point's result file exists (and is read into r), 0 when it
+ * does not, -1 when it cannot be read (message). */
+static int read_result(const sweep *sw, uint64_t digest, point_result *r, char *err,
+                       size_t errlen)
+{
+    char path[OUTFILE_PATH_MAX];
+    result_path(sw, digest, path, sizeof path);
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        if (errno == ENOENT) return 0;
+        snprintf(err, errlen, "%s: %s", path, strerror(errno));
+        return -1;
+    }
+    char text[4096];
+    size_t got = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[got] = '\0';
+    char header[512] = "";
+    for (int m = 0; m < M_COUNT; m++) {
+        strcat(header, measure_names[m]);
+        strcat(header, ",");
+    }
+    strcat(header, "status,message\n");
+    memset(r, 0, sizeof *r);
+    const char *p = text + strlen(header);
+    int ok = strncmp(text, header, strlen(header)) == 0;
+    char field[sizeof r->message];
+    for (int m = 0; ok && m < M_COUNT; m++) {
+        ok = read_field(&p, field, sizeof field);
+        char *end;
+        r->value[m] = field[0] ? strtod(field, &end) : NAN;
+        ok = ok && (!field[0] || *end == '\0');
+    }
+    ok = ok && read_field(&p, field, sizeof field);
+    r->status = -1;
+    for (int k = 0; ok && k < POINT_STATUS_COUNT; k++)
+        if (strcmp(field, status_names[k]) == 0) r->status = k;
+    if (!ok || r->status < 0) {
+        snprintf(err, errlen, "%s: not a rodsim sweep result file (remove it to run the point "
+                              "again)", path);
+        return -1;
+    }
+    read_field(&p, r->message, sizeof r->message);
+    return 1;
+}
+
+/* Running the sweep ------------------------------------------------------- */
+
+typedef struct progress {
+    const sweep *sw;
+    point_result *rows;
+    uint64_t *digests;
+    int *done;
+    int ran, reused, failed_writes;
+} progress;
+
+static void describe_point(const sweep *sw, int point, char *out, size_t n)
+{
+    out[0] = '\0';
+    for (int i = 0; i < sw->vary_count; i++) {
+        size_t len = strlen(out);
+        snprintf(out + len, n - len, "%s%s=%s", i ? ", " : "", sw->varies[i].name,
+                 sw->varies[i].values[value_index(sw, point, i)]);
+    }
+}
+
+/* A point's row has come: its result file (when --result), a line on stderr. */
+static void finish_point(progress *pg, int k)
+{
+    const sweep *sw = pg->sw;
+    point_result *r = &pg->rows[k];
+    pg->done[k] = 1;
+    pg->ran++;
+    char err[SWEEP_ERR_LEN];
+    /* a worker that died or ran out of memory may succeed next time: no file */
+    if (sw->result_dir && r->status != POINT_FAILED &&
+        write_result(sw, pg->digests[k], r, err, sizeof err)) {
+        fprintf(stderr, "rodsim sweep: %s\n", err);
+        pg->failed_writes++;
+    }
+    if (!sw->quiet) {
+        char what[512];
+        describe_point(sw, k, what, sizeof what);
+        fprintf(stderr, "rodsim sweep: point %d/%d%s%s%s: %s (%.3g s)%s%s\n", k + 1,
+                sw->point_count, what[0] ? " (" : "", what, what[0] ? ")" : "",
+                status_names[r->status], r->value[M_WALL], r->status ? ": " : "",
+                r->status ? r->message : "");
+    }
+}
+
+/* Runs the points not yet done in up to sw->jobs forked workers (results
+ * through a pipe, the validate_cli.c pattern); --jobs 1 runs them here. */
+static void run_points(progress *pg)
+{
+    const sweep *sw = pg->sw;
+    if (sw->jobs == 1) {
+        for (int k = 0; k < sw->point_count; k++) {
+            if (pg->done[k]) continue;
+            run_point(sw, k, &pg->rows[k]);
+            finish_point(pg, k);
+        }
+        return;
+    }
+    pid_t pids[SWEEP_MAX_JOBS] = {0};
+    int pipes[SWEEP_MAX_JOBS], slot_point[SWEEP_MAX_JOBS];
+    int running = 0, next = 0;
+    pid_t parent = getpid();
+    while (next < sw->point_count || running > 0) {
+        while (next < sw->point_count && pg->done[next]) next++;
+        if (next < sw->point_count && running < sw->jobs) {
+            int j = 0;
+            while (pids[j]) j++;
+            int fd[2];
+            pid_t pid = -1;
+            if (pipe(fd) == 0) {
+                fflush(stdout);
+                fflush(stderr);
+                pid = fork();
+                if (pid == 0) {
+                    worker_begin(parent); /* dies with its parent */
+                    close(fd[0]);
+                    for (int i = 0; i < sw->jobs; i++)
+                        if (pids[i]) close(pipes[i]);
+                    point_result r;
+                    run_point(sw, next, &r);
+                    ssize_t n = write(fd[1], &r, sizeof r); /* < PIPE_BUF: one write */
+                    _exit(n == (ssize_t)sizeof r ? 0 : 1);
+                }
+                close(fd[1]);
+                if (pid < 0) close(fd[0]);
+            }
+            if (pid < 0) { /* no worker: run it here */
+                run_point(sw, next, &pg->rows[next]);
+                finish_point(pg, next++);
+                continue;
+            }
+            pids[j] = pid;
+            pipes[j] = fd[0];
+            slot_point[j] = next++;
+            running++;
+            continue;
+        }
+        int wstatus = 0;
+        pid_t pid = wait(&wstatus);
+        if (pid < 0) break;
+        for (int j = 0; j < sw->jobs; j++) {
+            if (pids[j] != pid) continue;
+            int k = slot_point[j];
+            point_result *r = &pg->rows[k];
+            if (read(pipes[j], r, sizeof *r) != (ssize_t)sizeof *r) {
+                memset(r, 0, sizeof *r);
+                for (int m = 0; m < M_COUNT; m++) r->value[m] = NAN;
+                set_message(r, POINT_FAILED, "worker process died (%s %d)",
+                            WIFSIGNALED(wstatus) ? "signal" : "exit status",
+                            WIFSIGNALED(wstatus) ? WTERMSIG(wstatus) : WEXITSTATUS(wstatus));
+            }
+            close(pipes[j]);
+            pids[j] = 0;
+            running--;
+            finish_point(pg, k);
+        }
+    }
+}
+
+/* The results CSV: the varied keys, the measures, status, message. */
+static void write_csv(FILE *f, const sweep *sw, const point_result *rows)
+{
+    for (int i = 0; i < sw->vary_count; i++) {
+        csv_field(f, sw->varies[i].name, 0);
+        fputc(',', f);
+    }
+    for (int i = 0; i < sw->measure_count; i++) fprintf(f, "%s,", measure_names[sw->measures[i]]);
+    fprintf(f, "status,message\n");
+    for (int k = 0; k < sw->point_count; k++) {
+        for (int i = 0; i < sw->vary_count; i++) {
+            csv_field(f, sw->varies[i].values[value_index(sw, k, i)], 0);
+            fputc(',', f);
+        }
+        for (int i = 0; i < sw->measure_count; i++) {
+            char num[40];
+            format_double(rows[k].value[sw->measures[i]], num, sizeof num);
+            fprintf(f, "%s,", num);
+        }
+        fprintf(f, "%s,", status_names[rows[k].status]);
+        csv_field(f, rows[k].message, 1);
+        fputc('\n', f);
+    }
+}
+
+static const unsigned char curve_rgb[8][3] = {
+    {0, 90, 200}, {200, 30, 30}, {0, 150, 60}, {200, 110, 0},
+    {120, 60, 170}, {0, 150, 160}, {170, 40, 120}, {90, 90, 90}};
+
+/* The axis label of a varied key: its name and the scene table's unit. */
+static void key_label(const vary *v, char *out, size_t n)
+{
+    const char *unit = "-";
+    for (const ini_key *k = scene_keys_rod; k->section; k++) {
+        size_t len = strlen(k->section);
+        if (strncmp(v->key, k->section, len) == 0 && v->key[len] == '.' &&
+            strcmp(v->key + len + 1, k->key) == 0)
+            unit = k->unit;
+    }
+    if (strcmp(unit, "-") == 0) snprintf(out, n, "%s", v->name);
+    else snprintf(out, n, "%s [%s]", v->name, unit);
+}
+
+/* --plot X:Y: one curve per combination of the other varied keys' values
+ * (in point order), the points that are ok, sorted by x; the PNG and its
+ * data (curve,X,Y) beside it. 0, or -1 with a message. */
+static int write_plot(const sweep *sw, const point_result *rows, char *err, size_t errlen)
+{
+    const vary *xv = &sw->varies[sw->plot_x];
+    int curves = sw->point_count / xv->count, rc = 0;
+    double *x = malloc(sizeof(double) * (size_t)xv->count);
+    double *y = malloc(sizeof(double) * (size_t)xv->count);
+    plot *p = plot_create(1200, 800);
+    outfile data = {.fd = -1, .slot = -1};
+    if (!x || !y || !p) {
+        snprintf(err, errlen, "out of memory for the plot");
+        rc = -1;
+        goto done;
+    }
+    if (outfile_open(&data, sw->plot_csv, err, errlen)) {
+        rc = -1;
+        goto done;
+    }
+    char xlabel[SWEEP_KEY_LEN + 32], ylabel[64], title[OUTFILE_PATH_MAX + 256], scene[128];
+    key_label(xv, xlabel, sizeof xlabel);
+    if (strcmp(measure_units[sw->plot_y], "-") == 0)
+        snprintf(ylabel, sizeof ylabel, "%s", measure_names[sw->plot_y]);
+    else
+        snprintf(ylabel, sizeof ylabel, "%s [%s]", measure_names[sw->plot_y],
+                 measure_units[sw->plot_y]);
+    const char *base = strrchr(sw->scene_path, '/');
+    snprintf(scene, sizeof scene, "%.127s", base ? base + 1 : sw->scene_path);
+    snprintf(title, sizeof title, "%s: %s against %s", scene, measure_names[sw->plot_y],
+             xv->name);
+    plot_set_title(p, title);
+    plot_set_axis_labels(p, xlabel, ylabel);
+    if (sw->log_axes) plot_set_log(p, strchr(sw->log_axes, 'x') != NULL,
+                                   strchr(sw->log_axes, 'y') != NULL);
+    fprintf(data.fp, "curve,");
+    csv_field(data.fp, xv->name, 0);
+    fprintf(data.fp, ",%s\n", measure_names[sw->plot_y]);
+    for (int c = 0, seen = 0; c < sw->point_count && seen < curves; c++) {
+        if (value_index(sw, c, sw->plot_x) != 0) continue; /* the first point of a curve */
+        char legend[512] = "";
+        for (int i = 0; i < sw->vary_count; i++) {
+            if (i == sw->plot_x) continue;
+            size_t len = strlen(legend);
+            snprintf(legend + len, sizeof legend - len, "%s%s = %s", len ? ", " : "",
+                     sw->varies[i].name, sw->varies[i].values[value_index(sw, c, i)]);
+        }
+        int n = 0, stride = 1;
+        for (int i = sw->vary_count - 1; i > sw->plot_x; i--) stride *= sw->varies[i].count;
+        for (int j = 0; j < xv->count; j++) {
+            const point_result *r = &rows[c + j * stride];
+            double value = r->value[sw->plot_y];
+            if (r->status != POINT_OK || !isfinite(value)) continue;
+            x[n] = strtod(xv->values[j], NULL);
+            y[n++] = value;
+        }
+        for (int a = 1; a < n; a++) /* by x: a list need not be in order */
+            for (int b = a; b > 0 && x[b - 1] > x[b]; b--) {
+                double t = x[b]; x[b] = x[b - 1]; x[b - 1] = t;
+                t = y[b]; y[b] = y[b - 1]; y[b - 1] = t;
+            }
+        for (int j = 0; j < n; j++) {
+            char nx[40], ny[40];
+            format_double(x[j], nx, sizeof nx);
+            format_double(y[j], ny, sizeof ny);
+            csv_field(data.fp, legend, 1);
+            fprintf(data.fp, ",%s,%s\n", nx, ny);
+        }
+        const unsigned char *rgb = curve_rgb[seen++ % 8];
+        plot_style line = plot_style_line(rgb[0], rgb[1], rgb[2], 2.0, PLOT_SOLID);
+        plot_style marker = line;
+        marker.marker_size = 8.0;
+        marker.filled = 1;
+        memcpy(marker.fill_rgb, rgb, 3);
+        if (n >= 2) rc |= plot_add_line(p, x, y, n, line, NULL);
+        if (n >= 1) rc |= plot_add_markers(p, x, y, n, marker, NULL, 0, 0,
+                                           legend[0] ? legend : NULL);
+    }
+    if (rc) {
+        snprintf(err, errlen, "out of memory for the plot");
+        goto done;
+    }
+    if (ferror(data.fp)) {
+        snprintf(err, errlen, "%s: write failed", sw->plot_csv);
+        rc = -1;
+        goto done;
+    }
+    rc = outfile_commit(&data, err, errlen) ||
+                 (sw->png && plot_write_png(p, sw->png, err, errlen)) ||
+                 (sw->svg && plot_write_svg(p, sw->svg, err, errlen))
+             ? -1 : 0;
+done:
+    outfile_abort(&data);
+    plot_destroy(p);
+    free(x);
+    free(y);
+    return rc;
+}
+
+/* --print-commands: one line per point (the binary and every path absolute,
+ * every setting spelled out), then the line that assembles the CSV. */
+static int print_commands(const sweep *sw, setting *set, char *err, size_t errlen)
+{
+    char self[OUTFILE_PATH_MAX], dir[OUTFILE_PATH_MAX], csv[OUTFILE_PATH_MAX];
+    if (cli_self_path(self, sizeof self, err, errlen) ||
+        cli_absolute_path(sw->result_dir, dir, sizeof dir, err, errlen))
+        return -1;
+    printf("# rodsim sweep: %d points of %s; each line runs one point into %s (skipped when "
+           "its result file is there)\n",
+           sw->point_count, sw->scene_path, dir);
+    for (int k = 0; k < sw->point_count; k++) {
+        int n = point_settings(sw, k, set, err, errlen);
+        if (n < 0) return -1;
+        cli_print_shell_word(stdout, self);
+        printf(" sweep ");
+        cli_print_shell_word(stdout, sw->scene_path);
+        for (int i = 0; i < n; i++) {
+            char assignment[SWEEP_KEY_LEN + SWEEP_VALUE_LEN + 2];
+            snprintf(assignment, sizeof assignment, "%s=%s", set[i].key, set[i].value);
+            printf(" --set ");
+            cli_print_shell_word(stdout, assignment);
+        }
+        if (sw->allow_long) printf(" --allow-long");
+        printf(" --quiet --result ");
+        cli_print_shell_word(stdout, dir);
+        printf("\n");
+    }
+    printf("# assemble: ");
+    cli_print_shell_word(stdout, self);
+    printf(" sweep ");
+    cli_print_shell_word(stdout, sw->scene_path);
+    for (int i = 0; i < sw->vary_count; i++) {
+        printf(" --vary ");
+        cli_print_shell_word(stdout, sw->vary_args[i]);
+    }
+    for (int i = 0; i < sw->set_count; i++) {
+        printf(" --set ");
+        cli_print_shell_word(stdout, sw->sets[i]);
+    }
+    printf(" --measure ");
+    cli_print_shell_word(stdout, sw->measure_arg);
+    printf(" --result ");
+    cli_print_shell_word(stdout, dir);
+    if (sw->plot_arg) {
+        char png[OUTFILE_PATH_MAX];
+        if (sw->png && cli_absolute_path(sw->png, png, sizeof png, err, errlen)) return -1;
+        printf(" --plot ");
+        cli_print_shell_word(stdout, sw->plot_arg);
+        if (sw->png) {
+            printf(" --png ");
+            cli_print_shell_word(stdout, png);
+        }
+        if (sw->svg) {
+            if (cli_absolute_path(sw->svg, png, sizeof png, err, errlen)) return -1;
+            printf(" --svg ");
+            cli_print_shell_word(stdout, png);
+        }
+        if (sw->log_axes) printf(" --log %s", sw->log_axes);
+    }
+    printf(" --assemble --csv ");
+    if (!sw->csv || strcmp(sw->csv, "-") == 0) {
+        printf("-\n");
+    } else {
+        if (cli_absolute_path(sw->csv, csv, sizeof csv, err, errlen)) return -1;
+        cli_print_shell_word(stdout, csv);
+        printf("\n");
+    }
+    return fflush(stdout) == 0 ? 0 : -1;
+}
+
+/* Every point's scene read before anything runs: a value a key does not
+ * accept is bad input naming the --vary argument. */
+static int check_points(const sweep *sw, setting *set, uint64_t *digests, char *err,
+                        size_t errlen)
+{
+    for (int k = 0; k < sw->point_count; k++) {
+        char msg[SWEEP_ERR_LEN] = "";
+        int n = point_settings(sw, k, set, err, errlen);
+        if (n < 0) return -1;
+        digests[k] = point_digest(sw, set, n);
+        rod_model m = rod_model_default();
+        run_output out;
+        ini_doc *doc = point_doc(sw, set, n, msg, sizeof msg);
+        int bad = !doc || run_read_scene(doc, &m, &out, msg, sizeof msg);
+        if (!bad) rod_model_release(&m);
+        ini_destroy(doc);
+        if (!bad) continue;
+        const char *arg = NULL;
+        for (int i = 0; i < sw->vary_count && !arg; i++) {
+            char named[SWEEP_KEY_LEN + 8];
+            snprintf(named, sizeof named, "--set %s", sw->varies[i].key);
+            if (strstr(msg, named)) arg = sw->varies[i].arg;
+        }
+        char what[512];
+        describe_point(sw, k, what, sizeof what);
+        if (arg)
+            snprintf(err, errlen, "--vary %.200s: point %d of %d (%.200s): %.1500s", arg, k + 1,
+                     sw->point_count, what, msg);
+        else if (what[0])
+            snprintf(err, errlen, "point %d of %d (%.200s): %.1500s", k + 1, sw->point_count,
+                     what, msg);
+        else
+            snprintf(err, errlen, "%s", msg);
+        return -1;
+    }
+    return 0;
+}
+
+/* Checks where the outputs go before any work. */
+static int check_outputs(const sweep *sw, char *err, size_t errlen)
+{
+    if (sw->result_dir && !sw->print_commands && outfile_check_dir(sw->result_dir, err, errlen))
+        return -1;
+    const char *files[4] = {sw->csv && strcmp(sw->csv, "-") != 0 ? sw->csv : NULL, sw->png,
+                            sw->svg, sw->plot_arg ? sw->plot_csv : NULL};
+    for (int i = 0; i < 4 && !sw->print_commands; i++) {
+        if (!files[i]) continue;
+        struct stat st;
+        if (stat(files[i], &st) == 0 && S_ISDIR(st.st_mode)) {
+            snprintf(err, errlen, "%s: is a directory, not a file", files[i]);
+            return -1;
+        }
+        char dir[OUTFILE_PATH_MAX];
+        const char *slash = strrchr(files[i], '/');
+        if (!slash) snprintf(dir, sizeof dir, ".");
+        else snprintf(dir, sizeof dir, "%.*s", (int)(slash - files[i] + 1), files[i]);
+        if (outfile_check_dir(dir, err, errlen)) return -1;
+    }
+    return 0;
+}
+
+static int sweep_run(sweep *sw)
+{
+    char err[SWEEP_ERR_LEN] = "";
+    int status = RUN_EXIT_BAD_INPUT;
+    setting *set = calloc((size_t)(sw->set_count + sw->vary_count + 1), sizeof *set);
+    progress pg = {.sw = sw};
+    pg.rows = calloc((size_t)sw->point_count, sizeof *pg.rows);
+    pg.digests = calloc((size_t)sw->point_count, sizeof *pg.digests);
+    pg.done = calloc((size_t)sw->point_count, sizeof *pg.done);
+    outfile csv = {.fd = -1, .slot = -1};
+    if (!set || !pg.rows || !pg.digests || !pg.done) {
+        fprintf(stderr, "rodsim sweep: out of memory for %d points\n", sw->point_count);
+        status = RUN_EXIT_FAILURE;
+        goto done;
+    }
+    if (check_outputs(sw, err, sizeof err) || read_scene(sw, err, sizeof err) ||
+        read_bases(sw, err, sizeof err) || check_points(sw, set, pg.digests, err, sizeof err))
+        goto fail;
+    if (sw->print_commands) {
+        status = print_commands(sw, set, err, sizeof err) ? RUN_EXIT_FAILURE : RUN_EXIT_OK;
+        if (status) fprintf(stderr, "rodsim sweep: %s\n", err);
+        goto done;
+    }
+    status = RUN_EXIT_FAILURE;
+    if (sw->result_dir) {
+        if (outfile_mkdirs(sw->result_dir, err, sizeof err)) goto fail;
+        int missing = 0, first_missing = -1;
+        for (int k = 0; k < sw->point_count; k++) {
+            int got = read_result(sw, pg.digests[k], &pg.rows[k], err, sizeof err);
+            if (got < 0) goto fail;
+            pg.done[k] = got;
+            pg.reused += got;
+            if (!got && missing++ == 0) first_missing = k;
+        }
+        if (sw->assemble && missing) {
+            char what[512], path[OUTFILE_PATH_MAX];
+            describe_point(sw, first_missing, what, sizeof what);
+            result_path(sw, pg.digests[first_missing], path, sizeof path);
+            fprintf(stderr, "rodsim sweep: %d of %d points have no result in %s (the first: "
+                            "point %d%s%s%s, %s); run their commands (--print-commands), or "
+                            "the sweep without --assemble; nothing was written\n",
+                    missing, sw->point_count, sw->result_dir, first_missing + 1,
+                    what[0] ? " (" : "", what, what[0] ? ")" : "", path);
+            goto done;
+        }
+    }
+    run_points(&pg);
+    if (pg.failed_writes) {
+        fprintf(stderr, "rodsim sweep: %d result files could not be written; nothing else "
+                        "was written\n", pg.failed_writes);
+        goto done;
+    }
+    int failed = 0;
+    for (int k = 0; k < sw->point_count; k++) failed += pg.rows[k].status != POINT_OK;
+    /* a point command (--result, no --vary, no --csv) writes only its result file */
+    int to_stdout = sw->csv ? strcmp(sw->csv, "-") == 0 : !sw->result_dir || sw->vary_count > 0;
+    /* the CSV, the figure and its data: all or none (outfile.h) */
+    outfile_transaction_begin();
+    if (sw->csv && !to_stdout) {
+        if (outfile_open(&csv, sw->csv, err, sizeof err)) goto fail;
+        write_csv(csv.fp, sw, pg.rows);
+        if (ferror(csv.fp)) {
+            snprintf(err, sizeof err, "%s: write failed (disk full?)", sw->csv);
+            goto fail;
+        }
+        if (outfile_commit(&csv, err, sizeof err)) goto fail;
+    }
+    if (sw->plot_arg && write_plot(sw, pg.rows, err, sizeof err)) goto fail;
+    if (outfile_transaction_commit(err, sizeof err)) goto fail;
+    if (to_stdout) {
+        write_csv(stdout, sw, pg.rows);
+        if (fflush(stdout) != 0 || ferror(stdout)) {
+            fprintf(stderr, "rodsim sweep: cannot write the CSV to standard output\n");
+            goto done;
+        }
+    }
+    if (!sw->quiet)
+        fprintf(stderr, "rodsim sweep: %d points: %d run, %d from %s; %d not ok%s%s\n",
+                sw->point_count, pg.ran, pg.reused, sw->result_dir ? sw->result_dir : "-",
+                failed, sw->csv && !to_stdout ? "; wrote " : "",
+                sw->csv && !to_stdout ? sw->csv : "");
+    status = RUN_EXIT_OK;
+    goto done;
+fail:
+    fprintf(stderr, "rodsim sweep: %s\n", err);
+done:
+    outfile_abort(&csv);
+    if (outfile_transaction_active()) outfile_transaction_abort();
+    free(set);
+    free(pg.rows);
+    free(pg.digests);
+    free(pg.done);
+    return status;
+}
+
+int sweep_command(int argc, char **argv)
+{
+    char err[SWEEP_ERR_LEN] = "";
+    sweep sw;
+    memset(&sw, 0, sizeof sw);
+    int status = RUN_EXIT_BAD_INPUT;
+    if (parse_args(argc, argv, &sw, err, sizeof err)) {
+        fprintf(stderr, "rodsim sweep: %s\n", err);
+        fprintf(stderr, "  (rodsim sweep --help for the options)\n");
+    } else if (sw.help) {
+        sweep_usage(stdout);
+        status = RUN_EXIT_OK;
+    } else {
+        status = sweep_run(&sw);
+    }
+    free_sweep(&sw);
+    return status;
+}

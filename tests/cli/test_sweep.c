@@ -1,0 +1,591 @@
+/* test_sweep.c: `rodsim sweep` (issue 15), through the real binary.
+ *  - FNV-1a 64 against the published test vectors;
+ *  - a sweep of tip deflection against load on scenes/table2_450nN.ini equals
+ *    `rodsim run --csv` single runs' last frame and lies within 2e-4 of the
+ *    elastica (study/reference.h, an independent RK4 shooting solution);
+ *  - --jobs 2 writes the same bytes as --jobs 1;
+ *  - a point that fails is a row with its status, the others run;
+ *  - bad input (unknown key, value, range, measure, plot axis) exits 2,
+ *    writes nothing;
+ *  - --plot: the PNG and the plotted data (the results' numbers, by curve);
+ *    the SVG is valid XML and draws its markers where the PNG does;
+ *  - --print-commands lines run from another directory with /bin/sh, under
+ *    GNU parallel, and one per SLURM_ARRAY_TASK_ID (the README's array
+ *    recipe, without Slurm), and assemble the same CSV; a sweep killed with kill -9 and run again
+ *    computes no point twice and gives the uninterrupted CSV. */
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "cli/sweep.h"
+#include "render/image.h"
+#include "study/reference.h"
+#include "test.h"
+#include "test_process.h"
+
+#define SCENE RODSIM_SOURCE_DIR "/scenes/table2_450nN.ini"
+#define OUTPUT_LEN 65536
+
+static char output[OUTPUT_LEN];
+static char scratch[256];
+
+static char *read_text(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    char *text = calloc(1, 1 << 20);
+    if (text) text[fread(text, 1, (1 << 20) - 1, f)] = '\0';
+    fclose(f);
+    return text;
+}
+
+/* Field `column` (0-based) of CSV line `row` (0: the header) of text; fields
+ * here hold no commas except in the last (message). */
+static int csv_cell(const char *text, int row, int column, char *out, size_t n)
+{
+    const char *p = text;
+    for (int r = 0; r < row && p; r++) {
+        p = strchr(p, '\n');
+        if (p) p++;
+    }
+    for (int c = 0; c < column && p; c++) {
+        p = strpbrk(p, ",\n");
+        p = p && *p == ',' ? p + 1 : NULL;
+    }
+    if (!p) return -1;
+    size_t len = strcspn(p, ",\n");
+    snprintf(out, n, "%.*s", (int)len, p);
+    return 0;
+}
+
+static void test_fnv(void)
+{
+    /* the FNV authors' test vectors (isthe.com/chongo/tech/comp/fnv) */
+    check(sweep_fnv1a64(SWEEP_FNV_BASIS, "", 0) == 0xcbf29ce484222325ULL, "FNV-1a 64 of \"\"");
+    check(sweep_fnv1a64(SWEEP_FNV_BASIS, "a", 1) == 0xaf63dc4c8601ec8cULL, "FNV-1a 64 of \"a\"");
+    check(sweep_fnv1a64(SWEEP_FNV_BASIS, "foobar", 6) == 0x85944171f73967e8ULL,
+          "FNV-1a 64 of \"foobar\"");
+    check(sweep_fnv1a64(sweep_fnv1a64(SWEEP_FNV_BASIS, "foo", 3), "bar", 3) ==
+              0x85944171f73967e8ULL,
+          "FNV-1a 64 continues across calls");
+}
+
+/* The last frame's tip row of `rodsim run --csv` for a tip force F (N, +y). */
+static int run_tip(const char *force, char *x, char *y, size_t n)
+{
+    char csv[320], set[128];
+    snprintf(csv, sizeof csv, "%s/run.csv", scratch);
+    snprintf(set, sizeof set, "tip.force=0 %s 0", force);
+    const char *args[] = {"run", SCENE, "--set", set, "--no-video", "--quiet", "--csv", csv,
+                          NULL};
+    if (test_run_rodsim(args, output, sizeof output) != 0) return -1;
+    char *text = read_text(csv);
+    if (!text) return -1;
+    /* the last line: t,node,s,x,y,z,... of the tip */
+    size_t len = strlen(text);
+    while (len > 0 && text[len - 1] == '\n') text[--len] = '\0';
+    char *last = strrchr(text, '\n');
+    int rc = last ? 0 : -1;
+    if (!rc) {
+        char field[64];
+        rc = csv_cell(last + 1, 0, 3, field, sizeof field);
+        snprintf(x, n, "%s", field);
+        rc = rc || csv_cell(last + 1, 0, 4, field, sizeof field);
+        snprintf(y, n, "%s", field);
+    }
+    free(text);
+    return rc;
+}
+
+static void test_deflection_against_load(void)
+{
+    static const char *const loads[] = {"1e-7", "4.5e-7", "9e-7"};
+    char csv[320];
+    snprintf(csv, sizeof csv, "%s/deflection.csv", scratch);
+    const char *args[] = {"sweep", SCENE, "--vary", "tip.force[1]=1e-7,4.5e-7,9e-7",
+                          "--measure", "tip", "--csv", csv, "--quiet", NULL};
+    int rc = test_run_rodsim(args, output, sizeof output);
+    check(rc == 0, "sweep of tip.force[1] over 3 loads exits 0 (got %d) %s", rc, output);
+    char *text = read_text(csv);
+    if (!check(text != NULL, "the sweep wrote %s", csv)) return;
+    char header[64];
+    csv_cell(text, 0, 0, header, sizeof header);
+    check(strcmp(header, "tip.force[1]") == 0, "the first column is the varied key (%s)",
+          header);
+    double ei = 87.5e6 * M_PI * pow(1e-3, 4) / 64.0; /* E pi d^4 / 64, table 1 */
+    for (int k = 0; k < 3; k++) {
+        char load[64], sx[64], sy[64], status[32], rx[64], ry[64];
+        csv_cell(text, k + 1, 0, load, sizeof load);
+        csv_cell(text, k + 1, 1, sx, sizeof sx);
+        csv_cell(text, k + 1, 2, sy, sizeof sy);
+        csv_cell(text, k + 1, 4, status, sizeof status);
+        check(strcmp(load, loads[k]) == 0 && strcmp(status, "ok") == 0,
+              "row %d: load %s, status %s", k + 1, load, status);
+        double x = strtod(sx, NULL), y = strtod(sy, NULL);
+        /* the run's CSV holds %.10g: the same double prints the same */
+        if (run_tip(loads[k], rx, ry, sizeof rx) == 0) {
+            char fx[64], fy[64];
+            snprintf(fx, sizeof fx, "%.10g", x);
+            snprintf(fy, sizeof fy, "%.10g", y);
+            check(strcmp(fx, rx) == 0 && strcmp(fy, ry) == 0,
+                  "load %s: sweep tip (%s, %s) = rodsim run's last frame (%s, %s)", loads[k],
+                  fx, fy, rx, ry);
+        } else {
+            check(0, "rodsim run with tip.force = 0 %s 0 failed: %s", loads[k], output);
+        }
+        elastica_tip ref;
+        double force = strtod(loads[k], NULL);
+        if (!check(elastica_dead_load(ei, 1.0, 0.0, force, 0.0, 8000, &ref) == 0,
+                   "elastica for F = %g N", force))
+            continue;
+        char what[96];
+        snprintf(what, sizeof what, "F = %s N: tip deflection y vs elastica", loads[k]);
+        check_rel(what, y, ref.y, 2e-4);
+        snprintf(what, sizeof what, "F = %s N: tip x vs elastica", loads[k]);
+        check_rel(what, x, ref.x, 2e-4);
+    }
+    free(text);
+}
+
+/* first_frequency against the Euler-Bernoulli cantilever (reference.h):
+ * short rods (several periods in the run), a small impulse (linear). */
+static void test_first_frequency(void)
+{
+    char csv[320];
+    snprintf(csv, sizeof csv, "%s/frequency.csv", scratch);
+    const char *args[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/impulse.ini", "--vary",
+                          "rod.length=0.2,0.3", "--set", "tip.force=2.5e-5 0 0", "--set",
+                          "rod.nodes=21", "--set", "solver.dt=0.002", "--measure",
+                          "first_frequency", "--csv", csv, "--quiet", "--jobs", "2", NULL};
+    int rc = test_run_rodsim(args, output, sizeof output);
+    char *text = read_text(csv);
+    check(rc == 0 && text, "impulse sweep over rod.length exits 0 (%d)", rc);
+    double ei = 87.5e6 * M_PI * pow(1e-3, 4) / 64.0, m = 850.0 * M_PI * 1e-6 / 4.0;
+    for (int k = 0; text && k < 2; k++) {
+        char length[32], f[64], what[96];
+        csv_cell(text, k + 1, 0, length, sizeof length);
+        csv_cell(text, k + 1, 1, f, sizeof f);
+        snprintf(what, sizeof what, "L = %s m: first_frequency vs (1.8751^2/2 pi L^2) "
+                                    "sqrt(EI/m)", length);
+        check_rel(what, strtod(f, NULL),
+                  reference_cantilever_frequency(1, ei, m, strtod(length, NULL)), 2e-3);
+    }
+    free(text);
+}
+
+/* max_curvature under a pure tip moment: the elastica is a circular arc of
+ * curvature M/EI (reference.h elastica_pure_moment), at every node. */
+static void test_max_curvature(void)
+{
+    char csv[320];
+    snprintf(csv, sizeof csv, "%s/curvature.csv", scratch);
+    const char *args[] = {"sweep", SCENE, "--vary", "tip.moment[2]=1e-6,4e-6", "--set",
+                          "tip.force=0 0 0", "--measure", "max_curvature", "--csv", csv,
+                          "--quiet", NULL};
+    int rc = test_run_rodsim(args, output, sizeof output);
+    char *text = read_text(csv);
+    check(rc == 0 && text, "pure-moment sweep exits 0 (%d)", rc);
+    double ei = 87.5e6 * M_PI * pow(1e-3, 4) / 64.0;
+    for (int k = 0; text && k < 2; k++) {
+        char moment[32], kappa[64], what[96];
+        csv_cell(text, k + 1, 0, moment, sizeof moment);
+        csv_cell(text, k + 1, 1, kappa, sizeof kappa);
+        snprintf(what, sizeof what, "M = %s N m: max_curvature vs M/EI", moment);
+        check_rel(what, strtod(kappa, NULL), strtod(moment, NULL) / ei, 1e-8);
+    }
+    free(text);
+}
+
+static void test_jobs(void)
+{
+    char one[320], two[320];
+    snprintf(one, sizeof one, "%s/jobs1.csv", scratch);
+    snprintf(two, sizeof two, "%s/jobs2.csv", scratch);
+    const char *a1[] = {"sweep", SCENE, "--vary", "tip.force[1]=1e-7:9e-7:3", "--vary",
+                        "rod.nodes=21,41", "--measure", "tip,max_curvature,steps", "--jobs",
+                        "1", "--csv", one, "--quiet", NULL};
+    const char *a2[] = {"sweep", SCENE, "--vary", "tip.force[1]=1e-7:9e-7:3", "--vary",
+                        "rod.nodes=21,41", "--measure", "tip,max_curvature,steps", "--jobs",
+                        "2", "--csv", two, "--quiet", NULL};
+    int r1 = test_run_rodsim(a1, output, sizeof output);
+    int r2 = test_run_rodsim(a2, output, sizeof output);
+    char *t1 = read_text(one), *t2 = read_text(two);
+    int lines = 0;
+    for (const char *c = t1 ? t1 : ""; *c; c++) lines += *c == '\n';
+    check(r1 == 0 && r2 == 0 && lines == 7, "6-point sweep, --jobs 1 and 2 exit 0 (%d, %d), "
+                                            "header + 6 rows (%d lines)", r1, r2, lines);
+    check(t1 && t2 && strcmp(t1, t2) == 0, "--jobs 2 writes the same CSV as --jobs 1, byte "
+                                           "for byte");
+    /* the rows come in point order: the first --vary slowest */
+    char load[64], nodes[64];
+    csv_cell(t1 ? t1 : "", 3, 0, load, sizeof load);
+    csv_cell(t1 ? t1 : "", 3, 1, nodes, sizeof nodes);
+    check(strcmp(load, "5e-07") == 0 && strcmp(nodes, "21") == 0,
+          "row 3 is load 5e-07 (the range's middle, as %%g prints it), NS 21: got %s, %s", load,
+          nodes);
+    free(t1);
+    free(t2);
+}
+
+static void test_failing_point(void)
+{
+    char csv[320];
+    snprintf(csv, sizeof csv, "%s/failing.csv", scratch);
+    /* the thesis scheme at rotary_inertia_scale 1 diverges (thesis ch. 5:
+     * its stability needs the scaled inertia); static does not */
+    const char *args[] = {"sweep", SCENE, "--vary", "solver.scheme=static,thesis,static",
+                          "--measure", "tip_y", "--csv", csv, "--quiet", NULL};
+    int rc = test_run_rodsim(args, output, sizeof output);
+    char *text = read_text(csv);
+    check(rc == 0 && text, "a sweep with a failing point completes (exit %d)", rc);
+    if (!text) return;
+    char s1[32], s2[32], s3[32], y2[64], message[64];
+    csv_cell(text, 1, 2, s1, sizeof s1);
+    csv_cell(text, 2, 2, s2, sizeof s2);
+    csv_cell(text, 3, 2, s3, sizeof s3);
+    csv_cell(text, 2, 1, y2, sizeof y2);
+    csv_cell(text, 2, 3, message, sizeof message);
+    check(strcmp(s1, "ok") == 0 && strcmp(s2, "unstable") == 0 && strcmp(s3, "ok") == 0,
+          "statuses ok, unstable, ok: got %s, %s, %s", s1, s2, s3);
+    check(y2[0] == '\0' && strstr(message, "thesis scheme") != NULL,
+          "the unstable row has no tip_y and the scheme's message (%s...)", message);
+    free(text);
+}
+
+/* Runs a sweep that must be refused: exit 2, the message holds `expect`,
+ * nothing is written. */
+static void refused(const char *what, const char *const *extra, const char *expect)
+{
+    char dir[320], csv[400];
+    snprintf(dir, sizeof dir, "%s/refused", scratch);
+    test_remove_tree(dir);
+    mkdir(dir, 0755);
+    snprintf(csv, sizeof csv, "%s/out.csv", dir);
+    const char *args[32] = {"sweep", SCENE};
+    int n = 2;
+    for (int i = 0; extra[i]; i++) args[n++] = extra[i];
+    args[n++] = "--csv";
+    args[n++] = csv;
+    args[n] = NULL;
+    int rc = test_run_rodsim(args, output, sizeof output);
+    char *nl = strchr(output, '\n');
+    if (nl) *nl = '\0';
+    check(rc == 2 && strstr(output, expect) && test_dir_entries(dir) == 0,
+          "%s: exit %d (2), names '%s', writes nothing (%d files): %s", what, rc, expect,
+          test_dir_entries(dir), output);
+}
+
+static void test_bad_input(void)
+{
+    refused("unknown key", (const char *const[]){"--vary", "tip.forse=1e-7,2e-7", NULL},
+            "did you mean tip.force?");
+    refused("unknown section", (const char *const[]){"--vary", "tipp.force=1", NULL},
+            "--vary tipp.force=1: unknown section");
+    refused("a value the key refuses",
+            (const char *const[]){"--vary", "rod.nodes=51,2", "--measure", "tip", NULL},
+            "--vary rod.nodes=51,2: point 2 of 2 (rod.nodes=2)");
+    refused("a word for a number",
+            (const char *const[]){"--vary", "solver.duration=1,abc", NULL},
+            "--vary solver.duration=1,abc");
+    refused("a component that does not exist",
+            (const char *const[]){"--vary", "tip.force[3]=1", NULL}, "component 3");
+    refused("empty list", (const char *const[]){"--vary", "rod.nodes=", NULL}, "empty list");
+    refused("empty value", (const char *const[]){"--vary", "rod.nodes=21,,41", NULL},
+            "value 2 is empty");
+    refused("COUNT 0", (const char *const[]){"--vary", "rod.nodes=21:41:0", NULL},
+            "COUNT = 0");
+    refused("log range through 0",
+            (const char *const[]){"--vary", "tip.force[1]=0:1e-6:3:log", NULL},
+            "START > 0 and STOP > 0");
+    refused("unknown measure", (const char *const[]){"--measure", "tip,curvature", NULL},
+            "accepted: tip_x");
+    refused("--print-commands without --result",
+            (const char *const[]){"--print-commands", NULL}, "needs --result DIR");
+}
+
+/* --plot X:Y --png: the PNG, and its data beside it: one curve per value
+ * of the other varied key, the same numbers as the results CSV. */
+static void test_plot(void)
+{
+    char csv[320], png[320], data[320];
+    snprintf(csv, sizeof csv, "%s/rows.csv", scratch);
+    snprintf(png, sizeof png, "%s/figure.png", scratch);
+    snprintf(data, sizeof data, "%s/figure.csv", scratch);
+    const char *args[] = {"sweep", SCENE, "--vary", "rod.nodes=11,21", "--vary",
+                          "tip.force[1]=9e-7,1e-7,4.5e-7", "--measure", "tip_y", "--plot",
+                          "tip.force[1]:tip_y", "--png", png, "--csv", csv, "--quiet", NULL};
+    int rc = test_run_rodsim(args, output, sizeof output);
+    char *rows = read_text(csv), *plotted = read_text(data);
+    FILE *f = fopen(png, "rb");
+    unsigned char magic[8] = {0};
+    if (f) {
+        if (fread(magic, 1, 8, f) != 8) magic[0] = 0;
+        fclose(f);
+    }
+    check(rc == 0 && memcmp(magic, "\x89PNG\r\n\x1a\n", 8) == 0 && rows && plotted,
+          "--plot writes the PNG (signature), the CSV and the plotted data (exit %d)", rc);
+    if (!rows || !plotted) return;
+    /* plotted row j: curve (rod.nodes), x sorted ascending within the curve */
+    static const char *const curve[6] = {"\"rod.nodes = 11\"", "\"rod.nodes = 11\"",
+                                         "\"rod.nodes = 11\"", "\"rod.nodes = 21\"",
+                                         "\"rod.nodes = 21\"", "\"rod.nodes = 21\""};
+    static const int source_row[6] = {2, 3, 1, 5, 6, 4}; /* 1e-7, 4.5e-7, 9e-7 */
+    int same = 1;
+    for (int j = 0; j < 6; j++) {
+        char name[64], x[64], y[64], want_x[64], want_y[64];
+        csv_cell(plotted, j + 1, 0, name, sizeof name);
+        csv_cell(plotted, j + 1, 1, x, sizeof x);
+        csv_cell(plotted, j + 1, 2, y, sizeof y);
+        csv_cell(rows, source_row[j], 1, want_x, sizeof want_x);
+        csv_cell(rows, source_row[j], 2, want_y, sizeof want_y);
+        same &= strcmp(name, curve[j]) == 0 && strtod(x, NULL) == strtod(want_x, NULL) &&
+                strcmp(y, want_y) == 0;
+    }
+    check(same, "the plotted data: 2 curves (rod.nodes), x ascending, the results' tip_y");
+    free(rows);
+    free(plotted);
+    refused("a plot axis that is not a varied key",
+            (const char *const[]){"--vary", "rod.nodes=11,21", "--plot", "tip.force:tip_y",
+                                  "--png", "/dev/null/x.png", NULL},
+            "the x axis must be a varied key; accepted: rod.nodes");
+    refused("a plot axis that is not a measure",
+            (const char *const[]){"--vary", "rod.nodes=11,21", "--plot", "rod.nodes:tip",
+                                  "--png", "/dev/null/x.png", NULL},
+            "the y axis must be a measure; accepted: tip_x");
+}
+
+/* --svg: valid XML (xmllint parses it), text as text with real minus
+ * signs, and the same curves as the PNG: at the centre of every marker the
+ * SVG draws, the PNG has a pixel of that marker's colour. */
+static void test_svg(void)
+{
+    char png[320], svg[320], command[800];
+    snprintf(png, sizeof png, "%s/both.png", scratch);
+    snprintf(svg, sizeof svg, "%s/both.svg", scratch);
+    const char *args[] = {"sweep", SCENE, "--vary", "rod.length=0.5,1", "--vary",
+                          "tip.force[1]=-9e-7,1e-7,9e-7", "--measure", "tip_y", "--plot",
+                          "tip.force[1]:tip_y", "--png", png, "--svg", svg, "--quiet", NULL};
+    int rc = test_run_rodsim(args, output, sizeof output);
+    snprintf(command, sizeof command, "xmllint --noout '%s'", svg);
+    int xml = system(command);
+    check(rc == 0 && xml == 0, "--png and --svg written (exit %d); xmllint parses the SVG "
+                               "(status %d)", rc, xml);
+    char *text = read_text(svg);
+    char err[256];
+    image *img = image_read_png(png, err, sizeof err);
+    if (!check(text && img, "read both figures")) {
+        free(text);
+        image_destroy(img);
+        return;
+    }
+    check(strstr(text, ">tip.force[1] [N]</text>") && strstr(text, "\xe2\x88\x92"),
+          "the SVG holds its labels as text, with real minus signs (U+2212)");
+    int circles = 0, matching = 0;
+    for (const char *c = text; (c = strstr(c, "<circle ")); c++) {
+        double cx, cy;
+        unsigned r, g, b;
+        if (sscanf(c, "<circle cx=\"%lf\" cy=\"%lf\" r=\"%*[^\"]\" fill=\"#%2x%2x%2x\"", &cx,
+                   &cy, &r, &g, &b) != 5)
+            continue;
+        circles++;
+        int x = (int)floor(cx), y = (int)floor(cy);
+        if (x < 0 || y < 0 || x >= img->width || y >= img->height) continue;
+        const unsigned char *p = &img->rgb[3 * ((size_t)y * img->width + x)];
+        matching += abs(p[0] - (int)r) <= 12 && abs(p[1] - (int)g) <= 12 && abs(p[2] - (int)b) <= 12;
+    }
+    /* 2 curves x 3 points, and a legend marker per curve */
+    check(circles == 8 && matching == circles,
+          "the PNG has each SVG marker's colour at its centre: %d of %d", matching, circles);
+    free(text);
+    image_destroy(img);
+}
+
+/* The modification times (ns) of the files in dir, sorted by name into
+ * names/times; how many. */
+static int dir_times(const char *dir, char names[][64], long long *times, int max)
+{
+    DIR *d = opendir(dir);
+    int n = 0;
+    struct dirent *e;
+    while (d && (e = readdir(d)) && n < max) {
+        if (e->d_name[0] == '.') continue;
+        char path[600];
+        struct stat st;
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        if (stat(path, &st)) continue;
+        snprintf(names[n], 64, "%.63s", e->d_name);
+        times[n++] = (long long)st.st_mtim.tv_sec * 1000000000LL + st.st_mtim.tv_nsec;
+    }
+    if (d) closedir(d);
+    return n;
+}
+
+static long long time_of(char names[][64], long long *times, int n, const char *name)
+{
+    for (int i = 0; i < n; i++)
+        if (strcmp(names[i], name) == 0) return times[i];
+    return -1;
+}
+
+static void test_commands_and_resume(void)
+{
+    /* 6 points, each a few hundred steps of the static scheme */
+    const char *vary1 = "tip.force[1]=1e-7,5e-7,9e-7", *vary2 = "solver.duration=6,10";
+    char reference[320], results[320], commands[320], assembled[320], elsewhere[320];
+    snprintf(reference, sizeof reference, "%s/uninterrupted.csv", scratch);
+    snprintf(results, sizeof results, "%s/results", scratch);
+    snprintf(commands, sizeof commands, "%s/commands.sh", scratch);
+    snprintf(assembled, sizeof assembled, "%s/assembled.csv", scratch);
+    snprintf(elsewhere, sizeof elsewhere, "%s/elsewhere", scratch);
+    const char *direct[] = {"sweep", SCENE, "--vary", vary1, "--vary", vary2, "--measure",
+                            "tip,max_curvature,steps", "--csv", reference, "--quiet", NULL};
+    check(test_run_rodsim(direct, output, sizeof output) == 0, "the uninterrupted sweep runs");
+    char *want = read_text(reference);
+
+    /* --print-commands, run by /bin/sh from another directory */
+    chdir(scratch);
+    const char *print[] = {"sweep", SCENE, "--vary", vary1, "--vary", vary2, "--measure",
+                           "tip,max_curvature,steps", "--result", "results", "--csv",
+                           "assembled.csv", "--print-commands", NULL};
+    int rc = test_run_rodsim(print, output, sizeof output);
+    FILE *f = fopen(commands, "w");
+    if (f) {
+        fputs(output, f);
+        fclose(f);
+    }
+    int lines = 0, absolute = 1;
+    for (const char *line = output; *line; line = strchr(line, '\n') + 1) {
+        if (line[0] != '#') {
+            lines++;
+            absolute &= line[0] == '/';
+        }
+        if (!strchr(line, '\n')) break;
+    }
+    check(rc == 0 && lines == 6 && absolute && strstr(output, "# assemble: /"),
+          "--print-commands: 6 command lines with an absolute binary path, and # assemble: "
+          "(exit %d, %d lines)", rc, lines);
+    chdir("/");
+    mkdir(elsewhere, 0755);
+    char shell[1400];
+    snprintf(shell, sizeof shell,
+             "cd '%s' && sh '%s' && sed -n 's/^# assemble: //p' '%s' | sh", elsewhere,
+             commands, commands);
+    int sh = system(shell);
+    check(sh == 0 && test_dir_entries(results) == 6 && test_dir_entries(elsewhere) == 0,
+          "the lines run from another directory: 6 result files in %s, nothing in the cwd "
+          "(sh %d)", results, sh);
+    char *got = read_text(assembled);
+    check(want && got && strcmp(want, got) == 0,
+          "the assembled CSV equals the uninterrupted sweep's");
+    free(got);
+
+    /* the same lines under GNU parallel (2 at a time), and as a Slurm array
+     * runs them (README recipe): task k runs the k-th command line only */
+    for (int r = 0; r < 2; r++) {
+        test_remove_tree(results);
+        unlink(assembled);
+        int one_each = 1;
+        if (r == 0) {
+            snprintf(shell, sizeof shell, "cd '%s' && grep -v '^#' '%s' | parallel --will-cite "
+                                          "-j 2", elsewhere, commands);
+            sh = system(shell);
+        } else {
+            for (int task = 1; task <= 6 && sh == 0; task++) {
+                snprintf(shell, sizeof shell,
+                         "cd '%s' && SLURM_ARRAY_TASK_ID=%d sh -c 'grep -v \"^#\" %s | sed -n "
+                         "\"${SLURM_ARRAY_TASK_ID}p\" | sh'",
+                         elsewhere, task, commands);
+                sh = system(shell);
+                one_each &= test_dir_entries(results) == task;
+            }
+        }
+        snprintf(shell, sizeof shell, "cd '%s' && sed -n 's/^# assemble: //p' '%s' | sh "
+                                      "2>/dev/null", elsewhere, commands);
+        sh |= system(shell);
+        got = read_text(assembled);
+        check(sh == 0 && one_each && test_dir_entries(results) == 6 && want && got &&
+                  strcmp(want, got) == 0,
+              "%s: 6 result files%s, the assembled CSV equals the uninterrupted one (sh %d)",
+              r == 0 ? "GNU parallel -j 2" : "SLURM_ARRAY_TASK_ID = 1..6",
+              r == 0 ? "" : ", one more per task", sh);
+        free(got);
+    }
+
+    /* kill -9 half way, then again: no point computed twice */
+    test_remove_tree(results);
+    unlink(assembled);
+    char dir_arg[340];
+    snprintf(dir_arg, sizeof dir_arg, "%s", results);
+    const char *argv[] = {RODSIM_BIN, "sweep", SCENE, "--vary", vary1, "--vary", vary2,
+                          "--measure", "tip,max_curvature,steps", "--result", dir_arg,
+                          "--csv", assembled, "--quiet", NULL};
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) {
+        freopen("/dev/null", "w", stdout);
+        freopen("/dev/null", "w", stderr);
+        execv(RODSIM_BIN, (char *const *)argv);
+        _exit(127);
+    }
+    int before = 0;
+    for (int i = 0; i < 60000 && before < 2; i++) { /* until two points are done */
+        struct timespec pause = {0, 1000000};
+        nanosleep(&pause, NULL);
+        before = test_dir_entries(results);
+        int st;
+        if (waitpid(pid, &st, WNOHANG) == pid) {
+            pid = -1;
+            break;
+        }
+    }
+    if (pid > 0) {
+        kill(pid, SIGKILL);
+        waitpid(pid, NULL, 0);
+    }
+    char names[16][64];
+    long long times[16];
+    int kept = dir_times(results, names, times, 16);
+    check(pid > 0 && kept >= 2 && kept < 6 && access(assembled, F_OK) != 0,
+          "killed with kill -9 after %d of 6 points: %d result files, no CSV", before, kept);
+    const char *again[] = {"sweep", SCENE, "--vary", vary1, "--vary", vary2, "--measure",
+                           "tip,max_curvature,steps", "--result", dir_arg, "--csv", assembled,
+                           NULL};
+    rc = test_run_rodsim(again, output, sizeof output);
+    char expect[128];
+    snprintf(expect, sizeof expect, "6 points: %d run, %d from", 6 - kept, kept);
+    check(rc == 0 && strstr(output, expect), "the rerun says '%s' (exit %d)", expect, rc);
+    char names2[16][64];
+    long long times2[16];
+    int total = dir_times(results, names2, times2, 16), same = 1;
+    for (int i = 0; i < kept; i++) same &= time_of(names2, times2, total, names[i]) == times[i];
+    check(total == 6 && same, "6 result files; the %d written before the kill untouched", kept);
+    got = read_text(assembled);
+    check(want && got && strcmp(want, got) == 0,
+          "the resumed sweep's CSV equals the uninterrupted one's");
+    free(got);
+    free(want);
+}
+
+int main(void)
+{
+    snprintf(scratch, sizeof scratch, "/tmp/rodsim_test_sweep_%d", (int)getpid());
+    mkdir(scratch, 0755);
+    test_fnv();
+    test_deflection_against_load();
+    test_first_frequency();
+    test_max_curvature();
+    test_jobs();
+    test_failing_point();
+    test_bad_input();
+    test_plot();
+    test_svg();
+    test_commands_and_resume();
+    test_remove_tree(scratch);
+    return test_finish();
+}
