@@ -592,6 +592,27 @@ static void test_teaching_overlay(void)
           "triad: %d pixels of the x and y axes' colours in the bottom-left quarter, %d when hidden",
           triad[1], triad[0]);
 
+    /* the distributed load's arrow (gravity) in the bottom-left quarter, only when it acts;
+     * zero tip loads list no load line there either */
+    int ink[2] = {-1, -1};
+    o.show = RENDER_SHOW_ALL & ~RENDER_SHOW_TRIAD;
+    for (int with = 0; with < 2; with++) {
+        v3_set(o.distributed_force, 0, 0, with ? -6.5e-3 : 0);
+        image *img = render_poster(rec, &o, dir, with ? "gravity" : "no_gravity");
+        if (!img) continue;
+        ink[with] = 0;
+        for (int y = o.height * 7 / 10; y < o.height; y++) /* below the rod and its clamp */
+            for (int x = 0; x < o.width / 2; x++) {
+                const unsigned char *p = img->rgb + ((size_t)y * o.width + x) * 3;
+                ink[with] += p[0] < 110 && p[1] < 110 && p[2] < 110;
+            }
+        image_destroy(img);
+    }
+    v3_set(o.distributed_force, 0, 0, 0);
+    check(ink[0] == 0 && ink[1] > 100,
+          "distributed load: %d dark pixels (arrow, label) in the bottom-left corner, %d without "
+          "it and without tip loads", ink[1], ink[0]);
+
     /* loads: none drawn when zero; a compressive force (-x at the +x tip) is drawn outside
      * the tube, beyond the tip, and its line is listed */
     o.arrows = 1;
