@@ -90,6 +90,7 @@ typedef struct render_options {
     char caption[256];           /* a line under the title; "" (default): none */
     unsigned show;               /* RENDER_SHOW_* items drawn when overlay is on */
     render_color_mode color;     /* what colours the tube (default solid) */
+    float rod_color[3];          /* linear 0..1, the solid tube (default render_rod_color) */
     render_colormap colormap;    /* viridis (default) or cividis */
     double color_range[2];       /* lo, hi in the quantity's unit; lo == hi (default): the
                                     range over the whole run, fixed for the video */

@@ -90,6 +90,8 @@ const ini_key scene_keys_rod[] = {
     {"render", "color", "-", "solid", "solid | curvature | twist | speed",
      "colour along the rod: bending curvature (1/m), twist u3 (1/m), speed (m/s, between "
      "frames), with a colour bar; tension is refused until the recording carries N"},
+    {"render", "rod_color", "-", "2e66c7", "rrggbb, \"#rrggbb\", or 3 numbers in 0..1",
+     "the tube's colour with color = solid"},
     {"render", "colormap", "-", "viridis", "viridis | cividis", "perceptually uniform colour map"},
     {"render", "color_range", "unit of color", "auto", "auto, or lo hi (lo < hi)",
      "the colour bar's range; auto: the run's range, rounded, fixed for the video"},

@@ -21,7 +21,8 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-const float render_rod_color[3] = {0.18f, 0.40f, 0.78f};    /* steel blue */
+/* steel blue; bytes 2e66c7 so that [render] rod_color = 2e66c7 is exactly the default */
+const float render_rod_color[3] = {0x2e / 255.0f, 0x66 / 255.0f, 0xc7 / 255.0f};
 const float render_stripe_color[3] = {1.00f, 0.76f, 0.08f}; /* amber */
 const float render_clamp_color[3] = {0.42f, 0.43f, 0.46f};  /* dark steel */
 const float render_ball_color[3] = {0.70f, 0.42f, 0.16f};   /* bronze, apart from the rest */
@@ -98,6 +99,7 @@ void render_options_default(render_options *o)
     o->needle_arc = 0.375; /* 3/8 circle: the most common suturing needle */
     o->show = RENDER_SHOW_ALL;
     o->color = RENDER_COLOR_SOLID;
+    memcpy(o->rod_color, render_rod_color, sizeof o->rod_color);
     o->colormap = RENDER_MAP_VIRIDIS;
     o->speed = 1;
     o->magnify = 1;
@@ -304,6 +306,35 @@ static int hex_digit(int c)
          : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
 }
 
+/* A colour key: rrggbb, "#rrggbb" or three numbers in 0..1, into sRGB bytes.
+ * 1 when given, 0 when absent, -1 with a message. */
+static int read_color(ini_doc *doc, const char *key, unsigned char out[3], char *err,
+                      size_t errlen)
+{
+    const char *text;
+    int status = ini_get_string(doc, "render", 0, key, &text, err, errlen);
+    if (status <= 0) return status;
+    /* six hex digits; a leading # must be quoted ("#f6f7f9"): # starts an INI comment */
+    const char *hex = text[0] == '#' ? text + 1 : text;
+    int ok = strlen(hex) == 6;
+    unsigned char rgb[3];
+    for (int i = 0; ok && i < 3; i++) {
+        int hi = hex_digit(hex[2 * i]), lo = hex_digit(hex[2 * i + 1]);
+        ok = hi >= 0 && lo >= 0;
+        if (ok) rgb[i] = (unsigned char)(16 * hi + lo);
+    }
+    if (!ok) {
+        double v[3];
+        if (ini_get_vector(doc, "render", 0, key, v, 3, err, errlen) <= 0 || v[0] < 0 ||
+            v[0] > 1 || v[1] < 0 || v[1] > 1 || v[2] < 0 || v[2] > 1)
+            return ini_error(doc, "render", 0, key, err, errlen,
+                             "must be rrggbb (hex, or \"#rrggbb\" in quotes) or three numbers in 0..1");
+        for (int i = 0; i < 3; i++) rgb[i] = (unsigned char)lround(255 * v[i]);
+    }
+    memcpy(out, rgb, 3);
+    return 1;
+}
+
 int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errlen)
 {
     if (read_int_range(doc, "width", &o->width, 16, 7680, err, errlen) ||
@@ -359,26 +390,11 @@ int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errle
         v3_copy(o->view, view);
     }
 
-    status = ini_get_string(doc, "render", 0, "background", &text, err, errlen);
+    if (read_color(doc, "background", o->background, err, errlen) < 0) return -1;
+    unsigned char rod[3];
+    status = read_color(doc, "rod_color", rod, err, errlen);
     if (status < 0) return -1;
-    if (status > 0) {
-        /* six hex digits; a leading # must be quoted ("#f6f7f9"): # starts an INI comment */
-        const char *hex = text[0] == '#' ? text + 1 : text;
-        int ok = strlen(hex) == 6;
-        for (int i = 0; ok && i < 3; i++) {
-            int hi = hex_digit(hex[2 * i]), lo = hex_digit(hex[2 * i + 1]);
-            ok = hi >= 0 && lo >= 0;
-            if (ok) o->background[i] = (unsigned char)(16 * hi + lo);
-        }
-        if (!ok) {
-            double rgb[3];
-            if (ini_get_vector(doc, "render", 0, "background", rgb, 3, err, errlen) <= 0 ||
-                rgb[0] < 0 || rgb[0] > 1 || rgb[1] < 0 || rgb[1] > 1 || rgb[2] < 0 || rgb[2] > 1)
-                return ini_error(doc, "render", 0, "background", err, errlen,
-                                 "must be rrggbb (hex, or \"#rrggbb\" in quotes) or three numbers in 0..1");
-            for (int i = 0; i < 3; i++) o->background[i] = (unsigned char)lround(255 * rgb[i]);
-        }
-    }
+    for (int c = 0; status > 0 && c < 3; c++) o->rod_color[c] = rod[c] / 255.0f;
     /* the needle's arc is only drawn (it has no mechanics), so it is a [render] key */
     static const char *const arcs[] = {"3/8", "1/2", NULL};
     status = ini_get_choice(doc, "render", 0, "needle_arc", arcs, &choice, err, errlen);
@@ -680,7 +696,7 @@ static void add_disc(mesh *m, const double centre[3], const double e1[3], const 
 /* The tube swept with the director frames: ring k at node k in the plane
  * (d1, d2), so the surface turns with the material; radial normals. */
 static void add_tube(mesh *m, const rod_recording *rec, int frame, double radius, int sides,
-                     const float *colors)
+                     const float *colors, const float solid[3])
 {
     unsigned first = (unsigned)m->vertex_count;
     for (int k = 0; k < rec->nodes; k++) {
@@ -694,7 +710,7 @@ static void add_tube(mesh *m, const rod_recording *rec, int frame, double radius
             v3_axpy(n, sin(phi), d2);
             v3_copy(p, r);
             v3_axpy(p, radius, n);
-            add_vertex(m, p, n, colors ? &colors[3 * k] : render_rod_color);
+            add_vertex(m, p, n, colors ? &colors[3 * k] : solid);
         }
     }
     for (int k = 0; k + 1 < rec->nodes; k++)
@@ -713,7 +729,7 @@ static void add_tube(mesh *m, const rod_recording *rec, int frame, double radius
         m3_column(d3, q, 2);
         if (!end) v3_scale(d3, d3, -1);
         add_disc(m, node_position(rec, frame, k), d1, d2, radius, d3, sides,
-                 colors ? &colors[3 * k] : render_rod_color);
+                 colors ? &colors[3 * k] : solid);
     }
 }
 
@@ -1522,7 +1538,6 @@ static void draw_triad(image *img, const overlay *ov, const render_camera *cam, 
         text_draw(img, ov->body, (int)lround(lx - 0.5 * w), (int)lround(ly + 0.5 * h), names[a],
                   axis_colors[a]);
     }
-    (void)ov;
 }
 
 /* The time, right-aligned in a field as wide as the run's largest time, so
@@ -1690,47 +1705,54 @@ static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec
     if ((show & RENDER_SHOW_COLORBAR) && o->color != RENDER_COLOR_SOLID)
         draw_colorbar(img, ov, o, margin);
 
-    /* bottom left: the tip loads, keyed by the arrows' colours; a load that is
-     * zero over the whole run is not listed */
+    /* bottom left, in the band the camera leaves free: the axes, then the
+     * lines of the loads, each keyed by its arrow: the tip force and moment
+     * (a load that is zero over the whole run is not listed) and the
+     * distributed load (gravity), with an arrow in its direction as seen */
     const double *force = &rec->tip_force[3 * frame], *moment = &rec->tip_moment[3 * frame];
-    int box = text_ascent(ov->body) * 2 / 3, x = margin;
-    int lines = (show & RENDER_SHOW_LOADS) ? (ov->force_scale > 0) + (ov->moment_scale > 0) : 0;
+    int ascent = text_ascent(ov->body), box = ascent * 2 / 3;
     int bottom = img->height - margin - text_descent(ov->body);
-    y = bottom - (lines - 1) * line;
-    if (lines && o->arrows) x += box + 8;
-    if ((show & RENDER_SHOW_LOADS) && ov->force_scale > 0) {
-        if (o->arrows) swatch(img, margin, y - box, box, force_color);
+    double triad = 1.5 * line;
+    int x = margin;
+    if (show & RENDER_SHOW_TRIAD) {
+        double cx = margin + triad + 0.5 * ascent, cy = bottom - triad + 0.2 * ascent;
+        draw_triad(img, ov, cam, cx, cy, triad);
+        x = (int)lround(cx + triad + ascent + 10);
+    }
+    int show_force = (show & RENDER_SHOW_LOADS) && ov->force_scale > 0;
+    int show_moment = (show & RENDER_SHOW_LOADS) && ov->moment_scale > 0;
+    double load = v3_norm(o->distributed_force);
+    int show_gravity = (show & RENDER_SHOW_GRAVITY) && load > 0;
+    y = bottom - (show_force + show_moment + show_gravity - 1) * line;
+    int key = x, keyed = show_gravity || o->arrows;
+    if (keyed) x += (show_gravity ? ascent + 4 : box) + 8;
+    if (show_force) {
+        if (o->arrows) swatch(img, key, y - box, box, force_color);
         char value[256];
         format_vector(value, sizeof value, force, "N");
         snprintf(text, sizeof text, "tip force  %s", value);
         text_draw(img, ov->body, x, y, text, ov->ink);
         y += line;
     }
-    if ((show & RENDER_SHOW_LOADS) && ov->moment_scale > 0) {
-        if (o->arrows) swatch(img, margin, y - box, box, moment_color);
+    if (show_moment) {
+        if (o->arrows) swatch(img, key, y - box, box, moment_color);
         char value[256];
         format_vector(value, sizeof value, moment, "N\xc2\xb7m");
         snprintf(text, sizeof text, "tip moment  %s", value);
         text_draw(img, ov->body, x, y, text, ov->ink);
+        y += line;
     }
-
-    /* above the loads: the axes, and the distributed load's direction */
-    double triad = img->height / 16.0;
-    double tx = margin + triad + 0.8 * line, ty = bottom - lines * line - triad - 0.8 * line;
-    if (show & RENDER_SHOW_TRIAD) draw_triad(img, ov, cam, tx, ty, triad);
-    double load = v3_norm(o->distributed_force);
-    if ((show & RENDER_SHOW_GRAVITY) && load > 0) {
-        double sx = v3_dot(o->distributed_force, cam->right) / load;
+    if (show_gravity) {
+        /* its direction on the screen, scaled by how much of it lies in the picture's plane */
+        double half = 0.5 * (ascent + 4), sx = v3_dot(o->distributed_force, cam->right) / load;
         double sy = -v3_dot(o->distributed_force, cam->up) / load;
-        double gx = tx + 2.6 * triad + (show & RENDER_SHOW_TRIAD ? 0.5 * triad : -2.4 * triad);
-        double width = fmax(2, img->height / 300.0);
-        draw_arrow_2d(img, gx - sx * triad, ty - sy * triad, gx + sx * triad, ty + sy * triad, width,
-                      ov->ink);
+        double cx = key + half, cy = y - 0.4 * ascent;
+        draw_arrow_2d(img, cx - sx * half, cy - sy * half, cx + sx * half, cy + sy * half,
+                      fmax(1.5, img->height / 400.0), ov->ink);
         char value[64];
         render_format_quantity(value, sizeof value, load, load, "N/m");
-        snprintf(text, sizeof text, "distributed load %s", value);
-        text_draw(img, ov->body, (int)lround(gx + 1.3 * triad), (int)lround(ty + 0.4 * line), text,
-                  ov->ink);
+        snprintf(text, sizeof text, "distributed load  %s", value);
+        text_draw(img, ov->body, x, y, text, ov->ink);
     }
 
     /* bottom right: scale bar, measured at the depth of the camera's target */
@@ -2076,7 +2098,7 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
     }
     rec = drawn;
     frame = drawn_frame;
-    add_tube(m, rec, frame, r->radius, r->o->sides, r->colors);
+    add_tube(m, rec, frame, r->radius, r->o->sides, r->colors, r->o->rod_color);
     if (r->o->stripe != RENDER_STRIPE_OFF)
         add_stripe(m, rec, frame, r->radius, r->o->stripe, stripe_color(r->o));
     add_end_glyphs(m, rec, r->o, frame, r->radius);

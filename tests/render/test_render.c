@@ -763,7 +763,8 @@ static void test_teaching_options(void)
     ini_doc *doc = ini_parse("teach.ini",
                              "[render]\ntitle = Running suture\ncaption = pulled through\n"
                              "hide = triad, loads\ncolor = twist\ncolormap = cividis\n"
-                             "color_range = -5 5\nspeed = 0.25\nmagnify = 20\n",
+                             "color_range = -5 5\nspeed = 0.25\nmagnify = 20\n"
+                             "rod_color = ff8000\n",
                              err, sizeof err);
     render_options_default(&o);
     int status = doc ? render_options_read(doc, &o, err, sizeof err) : -1;
@@ -772,8 +773,9 @@ static void test_teaching_options(void)
               o.show == (RENDER_SHOW_ALL & ~(RENDER_SHOW_TRIAD | RENDER_SHOW_LOADS)) &&
               o.color == RENDER_COLOR_TWIST && o.colormap == RENDER_MAP_CIVIDIS &&
               o.color_range[0] == -5 && o.color_range[1] == 5 && o.speed == 0.25 &&
-              o.magnify == 20 && render_output_rate(&o) == 120,
-          "[render] title, caption, hide, color, colormap, color_range, speed, magnify read; "
+              o.magnify == 20 && render_output_rate(&o) == 120 && o.rod_color[0] == 1.0f &&
+              fabs(o.rod_color[1] - 128 / 255.0) < 1e-6 && o.rod_color[2] == 0.0f,
+          "[render] title, caption, hide, color, colormap, color_range, speed, magnify, rod_color read; "
           "speed 0.25 at 30 fps records 120 frames per simulated s (%d)",
           render_output_rate(&o));
     ini_destroy(doc);
