@@ -97,7 +97,7 @@ const ini_key scene_keys_rod[] = {
      "the colour bar's range; auto: the run's range, rounded, fixed for the video"},
     {"render", "speed", "-", "1", "> 0; fps / speed in 0.5 .. 1e6",
      "playback: simulated s per video s (0.25: 4x slow motion, 10: time-lapse); the run "
-     "records fps/speed frames per simulated s (CSV too)"},
+     "records round(fps/speed) frames per simulated s (CSV too); the overlay states the rate"},
     {"render", "magnify", "-", "1", "1 .. 1e6",
      "displacements (and rotations) from the first frame drawn x this; stated in the overlay"},
     {NULL, NULL, NULL, NULL, NULL, NULL},
