@@ -57,8 +57,7 @@ const ini_key scene_keys_rod[] = {
      "on: loads in the x-y plane are solved as a planar problem (implicit; exact, faster)"},
 
     {"render", "fps", "1/s", "30", "1 .. 1000",
-     "video frames per second; the run outputs fps / speed frames per simulated second (video "
-     "and CSV)"},
+     "video frames per second"},
     {"render", "width", "px", "1280", "even, 16 .. 7680", "video width"},
     {"render", "height", "px", "720", "even, 16 .. 4320", "video height"},
     {"render", "crf", "-", "18", "0 .. 51", "H.264 quality: 0 lossless, lower is better"},
@@ -82,24 +81,19 @@ const ini_key scene_keys_rod[] = {
     {"render", "background", "-", "f6f7f9", "rrggbb, \"#rrggbb\", or 3 numbers in 0..1",
      "background colour"},
     /* issue 14: what a viewer needs */
-    {"render", "title", "-", "-", "text, < 256 characters", "overlay title; absent: the scene file's name"},
-    {"render", "caption", "-", "-", "text, < 256 characters", "a line under the title; absent: none"},
+    {"render", "title", "-", "-", "text", "overlay title; absent: the scene's name"},
+    {"render", "caption", "-", "-", "text", "a line under the title"},
     {"render", "hide", "-", "none",
-     "none, or any of: title caption time ends legend loads scale triad gravity colorbar",
-     "overlay items not drawn (overlay = off hides all); a load that is 0 all run is never listed"},
+     "none, or of: title caption time ends legend loads scale triad gravity colorbar",
+     "overlay items not drawn"},
     {"render", "color", "-", "solid", "solid | curvature | twist | speed",
-     "colour along the rod: bending curvature (1/m), twist u3 (1/m), speed (m/s, between "
-     "frames), with a colour bar; tension is refused until the recording carries N"},
-    {"render", "rod_color", "-", "2e66c7", "rrggbb, \"#rrggbb\", or 3 numbers in 0..1",
-     "the tube's colour with color = solid"},
-    {"render", "colormap", "-", "viridis", "viridis | cividis", "perceptually uniform colour map"},
-    {"render", "color_range", "unit of color", "auto", "auto, or lo hi (lo < hi)",
-     "the colour bar's range; auto: the run's range, rounded, fixed for the video"},
-    {"render", "speed", "-", "1", "> 0; fps / speed in 0.5 .. 1e6",
-     "playback: simulated s per video s (0.25: 4x slow motion, 10: time-lapse); the run "
-     "records round(fps/speed) frames per simulated s (CSV too); the overlay states the rate"},
-    {"render", "magnify", "-", "1", "1 .. 1e6",
-     "displacements (and rotations) from the first frame drawn x this; stated in the overlay"},
+     "tube colour by curvature, twist u3 (1/m) or speed (m/s), with a colour bar"},
+    {"render", "rod_color", "-", "2e66c7", "as background", "tube colour when solid"},
+    {"render", "colormap", "-", "viridis", "viridis | cividis", "colour map"},
+    {"render", "color_range", "-", "auto", "auto, or lo hi", "colour bar range; auto: the run's"},
+    {"render", "speed", "-", "1", "> 0",
+     "simulated s per video s (0.25: 4x slow motion); output fps/speed per simulated s"},
+    {"render", "magnify", "-", "1", ">= 1", "motion from the first frame drawn x this"},
     {NULL, NULL, NULL, NULL, NULL, NULL},
 };
 
