@@ -30,6 +30,33 @@ typedef enum {
     RENDER_END_FREE         /* nothing */
 } render_end_kind;
 
+/* What colours the tube along its length ([render] color). */
+typedef enum {
+    RENDER_COLOR_SOLID = 0, /* one colour (render_rod_color) */
+    RENDER_COLOR_CURVATURE, /* bending curvature sqrt(u1^2 + u2^2), 1/m */
+    RENDER_COLOR_TWIST,     /* u3, 1/m */
+    RENDER_COLOR_TENSION,   /* N . d3, N: needs the internal force in the recording (refused) */
+    RENDER_COLOR_SPEED      /* |v|, m/s, by finite difference between drawn frames */
+} render_color_mode;
+
+/* Perceptually uniform colour maps (never jet). */
+typedef enum { RENDER_MAP_VIRIDIS = 0, RENDER_MAP_CIVIDIS } render_colormap;
+
+/* Overlay items ([render] hide lists those not drawn); all shown by default. */
+enum {
+    RENDER_SHOW_TITLE = 1 << 0,    /* the scene's title */
+    RENDER_SHOW_CAPTION = 1 << 1,  /* [render] caption, when given */
+    RENDER_SHOW_TIME = 1 << 2,     /* t, scheme, nodes */
+    RENDER_SHOW_ENDS = 1 << 3,     /* what holds the ends, the needle */
+    RENDER_SHOW_LEGEND = 1 << 4,   /* top right: radius exaggeration, magnification, speed, stripe */
+    RENDER_SHOW_LOADS = 1 << 5,    /* bottom left: tip force and moment (hidden when zero) */
+    RENDER_SHOW_SCALE = 1 << 6,    /* scale bar (with the grid) */
+    RENDER_SHOW_TRIAD = 1 << 7,    /* x y z axes, turning with the camera */
+    RENDER_SHOW_GRAVITY = 1 << 8,  /* the distributed load's direction, when not zero */
+    RENDER_SHOW_COLORBAR = 1 << 9, /* the colour bar (color other than solid) */
+    RENDER_SHOW_ALL = (1 << 10) - 1
+};
+
 typedef struct render_end {
     render_end_kind kind;
     int driven;             /* 1: the end follows a path (named in the overlay) */
@@ -59,6 +86,19 @@ typedef struct render_options {
     double needle_arc;           /* the needle's arc, fraction of a circle: 0.375 (3/8, default)
                                     or 0.5 (1/2) ([render] needle_arc) */
     int poster;                  /* write the last frame as <scene>.png */
+    char title[256];             /* overlay title; "" (default): the scene's name */
+    char caption[256];           /* a line under the title; "" (default): none */
+    unsigned show;               /* RENDER_SHOW_* items drawn when overlay is on */
+    render_color_mode color;     /* what colours the tube (default solid) */
+    float rod_color[3];          /* linear 0..1, the solid tube (default render_rod_color) */
+    render_colormap colormap;    /* viridis (default) or cividis */
+    double color_range[2];       /* lo, hi in the quantity's unit; lo == hi (default): the
+                                    range over the whole run, fixed for the video */
+    double speed;                /* playback: simulated seconds per video second (1: real
+                                    time, 0.25: 4x slow motion, 10: time-lapse) */
+    double magnify;              /* displacements from the first frame drawn x this (1: none) */
+    double distributed_force[3]; /* N/m, global: the scene's weight and distributed force
+                                    (run.c copies the model's), drawn as an arrow when not 0 */
     struct render_timing *timing; /* NULL (default): not measured; else filled (make bench) */
 } render_options;
 
@@ -109,6 +149,20 @@ int render_stream_frame(render_stream *st, const rod_recording *rec, int frame, 
                         size_t errlen);
 int render_stream_finish(render_stream *st, char *err, size_t errlen);
 void render_stream_destroy(render_stream *st);
+
+/* Frames per simulated second a run records for a video at o->fps that
+ * plays at o->speed: round(fps / speed), at least 1 (each recorded frame is
+ * one video frame). */
+int render_output_rate(const render_options *o);
+
+/* A number for people: `value` in `unit` with an SI prefix (f .. G) and 3
+ * significant digits ("450 nN", "2.5 mN", "1.2 \u00b5N\u00b7m"), no "-0",
+ * and 0 when |value| < 1e-12 |scale| (round-off of a quantity of that size).
+ * A unit starting with "1/" or "" gets no prefix (plain %.3g). Returns out. */
+char *render_format_quantity(char *out, size_t outlen, double value, double scale,
+                             const char *unit);
+/* The colour map at f in 0..1 (clamped), sRGB bytes. */
+void render_colormap_rgb(render_colormap map, double f, unsigned char rgb[3]);
 
 /* ---- geometry, pure C (used by the GL layer and the tests) ---- */
 

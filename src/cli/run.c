@@ -78,7 +78,7 @@ int run_read_output(ini_doc *doc, run_output *out, char *err, size_t errlen)
      * there: issue 8) */
     render_options_default(&out->render);
     if (render_options_read(doc, &out->render, err, errlen)) return -1;
-    out->fps = out->render.fps;
+    out->fps = render_output_rate(&out->render); /* fps / speed frames per simulated s */
     out->width = out->render.width;
     out->height = out->render.height;
     out->crf = out->render.crf;
@@ -112,6 +112,7 @@ int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_
     out->render.ends[1].kind = render_end_of(m->tip_end);
     out->render.ends[1].driven = m->tip_motion != NULL;
     out->render.needle_radius = m->needle_radius;
+    for (int k = 0; k < 3; k++) out->render.distributed_force[k] = m->distributed_force[k];
     return 0;
 }
 

@@ -86,7 +86,7 @@ const ini_key scene_keys_rod[] = {
      "on: loads in the x-y plane are solved as a planar problem (implicit; exact, faster)"},
 
     {"render", "fps", "1/s", "30", "1 .. 1000",
-     "output frames per simulated second (video and CSV)"},
+     "video frames per second"},
     {"render", "width", "px", "1280", "even, 16 .. 7680", "video width"},
     {"render", "height", "px", "720", "even, 16 .. 4320", "video height"},
     {"render", "crf", "-", "18", "0 .. 51", "H.264 quality: 0 lossless, lower is better"},
@@ -109,6 +109,20 @@ const ini_key scene_keys_rod[] = {
      "direction from the rod to the eye"},
     {"render", "background", "-", "f6f7f9", "rrggbb, \"#rrggbb\", or 3 numbers in 0..1",
      "background colour"},
+    /* issue 14: what a viewer needs */
+    {"render", "title", "-", "-", "text", "overlay title; absent: the scene's name"},
+    {"render", "caption", "-", "-", "text", "a line under the title"},
+    {"render", "hide", "-", "none",
+     "none, or of: title caption time ends legend loads scale triad gravity colorbar",
+     "overlay items not drawn"},
+    {"render", "color", "-", "solid", "solid | curvature | twist | speed",
+     "tube colour by curvature, twist u3 (1/m) or speed (m/s), with a colour bar"},
+    {"render", "rod_color", "-", "2e66c7", "as background", "tube colour when solid"},
+    {"render", "colormap", "-", "viridis", "viridis | cividis", "colour map"},
+    {"render", "color_range", "-", "auto", "auto, or lo hi", "colour bar range; auto: the run's"},
+    {"render", "speed", "-", "1", "> 0",
+     "simulated s per video s (0.25: 4x slow motion); output fps/speed per simulated s"},
+    {"render", "magnify", "-", "1", ">= 1", "motion from the first frame drawn x this"},
     {NULL, NULL, NULL, NULL, NULL, NULL},
 };
 

@@ -21,11 +21,19 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-const float render_rod_color[3] = {0.18f, 0.40f, 0.78f};    /* steel blue */
+/* steel blue; bytes 2e66c7 so that [render] rod_color = 2e66c7 is exactly the default */
+const float render_rod_color[3] = {0x2e / 255.0f, 0x66 / 255.0f, 0xc7 / 255.0f};
 const float render_stripe_color[3] = {1.00f, 0.76f, 0.08f}; /* amber */
 const float render_clamp_color[3] = {0.42f, 0.43f, 0.46f};  /* dark steel */
 const float render_ball_color[3] = {0.70f, 0.42f, 0.16f};   /* bronze, apart from the rest */
 const float render_needle_color[3] = {0.74f, 0.75f, 0.77f}; /* bright steel, lighter than the rod */
+/* over a colour map the amber stripe would read as a value (viridis ends in
+ * yellow): it is drawn white there */
+static const float stripe_on_map_color[3] = {0.97f, 0.97f, 0.97f};
+static const float *stripe_color(const render_options *o)
+{
+    return o->color == RENDER_COLOR_SOLID ? render_stripe_color : stripe_on_map_color;
+}
 static const float force_color[3] = {0.86f, 0.16f, 0.14f};
 static const float moment_color[3] = {0.16f, 0.62f, 0.26f};
 
@@ -89,6 +97,197 @@ void render_options_default(render_options *o)
     o->ends[1].kind = RENDER_END_FREE;
     o->needle_radius = 0;
     o->needle_arc = 0.375; /* 3/8 circle: the most common suturing needle */
+    o->show = RENDER_SHOW_ALL;
+    o->color = RENDER_COLOR_SOLID;
+    memcpy(o->rod_color, render_rod_color, sizeof o->rod_color);
+    o->colormap = RENDER_MAP_VIRIDIS;
+    o->speed = 1;
+    o->magnify = 1;
+}
+
+/* Decision (issue 14): speed is the playback rate, simulated seconds per
+ * video second, so 0.25 is 4x slow motion and 10 a time-lapse, as the issue
+ * says; PRODUCT.md's comment "video seconds per simulated second" contradicts
+ * its own example. The run records fps / speed frames per simulated second
+ * and each becomes one video frame at fps. */
+int render_output_rate(const render_options *o)
+{
+    double rate = o->speed > 0 ? o->fps / o->speed : o->fps;
+    return rate < 1.5 ? 1 : rate > 1e6 ? 1000000 : (int)lround(rate);
+}
+
+char *render_format_quantity(char *out, size_t outlen, double value, double scale,
+                             const char *unit)
+{
+    if (!unit) unit = "";
+    const char *gap = unit[0] ? " " : "";
+    if (!isfinite(value)) {
+        snprintf(out, outlen, "%s%s%s", isnan(value) ? "nan" : value > 0 ? "inf" : "-inf", gap,
+                 unit);
+        return out;
+    }
+    /* round-off of a quantity of size `scale` (and -0) is shown as 0 */
+    if (value == 0 || fabs(value) < 1e-12 * fabs(scale)) {
+        snprintf(out, outlen, "0%s%s", gap, unit);
+        return out;
+    }
+    if (unit[0] == '\0' || strncmp(unit, "1/", 2) == 0) {
+        snprintf(out, outlen, "%.3g%s%s", value, gap, unit);
+        return out;
+    }
+    static const char *const prefixes[] = {"f", "p", "n", "\xc2\xb5", "m", "", "k", "M", "G"};
+    int power = (int)floor(log10(fabs(value)) / 3); /* value = mantissa 10^(3 power) */
+    if (power < -5) power = -5;
+    if (power > 3) power = 3;
+    double mantissa = value / pow(10, 3 * power);
+    /* 999.96 rounds to 1000 at 3 digits: the next prefix says it as 1 */
+    if (fabs(mantissa) >= 999.5 && power < 3) {
+        power++;
+        mantissa /= 1000;
+    }
+    snprintf(out, outlen, "%.3g %s%s", mantissa, prefixes[power + 5], unit);
+    return out;
+}
+
+/* viridis and cividis at evenly spaced stops, sRGB: viridis from matplotlib
+ * (van der Walt and Smith, 2015), 9 stops; cividis from viridisLite's
+ * cividis(10) (Nunez et al., 2018). Linear between the stops. */
+static const unsigned char viridis_stops[9][3] = {
+    {0x44, 0x01, 0x54}, {0x47, 0x2d, 0x7b}, {0x3b, 0x52, 0x8b}, {0x2c, 0x72, 0x8e}, {0x21, 0x91, 0x8c},
+    {0x28, 0xae, 0x80}, {0x5e, 0xc9, 0x62}, {0xad, 0xdc, 0x30}, {0xfd, 0xe7, 0x25}};
+static const unsigned char cividis_stops[10][3] = {
+    {0x00, 0x20, 0x4d}, {0x00, 0x33, 0x6f}, {0x39, 0x48, 0x6b}, {0x57, 0x5c, 0x6d}, {0x70, 0x71, 0x73},
+    {0x8a, 0x87, 0x79}, {0xa6, 0x9d, 0x75}, {0xc4, 0xb5, 0x6c}, {0xe4, 0xcf, 0x5b}, {0xff, 0xea, 0x46}};
+
+void render_colormap_rgb(render_colormap map, double f, unsigned char rgb[3])
+{
+    const unsigned char(*stops)[3] = map == RENDER_MAP_CIVIDIS ? cividis_stops : viridis_stops;
+    int count = map == RENDER_MAP_CIVIDIS ? 10 : 9;
+    if (!(f > 0)) f = 0; /* NaN too */
+    if (f > 1) f = 1;
+    double x = f * (count - 1);
+    int i = (int)floor(x);
+    if (i >= count - 1) i = count - 2;
+    double w = x - i;
+    for (int c = 0; c < 3; c++)
+        rgb[c] = (unsigned char)lround((1 - w) * stops[i][c] + w * stops[i + 1][c]);
+}
+
+static const char *const overlay_items[] = {"title", "caption", "time", "ends", "legend",
+                                            "loads", "scale", "triad", "gravity", "colorbar",
+                                            NULL};
+
+/* [render] hide: overlay items not drawn, separated by blanks or commas, or none. */
+static int read_hidden(ini_doc *doc, unsigned *show, char *err, size_t errlen)
+{
+    const char *text;
+    int status = ini_get_string(doc, "render", 0, "hide", &text, err, errlen);
+    if (status <= 0) return status;
+    unsigned shown = RENDER_SHOW_ALL;
+    const char *c = text;
+    while (*c) {
+        while (*c == ' ' || *c == ',' || *c == '\t') c++;
+        size_t n = strcspn(c, " ,\t");
+        if (n == 0) break;
+        int found = n == 4 && strncmp(c, "none", 4) == 0;
+        for (int i = 0; !found && overlay_items[i]; i++)
+            if (strlen(overlay_items[i]) == n && strncmp(c, overlay_items[i], n) == 0) {
+                shown &= ~(1u << i);
+                found = 1;
+            }
+        if (!found)
+            return ini_error(doc, "render", 0, "hide", err, errlen,
+                             "unknown overlay item '%.*s': accepted none, or any of title caption "
+                             "time ends legend loads scale triad gravity colorbar",
+                             (int)n, c);
+        c += n;
+    }
+    *show = shown;
+    return 0;
+}
+
+static int read_text(ini_doc *doc, const char *key, char *out, size_t outlen, char *err,
+                     size_t errlen)
+{
+    const char *text;
+    int status = ini_get_string(doc, "render", 0, key, &text, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) {
+        if (strlen(text) >= outlen)
+            return ini_error(doc, "render", 0, key, err, errlen, "must be shorter than %d characters",
+                             (int)outlen);
+        snprintf(out, outlen, "%s", text);
+    }
+    return 0;
+}
+
+static int read_positive(ini_doc *doc, const char *key, double *out, double lo, double hi,
+                         const char *meaning, char *err, size_t errlen)
+{
+    double v;
+    int status = ini_get_double(doc, "render", 0, key, &v, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) {
+        if (!(v >= lo && v <= hi))
+            return ini_error(doc, "render", 0, key, err, errlen, "must be %s, %g .. %g", meaning,
+                             lo, hi);
+        *out = v;
+    }
+    return 0;
+}
+
+/* [render] color, colormap, color_range, speed, magnify, title, caption, hide. */
+static int read_teaching(ini_doc *doc, render_options *o, char *err, size_t errlen)
+{
+    int choice;
+    static const char *const colors[] = {"solid", "curvature", "twist", "tension", "speed", NULL};
+    int status = ini_get_choice(doc, "render", 0, "color", colors, &choice, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) {
+        /* the recording does not carry the internal force N yet (issue 10) */
+        if (choice == RENDER_COLOR_TENSION)
+            return ini_error(doc, "render", 0, "color", err, errlen,
+                             "tension is not available yet (the recording does not carry the "
+                             "internal force); accepted: solid | curvature | twist | speed");
+        o->color = (render_color_mode)choice;
+    }
+    static const char *const maps[] = {"viridis", "cividis", NULL};
+    status = ini_get_choice(doc, "render", 0, "colormap", maps, &choice, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) o->colormap = (render_colormap)choice;
+    const char *text;
+    status = ini_get_string(doc, "render", 0, "color_range", &text, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) {
+        double range[2];
+        if (strcmp(text, "auto") == 0) {
+            o->color_range[0] = o->color_range[1] = 0;
+        } else if (ini_get_vector(doc, "render", 0, "color_range", range, 2, err, errlen) <= 0 ||
+                   !isfinite(range[0]) || !isfinite(range[1]) || !(range[1] > range[0])) {
+            return ini_error(doc, "render", 0, "color_range", err, errlen,
+                             "must be auto or two numbers lo hi (lo < hi) in the colour's unit");
+        } else {
+            o->color_range[0] = range[0];
+            o->color_range[1] = range[1];
+        }
+    }
+    if (read_positive(doc, "speed", &o->speed, 1e-6, 1e6,
+                      "the playback rate in simulated s per video s (0.25: 4x slow motion)", err,
+                      errlen) ||
+        read_positive(doc, "magnify", &o->magnify, 1, 1e6,
+                      "the factor on displacements from the first frame (1: true size)", err,
+                      errlen))
+        return -1;
+    if (o->fps / o->speed > 1e6 || o->fps / o->speed < 0.5)
+        return ini_error(doc, "render", 0, "speed", err, errlen,
+                         "gives %g recorded frames per simulated second (fps / speed); accepted "
+                         "0.5 .. 1e6",
+                         o->fps / o->speed);
+    if (read_text(doc, "title", o->title, sizeof o->title, err, errlen) ||
+        read_text(doc, "caption", o->caption, sizeof o->caption, err, errlen) ||
+        read_hidden(doc, &o->show, err, errlen))
+        return -1;
+    return 0;
 }
 
 static int read_int_range(ini_doc *doc, const char *key, int *out, int lo, int hi, char *err,
@@ -105,6 +304,35 @@ static int hex_digit(int c)
 {
     return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10
          : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
+}
+
+/* A colour key: rrggbb, "#rrggbb" or three numbers in 0..1, into sRGB bytes.
+ * 1 when given, 0 when absent, -1 with a message. */
+static int read_color(ini_doc *doc, const char *key, unsigned char out[3], char *err,
+                      size_t errlen)
+{
+    const char *text;
+    int status = ini_get_string(doc, "render", 0, key, &text, err, errlen);
+    if (status <= 0) return status;
+    /* six hex digits; a leading # must be quoted ("#f6f7f9"): # starts an INI comment */
+    const char *hex = text[0] == '#' ? text + 1 : text;
+    int ok = strlen(hex) == 6;
+    unsigned char rgb[3];
+    for (int i = 0; ok && i < 3; i++) {
+        int hi = hex_digit(hex[2 * i]), lo = hex_digit(hex[2 * i + 1]);
+        ok = hi >= 0 && lo >= 0;
+        if (ok) rgb[i] = (unsigned char)(16 * hi + lo);
+    }
+    if (!ok) {
+        double v[3];
+        if (ini_get_vector(doc, "render", 0, key, v, 3, err, errlen) <= 0 || v[0] < 0 ||
+            v[0] > 1 || v[1] < 0 || v[1] > 1 || v[2] < 0 || v[2] > 1)
+            return ini_error(doc, "render", 0, key, err, errlen,
+                             "must be rrggbb (hex, or \"#rrggbb\" in quotes) or three numbers in 0..1");
+        for (int i = 0; i < 3; i++) rgb[i] = (unsigned char)lround(255 * v[i]);
+    }
+    memcpy(out, rgb, 3);
+    return 1;
 }
 
 int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errlen)
@@ -162,26 +390,11 @@ int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errle
         v3_copy(o->view, view);
     }
 
-    status = ini_get_string(doc, "render", 0, "background", &text, err, errlen);
+    if (read_color(doc, "background", o->background, err, errlen) < 0) return -1;
+    unsigned char rod[3];
+    status = read_color(doc, "rod_color", rod, err, errlen);
     if (status < 0) return -1;
-    if (status > 0) {
-        /* six hex digits; a leading # must be quoted ("#f6f7f9"): # starts an INI comment */
-        const char *hex = text[0] == '#' ? text + 1 : text;
-        int ok = strlen(hex) == 6;
-        for (int i = 0; ok && i < 3; i++) {
-            int hi = hex_digit(hex[2 * i]), lo = hex_digit(hex[2 * i + 1]);
-            ok = hi >= 0 && lo >= 0;
-            if (ok) o->background[i] = (unsigned char)(16 * hi + lo);
-        }
-        if (!ok) {
-            double rgb[3];
-            if (ini_get_vector(doc, "render", 0, "background", rgb, 3, err, errlen) <= 0 ||
-                rgb[0] < 0 || rgb[0] > 1 || rgb[1] < 0 || rgb[1] > 1 || rgb[2] < 0 || rgb[2] > 1)
-                return ini_error(doc, "render", 0, "background", err, errlen,
-                                 "must be rrggbb (hex, or \"#rrggbb\" in quotes) or three numbers in 0..1");
-            for (int i = 0; i < 3; i++) o->background[i] = (unsigned char)lround(255 * rgb[i]);
-        }
-    }
+    for (int c = 0; status > 0 && c < 3; c++) o->rod_color[c] = rod[c] / 255.0f;
     /* the needle's arc is only drawn (it has no mechanics), so it is a [render] key */
     static const char *const arcs[] = {"3/8", "1/2", NULL};
     status = ini_get_choice(doc, "render", 0, "needle_arc", arcs, &choice, err, errlen);
@@ -194,7 +407,7 @@ int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errle
         ini_get_bool(doc, "render", 0, "frames_png", &o->frames_png, err, errlen) < 0 ||
         ini_get_bool(doc, "render", 0, "poster", &o->poster, err, errlen) < 0)
         return -1;
-    return 0;
+    return read_teaching(doc, o, err, errlen);
 }
 
 /* ------------------------------------------------------------------ geometry */
@@ -250,6 +463,160 @@ void render_stripe_points(const rod_recording *rec, int frame, render_stripe_mod
         const double *r = node_position(rec, frame, i);
         for (int c = 0; c < 3; c++) out[3 * i + c] = r[c] + radius * offset[c];
     }
+}
+
+/* ------------------------------------------------------------------ magnification, colour */
+
+/* An empty recording shaped like rec with room for `frames` frames; NULL
+ * when out of memory. */
+static rod_recording *recording_like(const rod_recording *rec, int frames)
+{
+    rod_recording *r = calloc(1, sizeof *r);
+    if (!r) return NULL;
+    *r = *rec;
+    size_t n = (size_t)rec->nodes, f = (size_t)(frames > 0 ? frames : 1);
+    r->frame_count = r->capacity = (int)f;
+    r->time = malloc(f * sizeof(double));
+    r->position = malloc(f * n * 3 * sizeof(double));
+    r->frame = malloc(f * n * 9 * sizeof(double));
+    r->twist = malloc(f * n * sizeof(double));
+    r->tip_force = malloc(f * 3 * sizeof(double));
+    r->tip_moment = malloc(f * 3 * sizeof(double));
+    if (!r->time || !r->position || !r->frame || !r->twist || !r->tip_force || !r->tip_moment) {
+        rod_recording_destroy(r);
+        return NULL;
+    }
+    return r;
+}
+
+/* Frame `frame` of rec, its displacement from rec's frame 0 times magnify,
+ * into frame `to` of out: r0 + m (r - r0), Q0 exp(m log(Q0^T Q)), u3 likewise. */
+static void magnify_frame(const rod_recording *rec, int frame, double magnify, rod_recording *out,
+                          int to)
+{
+    size_t n = (size_t)rec->nodes;
+    for (size_t k = 0; k < n; k++) {
+        size_t i = (size_t)frame * n + k, j = (size_t)to * n + k;
+        const double *p0 = &rec->position[3 * k], *p = &rec->position[3 * i];
+        const double *q0 = &rec->frame[9 * k], *q = &rec->frame[9 * i];
+        for (int c = 0; c < 3; c++) out->position[3 * j + c] = p0[c] + magnify * (p[c] - p0[c]);
+        double relative[9], phi[3], turn[9];
+        m3_mul_tn(relative, q0, q);
+        m3_log(phi, relative);
+        v3_scale(phi, phi, magnify);
+        m3_exp(turn, phi);
+        m3_mul(&out->frame[9 * j], q0, turn);
+        out->twist[j] = rec->twist[k] + magnify * (rec->twist[i] - rec->twist[k]);
+    }
+    out->time[to] = rec->time[frame];
+    v3_copy(&out->tip_force[3 * to], &rec->tip_force[3 * frame]);
+    v3_copy(&out->tip_moment[3 * to], &rec->tip_moment[3 * frame]);
+}
+
+/* Every frame of rec magnified (render_camera_fit, the grid); NULL when out of memory. */
+static rod_recording *magnified_copy(const rod_recording *rec, double magnify)
+{
+    rod_recording *out = recording_like(rec, rec->frame_count);
+    if (!out) return NULL;
+    for (int f = 0; f < rec->frame_count; f++) magnify_frame(rec, f, magnify, out, f);
+    return out;
+}
+
+/* The colour's quantity at each node of `frame` into out (nodes): bending
+ * curvature |(u1, u2)| from the director frames of neighbouring nodes
+ * (Q_{k+1} = Q_k exp(ds u), the mean of the two segments beside a node);
+ * twist u3 as recorded; speed |r - r_prev| / (t - t_prev), a backward
+ * difference between drawn frames (0 for the first, previous = NULL). */
+static void color_values(const rod_recording *rec, int frame, render_color_mode mode,
+                         const double *previous, double previous_time, double *out)
+{
+    int n = rec->nodes;
+    for (int k = 0; k < n; k++) out[k] = 0;
+    if (mode == RENDER_COLOR_CURVATURE) {
+        for (int k = 0; k + 1 < n; k++) {
+            double relative[9], u[3];
+            m3_mul_tn(relative, node_frame(rec, frame, k), node_frame(rec, frame, k + 1));
+            m3_log(u, relative);
+            double curvature = hypot(u[0], u[1]) / rec->ds;
+            out[k] += 0.5 * curvature;
+            out[k + 1] += 0.5 * curvature;
+        }
+        out[0] *= 2;
+        out[n - 1] *= 2;
+    } else if (mode == RENDER_COLOR_TWIST) {
+        for (int k = 0; k < n; k++) out[k] = rec->twist[(size_t)frame * (size_t)n + (size_t)k];
+    } else if (mode == RENDER_COLOR_SPEED && previous) {
+        double dt = rec->time[frame] - previous_time;
+        for (int k = 0; dt > 0 && k < n; k++) {
+            double d[3];
+            v3_sub(d, node_position(rec, frame, k), &previous[3 * k]);
+            out[k] = v3_norm(d) / dt;
+        }
+    }
+}
+
+/* Smallest 1, 2 or 5 times a power of ten not below x > 0. */
+static double nice_above(double x)
+{
+    double decade = pow(10, floor(log10(x)));
+    double mantissa = x / decade;
+    /* a hair of tolerance: 2.0000000001 (round-off of 2) stays 2 */
+    double hair = 1 + 1e-9;
+    return decade * (mantissa <= hair ? 1 : mantissa <= 2 * hair ? 2 : mantissa <= 5 * hair ? 5 : 10);
+}
+
+/* The colour bar's range, fixed for the video: o->color_range, or from the
+ * extent's values (every frame it holds; a streamed run's sample): up to the
+ * 99th percentile of |value| rounded up to 1, 2, 5 x 10^k (a spike at one
+ * node for one frame would leave the rest of the run one dark colour; values
+ * beyond clamp to the end colours and the bar says so), from 0 for the
+ * magnitudes, symmetric for a signed twist. *clamped = 1 when some values
+ * lie beyond. */
+#define COLOR_BINS 2000
+static void color_range(const rod_recording *rec, const render_options *o, double *lo, double *hi,
+                        int *clamped)
+{
+    *clamped = 0;
+    if (o->color_range[1] > o->color_range[0]) {
+        *lo = o->color_range[0];
+        *hi = o->color_range[1];
+        return;
+    }
+    double largest = 0, *values = malloc((size_t)rec->nodes * sizeof(double));
+    int negative = 0;
+    long *bins = calloc(COLOR_BINS, sizeof(long)), count = 0;
+    for (int pass = 0; values && bins && pass < 2; pass++)
+        for (int f = 0; f < rec->frame_count; f++) {
+            color_values(rec, f, o->color, f > 0 ? node_position(rec, f - 1, 0) : NULL,
+                         f > 0 ? rec->time[f - 1] : 0, values);
+            for (int k = 0; k < rec->nodes; k++) {
+                double v = fabs(values[k]);
+                if (!isfinite(v)) continue;
+                if (pass == 0) {
+                    largest = fmax(largest, v);
+                    negative |= values[k] < 0;
+                } else if (largest > 0) {
+                    int b = (int)(v / largest * (COLOR_BINS - 1));
+                    bins[b < 0 ? 0 : b >= COLOR_BINS ? COLOR_BINS - 1 : b]++;
+                    count++;
+                }
+            }
+        }
+    double top = largest;
+    long seen = 0;
+    for (int b = 0; count > 0 && b < COLOR_BINS; b++) {
+        seen += bins[b];
+        if (seen >= 0.99 * count) {
+            top = fmin(largest, (b + 1.0) / (COLOR_BINS - 1) * largest);
+            break;
+        }
+    }
+    free(values);
+    free(bins);
+    *hi = top > 0 ? nice_above(top) : 0;
+    *lo = negative ? -*hi : 0;
+    if (!(*hi > *lo)) *hi = *lo + 1;
+    *clamped = largest > *hi * (1 + 1e-9);
 }
 
 /* ------------------------------------------------------------------ meshes */
@@ -328,7 +695,8 @@ static void add_disc(mesh *m, const double centre[3], const double e1[3], const 
 
 /* The tube swept with the director frames: ring k at node k in the plane
  * (d1, d2), so the surface turns with the material; radial normals. */
-static void add_tube(mesh *m, const rod_recording *rec, int frame, double radius, int sides)
+static void add_tube(mesh *m, const rod_recording *rec, int frame, double radius, int sides,
+                     const float *colors, const float solid[3])
 {
     unsigned first = (unsigned)m->vertex_count;
     for (int k = 0; k < rec->nodes; k++) {
@@ -342,7 +710,7 @@ static void add_tube(mesh *m, const rod_recording *rec, int frame, double radius
             v3_axpy(n, sin(phi), d2);
             v3_copy(p, r);
             v3_axpy(p, radius, n);
-            add_vertex(m, p, n, render_rod_color);
+            add_vertex(m, p, n, colors ? &colors[3 * k] : solid);
         }
     }
     for (int k = 0; k + 1 < rec->nodes; k++)
@@ -360,14 +728,15 @@ static void add_tube(mesh *m, const rod_recording *rec, int frame, double radius
         m3_column(d2, q, 1);
         m3_column(d3, q, 2);
         if (!end) v3_scale(d3, d3, -1);
-        add_disc(m, node_position(rec, frame, k), d1, d2, radius, d3, sides, render_rod_color);
+        add_disc(m, node_position(rec, frame, k), d1, d2, radius, d3, sides,
+                 colors ? &colors[3 * k] : solid);
     }
 }
 
 /* The stripe as a band painted just above the tube surface, centred on the
  * angle (in the d1-d2 plane of each node) of the chosen material line. */
 static void add_stripe(mesh *m, const rod_recording *rec, int frame, double radius,
-                       render_stripe_mode mode)
+                       render_stripe_mode mode, const float color[3])
 {
     double phi_material = material_stripe_angle(rec), previous = phi_material;
     unsigned first = (unsigned)m->vertex_count;
@@ -392,7 +761,7 @@ static void add_stripe(mesh *m, const rod_recording *rec, int frame, double radi
             v3_axpy(n, sin(angle), d2);
             v3_copy(p, r);
             v3_axpy(p, STRIPE_LIFT * radius, n);
-            add_vertex(m, p, n, render_stripe_color);
+            add_vertex(m, p, n, color);
         }
     }
     for (int k = 0; k + 1 < rec->nodes; k++)
@@ -688,6 +1057,8 @@ static void add_arrow(mesh *m, const double tail[3], const double d[3], double l
 /* Arrow geometry shared by drawing and camera framing. */
 typedef struct arrow_scales {
     double force_scale, moment_scale; /* m per N, m per N m; 0 = no arrow */
+    double max_force, max_moment;     /* N, N m: the largest over the run */
+    double tube_radius;               /* m, drawn: arrows start outside it */
     arrow_style style;
 } arrow_scales;
 
@@ -702,6 +1073,9 @@ static void arrow_scales_compute(arrow_scales *a, const rod_recording *rec, doub
     /* a sampled recording (a streamed video) also knows the frames it dropped */
     max_force = fmax(max_force, rec->peak_force);
     max_moment = fmax(max_moment, rec->peak_moment);
+    a->max_force = max_force;
+    a->max_moment = max_moment;
+    a->tube_radius = radius;
     /* the largest load over the run is a fixed fraction of the length: sizes compare across frames */
     a->force_scale = enabled && max_force > 0 ? 0.25 * rec->length / max_force : 0;
     a->moment_scale = enabled && max_moment > 0 ? 0.2 * rec->length / max_moment : 0;
@@ -710,7 +1084,11 @@ static void arrow_scales_compute(arrow_scales *a, const rod_recording *rec, doub
     a->style.head_length = 6.0 * a->style.shaft_radius;
 }
 
-/* Tail, unit direction and length of the force (which = 0) or moment arrow. */
+/* Tail, unit direction and length of the force (which = 0) or moment arrow,
+ * outside the tube (issue 14): a load pointing away from the rod (or across
+ * it) starts at the tube's surface; one pointing back into the rod (a
+ * compressive force along -d3) ends at the tip's end face, its tail beyond
+ * the tip, pushing on it. */
 static int arrow_geometry(const arrow_scales *a, const rod_recording *rec, int frame, int which,
                           double tail[3], double d[3], double *length)
 {
@@ -720,7 +1098,20 @@ static int arrow_geometry(const arrow_scales *a, const rod_recording *rec, int f
     *length = scale * magnitude;
     if (!(*length > 1e-4 * rec->length)) return 0;
     v3_scale(d, load, 1.0 / magnitude);
-    v3_copy(tail, node_position(rec, frame, rec->nodes - 1));
+    int node = rec->nodes - 1;
+    double d3[3];
+    m3_column(d3, node_frame(rec, frame, node), 2);
+    double along = v3_dot(d, d3), gap = 0.15 * a->tube_radius;
+    v3_copy(tail, node_position(rec, frame, node));
+    if (along >= -0.5) {
+        /* leaves the cylinder at radius / sin(angle to d3), or through the end face */
+        double sine = sqrt(fmax(0, 1 - along * along));
+        double out = along > 0 ? fmin(a->tube_radius / fmax(sine, 1e-9), a->tube_radius)
+                               : a->tube_radius / fmax(sine, 1e-9);
+        v3_axpy(tail, out + gap, d);
+    } else {
+        v3_axpy(tail, -(*length + gap), d);
+    }
     return 1;
 }
 
@@ -765,7 +1156,7 @@ static int point_cloud_create(point_cloud *pc, const rod_recording *rec, const r
     /* the glyphs every frame (a driven end moves them): at most GLYPH_MAX_POINTS each, or 6
      * for a ball (its padded centre) */
     size_t capacity = (size_t)(rec->frame_count / stride + 2) * (size_t)rec->nodes +
-                      (size_t)rec->frame_count * (2 + 2 * GLYPH_MAX_POINTS) + 8;
+                      (size_t)rec->frame_count * (4 + 2 * GLYPH_MAX_POINTS) + 8;
     pc->points = malloc(capacity * 3 * sizeof(double));
     pc->count = 0;
     pc->pad = radius;
@@ -777,6 +1168,8 @@ static int point_cloud_create(point_cloud *pc, const rod_recording *rec, const r
         for (int which = 0; which < 2; which++) {
             double tail[3], d[3], length;
             if (!arrow_geometry(arrows, rec, f, which, tail, d, &length)) continue;
+            /* both ends: a pushing arrow's tail lies beyond the tip */
+            v3_copy(&pc->points[3 * pc->count++], tail);
             double *p = &pc->points[3 * pc->count++];
             v3_copy(p, tail);
             v3_axpy(p, length, d);
@@ -826,7 +1219,7 @@ static void mat4_mul(double r[16], const double a[16], const double b[16])
         }
 }
 
-void render_camera_fit(render_camera *cam, const rod_recording *rec, const render_options *o)
+static void camera_fit(render_camera *cam, const rod_recording *rec, const render_options *o)
 {
     memset(cam, 0, sizeof *cam);
     cam->width = o->width;
@@ -935,6 +1328,14 @@ void render_camera_fit(render_camera *cam, const rod_recording *rec, const rende
         p[14] = 2 * far * near / (near - far);
     }
     mat4_mul(cam->view_projection, cam->projection, cam->view);
+}
+
+void render_camera_fit(render_camera *cam, const rod_recording *rec, const render_options *o)
+{
+    /* the motion as drawn: magnified (out of memory: the true motion) */
+    rod_recording *shown = o->magnify != 1 ? magnified_copy(rec, o->magnify) : NULL;
+    camera_fit(cam, shown ? shown : rec, o);
+    rod_recording_destroy(shown);
 }
 
 int render_project(const render_camera *cam, const double point[3], double pixel[2])
@@ -1062,7 +1463,14 @@ typedef struct overlay {
     double bar_metres;    /* scale bar length, m */
     int bar_pixels;
     char bar_label[32];
-    char scene[128];
+    char title_text[256];
+    int time_digits;      /* integer digits of the largest time of the run */
+    int time_decimals;    /* enough to tell the frames apart */
+    double force_scale;   /* N, the largest |tip force| of the run (0: no force line) */
+    double moment_scale;  /* N m, the same for the moment */
+    double playback;      /* simulated s per video s, as recorded */
+    double color_lo, color_hi; /* the colour bar's range, fixed for the video */
+    int color_clamped;    /* values beyond the range (drawn in the end colours) */
 } overlay;
 
 static void swatch(image *img, int x, int y, int size, const float color[3])
@@ -1072,21 +1480,181 @@ static void swatch(image *img, int x, int y, int size, const float color[3])
     image_fill_rect(img, x, y, size, size, rgb, 1.0);
 }
 
-static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec,
-                         const render_options *o, int frame)
+/* An antialiased line of `width` pixels from (x0, y0) to (x1, y1). */
+static void draw_line(image *img, double x0, double y0, double x1, double y1, double width,
+                      const unsigned char rgb[3])
 {
+    double half = 0.5 * width, dx = x1 - x0, dy = y1 - y0, len2 = dx * dx + dy * dy;
+    int xa = (int)floor(fmin(x0, x1) - half - 1), xb = (int)ceil(fmax(x0, x1) + half + 1);
+    int ya = (int)floor(fmin(y0, y1) - half - 1), yb = (int)ceil(fmax(y0, y1) + half + 1);
+    for (int y = ya; y <= yb; y++)
+        for (int x = xa; x <= xb; x++) {
+            double px = x + 0.5 - x0, py = y + 0.5 - y0;
+            double t = len2 > 0 ? fmax(0, fmin(1, (px * dx + py * dy) / len2)) : 0;
+            double ex = px - t * dx, ey = py - t * dy;
+            double cover = fmin(1, half + 0.5 - sqrt(ex * ex + ey * ey));
+            if (cover > 0) image_fill_rect(img, x, y, 1, 1, rgb, cover);
+        }
+}
+
+/* A 2-D arrow from (x0, y0) to (x1, y1) with a chevron head. */
+static void draw_arrow_2d(image *img, double x0, double y0, double x1, double y1, double width,
+                          const unsigned char rgb[3])
+{
+    draw_line(img, x0, y0, x1, y1, width, rgb);
+    double dx = x1 - x0, dy = y1 - y0, len = hypot(dx, dy);
+    if (len < 1) return;
+    double head = fmin(0.35 * len, 4 * width + 4), ux = dx / len, uy = dy / len;
+    for (int side = -1; side <= 1; side += 2)
+        draw_line(img, x1, y1, x1 - head * (ux - side * 0.5 * uy), y1 - head * (uy + side * 0.5 * ux),
+                  width, rgb);
+}
+
+static const unsigned char axis_colors[3][3] = {{200, 40, 40}, {30, 150, 60}, {40, 80, 210}};
+
+/* x, y, z as the camera sees them, centred at (cx, cy), `size` pixels long
+ * for an axis in the picture's plane; the farthest drawn first. */
+static void draw_triad(image *img, const overlay *ov, const render_camera *cam, double cx,
+                       double cy, double size)
+{
+    static const char *const names[3] = {"x", "y", "z"};
+    int order[3] = {0, 1, 2};
+    for (int i = 0; i < 3; i++)
+        for (int j = i + 1; j < 3; j++)
+            if (cam->direction[order[j]] < cam->direction[order[i]]) {
+                int swap = order[i];
+                order[i] = order[j];
+                order[j] = swap;
+            }
+    double width = fmax(2, img->height / 360.0);
+    for (int k = 0; k < 3; k++) {
+        int a = order[k];
+        double sx = cam->right[a] * size, sy = -cam->up[a] * size, len = hypot(sx, sy);
+        draw_arrow_2d(img, cx, cy, cx + sx, cy + sy, width, axis_colors[a]);
+        /* the letter beyond the arrow's end (at the centre's side when seen end-on) */
+        double ux = len > 1e-6 ? sx / len : 0.7, uy = len > 1e-6 ? sy / len : -0.7;
+        int w = text_width(ov->body, names[a]), h = text_ascent(ov->body);
+        double lx = cx + sx + ux * (0.6 * h + 2), ly = cy + sy + uy * (0.6 * h + 2);
+        text_draw(img, ov->body, (int)lround(lx - 0.5 * w), (int)lround(ly + 0.5 * h), names[a],
+                  axis_colors[a]);
+    }
+}
+
+/* The time, right-aligned in a field as wide as the run's largest time, so
+ * that nothing after it moves when t gains a digit (DejaVu's digits are all
+ * one width). Returns the x after the field. */
+static int draw_time(image *img, const overlay *ov, int x, int y, double t)
+{
+    char widest[64], text[64];
+    int used = snprintf(widest, sizeof widest, "t = ");
+    for (int i = 0; i < ov->time_digits && used < 40; i++) widest[used++] = '0';
+    widest[used++] = '.';
+    for (int i = 0; i < ov->time_decimals && used < 60; i++) widest[used++] = '0';
+    widest[used] = '\0';
+    int field = text_width(ov->body, widest), prefix = text_width(ov->body, "t = ");
+    text_draw(img, ov->body, x, y, "t = ", ov->ink);
+    snprintf(text, sizeof text, "%.*f", ov->time_decimals, fabs(t) < 0.5e-9 ? 0.0 : t);
+    int w = text_width(ov->body, text);
+    text_draw(img, ov->body, x + field - w > x + prefix ? x + field - w : x + prefix, y, text,
+              ov->ink);
+    return x + field + text_draw(img, ov->body, x + field, y, " s", ov->ink);
+}
+
+/* "(0, 450, 0) nN": the components in the prefix of the magnitude, those
+ * below 1/2000 of it (not visible at 3 digits) shown as 0. */
+static void format_vector(char *out, size_t outlen, const double v[3], const char *unit)
+{
+    char magnitude[64];
+    double norm = v3_norm(v);
+    render_format_quantity(magnitude, sizeof magnitude, norm, norm, unit);
+    const char *number_end = strchr(magnitude, ' ');
+    double shown = number_end ? strtod(magnitude, NULL) : 0, factor = norm > 0 ? shown / norm : 0;
+    char part[3][32];
+    for (int c = 0; c < 3; c++) {
+        double x = v[c] * factor;
+        if (fabs(v[c]) < 5e-4 * norm || x == 0) snprintf(part[c], sizeof part[c], "0");
+        else snprintf(part[c], sizeof part[c], "%.3g", x);
+    }
+    snprintf(out, outlen, "%s   (%s, %s, %s)%s", magnitude, part[0], part[1], part[2],
+             number_end ? number_end : "");
+}
+
+static const char *color_name(render_color_mode mode)
+{
+    switch (mode) {
+    case RENDER_COLOR_CURVATURE: return "curvature";
+    case RENDER_COLOR_TWIST: return "twist u3";
+    case RENDER_COLOR_TENSION: return "tension";
+    case RENDER_COLOR_SPEED: return "speed";
+    default: return "";
+    }
+}
+
+static const char *color_unit(render_color_mode mode)
+{
+    switch (mode) {
+    case RENDER_COLOR_CURVATURE:
+    case RENDER_COLOR_TWIST: return "1/m";
+    case RENDER_COLOR_TENSION: return "N";
+    case RENDER_COLOR_SPEED: return "m/s";
+    default: return "";
+    }
+}
+
+/* The colour bar on the right edge: the map from lo (bottom) to hi (top),
+ * labelled at both ends, its name and unit above. */
+static void draw_colorbar(image *img, const overlay *ov, const render_options *o, int margin)
+{
+    int height = img->height * 2 / 5, width = img->height / 45 + 4;
+    int x = img->width - margin - width, top = (img->height - height) / 2;
+    for (int row = 0; row < height; row++) {
+        unsigned char rgb[3];
+        render_colormap_rgb(o->colormap, 1.0 - (row + 0.5) / height, rgb);
+        image_fill_rect(img, x, top + row, width, 1, rgb, 1.0);
+    }
+    char lo[48], hi[48], name[96];
+    double scale = fmax(fabs(ov->color_lo), fabs(ov->color_hi));
+    const char *unit = color_unit(o->color);
+    render_format_quantity(lo, sizeof lo, ov->color_lo, scale, unit);
+    render_format_quantity(hi + 4, sizeof hi - 4, ov->color_hi, scale, unit);
+    /* "\u2265 50 1/m" when some values lie beyond the range */
+    if (ov->color_clamped) memcpy(hi, "\xe2\x89\xa5 ", 4);
+    else memmove(hi, hi + 4, strlen(hi + 4) + 1);
+    int ascent = text_ascent(ov->body);
+    text_draw(img, ov->body, x - 6 - text_width(ov->body, hi), top + ascent, hi, ov->ink);
+    text_draw(img, ov->body, x - 6 - text_width(ov->body, lo), top + height, lo, ov->ink);
+    snprintf(name, sizeof name, "%s", color_name(o->color));
+    text_draw(img, ov->body, x + width - text_width(ov->body, name), top - 8, name, ov->ink);
+}
+
+static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec,
+                         const render_options *o, const render_camera *cam, int frame)
+{
+    unsigned show = o->show;
     int margin = img->height / 40 + 4, line = text_ascent(ov->body) + text_descent(ov->body) + 4;
-    int y = margin + text_ascent(ov->title);
-    text_draw(img, ov->title, margin, y, ov->scene, ov->ink);
-    char text[256];
-    y += line + 2;
-    snprintf(text, sizeof text, "t = %.3f s      scheme: %s      %d nodes", rec->time[frame],
-             rec->scheme[0] ? rec->scheme : "?", rec->nodes);
-    text_draw(img, ov->body, margin, y, text, ov->ink);
+    int y = margin + text_ascent(ov->title) - line - 2;
+    char text[512];
+    if (show & RENDER_SHOW_TITLE) {
+        y += line + 2;
+        text_draw(img, ov->title, margin, y, ov->title_text, ov->ink);
+        y += 2;
+    }
+    if ((show & RENDER_SHOW_CAPTION) && o->caption[0]) {
+        y += line;
+        text_draw(img, ov->body, margin, y, o->caption, ov->faint);
+    }
+    if (show & RENDER_SHOW_TIME) {
+        y += line;
+        int x = draw_time(img, ov, margin, y, rec->time[frame]);
+        snprintf(text, sizeof text, "      scheme: %s      %d nodes",
+                 rec->scheme[0] ? rec->scheme : "?", rec->nodes);
+        text_draw(img, ov->body, x, y, text, ov->ink);
+    }
     /* what holds the ends, unless it is the thesis' cantilever (the old scenes look as before) */
     const render_end *root = &o->ends[0], *tip = &o->ends[1];
-    if (root->kind != RENDER_END_CLAMPED || root->driven || tip->kind != RENDER_END_FREE ||
-        tip->driven || o->needle_radius > 0) {
+    if ((show & RENDER_SHOW_ENDS) &&
+        (root->kind != RENDER_END_CLAMPED || root->driven || tip->kind != RENDER_END_FREE ||
+         tip->driven || o->needle_radius > 0)) {
         static const char *const kinds[] = {"clamped", "pinned", "free"};
         int used = snprintf(text, sizeof text, "root %s%s, tip %s%s", kinds[root->kind],
                             root->driven ? " (driven)" : "", kinds[tip->kind],
@@ -1101,40 +1669,94 @@ static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec
         text_draw(img, ov->body, margin, y, text, ov->ink);
     }
 
-    /* top right: what is not to scale, and what the stripe is */
+    /* top right: what is not to scale or not real time, and what the stripe is */
     int right = img->width - margin;
     y = margin + text_ascent(ov->body);
-    if (ov->exaggeration > 1.05) {
-        snprintf(text, sizeof text, "radius exaggerated %.3g\xc3\x97", ov->exaggeration);
-        text_draw(img, ov->body, right - text_width(ov->body, text), y, text, ov->ink);
+    if (show & RENDER_SHOW_LEGEND) {
+        if (ov->exaggeration > 1.05) {
+            snprintf(text, sizeof text, "radius exaggerated %.3g\xc3\x97", ov->exaggeration);
+            text_draw(img, ov->body, right - text_width(ov->body, text), y, text, ov->ink);
+            y += line;
+        }
+        if (o->magnify != 1) {
+            snprintf(text, sizeof text, "motion magnified %.3g\xc3\x97", o->magnify);
+            text_draw(img, ov->body, right - text_width(ov->body, text), y, text, ov->ink);
+            y += line;
+        }
+        if (fabs(ov->playback - 1) > 1e-3) {
+            if (ov->playback < 1)
+                snprintf(text, sizeof text, "slow motion %.3g\xc3\x97", 1 / ov->playback);
+            else
+                snprintf(text, sizeof text, "time-lapse %.3g\xc3\x97", ov->playback);
+            text_draw(img, ov->body, right - text_width(ov->body, text), y, text, ov->ink);
+            y += line;
+        }
+        if (o->stripe != RENDER_STRIPE_OFF) {
+            const char *what = o->stripe == RENDER_STRIPE_DIRECTOR
+                                   ? "stripe: material line (director frames)"
+                                   : "stripe: thesis (4.17)";
+            int w = text_width(ov->body, what), box = text_ascent(ov->body) * 2 / 3;
+            text_draw(img, ov->body, right - w, y, what, ov->faint);
+            /* a frame around the swatch: the white stripe over a colour map shows on any background */
+            image_fill_rect(img, right - w - box - 9, y - box - 1, box + 2, box + 2, ov->faint, 1.0);
+            swatch(img, right - w - box - 8, y - box, box, stripe_color(o));
+        }
+    }
+    if ((show & RENDER_SHOW_COLORBAR) && o->color != RENDER_COLOR_SOLID)
+        draw_colorbar(img, ov, o, margin);
+
+    /* bottom left, in the band the camera leaves free: the axes, then the
+     * lines of the loads, each keyed by its arrow: the tip force and moment
+     * (a load that is zero over the whole run is not listed) and the
+     * distributed load (gravity), with an arrow in its direction as seen */
+    const double *force = &rec->tip_force[3 * frame], *moment = &rec->tip_moment[3 * frame];
+    int ascent = text_ascent(ov->body), box = ascent * 2 / 3;
+    int bottom = img->height - margin - text_descent(ov->body);
+    double triad = 1.5 * line;
+    int x = margin;
+    if (show & RENDER_SHOW_TRIAD) {
+        double cx = margin + triad + 0.5 * ascent, cy = bottom - triad + 0.2 * ascent;
+        draw_triad(img, ov, cam, cx, cy, triad);
+        x = (int)lround(cx + triad + ascent + 10);
+    }
+    int show_force = (show & RENDER_SHOW_LOADS) && ov->force_scale > 0;
+    int show_moment = (show & RENDER_SHOW_LOADS) && ov->moment_scale > 0;
+    double load = v3_norm(o->distributed_force);
+    int show_gravity = (show & RENDER_SHOW_GRAVITY) && load > 0;
+    y = bottom - (show_force + show_moment + show_gravity - 1) * line;
+    int key = x, keyed = show_gravity || o->arrows;
+    if (keyed) x += (show_gravity ? ascent + 4 : box) + 8;
+    if (show_force) {
+        if (o->arrows) swatch(img, key, y - box, box, force_color);
+        char value[256];
+        format_vector(value, sizeof value, force, "N");
+        snprintf(text, sizeof text, "tip force  %s", value);
+        text_draw(img, ov->body, x, y, text, ov->ink);
         y += line;
     }
-    if (o->stripe != RENDER_STRIPE_OFF) {
-        const char *what = o->stripe == RENDER_STRIPE_DIRECTOR ? "stripe: material line (director frames)"
-                                                               : "stripe: thesis (4.17)";
-        int w = text_width(ov->body, what), box = text_ascent(ov->body) * 2 / 3;
-        text_draw(img, ov->body, right - w, y, what, ov->faint);
-        swatch(img, right - w - box - 8, y - box, box, render_stripe_color);
+    if (show_moment) {
+        if (o->arrows) swatch(img, key, y - box, box, moment_color);
+        char value[256];
+        format_vector(value, sizeof value, moment, "N\xc2\xb7m");
+        snprintf(text, sizeof text, "tip moment  %s", value);
+        text_draw(img, ov->body, x, y, text, ov->ink);
+        y += line;
     }
-
-    /* bottom left: the tip loads, keyed by the arrows' colours */
-    const double *force = &rec->tip_force[3 * frame], *moment = &rec->tip_moment[3 * frame];
-    y = img->height - margin - text_descent(ov->body) - line;
-    int box = text_ascent(ov->body) * 2 / 3, x = margin;
-    if (o->arrows) {
-        swatch(img, x, y - box, box, force_color);
-        swatch(img, x, y + line - box, box, moment_color);
-        x += box + 8;
+    if (show_gravity) {
+        /* its direction on the screen, scaled by how much of it lies in the picture's plane */
+        double half = 0.5 * (ascent + 4), sx = v3_dot(o->distributed_force, cam->right) / load;
+        double sy = -v3_dot(o->distributed_force, cam->up) / load;
+        double cx = key + half, cy = y - 0.4 * ascent;
+        draw_arrow_2d(img, cx - sx * half, cy - sy * half, cx + sx * half, cy + sy * half,
+                      fmax(1.5, img->height / 400.0), ov->ink);
+        char value[64];
+        render_format_quantity(value, sizeof value, load, load, "N/m");
+        snprintf(text, sizeof text, "distributed load  %s", value);
+        text_draw(img, ov->body, x, y, text, ov->ink);
     }
-    snprintf(text, sizeof text, "tip force  %.3g N   (%.3g, %.3g, %.3g)", v3_norm(force), force[0],
-             force[1], force[2]);
-    text_draw(img, ov->body, x, y, text, ov->ink);
-    snprintf(text, sizeof text, "tip moment  %.3g N m   (%.3g, %.3g, %.3g)", v3_norm(moment),
-             moment[0], moment[1], moment[2]);
-    text_draw(img, ov->body, x, y + line, text, ov->ink);
 
     /* bottom right: scale bar, measured at the depth of the camera's target */
-    if (ov->bar_pixels > 0) {
+    if (ov->bar_pixels > 0 && (show & RENDER_SHOW_SCALE)) {
         int bar_y = img->height - margin - text_descent(ov->body) - 4;
         int bar_x = right - ov->bar_pixels;
         int thick = img->height / 240 + 2;
@@ -1235,6 +1857,12 @@ typedef struct renderer {
     unsigned char *tile_marked;  /* (tiles_y x tiles_x) */
     int (*boxes)[4];             /* disjoint boxes over the marked tiles: x, y (down), w, h */
     int box_count;
+    rod_recording *view;         /* magnify != 1: frame 0 the run's first, 1 the drawn frame */
+    double *values;              /* (nodes), the colour's quantity */
+    float *colors;               /* (nodes x 3), linear 0..1; NULL: solid */
+    double *previous;            /* (nodes x 3), m: the last frame given (speed) */
+    double previous_time;        /* s */
+    int have_previous;
 } renderer;
 
 /* Pixels per metre at a point (perspective: at its depth). */
@@ -1326,6 +1954,19 @@ static void renderer_destroy(renderer *r)
     free(r->mesh.vertices);
     free(r->mesh.indices);
     free(r->grid.lines);
+    rod_recording_destroy(r->view);
+    free(r->values);
+    free(r->colors);
+    free(r->previous);
+}
+
+/* Keeps the frame's positions for the next frame's speed. */
+static void renderer_remember(renderer *r, const rod_recording *rec, int frame)
+{
+    if (!r->previous) return;
+    memcpy(r->previous, node_position(rec, frame, 0), (size_t)rec->nodes * 3 * sizeof(double));
+    r->previous_time = rec->time[frame];
+    r->have_previous = 1;
 }
 
 static int renderer_create(renderer *r, const rod_recording *rec, const render_options *o,
@@ -1335,8 +1976,16 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
     r->rec = rec;
     r->o = o;
     r->radius = render_visual_radius(rec, o);
-    render_camera_fit(&r->camera, rec, o);
+    /* the camera and the grid frame the motion as drawn (magnified) */
+    rod_recording *shown = o->magnify != 1 ? magnified_copy(rec, o->magnify) : NULL;
+    camera_fit(&r->camera, shown ? shown : rec, o);
     arrow_scales_compute(&r->arrows, rec, r->radius, o->arrows);
+    if (o->magnify != 1) r->view = recording_like(rec, 2);
+    if (o->color != RENDER_COLOR_SOLID) {
+        r->values = malloc((size_t)rec->nodes * sizeof(double));
+        r->colors = malloc((size_t)rec->nodes * 3 * sizeof(float));
+        r->previous = malloc((size_t)rec->nodes * 3 * sizeof(double));
+    }
     int sides = o->sides;
     r->mesh.max_vertices =
         rec->nodes * (sides + 3) + 2 * (sides + 1) + 2 * GLYPH_VERTICES + 2 * ARROW_MAX_VERTICES;
@@ -1346,15 +1995,34 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
     r->mesh.indices = malloc((size_t)r->mesh.max_indices * sizeof(unsigned));
     r->grid.capacity = o->grid ? 4 * (GRID_MAX_LINES + 2) : 0;
     r->grid.lines = malloc((size_t)(r->grid.capacity + 1) * sizeof(render_vertex));
-    if (!r->mesh.vertices || !r->mesh.indices || !r->grid.lines) {
+    if (!r->mesh.vertices || !r->mesh.indices || !r->grid.lines ||
+        (o->magnify != 1 && (!shown || !r->view)) ||
+        (o->color != RENDER_COLOR_SOLID && (!r->values || !r->colors || !r->previous))) {
         snprintf(err, errlen, "render: out of memory");
+        rod_recording_destroy(shown);
         renderer_destroy(r);
         return -1;
     }
-    if (o->grid) grid_build(&r->grid, rec, &r->camera, r->radius, o->background);
+    if (o->grid) grid_build(&r->grid, shown ? shown : rec, &r->camera, r->radius, o->background);
+    rod_recording_destroy(shown);
 
     overlay *ov = &r->overlay;
-    snprintf(ov->scene, sizeof ov->scene, "%s", scene_name && *scene_name ? scene_name : rec->scene);
+    snprintf(ov->title_text, sizeof ov->title_text, "%s",
+             o->title[0] ? o->title : scene_name && *scene_name ? scene_name : rec->scene);
+    double last_time = 0;
+    for (int f = 0; f < rec->frame_count; f++) last_time = fmax(last_time, fabs(rec->time[f]));
+    ov->time_digits = 1;
+    while (ov->time_digits < 12 && last_time >= pow(10, ov->time_digits) - 0.5) ov->time_digits++;
+    /* decimals that tell consecutive frames apart: 3 at 30 frames per simulated second */
+    int rate = render_output_rate(o);
+    ov->time_decimals = (int)ceil(log10((double)rate) - 1e-9) + 1;
+    if (ov->time_decimals < 1) ov->time_decimals = 1;
+    if (ov->time_decimals > 7) ov->time_decimals = 7;
+    ov->playback = (double)o->fps / rate;
+    ov->force_scale = r->arrows.max_force;
+    ov->moment_scale = r->arrows.max_moment;
+    if (o->color != RENDER_COLOR_SOLID)
+        color_range(rec, o, &ov->color_lo, &ov->color_hi, &ov->color_clamped);
     int dark = o->background[0] + o->background[1] + o->background[2] < 3 * 128;
     for (int c = 0; c < 3; c++) {
         ov->ink[c] = dark ? 235 : 34;
@@ -1408,8 +2076,31 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
     double t0 = timing ? now_seconds() : 0;
     mesh *m = &r->mesh;
     m->vertex_count = m->index_count = 0;
-    add_tube(m, rec, frame, r->radius, r->o->sides);
-    if (r->o->stripe != RENDER_STRIPE_OFF) add_stripe(m, rec, frame, r->radius, r->o->stripe);
+    /* the colours come from the true motion, the shapes from the drawn (magnified) one */
+    if (r->colors) {
+        color_values(rec, frame, r->o->color, r->have_previous ? r->previous : NULL,
+                     r->previous_time, r->values);
+        double span = r->overlay.color_hi - r->overlay.color_lo;
+        for (int k = 0; k < rec->nodes; k++) {
+            unsigned char rgb[3];
+            render_colormap_rgb(r->o->colormap, (r->values[k] - r->overlay.color_lo) / span, rgb);
+            for (int c = 0; c < 3; c++) r->colors[3 * k + c] = rgb[c] / 255.0f;
+        }
+        renderer_remember(r, rec, frame);
+    }
+    const rod_recording *drawn = rec;
+    int drawn_frame = frame;
+    if (r->view) {
+        magnify_frame(rec, 0, 1, r->view, 0);
+        magnify_frame(rec, frame, r->o->magnify, r->view, 1);
+        drawn = r->view;
+        drawn_frame = 1;
+    }
+    rec = drawn;
+    frame = drawn_frame;
+    add_tube(m, rec, frame, r->radius, r->o->sides, r->colors, r->o->rod_color);
+    if (r->o->stripe != RENDER_STRIPE_OFF)
+        add_stripe(m, rec, frame, r->radius, r->o->stripe, stripe_color(r->o));
     add_end_glyphs(m, rec, r->o, frame, r->radius);
     if (r->o->arrows) add_arrows(m, &r->arrows, rec, frame);
     frame_boxes(r, rec, frame);
@@ -1441,7 +2132,7 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
         }
     }
     double t3 = timing ? now_seconds() : 0;
-    if (r->o->overlay) draw_overlay(out, &r->overlay, rec, r->o, frame);
+    if (r->o->overlay) draw_overlay(out, &r->overlay, rec, r->o, &r->camera, frame);
     if (timing) {
         double t4 = now_seconds();
         timing->mesh += t1 - t0;
@@ -1553,8 +2244,11 @@ int render_stream_frame(render_stream *st, const rod_recording *rec, int frame, 
         snprintf(err, errlen, "%s", st->err);
         return -1;
     }
-    /* poster only: draw just the last frame */
-    if (!st->all_frames && index + 1 < st->announced) return 0;
+    /* poster only: draw just the last frame (the one before it gives the speed) */
+    if (!st->all_frames && index + 1 < st->announced) {
+        renderer_remember(&st->r, rec, frame);
+        return 0;
+    }
     int k = st->all_frames ? index : 0;
     if (st->threaded) {
         double wait_start = st->o->timing ? now_seconds() : 0;

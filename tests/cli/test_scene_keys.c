@@ -323,7 +323,7 @@ static void test_misspelt(void)
                      "--set rods.nodes=11: unknown section [rods]; did you mean [rod]?", NULL);
     expect_rod_error("a start of a key", valid_rod, "rod.youngs=1e9",
                      "did you mean rod.youngs_modulus?", NULL);
-    expect_rod_error("nothing near", valid_rod, "render.colour=red",
+    expect_rod_error("nothing near", valid_rod, "render.flavour=red",
                      "unknown key; accepted keys in [render]: fps, width", "did you mean");
 
     char err[1024] = "";

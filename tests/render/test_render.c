@@ -440,6 +440,365 @@ static void test_options(void)
     }
 }
 
+/* ---- overlay for people, triad, loads, colour (issue 14) ---- */
+
+static void test_format(void)
+{
+    static const struct {
+        double value, scale;
+        const char *unit, *expect;
+    } cases[] = {
+        {-0.0, 1, "", "0"},                  /* no -0 */
+        {-0.0, 1, "N", "0 N"},
+        {4.5e-7, 4.5e-7, "N", "450 nN"},
+        {1e-21, 1e-3, "", "0"},              /* round-off of a quantity of 1e-3 */
+        {1.27e-21, 4.5e-7, "N", "0 N"},      /* the issue's tip force component */
+        {2.5e-3, 2.5e-3, "N", "2.5 mN"},
+        {1.2e-6, 1.2e-6, "N\xc2\xb7m", "1.2 \xc2\xb5N\xc2\xb7m"},
+        {-3.0e-5, 1, "N", "-30 \xc2\xb5N"},
+        {999.96, 1, "N", "1 kN"},            /* 3 digits round up to the next prefix */
+        {0.02, 1, "m", "20 mm"},
+        {12.5, 12.5, "1/m", "12.5 1/m"},     /* 1/m takes no prefix */
+        {6.55e-3, 6.55e-3, "N/m", "6.55 mN/m"},
+        {1e-13, 1, "N", "0 N"},
+        {1e-13, 0, "N", "100 fN"},           /* scale 0: nothing is round-off */
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char out[64];
+        render_format_quantity(out, sizeof out, cases[i].value, cases[i].scale, cases[i].unit);
+        check(strcmp(out, cases[i].expect) == 0, "format %g (scale %g, unit '%s'): '%s', expected '%s'",
+              cases[i].value, cases[i].scale, cases[i].unit, out, cases[i].expect);
+    }
+}
+
+/* sRGB bytes to relative luminance (the maps' lightness rises monotonically) */
+static double luminance(const unsigned char c[3])
+{
+    double l = 0;
+    const double weight[3] = {0.2126, 0.7152, 0.0722};
+    for (int k = 0; k < 3; k++) {
+        double v = c[k] / 255.0;
+        l += weight[k] * (v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4));
+    }
+    return l;
+}
+
+static void test_colormap(void)
+{
+    /* matplotlib's _viridis_data[0], [128], [255] (0..1) times 255 */
+    const double published[3][3] = {{0.267004, 0.004874, 0.329415},
+                                    {0.127568, 0.566949, 0.550556},
+                                    {0.993248, 0.906157, 0.143936}};
+    const double at[3] = {0, 128.0 / 255, 1};
+    for (int i = 0; i < 3; i++) {
+        unsigned char rgb[3];
+        render_colormap_rgb(RENDER_MAP_VIRIDIS, at[i], rgb);
+        double worst = 0;
+        for (int c = 0; c < 3; c++) worst = fmax(worst, fabs(rgb[c] - 255 * published[i][c]));
+        check(worst <= 1.5, "viridis(%.3f) = (%d, %d, %d), matplotlib (%.1f, %.1f, %.1f): off by %.2f",
+              at[i], rgb[0], rgb[1], rgb[2], 255 * published[i][0], 255 * published[i][1],
+              255 * published[i][2], worst);
+    }
+    for (int map = 0; map < 2; map++) {
+        double previous = -1;
+        int rising = 1;
+        for (int k = 0; k <= 100; k++) {
+            unsigned char rgb[3];
+            render_colormap_rgb((render_colormap)map, k / 100.0, rgb);
+            double l = luminance(rgb);
+            rising &= l > previous;
+            previous = l;
+        }
+        unsigned char below[3], above[3], lo[3], hi[3];
+        render_colormap_rgb((render_colormap)map, -1, below);
+        render_colormap_rgb((render_colormap)map, 0, lo);
+        render_colormap_rgb((render_colormap)map, 2, above);
+        render_colormap_rgb((render_colormap)map, 1, hi);
+        check(rising && memcmp(below, lo, 3) == 0 && memcmp(above, hi, 3) == 0,
+              "%s: luminance rises monotonically over 101 samples; out of range clamps",
+              map ? "cividis" : "viridis");
+    }
+}
+
+static int near_rgb(const unsigned char *p, const unsigned char c[3], int tolerance)
+{
+    return abs(p[0] - c[0]) <= tolerance && abs(p[1] - c[1]) <= tolerance &&
+           abs(p[2] - c[2]) <= tolerance;
+}
+
+static int count_region(const image *img, int x0, int y0, int x1, int y1,
+                        const unsigned char c[3], int tolerance)
+{
+    int n = 0;
+    for (int y = y0 < 0 ? 0 : y0; y < y1 && y < img->height; y++)
+        for (int x = x0 < 0 ? 0 : x0; x < x1 && x < img->width; x++)
+            n += near_rgb(img->rgb + ((size_t)y * img->width + x) * 3, c, tolerance);
+    return n;
+}
+
+static int is_force_colour(const unsigned char *p) { return p[0] > 120 && p[1] < 70 && p[2] < 70; }
+
+static void test_teaching_overlay(void)
+{
+    char dir[256], err[1024];
+    make_temp_dir(dir, sizeof dir, "teach");
+    const int nodes = 31;
+    rod_recording *rec = synthetic_recording_create(nodes, 2, 1.0, 0.01);
+    synthetic_arc(rec, 0, INFINITY, 0);
+    synthetic_arc(rec, 1, INFINITY, 0);
+    rec->time[0] = 9.9;
+    rec->time[1] = 10.0;
+
+    /* the time field: the text after it ends at the same column at t = 9.9 and 10.0 */
+    render_options o = plain_options(640, 360);
+    o.overlay = 1;
+    o.frames_png = 1;
+    int status = render_recording(rec, &o, dir, "clock", 0, err, sizeof err);
+    int right[2] = {-1, -1}, differ = 0;
+    image *frames[2] = {NULL, NULL};
+    for (int k = 0; status == 0 && k < 2; k++) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/clock_frames/%05d.png", dir, k);
+        frames[k] = image_read_png(path, err, sizeof err);
+        if (!frames[k]) continue;
+        /* ink (dark text) in the top-left band holds the title and the time line */
+        for (int y = 0; y < (int)(0.15 * o.height); y++)
+            for (int x = 0; x < o.width / 2; x++) {
+                const unsigned char *p = frames[k]->rgb + ((size_t)y * o.width + x) * 3;
+                if (p[0] < 110 && p[1] < 110 && p[2] < 110 && x > right[k]) right[k] = x;
+            }
+    }
+    if (frames[0] && frames[1])
+        differ = memcmp(frames[0]->rgb, frames[1]->rgb, (size_t)o.width * o.height * 3) != 0;
+    check(status == 0 && right[0] > 0 && right[0] == right[1] && differ,
+          "time field: the time line ends at column %d at t = 9.9 s and %d at t = 10.0 s (frames "
+          "differ: %d)", right[0], right[1], differ);
+    image_destroy(frames[0]);
+    image_destroy(frames[1]);
+
+    /* the triad: its letters and arrows in the bottom-left corner, in the axes' colours */
+    const unsigned char red[3] = {200, 40, 40}, green[3] = {30, 150, 60};
+    int triad[2];
+    o.frames_png = 0;
+    for (int with = 0; with < 2; with++) {
+        o.show = with ? RENDER_SHOW_ALL : RENDER_SHOW_ALL & ~RENDER_SHOW_TRIAD;
+        image *img = render_poster(rec, &o, dir, with ? "triad" : "no_triad");
+        triad[with] = img ? count_region(img, 0, o.height / 2, o.width / 4, o.height, red, 20) +
+                                count_region(img, 0, o.height / 2, o.width / 4, o.height, green, 20)
+                          : -1;
+        image_destroy(img);
+    }
+    check(triad[1] > 40 && triad[0] == 0,
+          "triad: %d pixels of the x and y axes' colours in the bottom-left quarter, %d when hidden",
+          triad[1], triad[0]);
+
+    /* the distributed load's arrow (gravity) in the bottom-left quarter, only when it acts;
+     * zero tip loads list no load line there either */
+    int ink[2] = {-1, -1};
+    o.show = RENDER_SHOW_ALL & ~RENDER_SHOW_TRIAD;
+    for (int with = 0; with < 2; with++) {
+        v3_set(o.distributed_force, 0, 0, with ? -6.5e-3 : 0);
+        image *img = render_poster(rec, &o, dir, with ? "gravity" : "no_gravity");
+        if (!img) continue;
+        ink[with] = 0;
+        for (int y = o.height * 7 / 10; y < o.height; y++) /* below the rod and its clamp */
+            for (int x = 0; x < o.width / 2; x++) {
+                const unsigned char *p = img->rgb + ((size_t)y * o.width + x) * 3;
+                ink[with] += p[0] < 110 && p[1] < 110 && p[2] < 110;
+            }
+        image_destroy(img);
+    }
+    v3_set(o.distributed_force, 0, 0, 0);
+    check(ink[0] == 0 && ink[1] > 100,
+          "distributed load: %d dark pixels (arrow, label) in the bottom-left corner, %d without "
+          "it and without tip loads", ink[1], ink[0]);
+
+    /* loads: none drawn when zero; a compressive force (-x at the +x tip) is drawn outside
+     * the tube, beyond the tip, and its line is listed */
+    o.arrows = 1;
+    o.show = RENDER_SHOW_ALL & ~RENDER_SHOW_TRIAD;
+    int zero = -1, beyond = -1, inside = -1;
+    image *img = render_poster(rec, &o, dir, "no_load");
+    if (img) {
+        zero = 0;
+        for (int i = 0; i < img->width * img->height; i++) zero += is_force_colour(img->rgb + 3 * i);
+        image_destroy(img);
+    }
+    for (int f = 0; f < 2; f++) v3_set(&rec->tip_force[3 * f], -1e-3, 0, 0);
+    img = render_poster(rec, &o, dir, "push");
+    if (img) {
+        render_camera cam;
+        render_camera_fit(&cam, rec, &o);
+        double tip[2], mid[2];
+        render_project(&cam, &rec->position[3 * (nodes - 1)], tip);
+        render_project(&cam, &rec->position[3 * (nodes / 2)], mid);
+        beyond = inside = 0;
+        for (int y = 0; y < img->height; y++)
+            for (int x = 0; x < img->width; x++) {
+                if (!is_force_colour(img->rgb + ((size_t)y * img->width + x) * 3)) continue;
+                if (x > tip[0] + 2) beyond++;
+                if (x < tip[0] - 6 && x > mid[0]) inside++;
+            }
+        image_destroy(img);
+    }
+    check(zero == 0, "zero tip load: %d pixels of the force's red", zero);
+    check(beyond > 100 && inside == 0,
+          "compressive tip force: %d red pixels beyond the tip, %d over the rod (pushes from "
+          "outside, not hidden in the tube)", beyond, inside);
+    for (int f = 0; f < 2; f++) v3_set(&rec->tip_force[3 * f], 0, 0, 0);
+
+    /* colour along the rod: an arc of radius 0.5 m has curvature 2/m at every node; the
+     * auto range is 0 .. 2 (1, 2, 5 steps): the tube is viridis' top, and the bar is drawn */
+    synthetic_arc(rec, 0, 0.5, 0);
+    synthetic_arc(rec, 1, 0.5, 0);
+    o.arrows = 0;
+    o.stripe = RENDER_STRIPE_OFF;
+    o.visual_radius = 0.02;
+    unsigned char top[3], middle[3];
+    render_colormap_rgb(RENDER_MAP_VIRIDIS, 1, top);
+    render_colormap_rgb(RENDER_MAP_VIRIDIS, 0.5, middle);
+    for (int pass = 0; pass < 3; pass++) {
+        o.color = pass ? RENDER_COLOR_CURVATURE : RENDER_COLOR_SOLID;
+        o.color_range[0] = 0;
+        o.color_range[1] = pass == 2 ? 4 : 0; /* 2 in 0 .. 4: the middle of the map */
+        img = render_poster(rec, &o, dir, pass ? "curvature" : "solid");
+        if (!img) continue;
+        render_camera cam;
+        render_camera_fit(&cam, rec, &o);
+        double px[2];
+        render_project(&cam, &rec->position[3 * (nodes / 2)], px);
+        const unsigned char *p = img->rgb + ((size_t)px[1] * img->width + (size_t)px[0]) * 3;
+        int bar = count_region(img, o.width * 3 / 4, 0, o.width, o.height, top, 8);
+        if (pass == 0)
+            check(bar == 0 && is_rod_colour(p), "solid: no colour bar (%d top-colour pixels), the "
+                  "rod blue (%d %d %d)", bar, p[0], p[1], p[2]);
+        else if (pass == 1)
+            check(bar > 12 && p[0] > p[2] + 60 && p[1] > p[2] + 60,
+                  "curvature 2/m, auto range 0..2: %d colour bar pixels of viridis' top, the rod "
+                  "yellow (%d %d %d)", bar, p[0], p[1], p[2]);
+        else
+            check(p[1] > p[0] + 40 && p[2] > p[0] + 30,
+                  "curvature 2/m in a range 0..4: the rod teal like viridis(0.5) (%d %d %d) lit: "
+                  "(%d %d %d)", middle[0], middle[1], middle[2], p[0], p[1], p[2]);
+        image_destroy(img);
+    }
+    rod_recording_destroy(rec);
+    if (!getenv("RODSIM_KEEP_TEST_OUTPUT")) test_remove_tree(dir);
+}
+
+/* Speed by finite difference between frames, and magnification. */
+static void test_speed_and_magnify(void)
+{
+    char dir[256];
+    make_temp_dir(dir, sizeof dir, "motion");
+    const int nodes = 21;
+    rod_recording *rec = synthetic_recording_create(nodes, 3, 1.0, 0.01);
+    for (int f = 0; f < 3; f++) {
+        synthetic_arc(rec, f, INFINITY, 0);
+        rec->time[f] = 0.1 * f;
+        /* frame 1 moved 0.05 m along +y in 0.1 s (0.5 m/s), frame 2 back at rest beside it */
+        for (int k = 0; f > 0 && k < nodes; k++) rec->position[3 * ((size_t)f * nodes + k) + 1] = 0.05;
+    }
+    render_options o = plain_options(480, 270);
+    o.stripe = RENDER_STRIPE_OFF;
+    o.color = RENDER_COLOR_SPEED;
+    o.color_range[0] = 0;
+    o.color_range[1] = 1;
+    o.frames_png = 1;
+    o.visual_radius = 0.02;
+    char err[1024];
+    int status = render_recording(rec, &o, dir, "speed", 0, err, sizeof err);
+    check(status == 0, "speed colour renders (%s)", status ? err : "ok");
+    unsigned char expect[3][3];
+    render_colormap_rgb(RENDER_MAP_VIRIDIS, 0, expect[0]);   /* first frame: 0 */
+    render_colormap_rgb(RENDER_MAP_VIRIDIS, 0.5, expect[1]); /* 0.5 m/s of 1 */
+    render_colormap_rgb(RENDER_MAP_VIRIDIS, 0, expect[2]);   /* at rest again */
+    render_camera cam;
+    render_camera_fit(&cam, rec, &o);
+    for (int f = 0; status == 0 && f < 3; f++) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/speed_frames/%05d.png", dir, f);
+        image *img = image_read_png(path, err, sizeof err);
+        if (!check(img != NULL, "frame %d read", f)) continue;
+        double px[2];
+        render_project(&cam, &rec->position[3 * ((size_t)f * nodes + nodes / 2)], px);
+        const unsigned char *p = img->rgb + ((size_t)px[1] * img->width + (size_t)px[0]) * 3;
+        /* lit: compare the hue's order, not the bytes */
+        int teal = p[1] > p[0] + 40 && p[2] > p[0] + 30, purple = p[2] > p[1] + 20 && p[0] > p[1];
+        check(f == 1 ? teal : purple, "frame %d: speed %s m/s, rod (%d %d %d), map (%d %d %d)", f,
+              f == 1 ? "0.5" : "0", p[0], p[1], p[2], expect[f][0], expect[f][1], expect[f][2]);
+        image_destroy(img);
+    }
+
+    /* magnify 10: frame 1's 0.05 m is drawn at 0.5 m; the camera frames the magnified motion */
+    o.color = RENDER_COLOR_SOLID;
+    o.frames_png = 0;
+    o.magnify = 10;
+    rec->frame_count = 2;
+    image *img = render_poster(rec, &o, dir, "magnified");
+    if (img) {
+        render_camera_fit(&cam, rec, &o);
+        double shown[3], px[2];
+        v3_copy(shown, &rec->position[3 * (nodes + nodes / 2)]);
+        shown[1] = 0.5; /* 0 + 10 x 0.05 */
+        int inside = render_project(&cam, shown, px) == 0 && px[0] > 0 && px[0] < o.width &&
+                     px[1] > 0 && px[1] < o.height;
+        const unsigned char *p =
+            inside ? img->rgb + ((size_t)px[1] * img->width + (size_t)px[0]) * 3 : NULL;
+        double truth[2];
+        render_project(&cam, &rec->position[3 * (nodes + nodes / 2)], truth);
+        const unsigned char *q = img->rgb + ((size_t)truth[1] * img->width + (size_t)truth[0]) * 3;
+        check(p && is_rod_colour(p) && !is_rod_colour(q),
+              "magnify 10: the rod at y = 0.5 m (%s), not at its true y = 0.05 m", p ? "drawn" : "outside");
+        image_destroy(img);
+    }
+    rod_recording_destroy(rec);
+    if (!getenv("RODSIM_KEEP_TEST_OUTPUT")) test_remove_tree(dir);
+}
+
+static void test_teaching_options(void)
+{
+    char err[512];
+    render_options o;
+    ini_doc *doc = ini_parse("teach.ini",
+                             "[render]\ntitle = Running suture\ncaption = pulled through\n"
+                             "hide = triad, loads\ncolor = twist\ncolormap = cividis\n"
+                             "color_range = -5 5\nspeed = 0.25\nmagnify = 20\n"
+                             "rod_color = ff8000\n",
+                             err, sizeof err);
+    render_options_default(&o);
+    int status = doc ? render_options_read(doc, &o, err, sizeof err) : -1;
+    check(status == 0 && strcmp(o.title, "Running suture") == 0 &&
+              strcmp(o.caption, "pulled through") == 0 &&
+              o.show == (RENDER_SHOW_ALL & ~(RENDER_SHOW_TRIAD | RENDER_SHOW_LOADS)) &&
+              o.color == RENDER_COLOR_TWIST && o.colormap == RENDER_MAP_CIVIDIS &&
+              o.color_range[0] == -5 && o.color_range[1] == 5 && o.speed == 0.25 &&
+              o.magnify == 20 && render_output_rate(&o) == 120 && o.rod_color[0] == 1.0f &&
+              fabs(o.rod_color[1] - 128 / 255.0) < 1e-6 && o.rod_color[2] == 0.0f,
+          "[render] title, caption, hide, color, colormap, color_range, speed, magnify, rod_color read; "
+          "speed 0.25 at 30 fps records 120 frames per simulated s (%d)",
+          render_output_rate(&o));
+    ini_destroy(doc);
+    render_options_default(&o);
+    o.speed = 10;
+    check(render_output_rate(&o) == 3, "speed 10 (time-lapse) at 30 fps: 3 frames per simulated s");
+
+    const char *bad[] = {"[render]\ncolor = tension\n", "[render]\ncolor = jet\n",
+                         "[render]\nhide = clock\n", "[render]\ncolor_range = 5 1\n",
+                         "[render]\nspeed = 0\n", "[render]\nmagnify = 0.5\n",
+                         "[render]\ncolormap = jet\n", "[render]\nspeed = 1e-5\n"};
+    const char *expect[] = {"not available yet", "solid", "unknown overlay item 'clock'",
+                            "lo < hi", "slow motion", "1 ..", "viridis", "fps / speed"};
+    for (int i = 0; i < 8; i++) {
+        doc = ini_parse("bad.ini", bad[i], err, sizeof err);
+        render_options_default(&o);
+        status = doc ? render_options_read(doc, &o, err, sizeof err) : 0;
+        check(status == -1 && strstr(err, "bad.ini:2") && strstr(err, expect[i]),
+              "bad value refused: %s", err);
+        ini_destroy(doc);
+    }
+}
+
 int main(void)
 {
     test_stripe_geometry();
@@ -447,5 +806,10 @@ int main(void)
     test_pixels();
     test_end_glyphs();
     test_atomic_failure();
+    test_format();
+    test_colormap();
+    test_teaching_options();
+    test_teaching_overlay();
+    test_speed_and_magnify();
     return test_finish();
 }
