@@ -151,6 +151,7 @@ figures: deps
 readme:
 	@$(MAKE) --no-print-directory BUILD=build/release rodsim
 	@sh tests/readme.sh update build/release/rodsim README.md
+	@sh tests/readme.sh update build/release/rodsim scenes/README.md
 
 # make install [PREFIX=/usr/local] [DESTDIR=staging]: the binary (shaders
 # compiled in) and the scenes as examples in PREFIX/share/rodsim/scenes.

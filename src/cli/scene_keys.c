@@ -127,18 +127,18 @@ const ini_key scene_keys_rod[] = {
 };
 
 const ini_key scene_keys_beam[] = {
-    {"material", "youngs_modulus", "Pa", "required", "> 0", "E"},
-    {"material", "radius", "m", "-", "> 0",
+    {"material", "youngs_modulus", "Pa", "required", "1 .. 1e13", "E"},
+    {"material", "radius", "m", "-", "1e-9 .. 1e3",
      "solid circular section: A = pi r^2, I = pi r^4/4 (or give area and second_moment)"},
-    {"material", "area", "m^2", "-", "> 0", "A, with second_moment instead of radius"},
-    {"material", "second_moment", "m^4", "-", "> 0", "I, with area instead of radius"},
+    {"material", "area", "m^2", "-", "1e-18 .. 1e6", "A, with second_moment instead of radius"},
+    {"material", "second_moment", "m^4", "-", "1e-40 .. 1e14", "I, with area instead of radius"},
 
-    {"geometry", "length", "m", "-", "> 0", "a generated rod of this length (or give nodes)"},
-    {"geometry", "angle", "deg", "0", "a number", "direction at node 1, above the +x axis"},
+    {"geometry", "length", "m", "-", "1e-6 .. 1e6", "a generated rod of this length (or give nodes)"},
+    {"geometry", "angle", "deg", "0", "-360 .. 360", "direction at node 1, above the +x axis"},
     {"geometry", "curvature_radius", "m", "0", "0, or |R| >= length/(2 pi)",
      "0 straight; R > 0 an arc turning anticlockwise, R < 0 clockwise"},
-    {"geometry", "elements", "-", "4", "1 .. 100000", "elements of the generated rod"},
-    {"geometry", "nodes", "m", "-", "x1 z1, x2 z2, ... (2 or more)",
+    {"geometry", "elements", "-", "4", "1 .. 5000", "elements of the generated rod"},
+    {"geometry", "nodes", "m", "-", "x1 z1, x2 z2, ... (2 .. 5001, |x|, |z| <= 1e6)",
      "explicit node positions instead of length .. elements"},
 
     {"support", "node", "-", "required", "1 .. nodes", "the supported node ([support] repeats)"},
@@ -146,8 +146,8 @@ const ini_key scene_keys_beam[] = {
      "clamped holds u w theta; pinned u w; roller w"},
 
     {"load", "node", "-", "required", "1 .. nodes", "the loaded node ([load] repeats)"},
-    {"load", "force", "N", "0 0", "2 numbers", "Fx Fz, global (z up)"},
-    {"load", "moment", "N m", "0", "a number", "anticlockwise positive"},
+    {"load", "force", "N", "0 0", "2 numbers, each |F| <= 1e12", "Fx Fz, global (z up)"},
+    {"load", "moment", "N m", "0", "|M| <= 1e12", "anticlockwise positive"},
 
     {"plot", "width", "px", "1200", "64 .. 8192", "figure width"},
     {"plot", "height", "px", "800", "64 .. 8192", "figure height"},
