@@ -55,24 +55,26 @@ static void usage(FILE *out)
     fprintf(out,
             "usage: rodsim validate [--case NAME]... [--scheme NAME]... [--nodes N]... [--dt DT]...\n"
             "                       [--quick] [--csv FILE|-] [--jobs N] [--print-commands]\n\n"
-            "Runs the validation cases against independent references and prints one row per\n"
-            "run (case, scheme, NS, dt, computed, reference, relative error, wall time), then\n"
-            "the observed order of convergence in ds and dt per case and scheme.\n\n"
-            "  --case NAME    a case (repeatable; default all):");
-    for (const char *const *n = validate_case_names(); *n; n++) fprintf(out, " %s", *n);
+            "One row per run against an independent reference (computed, reference, relative\n"
+            "error, wall time), then the observed orders of convergence in ds and dt.\n"
+            "  --case NAME    repeatable; default all:");
+    int column = 40;
+    for (const char *const *n = validate_case_names(); *n; n++) {
+        if (column + 1 + (int)strlen(*n) > 84) {
+            fprintf(out, "\n                ");
+            column = 16;
+        }
+        column += fprintf(out, " %s", *n);
+    }
     fprintf(out,
             "\n  --scheme NAME  thesis | implicit | static (repeatable; default all)\n"
             "  --nodes N      NS, 3..100001 (repeatable; default 11 21 51 101 201)\n"
-            "  --dt DT        s, > 0 (repeatable; default per case: dynamic cases run their\n"
-            "                 default dt at every NS and a dt sweep at the finest NS)\n"
-            "  --quick        NS 11 and 21, implicit frequencies at 200 steps per period and a\n"
-            "                 short dt sweep (the tests' set, seconds)\n"
-            "  --csv FILE     also write the rows as CSV (- for stdout, then no table)\n"
-            "  --jobs N       run points in N worker processes (1..64; default 1)\n"
-            "  --print-commands  print one independent command line per point (for GNU\n"
-            "                 parallel or a job array) instead of running them\n\n"
-            "exit status: 0 every applicable row ran (errors are data), 1 a run failed or\n"
-            "diverged, 2 bad usage.\n");
+            "  --dt DT        s (repeatable; default: per case, and a dt sweep at the finest NS)\n"
+            "  --quick        NS 11 and 21, shorter frequency runs (the tests' set, seconds)\n"
+            "  --csv FILE     also the rows as CSV (- for stdout, then no table)\n"
+            "  --jobs N       N worker processes (1..64; default 1)\n"
+            "  --print-commands  one command line per point instead of running them\n"
+            "exit status: 0 every applicable row ran (errors are data), 1 a run failed, 2 usage.\n");
 }
 
 static int parse_int(const char *text, long lo, long hi, int *out)
