@@ -41,6 +41,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/textline.h"
 #include "base/vec3.h"
 
 /* A path of more rows is refused: 1e6 rows hold a 1 kHz recording of a
@@ -340,20 +341,10 @@ rod_path *rod_path_load(const char *filename, char *err, size_t errlen)
     int line_no = 0, columns = 0, rows = 0, capacity = 0;
     double *data = NULL;
     rod_path *path = NULL;
-    while (fgets(line, sizeof line, f)) {
-        line_no++;
-        size_t n = strlen(line);
-        if (n == sizeof line - 1 && line[n - 1] != '\n' && !feof(f)) {
-            snprintf(err, errlen, "%s:%d: line longer than %zu characters", filename, line_no,
-                     sizeof line - 2);
-            goto done;
-        }
-        char *hash = strchr(line, '#');
-        if (hash) *hash = '\0';
-        for (n = strlen(line); n > 0 && isspace((unsigned char)line[n - 1]); n--) line[n - 1] = '\0';
-        char *start = line;
-        while (isspace((unsigned char)*start)) start++;
-        if (!*start) continue;
+    char *start;
+    int got;
+    while ((got = textline_next(f, filename, line, sizeof line, &line_no, &start, err, errlen))) {
+        if (got < 0) goto done;
         if (columns == 0) {
             if (!(columns = header_columns(start))) {
                 snprintf(err, errlen, "%s:%d: %s", filename, line_no, header_help);

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/textline.h"
 #include "base/vec3.h"
 #include "sim/path.h"
 
@@ -342,15 +343,10 @@ static int load_polyline(const char *path, double **points, int *count, int *las
     }
     char line[1024];
     int line_no = 0, header = 0, capacity = 0, rc = -1;
-    while (fgets(line, sizeof line, f)) {
-        line_no++;
-        char *hash = strchr(line, '#');
-        if (hash) *hash = '\0';
-        size_t n;
-        for (n = strlen(line); n > 0 && isspace((unsigned char)line[n - 1]); n--) line[n - 1] = '\0';
-        char *start = line;
-        while (isspace((unsigned char)*start)) start++;
-        if (!*start) continue;
+    char *start;
+    int got;
+    while ((got = textline_next(f, path, line, sizeof line, &line_no, &start, err, errlen))) {
+        if (got < 0) goto done; /* a long line was read as two rows before */
         if (!header) {
             char compact[64];
             size_t k = 0;
@@ -366,8 +362,7 @@ static int load_polyline(const char *path, double **points, int *count, int *las
             continue;
         }
         double values[4];
-        int got = parse_row(start, values, 4);
-        if (got != 3) {
+        if (parse_row(start, values, 4) != 3) {
             snprintf(err, errlen, "%s:%d: expected 3 finite numbers x,y,z (m) separated by commas",
                      path, line_no);
             goto done;
@@ -602,20 +597,10 @@ int scene_load_table(const char *path, rod_table *table, char *err, size_t errle
     }
     char line[1024];
     int line_no = 0, header_seen = 0, capacity = 0, rc = -1;
-    while (fgets(line, sizeof line, f)) {
-        line_no++;
-        size_t n = strlen(line);
-        if (n == sizeof line - 1 && line[n - 1] != '\n') {
-            snprintf(err, errlen, "%s:%d: line longer than %zu characters", path, line_no,
-                     sizeof line - 2);
-            goto done;
-        }
-        char *hash = strchr(line, '#');
-        if (hash) *hash = '\0';
-        for (n = strlen(line); n > 0 && isspace((unsigned char)line[n - 1]); n--) line[n - 1] = '\0';
-        char *start = line;
-        while (isspace((unsigned char)*start)) start++;
-        if (!*start) continue;
+    char *start;
+    int got;
+    while ((got = textline_next(f, path, line, sizeof line, &line_no, &start, err, errlen))) {
+        if (got < 0) goto done;
         if (!header_seen) { /* the first non-blank line names the columns */
             header_seen = 1;
             continue;

@@ -433,6 +433,17 @@ static void test_issue10_keys(void)
         expect_scene_error(dir, extra, "bad shape file", "s.ini:8:", shapes[i].needle);
         unlink(path);
     }
+    {
+        /* a line past the reader's buffer was read as two rows (issue 9's class):
+         * now refused at its line, as the load table and path readers do */
+        static char long_line[1400];
+        snprintf(long_line, sizeof long_line, "x,y,z\n0,0,0\n1,0,%01100d\n", 0);
+        snprintf(path, sizeof path, "%s/long.csv", dir);
+        write_file(path, long_line);
+        expect_scene_error(dir, "shape = long.csv\n", "shape file with a 1106-character line",
+                           "s.ini:8:", "long.csv:3: line longer than");
+        unlink(path);
+    }
     expect_scene_error(dir, "shape = missing.csv\n", "missing shape file", "s.ini:8:", "cannot open");
     expect_scene_error(dir, "shape = arc.csv\norigin = 1 0 0\n", "origin with a shape", "s.ini:9:",
                        "remove this key");
