@@ -569,8 +569,13 @@ rod_path *rod_path_load(const char *filename, char *err, size_t errlen)
         double values[14];
         int count = split_numbers(start, values, 14);
         if (count != columns) {
-            snprintf(err, errlen, "%s:%d: expected %d numbers separated by commas, as the "
-                     "header says", filename, line_no, columns);
+            char names[64] = "";
+            for (int k = 0; k < columns; k++) {
+                if (k) strcat(names, ",");
+                strcat(names, header_names[kind][k]);
+            }
+            snprintf(err, errlen, "%s:%d: expected %d numbers separated by commas (%s), as the "
+                     "header says", filename, line_no, columns, names);
             goto done;
         }
         for (int k = 0; k < count; k++)
