@@ -229,6 +229,28 @@ static void test_replay(void)
           compared, worst, worst / weight);
 }
 
+/* The example driver (tests/live_driver.c, built beside the tests) plays
+ * its needle-holder path at 1 kHz for 0.3 s: every line answered. */
+static void test_driver(void)
+{
+    char driver[1024];
+    snprintf(driver, sizeof driver, "%s", RODSIM_BIN);
+    char *slash = strrchr(driver, '/');
+    if (!slash) return;
+    snprintf(slash + 1, sizeof driver - (size_t)(slash + 1 - driver), "tests/live_driver");
+    char command[2048];
+    snprintf(command, sizeof command, "%s %s %s/hang.ini 0.3 > %s/driver.txt 2>&1", driver,
+             RODSIM_BIN, DIR, DIR);
+    int rc = system(command);
+    FILE *f = fopen(DIR "/driver.txt", "r");
+    char text[2048] = "";
+    size_t got = f ? fread(text, 1, sizeof text - 1, f) : 0;
+    text[got] = '\0';
+    if (f) fclose(f);
+    check(rc == 0 && strstr(text, "300 lines, 300 answered, 0 failed") != NULL,
+          "live_driver plays 0.3 s at 1 kHz, every line answered: %s", text);
+}
+
 int main(void)
 {
     signal(SIGPIPE, SIG_IGN);
@@ -247,6 +269,7 @@ int main(void)
     test_hanging_weight_lockstep();
     test_bad_lines();
     test_replay();
+    test_driver();
     test_remove_tree(DIR);
     return test_finish();
 }
