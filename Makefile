@@ -87,6 +87,9 @@ $(BUILD)/tests/%: tests/%.c $(wildcard tests/*.h) $(BUILD)/librodsim.a $(BUILD)/
 
 tests: $(TEST_BIN)
 
+# The example client of rodsim live (not a test): test_live runs it.
+$(BUILD)/tests/cli/test_live: $(BUILD)/tests/live_driver
+
 # Installs the Debian packages that are missing (root, or sudo when not root).
 deps:
 	@missing=""; for p in $(DEBS); do \

@@ -28,7 +28,37 @@ typedef struct rod_pose {
  * row (1-based) and what is accepted. */
 rod_path *rod_path_create(const double *data, int rows, int columns, char *err, size_t errlen);
 
-/* Reads a CSV file with the header t,x,y,z or t,x,y,z,rx,ry,rz. NULL with a
+/* A path whose velocity is given at every row: rows of the pose columns
+ * (`columns` 4 or 7, as above), then their rates (vx, vy, vz m/s and, with
+ * 7 columns, vrx, vry, vrz, the rotation vector's rate, rad/s): 7 or 13
+ * numbers a row. Each interval is the cubic Hermite polynomial through its
+ * rows' positions and velocities (velocity continuous, acceleration steps at
+ * the rows); held at rest before the first and after the last row, the
+ * given velocity exactly at a row. NULL with a message naming the row. */
+rod_path *rod_path_create_with_velocity(const double *data, int rows, int columns, char *err,
+                                        size_t errlen);
+
+/* A live path (rodsim live): starts with one row `first_row` (t, x, y, z
+ * [, rx, ry, rz]; `columns` 4 or 7) at rest; rod_path_push() appends rows as
+ * they arrive, each with the velocity of the backward three-point difference
+ * through it and the two rows before (a first difference at the second row),
+ * and evaluates as rod_path_create_with_velocity() would on the same rows
+ * and velocities. Causal: a pushed row and its velocity never change, so a
+ * record of them replays exactly. Keeps the last 4 rows: evaluate it only at
+ * times from the third-newest row on. No allocation after create. */
+rod_path *rod_path_create_live(int columns, const double *first_row, char *err, size_t errlen);
+/* Appends `row` (columns numbers, t first) to a live path and writes its
+ * velocity (columns - 1 numbers) to `velocity` (may be NULL). Returns 0, or
+ * -1 with a message when a number is not finite or t does not increase. */
+int rod_path_push(rod_path *p, const double *row, double *velocity, char *err, size_t errlen);
+/* Removes a live path's newest row (the step to it failed); the first row stays. */
+void rod_path_pop(rod_path *p);
+/* 1 when the path's velocity is given (with velocity, or live). */
+int rod_path_has_velocity(const rod_path *p);
+
+/* Reads a CSV file with the header t,x,y,z or t,x,y,z,rx,ry,rz, or, with
+ * velocities given (rod_path_create_with_velocity: a rodsim live record),
+ * t,x,y,z,vx,vy,vz or t,x,y,z,rx,ry,rz,vx,vy,vz,vrx,vry,vrz. NULL with a
  * message naming file:line and what is accepted. */
 rod_path *rod_path_load(const char *filename, char *err, size_t errlen);
 

@@ -31,7 +31,19 @@
  * Numerica 9 (2000), dexp. Its time derivative, exactly:
  *   alpha = J r_ddot + 2 (r . r_dot) (b'(q) r x r_dot + c'(q) r x (r x r_dot))
  *           + c(q) r_dot x (r x r_dot),
- * with b' and c' the derivatives with respect to q = |r|^2. */
+ * with b' and c' the derivatives with respect to q = |r|^2.
+ *
+ * Paths with their velocity given (issue 13: a live session's record, and
+ * the live path itself): each interval is the cubic Hermite polynomial
+ * through the positions and velocities of its two rows, so position and
+ * velocity are continuous and every row's velocity is the given one; the
+ * acceleration steps at the rows (the implicit scheme uses position and
+ * velocity only). A live path keeps the last LIVE_ROWS rows; the velocity at
+ * a pushed row is the backward difference through it and the two rows
+ * before, second order in the spacing on uneven times (the one-sided
+ * three-point formula; the first difference at the second row). Causal: a
+ * row never changes once pushed, so a record of the rows and their
+ * velocities replays to the same poses. */
 #include "sim/path.h"
 
 #include <ctype.h>
@@ -47,6 +59,9 @@
 /* A path of more rows is refused: 1e6 rows hold a 1 kHz recording of a
  * needle holder for 16 minutes, and cost 150 MB with their derivatives. */
 #define PATH_MAX_ROWS 1000000
+/* A live path keeps this many rows: the interval being stepped, the rows
+ * of the backward difference, and one to restore after rod_path_pop(). */
+#define LIVE_ROWS 4
 
 struct rod_path {
     int rows;
@@ -55,7 +70,9 @@ struct rod_path {
     double *time;         /* (rows), s */
     double *value;        /* (rows x components): m, rad */
     double *velocity;     /* (rows x components) at the rows: m/s, rad/s */
-    double *acceleration; /* (rows x components) at the rows: m/s^2, rad/s^2 */
+    double *acceleration; /* (rows x components) at the rows: m/s^2, rad/s^2; NULL when the
+                             velocity is given (cubic Hermite intervals) */
+    int live;             /* 1: rows are pushed (rod_path_push), at most LIVE_ROWS kept */
 };
 
 void rod_path_destroy(rod_path *p)
@@ -69,6 +86,7 @@ void rod_path_destroy(rod_path *p)
 }
 
 int rod_path_columns(const rod_path *p) { return p->columns; }
+int rod_path_has_velocity(const rod_path *p) { return p->acceleration == NULL; }
 double rod_path_start(const rod_path *p) { return p->time[0]; }
 double rod_path_end(const rod_path *p) { return p->time[p->rows - 1]; }
 
@@ -118,6 +136,146 @@ static void row_derivatives(rod_path *p, int c, double *diag, double *rhs)
     }
 #undef H
 #undef D
+}
+
+/* Checks rows of `width` numbers: finite, times strictly increasing. */
+static int check_rows(const double *data, int rows, int width, char *err, size_t errlen)
+{
+    for (int r = 0; r < rows; r++) {
+        const double *row = &data[(size_t)r * (size_t)width];
+        for (int k = 0; k < width; k++)
+            if (!isfinite(row[k])) {
+                snprintf(err, errlen, "row %d: column %d is not a finite number", r + 1, k + 1);
+                return -1;
+            }
+        if (r > 0 && !(row[0] > row[-width])) {
+            snprintf(err, errlen,
+                     "row %d: time %.17g s does not increase (previous row %.17g s); times must "
+                     "strictly increase", r + 1, row[0], row[-width]);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* An empty path with room for `capacity` rows; acceleration only when asked. */
+static rod_path *path_alloc(int capacity, int columns, int with_acceleration)
+{
+    rod_path *p = calloc(1, sizeof *p);
+    if (!p) return NULL;
+    const size_t n = (size_t)capacity, nc = (size_t)columns - 1;
+    p->columns = columns;
+    p->components = columns - 1;
+    p->time = malloc(n * sizeof(double));
+    p->value = malloc(n * nc * sizeof(double));
+    p->velocity = calloc(n * nc, sizeof(double));
+    p->acceleration = with_acceleration ? malloc(n * nc * sizeof(double)) : NULL;
+    if (!p->time || !p->value || !p->velocity || (with_acceleration && !p->acceleration)) {
+        rod_path_destroy(p);
+        return NULL;
+    }
+    return p;
+}
+
+rod_path *rod_path_create_with_velocity(const double *data, int rows, int columns, char *err,
+                                        size_t errlen)
+{
+    if (columns != 4 && columns != 7) {
+        snprintf(err, errlen, "a path with velocities has 4 pose columns (t, x, y, z) or 7 "
+                              "(t, x, y, z, rx, ry, rz), not %d", columns);
+        return NULL;
+    }
+    if (rows < 1 || rows > PATH_MAX_ROWS) {
+        snprintf(err, errlen, "a path has 1 to %d rows, not %d", PATH_MAX_ROWS, rows);
+        return NULL;
+    }
+    const int nc = columns - 1, width = columns + nc;
+    if (check_rows(data, rows, width, err, errlen)) return NULL;
+    rod_path *p = path_alloc(rows, columns, 0);
+    if (!p) {
+        snprintf(err, errlen, "out of memory for a path of %d rows", rows);
+        return NULL;
+    }
+    p->rows = rows;
+    for (int r = 0; r < rows; r++) {
+        const double *row = &data[(size_t)r * (size_t)width];
+        p->time[r] = row[0];
+        memcpy(&p->value[(size_t)r * (size_t)nc], row + 1, (size_t)nc * sizeof(double));
+        memcpy(&p->velocity[(size_t)r * (size_t)nc], row + columns, (size_t)nc * sizeof(double));
+    }
+    return p;
+}
+
+rod_path *rod_path_create_live(int columns, const double *first_row, char *err, size_t errlen)
+{
+    if (columns != 4 && columns != 7) {
+        snprintf(err, errlen, "a live path has 4 columns (t, x, y, z) or 7 (t, x, y, z, rx, ry, "
+                              "rz), not %d", columns);
+        return NULL;
+    }
+    if (check_rows(first_row, 1, columns, err, errlen)) return NULL;
+    rod_path *p = path_alloc(LIVE_ROWS, columns, 0);
+    if (!p) {
+        snprintf(err, errlen, "out of memory for a live path");
+        return NULL;
+    }
+    p->live = 1;
+    p->rows = 1;
+    p->time[0] = first_row[0];
+    memcpy(p->value, first_row + 1, (size_t)p->components * sizeof(double));
+    return p;
+}
+
+int rod_path_push(rod_path *p, const double *row, double *velocity, char *err, size_t errlen)
+{
+    const int nc = p->components;
+    if (!p->live) {
+        snprintf(err, errlen, "rows are pushed only onto a live path (rod_path_create_live)");
+        return -1;
+    }
+    for (int k = 0; k < p->columns; k++)
+        if (!isfinite(row[k])) {
+            snprintf(err, errlen, "column %d is not a finite number", k + 1);
+            return -1;
+        }
+    const double last = p->time[p->rows - 1];
+    if (!(row[0] > last)) {
+        snprintf(err, errlen, "time %.17g s does not increase (previous row %.17g s)", row[0],
+                 last);
+        return -1;
+    }
+    if (p->rows == LIVE_ROWS) { /* forget the oldest row: evaluation needs the last interval */
+        memmove(p->time, p->time + 1, (LIVE_ROWS - 1) * sizeof(double));
+        memmove(p->value, p->value + nc, (size_t)(LIVE_ROWS - 1) * (size_t)nc * sizeof(double));
+        memmove(p->velocity, p->velocity + nc,
+                (size_t)(LIVE_ROWS - 1) * (size_t)nc * sizeof(double));
+        p->rows--;
+    }
+    const int r = p->rows;
+    double *v = &p->velocity[r * nc], *y = &p->value[r * nc];
+    p->time[r] = row[0];
+    memcpy(y, row + 1, (size_t)nc * sizeof(double));
+    const double h1 = p->time[r] - p->time[r - 1];
+    for (int c = 0; c < nc; c++) {
+        const double d1 = (y[c] - y[c - nc]) / h1;
+        if (r < 2) {
+            v[c] = d1; /* the second row: the first difference */
+        } else {
+            /* one-sided three-point difference at t_r on uneven times:
+             * v = d1 + h1 (d1 - d0) / (h1 + h0), exact for a quadratic */
+            const double h0 = p->time[r - 1] - p->time[r - 2];
+            const double d0 = (y[c - nc] - y[c - 2 * nc]) / h0;
+            v[c] = d1 + h1 * (d1 - d0) / (h1 + h0);
+        }
+    }
+    if (velocity) memcpy(velocity, v, (size_t)nc * sizeof(double));
+    p->rows++;
+    return 0;
+}
+
+void rod_path_pop(rod_path *p)
+{
+    if (p->live && p->rows > 1) p->rows--;
 }
 
 rod_path *rod_path_create(const double *data, int rows, int columns, char *err, size_t errlen)
@@ -182,9 +340,19 @@ static void interpolate(const rod_path *p, double t, double *value, double *velo
     const int n = p->rows, nc = p->components;
     if (!(t > p->time[0]) || t >= p->time[n - 1]) { /* held: at rest at the first or last row */
         int r = (t >= p->time[n - 1]) ? n - 1 : 0;
+        /* exactly at the row, a given velocity (a live path's newest row, a
+         * record's last); held before and after: at rest (the spline's rows
+         * there have velocity 0 anyway) */
+        int at_row = t == p->time[r];
+        /* a time summed from steps lands on a row within rounding: with the
+         * velocity given, a hair after the newest row of a live path is
+         * still that row (not the rest after it) */
+        if (!p->acceleration && n > 1)
+            at_row = at_row || fabs(t - p->time[r]) <= 1e-9 * (p->time[n - 1] - p->time[n - 2]);
         for (int c = 0; c < nc; c++) {
             value[c] = p->value[r * nc + c];
-            velocity[c] = acceleration[c] = 0.0;
+            velocity[c] = at_row ? p->velocity[r * nc + c] : 0.0;
+            acceleration[c] = 0.0;
         }
         return;
     }
@@ -194,6 +362,22 @@ static void interpolate(const rod_path *p, double t, double *value, double *velo
         if (p->time[mid] <= t) lo = mid; else hi = mid;
     }
     const double h = p->time[lo + 1] - p->time[lo], tau = t - p->time[lo], s = tau / h;
+    if (!p->acceleration) { /* velocity given: cubic Hermite on the interval */
+        const double s2 = s * s, s3 = s2 * s;
+        const double h00 = 2.0 * s3 - 3.0 * s2 + 1.0, h10 = s3 - 2.0 * s2 + s;
+        const double h01 = -2.0 * s3 + 3.0 * s2, h11 = s3 - s2;
+        const double d00 = 6.0 * s2 - 6.0 * s, d10 = 3.0 * s2 - 4.0 * s + 1.0;
+        const double d11 = 3.0 * s2 - 2.0 * s;
+        const double a00 = 12.0 * s - 6.0, a10 = 6.0 * s - 4.0, a11 = 6.0 * s - 2.0;
+        for (int c = 0; c < nc; c++) {
+            const double y0 = p->value[lo * nc + c], y1 = p->value[(lo + 1) * nc + c];
+            const double v0 = p->velocity[lo * nc + c], v1 = p->velocity[(lo + 1) * nc + c];
+            value[c] = h00 * y0 + h10 * h * v0 + h01 * y1 + h11 * h * v1;
+            velocity[c] = (d00 * (y0 - y1)) / h + d10 * v0 + d11 * v1;
+            acceleration[c] = (a00 * (y0 - y1) / h + a10 * v0 + a11 * v1) / h;
+        }
+        return;
+    }
     for (int c = 0; c < nc; c++) {
         const double y0 = p->value[lo * nc + c], y1 = p->value[(lo + 1) * nc + c];
         const double v0 = p->velocity[lo * nc + c], v1 = p->velocity[(lo + 1) * nc + c];
@@ -306,39 +490,59 @@ static int split_numbers(char *line, double *values, int max)
     }
 }
 
-/* 4 or 7 when the line is the header t,x,y,z or t,x,y,z,rx,ry,rz (blanks
- * around the names allowed), else 0. */
-static int header_columns(const char *line)
+/* The headers a path file may have: pose columns, then (with velocities)
+ * their rates: vx,vy,vz (m/s) and vrx,vry,vrz (the rotation vector's rate,
+ * rad/s). */
+static const char *const header_names[4][13] = {
+    {"t", "x", "y", "z"},
+    {"t", "x", "y", "z", "rx", "ry", "rz"},
+    {"t", "x", "y", "z", "vx", "vy", "vz"},
+    {"t", "x", "y", "z", "rx", "ry", "rz", "vx", "vy", "vz", "vrx", "vry", "vrz"}};
+static const int header_widths[4] = {4, 7, 7, 13};
+
+/* Which of header_names the line is (blanks around the names allowed), or -1. */
+static int header_kind(const char *line)
 {
-    static const char *const names[] = {"t", "x", "y", "z", "rx", "ry", "rz"};
+    const char *tokens[14];
+    size_t lengths[14];
     int count = 0;
     const char *p = line;
     for (;;) {
         while (isspace((unsigned char)*p)) p++;
         const char *b = p;
         while (*p && *p != ',' && !isspace((unsigned char)*p)) p++;
-        size_t n = (size_t)(p - b);
-        if (count == 7 || strlen(names[count]) != n || strncmp(names[count], b, n) != 0) return 0;
-        count++;
+        if (count == 14) return -1;
+        tokens[count] = b;
+        lengths[count++] = (size_t)(p - b);
         while (isspace((unsigned char)*p)) p++;
         if (!*p) break;
-        if (*p != ',') return 0;
+        if (*p != ',') return -1;
         p++;
     }
-    return count == 4 || count == 7 ? count : 0;
+    for (int kind = 0; kind < 4; kind++) {
+        if (count != header_widths[kind]) continue;
+        int same = 1;
+        for (int k = 0; k < count && same; k++)
+            same = strlen(header_names[kind][k]) == lengths[k] &&
+                   strncmp(header_names[kind][k], tokens[k], lengths[k]) == 0;
+        if (same) return kind;
+    }
+    return -1;
 }
 
 rod_path *rod_path_load(const char *filename, char *err, size_t errlen)
 {
     static const char header_help[] = "expected the header t,x,y,z or t,x,y,z,rx,ry,rz (time s, "
-                                      "position m, rotation vector rad)";
+                                      "position m, rotation vector rad), or with velocities "
+                                      "t,x,y,z,vx,vy,vz or t,x,y,z,rx,ry,rz,vx,vy,vz,vrx,vry,vrz "
+                                      "(m/s, rad/s; a rodsim live record)";
     FILE *f = fopen(filename, "r");
     if (!f) {
         snprintf(err, errlen, "%s: cannot open the path: %s", filename, strerror(errno));
         return NULL;
     }
     char line[1024];
-    int line_no = 0, columns = 0, rows = 0, capacity = 0;
+    int line_no = 0, columns = 0, kind = -1, rows = 0, capacity = 0;
     double *data = NULL;
     rod_path *path = NULL;
     char *start;
@@ -346,25 +550,29 @@ rod_path *rod_path_load(const char *filename, char *err, size_t errlen)
     while ((got = textline_next(f, filename, line, sizeof line, &line_no, &start, err, errlen))) {
         if (got < 0) goto done;
         if (columns == 0) {
-            if (!(columns = header_columns(start))) {
+            if ((kind = header_kind(start)) < 0) {
                 snprintf(err, errlen, "%s:%d: %s", filename, line_no, header_help);
                 goto done;
             }
+            columns = header_widths[kind];
             continue;
         }
-        double values[8];
-        int count = split_numbers(start, values, 8);
+        double values[14];
+        int count = split_numbers(start, values, 14);
         if (count != columns) {
+            char names[64] = "";
+            for (int k = 0; k < columns; k++) {
+                if (k) strcat(names, ",");
+                strcat(names, header_names[kind][k]);
+            }
             snprintf(err, errlen, "%s:%d: expected %d numbers separated by commas (%s), as the "
-                     "header says", filename, line_no, columns,
-                     columns == 4 ? "t,x,y,z" : "t,x,y,z,rx,ry,rz");
+                     "header says", filename, line_no, columns, names);
             goto done;
         }
         for (int k = 0; k < count; k++)
             if (!isfinite(values[k])) {
-                static const char *const names[] = {"t", "x", "y", "z", "rx", "ry", "rz"};
                 snprintf(err, errlen, "%s:%d: %s is not a finite number", filename, line_no,
-                         names[k]);
+                         header_names[kind][k]);
                 goto done;
             }
         if (rows > 0 && !(values[0] > data[(size_t)(rows - 1) * (size_t)columns])) {
@@ -401,12 +609,13 @@ rod_path *rod_path_load(const char *filename, char *err, size_t errlen)
         goto done;
     }
     if (rows == 0) {
-        snprintf(err, errlen, "%s:%d: no rows after the header: at least one row t,x,y,z%s",
-                 filename, line_no, columns == 7 ? ",rx,ry,rz" : "");
+        snprintf(err, errlen, "%s:%d: no rows after the header: at least one row of %d "
+                 "numbers", filename, line_no, columns);
         goto done;
     }
     char why[256];
-    path = rod_path_create(data, rows, columns, why, sizeof why);
+    path = kind >= 2 ? rod_path_create_with_velocity(data, rows, kind == 2 ? 4 : 7, why, sizeof why)
+                     : rod_path_create(data, rows, columns, why, sizeof why);
     if (!path) snprintf(err, errlen, "%s: %s", filename, why);
 done:
     free(data);

@@ -412,6 +412,63 @@ static void test_csv(void)
     rmdir(dir);
 }
 
+
+/* Live paths (issue 13): the pushed velocity is the one-sided three-point
+ * difference, exact for a quadratic on uneven times; the interpolant passes
+ * the rows and their velocities; a velocity-given path made from the same
+ * rows and velocities evaluates identically (the record replays); pop. */
+static void test_live(void)
+{
+    char err[256] = "";
+    const double first[4] = {0.0, 0.0, 0.0, 0.0};
+    rod_path *p = rod_path_create_live(4, first, err, sizeof err);
+    if (!check(p != NULL, "live path created (%s)", err)) return;
+    /* x = 3 t^2 - t, uneven times: velocity 6 t - 1 exactly from the third row */
+    const double times[5] = {0.1, 0.25, 0.3, 0.45, 0.5};
+    double rec[6 * 7] = {0.0}; /* t,x,y,z,vx,vy,vz rows, first the start at rest */
+    double worst = 0.0;
+    for (int i = 0; i < 5; i++) {
+        double t = times[i], row[4] = {t, 3 * t * t - t, 0.0, 0.0}, v[3];
+        if (rod_path_push(p, row, v, err, sizeof err)) break;
+        if (i >= 1) worst = fmax(worst, fabs(v[0] - (6 * t - 1)));
+        memcpy(&rec[7 * (i + 1)], row, sizeof row);
+        memcpy(&rec[7 * (i + 1) + 4], v, sizeof v);
+    }
+    check(worst < 1e-12, "three-point velocity exact for a quadratic on uneven times (largest "
+          "error %.1e)", worst);
+    rod_pose a, b;
+    rod_path_eval(p, 0.5, &a);
+    check(a.position[0] == 3 * 0.25 - 0.5 && fabs(a.velocity[0] - 2.0) < 1e-12,
+          "at the newest row: its position and velocity (%g, %g)", a.position[0], a.velocity[0]);
+    rod_path *replay = rod_path_create_with_velocity(rec, 6, 4, err, sizeof err);
+    if (check(replay != NULL, "velocity-given path from the same rows (%s)", err)) {
+        double diff = 0.0;
+        for (double t = 0.3; t <= 0.5; t += 0.01) {
+            rod_path_eval(p, t, &a);
+            rod_path_eval(replay, t, &b);
+            diff = fmax(diff, fabs(a.position[0] - b.position[0]) +
+                                  fabs(a.velocity[0] - b.velocity[0]));
+        }
+        /* a cubic Hermite through a quadratic's values and exact slopes is that quadratic */
+        rod_path_eval(replay, 0.4, &b);
+        check(diff == 0.0 && fabs(b.position[0] - (3 * 0.16 - 0.4)) < 1e-14 &&
+                  fabs(b.velocity[0] - (6 * 0.4 - 1)) < 1e-13,
+              "live and replayed evaluate identically (%.1e); between rows the quadratic: "
+              "x(0.4) = %.15g (reference %.15g)", diff, b.position[0], 3 * 0.16 - 0.4);
+        rod_path_destroy(replay);
+    }
+    double back[4] = {0.5, 0, 0, 0};
+    check(rod_path_push(p, back, NULL, err, sizeof err) == -1 && strstr(err, "does not increase"),
+          "a row whose time does not increase is refused: %s", err);
+    double next[4] = {0.6, 1.0, 0, 0};
+    rod_path_push(p, next, NULL, err, sizeof err);
+    rod_path_pop(p);
+    rod_path_eval(p, 0.55, &a);
+    check(a.position[0] == 3 * 0.25 - 0.5 && a.velocity[0] == 0.0,
+          "after pop the newest row is again t = 0.5, held after it");
+    rod_path_destroy(p);
+}
+
 int main(void)
 {
     test_rows_exact();
@@ -419,5 +476,6 @@ int main(void)
     test_convergence();
     test_rotation();
     test_csv();
+    test_live();
     return test_finish();
 }

@@ -1,0 +1,590 @@
+/* live.c: `rodsim live` (see live.h).
+ *
+ * Decisions where the issue is silent:
+ *   - every input line gets exactly one answer, also a refused one (status
+ *     bad_input, the current state), so a client that waits for the answer
+ *     to line k before writing line k+1 never deadlocks;
+ *   - a step that fails (Newton, instability, a non-finite state) restores
+ *     the state of the line before and drops the line from the driven path
+ *     (rod_path_pop): the next line continues from where the end really is,
+ *     so one impossible pose (beyond the thread's reach) does not poison the
+ *     lines after it;
+ *   - the scene starts at t = 0 at rest; a first line's t must exceed 0;
+ *   - the record holds only the lines that were stepped, with the velocity
+ *     the live path gave each row: `rodsim run` interpolates them the same
+ *     way (rod_path_create_with_velocity), so a replay whose steps are the
+ *     live steps (inputs every 1/render.fps s) gives the same forces to the
+ *     Newton tolerance;
+ *   - SIGINT and SIGTERM end the session like the end of input: the record
+ *     is kept, exit 0.
+ * No allocation after the first line: the input buffer, the path's rows,
+ * the load table and the snapshot of the last good state are made before.
+ */
+#define _GNU_SOURCE /* mlockall flags, clock_nanosleep */
+#include "cli/live.h"
+
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <time.h>
+
+#include "base/ini.h"
+#include "base/outfile.h"
+#include "cli/args.h"
+#include "cli/run.h"
+#include "sim/path.h"
+#include "sim/rod.h"
+
+void live_usage(FILE *f)
+{
+    fprintf(f,
+        "usage: rodsim live SCENE [--set section.key=value]... [--record FILE] [--centreline]\n"
+        "                   [--realtime] [--on-error skip|stop]\n"
+        "One input line per step on standard input, t increasing from > 0 (s):\n"
+        "  held tip (ends.tip = pinned | clamped): t,x,y,z or (clamped) t,x,y,z,rx,ry,rz, the\n"
+        "    tip's pose (global m; rotation vector from its starting frame, rad)\n"
+        "  free tip: t,fx,fy,fz,mx,my,mz, the tip loads on tip.frame (N, N m)\n"
+        "One answer per line on standard output, flushed, after a header:\n"
+        "  t,fx,fy,fz,mx,my,mz,status: what the thread exerts on the driven tip (free tip: on\n"
+        "  its root), global N, N m; status ok | failed (last good state) | bad_input (skipped)\n"
+        "  --centreline     the node positions x0,y0,z0,... follow on the same line\n"
+        "  --record FILE    the stepped lines as a path with velocities (free tip: a load\n"
+        "                   table); replay: rodsim run SCENE --set ends.tip_motion=FILE\n"
+        "                   (tip.profile=\"table FILE\"), the line is in FILE's last comment\n"
+        "  --realtime       sleep until t on the wall clock (replaying a file); count overruns\n"
+        "  --on-error skip  a bad line (not 4 or 7 numbers, t not increasing, NaN, over %d\n"
+        "                   bytes) is answered bad_input and skipped; stop: exit 2\n"
+        "Steps of at most solver.dt; a failed step does not stop the stream. End of input,\n"
+        "SIGINT or SIGTERM end the session (exit 0; the record is kept).\n",
+        LIVE_LINE_MAX - 1);
+}
+
+typedef struct live_args {
+    const char *scene;
+    const char **sets;
+    int set_count;
+    const char *record;
+    int centreline, realtime, stop_on_error, help;
+} live_args;
+
+static int parse_args(int argc, char **argv, live_args *a, char *err, size_t errlen)
+{
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        int takes_value = !strcmp(arg, "--set") || !strcmp(arg, "--record") ||
+                          !strcmp(arg, "--on-error");
+        const char *value = NULL;
+        if (takes_value) {
+            if (i + 1 >= argc) {
+                snprintf(err, errlen, "%s needs a value", arg);
+                return -1;
+            }
+            value = argv[++i];
+            if (cli_option_value(arg, value, err, errlen)) return -1;
+        }
+        if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) a->help = 1;
+        else if (!strcmp(arg, "--set")) a->sets[a->set_count++] = value;
+        else if (!strcmp(arg, "--record")) a->record = value;
+        else if (!strcmp(arg, "--centreline")) a->centreline = 1;
+        else if (!strcmp(arg, "--realtime")) a->realtime = 1;
+        else if (!strcmp(arg, "--on-error")) {
+            if (!strcmp(value, "skip")) a->stop_on_error = 0;
+            else if (!strcmp(value, "stop")) a->stop_on_error = 1;
+            else {
+                snprintf(err, errlen, "--on-error %s: accepted: skip or stop", value);
+                return -1;
+            }
+        } else if (arg[0] == '-' && arg[1] != '\0') {
+            snprintf(err, errlen, "unknown option '%s'", arg);
+            return -1;
+        } else if (a->scene) {
+            snprintf(err, errlen, "only one SCENE may be given ('%s' and '%s')", a->scene, arg);
+            return -1;
+        } else {
+            a->scene = arg;
+        }
+    }
+    if (!a->help && !a->scene) {
+        snprintf(err, errlen, "no SCENE given");
+        return -1;
+    }
+    if (a->record && !strcmp(a->record, "-")) {
+        snprintf(err, errlen, "--record needs a file (standard output carries the answers)");
+        return -1;
+    }
+    return 0;
+}
+
+static volatile sig_atomic_t stop_signal;
+static void on_stop_signal(int sig) { stop_signal = sig; }
+
+static double wall_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Copies what a step changes (the arrays were made for the same model). */
+static void state_copy(rod_state *to, const rod_state *from)
+{
+    const size_t n = (size_t)from->nodes;
+    memcpy(to->position, from->position, n * 3 * sizeof(double));
+    memcpy(to->frame, from->frame, n * 9 * sizeof(double));
+    memcpy(to->velocity, from->velocity, n * 3 * sizeof(double));
+    memcpy(to->angular_velocity, from->angular_velocity, n * 3 * sizeof(double));
+    memcpy(to->darboux, from->darboux, n * 3 * sizeof(double));
+    memcpy(to->contact_force, from->contact_force, n * 3 * sizeof(double));
+    to->staggered = from->staggered;
+    to->time = from->time;
+    memcpy(to->end_force, from->end_force, sizeof to->end_force);
+    memcpy(to->end_moment, from->end_moment, sizeof to->end_moment);
+}
+
+/* Splits a line at commas into at most `max` numbers; -1 at a field that is
+ * not a number (strtod: "nan", "inf" parse, finiteness is checked after),
+ * -2 when there are more than `max`. */
+static int split_numbers(char *line, double *values, int max)
+{
+    int count = 0;
+    char *p = line;
+    for (;;) {
+        if (count == max) return -2;
+        char *stop;
+        errno = 0;
+        double v = strtod(p, &stop);
+        if (stop == p || errno == ERANGE) return -1;
+        while (*stop == ' ' || *stop == '\t') stop++;
+        if (*stop != ',' && *stop != '\0') return -1;
+        values[count++] = v;
+        if (*stop == '\0') return count;
+        p = stop + 1;
+    }
+}
+
+typedef struct live_session {
+    const live_args *args;
+    rod_model *model;       /* the scene's (owns the live path in pose mode) */
+    rod_model loads_model;  /* load mode: a copy whose profile is `table` */
+    const rod_model *stepped; /* the model the solver steps */
+    rod_solver solver;
+    rod_state *state, *good;
+    rod_path *path;         /* pose mode: the tip's live path (owned by model) */
+    int pose_mode;          /* 1: the tip's pose; 0: tip loads */
+    int columns;            /* path columns (4 or 7), or 7 for loads */
+    int driven;             /* end whose force is answered: 1 tip, 0 root */
+    double table[14];       /* load mode: two rows t,fx..mz (the last good and the new) */
+    double dt;              /* s, solver.dt */
+    outfile record;
+    int recording;
+    double first_gap, min_gap, max_gap; /* s, between stepped lines (for the replay line) */
+    double line_gap;        /* s, the last stepped or failed line's t minus the state's before */
+    long lines, answered_ok, failed, bad, steps, overruns;
+    long jacobian_builds;   /* implicit scheme: since the start (rod_report) */
+    double step_wall_max, step_wall_sum, worst_overrun;
+    double wall_origin;     /* --realtime: the wall time at t = 0 */
+} live_session;
+
+static void print_answer(live_session *ls, const char *status)
+{
+    const rod_state *s = ls->state;
+    const double *f = s->end_force[ls->driven], *mo = s->end_moment[ls->driven];
+    /* + 0.0 prints -0 as 0 */
+    printf("%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%s", s->time, f[0] + 0.0, f[1] + 0.0,
+           f[2] + 0.0, mo[0] + 0.0, mo[1] + 0.0, mo[2] + 0.0, status);
+    if (ls->args->centreline)
+        for (int i = 0; i < 3 * s->nodes; i++) printf(",%.12g", s->position[i] + 0.0);
+    putchar('\n');
+    fflush(stdout);
+}
+
+/* The record's row of a stepped line: t, pose, velocity (or t, loads). */
+static void record_row(live_session *ls, const double *row, const double *velocity)
+{
+    if (!ls->recording) return;
+    FILE *f = ls->record.fp;
+    fprintf(f, "%.17g", row[0]);
+    for (int k = 1; k < ls->columns; k++) fprintf(f, ",%.17g", row[k]);
+    if (velocity)
+        for (int k = 0; k < ls->columns - 1; k++) fprintf(f, ",%.17g", velocity[k]);
+    fputc('\n', f);
+}
+
+/* Steps the state to row[0] in equal steps of at most dt. 0, or -1 with the
+ * state restored to the last good one and a message on stderr. */
+static int advance(live_session *ls, const double *row, long line_no)
+{
+    rod_state *s = ls->state;
+    const double t = row[0], gap = t - s->time;
+    double count = ceil(gap / ls->dt * (1.0 - 1e-12));
+    if (count < 1.0) count = 1.0;
+    const long n = (long)count;
+    const double h = gap / count;
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    state_copy(ls->good, s);
+    rod_status status = ROD_OK;
+    for (long j = 0; j < n && status == ROD_OK; j++) {
+        status = rod_solver_step(&ls->solver, ls->stepped, s, h, &report);
+        ls->steps++;
+        ls->jacobian_builds = report.jacobian_builds;
+        if (status == ROD_OK && !rod_state_is_finite(s)) {
+            status = ROD_UNSTABLE;
+            snprintf(report.message, sizeof report.message, "the state is no longer finite");
+        }
+    }
+    if (status == ROD_OK) {
+        s->time = t; /* no drift from rounding */
+        return 0;
+    }
+    state_copy(s, ls->good);
+    fprintf(stderr, "rodsim live: input line %ld (t = %.9g s): the step failed (%s): %s; "
+                    "answered with the last good state (t = %.9g s), the line dropped from "
+                    "the path\n",
+            line_no, t, status == ROD_NO_CONVERGENCE ? "no convergence" :
+                        status == ROD_UNSTABLE ? "unstable" : "failure",
+            report.message[0] ? report.message : "(no message)", s->time);
+    return -1;
+}
+
+/* One data line, parsed into values[count]; 0 answered, 1 refused (err). */
+static int handle_line(live_session *ls, const double *values, int count, long line_no,
+                       char *err, size_t errlen)
+{
+    rod_state *s = ls->state;
+    int accepted = ls->pose_mode ? (count == 4 || (count == 7 && ls->columns == 7)) : count == 7;
+    if (!accepted) {
+        snprintf(err, errlen, "%d numbers", count);
+        return 1;
+    }
+    for (int k = 0; k < count; k++)
+        if (!isfinite(values[k])) {
+            snprintf(err, errlen, "column %d is not a finite number", k + 1);
+            return 1;
+        }
+    if (!(values[0] > s->time)) {
+        snprintf(err, errlen, "t = %.17g s does not increase (the state is at %.17g s)",
+                 values[0], s->time);
+        return 1;
+    }
+    if (values[0] - s->time > 1e6 * ls->dt) {
+        snprintf(err, errlen, "t = %.17g s is more than 1e6 steps (solver.dt = %g s) ahead of "
+                 "%.17g s", values[0], ls->dt, s->time);
+        return 1;
+    }
+    double row[7] = {0}, velocity[6];
+    memcpy(row, values, (size_t)count * sizeof(double)); /* 4 numbers on a clamped tip: no turn */
+    const double before = s->time;
+    ls->line_gap = values[0] - before;
+    int failed;
+    if (ls->pose_mode) {
+        if (rod_path_push(ls->path, row, velocity, err, errlen)) return 1;
+        failed = advance(ls, row, line_no);
+        if (failed) rod_path_pop(ls->path);
+        else record_row(ls, row, velocity);
+    } else {
+        double previous[7];
+        memcpy(previous, &ls->table[7], sizeof previous);
+        memcpy(ls->table, previous, sizeof previous); /* the last good row, then the new one */
+        memcpy(&ls->table[7], row, sizeof row);
+        ls->loads_model.profile.table.rows = 2;
+        failed = advance(ls, row, line_no);
+        if (failed) {
+            memcpy(&ls->table[7], previous, sizeof previous);
+            ls->loads_model.profile.table.rows = 1;
+            memmove(ls->table, previous, sizeof previous);
+        } else {
+            record_row(ls, row, NULL);
+        }
+    }
+    if (!failed) {
+        double gap = row[0] - before;
+        if (ls->answered_ok == 0) ls->first_gap = ls->min_gap = ls->max_gap = gap;
+        ls->min_gap = fmin(ls->min_gap, gap);
+        ls->max_gap = fmax(ls->max_gap, gap);
+        ls->answered_ok++;
+    } else {
+        ls->failed++;
+        if (ls->recording)
+            fprintf(ls->record.fp, "# input line %ld (t = %.17g s) failed: not replayed\n",
+                    line_no, row[0]);
+    }
+    print_answer(ls, failed ? "failed" : "ok");
+    return 0;
+}
+
+static void print_header(const live_session *ls)
+{
+    printf("t,fx,fy,fz,mx,my,mz,status");
+    if (ls->args->centreline)
+        for (int i = 0; i < ls->state->nodes; i++) printf(",x%d,y%d,z%d", i, i, i);
+    putchar('\n');
+    fflush(stdout);
+}
+
+/* The replay command, the record's last comment. */
+static void record_replay_line(live_session *ls)
+{
+    FILE *f = ls->record.fp;
+    const live_args *a = ls->args;
+    fprintf(f, "# replay: rodsim run %s", a->scene);
+    for (int i = 0; i < a->set_count; i++) fprintf(f, " --set '%s'", a->sets[i]);
+    if (ls->pose_mode) fprintf(f, " --set ends.tip_motion=%s", a->record);
+    else fprintf(f, " --set 'tip.profile=table %s'", a->record);
+    fprintf(f, " --set solver.duration=%.17g --set solver.dt=%.17g", ls->state->time, ls->dt);
+    /* the same steps as live when every gap is one frame interval 1/fps */
+    double fps = ls->answered_ok > 0 ? 1.0 / ls->first_gap : 0.0;
+    if (ls->answered_ok > 0 && ls->max_gap - ls->min_gap <= 1e-9 * ls->max_gap &&
+        fabs(fps - round(fps)) <= 1e-6 * fps && round(fps) >= 1.0 && round(fps) <= 1000.0)
+        fprintf(f, " --set render.fps=%.0f\n", round(fps));
+    else
+        fprintf(f, "\n# (the lines were not 1/N s apart, N <= 1000: the replay's steps differ "
+                   "from the live ones; the forces agree to the scheme's time accuracy)\n");
+}
+
+/* Reads, steps and answers until the end of input, a signal, or a bad line
+ * under --on-error stop. Returns the exit status. */
+static int serve(live_session *ls, char *line)
+{
+    long line_no = 0;
+    int status = 0;
+    char err[512];
+    for (;;) {
+        if (stop_signal) break;
+        errno = 0;
+        if (!fgets(line, LIVE_LINE_MAX, stdin)) {
+            if (ferror(stdin) && errno != EINTR)
+                fprintf(stderr, "rodsim live: reading standard input: %s\n", strerror(errno));
+            break;
+        }
+        line_no++;
+        size_t len = strlen(line);
+        int too_long = 0;
+        while (len == LIVE_LINE_MAX - 1 && line[len - 1] != '\n') { /* discard the rest */
+            too_long = 1;
+            if (!fgets(line, LIVE_LINE_MAX, stdin)) break;
+            len = strlen(line);
+        }
+        while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) line[--len] = '\0';
+        double start = wall_seconds();
+        ls->lines++;
+        int refused = 0;
+        if (too_long) {
+            snprintf(err, sizeof err, "longer than %d bytes", LIVE_LINE_MAX - 1);
+            refused = 1;
+        } else {
+            double values[8];
+            int count = split_numbers(line, values, 7);
+            if (count == -1) {
+                snprintf(err, sizeof err, "a field is not a number");
+                refused = 1;
+            } else if (count == -2) {
+                snprintf(err, sizeof err, "more than 7 numbers");
+                refused = 1;
+            } else {
+                if (ls->args->realtime && count > 0 && isfinite(values[0]) &&
+                    values[0] > ls->state->time) {
+                    /* pace: wait until t on the wall clock */
+                    double due = ls->wall_origin + values[0];
+                    struct timespec ts = {(time_t)due, (long)((due - floor(due)) * 1e9)};
+                    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR &&
+                           !stop_signal) {}
+                    start = wall_seconds();
+                }
+                refused = handle_line(ls, values, count, line_no, err, sizeof err);
+            }
+        }
+        if (refused) {
+            ls->bad++;
+            fprintf(stderr, "rodsim live: input line %ld: %s; accepted: %s, t increasing (s), "
+                            "at most %d bytes a line\n",
+                    line_no, err,
+                    !ls->pose_mode ? "t,fx,fy,fz,mx,my,mz (N, N m)"
+                    : ls->columns == 7 ? "t,x,y,z or t,x,y,z,rx,ry,rz (m, rad)"
+                                       : "t,x,y,z (m; a pinned tip takes no rotation)",
+                    LIVE_LINE_MAX - 1);
+            if (ls->args->stop_on_error) {
+                fprintf(stderr, "rodsim live: stopped at input line %ld (--on-error stop)\n",
+                        line_no);
+                status = RUN_EXIT_BAD_INPUT;
+                break;
+            }
+            print_answer(ls, "bad_input");
+        }
+        double spent = wall_seconds() - start;
+        ls->step_wall_sum += spent;
+        ls->step_wall_max = fmax(ls->step_wall_max, spent);
+        if (ls->args->realtime && !refused) {
+            /* an overrun: the work on the line took longer than its own gap
+             * of simulated time, its wall budget: the next line, due one gap
+             * later, waits */
+            if (spent > ls->line_gap) {
+                ls->overruns++;
+                ls->worst_overrun = fmax(ls->worst_overrun, spent);
+            }
+        }
+        if (ferror(stdout)) {
+            fprintf(stderr, "rodsim live: standard output closed at input line %ld\n", line_no);
+            status = RUN_EXIT_FAILURE;
+            break;
+        }
+    }
+    return status;
+}
+
+/* Sets the session up from the scene; 0 or -1 with a message. */
+static int setup(live_session *ls, rod_model *m, char *err, size_t errlen)
+{
+    ls->model = m;
+    ls->dt = rod_choose_dt(m, NULL);
+    ls->pose_mode = m->tip_end != ROD_END_FREE;
+    ls->driven = ls->pose_mode ? 1 : 0;
+    ls->columns = ls->pose_mode ? (m->tip_end == ROD_END_CLAMPED ? 7 : 4) : 7;
+    ls->state = rod_state_create(m);
+    ls->good = rod_state_create(m);
+    if (!ls->state || !ls->good) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    rod_state_reset(m, ls->state);
+    if (ls->pose_mode) {
+        if (m->tip_motion) {
+            fprintf(stderr, "rodsim live: the live input replaces the scene's ends.tip_motion\n");
+            rod_path_destroy(m->tip_motion);
+            m->tip_motion = NULL;
+        }
+        double first[7] = {0};
+        memcpy(&first[1], &ls->state->position[3 * (m->nodes - 1)], 3 * sizeof(double));
+        if (!(ls->path = rod_path_create_live(ls->columns, first, err, errlen))) return -1;
+        m->tip_motion = ls->path;
+        ls->stepped = m;
+    } else {
+        ls->loads_model = *m; /* shares what m owns; only m is released */
+        double f[3], mo[3];
+        rod_tip_load(m, 0.0, f, mo);
+        ls->table[7] = 0.0;
+        memcpy(&ls->table[8], f, sizeof f);
+        memcpy(&ls->table[11], mo, sizeof mo);
+        memcpy(ls->table, &ls->table[7], 7 * sizeof(double));
+        ls->loads_model.profile.kind = ROD_PROFILE_TABLE;
+        ls->loads_model.profile.table.columns = 7;
+        ls->loads_model.profile.table.rows = 1;
+        ls->loads_model.profile.table.data = ls->table;
+        ls->stepped = &ls->loads_model;
+    }
+    if (rod_solver_init(&ls->solver, ls->stepped, err, errlen)) return -1;
+    return 0;
+}
+
+int live_command(int argc, char **argv)
+{
+    char err[1024] = "";
+    live_args a;
+    memset(&a, 0, sizeof a);
+    a.sets = calloc((size_t)argc, sizeof *a.sets);
+    char *line = malloc(LIVE_LINE_MAX);
+    if (!a.sets || !line) {
+        fprintf(stderr, "rodsim live: out of memory\n");
+        free(a.sets);
+        free(line);
+        return RUN_EXIT_FAILURE;
+    }
+    if (parse_args(argc, argv, &a, err, sizeof err)) {
+        fprintf(stderr, "rodsim live: %s\n", err);
+        live_usage(stderr);
+        free(a.sets);
+        free(line);
+        return RUN_EXIT_BAD_INPUT;
+    }
+    if (a.help) {
+        live_usage(stdout);
+        free(a.sets);
+        free(line);
+        return RUN_EXIT_OK;
+    }
+    int status = RUN_EXIT_BAD_INPUT;
+    rod_model m = rod_model_default();
+    run_output out;
+    live_session ls;
+    memset(&ls, 0, sizeof ls);
+    ls.args = &a;
+    ini_doc *doc = ini_load(a.scene, err, sizeof err);
+    if (!doc) goto fail;
+    for (int i = 0; i < a.set_count; i++)
+        if (ini_set(doc, a.sets[i], err, sizeof err)) goto fail;
+    if (run_read_scene(doc, &m, &out, err, sizeof err)) goto fail;
+    if (setup(&ls, &m, err, sizeof err)) goto fail;
+    if (a.record) {
+        if (outfile_open(&ls.record, a.record, err, sizeof err)) goto fail;
+        ls.recording = 1;
+        FILE *f = ls.record.fp;
+        fprintf(f, "# rodsim live record of %s: %s\n", a.scene,
+                ls.pose_mode ? "the driven tip's path, with the velocities the live path gave"
+                             : "the tip loads (a 7-column load table)");
+        if (ls.pose_mode) {
+            fprintf(f, ls.columns == 7 ? "t,x,y,z,rx,ry,rz,vx,vy,vz,vrx,vry,vrz\n"
+                                       : "t,x,y,z,vx,vy,vz\n");
+            double first[7] = {0}, zero[6] = {0};
+            memcpy(&first[1], &ls.state->position[3 * (m.nodes - 1)], 3 * sizeof(double));
+            record_row(&ls, first, zero);
+        } else {
+            fprintf(f, "t,fx,fy,fz,mx,my,mz\n");
+            record_row(&ls, ls.table, NULL);
+        }
+    }
+    if (a.realtime && mlockall(MCL_CURRENT | MCL_FUTURE))
+        fprintf(stderr, "rodsim live: --realtime: could not lock memory (%s); going on\n",
+                strerror(errno));
+    /* the session ends on these like at the end of input (the record is kept) */
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN);
+    fprintf(stderr, "rodsim live: %s, NS = %d, dt = %g s; input %s; answer: what the thread "
+                    "exerts on its %s\n",
+            a.scene, m.nodes, ls.dt,
+            !ls.pose_mode ? "t,fx,fy,fz,mx,my,mz"
+            : ls.columns == 7 ? "t,x,y,z[,rx,ry,rz]" : "t,x,y,z",
+            ls.driven ? "tip" : "root");
+    print_header(&ls);
+    ls.wall_origin = wall_seconds();
+    status = serve(&ls, line);
+    fprintf(stderr, "rodsim live: %ld lines: %ld ok, %ld failed, %ld bad; %ld steps to t = %g s "
+                    "(%ld Jacobian builds); work per line mean %.1f us, max %.1f us",
+            ls.lines, ls.answered_ok, ls.failed, ls.bad, ls.steps, ls.state->time,
+            ls.jacobian_builds,
+            ls.lines ? 1e6 * ls.step_wall_sum / (double)ls.lines : 0.0, 1e6 * ls.step_wall_max);
+    if (a.realtime)
+        fprintf(stderr, "; realtime overruns %ld (worst %.1f us)", ls.overruns,
+                1e6 * ls.worst_overrun);
+    fprintf(stderr, "%s\n", stop_signal ? "; ended by a signal" : "");
+    if (ls.recording) {
+        record_replay_line(&ls);
+        if (ferror(ls.record.fp) || outfile_commit(&ls.record, err, sizeof err)) {
+            if (!err[0]) snprintf(err, sizeof err, "%s: write error", a.record);
+            fprintf(stderr, "rodsim live: record: %s\n", err);
+            outfile_abort(&ls.record);
+            if (status == 0) status = RUN_EXIT_FAILURE;
+        }
+        ls.recording = 0;
+    }
+    goto done;
+fail:
+    fprintf(stderr, "rodsim live: %s\n", err);
+done:
+    if (ls.recording) outfile_abort(&ls.record);
+    if (ls.solver.ops) rod_solver_release(&ls.solver);
+    rod_state_destroy(ls.state);
+    rod_state_destroy(ls.good);
+    rod_model_release(&m);
+    ini_destroy(doc);
+    free(a.sets);
+    free(line);
+    return status;
+}

@@ -1,0 +1,347 @@
+/* test_live.c: `rodsim live` through pipes. A thread hanging from a driven
+ * clamped tip, held still, answers its weight m L g (rho pi d^2/4 L g, an
+ * independent formula); every answer arrives before the next line is written
+ * (lock-step through pipes: a missing flush would hang, caught by alarm());
+ * bad lines get their line number and the policy (skip: answered bad_input;
+ * stop: exit 2, the record kept); the record replayed by `rodsim run` gives
+ * the same tip force as the live session. */
+#include <fcntl.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "test.h"
+#include "test_process.h"
+
+#define DIR "/tmp/rodsim_test_live"
+static const char scene_text[] =
+    "[rod]\nlength = 0.5\ndiameter = 0.001\ndensity = 1000\nyoungs_modulus = 87.5e6\n"
+    "shear_modulus = 31.25e6\nnodes = 21\ndirection = 0 0 1\n"
+    "[solver]\nscheme = implicit\ndt = 0.001\nduration = 1\n"
+    "[loads]\ngravity = 0 0 -9.81\n[ends]\nroot = free\ntip = clamped\n";
+
+typedef struct live_proc {
+    pid_t pid;
+    FILE *in, *out; /* its stdin (we write), its stdout (we read) */
+} live_proc;
+
+/* Starts rodsim live with args; stderr to DIR/stderr.txt; killed after 60 s. */
+static int live_start(live_proc *p, const char *const *args)
+{
+    int to[2], from[2];
+    if (pipe(to) || pipe(from)) return -1;
+    const char *argv[32];
+    int n = 0;
+    argv[n++] = RODSIM_BIN;
+    argv[n++] = "live";
+    for (int i = 0; args[i] && n < 31; i++) argv[n++] = args[i];
+    argv[n] = NULL;
+    fflush(stdout);
+    p->pid = fork();
+    if (p->pid == 0) {
+        dup2(to[0], 0);
+        dup2(from[1], 1);
+        int e = open(DIR "/stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (e >= 0) dup2(e, 2);
+        close(to[0]); close(to[1]); close(from[0]); close(from[1]);
+        alarm(60);
+        execv(RODSIM_BIN, (char *const *)argv);
+        _exit(127);
+    }
+    close(to[0]);
+    close(from[1]);
+    p->in = fdopen(to[1], "w");
+    p->out = fdopen(from[0], "r");
+    return p->in && p->out ? 0 : -1;
+}
+
+static int live_finish(live_proc *p)
+{
+    if (p->in) fclose(p->in);
+    char rest[4096];
+    while (fgets(rest, sizeof rest, p->out)) {}
+    fclose(p->out);
+    int status = 0;
+    waitpid(p->pid, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/* Writes one line and reads its answer (lock-step). 0, or -1 at EOF. */
+static int exchange(live_proc *p, const char *line, char *answer, size_t n)
+{
+    fputs(line, p->in);
+    fflush(p->in);
+    return fgets(answer, (int)n, p->out) ? 0 : -1;
+}
+
+static char stderr_text[1 << 16];
+static void read_stderr(void)
+{
+    FILE *f = fopen(DIR "/stderr.txt", "r");
+    size_t got = f ? fread(stderr_text, 1, sizeof stderr_text - 1, f) : 0;
+    stderr_text[got] = '\0';
+    if (f) fclose(f);
+}
+
+static void test_hanging_weight_lockstep(void)
+{
+    live_proc p;
+    const char *args[] = {DIR "/hang.ini", NULL};
+    alarm(120); /* a lost flush would block both sides: the alarm ends the test */
+    if (!check(live_start(&p, args) == 0, "rodsim live started")) return;
+    char answer[8192], line[256];
+    int header = fgets(answer, sizeof answer, p.out) != NULL &&
+                 strcmp(answer, "t,fx,fy,fz,mx,my,mz,status\n") == 0;
+    check(header, "header line t,fx,fy,fz,mx,my,mz,status");
+    int answered = 0;
+    double fz = 0.0, fx = 1.0;
+    for (int k = 1; k <= 200; k++) { /* the tip held where it starts, 0.2 s at 1 kHz */
+        snprintf(line, sizeof line, "%.3f,0,0,0.5\n", k * 1e-3);
+        if (exchange(&p, line, answer, sizeof answer)) break;
+        double t;
+        char status[32] = "";
+        if (sscanf(answer, "%lf,%lf,%*f,%lf,%*f,%*f,%*f,%31s", &t, &fx, &fz, status) == 4 &&
+            fabs(t - k * 1e-3) < 1e-12 && strcmp(status, "ok") == 0)
+            answered++;
+    }
+    check(answered == 200, "200 lines, each answered (ok, its t) before the next was written: %d",
+          answered);
+    const double weight = 1000.0 * M_PI * 0.001 * 0.001 / 4.0 * 0.5 * 9.81;
+    check_rel("held still: vertical force on the holder = -weight m L g", -fz, weight, 1e-8);
+    check_abs("held still: horizontal force", fx, 0.0, 1e-12);
+    check(live_finish(&p) == 0, "exit 0 at the end of input");
+    alarm(0);
+}
+
+static void test_bad_lines(void)
+{
+    live_proc p;
+    const char *args[] = {DIR "/hang.ini", "--record", DIR "/bad.csv", NULL};
+    alarm(120);
+    if (!check(live_start(&p, args) == 0, "rodsim live started (skip)")) return;
+    char answer[8192];
+    if (!fgets(answer, sizeof answer, p.out)) return;
+    static char huge[1 << 20];
+    memset(huge, '1', sizeof huge - 2);
+    huge[sizeof huge - 2] = '\n';
+    const char *lines[] = {"0.001,0,0,0.5\n", "0.002,zero,0,0.5\n", "0.002,0,0\n",
+                           "0.0005,0,0,0.5\n", "nan,0,0,0.5\n", huge, "0.002,0,0,0.5\n"};
+    const char *expect[] = {"ok", "bad_input", "bad_input", "bad_input", "bad_input", "bad_input",
+                            "ok"};
+    int right = 0;
+    for (int i = 0; i < 7; i++) {
+        if (exchange(&p, lines[i], answer, sizeof answer)) break;
+        size_t len = strlen(answer);
+        while (len && answer[len - 1] == '\n') answer[--len] = '\0';
+        const char *comma = strrchr(answer, ',');
+        right += comma && strcmp(comma + 1, expect[i]) == 0;
+    }
+    check(right == 7, "good lines ok, bad lines answered bad_input and skipped: %d of 7", right);
+    check(live_finish(&p) == 0, "--on-error skip: exit 0");
+    read_stderr();
+    const char *msgs[] = {"input line 2: a field is not a number", "input line 3: 3 numbers",
+                          "input line 4: t = 0.0005", "input line 5: column 1 is not a finite",
+                          "input line 6: longer than 4095 bytes", "accepted: t,x,y,z or"};
+    for (int i = 0; i < 6; i++)
+        check(strstr(stderr_text, msgs[i]) != NULL, "stderr names the line: \"%s\"", msgs[i]);
+
+    const char *stop_args[] = {DIR "/hang.ini", "--on-error", "stop", "--record",
+                               DIR "/stop.csv", NULL};
+    if (!check(live_start(&p, stop_args) == 0, "rodsim live started (stop)")) return;
+    if (!fgets(answer, sizeof answer, p.out)) return;
+    int first_ok = exchange(&p, "0.001,0,0,0.5\n", answer, sizeof answer) == 0;
+    fputs("0.002,0,0,x\n0.003,0,0,0.5\n", p.in);
+    check(live_finish(&p) == 2 && first_ok, "--on-error stop: exit 2 at the bad line");
+    FILE *f = fopen(DIR "/stop.csv", "r");
+    int rows = 0, has_first = 0;
+    char row[512];
+    while (f && fgets(row, sizeof row, f)) {
+        if (row[0] == '#' || row[0] == 't') continue;
+        rows++;
+        has_first |= strncmp(row, "0.001,", 6) == 0;
+    }
+    if (f) fclose(f);
+    check(rows == 2 && has_first, "the record keeps the start and the line before the bad one "
+          "(%d rows)", rows);
+    alarm(0);
+}
+
+/* The same path live and replayed by rodsim run from the record: tip force. */
+static void test_replay(void)
+{
+    FILE *in = fopen(DIR "/path_in.csv", "w");
+    if (!in) return;
+    for (int k = 1; k <= 40; k++) { /* every 10 ms: one frame interval at fps 100 */
+        double t = 0.01 * k, a = fmin(t / 0.2, 1.0);
+        fprintf(in, "%.17g,%.17g,%.17g,%.17g,%.17g,0,0\n", t, 0.02 * a * sin(5 * t),
+                0.01 * a * (1 - cos(5 * t)), 0.5 - 0.005 * a * a, 0.1 * a * sin(3 * t));
+    }
+    fclose(in);
+    char out[1 << 14];
+    int rc = system(RODSIM_BIN " live " DIR "/hang.ini --record " DIR "/rec.csv < " DIR
+                    "/path_in.csv > " DIR "/live_out.csv 2>/dev/null");
+    check(rc == 0, "live session with --record: exit 0");
+    const char *run_args[] = {"run", DIR "/hang.ini", "--set", "ends.tip_motion=" DIR "/rec.csv",
+                              "--set", "solver.duration=0.4", "--set", "render.fps=100",
+                              "--no-video", "--csv", DIR "/run.csv", "-o", DIR, NULL};
+    rc = test_run_rodsim_within(run_args, 120, out, sizeof out);
+    if (!check(rc == 0, "rodsim run replays the record: exit %d", rc)) {
+        printf("%s\n", out);
+        return;
+    }
+    static double live_force[64][3];
+    FILE *f = fopen(DIR "/live_out.csv", "r");
+    char line[4096];
+    int n = 0;
+    while (f && fgets(line, sizeof line, f) && n < 64) {
+        double t, x, y, z;
+        if (sscanf(line, "%lf,%lf,%lf,%lf", &t, &x, &y, &z) == 4) {
+            int k = (int)lround(t / 0.01);
+            if (k >= 0 && k < 64) { live_force[k][0] = x; live_force[k][1] = y; live_force[k][2] = z; }
+            n++;
+        }
+    }
+    if (f) fclose(f);
+    f = fopen(DIR "/run.csv", "r");
+    double worst = 0.0;
+    int compared = 0;
+    while (f && fgets(line, sizeof line, f)) {
+        double t, nx, ny, nz;
+        int node;
+        if (sscanf(line, "%lf,%d,%*f,%*f,%*f,%*f,%*f,%*f,%*f,%*f,%lf,%lf,%lf", &t, &node, &nx, &ny,
+                   &nz) != 5 || node != 20 || t <= 0.0)
+            continue;
+        int k = (int)lround(t / 0.01);
+        double d = fmax(fabs(-nx - live_force[k][0]),
+                        fmax(fabs(-ny - live_force[k][1]), fabs(-nz - live_force[k][2])));
+        worst = fmax(worst, d);
+        compared++;
+    }
+    if (f) fclose(f);
+    const double weight = 1000.0 * M_PI * 0.001 * 0.001 / 4.0 * 0.5 * 9.81;
+    check(compared == 40 && worst <= 1e-5 * weight,
+          "live and replayed tip force agree at %d output times: largest difference %.3e N "
+          "(%.1e of the weight; Newton tolerance 1e-8 on a force differenced over dt)",
+          compared, worst, worst / weight);
+}
+
+/* The example driver (tests/live_driver.c, built beside the tests) plays
+ * its needle-holder path at 1 kHz for 0.3 s: every line answered. */
+static void test_driver(void)
+{
+    char driver[1024];
+    snprintf(driver, sizeof driver, "%s", RODSIM_BIN);
+    char *slash = strrchr(driver, '/');
+    if (!slash) return;
+    snprintf(slash + 1, sizeof driver - (size_t)(slash + 1 - driver), "tests/live_driver");
+    char command[2048];
+    snprintf(command, sizeof command, "%s %s %s/hang.ini 0.3 > %s/driver.txt 2>&1", driver,
+             RODSIM_BIN, DIR, DIR);
+    int rc = system(command);
+    FILE *f = fopen(DIR "/driver.txt", "r");
+    char text[2048] = "";
+    size_t got = f ? fread(text, 1, sizeof text - 1, f) : 0;
+    text[got] = '\0';
+    if (f) fclose(f);
+    check(rc == 0 && strstr(text, "300 lines, 300 answered, 0 failed") != NULL,
+          "live_driver plays 0.3 s at 1 kHz, every line answered: %s", text);
+}
+
+/* A free tip takes its loads live; under the static scheme each line is an
+ * equilibrium, so what the thread exerts on its root is the tip load (force
+ * balance) and the tip moment plus r_tip x F (moment balance about the root
+ * at the origin), r_tip from the --centreline columns. */
+static void test_free_tip_loads(void)
+{
+    FILE *f = fopen(DIR "/cant.ini", "w");
+    if (!f) return;
+    fputs("[rod]\nlength = 1\ndiameter = 0.001\ndensity = 850\nyoungs_modulus = 87.5e6\n"
+          "shear_modulus = 31.25e6\nnodes = 21\n[solver]\nscheme = static\ndt = 0.01\n"
+          "[tip]\nframe = global\n", f);
+    fclose(f);
+    f = fopen(DIR "/loads_in.csv", "w");
+    if (!f) return;
+    fputs("0.01,0,1e-7,0,0,0,0\n0.02,2e-7,1e-7,0,0,0,3e-8\n", f);
+    fclose(f);
+    int rc = system(RODSIM_BIN " live " DIR "/cant.ini --centreline < " DIR "/loads_in.csv > " DIR
+                    "/loads_out.csv 2>/dev/null");
+    f = fopen(DIR "/loads_out.csv", "r");
+    static char line[1 << 14];
+    double v[8 + 63] = {0};
+    int rows = 0;
+    while (f && fgets(line, sizeof line, f)) {
+        if (line[0] == 't') continue;
+        char *p = line;
+        for (int k = 0; k < 8 + 63 && *p; k++) {
+            v[k] = k == 7 ? 0.0 : strtod(p, NULL); /* column 8: the status word */
+            p = strchr(p, ',');
+            if (!p) break;
+            p++;
+        }
+        rows++;
+    }
+    if (f) fclose(f);
+    const double *tip = &v[8 + 3 * 20], F[3] = {2e-7, 1e-7, 0.0};
+    double moment_z = 3e-8 + tip[0] * F[1] - tip[1] * F[0];
+    check(rc == 0 && rows == 2, "free tip, loads live, static scheme: 2 answers");
+    check_rel("root force x = tip load (force balance)", v[1], F[0], 1e-8);
+    check_rel("root force y = tip load", v[2], F[1], 1e-8);
+    check_rel("root moment z = tip moment + (r_tip x F)_z (moment balance)", v[6], moment_z, 1e-6);
+}
+
+/* A step that fails (a load that kinks the rod beyond its grid) answers
+ * failed with the last good state, and the stream goes on. */
+static void test_failed_step(void)
+{
+    FILE *f = fopen(DIR "/kink_in.csv", "w");
+    if (!f) return;
+    fputs("0.01,0,1e-7,0,0,0,0\n0.02,0,1e3,0,0,0,0\n0.03,0,1e-7,0,0,0,0\n", f);
+    fclose(f);
+    int rc = system(RODSIM_BIN " live " DIR "/cant.ini --set solver.scheme=implicit < " DIR
+                    "/kink_in.csv > " DIR "/kink_out.csv 2> " DIR "/stderr.txt");
+    f = fopen(DIR "/kink_out.csv", "r");
+    char line[1024], statuses[64] = "";
+    double t2 = -1.0;
+    while (f && fgets(line, sizeof line, f)) {
+        if (line[0] == 't') continue;
+        line[strcspn(line, "\n")] = '\0';
+        const char *c = strrchr(line, ',');
+        if (c) strncat(statuses, c, sizeof statuses - strlen(statuses) - 1);
+        if (strstr(line, ",failed")) t2 = strtod(line, NULL);
+    }
+    if (f) fclose(f);
+    read_stderr();
+    check(rc == 0 && strcmp(statuses, ",ok,failed,ok") == 0 && t2 == 0.01 &&
+              strstr(stderr_text, "input line 2 (t = 0.02 s): the step failed") != NULL,
+          "a failed step: answers %s, the failed line at the last good t = %g s, stderr names "
+          "line 2, exit %d", statuses, t2, rc);
+}
+
+int main(void)
+{
+    signal(SIGPIPE, SIG_IGN);
+    test_remove_tree(DIR);
+    if (system("mkdir -p " DIR) != 0) return 1;
+    FILE *f = fopen(DIR "/hang.ini", "w");
+    if (!f) return 1;
+    fputs(scene_text, f);
+    fclose(f);
+    char out[4096];
+    const char *help[] = {"live", "--help", NULL};
+    int rc = test_run_rodsim_within(help, 30, out, sizeof out);
+    int lines = 0;
+    for (const char *c = out; *c; c++) lines += *c == '\n';
+    check(rc == 0 && lines <= 20, "rodsim live --help: exit 0, %d lines (at most 20)", lines);
+    test_hanging_weight_lockstep();
+    test_bad_lines();
+    test_replay();
+    test_driver();
+    test_free_tip_loads();
+    test_failed_step();
+    test_remove_tree(DIR);
+    return test_finish();
+}
