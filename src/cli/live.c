@@ -43,22 +43,17 @@ void live_usage(FILE *f)
     fprintf(f,
         "usage: rodsim live SCENE [--set section.key=value]... [--record FILE] [--centreline]\n"
         "                   [--realtime] [--on-error skip|stop]\n"
-        "One input line per step on standard input, t increasing from > 0 (s):\n"
-        "  held tip (ends.tip = pinned | clamped): t,x,y,z or (clamped) t,x,y,z,rx,ry,rz, the\n"
-        "    tip's pose (global m; rotation vector from its starting frame, rad)\n"
-        "  free tip: t,fx,fy,fz,mx,my,mz, the tip loads on tip.frame (N, N m)\n"
-        "One answer per line on standard output, flushed, after a header:\n"
-        "  t,fx,fy,fz,mx,my,mz,status: what the thread exerts on the driven tip (free tip: on\n"
-        "  its root), global N, N m; status ok | failed (last good state) | bad_input (skipped)\n"
-        "  --centreline     the node positions x0,y0,z0,... follow on the same line\n"
-        "  --record FILE    the stepped lines as a path with velocities (free tip: a load\n"
-        "                   table); replay: rodsim run SCENE --set ends.tip_motion=FILE\n"
-        "                   (tip.profile=\"table FILE\"), the line is in FILE's last comment\n"
-        "  --realtime       sleep until t on the wall clock (replaying a file); count overruns\n"
-        "  --on-error skip  a bad line (not 4 or 7 numbers, t not increasing, NaN, over %d\n"
-        "                   bytes) is answered bad_input and skipped; stop: exit 2\n"
-        "Steps of at most solver.dt; a failed step does not stop the stream. End of input,\n"
-        "SIGINT or SIGTERM end the session (exit 0; the record is kept).\n",
+        "stdin, one line per step, t (s) increasing from > 0: a held tip's pose t,x,y,z\n"
+        "[,rx,ry,rz] (m, rad), or a free tip's loads t,fx,fy,fz,mx,my,mz (N, N m).\n"
+        "stdout, a header, then per line, flushed: t,fx,fy,fz,mx,my,mz,status, what the\n"
+        "thread exerts on the driven tip (free tip: its root); status ok | failed (last\n"
+        "good state, the stream goes on) | bad_input (a line of over %d bytes, not 4 or 7\n"
+        "numbers, t not increasing, NaN: skipped; --on-error stop: exit 2)\n"
+        "  --centreline   the node positions x0,y0,z0,... follow on the line\n"
+        "  --record FILE  the session as a path; replay: rodsim run SCENE --set\n"
+        "                 ends.tip_motion=FILE (the command is in its last comment)\n"
+        "  --realtime     pace to the wall clock; count overruns\n"
+        "End of input, SIGINT or SIGTERM end the session (exit 0, the record kept).\n",
         LIVE_LINE_MAX - 1);
 }
 
