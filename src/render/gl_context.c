@@ -427,16 +427,26 @@ char *gl_context_backends_report(char *out, size_t outlen)
                                  why_not[0] ? "unavailable: " : "available: ",
                                  why_not[0] ? why_not : what[b]);
     }
+    if (used >= outlen) return out;
     char err[256];
     const char *value = getenv("RODSIM_GL");
-    if (used >= outlen) return out;
-    if (gl_context_check_env(err, sizeof err))
+    int b = 0;
+    if (gl_context_check_env(err, sizeof err)) {
         snprintf(out + used, outlen - used, "%s\n", err);
-    else if (value && value[0])
-        snprintf(out + used, outlen - used, "RODSIM_GL=%s selects %s\n", value,
-                 names_backend(value, BACKEND_EGL) ? "EGL" : "OSMesa");
-    else
-        snprintf(out + used, outlen - used, "RODSIM_GL unset: %s draws (egl|osmesa choose)\n",
-                 first >= 0 ? backend_names[first] : "none");
+    } else if (value && value[0]) {
+        while (!names_backend(value, b)) b++;
+        if (backend_open(b)[0])
+            snprintf(out + used, outlen - used, "RODSIM_GL=%s: %s is unavailable: drawing fails\n",
+                     value, backend_names[b]);
+        else
+            snprintf(out + used, outlen - used, "RODSIM_GL=%s: draws with %s\n", value,
+                     backend_names[b]);
+    } else if (first < 0) {
+        snprintf(out + used, outlen - used, "RODSIM_GL unset: none is available: drawing fails\n");
+    } else {
+        snprintf(out + used, outlen - used,
+                 "RODSIM_GL unset: draws with %s (RODSIM_GL=egl|osmesa chooses)\n",
+                 backend_names[first]);
+    }
     return out;
 }
