@@ -309,7 +309,10 @@ static gl_context *create_egl(gl_context *ctx, int width, int height, char *err,
 }
 
 /* 1 when `value` names backend b (any case: "EGL" works too) */
-static int names_backend(const char *value, int b) { return strcasecmp(value, backend_values[b]) == 0; }
+static int names_backend(const char *value, int b)
+{
+    return strcasecmp(value, backend_values[b]) == 0;
+}
 
 int gl_context_check_env(char *err, size_t errlen)
 {

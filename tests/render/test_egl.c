@@ -182,7 +182,8 @@ static void test_backends_agree(void)
     for (int k = 0; k < 3; k++) {
         int ended = draw_in_child(runs[k].value, runs[k].name, &r[k]);
         int is_egl = strcmp(runs[k].backend, "EGL") == 0;
-        check(ended == 0 && r[k].made && r[k].rendered && strcmp(r[k].backend, runs[k].backend) == 0 &&
+        check(ended == 0 && r[k].made && r[k].rendered &&
+                  strcmp(r[k].backend, runs[k].backend) == 0 &&
                   strcmp(r[k].used, runs[k].backend) == 0 && strstr(r[k].description, "llvmpipe"),
               "RODSIM_GL=%s: the context says %s (want %s), the render used %s: '%s'%s%s",
               runs[k].value ? runs[k].value : "(unset)", r[k].backend, runs[k].backend, r[k].used,
@@ -237,8 +238,8 @@ static void test_report(void)
           "backends report, EGL then OSMesa, both available, EGL by default:\n%s", report);
     setenv("RODSIM_GL", "osmesa", 1);
     gl_context_backends_report(report, sizeof report);
-    check(strstr(report, "RODSIM_GL=osmesa: draws with OSMesa") != NULL, "with RODSIM_GL=osmesa:\n%s",
-          report);
+    check(strstr(report, "RODSIM_GL=osmesa: draws with OSMesa") != NULL,
+          "with RODSIM_GL=osmesa:\n%s", report);
     unsetenv("RODSIM_GL");
 }
 
