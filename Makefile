@@ -2,17 +2,20 @@
 # both first install any missing Debian package (see `make deps`).
 
 CC      ?= cc
-# Headers of every package; the binary links only LINK_PKGS: OSMesa and
+# Headers of every package; the binary links only LINK_PKGS: EGL, OSMesa and
 # libav* are opened at run time when something is drawn (gl_context.c,
 # video.c; ~40 ms of every start otherwise). TEST_PKGS: tests that decode video.
-PKGS    := osmesa libpng freetype2 libavcodec libavformat libswscale libavutil lapacke
+PKGS    := egl osmesa libpng freetype2 libavcodec libavformat libswscale libavutil lapacke
 LINK_PKGS := libpng freetype2 lapacke
 TEST_PKGS := libavcodec libavformat libswscale libavutil
 # libxml2-utils (xmllint) and parallel (GNU parallel): tests/cli/test_sweep.c parses the
-# sweep's SVG and runs its --print-commands lines under GNU parallel.
-DEBS    := build-essential pkg-config libosmesa6-dev libpng-dev libfreetype-dev fonts-dejavu-core \
-           libavcodec-dev libavformat-dev libswscale-dev libavutil-dev liblapacke-dev liblapack-dev \
-           libblas-dev clang libclang-rt-dev libxml2-utils parallel
+# sweep's SVG and runs its --print-commands lines under GNU parallel. libegl-dev (EGL
+# headers, glvnd's libEGL.so.1), libegl-mesa0 (Mesa's EGL driver) and libgl1-mesa-dri
+# (its llvmpipe, swrast_dri.so): the EGL backend; libosmesa6-dev: the OSMesa one.
+DEBS    := build-essential pkg-config libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev \
+           libpng-dev libfreetype-dev fonts-dejavu-core libavcodec-dev libavformat-dev \
+           libswscale-dev libavutil-dev liblapacke-dev liblapack-dev libblas-dev clang \
+           libclang-rt-dev libxml2-utils parallel
 WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes
 CFLAGS  ?= -O3 -g
 ALL_CFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(EXTRA_CFLAGS) -Iinclude \

@@ -1,6 +1,6 @@
 /* dynlib.h: opening a shared library at run time (dlopen), for the
- * libraries only drawing needs (OSMesa, libav*): a start that does not draw
- * does not pay for loading them. Messages name the library and the Debian
+ * libraries only drawing needs (EGL, OSMesa, libav*): a start that does not
+ * draw does not pay for loading them. Messages name the library and the Debian
  * package that provides it. */
 #ifndef RODSIM_DYNLIB_H
 #define RODSIM_DYNLIB_H

@@ -14,12 +14,14 @@
 #include "cli/sweep.h"
 #include "cli/validate_cli.h"
 #include "cli/version.h"
+#include "render/gl_context.h"
 
 static int version_command(int argc, char **argv)
 {
     (void)argc;
     (void)argv;
-    printf("rodsim %s\n", RODSIM_VERSION);
+    char gl[2048]; /* the GL backends: opens both libraries (~50 ms), makes no context */
+    printf("rodsim %s\n%s", RODSIM_VERSION, gl_context_backends_report(gl, sizeof gl));
     return 0;
 }
 

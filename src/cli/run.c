@@ -15,6 +15,7 @@
 #include "base/outfile.h"
 #include "cli/args.h"
 #include "cli/scene_keys.h"
+#include "render/gl_context.h"
 #include "sim/scene.h"
 
 #define RUN_ERR_LEN 1024
@@ -791,9 +792,10 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
             fprintf(talk, "        wrote %s (%lld frames x %d nodes)\n", a->csv,
                     (long long)plan.frames, m->nodes);
         if (!a->no_video)
-            fprintf(talk, "        wrote %s/%s.mp4 and %s/%s.png (%lld frames, %dx%d)\n",
+            fprintf(talk,
+                    "        wrote %s/%s.mp4 and %s/%s.png (%lld frames, %dx%d, drawn by %s)\n",
                     a->out_dir, scene, a->out_dir, scene, (long long)plan.frames, out->width,
-                    out->height);
+                    out->height, gl_context_backend_used() ? gl_context_backend_used() : "?");
     }
     status = RUN_EXIT_OK;
 done:
@@ -814,6 +816,7 @@ done:
 static int check_outputs(const run_args *a, char *err, size_t errlen)
 {
     if (!a->no_video) {
+        if (gl_context_check_env(err, errlen)) return -1; /* RODSIM_GL: bad input, exit 2 */
         if (outfile_check_dir(a->out_dir, err, errlen)) return -1;
         outfile_remove_stale(a->out_dir);
     }

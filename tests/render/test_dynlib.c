@@ -1,10 +1,12 @@
 /* test_dynlib.c: the libraries only drawing needs are opened at run time
  * (issue 9). dynlib opens a library and finds a function in it (cos from
  * libm gives cos(pi/3) = 1/2) or says which library, which package; the
- * binary does not link OSMesa or libav* (its ELF NEEDED list); and, with
- * one of them made unloadable (a mount namespace binds /dev/null over the
- * file), a run that draws exits 1 naming the library and the Debian package
- * and leaves no video, while --help and --no-video runs do not notice. */
+ * binary does not link OSMesa, EGL or libav* (its ELF NEEDED list); and,
+ * with one of them made unloadable (a mount namespace binds /dev/null over
+ * the file), a run that draws exits 1 naming the library and the Debian
+ * package and leaves no video, while --help and --no-video runs do not
+ * notice; with one GL backend missing, the default draws with the other
+ * (issue 14). */
 #define _GNU_SOURCE /* dladdr */
 #include <dlfcn.h>
 #include <libavcodec/avcodec.h>
@@ -16,6 +18,7 @@
 #include <unistd.h>
 
 #include "render/dynlib.h"
+#include "render/gl_context.h"
 #include "test.h"
 #include "test_process.h"
 
@@ -61,13 +64,13 @@ static void test_not_linked(void)
     if (p) pclose(p);
     for (char *c = needed; *c; c++)
         if (*c == '\n') *c = ' ';
-    const char *unwanted[] = {"libOSMesa", "libavcodec", "libavformat", "libavutil", "libswscale",
-                              "libGL", NULL};
+    const char *unwanted[] = {"libOSMesa", "libEGL", "libavcodec", "libavformat", "libavutil",
+                              "libswscale", "libGL", NULL};
     const char *found = NULL;
     for (int i = 0; unwanted[i]; i++)
         if (strstr(needed, unwanted[i])) found = unwanted[i];
     check(entries > 0 && !found, "%s NEEDED: %s(%s linked)", RODSIM_BIN, needed,
-          found ? found : "neither OSMesa nor libav*");
+          found ? found : "neither OSMesa, EGL nor libav*");
 }
 
 /* The file the loader opens for `soname`, into path; 0 when found. */
@@ -85,16 +88,18 @@ static int library_file(const char *soname, const char *symbol, char *path, size
     return 0;
 }
 
-/* Runs rodsim `args` with `library` replaced by an empty file. Output into
- * output; returns the exit status, -2 when no namespace could be made. */
-static int run_without(const char *library, const char *args, char *output, size_t outlen)
+/* Runs rodsim `args` with `library` replaced by an empty file and RODSIM_GL
+ * = gl ("" unset). Output (stdout and stderr) into output; returns the exit
+ * status, -2 when no namespace could be made. */
+static int run_without(const char *library, const char *gl, const char *args, char *output,
+                       size_t outlen)
 {
     char command[2048], log[160];
     snprintf(log, sizeof log, "%s/log", tmp_dir);
     snprintf(command, sizeof command,
-             "unshare -rm sh -c 'mount --bind /dev/null \"$0\" && exec \"$@\"' '%s' '%s' "
-             "%s >'%s' 2>&1",
-             library, RODSIM_BIN, args, log);
+             "unshare -rm sh -c 'mount --bind /dev/null \"$0\" && exec \"$@\"' '%s' "
+             "env %s%s '%s' %s >'%s' 2>&1",
+             library, gl[0] ? "RODSIM_GL=" : "-u RODSIM_GL", gl, RODSIM_BIN, args, log);
     fflush(stdout);
     int status = system(command);
     output[0] = '\0';
@@ -103,40 +108,137 @@ static int run_without(const char *library, const char *args, char *output, size
         output[fread(output, 1, outlen - 1, f)] = '\0';
         fclose(f);
     }
-    char *nl = strchr(output, '\n');
-    if (nl) *nl = '\0';
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/* The line of output that has `word` (or the first line), one line, into line. */
+static const char *line_with(const char *output, const char *word, char *line, size_t linelen)
+{
+    const char *at = strstr(output, word);
+    if (!at) at = output;
+    while (at > output && at[-1] != '\n') at--;
+    size_t n = strcspn(at, "\n");
+    snprintf(line, linelen, "%.*s", (int)(n < linelen ? n : linelen - 1), at);
+    return line;
+}
+
+/* A run that draws with `library` replaced by an empty file and RODSIM_GL =
+ * gl: refused with exit 1 naming `names` (the library the user must get)
+ * and `package`, no video left; or, when package is NULL, drawn (exit 0)
+ * by the backend `names` (the other one: the default falls back). */
+static void check_drawing_run(const char *library, const char *gl, const char *names,
+                              const char *package)
+{
+    char output[8192], args[1024], out[160], mp4[200], line[512];
+    snprintf(out, sizeof out, "%s/out", tmp_dir);
+    snprintf(args, sizeof args,
+             "run '%s/scenes/suture.ini' -o '%s' --set solver.duration=0.1 --set render.width=160 "
+             "--set render.height=120",
+             RODSIM_SOURCE_DIR, out);
+    int status = run_without(library, gl, args, output, sizeof output);
+    snprintf(mp4, sizeof mp4, "%s/suture.mp4", out);
+    int written = access(mp4, F_OK) == 0;
+    if (package) {
+        check(status == 1 && strstr(output, names) && strstr(output, package) && !written,
+              "without %s, RODSIM_GL=%s: a run that draws exits %d (want 1), message '%s' names "
+              "%s and package %s; %s %s", library, gl, status,
+              line_with(output, package, line, sizeof line), names, package, mp4,
+              written ? "WRITTEN" : "not written");
+    } else {
+        char drawn[64];
+        snprintf(drawn, sizeof drawn, "drawn by %s)", names);
+        check(status == 0 && strstr(output, drawn) && written,
+              "without %s, RODSIM_GL %s: the run exits %d (want 0) and says '%s' (want '%s')",
+              library, gl[0] ? gl : "unset", status,
+              line_with(output, "drawn by", line, sizeof line), drawn);
+    }
+    test_remove_tree(out);
+}
+
+/* A run without video and --help do not load the library: they do not notice. */
+static void check_not_drawing(const char *library)
+{
+    char output[8192], args[1024], out[160], line[512];
+    snprintf(out, sizeof out, "%s/out", tmp_dir);
+    snprintf(args, sizeof args, "run '%s/scenes/suture.ini' -o '%s' --set solver.duration=0.1 "
+                                "--no-video --quiet", RODSIM_SOURCE_DIR, out);
+    int status = run_without(library, "", args, output, sizeof output);
+    check(status == 0, "without %s: run --no-video exits %d (want 0) %s", library, status,
+          line_with(output, "rodsim", line, sizeof line));
+    status = run_without(library, "", "--help", output, sizeof output);
+    check(status == 0, "without %s: --help exits %d (want 0) %s", library, status,
+          line_with(output, "rodsim", line, sizeof line));
+    test_remove_tree(out);
+}
+
+/* The file of `soname` (found by `symbol` in it), or the file a mapping of
+ * this process ends in (`tail`, for a library the loader does not find by
+ * name, Mesa's dri/swrast_dri.so), into path; 0 when found. */
+static int mapped_file(const char *tail, char *path, size_t pathlen)
+{
+    FILE *f = fopen("/proc/self/maps", "r");
+    char line[1024];
+    int found = 0;
+    while (!found && f && fgets(line, sizeof line, f)) {
+        char *file = strchr(line, '/');
+        if (!file) continue;
+        file[strcspn(file, "\n")] = '\0';
+        size_t n = strlen(file), t = strlen(tail);
+        if (n >= t && strcmp(file + n - t, tail) == 0) {
+            snprintf(path, pathlen, "%s", file);
+            found = 1;
+        }
+    }
+    if (f) fclose(f);
+    return found ? 0 : -1;
+}
+
+/* Issue 14: two backends. Without OSMesa (a Mesa of 25.1 or later) the
+ * default draws with EGL; without EGL, with OSMesa; a backend asked for by
+ * RODSIM_GL but missing stops the run naming what to install: libEGL.so.1
+ * (libegl1), Mesa's EGL driver (libegl-mesa0), its llvmpipe swrast_dri.so
+ * (libgl1-mesa-dri). */
+static void test_backends_missing(void)
+{
+    char library[1024];
+    if (library_file("libOSMesa.so.8", "OSMesaGetProcAddress", library, sizeof library) == 0) {
+        check_drawing_run(library, "osmesa", "libOSMesa.so.8", "libosmesa6");
+        check_drawing_run(library, "", "EGL", NULL);
+        check_not_drawing(library);
+    } else {
+        check(0, "cannot find the file of libOSMesa.so.8");
+    }
+    if (library_file("libEGL.so.1", "eglGetProcAddress", library, sizeof library) == 0) {
+        check_drawing_run(library, "egl", "libEGL.so.1", "libegl1");
+        check_drawing_run(library, "", "OSMesa", NULL);
+    } else {
+        check(0, "cannot find the file of libEGL.so.1");
+    }
+    if (library_file("libEGL_mesa.so.0", "__egl_Main", library, sizeof library) == 0)
+        check_drawing_run(library, "egl", "EGL_MESA_device_software", "libegl-mesa0");
+    else
+        check(0, "cannot find the file of libEGL_mesa.so.0");
+    /* Mesa loads swrast_dri.so by path: an EGL context made here maps it */
+    char err[512];
+    setenv("RODSIM_GL", "egl", 1);
+    gl_context *ctx = gl_context_create(16, 16, err, sizeof err);
+    if (ctx && mapped_file("/swrast_dri.so", library, sizeof library) == 0)
+        check_drawing_run(library, "egl", "software device", "libgl1-mesa-dri");
+    else
+        check(0, "cannot find the file of swrast_dri.so (%s)", ctx ? "not mapped" : err);
+    gl_context_destroy(ctx);
+    unsetenv("RODSIM_GL");
 }
 
 static void test_missing_at_run_time(const char *soname, const char *symbol, const char *package)
 {
-    char library[1024], output[4096], args[1024], out[160];
+    char library[1024];
     if (library_file(soname, symbol, library, sizeof library)) {
         check(0, "cannot find the file of %s", soname);
         return;
     }
-    snprintf(out, sizeof out, "%s/out", tmp_dir);
-    snprintf(args, sizeof args,
-             "run '%s/scenes/suture.ini' -o '%s' --set solver.duration=0.1 --set render.width=160 "
-             "--set render.height=120 --quiet",
-             RODSIM_SOURCE_DIR, out);
-    int status = run_without(library, args, output, sizeof output);
-    char mp4[200];
-    snprintf(mp4, sizeof mp4, "%s/suture.mp4", out);
-    check(status == 1 && strstr(output, soname) && strstr(output, package) &&
-              access(mp4, F_OK) != 0,
-          "without %s: a run that draws exits %d (want 1), message '%s' names %s and package "
-          "%s; %s %s", library, status, output, soname, package, mp4,
-          access(mp4, F_OK) ? "not written" : "WRITTEN");
-    test_remove_tree(out);
-
-    snprintf(args, sizeof args, "run '%s/scenes/suture.ini' -o '%s' --set solver.duration=0.1 "
-                                "--no-video --quiet", RODSIM_SOURCE_DIR, out);
-    status = run_without(library, args, output, sizeof output);
-    check(status == 0, "without %s: run --no-video exits %d (want 0) %s", library, status, output);
-    status = run_without(library, "--help", output, sizeof output);
-    check(status == 0, "without %s: --help exits %d (want 0) %s", library, status, output);
-    test_remove_tree(out);
+    check_drawing_run(library, "", soname, package);
+    check_not_drawing(library);
 }
 
 int main(void)
@@ -148,7 +250,7 @@ int main(void)
         return test_finish();
     }
     if (system("unshare -rm true >/dev/null 2>&1") == 0) {
-        test_missing_at_run_time("libOSMesa.so.8", "OSMesaGetProcAddress", "libosmesa6");
+        test_backends_missing();
         /* the major version the build compiled against, as video.c asks for */
         char soname[64], package[64];
         snprintf(soname, sizeof soname, "libavcodec.so.%d", LIBAVCODEC_VERSION_MAJOR);

@@ -111,7 +111,7 @@ static void test_gl(void)
 {
     char err[1024];
     gl_context *ctx = gl_context_create(64, 48, err, sizeof err);
-    if (!check(ctx != NULL, "OSMesa context: %s", ctx ? gl_context_description(ctx) : err)) return;
+    if (!check(ctx != NULL, "GL context: %s", ctx ? gl_context_description(ctx) : err)) return;
     unsigned program = gl_program_load("scene", err, sizeof err);
     check(program != 0, "shaders/scene.vert+frag compile and link (%s)", program ? "ok" : err);
     unsigned none = gl_program_load("no_such_shader", err, sizeof err);

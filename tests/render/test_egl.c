@@ -1,0 +1,257 @@
+/* test_egl.c: the two headless backends (issue 14). RODSIM_GL is checked
+ * without loading anything; then the same synthetic recording is drawn by
+ * EGL, by OSMesa and by the default, each in a child process (a process
+ * keeps the backend it chose first), and the frames must agree: PSNR at
+ * least 35 dB, computed here from its definition. That a backend really
+ * drew is checked two ways: the name the context reports, and which Mesa
+ * library the child mapped (/proc/self/maps: OSMesa is libOSMesa.so, EGL's
+ * llvmpipe is dri/swrast_dri.so behind libEGL_mesa.so). No skip: a backend
+ * that cannot be made here is a failure naming why. Last, the report
+ * `rodsim --version` can print. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "render/gl_context.h"
+#include "render/image.h"
+#include "render/render.h"
+#include "synthetic_recording.h"
+#include "test.h"
+#include "test_process.h"
+
+#define FRAMES 3
+#define WIDTH 320
+#define HEIGHT 240
+
+static char tmp_dir[] = "/tmp/rodsim_egl_XXXXXX";
+
+static void test_env_check(void)
+{
+    const char *good[] = {"", "egl", "osmesa", "EGL", "OSMesa"};
+    char err[512];
+    int accepted = 0;
+    for (size_t i = 0; i < sizeof good / sizeof good[0]; i++) {
+        setenv("RODSIM_GL", good[i], 1);
+        accepted += gl_context_check_env(err, sizeof err) == 0;
+    }
+    unsetenv("RODSIM_GL");
+    accepted += gl_context_check_env(err, sizeof err) == 0;
+    check(accepted == 6, "RODSIM_GL unset, empty, egl, osmesa, EGL, OSMesa: %d of 6 accepted",
+          accepted);
+    setenv("RODSIM_GL", "vulkan", 1);
+    err[0] = '\0';
+    int status = gl_context_check_env(err, sizeof err);
+    check(status == -1 && strstr(err, "RODSIM_GL=vulkan") && strstr(err, "egl") &&
+              strstr(err, "osmesa"),
+          "RODSIM_GL=vulkan refused: '%s' names the value and the accepted ones", err);
+    unsetenv("RODSIM_GL");
+    check(gl_context_backend_used() == NULL, "no backend chosen before a context is made");
+}
+
+/* What a child reports through its pipe. */
+typedef struct child_report {
+    int made;                /* gl_context_create succeeded */
+    int rendered;            /* render_recording returned 0 */
+    char backend[16];        /* gl_context_backend of the context */
+    char used[16];           /* gl_context_backend_used after the render */
+    char description[256];
+    int mapped_osmesa;       /* libOSMesa.so in /proc/self/maps */
+    int mapped_egl_llvmpipe; /* dri/swrast_dri.so in /proc/self/maps */
+    char err[1024];
+} child_report;
+
+static void scan_maps(child_report *r)
+{
+    FILE *f = fopen("/proc/self/maps", "r");
+    char line[1024];
+    while (f && fgets(line, sizeof line, f)) {
+        if (strstr(line, "/libOSMesa.so")) r->mapped_osmesa = 1;
+        if (strstr(line, "/swrast_dri.so")) r->mapped_egl_llvmpipe = 1;
+    }
+    if (f) fclose(f);
+}
+
+/* In the child: RODSIM_GL = value (NULL: unset), a context, then the
+ * recording drawn into dir/<name>_frames/. */
+static void child_draw(const char *value, const char *dir, const char *name, child_report *r)
+{
+    if (value) setenv("RODSIM_GL", value, 1);
+    else unsetenv("RODSIM_GL");
+    gl_context *ctx = gl_context_create(64, 48, r->err, sizeof r->err);
+    if (!ctx) return;
+    r->made = 1;
+    snprintf(r->backend, sizeof r->backend, "%s", gl_context_backend(ctx));
+    snprintf(r->description, sizeof r->description, "%s", gl_context_description(ctx));
+    gl_context_destroy(ctx);
+
+    rod_recording *rec = synthetic_recording_create(41, FRAMES, 1.0, 0.01);
+    synthetic_arc(rec, 0, INFINITY, 6.0); /* straight, twisted */
+    synthetic_arc(rec, 1, 1.0, 6.0);      /* bent, radius 1 m */
+    synthetic_arc(rec, 2, 0.4, 6.0);      /* bent further */
+    for (int f = 0; f < FRAMES; f++) rec->time[f] = 0.1 * f;
+    rec->tip_force[3 * 2 + 1] = 1e-3; /* an arrow in the last frame */
+    render_options o;
+    render_options_default(&o);
+    o.width = WIDTH;
+    o.height = HEIGHT;
+    o.frames_png = 1;
+    snprintf(o.title, sizeof o.title, "two backends"); /* not the name, which differs */
+    r->rendered = render_recording(rec, &o, dir, name, 0, r->err, sizeof r->err) == 0;
+    rod_recording_destroy(rec);
+    const char *used = gl_context_backend_used();
+    snprintf(r->used, sizeof r->used, "%s", used ? used : "none");
+    scan_maps(r);
+}
+
+/* Runs child_draw in a child process; its report into r. 0 when it ended. */
+static int draw_in_child(const char *value, const char *name, child_report *r)
+{
+    memset(r, 0, sizeof *r);
+    int fds[2];
+    if (pipe(fds)) return -1;
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid < 0) return -1;
+    if (pid == 0) {
+        close(fds[0]);
+        child_report mine;
+        memset(&mine, 0, sizeof mine);
+        child_draw(value, tmp_dir, name, &mine);
+        ssize_t written = write(fds[1], &mine, sizeof mine);
+        close(fds[1]);
+        exit(written == (ssize_t)sizeof mine ? 0 : 1); /* exit: LSan checks the child too */
+    }
+    close(fds[1]);
+    size_t got = 0;
+    while (got < sizeof *r) {
+        ssize_t n = read(fds[0], (char *)r + got, sizeof *r - got);
+        if (n <= 0) break;
+        got += (size_t)n;
+    }
+    close(fds[0]);
+    int status;
+    waitpid(pid, &status, 0);
+    return got == sizeof *r && WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 0 : -1;
+}
+
+/* PSNR, dB, over the RGB bytes: 10 log10(255^2 / MSE); INFINITY when equal. */
+static double psnr(const image *a, const image *b)
+{
+    double sum = 0;
+    size_t n = (size_t)a->width * (size_t)a->height * 3;
+    for (size_t i = 0; i < n; i++) {
+        double d = (double)a->rgb[i] - (double)b->rgb[i];
+        sum += d * d;
+    }
+    return sum == 0 ? INFINITY : 10 * log10(255.0 * 255.0 / (sum / (double)n));
+}
+
+/* Pixels unlike the top-left pixel (the background) by more than 60 in a channel */
+static int drawn_pixels(const image *img)
+{
+    int count = 0;
+    for (int i = 0; i < img->width * img->height; i++)
+        for (int c = 0; c < 3; c++)
+            if (abs(img->rgb[3 * i + c] - img->rgb[c]) > 60) {
+                count++;
+                break;
+            }
+    return count;
+}
+
+static image *read_frame(const char *name, int frame)
+{
+    char path[512], err[512];
+    snprintf(path, sizeof path, "%s/%s_frames/%05d.png", tmp_dir, name, frame);
+    image *img = image_read_png(path, err, sizeof err);
+    if (!img) check(0, "%s: %s", path, err);
+    return img;
+}
+
+static void test_backends_agree(void)
+{
+    /* RODSIM_GL value, the frames' name, the backend expected to draw */
+    const struct {
+        const char *value, *name, *backend;
+    } runs[3] = {{"egl", "egl", "EGL"}, {"osmesa", "osmesa", "OSMesa"}, {NULL, "default", "EGL"}};
+    child_report r[3];
+    for (int k = 0; k < 3; k++) {
+        int ended = draw_in_child(runs[k].value, runs[k].name, &r[k]);
+        int is_egl = strcmp(runs[k].backend, "EGL") == 0;
+        check(ended == 0 && r[k].made && r[k].rendered &&
+                  strcmp(r[k].backend, runs[k].backend) == 0 &&
+                  strcmp(r[k].used, runs[k].backend) == 0 && strstr(r[k].description, "llvmpipe"),
+              "RODSIM_GL=%s: the context says %s (want %s), the render used %s: '%s'%s%s",
+              runs[k].value ? runs[k].value : "(unset)", r[k].backend, runs[k].backend, r[k].used,
+              r[k].description, r[k].err[0] ? "; error: " : "", r[k].err);
+        check(r[k].mapped_osmesa == !is_egl && r[k].mapped_egl_llvmpipe == is_egl,
+              "RODSIM_GL=%s: the process mapped libOSMesa.so %s and dri/swrast_dri.so %s "
+              "(want %s only)", runs[k].value ? runs[k].value : "(unset)",
+              r[k].mapped_osmesa ? "yes" : "no", r[k].mapped_egl_llvmpipe ? "yes" : "no",
+              is_egl ? "swrast_dri" : "libOSMesa");
+    }
+    if (!r[0].rendered || !r[1].rendered) return;
+
+    double worst = INFINITY, apart = INFINITY;
+    int drawn_min = WIDTH * HEIGHT;
+    for (int f = 0; f < FRAMES; f++) {
+        image *egl = read_frame("egl", f), *osmesa = read_frame("osmesa", f);
+        if (egl && osmesa) {
+            double p = psnr(egl, osmesa);
+            if (p < worst) worst = p;
+            int d = drawn_pixels(egl) < drawn_pixels(osmesa) ? drawn_pixels(egl)
+                                                              : drawn_pixels(osmesa);
+            if (d < drawn_min) drawn_min = d;
+        }
+        image_destroy(egl);
+        image_destroy(osmesa);
+    }
+    /* the measure tells pictures apart: the straight and the most bent frame */
+    image *straight = read_frame("osmesa", 0), *bent = read_frame("osmesa", FRAMES - 1);
+    if (straight && bent) apart = psnr(straight, bent);
+    image_destroy(straight);
+    image_destroy(bent);
+    check(drawn_min > WIDTH * HEIGHT / 100,
+          "both backends drew something: at least %d of %d pixels unlike the background in "
+          "every frame", drawn_min, WIDTH * HEIGHT);
+    check(worst >= 35.0 && apart < 35.0,
+          "EGL and OSMesa frames agree: PSNR %.2f dB at worst over %d frames (want >= 35; %s); "
+          "the straight and the bent frame of one backend: %.2f dB (< 35: the measure sees a "
+          "change)", worst, FRAMES, isinf(worst) ? "identical" : "not identical", apart);
+}
+
+/* What `rodsim --version` can print: both backends available here, EGL
+ * first; RODSIM_GL's choice. Run last: it opens both libraries in this
+ * process, which the children above must not inherit. */
+static void test_report(void)
+{
+    char report[2048];
+    unsetenv("RODSIM_GL");
+    gl_context_backends_report(report, sizeof report);
+    const char *egl = strstr(report, "EGL     available");
+    const char *osmesa = strstr(report, "OSMesa  available");
+    check(egl && osmesa && egl < osmesa && strstr(report, "RODSIM_GL unset: draws with EGL"),
+          "backends report, EGL then OSMesa, both available, EGL by default:\n%s", report);
+    setenv("RODSIM_GL", "osmesa", 1);
+    gl_context_backends_report(report, sizeof report);
+    check(strstr(report, "RODSIM_GL=osmesa: draws with OSMesa") != NULL,
+          "with RODSIM_GL=osmesa:\n%s", report);
+    unsetenv("RODSIM_GL");
+}
+
+int main(void)
+{
+    test_env_check();
+    if (!mkdtemp(tmp_dir)) {
+        check(0, "cannot make a scratch directory");
+        return test_finish();
+    }
+    test_backends_agree();
+    test_remove_tree(tmp_dir);
+    test_report();
+    return test_finish();
+}
