@@ -70,8 +70,11 @@
  *     (d3_{1/2} x N_{1/2} + m) + M_0 (root half cell, as at the tip) has no
  *     components on the initial d1, d2: the torsion stop acts about the fixed
  *     initial d3 (see pinned_root_rows).
- *     A pinned root with a free tip is a mechanism and is refused; so are a
- *     free root (the mirrored rod, or the implicit scheme) and a sliding root.
+ *     A pinned root with a free tip is a mechanism and is refused; so is a
+ *     sliding root.
+ *   root free, tip clamped (in place or driven): solved as the mirrored rod
+ *     (mirror_create, mirror_step), clamped root and free tip; its messages
+ *     name the mirror's ends. static_work_create itself refuses a free root.
  *   tip pinned / clamped: r_tip on its sleeve (the line through its target
  *     along tip_slide: 2 rows, the reaction R on the sleeve's two normals) or
  *     in place (3 rows, R with 3 components), R added to the tip force. Those
@@ -227,6 +230,10 @@ struct static_work {
     int have_verdict;     /* the state's unstable-mode count below is known */
     int negative_modes;   /* of the last solution */
 
+    /* a free root with a clamped tip: the rod solved mirrored (see
+     * mirror_create); NULL for every other rod */
+    struct static_mirror *mirror;
+
     /* the load of the last solved step, the start of the next step's path */
     int have_previous;
     double previous_time; /* s */
@@ -235,9 +242,25 @@ struct static_work {
 
 static int tip_held(const static_work *w) { return w->tip_end != ROD_END_FREE; }
 
+/* The mirrored rod of a free root with a clamped tip: its model (owning
+ * only its point loads and initial shape; the tip's path is shared), its
+ * state and its solver's work. */
+typedef struct static_mirror {
+    rod_model model;
+    rod_state *state;
+    static_work *inner;
+} static_mirror;
+
 void static_work_destroy(static_work *w)
 {
     if (!w) return;
+    if (w->mirror) {
+        static_work_destroy(w->mirror->inner);
+        rod_state_destroy(w->mirror->state);
+        free(w->mirror->model.point_loads);
+        free(w->mirror->model.initial_shape);
+        free(w->mirror);
+    }
     free(w->frame);
     free(w->force);
     free(w->frame_trial);
@@ -576,8 +599,203 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
     return w;
 }
 
+/* The mirror (issue 10): node i <-> NS-1-i, s -> L - s, frames Q' = Q D
+ * with D = diag(1, -1, -1) (d1' = d1, d2' = -d2, d3' = -d3: still right
+ * handed, d3' along ds'). Then Q'^T Q'_s' = -D [u]x D, so u' = -D u =
+ * (-u1, u2, u3) on the directors, and likewise the contact force in
+ * director components (N' = -N, the sides exchange). D D = I: the map is its
+ * own inverse. */
+static void mirror_vector(double out[3], const double v[3])
+{
+    double x = -v[0], y = v[1], z = v[2]; /* -D v; out may be v */
+    v3_set(out, x, y, z);
+}
+
+static void mirror_frame(double out[9], const double q[9])
+{
+    for (int r = 0; r < 3; r++) {
+        out[3 * r] = q[3 * r];
+        out[3 * r + 1] = -q[3 * r + 1];
+        out[3 * r + 2] = -q[3 * r + 2];
+    }
+}
+
+/* Positions, frames and the staggered entries of `from` mirrored into
+ * `to`: midpoint j <-> NS-2-j. The tip entry (at the end that is free in
+ * `to`) is left to the caller. */
+static void mirror_state(const rod_state *from, rod_state *to)
+{
+    int n = from->nodes;
+    to->time = from->time;
+    to->staggered = from->staggered;
+    for (int i = 0; i < n; i++) {
+        int j = n - 1 - i;
+        v3_copy(&to->position[3 * j], &from->position[3 * i]);
+        mirror_frame(&to->frame[9 * j], &from->frame[9 * i]);
+        v3_set(&to->velocity[3 * j], 0.0, 0.0, 0.0);
+        v3_set(&to->angular_velocity[3 * j], 0.0, 0.0, 0.0);
+    }
+    for (int i = 0; i + 1 < n; i++) {
+        int j = from->staggered ? n - 2 - i : n - 1 - i;
+        mirror_vector(&to->darboux[3 * j], &from->darboux[3 * i]);
+        mirror_vector(&to->contact_force[3 * j], &from->contact_force[3 * i]);
+    }
+    if (!from->staggered) {
+        mirror_vector(&to->darboux[0], &from->darboux[3 * (n - 1)]);
+        mirror_vector(&to->contact_force[0], &from->contact_force[3 * (n - 1)]);
+    }
+}
+
+/* A free root with a held tip is solved as its mirror, a clamped root with
+ * a free tip (rod.h: the static scheme integrates from a held root). The
+ * mirror carries the rest curvature -D u0, the point loads at the mirrored
+ * nodes, the distributed loads (global) unchanged and the tip's path as its
+ * root's (Q'(t) = R(t) Q^init D: the same rotation R). Its tip is free and
+ * unloaded: loads applied at the real held tip act on the support, so they
+ * enter only the reported tip entries (mirror_step). Decided: a pinned tip
+ * with a free root is a mechanism (the mirror of a pinned root with a free
+ * tip) and a sliding tip would be a sliding root of the mirror, which this
+ * scheme does not model: both refused. */
+static static_work *mirror_create(const rod_model *m, char *err, size_t errlen)
+{
+    double slide[3];
+    int sliding = unit_or_zero(m->tip_slide, slide);
+    if (m->tip_end == ROD_END_PINNED) {
+        snprintf(err, errlen,
+                 "static: ends root = free, tip = pinned make a mechanism (the rod swings freely "
+                 "about the pin, so there is no static equilibrium to solve for); use tip = "
+                 "clamped, or solver.scheme = implicit");
+        return NULL;
+    }
+    if (sliding != 0 || m->root_motion || v3_norm(m->root_slide) != 0.0) {
+        snprintf(err, errlen,
+                 "static: ends root = free with %s: the static scheme solves a free root with a "
+                 "clamped tip held in place or driven along tip_motion (tip_slide = 0 0 0, no "
+                 "root_motion, no root_slide); a sliding tip is not supported here. Use "
+                 "solver.scheme = implicit", sliding != 0 ? "a sliding tip (tip_slide)"
+                 : m->root_motion ? "root_motion" : "root_slide");
+        return NULL;
+    }
+    int n = m->nodes;
+    static_work *w = calloc(1, sizeof *w);
+    static_mirror *mirror = calloc(1, sizeof *mirror);
+    if (!w || !mirror) {
+        free(w);
+        free(mirror);
+        snprintf(err, errlen, "static: out of memory");
+        return NULL;
+    }
+    w->nodes = n;
+    w->length = m->length;
+    w->root_end = m->root_end;
+    w->tip_end = m->tip_end;
+    w->mirror = mirror;
+    rod_model *mm = &mirror->model;
+    *mm = *m;
+    mm->root_end = m->tip_end;
+    mm->tip_end = ROD_END_FREE;
+    mm->root_motion = m->tip_motion;
+    mm->tip_motion = NULL;
+    v3_set(mm->tip_slide, 0.0, 0.0, 0.0);
+    v3_set(mm->tip_force, 0.0, 0.0, 0.0);
+    v3_set(mm->tip_moment, 0.0, 0.0, 0.0);
+    mm->tip_frame = ROD_FRAME_GLOBAL;
+    /* a 7-column table drives only the tip load (none here); the point
+     * loads' factor is 1 under it (rod_profile_factor) */
+    if (mm->profile.kind == ROD_PROFILE_TABLE && mm->profile.table.columns == 7)
+        mm->profile.kind = ROD_PROFILE_STEP;
+    mirror_vector(mm->intrinsic_curvature, m->intrinsic_curvature);
+    double direction[3];
+    if (unit_or_zero(m->direction, direction) == 1) {
+        for (int k = 0; k < 3; k++) mm->origin[k] = m->origin[k] + m->length * direction[k];
+        v3_scale(mm->direction, direction, -1.0);
+    }
+    mm->point_loads = NULL;
+    mm->initial_shape = NULL;
+    if (m->point_load_count > 0) {
+        mm->point_loads = malloc((size_t)m->point_load_count * sizeof *mm->point_loads);
+        if (mm->point_loads)
+            for (int p = 0; p < m->point_load_count; p++) {
+                mm->point_loads[p] = m->point_loads[p];
+                mm->point_loads[p].node = n - 1 - m->point_loads[p].node;
+            }
+    }
+    if (m->initial_shape) {
+        mm->initial_shape = malloc((size_t)n * 3 * sizeof(double));
+        if (mm->initial_shape)
+            for (int i = 0; i < n; i++)
+                v3_copy(&mm->initial_shape[3 * (n - 1 - i)], &m->initial_shape[3 * i]);
+    }
+    mirror->state = rod_state_create(mm);
+    if ((m->point_load_count > 0 && !mm->point_loads) || (m->initial_shape && !mm->initial_shape) ||
+        !mirror->state) {
+        static_work_destroy(w);
+        snprintf(err, errlen, "static: out of memory for %d nodes", n);
+        return NULL;
+    }
+    mirror->inner = static_work_create(mm, err, errlen);
+    if (!mirror->inner) {
+        static_work_destroy(w);
+        return NULL;
+    }
+    return w;
+}
+
+static rod_status step_unmirrored(static_work *w, const rod_model *m, rod_state *s, double dt,
+                                  rod_report *report);
+
+/* One step of the mirrored rod, and its answer mirrored back. The real
+ * tip's entries (rod.h: N(L), and u = u0 + B^-1 M(L) on the tip directors)
+ * and the support's load come from the mirror's root: what the rod exerts
+ * on its support is the same force, plus the loads applied at the held tip
+ * (they act on the support too: the scheme's write_state, end_force[1] =
+ * applied - N(L)). The free root carries nothing (end_force[0] = 0). */
+static rod_status mirror_step(static_work *w, const rod_model *m, rod_state *s, double dt,
+                              rod_report *report)
+{
+    static_mirror *mirror = w->mirror;
+    int n = w->nodes;
+    mirror_state(s, mirror->state);
+    rod_status status = step_unmirrored(mirror->inner, &mirror->model, mirror->state, dt, report);
+    if (status != ROD_OK) return status;
+    const rod_state *ms = mirror->state;
+    mirror_state(ms, s);
+    const double *q_tip = &s->frame[9 * (n - 1)];
+    double force[3], moment[3], applied_force[3], applied_moment[3];
+    rod_tip_load(m, s->time, force, moment);
+    if (m->tip_frame == ROD_FRAME_DIRECTOR) { /* follower: Q_tip N_bar (thesis 4.2) */
+        m3_mul_v(applied_force, q_tip, force);
+        m3_mul_v(applied_moment, q_tip, moment);
+    } else {
+        v3_copy(applied_force, force);
+        v3_copy(applied_moment, moment);
+    }
+    memset(s->end_force, 0, sizeof s->end_force);
+    memset(s->end_moment, 0, sizeof s->end_moment);
+    /* the mirror's end_force[0] holds the point loads at its node 0 (the
+     * real tip node) already */
+    v3_add(s->end_force[1], ms->end_force[0], applied_force);
+    v3_add(s->end_moment[1], ms->end_moment[0], applied_moment);
+    double pf = rod_profile_factor(&m->profile, s->time), tip_force[3], tip_moment[3], moment_bar[3];
+    for (int p = 0; p < m->point_load_count; p++)
+        if (m->point_loads[p].node == n - 1) {
+            v3_axpy(applied_force, pf, m->point_loads[p].force);
+            v3_axpy(applied_moment, pf, m->point_loads[p].moment);
+        }
+    /* N(L) = applied - end_force[1], M(L) likewise (clamped tip) */
+    v3_sub(tip_force, applied_force, s->end_force[1]);
+    v3_sub(tip_moment, applied_moment, s->end_moment[1]);
+    m3_mul_tv(&s->contact_force[3 * (n - 1)], q_tip, tip_force);
+    m3_mul_tv(moment_bar, q_tip, tip_moment);
+    for (int k = 0; k < 3; k++)
+        s->darboux[3 * (n - 1) + k] = moment_bar[k] / m->stiffness[k] + m->intrinsic_curvature[k];
+    return ROD_OK;
+}
+
 static void *create(const rod_model *m, char *err, size_t errlen)
 {
+    if (m->root_end == ROD_END_FREE && m->tip_end != ROD_END_FREE && m->nodes >= 3 && m->ds > 0.0)
+        return mirror_create(m, err, errlen);
     return static_work_create(m, err, errlen);
 }
 
@@ -1872,10 +2090,9 @@ static rod_status settle_stable(static_work *w, const rod_model *m, const static
     return ROD_OK;
 }
 
-static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
-                       rod_report *report)
+static rod_status step_unmirrored(static_work *w, const rod_model *m, rod_state *s, double dt,
+                                  rod_report *report)
 {
-    static_work *w = work;
     int n = w->nodes;
     double target_time = s->time + dt;
     static_load target, start, load, zero;
@@ -2065,6 +2282,14 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
     w->previous_time = s->time;
     w->previous = target;
     return ROD_OK;
+}
+
+static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
+                       rod_report *report)
+{
+    static_work *w = work;
+    if (w->mirror) return mirror_step(w, m, s, dt, report);
+    return step_unmirrored(w, m, s, dt, report);
 }
 
 static double stable_dt(const rod_model *m, const char **limit)

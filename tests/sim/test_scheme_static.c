@@ -22,6 +22,7 @@
 #include "sim/path.h"
 #include "sim/rod.h"
 #include "sim/rod_geometry.h"
+#include "sim/rod_geometry.h"
 #include "sim/scheme_static.h"
 #include "test.h"
 #include "test_process.h"
@@ -1158,6 +1159,206 @@ static void test_static_refusals(void)
     }
 }
 
+/* The mirror a free root with a held tip is solved as (scheme_static.c
+ * mirror_create): node i <-> NS-1-i, Q' = Q diag(1, -1, -1). On a bent rod
+ * (u varying along s) the Darboux vector of the mirrored frames, by the
+ * same log map the scheme uses, is (-u1, u2, u3) at the mirrored midpoint. */
+static void test_mirror_darboux(void)
+{
+    rod_model m = static_model(21, ROD_FRAME_GLOBAL);
+    int n = m.nodes;
+    double *frame = malloc((size_t)n * 9 * sizeof(double));
+    double *mirrored = malloc((size_t)n * 9 * sizeof(double));
+    double *u = malloc((size_t)(n - 1) * 3 * sizeof(double));
+    double *u_mirror = malloc((size_t)(n - 1) * 3 * sizeof(double));
+    for (int i = 0; i < n; i++) {
+        double s = m.ds * i, phi[3] = {0.7 * s, -1.3 * s * s, 2.1 * s * s * s}, q[9];
+        m3_exp(q, phi);
+        memcpy(&frame[9 * i], q, sizeof q);
+        for (int r = 0; r < 3; r++) {
+            double *out = &mirrored[9 * (n - 1 - i) + 3 * r];
+            out[0] = q[3 * r];
+            out[1] = -q[3 * r + 1];
+            out[2] = -q[3 * r + 2];
+        }
+    }
+    rod_darboux_from_frames(&m, frame, u);
+    rod_darboux_from_frames(&m, mirrored, u_mirror);
+    double worst = 0.0, size = 0.0;
+    for (int j = 0; j + 1 < n; j++) {
+        const double *a = &u[3 * j], *b = &u_mirror[3 * (n - 2 - j)];
+        worst = fmax(worst, fmax(fabs(b[0] + a[0]), fmax(fabs(b[1] - a[1]), fabs(b[2] - a[2]))));
+        size = fmax(size, v3_norm(a));
+    }
+    check(worst < 1e-12 * fmax(1.0, size) && size > 1.0,
+          "mirrored frames: u' at midpoint NS-2-j equals (-u1, u2, u3) at j (largest |u| %.3f "
+          "1/m, largest deviation %.2e 1/m)", size, worst);
+    free(frame);
+    free(mirrored);
+    free(u);
+    free(u_mirror);
+}
+
+/* One static step of a rod from the given state (caller's), 1 s. */
+static rod_status solve_steady(const rod_model *m, rod_state *s, rod_report *report)
+{
+    rod_solver solver;
+    char err[512];
+    memset(report, 0, sizeof *report);
+    if (rod_solver_init(&solver, m, err, sizeof err) != 0) {
+        printf("solver init failed: %s\n", err);
+        return ROD_FAILED;
+    }
+    rod_status status = rod_solver_step(&solver, m, s, 1.0, report);
+    if (status != ROD_OK) printf("step failed: %s\n", report->message);
+    rod_solver_release(&solver);
+    return status;
+}
+
+/* A thread hanging from its clamped tip under gravity (free root below, tip
+ * at the origin): straight down, and the support carries the weight m L g. */
+static void test_hanging_thread(void)
+{
+    rod_model m = static_model(21, ROD_FRAME_GLOBAL);
+    m.root_end = ROD_END_FREE;
+    m.tip_end = ROD_END_CLAMPED;
+    v3_set(m.origin, 0.0, 0.0, -m.length);
+    v3_set(m.direction, 0.0, 0.0, 1.0);
+    double g = 9.81, weight = m.mass_per_length * m.length * g;
+    v3_set(m.distributed_force, 0.0, 0.0, -m.mass_per_length * g);
+    rod_state *s = rod_state_create(&m);
+    rod_state_reset(&m, s);
+    rod_report report;
+    rod_status status = solve_steady(&m, s, &report);
+    double off_axis = 0.0;
+    for (int i = 0; i < m.nodes; i++)
+        off_axis = fmax(off_axis, hypot(s->position[3 * i], s->position[3 * i + 1]));
+    const double *tip = tip_of(s);
+    check(status == ROD_OK && off_axis < 1e-12 && fabs(s->position[2] + m.length) < 1e-12 &&
+          v3_norm(tip) < 1e-12,
+          "hanging thread: straight down from the clamped tip (off axis %.1e m, root z %.9f m, "
+          "expected -%g; tip %.1e m from the origin)", off_axis, s->position[2], m.length,
+          v3_norm(tip));
+    double pull = -s->end_force[1][2], error = fabs(pull - weight) / weight;
+    check(status == ROD_OK && error < 1e-10 && hypot(s->end_force[1][0], s->end_force[1][1]) < 1e-12 * weight &&
+          v3_norm(s->end_force[0]) == 0.0 && v3_norm(s->end_moment[1]) < 1e-12 * weight * m.length,
+          "hanging thread: the tip support carries m L g: computed %.9e N, reference %.9e N, rel. "
+          "error %.1e; no moment (%.1e N m), nothing at the free root", pull, weight, error,
+          v3_norm(s->end_moment[1]));
+    /* N(L) on the tip directors: the tension m L g along d3 */
+    double tension = s->contact_force[3 * (m.nodes - 1) + 2];
+    check(fabs(tension - weight) < 1e-10 * weight,
+          "hanging thread: tip entry N(L).d3 = %.9e N, reference m L g = %.9e N", tension, weight);
+    rod_state_destroy(s);
+}
+
+/* A free root with a clamped tip, a transverse dead point load at the root
+ * and a distributed load, a rest curvature: the same answer as the
+ * cantilever built by hand with the root and tip exchanged (its state the
+ * mirrored initial state, rest curvature (-u1, u2, u3), the point load at
+ * its tip). */
+static void test_free_root_equals_cantilever(void)
+{
+    rod_model a = static_model(31, ROD_FRAME_GLOBAL);
+    a.root_end = ROD_END_FREE;
+    a.tip_end = ROD_END_CLAMPED;
+    double scale = a.stiffness[0] / (a.length * a.length); /* EI/L^2, N */
+    rod_point_load loads[2] = {{0, {0.0, 0.8 * scale, 0.3 * scale}, {0, 0, 0}},
+                               {10, {0.0, 0.0, -0.5 * scale}, {0, 0, 0}}};
+    a.point_loads = loads;
+    a.point_load_count = 2;
+    v3_set(a.distributed_force, 0.0, 0.4 * scale / a.length, -0.6 * scale / a.length);
+    v3_set(a.intrinsic_curvature, 0.4, -0.6, 0.3);
+    rod_model b = a;
+    rod_point_load loads_b[2] = {loads[0], loads[1]};
+    b.root_end = ROD_END_CLAMPED;
+    b.tip_end = ROD_END_FREE;
+    int n = a.nodes;
+    loads_b[0].node = n - 1;
+    loads_b[1].node = n - 1 - 10;
+    b.point_loads = loads_b;
+    v3_set(b.intrinsic_curvature, -0.4, -0.6, 0.3);
+    v3_set(b.origin, a.length, 0.0, 0.0);
+    v3_set(b.direction, -1.0, 0.0, 0.0);
+    rod_state *sa = rod_state_create(&a), *sb = rod_state_create(&b);
+    rod_state_reset(&a, sa);
+    rod_state_reset(&b, sb);
+    for (int i = 0; i < n; i++) { /* b starts as a mirrored, frames included */
+        v3_copy(&sb->position[3 * (n - 1 - i)], &sa->position[3 * i]);
+        for (int r = 0; r < 3; r++) {
+            double *out = &sb->frame[9 * (n - 1 - i) + 3 * r];
+            const double *q = &sa->frame[9 * i + 3 * r];
+            out[0] = q[0];
+            out[1] = -q[1];
+            out[2] = -q[2];
+        }
+    }
+    rod_report ra, rb;
+    rod_status status_a = solve_steady(&a, sa, &ra), status_b = solve_steady(&b, sb, &rb);
+    double worst = 0.0, frame_worst = 0.0, deflection = 0.0;
+    for (int i = 0; i < n; i++) {
+        double d[3];
+        v3_sub(d, &sa->position[3 * i], &sb->position[3 * (n - 1 - i)]);
+        worst = fmax(worst, v3_norm(d));
+        deflection = fmax(deflection, hypot(sa->position[3 * i + 1], sa->position[3 * i + 2]));
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) {
+                double sign = c == 0 ? 1.0 : -1.0;
+                frame_worst = fmax(frame_worst, fabs(sa->frame[9 * i + 3 * r + c] -
+                                                     sign * sb->frame[9 * (n - 1 - i) + 3 * r + c]));
+            }
+    }
+    check(status_a == ROD_OK && status_b == ROD_OK && worst < 1e-10 && frame_worst < 1e-9 &&
+          deflection > 0.1 * a.length,
+          "free root, clamped tip = the mirrored cantilever: largest node distance %.2e m, "
+          "frame entry %.2e (deflection %.3f m)", worst, frame_worst, deflection);
+    double df[3], dm[3];
+    v3_sub(df, sa->end_force[1], sb->end_force[0]);
+    v3_sub(dm, sa->end_moment[1], sb->end_moment[0]);
+    check(v3_norm(df) < 1e-9 * scale && v3_norm(dm) < 1e-9 * scale * a.length &&
+          v3_norm(sa->end_force[0]) == 0.0,
+          "free root: the tip support's force %.6e %.6e %.6e N (cantilever root %.6e %.6e %.6e N; "
+          "difference %.1e N, moment %.1e N m)", sa->end_force[1][0], sa->end_force[1][1],
+          sa->end_force[1][2], sb->end_force[0][0], sb->end_force[0][1], sb->end_force[0][2],
+          v3_norm(df), v3_norm(dm));
+    /* the support's force balances every load: -(sum F_p + T L) */
+    double total[3] = {0, 0, 0};
+    for (int p = 0; p < 2; p++) v3_add(total, total, loads[p].force);
+    v3_axpy(total, a.length, a.distributed_force);
+    v3_sub(df, sa->end_force[1], total);
+    check(v3_norm(df) < 1e-9 * v3_norm(total),
+          "free root: tip support force = sum of the loads (%.6e %.6e %.6e N), deviation %.1e N",
+          total[0], total[1], total[2], v3_norm(df));
+    /* the mirrored midpoint entries: u at j = -D u' at NS-2-j */
+    double u_worst = 0.0;
+    for (int j = 0; j + 1 < n; j++) {
+        const double *ua = &sa->darboux[3 * j], *ub = &sb->darboux[3 * (n - 2 - j)];
+        u_worst = fmax(u_worst, fmax(fabs(ua[0] + ub[0]), fmax(fabs(ua[1] - ub[1]), fabs(ua[2] - ub[2]))));
+    }
+    check(u_worst < 1e-8, "free root: midpoint darboux entries mirror the cantilever's (%.1e 1/m)",
+          u_worst);
+    rod_state_destroy(sa);
+    rod_state_destroy(sb);
+}
+
+/* What the mirror does not model: a pinned tip (a mechanism) and a sliding
+ * tip (the mirror's sliding root). */
+static void test_free_root_refusals(void)
+{
+    for (int c = 0; c < 2; c++) {
+        rod_model m = static_model(11, ROD_FRAME_GLOBAL);
+        m.root_end = ROD_END_FREE;
+        m.tip_end = c == 0 ? ROD_END_PINNED : ROD_END_CLAMPED;
+        if (c == 1) v3_set(m.tip_slide, 1.0, 0.0, 0.0);
+        rod_solver solver;
+        char err[512] = "";
+        int rc = rod_solver_init(&solver, &m, err, sizeof err);
+        check(rc != 0 && strstr(err, c == 0 ? "mechanism" : "sliding tip"), "free root refused: '%s'",
+              err);
+        if (rc == 0) rod_solver_release(&solver);
+    }
+}
+
 /* Complete elliptic integrals K(k), E(k) by the arithmetic-geometric mean
  * (Abramowitz & Stegun 17.6): K = pi / (2 a_N), E = K (1 - sum 2^(n-1) c_n^2). */
 static void elliptic_ke(double k, double *big_k, double *big_e)
@@ -1567,6 +1768,10 @@ int main(void)
     test_point_load_and_moment();
     test_turned_clamped_beam();
     test_static_refusals();
+    test_mirror_darboux();
+    test_hanging_thread();
+    test_free_root_equals_cantilever();
+    test_free_root_refusals();
     test_clamped_clamped_elastica();
     test_driven_twist();
     test_driven_root();
