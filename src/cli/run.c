@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "base/outfile.h"
+#include "base/vec3.h"
 #include "cli/args.h"
 #include "cli/scene_keys.h"
 #include "render/gl_context.h"
@@ -443,11 +444,24 @@ static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_
                          double wall)
 {
     const double *tip = &s->position[3 * (s->nodes - 1)];
-    double dx = tip[0] - m->length, dy = tip[1], dz = tip[2];
     fprintf(f, "result: t = %g s, tip at (%.9g, %.9g, %.9g) m\n", s->time, tip[0], tip[1],
             tip[2]);
-    fprintf(f, "        tip deflection from (L, 0, 0): %.6g m (transverse %.6g m)\n",
-            sqrt(dx * dx + dy * dy + dz * dz), sqrt(dy * dy + dz * dz));
+    int cantilever_start = !m->initial_shape && m->origin[0] == 0.0 && m->origin[1] == 0.0 &&
+                           m->origin[2] == 0.0 && m->direction[0] == 1.0;
+    if (cantilever_start) { /* the thesis' rod, straight along +x from the origin */
+        double dx = tip[0] - m->length, dy = tip[1], dz = tip[2];
+        fprintf(f, "        tip deflection from (L, 0, 0): %.6g m (transverse %.6g m)\n",
+                sqrt(dx * dx + dy * dy + dz * dz), sqrt(dy * dy + dz * dz));
+    } else { /* any other start: how far the tip moved from where it began */
+        double start[3], d[3];
+        if (m->initial_shape)
+            v3_copy(start, &m->initial_shape[3 * (m->nodes - 1)]);
+        else
+            for (int k = 0; k < 3; k++) start[k] = m->origin[k] + m->length * m->direction[k];
+        v3_sub(d, tip, start);
+        fprintf(f, "        tip moved from its start (%.6g, %.6g, %.6g) m by %.6g m\n", start[0],
+                start[1], start[2], v3_norm(d));
+    }
     static const char *const names[2] = {"root", "tip"};
     const rod_end_kind kinds[2] = {m->root_end, m->tip_end};
     for (int e = 0; e < 2; e++) {

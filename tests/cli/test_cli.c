@@ -331,6 +331,20 @@ static void test_run_loop(void)
 /* A beam (FEM) scene given to `rodsim run` said "[rod] length: missing": it
  * must say it is a beam scene and name `rodsim fem`. `rodsim --version` and
  * `rodsim version` print the version of include/cli/version.h. */
+/* A rod that does not start along +x from the origin: the summary says how
+ * far the tip moved from its start (it said "deflection from (L, 0, 0)").
+ * scenes/needle_lift.ini: the tip starts at (0, 0, 0.3) m and its path's last
+ * row puts it at (0, 0, 0.4) m: 0.1 m. */
+static void test_summary_of_a_driven_tip(void)
+{
+    static char output[16384];
+    const char *args[] = {"run", RODSIM_SOURCE_DIR "/scenes/needle_lift.ini", "--no-video", NULL};
+    int status = test_run_rodsim(args, output, sizeof output);
+    check(status == 0 && strstr(output, "tip moved from its start (0, 0, 0.3) m by 0.1 m") &&
+              !strstr(output, "deflection from (L, 0, 0)"),
+          "needle_lift summary: exit %d, the tip moved 0.1 m from its start (0, 0, 0.3) m", status);
+}
+
 static void test_issue9_scene_kind_and_version(void)
 {
     expect_rejected("a beam scene given to run",
@@ -726,6 +740,7 @@ int main(void)
     test_outputs_together();
     test_signals();
     test_issue9_scene_kind_and_version();
+    test_summary_of_a_driven_tip();
     test_remove_tree(tmp_dir);
     return test_finish();
 }
