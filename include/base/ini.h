@@ -46,6 +46,9 @@ void ini_directory(const ini_doc *doc, char *out, size_t outlen);
 /* Number of instances of a section in the file (marks it known). */
 int ini_section_count(ini_doc *doc, const char *section);
 
+/* The line of instance `index` of `section` (0 when absent or made by --set). */
+int ini_section_line(const ini_doc *doc, const char *section, int index);
+
 /* Lookups in instance `index` of `section`. Each returns 1 when the key is
  * present and parsed, 0 when absent (out untouched), -1 on a bad value
  * (message in err, naming file:line, section, key, and what is accepted). */

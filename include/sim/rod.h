@@ -69,6 +69,47 @@ typedef struct rod_point_load {
     double moment[3];  /* N m, global x y z */
 } rod_point_load;
 
+/* A rigid obstacle the rod touches (scene [surface], repeatable; issue 11).
+ * The rod touches it at its physical radius; contact and Coulomb friction
+ * are solved by the implicit scheme (sim/surface.h has the geometry). */
+typedef enum {
+    ROD_SURFACE_PLANE = 0, /* the half-space below `normal` through `center` is solid */
+    ROD_SURFACE_BOX,       /* axis-aligned, edges size[0..2] along x y z, centred on center */
+    ROD_SURFACE_CYLINDER,  /* radius size[0] about the axis through center along `normal`;
+                              unbounded along its axis (a spool, a vessel, a capstan) */
+    ROD_SURFACE_SPHERE     /* radius size[0] about center */
+} rod_surface_shape;
+
+typedef struct rod_surface {
+    rod_surface_shape shape;
+    double center[3];  /* m, global */
+    double normal[3];  /* unit: the plane's outward normal, the cylinder's axis */
+    double size[3];    /* m: the box's edge lengths; size[0] the cylinder's, sphere's radius */
+    double friction;   /* Coulomb coefficient mu >= 0 between the rod and the surface */
+    int tissue;        /* 1: a needle passing through it makes punctures */
+    int line;          /* the scene line of its [surface] header (messages); 0: none */
+} rod_surface;
+
+/* A puncture given in the scene ([puncture], repeatable): a point the
+ * centreline must pass through, at whatever arc length is there, the thread
+ * sliding through it with Coulomb friction. */
+typedef struct rod_puncture {
+    double point[3];   /* m, global */
+    double friction;   /* Coulomb coefficient along the thread, >= 0 */
+} rod_puncture;
+
+/* The most punctures a run holds (given plus made by the needle). */
+#define ROD_MAX_PUNCTURES 16
+
+/* A puncture as the run sees it now (rod_state). */
+typedef struct rod_puncture_state {
+    double point[3];   /* m, global: where the tissue holds the thread */
+    double s;          /* m: the arc length of the thread passing through it now */
+    double friction;   /* Coulomb coefficient along the thread */
+    double force[3];   /* N, global: the force the thread exerts on the tissue there */
+    int surface;       /* index of the tissue surface it was made in; -1: given in the scene */
+} rod_puncture_state;
+
 /* Which physics a run models (scene [physics]). Switching one off removes
  * its cost where a scheme can exploit it, and says so. */
 typedef struct rod_physics {
@@ -161,6 +202,12 @@ typedef struct rod_model {
     rod_point_load *point_loads;  /* (point_load_count), owned */
     double distributed_moment[3]; /* N m/m along the rod, global x y z */
 
+    /* inputs: obstacles (scene [surface], [puncture]; issue 11) */
+    int surface_count;
+    rod_surface *surfaces;        /* (surface_count), owned */
+    int puncture_count;
+    rod_puncture *punctures;      /* (puncture_count), owned */
+
     rod_options options;
 
     /* derived by rod_model_derive() */
@@ -193,6 +240,10 @@ typedef struct rod_state {
                                  [0] and its tip [1] (what a needle holder feels); 0 at a
                                  free end. Set by every step of a scheme that models ends */
     double end_moment[2][3];  /* N m, global, likewise */
+    double *surface_force;    /* (nodes x 3), N, global: the force the surfaces exert on
+                                 each node (contact and friction), 0 where none touches */
+    int puncture_count;       /* punctures the thread passes through now */
+    rod_puncture_state puncture[ROD_MAX_PUNCTURES];
 } rod_state;
 
 /* Outcome of a step or a solve. */
@@ -240,6 +291,10 @@ int rod_model_loads_planar(const rod_model *m);
 int rod_model_require_cantilever(const rod_model *m, const char *scheme, char *err,
                                  size_t errlen);
 
+/* For a scheme without contact: 0 when the model has no surfaces and no
+ * punctures, else -1 with a message naming the scheme that has them. */
+int rod_model_refuse_obstacles(const rod_model *m, const char *scheme, char *err, size_t errlen);
+
 /* Profile factor in [-1, 1] at time t, s (1 for step). For a 7-column
  * table use rod_tip_load() instead. */
 double rod_profile_factor(const rod_profile *p, double t);
@@ -259,6 +314,10 @@ void rod_state_destroy(rod_state *s);
  * frames twist-free along it, every node moving with initial_velocity, no
  * angular velocity, darboux from the frames, no contact force. */
 void rod_state_reset(const rod_model *m, rod_state *s);
+/* The arc length (m) of the polygon `position` (nodes x 3, ds apart) nearest
+ * the point p, and that distance (m) in *distance when not NULL. */
+double rod_nearest_arc_length(const rod_model *m, const double *position, const double p[3],
+                              double *distance);
 /* The internal (contact) force N(s) of the thesis at every node, global
  * components, N: `out` is (nodes x 3). At a held or driven end it is the
  * force between the rod and its support; inside, the mean of the two

@@ -378,6 +378,12 @@ int ini_section_count(ini_doc *doc, const char *section)
     return section_instances(doc, section);
 }
 
+int ini_section_line(const ini_doc *doc, const char *section, int index)
+{
+    const ini_section *s = find_section(doc, section, index);
+    return s ? s->line : 0;
+}
+
 /* "file:line: [section] key = value" or "--set section.key=value" */
 static int describe(const ini_doc *doc, const ini_entry *e, const char *section, int index,
                     const char *key, char *out, size_t outlen)

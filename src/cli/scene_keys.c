@@ -78,6 +78,23 @@ const ini_key scene_keys_rod[] = {
     {"ends", "needle", "m", "0", ">= 0",
      "radius of a curved needle drawn with its back at the tip; 0: none (no mechanics)"},
 
+    /* issue 11: obstacles */
+    {"surface", "shape", "-", "plane", "plane | box | cylinder | sphere",
+     "a rigid obstacle ([surface] repeats); the rod touches it at its radius (implicit scheme)"},
+    {"surface", "center", "m", "0 0 0", "3 numbers",
+     "a point of the plane; the box's centre; a point on the cylinder's axis; the sphere's centre"},
+    {"surface", "normal", "-", "0 0 1", "3 numbers, not all 0",
+     "plane: outward normal; cylinder: axis (the cylinder is unbounded along it)"},
+    {"surface", "size", "m", "-", "box: 3 numbers > 0; cylinder, sphere: 1 number > 0",
+     "box: edge lengths along x y z (axis-aligned); cylinder, sphere: radius; plane: none"},
+    {"surface", "friction", "-", "0.3", ">= 0", "Coulomb coefficient between rod and surface"},
+    {"surface", "tissue", "-", "no", BOOL,
+     "yes: the needle (driven tip) passing through makes punctures"},
+    {"puncture", "point", "m", "required", "3 numbers, on the starting shape",
+     "a point the thread passes through, sliding ([puncture] repeats, at most 16)"},
+    {"puncture", "friction", "-", "0.2", ">= 0",
+     "Coulomb coefficient along the thread in the puncture"},
+
     {"physics", "twist", "-", "on", BOOL, "off: twist quasi-static (no torsion waves)"},
     {"physics", "rotary_inertia", "-", "on", BOOL, "off: no rotary inertia (implicit scheme)"},
     {"physics", "gravity", "-", "on", BOOL, "off: [loads] gravity and distributed_force ignored"},

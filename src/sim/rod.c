@@ -419,11 +419,26 @@ void rod_model_release(rod_model *m)
     free(m->point_loads);
     m->point_loads = NULL;
     m->point_load_count = 0;
+    free(m->surfaces);
+    m->surfaces = NULL;
+    m->surface_count = 0;
+    free(m->punctures);
+    m->punctures = NULL;
+    m->puncture_count = 0;
     m->profile.table.rows = 0;
     rod_path_destroy(m->root_motion);
     m->root_motion = NULL;
     rod_path_destroy(m->tip_motion);
     m->tip_motion = NULL;
+}
+
+int rod_model_refuse_obstacles(const rod_model *m, const char *scheme, char *err, size_t errlen)
+{
+    if (m->surface_count == 0 && m->puncture_count == 0) return 0;
+    snprintf(err, errlen,
+             "the %s scheme models no contact; this scene has %d [surface] and %d [puncture] "
+             "sections: use scheme = implicit", scheme, m->surface_count, m->puncture_count);
+    return -1;
 }
 
 int rod_model_require_cantilever(const rod_model *m, const char *scheme, char *err,
@@ -542,8 +557,9 @@ rod_state *rod_state_create(const rod_model *m)
     s->angular_velocity = calloc(n * 3, sizeof(double));
     s->darboux = calloc(n * 3, sizeof(double));
     s->contact_force = calloc(n * 3, sizeof(double));
+    s->surface_force = calloc(n * 3, sizeof(double));
     if (!s->position || !s->frame || !s->velocity || !s->angular_velocity || !s->darboux ||
-        !s->contact_force) {
+        !s->contact_force || !s->surface_force) {
         rod_state_destroy(s);
         return NULL;
     }
@@ -560,6 +576,7 @@ void rod_state_destroy(rod_state *s)
     free(s->angular_velocity);
     free(s->darboux);
     free(s->contact_force);
+    free(s->surface_force);
     free(s);
 }
 
@@ -572,6 +589,9 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     memset(s->contact_force, 0, n * 3 * sizeof(double));
     memset(s->end_force, 0, sizeof s->end_force);
     memset(s->end_moment, 0, sizeof s->end_moment);
+    memset(s->surface_force, 0, n * 3 * sizeof(double));
+    memset(s->puncture, 0, sizeof s->puncture);
+    s->puncture_count = 0;
     /* the starting shape: positions exactly its nodes; frames twist-free along it. The
      * tangents go in the velocity array (n x 3) until the velocities are written. */
     int bad;
@@ -598,6 +618,36 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     }
     /* initial_velocity is global; the state keeps velocity in director components */
     for (size_t i = 0; i < n; i++) m3_mul_tv(&s->velocity[3 * i], &s->frame[9 * i], m->initial_velocity);
+    /* the scene's punctures, at the arc length of the starting shape nearest them */
+    for (int p = 0; p < m->puncture_count && p < ROD_MAX_PUNCTURES; p++) {
+        rod_puncture_state *ps = &s->puncture[s->puncture_count++];
+        v3_copy(ps->point, m->punctures[p].point);
+        ps->friction = m->punctures[p].friction;
+        ps->surface = -1;
+        ps->s = rod_nearest_arc_length(m, s->position, ps->point, NULL);
+    }
+}
+
+double rod_nearest_arc_length(const rod_model *m, const double *position, const double p[3],
+                              double *distance)
+{
+    double best = INFINITY, best_s = 0.0;
+    for (int j = 0; j + 1 < m->nodes; j++) {
+        const double *a = &position[3 * j], *b = &position[3 * (j + 1)];
+        double ab[3], ap[3], q[3];
+        v3_sub(ab, b, a);
+        v3_sub(ap, p, a);
+        double len2 = v3_dot(ab, ab), f = len2 > 0.0 ? v3_dot(ap, ab) / len2 : 0.0;
+        f = f < 0.0 ? 0.0 : f > 1.0 ? 1.0 : f;
+        for (int k = 0; k < 3; k++) q[k] = a[k] + f * ab[k] - p[k];
+        double d = v3_norm(q);
+        if (d < best) {
+            best = d;
+            best_s = (j + f) * m->ds;
+        }
+    }
+    if (distance) *distance = best;
+    return best_s;
 }
 
 void rod_internal_force(const rod_state *s, double *out)

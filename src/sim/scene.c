@@ -11,6 +11,7 @@
 #include "base/textline.h"
 #include "base/vec3.h"
 #include "sim/path.h"
+#include "sim/surface.h"
 
 #define PATH_MAX_LEN 1024
 /* A starting shape of more points is refused (like a path: 1e6 rows). */
@@ -326,6 +327,131 @@ static int read_point_loads(ini_doc *doc, rod_model *m, char *err, size_t errlen
     return 0;
 }
 
+/* Reads [surface] (repeatable): shape, center, normal, size, friction,
+ * tissue (issue 11; keys fixed in PRODUCT.md). `size` holds 3 edge lengths
+ * for a box and one radius for a cylinder or a sphere; a plane has none. */
+static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+{
+    int count = ini_section_count(doc, "surface");
+    static const char *const shapes[] = {"plane", "box", "cylinder", "sphere", NULL};
+    for (int i = 0; i < (count > 0 ? count : 1); i++) {
+        rod_surface sf = {0};
+        int shape = 0, has_size;
+        v3_set(sf.normal, 0.0, 0.0, 1.0);
+        sf.friction = 0.3;
+        if (ini_get_choice(doc, "surface", i, "shape", shapes, &shape, err, errlen) < 0 ||
+            ini_get_vector(doc, "surface", i, "center", sf.center, 3, err, errlen) < 0 ||
+            ini_get_vector(doc, "surface", i, "normal", sf.normal, 3, err, errlen) < 0 ||
+            ini_get_double(doc, "surface", i, "friction", &sf.friction, err, errlen) < 0 ||
+            ini_get_bool(doc, "surface", i, "tissue", &sf.tissue, err, errlen) < 0)
+            return -1;
+        sf.shape = (rod_surface_shape)shape;
+        const char *size_text = NULL;
+        has_size = ini_get_string(doc, "surface", i, "size", &size_text, err, errlen);
+        if (has_size < 0) return -1;
+        if (count == 0) break;
+        if (sf.shape != ROD_SURFACE_PLANE) {
+            int want = sf.shape == ROD_SURFACE_BOX ? 3 : 1;
+            if (has_size == 0)
+                return ini_error(doc, "surface", i, "size", err, errlen,
+                                 "missing; required for a %s: %s", rod_surface_name(sf.shape),
+                                 want == 3 ? "3 edge lengths x y z > 0, m" : "its radius > 0, m");
+            if (ini_get_vector(doc, "surface", i, "size", sf.size, want, err, errlen) < 0)
+                return -1;
+        } else if (has_size) {
+            return ini_error(doc, "surface", i, "size", err, errlen,
+                             "a plane has no size (it is unbounded); remove the key, or use "
+                             "shape = box");
+        }
+        char why[256];
+        if (rod_surface_check(&sf, why, sizeof why)) {
+            const char *colon = strchr(why, ':');
+            char key[32] = "shape";
+            if (colon && (size_t)(colon - why) < sizeof key) {
+                memcpy(key, why, (size_t)(colon - why));
+                key[colon - why] = '\0';
+            }
+            return ini_error(doc, "surface", i, key, err, errlen, "%s",
+                             colon ? colon + 2 : why);
+        }
+        sf.line = ini_section_line(doc, "surface", i);
+        if (!m->surfaces) {
+            m->surfaces = calloc((size_t)count, sizeof *m->surfaces);
+            if (!m->surfaces) return ini_error(doc, "surface", i, "shape", err, errlen, "out of memory");
+        }
+        m->surfaces[m->surface_count++] = sf;
+    }
+    int pcount = ini_section_count(doc, "puncture");
+    if (pcount > ROD_MAX_PUNCTURES)
+        return ini_error(doc, "puncture", ROD_MAX_PUNCTURES, "point", err, errlen,
+                         "at most %d punctures (given and made by the needle together)",
+                         ROD_MAX_PUNCTURES);
+    for (int i = 0; i < (pcount > 0 ? pcount : 1); i++) {
+        rod_puncture pu = {{0.0, 0.0, 0.0}, 0.2};
+        int has_point = ini_get_vector(doc, "puncture", i, "point", pu.point, 3, err, errlen);
+        if (has_point < 0 ||
+            ini_get_double(doc, "puncture", i, "friction", &pu.friction, err, errlen) < 0)
+            return -1;
+        if (pcount == 0) break;
+        if (has_point == 0)
+            return ini_error(doc, "puncture", i, "point", err, errlen,
+                             "missing; required: the point x y z (m, global) the thread passes "
+                             "through");
+        if (!(pu.friction >= 0.0) || !isfinite(pu.friction))
+            return ini_error(doc, "puncture", i, "friction", err, errlen,
+                             "must be a Coulomb coefficient >= 0 (0: the thread slides freely)");
+        if (!m->punctures) {
+            m->punctures = calloc((size_t)pcount, sizeof *m->punctures);
+            if (!m->punctures) return ini_error(doc, "puncture", i, "point", err, errlen, "out of memory");
+        }
+        m->punctures[m->puncture_count++] = pu;
+    }
+    return 0;
+}
+
+/* A starting shape already inside a surface is refused (the contact would
+ * start with an impulse no scene means), naming the surface and the node.
+ * A node may sit on the surface: up to 1 % of the radius inside is accepted
+ * (a thread laid on a table at exactly its radius). */
+static int check_start_outside(ini_doc *doc, const rod_model *m, char *err, size_t errlen)
+{
+    if (m->surface_count == 0 && m->puncture_count == 0) return 0;
+    rod_state *s = rod_state_create(m);
+    if (!s) {
+        snprintf(err, errlen, "%s: out of memory", ini_filename(doc));
+        return -1;
+    }
+    const double radius = 0.5 * m->diameter;
+    int rc = 0;
+    for (int j = 0; j < m->surface_count && !rc; j++) {
+        const rod_surface *sf = &m->surfaces[j];
+        for (int i = 0; i < m->nodes; i++) {
+            double gap = rod_surface_gap(sf, &s->position[3 * i], radius, NULL, NULL);
+            if (gap < -0.01 * radius) {
+                rc = ini_error(doc, "surface", j, "center", err, errlen,
+                               "the rod's starting shape is already inside this %s: node %d "
+                               "(s = %.6g m, at %.6g %.6g %.6g m) is %.3g m deep (the rod "
+                               "touches at its radius %.3g m); move the surface or the rod "
+                               "(rod.origin, rod.direction, rod.shape)",
+                               rod_surface_name(sf->shape), i, i * m->ds, s->position[3 * i],
+                               s->position[3 * i + 1], s->position[3 * i + 2], -gap, radius);
+                break;
+            }
+        }
+    }
+    for (int j = 0; j < s->puncture_count && !rc; j++) {
+        double distance;
+        rod_nearest_arc_length(m, s->position, s->puncture[j].point, &distance);
+        if (distance > 0.01 * m->ds + 1e-3 * radius)
+            rc = ini_error(doc, "puncture", j, "point", err, errlen,
+                           "the rod's starting shape does not pass through this point: its "
+                           "nearest point is %.3g m away; a puncture holds the thread where it "
+                           "already passes", distance);
+    }
+    rod_state_destroy(s);
+    return rc;
+}
+
 /* Shape CSV ------------------------------------------------------------ */
 
 /* Reads the polyline of a shape file (header x,y,z, then rows of 3 numbers)
@@ -535,13 +661,15 @@ int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
     if (scene_refuse_beam(doc, err, errlen) || read_rod(doc, m, err, errlen) ||
         read_start(doc, m, err, errlen) || read_solver(doc, m, err, errlen) ||
         read_tip(doc, m, err, errlen) || read_loads(doc, m, gravity, err, errlen) ||
-        read_ends_physics(doc, m, err, errlen) || read_point_loads(doc, m, err, errlen))
+        read_ends_physics(doc, m, err, errlen) || read_point_loads(doc, m, err, errlen) ||
+        read_surfaces(doc, m, err, errlen))
         goto fail;
     char why[768];
     if (rod_model_derive(m, why, sizeof why)) {
         derive_error(doc, why, err, errlen);
         goto fail;
     }
+    if (check_start_outside(doc, m, err, errlen)) goto fail;
     /* gravity acts on the mass per length: f = rho A g, added to any given distributed force */
     for (int k = 0; k < 3; k++) m->distributed_force[k] += m->mass_per_length * gravity[k];
     /* switched-off physics costs nothing: the loads it would add are zero */

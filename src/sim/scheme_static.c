@@ -794,6 +794,7 @@ static rod_status mirror_step(static_work *w, const rod_model *m, rod_state *s, 
 
 static void *create(const rod_model *m, char *err, size_t errlen)
 {
+    if (rod_model_refuse_obstacles(m, "static", err, errlen)) return NULL;
     if (m->root_end == ROD_END_FREE && m->tip_end != ROD_END_FREE && m->nodes >= 3 && m->ds > 0.0)
         return mirror_create(m, err, errlen);
     return static_work_create(m, err, errlen);

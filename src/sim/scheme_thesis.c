@@ -262,7 +262,9 @@ static void *create(const rod_model *m, char *err, size_t errlen)
 {
     /* chapter 5: "the scheme ... can be used only where the boundary conditions are of the
      * mixed kind"; and (4.12) divides by the rotary inertia */
-    if (rod_model_require_cantilever(m, "thesis", err, errlen)) return NULL;
+    if (rod_model_require_cantilever(m, "thesis", err, errlen) ||
+        rod_model_refuse_obstacles(m, "thesis", err, errlen))
+        return NULL;
     if (!m->physics.rotary_inertia || !(m->rotary_inertia[0] > 0.0) ||
         (m->physics.twist && !(m->rotary_inertia[2] > 0.0))) {
         snprintf(err, errlen, "the thesis scheme needs the rotary inertia: (4.12) divides by rho I "

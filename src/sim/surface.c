@@ -1,0 +1,195 @@
+/* surface.c: distance to the rigid obstacles and the first crossing of a
+ * moving point (see surface.h). Issue 11. */
+#include "sim/surface.h"
+
+#include <math.h>
+#include <stdio.h>
+
+#include "base/vec3.h"
+
+const char *rod_surface_name(rod_surface_shape shape)
+{
+    static const char *const names[] = {"plane", "box", "cylinder", "sphere"};
+    return shape >= ROD_SURFACE_PLANE && shape <= ROD_SURFACE_SPHERE ? names[shape] : "?";
+}
+
+/* A unit vector normal to `a` (for the degenerate point on an axis or at a
+ * centre, where every direction is as near). */
+static void any_normal(const double a[3], double out[3])
+{
+    double t[3] = {0.0, 0.0, 1.0};
+    if (fabs(a[2]) > 0.9) v3_set(t, 1.0, 0.0, 0.0);
+    v3_cross(out, a, t);
+    v3_scale(out, out, 1.0 / v3_norm(out));
+}
+
+double rod_surface_gap(const rod_surface *s, const double p[3], double grow, double normal[3],
+                       double nearest[3])
+{
+    double q[3], n[3], gap, near[3];
+    v3_sub(q, p, s->center);
+    switch (s->shape) {
+    case ROD_SURFACE_PLANE:
+        v3_copy(n, s->normal);
+        gap = v3_dot(q, n) - grow;
+        for (int k = 0; k < 3; k++) near[k] = p[k] - gap * n[k];
+        break;
+    case ROD_SURFACE_SPHERE: {
+        double d = v3_norm(q), r = s->size[0] + grow;
+        if (d > 0.0) v3_scale(n, q, 1.0 / d);
+        else v3_set(n, 0.0, 0.0, 1.0);
+        gap = d - r;
+        for (int k = 0; k < 3; k++) near[k] = s->center[k] + r * n[k];
+        break;
+    }
+    case ROD_SURFACE_CYLINDER: {
+        double along = v3_dot(q, s->normal), radial[3], r = s->size[0] + grow;
+        for (int k = 0; k < 3; k++) radial[k] = q[k] - along * s->normal[k];
+        double d = v3_norm(radial);
+        if (d > 0.0) v3_scale(n, radial, 1.0 / d);
+        else any_normal(s->normal, n);
+        gap = d - r;
+        for (int k = 0; k < 3; k++) near[k] = s->center[k] + along * s->normal[k] + r * n[k];
+        break;
+    }
+    case ROD_SURFACE_BOX:
+    default: {
+        double h[3], clamp[3], diff[3];
+        int outside = 0, face = 0;
+        double most = -INFINITY;
+        for (int k = 0; k < 3; k++) {
+            h[k] = 0.5 * s->size[k];
+            clamp[k] = q[k] < -h[k] ? -h[k] : q[k] > h[k] ? h[k] : q[k];
+            diff[k] = q[k] - clamp[k];
+            if (fabs(q[k]) > h[k]) outside = 1;
+            if (fabs(q[k]) - h[k] > most) {
+                most = fabs(q[k]) - h[k];
+                face = k;
+            }
+        }
+        if (outside) {
+            /* nearest point of the box, then out by `grow` (the grown box is rounded) */
+            double d = v3_norm(diff);
+            v3_scale(n, diff, 1.0 / d);
+            gap = d - grow;
+            for (int k = 0; k < 3; k++) near[k] = s->center[k] + clamp[k] + grow * n[k];
+        } else {
+            /* inside: out through the nearest face */
+            v3_set(n, 0.0, 0.0, 0.0);
+            n[face] = q[face] < 0.0 ? -1.0 : 1.0;
+            gap = most - grow;
+            v3_copy(near, p);
+            near[face] = s->center[face] + n[face] * (h[face] + grow);
+        }
+        break;
+    }
+    }
+    if (normal) v3_copy(normal, n);
+    if (nearest) v3_copy(nearest, near);
+    return gap;
+}
+
+static double gap_at(const rod_surface *s, const double a[3], const double ab[3], double f,
+                     double grow)
+{
+    double p[3];
+    for (int k = 0; k < 3; k++) p[k] = a[k] + f * ab[k];
+    return rod_surface_gap(s, p, grow, NULL, NULL);
+}
+
+int rod_surface_sweep(const rod_surface *s, const double a[3], const double b[3], double grow,
+                      double *f, double point[3], double normal[3])
+{
+    double ab[3];
+    v3_sub(ab, b, a);
+    const double len = v3_norm(ab);
+    const double ga = rod_surface_gap(s, a, grow, NULL, NULL);
+    const double gb = rod_surface_gap(s, b, grow, NULL, NULL);
+    if (!(ga > 0.0) || len == 0.0) return 0;
+    double hi = 1.0;
+    if (!(gb <= 0.0)) {
+        /* both ends outside: the distance is 1-Lipschitz, so along the segment
+         * it stays above (ga + gb - len) / 2; when that is positive the point
+         * never reaches the solid (the common case, one test) */
+        if (ga + gb - len > 0.0) return 0;
+        /* else the distance is convex along the segment: golden-section
+         * search for its least value, stopping at the first point inside */
+        const double golden = 0.6180339887498949;
+        double lo = 0.0, top = 1.0;
+        double x1 = top - golden * (top - lo), x2 = lo + golden * (top - lo);
+        double g1 = gap_at(s, a, ab, x1, grow), g2 = gap_at(s, a, ab, x2, grow);
+        int found = 0;
+        for (int it = 0; it < 80 && !found; it++) {
+            if (g1 <= 0.0) { hi = x1; found = 1; break; }
+            if (g2 <= 0.0) { hi = x2; found = 1; break; }
+            if (g1 < g2) {
+                top = x2; x2 = x1; g2 = g1;
+                x1 = top - golden * (top - lo);
+                g1 = gap_at(s, a, ab, x1, grow);
+            } else {
+                lo = x1; x1 = x2; g1 = g2;
+                x2 = lo + golden * (top - lo);
+                g2 = gap_at(s, a, ab, x2, grow);
+            }
+            if ((top - lo) * len < 1e-12) break;
+        }
+        if (!found) return 0;
+    }
+    /* bisection for the entry between the outside start and a point inside */
+    double lo = 0.0;
+    for (int it = 0; it < 60 && (hi - lo) * len > 1e-15; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (gap_at(s, a, ab, mid, grow) > 0.0) lo = mid;
+        else hi = mid;
+    }
+    double p[3];
+    for (int k = 0; k < 3; k++) p[k] = a[k] + hi * ab[k];
+    double n[3], near[3];
+    rod_surface_gap(s, p, grow, n, near);
+    if (f) *f = hi;
+    if (point) v3_copy(point, near);
+    if (normal) v3_copy(normal, n);
+    return 1;
+}
+
+static int finite3(const double a[3])
+{
+    return isfinite(a[0]) && isfinite(a[1]) && isfinite(a[2]);
+}
+
+int rod_surface_check(rod_surface *s, char *err, size_t errlen)
+{
+    if (!finite3(s->center)) {
+        snprintf(err, errlen, "center: must be 3 finite numbers, m");
+        return -1;
+    }
+    if (!(s->friction >= 0.0) || !isfinite(s->friction)) {
+        snprintf(err, errlen, "friction: must be a Coulomb coefficient >= 0 (0: frictionless)");
+        return -1;
+    }
+    if (s->shape == ROD_SURFACE_PLANE || s->shape == ROD_SURFACE_CYLINDER) {
+        double len = v3_norm(s->normal);
+        if (!finite3(s->normal) || !(len > 0.0)) {
+            snprintf(err, errlen, "normal: must be 3 finite numbers, not all 0 (the %s)",
+                     s->shape == ROD_SURFACE_PLANE ? "plane's outward normal"
+                                                   : "cylinder's axis direction");
+            return -1;
+        }
+        v3_scale(s->normal, s->normal, 1.0 / len);
+    }
+    if (s->shape == ROD_SURFACE_BOX) {
+        for (int k = 0; k < 3; k++)
+            if (!(s->size[k] > 0.0) || !isfinite(s->size[k])) {
+                snprintf(err, errlen, "size: a box needs 3 edge lengths x y z > 0 m (edge %c is "
+                         "%g)", "xyz"[k], s->size[k]);
+                return -1;
+            }
+    } else if (s->shape == ROD_SURFACE_CYLINDER || s->shape == ROD_SURFACE_SPHERE) {
+        if (!(s->size[0] > 0.0) || !isfinite(s->size[0])) {
+            snprintf(err, errlen, "size: a %s needs its radius > 0 m (one number)",
+                     rod_surface_name(s->shape));
+            return -1;
+        }
+    }
+    return 0;
+}
