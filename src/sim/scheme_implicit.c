@@ -72,6 +72,7 @@
 
 #include "sim/path.h"
 #include "sim/rod_geometry.h"
+#include "sim/surface.h"
 #include "base/vec3.h"
 
 /* Unknowns per block: N(3), omega(3) in 3-D; N(2), v(2), omega_2 in the
@@ -90,6 +91,16 @@
  * newton_max_iterations and this budget, splitting by MAX_SPLIT_DEPTH and
  * this budget, the rest by the node count. */
 #define STEP_ITERATION_BUDGET 2000
+/* Contact (node_contact): the normal force is CONTACT_STIFF / (1 +
+ * CONTACT_STIFF) of the one that would stop the node exactly on the
+ * surface, so a node at rest sinks by 1 / CONTACT_STIFF of its free motion
+ * over a step (g dt^2 / CONTACT_STIFF under gravity). It keeps the step's
+ * equations well posed: with an exact stop, a segment between two stuck
+ * nodes would have an undetermined tension. */
+#define CONTACT_STIFF 1000.0
+/* Friction creeps below this speed (m/s): a rod held by friction on a slope
+ * moves at most CONTACT_CREEP tan(alpha) / mu. */
+#define CONTACT_CREEP 1e-5
 
 /* One end's condition, read once from the model (index 0 root, 1 tip). */
 typedef struct end_condition {
@@ -123,6 +134,12 @@ typedef struct implicit_work {
     int distributed_moment; /* 1: the model has one */
     double point_factor; /* theta-mean of the profile factor over the step */
     double *vbar;      /* (nodes x 3) global, the step's mean velocity (3-D) */
+    /* contact with the scene's surfaces (issue 11; see node_contact) */
+    int surface_count;
+    const rod_surface *surfaces;
+    double *pos0;          /* (nodes x 3) global, positions at the start of the step */
+    double *surface_force; /* (nodes x 3) global, N: what the surfaces exert, this iterate */
+    double fd_step;        /* relative step of the finite-difference Jacobian */
     int planar;        /* 1: the planar problem (rod_model_loads_planar and physics.planar) */
     int block, kl;     /* unknowns per block and half bandwidth (BLOCK/BAND or _PLANAR) */
     int var_kind[BLOCK_PLANAR > BLOCK ? BLOCK_PLANAR : BLOCK]; /* per component of a block:
@@ -189,7 +206,8 @@ static void destroy(void *p)
                          &w->tipf0, &w->tipm0, &w->frame1, &w->frame_th, &w->darboux1,
                          &w->mid1, &w->d3mid1, &w->moment1, &w->save_frame, &w->save_pos, &w->save_vel,
                          &w->save_omega, &w->save_force, &w->phi0, &w->phi1, &w->phi_th,
-                         &w->point_force, &w->point_moment, &w->vbar};
+                         &w->point_force, &w->point_moment, &w->vbar,
+                         &w->pos0, &w->surface_force};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) free(*arrays[k]);
     free(w->pivot);
     free(w->inv_diag);
@@ -263,7 +281,8 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     int plain = ends[0].clamped && !ends[0].path && m->tip_end == ROD_END_FREE &&
                 vector_zero(m->intrinsic_curvature) && m->point_load_count == 0 &&
                 vector_zero(m->distributed_moment) && !m->initial_shape &&
-                m->initial_velocity[2] == 0.0 && m->direction[2] == 0.0;
+                m->initial_velocity[2] == 0.0 && m->direction[2] == 0.0 &&
+                m->surface_count == 0 && m->puncture_count == 0;
     w->planar = m->physics.planar && rod_model_loads_planar(m) && plain;
     w->distributed_moment = !vector_zero(m->distributed_moment);
     w->first = (w->planar || ends[0].clamped) ? 1 : 0;
@@ -309,6 +328,14 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->phi1 = calloc(n, sizeof(double));
     w->phi_th = calloc(n, sizeof(double));
     w->vbar = calloc(n * 3, sizeof(double));
+    w->pos0 = calloc(n * 3, sizeof(double));
+    w->surface_force = calloc(n * 3, sizeof(double));
+    w->surface_count = m->surface_count;
+    /* contact's friction turns within CONTACT_CREEP of zero velocity: a
+     * step of 1e-7 of the force scale moves a node by more than that */
+    w->fd_step = (m->surface_count || m->puncture_count) ? 1e-9 : 1e-7;
+    w->surfaces = m->surfaces;
+    if (!w->pos0 || !w->surface_force) goto oom;
     if (!w->phi0 || !w->phi1 || !w->phi_th || !w->vbar) goto oom;
     double point_peak = 0.0, point_moment_peak = 0.0;
     if (m->point_load_count > 0) {
@@ -537,6 +564,98 @@ static void end_velocity(implicit_work *w, const rod_model *m, const end_conditi
     }
 }
 
+/* Contact of node b with the surfaces (issue 11), inside the residual.
+ *
+ * The velocity is not a Newton unknown: (3.3)_1 gives it from N, and a
+ * contact force F at the node changes it by push F (push = 1 / (w_b (m/dt +
+ * theta c)), the node's compliance), so the end of the step moves by
+ * a F, a = dt theta push. Given the iterate's N, the node's contact is
+ * therefore a problem of its own, solved exactly here (no penalty
+ * stiffness, no smoothing parameter):
+ *   - normal (Signorini, inelastic): where the free motion would end inside
+ *     the surface grown by the rod's radius, the force along the outward
+ *     normal that puts it exactly on it, lambda = -gap / a >= 0, else none;
+ *   - Coulomb friction on the tangential velocity at the end of the step:
+ *     the force that stops it (stick) when within mu lambda, else mu lambda
+ *     against it (slip; the exact maximal dissipation direction).
+ * The contact force thus depends on the node's own N only, like v: the
+ * Jacobian's band and colouring are unchanged, and Newton sees a
+ * piecewise smooth residual (semismooth; the finite-difference Jacobian
+ * takes the current piece).
+ *
+ * No tunnelling: the constraint is the half-space at the first point where
+ * the node's straight path over the step enters the grown solid
+ * (rod_surface_sweep), so a node that would cross a thin pad within a step
+ * is stopped at its entry face; a node already touching at the start
+ * (within a tenth of the radius) takes the surface nearest its end point
+ * (it slides along curved surfaces). Only nodes carry contact: a segment
+ * over a box's edge can cut it by at most ds^2 / (8 R) for a curvature
+ * radius R of the edge's rounding, here the rod's radius (README). */
+static void node_contact(implicit_work *w, const rod_model *m, int b, double push, double dt)
+{
+    double *v1 = &w->vel1[3 * b], *vb = &w->vbar[3 * b], *force = &w->surface_force[3 * b];
+    const double *r0 = &w->pos0[3 * b];
+    const double theta = m->options.theta, grow = 0.5 * m->diameter, a = dt * theta * push;
+    v3_set(force, 0.0, 0.0, 0.0);
+    /* two passes when several surfaces may meet (a node in a corner) */
+    const int passes = w->surface_count > 1 ? 2 : 1;
+    for (int pass = 0; pass < passes; pass++)
+        for (int j = 0; j < w->surface_count; j++) {
+            const rod_surface *sf = &w->surfaces[j];
+            double r1[3], n0[3], near0[3], n[3], p[3];
+            for (int k = 0; k < 3; k++) r1[k] = r0[k] + dt * vb[k];
+            double gap0 = rod_surface_gap(sf, r0, grow, n0, near0), depth;
+            if (gap0 <= 0.1 * grow) {
+                double g1 = rod_surface_gap(sf, r1, grow, n, p);
+                if (v3_dot(n, n0) < 0.0) { /* went through to another side: the start's */
+                    v3_copy(n, n0);
+                    v3_copy(p, near0);
+                    double d[3];
+                    v3_sub(d, r1, p);
+                    g1 = v3_dot(d, n);
+                }
+                depth = g1;
+            } else {
+                double f;
+                if (!rod_surface_sweep(sf, r0, r1, grow, &f, p, n)) continue;
+                double d[3];
+                v3_sub(d, r1, p);
+                depth = v3_dot(d, n);
+            }
+            if (!(depth < 0.0)) continue;
+            double lambda = -depth / a * CONTACT_STIFF / (1.0 + CONTACT_STIFF), fn[3], vt[3];
+            v3_scale(fn, n, lambda);
+            v3_axpy(v1, push, fn);
+            v3_axpy(vb, theta * push, fn);
+            v3_axpy(force, 1.0, fn);
+            /* friction, regularised Coulomb: mu lambda phi(|v_t| / v_eps)
+             * against the end-of-step tangential velocity v_t, phi(x) = x /
+             * sqrt(1 + x^2) (viscous creep below v_eps, Coulomb above; smooth,
+             * so Newton converges through changes between stick and slip).
+             * v_t = vt - push f: the speed s solves s + c phi(s / v_eps) = S,
+             * c = push mu lambda; the left side is increasing and concave, so
+             * Newton from s = max(0, S - c) (where it is <= S) climbs to the
+             * root monotonically. */
+            double vn = v3_dot(v1, n);
+            for (int k = 0; k < 3; k++) vt[k] = v1[k] - vn * n[k];
+            double speed = v3_norm(vt), limit = sf->friction * lambda, ft[3];
+            if (speed == 0.0 || limit == 0.0) continue;
+            const double c = push * limit, eps = getenv("EPSK") ? c / atof(getenv("EPSK")) : CONTACT_CREEP;
+            double sp = speed > c ? speed - c : 0.0;
+            for (int it = 0; it < 60; it++) {
+                double x = sp / eps, q = 1.0 + x * x, root = sqrt(q);
+                double g = sp + c * x / root - speed;
+                if (!(g < -1e-15 * speed)) break;
+                sp -= g / (1.0 + (c / eps) / (q * root));
+            }
+            if (sp > speed) sp = speed;
+            v3_scale(ft, vt, -(speed - sp) / (push * speed));
+            v3_axpy(v1, push, ft);
+            v3_axpy(vb, theta * push, ft);
+            v3_axpy(force, 1.0, ft);
+        }
+}
+
 /* The theta-mean tip force and moment over the step, global. */
 static void tip_load_mean(const implicit_work *w, const rod_model *m, double t, double dt,
                           const double *frame_th, double tipf[3], double tipm[3])
@@ -614,9 +733,13 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
         if (w->point_force)
             v3_axpy(v1, w->point_factor * push, &w->point_force[3 * b]);
         for (int k = 0; k < 3; k++) vb[k] = theta * v1[k] + (1.0 - theta) * v0[k];
+        if (w->surface_count) node_contact(w, m, b, push, dt);
     }
     end_velocity(w, m, root, 0, zero3, block_force(w, x, 1), dt, applied);
     end_velocity(w, m, tip, n - 1, block_force(w, x, n - 1), tipf, dt, applied);
+    if (w->surface_count)
+        for (int which = 0; which < 2; which++)
+            if (!w->ends[which].held) node_contact(w, m, which ? n - 1 : 0, 2.0 * push, dt);
 
     /* (3.14) constraint on segment b-1 and (3.6)_2 on node b: block b */
     const double ms = 1.0 / w->moment_scale;
@@ -856,7 +979,7 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
             memcpy(xp, w->x, (size_t)nu * sizeof(double));
             for (int b = w->first + color; b < w->nodes; b += 3) {
                 int col = nb * (b - w->first) + comp;
-                double h = 1e-7 * fmax(fabs(xp[col]), w->var_scale[w->var_kind[comp]]);
+                double h = w->fd_step * fmax(fabs(xp[col]), w->var_scale[w->var_kind[comp]]);
                 xp[col] += h;
             }
             evaluate(w, m, xp, t, dt, w->perturbed);
@@ -921,6 +1044,12 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
     }
     evaluate(w, m, w->x, t, dt, w->residual);
     double norm = max_abs(w->residual, nu);
+    if (getenv("RODSIM_DEBUG_NEWTON")) {
+        int worst = 0;
+        for (int i = 0; i < nu; i++) if (fabs(w->residual[i]) > fabs(w->residual[worst])) worst = i;
+        fprintf(stderr, "t=%g dt=%g start norm=%g worst row %d x=%g\n", t, dt, norm, worst, w->x[worst]);
+        for (int b = 0; b < w->nodes; b++) if (v3_norm(&w->surface_force[3*b]) > 0) fprintf(stderr, "  node %d F=%g %g %g\n", b, w->surface_force[3*b], w->surface_force[3*b+1], w->surface_force[3*b+2]);
+    }
     int fresh = 0; /* the factorisation was made at this step */
     for (int it = 0; it < max_it; it++) {
         report->newton_iterations = it;
@@ -931,8 +1060,23 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         for (int i = 0; i < nu; i++) w->x[i] -= w->dx[i];
         evaluate(w, m, w->x, t, dt, w->residual);
         double next = max_abs(w->residual, nu);
+        if (w->surface_count && !(next < norm)) {
+            /* contact makes the residual piecewise smooth: a full step can
+             * jump across contacts that switch on or off, so back along it
+             * until the residual falls (a line search; without contact the
+             * full step is always taken) */
+            double step = 1.0;
+            for (int k = 0; k < 8 && !(next < norm); k++) {
+                step *= 0.5;
+                for (int i = 0; i < nu; i++) w->x[i] += step * w->dx[i];
+                evaluate(w, m, w->x, t, dt, w->residual);
+                next = max_abs(w->residual, nu);
+                if (--w->budget < 0) return -1;
+            }
+        }
+        if (getenv("RODSIM_DEBUG_NEWTON")) fprintf(stderr, "t=%g dt=%g it=%d norm=%g fresh=%d\n", t, dt, it, next, fresh);
         if (!isfinite(next)) return -1;
-        if (next > 0.25 * norm && next > 10.0 * tol && !fresh) {
+        if (next > 0.25 * norm && next > 10.0 * tol && (!fresh || w->surface_count)) {
             /* slow, and not merely at the round-off floor near the tolerance:
              * a stale Jacobian; refresh it at the current iterate */
             if (factor_jacobian(w, m, t, dt)) return -1;
@@ -1105,6 +1249,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
     memcpy(w->omega0, s->angular_velocity, (size_t)n * 3 * sizeof(double));
     for (int i = 0; i < n; i++) m3_mul_v(&w->vel0[3 * i], &s->frame[9 * i], &s->velocity[3 * i]);
     tip_load_global(m, s->time, &w->frame0[9 * (n - 1)], w->tipf0, w->tipm0);
+    memcpy(w->pos0, s->position, (size_t)n * 3 * sizeof(double));
     prepare_ends(w, m, s, dt);
 
     /* initial guess: the start-of-step values (N from the stored contact
@@ -1192,6 +1337,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
             v3_rotate(&s->contact_force[3 * (b - 1)], back, local);
         }
         end_reactions(w, m, s->time, dt);
+        memcpy(s->surface_force, w->surface_force, (size_t)n * 3 * sizeof(double));
         memcpy(w->moment0, w->moment1, (size_t)(n - 1) * 3 * sizeof(double));
         memcpy(w->d3mid0, w->d3mid1, (size_t)(n - 1) * 3 * sizeof(double));
     }

@@ -1,0 +1,457 @@
+/* test_contact.c: contact with rigid surfaces and Coulomb friction in the
+ * implicit scheme (issue 11), against independent values: a thread dropped
+ * on a plane (penetration at rest and during the impact, energy never
+ * rising), a rod on an inclined plane (stays below the friction angle,
+ * slides at g (sin a - mu cos a) above), the capstan equation W exp(mu
+ * theta) for a thread pulled over a fixed cylinder, a fast rod that must not
+ * tunnel through a thin pad, the surface geometry itself, and bad input. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "base/vec3.h"
+#include "sim/path.h"
+#include "sim/rod.h"
+#include "sim/surface.h"
+#include "test.h"
+#include "test_process.h"
+
+#define GRAVITY 9.81 /* m/s^2 */
+
+/* A thread of table 1's material (L, d given), free-free, implicit, with one
+ * surface; the caller sets the start and derives. */
+static rod_model thread_model(double length, double diameter, int nodes)
+{
+    rod_model m = rod_model_default();
+    m.length = length;
+    m.diameter = diameter;
+    m.nodes = nodes;
+    m.options.scheme = ROD_SCHEME_IMPLICIT;
+    m.root_end = ROD_END_FREE;
+    m.tip_end = ROD_END_FREE;
+    return m;
+}
+
+static rod_surface plane(const double center[3], const double normal[3], double mu)
+{
+    rod_surface s;
+    memset(&s, 0, sizeof s);
+    s.shape = ROD_SURFACE_PLANE;
+    v3_copy(s.center, center);
+    v3_copy(s.normal, normal);
+    v3_scale(s.normal, s.normal, 1.0 / v3_norm(s.normal));
+    s.friction = mu;
+    return s;
+}
+
+static int derive(rod_model *m)
+{
+    char err[512];
+    if (rod_model_derive(m, err, sizeof err)) {
+        printf("     derive: %s\n", err);
+        return -1;
+    }
+    return 0;
+}
+
+/* Gravitational and elastic energy, J (the kinetic energy is rod_kinetic_energy). */
+static double potential_energy(const rod_model *m, const rod_state *s)
+{
+    double e = 0.0;
+    for (int i = 0; i < m->nodes; i++) {
+        double w = (i == 0 || i == m->nodes - 1) ? 0.5 * m->ds : m->ds;
+        e -= w * v3_dot(m->distributed_force, &s->position[3 * i]);
+    }
+    for (int j = 0; j + 1 < m->nodes; j++)
+        for (int k = 0; k < 3; k++) {
+            double du = s->darboux[3 * j + k] - m->intrinsic_curvature[k];
+            e += 0.5 * m->ds * m->stiffness[k] * du * du; /* (3.4): M = B (u - u0) */
+        }
+    return e;
+}
+
+/* Geometry ------------------------------------------------------------- */
+
+static void test_geometry(void)
+{
+    rod_surface box;
+    memset(&box, 0, sizeof box);
+    box.shape = ROD_SURFACE_BOX;
+    v3_set(box.size, 0.2, 0.1, 0.04);
+    double n[3], near[3], p[3] = {0.05, 0.0, 0.03};
+    double gap = rod_surface_gap(&box, p, 0.001, n, near);
+    check_abs("box: gap above the top face (0.03 - 0.02 - 0.001 m)", gap, 0.009, 1e-15);
+    check(n[2] == 1.0 && near[2] == 0.021, "box: normal +z, nearest point on the grown face");
+    double corner[3] = {0.13, 0.08, 0.05}; /* outside an edge: 3-4-5 from the corner */
+    gap = rod_surface_gap(&box, corner, 0.0, n, NULL);
+    check_abs("box: gap from a corner (sqrt(0.03^2 + 0.03^2 + 0.03^2))", gap,
+              sqrt(3.0) * 0.03, 1e-15);
+    double inside[3] = {0.0, 0.0, 0.015};
+    gap = rod_surface_gap(&box, inside, 0.0, n, NULL);
+    check(fabs(gap + 0.005) < 1e-15 && n[2] == 1.0, "box: inside, out through the nearest face "
+          "(gap %.3g, reference -0.005)", gap);
+
+    rod_surface cyl;
+    memset(&cyl, 0, sizeof cyl);
+    cyl.shape = ROD_SURFACE_CYLINDER;
+    v3_set(cyl.normal, 0.0, 1.0, 0.0);
+    cyl.size[0] = 0.05;
+    double q[3] = {0.06, 3.0, 0.08};
+    gap = rod_surface_gap(&cyl, q, 0.0, n, NULL);
+    check_abs("cylinder: gap (0.1 - 0.05 m, unbounded along its axis)", gap, 0.05, 1e-15);
+
+    /* a fast point crossing a 2 mm pad within one move must be caught at the
+     * entry face */
+    rod_surface pad = box;
+    v3_set(pad.size, 0.2, 0.2, 0.002);
+    double a[3] = {0.0, 0.0, 0.05}, b[3] = {0.0, 0.0, -0.05}, f, hit[3];
+    int crossed = rod_surface_sweep(&pad, a, b, 0.0005, &f, hit, n);
+    check(crossed && fabs(hit[2] - 0.0015) < 1e-12 && n[2] == 1.0,
+          "sweep: a move through a 2 mm pad enters at its top face (z %.6g m, reference "
+          "0.0015; normal %g)", crossed ? hit[2] : NAN, n[2]);
+    double c[3] = {0.2, 0.0, 0.0015}, d[3] = {-0.2, 0.0, -0.0015};
+    check(rod_surface_sweep(&pad, c, d, 0.0005, &f, hit, n) == 1,
+          "sweep: a slanted move whose both ends are outside the pad's edges still hits it");
+    double e[3] = {0.0, 0.2, 0.05}, g[3] = {0.0, 0.3, -0.05};
+    check(rod_surface_sweep(&pad, e, g, 0.0005, &f, hit, n) == 0,
+          "sweep: a move beside the pad does not");
+}
+
+/* A thread dropped on a plane ---------------------------------------------- */
+
+typedef struct drop_result {
+    double worst_impact;  /* largest penetration over the run, m */
+    double worst_rest;    /* largest penetration over the last 0.3 s, m */
+    double energy_rise;   /* largest rise of the total energy between steps, J */
+    double energy0;       /* J */
+    int status;
+} drop_result;
+
+static drop_result drop(double dt, double duration)
+{
+    drop_result r = {0.0, 0.0, 0.0, 0.0, ROD_FAILED};
+    rod_model m = thread_model(0.3, 0.001, 31);
+    v3_set(m.origin, 0.0, 0.0, 0.02);
+    v3_set(m.direction, 1.0, 0.0, 0.2);
+    if (derive(&m)) return r;
+    v3_set(m.distributed_force, 0.0, 0.0, -m.mass_per_length * GRAVITY);
+    double zero[3] = {0, 0, 0}, up[3] = {0, 0, 1};
+    rod_surface floor_plane = plane(zero, up, 0.3);
+    m.surface_count = 1;
+    m.surfaces = &floor_plane;
+    rod_state *s = rod_state_create(&m);
+    rod_solver solver;
+    char err[512];
+    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
+        printf("     create: %s\n", err);
+        rod_state_destroy(s);
+        return r;
+    }
+    const double radius = 0.5 * m.diameter;
+    double last = rod_kinetic_energy(&m, s) + potential_energy(&m, s);
+    r.energy0 = last;
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    int steps = (int)lround(duration / dt);
+    r.status = ROD_OK;
+    for (int k = 0; k < steps; k++) {
+        r.status = rod_solver_step(&solver, &m, s, dt, &report);
+        if (r.status) {
+            printf("     step %d: %s\n", k, report.message);
+            break;
+        }
+        /* the contact is an implicit spring (README, scheme_implicit.c
+         * node_contact): a node of mass w m pressed delta deep pushes back
+         * with k delta, k = kappa w m / (theta dt^2), and stores k delta^2 / 2 */
+        double energy = rod_kinetic_energy(&m, s) + potential_energy(&m, s);
+        for (int i = 0; i < m.nodes; i++) {
+            double depth = radius - s->position[3 * i + 2], w = (i == 0 || i == m.nodes - 1) ? 0.5 : 1.0;
+            double stiff = 1000.0 * w * m.ds * m.mass_per_length / (dt * dt);
+            if (depth > 0.0) energy += 0.5 * stiff * depth * depth;
+        }
+        r.energy_rise = fmax(r.energy_rise, energy - last);
+        last = energy;
+        for (int i = 0; i < m.nodes; i++) {
+            double depth = radius - s->position[3 * i + 2]; /* the plane z = 0 */
+            r.worst_impact = fmax(r.worst_impact, depth);
+            if (s->time > duration - 0.3) r.worst_rest = fmax(r.worst_rest, depth);
+        }
+    }
+    rod_solver_release(&solver);
+    rod_state_destroy(s);
+    m.surfaces = NULL;
+    m.surface_count = 0;
+    rod_model_release(&m);
+    return r;
+}
+
+static void test_drop(void)
+{
+    const double radius = 0.0005;
+    const double dts[2] = {1.0 / 60.0, 1e-3};
+    for (int k = 0; k < 2; k++) {
+        drop_result r = drop(dts[k], 1.5);
+        check(r.status == ROD_OK, "drop on a plane, dt = %.4g s: the run completes", dts[k]);
+        check(r.worst_rest <= 0.05 * radius,
+              "drop, dt = %.4g s: penetration at rest %.3g m = %.2f %% of the radius (limit 5 %%)",
+              dts[k], r.worst_rest, 100.0 * r.worst_rest / radius);
+        check(r.worst_impact <= 0.2 * radius,
+              "drop, dt = %.4g s: penetration during the impact %.3g m = %.2f %% of the radius "
+              "(limit 20 %%)", dts[k], r.worst_impact, 100.0 * r.worst_impact / radius);
+        check(r.energy_rise <= 1e-9 * r.energy0,
+              "drop, dt = %.4g s: the energy (kinetic, gravity, bending, the contact's "
+              "spring) never rises (largest rise over a step %.3g J, start %.3g J)", dts[k], r.energy_rise, r.energy0);
+    }
+}
+
+/* A rod on an inclined plane ------------------------------------------------- */
+
+/* Down-slope displacement of the centre and velocity at t1 and t2 of a
+ * straight rod laid across a plane inclined by alpha, friction mu. */
+static int incline(double alpha, double mu, double t1, double t2, double *v1, double *v2,
+                   double *moved)
+{
+    rod_model m = thread_model(0.2, 0.001, 21);
+    double n[3] = {-sin(alpha), 0.0, cos(alpha)}, down[3] = {-cos(alpha), 0.0, -sin(alpha)};
+    const double radius = 0.5 * m.diameter;
+    v3_scale(m.origin, n, radius); /* touching, across the slope (along y) */
+    v3_set(m.direction, 0.0, 1.0, 0.0);
+    if (derive(&m)) return -1;
+    v3_set(m.distributed_force, 0.0, 0.0, -m.mass_per_length * GRAVITY);
+    double zero[3] = {0, 0, 0};
+    rod_surface slope = plane(zero, n, mu);
+    m.surface_count = 1;
+    m.surfaces = &slope;
+    rod_state *s = rod_state_create(&m);
+    rod_solver solver;
+    char err[512];
+    int rc = -1;
+    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
+        printf("     create: %s\n", err);
+        goto done;
+    }
+    double start[3], dt = 1e-3;
+    v3_copy(start, &s->position[3 * (m.nodes / 2)]);
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    int steps = (int)lround(t2 / dt), at1 = (int)lround(t1 / dt);
+    for (int k = 1; k <= steps; k++) {
+        if (rod_solver_step(&solver, &m, s, dt, &report)) {
+            printf("     step %d: %s\n", k, report.message);
+            rod_solver_release(&solver);
+            goto done;
+        }
+        const int c = m.nodes / 2;
+        double v[3];
+        m3_mul_v(v, &s->frame[9 * c], &s->velocity[3 * c]);
+        if (k == at1) *v1 = v3_dot(v, down);
+        if (k == steps) *v2 = v3_dot(v, down);
+    }
+    double d[3];
+    v3_sub(d, &s->position[3 * (m.nodes / 2)], start);
+    *moved = v3_dot(d, down);
+    rod_solver_release(&solver);
+    rc = 0;
+done:
+    rod_state_destroy(s);
+    m.surfaces = NULL;
+    m.surface_count = 0;
+    rod_model_release(&m);
+    return rc;
+}
+
+static void test_incline(void)
+{
+    const double mu = 0.3;
+    double v1 = NAN, v2 = NAN, moved = NAN;
+    double alpha = atan(0.5 * mu); /* below the friction angle */
+    int rc = incline(alpha, mu, 0.5, 1.0, &v1, &v2, &moved);
+    /* friction creeps below its regularisation speed (CONTACT_CREEP in
+     * scheme_implicit.c): at most that speed times tan(alpha) / mu */
+    /* friction mu lambda phi(v / v_eps), phi(x) = x / sqrt(1 + x^2), holds
+     * the weight's pull tan(a) mu lambda at the creep speed v_eps r /
+     * sqrt(1 - r^2), r = tan(a) / mu (CONTACT_CREEP in scheme_implicit.c) */
+    const double creep = 1e-5, r = tan(alpha) / mu, speed = creep * r / sqrt(1.0 - r * r);
+    check(rc == 0 && fabs(moved) <= 1.01 * speed * 1.0 && fabs(moved) >= 0.9 * speed * 0.5,
+          "incline tan a = mu/2 (stick): the rod stays put but for the regularisation's creep: "
+          "moved %.3g m in 1 s, creep speed %.3g m/s (frictionless: %.3g m)", moved, speed,
+          0.5 * GRAVITY * sin(alpha));
+    alpha = atan(2.0 * mu);
+    rc = incline(alpha, mu, 0.5, 1.0, &v1, &v2, &moved);
+    double a_ref = GRAVITY * (sin(alpha) - mu * cos(alpha));
+    check(rc == 0, "incline tan a = 2 mu: the run completes");
+    check_rel("incline tan a = 2 mu: down-slope acceleration vs g (sin a - mu cos a), m/s^2",
+              (v2 - v1) / 0.5, a_ref, 0.01);
+    alpha = atan(1.5 * mu);
+    rc = incline(alpha, 0.0, 0.5, 1.0, &v1, &v2, &moved);
+    check_rel("frictionless incline: acceleration vs g sin a, m/s^2", (v2 - v1) / 0.5,
+              GRAVITY * sin(alpha), 0.01);
+}
+
+/* Capstan -------------------------------------------------------------------- */
+
+/* Point at arc length u of the capstan's starting curve: up from the root
+ * at (-rc, 0, -h), half a circle of radius rc over the top, down to the tip. */
+static void capstan_curve(double u, double h, double rc, double p[3])
+{
+    if (u <= h) {
+        v3_set(p, -rc, 0.0, -h + u);
+    } else if (u <= h + M_PI * rc) {
+        double phi = (u - h) / rc; /* from -x over +z to +x */
+        v3_set(p, -rc * cos(phi), 0.0, rc * sin(phi));
+    } else {
+        v3_set(p, rc, 0.0, -(u - h - M_PI * rc));
+    }
+}
+
+/* Nodes exactly ds apart (chords) along the curve, by bisection on u. */
+static void capstan_shape(double *out, int nodes, double ds, double h, double rc)
+{
+    double u = 0.0;
+    capstan_curve(0.0, h, rc, out);
+    for (int i = 1; i < nodes; i++) {
+        double lo = u, hi = u + 2.0 * ds;
+        for (int it = 0; it < 100; it++) {
+            double mid = 0.5 * (lo + hi), p[3], d[3];
+            capstan_curve(mid, h, rc, p);
+            v3_sub(d, p, &out[3 * (i - 1)]);
+            if (v3_norm(d) < ds) lo = mid;
+            else hi = mid;
+        }
+        u = 0.5 * (lo + hi);
+        capstan_curve(u, h, rc, &out[3 * i]);
+    }
+}
+
+/* The root (pinned) is driven down by `pull` m (up when negative) over
+ * `duration`; the tip carries the dead load W down. Returns the mean
+ * |root force| over the middle fifth of the motion (the quintic's speed is
+ * nearly steady there), or NAN. */
+static double capstan(double mu, double w_load, double pull, double duration)
+{
+    const double R = 0.05, d = 0.0005, h = 0.1;
+    const double rc = R + 0.5 * d, length = 2.0 * h + M_PI * rc;
+    rod_model m = thread_model(length, d, 121);
+    m.root_end = ROD_END_PINNED;
+    m.tip_frame = ROD_FRAME_GLOBAL;
+    v3_set(m.tip_force, 0.0, 0.0, -w_load);
+    m.profile.kind = ROD_PROFILE_RAMP;
+    m.profile.t1 = 0.1 * duration;
+    m.linear_damping = 1e-3; /* N s/m^2: settles the waves of the start */
+    double ds = length / (m.nodes - 1);
+    m.initial_shape = malloc((size_t)m.nodes * 3 * sizeof(double));
+    capstan_shape(m.initial_shape, m.nodes, ds, h, rc);
+    /* the chords over the arc are shorter than the arc: the tip's end of
+     * the straight part absorbs it (its last point is where it lands) */
+    double rows[2 * 4] = {0.0, -rc, 0.0, -h, duration, -rc, 0.0, -h - pull};
+    char err[512];
+    m.root_motion = rod_path_create(rows, 2, 4, err, sizeof err);
+    double result = NAN;
+    if (!m.root_motion || derive(&m)) {
+        printf("     capstan model: %s\n", err);
+        rod_model_release(&m);
+        return NAN;
+    }
+    rod_surface drum;
+    memset(&drum, 0, sizeof drum);
+    drum.shape = ROD_SURFACE_CYLINDER;
+    v3_set(drum.normal, 0.0, 1.0, 0.0);
+    drum.size[0] = R;
+    drum.friction = mu;
+    m.surface_count = 1;
+    m.surfaces = &drum;
+    rod_state *s = rod_state_create(&m);
+    rod_solver solver;
+    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
+        printf("     create: %s\n", err);
+        goto done;
+    }
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    const double dt = 2e-3;
+    int steps = (int)lround(duration / dt), count = 0;
+    double sum = 0.0;
+    for (int k = 1; k <= steps; k++) {
+        if (rod_solver_step(&solver, &m, s, dt, &report)) {
+            printf("     capstan step %d (t = %g s): %s\n", k, s->time, report.message);
+            sum = NAN;
+            break;
+        }
+        if (getenv("CAPSTAN_TRACE") && k % 50 == 0)
+            printf("  t %.3f root z %.5f tip z %.5f |root force| %.5f |tip N| \n", s->time,
+                   s->position[2], s->position[3 * (m.nodes - 1) + 2], v3_norm(s->end_force[0]));
+        if (s->time >= 0.4 * duration && s->time <= 0.6 * duration) {
+            sum += v3_norm(s->end_force[0]);
+            count++;
+        }
+    }
+    rod_solver_release(&solver);
+    if (count) result = sum / count;
+done:
+    rod_state_destroy(s);
+    m.surfaces = NULL;
+    m.surface_count = 0;
+    rod_model_release(&m);
+    return result;
+}
+
+static void test_capstan(void)
+{
+    const double mu = 0.2, w_load = 0.05;
+    /* EI = 2.7e-7 N m^2 against T R^2 >= 1.3e-4 N m^2: bending is a 0.2 % effect */
+    double pulled = capstan(mu, w_load, 0.03, 2.0);
+    check_rel("capstan, thread pulled over the drum: root force vs W exp(mu pi), N", pulled,
+              w_load * exp(mu * M_PI), 0.03);
+    double let_back = capstan(mu, w_load, -0.03, 2.0);
+    check_rel("capstan, thread let back: root force vs W exp(-mu pi), N", let_back,
+              w_load * exp(-mu * M_PI), 0.03);
+}
+
+/* Bad input ------------------------------------------------------------------ */
+
+static void bad_scene(const char *surface_lines, const char *key, const char *what)
+{
+    const char *dir = "/tmp/rodsim_test_contact_bad";
+    test_remove_tree(dir);
+    mkdir(dir, 0700);
+    char scene[256], out[300];
+    snprintf(scene, sizeof scene, "%s/bad.ini", dir);
+    snprintf(out, sizeof out, "%s/out", dir);
+    FILE *f = fopen(scene, "w");
+    if (!f) return;
+    fprintf(f, "[rod]\nlength = 0.3\ndiameter = 0.001\ndensity = 850\nyoungs_modulus = 87.5e6\n"
+               "shear_modulus = 31.25e6\nnodes = 31\norigin = 0 0 0.01\n[ends]\nroot = free\n"
+               "[solver]\nduration = 0.1\n[loads]\ngravity = 0 0 -9.81\n%s", surface_lines);
+    fclose(f);
+    const char *args[] = {"run", scene, "-o", out, "--csv", out, NULL};
+    char output[4096];
+    int status = test_run_rodsim(args, output, sizeof output);
+    int names = strstr(output, "bad.ini:") && strstr(output, key);
+    check(status == 2 && names && test_dir_entries(out) <= 0,
+          "bad input (%s): exit %d (2), message names file:line and `%s`, nothing written: %s",
+          what, status, key, output);
+    test_remove_tree(dir);
+}
+
+static void test_bad_input(void)
+{
+    bad_scene("[surface]\nshape = box\nsize = 0.1 0 0.02\n", "size", "a box with a zero edge");
+    bad_scene("[surface]\nshape = cylinder\nnormal = 0 0 0\nsize = 0.05\n", "normal",
+              "a cylinder with a zero axis");
+    bad_scene("[surface]\nfriction = -0.1\n", "friction", "a negative friction");
+    bad_scene("[surface]\ncenter = 0 0 0.02\n", "center",
+              "a plane the starting shape already penetrates");
+    bad_scene("[surface]\nshape = sphere\n", "size", "a sphere without a radius");
+    bad_scene("[surface]\nshape = tetrahedron\n", "shape", "an unknown shape");
+}
+
+int main(void)
+{
+    test_geometry();
+    test_drop();
+    test_incline();
+    test_capstan();
+    test_bad_input();
+    return test_finish();
+}
