@@ -148,6 +148,24 @@ static const double max_solves_per_run = 1e6;
  * softest mode is about pi^2/4 at every NS (buckling at P = P_E (1 + 4e-4)
  * is seen); the finite-difference Jacobian's noise is ~1e-8 (L/ds)^2. */
 static const double negative_eigenvalue = 1e-3;
+/* Newton on a Jacobian that is singular on a symmetry of the answer: a
+ * round rod clamped at both ends along its chord, buckled, may turn its
+ * plane about the chord at no cost (its frames turned back about d3 bend
+ * it the same), so that mode's stiffness is zero but for the Jacobian's
+ * finite-difference noise (~1e-8 (L/ds)^2, see negative_eigenvalue), and
+ * the Newton step along it is noise divided by noise: it turned the rod out
+ * of its plane, the line search cut it to nothing, and the continuation of
+ * scenes/clamped_buckling.ini stalled at t = 1.24 s. So when the line
+ * search cuts a step below newton_poor_step, Newton goes on with J - c D
+ * (damp_rotations, c = newton_damping, times 10 at each further poor step,
+ * up to newton_damping_limit; a rejected step is retried from the same
+ * point): a mode far stiffer than c keeps its Newton step, one below the
+ * noise gets none. The residual, hence the answer, is unchanged. Units: the
+ * reduced stiffness' (the cantilever's softest mode is pi^2/4); c = 1e-3
+ * is the noise at NS = 300. */
+static const double newton_poor_step = 0.25;
+static const double newton_damping = 1e-3;
+static const double newton_damping_limit = 1e-1;
 /* The push along the critical mode off an unstable equilibrium: largest
  * node rotation, rad. */
 static const double mode_push = 0.05;
@@ -1822,6 +1840,23 @@ static void push_along_mode(static_work *w, const rod_model *m, const static_loa
     forces_from_statics(w, m, load);
 }
 
+/* J - c D on the Jacobian just built: D the identity on the free
+ * rotations' moment rows (omega = Q phi), c in the reduced stiffness' units
+ * (capture_stiffness). */
+static void damp_rotations(static_work *w, double damping)
+{
+    if (damping == 0.0) return;
+    for (int a = 0; a < w->dofs; a++) { /* row_a -= c omega_a, omega = Q phi */
+        const double *q = &w->frame[9 * w->dof_node[a]], *dir = &w->dof_dir[3 * a];
+        int row = w->dof_row[a];
+        for (int c = 0; c < 3; c++) {
+            int col = UNKNOWNS_PER_NODE * w->dof_node[a] + c;
+            w->band[(size_t)col * w->band_rows + (BAND_LOWER + BAND_UPPER + row - col)] -=
+                damping * (q[c] * dir[0] + q[3 + c] * dir[1] + q[6 + c] * dir[2]);
+        }
+    }
+}
+
 /* Pseudo-transient continuation (an over-damped motion to rest, implicit
  * in pseudo-time): (J - c D) step = -R, D the identity on the free
  * rotations' moment rows, so K + c I is positive definite while c exceeds
@@ -1847,15 +1882,7 @@ static int descend(static_work *w, const rod_model *m, const static_load *load, 
         if (isnan(lowest)) return -1;
         double damping = 1.5 * fmax(0.0, -lowest) + relax;
         relax *= 0.5;
-        for (int a = 0; a < w->dofs; a++) { /* row_a -= c omega_a, omega = Q phi */
-            const double *q = &w->frame[9 * w->dof_node[a]], *dir = &w->dof_dir[3 * a];
-            int row = w->dof_row[a];
-            for (int c = 0; c < 3; c++) {
-                int col = UNKNOWNS_PER_NODE * w->dof_node[a] + c;
-                w->band[(size_t)col * w->band_rows + (BAND_LOWER + BAND_UPPER + row - col)] -=
-                    damping * (q[c] * dir[0] + q[3 + c] * dir[1] + q[6 + c] * dir[2]);
-            }
-        }
+        damp_rotations(w, damping);
         if (solve_newton_step(w) != 0) return -1;
         double largest_turn = 0.0;
         for (int i = 0; i < n; i++)
@@ -1875,6 +1902,7 @@ static int newton(static_work *w, const rod_model *m, const static_load *load, d
                   int max_iterations, int *iterations, double *residual_out)
 {
     int n = w->nodes, nu = w->unknowns;
+    double damping = 0.0; /* see newton_damping */
     *iterations = 0;
     memset(w->increment, 0, (size_t)nu * sizeof(double));
     evaluate_residual(w, m, load, w->increment, w->residual);
@@ -1888,6 +1916,7 @@ static int newton(static_work *w, const rod_model *m, const static_load *load, d
 
         build_jacobian(w, m, load);
         capture_stiffness(w); /* for the stability check (cheap: 3 x 3 blocks) */
+        damp_rotations(w, damping);
         if (solve_newton_step(w) != 0) return -1; /* singular Jacobian */
 
         /* step limit: no node turns by more than max_rotation_step */
@@ -1908,6 +1937,13 @@ static int newton(static_work *w, const rod_model *m, const static_load *load, d
                 break;
             }
             alpha *= 0.5;
+        }
+        if (alpha < newton_poor_step) {
+            damping = damping > 0.0 ? 10.0 * damping : newton_damping;
+            if (!accepted) {
+                if (damping > newton_damping_limit) return -1;
+                continue; /* from the same point, damped */
+            }
         }
         if (!accepted) return -1;
         accept_trial(w);
