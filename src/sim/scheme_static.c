@@ -26,7 +26,8 @@
  * Jacobian is banded (kl = ku = 11). It is formed by finite differences
  * with 3 colours (nodes 3 apart never share an equation): 18 residual
  * evaluations per Newton iteration, then a banded LU (LAPACK dgbtrf, bordered for a held tip). Newton has a step
- * limit and a backtracking line search; a load increment is split into
+ * limit, a backtracking line search and, after a poor step, a damping of
+ * the rotations past null modes (newton_damping); a load increment is split into
  * sub-steps (load continuation) when it is large or when Newton fails.
  *
  * Past the buckling load a straight rod is an (unstable) equilibrium too,
