@@ -26,7 +26,8 @@
  * Jacobian is banded (kl = ku = 11). It is formed by finite differences
  * with 3 colours (nodes 3 apart never share an equation): 18 residual
  * evaluations per Newton iteration, then a banded LU (LAPACK dgbtrf, bordered for a held tip). Newton has a step
- * limit and a backtracking line search; a load increment is split into
+ * limit, a backtracking line search and, after a poor step, a damping of
+ * the rotations past null modes (newton_damping); a load increment is split into
  * sub-steps (load continuation) when it is large or when Newton fails.
  *
  * Past the buckling load a straight rod is an (unstable) equilibrium too,
@@ -70,11 +71,20 @@
  *     (d3_{1/2} x N_{1/2} + m) + M_0 (root half cell, as at the tip) has no
  *     components on the initial d1, d2: the torsion stop acts about the fixed
  *     initial d3 (see pinned_root_rows).
- *     A pinned root with a free tip is a mechanism and is refused; so is a
- *     sliding root.
- *   root free, tip clamped (in place or driven): solved as the mirrored rod
- *     (mirror_create, mirror_step), clamped root and free tip; its messages
- *     name the mirror's ends. static_work_create itself refuses a free root.
+ *   root pinned, tip free: the rod hangs from the pin along its loads; a
+ *     force must act off the pin (else its direction is undetermined:
+ *     refused, at create or at the step). The rod is first swung rigidly to
+ *     the least potential of the loads (swing_to_rest: Newton cannot reach
+ *     a rest a quarter turn away, the swing's stiffness being the loads'),
+ *     and the pin's moment rows are the workless ones of its swing-twist
+ *     condition (swing_axes).
+ *   root free, tip pinned or clamped (in place or driven), and a sliding
+ *     root with a tip held in place: solved as the mirrored rod
+ *     (mirror_create, mirror_step), a root held in place or driven with a
+ *     free or sliding tip. static_work_create itself refuses a free root,
+ *     and a sliding root with a free or sliding tip (the rod could slide
+ *     along the sleeve as a whole: not determined), as mirror_create
+ *     refuses a free root with a sliding tip.
  *   tip pinned / clamped: r_tip on its sleeve (the line through its target
  *     along tip_slide: 2 rows, the reaction R on the sleeve's two normals) or
  *     in place (3 rows, R with 3 components), R added to the tip force. Those
@@ -139,6 +149,24 @@ static const double max_solves_per_run = 1e6;
  * softest mode is about pi^2/4 at every NS (buckling at P = P_E (1 + 4e-4)
  * is seen); the finite-difference Jacobian's noise is ~1e-8 (L/ds)^2. */
 static const double negative_eigenvalue = 1e-3;
+/* Newton on a Jacobian that is singular on a symmetry of the answer: a
+ * round rod clamped at both ends along its chord, buckled, may turn its
+ * plane about the chord at no cost (its frames turned back about d3 bend
+ * it the same), so that mode's stiffness is zero but for the Jacobian's
+ * finite-difference noise (~1e-8 (L/ds)^2, see negative_eigenvalue), and
+ * the Newton step along it is noise divided by noise: it turned the rod out
+ * of its plane, the line search cut it to nothing, and the continuation of
+ * scenes/clamped_buckling.ini stalled at t = 1.24 s. So when the line
+ * search cuts a step below newton_poor_step, Newton goes on with J - c D
+ * (damp_rotations, c = newton_damping, times 10 at each further poor step,
+ * up to newton_damping_limit; a rejected step is retried from the same
+ * point): a mode far stiffer than c keeps its Newton step, one below the
+ * noise gets none. The residual, hence the answer, is unchanged. Units: the
+ * reduced stiffness' (the cantilever's softest mode is pi^2/4); c = 1e-3
+ * is the noise at NS = 300. */
+static const double newton_poor_step = 0.25;
+static const double newton_damping = 1e-3;
+static const double newton_damping_limit = 1e-1;
 /* The push along the critical mode off an unstable equilibrium: largest
  * node rotation, rad. */
 static const double mode_push = 0.05;
@@ -241,6 +269,13 @@ struct static_work {
 };
 
 static int tip_held(const static_work *w) { return w->tip_end != ROD_END_FREE; }
+
+/* 1 for a pinned root with a free tip: its direction about the pin is
+ * set by the loads alone. */
+static int swinging(const static_work *w)
+{
+    return w->root_end == ROD_END_PINNED && w->tip_end == ROD_END_FREE;
+}
 
 /* The mirrored rod of a free root with a clamped tip: its model (owning
  * only its point loads and initial shape; the tip's path is shared), its
@@ -412,6 +447,22 @@ static void initial_ends_from_model(static_work *w, const rod_model *m)
     free(frames);
 }
 
+/* 1 when a force acts on a rod pinned at node `pinned` (0 or NS-1) whose
+ * other end is free: then the loads decide the rod's direction about the
+ * pin (it hangs along them). A force at the pin itself, a moment alone (it
+ * turns the rod on for ever), or no load leave it undetermined. The tip
+ * load counts when the pin is at the root; a 7-column table may give it. */
+static int swing_determined(const rod_model *m, int pinned)
+{
+    if (v3_norm(m->distributed_force) > 0.0) return 1;
+    for (int p = 0; p < m->point_load_count; p++)
+        if (m->point_loads[p].node != pinned && v3_norm(m->point_loads[p].force) > 0.0) return 1;
+    if (pinned == 0 && (v3_norm(m->tip_force) > 0.0 ||
+                        (m->profile.kind == ROD_PROFILE_TABLE && m->profile.table.columns == 7)))
+        return 1;
+    return 0;
+}
+
 static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
 {
     static const char *const end_names[] = {"clamped", "pinned", "free"};
@@ -444,11 +495,12 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
                  end_names[m->tip_end]);
         return NULL;
     }
-    if (m->root_end == ROD_END_PINNED && m->tip_end == ROD_END_FREE) {
+    if (m->root_end == ROD_END_PINNED && m->tip_end == ROD_END_FREE && !swing_determined(m, 0)) {
         snprintf(err, errlen,
-                 "static: ends root = pinned, tip = free make a mechanism (the rod swings "
-                 "freely about the pin, so there is no static equilibrium to solve for); use "
-                 "root = clamped, or hold the tip (tip = pinned or clamped)");
+                 "static: ends root = pinned, tip = free with no force on the rod (tip force, "
+                 "distributed force or gravity, point load off the pin): the rod turns freely "
+                 "about the pin, so its direction is undetermined. Give it a force to hang "
+                 "along, use root = clamped, or hold the tip (tip = pinned or clamped)");
         return NULL;
     }
     double root_slide[3], slide[3];
@@ -459,14 +511,20 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
                  "0 0 0 for an end held in place)", root_sliding < 0 ? "root" : "tip");
         return NULL;
     }
-    /* Decided: the root is the scheme's fixed point of integration; a root
-     * sleeve is not modelled (a sleeve at the tip is). */
+    /* Decided: the root is the scheme's fixed point of integration; a
+     * sliding root with the tip held in place is solved as the mirrored rod
+     * (create). What reaches here is a sliding root with a free or sliding
+     * tip: the rod can move along the sleeve as a whole (it slides away
+     * under any load along it and rests anywhere without one), so the
+     * equilibrium is not determined. */
     if (root_sliding) {
         snprintf(err, errlen,
-                 "static: ends root_slide = %g %g %g: the static scheme holds the root in "
-                 "place (or drives it along root_motion); a sliding root is not supported. "
-                 "Put the sleeve at the tip (tip_slide), mirroring the rod, or use "
-                 "solver.scheme = implicit", m->root_slide[0], m->root_slide[1], m->root_slide[2]);
+                 "static: ends root_slide = %g %g %g with tip = %s%s: the rod could slide along "
+                 "the root's sleeve as a whole, so its static equilibrium is not determined. The "
+                 "static scheme solves a sliding root only with the tip held in place (tip = "
+                 "pinned or clamped, tip_slide = 0 0 0); use solver.scheme = implicit",
+                 m->root_slide[0], m->root_slide[1], m->root_slide[2], end_names[m->tip_end],
+                 tip_sliding ? " on a sleeve (tip_slide)" : "");
         return NULL;
     }
     for (int p = 0; p < m->point_load_count; p++) {
@@ -646,34 +704,56 @@ static void mirror_state(const rod_state *from, rod_state *to)
     }
 }
 
-/* A free root with a held tip is solved as its mirror, a clamped root with
- * a free tip (rod.h: the static scheme integrates from a held root). The
+/* A free root, or a sliding root, with a tip held in place (or driven) is
+ * solved as its mirror: a root held in place (or driven) with a free or
+ * sliding tip (rod.h: the static scheme integrates from a held root). The
  * mirror carries the rest curvature -D u0, the point loads at the mirrored
- * nodes, the distributed loads (global) unchanged and the tip's path as its
- * root's (Q'(t) = R(t) Q^init D: the same rotation R). Its tip is free and
- * unloaded: loads applied at the real held tip act on the support, so they
- * enter only the reported tip entries (mirror_step). Decided: a pinned tip
- * with a free root is a mechanism (the mirror of a pinned root with a free
- * tip) and a sliding tip would be a sliding root of the mirror, which this
- * scheme does not model: both refused. */
+ * nodes, the distributed loads (global) unchanged, the tip's path as its
+ * root's (Q'(t) = R(t) Q^init D: the same rotation R) and the root's slide
+ * and path as its tip's. Loads applied at the real held tip act on the
+ * support, so they enter only the reported tip entries (mirror_step).
+ * Decided: a free root with a sliding tip is not solved: the rod could
+ * move along the sleeve as a whole (no equilibrium under a load along it,
+ * any place without one). A pinned end changes its torsion stop's place
+ * in the mirror (rod.h: a pinned root holds the twist, a pinned tip does
+ * not), so mirror_step checks that the answer needs no stop the real rod
+ * lacks and has none turn that the real rod's stop would hold. */
 static static_work *mirror_create(const rod_model *m, char *err, size_t errlen)
 {
     double slide[3];
     int sliding = unit_or_zero(m->tip_slide, slide);
-    if (m->tip_end == ROD_END_PINNED) {
+    if (m->root_end == ROD_END_FREE && (sliding != 0 || m->root_motion || v3_norm(m->root_slide) != 0.0)) {
         snprintf(err, errlen,
-                 "static: ends root = free, tip = pinned make a mechanism (the rod swings freely "
-                 "about the pin, so there is no static equilibrium to solve for); use tip = "
-                 "clamped, or solver.scheme = implicit");
+                 "static: ends root = free with %s: %s Use solver.scheme = implicit",
+                 sliding != 0 ? "a sliding tip (tip_slide)" : m->root_motion ? "root_motion" : "root_slide",
+                 sliding != 0 ? "the rod could slide along the tip's sleeve as a whole (away under "
+                                "any load along it, anywhere without one), so its static "
+                                "equilibrium is not determined; the static scheme solves a free "
+                                "root only with the tip held in place or driven (tip_slide = 0 0 0)."
+                              : "a free root is neither driven nor on a sleeve.");
         return NULL;
     }
-    if (sliding != 0 || m->root_motion || v3_norm(m->root_slide) != 0.0) {
+    if (m->root_end == ROD_END_FREE && m->tip_end == ROD_END_PINNED &&
+        !swing_determined(m, m->nodes - 1)) {
         snprintf(err, errlen,
-                 "static: ends root = free with %s: the static scheme solves a free root with a "
-                 "clamped tip held in place or driven along tip_motion (tip_slide = 0 0 0, no "
-                 "root_motion, no root_slide); a sliding tip is not supported here. Use "
-                 "solver.scheme = implicit", sliding != 0 ? "a sliding tip (tip_slide)"
-                 : m->root_motion ? "root_motion" : "root_slide");
+                 "static: ends root = free, tip = pinned with no force on the rod off the pin "
+                 "(distributed force or gravity, point load): the rod turns freely about the "
+                 "pin, so its direction is undetermined. Give it a force to hang along, use "
+                 "tip = clamped, or solver.scheme = implicit");
+        return NULL;
+    }
+    /* Decided: a tip moment on a pinned tip would bend the rod (a ball joint
+     * carries none), but the mirror hands the held tip's loads to its
+     * support; a point load at s = L is carried by the rod. */
+    if (m->tip_end == ROD_END_PINNED &&
+        (v3_norm(m->tip_moment) > 0.0 ||
+         (m->profile.kind == ROD_PROFILE_TABLE && m->profile.table.columns == 7))) {
+        snprintf(err, errlen,
+                 "static: ends tip = pinned with a %s root and a tip moment ([tip] moment or a "
+                 "7-column profile table): the static scheme solves this rod mirrored and does "
+                 "not carry a moment given at the pinned tip; give it as a [point_load] at s = L "
+                 "(moment), or use solver.scheme = implicit",
+                 m->root_end == ROD_END_FREE ? "free" : "sliding");
         return NULL;
     }
     int n = m->nodes;
@@ -693,10 +773,11 @@ static static_work *mirror_create(const rod_model *m, char *err, size_t errlen)
     rod_model *mm = &mirror->model;
     *mm = *m;
     mm->root_end = m->tip_end;
-    mm->tip_end = ROD_END_FREE;
+    mm->tip_end = m->root_end;
     mm->root_motion = m->tip_motion;
-    mm->tip_motion = NULL;
-    v3_set(mm->tip_slide, 0.0, 0.0, 0.0);
+    mm->tip_motion = m->root_motion;
+    v3_copy(mm->tip_slide, m->root_slide);
+    v3_set(mm->root_slide, 0.0, 0.0, 0.0);
     v3_set(mm->tip_force, 0.0, 0.0, 0.0);
     v3_set(mm->tip_moment, 0.0, 0.0, 0.0);
     mm->tip_frame = ROD_FRAME_GLOBAL;
@@ -741,6 +822,34 @@ static static_work *mirror_create(const rod_model *m, char *err, size_t errlen)
     return w;
 }
 
+/* The component along the end's initial axis of the rotation that took
+ * its initial frame q0 to q (quaternion of q q0^T: sin(angle/2) times the
+ * axis); d3 of q0 is the axis. Zero for a pure swing (pinned_root_rows). */
+static double twist_from(const double q[9], const double q0[9])
+{
+    double r[9], v[3], axis[3];
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            r[3 * a + b] = q[3 * a] * q0[3 * b] + q[3 * a + 1] * q0[3 * b + 1] + q[3 * a + 2] * q0[3 * b + 2];
+    double c = 0.5 * sqrt(fmax(1e-300, 1.0 + r[0] + r[4] + r[8]));
+    v3_set(v, r[7] - r[5], r[2] - r[6], r[3] - r[1]);
+    m3_column(axis, q0, 2);
+    return v3_dot(v, axis) / (4.0 * c);
+}
+
+/* A moment of the size the model's loads (at profile factor 1) and its
+ * stiffness make: EI/L + L (|T| L + sum |F_p| + |F_tip|) + |m| L + sum |M_p|
+ * + |M_tip|, N m. The unit of the torsion stop checks. */
+static double load_moment_scale(const rod_model *m)
+{
+    double l = m->length;
+    double scale = m->stiffness[0] / l + l * (v3_norm(m->distributed_force) * l + v3_norm(m->tip_force)) +
+                   v3_norm(m->distributed_moment) * l + v3_norm(m->tip_moment);
+    for (int p = 0; p < m->point_load_count; p++)
+        scale += l * v3_norm(m->point_loads[p].force) + v3_norm(m->point_loads[p].moment);
+    return scale;
+}
+
 static rod_status step_unmirrored(static_work *w, const rod_model *m, rod_state *s, double dt,
                                   rod_report *report);
 
@@ -759,6 +868,31 @@ static rod_status mirror_step(static_work *w, const rod_model *m, rod_state *s, 
     rod_status status = step_unmirrored(mirror->inner, &mirror->model, mirror->state, dt, report);
     if (status != ROD_OK) return status;
     const rod_state *ms = mirror->state;
+    /* The torsion stops (see mirror_create): a pinned tip is the mirror's
+     * pinned root, whose stop must carry nothing; a pinned root that slides
+     * is the mirror's pinned tip, which must not have turned about its axis. */
+    double scale = load_moment_scale(m);
+    if (m->tip_end == ROD_END_PINNED && v3_norm(ms->end_moment[0]) > 1e-7 * scale) {
+        snprintf(report->message, sizeof report->message,
+                 "static: at t = %g s the rod pinned at its tip, with a %s root, needs a moment "
+                 "of %.3e N m about the tip's axis to rest (the loads twist it about the pin): "
+                 "the static scheme solves this rod mirrored, with a torsion stop at the pin, "
+                 "which a pinned tip (a ball joint) does not have. The state is left at t = %g s; "
+                 "use solver.scheme = implicit", ms->time,
+                 m->root_end == ROD_END_FREE ? "free" : "sliding", v3_norm(ms->end_moment[0]), s->time);
+        return ROD_FAILED;
+    }
+    if (m->root_end == ROD_END_PINNED) {
+        double twist = fabs(twist_from(&ms->frame[9 * (n - 1)], mirror->inner->tip_frame0));
+        if (twist > 1e-9) {
+            snprintf(report->message, sizeof report->message,
+                     "static: at t = %g s the sliding pinned root turned by %.3e rad about its "
+                     "axis, which its torsion stop holds: the static scheme solves this rod "
+                     "mirrored, where that end has no stop. The state is left at t = %g s; use "
+                     "solver.scheme = implicit", ms->time, 2.0 * asin(fmin(1.0, twist)), s->time);
+            return ROD_FAILED;
+        }
+    }
     mirror_state(ms, s);
     const double *q_tip = &s->frame[9 * (n - 1)];
     double force[3], moment[3], applied_force[3], applied_moment[3];
@@ -772,6 +906,11 @@ static rod_status mirror_step(static_work *w, const rod_model *m, rod_state *s, 
     }
     memset(s->end_force, 0, sizeof s->end_force);
     memset(s->end_moment, 0, sizeof s->end_moment);
+    /* a held (sliding) root is the mirror's held tip: the same support
+     * loads (N' = -N and M' = -M exchange the sides, so the half cell's
+     * balance gives N(0) + ds/2 T + F_0 and M(0) + M_0 as at a root) */
+    v3_copy(s->end_force[0], ms->end_force[1]);
+    v3_copy(s->end_moment[0], ms->end_moment[1]);
     /* the mirror's end_force[0] holds the point loads at its node 0 (the
      * real tip node) already */
     v3_add(s->end_force[1], ms->end_force[0], applied_force);
@@ -792,11 +931,15 @@ static rod_status mirror_step(static_work *w, const rod_model *m, rod_state *s, 
     return ROD_OK;
 }
 
+/* The mirrored rod for a free root with a held tip, and for a sliding
+ * root with a tip held in place (mirror_create); the rod itself otherwise. */
 static void *create(const rod_model *m, char *err, size_t errlen)
 {
     if (rod_model_refuse_obstacles(m, "static", err, errlen)) return NULL;
-    if (m->root_end == ROD_END_FREE && m->tip_end != ROD_END_FREE && m->nodes >= 3 && m->ds > 0.0)
-        return mirror_create(m, err, errlen);
+    int tip_in_place = m->tip_end != ROD_END_FREE && v3_norm(m->tip_slide) == 0.0;
+    int mirrored = (m->root_end == ROD_END_FREE && m->tip_end != ROD_END_FREE) ||
+                   (m->root_end != ROD_END_FREE && v3_norm(m->root_slide) > 0.0 && tip_in_place);
+    if (mirrored && m->nodes >= 3 && m->ds > 0.0) return mirror_create(m, err, errlen);
     return static_work_create(m, err, errlen);
 }
 
@@ -835,6 +978,35 @@ static void trial_force(const static_work *w, const double *increment, int j, do
     for (int k = 0; k < 3; k++) force[k] = w->force[3 * j + k] + w->force_scale * change[k];
 }
 
+/* The axes about which a pinned root at frame q0 may turn, and about
+ * which the pin carries no moment (pinned_root_rows). With a held tip: the
+ * initial d1, d2 (the fixed-axis stop of Greenhill's problem, for the small
+ * swings there). With a free tip the rod swings far, to hang along its
+ * loads (by pi/2 from a horizontal start), and a fixed-axis stop would
+ * hold its bending there; decided: the stop's reaction is then the
+ * workless one of the swing-twist condition, along c = q_w t0 + q_v x t0
+ * (the quaternion (q_w, q_v) of Q_0 Q_init^T: the turns that keep its t0
+ * component zero are those normal to c), and the axes span the plane
+ * normal to c (the initial d1, d2 at no swing). */
+static void swing_axes(const static_work *w, const double q0[9], double axes[2][3])
+{
+    v3_copy(axes[0], w->root_axes[1]);
+    v3_copy(axes[1], w->root_axes[2]);
+    if (!swinging(w)) return;
+    double r[9], v[3], c[3];
+    for (int a = 0; a < 3; a++) /* Q_0 Q_init^T */
+        for (int b = 0; b < 3; b++) r[3 * a + b] = v3_dot(&q0[3 * a], &w->root_frame0[3 * b]);
+    v3_set(v, r[7] - r[5], r[2] - r[6], r[3] - r[1]); /* 4 q_w q_v */
+    v3_cross(c, v, w->root_axes[0]);
+    v3_axpy(c, 1.0 + r[0] + r[4] + r[8], w->root_axes[0]); /* 4 q_w c */
+    double norm = v3_norm(c);
+    if (!(norm > 1e-12)) return; /* a half turn: the rows are singular there anyway */
+    v3_scale(c, c, 1.0 / norm);
+    v3_axpy(axes[0], -v3_dot(axes[0], c), c);
+    v3_scale(axes[0], axes[0], 1.0 / v3_norm(axes[0]));
+    v3_cross(axes[1], c, axes[0]);
+}
+
 /* Rows of a pinned root (block 0, rows 0-2), on its initial frame (t0 =
  * d3, a0 = d1, b0 = d2 at t = 0). Twist held: the quaternion of
  * Q_0 Q_init^T has no t0 component (a holonomic condition: Q_0 is the
@@ -845,7 +1017,7 @@ static void trial_force(const static_work *w, const double *increment, int j, do
  * a little work when the root swings, as any dead axial moment does. */
 static void pinned_root_rows(const static_work *w, const double root_moment[3], double *row)
 {
-    double q[9], v[3];
+    double q[9], v[3], axes[2][3];
     for (int r = 0; r < 3; r++) /* Q_0 Q_init^T */
         for (int c = 0; c < 3; c++)
             q[3 * r + c] = w->frame_trial[3 * r] * w->root_frame0[3 * c] +
@@ -853,9 +1025,10 @@ static void pinned_root_rows(const static_work *w, const double root_moment[3], 
                            w->frame_trial[3 * r + 2] * w->root_frame0[3 * c + 2];
     double c = 0.5 * sqrt(fmax(1e-300, 1.0 + q[0] + q[4] + q[8]));
     v3_set(v, q[7] - q[5], q[2] - q[6], q[3] - q[1]);
+    swing_axes(w, w->frame_trial, axes);
     row[0] = w->angle_row_scale * 2.0 * v3_dot(v, w->root_axes[0]) / (4.0 * c);
-    row[1] = w->moment_row_scale * v3_dot(root_moment, w->root_axes[1]);
-    row[2] = w->moment_row_scale * v3_dot(root_moment, w->root_axes[2]);
+    row[1] = w->moment_row_scale * v3_dot(root_moment, axes[0]);
+    row[2] = w->moment_row_scale * v3_dot(root_moment, axes[1]);
 }
 
 /* The moment M_{j+1/2} = Q B (u - u_rest) (thesis (3.4) with a rest
@@ -1297,6 +1470,12 @@ static void capture_stiffness(static_work *w)
 {
     int dofs = w->dofs, nb = w->band_unknowns, n = w->nodes, ldab = w->band_rows;
     w->stiffness_fresh = 1;
+    if (swinging(w)) { /* the pinned root's turns at the base point (swing_axes) */
+        double axes[2][3];
+        swing_axes(w, w->frame, axes);
+        for (int a = 0; a < dofs && w->dof_node[a] == 0; a++)
+            v3_copy(&w->dof_dir[3 * a], axes[w->dof_axis[a] - 1]);
+    }
     /* 3 x 3 blocks -J(moment rows of i, phi of j) Q_j^T, j = i-1, i, i+1
      * (d omega = Q d phi); a pinned root's moment rows are 0..2 */
     for (int i = 0; i < n; i++) {
@@ -1663,6 +1842,23 @@ static void push_along_mode(static_work *w, const rod_model *m, const static_loa
     forces_from_statics(w, m, load);
 }
 
+/* J - c D on the Jacobian just built: D the identity on the free
+ * rotations' moment rows (omega = Q phi), c in the reduced stiffness' units
+ * (capture_stiffness). */
+static void damp_rotations(static_work *w, double damping)
+{
+    if (damping == 0.0) return;
+    for (int a = 0; a < w->dofs; a++) { /* row_a -= c omega_a, omega = Q phi */
+        const double *q = &w->frame[9 * w->dof_node[a]], *dir = &w->dof_dir[3 * a];
+        int row = w->dof_row[a];
+        for (int c = 0; c < 3; c++) {
+            int col = UNKNOWNS_PER_NODE * w->dof_node[a] + c;
+            w->band[(size_t)col * w->band_rows + (BAND_LOWER + BAND_UPPER + row - col)] -=
+                damping * (q[c] * dir[0] + q[3 + c] * dir[1] + q[6 + c] * dir[2]);
+        }
+    }
+}
+
 /* Pseudo-transient continuation (an over-damped motion to rest, implicit
  * in pseudo-time): (J - c D) step = -R, D the identity on the free
  * rotations' moment rows, so K + c I is positive definite while c exceeds
@@ -1688,15 +1884,7 @@ static int descend(static_work *w, const rod_model *m, const static_load *load, 
         if (isnan(lowest)) return -1;
         double damping = 1.5 * fmax(0.0, -lowest) + relax;
         relax *= 0.5;
-        for (int a = 0; a < w->dofs; a++) { /* row_a -= c omega_a, omega = Q phi */
-            const double *q = &w->frame[9 * w->dof_node[a]], *dir = &w->dof_dir[3 * a];
-            int row = w->dof_row[a];
-            for (int c = 0; c < 3; c++) {
-                int col = UNKNOWNS_PER_NODE * w->dof_node[a] + c;
-                w->band[(size_t)col * w->band_rows + (BAND_LOWER + BAND_UPPER + row - col)] -=
-                    damping * (q[c] * dir[0] + q[3 + c] * dir[1] + q[6 + c] * dir[2]);
-            }
-        }
+        damp_rotations(w, damping);
         if (solve_newton_step(w) != 0) return -1;
         double largest_turn = 0.0;
         for (int i = 0; i < n; i++)
@@ -1716,6 +1904,7 @@ static int newton(static_work *w, const rod_model *m, const static_load *load, d
                   int max_iterations, int *iterations, double *residual_out)
 {
     int n = w->nodes, nu = w->unknowns;
+    double damping = 0.0; /* see newton_damping */
     *iterations = 0;
     memset(w->increment, 0, (size_t)nu * sizeof(double));
     evaluate_residual(w, m, load, w->increment, w->residual);
@@ -1729,6 +1918,7 @@ static int newton(static_work *w, const rod_model *m, const static_load *load, d
 
         build_jacobian(w, m, load);
         capture_stiffness(w); /* for the stability check (cheap: 3 x 3 blocks) */
+        damp_rotations(w, damping);
         if (solve_newton_step(w) != 0) return -1; /* singular Jacobian */
 
         /* step limit: no node turns by more than max_rotation_step */
@@ -1749,6 +1939,13 @@ static int newton(static_work *w, const rod_model *m, const static_load *load, d
                 break;
             }
             alpha *= 0.5;
+        }
+        if (alpha < newton_poor_step) {
+            damping = damping > 0.0 ? 10.0 * damping : newton_damping;
+            if (!accepted) {
+                if (damping > newton_damping_limit) return -1;
+                continue; /* from the same point, damped */
+            }
         }
         if (!accepted) return -1;
         accept_trial(w);
@@ -1935,6 +2132,111 @@ static int bend_straight_rod(static_work *w, const rod_model *m, const static_lo
         memcpy(&w->frame[9 * i], turned, sizeof turned);
     }
     return 1;
+}
+
+/* The potential of the dead forces on the base point turned rigidly about
+ * the pin so that its root frame becomes exp(a) Q_init (a swing, a normal
+ * to t0: the torsion stop allows no other turn): -sum F_i . r_i =
+ * -sum_rc R_rc lever_rc with R = exp(a) Q_init Q_0^T, lever = sum F_i r_i^T
+ * (r_i from the pin, for the current shape). */
+static double swung_potential(const static_work *w, const double lever[9], double a1, double a2)
+{
+    double axis[3], swing[9], target[9], turn[9];
+    for (int k = 0; k < 3; k++) axis[k] = a1 * w->root_axes[1][k] + a2 * w->root_axes[2][k];
+    m3_exp(swing, axis);
+    m3_mul(target, swing, w->root_frame0);
+    for (int r = 0; r < 3; r++) /* target Q_0^T */
+        for (int c = 0; c < 3; c++)
+            turn[3 * r + c] = v3_dot(&target[3 * r], &w->frame[3 * c]);
+    double potential = 0.0;
+    for (int k = 0; k < 9; k++) potential -= turn[k] * lever[k];
+    return potential;
+}
+
+/* Before the continuation of a rod pinned at its root with a free tip:
+ * the rod turns about the pin with a stiffness the loads alone give (none
+ * at the path's unloaded start), and a rod far from where the loads hang it
+ * (a horizontal rod under gravity: no stiffness at all) is beyond Newton's
+ * reach. So the base point, as a rigid body, is first swung to the least
+ * potential of the target's forces (dead; a follower force as it acts at
+ * the current pose, decided: the answer is then finished by Newton) over
+ * the swings the torsion stop allows, by a grid of swing vectors |a| <
+ * 0.95 pi (the swing-twist rows are singular at a half turn) refined three
+ * times. The rod is turned only when that lowers the potential. Returns
+ * the root's swing angle there, rad. */
+static double swing_to_rest(static_work *w, const rod_model *m, const static_load *load)
+{
+    int n = w->nodes;
+    double ds = m->ds, lever[9] = {0}, r[3] = {0, 0, 0}, d3[3], tip_force[3], tip_moment[3];
+    rod_darboux_from_frames(m, w->frame, w->darboux);
+    rod_midpoint_frames(m, w->frame, w->darboux, w->mid);
+    tip_load_global(w, m, load, &w->frame[9 * (n - 1)], tip_force, tip_moment);
+    for (int i = 1; i < n; i++) {
+        double force[3];
+        m3_column(d3, &w->mid[9 * (i - 1)], 2);
+        v3_axpy(r, ds, d3);
+        if (i < n - 1) {
+            v3_scale(force, load->distributed, ds);
+            v3_axpy(force, load->point_factor, &w->node_force[3 * i]);
+        } else {
+            v3_copy(force, tip_force); /* holds the tip node's point load */
+            v3_axpy(force, 0.5 * ds, load->distributed);
+        }
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++) lever[3 * a + b] += force[a] * r[b];
+    }
+    /* the current swing a (the twist part is zero at a solved pose) */
+    double current[9], phi[3];
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) current[3 * a + b] = v3_dot(&w->frame[3 * a], &w->root_frame0[3 * b]);
+    m3_log(phi, current);
+    double best[2] = {v3_dot(phi, w->root_axes[1]), v3_dot(phi, w->root_axes[2])};
+    double here = swung_potential(w, lever, best[0], best[1]), lowest = here;
+    const double reach = 0.95 * M_PI;
+    double centre[2] = {0.0, 0.0}, spacing = M_PI / 24.0;
+    int half = 24;
+    for (int level = 0; level < 4; level++) {
+        for (int p = -half; p <= half; p++)
+            for (int q = -half; q <= half; q++) {
+                double a1 = centre[0] + p * spacing, a2 = centre[1] + q * spacing;
+                if (hypot(a1, a2) > reach) continue;
+                double value = swung_potential(w, lever, a1, a2);
+                if (value < lowest) {
+                    lowest = value;
+                    best[0] = a1;
+                    best[1] = a2;
+                }
+            }
+        centre[0] = best[0];
+        centre[1] = best[1];
+        spacing /= 5.0;
+        half = 5;
+    }
+    if (!(lowest < here)) return hypot(best[0], best[1]);
+    double axis[3], swing[9], target[9], turn[9];
+    for (int k = 0; k < 3; k++) axis[k] = best[0] * w->root_axes[1][k] + best[1] * w->root_axes[2][k];
+    m3_exp(swing, axis);
+    m3_mul(target, swing, w->root_frame0);
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) turn[3 * a + b] = v3_dot(&target[3 * a], &w->frame[3 * b]);
+    for (int i = 0; i < n; i++) {
+        double turned[9];
+        m3_mul(turned, turn, &w->frame[9 * i]);
+        m3_orthonormalize(turned);
+        memcpy(&w->frame[9 * i], turned, sizeof turned);
+    }
+    return hypot(best[0], best[1]);
+}
+
+/* 1 when the load has a force that can hang a rod pinned at its root (see
+ * swing_determined): a tip force, a distributed one, a point load off the pin. */
+static int load_has_force(const static_work *w, const static_load *load)
+{
+    if (v3_norm(load->tip_force) > 0.0 || v3_norm(load->distributed) > 0.0) return 1;
+    if (load->point_factor != 0.0)
+        for (int i = 1; i < w->nodes; i++)
+            if (v3_norm(&w->node_force[3 * i]) > 0.0) return 1;
+    return 0;
 }
 
 /* Writes the solved base point into the state (staggered layout), and the
@@ -2170,7 +2472,18 @@ static rod_status step_unmirrored(static_work *w, const rod_model *m, rod_state 
                        (m->options.newton_tolerance + DBL_EPSILON * length_ratio * length_ratio);
     int max_iterations = m->options.newton_max_iterations > 0 ? m->options.newton_max_iterations : 25;
 
+    if (swinging(w) && !load_has_force(w, &target)) {
+        describe_load(m, &target, text, sizeof text);
+        snprintf(report->message, sizeof report->message,
+                 "static: at t = %g s no force acts on the rod pinned at its root with a free "
+                 "tip (%.200s): it turns freely about the pin, so its direction is undetermined. "
+                 "Keep a force on it at every output time (gravity, a distributed or tip force, "
+                 "a point load off the pin), or use solver.scheme = implicit",
+                 target_time, text);
+        return ROD_FAILED;
+    }
     memcpy(w->frame, s->frame, (size_t)n * 9 * sizeof(double));
+    double swing = swinging(w) ? swing_to_rest(w, m, &target) : 0.0;
     load_between(&start, &target, 0.0, &load);
     hold_end_frames(w, &load);
     forces_from_statics(w, m, &load);
@@ -2238,6 +2551,16 @@ static rod_status step_unmirrored(static_work *w, const rod_model *m, rod_state 
             return ROD_UNSTABLE;
         }
         describe_load(m, &target, text, sizeof text);
+        if (swing > 0.9 * M_PI) {
+            snprintf(report->message, sizeof report->message,
+                     "static: at t = %g s the loads (%.200s) hang the rod pinned at its root "
+                     "%.3g rad from its initial direction, near the half turn where the pin's "
+                     "torsion stop (no twist about the initial tangent, rod.h) is singular; "
+                     "Newton did not converge (%s). Start the rod across its load "
+                     "(rod.direction), or use solver.scheme = implicit",
+                     target_time, text, swing, why);
+            return ROD_NO_CONVERGENCE;
+        }
         if (held_span_taut(w, m, &target)) {
             snprintf(report->message, sizeof report->message,
                      "static: at t = %g s the tip is held in place %.9g m from the root, the "

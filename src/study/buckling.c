@@ -128,6 +128,17 @@ int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_t
         snprintf(err, errlen, "buckling: the ends must be held still (no root_motion or tip_motion)");
         return -1;
     }
+    /* The static scheme solves a rod hanging from a pin (issue 10), but its
+     * straight state under an axial tip force has no critical load to scale
+     * to: the rod swings about the pin (an inverted pendulum when pushed). */
+    if (m->root_end == ROD_END_PINNED && m->tip_end == ROD_END_FREE) {
+        snprintf(err, errlen,
+                 "buckling: ends root = pinned, tip = free make a mechanism for an axial load: "
+                 "pushed, the straight rod falls over about the pin at any load (critical "
+                 "factor 0); pulled, it never buckles. Clamp the root, or hold the tip "
+                 "(tip = pinned or clamped, tip_slide = 1 0 0)");
+        return -1;
+    }
     double ei = m->stiffness[0], length = m->length;
     double size = fabs(m->tip_force[axis]) * length * length / ei +
                   fabs(m->tip_moment[axis]) * length / ei;
