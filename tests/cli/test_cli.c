@@ -102,6 +102,37 @@ static void test_bad_scenes(void)
     expect_rejected("--set of an unknown key", text, "rod.colour=red", "--set rod.colour", "unknown key");
 }
 
+/* Issue 12: a starting shape that already intersects itself (a loop whose
+ * strands cross 0.5 mm apart, d = 1 mm) is refused: exit 2, the shape key's
+ * line and the segments named, nothing written. */
+static void test_self_intersecting_shape(void)
+{
+    char shape[96], text[1024];
+    snprintf(shape, sizeof shape, "%s/loop.csv", tmp_dir);
+    FILE *f = fopen(shape, "w");
+    if (!f) return;
+    /* 0.15 m along x, a loop of radius 0.1 m rising 0.5 mm, on along x: 1 m */
+    double loop = 0.0, prev[3] = {0.15, 0.0, 0.0};
+    fprintf(f, "x,y,z\n0,0,0\n0.15,0,0\n");
+    for (int i = 1; i <= 2000; i++) {
+        double th = 2.0 * M_PI * i / 2000, q[3] = {0.15 + 0.1 * sin(th), 0.1 * (1.0 - cos(th)),
+                                                   0.0005 * th / (2.0 * M_PI)};
+        if (i == 2000) q[0] = 0.15, q[1] = 0.0;
+        loop += sqrt((q[0] - prev[0]) * (q[0] - prev[0]) + (q[1] - prev[1]) * (q[1] - prev[1]) +
+                     (q[2] - prev[2]) * (q[2] - prev[2]));
+        fprintf(f, "%.17g,%.17g,%.17g\n", q[0], q[1], q[2]);
+        memcpy(prev, q, sizeof prev);
+    }
+    fprintf(f, "%.17g,0,0.0005\n", 1.0 - loop); /* x at the end of the 1 m */
+    fclose(f);
+    snprintf(text, sizeof text,
+             "[rod]\nlength = 1.0\ndiameter = 0.001\ndensity = 850\nyoungs_modulus = 87.5e6\n"
+             "shear_modulus = 31.25e6\nnodes = 51\nshape = %s\n", shape);
+    expect_rejected("starting shape through itself", text, NULL, "bad.ini:8:",
+                    "intersects itself: segments 8 ");
+    unlink(shape);
+}
+
 static void test_usage(void)
 {
     char output[8192];
@@ -731,6 +762,7 @@ int main(void)
     snprintf(csv_path, sizeof csv_path, "%s/result.csv", out_dir);
     test_usage();
     test_bad_scenes();
+    test_self_intersecting_shape();
     test_csv_end_to_end();
     test_unstable_writes_nothing();
     test_refused_runs();
