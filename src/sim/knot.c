@@ -298,13 +298,6 @@ typedef struct cell_entry {
     int segment, ix, iy;
 } cell_entry;
 
-static int entry_order(const void *a, const void *b)
-{
-    const cell_entry *x = a, *y = b;
-    if (x->bucket != y->bucket) return x->bucket < y->bucket ? -1 : 1;
-    return x->segment - y->segment;
-}
-
 static uint32_t cell_hash(int ix, int iy, uint32_t mask)
 {
     return ((uint32_t)ix * 73856093u ^ (uint32_t)iy * 19349663u) & mask;
@@ -337,7 +330,21 @@ static int find_crossings(projection *pr)
             for (int iy = iy0; iy <= iy1 && iy <= iy0 + 1; iy++)
                 cells[count++] = (cell_entry){cell_hash(ix, iy, size - 1), k, ix, iy};
     }
-    qsort(cells, (size_t)count, sizeof *cells, entry_order);
+    /* counting sort by bucket, stable: each bucket's entries in segment order */
+    cell_entry *sorted = malloc((size_t)(count > 0 ? count : 1) * sizeof *sorted);
+    uint32_t *start = calloc((size_t)size + 1, sizeof *start);
+    if (!sorted || !start) {
+        free(cells);
+        free(sorted);
+        free(start);
+        return -1;
+    }
+    for (int e = 0; e < count; e++) start[cells[e].bucket + 1]++;
+    for (uint32_t b = 0; b < size; b++) start[b + 1] += start[b];
+    for (int e = 0; e < count; e++) sorted[start[cells[e].bucket]++] = cells[e];
+    free(start);
+    free(cells);
+    cells = sorted;
     for (int a = 0; a < count && !pr->degenerate; a++) {
         for (int b = a + 1; b < count && cells[b].bucket == cells[a].bucket; b++) {
             if (cells[b].ix != cells[a].ix || cells[b].iy != cells[a].iy) continue;
@@ -361,10 +368,23 @@ static int find_crossings(projection *pr)
         if (pr->tests > KNOT_MAX_TESTS || pr->crossings > ROD_KNOT_MAX_CROSSINGS) break;
     }
     free(cells);
-    /* the closure's long segments against every segment */
-    for (int a = n; a < pr->count && !pr->degenerate; a++)
-        for (int b = 0; b < pr->count && !pr->degenerate; b++)
-            if (b < n || b > a) test_pair(pr, a, b);
+    /* the closure's long segments against every segment whose box meets theirs */
+    for (int a = n; a < pr->count && !pr->degenerate; a++) {
+        int a1 = (a + 1) % pr->count;
+        double lo[2], hi[2];
+        for (int k = 0; k < 2; k++) {
+            lo[k] = fmin(pr->xy[2 * a + k], pr->xy[2 * a1 + k]) - KNOT_PARAM_TOL * pr->extent;
+            hi[k] = fmax(pr->xy[2 * a + k], pr->xy[2 * a1 + k]) + KNOT_PARAM_TOL * pr->extent;
+        }
+        for (int b = 0; b < pr->count && !pr->degenerate; b++) {
+            if (b >= n && b <= a) continue;
+            int b1 = (b + 1) % pr->count, apart = 0;
+            for (int k = 0; k < 2; k++)
+                apart = apart || fmax(pr->xy[2 * b + k], pr->xy[2 * b1 + k]) < lo[k] ||
+                        fmin(pr->xy[2 * b + k], pr->xy[2 * b1 + k]) > hi[k];
+            if (!apart) test_pair(pr, a, b);
+        }
+    }
     return pr->degenerate == 2 ? -1 : 0;
 }
 
