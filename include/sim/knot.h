@@ -45,6 +45,18 @@ int rod_knot_identify(const double *points, int nodes, rod_knot *out, char *err,
 int rod_knot_identify_closed(const double *points, int nodes, rod_knot *out, char *err,
                              size_t errlen);
 
+/* Scratch memory kept between calls (a run identifies every output frame):
+ * with it, a call allocates nothing once the scratch has grown to the
+ * largest call's need. Not shared between threads. */
+typedef struct rod_knot_scratch rod_knot_scratch;
+rod_knot_scratch *rod_knot_scratch_create(void); /* NULL out of memory */
+void rod_knot_scratch_destroy(rod_knot_scratch *scratch);
+
+/* rod_knot_identify (closed = 0) or rod_knot_identify_closed (closed = 1)
+ * with a scratch (NULL: one for this call only). */
+int rod_knot_identify_in(rod_knot_scratch *scratch, const double *points, int nodes, int closed,
+                         rod_knot *out, char *err, size_t errlen);
+
 /* "1 - t + t^2": Delta(t) of a result, as text. */
 void rod_knot_polynomial_text(const rod_knot *k, char *buf, size_t n);
 

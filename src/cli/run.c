@@ -553,6 +553,7 @@ typedef struct knot_track {
     char change_from[96], change_to[96];
     char failure[256];       /* the first identification that failed, or "" */
     double seconds;          /* wall time spent identifying */
+    rod_knot_scratch *scratch; /* owned; NULL: each call allocates */
 } knot_track;
 
 static int same_knot(const rod_knot *a, const rod_knot *b)
@@ -566,7 +567,7 @@ static void track_knot(knot_track *k, const rod_state *s)
     double start = wall_seconds();
     rod_knot now;
     char err[200];
-    if (rod_knot_identify(s->position, s->nodes, &now, err, sizeof err)) {
+    if (rod_knot_identify_in(k->scratch, s->position, s->nodes, 0, &now, err, sizeof err)) {
         if (!k->failures++)
             snprintf(k->failure, sizeof k->failure, "at t = %g s: %s", s->time, err);
     } else {
@@ -774,7 +775,7 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
 
     rod_solver solver = {0};
     rod_state *s = NULL;
-    knot_track knots = {0};
+    knot_track knots = {.scratch = rod_knot_scratch_create()};
     frame_sink sink = {.knot = &knots};
     outfile csv_file = {.fd = -1, .slot = -1};
     int status = RUN_EXIT_FAILURE;
@@ -895,6 +896,7 @@ done:
     }
     if (csv_stdout && sink.csv) fclose(sink.csv);
     rod_recording_destroy(sink.rec);
+    rod_knot_scratch_destroy(knots.scratch);
     rod_state_destroy(s);
     rod_solver_release(&solver);
     return status;

@@ -78,7 +78,86 @@ typedef struct projection {
     int intersecting;      /* segments at one height at a crossing (a 3-D intersection) */
     int meet[2];
     long long tests;
+    rod_knot_scratch *scratch;
 } projection;
+
+/* Scratch ------------------------------------------------------------------ */
+
+/* One block reused from call to call: a call takes what it needs from it in
+ * order (released per projection tried); what does not fit comes from malloc
+ * for this call only, and the block grows to the call's peak for the next
+ * one. A run identifying every output frame then allocates nothing once the
+ * block has grown. */
+typedef struct overflow_chunk {
+    struct overflow_chunk *next;
+} overflow_chunk;
+
+struct rod_knot_scratch {
+    unsigned char *base;
+    size_t size, used;
+    size_t live, peak;          /* bytes taken in this call (block and overflow) */
+    overflow_chunk *overflow;
+};
+
+rod_knot_scratch *rod_knot_scratch_create(void) { return calloc(1, sizeof(rod_knot_scratch)); }
+
+void rod_knot_scratch_destroy(rod_knot_scratch *s)
+{
+    if (!s) return;
+    free(s->base);
+    free(s);
+}
+
+/* bytes from the scratch (16-byte aligned), NULL out of memory */
+static void *take(rod_knot_scratch *s, size_t bytes, int zero)
+{
+    bytes = (bytes + 15) & ~(size_t)15;
+    void *p;
+    if (s->used + bytes <= s->size) {
+        p = s->base + s->used;
+        s->used += bytes;
+    } else {
+        overflow_chunk *c = malloc(sizeof(overflow_chunk) + 16 + bytes);
+        if (!c) return NULL;
+        c->next = s->overflow;
+        s->overflow = c;
+        p = (unsigned char *)c + 16; /* header rounded up to keep the alignment */
+    }
+    s->live += bytes;
+    if (s->live > s->peak) s->peak = s->live;
+    if (zero) memset(p, 0, bytes);
+    return p;
+}
+
+typedef struct scratch_mark {
+    size_t used, live;
+} scratch_mark;
+
+static scratch_mark scratch_save(const rod_knot_scratch *s) { return (scratch_mark){s->used, s->live}; }
+static void scratch_restore(rod_knot_scratch *s, scratch_mark m)
+{
+    s->used = m.used;
+    s->live = m.live;
+}
+
+/* The end of a call: the overflow freed, the block grown to the peak. */
+static void scratch_end(rod_knot_scratch *s)
+{
+    while (s->overflow) {
+        overflow_chunk *next = s->overflow->next;
+        free(s->overflow);
+        s->overflow = next;
+    }
+    if (s->peak > s->size) {
+        unsigned char *bigger = malloc(s->peak);
+        if (bigger) {
+            free(s->base);
+            s->base = bigger;
+            s->size = s->peak;
+        }
+    }
+    s->used = s->live = s->peak = 0;
+}
 
 /* Modular arithmetic -------------------------------------------------- */
 
@@ -102,16 +181,17 @@ static uint64_t mod_inv(uint64_t a, uint64_t p) { return mod_pow(a, p - 2, p); }
 /* det(A + t B) mod p as coefficients poly[0..m] (m x m, entries small
  * integers, row-major). Returns 0, or -1 when no shift t0 tried makes
  * A + t0 B invertible mod p. Scratch: 2 m^2 + (m+1)^2 words. */
-static int det_polynomial_mod(const long long *A, const long long *B, int m, uint64_t p,
-                              uint64_t *poly)
+static int det_polynomial_mod(rod_knot_scratch *sc, const long long *A, const long long *B,
+                              int m, uint64_t p, uint64_t *poly)
 {
     if (m == 0) {
         poly[0] = 1;
         return 0;
     }
     size_t mm = (size_t)m * m;
-    uint64_t *M = malloc(mm * sizeof *M), *C = malloc(mm * sizeof *C);
-    uint64_t *chi = malloc((size_t)(m + 1) * (m + 1) * sizeof *chi);
+    scratch_mark mark = scratch_save(sc);
+    uint64_t *M = take(sc, mm * sizeof *M, 0), *C = take(sc, mm * sizeof *C, 0);
+    uint64_t *chi = take(sc, (size_t)(m + 1) * (m + 1) * sizeof *chi, 0);
     int rc = -1;
     if (!M || !C || !chi) goto done;
     for (uint64_t t0 = 7; t0 < 7 + 8 && rc; t0++) {
@@ -219,9 +299,7 @@ static int det_polynomial_mod(const long long *A, const long long *B, int m, uin
         rc = 0;
     }
 done:
-    free(M);
-    free(C);
-    free(chi);
+    scratch_restore(sc, mark);
     return rc;
 }
 
@@ -277,8 +355,9 @@ static void test_pair(projection *pr, int a, int b)
     }
     if (pr->crossings == pr->capacity) {
         int bigger = pr->capacity ? 2 * pr->capacity : 64;
-        crossing *x = realloc(pr->x, (size_t)bigger * sizeof *x);
+        crossing *x = take(pr->scratch, (size_t)bigger * sizeof *x, 0);
         if (!x) { pr->degenerate = 2; return; }
+        if (pr->crossings) memcpy(x, pr->x, (size_t)pr->crossings * sizeof *x);
         pr->x = x;
         pr->capacity = bigger;
     }
@@ -315,7 +394,7 @@ static int find_crossings(projection *pr)
     }
     if (!(h > 0.0)) h = pr->extent > 0.0 ? pr->extent : 1.0;
     double x0 = pr->xy[0], y0 = pr->xy[1];
-    cell_entry *cells = malloc((size_t)4 * (n > 0 ? n : 1) * sizeof *cells);
+    cell_entry *cells = take(pr->scratch, (size_t)4 * (n > 0 ? n : 1) * sizeof *cells, 0);
     if (!cells) return -1;
     uint32_t size = 1;
     while (size < (uint32_t)(8 * (n > 0 ? n : 1))) size <<= 1;
@@ -331,19 +410,12 @@ static int find_crossings(projection *pr)
                 cells[count++] = (cell_entry){cell_hash(ix, iy, size - 1), k, ix, iy};
     }
     /* counting sort by bucket, stable: each bucket's entries in segment order */
-    cell_entry *sorted = malloc((size_t)(count > 0 ? count : 1) * sizeof *sorted);
-    uint32_t *start = calloc((size_t)size + 1, sizeof *start);
-    if (!sorted || !start) {
-        free(cells);
-        free(sorted);
-        free(start);
-        return -1;
-    }
+    cell_entry *sorted = take(pr->scratch, (size_t)(count > 0 ? count : 1) * sizeof *sorted, 0);
+    uint32_t *start = take(pr->scratch, ((size_t)size + 1) * sizeof *start, 1);
+    if (!sorted || !start) return -1;
     for (int e = 0; e < count; e++) start[cells[e].bucket + 1]++;
     for (uint32_t b = 0; b < size; b++) start[b + 1] += start[b];
     for (int e = 0; e < count; e++) sorted[start[cells[e].bucket]++] = cells[e];
-    free(start);
-    free(cells);
     cells = sorted;
     for (int a = 0; a < count && !pr->degenerate; a++) {
         for (int b = a + 1; b < count && cells[b].bucket == cells[a].bucket; b++) {
@@ -367,7 +439,6 @@ static int find_crossings(projection *pr)
         }
         if (pr->tests > KNOT_MAX_TESTS || pr->crossings > ROD_KNOT_MAX_CROSSINGS) break;
     }
-    free(cells);
     /* the closure's long segments against every segment whose box meets theirs */
     for (int a = n; a < pr->count && !pr->degenerate; a++) {
         int a1 = (a + 1) % pr->count;
@@ -462,15 +533,17 @@ static void direction_of_try(int k, double w[3])
 static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
 {
     int c = pr->crossings;
-    passage *pass = malloc((size_t)(2 * c + 1) * sizeof *pass);
-    int *arc_over = malloc((size_t)(c + 1) * sizeof *arc_over);
-    int *arc_in = malloc((size_t)(c + 1) * sizeof *arc_in);
-    int *arc_out = malloc((size_t)(c + 1) * sizeof *arc_out);
+    rod_knot_scratch *sc = pr->scratch;
+    passage *pass = take(sc, (size_t)(2 * c + 1) * sizeof *pass, 0);
+    int *arc_over = take(sc, (size_t)(c + 1) * sizeof *arc_over, 0);
+    int *arc_in = take(sc, (size_t)(c + 1) * sizeof *arc_in, 0);
+    int *arc_out = take(sc, (size_t)(c + 1) * sizeof *arc_out, 0);
     int m = c > 0 ? c - 1 : 0;
-    long long *A = calloc((size_t)m * m + 1, sizeof *A), *B = calloc((size_t)m * m + 1, sizeof *B);
-    uint64_t *poly[2] = {malloc((size_t)(m + 1) * sizeof(uint64_t)),
-                         malloc((size_t)(m + 1) * sizeof(uint64_t))};
-    long long *value = malloc((size_t)(m + 1) * sizeof *value);
+    long long *A = take(sc, ((size_t)m * m + 1) * sizeof *A, 1);
+    long long *B = take(sc, ((size_t)m * m + 1) * sizeof *B, 1);
+    uint64_t *poly[2] = {take(sc, (size_t)(m + 1) * sizeof(uint64_t), 0),
+                         take(sc, (size_t)(m + 1) * sizeof(uint64_t), 0)};
+    long long *value = take(sc, (size_t)(m + 1) * sizeof *value, 0);
     int rc = -1;
     if (!pass || !arc_over || !arc_in || !arc_out || !A || !B || !poly[0] || !poly[1] || !value) {
         snprintf(err, errlen, "out of memory for %d crossings", c);
@@ -513,7 +586,7 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
         }
     }
     for (int q = 0; q < 2; q++)
-        if (det_polynomial_mod(A, B, m, knot_primes[q], poly[q])) {
+        if (det_polynomial_mod(sc, A, B, m, knot_primes[q], poly[q])) {
             snprintf(err, errlen, "the Alexander matrix of %d crossings is singular at every "
                      "shift tried (not a knot diagram?)", c);
             goto done;
@@ -570,25 +643,16 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
     }
     rc = 0;
 done:
-    free(pass);
-    free(arc_over);
-    free(arc_in);
-    free(arc_out);
-    free(A);
-    free(B);
-    free(poly[0]);
-    free(poly[1]);
-    free(value);
-    return rc;
+    return rc; /* the scratch is released by the caller, per projection */
 }
 
 /* The closed polygon (count x 3) and how many of its first segments are the
  * curve's own; NULL out of memory. */
-static double *close_polygon(const double *p, int nodes, int closed, const double centre[3],
-                             double extent, int *count, int *own)
+static double *close_polygon(rod_knot_scratch *sc, const double *p, int nodes, int closed,
+                             const double centre[3], double extent, int *count, int *own)
 {
     if (closed) {
-        double *q = malloc((size_t)nodes * 3 * sizeof *q);
+        double *q = take(sc, (size_t)nodes * 3 * sizeof *q, 0);
         if (q) memcpy(q, p, (size_t)nodes * 3 * sizeof *q);
         *count = nodes;
         *own = nodes;
@@ -639,7 +703,7 @@ static double *close_polygon(const double *p, int nodes, int closed, const doubl
     /* tip on the sphere, the arc's inner points, root on the sphere */
     *count = nodes + extra + 1;
     *own = nodes - 1;
-    double *q = malloc((size_t)*count * 3 * sizeof *q);
+    double *q = take(sc, (size_t)*count * 3 * sizeof *q, 0);
     if (!q) return NULL;
     memcpy(q, p, (size_t)nodes * 3 * sizeof *q);
     int at = nodes;
@@ -668,8 +732,8 @@ static double *close_polygon(const double *p, int nodes, int closed, const doubl
     return q;
 }
 
-static int identify(const double *points, int nodes, int closed, rod_knot *out, char *err,
-                    size_t errlen)
+static int identify(rod_knot_scratch *sc, const double *points, int nodes, int closed,
+                    rod_knot *out, char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
     if (!points || nodes < (closed ? 3 : 2) || nodes > ROD_KNOT_MAX_POINTS) {
@@ -697,10 +761,13 @@ static int identify(const double *points, int nodes, int closed, rod_knot *out, 
     }
     projection pr = {0};
     pr.extent = extent;
-    double *q = close_polygon(points, nodes, closed, centre, extent, &pr.count, &pr.knot_segments);
+    pr.scratch = sc;
+    double *q = close_polygon(sc, points, nodes, closed, centre, extent, &pr.count,
+                              &pr.knot_segments);
     pr.p = q;
-    pr.xy = malloc((size_t)pr.count * 2 * sizeof *pr.xy);
-    pr.z = malloc((size_t)pr.count * sizeof *pr.z);
+    pr.xy = q ? take(sc, (size_t)pr.count * 2 * sizeof *pr.xy, 0) : NULL;
+    pr.z = q ? take(sc, (size_t)pr.count * sizeof *pr.z, 0) : NULL;
+    scratch_mark per_projection = scratch_save(sc);
     int rc = -1, fewest = -1, intersecting = 0, meet[2] = {0, 0};
     if (!q || !pr.xy || !pr.z) {
         snprintf(err, errlen, "out of memory for %d points", nodes);
@@ -729,6 +796,9 @@ static int identify(const double *points, int nodes, int closed, rod_knot *out, 
             pr.xy[2 * i + 1] = d[0] * e2[0] + d[1] * e2[1] + d[2] * e2[2];
             pr.z[i] = d[0] * w[0] + d[1] * w[1] + d[2] * w[2];
         }
+        scratch_restore(sc, per_projection); /* the last projection's crossings and matrix */
+        pr.x = NULL;
+        pr.capacity = 0;
         pr.crossings = 0;
         pr.degenerate = 0;
         pr.intersecting = 0;
@@ -770,20 +840,32 @@ static int identify(const double *points, int nodes, int closed, rod_knot *out, 
                  "segment, or overlapping segments, in every one)", KNOT_TRIES);
     }
 done:
-    free(q);
-    free(pr.xy);
-    free(pr.z);
-    free(pr.x);
+    scratch_end(sc);
+    return rc;
+}
+
+int rod_knot_identify_in(rod_knot_scratch *scratch, const double *points, int nodes, int closed,
+                         rod_knot *out, char *err, size_t errlen)
+{
+    if (scratch) return identify(scratch, points, nodes, closed, out, err, errlen);
+    rod_knot_scratch *own = rod_knot_scratch_create();
+    if (!own) {
+        memset(out, 0, sizeof *out);
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    int rc = identify(own, points, nodes, closed, out, err, errlen);
+    rod_knot_scratch_destroy(own);
     return rc;
 }
 
 int rod_knot_identify(const double *points, int nodes, rod_knot *out, char *err, size_t errlen)
 {
-    return identify(points, nodes, 0, out, err, errlen);
+    return rod_knot_identify_in(NULL, points, nodes, 0, out, err, errlen);
 }
 
 int rod_knot_identify_closed(const double *points, int nodes, rod_knot *out, char *err,
                              size_t errlen)
 {
-    return identify(points, nodes, 1, out, err, errlen);
+    return rod_knot_identify_in(NULL, points, nodes, 1, out, err, errlen);
 }
