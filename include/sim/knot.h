@@ -8,7 +8,9 @@
  * composites listed in knot.c, but not everything: it is 1 for a few
  * non-trivial knots (e.g. the Conway knot 11n34), it does not see a knot's
  * chirality, and it cannot tell the square knot from the granny (both
- * (t^2 - t + 1)^2). */
+ * (t^2 - t + 1)^2). The signature (from the Goeritz matrix of the same
+ * diagram) tells those two apart, and a knot from its mirror image when it is
+ * not 0 (Rolfsen's convention: the right-handed trefoil has -2). */
 #ifndef RODSIM_SIM_KNOT_H
 #define RODSIM_SIM_KNOT_H
 
@@ -24,12 +26,17 @@
 #define ROD_KNOT_MAX_TERMS 64
 
 typedef struct rod_knot {
-    char name[96];            /* "unknot", "trefoil", ..., or "unknown (Delta = ...)" */
+    char name[96];            /* "unknot", "trefoil", "square knot ...", "granny knot ...",
+                                 ..., or "unknown (Delta = ...)" */
     int terms;                /* coefficients in `coefficient`: degree + 1 */
     long long coefficient[ROD_KNOT_MAX_TERMS]; /* Delta(t) = sum c_k t^k, normalised:
                                  lowest term constant and positive (trefoil 1 -1 1) */
     long long determinant;    /* |Delta(-1)|: 1 unknot, 3 trefoil, 5 figure-eight */
+    int signature;            /* sigma(K) (Gordon-Litherland): 0 unknot, figure-eight and
+                                 square knot, +-2 trefoil, +-4 granny; sign: handedness */
+    int has_signature;        /* 0: the diagram's faces were not understood */
     int crossings;            /* of the projection used (closure included) */
+    int writhe;               /* sum of the crossings' signs in that projection */
     double direction[3];      /* unit: the projection's direction */
     int tries;                /* projection directions tried (1 unless degenerate) */
 } rod_knot;

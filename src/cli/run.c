@@ -558,8 +558,10 @@ typedef struct knot_track {
 
 static int same_knot(const rod_knot *a, const rod_knot *b)
 {
+    /* the signature too: a trefoil turning into its mirror image is a change */
     return a->terms == b->terms &&
-           memcmp(a->coefficient, b->coefficient, (size_t)a->terms * sizeof a->coefficient[0]) == 0;
+           memcmp(a->coefficient, b->coefficient, (size_t)a->terms * sizeof a->coefficient[0]) == 0 &&
+           a->has_signature == b->has_signature && a->signature == b->signature;
 }
 
 static void track_knot(knot_track *k, const rod_state *s)
@@ -593,9 +595,10 @@ static void print_knots(FILE *f, const knot_track *k)
         rod_knot_polynomial_text(&k->first, poly, sizeof poly);
         if (k->changes == 0)
             fprintf(f, "        knot: %s at t = %g s and at t = %g s, the same in all %d output "
-                       "frames (Alexander polynomial %s, determinant %lld)\n",
+                       "frames (Alexander polynomial %s, determinant %lld, signature %d%s)\n",
                     k->first.name, k->first_time, k->last_time, k->frames, poly,
-                    k->first.determinant);
+                    k->first.determinant, k->first.signature,
+                    k->first.has_signature ? "" : " not computed");
         else
             fprintf(f, "        knot: %s at t = %g s, %s at t = %g s: CHANGED %d time%s over %d "
                        "output frames, first at t = %g s (%s -> %s)\n",

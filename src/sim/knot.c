@@ -32,7 +32,10 @@
  * modulo two primes: M(t0 + s) = M(t0) (I + s C) with C = M(t0)^-1 B, and
  * det(I + s C) comes from the characteristic polynomial of -C (Hessenberg
  * reduction, O(c^3)); shifting back s = t - t0 gives det M(t). Each
- * coefficient is read in (-p/2, p/2); the two primes must agree. */
+ * coefficient is read in (-p/2, p/2); the two primes must agree.
+ *
+ * Signature: from the same diagram's Goeritz matrix (Gordon-Litherland, see
+ * signature()); it names the square knot and the granny apart. */
 #include "sim/knot.h"
 
 #include <math.h>
@@ -485,7 +488,8 @@ static const struct {
     {"6_3", 5, {1, -3, 5, -3, 1}},
     {"7_1", 7, {1, -1, 1, -1, 1, -1, 1}},
     /* the Alexander polynomial cannot tell the square knot (trefoil # its mirror)
-     * from the granny (trefoil # trefoil): both (t^2 - t + 1)^2 */
+     * from the granny (trefoil # trefoil): both (t^2 - t + 1)^2; the signature
+     * does (0 and +-4), when it is known (renamed below) */
     {"square or granny (composite of two trefoils)", 5, {1, -2, 3, -2, 1}},
     {"trefoil # figure-eight", 5, {1, -4, 5, -4, 1}},
     {"figure-eight # figure-eight", 5, {1, -6, 11, -6, 1}},
@@ -529,6 +533,179 @@ static void direction_of_try(int k, double w[3])
     w[2] = cz;
 }
 
+/* Signature ------------------------------------------------------------- */
+
+/* Signs of the eigenvalues of a symmetric n x n matrix (row-major, destroyed):
+ * symmetric elimination with Bunch-Parlett pivoting (a 1 x 1 pivot on the
+ * largest diagonal entry when it is not much below the largest off-diagonal
+ * one, else a 2 x 2 pivot on that), Sylvester's law of inertia. Returns the
+ * number of pivots below 1e-9 of the largest entry (0 for a knot's Goeritz
+ * matrix, whose determinant is the knot determinant). */
+static int inertia(long double *a, int n, int *positive, int *negative)
+{
+    *positive = *negative = 0;
+    long double largest = 0.0L;
+    for (int i = 0; i < n * n; i++) largest = fmaxl(largest, fabsl(a[i]));
+    long double tiny = 1e-9L * (largest > 0.0L ? largest : 1.0L);
+    int k = 0;
+    while (k < n) {
+        int di = k, oi = k, oj = k;
+        long double dmax = -1.0L, omax = -1.0L;
+        for (int i = k; i < n; i++) {
+            if (fabsl(a[i * n + i]) > dmax) { dmax = fabsl(a[i * n + i]); di = i; }
+            for (int j = k; j < i; j++)
+                if (fabsl(a[i * n + j]) > omax) { omax = fabsl(a[i * n + j]); oi = i; oj = j; }
+        }
+        if (dmax <= tiny && omax <= tiny) return n - k; /* the rest is zero */
+        int block = dmax >= 0.6404L * omax ? 1 : 2;
+        int pick[2] = {block == 1 ? di : oj, oi};
+        for (int b = 0; b < block; b++) { /* swap row and column pick[b] <-> k + b */
+            int i = pick[b], t = k + b;
+            if (b == 0 && pick[1] == t) pick[1] = i; /* the second moves with the swap */
+            if (i == t) continue;
+            for (int j = 0; j < n; j++) {
+                long double x = a[i * n + j];
+                a[i * n + j] = a[t * n + j];
+                a[t * n + j] = x;
+            }
+            for (int j = 0; j < n; j++) {
+                long double x = a[j * n + i];
+                a[j * n + i] = a[j * n + t];
+                a[j * n + t] = x;
+            }
+        }
+        if (block == 1) {
+            long double p = a[k * n + k];
+            if (p > 0) ++*positive; else ++*negative;
+            for (int i = k + 1; i < n; i++) {
+                long double f = a[i * n + k] / p;
+                for (int j = k + 1; j < n; j++) a[i * n + j] -= f * a[k * n + j];
+            }
+        } else {
+            long double p = a[k * n + k], q = a[k * n + k + 1], r = a[(k + 1) * n + k + 1];
+            long double det = p * r - q * q;
+            if (det < 0) { ++*positive; ++*negative; }
+            else if (p + r > 0) *positive += 2;
+            else *negative += 2;
+            for (int i = k + 2; i < n; i++) {
+                long double x = a[i * n + k], y = a[i * n + k + 1];
+                /* [x y] inv([[p q] [q r]]) */
+                long double u = (r * x - q * y) / det, v = (p * y - q * x) / det;
+                for (int j = k + 2; j < n; j++)
+                    a[i * n + j] -= u * a[k * n + j] + v * a[(k + 1) * n + j];
+            }
+        }
+        k += block;
+    }
+    return 0;
+}
+
+/* The signature of the knot from the diagram (Gordon and Litherland, On the
+ * signature of a link, Invent. Math. 47, 1978, theorem 6 and corollary 6'):
+ * the regions of the diagram coloured as a chessboard, G the Goeritz matrix
+ * of the white regions (one dropped), sigma = sign(G) - mu, mu the sum of
+ * eta(c) over the crossings of type II. Computed for both colourings, which
+ * must agree. Half-edges at a crossing: 0 over-out, 1 under-out, 2 over-in,
+ * 3 under-in; counterclockwise 0 1 2 3 when (over x under) > 0, else 0 3 2 1.
+ * Corner j lies counterclockwise after the j-th half-edge of that order.
+ * Returns 0, or -1 (a diagram the face tracing does not understand). */
+static int signature(projection *pr, const passage *pass, int *sigma)
+{
+    int c = pr->crossings, edges = 2 * c;
+    *sigma = 0;
+    if (c == 0) return 0;
+    rod_knot_scratch *sc = pr->scratch;
+    int *leave = take(sc, (size_t)4 * c * sizeof *leave, 0);       /* dart leaving by a slot */
+    int *dart_face = take(sc, (size_t)2 * edges * sizeof *dart_face, 0);
+    int *corner = take(sc, (size_t)4 * c * sizeof *corner, 0);     /* face of each corner */
+    int faces_max = c + 2;
+    int *colour = take(sc, (size_t)faces_max * sizeof *colour, 0);
+    int *row = take(sc, (size_t)faces_max * sizeof *row, 0);
+    long double *g = take(sc, (size_t)faces_max * faces_max * sizeof *g, 0);
+    if (!leave || !dart_face || !corner || !colour || !row || !g) return -1;
+    static const int orders[2][4] = {{0, 1, 2, 3}, {0, 3, 2, 1}};
+    /* dart 2k: edge k forward (pass k -> pass k+1); 2k + 1: backward */
+    for (int k = 0; k < edges; k++) {
+        const passage *from = &pass[k], *to = &pass[(k + 1) % edges];
+        leave[4 * from->crossing + (from->under ? 1 : 0)] = 2 * k;
+        leave[4 * to->crossing + (to->under ? 3 : 2)] = 2 * k + 1;
+    }
+    for (int d = 0; d < 2 * edges; d++) dart_face[d] = -1;
+    int faces = 0;
+    for (int start = 0; start < 2 * edges; start++) {
+        if (dart_face[start] >= 0) continue;
+        if (faces == faces_max) return -1; /* not a plane diagram */
+        int d = start, steps = 0;
+        do {
+            dart_face[d] = faces;
+            int k = d / 2;
+            const passage *at = d % 2 ? &pass[k] : &pass[(k + 1) % edges];
+            int v = at->crossing;
+            int arrive = d % 2 ? (at->under ? 1 : 0) : (at->under ? 3 : 2);
+            const int *order = orders[pr->x[v].sign > 0 ? 0 : 1];
+            int i = 0;
+            while (order[i] != arrive) i++;
+            int turn = (i + 3) % 4; /* the next half-edge clockwise */
+            corner[4 * v + turn] = faces;
+            d = leave[4 * v + order[turn]];
+        } while (d != start && ++steps <= 2 * edges);
+        if (d != start) return -1;
+        faces++;
+    }
+    if (faces != c + 2) return -1; /* Euler: V - E + F = 2 */
+    /* chessboard: corners j and j + 1 of a crossing differ */
+    for (int f = 0; f < faces; f++) colour[f] = -1;
+    colour[corner[0]] = 0;
+    for (int changed = 1; changed;) {
+        changed = 0;
+        for (int v = 0; v < c; v++)
+            for (int j = 0; j < 4; j++) {
+                int a = corner[4 * v + j], b = corner[4 * v + (j + 1) % 4];
+                if (colour[a] >= 0 && colour[b] < 0) { colour[b] = 1 - colour[a]; changed = 1; }
+                else if (colour[b] >= 0 && colour[a] < 0) { colour[a] = 1 - colour[b]; changed = 1; }
+                else if (colour[a] >= 0 && colour[a] == colour[b]) return -1;
+            }
+    }
+    int result[2];
+    for (int white = 0; white < 2; white++) {
+        int n = 0;
+        for (int f = 0; f < faces; f++) row[f] = colour[f] == white ? n++ : -1;
+        for (int k = 0; k < n * n; k++) g[k] = 0.0L;
+        int mu = 0;
+        for (int v = 0; v < c; v++) {
+            int first = colour[corner[4 * v]] == white ? 0 : 1; /* white corners first, first+2 */
+            /* eta = -1 when the white corners lie counterclockwise after the
+             * over half-edges (corners 0 and 2), +1 otherwise: the sign that
+             * gives the right-handed trefoil (writhe +3) sigma = -2, as
+             * sign(V + V^T) of its Seifert matrix V does */
+            int eta = first == 0 ? -1 : 1;
+            /* type II: the white corners lie between an in and an out half-edge
+             * (as at a kink between its loop and the region opposite, whose
+             * contribution to sign(G) mu must cancel); the same-sense corners
+             * (both out, both in) are 0, 2 when (over x under) > 0 */
+            int same = pr->x[v].sign > 0 ? 0 : 1;
+            if (first != same) mu += eta;
+            int i = row[corner[4 * v + first]], j = row[corner[4 * v + first + 2]];
+            if (i == j) continue;
+            g[i * n + j] -= eta;
+            g[j * n + i] -= eta;
+            g[i * n + i] += eta;
+            g[j * n + j] += eta;
+        }
+        /* drop the first white region: G is the trailing (n-1) x (n-1) block */
+        int m = n - 1;
+        for (int i = 0; i < m; i++)
+            for (int j = 0; j < m; j++) g[i * m + j] = g[(i + 1) * n + j + 1];
+        int positive, negative;
+        if (m > 0 && inertia(g, m, &positive, &negative)) return -1;
+        if (m <= 0) positive = negative = 0;
+        result[white] = positive - negative - mu;
+    }
+    if (result[0] != result[1]) return -1;
+    *sigma = result[0];
+    return 0;
+}
+
 /* Delta from the crossings; 0, or -1 with a message. */
 static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
 {
@@ -570,6 +747,13 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
         } else {
             arc_over[q->crossing] = (unders - 1 + c) % c;
         }
+    }
+    {
+        scratch_mark mark = scratch_save(sc);
+        int sigma;
+        out->has_signature = signature(pr, pass, &sigma) == 0;
+        out->signature = out->has_signature ? sigma : 0;
+        scratch_restore(sc, mark);
     }
     /* the Alexander matrix, its last row and column dropped */
     for (int x = 0; x + 1 < c; x++) {
@@ -629,6 +813,8 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
     out->terms = terms < ROD_KNOT_MAX_TERMS ? terms : ROD_KNOT_MAX_TERMS;
     for (int d = 0; d < out->terms; d++) out->coefficient[d] = sign * value[lo + d];
     out->crossings = c;
+    out->writhe = 0;
+    for (int x = 0; x < c; x++) out->writhe += pr->x[x].sign;
     snprintf(out->name, sizeof out->name, "unknown (degree %d)", terms - 1);
     int named = 0;
     for (size_t k = 0; k < sizeof known_knots / sizeof known_knots[0] && !named; k++) {
@@ -636,6 +822,13 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
         named = memcmp(known_knots[k].c, out->coefficient, (size_t)terms * sizeof(long long)) == 0;
         if (named) snprintf(out->name, sizeof out->name, "%s", known_knots[k].name);
     }
+    /* the signature tells the square knot (0) from the granny (+-4) */
+    static const long long two_trefoils[5] = {1, -2, 3, -2, 1};
+    if (terms == 5 && memcmp(two_trefoils, out->coefficient, sizeof two_trefoils) == 0 &&
+        out->has_signature && (out->signature == 0 || abs(out->signature) == 4))
+        snprintf(out->name, sizeof out->name, "%s",
+                 out->signature == 0 ? "square knot (trefoil # mirror trefoil)"
+                                     : "granny knot (trefoil # trefoil)");
     if (!named && terms <= ROD_KNOT_MAX_TERMS) {
         char text[72];
         rod_knot_polynomial_text(out, text, sizeof text);

@@ -209,16 +209,25 @@ typedef struct reference {
     int terms;
     long long c[5];
     long long determinant;
+    int signature; /* additive under # (Livingston, Knot Theory, ch. 6) */
 } reference;
 
-static const reference UNKNOT = {"unknot", 1, {1}, 1};
-static const reference TREFOIL = {"trefoil", 3, {1, -1, 1}, 3};
-static const reference FIGURE_EIGHT = {"figure-eight", 3, {1, -3, 1}, 5};
-static const reference CINQUEFOIL = {"cinquefoil (5_1)", 5, {1, -1, 1, -1, 1}, 5};
-static const reference TWO_TREFOILS = {"square or granny (composite of two trefoils)", 5,
-                                       {1, -2, 3, -2, 1}, 9};
+/* The (2,q) torus knots as parametrised here are left-handed: every crossing
+ * negative (the trefoil's 3-crossing diagram has writhe -3, checked below; the
+ * Gauss writhe integral of the 400-point curve, computed separately, is
+ * -3.52). Their signatures are then positive: +2 (trefoil), +4 (5_1), the
+ * convention in which the right-handed trefoil has -2 (sign(V + V^T) of its
+ * Seifert matrix V = [-1 1; 0 -1]). */
+static const reference UNKNOT = {"unknot", 1, {1}, 1, 0};
+static const reference TREFOIL = {"trefoil", 3, {1, -1, 1}, 3, 2};
+static const reference MIRROR_TREFOIL = {"trefoil", 3, {1, -1, 1}, 3, -2};
+static const reference FIGURE_EIGHT = {"figure-eight", 3, {1, -3, 1}, 5, 0};
+static const reference CINQUEFOIL = {"cinquefoil (5_1)", 5, {1, -1, 1, -1, 1}, 5, 4};
+static const reference GRANNY = {"granny knot (trefoil # trefoil)", 5, {1, -2, 3, -2, 1}, 9, 4};
+static const reference SQUARE = {"square knot (trefoil # mirror trefoil)", 5, {1, -2, 3, -2, 1},
+                                 9, 0};
 static const reference TREFOIL_FIGURE_EIGHT = {"trefoil # figure-eight", 5,
-                                               {1, -4, 5, -4, 1}, 15};
+                                               {1, -4, 5, -4, 1}, 15, 2};
 
 /* Identifies g (closed or open) and checks name, polynomial and determinant. */
 static void expect(const char *what, const polygon *g, int closed, const reference *ref)
@@ -236,11 +245,13 @@ static void expect(const char *what, const polygon *g, int closed, const referen
     rod_knot_polynomial_text(&refk, want, sizeof want);
     int same = k.terms == ref->terms &&
                memcmp(k.coefficient, ref->c, (size_t)ref->terms * sizeof(long long)) == 0;
-    check(same && strcmp(k.name, ref->name) == 0 && k.determinant == ref->determinant,
-          "%s (%s): computed %s, Delta = %s, det %lld (%d crossings, %d tries); reference %s, "
-          "Delta = %s, det %lld",
-          what, closed ? "closed" : "open", k.name, text, k.determinant, k.crossings, k.tries,
-          ref->name, want, ref->determinant);
+    check(same && strcmp(k.name, ref->name) == 0 && k.determinant == ref->determinant &&
+              k.has_signature && k.signature == ref->signature,
+          "%s (%s): computed %s, Delta = %s, det %lld, signature %d%s (%d crossings, writhe %d, "
+          "%d tries); reference %s, Delta = %s, det %lld, signature %d",
+          what, closed ? "closed" : "open", k.name, text, k.determinant, k.signature,
+          k.has_signature ? "" : " (not computed)", k.crossings, k.writhe, k.tries, ref->name, want,
+          ref->determinant, ref->signature);
 }
 
 /* Closed, open, and 4 random rotations of the open one. opposite: 1 tails
@@ -283,9 +294,11 @@ int main(void)
         char err[256] = "";
         wound_side(&poly, 4000, 60);
         int rc = rod_knot_identify_closed(poly.p, poly.n, &k, err, sizeof err);
-        check(rc == 0 && strcmp(k.name, "unknot") == 0 && k.crossings >= 100,
-              "circle wound 60 times: computed %s with %d crossings (%s); reference unknot, "
-              ">= 100 crossings", rc ? "?" : k.name, k.crossings, err);
+        check(rc == 0 && strcmp(k.name, "unknot") == 0 && k.crossings >= 100 &&
+                  k.has_signature && k.signature == 0,
+              "circle wound 60 times: computed %s, signature %d, with %d crossings (%s); "
+              "reference unknot, signature 0, >= 100 crossings", rc ? "?" : k.name, k.signature,
+              k.crossings, err);
     }
     {
         static polygon line;
@@ -301,10 +314,20 @@ int main(void)
 
     printf("-- prime knots\n");
     torus_knot(&poly, 300, 2, 3, 0, 0.0);
+    {
+        /* handedness of the parametrisation: a 3-crossing diagram of it */
+        rod_knot k;
+        char err[256] = "";
+        int rc = rod_knot_identify_closed(poly.p, poly.n, &k, err, sizeof err);
+        check(rc == 0 && k.crossings == 3 && k.writhe == -3,
+              "the (2,3) torus knot's first projection: %d crossings, writhe %d (reference 3, -3: "
+              "every crossing negative, the left-handed trefoil, as its Gauss writhe -3.52)",
+              k.crossings, k.writhe);
+    }
     expect_all("trefoil (2,3) torus knot", &poly, &TREFOIL, 0);
     expect_all("trefoil, tails opposite", &poly, &TREFOIL, 1);
     torus_knot(&poly, 300, 2, 3, 1, 0.0);
-    expect_all("mirror trefoil", &poly, &TREFOIL, 0);
+    expect_all("mirror trefoil", &poly, &MIRROR_TREFOIL, 0);
     figure_eight(&poly, 400, 0.0);
     expect_all("figure-eight", &poly, &FIGURE_EIGHT, 0);
     expect_all("figure-eight, tails opposite", &poly, &FIGURE_EIGHT, 1);
@@ -316,10 +339,10 @@ int main(void)
     torus_knot(&a, 300, 2, 3, 0, 0.0);
     torus_knot(&b, 300, 2, 3, 0, 0.0);
     connected_sum(&poly, &a, &b);
-    expect_all("granny (trefoil # trefoil)", &poly, &TWO_TREFOILS, 2);
+    expect_all("granny (trefoil # trefoil)", &poly, &GRANNY, 2);
     torus_knot(&b, 300, 2, 3, 1, 0.0);
     connected_sum(&poly, &a, &b);
-    expect_all("square (trefoil # mirror)", &poly, &TWO_TREFOILS, 2);
+    expect_all("square (trefoil # mirror)", &poly, &SQUARE, 2);
     figure_eight(&b, 400, 0.0);
     connected_sum(&poly, &a, &b);
     expect_all("trefoil # figure-eight", &poly, &TREFOIL_FIGURE_EIGHT, 2);
