@@ -325,6 +325,27 @@ int main(void)
               k.crossings, k.writhe);
     }
     expect_all("trefoil (2,3) torus knot", &poly, &TREFOIL, 0);
+    {
+        /* a circle in a plane holding the first direction tried is seen edge-on
+         * there, its halves overlapping: that projection is dropped, the next used */
+        rod_knot k;
+        char err[256] = "";
+        int rc = rod_knot_identify_closed(poly.p, poly.n, &k, err, sizeof err);
+        const double *w = k.direction;
+        double a[3] = {w[1], -w[0], 0.0}, l = hypot(a[0], a[1]); /* perpendicular to w */
+        work.n = 64;
+        for (int i = 0; i < work.n; i++) {
+            double f = 2.0 * M_PI * i / work.n;
+            for (int j = 0; j < 3; j++) work.p[3 * i + j] = cos(f) * w[j] + sin(f) * a[j] / l;
+        }
+        rod_knot again;
+        int rc2 = rod_knot_identify_closed(work.p, work.n, &again, err, sizeof err);
+        check(rc == 0 && k.tries == 1 && rc2 == 0 && again.tries >= 2 &&
+                  strcmp(again.name, "unknot") == 0,
+              "a circle seen edge-on from the first direction: %d directions tried (reference "
+              ">= 2), computed %s (reference unknot) (%s)", again.tries, rc2 ? "?" : again.name,
+              err);
+    }
     expect_all("trefoil, tails opposite", &poly, &TREFOIL, 1);
     torus_knot(&poly, 300, 2, 3, 1, 0.0);
     expect_all("mirror trefoil", &poly, &MIRROR_TREFOIL, 0);
