@@ -17,8 +17,8 @@
 #include <stddef.h>
 
 /* Most crossings a projection may have: the determinant costs ~crossings^3
- * (~0.1 s at this many); a polygon whose every tried projection has more is
- * refused. */
+ * (bench_knot: 3 ms at 77 crossings, 0.19 s at 363); a polygon whose every
+ * tried projection has more is refused. */
 #define ROD_KNOT_MAX_CROSSINGS 400
 /* Most points of a polygon (the crossing search is near linear). */
 #define ROD_KNOT_MAX_POINTS 2000000
