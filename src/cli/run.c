@@ -17,6 +17,7 @@
 #include "cli/args.h"
 #include "cli/scene_keys.h"
 #include "render/gl_context.h"
+#include "sim/knot.h"
 #include "sim/scene.h"
 
 #define RUN_ERR_LEN 1024
@@ -542,9 +543,80 @@ static int check_budget(const run_args *a, const rod_model *m, const run_output 
     return 0;
 }
 
+/* The knot type of the centreline at every output frame (issue 12): the
+ * first and last, and whether and when it changed. Summary only, no CSV
+ * column (decided for now: one name per frame would repeat itself). */
+typedef struct knot_track {
+    rod_knot first, last;
+    int frames, changes, failures;
+    double first_time, last_time, change_time; /* s */
+    char change_from[96], change_to[96];
+    char failure[256];       /* the first identification that failed, or "" */
+    double seconds;          /* wall time spent identifying */
+    rod_knot_scratch *scratch; /* owned; NULL: each call allocates */
+} knot_track;
+
+static int same_knot(const rod_knot *a, const rod_knot *b)
+{
+    /* the signature too: a trefoil turning into its mirror image is a change */
+    return a->terms == b->terms &&
+           memcmp(a->coefficient, b->coefficient, (size_t)a->terms * sizeof a->coefficient[0]) == 0 &&
+           a->has_signature == b->has_signature && a->signature == b->signature;
+}
+
+static void track_knot(knot_track *k, const rod_state *s)
+{
+    double start = wall_seconds();
+    rod_knot now;
+    char err[200];
+    if (rod_knot_identify_in(k->scratch, s->position, s->nodes, 0, &now, err, sizeof err)) {
+        if (!k->failures++)
+            snprintf(k->failure, sizeof k->failure, "at t = %g s: %s", s->time, err);
+    } else {
+        if (k->frames == 0) {
+            k->first = now;
+            k->first_time = s->time;
+        } else if (!same_knot(&now, &k->last) && k->changes++ == 0) {
+            k->change_time = s->time;
+            snprintf(k->change_from, sizeof k->change_from, "%s", k->last.name);
+            snprintf(k->change_to, sizeof k->change_to, "%s", now.name);
+        }
+        k->last = now;
+        k->last_time = s->time;
+        k->frames++;
+    }
+    k->seconds += wall_seconds() - start;
+}
+
+static void print_knots(FILE *f, const knot_track *k)
+{
+    if (k->frames > 0) {
+        char poly[128];
+        rod_knot_polynomial_text(&k->first, poly, sizeof poly);
+        if (k->changes == 0)
+            fprintf(f, "        knot: %s at t = %g s and at t = %g s, the same in all %d output "
+                       "frames (Alexander polynomial %s, determinant %lld, signature %d%s)\n",
+                    k->first.name, k->first_time, k->last_time, k->frames, poly,
+                    k->first.determinant, k->first.signature,
+                    k->first.has_signature ? "" : " not computed");
+        else
+            fprintf(f, "        knot: %s at t = %g s, %s at t = %g s: CHANGED %d time%s over %d "
+                       "output frames, first at t = %g s (%s -> %s)\n",
+                    k->first.name, k->first_time, k->last.name, k->last_time, k->changes,
+                    k->changes == 1 ? "" : "s", k->frames, k->change_time, k->change_from,
+                    k->change_to);
+        fprintf(f, "        knot identification: %.3g ms per output frame\n",
+                1e3 * k->seconds / (k->frames + k->failures));
+    }
+    if (k->failures)
+        fprintf(f, "        knot: not identified in %d output frames, first %s\n", k->failures,
+                k->failure);
+}
+
 /* Where the frames of a run go as they come: the CSV (streamed) and the
  * recording the video is made from (NULL without a video). */
 typedef struct frame_sink {
+    knot_track *knot;       /* the first pass only: knot type per output frame */
     FILE *csv;
     rod_recording *rec;     /* every frame, or a sample (sample_cap > 0) */
     int sample_cap;         /* > 0: keep every stride-th frame, at most this many */
@@ -558,6 +630,7 @@ static int on_frame(void *context, const rod_model *m, const rod_state *s, char 
 {
     frame_sink *sink = context;
     int64_t index = sink->index++;
+    if (sink->knot) track_knot(sink->knot, s);
     if (sink->csv) {
         if (run_csv_frame(sink->csv, m, s)) {
             snprintf(err, errlen, "out of memory");
@@ -705,7 +778,8 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
 
     rod_solver solver = {0};
     rod_state *s = NULL;
-    frame_sink sink = {0};
+    knot_track knots = {.scratch = rod_knot_scratch_create()};
+    frame_sink sink = {.knot = &knots};
     outfile csv_file = {.fd = -1, .slot = -1};
     int status = RUN_EXIT_FAILURE;
     outfile_transaction_begin();
@@ -800,8 +874,14 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
         goto done;
     }
     if (report.warning[0]) fprintf(stderr, "rodsim run: warning: %s\n", report.warning);
+    if (knots.changes) /* without self-contact a strand may pass through another */
+        fprintf(stderr, "rodsim run: warning: the knot type changed %d time%s between output "
+                        "frames, first at t = %g s (%s -> %s)\n",
+                knots.changes, knots.changes == 1 ? "" : "s", knots.change_time,
+                knots.change_from, knots.change_to);
     if (!a->quiet) {
         print_result(talk, m, s, stats.steps, stats.wall_seconds);
+        print_knots(talk, &knots);
         if (a->csv && !csv_stdout)
             fprintf(talk, "        wrote %s (%lld frames x %d nodes)\n", a->csv,
                     (long long)plan.frames, m->nodes);
@@ -819,6 +899,7 @@ done:
     }
     if (csv_stdout && sink.csv) fclose(sink.csv);
     rod_recording_destroy(sink.rec);
+    rod_knot_scratch_destroy(knots.scratch);
     rod_state_destroy(s);
     rod_solver_release(&solver);
     return status;

@@ -8,6 +8,7 @@
 
 #include "base/vec3.h"
 #include "sim/path.h"
+#include "sim/proximity.h"
 #include "sim/rod_geometry.h"
 
 rod_model rod_model_default(void)
@@ -179,6 +180,34 @@ static void end_start(const rod_model *m, int end, double out[3])
     for (int k = 0; k < 3; k++) out[k] = m->origin[k] + (end ? m->length : 0.0) * unit[k];
 }
 
+/* Issue 12: a starting shape whose strands already overlap (two non-neighbouring
+ * segments closer than the diameter) is refused, naming the segments (1-based,
+ * as the other shape messages) and the arc lengths of their closest points.
+ * Non-neighbours: rod_proximity_skip (closer in arc length than pi d / 2 they
+ * cannot touch as strands). 1e-6 relative slack: strands drawn exactly
+ * touching stay accepted after the resampling's rounding. */
+static int shape_self_contact(const rod_model *m, char *err, size_t errlen)
+{
+    rod_proximity *prox = rod_proximity_create(m->nodes);
+    if (!prox) {
+        snprintf(err, errlen, "shape: out of memory");
+        return -1;
+    }
+    rod_segment_pair c;
+    int found = rod_proximity_min(prox, m->initial_shape, m->nodes,
+                                  rod_proximity_skip(m->diameter, m->ds), &c);
+    rod_proximity_destroy(prox);
+    if (found == 1 && c.distance < m->diameter * (1.0 - 1e-6)) {
+        snprintf(err, errlen, "shape: intersects itself: segments %d (s = %.6g m) and %d "
+                 "(s = %.6g m) come %.6g m apart, closer than the diameter %.6g m; move the "
+                 "strands at least one diameter apart",
+                 c.i + 1, (c.i + c.s) * m->ds, c.j + 1, (c.j + c.t) * m->ds, c.distance,
+                 m->diameter);
+        return -1;
+    }
+    return 0;
+}
+
 /* The checks of issue 10's inputs. Messages start with the scene key
  * ("tip_motion: ...") so the scene reader can name its line. */
 static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
@@ -251,6 +280,7 @@ static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
                      "or smooth the shape", ROD_UNRESOLVED_BEND, bad, bad * m->ds);
             return -1;
         }
+        if (shape_self_contact(m, err, errlen)) return -1;
     }
     struct {
         const char *name;

@@ -1,0 +1,55 @@
+/* proximity.h: closest approach between non-neighbouring segments of a rod's
+ * centreline (issue 12's self-contact and its starting-shape check). Segment
+ * i joins node i to node i+1 of an open polygon of `nodes` points (nodes x 3,
+ * m). A broad phase (a hashed uniform grid of cells as large as the longest
+ * segment plus the threshold) keeps the search near linear in the nodes; the
+ * narrow phase is the exact segment-segment distance. */
+#ifndef RODSIM_SIM_PROXIMITY_H
+#define RODSIM_SIM_PROXIMITY_H
+
+/* Two segments i < j and their closest points p_i + s (p_{i+1} - p_i),
+ * p_j + t (p_{j+1} - p_j), s and t in [0, 1]. */
+typedef struct rod_segment_pair {
+    int i, j;
+    double s, t;
+    double distance;   /* m */
+} rod_segment_pair;
+
+/* Scratch of the search, sized once for up to max_nodes points (no allocation
+ * per call: a step loop may call it). Counters of the last call for benches. */
+typedef struct rod_proximity {
+    int max_nodes;
+    void *entries;     /* (8 (max_nodes - 1)) grid entries */
+    long long narrow_tests;  /* segment pairs whose distance the last call computed */
+} rod_proximity;
+
+/* NULL when out of memory or max_nodes < 2. */
+rod_proximity *rod_proximity_create(int max_nodes);
+void rod_proximity_destroy(rod_proximity *p);
+
+/* The skip for a rod of diameter d with segments ds long (both m): pairs with
+ * j - i > skip are non-neighbours. Two points of the centreline closer than
+ * pi d / 2 in arc length cannot touch as strands: bringing them one diameter
+ * apart needs at least a half turn of radius d / 2. So j - i - 1 segments
+ * between them must span pi d / 2; at least 1 (segments sharing a node). */
+int rod_proximity_skip(double diameter, double ds);
+
+/* Every pair i < j, j - i > skip, closer than threshold (m, > 0); writes up to
+ * max_pairs of them into pairs (NULL when max_pairs is 0), sorted by (i, j).
+ * Returns how many there are (may exceed max_pairs), or -1 when nodes exceeds
+ * the scratch's max_nodes or an input is not finite. */
+int rod_proximity_pairs(rod_proximity *p, const double *points, int nodes, double threshold,
+                        int skip, rod_segment_pair *pairs, int max_pairs);
+
+/* The closest pair i < j with j - i > skip into *closest. Returns 1, 0 when
+ * no pair is that far apart in index (a short polygon), or -1 as above. */
+int rod_proximity_min(rod_proximity *p, const double *points, int nodes, int skip,
+                      rod_segment_pair *closest);
+
+/* Exact distance between segments a0-a1 and b0-b1 (m), with the closest
+ * points' parameters s on a and t on b (either may be NULL). Parallel and
+ * zero-length segments give the distance and one of the closest pairs. */
+double rod_segment_distance(const double a0[3], const double a1[3], const double b0[3],
+                            const double b1[3], double *s, double *t);
+
+#endif
