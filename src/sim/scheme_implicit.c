@@ -84,6 +84,10 @@
 #define BAND 8
 #define BLOCK_PLANAR 5
 #define BAND_PLANAR 5
+/* With punctures, a block's unknowns reach the rows of blocks b-2..b+2 (a
+ * puncture's force couples the two nodes of its segment): half bandwidth
+ * 2 BLOCK + BLOCK - 1 and 5 colours. */
+#define BAND_PUNCTURE 17
 #define MAX_SPLIT_DEPTH 12
 /* Newton iterations one step may spend, splits included (each attempt costs
  * one more): bounds the time a hopeless step takes (about 1 s at NS = 1001)
@@ -98,9 +102,9 @@
  * equations well posed: with an exact stop, a segment between two stuck
  * nodes would have an undetermined tension. */
 #define CONTACT_STIFF 1000.0
-/* Friction creeps below this speed (m/s): a rod held by friction on a slope
- * moves at most CONTACT_CREEP tan(alpha) / mu. */
-#define CONTACT_CREEP 1e-5
+/* m/s: the least and the largest creep speed of friction (creep_speed) */
+#define CONTACT_CREEP 1e-6
+#define CONTACT_CREEP_MAX 1e-3
 
 /* One end's condition, read once from the model (index 0 root, 1 tip). */
 typedef struct end_condition {
@@ -140,6 +144,21 @@ typedef struct implicit_work {
     double *pos0;          /* (nodes x 3) global, positions at the start of the step */
     double *surface_force; /* (nodes x 3) global, N: what the surfaces exert, this iterate */
     double fd_step;        /* relative step of the finite-difference Jacobian */
+    int reach;             /* blocks a block's unknowns reach: 1, or 2 with punctures */
+    int contact;           /* 1: surfaces or punctures (Newton with a line search) */
+    /* punctures of this step (from the state at its start; see puncture_force) */
+    int puncture_count;
+    struct {
+        int j;             /* segment j..j+1 the thread passes the point through */
+        double alpha;      /* fraction along it */
+        double point[3], tangent[3], friction;
+        double force[3];   /* N, global: what the tissue exerts on the thread, this iterate */
+    } punct[ROD_MAX_PUNCTURES];
+    unsigned *threaded;    /* (nodes): bit j set when the node is threaded through tissue
+                              surface j (between its punctures): no contact with it */
+    int needle_tissue;     /* 1: the driven tip carries a needle and a surface is tissue */
+    rod_puncture_state save_puncture[ROD_MAX_PUNCTURES];
+    int save_puncture_count;
     int planar;        /* 1: the planar problem (rod_model_loads_planar and physics.planar) */
     int block, kl;     /* unknowns per block and half bandwidth (BLOCK/BAND or _PLANAR) */
     int var_kind[BLOCK_PLANAR > BLOCK ? BLOCK_PLANAR : BLOCK]; /* per component of a block:
@@ -209,6 +228,7 @@ static void destroy(void *p)
                          &w->point_force, &w->point_moment, &w->vbar,
                          &w->pos0, &w->surface_force};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) free(*arrays[k]);
+    free(w->threaded);
     free(w->pivot);
     free(w->inv_diag);
     free(w);
@@ -289,6 +309,14 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->blocks = m->nodes - w->first;
     w->block = w->planar ? BLOCK_PLANAR : BLOCK;
     w->kl = w->planar ? BAND_PLANAR : BAND;
+    /* punctures can be made by the needle during the run: a driven tip with
+     * a needle and a tissue surface make room for them from the start */
+    int tissue = 0;
+    for (int k = 0; k < m->surface_count; k++) tissue |= m->surfaces[k].tissue;
+    w->reach = (m->puncture_count > 0 || (tissue && m->needle_radius > 0.0)) ? 2 : 1;
+    if (w->reach == 2) w->kl = BAND_PUNCTURE;
+    w->contact = m->surface_count > 0 || w->reach == 2;
+    w->needle_tissue = tissue && m->needle_radius > 0.0;
     static const int kinds3[BLOCK] = {0, 0, 0, 2, 2, 2};
     static const int kinds2[BLOCK_PLANAR] = {0, 0, 1, 1, 2};
     memcpy(w->var_kind, w->planar ? kinds2 : kinds3, (size_t)w->block * sizeof(int));
@@ -330,9 +358,11 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->vbar = calloc(n * 3, sizeof(double));
     w->pos0 = calloc(n * 3, sizeof(double));
     w->surface_force = calloc(n * 3, sizeof(double));
+    w->threaded = calloc(n, sizeof(unsigned));
+    if (!w->threaded) goto oom;
     w->surface_count = m->surface_count;
-    /* contact's friction turns within CONTACT_CREEP of zero velocity: a
-     * step of 1e-7 of the force scale moves a node by more than that */
+    /* contact's friction turns within its creep speed (creep_speed): a step
+     * of 1e-7 of the force scale can move a node by more than that */
     w->fd_step = (m->surface_count || m->puncture_count) ? 1e-9 : 1e-7;
     w->surfaces = m->surfaces;
     if (!w->pos0 || !w->surface_force) goto oom;
@@ -564,6 +594,51 @@ static void end_velocity(implicit_work *w, const rod_model *m, const end_conditi
     }
 }
 
+/* The fraction of a free offset e (m: how deep a node's free motion would
+ * end inside a surface, or how far a thread's point would miss its
+ * puncture) that the contact force takes back: kappa / (1 + kappa), kappa =
+ * CONTACT_STIFF + e / floor. What is left, e / (1 + kappa), is at most
+ * e / CONTACT_STIFF and below `floor` (m) however far the free motion goes
+ * (a light thread under a large force). It is an implicit spring of
+ * stiffness kappa / a (a the point's compliance over the step), whose force
+ * the step's Newton iteration solves with everything else. */
+static inline double compliant_fraction(double e, double floor)
+{
+    double kappa = CONTACT_STIFF + e / floor;
+    return kappa / (1.0 + kappa);
+}
+
+/* Regularised Coulomb friction on a point whose tangential speed would be
+ * S without friction and falls by c per unit of the friction's fraction of
+ * its limit (c = compliance x mu x normal force): the friction is mu lambda
+ * phi(v / eps) against the end-of-step velocity v, phi(x) = x / sqrt(1 +
+ * x^2) (viscous creep below eps, Coulomb above; smooth, so that Newton
+ * converges through changes between stick and slip). Returns the speed v
+ * that solves v + c phi(v / eps) = S. The left side is increasing and
+ * concave, so Newton from v = max(0, S - c) (where it is <= S) climbs to the
+ * root monotonically.
+ *
+ * eps = 1 / (CONTACT_STIFF / c + 1 / CONTACT_CREEP_MAX) + CONTACT_CREEP: in
+ * stick the point keeps about 1 / (1 + CONTACT_STIFF) of its free
+ * tangential motion over the step, which keeps the tension of a stuck
+ * thread determined and the Jacobian well conditioned, but creeps no faster
+ * than CONTACT_CREEP_MAX (a light thread under a large force would creep
+ * fast); the floor CONTACT_CREEP keeps the law smooth where the normal force
+ * is nearly 0. Sliding at v, the friction is short of mu lambda by about
+ * (eps / v)^2 / 2. */
+static double creep_speed(double speed, double c)
+{
+    const double eps = 1.0 / (CONTACT_STIFF / c + 1.0 / CONTACT_CREEP_MAX) + CONTACT_CREEP;
+    double sp = speed > c ? speed - c : 0.0;
+    for (int it = 0; it < 60; it++) {
+        double x = sp / eps, q = 1.0 + x * x, root = sqrt(q);
+        double g = sp + c * x / root - speed;
+        if (!(g < -1e-15 * speed)) break;
+        sp -= g / (1.0 + (c / eps) / (q * root));
+    }
+    return sp > speed ? speed : sp;
+}
+
 /* Contact of node b with the surfaces (issue 11), inside the residual.
  *
  * The velocity is not a Newton unknown: (3.3)_1 gives it from N, and a
@@ -602,6 +677,7 @@ static void node_contact(implicit_work *w, const rod_model *m, int b, double pus
     for (int pass = 0; pass < passes; pass++)
         for (int j = 0; j < w->surface_count; j++) {
             const rod_surface *sf = &w->surfaces[j];
+            if (w->threaded[b] & (1u << j)) continue;
             double r1[3], n0[3], near0[3], n[3], p[3];
             for (int k = 0; k < 3; k++) r1[k] = r0[k] + dt * vb[k];
             double gap0 = rod_surface_gap(sf, r0, grow, n0, near0), depth;
@@ -623,37 +699,200 @@ static void node_contact(implicit_work *w, const rod_model *m, int b, double pus
                 depth = v3_dot(d, n);
             }
             if (!(depth < 0.0)) continue;
-            double lambda = -depth / a * CONTACT_STIFF / (1.0 + CONTACT_STIFF), fn[3], vt[3];
+            double lambda = -depth / a * compliant_fraction(-depth, 0.01 * grow), fn[3], vt[3];
             v3_scale(fn, n, lambda);
             v3_axpy(v1, push, fn);
             v3_axpy(vb, theta * push, fn);
             v3_axpy(force, 1.0, fn);
-            /* friction, regularised Coulomb: mu lambda phi(|v_t| / v_eps)
-             * against the end-of-step tangential velocity v_t, phi(x) = x /
-             * sqrt(1 + x^2) (viscous creep below v_eps, Coulomb above; smooth,
-             * so Newton converges through changes between stick and slip).
-             * v_t = vt - push f: the speed s solves s + c phi(s / v_eps) = S,
-             * c = push mu lambda; the left side is increasing and concave, so
-             * Newton from s = max(0, S - c) (where it is <= S) climbs to the
-             * root monotonically. */
+            /* friction against the tangential velocity (creep_speed) */
             double vn = v3_dot(v1, n);
             for (int k = 0; k < 3; k++) vt[k] = v1[k] - vn * n[k];
             double speed = v3_norm(vt), limit = sf->friction * lambda, ft[3];
             if (speed == 0.0 || limit == 0.0) continue;
-            const double c = push * limit, eps = getenv("EPSK") ? c / atof(getenv("EPSK")) : CONTACT_CREEP;
-            double sp = speed > c ? speed - c : 0.0;
-            for (int it = 0; it < 60; it++) {
-                double x = sp / eps, q = 1.0 + x * x, root = sqrt(q);
-                double g = sp + c * x / root - speed;
-                if (!(g < -1e-15 * speed)) break;
-                sp -= g / (1.0 + (c / eps) / (q * root));
-            }
-            if (sp > speed) sp = speed;
+            double sp = creep_speed(speed, push * limit);
             v3_scale(ft, vt, -(speed - sp) / (push * speed));
             v3_axpy(v1, push, ft);
             v3_axpy(vb, theta * push, ft);
             v3_axpy(force, 1.0, ft);
         }
+}
+
+/* The punctures' forces (issue 11), inside the residual, after every
+ * node's velocity and surface contact: a sliding point constraint. The
+ * thread's point at (segment j, fraction alpha) must pass through the
+ * puncture's point P: the force across the thread (perpendicular to the
+ * segment) that puts it there, short by 1 / (1 + CONTACT_STIFF) as the
+ * surfaces' normal force, and Coulomb friction along the thread limited by
+ * mu times that force (creep_speed), so the tension drops across a
+ * puncture by at most mu |F_across| while the thread slides through. The
+ * force acts on the two nodes by the weights 1 - alpha, alpha; the point's
+ * velocity responds with the compliance (1-alpha)^2 push_j + alpha^2
+ * push_j+1. Where the thread passes is updated after each step
+ * (update_punctures), so it slides through at whatever arc length. */
+static void puncture_forces(implicit_work *w, const rod_model *m, double push, double dt)
+{
+    const int n = w->nodes;
+    const double theta = m->options.theta;
+    for (int k = 0; k < w->puncture_count; k++) {
+        const int j = w->punct[k].j, i2 = j + 1;
+        const double al = w->punct[k].alpha, *t = w->punct[k].tangent;
+        double pj = (j == 0 || j == n - 1) ? 2.0 * push : push;
+        double pk = (i2 == n - 1) ? 2.0 * push : push;
+        const end_condition *ej = j == 0 ? &w->ends[0] : NULL;
+        const end_condition *ek = i2 == n - 1 ? &w->ends[1] : NULL;
+        if (ej && ej->held) pj = 0.0; /* a held end's velocity is its support's */
+        if (ek && ek->held) pk = 0.0;
+        const double wj = 1.0 - al, wk = al, peff = wj * wj * pj + wk * wk * pk;
+        double *force = w->punct[k].force;
+        v3_set(force, 0.0, 0.0, 0.0);
+        if (!(peff > 0.0)) continue;
+        double rp[3], e[3], f[3];
+        for (int c = 0; c < 3; c++)
+            rp[c] = wj * (w->pos0[3 * j + c] + dt * w->vbar[3 * j + c]) +
+                    wk * (w->pos0[3 * i2 + c] + dt * w->vbar[3 * i2 + c]);
+        v3_sub(e, rp, w->punct[k].point);
+        v3_axpy(e, -v3_dot(e, t), t);
+        v3_scale(f, e, -compliant_fraction(v3_norm(e), 0.005 * m->diameter) / (dt * theta * peff));
+        for (int c = 0; c < 3; c++) {
+            w->vel1[3 * j + c] += pj * wj * f[c];
+            w->vbar[3 * j + c] += theta * pj * wj * f[c];
+            w->vel1[3 * i2 + c] += pk * wk * f[c];
+            w->vbar[3 * i2 + c] += theta * pk * wk * f[c];
+        }
+        v3_copy(force, f);
+        /* friction along the thread */
+        double across = v3_norm(f), limit = w->punct[k].friction * across, vt = 0.0;
+        for (int c = 0; c < 3; c++) vt += t[c] * (wj * w->vel1[3 * j + c] + wk * w->vel1[3 * i2 + c]);
+        double speed = fabs(vt);
+        if (speed == 0.0 || limit == 0.0) continue;
+        double sp = creep_speed(speed, peff * limit);
+        double ft = -(speed - sp) / peff * (vt > 0.0 ? 1.0 : -1.0);
+        for (int c = 0; c < 3; c++) {
+            w->vel1[3 * j + c] += pj * wj * ft * t[c];
+            w->vbar[3 * j + c] += theta * pj * wj * ft * t[c];
+            w->vel1[3 * i2 + c] += pk * wk * ft * t[c];
+            w->vbar[3 * i2 + c] += theta * pk * wk * ft * t[c];
+            force[c] += ft * t[c];
+        }
+    }
+}
+
+/* Segment and fraction of each puncture for the step from the state, and
+ * the thread's direction there (from the start of the step). */
+static void prepare_punctures(implicit_work *w, const rod_model *m, const rod_state *s)
+{
+    const int n = w->nodes;
+    w->puncture_count = s->puncture_count;
+    for (int k = 0; k < s->puncture_count; k++) {
+        double u = s->puncture[k].s / m->ds;
+        int j = (int)floor(u);
+        if (j > n - 2) j = n - 2;
+        if (j < 0) j = 0;
+        double al = u - j;
+        w->punct[k].j = j;
+        w->punct[k].alpha = al < 0.0 ? 0.0 : al > 1.0 ? 1.0 : al;
+        v3_copy(w->punct[k].point, s->puncture[k].point);
+        w->punct[k].friction = s->puncture[k].friction;
+        /* the thread's direction at the point: the node tangents (central
+         * differences) interpolated, not the segment's, so that the point can
+         * slide along the thread when it sits at a node where the thread
+         * turns (a tight bend at the puncture) */
+        double t[3] = {0.0, 0.0, 0.0};
+        for (int e = 0; e < 2; e++) {
+            int i = j + e, lo = i > 0 ? i - 1 : 0, hi = i < n - 1 ? i + 1 : n - 1;
+            double d[3];
+            v3_sub(d, &s->position[3 * hi], &s->position[3 * lo]);
+            v3_axpy(t, (e ? al : 1.0 - al) / v3_norm(d), d);
+        }
+        v3_scale(w->punct[k].tangent, t, 1.0 / v3_norm(t));
+        v3_set(w->punct[k].force, 0.0, 0.0, 0.0);
+    }
+    /* the thread between a tissue surface's punctures in the order the
+     * needle made them (in, out, in, ...) is inside it: from an entry at s_in
+     * to the next exit (or the tip, before it) no contact with that surface;
+     * a segment's length of slack each side covers the nodes beside a
+     * puncture */
+    memset(w->threaded, 0, (size_t)n * sizeof(unsigned));
+    for (int j = 0; j < m->surface_count && j < 32; j++) {
+        double entry = -1.0;
+        for (int k = 0; k < s->puncture_count; k++) {
+            if (s->puncture[k].surface != j) continue;
+            if (entry < 0.0) {
+                entry = s->puncture[k].s;
+                continue;
+            }
+            double exit_s = s->puncture[k].s, lo = fmin(entry, exit_s), hi = fmax(entry, exit_s);
+            for (int i = 0; i < n; i++)
+                if (i * m->ds >= lo - m->ds && i * m->ds <= hi + m->ds) w->threaded[i] |= 1u << j;
+            entry = -1.0;
+        }
+        if (entry >= 0.0)
+            for (int i = 0; i < n; i++)
+                if (i * m->ds >= entry - m->ds) w->threaded[i] |= 1u << j;
+    }
+}
+
+/* After a step: a needle carried by the driven tip that crossed a tissue
+ * surface's boundary over the step (in or out) makes a puncture where it
+ * crossed; the thread then passes through it. Returns -1 when there is no
+ * room for one more (ROD_MAX_PUNCTURES). */
+static int needle_punctures(implicit_work *w, const rod_model *m, rod_state *s, rod_report *report)
+{
+    const int n = w->nodes;
+    const double *a = &w->pos0[3 * (n - 1)], *b = &s->position[3 * (n - 1)];
+    for (int j = 0; j < m->surface_count && j < 32; j++) {
+        const rod_surface *sf = &m->surfaces[j];
+        if (!sf->tissue) continue;
+        double f, point[3], normal[3];
+        int crossed = 0;
+        if (rod_surface_gap(sf, a, 0.0, NULL, NULL) > 0.0) crossed = rod_surface_sweep(sf, a, b, 0.0, &f, point, normal);
+        else if (rod_surface_gap(sf, b, 0.0, NULL, NULL) > 0.0) crossed = rod_surface_sweep(sf, b, a, 0.0, &f, point, normal);
+        if (!crossed) continue;
+        if (s->puncture_count >= ROD_MAX_PUNCTURES) {
+            snprintf(report->message, sizeof report->message,
+                     "implicit scheme: the needle crossed the tissue surface of line %d at t = "
+                     "%.6g s, but the run already holds %d punctures (the most); shorten the "
+                     "needle's path (ends.tip_motion)", sf->line, s->time, ROD_MAX_PUNCTURES);
+            return -1;
+        }
+        rod_puncture_state *ps = &s->puncture[s->puncture_count++];
+        memset(ps, 0, sizeof *ps);
+        v3_copy(ps->point, point);
+        double d[3];
+        v3_sub(d, b, point);
+        ps->s = fmax(0.0, m->length - v3_norm(d));
+        ps->friction = sf->friction;
+        ps->surface = j;
+    }
+    return 0;
+}
+
+/* After a step: where the thread passes each puncture now (the nearest
+ * point of the segments near the old one), and the force it exerts there. */
+static void update_punctures(implicit_work *w, const rod_model *m, rod_state *s)
+{
+    const int n = w->nodes;
+    for (int k = 0; k < s->puncture_count; k++) {
+        rod_puncture_state *ps = &s->puncture[k];
+        int j0 = w->punct[k].j;
+        double best = INFINITY;
+        for (int j = j0 - 3; j <= j0 + 3; j++) {
+            if (j < 0 || j > n - 2) continue;
+            const double *a = &s->position[3 * j], *b = &s->position[3 * (j + 1)];
+            double ab[3], ap[3], q[3];
+            v3_sub(ab, b, a);
+            v3_sub(ap, ps->point, a);
+            double f = v3_dot(ap, ab) / v3_dot(ab, ab);
+            f = f < 0.0 ? 0.0 : f > 1.0 ? 1.0 : f;
+            for (int c = 0; c < 3; c++) q[c] = a[c] + f * ab[c] - ps->point[c];
+            double d = v3_norm(q);
+            if (d < best) {
+                best = d;
+                ps->s = (j + f) * m->ds;
+            }
+        }
+        v3_scale(ps->force, w->punct[k].force, -1.0);
+    }
 }
 
 /* The theta-mean tip force and moment over the step, global. */
@@ -740,6 +979,7 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
     if (w->surface_count)
         for (int which = 0; which < 2; which++)
             if (!w->ends[which].held) node_contact(w, m, which ? n - 1 : 0, 2.0 * push, dt);
+    if (w->puncture_count) puncture_forces(w, m, push, dt);
 
     /* (3.14) constraint on segment b-1 and (3.6)_2 on node b: block b */
     const double ms = 1.0 / w->moment_scale;
@@ -963,6 +1203,7 @@ static inline __attribute__((always_inline)) void band_solve_kl(const implicit_w
 static void band_solve(const implicit_work *w, double *b)
 {
     if (w->kl == BAND) band_solve_kl(w, b, BAND);
+    else if (w->kl == BAND_PUNCTURE) band_solve_kl(w, b, BAND_PUNCTURE);
     else band_solve_kl(w, b, BAND_PLANAR);
 }
 
@@ -973,20 +1214,22 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
     const int nu = w->unknowns, kl = w->kl, ku = w->kl, ld = w->ldab, nb = w->block;
     memset(w->band, 0, (size_t)ld * (size_t)nu * sizeof(double));
     evaluate(w, m, w->x, t, dt, w->residual);
-    for (int color = 0; color < 3; color++) {
+    const int colors = 2 * w->reach + 1, reach = w->reach;
+    for (int color = 0; color < colors; color++) {
         for (int comp = 0; comp < nb; comp++) {
             double *xp = w->dx; /* scratch copy of x */
             memcpy(xp, w->x, (size_t)nu * sizeof(double));
-            for (int b = w->first + color; b < w->nodes; b += 3) {
+            for (int b = w->first + color; b < w->nodes; b += colors) {
                 int col = nb * (b - w->first) + comp;
                 double h = w->fd_step * fmax(fabs(xp[col]), w->var_scale[w->var_kind[comp]]);
                 xp[col] += h;
             }
             evaluate(w, m, xp, t, dt, w->perturbed);
-            for (int b = w->first + color; b < w->nodes; b += 3) {
+            for (int b = w->first + color; b < w->nodes; b += colors) {
                 int col = nb * (b - w->first) + comp;
                 double h = xp[col] - w->x[col];
-                int row_lo = nb * (b - w->first - 1), row_hi = nb * (b - w->first + 2); /* blocks b-1..b+1 */
+                /* blocks b-reach..b+reach */
+                int row_lo = nb * (b - w->first - reach), row_hi = nb * (b - w->first + reach + 1);
                 if (row_lo < 0) row_lo = 0;
                 if (row_hi > nu) row_hi = nu;
                 if (row_lo < col - ku) row_lo = col - ku;
@@ -1060,7 +1303,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         for (int i = 0; i < nu; i++) w->x[i] -= w->dx[i];
         evaluate(w, m, w->x, t, dt, w->residual);
         double next = max_abs(w->residual, nu);
-        if (w->surface_count && !(next < norm)) {
+        if (w->contact && !(next < norm)) {
             /* contact makes the residual piecewise smooth: a full step can
              * jump across contacts that switch on or off, so back along it
              * until the residual falls (a line search; without contact the
@@ -1076,7 +1319,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         }
         if (getenv("RODSIM_DEBUG_NEWTON")) fprintf(stderr, "t=%g dt=%g it=%d norm=%g fresh=%d\n", t, dt, it, next, fresh);
         if (!isfinite(next)) return -1;
-        if (next > 0.25 * norm && next > 10.0 * tol && (!fresh || w->surface_count)) {
+        if (next > 0.25 * norm && next > 10.0 * tol && (!fresh || w->contact)) {
             /* slow, and not merely at the round-off floor near the tolerance:
              * a stale Jacobian; refresh it at the current iterate */
             if (factor_jacobian(w, m, t, dt)) return -1;
@@ -1096,6 +1339,8 @@ static void save_state(implicit_work *w, const rod_state *s)
     memcpy(w->save_vel, s->velocity, n * 3 * sizeof(double));
     memcpy(w->save_omega, s->angular_velocity, n * 3 * sizeof(double));
     memcpy(w->save_force, s->contact_force, n * 3 * sizeof(double));
+    memcpy(w->save_puncture, s->puncture, sizeof s->puncture);
+    w->save_puncture_count = s->puncture_count;
     w->save_time = s->time;
 }
 
@@ -1107,6 +1352,8 @@ static void restore_state(const implicit_work *w, rod_state *s)
     memcpy(s->velocity, w->save_vel, n * 3 * sizeof(double));
     memcpy(s->angular_velocity, w->save_omega, n * 3 * sizeof(double));
     memcpy(s->contact_force, w->save_force, n * 3 * sizeof(double));
+    memcpy(s->puncture, w->save_puncture, sizeof s->puncture);
+    s->puncture_count = w->save_puncture_count;
     s->time = w->save_time;
 }
 
@@ -1251,6 +1498,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
     tip_load_global(m, s->time, &w->frame0[9 * (n - 1)], w->tipf0, w->tipm0);
     memcpy(w->pos0, s->position, (size_t)n * 3 * sizeof(double));
     prepare_ends(w, m, s, dt);
+    prepare_punctures(w, m, s);
 
     /* initial guess: the start-of-step values (N from the stored contact
      * force), or, continuing a run, the last two solutions extrapolated */
@@ -1338,6 +1586,8 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
         }
         end_reactions(w, m, s->time, dt);
         memcpy(s->surface_force, w->surface_force, (size_t)n * 3 * sizeof(double));
+        update_punctures(w, m, s);
+        if (w->needle_tissue && w->ends[1].held && needle_punctures(w, m, s, report)) return -2;
         memcpy(w->moment0, w->moment1, (size_t)(n - 1) * 3 * sizeof(double));
         memcpy(w->d3mid0, w->d3mid1, (size_t)(n - 1) * 3 * sizeof(double));
     }
@@ -1384,10 +1634,12 @@ static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double
      * bounded by the budget, not only by 2^MAX_SPLIT_DEPTH attempts, each
      * with a Jacobian build */
     if (--w->budget < 0) return -1;
-    if (single_step(w, m, s, dt, report) == 0) return 0;
+    int rc = single_step(w, m, s, dt, report);
+    if (rc == 0 || rc == -2) return rc; /* -2: no splitting helps (message set) */
     if (depth >= MAX_SPLIT_DEPTH || w->budget < 0) return -1;
     w->have_factor = 0;
-    if (split_step(w, m, s, 0.5 * dt, report, depth + 1)) return -1;
+    rc = split_step(w, m, s, 0.5 * dt, report, depth + 1);
+    if (rc) return rc;
     w->have_factor = 0;
     return split_step(w, m, s, 0.5 * dt, report, depth + 1);
 }
@@ -1421,8 +1673,13 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     save_state(w, s);
     w->budget = STEP_ITERATION_BUDGET;
     int segment;
-    int solved = split_step(w, m, s, dt, report, 0) == 0;
+    int split = split_step(w, m, s, dt, report, 0), solved = split == 0;
     report->jacobian_builds = w->jacobian_builds;
+    if (split == -2) {
+        restore_state(w, s);
+        w->have_factor = 0;
+        return ROD_FAILED;
+    }
     if (solved) {
         double angle = rod_sharpest_bend(m, s->darboux, &segment);
         if (angle <= ROD_UNRESOLVED_BEND) return ROD_OK;
