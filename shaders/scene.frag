@@ -25,7 +25,7 @@ uniform vec3 background;      // linear 0..1
 out vec4 frag_color;
 
 // The fraction of the key light that reaches p (1: lit, 0: in shadow):
-// 4 x 4 bilinear comparisons over a square of half-width shadow_spread.
+// 3 x 3 bilinear comparisons over a square of half-width shadow_spread.
 float key_visibility(vec3 p, vec3 n)
 {
     vec4 q = light_view_projection * vec4(p + shadow_offset * n, 1.0);
@@ -34,12 +34,10 @@ float key_visibility(vec3 p, vec3 n)
     // beyond the far plane is behind every caster; nearer than the near plane, before them
     float ref = clamp(c.z, 0.0, 1.0);
     float sum = 0.0;
-    for (int i = 0; i < 4; i++)
-        for (int j = 0; j < 4; j++) {
-            vec2 o = (vec2(float(i), float(j)) - 1.5) * (shadow_spread / 1.5);
-            sum += texture(shadow_map, vec3(c.xy + o, ref));
-        }
-    return sum / 16.0;
+    for (int i = -1; i <= 1; i++)
+        for (int j = -1; j <= 1; j++)
+            sum += texture(shadow_map, vec3(c.xy + vec2(float(i), float(j)) * shadow_spread, ref));
+    return sum / 9.0;
 }
 
 void main()
@@ -49,7 +47,8 @@ void main()
         return;
     }
     vec3 n = normalize(world_normal);
-    float visible = shadows == 1 ? key_visibility(world_position, n) : 1.0;
+    // a side turned from the key light has no key light to lose
+    float visible = shadows == 1 && dot(n, key_direction) > 0.0 ? key_visibility(world_position, n) : 1.0;
     vec3 v = orthographic == 1 ? view_direction : normalize(eye - world_position);
     if (dot(n, v) < 0.0) n = -n;  // two-sided: caps and ribbons seen from behind
     float key_diffuse = max(dot(n, key_direction), 0.0) * visible;
