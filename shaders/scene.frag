@@ -25,7 +25,8 @@ uniform vec3 background;      // linear 0..1
 out vec4 frag_color;
 
 // The fraction of the key light that reaches p (1: lit, 0: in shadow):
-// 3 x 3 bilinear comparisons over a square of half-width shadow_spread.
+// 2 x 2 bilinear comparisons half a spread apart: a tent filter about
+// 2 spreads wide (each tap costs as much as the rest of the shading on llvmpipe).
 float key_visibility(vec3 p, vec3 n)
 {
     vec4 q = light_view_projection * vec4(p + shadow_offset * n, 1.0);
@@ -33,11 +34,11 @@ float key_visibility(vec3 p, vec3 n)
     if (c.x < 0.0 || c.x > 1.0 || c.y < 0.0 || c.y > 1.0) return 1.0;
     // beyond the far plane is behind every caster; nearer than the near plane, before them
     float ref = clamp(c.z, 0.0, 1.0);
-    float sum = 0.0;
-    for (int i = -1; i <= 1; i++)
-        for (int j = -1; j <= 1; j++)
-            sum += texture(shadow_map, vec3(c.xy + vec2(float(i), float(j)) * shadow_spread, ref));
-    return sum / 9.0;
+    float h = 0.5 * shadow_spread;
+    return 0.25 * (texture(shadow_map, vec3(c.x - h, c.y - h, ref)) +
+                   texture(shadow_map, vec3(c.x + h, c.y - h, ref)) +
+                   texture(shadow_map, vec3(c.x - h, c.y + h, ref)) +
+                   texture(shadow_map, vec3(c.x + h, c.y + h, ref)));
 }
 
 void main()
