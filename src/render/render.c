@@ -1326,6 +1326,13 @@ static void camera_fit(render_camera *cam, const rod_recording *rec, const rende
         distance = 0.5 * (hi[2] - lo[2]) + 0.5 * size + 1e-3;
         near = 1e-4 * size;
         far = distance + 4 * size;
+        if (o->surface_count > 0 || v3_norm(o->distributed_force) > 0) {
+            /* a floor (a plane, the ground) reaches 3 sizes and more from the
+             * motion: the eye stands back so that no part of it is clipped
+             * (an orthographic picture does not change with the distance) */
+            distance += 6 * size;
+            far = distance + 6 * size;
+        }
         cam->metres_per_pixel = 2 * half_height / o->height;
     } else {
         double tan_y = tan(0.5 * PERSPECTIVE_FOVY), tan_x = tan_y * aspect;
