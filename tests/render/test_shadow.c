@@ -274,6 +274,46 @@ static void test_ground(void)
     rod_recording_destroy(rec);
 }
 
+/* The camera frames a bounded surface near the rod, never a plane. */
+static void test_framing(void)
+{
+    rod_recording *rec = lifted_rod();
+    /* a pad below the rod, reaching 0.45 m in front of it (within half the
+     * motion's size of its box) */
+    rod_surface surfaces[2] = {
+        {.shape = ROD_SURFACE_BOX, .center = {0.5, -0.25, -0.05}, .size = {0.4, 0.4, 0.04}},
+        {.shape = ROD_SURFACE_PLANE, .center = {0, 0, -5}, .normal = {0, 0.6, 0.8}}};
+    render_options bare = scene_options(NULL, 0), with_box = scene_options(surfaces, 1),
+                   with_plane = scene_options(&surfaces[1], 1);
+    v3_set(bare.view, 0.2, -1, 0.5);
+    v3_copy(with_box.view, bare.view);
+    v3_copy(with_plane.view, bare.view);
+    render_camera cam[3];
+    render_camera_fit(&cam[0], rec, &bare);
+    render_camera_fit(&cam[1], rec, &with_box);
+    render_camera_fit(&cam[2], rec, &with_plane);
+    int inside[2] = {0, 0};
+    for (int c = 0; c < 2; c++)
+        for (int corner = 0; corner < 8; corner++) {
+            double p[3], px[2];
+            for (int a = 0; a < 3; a++)
+                p[a] = surfaces[0].center[a] + (corner >> a & 1 ? 0.5 : -0.5) * surfaces[0].size[a];
+            if (render_project(&cam[c], p, px) == 0 && px[0] >= 0 && px[0] <= WIDTH &&
+                px[1] >= 0 && px[1] <= HEIGHT)
+                inside[c]++;
+        }
+    check(inside[0] < 8 && inside[1] == 8,
+          "a box near the rod is framed: %d of its 8 corners in the picture (%d without it)",
+          inside[1], inside[0]);
+    double moved = 0;
+    for (int a = 0; a < 3; a++)
+        moved = fmax(moved, fmax(fabs(cam[2].eye[a] - cam[0].eye[a]),
+                                 fabs(cam[2].target[a] - cam[0].target[a])));
+    check(moved == 0 && cam[2].metres_per_pixel == cam[0].metres_per_pixel,
+          "a plane does not change the framing (eye and target move %.3g m)", moved);
+    rod_recording_destroy(rec);
+}
+
 static void test_keys(void)
 {
     char err[512];
@@ -307,6 +347,7 @@ int main(void)
     snprintf(dir, sizeof dir, "/tmp/rodsim_test_shadow_%ld", (long)getpid());
     mkdir(dir, 0777);
     test_keys();
+    test_framing();
     test_plane_shadow();
     test_box_and_punctures();
     test_ground();
