@@ -1432,7 +1432,10 @@ int render_project(const render_camera *cam, const double point[3], double pixel
 #define PUNCTURE_SIDES 16
 #define PLANE_FADE_START 1.5  /* a plane fades out from this many motion sizes from its centre ... */
 #define PLANE_FADE_END 3.0    /* ... to this many: a large finite floor, never the framing */
-#define SHADOW_MAP_SIZE 1024  /* texels a side: about 1 mm for a 1 m motion */
+/* texels a side: at most 1024 (1 mm for a 1 m motion), fewer when a third
+ * of the visual radius needs fewer (the depth pass's cost is its area) */
+#define SHADOW_MAP_MAX 1024
+#define SHADOW_MAP_MIN 256
 #define SHADOW_REACH 1e3      /* a shadow is followed this many motion sizes from its caster */
 /* vertices and indices one surface's mesh needs at most (the sphere) */
 #define SURFACE_VERTICES ((SURFACE_STACKS + 1) * (SURFACE_SIDES + 1) + 2 * (SURFACE_SIDES + 1))
@@ -2637,12 +2640,15 @@ static int renderer_receivers(renderer *r, const receiver_plan *plan, char *err,
     light[13] = -2 * lo[1] / extent - 1;
     light[14] = 2 * hi[2] / (hi[2] - lo[2]) - 1;
     light[15] = 1;
-    double texel = extent / SHADOW_MAP_SIZE;
+    /* the thinnest caster (the tube, or the needle's wire) spans 3 texels or more */
+    double thinnest = o->needle_radius > 0 ? fmin(r->radius, needle_wire(o, r->radius)) : r->radius;
+    int map_size = SHADOW_MAP_MIN;
+    while (map_size < SHADOW_MAP_MAX && extent / map_size > thinnest / 3) map_size *= 2;
+    double texel = extent / map_size;
     /* soft edges: the filter spans half a visual radius, but its 3 x 3 taps
      * at most 1.5 texels apart (farther apart they band) */
     double spread = fmin(fmax(0.5 * r->radius, texel), 1.5 * texel);
-    if (gl_renderer_set_shadows(r->gl, light, SHADOW_MAP_SIZE, 1.5 * texel, spread / extent, err,
-                                errlen))
+    if (gl_renderer_set_shadows(r->gl, light, map_size, 1.5 * texel, spread / extent, err, errlen))
         return -1;
     r->shadows = 1;
     r->shadow_pad = spread + 3 * texel;
