@@ -25,7 +25,7 @@ uniform vec3 background;      // linear 0..1
 out vec4 frag_color;
 
 // The fraction of the key light that reaches p (1: lit, 0: in shadow):
-// 2 x 2 bilinear comparisons half a spread apart: a tent filter about
+// 2 x 2 bilinear comparisons at +-half a spread: a tent filter about
 // 2 spreads wide (each tap costs as much as the rest of the shading on llvmpipe).
 float key_visibility(vec3 p, vec3 n)
 {
