@@ -1,17 +1,45 @@
 #version 330 core
-// Blinn-Phong with a key and a fill light (directional), plus ambient.
+// Blinn-Phong with a key and a fill light (directional), plus ambient; the
+// key light's shadow from a shadow map, softened by percentage-closer
+// filtering (PCF).
 in vec3 world_position;
 in vec3 world_normal;
 in vec3 base_color;
 
-uniform int lit;              // 0: flat colour (grid lines)
+uniform int lit;              // 0: flat colour (grid lines); 1: glossy (rod); 2: matte (surfaces)
 uniform int orthographic;     // 1: the eye direction is the same everywhere
 uniform vec3 eye;             // world position of the camera (perspective)
 uniform vec3 view_direction;  // unit, from the scene towards the eye (orthographic)
 uniform vec3 key_direction;   // unit, towards the key light
 uniform vec3 fill_direction;  // unit, towards the fill light
+uniform int shadows;          // 1: the key light is blocked where the shadow map says so
+uniform sampler2DShadow shadow_map;
+uniform mat4 light_view_projection;
+uniform float shadow_offset;  // m: the point looked up moves this far along its normal (no acne)
+uniform float shadow_spread;  // shadow-map texture units: half the PCF kernel's width
+uniform int fading;           // 1: fade to the background away from fade_centre (a plane)
+uniform vec4 fade;            // xyz: centre (m); w: radius where the fade starts (m)
+uniform float fade_end;       // m: radius where only the background remains
+uniform vec3 background;      // linear 0..1
 
 out vec4 frag_color;
+
+// The fraction of the key light that reaches p (1: lit, 0: in shadow):
+// 2 x 2 bilinear comparisons at +-half a spread: a tent filter about
+// 2 spreads wide (each tap costs as much as the rest of the shading on llvmpipe).
+float key_visibility(vec3 p, vec3 n)
+{
+    vec4 q = light_view_projection * vec4(p + shadow_offset * n, 1.0);
+    vec3 c = q.xyz * 0.5 + 0.5;  // orthographic: w = 1
+    if (c.x < 0.0 || c.x > 1.0 || c.y < 0.0 || c.y > 1.0) return 1.0;
+    // beyond the far plane is behind every caster; nearer than the near plane, before them
+    float ref = clamp(c.z, 0.0, 1.0);
+    float h = 0.5 * shadow_spread;
+    return 0.25 * (texture(shadow_map, vec3(c.x - h, c.y - h, ref)) +
+                   texture(shadow_map, vec3(c.x + h, c.y - h, ref)) +
+                   texture(shadow_map, vec3(c.x - h, c.y + h, ref)) +
+                   texture(shadow_map, vec3(c.x + h, c.y + h, ref)));
+}
 
 void main()
 {
@@ -20,12 +48,25 @@ void main()
         return;
     }
     vec3 n = normalize(world_normal);
+    // a side turned from the key light has no key light to lose
+    float visible = shadows == 1 && dot(n, key_direction) > 0.0 ? key_visibility(world_position, n) : 1.0;
     vec3 v = orthographic == 1 ? view_direction : normalize(eye - world_position);
     if (dot(n, v) < 0.0) n = -n;  // two-sided: caps and ribbons seen from behind
-    float key_diffuse = max(dot(n, key_direction), 0.0);
+    float key_diffuse = max(dot(n, key_direction), 0.0) * visible;
     float fill_diffuse = max(dot(n, fill_direction), 0.0);
-    vec3 h = normalize(key_direction + v);
-    float specular = pow(max(dot(n, h), 0.0), 48.0) * (key_diffuse > 0.0 ? 1.0 : 0.0);
-    vec3 c = base_color * (0.22 + 0.78 * key_diffuse + 0.30 * fill_diffuse) + vec3(0.35 * specular);
-    frag_color = vec4(min(c, vec3(1.0)), 1.0);
+    vec3 c;
+    if (lit == 2) {
+        // matte (skin, table): no highlight, more ambient so that a shadow reads as one
+        c = base_color * (0.40 + 0.60 * key_diffuse + 0.15 * fill_diffuse);
+    } else {
+        vec3 h = normalize(key_direction + v);
+        float specular = pow(max(dot(n, h), 0.0), 48.0) * (key_diffuse > 0.0 ? visible : 0.0);
+        c = base_color * (0.22 + 0.78 * key_diffuse + 0.30 * fill_diffuse) + vec3(0.35 * specular);
+    }
+    c = min(c, vec3(1.0));
+    if (fading == 1) {
+        float d = distance(world_position, fade.xyz);
+        c = mix(c, background, smoothstep(fade.w, fade_end, d));
+    }
+    frag_color = vec4(c, 1.0);
 }

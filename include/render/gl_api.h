@@ -30,10 +30,12 @@ int gl_functions_load(gl_proc (*get_proc)(const char *name), char *err, size_t e
 
 /* X(pointer type from glcorearb.h, name without the gl prefix) */
 #define GL_FUNCTIONS(X) \
+    X(PFNGLACTIVETEXTUREPROC, ActiveTexture) \
     X(PFNGLATTACHSHADERPROC, AttachShader) \
     X(PFNGLBINDBUFFERPROC, BindBuffer) \
     X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer) \
     X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer) \
+    X(PFNGLBINDTEXTUREPROC, BindTexture) \
     X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray) \
     X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer) \
     X(PFNGLBUFFERDATAPROC, BufferData) \
@@ -50,17 +52,22 @@ int gl_functions_load(gl_proc (*get_proc)(const char *name), char *err, size_t e
     X(PFNGLDELETEPROGRAMPROC, DeleteProgram) \
     X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers) \
     X(PFNGLDELETESHADERPROC, DeleteShader) \
+    X(PFNGLDELETETEXTURESPROC, DeleteTextures) \
     X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays) \
     X(PFNGLDISABLEPROC, Disable) \
     X(PFNGLDRAWARRAYSPROC, DrawArrays) \
+    X(PFNGLDRAWBUFFERPROC, DrawBuffer) \
     X(PFNGLDRAWELEMENTSPROC, DrawElements) \
     X(PFNGLENABLEPROC, Enable) \
     X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray) \
+    X(PFNGLFINISHPROC, Finish) \
     X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer) \
+    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D) \
     X(PFNGLFRONTFACEPROC, FrontFace) \
     X(PFNGLGENBUFFERSPROC, GenBuffers) \
     X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers) \
     X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers) \
+    X(PFNGLGENTEXTURESPROC, GenTextures) \
     X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays) \
     X(PFNGLGETERRORPROC, GetError) \
     X(PFNGLGETINTEGERVPROC, GetIntegerv) \
@@ -72,16 +79,22 @@ int gl_functions_load(gl_proc (*get_proc)(const char *name), char *err, size_t e
     X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation) \
     X(PFNGLLINKPROGRAMPROC, LinkProgram) \
     X(PFNGLPIXELSTOREIPROC, PixelStorei) \
+    X(PFNGLPOLYGONOFFSETPROC, PolygonOffset) \
+    X(PFNGLREADBUFFERPROC, ReadBuffer) \
     X(PFNGLREADPIXELSPROC, ReadPixels) \
     X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage) \
     X(PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC, RenderbufferStorageMultisample) \
     X(PFNGLSCISSORPROC, Scissor) \
     X(PFNGLSHADERSOURCEPROC, ShaderSource) \
+    X(PFNGLTEXIMAGE2DPROC, TexImage2D) \
+    X(PFNGLTEXPARAMETERIPROC, TexParameteri) \
+    X(PFNGLUNIFORM1FPROC, Uniform1f) \
     X(PFNGLUNIFORM1IPROC, Uniform1i) \
     X(PFNGLUNIFORM2FPROC, Uniform2f) \
     X(PFNGLUNIFORM3FPROC, Uniform3f) \
     X(PFNGLUNIFORM3FVPROC, Uniform3fv) \
     X(PFNGLUNIFORM4FPROC, Uniform4f) \
+    X(PFNGLUNIFORM4FVPROC, Uniform4fv) \
     X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv) \
     X(PFNGLUSEPROGRAMPROC, UseProgram) \
     X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer) \
@@ -96,10 +109,12 @@ typedef struct gl_functions {
 /* Filled by gl_functions_load; read-only afterwards. */
 extern gl_functions gl_fn;
 
+#define glActiveTexture gl_fn.ActiveTexture
 #define glAttachShader gl_fn.AttachShader
 #define glBindBuffer gl_fn.BindBuffer
 #define glBindFramebuffer gl_fn.BindFramebuffer
 #define glBindRenderbuffer gl_fn.BindRenderbuffer
+#define glBindTexture gl_fn.BindTexture
 #define glBindVertexArray gl_fn.BindVertexArray
 #define glBlitFramebuffer gl_fn.BlitFramebuffer
 #define glBufferData gl_fn.BufferData
@@ -116,17 +131,22 @@ extern gl_functions gl_fn;
 #define glDeleteProgram gl_fn.DeleteProgram
 #define glDeleteRenderbuffers gl_fn.DeleteRenderbuffers
 #define glDeleteShader gl_fn.DeleteShader
+#define glDeleteTextures gl_fn.DeleteTextures
 #define glDeleteVertexArrays gl_fn.DeleteVertexArrays
 #define glDisable gl_fn.Disable
 #define glDrawArrays gl_fn.DrawArrays
+#define glDrawBuffer gl_fn.DrawBuffer
 #define glDrawElements gl_fn.DrawElements
 #define glEnable gl_fn.Enable
 #define glEnableVertexAttribArray gl_fn.EnableVertexAttribArray
+#define glFinish gl_fn.Finish
 #define glFramebufferRenderbuffer gl_fn.FramebufferRenderbuffer
+#define glFramebufferTexture2D gl_fn.FramebufferTexture2D
 #define glFrontFace gl_fn.FrontFace
 #define glGenBuffers gl_fn.GenBuffers
 #define glGenFramebuffers gl_fn.GenFramebuffers
 #define glGenRenderbuffers gl_fn.GenRenderbuffers
+#define glGenTextures gl_fn.GenTextures
 #define glGenVertexArrays gl_fn.GenVertexArrays
 #define glGetError gl_fn.GetError
 #define glGetIntegerv gl_fn.GetIntegerv
@@ -138,16 +158,22 @@ extern gl_functions gl_fn;
 #define glGetUniformLocation gl_fn.GetUniformLocation
 #define glLinkProgram gl_fn.LinkProgram
 #define glPixelStorei gl_fn.PixelStorei
+#define glPolygonOffset gl_fn.PolygonOffset
+#define glReadBuffer gl_fn.ReadBuffer
 #define glReadPixels gl_fn.ReadPixels
 #define glRenderbufferStorage gl_fn.RenderbufferStorage
 #define glRenderbufferStorageMultisample gl_fn.RenderbufferStorageMultisample
 #define glScissor gl_fn.Scissor
 #define glShaderSource gl_fn.ShaderSource
+#define glTexImage2D gl_fn.TexImage2D
+#define glTexParameteri gl_fn.TexParameteri
+#define glUniform1f gl_fn.Uniform1f
 #define glUniform1i gl_fn.Uniform1i
 #define glUniform2f gl_fn.Uniform2f
 #define glUniform3f gl_fn.Uniform3f
 #define glUniform3fv gl_fn.Uniform3fv
 #define glUniform4f gl_fn.Uniform4f
+#define glUniform4fv gl_fn.Uniform4fv
 #define glUniformMatrix4fv gl_fn.UniformMatrix4fv
 #define glUseProgram gl_fn.UseProgram
 #define glVertexAttribPointer gl_fn.VertexAttribPointer

@@ -23,10 +23,29 @@ void gl_renderer_set_lines(gl_renderer *r, const render_vertex *lines, int count
  * the lines (multisampled), reads the whole picture into out. 0, or -1. */
 int gl_renderer_draw_backdrop(gl_renderer *r, const render_camera *cam,
                               const unsigned char background[3], image *out);
-/* The moving part: clears each box (4 ints each: x, y, width, height in
+/* Static receivers of the shadow (the surfaces, the ground, the wound),
+ * matte: indices [0, plane_index_count) are planes, faded to the background
+ * from fade[3] (m) to fade[4] (m) away from the point fade[0..2]; the rest
+ * are solids. With receivers the backdrop has them, and each box is drawn
+ * whole (background, grid, receivers, then the frame's triangles) instead of
+ * composited. Call before gl_renderer_draw_backdrop. 0, or -1 on a GL error. */
+int gl_renderer_set_receivers(gl_renderer *r, const render_vertex *vertices, int vertex_count,
+                              const unsigned *indices, int plane_index_count, int index_count,
+                              const double fade[5], const unsigned char background[3]);
+/* Shadows from the key light: a size x size depth map drawn through
+ * light_view_projection (column-major, orthographic); a receiver's point is
+ * moved `offset` (m) along its normal before the look-up (no self-shadow
+ * acne) and filtered over `spread` texture units (soft edges). 0, or -1
+ * with a message. */
+int gl_renderer_set_shadows(gl_renderer *r, const double light_view_projection[16], int size,
+                            double offset, double spread, char *err, size_t errlen);
+/* The moving part: with shadows, draws the first caster_index_count
+ * indices into the shadow map (its time added to *shadow_seconds unless
+ * NULL); clears each box (4 ints each: x, y, width, height in
  * pixels, y down; boxes disjoint, covering the triangles) to transparent,
  * draws the lit triangles once with back faces culled (closed surfaces,
- * wound counter-clockwise seen from outside), resolves each box, and reads
+ * wound counter-clockwise seen from outside; the indices after
+ * caster_index_count matte: the punctures), resolves each box, and reads
  * the boxes' bounding rectangle back
  * as premultiplied RGBA (coverage in alpha), rows bottom-up; read_box gets
  * that rectangle (x, y, width, height). Only the boxes cost much time
@@ -35,7 +54,8 @@ int gl_renderer_draw_backdrop(gl_renderer *r, const render_camera *cam,
 const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera *cam,
                                             const render_vertex *vertices, int vertex_count,
                                             const unsigned *indices, int index_count,
-                                            const int *boxes, int box_count, int read_box[4]);
+                                            int caster_index_count, const int *boxes,
+                                            int box_count, int read_box[4], double *shadow_seconds);
 const char *gl_renderer_description(const gl_renderer *r);
 
 #endif

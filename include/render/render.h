@@ -57,6 +57,14 @@ enum {
     RENDER_SHOW_ALL = (1 << 10) - 1
 };
 
+/* Whether a ground plane (with the rod's shadow) is drawn ([render] ground). */
+typedef enum {
+    RENDER_GROUND_AUTO = 0, /* when a distributed load (gravity) acts, no plane surface exists
+                               and the camera looks at the ground from above */
+    RENDER_GROUND_YES,      /* whenever a distributed load gives "down" (else as no) */
+    RENDER_GROUND_NO
+} render_ground_mode;
+
 typedef struct render_end {
     render_end_kind kind;
     int driven;             /* 1: the end follows a path (named in the overlay) */
@@ -99,6 +107,15 @@ typedef struct render_options {
     double magnify;              /* displacements from the first frame drawn x this (1: none) */
     double distributed_force[3]; /* N/m, global: the scene's weight and distributed force
                                     (run.c copies the model's), drawn as an arrow when not 0 */
+    const rod_surface *surfaces; /* the scene's obstacles, drawn (run.c copies the model's
+                                    pointer; not owned); NULL with surface_count 0: none */
+    int surface_count;
+    int shadows;                 /* 1 (default): the rod, needle, end glyphs and arrows cast
+                                    shadows from the key light on the surfaces, the ground and
+                                    each other (a shadow map) */
+    render_ground_mode ground;   /* a ground plane below the whole run's lowest point */
+    int wound;                   /* 1: wound_line is drawn (a dark red incision) */
+    double wound_line[6];        /* m, global: the wound's two ends x1 y1 z1 x2 y2 z2 */
     struct render_timing *timing; /* NULL (default): not measured; else filled (make bench) */
 } render_options;
 
@@ -108,7 +125,8 @@ typedef struct render_options {
  * the wall time when the overlap works. */
 typedef struct render_timing {
     double mesh;      /* tube, stripe, clamp, arrow triangles and the tile boxes */
-    double gl;        /* upload, clear, draw, resolve, read back (llvmpipe) */
+    double gl;        /* upload, clear, draw, resolve, read back (llvmpipe), shadow included */
+    double shadow;    /* the shadow map's depth pass (part of gl) */
     double composite; /* backdrop copy and the boxes blended over it */
     double overlay;   /* text */
     double wait;      /* drawing thread waiting for a free queue slot */
@@ -195,6 +213,14 @@ typedef struct render_camera {
  * seen along o->view, leave room for the overlay text at the top and bottom,
  * and do not change per frame. */
 void render_camera_fit(render_camera *cam, const rod_recording *rec, const render_options *o);
+/* The key light's direction (unit, towards the light): it rides with the
+ * camera, from upper left in front, so the picture reads the same from any
+ * view; the shading and the shadows use it. */
+void render_key_light(const render_camera *cam, double key[3]);
+/* The ground plane a render draws (o->ground; render_recording's rule):
+ * 1 with a point of it and its upward unit normal, 0 when none is drawn. */
+int render_ground_plane(const rod_recording *rec, const render_options *o, double point[3],
+                        double normal[3]);
 /* Pixel position (x right, y down, pixel centres at +0.5) of a world point.
  * Returns 0, or -1 when the point is behind the camera. */
 int render_project(const render_camera *cam, const double point[3], double pixel[2]);
@@ -210,6 +236,10 @@ extern const float render_stripe_color[3];
 extern const float render_clamp_color[3];  /* block of a clamped end */
 extern const float render_ball_color[3];   /* ball of a pinned end */
 extern const float render_needle_color[3]; /* the needle */
+extern const float render_skin_color[3];   /* a tissue surface (matte) */
+extern const float render_surface_color[3]; /* any other surface and the ground (matte) */
+extern const float render_wound_color[3];  /* the wound line */
+extern const float render_puncture_color[3]; /* a puncture's ring */
 
 
 #endif

@@ -30,6 +30,9 @@ typedef struct rod_recording {
     double *twist;        /* (frames x nodes), u3 at each node, 1/m (for the (4.17) stripe) */
     double *tip_force;    /* (frames x 3), N, global components */
     double *tip_moment;   /* (frames x 3), N m, global components */
+    int *puncture_count;  /* (frames), punctures the thread passes through (0..ROD_MAX_PUNCTURES) */
+    double *puncture;     /* (frames x ROD_MAX_PUNCTURES x 3), m, global: their points (issue 11);
+                             a recording made by hand may leave both NULL: none */
     double peak_force;    /* N, the largest |tip force| of every frame appended or noted */
     double peak_moment;   /* N m, the same for the tip moment */
 } rod_recording;
@@ -41,7 +44,8 @@ void rod_recording_destroy(rod_recording *r);
  * midpoints beside it), as the recording and the CSV hold it. */
 double rod_recording_node_twist(const rod_state *s, int node);
 /* Bytes a recording of `frames` frames of `nodes` nodes holds (104 per node
- * per frame, 56 per frame): what a run must fit in memory to frame its video. */
+ * per frame; 56 per frame for time and loads, 4 + 24 ROD_MAX_PUNCTURES for
+ * the punctures): what a run must fit in memory to frame its video. */
 double rod_recording_bytes(int nodes, double frames);
 /* The tip load at s->time from the model, global components: force (N) and
  * moment (N m). */
@@ -49,6 +53,9 @@ void rod_recording_tip_load(const rod_model *m, const rod_state *s, double force
                             double moment[3]);
 /* Takes the tip load of a frame that is not kept into the peaks. */
 void rod_recording_note_peaks(rod_recording *r, const rod_model *m, const rod_state *s);
+/* The punctures of frame `frame`: their count, points into *points
+ * (count x 3, m); 0 when the recording keeps none. */
+int rod_recording_punctures(const rod_recording *r, int frame, const double **points);
 /* Keeps frames 0, 2, 4, ... (and the peaks): halves a sampled recording. */
 void rod_recording_halve(rod_recording *r);
 /* Appends the state as a frame; the tip load at s->time comes from the model.

@@ -116,6 +116,9 @@ int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_
     out->render.ends[1].driven = m->tip_motion != NULL;
     out->render.needle_radius = m->needle_radius;
     for (int k = 0; k < 3; k++) out->render.distributed_force[k] = m->distributed_force[k];
+    /* the obstacles are drawn (issue 11); the model outlives the render */
+    out->render.surfaces = m->surfaces;
+    out->render.surface_count = m->surface_count;
     return 0;
 }
 

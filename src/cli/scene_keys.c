@@ -140,6 +140,14 @@ const ini_key scene_keys_rod[] = {
     {"render", "speed", "-", "1", "> 0",
      "simulated s per video s (0.25: 4x slow motion); output fps/speed per simulated s"},
     {"render", "magnify", "-", "1", ">= 1", "motion from the first frame drawn x this"},
+    /* issues 11 and 14: obstacles and depth */
+    {"render", "shadows", "-", "true", BOOL,
+     "the rod, needle and glyphs cast shadows from the key light on the surfaces and ground"},
+    {"render", "ground", "-", "auto", "auto | yes | no",
+     "a ground plane just below the run's lowest point, across the load's direction; auto: "
+     "when gravity acts, no plane surface exists and the camera looks from above"},
+    {"render", "wound", "m", "-", "6 numbers x1 y1 z1 x2 y2 z2",
+     "global: a wound line drawn on the surfaces as a dark red incision; absent: none"},
     {NULL, NULL, NULL, NULL, NULL, NULL},
 };
 

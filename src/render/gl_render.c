@@ -5,10 +5,18 @@
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <time.h>
 
 #include "render/gl_api.h"
 #include "render/gl_context.h"
 #include "render/gl_util.h"
+
+static double gl_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 struct gl_renderer {
     gl_context *context;
@@ -19,6 +27,17 @@ struct gl_renderer {
     int max_vertices, max_indices, max_line_vertices, line_count;
     unsigned char *box_pixels; /* (height x width x 4), RGBA of the last read rectangle */
     GLint u_view_projection, u_lit, u_orthographic, u_eye, u_view_direction, u_key, u_fill;
+    GLint u_shadows, u_shadow_map, u_light, u_shadow_offset, u_shadow_spread;
+    GLint u_fading, u_fade, u_fade_end, u_background;
+    /* static receivers (surfaces, ground, wound): drawn in the backdrop and in every box */
+    GLuint receiver_vao, receiver_vbo, receiver_ibo;
+    int receiver_plane_indices, receiver_indices; /* planes first (faded), then the rest */
+    float fade[4], fade_end, background_rgb[3];
+    /* the shadow map: a depth texture the casters are drawn into from the key light */
+    int shadow_size;
+    GLuint shadow_program, shadow_fbo, shadow_texture;
+    GLint u_shadow_light;
+    float light[16], shadow_offset, shadow_spread;
 };
 
 static void set_vertex_layout(void)
@@ -70,6 +89,15 @@ gl_renderer *gl_renderer_create(int width, int height, int samples, int max_vert
     r->u_view_direction = glGetUniformLocation(r->program, "view_direction");
     r->u_key = glGetUniformLocation(r->program, "key_direction");
     r->u_fill = glGetUniformLocation(r->program, "fill_direction");
+    r->u_shadows = glGetUniformLocation(r->program, "shadows");
+    r->u_shadow_map = glGetUniformLocation(r->program, "shadow_map");
+    r->u_light = glGetUniformLocation(r->program, "light_view_projection");
+    r->u_shadow_offset = glGetUniformLocation(r->program, "shadow_offset");
+    r->u_shadow_spread = glGetUniformLocation(r->program, "shadow_spread");
+    r->u_fading = glGetUniformLocation(r->program, "fading");
+    r->u_fade = glGetUniformLocation(r->program, "fade");
+    r->u_fade_end = glGetUniformLocation(r->program, "fade_end");
+    r->u_background = glGetUniformLocation(r->program, "background");
 
     glGenVertexArrays(1, &r->vao);
     glBindVertexArray(r->vao);
@@ -104,6 +132,12 @@ gl_renderer *gl_renderer_create(int width, int height, int samples, int max_vert
 void gl_renderer_destroy(gl_renderer *r)
 {
     if (!r) return;
+    if (r->receiver_vao) glDeleteVertexArrays(1, &r->receiver_vao);
+    if (r->receiver_vbo) glDeleteBuffers(1, &r->receiver_vbo);
+    if (r->receiver_ibo) glDeleteBuffers(1, &r->receiver_ibo);
+    if (r->shadow_fbo) glDeleteFramebuffers(1, &r->shadow_fbo);
+    if (r->shadow_texture) glDeleteTextures(1, &r->shadow_texture);
+    if (r->shadow_program) glDeleteProgram(r->shadow_program);
     if (r->vao) glDeleteVertexArrays(1, &r->vao);
     if (r->line_vao) glDeleteVertexArrays(1, &r->line_vao);
     if (r->vbo) glDeleteBuffers(1, &r->vbo);
@@ -154,21 +188,148 @@ static void set_camera(gl_renderer *r, const render_camera *cam)
     glUniform3f(r->u_eye, (float)cam->eye[0], (float)cam->eye[1], (float)cam->eye[2]);
     glUniform3f(r->u_view_direction, (float)cam->direction[0], (float)cam->direction[1],
                 (float)cam->direction[2]);
-    /* Lights ride with the camera: the key from upper left in front, the
-     * fill from the right, so the picture reads the same from any view. */
+    /* Lights ride with the camera: the key from upper left in front
+     * (render_key_light, which the shadows use too), the fill from the
+     * right, so the picture reads the same from any view. */
     float key[3], fill[3];
     const double *d = cam->direction, *u = cam->up, *rt = cam->right;
-    normalized(key, d[0] + 0.6 * u[0] - 0.5 * rt[0], d[1] + 0.6 * u[1] - 0.5 * rt[1],
-               d[2] + 0.6 * u[2] - 0.5 * rt[2]);
+    double key_direction[3];
+    render_key_light(cam, key_direction);
+    normalized(key, key_direction[0], key_direction[1], key_direction[2]);
     normalized(fill, 0.5 * d[0] - 0.2 * u[0] + 0.9 * rt[0], 0.5 * d[1] - 0.2 * u[1] + 0.9 * rt[1],
                0.5 * d[2] - 0.2 * u[2] + 0.9 * rt[2]);
     glUniform3fv(r->u_key, 1, key);
     glUniform3fv(r->u_fill, 1, fill);
+    glUniform1i(r->u_shadows, r->shadow_size > 0);
+    glUniform1i(r->u_fading, 0);
+    if (r->shadow_size > 0) {
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, r->shadow_texture);
+        glActiveTexture(GL_TEXTURE0);
+        glUniform1i(r->u_shadow_map, 1);
+        glUniformMatrix4fv(r->u_light, 1, GL_FALSE, r->light);
+        glUniform1f(r->u_shadow_offset, r->shadow_offset);
+        glUniform1f(r->u_shadow_spread, r->shadow_spread);
+    }
+}
+
+int gl_renderer_set_receivers(gl_renderer *r, const render_vertex *vertices, int vertex_count,
+                              const unsigned *indices, int plane_index_count, int index_count,
+                              const double fade[5], const unsigned char background[3])
+{
+    if (!r->receiver_vao) {
+        glGenVertexArrays(1, &r->receiver_vao);
+        glGenBuffers(1, &r->receiver_vbo);
+        glGenBuffers(1, &r->receiver_ibo);
+    }
+    glBindVertexArray(r->receiver_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, r->receiver_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)(vertex_count > 0 ? vertex_count : 1) *
+                                               sizeof(render_vertex)),
+                 vertices, GL_STATIC_DRAW);
+    set_vertex_layout();
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->receiver_ibo);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 (GLsizeiptr)((size_t)(index_count > 0 ? index_count : 1) * sizeof(unsigned)),
+                 indices, GL_STATIC_DRAW);
+    glBindVertexArray(0);
+    r->receiver_plane_indices = plane_index_count;
+    r->receiver_indices = index_count;
+    for (int k = 0; k < 4; k++) r->fade[k] = (float)fade[k];
+    r->fade_end = (float)fade[4];
+    for (int k = 0; k < 3; k++) r->background_rgb[k] = background[k] / 255.0f;
+    glUseProgram(r->program);
+    glUniform3fv(r->u_background, 1, r->background_rgb);
+    return glGetError() == GL_NO_ERROR ? 0 : -1;
+}
+
+int gl_renderer_set_shadows(gl_renderer *r, const double light_view_projection[16], int size,
+                            double offset, double spread, char *err, size_t errlen)
+{
+    if (!r->shadow_program) {
+        r->shadow_program = gl_program_load("shadow", err, errlen);
+        if (!r->shadow_program) return -1;
+        r->u_shadow_light = glGetUniformLocation(r->shadow_program, "light_view_projection");
+        glGenTextures(1, &r->shadow_texture);
+        glBindTexture(GL_TEXTURE_2D, r->shadow_texture);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, size, size, 0, GL_DEPTH_COMPONENT,
+                     GL_UNSIGNED_INT, NULL);
+        /* hardware PCF: each lookup compares and filters the 4 texels around it */
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        glGenFramebuffers(1, &r->shadow_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, r->shadow_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, r->shadow_texture,
+                               0);
+        glDrawBuffer(GL_NONE);
+        glReadBuffer(GL_NONE);
+        GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (status != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
+            snprintf(err, errlen, "gl: cannot make the %d x %d shadow map (status 0x%x)", size,
+                     size, (unsigned)status);
+            return -1;
+        }
+    }
+    r->shadow_size = size;
+    for (int k = 0; k < 16; k++) r->light[k] = (float)light_view_projection[k];
+    r->shadow_offset = (float)offset;
+    r->shadow_spread = (float)spread;
+    return 0;
+}
+
+/* The depth pass: the first caster_indices indices of the frame's
+ * triangles (0: an empty map, nothing casts) into the shadow map. */
+static void draw_shadow_map(gl_renderer *r, int caster_indices)
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, r->shadow_fbo);
+    glViewport(0, 0, r->shadow_size, r->shadow_size);
+    glDisable(GL_SCISSOR_TEST);
+    glEnable(GL_DEPTH_TEST);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    if (caster_indices > 0) {
+        /* the casters' far sides: the lit side of the tube compares against
+         * the side away from the light, so it does not shadow itself */
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_FRONT);
+        glUseProgram(r->shadow_program);
+        glUniformMatrix4fv(r->u_shadow_light, 1, GL_FALSE, r->light);
+        glBindVertexArray(r->vao);
+        glDrawElements(GL_TRIANGLES, caster_indices, GL_UNSIGNED_INT, NULL);
+        glBindVertexArray(0);
+        glCullFace(GL_BACK);
+    }
+}
+
+/* The static receivers, inside the scissor box set (planes faded, then the rest). */
+static void draw_receivers(gl_renderer *r)
+{
+    if (r->receiver_indices <= 0) return;
+    glUniform1i(r->u_lit, 2);
+    glBindVertexArray(r->receiver_vao);
+    if (r->receiver_plane_indices > 0) {
+        glUniform1i(r->u_fading, 1);
+        glUniform4fv(r->u_fade, 1, r->fade);
+        glUniform1f(r->u_fade_end, r->fade_end);
+        glDrawElements(GL_TRIANGLES, r->receiver_plane_indices, GL_UNSIGNED_INT, NULL);
+        glUniform1i(r->u_fading, 0);
+    }
+    if (r->receiver_indices > r->receiver_plane_indices)
+        glDrawElements(GL_TRIANGLES, r->receiver_indices - r->receiver_plane_indices,
+                       GL_UNSIGNED_INT,
+                       (const void *)((size_t)r->receiver_plane_indices * sizeof(unsigned)));
+    glBindVertexArray(0);
 }
 
 int gl_renderer_draw_backdrop(gl_renderer *r, const render_camera *cam,
                               const unsigned char background[3], image *out)
 {
+    if (r->shadow_size > 0) draw_shadow_map(r, 0); /* nothing casts on the backdrop */
     gl_target_bind(r->target);
     glDisable(GL_SCISSOR_TEST);
     glClearColor(background[0] / 255.0f, background[1] / 255.0f, background[2] / 255.0f, 1.0f);
@@ -180,36 +341,73 @@ int gl_renderer_draw_backdrop(gl_renderer *r, const render_camera *cam,
         glDrawArrays(GL_LINES, 0, r->line_count);
         glBindVertexArray(0);
     }
+    draw_receivers(r);
     return gl_target_read(r->target, out);
 }
 
 const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera *cam,
                                             const render_vertex *vertices, int vertex_count,
                                             const unsigned *indices, int index_count,
-                                            const int *boxes, int box_count, int read_box[4])
+                                            int caster_index_count, const int *boxes,
+                                            int box_count, int read_box[4], double *shadow_seconds)
 {
-    gl_target_bind(r->target);
-    set_camera(r, cam);
     if (vertex_count > r->max_vertices) vertex_count = r->max_vertices;
     if (index_count > r->max_indices) index_count = r->max_indices;
-    glUniform1i(r->u_lit, 1);
+    if (caster_index_count > index_count) caster_index_count = index_count;
     glBindVertexArray(r->vao);
     glBindBuffer(GL_ARRAY_BUFFER, r->vbo);
     glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)((size_t)vertex_count * sizeof(render_vertex)),
                     vertices);
     glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, (GLsizeiptr)((size_t)index_count * sizeof(unsigned)),
                     indices);
-    glClearColor(0, 0, 0, 0);
+    glBindVertexArray(0);
+    if (r->shadow_size > 0) {
+        double started = shadow_seconds ? gl_seconds() : 0;
+        draw_shadow_map(r, caster_index_count);
+        if (shadow_seconds) {
+            /* llvmpipe draws when asked for the result: wait for it to time the pass */
+            glFinish();
+            *shadow_seconds += gl_seconds() - started;
+        }
+    }
+    gl_target_bind(r->target);
+    set_camera(r, cam);
+    /* With receivers the boxes are drawn whole (background, grid, surfaces,
+     * then the rod): the shadow changes them. Else they are cleared to
+     * transparent and only the rod is composited over the backdrop. */
+    int opaque = r->receiver_indices > 0;
+    if (opaque)
+        glClearColor(r->background_rgb[0], r->background_rgb[1], r->background_rgb[2], 1.0f);
+    else
+        glClearColor(0, 0, 0, 0);
     glEnable(GL_SCISSOR_TEST);
     for (int b = 0; b < box_count; b++) {
         const int *box = &boxes[4 * b];
         glScissor(box[0], cam->height - (box[1] + box[3]), box[2], box[3]);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        if (!opaque) continue;
+        /* as the backdrop draws them, so that the box's edges do not show */
+        if (r->line_count > 0) {
+            glUniform1i(r->u_lit, 0);
+            glBindVertexArray(r->line_vao);
+            glDrawArrays(GL_LINES, 0, r->line_count);
+            glBindVertexArray(0);
+        }
+        draw_receivers(r);
     }
     glDisable(GL_SCISSOR_TEST);
     /* One draw for all boxes: the boxes cover the geometry by construction,
      * and whatever lands outside them is never resolved or read. */
-    if (index_count > 0) glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, NULL);
+    glBindVertexArray(r->vao);
+    glUniform1i(r->u_lit, 1);
+    if (caster_index_count > 0)
+        glDrawElements(GL_TRIANGLES, caster_index_count, GL_UNSIGNED_INT, NULL);
+    if (index_count > caster_index_count) {
+        /* the punctures: matte marks on the surfaces */
+        glUniform1i(r->u_lit, 2);
+        glDrawElements(GL_TRIANGLES, index_count - caster_index_count, GL_UNSIGNED_INT,
+                       (const void *)((size_t)caster_index_count * sizeof(unsigned)));
+    }
     glBindVertexArray(0);
     /* resolve each box, then read their bounding rectangle at once */
     int lo_x = cam->width, lo_y = cam->height, hi_x = 0, hi_y = 0;

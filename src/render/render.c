@@ -27,6 +27,10 @@ const float render_stripe_color[3] = {1.00f, 0.76f, 0.08f}; /* amber */
 const float render_clamp_color[3] = {0.42f, 0.43f, 0.46f};  /* dark steel */
 const float render_ball_color[3] = {0.70f, 0.42f, 0.16f};   /* bronze, apart from the rest */
 const float render_needle_color[3] = {0.74f, 0.75f, 0.77f}; /* bright steel, lighter than the rod */
+const float render_skin_color[3] = {0.80f, 0.56f, 0.45f};    /* a light skin tone, matte */
+const float render_surface_color[3] = {0.90f, 0.90f, 0.88f}; /* neutral light grey */
+const float render_wound_color[3] = {0.42f, 0.05f, 0.06f};   /* dark red */
+const float render_puncture_color[3] = {0.20f, 0.04f, 0.05f}; /* nearly black red */
 /* over a colour map the amber stripe would read as a value (viridis ends in
  * yellow): it is drawn white there */
 static const float stripe_on_map_color[3] = {0.97f, 0.97f, 0.97f};
@@ -67,6 +71,9 @@ static const float moment_color[3] = {0.16f, 0.62f, 0.26f};
 /* pixels; measured with 4x MSAA: less area to clear and resolve than 64
  * (llvmpipe's tile), and fewer boxes (GL calls) than 16 */
 #define TILE 32
+/* surfaces whose shadows are looked for (more are drawn, but cast no
+ * shadow-marked tiles beyond these: a scene has a few) */
+#define ROD_MAX_SURFACES_DRAWN 32
 
 /* ------------------------------------------------------------------ options */
 
@@ -103,6 +110,8 @@ void render_options_default(render_options *o)
     o->colormap = RENDER_MAP_VIRIDIS;
     o->speed = 1;
     o->magnify = 1;
+    o->shadows = 1;
+    o->ground = RENDER_GROUND_AUTO;
 }
 
 /* Decision (issue 14): speed is the playback rate, simulated seconds per
@@ -283,6 +292,24 @@ static int read_teaching(ini_doc *doc, render_options *o, char *err, size_t errl
                          "gives %g recorded frames per simulated second (fps / speed); accepted "
                          "0.5 .. 1e6",
                          o->fps / o->speed);
+    static const char *const grounds[] = {"auto", "yes", "no", NULL};
+    status = ini_get_choice(doc, "render", 0, "ground", grounds, &choice, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) o->ground = (render_ground_mode)choice;
+    if (ini_get_bool(doc, "render", 0, "shadows", &o->shadows, err, errlen) < 0) return -1;
+    double wound[6];
+    status = ini_get_vector(doc, "render", 0, "wound", wound, 6, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) {
+        double length = sqrt((wound[3] - wound[0]) * (wound[3] - wound[0]) +
+                             (wound[4] - wound[1]) * (wound[4] - wound[1]) +
+                             (wound[5] - wound[2]) * (wound[5] - wound[2]));
+        if (!(length > 0) || !isfinite(length))
+            return ini_error(doc, "render", 0, "wound", err, errlen,
+                             "must be two distinct points x1 y1 z1 x2 y2 z2 (m, global)");
+        memcpy(o->wound_line, wound, sizeof wound);
+        o->wound = 1;
+    }
     if (read_text(doc, "title", o->title, sizeof o->title, err, errlen) ||
         read_text(doc, "caption", o->caption, sizeof o->caption, err, errlen) ||
         read_hidden(doc, &o->show, err, errlen))
@@ -474,6 +501,9 @@ static rod_recording *recording_like(const rod_recording *rec, int frames)
     rod_recording *r = calloc(1, sizeof *r);
     if (!r) return NULL;
     *r = *rec;
+    /* no punctures: the renderer takes them from the recording it was given */
+    r->puncture_count = NULL;
+    r->puncture = NULL;
     size_t n = (size_t)rec->nodes, f = (size_t)(frames > 0 ? frames : 1);
     r->frame_count = r->capacity = (int)f;
     r->time = malloc(f * sizeof(double));
@@ -868,7 +898,7 @@ static int glyph_points(const rod_recording *rec, const render_options *o, doubl
 }
 
 static void add_block(mesh *m, const double centre[3], double axes[3][3],
-                      const double half[3])
+                      const double half[3], const float color[3])
 {
     for (int a = 0; a < 3; a++)
         for (int sign = -1; sign <= 1; sign += 2) {
@@ -883,7 +913,7 @@ static void add_block(mesh *m, const double centre[3], double axes[3][3],
                 v3_copy(p, face);
                 v3_axpy(p, (corner & 1 ? 1 : -1) * half[b], axes[b]);
                 v3_axpy(p, (corner & 2 ? 1 : -1) * half[c], axes[c]);
-                add_vertex(m, p, n, render_clamp_color);
+                add_vertex(m, p, n, color);
             }
             add_triangle(m, first, first + 1, first + 3);
             add_triangle(m, first, first + 3, first + 2);
@@ -961,7 +991,7 @@ static void add_end_glyphs(mesh *m, const rod_recording *rec, const render_optio
         case GLYPH_BLOCK: {
             double centre[3], axes[3][3], half[3];
             clamp_box(rec, radius, frame, end, centre, axes, half);
-            add_block(m, centre, axes, half);
+            add_block(m, centre, axes, half, render_clamp_color);
             break;
         }
         case GLYPH_BALL:
@@ -1148,6 +1178,40 @@ typedef struct point_cloud {
     double pad;     /* m, added around every point */
 } point_cloud;
 
+static void surface_bounds(const rod_surface *s, double lo[3], double hi[3]);
+
+/* The bounded surfaces near the motion join the cloud: each one's bounding
+ * box, cut to the motion's own box grown by half its size on every side, so
+ * that a skin pad under the thread is framed but a large table or an
+ * unbounded cylinder does not shrink the rod (a plane is never framed). */
+static void point_cloud_add_surfaces(point_cloud *pc, const render_options *o)
+{
+    if (o->surface_count <= 0 || pc->count == 0) return;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < pc->count; i++)
+        for (int c = 0; c < 3; c++) {
+            lo[c] = fmin(lo[c], pc->points[3 * i + c] - pc->pad);
+            hi[c] = fmax(hi[c], pc->points[3 * i + c] + pc->pad);
+        }
+    double size = fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
+    for (int k = 0; k < o->surface_count; k++) {
+        const rod_surface *sf = &o->surfaces[k];
+        if (sf->shape == ROD_SURFACE_PLANE) continue;
+        double slo[3], shi[3];
+        surface_bounds(sf, slo, shi);
+        int empty = 0;
+        for (int c = 0; c < 3; c++) {
+            slo[c] = fmax(slo[c], lo[c] - 0.5 * size);
+            shi[c] = fmin(shi[c], hi[c] + 0.5 * size);
+            if (!(slo[c] <= shi[c])) empty = 1;
+        }
+        for (int corner = 0; !empty && corner < 8; corner++) {
+            double *p = &pc->points[3 * pc->count++];
+            for (int c = 0; c < 3; c++) p[c] = corner >> c & 1 ? shi[c] : slo[c];
+        }
+    }
+}
+
 static int point_cloud_create(point_cloud *pc, const rod_recording *rec, const render_options *o,
                               double radius, const arrow_scales *arrows)
 {
@@ -1156,7 +1220,8 @@ static int point_cloud_create(point_cloud *pc, const rod_recording *rec, const r
     /* the glyphs every frame (a driven end moves them): at most GLYPH_MAX_POINTS each, or 6
      * for a ball (its padded centre) */
     size_t capacity = (size_t)(rec->frame_count / stride + 2) * (size_t)rec->nodes +
-                      (size_t)rec->frame_count * (4 + 2 * GLYPH_MAX_POINTS) + 8;
+                      (size_t)rec->frame_count * (4 + 2 * GLYPH_MAX_POINTS) + 8 +
+                      8 * (size_t)(o->surface_count > 0 ? o->surface_count : 0);
     pc->points = malloc(capacity * 3 * sizeof(double));
     pc->count = 0;
     pc->pad = radius;
@@ -1235,6 +1300,7 @@ static void camera_fit(render_camera *cam, const rod_recording *rec, const rende
         /* out of memory: frame the first frame's ends */
         pc.count = 0;
     }
+    point_cloud_add_surfaces(&pc, o);
     double aspect = (double)o->width / o->height;
     /* the band of the picture the content may use, as fractions of the half-size */
     double use_x = 1 - 2 * FRAME_SIDE, use_y = 1 - FRAME_TOP - FRAME_BOTTOM;
@@ -1260,6 +1326,13 @@ static void camera_fit(render_camera *cam, const rod_recording *rec, const rende
         distance = 0.5 * (hi[2] - lo[2]) + 0.5 * size + 1e-3;
         near = 1e-4 * size;
         far = distance + 4 * size;
+        if (o->surface_count > 0 || v3_norm(o->distributed_force) > 0) {
+            /* a floor (a plane, the ground) reaches 3 sizes and more from the
+             * motion: the eye stands back so that no part of it is clipped
+             * (an orthographic picture does not change with the distance) */
+            distance += 6 * size;
+            far = distance + 6 * size;
+        }
         cam->metres_per_pixel = 2 * half_height / o->height;
     } else {
         double tan_y = tan(0.5 * PERSPECTIVE_FOVY), tan_x = tan_y * aspect;
@@ -1348,6 +1421,374 @@ int render_project(const render_camera *cam, const double point[3], double pixel
     pixel[0] = (clip[0] / clip[3] + 1) * 0.5 * cam->width;
     pixel[1] = (1 - clip[1] / clip[3]) * 0.5 * cam->height;
     return 0;
+}
+
+
+/* ------------------------------------------------------------------ surfaces, ground, shadows */
+
+#define SURFACE_SIDES 48      /* facets around a cylinder or a sphere */
+#define SURFACE_STACKS 24     /* a sphere's latitude bands */
+#define WOUND_SEGMENTS 48     /* along the wound line */
+#define PUNCTURE_SIDES 16
+#define PLANE_FADE_START 1.5  /* a plane fades out from this many motion sizes from its centre ... */
+#define PLANE_FADE_END 3.0    /* ... to this many: a large finite floor, never the framing */
+/* texels a side: at most 1024 (1 mm for a 1 m motion), fewer when a third
+ * of the visual radius needs fewer (the depth pass's cost is its area) */
+#define SHADOW_MAP_MAX 1024
+#define SHADOW_MAP_MIN 256
+#define SHADOW_REACH 1e3      /* a shadow is followed this many motion sizes from its caster */
+/* vertices and indices one surface's mesh needs at most (the sphere) */
+#define SURFACE_VERTICES ((SURFACE_STACKS + 1) * (SURFACE_SIDES + 1) + 2 * (SURFACE_SIDES + 1))
+#define SURFACE_INDICES (6 * SURFACE_STACKS * SURFACE_SIDES + 6 * SURFACE_SIDES)
+#define PUNCTURE_VERTICES (ROD_MAX_PUNCTURES * (PUNCTURE_SIDES + 1))
+#define PUNCTURE_INDICES (ROD_MAX_PUNCTURES * 3 * PUNCTURE_SIDES)
+
+void render_key_light(const render_camera *cam, double key[3])
+{
+    const double *d = cam->direction, *u = cam->up, *rt = cam->right;
+    for (int c = 0; c < 3; c++) key[c] = d[c] + 0.6 * u[c] - 0.5 * rt[c];
+    v3_scale(key, key, 1.0 / v3_norm(key));
+}
+
+/* The axis-aligned bounds of a surface (a plane's and a cylinder's are
+ * infinite along them). */
+static void surface_bounds(const rod_surface *s, double lo[3], double hi[3])
+{
+    for (int c = 0; c < 3; c++) {
+        double reach;
+        switch (s->shape) {
+        case ROD_SURFACE_BOX: reach = 0.5 * s->size[c]; break;
+        case ROD_SURFACE_SPHERE: reach = s->size[0]; break;
+        case ROD_SURFACE_CYLINDER:
+            reach = fabs(s->normal[c]) > 1e-12 ? INFINITY
+                                                : s->size[0] * sqrt(1 - s->normal[c] * s->normal[c]);
+            break;
+        default: reach = INFINITY; break;
+        }
+        lo[c] = s->center[c] - reach;
+        hi[c] = s->center[c] + reach;
+    }
+}
+
+/* The point of the surface nearest p (into near) and the outward normal
+ * there; returns the distance. The renderer's own: it does not see
+ * sim/surface.h (layer rule), and needs no grown solid. */
+static double surface_nearest(const rod_surface *s, const double p[3], double near[3], double n[3])
+{
+    double d[3];
+    v3_sub(d, p, s->center);
+    switch (s->shape) {
+    default: /* ROD_SURFACE_PLANE */
+        v3_copy(n, s->normal);
+        v3_copy(near, p);
+        v3_axpy(near, -v3_dot(d, n), n);
+        break;
+    case ROD_SURFACE_SPHERE:
+    case ROD_SURFACE_CYLINDER: {
+        double radial[3];
+        v3_copy(radial, d);
+        if (s->shape == ROD_SURFACE_CYLINDER) v3_axpy(radial, -v3_dot(d, s->normal), s->normal);
+        double length = v3_norm(radial);
+        if (length > 0) v3_scale(n, radial, 1 / length);
+        else perpendicular_basis(s->normal, n, radial);
+        v3_copy(near, p);
+        v3_axpy(near, s->size[0] - length, n);
+        break;
+    }
+    case ROD_SURFACE_BOX: {
+        /* the face whose slab p is farthest out of (or least inside) */
+        int face = 0;
+        double out = -INFINITY;
+        for (int c = 0; c < 3; c++) {
+            double beyond = fabs(d[c]) - 0.5 * s->size[c];
+            if (beyond > out) out = beyond, face = c;
+        }
+        for (int c = 0; c < 3; c++) {
+            double h = 0.5 * s->size[c];
+            near[c] = s->center[c] + fmax(-h, fmin(h, d[c]));
+            n[c] = 0;
+        }
+        n[face] = d[face] < 0 ? -1 : 1;
+        near[face] = s->center[face] + n[face] * 0.5 * s->size[face];
+        break;
+    }
+    }
+    double gap[3];
+    v3_sub(gap, p, near);
+    return v3_norm(gap);
+}
+
+/* The motion's bounds: the point cloud of the casters (nodes, glyphs,
+ * arrows), padded. 0, or -1 when out of memory. */
+static int content_bounds(const rod_recording *rec, const render_options *o, double radius,
+                          double lo[3], double hi[3])
+{
+    arrow_scales arrows;
+    arrow_scales_compute(&arrows, rec, radius, o->arrows);
+    point_cloud pc;
+    if (point_cloud_create(&pc, rec, o, radius, &arrows)) return -1;
+    for (int c = 0; c < 3; c++) lo[c] = INFINITY, hi[c] = -INFINITY;
+    for (int i = 0; i < pc.count; i++)
+        for (int c = 0; c < 3; c++) {
+            lo[c] = fmin(lo[c], pc.points[3 * i + c] - pc.pad);
+            hi[c] = fmax(hi[c], pc.points[3 * i + c] + pc.pad);
+        }
+    free(pc.points);
+    return pc.count > 0 ? 0 : -1;
+}
+
+/* Decision (issues 11, 14): the ground lies across the distributed load's
+ * direction (gravity's, when that is the load), a visual radius below the
+ * lowest point the run reaches (tube surface and glyphs included), so the
+ * shadow meets the rod where it comes lowest. auto draws it when such a
+ * load acts, no plane surface is given (the plane is the floor then) and
+ * the camera looks at its top side from at least 6 degrees above. */
+int render_ground_plane(const rod_recording *rec, const render_options *o, double point[3],
+                        double normal[3])
+{
+    double load = v3_norm(o->distributed_force);
+    if (o->ground == RENDER_GROUND_NO || !(load > 0) || rec->frame_count <= 0) return 0;
+    double down[3], back[3], right[3], up[3];
+    v3_scale(down, o->distributed_force, 1 / load);
+    camera_basis(o->view, back, right, up);
+    if (o->ground == RENDER_GROUND_AUTO) {
+        for (int k = 0; k < o->surface_count; k++)
+            if (o->surfaces[k].shape == ROD_SURFACE_PLANE) return 0;
+        if (-v3_dot(back, down) < sin(6 * M_PI / 180)) return 0;
+    }
+    double radius = render_visual_radius(rec, o), lowest = -INFINITY;
+    for (int f = 0; f < rec->frame_count; f++) {
+        for (int k = 0; k < rec->nodes; k++)
+            lowest = fmax(lowest, v3_dot(node_position(rec, f, k), down) + radius);
+        for (int end = 0; end < 2; end++) {
+            double glyph[3 * GLYPH_MAX_POINTS], pad;
+            int chain, count = glyph_points(rec, o, radius, f, end, glyph, &pad, &chain);
+            for (int i = 0; i < count; i++)
+                lowest = fmax(lowest, v3_dot(&glyph[3 * i], down) + pad);
+        }
+    }
+    v3_scale(normal, down, -1);
+    v3_scale(point, down, lowest + radius);
+    return 1;
+}
+
+/* A half-space set n . p <= offset bounding where a receiver can take a
+ * shadow (a slab about a plane, a box about a solid): the tiles a shadow
+ * may darken are found by clipping the caster's shadow volume to it. */
+typedef struct shadow_catcher {
+    int count;
+    double normal[6][3], offset[6];
+    double stretch; /* a caster's pad grows this much on it (light at a slant) */
+} shadow_catcher;
+
+static void catcher_slab(shadow_catcher *k, const double point[3], const double n[3], double half)
+{
+    k->count = 2;
+    v3_copy(k->normal[0], n);
+    k->offset[0] = v3_dot(n, point) + half;
+    v3_scale(k->normal[1], n, -1);
+    k->offset[1] = -v3_dot(n, point) + half;
+}
+
+static void catcher_box(shadow_catcher *k, const double lo[3], const double hi[3])
+{
+    k->count = 6;
+    for (int c = 0; c < 3; c++) {
+        v3_set(k->normal[2 * c], 0, 0, 0);
+        v3_set(k->normal[2 * c + 1], 0, 0, 0);
+        k->normal[2 * c][c] = 1;
+        k->offset[2 * c] = hi[c];
+        k->normal[2 * c + 1][c] = -1;
+        k->offset[2 * c + 1] = -lo[c];
+    }
+}
+
+/* Clips the polygon (count points, up to 16) to the catcher (Sutherland-Hodgman);
+ * returns the points left. */
+static int clip_polygon(double *poly, int count, const shadow_catcher *k)
+{
+    double work[3 * 16];
+    for (int h = 0; h < k->count && count > 0; h++) {
+        int kept = 0;
+        for (int i = 0; i < count; i++) {
+            const double *a = &poly[3 * i], *b = &poly[3 * ((i + 1) % count)];
+            double da = v3_dot(k->normal[h], a) - k->offset[h];
+            double db = v3_dot(k->normal[h], b) - k->offset[h];
+            if (da <= 0 && kept < 16) v3_copy(&work[3 * kept++], a);
+            if ((da < 0 && db > 0) || (da > 0 && db < 0)) {
+                double t = da / (da - db), *p = &work[3 * kept];
+                if (kept >= 16) continue;
+                for (int c = 0; c < 3; c++) p[c] = a[c] + t * (b[c] - a[c]);
+                kept++;
+            }
+        }
+        memcpy(poly, work, (size_t)kept * 3 * sizeof(double));
+        count = kept;
+    }
+    return count;
+}
+
+/* The receivers' static mesh: planes first (faded), then solids and the wound. */
+static void add_plane(mesh *m, const double point[3], const double n[3], const double centre[3],
+                      double half, const float color[3])
+{
+    double e1[3], e2[3], middle[3];
+    perpendicular_basis(n, e1, e2);
+    v3_copy(middle, centre);
+    v3_axpy(middle, -v3_dot(n, (double[3]){centre[0] - point[0], centre[1] - point[1],
+                                           centre[2] - point[2]}),
+            n);
+    unsigned first = (unsigned)m->vertex_count;
+    for (int corner = 0; corner < 4; corner++) {
+        double p[3];
+        v3_copy(p, middle);
+        v3_axpy(p, (corner & 1 ? 1 : -1) * half, e1);
+        v3_axpy(p, (corner & 2 ? 1 : -1) * half, e2);
+        add_vertex(m, p, n, color);
+    }
+    add_triangle(m, first, first + 1, first + 3);
+    add_triangle(m, first, first + 3, first + 2);
+}
+
+static void add_sphere(mesh *m, const double centre[3], double radius, const float color[3])
+{
+    unsigned first = (unsigned)m->vertex_count;
+    for (int i = 0; i <= SURFACE_STACKS; i++) {
+        double polar = M_PI * i / SURFACE_STACKS;
+        for (int j = 0; j <= SURFACE_SIDES; j++) {
+            double azimuth = 2 * M_PI * j / SURFACE_SIDES, p[3];
+            double n[3] = {sin(polar) * cos(azimuth), sin(polar) * sin(azimuth), cos(polar)};
+            v3_copy(p, centre);
+            v3_axpy(p, radius, n);
+            add_vertex(m, p, n, color);
+        }
+    }
+    for (int i = 0; i < SURFACE_STACKS; i++)
+        for (int j = 0; j < SURFACE_SIDES; j++) {
+            unsigned a = first + (unsigned)(i * (SURFACE_SIDES + 1) + j), b = a + SURFACE_SIDES + 1;
+            if (i > 0) add_triangle(m, a, b, a + 1);
+            if (i + 1 < SURFACE_STACKS) add_triangle(m, a + 1, b, b + 1);
+        }
+}
+
+/* A cylinder of `radius` about the axis through centre along the unit a,
+ * from -half to +half along it, closed by discs. */
+static void add_cylinder(mesh *m, const double centre[3], const double a[3], double radius,
+                         double half, const float color[3])
+{
+    double e1[3], e2[3];
+    perpendicular_basis(a, e1, e2);
+    unsigned first = (unsigned)m->vertex_count;
+    for (int end = 0; end < 2; end++)
+        for (int j = 0; j <= SURFACE_SIDES; j++) {
+            double phi = 2 * M_PI * j / SURFACE_SIDES, n[3] = {0, 0, 0}, p[3];
+            v3_axpy(n, cos(phi), e1);
+            v3_axpy(n, sin(phi), e2);
+            v3_copy(p, centre);
+            v3_axpy(p, end ? half : -half, a);
+            v3_axpy(p, radius, n);
+            add_vertex(m, p, n, color);
+        }
+    for (int j = 0; j < SURFACE_SIDES; j++) {
+        unsigned p0 = first + (unsigned)j, q0 = p0 + SURFACE_SIDES + 1;
+        add_triangle(m, p0, q0, q0 + 1);
+        add_triangle(m, p0, q0 + 1, p0 + 1);
+    }
+    for (int end = 0; end < 2; end++) {
+        double c[3], n[3];
+        v3_copy(c, centre);
+        v3_axpy(c, end ? half : -half, a);
+        v3_scale(n, a, end ? 1 : -1);
+        add_disc(m, c, e1, e2, radius, n, SURFACE_SIDES, color);
+    }
+}
+
+/* The drawn piece of an unbounded cylinder: along its axis over the motion's
+ * box and one motion size beyond it each way. */
+static void cylinder_piece(const rod_surface *s, const double lo[3], const double hi[3],
+                           double size, double centre[3], double *half)
+{
+    double t0 = INFINITY, t1 = -INFINITY;
+    for (int corner = 0; corner < 8; corner++) {
+        double p[3];
+        for (int c = 0; c < 3; c++) p[c] = (corner >> c & 1 ? hi[c] : lo[c]) - s->center[c];
+        double t = v3_dot(p, s->normal);
+        t0 = fmin(t0, t);
+        t1 = fmax(t1, t);
+    }
+    v3_copy(centre, s->center);
+    v3_axpy(centre, 0.5 * (t0 + t1), s->normal);
+    *half = 0.5 * (t1 - t0) + size;
+}
+
+/* The surface nearest p among o's (-1: none), its nearest point and normal. */
+static int nearest_surface(const render_options *o, const double p[3], double near[3], double n[3])
+{
+    int best = -1;
+    double best_gap = INFINITY;
+    for (int k = 0; k < o->surface_count; k++) {
+        double q[3], m[3], gap = surface_nearest(&o->surfaces[k], p, q, m);
+        if (gap < best_gap) {
+            best_gap = gap;
+            best = k;
+            v3_copy(near, q);
+            v3_copy(n, m);
+        }
+    }
+    return best;
+}
+
+/* The wound: a dark red strip along the segment, laid on the nearest
+ * surface and lifted off it by `lift` (m) so the depth test keeps it. */
+static void add_wound(mesh *m, const render_options *o, double width, double lift,
+                      const double up_fallback[3])
+{
+    const double *a = o->wound_line, *b = &o->wound_line[3];
+    double along[3];
+    v3_sub(along, b, a);
+    v3_scale(along, along, 1 / v3_norm(along));
+    unsigned first = (unsigned)m->vertex_count;
+    for (int k = 0; k <= WOUND_SEGMENTS; k++) {
+        double f = (double)k / WOUND_SEGMENTS, p[3], near[3], n[3], side[3];
+        for (int c = 0; c < 3; c++) p[c] = a[c] + f * (b[c] - a[c]);
+        if (nearest_surface(o, p, near, n) < 0) {
+            v3_copy(near, p);
+            v3_copy(n, up_fallback);
+        }
+        v3_axpy(near, lift, n);
+        v3_cross(side, n, along);
+        double length = v3_norm(side);
+        if (!(length > 0)) perpendicular_basis(n, side, p);
+        else v3_scale(side, side, 1 / length);
+        for (int e = -1; e <= 1; e += 2) {
+            double q[3];
+            v3_copy(q, near);
+            v3_axpy(q, 0.5 * width * e, side);
+            add_vertex(m, q, n, render_wound_color);
+        }
+    }
+    for (int k = 0; k < WOUND_SEGMENTS; k++) {
+        unsigned i = first + 2 * (unsigned)k;
+        add_triangle(m, i, i + 2, i + 3);
+        add_triangle(m, i, i + 3, i + 1);
+    }
+}
+
+/* The punctures of frame `frame`: dark discs on the surface they are in,
+ * the thread passing through their centre. */
+static void add_punctures(mesh *m, const rod_recording *rec, const render_options *o, int frame,
+                          double radius, double lift)
+{
+    const double *points;
+    int count = rod_recording_punctures(rec, frame, &points);
+    for (int i = 0; i < count; i++) {
+        double near[3], n[3], e1[3], e2[3];
+        /* on the surface nearest the point, just off it */
+        if (nearest_surface(o, &points[3 * i], near, n) < 0) continue;
+        v3_axpy(near, lift, n);
+        perpendicular_basis(n, e1, e2);
+        add_disc(m, near, e1, e2, 1.8 * radius, n, PUNCTURE_SIDES, render_puncture_color);
+    }
 }
 
 /* ------------------------------------------------------------------ grid */
@@ -1863,6 +2304,16 @@ typedef struct renderer {
     double *previous;            /* (nodes x 3), m: the last frame given (speed) */
     double previous_time;        /* s */
     int have_previous;
+    /* surfaces, ground and shadows (issues 11, 14) */
+    int receivers;               /* 1: surfaces or a ground are drawn (boxes drawn whole) */
+    int shadows;                 /* 1: the shadow map is drawn each frame */
+    double key[3];               /* unit, towards the key light */
+    double shadow_pad;           /* m: how far a shadow's soft edge reaches past its caster's */
+    double lift;                 /* m: wound and punctures lie this far off their surface */
+    double size;                 /* m: the motion's size (shadow reach) */
+    shadow_catcher catchers[ROD_MAX_SURFACES_DRAWN + 1];
+    int catcher_count;
+    int caster_indices;          /* this frame's triangles that cast (the punctures do not) */
 } renderer;
 
 /* Pixels per metre at a point (perspective: at its depth). */
@@ -1901,10 +2352,42 @@ static void mark_points(renderer *r, const double *points, int count, double pad
         for (int tx = tx0; tx <= tx1; tx++) r->tile_marked[ty * r->tiles_x + tx] = 1;
 }
 
+/* Marks the tiles where the shadow of the points (a polyline when chain,
+ * else a hull: every pair), padded by pad (m), can fall on a receiver: the
+ * shadow volume of each segment (the segment swept away from the light)
+ * clipped to each receiver's catcher. */
+static void mark_shadow(renderer *r, const double *points, int count, int chain, double pad)
+{
+    double reach = SHADOW_REACH * r->size, hull[3 * 16 * 64];
+    for (int c = 0; c < r->catcher_count; c++) {
+        int kept = 0;
+        for (int i = 0; i < count; i++)
+            for (int j = chain ? i + 1 : i; j < (chain ? (i + 2 < count ? i + 2 : count) : count); j++) {
+                const double *a = &points[3 * i], *b = &points[3 * j];
+                double poly[3 * 16];
+                v3_copy(&poly[0], a);
+                v3_copy(&poly[3], b);
+                v3_copy(&poly[6], b);
+                v3_axpy(&poly[6], -reach, r->key);
+                v3_copy(&poly[9], a);
+                v3_axpy(&poly[9], -reach, r->key);
+                int left = clip_polygon(poly, 4, &r->catchers[c]);
+                if (left == 0) continue;
+                if (chain) {
+                    mark_points(r, poly, left, pad * r->catchers[c].stretch + r->shadow_pad);
+                    continue;
+                }
+                for (int q = 0; q < left && kept < 16 * 64; q++) v3_copy(&hull[3 * kept++], &poly[3 * q]);
+            }
+        if (kept > 0) mark_points(r, hull, kept, pad * r->catchers[c].stretch + r->shadow_pad);
+    }
+}
+
 /* The disjoint boxes that hold this frame's tube, stripe, end glyphs and arrows:
  * only they are cleared, drawn, resolved and read (the multisample resolve
  * is llvmpipe's main cost), the rest of the picture is the backdrop. */
-static void frame_boxes(renderer *r, const rod_recording *rec, int frame)
+static void frame_boxes(renderer *r, const rod_recording *rec, int frame,
+                        const rod_recording *given, int given_frame)
 {
     memset(r->tile_marked, 0, (size_t)r->tiles_x * (size_t)r->tiles_y);
     for (int k = 0; k + 1 < rec->nodes; k++)
@@ -1923,6 +2406,20 @@ static void frame_boxes(renderer *r, const rod_recording *rec, int frame)
         v3_copy(&ends[3], ends);
         v3_axpy(&ends[3], length, d);
         mark_points(r, ends, 2, r->arrows.style.head_radius);
+        if (r->shadows) mark_shadow(r, ends, 2, 1, r->arrows.style.head_radius);
+    }
+    const double *punctures;
+    int puncture_count = rod_recording_punctures(given, given_frame, &punctures);
+    for (int i = 0; r->receivers && i < puncture_count; i++)
+        mark_points(r, &punctures[3 * i], 1, 2 * r->radius + r->lift);
+    if (r->shadows) {
+        for (int k = 0; k + 1 < rec->nodes; k++)
+            mark_shadow(r, node_position(rec, frame, k), 2, 1, r->pad);
+        for (int end = 0; end < 2; end++) {
+            double glyph[3 * GLYPH_MAX_POINTS], pad;
+            int chain, count = glyph_points(rec, r->o, r->radius, frame, end, glyph, &pad, &chain);
+            if (count > 0) mark_shadow(r, glyph, count, chain, pad);
+        }
     }
     /* runs of marked tiles in each tile row become boxes */
     r->box_count = 0;
@@ -1969,6 +2466,195 @@ static void renderer_remember(renderer *r, const rod_recording *rec, int frame)
     r->have_previous = 1;
 }
 
+/* What renderer_receivers needs of the motion as drawn, taken before the
+ * magnified copy is freed. */
+typedef struct receiver_plan {
+    int have_bounds;
+    double lo[3], hi[3];  /* m: the casters over the whole run (padded) */
+    int ground;
+    double ground_point[3], ground_normal[3];
+} receiver_plan;
+
+static void receiver_plan_make(receiver_plan *p, const rod_recording *rec, const render_options *o,
+                               double radius)
+{
+    memset(p, 0, sizeof *p);
+    p->have_bounds = content_bounds(rec, o, radius, p->lo, p->hi) == 0;
+    p->ground = p->have_bounds && render_ground_plane(rec, o, p->ground_point, p->ground_normal);
+}
+
+/* The surfaces, the ground and the wound as static receivers, the shadow
+ * catchers for the tiles, and the shadow map's light (issues 11, 14). */
+static int renderer_receivers(renderer *r, const receiver_plan *plan, char *err, size_t errlen)
+{
+    const render_options *o = r->o;
+    int surfaces = o->surfaces ? o->surface_count : 0;
+    if (!plan->have_bounds || (surfaces <= 0 && !plan->ground)) return 0;
+    double centre[3], size = 0;
+    for (int c = 0; c < 3; c++) {
+        centre[c] = 0.5 * (plan->lo[c] + plan->hi[c]);
+        size = fmax(size, plan->hi[c] - plan->lo[c]);
+    }
+    size = fmax(size, 0.1 * r->rec->length);
+    r->size = size;
+    r->receivers = 1;
+    r->lift = 0.05 * r->radius + 2e-4 * size;
+    render_key_light(&r->camera, r->key);
+
+    mesh m = {0};
+    m.max_vertices = (surfaces + 1) * SURFACE_VERTICES + 2 * (WOUND_SEGMENTS + 1);
+    m.max_indices = (surfaces + 1) * SURFACE_INDICES + 6 * WOUND_SEGMENTS;
+    m.vertices = malloc((size_t)m.max_vertices * sizeof(render_vertex));
+    m.indices = malloc((size_t)m.max_indices * sizeof(unsigned));
+    if (!m.vertices || !m.indices) {
+        free(m.vertices);
+        free(m.indices);
+        snprintf(err, errlen, "render: out of memory");
+        return -1;
+    }
+    /* the planes, the ground first: one fade about the motion's centre,
+     * sized for the nearest plane's distance from it */
+    double plane_distance = INFINITY;
+    const float *ground_color = render_surface_color;
+    for (int pass = 0; pass < 2; pass++) {
+        for (int k = -1; k < surfaces; k++) {
+            const double *point, *n;
+            const float *color;
+            if (k < 0) {
+                if (!plan->ground) continue;
+                point = plan->ground_point;
+                n = plan->ground_normal;
+                color = ground_color;
+            } else {
+                if (o->surfaces[k].shape != ROD_SURFACE_PLANE) continue;
+                point = o->surfaces[k].center;
+                n = o->surfaces[k].normal;
+                color = o->surfaces[k].tissue ? render_skin_color : render_surface_color;
+            }
+            double to[3];
+            v3_sub(to, centre, point);
+            double h = fabs(v3_dot(to, n));
+            if (pass == 0) {
+                plane_distance = fmin(plane_distance, h);
+                continue;
+            }
+            add_plane(&m, point, n, centre, PLANE_FADE_END * size + h, color);
+            if (r->catcher_count < ROD_MAX_SURFACES_DRAWN + 1) {
+                shadow_catcher *c = &r->catchers[r->catcher_count++];
+                catcher_slab(c, point, n, r->pad);
+                c->stretch = 1 / fmax(fabs(v3_dot(n, r->key)), 0.25);
+            }
+        }
+    }
+    int plane_indices = m.index_count;
+    for (int k = 0; k < surfaces; k++) {
+        const rod_surface *sf = &o->surfaces[k];
+        const float *color = sf->tissue ? render_skin_color : render_surface_color;
+        double lo[3], hi[3];
+        switch (sf->shape) {
+        case ROD_SURFACE_BOX: {
+            double axes[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+            double half[3] = {0.5 * sf->size[0], 0.5 * sf->size[1], 0.5 * sf->size[2]};
+            add_block(&m, sf->center, axes, half, color);
+            surface_bounds(sf, lo, hi);
+            break;
+        }
+        case ROD_SURFACE_SPHERE:
+            add_sphere(&m, sf->center, sf->size[0], color);
+            surface_bounds(sf, lo, hi);
+            break;
+        case ROD_SURFACE_CYLINDER: {
+            double middle[3], half;
+            cylinder_piece(sf, plan->lo, plan->hi, size, middle, &half);
+            add_cylinder(&m, middle, sf->normal, sf->size[0], half, color);
+            for (int c = 0; c < 3; c++) {
+                double reach = half * fabs(sf->normal[c]) +
+                               sf->size[0] * sqrt(fmax(0, 1 - sf->normal[c] * sf->normal[c]));
+                lo[c] = middle[c] - reach;
+                hi[c] = middle[c] + reach;
+            }
+            break;
+        }
+        default:
+            continue;
+        }
+        if (r->catcher_count < ROD_MAX_SURFACES_DRAWN + 1) {
+            shadow_catcher *c = &r->catchers[r->catcher_count++];
+            for (int a = 0; a < 3; a++) lo[a] -= r->pad, hi[a] += r->pad;
+            catcher_box(c, lo, hi);
+            c->stretch = 4; /* any face, any slant: a bound */
+        }
+    }
+    if (o->wound) {
+        double up[3];
+        v3_copy(up, plan->ground ? plan->ground_normal : r->camera.up);
+        add_wound(&m, o, 1.2 * r->radius, r->lift, up);
+    }
+    /* the fade: from PLANE_FADE_START to PLANE_FADE_END motion sizes along the
+     * nearest plane, measured from the motion's centre */
+    double h = isfinite(plane_distance) ? plane_distance : 0;
+    double fade[5] = {centre[0], centre[1], centre[2],
+                      sqrt(h * h + PLANE_FADE_START * PLANE_FADE_START * size * size),
+                      sqrt(h * h + PLANE_FADE_END * PLANE_FADE_END * size * size)};
+    int status = gl_renderer_set_receivers(r->gl, m.vertices, m.vertex_count, m.indices,
+                                           plane_indices, m.index_count, fade, o->background);
+    free(m.vertices);
+    free(m.indices);
+    if (status) {
+        snprintf(err, errlen, "render: cannot upload the surfaces (OpenGL error)");
+        return -1;
+    }
+    if (!o->shadows) return 0;
+
+    /* the light's orthographic box around the casters, seen along -key */
+    double e1[3], e2[3], lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    perpendicular_basis(r->key, e1, e2);
+    const double *basis[3] = {e1, e2, r->key};
+    for (int corner = 0; corner < 8; corner++) {
+        double p[3];
+        for (int c = 0; c < 3; c++) p[c] = corner >> c & 1 ? plan->hi[c] : plan->lo[c];
+        for (int a = 0; a < 3; a++) {
+            lo[a] = fmin(lo[a], v3_dot(p, basis[a]));
+            hi[a] = fmax(hi[a], v3_dot(p, basis[a]));
+        }
+    }
+    double margin = 0.02 * size, extent = 0;
+    for (int a = 0; a < 3; a++) {
+        lo[a] -= margin;
+        hi[a] += margin;
+        extent = fmax(extent, hi[a] - lo[a]);
+    }
+    /* square texels: the longer side sets the scale */
+    for (int a = 0; a < 2; a++) {
+        double middle = 0.5 * (lo[a] + hi[a]);
+        lo[a] = middle - 0.5 * extent;
+        hi[a] = middle + 0.5 * extent;
+    }
+    double light[16] = {0};
+    for (int c = 0; c < 3; c++) {
+        light[4 * c + 0] = 2 * e1[c] / extent;
+        light[4 * c + 1] = 2 * e2[c] / extent;
+        light[4 * c + 2] = -2 * r->key[c] / (hi[2] - lo[2]); /* depth grows away from the light */
+    }
+    light[12] = -2 * lo[0] / extent - 1;
+    light[13] = -2 * lo[1] / extent - 1;
+    light[14] = 2 * hi[2] / (hi[2] - lo[2]) - 1;
+    light[15] = 1;
+    /* the thinnest caster (the tube, or the needle's wire) spans 3 texels or more */
+    double thinnest = o->needle_radius > 0 ? fmin(r->radius, needle_wire(o, r->radius)) : r->radius;
+    int map_size = SHADOW_MAP_MIN;
+    while (map_size < SHADOW_MAP_MAX && extent / map_size > thinnest / 3) map_size *= 2;
+    double texel = extent / map_size;
+    /* soft edges: the filter spans half a visual radius, but its 3 x 3 taps
+     * at most 1.5 texels apart (farther apart they band) */
+    double spread = fmin(fmax(0.5 * r->radius, texel), 1.5 * texel);
+    if (gl_renderer_set_shadows(r->gl, light, map_size, 1.5 * texel, spread / extent, err, errlen))
+        return -1;
+    r->shadows = 1;
+    r->shadow_pad = spread + 3 * texel;
+    return 0;
+}
+
 static int renderer_create(renderer *r, const rod_recording *rec, const render_options *o,
                            const char *scene_name, char *err, size_t errlen)
 {
@@ -1987,10 +2673,10 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
         r->previous = malloc((size_t)rec->nodes * 3 * sizeof(double));
     }
     int sides = o->sides;
-    r->mesh.max_vertices =
-        rec->nodes * (sides + 3) + 2 * (sides + 1) + 2 * GLYPH_VERTICES + 2 * ARROW_MAX_VERTICES;
-    r->mesh.max_indices =
-        6 * rec->nodes * (sides + 2) + 6 * sides + 2 * GLYPH_INDICES + 2 * ARROW_MAX_INDICES;
+    r->mesh.max_vertices = rec->nodes * (sides + 3) + 2 * (sides + 1) + 2 * GLYPH_VERTICES +
+                           2 * ARROW_MAX_VERTICES + PUNCTURE_VERTICES;
+    r->mesh.max_indices = 6 * rec->nodes * (sides + 2) + 6 * sides + 2 * GLYPH_INDICES +
+                          2 * ARROW_MAX_INDICES + PUNCTURE_INDICES;
     r->mesh.vertices = malloc((size_t)r->mesh.max_vertices * sizeof(render_vertex));
     r->mesh.indices = malloc((size_t)r->mesh.max_indices * sizeof(unsigned));
     r->grid.capacity = o->grid ? 4 * (GRID_MAX_LINES + 2) : 0;
@@ -2003,7 +2689,15 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
         renderer_destroy(r);
         return -1;
     }
-    if (o->grid) grid_build(&r->grid, shown ? shown : rec, &r->camera, r->radius, o->background);
+    receiver_plan plan;
+    receiver_plan_make(&plan, shown ? shown : rec, o, r->radius);
+    /* Decision: a floor (a plane surface or the ground) replaces the backdrop
+     * grid, which would float over it or cut through it; the scale bar stays. */
+    int floor = plan.ground;
+    for (int k = 0; o->surfaces && k < o->surface_count; k++)
+        floor |= o->surfaces[k].shape == ROD_SURFACE_PLANE;
+    if (o->grid && !floor)
+        grid_build(&r->grid, shown ? shown : rec, &r->camera, r->radius, o->background);
     rod_recording_destroy(shown);
 
     overlay *ov = &r->overlay;
@@ -2050,6 +2744,10 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
     }
     if (o->grid) gl_renderer_set_lines(r->gl, r->grid.lines, r->grid.count);
     r->pad = STRIPE_LIFT * r->radius;
+    if (renderer_receivers(r, &plan, err, errlen)) {
+        renderer_destroy(r);
+        return -1;
+    }
     r->tiles_x = (o->width + TILE - 1) / TILE;
     r->tiles_y = (o->height + TILE - 1) / TILE;
     r->tile_marked = malloc((size_t)r->tiles_x * (size_t)r->tiles_y);
@@ -2088,8 +2786,8 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
         }
         renderer_remember(r, rec, frame);
     }
-    const rod_recording *drawn = rec;
-    int drawn_frame = frame;
+    const rod_recording *given = rec, *drawn = rec;
+    int given_frame = frame, drawn_frame = frame;
     if (r->view) {
         magnify_frame(rec, 0, 1, r->view, 0);
         magnify_frame(rec, frame, r->o->magnify, r->view, 1);
@@ -2103,12 +2801,14 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
         add_stripe(m, rec, frame, r->radius, r->o->stripe, stripe_color(r->o));
     add_end_glyphs(m, rec, r->o, frame, r->radius);
     if (r->o->arrows) add_arrows(m, &r->arrows, rec, frame);
-    frame_boxes(r, rec, frame);
+    r->caster_indices = m->index_count;
+    if (r->receivers) add_punctures(m, given, r->o, given_frame, r->radius, r->lift);
+    frame_boxes(r, rec, frame, given, given_frame);
     double t1 = timing ? now_seconds() : 0;
     int read_box[4];
-    const unsigned char *rgba = gl_renderer_draw_boxes(r->gl, &r->camera, m->vertices,
-                                                       m->vertex_count, m->indices, m->index_count,
-                                                       &r->boxes[0][0], r->box_count, read_box);
+    const unsigned char *rgba = gl_renderer_draw_boxes(
+        r->gl, &r->camera, m->vertices, m->vertex_count, m->indices, m->index_count,
+        r->caster_indices, &r->boxes[0][0], r->box_count, read_box, timing ? &timing->shadow : NULL);
     if (!rgba) return -1;
     double t2 = timing ? now_seconds() : 0;
     /* premultiplied rod over the backdrop: out = C + (1 - alpha) B, inside the boxes only

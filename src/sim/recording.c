@@ -23,7 +23,11 @@ static int reserve(rod_recording *r, int capacity)
     if (f) r->tip_force = f;
     double *mo = realloc(r->tip_moment, c * 3 * sizeof *mo);
     if (mo) r->tip_moment = mo;
-    if (!t || !p || !q || !w || !f || !mo) return -1;
+    int *pc = realloc(r->puncture_count, c * sizeof *pc);
+    if (pc) r->puncture_count = pc;
+    double *pp = realloc(r->puncture, c * ROD_MAX_PUNCTURES * 3 * sizeof *pp);
+    if (pp) r->puncture = pp;
+    if (!t || !p || !q || !w || !f || !mo || !pc || !pp) return -1;
     r->capacity = capacity;
     return 0;
 }
@@ -54,6 +58,8 @@ void rod_recording_destroy(rod_recording *r)
     free(r->twist);
     free(r->tip_force);
     free(r->tip_moment);
+    free(r->puncture_count);
+    free(r->puncture);
     free(r);
 }
 
@@ -71,8 +77,10 @@ double rod_recording_node_twist(const rod_state *s, int node)
 
 double rod_recording_bytes(int nodes, double frames)
 {
-    /* time, tip force and moment: 7 doubles a frame; position, Q, twist: 13 a node */
-    return frames * ((double)nodes * 13 + 7) * (double)sizeof(double);
+    /* time, tip force and moment: 7 doubles a frame; position, Q, twist: 13 a
+     * node; the punctures: a count and ROD_MAX_PUNCTURES points */
+    return frames * (((double)nodes * 13 + 7 + 3 * ROD_MAX_PUNCTURES) * (double)sizeof(double) +
+                     (double)sizeof(int));
 }
 
 int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *s)
@@ -89,6 +97,13 @@ int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *
     v3_copy(&r->tip_moment[3 * k], moment);
     r->peak_force = fmax(r->peak_force, v3_norm(force));
     r->peak_moment = fmax(r->peak_moment, v3_norm(moment));
+    int punctures = s->puncture_count < ROD_MAX_PUNCTURES ? s->puncture_count : ROD_MAX_PUNCTURES;
+    r->puncture_count[k] = punctures > 0 ? punctures : 0;
+    for (int i = 0; i < ROD_MAX_PUNCTURES; i++) {
+        double *to = &r->puncture[(k * ROD_MAX_PUNCTURES + (size_t)i) * 3];
+        if (i < punctures) v3_copy(to, s->puncture[i].point);
+        else v3_set(to, 0, 0, 0);
+    }
     r->frame_count++;
     return 0;
 }
@@ -105,6 +120,16 @@ void rod_recording_tip_load(const rod_model *m, const rod_state *s, double force
         m3_mul_v(g, q, moment);
         v3_copy(moment, g);
     }
+}
+
+int rod_recording_punctures(const rod_recording *r, int frame, const double **points)
+{
+    *points = NULL;
+    if (!r->puncture_count || !r->puncture || frame < 0 || frame >= r->frame_count) return 0;
+    int count = r->puncture_count[frame];
+    if (count <= 0) return 0;
+    *points = &r->puncture[(size_t)frame * ROD_MAX_PUNCTURES * 3];
+    return count < ROD_MAX_PUNCTURES ? count : ROD_MAX_PUNCTURES;
 }
 
 void rod_recording_note_peaks(rod_recording *r, const rod_model *m, const rod_state *s)
@@ -128,6 +153,9 @@ void rod_recording_halve(rod_recording *r)
         memmove(&r->twist[to * n], &r->twist[from * n], n * sizeof(double));
         memmove(&r->tip_force[to * 3], &r->tip_force[from * 3], 3 * sizeof(double));
         memmove(&r->tip_moment[to * 3], &r->tip_moment[from * 3], 3 * sizeof(double));
+        r->puncture_count[to] = r->puncture_count[from];
+        memmove(&r->puncture[to * ROD_MAX_PUNCTURES * 3], &r->puncture[from * ROD_MAX_PUNCTURES * 3],
+                ROD_MAX_PUNCTURES * 3 * sizeof(double));
     }
     r->frame_count = kept;
 }

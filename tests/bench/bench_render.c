@@ -72,13 +72,22 @@ int main(int argc, char **argv)
     image_fill(blank, o.background[0], o.background[1], o.background[2]);
 
     /* render + encode at the default antialiasing, then with none (what it
-     * costs), then the floor: the same encoder, frames of plain background */
-    const int samples[2] = {o.samples, 0};
-    measured pipeline[2], floor_run;
+     * costs), then over a floor and a skin pad with the shadow map and
+     * without it (issues 11, 14: what the shadows cost), then the floor: the
+     * same encoder, frames of plain background */
+    const int samples[4] = {o.samples, 0, o.samples, o.samples};
+    rod_surface surfaces[2] = {
+        {.shape = ROD_SURFACE_PLANE, .center = {0, 0, -0.1}, .normal = {0, 0, 1}},
+        {.shape = ROD_SURFACE_BOX, .center = {0.3, 0.3, -0.08}, .size = {0.3, 0.2, 0.04},
+         .tissue = 1}};
+    measured pipeline[4], floor_run;
     for (int repeat = 0; repeat < repeats; repeat++) {
-        for (int run = 0; run < 2; run++) {
+        for (int run = 0; run < 4; run++) {
             render_timing timing;
             o.samples = samples[run];
+            o.surfaces = run >= 2 ? surfaces : NULL;
+            o.surface_count = run >= 2 ? 2 : 0;
+            o.shadows = run != 3;
             o.timing = &timing;
             double start = now_seconds(), cpu = cpu_seconds();
             if (render_recording(rec, &o, dir, "bench", 1, err, sizeof err)) {
@@ -114,21 +123,22 @@ int main(int argc, char **argv)
 
     printf("renderer %dx%d, %d frames, %d nodes, %d sides, x264 %s CRF %d; best and worst of %d\n",
            o.width, o.height, FRAMES, 51, o.sides, o.preset, o.crf, repeats);
-    const char *names[3] = {"render + encode, default AA", "render + encode, no AA     ",
+    const char *names[5] = {"render + encode, default AA", "render + encode, no AA     ",
+                            "surfaces, shadows, def. AA ", "surfaces, no shadows       ",
                             "floor (blank frames)       "};
-    for (int run = 0; run < 3; run++) {
-        const measured *m = run < 2 ? &pipeline[run] : &floor_run;
+    for (int run = 0; run < 5; run++) {
+        const measured *m = run < 4 ? &pipeline[run] : &floor_run;
         printf("  %s %6.1f .. %6.1f frames/s, CPU %5.2f ms/frame\n", names[run], m->worst, m->best,
                m->cpu_ms);
     }
     printf("  where the time goes, ms per frame (drawing thread | writing thread), best run:\n");
-    for (int run = 0; run < 3; run++) {
-        const render_timing *t = run < 2 ? &pipeline[run].timing : &floor_run.timing;
+    for (int run = 0; run < 5; run++) {
+        const render_timing *t = run < 4 ? &pipeline[run].timing : &floor_run.timing;
         double per = 1000.0 / t->frames;
-        printf("    %s mesh %.2f, gl %.2f, composite %.2f, overlay %.2f, wait %.2f | "
-               "convert %.2f, encode %.2f\n", names[run], per * t->mesh, per * t->gl,
-               per * t->composite, per * t->overlay, per * t->wait, per * t->convert,
-               per * t->encode);
+        printf("    %s mesh %.2f, gl %.2f (shadow pass %.2f), composite %.2f, overlay %.2f, "
+               "wait %.2f | convert %.2f, encode %.2f\n", names[run], per * t->mesh, per * t->gl,
+               per * t->shadow, per * t->composite, per * t->overlay, per * t->wait,
+               per * t->convert, per * t->encode);
     }
     printf("  ratio floor / render+encode (best runs): %.2f with default AA (%d samples), %.2f "
            "without (target <= 1.3 and >= 80 frames/s)\n", floor_run.best / pipeline[0].best,

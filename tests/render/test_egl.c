@@ -100,6 +100,14 @@ static void child_draw(const char *value, const char *dir, const char *name, chi
     o.height = HEIGHT;
     o.frames_png = 1;
     snprintf(o.title, sizeof o.title, "two backends"); /* not the name, which differs */
+    /* a plane and a skin pad under the rod: the shadow map's depth texture
+     * and its filtered look-ups are drawn by both (issues 11, 14) */
+    rod_surface surfaces[2] = {
+        {.shape = ROD_SURFACE_PLANE, .center = {0, 0, -0.1}, .normal = {0, 0, 1}},
+        {.shape = ROD_SURFACE_BOX, .center = {0.5, 0.3, -0.08}, .size = {0.3, 0.2, 0.04},
+         .tissue = 1}};
+    o.surfaces = surfaces;
+    o.surface_count = 2;
     r->rendered = render_recording(rec, &o, dir, name, 0, r->err, sizeof r->err) == 0;
     rod_recording_destroy(rec);
     const char *used = gl_context_backend_used();

@@ -1,0 +1,5 @@
+#version 330 core
+// Depth only: the target has no colour buffer.
+void main()
+{
+}

@@ -1,0 +1,356 @@
+/* test_shadow.c: surfaces, the ground and the key light's shadow (issues
+ * 11, 14), measured on the rendered pictures: where the shadow must fall is
+ * computed here from the light's direction and the plane (a ray-plane
+ * intersection), then looked up through the camera's projection. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "base/ini.h"
+#include "render/image.h"
+#include "render/render.h"
+#include "synthetic_recording.h"
+#include "test.h"
+#include "test_process.h"
+
+#define WIDTH 640
+#define HEIGHT 360
+#define PLANE_Z (-0.1) /* m: the plane under the rod */
+#define LIFT 0.15      /* m: frame 1 raises the rod this much */
+
+static char dir[256];
+
+/* A straight rod along x (0..1 m) at z = 0 in frame 0 and z = LIFT in frame 1. */
+static rod_recording *lifted_rod(void)
+{
+    rod_recording *rec = synthetic_recording_create(41, 2, 1.0, 0.01);
+    synthetic_arc(rec, 0, INFINITY, 0);
+    synthetic_arc(rec, 1, INFINITY, 0);
+    for (int k = 0; k < rec->nodes; k++) rec->position[3 * (rec->nodes + k) + 2] = LIFT;
+    rec->time[1] = 0.1;
+    return rec;
+}
+
+static render_options scene_options(const rod_surface *surfaces, int count)
+{
+    render_options o;
+    render_options_default(&o);
+    o.width = WIDTH;
+    o.height = HEIGHT;
+    o.grid = 0;
+    o.overlay = 0;
+    o.arrows = 0;
+    o.poster = 0;
+    o.frames_png = 1;
+    o.ends[0].kind = RENDER_END_FREE;
+    o.surfaces = surfaces;
+    o.surface_count = count;
+    return o;
+}
+
+/* Mean luminance (Rec. 709, 0..255) of the (2 half + 1)^2 pixels around px. */
+static double patch_luminance(const image *img, const double px[2], int half)
+{
+    double sum = 0;
+    int n = 0;
+    for (int y = (int)px[1] - half; y <= (int)px[1] + half; y++)
+        for (int x = (int)px[0] - half; x <= (int)px[0] + half; x++) {
+            if (x < 0 || y < 0 || x >= img->width || y >= img->height) continue;
+            const unsigned char *p = &img->rgb[3 * ((size_t)y * (size_t)img->width + (size_t)x)];
+            sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+            n++;
+        }
+    return n ? sum / n : -1;
+}
+
+/* Where the key light's ray through p meets the plane z = PLANE_Z:
+ * p - t key with t = (p_z - PLANE_Z) / key_z. */
+static void shadow_point(const render_camera *cam, const double p[3], double out[3])
+{
+    double d[3], key[3];
+    /* the key light as the shading defines it: d + 0.6 up - 0.5 right, normalised */
+    for (int c = 0; c < 3; c++) d[c] = cam->direction[c] + 0.6 * cam->up[c] - 0.5 * cam->right[c];
+    double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int c = 0; c < 3; c++) key[c] = d[c] / n;
+    double t = (p[2] - PLANE_Z) / key[2];
+    for (int c = 0; c < 3; c++) out[c] = p[c] - t * key[c];
+}
+
+static image *read_frame(const char *name, int frame)
+{
+    char path[600], err[512];
+    snprintf(path, sizeof path, "%s/%s_frames/%05d.png", dir, name, frame);
+    image *img = image_read_png(path, err, sizeof err);
+    check(img != NULL, "read %s%s%s", path, img ? "" : ": ", img ? "" : err);
+    return img;
+}
+
+static int render(const rod_recording *rec, const render_options *o, const char *name)
+{
+    char err[1024];
+    int status = render_recording(rec, o, dir, name, 0, err, sizeof err);
+    check(status == 0, "render %s%s%s", name, status ? ": " : "", status ? err : "");
+    return status;
+}
+
+static void test_plane_shadow(void)
+{
+    rod_surface plane = {.shape = ROD_SURFACE_PLANE, .center = {0, 0, PLANE_Z},
+                         .normal = {0, 0, 1}, .friction = 0.3};
+    rod_recording *rec = lifted_rod();
+    render_options o = scene_options(&plane, 1);
+    render_camera cam;
+    render_camera_fit(&cam, rec, &o);
+    if (render(rec, &o, "plane")) {
+        rod_recording_destroy(rec);
+        return;
+    }
+    render_options off = o;
+    off.shadows = 0;
+    render(rec, &off, "plane_off");
+    image *frame[2] = {read_frame("plane", 0), read_frame("plane", 1)};
+    image *unshadowed = read_frame("plane_off", 0);
+    if (!frame[0] || !frame[1] || !unshadowed) goto done;
+
+    /* the middle of the rod at z = 0 and at z = LIFT, their shadows, and a
+     * lit point of the plane beside them (0.15 m across, on the side away
+     * from the rod's picture) */
+    double mid[2][3] = {{0.5, 0, 0}, {0.5, 0, LIFT}}, shadow[2][3], px_shadow[2][2], px_rod[2];
+    for (int f = 0; f < 2; f++) {
+        shadow_point(&cam, mid[f], shadow[f]);
+        render_project(&cam, shadow[f], px_shadow[f]);
+    }
+    render_project(&cam, mid[0], px_rod);
+    double best = -1, px_lit[2] = {0, 0};
+    for (int side = -1; side <= 1; side += 2) {
+        double p[3] = {shadow[0][0], shadow[0][1] + side * 0.15, PLANE_Z}, px[2];
+        render_project(&cam, p, px);
+        double away = hypot(px[0] - px_rod[0], px[1] - px_rod[1]) +
+                      hypot(px[0] - px_shadow[1][0], px[1] - px_shadow[1][1]);
+        if (away > best) best = away, px_lit[0] = px[0], px_lit[1] = px[1];
+    }
+    double under = patch_luminance(frame[0], px_shadow[0], 2);
+    double lit = patch_luminance(frame[0], px_lit, 2);
+    double under_off = patch_luminance(unshadowed, px_shadow[0], 2);
+    double lit_off = patch_luminance(unshadowed, px_lit, 2);
+    printf("     shadow of the rod's middle at pixel (%.0f, %.0f), lit plane at (%.0f, %.0f); rod at "
+           "(%.0f, %.0f)\n", px_shadow[0][0], px_shadow[0][1], px_lit[0], px_lit[1], px_rod[0],
+           px_rod[1]);
+    printf("     luminance: under the rod %.1f, lit plane %.1f (ratio %.2f); shadows = no: %.1f, "
+           "%.1f\n", under, lit, under / lit, under_off, lit_off);
+    check(lit > 120 && under < 0.8 * lit,
+          "the plane is darker in the rod's shadow: %.1f < 0.8 x %.1f (lit plane)", under, lit);
+    check(fabs(under_off - lit_off) < 0.03 * lit_off,
+          "shadows = no: no shadow there (%.1f vs %.1f, within 3 %%)", under_off, lit_off);
+    check(fabs(lit - lit_off) < 0.5,
+          "the lit plane is the same with and without shadows (%.1f vs %.1f)", lit, lit_off);
+
+    /* raised by LIFT, the shadow moves by LIFT key_xy / key_z on the plane */
+    double moved = hypot(px_shadow[1][0] - px_shadow[0][0], px_shadow[1][1] - px_shadow[0][1]);
+    double now_under = patch_luminance(frame[1], px_shadow[1], 2);
+    double now_old = patch_luminance(frame[1], px_shadow[0], 2);
+    printf("     rod raised %.2f m: its shadow moves %.0f px to (%.0f, %.0f): luminance there %.1f; "
+           "at the old place %.1f\n", LIFT, moved, px_shadow[1][0], px_shadow[1][1], now_under,
+           now_old);
+    check(moved > 10, "the predicted shadows are apart (%.0f px)", moved);
+    check(now_under < 0.8 * lit && fabs(now_old - lit) < 0.05 * lit,
+          "the shadow follows the rod: dark at the new place (%.1f < 0.8 x %.1f), lit at the old "
+          "(%.1f)", now_under, lit, now_old);
+done:
+    image_destroy(frame[0]);
+    image_destroy(frame[1]);
+    image_destroy(unshadowed);
+    rod_recording_destroy(rec);
+}
+
+static int is_skin(const unsigned char *p)
+{
+    /* render_skin_color (0.80, 0.56, 0.45) lit: red over green over blue */
+    return p[0] > p[1] + 15 && p[1] > p[2] + 8 && p[0] > 90;
+}
+
+static void test_box_and_punctures(void)
+{
+    /* a skin pad below the rod's middle, in view, and a wound across it */
+    rod_surface pad = {.shape = ROD_SURFACE_BOX, .center = {0.5, 0.2, -0.05},
+                       .size = {0.3, 0.2, 0.04}, .friction = 0.3, .tissue = 1};
+    rod_recording *rec = lifted_rod();
+    render_options o = scene_options(&pad, 1);
+    o.wound = 1;
+    double wound[6] = {0.4, 0.2, -0.03, 0.6, 0.2, -0.03};
+    memcpy(o.wound_line, wound, sizeof wound);
+    /* a puncture in frame 1 at the pad's top */
+    rec->puncture_count = calloc(2, sizeof(int));
+    rec->puncture = calloc(2 * ROD_MAX_PUNCTURES * 3, sizeof(double));
+    rec->puncture_count[1] = 1;
+    double *hole = &rec->puncture[ROD_MAX_PUNCTURES * 3];
+    hole[0] = 0.45, hole[1] = 0.25, hole[2] = -0.03;
+    render_camera cam;
+    render_camera_fit(&cam, rec, &o);
+    if (render(rec, &o, "pad")) {
+        rod_recording_destroy(rec);
+        return;
+    }
+    image *img[2] = {read_frame("pad", 0), read_frame("pad", 1)};
+    if (img[0] && img[1]) {
+        /* the pad's top face, away from the wound and the hole */
+        double top[3] = {0.55, 0.14, -0.03}, px[2];
+        render_project(&cam, top, px);
+        int skin = 0, n = 0;
+        for (int y = (int)px[1] - 3; y <= (int)px[1] + 3; y++)
+            for (int x = (int)px[0] - 3; x <= (int)px[0] + 3; x++, n++)
+                skin += is_skin(&img[0]->rgb[3 * ((size_t)y * WIDTH + (size_t)x)]);
+        const unsigned char *c = &img[0]->rgb[3 * ((size_t)px[1] * WIDTH + (size_t)px[0])];
+        printf("     pad top at pixel (%.0f, %.0f): rgb %d %d %d\n", px[0], px[1], c[0], c[1], c[2]);
+        check(skin == n, "the tissue box is drawn in the skin colour where it should be: %d of %d "
+                         "pixels", skin, n);
+        /* the wound: dark red at its middle */
+        double middle[3] = {0.5, 0.2, -0.03}, pw[2];
+        render_project(&cam, middle, pw);
+        const unsigned char *w = &img[0]->rgb[3 * ((size_t)lround(pw[1]) * WIDTH + (size_t)lround(pw[0]))];
+        check(w[0] > w[1] + 20 && w[0] < 160 && w[1] < 60,
+              "the wound line is dark red at its middle: rgb %d %d %d", w[0], w[1], w[2]);
+        /* the puncture: dark in frame 1 only */
+        double ph[2];
+        render_project(&cam, hole, ph);
+        double before = patch_luminance(img[0], ph, 1), after = patch_luminance(img[1], ph, 1);
+        check(after < 0.5 * before, "the puncture made in frame 1 is drawn there: luminance %.1f "
+                                    "(before it, %.1f)", after, before);
+    }
+    image_destroy(img[0]);
+    image_destroy(img[1]);
+    rod_recording_destroy(rec);
+}
+
+static void test_ground(void)
+{
+    rod_recording *rec = lifted_rod();
+    render_options o = scene_options(NULL, 0);
+    double point[3], normal[3];
+    check(!render_ground_plane(rec, &o, point, normal), "no distributed load: no ground");
+    v3_set(o.distributed_force, 0, 0, -2e-3);
+    int drawn = render_ground_plane(rec, &o, point, normal);
+    double radius = render_visual_radius(rec, &o);
+    /* the lowest tube surface over both frames is z = -radius (frame 0) */
+    check(drawn && normal[2] == 1 && point[2] < -radius && point[2] > -3 * radius,
+          "gravity -z, view from above: a ground below the lowest tube surface, within 2 radii "
+          "(z = %.4f m, radius %.4f m)", point[2], radius);
+    render_options below = o;
+    v3_set(below.view, 0.3, -0.45, -1);
+    check(!render_ground_plane(rec, &below, point, normal), "auto: no ground seen from below");
+    below.ground = RENDER_GROUND_YES;
+    check(render_ground_plane(rec, &below, point, normal), "yes: a ground seen from below too");
+    rod_surface plane = {.shape = ROD_SURFACE_PLANE, .center = {0, 0, -1}, .normal = {0, 0, 1}};
+    render_options with_plane = o;
+    with_plane.surfaces = &plane;
+    with_plane.surface_count = 1;
+    check(!render_ground_plane(rec, &with_plane, point, normal), "auto: a plane surface replaces it");
+    render_options no = o;
+    no.ground = RENDER_GROUND_NO;
+    check(!render_ground_plane(rec, &no, point, normal), "no: none");
+
+    /* drawn: the rod's shadow on it */
+    o.view[0] = 0.2, o.view[1] = -0.6, o.view[2] = 1;
+    if (render(rec, &o, "ground") == 0) {
+        image *img = read_frame("ground", 0);
+        render_camera cam;
+        render_camera_fit(&cam, rec, &o);
+        double key[3], p[3] = {0.5, 0, 0}, hit[3], px[2], lit_px[2];
+        render_key_light(&cam, key);
+        double t = (p[2] - point[2]) / key[2];
+        for (int c = 0; c < 3; c++) hit[c] = p[c] - t * key[c];
+        render_project(&cam, hit, px);
+        double side[3] = {hit[0], hit[1] + 0.15, hit[2]};
+        render_project(&cam, side, lit_px);
+        double under = img ? patch_luminance(img, px, 1) : -1, lit = img ? patch_luminance(img, lit_px, 2) : -1;
+        printf("     ground at z = %.4f m: under the rod %.1f, beside %.1f\n", point[2], under, lit);
+        check(img && under < 0.8 * lit, "the ground shows the rod's shadow (%.1f < 0.8 x %.1f)",
+              under, lit);
+        image_destroy(img);
+    }
+    rod_recording_destroy(rec);
+}
+
+/* The camera frames a bounded surface near the rod, never a plane. */
+static void test_framing(void)
+{
+    rod_recording *rec = lifted_rod();
+    /* a pad below the rod, reaching 0.45 m in front of it (within half the
+     * motion's size of its box) */
+    rod_surface surfaces[2] = {
+        {.shape = ROD_SURFACE_BOX, .center = {0.5, -0.25, -0.05}, .size = {0.4, 0.4, 0.04}},
+        {.shape = ROD_SURFACE_PLANE, .center = {0, 0, -5}, .normal = {0, 0.6, 0.8}}};
+    render_options bare = scene_options(NULL, 0), with_box = scene_options(surfaces, 1),
+                   with_plane = scene_options(&surfaces[1], 1);
+    v3_set(bare.view, 0.2, -1, 0.5);
+    v3_copy(with_box.view, bare.view);
+    v3_copy(with_plane.view, bare.view);
+    render_camera cam[3];
+    render_camera_fit(&cam[0], rec, &bare);
+    render_camera_fit(&cam[1], rec, &with_box);
+    render_camera_fit(&cam[2], rec, &with_plane);
+    int inside[2] = {0, 0};
+    for (int c = 0; c < 2; c++)
+        for (int corner = 0; corner < 8; corner++) {
+            double p[3], px[2];
+            for (int a = 0; a < 3; a++)
+                p[a] = surfaces[0].center[a] + (corner >> a & 1 ? 0.5 : -0.5) * surfaces[0].size[a];
+            if (render_project(&cam[c], p, px) == 0 && px[0] >= 0 && px[0] <= WIDTH &&
+                px[1] >= 0 && px[1] <= HEIGHT)
+                inside[c]++;
+        }
+    check(inside[0] < 8 && inside[1] == 8,
+          "a box near the rod is framed: %d of its 8 corners in the picture (%d without it)",
+          inside[1], inside[0]);
+    double moved = 0;
+    for (int a = 0; a < 3; a++)
+        moved = fmax(moved, fmax(fabs(cam[2].eye[a] - cam[0].eye[a]),
+                                 fabs(cam[2].target[a] - cam[0].target[a])));
+    check(moved == 0 && cam[2].metres_per_pixel == cam[0].metres_per_pixel,
+          "a plane does not change the framing (eye and target move %.3g m)", moved);
+    rod_recording_destroy(rec);
+}
+
+static void test_keys(void)
+{
+    char err[512];
+    render_options o;
+    ini_doc *doc = ini_parse("keys.ini",
+                             "[render]\nshadows = no\nground = yes\nwound = 0 0 0 0.1 0 0\n", err,
+                             sizeof err);
+    render_options_default(&o);
+    check(o.shadows == 1 && o.ground == RENDER_GROUND_AUTO && !o.wound,
+          "defaults: shadows on, ground auto, no wound");
+    int status = doc ? render_options_read(doc, &o, err, sizeof err) : -1;
+    check(status == 0 && o.shadows == 0 && o.ground == RENDER_GROUND_YES && o.wound &&
+              o.wound_line[3] == 0.1,
+          "shadows, ground, wound read (%s)", status ? err : "ok");
+    ini_destroy(doc);
+    const char *bad[] = {"[render]\nground = maybe\n", "[render]\nwound = 0 0 0 0 0 0\n",
+                         "[render]\nwound = 1 2 3\n", "[render]\nshadows = 2\n"};
+    const char *expect[] = {"auto", "distinct", "wound", "shadows"};
+    for (int i = 0; i < 4; i++) {
+        doc = ini_parse("bad.ini", bad[i], err, sizeof err);
+        render_options_default(&o);
+        status = doc ? render_options_read(doc, &o, err, sizeof err) : 0;
+        check(status == -1 && strstr(err, "bad.ini:2") && strstr(err, expect[i]),
+              "bad value refused: %s", err);
+        ini_destroy(doc);
+    }
+}
+
+int main(void)
+{
+    snprintf(dir, sizeof dir, "/tmp/rodsim_test_shadow_%ld", (long)getpid());
+    mkdir(dir, 0777);
+    test_keys();
+    test_framing();
+    test_plane_shadow();
+    test_box_and_punctures();
+    test_ground();
+    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir); /* keep the pictures to look at */
+    return test_finish();
+}
