@@ -8,14 +8,15 @@ CC      ?= cc
 PKGS    := egl osmesa libpng freetype2 libavcodec libavformat libswscale libavutil lapacke
 LINK_PKGS := libpng freetype2 lapacke
 TEST_PKGS := libavcodec libavformat libswscale libavutil
-# libxml2-utils (xmllint) and parallel (GNU parallel): tests/cli/test_sweep.c parses the
-# sweep's SVG and runs its --print-commands lines under GNU parallel. libegl-dev (EGL
+# libxml2-utils (xmllint), parallel (GNU parallel) and snakemake: tests/cli/test_sweep.c
+# parses the sweep's SVG, runs its --print-commands lines under GNU parallel and its
+# --snakefile under Snakemake. libegl-dev (EGL
 # headers, glvnd's libEGL.so.1), libegl-mesa0 (Mesa's EGL driver) and libgl1-mesa-dri
 # (its llvmpipe, swrast_dri.so): the EGL backend; libosmesa6-dev: the OSMesa one.
 DEBS    := build-essential pkg-config libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev \
            libpng-dev libfreetype-dev fonts-dejavu-core libavcodec-dev libavformat-dev \
            libswscale-dev libavutil-dev liblapacke-dev liblapack-dev libblas-dev clang \
-           libclang-rt-dev libxml2-utils parallel
+           libclang-rt-dev libxml2-utils parallel snakemake
 WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes
 CFLAGS  ?= -O3 -g
 ALL_CFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(EXTRA_CFLAGS) -Iinclude \

@@ -12,7 +12,9 @@
  *  - --print-commands lines run from another directory with /bin/sh, under
  *    GNU parallel, and one per SLURM_ARRAY_TASK_ID (the README's array
  *    recipe, without Slurm), and assemble the same CSV; a sweep killed with kill -9 and run again
- *    computes no point twice and gives the uninterrupted CSV. */
+ *    computes no point twice and gives the uninterrupted CSV;
+ *  - --snakefile under Snakemake (snakemake --cores 2) assembles the direct
+ *    sweep's CSV, number by number, and reruns only a missing point. */
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -307,6 +309,15 @@ static void test_bad_input(void)
             "accepted: tip_x");
     refused("--print-commands without --result",
             (const char *const[]){"--print-commands", NULL}, "needs --result DIR");
+    refused("--snakefile without --result",
+            (const char *const[]){"--snakefile", "/tmp/rodsim_never_Snakefile", NULL},
+            "--snakefile needs --result DIR");
+    char snakefile[320], results[320];
+    snprintf(snakefile, sizeof snakefile, "%s/refused/Snakefile", scratch);
+    snprintf(results, sizeof results, "%s/refused/{x}", scratch);
+    refused("--snakefile with a { in a path",
+            (const char *const[]){"--result", results, "--snakefile", snakefile, NULL},
+            "holds '{', '}' or a line break");
 }
 
 /* --plot X:Y --png: the PNG, and its data beside it: one curve per value
@@ -572,6 +583,99 @@ static void test_commands_and_resume(void)
     free(want);
 }
 
+/* Compares two results CSVs field by field: the same header and columns,
+ * numbers equal as numbers (strtod), other fields as text. 1 when equal;
+ * else 0 with the first difference in why. */
+static int same_results(const char *a, const char *b, char *why, size_t n)
+{
+    snprintf(why, n, "equal");
+    if (!a || !b) {
+        snprintf(why, n, "a file is missing");
+        return 0;
+    }
+    int rows = 0;
+    for (const char *c = a; *c; c++) rows += *c == '\n';
+    for (int r = 0; r < rows + 1; r++)
+        for (int c = 0; c < 64; c++) {
+            char x[256], y[256];
+            int gx = csv_cell(a, r, c, x, sizeof x), gy = csv_cell(b, r, c, y, sizeof y);
+            if (gx != gy) {
+                snprintf(why, n, "row %d has %s fields", r, gx ? "fewer" : "more");
+                return 0;
+            }
+            if (gx) break;
+            char *ex, *ey;
+            double vx = strtod(x, &ex), vy = strtod(y, &ey);
+            int numbers = r > 0 && x[0] && y[0] && *ex == '\0' && *ey == '\0';
+            if (numbers ? vx != vy : strcmp(x, y) != 0) {
+                snprintf(why, n, "row %d field %d: '%s' and '%s'", r, c, x, y);
+                return 0;
+            }
+        }
+    return rows > 0;
+}
+
+/* --snakefile under Snakemake (the Debian package, make deps): 3 points as
+ * jobs (2 at a time), then rule assemble; the CSV equals the direct sweep's
+ * number by number. A result file removed is the only point run again. */
+static void test_snakemake(void)
+{
+    const char *vary = "tip.force[1]=1e-7,5e-7,9e-7", *duration = "solver.duration=6";
+    char direct_csv[320], results[320], snakefile[320], assembled[320], work[320];
+    snprintf(direct_csv, sizeof direct_csv, "%s/snake_direct.csv", scratch);
+    snprintf(results, sizeof results, "%s/snake_results", scratch);
+    snprintf(snakefile, sizeof snakefile, "%s/Snakefile", scratch);
+    snprintf(assembled, sizeof assembled, "%s/snake_assembled.csv", scratch);
+    snprintf(work, sizeof work, "%s/snake_work", scratch);
+    const char *direct[] = {"sweep", SCENE, "--vary", vary, "--set", duration, "--measure",
+                            "tip,max_curvature,steps", "--csv", direct_csv, "--quiet", NULL};
+    check(test_run_rodsim(direct, output, sizeof output) == 0, "the direct 3-point sweep runs");
+    const char *generate[] = {"sweep", SCENE, "--vary", vary, "--set", duration, "--measure",
+                              "tip,max_curvature,steps", "--result", results, "--csv",
+                              assembled, "--snakefile", snakefile, "--quiet", NULL};
+    int rc = test_run_rodsim(generate, output, sizeof output);
+    check(rc == 0 && access(snakefile, F_OK) == 0 && access(results, F_OK) != 0 &&
+              access(assembled, F_OK) != 0,
+          "--snakefile writes the Snakefile only (exit %d)", rc);
+    if (system("snakemake --version >/dev/null 2>&1") != 0) {
+        check(0, "snakemake is not installed (the Debian package snakemake: make deps)");
+        return;
+    }
+    mkdir(work, 0755);
+    char shell[1400];
+    snprintf(shell, sizeof shell, "snakemake -s '%s' --cores 2 --directory '%s' -q "
+                                  ">'%s/log' 2>&1", snakefile, work, work);
+    int sh = system(shell);
+    char *want = read_text(direct_csv), *got = read_text(assembled), why[600];
+    int same = same_results(want, got, why, sizeof why);
+    check(sh == 0 && test_dir_entries(results) == 3 && same,
+          "snakemake --cores 2: 3 result files; the assembled CSV equals the direct sweep's, "
+          "number by number (%s; snakemake exit %d, log in %s)", why, sh, work);
+    free(got);
+
+    /* resume, as after a killed run (no CSV yet, a point missing): only the
+     * missing point is run again */
+    char names[8][64];
+    long long times[8];
+    int kept = dir_times(results, names, times, 8);
+    char removed[600];
+    snprintf(removed, sizeof removed, "%s/%s", results, kept > 0 ? names[0] : "none");
+    unlink(removed);
+    unlink(assembled);
+    sh = system(shell);
+    char names2[8][64];
+    long long times2[8];
+    int total = dir_times(results, names2, times2, 8), untouched = 1;
+    for (int i = 1; i < kept; i++) untouched &= time_of(names2, times2, total, names[i]) == times[i];
+    got = read_text(assembled);
+    same = same_results(want, got, why, sizeof why);
+    check(sh == 0 && kept == 3 && total == 3 && untouched && same,
+          "a result file and the CSV removed: snakemake runs that point only (the other 2 untouched), "
+          "the CSV again equals the direct one (%s)", why);
+    free(got);
+    free(want);
+}
+
 int main(void)
 {
     snprintf(scratch, sizeof scratch, "/tmp/rodsim_test_sweep_%d", (int)getpid());
@@ -586,6 +690,7 @@ int main(void)
     test_plot();
     test_svg();
     test_commands_and_resume();
+    test_snakemake();
     test_remove_tree(scratch);
     return test_finish();
 }
