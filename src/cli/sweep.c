@@ -39,7 +39,7 @@ void sweep_usage(FILE *f)
     fprintf(f,
             "usage: rodsim sweep SCENE --vary KEY=V1,V2,...|KEY=START:STOP:COUNT[:log] ...\n"
             "       [--set section.key=value]... [--measure WHAT,...] [--jobs N] [--csv FILE]\n"
-            "       [--result DIR [--print-commands|--assemble|--snakefile FILE]]\n"
+            "       [--result DIR [--print-commands|--assemble|--snakefile F|--sbatch F]]\n"
             "       [--plot X:Y --png|--svg FILE]\n"
             "Runs SCENE (no video) at every point of the product of the --vary lists (the\n"
             "first varies slowest); one CSV row per point: the varied keys, the measures (empty:\n"
@@ -56,6 +56,8 @@ void sweep_usage(FILE *f)
             "  --print-commands  one command line per point, and the # assemble: line\n"
             "  --snakefile FILE  write a Snakefile (needs --result, --csv): a job per point,\n"
             "                 then the CSV; run: snakemake -s FILE --cores N\n"
+            "  --sbatch FILE  write a Slurm job array script (needs --result): task i runs\n"
+            "                 point i; sbatch FILE, then its # assemble: line\n"
             "  --assemble     the CSV from DIR only (exit 1 when a point has no file)\n"
             "  --plot X:Y --png FILE --svg FILE [--log x|y|xy]  measure Y against varied key\n"
             "                 X, a curve per value of the other varied keys; data in FILE.csv\n"
@@ -137,6 +139,7 @@ typedef struct sweep {
     const char *csv;        /* NULL: standard output */
     const char *result_dir;
     const char *snakefile;  /* --snakefile FILE */
+    const char *sbatch;     /* --sbatch FILE */
     const char **vary_args; /* as given, for the assemble line */
     const char *measure_arg;
     int point_count;
@@ -473,6 +476,8 @@ static int parse_args(int argc, char **argv, sweep *sw, char *err, size_t errlen
             if (take_value(argc, argv, &i, &sw->svg, err, errlen)) return -1;
         } else if (strcmp(a, "--log") == 0) {
             if (take_value(argc, argv, &i, &sw->log_axes, err, errlen)) return -1;
+        } else if (strcmp(a, "--sbatch") == 0) {
+            if (take_value(argc, argv, &i, &sw->sbatch, err, errlen)) return -1;
         } else if (strcmp(a, "--snakefile") == 0) {
             if (take_value(argc, argv, &i, &sw->snakefile, err, errlen)) return -1;
         } else if (strcmp(a, "--result") == 0) {
@@ -511,15 +516,18 @@ static int parse_args(int argc, char **argv, sweep *sw, char *err, size_t errlen
                          sw->varies[i].arg, sw->varies[i].name, sw->varies[j].arg);
                 return -1;
             }
-    if ((sw->print_commands || sw->assemble || sw->snakefile) && !sw->result_dir) {
+    if ((sw->print_commands || sw->assemble || sw->snakefile || sw->sbatch) &&
+        !sw->result_dir) {
         snprintf(err, errlen, "%s needs --result DIR (where the points' result files go)",
                  sw->print_commands ? "--print-commands"
                  : sw->assemble     ? "--assemble"
-                                    : "--snakefile");
+                 : sw->snakefile    ? "--snakefile"
+                                    : "--sbatch");
         return -1;
     }
-    if (sw->print_commands + sw->assemble + (sw->snakefile != NULL) > 1) {
-        snprintf(err, errlen, "--print-commands, --assemble and --snakefile: give one of them");
+    if (sw->print_commands + sw->assemble + (sw->snakefile != NULL) + (sw->sbatch != NULL) > 1) {
+        snprintf(err, errlen, "--print-commands, --assemble, --snakefile and --sbatch: give "
+                              "one of them");
         return -1;
     }
     if (sw->snakefile && (!sw->csv || strcmp(sw->csv, "-") == 0)) {
@@ -1482,6 +1490,52 @@ static int write_snakefile(const sweep *sw, setting *set, const uint64_t *digest
     return 0;
 }
 
+/* --sbatch FILE: a Slurm job array script, task i (1-based, the
+ * --print-commands order) running point i into its result file; the
+ * assemble line is in its comments. Any other SLURM_ARRAY_TASK_ID exits 2. */
+static int write_sbatch(const sweep *sw, setting *set, char *err, size_t errlen)
+{
+    char self[OUTFILE_PATH_MAX], dir[OUTFILE_PATH_MAX];
+    if (cli_self_path(self, sizeof self, err, errlen) ||
+        cli_absolute_path(sw->result_dir, dir, sizeof dir, err, errlen))
+        return -1;
+    outfile out = {.fd = -1, .slot = -1};
+    if (outfile_open(&out, sw->sbatch, err, errlen)) return -1;
+    FILE *f = out.fp;
+    fprintf(f, "#!/bin/sh\n"
+               "#SBATCH --array=1-%d\n"
+               "#SBATCH --job-name=rodsim-sweep\n"
+               "#SBATCH --ntasks=1\n"
+               "#SBATCH --cpus-per-task=1\n",
+            sw->point_count);
+    fprintf(f, "# Slurm job array written by rodsim %s sweep --sbatch: %d points of %s.\n"
+               "# sbatch THIS_FILE: task i runs point i into its result file\n"
+               "# %s/DIGEST.csv (an existing file is not run again). When all are done,\n"
+               "# assemble the CSV (or: sbatch --dependency=afterok:JOBID --wrap 'LINE'):\n"
+               "# assemble: ",
+            RODSIM_VERSION, sw->point_count, sw->scene_path, dir);
+    int rc = write_assemble_command(f, sw, self, dir, err, errlen);
+    fprintf(f, "\ncase \"${SLURM_ARRAY_TASK_ID:-}\" in\n");
+    for (int k = 0; !rc && k < sw->point_count; k++) {
+        fprintf(f, "%d) exec ", k + 1);
+        rc = write_point_command(f, sw, k, set, self, dir, err, errlen);
+        fprintf(f, " ;;\n");
+    }
+    fprintf(f, "*) echo \"rodsim sweep: SLURM_ARRAY_TASK_ID is '${SLURM_ARRAY_TASK_ID:-}'; "
+               "accepted 1 .. %d (submit with sbatch)\" >&2; exit 2 ;;\nesac\n",
+            sw->point_count);
+    if (!rc && ferror(f)) {
+        snprintf(err, errlen, "%s: write failed", sw->sbatch);
+        rc = -1;
+    }
+    if (!rc) fchmod(fileno(f), 0755); /* runs as ./FILE too */
+    if (rc || outfile_commit(&out, err, errlen)) {
+        outfile_abort(&out);
+        return -1;
+    }
+    return 0;
+}
+
 /* Every point's scene read before anything runs: a value a key does not
  * accept is bad input naming the --vary argument. */
 static int check_points(const sweep *sw, setting *set, uint64_t *digests, char *err,
@@ -1523,13 +1577,14 @@ static int check_points(const sweep *sw, setting *set, uint64_t *digests, char *
 /* Checks where the outputs go before any work. */
 static int check_outputs(const sweep *sw, char *err, size_t errlen)
 {
-    /* --print-commands and --snakefile write no results now: only the Snakefile */
-    int later = sw->print_commands || sw->snakefile;
+    /* --print-commands, --snakefile, --sbatch write no results now: only the script */
+    int later = sw->print_commands || sw->snakefile || sw->sbatch;
     if (sw->result_dir && !later && outfile_check_dir(sw->result_dir, err, errlen))
         return -1;
-    const char *files[5] = {sw->csv && strcmp(sw->csv, "-") != 0 ? sw->csv : NULL, sw->png,
-                            sw->svg, sw->plot_arg ? sw->plot_csv : NULL, sw->snakefile};
-    for (int i = later ? 4 : 0; i < 5; i++) {
+    const char *files[6] = {sw->csv && strcmp(sw->csv, "-") != 0 ? sw->csv : NULL, sw->png,
+                            sw->svg, sw->plot_arg ? sw->plot_csv : NULL, sw->snakefile,
+                            sw->sbatch};
+    for (int i = later ? 4 : 0; i < 6; i++) {
         if (!files[i]) continue;
         struct stat st;
         if (stat(files[i], &st) == 0 && S_ISDIR(st.st_mode)) {
@@ -1573,6 +1628,15 @@ static int sweep_run(sweep *sw)
         if (!sw->quiet)
             fprintf(stderr, "rodsim sweep: wrote %s (%d points); run: snakemake -s %s "
                             "--cores N\n", sw->snakefile, sw->point_count, sw->snakefile);
+        status = RUN_EXIT_OK;
+        goto done;
+    }
+    if (sw->sbatch) {
+        if (write_sbatch(sw, set, err, sizeof err)) goto fail;
+        if (!sw->quiet)
+            fprintf(stderr, "rodsim sweep: wrote %s (a job array of %d tasks); submit: sbatch "
+                            "%s, then its # assemble: line\n", sw->sbatch, sw->point_count,
+                    sw->sbatch);
         status = RUN_EXIT_OK;
         goto done;
     }

@@ -14,7 +14,9 @@
  *    recipe, without Slurm), and assemble the same CSV; a sweep killed with kill -9 and run again
  *    computes no point twice and gives the uninterrupted CSV;
  *  - --snakefile under Snakemake (snakemake --cores 2) assembles the direct
- *    sweep's CSV, number by number, and reruns only a missing point. */
+ *    sweep's CSV, number by number, and reruns only a missing point;
+ *  - --sbatch: the array script's indexing run directly, and submitted to a
+ *    one-node Slurm started here (as root; else a SKIP line says why). */
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -676,6 +678,175 @@ static void test_snakemake(void)
     free(want);
 }
 
+/* Starts `argv` in the background, its output to log; its pid, or -1. */
+static pid_t start_daemon(const char *const *argv, const char *log)
+{
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) {
+        freopen(log, "w", stdout);
+        freopen(log, "a", stderr);
+        execvp(argv[0], (char *const *)argv);
+        _exit(127);
+    }
+    return pid;
+}
+
+static void stop_daemon(pid_t pid)
+{
+    if (pid <= 0) return;
+    kill(pid, SIGTERM);
+    for (int i = 0; i < 100; i++) { /* up to 10 s, then for good */
+        struct timespec pause = {0, 100000000};
+        if (waitpid(pid, NULL, WNOHANG) == pid) return;
+        nanosleep(&pause, NULL);
+    }
+    kill(pid, SIGKILL);
+    waitpid(pid, NULL, 0);
+}
+
+/* A one-node Slurm (slurmctld + slurmd, the Debian package slurm-wlm) in
+ * dir, on ports from our pid; 0 when its node is idle, else -1 with why.
+ * Decision: AuthType=auth/none (in Slurm 22.05) instead of munge: nothing
+ * outside dir is started or changed; the ports listen on this host only. */
+static int start_slurm(const char *dir, pid_t pids[2], char *why, size_t n)
+{
+    pids[0] = pids[1] = -1;
+    if (geteuid() != 0) {
+        snprintf(why, n, "not root (slurmd runs jobs as their user and must be root)");
+        return -1;
+    }
+    if (system("command -v slurmctld >/dev/null && command -v slurmd >/dev/null && "
+               "command -v sbatch >/dev/null && command -v sinfo >/dev/null") != 0) {
+        snprintf(why, n, "slurmctld, slurmd, sbatch or sinfo not found (the Debian package "
+                         "slurm-wlm: make deps)");
+        return -1;
+    }
+    char conf[400], path[400];
+    snprintf(path, sizeof path, "%s/state", dir);
+    mkdir(dir, 0755);
+    mkdir(path, 0755);
+    snprintf(path, sizeof path, "%s/spool", dir);
+    mkdir(path, 0755);
+    snprintf(conf, sizeof conf, "%s/slurm.conf", dir);
+    FILE *f = fopen(conf, "w");
+    if (!f) {
+        snprintf(why, n, "cannot write %s", conf);
+        return -1;
+    }
+    int port = 20000 + 2 * (int)(getpid() % 10000);
+    fprintf(f, "ClusterName=rodsimtest\nSlurmctldHost=localhost\nSlurmctldPort=%d\n"
+               "SlurmdPort=%d\nSlurmUser=root\nSlurmdUser=root\nAuthType=auth/none\n"
+               "CredType=cred/none\nProctrackType=proctrack/linuxproc\nTaskPlugin=task/none\n"
+               "JobAcctGatherType=jobacct_gather/none\n"
+               "AccountingStorageType=accounting_storage/none\nJobCompType=jobcomp/none\n"
+               "SelectType=select/cons_tres\nSelectTypeParameters=CR_CPU\nMpiDefault=none\n"
+               "SwitchType=switch/none\nReturnToService=2\nMailProg=/bin/true\n"
+               "StateSaveLocation=%s/state\nSlurmdSpoolDir=%s/spool\n"
+               "SlurmctldPidFile=%s/slurmctld.pid\nSlurmdPidFile=%s/slurmd.pid\n"
+               "SlurmctldLogFile=%s/slurmctld.log\nSlurmdLogFile=%s/slurmd.log\n"
+               "NodeName=localhost NodeAddr=127.0.0.1 CPUs=2 State=UNKNOWN\n"
+               "PartitionName=debug Nodes=localhost Default=YES MaxTime=INFINITE State=UP\n",
+            port, port + 1, dir, dir, dir, dir, dir, dir);
+    fclose(f);
+    setenv("SLURM_CONF", conf, 1);
+    char log[400];
+    snprintf(log, sizeof log, "%s/slurmctld.out", dir);
+    const char *ctld[] = {"slurmctld", "-D", "-i", "-f", conf, NULL};
+    pids[0] = start_daemon(ctld, log);
+    snprintf(log, sizeof log, "%s/slurmd.out", dir);
+    const char *d[] = {"slurmd", "-D", "-N", "localhost", "-f", conf, NULL};
+    pids[1] = start_daemon(d, log);
+    /* a start-up budget: the node reports idle within seconds when Slurm can
+     * run here; after 60 s (a skip, not a failure of rodsim) we give up */
+    char shell[600];
+    snprintf(shell, sizeof shell, "sinfo -h -n localhost -o %%t 2>/dev/null | grep -qx idle");
+    for (int i = 0; i < 120; i++) {
+        if (system(shell) == 0) return 0;
+        int st;
+        for (int k = 0; k < 2; k++)
+            if (pids[k] > 0 && waitpid(pids[k], &st, WNOHANG) == pids[k]) {
+                snprintf(why, n, "%s exited (status %d); see %s/%s.out", k ? "slurmd" : "slurmctld",
+                         WIFEXITED(st) ? WEXITSTATUS(st) : -1, dir, k ? "slurmd" : "slurmctld");
+                pids[k] = -1;
+                return -1;
+            }
+        struct timespec pause = {0, 500000000};
+        nanosleep(&pause, NULL);
+    }
+    snprintf(why, n, "the node did not become idle within 60 s; see %s/*.log", dir);
+    return -1;
+}
+
+/* --sbatch: the job array script. Its indexing directly (task i = point i,
+ * any other index exits 2), then, when a one-node Slurm can start here,
+ * submitted for real with sbatch --wait; the assembled CSV equals the direct
+ * sweep's number by number. */
+static void test_sbatch(void)
+{
+    const char *vary = "tip.force[1]=1e-7,5e-7,9e-7", *duration = "solver.duration=6";
+    char direct_csv[320], results[320], script[320], assembled[320], slurm[320];
+    snprintf(direct_csv, sizeof direct_csv, "%s/snake_direct.csv", scratch); /* test_snakemake */
+    snprintf(results, sizeof results, "%s/array_results", scratch);
+    snprintf(script, sizeof script, "%s/array.sh", scratch);
+    snprintf(assembled, sizeof assembled, "%s/array_assembled.csv", scratch);
+    snprintf(slurm, sizeof slurm, "%s/slurm", scratch);
+    const char *generate[] = {"sweep", SCENE, "--vary", vary, "--set", duration, "--measure",
+                              "tip,max_curvature,steps", "--result", results, "--csv",
+                              assembled, "--sbatch", script, "--quiet", NULL};
+    int rc = test_run_rodsim(generate, output, sizeof output);
+    char *text = read_text(script);
+    check(rc == 0 && text && strstr(text, "#SBATCH --array=1-3\n") && access(results, F_OK) != 0,
+          "--sbatch writes the script only, #SBATCH --array=1-3 (exit %d)", rc);
+    free(text);
+    char *want = read_text(direct_csv), why[600], shell[1400];
+    int one_each = 1, sh = 0;
+    for (int task = 1; task <= 3; task++) { /* task i makes exactly one more file */
+        snprintf(shell, sizeof shell, "cd / && SLURM_ARRAY_TASK_ID=%d sh '%s'", task, script);
+        sh |= system(shell);
+        one_each &= test_dir_entries(results) == task;
+    }
+    int bad = 1;
+    for (int task = 0; task <= 4; task += 4) {
+        snprintf(shell, sizeof shell, "SLURM_ARRAY_TASK_ID=%d sh '%s' 2>/dev/null", task, script);
+        int st = system(shell);
+        bad &= WIFEXITED(st) && WEXITSTATUS(st) == 2;
+    }
+    snprintf(shell, sizeof shell, "sed -n 's/^# assemble: //p' '%s' | sh", script);
+    sh |= system(shell);
+    char *got = read_text(assembled);
+    int same = same_results(want, got, why, sizeof why);
+    check(sh == 0 && one_each && bad && same,
+          "the script run as tasks 1..3: one more result file each; tasks 0 and 4 exit 2; "
+          "the assembled CSV equals the direct sweep's (%s)", why);
+    free(got);
+
+    pid_t pids[2];
+    if (start_slurm(slurm, pids, why, sizeof why)) {
+        printf("SKIP Slurm for real: a one-node Slurm cannot start here: %s (the array "
+               "indexing is checked above)\n", why);
+    } else {
+        test_remove_tree(results);
+        unlink(assembled);
+        snprintf(shell, sizeof shell, "cd '%s' && sbatch --wait --quiet -o '%s/task-%%a.out' '%s' "
+                                      ">'%s/sbatch.out' 2>&1",
+                 slurm, slurm, script, slurm);
+        sh = system(shell);
+        snprintf(shell, sizeof shell, "sed -n 's/^# assemble: //p' '%s' | sh", script);
+        sh |= system(shell);
+        got = read_text(assembled);
+        same = same_results(want, got, why, sizeof why);
+        check(sh == 0 && test_dir_entries(results) == 3 && same,
+              "Slurm (slurmctld + slurmd on this host): sbatch --wait of the array, 3 result "
+              "files, the assembled CSV equals the direct sweep's (%s; logs in %s)", why, slurm);
+        free(got);
+    }
+    stop_daemon(pids[1]);
+    stop_daemon(pids[0]);
+    unsetenv("SLURM_CONF");
+    free(want);
+}
+
 int main(void)
 {
     snprintf(scratch, sizeof scratch, "/tmp/rodsim_test_sweep_%d", (int)getpid());
@@ -691,6 +862,7 @@ int main(void)
     test_svg();
     test_commands_and_resume();
     test_snakemake();
+    test_sbatch();
     test_remove_tree(scratch);
     return test_finish();
 }
