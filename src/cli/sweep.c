@@ -22,6 +22,7 @@
 #include "cli/scene_keys.h"
 #include "cli/version.h"
 #include "plot/plot.h"
+#include "study/buckling.h"
 
 #define SWEEP_ERR_LEN 2048
 #define SWEEP_MAX_JOBS 64
@@ -48,7 +49,9 @@ void sweep_usage(FILE *f)
             "                 tip.force[1] is y; whole vectors: 'tip.force=0 1e-7 0,0 2e-7 0'\n"
             "  --measure      tip_x tip_y tip_z (m, end of run), root_fx.. root_fz, tip_fx..\n"
             "                 tip_fz (N, on what holds the end), max_curvature (1/m),\n"
-            "                 first_frequency (Hz, tip spectrum), steps, wall_s, cpu_s (s);\n"
+            "                 first_frequency (Hz, tip spectrum), critical_load (N),\n"
+            "                 critical_moment (N m: the axial tip load where the straight\n"
+            "                 rod buckles, static tangent), steps, wall_s, cpu_s (s);\n"
             "                 groups tip, root_force, tip_force, all; default tip,wall_s,cpu_s\n"
             "  --jobs N       N worker processes (1..64); rows stay in point order\n"
             "  --csv FILE     the results (default: standard output; - too)\n"
@@ -81,16 +84,18 @@ enum {
     M_TIP_X, M_TIP_Y, M_TIP_Z,
     M_ROOT_FX, M_ROOT_FY, M_ROOT_FZ,
     M_TIP_FX, M_TIP_FY, M_TIP_FZ,
-    M_MAX_CURVATURE, M_FIRST_FREQUENCY, M_STEPS, M_WALL, M_CPU,
+    M_MAX_CURVATURE, M_FIRST_FREQUENCY, M_CRITICAL_LOAD, M_CRITICAL_MOMENT, M_STEPS, M_WALL,
+    M_CPU,
     M_COUNT
 };
 static const char *const measure_names[M_COUNT] = {
     "tip_x", "tip_y", "tip_z", "root_fx", "root_fy", "root_fz", "tip_fx", "tip_fy", "tip_fz",
-    "max_curvature", "first_frequency", "steps", "wall_s", "cpu_s"};
+    "max_curvature", "first_frequency", "critical_load", "critical_moment", "steps", "wall_s",
+    "cpu_s"};
 
 /* The unit of each measure, for plot axes. */
 static const char *const measure_units[M_COUNT] = {
-    "m", "m", "m", "N", "N", "N", "N", "N", "N", "1/m", "Hz", "-", "s", "s"};
+    "m", "m", "m", "N", "N", "N", "N", "N", "N", "1/m", "Hz", "N", "N m", "-", "s", "s"};
 
 typedef enum {
     POINT_OK = 0, POINT_UNSTABLE, POINT_NO_CONVERGENCE, POINT_REFUSED, POINT_FAILED,
@@ -811,6 +816,37 @@ static void set_message(point_result *r, point_status status, const char *fmt, .
     r->status = status;
 }
 
+/* Largest load factor searched for critical_load, in units of the scene's
+ * axial tip load: a rod that is still stable at 100 times its load is
+ * reported as none (NAN). */
+#define SWEEP_CRITICAL_FACTOR_MAX 100.0
+
+/* critical_load (N) and critical_moment (N m): the scene's axial tip force
+ * and twisting moment, scaled together by the load factor at which the
+ * straight rod stops being stable (rod_buckling_factor, buckling.h: the
+ * static tangent stiffness at the straight state turns singular), given as
+ * magnitudes. Decision: the transverse parts of the tip load are dropped
+ * first (scenes carry a small one as an imperfection that triggers the
+ * bifurcation: scenes/buckling_axial.ini); its time profile is ignored. NAN
+ * when the straight rod is no equilibrium (gravity, curvature, ...), the
+ * axial load is zero, or no loss of stability is found up to
+ * SWEEP_CRITICAL_FACTOR_MAX (a tensile force; a follower force: flutter). */
+static void critical_loads(const rod_model *m, point_result *r)
+{
+    rod_model axial = *m; /* shallow: only read, never released */
+    int axis = m->tip_frame == ROD_FRAME_DIRECTOR ? 2 : 0; /* as buckling.c */
+    for (int k = 0; k < 3; k++)
+        if (k != axis) axial.tip_force[k] = axial.tip_moment[k] = 0.0;
+    double lambda;
+    char err[512];
+    if (rod_buckling_factor(&axial, SWEEP_CRITICAL_FACTOR_MAX, 1e-7, &lambda, err, sizeof err))
+        return;
+    if (axial.tip_force[axis] != 0.0)
+        r->value[M_CRITICAL_LOAD] = lambda * fabs(axial.tip_force[axis]);
+    if (axial.tip_moment[axis] != 0.0)
+        r->value[M_CRITICAL_MOMENT] = lambda * fabs(axial.tip_moment[axis]);
+}
+
 /* Runs one point as `rodsim run --no-video` would (run_read_scene, the dt
  * and plan of run.c, run_simulate) and measures it. */
 static void run_point(const sweep *sw, int point, point_result *r)
@@ -893,6 +929,7 @@ static void run_point(const sweep *sw, int point, point_result *r)
         curvature = fmax(curvature, sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
     }
     r->value[M_MAX_CURVATURE] = curvature;
+    critical_loads(&m, r);
     r->value[M_FIRST_FREQUENCY] = first_frequency(&tip, 1.0 / out.fps);
     if (report.warning[0]) snprintf(r->message, sizeof r->message, "%s", report.warning);
     r->status = POINT_OK;

@@ -5,6 +5,7 @@
  *    elastica (study/reference.h, an independent RK4 shooting solution);
  *  - --jobs 2 writes the same bytes as --jobs 1;
  *  - a point that fails is a row with its status, the others run;
+ *  - critical_load and critical_moment against Euler's and Greenhill's loads;
  *  - bad input (unknown key, value, range, measure, plot axis) exits 2,
  *    writes nothing;
  *  - --plot: the PNG and the plotted data (the results' numbers, by curve);
@@ -585,6 +586,54 @@ static void test_commands_and_resume(void)
     free(want);
 }
 
+/* critical_load against Euler's cantilever load pi^2 EI/(4 L^2) over
+ * three lengths, critical_moment against Greenhill's 2 pi EI/L (pinned
+ * ends, a dead axial moment), and none for a rod loaded across. EI from
+ * table 1 (E = 87.5 MPa, d = 1 mm), here by hand. NS = 51: the static
+ * tangent's error is second order in ds, 1.6e-4 measured; 1e-3 allowed. */
+static void test_critical_load(void)
+{
+    const double ei = 87.5e6 * M_PI * pow(1e-3, 4) / 64.0;
+    const char *axial[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/buckling_axial.ini", "--vary",
+                           "rod.length=0.5,0.75,1", "--set", "solver.duration=0.1", "--measure",
+                           "critical_load,critical_moment", "--quiet", NULL};
+    int rc = test_run_rodsim(axial, output, sizeof output);
+    check(rc == 0, "sweep of scenes/buckling_axial.ini over rod.length runs (exit %d)", rc);
+    for (int row = 1; row <= 3; row++) {
+        char length[64] = "", load[64] = "", moment[64] = "x";
+        csv_cell(output, row, 0, length, sizeof length);
+        csv_cell(output, row, 1, load, sizeof load);
+        csv_cell(output, row, 2, moment, sizeof moment);
+        double l = strtod(length, NULL);
+        char what[160];
+        snprintf(what, sizeof what, "critical_load, clamped-free, dead axial force, L = %s m, "
+                                    "NS = 51: vs pi^2 EI/(4 L^2)", length);
+        check_rel(what, strtod(load, NULL), M_PI * M_PI * ei / (4.0 * l * l), 1e-3);
+        check(moment[0] == '\0', "critical_moment is empty without a tip moment: '%s'", moment);
+    }
+    const char *twist[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/buckling_axial.ini", "--vary",
+                           "ends.root=pinned", "--set", "ends.tip=pinned", "--set",
+                           "ends.tip_slide=1 0 0", "--set", "tip.force=0 0 0", "--set",
+                           "tip.moment=1e-5 0 0", "--set", "solver.duration=0.1", "--measure",
+                           "critical_moment", "--quiet", NULL};
+    rc = test_run_rodsim(twist, output, sizeof output);
+    char moment[64] = "";
+    csv_cell(output, 1, 1, moment, sizeof moment);
+    check_rel("critical_moment, pinned-pinned, dead axial twisting moment, L = 1 m, NS = 51: "
+              "vs Greenhill 2 pi EI/L",
+              rc == 0 ? strtod(moment, NULL) : NAN, 2.0 * M_PI * ei / 1.0, 1e-3);
+    const char *across[] = {"sweep", SCENE, "--vary", "tip.force[1]=1e-7", "--set",
+                            "solver.duration=0.1", "--measure", "critical_load,critical_moment",
+                            "--quiet", NULL};
+    rc = test_run_rodsim(across, output, sizeof output);
+    char load[64] = "x", status[64] = "";
+    csv_cell(output, 1, 1, load, sizeof load);
+    csv_cell(output, 1, 3, status, sizeof status);
+    check(rc == 0 && load[0] == '\0' && strcmp(status, "ok") == 0,
+          "a rod loaded across (table2): critical_load empty, status ok: '%s', '%s'", load,
+          status);
+}
+
 /* Compares two results CSVs field by field: the same header and columns,
  * numbers equal as numbers (strtod), other fields as text. 1 when equal;
  * else 0 with the first difference in why. */
@@ -860,6 +909,7 @@ int main(void)
     test_bad_input();
     test_plot();
     test_svg();
+    test_critical_load();
     test_commands_and_resume();
     test_snakemake();
     test_sbatch();
