@@ -51,7 +51,7 @@ void sweep_usage(FILE *f)
             "                 tip_fz (N, on what holds the end), max_curvature (1/m),\n"
             "                 first_frequency (Hz, tip spectrum), critical_load (N),\n"
             "                 critical_moment (N m: the axial tip load where the straight\n"
-            "                 rod buckles, static tangent), steps, wall_s, cpu_s (s);\n"
+            "                 rod buckles; only when asked), steps, wall_s, cpu_s (s);\n"
             "                 groups tip, root_force, tip_force, all; default tip,wall_s,cpu_s\n"
             "  --jobs N       N worker processes (1..64); rows stay in point order\n"
             "  --csv FILE     the results (default: standard output; - too)\n"
@@ -141,6 +141,7 @@ typedef struct sweep {
     int measures[M_COUNT]; /* the columns, in order */
     int measure_count;
     int jobs, quiet, allow_long, print_commands, assemble, help;
+    int critical; /* critical_load or critical_moment asked for (--measure, --plot) */
     const char *csv;        /* NULL: standard output */
     const char *result_dir;
     const char *snakefile;  /* --snakefile FILE */
@@ -541,6 +542,14 @@ static int parse_args(int argc, char **argv, sweep *sw, char *err, size_t errlen
         return -1;
     }
     if (parse_plot(sw, err, errlen)) return -1;
+    /* Decision: the buckling search costs more than a short run (2 s at NS =
+     * 401), so it runs only when asked; the request is part of the points'
+     * digests, so a result file without it is never taken for one with it. */
+    for (int i = 0; i < sw->measure_count; i++)
+        sw->critical |= sw->measures[i] == M_CRITICAL_LOAD ||
+                        sw->measures[i] == M_CRITICAL_MOMENT;
+    sw->critical |= sw->plot_arg &&
+                    (sw->plot_y == M_CRITICAL_LOAD || sw->plot_y == M_CRITICAL_MOMENT);
     double points = 1.0;
     for (int i = 0; i < sw->vary_count; i++) points *= sw->varies[i].count;
     if (points > SWEEP_MAX_POINTS) {
@@ -745,6 +754,7 @@ static uint64_t point_digest(const sweep *sw, const setting *s, int n)
         h = sweep_fnv1a64(h, "=", 1);
         h = sweep_fnv1a64(h, s[i].value, strlen(s[i].value));
     }
+    if (sw->critical) h = sweep_fnv1a64(h, "\n#critical", 10);
     return h;
 }
 
@@ -929,19 +939,19 @@ static void run_point(const sweep *sw, int point, point_result *r)
         curvature = fmax(curvature, sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
     }
     r->value[M_MAX_CURVATURE] = curvature;
-    critical_loads(&m, r);
     r->value[M_FIRST_FREQUENCY] = first_frequency(&tip, 1.0 / out.fps);
     if (report.warning[0]) snprintf(r->message, sizeof r->message, "%s", report.warning);
     r->status = POINT_OK;
 done:
+    r->value[M_WALL] = clock_seconds(CLOCK_MONOTONIC) - wall0;
+    r->value[M_CPU] = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
+    if (sw->critical && r->status == POINT_OK) critical_loads(&m, r); /* not timed: not the run */
     free(tip.xyz);
     rod_state_destroy(s);
     rod_solver_release(&solver);
     rod_model_release(&m);
     ini_destroy(doc);
     free(set);
-    r->value[M_WALL] = clock_seconds(CLOCK_MONOTONIC) - wall0;
-    r->value[M_CPU] = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
 }
 
 /* Result files ------------------------------------------------------------ */
@@ -1338,6 +1348,7 @@ static int write_point_command(FILE *f, const sweep *sw, int k, setting *set, co
         cli_print_shell_word(f, assignment);
     }
     if (sw->allow_long) fprintf(f, " --allow-long");
+    if (sw->critical) fprintf(f, " --measure critical_load,critical_moment");
     fprintf(f, " --quiet --result ");
     cli_print_shell_word(f, dir);
     return 0;

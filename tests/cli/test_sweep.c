@@ -622,6 +622,54 @@ static void test_critical_load(void)
     check_rel("critical_moment, pinned-pinned, dead axial twisting moment, L = 1 m, NS = 51: "
               "vs Greenhill 2 pi EI/L",
               rc == 0 ? strtod(moment, NULL) : NAN, 2.0 * M_PI * ei / 1.0, 1e-3);
+    /* asked for only: result files written without it are not reused for it */
+    char dir[320];
+    snprintf(dir, sizeof dir, "%s/critical_results", scratch);
+    const char *plain[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/buckling_axial.ini", "--vary",
+                           "rod.length=0.5,1", "--set", "solver.duration=0.1", "--measure",
+                           "tip", "--result", dir, NULL};
+    const char *asked[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/buckling_axial.ini", "--vary",
+                           "rod.length=0.5,1", "--set", "solver.duration=0.1", "--measure",
+                           "critical_load", "--result", dir, NULL};
+    int rc1 = test_run_rodsim(plain, output, sizeof output);
+    int rc2 = test_run_rodsim(asked, output, sizeof output);
+    char load2[64] = "";
+    const char *csv = strstr(output, "rod.length,");
+    csv_cell(csv ? csv : "", 2, 1, load2, sizeof load2);
+    check(rc1 == 0 && rc2 == 0 && strstr(output, "2 points: 2 run, 0 from") &&
+              fabs(strtod(load2, NULL) / (M_PI * M_PI * ei / 4.0) - 1.0) < 1e-3 &&
+              test_dir_entries(dir) == 4,
+          "critical_load asked for after a sweep without it: both points run again (their "
+          "own result files, 4 in all), L = 1 m gives %s N", load2);
+    /* the point command lines carry the request: their files assemble */
+    char cmd_dir[320], cmds[400], assembled[400], direct_csv[400], shell[1400];
+    snprintf(cmd_dir, sizeof cmd_dir, "%s/critical_commands", scratch);
+    snprintf(cmds, sizeof cmds, "%s/commands.sh", scratch);
+    snprintf(assembled, sizeof assembled, "%s/critical_assembled.csv", scratch);
+    snprintf(direct_csv, sizeof direct_csv, "%s/critical_direct.csv", scratch);
+    const char *print[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/buckling_axial.ini", "--vary",
+                           "rod.length=0.5,1", "--set", "solver.duration=0.1", "--measure",
+                           "critical_load", "--result", cmd_dir, "--csv", assembled,
+                           "--print-commands", NULL};
+    const char *direct[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/buckling_axial.ini", "--vary",
+                            "rod.length=0.5,1", "--set", "solver.duration=0.1", "--measure",
+                            "critical_load", "--csv", direct_csv, "--quiet", NULL};
+    rc = test_run_rodsim(print, output, sizeof output);
+    FILE *f = fopen(cmds, "w");
+    if (f) {
+        fputs(output, f);
+        fclose(f);
+    }
+    rc |= test_run_rodsim(direct, output, sizeof output);
+    snprintf(shell, sizeof shell, "grep -v '^#' '%s' | sh && sed -n 's/^# assemble: //p' '%s' "
+                                  "| sh 2>/dev/null", cmds, cmds);
+    int sh = system(shell);
+    char *want = read_text(direct_csv), *got = read_text(assembled);
+    check(rc == 0 && sh == 0 && want && got && strcmp(want, got) == 0,
+          "critical_load through --print-commands lines and # assemble: equals the direct "
+          "sweep (exit %d, sh %d)", rc, sh);
+    free(want);
+    free(got);
     const char *across[] = {"sweep", SCENE, "--vary", "tip.force[1]=1e-7", "--set",
                             "solver.duration=0.1", "--measure", "critical_load,critical_moment",
                             "--quiet", NULL};
