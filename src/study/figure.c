@@ -539,13 +539,6 @@ static const pareto_run pareto_quick[] = {
 #define PARETO_QUICK ((int)(sizeof pareto_quick / sizeof pareto_quick[0]))
 static const char *const pareto_outputs[] = {"pareto.png", "pareto_frequency.png", NULL};
 
-static double cpu_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 /* Repeats of a Pareto point: at least PARETO_MIN_REPEATS, more while the
  * repeats so far took under PARETO_REPEAT_BUDGET s of CPU. */
 #define PARETO_MIN_REPEATS 3
@@ -558,9 +551,10 @@ static int compare_doubles(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* validate_run, repeated, timed by this process's CPU clock (a point runs in
- * its own worker process, so that is this run's CPU): the median and the
- * range of the repeats. CPU time, not wall time: on a shared machine the
+/* validate_run, repeated, each timed by the process's CPU clock over its
+ * simulation (validate_row.cpu_seconds; a point runs in its own worker
+ * process, so that is this run's CPU): the median and the range of the
+ * repeats. CPU time, not wall time: on a shared machine the
  * wall clock counts the other processes too and reorders the curves (issue
  * 15). The computed values repeat exactly; a diverged run is not repeated. */
 static int pareto_compute(int point, int quick, figure_points *out, char *err, size_t errlen)
@@ -573,9 +567,8 @@ static int pareto_compute(int point, int quick, figure_points *out, char *err, s
     while (repeats < PARETO_MAX_REPEATS &&
            (repeats < PARETO_MIN_REPEATS || spent < PARETO_REPEAT_BUDGET)) {
         memset(&row, 0, sizeof row);
-        double start = cpu_seconds();
         int status = validate_run(run->case_name, run->scheme, run->nodes, dt, &row);
-        cpu[repeats] = cpu_seconds() - start;
+        cpu[repeats] = row.cpu_seconds; /* the simulation only, not the reference */
         spent += cpu[repeats++];
         if (status < 0 || status == 1) {
             snprintf(err, errlen, "validate_run(%s, %s, NS %d): %s", run->case_name,
