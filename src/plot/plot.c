@@ -603,11 +603,50 @@ static void label_box_at(const plot *p, const plot_fonts *fonts, double x, doubl
     out[3] = y + descent;
 }
 
+/* Length (px) of the segment (x0,y0)-(x1,y1) inside box b (Liang-Barsky). */
+static double segment_inside(double x0, double y0, double x1, double y1, const double *b)
+{
+    double dx = x1 - x0, dy = y1 - y0, t0 = 0, t1 = 1;
+    double p[4] = {-dx, dx, -dy, dy}, q[4] = {x0 - b[0], b[2] - x0, y0 - b[1], b[3] - y0};
+    for (int i = 0; i < 4; i++) {
+        if (p[i] == 0) {
+            if (q[i] < 0) return 0;
+            continue;
+        }
+        double t = q[i] / p[i];
+        if (p[i] < 0) t0 = fmax(t0, t);
+        else t1 = fmin(t1, t);
+    }
+    return t1 > t0 ? (t1 - t0) * hypot(dx, dy) : 0;
+}
+
+/* What a label box crosses of the lines (curves, error bars): their length
+ * inside it, px; a label across a line reads worse, but less so than one
+ * on another label or a marker. */
+static double lines_inside(const plot *p, const double *box)
+{
+    double length = 0;
+    for (int i = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        if (s->kind != SERIES_LINE) continue;
+        double x0 = 0, y0 = 0;
+        for (int k = 0; k < s->n; k++) {
+            double x1, y1;
+            to_pixel(p, s->x[k], s->y[k], &x1, &y1);
+            if (k > 0 && isfinite(x0) && isfinite(y0) && isfinite(x1) && isfinite(y1))
+                length += segment_inside(x0, y0, x1, y1, box);
+            x0 = x1, y0 = y1;
+        }
+    }
+    return length;
+}
+
 /* Point labels that never overlap, where there is room: each label, in
  * order, takes the first place free of the labels placed before it, every
- * marker and the legend, among: the offset its series asks for, then right,
- * left, above, below and the diagonals of its marker, near then farther; with
- * no free place, the one overlapping least. The PNG and the SVG draw the
+ * marker, the legend and the lines, among: the offset its series asks for,
+ * then right, left, above, below and the diagonals of its marker, near then
+ * farther; with no free place, the one overlapping least (area on labels,
+ * markers and the legend; a line inside counts its length, px). The PNG and the SVG draw the
  * labels at these boxes. On no memory, label_count stays 0 and the labels
  * go at their asked offsets (draw_text, plot_write_svg). */
 static void layout_labels(plot *p, plot_fonts *fonts)
@@ -687,6 +726,7 @@ static void layout_labels(plot *p, plot_fonts *fonts)
                 for (int j = 0; j < placed - 1; j++)
                     if (isfinite(boxes[4 * j])) cost += box_overlap(grown, &boxes[4 * j]);
                 for (int j = 0; j < m; j++) cost += box_overlap(grown, &marks[4 * j]);
+                cost += lines_inside(p, grown);
                 if (cost < best) {
                     best = cost;
                     memcpy(box, candidate, sizeof candidate);

@@ -193,6 +193,31 @@ static void test_labels_apart(void)
     plot_destroy(p);
     remove(png);
     remove(svg);
+
+    /* a line (an error bar) right of the marker, where its label asks to go,
+     * and one above it: the label goes where neither crosses it */
+    p = plot_create(640, 400);
+    if (!check(p != NULL, "plot created")) return;
+    plot_set_limits(p, 0, 1, 0, 1);
+    double mx = 0.5, my = 0.5, hx[2] = {0.5, 0.9}, hy[2] = {0.5, 0.5}, vx[2] = {0.5, 0.5},
+           vy[2] = {0.5, 0.9};
+    const char *one[1] = {"label"};
+    plot_add_line(p, hx, hy, 2, plot_style_line(200, 0, 0, 1.5, PLOT_SOLID), NULL);
+    plot_add_line(p, vx, vy, 2, plot_style_line(200, 0, 0, 1.5, PLOT_SOLID), NULL);
+    plot_add_markers(p, &mx, &my, 1, mark, one, 30, 0, NULL);
+    rc = plot_write_png(p, png, err, sizeof err);
+    double box[4] = {NAN, NAN, NAN, NAN}, px = 0, py = 0, rx = 0, ty = 0;
+    n = rc == 0 ? plot_point_label_boxes(p, box, 1) : -1;
+    plot_data_to_pixel(p, mx, my, &px, &py);
+    plot_data_to_pixel(p, 0.9, 0.9, &rx, &ty);
+    int crosses_h = box[0] < rx && box[2] > px && box[1] < py && box[3] > py;
+    int crosses_v = box[0] < px && box[2] > px && box[1] < py && box[3] > ty;
+    check(n == 1 && !crosses_h && !crosses_v,
+          "a label asked to sit on a line right of its marker, a line above: it crosses "
+          "neither (box %.0f %.0f %.0f %.0f px; marker at %.0f %.0f)", box[0], box[1], box[2],
+          box[3], px, py);
+    plot_destroy(p);
+    remove(png);
 }
 
 int main(void)
