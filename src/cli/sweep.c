@@ -1558,10 +1558,12 @@ static int write_sbatch(const sweep *sw, setting *set, char *err, size_t errlen)
             sw->point_count);
     fprintf(f, "# Slurm job array written by rodsim %s sweep --sbatch: %d points of %s.\n"
                "# sbatch THIS_FILE: task i runs point i into its result file\n"
-               "# %s/DIGEST.csv (an existing file is not run again). When all are done,\n"
+               "# %s/DIGEST.csv (an existing file is not run again);\n"
+               "# sbatch --array=1-%d%%K THIS_FILE runs at most K at once (over 1000 tasks:\n"
+               "# Slurm's MaxArraySize must allow them). When all are done,\n"
                "# assemble the CSV (or: sbatch --dependency=afterok:JOBID --wrap 'LINE'):\n"
                "# assemble: ",
-            RODSIM_VERSION, sw->point_count, sw->scene_path, dir);
+            RODSIM_VERSION, sw->point_count, sw->scene_path, dir, sw->point_count);
     int rc = write_assemble_command(f, sw, self, dir, err, errlen);
     fprintf(f, "\ncase \"${SLURM_ARRAY_TASK_ID:-}\" in\n");
     for (int k = 0; !rc && k < sw->point_count; k++) {
