@@ -8,14 +8,16 @@ CC      ?= cc
 PKGS    := egl osmesa libpng freetype2 libavcodec libavformat libswscale libavutil lapacke
 LINK_PKGS := libpng freetype2 lapacke
 TEST_PKGS := libavcodec libavformat libswscale libavutil
-# libxml2-utils (xmllint) and parallel (GNU parallel): tests/cli/test_sweep.c parses the
-# sweep's SVG and runs its --print-commands lines under GNU parallel. libegl-dev (EGL
+# libxml2-utils (xmllint), parallel (GNU parallel), snakemake and slurm-wlm:
+# tests/cli/test_sweep.c parses the sweep's SVG, runs its --print-commands lines under GNU
+# parallel, its --snakefile under Snakemake and its --sbatch array under a one-node Slurm
+# it starts (slurmctld + slurmd, as root). libegl-dev (EGL
 # headers, glvnd's libEGL.so.1), libegl-mesa0 (Mesa's EGL driver) and libgl1-mesa-dri
 # (its llvmpipe, swrast_dri.so): the EGL backend; libosmesa6-dev: the OSMesa one.
 DEBS    := build-essential pkg-config libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev \
            libpng-dev libfreetype-dev fonts-dejavu-core libavcodec-dev libavformat-dev \
            libswscale-dev libavutil-dev liblapacke-dev liblapack-dev libblas-dev clang \
-           libclang-rt-dev libxml2-utils parallel
+           libclang-rt-dev libxml2-utils parallel snakemake slurm-wlm
 WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes
 CFLAGS  ?= -O3 -g
 ALL_CFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(EXTRA_CFLAGS) -Iinclude \

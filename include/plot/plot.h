@@ -80,6 +80,11 @@ int plot_write_svg(plot *p, const char *path, char *err, size_t errlen);
  * origin, y down), and the axes box. Return -1 before a layout exists. */
 int plot_data_to_pixel(const plot *p, double x, double y, double *px, double *py);
 int plot_axes_box(const plot *p, int *left, int *top, int *right, int *bottom);
+/* After a write: the boxes (x0 top x1 bottom, px; NAN for a point off the
+ * axes) of the point labels, series by series, as drawn: placed so that no
+ * two overlap and none covers a marker or the legend where there is room.
+ * Writes up to max boxes; returns how many labels there are, or -1. */
+int plot_point_label_boxes(const plot *p, double *boxes, int max);
 
 /* "Nice" ticks covering [lo, hi]: steps of 1, 2 or 5 x 10^k, at most
  * max_ticks of them. Writes the first tick and the step; returns the count. */

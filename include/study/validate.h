@@ -20,6 +20,7 @@ typedef struct validate_row {
     int nodes;
     double dt;              /* s; 0: static (no time stepping) */
     double computed, reference, relative_error, wall_seconds;
+    double cpu_seconds;     /* the process's CPU time over the same span as wall_seconds */
     char quantity[64];      /* what was compared, with unit */
     int status;             /* 0 ran; 1 not applicable (say why in note); 2 unstable/failed */
     char note[160];

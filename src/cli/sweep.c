@@ -22,6 +22,7 @@
 #include "cli/scene_keys.h"
 #include "cli/version.h"
 #include "plot/plot.h"
+#include "study/buckling.h"
 
 #define SWEEP_ERR_LEN 2048
 #define SWEEP_MAX_JOBS 64
@@ -39,7 +40,8 @@ void sweep_usage(FILE *f)
     fprintf(f,
             "usage: rodsim sweep SCENE --vary KEY=V1,V2,...|KEY=START:STOP:COUNT[:log] ...\n"
             "       [--set section.key=value]... [--measure WHAT,...] [--jobs N] [--csv FILE]\n"
-            "       [--result DIR [--print-commands|--assemble]] [--plot X:Y --png|--svg FILE]\n"
+            "       [--result DIR [--print-commands|--assemble|--snakefile F|--sbatch F]]\n"
+            "       [--plot X:Y --png|--svg FILE]\n"
             "Runs SCENE (no video) at every point of the product of the --vary lists (the\n"
             "first varies slowest); one CSV row per point: the varied keys, the measures (empty:\n"
             "none), status (ok unstable no_convergence refused failed), message.\n"
@@ -47,12 +49,18 @@ void sweep_usage(FILE *f)
             "                 tip.force[1] is y; whole vectors: 'tip.force=0 1e-7 0,0 2e-7 0'\n"
             "  --measure      tip_x tip_y tip_z (m, end of run), root_fx.. root_fz, tip_fx..\n"
             "                 tip_fz (N, on what holds the end), max_curvature (1/m),\n"
-            "                 first_frequency (Hz, tip spectrum), steps, wall_s, cpu_s (s);\n"
+            "                 first_frequency (Hz, tip spectrum), critical_load (N),\n"
+            "                 critical_moment (N m: the axial tip load where the straight\n"
+            "                 rod buckles; only when asked), steps, wall_s, cpu_s (s);\n"
             "                 groups tip, root_force, tip_force, all; default tip,wall_s,cpu_s\n"
             "  --jobs N       N worker processes (1..64); rows stay in point order\n"
             "  --csv FILE     the results (default: standard output; - too)\n"
             "  --result DIR   one file per point, DIR/DIGEST.csv; existing ones are not rerun\n"
             "  --print-commands  one command line per point, and the # assemble: line\n"
+            "  --snakefile FILE  write a Snakefile (needs --result, --csv): a job per point,\n"
+            "                 then the CSV; run: snakemake -s FILE --cores N\n"
+            "  --sbatch FILE  write a Slurm job array script (needs --result): task i runs\n"
+            "                 point i; sbatch FILE, then its # assemble: line\n"
             "  --assemble     the CSV from DIR only (exit 1 when a point has no file)\n"
             "  --plot X:Y --png FILE --svg FILE [--log x|y|xy]  measure Y against varied key\n"
             "                 X, a curve per value of the other varied keys; data in FILE.csv\n"
@@ -76,16 +84,18 @@ enum {
     M_TIP_X, M_TIP_Y, M_TIP_Z,
     M_ROOT_FX, M_ROOT_FY, M_ROOT_FZ,
     M_TIP_FX, M_TIP_FY, M_TIP_FZ,
-    M_MAX_CURVATURE, M_FIRST_FREQUENCY, M_STEPS, M_WALL, M_CPU,
+    M_MAX_CURVATURE, M_FIRST_FREQUENCY, M_CRITICAL_LOAD, M_CRITICAL_MOMENT, M_STEPS, M_WALL,
+    M_CPU,
     M_COUNT
 };
 static const char *const measure_names[M_COUNT] = {
     "tip_x", "tip_y", "tip_z", "root_fx", "root_fy", "root_fz", "tip_fx", "tip_fy", "tip_fz",
-    "max_curvature", "first_frequency", "steps", "wall_s", "cpu_s"};
+    "max_curvature", "first_frequency", "critical_load", "critical_moment", "steps", "wall_s",
+    "cpu_s"};
 
 /* The unit of each measure, for plot axes. */
 static const char *const measure_units[M_COUNT] = {
-    "m", "m", "m", "N", "N", "N", "N", "N", "N", "1/m", "Hz", "-", "s", "s"};
+    "m", "m", "m", "N", "N", "N", "N", "N", "N", "1/m", "Hz", "N", "N m", "-", "s", "s"};
 
 typedef enum {
     POINT_OK = 0, POINT_UNSTABLE, POINT_NO_CONVERGENCE, POINT_REFUSED, POINT_FAILED,
@@ -131,8 +141,11 @@ typedef struct sweep {
     int measures[M_COUNT]; /* the columns, in order */
     int measure_count;
     int jobs, quiet, allow_long, print_commands, assemble, help;
+    int critical; /* critical_load or critical_moment asked for (--measure, --plot) */
     const char *csv;        /* NULL: standard output */
     const char *result_dir;
+    const char *snakefile;  /* --snakefile FILE */
+    const char *sbatch;     /* --sbatch FILE */
     const char **vary_args; /* as given, for the assemble line */
     const char *measure_arg;
     int point_count;
@@ -469,6 +482,10 @@ static int parse_args(int argc, char **argv, sweep *sw, char *err, size_t errlen
             if (take_value(argc, argv, &i, &sw->svg, err, errlen)) return -1;
         } else if (strcmp(a, "--log") == 0) {
             if (take_value(argc, argv, &i, &sw->log_axes, err, errlen)) return -1;
+        } else if (strcmp(a, "--sbatch") == 0) {
+            if (take_value(argc, argv, &i, &sw->sbatch, err, errlen)) return -1;
+        } else if (strcmp(a, "--snakefile") == 0) {
+            if (take_value(argc, argv, &i, &sw->snakefile, err, errlen)) return -1;
         } else if (strcmp(a, "--result") == 0) {
             if (take_value(argc, argv, &i, &sw->result_dir, err, errlen)) return -1;
         } else if (strcmp(a, "--jobs") == 0 || strcmp(a, "-j") == 0) {
@@ -505,16 +522,34 @@ static int parse_args(int argc, char **argv, sweep *sw, char *err, size_t errlen
                          sw->varies[i].arg, sw->varies[i].name, sw->varies[j].arg);
                 return -1;
             }
-    if ((sw->print_commands || sw->assemble) && !sw->result_dir) {
+    if ((sw->print_commands || sw->assemble || sw->snakefile || sw->sbatch) &&
+        !sw->result_dir) {
         snprintf(err, errlen, "%s needs --result DIR (where the points' result files go)",
-                 sw->print_commands ? "--print-commands" : "--assemble");
+                 sw->print_commands ? "--print-commands"
+                 : sw->assemble     ? "--assemble"
+                 : sw->snakefile    ? "--snakefile"
+                                    : "--sbatch");
         return -1;
     }
-    if (sw->print_commands && sw->assemble) {
-        snprintf(err, errlen, "--print-commands and --assemble: give one of them");
+    if (sw->print_commands + sw->assemble + (sw->snakefile != NULL) + (sw->sbatch != NULL) > 1) {
+        snprintf(err, errlen, "--print-commands, --assemble, --snakefile and --sbatch: give "
+                              "one of them");
+        return -1;
+    }
+    if (sw->snakefile && (!sw->csv || strcmp(sw->csv, "-") == 0)) {
+        snprintf(err, errlen, "--snakefile %s needs --csv FILE (the file its rule assemble "
+                              "writes)", sw->snakefile);
         return -1;
     }
     if (parse_plot(sw, err, errlen)) return -1;
+    /* Decision: the buckling search costs more than a short run (2 s at NS =
+     * 401), so it runs only when asked; the request is part of the points'
+     * digests, so a result file without it is never taken for one with it. */
+    for (int i = 0; i < sw->measure_count; i++)
+        sw->critical |= sw->measures[i] == M_CRITICAL_LOAD ||
+                        sw->measures[i] == M_CRITICAL_MOMENT;
+    sw->critical |= sw->plot_arg &&
+                    (sw->plot_y == M_CRITICAL_LOAD || sw->plot_y == M_CRITICAL_MOMENT);
     double points = 1.0;
     for (int i = 0; i < sw->vary_count; i++) points *= sw->varies[i].count;
     if (points > SWEEP_MAX_POINTS) {
@@ -719,6 +754,7 @@ static uint64_t point_digest(const sweep *sw, const setting *s, int n)
         h = sweep_fnv1a64(h, "=", 1);
         h = sweep_fnv1a64(h, s[i].value, strlen(s[i].value));
     }
+    if (sw->critical) h = sweep_fnv1a64(h, "\n#critical", 10);
     return h;
 }
 
@@ -788,6 +824,37 @@ static void set_message(point_result *r, point_status status, const char *fmt, .
     vsnprintf(r->message, sizeof r->message, fmt, ap);
     va_end(ap);
     r->status = status;
+}
+
+/* Largest load factor searched for critical_load, in units of the scene's
+ * axial tip load: a rod that is still stable at 100 times its load is
+ * reported as none (NAN). */
+#define SWEEP_CRITICAL_FACTOR_MAX 100.0
+
+/* critical_load (N) and critical_moment (N m): the scene's axial tip force
+ * and twisting moment, scaled together by the load factor at which the
+ * straight rod stops being stable (rod_buckling_factor, buckling.h: the
+ * static tangent stiffness at the straight state turns singular), given as
+ * magnitudes. Decision: the transverse parts of the tip load are dropped
+ * first (scenes carry a small one as an imperfection that triggers the
+ * bifurcation: scenes/buckling_axial.ini); its time profile is ignored. NAN
+ * when the straight rod is no equilibrium (gravity, curvature, ...), the
+ * axial load is zero, or no loss of stability is found up to
+ * SWEEP_CRITICAL_FACTOR_MAX (a tensile force; a follower force: flutter). */
+static void critical_loads(const rod_model *m, point_result *r)
+{
+    rod_model axial = *m; /* shallow: only read, never released */
+    int axis = m->tip_frame == ROD_FRAME_DIRECTOR ? 2 : 0; /* as buckling.c */
+    for (int k = 0; k < 3; k++)
+        if (k != axis) axial.tip_force[k] = axial.tip_moment[k] = 0.0;
+    double lambda;
+    char err[512];
+    if (rod_buckling_factor(&axial, SWEEP_CRITICAL_FACTOR_MAX, 1e-7, &lambda, err, sizeof err))
+        return;
+    if (axial.tip_force[axis] != 0.0)
+        r->value[M_CRITICAL_LOAD] = lambda * fabs(axial.tip_force[axis]);
+    if (axial.tip_moment[axis] != 0.0)
+        r->value[M_CRITICAL_MOMENT] = lambda * fabs(axial.tip_moment[axis]);
 }
 
 /* Runs one point as `rodsim run --no-video` would (run_read_scene, the dt
@@ -876,14 +943,15 @@ static void run_point(const sweep *sw, int point, point_result *r)
     if (report.warning[0]) snprintf(r->message, sizeof r->message, "%s", report.warning);
     r->status = POINT_OK;
 done:
+    r->value[M_WALL] = clock_seconds(CLOCK_MONOTONIC) - wall0;
+    r->value[M_CPU] = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
+    if (sw->critical && r->status == POINT_OK) critical_loads(&m, r); /* not timed: not the run */
     free(tip.xyz);
     rod_state_destroy(s);
     rod_solver_release(&solver);
     rod_model_release(&m);
     ini_destroy(doc);
     free(set);
-    r->value[M_WALL] = clock_seconds(CLOCK_MONOTONIC) - wall0;
-    r->value[M_CPU] = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
 }
 
 /* Result files ------------------------------------------------------------ */
@@ -1263,11 +1331,79 @@ done:
     return rc;
 }
 
-/* --print-commands: one line per point (the binary and every path absolute,
- * every setting spelled out), then the line that assembles the CSV. */
+/* Point k's command line (no newline): the binary and every path absolute,
+ * every setting spelled out; it writes DIR/DIGEST.csv. */
+static int write_point_command(FILE *f, const sweep *sw, int k, setting *set, const char *self,
+                               const char *dir, char *err, size_t errlen)
+{
+    int n = point_settings(sw, k, set, err, errlen);
+    if (n < 0) return -1;
+    cli_print_shell_word(f, self);
+    fprintf(f, " sweep ");
+    cli_print_shell_word(f, sw->scene_path);
+    for (int i = 0; i < n; i++) {
+        char assignment[SWEEP_KEY_LEN + SWEEP_VALUE_LEN + 2];
+        snprintf(assignment, sizeof assignment, "%s=%s", set[i].key, set[i].value);
+        fprintf(f, " --set ");
+        cli_print_shell_word(f, assignment);
+    }
+    if (sw->allow_long) fprintf(f, " --allow-long");
+    if (sw->critical) fprintf(f, " --measure critical_load,critical_moment");
+    fprintf(f, " --quiet --result ");
+    cli_print_shell_word(f, dir);
+    return 0;
+}
+
+/* The command line (no newline) that assembles the CSV (and the figure)
+ * from DIR's result files. */
+static int write_assemble_command(FILE *f, const sweep *sw, const char *self, const char *dir,
+                                  char *err, size_t errlen)
+{
+    cli_print_shell_word(f, self);
+    fprintf(f, " sweep ");
+    cli_print_shell_word(f, sw->scene_path);
+    for (int i = 0; i < sw->vary_count; i++) {
+        fprintf(f, " --vary ");
+        cli_print_shell_word(f, sw->vary_args[i]);
+    }
+    for (int i = 0; i < sw->set_count; i++) {
+        fprintf(f, " --set ");
+        cli_print_shell_word(f, sw->sets[i]);
+    }
+    fprintf(f, " --measure ");
+    cli_print_shell_word(f, sw->measure_arg);
+    fprintf(f, " --result ");
+    cli_print_shell_word(f, dir);
+    char path[OUTFILE_PATH_MAX];
+    if (sw->plot_arg) {
+        fprintf(f, " --plot ");
+        cli_print_shell_word(f, sw->plot_arg);
+        if (sw->png) {
+            if (cli_absolute_path(sw->png, path, sizeof path, err, errlen)) return -1;
+            fprintf(f, " --png ");
+            cli_print_shell_word(f, path);
+        }
+        if (sw->svg) {
+            if (cli_absolute_path(sw->svg, path, sizeof path, err, errlen)) return -1;
+            fprintf(f, " --svg ");
+            cli_print_shell_word(f, path);
+        }
+        if (sw->log_axes) fprintf(f, " --log %s", sw->log_axes);
+    }
+    fprintf(f, " --assemble --csv ");
+    if (!sw->csv || strcmp(sw->csv, "-") == 0) {
+        fprintf(f, "-");
+    } else {
+        if (cli_absolute_path(sw->csv, path, sizeof path, err, errlen)) return -1;
+        cli_print_shell_word(f, path);
+    }
+    return 0;
+}
+
+/* --print-commands: one line per point, then the line that assembles the CSV. */
 static int print_commands(const sweep *sw, setting *set, char *err, size_t errlen)
 {
-    char self[OUTFILE_PATH_MAX], dir[OUTFILE_PATH_MAX], csv[OUTFILE_PATH_MAX];
+    char self[OUTFILE_PATH_MAX], dir[OUTFILE_PATH_MAX];
     if (cli_self_path(self, sizeof self, err, errlen) ||
         cli_absolute_path(sw->result_dir, dir, sizeof dir, err, errlen))
         return -1;
@@ -1275,63 +1411,179 @@ static int print_commands(const sweep *sw, setting *set, char *err, size_t errle
            "its result file is there)\n",
            sw->point_count, sw->scene_path, dir);
     for (int k = 0; k < sw->point_count; k++) {
-        int n = point_settings(sw, k, set, err, errlen);
-        if (n < 0) return -1;
-        cli_print_shell_word(stdout, self);
-        printf(" sweep ");
-        cli_print_shell_word(stdout, sw->scene_path);
-        for (int i = 0; i < n; i++) {
-            char assignment[SWEEP_KEY_LEN + SWEEP_VALUE_LEN + 2];
-            snprintf(assignment, sizeof assignment, "%s=%s", set[i].key, set[i].value);
-            printf(" --set ");
-            cli_print_shell_word(stdout, assignment);
-        }
-        if (sw->allow_long) printf(" --allow-long");
-        printf(" --quiet --result ");
-        cli_print_shell_word(stdout, dir);
+        if (write_point_command(stdout, sw, k, set, self, dir, err, errlen)) return -1;
         printf("\n");
     }
     printf("# assemble: ");
-    cli_print_shell_word(stdout, self);
-    printf(" sweep ");
-    cli_print_shell_word(stdout, sw->scene_path);
-    for (int i = 0; i < sw->vary_count; i++) {
-        printf(" --vary ");
-        cli_print_shell_word(stdout, sw->vary_args[i]);
-    }
-    for (int i = 0; i < sw->set_count; i++) {
-        printf(" --set ");
-        cli_print_shell_word(stdout, sw->sets[i]);
-    }
-    printf(" --measure ");
-    cli_print_shell_word(stdout, sw->measure_arg);
-    printf(" --result ");
-    cli_print_shell_word(stdout, dir);
-    if (sw->plot_arg) {
-        char png[OUTFILE_PATH_MAX];
-        if (sw->png && cli_absolute_path(sw->png, png, sizeof png, err, errlen)) return -1;
-        printf(" --plot ");
-        cli_print_shell_word(stdout, sw->plot_arg);
-        if (sw->png) {
-            printf(" --png ");
-            cli_print_shell_word(stdout, png);
-        }
-        if (sw->svg) {
-            if (cli_absolute_path(sw->svg, png, sizeof png, err, errlen)) return -1;
-            printf(" --svg ");
-            cli_print_shell_word(stdout, png);
-        }
-        if (sw->log_axes) printf(" --log %s", sw->log_axes);
-    }
-    printf(" --assemble --csv ");
-    if (!sw->csv || strcmp(sw->csv, "-") == 0) {
-        printf("-\n");
-    } else {
-        if (cli_absolute_path(sw->csv, csv, sizeof csv, err, errlen)) return -1;
-        cli_print_shell_word(stdout, csv);
-        printf("\n");
-    }
+    if (write_assemble_command(stdout, sw, self, dir, err, errlen)) return -1;
+    printf("\n");
     return fflush(stdout) == 0 ? 0 : -1;
+}
+
+/* `text` as a Python string literal ("...", backslash escapes). */
+static void python_string(FILE *f, const char *text)
+{
+    fputc('"', f);
+    for (const unsigned char *c = (const unsigned char *)text; *c; c++) {
+        if (*c == '"' || *c == '\\') fprintf(f, "\\%c", *c);
+        else if (*c < 0x20 || *c == 0x7f) fprintf(f, "\\x%02x", *c);
+        else fputc(*c, f);
+    }
+    fputc('"', f);
+}
+
+/* --snakefile FILE: a Snakefile whose rule `point` runs one point's command
+ * (the --print-commands line) per result file DIR/{digest}.csv and whose
+ * rule `assemble` writes the CSV (and figure) from them; `snakemake -s FILE
+ * --cores N` runs the sweep. Every path is absolute, so it runs from any
+ * directory. Decision: paths holding { or } are refused (Snakemake reads
+ * them as wildcards). */
+static int write_snakefile(const sweep *sw, setting *set, const uint64_t *digests, char *err,
+                           size_t errlen)
+{
+    char self[OUTFILE_PATH_MAX], dir[OUTFILE_PATH_MAX], outputs[4][OUTFILE_PATH_MAX];
+    const char *given[4] = {sw->csv, sw->png, sw->svg, sw->plot_arg ? sw->plot_csv : NULL};
+    if (cli_self_path(self, sizeof self, err, errlen) ||
+        cli_absolute_path(sw->result_dir, dir, sizeof dir, err, errlen))
+        return -1;
+    for (int i = 0; i < 4; i++) {
+        outputs[i][0] = '\0';
+        if (given[i] && cli_absolute_path(given[i], outputs[i], sizeof outputs[i], err, errlen))
+            return -1;
+        if (strpbrk(outputs[i], "{}\n") || (i == 0 && strpbrk(dir, "{}\n"))) {
+            snprintf(err, errlen, "--snakefile: the path %.1900s holds '{', '}' or a line break, "
+                                  "which Snakemake reads as a wildcard; choose another",
+                     strpbrk(outputs[i], "{}\n") ? outputs[i] : dir);
+            return -1;
+        }
+    }
+    outfile out = {.fd = -1, .slot = -1};
+    if (outfile_open(&out, sw->snakefile, err, errlen)) return -1;
+    FILE *f = out.fp;
+    fprintf(f, "# Snakefile written by rodsim %s sweep --snakefile: %d points of %s.\n",
+            RODSIM_VERSION, sw->point_count, sw->scene_path);
+    fprintf(f, "# snakemake -s THIS_FILE --cores N: rule point runs one point into its result\n"
+               "# file %s/DIGEST.csv (DIGEST: of the point's inputs; an existing file is not\n"
+               "# run again), then rule assemble writes the results CSV from them.\n\n",
+            dir);
+    fprintf(f, "POINTS = {\n");
+    for (int k = 0; k < sw->point_count; k++) {
+        int seen = 0; /* a point listed twice (a value repeated) is one job */
+        for (int j = 0; j < k && !seen; j++) seen = digests[j] == digests[k];
+        if (seen) continue;
+        char *line = NULL;
+        size_t len = 0;
+        FILE *mem = open_memstream(&line, &len);
+        int rc = !mem || write_point_command(mem, sw, k, set, self, dir, err, errlen);
+        if (mem) fclose(mem);
+        if (rc) {
+            if (!mem) snprintf(err, errlen, "out of memory");
+            free(line);
+            outfile_abort(&out);
+            return -1;
+        }
+        fprintf(f, "    \"%016llx\": ", (unsigned long long)digests[k]);
+        python_string(f, line);
+        fprintf(f, ",\n");
+        free(line);
+    }
+    fprintf(f, "}\n\nlocalrules: all, assemble\n\nrule all:\n    input: ");
+    python_string(f, outputs[0]);
+    fprintf(f, "\n\nrule assemble:\n    input:");
+    for (int k = 0; k < sw->point_count; k++) {
+        int seen = 0;
+        for (int j = 0; j < k && !seen; j++) seen = digests[j] == digests[k];
+        if (seen) continue;
+        char path[OUTFILE_PATH_MAX + 32];
+        snprintf(path, sizeof path, "%s/%016llx.csv", dir, (unsigned long long)digests[k]);
+        fprintf(f, "\n        ");
+        python_string(f, path);
+        fputc(',', f);
+    }
+    fprintf(f, "\n    output: ");
+    for (int i = 0, first = 1; i < 4; i++) {
+        if (!outputs[i][0]) continue;
+        fprintf(f, "%s", first ? "" : ", ");
+        python_string(f, outputs[i]);
+        first = 0;
+    }
+    char *line = NULL;
+    size_t len = 0;
+    FILE *mem = open_memstream(&line, &len);
+    int rc = !mem || write_assemble_command(mem, sw, self, dir, err, errlen);
+    if (mem) fclose(mem);
+    if (!rc) {
+        fprintf(f, "\n    params: command=");
+        python_string(f, line);
+        fprintf(f, "\n    shell: \"{params.command} --quiet\"\n\n");
+        fprintf(f, "rule point:\n    output: ");
+        char pattern[OUTFILE_PATH_MAX + 16];
+        snprintf(pattern, sizeof pattern, "%s/{digest}.csv", dir);
+        python_string(f, pattern);
+        fprintf(f, "\n    wildcard_constraints: digest=\"[0-9a-f]{16}\"\n"
+                   "    params: command=lambda wildcards: POINTS[wildcards.digest]\n"
+                   "    shell: \"{params.command}\"\n");
+    } else if (!mem) {
+        snprintf(err, errlen, "out of memory");
+    }
+    free(line);
+    if (!rc && ferror(f)) {
+        snprintf(err, errlen, "%s: write failed", sw->snakefile);
+        rc = 1;
+    }
+    if (rc || outfile_commit(&out, err, errlen)) {
+        outfile_abort(&out);
+        return -1;
+    }
+    return 0;
+}
+
+/* --sbatch FILE: a Slurm job array script, task i (1-based, the
+ * --print-commands order) running point i into its result file; the
+ * assemble line is in its comments. Any other SLURM_ARRAY_TASK_ID exits 2. */
+static int write_sbatch(const sweep *sw, setting *set, char *err, size_t errlen)
+{
+    char self[OUTFILE_PATH_MAX], dir[OUTFILE_PATH_MAX];
+    if (cli_self_path(self, sizeof self, err, errlen) ||
+        cli_absolute_path(sw->result_dir, dir, sizeof dir, err, errlen))
+        return -1;
+    outfile out = {.fd = -1, .slot = -1};
+    if (outfile_open(&out, sw->sbatch, err, errlen)) return -1;
+    FILE *f = out.fp;
+    fprintf(f, "#!/bin/sh\n"
+               "#SBATCH --array=1-%d\n"
+               "#SBATCH --job-name=rodsim-sweep\n"
+               "#SBATCH --ntasks=1\n"
+               "#SBATCH --cpus-per-task=1\n",
+            sw->point_count);
+    fprintf(f, "# Slurm job array written by rodsim %s sweep --sbatch: %d points of %s.\n"
+               "# sbatch THIS_FILE: task i runs point i into its result file\n"
+               "# %s/DIGEST.csv (an existing file is not run again);\n"
+               "# sbatch --array=1-%d%%K THIS_FILE runs at most K at once (over 1000 tasks:\n"
+               "# Slurm's MaxArraySize must allow them). When all are done,\n"
+               "# assemble the CSV (or: sbatch --dependency=afterok:JOBID --wrap 'LINE'):\n"
+               "# assemble: ",
+            RODSIM_VERSION, sw->point_count, sw->scene_path, dir, sw->point_count);
+    int rc = write_assemble_command(f, sw, self, dir, err, errlen);
+    fprintf(f, "\ncase \"${SLURM_ARRAY_TASK_ID:-}\" in\n");
+    for (int k = 0; !rc && k < sw->point_count; k++) {
+        fprintf(f, "%d) exec ", k + 1);
+        rc = write_point_command(f, sw, k, set, self, dir, err, errlen);
+        fprintf(f, " ;;\n");
+    }
+    fprintf(f, "*) echo \"rodsim sweep: SLURM_ARRAY_TASK_ID is '${SLURM_ARRAY_TASK_ID:-}'; "
+               "accepted 1 .. %d (submit with sbatch)\" >&2; exit 2 ;;\nesac\n",
+            sw->point_count);
+    if (!rc && ferror(f)) {
+        snprintf(err, errlen, "%s: write failed", sw->sbatch);
+        rc = -1;
+    }
+    if (!rc) fchmod(fileno(f), 0755); /* runs as ./FILE too */
+    if (rc || outfile_commit(&out, err, errlen)) {
+        outfile_abort(&out);
+        return -1;
+    }
+    return 0;
 }
 
 /* Every point's scene read before anything runs: a value a key does not
@@ -1375,11 +1627,14 @@ static int check_points(const sweep *sw, setting *set, uint64_t *digests, char *
 /* Checks where the outputs go before any work. */
 static int check_outputs(const sweep *sw, char *err, size_t errlen)
 {
-    if (sw->result_dir && !sw->print_commands && outfile_check_dir(sw->result_dir, err, errlen))
+    /* --print-commands, --snakefile, --sbatch write no results now: only the script */
+    int later = sw->print_commands || sw->snakefile || sw->sbatch;
+    if (sw->result_dir && !later && outfile_check_dir(sw->result_dir, err, errlen))
         return -1;
-    const char *files[4] = {sw->csv && strcmp(sw->csv, "-") != 0 ? sw->csv : NULL, sw->png,
-                            sw->svg, sw->plot_arg ? sw->plot_csv : NULL};
-    for (int i = 0; i < 4 && !sw->print_commands; i++) {
+    const char *files[6] = {sw->csv && strcmp(sw->csv, "-") != 0 ? sw->csv : NULL, sw->png,
+                            sw->svg, sw->plot_arg ? sw->plot_csv : NULL, sw->snakefile,
+                            sw->sbatch};
+    for (int i = later ? 4 : 0; i < 6; i++) {
         if (!files[i]) continue;
         struct stat st;
         if (stat(files[i], &st) == 0 && S_ISDIR(st.st_mode)) {
@@ -1416,6 +1671,23 @@ static int sweep_run(sweep *sw)
     if (sw->print_commands) {
         status = print_commands(sw, set, err, sizeof err) ? RUN_EXIT_FAILURE : RUN_EXIT_OK;
         if (status) fprintf(stderr, "rodsim sweep: %s\n", err);
+        goto done;
+    }
+    if (sw->snakefile) {
+        if (write_snakefile(sw, set, pg.digests, err, sizeof err)) goto fail;
+        if (!sw->quiet)
+            fprintf(stderr, "rodsim sweep: wrote %s (%d points); run: snakemake -s %s "
+                            "--cores N\n", sw->snakefile, sw->point_count, sw->snakefile);
+        status = RUN_EXIT_OK;
+        goto done;
+    }
+    if (sw->sbatch) {
+        if (write_sbatch(sw, set, err, sizeof err)) goto fail;
+        if (!sw->quiet)
+            fprintf(stderr, "rodsim sweep: wrote %s (a job array of %d tasks); submit: sbatch "
+                            "%s, then its # assemble: line\n", sw->sbatch, sw->point_count,
+                    sw->sbatch);
+        status = RUN_EXIT_OK;
         goto done;
     }
     status = RUN_EXIT_FAILURE;

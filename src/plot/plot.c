@@ -49,6 +49,8 @@ struct plot {
     double x_tick_first, x_tick_step, y_tick_first, y_tick_step;
     int x_tick_count, y_tick_count;
     int legend_left, legend_top, legend_width, legend_height, legend_row;
+    double *label_box;                  /* (label_count x 4) x0 top x1 bottom, px */
+    int label_count;                    /* every point label, series by series */
 };
 
 /* A growing list of triangle vertices (x y floats, pixels). */
@@ -192,6 +194,7 @@ void plot_destroy(plot *p)
     free(p->title);
     free(p->x_label);
     free(p->y_label);
+    free(p->label_box);
     free(p);
 }
 
@@ -579,6 +582,171 @@ static void layout_range(plot *p, plot_fonts *fonts, double range[4])
     p->laid_out = 1;
 }
 
+/* Area (px^2) where boxes a and b (x0 top x1 bottom) intersect. */
+static double box_overlap(const double *a, const double *b)
+{
+    double w = fmin(a[2], b[2]) - fmax(a[0], b[0]), h = fmin(a[3], b[3]) - fmax(a[1], b[1]);
+    return w > 0 && h > 0 ? w * h : 0.0;
+}
+
+/* The box of a label w px wide whose text starts at x on baseline y, kept
+ * inside the axes box. */
+static void label_box_at(const plot *p, const plot_fonts *fonts, double x, double y, int w,
+                         double *out)
+{
+    int ascent = text_ascent(fonts->point), descent = text_descent(fonts->point);
+    x = fmax(fmin(x, p->right - 2 - w), p->left + 2);
+    y = fmax(fmin(y, p->bottom - 2 - descent), p->top + 2 + ascent);
+    out[0] = x;
+    out[1] = y - ascent;
+    out[2] = x + w;
+    out[3] = y + descent;
+}
+
+/* Length (px) of the segment (x0,y0)-(x1,y1) inside box b (Liang-Barsky). */
+static double segment_inside(double x0, double y0, double x1, double y1, const double *b)
+{
+    double dx = x1 - x0, dy = y1 - y0, t0 = 0, t1 = 1;
+    double p[4] = {-dx, dx, -dy, dy}, q[4] = {x0 - b[0], b[2] - x0, y0 - b[1], b[3] - y0};
+    for (int i = 0; i < 4; i++) {
+        if (p[i] == 0) {
+            if (q[i] < 0) return 0;
+            continue;
+        }
+        double t = q[i] / p[i];
+        if (p[i] < 0) t0 = fmax(t0, t);
+        else t1 = fmin(t1, t);
+    }
+    return t1 > t0 ? (t1 - t0) * hypot(dx, dy) : 0;
+}
+
+/* What a label box crosses of the lines (curves, error bars): their length
+ * inside it, px; a label across a line reads worse, but less so than one
+ * on another label or a marker. */
+static double lines_inside(const plot *p, const double *box)
+{
+    double length = 0;
+    for (int i = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        if (s->kind != SERIES_LINE) continue;
+        double x0 = 0, y0 = 0;
+        for (int k = 0; k < s->n; k++) {
+            double x1, y1;
+            to_pixel(p, s->x[k], s->y[k], &x1, &y1);
+            if (k > 0 && isfinite(x0) && isfinite(y0) && isfinite(x1) && isfinite(y1))
+                length += segment_inside(x0, y0, x1, y1, box);
+            x0 = x1, y0 = y1;
+        }
+    }
+    return length;
+}
+
+/* Point labels that never overlap, where there is room: each label, in
+ * order, takes the first place free of the labels placed before it, every
+ * marker, the legend and the lines, among: the offset its series asks for,
+ * then right, left, above, below and the diagonals of its marker, near then
+ * farther; with no free place, the one overlapping least (area on labels,
+ * markers and the legend; a line inside counts its length, px). The PNG and the SVG draw the
+ * labels at these boxes. On no memory, label_count stays 0 and the labels
+ * go at their asked offsets (draw_text, plot_write_svg). */
+static void layout_labels(plot *p, plot_fonts *fonts)
+{
+    int count = 0, markers = 0;
+    for (int i = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        if (s->kind != SERIES_MARKERS) continue;
+        markers += s->n;
+        for (int k = 0; s->point_labels && k < s->n; k++) count += s->point_labels[k] != NULL;
+    }
+    free(p->label_box);
+    p->label_box = NULL;
+    p->label_count = 0;
+    if (count == 0) return;
+    double *boxes = malloc(sizeof(double) * 4 * (size_t)count);
+    double *marks = malloc(sizeof(double) * 4 * (size_t)(markers + 1));
+    if (!boxes || !marks) {
+        free(boxes);
+        free(marks);
+        return;
+    }
+    int m = 0;
+    for (int i = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        if (s->kind != SERIES_MARKERS) continue;
+        double r = s->style.marker_size / 2 + s->style.width / 2;
+        for (int k = 0; k < s->n; k++) {
+            double px, py;
+            to_pixel(p, s->x[k], s->y[k], &px, &py);
+            if (!isfinite(px) || !isfinite(py)) continue;
+            double *b = &marks[4 * m++];
+            b[0] = px - r, b[1] = py - r, b[2] = px + r, b[3] = py + r;
+        }
+    }
+    if (p->legend_width > 0) {
+        double *b = &marks[4 * m++];
+        b[0] = p->legend_left, b[1] = p->legend_top;
+        b[2] = p->legend_left + p->legend_width, b[3] = p->legend_top + p->legend_height;
+    }
+    int ascent = text_ascent(fonts->point), descent = text_descent(fonts->point);
+    int placed = 0;
+    for (int i = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        if (s->kind != SERIES_MARKERS || !s->point_labels) continue;
+        double r = s->style.marker_size / 2 + s->style.width / 2;
+        for (int k = 0; k < s->n; k++) {
+            if (!s->point_labels[k]) continue;
+            double *box = &boxes[4 * placed++];
+            double px, py;
+            to_pixel(p, s->x[k], s->y[k], &px, &py);
+            int w = text_width(fonts->point, s->point_labels[k]);
+            if (!isfinite(px) || !isfinite(py)) {
+                box[0] = box[1] = box[2] = box[3] = NAN; /* not drawn */
+                continue;
+            }
+            /* candidate text origins (x, baseline): the asked offset first */
+            double cx[17], cy[17];
+            cx[0] = px + s->label_dx - w / 2.0;
+            cy[0] = py + s->label_dy + ascent / 2.0;
+            int n = 1;
+            for (int ring = 0; ring < 2; ring++) {
+                double gap = r + 3 + 10 * ring;
+                double right = px + gap, left = px - gap - w, centre = px - w / 2.0;
+                double above = py - gap - descent, below = py + gap + ascent;
+                double middle = py + (ascent - descent) / 2.0;
+                double x8[8] = {right, left, centre, centre, right, left, right, left};
+                double y8[8] = {middle, middle, above, below, above, above, below, below};
+                for (int c = 0; c < 8; c++, n++) cx[n] = x8[c], cy[n] = y8[c];
+            }
+            double best = INFINITY, candidate[4];
+            for (int c = 0; c < n && best > 0; c++) {
+                label_box_at(p, fonts, cx[c], cy[c], w, candidate);
+                double grown[4] = {candidate[0] - 1, candidate[1] - 1, candidate[2] + 1,
+                                   candidate[3] + 1};
+                double cost = 0;
+                for (int j = 0; j < placed - 1; j++)
+                    if (isfinite(boxes[4 * j])) cost += box_overlap(grown, &boxes[4 * j]);
+                for (int j = 0; j < m; j++) cost += box_overlap(grown, &marks[4 * j]);
+                cost += lines_inside(p, grown);
+                if (cost < best) {
+                    best = cost;
+                    memcpy(box, candidate, sizeof candidate);
+                }
+            }
+        }
+    }
+    free(marks);
+    p->label_box = boxes;
+    p->label_count = count;
+}
+
+int plot_point_label_boxes(const plot *p, double *boxes, int max)
+{
+    if (!p->laid_out) return -1;
+    for (int i = 0; i < p->label_count && i < max; i++)
+        memcpy(&boxes[4 * i], &p->label_box[4 * i], 4 * sizeof(double));
+    return p->label_count;
+}
+
 static void layout(plot *p, plot_fonts *fonts)
 {
     double range[4];
@@ -610,6 +778,7 @@ static void layout(plot *p, plot_fonts *fonts)
             layout_legend(p, fonts);
         }
     }
+    layout_labels(p, fonts);
 }
 
 /* Everything drawn with GL, in order: grid, series (clipped), frame, ticks, legend. */
@@ -820,23 +989,23 @@ static void draw_text(plot *p, image *img, plot_fonts *fonts)
         if (x < 4) x = 4;
         text_draw(img, fonts->title, x, 10 + text_ascent(fonts->title), p->title, ink);
     }
-    /* point labels, kept inside the axes box */
-    for (int i = 0; i < p->series_count; i++) {
+    /* point labels, kept inside the axes box, where layout_labels put them */
+    for (int i = 0, label = 0; i < p->series_count; i++) {
         const series *s = &p->series[i];
         if (s->kind != SERIES_MARKERS || !s->point_labels) continue;
         for (int k = 0; k < s->n; k++) {
             if (!s->point_labels[k]) continue;
-            double px, py;
+            double px, py, box[4];
             to_pixel(p, s->x[k], s->y[k], &px, &py);
-            if (!isfinite(px) || !isfinite(py)) continue;
             int w = text_width(fonts->point, s->point_labels[k]);
-            int x = (int)lround(px + s->label_dx - w / 2.0);
-            int y = (int)lround(py + s->label_dy + text_ascent(fonts->point) / 2.0);
-            if (x < p->left + 2) x = p->left + 2;
-            if (x + w > p->right - 2) x = p->right - 2 - w;
-            if (y - text_ascent(fonts->point) < p->top + 2) y = p->top + 2 + text_ascent(fonts->point);
-            if (y + text_descent(fonts->point) > p->bottom - 2) y = p->bottom - 2 - text_descent(fonts->point);
-            text_draw(img, fonts->point, x, y, s->point_labels[k], s->style.rgb);
+            if (label < p->label_count) memcpy(box, &p->label_box[4 * label], sizeof box);
+            else label_box_at(p, fonts, px + s->label_dx - w / 2.0,
+                              py + s->label_dy + text_ascent(fonts->point) / 2.0, w, box);
+            label++;
+            if (!isfinite(px) || !isfinite(py) || !isfinite(box[0])) continue;
+            text_draw(img, fonts->point, (int)lround(box[0]),
+                      (int)lround(box[1]) + text_ascent(fonts->point), s->point_labels[k],
+                      s->style.rgb);
         }
     }
     if (p->legend_width > 0) {
@@ -1116,18 +1285,20 @@ int plot_write_svg(plot *p, const char *path, char *err, size_t errlen)
         int w = text_width(fonts.title, p->title), x = (p->width - w) / 2;
         svg_label(f, x < 4 ? 4 : x, 10 + text_ascent(fonts.title), size_title, p->title, "", 0);
     }
-    for (int i = 0; i < p->series_count; i++) {
+    for (int i = 0, label = 0; i < p->series_count; i++) {
         const series *s = &p->series[i];
         if (s->kind != SERIES_MARKERS || !s->point_labels) continue;
         for (int j = 0; j < s->n; j++) {
-            double x, y;
+            double x, y, box[4];
+            if (!s->point_labels[j]) continue;
             to_pixel(p, s->x[j], s->y[j], &x, &y);
-            if (!s->point_labels[j] || !isfinite(x) || !isfinite(y)) continue;
             int w = text_width(fonts.point, s->point_labels[j]);
-            double lx = fmin(fmax(x + s->label_dx - w / 2.0, p->left + 2), p->right - 2 - w);
-            double ly = fmin(fmax(y + s->label_dy + text_ascent(fonts.point) / 2.0,
-                                  p->top + 2 + text_ascent(fonts.point)),
-                             p->bottom - 2 - text_descent(fonts.point));
+            if (label < p->label_count) memcpy(box, &p->label_box[4 * label], sizeof box);
+            else label_box_at(p, &fonts, x + s->label_dx - w / 2.0,
+                              y + s->label_dy + text_ascent(fonts.point) / 2.0, w, box);
+            label++;
+            if (!isfinite(x) || !isfinite(y) || !isfinite(box[0])) continue;
+            double lx = box[0], ly = box[1] + text_ascent(fonts.point);
             char fill[32];
             snprintf(fill, sizeof fill, " fill=\"#%02x%02x%02x\"", s->style.rgb[0],
                      s->style.rgb[1], s->style.rgb[2]);

@@ -499,7 +499,7 @@ static int impulse_draw(const figure_points *points, int quick, const char *out_
     return rc;
 }
 
-/* ---- pareto: error against wall time ------------------------------------------- */
+/* ---- pareto: error against CPU time -------------------------------------------- */
 
 /* One run of validate_run: a case, a scheme, NS and a dt factor (times the
  * case's default dt; 1 for settled cases, whose answer does not depend on dt). */
@@ -539,38 +539,77 @@ static const pareto_run pareto_quick[] = {
 #define PARETO_QUICK ((int)(sizeof pareto_quick / sizeof pareto_quick[0]))
 static const char *const pareto_outputs[] = {"pareto.png", "pareto_frequency.png", NULL};
 
-/* validate_run, repeated while a run is short (< 0.3 s in all) and the best
- * wall time kept: one run of a millisecond is mostly timer and cache noise,
- * and other processes share the cores. The computed values repeat exactly. */
+/* Repeats of a Pareto point: at least PARETO_MIN_REPEATS, more while the
+ * repeats so far took under PARETO_REPEAT_BUDGET s of CPU. */
+#define PARETO_MIN_REPEATS 3
+#define PARETO_MAX_REPEATS 9
+#define PARETO_REPEAT_BUDGET 0.5
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* validate_run, repeated, each timed by the process's CPU clock over its
+ * simulation (validate_row.cpu_seconds; a point runs in its own worker
+ * process, so that is this run's CPU): the median and the range of the
+ * repeats. CPU time, not wall time: on a shared machine the
+ * wall clock counts the other processes too and reorders the curves (issue
+ * 15). The computed values repeat exactly; a diverged run is not repeated. */
 static int pareto_compute(int point, int quick, figure_points *out, char *err, size_t errlen)
 {
     const pareto_run *run = quick ? &pareto_quick[point] : &pareto_full[point];
     double dt = run->dt_factor * validate_default_dt(run->case_name, run->scheme, run->nodes);
-    validate_row row, best;
-    memset(&best, 0, sizeof best);
-    double spent = 0;
-    for (int repeat = 0; repeat < 5 && spent < 0.3; repeat++) {
+    validate_row row;
+    double cpu[PARETO_MAX_REPEATS], spent = 0;
+    int repeats = 0;
+    while (repeats < PARETO_MAX_REPEATS &&
+           (repeats < PARETO_MIN_REPEATS || spent < PARETO_REPEAT_BUDGET)) {
         memset(&row, 0, sizeof row);
-        double start = now_seconds();
         int status = validate_run(run->case_name, run->scheme, run->nodes, dt, &row);
-        spent += now_seconds() - start;
+        cpu[repeats] = row.cpu_seconds; /* the simulation only, not the reference */
+        spent += cpu[repeats++];
         if (status < 0 || status == 1) {
             snprintf(err, errlen, "validate_run(%s, %s, NS %d): %s", run->case_name,
                      scheme_names[run->scheme], run->nodes, row.note);
             return -1;
         }
-        if (repeat == 0 || row.wall_seconds < best.wall_seconds) best = row;
         if (row.status != 0) break; /* a diverged run: data, not repeated */
     }
-    double values[10] = {(double)validate_case_index(run->case_name), (double)run->scheme,
-                         (double)run->nodes, run->dt_factor, best.dt, best.computed,
-                         best.reference, best.relative_error, best.wall_seconds,
-                         (double)best.status};
+    qsort(cpu, (size_t)repeats, sizeof cpu[0], compare_doubles);
+    double median = repeats % 2 ? cpu[repeats / 2]
+                                : 0.5 * (cpu[repeats / 2 - 1] + cpu[repeats / 2]);
+    double values[13] = {(double)validate_case_index(run->case_name), (double)run->scheme,
+                         (double)run->nodes, run->dt_factor, row.dt, row.computed,
+                         row.reference, row.relative_error, median, cpu[0],
+                         cpu[repeats - 1], (double)repeats, (double)row.status};
     if (figure_points_add(out, point, values)) {
         snprintf(err, errlen, "out of memory");
         return -1;
     }
     return 0;
+}
+
+/* Horizontal error bars at y[i] from lo[i] to hi[i], with end caps of
+ * +-cap decades of y (a log axis). 0, or -1 when out of memory. */
+static int pareto_error_bars(plot *p, const double *y, const double *lo, const double *hi,
+                             int n, plot_style style)
+{
+    const double cap = pow(10.0, 0.035);
+    int rc = 0;
+    style.dash = PLOT_SOLID;
+    style.width = 1.5;
+    for (int i = 0; i < n && rc == 0; i++) {
+        if (!(hi[i] > lo[i])) continue; /* one repeat, or all equal: no bar */
+        double bx[2] = {lo[i], hi[i]}, by[2] = {y[i], y[i]};
+        double cy[2] = {y[i] / cap, y[i] * cap};
+        double lx[2] = {lo[i], lo[i]}, hx[2] = {hi[i], hi[i]};
+        rc |= plot_add_line(p, bx, by, 2, style, NULL);
+        rc |= plot_add_line(p, lx, cy, 2, style, NULL);
+        rc |= plot_add_line(p, hx, cy, 2, style, NULL);
+    }
+    return rc;
 }
 
 static int pareto_chart(const figure_points *points, const char *case_name, const char *file,
@@ -579,13 +618,15 @@ static int pareto_chart(const figure_points *points, const char *case_name, cons
 {
     int case_index = validate_case_index(case_name), n = points->rows;
     double *x = malloc((size_t)n * sizeof *x), *y = malloc((size_t)n * sizeof *y);
+    double *lo = malloc((size_t)n * sizeof *lo), *hi = malloc((size_t)n * sizeof *hi);
     char (*label_text)[24] = malloc((size_t)n * sizeof *label_text);
     const char **labels = malloc((size_t)n * sizeof *labels);
     plot *p = plot_create(1200, 800);
-    int rc = (!x || !y || !label_text || !labels || !p) ? -1 : 0;
+    int rc = (!x || !y || !lo || !hi || !label_text || !labels || !p) ? -1 : 0;
     if (rc == 0) {
         plot_set_title(p, title);
-        plot_set_axis_labels(p, "wall time per run [s] (best of repeats, one core)",
+        plot_set_axis_labels(p, "CPU time per run [s] (median of 3 to 9 repeats; bars: "
+                                "fastest to slowest)",
                              "relative error");
         plot_set_log(p, 1, 1);
     }
@@ -602,32 +643,38 @@ static int pareto_chart(const figure_points *points, const char *case_name, cons
                 const double *row = row_of(points, r);
                 if ((int)row[1] != case_index || (int)row[2] != scheme) continue;
                 /* row: point, case, scheme, nodes, dt_factor, dt, computed, reference,
-                 * relative_error, wall, status */
+                 * relative_error, cpu (median), cpu_min, cpu_max, repeats, status */
                 int nodes = (int)row[3], is_default = row[4] == 1.0;
-                double dt = row[5], error = row[8], wall = row[9];
+                double dt = row[5], error = row[8], cpu = row[9];
                 if (sweep == 0 ? !is_default : nodes != dt_sweep_nodes) continue;
-                if (row[10] != 0 || !(error > 0)) continue; /* diverged: no error to plot */
+                if (row[13] != 0 || !(error > 0)) continue; /* diverged: no error to plot */
                 varied += !is_default;
-                x_lo = fmin(x_lo, wall);
-                x_hi = fmax(x_hi, wall);
+                x_lo = fmin(x_lo, row[10]);
+                x_hi = fmax(x_hi, row[11]);
                 y_lo = fmin(y_lo, error);
                 y_hi = fmax(y_hi, error);
-                x[count] = wall;
+                x[count] = cpu;
+                lo[count] = row[10];
+                hi[count] = row[11];
                 y[count] = error;
                 if (sweep == 0) snprintf(label_text[count], sizeof label_text[count], "%d", nodes);
                 else snprintf(label_text[count], sizeof label_text[count], "%.3g s", dt);
                 labels[count] = label_text[count];
                 count++;
                 if (summary && (sweep == 0 || !is_default))
-                    fprintf(summary, "pareto %s: %-8s NS = %3d dt = %-8.4g error %.3e, %.4f s\n",
-                            case_name, scheme_names[scheme], nodes, dt, error, wall);
+                    fprintf(summary, "pareto %s: %-8s NS = %3d dt = %-8.4g error %.3e, CPU "
+                                     "%.4f s (%.4f .. %.4f, %d repeats)\n",
+                            case_name, scheme_names[scheme], nodes, dt, error, cpu, row[10],
+                            row[11], (int)row[12]);
             }
             if (count == 0 || (sweep > 0 && (count < 2 || varied == 0))) continue;
-            /* sort by wall time so the line runs left to right */
+            /* sort by CPU time so the line runs left to right */
             for (int i = 1; i < count; i++)
                 for (int j = i; j > 0 && x[j] < x[j - 1]; j--) {
                     double t = x[j]; x[j] = x[j - 1]; x[j - 1] = t;
                     t = y[j]; y[j] = y[j - 1]; y[j - 1] = t;
+                    t = lo[j]; lo[j] = lo[j - 1]; lo[j - 1] = t;
+                    t = hi[j]; hi[j] = hi[j - 1]; hi[j - 1] = t;
                     const char *l = labels[j]; labels[j] = labels[j - 1]; labels[j - 1] = l;
                 }
             char legend[96];
@@ -642,6 +689,7 @@ static int pareto_chart(const figure_points *points, const char *case_name, cons
                 snprintf(legend, sizeof legend, "%s: NS = %d, dt varied (labels)",
                          scheme_names[scheme], dt_sweep_nodes);
             if (count >= 2) rc |= plot_add_line(p, x, y, count, line, NULL);
+            rc |= pareto_error_bars(p, y, lo, hi, count, line);
             if (sweep == 0) {
                 rc |= plot_add_markers(p, x, y, count, mark, labels, 9, -14, legend);
             } else {
@@ -670,6 +718,8 @@ static int pareto_chart(const figure_points *points, const char *case_name, cons
     plot_destroy(p);
     free(x);
     free(y);
+    free(lo);
+    free(hi);
     free(label_text);
     free(labels);
     return rc;
@@ -907,10 +957,10 @@ static const figure_def figure_impulse = {
 
 static const figure_def figure_pareto = {
     .name = "pareto",
-    .summary = "error against run time per scheme across NS and dt",
+    .summary = "error against CPU time per scheme across NS and dt",
     .columns = "point,case,scheme,nodes,dt_factor,dt_s,computed,reference,relative_error,"
-               "wall_s,status",
-    .value_columns = 10,
+               "cpu_s,cpu_min_s,cpu_max_s,repeats,status",
+    .value_columns = 13,
     .full_points = PARETO_FULL,
     .quick_points = PARETO_QUICK,
     .outputs = pareto_outputs,

@@ -5,6 +5,7 @@
  *    elastica (study/reference.h, an independent RK4 shooting solution);
  *  - --jobs 2 writes the same bytes as --jobs 1;
  *  - a point that fails is a row with its status, the others run;
+ *  - critical_load and critical_moment against Euler's and Greenhill's loads;
  *  - bad input (unknown key, value, range, measure, plot axis) exits 2,
  *    writes nothing;
  *  - --plot: the PNG and the plotted data (the results' numbers, by curve);
@@ -12,7 +13,11 @@
  *  - --print-commands lines run from another directory with /bin/sh, under
  *    GNU parallel, and one per SLURM_ARRAY_TASK_ID (the README's array
  *    recipe, without Slurm), and assemble the same CSV; a sweep killed with kill -9 and run again
- *    computes no point twice and gives the uninterrupted CSV. */
+ *    computes no point twice and gives the uninterrupted CSV;
+ *  - --snakefile under Snakemake (snakemake --cores 2) assembles the direct
+ *    sweep's CSV, number by number, and reruns only a missing point;
+ *  - --sbatch: the array script's indexing run directly, and submitted to a
+ *    one-node Slurm started here (as root; else a SKIP line says why). */
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -307,6 +312,15 @@ static void test_bad_input(void)
             "accepted: tip_x");
     refused("--print-commands without --result",
             (const char *const[]){"--print-commands", NULL}, "needs --result DIR");
+    refused("--snakefile without --result",
+            (const char *const[]){"--snakefile", "/tmp/rodsim_never_Snakefile", NULL},
+            "--snakefile needs --result DIR");
+    char snakefile[320], results[320];
+    snprintf(snakefile, sizeof snakefile, "%s/refused/Snakefile", scratch);
+    snprintf(results, sizeof results, "%s/refused/{x}", scratch);
+    refused("--snakefile with a { in a path",
+            (const char *const[]){"--result", results, "--snakefile", snakefile, NULL},
+            "holds '{', '}' or a line break");
 }
 
 /* --plot X:Y --png: the PNG, and its data beside it: one curve per value
@@ -572,6 +586,364 @@ static void test_commands_and_resume(void)
     free(want);
 }
 
+/* critical_load against Euler's cantilever load pi^2 EI/(4 L^2) over
+ * three lengths, critical_moment against Greenhill's 2 pi EI/L (pinned
+ * ends, a dead axial moment), and none for a rod loaded across. EI from
+ * table 1 (E = 87.5 MPa, d = 1 mm), here by hand. NS = 51: the static
+ * tangent's error is second order in ds, 1.6e-4 measured; 1e-3 allowed. */
+static void test_critical_load(void)
+{
+    const double ei = 87.5e6 * M_PI * pow(1e-3, 4) / 64.0;
+    const char *axial[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/buckling_axial.ini", "--vary",
+                           "rod.length=0.5,0.75,1", "--set", "solver.duration=0.1", "--measure",
+                           "critical_load,critical_moment", "--quiet", NULL};
+    int rc = test_run_rodsim(axial, output, sizeof output);
+    check(rc == 0, "sweep of scenes/buckling_axial.ini over rod.length runs (exit %d)", rc);
+    for (int row = 1; row <= 3; row++) {
+        char length[64] = "", load[64] = "", moment[64] = "x";
+        csv_cell(output, row, 0, length, sizeof length);
+        csv_cell(output, row, 1, load, sizeof load);
+        csv_cell(output, row, 2, moment, sizeof moment);
+        double l = strtod(length, NULL);
+        char what[160];
+        snprintf(what, sizeof what, "critical_load, clamped-free, dead axial force, L = %s m, "
+                                    "NS = 51: vs pi^2 EI/(4 L^2)", length);
+        check_rel(what, strtod(load, NULL), M_PI * M_PI * ei / (4.0 * l * l), 1e-3);
+        check(moment[0] == '\0', "critical_moment is empty without a tip moment: '%s'", moment);
+    }
+    const char *twist[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/buckling_axial.ini", "--vary",
+                           "ends.root=pinned", "--set", "ends.tip=pinned", "--set",
+                           "ends.tip_slide=1 0 0", "--set", "tip.force=0 0 0", "--set",
+                           "tip.moment=1e-5 0 0", "--set", "solver.duration=0.1", "--measure",
+                           "critical_moment", "--quiet", NULL};
+    rc = test_run_rodsim(twist, output, sizeof output);
+    char moment[64] = "";
+    csv_cell(output, 1, 1, moment, sizeof moment);
+    check_rel("critical_moment, pinned-pinned, dead axial twisting moment, L = 1 m, NS = 51: "
+              "vs Greenhill 2 pi EI/L",
+              rc == 0 ? strtod(moment, NULL) : NAN, 2.0 * M_PI * ei / 1.0, 1e-3);
+    /* asked for only: result files written without it are not reused for it */
+    char dir[320];
+    snprintf(dir, sizeof dir, "%s/critical_results", scratch);
+    const char *plain[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/buckling_axial.ini", "--vary",
+                           "rod.length=0.5,1", "--set", "solver.duration=0.1", "--measure",
+                           "tip", "--result", dir, NULL};
+    const char *asked[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/buckling_axial.ini", "--vary",
+                           "rod.length=0.5,1", "--set", "solver.duration=0.1", "--measure",
+                           "critical_load", "--result", dir, NULL};
+    int rc1 = test_run_rodsim(plain, output, sizeof output);
+    int rc2 = test_run_rodsim(asked, output, sizeof output);
+    char load2[64] = "";
+    const char *csv = strstr(output, "rod.length,");
+    csv_cell(csv ? csv : "", 2, 1, load2, sizeof load2);
+    check(rc1 == 0 && rc2 == 0 && strstr(output, "2 points: 2 run, 0 from") &&
+              fabs(strtod(load2, NULL) / (M_PI * M_PI * ei / 4.0) - 1.0) < 1e-3 &&
+              test_dir_entries(dir) == 4,
+          "critical_load asked for after a sweep without it: both points run again (their "
+          "own result files, 4 in all), L = 1 m gives %s N", load2);
+    /* the point command lines carry the request: their files assemble */
+    char cmd_dir[320], cmds[400], assembled[400], direct_csv[400], shell[1400];
+    snprintf(cmd_dir, sizeof cmd_dir, "%s/critical_commands", scratch);
+    snprintf(cmds, sizeof cmds, "%s/commands.sh", scratch);
+    snprintf(assembled, sizeof assembled, "%s/critical_assembled.csv", scratch);
+    snprintf(direct_csv, sizeof direct_csv, "%s/critical_direct.csv", scratch);
+    const char *print[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/buckling_axial.ini", "--vary",
+                           "rod.length=0.5,1", "--set", "solver.duration=0.1", "--measure",
+                           "critical_load", "--result", cmd_dir, "--csv", assembled,
+                           "--print-commands", NULL};
+    const char *direct[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/buckling_axial.ini", "--vary",
+                            "rod.length=0.5,1", "--set", "solver.duration=0.1", "--measure",
+                            "critical_load", "--csv", direct_csv, "--quiet", NULL};
+    rc = test_run_rodsim(print, output, sizeof output);
+    FILE *f = fopen(cmds, "w");
+    if (f) {
+        fputs(output, f);
+        fclose(f);
+    }
+    rc |= test_run_rodsim(direct, output, sizeof output);
+    snprintf(shell, sizeof shell, "grep -v '^#' '%s' | sh && sed -n 's/^# assemble: //p' '%s' "
+                                  "| sh 2>/dev/null", cmds, cmds);
+    int sh = system(shell);
+    char *want = read_text(direct_csv), *got = read_text(assembled);
+    check(rc == 0 && sh == 0 && want && got && strcmp(want, got) == 0,
+          "critical_load through --print-commands lines and # assemble: equals the direct "
+          "sweep (exit %d, sh %d)", rc, sh);
+    free(want);
+    free(got);
+    const char *across[] = {"sweep", SCENE, "--vary", "tip.force[1]=1e-7", "--set",
+                            "solver.duration=0.1", "--measure", "critical_load,critical_moment",
+                            "--quiet", NULL};
+    rc = test_run_rodsim(across, output, sizeof output);
+    char load[64] = "x", status[64] = "";
+    csv_cell(output, 1, 1, load, sizeof load);
+    csv_cell(output, 1, 3, status, sizeof status);
+    check(rc == 0 && load[0] == '\0' && strcmp(status, "ok") == 0,
+          "a rod loaded across (table2): critical_load empty, status ok: '%s', '%s'", load,
+          status);
+}
+
+/* Compares two results CSVs field by field: the same header and columns,
+ * numbers equal as numbers (strtod), other fields as text. 1 when equal;
+ * else 0 with the first difference in why. */
+static int same_results(const char *a, const char *b, char *why, size_t n)
+{
+    snprintf(why, n, "equal");
+    if (!a || !b) {
+        snprintf(why, n, "a file is missing");
+        return 0;
+    }
+    int rows = 0;
+    for (const char *c = a; *c; c++) rows += *c == '\n';
+    for (int r = 0; r < rows + 1; r++)
+        for (int c = 0; c < 64; c++) {
+            char x[256], y[256];
+            int gx = csv_cell(a, r, c, x, sizeof x), gy = csv_cell(b, r, c, y, sizeof y);
+            if (gx != gy) {
+                snprintf(why, n, "row %d has %s fields", r, gx ? "fewer" : "more");
+                return 0;
+            }
+            if (gx) break;
+            char *ex, *ey;
+            double vx = strtod(x, &ex), vy = strtod(y, &ey);
+            int numbers = r > 0 && x[0] && y[0] && *ex == '\0' && *ey == '\0';
+            if (numbers ? vx != vy : strcmp(x, y) != 0) {
+                snprintf(why, n, "row %d field %d: '%s' and '%s'", r, c, x, y);
+                return 0;
+            }
+        }
+    return rows > 0;
+}
+
+/* --snakefile under Snakemake (the Debian package, make deps): 3 points as
+ * jobs (2 at a time), then rule assemble; the CSV equals the direct sweep's
+ * number by number. A result file removed is the only point run again. */
+static void test_snakemake(void)
+{
+    const char *vary = "tip.force[1]=1e-7,5e-7,9e-7", *duration = "solver.duration=6";
+    char direct_csv[320], results[320], snakefile[320], assembled[320], work[320];
+    snprintf(direct_csv, sizeof direct_csv, "%s/snake_direct.csv", scratch);
+    snprintf(results, sizeof results, "%s/snake_results", scratch);
+    snprintf(snakefile, sizeof snakefile, "%s/Snakefile", scratch);
+    snprintf(assembled, sizeof assembled, "%s/snake_assembled.csv", scratch);
+    snprintf(work, sizeof work, "%s/snake_work", scratch);
+    const char *direct[] = {"sweep", SCENE, "--vary", vary, "--set", duration, "--measure",
+                            "tip,max_curvature,steps", "--csv", direct_csv, "--quiet", NULL};
+    check(test_run_rodsim(direct, output, sizeof output) == 0, "the direct 3-point sweep runs");
+    const char *generate[] = {"sweep", SCENE, "--vary", vary, "--set", duration, "--measure",
+                              "tip,max_curvature,steps", "--result", results, "--csv",
+                              assembled, "--snakefile", snakefile, "--quiet", NULL};
+    int rc = test_run_rodsim(generate, output, sizeof output);
+    check(rc == 0 && access(snakefile, F_OK) == 0 && access(results, F_OK) != 0 &&
+              access(assembled, F_OK) != 0,
+          "--snakefile writes the Snakefile only (exit %d)", rc);
+    if (system("snakemake --version >/dev/null 2>&1") != 0) {
+        check(0, "snakemake is not installed (the Debian package snakemake: make deps)");
+        return;
+    }
+    mkdir(work, 0755);
+    char shell[1400];
+    snprintf(shell, sizeof shell, "snakemake -s '%s' --cores 2 --directory '%s' -q "
+                                  ">'%s/log' 2>&1", snakefile, work, work);
+    int sh = system(shell);
+    char *want = read_text(direct_csv), *got = read_text(assembled), why[600];
+    int same = same_results(want, got, why, sizeof why);
+    check(sh == 0 && test_dir_entries(results) == 3 && same,
+          "snakemake --cores 2: 3 result files; the assembled CSV equals the direct sweep's, "
+          "number by number (%s; snakemake exit %d, log in %s)", why, sh, work);
+    free(got);
+
+    /* resume, as after a killed run (no CSV yet, a point missing): only the
+     * missing point is run again */
+    char names[8][64];
+    long long times[8];
+    int kept = dir_times(results, names, times, 8);
+    char removed[600];
+    snprintf(removed, sizeof removed, "%s/%s", results, kept > 0 ? names[0] : "none");
+    unlink(removed);
+    unlink(assembled);
+    sh = system(shell);
+    char names2[8][64];
+    long long times2[8];
+    int total = dir_times(results, names2, times2, 8), untouched = 1;
+    for (int i = 1; i < kept; i++) untouched &= time_of(names2, times2, total, names[i]) == times[i];
+    got = read_text(assembled);
+    same = same_results(want, got, why, sizeof why);
+    check(sh == 0 && kept == 3 && total == 3 && untouched && same,
+          "a result file and the CSV removed: snakemake runs that point only (the other 2 untouched), "
+          "the CSV again equals the direct one (%s)", why);
+    free(got);
+    free(want);
+}
+
+/* Starts `argv` in the background, its output to log; its pid, or -1. */
+static pid_t start_daemon(const char *const *argv, const char *log)
+{
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) {
+        freopen(log, "w", stdout);
+        freopen(log, "a", stderr);
+        execvp(argv[0], (char *const *)argv);
+        _exit(127);
+    }
+    return pid;
+}
+
+static void stop_daemon(pid_t pid)
+{
+    if (pid <= 0) return;
+    kill(pid, SIGTERM);
+    for (int i = 0; i < 100; i++) { /* up to 10 s, then for good */
+        struct timespec pause = {0, 100000000};
+        if (waitpid(pid, NULL, WNOHANG) == pid) return;
+        nanosleep(&pause, NULL);
+    }
+    kill(pid, SIGKILL);
+    waitpid(pid, NULL, 0);
+}
+
+/* A one-node Slurm (slurmctld + slurmd, the Debian package slurm-wlm) in
+ * dir, on ports from our pid; 0 when its node is idle, else -1 with why.
+ * Decision: AuthType=auth/none (in Slurm 22.05) instead of munge: nothing
+ * outside dir is started or changed; the ports listen on this host only. */
+static int start_slurm(const char *dir, pid_t pids[2], char *why, size_t n)
+{
+    pids[0] = pids[1] = -1;
+    if (geteuid() != 0) {
+        snprintf(why, n, "not root (slurmd runs jobs as their user and must be root)");
+        return -1;
+    }
+    if (system("command -v slurmctld >/dev/null && command -v slurmd >/dev/null && "
+               "command -v sbatch >/dev/null && command -v sinfo >/dev/null") != 0) {
+        snprintf(why, n, "slurmctld, slurmd, sbatch or sinfo not found (the Debian package "
+                         "slurm-wlm: make deps)");
+        return -1;
+    }
+    char conf[400], path[400];
+    snprintf(path, sizeof path, "%s/state", dir);
+    mkdir(dir, 0755);
+    mkdir(path, 0755);
+    snprintf(path, sizeof path, "%s/spool", dir);
+    mkdir(path, 0755);
+    snprintf(conf, sizeof conf, "%s/slurm.conf", dir);
+    FILE *f = fopen(conf, "w");
+    if (!f) {
+        snprintf(why, n, "cannot write %s", conf);
+        return -1;
+    }
+    int port = 20000 + 2 * (int)(getpid() % 10000);
+    fprintf(f, "ClusterName=rodsimtest\nSlurmctldHost=localhost\nSlurmctldPort=%d\n"
+               "SlurmdPort=%d\nSlurmUser=root\nSlurmdUser=root\nAuthType=auth/none\n"
+               "CredType=cred/none\nProctrackType=proctrack/linuxproc\nTaskPlugin=task/none\n"
+               "JobAcctGatherType=jobacct_gather/none\n"
+               "AccountingStorageType=accounting_storage/none\nJobCompType=jobcomp/none\n"
+               "SelectType=select/cons_tres\nSelectTypeParameters=CR_CPU\nMpiDefault=none\n"
+               "SwitchType=switch/none\nReturnToService=2\nMailProg=/bin/true\n"
+               "StateSaveLocation=%s/state\nSlurmdSpoolDir=%s/spool\n"
+               "SlurmctldPidFile=%s/slurmctld.pid\nSlurmdPidFile=%s/slurmd.pid\n"
+               "SlurmctldLogFile=%s/slurmctld.log\nSlurmdLogFile=%s/slurmd.log\n"
+               "NodeName=localhost NodeAddr=127.0.0.1 CPUs=2 State=UNKNOWN\n"
+               "PartitionName=debug Nodes=localhost Default=YES MaxTime=INFINITE State=UP\n",
+            port, port + 1, dir, dir, dir, dir, dir, dir);
+    fclose(f);
+    setenv("SLURM_CONF", conf, 1);
+    char log[400];
+    snprintf(log, sizeof log, "%s/slurmctld.out", dir);
+    const char *ctld[] = {"slurmctld", "-D", "-i", "-f", conf, NULL};
+    pids[0] = start_daemon(ctld, log);
+    snprintf(log, sizeof log, "%s/slurmd.out", dir);
+    const char *d[] = {"slurmd", "-D", "-N", "localhost", "-f", conf, NULL};
+    pids[1] = start_daemon(d, log);
+    /* a start-up budget: the node reports idle within seconds when Slurm can
+     * run here; after 60 s (a skip, not a failure of rodsim) we give up */
+    char shell[600];
+    snprintf(shell, sizeof shell, "sinfo -h -n localhost -o %%t 2>/dev/null | grep -qx idle");
+    for (int i = 0; i < 120; i++) {
+        if (system(shell) == 0) return 0;
+        int st;
+        for (int k = 0; k < 2; k++)
+            if (pids[k] > 0 && waitpid(pids[k], &st, WNOHANG) == pids[k]) {
+                snprintf(why, n, "%s exited (status %d); see %s/%s.out", k ? "slurmd" : "slurmctld",
+                         WIFEXITED(st) ? WEXITSTATUS(st) : -1, dir, k ? "slurmd" : "slurmctld");
+                pids[k] = -1;
+                return -1;
+            }
+        struct timespec pause = {0, 500000000};
+        nanosleep(&pause, NULL);
+    }
+    snprintf(why, n, "the node did not become idle within 60 s; see %s/*.log", dir);
+    return -1;
+}
+
+/* --sbatch: the job array script. Its indexing directly (task i = point i,
+ * any other index exits 2), then, when a one-node Slurm can start here,
+ * submitted for real with sbatch --wait; the assembled CSV equals the direct
+ * sweep's number by number. */
+static void test_sbatch(void)
+{
+    const char *vary = "tip.force[1]=1e-7,5e-7,9e-7", *duration = "solver.duration=6";
+    char direct_csv[320], results[320], script[320], assembled[320], slurm[320];
+    snprintf(direct_csv, sizeof direct_csv, "%s/snake_direct.csv", scratch); /* test_snakemake */
+    snprintf(results, sizeof results, "%s/array_results", scratch);
+    snprintf(script, sizeof script, "%s/array.sh", scratch);
+    snprintf(assembled, sizeof assembled, "%s/array_assembled.csv", scratch);
+    snprintf(slurm, sizeof slurm, "%s/slurm", scratch);
+    const char *generate[] = {"sweep", SCENE, "--vary", vary, "--set", duration, "--measure",
+                              "tip,max_curvature,steps", "--result", results, "--csv",
+                              assembled, "--sbatch", script, "--quiet", NULL};
+    int rc = test_run_rodsim(generate, output, sizeof output);
+    char *text = read_text(script);
+    check(rc == 0 && text && strstr(text, "#SBATCH --array=1-3\n") && access(results, F_OK) != 0,
+          "--sbatch writes the script only, #SBATCH --array=1-3 (exit %d)", rc);
+    free(text);
+    char *want = read_text(direct_csv), why[600], shell[1400];
+    int one_each = 1, sh = 0;
+    for (int task = 1; task <= 3; task++) { /* task i makes exactly one more file */
+        snprintf(shell, sizeof shell, "cd / && SLURM_ARRAY_TASK_ID=%d sh '%s'", task, script);
+        sh |= system(shell);
+        one_each &= test_dir_entries(results) == task;
+    }
+    int bad = 1;
+    for (int task = 0; task <= 4; task += 4) {
+        snprintf(shell, sizeof shell, "SLURM_ARRAY_TASK_ID=%d sh '%s' 2>/dev/null", task, script);
+        int st = system(shell);
+        bad &= WIFEXITED(st) && WEXITSTATUS(st) == 2;
+    }
+    snprintf(shell, sizeof shell, "sed -n 's/^# assemble: //p' '%s' | sh", script);
+    sh |= system(shell);
+    char *got = read_text(assembled);
+    int same = same_results(want, got, why, sizeof why);
+    check(sh == 0 && one_each && bad && same,
+          "the script run as tasks 1..3: one more result file each; tasks 0 and 4 exit 2; "
+          "the assembled CSV equals the direct sweep's (%s)", why);
+    free(got);
+
+    pid_t pids[2];
+    if (start_slurm(slurm, pids, why, sizeof why)) {
+        printf("SKIP Slurm for real: a one-node Slurm cannot start here: %s (the array "
+               "indexing is checked above)\n", why);
+    } else {
+        test_remove_tree(results);
+        unlink(assembled);
+        snprintf(shell, sizeof shell, "cd '%s' && sbatch --wait --quiet -o '%s/task-%%a.out' '%s' "
+                                      ">'%s/sbatch.out' 2>&1",
+                 slurm, slurm, script, slurm);
+        sh = system(shell);
+        snprintf(shell, sizeof shell, "sed -n 's/^# assemble: //p' '%s' | sh", script);
+        sh |= system(shell);
+        got = read_text(assembled);
+        same = same_results(want, got, why, sizeof why);
+        check(sh == 0 && test_dir_entries(results) == 3 && same,
+              "Slurm (slurmctld + slurmd on this host): sbatch --wait of the array, 3 result "
+              "files, the assembled CSV equals the direct sweep's (%s; logs in %s)", why, slurm);
+        free(got);
+    }
+    stop_daemon(pids[1]);
+    stop_daemon(pids[0]);
+    unsetenv("SLURM_CONF");
+    free(want);
+}
+
 int main(void)
 {
     snprintf(scratch, sizeof scratch, "/tmp/rodsim_test_sweep_%d", (int)getpid());
@@ -585,7 +957,10 @@ int main(void)
     test_bad_input();
     test_plot();
     test_svg();
+    test_critical_load();
     test_commands_and_resume();
+    test_snakemake();
+    test_sbatch();
     test_remove_tree(scratch);
     return test_finish();
 }

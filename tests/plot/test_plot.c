@@ -1,5 +1,5 @@
 /* test_plot.c: nice ticks, the axes mapping (linear, equal aspect, log-log)
- * and the pixels of a written figure. */
+ * the pixels of a written figure, and point labels kept apart. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -138,6 +138,88 @@ static void test_mappings(void)
     remove(path);
 }
 
+/* Point labels never overlap where there is room: 12 markers in two tight
+ * clusters (a few px apart, as Pareto points of equal cost), each asking for
+ * the same offset, and a legend; the boxes plot_point_label_boxes reports
+ * (the ones drawn, PNG and SVG) overlap no other label, no marker and not
+ * the legend, and lie inside the axes box. */
+static void test_labels_apart(void)
+{
+    char png[128], svg[128], err[512] = "";
+    snprintf(png, sizeof png, "%s/labels.png", temp_dir);
+    snprintf(svg, sizeof svg, "%s/labels.svg", temp_dir);
+    plot *p = plot_create(800, 600);
+    if (!check(p != NULL, "plot created")) return;
+    plot_set_log(p, 1, 1);
+    plot_set_limits(p, 1e-3, 1, 1e-4, 1e-1);
+    double x[12], y[12];
+    const char *labels[12] = {"11", "21", "51", "101", "201", "401",
+                              "0.1 s", "0.05 s", "0.025 s", "0.0125 s", "11", "21"};
+    for (int i = 0; i < 12; i++) { /* 6 markers 2 % apart in x, 2 groups */
+        x[i] = (i < 6 ? 0.01 : 0.1) * (1.0 + 0.02 * (i % 6));
+        y[i] = (i < 6 ? 1e-3 : 1e-2) * (1.0 + 0.03 * (i % 6));
+    }
+    plot_style mark = plot_style_line(0, 90, 200, 2, PLOT_SOLID);
+    mark.marker_size = 10;
+    plot_add_markers(p, x, y, 6, mark, labels, 9, -14, "first");
+    plot_add_markers(p, x + 6, y + 6, 6, mark, labels + 6, 9, -14, "second");
+    int rc = plot_write_png(p, png, err, sizeof err);
+    double boxes[12][4];
+    int n = rc == 0 ? plot_point_label_boxes(p, &boxes[0][0], 12) : -1;
+    int left, top, right, bottom, apart = 1, clear = 1, inside = 1;
+    plot_axes_box(p, &left, &top, &right, &bottom);
+    for (int a = 0; a < 12 && n == 12; a++) {
+        inside &= boxes[a][0] >= left && boxes[a][2] <= right && boxes[a][1] >= top &&
+                  boxes[a][3] <= bottom;
+        for (int b = a + 1; b < 12; b++)
+            apart &= boxes[a][2] <= boxes[b][0] || boxes[b][2] <= boxes[a][0] ||
+                     boxes[a][3] <= boxes[b][1] || boxes[b][3] <= boxes[a][1];
+        for (int k = 0; k < 12; k++) { /* the marker discs, radius 5 + the 1 px outline */
+            double px, py;
+            plot_data_to_pixel(p, x[k], y[k], &px, &py);
+            clear &= boxes[a][2] <= px - 6 || boxes[a][0] >= px + 6 || boxes[a][3] <= py - 6 ||
+                     boxes[a][1] >= py + 6;
+        }
+    }
+    check(rc == 0 && n == 12 && apart && clear && inside,
+          "12 labels on 2 tight clusters: no two overlap (%d), none covers a marker (%d), all "
+          "inside the axes (%d) (%s)", apart, clear, inside, err);
+    /* the SVG lays out the same way */
+    double again[12][4];
+    rc = plot_write_svg(p, svg, err, sizeof err);
+    int same = rc == 0 && plot_point_label_boxes(p, &again[0][0], 12) == 12 &&
+               memcmp(again, boxes, sizeof boxes) == 0;
+    check(same, "the SVG places the labels at the same boxes (%s)", err);
+    plot_destroy(p);
+    remove(png);
+    remove(svg);
+
+    /* a line (an error bar) right of the marker, where its label asks to go,
+     * and one above it: the label goes where neither crosses it */
+    p = plot_create(640, 400);
+    if (!check(p != NULL, "plot created")) return;
+    plot_set_limits(p, 0, 1, 0, 1);
+    double mx = 0.5, my = 0.5, hx[2] = {0.5, 0.9}, hy[2] = {0.5, 0.5}, vx[2] = {0.5, 0.5},
+           vy[2] = {0.5, 0.9};
+    const char *one[1] = {"label"};
+    plot_add_line(p, hx, hy, 2, plot_style_line(200, 0, 0, 1.5, PLOT_SOLID), NULL);
+    plot_add_line(p, vx, vy, 2, plot_style_line(200, 0, 0, 1.5, PLOT_SOLID), NULL);
+    plot_add_markers(p, &mx, &my, 1, mark, one, 30, 0, NULL);
+    rc = plot_write_png(p, png, err, sizeof err);
+    double box[4] = {NAN, NAN, NAN, NAN}, px = 0, py = 0, rx = 0, ty = 0;
+    n = rc == 0 ? plot_point_label_boxes(p, box, 1) : -1;
+    plot_data_to_pixel(p, mx, my, &px, &py);
+    plot_data_to_pixel(p, 0.9, 0.9, &rx, &ty);
+    int crosses_h = box[0] < rx && box[2] > px && box[1] < py && box[3] > py;
+    int crosses_v = box[0] < px && box[2] > px && box[1] < py && box[3] > ty;
+    check(n == 1 && !crosses_h && !crosses_v,
+          "a label asked to sit on a line right of its marker, a line above: it crosses "
+          "neither (box %.0f %.0f %.0f %.0f px; marker at %.0f %.0f)", box[0], box[1], box[2],
+          box[3], px, py);
+    plot_destroy(p);
+    remove(png);
+}
+
 int main(void)
 {
     test_nice_ticks();
@@ -145,6 +227,7 @@ int main(void)
     if (check(mkdtemp(temp_dir) != NULL, "temporary directory %s", temp_dir)) {
         test_figure_pixels();
         test_mappings();
+        test_labels_apart();
         rmdir(temp_dir); /* stays when RODSIM_KEEP_TEST_OUTPUT kept the figure */
     }
     return test_finish();
