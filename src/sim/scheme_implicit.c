@@ -95,12 +95,12 @@
  * newton_max_iterations and this budget, splitting by MAX_SPLIT_DEPTH and
  * this budget, the rest by the node count. */
 #define STEP_ITERATION_BUDGET 2000
-/* Contact (node_contact): the normal force is CONTACT_STIFF / (1 +
- * CONTACT_STIFF) of the one that would stop the node exactly on the
- * surface, so a node at rest sinks by 1 / CONTACT_STIFF of its free motion
- * over a step (g dt^2 / CONTACT_STIFF under gravity). It keeps the step's
- * equations well posed: with an exact stop, a segment between two stuck
- * nodes would have an undetermined tension. */
+/* Contact (node_contact, compliant_fraction): the normal force takes back at
+ * least CONTACT_STIFF / (1 + CONTACT_STIFF) of a node's free motion into a
+ * surface, so it sinks by at most 1 / CONTACT_STIFF of it (and never by
+ * more than 1 % of the radius). The compliance keeps the step's equations
+ * well posed: with an exact stop, a segment between two stuck nodes would
+ * have an undetermined tension. */
 #define CONTACT_STIFF 1000.0
 /* m/s: the least and the largest creep speed of friction (creep_speed) */
 #define CONTACT_CREEP 1e-6
@@ -643,38 +643,37 @@ static double creep_speed(double speed, double c)
  *
  * The velocity is not a Newton unknown: (3.3)_1 gives it from N, and a
  * contact force F at the node changes it by push F (push = 1 / (w_b (m/dt +
- * theta c)), the node's compliance), so the end of the step moves by
- * a F, a = dt theta push. Given the iterate's N, the node's contact is
- * therefore a problem of its own, solved exactly here (no penalty
- * stiffness, no smoothing parameter):
- *   - normal (Signorini, inelastic): where the free motion would end inside
- *     the surface grown by the rod's radius, the force along the outward
- *     normal that puts it exactly on it, lambda = -gap / a >= 0, else none;
- *   - Coulomb friction on the tangential velocity at the end of the step:
- *     the force that stops it (stick) when within mu lambda, else mu lambda
- *     against it (slip; the exact maximal dissipation direction).
- * The contact force thus depends on the node's own N only, like v: the
- * Jacobian's band and colouring are unchanged, and Newton sees a
- * piecewise smooth residual (semismooth; the finite-difference Jacobian
- * takes the current piece).
+ * theta c)), the node's compliance), so the end of the step moves by a F,
+ * a = dt theta push. Given the iterate's N, the node's contact is a problem
+ * of its own, solved here in closed form:
+ *   - normal: where the free motion would end a depth e inside the surface
+ *     grown by the rod's radius, the force along the outward normal that
+ *     takes back the fraction kappa / (1 + kappa) of it (compliant_fraction:
+ *     an implicit spring; what is left is below 1 % of the radius), else 0;
+ *   - friction: regularised Coulomb against the end-of-step tangential
+ *     velocity, limited by mu times the normal force (creep_speed).
+ * The contact force depends on the node's own N only, like v: the
+ * Jacobian's band and colouring are unchanged. The residual is piecewise
+ * smooth where a contact switches on; Newton takes a line search then.
  *
- * No tunnelling: the constraint is the half-space at the first point where
- * the node's straight path over the step enters the grown solid
- * (rod_surface_sweep), so a node that would cross a thin pad within a step
- * is stopped at its entry face; a node already touching at the start
- * (within a tenth of the radius) takes the surface nearest its end point
- * (it slides along curved surfaces). Only nodes carry contact: a segment
- * over a box's edge can cut it by at most ds^2 / (8 R) for a curvature
- * radius R of the edge's rounding, here the rod's radius (README). */
+ * No tunnelling: a node that was clear of the surface (by more than a tenth
+ * of the radius) is held by the half-space where its straight path over the
+ * step enters the grown solid (rod_surface_sweep), so a node that would
+ * cross a thin pad within a step stops at its entry face; a node touching at
+ * the start is held by the half-space tangent at its nearest point. Only nodes carry contact: a segment over a box's edge can cut
+ * it by up to ds^2 / (8 R) for the rounding R of the grown edge, here the
+ * rod's radius (README). Nodes threaded through tissue between punctures
+ * skip that surface (prepare_punctures). */
 static void node_contact(implicit_work *w, const rod_model *m, int b, double push, double dt)
 {
     double *v1 = &w->vel1[3 * b], *vb = &w->vbar[3 * b], *force = &w->surface_force[3 * b];
     const double *r0 = &w->pos0[3 * b];
     const double theta = m->options.theta, grow = 0.5 * m->diameter, a = dt * theta * push;
     v3_set(force, 0.0, 0.0, 0.0);
-    /* two passes when several surfaces may meet (a node in a corner) */
-    const int passes = w->surface_count > 1 ? 2 : 1;
-    for (int pass = 0; pass < passes; pass++)
+    /* a second pass only when two surfaces act on the node (a corner): one
+     * surface's correction may push it into the other */
+    int active = 0;
+    for (int pass = 0; pass < 2 && (pass == 0 || active > 1); pass++)
         for (int j = 0; j < w->surface_count; j++) {
             const rod_surface *sf = &w->surfaces[j];
             if (w->threaded[b] & (1u << j)) continue;
@@ -682,15 +681,17 @@ static void node_contact(implicit_work *w, const rod_model *m, int b, double pus
             for (int k = 0; k < 3; k++) r1[k] = r0[k] + dt * vb[k];
             double gap0 = rod_surface_gap(sf, r0, grow, n0, near0), depth;
             if (gap0 <= 0.1 * grow) {
-                double g1 = rod_surface_gap(sf, r1, grow, n, p);
-                if (v3_dot(n, n0) < 0.0) { /* went through to another side: the start's */
-                    v3_copy(n, n0);
-                    v3_copy(p, near0);
-                    double d[3];
-                    v3_sub(d, r1, p);
-                    g1 = v3_dot(d, n);
-                }
-                depth = g1;
+                /* touching at the start: the half-space tangent at the start's
+                 * nearest point, fixed over the step, so the depth is linear
+                 * in the iterate (no switch between a box's faces at its
+                 * edges while Newton iterates); a node sliding along a curved
+                 * surface is left outside by (v dt)^2 / 2R, taken back by the
+                 * next step */
+                v3_copy(n, n0);
+                v3_copy(p, near0);
+                double d[3];
+                v3_sub(d, r1, p);
+                depth = v3_dot(d, n);
             } else {
                 double f;
                 if (!rod_surface_sweep(sf, r0, r1, grow, &f, p, n)) continue;
@@ -699,6 +700,7 @@ static void node_contact(implicit_work *w, const rod_model *m, int b, double pus
                 depth = v3_dot(d, n);
             }
             if (!(depth < 0.0)) continue;
+            active++;
             double lambda = -depth / a * compliant_fraction(-depth, 0.01 * grow), fn[3], vt[3];
             v3_scale(fn, n, lambda);
             v3_axpy(v1, push, fn);
@@ -745,7 +747,8 @@ static void puncture_forces(implicit_work *w, const rod_model *m, double push, d
         const double wj = 1.0 - al, wk = al, peff = wj * wj * pj + wk * wk * pk;
         double *force = w->punct[k].force;
         v3_set(force, 0.0, 0.0, 0.0);
-        if (!(peff > 0.0)) continue;
+        /* at a held end's node the support holds the thread at the point */
+        if (!(peff > 1e-6 * push)) continue;
         double rp[3], e[3], f[3];
         for (int c = 0; c < 3; c++)
             rp[c] = wj * (w->pos0[3 * j + c] + dt * w->vbar[3 * j + c]) +
@@ -829,41 +832,67 @@ static void prepare_punctures(implicit_work *w, const rod_model *m, const rod_st
         if (entry >= 0.0)
             for (int i = 0; i < n; i++)
                 if (i * m->ds >= entry - m->ds) w->threaded[i] |= 1u << j;
+        /* the thread within a needle radius of its tip follows the needle
+         * into the hole its point cuts before the back (the tip) crosses the
+         * surface, where the puncture is made: no contact with tissue there */
+        if (w->needle_tissue && m->surfaces[j].tissue)
+            for (int i = 0; i < n; i++)
+                if (i * m->ds >= m->length - m->needle_radius - m->ds) w->threaded[i] |= 1u << j;
     }
 }
 
-/* After a step: a needle carried by the driven tip that crossed a tissue
- * surface's boundary over the step (in or out) makes a puncture where it
- * crossed; the thread then passes through it. Returns -1 when there is no
- * room for one more (ROD_MAX_PUNCTURES). */
+/* After a step: where the thread near a needle-carrying driven tip (within
+ * a needle radius of it: the part that follows the needle through the hole
+ * its point cut) crosses a tissue surface at a point no puncture holds yet,
+ * a puncture is made: at the thread's own crossing, so the thread passes
+ * through it from the start. Returns -1 when there is no room for one more
+ * (ROD_MAX_PUNCTURES). */
 static int needle_punctures(implicit_work *w, const rod_model *m, rod_state *s, rod_report *report)
 {
     const int n = w->nodes;
-    const double *a = &w->pos0[3 * (n - 1)], *b = &s->position[3 * (n - 1)];
+    const double reach = m->needle_radius + 2.0 * m->ds;
     for (int j = 0; j < m->surface_count && j < 32; j++) {
         const rod_surface *sf = &m->surfaces[j];
         if (!sf->tissue) continue;
-        double f, point[3], normal[3];
-        int crossed = 0;
-        if (rod_surface_gap(sf, a, 0.0, NULL, NULL) > 0.0) crossed = rod_surface_sweep(sf, a, b, 0.0, &f, point, normal);
-        else if (rod_surface_gap(sf, b, 0.0, NULL, NULL) > 0.0) crossed = rod_surface_sweep(sf, b, a, 0.0, &f, point, normal);
-        if (!crossed) continue;
-        if (s->puncture_count >= ROD_MAX_PUNCTURES) {
-            snprintf(report->message, sizeof report->message,
-                     "implicit scheme: the needle crossed the tissue surface of line %d at t = "
-                     "%.6g s, but the run already holds %d punctures (the most); shorten the "
-                     "needle's path (ends.tip_motion)", sf->line, s->time, ROD_MAX_PUNCTURES);
-            return -1;
+        for (int i = n - 2; i >= 0 && (n - 1 - i) * m->ds <= reach; i--) {
+            const double *a = &s->position[3 * i], *b = &s->position[3 * (i + 1)];
+            double ga = rod_surface_gap(sf, a, 0.0, NULL, NULL);
+            double gb = rod_surface_gap(sf, b, 0.0, NULL, NULL);
+            if ((ga > 0.0) == (gb > 0.0)) continue;
+            /* the crossing, by bisection along the segment */
+            double lo = 0.0, hi = 1.0, point[3];
+            for (int it = 0; it < 60; it++) {
+                double mid = 0.5 * (lo + hi);
+                for (int c = 0; c < 3; c++) point[c] = a[c] + mid * (b[c] - a[c]);
+                if ((rod_surface_gap(sf, point, 0.0, NULL, NULL) > 0.0) == (ga > 0.0)) lo = mid;
+                else hi = mid;
+            }
+            double f = 0.5 * (lo + hi);
+            for (int c = 0; c < 3; c++) point[c] = a[c] + f * (b[c] - a[c]);
+            int held = 0;
+            for (int k = 0; k < s->puncture_count && !held; k++) {
+                double d[3];
+                v3_sub(d, s->puncture[k].point, point);
+                held = s->puncture[k].surface == j && v3_norm(d) < 2.0 * m->ds;
+            }
+            if (held) continue;
+            if (s->puncture_count >= ROD_MAX_PUNCTURES) {
+                snprintf(report->message, sizeof report->message,
+                         "implicit scheme: the needle went through the tissue surface of line "
+                         "%d at t = %.6g s, but the run already holds %d punctures (the most); "
+                         "shorten the needle's path (ends.tip_motion)", sf->line, s->time,
+                         ROD_MAX_PUNCTURES);
+                return -1;
+            }
+            rod_puncture_state *ps = &s->puncture[s->puncture_count++];
+            memset(ps, 0, sizeof *ps);
+            v3_copy(ps->point, point);
+            ps->s = (i + f) * m->ds;
+            ps->friction = sf->friction;
+            ps->surface = j;
         }
-        rod_puncture_state *ps = &s->puncture[s->puncture_count++];
-        memset(ps, 0, sizeof *ps);
-        v3_copy(ps->point, point);
-        double d[3];
-        v3_sub(d, b, point);
-        ps->s = fmax(0.0, m->length - v3_norm(d));
-        ps->friction = sf->friction;
-        ps->surface = j;
     }
+    (void)w;
     return 0;
 }
 
@@ -1287,12 +1316,6 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
     }
     evaluate(w, m, w->x, t, dt, w->residual);
     double norm = max_abs(w->residual, nu);
-    if (getenv("RODSIM_DEBUG_NEWTON")) {
-        int worst = 0;
-        for (int i = 0; i < nu; i++) if (fabs(w->residual[i]) > fabs(w->residual[worst])) worst = i;
-        fprintf(stderr, "t=%g dt=%g start norm=%g worst row %d x=%g\n", t, dt, norm, worst, w->x[worst]);
-        for (int b = 0; b < w->nodes; b++) if (v3_norm(&w->surface_force[3*b]) > 0) fprintf(stderr, "  node %d F=%g %g %g\n", b, w->surface_force[3*b], w->surface_force[3*b+1], w->surface_force[3*b+2]);
-    }
     int fresh = 0; /* the factorisation was made at this step */
     for (int it = 0; it < max_it; it++) {
         report->newton_iterations = it;
@@ -1317,7 +1340,6 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
                 if (--w->budget < 0) return -1;
             }
         }
-        if (getenv("RODSIM_DEBUG_NEWTON")) fprintf(stderr, "t=%g dt=%g it=%d norm=%g fresh=%d\n", t, dt, it, next, fresh);
         if (!isfinite(next)) return -1;
         if (next > 0.25 * norm && next > 10.0 * tol && (!fresh || w->contact)) {
             /* slow, and not merely at the round-off floor near the tolerance:

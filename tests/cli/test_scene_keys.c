@@ -119,6 +119,20 @@ static int rod_reads_equal(const rod_read *a, const rod_read *b)
         same = f->node == g->node;
         for (int k = 0; k < 3; k++) same = same && f->force[k] == g->force[k] && f->moment[k] == g->moment[k];
     }
+    /* issue 11's */
+    same = same && x->surface_count == y->surface_count && x->puncture_count == y->puncture_count;
+    for (int i = 0; same && i < x->surface_count; i++) {
+        const rod_surface *f = &x->surfaces[i], *g = &y->surfaces[i];
+        same = f->shape == g->shape && f->friction == g->friction && f->tissue == g->tissue;
+        for (int k = 0; k < 3; k++)
+            same = same && f->center[k] == g->center[k] && f->normal[k] == g->normal[k] &&
+                   f->size[k] == g->size[k];
+    }
+    for (int i = 0; same && i < x->puncture_count; i++) {
+        const rod_puncture *f = &x->punctures[i], *g = &y->punctures[i];
+        same = f->friction == g->friction && f->point[0] == g->point[0] &&
+               f->point[1] == g->point[1] && f->point[2] == g->point[2];
+    }
     for (int k = 0; k < 3; k++)
         same = same && x->origin[k] == y->origin[k] && x->direction[k] == y->direction[k] &&
                x->intrinsic_curvature[k] == y->intrinsic_curvature[k] &&
@@ -169,16 +183,32 @@ static void test_rod_table(void)
         rod_model_release(&base.m);
         return;
     }
+    /* [surface] and [puncture] likewise, on a scene with a plane under the
+     * rod (all its keys at their defaults) and a puncture on it */
+    char with_obstacles[512];
+    snprintf(with_obstacles, sizeof with_obstacles,
+             "%sorigin = 0 0 0.01\n[surface]\nfriction = 0.3\n[puncture]\npoint = 0.5 0 0.01\n",
+             valid_rod);
+    rod_read base_obstacles;
+    if (!check(read_rod(with_obstacles, NULL, &base_obstacles, err, sizeof err) == 0 &&
+                   base_obstacles.m.surface_count == 1 && base_obstacles.m.puncture_count == 1,
+               "a scene with a [surface] plane and a [puncture] reads (%s)", err)) {
+        rod_model_release(&base.m);
+        rod_model_release(&base_load.m);
+        return;
+    }
     int defaults = 0, wrong = 0;
     for (const ini_key *k = scene_keys_rod; k->section; k++) {
         if (!literal_default(k)) continue;
         int load = strcmp(k->section, "point_load") == 0;
+        int obstacle = strcmp(k->section, "surface") == 0 || strcmp(k->section, "puncture") == 0;
         char set[256];
         snprintf(set, sizeof set, "%s.%s=%s", k->section, k->key, k->fallback);
         rod_read r;
-        int ok = read_rod(load ? with_load : valid_rod, set, &r, err, sizeof err) == 0;
+        const char *text = load ? with_load : obstacle ? with_obstacles : valid_rod;
+        int ok = read_rod(text, set, &r, err, sizeof err) == 0;
         if (ok) {
-            ok = rod_reads_equal(load ? &base_load : &base, &r);
+            ok = rod_reads_equal(load ? &base_load : obstacle ? &base_obstacles : &base, &r);
             rod_model_release(&r.m);
         }
         defaults++;
@@ -203,6 +233,7 @@ static void test_rod_table(void)
         if (read) rod_model_release(&r.m);
     }
     rod_model_release(&base_load.m);
+    rod_model_release(&base_obstacles.m);
     check(base.out.crf == 18 && base.out.render.crf == 18,
           "one crf default: run_output %d, renderer %d (the table says 18)", base.out.crf,
           base.out.render.crf);
