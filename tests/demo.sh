@@ -1,7 +1,7 @@
 #!/bin/sh
 # make demo: renders the headline scenes into out/:
-#   out/suture.mp4 (+ .png poster, + .csv centreline): a suture bent and
-#     twisted by its tip loads;
+#   out/suture.mp4 (+ .png poster, + .csv centreline): a running suture, a
+#     needle making three bites across a wound (about 2 minutes);
 #   out/skin_drop.mp4 (+ .png): a thread dropped on a skin pad (contact,
 #     friction, shadows);
 #   out/buckling_twist.mp4 (+ .png): the rod buckling under a twisting moment,

@@ -35,6 +35,8 @@ typedef struct rod_recording {
                              a recording made by hand may leave both NULL: none */
     double peak_force;    /* N, the largest |tip force| of every frame appended or noted */
     double peak_moment;   /* N m, the same for the tip moment */
+    double needle_frame0[9]; /* a pinned tip's frame at the first frame (its needle's turn
+                                is recorded from it: rod_recording_append) */
 } rod_recording;
 
 /* Room for `capacity` frames (grows when exceeded). NULL when out of memory. */

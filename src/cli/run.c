@@ -152,7 +152,7 @@ static double steps_for(double interval, double dt)
 }
 
 /* Cost model of a step, us per node (so us per step = this x NS), measured
- * with `rodsim run scenes/suture.ini --no-video --set rod.nodes=11..201`
+ * with `rodsim run scenes/suture_cantilever.ini --no-video --set rod.nodes=11..201`
  * on the 2-core development machine and rounded up: thesis 0.23, implicit
  * 2.4..3.4 (Newton, a banded factorisation per step), static 10..13.
  * Rendering costs ~45 ns per pixel per frame (1280 x 720: 40 ms), the CSV

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "base/vec3.h"
+#include "sim/path.h"
 
 static int reserve(rod_recording *r, int capacity)
 {
@@ -90,6 +91,21 @@ int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *
     r->time[k] = s->time;
     memcpy(&r->position[k * n * 3], s->position, n * 3 * sizeof(double));
     memcpy(&r->frame[k * n * 9], s->frame, n * 9 * sizeof(double));
+    if (m->tip_end == ROD_END_PINNED && m->tip_motion && m->needle_radius > 0.0 &&
+        rod_path_columns(m->tip_motion) == 7) {
+        /* a pinned tip swivels on its needle: the frame recorded at the tip is
+         * the needle's, R(t) R(t0)^T Q_tip(0) from its path, so the needle is
+         * drawn along its arc (the thread's own frame there is not drawn) */
+        double *tip = &r->frame[(k * n + n - 1) * 9];
+        if (k == 0) memcpy(r->needle_frame0, tip, sizeof r->needle_frame0);
+        rod_pose now, first;
+        rod_path_eval(m->tip_motion, s->time, &now);
+        rod_path_eval(m->tip_motion, rod_path_start(m->tip_motion), &first);
+        double rel[9], back[9];
+        m3_mul_tn(back, first.rotation, r->needle_frame0); /* R(t0)^T Q_tip(0) */
+        m3_mul(rel, now.rotation, back);
+        memcpy(tip, rel, sizeof rel);
+    }
     for (size_t i = 0; i < n; i++) r->twist[k * n + i] = rod_recording_node_twist(s, (int)i);
     double force[3], moment[3];
     rod_recording_tip_load(m, s, force, moment);

@@ -338,9 +338,14 @@ static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
                      "= clamped or pinned)", ends[e].name, ends[e].name, ends[e].name);
             return -1;
         }
-        if (ends[e].kind == ROD_END_PINNED && rod_path_columns(path) == 7) {
+        /* a pinned tip carrying a needle may take a rotation: it turns the
+         * needle drawn there (the thread swivels at the needle's back; the
+         * mechanics ignore it, sim/recording.c draws it) */
+        if (ends[e].kind == ROD_END_PINNED && rod_path_columns(path) == 7 &&
+            !(e == 1 && m->needle_radius > 0.0)) {
             snprintf(err, errlen, "%s_motion: the %s is pinned (free to rotate): its path has no "
-                     "rotation; give t,x,y,z, or set %s = clamped", ends[e].name, ends[e].name,
+                     "rotation (except a tip's that turns its needle); give t,x,y,z, or set %s = "
+                     "clamped", ends[e].name, ends[e].name,
                      ends[e].name);
             return -1;
         }

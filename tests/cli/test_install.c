@@ -55,13 +55,13 @@ static void print_log(void)
 
 static void test_run_moved(void)
 {
-    int status = run_copy("", "run ../suture.ini -o out --set solver.duration=0.1 "
+    int status = run_copy("", "run ../suture_cantilever.ini -o out --set solver.duration=0.1 "
                               "--set render.width=320 --set render.height=240 --quiet");
-    if (!check(status == 0, "moved binary: run suture.ini exits %d (want 0)", status)) print_log();
+    if (!check(status == 0, "moved binary: run suture_cantilever.ini exits %d (want 0)", status)) print_log();
 
     char mp4[128], png[128];
-    snprintf(mp4, sizeof mp4, "%s/cwd/out/suture.mp4", tmp_dir);
-    snprintf(png, sizeof png, "%s/cwd/out/suture.png", tmp_dir);
+    snprintf(mp4, sizeof mp4, "%s/cwd/out/suture_cantilever.mp4", tmp_dir);
+    snprintf(png, sizeof png, "%s/cwd/out/suture_cantilever.png", tmp_dir);
     decoded video;
     int decodes = decode_video(mp4, &video) == 0;
     /* frames at t = 0, 1/30, 2/30, 3/30 = 0.1 s */
@@ -120,7 +120,7 @@ static void test_shader_dir_override(void)
     }
     char env[192];
     snprintf(env, sizeof env, "RODSIM_SHADER_DIR='%s'", dir);
-    int status = run_copy(env, "run ../suture.ini -o out_shader --set solver.duration=0.1 "
+    int status = run_copy(env, "run ../suture_cantilever.ini -o out_shader --set solver.duration=0.1 "
                                "--set render.width=320 --set render.height=240 --quiet");
     snprintf(log_path, sizeof log_path, "%s/log", tmp_dir);
     f = fopen(log_path, "r");
@@ -144,7 +144,7 @@ int main(void)
     char command[1024];
     snprintf(command, sizeof command,
              "cd '%s' && mkdir bin cwd empty && cp '%s' bin/rodsim && "
-             "cp '%s/scenes/suture.ini' '%s/tests/lsan.supp' .",
+             "cp '%s/scenes/suture_cantilever.ini' '%s/tests/lsan.supp' .",
              tmp_dir, RODSIM_BIN, RODSIM_SOURCE_DIR, RODSIM_SOURCE_DIR);
     check(system(command) == 0, "copied %s to %s/bin (outside the source tree)", RODSIM_BIN,
           tmp_dir);

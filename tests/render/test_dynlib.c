@@ -132,11 +132,11 @@ static void check_drawing_run(const char *library, const char *gl, const char *n
     char output[8192], args[1024], out[160], mp4[200], line[512];
     snprintf(out, sizeof out, "%s/out", tmp_dir);
     snprintf(args, sizeof args,
-             "run '%s/scenes/suture.ini' -o '%s' --set solver.duration=0.1 --set render.width=160 "
+             "run '%s/scenes/suture_cantilever.ini' -o '%s' --set solver.duration=0.1 --set render.width=160 "
              "--set render.height=120",
              RODSIM_SOURCE_DIR, out);
     int status = run_without(library, gl, args, output, sizeof output);
-    snprintf(mp4, sizeof mp4, "%s/suture.mp4", out);
+    snprintf(mp4, sizeof mp4, "%s/suture_cantilever.mp4", out);
     int written = access(mp4, F_OK) == 0;
     if (package) {
         check(status == 1 && strstr(output, names) && strstr(output, package) && !written,
@@ -160,7 +160,7 @@ static void check_not_drawing(const char *library)
 {
     char output[8192], args[1024], out[160], line[512];
     snprintf(out, sizeof out, "%s/out", tmp_dir);
-    snprintf(args, sizeof args, "run '%s/scenes/suture.ini' -o '%s' --set solver.duration=0.1 "
+    snprintf(args, sizeof args, "run '%s/scenes/suture_cantilever.ini' -o '%s' --set solver.duration=0.1 "
                                 "--no-video --quiet", RODSIM_SOURCE_DIR, out);
     int status = run_without(library, "", args, output, sizeof output);
     check(status == 0, "without %s: run --no-video exits %d (want 0) %s", library, status,

@@ -1,10 +1,12 @@
 /* test_recording.c: the frames a run hands to the renderer: the punctures
  * each frame carries (issue 11) survive append and halve, and the memory a
  * recording is charged for is what it allocates. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "sim/path.h"
 #include "sim/recording.h"
 #include "test.h"
 
@@ -71,8 +73,58 @@ static void test_punctures(void)
     rod_model_release(&m);
 }
 
+/* A pinned tip carrying a needle records the needle's frame, turned by its
+ * path's rotation (R(t) R(t0)^T Q_tip(0)), so the needle is drawn along its
+ * arc; the thread's own frame stays in the state. Here the path turns the
+ * tip a quarter turn about z over 1 s, in place: d3 goes from +x to +y. */
+static void test_needle_frame(void)
+{
+    rod_model m = rod_model_default();
+    m.tip_end = ROD_END_PINNED;
+    m.needle_radius = 0.01;
+    double rows[14] = {0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, M_PI / 2};
+    char err[256];
+    m.tip_motion = rod_path_create(rows, 2, 7, err, sizeof err);
+    if (!check(m.tip_motion && rod_model_derive(&m, err, sizeof err) == 0,
+               "a pinned tip with a needle takes a path with rotation (%s)", err)) {
+        rod_model_release(&m);
+        return;
+    }
+    rod_state *s = rod_state_create(&m);
+    rod_recording *r = rod_recording_create(&m, "needle", 4);
+    if (!s || !r) {
+        check(0, "out of memory");
+    } else {
+        rod_recording_append(r, &m, s);
+        s->time = 1.0;
+        rod_recording_append(r, &m, s);
+        const int n = m.nodes;
+        const double *q0 = &r->frame[(size_t)(n - 1) * 9], *q1 = &r->frame[((size_t)n + n - 1) * 9];
+        /* row-major Q, columns d1 d2 d3: d3 = (q[2], q[5], q[8]) */
+        check(fabs(q0[2] - 1.0) < 1e-12 && fabs(q0[5]) < 1e-12,
+              "needle frame at t = 0: d3 = (%g, %g, %g), reference (1, 0, 0)", q0[2], q0[5], q0[8]);
+        check(fabs(q1[2]) < 1e-9 && fabs(q1[5] - 1.0) < 1e-9 && fabs(q1[8]) < 1e-9,
+              "needle frame after a quarter turn about z: d3 = (%g, %g, %g), reference (0, 1, 0)",
+              q1[2], q1[5], q1[8]);
+        const double *state_tip = &s->frame[(size_t)(n - 1) * 9];
+        check(fabs(state_tip[2] - 1.0) < 1e-12, "the state's own tip frame is untouched "
+              "(d3 x = %g)", state_tip[2]);
+    }
+    rod_recording_destroy(r);
+    rod_state_destroy(s);
+    rod_model_release(&m);
+    /* without a needle a pinned tip's path has no rotation */
+    rod_model plain = rod_model_default();
+    plain.tip_end = ROD_END_PINNED;
+    plain.tip_motion = rod_path_create(rows, 2, 7, err, sizeof err);
+    check(plain.tip_motion && rod_model_derive(&plain, err, sizeof err) != 0 &&
+              strstr(err, "tip_motion"), "without a needle it is refused: %s", err);
+    rod_model_release(&plain);
+}
+
 int main(void)
 {
+    test_needle_frame();
     test_punctures();
     return test_finish();
 }

@@ -119,8 +119,8 @@ static void test_scene_values(void)
               "suture_gravity: damping %g N s/m^2", m.linear_damping);
         rod_model_release(&m);
     }
-    if (check(read_scene_file(SCENES "/suture.ini", &m, &out, err, sizeof err) == 0,
-              "suture.ini reads (%s)", err)) {
+    if (check(read_scene_file(SCENES "/suture_cantilever.ini", &m, &out, err, sizeof err) == 0,
+              "suture_cantilever.ini reads (%s)", err)) {
         check(out.width == 1280 && out.height == 720 && m.tip_moment[2] == 4e-6 &&
                   m.profile.kind == ROD_PROFILE_RAMP && m.profile.t1 == 4.0,
               "suture: 1280x720, M3 = %g N m, ramp %g s", m.tip_moment[2], m.profile.t1);

@@ -371,7 +371,7 @@ static void test_dt_last_digit(void)
     long builds[2];
     for (int alternate = 0; alternate < 2; alternate++) {
         rod_model m = table1(21, dt, 1.0);
-        v3_set(m.tip_force, 8e-7, 0.0, 0.0);      /* suture.ini's loads, 3-D */
+        v3_set(m.tip_force, 8e-7, 0.0, 0.0);      /* suture_cantilever.ini's loads, 3-D */
         v3_set(m.tip_moment, 0.0, 1.5e-7, 4e-7);
         m.profile.kind = ROD_PROFILE_RAMP;
         m.profile.t1 = 0.5;

@@ -109,7 +109,7 @@ LENGTH = 0.12
 STRAIGHT, TURN = 0.035, 0.008  # m: the starting U on the skin (see shape)
 
 
-NODES = 81  # running_suture.ini's rod.nodes: the shape is written as its nodes, ds apart
+NODES = 81  # suture.ini's rod.nodes: the shape is written as its nodes, ds apart
 
 
 def curve(u):
