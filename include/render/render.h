@@ -35,7 +35,7 @@ typedef enum {
     RENDER_COLOR_SOLID = 0, /* one colour (render_rod_color) */
     RENDER_COLOR_CURVATURE, /* bending curvature sqrt(u1^2 + u2^2), 1/m */
     RENDER_COLOR_TWIST,     /* u3, 1/m */
-    RENDER_COLOR_TENSION,   /* N . d3, N: needs the internal force in the recording (refused) */
+    RENDER_COLOR_TENSION,   /* N . d3, N: the internal force along the rod, as recorded */
     RENDER_COLOR_SPEED      /* |v|, m/s, by finite difference between drawn frames */
 } render_color_mode;
 

@@ -28,6 +28,7 @@ typedef struct rod_recording {
     double *position;     /* (frames x nodes x 3), m, global */
     double *frame;        /* (frames x nodes x 9), row-major Q, columns d1 d2 d3 (global) */
     double *twist;        /* (frames x nodes), u3 at each node, 1/m (for the (4.17) stripe) */
+    double *tension;      /* (frames x nodes), N . d3 at each node, N (colour by tension) */
     double *tip_force;    /* (frames x 3), N, global components */
     double *tip_moment;   /* (frames x 3), N m, global components */
     int *puncture_count;  /* (frames), punctures the thread passes through (0..ROD_MAX_PUNCTURES) */
@@ -35,6 +36,7 @@ typedef struct rod_recording {
                              a recording made by hand may leave both NULL: none */
     double peak_force;    /* N, the largest |tip force| of every frame appended or noted */
     double peak_moment;   /* N m, the same for the tip moment */
+    double *force_scratch; /* (nodes x 3) the internal force while appending */
     double needle_frame0[9]; /* a pinned tip's frame at the first frame (its needle's turn
                                 is recorded from it: rod_recording_append) */
 } rod_recording;
@@ -45,7 +47,7 @@ void rod_recording_destroy(rod_recording *r);
 /* u3 at node `node` of the state, 1/m (staggered schemes: the mean of the
  * midpoints beside it), as the recording and the CSV hold it. */
 double rod_recording_node_twist(const rod_state *s, int node);
-/* Bytes a recording of `frames` frames of `nodes` nodes holds (104 per node
+/* Bytes a recording of `frames` frames of `nodes` nodes holds (112 per node
  * per frame; 56 per frame for time and loads, 4 + 24 ROD_MAX_PUNCTURES for
  * the punctures): what a run must fit in memory to frame its video. */
 double rod_recording_bytes(int nodes, double frames);

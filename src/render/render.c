@@ -253,11 +253,6 @@ static int read_teaching(ini_doc *doc, render_options *o, char *err, size_t errl
     int status = ini_get_choice(doc, "render", 0, "color", colors, &choice, err, errlen);
     if (status < 0) return -1;
     if (status > 0) {
-        /* the recording does not carry the internal force N yet (issue 10) */
-        if (choice == RENDER_COLOR_TENSION)
-            return ini_error(doc, "render", 0, "color", err, errlen,
-                             "tension is not available yet (the recording does not carry the "
-                             "internal force); accepted: solid | curvature | twist | speed");
         o->color = (render_color_mode)choice;
     }
     static const char *const maps[] = {"viridis", "cividis", NULL};
@@ -555,7 +550,7 @@ static rod_recording *magnified_copy(const rod_recording *rec, double magnify)
 /* The colour's quantity at each node of `frame` into out (nodes): bending
  * curvature |(u1, u2)| from the director frames of neighbouring nodes
  * (Q_{k+1} = Q_k exp(ds u), the mean of the two segments beside a node);
- * twist u3 as recorded; speed |r - r_prev| / (t - t_prev), a backward
+ * twist u3 and tension N . d3 as recorded; speed |r - r_prev| / (t - t_prev), a backward
  * difference between drawn frames (0 for the first, previous = NULL). */
 static void color_values(const rod_recording *rec, int frame, render_color_mode mode,
                          const double *previous, double previous_time, double *out)
@@ -575,6 +570,8 @@ static void color_values(const rod_recording *rec, int frame, render_color_mode 
         out[n - 1] *= 2;
     } else if (mode == RENDER_COLOR_TWIST) {
         for (int k = 0; k < n; k++) out[k] = rec->twist[(size_t)frame * (size_t)n + (size_t)k];
+    } else if (mode == RENDER_COLOR_TENSION && rec->tension) {
+        for (int k = 0; k < n; k++) out[k] = rec->tension[(size_t)frame * (size_t)n + (size_t)k];
     } else if (mode == RENDER_COLOR_SPEED && previous) {
         double dt = rec->time[frame] - previous_time;
         for (int k = 0; dt > 0 && k < n; k++) {

@@ -20,6 +20,8 @@ static int reserve(rod_recording *r, int capacity)
     if (q) r->frame = q;
     double *w = realloc(r->twist, c * n * sizeof *w);
     if (w) r->twist = w;
+    double *te = realloc(r->tension, c * n * sizeof *te);
+    if (te) r->tension = te;
     double *f = realloc(r->tip_force, c * 3 * sizeof *f);
     if (f) r->tip_force = f;
     double *mo = realloc(r->tip_moment, c * 3 * sizeof *mo);
@@ -28,7 +30,7 @@ static int reserve(rod_recording *r, int capacity)
     if (pc) r->puncture_count = pc;
     double *pp = realloc(r->puncture, c * ROD_MAX_PUNCTURES * 3 * sizeof *pp);
     if (pp) r->puncture = pp;
-    if (!t || !p || !q || !w || !f || !mo || !pc || !pp) return -1;
+    if (!t || !p || !q || !w || !te || !f || !mo || !pc || !pp) return -1;
     r->capacity = capacity;
     return 0;
 }
@@ -43,7 +45,8 @@ rod_recording *rod_recording_create(const rod_model *m, const char *scene, int c
     r->diameter = m->diameter;
     snprintf(r->scheme, sizeof r->scheme, "%s", rod_scheme_get(m->options.scheme)->name);
     snprintf(r->scene, sizeof r->scene, "%s", scene ? scene : "");
-    if (reserve(r, capacity > 0 ? capacity : 16)) {
+    r->force_scratch = malloc((size_t)m->nodes * 3 * sizeof(double));
+    if (!r->force_scratch || reserve(r, capacity > 0 ? capacity : 16)) {
         rod_recording_destroy(r);
         return NULL;
     }
@@ -57,6 +60,8 @@ void rod_recording_destroy(rod_recording *r)
     free(r->position);
     free(r->frame);
     free(r->twist);
+    free(r->tension);
+    free(r->force_scratch);
     free(r->tip_force);
     free(r->tip_moment);
     free(r->puncture_count);
@@ -78,9 +83,9 @@ double rod_recording_node_twist(const rod_state *s, int node)
 
 double rod_recording_bytes(int nodes, double frames)
 {
-    /* time, tip force and moment: 7 doubles a frame; position, Q, twist: 13 a
-     * node; the punctures: a count and ROD_MAX_PUNCTURES points */
-    return frames * (((double)nodes * 13 + 7 + 3 * ROD_MAX_PUNCTURES) * (double)sizeof(double) +
+    /* time, tip force and moment: 7 doubles a frame; position, Q, twist,
+     * tension: 14 a node; the punctures: a count and ROD_MAX_PUNCTURES points */
+    return frames * (((double)nodes * 14 + 7 + 3 * ROD_MAX_PUNCTURES) * (double)sizeof(double) +
                      (double)sizeof(int));
 }
 
@@ -107,6 +112,13 @@ int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *
         memcpy(tip, rel, sizeof rel);
     }
     for (size_t i = 0; i < n; i++) r->twist[k * n + i] = rod_recording_node_twist(s, (int)i);
+    /* tension N . d3 at each node (the internal force along the rod, N) */
+    rod_internal_force(s, r->force_scratch);
+    for (size_t i = 0; i < n; i++) {
+        double d3[3];
+        m3_column(d3, &s->frame[9 * i], 2);
+        r->tension[k * n + i] = v3_dot(&r->force_scratch[3 * i], d3);
+    }
     double force[3], moment[3];
     rod_recording_tip_load(m, s, force, moment);
     v3_copy(&r->tip_force[3 * k], force);
@@ -167,6 +179,7 @@ void rod_recording_halve(rod_recording *r)
         memmove(&r->position[to * n * 3], &r->position[from * n * 3], n * 3 * sizeof(double));
         memmove(&r->frame[to * n * 9], &r->frame[from * n * 9], n * 9 * sizeof(double));
         memmove(&r->twist[to * n], &r->twist[from * n], n * sizeof(double));
+        memmove(&r->tension[to * n], &r->tension[from * n], n * sizeof(double));
         memmove(&r->tip_force[to * 3], &r->tip_force[from * 3], 3 * sizeof(double));
         memmove(&r->tip_moment[to * 3], &r->tip_moment[from * 3], 3 * sizeof(double));
         r->puncture_count[to] = r->puncture_count[from];

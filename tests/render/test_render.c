@@ -783,11 +783,11 @@ static void test_teaching_options(void)
     o.speed = 10;
     check(render_output_rate(&o) == 3, "speed 10 (time-lapse) at 30 fps: 3 frames per simulated s");
 
-    const char *bad[] = {"[render]\ncolor = tension\n", "[render]\ncolor = jet\n",
+    const char *bad[] = {"[render]\ncolor = stress\n", "[render]\ncolor = jet\n",
                          "[render]\nhide = clock\n", "[render]\ncolor_range = 5 1\n",
                          "[render]\nspeed = 0\n", "[render]\nmagnify = 0.5\n",
                          "[render]\ncolormap = jet\n", "[render]\nspeed = 1e-5\n"};
-    const char *expect[] = {"not available yet", "solid", "unknown overlay item 'clock'",
+    const char *expect[] = {"tension", "solid", "unknown overlay item 'clock'",
                             "lo < hi", "slow motion", "1 ..", "viridis", "fps / speed"};
     for (int i = 0; i < 8; i++) {
         doc = ini_parse("bad.ini", bad[i], err, sizeof err);

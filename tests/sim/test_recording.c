@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/vec3.h"
 #include "sim/path.h"
 #include "sim/recording.h"
 #include "test.h"
@@ -58,6 +59,7 @@ static void test_punctures(void)
     size_t nodes = (size_t)r->nodes, cap = (size_t)r->capacity;
     double allocated = (double)(cap * sizeof *r->time + cap * nodes * 3 * sizeof *r->position +
                                 cap * nodes * 9 * sizeof *r->frame + cap * nodes * sizeof *r->twist +
+                                cap * nodes * sizeof *r->tension +
                                 cap * 3 * sizeof *r->tip_force + cap * 3 * sizeof *r->tip_moment +
                                 cap * sizeof *r->puncture_count +
                                 cap * ROD_MAX_PUNCTURES * 3 * sizeof *r->puncture);
@@ -122,8 +124,49 @@ static void test_needle_frame(void)
     rod_model_release(&plain);
 }
 
+/* The tension recorded for colour by tension is N . d3: a thread hanging
+ * straight down from its clamped root carries the weight below each point,
+ * rho A g (L - s) (statics, independent of the scheme), here solved by the
+ * static scheme. */
+static void test_tension(void)
+{
+    rod_model m = rod_model_default();
+    m.options.scheme = ROD_SCHEME_STATIC;
+    v3_set(m.direction, 0.0, 0.0, -1.0);
+    char err[512];
+    if (!check(rod_model_derive(&m, err, sizeof err) == 0, "hanging thread model (%s)", err)) return;
+    v3_set(m.distributed_force, 0.0, 0.0, -9.81 * m.mass_per_length);
+    rod_state *s = rod_state_create(&m);
+    rod_solver solver;
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    rod_recording *r = rod_recording_create(&m, "hanging", 2);
+    if (s && r && rod_solver_init(&solver, &m, err, sizeof err) == 0) {
+        int ok = rod_solver_step(&solver, &m, s, 1.0, &report) == ROD_OK;
+        rod_solver_release(&solver);
+        if (check(ok && rod_recording_append(r, &m, s) == 0, "the static solve and the frame (%s)",
+                  report.message)) {
+            double worst = 0.0;
+            for (int i = 1; i < m.nodes; i++) { /* node 0 is the support's force */
+                double ref = m.mass_per_length * 9.81 * (m.length - i * m.ds);
+                worst = fmax(worst, fabs(r->tension[i] - ref));
+            }
+            double top = m.mass_per_length * 9.81 * m.length;
+            check(worst <= 1e-9 * top, "recorded tension vs rho A g (L - s) at every node: largest "
+                  "error %.3g N against %.3g N at the root (relative %.2e)", worst, top,
+                  worst / top);
+        }
+    } else {
+        check(0, "create (%s)", err);
+    }
+    rod_recording_destroy(r);
+    rod_state_destroy(s);
+    rod_model_release(&m);
+}
+
 int main(void)
 {
+    test_tension();
     test_needle_frame();
     test_punctures();
     return test_finish();
