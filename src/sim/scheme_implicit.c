@@ -146,6 +146,8 @@ typedef struct implicit_work {
     double fd_step;        /* relative step of the finite-difference Jacobian */
     int reach;             /* blocks a block's unknowns reach: 1, or 2 with punctures */
     int contact;           /* 1: surfaces or punctures (Newton with a line search) */
+    int max_reach;         /* the reach the band is sized for; a step uses 2 only while
+                              punctures exist (single_step) */
     /* punctures of this step (from the state at its start; see puncture_force) */
     int puncture_count;
     struct {
@@ -322,6 +324,7 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     memcpy(w->var_kind, w->planar ? kinds2 : kinds3, (size_t)w->block * sizeof(int));
     w->unknowns = w->block * w->blocks;
     w->ldab = 3 * w->kl + 1; /* 2 kl + ku + 1: U gains kl diagonals by pivoting */
+    w->max_reach = w->reach;
     size_t u = (size_t)w->unknowns;
     w->x = calloc(u, sizeof(double));
     w->dx = calloc(u, sizeof(double));
@@ -1521,6 +1524,16 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
     memcpy(w->pos0, s->position, (size_t)n * 3 * sizeof(double));
     prepare_ends(w, m, s, dt);
     prepare_punctures(w, m, s);
+    if (w->max_reach == 2) {
+        /* the wider band and its 5 colours only while a puncture couples two
+         * nodes (ldab stays sized for it) */
+        int reach = s->puncture_count > 0 ? 2 : 1;
+        if (reach != w->reach) {
+            w->reach = reach;
+            w->kl = reach == 2 ? BAND_PUNCTURE : BAND;
+            w->have_factor = 0;
+        }
+    }
 
     /* initial guess: the start-of-step values (N from the stored contact
      * force), or, continuing a run, the last two solutions extrapolated */
