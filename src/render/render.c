@@ -496,18 +496,22 @@ static rod_recording *recording_like(const rod_recording *rec, int frames)
     rod_recording *r = calloc(1, sizeof *r);
     if (!r) return NULL;
     *r = *rec;
-    /* no punctures: the renderer takes them from the recording it was given */
+    /* no punctures: the renderer takes them from the recording it was given;
+     * every array below is the copy's own (none is shared with rec) */
     r->puncture_count = NULL;
     r->puncture = NULL;
+    r->force_scratch = NULL;
     size_t n = (size_t)rec->nodes, f = (size_t)(frames > 0 ? frames : 1);
     r->frame_count = r->capacity = (int)f;
     r->time = malloc(f * sizeof(double));
     r->position = malloc(f * n * 3 * sizeof(double));
     r->frame = malloc(f * n * 9 * sizeof(double));
     r->twist = malloc(f * n * sizeof(double));
+    r->tension = malloc(f * n * sizeof(double));
     r->tip_force = malloc(f * 3 * sizeof(double));
     r->tip_moment = malloc(f * 3 * sizeof(double));
-    if (!r->time || !r->position || !r->frame || !r->twist || !r->tip_force || !r->tip_moment) {
+    if (!r->time || !r->position || !r->frame || !r->twist || !r->tension || !r->tip_force ||
+        !r->tip_moment) {
         rod_recording_destroy(r);
         return NULL;
     }
@@ -532,6 +536,7 @@ static void magnify_frame(const rod_recording *rec, int frame, double magnify, r
         m3_exp(turn, phi);
         m3_mul(&out->frame[9 * j], q0, turn);
         out->twist[j] = rec->twist[k] + magnify * (rec->twist[i] - rec->twist[k]);
+        out->tension[j] = rec->tension ? rec->tension[i] : 0.0; /* a force: not magnified */
     }
     out->time[to] = rec->time[frame];
     v3_copy(&out->tip_force[3 * to], &rec->tip_force[3 * frame]);
