@@ -318,6 +318,9 @@ void rod_state_reset(const rod_model *m, rod_state *s);
  * the point p, and that distance (m) in *distance when not NULL. */
 double rod_nearest_arc_length(const rod_model *m, const double *position, const double p[3],
                               double *distance);
+/* The same over segments first..last only (clamped to the rod's). */
+double rod_nearest_arc_length_between(const rod_model *m, const double *position,
+                                      const double p[3], int first, int last, double *distance);
 /* The internal (contact) force N(s) of the thesis at every node, global
  * components, N: `out` is (nodes x 3). At a held or driven end it is the
  * force between the rod and its support; inside, the mean of the two

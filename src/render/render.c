@@ -922,26 +922,33 @@ static void add_block(mesh *m, const double centre[3], double axes[3][3],
         }
 }
 
-/* A latitude-longitude sphere with radial normals. */
-static void add_ball(mesh *m, const double centre[3], double ball_radius)
+/* A latitude-longitude sphere with radial normals (the pinned end's ball, a
+ * sphere surface); the pole rows' degenerate triangles are left out. */
+static void add_globe(mesh *m, const double centre[3], double radius, int stacks, int slices,
+                      const float color[3])
 {
     unsigned first = (unsigned)m->vertex_count;
-    for (int i = 0; i <= BALL_STACKS; i++) {
-        double polar = M_PI * i / BALL_STACKS;
-        for (int j = 0; j <= BALL_SLICES; j++) {
-            double azimuth = 2 * M_PI * j / BALL_SLICES, p[3];
+    for (int i = 0; i <= stacks; i++) {
+        double polar = M_PI * i / stacks;
+        for (int j = 0; j <= slices; j++) {
+            double azimuth = 2 * M_PI * j / slices, p[3];
             double n[3] = {sin(polar) * cos(azimuth), sin(polar) * sin(azimuth), cos(polar)};
             v3_copy(p, centre);
-            v3_axpy(p, ball_radius, n);
-            add_vertex(m, p, n, render_ball_color);
+            v3_axpy(p, radius, n);
+            add_vertex(m, p, n, color);
         }
     }
-    for (int i = 0; i < BALL_STACKS; i++)
-        for (int j = 0; j < BALL_SLICES; j++) {
-            unsigned a = first + (unsigned)(i * (BALL_SLICES + 1) + j), b = a + BALL_SLICES + 1;
-            add_triangle(m, a, b, b + 1);
-            add_triangle(m, a, b + 1, a + 1);
+    for (int i = 0; i < stacks; i++)
+        for (int j = 0; j < slices; j++) {
+            unsigned a = first + (unsigned)(i * (slices + 1) + j), b = a + (unsigned)slices + 1;
+            if (i + 1 < stacks) add_triangle(m, a, b, b + 1);
+            if (i > 0) add_triangle(m, a, b + 1, a + 1);
         }
+}
+
+static void add_ball(mesh *m, const double centre[3], double ball_radius)
+{
+    add_globe(m, centre, ball_radius, BALL_STACKS, BALL_SLICES, render_ball_color);
 }
 
 /* The needle: a thin tube along its arc, closed at the back by a disc, its
@@ -1654,23 +1661,7 @@ static void add_plane(mesh *m, const double point[3], const double n[3], const d
 
 static void add_sphere(mesh *m, const double centre[3], double radius, const float color[3])
 {
-    unsigned first = (unsigned)m->vertex_count;
-    for (int i = 0; i <= SURFACE_STACKS; i++) {
-        double polar = M_PI * i / SURFACE_STACKS;
-        for (int j = 0; j <= SURFACE_SIDES; j++) {
-            double azimuth = 2 * M_PI * j / SURFACE_SIDES, p[3];
-            double n[3] = {sin(polar) * cos(azimuth), sin(polar) * sin(azimuth), cos(polar)};
-            v3_copy(p, centre);
-            v3_axpy(p, radius, n);
-            add_vertex(m, p, n, color);
-        }
-    }
-    for (int i = 0; i < SURFACE_STACKS; i++)
-        for (int j = 0; j < SURFACE_SIDES; j++) {
-            unsigned a = first + (unsigned)(i * (SURFACE_SIDES + 1) + j), b = a + SURFACE_SIDES + 1;
-            if (i > 0) add_triangle(m, a, b, a + 1);
-            if (i + 1 < SURFACE_STACKS) add_triangle(m, a + 1, b, b + 1);
-        }
+    add_globe(m, centre, radius, SURFACE_STACKS, SURFACE_SIDES, color);
 }
 
 /* A cylinder of `radius` about the axis through centre along the unit a,

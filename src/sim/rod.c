@@ -663,11 +663,13 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     }
 }
 
-double rod_nearest_arc_length(const rod_model *m, const double *position, const double p[3],
-                              double *distance)
+double rod_nearest_arc_length_between(const rod_model *m, const double *position,
+                                      const double p[3], int first, int last, double *distance)
 {
-    double best = INFINITY, best_s = 0.0;
-    for (int j = 0; j + 1 < m->nodes; j++) {
+    if (first < 0) first = 0;
+    if (last > m->nodes - 2) last = m->nodes - 2;
+    double best = INFINITY, best_s = first * m->ds;
+    for (int j = first; j <= last; j++) {
         const double *a = &position[3 * j], *b = &position[3 * (j + 1)];
         double ab[3], ap[3], q[3];
         v3_sub(ab, b, a);
@@ -683,6 +685,12 @@ double rod_nearest_arc_length(const rod_model *m, const double *position, const 
     }
     if (distance) *distance = best;
     return best_s;
+}
+
+double rod_nearest_arc_length(const rod_model *m, const double *position, const double p[3],
+                              double *distance)
+{
+    return rod_nearest_arc_length_between(m, position, p, 0, m->nodes - 2, distance);
 }
 
 void rod_internal_force(const rod_state *s, double *out)

@@ -850,9 +850,9 @@ static void prepare_punctures(implicit_work *w, const rod_model *m, const rod_st
  * a puncture is made: at the thread's own crossing, so the thread passes
  * through it from the start. Returns -1 when there is no room for one more
  * (ROD_MAX_PUNCTURES). */
-static int needle_punctures(implicit_work *w, const rod_model *m, rod_state *s, rod_report *report)
+static int needle_punctures(const rod_model *m, rod_state *s, rod_report *report)
 {
-    const int n = w->nodes;
+    const int n = m->nodes;
     const double reach = m->needle_radius + 2.0 * m->ds;
     for (int j = 0; j < m->surface_count && j < 32; j++) {
         const rod_surface *sf = &m->surfaces[j];
@@ -895,7 +895,6 @@ static int needle_punctures(implicit_work *w, const rod_model *m, rod_state *s, 
             ps->surface = j;
         }
     }
-    (void)w;
     return 0;
 }
 
@@ -903,26 +902,10 @@ static int needle_punctures(implicit_work *w, const rod_model *m, rod_state *s, 
  * point of the segments near the old one), and the force it exerts there. */
 static void update_punctures(implicit_work *w, const rod_model *m, rod_state *s)
 {
-    const int n = w->nodes;
     for (int k = 0; k < s->puncture_count; k++) {
         rod_puncture_state *ps = &s->puncture[k];
-        int j0 = w->punct[k].j;
-        double best = INFINITY;
-        for (int j = j0 - 3; j <= j0 + 3; j++) {
-            if (j < 0 || j > n - 2) continue;
-            const double *a = &s->position[3 * j], *b = &s->position[3 * (j + 1)];
-            double ab[3], ap[3], q[3];
-            v3_sub(ab, b, a);
-            v3_sub(ap, ps->point, a);
-            double f = v3_dot(ap, ab) / v3_dot(ab, ab);
-            f = f < 0.0 ? 0.0 : f > 1.0 ? 1.0 : f;
-            for (int c = 0; c < 3; c++) q[c] = a[c] + f * ab[c] - ps->point[c];
-            double d = v3_norm(q);
-            if (d < best) {
-                best = d;
-                ps->s = (j + f) * m->ds;
-            }
-        }
+        const int j0 = w->punct[k].j;
+        ps->s = rod_nearest_arc_length_between(m, s->position, ps->point, j0 - 3, j0 + 3, NULL);
         v3_scale(ps->force, w->punct[k].force, -1.0);
     }
 }
@@ -1622,7 +1605,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
         end_reactions(w, m, s->time, dt);
         memcpy(s->surface_force, w->surface_force, (size_t)n * 3 * sizeof(double));
         update_punctures(w, m, s);
-        if (w->needle_tissue && w->ends[1].held && needle_punctures(w, m, s, report)) return -2;
+        if (w->needle_tissue && w->ends[1].held && needle_punctures(m, s, report)) return -2;
         memcpy(w->moment0, w->moment1, (size_t)(n - 1) * 3 * sizeof(double));
         memcpy(w->d3mid0, w->d3mid1, (size_t)(n - 1) * 3 * sizeof(double));
     }

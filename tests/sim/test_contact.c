@@ -313,8 +313,9 @@ static void test_incline(void)
 
 /* Point at arc length u of the capstan's starting curve: up from the root
  * at (-rc, 0, -h), half a circle of radius rc over the top, down to the tip. */
-static void capstan_curve(double u, double h, double rc, double p[3])
+static void capstan_curve(double u, const double par[3], double p[3])
 {
+    const double h = par[0], rc = par[1];
     if (u <= h) {
         v3_set(p, -rc, 0.0, -h + u);
     } else if (u <= h + M_PI * rc) {
@@ -325,22 +326,25 @@ static void capstan_curve(double u, double h, double rc, double p[3])
     }
 }
 
+/* A curve given by arc length u and three parameters. */
+typedef void (*curve_fn)(double u, const double par[3], double p[3]);
+
 /* Nodes exactly ds apart (chords) along the curve, by bisection on u. */
-static void capstan_shape(double *out, int nodes, double ds, double h, double rc)
+static void chord_nodes(curve_fn curve, const double par[3], double *out, int nodes, double ds)
 {
     double u = 0.0;
-    capstan_curve(0.0, h, rc, out);
+    curve(0.0, par, out);
     for (int i = 1; i < nodes; i++) {
         double lo = u, hi = u + 2.0 * ds;
         for (int it = 0; it < 100; it++) {
             double mid = 0.5 * (lo + hi), p[3], d[3];
-            capstan_curve(mid, h, rc, p);
+            curve(mid, par, p);
             v3_sub(d, p, &out[3 * (i - 1)]);
             if (v3_norm(d) < ds) lo = mid;
             else hi = mid;
         }
         u = 0.5 * (lo + hi);
-        capstan_curve(u, h, rc, &out[3 * i]);
+        curve(u, par, &out[3 * i]);
     }
 }
 
@@ -361,7 +365,8 @@ static double capstan(double mu, double w_load, double pull, double duration, in
     m.linear_damping = 1e-3; /* N s/m^2: settles the waves of the start */
     double ds = length / (m.nodes - 1);
     m.initial_shape = malloc((size_t)m.nodes * 3 * sizeof(double));
-    capstan_shape(m.initial_shape, m.nodes, ds, h, rc);
+    const double par[3] = {h, rc, 0.0};
+    chord_nodes(capstan_curve, par, m.initial_shape, m.nodes, ds);
     /* the chords over the arc are shorter than the arc: the tip's end of
      * the straight part absorbs it (its last point is where it lands) */
     double rows[2 * 4] = {0.0, -rc, 0.0, -h, duration, -rc, 0.0, -h - pull};
@@ -435,8 +440,9 @@ static void test_capstan(void)
 /* Point at arc length u of a V through the origin: in from the root along
  * -u1, round the corner on a circle of radius rc (the origin on its
  * middle), out along u2; the strands at +-half from the horizontal (15 degrees: a 30 degree turn at the point, resolved by the grid; at 60 degrees, the turn concentrated in two segments, the split of the force into along and across the thread errs by 3 %). */
-static void vee_curve(double u, double length, double half, double rc, double p[3])
+static void vee_curve(double u, const double par[3], double p[3])
 {
+    const double length = par[0], half = par[1], rc = par[2];
     const double arc = rc * 2.0 * half, straight = 0.5 * (length - arc);
     const double c = cos(half), sn = sin(half);
     /* corner circle centre above the origin */
@@ -467,21 +473,8 @@ static double puncture_run(double mu, double w_load, double *t_root, double *u1,
     m.linear_damping = 1e-3;
     double ds = length / (m.nodes - 1);
     m.initial_shape = malloc((size_t)m.nodes * 3 * sizeof(double));
-    /* nodes exactly ds apart along the curve (chords), as capstan_shape */
-    double u = 0.0;
-    vee_curve(0.0, length, half, rc, m.initial_shape);
-    for (int i = 1; i < m.nodes; i++) {
-        double lo = u, hi = u + 2.0 * ds;
-        for (int it = 0; it < 100; it++) {
-            double mid = 0.5 * (lo + hi), q[3], dd[3];
-            vee_curve(mid, length, half, rc, q);
-            v3_sub(dd, q, &m.initial_shape[3 * (i - 1)]);
-            if (v3_norm(dd) < ds) lo = mid;
-            else hi = mid;
-        }
-        u = 0.5 * (lo + hi);
-        vee_curve(u, length, half, rc, &m.initial_shape[3 * i]);
-    }
+    const double par[3] = {length, half, rc};
+    chord_nodes(vee_curve, par, m.initial_shape, m.nodes, ds);
     double root0[3];
     v3_copy(root0, m.initial_shape);
     /* the root pulled 2 cm away along its strand */
