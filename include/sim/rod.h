@@ -196,6 +196,9 @@ typedef struct rod_model {
     double intrinsic_curvature[3];/* u0, 1/m, director components: M = B (u - u0) (thesis
                                      nomenclature; (3.5) with a rest curvature) */
     double initial_velocity[3];   /* m/s, global, the same at every node at t = 0 */
+    int self_contact;             /* 1 (default): non-neighbouring strands touch at the rod's
+                                     diameter (implicit scheme, 3-D; issue 12); 0: they pass */
+    double self_friction;         /* Coulomb coefficient between strands (scene rod.friction) */
 
     /* inputs: loads along the rod (scene [point_load], [loads]) */
     int point_load_count;
@@ -242,6 +245,8 @@ typedef struct rod_state {
     double end_moment[2][3];  /* N m, global, likewise */
     double *surface_force;    /* (nodes x 3), N, global: the force the surfaces exert on
                                  each node (contact and friction), 0 where none touches */
+    double *self_force;       /* (nodes x 3), N, global: the force other strands of the rod
+                                 exert on each node (self-contact), 0 where none touches */
     int puncture_count;       /* punctures the thread passes through now */
     rod_puncture_state puncture[ROD_MAX_PUNCTURES];
 } rod_state;

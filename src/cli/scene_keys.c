@@ -27,6 +27,9 @@ const ini_key scene_keys_rod[] = {
     {"rod", "curvature", "1/m", "0 0 0", "3 numbers",
      "intrinsic Darboux vector u0, director components: M = B (u - u0) (a spool's curl)"},
     {"rod", "initial_velocity", "m/s", "0 0 0", "3 numbers", "global, every node at t = 0"},
+    {"rod", "self_contact", "-", "yes", "yes | no",
+     "strands touch at the diameter, never pass (implicit scheme); no: they pass through"},
+    {"rod", "friction", "-", "0.2", ">= 0", "Coulomb coefficient between strands that touch"},
 
     {"solver", "scheme", "-", "implicit", "thesis | implicit | static",
      "how the rod is stepped"},

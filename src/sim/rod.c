@@ -27,6 +27,8 @@ rod_model rod_model_default(void)
     m.root_end = ROD_END_CLAMPED;
     m.tip_end = ROD_END_FREE;
     m.direction[0] = 1.0; /* straight along +x from the origin (thesis 4.2) */
+    m.self_contact = 1;
+    m.self_friction = 0.2;
     m.physics = (rod_physics){.twist = 1, .rotary_inertia = 1, .gravity = 1, .damping = 1,
                               .planar = 1};
     m.profile.kind = ROD_PROFILE_STEP;
@@ -593,8 +595,9 @@ rod_state *rod_state_create(const rod_model *m)
     s->darboux = calloc(n * 3, sizeof(double));
     s->contact_force = calloc(n * 3, sizeof(double));
     s->surface_force = calloc(n * 3, sizeof(double));
+    s->self_force = calloc(n * 3, sizeof(double));
     if (!s->position || !s->frame || !s->velocity || !s->angular_velocity || !s->darboux ||
-        !s->contact_force || !s->surface_force) {
+        !s->contact_force || !s->surface_force || !s->self_force) {
         rod_state_destroy(s);
         return NULL;
     }
@@ -612,6 +615,7 @@ void rod_state_destroy(rod_state *s)
     free(s->darboux);
     free(s->contact_force);
     free(s->surface_force);
+    free(s->self_force);
     free(s);
 }
 
@@ -625,6 +629,7 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     memset(s->end_force, 0, sizeof s->end_force);
     memset(s->end_moment, 0, sizeof s->end_moment);
     memset(s->surface_force, 0, n * 3 * sizeof(double));
+    memset(s->self_force, 0, n * 3 * sizeof(double));
     memset(s->puncture, 0, sizeof s->puncture);
     s->puncture_count = 0;
     /* the starting shape: positions exactly its nodes; frames twist-free along it. The

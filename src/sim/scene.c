@@ -566,15 +566,22 @@ static void resample(const double *points, int count, int nodes, double ds, doub
     }
 }
 
-/* Reads [rod] origin, direction, shape, curvature, initial_velocity. */
+/* Reads [rod] origin, direction, shape, curvature, initial_velocity,
+ * self_contact, friction. */
 static int read_start(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     int has_origin = ini_get_vector(doc, "rod", 0, "origin", m->origin, 3, err, errlen);
     int has_direction = ini_get_vector(doc, "rod", 0, "direction", m->direction, 3, err, errlen);
     if (has_origin < 0 || has_direction < 0 ||
         ini_get_vector(doc, "rod", 0, "curvature", m->intrinsic_curvature, 3, err, errlen) < 0 ||
-        ini_get_vector(doc, "rod", 0, "initial_velocity", m->initial_velocity, 3, err, errlen) < 0)
+        ini_get_vector(doc, "rod", 0, "initial_velocity", m->initial_velocity, 3, err, errlen) < 0 ||
+        ini_get_bool(doc, "rod", 0, "self_contact", &m->self_contact, err, errlen) < 0 ||
+        ini_get_double(doc, "rod", 0, "friction", &m->self_friction, err, errlen) < 0)
         return -1;
+    if (!(m->self_friction >= 0.0) || !isfinite(m->self_friction))
+        return ini_error(doc, "rod", 0, "friction", err, errlen,
+                         "must be a finite number >= 0: the Coulomb coefficient between strands "
+                         "that touch (default 0.2)");
     if (v3_norm(m->direction) == 0.0)
         return ini_error(doc, "rod", 0, "direction", err, errlen,
                          "must not be 0 0 0: the rod's initial tangent (normalised), e.g. 1 0 0");

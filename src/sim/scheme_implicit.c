@@ -70,8 +70,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sim/contact_law.h"
 #include "sim/path.h"
 #include "sim/rod_geometry.h"
+#include "sim/self_contact.h"
 #include "sim/surface.h"
 #include "base/vec3.h"
 
@@ -89,22 +91,16 @@
  * 2 BLOCK + BLOCK - 1 and 5 colours. */
 #define BAND_PUNCTURE 17
 #define MAX_SPLIT_DEPTH 12
+/* Self-contact's candidate pairs lie within this many diameters of one
+ * diameter apart at the start of a step, at most (single_step) */
+#define SELF_MARGIN 2.0
 /* Newton iterations one step may spend, splits included (each attempt costs
  * one more): bounds the time a hopeless step takes (about 1 s at NS = 1001)
  * instead of 4096 x 25 tries. Every loop of the scheme is bounded: Newton by
  * newton_max_iterations and this budget, splitting by MAX_SPLIT_DEPTH and
  * this budget, the rest by the node count. */
 #define STEP_ITERATION_BUDGET 2000
-/* Contact (node_contact, compliant_fraction): the normal force takes back at
- * least CONTACT_STIFF / (1 + CONTACT_STIFF) of a node's free motion into a
- * surface, so it sinks by at most 1 / CONTACT_STIFF of it (and never by
- * more than 1 % of the radius). The compliance keeps the step's equations
- * well posed: with an exact stop, a segment between two stuck nodes would
- * have an undetermined tension. */
-#define CONTACT_STIFF 1000.0
-/* m/s: the least and the largest creep speed of friction (creep_speed) */
-#define CONTACT_CREEP 1e-6
-#define CONTACT_CREEP_MAX 1e-3
+/* Contact laws and their constants: sim/contact_law.h */
 
 /* One end's condition, read once from the model (index 0 root, 1 tip). */
 typedef struct end_condition {
@@ -160,6 +156,12 @@ typedef struct implicit_work {
                               surface j (between its punctures): no contact with it */
     int needle_tissue;     /* 1: the driven tip carries a needle and a surface is tissue */
     rod_puncture_state save_puncture[ROD_MAX_PUNCTURES];
+    /* self-contact (issue 12; sim/self_contact.h): NULL when off */
+    rod_self_contact *self;
+    int self_off;          /* 1 while the banded Jacobian is built: it leaves the pairs out */
+    double *node_push;     /* (nodes) m/s per N: a force's effect on each node's velocity
+                              over the step (0 at a held end) */
+    double self_motion;    /* m: the largest node displacement of the last step */
     int save_puncture_count;
     int planar;        /* 1: the planar problem (rod_model_loads_planar and physics.planar) */
     int block, kl;     /* unknowns per block and half bandwidth (BLOCK/BAND or _PLANAR) */
@@ -231,6 +233,8 @@ static void destroy(void *p)
                          &w->pos0, &w->surface_force};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) free(*arrays[k]);
     free(w->threaded);
+    free(w->node_push);
+    rod_self_contact_destroy(w->self);
     free(w->pivot);
     free(w->inv_diag);
     free(w);
@@ -369,6 +373,12 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->fd_step = (m->surface_count || m->puncture_count) ? 1e-9 : 1e-7;
     w->surfaces = m->surfaces;
     if (!w->pos0 || !w->surface_force) goto oom;
+    if (m->self_contact && !w->planar) {
+        w->self = rod_self_contact_create(m->nodes, w->unknowns, w->first, BLOCK, m->diameter,
+                                          m->ds, m->self_friction);
+        w->node_push = calloc(n, sizeof(double));
+        if (!w->self || !w->node_push) goto oom;
+    }
     if (!w->phi0 || !w->phi1 || !w->phi_th || !w->vbar) goto oom;
     double point_peak = 0.0, point_moment_peak = 0.0;
     if (m->point_load_count > 0) {
@@ -597,51 +607,6 @@ static void end_velocity(implicit_work *w, const rod_model *m, const end_conditi
     }
 }
 
-/* The fraction of a free offset e (m: how deep a node's free motion would
- * end inside a surface, or how far a thread's point would miss its
- * puncture) that the contact force takes back: kappa / (1 + kappa), kappa =
- * CONTACT_STIFF + e / floor. What is left, e / (1 + kappa), is at most
- * e / CONTACT_STIFF and below `floor` (m) however far the free motion goes
- * (a light thread under a large force). It is an implicit spring of
- * stiffness kappa / a (a the point's compliance over the step), whose force
- * the step's Newton iteration solves with everything else. */
-static inline double compliant_fraction(double e, double floor)
-{
-    double kappa = CONTACT_STIFF + e / floor;
-    return kappa / (1.0 + kappa);
-}
-
-/* Regularised Coulomb friction on a point whose tangential speed would be
- * S without friction and falls by c per unit of the friction's fraction of
- * its limit (c = compliance x mu x normal force): the friction is mu lambda
- * phi(v / eps) against the end-of-step velocity v, phi(x) = x / sqrt(1 +
- * x^2) (viscous creep below eps, Coulomb above; smooth, so that Newton
- * converges through changes between stick and slip). Returns the speed v
- * that solves v + c phi(v / eps) = S. The left side is increasing and
- * concave, so Newton from v = max(0, S - c) (where it is <= S) climbs to the
- * root monotonically.
- *
- * eps = 1 / (CONTACT_STIFF / c + 1 / CONTACT_CREEP_MAX) + CONTACT_CREEP: in
- * stick the point keeps about 1 / (1 + CONTACT_STIFF) of its free
- * tangential motion over the step, which keeps the tension of a stuck
- * thread determined and the Jacobian well conditioned, but creeps no faster
- * than CONTACT_CREEP_MAX (a light thread under a large force would creep
- * fast); the floor CONTACT_CREEP keeps the law smooth where the normal force
- * is nearly 0. Sliding at v, the friction is short of mu lambda by about
- * (eps / v)^2 / 2. */
-static double creep_speed(double speed, double c)
-{
-    const double eps = 1.0 / (CONTACT_STIFF / c + 1.0 / CONTACT_CREEP_MAX) + CONTACT_CREEP;
-    double sp = speed > c ? speed - c : 0.0;
-    for (int it = 0; it < 60; it++) {
-        double x = sp / eps, q = 1.0 + x * x, root = sqrt(q);
-        double g = sp + c * x / root - speed;
-        if (!(g < -1e-15 * speed)) break;
-        sp -= g / (1.0 + (c / eps) / (q * root));
-    }
-    return sp > speed ? speed : sp;
-}
-
 /* Contact of node b with the surfaces (issue 11), inside the residual.
  *
  * The velocity is not a Newton unknown: (3.3)_1 gives it from N, and a
@@ -704,7 +669,7 @@ static void node_contact(implicit_work *w, const rod_model *m, int b, double pus
             }
             if (!(depth < 0.0)) continue;
             active++;
-            double lambda = -depth / a * compliant_fraction(-depth, 0.01 * grow), fn[3], vt[3];
+            double lambda = -depth / a * contact_fraction(-depth, 0.01 * grow), fn[3], vt[3];
             v3_scale(fn, n, lambda);
             v3_axpy(v1, push, fn);
             v3_axpy(vb, theta * push, fn);
@@ -714,7 +679,7 @@ static void node_contact(implicit_work *w, const rod_model *m, int b, double pus
             for (int k = 0; k < 3; k++) vt[k] = v1[k] - vn * n[k];
             double speed = v3_norm(vt), limit = sf->friction * lambda, ft[3];
             if (speed == 0.0 || limit == 0.0) continue;
-            double sp = creep_speed(speed, push * limit);
+            double sp = contact_creep_speed(speed, push * limit);
             v3_scale(ft, vt, -(speed - sp) / (push * speed));
             v3_axpy(v1, push, ft);
             v3_axpy(vb, theta * push, ft);
@@ -758,7 +723,7 @@ static void puncture_forces(implicit_work *w, const rod_model *m, double push, d
                     wk * (w->pos0[3 * i2 + c] + dt * w->vbar[3 * i2 + c]);
         v3_sub(e, rp, w->punct[k].point);
         v3_axpy(e, -v3_dot(e, t), t);
-        v3_scale(f, e, -compliant_fraction(v3_norm(e), 0.005 * m->diameter) / (dt * theta * peff));
+        v3_scale(f, e, -contact_fraction(v3_norm(e), 0.005 * m->diameter) / (dt * theta * peff));
         for (int c = 0; c < 3; c++) {
             w->vel1[3 * j + c] += pj * wj * f[c];
             w->vbar[3 * j + c] += theta * pj * wj * f[c];
@@ -771,7 +736,7 @@ static void puncture_forces(implicit_work *w, const rod_model *m, double push, d
         for (int c = 0; c < 3; c++) vt += t[c] * (wj * w->vel1[3 * j + c] + wk * w->vel1[3 * i2 + c]);
         double speed = fabs(vt);
         if (speed == 0.0 || limit == 0.0) continue;
-        double sp = creep_speed(speed, peff * limit);
+        double sp = contact_creep_speed(speed, peff * limit);
         double ft = -(speed - sp) / peff * (vt > 0.0 ? 1.0 : -1.0);
         for (int c = 0; c < 3; c++) {
             w->vel1[3 * j + c] += pj * wj * ft * t[c];
@@ -910,6 +875,33 @@ static void update_punctures(implicit_work *w, const rod_model *m, rod_state *s)
     }
 }
 
+/* Self-contact's data of a step (issue 12): each node's compliance over the
+ * step and the candidate pairs closer than one diameter + margin at its
+ * start. Returns -1 (message set) when there are more than the scratch
+ * holds. */
+static int prepare_self_contact(implicit_work *w, const rod_model *m, double dt, double margin,
+                                rod_report *report)
+{
+    const int n = w->nodes;
+    const double push = 1.0 / (m->ds * (m->mass_per_length / dt + m->options.theta * m->linear_damping));
+    for (int i = 0; i < n; i++) w->node_push[i] = push;
+    for (int which = 0; which < 2; which++) {
+        /* a held end moves with its support (a sleeve's slide is left out
+         * of the pairs' compliance: its force still acts) */
+        const end_condition *e = &w->ends[which];
+        w->node_push[which ? n - 1 : 0] = e->held ? 0.0 : 2.0 * push;
+    }
+    if (rod_self_contact_find(w->self, w->pos0, margin) < 0) {
+        snprintf(report->message, sizeof report->message,
+                 "implicit scheme: at t = %.6g s more than %d pairs of segments are within "
+                 "%.3g m of each other (self-contact); the rod is packed tighter than a knot: "
+                 "use fewer nodes (rod.nodes) or set rod.self_contact = no",
+                 w->save_time, w->self->max_pairs, m->diameter + margin);
+        return -1;
+    }
+    return 0;
+}
+
 /* The theta-mean tip force and moment over the step, global. */
 static void tip_load_mean(const implicit_work *w, const rod_model *m, double t, double dt,
                           const double *frame_th, double tipf[3], double tipm[3])
@@ -995,6 +987,8 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
         for (int which = 0; which < 2; which++)
             if (!w->ends[which].held) node_contact(w, m, which ? n - 1 : 0, 2.0 * push, dt);
     if (w->puncture_count) puncture_forces(w, m, push, dt);
+    if (w->self && w->self->count && !w->self_off)
+        rod_self_contact_forces(w->self, w->pos0, w->vel1, w->vbar, w->node_push, dt, theta, 1);
 
     /* (3.14) constraint on segment b-1 and (3.6)_2 on node b: block b */
     const double ms = 1.0 / w->moment_scale;
@@ -1228,6 +1222,9 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
 {
     const int nu = w->unknowns, kl = w->kl, ku = w->kl, ld = w->ldab, nb = w->block;
     memset(w->band, 0, (size_t)ld * (size_t)nu * sizeof(double));
+    /* the band leaves the self-contact pairs out: they couple distant blocks
+     * and join Newton's solve as a low-rank correction (newton_solve) */
+    w->self_off = 1;
     evaluate(w, m, w->x, t, dt, w->residual);
     const int colors = 2 * w->reach + 1, reach = w->reach;
     for (int color = 0; color < colors; color++) {
@@ -1255,6 +1252,11 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
                 }
             }
         }
+    }
+    w->self_off = 0;
+    if (w->self) {
+        rod_self_contact_invalidate(w->self);
+        if (w->self->count) evaluate(w, m, w->x, t, dt, w->residual); /* with the pairs */
     }
     lapack_int info = LAPACKE_dgbtrf_work(LAPACK_COL_MAJOR, nu, nu, kl, ku, w->band, ld, w->pivot);
     w->jacobian_builds++;
@@ -1291,6 +1293,18 @@ static int same_dt(double dt_factored, double dt)
     return fabs(dt - dt_factored) <= 1e-9 * fabs(dt);
 }
 
+static void band_solve_cb(const void *ctx, double *v) { band_solve(ctx, v); }
+
+/* Newton's correction dx = J^-1 r: the banded factors, and the self-contact
+ * pairs touching at this iterate as a low-rank correction on them. */
+static void newton_solve(implicit_work *w, const rod_model *m, double dt)
+{
+    band_solve(w, w->dx);
+    if (w->self && w->self->count)
+        rod_self_contact_correct(w->self, w->dx, w->node_push, m->options.theta * dt / m->ds,
+                                 band_solve_cb, w);
+}
+
 /* Newton on one step; on success the iterate x holds the solution. */
 static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod_report *report)
 {
@@ -1308,11 +1322,12 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         if (norm <= tol) return 0;
         if (--w->budget < 0) return -1;
         memcpy(w->dx, w->residual, (size_t)nu * sizeof(double));
-        band_solve(w, w->dx);
+        newton_solve(w, m, dt);
         for (int i = 0; i < nu; i++) w->x[i] -= w->dx[i];
         evaluate(w, m, w->x, t, dt, w->residual);
         double next = max_abs(w->residual, nu);
-        if (w->contact && !(next < norm)) {
+        const int contact = w->contact || (w->self && w->self->count);
+        if (contact && !(next < norm)) {
             /* contact makes the residual piecewise smooth: a full step can
              * jump across contacts that switch on or off, so back along it
              * until the residual falls (a line search; without contact the
@@ -1327,7 +1342,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
             }
         }
         if (!isfinite(next)) return -1;
-        if (next > 0.25 * norm && next > 10.0 * tol && (!fresh || w->contact)) {
+        if (next > 0.25 * norm && next > 10.0 * tol && (!fresh || contact)) {
             /* slow, and not merely at the round-off floor near the tolerance:
              * a stale Jacobian; refresh it at the current iterate */
             if (factor_jacobian(w, m, t, dt)) return -1;
@@ -1518,6 +1533,12 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
         }
     }
 
+    if (w->self && prepare_self_contact(w, m, dt,
+                                        fmax(0.5 * m->diameter, fmin(SELF_MARGIN * m->diameter,
+                                                                     3.0 * w->self_motion)),
+                                        report))
+        return -2;
+
     /* initial guess: the start-of-step values (N from the stored contact
      * force), or, continuing a run, the last two solutions extrapolated */
     if (continuing && w->dt_last > 0.0) {
@@ -1543,6 +1564,32 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
     if (newton(w, m, s->time, dt, report)) return -1;
     for (int i = 0; i < w->unknowns; i++)
         if (!isfinite(w->x[i])) return -1; /* never accept a non-finite solution */
+    if (w->self) {
+        /* no pass-through: every pair that could have met within the step
+         * must have been a candidate. Points move by at most `moved`, so two
+         * segments farther apart than one diameter + 2 moved at the start
+         * cannot touch on the way; a step that moved farther than the
+         * candidates' margin allowed is solved again with a wider one. The
+         * margin stays within SELF_MARGIN diameters: the pairs' contact is
+         * linearised about the start (the half-space between the closest
+         * points), which stands for the strands only near them, so a step
+         * that would need more is split, unless no strand is near at all */
+        double moved = 0.0;
+        for (int i = 0; i < n; i++) moved = fmax(moved, dt * v3_norm(&w->vbar[3 * i]));
+        for (int tries = 0; tries < 4 && 2.0 * moved > w->self->margin; tries++) {
+            if (3.0 * moved > SELF_MARGIN * m->diameter) {
+                if (rod_self_contact_near(w->self, w->pos0, 2.0 * moved) != 0) return -1;
+                break; /* nothing within reach: no candidates needed */
+            }
+            if (prepare_self_contact(w, m, dt, 3.0 * moved, report)) return -2;
+            if (newton(w, m, s->time, dt, report)) return -1;
+            moved = 0.0;
+            for (int i = 0; i < n; i++) moved = fmax(moved, dt * v3_norm(&w->vbar[3 * i]));
+        }
+        if (2.0 * moved > w->self->margin && 3.0 * moved <= SELF_MARGIN * m->diameter)
+            return -1; /* split the step */
+        w->self_motion = moved;
+    }
 
     /* accept: Newton's last residual evaluation was at x, so frame1, darboux1,
      * d3mid1 and moment1 (or phi1 in the plane) describe the end of the step */
@@ -1604,6 +1651,10 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
         }
         end_reactions(w, m, s->time, dt);
         memcpy(s->surface_force, w->surface_force, (size_t)n * 3 * sizeof(double));
+        if (w->self && w->self->count)
+            memcpy(s->self_force, w->self->node_force, (size_t)n * 3 * sizeof(double));
+        else
+            memset(s->self_force, 0, (size_t)n * 3 * sizeof(double));
         update_punctures(w, m, s);
         if (w->needle_tissue && w->ends[1].held && needle_punctures(m, s, report)) return -2;
         memcpy(w->moment0, w->moment1, (size_t)(n - 1) * 3 * sizeof(double));

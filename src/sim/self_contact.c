@@ -1,0 +1,454 @@
+/* self_contact.c: contact between non-neighbouring strands of the rod in
+ * the implicit step (self_contact.h; issue 12). */
+#include "sim/self_contact.h"
+
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/vec3.h"
+#include "sim/contact_law.h"
+
+/* Newton iterations on the pairs' joint problem, and its tolerance on the
+ * forces relative to the largest (rod_self_contact_forces) */
+_Static_assert(sizeof(lapack_int) == sizeof(int), "pivots are stored as int");
+
+#define SWEEPS_MAX 60
+#define SWEEP_TOL 1e-12
+
+rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, int block,
+                                          double diameter, double ds, double friction)
+{
+    rod_self_contact *sc = calloc(1, sizeof *sc);
+    if (!sc) return NULL;
+    sc->nodes = nodes;
+    sc->unknowns = unknowns;
+    sc->first = first;
+    sc->block = block;
+    sc->diameter = diameter;
+    sc->friction = friction;
+    /* Non-neighbours: closer in arc length than half a turn of the tightest
+     * bend the rod can take, two points cannot touch as strands. That bend
+     * is of radius d / 2 (rod_proximity_skip), or, on a grid whose nodes
+     * turn by at most 1 rad (ROD_UNRESOLVED_BEND: a sharper step is refused),
+     * ds / (2 sin 0.5) = 1.04 ds: half a turn spans 3.3 segments, so pairs
+     * fewer than 5 segments apart are neighbours. Pairs nearer than that
+     * face each other across the segments between them (their closest
+     * points' normal along the rod), where a contact would fight the rod's
+     * inextensibility. */
+    sc->skip = rod_proximity_skip(diameter, ds);
+    if (sc->skip < 4) sc->skip = 4;
+    /* a strand can touch a handful of others at once (a knot's crossing:
+     * two or three): 8 per segment is far beyond any tight knot */
+    sc->max_pairs = 8 * nodes + 64;
+    sc->pair = calloc((size_t)sc->max_pairs, sizeof *sc->pair);
+    sc->found = calloc((size_t)sc->max_pairs, sizeof *sc->found);
+    sc->node_force = calloc((size_t)nodes * 3, sizeof(double));
+    sc->prox = rod_proximity_create(nodes);
+    sc->s = malloc((size_t)9 * SELF_CONTACT_RANK_PAIRS * SELF_CONTACT_RANK_PAIRS * sizeof(double));
+    sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
+    sc->pivot = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(int));
+    if (!sc->pair || !sc->found || !sc->node_force || !sc->prox || !sc->s || !sc->rhs || !sc->pivot) {
+        rod_self_contact_destroy(sc);
+        return NULL;
+    }
+    return sc;
+}
+
+void rod_self_contact_destroy(rod_self_contact *sc)
+{
+    if (!sc) return;
+    free(sc->pair);
+    free(sc->found);
+    free(sc->node_force);
+    free(sc->y);
+    free(sc->s);
+    free(sc->rhs);
+    free(sc->pivot);
+    rod_proximity_destroy(sc->prox);
+    free(sc);
+}
+
+void rod_self_contact_invalidate(rod_self_contact *sc)
+{
+    sc->columns = 0;
+    for (int p = 0; p < sc->count; p++) sc->pair[p].column = -1;
+}
+
+int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margin)
+{
+    return rod_proximity_pairs(sc->prox, pos0, sc->nodes, sc->diameter + margin, sc->skip, NULL, 0);
+}
+
+int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margin)
+{
+    const int n = sc->nodes, last = n - 2; /* segments 0..n-2 */
+    sc->margin = margin;
+    int found = rod_proximity_pairs(sc->prox, pos0, n, sc->diameter + margin, sc->skip, sc->found,
+                                    sc->max_pairs);
+    sc->count = 0;
+    rod_self_contact_invalidate(sc);
+    if (found < 0 || found > sc->max_pairs) return -1;
+    for (int k = 0; k < found; k++) {
+        const rod_segment_pair *f = &sc->found[k];
+        /* a closest point on the node two segments share belongs to the
+         * later one (its fraction 0 there), so the region counts once */
+        if (f->s >= 1.0 && f->i + 1 <= last && f->j - f->i - 1 > sc->skip) continue;
+        if (f->t >= 1.0 && f->j + 1 <= last) continue;
+        self_pair *p = &sc->pair[sc->count++];
+        memset(p, 0, sizeof *p);
+        p->a = f->i;
+        p->b = f->j;
+        p->alpha = f->s;
+        p->beta = f->t;
+        p->node[0] = f->i;
+        p->node[1] = f->i + 1;
+        p->node[2] = f->j;
+        p->node[3] = f->j + 1;
+        p->weight[0] = 1.0 - f->s;
+        p->weight[1] = f->s;
+        p->weight[2] = -(1.0 - f->t);
+        p->weight[3] = -f->t;
+        p->column = -1;
+        double pa[3], pb[3], d[3];
+        for (int c = 0; c < 3; c++) {
+            pa[c] = (1.0 - f->s) * pos0[3 * f->i + c] + f->s * pos0[3 * (f->i + 1) + c];
+            pb[c] = (1.0 - f->t) * pos0[3 * f->j + c] + f->t * pos0[3 * (f->j + 1) + c];
+        }
+        v3_sub(d, pa, pb);
+        double len = v3_norm(d);
+        if (len > 1e-12 * sc->diameter) {
+            v3_scale(p->normal, d, 1.0 / len);
+        } else {
+            /* the axes meet (a start already intersecting is refused; this
+             * is rounding): across both tangents */
+            double ta[3], tb[3];
+            v3_sub(ta, &pos0[3 * (f->i + 1)], &pos0[3 * f->i]);
+            v3_sub(tb, &pos0[3 * (f->j + 1)], &pos0[3 * f->j]);
+            v3_cross(d, ta, tb);
+            len = v3_norm(d);
+            if (!(len > 0.0)) v3_set(d, 0.0, 0.0, 1.0), len = 1.0;
+            v3_scale(p->normal, d, 1.0 / len);
+        }
+    }
+    return sc->count;
+}
+
+/* The pair's relative end-of-step position d (a's point minus b's) and
+ * relative end-of-step velocity z, from the nodes' current vbar and vel1. */
+static void pair_motion(const self_pair *p, const double *pos0, const double *vel1,
+                        const double *vbar, double dt, double d[3], double z[3])
+{
+    v3_set(d, 0.0, 0.0, 0.0);
+    v3_set(z, 0.0, 0.0, 0.0);
+    for (int e = 0; e < 4; e++) {
+        const int k = p->node[e];
+        const double w = p->weight[e];
+        for (int c = 0; c < 3; c++) {
+            d[c] += w * (pos0[3 * k + c] + dt * vbar[3 * k + c]);
+            z[c] += w * vel1[3 * k + c];
+        }
+    }
+}
+
+/* The pair's force (on a's point) for the relative motion d, z without it:
+ * the normal force that takes back all but 1 / (1 + kappa) of the overlap
+ * of the two capsules (contact_fraction), then Coulomb friction against the
+ * relative tangential velocity, limited by mu times the normal force
+ * (contact_creep_speed). As the surfaces' law (node_contact), with the
+ * pair's compliance in place of one node's. */
+static void pair_law(const rod_self_contact *sc, const self_pair *p, const double d[3],
+                     const double z[3], double dt, double theta, double f[3])
+{
+    const double peff = p->compliance, a = dt * theta * peff;
+    const double depth = v3_dot(p->normal, d) - sc->diameter;
+    v3_set(f, 0.0, 0.0, 0.0);
+    if (!(depth < 0.0)) return;
+    const double lambda = -depth / a * contact_fraction(-depth, 0.005 * sc->diameter);
+    v3_scale(f, p->normal, lambda);
+    double zz[3], vt[3];
+    for (int c = 0; c < 3; c++) zz[c] = z[c] + peff * f[c];
+    const double vn = v3_dot(zz, p->normal);
+    for (int c = 0; c < 3; c++) vt[c] = zz[c] - vn * p->normal[c];
+    const double speed = v3_norm(vt), limit = sc->friction * lambda;
+    if (speed == 0.0 || limit == 0.0) return;
+    const double sp = contact_creep_speed(speed, peff * limit);
+    v3_axpy(f, -(speed - sp) / (peff * speed), vt);
+}
+
+/* Adds the pair force f (scaled by sign) to its nodes' velocities. */
+static void apply(rod_self_contact *sc, const self_pair *p, const double f[3], double sign,
+                  double *vel1, double *vbar, const double *push, double theta)
+{
+    for (int e = 0; e < 4; e++) {
+        const int k = p->node[e];
+        const double w = sign * p->weight[e], pk = push[k] * w;
+        for (int c = 0; c < 3; c++) {
+            vel1[3 * k + c] += pk * f[c];
+            vbar[3 * k + c] += theta * pk * f[c];
+            sc->node_force[3 * k + c] += w * f[c];
+        }
+    }
+}
+
+/* The gain dF/dz of pair p at the current velocities (its own force taken
+ * out), by differences of the closed form: a change dz of the relative
+ * velocity moves the relative position by dt theta dz. Writes the force
+ * without its own contribution's change into target. */
+static void pair_gain(rod_self_contact *sc, self_pair *p, const double *pos0, double *vel1,
+                      double *vbar, const double *push, double dt, double theta, double target[3])
+{
+    double d[3], z[3];
+    apply(sc, p, p->force, -1.0, vel1, vbar, push, theta);
+    pair_motion(p, pos0, vel1, vbar, dt, d, z);
+    apply(sc, p, p->force, 1.0, vel1, vbar, push, theta);
+    pair_law(sc, p, d, z, dt, theta, target);
+    const double h = 1e-9 + 1e-7 * v3_norm(z);
+    for (int c = 0; c < 3; c++) {
+        double dp[3], zp[3], fp[3];
+        v3_copy(dp, d);
+        v3_copy(zp, z);
+        zp[c] += h;
+        dp[c] += dt * theta * h;
+        pair_law(sc, p, dp, zp, dt, theta, fp);
+        for (int r = 0; r < 3; r++) p->gain[3 * r + c] = (fp[r] - target[r]) / h;
+    }
+}
+
+/* How a force on pair q moves pair p's relative velocity directly (through
+ * the nodes they share): sum of the weights' product times push. */
+static double pair_coupling(const self_pair *p, const self_pair *q, const double *push)
+{
+    double a = 0.0;
+    for (int e = 0; e < 4; e++)
+        for (int f = 0; f < 4; f++)
+            if (p->node[e] == q->node[f]) a += p->weight[e] * q->weight[f] * push[p->node[e]];
+    return a;
+}
+
+/* What pair p's law asks for at the current velocities, with its own force
+ * taken out. */
+static void pair_target(rod_self_contact *sc, const self_pair *p, const double *pos0,
+                        double *vel1, double *vbar, const double *push, double dt, double theta,
+                        double f[3])
+{
+    double d[3], z[3];
+    apply(sc, p, p->force, -1.0, vel1, vbar, push, theta);
+    pair_motion(p, pos0, vel1, vbar, dt, d, z);
+    apply(sc, p, p->force, 1.0, vel1, vbar, push, theta);
+    pair_law(sc, p, d, z, dt, theta, f);
+}
+
+void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *vel1, double *vbar,
+                             const double *push, double dt, double theta, int gains)
+{
+    const int n = sc->nodes;
+    memset(sc->node_force, 0, (size_t)n * 3 * sizeof(double));
+    for (int q = 0; q < sc->count; q++) {
+        self_pair *p = &sc->pair[q];
+        v3_set(p->force, 0.0, 0.0, 0.0);
+        p->active = 0;
+        p->compliance = 0.0;
+        for (int e = 0; e < 4; e++) p->compliance += p->weight[e] * p->weight[e] * push[p->node[e]];
+    }
+    /* one sweep: each pair from the motion the pairs before it leave */
+    for (int q = 0; q < sc->count; q++) {
+        self_pair *p = &sc->pair[q];
+        if (!(p->compliance > 0.0)) continue;
+        pair_target(sc, p, pos0, vel1, vbar, push, dt, theta, p->force);
+        apply(sc, p, p->force, 1.0, vel1, vbar, push, theta);
+    }
+    /* then Newton on the pairs' joint problem F = phi(z_free + A F), where
+     * pairs share nodes: sweeps alone crawl when two touching pairs stick to
+     * nearly the same motion (their coupling is within 1 / CONTACT_STIFF of
+     * their own compliance) */
+    for (int it = 0; it < SWEEPS_MAX && sc->count > 1; it++) {
+        int m = 0, crowded = 0;
+        double err = 0.0, size = 0.0;
+        for (int q = 0; q < sc->count; q++) {
+            self_pair *p = &sc->pair[q];
+            if (!(p->compliance > 0.0)) continue;
+            double f[3], g[3];
+            pair_target(sc, p, pos0, vel1, vbar, push, dt, theta, f);
+            v3_sub(g, p->force, f);
+            err = fmax(err, v3_norm(g));
+            size = fmax(size, fmax(v3_norm(f), v3_norm(p->force)));
+            if (v3_norm(f) == 0.0 && v3_norm(p->force) == 0.0) continue;
+            if (m == SELF_CONTACT_RANK_PAIRS) {
+                crowded = 1;
+                continue;
+            }
+            sc->ranked[m] = q;
+            v3_copy(&sc->rhs[3 * m], g);
+            m++;
+        }
+        sc->sweeps++;
+        if (!(err > SWEEP_TOL * size)) break;
+        if (crowded) {
+            /* more pairs than the dense system holds: a sweep instead */
+            for (int q = 0; q < sc->count; q++) {
+                self_pair *p = &sc->pair[q];
+                if (!(p->compliance > 0.0)) continue;
+                double f[3];
+                apply(sc, p, p->force, -1.0, vel1, vbar, push, theta);
+                pair_target(sc, p, pos0, vel1, vbar, push, dt, theta, f);
+                v3_copy(p->force, f);
+                apply(sc, p, f, 1.0, vel1, vbar, push, theta);
+            }
+            continue;
+        }
+        /* (I - gain A) dF = -(F - phi), A without each pair's own compliance */
+        const int size3 = 3 * m;
+        for (int r = 0; r < m; r++) {
+            double target[3];
+            pair_gain(sc, &sc->pair[sc->ranked[r]], pos0, vel1, vbar, push, dt, theta, target);
+        }
+        for (int r = 0; r < m; r++) {
+            const self_pair *pr = &sc->pair[sc->ranked[r]];
+            for (int q = 0; q < m; q++) {
+                const double a = q == r ? 0.0 : pair_coupling(pr, &sc->pair[sc->ranked[q]], push);
+                for (int i = 0; i < 3; i++)
+                    for (int j = 0; j < 3; j++)
+                        sc->s[(size_t)(3 * r + i) + (size_t)size3 * (size_t)(3 * q + j)] =
+                            (r == q && i == j ? 1.0 : 0.0) - pr->gain[3 * i + j] * a;
+            }
+            for (int i = 0; i < 3; i++) sc->rhs[3 * r + i] = -sc->rhs[3 * r + i];
+        }
+        if (LAPACKE_dgesv(LAPACK_COL_MAJOR, size3, 1, sc->s, size3, (lapack_int *)sc->pivot,
+                          sc->rhs, size3) != 0)
+            break;
+        for (int r = 0; r < m; r++) {
+            self_pair *p = &sc->pair[sc->ranked[r]];
+            apply(sc, p, &sc->rhs[3 * r], 1.0, vel1, vbar, push, theta);
+            v3_axpy(p->force, 1.0, &sc->rhs[3 * r]);
+        }
+    }
+    for (int q = 0; q < sc->count; q++) {
+        self_pair *p = &sc->pair[q];
+        p->active = v3_norm(p->force) > 0.0;
+        if (gains && p->active) {
+            double target[3];
+            pair_gain(sc, p, pos0, vel1, vbar, push, dt, theta, target);
+        }
+    }
+}
+
+/* The blocks and coefficients of V_p: how the pair's relative velocity z
+ * depends on the forces N (v_k gains push_k N_{k+1/2} and loses push_k
+ * N_{k-1/2}; block b holds N_{b-1/2}, for b = 1..nodes-1). Returns the
+ * count (at most 8). */
+static int pair_columns(const rod_self_contact *sc, const self_pair *p, const double *push,
+                        int block[8], double coef[8])
+{
+    int count = 0;
+    for (int e = 0; e < 4; e++) {
+        const int k = p->node[e];
+        const double g = p->weight[e] * push[k];
+        if (g == 0.0) continue;
+        if (k >= 1) block[count] = k, coef[count++] = -g;
+        if (k + 1 <= sc->nodes - 1) block[count] = k + 1, coef[count++] = g;
+    }
+    return count;
+}
+
+static inline int row_of(const rod_self_contact *sc, int b, int c)
+{
+    return sc->block * (b - sc->first) + c;
+}
+
+int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *push, double c,
+                             void (*solve)(const void *ctx, double *v), const void *ctx)
+{
+    const int nu = sc->unknowns;
+    int m = 0;
+    for (int q = 0; q < sc->count && m < SELF_CONTACT_RANK_PAIRS; q++)
+        if (sc->pair[q].active) sc->ranked[m++] = q;
+    if (m == 0) return 0;
+    if (!sc->y) {
+        /* allocated when a pair first touches: a run without self-contact
+         * never holds it */
+        sc->y = malloc((size_t)nu * 3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
+        if (!sc->y) return -1;
+    }
+    /* Y = B^-1 V for pairs that have no columns yet (kept while B and the
+     * pairs stay) */
+    for (int r = 0; r < m; r++) {
+        self_pair *p = &sc->pair[sc->ranked[r]];
+        if (p->column >= 0) continue;
+        if (sc->columns + 3 > 3 * SELF_CONTACT_RANK_PAIRS) {
+            /* no room left until the next factorisation: drop it from the
+             * correction (Newton then converges more slowly) */
+            sc->ranked[r--] = sc->ranked[--m];
+            continue;
+        }
+        p->column = sc->columns;
+        sc->columns += 3;
+        int block[8];
+        double coef[8];
+        const int count = pair_columns(sc, p, push, block, coef);
+        for (int comp = 0; comp < 3; comp++) {
+            double *col = &sc->y[(size_t)(p->column + comp) * (size_t)nu];
+            memset(col, 0, (size_t)nu * sizeof(double));
+            for (int e = 0; e < count; e++) col[row_of(sc, block[e], comp)] += coef[e];
+            solve(ctx, col);
+        }
+    }
+    if (m == 0) return 0;
+    const int size = 3 * m;
+    double *s = sc->s, *rhs = sc->rhs;
+    /* H = A + c G (rows of pair r, columns of pair q), then S = I - gain H:
+     * G_rq = V_r^T Y_q; A_rq = sum over shared nodes of the weights' product
+     * times push (r != q): a force of q moves r's relative velocity directly */
+    for (int r = 0; r < m; r++) {
+        const self_pair *pr = &sc->pair[sc->ranked[r]];
+        int block[8];
+        double coef[8];
+        const int count = pair_columns(sc, pr, push, block, coef);
+        double t[3] = {0.0, 0.0, 0.0};
+        for (int e = 0; e < count; e++)
+            for (int l = 0; l < 3; l++) t[l] += coef[e] * dx[row_of(sc, block[e], l)];
+        for (int i = 0; i < 3; i++)
+            rhs[3 * r + i] = pr->gain[3 * i] * t[0] + pr->gain[3 * i + 1] * t[1] + pr->gain[3 * i + 2] * t[2];
+        for (int q = 0; q < m; q++) {
+            const self_pair *pq = &sc->pair[sc->ranked[q]];
+            double h[9] = {0.0};
+            for (int j = 0; j < 3; j++) {
+                const double *col = &sc->y[(size_t)(pq->column + j) * (size_t)nu];
+                for (int l = 0; l < 3; l++) {
+                    double g = 0.0;
+                    for (int e = 0; e < count; e++) g += coef[e] * col[row_of(sc, block[e], l)];
+                    h[3 * l + j] = c * g;
+                }
+            }
+            if (q != r) {
+                double a = 0.0;
+                for (int e = 0; e < 4; e++)
+                    for (int f = 0; f < 4; f++)
+                        if (pr->node[e] == pq->node[f])
+                            a += pr->weight[e] * pq->weight[f] * push[pr->node[e]];
+                h[0] += a, h[4] += a, h[8] += a;
+            }
+            /* column-major S for LAPACK: S[(3r+i) + size (3q+j)] */
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++) {
+                    double g = 0.0;
+                    for (int l = 0; l < 3; l++) g += pr->gain[3 * i + l] * h[3 * l + j];
+                    s[(size_t)(3 * r + i) + (size_t)size * (size_t)(3 * q + j)] =
+                        (r == q && i == j ? 1.0 : 0.0) - g;
+                }
+        }
+    }
+    lapack_int info = LAPACKE_dgesv(LAPACK_COL_MAJOR, size, 1, s, size, (lapack_int *)sc->pivot, rhs, size);
+    if (info != 0) return -1;
+    for (int q = 0; q < m; q++) {
+        const self_pair *pq = &sc->pair[sc->ranked[q]];
+        for (int j = 0; j < 3; j++) {
+            const double *col = &sc->y[(size_t)(pq->column + j) * (size_t)nu];
+            const double g = c * rhs[3 * q + j];
+            if (g == 0.0) continue;
+            for (int i = 0; i < nu; i++) dx[i] += g * col[i];
+        }
+    }
+    return 0;
+}
