@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "test.h"
@@ -193,6 +194,34 @@ static void test_one_step_per_line(void)
               strncmp(count, "8500 steps", 10) == 0,
           "8500 lines 1 ms apart, dt = 1 ms: one step each (%.24s), exit %d",
           count ? count : "no summary", rc);
+}
+
+/* --realtime paces a replayed path to the wall clock: 100 lines 1 ms apart
+ * cannot end before 0.1 s have passed (a lower bound: sleeping makes it
+ * longer, never shorter), each answered ok; the summary counts overruns;
+ * what the process may not do (lock memory, real-time priority) is said
+ * and the session goes on. */
+static void test_realtime(void)
+{
+    FILE *f = fopen(DIR "/paced.csv", "w");
+    if (!f) return;
+    for (int k = 1; k <= 100; k++) fprintf(f, "%.3f,0,0,0.5\n", k * 1e-3);
+    fclose(f);
+    struct timespec a, b;
+    clock_gettime(CLOCK_MONOTONIC, &a);
+    int rc = system(RODSIM_BIN " live " DIR "/hang.ini --realtime < " DIR "/paced.csv > " DIR
+                    "/paced_out.csv 2> " DIR "/stderr.txt");
+    clock_gettime(CLOCK_MONOTONIC, &b);
+    double wall = (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
+    read_stderr();
+    f = fopen(DIR "/paced_out.csv", "r");
+    char line[512];
+    int ok = 0;
+    while (f && fgets(line, sizeof line, f)) ok += strstr(line, ",ok") != NULL;
+    if (f) fclose(f);
+    check(rc == 0 && ok == 100 && wall >= 0.1 && strstr(stderr_text, "realtime overruns"),
+          "--realtime: 100 lines 1 ms apart answered ok (%d) in %.3f s >= 0.1 s, overruns "
+          "counted, exit %d", ok, wall, rc);
 }
 
 /* The same path live and replayed by rodsim run from the record: tip force. */
@@ -425,6 +454,7 @@ int main(void)
     test_hanging_weight_lockstep();
     test_bad_lines();
     test_one_step_per_line();
+    test_realtime();
     test_replay();
     test_driver();
     test_free_tip_loads();
