@@ -947,6 +947,23 @@ static int check_outputs(const run_args *a, char *err, size_t errlen)
     return 0;
 }
 
+int run_scene_outputs(const char *label, const char *name, const rod_model *m,
+                      const run_output *out, const char *out_dir, int allow_long, int quiet)
+{
+    char err[RUN_ERR_LEN] = "";
+    run_args a;
+    memset(&a, 0, sizeof a);
+    a.scene = label;
+    a.out_dir = out_dir;
+    a.allow_long = allow_long;
+    a.quiet = quiet;
+    if (check_outputs(&a, err, sizeof err)) {
+        fprintf(stderr, "rodsim: %s\n", err);
+        return RUN_EXIT_BAD_INPUT;
+    }
+    return simulate(&a, name, m, out);
+}
+
 int run_command(int argc, char **argv)
 {
     char err[RUN_ERR_LEN] = "";
