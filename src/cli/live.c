@@ -654,8 +654,12 @@ int live_command(int argc, char **argv)
             !ls.pose_mode ? "t,fx,fy,fz,mx,my,mz"
             : ls.columns == 7 ? "t,x,y,z[,rx,ry,rz]" : "t,x,y,z",
             ls.driven ? "tip" : "root");
-    print_header(&ls);
+    /* t = 0 on the wall clock before the header goes out: a client that
+     * paces itself from the header on is then never ahead of rodsim's clock
+     * (taken after, the header's reader could start its clock first, and
+     * --realtime would hold every line back by the difference) */
     ls.wall_origin = wall_seconds();
+    print_header(&ls);
     status = serve(&ls, line);
     /* the work per line, then what it is made of: what the latency adds
      * beyond it is the pipes and the scheduler */
