@@ -59,9 +59,8 @@ void live_usage(FILE *f)
         "good state, the stream goes on) | bad_input (a line of over %d bytes, not 4 or 7\n"
         "numbers, t not increasing, NaN: skipped; --on-error stop: exit 2)\n"
         "  --centreline   the node positions x0,y0,z0,... follow on the line\n"
-        "  --record FILE  the session, row by row: rodsim render FILE makes its video\n"
-        "  --realtime     pace to the wall clock; count overruns; lock memory, take\n"
-        "                 real-time priority, pin to a CPU (when permitted)\n"
+        "  --record FILE  the session, row by row (rodsim render FILE: its video)\n"
+        "  --realtime     pace to the wall clock, count overruns; mlock, SCHED_FIFO, pin\n"
         "End of input, SIGINT or SIGTERM end the session (exit 0, the record kept).\n",
         LIVE_LINE_MAX - 1);
 }

@@ -4,7 +4,7 @@
  * (lock-step through pipes: a missing flush would hang, caught by alarm());
  * bad lines get their line number and the policy (skip: answered bad_input;
  * stop: exit 2, the record kept); the record replayed by `rodsim run` gives
- * the same tip force as the live session. */
+ * the same tip force and centreline as the live session. */
 #include <fcntl.h>
 #include <math.h>
 #include <signal.h>
@@ -236,8 +236,8 @@ static void test_replay(void)
     }
     fclose(in);
     char out[1 << 14];
-    int rc = system(RODSIM_BIN " live " DIR "/hang.ini --record " DIR "/rec.csv < " DIR
-                    "/path_in.csv > " DIR "/live_out.csv 2>/dev/null");
+    int rc = system(RODSIM_BIN " live " DIR "/hang.ini --centreline --record " DIR "/rec.csv < "
+                    DIR "/path_in.csv > " DIR "/live_out.csv 2>/dev/null");
     check(rc == 0, "live session with --record: exit 0");
     const char *run_args[] = {"run", DIR "/hang.ini", "--set", "ends.tip_motion=" DIR "/rec.csv",
                               "--set", "solver.duration=0.4", "--set", "render.fps=100",
@@ -247,7 +247,7 @@ static void test_replay(void)
         printf("%s\n", out);
         return;
     }
-    static double live_force[64][3];
+    static double live_force[64][3], live_centreline[64][63];
     FILE *f = fopen(DIR "/live_out.csv", "r");
     char line[4096];
     int n = 0;
@@ -255,21 +255,32 @@ static void test_replay(void)
         double t, x, y, z;
         if (sscanf(line, "%lf,%lf,%lf,%lf", &t, &x, &y, &z) == 4) {
             int k = (int)lround(t / 0.01);
-            if (k >= 0 && k < 64) { live_force[k][0] = x; live_force[k][1] = y; live_force[k][2] = z; }
+            if (k < 0 || k >= 64) continue;
+            live_force[k][0] = x, live_force[k][1] = y, live_force[k][2] = z;
+            char *p = line; /* after the status: x0,y0,z0,... */
+            for (int c = 0; c < 8 && p; c++) p = strchr(p, ',') ? strchr(p, ',') + 1 : NULL;
+            for (int i = 0; i < 63 && p; i++) {
+                live_centreline[k][i] = strtod(p, NULL);
+                p = strchr(p, ',') ? strchr(p, ',') + 1 : NULL;
+            }
             n++;
         }
     }
     if (f) fclose(f);
     f = fopen(DIR "/run.csv", "r");
-    double worst = 0.0;
-    int compared = 0;
+    double worst = 0.0, worst_position = 0.0;
+    int compared = 0, positions = 0;
     while (f && fgets(line, sizeof line, f)) {
-        double t, nx, ny, nz;
+        double t, r[3], nx, ny, nz;
         int node;
-        if (sscanf(line, "%lf,%d,%*f,%*f,%*f,%*f,%*f,%*f,%*f,%*f,%lf,%lf,%lf", &t, &node, &nx, &ny,
-                   &nz) != 5 || node != 20 || t <= 0.0)
+        if (sscanf(line, "%lf,%d,%*f,%lf,%lf,%lf,%*f,%*f,%*f,%*f,%lf,%lf,%lf", &t, &node, &r[0],
+                   &r[1], &r[2], &nx, &ny, &nz) != 8 || t <= 0.0 || node < 0 || node > 20)
             continue;
         int k = (int)lround(t / 0.01);
+        for (int c = 0; c < 3; c++)
+            worst_position = fmax(worst_position, fabs(r[c] - live_centreline[k][3 * node + c]));
+        positions++;
+        if (node != 20) continue;
         double d = fmax(fabs(-nx - live_force[k][0]),
                         fmax(fabs(-ny - live_force[k][1]), fabs(-nz - live_force[k][2])));
         worst = fmax(worst, d);
@@ -281,6 +292,12 @@ static void test_replay(void)
           "live and replayed tip force agree at %d output times: largest difference %.3e N "
           "(%.1e of the weight; Newton tolerance 1e-8 on a force differenced over dt)",
           compared, worst, worst / weight);
+    /* to the Newton tolerance 1e-8, relative to the length 0.5 m (run's CSV
+     * writes 10 digits: 5e-11 m) */
+    check(positions == 40 * 21 && worst_position <= 1e-8 * 0.5,
+          "live (--centreline) and replayed centreline agree at %d node positions: largest "
+          "difference %.3e m (%.1e of the length)", positions, worst_position,
+          worst_position / 0.5);
 }
 
 /* The example driver (tests/live_driver.c, built beside the tests) plays
