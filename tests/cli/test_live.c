@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -171,6 +172,47 @@ static void test_bad_lines(void)
     check(rows == 2 && has_first, "the record keeps the start and the line before the bad one "
           "(%d rows)", rows);
     alarm(0);
+}
+
+/* Named pipes (a sensor bridge writes one, an app reads the other): 50
+ * lines in lock-step, each answered ok before the next is written. */
+static void test_fifos(void)
+{
+    unlink(DIR "/in.fifo");
+    unlink(DIR "/out.fifo");
+    if (!check(mkfifo(DIR "/in.fifo", 0600) == 0 && mkfifo(DIR "/out.fifo", 0600) == 0,
+               "two FIFOs made"))
+        return;
+    alarm(120); /* a lost flush or open would block: the alarm ends the test */
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) { /* opens in the same order as the parent: in, then out */
+        int in = open(DIR "/in.fifo", O_RDONLY), out = open(DIR "/out.fifo", O_WRONLY);
+        int e = open(DIR "/stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (in < 0 || out < 0) _exit(126);
+        dup2(in, 0);
+        dup2(out, 1);
+        if (e >= 0) dup2(e, 2);
+        execl(RODSIM_BIN, RODSIM_BIN, "live", DIR "/hang.ini", (char *)NULL);
+        _exit(127);
+    }
+    FILE *in = fopen(DIR "/in.fifo", "w"), *out = fopen(DIR "/out.fifo", "r");
+    char answer[512];
+    int ok = 0;
+    if (in && out && fgets(answer, sizeof answer, out))
+        for (int k = 1; k <= 50; k++) {
+            fprintf(in, "%.3f,0,0,0.5\n", k * 1e-3);
+            fflush(in);
+            if (!fgets(answer, sizeof answer, out)) break;
+            ok += strstr(answer, ",ok\n") != NULL;
+        }
+    if (in) fclose(in);
+    if (out) fclose(out);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    alarm(0);
+    check(ok == 50 && WIFEXITED(status) && WEXITSTATUS(status) == 0,
+          "through FIFOs: %d of 50 lines answered ok in lock-step, exit 0", ok);
 }
 
 /* Lines 1 ms apart take one step of dt = 1 ms each, also after t = 8.192 s,
@@ -471,6 +513,7 @@ int main(void)
     test_hanging_weight_lockstep();
     test_bad_lines();
     test_one_step_per_line();
+    test_fifos();
     test_realtime();
     test_replay();
     test_driver();
