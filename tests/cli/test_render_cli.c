@@ -334,6 +334,6 @@ int main(void)
     test_killed_session_renders();
     test_cut_row();
     test_refused();
-    if (!getenv("KEEP")) test_remove_tree(DIR);
+    test_remove_tree(DIR);
     return test_finish();
 }
