@@ -128,7 +128,8 @@ int run_write_video(const rod_recording *rec, const run_output *out, const char 
 int run_scene_outputs(const char *label, const char *name, const rod_model *m,
                       const run_output *out, const char *out_dir, int allow_long, int quiet);
 
-/* `rodsim run ...`: argv[0] is "run". Returns an exit status (RUN_EXIT_*);
+/* `rodsim run ...`: argv[0] is "run"; a SCENE that is a `rodsim live`
+ * record is rendered by render_command. Returns an exit status (RUN_EXIT_*);
  * messages go to stdout (summary) and stderr (errors). Never calls exit(). */
 int run_command(int argc, char **argv);
 

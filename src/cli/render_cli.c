@@ -41,6 +41,7 @@ void render_usage(FILE *f)
             "rodsim run (DIR/NAME.mp4, DIR/NAME.png, NAME the record's file name without its\n"
             "extension): its scene simulated again, driven by the recorded rows, to the last\n"
             "complete row (a killed session renders as far as it was recorded).\n"
+            "rodsim run RECORD does the same.\n"
             "  --set render.key=value  override the scene's [render] keys (repeatable)\n"
             "  -o DIR                  directory for the video (default out/)\n"
             "  --allow-long, --quiet   as for rodsim run\n"

@@ -6,8 +6,9 @@
  * floor(T fps) + 1 (+ 1 for a partial interval) gives for T = the last row's
  * t; the last frame shows the rod's colour where live's own --centreline
  * answer at T projects (and not where the thread started). A record cut in
- * the middle of a row renders to the row before; a file that is not a
- * record, and a --set outside [render], are refused with exit 2. */
+ * the middle of a row renders to the row before, also through `rodsim run`;
+ * a file that is not a record, and a --set outside [render], are refused
+ * with exit 2. */
 #define DECODE_KEEP 16
 #include <fcntl.h>
 #include <math.h>
@@ -306,6 +307,21 @@ static void test_cut_row(void)
     if (frames >= 0) decoded_release(&d);
 }
 
+/* `rodsim run` on a record renders it as `rodsim render` does. */
+static void test_run_on_record(void)
+{
+    const char *args[] = {"run", DIR "/cut.csv", "-o", DIR "/run_out", "--set", "render.width=64",
+                          "--set", "render.height=48", "--quiet", NULL};
+    static char output[1 << 16];
+    int rc = test_run_rodsim_within(args, 300, output, sizeof output);
+    decoded d;
+    int frames = rc == 0 && decode_video(DIR "/run_out/cut.mp4", &d) == 0 ? d.frames : -1;
+    check(rc == 0 && frames == expected_frames(0.3, FPS),
+          "rodsim run on a record: exit %d, run_out/cut.mp4 with %d frames (%d)", rc, frames,
+          expected_frames(0.3, FPS));
+    if (frames >= 0) decoded_release(&d);
+}
+
 static void test_refused(void)
 {
     static char output[1 << 14];
@@ -333,6 +349,7 @@ int main(void)
     fclose(f);
     test_killed_session_renders();
     test_cut_row();
+    test_run_on_record();
     test_refused();
     test_remove_tree(DIR);
     return test_finish();
