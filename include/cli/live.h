@@ -17,12 +17,21 @@
  * step failed: the last good state, the line dropped from the driven path)
  * or bad_input (the line was refused and skipped). Everything else goes to
  * standard error. --record writes a path (or load table) with velocities
- * that `rodsim run` replays (see live_usage).
+ * that `rodsim run` replays and `rodsim render` turns into the video
+ * (render_cli.h), row by row as the session goes.
  */
 #ifndef RODSIM_LIVE_H
 #define RODSIM_LIVE_H
 
 #include <stdio.h>
+
+/* The record's first lines (then the CSV header and rows): the magic and
+ * the scene given, the scene's absolute path, one line per --set (in order),
+ * solver.dt (s). */
+#define LIVE_RECORD_MAGIC "# rodsim live record of "
+#define LIVE_RECORD_SCENE "# scene: "
+#define LIVE_RECORD_SET "# set: "
+#define LIVE_RECORD_DT "# dt: "
 
 /* Longest input line, bytes with its newline: a longer one is refused. */
 #define LIVE_LINE_MAX 4096

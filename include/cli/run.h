@@ -121,7 +121,15 @@ int run_csv_frame(FILE *f, const rod_model *m, const rod_state *s);
 int run_write_video(const rod_recording *rec, const run_output *out, const char *out_dir,
                     char *err, size_t errlen);
 
-/* `rodsim run ...`: argv[0] is "run". Returns an exit status (RUN_EXIT_*);
+/* Simulates a scene already read (run_read_scene) and writes its video and
+ * poster into out_dir as `rodsim run` does, named `name`; `label` (the
+ * scene's or a record's path) heads the summary. Checks out_dir first.
+ * Returns an exit status (RUN_EXIT_*). For `rodsim render` (render_cli.h). */
+int run_scene_outputs(const char *label, const char *name, const rod_model *m,
+                      const run_output *out, const char *out_dir, int allow_long, int quiet);
+
+/* `rodsim run ...`: argv[0] is "run"; a SCENE that is a `rodsim live`
+ * record is rendered by render_command. Returns an exit status (RUN_EXIT_*);
  * messages go to stdout (summary) and stderr (errors). Never calls exit(). */
 int run_command(int argc, char **argv);
 

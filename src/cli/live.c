@@ -16,15 +16,23 @@
  *     live steps (inputs every 1/render.fps s) gives the same forces to the
  *     Newton tolerance;
  *   - SIGINT and SIGTERM end the session like the end of input: the record
- *     is kept, exit 0.
+ *     is kept, exit 0;
+ *   - the record is a journal, written under its own name as the session
+ *     goes (not through outfile.h's temporary), each row flushed after its
+ *     answer: a session killed outright (kill -9, a crash, power) keeps
+ *     every step recorded so far, and `rodsim render` renders it up to its
+ *     last complete row; the header names the scene (absolute path), the
+ *     --set overrides and dt, so the record alone says how to replay it.
  * No allocation after the first line: the input buffer, the path's rows,
  * the load table and the snapshot of the last good state are made before.
  */
-#define _GNU_SOURCE /* mlockall flags, clock_nanosleep */
+#define _GNU_SOURCE /* mlockall flags, clock_nanosleep, sched_setaffinity */
 #include "cli/live.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
+#include <sched.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,6 +40,7 @@
 #include <time.h>
 
 #include "base/ini.h"
+#include "base/numfmt.h"
 #include "base/outfile.h"
 #include "cli/args.h"
 #include "cli/run.h"
@@ -50,9 +59,8 @@ void live_usage(FILE *f)
         "good state, the stream goes on) | bad_input (a line of over %d bytes, not 4 or 7\n"
         "numbers, t not increasing, NaN: skipped; --on-error stop: exit 2)\n"
         "  --centreline   the node positions x0,y0,z0,... follow on the line\n"
-        "  --record FILE  the session as a path; replay: rodsim run SCENE --set\n"
-        "                 ends.tip_motion=FILE (the command is in its last comment)\n"
-        "  --realtime     pace to the wall clock; count overruns\n"
+        "  --record FILE  the session, row by row (rodsim render FILE: its video)\n"
+        "  --realtime     pace to the wall clock, count overruns; mlock, SCHED_FIFO, pin\n"
         "End of input, SIGINT or SIGTERM end the session (exit 0, the record kept).\n",
         LIVE_LINE_MAX - 1);
 }
@@ -113,6 +121,30 @@ static int parse_args(int argc, char **argv, live_args *a, char *err, size_t err
     return 0;
 }
 
+/* --realtime: locks the memory, takes a real-time priority (SCHED_FIFO 10:
+ * above every ordinary process, below the kernel's own threads, and the
+ * kernel's RT throttling still leaves 5 % of each second to the rest) and
+ * pins the process to the CPU it runs on (no migration between lines).
+ * What is not permitted (no CAP_IPC_LOCK or CAP_SYS_NICE) is said, and the
+ * session goes on without it. */
+static void realtime_setup(void)
+{
+    if (mlockall(MCL_CURRENT | MCL_FUTURE))
+        fprintf(stderr, "rodsim live: --realtime: could not lock memory (%s); going on\n",
+                strerror(errno));
+    struct sched_param priority = {.sched_priority = 10};
+    if (sched_setscheduler(0, SCHED_FIFO, &priority))
+        fprintf(stderr, "rodsim live: --realtime: no real-time priority (%s); going on\n",
+                strerror(errno));
+    int cpu = sched_getcpu();
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (cpu >= 0) CPU_SET(cpu, &set);
+    if (cpu < 0 || sched_setaffinity(0, sizeof set, &set))
+        fprintf(stderr, "rodsim live: --realtime: not pinned to a CPU (%s); going on\n",
+                strerror(errno));
+}
+
 static volatile sig_atomic_t stop_signal;
 static void on_stop_signal(int sig) { stop_signal = sig; }
 
@@ -160,6 +192,30 @@ static int split_numbers(char *line, double *values, int max)
     }
 }
 
+/* Bins of 1 us of the per-line timing histograms: 20 ms, the last bin
+ * holding anything longer. */
+#define LIVE_HISTOGRAM_BINS 20000
+
+static void histogram_add(unsigned *bins, double seconds)
+{
+    double us = seconds * 1e6;
+    int bin = us < 0.0 ? 0 : us >= LIVE_HISTOGRAM_BINS - 1 ? LIVE_HISTOGRAM_BINS - 1 : (int)us;
+    bins[bin]++;
+}
+
+/* The q-quantile (0..1) of `count` values in the histogram, us: the upper
+ * edge of the bin that holds it (the last bin: a lower bound). */
+static double histogram_quantile(const unsigned *bins, long count, double q)
+{
+    if (count <= 0) return 0.0;
+    long rank = (long)(q * (double)(count - 1)), seen = 0;
+    for (int i = 0; i < LIVE_HISTOGRAM_BINS; i++) {
+        seen += bins[i];
+        if (seen > rank) return i + 1.0;
+    }
+    return LIVE_HISTOGRAM_BINS;
+}
+
 typedef struct live_session {
     const live_args *args;
     rod_model *model;       /* the scene's (owns the live path in pose mode) */
@@ -173,13 +229,20 @@ typedef struct live_session {
     int driven;             /* end whose force is answered: 1 tip, 0 root */
     double table[14];       /* load mode: two rows t,fx..mz (the last good and the new) */
     double dt;              /* s, solver.dt */
-    outfile record;
+    FILE *record;           /* --record: the journal (NULL: none) */
     int recording;
     double first_gap, min_gap, max_gap; /* s, between stepped lines (for the replay line) */
     double line_gap;        /* s, the last stepped or failed line's t minus the state's before */
     long lines, answered_ok, failed, bad, steps, overruns;
     long jacobian_builds;   /* implicit scheme: since the start (rod_report) */
     double step_wall_max, step_wall_sum, worst_overrun;
+    /* what the work on a line is made of, s summed: parsing, the steps,
+     * formatting and writing the answer; and the distributions of the
+     * work per line and of its steps (LIVE_HISTOGRAM_BINS bins of 1 us, the
+     * last holds everything longer; made at setup) */
+    double parse_sum, step_sum, answer_sum;
+    unsigned *work_histogram, *step_histogram;
+    char *answer;           /* an answer line: (7 + 3 NS) numbers, the status (made at setup) */
     double wall_origin;     /* --realtime: the wall time at t = 0 */
 } live_session;
 
@@ -187,12 +250,25 @@ static void print_answer(live_session *ls, const char *status)
 {
     const rod_state *s = ls->state;
     const double *f = s->end_force[ls->driven], *mo = s->end_moment[ls->driven];
-    /* + 0.0 prints -0 as 0 */
-    printf("%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%s", s->time, f[0] + 0.0, f[1] + 0.0,
-           f[2] + 0.0, mo[0] + 0.0, mo[1] + 0.0, mo[2] + 0.0, status);
+    const double loads[6] = {f[0], f[1], f[2], mo[0], mo[1], mo[2]};
+    /* numfmt, not printf: %.12g's text at some 50 ns a number instead of
+     * 1 us (with --centreline at NS = 51, 160 numbers: 200 us a line); one
+     * write. + 0.0 prints -0 as 0 */
+    char *p = ls->answer;
+    p += numfmt_g(p, s->time, 12);
+    for (int k = 0; k < 6; k++) {
+        *p++ = ',';
+        p += numfmt_g(p, loads[k] + 0.0, 12);
+    }
+    *p++ = ',';
+    p += snprintf(p, 16, "%s", status);
     if (ls->args->centreline)
-        for (int i = 0; i < 3 * s->nodes; i++) printf(",%.12g", s->position[i] + 0.0);
-    putchar('\n');
+        for (int i = 0; i < 3 * s->nodes; i++) {
+            *p++ = ',';
+            p += numfmt_g(p, s->position[i] + 0.0, 12);
+        }
+    *p++ = '\n';
+    fwrite(ls->answer, 1, (size_t)(p - ls->answer), stdout);
     fflush(stdout);
 }
 
@@ -200,12 +276,13 @@ static void print_answer(live_session *ls, const char *status)
 static void record_row(live_session *ls, const double *row, const double *velocity)
 {
     if (!ls->recording) return;
-    FILE *f = ls->record.fp;
+    FILE *f = ls->record;
     fprintf(f, "%.17g", row[0]);
     for (int k = 1; k < ls->columns; k++) fprintf(f, ",%.17g", row[k]);
     if (velocity)
         for (int k = 0; k < ls->columns - 1; k++) fprintf(f, ",%.17g", velocity[k]);
     fputc('\n', f);
+    fflush(f); /* a killed session keeps it */
 }
 
 /* Steps the state to row[0] in equal steps of at most dt. 0, or -1 with the
@@ -214,7 +291,11 @@ static int advance(live_session *ls, const double *row, long line_no)
 {
     rod_state *s = ls->state;
     const double t = row[0], gap = t - s->time;
-    double count = ceil(gap / ls->dt * (1.0 - 1e-12));
+    /* a gap of dt to within 1e-9 is one step (run.c steps_for): the
+     * rounding of t (ulp 1.8e-15 s at t = 8 s, 1.8e-12 of a 1 ms gap) made
+     * a 1 kHz session take two half steps, and two Jacobian builds for
+     * the changed dt, on many lines after t = 8 s */
+    double count = ceil(gap / ls->dt * (1.0 - 1e-9));
     if (count < 1.0) count = 1.0;
     const long n = (long)count;
     const double h = gap / count;
@@ -275,26 +356,29 @@ static int handle_line(live_session *ls, const double *values, int count, long l
     const double before = s->time;
     ls->line_gap = values[0] - before;
     int failed;
+    double step_start;
     if (ls->pose_mode) {
         if (rod_path_push(ls->path, row, velocity, err, errlen)) return 1;
+        step_start = wall_seconds();
         failed = advance(ls, row, line_no);
         if (failed) rod_path_pop(ls->path);
-        else record_row(ls, row, velocity);
     } else {
         double previous[7];
         memcpy(previous, &ls->table[7], sizeof previous);
         memcpy(ls->table, previous, sizeof previous); /* the last good row, then the new one */
         memcpy(&ls->table[7], row, sizeof row);
         ls->loads_model.profile.table.rows = 2;
+        step_start = wall_seconds();
         failed = advance(ls, row, line_no);
         if (failed) {
             memcpy(&ls->table[7], previous, sizeof previous);
             ls->loads_model.profile.table.rows = 1;
             memmove(ls->table, previous, sizeof previous);
-        } else {
-            record_row(ls, row, NULL);
         }
     }
+    const double step_end = wall_seconds();
+    ls->step_sum += step_end - step_start;
+    histogram_add(ls->step_histogram, step_end - step_start);
     if (!failed) {
         double gap = row[0] - before;
         if (ls->answered_ok == 0) ls->first_gap = ls->min_gap = ls->max_gap = gap;
@@ -303,11 +387,15 @@ static int handle_line(live_session *ls, const double *values, int count, long l
         ls->answered_ok++;
     } else {
         ls->failed++;
-        if (ls->recording)
-            fprintf(ls->record.fp, "# input line %ld (t = %.17g s) failed: not replayed\n",
-                    line_no, row[0]);
     }
     print_answer(ls, failed ? "failed" : "ok");
+    ls->answer_sum += wall_seconds() - step_end;
+    /* the record after the answer: its formatting is not in the latency */
+    if (failed && ls->recording)
+        fprintf(ls->record, "# input line %ld (t = %.17g s) failed: not replayed\n", line_no,
+                row[0]);
+    else if (!failed)
+        record_row(ls, row, ls->pose_mode ? velocity : NULL);
     return 0;
 }
 
@@ -320,10 +408,45 @@ static void print_header(const live_session *ls)
     fflush(stdout);
 }
 
+/* Opens the record (its directory made if needed) and writes the lines
+ * that say how to replay it (live.h LIVE_RECORD_*). 0, or -1 with err. */
+static int record_open(live_session *ls, char *err, size_t errlen)
+{
+    const live_args *a = ls->args;
+    for (int i = 0; i < a->set_count; i++)
+        if (strpbrk(a->sets[i], "\r\n")) {
+            snprintf(err, errlen, "--set '%s': a line break cannot be recorded (--record)",
+                     a->sets[i]);
+            return -1;
+        }
+    char dir[OUTFILE_PATH_MAX];
+    snprintf(dir, sizeof dir, "%s", a->record);
+    char *slash = strrchr(dir, '/');
+    if (slash && slash != dir) {
+        *slash = '\0';
+        if (outfile_mkdirs(dir, err, errlen)) return -1;
+    }
+    char scene[PATH_MAX];
+    if (!realpath(a->scene, scene)) snprintf(scene, sizeof scene, "%s", a->scene);
+    if (!(ls->record = fopen(a->record, "w"))) {
+        snprintf(err, errlen, "--record %s: %s", a->record, strerror(errno));
+        return -1;
+    }
+    ls->recording = 1;
+    FILE *f = ls->record;
+    fprintf(f, "%s%s: %s\n", LIVE_RECORD_MAGIC, a->scene,
+            ls->pose_mode ? "the driven tip's path, with the velocities the live path gave"
+                          : "the tip loads (a 7-column load table)");
+    fprintf(f, "%s%s\n", LIVE_RECORD_SCENE, scene);
+    for (int i = 0; i < a->set_count; i++) fprintf(f, "%s%s\n", LIVE_RECORD_SET, a->sets[i]);
+    fprintf(f, "%s%.17g\n", LIVE_RECORD_DT, ls->dt);
+    return 0;
+}
+
 /* The replay command, the record's last comment. */
 static void record_replay_line(live_session *ls)
 {
-    FILE *f = ls->record.fp;
+    FILE *f = ls->record;
     const live_args *a = ls->args;
     fprintf(f, "# replay: rodsim run %s", a->scene);
     for (int i = 0; i < a->set_count; i++) fprintf(f, " --set '%s'", a->sets[i]);
@@ -373,6 +496,7 @@ static int serve(live_session *ls, char *line)
         } else {
             double values[8];
             int count = split_numbers(line, values, 7);
+            ls->parse_sum += wall_seconds() - start;
             if (count == -1) {
                 snprintf(err, sizeof err, "a field is not a number");
                 refused = 1;
@@ -412,6 +536,7 @@ static int serve(live_session *ls, char *line)
         double spent = wall_seconds() - start;
         ls->step_wall_sum += spent;
         ls->step_wall_max = fmax(ls->step_wall_max, spent);
+        histogram_add(ls->work_histogram, spent);
         if (ls->args->realtime && !refused) {
             /* an overrun: the work on the line took longer than its own gap
              * of simulated time, its wall budget: the next line, due one gap
@@ -440,7 +565,10 @@ static int setup(live_session *ls, rod_model *m, char *err, size_t errlen)
     ls->columns = ls->pose_mode ? (m->tip_end == ROD_END_CLAMPED ? 7 : 4) : 7;
     ls->state = rod_state_create(m);
     ls->good = rod_state_create(m);
-    if (!ls->state || !ls->good) {
+    ls->work_histogram = calloc(LIVE_HISTOGRAM_BINS, sizeof *ls->work_histogram);
+    ls->step_histogram = calloc(LIVE_HISTOGRAM_BINS, sizeof *ls->step_histogram);
+    ls->answer = malloc((size_t)(8 + 3 * m->nodes) * (NUMFMT_MAX + 1) + 16);
+    if (!ls->state || !ls->good || !ls->work_histogram || !ls->step_histogram || !ls->answer) {
         snprintf(err, errlen, "out of memory");
         return -1;
     }
@@ -513,12 +641,8 @@ int live_command(int argc, char **argv)
     if (run_read_scene(doc, &m, &out, err, sizeof err)) goto fail;
     if (setup(&ls, &m, err, sizeof err)) goto fail;
     if (a.record) {
-        if (outfile_open(&ls.record, a.record, err, sizeof err)) goto fail;
-        ls.recording = 1;
-        FILE *f = ls.record.fp;
-        fprintf(f, "# rodsim live record of %s: %s\n", a.scene,
-                ls.pose_mode ? "the driven tip's path, with the velocities the live path gave"
-                             : "the tip loads (a 7-column load table)");
+        if (record_open(&ls, err, sizeof err)) goto fail;
+        FILE *f = ls.record;
         if (ls.pose_mode) {
             fprintf(f, ls.columns == 7 ? "t,x,y,z,rx,ry,rz,vx,vy,vz,vrx,vry,vrz\n"
                                        : "t,x,y,z,vx,vy,vz\n");
@@ -530,9 +654,7 @@ int live_command(int argc, char **argv)
             record_row(&ls, ls.table, NULL);
         }
     }
-    if (a.realtime && mlockall(MCL_CURRENT | MCL_FUTURE))
-        fprintf(stderr, "rodsim live: --realtime: could not lock memory (%s); going on\n",
-                strerror(errno));
+    if (a.realtime) realtime_setup();
     /* the session ends on these like at the end of input (the record is kept) */
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
@@ -547,24 +669,40 @@ int live_command(int argc, char **argv)
             !ls.pose_mode ? "t,fx,fy,fz,mx,my,mz"
             : ls.columns == 7 ? "t,x,y,z[,rx,ry,rz]" : "t,x,y,z",
             ls.driven ? "tip" : "root");
-    print_header(&ls);
+    /* t = 0 on the wall clock before the header goes out: a client that
+     * paces itself from the header on is then never ahead of rodsim's clock
+     * (taken after, the header's reader could start its clock first, and
+     * --realtime would hold every line back by the difference) */
     ls.wall_origin = wall_seconds();
+    print_header(&ls);
     status = serve(&ls, line);
+    /* the work per line, then what it is made of: what the latency adds
+     * beyond it is the pipes and the scheduler */
+    const long stepped = ls.answered_ok + ls.failed;
+    const double per_line = ls.lines ? 1e6 / (double)ls.lines : 0.0;
     fprintf(stderr, "rodsim live: %ld lines: %ld ok, %ld failed, %ld bad; %ld steps to t = %g s "
-                    "(%ld Jacobian builds); work per line mean %.1f us, max %.1f us",
+                    "(%ld Jacobian builds); work per line mean %.1f us, p50 %.0f, p99 %.0f, "
+                    "p99.9 %.0f, max %.1f us; mean parse %.1f us, step %.1f us (p99 %.0f us), "
+                    "answer %.1f us",
             ls.lines, ls.answered_ok, ls.failed, ls.bad, ls.steps, ls.state->time,
-            ls.jacobian_builds,
-            ls.lines ? 1e6 * ls.step_wall_sum / (double)ls.lines : 0.0, 1e6 * ls.step_wall_max);
+            ls.jacobian_builds, per_line * ls.step_wall_sum,
+            histogram_quantile(ls.work_histogram, ls.lines, 0.5),
+            histogram_quantile(ls.work_histogram, ls.lines, 0.99),
+            histogram_quantile(ls.work_histogram, ls.lines, 0.999), 1e6 * ls.step_wall_max,
+            per_line * ls.parse_sum, stepped ? 1e6 * ls.step_sum / (double)stepped : 0.0,
+            histogram_quantile(ls.step_histogram, stepped, 0.99),
+            stepped ? 1e6 * ls.answer_sum / (double)stepped : 0.0);
     if (a.realtime)
         fprintf(stderr, "; realtime overruns %ld (worst %.1f us)", ls.overruns,
                 1e6 * ls.worst_overrun);
     fprintf(stderr, "%s\n", stop_signal ? "; ended by a signal" : "");
     if (ls.recording) {
         record_replay_line(&ls);
-        if (ferror(ls.record.fp) || outfile_commit(&ls.record, err, sizeof err)) {
-            if (!err[0]) snprintf(err, sizeof err, "%s: write error", a.record);
-            fprintf(stderr, "rodsim live: record: %s\n", err);
-            outfile_abort(&ls.record);
+        int failed = ferror(ls.record) != 0;
+        failed |= fclose(ls.record) != 0;
+        ls.record = NULL;
+        if (failed) {
+            fprintf(stderr, "rodsim live: record %s: write error (disk full?)\n", a.record);
             if (status == 0) status = RUN_EXIT_FAILURE;
         }
         ls.recording = 0;
@@ -573,10 +711,13 @@ int live_command(int argc, char **argv)
 fail:
     fprintf(stderr, "rodsim live: %s\n", err);
 done:
-    if (ls.recording) outfile_abort(&ls.record);
+    if (ls.record) fclose(ls.record); /* what was recorded stays */
     if (ls.solver.ops) rod_solver_release(&ls.solver);
     rod_state_destroy(ls.state);
     rod_state_destroy(ls.good);
+    free(ls.work_histogram);
+    free(ls.step_histogram);
+    free(ls.answer);
     rod_model_release(&m);
     ini_destroy(doc);
     free(a.sets);

@@ -6,6 +6,7 @@
 #include "cli/fem_cli.h"
 #include "cli/figure_cli.h"
 #include "cli/live.h"
+#include "cli/render_cli.h"
 
 #include "base/outfile.h"
 #include "cli/run.h"
@@ -36,6 +37,7 @@ static const command commands[] = {
     {"run", run_command, "simulate a rod scene; render its video and poster, write its CSV"},
     {"fem", fem_command, "solve a 2-D beam FEM scene (the fishing rod); print, plot, tabulate"},
     {"live", live_command, "drive a scene's tip from standard input; answer the force, flushed"},
+    {"render", render_command, "turn a rodsim live --record session into its video and poster"},
     {"sweep", sweep_command, "run a scene over the product of --vary lists; one CSV row per point"},
     {"stability", stability_command, "largest stable dt per scheme at the extremes; table, map"},
     {"figure", figure_command, "regenerate the thesis' figures (parallel sweeps) as PNG plots"},

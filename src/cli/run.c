@@ -15,6 +15,8 @@
 #include "base/outfile.h"
 #include "base/vec3.h"
 #include "cli/args.h"
+#include "cli/live.h"
+#include "cli/render_cli.h"
 #include "cli/scene_keys.h"
 #include "render/gl_context.h"
 #include "sim/knot.h"
@@ -947,6 +949,33 @@ static int check_outputs(const run_args *a, char *err, size_t errlen)
     return 0;
 }
 
+int run_scene_outputs(const char *label, const char *name, const rod_model *m,
+                      const run_output *out, const char *out_dir, int allow_long, int quiet)
+{
+    char err[RUN_ERR_LEN] = "";
+    run_args a;
+    memset(&a, 0, sizeof a);
+    a.scene = label;
+    a.out_dir = out_dir;
+    a.allow_long = allow_long;
+    a.quiet = quiet;
+    if (check_outputs(&a, err, sizeof err)) {
+        fprintf(stderr, "rodsim: %s\n", err);
+        return RUN_EXIT_BAD_INPUT;
+    }
+    return simulate(&a, name, m, out);
+}
+
+/* 1 when the file starts as a `rodsim live --record` record does. */
+static int is_live_record(const char *path)
+{
+    char head[sizeof LIVE_RECORD_MAGIC] = "";
+    FILE *f = fopen(path, "rb");
+    size_t got = f ? fread(head, 1, sizeof head - 1, f) : 0;
+    if (f) fclose(f);
+    return got == sizeof head - 1 && memcmp(head, LIVE_RECORD_MAGIC, got) == 0;
+}
+
 int run_command(int argc, char **argv)
 {
     char err[RUN_ERR_LEN] = "";
@@ -967,6 +996,10 @@ int run_command(int argc, char **argv)
         run_usage(stdout);
         free(a.sets);
         return RUN_EXIT_OK;
+    }
+    if (is_live_record(a.scene)) { /* `run` on a recording: its video (issue 13) */
+        free(a.sets);
+        return render_command(argc, argv);
     }
     if (check_outputs(&a, err, sizeof err)) {
         fprintf(stderr, "rodsim run: %s\n", err);

@@ -4,14 +4,16 @@
  * (lock-step through pipes: a missing flush would hang, caught by alarm());
  * bad lines get their line number and the policy (skip: answered bad_input;
  * stop: exit 2, the record kept); the record replayed by `rodsim run` gives
- * the same tip force as the live session. */
+ * the same tip force and centreline as the live session. */
 #include <fcntl.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "test.h"
@@ -129,24 +131,26 @@ static void test_bad_lines(void)
     memset(huge, '1', sizeof huge - 2);
     huge[sizeof huge - 2] = '\n';
     const char *lines[] = {"0.001,0,0,0.5\n", "0.002,zero,0,0.5\n", "0.002,0,0\n",
-                           "0.0005,0,0,0.5\n", "nan,0,0,0.5\n", huge, "0.002,0,0,0.5\n"};
+                           "0.0005,0,0,0.5\n", "nan,0,0,0.5\n", huge, "0.002,0,-inf,0.5\n",
+                           "0.002,0,0,0.5\n"};
     const char *expect[] = {"ok", "bad_input", "bad_input", "bad_input", "bad_input", "bad_input",
-                            "ok"};
+                            "bad_input", "ok"};
     int right = 0;
-    for (int i = 0; i < 7; i++) {
+    for (int i = 0; i < 8; i++) {
         if (exchange(&p, lines[i], answer, sizeof answer)) break;
         size_t len = strlen(answer);
         while (len && answer[len - 1] == '\n') answer[--len] = '\0';
         const char *comma = strrchr(answer, ',');
         right += comma && strcmp(comma + 1, expect[i]) == 0;
     }
-    check(right == 7, "good lines ok, bad lines answered bad_input and skipped: %d of 7", right);
+    check(right == 8, "good lines ok, bad lines answered bad_input and skipped: %d of 8", right);
     check(live_finish(&p) == 0, "--on-error skip: exit 0");
     read_stderr();
     const char *msgs[] = {"input line 2: a field is not a number", "input line 3: 3 numbers",
                           "input line 4: t = 0.0005", "input line 5: column 1 is not a finite",
-                          "input line 6: longer than 4095 bytes", "accepted: t,x,y,z or"};
-    for (int i = 0; i < 6; i++)
+                          "input line 6: longer than 4095 bytes",
+                          "input line 7: column 3 is not a finite", "accepted: t,x,y,z or"};
+    for (int i = 0; i < 7; i++)
         check(strstr(stderr_text, msgs[i]) != NULL, "stderr names the line: \"%s\"", msgs[i]);
 
     const char *stop_args[] = {DIR "/hang.ini", "--on-error", "stop", "--record",
@@ -170,6 +174,98 @@ static void test_bad_lines(void)
     alarm(0);
 }
 
+/* Named pipes (a sensor bridge writes one, an app reads the other): 50
+ * lines in lock-step, each answered ok before the next is written. */
+static void test_fifos(void)
+{
+    unlink(DIR "/in.fifo");
+    unlink(DIR "/out.fifo");
+    if (!check(mkfifo(DIR "/in.fifo", 0600) == 0 && mkfifo(DIR "/out.fifo", 0600) == 0,
+               "two FIFOs made"))
+        return;
+    alarm(120); /* a lost flush or open would block: the alarm ends the test */
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) { /* opens in the same order as the parent: in, then out */
+        int in = open(DIR "/in.fifo", O_RDONLY), out = open(DIR "/out.fifo", O_WRONLY);
+        int e = open(DIR "/stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (in < 0 || out < 0) _exit(126);
+        dup2(in, 0);
+        dup2(out, 1);
+        if (e >= 0) dup2(e, 2);
+        execl(RODSIM_BIN, RODSIM_BIN, "live", DIR "/hang.ini", (char *)NULL);
+        _exit(127);
+    }
+    FILE *in = fopen(DIR "/in.fifo", "w"), *out = fopen(DIR "/out.fifo", "r");
+    char answer[512];
+    int ok = 0;
+    if (in && out && fgets(answer, sizeof answer, out))
+        for (int k = 1; k <= 50; k++) {
+            fprintf(in, "%.3f,0,0,0.5\n", k * 1e-3);
+            fflush(in);
+            if (!fgets(answer, sizeof answer, out)) break;
+            ok += strstr(answer, ",ok\n") != NULL;
+        }
+    if (in) fclose(in);
+    if (out) fclose(out);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    alarm(0);
+    check(ok == 50 && WIFEXITED(status) && WEXITSTATUS(status) == 0,
+          "through FIFOs: %d of 50 lines answered ok in lock-step, exit 0", ok);
+}
+
+/* Lines 1 ms apart take one step of dt = 1 ms each, also after t = 8.192 s,
+ * where the rounding of t (ulp 1.8e-15 s) makes a gap differ from dt by more
+ * than 1e-12 of it: the step count was ceil(gap / dt (1 - 1e-12)), and 62
+ * of these 8500 lines took two half steps (and two Jacobian builds for the
+ * changed dt; 1571 builds instead of 369 in bench_live's 10 s). */
+static void test_one_step_per_line(void)
+{
+    FILE *f = fopen(DIR "/still.csv", "w");
+    if (!f) return;
+    for (int k = 1; k <= 8500; k++) fprintf(f, "%.3f,0,0,0.5\n", k * 1e-3);
+    fclose(f);
+    int rc = system(RODSIM_BIN " live " DIR "/hang.ini < " DIR "/still.csv > /dev/null 2> " DIR
+                    "/stderr.txt");
+    read_stderr();
+    const char *steps = strstr(stderr_text, " steps to t = 8.5 s");
+    const char *count = steps;
+    while (count && count > stderr_text && count[-1] >= '0' && count[-1] <= '9') count--;
+    check(rc == 0 && strstr(stderr_text, "8500 lines: 8500 ok") && steps &&
+              strncmp(count, "8500 steps", 10) == 0,
+          "8500 lines 1 ms apart, dt = 1 ms: one step each (%.24s), exit %d",
+          count ? count : "no summary", rc);
+}
+
+/* --realtime paces a replayed path to the wall clock: 100 lines 1 ms apart
+ * cannot end before 0.1 s have passed (a lower bound: sleeping makes it
+ * longer, never shorter), each answered ok; the summary counts overruns;
+ * what the process may not do (lock memory, real-time priority) is said
+ * and the session goes on. */
+static void test_realtime(void)
+{
+    FILE *f = fopen(DIR "/paced.csv", "w");
+    if (!f) return;
+    for (int k = 1; k <= 100; k++) fprintf(f, "%.3f,0,0,0.5\n", k * 1e-3);
+    fclose(f);
+    struct timespec a, b;
+    clock_gettime(CLOCK_MONOTONIC, &a);
+    int rc = system(RODSIM_BIN " live " DIR "/hang.ini --realtime < " DIR "/paced.csv > " DIR
+                    "/paced_out.csv 2> " DIR "/stderr.txt");
+    clock_gettime(CLOCK_MONOTONIC, &b);
+    double wall = (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
+    read_stderr();
+    f = fopen(DIR "/paced_out.csv", "r");
+    char line[512];
+    int ok = 0;
+    while (f && fgets(line, sizeof line, f)) ok += strstr(line, ",ok") != NULL;
+    if (f) fclose(f);
+    check(rc == 0 && ok == 100 && wall >= 0.1 && strstr(stderr_text, "realtime overruns"),
+          "--realtime: 100 lines 1 ms apart answered ok (%d) in %.3f s >= 0.1 s, overruns "
+          "counted, exit %d", ok, wall, rc);
+}
+
 /* The same path live and replayed by rodsim run from the record: tip force. */
 static void test_replay(void)
 {
@@ -182,8 +278,8 @@ static void test_replay(void)
     }
     fclose(in);
     char out[1 << 14];
-    int rc = system(RODSIM_BIN " live " DIR "/hang.ini --record " DIR "/rec.csv < " DIR
-                    "/path_in.csv > " DIR "/live_out.csv 2>/dev/null");
+    int rc = system(RODSIM_BIN " live " DIR "/hang.ini --centreline --record " DIR "/rec.csv < "
+                    DIR "/path_in.csv > " DIR "/live_out.csv 2>/dev/null");
     check(rc == 0, "live session with --record: exit 0");
     const char *run_args[] = {"run", DIR "/hang.ini", "--set", "ends.tip_motion=" DIR "/rec.csv",
                               "--set", "solver.duration=0.4", "--set", "render.fps=100",
@@ -193,7 +289,7 @@ static void test_replay(void)
         printf("%s\n", out);
         return;
     }
-    static double live_force[64][3];
+    static double live_force[64][3], live_centreline[64][63];
     FILE *f = fopen(DIR "/live_out.csv", "r");
     char line[4096];
     int n = 0;
@@ -201,21 +297,32 @@ static void test_replay(void)
         double t, x, y, z;
         if (sscanf(line, "%lf,%lf,%lf,%lf", &t, &x, &y, &z) == 4) {
             int k = (int)lround(t / 0.01);
-            if (k >= 0 && k < 64) { live_force[k][0] = x; live_force[k][1] = y; live_force[k][2] = z; }
+            if (k < 0 || k >= 64) continue;
+            live_force[k][0] = x, live_force[k][1] = y, live_force[k][2] = z;
+            char *p = line; /* after the status: x0,y0,z0,... */
+            for (int c = 0; c < 8 && p; c++) p = strchr(p, ',') ? strchr(p, ',') + 1 : NULL;
+            for (int i = 0; i < 63 && p; i++) {
+                live_centreline[k][i] = strtod(p, NULL);
+                p = strchr(p, ',') ? strchr(p, ',') + 1 : NULL;
+            }
             n++;
         }
     }
     if (f) fclose(f);
     f = fopen(DIR "/run.csv", "r");
-    double worst = 0.0;
-    int compared = 0;
+    double worst = 0.0, worst_position = 0.0;
+    int compared = 0, positions = 0;
     while (f && fgets(line, sizeof line, f)) {
-        double t, nx, ny, nz;
+        double t, r[3], nx, ny, nz;
         int node;
-        if (sscanf(line, "%lf,%d,%*f,%*f,%*f,%*f,%*f,%*f,%*f,%*f,%lf,%lf,%lf", &t, &node, &nx, &ny,
-                   &nz) != 5 || node != 20 || t <= 0.0)
+        if (sscanf(line, "%lf,%d,%*f,%lf,%lf,%lf,%*f,%*f,%*f,%*f,%lf,%lf,%lf", &t, &node, &r[0],
+                   &r[1], &r[2], &nx, &ny, &nz) != 8 || t <= 0.0 || node < 0 || node > 20)
             continue;
         int k = (int)lround(t / 0.01);
+        for (int c = 0; c < 3; c++)
+            worst_position = fmax(worst_position, fabs(r[c] - live_centreline[k][3 * node + c]));
+        positions++;
+        if (node != 20) continue;
         double d = fmax(fabs(-nx - live_force[k][0]),
                         fmax(fabs(-ny - live_force[k][1]), fabs(-nz - live_force[k][2])));
         worst = fmax(worst, d);
@@ -227,6 +334,12 @@ static void test_replay(void)
           "live and replayed tip force agree at %d output times: largest difference %.3e N "
           "(%.1e of the weight; Newton tolerance 1e-8 on a force differenced over dt)",
           compared, worst, worst / weight);
+    /* to the Newton tolerance 1e-8, relative to the length 0.5 m (run's CSV
+     * writes 10 digits: 5e-11 m) */
+    check(positions == 40 * 21 && worst_position <= 1e-8 * 0.5,
+          "live (--centreline) and replayed centreline agree at %d node positions: largest "
+          "difference %.3e m (%.1e of the length)", positions, worst_position,
+          worst_position / 0.5);
 }
 
 /* The example driver (tests/live_driver.c, built beside the tests) plays
@@ -399,6 +512,9 @@ int main(void)
     check(rc == 0 && lines <= 20, "rodsim live --help: exit 0, %d lines (at most 20)", lines);
     test_hanging_weight_lockstep();
     test_bad_lines();
+    test_one_step_per_line();
+    test_fifos();
+    test_realtime();
     test_replay();
     test_driver();
     test_free_tip_loads();

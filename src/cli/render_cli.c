@@ -1,0 +1,366 @@
+/* render_cli.c: `rodsim render RECORD` (see render_cli.h).
+ *
+ * Decisions where the issue is silent:
+ *   - the video is the scene simulated again, driven by the recorded rows
+ *     (the path with the velocities live gave them, or the load table), not
+ *     a copy of live's states: the frames then fall at k/fps exactly, and a
+ *     record stays small (one row per line); the forces agree with live's to
+ *     the Newton tolerance when the lines came every 1/fps s, and to the
+ *     scheme's time accuracy otherwise (test_live's replay);
+ *   - outputs are named after the record, so two sessions of one scene do
+ *     not overwrite each other's video;
+ *   - a record without its closing line (a killed session) or ending in a
+ *     line without its newline (killed while writing it) is rendered to its
+ *     last complete row, with a note on stderr, not refused: that is the
+ *     session as far as it was recorded.
+ */
+#define _GNU_SOURCE /* realpath */
+#include "cli/render_cli.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/ini.h"
+#include "cli/args.h"
+#include "cli/live.h"
+#include "cli/run.h"
+
+/* The longest line of a record: a data row is at most 13 numbers of
+ * %.17g; a header line holds a path or a --set value. */
+#define RECORD_LINE_MAX 8192
+
+void render_usage(FILE *f)
+{
+    fprintf(f,
+            "usage: rodsim render RECORD [--set render.key=value]... [-o DIR] [--allow-long]\n"
+            "                            [--quiet]\n"
+            "Turns a session recorded by rodsim live --record into the video and poster of\n"
+            "rodsim run (DIR/NAME.mp4, DIR/NAME.png, NAME the record's file name without its\n"
+            "extension): its scene simulated again, driven by the recorded rows, to the last\n"
+            "complete row (a killed session renders as far as it was recorded).\n"
+            "rodsim run RECORD does the same.\n"
+            "  --set render.key=value  override the scene's [render] keys (repeatable)\n"
+            "  -o DIR                  directory for the video (default out/)\n"
+            "  --allow-long, --quiet   as for rodsim run\n"
+            "Exit status: 0 success; 2 bad usage, a record or scene that cannot be read;\n"
+            "1 any other failure. Nothing is written unless the whole video is.\n");
+}
+
+typedef struct render_args {
+    const char *record;
+    const char **sets;
+    int set_count;
+    const char *out_dir;
+    int allow_long, quiet, help;
+} render_args;
+
+static int parse_args(int argc, char **argv, render_args *a, char *err, size_t errlen)
+{
+    a->out_dir = "out";
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i], *value = NULL;
+        if (!strcmp(arg, "--set") || !strcmp(arg, "-o")) {
+            if (i + 1 >= argc) {
+                snprintf(err, errlen, "%s needs a value", arg);
+                return -1;
+            }
+            value = argv[++i];
+            if (cli_option_value(arg, value, err, errlen)) return -1;
+        }
+        if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) a->help = 1;
+        else if (!strcmp(arg, "--set")) {
+            if (strncmp(value, "render.", 7) != 0) {
+                snprintf(err, errlen, "--set %s: only render.KEY=VALUE is accepted (the "
+                         "session's scene and physics are the record's)", value);
+                return -1;
+            }
+            a->sets[a->set_count++] = value;
+        } else if (!strcmp(arg, "-o")) a->out_dir = value;
+        else if (!strcmp(arg, "--allow-long")) a->allow_long = 1;
+        else if (!strcmp(arg, "--quiet") || !strcmp(arg, "-q")) a->quiet = 1;
+        else if (arg[0] == '-' && arg[1] != '\0') {
+            snprintf(err, errlen, "unknown option '%s'", arg);
+            return -1;
+        } else if (a->record) {
+            snprintf(err, errlen, "only one RECORD may be given ('%s' and '%s')", a->record, arg);
+            return -1;
+        } else {
+            a->record = arg;
+        }
+    }
+    if (!a->help && !a->record) {
+        snprintf(err, errlen, "no RECORD given (a file written by rodsim live --record)");
+        return -1;
+    }
+    return 0;
+}
+
+/* What a record holds, read by record_scan. */
+typedef struct live_record {
+    char scene[PATH_MAX];
+    int scene_line;
+    char **sets;        /* the session's --set values, in order (owned) */
+    int set_count;
+    double dt;          /* s */
+    int pose;           /* 1: a held tip's path; 0: the free tip's loads */
+    int numbers;        /* per row: 7 or 13 (pose), 7 (loads) */
+    long rows;          /* complete rows, the t = 0 row included */
+    double end;         /* s, the last complete row's t */
+    long complete_bytes; /* bytes up to the end of the last complete line */
+    int truncated_line; /* > 0: the line number of a last line without its newline */
+    int closed;         /* 1: the session's closing "# replay:" line is there */
+} live_record;
+
+static void record_release(live_record *r)
+{
+    for (int i = 0; i < r->set_count; i++) free(r->sets[i]);
+    free(r->sets);
+    r->sets = NULL;
+    r->set_count = 0;
+}
+
+static int starts(const char *line, const char *prefix)
+{
+    return strncmp(line, prefix, strlen(prefix)) == 0;
+}
+
+/* Reads the record's header and counts its complete rows. 0, or -1 with
+ * "FILE:LINE: ..." in err. */
+static int record_scan(const char *path, live_record *r, char *err, size_t errlen)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        snprintf(err, errlen, "%s: %s", path, strerror(errno));
+        return -1;
+    }
+    char line[RECORD_LINE_MAX];
+    int line_no = 0, header = 0, status = -1;
+    while (fgets(line, sizeof line, f)) {
+        line_no++;
+        size_t len = strlen(line);
+        if (len == 0 || line[len - 1] != '\n') {
+            if (feof(f)) { /* killed while writing it: the rows before it stand */
+                r->truncated_line = line_no;
+                break;
+            }
+            snprintf(err, errlen, "%s:%d: line longer than %d bytes: not a rodsim live record",
+                     path, line_no, RECORD_LINE_MAX - 1);
+            goto done;
+        }
+        line[--len] = '\0';
+        if (line_no == 1 && !starts(line, LIVE_RECORD_MAGIC)) {
+            snprintf(err, errlen, "%s:1: not a rodsim live record (it starts '%.40s'); "
+                     "accepted: a file written by rodsim live --record", path, line);
+            goto done;
+        }
+        if (starts(line, LIVE_RECORD_SCENE)) {
+            const char *scene = line + strlen(LIVE_RECORD_SCENE);
+            if (strlen(scene) >= sizeof r->scene) {
+                snprintf(err, errlen, "%s:%d: the scene's path is longer than %d bytes", path,
+                         line_no, (int)sizeof r->scene - 1);
+                goto done;
+            }
+            memcpy(r->scene, scene, strlen(scene) + 1);
+            r->scene_line = line_no;
+        } else if (starts(line, LIVE_RECORD_SET)) {
+            char **grown = realloc(r->sets, (size_t)(r->set_count + 1) * sizeof *grown);
+            char *copy = strdup(line + strlen(LIVE_RECORD_SET));
+            if (!grown || !copy) {
+                free(copy);
+                if (grown) r->sets = grown;
+                snprintf(err, errlen, "out of memory");
+                goto done;
+            }
+            r->sets = grown;
+            r->sets[r->set_count++] = copy;
+        } else if (starts(line, LIVE_RECORD_DT)) {
+            char *stop;
+            r->dt = strtod(line + strlen(LIVE_RECORD_DT), &stop);
+            if (*stop != '\0' || !isfinite(r->dt) || !(r->dt > 0.0)) {
+                snprintf(err, errlen, "%s:%d: '%.60s': accepted: %s followed by a time step > 0 s",
+                         path, line_no, line, LIVE_RECORD_DT);
+                goto done;
+            }
+        } else if (starts(line, "# replay:")) {
+            r->closed = 1;
+        } else if (line[0] == '#' || line[0] == '\0') {
+            continue;
+        } else if (!header) {
+            header = 1;
+            r->pose = strcmp(line, "t,fx,fy,fz,mx,my,mz") != 0;
+            if (!strcmp(line, "t,x,y,z,vx,vy,vz") || !r->pose) r->numbers = 7;
+            else if (!strcmp(line, "t,x,y,z,rx,ry,rz,vx,vy,vz,vrx,vry,vrz")) r->numbers = 13;
+            else {
+                snprintf(err, errlen, "%s:%d: column header '%.60s': accepted: t,x,y,z,vx,vy,vz, "
+                         "t,x,y,z,rx,ry,rz,vx,vy,vz,vrx,vry,vrz or t,fx,fy,fz,mx,my,mz",
+                         path, line_no, line);
+                goto done;
+            }
+        } else {
+            int fields = 1;
+            for (const char *c = line; *c; c++) fields += *c == ',';
+            char *stop;
+            double t = strtod(line, &stop);
+            if (fields != r->numbers || stop == line || *stop != ',' || !isfinite(t) ||
+                (r->rows > 0 && !(t > r->end))) {
+                snprintf(err, errlen, "%s:%d: a row of %d numbers, t increasing, expected "
+                         "(%d fields)", path, line_no, r->numbers, fields);
+                goto done;
+            }
+            r->end = t;
+            r->rows++;
+        }
+        r->complete_bytes = ftell(f);
+    }
+    if (ferror(f)) {
+        snprintf(err, errlen, "%s: read error", path);
+        goto done;
+    }
+    if (!r->scene[0] || !(r->dt > 0.0) || !header) {
+        snprintf(err, errlen, "%s: no %s line before the rows: not a complete rodsim live "
+                 "record header", path, !r->scene[0] ? "'# scene:'" : !(r->dt > 0.0) ? "'# dt:'"
+                                                                       : "column header");
+        goto done;
+    }
+    if (r->rows < 2) {
+        snprintf(err, errlen, "%s: the session stepped no line (only its t = 0 row): nothing "
+                 "to render", path);
+        goto done;
+    }
+    status = 0;
+done:
+    fclose(f);
+    return status;
+}
+
+/* The first complete_bytes of the record in a nameless temporary file, for
+ * the scene reader (which refuses a broken last row): *copy owns it, its
+ * name goes to name. 0, or -1 with err. */
+static int complete_copy(const char *path, long complete_bytes, FILE **copy, char *name,
+                         size_t namelen, char *err, size_t errlen)
+{
+    FILE *in = fopen(path, "rb");
+    FILE *out = tmpfile();
+    char buf[1 << 15];
+    long left = complete_bytes;
+    while (in && out && left > 0) {
+        size_t want = left < (long)sizeof buf ? (size_t)left : sizeof buf;
+        size_t got = fread(buf, 1, want, in);
+        if (got == 0 || fwrite(buf, 1, got, out) != got) break;
+        left -= (long)got;
+    }
+    if (in) fclose(in);
+    if (!out || left > 0 || fflush(out) != 0) {
+        snprintf(err, errlen, "%s: cannot copy its complete rows to a temporary file", path);
+        if (out) fclose(out);
+        return -1;
+    }
+    *copy = out;
+    snprintf(name, namelen, "/proc/self/fd/%d", fileno(out));
+    return 0;
+}
+
+/* NAME of DIR/NAME.EXT. */
+static void record_stem(const char *path, char *out, size_t outlen)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    const char *dot = strrchr(base, '.');
+    int len = dot && dot != base ? (int)(dot - base) : (int)strlen(base);
+    snprintf(out, outlen, "%.*s", len, len > 0 ? base : "record");
+}
+
+int render_command(int argc, char **argv)
+{
+    char err[1024] = "";
+    render_args a;
+    memset(&a, 0, sizeof a);
+    a.sets = calloc((size_t)argc, sizeof *a.sets);
+    if (!a.sets) {
+        fprintf(stderr, "rodsim render: out of memory\n");
+        return RUN_EXIT_FAILURE;
+    }
+    if (parse_args(argc, argv, &a, err, sizeof err)) {
+        fprintf(stderr, "rodsim render: %s\n", err);
+        render_usage(stderr);
+        free(a.sets);
+        return RUN_EXIT_BAD_INPUT;
+    }
+    if (a.help) {
+        render_usage(stdout);
+        free(a.sets);
+        return RUN_EXIT_OK;
+    }
+    int status = RUN_EXIT_BAD_INPUT;
+    live_record r;
+    memset(&r, 0, sizeof r);
+    rod_model m = rod_model_default();
+    run_output out;
+    ini_doc *doc = NULL;
+    FILE *copy = NULL;
+    char inputs[PATH_MAX + 32], assignment[PATH_MAX + 64];
+    if (record_scan(a.record, &r, err, sizeof err)) goto fail;
+    if (r.truncated_line || !r.closed) {
+        /* what the session recorded before it was cut short */
+        if (r.truncated_line)
+            fprintf(stderr, "rodsim render: %s:%d: an incomplete last line (the session was "
+                    "cut short while recording it): rendered to its last complete row, "
+                    "t = %.9g s\n", a.record, r.truncated_line, r.end);
+        else
+            fprintf(stderr, "rodsim render: %s: no closing '# replay:' line (the session was "
+                    "killed): rendered to its last row, t = %.9g s\n", a.record, r.end);
+    }
+    if (r.truncated_line) {
+        if (complete_copy(a.record, r.complete_bytes, &copy, inputs, sizeof inputs, err,
+                          sizeof err)) {
+            status = RUN_EXIT_FAILURE;
+            goto fail;
+        }
+    } else if (!realpath(a.record, inputs)) {
+        snprintf(err, sizeof err, "%s: %s", a.record, strerror(errno));
+        goto fail;
+    }
+    if (!(doc = ini_load(r.scene, err, sizeof err))) {
+        char why[sizeof err];
+        snprintf(why, sizeof why, "%s", err);
+        snprintf(err, sizeof err, "%.200s:%d: the session's scene: %.700s", a.record,
+                 r.scene_line, why);
+        goto fail;
+    }
+    for (int i = 0; i < r.set_count; i++)
+        if (ini_set(doc, r.sets[i], err, sizeof err)) goto fail;
+    for (int i = 0; i < a.set_count; i++)
+        if (ini_set(doc, a.sets[i], err, sizeof err)) goto fail;
+    /* the session's length and step, and its inputs in place of the scene's */
+    snprintf(assignment, sizeof assignment, "solver.duration=%.17g", r.end);
+    if (ini_set(doc, assignment, err, sizeof err)) goto fail;
+    snprintf(assignment, sizeof assignment, "solver.dt=%.17g", r.dt);
+    if (ini_set(doc, assignment, err, sizeof err)) goto fail;
+    if (r.pose) snprintf(assignment, sizeof assignment, "ends.tip_motion=%s", inputs);
+    else snprintf(assignment, sizeof assignment, "tip.profile=table %s", inputs);
+    if (ini_set(doc, assignment, err, sizeof err)) goto fail;
+    if (run_read_scene(doc, &m, &out, err, sizeof err)) goto fail;
+    if ((m.tip_end != ROD_END_FREE) != r.pose) {
+        snprintf(err, sizeof err, "%s:%d: the scene now has a %s tip, the record drives %s: "
+                 "the scene changed since the session", a.record, r.scene_line,
+                 m.tip_end == ROD_END_FREE ? "free" : "held",
+                 r.pose ? "a held tip's pose" : "a free tip's loads");
+        goto fail;
+    }
+    char name[128];
+    record_stem(a.record, name, sizeof name);
+    status = run_scene_outputs(a.record, name, &m, &out, a.out_dir, a.allow_long, a.quiet);
+    goto done;
+fail:
+    fprintf(stderr, "rodsim render: %s\n", err);
+done:
+    rod_model_release(&m);
+    ini_destroy(doc);
+    if (copy) fclose(copy);
+    record_release(&r);
+    free(a.sets);
+    return status;
+}
