@@ -1518,12 +1518,12 @@ int render_project(const render_camera *cam, const double point[3], double pixel
 /* ------------------------------------------------------------------ the follow camera */
 
 /* Video seconds of the follow camera's smoothing (issue 14): the centre and
- * the size framed are each filtered by a critically damped second-order
- * filter of this time constant, run forward and then backward over the run,
- * so the camera neither jitters nor lags (a steady drift is followed
+ * the size framed are each smoothed by a local quadratic regression with
+ * Gaussian weights of this width over the whole run (smooth_path), so the
+ * camera neither jitters nor lags (a steady drift or a fall is followed
  * exactly); where the smoothed framing would cut the rod it is widened to
  * the frame's own need, so nothing is ever clipped. */
-#define FOLLOW_TIME 0.15
+#define FOLLOW_TIME 0.25
 
 /* The framing of every frame of the extent recording, smoothed; the camera
  * of a frame drawn is interpolated from it in time. */
@@ -1574,57 +1574,67 @@ static double follow_need(const follow_path *fp, const point_cloud *pc, const do
     return need > 0 ? need : 1e-9;
 }
 
-/* One pass of x'' = w^2 (u - x) - 2 w x' (critically damped, w = 1/tau)
- * over the samples u = x[k stride] at times t, in place, forward or
- * backward; each step solved exactly with u held at the step's end value,
- * so any spacing is stable. It starts in the steady state of following the
- * first two samples' slope V (lag L, rate v*), so a run that starts moving
- * is not left behind and a steady drift is followed from the first frame. */
-static void damp_pass(double *x, int stride, const double *t, int n, double tau, int backward)
+/* Perspective shows the near side of a box larger: aims c (camera basis)
+ * at the middle of the points' projected extent instead (as camera_fit). */
+static void follow_recentre(const follow_path *fp, const point_cloud *pc, double c[3])
 {
-    if (n < 2) return;
-    int first = backward ? n - 1 : 0, second = backward ? n - 2 : 1;
-    double w = 1 / tau, h = fabs(t[second] - t[first]), y = x[(size_t)first * stride], v = 0;
-    if (h > 0) {
-        /* the steady state of a ramp u_k = u_0 + V k h through the steps
-         * below: e = y_{k-1} - u_k = -V h / (1 - G) before each step */
-        double slope = (x[(size_t)second * stride] - x[(size_t)first * stride]) / h;
-        double d = exp(-w * h), hold = 1 - d + w * h * d;
-        double gain = d * ((1 + w * h) - w * w * h * h * d / hold);
-        double before = -slope * h / (1 - gain);
-        y -= gain * slope * h / (1 - gain);
-        v = -w * w * h * d * before / hold;
-    }
-    x[(size_t)first * stride] = y;
-    for (int i = 1; i < n; i++) {
-        int k = backward ? n - 1 - i : i, previous = backward ? k + 1 : k - 1;
-        double step = fabs(t[k] - t[previous]), u = x[(size_t)k * stride], e = y - u;
-        double decay = exp(-w * step), drive = v + w * e;
-        y = u + (e + drive * step) * decay;
-        v = (v - w * drive * step) * decay;
-        x[(size_t)k * stride] = y;
+    const render_camera *cam = &fp->basis;
+    double tan_y = tan(0.5 * PERSPECTIVE_FOVY), tan_x = tan_y * cam->width / cam->height;
+    for (int iteration = 0; iteration < 2; iteration++) {
+        double distance = follow_need(fp, pc, c);
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        for (int i = 0; i < pc->count; i++) {
+            const double *p = &pc->points[3 * i];
+            double depth = distance - (v3_dot(p, cam->direction) - c[2]);
+            double x = (v3_dot(p, cam->right) - c[0]) / (depth * tan_x);
+            double y = (v3_dot(p, cam->up) - c[1]) / (depth * tan_y);
+            double px = pc->pad / (depth * tan_x), py = pc->pad / (depth * tan_y);
+            lo[0] = fmin(lo[0], x - px);
+            hi[0] = fmax(hi[0], x + px);
+            lo[1] = fmin(lo[1], y - py);
+            hi[1] = fmax(hi[1], y + py);
+        }
+        if (pc->count == 0) return;
+        c[0] += 0.5 * (lo[0] + hi[0]) * distance * tan_x;
+        c[1] += 0.5 * (lo[1] + hi[1]) * distance * tan_y;
     }
 }
 
-/* Forward then backward: no phase lag (a steady drift is followed exactly). */
-static void damp(double *x, int stride, const double *t, int n, double tau)
-{
-    damp_pass(x, stride, t, n, tau, 0);
-    damp_pass(x, stride, t, n, tau, 1);
-}
-
-/* damp, then damp of what it left out added back ("twicing"): the two
- * passes' kernel has variance 4 tau^2, which alone would move a uniformly
- * accelerating path by 2 a tau^2 (13 cm for a fall at 3 m/s^2 with tau =
- * 0.15 s); twice, a parabola is followed exactly, and a jitter at the frame
- * rate is still cut to a few per cent. scratch: n doubles. */
-static void damp_twice(double *x, int stride, const double *t, int n, double tau, double *scratch)
+/* Smooths the path x[k stride] (samples at times t, any spacing) in place:
+ * each value becomes that at t_k of the parabola fitted by least squares to
+ * the samples within 3 sigma of t_k, weighted exp(-(dt / sigma)^2 / 2)
+ * (local quadratic regression). A path that is a parabola in time (at rest,
+ * a steady drift, a free fall) is kept exactly, with no lag at either end,
+ * and a jitter from frame to frame averages out. Too few samples in the
+ * window for a parabola: a line, else the weighted mean. scratch: n doubles. */
+static void smooth_path(double *x, int stride, const double *t, int n, double sigma, double *scratch)
 {
     for (int k = 0; k < n; k++) scratch[k] = x[(size_t)k * stride];
-    damp(x, stride, t, n, tau);
-    for (int k = 0; k < n; k++) scratch[k] -= x[(size_t)k * stride];
-    damp(scratch, 1, t, n, tau);
-    for (int k = 0; k < n; k++) x[(size_t)k * stride] += scratch[k];
+    for (int k = 0; k < n; k++) {
+        double s[5] = {0}, m[3] = {0};
+        int first = k, last = k;
+        while (first > 0 && t[k] - t[first - 1] <= 3 * sigma) first--;
+        while (last + 1 < n && t[last + 1] - t[k] <= 3 * sigma) last++;
+        for (int g = first; g <= last; g++) {
+            double d = (t[g] - t[k]) / sigma, w = exp(-0.5 * d * d), power = w;
+            for (int p = 0; p < 5; p++, power *= d) {
+                s[p] += power;
+                if (p < 3) m[p] += power * scratch[g];
+            }
+        }
+        /* the normal equations of a + b d + c d^2, solved for a by Cramer's rule */
+        double det = s[0] * (s[2] * s[4] - s[3] * s[3]) - s[1] * (s[1] * s[4] - s[2] * s[3]) +
+                     s[2] * (s[1] * s[3] - s[2] * s[2]);
+        double line = s[0] * s[2] - s[1] * s[1], value;
+        if (last - first >= 2 && fabs(det) > 1e-9 * s[0] * s[0] * s[0])
+            value = (m[0] * (s[2] * s[4] - s[3] * s[3]) - s[1] * (m[1] * s[4] - s[3] * m[2]) +
+                     s[2] * (m[1] * s[3] - s[2] * m[2])) / det;
+        else if (last - first >= 1 && fabs(line) > 1e-9 * s[0] * s[0])
+            value = (s[2] * m[0] - s[1] * m[1]) / line;
+        else
+            value = m[0] / s[0];
+        x[(size_t)k * stride] = value;
+    }
 }
 
 /* The follow path over the extent's frames (rec: the motion as drawn). NULL
@@ -1670,29 +1680,30 @@ static follow_path *follow_create(const rod_recording *rec, const render_options
             lo_all[a] = fmin(lo_all[a], lo[a]);
             hi_all[a] = fmax(hi_all[a], hi[a]);
         }
+        if (!run_camera->orthographic) follow_recentre(fp, &fp->frame, &fp->centre[3 * f]);
     }
     fp->depth = hi_all[2] - lo_all[2];
     fp->size = fmax(fmax(hi_all[0] - lo_all[0], hi_all[1] - lo_all[1]), fp->depth);
     /* simulated seconds of FOLLOW_TIME video seconds at this playback rate */
-    double tau = FOLLOW_TIME * o->fps / render_output_rate(o);
-    for (int a = 0; a < 3; a++) damp_twice(fp->centre + a, 3, fp->time, n, tau, need);
+    double sigma = FOLLOW_TIME * o->fps / render_output_rate(o);
+    for (int a = 0; a < 3; a++) smooth_path(fp->centre + a, 3, fp->time, n, sigma, need);
     for (int f = 0; f < n; f++) {
         fp->frame.count = 0;
         point_cloud_add_frame(&fp->frame, rec, o, arrows, f, 1);
         need[f] = follow_need(fp, &fp->frame, &fp->centre[3 * f]);
     }
-    /* the size: the largest need within 2 tau, smoothed in log (zoom reads as a ratio);
+    /* the size: the largest need within 2 sigma, smoothed in log (zoom reads as a ratio);
      * the window makes the smoothed curve cover the needs, the guard at draw time does
      * the rest */
     for (int f = 0; f < n; f++) {
         double most = need[f];
-        for (int g = f - 1; g >= 0 && fp->time[f] - fp->time[g] <= 2 * tau; g--)
+        for (int g = f - 1; g >= 0 && fp->time[f] - fp->time[g] <= 2 * sigma; g--)
             most = fmax(most, need[g]);
-        for (int g = f + 1; g < n && fp->time[g] - fp->time[f] <= 2 * tau; g++)
+        for (int g = f + 1; g < n && fp->time[g] - fp->time[f] <= 2 * sigma; g++)
             most = fmax(most, need[g]);
         fp->extent[f] = log(most);
     }
-    damp(fp->extent, 1, fp->time, n, tau);
+    smooth_path(fp->extent, 1, fp->time, n, sigma, need);
     for (int f = 0; f < n; f++) fp->extent[f] = exp(fp->extent[f]);
     free(need);
     return fp;
