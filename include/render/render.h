@@ -235,7 +235,9 @@ typedef struct render_camera {
 /* Frames the whole motion: the bounds over all frames of the tube (visual
  * radius included), the end glyphs (block, ball, needle) and the arrows,
  * seen along o->view, leave room for the overlay text at the top and bottom,
- * and do not change per frame. */
+ * and do not change per frame: the camera of framing run with one view
+ * (framing follow moves it frame by frame, a split frame has one per tile:
+ * render_options.cameras reports the cameras drawn). */
 void render_camera_fit(render_camera *cam, const rod_recording *rec, const render_options *o);
 /* The key light's direction (unit, towards the light): it rides with the
  * camera, from upper left in front, so the picture reads the same from any

@@ -3371,7 +3371,13 @@ static int stream_tiles_create(render_stream *st, const rod_recording *extent,
         view_camera(t->kind, o->view, &t->o.camera, t->o.view);
         t->o.view_count = 0;
         t->o.overlay = 0; /* drawn once over the whole frame */
-        if (renderer_create(&t->r, extent, &t->o, name, &band, err, errlen)) return -1;
+        frame_band own = band;
+        if (k == count - 1 && o->overlay && (o->show & RENDER_SHOW_COLORBAR) &&
+            o->color != RENDER_COLOR_SOLID)
+            /* the colour bar and its labels (about 0.17 of the height) stand at the
+             * right edge: the last view keeps clear of them, on both sides */
+            own.side = fmax(band.side, fmin(0.3, 0.17 * o->height / t->o.width));
+        if (renderer_create(&t->r, extent, &t->o, name, &own, err, errlen)) return -1;
         t->made = 1;
         t->picture = image_create(t->o.width, t->o.height);
         if (!t->picture) {
