@@ -32,6 +32,7 @@ struct gl_renderer {
     /* static receivers (surfaces, ground, wound): drawn in the backdrop and in every box */
     GLuint receiver_vao, receiver_vbo, receiver_ibo;
     int receiver_plane_indices, receiver_indices; /* planes first (faded), then the rest */
+    int whole_boxes;            /* 1: boxes drawn whole even without receivers */
     float fade[4], fade_end, background_rgb[3];
     /* the shadow map: a depth texture the casters are drawn into from the key light */
     int shadow_size;
@@ -247,6 +248,12 @@ int gl_renderer_set_receivers(gl_renderer *r, const render_vertex *vertices, int
     return glGetError() == GL_NO_ERROR ? 0 : -1;
 }
 
+void gl_renderer_set_whole_boxes(gl_renderer *r, int whole, const unsigned char background[3])
+{
+    r->whole_boxes = whole;
+    for (int k = 0; k < 3; k++) r->background_rgb[k] = background[k] / 255.0f;
+}
+
 int gl_renderer_set_shadows(gl_renderer *r, const double light_view_projection[16], int size,
                             double offset, double spread, char *err, size_t errlen)
 {
@@ -385,7 +392,7 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
     /* With receivers the boxes are drawn whole (background, grid, surfaces,
      * then the rod): the shadow changes them. Else they are cleared to
      * transparent and only the rod is composited over the backdrop. */
-    int opaque = r->receiver_indices > 0;
+    int opaque = r->receiver_indices > 0 || r->whole_boxes;
     if (opaque)
         glClearColor(r->background_rgb[0], r->background_rgb[1], r->background_rgb[2], 1.0f);
     else

@@ -1524,6 +1524,9 @@ int render_project(const render_camera *cam, const double point[3], double pixel
  * exactly); where the smoothed framing would cut the rod it is widened to
  * the frame's own need, so nothing is ever clipped. */
 #define FOLLOW_TIME 0.25
+/* grid lines a direction at most, the camera following (drawn every frame,
+ * multisampled over the whole picture: about 0.1 ms each at 720p) */
+#define FOLLOW_GRID_LINES 40
 
 /* The framing of every frame of the extent recording, smoothed; the camera
  * of a frame drawn is interpolated from it in time. */
@@ -2163,18 +2166,19 @@ typedef struct grid {
     int axis;           /* the world axis the grid's plane is normal to */
     double plane;       /* m: the plane's coordinate on that axis */
     double size;        /* m: the motion's size, which sets the spacing */
+    double fixed_spacing; /* m; > 0: the spacing for every camera (follow) */
     float minor[3], major[3];
 } grid;
 
-/* The grid lines where the camera sees the grid's plane. */
-static void grid_lines(grid *g, const render_camera *cam)
+/* Where the picture's corner rays meet the grid's plane: the region of it
+ * the camera sees, in the plane's two other axes. */
+static void grid_region(const grid *g, const render_camera *cam, double region_lo[2],
+                        double region_hi[2])
 {
-    g->count = 0;
     int axis = g->axis, b = (axis + 1) % 3, c = (axis + 2) % 3;
     double plane = g->plane, size = g->size;
-
-    /* where the picture's corner rays meet the plane */
-    double region_lo[2] = {INFINITY, INFINITY}, region_hi[2] = {-INFINITY, -INFINITY};
+    region_lo[0] = region_lo[1] = INFINITY;
+    region_hi[0] = region_hi[1] = -INFINITY;
     double tan_y = tan(0.5 * PERSPECTIVE_FOVY), aspect = (double)cam->width / cam->height;
     double half_height = 0.5 * cam->metres_per_pixel * cam->height;
     for (int corner = 0; corner < 4; corner++) {
@@ -2197,10 +2201,23 @@ static void grid_lines(grid *g, const render_camera *cam)
         region_lo[1] = fmin(region_lo[1], hit_c);
         region_hi[1] = fmax(region_hi[1], hit_c);
     }
-    g->spacing = nice_below(size / 6);
-    while ((region_hi[0] - region_lo[0]) / g->spacing > GRID_MAX_LINES - 2 ||
-           (region_hi[1] - region_lo[1]) / g->spacing > GRID_MAX_LINES - 2)
-        g->spacing = nice_below(g->spacing * 2.01);
+}
+
+/* The grid lines where the camera sees the grid's plane. */
+static void grid_lines(grid *g, const render_camera *cam)
+{
+    g->count = 0;
+    int axis = g->axis, b = (axis + 1) % 3, c = (axis + 2) % 3;
+    double plane = g->plane, region_lo[2], region_hi[2];
+    grid_region(g, cam, region_lo, region_hi);
+    if (g->fixed_spacing > 0) {
+        g->spacing = g->fixed_spacing;
+    } else {
+        g->spacing = nice_below(g->size / 6);
+        while ((region_hi[0] - region_lo[0]) / g->spacing > GRID_MAX_LINES - 2 ||
+               (region_hi[1] - region_lo[1]) / g->spacing > GRID_MAX_LINES - 2)
+            g->spacing = nice_below(g->spacing * 2.01);
+    }
 
     const double normal[3] = {0, 0, 1};
     for (int direction = 0; direction < 2; direction++) {
@@ -2758,6 +2775,14 @@ static void mark_shadow(renderer *r, const double *points, int count, int chain,
 static void frame_boxes(renderer *r, const rod_recording *rec, int frame,
                         const rod_recording *given, int given_frame)
 {
+    if (r->follow) {
+        /* the camera moves: everything changes, the picture is one box drawn whole */
+        r->box_count = 1;
+        r->boxes[0][0] = r->boxes[0][1] = 0;
+        r->boxes[0][2] = r->camera.width;
+        r->boxes[0][3] = r->camera.height;
+        return;
+    }
     memset(r->tile_marked, 0, (size_t)r->tiles_x * (size_t)r->tiles_y);
     for (int k = 0; k + 1 < rec->nodes; k++)
         mark_points(r, node_position(rec, frame, k), 2, r->pad);
@@ -3128,6 +3153,23 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
                 largest = fmax(largest, r->follow->extent[f]);
             largest *= r->camera.orthographic ? 2 : 2 * tan(0.5 * PERSPECTIVE_FOVY);
             r->grid.size = fmax(fmin(r->grid.size, 0.7 * largest), 0.1 * rec->length);
+            if (o->grid && !floor) {
+                /* one spacing for the video (a grid whose cells jump would read as
+                 * motion), coarse enough that the widest region seen has at most
+                 * FOLLOW_GRID_LINES lines a direction: they are drawn every frame */
+                double widest = 0;
+                for (int f = 0; f < r->follow->count; f++) {
+                    render_camera cam;
+                    double lo[2], hi[2];
+                    follow_camera(r->follow, shown ? shown : rec, o, &r->arrows, f,
+                                  r->follow->time[f], &cam);
+                    grid_region(&r->grid, &cam, lo, hi);
+                    widest = fmax(widest, fmax(hi[0] - lo[0], hi[1] - lo[1]));
+                }
+                double spacing = nice_below(r->grid.size / 6);
+                while (widest / spacing > FOLLOW_GRID_LINES) spacing = nice_below(spacing * 2.01);
+                r->grid.fixed_spacing = spacing;
+            }
         }
     }
     rod_recording_destroy(shown);
@@ -3149,6 +3191,7 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
         return -1;
     }
     if (o->grid) gl_renderer_set_lines(r->gl, r->grid.lines, r->grid.count);
+    if (r->follow) gl_renderer_set_whole_boxes(r->gl, 1, o->background);
     r->pad = STRIPE_LIFT * r->radius;
     if (renderer_receivers(r, &plan, err, errlen)) {
         renderer_destroy(r);
@@ -3173,8 +3216,8 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
 }
 
 /* Follow framing: this frame's camera, and what hangs on it (the grid, the
- * backdrop, the scale bar). 0, or -1 on a GL error. */
-static int renderer_follow(renderer *r, const rod_recording *drawn, int drawn_frame, double t)
+ * scale bar; the backdrop is not used: the whole picture is one box). */
+static void renderer_follow(renderer *r, const rod_recording *drawn, int drawn_frame, double t)
 {
     follow_camera(r->follow, drawn, r->o, &r->arrows, drawn_frame, t, &r->camera);
     if (r->o->grid && r->grid.count > 0) {
@@ -3182,7 +3225,6 @@ static int renderer_follow(renderer *r, const rod_recording *drawn, int drawn_fr
         gl_renderer_set_lines(r->gl, r->grid.lines, r->grid.count);
     }
     if (r->o->grid) overlay_scale_bar(&r->overlay, r->o->width, r->camera.metres_per_pixel);
-    return gl_renderer_draw_backdrop(r->gl, &r->camera, r->o->background, r->backdrop);
 }
 
 /* Draws frame `frame` of rec (whose frame 0 is the run's first: the clamp
@@ -3213,7 +3255,7 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
         drawn = r->view;
         drawn_frame = 1;
     }
-    if (r->follow && renderer_follow(r, drawn, drawn_frame, given->time[given_frame])) return -1;
+    if (r->follow) renderer_follow(r, drawn, drawn_frame, given->time[given_frame]);
     rec = drawn;
     frame = drawn_frame;
     add_tube(m, rec, frame, r->radius, r->o->sides, r->colors, r->o->rod_color);
@@ -3233,8 +3275,21 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
     double t2 = timing ? now_seconds() : 0;
     /* premultiplied rod over the backdrop: out = C + (1 - alpha) B, inside the boxes only
      * (the read rectangle outside them holds stale pixels) */
-    memcpy(out->rgb, r->backdrop->rgb, (size_t)out->width * (size_t)out->height * 3);
-    for (int b = 0; b < r->box_count; b++) {
+    if (r->follow) {
+        /* one opaque box, the whole picture: its pixels as they are */
+        for (int y = 0; y < out->height; y++) {
+            const unsigned char *src = rgba + (size_t)(out->height - 1 - y) * (size_t)out->width * 4;
+            unsigned char *dst = out->rgb + (size_t)y * (size_t)out->width * 3;
+            for (int x = 0; x < out->width; x++, src += 4, dst += 3) {
+                dst[0] = src[0];
+                dst[1] = src[1];
+                dst[2] = src[2];
+            }
+        }
+    } else {
+        memcpy(out->rgb, r->backdrop->rgb, (size_t)out->width * (size_t)out->height * 3);
+    }
+    for (int b = 0; !r->follow && b < r->box_count; b++) {
         const int *box = r->boxes[b];
         for (int y = box[1]; y < box[1] + box[3]; y++) {
             int row = read_box[1] + read_box[3] - 1 - y; /* GL rows run bottom-up */
