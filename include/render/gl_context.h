@@ -23,6 +23,10 @@ typedef struct gl_context gl_context;
  * RODSIM_GL names no backend). */
 gl_context *gl_context_create(int width, int height, char *err, size_t errlen);
 void gl_context_destroy(gl_context *ctx);
+/* Makes ctx current on the calling thread (a no-op when it is): a process
+ * with several contexts (the views of a split frame) switches before each
+ * one's GL calls. 0, or -1 when the library refuses. */
+int gl_context_make_current(gl_context *ctx);
 /* "EGL: OpenGL 4.5 (Core Profile) Mesa ..., llvmpipe ...": for logs and reports. */
 const char *gl_context_description(const gl_context *ctx);
 /* "EGL" or "OSMesa": the backend that made ctx. */

@@ -32,6 +32,10 @@ int gl_renderer_draw_backdrop(gl_renderer *r, const render_camera *cam,
 int gl_renderer_set_receivers(gl_renderer *r, const render_vertex *vertices, int vertex_count,
                               const unsigned *indices, int plane_index_count, int index_count,
                               const double fade[5], const unsigned char background[3]);
+/* Whole boxes: each box is drawn whole (background, lines, receivers, then
+ * the frame's triangles) as with receivers, even without any; for a camera
+ * that moves every frame (no backdrop to composite over). */
+void gl_renderer_set_whole_boxes(gl_renderer *r, int whole, const unsigned char background[3]);
 /* Shadows from the key light: a size x size depth map drawn through
  * light_view_projection (column-major, orthographic); a receiver's point is
  * moved `offset` (m) along its normal before the look-up (no self-shadow

@@ -22,6 +22,23 @@ typedef enum {
 
 typedef enum { RENDER_CAMERA_PERSPECTIVE = 0, RENDER_CAMERA_ORTHOGRAPHIC } render_camera_kind;
 
+/* How the camera frames the motion ([render] framing). */
+typedef enum {
+    RENDER_FRAMING_RUN = 0, /* one camera for the whole run: every frame's rod, glyphs, arrows */
+    RENDER_FRAMING_FOLLOW   /* per frame: the rod's current bounds centred and filling the
+                               picture, smoothed over time (never clipped) */
+} render_framing;
+
+/* One view of a frame split into side-by-side tiles ([render] views). */
+typedef enum {
+    RENDER_VIEW_PERSPECTIVE = 0, /* along render.view, perspective */
+    RENDER_VIEW_ORTHOGRAPHIC,    /* along render.view, orthographic */
+    RENDER_VIEW_TOP,             /* orthographic, looking down z: x right, y up */
+    RENDER_VIEW_FRONT,           /* orthographic, looking along +y: x right, z up */
+    RENDER_VIEW_SIDE             /* orthographic, looking along -x: y right, z up */
+} render_view_kind;
+#define RENDER_MAX_VIEWS 3
+
 /* What holds an end, as drawn (the renderer does not see sim/rod.h; the
  * caller copies the model's end kinds here). */
 typedef enum {
@@ -116,7 +133,14 @@ typedef struct render_options {
     render_ground_mode ground;   /* a ground plane below the whole run's lowest point */
     int wound;                   /* 1: wound_line is drawn (a dark red incision) */
     double wound_line[6];        /* m, global: the wound's two ends x1 y1 z1 x2 y2 z2 */
+    render_framing framing;      /* run (default) or follow */
+    int view_count;              /* 0 (default): one view (camera, view); 2 .. RENDER_MAX_VIEWS:
+                                    the frame split into that many tiles, left to right */
+    render_view_kind views[RENDER_MAX_VIEWS];
     struct render_timing *timing; /* NULL (default): not measured; else filled (make bench) */
+    struct render_camera *cameras; /* NULL (default); else each drawn frame's camera of each
+                                    view (frame x max(view_count, 1) + view), for the tests */
+    int camera_capacity;         /* entries in cameras; frames beyond it are not reported */
 } render_options;
 
 /* Where render_recording's time went (seconds summed over the frames), for
@@ -211,7 +235,9 @@ typedef struct render_camera {
 /* Frames the whole motion: the bounds over all frames of the tube (visual
  * radius included), the end glyphs (block, ball, needle) and the arrows,
  * seen along o->view, leave room for the overlay text at the top and bottom,
- * and do not change per frame. */
+ * and do not change per frame: the camera of framing run with one view
+ * (framing follow moves it frame by frame, a split frame has one per tile:
+ * render_options.cameras reports the cameras drawn). */
 void render_camera_fit(render_camera *cam, const rod_recording *rec, const render_options *o);
 /* The key light's direction (unit, towards the light): it rides with the
  * camera, from upper left in front, so the picture reads the same from any

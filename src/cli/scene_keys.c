@@ -151,6 +151,14 @@ const ini_key scene_keys_rod[] = {
      "when gravity acts, no plane surface exists and the camera looks from above"},
     {"render", "wound", "m", "-", "6 numbers x1 y1 z1 x2 y2 z2",
      "global: a wound line drawn on the surfaces as a dark red incision; absent: none"},
+    /* issue 14: a camera that follows, views side by side */
+    {"render", "framing", "-", "run", "run | follow",
+     "run: one camera frames the whole run; follow: the rod's current bounds centred and "
+     "filling the picture, smoothed over 0.25 video s (a fall or a drift followed without "
+     "lag), never clipped"},
+    {"render", "views", "-", "-", "1 to 3 of: perspective orthographic top front side",
+     "the frame split into side-by-side views, each labelled with its axes and scale bar; "
+     "top, front, side: orthographic along -z, +y, -x; absent: camera and view"},
     {NULL, NULL, NULL, NULL, NULL, NULL},
 };
 

@@ -239,6 +239,7 @@ static void egl_open(void)
 
 struct gl_context {
     int backend;
+    int width, height;     /* the default framebuffer */
     OSMesaContext osmesa;
     unsigned char *buffer; /* OSMesa's default framebuffer, RGBA */
     EGLContext egl;
@@ -370,6 +371,21 @@ static void choose_backend(void)
     chosen = b;
 }
 
+/* The context current on this thread, as far as gl_context knows. */
+static _Thread_local gl_context *current_context;
+
+int gl_context_make_current(gl_context *ctx)
+{
+    if (ctx == current_context) return 0;
+    int made = ctx->backend == BACKEND_EGL
+                   ? egl.make_current(egl.display, ctx->surface, ctx->surface, ctx->egl) != 0
+                   : osmesa.make_current(ctx->osmesa, ctx->buffer, GL_UNSIGNED_BYTE, ctx->width,
+                                         ctx->height) != 0;
+    if (!made) return -1;
+    current_context = ctx;
+    return 0;
+}
+
 gl_context *gl_context_create(int width, int height, char *err, size_t errlen)
 {
     if (width <= 0 || height <= 0 || width > 16384 || height > 16384) {
@@ -387,9 +403,12 @@ gl_context *gl_context_create(int width, int height, char *err, size_t errlen)
         return NULL;
     }
     ctx->backend = chosen;
+    ctx->width = width;
+    ctx->height = height;
     ctx = chosen == BACKEND_EGL ? create_egl(ctx, width, height, err, errlen)
                                 : create_osmesa(ctx, width, height, err, errlen);
     if (!ctx) return NULL;
+    current_context = ctx;
     gl_proc (*get_proc)(const char *) = chosen == BACKEND_EGL ? egl_gl_proc : osmesa_gl_proc;
     get_string_fn get_string = (get_string_fn)get_proc("glGetString");
     snprintf(ctx->description, sizeof ctx->description, "%s: OpenGL %s, %s",
@@ -401,6 +420,7 @@ gl_context *gl_context_create(int width, int height, char *err, size_t errlen)
 void gl_context_destroy(gl_context *ctx)
 {
     if (!ctx) return;
+    if (current_context == ctx) current_context = NULL;
     if (ctx->osmesa) osmesa.destroy_context(ctx->osmesa);
     free(ctx->buffer);
     if (ctx->egl && egl.get_current_context() == ctx->egl)

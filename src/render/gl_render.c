@@ -32,6 +32,7 @@ struct gl_renderer {
     /* static receivers (surfaces, ground, wound): drawn in the backdrop and in every box */
     GLuint receiver_vao, receiver_vbo, receiver_ibo;
     int receiver_plane_indices, receiver_indices; /* planes first (faded), then the rest */
+    int whole_boxes;            /* 1: boxes drawn whole even without receivers */
     float fade[4], fade_end, background_rgb[3];
     /* the shadow map: a depth texture the casters are drawn into from the key light */
     int shadow_size;
@@ -132,6 +133,8 @@ gl_renderer *gl_renderer_create(int width, int height, int samples, int max_vert
 void gl_renderer_destroy(gl_renderer *r)
 {
     if (!r) return;
+    /* its objects belong to its context (another view's may be current) */
+    if (r->context) gl_context_make_current(r->context);
     if (r->receiver_vao) glDeleteVertexArrays(1, &r->receiver_vao);
     if (r->receiver_vbo) glDeleteBuffers(1, &r->receiver_vbo);
     if (r->receiver_ibo) glDeleteBuffers(1, &r->receiver_ibo);
@@ -157,6 +160,7 @@ const char *gl_renderer_description(const gl_renderer *r)
 
 void gl_renderer_set_lines(gl_renderer *r, const render_vertex *lines, int count)
 {
+    if (gl_context_make_current(r->context)) return;
     if (count > r->max_line_vertices) count = r->max_line_vertices;
     glBindBuffer(GL_ARRAY_BUFFER, r->line_vbo);
     glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)((size_t)count * sizeof(render_vertex)), lines);
@@ -217,6 +221,7 @@ int gl_renderer_set_receivers(gl_renderer *r, const render_vertex *vertices, int
                               const unsigned *indices, int plane_index_count, int index_count,
                               const double fade[5], const unsigned char background[3])
 {
+    if (gl_context_make_current(r->context)) return -1;
     if (!r->receiver_vao) {
         glGenVertexArrays(1, &r->receiver_vao);
         glGenBuffers(1, &r->receiver_vbo);
@@ -243,9 +248,19 @@ int gl_renderer_set_receivers(gl_renderer *r, const render_vertex *vertices, int
     return glGetError() == GL_NO_ERROR ? 0 : -1;
 }
 
+void gl_renderer_set_whole_boxes(gl_renderer *r, int whole, const unsigned char background[3])
+{
+    r->whole_boxes = whole;
+    for (int k = 0; k < 3; k++) r->background_rgb[k] = background[k] / 255.0f;
+}
+
 int gl_renderer_set_shadows(gl_renderer *r, const double light_view_projection[16], int size,
                             double offset, double spread, char *err, size_t errlen)
 {
+    if (gl_context_make_current(r->context)) {
+        snprintf(err, errlen, "gl: cannot make the context current");
+        return -1;
+    }
     if (!r->shadow_program) {
         r->shadow_program = gl_program_load("shadow", err, errlen);
         if (!r->shadow_program) return -1;
@@ -329,6 +344,7 @@ static void draw_receivers(gl_renderer *r)
 int gl_renderer_draw_backdrop(gl_renderer *r, const render_camera *cam,
                               const unsigned char background[3], image *out)
 {
+    if (gl_context_make_current(r->context)) return -1;
     if (r->shadow_size > 0) draw_shadow_map(r, 0); /* nothing casts on the backdrop */
     gl_target_bind(r->target);
     glDisable(GL_SCISSOR_TEST);
@@ -351,6 +367,7 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
                                             int caster_index_count, const int *boxes,
                                             int box_count, int read_box[4], double *shadow_seconds)
 {
+    if (gl_context_make_current(r->context)) return NULL;
     if (vertex_count > r->max_vertices) vertex_count = r->max_vertices;
     if (index_count > r->max_indices) index_count = r->max_indices;
     if (caster_index_count > index_count) caster_index_count = index_count;
@@ -375,7 +392,7 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
     /* With receivers the boxes are drawn whole (background, grid, surfaces,
      * then the rod): the shadow changes them. Else they are cleared to
      * transparent and only the rod is composited over the backdrop. */
-    int opaque = r->receiver_indices > 0;
+    int opaque = r->receiver_indices > 0 || r->whole_boxes;
     if (opaque)
         glClearColor(r->background_rgb[0], r->background_rgb[1], r->background_rgb[2], 1.0f);
     else

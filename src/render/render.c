@@ -215,6 +215,56 @@ static int read_hidden(ini_doc *doc, unsigned *show, char *err, size_t errlen)
     return 0;
 }
 
+static void view_camera(render_view_kind kind, const double scene_view[3],
+                        render_camera_kind *camera, double view[3]);
+
+static const char *const view_names[] = {"perspective", "orthographic", "top", "front", "side",
+                                         NULL};
+
+/* [render] views: 1 .. RENDER_MAX_VIEWS names separated by blanks or commas.
+ * One view is that camera alone (as camera and view would give it), so the
+ * frame is split only for two or more. */
+static int read_views(ini_doc *doc, render_options *o, char *err, size_t errlen)
+{
+    const char *text;
+    int status = ini_get_string(doc, "render", 0, "views", &text, err, errlen);
+    if (status <= 0) return status;
+    render_view_kind views[RENDER_MAX_VIEWS];
+    int count = 0;
+    const char *c = text;
+    for (;;) {
+        while (*c == ' ' || *c == ',' || *c == '\t') c++;
+        size_t n = strcspn(c, " ,\t");
+        if (n == 0) break;
+        int found = -1;
+        for (int i = 0; view_names[i]; i++)
+            if (strlen(view_names[i]) == n && strncmp(c, view_names[i], n) == 0) found = i;
+        if (found < 0)
+            return ini_error(doc, "render", 0, "views", err, errlen,
+                             "unknown view '%.*s': accepted 1 to %d of perspective orthographic "
+                             "top front side",
+                             (int)n, c, RENDER_MAX_VIEWS);
+        if (count == RENDER_MAX_VIEWS)
+            return ini_error(doc, "render", 0, "views", err, errlen,
+                             "names more than %d views (the tiles would be too narrow)",
+                             RENDER_MAX_VIEWS);
+        views[count++] = (render_view_kind)found;
+        c += n;
+    }
+    if (count == 0)
+        return ini_error(doc, "render", 0, "views", err, errlen,
+                         "must name 1 to %d of perspective orthographic top front side",
+                         RENDER_MAX_VIEWS);
+    if (count == 1) {
+        view_camera(views[0], o->view, &o->camera, o->view);
+        o->view_count = 0;
+        return 0;
+    }
+    memcpy(o->views, views, sizeof views);
+    o->view_count = count;
+    return 0;
+}
+
 static int read_text(ini_doc *doc, const char *key, char *out, size_t outlen, char *err,
                      size_t errlen)
 {
@@ -305,6 +355,11 @@ static int read_teaching(ini_doc *doc, render_options *o, char *err, size_t errl
         memcpy(o->wound_line, wound, sizeof wound);
         o->wound = 1;
     }
+    static const char *const framings[] = {"run", "follow", NULL};
+    status = ini_get_choice(doc, "render", 0, "framing", framings, &choice, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) o->framing = (render_framing)choice;
+    if (read_views(doc, o, err, errlen) < 0) return -1;
     if (read_text(doc, "title", o->title, sizeof o->title, err, errlen) ||
         read_text(doc, "caption", o->caption, sizeof o->caption, err, errlen) ||
         read_hidden(doc, &o->show, err, errlen))
@@ -1221,6 +1276,45 @@ static void point_cloud_add_surfaces(point_cloud *pc, const render_options *o)
     }
 }
 
+/* Points one frame adds at most beyond its nodes: both arrows' ends, and
+ * each end's glyph points (6 for a padded one). */
+#define FRAME_EXTRA_POINTS (4 + 12 * GLYPH_MAX_POINTS)
+
+/* Frame f's points: its nodes (when with_nodes), the arrows' ends and the
+ * end glyphs (pc->pad is the tube's radius). */
+static void point_cloud_add_frame(point_cloud *pc, const rod_recording *rec,
+                                  const render_options *o, const arrow_scales *arrows, int f,
+                                  int with_nodes)
+{
+    for (int k = 0; with_nodes && k < rec->nodes; k++)
+        v3_copy(&pc->points[3 * pc->count++], node_position(rec, f, k));
+    for (int which = 0; which < 2; which++) {
+        double tail[3], d[3], length;
+        if (!arrow_geometry(arrows, rec, f, which, tail, d, &length)) continue;
+        /* both ends: a pushing arrow's tail lies beyond the tip */
+        v3_copy(&pc->points[3 * pc->count++], tail);
+        double *p = &pc->points[3 * pc->count++];
+        v3_copy(p, tail);
+        v3_axpy(p, length, d);
+    }
+    for (int end = 0; end < 2; end++) {
+        double glyph[3 * GLYPH_MAX_POINTS], pad;
+        int chain, count = glyph_points(rec, o, pc->pad, f, end, glyph, &pad, &chain);
+        for (int i = 0; i < count; i++) {
+            if (pad <= pc->pad) {
+                v3_copy(&pc->points[3 * pc->count++], &glyph[3 * i]);
+                continue;
+            }
+            /* a wider pad (the ball): its extremes along x, y, z bound it with pc->pad */
+            for (int a = 0; a < 6; a++) {
+                double *p = &pc->points[3 * pc->count++];
+                v3_copy(p, &glyph[3 * i]);
+                p[a / 2] += a % 2 ? pad : -pad;
+            }
+        }
+    }
+}
+
 static int point_cloud_create(point_cloud *pc, const rod_recording *rec, const render_options *o,
                               double radius, const arrow_scales *arrows)
 {
@@ -1235,36 +1329,8 @@ static int point_cloud_create(point_cloud *pc, const rod_recording *rec, const r
     pc->count = 0;
     pc->pad = radius;
     if (!pc->points) return -1;
-    for (int f = 0; f < rec->frame_count; f++) {
-        int sampled = f % stride == 0 || f == rec->frame_count - 1;
-        for (int k = 0; sampled && k < rec->nodes; k++)
-            v3_copy(&pc->points[3 * pc->count++], node_position(rec, f, k));
-        for (int which = 0; which < 2; which++) {
-            double tail[3], d[3], length;
-            if (!arrow_geometry(arrows, rec, f, which, tail, d, &length)) continue;
-            /* both ends: a pushing arrow's tail lies beyond the tip */
-            v3_copy(&pc->points[3 * pc->count++], tail);
-            double *p = &pc->points[3 * pc->count++];
-            v3_copy(p, tail);
-            v3_axpy(p, length, d);
-        }
-        for (int end = 0; end < 2; end++) {
-            double glyph[3 * GLYPH_MAX_POINTS], pad;
-            int chain, count = glyph_points(rec, o, radius, f, end, glyph, &pad, &chain);
-            for (int i = 0; i < count; i++) {
-                if (pad <= pc->pad) {
-                    v3_copy(&pc->points[3 * pc->count++], &glyph[3 * i]);
-                    continue;
-                }
-                /* a wider pad (the ball): its extremes along x, y, z bound it with pc->pad */
-                for (int a = 0; a < 6; a++) {
-                    double *p = &pc->points[3 * pc->count++];
-                    v3_copy(p, &glyph[3 * i]);
-                    p[a / 2] += a % 2 ? pad : -pad;
-                }
-            }
-        }
-    }
+    for (int f = 0; f < rec->frame_count; f++)
+        point_cloud_add_frame(pc, rec, o, arrows, f, f % stride == 0 || f == rec->frame_count - 1);
     return 0;
 }
 
@@ -1293,7 +1359,40 @@ static void mat4_mul(double r[16], const double a[16], const double b[16])
         }
 }
 
-static void camera_fit(render_camera *cam, const rod_recording *rec, const render_options *o)
+/* The part of the picture the content may use: fractions of the height
+ * (top, bottom) and of the width (each side) kept free for the overlay. */
+typedef struct frame_band {
+    double top, bottom, side;
+} frame_band;
+
+static const frame_band full_band = {FRAME_TOP, FRAME_BOTTOM, FRAME_SIDE};
+
+/* The view, projection and their product from cam's eye, basis and target. */
+static void camera_matrices(render_camera *cam, double half_height, double near, double far)
+{
+    double aspect = (double)cam->width / cam->height;
+    look_at(cam->view, cam->eye, cam->right, cam->up, cam->direction);
+    double *p = cam->projection;
+    memset(p, 0, sizeof cam->projection);
+    if (cam->orthographic) {
+        p[0] = 1.0 / (aspect * half_height);
+        p[5] = 1.0 / half_height;
+        p[10] = -2.0 / (far - near);
+        p[14] = -(far + near) / (far - near);
+        p[15] = 1;
+    } else {
+        double f = 1.0 / tan(0.5 * PERSPECTIVE_FOVY);
+        p[0] = f / aspect;
+        p[5] = f;
+        p[10] = (far + near) / (near - far);
+        p[11] = -1;
+        p[14] = 2 * far * near / (near - far);
+    }
+    mat4_mul(cam->view_projection, cam->projection, cam->view);
+}
+
+static void camera_fit(render_camera *cam, const rod_recording *rec, const render_options *o,
+                       const frame_band *band)
 {
     memset(cam, 0, sizeof *cam);
     cam->width = o->width;
@@ -1312,8 +1411,8 @@ static void camera_fit(render_camera *cam, const rod_recording *rec, const rende
     point_cloud_add_surfaces(&pc, o);
     double aspect = (double)o->width / o->height;
     /* the band of the picture the content may use, as fractions of the half-size */
-    double use_x = 1 - 2 * FRAME_SIDE, use_y = 1 - FRAME_TOP - FRAME_BOTTOM;
-    double centre_shift_y = FRAME_BOTTOM - FRAME_TOP; /* NDC centre of the usable band */
+    double use_x = 1 - 2 * band->side, use_y = 1 - band->top - band->bottom;
+    double centre_shift_y = band->bottom - band->top; /* NDC centre of the usable band */
 
     /* camera-basis coordinates of the content */
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -1392,31 +1491,14 @@ static void camera_fit(render_camera *cam, const rod_recording *rec, const rende
         cam->target[c] = centre[0] * right[c] + centre[1] * up[c] + centre[2] * back[c];
         cam->eye[c] = cam->target[c] + distance * back[c];
     }
-    look_at(cam->view, cam->eye, right, up, back);
-    double *p = cam->projection;
-    memset(p, 0, sizeof cam->projection);
-    if (cam->orthographic) {
-        p[0] = 1.0 / (aspect * half_height);
-        p[5] = 1.0 / half_height;
-        p[10] = -2.0 / (far - near);
-        p[14] = -(far + near) / (far - near);
-        p[15] = 1;
-    } else {
-        double f = 1.0 / tan(0.5 * PERSPECTIVE_FOVY);
-        p[0] = f / aspect;
-        p[5] = f;
-        p[10] = (far + near) / (near - far);
-        p[11] = -1;
-        p[14] = 2 * far * near / (near - far);
-    }
-    mat4_mul(cam->view_projection, cam->projection, cam->view);
+    camera_matrices(cam, half_height, near, far);
 }
 
 void render_camera_fit(render_camera *cam, const rod_recording *rec, const render_options *o)
 {
     /* the motion as drawn: magnified (out of memory: the true motion) */
     rod_recording *shown = o->magnify != 1 ? magnified_copy(rec, o->magnify) : NULL;
-    camera_fit(cam, shown ? shown : rec, o);
+    camera_fit(cam, shown ? shown : rec, o, &full_band);
     rod_recording_destroy(shown);
 }
 
@@ -1432,6 +1514,281 @@ int render_project(const render_camera *cam, const double point[3], double pixel
     return 0;
 }
 
+
+/* ------------------------------------------------------------------ the follow camera */
+
+/* Video seconds of the follow camera's smoothing (issue 14): the centre and
+ * the size framed are each smoothed by a local quadratic regression with
+ * Gaussian weights of this width over the whole run (smooth_path), so the
+ * camera neither jitters nor lags (a steady drift or a fall is followed
+ * exactly); where the smoothed framing would cut the rod it is widened to
+ * the frame's own need, so nothing is ever clipped. */
+#define FOLLOW_TIME 0.25
+/* grid lines a direction at most, the camera following (drawn every frame,
+ * multisampled over the whole picture: about 0.1 ms each at 720p) */
+#define FOLLOW_GRID_LINES 40
+
+/* The framing of every frame of the extent recording, smoothed; the camera
+ * of a frame drawn is interpolated from it in time. */
+typedef struct follow_path {
+    int count;           /* samples: the extent's frames */
+    double *time;        /* (count), s */
+    double *centre;      /* (count x 3), m: in the camera basis (right, up, back) */
+    double *extent;      /* (count), m: orthographic half height, or perspective eye distance */
+    point_cloud frame;   /* one frame's points, scratch sized at create */
+    double depth, size;  /* m: the run's depth along the view and its largest size (clip planes) */
+    int floor;           /* a floor (plane or ground) is drawn: the orthographic eye stands back */
+    frame_band band;
+    render_camera basis; /* the run's camera: size, projection kind and basis */
+} follow_path;
+
+static void follow_destroy(follow_path *fp)
+{
+    if (!fp) return;
+    free(fp->time);
+    free(fp->centre);
+    free(fp->extent);
+    free(fp->frame.points);
+    free(fp);
+}
+
+/* The extent (orthographic half height, perspective eye distance; m) that
+ * keeps every padded point of pc inside the band when the camera aims at
+ * centre c (camera basis; the band's vertical offset included). */
+static double follow_need(const follow_path *fp, const point_cloud *pc, const double c[3])
+{
+    const render_camera *cam = &fp->basis;
+    double aspect = (double)cam->width / cam->height;
+    double use_x = 1 - 2 * fp->band.side, use_y = 1 - fp->band.top - fp->band.bottom;
+    double shift = fp->band.bottom - fp->band.top;
+    double tan_y = tan(0.5 * PERSPECTIVE_FOVY), tan_x = tan_y * aspect, need = 0;
+    for (int i = 0; i < pc->count; i++) {
+        const double *p = &pc->points[3 * i];
+        double x = v3_dot(p, cam->right) - c[0], y = v3_dot(p, cam->up) - c[1];
+        double z = v3_dot(p, cam->direction) - c[2];
+        if (cam->orthographic)
+            need = fmax(need, fmax((fabs(x) + pc->pad) / (use_x * aspect),
+                                   (fabs(y) + pc->pad) / use_y));
+        else /* the depth from the eye is E - z; the band's centre sits at shift in NDC */
+            need = fmax(need, z + pc->pad +
+                                  fmax((fabs(x) + pc->pad) / (tan_x * use_x),
+                                       (fabs(y + shift * z * tan_y) + pc->pad) / (tan_y * use_y)));
+    }
+    return need > 0 ? need : 1e-9;
+}
+
+/* Perspective shows the near side of a box larger: aims c (camera basis)
+ * at the middle of the points' projected extent instead (as camera_fit). */
+static void follow_recentre(const follow_path *fp, const point_cloud *pc, double c[3])
+{
+    const render_camera *cam = &fp->basis;
+    double tan_y = tan(0.5 * PERSPECTIVE_FOVY), tan_x = tan_y * cam->width / cam->height;
+    for (int iteration = 0; iteration < 2; iteration++) {
+        double distance = follow_need(fp, pc, c);
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        for (int i = 0; i < pc->count; i++) {
+            const double *p = &pc->points[3 * i];
+            double depth = distance - (v3_dot(p, cam->direction) - c[2]);
+            double x = (v3_dot(p, cam->right) - c[0]) / (depth * tan_x);
+            double y = (v3_dot(p, cam->up) - c[1]) / (depth * tan_y);
+            double px = pc->pad / (depth * tan_x), py = pc->pad / (depth * tan_y);
+            lo[0] = fmin(lo[0], x - px);
+            hi[0] = fmax(hi[0], x + px);
+            lo[1] = fmin(lo[1], y - py);
+            hi[1] = fmax(hi[1], y + py);
+        }
+        if (pc->count == 0) return;
+        c[0] += 0.5 * (lo[0] + hi[0]) * distance * tan_x;
+        c[1] += 0.5 * (lo[1] + hi[1]) * distance * tan_y;
+    }
+}
+
+/* Smooths the path x[k stride] (samples at times t, any spacing) in place:
+ * each value becomes that at t_k of the parabola fitted by least squares to
+ * the samples within 3 sigma of t_k, weighted exp(-(dt / sigma)^2 / 2)
+ * (local quadratic regression). A path that is a parabola in time (at rest,
+ * a steady drift, a free fall) is kept exactly, with no lag at either end,
+ * and a jitter from frame to frame averages out. Too few samples in the
+ * window for a parabola: a line, else the weighted mean. scratch: n doubles. */
+static void smooth_path(double *x, int stride, const double *t, int n, double sigma, double *scratch)
+{
+    for (int k = 0; k < n; k++) scratch[k] = x[(size_t)k * stride];
+    for (int k = 0; k < n; k++) {
+        double s[5] = {0}, m[3] = {0};
+        int first = k, last = k;
+        while (first > 0 && t[k] - t[first - 1] <= 3 * sigma) first--;
+        while (last + 1 < n && t[last + 1] - t[k] <= 3 * sigma) last++;
+        for (int g = first; g <= last; g++) {
+            double d = (t[g] - t[k]) / sigma, w = exp(-0.5 * d * d), power = w;
+            for (int p = 0; p < 5; p++, power *= d) {
+                s[p] += power;
+                if (p < 3) m[p] += power * scratch[g];
+            }
+        }
+        /* the normal equations of a + b d + c d^2, solved for a by Cramer's rule */
+        double det = s[0] * (s[2] * s[4] - s[3] * s[3]) - s[1] * (s[1] * s[4] - s[2] * s[3]) +
+                     s[2] * (s[1] * s[3] - s[2] * s[2]);
+        double line = s[0] * s[2] - s[1] * s[1], value;
+        if (last - first >= 2 && fabs(det) > 1e-9 * s[0] * s[0] * s[0])
+            value = (m[0] * (s[2] * s[4] - s[3] * s[3]) - s[1] * (m[1] * s[4] - s[3] * m[2]) +
+                     s[2] * (m[1] * s[3] - s[2] * m[2])) / det;
+        else if (last - first >= 1 && fabs(line) > 1e-9 * s[0] * s[0])
+            value = (s[2] * m[0] - s[1] * m[1]) / line;
+        else
+            value = m[0] / s[0];
+        x[(size_t)k * stride] = value;
+    }
+}
+
+/* The follow path over the extent's frames (rec: the motion as drawn). NULL
+ * when out of memory. */
+static follow_path *follow_create(const rod_recording *rec, const render_options *o,
+                                  const arrow_scales *arrows, double radius,
+                                  const render_camera *run_camera, const frame_band *band,
+                                  int floor)
+{
+    follow_path *fp = calloc(1, sizeof *fp);
+    if (!fp) return NULL;
+    int n = rec->frame_count;
+    fp->count = n;
+    fp->band = *band;
+    fp->basis = *run_camera;
+    fp->floor = floor;
+    fp->time = malloc((size_t)n * sizeof(double));
+    fp->centre = malloc((size_t)n * 3 * sizeof(double));
+    fp->extent = malloc((size_t)n * sizeof(double));
+    double *need = malloc((size_t)n * sizeof(double));
+    fp->frame.points = malloc(((size_t)rec->nodes + FRAME_EXTRA_POINTS) * 3 * sizeof(double));
+    fp->frame.pad = radius;
+    if (!fp->time || !fp->centre || !fp->extent || !need || !fp->frame.points) {
+        free(need);
+        follow_destroy(fp);
+        return NULL;
+    }
+    const double *basis[3] = {run_camera->right, run_camera->up, run_camera->direction};
+    double lo_all[3] = {INFINITY, INFINITY, INFINITY}, hi_all[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int f = 0; f < n; f++) {
+        fp->time[f] = rec->time[f];
+        fp->frame.count = 0;
+        point_cloud_add_frame(&fp->frame, rec, o, arrows, f, 1);
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int i = 0; i < fp->frame.count; i++)
+            for (int a = 0; a < 3; a++) {
+                double x = v3_dot(&fp->frame.points[3 * i], basis[a]);
+                lo[a] = fmin(lo[a], x - radius);
+                hi[a] = fmax(hi[a], x + radius);
+            }
+        for (int a = 0; a < 3; a++) {
+            fp->centre[3 * f + a] = 0.5 * (lo[a] + hi[a]);
+            lo_all[a] = fmin(lo_all[a], lo[a]);
+            hi_all[a] = fmax(hi_all[a], hi[a]);
+        }
+        if (!run_camera->orthographic) follow_recentre(fp, &fp->frame, &fp->centre[3 * f]);
+    }
+    fp->depth = hi_all[2] - lo_all[2];
+    fp->size = fmax(fmax(hi_all[0] - lo_all[0], hi_all[1] - lo_all[1]), fp->depth);
+    /* simulated seconds of FOLLOW_TIME video seconds at this playback rate */
+    double sigma = FOLLOW_TIME * o->fps / render_output_rate(o);
+    for (int a = 0; a < 3; a++) smooth_path(fp->centre + a, 3, fp->time, n, sigma, need);
+    for (int f = 0; f < n; f++) {
+        fp->frame.count = 0;
+        point_cloud_add_frame(&fp->frame, rec, o, arrows, f, 1);
+        need[f] = follow_need(fp, &fp->frame, &fp->centre[3 * f]);
+    }
+    /* the size: the largest need within 2 sigma, smoothed in log (zoom reads as a ratio);
+     * the window makes the smoothed curve cover the needs, the guard at draw time does
+     * the rest */
+    for (int f = 0; f < n; f++) {
+        double most = need[f];
+        for (int g = f - 1; g >= 0 && fp->time[f] - fp->time[g] <= 2 * sigma; g--)
+            most = fmax(most, need[g]);
+        for (int g = f + 1; g < n && fp->time[g] - fp->time[f] <= 2 * sigma; g++)
+            most = fmax(most, need[g]);
+        fp->extent[f] = log(most);
+    }
+    smooth_path(fp->extent, 1, fp->time, n, sigma, need);
+    for (int f = 0; f < n; f++) fp->extent[f] = exp(fp->extent[f]);
+    free(need);
+    return fp;
+}
+
+/* The camera of frame `frame` of rec (the motion as drawn) at time t: the
+ * path's framing at t, widened where it would cut this frame's rod. */
+static void follow_camera(follow_path *fp, const rod_recording *rec, const render_options *o,
+                          const arrow_scales *arrows, int frame, double t, render_camera *cam)
+{
+    int n = fp->count, i = 0, last = n - 1;
+    while (last - i > 1) { /* the segment [i, i + 1] that holds t */
+        int middle = (i + last) / 2;
+        if (fp->time[middle] <= t) i = middle;
+        else last = middle;
+    }
+    double c[3], extent;
+    if (n == 1 || t <= fp->time[0]) {
+        v3_copy(c, fp->centre);
+        extent = fp->extent[0];
+    } else if (t >= fp->time[n - 1]) {
+        v3_copy(c, &fp->centre[3 * (n - 1)]);
+        extent = fp->extent[n - 1];
+    } else {
+        double span = fp->time[i + 1] - fp->time[i];
+        double a = span > 0 ? (t - fp->time[i]) / span : 0;
+        for (int k = 0; k < 3; k++)
+            c[k] = (1 - a) * fp->centre[3 * i + k] + a * fp->centre[3 * (i + 1) + k];
+        extent = (1 - a) * fp->extent[i] + a * fp->extent[i + 1];
+    }
+    fp->frame.count = 0;
+    point_cloud_add_frame(&fp->frame, rec, o, arrows, frame, 1);
+    extent = fmax(extent, follow_need(fp, &fp->frame, c));
+
+    *cam = fp->basis;
+    double shift = fp->band.bottom - fp->band.top, half_height, distance, near, far;
+    if (cam->orthographic) {
+        half_height = extent;
+        distance = 0.5 * fp->depth + 0.5 * fp->size + 1e-3;
+        near = 1e-4 * fp->size;
+        far = distance + 4 * fp->size;
+        if (fp->floor) {
+            distance += 6 * fp->size;
+            far = distance + 6 * fp->size;
+        }
+    } else {
+        distance = extent;
+        half_height = distance * tan(0.5 * PERSPECTIVE_FOVY);
+        double nearest = INFINITY;
+        for (int k = 0; k < fp->frame.count; k++)
+            nearest = fmin(nearest, distance - (v3_dot(&fp->frame.points[3 * k], cam->direction) -
+                                                c[2]) - fp->frame.pad);
+        near = fmax(0.5 * nearest, 1e-3 * distance);
+        if (!isfinite(near)) near = 1e-3 * distance;
+        far = distance + 6 * fp->size + distance;
+    }
+    c[1] -= shift * half_height;
+    for (int k = 0; k < 3; k++) {
+        cam->target[k] = c[0] * cam->right[k] + c[1] * cam->up[k] + c[2] * cam->direction[k];
+        cam->eye[k] = cam->target[k] + distance * cam->direction[k];
+    }
+    cam->metres_per_pixel = 2 * half_height / cam->height;
+    camera_matrices(cam, half_height, near, far);
+}
+
+/* The camera and direction (from the rod to the eye) of a view; scene_view
+ * is render.view (may alias view). */
+static void view_camera(render_view_kind kind, const double scene_view[3],
+                        render_camera_kind *camera, double view[3])
+{
+    double along[3];
+    v3_copy(along, scene_view);
+    *camera = RENDER_CAMERA_ORTHOGRAPHIC;
+    switch (kind) {
+    case RENDER_VIEW_PERSPECTIVE: *camera = RENDER_CAMERA_PERSPECTIVE; break;
+    case RENDER_VIEW_ORTHOGRAPHIC: break;
+    case RENDER_VIEW_TOP: v3_set(along, 0, 0, 1); break;
+    case RENDER_VIEW_FRONT: v3_set(along, 0, -1, 0); break;
+    case RENDER_VIEW_SIDE: v3_set(along, 1, 0, 0); break;
+    }
+    v3_copy(view, along);
+}
 
 /* ------------------------------------------------------------------ surfaces, ground, shadows */
 
@@ -1806,31 +2163,22 @@ typedef struct grid {
     double spacing;     /* m, one cell */
     render_vertex *lines;
     int count, capacity;
+    int axis;           /* the world axis the grid's plane is normal to */
+    double plane;       /* m: the plane's coordinate on that axis */
+    double size;        /* m: the motion's size, which sets the spacing */
+    double fixed_spacing; /* m; > 0: the spacing for every camera (follow) */
+    float minor[3], major[3];
 } grid;
 
-/* A backdrop grid on the far side of the motion, in the world plane most
- * facing the camera, covering what the camera sees of that plane. */
-static void grid_build(grid *g, const rod_recording *rec, const render_camera *cam, double radius,
-                       const unsigned char background[3])
+/* Where the picture's corner rays meet the grid's plane: the region of it
+ * the camera sees, in the plane's two other axes. */
+static void grid_region(const grid *g, const render_camera *cam, double region_lo[2],
+                        double region_hi[2])
 {
-    g->count = 0;
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    size_t n = (size_t)rec->frame_count * (size_t)rec->nodes;
-    for (size_t i = 0; i < n; i++)
-        for (int c = 0; c < 3; c++) {
-            lo[c] = fmin(lo[c], rec->position[3 * i + c]);
-            hi[c] = fmax(hi[c], rec->position[3 * i + c]);
-        }
-    double size = fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), fmax(hi[2] - lo[2], rec->length * 0.1));
-    int axis = 0;
-    for (int c = 1; c < 3; c++)
-        if (fabs(cam->direction[c]) > fabs(cam->direction[axis])) axis = c;
-    double margin = fmax(4 * radius, 0.1 * size);
-    double plane = cam->direction[axis] > 0 ? lo[axis] - margin : hi[axis] + margin;
-    int b = (axis + 1) % 3, c = (axis + 2) % 3;
-
-    /* where the picture's corner rays meet the plane */
-    double region_lo[2] = {INFINITY, INFINITY}, region_hi[2] = {-INFINITY, -INFINITY};
+    int axis = g->axis, b = (axis + 1) % 3, c = (axis + 2) % 3;
+    double plane = g->plane, size = g->size;
+    region_lo[0] = region_lo[1] = INFINITY;
+    region_hi[0] = region_hi[1] = -INFINITY;
     double tan_y = tan(0.5 * PERSPECTIVE_FOVY), aspect = (double)cam->width / cam->height;
     double half_height = 0.5 * cam->metres_per_pixel * cam->height;
     for (int corner = 0; corner < 4; corner++) {
@@ -1853,17 +2201,24 @@ static void grid_build(grid *g, const rod_recording *rec, const render_camera *c
         region_lo[1] = fmin(region_lo[1], hit_c);
         region_hi[1] = fmax(region_hi[1], hit_c);
     }
-    g->spacing = nice_below(size / 6);
-    while ((region_hi[0] - region_lo[0]) / g->spacing > GRID_MAX_LINES - 2 ||
-           (region_hi[1] - region_lo[1]) / g->spacing > GRID_MAX_LINES - 2)
-        g->spacing = nice_below(g->spacing * 2.01);
+}
 
-    float minor[3], major[3];
-    for (int k = 0; k < 3; k++) {
-        double bg = background[k] / 255.0, toward = bg > 0.5 ? -1 : 1;
-        minor[k] = (float)(bg + toward * 0.07);
-        major[k] = (float)(bg + toward * 0.16);
+/* The grid lines where the camera sees the grid's plane. */
+static void grid_lines(grid *g, const render_camera *cam)
+{
+    g->count = 0;
+    int axis = g->axis, b = (axis + 1) % 3, c = (axis + 2) % 3;
+    double plane = g->plane, region_lo[2], region_hi[2];
+    grid_region(g, cam, region_lo, region_hi);
+    if (g->fixed_spacing > 0) {
+        g->spacing = g->fixed_spacing;
+    } else {
+        g->spacing = nice_below(g->size / 6);
+        while ((region_hi[0] - region_lo[0]) / g->spacing > GRID_MAX_LINES - 2 ||
+               (region_hi[1] - region_lo[1]) / g->spacing > GRID_MAX_LINES - 2)
+            g->spacing = nice_below(g->spacing * 2.01);
     }
+
     const double normal[3] = {0, 0, 1};
     for (int direction = 0; direction < 2; direction++) {
         int along = direction ? c : b, across = direction ? b : c;
@@ -1875,7 +2230,7 @@ static void grid_build(grid *g, const rod_recording *rec, const render_camera *c
             p[along] = q[along] = k * g->spacing;
             p[across] = region_lo[ib];
             q[across] = region_hi[ib];
-            const float *color = k % 5 == 0 ? major : minor;
+            const float *color = k % 5 == 0 ? g->major : g->minor;
             render_vertex *v = &g->lines[g->count];
             for (int e = 0; e < 3; e++) {
                 v[0].position[e] = (float)p[e];
@@ -1886,6 +2241,34 @@ static void grid_build(grid *g, const rod_recording *rec, const render_camera *c
             g->count += 2;
         }
     }
+}
+
+/* A backdrop grid on the far side of the motion, in the world plane most
+ * facing the camera, covering what the camera sees of that plane. */
+static void grid_build(grid *g, const rod_recording *rec, const render_camera *cam, double radius,
+                       const unsigned char background[3])
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    size_t n = (size_t)rec->frame_count * (size_t)rec->nodes;
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++) {
+            lo[c] = fmin(lo[c], rec->position[3 * i + c]);
+            hi[c] = fmax(hi[c], rec->position[3 * i + c]);
+        }
+    double size = fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), fmax(hi[2] - lo[2], rec->length * 0.1));
+    int axis = 0;
+    for (int c = 1; c < 3; c++)
+        if (fabs(cam->direction[c]) > fabs(cam->direction[axis])) axis = c;
+    double margin = fmax(4 * radius, 0.1 * size);
+    g->axis = axis;
+    g->plane = cam->direction[axis] > 0 ? lo[axis] - margin : hi[axis] + margin;
+    g->size = size;
+    for (int k = 0; k < 3; k++) {
+        double bg = background[k] / 255.0, toward = bg > 0.5 ? -1 : 1;
+        g->minor[k] = (float)(bg + toward * 0.07);
+        g->major[k] = (float)(bg + toward * 0.16);
+    }
+    grid_lines(g, cam);
 }
 
 /* ------------------------------------------------------------------ overlay */
@@ -1906,6 +2289,13 @@ typedef struct overlay {
     double color_lo, color_hi; /* the colour bar's range, fixed for the video */
     int color_clamped;    /* values beyond the range (drawn in the end colours) */
 } overlay;
+
+static void overlay_destroy(overlay *ov)
+{
+    text_font_destroy(ov->title);
+    text_font_destroy(ov->body);
+    ov->title = ov->body = NULL;
+}
 
 static void swatch(image *img, int x, int y, int size, const float color[3])
 {
@@ -2307,6 +2697,9 @@ typedef struct renderer {
     shadow_catcher catchers[ROD_MAX_SURFACES_DRAWN + 1];
     int catcher_count;
     int caster_indices;          /* this frame's triangles that cast (the punctures do not) */
+    frame_band band;             /* the part of the picture the content may use */
+    follow_path *follow;         /* framing follow: the camera's path; NULL: run */
+    int draws_overlay;           /* 1: the overlay is drawn here (not by a split frame) */
 } renderer;
 
 /* Pixels per metre at a point (perspective: at its depth). */
@@ -2382,6 +2775,14 @@ static void mark_shadow(renderer *r, const double *points, int count, int chain,
 static void frame_boxes(renderer *r, const rod_recording *rec, int frame,
                         const rod_recording *given, int given_frame)
 {
+    if (r->follow) {
+        /* the camera moves: everything changes, the picture is one box drawn whole */
+        r->box_count = 1;
+        r->boxes[0][0] = r->boxes[0][1] = 0;
+        r->boxes[0][2] = r->camera.width;
+        r->boxes[0][3] = r->camera.height;
+        return;
+    }
     memset(r->tile_marked, 0, (size_t)r->tiles_x * (size_t)r->tiles_y);
     for (int k = 0; k + 1 < rec->nodes; k++)
         mark_points(r, node_position(rec, frame, k), 2, r->pad);
@@ -2439,8 +2840,8 @@ static void renderer_destroy(renderer *r)
     image_destroy(r->backdrop);
     free(r->tile_marked);
     free(r->boxes);
-    text_font_destroy(r->overlay.title);
-    text_font_destroy(r->overlay.body);
+    overlay_destroy(&r->overlay);
+    follow_destroy(r->follow);
     free(r->mesh.vertices);
     free(r->mesh.indices);
     free(r->grid.lines);
@@ -2648,16 +3049,65 @@ static int renderer_receivers(renderer *r, const receiver_plan *plan, char *err,
     return 0;
 }
 
+/* The scale bar for a picture `width` pixels wide at metres_per_pixel. */
+static void overlay_scale_bar(overlay *ov, int width, double metres_per_pixel)
+{
+    ov->bar_metres = nice_below(0.18 * width * metres_per_pixel);
+    ov->bar_pixels = (int)lround(ov->bar_metres / metres_per_pixel);
+    format_length(ov->bar_label, sizeof ov->bar_label, ov->bar_metres);
+}
+
+/* The overlay's fixed parts: title, time format, load scales, colour range,
+ * ink, scale bar (cam); the fonts when `fonts`. 0, or -1 with a message. */
+static int overlay_create(overlay *ov, const rod_recording *rec, const render_options *o,
+                          const char *scene_name, double radius, const arrow_scales *arrows,
+                          const render_camera *cam, int fonts, char *err, size_t errlen)
+{
+    snprintf(ov->title_text, sizeof ov->title_text, "%s",
+             o->title[0] ? o->title : scene_name && *scene_name ? scene_name : rec->scene);
+    double last_time = 0;
+    for (int f = 0; f < rec->frame_count; f++) last_time = fmax(last_time, fabs(rec->time[f]));
+    ov->time_digits = 1;
+    while (ov->time_digits < 12 && last_time >= pow(10, ov->time_digits) - 0.5) ov->time_digits++;
+    /* decimals that tell consecutive frames apart: 3 at 30 frames per simulated second */
+    int rate = render_output_rate(o);
+    ov->time_decimals = (int)ceil(log10((double)rate) - 1e-9) + 1;
+    if (ov->time_decimals < 1) ov->time_decimals = 1;
+    if (ov->time_decimals > 7) ov->time_decimals = 7;
+    ov->playback = (double)o->fps / rate;
+    ov->force_scale = arrows->max_force;
+    ov->moment_scale = arrows->max_moment;
+    if (o->color != RENDER_COLOR_SOLID)
+        color_range(rec, o, &ov->color_lo, &ov->color_hi, &ov->color_clamped);
+    int dark = o->background[0] + o->background[1] + o->background[2] < 3 * 128;
+    for (int c = 0; c < 3; c++) {
+        ov->ink[c] = dark ? 235 : 34;
+        ov->faint[c] = dark ? 190 : 80;
+    }
+    ov->exaggeration = rec->diameter > 0 ? radius / (0.5 * rec->diameter) : 1;
+    if (o->grid) overlay_scale_bar(ov, o->width, cam->metres_per_pixel);
+    if (fonts) {
+        ov->title = text_font_load(o->height / 22 > 8 ? o->height / 22 : 8, err, errlen);
+        ov->body = ov->title ? text_font_load(o->height / 34 > 7 ? o->height / 34 : 7, err, errlen) : NULL;
+        if (!ov->body) return -1;
+    }
+    return 0;
+}
+
+/* band: the part of the picture the content may use (the overlay's bands
+ * kept free). */
 static int renderer_create(renderer *r, const rod_recording *rec, const render_options *o,
-                           const char *scene_name, char *err, size_t errlen)
+                           const char *scene_name, const frame_band *band, char *err,
+                           size_t errlen)
 {
     memset(r, 0, sizeof *r);
     r->rec = rec;
     r->o = o;
+    r->band = *band;
     r->radius = render_visual_radius(rec, o);
     /* the camera and the grid frame the motion as drawn (magnified) */
     rod_recording *shown = o->magnify != 1 ? magnified_copy(rec, o->magnify) : NULL;
-    camera_fit(&r->camera, shown ? shown : rec, o);
+    camera_fit(&r->camera, shown ? shown : rec, o, band);
     arrow_scales_compute(&r->arrows, rec, r->radius, o->arrows);
     if (o->magnify != 1) r->view = recording_like(rec, 2);
     if (o->color != RENDER_COLOR_SOLID) {
@@ -2691,43 +3141,48 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
         floor |= o->surfaces[k].shape == ROD_SURFACE_PLANE;
     if (o->grid && !floor)
         grid_build(&r->grid, shown ? shown : rec, &r->camera, r->radius, o->background);
-    rod_recording_destroy(shown);
-
-    overlay *ov = &r->overlay;
-    snprintf(ov->title_text, sizeof ov->title_text, "%s",
-             o->title[0] ? o->title : scene_name && *scene_name ? scene_name : rec->scene);
-    double last_time = 0;
-    for (int f = 0; f < rec->frame_count; f++) last_time = fmax(last_time, fabs(rec->time[f]));
-    ov->time_digits = 1;
-    while (ov->time_digits < 12 && last_time >= pow(10, ov->time_digits) - 0.5) ov->time_digits++;
-    /* decimals that tell consecutive frames apart: 3 at 30 frames per simulated second */
-    int rate = render_output_rate(o);
-    ov->time_decimals = (int)ceil(log10((double)rate) - 1e-9) + 1;
-    if (ov->time_decimals < 1) ov->time_decimals = 1;
-    if (ov->time_decimals > 7) ov->time_decimals = 7;
-    ov->playback = (double)o->fps / rate;
-    ov->force_scale = r->arrows.max_force;
-    ov->moment_scale = r->arrows.max_moment;
-    if (o->color != RENDER_COLOR_SOLID)
-        color_range(rec, o, &ov->color_lo, &ov->color_hi, &ov->color_clamped);
-    int dark = o->background[0] + o->background[1] + o->background[2] < 3 * 128;
-    for (int c = 0; c < 3; c++) {
-        ov->ink[c] = dark ? 235 : 34;
-        ov->faint[c] = dark ? 190 : 80;
-    }
-    ov->exaggeration = rec->diameter > 0 ? r->radius / (0.5 * rec->diameter) : 1;
-    if (o->grid) {
-        ov->bar_metres = nice_below(0.18 * o->width * r->camera.metres_per_pixel);
-        ov->bar_pixels = (int)lround(ov->bar_metres / r->camera.metres_per_pixel);
-        format_length(ov->bar_label, sizeof ov->bar_label, ov->bar_metres);
-    }
-    if (o->overlay) {
-        ov->title = text_font_load(o->height / 22 > 8 ? o->height / 22 : 8, err, errlen);
-        ov->body = ov->title ? text_font_load(o->height / 34 > 7 ? o->height / 34 : 7, err, errlen) : NULL;
-        if (!ov->body) {
-            renderer_destroy(r);
-            return -1;
+    if (o->framing == RENDER_FRAMING_FOLLOW) {
+        r->follow = follow_create(shown ? shown : rec, o, &r->arrows, r->radius, &r->camera, band,
+                                  floor || o->surface_count > 0 || v3_norm(o->distributed_force) > 0);
+        if (r->follow) {
+            /* the grid's cells sized for the widest picture followed (the run's
+             * camera shows its motion across about 0.7 of the height), not for
+             * the whole path */
+            double largest = 0;
+            for (int f = 0; f < r->follow->count; f++)
+                largest = fmax(largest, r->follow->extent[f]);
+            largest *= r->camera.orthographic ? 2 : 2 * tan(0.5 * PERSPECTIVE_FOVY);
+            r->grid.size = fmax(fmin(r->grid.size, 0.7 * largest), 0.1 * rec->length);
+            if (o->grid && !floor) {
+                /* one spacing for the video (a grid whose cells jump would read as
+                 * motion), coarse enough that the widest region seen has at most
+                 * FOLLOW_GRID_LINES lines a direction: they are drawn every frame */
+                double widest = 0;
+                for (int f = 0; f < r->follow->count; f++) {
+                    render_camera cam;
+                    double lo[2], hi[2];
+                    follow_camera(r->follow, shown ? shown : rec, o, &r->arrows, f,
+                                  r->follow->time[f], &cam);
+                    grid_region(&r->grid, &cam, lo, hi);
+                    widest = fmax(widest, fmax(hi[0] - lo[0], hi[1] - lo[1]));
+                }
+                double spacing = nice_below(r->grid.size / 6);
+                while (widest / spacing > FOLLOW_GRID_LINES) spacing = nice_below(spacing * 2.01);
+                r->grid.fixed_spacing = spacing;
+            }
         }
+    }
+    rod_recording_destroy(shown);
+    if (o->framing == RENDER_FRAMING_FOLLOW && !r->follow) {
+        snprintf(err, errlen, "render: out of memory");
+        renderer_destroy(r);
+        return -1;
+    }
+
+    if (overlay_create(&r->overlay, rec, o, scene_name, r->radius, &r->arrows, &r->camera,
+                       o->overlay, err, errlen)) {
+        renderer_destroy(r);
+        return -1;
     }
     r->gl = gl_renderer_create(o->width, o->height, o->samples, r->mesh.max_vertices,
                                r->mesh.max_indices, r->grid.capacity, err, errlen);
@@ -2736,6 +3191,7 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
         return -1;
     }
     if (o->grid) gl_renderer_set_lines(r->gl, r->grid.lines, r->grid.count);
+    if (r->follow) gl_renderer_set_whole_boxes(r->gl, 1, o->background);
     r->pad = STRIPE_LIFT * r->radius;
     if (renderer_receivers(r, &plan, err, errlen)) {
         renderer_destroy(r);
@@ -2757,6 +3213,18 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
         return -1;
     }
     return 0;
+}
+
+/* Follow framing: this frame's camera, and what hangs on it (the grid, the
+ * scale bar; the backdrop is not used: the whole picture is one box). */
+static void renderer_follow(renderer *r, const rod_recording *drawn, int drawn_frame, double t)
+{
+    follow_camera(r->follow, drawn, r->o, &r->arrows, drawn_frame, t, &r->camera);
+    if (r->o->grid && r->grid.count > 0) {
+        grid_lines(&r->grid, &r->camera);
+        gl_renderer_set_lines(r->gl, r->grid.lines, r->grid.count);
+    }
+    if (r->o->grid) overlay_scale_bar(&r->overlay, r->o->width, r->camera.metres_per_pixel);
 }
 
 /* Draws frame `frame` of rec (whose frame 0 is the run's first: the clamp
@@ -2787,6 +3255,7 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
         drawn = r->view;
         drawn_frame = 1;
     }
+    if (r->follow) renderer_follow(r, drawn, drawn_frame, given->time[given_frame]);
     rec = drawn;
     frame = drawn_frame;
     add_tube(m, rec, frame, r->radius, r->o->sides, r->colors, r->o->rod_color);
@@ -2806,8 +3275,21 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
     double t2 = timing ? now_seconds() : 0;
     /* premultiplied rod over the backdrop: out = C + (1 - alpha) B, inside the boxes only
      * (the read rectangle outside them holds stale pixels) */
-    memcpy(out->rgb, r->backdrop->rgb, (size_t)out->width * (size_t)out->height * 3);
-    for (int b = 0; b < r->box_count; b++) {
+    if (r->follow) {
+        /* one opaque box, the whole picture: its pixels as they are */
+        for (int y = 0; y < out->height; y++) {
+            const unsigned char *src = rgba + (size_t)(out->height - 1 - y) * (size_t)out->width * 4;
+            unsigned char *dst = out->rgb + (size_t)y * (size_t)out->width * 3;
+            for (int x = 0; x < out->width; x++, src += 4, dst += 3) {
+                dst[0] = src[0];
+                dst[1] = src[1];
+                dst[2] = src[2];
+            }
+        }
+    } else {
+        memcpy(out->rgb, r->backdrop->rgb, (size_t)out->width * (size_t)out->height * 3);
+    }
+    for (int b = 0; !r->follow && b < r->box_count; b++) {
         const int *box = r->boxes[b];
         for (int y = box[1]; y < box[1] + box[3]; y++) {
             int row = read_box[1] + read_box[3] - 1 - y; /* GL rows run bottom-up */
@@ -2825,7 +3307,8 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
         }
     }
     double t3 = timing ? now_seconds() : 0;
-    if (r->o->overlay) draw_overlay(out, &r->overlay, rec, r->o, &r->camera, frame);
+    if (r->o->overlay && r->draws_overlay)
+        draw_overlay(out, &r->overlay, rec, r->o, &r->camera, frame);
     if (timing) {
         double t4 = now_seconds();
         timing->mesh += t1 - t0;
@@ -2836,9 +3319,72 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
     return 0;
 }
 
+/* ---- a frame split into views (issue 14) ---- */
+
+/* Fraction of the height under each view's picture for its name, axes and
+ * scale bar (above the overlay's bottom band). */
+#define LABEL_ROW 0.08
+
+static const char *const view_labels[] = {"perspective", "orthographic", "top view", "front view",
+                                          "side view"};
+
+/* One tile of a split frame: a renderer of its own (camera, grid, shadow
+ * map, GL context) drawing a picture as tall as the frame. */
+typedef struct view_tile {
+    renderer r;
+    int made;             /* r was created (destroy it) */
+    render_options o;     /* the scene's, with this tile's width, camera and direction */
+    image *picture;       /* (o.width x o.height) */
+    int x;                /* pixels: the tile's left edge in the frame */
+    render_view_kind kind;
+} view_tile;
+
+/* Under each tile: its axes, its name and its scale bar; between tiles a
+ * thin line. */
+static void draw_tile_labels(image *img, const overlay *ov, const view_tile *tiles, int count,
+                             unsigned show)
+{
+    int height = img->height, margin = height / 40 + 4;
+    int row_top = (int)lround(height * (1 - FRAME_BOTTOM - LABEL_ROW));
+    int row_bottom = (int)lround(height * (1 - FRAME_BOTTOM));
+    int ascent = text_ascent(ov->body), baseline = (row_top + row_bottom + ascent) / 2;
+    double middle = 0.5 * (row_top + row_bottom), triad = 0.28 * (row_bottom - row_top);
+    for (int k = 0; k < count; k++) {
+        const view_tile *t = &tiles[k];
+        if (k > 0) {
+            int top = (int)lround(height * FRAME_TOP);
+            image_fill_rect(img, t->x - 1, top, 2, row_bottom - top, ov->faint, 0.6);
+        }
+        int x = t->x + margin;
+        if (show & RENDER_SHOW_TRIAD) {
+            /* the letters stand up to a letter's width beyond the arrows */
+            draw_triad(img, ov, &t->r.camera, x + triad, middle, triad);
+            x += (int)lround(2 * triad + 2 * text_width(ov->body, "x") + 10);
+        }
+        text_draw(img, ov->body, x, baseline, view_labels[t->kind], ov->ink);
+        x += text_width(ov->body, view_labels[t->kind]);
+        const overlay *own = &t->r.overlay;
+        int thick = height / 240 + 2, right = t->x + t->o.width - margin;
+        int bar_x = right - own->bar_pixels, bar_y = baseline;
+        /* the bar only where it does not run into the name (a narrow tile) */
+        if ((show & RENDER_SHOW_SCALE) && own->bar_pixels > 0 &&
+            bar_x - 8 - text_width(ov->body, own->bar_label) > x + 12) {
+            image_fill_rect(img, bar_x, bar_y - thick, own->bar_pixels, thick, ov->ink, 1.0);
+            image_fill_rect(img, bar_x, bar_y - 3 * thick, thick, 3 * thick, ov->ink, 1.0);
+            image_fill_rect(img, right - thick, bar_y - 3 * thick, thick, 3 * thick, ov->ink, 1.0);
+            text_draw(img, ov->body, bar_x - 8 - text_width(ov->body, own->bar_label), baseline,
+                      own->bar_label, ov->ink);
+        }
+    }
+}
+
 /* A video being made frame by frame (render.h). */
 struct render_stream {
-    renderer r;
+    renderer r;           /* one view (tile_count 0) */
+    view_tile *tiles;     /* a split frame: tile_count views, left to right; NULL: one view */
+    int tile_count;
+    overlay overlay;      /* a split frame's overlay, drawn once over the tiles */
+    render_options overlay_options; /* the scene's, the per-tile items (triad, scale) hidden */
     frame_queue q;
     const render_options *o;
     char poster_path[OUTFILE_PATH_MAX];
@@ -2855,6 +3401,68 @@ struct render_stream {
     int status;
     char err[768];
 };
+
+/* The tiles of a split frame and its overlay. 0, or -1 with a message
+ * (render_stream_destroy frees what was made). */
+static int stream_tiles_create(render_stream *st, const rod_recording *extent,
+                               const render_options *o, const char *name, char *err,
+                               size_t errlen)
+{
+    int count = o->view_count;
+    st->tiles = calloc((size_t)count, sizeof *st->tiles);
+    if (!st->tiles) {
+        snprintf(err, errlen, "render: out of memory");
+        return -1;
+    }
+    st->tile_count = count;
+    /* each picture keeps the overlay's bands free, and a row for its label */
+    const frame_band band = {FRAME_TOP, FRAME_BOTTOM + LABEL_ROW, FRAME_SIDE};
+    for (int k = 0; k < count; k++) {
+        view_tile *t = &st->tiles[k];
+        t->x = k * o->width / count;
+        t->kind = o->views[k];
+        t->o = *o;
+        t->o.width = (k + 1) * o->width / count - t->x;
+        view_camera(t->kind, o->view, &t->o.camera, t->o.view);
+        t->o.view_count = 0;
+        t->o.overlay = 0; /* drawn once over the whole frame */
+        frame_band own = band;
+        if (k == count - 1 && o->overlay && (o->show & RENDER_SHOW_COLORBAR) &&
+            o->color != RENDER_COLOR_SOLID)
+            /* the colour bar and its labels (about 0.17 of the height) stand at the
+             * right edge: the last view keeps clear of them, on both sides */
+            own.side = fmax(band.side, fmin(0.3, 0.17 * o->height / t->o.width));
+        if (renderer_create(&t->r, extent, &t->o, name, &own, err, errlen)) return -1;
+        t->made = 1;
+        t->picture = image_create(t->o.width, t->o.height);
+        if (!t->picture) {
+            snprintf(err, errlen, "render: out of memory");
+            return -1;
+        }
+    }
+    st->overlay_options = *o;
+    st->overlay_options.show &= ~(unsigned)(RENDER_SHOW_TRIAD | RENDER_SHOW_SCALE);
+    const renderer *first = &st->tiles[0].r;
+    return overlay_create(&st->overlay, extent, o, name, first->radius, &first->arrows,
+                          &first->camera, o->overlay, err, errlen);
+}
+
+/* Draws every tile of a split frame into out, then the overlay once. */
+static int stream_draw_tiles(render_stream *st, const rod_recording *rec, int frame, image *out)
+{
+    for (int k = 0; k < st->tile_count; k++) {
+        view_tile *t = &st->tiles[k];
+        if (renderer_draw(&t->r, rec, frame, t->picture)) return -1;
+        for (int y = 0; y < out->height; y++)
+            memcpy(out->rgb + ((size_t)y * (size_t)out->width + (size_t)t->x) * 3,
+                   t->picture->rgb + (size_t)y * (size_t)t->o.width * 3, (size_t)t->o.width * 3);
+    }
+    if (st->o->overlay) {
+        draw_overlay(out, &st->overlay, rec, &st->overlay_options, &st->tiles[0].r.camera, frame);
+        draw_tile_labels(out, &st->overlay, st->tiles, st->tile_count, st->o->show);
+    }
+    return 0;
+}
 
 render_stream *render_stream_begin(const rod_recording *extent, const render_options *o,
                                    const char *out_dir, const char *scene_name, int want_video,
@@ -2878,9 +3486,17 @@ render_stream *render_stream_begin(const rod_recording *extent, const render_opt
     snprintf(st->poster_path, sizeof st->poster_path, "%s/%s.png", out_dir, name);
     snprintf(frames_dir, sizeof frames_dir, "%s/%s_frames", out_dir, name);
 
-    if (renderer_create(&st->r, extent, o, name, err, errlen)) {
-        free(st);
-        return NULL;
+    if (o->view_count >= 2) {
+        if (stream_tiles_create(st, extent, o, name, err, errlen)) {
+            render_stream_destroy(st);
+            return NULL;
+        }
+    } else {
+        if (renderer_create(&st->r, extent, o, name, &full_band, err, errlen)) {
+            free(st);
+            return NULL;
+        }
+        st->r.draws_overlay = 1;
     }
     /* the video, the poster and the frames appear together, or none */
     st->own_transaction = !outfile_transaction_active();
@@ -2928,6 +3544,18 @@ render_stream *render_stream_begin(const rod_recording *extent, const render_opt
     return st;
 }
 
+/* The cameras of frame k, for the tests (render_options.cameras). */
+static void report_cameras(const render_stream *st, int k)
+{
+    const render_options *o = st->o;
+    int views = st->tile_count > 0 ? st->tile_count : 1;
+    for (int v = 0; o->cameras && v < views; v++) {
+        long index = (long)k * views + v;
+        if (index < o->camera_capacity)
+            o->cameras[index] = st->tile_count ? st->tiles[v].r.camera : st->r.camera;
+    }
+}
+
 int render_stream_frame(render_stream *st, const rod_recording *rec, int frame, char *err,
                         size_t errlen)
 {
@@ -2939,7 +3567,8 @@ int render_stream_frame(render_stream *st, const rod_recording *rec, int frame, 
     }
     /* poster only: draw just the last frame (the one before it gives the speed) */
     if (!st->all_frames && index + 1 < st->announced) {
-        renderer_remember(&st->r, rec, frame);
+        if (st->tile_count == 0) renderer_remember(&st->r, rec, frame);
+        for (int t = 0; t < st->tile_count; t++) renderer_remember(&st->tiles[t].r, rec, frame);
         return 0;
     }
     int k = st->all_frames ? index : 0;
@@ -2959,12 +3588,14 @@ int render_stream_frame(render_stream *st, const rod_recording *rec, int frame, 
         }
     }
     st->last = q->slots[k % QUEUE_SLOTS];
-    if (renderer_draw(&st->r, rec, frame, st->last)) {
+    if (st->tile_count ? stream_draw_tiles(st, rec, frame, st->last)
+                       : renderer_draw(&st->r, rec, frame, st->last)) {
         snprintf(st->err, sizeof st->err, "render: OpenGL failed while drawing frame %d", index);
         st->status = -1;
         snprintf(err, errlen, "%s", st->err);
         return -1;
     }
+    report_cameras(st, k);
     if (st->threaded) {
         pthread_mutex_lock(&q->lock);
         q->produced++;
@@ -3037,7 +3668,16 @@ void render_stream_destroy(render_stream *st)
     video_writer_destroy(st->q.video); /* removes the video unless finished */
     for (int i = 0; i < QUEUE_SLOTS; i++) image_destroy(st->q.slots[i]);
     if (st->own_transaction) outfile_transaction_abort();
-    renderer_destroy(&st->r);
+    if (st->tiles) {
+        for (int k = 0; k < st->tile_count; k++) {
+            if (st->tiles[k].made) renderer_destroy(&st->tiles[k].r);
+            image_destroy(st->tiles[k].picture);
+        }
+        free(st->tiles);
+        overlay_destroy(&st->overlay);
+    } else {
+        renderer_destroy(&st->r);
+    }
     free(st);
 }
 
