@@ -4,14 +4,12 @@
 
 #include <errno.h>
 #include <math.h>
-#include <signal.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "base/ini.h"
 #include "base/outfile.h"
@@ -1115,78 +1113,48 @@ static void finish_point(progress *pg, int k)
     }
 }
 
-/* Runs the points not yet done in up to sw->jobs forked workers (results
- * through a pipe, the validate_cli.c pattern); --jobs 1 runs them here. */
-static void run_points(progress *pg)
+static int pool_run_point(void *context, int point, FILE *out)
+{
+    progress *pg = context;
+    point_result r;
+    run_point(pg->sw, point, &r);
+    return fwrite(&r, sizeof r, 1, out) == 1 ? 0 : 1;
+}
+
+static int pool_point_done(void *context, int point, const char *bytes, size_t n, int status)
+{
+    progress *pg = context;
+    point_result *r = &pg->rows[point];
+    if (status == 0 && n == sizeof *r) {
+        memcpy(r, bytes, sizeof *r);
+    } else {
+        memset(r, 0, sizeof *r);
+        for (int m = 0; m < M_COUNT; m++) r->value[m] = NAN;
+        set_message(r, POINT_FAILED, "worker process died (%s %d)",
+                    WIFSIGNALED(status) ? "signal" : "exit status",
+                    WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status));
+    }
+    finish_point(pg, point);
+    return 0;
+}
+
+/* Runs the points not yet done in up to sw->jobs forked workers (worker.h);
+ * --jobs 1 runs them here. 0, or -1 with a message. */
+static int run_points(progress *pg, char *err, size_t errlen)
 {
     const sweep *sw = pg->sw;
-    if (sw->jobs == 1) {
-        for (int k = 0; k < sw->point_count; k++) {
-            if (pg->done[k]) continue;
-            run_point(sw, k, &pg->rows[k]);
-            finish_point(pg, k);
-        }
-        return;
+    int *todo = malloc(sizeof(int) * (size_t)(sw->point_count + 1)), count = 0;
+    if (!todo) {
+        snprintf(err, errlen, "out of memory for %d points", sw->point_count);
+        return -1;
     }
-    pid_t pids[SWEEP_MAX_JOBS] = {0};
-    int pipes[SWEEP_MAX_JOBS], slot_point[SWEEP_MAX_JOBS];
-    int running = 0, next = 0;
-    pid_t parent = getpid();
-    while (next < sw->point_count || running > 0) {
-        while (next < sw->point_count && pg->done[next]) next++;
-        if (next < sw->point_count && running < sw->jobs) {
-            int j = 0;
-            while (pids[j]) j++;
-            int fd[2];
-            pid_t pid = -1;
-            if (pipe(fd) == 0) {
-                fflush(stdout);
-                fflush(stderr);
-                pid = fork();
-                if (pid == 0) {
-                    worker_begin(parent); /* dies with its parent */
-                    close(fd[0]);
-                    for (int i = 0; i < sw->jobs; i++)
-                        if (pids[i]) close(pipes[i]);
-                    point_result r;
-                    run_point(sw, next, &r);
-                    ssize_t n = write(fd[1], &r, sizeof r); /* < PIPE_BUF: one write */
-                    _exit(n == (ssize_t)sizeof r ? 0 : 1);
-                }
-                close(fd[1]);
-                if (pid < 0) close(fd[0]);
-            }
-            if (pid < 0) { /* no worker: run it here */
-                run_point(sw, next, &pg->rows[next]);
-                finish_point(pg, next++);
-                continue;
-            }
-            pids[j] = pid;
-            pipes[j] = fd[0];
-            slot_point[j] = next++;
-            running++;
-            continue;
-        }
-        int wstatus = 0;
-        pid_t pid = wait(&wstatus);
-        if (pid < 0) break;
-        for (int j = 0; j < sw->jobs; j++) {
-            if (pids[j] != pid) continue;
-            int k = slot_point[j];
-            point_result *r = &pg->rows[k];
-            if (read(pipes[j], r, sizeof *r) != (ssize_t)sizeof *r) {
-                memset(r, 0, sizeof *r);
-                for (int m = 0; m < M_COUNT; m++) r->value[m] = NAN;
-                set_message(r, POINT_FAILED, "worker process died (%s %d)",
-                            WIFSIGNALED(wstatus) ? "signal" : "exit status",
-                            WIFSIGNALED(wstatus) ? WTERMSIG(wstatus) : WEXITSTATUS(wstatus));
-            }
-            close(pipes[j]);
-            pids[j] = 0;
-            running--;
-            finish_point(pg, k);
-        }
-    }
+    for (int k = 0; k < sw->point_count; k++)
+        if (!pg->done[k]) todo[count++] = k;
+    worker_pool pool = {.jobs = sw->jobs, .context = pg, .run = pool_run_point,
+                        .done = pool_point_done};
+    int rc = worker_pool_run(&pool, todo, count, err, errlen);
+    free(todo);
+    return rc ? -1 : 0;
 }
 
 /* The results CSV: the varied keys, the measures, status, message. */
@@ -1713,7 +1681,7 @@ static int sweep_run(sweep *sw)
             goto done;
         }
     }
-    run_points(&pg);
+    if (run_points(&pg, err, sizeof err)) goto fail;
     if (pg.failed_writes) {
         fprintf(stderr, "rodsim sweep: %d result files could not be written; nothing else "
                         "was written\n", pg.failed_writes);

@@ -4,14 +4,10 @@
 
 #include <errno.h>
 #include <math.h>
-#include <poll.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/types.h>
 #include <sys/wait.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "base/embedded.h"
 #include "base/outfile.h"
@@ -1144,60 +1140,68 @@ int figure_points_read_csv(const figure_def *f, const char *path, figure_points 
 
 /* ---- parallel sweep ------------------------------------------------------------ */
 
-/* The workers send their rows back through a pipe, as CSV text: no
- * temporary directory, so nothing is left behind on any exit path, kill -9
- * included (the old /tmp/rodsim-figure-* directory was, and ignored $TMPDIR). */
+/* The workers (worker.h) send their rows back through a pipe, as CSV text:
+ * no temporary directory, so nothing is left behind on any exit path, kill
+ * -9 included. */
 typedef struct sweep_task {
     int figure; /* index into figs */
     int point;
-    pid_t pid;  /* 0: not started; -1: finished */
-    int fd;     /* read end of the worker's pipe; -1 when closed */
     char *text; /* the worker's CSV, as received */
-    size_t length, capacity;
+    size_t length;
 } sweep_task;
 
-/* In the child: compute the point, write its CSV into the pipe, exit. A
- * worker belongs to its parent's process group (a Ctrl-C reaches both) and
- * dies with its parent: PR_SET_PDEATHSIG covers SIGTERM and kill -9 of the
- * parent, which cannot run any cleanup. Never returns. */
-static void run_child(const figure_def *f, const sweep_task *t, int quick, int fd,
-                      pid_t parent)
+typedef struct sweep_context {
+    const figure_def *const *figs;
+    sweep_task *tasks;
+    int quick, total, done;
+    FILE *log;
+    double start;
+    char *err;
+    size_t errlen;
+} sweep_context;
+
+/* Computes the task's point and writes its CSV; a failure's message goes to
+ * stderr (from a worker, it has no other way out). */
+static int pool_compute(void *context, int task, FILE *out)
 {
-    worker_begin(parent);
+    const sweep_context *c = context;
+    const sweep_task *t = &c->tasks[task];
+    const figure_def *f = c->figs[t->figure];
     char err[1024] = "";
     figure_points rows;
     figure_points_init(&rows, f);
-    int rc = figure_compute_point(f, t->point, quick, &rows, err, sizeof err);
-    if (rc == 0) {
-        FILE *out = fdopen(fd, "w");
-        rc = !out || figure_points_write_csv(f, &rows, out) ? -1 : 0;
-        if (out && fclose(out)) rc = -1;
-        if (rc) snprintf(err, sizeof err, "cannot send the point's rows to the parent");
+    int rc = figure_compute_point(f, t->point, c->quick, &rows, err, sizeof err);
+    if (rc == 0 && figure_points_write_csv(f, &rows, out)) {
+        snprintf(err, sizeof err, "cannot send the point's rows to the parent");
+        rc = -1;
     }
     if (rc) fprintf(stderr, "rodsim figure %s: point %d: %s\n", f->name, t->point, err);
     figure_points_release(&rows);
-    fflush(NULL);
-    _exit(rc ? 1 : 0);
+    return rc ? 1 : 0;
 }
 
-/* Reads what the worker of task t has sent; closes the pipe at its end.
- * Returns -1 when out of memory. */
-static int receive(sweep_task *t)
+/* Keeps the task's text; the first failure stops the sweep. */
+static int pool_computed(void *context, int task, const char *bytes, size_t n, int status)
 {
-    if (t->capacity - t->length < 4096) {
-        size_t capacity = t->capacity ? 2 * t->capacity : 16384;
-        char *grown = realloc(t->text, capacity);
-        if (!grown) return -1;
-        t->text = grown;
-        t->capacity = capacity;
+    sweep_context *c = context;
+    sweep_task *t = &c->tasks[task];
+    const figure_def *f = c->figs[t->figure];
+    c->done++;
+    if (status != 0) {
+        snprintf(c->err, c->errlen, "figure %s, point %d failed (%s; its message is above)",
+                 f->name, t->point,
+                 WIFSIGNALED(status) ? strsignal(WTERMSIG(status)) : "exit status 1");
+        return 1;
     }
-    ssize_t n = read(t->fd, t->text + t->length, t->capacity - t->length - 1);
-    if (n > 0) {
-        t->length += (size_t)n;
-    } else if (n == 0 || errno != EINTR) {
-        close(t->fd);
-        t->fd = -1;
+    if (!(t->text = malloc(n + 1))) {
+        snprintf(c->err, c->errlen, "out of memory for the points' rows");
+        return 1;
     }
+    memcpy(t->text, bytes, n + 1);
+    t->length = n;
+    if (c->log)
+        fprintf(c->log, "  %s point %d/%d done (%d of %d, %.1f s)\n", f->name, t->point + 1,
+                figure_point_count(f, c->quick), c->done, c->total, now_seconds() - c->start);
     return 0;
 }
 
@@ -1209,33 +1213,9 @@ int figure_sweep(const figure_def *const *figs, int n, int quick, int jobs, FILE
         figure_points_init(&out[k], figs[k]);
         total += figure_point_count(figs[k], quick);
     }
-    double start = now_seconds();
-    if (jobs <= 1) {
-        int done = 0;
-        for (int k = 0; k < n; k++) {
-            int count = figure_point_count(figs[k], quick);
-            for (int i = 0; i < count; i++) {
-                char why[1024];
-                if (figure_compute_point(figs[k], i, quick, &out[k], why, sizeof why)) {
-                    snprintf(err, errlen, "figure %s, point %d: %s", figs[k]->name, i, why);
-                    return -1;
-                }
-                if (log)
-                    fprintf(log, "  %s point %d/%d done (%d of %d, %.1f s)\n", figs[k]->name,
-                            i + 1, count, ++done, total, now_seconds() - start);
-            }
-        }
-        return 0;
-    }
-
-    sweep_task *tasks = calloc((size_t)total, sizeof *tasks);
-    struct pollfd *polls = calloc((size_t)total, sizeof *polls);
-    int *polled = calloc((size_t)total, sizeof *polled); /* task of each pollfd */
-    if (!tasks || !polls || !polled) {
+    sweep_task *tasks = calloc((size_t)total + 1, sizeof *tasks);
+    if (!tasks) {
         snprintf(err, errlen, "out of memory");
-        free(tasks);
-        free(polls);
-        free(polled);
         return -1;
     }
     int t = 0;
@@ -1243,101 +1223,11 @@ int figure_sweep(const figure_def *const *figs, int n, int quick, int jobs, FILE
         for (int i = 0; i < figure_point_count(figs[k], quick); i++, t++) {
             tasks[t].figure = k;
             tasks[t].point = i;
-            tasks[t].fd = -1;
         }
-
-    pid_t self = getpid();
-    int next = 0, running = 0, done = 0, failed = -1;
-    while (done < total && !(failed >= 0 && running == 0)) {
-        while (failed < 0 && running < jobs && next < total) {
-            int fd[2];
-            if (pipe(fd) != 0) {
-                if (running == 0) {
-                    snprintf(err, errlen, "cannot make a pipe: %s", strerror(errno));
-                    failed = next;
-                }
-                break; /* try again when one finishes */
-            }
-            fflush(NULL); /* the child must not repeat the parent's buffered output */
-            pid_t pid = fork();
-            if (pid == 0) {
-                close(fd[0]);
-                for (int i = 0; i < next; i++) /* other workers' pipes */
-                    if (tasks[i].fd >= 0) close(tasks[i].fd);
-                run_child(figs[tasks[next].figure], &tasks[next], quick, fd[1], self);
-            }
-            close(fd[1]);
-            if (pid < 0) {
-                close(fd[0]);
-                if (running == 0) {
-                    snprintf(err, errlen, "cannot start a process: %s", strerror(errno));
-                    failed = next;
-                }
-                break;
-            }
-            tasks[next].fd = fd[0];
-            tasks[next++].pid = pid;
-            running++;
-        }
-        if (running == 0) break;
-        /* drain every open pipe (a worker blocks when its pipe is full), then
-         * reap the workers whose pipes have closed */
-        int watched = 0;
-        for (int i = 0; i < next; i++)
-            if (tasks[i].fd >= 0) {
-                polls[watched] = (struct pollfd){.fd = tasks[i].fd, .events = POLLIN};
-                polled[watched++] = i;
-            }
-        if (watched > 0) {
-            if (poll(polls, (nfds_t)watched, -1) < 0) {
-                if (errno == EINTR) continue;
-                snprintf(err, errlen, "waiting for the point processes: %s", strerror(errno));
-                failed = failed >= 0 ? failed : 0;
-                break;
-            }
-            int out_of_memory = 0;
-            for (int w = 0; w < watched; w++)
-                if (polls[w].revents) out_of_memory |= receive(&tasks[polled[w]]);
-            if (out_of_memory) {
-                snprintf(err, errlen, "out of memory for the points' rows");
-                failed = failed >= 0 ? failed : 0;
-                break;
-            }
-        }
-        for (int i = 0; i < next; i++) {
-            if (tasks[i].pid <= 0 || tasks[i].fd >= 0) continue;
-            int status;
-            pid_t pid;
-            while ((pid = waitpid(tasks[i].pid, &status, 0)) < 0 && errno == EINTR) {}
-            if (pid < 0) status = 1 << 8; /* already gone: count it as failed */
-            tasks[i].pid = -1;
-            running--;
-            done++;
-            const figure_def *f = figs[tasks[i].figure];
-            if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-                if (failed < 0) {
-                    snprintf(err, errlen, "figure %s, point %d failed (%s; its message is above)",
-                             f->name, tasks[i].point,
-                             WIFSIGNALED(status) ? strsignal(WTERMSIG(status)) : "exit status 1");
-                    failed = i;
-                }
-            } else if (log) {
-                fprintf(log, "  %s point %d/%d done (%d of %d, %.1f s)\n", f->name,
-                        tasks[i].point + 1, figure_point_count(f, quick), done, total,
-                        now_seconds() - start);
-            }
-        }
-    }
-    /* a failure or an error above: stop the workers still running */
-    for (int i = 0; i < next; i++) {
-        if (tasks[i].pid > 0) {
-            kill(tasks[i].pid, SIGKILL);
-            while (waitpid(tasks[i].pid, NULL, 0) < 0 && errno == EINTR) {}
-        }
-        if (tasks[i].fd >= 0) close(tasks[i].fd);
-    }
+    sweep_context c = {figs, tasks, quick, total, 0, log, now_seconds(), err, errlen};
+    worker_pool pool = {.jobs = jobs, .context = &c, .run = pool_compute, .done = pool_computed};
+    int rc = worker_pool_run(&pool, NULL, total, err, errlen) ? -1 : 0;
     /* collect in point order */
-    int rc = failed >= 0 ? -1 : 0;
     for (int i = 0; i < total; i++) {
         if (rc == 0) {
             char name[256];
@@ -1356,7 +1246,5 @@ int figure_sweep(const figure_def *const *figs, int n, int quick, int jobs, FILE
         free(tasks[i].text);
     }
     free(tasks);
-    free(polls);
-    free(polled);
     return rc;
 }
