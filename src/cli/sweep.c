@@ -1878,7 +1878,7 @@ typedef struct figure_part {
     const char *argv[FIGURE_MAX_ARGS];
     int argc;
     char csv[OUTFILE_PATH_MAX], png[OUTFILE_PATH_MAX], svg[OUTFILE_PATH_MAX];
-    char jobs[16];
+    char jobs[16], plot_arg[2 * SWEEP_KEY_LEN];
     sweep sw;
     setting *set;
     progress pg;
@@ -1903,16 +1903,21 @@ static void figure_files(const figure_spec *fig, int k, const char *out_dir, int
 static int figure_argv(const figure_spec *fig, int k, const sweep_figure_options *o,
                        figure_part *part, char *err, size_t errlen)
 {
-    static char plot_arg[FIGURE_SPEC_MAX_PARTS][SWEEP_KEY_LEN + 32];
-    snprintf(plot_arg[k], sizeof plot_arg[k], "%s:%s", fig->x_key, fig->measure);
+    snprintf(part->plot_arg, sizeof part->plot_arg, "%s:%s", fig->x_key, fig->measure);
     const char *const *args = o->quick ? fig->part[k].quick_args : fig->part[k].args;
     int n = 0;
     part->argv[n++] = "sweep";
     part->argv[n++] = fig->scene;
-    for (int i = 0; args[i] && n < FIGURE_MAX_ARGS - 24; i++) part->argv[n++] = args[i];
+    for (int i = 0; args[i]; i++) {
+        if (n == FIGURE_MAX_ARGS - 16) { /* room for the tail below */
+            snprintf(err, errlen, "part %d: more than %d arguments", k, FIGURE_MAX_ARGS - 18);
+            return -1;
+        }
+        part->argv[n++] = args[i];
+    }
     snprintf(part->jobs, sizeof part->jobs, "%d",
              o->jobs < 1 ? 1 : o->jobs > SWEEP_MAX_JOBS ? SWEEP_MAX_JOBS : o->jobs);
-    const char *tail[] = {"--measure", fig->measure, "--plot", plot_arg[k], "--png", part->png,
+    const char *tail[] = {"--measure", fig->measure, "--plot", part->plot_arg, "--png", part->png,
                           "--svg", part->svg, "--csv", part->csv, "--jobs", part->jobs};
     for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) part->argv[n++] = tail[i];
     if (o->result_dir) {
