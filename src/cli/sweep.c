@@ -1259,7 +1259,8 @@ static int reference_line(const figure_spec *fig, int part, double x0, double x1
  * reference line beside its points (the data get a reference column), its
  * own marks, and a ratio figure when it has one. 0, or -1 with a message. */
 static int write_plot(const sweep *const *parts, const point_result *const *part_rows,
-                      int part_count, const figure_spec *fig, char *err, size_t errlen)
+                      int part_count, const figure_spec *fig,
+                      const double *const *part_reference, char *err, size_t errlen)
 {
     const sweep *sw = parts[0];
     const vary *xv = &sw->varies[sw->plot_x];
@@ -1271,10 +1272,11 @@ static int write_plot(const sweep *const *parts, const point_result *const *part
     double *x = malloc(sizeof(double) * (size_t)most);
     double *y = malloc(sizeof(double) * (size_t)most);
     double *r = malloc(sizeof(double) * (size_t)most);
+    double *ref = malloc(sizeof(double) * (size_t)most);
     plot *p = plot_create(1200, 800);
     plot *ratio = fig && fig->ratio_divisor ? plot_create(1200, 800) : NULL;
     outfile data = {.fd = -1, .slot = -1};
-    if (!x || !y || !r || !p || (fig && fig->ratio_divisor && !ratio)) {
+    if (!x || !y || !r || !ref || !p || (fig && fig->ratio_divisor && !ratio)) {
         snprintf(err, errlen, "out of memory for the plot");
         rc = -1;
         goto done;
@@ -1348,12 +1350,14 @@ static int write_plot(const sweep *const *parts, const point_result *const *part
                 double value = pr->value[ps->plot_y];
                 if (pr->status != POINT_OK || !isfinite(value)) continue;
                 x[n] = strtod(pv->values[j], NULL);
+                ref[n] = part_reference ? part_reference[k][c + j * stride] : NAN;
                 y[n++] = value;
             }
             for (int a = 1; a < n; a++) /* by x: a list need not be in order */
                 for (int b = a; b > 0 && x[b - 1] > x[b]; b--) {
                     double t = x[b]; x[b] = x[b - 1]; x[b - 1] = t;
                     t = y[b]; y[b] = y[b - 1]; y[b - 1] = t;
+                    t = ref[b]; ref[b] = ref[b - 1]; ref[b - 1] = t;
                 }
             const unsigned char *rgb = curve_rgb[seen++ % 8];
             if (fig && (fig->part[k].rgb[0] || fig->part[k].rgb[1] || fig->part[k].rgb[2]))
@@ -1370,12 +1374,7 @@ static int write_plot(const sweep *const *parts, const point_result *const *part
                 char nx[40], ny[40], nr[40] = "";
                 format_double(x[j], nx, sizeof nx);
                 format_double(y[j], ny, sizeof ny);
-                double reference = NAN;
-                if (fig && fig->reference(k, x[j], &reference, err, errlen)) {
-                    rc = -1;
-                    goto done;
-                }
-                format_double(reference, nr, sizeof nr);
+                format_double(ref[j], nr, sizeof nr);
                 csv_field(data.fp, legend, 1);
                 fprintf(data.fp, ",%s,%s%s%s\n", nx, ny, fig ? "," : "", nr);
                 if (ratio) r[j] = y[j] / fig->ratio_divisor(x[j]);
@@ -1432,6 +1431,7 @@ done:
     free(x);
     free(y);
     free(r);
+    free(ref);
     return rc;
 }
 
@@ -1839,7 +1839,8 @@ static int sweep_run(sweep *sw)
         if (outfile_commit(&csv, err, sizeof err)) goto fail;
     }
     const point_result *rows = pg.rows;
-    if (sw->plot_arg && write_plot((const sweep *const *)&sw, &rows, 1, NULL, err, sizeof err))
+    if (sw->plot_arg &&
+        write_plot((const sweep *const *)&sw, &rows, 1, NULL, NULL, err, sizeof err))
         goto fail;
     if (outfile_transaction_commit(err, sizeof err)) goto fail;
     if (to_stdout) {
@@ -1882,6 +1883,7 @@ typedef struct figure_part {
     sweep sw;
     setting *set;
     progress pg;
+    double *reference; /* the figure's reference at each point, the measure's unit */
 } figure_part;
 
 /* The part's results CSV and (with --print-sweep, one figure per part) its figure. */
@@ -2011,18 +2013,34 @@ static int figure_print_commands(const figure_spec *fig, const figure_part *part
     return fflush(stdout) == 0 ? RUN_EXIT_OK : RUN_EXIT_FAILURE;
 }
 
+/* Each point's reference, once (an elastica is a shooting solve). 0, or -1
+ * with a message. */
+static int figure_references(const figure_spec *fig, figure_part *parts, char *err,
+                             size_t errlen)
+{
+    for (int k = 0; k < fig->parts; k++) {
+        const sweep *sw = &parts[k].sw;
+        if (!(parts[k].reference = malloc(sizeof(double) * (size_t)sw->point_count))) {
+            snprintf(err, errlen, "out of memory");
+            return -1;
+        }
+        for (int point = 0; point < sw->point_count; point++) {
+            const vary *v = &sw->varies[sw->plot_x];
+            double x = strtod(v->values[value_index(sw, point, sw->plot_x)], NULL);
+            if (fig->reference(k, x, &parts[k].reference[point], err, errlen)) return -1;
+        }
+    }
+    return 0;
+}
+
 /* Computed, reference and relative error of every point, for people. */
-static int print_figure_summary(const figure_spec *fig, const figure_part *parts, char *err,
-                          size_t errlen)
+static void print_figure_summary(const figure_spec *fig, const figure_part *parts)
 {
     for (int k = 0; k < fig->parts; k++) {
         const sweep *sw = &parts[k].sw;
         for (int point = 0; point < sw->point_count; point++) {
             const point_result *r = &parts[k].pg.rows[point];
-            double x = strtod(sw->varies[sw->plot_x].values[value_index(sw, point, sw->plot_x)],
-                              NULL);
-            double reference, computed = r->value[sw->plot_y];
-            if (fig->reference(k, x, &reference, err, errlen)) return -1;
+            double reference = parts[k].reference[point], computed = r->value[sw->plot_y];
             char what[512];
             describe_point(sw, point, what, sizeof what);
             printf("%s%s%s: %s: %s computed %.6e, reference %.6e, relative error %.2e\n",
@@ -2030,7 +2048,6 @@ static int print_figure_summary(const figure_spec *fig, const figure_part *parts
                    fig->measure, computed, reference, fabs(computed / reference - 1.0));
         }
     }
-    return 0;
 }
 
 int sweep_figure_command(const figure_spec *fig, const sweep_figure_options *o)
@@ -2115,13 +2132,16 @@ int sweep_figure_command(const figure_spec *fig, const sweep_figure_options *o)
             goto fail;
         }
     /* the parts' CSVs and the figure with its data: all or none (outfile.h) */
+    if (figure_references(fig, parts, err, sizeof err)) goto fail;
     const sweep *sws[FIGURE_SPEC_MAX_PARTS];
     const point_result *rows[FIGURE_SPEC_MAX_PARTS];
+    const double *references[FIGURE_SPEC_MAX_PARTS];
     outfile_transaction_begin();
     for (int k = 0; k < fig->parts; k++) {
         outfile csv = {.fd = -1, .slot = -1};
         sws[k] = &parts[k].sw;
         rows[k] = parts[k].pg.rows;
+        references[k] = parts[k].reference;
         if (outfile_open(&csv, parts[k].sw.csv, err, sizeof err)) goto fail;
         write_csv(csv.fp, &parts[k].sw, parts[k].pg.rows);
         if (ferror(csv.fp)) {
@@ -2131,9 +2151,10 @@ int sweep_figure_command(const figure_spec *fig, const sweep_figure_options *o)
         }
         if (outfile_commit(&csv, err, sizeof err)) goto fail;
     }
-    if (write_plot(sws, rows, fig->parts, fig, err, sizeof err) ||
-        outfile_transaction_commit(err, sizeof err) || print_figure_summary(fig, parts, err, sizeof err))
+    if (write_plot(sws, rows, fig->parts, fig, references, err, sizeof err) ||
+        outfile_transaction_commit(err, sizeof err))
         goto fail;
+    print_figure_summary(fig, parts);
     for (int k = 0; k < fig->parts; k++) printf("wrote %s\n", parts[k].sw.csv);
     printf("wrote %s\nwrote %s\nwrote %s\n", parts[0].sw.png, parts[0].sw.svg,
            parts[0].sw.plot_csv);
@@ -2156,6 +2177,7 @@ done:
         free(parts[k].pg.rows);
         free(parts[k].pg.digests);
         free(parts[k].pg.done);
+        free(parts[k].reference);
         free_sweep(&parts[k].sw);
     }
     free(parts);
