@@ -422,6 +422,37 @@ static void test_figure_equals_sweep(void)
     }
 }
 
+/* A sweep figure with --result keeps a file per point: run again, it runs
+ * no point and writes the same CSV (resume after a crash, or the assemble
+ * step of --print-commands). */
+static void test_figure_resume(void)
+{
+    char results[128], out[128], output[8192];
+    snprintf(results, sizeof results, "%s/resume-points", temp_dir);
+    snprintf(out, sizeof out, "%s/resume-out", temp_dir);
+    const char *args[] = {"figure", "twist-diameter", "--quick", "--jobs", "2", "--result",
+                          results, "--out", out, NULL};
+    int first = test_run_rodsim(args, output, sizeof output);
+    int ran_first = 0, ran_again = 0;
+    for (const char *p = output; (p = strstr(p, "rodsim sweep: point ")); p++) ran_first++;
+    char path[256];
+    snprintf(path, sizeof path, "%s/twist_diameter_sweep_clamped.csv", out);
+    char *before = read_text(path);
+    int again = test_run_rodsim(args, output, sizeof output);
+    for (const char *p = output; (p = strstr(p, "rodsim sweep: point ")); p++) ran_again++;
+    char *after = read_text(path);
+    check(first == 0 && again == 0 && ran_first == 6 && ran_again == 0 &&
+              test_dir_entries(results) == 6,
+          "twist-diameter --result: %d points run, then %d on the second run (exit %d, %d); "
+          "%d result files", ran_first, ran_again, first, again, test_dir_entries(results));
+    check(before && after && strcmp(before, after) == 0,
+          "the second run's CSV equals the first's, byte for byte");
+    free(before);
+    free(after);
+    test_remove_tree(results);
+    test_remove_tree(out);
+}
+
 static void test_usage(void)
 {
     char command[512];
@@ -617,6 +648,7 @@ int main(void)
     if (serial_of("impulse")) test_print_commands(serial_of("impulse"));
     test_buckling_values();
     test_figure_equals_sweep();
+    test_figure_resume();
     test_pareto_cpu_time();
     for (int k = 0; k < MAX_FIGURES; k++) figure_points_release(&serial_points[k]);
     test_usage();
