@@ -38,7 +38,8 @@ LIB_OBJ := $(patsubst src/%.c,$(BUILD)/obj/%.o,$(filter-out src/cli/main.c,$(SRC
            $(BUILD)/obj/gen/embedded.o
 # Files compiled into the binary (include/base/embedded.h): the program reads
 # nothing from the source tree at run time, so an installed or moved binary works.
-EMBEDDED:= $(sort $(wildcard shaders/*.vert shaders/*.frag)) scenes/impulse.ini
+EMBEDDED:= $(sort $(wildcard shaders/*.vert shaders/*.frag)) scenes/impulse.ini \
+          scenes/buckling_figure.ini scenes/twist_figure.ini scenes/table2_450nN.ini
 TESTS   := $(filter-out tests/bench/%,$(wildcard tests/*/test_*.c))
 TEST_BIN:= $(patsubst tests/%.c,$(BUILD)/tests/%,$(TESTS))
 BENCHES := $(wildcard tests/bench/bench_*.c)

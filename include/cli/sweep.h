@@ -20,6 +20,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "study/figure.h"
+
 /* FNV-1a 64 offset basis; sweep_fnv1a64(SWEEP_FNV_BASIS, ...) starts a digest. */
 #define SWEEP_FNV_BASIS 0xcbf29ce484222325ULL
 
@@ -29,6 +31,26 @@ uint64_t sweep_fnv1a64(uint64_t h, const void *bytes, size_t n);
 /* `rodsim sweep ...`: argv[0] is "sweep". Returns an exit status (RUN_EXIT_*);
  * the CSV goes to --csv (or standard output), progress and errors to stderr. */
 int sweep_command(int argc, char **argv);
+
+/* `rodsim figure NAME` of a figure drawn from sweeps (figure.h: figure_spec;
+ * figure_cli.c parses the options). */
+typedef struct sweep_figure_options {
+    const char *out_dir;    /* FILE.png, FILE.svg, FILE.csv and the parts' results CSVs */
+    const char *result_dir; /* the points' result files (resume); NULL: none */
+    int quick;              /* the parts' quick_args */
+    int jobs;               /* worker processes (1 .. 64) */
+    int point;              /* >= 0: run this point only, into result_dir */
+    int print_commands;     /* a line per point and the # assemble: line (result_dir) */
+    int print_sweep;        /* the equivalent `rodsim sweep` command lines */
+} sweep_figure_options;
+
+/* Runs every part of `fig` as a sweep of its scene (compiled in), draws one
+ * figure from all of them with the reference curves, and prints computed,
+ * reference and relative error per point to standard output. Each part's
+ * results CSV is the one its --print-sweep line writes. Returns an exit
+ * status (RUN_EXIT_*); a point that is not ok fails the figure (exit 1,
+ * nothing drawn). */
+int sweep_figure_command(const figure_spec *fig, const sweep_figure_options *o);
 
 /* Prints the usage of `rodsim sweep` to f. */
 void sweep_usage(FILE *f);

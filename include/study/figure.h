@@ -1,5 +1,16 @@
 /* figure.h: the thesis' figures regenerated as sweeps of independent points.
  *
+ * Most are sweeps of a scene (figure_spec below: table2, the buckling
+ * figures): `rodsim figure NAME` runs them through `rodsim sweep`'s
+ * machinery (cli/sweep.c: the same point runner, result files and plot
+ * writer) and adds the reference curves. The two others (figure_def) are
+ * not a measure per point of a scene against a varied key: impulse plots a
+ * time series and its spectrum (one run, thousands of samples); pareto
+ * plots one measure against another (error against CPU time, a point per
+ * NS or dt) and its points are validate cases (validate_run: a model and an
+ * independent reference each, none a scene; the thesis scheme's inertia
+ * scale chosen per NS; a CPU time that is the median of repeats).
+ *
  * A figure is a list of points (one simulation each: a load, a length, a
  * scheme at a resolution, ...). Computing a point yields rows of numbers
  * (a figure fixes their columns); drawing the figure reads every point's rows
@@ -15,6 +26,8 @@
 
 #include <stddef.h>
 #include <stdio.h>
+
+#include "plot/plot.h"
 
 /* Rows of numbers: each row is the point index, then `columns` values. */
 typedef struct figure_points {
@@ -70,5 +83,52 @@ int figure_points_read_csv(const figure_def *f, const char *path, figure_points 
  * Returns 0, or -1 with a message (a missing point, plot errors). */
 int figure_draw(const figure_def *f, const figure_points *points, int quick,
                 const char *out_dir, FILE *summary, char *err, size_t errlen);
+
+/* A figure drawn from sweeps (run by cli/sweep.c): a scene compiled into the
+ * binary (base/embedded.h), one or more parts, each a sweep of that scene
+ * (its --set and --vary arguments), every part's `measure` plotted against
+ * the varied key `x_key`, and each part's reference value drawn as a curve
+ * and compared with every computed point. */
+#define FIGURE_SPEC_MAX_PARTS 4
+typedef struct figure_spec_part {
+    const char *label;              /* file-name suffix; "" with one part */
+    const char *legend;             /* the computed points' legend */
+    const char *const *args;        /* after SCENE: --set, --vary (lists V1,V2,...); NULL-ended */
+    const char *const *quick_args;  /* the same with the few points tests use */
+    const char *reference_legend;
+    unsigned char rgb[3];           /* the points' colour; 0 0 0: the sweep's next */
+} figure_spec_part;
+
+typedef struct figure_spec {
+    const char *name, *summary;
+    const char *scene;    /* "scenes/NAME.ini", as embedded and in the source tree */
+    const char *measure;  /* a sweep measure: the y axis */
+    const char *x_key;    /* the varied key on the x axis */
+    const char *file;     /* --out/FILE.png, FILE.svg, FILE.csv (plotted data) */
+    const char *title, *x_label, *y_label, *note; /* UTF-8; the labels in shown units */
+    double x_scale, y_scale; /* shown = SI value x scale (m to mm: 1e3; N to µN: 1e6) */
+    int parts;
+    figure_spec_part part[FIGURE_SPEC_MAX_PARTS];
+    /* The reference of part `part` at x (x_key's value, SI): 0 with *y (the
+     * measure's unit), or -1 with a message. */
+    int (*reference)(int part, double x, double *y, char *err, size_t errlen);
+    int one_reference; /* the parts share one reference: one curve, from 0 to the last x */
+    int reference_samples; /* points of a reference curve, 2 .. 200; 0: 200 */
+    /* Optional: a second figure, FILE_ratio.png|svg, of measure / divisor(x)
+     * (and the reference likewise), with its own title and y label. */
+    double (*ratio_divisor)(double x);
+    const char *ratio_title, *ratio_y_label;
+    /* Optional: adds the figure's fixed marks (values of the thesis, a
+     * theory line up to x_last, SI) in shown units to the figure (ratio 0)
+     * or the ratio figure (1). 0, or -1 when out of memory. */
+    int (*decorate)(plot *p, int ratio, double x_last);
+} figure_spec;
+
+/* NULL-terminated, in the order `rodsim figure all` runs them (after figure_list). */
+const figure_spec *const *figure_spec_list(void);
+/* By name; NULL when unknown. */
+const figure_spec *figure_spec_find(const char *name);
+/* Points of part `part` (the product of its --vary lists). */
+int figure_spec_points(const figure_spec *f, int part, int quick);
 
 #endif

@@ -118,8 +118,8 @@ void stability_find(const stability_case *c, rod_scheme_kind scheme, const stabi
                     stability_row *row);
 
 /* Every (case, scheme) pair, up to `jobs` rows at a time in child processes
- * (jobs <= 1: in this process). rows has n_cases x n_schemes entries, case
- * major. Returns 0, or -1 when a worker could not be started (message). */
+ * (jobs <= 1: in this process; worker.h). rows has n_cases x n_schemes
+ * entries, case major. Returns 0, or -1 when out of memory (message). */
 int stability_sweep(const stability_case *cases, int n_cases, const rod_scheme_kind *schemes,
                     int n_schemes, const stability_options *o, int jobs, stability_row *rows,
                     char *err, size_t errlen);

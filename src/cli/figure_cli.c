@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "cli/print_commands.h"
+#include "cli/sweep.h"
 #include "study/figure.h"
 #include "base/outfile.h"
 
@@ -19,7 +20,9 @@ typedef struct figure_args {
     const char *out_dir;   /* PNGs (and, for --print-commands, DIR/points) */
     const char *from_dir;  /* --from: draw from the points' CSVs in this directory */
     const char *csv;       /* --point K --csv FILE|- */
+    const char *result_dir; /* a sweep figure's result files (--result) */
     int point;             /* -1: every point */
+    int print_sweep;       /* a sweep figure as `rodsim sweep` lines */
     int jobs;              /* processes at a time */
     int quick;
     int print_commands;
@@ -30,26 +33,33 @@ typedef struct figure_args {
 void figure_usage(FILE *f)
 {
     fprintf(f,
-            "usage: rodsim figure NAME|all [--out DIR] [--jobs N] [--quick]\n"
-            "       rodsim figure NAME|all --print-commands [--out DIR] [--quick]\n"
-            "       rodsim figure NAME --point K --csv FILE|- [--quick]\n"
-            "       rodsim figure NAME --from DIR [--out DIR] [--quick]\n"
+            "usage: rodsim figure NAME|all [--out DIR] [--jobs N] [--quick] [--print-commands]\n"
+            "       rodsim figure NAME --point K --csv FILE|- | --from DIR   (not a sweep)\n"
+            "       rodsim figure NAME --point K --result DIR | --print-sweep (a sweep)\n"
             "       rodsim figure --list\n\n"
-            "  --out DIR         where the PNGs go (default out/figures)\n"
-            "  --jobs N          points computed at once, one process each (default: the\n"
-            "                    number of cores)\n"
+            "  --out DIR         where the figures go (default out/figures)\n"
+            "  --jobs N          points at once, one process each (default: cores)\n"
             "  --quick           fewer points and shorter runs (what the tests use)\n"
-            "  --print-commands  print one independent command line per point (for GNU\n"
-            "                    parallel or a Slurm array), then, as a '# assemble:' comment,\n"
-            "                    the command that draws the figure from their CSVs\n"
-            "  --point K --csv F compute point K only and write its rows to F (- = stdout)\n"
-            "  --from DIR        draw from DIR/NAME-K.csv, K = 0 .. points-1\n\n"
-            "figures:\n");
+            "  --print-commands  a command line per point, then a '# assemble:' line\n"
+            "  --point K         point K only: into --csv F (- = stdout), or --result DIR\n"
+            "  --from DIR        draw from DIR/NAME-K.csv, K = 0 .. points-1\n"
+            "  --print-sweep     the `rodsim sweep` lines of a sweep (FILE_sweep*.csv)\n\n"
+            "figures (sweep: drawn by `rodsim sweep`'s code):\n");
     const figure_def *const *list = figure_list();
     for (int i = 0; list[i]; i++)
         fprintf(f, "  %-17s %2d points (%d quick): %s\n", figure_name(list[i]),
                 figure_point_count(list[i], 0), figure_point_count(list[i], 1),
                 figure_summary(list[i]));
+    const figure_spec *const *specs = figure_spec_list();
+    for (int i = 0; specs[i]; i++) {
+        int full = 0, quick = 0;
+        for (int k = 0; k < specs[i]->parts; k++) {
+            full += figure_spec_points(specs[i], k, 0);
+            quick += figure_spec_points(specs[i], k, 1);
+        }
+        fprintf(f, "  %-17s %2d points (%d quick): sweep: %s\n", specs[i]->name, full, quick,
+                specs[i]->summary);
+    }
 }
 
 static int parse_count(const char *text, int lo, int hi, int *out)
@@ -71,7 +81,7 @@ static int parse_args(int argc, char **argv, figure_args *a, char *err, size_t e
         const char *value = i + 1 < argc ? argv[i + 1] : NULL;
         int takes_value = strcmp(arg, "--out") == 0 || strcmp(arg, "--jobs") == 0 ||
                           strcmp(arg, "--point") == 0 || strcmp(arg, "--csv") == 0 ||
-                          strcmp(arg, "--from") == 0;
+                          strcmp(arg, "--from") == 0 || strcmp(arg, "--result") == 0;
         if (takes_value && !value) {
             snprintf(err, errlen, "%s needs a value", arg);
             return -1;
@@ -80,6 +90,8 @@ static int parse_args(int argc, char **argv, figure_args *a, char *err, size_t e
         else if (strcmp(arg, "--list") == 0) a->list = 1;
         else if (strcmp(arg, "--quick") == 0) a->quick = 1;
         else if (strcmp(arg, "--print-commands") == 0) a->print_commands = 1;
+        else if (strcmp(arg, "--print-sweep") == 0) a->print_sweep = 1;
+        else if (strcmp(arg, "--result") == 0) a->result_dir = value;
         else if (strcmp(arg, "--out") == 0) a->out_dir = value;
         else if (strcmp(arg, "--from") == 0) a->from_dir = value;
         else if (strcmp(arg, "--csv") == 0) a->csv = value;
@@ -109,7 +121,23 @@ static int parse_args(int argc, char **argv, figure_args *a, char *err, size_t e
         snprintf(err, errlen, "no figure named; give one of the list below, or all");
         return -1;
     }
-    if ((a->point >= 0) != (a->csv != NULL)) {
+    const figure_spec *spec = figure_spec_find(a->name);
+    if (spec) {
+        if (a->csv || a->from_dir) {
+            snprintf(err, errlen, "%s is a sweep figure: not %s (its points go to --result DIR; "
+                                  "--print-commands prints them)", a->name,
+                     a->csv ? "--csv" : "--from");
+            return -1;
+        }
+        if (a->point >= 0 && !a->result_dir) {
+            snprintf(err, errlen, "--point K of the sweep figure %s needs --result DIR", a->name);
+            return -1;
+        }
+    } else if (a->result_dir || a->print_sweep) {
+        snprintf(err, errlen, "%s: only a sweep figure (SWEEP in the list) takes %s", a->name,
+                 a->result_dir ? "--result" : "--print-sweep");
+        return -1;
+    } else if ((a->point >= 0) != (a->csv != NULL)) {
         snprintf(err, errlen, "--point K and --csv FILE go together");
         return -1;
     }
@@ -125,19 +153,41 @@ static int parse_args(int argc, char **argv, figure_args *a, char *err, size_t e
     return 0;
 }
 
-/* The figures NAME stands for: one, or all of them. */
-static int select_figures(const char *name, const figure_def **out, int *n)
+/* The figures NAME stands for: one, or all of them (figures, then sweep figures). */
+static int select_figures(const char *name, const figure_def **out, int *n,
+                          const figure_spec **specs, int *n_specs)
 {
     const figure_def *const *list = figure_list();
-    *n = 0;
+    const figure_spec *const *spec_list = figure_spec_list();
+    *n = *n_specs = 0;
     if (strcmp(name, "all") == 0) {
         for (int i = 0; list[i]; i++) out[(*n)++] = list[i];
+        for (int i = 0; spec_list[i]; i++) specs[(*n_specs)++] = spec_list[i];
         return 0;
     }
     const figure_def *f = figure_find(name);
-    if (!f) return -1;
-    out[(*n)++] = f;
-    return 0;
+    const figure_spec *spec = figure_spec_find(name);
+    if (f) out[(*n)++] = f;
+    if (spec) specs[(*n_specs)++] = spec;
+    return f || spec ? 0 : -1;
+}
+
+/* A sweep figure through `rodsim sweep`'s machinery (sweep.h); --print-commands
+ * keeps its points in OUT/points/NAME unless --result says where. */
+static int run_spec(const figure_spec *spec, const figure_args *a)
+{
+    char points[OUTFILE_PATH_MAX];
+    snprintf(points, sizeof points, "%s/points/%s", a->out_dir, spec->name);
+    sweep_figure_options o = {
+        .out_dir = a->out_dir,
+        .result_dir = a->result_dir ? a->result_dir : a->print_commands ? points : NULL,
+        .quick = a->quick,
+        .jobs = a->jobs,
+        .point = a->point,
+        .print_commands = a->print_commands,
+        .print_sweep = a->print_sweep,
+    };
+    return sweep_figure_command(spec, &o);
 }
 
 /* Every line runs as printed, from any directory and with any PATH: the
@@ -225,17 +275,22 @@ int figure_command(int argc, char **argv)
         return EXIT_OK;
     }
     const figure_def *figs[64];
-    int n = 0;
-    if (select_figures(a.name, figs, &n)) {
+    const figure_spec *specs[64];
+    int n = 0, n_specs = 0;
+    if (select_figures(a.name, figs, &n, specs, &n_specs)) {
         fprintf(stderr, "rodsim figure: unknown figure '%s'\n\n", a.name);
         figure_usage(stderr);
         return EXIT_USAGE;
     }
-    if (a.print_commands) return print_commands(figs, n, &a);
-    if (a.point >= 0) return compute_one(figs[0], &a);
+    int status = EXIT_OK;
+    if (a.print_commands && n > 0) status = print_commands(figs, n, &a);
+    if (a.print_commands || a.print_sweep || a.point >= 0 || n == 0) {
+        for (int k = 0; k < n_specs && status == EXIT_OK; k++) status = run_spec(specs[k], &a);
+        if (a.point >= 0 && n > 0) status = compute_one(figs[0], &a);
+        return status;
+    }
 
     figure_points points[64];
-    int status = EXIT_OK;
     if (a.from_dir) {
         /* the points' CSVs are the user's input: a missing directory, a
          * missing or malformed file is bad input (exit 2) */
@@ -278,5 +333,6 @@ int figure_command(int argc, char **argv)
         }
     }
     for (int k = 0; k < n; k++) figure_points_release(&points[k]);
+    for (int k = 0; k < n_specs && status == EXIT_OK; k++) status = run_spec(specs[k], &a);
     return status;
 }

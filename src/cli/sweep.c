@@ -4,7 +4,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <signal.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,6 +14,7 @@
 
 #include "base/ini.h"
 #include "base/outfile.h"
+#include "base/embedded.h"
 #include "base/spectrum.h"
 #include "base/worker.h"
 #include "cli/print_commands.h"
@@ -23,6 +23,7 @@
 #include "cli/version.h"
 #include "plot/plot.h"
 #include "study/buckling.h"
+#include "study/figure.h"
 
 #define SWEEP_ERR_LEN 2048
 #define SWEEP_MAX_JOBS 64
@@ -826,10 +827,14 @@ static void set_message(point_result *r, point_status status, const char *fmt, .
     r->status = status;
 }
 
-/* Largest load factor searched for critical_load, in units of the scene's
- * axial tip load: a rod that is still stable at 100 times its load is
- * reported as none (NAN). */
+/* How far critical_load searches: up to 100 times the scene's axial tip
+ * load, and at least up to 100 times the rod's own scale, |F| L^2/EI +
+ * |M| L/EI = 100 (40 times Euler's clamped-free load pi^2/4, 11 times
+ * Greenhill's clamped moment 8.99), so that a figure may sweep L and d
+ * (scale EI/L^2: d^4/L^2) with one small load in its scene; a rod still
+ * stable there is reported as none (NAN). */
 #define SWEEP_CRITICAL_FACTOR_MAX 100.0
+#define SWEEP_CRITICAL_SCALE_MAX 100.0
 
 /* critical_load (N) and critical_moment (N m): the scene's axial tip force
  * and twisting moment, scaled together by the load factor at which the
@@ -840,16 +845,22 @@ static void set_message(point_result *r, point_status status, const char *fmt, .
  * bifurcation: scenes/buckling_axial.ini); its time profile is ignored. NAN
  * when the straight rod is no equilibrium (gravity, curvature, ...), the
  * axial load is zero, or no loss of stability is found up to
- * SWEEP_CRITICAL_FACTOR_MAX (a tensile force; a follower force: flutter). */
+ * the search's end above (a tensile force; a follower force: flutter). */
 static void critical_loads(const rod_model *m, point_result *r)
 {
     rod_model axial = *m; /* shallow: only read, never released */
     int axis = m->tip_frame == ROD_FRAME_DIRECTOR ? 2 : 0; /* as buckling.c */
     for (int k = 0; k < 3; k++)
         if (k != axis) axial.tip_force[k] = axial.tip_moment[k] = 0.0;
-    double lambda;
+    double lambda, length = m->length, ei = m->stiffness[0];
+    double size = fabs(axial.tip_force[axis]) * length * length / ei +
+                  fabs(axial.tip_moment[axis]) * length / ei;
+    double lambda_max = size > 0.0 ? fmax(SWEEP_CRITICAL_FACTOR_MAX,
+                                          SWEEP_CRITICAL_SCALE_MAX / size)
+                                   : SWEEP_CRITICAL_FACTOR_MAX; /* refused below: no load */
     char err[512];
-    if (rod_buckling_factor(&axial, SWEEP_CRITICAL_FACTOR_MAX, 1e-7, &lambda, err, sizeof err))
+    if (!isfinite(lambda_max) ||
+        rod_buckling_factor(&axial, lambda_max, 1e-7, &lambda, err, sizeof err))
         return;
     if (axial.tip_force[axis] != 0.0)
         r->value[M_CRITICAL_LOAD] = lambda * fabs(axial.tip_force[axis]);
@@ -1115,78 +1126,48 @@ static void finish_point(progress *pg, int k)
     }
 }
 
-/* Runs the points not yet done in up to sw->jobs forked workers (results
- * through a pipe, the validate_cli.c pattern); --jobs 1 runs them here. */
-static void run_points(progress *pg)
+static int pool_run_point(void *context, int point, FILE *out)
+{
+    progress *pg = context;
+    point_result r;
+    run_point(pg->sw, point, &r);
+    return fwrite(&r, sizeof r, 1, out) == 1 ? 0 : 1;
+}
+
+static int pool_point_done(void *context, int point, const char *bytes, size_t n, int status)
+{
+    progress *pg = context;
+    point_result *r = &pg->rows[point];
+    if (status == 0 && n == sizeof *r) {
+        memcpy(r, bytes, sizeof *r);
+    } else {
+        memset(r, 0, sizeof *r);
+        for (int m = 0; m < M_COUNT; m++) r->value[m] = NAN;
+        set_message(r, POINT_FAILED, "worker process died (%s %d)",
+                    WIFSIGNALED(status) ? "signal" : "exit status",
+                    WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status));
+    }
+    finish_point(pg, point);
+    return 0;
+}
+
+/* Runs the points not yet done in up to sw->jobs forked workers (worker.h);
+ * --jobs 1 runs them here. 0, or -1 with a message. */
+static int run_points(progress *pg, char *err, size_t errlen)
 {
     const sweep *sw = pg->sw;
-    if (sw->jobs == 1) {
-        for (int k = 0; k < sw->point_count; k++) {
-            if (pg->done[k]) continue;
-            run_point(sw, k, &pg->rows[k]);
-            finish_point(pg, k);
-        }
-        return;
+    int *todo = malloc(sizeof(int) * (size_t)(sw->point_count + 1)), count = 0;
+    if (!todo) {
+        snprintf(err, errlen, "out of memory for %d points", sw->point_count);
+        return -1;
     }
-    pid_t pids[SWEEP_MAX_JOBS] = {0};
-    int pipes[SWEEP_MAX_JOBS], slot_point[SWEEP_MAX_JOBS];
-    int running = 0, next = 0;
-    pid_t parent = getpid();
-    while (next < sw->point_count || running > 0) {
-        while (next < sw->point_count && pg->done[next]) next++;
-        if (next < sw->point_count && running < sw->jobs) {
-            int j = 0;
-            while (pids[j]) j++;
-            int fd[2];
-            pid_t pid = -1;
-            if (pipe(fd) == 0) {
-                fflush(stdout);
-                fflush(stderr);
-                pid = fork();
-                if (pid == 0) {
-                    worker_begin(parent); /* dies with its parent */
-                    close(fd[0]);
-                    for (int i = 0; i < sw->jobs; i++)
-                        if (pids[i]) close(pipes[i]);
-                    point_result r;
-                    run_point(sw, next, &r);
-                    ssize_t n = write(fd[1], &r, sizeof r); /* < PIPE_BUF: one write */
-                    _exit(n == (ssize_t)sizeof r ? 0 : 1);
-                }
-                close(fd[1]);
-                if (pid < 0) close(fd[0]);
-            }
-            if (pid < 0) { /* no worker: run it here */
-                run_point(sw, next, &pg->rows[next]);
-                finish_point(pg, next++);
-                continue;
-            }
-            pids[j] = pid;
-            pipes[j] = fd[0];
-            slot_point[j] = next++;
-            running++;
-            continue;
-        }
-        int wstatus = 0;
-        pid_t pid = wait(&wstatus);
-        if (pid < 0) break;
-        for (int j = 0; j < sw->jobs; j++) {
-            if (pids[j] != pid) continue;
-            int k = slot_point[j];
-            point_result *r = &pg->rows[k];
-            if (read(pipes[j], r, sizeof *r) != (ssize_t)sizeof *r) {
-                memset(r, 0, sizeof *r);
-                for (int m = 0; m < M_COUNT; m++) r->value[m] = NAN;
-                set_message(r, POINT_FAILED, "worker process died (%s %d)",
-                            WIFSIGNALED(wstatus) ? "signal" : "exit status",
-                            WIFSIGNALED(wstatus) ? WTERMSIG(wstatus) : WEXITSTATUS(wstatus));
-            }
-            close(pipes[j]);
-            pids[j] = 0;
-            running--;
-            finish_point(pg, k);
-        }
-    }
+    for (int k = 0; k < sw->point_count; k++)
+        if (!pg->done[k]) todo[count++] = k;
+    worker_pool pool = {.jobs = sw->jobs, .context = pg, .run = pool_run_point,
+                        .done = pool_point_done};
+    int rc = worker_pool_run(&pool, todo, count, err, errlen);
+    free(todo);
+    return rc ? -1 : 0;
 }
 
 /* The results CSV: the varied keys, the measures, status, message. */
@@ -1232,18 +1213,70 @@ static void key_label(const vary *v, char *out, size_t n)
     else snprintf(out, n, "%s [%s]", v->name, unit);
 }
 
+/* Reference curve samples per curve of a figure. */
+#define SWEEP_REFERENCE_SAMPLES 200
+
+/* A figure's outputs beside FILE.png: FILE_ratio.png (or .svg). */
+static void ratio_path(const char *figure, char *out, size_t n)
+{
+    size_t len = strlen(figure);
+    int ext = len > 4 && figure[len - 4] == '.';
+    snprintf(out, n, "%.*s_ratio%s", (int)(ext ? len - 4 : len), figure,
+             ext ? figure + len - 4 : "");
+}
+
+/* The reference line of a figure from x0 to x1 (SI) into the plots (the
+ * ratio one when not NULL), in shown units. 0, or -1 with a message. */
+static int reference_line(const figure_spec *fig, int part, double x0, double x1,
+                          plot_style style, const char *legend, plot *p, plot *ratio,
+                          double *y_hi, char *err, size_t errlen)
+{
+    double x_scale = fig->x_scale > 0.0 ? fig->x_scale : 1.0;
+    double y_scale = fig->y_scale > 0.0 ? fig->y_scale : 1.0;
+    double rx[SWEEP_REFERENCE_SAMPLES], ry[SWEEP_REFERENCE_SAMPLES];
+    double rr[SWEEP_REFERENCE_SAMPLES];
+    int samples = fig->reference_samples;
+    if (samples < 2 || samples > SWEEP_REFERENCE_SAMPLES) samples = SWEEP_REFERENCE_SAMPLES;
+    for (int i = 0; i < samples; i++) {
+        double at = x0 + (x1 - x0) * i / (samples - 1.0);
+        if (fig->reference(part, at, &ry[i], err, errlen)) return -1;
+        if (ratio) rr[i] = ry[i] / fig->ratio_divisor(at);
+        rx[i] = at * x_scale;
+        ry[i] *= y_scale;
+        *y_hi = fmax(*y_hi, ry[i]);
+    }
+    int rc = plot_add_line(p, rx, ry, samples, style, legend);
+    if (ratio) rc |= plot_add_line(ratio, rx, rr, samples, style, legend);
+    if (rc) snprintf(err, errlen, "out of memory for the plot");
+    return rc ? -1 : 0;
+}
+
 /* --plot X:Y: one curve per combination of the other varied keys' values
  * (in point order), the points that are ok, sorted by x; the PNG and its
- * data (curve,X,Y) beside it. 0, or -1 with a message. */
-static int write_plot(const sweep *sw, const point_result *rows, char *err, size_t errlen)
+ * data (curve,X,Y) beside it. A figure (rodsim figure; fig not NULL) draws
+ * the curves of several sweeps, its parts, into the outputs of the first,
+ * with its own title and labels, values scaled to its units, each curve's
+ * reference line beside its points (the data get a reference column), its
+ * own marks, and a ratio figure when it has one. 0, or -1 with a message. */
+static int write_plot(const sweep *const *parts, const point_result *const *part_rows,
+                      int part_count, const figure_spec *fig,
+                      const double *const *part_reference, char *err, size_t errlen)
 {
+    const sweep *sw = parts[0];
     const vary *xv = &sw->varies[sw->plot_x];
-    int curves = sw->point_count / xv->count, rc = 0;
-    double *x = malloc(sizeof(double) * (size_t)xv->count);
-    double *y = malloc(sizeof(double) * (size_t)xv->count);
+    int rc = 0, most = 0;
+    for (int k = 0; k < part_count; k++) {
+        const vary *v = &parts[k]->varies[parts[k]->plot_x];
+        if (v->count > most) most = v->count;
+    }
+    double *x = malloc(sizeof(double) * (size_t)most);
+    double *y = malloc(sizeof(double) * (size_t)most);
+    double *r = malloc(sizeof(double) * (size_t)most);
+    double *ref = malloc(sizeof(double) * (size_t)most);
     plot *p = plot_create(1200, 800);
+    plot *ratio = fig && fig->ratio_divisor ? plot_create(1200, 800) : NULL;
     outfile data = {.fd = -1, .slot = -1};
-    if (!x || !y || !p) {
+    if (!x || !y || !r || !ref || !p || (fig && fig->ratio_divisor && !ratio)) {
         snprintf(err, errlen, "out of memory for the plot");
         rc = -1;
         goto done;
@@ -1252,63 +1285,124 @@ static int write_plot(const sweep *sw, const point_result *rows, char *err, size
         rc = -1;
         goto done;
     }
-    char xlabel[SWEEP_KEY_LEN + 32], ylabel[64], title[OUTFILE_PATH_MAX + 256], scene[128];
-    key_label(xv, xlabel, sizeof xlabel);
-    if (strcmp(measure_units[sw->plot_y], "-") == 0)
-        snprintf(ylabel, sizeof ylabel, "%s", measure_names[sw->plot_y]);
-    else
-        snprintf(ylabel, sizeof ylabel, "%s [%s]", measure_names[sw->plot_y],
-                 measure_units[sw->plot_y]);
-    const char *base = strrchr(sw->scene_path, '/');
-    snprintf(scene, sizeof scene, "%.127s", base ? base + 1 : sw->scene_path);
-    snprintf(title, sizeof title, "%s: %s against %s", scene, measure_names[sw->plot_y],
-             xv->name);
-    plot_set_title(p, title);
-    plot_set_axis_labels(p, xlabel, ylabel);
+    double x_scale = fig && fig->x_scale > 0.0 ? fig->x_scale : 1.0;
+    double y_scale = fig && fig->y_scale > 0.0 ? fig->y_scale : 1.0;
+    if (fig) {
+        plot_set_title(p, fig->title);
+        plot_set_axis_labels(p, fig->x_label, fig->y_label);
+        if (ratio) {
+            plot_set_title(ratio, fig->ratio_title);
+            plot_set_axis_labels(ratio, fig->x_label, fig->ratio_y_label);
+        }
+    } else {
+        char xlabel[SWEEP_KEY_LEN + 32], ylabel[64], title[OUTFILE_PATH_MAX + 256], scene[128];
+        key_label(xv, xlabel, sizeof xlabel);
+        if (strcmp(measure_units[sw->plot_y], "-") == 0)
+            snprintf(ylabel, sizeof ylabel, "%s", measure_names[sw->plot_y]);
+        else
+            snprintf(ylabel, sizeof ylabel, "%s [%s]", measure_names[sw->plot_y],
+                     measure_units[sw->plot_y]);
+        const char *base = strrchr(sw->scene_path, '/');
+        snprintf(scene, sizeof scene, "%.127s", base ? base + 1 : sw->scene_path);
+        snprintf(title, sizeof title, "%s: %s against %s", scene, measure_names[sw->plot_y],
+                 xv->name);
+        plot_set_title(p, title);
+        plot_set_axis_labels(p, xlabel, ylabel);
+    }
     if (sw->log_axes) plot_set_log(p, strchr(sw->log_axes, 'x') != NULL,
                                    strchr(sw->log_axes, 'y') != NULL);
     fprintf(data.fp, "curve,");
     csv_field(data.fp, xv->name, 0);
-    fprintf(data.fp, ",%s\n", measure_names[sw->plot_y]);
-    for (int c = 0, seen = 0; c < sw->point_count && seen < curves; c++) {
-        if (value_index(sw, c, sw->plot_x) != 0) continue; /* the first point of a curve */
-        char legend[512] = "";
-        for (int i = 0; i < sw->vary_count; i++) {
-            if (i == sw->plot_x) continue;
-            size_t len = strlen(legend);
-            snprintf(legend + len, sizeof legend - len, "%s%s = %s", len ? ", " : "",
-                     sw->varies[i].name, sw->varies[i].values[value_index(sw, c, i)]);
+    fprintf(data.fp, ",%s%s\n", measure_names[sw->plot_y], fig ? ",reference" : "");
+    double x_hi = 0.0, y_hi = 0.0, x_last = 0.0; /* the largest x varied, SI */
+    for (int k = 0; k < part_count; k++) {
+        const vary *v = &parts[k]->varies[parts[k]->plot_x];
+        for (int j = 0; j < v->count; j++) x_last = fmax(x_last, strtod(v->values[j], NULL));
+    }
+    if (fig && fig->one_reference) { /* one line from ~0 (a ratio is 0/0 at 0) to the last x */
+        plot_style black = plot_style_line(0, 0, 0, 2.0, PLOT_SOLID);
+        if (reference_line(fig, 0, 1e-3 * x_last, x_last, black, fig->part[0].reference_legend,
+                           p, ratio, &y_hi, err, errlen)) {
+            rc = -1;
+            goto done;
         }
-        int n = 0, stride = 1;
-        for (int i = sw->vary_count - 1; i > sw->plot_x; i--) stride *= sw->varies[i].count;
-        for (int j = 0; j < xv->count; j++) {
-            const point_result *r = &rows[c + j * stride];
-            double value = r->value[sw->plot_y];
-            if (r->status != POINT_OK || !isfinite(value)) continue;
-            x[n] = strtod(xv->values[j], NULL);
-            y[n++] = value;
-        }
-        for (int a = 1; a < n; a++) /* by x: a list need not be in order */
-            for (int b = a; b > 0 && x[b - 1] > x[b]; b--) {
-                double t = x[b]; x[b] = x[b - 1]; x[b - 1] = t;
-                t = y[b]; y[b] = y[b - 1]; y[b - 1] = t;
+    }
+    for (int k = 0, seen = 0; k < part_count && rc == 0; k++) {
+        const sweep *ps = parts[k];
+        const point_result *rows = part_rows[k];
+        const vary *pv = &ps->varies[ps->plot_x];
+        int curves = ps->point_count / pv->count;
+        for (int c = 0, drawn = 0; c < ps->point_count && drawn < curves && rc == 0; c++) {
+            if (value_index(ps, c, ps->plot_x) != 0) continue; /* the first point of a curve */
+            drawn++;
+            char legend[512] = "";
+            if (fig) snprintf(legend, sizeof legend, "%s", fig->part[k].legend);
+            for (int i = 0; i < ps->vary_count; i++) {
+                if (i == ps->plot_x) continue;
+                size_t len = strlen(legend);
+                snprintf(legend + len, sizeof legend - len, "%s%s = %s", len ? ", " : "",
+                         ps->varies[i].name, ps->varies[i].values[value_index(ps, c, i)]);
             }
-        for (int j = 0; j < n; j++) {
-            char nx[40], ny[40];
-            format_double(x[j], nx, sizeof nx);
-            format_double(y[j], ny, sizeof ny);
-            csv_field(data.fp, legend, 1);
-            fprintf(data.fp, ",%s,%s\n", nx, ny);
-        }
-        const unsigned char *rgb = curve_rgb[seen++ % 8];
-        plot_style line = plot_style_line(rgb[0], rgb[1], rgb[2], 2.0, PLOT_SOLID);
-        plot_style marker = line;
-        marker.marker_size = 8.0;
-        marker.filled = 1;
-        memcpy(marker.fill_rgb, rgb, 3);
-        if (n >= 2) rc |= plot_add_line(p, x, y, n, line, NULL);
-        if (n >= 1) rc |= plot_add_markers(p, x, y, n, marker, NULL, 0, 0,
+            int n = 0, stride = 1;
+            for (int i = ps->vary_count - 1; i > ps->plot_x; i--) stride *= ps->varies[i].count;
+            for (int j = 0; j < pv->count; j++) {
+                const point_result *pr = &rows[c + j * stride];
+                double value = pr->value[ps->plot_y];
+                if (pr->status != POINT_OK || !isfinite(value)) continue;
+                x[n] = strtod(pv->values[j], NULL);
+                ref[n] = part_reference ? part_reference[k][c + j * stride] : NAN;
+                y[n++] = value;
+            }
+            for (int a = 1; a < n; a++) /* by x: a list need not be in order */
+                for (int b = a; b > 0 && x[b - 1] > x[b]; b--) {
+                    double t = x[b]; x[b] = x[b - 1]; x[b - 1] = t;
+                    t = y[b]; y[b] = y[b - 1]; y[b - 1] = t;
+                    t = ref[b]; ref[b] = ref[b - 1]; ref[b - 1] = t;
+                }
+            const unsigned char *rgb = curve_rgb[seen++ % 8];
+            if (fig && (fig->part[k].rgb[0] || fig->part[k].rgb[1] || fig->part[k].rgb[2]))
+                rgb = fig->part[k].rgb;
+            plot_style line = plot_style_line(rgb[0], rgb[1], rgb[2], 2.0, PLOT_SOLID);
+            if (fig && !fig->one_reference && n >= 1 &&
+                reference_line(fig, k, x[0], x[n - 1], line,
+                               drawn == 1 ? fig->part[k].reference_legend : NULL, p, NULL,
+                               &y_hi, err, errlen)) {
+                rc = -1;
+                goto done;
+            }
+            for (int j = 0; j < n; j++) {
+                char nx[40], ny[40], nr[40] = "";
+                format_double(x[j], nx, sizeof nx);
+                format_double(y[j], ny, sizeof ny);
+                format_double(ref[j], nr, sizeof nr);
+                csv_field(data.fp, legend, 1);
+                fprintf(data.fp, ",%s,%s%s%s\n", nx, ny, fig ? "," : "", nr);
+                if (ratio) r[j] = y[j] / fig->ratio_divisor(x[j]);
+                x[j] *= x_scale; /* shown units from here on */
+                y[j] *= y_scale;
+                x_hi = fmax(x_hi, x[j]);
+                y_hi = fmax(y_hi, y[j]);
+            }
+            plot_style marker = line;
+            /* a figure's parts may share points: later ones smaller, on top */
+            marker.marker_size = fig ? fmax(6.0, 14.0 - 4.0 * k) : 8.0;
+            marker.filled = 1;
+            if (fig && k == 0) memset(marker.fill_rgb, 255, 3); /* hollow */
+            else memcpy(marker.fill_rgb, rgb, 3);
+            if (n >= 2 && !fig) rc |= plot_add_line(p, x, y, n, line, NULL);
+            if (n >= 1) {
+                rc |= plot_add_markers(p, x, y, n, marker, NULL, 0, 0, legend[0] ? legend : NULL);
+                if (ratio)
+                    rc |= plot_add_markers(ratio, x, r, n, marker, NULL, 0, 0,
                                            legend[0] ? legend : NULL);
+            }
+        }
+    }
+    if (fig && rc == 0) {
+        if (fig->decorate)
+            rc |= fig->decorate(p, 0, x_last) | (ratio ? fig->decorate(ratio, 1, x_last) : 0);
+        if (fig->note) rc |= plot_add_legend_note(p, fig->note);
+        if (x_hi > 0.0 && y_hi > 0.0) plot_set_limits(p, 0.0, 1.05 * x_hi, 0.0, 1.25 * y_hi);
     }
     if (rc) {
         snprintf(err, errlen, "out of memory for the plot");
@@ -1319,15 +1413,25 @@ static int write_plot(const sweep *sw, const point_result *rows, char *err, size
         rc = -1;
         goto done;
     }
+    char ratio_png[OUTFILE_PATH_MAX + 8], ratio_svg[OUTFILE_PATH_MAX + 8];
+    if (ratio) {
+        if (sw->png) ratio_path(sw->png, ratio_png, sizeof ratio_png);
+        if (sw->svg) ratio_path(sw->svg, ratio_svg, sizeof ratio_svg);
+    }
     rc = outfile_commit(&data, err, errlen) ||
                  (sw->png && plot_write_png(p, sw->png, err, errlen)) ||
-                 (sw->svg && plot_write_svg(p, sw->svg, err, errlen))
+                 (sw->svg && plot_write_svg(p, sw->svg, err, errlen)) ||
+                 (ratio && sw->png && plot_write_png(ratio, ratio_png, err, errlen)) ||
+                 (ratio && sw->svg && plot_write_svg(ratio, ratio_svg, err, errlen))
              ? -1 : 0;
 done:
     outfile_abort(&data);
     plot_destroy(p);
+    plot_destroy(ratio);
     free(x);
     free(y);
+    free(r);
+    free(ref);
     return rc;
 }
 
@@ -1713,7 +1817,7 @@ static int sweep_run(sweep *sw)
             goto done;
         }
     }
-    run_points(&pg);
+    if (run_points(&pg, err, sizeof err)) goto fail;
     if (pg.failed_writes) {
         fprintf(stderr, "rodsim sweep: %d result files could not be written; nothing else "
                         "was written\n", pg.failed_writes);
@@ -1734,7 +1838,10 @@ static int sweep_run(sweep *sw)
         }
         if (outfile_commit(&csv, err, sizeof err)) goto fail;
     }
-    if (sw->plot_arg && write_plot(sw, pg.rows, err, sizeof err)) goto fail;
+    const point_result *rows = pg.rows;
+    if (sw->plot_arg &&
+        write_plot((const sweep *const *)&sw, &rows, 1, NULL, NULL, err, sizeof err))
+        goto fail;
     if (outfile_transaction_commit(err, sizeof err)) goto fail;
     if (to_stdout) {
         write_csv(stdout, sw, pg.rows);
@@ -1759,6 +1866,321 @@ done:
     free(pg.rows);
     free(pg.digests);
     free(pg.done);
+    return status;
+}
+
+/* Figures (rodsim figure) ------------------------------------------------- */
+
+#define FIGURE_MAX_ARGS 64
+
+/* One part of a figure: its sweep, built from the arguments `rodsim sweep`
+ * would be given, and its points' state. */
+typedef struct figure_part {
+    const char *argv[FIGURE_MAX_ARGS];
+    int argc;
+    char csv[OUTFILE_PATH_MAX], png[OUTFILE_PATH_MAX], svg[OUTFILE_PATH_MAX];
+    char jobs[16], plot_arg[2 * SWEEP_KEY_LEN];
+    sweep sw;
+    setting *set;
+    progress pg;
+    double *reference; /* the figure's reference at each point, the measure's unit */
+} figure_part;
+
+/* The part's results CSV and (with --print-sweep, one figure per part) its figure. */
+static void figure_files(const figure_spec *fig, int k, const char *out_dir, int own_figure,
+                         figure_part *part)
+{
+    const char *label = fig->part[k].label;
+    int named = fig->parts > 1 && label[0];
+    snprintf(part->csv, sizeof part->csv, "%s/%s_sweep%s%s.csv", out_dir, fig->file,
+             named ? "_" : "", named ? label : "");
+    snprintf(part->png, sizeof part->png, "%s/%s%s%s.png", out_dir, fig->file,
+             named && own_figure ? "_" : "", named && own_figure ? label : "");
+    snprintf(part->svg, sizeof part->svg, "%s/%s%s%s.svg", out_dir, fig->file,
+             named && own_figure ? "_" : "", named && own_figure ? label : "");
+}
+
+/* The `rodsim sweep` arguments of part k (argv[0] "sweep", then the scene,
+ * the part's own, the measure and plot, the outputs). */
+static int figure_argv(const figure_spec *fig, int k, const sweep_figure_options *o,
+                       figure_part *part, char *err, size_t errlen)
+{
+    snprintf(part->plot_arg, sizeof part->plot_arg, "%s:%s", fig->x_key, fig->measure);
+    const char *const *args = o->quick ? fig->part[k].quick_args : fig->part[k].args;
+    int n = 0;
+    part->argv[n++] = "sweep";
+    part->argv[n++] = fig->scene;
+    for (int i = 0; args[i]; i++) {
+        if (n == FIGURE_MAX_ARGS - 16) { /* room for the tail below */
+            snprintf(err, errlen, "part %d: more than %d arguments", k, FIGURE_MAX_ARGS - 18);
+            return -1;
+        }
+        part->argv[n++] = args[i];
+    }
+    snprintf(part->jobs, sizeof part->jobs, "%d",
+             o->jobs < 1 ? 1 : o->jobs > SWEEP_MAX_JOBS ? SWEEP_MAX_JOBS : o->jobs);
+    const char *tail[] = {"--measure", fig->measure, "--plot", part->plot_arg, "--png", part->png,
+                          "--svg", part->svg, "--csv", part->csv, "--jobs", part->jobs};
+    for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) part->argv[n++] = tail[i];
+    if (o->result_dir) {
+        part->argv[n++] = "--result";
+        part->argv[n++] = o->result_dir;
+    }
+    part->argc = n;
+    if (parse_args(n, (char **)part->argv, &part->sw, err, errlen)) return -1;
+    /* the scene compiled in: no checkout needed */
+    const char *text = embedded_text(fig->scene);
+    if (!text || !(part->sw.text = strdup(text))) {
+        snprintf(err, errlen, "%s: %s", fig->scene, text ? "out of memory"
+                                                         : "not compiled into this binary");
+        return -1;
+    }
+    part->sw.text_len = strlen(text);
+    snprintf(part->sw.scene_path, sizeof part->sw.scene_path, "%s", fig->scene);
+    return 0;
+}
+
+/* --print-sweep: the parts as `rodsim sweep` command lines, the binary by
+ * its absolute path as in --print-commands. */
+static int figure_print_sweep(const figure_spec *fig, const figure_part *parts)
+{
+    char scene[OUTFILE_PATH_MAX], self[OUTFILE_PATH_MAX], err[SWEEP_ERR_LEN];
+    if (cli_self_path(self, sizeof self, err, sizeof err)) {
+        fprintf(stderr, "rodsim figure: %s\n", err);
+        return RUN_EXIT_FAILURE;
+    }
+    /* Decision: the scene's path in the source tree, absolute when it is
+     * there (run from the checkout); else as is, and the comment says so. */
+    if (access(fig->scene, R_OK) != 0 ||
+        cli_absolute_path(fig->scene, scene, sizeof scene, err, sizeof err))
+        snprintf(scene, sizeof scene, "%s", fig->scene);
+    printf("# rodsim figure %s as %d sweep%s of %s, the scene compiled into\n"
+           "# rodsim (installed: PREFIX/share/rodsim/%s); the figure adds the reference\n"
+           "# curves and draws the sweeps together\n",
+           fig->name, fig->parts, fig->parts > 1 ? "s" : "", fig->scene, fig->scene);
+    for (int k = 0; k < fig->parts; k++) {
+        const figure_part *part = &parts[k];
+        cli_print_shell_word(stdout, self);
+        printf(" sweep ");
+        cli_print_shell_word(stdout, scene);
+        /* from the scene on, less the jobs and result files (a machine's choice) */
+        for (int i = 2; i < part->argc; i++) {
+            if (strcmp(part->argv[i], "--jobs") == 0 || strcmp(part->argv[i], "--result") == 0) {
+                i++;
+                continue;
+            }
+            putchar(' ');
+            cli_print_shell_word(stdout, part->argv[i]);
+        }
+        putchar('\n');
+    }
+    return fflush(stdout) == 0 ? RUN_EXIT_OK : RUN_EXIT_FAILURE;
+}
+
+/* --print-commands: `rodsim figure NAME --point K --result DIR` per point
+ * (the scene is compiled in, so each runs anywhere), then the line that
+ * draws the figure from DIR. */
+static int figure_print_commands(const figure_spec *fig, const figure_part *parts,
+                                 const sweep_figure_options *o)
+{
+    char self[OUTFILE_PATH_MAX], dir[OUTFILE_PATH_MAX], out[OUTFILE_PATH_MAX];
+    char err[SWEEP_ERR_LEN];
+    if (cli_self_path(self, sizeof self, err, sizeof err) ||
+        cli_absolute_path(o->result_dir, dir, sizeof dir, err, sizeof err) ||
+        cli_absolute_path(o->out_dir, out, sizeof out, err, sizeof err)) {
+        fprintf(stderr, "rodsim figure: %s\n", err);
+        return RUN_EXIT_FAILURE;
+    }
+    int total = 0;
+    for (int k = 0; k < fig->parts; k++) total += parts[k].sw.point_count;
+    printf("# rodsim figure %s: %d points; each line runs one into %s (skipped when its\n"
+           "# result file is there); then the # assemble: line draws the figure\n",
+           fig->name, total, dir);
+    for (int point = 0; point < total; point++) {
+        cli_print_shell_word(stdout, self);
+        printf(" figure %s%s --point %d --result ", fig->name, o->quick ? " --quick" : "",
+               point);
+        cli_print_shell_word(stdout, dir);
+        putchar('\n');
+    }
+    printf("# assemble: ");
+    cli_print_shell_word(stdout, self);
+    printf(" figure %s%s --result ", fig->name, o->quick ? " --quick" : "");
+    cli_print_shell_word(stdout, dir);
+    printf(" --out ");
+    cli_print_shell_word(stdout, out);
+    putchar('\n');
+    return fflush(stdout) == 0 ? RUN_EXIT_OK : RUN_EXIT_FAILURE;
+}
+
+/* Each point's reference, once (an elastica is a shooting solve). 0, or -1
+ * with a message. */
+static int figure_references(const figure_spec *fig, figure_part *parts, char *err,
+                             size_t errlen)
+{
+    for (int k = 0; k < fig->parts; k++) {
+        const sweep *sw = &parts[k].sw;
+        if (!(parts[k].reference = malloc(sizeof(double) * (size_t)sw->point_count))) {
+            snprintf(err, errlen, "out of memory");
+            return -1;
+        }
+        for (int point = 0; point < sw->point_count; point++) {
+            const vary *v = &sw->varies[sw->plot_x];
+            double x = strtod(v->values[value_index(sw, point, sw->plot_x)], NULL);
+            if (fig->reference(k, x, &parts[k].reference[point], err, errlen)) return -1;
+        }
+    }
+    return 0;
+}
+
+/* Computed, reference and relative error of every point, for people. */
+static void print_figure_summary(const figure_spec *fig, const figure_part *parts)
+{
+    for (int k = 0; k < fig->parts; k++) {
+        const sweep *sw = &parts[k].sw;
+        for (int point = 0; point < sw->point_count; point++) {
+            const point_result *r = &parts[k].pg.rows[point];
+            double reference = parts[k].reference[point], computed = r->value[sw->plot_y];
+            char what[512];
+            describe_point(sw, point, what, sizeof what);
+            printf("%s%s%s: %s: %s computed %.6e, reference %.6e, relative error %.2e\n",
+                   fig->name, fig->part[k].label[0] ? " " : "", fig->part[k].label, what,
+                   fig->measure, computed, reference, fabs(computed / reference - 1.0));
+        }
+    }
+}
+
+int sweep_figure_command(const figure_spec *fig, const sweep_figure_options *o)
+{
+    char err[SWEEP_ERR_LEN] = "";
+    int status = RUN_EXIT_FAILURE, total = 0;
+    figure_part *parts = calloc((size_t)fig->parts, sizeof *parts);
+    if (!parts) {
+        fprintf(stderr, "rodsim figure %s: out of memory\n", fig->name);
+        return RUN_EXIT_FAILURE;
+    }
+    for (int k = 0; k < fig->parts; k++) {
+        figure_files(fig, k, o->out_dir, o->print_sweep, &parts[k]);
+        if (figure_argv(fig, k, o, &parts[k], err, sizeof err)) goto fail; /* the table's fault */
+        total += parts[k].sw.point_count;
+    }
+    if (o->print_sweep) {
+        status = figure_print_sweep(fig, parts);
+        goto done;
+    }
+    if (o->point >= total) {
+        fprintf(stderr, "rodsim figure %s: --point %d: accepted 0 .. %d%s\n", fig->name,
+                o->point, total - 1, o->quick ? " (with --quick)" : "");
+        status = RUN_EXIT_BAD_INPUT;
+        goto done;
+    }
+    if (!o->print_commands && o->point < 0 && outfile_mkdirs(o->out_dir, err, sizeof err))
+        goto fail;
+    for (int k = 0; k < fig->parts; k++) {
+        figure_part *part = &parts[k];
+        sweep *sw = &part->sw;
+        int n = sw->point_count;
+        part->set = calloc((size_t)(sw->set_count + sw->vary_count + 1), sizeof *part->set);
+        part->pg = (progress){.sw = sw};
+        part->pg.rows = calloc((size_t)n, sizeof *part->pg.rows);
+        part->pg.digests = calloc((size_t)n, sizeof *part->pg.digests);
+        part->pg.done = calloc((size_t)n, sizeof *part->pg.done);
+        if (!part->set || !part->pg.rows || !part->pg.digests || !part->pg.done) {
+            snprintf(err, sizeof err, "out of memory for %d points", n);
+            goto fail;
+        }
+        if ((!o->print_commands && o->point < 0 && check_outputs(sw, err, sizeof err)) ||
+            read_bases(sw, err, sizeof err) ||
+            check_points(sw, part->set, part->pg.digests, err, sizeof err))
+            goto fail;
+    }
+    if (o->print_commands) {
+        status = figure_print_commands(fig, parts, o);
+        goto done;
+    }
+    if (o->result_dir && outfile_mkdirs(o->result_dir, err, sizeof err)) goto fail;
+    for (int k = 0, first = 0; k < fig->parts; first += parts[k++].sw.point_count) {
+        progress *pg = &parts[k].pg;
+        const sweep *sw = pg->sw;
+        for (int point = 0; point < sw->point_count; point++) {
+            int got = 0;
+            if (o->result_dir &&
+                (got = read_result(sw, pg->digests[point], &pg->rows[point], err, sizeof err)) < 0)
+                goto fail;
+            /* --point K: only K is left to run */
+            pg->done[point] = got || (o->point >= 0 && o->point != first + point);
+            pg->reused += got;
+        }
+        if (run_points(pg, err, sizeof err)) goto fail;
+        if (pg->failed_writes) {
+            snprintf(err, sizeof err, "%d result files could not be written", pg->failed_writes);
+            goto fail;
+        }
+    }
+    if (o->point >= 0) {
+        status = RUN_EXIT_OK;
+        goto done;
+    }
+    for (int k = 0; k < fig->parts; k++)
+        for (int point = 0; point < parts[k].sw.point_count; point++) {
+            const point_result *r = &parts[k].pg.rows[point];
+            if (r->status == POINT_OK) continue;
+            char what[512];
+            describe_point(&parts[k].sw, point, what, sizeof what);
+            snprintf(err, sizeof err, "point %s: %s: %s; nothing drawn", what,
+                     status_names[r->status], r->message);
+            goto fail;
+        }
+    /* the parts' CSVs and the figure with its data: all or none (outfile.h) */
+    if (figure_references(fig, parts, err, sizeof err)) goto fail;
+    const sweep *sws[FIGURE_SPEC_MAX_PARTS];
+    const point_result *rows[FIGURE_SPEC_MAX_PARTS];
+    const double *references[FIGURE_SPEC_MAX_PARTS];
+    outfile_transaction_begin();
+    for (int k = 0; k < fig->parts; k++) {
+        outfile csv = {.fd = -1, .slot = -1};
+        sws[k] = &parts[k].sw;
+        rows[k] = parts[k].pg.rows;
+        references[k] = parts[k].reference;
+        if (outfile_open(&csv, parts[k].sw.csv, err, sizeof err)) goto fail;
+        write_csv(csv.fp, &parts[k].sw, parts[k].pg.rows);
+        if (ferror(csv.fp)) {
+            outfile_abort(&csv);
+            snprintf(err, sizeof err, "%s: write failed (disk full?)", parts[k].sw.csv);
+            goto fail;
+        }
+        if (outfile_commit(&csv, err, sizeof err)) goto fail;
+    }
+    if (write_plot(sws, rows, fig->parts, fig, references, err, sizeof err) ||
+        outfile_transaction_commit(err, sizeof err))
+        goto fail;
+    print_figure_summary(fig, parts);
+    for (int k = 0; k < fig->parts; k++) printf("wrote %s\n", parts[k].sw.csv);
+    printf("wrote %s\nwrote %s\nwrote %s\n", parts[0].sw.png, parts[0].sw.svg,
+           parts[0].sw.plot_csv);
+    if (fig->ratio_divisor) {
+        char path[OUTFILE_PATH_MAX + 8];
+        ratio_path(parts[0].sw.png, path, sizeof path);
+        printf("wrote %s\n", path);
+        ratio_path(parts[0].sw.svg, path, sizeof path);
+        printf("wrote %s\n", path);
+    }
+    status = RUN_EXIT_OK;
+    goto done;
+fail:
+    fprintf(stderr, "rodsim figure %s: %s\n", fig->name, err);
+    status = RUN_EXIT_FAILURE;
+done:
+    if (outfile_transaction_active()) outfile_transaction_abort();
+    for (int k = 0; k < fig->parts; k++) {
+        free(parts[k].set);
+        free(parts[k].pg.rows);
+        free(parts[k].pg.digests);
+        free(parts[k].pg.done);
+        free(parts[k].reference);
+        free_sweep(&parts[k].sw);
+    }
+    free(parts);
     return status;
 }
 

@@ -10,11 +10,8 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <signal.h>
 #include <string.h>
-#include <sys/types.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include "base/outfile.h"
 #include "base/worker.h"
@@ -167,79 +164,64 @@ static void run_point(const point *pt, validate_row *row)
     validate_run(validate_case_names()[pt->case_index], pt->scheme, pt->nodes, pt->dt, row);
 }
 
-/* Runs the points in up to `jobs` forked workers; a worker that dies leaves
- * a failed row saying so. */
-static void run_parallel(plan *p, int jobs, int table, int *printed)
+typedef struct pool_context {
+    plan *p;
+    int table, *printed;
+} pool_context;
+
+static int pool_run_point(void *context, int k, FILE *out)
 {
-    pid_t pids[64];
-    int pipes[64], slot_point[64];
-    int running = 0, next = 0;
-    pid_t parent = getpid();
-    for (int j = 0; j < jobs; j++) pids[j] = 0;
-    while (next < p->count || running > 0) {
-        while (next < p->count && p->done[next]) next++;
-        if (next < p->count && running < jobs) {
-            int j = 0;
-            while (pids[j]) j++;
-            int fd[2];
-            pid_t pid = -1;
-            if (pipe(fd) == 0) {
-                fflush(stdout);
-                pid = fork();
-                if (pid == 0) {
-                    worker_begin(parent); /* dies with its parent */
-                    close(fd[0]);
-                    for (int i = 0; i < jobs; i++) /* other workers' pipes */
-                        if (pids[i]) close(pipes[i]);
-                    validate_row row;
-                    run_point(&p->points[next], &row);
-                    ssize_t n = write(fd[1], &row, sizeof row); /* < PIPE_BUF: one write */
-                    _exit(n == (ssize_t)sizeof row ? 0 : 1);
-                }
-                close(fd[1]);
-                if (pid < 0) close(fd[0]);
-            }
-            if (pid < 0) { /* no worker: run it here */
-                run_point(&p->points[next], &p->rows[next]);
-                p->done[next++] = 1;
-                flush_rows(p, printed, table);
-                continue;
-            }
-            pids[j] = pid;
-            pipes[j] = fd[0];
-            slot_point[j] = next++;
-            running++;
-            continue;
-        }
-        int wstatus = 0;
-        pid_t pid = wait(&wstatus);
-        if (pid < 0) break;
-        for (int j = 0; j < jobs; j++) {
-            if (pids[j] != pid) continue;
-            int k = slot_point[j];
-            validate_row *row = &p->rows[k];
-            ssize_t n = read(pipes[j], row, sizeof *row);
-            if (n != (ssize_t)sizeof *row) {
-                const point *pt = &p->points[k];
-                memset(row, 0, sizeof *row);
-                snprintf(row->case_name, sizeof row->case_name, "%s",
-                         validate_case_names()[pt->case_index]);
-                snprintf(row->scheme, sizeof row->scheme, "%s", rod_scheme_get(pt->scheme)->name);
-                row->nodes = pt->nodes;
-                row->dt = pt->dt;
-                row->computed = row->reference = row->relative_error = NAN;
-                row->status = 2;
-                snprintf(row->note, sizeof row->note, "worker process died (%s %d)",
-                         WIFSIGNALED(wstatus) ? "signal" : "exit status",
-                         WIFSIGNALED(wstatus) ? WTERMSIG(wstatus) : WEXITSTATUS(wstatus));
-            }
-            close(pipes[j]);
-            pids[j] = 0;
-            running--;
-            p->done[k] = 1;
-        }
-        flush_rows(p, printed, table);
+    const pool_context *c = context;
+    validate_row row;
+    run_point(&c->p->points[k], &row);
+    return fwrite(&row, sizeof row, 1, out) == 1 ? 0 : 1;
+}
+
+/* A worker that died leaves a failed row saying so. */
+static int pool_point_done(void *context, int k, const char *bytes, size_t n, int status)
+{
+    pool_context *c = context;
+    plan *p = c->p;
+    validate_row *row = &p->rows[k];
+    if (status == 0 && n == sizeof *row) {
+        memcpy(row, bytes, sizeof *row);
+    } else {
+        const point *pt = &p->points[k];
+        memset(row, 0, sizeof *row);
+        snprintf(row->case_name, sizeof row->case_name, "%s",
+                 validate_case_names()[pt->case_index]);
+        snprintf(row->scheme, sizeof row->scheme, "%s", rod_scheme_get(pt->scheme)->name);
+        row->nodes = pt->nodes;
+        row->dt = pt->dt;
+        row->computed = row->reference = row->relative_error = NAN;
+        row->status = 2;
+        snprintf(row->note, sizeof row->note, "worker process died (%s %d)",
+                 WIFSIGNALED(status) ? "signal" : "exit status",
+                 WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status));
     }
+    p->done[k] = 1;
+    flush_rows(p, c->printed, c->table);
+    return 0;
+}
+
+/* Runs the points not done yet in up to `jobs` forked workers (worker.h;
+ * jobs 1: here), printing the rows in plan order as they come. */
+static int run_points(plan *p, int jobs, int table, int *printed, char *err, size_t errlen)
+{
+    int *todo = malloc(sizeof(int) * (size_t)(p->count + 1)), count = 0;
+    if (!todo) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    for (int k = 0; k < p->count; k++)
+        if (!p->done[k]) todo[count++] = k;
+    flush_rows(p, printed, table);
+    pool_context c = {p, table, printed};
+    worker_pool pool = {.jobs = jobs, .context = &c, .run = pool_run_point,
+                        .done = pool_point_done};
+    int rc = worker_pool_run(&pool, todo, count, err, errlen);
+    free(todo);
+    return rc ? -1 : 0;
 }
 
 /* Observed orders: least-squares slope of log(error) over log(h) for the
@@ -508,14 +490,11 @@ int validate_command(int argc, char **argv)
     int table = !(csv && strcmp(csv, "-") == 0);
     int printed = 0;
     if (table) print_header();
-    if (jobs > 1) {
-        run_parallel(p, jobs, table, &printed);
-    } else {
-        for (int k = 0; k < p->count; k++) {
-            if (!p->done[k]) run_point(&p->points[k], &p->rows[k]);
-            p->done[k] = 1;
-            flush_rows(p, &printed, table);
-        }
+    char pool_err[256];
+    if (run_points(p, jobs, table, &printed, pool_err, sizeof pool_err)) {
+        fprintf(stderr, "rodsim validate: %s\n", pool_err);
+        free(p);
+        return 1;
     }
     if (table) print_orders(p);
 

@@ -1,17 +1,14 @@
-/* figure.c: the sweep machinery (points, CSV, parallel processes) and the
- * figures themselves (see figure.h). */
+/* figure.c: the figures (see figure.h): those drawn from sweeps as
+ * definitions (figure_spec, run by cli/sweep.c), the others with their
+ * points, CSV and worker processes. */
 #include "study/figure.h"
 
 #include <errno.h>
 #include <math.h>
-#include <poll.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/types.h>
 #include <sys/wait.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "base/embedded.h"
 #include "base/outfile.h"
@@ -82,27 +79,6 @@ static double now_seconds(void)
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* Steps the model from rest to t_end with steps of dt. 0, or -1 with the scheme's message. */
-static int settle(const rod_model *m, rod_state *s, double t_end, double dt, char *err,
-                  size_t errlen)
-{
-    rod_solver solver;
-    if (rod_solver_init(&solver, m, err, errlen)) return -1;
-    rod_report report = {0};
-    rod_status status = ROD_OK;
-    long steps = lround(ceil((t_end - s->time) / dt - 1e-9));
-    for (long k = 0; k < steps && status == ROD_OK; k++)
-        status = rod_solver_step(&solver, m, s, dt, &report);
-    rod_solver_release(&solver);
-    if (status != ROD_OK || !rod_state_is_finite(s)) {
-        snprintf(err, errlen, "%s scheme failed at t = %g s: %s", m->options.scheme ==
-                 ROD_SCHEME_THESIS ? "thesis" : m->options.scheme == ROD_SCHEME_IMPLICIT
-                 ? "implicit" : "static", s->time, report.message);
-        return -1;
-    }
-    return 0;
-}
-
 static const unsigned char scheme_rgb[ROD_SCHEME_COUNT][3] = {
     {200, 110, 0},  /* thesis: orange */
     {200, 30, 30},  /* implicit: red */
@@ -127,172 +103,145 @@ static int write_plot(plot *p, const char *out_dir, const char *file, char *err,
     return plot_write_png(p, path, err, errlen);
 }
 
-/* ---- table2: tip deflection against the tip force ---------------------------- */
+/* ---- table2: tip deflection against the tip force, as a sweep ----------------- */
 
+/* The scene's rod (E, L, d), compiled in: the references use the sweep's own values. */
+static int scene_rod(const char *path, rod_model *m, char *err, size_t errlen)
+{
+    const char *text = embedded_text(path);
+    if (!text) {
+        snprintf(err, errlen, "%s: not compiled into this binary", path);
+        return -1;
+    }
+    ini_doc *doc = ini_parse(path, text, err, errlen);
+    if (!doc) return -1;
+    int rc = scene_read_rod(doc, m, err, errlen);
+    ini_destroy(doc);
+    return rc;
+}
+
+/* EI of the scene's rod at diameter d (d <= 0: the scene's), N m^2. */
+static double bending_stiffness(const rod_model *m, double d)
+{
+    if (d <= 0.0) d = m->diameter;
+    return m->youngs_modulus * M_PI * pow(d, 4) / 64.0;
+}
+
+#define TABLE2_SCENE "scenes/table2_450nN.ini"
 /* Thesis table 2: P (N) and its "simulated" tip deflections (m). */
 static const double table2_loads[3] = {4.5e-7, 8e-7, 1e-6};
 static const double table2_thesis_values[3] = {0.0352, 0.0627, 0.0782};
-static const double table2_full_loads[] = {1e-7, 2e-7, 3e-7, 4.5e-7, 6e-7, 8e-7, 1e-6, 1.2e-6};
-#define TABLE2_FULL_LOADS ((int)(sizeof table2_full_loads / sizeof table2_full_loads[0]))
-#define TABLE2_NODES 51
-static const rod_scheme_kind table2_schemes[3] = {ROD_SCHEME_STATIC, ROD_SCHEME_IMPLICIT,
-                                                  ROD_SCHEME_THESIS};
-static const char *const table2_outputs[] = {"table2.png", "table2_ratio.png", NULL};
 
-/* Table 1's rod, NS = 51, under a dead tip load P along +y (scenes/table2_*.ini:
- * the frame PL^3/3EI and the dead-load elastica assume), settled:
- *   static:   one equilibrium solve;
+/* The dead-load elastica's tip deflection (reference.h) at P = x. */
+static int table2_elastica(int part, double x, double *y, char *err, size_t errlen)
+{
+    (void)part;
+    rod_model m;
+    if (scene_rod(TABLE2_SCENE, &m, err, errlen)) return -1;
+    elastica_tip tip;
+    int rc = elastica_dead_load(m.stiffness[0], m.length, 0.0, x, 0.0, 8000, &tip);
+    rod_model_release(&m);
+    if (rc) {
+        snprintf(err, errlen, "elastica: no solution bracketed at P = %g N", x);
+        return -1;
+    }
+    *y = tip.y;
+    return 0;
+}
+
+/* Linear theory, P L^3 / 3EI, m, at P = x; NAN when the scene cannot be read. */
+static double table2_linear(double x)
+{
+    rod_model m;
+    char err[256];
+    if (scene_rod(TABLE2_SCENE, &m, err, sizeof err)) return NAN;
+    double y = x * m.length * m.length * m.length / (3.0 * m.stiffness[0]);
+    rod_model_release(&m);
+    return y;
+}
+
+/* The linear theory as a dashed line and the thesis' own numbers (its table 2). */
+static int table2_decorate(plot *p, int ratio, double x_last)
+{
+    enum { CURVE = 50 };
+    double cx[CURVE], cy[CURVE];
+    for (int i = 0; i < CURVE; i++) {
+        double load = x_last * (i + 1e-3) / (CURVE - 1);
+        cx[i] = load * 1e9; /* nN */
+        cy[i] = ratio ? 1.0 : 1e3 * table2_linear(load);
+    }
+    plot_style theory = plot_style_line(120, 120, 120, 2.0, PLOT_DASHED);
+    int rc = plot_add_line(p, cx, cy, CURVE, theory, "P L³ / 3 E I (linear)");
+    double tx[3], ty[3];
+    for (int i = 0; i < 3; i++) {
+        tx[i] = table2_loads[i] * 1e9;
+        ty[i] = ratio ? table2_thesis_values[i] / table2_linear(table2_loads[i])
+                      : table2_thesis_values[i] * 1e3;
+    }
+    static const char *const labels[3] = {"0.0352 m", "0.0627 m", "0.0782 m"};
+    plot_style thesis = plot_style_line(0, 150, 60, 2.5, PLOT_SOLID);
+    thesis.marker_size = 14;
+    thesis.filled = 0;
+    rc |= plot_add_markers(p, tx, ty, 3, thesis, labels, ratio ? -40 : 22, ratio ? -22 : 30,
+                           "thesis table 2 (its simulation)");
+    return rc ? -1 : 0;
+}
+
+/* Table 1's rod, NS = 51, under a dead tip load P along +y (the frame
+ * PL^3/3EI and the dead-load elastica assume), settled, one part per scheme:
+ *   static:   the scene as it is (an equilibrium per output time);
  *   implicit: backward Euler, dt = 0.5 s, load ramped over 2 s, damping 4e-4
  *             N s/m^2 (about critical for mode 1), state at 150 s;
  *   thesis:   rotary_inertia_scale 1e7 (it diverges without), dt = 0.1 s,
- *             ramp 10 s, damping 1e-3, state at 300 s (scheme_thesis.c: minimum_scale). */
-static int table2_compute(int point, int quick, figure_points *out, char *err, size_t errlen)
-{
-    rod_scheme_kind scheme = table2_schemes[point % 3];
-    double load = quick ? table2_loads[point / 3] : table2_full_loads[point / 3];
-    rod_model m = rod_model_default();
-    m.nodes = TABLE2_NODES;
-    m.tip_frame = ROD_FRAME_GLOBAL;
-    m.tip_force[1] = load;
-    m.options.scheme = scheme;
-    double t_end = 1.0, dt = 1.0;
-    if (scheme == ROD_SCHEME_IMPLICIT) {
-        m.options.theta = 1.0;
-        m.profile.kind = ROD_PROFILE_RAMP;
-        m.profile.t1 = 2.0;
-        m.linear_damping = 4e-4;
-        t_end = 150.0;
-        dt = 0.5;
-    } else if (scheme == ROD_SCHEME_THESIS) {
-        m.rotary_inertia_scale = 1e7;
-        m.profile.kind = ROD_PROFILE_RAMP;
-        m.profile.t1 = 10.0;
-        m.linear_damping = 1e-3;
-        t_end = 300.0;
-        dt = 0.1;
-    }
-    m.options.dt = dt;
-    if (rod_model_derive(&m, err, errlen)) return -1;
-    rod_state *s = rod_state_create(&m);
-    if (!s) {
-        snprintf(err, errlen, "out of memory");
-        return -1;
-    }
-    int rc = settle(&m, s, t_end, dt, err, errlen);
-    if (rc == 0) {
-        const double *tip = &s->position[3 * (s->nodes - 1)];
-        double values[4] = {(double)scheme, load, tip[0], tip[1]};
-        rc = figure_points_add(out, point, values);
-    }
-    rod_state_destroy(s);
-    return rc;
-}
+ *             ramp 10 s, damping 1e-3, state at 300 s (scheme_thesis.c:
+ *             minimum_scale). fps = 1/dt: one step per output time. */
+#define TABLE2_LOADS_FULL "tip.force[1]=1e-7,2e-7,3e-7,4.5e-7,6e-7,8e-7,1e-6,1.2e-6"
+#define TABLE2_LOADS_QUICK "tip.force[1]=4.5e-7,8e-7,1e-6"
+#define TABLE2_IMPLICIT "--set", "solver.scheme=implicit", "--set", "solver.dt=0.5", "--set", \
+    "solver.theta=1", "--set", "tip.profile=ramp 2", "--set", "loads.linear_damping=4e-4", \
+    "--set", "solver.duration=150", "--set", "render.fps=2"
+#define TABLE2_THESIS "--set", "solver.scheme=thesis", "--set", "solver.dt=0.1", "--set", \
+    "rod.rotary_inertia_scale=1e7", "--set", "tip.profile=ramp 10", "--set", \
+    "loads.linear_damping=1e-3", "--set", "solver.duration=300", "--set", "render.fps=10"
+static const char *const table2_static_full[] = {"--vary", TABLE2_LOADS_FULL, NULL};
+static const char *const table2_static_quick[] = {"--vary", TABLE2_LOADS_QUICK, NULL};
+static const char *const table2_implicit_full[] = {TABLE2_IMPLICIT, "--vary", TABLE2_LOADS_FULL,
+                                                   NULL};
+static const char *const table2_implicit_quick[] = {TABLE2_IMPLICIT, "--vary",
+                                                    TABLE2_LOADS_QUICK, NULL};
+static const char *const table2_thesis_full[] = {TABLE2_THESIS, "--vary", TABLE2_LOADS_FULL,
+                                                 NULL};
+static const char *const table2_thesis_quick[] = {TABLE2_THESIS, "--vary", TABLE2_LOADS_QUICK,
+                                                  NULL};
 
-static int table2_draw(const figure_points *points, int quick, const char *out_dir,
-                       FILE *summary, char *err, size_t errlen)
-{
-    (void)quick;
-    rod_model m = rod_model_default();
-    if (rod_model_derive(&m, err, errlen)) return -1;
-    double ei = m.stiffness[0], length = m.length;
-    double cubic = length * length * length / (3.0 * ei); /* PL^3/3EI per newton */
-
-    /* independent curves: linear theory and the dead-load elastica */
-    enum { CURVE = 50 };
-    double p_max = 1.25e-6;
-    double cx[CURVE], linear[CURVE], elastica[CURVE], elastica_ratio[CURVE], ones[CURVE];
-    for (int i = 0; i < CURVE; i++) {
-        double load = p_max * (i + 1e-3) / (CURVE - 1); /* from ~0: the ratio is 0/0 at 0 */
-        elastica_tip tip;
-        if (elastica_dead_load(ei, length, 0.0, load, 0.0, 8000, &tip)) {
-            snprintf(err, errlen, "elastica: no solution bracketed at P = %g N", load);
-            return -1;
-        }
-        cx[i] = load * 1e9;                 /* nN */
-        linear[i] = load * cubic * 1e3;     /* mm */
-        elastica[i] = tip.y * 1e3;
-        elastica_ratio[i] = tip.y / (load * cubic);
-        ones[i] = 1.0;
-    }
-
-    /* simulated points, per scheme */
-    int n = points->rows;
-    double *sx = malloc((size_t)(n + 1) * sizeof *sx);
-    double *sy = malloc((size_t)(n + 1) * sizeof *sy);
-    double *sr = malloc((size_t)(n + 1) * sizeof *sr);
-    plot *deflection = plot_create(1200, 800), *ratio = plot_create(1200, 800);
-    int rc = (!sx || !sy || !sr || !deflection || !ratio) ? -1 : 0;
-    if (rc) snprintf(err, errlen, "out of memory");
-
-    if (rc == 0) {
-        plot_set_title(deflection, "Thesis table 2: cantilever tip deflection under a tip force "
-                                   "(L = 1 m, d = 1 mm, NS = 51)");
-        plot_set_axis_labels(deflection, "tip force P [nN]", "tip deflection y [mm]");
-        plot_set_limits(deflection, 0, 1300, 0, 100);
-        plot_set_title(ratio, "Table 2 relative to linear theory: y / (P L^3 / 3 E I)");
-        plot_set_axis_labels(ratio, "tip force P [nN]", "y / (P L^3 / 3 E I)");
-        plot_set_limits(ratio, 0, 1300, 0.98, 1.025);
-        plot_style theory = plot_style_line(120, 120, 120, 2.0, PLOT_DASHED);
-        plot_style exact = plot_style_line(0, 0, 0, 2.0, PLOT_SOLID);
-        rc |= plot_add_line(deflection, cx, linear, CURVE, theory, "P L^3 / 3 E I (linear)");
-        rc |= plot_add_line(deflection, cx, elastica, CURVE, exact, "elastica (exact, dead load)");
-        rc |= plot_add_line(ratio, cx, ones, CURVE, theory, "P L^3 / 3 E I (linear)");
-        rc |= plot_add_line(ratio, cx, elastica_ratio, CURVE, exact,
-                            "elastica (exact, dead load)");
-        static const double sizes[3] = {16, 11, 7};
-        for (int k = 0; k < 3 && rc == 0; k++) {
-            rod_scheme_kind scheme = table2_schemes[k];
-            int count = 0;
-            for (int r = 0; r < n; r++) {
-                const double *row = row_of(points, r);
-                if ((int)row[1] != (int)scheme) continue;
-                double load = row[2], y = row[4];
-                sx[count] = load * 1e9;
-                sy[count] = y * 1e3;
-                sr[count] = y / (load * cubic);
-                count++;
-                elastica_tip tip;
-                elastica_dead_load(ei, length, 0.0, load, 0.0, 8000, &tip);
-                if (summary)
-                    fprintf(summary,
-                            "table2: %-8s P = %.3g N: tip y = %.6f m; PL^3/3EI %.6f (%+.2f%%), "
-                            "elastica %.6f (%+.2e)\n",
-                            scheme_names[scheme], load, y, load * cubic,
-                            100.0 * (y / (load * cubic) - 1.0), tip.y, y / tip.y - 1.0);
-            }
-            if (count == 0) continue;
-            char legend[64];
-            snprintf(legend, sizeof legend, "%s scheme (simulated)", scheme_names[scheme]);
-            plot_style style = marker_style(scheme_rgb[scheme], sizes[k], k != 0);
-            rc |= plot_add_markers(deflection, sx, sy, count, style, NULL, 0, 0, legend);
-            rc |= plot_add_markers(ratio, sx, sr, count, style, NULL, 0, 0, legend);
-        }
-        /* the thesis' own numbers (its table 2) */
-        double tx[3], ty[3], tr[3];
-        for (int i = 0; i < 3; i++) {
-            tx[i] = table2_loads[i] * 1e9;
-            ty[i] = table2_thesis_values[i] * 1e3;
-            tr[i] = table2_thesis_values[i] / (table2_loads[i] * cubic);
-        }
-        static const char *const labels[3] = {"0.0352 m", "0.0627 m", "0.0782 m"};
-        plot_style thesis = plot_style_line(0, 150, 60, 2.5, PLOT_SOLID);
-        thesis.marker_size = 14;
-        thesis.filled = 0;
-        rc |= plot_add_markers(deflection, tx, ty, 3, thesis, labels, 22, 30,
-                               "thesis table 2 (its simulation)");
-        rc |= plot_add_markers(ratio, tx, tr, 3, thesis, labels, -40, -22,
-                               "thesis table 2 (its simulation)");
-        if (rc) snprintf(err, errlen, "out of memory");
-    }
-    if (rc == 0) rc = write_plot(deflection, out_dir, "table2.png", err, errlen);
-    if (rc == 0) rc = write_plot(ratio, out_dir, "table2_ratio.png", err, errlen);
-    plot_destroy(deflection);
-    plot_destroy(ratio);
-    free(sx);
-    free(sy);
-    free(sr);
-    return rc;
-}
+static const figure_spec sweep_table2 = {
+    .name = "table2",
+    .summary = "table 2: tip y against P, 3 schemes, elastica",
+    .scene = TABLE2_SCENE,
+    .measure = "tip_y",
+    .x_key = "tip.force[1]",
+    .file = "table2",
+    .title = "Thesis table 2: cantilever tip deflection under a tip force "
+             "(L = 1 m, d = 1 mm, NS = 51)",
+    .x_label = "tip force P [nN]",
+    .y_label = "tip deflection y [mm]",
+    .x_scale = 1e9,
+    .y_scale = 1e3,
+    .parts = 3,
+    .part = {{"static", "static scheme (simulated)", table2_static_full, table2_static_quick,
+              "elastica (exact, dead load)", {0, 90, 200}},
+             {"implicit", "implicit scheme (simulated)", table2_implicit_full,
+              table2_implicit_quick, "elastica (exact, dead load)", {200, 30, 30}},
+             {"thesis", "thesis scheme (simulated)", table2_thesis_full, table2_thesis_quick,
+              "elastica (exact, dead load)", {200, 110, 0}}},
+    .reference = table2_elastica,
+    .one_reference = 1,
+    .reference_samples = 50, /* an elastica is a shooting solve: 30 ms each */
+    .ratio_divisor = table2_linear,
+    .ratio_title = "Table 2 relative to linear theory: y / (P L³ / 3 E I)",
+    .ratio_y_label = "y / (P L³ / 3 E I)",
+    .decorate = table2_decorate,
+};
 
 /* ---- impulse: tip and mid-point after the impulse, and their spectra --------- */
 
@@ -739,209 +688,154 @@ static int pareto_draw(const figure_points *points, int quick, const char *out_d
     return rc;
 }
 
-/* ---- buckling: critical axial force and twisting moment ------------------------ */
+/* ---- buckling: critical axial force and twisting moment, as sweeps ------------ */
 
-typedef enum { BUCKLE_AXIAL = 0, BUCKLE_TWIST_PINNED, BUCKLE_TWIST_CLAMPED } buckle_kind;
+/* Figures 7 to 9 are sweeps (figure.h: figure_spec; run by cli/sweep.c):
+ * the scene's small axial load scaled by the critical_load or
+ * critical_moment measure (rod_buckling_factor) at each L or d. */
+#define BUCKLING_SCENE "scenes/buckling_figure.ini"
+#define TWIST_SCENE "scenes/twist_figure.ini"
 
-#define BUCKLING_NODES 51
-static const double buckling_lengths_full[] = {0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0};
-static const double buckling_lengths_quick[] = {0.5, 1.0, 2.0};
-static const double buckling_diameters_full[] = {0.25e-3, 0.5e-3, 0.75e-3, 1e-3, 1.25e-3,
-                                                 1.5e-3, 2e-3, 2.5e-3};
-static const double buckling_diameters_quick[] = {0.5e-3, 1e-3, 2e-3};
-#define COUNT(a) ((int)(sizeof a / sizeof a[0]))
-static const char *const buckling_length_outputs[] = {"buckling_length.png", NULL};
-static const char *const buckling_diameter_outputs[] = {"buckling_diameter.png", NULL};
-static const char *const twist_diameter_outputs[] = {"twist_diameter.png", NULL};
-
-/* The theory: Euler's clamped-free load, Greenhill's pinned or clamped moment. */
-static double buckling_theory(buckle_kind kind, double ei, double length)
+/* Euler, clamped-free: pi^2 EI / (4 L^2), at L = x. */
+static int euler_against_length(int part, double x, double *y, char *err, size_t errlen)
 {
-    return kind == BUCKLE_AXIAL ? reference_euler_cantilever(ei, length)
-         : kind == BUCKLE_TWIST_PINNED ? reference_greenhill_pinned(ei, length)
-                                       : reference_greenhill_clamped(ei, length);
-}
-
-/* Table 1's rod at length L and diameter d, NS = 51: rod_buckling_factor on a
- * unit dead load (axial force -EI/L^2 along x at a free tip of a clamped root,
- * or an axial twisting moment EI/L with both ends pinned or both clamped, the
- * tip sliding along x: buckling.h). Row: kind, L (m), d (m), critical load
- * (N or N m), theory (same unit). */
-static int buckling_point(buckle_kind kind, double length, double diameter, int point,
-                          figure_points *out, char *err, size_t errlen)
-{
-    rod_model m = rod_model_default();
-    m.nodes = BUCKLING_NODES;
-    m.length = length;
-    m.diameter = diameter;
-    m.options.scheme = ROD_SCHEME_STATIC;
-    m.tip_frame = ROD_FRAME_GLOBAL;
-    if (rod_model_derive(&m, err, errlen)) return -1;
-    double ei = m.stiffness[0], unit;
-    if (kind == BUCKLE_AXIAL) {
-        unit = ei / (length * length);
-        m.tip_force[0] = -unit;
-    } else {
-        unit = ei / length;
-        m.tip_moment[0] = unit;
-        m.root_end = m.tip_end = kind == BUCKLE_TWIST_PINNED ? ROD_END_PINNED : ROD_END_CLAMPED;
-        m.tip_slide[0] = 1.0; /* Greenhill's tip slides along the axis (issue 10: explicit) */
-    }
-    if (rod_model_derive(&m, err, errlen)) return -1;
-    double lambda = 0;
-    if (rod_buckling_factor(&m, 20.0, 1e-7, &lambda, err, errlen)) return -1;
-    double values[5] = {(double)kind, length, diameter, lambda * unit,
-                        buckling_theory(kind, ei, length)};
-    if (figure_points_add(out, point, values)) {
-        snprintf(err, errlen, "out of memory");
-        return -1;
-    }
+    (void)part;
+    rod_model m;
+    if (scene_rod(BUCKLING_SCENE, &m, err, errlen)) return -1;
+    *y = reference_euler_cantilever(bending_stiffness(&m, 0.0), x);
+    rod_model_release(&m);
     return 0;
 }
 
-static int buckling_length_compute(int point, int quick, figure_points *out, char *err,
-                                   size_t errlen)
+/* Euler at d = x, the scene's L. */
+static int euler_against_diameter(int part, double x, double *y, char *err, size_t errlen)
 {
-    double length = quick ? buckling_lengths_quick[point] : buckling_lengths_full[point];
-    return buckling_point(BUCKLE_AXIAL, length, 1e-3, point, out, err, errlen);
+    (void)part;
+    rod_model m;
+    if (scene_rod(BUCKLING_SCENE, &m, err, errlen)) return -1;
+    *y = reference_euler_cantilever(bending_stiffness(&m, x), m.length);
+    rod_model_release(&m);
+    return 0;
 }
 
-static int buckling_diameter_compute(int point, int quick, figure_points *out, char *err,
-                                     size_t errlen)
+/* Greenhill at d = x: part 0 pinned ends 2 pi EI/L, part 1 clamped 8.9868 EI/L. */
+static int greenhill_against_diameter(int part, double x, double *y, char *err, size_t errlen)
 {
-    double d = quick ? buckling_diameters_quick[point] : buckling_diameters_full[point];
-    return buckling_point(BUCKLE_AXIAL, 1.0, d, point, out, err, errlen);
+    rod_model m;
+    if (scene_rod(TWIST_SCENE, &m, err, errlen)) return -1;
+    double ei = bending_stiffness(&m, x);
+    *y = part == 0 ? reference_greenhill_pinned(ei, m.length)
+                   : reference_greenhill_clamped(ei, m.length);
+    rod_model_release(&m);
+    return 0;
 }
 
-/* Points alternate pinned, clamped at each diameter. */
-static int twist_diameter_compute(int point, int quick, figure_points *out, char *err,
-                                  size_t errlen)
+static const char *const buckling_length_full[] = {
+    "--vary", "rod.length=0.25,0.5,0.75,1,1.25,1.5,2,2.5,3", NULL};
+static const char *const buckling_length_quick[] = {"--vary", "rod.length=0.5,1,2", NULL};
+#define DIAMETERS_FULL "rod.diameter=0.25e-3,0.5e-3,0.75e-3,1e-3,1.25e-3,1.5e-3,2e-3,2.5e-3"
+#define DIAMETERS_QUICK "rod.diameter=0.5e-3,1e-3,2e-3"
+static const char *const diameters_full[] = {"--vary", DIAMETERS_FULL, NULL};
+static const char *const diameters_quick[] = {"--vary", DIAMETERS_QUICK, NULL};
+/* the scene's ends are pinned; the second part clamps both */
+static const char *const clamped_full[] = {"--set", "ends.root=clamped", "--set",
+                                           "ends.tip=clamped", "--vary", DIAMETERS_FULL, NULL};
+static const char *const clamped_quick[] = {"--set", "ends.root=clamped", "--set",
+                                            "ends.tip=clamped", "--vary", DIAMETERS_QUICK, NULL};
+
+static const figure_spec sweep_buckling_length = {
+    .name = "buckling-length",
+    .summary = "fig. 8: buckling force against L, Euler",
+    .scene = BUCKLING_SCENE,
+    .measure = "critical_load",
+    .x_key = "rod.length",
+    .file = "buckling_length",
+    .title = "Thesis fig. 8: axial tip force that buckles the rod, against its length",
+    .x_label = "rod length L [m]",
+    .y_label = "critical axial force [µN]",
+    .note = "E = 87.5 MPa, d = 1 mm, dead axial force; free tip",
+    .x_scale = 1.0,
+    .y_scale = 1e6,
+    .parts = 1,
+    .part = {{"", "computed: rod_buckling_factor, static scheme, NS = 51",
+              buckling_length_full, buckling_length_quick,
+              "theory: Euler, clamped-free, π² E I / (4 L²)"}},
+    .reference = euler_against_length,
+};
+
+static const figure_spec sweep_buckling_diameter = {
+    .name = "buckling-diameter",
+    .summary = "fig. 9: buckling force against d, Euler",
+    .scene = BUCKLING_SCENE,
+    .measure = "critical_load",
+    .x_key = "rod.diameter",
+    .file = "buckling_diameter",
+    .title = "Thesis fig. 9: axial tip force that buckles the rod, against its diameter",
+    .x_label = "rod diameter d [mm]",
+    .y_label = "critical axial force [µN]",
+    .note = "E = 87.5 MPa, L = 1 m, dead axial force; free tip",
+    .x_scale = 1e3,
+    .y_scale = 1e6,
+    .parts = 1,
+    .part = {{"", "computed: rod_buckling_factor, static scheme, NS = 51", diameters_full,
+              diameters_quick, "theory: Euler, clamped-free, π² E I / (4 L²)"}},
+    .reference = euler_against_diameter,
+};
+
+static const figure_spec sweep_twist_diameter = {
+    .name = "twist-diameter",
+    .summary = "fig. 7: buckling moment against d, Greenhill",
+    .scene = TWIST_SCENE,
+    .measure = "critical_moment",
+    .x_key = "rod.diameter",
+    .file = "twist_diameter",
+    .title = "Thesis fig. 7: twisting moment that buckles the rod, against its diameter",
+    .x_label = "rod diameter d [mm]",
+    .y_label = "critical twisting moment [µN m]",
+    .note = "E = 87.5 MPa, L = 1 m, dead axial moment; the tip slides along x",
+    .x_scale = 1e3,
+    .y_scale = 1e6,
+    .parts = 2,
+    .part = {{"pinned", "computed: pinned ends (NS = 51)", diameters_full, diameters_quick,
+              "theory: Greenhill, pinned ends, 2π E I / L"},
+             {"clamped", "computed: clamped ends (NS = 51)", clamped_full, clamped_quick,
+              "theory: Greenhill, clamped ends, 8.9868 E I / L"}},
+    .reference = greenhill_against_diameter,
+};
+
+/* The longest first, as figures[] below. */
+static const figure_spec *const figure_specs[] = {
+    &sweep_table2,
+    &sweep_twist_diameter,
+    &sweep_buckling_length,
+    &sweep_buckling_diameter,
+    NULL,
+};
+
+const figure_spec *const *figure_spec_list(void) { return figure_specs; }
+
+const figure_spec *figure_spec_find(const char *name)
 {
-    double d = quick ? buckling_diameters_quick[point / 2] : buckling_diameters_full[point / 2];
-    return buckling_point(point % 2 ? BUCKLE_TWIST_CLAMPED : BUCKLE_TWIST_PINNED, 1.0, d, point,
-                          out, err, errlen);
+    for (int i = 0; figure_specs[i]; i++)
+        if (strcmp(figure_specs[i]->name, name) == 0) return figure_specs[i];
+    return NULL;
 }
 
-/* One chart: x = L (m) or d (mm), y = the critical load in micro-units; the
- * theory as a curve over the points' range, the computed loads as markers. */
-static int buckling_chart(const figure_points *points, int against_diameter, const char *file,
-                          const char *title, const char *y_label, const char *out_dir,
-                          FILE *summary, char *err, size_t errlen)
+int figure_spec_points(const figure_spec *f, int part, int quick)
 {
-    enum { CURVE = 200 };
-    int n = points->rows;
-    double *x = malloc((size_t)n * sizeof *x), *y = malloc((size_t)n * sizeof *y);
-    double cx[CURVE], cy[CURVE];
-    plot *p = plot_create(1200, 800);
-    int rc = (!x || !y || !p || n < 1) ? -1 : 0;
-    if (rc == 0) {
-        plot_set_title(p, title);
-        plot_set_axis_labels(p, against_diameter ? "rod diameter d [mm]" : "rod length L [m]",
-                             y_label);
+    const char *const *args = quick ? f->part[part].quick_args : f->part[part].args;
+    int points = 1;
+    for (int i = 0; args[i]; i++) {
+        if (strcmp(args[i], "--vary") != 0 || !args[i + 1]) continue;
+        int values = 1;
+        for (const char *c = args[++i]; *c; c++) values += *c == ',';
+        points *= values;
     }
-    rod_model base = rod_model_default();
-    double lo = INFINITY, hi = 0, y_hi = 0;
-    for (int r = 0; r < n; r++) {
-        const double *row = row_of(points, r);
-        double v = against_diameter ? row[3] : row[2];
-        lo = fmin(lo, v);
-        hi = fmax(hi, v);
-        y_hi = fmax(y_hi, fmax(row[4], row[5]));
-    }
-    static const unsigned char kind_rgb[3][3] = {{0, 90, 200}, {0, 90, 200}, {200, 30, 30}};
-    static const char *const kind_theory[3] = {
-        "theory: Euler, clamped-free, pi^2 E I / (4 L^2)",
-        "theory: Greenhill, pinned ends, 2 pi E I / L",
-        "theory: Greenhill, clamped ends, 8.9868 E I / L"};
-    static const char *const kind_computed[3] = {
-        "computed: rod_buckling_factor, static scheme, NS = 51",
-        "computed: pinned ends (NS = 51)", "computed: clamped ends (NS = 51)"};
-    for (int kind = 0; kind < 3 && rc == 0; kind++) {
-        int count = 0;
-        for (int r = 0; r < n; r++) {
-            const double *row = row_of(points, r);
-            if ((int)row[1] != kind) continue;
-            x[count] = against_diameter ? 1e3 * row[3] : row[2];
-            y[count] = 1e6 * row[4];
-            count++;
-            if (summary)
-                fprintf(summary, "%s: L = %g m, d = %g mm: computed %.6e, theory %.6e "
-                        "(relative error %.2e)\n", file, row[2], 1e3 * row[3], row[4], row[5],
-                        fabs(row[4] / row[5] - 1.0));
-        }
-        if (count == 0) continue;
-        for (int i = 0; i < CURVE; i++) {
-            double v = lo + (hi - lo) * i / (CURVE - 1.0);
-            double length = against_diameter ? 1.0 : v, d = against_diameter ? v : 1e-3;
-            double ei = base.youngs_modulus * M_PI * pow(d, 4) / 64.0;
-            cx[i] = against_diameter ? 1e3 * v : v;
-            cy[i] = 1e6 * buckling_theory((buckle_kind)kind, ei, length);
-        }
-        const unsigned char *rgb = kind_rgb[kind];
-        rc |= plot_add_line(p, cx, cy, CURVE, plot_style_line(rgb[0], rgb[1], rgb[2], 2.0,
-                                                               PLOT_SOLID), kind_theory[kind]);
-        rc |= plot_add_markers(p, x, y, count, marker_style(rgb, 12, 0), NULL, 0, 0,
-                               kind_computed[kind]);
-    }
-    if (rc == 0) {
-        char note[160];
-        int twist = strncmp(file, "twist", 5) == 0;
-        snprintf(note, sizeof note, "E = %.3g MPa, %s, dead %s", 1e-6 * base.youngs_modulus,
-                 against_diameter ? "L = 1 m" : "d = 1 mm",
-                 twist ? "axial moment; the tip slides along x" : "axial force; free tip");
-        rc |= plot_add_legend_note(p, note);
-        double x0 = against_diameter ? 1e3 * lo : lo, x1 = against_diameter ? 1e3 * hi : hi;
-        plot_set_limits(p, 0, x1 + 0.05 * (x1 - x0), 0, 1e6 * y_hi * 1.25);
-    }
-    if (rc) snprintf(err, errlen, n < 1 ? "no points" : "out of memory");
-    if (rc == 0) rc = write_plot(p, out_dir, file, err, errlen);
-    plot_destroy(p);
-    free(x);
-    free(y);
-    return rc;
-}
-
-static int buckling_length_draw(const figure_points *points, int quick, const char *out_dir,
-                                FILE *summary, char *err, size_t errlen)
-{
-    (void)quick;
-    return buckling_chart(points, 0, "buckling_length.png",
-                          "Thesis fig. 8: axial tip force that buckles the rod, against its length",
-                          "critical axial force [uN]", out_dir, summary, err, errlen);
-}
-
-static int buckling_diameter_draw(const figure_points *points, int quick, const char *out_dir,
-                                  FILE *summary, char *err, size_t errlen)
-{
-    (void)quick;
-    return buckling_chart(points, 1, "buckling_diameter.png",
-                          "Thesis fig. 9: axial tip force that buckles the rod, against its "
-                          "diameter", "critical axial force [uN]", out_dir, summary, err, errlen);
-}
-
-static int twist_diameter_draw(const figure_points *points, int quick, const char *out_dir,
-                               FILE *summary, char *err, size_t errlen)
-{
-    (void)quick;
-    return buckling_chart(points, 1, "twist_diameter.png",
-                          "Thesis fig. 7: twisting moment that buckles the rod, against its "
-                          "diameter", "critical twisting moment [uN m]", out_dir, summary, err,
-                          errlen);
+    return points;
 }
 
 /* ---- the list ---------------------------------------------------------------- */
 
-static const figure_def figure_table2 = {
-    .name = "table2",
-    .summary = "table 2: tip deflection against P, schemes, PL^3/3EI, elastica",
-    .columns = "point,scheme,load_N,tip_x_m,tip_y_m",
-    .value_columns = 4,
-    .full_points = 3 * TABLE2_FULL_LOADS,
-    .quick_points = 9,
-    .outputs = table2_outputs,
-    .compute = table2_compute,
-    .draw = table2_draw,
-};
 
 static const figure_def figure_impulse = {
     .name = "impulse",
@@ -968,51 +862,10 @@ static const figure_def figure_pareto = {
     .draw = pareto_draw,
 };
 
-#define BUCKLING_COLUMNS "point,kind,length_m,diameter_m,critical,theory"
-static const figure_def figure_buckling_length = {
-    .name = "buckling-length",
-    .summary = "fig. 8: axial buckling force against L, pi^2 EI/(4L^2)",
-    .columns = BUCKLING_COLUMNS,
-    .value_columns = 5,
-    .full_points = COUNT(buckling_lengths_full),
-    .quick_points = COUNT(buckling_lengths_quick),
-    .outputs = buckling_length_outputs,
-    .compute = buckling_length_compute,
-    .draw = buckling_length_draw,
-};
-
-static const figure_def figure_buckling_diameter = {
-    .name = "buckling-diameter",
-    .summary = "fig. 9: axial buckling force against d, pi^2 EI/(4L^2)",
-    .columns = BUCKLING_COLUMNS,
-    .value_columns = 5,
-    .full_points = COUNT(buckling_diameters_full),
-    .quick_points = COUNT(buckling_diameters_quick),
-    .outputs = buckling_diameter_outputs,
-    .compute = buckling_diameter_compute,
-    .draw = buckling_diameter_draw,
-};
-
-static const figure_def figure_twist_diameter = {
-    .name = "twist-diameter",
-    .summary = "fig. 7: buckling twisting moment against d, Greenhill",
-    .columns = BUCKLING_COLUMNS,
-    .value_columns = 5,
-    .full_points = 2 * COUNT(buckling_diameters_full),
-    .quick_points = 2 * COUNT(buckling_diameters_quick),
-    .outputs = twist_diameter_outputs,
-    .compute = twist_diameter_compute,
-    .draw = twist_diameter_draw,
-};
-
 /* The longest point first: `all` then finishes sooner on few cores. */
 static const figure_def *const figures[] = {
     &figure_impulse,
     &figure_pareto,
-    &figure_table2,
-    &figure_twist_diameter,
-    &figure_buckling_length,
-    &figure_buckling_diameter,
     NULL,
 };
 
@@ -1144,60 +997,68 @@ int figure_points_read_csv(const figure_def *f, const char *path, figure_points 
 
 /* ---- parallel sweep ------------------------------------------------------------ */
 
-/* The workers send their rows back through a pipe, as CSV text: no
- * temporary directory, so nothing is left behind on any exit path, kill -9
- * included (the old /tmp/rodsim-figure-* directory was, and ignored $TMPDIR). */
+/* The workers (worker.h) send their rows back through a pipe, as CSV text:
+ * no temporary directory, so nothing is left behind on any exit path, kill
+ * -9 included. */
 typedef struct sweep_task {
     int figure; /* index into figs */
     int point;
-    pid_t pid;  /* 0: not started; -1: finished */
-    int fd;     /* read end of the worker's pipe; -1 when closed */
     char *text; /* the worker's CSV, as received */
-    size_t length, capacity;
+    size_t length;
 } sweep_task;
 
-/* In the child: compute the point, write its CSV into the pipe, exit. A
- * worker belongs to its parent's process group (a Ctrl-C reaches both) and
- * dies with its parent: PR_SET_PDEATHSIG covers SIGTERM and kill -9 of the
- * parent, which cannot run any cleanup. Never returns. */
-static void run_child(const figure_def *f, const sweep_task *t, int quick, int fd,
-                      pid_t parent)
+typedef struct sweep_context {
+    const figure_def *const *figs;
+    sweep_task *tasks;
+    int quick, total, done;
+    FILE *log;
+    double start;
+    char *err;
+    size_t errlen;
+} sweep_context;
+
+/* Computes the task's point and writes its CSV; a failure's message goes to
+ * stderr (from a worker, it has no other way out). */
+static int pool_compute(void *context, int task, FILE *out)
 {
-    worker_begin(parent);
+    const sweep_context *c = context;
+    const sweep_task *t = &c->tasks[task];
+    const figure_def *f = c->figs[t->figure];
     char err[1024] = "";
     figure_points rows;
     figure_points_init(&rows, f);
-    int rc = figure_compute_point(f, t->point, quick, &rows, err, sizeof err);
-    if (rc == 0) {
-        FILE *out = fdopen(fd, "w");
-        rc = !out || figure_points_write_csv(f, &rows, out) ? -1 : 0;
-        if (out && fclose(out)) rc = -1;
-        if (rc) snprintf(err, sizeof err, "cannot send the point's rows to the parent");
+    int rc = figure_compute_point(f, t->point, c->quick, &rows, err, sizeof err);
+    if (rc == 0 && figure_points_write_csv(f, &rows, out)) {
+        snprintf(err, sizeof err, "cannot send the point's rows to the parent");
+        rc = -1;
     }
     if (rc) fprintf(stderr, "rodsim figure %s: point %d: %s\n", f->name, t->point, err);
     figure_points_release(&rows);
-    fflush(NULL);
-    _exit(rc ? 1 : 0);
+    return rc ? 1 : 0;
 }
 
-/* Reads what the worker of task t has sent; closes the pipe at its end.
- * Returns -1 when out of memory. */
-static int receive(sweep_task *t)
+/* Keeps the task's text; the first failure stops the sweep. */
+static int pool_computed(void *context, int task, const char *bytes, size_t n, int status)
 {
-    if (t->capacity - t->length < 4096) {
-        size_t capacity = t->capacity ? 2 * t->capacity : 16384;
-        char *grown = realloc(t->text, capacity);
-        if (!grown) return -1;
-        t->text = grown;
-        t->capacity = capacity;
+    sweep_context *c = context;
+    sweep_task *t = &c->tasks[task];
+    const figure_def *f = c->figs[t->figure];
+    c->done++;
+    if (status != 0) {
+        snprintf(c->err, c->errlen, "figure %s, point %d failed (%s; its message is above)",
+                 f->name, t->point,
+                 WIFSIGNALED(status) ? strsignal(WTERMSIG(status)) : "exit status 1");
+        return 1;
     }
-    ssize_t n = read(t->fd, t->text + t->length, t->capacity - t->length - 1);
-    if (n > 0) {
-        t->length += (size_t)n;
-    } else if (n == 0 || errno != EINTR) {
-        close(t->fd);
-        t->fd = -1;
+    if (!(t->text = malloc(n + 1))) {
+        snprintf(c->err, c->errlen, "out of memory for the points' rows");
+        return 1;
     }
+    memcpy(t->text, bytes, n + 1);
+    t->length = n;
+    if (c->log)
+        fprintf(c->log, "  %s point %d/%d done (%d of %d, %.1f s)\n", f->name, t->point + 1,
+                figure_point_count(f, c->quick), c->done, c->total, now_seconds() - c->start);
     return 0;
 }
 
@@ -1209,33 +1070,9 @@ int figure_sweep(const figure_def *const *figs, int n, int quick, int jobs, FILE
         figure_points_init(&out[k], figs[k]);
         total += figure_point_count(figs[k], quick);
     }
-    double start = now_seconds();
-    if (jobs <= 1) {
-        int done = 0;
-        for (int k = 0; k < n; k++) {
-            int count = figure_point_count(figs[k], quick);
-            for (int i = 0; i < count; i++) {
-                char why[1024];
-                if (figure_compute_point(figs[k], i, quick, &out[k], why, sizeof why)) {
-                    snprintf(err, errlen, "figure %s, point %d: %s", figs[k]->name, i, why);
-                    return -1;
-                }
-                if (log)
-                    fprintf(log, "  %s point %d/%d done (%d of %d, %.1f s)\n", figs[k]->name,
-                            i + 1, count, ++done, total, now_seconds() - start);
-            }
-        }
-        return 0;
-    }
-
-    sweep_task *tasks = calloc((size_t)total, sizeof *tasks);
-    struct pollfd *polls = calloc((size_t)total, sizeof *polls);
-    int *polled = calloc((size_t)total, sizeof *polled); /* task of each pollfd */
-    if (!tasks || !polls || !polled) {
+    sweep_task *tasks = calloc((size_t)total + 1, sizeof *tasks);
+    if (!tasks) {
         snprintf(err, errlen, "out of memory");
-        free(tasks);
-        free(polls);
-        free(polled);
         return -1;
     }
     int t = 0;
@@ -1243,101 +1080,11 @@ int figure_sweep(const figure_def *const *figs, int n, int quick, int jobs, FILE
         for (int i = 0; i < figure_point_count(figs[k], quick); i++, t++) {
             tasks[t].figure = k;
             tasks[t].point = i;
-            tasks[t].fd = -1;
         }
-
-    pid_t self = getpid();
-    int next = 0, running = 0, done = 0, failed = -1;
-    while (done < total && !(failed >= 0 && running == 0)) {
-        while (failed < 0 && running < jobs && next < total) {
-            int fd[2];
-            if (pipe(fd) != 0) {
-                if (running == 0) {
-                    snprintf(err, errlen, "cannot make a pipe: %s", strerror(errno));
-                    failed = next;
-                }
-                break; /* try again when one finishes */
-            }
-            fflush(NULL); /* the child must not repeat the parent's buffered output */
-            pid_t pid = fork();
-            if (pid == 0) {
-                close(fd[0]);
-                for (int i = 0; i < next; i++) /* other workers' pipes */
-                    if (tasks[i].fd >= 0) close(tasks[i].fd);
-                run_child(figs[tasks[next].figure], &tasks[next], quick, fd[1], self);
-            }
-            close(fd[1]);
-            if (pid < 0) {
-                close(fd[0]);
-                if (running == 0) {
-                    snprintf(err, errlen, "cannot start a process: %s", strerror(errno));
-                    failed = next;
-                }
-                break;
-            }
-            tasks[next].fd = fd[0];
-            tasks[next++].pid = pid;
-            running++;
-        }
-        if (running == 0) break;
-        /* drain every open pipe (a worker blocks when its pipe is full), then
-         * reap the workers whose pipes have closed */
-        int watched = 0;
-        for (int i = 0; i < next; i++)
-            if (tasks[i].fd >= 0) {
-                polls[watched] = (struct pollfd){.fd = tasks[i].fd, .events = POLLIN};
-                polled[watched++] = i;
-            }
-        if (watched > 0) {
-            if (poll(polls, (nfds_t)watched, -1) < 0) {
-                if (errno == EINTR) continue;
-                snprintf(err, errlen, "waiting for the point processes: %s", strerror(errno));
-                failed = failed >= 0 ? failed : 0;
-                break;
-            }
-            int out_of_memory = 0;
-            for (int w = 0; w < watched; w++)
-                if (polls[w].revents) out_of_memory |= receive(&tasks[polled[w]]);
-            if (out_of_memory) {
-                snprintf(err, errlen, "out of memory for the points' rows");
-                failed = failed >= 0 ? failed : 0;
-                break;
-            }
-        }
-        for (int i = 0; i < next; i++) {
-            if (tasks[i].pid <= 0 || tasks[i].fd >= 0) continue;
-            int status;
-            pid_t pid;
-            while ((pid = waitpid(tasks[i].pid, &status, 0)) < 0 && errno == EINTR) {}
-            if (pid < 0) status = 1 << 8; /* already gone: count it as failed */
-            tasks[i].pid = -1;
-            running--;
-            done++;
-            const figure_def *f = figs[tasks[i].figure];
-            if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-                if (failed < 0) {
-                    snprintf(err, errlen, "figure %s, point %d failed (%s; its message is above)",
-                             f->name, tasks[i].point,
-                             WIFSIGNALED(status) ? strsignal(WTERMSIG(status)) : "exit status 1");
-                    failed = i;
-                }
-            } else if (log) {
-                fprintf(log, "  %s point %d/%d done (%d of %d, %.1f s)\n", f->name,
-                        tasks[i].point + 1, figure_point_count(f, quick), done, total,
-                        now_seconds() - start);
-            }
-        }
-    }
-    /* a failure or an error above: stop the workers still running */
-    for (int i = 0; i < next; i++) {
-        if (tasks[i].pid > 0) {
-            kill(tasks[i].pid, SIGKILL);
-            while (waitpid(tasks[i].pid, NULL, 0) < 0 && errno == EINTR) {}
-        }
-        if (tasks[i].fd >= 0) close(tasks[i].fd);
-    }
+    sweep_context c = {figs, tasks, quick, total, 0, log, now_seconds(), err, errlen};
+    worker_pool pool = {.jobs = jobs, .context = &c, .run = pool_compute, .done = pool_computed};
+    int rc = worker_pool_run(&pool, NULL, total, err, errlen) ? -1 : 0;
     /* collect in point order */
-    int rc = failed >= 0 ? -1 : 0;
     for (int i = 0; i < total; i++) {
         if (rc == 0) {
             char name[256];
@@ -1356,7 +1103,5 @@ int figure_sweep(const figure_def *const *figs, int n, int quick, int jobs, FILE
         free(tasks[i].text);
     }
     free(tasks);
-    free(polls);
-    free(polled);
     return rc;
 }

@@ -434,26 +434,31 @@ done:
 
 /* The sweep -------------------------------------------------------------------- */
 
-typedef struct worker {
-    pid_t pid;
-    int fd;
-    int row;
-} worker;
+typedef struct sweep_context {
+    const stability_case *cases;
+    const rod_scheme_kind *schemes;
+    int n_schemes;
+    const stability_options *o;
+    stability_row *rows;
+} sweep_context;
 
-static int finish_worker(worker *w, stability_row *rows)
+static int pool_find(void *context, int k, FILE *out)
 {
-    stability_row result;
-    size_t got = read_all(w->fd, &result, sizeof result);
-    close(w->fd);
-    int status = 0;
-    while (waitpid(w->pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    if (got == sizeof result) {
-        rows[w->row] = result;
+    const sweep_context *c = context;
+    stability_row row;
+    stability_find(&c->cases[k / c->n_schemes], c->schemes[k % c->n_schemes], c->o, &row);
+    return fwrite(&row, sizeof row, 1, out) == 1 ? 0 : 1;
+}
+
+static int pool_found(void *context, int k, const char *bytes, size_t n, int status)
+{
+    sweep_context *c = context;
+    stability_row *r = &c->rows[k];
+    if (status == 0 && n == sizeof *r) {
+        memcpy(r, bytes, sizeof *r);
         return 0;
     }
     /* the worker died outside a guarded trial: keep the row's identity, say so */
-    stability_row *r = &rows[w->row];
     r->finding = 1;
     r->first_failure.outcome = STABILITY_CRASHED;
     snprintf(r->first_failure.message, sizeof r->first_failure.message,
@@ -466,69 +471,11 @@ int stability_sweep(const stability_case *cases, int n_cases, const rod_scheme_k
                     char *err, size_t errlen)
 {
     int n = n_cases * n_schemes;
-    if (jobs <= 1) {
-        for (int k = 0; k < n; k++)
-            stability_find(&cases[k / n_schemes], schemes[k % n_schemes], o, &rows[k]);
-        return 0;
+    for (int k = 0; k < n; k++) {
+        rows[k].c = cases[k / n_schemes];
+        rows[k].scheme = schemes[k % n_schemes];
     }
-    if (jobs > 64) jobs = 64; /* one poll() set */
-    worker *active = calloc((size_t)jobs, sizeof *active);
-    if (!active) {
-        snprintf(err, errlen, "out of memory for %d workers", jobs);
-        return -1;
-    }
-    int running = 0, next = 0, rc = 0;
-    while (next < n || running > 0) {
-        while (next < n && running < jobs) {
-            rows[next].c = cases[next / n_schemes];
-            rows[next].scheme = schemes[next % n_schemes];
-            int fd[2];
-            if (pipe(fd) != 0) {
-                snprintf(err, errlen, "cannot create a pipe: %s", strerror(errno));
-                rc = -1;
-                break;
-            }
-            fflush(stdout);
-            fflush(stderr);
-            pid_t parent = getpid();
-            pid_t pid = fork();
-            if (pid < 0) {
-                close(fd[0]);
-                close(fd[1]);
-                snprintf(err, errlen, "cannot start a worker process: %s", strerror(errno));
-                rc = -1;
-                break;
-            }
-            if (pid == 0) {
-                worker_begin(parent); /* dies with its parent */
-                close(fd[0]);
-                for (int k = 0; k < running; k++) close(active[k].fd);
-                stability_row row;
-                stability_find(&cases[next / n_schemes], schemes[next % n_schemes], o, &row);
-                write_all(fd[1], &row, sizeof row);
-                _exit(0);
-            }
-            close(fd[1]);
-            active[running++] = (worker){pid, fd[0], next};
-            next++;
-        }
-        if (rc) break;
-        /* wait for whichever worker finishes first */
-        struct pollfd p[64];
-        int np = running < 64 ? running : 64;
-        for (int k = 0; k < np; k++) p[k] = (struct pollfd){.fd = active[k].fd, .events = POLLIN};
-        if (poll(p, (nfds_t)np, -1) < 0 && errno != EINTR) break;
-        for (int k = 0; k < np; k++) {
-            if (!(p[k].revents & (POLLIN | POLLHUP | POLLERR))) continue;
-            finish_worker(&active[k], rows);
-            active[k].fd = -1;
-        }
-        int kept = 0;
-        for (int k = 0; k < running; k++)
-            if (active[k].fd >= 0) active[kept++] = active[k];
-        running = kept;
-    }
-    for (int k = 0; k < running; k++) finish_worker(&active[k], rows);
-    free(active);
-    return rc;
+    sweep_context c = {cases, schemes, n_schemes, o, rows};
+    worker_pool pool = {.jobs = jobs, .context = &c, .run = pool_find, .done = pool_found};
+    return worker_pool_run(&pool, NULL, n, err, errlen) ? -1 : 0;
 }

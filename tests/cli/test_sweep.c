@@ -622,6 +622,26 @@ static void test_critical_load(void)
     check_rel("critical_moment, pinned-pinned, dead axial twisting moment, L = 1 m, NS = 51: "
               "vs Greenhill 2 pi EI/L",
               rc == 0 ? strtod(moment, NULL) : NAN, 2.0 * M_PI * ei / 1.0, 1e-3);
+    /* a load 1e-4 of Euler's at L = 1 m, d swept over a decade: the critical
+     * load is up to 4e5 times the scene's (d^4), so the search must reach
+     * the rod's own scale, not 100 times the load (before: empty cells) */
+    const char *small[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/buckling_axial.ini", "--vary",
+                           "rod.diameter=0.25e-3,2.5e-3", "--set", "tip.force=-1e-9 0 0",
+                           "--set", "solver.duration=0.1", "--measure", "critical_load",
+                           "--quiet", NULL};
+    rc = test_run_rodsim(small, output, sizeof output);
+    for (int row = 1; row <= 2; row++) {
+        char diameter[64] = "", load[64] = "";
+        csv_cell(output, row, 0, diameter, sizeof diameter);
+        csv_cell(output, row, 1, load, sizeof load);
+        double d = strtod(diameter, NULL), ei_d = 87.5e6 * M_PI * pow(d, 4) / 64.0;
+        char what[160];
+        snprintf(what, sizeof what, "critical_load, tip force 1e-9 N, d = %s m (%.2g times "
+                                    "the load): vs pi^2 EI/(4 L^2)", diameter,
+                 M_PI * M_PI * ei_d / 4.0 / 1e-9);
+        check_rel(what, rc == 0 && load[0] ? strtod(load, NULL) : NAN,
+                  M_PI * M_PI * ei_d / 4.0, 1e-3);
+    }
     /* asked for only: result files written without it are not reused for it */
     char dir[320];
     snprintf(dir, sizeof dir, "%s/critical_results", scratch);

@@ -130,54 +130,61 @@ static void test_figures(void)
 
 /* The table-2 points against the dead-load elastica (reference.h, RK4):
  * static and implicit within 2e-4 at NS = 51 (README: 1.0e-4); the thesis
- * scheme's first-order frame march puts it (3/4) ds/L = 1.5 % above. */
-static void test_table2_values(const figure_points *p)
+ * scheme's first-order frame march puts it (3/4) ds/L = 1.5 % above. The
+ * figure is drawn from three sweeps, one per scheme; the 3-worker run's
+ * CSVs equal the 1-worker run's byte for byte. */
+static char *read_text(const char *path);
+static int read_sweep_csv(const char *path, const char *header, double *x, double *y, int max);
+static void test_table2_values(void)
 {
+    char serial[128], parallel[128], output[8192];
+    snprintf(serial, sizeof serial, "%s/table2-serial", temp_dir);
+    snprintf(parallel, sizeof parallel, "%s/table2-parallel", temp_dir);
+    const char *one[] = {"figure", "table2", "--quick", "--jobs", "1", "--out", serial, NULL};
+    const char *three[] = {"figure", "table2", "--quick", "--jobs", "3", "--out", parallel, NULL};
+    int a = test_run_rodsim(one, output, sizeof output);
+    int b = test_run_rodsim(three, output, sizeof output);
+    check(a == 0 && b == 0, "figure table2 --quick with --jobs 1 and --jobs 3: exit %d, %d", a, b);
     rod_model m = rod_model_default();
     char err[256];
     rod_model_derive(&m, err, sizeof err);
-    for (int r = 0; r < p->rows; r++) {
-        const double *row = &p->data[(size_t)r * (p->columns + 1)];
-        int scheme = (int)row[1];
-        elastica_tip tip;
-        elastica_dead_load(m.stiffness[0], m.length, 0.0, row[2], 0.0, 8000, &tip);
-        char what[160];
-        snprintf(what, sizeof what, "table2 point %d (%s, P = %.2g N): tip y vs the elastica%s",
-                 (int)row[0], scheme == ROD_SCHEME_STATIC ? "static"
-                 : scheme == ROD_SCHEME_IMPLICIT ? "implicit" : "thesis", row[2],
-                 scheme == ROD_SCHEME_THESIS ? " x (1 + 3 ds/4L)" : "");
-        if (scheme == ROD_SCHEME_THESIS)
-            check_rel(what, row[4], tip.y * (1.0 + 0.75 * 0.02), 1e-3);
-        else
-            check_rel(what, row[4], tip.y, 2e-4);
-    }
-}
-
-/* Every buckling point against its theory column, which the figure takes
- * from reference.h (Euler, Greenhill): the tests recompute the theory here
- * from the row's L and d, then compare (README: 1.6e-4 to 1.9e-4 at NS = 51). */
-static void test_buckling_values(void)
-{
-    static const char *const names[3] = {"buckling-length", "buckling-diameter", "twist-diameter"};
+    static const char *const schemes[3] = {"static", "implicit", "thesis"};
     for (int k = 0; k < 3; k++) {
-        const figure_points *p = serial_of(names[k]);
-        if (!check(p != NULL && p->rows > 0, "figure %s has points", names[k])) continue;
-        for (int r = 0; r < p->rows; r++) {
-            const double *row = &p->data[(size_t)r * (p->columns + 1)];
-            int kind = (int)row[1];
-            double length = row[2], d = row[3];
-            double ei = 87.5e6 * M_PI * pow(d, 4) / 64.0; /* table 1's E */
-            double theory = kind == 0   ? M_PI * M_PI * ei / (4.0 * length * length)
-                            : kind == 1 ? 2.0 * M_PI * ei / length
-                                        : 8.9868 * ei / length;
+        char path_a[256], path_b[256];
+        snprintf(path_a, sizeof path_a, "%s/table2_sweep_%s.csv", serial, schemes[k]);
+        snprintf(path_b, sizeof path_b, "%s/table2_sweep_%s.csv", parallel, schemes[k]);
+        char *text_a = read_text(path_a), *text_b = read_text(path_b);
+        check(text_a && text_b && strcmp(text_a, text_b) == 0,
+              "table2 %s: the CSV from 3 workers equals the one from 1, byte for byte",
+              schemes[k]);
+        free(text_a);
+        free(text_b);
+        double load[16], y[16];
+        int n = read_sweep_csv(path_a, "tip.force[1],tip_y,status", load, y, 16);
+        check(n == 3, "table2 %s: 3 ok rows (%d)", schemes[k], n);
+        for (int r = 0; r < n; r++) {
+            elastica_tip tip;
+            elastica_dead_load(m.stiffness[0], m.length, 0.0, load[r], 0.0, 8000, &tip);
             char what[160];
-            snprintf(what, sizeof what, "%s: L = %g m, d = %g mm, %s: critical load vs %s",
-                     names[k], length, 1e3 * d, kind == 0 ? "clamped-free" : kind == 1
-                     ? "pinned ends" : "clamped ends", kind == 0 ? "pi^2 EI/(4L^2)" : kind == 1
-                     ? "2 pi EI/L" : "8.9868 EI/L");
-            check_rel(what, row[4], theory, 1e-3);
+            snprintf(what, sizeof what, "table2 %s, P = %.2g N: tip y vs the elastica%s",
+                     schemes[k], load[r], k == 2 ? " x (1 + 3 ds/4L)" : "");
+            if (k == 2) check_rel(what, y[r], tip.y * (1.0 + 0.75 * 0.02), 1e-3);
+            else check_rel(what, y[r], tip.y, 2e-4);
         }
     }
+    static const char *const pngs[2] = {"table2.png", "table2_ratio.png"};
+    for (int k = 0; k < 2; k++) {
+        char path[256];
+        snprintf(path, sizeof path, "%s/%s", serial, pngs[k]);
+        image *img = image_read_png(path, err, sizeof err);
+        long coloured = img ? coloured_pixels(img) : 0;
+        check(img && img->width == 1200 && img->height == 800 && coloured > 300,
+              "%s: 1200x800 with drawn data (%ld coloured pixels > 300)", pngs[k], coloured);
+        image_destroy(img);
+    }
+    rod_model_release(&m);
+    test_remove_tree(serial);
+    test_remove_tree(parallel);
 }
 
 static int run_shell(const char *command)
@@ -188,12 +195,12 @@ static int run_shell(const char *command)
 
 /* --print-commands: run every point line by the shell, compare the CSVs with
  * the points computed here, then run the assemble line. */
-static void test_print_commands(const figure_points *table2_serial)
+static void test_print_commands(const figure_points *impulse_serial)
 {
-    const figure_def *f = figure_find("table2");
+    const figure_def *f = figure_find("impulse");
     char command[512], list_path[128];
     snprintf(list_path, sizeof list_path, "%s/commands.txt", temp_dir);
-    snprintf(command, sizeof command, "%s figure table2 --quick --print-commands --out %s > %s",
+    snprintf(command, sizeof command, "%s figure impulse --quick --print-commands --out %s > %s",
              RODSIM_BIN, temp_dir, list_path);
     if (!check(run_shell(command) == 0, "--print-commands exits 0")) return;
     FILE *in = fopen(list_path, "r");
@@ -219,11 +226,11 @@ static void test_print_commands(const figure_points *table2_serial)
     char err[1024] = "";
     for (int k = 0; k < points && rc == 0; k++) {
         char path[256];
-        snprintf(path, sizeof path, "%s/points/table2-%d.csv", temp_dir, k);
+        snprintf(path, sizeof path, "%s/points/impulse-%d.csv", temp_dir, k);
         rc = figure_points_read_csv(f, path, &from_files, err, sizeof err);
     }
     int differs = -1;
-    check(rc == 0 && same_points(f, table2_serial, &from_files, &differs),
+    check(rc == 0 && same_points(f, impulse_serial, &from_files, &differs),
           "the command lines' CSVs equal the points computed in this process (%s)", err);
     figure_points_release(&from_files);
     assemble[strcspn(assemble, "\n")] = '\0';
@@ -234,7 +241,7 @@ static void test_print_commands(const figure_points *table2_serial)
     check_pngs(f, temp_dir);
     for (int k = 0; k < points; k++) {
         char path[256];
-        snprintf(path, sizeof path, "%s/points/table2-%d.csv", temp_dir, k);
+        snprintf(path, sizeof path, "%s/points/impulse-%d.csv", temp_dir, k);
         unlink(path);
     }
     snprintf(command, sizeof command, "%s/points", temp_dir);
@@ -242,19 +249,236 @@ static void test_print_commands(const figure_points *table2_serial)
     unlink(list_path);
 }
 
+/* ---- figures drawn from sweeps (figure_spec; cli/sweep.c) ------------------- */
+
+static char *read_text(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    static char buffer[65536];
+    size_t n = fread(buffer, 1, sizeof buffer - 1, f);
+    fclose(f);
+    buffer[n] = '\0';
+    char *copy = malloc(n + 1);
+    if (copy) memcpy(copy, buffer, n + 1);
+    return copy;
+}
+
+/* The rows of a sweep results CSV whose columns are `x`, then the measure,
+ * status, message (the figures vary one key): x and y in order, -1 on a
+ * wrong header or a row that is not ok. */
+static int read_sweep_csv(const char *path, const char *header, double *x, double *y, int max)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) return -1;
+    char line[1024];
+    int n = 0, ok = fgets(line, sizeof line, f) && strncmp(line, header, strlen(header)) == 0;
+    while (ok && n < max && fgets(line, sizeof line, f)) {
+        char *end;
+        x[n] = strtod(line, &end);
+        ok = *end == ',';
+        y[n] = ok ? strtod(end + 1, &end) : 0;
+        ok = ok && strncmp(end, ",ok,", 4) == 0;
+        n++;
+    }
+    fclose(f);
+    return ok ? n : -1;
+}
+
+/* Each buckling figure's points against its theory, recomputed here from the
+ * row's L or d and table 1's E (README: 1.6e-4 to 1.9e-4 at NS = 51); the
+ * figure computed with 3 workers and with 1 gives the same CSV bytes. */
+static void test_buckling_values(void)
+{
+    static const struct {
+        const char *name, *csv, *header;
+        int kind; /* 0 Euler against L, 1 Euler against d, 2 Greenhill pinned, 3 clamped */
+    } figures[] = {
+        {"buckling-length", "buckling_length_sweep.csv", "rod.length,critical_load,status", 0},
+        {"buckling-diameter", "buckling_diameter_sweep.csv", "rod.diameter,critical_load,status",
+         1},
+        {"twist-diameter", "twist_diameter_sweep_pinned.csv",
+         "rod.diameter,critical_moment,status", 2},
+        {"twist-diameter", "twist_diameter_sweep_clamped.csv",
+         "rod.diameter,critical_moment,status", 3},
+    };
+    char serial[128], parallel[128];
+    snprintf(serial, sizeof serial, "%s/sweep-serial", temp_dir);
+    snprintf(parallel, sizeof parallel, "%s/sweep-parallel", temp_dir);
+    for (int k = 0; k < 4; k++) {
+        if (k == 0 || strcmp(figures[k].name, figures[k - 1].name) != 0) {
+            const char *one[] = {"figure", figures[k].name, "--quick", "--jobs", "1", "--out",
+                                 serial, NULL};
+            const char *three[] = {"figure", figures[k].name, "--quick", "--jobs", "3", "--out",
+                                   parallel, NULL};
+            char output[8192];
+            int a = test_run_rodsim(one, output, sizeof output);
+            int b = test_run_rodsim(three, output, sizeof output);
+            check(a == 0 && b == 0, "figure %s --quick with --jobs 1 and --jobs 3: exit %d, %d",
+                  figures[k].name, a, b);
+        }
+        char path_a[256], path_b[256];
+        snprintf(path_a, sizeof path_a, "%s/%s", serial, figures[k].csv);
+        snprintf(path_b, sizeof path_b, "%s/%s", parallel, figures[k].csv);
+        char *text_a = read_text(path_a), *text_b = read_text(path_b);
+        check(text_a && text_b && strcmp(text_a, text_b) == 0,
+              "%s: %s from 3 workers equals the one from 1, byte for byte", figures[k].name,
+              figures[k].csv);
+        free(text_a);
+        free(text_b);
+        double x[16], y[16];
+        int n = read_sweep_csv(path_a, figures[k].header, x, y, 16);
+        if (!check(n == 3, "%s: %s has 3 ok rows under \"%s\" (%d)", figures[k].name,
+                   figures[k].csv, figures[k].header, n))
+            continue;
+        for (int r = 0; r < n; r++) {
+            double length = figures[k].kind == 0 ? x[r] : 1.0;
+            double d = figures[k].kind == 0 ? 1e-3 : x[r];
+            double ei = 87.5e6 * M_PI * pow(d, 4) / 64.0; /* table 1's E */
+            double theory = figures[k].kind <= 1 ? M_PI * M_PI * ei / (4.0 * length * length)
+                            : figures[k].kind == 2 ? 2.0 * M_PI * ei / length
+                                                   : 8.9868 * ei / length;
+            char what[160];
+            snprintf(what, sizeof what, "%s: L = %g m, d = %g mm, %s: critical load vs %s",
+                     figures[k].name, length, 1e3 * d, figures[k].kind <= 1 ? "clamped-free"
+                     : figures[k].kind == 2 ? "pinned ends" : "clamped ends",
+                     figures[k].kind <= 1 ? "pi^2 EI/(4L^2)" : figures[k].kind == 2
+                     ? "2 pi EI/L" : "8.9868 EI/L");
+            check_rel(what, y[r], theory, 1e-3);
+        }
+    }
+    /* the figures themselves */
+    static const char *const pngs[3] = {"buckling_length.png", "buckling_diameter.png",
+                                        "twist_diameter.png"};
+    for (int k = 0; k < 3; k++) {
+        char path[256], err[512] = "";
+        snprintf(path, sizeof path, "%s/%s", serial, pngs[k]);
+        image *img = image_read_png(path, err, sizeof err);
+        long coloured = img ? coloured_pixels(img) : 0;
+        check(img && img->width == 1200 && img->height == 800 && coloured > 300,
+              "%s: 1200x800 with drawn data (%ld coloured pixels > 300; %s)", pngs[k], coloured,
+              err);
+        image_destroy(img);
+    }
+    test_remove_tree(serial);
+    test_remove_tree(parallel);
+}
+
+/* `rodsim figure NAME --print-sweep` prints the `rodsim sweep` lines of the
+ * figure; run by the shell, they write the same results CSVs as the figure,
+ * byte for byte (issue 15: one sweep machinery). table2's lines carry
+ * values with blanks (tip.profile=ramp 2), quoted for the shell. */
+static void test_figure_equals_sweep(void)
+{
+    static const char *const names[3] = {"buckling-length", "twist-diameter", "table2"};
+    static const int part_counts[3] = {1, 2, 3};
+    for (int k = 0; k < 3; k++) {
+        char figure_dir[128], sweep_dir[128], list[160], command[2400];
+        snprintf(figure_dir, sizeof figure_dir, "%s/as-figure", temp_dir);
+        snprintf(sweep_dir, sizeof sweep_dir, "%s/as-sweep", temp_dir);
+        snprintf(list, sizeof list, "%s/sweep-lines.txt", temp_dir);
+        mkdir(sweep_dir, 0777);
+        const char *args[] = {"figure", names[k], "--quick", "--out", figure_dir, NULL};
+        char output[8192];
+        int rc = test_run_rodsim(args, output, sizeof output);
+        snprintf(command, sizeof command, "cd %s && %s figure %s --quick --print-sweep --out %s"
+                 " > %s", RODSIM_SOURCE_DIR, RODSIM_BIN, names[k], sweep_dir, list);
+        int printed = run_shell(command);
+        FILE *in = fopen(list, "r");
+        char line[2048];
+        int lines = 0, ran = 0, compared = 0, equal = 0;
+        while (in && fgets(line, sizeof line, in)) {
+            if (line[0] == '#') continue;
+            line[strcspn(line, "\n")] = '\0';
+            lines++;
+            check(strstr(line, " sweep ") && !strstr(line, " figure "),
+                  "%s: a printed line is a rodsim sweep command", names[k]);
+            snprintf(command, sizeof command, "cd %s && %s 2>/dev/null", temp_dir, line);
+            ran += run_shell(command) == 0;
+            const char *csv = strstr(line, " --csv ");
+            if (!csv) continue;
+            char path_b[256], path_a[400];
+            snprintf(path_b, sizeof path_b, "%s", csv + 7);
+            path_b[strcspn(path_b, " ")] = '\0';
+            const char *base = strrchr(path_b, '/');
+            snprintf(path_a, sizeof path_a, "%s/%s", figure_dir, base ? base + 1 : path_b);
+            char *a = read_text(path_a), *b = read_text(path_b);
+            compared++;
+            equal += a && b && strcmp(a, b) == 0 && strstr(a, ",ok,") != NULL;
+            free(a);
+            free(b);
+        }
+        if (in) fclose(in);
+        int parts = part_counts[k];
+        check(rc == 0 && printed == 0 && lines == parts && ran == parts,
+              "%s: the figure exits %d; --print-sweep exits %d with %d sweep line(s) "
+              "(expected %d), %d of them exit 0", names[k], rc, printed, lines, parts, ran);
+        check(compared == parts && equal == parts,
+              "%s: the printed sweeps' CSVs equal the figure's, byte for byte (%d of %d)",
+              names[k], equal, compared);
+        test_remove_tree(figure_dir);
+        test_remove_tree(sweep_dir);
+        unlink(list);
+    }
+}
+
+/* A sweep figure with --result keeps a file per point: run again, it runs
+ * no point and writes the same CSV (resume after a crash, or the assemble
+ * step of --print-commands). */
+static void test_figure_resume(void)
+{
+    char results[128], out[128], output[8192];
+    snprintf(results, sizeof results, "%s/resume-points", temp_dir);
+    snprintf(out, sizeof out, "%s/resume-out", temp_dir);
+    const char *args[] = {"figure", "twist-diameter", "--quick", "--jobs", "2", "--result",
+                          results, "--out", out, NULL};
+    int first = test_run_rodsim(args, output, sizeof output);
+    int ran_first = 0, ran_again = 0;
+    for (const char *p = output; (p = strstr(p, "rodsim sweep: point ")); p++) ran_first++;
+    char path[256];
+    snprintf(path, sizeof path, "%s/twist_diameter_sweep_clamped.csv", out);
+    char *before = read_text(path);
+    int again = test_run_rodsim(args, output, sizeof output);
+    for (const char *p = output; (p = strstr(p, "rodsim sweep: point ")); p++) ran_again++;
+    char *after = read_text(path);
+    check(first == 0 && again == 0 && ran_first == 6 && ran_again == 0 &&
+              test_dir_entries(results) == 6,
+          "twist-diameter --result: %d points run, then %d on the second run (exit %d, %d); "
+          "%d result files", ran_first, ran_again, first, again, test_dir_entries(results));
+    check(before && after && strcmp(before, after) == 0,
+          "the second run's CSV equals the first's, byte for byte");
+    free(before);
+    free(after);
+    test_remove_tree(results);
+    test_remove_tree(out);
+}
+
 static void test_usage(void)
 {
     char command[512];
     snprintf(command, sizeof command, "%s figure no-such-figure 2>/dev/null", RODSIM_BIN);
     check(run_shell(command) == 2, "unknown figure: exit 2");
-    snprintf(command, sizeof command, "%s figure table2 --quick --point 99 --csv - 2>/dev/null",
+    snprintf(command, sizeof command, "%s figure impulse --quick --point 99 --csv - 2>/dev/null",
              RODSIM_BIN);
     check(run_shell(command) == 2, "point out of range: exit 2");
     snprintf(command, sizeof command, "%s figure table2 --jobs 0 2>/dev/null", RODSIM_BIN);
     check(run_shell(command) == 2, "--jobs 0: exit 2");
-    snprintf(command, sizeof command, "%s figure table2 --quick --from %s/nothing 2>/dev/null",
+    snprintf(command, sizeof command, "%s figure impulse --quick --from %s/nothing 2>/dev/null",
              RODSIM_BIN, temp_dir);
     check(run_shell(command) == 2, "--from a directory that does not exist: exit 2 (bad input)");
+    snprintf(command, sizeof command, "%s figure buckling-length --point 0 2>/dev/null",
+             RODSIM_BIN);
+    check(run_shell(command) == 2, "a sweep figure's --point without --result: exit 2");
+    snprintf(command, sizeof command, "%s figure buckling-length --quick --point 3 --result "
+             "%s/never 2>/dev/null", RODSIM_BIN, temp_dir);
+    check(run_shell(command) == 2, "a sweep figure's --point past its points: exit 2");
+    snprintf(command, sizeof command, "%s figure twist-diameter --csv - 2>/dev/null", RODSIM_BIN);
+    check(run_shell(command) == 2, "a sweep figure with --csv (its points go to --result): "
+                                   "exit 2");
+    snprintf(command, sizeof command, "%s figure impulse --print-sweep 2>/dev/null", RODSIM_BIN);
+    check(run_shell(command) == 2, "--print-sweep of a figure that is not a sweep: exit 2");
+    snprintf(command, sizeof command, "%s/never", temp_dir);
+    check(access(command, F_OK) != 0, "nothing written by the refused commands");
 }
 
 /* ---- issue 9: workers, temporaries, printed commands ------------------------- */
@@ -306,27 +530,33 @@ static void test_print_commands_run_anywhere(void)
              temp_dir, RODSIM_BIN, list_path);
     if (!check(run_shell(command) == 0, "--print-commands --out 'rel out' exits 0")) return;
     FILE *in = fopen(list_path, "r");
-    char line[1024];
+    char line[1024], assemble[1024] = "";
     int points = 0, ran = 0;
     while (in && fgets(line, sizeof line, in)) {
-        if (line[0] == '#') continue;
         line[strcspn(line, "\n")] = '\0';
+        if (strncmp(line, "# assemble: ", 12) == 0) snprintf(assemble, sizeof assemble, "%s",
+                                                             line + 12);
+        if (line[0] == '#') continue;
         points++;
         snprintf(command, sizeof command, "cd %s && env -i PATH=/nonexistent /bin/sh -c \"%s\"",
                  elsewhere, line);
         ran += run_shell(command) == 0;
     }
     if (in) fclose(in);
-    int found = 0;
-    for (int k = 0; k < points; k++) {
-        char path[256];
-        snprintf(path, sizeof path, "%s/rel out/points/buckling-length-%d.csv", temp_dir, k);
-        found += access(path, R_OK) == 0;
-    }
+    /* a sweep figure: one result file per point, DIGEST.csv (sweep.h) */
+    snprintf(command, sizeof command, "%s/rel out/points/buckling-length", temp_dir);
+    int found = test_dir_entries(command);
     check(points == 3 && ran == 3 && found == 3 && test_dir_entries(elsewhere) == 0,
-          "printed lines run from another directory without PATH: %d of %d exit 0, %d CSVs "
-          "under the --out given when printing, %d files where they ran", ran, points, found,
-          test_dir_entries(elsewhere));
+          "printed lines run from another directory without PATH: %d of %d exit 0, %d result "
+          "files under the --out given when printing, %d files where they ran", ran, points,
+          found, test_dir_entries(elsewhere));
+    snprintf(command, sizeof command, "cd %s && env -i PATH=/nonexistent /bin/sh -c \"%s\" "
+             "> /dev/null 2>&1", elsewhere, assemble);
+    int drew = assemble[0] ? run_shell(command) : -1;
+    snprintf(command, sizeof command, "%s/rel out/buckling_length.png", temp_dir);
+    check(drew == 0 && access(command, R_OK) == 0 && test_dir_entries(elsewhere) == 0,
+          "the # assemble: line exits %d and draws the figure under the --out given when "
+          "printing (%s)", drew, assemble);
     snprintf(command, sizeof command, "%s/rel out", temp_dir);
     test_remove_tree(command);
     rmdir(elsewhere);
@@ -414,11 +644,11 @@ int main(void)
         return 1;
     }
     test_figures();
-    if (serial_of("table2")) {
-        test_table2_values(serial_of("table2"));
-        test_print_commands(serial_of("table2"));
-    }
+    test_table2_values();
+    if (serial_of("impulse")) test_print_commands(serial_of("impulse"));
     test_buckling_values();
+    test_figure_equals_sweep();
+    test_figure_resume();
     test_pareto_cpu_time();
     for (int k = 0; k < MAX_FIGURES; k++) figure_points_release(&serial_points[k]);
     test_usage();
