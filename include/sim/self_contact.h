@@ -11,20 +11,24 @@
  * segment b; its force F_p acts on the first and -F_p on the second, shared
  * by the nodes by the weights (1 - alpha, alpha) and (1 - beta, beta).
  *
- * In the residual (rod_self_contact_forces) the pair forces are a function
- * of the velocities the rest of the step gives the nodes: each pair's force
- * in closed form from its own relative motion (as a surface's on one node),
- * swept over the pairs until they agree where pairs share nodes.
+ * The pair forces are unknowns of the step's Newton iteration beside the
+ * scheme's own: the residual (rod_self_contact_forces) applies them to the
+ * nodes and measures how far each is from what its law asks for, in closed
+ * form from the pair's relative motion with every other force in place (as
+ * a surface's force on one node): g = F - phi(z).
  *
  * In Newton's solve (rod_self_contact_correct) the pairs couple distant
  * unknowns, which the banded Jacobian B cannot hold. B is built without
  * them and the pairs join as a correction of rank 3 per touching pair,
- *   J = B - c V M V^T,
- * (V: how the pairs' relative velocities depend on N; M: how the pair forces
- * respond to them; c = theta dt / ds: how a force enters the constraint
- * rows (3.14)), solved by the Woodbury identity on B's banded factors: one
- * banded solve per column of V (3 per touching pair, once per step and
- * factorisation) and a dense system of 3 per touching pair per iteration. */
+ *   [ B          -c V       ] [dx]   [r]
+ *   [ -phi' V^T   I - phi' A ] [dF] = [g]
+ * (V: how the pairs' relative velocities depend on N; phi': how each law
+ * responds to its pair's; A: how a pair's force moves the others' through
+ * the nodes they share; c = theta dt / ds: how a force enters the
+ * constraint rows (3.14)), solved by eliminating dx on B's banded factors
+ * (Schur complement): one banded solve per column of V (3 per touching pair,
+ * once per step and factorisation) and a dense system of 3 per touching pair
+ * per iteration. */
 #ifndef RODSIM_SIM_SELF_CONTACT_H
 #define RODSIM_SIM_SELF_CONTACT_H
 
@@ -41,7 +45,10 @@ typedef struct self_pair {
     double normal[3];      /* unit, global: from b's point to a's point at the start */
     int node[4];           /* a, a+1, b, b+1 */
     double weight[4];      /* (1 - alpha), alpha, -(1 - beta), -beta */
-    double force[3];       /* N, global: on a's point (the opposite on b's), this iterate */
+    double force[3];       /* N, global: on a's point (the opposite on b's): a Newton
+                              unknown of the step, beside the scheme's */
+    double g[3];           /* N: force minus what the pair's law asks for at this iterate */
+    double delta[3];       /* N: Newton's correction of force (rod_self_contact_correct) */
     double gain[9];        /* dF / dz (N s / m), row-major, at this iterate */
     double compliance;     /* sum of weight^2 push over the four nodes (m/s per N) */
     int active;            /* 1: the force is not 0 at this iterate */
@@ -66,7 +73,10 @@ typedef struct rod_self_contact {
     double *s, *rhs;       /* dense system of the correction */
     int *pivot;
     double *node_force;    /* (nodes x 3) N, global: what the other strands exert on each node */
-    long sweeps;           /* counters for benches */
+    double gnorm;          /* N: the largest |g| of the last rod_self_contact_forces */
+    int last_count;        /* pairs with a force at the end of the last accepted step */
+    int *last_ab;          /* (2 max_pairs) their segments a, b */
+    double *last_force;    /* (3 max_pairs) their forces: the next step's first guess */
 } rod_self_contact;
 
 /* NULL when out of memory. */
@@ -85,21 +95,28 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
  * in pos0 (-1 on bad input); the candidates are left as they are. */
 int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margin);
 
-/* Inside the residual: the pair forces from the nodes' end-of-step velocity
- * vel1 and mean velocity vbar (global, nodes x 3; updated in place by the
- * forces), the positions at the start pos0 and each node's compliance push
- * (nodes). With gains set, each active pair's dF/dz is kept for the
- * correction. */
+/* Inside the residual: applies the pair forces (the iterate's) to the nodes'
+ * end-of-step velocity vel1 and mean velocity vbar (global, nodes x 3, in
+ * place) by each node's compliance push (nodes); with law set, also each
+ * pair's g and gain dphi/dz at this iterate, from the positions at the start
+ * pos0 (gnorm: the largest |g|). */
 void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *vel1, double *vbar,
-                             const double *push, double dt, double theta, int gains);
+                             const double *push, double dt, double theta, int law);
+
+/* force += amount delta for every pair (Newton's step and its line search). */
+void rod_self_contact_move(rod_self_contact *sc, double amount);
+
+/* Keeps the pairs' forces of an accepted step as the next step's guess. */
+void rod_self_contact_accept(rod_self_contact *sc);
 
 /* Forget B^-1 V (after B is refactored or the pairs change). */
 void rod_self_contact_invalidate(rod_self_contact *sc);
 
-/* Newton's correction: dx holds B^-1 r on entry and J^-1 r on return, for
- * the gains of the last rod_self_contact_forces call. solve(ctx, v) solves
- * B v = v in place. c = theta dt / ds. Returns 0, or -1 when the dense
- * system is singular (dx is then left as B^-1 r). */
+/* Newton's correction: dx holds B^-1 r on entry and the scheme's part of
+ * the correction on return; each pair's delta its force's (the system
+ * above), for the g and gains of the last rod_self_contact_forces call.
+ * solve(ctx, v) solves B v = v in place. c = theta dt / ds. Returns 0, or
+ * -1 when the dense system is singular (dx is then B^-1 r, delta g). */
 int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *push, double c,
                              void (*solve)(const void *ctx, double *v), const void *ctx);
 

@@ -158,7 +158,8 @@ typedef struct implicit_work {
     rod_puncture_state save_puncture[ROD_MAX_PUNCTURES];
     /* self-contact (issue 12; sim/self_contact.h): NULL when off */
     rod_self_contact *self;
-    int self_off;          /* 1 while the banded Jacobian is built: it leaves the pairs out */
+    int self_off;          /* 1 while the banded Jacobian is built: the pair forces act,
+                              their laws are not evaluated (B does not depend on them) */
     double *node_push;     /* (nodes) m/s per N: a force's effect on each node's velocity
                               over the step (0 at a held end) */
     double self_motion;    /* m: the largest node displacement of the last step */
@@ -987,8 +988,9 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
         for (int which = 0; which < 2; which++)
             if (!w->ends[which].held) node_contact(w, m, which ? n - 1 : 0, 2.0 * push, dt);
     if (w->puncture_count) puncture_forces(w, m, push, dt);
-    if (w->self && w->self->count && !w->self_off)
-        rod_self_contact_forces(w->self, w->pos0, w->vel1, w->vbar, w->node_push, dt, theta, 1);
+    if (w->self && w->self->count)
+        rod_self_contact_forces(w->self, w->pos0, w->vel1, w->vbar, w->node_push, dt, theta,
+                                !w->self_off);
 
     /* (3.14) constraint on segment b-1 and (3.6)_2 on node b: block b */
     const double ms = 1.0 / w->moment_scale;
@@ -1222,8 +1224,9 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
 {
     const int nu = w->unknowns, kl = w->kl, ku = w->kl, ld = w->ldab, nb = w->block;
     memset(w->band, 0, (size_t)ld * (size_t)nu * sizeof(double));
-    /* the band leaves the self-contact pairs out: they couple distant blocks
-     * and join Newton's solve as a low-rank correction (newton_solve) */
+    /* the self-contact forces are unknowns of their own: they act on the
+     * residual as constants here, so the band is d r / d x without them
+     * (they join in newton_solve) */
     w->self_off = 1;
     evaluate(w, m, w->x, t, dt, w->residual);
     const int colors = 2 * w->reach + 1, reach = w->reach;
@@ -1254,10 +1257,7 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
         }
     }
     w->self_off = 0;
-    if (w->self) {
-        rod_self_contact_invalidate(w->self);
-        if (w->self->count) evaluate(w, m, w->x, t, dt, w->residual); /* with the pairs */
-    }
+    if (w->self) rod_self_contact_invalidate(w->self);
     lapack_int info = LAPACKE_dgbtrf_work(LAPACK_COL_MAJOR, nu, nu, kl, ku, w->band, ld, w->pivot);
     w->jacobian_builds++;
     w->have_factor = (info == 0);
@@ -1296,13 +1296,23 @@ static int same_dt(double dt_factored, double dt)
 static void band_solve_cb(const void *ctx, double *v) { band_solve(ctx, v); }
 
 /* Newton's correction dx = J^-1 r: the banded factors, and the self-contact
- * pairs touching at this iterate as a low-rank correction on them. */
+ * forces (unknowns beside x) by the Schur complement on them
+ * (sim/self_contact.h). */
 static void newton_solve(implicit_work *w, const rod_model *m, double dt)
 {
     band_solve(w, w->dx);
     if (w->self && w->self->count)
         rod_self_contact_correct(w->self, w->dx, w->node_push, m->options.theta * dt / m->ds,
                                  band_solve_cb, w);
+}
+
+/* The size of the residual: the scheme's (scaled) and the self-contact
+ * pairs' (N, relative to the force scale). */
+static double residual_norm(const implicit_work *w)
+{
+    double norm = max_abs(w->residual, w->unknowns);
+    if (w->self && w->self->count) norm = fmax(norm, w->self->gnorm / w->force_scale);
+    return norm;
 }
 
 /* Newton on one step; on success the iterate x holds the solution. */
@@ -1315,7 +1325,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         if (factor_jacobian(w, m, t, dt)) return -1;
     }
     evaluate(w, m, w->x, t, dt, w->residual);
-    double norm = max_abs(w->residual, nu);
+    double norm = residual_norm(w);
     int fresh = 0; /* the factorisation was made at this step */
     for (int it = 0; it < max_it; it++) {
         report->newton_iterations = it;
@@ -1324,8 +1334,9 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         memcpy(w->dx, w->residual, (size_t)nu * sizeof(double));
         newton_solve(w, m, dt);
         for (int i = 0; i < nu; i++) w->x[i] -= w->dx[i];
+        if (w->self) rod_self_contact_move(w->self, -1.0);
         evaluate(w, m, w->x, t, dt, w->residual);
-        double next = max_abs(w->residual, nu);
+        double next = residual_norm(w);
         const int contact = w->contact || (w->self && w->self->count);
         if (contact && !(next < norm)) {
             /* contact makes the residual piecewise smooth: a full step can
@@ -1336,8 +1347,9 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
             for (int k = 0; k < 8 && !(next < norm); k++) {
                 step *= 0.5;
                 for (int i = 0; i < nu; i++) w->x[i] += step * w->dx[i];
+                if (w->self) rod_self_contact_move(w->self, step);
                 evaluate(w, m, w->x, t, dt, w->residual);
-                next = max_abs(w->residual, nu);
+                next = residual_norm(w);
                 if (--w->budget < 0) return -1;
             }
         }
@@ -1589,6 +1601,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
         if (2.0 * moved > w->self->margin && 3.0 * moved <= SELF_MARGIN * m->diameter)
             return -1; /* split the step */
         w->self_motion = moved;
+        rod_self_contact_accept(w->self);
     }
 
     /* accept: Newton's last residual evaluation was at x, so frame1, darboux1,

@@ -10,12 +10,6 @@
 #include "base/vec3.h"
 #include "sim/contact_law.h"
 
-/* Newton iterations on the pairs' joint problem, and its tolerance on the
- * forces relative to the largest (rod_self_contact_forces) */
-_Static_assert(sizeof(lapack_int) == sizeof(int), "pivots are stored as int");
-
-#define SWEEPS_MAX 60
-#define SWEEP_TOL 1e-12
 
 rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, int block,
                                           double diameter, double ds, double friction)
@@ -45,11 +39,14 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->pair = calloc((size_t)sc->max_pairs, sizeof *sc->pair);
     sc->found = calloc((size_t)sc->max_pairs, sizeof *sc->found);
     sc->node_force = calloc((size_t)nodes * 3, sizeof(double));
+    sc->last_ab = calloc((size_t)sc->max_pairs * 2, sizeof(int));
+    sc->last_force = calloc((size_t)sc->max_pairs * 3, sizeof(double));
     sc->prox = rod_proximity_create(nodes);
     sc->s = malloc((size_t)9 * SELF_CONTACT_RANK_PAIRS * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->pivot = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(int));
-    if (!sc->pair || !sc->found || !sc->node_force || !sc->prox || !sc->s || !sc->rhs || !sc->pivot) {
+    if (!sc->pair || !sc->found || !sc->node_force || !sc->prox || !sc->s || !sc->rhs ||
+        !sc->pivot || !sc->last_ab || !sc->last_force) {
         rod_self_contact_destroy(sc);
         return NULL;
     }
@@ -62,6 +59,8 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->pair);
     free(sc->found);
     free(sc->node_force);
+    free(sc->last_ab);
+    free(sc->last_force);
     free(sc->y);
     free(sc->s);
     free(sc->rhs);
@@ -111,6 +110,11 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
         p->weight[2] = -(1.0 - f->t);
         p->weight[3] = -f->t;
         p->column = -1;
+        /* the force of the same pair at the end of the last accepted step:
+         * Newton's first guess */
+        for (int l = 0; l < sc->last_count; l++)
+            if (sc->last_ab[2 * l] == p->a && sc->last_ab[2 * l + 1] == p->b)
+                v3_copy(p->force, &sc->last_force[3 * l]);
         double pa[3], pb[3], d[3];
         for (int c = 0; c < 3; c++) {
             pa[c] = (1.0 - f->s) * pos0[3 * f->i + c] + f->s * pos0[3 * (f->i + 1) + c];
@@ -227,110 +231,47 @@ static double pair_coupling(const self_pair *p, const self_pair *q, const double
     return a;
 }
 
-/* What pair p's law asks for at the current velocities, with its own force
- * taken out. */
-static void pair_target(rod_self_contact *sc, const self_pair *p, const double *pos0,
-                        double *vel1, double *vbar, const double *push, double dt, double theta,
-                        double f[3])
-{
-    double d[3], z[3];
-    apply(sc, p, p->force, -1.0, vel1, vbar, push, theta);
-    pair_motion(p, pos0, vel1, vbar, dt, d, z);
-    apply(sc, p, p->force, 1.0, vel1, vbar, push, theta);
-    pair_law(sc, p, d, z, dt, theta, f);
-}
-
 void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *vel1, double *vbar,
-                             const double *push, double dt, double theta, int gains)
+                             const double *push, double dt, double theta, int law)
 {
     const int n = sc->nodes;
     memset(sc->node_force, 0, (size_t)n * 3 * sizeof(double));
     for (int q = 0; q < sc->count; q++) {
         self_pair *p = &sc->pair[q];
-        v3_set(p->force, 0.0, 0.0, 0.0);
-        p->active = 0;
         p->compliance = 0.0;
         for (int e = 0; e < 4; e++) p->compliance += p->weight[e] * p->weight[e] * push[p->node[e]];
-    }
-    /* one sweep: each pair from the motion the pairs before it leave */
-    for (int q = 0; q < sc->count; q++) {
-        self_pair *p = &sc->pair[q];
-        if (!(p->compliance > 0.0)) continue;
-        pair_target(sc, p, pos0, vel1, vbar, push, dt, theta, p->force);
         apply(sc, p, p->force, 1.0, vel1, vbar, push, theta);
     }
-    /* then Newton on the pairs' joint problem F = phi(z_free + A F), where
-     * pairs share nodes: sweeps alone crawl when two touching pairs stick to
-     * nearly the same motion (their coupling is within 1 / CONTACT_STIFF of
-     * their own compliance) */
-    for (int it = 0; it < SWEEPS_MAX && sc->count > 1; it++) {
-        int m = 0, crowded = 0;
-        double err = 0.0, size = 0.0;
-        for (int q = 0; q < sc->count; q++) {
-            self_pair *p = &sc->pair[q];
-            if (!(p->compliance > 0.0)) continue;
-            double f[3], g[3];
-            pair_target(sc, p, pos0, vel1, vbar, push, dt, theta, f);
-            v3_sub(g, p->force, f);
-            err = fmax(err, v3_norm(g));
-            size = fmax(size, fmax(v3_norm(f), v3_norm(p->force)));
-            if (v3_norm(f) == 0.0 && v3_norm(p->force) == 0.0) continue;
-            if (m == SELF_CONTACT_RANK_PAIRS) {
-                crowded = 1;
-                continue;
-            }
-            sc->ranked[m] = q;
-            v3_copy(&sc->rhs[3 * m], g);
-            m++;
-        }
-        sc->sweeps++;
-        if (!(err > SWEEP_TOL * size)) break;
-        if (crowded) {
-            /* more pairs than the dense system holds: a sweep instead */
-            for (int q = 0; q < sc->count; q++) {
-                self_pair *p = &sc->pair[q];
-                if (!(p->compliance > 0.0)) continue;
-                double f[3];
-                apply(sc, p, p->force, -1.0, vel1, vbar, push, theta);
-                pair_target(sc, p, pos0, vel1, vbar, push, dt, theta, f);
-                v3_copy(p->force, f);
-                apply(sc, p, f, 1.0, vel1, vbar, push, theta);
-            }
-            continue;
-        }
-        /* (I - gain A) dF = -(F - phi), A without each pair's own compliance */
-        const int size3 = 3 * m;
-        for (int r = 0; r < m; r++) {
-            double target[3];
-            pair_gain(sc, &sc->pair[sc->ranked[r]], pos0, vel1, vbar, push, dt, theta, target);
-        }
-        for (int r = 0; r < m; r++) {
-            const self_pair *pr = &sc->pair[sc->ranked[r]];
-            for (int q = 0; q < m; q++) {
-                const double a = q == r ? 0.0 : pair_coupling(pr, &sc->pair[sc->ranked[q]], push);
-                for (int i = 0; i < 3; i++)
-                    for (int j = 0; j < 3; j++)
-                        sc->s[(size_t)(3 * r + i) + (size_t)size3 * (size_t)(3 * q + j)] =
-                            (r == q && i == j ? 1.0 : 0.0) - pr->gain[3 * i + j] * a;
-            }
-            for (int i = 0; i < 3; i++) sc->rhs[3 * r + i] = -sc->rhs[3 * r + i];
-        }
-        if (LAPACKE_dgesv(LAPACK_COL_MAJOR, size3, 1, sc->s, size3, (lapack_int *)sc->pivot,
-                          sc->rhs, size3) != 0)
-            break;
-        for (int r = 0; r < m; r++) {
-            self_pair *p = &sc->pair[sc->ranked[r]];
-            apply(sc, p, &sc->rhs[3 * r], 1.0, vel1, vbar, push, theta);
-            v3_axpy(p->force, 1.0, &sc->rhs[3 * r]);
-        }
-    }
+    sc->gnorm = 0.0;
+    if (!law) return;
     for (int q = 0; q < sc->count; q++) {
         self_pair *p = &sc->pair[q];
-        p->active = v3_norm(p->force) > 0.0;
-        if (gains && p->active) {
-            double target[3];
+        double target[3] = {0.0, 0.0, 0.0};
+        p->active = 0;
+        if (p->compliance > 0.0) {
             pair_gain(sc, p, pos0, vel1, vbar, push, dt, theta, target);
+            p->active = v3_norm(target) > 0.0 || v3_norm(p->force) > 0.0;
         }
+        v3_sub(p->g, p->force, target);
+        sc->gnorm = fmax(sc->gnorm, v3_norm(p->g));
+    }
+}
+
+void rod_self_contact_move(rod_self_contact *sc, double amount)
+{
+    for (int q = 0; q < sc->count; q++) v3_axpy(sc->pair[q].force, amount, sc->pair[q].delta);
+}
+
+void rod_self_contact_accept(rod_self_contact *sc)
+{
+    sc->last_count = 0;
+    for (int q = 0; q < sc->count; q++) {
+        const self_pair *p = &sc->pair[q];
+        if (v3_norm(p->force) == 0.0) continue;
+        sc->last_ab[2 * sc->last_count] = p->a;
+        sc->last_ab[2 * sc->last_count + 1] = p->b;
+        v3_copy(&sc->last_force[3 * sc->last_count], p->force);
+        sc->last_count++;
     }
 }
 
@@ -362,8 +303,13 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
 {
     const int nu = sc->unknowns;
     int m = 0;
-    for (int q = 0; q < sc->count && m < SELF_CONTACT_RANK_PAIRS; q++)
-        if (sc->pair[q].active) sc->ranked[m++] = q;
+    for (int q = 0; q < sc->count; q++) {
+        self_pair *p = &sc->pair[q];
+        /* a pair the dense system has no room for moves to its law's
+         * force (a fixed-point step) */
+        v3_copy(p->delta, p->g);
+        if (p->active && m < SELF_CONTACT_RANK_PAIRS) sc->ranked[m++] = q;
+    }
     if (m == 0) return 0;
     if (!sc->y) {
         /* allocated when a pair first touches: a run without self-contact
@@ -409,7 +355,8 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
         for (int e = 0; e < count; e++)
             for (int l = 0; l < 3; l++) t[l] += coef[e] * dx[row_of(sc, block[e], l)];
         for (int i = 0; i < 3; i++)
-            rhs[3 * r + i] = pr->gain[3 * i] * t[0] + pr->gain[3 * i + 1] * t[1] + pr->gain[3 * i + 2] * t[2];
+            rhs[3 * r + i] = pr->g[i] + pr->gain[3 * i] * t[0] + pr->gain[3 * i + 1] * t[1] +
+                             pr->gain[3 * i + 2] * t[2];
         for (int q = 0; q < m; q++) {
             const self_pair *pq = &sc->pair[sc->ranked[q]];
             double h[9] = {0.0};
@@ -422,11 +369,7 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
                 }
             }
             if (q != r) {
-                double a = 0.0;
-                for (int e = 0; e < 4; e++)
-                    for (int f = 0; f < 4; f++)
-                        if (pr->node[e] == pq->node[f])
-                            a += pr->weight[e] * pq->weight[f] * push[pr->node[e]];
+                const double a = pair_coupling(pr, pq, push);
                 h[0] += a, h[4] += a, h[8] += a;
             }
             /* column-major S for LAPACK: S[(3r+i) + size (3q+j)] */
@@ -442,7 +385,8 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
     lapack_int info = LAPACKE_dgesv(LAPACK_COL_MAJOR, size, 1, s, size, (lapack_int *)sc->pivot, rhs, size);
     if (info != 0) return -1;
     for (int q = 0; q < m; q++) {
-        const self_pair *pq = &sc->pair[sc->ranked[q]];
+        self_pair *pq = &sc->pair[sc->ranked[q]];
+        v3_copy(pq->delta, &rhs[3 * q]);
         for (int j = 0; j < 3; j++) {
             const double *col = &sc->y[(size_t)(pq->column + j) * (size_t)nu];
             const double g = c * rhs[3 * q + j];
