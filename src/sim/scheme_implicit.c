@@ -1389,7 +1389,7 @@ static double max_abs(const double *a, int n)
     return nan ? NAN : worst;
 }
 
-/* Solves A x = b in place with the factors of LAPACKE_dgbtrf (band storage,
+/* Solves A x = b in place with the factors of band_factor_kl (LAPACK band storage,
  * kl = ku): the same arithmetic as dgbtrs, written out because the library
  * call's per-column BLAS overhead dominated at this size. Inlined with kl a
  * constant, so that the inner loops have fixed lengths away from the ends
@@ -1524,12 +1524,66 @@ static void add_contact_jacobian(implicit_work *w, const rod_model *m, double t,
     }
 }
 
-/* LU of band in place (LAPACK's banded LU with partial pivoting). Returns
- * 0, or -1 when the matrix is singular. */
+/* LU of band in place with partial pivoting: LAPACK's dgbtf2 (what dgbtrf
+ * runs for kl below its block size), written out as band_solve_kl is: its
+ * per-column dger, dswap and dscal calls cost more than their arithmetic at
+ * this size (29 % of the suture scene's time). The same storage (kv = 2 kl
+ * rows above the diagonal, U's fill-in in the top kl), 1-based pivots, and
+ * the first zero pivot's column + 1 returned as LAPACK's info. */
+static inline __attribute__((always_inline)) int band_factor_kl(implicit_work *w, const int kl)
+{
+    const int n = w->unknowns, kv = 2 * kl, ld = w->ldab;
+    double *restrict ab = w->band;
+    lapack_int *restrict pivot = w->pivot;
+    int info = 0, ju = 0;
+    /* the fill-in rows of the first kl columns start at zero */
+    for (int j = kl + 1; j < kv && j < n; j++)
+        for (int i = kv - j; i < kl; i++) ab[(size_t)j * ld + i] = 0.0;
+    for (int j = 0; j < n; j++) {
+        if (j + kv < n)
+            for (int i = 0; i < kl; i++) ab[(size_t)(j + kv) * ld + i] = 0.0;
+        const int km = kl < n - 1 - j ? kl : n - 1 - j;
+        double *col = &ab[(size_t)j * ld + kv]; /* col[i] = A(j + i, j) */
+        int jp = 0;
+        double big = fabs(col[0]);
+        for (int i = 1; i <= km; i++)
+            if (fabs(col[i]) > big) {
+                big = fabs(col[i]);
+                jp = i;
+            }
+        pivot[j] = j + jp + 1;
+        if (col[jp] == 0.0) {
+            if (info == 0) info = j + 1;
+            continue;
+        }
+        const int last = j + kl + jp < n - 1 ? j + kl + jp : n - 1;
+        if (last > ju) ju = last;
+        if (jp != 0) /* rows j and j + jp over columns j..ju (stride ld - 1 along a row) */
+            for (int c = 0; c <= ju - j; c++) {
+                double *a = &col[(size_t)c * (ld - 1)], t = a[0];
+                a[0] = a[jp];
+                a[jp] = t;
+            }
+        const double inv = 1.0 / col[0];
+        for (int i = 1; i <= km; i++) col[i] *= inv;
+        for (int c = 1; c <= ju - j; c++) { /* rank-1 update of columns j+1..ju */
+            double *a = &col[(size_t)c * (ld - 1)];
+            const double u = a[0];
+            if (u != 0.0)
+                for (int i = 1; i <= km; i++) a[i] -= col[i] * u;
+        }
+    }
+    return info;
+}
+
+/* LU of band in place (band_factor_kl). Returns 0, or -1 when the matrix is
+ * singular. */
 static int factor_band(implicit_work *w, double dt)
 {
     const int nu = w->unknowns, kl = w->kl, ku = w->kl, ld = w->ldab;
-    lapack_int info = LAPACKE_dgbtrf_work(LAPACK_COL_MAJOR, nu, nu, kl, ku, w->band, ld, w->pivot);
+    int info = w->kl == BAND ? band_factor_kl(w, BAND)
+               : w->kl == BAND_PUNCTURE ? band_factor_kl(w, BAND_PUNCTURE)
+                                        : band_factor_kl(w, BAND_PLANAR);
     w->jacobian_builds++;
     w->have_factor = (info == 0);
     w->jacobian_dt = dt;
