@@ -58,8 +58,9 @@
  *
  * Newton: the Jacobian is built by finite differences with a 3-colouring of
  * the block-tridiagonal pattern (18 residual evaluations; 15 in the plane), factored by
- * LAPACK's banded LU with partial pivoting, and reused across iterations and
- * steps while it keeps converging (refreshed when convergence slows). A step
+ * a banded LU with partial pivoting (LAPACK's dgbtf2, written out), and reused across
+ * iterations and steps while it keeps converging (refreshed when convergence slows).
+ * Contact's part of it is in closed form (add_contact_jacobian). A step
  * whose Newton iteration fails is split in two, recursively, before giving up.
  */
 #include "sim/rod.h"
