@@ -97,6 +97,47 @@ static double gap_at(const rod_surface *s, const double a[3], const double ab[3]
     return rod_surface_gap(s, p, grow, NULL, NULL);
 }
 
+/* The entry of the segment a + f ab into a box grown by `grow` where it is
+ * exact in closed form, for rod_surface_sweep: the box grown square by grow
+ * holds the rounded one, so a segment that misses it misses (returns 0), and
+ * one that enters it through the flat part of a face (within the box's own
+ * extent on the other two axes) enters the rounded box there (returns 1,
+ * *f). Returns -1 where only a search answers: entering over an edge or a
+ * corner's rounding, or starting inside the square box. */
+static int box_entry(const rod_surface *s, const double a[3], const double ab[3], double grow,
+                     double *f)
+{
+    double enter = -INFINITY, leave = INFINITY;
+    int face = -1;
+    for (int k = 0; k < 3; k++) {
+        const double h = 0.5 * s->size[k], lo = s->center[k] - h - grow, hi = s->center[k] + h + grow;
+        if (ab[k] == 0.0) {
+            if (a[k] < lo || a[k] > hi) return 0;
+            continue;
+        }
+        double t0 = (lo - a[k]) / ab[k], t1 = (hi - a[k]) / ab[k];
+        if (t0 > t1) {
+            double swap = t0;
+            t0 = t1;
+            t1 = swap;
+        }
+        if (t0 > enter) {
+            enter = t0;
+            face = k;
+        }
+        if (t1 < leave) leave = t1;
+    }
+    if (enter > leave || enter > 1.0 || leave < 0.0) return 0;
+    if (!(enter >= 0.0) || face < 0) return -1;
+    for (int k = 0; k < 3; k++) {
+        if (k == face) continue;
+        const double q = a[k] + enter * ab[k] - s->center[k];
+        if (fabs(q) > 0.5 * s->size[k]) return -1;
+    }
+    *f = enter;
+    return 1;
+}
+
 int rod_surface_sweep(const rod_surface *s, const double a[3], const double b[3], double grow,
                       double *f, double point[3], double normal[3])
 {
@@ -104,43 +145,57 @@ int rod_surface_sweep(const rod_surface *s, const double a[3], const double b[3]
     v3_sub(ab, b, a);
     const double len = v3_norm(ab);
     const double ga = rod_surface_gap(s, a, grow, NULL, NULL);
-    const double gb = rod_surface_gap(s, b, grow, NULL, NULL);
     if (!(ga > 0.0) || len == 0.0) return 0;
     double hi = 1.0;
-    if (!(gb <= 0.0)) {
-        /* both ends outside: the distance is 1-Lipschitz, so along the segment
-         * it stays above (ga + gb - len) / 2; when that is positive the point
-         * never reaches the solid (the common case, one test) */
-        if (ga + gb - len > 0.0) return 0;
-        /* else the distance is convex along the segment: golden-section
-         * search for its least value, stopping at the first point inside */
-        const double golden = 0.6180339887498949;
-        double lo = 0.0, top = 1.0;
-        double x1 = top - golden * (top - lo), x2 = lo + golden * (top - lo);
-        double g1 = gap_at(s, a, ab, x1, grow), g2 = gap_at(s, a, ab, x2, grow);
-        int found = 0;
-        for (int it = 0; it < 80 && !found; it++) {
-            if (g1 <= 0.0) { hi = x1; found = 1; break; }
-            if (g2 <= 0.0) { hi = x2; found = 1; break; }
-            if (g1 < g2) {
-                top = x2; x2 = x1; g2 = g1;
-                x1 = top - golden * (top - lo);
-                g1 = gap_at(s, a, ab, x1, grow);
-            } else {
-                lo = x1; x1 = x2; g1 = g2;
-                x2 = lo + golden * (top - lo);
-                g2 = gap_at(s, a, ab, x2, grow);
-            }
-            if ((top - lo) * len < 1e-12) break;
-        }
-        if (!found) return 0;
+    /* closed forms where they are exact (the search below answers the rest):
+     * a plane's gap is linear along the segment; a box is entered through a
+     * face's flat part */
+    int closed = -1;
+    if (s->shape == ROD_SURFACE_PLANE) {
+        const double gb = rod_surface_gap(s, b, grow, NULL, NULL);
+        closed = gb > 0.0 ? 0 : 1;
+        if (closed) hi = ga / (ga - gb);
+    } else if (s->shape == ROD_SURFACE_BOX) {
+        closed = box_entry(s, a, ab, grow, &hi);
     }
-    /* bisection for the entry between the outside start and a point inside */
-    double lo = 0.0;
-    for (int it = 0; it < 60 && (hi - lo) * len > 1e-15; it++) {
-        double mid = 0.5 * (lo + hi);
-        if (gap_at(s, a, ab, mid, grow) > 0.0) lo = mid;
-        else hi = mid;
+    if (closed == 0) return 0;
+    if (closed < 0) {
+        const double gb = rod_surface_gap(s, b, grow, NULL, NULL);
+        if (!(gb <= 0.0)) {
+            /* both ends outside: the distance is 1-Lipschitz, so along the
+             * segment it stays above (ga + gb - len) / 2; when that is
+             * positive the point never reaches the solid (one test) */
+            if (ga + gb - len > 0.0) return 0;
+            /* else the distance is convex along the segment: golden-section
+             * search for its least value, stopping at the first point inside */
+            const double golden = 0.6180339887498949;
+            double lo = 0.0, top = 1.0;
+            double x1 = top - golden * (top - lo), x2 = lo + golden * (top - lo);
+            double g1 = gap_at(s, a, ab, x1, grow), g2 = gap_at(s, a, ab, x2, grow);
+            int found = 0;
+            for (int it = 0; it < 80 && !found; it++) {
+                if (g1 <= 0.0) { hi = x1; found = 1; break; }
+                if (g2 <= 0.0) { hi = x2; found = 1; break; }
+                if (g1 < g2) {
+                    top = x2; x2 = x1; g2 = g1;
+                    x1 = top - golden * (top - lo);
+                    g1 = gap_at(s, a, ab, x1, grow);
+                } else {
+                    lo = x1; x1 = x2; g1 = g2;
+                    x2 = lo + golden * (top - lo);
+                    g2 = gap_at(s, a, ab, x2, grow);
+                }
+                if ((top - lo) * len < 1e-12) break;
+            }
+            if (!found) return 0;
+        }
+        /* bisection for the entry between the outside start and a point inside */
+        double lo = 0.0;
+        for (int it = 0; it < 60 && (hi - lo) * len > 1e-15; it++) {
+            double mid = 0.5 * (lo + hi);
+            if (gap_at(s, a, ab, mid, grow) > 0.0) lo = mid;
+            else hi = mid;
+        }
     }
     double p[3];
     for (int k = 0; k < 3; k++) p[k] = a[k] + hi * ab[k];

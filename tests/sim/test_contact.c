@@ -117,6 +117,28 @@ static void test_geometry(void)
     double e[3] = {0.0, 0.2, 0.05}, g[3] = {0.0, 0.3, -0.05};
     check(rod_surface_sweep(&pad, e, g, 0.0005, &f, hit, n) == 0,
           "sweep: a move beside the pad does not");
+    /* over the rounded edge (x = 0.1 m, z = 0.001 m, rounding 0.5 mm): a
+     * point falling at x = 0.1003 m meets it at z = 0.001 + sqrt(0.5^2 -
+     * 0.3^2) mm = 1.4 mm, normal (0.6, 0, 0.8), not at the square-grown
+     * top z = 1.5 mm (the face's closed form does not hold there) */
+    double over[3] = {0.1003, 0.0, 0.01}, under[3] = {0.1003, 0.0, -0.01};
+    crossed = rod_surface_sweep(&pad, over, under, 0.0005, &f, hit, n);
+    check(crossed && fabs(hit[2] - 0.0014) < 1e-9 && fabs(n[0] - 0.6) < 1e-6 &&
+              fabs(n[2] - 0.8) < 1e-6,
+          "sweep: a move over the pad's rounded edge enters at z %.9g m (reference 0.0014), "
+          "normal (%.6f, %.6f) (reference (0.6, 0.8))", crossed ? hit[2] : NAN, n[0], n[2]);
+    /* a plane z = 0 grown by 1 mm: the move from z = 11 mm to -9 mm enters
+     * at z = 1 mm, half way */
+    rod_surface floor_plane;
+    memset(&floor_plane, 0, sizeof floor_plane);
+    floor_plane.shape = ROD_SURFACE_PLANE;
+    v3_set(floor_plane.normal, 0.0, 0.0, 1.0);
+    double high[3] = {0.0, 0.0, 0.011}, low[3] = {0.02, 0.0, -0.009};
+    crossed = rod_surface_sweep(&floor_plane, high, low, 0.001, &f, hit, n);
+    check(crossed && fabs(f - 0.5) < 1e-12 && fabs(hit[0] - 0.01) < 1e-12 &&
+              fabs(hit[2] - 0.001) < 1e-12,
+          "sweep: a plane is entered half way along the move (f = %.15g, point (%.6g, %.6g) m; "
+          "reference 0.5, (0.01, 0.001))", f, hit[0], hit[2]);
 }
 
 /* The energy the contact stores in a node pressed delta deep (J). The
