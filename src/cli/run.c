@@ -887,11 +887,17 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
         goto done;
     }
     if (report.warning[0]) fprintf(stderr, "rodsim run: warning: %s\n", report.warning);
-    if (knots.changes) /* without self-contact a strand may pass through another */
-        fprintf(stderr, "rodsim run: warning: the knot type changed %d time%s between output "
-                        "frames, first at t = %g s (%s -> %s)\n",
-                knots.changes, knots.changes == 1 ? "" : "s", knots.change_time,
-                knots.change_from, knots.change_to);
+    /* Without self-contact a strand may pass through another and change the
+     * knot: a warning. With it (the implicit scheme in 3-D) a change is a
+     * pass-through the contact failed to stop: a failure (exit 1), the
+     * output kept for a look. */
+    const int guarded = m->self_contact && m->options.scheme == ROD_SCHEME_IMPLICIT;
+    if (knots.changes)
+        fprintf(stderr, "rodsim run: %s: the knot type changed %d time%s between output "
+                        "frames, first at t = %g s (%s -> %s)%s\n",
+                guarded ? "error" : "warning", knots.changes, knots.changes == 1 ? "" : "s",
+                knots.change_time, knots.change_from, knots.change_to,
+                guarded ? ": a strand passed through another despite self-contact" : "");
     if (!a->quiet) {
         print_result(talk, m, s, stats.steps, stats.wall_seconds);
         print_knots(talk, &knots);
@@ -904,12 +910,14 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
                     a->out_dir, scene, a->out_dir, scene, (long long)plan.frames, out->width,
                     out->height, gl_context_backend_used() ? gl_context_backend_used() : "?");
     }
-    status = RUN_EXIT_OK;
+    status = knots.changes && guarded ? RUN_EXIT_FAILURE : RUN_EXIT_OK;
+    if (status != RUN_EXIT_OK) goto kept;
 done:
     if (status != RUN_EXIT_OK) {
         outfile_abort(&csv_file);
         outfile_transaction_abort();
     }
+kept:
     if (csv_stdout && sink.csv) fclose(sink.csv);
     rod_recording_destroy(sink.rec);
     rod_knot_scratch_destroy(knots.scratch);

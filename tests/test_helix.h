@@ -1,0 +1,52 @@
+/* test_helix.h: a rod at rest in a helix (its own intrinsic curvature), for
+ * the self-contact test and bench: the last part of one turn and a bit lies
+ * one pitch above the first. */
+#ifndef RODSIM_TEST_HELIX_H
+#define RODSIM_TEST_HELIX_H
+
+#include <math.h>
+
+#include "base/vec3.h"
+#include "sim/rod.h"
+
+/* A rod at rest in a helix of radius r and pitch P about +z from the
+ * origin: intrinsic Darboux vector u0 = (kappa, 0, tau) (director
+ * components; kappa = r w^2, tau = P w^2 / 2 pi, w^2 = 1 / (r^2 +
+ * (P / 2 pi)^2)), frames Q(s) = Q0 exp(s [u0]x) with Q0 u0 along +z, and
+ * the centreline chained from the midpoint frames as the scheme chains it.
+ * One turn and `overlap` more: the last part lies P above the first. */
+static inline void helix_model(rod_model *m, double r, double P, double overlap, int nodes)
+{
+    const double w2 = 1.0 / (r * r + (P / (2.0 * M_PI)) * (P / (2.0 * M_PI)));
+    const double kappa = r * w2, tau = P * w2 / (2.0 * M_PI);
+    m->length = 2.0 * M_PI / sqrt(w2) + overlap;
+    m->nodes = nodes;
+    v3_set(m->intrinsic_curvature, kappa, 0.0, tau);
+}
+
+static inline void helix_state(const rod_model *m, rod_state *s)
+{
+    const double *u0 = m->intrinsic_curvature, a = atan2(u0[0], u0[2]);
+    /* d2 = y; d1 = (cos a, 0, sin a), d3 = d1 x d2 = (-sin a, 0, cos a):
+     * kappa d1 + tau d3 = |u0| z when tan a = kappa / tau */
+    double q0[9] = {cos(a), 0.0, -sin(a), 0.0, 1.0, 0.0, sin(a), 0.0, cos(a)};
+    v3_set(s->position, 0.0, 0.0, 0.0);
+    for (int i = 0; i < m->nodes; i++) {
+        double phi[3], rot[9];
+        v3_scale(phi, u0, i * m->ds);
+        m3_exp(rot, phi);
+        m3_mul(&s->frame[9 * i], q0, rot);
+        v3_copy(&s->darboux[3 * i], u0);
+        v3_set(&s->velocity[3 * i], 0.0, 0.0, 0.0);
+        v3_set(&s->angular_velocity[3 * i], 0.0, 0.0, 0.0);
+        if (i == 0) continue;
+        double half[3], hr[9], mid[9], d3[3];
+        v3_scale(half, u0, 0.5 * m->ds);
+        m3_exp(hr, half);
+        m3_mul(mid, &s->frame[9 * (i - 1)], hr);
+        m3_column(d3, mid, 2);
+        for (int k = 0; k < 3; k++) s->position[3 * i + k] = s->position[3 * (i - 1) + k] + m->ds * d3[k];
+    }
+}
+
+#endif
