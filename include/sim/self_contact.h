@@ -62,6 +62,9 @@ typedef struct rod_self_contact {
     int max_pairs, count;  /* candidate pairs of this step */
     self_pair *pair;
     rod_segment_pair *found;
+    double *found_distance; /* (max_pairs) m: each kept pair's distance at the start */
+    struct { int a, b, column; double alpha, beta; } *prev; /* (max_pairs) the last pairs */
+    int prev_count;
     rod_proximity *prox;
     double margin;         /* m: the candidates' distance beyond one diameter */
     /* low-rank correction */

@@ -1726,7 +1726,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
             }
         }
         if (!isfinite(next)) return -1;
-        if (next > 0.25 * norm && next > 10.0 * tol && (!fresh || contact)) {
+        if (next > 0.25 * norm && next > 10.0 * tol && (!fresh || w->contact)) {
             /* slow, and not merely at the round-off floor near the tolerance:
              * a stale Jacobian; refresh it at the current iterate. With
              * contact, its part first (cheap: no finite differences); the

@@ -39,6 +39,8 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->pair = calloc((size_t)sc->max_pairs, sizeof *sc->pair);
     sc->found = calloc((size_t)sc->max_pairs, sizeof *sc->found);
     sc->node_force = calloc((size_t)nodes * 3, sizeof(double));
+    sc->found_distance = calloc((size_t)sc->max_pairs, sizeof(double));
+    sc->prev = calloc((size_t)sc->max_pairs, sizeof *sc->prev);
     sc->last_ab = calloc((size_t)sc->max_pairs * 2, sizeof(int));
     sc->last_force = calloc((size_t)sc->max_pairs * 3, sizeof(double));
     sc->prox = rod_proximity_create(nodes);
@@ -46,7 +48,7 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->pivot = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(int));
     if (!sc->pair || !sc->found || !sc->node_force || !sc->prox || !sc->s || !sc->rhs ||
-        !sc->pivot || !sc->last_ab || !sc->last_force) {
+        !sc->pivot || !sc->last_ab || !sc->last_force || !sc->found_distance || !sc->prev) {
         rod_self_contact_destroy(sc);
         return NULL;
     }
@@ -59,6 +61,8 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->pair);
     free(sc->found);
     free(sc->node_force);
+    free(sc->found_distance);
+    free(sc->prev);
     free(sc->last_ab);
     free(sc->last_force);
     free(sc->y);
@@ -73,6 +77,7 @@ void rod_self_contact_invalidate(rod_self_contact *sc)
 {
     sc->columns = 0;
     for (int p = 0; p < sc->count; p++) sc->pair[p].column = -1;
+    for (int p = 0; p < sc->prev_count; p++) sc->prev[p].column = -1;
 }
 
 int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margin)
@@ -86,8 +91,16 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
     sc->margin = margin;
     int found = rod_proximity_pairs(sc->prox, pos0, n, sc->diameter + margin, sc->skip, sc->found,
                                     sc->max_pairs);
+    /* the last pairs' columns, kept while the band's factors are */
+    sc->prev_count = sc->count;
+    for (int q = 0; q < sc->count; q++) {
+        sc->prev[q].a = sc->pair[q].a;
+        sc->prev[q].b = sc->pair[q].b;
+        sc->prev[q].alpha = sc->pair[q].alpha;
+        sc->prev[q].beta = sc->pair[q].beta;
+        sc->prev[q].column = sc->pair[q].column;
+    }
     sc->count = 0;
-    rod_self_contact_invalidate(sc);
     if (found < 0 || found > sc->max_pairs) return -1;
     for (int k = 0; k < found; k++) {
         const rod_segment_pair *f = &sc->found[k];
@@ -95,7 +108,33 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
          * later one (its fraction 0 there), so the region counts once */
         if (f->s >= 1.0 && f->i + 1 <= last && f->j - f->i - 1 > sc->skip) continue;
         if (f->t >= 1.0 && f->j + 1 <= last) continue;
-        self_pair *p = &sc->pair[sc->count++];
+        /* one pair per touching region: a pair whose closest points lie
+         * within 3/4 of a segment of a kept pair's on both strands stands
+         * for the same contact (a point near a node has a closest point on
+         * each segment beside it); the nearer of the two is kept. Two such
+         * pairs would share the contact's load at will and leave Newton's
+         * system nearly singular */
+        const double sa = f->i + f->s, sb = f->j + f->t;
+        int same = -1;
+        for (int q = sc->count - 1; q >= 0 && sc->pair[q].a >= f->i - 1; q--) {
+            const self_pair *o = &sc->pair[q];
+            if (fabs(o->a + o->alpha - sa) < 0.75 && fabs(o->b + o->beta - sb) < 0.75) {
+                same = q;
+                break;
+            }
+        }
+        if (same >= 0 && sc->found_distance[same] <= f->distance) continue;
+        const int slot = same >= 0 ? same : sc->count++;
+        self_pair *p = &sc->pair[slot];
+        sc->found_distance[slot] = f->distance;
+        /* B^-1 V of the same pair at the last step, if B is unchanged since
+         * and the contact point has moved by less than a quarter segment:
+         * V changes little, and Newton only needs a near Jacobian */
+        int column = -1;
+        for (int l = 0; l < sc->prev_count; l++)
+            if (sc->prev[l].a == f->i && sc->prev[l].b == f->j && sc->prev[l].column >= 0 &&
+                fabs(sc->prev[l].alpha - f->s) < 0.25 && fabs(sc->prev[l].beta - f->t) < 0.25)
+                column = sc->prev[l].column;
         memset(p, 0, sizeof *p);
         p->a = f->i;
         p->b = f->j;
@@ -109,7 +148,7 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
         p->weight[1] = f->s;
         p->weight[2] = -(1.0 - f->t);
         p->weight[3] = -f->t;
-        p->column = -1;
+        p->column = column;
         /* the force of the same pair at the end of the last accepted step:
          * Newton's first guess */
         for (int l = 0; l < sc->last_count; l++)
@@ -203,11 +242,21 @@ static void apply(rod_self_contact *sc, const self_pair *p, const double f[3], d
 static void pair_gain(rod_self_contact *sc, self_pair *p, const double *pos0, double *vel1,
                       double *vbar, const double *push, double dt, double theta, double target[3])
 {
+    /* the motion without the pair's own force: that force moves the pair's
+     * relative velocity by compliance F and its relative position by
+     * dt theta compliance F */
     double d[3], z[3];
-    apply(sc, p, p->force, -1.0, vel1, vbar, push, theta);
+    (void)push;
     pair_motion(p, pos0, vel1, vbar, dt, d, z);
-    apply(sc, p, p->force, 1.0, vel1, vbar, push, theta);
+    v3_axpy(z, -p->compliance, p->force);
+    v3_axpy(d, -dt * theta * p->compliance, p->force);
     pair_law(sc, p, d, z, dt, theta, target);
+    if (v3_norm(target) == 0.0) {
+        /* apart: no force and none for a small change (the switch is
+         * within one difference step's reach only at the very touch) */
+        memset(p->gain, 0, sizeof p->gain);
+        return;
+    }
     const double h = 1e-9 + 1e-7 * v3_norm(z);
     for (int c = 0; c < 3; c++) {
         double dp[3], zp[3], fp[3];
@@ -322,6 +371,10 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
     for (int r = 0; r < m; r++) {
         self_pair *p = &sc->pair[sc->ranked[r]];
         if (p->column >= 0) continue;
+        if (sc->columns + 3 > 3 * SELF_CONTACT_RANK_PAIRS && r == 0) {
+            /* full of columns of pairs gone: start again */
+            rod_self_contact_invalidate(sc);
+        }
         if (sc->columns + 3 > 3 * SELF_CONTACT_RANK_PAIRS) {
             /* no room left until the next factorisation: drop it from the
              * correction (Newton then converges more slowly) */
