@@ -77,6 +77,7 @@ typedef struct rod_self_contact {
     int *pivot;
     double *node_force;    /* (nodes x 3) N, global: what the other strands exert on each node */
     double gnorm;          /* N: the largest |g| of the last rod_self_contact_forces */
+    double fmax;           /* N: the largest force a pair's law asked for there */
     int last_count;        /* pairs with a force at the end of the last accepted step */
     int *last_ab;          /* (2 max_pairs) their segments a, b */
     double *last_force;    /* (3 max_pairs) their forces: the next step's first guess */

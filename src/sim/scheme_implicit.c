@@ -1676,11 +1676,14 @@ static void newton_solve(implicit_work *w, const rod_model *m, double dt)
 }
 
 /* The size of the residual: the scheme's (scaled) and the self-contact
- * pairs' (N, relative to the force scale). */
+ * pairs' (N, relative to the force scale or the largest pair force, if more:
+ * a strand pressed hard is held to the tolerance relative to its force, as
+ * the difference quotients of its law allow) */
 static double residual_norm(const implicit_work *w)
 {
     double norm = max_abs(w->residual, w->unknowns);
-    if (w->self && w->self->count) norm = fmax(norm, w->self->gnorm / w->force_scale);
+    if (w->self && w->self->count)
+        norm = fmax(norm, w->self->gnorm / fmax(w->force_scale, w->self->fmax));
     return norm;
 }
 

@@ -292,6 +292,7 @@ void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *v
         apply(sc, p, p->force, 1.0, vel1, vbar, push, theta);
     }
     sc->gnorm = 0.0;
+    sc->fmax = 0.0;
     if (!law) return;
     for (int q = 0; q < sc->count; q++) {
         self_pair *p = &sc->pair[q];
@@ -303,6 +304,7 @@ void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *v
         }
         v3_sub(p->g, p->force, target);
         sc->gnorm = fmax(sc->gnorm, v3_norm(p->g));
+        sc->fmax = fmax(sc->fmax, v3_norm(target));
     }
 }
 
