@@ -4,13 +4,15 @@
 #     needle making three bites across a wound (about 2 minutes);
 #   out/skin_drop.mp4 (+ .png): a thread dropped on a skin pad (contact,
 #     friction, shadows);
+#   out/overhand.mp4 (+ .png): a loose overhand knot pulled by its ends, its
+#     strands kept apart by self-contact;
 #   out/buckling_twist.mp4 (+ .png): the rod buckling under a twisting moment,
 #     the stripe (a material line) showing the twist.
 cd "$(dirname "$0")/.." || exit 1
 bin=build/release/rodsim
 [ -x "$bin" ] || { echo "demo: $bin is missing; run make first" >&2; exit 1; }
 mkdir -p out
-for scene in suture skin_drop buckling_twist; do
+for scene in suture skin_drop overhand buckling_twist; do
     csv=""
     [ "$scene" = suture ] && csv="--csv out/suture.csv"
     # shellcheck disable=SC2086
@@ -21,4 +23,4 @@ for scene in suture skin_drop buckling_twist; do
         exit "$status"
     fi
 done
-echo "demo: wrote out/suture.mp4, out/suture.png, out/suture.csv, out/skin_drop.mp4, out/skin_drop.png, out/buckling_twist.mp4, out/buckling_twist.png"
+echo "demo: wrote out/suture.mp4, out/suture.png, out/suture.csv, out/skin_drop.mp4, out/skin_drop.png, out/overhand.mp4, out/overhand.png, out/buckling_twist.mp4, out/buckling_twist.png"

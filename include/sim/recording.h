@@ -18,6 +18,8 @@ typedef struct rod_recording {
     double length;        /* m */
     double ds;            /* m, node spacing */
     double diameter;      /* m, true diameter */
+    int self_contact;     /* 1: strands touched in a frame appended (the renderer then draws
+                             the true radius, so that touching strands look touching) */
     char scheme[16];      /* "thesis", "implicit", "static" */
     char scene[128];      /* scene name (file base name) */
 

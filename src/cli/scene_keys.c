@@ -114,7 +114,8 @@ const ini_key scene_keys_rod[] = {
      "ultrafast .. veryslow", "x264 speed preset"},
     {"render", "samples", "-", "4", "0 .. 16", "multisample antialiasing, 0 = off"},
     {"render", "visual_radius", "m", "auto", "auto, or > 0",
-     "radius drawn; auto: 1 % of the length, never below the true radius"},
+     "radius drawn; auto: 1 % of the length, never below the true radius; the true "
+     "radius when strands touched (self-contact)"},
     {"render", "sides", "-", "24", "6 .. 128", "facets around the tube"},
     {"render", "needle_arc", "-", "3/8", "3/8 | 1/2", "arc of the needle drawn at the tip ([ends] needle > 0)"},
     {"render", "stripe", "-", "director", "director | formula | off",

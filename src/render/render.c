@@ -493,6 +493,10 @@ double render_visual_radius(const rod_recording *rec, const render_options *o)
 {
     double true_radius = 0.5 * rec->diameter;
     if (o->visual_radius > 0) return o->visual_radius;
+    /* strands that touch must be drawn touching: a run with self-contact
+     * draws the true radius (a thicker tube would show them passing into
+     * each other) */
+    if (rec->self_contact) return true_radius;
     double r = 0.01 * rec->length;
     return r > true_radius ? r : true_radius;
 }

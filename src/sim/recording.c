@@ -43,6 +43,7 @@ rod_recording *rod_recording_create(const rod_model *m, const char *scene, int c
     r->length = m->length;
     r->ds = m->ds;
     r->diameter = m->diameter;
+
     snprintf(r->scheme, sizeof r->scheme, "%s", rod_scheme_get(m->options.scheme)->name);
     snprintf(r->scene, sizeof r->scene, "%s", scene ? scene : "");
     r->force_scratch = malloc((size_t)m->nodes * 3 * sizeof(double));
@@ -91,6 +92,9 @@ double rod_recording_bytes(int nodes, double frames)
 
 int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *s)
 {
+    for (int i = 0; s->self_force && i < s->nodes && !r->self_contact; i++)
+        r->self_contact = s->self_force[3 * i] != 0.0 || s->self_force[3 * i + 1] != 0.0 ||
+                          s->self_force[3 * i + 2] != 0.0;
     if (r->frame_count == r->capacity && reserve(r, 2 * r->capacity)) return -1;
     size_t k = (size_t)r->frame_count, n = (size_t)r->nodes;
     r->time[k] = s->time;
