@@ -709,7 +709,7 @@ static void surface_map_jacobian(double jac[9], const double n[3], const double 
  *     takes back the fraction kappa / (1 + kappa) of it (compliant_fraction:
  *     an implicit spring; what is left is below 1 % of the radius), else 0;
  *   - friction: regularised Coulomb against the end-of-step tangential
- *     velocity, limited by mu times the normal force (creep_speed).
+ *     velocity, limited by mu times the normal force (contact_creep_speed).
  * The contact force depends on the node's own N only, like v: the
  * Jacobian's band and colouring are unchanged. The residual is piecewise
  * smooth where a contact switches on; Newton takes a line search then.
@@ -775,7 +775,7 @@ static void node_contact(implicit_work *w, const rod_model *m, int b, double pus
             v3_axpy(v1, push, fn);
             v3_axpy(vb, theta * push, fn);
             v3_axpy(force, 1.0, fn);
-            /* friction against the tangential velocity (creep_speed) */
+            /* friction against the tangential velocity (contact_creep_speed) */
             double vn = v3_dot(v1, n);
             for (int k = 0; k < 3; k++) vt[k] = v1[k] - vn * n[k];
             double speed = v3_norm(vt), limit = sf->friction * lambda, ft[3], sp = speed;
@@ -897,7 +897,7 @@ static void puncture_map_jacobian(implicit_work *w, const puncture_map *p, const
  * puncture's point P: the force across the thread (perpendicular to the
  * segment) that puts it there, short by 1 / (1 + CONTACT_STIFF) as the
  * surfaces' normal force, and Coulomb friction along the thread limited by
- * mu times that force (creep_speed), so the tension drops across a
+ * mu times that force (contact_creep_speed), so the tension drops across a
  * puncture by at most mu |F_across| while the thread slides through. The
  * force acts on the two nodes by the weights 1 - alpha, alpha; the point's
  * velocity responds with the compliance (1-alpha)^2 push_j + alpha^2
@@ -1091,6 +1091,15 @@ static void update_punctures(implicit_work *w, const rod_model *m, rod_state *s)
         ps->s = rod_nearest_arc_length_between(m, s->position, ps->point, j0 - 3, j0 + 3, NULL);
         v3_scale(ps->force, w->punct[k].force, -1.0);
     }
+}
+
+/* m: the farthest a node moves over the step of the last residual
+ * evaluation (r(t+dt) = r(t) + dt vbar) */
+static double largest_motion(const implicit_work *w, double dt)
+{
+    double moved = 0.0;
+    for (int i = 0; i < w->nodes; i++) moved = fmax(moved, dt * v3_norm(&w->vbar[3 * i]));
+    return moved;
 }
 
 /* Self-contact's data of a step (issue 12): each node's compliance over the
@@ -1615,7 +1624,7 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
         memcpy(w->band_smooth, w->band, (size_t)w->ldab * (size_t)w->unknowns * sizeof(double));
         add_contact_jacobian(w, m, t, dt);
     } else {
-        /* contact's friction turns within its creep speed (creep_speed): a
+        /* contact's friction turns within its creep speed (contact_creep_speed): a
          * step of 1e-7 of the force scale can move a node by more than that */
         const double step = w->fd_step;
         if (w->contact_fd) w->fd_step = 1e-9;
@@ -1982,8 +1991,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
          * linearised about the start (the half-space between the closest
          * points), which stands for the strands only near them, so a step
          * that would need more is split, unless no strand is near at all */
-        double moved = 0.0;
-        for (int i = 0; i < n; i++) moved = fmax(moved, dt * v3_norm(&w->vbar[3 * i]));
+        double moved = largest_motion(w, dt);
         for (int tries = 0; tries < 4 && 2.0 * moved > w->self->margin; tries++) {
             if (3.0 * moved > SELF_MARGIN * m->diameter) {
                 if (rod_self_contact_near(w->self, w->pos0, 2.0 * moved) != 0) return -1;
@@ -1991,8 +1999,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
             }
             if (prepare_self_contact(w, m, dt, 3.0 * moved, report)) return -2;
             if (newton(w, m, s->time, dt, report)) return -1;
-            moved = 0.0;
-            for (int i = 0; i < n; i++) moved = fmax(moved, dt * v3_norm(&w->vbar[3 * i]));
+            moved = largest_motion(w, dt);
         }
         if (2.0 * moved > w->self->margin && 3.0 * moved <= SELF_MARGIN * m->diameter)
             return -1; /* split the step */

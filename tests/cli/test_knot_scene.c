@@ -12,62 +12,11 @@
 
 #include "test.h"
 #include "test_process.h"
+#include "test_segment.h"
 
 #define NODES 241
 #define DIAMETER 0.004
 #define MAX_FRAMES 64
-
-/* Distance from p to the segment a-b, by projection. */
-static double point_segment(const double *p, const double *a, const double *b)
-{
-    double ab[3], ap[3], q[3], t, abab = 0.0, apab = 0.0;
-    for (int k = 0; k < 3; k++) {
-        ab[k] = b[k] - a[k];
-        ap[k] = p[k] - a[k];
-        abab += ab[k] * ab[k];
-        apab += ap[k] * ab[k];
-    }
-    t = abab > 0.0 ? apab / abab : 0.0;
-    t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
-    for (int k = 0; k < 3; k++) q[k] = a[k] + t * ab[k] - p[k];
-    return sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-}
-
-/* Segment-to-segment distance by golden-section search along the first
- * (the distance to the second is convex along it). */
-static double segment_distance(const double *a0, const double *a1, const double *b0, const double *b1)
-{
-    double lo = 0.0, hi = 1.0;
-    const double g = 0.5 * (sqrt(5.0) - 1.0);
-    for (int it = 0; it < 60; it++) {
-        double u1 = hi - g * (hi - lo), u2 = lo + g * (hi - lo), p1[3], p2[3];
-        for (int k = 0; k < 3; k++) {
-            p1[k] = a0[k] + u1 * (a1[k] - a0[k]);
-            p2[k] = a0[k] + u2 * (a1[k] - a0[k]);
-        }
-        if (point_segment(p1, b0, b1) < point_segment(p2, b0, b1)) hi = u2;
-        else lo = u1;
-    }
-    double p[3];
-    for (int k = 0; k < 3; k++) p[k] = a0[k] + 0.5 * (lo + hi) * (a1[k] - a0[k]);
-    return fmin(point_segment(p, b0, b1), fmin(point_segment(a0, b0, b1), point_segment(a1, b0, b1)));
-}
-
-static double frame_closest(const double *x)
-{
-    double best = INFINITY;
-    for (int i = 0; i + 1 < NODES; i++)
-        for (int j = i + 6; j + 1 < NODES; j++) {
-            double d2 = 0.0;
-            for (int k = 0; k < 3; k++) {
-                double d = 0.5 * (x[3 * i + k] + x[3 * i + 3 + k] - x[3 * j + k] - x[3 * j + 3 + k]);
-                d2 += d * d;
-            }
-            if (sqrt(d2) > 0.02) continue; /* segments 2.5 mm long: no closer than 1.7 cm */
-            best = fmin(best, segment_distance(&x[3 * i], &x[3 * i + 3], &x[3 * j], &x[3 * j + 3]));
-        }
-    return best;
-}
 
 /* The arc (m) between the outermost nodes within 1.15 diameters of a node
  * more than 5 along the rod; 0 when none touches. */
@@ -126,7 +75,7 @@ int main(void)
           NODES, frames, rows);
     double worst = INFINITY, when = 0.0;
     for (int k = 0; k < frames; k++) {
-        double c = frame_closest(x[k]);
+        double c = closest_strands(x[k], NODES, 6, 4.0 * DIAMETER);
         if (c < worst) worst = c, when = t[k];
     }
     check(worst >= 0.9 * DIAMETER, "no two far segments closer than 0.9 diameters in any frame: "
