@@ -356,6 +356,8 @@ typedef struct rod_scheme_ops {
     /* Largest dt believed stable for this model, s (INFINITY when unconditional),
      * and which limit decides it (a static string). May be NULL. */
     double (*stable_dt)(const rod_model *m, const char **limit);
+    /* Idle time before a step of dt from s (rod_solver_refresh). May be NULL. */
+    int (*refresh)(void *work, const rod_model *m, const rod_state *s, double dt);
 } rod_scheme_ops;
 
 extern const rod_scheme_ops rod_scheme_thesis;
@@ -376,6 +378,13 @@ int rod_solver_init(rod_solver *solver, const rod_model *m, char *err, size_t er
 rod_status rod_solver_step(rod_solver *solver, const rod_model *m, rod_state *s, double dt,
                            rod_report *report);
 void rod_solver_release(rod_solver *solver);
+/* Work that makes the next step, of dt from s, cheaper, for a caller with
+ * idle time between steps (rodsim live, after an answer): the implicit
+ * scheme renews a Jacobian that slowed the last steps' Newton iterations.
+ * s is not changed, and the next step's result is the same to the Newton
+ * tolerance. Returns 1 when work was done, 0 when none was due (and for
+ * the other schemes), -1 when it failed (the next step builds its own). */
+int rod_solver_refresh(rod_solver *solver, const rod_model *m, const rod_state *s, double dt);
 
 /* The time step the run will use: options.dt if > 0, else the scheme's
  * stable limit times a safety factor (capped for accuracy); `why` says

@@ -832,6 +832,12 @@ rod_status rod_solver_step(rod_solver *solver, const rod_model *m, rod_state *s,
     return solver->ops->step(solver->work, m, s, dt, report);
 }
 
+int rod_solver_refresh(rod_solver *solver, const rod_model *m, const rod_state *s, double dt)
+{
+    if (!solver->ops || !solver->ops->refresh || !solver->work) return 0;
+    return solver->ops->refresh(solver->work, m, s, dt);
+}
+
 void rod_solver_release(rod_solver *solver)
 {
     if (solver->ops && solver->work) solver->ops->destroy(solver->work);

@@ -107,6 +107,16 @@
  * mostly converge (suture.ini: 13.8 s of CPU instead of 15.9 s; 12.6 instead
  * of 17.7 in a loop of its steps) */
 #define CONTACT_STALL 6
+/* A chord iteration that leaves the residual above the tolerance, having
+ * contracted it by less than this, marks the factorisation stale, for
+ * refresh() to renew between steps. Below newton()'s 0.25 and without its
+ * floor of 10 tolerances: the contraction worsens over some tens of steps
+ * (0.01 after a build; then 0.1 to 1 in the iterations below 1e-7 before
+ * one of 0.3 above it rebuilds within a step, in bench_live at 1 kHz), so
+ * a renewal at the first signs spares nearly every build within a step
+ * (NS = 51: 369 in 10 s; 1 with renewals at 0.1, 318 with 0.1 and the
+ * floor) */
+#define IDLE_REFRESH_CONTRACTION 0.1
 /* Contact laws and their constants: sim/contact_law.h */
 
 /* One end's condition, read once from the model (index 0 root, 1 tip). */
@@ -235,6 +245,9 @@ typedef struct implicit_work {
     double dt_last;      /* s, length of the last step; 0 when x_before is not usable */
     double start_time;
     int budget;          /* Newton iterations left for the current step */
+    int stale;           /* a chord iteration since the last whole build contracted by less
+                            than IDLE_REFRESH_CONTRACTION (refresh() renews it) */
+    int jacobian_only;   /* refresh(): single_step stops at its Jacobian */
 
     /* planar problem: frames are rotations about z by an angle phi (d3 at phi from +x) */
     double *phi0;      /* (nodes) rad, start of the step */
@@ -1631,6 +1644,7 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
         fd_jacobian(w, m, t, dt, w->reach);
         w->fd_step = step;
     }
+    w->stale = 0;
     return factor_band(w, dt);
 }
 
@@ -1738,6 +1752,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
             }
         }
         if (!isfinite(next)) return -1;
+        if (next > IDLE_REFRESH_CONTRACTION * norm && next > tol) w->stale = 1;
         if (next > 0.25 * norm && next > 10.0 * tol && (!fresh || w->contact)) {
             /* slow, and not merely at the round-off floor near the tolerance:
              * a stale Jacobian; refresh it at the current iterate. With
@@ -1978,6 +1993,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
             }
         }
     }
+    if (w->jacobian_only) return factor_jacobian(w, m, s->time, dt); /* refresh() */
     if (newton(w, m, s->time, dt, report)) return -1;
     for (int i = 0; i < w->unknowns; i++)
         if (!isfinite(w->x[i])) return -1; /* never accept a non-finite solution */
@@ -2208,6 +2224,34 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     return ROD_NO_CONVERGENCE;
 }
 
+/* Between steps: a stale factorisation (IDLE_REFRESH_CONTRACTION) renewed
+ * for the next step of dt from s, at that step's first iterate (the last
+ * two solutions extrapolated), by that step's own preparation (single_step
+ * up to newton), so that the step need not rebuild it on its own time.
+ * Only when continuing a run of steps (single_step then reads s and leaves
+ * it as it is; after a failed or restored step, the step builds its own)
+ * and while the last step had no self-contact candidates (the pairs and
+ * their forces are the step's own: none are sought here). */
+static int refresh(void *p, const rod_model *m, const rod_state *s, double dt)
+{
+    implicit_work *w = p;
+    if (!w->stale || (w->self && w->self->count) || !(dt > 0.0) || !w->start_valid ||
+        w->start_time != s->time || !(w->dt_last > 0.0) ||
+        memcmp(w->frame0, s->frame, (size_t)w->nodes * 9 * sizeof(double)) != 0)
+        return 0;
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    rod_self_contact *self = w->self; /* no pairs: it takes no part */
+    w->self = NULL;
+    w->jacobian_only = 1;
+    int rc = single_step(w, m, (rod_state *)s, dt, &report); /* reads s only (above) */
+    w->jacobian_only = 0;
+    w->self = self;
+    if (self) rod_self_contact_invalidate(self); /* its B^-1 V was for the old band */
+    w->start_valid = 1; /* s as the last step left it: the next step continues from it */
+    return rc == 0 ? 1 : -1;
+}
+
 static double stable_dt(const rod_model *m, const char **limit)
 {
     (void)m;
@@ -2215,4 +2259,5 @@ static double stable_dt(const rod_model *m, const char **limit)
     return INFINITY;
 }
 
-const rod_scheme_ops rod_scheme_implicit = {"implicit", create, step, destroy, stable_dt};
+const rod_scheme_ops rod_scheme_implicit = {"implicit", create, step, destroy, stable_dt,
+                                             refresh};

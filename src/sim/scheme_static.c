@@ -2623,7 +2623,7 @@ static double stable_dt(const rod_model *m, const char **limit)
     return INFINITY;
 }
 
-const rod_scheme_ops rod_scheme_static = {"static", create, step, destroy, stable_dt};
+const rod_scheme_ops rod_scheme_static = {"static", create, step, destroy, stable_dt, NULL};
 
 int static_unstable_modes(static_work *w, const rod_model *m, const rod_state *s, int *count,
                           char *err, size_t errlen)

@@ -660,4 +660,4 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
     return ROD_OK;
 }
 
-const rod_scheme_ops rod_scheme_thesis = {"thesis", create, step, destroy, stable_dt};
+const rod_scheme_ops rod_scheme_thesis = {"thesis", create, step, destroy, stable_dt, NULL};
