@@ -238,6 +238,7 @@ typedef struct live_session {
     double last_step;       /* s, the last stepped line's step (0: the line failed) */
     long idle_builds;       /* Jacobians renewed between lines (rod_solver_refresh) */
     double idle_sum;        /* s, their time */
+    int realtime_policy;    /* SCHED_FIFO or SCHED_RR (--realtime, or inherited) */
     double step_wall_max, step_wall_sum, worst_overrun;
     /* what the work on a line is made of, s summed: parsing, the steps,
      * formatting and writing the answer; and the distributions of the
@@ -559,10 +560,13 @@ static int serve(live_session *ls, char *line)
              * due, not only when no line waits: the answers then do not
              * depend on the timing (a client writing ahead waits for it as
              * it would for the build within the step). The CPU first to the
-             * client: under --realtime, on the same CPU at the same
-             * SCHED_FIFO priority, it would otherwise read the answer only
-             * after this work (bench_live: p99 275 us instead of 90) */
-            sched_yield();
+             * client when real-time: on the same CPU at the same SCHED_FIFO
+             * priority (--realtime) it would otherwise read the answer only
+             * after this work (bench_live: p99 275 us instead of 90); not
+             * under the ordinary policy, where a yield may give the CPU to
+             * any busy process for its slice (bench_live on a loaded VM:
+             * p99 0.2 to 4 ms with it and without, the load decides) */
+            if (ls->realtime_policy) sched_yield();
             const double idle_start = wall_seconds();
             if (rod_solver_refresh(&ls->solver, ls->stepped, ls->state, ls->last_step) > 0) {
                 ls->idle_builds++;
@@ -697,6 +701,8 @@ int live_command(int argc, char **argv)
      * paces itself from the header on is then never ahead of rodsim's clock
      * (taken after, the header's reader could start its clock first, and
      * --realtime would hold every line back by the difference) */
+    const int policy = sched_getscheduler(0);
+    ls.realtime_policy = policy == SCHED_FIFO || policy == SCHED_RR;
     ls.wall_origin = wall_seconds();
     print_header(&ls);
     status = serve(&ls, line);
