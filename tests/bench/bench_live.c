@@ -108,7 +108,8 @@ int main(void)
             sched_setaffinity(0, sizeof all, &all);
         }
         char work[1024] = "";
-        /* "N steps to t = T s (J Jacobian builds); work per line ..." */
+        /* "N steps to t = T s (J Jacobian builds: W within steps, I between
+         * lines, mean X us); work per line ..." */
         FILE *e = fopen(log, "r");
         char line[1024];
         while (e && fgets(line, sizeof line, e)) {
