@@ -152,6 +152,10 @@ const ini_key scene_keys_rod[] = {
      "when gravity acts, no plane surface exists and the camera looks from above"},
     {"render", "wound", "m", "-", "6 numbers x1 y1 z1 x2 y2 z2",
      "global: a wound line drawn on the surfaces as a dark red incision; absent: none"},
+    /* issue 12: knots */
+    {"render", "knot", "-", "auto", "auto | yes | no",
+     "the knot type of the centreline, per frame, top right (e.g. knot: trefoil (3_1)); "
+     "auto: when a frame of the run is knotted"},
     /* issue 14: a camera that follows, views side by side */
     {"render", "framing", "-", "run", "run | follow",
      "run: one camera frames the whole run; follow: the rod's current bounds centred and "
