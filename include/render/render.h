@@ -90,6 +90,14 @@ typedef enum {
     RENDER_KNOT_NO
 } render_knot_mode;
 
+/* How a frame is antialiased ([render] antialias, issue 14), when
+ * render.samples > 0 (0: not at all). */
+typedef enum {
+    RENDER_AA_MSAA = 0, /* multisampling with `samples` samples */
+    RENDER_AA_FXAA      /* (default) one sample per pixel, then FXAA over what the
+                           frame drew (edge_aa.h); the backdrop still multisampled */
+} render_antialias;
+
 typedef struct render_end {
     render_end_kind kind;
     int driven;             /* 1: the end follows a path (named in the overlay) */
@@ -102,6 +110,7 @@ typedef struct render_options {
     int crf;                     /* H.264 quality 0 (lossless) .. 51 (worst); 18 looks clean */
     char preset[16];             /* x264 speed preset: ultrafast .. veryslow */
     int samples;                 /* multisample antialiasing, 0 = off */
+    render_antialias antialias;  /* fxaa (default; samples for the backdrop) or msaa */
     double visual_radius;        /* m; <= 0: auto, 1% of the length (never below true radius) */
     int sides;                   /* tube cross-section polygon, 6..128 */
     render_stripe_mode stripe;

@@ -112,7 +112,11 @@ const ini_key scene_keys_rod[] = {
     {"render", "crf", "-", "18", "0 .. 51", "H.264 quality: 0 lossless, lower is better"},
     {"render", "preset", "-", "veryfast",
      "ultrafast .. veryslow", "x264 speed preset"},
-    {"render", "samples", "-", "4", "0 .. 16", "multisample antialiasing, 0 = off"},
+    {"render", "samples", "-", "4", "0 .. 16",
+     "multisample antialiasing (the backdrop's, with antialias fxaa), 0 = off"},
+    {"render", "antialias", "-", "fxaa", "fxaa | msaa",
+     "fxaa: one sample per pixel, then FXAA over what the frame drew (faster; the backdrop "
+     "multisampled); msaa: `samples` per pixel; samples = 0: neither"},
     {"render", "visual_radius", "m", "auto", "auto, or > 0",
      "radius drawn; auto: 1 % of the length, never below the true radius; the true "
      "radius when strands touched (self-contact)"},

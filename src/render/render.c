@@ -10,6 +10,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "render/edge_aa.h"
 #include "render/gl_render.h"
 #include "render/image.h"
 #include "base/outfile.h"
@@ -88,6 +89,10 @@ void render_options_default(render_options *o)
     o->crf = 18;
     snprintf(o->preset, sizeof o->preset, "veryfast");
     o->samples = 4;
+    /* Decision (issue 14): FXAA by default; it looks as 4x multisampling does
+     * on the tube, the stripe, the glyphs and the arrows (frames compared),
+     * at a fraction of llvmpipe's cost (scenes/README.md, Antialiasing) */
+    o->antialias = RENDER_AA_FXAA;
     o->visual_radius = 0; /* auto */
     o->sides = 24;
     o->stripe = RENDER_STRIPE_DIRECTOR;
@@ -357,6 +362,10 @@ static int read_teaching(ini_doc *doc, render_options *o, char *err, size_t errl
         memcpy(o->wound_line, wound, sizeof wound);
         o->wound = 1;
     }
+    static const char *const antialiases[] = {"msaa", "fxaa", NULL};
+    status = ini_get_choice(doc, "render", 0, "antialias", antialiases, &choice, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) o->antialias = (render_antialias)choice;
     static const char *const knots[] = {"auto", "yes", "no", NULL};
     status = ini_get_choice(doc, "render", 0, "knot", knots, &choice, err, errlen);
     if (status < 0) return -1;
@@ -2837,6 +2846,8 @@ typedef struct renderer {
     int max_pairs;
     int occlusion_skip;          /* segments nearer than this along the rod are one strand */
     float *occlusion;            /* (nodes x (sides + 3)): each tube and stripe vertex's */
+    edge_aa *edge_aa;            /* antialias fxaa (issue 14): drawn at one sample, then the
+                                    edges smoothed; NULL: multisampled or none */
 } renderer;
 
 /* Pixels per metre at a point (perspective: at its depth). */
@@ -2989,6 +3000,7 @@ static void renderer_destroy(renderer *r)
     rod_proximity_destroy(r->proximity);
     free(r->pairs);
     free(r->occlusion);
+    edge_aa_destroy(r->edge_aa);
 }
 
 /* Keeps the frame's positions for the next frame's speed. */
@@ -3369,6 +3381,19 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
         renderer_destroy(r);
         return -1;
     }
+    if (o->antialias == RENDER_AA_FXAA && o->samples > 0) {
+        /* the backdrop (thin grid lines) stays multisampled: it is drawn once */
+        r->edge_aa = edge_aa_create(r->backdrop, r->tiles_x * r->tiles_y);
+        if (!r->edge_aa) {
+            snprintf(err, errlen, "render: out of memory");
+            renderer_destroy(r);
+            return -1;
+        }
+        if (gl_renderer_set_samples(r->gl, 0, err, errlen)) {
+            renderer_destroy(r);
+            return -1;
+        }
+    }
     return 0;
 }
 
@@ -3541,6 +3566,9 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
             }
         }
     }
+    /* before the text, which FreeType draws antialiased (framing follow: one
+     * box, the whole picture) */
+    if (r->edge_aa) edge_aa_frame(r->edge_aa, out, (const int(*)[4])r->boxes, r->box_count);
     double t3 = timing ? now_seconds() : 0;
     if (r->o->overlay && r->draws_overlay) {
         overlay_knot(&r->overlay, given, given_frame);
