@@ -32,16 +32,18 @@ struct edge_aa {
     unsigned char *candidate;     /* (width): pixels of a row that may be on an edge */
 };
 
-/* Rec. 601 weights on the sRGB bytes, as FXAA takes luma from the final
- * colour (green alone, FXAA's cheaper option, flattens a red arrow's shading
- * until its facets read as edges) */
+/* The "luma" edges are found in: (R + 2G + B) / 4 of the sRGB bytes. Not
+ * Rec. 601's weights: with blue at 0.11 the amber stripe and the grey
+ * background are nearly the same luma, and the stripe seen edge-on kept
+ * its steps; green alone (FXAA's cheaper option) flattens a red arrow's
+ * shading until its facets read as edges. */
 static void luma_rows(const image *img, unsigned char *luma, int x, int y, int w, int h)
 {
     for (int row = y; row < y + h; row++) {
         const unsigned char *p = img->rgb + ((size_t)row * (size_t)img->width + (size_t)x) * 3;
         unsigned char *l = luma + (size_t)row * (size_t)img->width + (size_t)x;
         for (int k = 0; k < w; k++, p += 3)
-            l[k] = (unsigned char)((77u * p[0] + 150u * p[1] + 29u * p[2] + 128u) >> 8);
+            l[k] = (unsigned char)((p[0] + 2u * p[1] + p[2] + 2u) >> 2);
     }
 }
 
