@@ -17,6 +17,10 @@ typedef struct gl_renderer gl_renderer;
 gl_renderer *gl_renderer_create(int width, int height, int samples, int max_vertices,
                                 int max_indices, int max_line_vertices, char *err, size_t errlen);
 void gl_renderer_destroy(gl_renderer *r);
+/* Replaces the target by one of `samples` samples (0: one per pixel), e.g.
+ * after a multisampled backdrop, for frames antialiased by their edges
+ * (edge_aa.h). 0, or -1 with a message (the old target kept). */
+int gl_renderer_set_samples(gl_renderer *r, int samples, char *err, size_t errlen);
 /* Static lines (the grid), drawn unlit every frame; count <= max_line_vertices. */
 void gl_renderer_set_lines(gl_renderer *r, const render_vertex *lines, int count);
 /* The static part of the picture, drawn once: clears to background, draws

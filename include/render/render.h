@@ -82,6 +82,22 @@ typedef enum {
     RENDER_GROUND_NO
 } render_ground_mode;
 
+/* Whether the overlay names the knot type of the centreline ([render] knot,
+ * issue 12): top right, per frame, e.g. "knot: trefoil (3_1), right-handed". */
+typedef enum {
+    RENDER_KNOT_AUTO = 0, /* when a frame of the run is knotted (render_knot_shown) */
+    RENDER_KNOT_YES,
+    RENDER_KNOT_NO
+} render_knot_mode;
+
+/* How a frame is antialiased ([render] antialias, issue 14), when
+ * render.samples > 0 (0: not at all). */
+typedef enum {
+    RENDER_AA_MSAA = 0, /* multisampling with `samples` samples */
+    RENDER_AA_FXAA      /* (default) one sample per pixel, then FXAA over what the
+                           frame drew (edge_aa.h); the backdrop still multisampled */
+} render_antialias;
+
 typedef struct render_end {
     render_end_kind kind;
     int driven;             /* 1: the end follows a path (named in the overlay) */
@@ -94,6 +110,7 @@ typedef struct render_options {
     int crf;                     /* H.264 quality 0 (lossless) .. 51 (worst); 18 looks clean */
     char preset[16];             /* x264 speed preset: ultrafast .. veryslow */
     int samples;                 /* multisample antialiasing, 0 = off */
+    render_antialias antialias;  /* fxaa (default; samples for the backdrop) or msaa */
     double visual_radius;        /* m; <= 0: auto, 1% of the length (never below true radius) */
     int sides;                   /* tube cross-section polygon, 6..128 */
     render_stripe_mode stripe;
@@ -133,6 +150,7 @@ typedef struct render_options {
     render_ground_mode ground;   /* a ground plane below the whole run's lowest point */
     int wound;                   /* 1: wound_line is drawn (a dark red incision) */
     double wound_line[6];        /* m, global: the wound's two ends x1 y1 z1 x2 y2 z2 */
+    render_knot_mode knot;       /* the knot type in the overlay: auto (default), yes, no */
     render_framing framing;      /* run (default) or follow */
     int view_count;              /* 0 (default): one view (camera, view); 2 .. RENDER_MAX_VIEWS:
                                     the frame split into that many tiles, left to right */
@@ -205,6 +223,31 @@ char *render_format_quantity(char *out, size_t outlen, double value, double scal
                              const char *unit);
 /* The colour map at f in 0..1 (clamped), sRGB bytes. */
 void render_colormap_rgb(render_colormap map, double f, unsigned char rgb[3]);
+
+/* The overlay's knot line for a centreline (nodes x 3, m, an open polygon):
+ * "knot: unknot", "knot: trefoil (3_1), right-handed", ... (sim/knot.h names
+ * the type). Returns 1 when the type was identified (0: "knot: not
+ * identified"). Allocates per call; the renderer keeps a scratch instead. */
+int render_knot_text(const double *points, int nodes, char *text, size_t n);
+/* Whether a render of rec with o names the knot type: o->knot yes or no,
+ * and auto when the overlay is drawn and some frame of rec (up to
+ * RENDER_KNOT_SAMPLES of them, evenly spread, the first and last included)
+ * is identified as other than the unknot. */
+int render_knot_shown(const rod_recording *rec, const render_options *o);
+#define RENDER_KNOT_SAMPLES 32
+
+/* Ambient occlusion of the tube by the other strands (issue 12): at a
+ * surface point p with unit normal n, from a strand whose axis passes at
+ * distance D (m) from p in the unit direction u, of visual radius `radius`:
+ *   (radius / D) max(0, n . u) w(D),
+ * the view factor of an infinite cylinder from a surface element (1 where
+ * the strands touch), times a window w that is 1 up to D = 2 radius and
+ * falls smoothly to 0 at RENDER_OCCLUSION_REACH radius. Clamped to 0..1;
+ * the tube's colour is scaled by 1 - RENDER_OCCLUSION_STRENGTH x this. */
+double render_occlusion(const double p[3], const double n[3], const double axis_a[3],
+                        const double axis_b[3], double radius);
+#define RENDER_OCCLUSION_REACH 5.0
+#define RENDER_OCCLUSION_STRENGTH 0.7
 
 /* ---- geometry, pure C (used by the GL layer and the tests) ---- */
 

@@ -112,7 +112,11 @@ const ini_key scene_keys_rod[] = {
     {"render", "crf", "-", "18", "0 .. 51", "H.264 quality: 0 lossless, lower is better"},
     {"render", "preset", "-", "veryfast",
      "ultrafast .. veryslow", "x264 speed preset"},
-    {"render", "samples", "-", "4", "0 .. 16", "multisample antialiasing, 0 = off"},
+    {"render", "samples", "-", "4", "0 .. 16",
+     "multisample antialiasing (the backdrop's, with antialias fxaa), 0 = off"},
+    {"render", "antialias", "-", "fxaa", "fxaa | msaa",
+     "fxaa: one sample per pixel, then FXAA over what the frame drew (faster; the backdrop "
+     "multisampled); msaa: `samples` per pixel; samples = 0: neither"},
     {"render", "visual_radius", "m", "auto", "auto, or > 0",
      "radius drawn; auto: 1 % of the length, never below the true radius; the true "
      "radius when strands touched (self-contact)"},
@@ -152,6 +156,10 @@ const ini_key scene_keys_rod[] = {
      "when gravity acts, no plane surface exists and the camera looks from above"},
     {"render", "wound", "m", "-", "6 numbers x1 y1 z1 x2 y2 z2",
      "global: a wound line drawn on the surfaces as a dark red incision; absent: none"},
+    /* issue 12: knots */
+    {"render", "knot", "-", "auto", "auto | yes | no",
+     "the knot type of the centreline, per frame, top right (e.g. knot: trefoil (3_1)); "
+     "auto: when a frame of the run is knotted"},
     /* issue 14: a camera that follows, views side by side */
     {"render", "framing", "-", "run", "run | follow",
      "run: one camera frames the whole run; follow: the rod's current bounds centred and "

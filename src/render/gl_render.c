@@ -21,6 +21,7 @@ static double gl_seconds(void)
 struct gl_renderer {
     gl_context *context;
     gl_target *target;
+    int width, height;          /* the target's, pixels */
     GLuint program;
     GLuint vao, vbo, ibo;       /* per-frame triangles */
     GLuint line_vao, line_vbo;  /* static lines */
@@ -74,6 +75,8 @@ gl_renderer *gl_renderer_create(int width, int height, int samples, int max_vert
         gl_renderer_destroy(r);
         return NULL;
     }
+    r->width = width;
+    r->height = height;
     r->target = gl_target_create(width, height, samples, err, errlen);
     r->program = r->target ? gl_program_load("scene", err, errlen) : 0;
     if (!r->target || !r->program) {
@@ -151,6 +154,19 @@ void gl_renderer_destroy(gl_renderer *r)
     gl_context_destroy(r->context);
     free(r->box_pixels);
     free(r);
+}
+
+int gl_renderer_set_samples(gl_renderer *r, int samples, char *err, size_t errlen)
+{
+    if (gl_context_make_current(r->context)) {
+        snprintf(err, errlen, "gl: cannot make the context current");
+        return -1;
+    }
+    gl_target *target = gl_target_create(r->width, r->height, samples, err, errlen);
+    if (!target) return -1;
+    gl_target_destroy(r->target);
+    r->target = target;
+    return 0;
 }
 
 const char *gl_renderer_description(const gl_renderer *r)

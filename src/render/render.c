@@ -10,12 +10,15 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "render/edge_aa.h"
 #include "render/gl_render.h"
 #include "render/image.h"
 #include "base/outfile.h"
 #include "render/text.h"
 #include "base/vec3.h"
 #include "render/video.h"
+#include "sim/knot.h"
+#include "sim/proximity.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -86,6 +89,10 @@ void render_options_default(render_options *o)
     o->crf = 18;
     snprintf(o->preset, sizeof o->preset, "veryfast");
     o->samples = 4;
+    /* Decision (issue 14): FXAA by default; it looks as 4x multisampling does
+     * on the tube, the stripe, the glyphs and the arrows (frames compared),
+     * at a fraction of llvmpipe's cost (scenes/README.md, Antialiasing) */
+    o->antialias = RENDER_AA_FXAA;
     o->visual_radius = 0; /* auto */
     o->sides = 24;
     o->stripe = RENDER_STRIPE_DIRECTOR;
@@ -355,6 +362,14 @@ static int read_teaching(ini_doc *doc, render_options *o, char *err, size_t errl
         memcpy(o->wound_line, wound, sizeof wound);
         o->wound = 1;
     }
+    static const char *const antialiases[] = {"msaa", "fxaa", NULL};
+    status = ini_get_choice(doc, "render", 0, "antialias", antialiases, &choice, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) o->antialias = (render_antialias)choice;
+    static const char *const knots[] = {"auto", "yes", "no", NULL};
+    status = ini_get_choice(doc, "render", 0, "knot", knots, &choice, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) o->knot = (render_knot_mode)choice;
     static const char *const framings[] = {"run", "follow", NULL};
     status = ini_get_choice(doc, "render", 0, "framing", framings, &choice, err, errlen);
     if (status < 0) return -1;
@@ -861,6 +876,49 @@ static void add_stripe(mesh *m, const rod_recording *rec, int frame, double radi
             add_triangle(m, a, a + 3, a + 4);
             add_triangle(m, a, a + 4, a + 1);
         }
+}
+
+/* ------------------------------------------------------------------ occlusion */
+
+double render_occlusion(const double p[3], const double n[3], const double axis_a[3],
+                        const double axis_b[3], double radius)
+{
+    double along[3], to_p[3], q[3], d[3];
+    v3_sub(along, axis_b, axis_a);
+    v3_sub(to_p, p, axis_a);
+    double length2 = v3_dot(along, along), u = length2 > 0 ? v3_dot(to_p, along) / length2 : 0;
+    u = u < 0 ? 0 : u > 1 ? 1 : u;
+    v3_copy(q, axis_a);
+    v3_axpy(q, u, along);
+    v3_sub(d, q, p);
+    double distance = v3_norm(d), reach = RENDER_OCCLUSION_REACH * radius;
+    double facing = v3_dot(n, d);
+    if (!(distance < reach) || facing <= 0) return 0;
+    if (distance <= radius) return 1; /* inside the other tube: strands drawn overlapping */
+    /* the window: 1 up to 2 radii (strands touching or nearly), smoothstep to 0 at the reach */
+    double t = (distance - 2 * radius) / (reach - 2 * radius), window = 1;
+    if (t > 0) window = 1 - t * t * (3 - 2 * t);
+    double value = radius / distance * (facing / distance) * window;
+    return value > 1 ? 1 : value;
+}
+
+/* The occlusion of `count` consecutive vertices (a ring) by a segment,
+ * kept as the largest so far in occlusion[] (the max, not the sum: the
+ * segments of one strand beside a point all see it at about the same
+ * distance, and would count it several times). */
+static void occlude_ring(const mesh *m, unsigned first, int count,
+                         const double *a, const double *b, double radius, float *occlusion)
+{
+    for (int j = 0; j < count; j++) {
+        const render_vertex *v = &m->vertices[first + (unsigned)j];
+        double p[3], n[3];
+        for (int c = 0; c < 3; c++) {
+            p[c] = v->position[c];
+            n[c] = v->normal[c];
+        }
+        float value = (float)render_occlusion(p, n, a, b, radius);
+        if (value > occlusion[j]) occlusion[j] = value;
+    }
 }
 
 /* ------------------------------------------------------------------ end glyphs */
@@ -2292,13 +2350,84 @@ typedef struct overlay {
     double playback;      /* simulated s per video s, as recorded */
     double color_lo, color_hi; /* the colour bar's range, fixed for the video */
     int color_clamped;    /* values beyond the range (drawn in the end colours) */
+    int knot_shown;       /* 1: the knot line is drawn (render_knot_shown) */
+    rod_knot_scratch *knot_scratch; /* identifies each frame without allocating */
+    char knot_text[160];  /* this frame's knot line */
 } overlay;
 
 static void overlay_destroy(overlay *ov)
 {
     text_font_destroy(ov->title);
     text_font_destroy(ov->body);
+    rod_knot_scratch_destroy(ov->knot_scratch);
+    ov->knot_scratch = NULL;
     ov->title = ov->body = NULL;
+}
+
+/* The knot line of a centreline (render_knot_text), with a scratch. */
+static int knot_line(rod_knot_scratch *scratch, const double *points, int nodes, char *text,
+                     size_t n)
+{
+    rod_knot k;
+    char err[200];
+    if (rod_knot_identify_in(scratch, points, nodes, 0, &k, err, sizeof err)) {
+        snprintf(text, n, "knot: not identified");
+        return 0;
+    }
+    /* Rolfsen's labels for the two that knot.c names without one */
+    const char *label = !strcmp(k.name, "trefoil")        ? " (3_1)"
+                        : !strcmp(k.name, "figure-eight") ? " (4_1)"
+                                                          : "";
+    /* the trefoil is chiral and its signature says which: -2 right-handed (knot.h) */
+    const char *hand = strcmp(k.name, "trefoil") || !k.has_signature ? ""
+                       : k.signature < 0                           ? ", right-handed"
+                       : k.signature > 0                           ? ", left-handed"
+                                                                   : "";
+    snprintf(text, n, "knot: %s%s%s", k.name, label, hand);
+    return 1;
+}
+
+int render_knot_text(const double *points, int nodes, char *text, size_t n)
+{
+    return knot_line(NULL, points, nodes, text, n);
+}
+
+/* Decision (issue 12): auto shows the line when any of up to
+ * RENDER_KNOT_SAMPLES frames of the run, spread evenly over it, is a knot.
+ * The rule needs nothing from the scene (self-contact or not: a knot is
+ * news either way), leaves every unknotted scene's picture as it was, and
+ * costs a few identifications (0.08 ms each at NS = 201). A knot tied and
+ * untied between two samples is missed; render.knot = yes shows it. */
+static int knot_shown(rod_knot_scratch *scratch, const rod_recording *rec, const render_options *o)
+{
+    if (o->knot != RENDER_KNOT_AUTO) return o->knot == RENDER_KNOT_YES;
+    if (!o->overlay || rec->frame_count < 1 || rec->nodes < 2) return 0;
+    int samples = rec->frame_count < RENDER_KNOT_SAMPLES ? rec->frame_count : RENDER_KNOT_SAMPLES;
+    for (int k = 0; k < samples; k++) {
+        int frame = samples > 1 ? (int)((long)k * (rec->frame_count - 1) / (samples - 1)) : 0;
+        rod_knot knot;
+        char err[200];
+        if (rod_knot_identify_in(scratch, node_position(rec, frame, 0), rec->nodes, 0, &knot, err,
+                                 sizeof err) == 0 &&
+            strcmp(knot.name, "unknot") != 0)
+            return 1;
+    }
+    return 0;
+}
+
+int render_knot_shown(const rod_recording *rec, const render_options *o)
+{
+    return knot_shown(NULL, rec, o);
+}
+
+/* This frame's knot line. Decision: the type of the true centreline, not of
+ * a magnified one (render.magnify): magnified strands may pass through each
+ * other on the screen, the rod's knot is the rod's. */
+static void overlay_knot(overlay *ov, const rod_recording *rec, int frame)
+{
+    if (ov->knot_shown)
+        knot_line(ov->knot_scratch, node_position(rec, frame, 0), rec->nodes, ov->knot_text,
+                  sizeof ov->knot_text);
 }
 
 static void swatch(image *img, int x, int y, int size, const float color[3])
@@ -2500,6 +2629,13 @@ static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec
     /* top right: what is not to scale or not real time, and what the stripe is */
     int right = img->width - margin;
     y = margin + text_ascent(ov->body);
+    if (ov->knot_shown) {
+        /* first on the right: the news of a knot scene; right-aligned, so a long
+         * name grows away from the edge */
+        text_draw(img, ov->body, right - text_width(ov->body, ov->knot_text), y, ov->knot_text,
+                  ov->ink);
+        y += line;
+    }
     if (show & RENDER_SHOW_LEGEND) {
         if (ov->exaggeration > 1.05) {
             snprintf(text, sizeof text, "radius exaggerated %.3g\xc3\x97", ov->exaggeration);
@@ -2704,6 +2840,14 @@ typedef struct renderer {
     frame_band band;             /* the part of the picture the content may use */
     follow_path *follow;         /* framing follow: the camera's path; NULL: run */
     int draws_overlay;           /* 1: the overlay is drawn here (not by a split frame) */
+    /* strands darkened where others pass near (issue 12) */
+    rod_proximity *proximity;    /* the broad phase over the drawn centreline */
+    rod_segment_pair *pairs;     /* (max_pairs) segments within reach of each other */
+    int max_pairs;
+    int occlusion_skip;          /* segments nearer than this along the rod are one strand */
+    float *occlusion;            /* (nodes x (sides + 3)): each tube and stripe vertex's */
+    edge_aa *edge_aa;            /* antialias fxaa (issue 14): drawn at one sample, then the
+                                    edges smoothed; NULL: multisampled or none */
 } renderer;
 
 /* Pixels per metre at a point (perspective: at its depth). */
@@ -2853,6 +2997,10 @@ static void renderer_destroy(renderer *r)
     free(r->values);
     free(r->colors);
     free(r->previous);
+    rod_proximity_destroy(r->proximity);
+    free(r->pairs);
+    free(r->occlusion);
+    edge_aa_destroy(r->edge_aa);
 }
 
 /* Keeps the frame's positions for the next frame's speed. */
@@ -3091,6 +3239,12 @@ static int overlay_create(overlay *ov, const rod_recording *rec, const render_op
     ov->exaggeration = rec->diameter > 0 ? radius / (0.5 * rec->diameter) : 1;
     if (o->grid) overlay_scale_bar(ov, o->width, cam->metres_per_pixel);
     if (fonts) {
+        ov->knot_scratch = rod_knot_scratch_create();
+        if (!ov->knot_scratch) {
+            snprintf(err, errlen, "render: out of memory");
+            return -1;
+        }
+        ov->knot_shown = knot_shown(ov->knot_scratch, rec, o);
         ov->title = text_font_load(o->height / 22 > 8 ? o->height / 22 : 8, err, errlen);
         ov->body = ov->title ? text_font_load(o->height / 34 > 7 ? o->height / 34 : 7, err, errlen) : NULL;
         if (!ov->body) return -1;
@@ -3124,11 +3278,22 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
                            2 * ARROW_MAX_VERTICES + PUNCTURE_VERTICES;
     r->mesh.max_indices = 6 * rec->nodes * (sides + 2) + 6 * sides + 2 * GLYPH_INDICES +
                           2 * ARROW_MAX_INDICES + PUNCTURE_INDICES;
+    /* Decision: pairs beyond 32 a segment (an exaggerated radius over a
+     * tight coil) are dropped, and with them some vertices' darkening */
+    r->max_pairs = 32 * rec->nodes;
+    r->proximity = rod_proximity_create(rec->nodes);
+    r->pairs = malloc((size_t)r->max_pairs * sizeof *r->pairs);
+    r->occlusion = malloc((size_t)rec->nodes * (size_t)(sides + 3) * sizeof(float));
+    /* as self-contact (rod_proximity_skip): points closer along the rod than a
+     * half turn of radius `radius` are one strand, and a bent tube's inside
+     * is not darkened by its own next segments */
+    r->occlusion_skip = rod_proximity_skip(2 * r->radius, rec->ds);
     r->mesh.vertices = malloc((size_t)r->mesh.max_vertices * sizeof(render_vertex));
     r->mesh.indices = malloc((size_t)r->mesh.max_indices * sizeof(unsigned));
     r->grid.capacity = o->grid ? 4 * (GRID_MAX_LINES + 2) : 0;
     r->grid.lines = malloc((size_t)(r->grid.capacity + 1) * sizeof(render_vertex));
-    if (!r->mesh.vertices || !r->mesh.indices || !r->grid.lines ||
+    if (!r->mesh.vertices || !r->mesh.indices || !r->grid.lines || !r->proximity || !r->pairs ||
+        !r->occlusion ||
         (o->magnify != 1 && (!shown || !r->view)) ||
         (o->color != RENDER_COLOR_SOLID && (!r->values || !r->colors || !r->previous))) {
         snprintf(err, errlen, "render: out of memory");
@@ -3216,6 +3381,19 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
         renderer_destroy(r);
         return -1;
     }
+    if (o->antialias == RENDER_AA_FXAA && o->samples > 0) {
+        /* the backdrop (thin grid lines) stays multisampled: it is drawn once */
+        r->edge_aa = edge_aa_create(r->backdrop, r->tiles_x * r->tiles_y);
+        if (!r->edge_aa) {
+            snprintf(err, errlen, "render: out of memory");
+            renderer_destroy(r);
+            return -1;
+        }
+        if (gl_renderer_set_samples(r->gl, 0, err, errlen)) {
+            renderer_destroy(r);
+            return -1;
+        }
+    }
     return 0;
 }
 
@@ -3229,6 +3407,82 @@ static void renderer_follow(renderer *r, const rod_recording *drawn, int drawn_f
         gl_renderer_set_lines(r->gl, r->grid.lines, r->grid.count);
     }
     if (r->o->grid) overlay_scale_bar(&r->overlay, r->o->width, r->camera.metres_per_pixel);
+}
+
+/* The index of pair (i, j) in pairs (sorted by (i, j)), or -1. */
+static int find_pair(const rod_segment_pair *pairs, int count, int i, int j)
+{
+    int lo = 0, hi = count - 1;
+    while (lo <= hi) {
+        int mid = (lo + hi) / 2;
+        const rod_segment_pair *p = &pairs[mid];
+        if (p->i == i && p->j == j) return mid;
+        if (p->i < i || (p->i == i && p->j < j)) lo = mid + 1;
+        else hi = mid - 1;
+    }
+    return -1;
+}
+
+/* 1 when the pair at `at` is nearer than its neighbour at `beside` (-1:
+ * none), ties going to the one earlier along the rod. */
+static int nearer(const rod_segment_pair *pairs, int at, int beside, int beside_is_before)
+{
+    if (beside < 0) return 1;
+    return beside_is_before ? pairs[at].distance < pairs[beside].distance
+                            : pairs[at].distance <= pairs[beside].distance;
+}
+
+/* Darkens the tube's and the stripe's vertices (from `tube` and `stripe`,
+ * -1: none) by the other strands near them (render_occlusion): where one
+ * strand passes over another, the one below is shaded beside it, and the
+ * picture says which is in front. The broad phase finds the segment pairs
+ * within reach; a frame without any costs only that search. The rings at
+ * the ends of a segment are shaded by the nearest segment of each other
+ * strand only (the one whose distance to it is least among its neighbours
+ * along that strand): its neighbours would give about the same, at 6 times
+ * the cost (helix of touching turns, NS = 201). */
+static void occlude_strands(renderer *r, const rod_recording *rec, int frame, unsigned tube,
+                            int stripe)
+{
+    int nodes = rec->nodes, sides = r->o->sides, per_node = sides + 3;
+    double radius = r->radius;
+    const double *points = node_position(rec, frame, 0);
+    const rod_segment_pair *pairs = r->pairs;
+    int found = rod_proximity_pairs(r->proximity, points, nodes,
+                                    (RENDER_OCCLUSION_REACH + 1) * radius, r->occlusion_skip,
+                                    r->pairs, r->max_pairs);
+    if (found <= 0) return; /* none, or a non-finite point (drawn as it is) */
+    if (found > r->max_pairs) found = r->max_pairs;
+    memset(r->occlusion, 0, (size_t)nodes * (size_t)per_node * sizeof(float));
+    for (int k = 0; k < found; k++) {
+        int i = pairs[k].i, j = pairs[k].j;
+        for (int side = 0; side < 2; side++) {
+            /* side 0: the rings of segment i shaded by segment j; 1: the reverse */
+            int segment = side ? i : j, ring = side ? j : i;
+            int before = side ? find_pair(pairs, found, i - 1, j) : k > 0 && pairs[k - 1].i == i &&
+                                pairs[k - 1].j == j - 1 ? k - 1 : -1;
+            int after = side ? find_pair(pairs, found, i + 1, j) : k + 1 < found &&
+                               pairs[k + 1].i == i && pairs[k + 1].j == j + 1 ? k + 1 : -1;
+            if (!nearer(pairs, k, before, 1) || !nearer(pairs, k, after, 0)) continue;
+            const double *a = &points[3 * segment], *b = &points[3 * (segment + 1)];
+            for (int node = ring; node <= ring + 1; node++) {
+                float *occlusion = &r->occlusion[node * per_node];
+                occlude_ring(&r->mesh, tube + (unsigned)(node * sides), sides, a, b, radius,
+                             occlusion);
+                if (stripe >= 0)
+                    occlude_ring(&r->mesh, (unsigned)stripe + (unsigned)(3 * node), 3, a, b,
+                                 radius, occlusion + sides);
+            }
+        }
+    }
+    for (int node = 0; node < nodes; node++)
+        for (int j = 0; j < per_node; j++) {
+            float shade = 1.0f - (float)RENDER_OCCLUSION_STRENGTH * r->occlusion[node * per_node + j];
+            if (shade == 1.0f || (j >= sides && stripe < 0)) continue;
+            unsigned index = j < sides ? tube + (unsigned)(node * sides + j)
+                                       : (unsigned)stripe + (unsigned)(3 * node + j - sides);
+            for (int c = 0; c < 3; c++) r->mesh.vertices[index].color[c] *= shade;
+        }
 }
 
 /* Draws frame `frame` of rec (whose frame 0 is the run's first: the clamp
@@ -3262,9 +3516,11 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
     if (r->follow) renderer_follow(r, drawn, drawn_frame, given->time[given_frame]);
     rec = drawn;
     frame = drawn_frame;
+    unsigned tube = (unsigned)m->vertex_count;
     add_tube(m, rec, frame, r->radius, r->o->sides, r->colors, r->o->rod_color);
-    if (r->o->stripe != RENDER_STRIPE_OFF)
-        add_stripe(m, rec, frame, r->radius, r->o->stripe, stripe_color(r->o));
+    int stripe = r->o->stripe != RENDER_STRIPE_OFF ? m->vertex_count : -1;
+    if (stripe >= 0) add_stripe(m, rec, frame, r->radius, r->o->stripe, stripe_color(r->o));
+    occlude_strands(r, rec, frame, tube, stripe);
     add_end_glyphs(m, rec, r->o, frame, r->radius);
     if (r->o->arrows) add_arrows(m, &r->arrows, rec, frame);
     r->caster_indices = m->index_count;
@@ -3310,9 +3566,14 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
             }
         }
     }
+    /* before the text, which FreeType draws antialiased (framing follow: one
+     * box, the whole picture) */
+    if (r->edge_aa) edge_aa_frame(r->edge_aa, out, (const int(*)[4])r->boxes, r->box_count);
     double t3 = timing ? now_seconds() : 0;
-    if (r->o->overlay && r->draws_overlay)
+    if (r->o->overlay && r->draws_overlay) {
+        overlay_knot(&r->overlay, given, given_frame);
         draw_overlay(out, &r->overlay, rec, r->o, &r->camera, frame);
+    }
     if (timing) {
         double t4 = now_seconds();
         timing->mesh += t1 - t0;
@@ -3462,6 +3723,7 @@ static int stream_draw_tiles(render_stream *st, const rod_recording *rec, int fr
                    t->picture->rgb + (size_t)y * (size_t)t->o.width * 3, (size_t)t->o.width * 3);
     }
     if (st->o->overlay) {
+        overlay_knot(&st->overlay, rec, frame);
         draw_overlay(out, &st->overlay, rec, &st->overlay_options, &st->tiles[0].r.camera, frame);
         draw_tile_labels(out, &st->overlay, st->tiles, st->tile_count, st->o->show);
     }

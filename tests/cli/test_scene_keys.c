@@ -151,7 +151,7 @@ static int rod_reads_equal(const rod_read *a, const rod_read *b)
            p->visual_radius == q->visual_radius && p->sides == q->sides &&
            p->stripe == q->stripe && p->arrows == q->arrows && p->camera == q->camera &&
            p->grid == q->grid && p->overlay == q->overlay && p->frames_png == q->frames_png &&
-           p->poster == q->poster;
+           p->poster == q->poster && p->antialias == q->antialias && p->knot == q->knot;
     return same;
 }
 
