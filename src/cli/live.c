@@ -169,6 +169,12 @@ static void state_copy(rod_state *to, const rod_state *from)
     to->time = from->time;
     memcpy(to->end_force, from->end_force, sizeof to->end_force);
     memcpy(to->end_moment, from->end_moment, sizeof to->end_moment);
+    /* contact: what the tissue and the strands exert, and where the thread
+     * passes through the tissue (a failed step answers with these too) */
+    memcpy(to->surface_force, from->surface_force, n * 3 * sizeof(double));
+    memcpy(to->self_force, from->self_force, n * 3 * sizeof(double));
+    to->puncture_count = from->puncture_count;
+    memcpy(to->puncture, from->puncture, sizeof to->puncture);
 }
 
 /* Splits a line at commas into at most `max` numbers; -1 at a field that is
