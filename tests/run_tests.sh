@@ -11,15 +11,30 @@ export LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp:print_suppressions=0"
 export RODSIM_TEST_FLAVOUR="$flavour"
 passed=0
 failed=0
-log=$(mktemp)
-for t in $(find "$build/tests" -type f -name 'test_*' | sort); do
+# The binaries run RODSIM_TEST_JOBS at a time (default: the cores, at most
+# 4), each into its own log; the logs are then printed in name order, so
+# the output does not depend on which finished first. Every test writes
+# only under its own temporary directory.
+jobs=${RODSIM_TEST_JOBS:-$(nproc 2>/dev/null || echo 1)}
+[ "$jobs" -gt 4 ] && jobs=4
+[ "$jobs" -lt 1 ] && jobs=1
+logs=$(mktemp -d)
+find "$build/tests" -type f -name 'test_*' | sort >"$logs/list"
+# shellcheck disable=SC2016
+xargs -P "$jobs" -I{} sh -c '
+    t=$1; d=$2; n=$(basename "$t")
+    [ -x "$t" ] || exit 0
+    "$t" >"$d/$n.log" 2>&1
+    echo $? >"$d/$n.status"
+' run_one {} "$logs" <"$logs/list"
+while read -r t; do
     [ -x "$t" ] || continue
     name=$(basename "$t")
     echo "== $flavour/$name"
-    "$t" >"$log" 2>&1
-    status=$?
-    cat "$log"
-    last=$(grep -E '^[0-9]+ passed, [0-9]+ failed$' "$log" | tail -n 1)
+    log="$logs/$name.log"
+    status=$(cat "$logs/$name.status" 2>/dev/null || echo 255)
+    cat "$log" 2>/dev/null
+    last=$(grep -E '^[0-9]+ passed, [0-9]+ failed$' "$log" 2>/dev/null | tail -n 1)
     if [ -z "$last" ]; then
         echo "FAIL $name: exited with status $status before its summary"
         failed=$((failed + 1))
@@ -33,8 +48,8 @@ for t in $(find "$build/tests" -type f -name 'test_*' | sort); do
     fi
     passed=$((passed + p))
     failed=$((failed + f))
-done
-rm -f "$log"
+done <"$logs/list"
+rm -rf "$logs"
 echo "== $flavour: $passed passed, $failed failed"
 echo "$passed passed, $failed failed" >"$build/summary"
 [ "$failed" -eq 0 ]
