@@ -2584,9 +2584,43 @@ static void draw_colorbar(image *img, const overlay *ov, const render_options *o
     text_draw(img, ov->body, x + width - text_width(ov->body, name), top - 8, name, ov->ink);
 }
 
+/* The left column's lines as drawn (top, bottom and right edge, px), so
+ * that the right column's lines move down past any they would overlap: a
+ * long caption ran under the stripe's legend (suture.ini). */
+typedef struct overlay_lines {
+    int count, top[8], bottom[8], end[8];
+} overlay_lines;
+
+static void left_line(overlay_lines *l, text_font *font, int x, int y, const char *text)
+{
+    if (l->count == 8) return;
+    l->top[l->count] = y - text_ascent(font);
+    l->bottom[l->count] = y + text_descent(font);
+    l->end[l->count] = x + text_width(font, text);
+    l->count++;
+}
+
+/* The first baseline at or below y where a right-aligned line reaching left
+ * to x0 clears every left line by 12 px. */
+static int right_line_y(const overlay_lines *l, const overlay *ov, int x0, int y, int line)
+{
+    for (int moved = 1; moved;) {
+        moved = 0;
+        for (int i = 0; i < l->count; i++) {
+            const int top = y - text_ascent(ov->body), bottom = y + text_descent(ov->body);
+            if (l->end[i] + 12 > x0 && top < l->bottom[i] && bottom > l->top[i]) {
+                y += line;
+                moved = 1;
+            }
+        }
+    }
+    return y;
+}
+
 static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec,
                          const render_options *o, const render_camera *cam, int frame)
 {
+    overlay_lines left = {0};
     unsigned show = o->show;
     int margin = img->height / 40 + 4, line = text_ascent(ov->body) + text_descent(ov->body) + 4;
     int y = margin + text_ascent(ov->title) - line - 2;
@@ -2594,11 +2628,13 @@ static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec
     if (show & RENDER_SHOW_TITLE) {
         y += line + 2;
         text_draw(img, ov->title, margin, y, ov->title_text, ov->ink);
+        left_line(&left, ov->title, margin, y, ov->title_text);
         y += 2;
     }
     if ((show & RENDER_SHOW_CAPTION) && o->caption[0]) {
         y += line;
         text_draw(img, ov->body, margin, y, o->caption, ov->faint);
+        left_line(&left, ov->body, margin, y, o->caption);
     }
     if (show & RENDER_SHOW_TIME) {
         y += line;
@@ -2606,6 +2642,7 @@ static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec
         snprintf(text, sizeof text, "      scheme: %s      %d nodes",
                  rec->scheme[0] ? rec->scheme : "?", rec->nodes);
         text_draw(img, ov->body, x, y, text, ov->ink);
+        left_line(&left, ov->body, x, y, text);
     }
     /* what holds the ends, unless it is the thesis' cantilever (the old scenes look as before) */
     const render_end *root = &o->ends[0], *tip = &o->ends[1];
@@ -2624,6 +2661,7 @@ static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec
         }
         y += line;
         text_draw(img, ov->body, margin, y, text, ov->ink);
+        left_line(&left, ov->body, margin, y, text);
     }
 
     /* top right: what is not to scale or not real time, and what the stripe is */
@@ -2632,6 +2670,7 @@ static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec
     if (ov->knot_shown) {
         /* first on the right: the news of a knot scene; right-aligned, so a long
          * name grows away from the edge */
+        y = right_line_y(&left, ov, right - text_width(ov->body, ov->knot_text), y, line);
         text_draw(img, ov->body, right - text_width(ov->body, ov->knot_text), y, ov->knot_text,
                   ov->ink);
         y += line;
@@ -2639,11 +2678,13 @@ static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec
     if (show & RENDER_SHOW_LEGEND) {
         if (ov->exaggeration > 1.05) {
             snprintf(text, sizeof text, "radius exaggerated %.3g\xc3\x97", ov->exaggeration);
+            y = right_line_y(&left, ov, right - text_width(ov->body, text), y, line);
             text_draw(img, ov->body, right - text_width(ov->body, text), y, text, ov->ink);
             y += line;
         }
         if (o->magnify != 1) {
             snprintf(text, sizeof text, "motion magnified %.3g\xc3\x97", o->magnify);
+            y = right_line_y(&left, ov, right - text_width(ov->body, text), y, line);
             text_draw(img, ov->body, right - text_width(ov->body, text), y, text, ov->ink);
             y += line;
         }
@@ -2652,6 +2693,7 @@ static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec
                 snprintf(text, sizeof text, "slow motion %.3g\xc3\x97", 1 / ov->playback);
             else
                 snprintf(text, sizeof text, "time-lapse %.3g\xc3\x97", ov->playback);
+            y = right_line_y(&left, ov, right - text_width(ov->body, text), y, line);
             text_draw(img, ov->body, right - text_width(ov->body, text), y, text, ov->ink);
             y += line;
         }
@@ -2660,6 +2702,7 @@ static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec
                                    ? "stripe: material line (director frames)"
                                    : "stripe: thesis (4.17)";
             int w = text_width(ov->body, what), box = text_ascent(ov->body) * 2 / 3;
+            y = right_line_y(&left, ov, right - w - box - 9, y, line);
             text_draw(img, ov->body, right - w, y, what, ov->faint);
             /* a frame around the swatch: the white stripe over a colour map shows on any background */
             image_fill_rect(img, right - w - box - 9, y - box - 1, box + 2, box + 2, ov->faint, 1.0);

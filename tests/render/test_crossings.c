@@ -263,8 +263,72 @@ static void test_occlusion_render(void)
     test_remove_tree(dir);
 }
 
+/* The overlay's right column moves down past a long caption (a defect:
+ * suture.ini's caption ran under the stripe's legend). Rendered twice, with
+ * and without the stripe: the legend's swatch (amber, drawn only with it)
+ * shares no row with the caption's ink where the two columns meet. */
+static void test_overlay_layout(void)
+{
+    char dir[256];
+    snprintf(dir, sizeof dir, "/tmp/rodsim_test_crossings_layout_%ld", (long)getpid());
+    mkdir(dir, 0777);
+    render_options o;
+    render_options_default(&o);
+    o.width = 640;
+    o.height = 360;
+    o.grid = 0;
+    o.arrows = 0;
+    o.visual_radius = 0.05; /* "radius exaggerated" takes the right column's first row */
+    o.ends[0].kind = o.ends[1].kind = RENDER_END_FREE;
+    snprintf(o.caption, sizeof o.caption, "a caption long enough to run on under the legend that "
+                                          "stands in the top right corner of this frame, and on");
+    const int straight[1] = {0};
+    rod_recording *rec = knot_recording(straight, 1);
+    image *img[2] = {NULL, NULL};
+    for (int with = 0; with < 2; with++) {
+        char err[1024], path[1200], name[16];
+        snprintf(name, sizeof name, with ? "legend" : "caption");
+        o.stripe = with ? RENDER_STRIPE_DIRECTOR : RENDER_STRIPE_OFF;
+        int status = render_recording(rec, &o, dir, name, 0, err, sizeof err);
+        snprintf(path, sizeof path, "%s/%s.png", dir, name);
+        img[with] = status ? NULL : image_read_png(path, err, sizeof err);
+        check(img[with] != NULL, "render %s (%s)", name, img[with] ? "ok" : err);
+    }
+    if (img[0] && img[1]) {
+        /* the swatch: amber pixels in the top third's right half */
+        int x0 = o.width, swatch_top = -1, swatch_bottom = -1;
+        for (int y = 0; y < o.height / 3; y++)
+            for (int x = o.width / 2; x < o.width; x++) {
+                const unsigned char *c = img[1]->rgb + ((size_t)y * o.width + x) * 3;
+                if (c[0] > 200 && c[1] > 140 && c[1] < 220 && c[2] < 80) {
+                    if (swatch_top < 0) swatch_top = y;
+                    swatch_bottom = y;
+                    if (x < x0) x0 = x;
+                }
+            }
+        /* the caption's ink from the swatch's left edge rightwards, without the stripe */
+        int caption_ink = 0, shared = 0;
+        for (int y = 0; y < o.height / 3; y++)
+            for (int x = x0 > 10 ? x0 - 10 : 0; x < o.width; x++) {
+                const unsigned char *c = img[0]->rgb + ((size_t)y * o.width + x) * 3;
+                int ink = c[0] < 160 && abs(c[0] - c[2]) < 20 && abs(c[1] - c[2]) < 20;
+                caption_ink += ink;
+                shared += ink && y >= swatch_top && y <= swatch_bottom;
+            }
+        check(swatch_top >= 0 && caption_ink > 50 && shared == 0,
+              "a long caption (%d ink pixels right of x = %d) and the stripe's legend (swatch "
+              "rows %d-%d) share no row: %d caption pixels in the swatch's rows",
+              caption_ink, x0, swatch_top, swatch_bottom, shared);
+    }
+    image_destroy(img[0]);
+    image_destroy(img[1]);
+    rod_recording_destroy(rec);
+    if (!getenv("KEEP")) test_remove_tree(dir);
+}
+
 int main(void)
 {
+    test_overlay_layout();
     test_knot_text();
     test_knot_shown();
     test_occlusion_formula();
