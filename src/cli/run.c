@@ -574,6 +574,8 @@ typedef struct knot_track {
     double touch_time;
     int slip_end;            /* at the first change: 0 root, 1 tip, -1 neither */
     int slip_reach;          /* segments from that end the strands touched */
+    double *prev_pos;        /* (nodes x 3) m, owned: the last frame's positions, or NULL */
+    double moved;            /* m: the largest node motion since the last frame */
     double slip_time;        /* s: the frame they touched there */
     double seconds;          /* wall time spent identifying */
     rod_knot_scratch *scratch; /* owned; NULL: each call allocates */
@@ -588,17 +590,37 @@ static int same_knot(const rod_knot *a, const rod_knot *b)
 }
 
 /* Within how many segments of an end touching strands mean that a knot
- * that comes undone slipped off that end: a few diameters of arc, and
- * never fewer than the proximity skip's 5 segments (a loop closing over an
- * end node touches that far from it at the last frame before). */
-static int slip_reach(const rod_model *m)
+ * that comes undone slipped off that end: a few diameters of arc, never
+ * fewer than the proximity skip's 5 segments (a loop closing over an end
+ * node touches that far from it at the last frame before), and as far as
+ * the strands can have slid along each other between the two frames (at
+ * most twice the largest node motion: a frame rate low for the motion
+ * would otherwise call a slip a pass-through). */
+static int slip_reach(const rod_model *m, double moved)
 {
     int reach = (int)ceil(3.0 * m->diameter / m->ds);
+    int slid = (int)fmin(ceil(2.0 * moved / m->ds) + 1.0, (double)m->nodes);
+    if (slid > reach) reach = slid;
     return reach < 6 ? 6 : reach;
+}
+
+/* The largest node motion since the last frame (m), from the positions
+ * kept then (0 at the first frame, or when they could not be kept). */
+static double frame_motion(const knot_track *k, const rod_state *s)
+{
+    double moved = 0.0;
+    for (int i = 0; k->prev_pos && k->frames > 0 && i < s->nodes; i++) {
+        const double *a = &s->position[3 * i], *b = &k->prev_pos[3 * i];
+        const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+        moved = fmax(moved, sqrt(dx * dx + dy * dy + dz * dz));
+    }
+    return moved;
 }
 
 static void track_touch(knot_track *k, const rod_state *s)
 {
+    if (!k->prev_pos) k->prev_pos = malloc((size_t)s->nodes * 3 * sizeof(double));
+    if (k->prev_pos) memcpy(k->prev_pos, s->position, (size_t)s->nodes * 3 * sizeof(double));
     k->touch_lo = k->touch_hi = -1;
     for (int i = 0; i < s->nodes; i++) {
         const double *f = &s->self_force[3 * i];
@@ -614,6 +636,7 @@ static void track_knot(knot_track *k, const rod_model *m, const rod_state *s)
     double start = wall_seconds();
     rod_knot now;
     char err[200];
+    k->moved = frame_motion(k, s);
     if (rod_knot_identify_in(k->scratch, s->position, s->nodes, 0, &now, err, sizeof err)) {
         if (!k->failures++)
             snprintf(k->failure, sizeof k->failure, "at t = %g s: %s", s->time, err);
@@ -627,7 +650,7 @@ static void track_knot(knot_track *k, const rod_model *m, const rod_state *s)
             snprintf(k->change_to, sizeof k->change_to, "%s", now.name);
             /* strands touching near an end in the frame before: the knot
              * slipped off it (an end is a point a loop can pass over) */
-            const int reach = slip_reach(m), last = s->nodes - 1;
+            const int reach = slip_reach(m, k->moved), last = s->nodes - 1;
             k->slip_end = -1;
             if (k->touch_lo >= 0 && k->touch_lo <= reach) {
                 k->slip_end = 0;
@@ -981,6 +1004,7 @@ kept:
     if (csv_stdout && sink.csv) fclose(sink.csv);
     rod_recording_destroy(sink.rec);
     rod_knot_scratch_destroy(knots.scratch);
+    free(knots.prev_pos);
     rod_state_destroy(s);
     rod_solver_release(&solver);
     return status;
