@@ -68,7 +68,7 @@ static int write_knot_shape(double *length, double tip[3])
     if (!f) return -1;
     const double scale = 2.5 * 0.001 / 0.424, tail = 0.04;
     const int samples = 4000;
-    double p[3], prev[3], t0[3], t1[3];
+    double p[3], prev[3];
     *length = 0.0;
     fprintf(f, "x,y,z\n");
     for (int k = -40; k <= samples + 40; k++) {
@@ -80,8 +80,6 @@ static int write_knot_shape(double *length, double tip[3])
         /* the tails: along the tangent at each end (derivative of the above) */
         double d[3] = {3.0 * t * t - 3.0, 4.0 * t * t * t - 8.0 * t, 0.2 * (5.0 * t * t * t * t - 10.0)};
         const double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        if (k == -40) memcpy(t0, d, sizeof d);
-        if (k == samples + 40) memcpy(t1, d, sizeof d);
         const double along = k < 0 ? tail * k / 40.0 : k > samples ? tail * (k - samples) / 40.0 : 0.0;
         for (int c = 0; c < 3; c++) p[c] += along * d[c] / n;
         if (k > -40) {
@@ -91,7 +89,6 @@ static int write_knot_shape(double *length, double tip[3])
         fprintf(f, "%.17g,%.17g,%.17g\n", p[0], p[1], p[2]);
         memcpy(prev, p, sizeof prev);
     }
-    (void)t0, (void)t1;
     memcpy(tip, prev, sizeof prev);
     return fclose(f) ? -1 : 0;
 }
