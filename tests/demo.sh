@@ -6,8 +6,8 @@
 #     friction, shadows);
 #   out/overhand.mp4 (+ .png): a loose overhand knot pulled by its ends, its
 #     strands kept apart by self-contact;
-#   out/buckling_twist.mp4 (+ .png): the rod buckling under a twisting moment,
-#     the stripe (a material line) showing the twist.
+#   out/buckling_twist.mp4 (+ .png): a rod twisted under tension coiling into
+#     a plectoneme, the stripe (a material line) showing the twist.
 cd "$(dirname "$0")/.." || exit 1
 bin=build/release/rodsim
 [ -x "$bin" ] || { echo "demo: $bin is missing; run make first" >&2; exit 1; }

@@ -101,6 +101,8 @@ typedef enum {
 typedef struct render_end {
     render_end_kind kind;
     int driven;             /* 1: the end follows a path (named in the overlay) */
+    int sliding;            /* 1: on a slide (a sleeve), 2: on a slide without turning
+                               about it (a carriage; ends.*_twist = held) */
 } render_end;
 
 /* Scene [render] section; render_options_default() makes a good picture. */

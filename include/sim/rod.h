@@ -178,6 +178,11 @@ typedef struct rod_model {
     double root_slide[3];         /* unit direction, global, along which the held root slides
                                      freely; 0 0 0 (default): held in place or driven */
     double tip_slide[3];          /* the same for the tip (1 0 0: Euler's sleeve) */
+    int slide_twist_held[2];      /* root, tip: 1 when a clamped end on a slide does not turn
+                                     about it (a carriage that slides but does not turn, as
+                                     in the twisted-rod experiments under tension); 0
+                                     (default): it turns freely (Greenhill's sleeve).
+                                     Implicit scheme only */
     rod_path *root_motion;        /* owned; NULL (default): a held root stays where it starts */
     rod_path *tip_motion;         /* owned; NULL: a held tip stays where it starts */
     double needle_radius;         /* m, a curved needle whose back is at the driven tip; 0: none

@@ -50,5 +50,21 @@ double reference_greenhill_pinned(double ei, double length);
 /* Greenhill, clamped ends: 2 x EI / L with x the first positive root of
  * tan x = x (4.4934...): 8.9868 EI / L, N m. */
 double reference_greenhill_clamped(double ei, double length);
+/* Greenhill's problem with tension (issue 12's plectoneme): the twisting
+ * moment M (N m) at which a straight rod of length L, clamped at both ends
+ * (one end on a carriage that slides along the axis and does not turn, or a
+ * sleeve: the same linear problem), under a tension T > 0 along it, stops
+ * being stable. Linearised Kirchhoff equations, w = y + i z the deflection:
+ *   B w'''' - i M w''' - T w'' = 0,  w = w' = 0 at s = 0 and s = L,
+ * whose characteristic roots are 0, 0 and (i M +- sqrt(4 B T - M^2)) / (2 B);
+ * a nonzero w exists when (the 4 x 4 determinant, reduced by hand)
+ *   cos(phi) - cos(alpha) + (T L^2 / 2B) sin(alpha) / alpha = 0,
+ *   phi = M L / (2B), alpha = sqrt(M^2 - 4 B T) L / (2B),
+ * the first root above M = 2 sqrt(B T) (below it the straight rod is stable
+ * at any length). Its limits are the published ones: T -> 0 gives tan(phi) =
+ * phi, M = 8.9868 B / L (Greenhill 1883; Love, Treatise, sect. 270; the
+ * clamped case above); L -> infinity gives M = 2 sqrt(B T) (Love; Thompson
+ * and Champneys, Proc. R. Soc. A 452 (1996) 117). Returns NAN when T <= 0. */
+double reference_twist_tension_clamped(double ei, double tension, double length);
 
 #endif

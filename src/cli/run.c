@@ -116,6 +116,11 @@ int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_
     out->render.ends[0].driven = m->root_motion != NULL;
     out->render.ends[1].kind = render_end_of(m->tip_end);
     out->render.ends[1].driven = m->tip_motion != NULL;
+    for (int e = 0; e < 2; e++) {
+        const double *slide = e ? m->tip_slide : m->root_slide;
+        if (slide[0] != 0.0 || slide[1] != 0.0 || slide[2] != 0.0)
+            out->render.ends[e].sliding = m->slide_twist_held[e] ? 2 : 1;
+    }
     out->render.needle_radius = m->needle_radius;
     for (int k = 0; k < 3; k++) out->render.distributed_force[k] = m->distributed_force[k];
     /* the obstacles are drawn (issue 11); the model outlives the render */

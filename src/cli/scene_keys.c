@@ -78,6 +78,12 @@ const ini_key scene_keys_rod[] = {
      "direction along which the held root slides freely; 0 0 0: held in place"},
     {"ends", "tip_slide", "-", "0 0 0", "3 numbers",
      "the same for the tip; 1 0 0: the sleeve of Euler's and Greenhill's columns"},
+    {"ends", "root_twist", "-", "free", "free | held",
+     "a clamped root on a slide: free turns about the slide (a sleeve), held does not (a "
+     "carriage; implicit scheme)"},
+    {"ends", "tip_twist", "-", "free", "free | held",
+     "the same for a clamped tip on a slide: held is the twisted-rod experiment's carriage "
+     "under tension"},
     {"ends", "needle", "m", "0", ">= 0",
      "radius of a curved needle drawn with its back at the tip; 0: none (no mechanics)"},
 

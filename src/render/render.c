@@ -1429,6 +1429,40 @@ typedef struct frame_band {
 
 static const frame_band full_band = {FRAME_TOP, FRAME_BOTTOM, FRAME_SIDE};
 
+/* 1 when the overlay names what holds the ends: not for the thesis'
+ * cantilever (the old scenes look as before) */
+static int ends_line_shown(const render_options *o)
+{
+    const render_end *root = &o->ends[0], *tip = &o->ends[1];
+    return (o->show & RENDER_SHOW_ENDS) &&
+           (root->kind != RENDER_END_CLAMPED || root->driven || tip->kind != RENDER_END_FREE ||
+            tip->driven || o->needle_radius > 0);
+}
+
+/* base with its top grown to clear the overlay's left column (draw_overlay:
+ * a title of height / 22 px, lines of height / 34 px type, each ascent +
+ * descent + 4 px apart, from a margin of height / 40 + 4 px, and 12 px
+ * below the last): FRAME_TOP holds a title and the time line; a caption and
+ * the ends' line need more (buckling_twist.ini's plectoneme, framed by
+ * `follow`, ran into its fourth line with FRAME_TOP alone). */
+static frame_band overlay_band(const render_options *o, frame_band base)
+{
+    if (!o->overlay || o->height <= 0) return base;
+    const unsigned show = o->show;
+    int lines = 0;
+    if (show & RENDER_SHOW_TITLE) lines++;
+    if ((show & RENDER_SHOW_CAPTION) && o->caption[0]) lines++;
+    if (show & RENDER_SHOW_TIME) lines++;
+    if (ends_line_shown(o)) lines++;
+    if (lines == 0) return base;
+    const double h = o->height, body = fmax(h / 34.0, 7.0), title = fmax(h / 22.0, 8.0);
+    const double line = 1.2 * body + 4.0;
+    double px = h / 40.0 + 4.0 + ((show & RENDER_SHOW_TITLE) ? title : body) + (lines - 1) * line +
+                0.3 * body + 12.0;
+    base.top = fmax(base.top, px / h);
+    return base;
+}
+
 /* The view, projection and their product from cam's eye, basis and target. */
 static void camera_matrices(render_camera *cam, double half_height, double near, double far)
 {
@@ -1560,7 +1594,8 @@ void render_camera_fit(render_camera *cam, const rod_recording *rec, const rende
 {
     /* the motion as drawn: magnified (out of memory: the true motion) */
     rod_recording *shown = o->magnify != 1 ? magnified_copy(rec, o->magnify) : NULL;
-    camera_fit(cam, shown ? shown : rec, o, &full_band);
+    const frame_band band = overlay_band(o, full_band);
+    camera_fit(cam, shown ? shown : rec, o, &band);
     rod_recording_destroy(shown);
 }
 
@@ -2644,15 +2679,14 @@ static void draw_overlay(image *img, const overlay *ov, const rod_recording *rec
         text_draw(img, ov->body, x, y, text, ov->ink);
         left_line(&left, ov->body, x, y, text);
     }
-    /* what holds the ends, unless it is the thesis' cantilever (the old scenes look as before) */
+    /* what holds the ends */
     const render_end *root = &o->ends[0], *tip = &o->ends[1];
-    if ((show & RENDER_SHOW_ENDS) &&
-        (root->kind != RENDER_END_CLAMPED || root->driven || tip->kind != RENDER_END_FREE ||
-         tip->driven || o->needle_radius > 0)) {
+    if (ends_line_shown(o)) {
         static const char *const kinds[] = {"clamped", "pinned", "free"};
-        int used = snprintf(text, sizeof text, "root %s%s, tip %s%s", kinds[root->kind],
-                            root->driven ? " (driven)" : "", kinds[tip->kind],
-                            tip->driven ? " (driven)" : "");
+        static const char *const held[] = {"", " on a slide", " on a slide, not turning"};
+        int used = snprintf(text, sizeof text, "root %s%s%s, tip %s%s%s", kinds[root->kind],
+                            root->driven ? " (driven)" : "", held[root->sliding % 3],
+                            kinds[tip->kind], tip->driven ? " (driven)" : "", held[tip->sliding % 3]);
         if (o->needle_radius > 0 && used > 0 && (size_t)used < sizeof text) {
             char radius[32];
             format_length(radius, sizeof radius, o->needle_radius);
@@ -3734,7 +3768,7 @@ static int stream_tiles_create(render_stream *st, const rod_recording *extent,
         view_camera(t->kind, o->view, &t->o.camera, t->o.view);
         t->o.view_count = 0;
         t->o.overlay = 0; /* drawn once over the whole frame */
-        frame_band own = band;
+        frame_band own = overlay_band(o, band);
         if (k == count - 1 && o->overlay && (o->show & RENDER_SHOW_COLORBAR) &&
             o->color != RENDER_COLOR_SOLID)
             /* the colour bar and its labels (about 0.17 of the height) stand at the
@@ -3801,7 +3835,8 @@ render_stream *render_stream_begin(const rod_recording *extent, const render_opt
             return NULL;
         }
     } else {
-        if (renderer_create(&st->r, extent, o, name, &full_band, err, errlen)) {
+        const frame_band band = overlay_band(o, full_band);
+        if (renderer_create(&st->r, extent, o, name, &band, err, errlen)) {
             free(st);
             return NULL;
         }

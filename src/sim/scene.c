@@ -267,6 +267,23 @@ static int read_ends_physics(ini_doc *doc, rod_model *m, char *err, size_t errle
     if (!(m->needle_radius >= 0.0))
         return ini_error(doc, "ends", 0, "needle", err, errlen,
                          "must be a radius >= 0 m (0: no needle), e.g. 0.01");
+    static const char *const twist_keys[2] = {"root_twist", "tip_twist"};
+    static const char *const twist_words[] = {"free", "held", NULL};
+    for (int e = 0; e < 2; e++) {
+        rc = ini_get_choice(doc, "ends", 0, twist_keys[e], twist_words, &which, err, errlen);
+        if (rc < 0) return -1;
+        if (rc == 1) {
+            const double *sl = e ? m->tip_slide : m->root_slide;
+            const int sliding = sl[0] != 0.0 || sl[1] != 0.0 || sl[2] != 0.0;
+            if (which == 1 && (!sliding || (e ? m->tip_end : m->root_end) != ROD_END_CLAMPED))
+                return ini_error(doc, "ends", 0, twist_keys[e], err, errlen,
+                                 "held applies to a clamped %s on a slide (%s = clamped and "
+                                 "%s_slide); elsewhere the end condition says it (accepted: "
+                                 "free, held)", e ? "tip" : "root", e ? "tip" : "root",
+                                 e ? "tip" : "root");
+            m->slide_twist_held[e] = which == 1;
+        }
+    }
     static const char *const motion_keys[2] = {"root_motion", "tip_motion"};
     rod_path **motions[2] = {&m->root_motion, &m->tip_motion};
     for (int e = 0; e < 2; e++) {

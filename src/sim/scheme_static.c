@@ -936,6 +936,12 @@ static rod_status mirror_step(static_work *w, const rod_model *m, rod_state *s, 
 static void *create(const rod_model *m, char *err, size_t errlen)
 {
     if (rod_model_refuse_obstacles(m, "static", err, errlen)) return NULL;
+    if (m->slide_twist_held[0] || m->slide_twist_held[1]) {
+        snprintf(err, errlen, "static: ends.%s_twist = held (a carriage that does not turn) is "
+                 "modelled by the implicit scheme only; use solver.scheme = implicit, or a "
+                 "sleeve (free)", m->slide_twist_held[0] ? "root" : "tip");
+        return NULL;
+    }
     int tip_in_place = m->tip_end != ROD_END_FREE && v3_norm(m->tip_slide) == 0.0;
     int mirrored = (m->root_end == ROD_END_FREE && m->tip_end != ROD_END_FREE) ||
                    (m->root_end != ROD_END_FREE && v3_norm(m->root_slide) > 0.0 && tip_in_place);

@@ -150,6 +150,43 @@ double reference_greenhill_pinned(double ei, double length) { return 2.0 * M_PI 
 
 static double tan_minus_x(double x) { return sin(x) - x * cos(x); } /* tan x = x, no poles */
 
+/* The stability condition of reference_twist_tension_clamped (reference.h)
+ * for a twisting moment m: zero at the critical one. */
+static double twist_tension_condition(double m, double ei, double tension, double length)
+{
+    const double phi = m * length / (2.0 * ei);
+    const double alpha = sqrt(fmax(m * m - 4.0 * ei * tension, 0.0)) * length / (2.0 * ei);
+    const double sinc = alpha > 1e-6 ? sin(alpha) / alpha : 1.0 - alpha * alpha / 6.0;
+    return cos(phi) - cos(alpha) + tension * length * length / (2.0 * ei) * sinc;
+}
+
+double reference_twist_tension_clamped(double ei, double tension, double length)
+{
+    if (!(tension > 0.0) || !(ei > 0.0) || !(length > 0.0)) return NAN;
+    /* the first sign change above 2 sqrt(B T), on a grid fine enough that two
+     * roots never share a cell (the condition oscillates in phi with period
+     * 2 pi, and the scan has 200000 cells over at least four periods), then
+     * bisection */
+    const double lo = 2.0 * sqrt(ei * tension) * (1.0 + 1e-12);
+    const double top = fmax(4.0 * lo, 4.0 * 8.9868 * ei / length);
+    const int cells = 200000;
+    double a = lo, fa = twist_tension_condition(a, ei, tension, length);
+    for (int k = 1; k <= cells; k++) {
+        double b = lo + (top - lo) * k / cells, fb = twist_tension_condition(b, ei, tension, length);
+        if ((fa > 0.0) != (fb > 0.0)) {
+            for (int it = 0; it < 200 && b - a > 1e-15 * b; it++) {
+                double c = 0.5 * (a + b), fc = twist_tension_condition(c, ei, tension, length);
+                if ((fc > 0.0) == (fa > 0.0)) a = c, fa = fc;
+                else b = c;
+            }
+            return 0.5 * (a + b);
+        }
+        a = b;
+        fa = fb;
+    }
+    return NAN;
+}
+
 double reference_greenhill_clamped(double ei, double length)
 {
     double x = bisect(tan_minus_x, M_PI + 0.1, 1.5 * M_PI - 1e-9);

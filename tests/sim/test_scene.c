@@ -544,6 +544,12 @@ static void test_issue10_keys(void)
                        "the tip is free");
     expect_scene_error(dir, "[ends]\ntip = clamped\ntip_slide = 0 1 0\n",
                        "a clamped tip sliding across", "s.ini:10:", "along the slide");
+    expect_scene_error(dir, "[ends]\ntip = clamped\ntip_twist = held\n",
+                       "a held twist without a slide", "s.ini:10:", "on a slide");
+    expect_scene_error(dir, "[ends]\ntip = pinned\ntip_slide = 1 0 0\ntip_twist = held\n",
+                       "a held twist on a pinned tip", "s.ini:11:", "clamped tip on a slide");
+    expect_scene_error(dir, "[ends]\ntip = clamped\ntip_slide = 1 0 0\ntip_twist = fixed\n",
+                       "a bad twist word", "s.ini:11:", "free | held");
     expect_scene_error(dir, "[ends]\nneedle = -1\n", "negative needle", "s.ini:9:", ">= 0");
     expect_scene_error(dir, "[point_load]\ns = 1.5\n", "point load beyond the tip", "s.ini:9:",
                        "from 0 to the length");
