@@ -97,10 +97,13 @@
 #define SELF_MARGIN 2.0
 /* Newton iterations one step may spend, splits included (each attempt costs
  * one more; with contact twice: step's retry): bounds the time a hopeless
- * step takes (about 1 s at NS = 1001) instead of 4096 x 25 tries. Every loop of the scheme is bounded: Newton by
- * newton_max_iterations and this budget, splitting by MAX_SPLIT_DEPTH and
- * this budget, the rest by the node count. */
-#define STEP_ITERATION_BUDGET 2000
+ * step takes (about 2 s at NS = 1001) instead of 4096 x 25 tries. Every loop
+ * of the scheme is bounded: Newton by newton_max_iterations and this budget,
+ * splitting by MAX_SPLIT_DEPTH and this budget, the rest by the node count.
+ * 4000, not 2000: a plectoneme's snap with friction between its strands
+ * (buckling_twist.ini) splits a 5 ms step to 1/64 and needed more than
+ * 2000 (it failed at 11.1 s); it runs through with 4000 */
+#define STEP_ITERATION_BUDGET 4000
 /* Newton iterations over which a step with contact must halve its residual,
  * else it is split at once rather than after newton_max_iterations: a stall
  * at friction's turn between stick and slip seldom ends, and the half steps
