@@ -33,9 +33,15 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
      * inextensibility. */
     sc->skip = rod_proximity_skip(diameter, ds);
     if (sc->skip < 4) sc->skip = 4;
-    /* a strand can touch a handful of others at once (a knot's crossing:
-     * two or three): 8 per segment is far beyond any tight knot */
-    sc->max_pairs = 8 * nodes + 64;
+    /* the candidates are every pair within diameter + margin (at most 3
+     * diameters, SELF_MARGIN in the scheme) before one is kept per touching
+     * region: a segment lying along another strand has up to 2 ceil(3 d / ds)
+     * + 1 of them on it, and a strand touches a handful of others at once (a
+     * knot's crossing: two or three): room for two such strands per
+     * segment, and at least 8 (a knot pulled to a bend radius of 1.1 d
+     * needed 453 nodes, ds = 0.32 d, where 8 per segment ran out at once) */
+    const int along = 2 * (int)ceil(3.0 * diameter / ds) + 1;
+    sc->max_pairs = (2 * along > 8 ? 2 * along : 8) * nodes + 64;
     sc->pair = calloc((size_t)sc->max_pairs, sizeof *sc->pair);
     sc->found = calloc((size_t)sc->max_pairs, sizeof *sc->found);
     sc->node_force = calloc((size_t)nodes * 3, sizeof(double));

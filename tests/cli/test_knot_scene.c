@@ -103,6 +103,37 @@ static double knot_arc(const double *x, double ds)
     return lo < 0 ? 0.0 : (hi - lo) * ds;
 }
 
+/* Shastri's long trefoil (overhand_path.py's curve and scale) with 6 cm
+ * tails along its end tangents, as a dense polyline into path; returns its
+ * length (m), or -1. */
+static double write_fine_shape(const char *path)
+{
+    const double scale = 2.5 * DIAMETER / 0.424, tail = 0.06;
+    FILE *f = fopen(path, "w");
+    if (!f) return -1.0;
+    fprintf(f, "x,y,z\n");
+    double length = 0.0, last[3] = {0.0, 0.0, 0.0};
+    const int n = 20000;
+    for (int k = -200; k <= n + 200; k++) {
+        double t = -1.9 + 3.8 * (k < 0 ? 0 : k > n ? n : k) / n, p[3];
+        p[0] = scale * (t * t * t - 3 * t);
+        p[1] = scale * (t * t * t * t - 4 * t * t);
+        p[2] = scale * 0.2 * (pow(t, 5) - 10 * t);
+        if (k < 0 || k > n) { /* a tail: along the tangent at its end */
+            double d[3] = {3 * t * t - 3, 4 * t * t * t - 8 * t, 0.2 * (5 * pow(t, 4) - 10)};
+            double norm = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            double along = tail * (k < 0 ? k : k - n) / 200.0;
+            for (int c = 0; c < 3; c++) p[c] += along * d[c] / norm;
+        }
+        if (k > -200)
+            length += sqrt((p[0] - last[0]) * (p[0] - last[0]) + (p[1] - last[1]) * (p[1] - last[1]) +
+                           (p[2] - last[2]) * (p[2] - last[2]));
+        for (int c = 0; c < 3; c++) last[c] = p[c];
+        fprintf(f, "%.12f,%.12f,%.12f\n", p[0], p[1], p[2]);
+    }
+    return fclose(f) == 0 ? length : -1.0;
+}
+
 int main(void)
 {
     const char *dir = "/tmp/rodsim_test_knot_scene";
@@ -185,5 +216,30 @@ int main(void)
     remove(csv);
     remove(root);
     remove(tip);
+
+    /* the same knot on a fine grid, ds = 0.32 d (what a knot pulled to a
+     * bend radius of 1.1 d asks for): every pair of segments within the
+     * candidates' reach must fit in self-contact's scratch, which held 8 per
+     * segment and ran out at the first step */
+    char shape[256], scene[256], text[1024];
+    snprintf(shape, sizeof shape, "%s_fine.csv", dir);
+    snprintf(scene, sizeof scene, "%s_fine.ini", dir);
+    double fine_length = write_fine_shape(shape);
+    snprintf(text, sizeof text,
+             "[rod]\nlength = %.12g\ndiameter = %g\ndensity = 1100\nyoungs_modulus = 5e7\n"
+             "shear_modulus = 2e7\nnodes = 481\nshape = %s\nfriction = 0.2\n"
+             "[ends]\nroot = free\ntip = free\n[solver]\nscheme = implicit\ndt = 0.005\n"
+             "duration = 0.05\n[loads]\nlinear_damping = 0.05\n[render]\nfps = 20\n",
+             fine_length, DIAMETER, shape);
+    FILE *f = fopen(scene, "w");
+    check(fine_length > 0.0 && f && fputs(text, f) >= 0, "the fine knot's shape (%.4f m) and "
+          "scene are written", fine_length);
+    if (f) fclose(f);
+    const char *fine[] = {"run", scene, "--no-video", NULL};
+    status = test_run_rodsim(fine, output, sizeof output);
+    check(status == 0 && strstr(output, "knot: trefoil") != NULL,
+          "481 nodes: the loose knot runs with self-contact and stays a trefoil (exit %d)", status);
+    remove(shape);
+    remove(scene);
     return test_finish();
 }
