@@ -163,10 +163,13 @@ static double twist_tension_condition(double m, double ei, double tension, doubl
 double reference_twist_tension_clamped(double ei, double tension, double length)
 {
     if (!(tension > 0.0) || !(ei > 0.0) || !(length > 0.0)) return NAN;
-    /* the first sign change above 2 sqrt(B T), on a grid fine enough that two
-     * roots never share a cell (the condition oscillates in phi with period
-     * 2 pi, and the scan has 200000 cells over at least four periods), then
-     * bisection */
+    /* the first sign change above 2 sqrt(B T), then bisection. The root lies
+     * below both 4 x 2 sqrt(B T) (the long rod's limit, approached from
+     * above) and 4 x 8.9868 B / L (the limit without tension, approached
+     * from above as T grows), so the scan stops at the larger; the condition
+     * oscillates in phi = M L / 2B with period 2 pi, and 200000 cells give
+     * hundreds per period (737 at L = 20 m, T = 0.5 N, the test's longest),
+     * so two roots never share a cell */
     const double lo = 2.0 * sqrt(ei * tension) * (1.0 + 1e-12);
     const double top = fmax(4.0 * lo, 4.0 * 8.9868 * ei / length);
     const int cells = 200000;
