@@ -164,9 +164,8 @@ double reference_twist_tension_clamped(double ei, double tension, double length)
 {
     if (!(tension > 0.0) || !(ei > 0.0) || !(length > 0.0)) return NAN;
     /* the first sign change above 2 sqrt(B T), then bisection. The root lies
-     * below both 4 x 2 sqrt(B T) (the long rod's limit, approached from
-     * above) and 4 x 8.9868 B / L (the limit without tension, approached
-     * from above as T grows), so the scan stops at the larger; the condition
+     * below the larger of 4 x 2 sqrt(B T) (near it for a long rod) and
+     * 4 x 8.9868 B / L (near it for a short one), where the scan stops; the condition
      * oscillates in phi = M L / 2B with period 2 pi, and 200000 cells give
      * hundreds per period (737 at L = 20 m, T = 0.5 N, the test's longest),
      * so two roots never share a cell */
