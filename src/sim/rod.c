@@ -312,6 +312,12 @@ static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
             }
             v3_scale(slide, slide, 1.0 / v3_norm(slide));
         }
+        if (m->slide_twist_held[e] && (zero3(slide) || ends[e].kind != ROD_END_CLAMPED)) {
+            snprintf(err, errlen, "%s_twist: held applies to a clamped %s on a slide (%s = "
+                     "clamped and %s_slide); elsewhere the end condition says it (accepted: "
+                     "free, held)", ends[e].name, ends[e].name, ends[e].name, ends[e].name);
+            return -1;
+        }
         double start[3];
         end_start(m, e, start);
         if (!zero3(slide) && ends[e].kind == ROD_END_CLAMPED) {

@@ -272,17 +272,7 @@ static int read_ends_physics(ini_doc *doc, rod_model *m, char *err, size_t errle
     for (int e = 0; e < 2; e++) {
         rc = ini_get_choice(doc, "ends", 0, twist_keys[e], twist_words, &which, err, errlen);
         if (rc < 0) return -1;
-        if (rc == 1) {
-            const double *sl = e ? m->tip_slide : m->root_slide;
-            const int sliding = sl[0] != 0.0 || sl[1] != 0.0 || sl[2] != 0.0;
-            if (which == 1 && (!sliding || (e ? m->tip_end : m->root_end) != ROD_END_CLAMPED))
-                return ini_error(doc, "ends", 0, twist_keys[e], err, errlen,
-                                 "held applies to a clamped %s on a slide (%s = clamped and "
-                                 "%s_slide); elsewhere the end condition says it (accepted: "
-                                 "free, held)", e ? "tip" : "root", e ? "tip" : "root",
-                                 e ? "tip" : "root");
-            m->slide_twist_held[e] = which == 1;
-        }
+        if (rc == 1) m->slide_twist_held[e] = which == 1; /* checked by rod_model_derive */
     }
     static const char *const motion_keys[2] = {"root_motion", "tip_motion"};
     rod_path **motions[2] = {&m->root_motion, &m->tip_motion};
@@ -648,7 +638,7 @@ static int derive_error(ini_doc *doc, const char *why, char *err, size_t errlen)
         {"origin", "rod"}, {"direction", "rod"}, {"shape", "rod"}, {"curvature", "rod"},
         {"initial_velocity", "rod"}, {"distributed_moment", "loads"}, {"needle", "ends"},
         {"root_slide", "ends"}, {"tip_slide", "ends"}, {"root_motion", "ends"},
-        {"tip_motion", "ends"},
+        {"tip_motion", "ends"}, {"root_twist", "ends"}, {"tip_twist", "ends"},
     };
     for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++) {
         size_t n = strlen(keys[k].key);
