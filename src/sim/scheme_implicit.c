@@ -56,7 +56,9 @@
  * so held ends never drift; the centreline is chained from a held end.
  * The planar path models only today's cantilever; every other case is 3-D.
  *
- * Newton: the Jacobian is built by finite differences with a 3-colouring of
+ * Newton: the Jacobian is built in closed form (analytic_jacobian: one residual
+ * evaluation and 3 x 3 algebra per node) or, in the plane and with self-contact,
+ * by finite differences with a 3-colouring of
  * the block-tridiagonal pattern (18 residual evaluations; 15 in the plane), factored by
  * a banded LU with partial pivoting (LAPACK's dgbtf2, written out), and reused across
  * iterations and steps while it keeps converging (refreshed when convergence slows).
@@ -74,6 +76,7 @@
 #include "sim/contact_law.h"
 #include "sim/path.h"
 #include "sim/rod_geometry.h"
+#include "sim/scheme_implicit.h"
 #include "sim/self_contact.h"
 #include "sim/surface.h"
 #include "base/vec3.h"
@@ -88,9 +91,14 @@
 #define BLOCK_PLANAR 5
 #define BAND_PLANAR 5
 /* With punctures, a block's unknowns reach the rows of blocks b-2..b+2 (a
- * puncture's force couples the two nodes of its segment): half bandwidth
- * 2 BLOCK + BLOCK - 1 and 5 colours. */
-#define BAND_PUNCTURE 17
+ * puncture's force couples the two nodes of its segment; 5 colours), but
+ * only through the end-of-step velocities: a node's velocity reaches the
+ * free velocities of its neighbours (add_contact_jacobian), so the (3.14)
+ * rows of block b (its first 3) reach the forces (first 3) of blocks b-1
+ * .. b+2, and those of block b+1 the forces of block b-1: half bandwidth
+ * 2 BLOCK + 2 = 14, not 2 BLOCK + BLOCK - 1 = 17 (suture.ini: each
+ * factorisation 0.68 of the cost) */
+#define BAND_PUNCTURE 14
 #define MAX_SPLIT_DEPTH 12
 /* Self-contact's candidate pairs lie within this many diameters of one
  * diameter apart at the start of a step, at most (single_step) */
@@ -163,6 +171,8 @@ typedef struct implicit_work {
     double *band_smooth;   /* (ldab x unknowns) the finite-difference Jacobian of the residual
                               without contact and punctures, unfactored */
     int contact_off;       /* 1: the residual leaves contact and punctures out */
+    int fd_only;           /* 1: this attempt takes the rod's part of the Jacobian by finite
+                              differences (step's retry; rod_jacobian) */
     int contact_fd;        /* 1: this attempt takes the whole Jacobian by finite differences
                               (split_step's retry) */
     int want_jacobian;     /* 1: node_contact and puncture_forces record velocity_jac */
@@ -256,6 +266,10 @@ typedef struct implicit_work {
     double *phi0;      /* (nodes) rad, start of the step */
     double *phi1;      /* (nodes) rad, end of the step, for the iterate x */
     double *phi_th;    /* (nodes) rad, at the theta point */
+
+    /* analytic_jacobian's scratch */
+    double *jac_node;  /* (nodes x 18) d e / d omega at the end and at the theta point */
+    double *jac_seg;   /* (nodes x 36) d d3 and d M of a segment / d omega of its two nodes */
 } implicit_work;
 
 static void destroy(void *p)
@@ -269,7 +283,7 @@ static void destroy(void *p)
                          &w->save_omega, &w->save_force, &w->phi0, &w->phi1, &w->phi_th,
                          &w->point_force, &w->point_moment, &w->vbar,
                          &w->pos0, &w->surface_force, &w->start_gap, &w->band_smooth,
-                         &w->velocity_jac};
+                         &w->velocity_jac, &w->jac_node, &w->jac_seg};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) free(*arrays[k]);
     free(w->threaded);
     free(w->node_push);
@@ -414,6 +428,9 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     w->phi0 = calloc(n, sizeof(double));
     w->phi1 = calloc(n, sizeof(double));
     w->phi_th = calloc(n, sizeof(double));
+    w->jac_node = calloc(n * 18, sizeof(double));
+    w->jac_seg = calloc(n * 36, sizeof(double));
+    if (!w->jac_node || !w->jac_seg) goto oom;
     w->vbar = calloc(n * 3, sizeof(double));
     w->pos0 = calloc(n * 3, sizeof(double));
     w->surface_force = calloc(n * 3, sizeof(double));
@@ -1510,6 +1527,399 @@ static void fd_jacobian(implicit_work *w, const rod_model *m, double t, double d
     w->self_off = 0;
 }
 
+/* ---- The rod's Jacobian in closed form (issue 11's speed, issue 12's
+ * convergence). The same d r / d x as fd_jacobian with contact, punctures
+ * and the pairs' laws left out (contact_off, self_off), in 3-D; built from
+ * one residual evaluation (the frames at x) and per-node and per-segment
+ * 3 x 3 algebra, instead of 18 evaluations, and exact (the differences'
+ * step of 1e-7 left errors near 1e-7 relative, so Newton converged linearly
+ * where it could converge quadratically). test_jacobian compares the two on
+ * every kind of end, both thetas and follower loads.
+ *
+ * Rotations are perturbed on the right (in the body frame):
+ *   exp(a + d) = exp(a) exp(J(a) d),  log(R exp(e)) = log(R) + J(log R)^-1 e,
+ *   J(a) = I - (1 - cos x)/x^2 [a]x + (x - sin x)/x^3 [a]x^2,   x = |a|,
+ *   J(a)^-1 = I + [a]x / 2 + (1/x^2 - (1 + cos x)/(2 x sin x)) [a]x^2
+ * (the right Jacobian of SO(3) and its inverse). A change d omega_i of a
+ * node's angular velocity turns its end frame by e_i = dt theta J(a_i)
+ * d omega_i, a_i = dt omega_bar_i; the segment's phi = log(Q_j^T Q_{j+1})
+ * by J(phi)^-1 (e_{j+1} - R^T e_j), R = Q_j^T Q_{j+1}; and d3 and M of the
+ * segment, Q_j exp(phi/2) e3 and Q_j exp(phi/2) B (phi/ds - u0), by the
+ * chain rule through both. */
+
+/* r = [a]x (row-major) */
+static void skew3(double r[9], const double a[3])
+{
+    r[0] = 0.0;   r[1] = -a[2]; r[2] = a[1];
+    r[3] = a[2];  r[4] = 0.0;   r[5] = -a[0];
+    r[6] = -a[1]; r[7] = a[0];  r[8] = 0.0;
+}
+
+/* r = I + c1 [a]x + c2 [a]x^2 */
+static void so3_series(double r[9], const double a[3], double c1, double c2)
+{
+    const double t = v3_dot(a, a);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            r[3 * i + j] = (i == j) * (1.0 - c2 * t) + c2 * a[i] * a[j];
+    r[1] -= c1 * a[2]; r[2] += c1 * a[1];
+    r[3] += c1 * a[2]; r[5] -= c1 * a[0];
+    r[6] -= c1 * a[1]; r[7] += c1 * a[0];
+}
+
+/* The right Jacobian J(a) of exp on SO(3) */
+static void so3_jacobian(double r[9], const double a[3])
+{
+    const double t = v3_dot(a, a);
+    double s, b; /* sin(x)/x, (1 - cos x)/x^2 */
+    m3_exp_coefficients(t, &s, &b);
+    /* (x - sin x)/x^3 = (1 - s)/x^2: a series below x = 0.05 (no cancellation) */
+    double c2 = t < 2.5e-3 ? (1.0 / 6.0) * (1.0 - t * (1.0 / 20.0) * (1.0 - t * (1.0 / 42.0) *
+                                                                    (1.0 - t * (1.0 / 72.0))))
+                           : (1.0 - s) / t;
+    so3_series(r, a, -b, c2);
+}
+
+/* Its inverse J(a)^-1 (|a| < pi) */
+static void so3_jacobian_inverse(double r[9], const double a[3])
+{
+    const double t = v3_dot(a, a);
+    double c2;
+    if (t < 2.5e-3) {
+        c2 = 1.0 / 12.0 + t * (1.0 / 720.0 + t * (1.0 / 30240.0 + t * (1.0 / 1209600.0)));
+    } else {
+        double s, b;
+        m3_exp_coefficients(t, &s, &b);
+        c2 = (1.0 - 0.5 * s / b) / t; /* x sin x / (2 (1 - cos x)) = s / 2b */
+    }
+    so3_series(r, a, 0.5, c2);
+}
+
+/* r = a b^T (b transposed) */
+static void m3_mul_nt(double r[9], const double a[9], const double b[9])
+{
+    double p[9];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            p[3 * i + j] = a[3 * i] * b[3 * j] + a[3 * i + 1] * b[3 * j + 1] + a[3 * i + 2] * b[3 * j + 2];
+    for (int k = 0; k < 9; k++) r[k] = p[k];
+}
+
+/* band(row block, col block) += s M, 3 x 3 at offsets (ro, co) within the blocks */
+static void band_add3(implicit_work *w, int rb, int ro, int cb, int co, const double mtx[9],
+                      double s)
+{
+    if (rb < w->first || cb < w->first || rb >= w->nodes || cb >= w->nodes) return;
+    const int kl = w->kl, ld = w->ldab;
+    const int row0 = BLOCK * (rb - w->first) + ro, col0 = BLOCK * (cb - w->first) + co;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            const int row = row0 + i, col = col0 + j;
+            if (row - col > kl || col - row > kl) continue; /* zero by the band's analysis */
+            w->band[(size_t)(2 * kl + row - col) + (size_t)col * (size_t)ld] += s * mtx[3 * i + j];
+        }
+}
+
+/* The omega components an end node holds (NULL inside) and whether its
+ * frame is fixed over the step (clamped, or no omega unknown). */
+static const int *node_hold(const implicit_work *w, int i, int *fixed)
+{
+    const end_condition *e = i == 0 ? &w->ends[0] : i == w->nodes - 1 ? &w->ends[1] : NULL;
+    *fixed = (e && e->clamped) || i < w->first;
+    return e ? e->hold_omega : NULL;
+}
+
+/* d vbar_i / d N_{c-1/2} for the force block c (i or i + 1), 3 x 3; 0 when
+ * none. Interior nodes: (3.3)_1; ends: end_velocity's (free: twice the
+ * compliance; held: the path's; sliding: projected on the slide). */
+static int vbar_force_slope(const implicit_work *w, const rod_model *m, int i, int c, double push,
+                            double r[9])
+{
+    const double theta = m->options.theta;
+    const int n = w->nodes;
+    double g;
+    const end_condition *e = i == 0 ? &w->ends[0] : i == n - 1 ? &w->ends[1] : NULL;
+    if (c == i + 1) g = theta * push; /* N_{i+1/2} pulls node i forward */
+    else g = -theta * push;
+    if (e) {
+        if (e->held && !e->sliding) return 0;
+        if ((i == 0 && c != 1) || (i == n - 1 && c != n - 1)) return 0;
+        g *= 2.0;
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++)
+                r[3 * a + b] = e->sliding ? g * e->slide[a] * e->slide[b] : g * (a == b);
+        return 1;
+    }
+    if (c != i && c != i + 1) return 0;
+    for (int k = 0; k < 9; k++) r[k] = g * (k % 4 == 0);
+    return 1;
+}
+
+static void analytic_jacobian(implicit_work *w, const rod_model *m, double t, double dt)
+{
+    const int n = w->nodes, first = w->first;
+    const double theta = m->options.theta, ds = m->ds, c = m->linear_damping;
+    const double inv_ms = 1.0 / w->moment_scale, dt_ds = dt / ds;
+    const double push = 1.0 / (ds * (m->mass_per_length / dt + theta * c));
+    const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
+    memset(w->band, 0, (size_t)w->ldab * (size_t)w->unknowns * sizeof(double));
+    w->self_off = 1;
+    evaluate(w, m, w->x, t, dt, w->residual); /* frames, moments and velocities at x */
+    w->self_off = 0;
+    double *turn = w->jac_node; /* per node: E (d e / d omega), Eth (at the theta point) */
+    for (int i = 0; i < n; i++) {
+        double *e1 = &turn[18 * i], *eth = e1 + 9;
+        int fixed;
+        const int *hold = node_hold(w, i, &fixed);
+        if (fixed) {
+            memset(e1, 0, 18 * sizeof(double));
+            continue;
+        }
+        const double *om = block_omega(w, w->x, i);
+        double a[3];
+        for (int k = 0; k < 3; k++) {
+            a[k] = dt * (theta * om[k] + (1.0 - theta) * w->omega0[3 * i + k]);
+            if (hold && hold[k]) a[k] = 0.0;
+        }
+        so3_jacobian(e1, a);
+        for (int k = 0; k < 9; k++) e1[k] *= dt * theta;
+        if (theta < 1.0) {
+            v3_scale(a, a, theta);
+            so3_jacobian(eth, a);
+            for (int k = 0; k < 9; k++) eth[k] *= theta * dt * theta;
+        } else {
+            memcpy(eth, e1, 9 * sizeof(double));
+        }
+        if (hold)
+            for (int k = 0; k < 3; k++)
+                if (hold[k])
+                    for (int r = 0; r < 3; r++) e1[3 * r + k] = eth[3 * r + k] = 0.0;
+    }
+    /* per segment: d d3 / d omega_j, d omega_{j+1} and d M / the same */
+    double *seg = w->jac_seg;
+    for (int j = 0; j + 1 < n; j++) {
+        double *d3l = &seg[36 * j], *d3r = d3l + 9, *dml = d3l + 18, *dmr = d3l + 27;
+        const double *q = &w->frame1[9 * j];
+        double phi[3], h[3], rel[9], eh[9], jh[9], jinv[9], bu[3], ehe3[3], ehbu[3];
+        for (int k = 0; k < 3; k++) {
+            phi[k] = ds * w->darboux1[3 * j + k];
+            h[k] = 0.5 * phi[k];
+            bu[k] = m->stiffness[k] * (w->darboux1[3 * j + k] - m->intrinsic_curvature[k]);
+        }
+        m3_mul_tn(rel, q, &w->frame1[9 * (j + 1)]);
+        m3_exp(eh, h);
+        so3_jacobian(jh, h);
+        so3_jacobian_inverse(jinv, phi);
+        m3_column(ehe3, eh, 2);
+        m3_mul_v(ehbu, eh, bu);
+        double qeh[9], s3[9], sbu[9], p3[9], pm[9], tmp[9], a3r[9], a3l[9], amr[9], aml[9];
+        m3_mul(qeh, q, eh);
+        /* P3 = -Q exp(h) [e3]x J(h) / 2 */
+        const double e3[3] = {0.0, 0.0, 1.0};
+        skew3(s3, e3);
+        m3_mul(tmp, s3, jh);
+        m3_mul(p3, qeh, tmp);
+        for (int k = 0; k < 9; k++) p3[k] *= -0.5;
+        /* PM = Q exp(h) (B / ds - [bu]x J(h) / 2) */
+        skew3(sbu, bu);
+        m3_mul(tmp, sbu, jh);
+        for (int k = 0; k < 9; k++) tmp[k] *= -0.5;
+        for (int k = 0; k < 3; k++) tmp[4 * k] += m->stiffness[k] / ds;
+        m3_mul(pm, qeh, tmp);
+        /* right: P J^-1; left: -Q [exp(h) v]x - P J^-1 R^T */
+        m3_mul(a3r, p3, jinv);
+        m3_mul(amr, pm, jinv);
+        m3_mul_nt(tmp, a3r, rel);
+        double qs[9], sv[9];
+        skew3(sv, ehe3);
+        m3_mul(qs, q, sv);
+        for (int k = 0; k < 9; k++) a3l[k] = -qs[k] - tmp[k];
+        m3_mul_nt(tmp, amr, rel);
+        skew3(sv, ehbu);
+        m3_mul(qs, q, sv);
+        for (int k = 0; k < 9; k++) aml[k] = -qs[k] - tmp[k];
+        m3_mul(d3l, a3l, &turn[18 * j]);
+        m3_mul(d3r, a3r, &turn[18 * (j + 1)]);
+        m3_mul(dml, aml, &turn[18 * j]);
+        m3_mul(dmr, amr, &turn[18 * (j + 1)]);
+    }
+    /* a follower tip load turns with the tip's frame at the theta point */
+    double dtipf[9] = {0}, dtipm[9] = {0};
+    if (m->tip_frame == ROD_FRAME_DIRECTOR) {
+        double f[3], mo[3], sk[9];
+        const double *qt = &frame_th[9 * (n - 1)], *eth = &turn[18 * (n - 1) + 9];
+        rod_tip_load(m, t + dt, f, mo);
+        skew3(sk, f);
+        m3_mul(dtipf, qt, sk);
+        m3_mul(dtipf, dtipf, eth);
+        skew3(sk, mo);
+        m3_mul(dtipm, qt, sk);
+        m3_mul(dtipm, dtipm, eth);
+        for (int k = 0; k < 9; k++) {
+            dtipf[k] *= -theta;
+            dtipm[k] *= -theta;
+        }
+    }
+    /* (3.14) rows of block b (segment j = b - 1):
+     * (vbar_b - vbar_j) dt/ds - (d3_j(t+dt) - d3_j(t)) */
+    for (int b = 1; b < n; b++) {
+        const int j = b - 1;
+        double g[9];
+        for (int cb = j; cb <= b + 1; cb++) {
+            if (cb < 1 || cb > n - 1) continue;
+            if (vbar_force_slope(w, m, b, cb, push, g)) band_add3(w, b, 0, cb, 0, g, dt_ds);
+            if (vbar_force_slope(w, m, j, cb, push, g)) band_add3(w, b, 0, cb, 0, g, -dt_ds);
+        }
+        if (b == n - 1 && !(w->ends[1].held && !w->ends[1].sliding) &&
+            m->tip_frame == ROD_FRAME_DIRECTOR) {
+            /* the tip's velocity carries the follower force */
+            const end_condition *e = &w->ends[1];
+            double p[9];
+            for (int k = 0; k < 9; k++) p[k] = dtipf[k];
+            if (e->sliding) {
+                double ss[9];
+                for (int a = 0; a < 3; a++)
+                    for (int bb = 0; bb < 3; bb++) ss[3 * a + bb] = e->slide[a] * e->slide[bb];
+                m3_mul(p, ss, p);
+            }
+            band_add3(w, b, 0, b, 3, p, 2.0 * theta * push * dt_ds);
+        }
+        band_add3(w, b, 0, j, 3, &seg[36 * j], -1.0);
+        band_add3(w, b, 0, b, 3, &seg[36 * j + 9], -1.0);
+    }
+    /* (3.6)_2 rows of each node with an omega block */
+    for (int b = first; b < n; b++) {
+        const end_condition *e = b == 0 ? &w->ends[0] : b == n - 1 ? &w->ends[1] : NULL;
+        const int left = b > 0, right = b < n - 1;
+        const double wb = (left && right) ? ds : 0.5 * ds;
+        int fixed;
+        const int *hold = node_hold(w, b, &fixed);
+        int replaced[3] = {0, 0, 0};
+        if (e)
+            for (int k = 0; k < 3; k++) replaced[k] = e->clamped || e->hold_omega[k];
+        /* the body-frame balance's moment sum (as angular_balance forms it) */
+        double total[3] = {0.0, 0.0, 0.0}, d3r[3] = {0}, d3l[3] = {0}, cr[3];
+        if (right) {
+            const double *nr = block_force(w, w->x, b + 1);
+            for (int k = 0; k < 3; k++) {
+                total[k] = theta * w->moment1[3 * b + k] + (1.0 - theta) * w->moment0[3 * b + k];
+                d3r[k] = theta * w->d3mid1[3 * b + k] + (1.0 - theta) * w->d3mid0[3 * b + k];
+            }
+            v3_cross(cr, d3r, nr);
+            v3_axpy(total, 0.5 * ds, cr);
+        } else {
+            double tipf[3], tipm[3];
+            tip_load_mean(w, m, t, dt, frame_th, tipf, tipm);
+            v3_copy(total, tipm);
+        }
+        if (left) {
+            const double *nl = block_force(w, w->x, b);
+            for (int k = 0; k < 3; k++) {
+                total[k] -= theta * w->moment1[3 * (b - 1) + k] +
+                            (1.0 - theta) * w->moment0[3 * (b - 1) + k];
+                d3l[k] = theta * w->d3mid1[3 * (b - 1) + k] + (1.0 - theta) * w->d3mid0[3 * (b - 1) + k];
+            }
+            v3_cross(cr, d3l, nl);
+            v3_axpy(total, 0.5 * ds, cr);
+        }
+        if (w->distributed_moment) v3_axpy(total, wb, m->distributed_moment);
+        if (w->point_moment) v3_axpy(total, w->point_factor, &w->point_moment[3 * b]);
+        const double *qth = &frame_th[9 * b];
+        double body[3], qtt[9], own[9], sk[9], tmp[9], blk[9];
+        m3_mul_tv(body, qth, total);
+        for (int i = 0; i < 3; i++)
+            for (int k = 0; k < 3; k++) qtt[3 * i + k] = qth[3 * k + i]; /* Q_th^T */
+        /* own omega: inertia, gyroscopic and damping terms, and the turn of
+         * the frame the balance is written in: -[body]x Eth */
+        const double *om = block_omega(w, w->x, b), *inertia = m->rotary_inertia;
+        double wbar[3], iw[3];
+        for (int k = 0; k < 3; k++) {
+            double o = (hold && hold[k]) || fixed ? 0.0 : om[k];
+            wbar[k] = theta * o + (1.0 - theta) * w->omega0[3 * b + k];
+            iw[k] = inertia[k] * wbar[k];
+        }
+        skew3(sk, wbar);
+        for (int i = 0; i < 3; i++)
+            for (int k = 0; k < 3; k++) own[3 * i + k] = wb * theta * sk[3 * i + k] * inertia[k];
+        skew3(sk, iw);
+        for (int k = 0; k < 9; k++) own[k] -= wb * theta * sk[k];
+        for (int k = 0; k < 3; k++)
+            own[4 * k] += wb * (inertia[k] / dt + m->angular_damping * theta);
+        if (hold)
+            for (int k = 0; k < 3; k++)
+                if (hold[k])
+                    for (int r = 0; r < 3; r++) own[3 * r + k] = 0.0;
+        skew3(sk, body);
+        m3_mul(tmp, sk, &turn[18 * b + 9]);
+        for (int k = 0; k < 9; k++) own[k] -= tmp[k];
+        /* -Q_th^T d total: the columns it reaches, accumulated before the
+         * rows a held rotation replaces are dropped */
+        double dom[3][9], dn[2][9]; /* omega_{b-1}, omega_b, omega_{b+1}; N_b, N_{b+1} */
+        memset(dom, 0, sizeof dom);
+        memset(dn, 0, sizeof dn);
+        if (right) {
+            const double *s = &seg[36 * b], *nr = block_force(w, w->x, b + 1);
+            double snr[9];
+            skew3(snr, nr);
+            for (int k = 0; k < 9; k++) {
+                dom[1][k] += theta * s[18 + k];
+                dom[2][k] += theta * s[27 + k];
+            }
+            m3_mul(tmp, snr, s);     /* [N]x d3l */
+            for (int k = 0; k < 9; k++) dom[1][k] -= 0.5 * ds * theta * tmp[k];
+            m3_mul(tmp, snr, s + 9);
+            for (int k = 0; k < 9; k++) dom[2][k] -= 0.5 * ds * theta * tmp[k];
+            skew3(dn[1], d3r);
+            for (int k = 0; k < 9; k++) dn[1][k] *= 0.5 * ds;
+        } else {
+            for (int k = 0; k < 9; k++) dom[1][k] += dtipm[k];
+        }
+        if (left) {
+            const double *s = &seg[36 * (b - 1)], *nl = block_force(w, w->x, b);
+            double snl[9];
+            skew3(snl, nl);
+            for (int k = 0; k < 9; k++) {
+                dom[0][k] -= theta * s[18 + k];
+                dom[1][k] -= theta * s[27 + k];
+            }
+            m3_mul(tmp, snl, s);
+            for (int k = 0; k < 9; k++) dom[0][k] -= 0.5 * ds * theta * tmp[k];
+            m3_mul(tmp, snl, s + 9);
+            for (int k = 0; k < 9; k++) dom[1][k] -= 0.5 * ds * theta * tmp[k];
+            skew3(dn[0], d3l);
+            for (int k = 0; k < 9; k++) dn[0][k] *= 0.5 * ds;
+        }
+        for (int o = 0; o < 3; o++) {
+            m3_mul(blk, qtt, dom[o]);
+            for (int k = 0; k < 9; k++) blk[k] = -blk[k];
+            if (o == 1) for (int k = 0; k < 9; k++) blk[k] += own[k];
+            for (int r = 0; r < 3; r++)
+                if (replaced[r]) for (int k = 0; k < 3; k++) blk[3 * r + k] = 0.0;
+            band_add3(w, b, 3, b - 1 + o, 3, blk, inv_ms);
+        }
+        for (int o = 0; o < 2; o++) {
+            if (b + o < 1 || b + o > n - 1) continue;
+            m3_mul(blk, qtt, dn[o]);
+            for (int k = 0; k < 9; k++) blk[k] = -blk[k];
+            for (int r = 0; r < 3; r++)
+                if (replaced[r]) for (int k = 0; k < 3; k++) blk[3 * r + k] = 0.0;
+            band_add3(w, b, 3, b + o, 0, blk, inv_ms);
+        }
+        for (int r = 0; r < 3; r++)
+            if (replaced[r]) {
+                double one[9] = {0};
+                one[4 * r] = dt;
+                band_add3(w, b, 3, b, 3, one, 1.0);
+            }
+    }
+    if (first == 0) {
+        /* block 0's unused entries: x / force_scale */
+        double one[9] = {0};
+        for (int k = 0; k < 3; k++) one[4 * k] = 1.0 / w->force_scale;
+        band_add3(w, 0, 0, 0, 0, one, 1.0);
+    }
+}
+
 /* The contact's part of the Jacobian at the iterate x, added onto band.
  * Only the (3.14) rows see contact, through the end-of-step velocities:
  * r_b = theta dt/ds (v_b - v_{b-1}) + ..., v = V(u) the velocities after
@@ -1632,16 +2042,32 @@ static int factor_band(implicit_work *w, double dt)
     return info == 0 ? 0 : -1;
 }
 
-/* The Jacobian at the iterate x, factored. With contact: the finite
- * differences of the residual without it (3 colours also with punctures,
- * which alone widen the coupling), kept in band_smooth, and the contact's
- * part in closed form (add_contact_jacobian). Returns 0, or -1 when the
+/* The rod's part of the Jacobian (contact and punctures left out by the
+ * caller's contact_off): in closed form in 3-D (analytic_jacobian), by
+ * finite differences in the plane (its cantilever is cheap) and while
+ * strands of the rod are candidates for self-contact. There the closed
+ * form made no run faster (overhand.ini 37.4 s of CPU, 37.2 s with
+ * differences), and buckling_twist.ini's snap into a plectoneme with
+ * friction failed to converge at 13.3 s, which runs through with
+ * differences: both stall at friction's turn between stick and slip
+ * there, and the differences' rounding happens to carry this scene past
+ * it. */
+static void rod_jacobian(implicit_work *w, const rod_model *m, double t, double dt)
+{
+    if (w->planar || w->fd_only || (w->self && w->self->count)) fd_jacobian(w, m, t, dt, 1);
+    else analytic_jacobian(w, m, t, dt);
+}
+
+/* The Jacobian at the iterate x, factored. With contact: the rod's part
+ * (rod_jacobian, the residual without contact), kept in band_smooth, and
+ * the contact's part in closed form (add_contact_jacobian); in step's retry
+ * (contact_fd) the whole by finite differences. Returns 0, or -1 when the
  * matrix is singular. */
 static int factor_jacobian(implicit_work *w, const rod_model *m, double t, double dt)
 {
     if (w->contact && !w->contact_fd) {
         w->contact_off = 1;
-        fd_jacobian(w, m, t, dt, 1);
+        rod_jacobian(w, m, t, dt);
         w->contact_off = 0;
         memcpy(w->band_smooth, w->band, (size_t)w->ldab * (size_t)w->unknowns * sizeof(double));
         add_contact_jacobian(w, m, t, dt);
@@ -1649,8 +2075,12 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
         /* contact's friction turns within its creep speed (contact_creep_speed): a
          * step of 1e-7 of the force scale can move a node by more than that */
         const double step = w->fd_step;
-        if (w->contact_fd) w->fd_step = 1e-9;
-        fd_jacobian(w, m, t, dt, w->reach);
+        if (w->contact_fd) {
+            w->fd_step = 1e-9;
+            fd_jacobian(w, m, t, dt, w->reach);
+        } else {
+            rod_jacobian(w, m, t, dt);
+        }
         w->fd_step = step;
     }
     w->stale = 0;
@@ -2021,6 +2451,15 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
             }
         }
     }
+    if (w->fd_only)
+        /* step's retry: a first iterate off any symmetry of the state, by
+         * 1e-9 of each unknown's typical size, deterministically (test_live:
+         * a straight thread lowered end-on onto a table has no straight
+         * solution, and Newton from the straight guess stays on that line;
+         * 1e-12 to 1e-3 all let it buckle) */
+        for (int i = 0; i < w->unknowns; i++)
+            w->x[i] += 1e-9 * w->var_scale[w->var_kind[i % w->block]] * sin(1.0 + 0.7 * i);
+    if (w->jacobian_only == 2) return 0; /* rod_implicit_jacobian_error: the first iterate */
     if (w->jacobian_only) return factor_jacobian(w, m, s->time, dt); /* refresh() */
     if (newton(w, m, s->time, dt, report)) return -1;
     for (int i = 0; i < w->unknowns; i++)
@@ -2203,21 +2642,25 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     w->budget = STEP_ITERATION_BUDGET;
     int segment;
     int split = split_step(w, m, s, dt, report, 0), solved = split == 0;
-    if (split == -1 && w->contact) {
-        /* the step again, splits included, with a budget of its own and the
-         * whole Jacobian by finite differences, refreshed at every slow
-         * iteration (as before the closed form): a straight hanging thread
-         * lowered end-on onto a table (test_live) stalls with the exact,
-         * symmetric Jacobian, its end pressed ever harder while the
-         * compliance caps its sink; the differences' rounding lets it buckle
-         * sideways */
+    for (int retry = 1; retry <= 2 && split == -1 && w->contact; retry++) {
+        /* the step again, splits included, with a budget of its own: first
+         * with the rod's part of the Jacobian by finite differences and a
+         * first iterate off any symmetry (single_step), then the whole
+         * Jacobian by differences, refreshed at every slow iteration (as
+         * before the closed forms). A straight hanging thread lowered
+         * end-on onto a table (test_live) has no solution that stays
+         * straight, and the exact Jacobian, as symmetric as the thread,
+         * keeps Newton on that line, its end pressed ever harder while the
+         * compliance caps its sink */
         restore_state(w, s);
-        w->contact_fd = 1;
+        w->fd_only = 1;
+        w->contact_fd = retry == 2;
         w->have_factor = 0;
         w->budget = STEP_ITERATION_BUDGET;
         split = split_step(w, m, s, dt, report, 0);
         solved = split == 0;
         w->contact_fd = 0;
+        w->fd_only = 0;
         w->have_factor = 0;
     }
     report->jacobian_builds = w->jacobian_builds;
@@ -2278,6 +2721,83 @@ static int refresh(void *p, const rod_model *m, const rod_state *s, double dt)
     if (self) rod_self_contact_invalidate(self); /* its B^-1 V was for the old band */
     w->start_valid = 1; /* s as the last step left it: the next step continues from it */
     return rc == 0 ? 1 : -1;
+}
+
+static double x0col(const implicit_work *w, int col) { return w->x[col]; }
+
+double rod_implicit_jacobian_error(const rod_model *m, const rod_state *s, double dt,
+                                   double perturb, int *column, double *floor)
+{
+    if (floor) *floor = 0.0;
+    char err[256];
+    implicit_work *w = create(m, err, sizeof err);
+    double worst = NAN;
+    if (column) *column = -1;
+    if (!w || w->planar) goto done;
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    w->jacobian_only = 2;
+    if (single_step(w, m, (rod_state *)s, dt, &report)) goto done; /* reads s only */
+    w->jacobian_only = 0;
+    /* away from the start-of-step guess, deterministically, by `perturb`
+     * of each unknown's typical size */
+    for (int i = 0; i < w->unknowns; i++)
+        w->x[i] += perturb * w->var_scale[w->var_kind[i % BLOCK]] * sin(1.0 + 0.7 * i);
+    /* central differences, one column at a time (O(h^2), and no colouring:
+     * independent of fd_jacobian's grouping and of its one-sided error) */
+    const int nu = w->unknowns, kl = w->kl, ld = w->ldab;
+    const size_t size = (size_t)ld * (size_t)nu;
+    double *fd = calloc(size, sizeof(double)), *plus = malloc((size_t)nu * sizeof(double));
+    double *x0 = malloc((size_t)nu * sizeof(double));
+    if (!fd || !plus || !x0) {
+        free(fd);
+        free(plus);
+        free(x0);
+        goto done;
+    }
+    memcpy(x0, w->x, (size_t)nu * sizeof(double));
+    w->contact_off = 1;
+    w->self_off = 1;
+    for (int col = 0; col < nu; col++) {
+        const double h = 1e-4 * fmax(fabs(x0[col]), w->var_scale[w->var_kind[col % BLOCK]]);
+        w->x[col] = x0[col] + h;
+        evaluate(w, m, w->x, s->time, dt, plus);
+        w->x[col] = x0[col] - h;
+        evaluate(w, m, w->x, s->time, dt, w->perturbed);
+        w->x[col] = x0[col];
+        for (int row = col - kl; row <= col + kl; row++)
+            if (row >= 0 && row < nu)
+                fd[(size_t)(2 * kl + row - col) + (size_t)col * (size_t)ld] =
+                    (plus[row] - w->perturbed[row]) / (2.0 * h);
+    }
+    w->self_off = 0;
+    free(plus);
+    analytic_jacobian(w, m, s->time, dt);
+    w->contact_off = 0;
+    /* per entry, the differences' rounding, about 1e-16 of the residual's
+     * O(1) terms over h, is not held against the closed form */
+    worst = 0.0;
+    for (int col = 0; col < nu; col++) {
+        const double h = 1e-4 * fmax(fabs(x0col(w, col)), w->var_scale[w->var_kind[col % BLOCK]]);
+        const double noise = 3e-16 / h;
+        double big = 0.0, diff = 0.0;
+        for (int r = 0; r < ld; r++) {
+            const size_t k = (size_t)r + (size_t)col * (size_t)ld;
+            big = fmax(big, fabs(fd[k]));
+            diff = fmax(diff, fabs(fd[k] - w->band[k]) - noise);
+        }
+        double e = big > 0.0 ? diff / big : diff;
+        if (floor && big > 0.0) *floor = fmax(*floor, noise / big);
+        if (!(e <= worst)) {
+            worst = e;
+            if (column) *column = col;
+        }
+    }
+    free(fd);
+    free(x0);
+done:
+    destroy(w);
+    return worst;
 }
 
 static double stable_dt(const rod_model *m, const char **limit)

@@ -1,0 +1,19 @@
+/* scheme_implicit.h: what the implicit scheme shows beyond rod_scheme_ops,
+ * for its tests. */
+#ifndef RODSIM_SIM_SCHEME_IMPLICIT_H
+#define RODSIM_SIM_SCHEME_IMPLICIT_H
+
+#include "sim/rod.h"
+
+/* The largest difference, over the Jacobian's columns, between the rod's
+ * Jacobian in closed form and by finite differences (contact left out),
+ * relative to the column's largest entry, for the step of dt from s at its
+ * first iterate moved by `perturb` of each unknown's typical size; the
+ * worst column in *column. Entries the differences' rounding cannot
+ * resolve (3e-16 / h, h their step) are not held against the closed form;
+ * *floor gets that limit's largest share of a column's largest entry. NaN when the scheme cannot be set up or the
+ * model takes the planar path (finite differences only). */
+double rod_implicit_jacobian_error(const rod_model *m, const rod_state *s, double dt,
+                                   double perturb, int *column, double *floor);
+
+#endif

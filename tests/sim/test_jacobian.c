@@ -1,0 +1,99 @@
+/* test_jacobian.c: the implicit scheme's Jacobian in closed form against
+ * its finite differences (independent: only residual evaluations) on every
+ * kind of end, both thetas, follower and dead tip loads, rotary inertia on
+ * and off, at a state some steps into each run and away from it. A wrong
+ * term shows as an error of order 1; the differences' own error is near
+ * 1e-7 of a column's largest entry. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "base/ini.h"
+#include "sim/rod.h"
+#include "sim/scene.h"
+#include "sim/scheme_implicit.h"
+#include "test.h"
+
+#define SCENES RODSIM_SOURCE_DIR "/scenes"
+#define TOLERANCE 1e-6
+#define FLOOR_LIMIT 1e-2 /* the comparison means something only above it */
+
+typedef struct jacobian_case {
+    const char *scene;
+    const char *set[8]; /* overrides, NULL-terminated */
+    int steps;          /* taken before the comparison */
+} jacobian_case;
+
+static const jacobian_case cases[] = {
+    {"impulse.ini", {"physics.planar=off", NULL}, 20},
+    {"impulse.ini", {"physics.planar=off", "solver.theta=1", "physics.rotary_inertia=off", NULL}, 20},
+    {"table2_450nN.ini", {"solver.scheme=implicit", "solver.dt=0.01", "physics.planar=off",
+                          "tip.frame=director", NULL}, 30},
+    {"table2_450nN.ini", {"solver.scheme=implicit", "solver.dt=0.01", "physics.planar=off",
+                          "tip.frame=director", "solver.theta=0.5", "tip.moment=1e-7 -2e-7 3e-7", NULL}, 30},
+    {"free_fall.ini", {NULL}, 40},
+    {"needle_lift.ini", {NULL}, 200},
+    {"clamped_buckling.ini", {NULL}, 40},
+    {"suture_gravity.ini", {NULL}, 100},
+    {"skin_drop.ini", {NULL}, 60},
+    {"buckling_twist.ini", {"rod.nodes=41", NULL}, 400},
+    {"suture.ini", {NULL}, 300},
+};
+
+static int load(const jacobian_case *c, rod_model *m)
+{
+    char err[512], path[512];
+    snprintf(path, sizeof path, "%s/%s", SCENES, c->scene);
+    ini_doc *doc = ini_load(path, err, sizeof err);
+    if (!doc) {
+        printf("     %s\n", err);
+        return -1;
+    }
+    int rc = 0;
+    for (int k = 0; c->set[k] && rc == 0; k++) rc = ini_set(doc, c->set[k], err, sizeof err);
+    if (rc == 0) rc = scene_read_rod(doc, m, err, sizeof err);
+    if (rc) printf("     %s: %s\n", c->scene, err);
+    ini_destroy(doc);
+    return rc;
+}
+
+static void test_case(const jacobian_case *c)
+{
+    rod_model m;
+    char label[256] = "", err[512];
+    snprintf(label, sizeof label, "%s", c->scene);
+    for (int k = 0; c->set[k]; k++) {
+        strncat(label, " ", sizeof label - strlen(label) - 1);
+        strncat(label, c->set[k], sizeof label - strlen(label) - 1);
+    }
+    if (!check(load(c, &m) == 0, "%s: the scene reads", label)) return;
+    rod_state *s = rod_state_create(&m);
+    rod_solver solver;
+    int ok = s && rod_solver_init(&solver, &m, err, sizeof err) == 0;
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    for (int k = 0; ok && k < c->steps; k++)
+        ok = rod_solver_step(&solver, &m, s, m.options.dt, &report) == ROD_OK;
+    if (s && ok) rod_solver_release(&solver);
+    if (check(ok, "%s: %d steps run (%s)", label, c->steps, ok ? "ok" : report.message)) {
+        for (int p = 0; p < 2; p++) {
+            const double perturb = p ? 0.3 : 0.0;
+            int column;
+            double floor;
+            double e = rod_implicit_jacobian_error(&m, s, m.options.dt, perturb, &column, &floor);
+            check(isfinite(e) && e <= TOLERANCE && floor <= FLOOR_LIMIT,
+                  "%s at t = %g s, iterate moved by %g: closed form vs central differences, "
+                  "largest difference %.3e of its column's largest entry (column %d; "
+                  "tolerance %.0e; the differences' rounding resolves %.1e of it, limit %.0e)",
+                  label, s->time, perturb, e, column, TOLERANCE, floor, FLOOR_LIMIT);
+        }
+    }
+    rod_state_destroy(s);
+    rod_model_release(&m);
+}
+
+int main(void)
+{
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) test_case(&cases[k]);
+    return test_finish();
+}
