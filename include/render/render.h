@@ -25,8 +25,11 @@ typedef enum { RENDER_CAMERA_PERSPECTIVE = 0, RENDER_CAMERA_ORTHOGRAPHIC } rende
 /* How the camera frames the motion ([render] framing). */
 typedef enum {
     RENDER_FRAMING_RUN = 0, /* one camera for the whole run: every frame's rod, glyphs, arrows */
-    RENDER_FRAMING_FOLLOW   /* per frame: the rod's current bounds centred and filling the
+    RENDER_FRAMING_FOLLOW,  /* per frame: the rod's current bounds centred and filling the
                                picture, smoothed over time (never clipped) */
+    RENDER_FRAMING_KNOT     /* as follow, around the knotted part only (the strands within
+                               3 diameters of a far strand, 3 diameters of arc beyond):
+                               the tails leave the picture; the whole rod while none is near */
 } render_framing;
 
 /* One view of a frame split into side-by-side tiles ([render] views). */
@@ -153,7 +156,7 @@ typedef struct render_options {
     int wound;                   /* 1: wound_line is drawn (a dark red incision) */
     double wound_line[6];        /* m, global: the wound's two ends x1 y1 z1 x2 y2 z2 */
     render_knot_mode knot;       /* the knot type in the overlay: auto (default), yes, no */
-    render_framing framing;      /* run (default) or follow */
+    render_framing framing;      /* run (default), follow or knot */
     int view_count;              /* 0 (default): one view (camera, view); 2 .. RENDER_MAX_VIEWS:
                                     the frame split into that many tiles, left to right */
     render_view_kind views[RENDER_MAX_VIEWS];

@@ -167,10 +167,11 @@ const ini_key scene_keys_rod[] = {
      "the knot type of the centreline, per frame, top right (e.g. knot: trefoil (3_1)); "
      "auto: when a frame of the run is knotted"},
     /* issue 14: a camera that follows, views side by side */
-    {"render", "framing", "-", "run", "run | follow",
+    {"render", "framing", "-", "run", "run | follow | knot",
      "run: one camera frames the whole run; follow: the rod's current bounds centred and "
      "filling the picture, smoothed over 0.25 video s (a fall or a drift followed without "
-     "lag), never clipped"},
+     "lag), never clipped; knot: the same around the knotted part (strands within 3 "
+     "diameters), the tails cut"},
     {"render", "views", "-", "-", "1 to 3 of: perspective orthographic top front side",
      "the frame split into side-by-side views, each labelled with its axes and scale bar; "
      "top, front, side: orthographic along -z, +y, -x; absent: camera and view"},

@@ -370,7 +370,7 @@ static int read_teaching(ini_doc *doc, render_options *o, char *err, size_t errl
     status = ini_get_choice(doc, "render", 0, "knot", knots, &choice, err, errlen);
     if (status < 0) return -1;
     if (status > 0) o->knot = (render_knot_mode)choice;
-    static const char *const framings[] = {"run", "follow", NULL};
+    static const char *const framings[] = {"run", "follow", "knot", NULL};
     status = ini_get_choice(doc, "render", 0, "framing", framings, &choice, err, errlen);
     if (status < 0) return -1;
     if (status > 0) o->framing = (render_framing)choice;
@@ -1637,6 +1637,10 @@ typedef struct follow_path {
     int floor;           /* a floor (plane or ground) is drawn: the orthographic eye stands back */
     frame_band band;
     render_camera basis; /* the run's camera: size, projection kind and basis */
+    /* framing knot: the broad phase and its pairs (NULL: follow) */
+    rod_proximity *prox;
+    rod_segment_pair *pairs;
+    int max_pairs;
 } follow_path;
 
 static void follow_destroy(follow_path *fp)
@@ -1646,7 +1650,47 @@ static void follow_destroy(follow_path *fp)
     free(fp->centre);
     free(fp->extent);
     free(fp->frame.points);
+    rod_proximity_destroy(fp->prox);
+    free(fp->pairs);
     free(fp);
+}
+
+/* Strands nearer than this many diameters make a knot's part of the rod
+ * (framing knot): the loose knots of the scenes start 2.5 apart */
+#define KNOT_FRAMING_REACH 3.0
+
+/* The points the follow camera frames in frame f into fp->frame: the
+ * rod, its glyphs and arrows; with framing knot, the nodes of the knotted
+ * part only (the segments within KNOT_FRAMING_REACH diameters of a far
+ * strand, KNOT_FRAMING_REACH diameters of arc beyond either end), or all
+ * of it while no strands are that near. */
+static void follow_cloud(follow_path *fp, const rod_recording *rec, const render_options *o,
+                         const arrow_scales *arrows, int f)
+{
+    fp->frame.count = 0;
+    if (fp->prox) {
+        const double reach = KNOT_FRAMING_REACH * rec->diameter;
+        /* far: points closer than pi reach / 2 in arc cannot come within
+         * reach of each other (rod_proximity_skip's argument, for reach) */
+        int skip = (int)ceil(0.5 * M_PI * reach / rec->ds) + 1;
+        int count = rod_proximity_pairs(fp->prox, node_position(rec, f, 0), rec->nodes, reach,
+                                        skip, fp->pairs, fp->max_pairs);
+        if (count > fp->max_pairs) count = fp->max_pairs; /* the rest, nearer the middle */
+        if (count > 0) {
+            int lo = rec->nodes, hi = 0;
+            for (int k = 0; k < count; k++) {
+                lo = fp->pairs[k].i < lo ? fp->pairs[k].i : lo;
+                hi = fp->pairs[k].j + 1 > hi ? fp->pairs[k].j + 1 : hi;
+            }
+            int margin = (int)ceil(reach / rec->ds);
+            lo = lo - margin > 0 ? lo - margin : 0;
+            hi = hi + margin < rec->nodes - 1 ? hi + margin : rec->nodes - 1;
+            for (int k = lo; k <= hi; k++)
+                v3_copy(&fp->frame.points[3 * fp->frame.count++], node_position(rec, f, k));
+            return;
+        }
+    }
+    point_cloud_add_frame(&fp->frame, rec, o, arrows, f, 1);
 }
 
 /* The extent (orthographic half height, perspective eye distance; m) that
@@ -1757,6 +1801,16 @@ static follow_path *follow_create(const rod_recording *rec, const render_options
     double *need = malloc((size_t)n * sizeof(double));
     fp->frame.points = malloc(((size_t)rec->nodes + FRAME_EXTRA_POINTS) * 3 * sizeof(double));
     fp->frame.pad = radius;
+    if (o->framing == RENDER_FRAMING_KNOT) {
+        fp->max_pairs = 16 * rec->nodes;
+        fp->prox = rod_proximity_create(rec->nodes);
+        fp->pairs = malloc((size_t)fp->max_pairs * sizeof *fp->pairs);
+        if (!fp->prox || !fp->pairs) {
+            free(need);
+            follow_destroy(fp);
+            return NULL;
+        }
+    }
     if (!fp->time || !fp->centre || !fp->extent || !need || !fp->frame.points) {
         free(need);
         follow_destroy(fp);
@@ -1766,19 +1820,28 @@ static follow_path *follow_create(const rod_recording *rec, const render_options
     double lo_all[3] = {INFINITY, INFINITY, INFINITY}, hi_all[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int f = 0; f < n; f++) {
         fp->time[f] = rec->time[f];
-        fp->frame.count = 0;
-        point_cloud_add_frame(&fp->frame, rec, o, arrows, f, 1);
-        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-        for (int i = 0; i < fp->frame.count; i++)
-            for (int a = 0; a < 3; a++) {
-                double x = v3_dot(&fp->frame.points[3 * i], basis[a]);
-                lo[a] = fmin(lo[a], x - radius);
-                hi[a] = fmax(hi[a], x + radius);
+        /* the whole rod bounds the clip planes (depth, size); what is
+         * framed, the centre */
+        for (int pass = 0; pass < (fp->prox ? 2 : 1); pass++) {
+            if (pass == 0) {
+                fp->frame.count = 0;
+                point_cloud_add_frame(&fp->frame, rec, o, arrows, f, 1);
+            } else {
+                follow_cloud(fp, rec, o, arrows, f);
             }
-        for (int a = 0; a < 3; a++) {
-            fp->centre[3 * f + a] = 0.5 * (lo[a] + hi[a]);
-            lo_all[a] = fmin(lo_all[a], lo[a]);
-            hi_all[a] = fmax(hi_all[a], hi[a]);
+            double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            for (int i = 0; i < fp->frame.count; i++)
+                for (int a = 0; a < 3; a++) {
+                    double x = v3_dot(&fp->frame.points[3 * i], basis[a]);
+                    lo[a] = fmin(lo[a], x - radius);
+                    hi[a] = fmax(hi[a], x + radius);
+                }
+            for (int a = 0; a < 3; a++) {
+                fp->centre[3 * f + a] = 0.5 * (lo[a] + hi[a]);
+                if (pass > 0) continue;
+                lo_all[a] = fmin(lo_all[a], lo[a]);
+                hi_all[a] = fmax(hi_all[a], hi[a]);
+            }
         }
         if (!run_camera->orthographic) follow_recentre(fp, &fp->frame, &fp->centre[3 * f]);
     }
@@ -1788,8 +1851,7 @@ static follow_path *follow_create(const rod_recording *rec, const render_options
     double sigma = FOLLOW_TIME * o->fps / render_output_rate(o);
     for (int a = 0; a < 3; a++) smooth_path(fp->centre + a, 3, fp->time, n, sigma, need);
     for (int f = 0; f < n; f++) {
-        fp->frame.count = 0;
-        point_cloud_add_frame(&fp->frame, rec, o, arrows, f, 1);
+        follow_cloud(fp, rec, o, arrows, f);
         need[f] = follow_need(fp, &fp->frame, &fp->centre[3 * f]);
     }
     /* the size: the largest need within 2 sigma, smoothed in log (zoom reads as a ratio);
@@ -1834,9 +1896,12 @@ static void follow_camera(follow_path *fp, const rod_recording *rec, const rende
             c[k] = (1 - a) * fp->centre[3 * i + k] + a * fp->centre[3 * (i + 1) + k];
         extent = (1 - a) * fp->extent[i] + a * fp->extent[i + 1];
     }
-    fp->frame.count = 0;
-    point_cloud_add_frame(&fp->frame, rec, o, arrows, frame, 1);
+    follow_cloud(fp, rec, o, arrows, frame);
     extent = fmax(extent, follow_need(fp, &fp->frame, c));
+    if (fp->prox) { /* the near plane from the whole rod: the tails come nearer */
+        fp->frame.count = 0;
+        point_cloud_add_frame(&fp->frame, rec, o, arrows, frame, 1);
+    }
 
     *cam = fp->basis;
     double shift = fp->band.bottom - fp->band.top, half_height, distance, near, far;
@@ -3387,7 +3452,7 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
         floor |= o->surfaces[k].shape == ROD_SURFACE_PLANE;
     if (o->grid && !floor)
         grid_build(&r->grid, shown ? shown : rec, &r->camera, r->radius, o->background);
-    if (o->framing == RENDER_FRAMING_FOLLOW) {
+    if (o->framing != RENDER_FRAMING_RUN) {
         r->follow = follow_create(shown ? shown : rec, o, &r->arrows, r->radius, &r->camera, band,
                                   floor || o->surface_count > 0 || v3_norm(o->distributed_force) > 0);
         if (r->follow) {
@@ -3419,7 +3484,7 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
         }
     }
     rod_recording_destroy(shown);
-    if (o->framing == RENDER_FRAMING_FOLLOW && !r->follow) {
+    if (o->framing != RENDER_FRAMING_RUN && !r->follow) {
         snprintf(err, errlen, "render: out of memory");
         renderer_destroy(r);
         return -1;

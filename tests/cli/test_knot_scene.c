@@ -9,7 +9,8 @@
  * slides along the rod and slips off the root end (an end is a point a
  * loop can pass over); the run names that end with a warning, not as a
  * pass-through, and the CSV shows no strand through another and the knot
- * at the root end the frame before. */
+ * at the root end the frame before. And overhand_tight.ini: the knot pulled
+ * tight by a force (test_pulled_tight). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -93,6 +94,18 @@ static int lowest_touching(const double *x)
     return -1;
 }
 
+/* The least distance (m) between segments more than 5 apart along the rod
+ * over the frames, and when (s). */
+static double closest_in_frames(double (*x)[NODES * 3], const double *t, int frames, double *when)
+{
+    double worst = INFINITY;
+    for (int k = 0; k < frames; k++) {
+        double c = closest_strands(x[k], NODES, 6, 4.0 * DIAMETER);
+        if (c < worst) worst = c, *when = t[k];
+    }
+    return worst;
+}
+
 /* The arc (m) between the outermost nodes where strands touch; 0 when none
  * does. */
 static double knot_arc(const double *x, double ds)
@@ -134,6 +147,43 @@ static double write_fine_shape(const char *path)
     return fclose(f) == 0 ? length : -1.0;
 }
 
+/* scenes/overhand_tight.ini, its first 2.5 s: the same knot, its tail held
+ * and its other end pulled by a force rising to 15 N over 2 s. The rope in
+ * the knot shrinks below 25 diameters (overhand.ini's ends, driven by
+ * position, leave some 37 in it once friction locks it), against the ideal
+ * closed trefoil's 16.37 (the issue's figure; an open knot measured as here is
+ * not the same length: printed, not asserted); a trefoil in every frame;
+ * far segments never closer than 0.9 diameters. */
+static void test_pulled_tight(const char *dir)
+{
+    char csv[256], output[16384];
+    snprintf(csv, sizeof csv, "%s_tight.csv", dir);
+    const char *args[] = {"run", "scenes/overhand_tight.ini", "--no-video", "--csv", csv, "--set",
+                          "solver.duration=2.5", "--set", "render.fps=10", NULL};
+    int status = test_run_rodsim(args, output, sizeof output);
+    check(status == 0, "overhand_tight.ini, 2.5 s: the run completes (exit %d)", status);
+    check(strstr(output, "knot: trefoil at t = 0 s and at t = 2.5 s, the same in all 26 output "
+                         "frames") != NULL,
+          "overhand_tight.ini: the summary names the knot a trefoil in all 26 frames");
+    static double x[MAX_FRAMES][NODES * 3];
+    double t[MAX_FRAMES];
+    int rows = 0, frames = read_frames(csv, t, x, &rows);
+    check(frames == 26 && rows == 26 * NODES, "the CSV holds 26 frames of %d nodes (%d frames, %d "
+          "rows)", NODES, frames, rows);
+    double when = 0.0, worst = closest_in_frames(x, t, frames, &when);
+    check(worst >= 0.9 * DIAMETER, "pulled tight: no two far segments closer than 0.9 diameters in "
+          "any frame: least %.4g m = %.3f diameters (t = %g s)", worst, worst / DIAMETER, when);
+    const double ds = 0.609684253 / (NODES - 1), ideal = 16.37;
+    double early = frames > 5 ? knot_arc(x[5], ds) / DIAMETER : 0.0;
+    double last = frames ? knot_arc(x[frames - 1], ds) / DIAMETER : 0.0;
+    printf("     rope in the knot: %.1f diameters at t = 0.5 s, %.1f at t = 2.5 s; the ideal "
+           "closed trefoil %.2f (%+.1f %%)\n", early, last, ideal, 100.0 * (last - ideal) / ideal);
+    check(last > 0.0 && last < early && last < 25.0,
+          "pulled by a force, the knot tightens: %.1f -> %.1f diameters of rope in it (below 25)",
+          early, last);
+    remove(csv);
+}
+
 int main(void)
 {
     const char *dir = "/tmp/rodsim_test_knot_scene";
@@ -152,11 +202,7 @@ int main(void)
     int frames = read_frames(csv, t, x, &rows);
     check(frames == 16 && rows == 16 * NODES, "the CSV holds 16 frames of %d nodes (%d frames, %d rows)",
           NODES, frames, rows);
-    double worst = INFINITY, when = 0.0;
-    for (int k = 0; k < frames; k++) {
-        double c = closest_strands(x[k], NODES, 6, 4.0 * DIAMETER);
-        if (c < worst) worst = c, when = t[k];
-    }
+    double when = 0.0, worst = closest_in_frames(x, t, frames, &when);
     check(worst >= 0.9 * DIAMETER, "no two far segments closer than 0.9 diameters in any frame: "
           "least %.4g m = %.3f diameters (t = %g s)", worst, worst / DIAMETER, when);
     const double ds = 0.609684253 / (NODES - 1);
@@ -241,5 +287,6 @@ int main(void)
           "481 nodes: the loose knot runs with self-contact and stays a trefoil (exit %d)", status);
     remove(shape);
     remove(scene);
+    test_pulled_tight(dir);
     return test_finish();
 }

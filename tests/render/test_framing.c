@@ -3,7 +3,7 @@
  * and fills it, the camera neither lags a steady motion nor follows a
  * jitter, the views show what orthographic geometry predicts, and a frame
  * drawn while the writer thread encodes the previous one is the frame drawn
- * alone. */
+ * alone; framing = knot frames the part of a rod where strands come near. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -402,6 +402,78 @@ static void test_options(void)
     }
 }
 
+/* A 1 m thread (ds 5 mm, d 4 mm) along x with a loop of radius 33 mm at
+ * the origin, where its second tail crosses over the first 6 mm above it:
+ * the strands near the crossing are within 3 diameters of each other, the
+ * rest of the loop and the tails are not. `loop` 0: straight, no loop. */
+static rod_recording *looped_rod(int loop)
+{
+    const int nodes = 201;
+    rod_recording *rec = synthetic_recording_create(nodes, 4, 1.0, 0.004);
+    const double ds = 0.005, radius = 41 * ds / (2 * M_PI);
+    for (int f = 0; f < 4; f++) {
+        rec->time[f] = f / 30.0;
+        for (int k = 0; k < nodes; k++) {
+            double *p = &rec->position[3 * ((size_t)f * nodes + k)];
+            if (!loop) {
+                v3_set(p, (k - 100) * ds, 0, 0);
+            } else if (k < 80) {
+                v3_set(p, (k - 80) * ds, 0, 0);
+            } else if (k <= 120) { /* the loop, tangent to x at the origin, rising to z = 6 mm */
+                double a = 2 * M_PI * (k - 80) / 40.0;
+                v3_set(p, radius * sin(a), radius * (1 - cos(a)), 0.006 * (k - 80) / 40.0);
+            } else {
+                v3_set(p, (k - 120) * ds, 0, 0.006);
+            }
+            m3_identity(&rec->frame[9 * ((size_t)f * nodes + k)]);
+        }
+    }
+    return rec;
+}
+
+/* framing = knot: the camera frames the loop where strands come near, the
+ * tails leave the picture; with no strands near, it frames as follow. */
+static void test_knot_framing(void)
+{
+    char dir[256];
+    make_temp_dir(dir, sizeof dir, "knot");
+    double mpp[2][2] = {{0}};  /* [loop][knot framing]: metres per pixel, frame 0 */
+    int loop_inside = 1, tails_outside = 1;
+    for (int loop = 0; loop < 2; loop++)
+        for (int knot = 0; knot < 2; knot++) {
+            rod_recording *rec = looped_rod(loop);
+            render_camera cams[4];
+            render_options o = plain_options(320, 240);
+            o.framing = knot ? RENDER_FRAMING_KNOT : RENDER_FRAMING_FOLLOW;
+            o.view[0] = 0, o.view[1] = 0, o.view[2] = 1;
+            o.camera = RENDER_CAMERA_ORTHOGRAPHIC;
+            o.cameras = cams;
+            o.camera_capacity = 4;
+            char name[32];
+            snprintf(name, sizeof name, "knot_%d_%d", loop, knot);
+            if (render_frames(rec, &o, dir, name) == 0) {
+                mpp[loop][knot] = cams[0].metres_per_pixel;
+                for (int k = 0; loop && knot && k < rec->nodes; k++) {
+                    double px[2];
+                    int behind = render_project(&cams[0], &rec->position[3 * k], px);
+                    int in = !behind && px[0] >= 0 && px[0] <= o.width && px[1] >= 0 && px[1] <= o.height;
+                    if (k >= 80 && k <= 120) loop_inside &= in;
+                    if (k == 0 || k == rec->nodes - 1) tails_outside &= !in;
+                }
+            }
+            rod_recording_destroy(rec);
+        }
+    check(loop_inside && tails_outside, "framing knot: the whole loop inside the picture, both "
+          "tail ends outside it");
+    check(mpp[1][1] > 0 && mpp[1][1] < 0.25 * mpp[1][0],
+          "framing knot: %.3g mm per pixel, against %.3g following the whole rod (at most 1/4: "
+          "the loop is 66 mm across, the rod 0.8 m)", 1e3 * mpp[1][1], 1e3 * mpp[1][0]);
+    check(mpp[0][1] > 0 && fabs(mpp[0][1] - mpp[0][0]) <= 1e-9 * mpp[0][0],
+          "framing knot with no strands near: the follow camera (%.6g and %.6g mm per pixel)",
+          1e3 * mpp[0][1], 1e3 * mpp[0][0]);
+    test_remove_tree(dir);
+}
+
 int main(void)
 {
     test_options();
@@ -410,5 +482,6 @@ int main(void)
     test_follow_streamed();
     test_views();
     test_threaded_same_as_serial();
+    test_knot_framing();
     return test_finish();
 }
