@@ -81,6 +81,9 @@ typedef struct rod_self_contact {
     int last_count;        /* pairs with a force at the end of the last accepted step */
     int *last_ab;          /* (2 max_pairs) their segments a, b */
     double *last_force;    /* (3 max_pairs) their forces: the next step's first guess */
+    rod_segment_pair *reach; /* (reach_capacity) rod_self_contact_reachable's scratch, grown
+                                on demand up to SELF_CONTACT_REACH_PAIRS */
+    int reach_capacity;
 } rod_self_contact;
 
 /* NULL when out of memory. */
@@ -98,6 +101,20 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
 /* How many non-neighbouring pairs are closer than diameter + margin (m)
  * in pos0 (-1 on bad input); the candidates are left as they are. */
 int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margin);
+
+/* How many of those pairs could come within one diameter over a step that
+ * moves each node by dt vbar (global, nodes x 3) along a straight line
+ * (-1 on bad input or out of memory). Points of the two segments are
+ * convex combinations of their nodes, so their distance falls by at most
+ * the largest of the four node pairs' relative displacements |dt (vbar_e -
+ * vbar_f)|: a pair whose start distance exceeds one diameter by that much
+ * cannot touch. A straight stretch that swings or slides along itself
+ * moves its nearby segments together, so it is not counted as it is by
+ * rod_self_contact_near. More than SELF_CONTACT_REACH_PAIRS pairs within
+ * the margin: their count, unfiltered (the caller splits the step). */
+#define SELF_CONTACT_REACH_PAIRS 1000000
+int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const double *vbar,
+                               double dt, double margin);
 
 /* Inside the residual: applies the pair forces (the iterate's) to the nodes'
  * end-of-step velocity vel1 and mean velocity vbar (global, nodes x 3, in

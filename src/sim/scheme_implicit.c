@@ -2477,8 +2477,12 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
         double moved = largest_motion(w, dt);
         for (int tries = 0; tries < 4 && 2.0 * moved > w->self->margin; tries++) {
             if (3.0 * moved > SELF_MARGIN * m->diameter) {
-                if (rod_self_contact_near(w->self, w->pos0, 2.0 * moved) != 0) return -1;
-                break; /* nothing within reach: no candidates needed */
+                /* nothing that could touch within the step: no candidates
+                 * needed (a straight stretch swinging fast moves its
+                 * nearby segments together: rod_self_contact_reachable) */
+                if (rod_self_contact_reachable(w->self, w->pos0, w->vbar, dt, 2.0 * moved) != 0)
+                    return -1;
+                break;
             }
             if (prepare_self_contact(w, m, dt, 3.0 * moved, report)) return -2;
             if (newton(w, m, s->time, dt, report)) return -1;

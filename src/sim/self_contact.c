@@ -71,6 +71,7 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->prev);
     free(sc->last_ab);
     free(sc->last_force);
+    free(sc->reach);
     free(sc->y);
     free(sc->s);
     free(sc->rhs);
@@ -89,6 +90,37 @@ void rod_self_contact_invalidate(rod_self_contact *sc)
 int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margin)
 {
     return rod_proximity_pairs(sc->prox, pos0, sc->nodes, sc->diameter + margin, sc->skip, NULL, 0);
+}
+
+int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const double *vbar,
+                               double dt, double margin)
+{
+    int found = rod_proximity_pairs(sc->prox, pos0, sc->nodes, sc->diameter + margin, sc->skip,
+                                    sc->reach, sc->reach_capacity);
+    if (found < 0 || found > SELF_CONTACT_REACH_PAIRS) return found;
+    if (found > sc->reach_capacity) {
+        rod_segment_pair *grown = realloc(sc->reach, (size_t)found * sizeof *grown);
+        if (!grown) return -1;
+        sc->reach = grown;
+        sc->reach_capacity = found;
+        found = rod_proximity_pairs(sc->prox, pos0, sc->nodes, sc->diameter + margin, sc->skip,
+                                    sc->reach, sc->reach_capacity);
+        if (found < 0 || found > sc->reach_capacity) return found;
+    }
+    int count = 0;
+    for (int k = 0; k < found; k++) {
+        const int e[2] = {sc->reach[k].i, sc->reach[k].i + 1};
+        const int f[2] = {sc->reach[k].j, sc->reach[k].j + 1};
+        double rel = 0.0;
+        for (int x = 0; x < 2; x++)
+            for (int y = 0; y < 2; y++) {
+                double d[3];
+                v3_sub(d, &vbar[3 * e[x]], &vbar[3 * f[y]]);
+                rel = fmax(rel, dt * v3_norm(d));
+            }
+        count += sc->reach[k].distance - rel < sc->diameter;
+    }
+    return count;
 }
 
 int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margin)

@@ -4,7 +4,8 @@
  * diameter apart), a strand thrown at another faster than a diameter per
  * step (it never passes: the distances are computed here, by this file's
  * own segment distance, not the contact code's), and the low-rank Newton
- * correction (it converges as the banded Newton does without contact). */
+ * correction (it converges as the banded Newton does without contact); and
+ * which pairs a step's motion can bring together (test_reach). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,6 +13,7 @@
 
 #include "base/vec3.h"
 #include "sim/rod.h"
+#include "sim/self_contact.h"
 #include "test.h"
 #include "test_helix.h"
 #include "test_segment.h"
@@ -159,9 +161,59 @@ static void test_thrown(void)
           coarse.closest, coarse.closest / d);
 }
 
+/* The step's reach (rod_self_contact_reachable): two parallel strands
+ * 3 diameters apart, joined by a half turn (a hairpin of 41 nodes, ds = d),
+ * moved rigidly by 20 diameters (pairs within the margin, none able to
+ * touch), then their straight parts moved towards each other by 2.4
+ * diameters (they could touch) and by 0.8 (they could not). The counts
+ * follow from the geometry alone. */
+static void test_reach(void)
+{
+    const int n = 61;
+    const double d = 0.001, ds = 0.001, gap = 3 * d, dt = 0.01;
+    double pos[61 * 3], vbar[61 * 3];
+    /* nodes 0..20 along x at y = 0; a half turn of radius gap/2 (nodes 20..40
+     * on it); nodes 40..60 back along x at y = gap */
+    const double r = 0.5 * gap, arc = M_PI * r;
+    int turn = (int)ceil(arc / ds);
+    for (int k = 0; k < n; k++) {
+        double *p = &pos[3 * k];
+        if (k <= 20) {
+            v3_set(p, k * ds, 0, 0);
+        } else if (k < 20 + turn) {
+            double a = M_PI * (k - 20) / turn;
+            v3_set(p, 20 * ds + r * sin(a), r * (1 - cos(a)), 0);
+        } else {
+            v3_set(p, 20 * ds - (k - 20 - turn) * ds, gap, 0);
+        }
+    }
+    rod_self_contact *sc = rod_self_contact_create(n, 6 * (n - 1), 1, 6, d, ds, 0.0);
+    if (!check(sc != NULL, "reach: self-contact scratch")) return;
+    const double margin = 40 * d;
+    int near = rod_self_contact_near(sc, pos, margin);
+    for (int k = 0; k < n; k++) v3_set(&vbar[3 * k], 2 * d / dt, 0.5 * d / dt, 0); /* rigid */
+    int rigid = rod_self_contact_reachable(sc, pos, vbar, dt, margin);
+    int count[2];
+    for (int c = 0; c < 2; c++) {
+        /* the straight parts move towards each other by 1.2 and by 0.4
+         * diameters each: 2.4 closes the gap to within a diameter, 0.8 not */
+        const double by = c ? 0.4 * d : 1.2 * d;
+        for (int k = 0; k < n; k++)
+            v3_set(&vbar[3 * k], 0, k <= 20 ? by / dt : k >= 20 + turn ? -by / dt : 0, 0);
+        count[c] = rod_self_contact_reachable(sc, pos, vbar, dt, margin);
+    }
+    check(near > 100 && rigid == 0, "reach: a rigid move of 20 diameters: %d pairs within the "
+          "margin, %d able to touch (0)", near, rigid);
+    check(count[0] > 0 && count[1] == 0, "reach: strands 3 diameters apart, moved towards each "
+          "other by 2.4 diameters within the step: %d pairs able to touch (> 0); by 0.8: %d (0)",
+          count[0], count[1]);
+    rod_self_contact_destroy(sc);
+}
+
 int main(void)
 {
     test_pressed();
     test_thrown();
+    test_reach();
     return test_finish();
 }
