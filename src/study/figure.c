@@ -759,7 +759,7 @@ static const figure_spec sweep_buckling_length = {
     .parts = 1,
     .part = {{"", "computed: rod_buckling_factor, static scheme, NS = 51",
               buckling_length_full, buckling_length_quick,
-              "theory: Euler, clamped-free, π² E I / (4 L²)"}},
+              "theory: Euler, clamped-free, π² E I / (4 L²)", {0, 0, 0}}},
     .reference = euler_against_length,
 };
 
@@ -778,7 +778,7 @@ static const figure_spec sweep_buckling_diameter = {
     .y_scale = 1e6,
     .parts = 1,
     .part = {{"", "computed: rod_buckling_factor, static scheme, NS = 51", diameters_full,
-              diameters_quick, "theory: Euler, clamped-free, π² E I / (4 L²)"}},
+              diameters_quick, "theory: Euler, clamped-free, π² E I / (4 L²)", {0, 0, 0}}},
     .reference = euler_against_diameter,
 };
 
@@ -797,9 +797,9 @@ static const figure_spec sweep_twist_diameter = {
     .y_scale = 1e6,
     .parts = 2,
     .part = {{"pinned", "computed: pinned ends (NS = 51)", diameters_full, diameters_quick,
-              "theory: Greenhill, pinned ends, 2π E I / L"},
+              "theory: Greenhill, pinned ends, 2π E I / L", {0, 0, 0}},
              {"clamped", "computed: clamped ends (NS = 51)", clamped_full, clamped_quick,
-              "theory: Greenhill, clamped ends, 8.9868 E I / L"}},
+              "theory: Greenhill, clamped ends, 8.9868 E I / L", {0, 0, 0}}},
     .reference = greenhill_against_diameter,
 };
 

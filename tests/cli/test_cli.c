@@ -322,7 +322,7 @@ static rod_status fake_step(void *work, const rod_model *m, rod_state *s, double
     return ROD_OK;
 }
 
-static const rod_scheme_ops fake_scheme = {"fake", fake_create, fake_step, free, NULL};
+static const rod_scheme_ops fake_scheme = {"fake", fake_create, fake_step, free, NULL, NULL};
 
 /* The frames the run loop hands out, kept in a recording. */
 static int record_frame(void *context, const rod_model *m, const rod_state *s, char *err,
