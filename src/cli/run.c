@@ -674,7 +674,11 @@ static void track_knot(knot_track *k, const rod_model *m, const rod_state *s)
     k->seconds += wall_seconds() - start;
 }
 
-static void print_knots(FILE *f, const knot_track *k)
+/* The ideal closed trefoil's ropelength, diameters (issue 12's figure):
+ * what the rope in a tightened overhand knot is reported against */
+#define IDEAL_TREFOIL_ROPELENGTH 16.37
+
+static void print_knots(FILE *f, const knot_track *k, const rod_model *m)
 {
     if (k->frames > 0) {
         char poly[128];
@@ -693,6 +697,19 @@ static void print_knots(FILE *f, const knot_track *k)
                     k->change_to,
                     k->slip_end == 0 ? ", slipped off the root end"
                     : k->slip_end == 1 ? ", slipped off the tip end" : "");
+        if (strcmp(k->last.name, "unknot") != 0 && k->touch_lo >= 0 &&
+            k->touch_time == k->last_time) {
+            /* the rope in the knot: the arc between the outermost nodes the
+             * strands press on, in the last frame */
+            const double rope = (k->touch_hi - k->touch_lo) * m->ds / m->diameter;
+            fprintf(f, "        knot: rope in the knot at t = %g s: %.1f diameters, between the "
+                       "outermost nodes where strands press on each other", k->last_time, rope);
+            if (strncmp(k->last.name, "trefoil", 7) == 0)
+                fprintf(f, " (the ideal closed trefoil takes %.2f: %+.0f %%)",
+                        IDEAL_TREFOIL_ROPELENGTH,
+                        100.0 * (rope - IDEAL_TREFOIL_ROPELENGTH) / IDEAL_TREFOIL_ROPELENGTH);
+            fputc('\n', f);
+        }
         fprintf(f, "        knot identification: %.3g ms per output frame\n",
                 1e3 * k->seconds / (k->frames + k->failures));
     }
@@ -988,7 +1005,7 @@ static int simulate(const run_args *a, const char *scene, const rod_model *m,
                 guarded ? ": a strand passed through another despite self-contact" : "");
     if (!a->quiet) {
         print_result(talk, m, s, stats.steps, stats.wall_seconds);
-        print_knots(talk, &knots);
+        print_knots(talk, &knots, m);
         if (a->csv && !csv_stdout)
             fprintf(talk, "        wrote %s (%lld frames x %d nodes)\n", a->csv,
                     (long long)plan.frames, m->nodes);

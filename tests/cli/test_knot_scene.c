@@ -181,6 +181,13 @@ static void test_pulled_tight(const char *dir)
     check(last > 0.0 && last < early && last < 25.0,
           "pulled by a force, the knot tightens: %.1f -> %.1f diameters of rope in it (below 25)",
           early, last);
+    /* the run's own figure: between the nodes the strands press on (its
+     * contact forces), against this file's (nodes within 1.15 d) */
+    const char *said = strstr(output, "rope in the knot at t = 2.5 s: ");
+    double reported = said ? atof(said + strlen("rope in the knot at t = 2.5 s: ")) : -1.0;
+    check(said && fabs(reported - last) <= 1.5 && strstr(output, "ideal closed trefoil takes 16.37"),
+          "the summary reports the rope in the knot, %.1f diameters, against the ideal trefoil's "
+          "16.37 (this file's measure %.1f; within 1.5)", reported, last);
     remove(csv);
 }
 
