@@ -202,6 +202,9 @@ typedef struct implicit_work {
     rod_puncture_state save_puncture[ROD_MAX_PUNCTURES];
     /* self-contact (issue 12; sim/self_contact.h): NULL when off */
     rod_self_contact *self;
+    int frames_kept;       /* 1: the residual keeps the end-of-step frames, darboux1, d3mid1
+                              and moment1 of its last evaluation (fd_jacobian's force
+                              columns: the frames depend on omega alone) */
     int self_off;          /* 1 while the banded Jacobian is built: the pair forces act,
                               their laws are not evaluated (B does not depend on them) */
     double *node_push;     /* (nodes) m/s per N: a force's effect on each node's velocity
@@ -1214,18 +1217,20 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
     /* frames at the end of the step and at the theta point; for theta = 1
      * they are the same array */
     const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
-    for (int i = 1; i < n - 1; i++) advance_frame(w, x, i, dt, theta, NULL);
-    for (int which = 0; which < 2; which++) {
-        const end_condition *e = &w->ends[which];
-        const int i = which ? n - 1 : 0;
-        if (e->clamped) {
-            memcpy(&w->frame1[9 * i], e->frame1, 9 * sizeof(double));
-            memcpy(&w->frame_th[9 * i], e->frame_th, 9 * sizeof(double));
-        } else {
-            advance_frame(w, x, i, dt, theta, e->hold_omega);
+    if (!w->frames_kept) {
+        for (int i = 1; i < n - 1; i++) advance_frame(w, x, i, dt, theta, NULL);
+        for (int which = 0; which < 2; which++) {
+            const end_condition *e = &w->ends[which];
+            const int i = which ? n - 1 : 0;
+            if (e->clamped) {
+                memcpy(&w->frame1[9 * i], e->frame1, 9 * sizeof(double));
+                memcpy(&w->frame_th[9 * i], e->frame_th, 9 * sizeof(double));
+            } else {
+                advance_frame(w, x, i, dt, theta, e->hold_omega);
+            }
         }
+        end_geometry(m, w->frame1, w->darboux1, w->d3mid1, w->moment1);
     }
-    end_geometry(m, w->frame1, w->darboux1, w->d3mid1, w->moment1);
     double tipf[3], tipm[3], applied[3];
     tip_load_mean(w, m, t, dt, frame_th, tipf, tipm);
 
@@ -1498,8 +1503,13 @@ static void fd_jacobian(implicit_work *w, const rod_model *m, double t, double d
     w->self_off = 1;
     evaluate(w, m, w->x, t, dt, w->residual);
     const int colors = 2 * reach + 1;
-    for (int color = 0; color < colors; color++) {
-        for (int comp = 0; comp < nb; comp++) {
+    /* the force components first, every colour: in 3-D the frames depend on
+     * omega alone, so these evaluations keep the ones just computed at x
+     * (frames_kept: the exponentials and logarithms, about half of an
+     * evaluation, skipped; the same numbers to the last bit) */
+    for (int comp = 0; comp < nb; comp++) {
+        w->frames_kept = !w->planar && w->var_kind[comp] == 0;
+        for (int color = 0; color < colors; color++) {
             double *xp = w->dx; /* scratch copy of x */
             memcpy(xp, w->x, (size_t)nu * sizeof(double));
             for (int b = w->first + color; b < w->nodes; b += colors) {
@@ -1524,6 +1534,7 @@ static void fd_jacobian(implicit_work *w, const rod_model *m, double t, double d
             }
         }
     }
+    w->frames_kept = 0;
     w->self_off = 0;
 }
 
