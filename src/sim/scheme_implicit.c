@@ -581,22 +581,22 @@ static inline const double *block_omega(const implicit_work *w, const double *x,
     return &x[BLOCK * (b - w->first) + 3]; /* omega_b, b >= first */
 }
 
-/* (3.6)_2 over the cell of node b for the angular velocity om at the end of
- * the step (director components): writes the unscaled residual (N m) that a
- * support's moment would balance. The frames and moments at the end of the
- * step are those of the current residual evaluation. */
+/* The moment (3.6)_2 balances over the cell of node b, global: the
+ * theta-weighted elastic moments of the segments beside it and the arms
+ * ds/2 d3 x N of their contact forces (the tip moment at the tip), the
+ * distributed and point moments. d3l and d3r get the theta-weighted d3 of
+ * the segments left and right of it (unset when there is none). */
 static inline __attribute__((always_inline)) void
-angular_balance(const implicit_work *w, const rod_model *m, const double *x, int b, double dt,
-                const double tipm[3], const double *frame_th, const double om[3], double raw[3],
-                const int left, const int right)
+cell_moment(const implicit_work *w, const rod_model *m, const double *x, int b,
+            const double tipm[3], const int left, const int right, double total[3],
+            double d3l[3], double d3r[3])
 {
     const int j = b - 1;
     const double theta = m->options.theta, ds = m->ds;
     const double wb = (left && right) ? ds : 0.5 * ds;
-    double total[3], cr[3];
+    double cr[3];
     if (right) {
         const double *n_right = block_force(w, x, b + 1);
-        double d3r[3];
         for (int k = 0; k < 3; k++) {
             total[k] = theta * w->moment1[3 * b + k] + (1.0 - theta) * w->moment0[3 * b + k];
             d3r[k] = theta * w->d3mid1[3 * b + k] + (1.0 - theta) * w->d3mid0[3 * b + k];
@@ -608,7 +608,6 @@ angular_balance(const implicit_work *w, const rod_model *m, const double *x, int
     }
     if (left) {
         const double *n_left = block_force(w, x, b);
-        double d3l[3];
         for (int k = 0; k < 3; k++) {
             total[k] -= theta * w->moment1[3 * j + k] + (1.0 - theta) * w->moment0[3 * j + k];
             d3l[k] = theta * w->d3mid1[3 * j + k] + (1.0 - theta) * w->d3mid0[3 * j + k];
@@ -618,6 +617,21 @@ angular_balance(const implicit_work *w, const rod_model *m, const double *x, int
     }
     if (w->distributed_moment) v3_axpy(total, wb, m->distributed_moment);
     if (w->point_moment) v3_axpy(total, w->point_factor, &w->point_moment[3 * b]);
+}
+
+/* (3.6)_2 over the cell of node b for the angular velocity om at the end of
+ * the step (director components): writes the unscaled residual (N m) that a
+ * support's moment would balance. The frames and moments at the end of the
+ * step are those of the current residual evaluation. */
+static inline __attribute__((always_inline)) void
+angular_balance(const implicit_work *w, const rod_model *m, const double *x, int b, double dt,
+                const double tipm[3], const double *frame_th, const double om[3], double raw[3],
+                const int left, const int right)
+{
+    const double theta = m->options.theta, ds = m->ds;
+    const double wb = (left && right) ? ds : 0.5 * ds;
+    double total[3], d3l[3], d3r[3];
+    cell_moment(w, m, x, b, tipm, left, right, total, d3l, d3r);
     double body[3], wbar[3], iw[3], gyro[3];
     m3_mul_tv(body, &frame_th[9 * b], total);
     const double *inertia = m->rotary_inertia, inv_dt = 1.0 / dt;
@@ -1808,33 +1822,10 @@ static void analytic_jacobian(implicit_work *w, const rod_model *m, double t, do
         int replaced[3] = {0, 0, 0};
         if (e)
             for (int k = 0; k < 3; k++) replaced[k] = e->clamped || e->hold_omega[k];
-        /* the body-frame balance's moment sum (as angular_balance forms it) */
-        double total[3] = {0.0, 0.0, 0.0}, d3r[3] = {0}, d3l[3] = {0}, cr[3];
-        if (right) {
-            const double *nr = block_force(w, w->x, b + 1);
-            for (int k = 0; k < 3; k++) {
-                total[k] = theta * w->moment1[3 * b + k] + (1.0 - theta) * w->moment0[3 * b + k];
-                d3r[k] = theta * w->d3mid1[3 * b + k] + (1.0 - theta) * w->d3mid0[3 * b + k];
-            }
-            v3_cross(cr, d3r, nr);
-            v3_axpy(total, 0.5 * ds, cr);
-        } else {
-            double tipf[3], tipm[3];
-            tip_load_mean(w, m, t, dt, frame_th, tipf, tipm);
-            v3_copy(total, tipm);
-        }
-        if (left) {
-            const double *nl = block_force(w, w->x, b);
-            for (int k = 0; k < 3; k++) {
-                total[k] -= theta * w->moment1[3 * (b - 1) + k] +
-                            (1.0 - theta) * w->moment0[3 * (b - 1) + k];
-                d3l[k] = theta * w->d3mid1[3 * (b - 1) + k] + (1.0 - theta) * w->d3mid0[3 * (b - 1) + k];
-            }
-            v3_cross(cr, d3l, nl);
-            v3_axpy(total, 0.5 * ds, cr);
-        }
-        if (w->distributed_moment) v3_axpy(total, wb, m->distributed_moment);
-        if (w->point_moment) v3_axpy(total, w->point_factor, &w->point_moment[3 * b]);
+        /* the moment the balance is written for, in the body frame */
+        double total[3], d3r[3] = {0}, d3l[3] = {0}, tipf[3], tipm[3] = {0};
+        if (!right) tip_load_mean(w, m, t, dt, frame_th, tipf, tipm);
+        cell_moment(w, m, w->x, b, tipm, left, right, total, d3l, d3r);
         const double *qth = &frame_th[9 * b];
         double body[3], qtt[9], own[9], sk[9], tmp[9], blk[9];
         m3_mul_tv(body, qth, total);
@@ -2738,8 +2729,6 @@ static int refresh(void *p, const rod_model *m, const rod_state *s, double dt)
     return rc == 0 ? 1 : -1;
 }
 
-static double x0col(const implicit_work *w, int col) { return w->x[col]; }
-
 double rod_implicit_jacobian_error(const rod_model *m, const rod_state *s, double dt,
                                    double perturb, int *column, double *floor)
 {
@@ -2763,18 +2752,20 @@ double rod_implicit_jacobian_error(const rod_model *m, const rod_state *s, doubl
     const int nu = w->unknowns, kl = w->kl, ld = w->ldab;
     const size_t size = (size_t)ld * (size_t)nu;
     double *fd = calloc(size, sizeof(double)), *plus = malloc((size_t)nu * sizeof(double));
-    double *x0 = malloc((size_t)nu * sizeof(double));
-    if (!fd || !plus || !x0) {
+    double *x0 = malloc((size_t)nu * sizeof(double)), *step = malloc((size_t)nu * sizeof(double));
+    if (!fd || !plus || !x0 || !step) {
         free(fd);
         free(plus);
         free(x0);
+        free(step);
         goto done;
     }
     memcpy(x0, w->x, (size_t)nu * sizeof(double));
     w->contact_off = 1;
     w->self_off = 1;
     for (int col = 0; col < nu; col++) {
-        const double h = 1e-4 * fmax(fabs(x0[col]), w->var_scale[w->var_kind[col % BLOCK]]);
+        const double h = step[col] =
+            1e-4 * fmax(fabs(x0[col]), w->var_scale[w->var_kind[col % BLOCK]]);
         w->x[col] = x0[col] + h;
         evaluate(w, m, w->x, s->time, dt, plus);
         w->x[col] = x0[col] - h;
@@ -2787,14 +2778,14 @@ double rod_implicit_jacobian_error(const rod_model *m, const rod_state *s, doubl
     }
     w->self_off = 0;
     free(plus);
+    free(x0);
     analytic_jacobian(w, m, s->time, dt);
     w->contact_off = 0;
     /* per entry, the differences' rounding, about 1e-16 of the residual's
      * O(1) terms over h, is not held against the closed form */
     worst = 0.0;
     for (int col = 0; col < nu; col++) {
-        const double h = 1e-4 * fmax(fabs(x0col(w, col)), w->var_scale[w->var_kind[col % BLOCK]]);
-        const double noise = 3e-16 / h;
+        const double noise = 3e-16 / step[col];
         double big = 0.0, diff = 0.0;
         for (int r = 0; r < ld; r++) {
             const size_t k = (size_t)r + (size_t)col * (size_t)ld;
@@ -2809,7 +2800,7 @@ double rod_implicit_jacobian_error(const rod_model *m, const rod_state *s, doubl
         }
     }
     free(fd);
-    free(x0);
+    free(step);
 done:
     destroy(w);
     return worst;
