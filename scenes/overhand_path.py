@@ -13,6 +13,8 @@ where the ends are.
 """
 import math
 
+import chords
+
 D, NODES, TAIL, PULL, T_PULL = 0.004, 241, 0.06, 0.2, 14.0
 
 
@@ -31,38 +33,7 @@ def main():
     head = [tuple(dense[0][i] + t0[i] * TAIL * k / 200 for i in range(3)) for k in range(200, 0, -1)]
     tail = [tuple(dense[-1][i] + t1[i] * TAIL * k / 200 for i in range(3)) for k in range(1, 201)]
     line = head + dense + tail
-    arc = [0.0]
-    for a, b in zip(line, line[1:]):
-        arc.append(arc[-1] + math.dist(a, b))
-    # chords of equal length ds: bisection on the length until NODES fit
-    def place(ds):
-        out, j = [line[0]], 0
-        while len(out) < NODES:
-            p = out[-1]
-            while j < len(line) - 1 and math.dist(p, line[j + 1]) < ds:
-                j += 1
-            if j == len(line) - 1:
-                return out, False
-            a, b = line[j], line[j + 1]
-            lo, hi = 0.0, 1.0
-            for _ in range(60):
-                mid = 0.5 * (lo + hi)
-                q = tuple(a[i] + mid * (b[i] - a[i]) for i in range(3))
-                if math.dist(p, q) < ds:
-                    lo = mid
-                else:
-                    hi = mid
-            out.append(tuple(a[i] + 0.5 * (lo + hi) * (b[i] - a[i]) for i in range(3)))
-        return out, True
-    lo, hi = arc[-1] / (NODES - 1) * 0.99, arc[-1] / (NODES - 1)
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        pts, ok = place(mid)
-        if ok:
-            lo = mid
-        else:
-            hi = mid
-    pts, _ = place(lo)
+    pts, lo = chords.place(line, NODES)
     with open("overhand_shape.csv", "w") as f:
         f.write("x,y,z\n")
         for p in pts:

@@ -328,6 +328,13 @@ void rod_state_reset(const rod_model *m, rod_state *s);
  * the point p, and that distance (m) in *distance when not NULL. */
 double rod_nearest_arc_length(const rod_model *m, const double *position, const double p[3],
                               double *distance);
+/* Which nodes are threaded through each tissue surface (bit j: surface j,
+ * the first 32): a surface's punctures pair up in order (in, out, in, ...:
+ * the needle's in the order it made them, after the scene's in the order
+ * given), the thread between a pair is inside the tissue, and so is the
+ * thread past an unpaired one towards the tip; a segment's length of slack
+ * each side covers the nodes beside a puncture. threaded: nodes entries. */
+void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *threaded);
 /* The same over segments first..last only (clamped to the rod's). */
 double rod_nearest_arc_length_between(const rod_model *m, const double *position,
                                       const double p[3], int first, int last, double *distance);

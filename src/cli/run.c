@@ -485,12 +485,13 @@ static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_
         fprintf(f, "        %s support: force (%.6g, %.6g, %.6g) N, moment (%.6g, %.6g, %.6g) N m\n",
                 names[e], F[0] + 0.0, F[1] + 0.0, F[2] + 0.0, M[0] + 0.0, M[1] + 0.0, M[2] + 0.0);
     }
-    /* what the tissue feels at each puncture (issue 11) */
+    /* what the tissue feels at each puncture (issue 11); the scene's come
+     * first (rod_state_reset) */
     for (int k = 0; k < s->puncture_count; k++) {
         const rod_puncture_state *p = &s->puncture[k];
         fprintf(f, "        puncture %d at (%.6g, %.6g, %.6g) m (%s): the thread passes at s = "
                 "%.6g m, force on the tissue (%.6g, %.6g, %.6g) N\n", k + 1, p->point[0],
-                p->point[1], p->point[2], p->surface < 0 ? "given" : "made by the needle", p->s,
+                p->point[1], p->point[2], k < m->puncture_count ? "given" : "made by the needle", p->s,
                 p->force[0] + 0.0, p->force[1] + 0.0, p->force[2] + 0.0);
     }
     fprintf(f, "        %lld steps in %.3f s wall, %.2f us per step, %.4g wall s per simulated s\n",

@@ -100,7 +100,7 @@ const ini_key scene_keys_rod[] = {
     {"surface", "tissue", "-", "no", BOOL,
      "yes: the needle (driven tip) passing through makes punctures"},
     {"puncture", "point", "m", "required", "3 numbers, on the starting shape",
-     "a point the thread passes through, sliding ([puncture] repeats, at most 16)"},
+     "a point the thread passes through, sliding ([puncture] repeats, at most 16); on a tissue surface, pairs in order: the thread between is inside"},
     {"puncture", "friction", "-", "0.2", ">= 0",
      "Coulomb coefficient along the thread in the puncture"},
 

@@ -492,6 +492,12 @@ static const struct {
      * does (0 and +-4), when it is known (renamed below) */
     {"square or granny (composite of two trefoils)", 5, {1, -2, 3, -2, 1}},
     {"trefoil # figure-eight", 5, {1, -4, 5, -4, 1}},
+    /* the surgeon's knot: a double throw (closed, the double overhand knot:
+     * the cinquefoil) and a single one (the trefoil); no prime knot of up to
+     * 8 crossings has this polynomial (Rolfsen's table). The signature tells
+     * the surgeon's knot, whose throws turn opposite ways as a square knot's
+     * (+-4 -+ 2 = +-2), from its granny (+-6) (renamed below) */
+    {"cinquefoil # trefoil", 7, {1, -2, 3, -3, 3, -2, 1}},
     {"figure-eight # figure-eight", 5, {1, -6, 11, -6, 1}},
 };
 
@@ -829,6 +835,12 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
         snprintf(out->name, sizeof out->name, "%s",
                  out->signature == 0 ? "square knot (trefoil # mirror trefoil)"
                                      : "granny knot (trefoil # trefoil)");
+    static const long long surgeons[7] = {1, -2, 3, -3, 3, -2, 1};
+    if (terms == 7 && memcmp(surgeons, out->coefficient, sizeof surgeons) == 0 &&
+        out->has_signature && (abs(out->signature) == 2 || abs(out->signature) == 6))
+        snprintf(out->name, sizeof out->name, "%s",
+                 abs(out->signature) == 2 ? "surgeon's knot (cinquefoil # mirror trefoil)"
+                                          : "granny surgeon's knot (cinquefoil # trefoil)");
     if (!named && terms <= ROD_KNOT_MAX_TERMS) {
         char text[72];
         rod_knot_polynomial_text(out, text, sizeof text);

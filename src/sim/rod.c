@@ -10,6 +10,7 @@
 #include "sim/path.h"
 #include "sim/proximity.h"
 #include "sim/rod_geometry.h"
+#include "sim/surface.h"
 
 rod_model rod_model_default(void)
 {
@@ -664,13 +665,44 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     }
     /* initial_velocity is global; the state keeps velocity in director components */
     for (size_t i = 0; i < n; i++) m3_mul_tv(&s->velocity[3 * i], &s->frame[9 * i], m->initial_velocity);
-    /* the scene's punctures, at the arc length of the starting shape nearest them */
+    /* the scene's punctures, at the arc length of the starting shape nearest
+     * them; one on a tissue surface's boundary (within 1 % of the radius)
+     * belongs to that surface, so that the thread between two of them is
+     * inside it (rod_threaded_nodes) */
     for (int p = 0; p < m->puncture_count && p < ROD_MAX_PUNCTURES; p++) {
         rod_puncture_state *ps = &s->puncture[s->puncture_count++];
         v3_copy(ps->point, m->punctures[p].point);
         ps->friction = m->punctures[p].friction;
         ps->surface = -1;
+        for (int j = 0; j < m->surface_count && j < 32 && ps->surface < 0; j++)
+            if (m->surfaces[j].tissue &&
+                fabs(rod_surface_gap(&m->surfaces[j], ps->point, 0.0, NULL, NULL)) <=
+                    0.005 * m->diameter)
+                ps->surface = j;
         ps->s = rod_nearest_arc_length(m, s->position, ps->point, NULL);
+    }
+}
+
+void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *threaded)
+{
+    const int n = m->nodes;
+    memset(threaded, 0, (size_t)n * sizeof *threaded);
+    for (int j = 0; j < m->surface_count && j < 32; j++) {
+        double entry = -1.0;
+        for (int k = 0; k < s->puncture_count; k++) {
+            if (s->puncture[k].surface != j) continue;
+            if (entry < 0.0) {
+                entry = s->puncture[k].s;
+                continue;
+            }
+            double exit_s = s->puncture[k].s, lo = fmin(entry, exit_s), hi = fmax(entry, exit_s);
+            for (int i = 0; i < n; i++)
+                if (i * m->ds >= lo - m->ds && i * m->ds <= hi + m->ds) threaded[i] |= 1u << j;
+            entry = -1.0;
+        }
+        if (entry >= 0.0)
+            for (int i = 0; i < n; i++)
+                if (i * m->ds >= entry - m->ds) threaded[i] |= 1u << j;
     }
 }
 

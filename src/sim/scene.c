@@ -429,10 +429,20 @@ static int check_start_outside(ini_doc *doc, const rod_model *m, char *err, size
         return -1;
     }
     const double radius = 0.5 * m->diameter;
+    unsigned *threaded = calloc((size_t)m->nodes, sizeof *threaded);
+    if (!threaded) {
+        rod_state_destroy(s);
+        snprintf(err, errlen, "%s: out of memory", ini_filename(doc));
+        return -1;
+    }
+    /* the thread between the scene's punctures in a tissue surface is
+     * inside it, as the run will treat it */
+    rod_threaded_nodes(m, s, threaded);
     int rc = 0;
     for (int j = 0; j < m->surface_count && !rc; j++) {
         const rod_surface *sf = &m->surfaces[j];
         for (int i = 0; i < m->nodes; i++) {
+            if (j < 32 && (threaded[i] >> j & 1u)) continue;
             double gap = rod_surface_gap(sf, &s->position[3 * i], radius, NULL, NULL);
             if (gap < -0.01 * radius) {
                 rc = ini_error(doc, "surface", j, "center", err, errlen,
@@ -455,6 +465,7 @@ static int check_start_outside(ini_doc *doc, const rod_model *m, char *err, size
                            "nearest point is %.3g m away; a puncture holds the thread where it "
                            "already passes", distance);
     }
+    free(threaded);
     rod_state_destroy(s);
     return rc;
 }

@@ -1052,28 +1052,10 @@ static void prepare_punctures(implicit_work *w, const rod_model *m, const rod_st
         v3_scale(w->punct[k].tangent, t, 1.0 / v3_norm(t));
         v3_set(w->punct[k].force, 0.0, 0.0, 0.0);
     }
-    /* the thread between a tissue surface's punctures in the order the
-     * needle made them (in, out, in, ...) is inside it: from an entry at s_in
-     * to the next exit (or the tip, before it) no contact with that surface;
-     * a segment's length of slack each side covers the nodes beside a
-     * puncture */
-    memset(w->threaded, 0, (size_t)n * sizeof(unsigned));
+    /* the thread between a tissue surface's punctures is inside it (no
+     * contact with that surface: rod_threaded_nodes) */
+    rod_threaded_nodes(m, s, w->threaded);
     for (int j = 0; j < m->surface_count && j < 32; j++) {
-        double entry = -1.0;
-        for (int k = 0; k < s->puncture_count; k++) {
-            if (s->puncture[k].surface != j) continue;
-            if (entry < 0.0) {
-                entry = s->puncture[k].s;
-                continue;
-            }
-            double exit_s = s->puncture[k].s, lo = fmin(entry, exit_s), hi = fmax(entry, exit_s);
-            for (int i = 0; i < n; i++)
-                if (i * m->ds >= lo - m->ds && i * m->ds <= hi + m->ds) w->threaded[i] |= 1u << j;
-            entry = -1.0;
-        }
-        if (entry >= 0.0)
-            for (int i = 0; i < n; i++)
-                if (i * m->ds >= entry - m->ds) w->threaded[i] |= 1u << j;
         /* the thread within a needle radius of its tip follows the needle
          * into the hole its point cuts before the back (the tip) crosses the
          * surface, where the puncture is made: no contact with tissue there */

@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "test.h"
+#include "test_frames.h"
 #include "test_process.h"
 #include "test_segment.h"
 
@@ -24,32 +25,9 @@
 #define DIAMETER 0.004
 #define MAX_FRAMES 64
 
-/* Reads the CSV of a run: frame times into t, positions into x; returns
- * the frames (rows into *rows). */
 static int read_frames(const char *csv, double t[MAX_FRAMES], double (*x)[NODES * 3], int *rows)
 {
-    FILE *f = fopen(csv, "r");
-    int frames = 0;
-    char line[1024];
-    *rows = 0;
-    if (f && fgets(line, sizeof line, f)) { /* header t,node,s,x,y,z,... */
-        while (fgets(line, sizeof line, f)) {
-            double tt, s, px, py, pz;
-            int node;
-            if (sscanf(line, "%lf,%d,%lf,%lf,%lf,%lf", &tt, &node, &s, &px, &py, &pz) != 6) break;
-            if (node == 0) {
-                if (frames == MAX_FRAMES) break;
-                t[frames++] = tt;
-            }
-            if (node < 0 || node >= NODES || frames == 0) break;
-            x[frames - 1][3 * node] = px;
-            x[frames - 1][3 * node + 1] = py;
-            x[frames - 1][3 * node + 2] = pz;
-            (*rows)++;
-        }
-    }
-    if (f) fclose(f);
-    return frames;
+    return test_read_frames(csv, NODES, MAX_FRAMES, t, &x[0][0], rows);
 }
 
 /* scenes/overhand_NAME.csv with its times divided by `faster`, into path. */
@@ -73,25 +51,9 @@ static int faster_path(const char *name, double faster, const char *path)
     return rows;
 }
 
-/* 1 when node i lies within 1.15 diameters of a node more than 5 along the
- * rod: strands touching there. */
-static int touching(const double *x, int i)
-{
-    for (int j = 0; j < NODES; j++) {
-        if (abs(i - j) < 6) continue;
-        double d2 = 0.0;
-        for (int k = 0; k < 3; k++) d2 += (x[3 * i + k] - x[3 * j + k]) * (x[3 * i + k] - x[3 * j + k]);
-        if (d2 < 1.15 * 1.15 * DIAMETER * DIAMETER) return 1;
-    }
-    return 0;
-}
-
-/* The lowest node where strands touch, or -1 when none does. */
 static int lowest_touching(const double *x)
 {
-    for (int i = 0; i < NODES; i++)
-        if (touching(x, i)) return i;
-    return -1;
+    return test_lowest_touching(x, NODES, DIAMETER);
 }
 
 /* The least distance (m) between segments more than 5 apart along the rod
@@ -106,14 +68,9 @@ static double closest_in_frames(double (*x)[NODES * 3], const double *t, int fra
     return worst;
 }
 
-/* The arc (m) between the outermost nodes where strands touch; 0 when none
- * does. */
 static double knot_arc(const double *x, double ds)
 {
-    int lo = lowest_touching(x), hi = -1;
-    for (int i = NODES - 1; lo >= 0 && i >= lo && hi < 0; i--)
-        if (touching(x, i)) hi = i;
-    return lo < 0 ? 0.0 : (hi - lo) * ds;
+    return test_knot_arc(x, NODES, DIAMETER, ds);
 }
 
 /* Shastri's long trefoil (overhand_path.py's curve and scale) with 6 cm

@@ -617,6 +617,33 @@ static void test_bad_input(void)
     bad_scene("[surface]\nfriction = -0.1\n", "friction", "a negative friction");
     bad_scene("[surface]\ncenter = 0 0 0.02\n", "center",
               "a plane the starting shape already penetrates");
+    bad_scene("[surface]\nshape = box\ncenter = 0.15 0 0.01\nsize = 0.1 0.1 0.1\n"
+              "[puncture]\npoint = 0.1 0 0.01\n[puncture]\npoint = 0.2 0 0.01\n", "center",
+              "a thread through a box that is not tissue, between two punctures");
+    {   /* the same box as tissue: the thread between the punctures is inside it */
+        const char *dir = "/tmp/rodsim_test_contact_threaded";
+        test_remove_tree(dir);
+        mkdir(dir, 0700);
+        char scene[256], out[300], output[4096];
+        snprintf(scene, sizeof scene, "%s/threaded.ini", dir);
+        snprintf(out, sizeof out, "%s/out.csv", dir);
+        FILE *f = fopen(scene, "w");
+        if (f) {
+            fprintf(f, "[rod]\nlength = 0.3\ndiameter = 0.001\ndensity = 850\nyoungs_modulus = "
+                       "87.5e6\nshear_modulus = 31.25e6\nnodes = 31\norigin = 0 0 0.01\n[ends]\n"
+                       "root = free\n[solver]\nduration = 0.1\n[loads]\ngravity = 0 0 -9.81\n"
+                       "[surface]\nshape = box\ncenter = 0.15 0 0.01\nsize = 0.1 0.1 0.1\n"
+                       "tissue = yes\n[puncture]\npoint = 0.1 0 0.01\n[puncture]\npoint = 0.2 0 "
+                       "0.01\n");
+            fclose(f);
+        }
+        const char *args[] = {"run", scene, "--no-video", "--csv", out, NULL};
+        int status = test_run_rodsim(args, output, sizeof output);
+        check(status == 0 && strstr(output, "(given)") != NULL,
+              "a thread through a tissue box between two given punctures on its faces starts and "
+              "runs (exit %d): %s", status, status ? output : "the punctures listed as given");
+        test_remove_tree(dir);
+    }
     bad_scene("[surface]\nshape = sphere\n", "size", "a sphere without a radius");
     bad_scene("[surface]\nshape = tetrahedron\n", "shape", "an unknown shape");
 }

@@ -207,7 +207,7 @@ static void rotate_random(polygon *out, const polygon *g)
 typedef struct reference {
     const char *name;
     int terms;
-    long long c[5];
+    long long c[7];
     long long determinant;
     int signature; /* additive under # (Livingston, Knot Theory, ch. 6) */
 } reference;
@@ -226,6 +226,14 @@ static const reference CINQUEFOIL = {"cinquefoil (5_1)", 5, {1, -1, 1, -1, 1}, 5
 static const reference GRANNY = {"granny knot (trefoil # trefoil)", 5, {1, -2, 3, -2, 1}, 9, 4};
 static const reference SQUARE = {"square knot (trefoil # mirror trefoil)", 5, {1, -2, 3, -2, 1},
                                  9, 0};
+/* the cinquefoil (+4) with a mirror trefoil (-2): the surgeon's knot's
+ * double throw and its single throw turned the other way; with a trefoil of
+ * its own hand (+2), the surgeon's granny. Delta = (t^4 - t^3 + t^2 - t + 1)
+ * (t^2 - t + 1) expanded by hand; determinant 5 x 3. */
+static const reference SURGEONS = {"surgeon's knot (cinquefoil # mirror trefoil)", 7,
+                                   {1, -2, 3, -3, 3, -2, 1}, 15, 2};
+static const reference SURGEONS_GRANNY = {"granny surgeon's knot (cinquefoil # trefoil)", 7,
+                                          {1, -2, 3, -3, 3, -2, 1}, 15, 6};
 static const reference TREFOIL_FIGURE_EIGHT = {"trefoil # figure-eight", 5,
                                                {1, -4, 5, -4, 1}, 15, 2};
 
@@ -367,6 +375,13 @@ int main(void)
     figure_eight(&b, 400, 0.0);
     connected_sum(&poly, &a, &b);
     expect_all("trefoil # figure-eight", &poly, &TREFOIL_FIGURE_EIGHT, 2);
+    torus_knot(&a, 500, 2, 5, 0, 0.0);
+    torus_knot(&b, 300, 2, 3, 1, 0.0);
+    connected_sum(&poly, &a, &b);
+    expect_all("surgeon's (cinquefoil # mirror trefoil)", &poly, &SURGEONS, 2);
+    torus_knot(&b, 300, 2, 3, 0, 0.0);
+    connected_sum(&poly, &a, &b);
+    expect_all("surgeon's granny (cinquefoil # trefoil)", &poly, &SURGEONS_GRANNY, 2);
 
     printf("-- refused\n");
     {
