@@ -22,6 +22,10 @@ void text_font_destroy(text_font *f);
  * Returns the advance width in pixels. */
 int text_draw(image *img, text_font *f, int x, int y_baseline, const char *utf8,
               const unsigned char rgb[3]);
+/* From now on, text_draw lays a halo of rgb (NULL: none) 2 pixels wide
+ * under the glyphs, so that text stays readable over a rod or a surface
+ * (the overlay's: the background colour, invisible on the background). */
+void text_set_halo(text_font *f, const unsigned char rgb[3]);
 /* Advance width of utf8 in pixels (what text_draw returns). */
 int text_width(text_font *f, const char *utf8);
 /* Ascent and descent above/below the baseline, pixels (both >= 0). */

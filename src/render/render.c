@@ -3390,6 +3390,10 @@ static int overlay_create(overlay *ov, const rod_recording *rec, const render_op
         ov->title = text_font_load(o->height / 22 > 8 ? o->height / 22 : 8, err, errlen);
         ov->body = ov->title ? text_font_load(o->height / 34 > 7 ? o->height / 34 : 7, err, errlen) : NULL;
         if (!ov->body) return -1;
+        /* a halo of the background colour keeps the text readable where the
+         * rod or a surface passes under it */
+        text_set_halo(ov->title, o->background);
+        text_set_halo(ov->body, o->background);
     }
     return 0;
 }

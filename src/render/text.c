@@ -22,6 +22,8 @@ struct text_font {
     FT_Library library;
     FT_Face face;
     int ascent, descent;
+    int halo;                  /* 1: a halo of halo_rgb under the glyphs */
+    unsigned char halo_rgb[3];
     glyph cache[TEXT_CACHE_LAST - TEXT_CACHE_FIRST + 1];
 };
 
@@ -156,11 +158,55 @@ static void draw_glyph(image *img, const glyph *g, int x, int y, int vertical,
     }
 }
 
+/* The halo of one glyph: its coverage, spread 2 pixels each way (12
+ * offsets), blended at 0.6 of the coverage per offset, so it is nearly
+ * opaque next to a stroke and fades out 2 pixels away. */
+static void draw_glyph_halo(image *img, const glyph *g, int x, int y, const unsigned char rgb[3])
+{
+    /* where the glyph's box, grown by the halo, holds only colours near the
+     * halo's (the overlay's background, its grid lines), the ink reads
+     * without it: skipped (most of the overlay, most frames). */
+    int x0 = x + g->left - 2, x1 = x + g->left + g->width + 2;
+    int y0 = y - g->top - 2, y1 = y - g->top + g->rows + 2, other = 0;
+    x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
+    x1 = x1 > img->width ? img->width : x1, y1 = y1 > img->height ? img->height : y1;
+    for (int py = y0; py < y1 && !other; py += 2) { /* every other pixel: what the halo
+                                                      is for (a rod, a surface) is wider */
+        const unsigned char *p = img->rgb + ((size_t)py * (size_t)img->width + (size_t)x0) * 3;
+        for (int px = x0; px < x1 && !other; px += 2, p += 6)
+            other = abs(p[0] - rgb[0]) > 40 || abs(p[1] - rgb[1]) > 40 || abs(p[2] - rgb[2]) > 40;
+    }
+    if (!other) return;
+    static const int offset[12][2] = {{1, 0}, {-1, 0}, {0, 1},  {0, -1}, {1, 1},  {1, -1},
+                                      {-1, 1}, {-1, -1}, {2, 0}, {-2, 0}, {0, 2}, {0, -2}};
+    for (int row = 0; row < g->rows; row++) {
+        for (int col = 0; col < g->width; col++) {
+            unsigned coverage = g->coverage[row * g->width + col] * 3u / 5u;
+            if (!coverage) continue;
+            for (int k = 0; k < 12; k++) {
+                int px = x + g->left + col + offset[k][0], py = y + row - g->top + offset[k][1];
+                if (px < 0 || py < 0 || px >= img->width || py >= img->height) continue;
+                blend(img->rgb + ((size_t)py * (size_t)img->width + (size_t)px) * 3, rgb, coverage);
+            }
+        }
+    }
+}
+
 static int draw_string(image *img, text_font *f, int x, int y, const char *utf8, int vertical,
                        const unsigned char rgb[3])
 {
     int advance = 0;
     const char *s = utf8;
+    if (img && f->halo && !vertical) { /* the halo first, under every glyph of the string */
+        while (*s) {
+            glyph g;
+            if (get_glyph(f, next_code_point(&s), &g)) continue;
+            if (g.coverage) draw_glyph_halo(img, &g, x + advance, y, f->halo_rgb);
+            advance += g.advance;
+        }
+        advance = 0;
+        s = utf8;
+    }
     while (*s) {
         glyph g;
         if (get_glyph(f, next_code_point(&s), &g)) continue;
@@ -175,6 +221,13 @@ int text_draw(image *img, text_font *f, int x, int y_baseline, const char *utf8,
               const unsigned char rgb[3])
 {
     return draw_string(img, f, x, y_baseline, utf8, 0, rgb);
+}
+
+void text_set_halo(text_font *f, const unsigned char rgb[3])
+{
+    f->halo = rgb != NULL;
+    if (rgb)
+        for (int c = 0; c < 3; c++) f->halo_rgb[c] = rgb[c];
 }
 
 int text_width(text_font *f, const char *utf8)

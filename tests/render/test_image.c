@@ -102,6 +102,33 @@ static void test_text(void)
     /* non-ASCII goes through the slot path */
     check(text_width(font, "\xc3\x97") > 0, "the multiplication sign has a width (%d px)",
           text_width(font, "\xc3\x97"));
+    /* the halo: dark ink over a dark band (a rod under the overlay) stays
+     * readable: light pixels ring the strokes there, none without a halo,
+     * and on the light background the halo (its colour) changes nothing */
+    const unsigned char light[3] = {246, 247, 249}, dark[3] = {30, 40, 90}, ink_rgb[3] = {34, 34, 34};
+    int lit[2] = {0, 0}, changed[2] = {0, 0};
+    for (int halo = 0; halo < 2; halo++) {
+        image_fill(img, light[0], light[1], light[2]);
+        for (int y = 0; y < 60; y++)
+            for (int xx = 0; xx < 100; xx++)
+                memcpy(img->rgb + ((size_t)y * 200 + (size_t)xx) * 3, dark, 3);
+        text_set_halo(font, halo ? light : NULL);
+        text_draw(img, font, x, baseline, label, ink_rgb);
+        for (int y = 0; y < 60; y++)
+            for (int xx = 0; xx < 200; xx++) {
+                const unsigned char *p = img->rgb + ((size_t)y * 200 + (size_t)xx) * 3;
+                if (xx < 100 && p[0] + p[1] + p[2] > 3 * 200) lit[halo]++;
+                if (xx >= 100 && (p[0] != light[0] || p[1] != light[1] || p[2] != light[2]))
+                    changed[halo]++;
+            }
+    }
+    text_set_halo(font, NULL);
+    check(lit[0] == 0 && lit[1] > 100,
+          "over a dark band the halo lights %d pixels around the strokes (%d without it)", lit[1],
+          lit[0]);
+    check(changed[1] == changed[0] && changed[0] > 50,
+          "on the background the halo changes nothing: %d pixels inked with it, %d without",
+          changed[1], changed[0]);
     image_destroy(tall);
     image_destroy(img);
     text_font_destroy(font);
