@@ -6,13 +6,15 @@
 #     friction, shadows);
 #   out/overhand_tight.mp4 (+ .png): a loose overhand knot pulled tight by a
 #     force, its strands kept apart by self-contact, the camera on the knot;
+#   out/surgeons_knot.mp4 (+ .png): a surgeon's knot over a suture's bite
+#     through a practice pad, cinched by both ends (about 70 s);
 #   out/buckling_twist.mp4 (+ .png): a rod twisted under tension coiling into
 #     a plectoneme, the stripe (a material line) showing the twist.
 cd "$(dirname "$0")/.." || exit 1
 bin=build/release/rodsim
 [ -x "$bin" ] || { echo "demo: $bin is missing; run make first" >&2; exit 1; }
 mkdir -p out
-for scene in suture skin_drop overhand_tight buckling_twist; do
+for scene in suture skin_drop overhand_tight surgeons_knot buckling_twist; do
     csv=""
     [ "$scene" = suture ] && csv="--csv out/suture.csv"
     # shellcheck disable=SC2086
@@ -23,4 +25,4 @@ for scene in suture skin_drop overhand_tight buckling_twist; do
         exit "$status"
     fi
 done
-echo "demo: wrote out/suture.mp4, out/suture.png, out/suture.csv, out/skin_drop.mp4, out/skin_drop.png, out/overhand_tight.mp4, out/overhand_tight.png, out/buckling_twist.mp4, out/buckling_twist.png"
+echo "demo: wrote out/suture.mp4, out/suture.png, out/suture.csv, out/skin_drop.mp4, out/skin_drop.png, out/overhand_tight.mp4, out/overhand_tight.png, out/surgeons_knot.mp4, out/surgeons_knot.png, out/buckling_twist.mp4, out/buckling_twist.png"
