@@ -9,8 +9,9 @@
  * 0.9 diameters in any frame; the thread passes through both puncture
  * points in every frame (within 1 % of the diameter: the puncture holds it
  * within 0.5 %); the rope in the knot (the arc between the outermost nodes
- * within 1.15 diameters of a far strand) shortens as the ends pull, and the
- * ends move out. The sanitizer build runs the first second only. */
+ * within 1.15 diameters of a far strand) falls below 0.7 of its loosest as
+ * the ends pull, and the ends move out. The sanitizer build runs the first
+ * second only. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -74,17 +75,22 @@ int main(void)
     check(off <= 0.01 * DIAMETER, "the thread passes through both punctures in every frame: farthest "
           "%.3g m = %.3g diameters (t = %g s; limit 0.01)", off, off / DIAMETER, off_when);
     if (!sanitized && frames == want_frames) {
-        /* t = 1 s: the loose throws settled under 1.5 N; t = 8 s: 15 N for 3 s */
+        /* the loosest frame (the throws spring open under the first 1.5 N)
+         * against the last (15 N for 3 s) */
         const double ds = LENGTH / (NODES - 1);
-        double early = test_knot_arc(x[2], NODES, DIAMETER, ds) / DIAMETER;
+        double loosest = 0.0, at = 0.0;
+        for (int k = 0; k < frames; k++) {
+            double arc = test_knot_arc(x[k], NODES, DIAMETER, ds) / DIAMETER;
+            if (arc > loosest) loosest = arc, at = t[k];
+        }
         double last = test_knot_arc(x[frames - 1], NODES, DIAMETER, ds) / DIAMETER;
         double out0 = x[0][3 * (NODES - 1) + 1] - x[0][1];
         double out1 = x[frames - 1][3 * (NODES - 1) + 1] - x[frames - 1][1];
-        printf("     rope in the knot: %.1f diameters at t = 1 s, %.1f at t = 8 s; the ends %.1f "
-               "-> %.1f cm apart\n", early, last, 100.0 * out0, 100.0 * out1);
-        check(last > 0.0 && last < 0.8 * early,
-              "pulled by 15 N, the knot tightens: %.1f -> %.1f diameters of rope in it (at most 0.8 "
-              "of the loose knot's)", early, last);
+        printf("     rope in the knot: %.1f diameters at its loosest (t = %g s), %.1f at t = 8 s; "
+               "the ends %.1f -> %.1f cm apart\n", loosest, at, last, 100.0 * out0, 100.0 * out1);
+        check(last > 0.0 && last < 0.7 * loosest,
+              "pulled by 15 N, the knot tightens: %.1f -> %.1f diameters of rope in it (below 0.7 "
+              "of its loosest)", loosest, last);
         check(out1 > out0 + 0.2, "the ends are pulled out: %.3f -> %.3f m apart (more than 0.2 m "
               "further)", out0, out1);
     }
