@@ -110,38 +110,46 @@ static double write_fine_shape(const char *path)
  * position, leave some 37 in it once friction locks it), against the ideal
  * closed trefoil's 16.37 (the issue's figure; an open knot measured as here is
  * not the same length: printed, not asserted); a trefoil in every frame;
- * far segments never closer than 0.9 diameters. */
+ * far segments never closer than 0.9 diameters. The sanitizer build runs
+ * the first second (99 s of its 2.5 s there): the same checks but the
+ * 25 diameters, which the half-pulled knot has not reached. */
 static void test_pulled_tight(const char *dir)
 {
-    char csv[256], output[16384];
+    const int full = !test_sanitized(), want = full ? 26 : 11;
+    const char *until = full ? "2.5" : "1";
+    char csv[256], output[16384], duration[32], text[160];
     snprintf(csv, sizeof csv, "%s_tight.csv", dir);
+    snprintf(duration, sizeof duration, "solver.duration=%s", until);
     const char *args[] = {"run", "scenes/overhand_tight.ini", "--no-video", "--csv", csv, "--set",
-                          "solver.duration=2.5", "--set", "render.fps=10", NULL};
+                          duration, "--set", "render.fps=10", NULL};
     int status = test_run_rodsim(args, output, sizeof output);
-    check(status == 0, "overhand_tight.ini, 2.5 s: the run completes (exit %d)", status);
-    check(strstr(output, "knot: trefoil at t = 0 s and at t = 2.5 s, the same in all 26 output "
-                         "frames") != NULL,
-          "overhand_tight.ini: the summary names the knot a trefoil in all 26 frames");
+    check(status == 0, "overhand_tight.ini, %s s: the run completes (exit %d)", until, status);
+    snprintf(text, sizeof text, "knot: trefoil at t = 0 s and at t = %s s, the same in all %d output "
+             "frames", until, want);
+    check(strstr(output, text) != NULL,
+          "overhand_tight.ini: the summary names the knot a trefoil in all %d frames", want);
     static double x[MAX_FRAMES][NODES * 3];
     double t[MAX_FRAMES];
     int rows = 0, frames = read_frames(csv, t, x, &rows);
-    check(frames == 26 && rows == 26 * NODES, "the CSV holds 26 frames of %d nodes (%d frames, %d "
-          "rows)", NODES, frames, rows);
+    check(frames == want && rows == want * NODES, "the CSV holds %d frames of %d nodes (%d frames, "
+          "%d rows)", want, NODES, frames, rows);
     double when = 0.0, worst = closest_in_frames(x, t, frames, &when);
     check(worst >= 0.9 * DIAMETER, "pulled tight: no two far segments closer than 0.9 diameters in "
           "any frame: least %.4g m = %.3f diameters (t = %g s)", worst, worst / DIAMETER, when);
     const double ds = 0.609684253 / (NODES - 1), ideal = 16.37;
     double early = frames > 5 ? knot_arc(x[5], ds) / DIAMETER : 0.0;
     double last = frames ? knot_arc(x[frames - 1], ds) / DIAMETER : 0.0;
-    printf("     rope in the knot: %.1f diameters at t = 0.5 s, %.1f at t = 2.5 s; the ideal "
-           "closed trefoil %.2f (%+.1f %%)\n", early, last, ideal, 100.0 * (last - ideal) / ideal);
-    check(last > 0.0 && last < early && last < 25.0,
-          "pulled by a force, the knot tightens: %.1f -> %.1f diameters of rope in it (below 25)",
-          early, last);
+    printf("     rope in the knot: %.1f diameters at t = 0.5 s, %.1f at t = %s s; the ideal "
+           "closed trefoil %.2f (%+.1f %%)\n", early, last, until, ideal,
+           100.0 * (last - ideal) / ideal);
+    check(last > 0.0 && last < early && (!full || last < 25.0),
+          "pulled by a force, the knot tightens: %.1f -> %.1f diameters of rope in it%s", early,
+          last, full ? " (below 25)" : "");
     /* the run's own figure: between the nodes the strands press on (its
      * contact forces), against this file's (nodes within 1.15 d) */
-    const char *said = strstr(output, "rope in the knot at t = 2.5 s: ");
-    double reported = said ? atof(said + strlen("rope in the knot at t = 2.5 s: ")) : -1.0;
+    snprintf(text, sizeof text, "rope in the knot at t = %s s: ", until);
+    const char *said = strstr(output, text);
+    double reported = said ? atof(said + strlen(text)) : -1.0;
     check(said && fabs(reported - last) <= 1.5 && strstr(output, "ideal closed trefoil takes 16.37"),
           "the summary reports the rope in the knot, %.1f diameters, against the ideal trefoil's "
           "16.37 (this file's measure %.1f; within 1.5)", reported, last);
