@@ -472,33 +472,44 @@ static int passage_order(const void *a, const void *b)
 /* Names ----------------------------------------------------------------- */
 
 /* Delta(t), normalised (lowest term constant, positive). Several knots share
- * a polynomial; the name is that of the smallest (Rolfsen's table). */
+ * a polynomial; the name is that of the smallest (Rolfsen's table). Where
+ * the polynomial names two composites that its signature tells apart, the
+ * name for each |signature| (when it is known) follows. */
+typedef struct signed_name {
+    int abs_signature;
+    const char *name;
+} signed_name;
+
 static const struct {
     const char *name;
     int terms;
     long long c[9];
+    signed_name by_signature[2];
 } known_knots[] = {
-    {"unknot", 1, {1}},
-    {"trefoil", 3, {1, -1, 1}},
-    {"figure-eight", 3, {1, -3, 1}},
-    {"cinquefoil (5_1)", 5, {1, -1, 1, -1, 1}},
-    {"three-twist (5_2)", 3, {2, -3, 2}},
-    {"stevedore (6_1)", 3, {2, -5, 2}},
-    {"6_2", 5, {1, -3, 3, -3, 1}},
-    {"6_3", 5, {1, -3, 5, -3, 1}},
-    {"7_1", 7, {1, -1, 1, -1, 1, -1, 1}},
+    {"unknot", 1, {1}, {{0, NULL}}},
+    {"trefoil", 3, {1, -1, 1}, {{0, NULL}}},
+    {"figure-eight", 3, {1, -3, 1}, {{0, NULL}}},
+    {"cinquefoil (5_1)", 5, {1, -1, 1, -1, 1}, {{0, NULL}}},
+    {"three-twist (5_2)", 3, {2, -3, 2}, {{0, NULL}}},
+    {"stevedore (6_1)", 3, {2, -5, 2}, {{0, NULL}}},
+    {"6_2", 5, {1, -3, 3, -3, 1}, {{0, NULL}}},
+    {"6_3", 5, {1, -3, 5, -3, 1}, {{0, NULL}}},
+    {"7_1", 7, {1, -1, 1, -1, 1, -1, 1}, {{0, NULL}}},
     /* the Alexander polynomial cannot tell the square knot (trefoil # its mirror)
      * from the granny (trefoil # trefoil): both (t^2 - t + 1)^2; the signature
-     * does (0 and +-4), when it is known (renamed below) */
-    {"square or granny (composite of two trefoils)", 5, {1, -2, 3, -2, 1}},
-    {"trefoil # figure-eight", 5, {1, -4, 5, -4, 1}},
+     * does (0 and +-4), when it is known */
+    {"square or granny (composite of two trefoils)", 5, {1, -2, 3, -2, 1},
+     {{0, "square knot (trefoil # mirror trefoil)"}, {4, "granny knot (trefoil # trefoil)"}}},
+    {"trefoil # figure-eight", 5, {1, -4, 5, -4, 1}, {{0, NULL}}},
     /* the surgeon's knot: a double throw (closed, the double overhand knot:
      * the cinquefoil) and a single one (the trefoil); no prime knot of up to
      * 8 crossings has this polynomial (Rolfsen's table). The signature tells
      * the surgeon's knot, whose throws turn opposite ways as a square knot's
-     * (+-4 -+ 2 = +-2), from its granny (+-6) (renamed below) */
-    {"cinquefoil # trefoil", 7, {1, -2, 3, -3, 3, -2, 1}},
-    {"figure-eight # figure-eight", 5, {1, -6, 11, -6, 1}},
+     * (+-4 -+ 2 = +-2), from its granny (+-6) */
+    {"cinquefoil # trefoil", 7, {1, -2, 3, -3, 3, -2, 1},
+     {{2, "surgeon's knot (cinquefoil # mirror trefoil)"},
+      {6, "granny surgeon's knot (cinquefoil # trefoil)"}}},
+    {"figure-eight # figure-eight", 5, {1, -6, 11, -6, 1}, {{0, NULL}}},
 };
 
 void rod_knot_polynomial_text(const rod_knot *k, char *buf, size_t n)
@@ -826,21 +837,15 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
     for (size_t k = 0; k < sizeof known_knots / sizeof known_knots[0] && !named; k++) {
         if (known_knots[k].terms != terms) continue;
         named = memcmp(known_knots[k].c, out->coefficient, (size_t)terms * sizeof(long long)) == 0;
-        if (named) snprintf(out->name, sizeof out->name, "%s", known_knots[k].name);
+        if (!named) continue;
+        const char *name = known_knots[k].name;
+        for (int v = 0; v < 2; v++) {
+            const signed_name *sn = &known_knots[k].by_signature[v];
+            if (sn->name && out->has_signature && abs(out->signature) == sn->abs_signature)
+                name = sn->name;
+        }
+        snprintf(out->name, sizeof out->name, "%s", name);
     }
-    /* the signature tells the square knot (0) from the granny (+-4) */
-    static const long long two_trefoils[5] = {1, -2, 3, -2, 1};
-    if (terms == 5 && memcmp(two_trefoils, out->coefficient, sizeof two_trefoils) == 0 &&
-        out->has_signature && (out->signature == 0 || abs(out->signature) == 4))
-        snprintf(out->name, sizeof out->name, "%s",
-                 out->signature == 0 ? "square knot (trefoil # mirror trefoil)"
-                                     : "granny knot (trefoil # trefoil)");
-    static const long long surgeons[7] = {1, -2, 3, -3, 3, -2, 1};
-    if (terms == 7 && memcmp(surgeons, out->coefficient, sizeof surgeons) == 0 &&
-        out->has_signature && (abs(out->signature) == 2 || abs(out->signature) == 6))
-        snprintf(out->name, sizeof out->name, "%s",
-                 abs(out->signature) == 2 ? "surgeon's knot (cinquefoil # mirror trefoil)"
-                                          : "granny surgeon's knot (cinquefoil # trefoil)");
     if (!named && terms <= ROD_KNOT_MAX_TERMS) {
         char text[72];
         rod_knot_polynomial_text(out, text, sizeof text);
