@@ -26,9 +26,11 @@
  * responds to its pair's; A: how a pair's force moves the others' through
  * the nodes they share; c = theta dt / ds: how a force enters the
  * constraint rows (3.14)), solved by eliminating dx on B's banded factors
- * (Schur complement): one banded solve per column of V (3 per touching pair,
- * once per step and factorisation) and a dense system of 3 per touching pair
- * per iteration. */
+ * (Schur complement): a dense system of 3 per touching pair per iteration,
+ * and Y = B^-1 V, exact at each step's contact points: while B is young,
+ * three banded solves per touching pair and step; once B has outlived two
+ * steps, built from its nodes' columns (below), three banded solves per
+ * node a touching pair holds, once for as long as B lasts. */
 #ifndef RODSIM_SIM_SELF_CONTACT_H
 #define RODSIM_SIM_SELF_CONTACT_H
 
@@ -38,6 +40,8 @@
  * touching pairs act in the residual but not in the Jacobian (Newton
  * converges more slowly, never to a different answer). */
 #define SELF_CONTACT_RANK_PAIRS 96
+/* The most nodes whose columns are kept (4 per pair of the correction) */
+#define SELF_CONTACT_NODE_SLOTS (4 * SELF_CONTACT_RANK_PAIRS)
 
 typedef struct self_pair {
     int a, b;              /* segments a < b (a to a+1, b to b+1) */
@@ -63,8 +67,19 @@ typedef struct rod_self_contact {
     self_pair *pair;
     rod_segment_pair *found;
     double *found_distance; /* (max_pairs) m: each kept pair's distance at the start */
-    struct { int a, b, column; double alpha, beta; } *prev; /* (max_pairs) the last pairs */
-    int prev_count;
+    /* the nodes' columns: Z_k = B^-1 U_k, where U_k (3 columns) is how a
+     * unit force at node k enters the constraint rows (it takes from
+     * N_{k-1/2}'s block and adds to N_{k+1/2}'s). A pair's V is a weighted
+     * sum of its four nodes' U, so its Y = B^-1 V is the same sum of their
+     * Z, exact at the pair's fractions of this step: kept while B is (over
+     * many steps), where a pair's own Y changes with its contact point */
+    double *z;             /* (unknowns x 3 slot_capacity) column-major */
+    int *slot;             /* (nodes) the node's slot in z, or -1 */
+    int *slot_node;        /* (SELF_CONTACT_NODE_SLOTS) the node in each slot */
+    int slots, slot_capacity; /* in use, allocated (grown on demand) */
+    int b_age;             /* steps begun (rod_self_contact_find) since B was made */
+    long node_solves, pair_solves; /* banded solves made for Z and for pairs' Y since
+                              create */
     rod_proximity *prox;
     double margin;         /* m: the candidates' distance beyond one diameter */
     /* low-rank correction */
@@ -130,15 +145,18 @@ void rod_self_contact_move(rod_self_contact *sc, double amount);
 /* Keeps the pairs' forces of an accepted step as the next step's guess. */
 void rod_self_contact_accept(rod_self_contact *sc);
 
-/* Forget B^-1 V (after B is refactored or the pairs change). */
+/* Forget B^-1 V and the nodes' columns (after B is refactored). */
 void rod_self_contact_invalidate(rod_self_contact *sc);
 
 /* Newton's correction: dx holds B^-1 r on entry and the scheme's part of
  * the correction on return; each pair's delta its force's (the system
  * above), for the g and gains of the last rod_self_contact_forces call.
- * solve(ctx, v) solves B v = v in place. c = theta dt / ds. Returns 0, or
- * -1 when the dense system is singular (dx is then B^-1 r, delta g). */
+ * solve(ctx, v, count, first) solves B v = v in place for count columns
+ * (v column-major, unknowns long), whose rows above first are 0. c = theta
+ * dt / ds. Returns 0, or -1 when the dense system is singular or the
+ * nodes' columns find no memory (dx is then B^-1 r, delta g). */
 int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *push, double c,
-                             void (*solve)(const void *ctx, double *v), const void *ctx);
+                             void (*solve)(const void *ctx, double *v, int count, int first),
+                             const void *ctx);
 
 #endif

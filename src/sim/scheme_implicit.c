@@ -1479,6 +1479,57 @@ static inline __attribute__((always_inline)) void band_solve_kl(const implicit_w
     }
 }
 
+/* band_solve_kl for count right-hand sides at once (column-major, unknowns
+ * apart) whose rows above `first` are 0: the forward pass starts kl rows
+ * above it (a row interchange reaches at most kl rows down, so the zeros
+ * above stay zero until then), and each column of the factors serves every
+ * right-hand side while it is in cache (their serial chains interleave). */
+static inline __attribute__((always_inline)) void band_solve_many_kl(const implicit_work *w,
+                                                                    double *restrict b, int count,
+                                                                    int first, const int kl)
+{
+    const int n = w->unknowns, kv = 2 * kl, ld = w->ldab;
+    const double *restrict ab = w->band;
+    const double *restrict inv_diag = w->inv_diag;
+    const lapack_int *restrict pivot = w->pivot;
+    const size_t stride = (size_t)n;
+    for (int j = first > kl ? first - kl : 0; j < n - 1; j++) {
+        const int p = pivot[j] - 1, len = j + kl < n ? kl : n - 1 - j;
+        const double *col = &ab[(size_t)j * ld + kv + 1];
+        for (int c = 0; c < count; c++) {
+            double *restrict bc = b + (size_t)c * stride, bj = bc[p];
+            bc[p] = bc[j];
+            bc[j] = bj;
+            if (len == kl) {
+                for (int i = 0; i < kl; i++) bc[j + 1 + i] -= col[i] * bj;
+            } else {
+                for (int i = 0; i < len; i++) bc[j + 1 + i] -= col[i] * bj;
+            }
+        }
+    }
+    for (int j = n - 1; j >= 0; j--) {
+        const double *col = &ab[(size_t)j * ld + kv - j]; /* col[i] = U(i, j) */
+        const int lo = j >= kv ? j - kv : 0;
+        for (int c = 0; c < count; c++) {
+            double *restrict bc = b + (size_t)c * stride, bj = bc[j] * inv_diag[j];
+            bc[j] = bj;
+            if (j >= kv) {
+                for (int i = 0; i < kv; i++) bc[lo + i] -= col[lo + i] * bj;
+            } else {
+                for (int i = 0; i < j; i++) bc[i] -= col[i] * bj;
+            }
+        }
+    }
+}
+
+static void band_solve_many(const void *ctx, double *b, int count, int first)
+{
+    const implicit_work *w = ctx;
+    if (w->kl == BAND) band_solve_many_kl(w, b, count, first, BAND);
+    else if (w->kl == BAND_PUNCTURE) band_solve_many_kl(w, b, count, first, BAND_PUNCTURE);
+    else band_solve_many_kl(w, b, count, first, BAND_PLANAR);
+}
+
 static void band_solve(const implicit_work *w, double *b)
 {
     if (w->kl == BAND) band_solve_kl(w, b, BAND);
@@ -2108,8 +2159,6 @@ static int same_dt(double dt_factored, double dt)
     return fabs(dt - dt_factored) <= 1e-9 * fabs(dt);
 }
 
-static void band_solve_cb(const void *ctx, double *v) { band_solve(ctx, v); }
-
 /* Newton's correction dx = J^-1 r: the banded factors, and the self-contact
  * forces (unknowns beside x) by the Schur complement on them
  * (sim/self_contact.h). */
@@ -2118,7 +2167,7 @@ static void newton_solve(implicit_work *w, const rod_model *m, double dt)
     band_solve(w, w->dx);
     if (w->self && w->self->count)
         rod_self_contact_correct(w->self, w->dx, w->node_push, m->options.theta * dt / m->ds,
-                                 band_solve_cb, w);
+                                 band_solve_many, w);
 }
 
 /* N: what the self-contact pairs' residual is measured against, the force
@@ -2195,7 +2244,21 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         scale = pair_scale(w);
         const double next_norm = residual_norm_at(w, scale);
         if (next > IDLE_REFRESH_CONTRACTION * norm && next > tol) w->stale = 1;
-        if (next > 0.25 * norm && next > 10.0 * tol && (!fresh || w->contact)) {
+        /* slow in the self-contact pairs' residual alone: their laws are
+         * linearised afresh at every iteration and B holds none of them, so
+         * a new B would not help (a pair that starts touching within the
+         * step joins the correction at the next iteration).
+         * bench_self_contact's coil at NS = 201: 0.06 Jacobians per step
+         * instead of 0.31. Slow in the scheme's own residual with strands
+         * touching, B is renewed up to twice per attempt: a knot tightening
+         * or a rod snapping into a plectoneme moves far within a step
+         * (buckling_twist.ini's snap at 12.3 s stalls at a linear rate near
+         * 0.9 on a B made at the step's second iterate, and converges on
+         * one made again) */
+        const int self_touch = w->self && w->self->count;
+        const int pairs_alone = self_touch && max_abs(w->residual, nu) <= 0.25 * norm;
+        if (next > 0.25 * norm && next > 10.0 * tol && !pairs_alone &&
+            (!fresh || w->contact || (self_touch && rebuilt < 2))) {
             /* slow, and not merely at the round-off floor near the tolerance:
              * a stale Jacobian; refresh it at the current iterate. With
              * contact, its part first (cheap: no finite differences); the

@@ -46,7 +46,9 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->found = calloc((size_t)sc->max_pairs, sizeof *sc->found);
     sc->node_force = calloc((size_t)nodes * 3, sizeof(double));
     sc->found_distance = calloc((size_t)sc->max_pairs, sizeof(double));
-    sc->prev = calloc((size_t)sc->max_pairs, sizeof *sc->prev);
+    sc->slot = malloc((size_t)nodes * sizeof(int));
+    sc->slot_node = malloc((size_t)SELF_CONTACT_NODE_SLOTS * sizeof(int));
+    for (int k = 0; sc->slot && k < nodes; k++) sc->slot[k] = -1;
     sc->last_ab = calloc((size_t)sc->max_pairs * 2, sizeof(int));
     sc->last_force = calloc((size_t)sc->max_pairs * 3, sizeof(double));
     sc->prox = rod_proximity_create(nodes);
@@ -54,7 +56,8 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->pivot = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(int));
     if (!sc->pair || !sc->found || !sc->node_force || !sc->prox || !sc->s || !sc->rhs ||
-        !sc->pivot || !sc->last_ab || !sc->last_force || !sc->found_distance || !sc->prev) {
+        !sc->pivot || !sc->last_ab || !sc->last_force || !sc->found_distance || !sc->slot ||
+        !sc->slot_node) {
         rod_self_contact_destroy(sc);
         return NULL;
     }
@@ -68,7 +71,9 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->found);
     free(sc->node_force);
     free(sc->found_distance);
-    free(sc->prev);
+    free(sc->slot);
+    free(sc->slot_node);
+    free(sc->z);
     free(sc->last_ab);
     free(sc->last_force);
     free(sc->reach);
@@ -80,11 +85,25 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc);
 }
 
-void rod_self_contact_invalidate(rod_self_contact *sc)
+/* Forget the pairs' columns Y (the nodes' stay) */
+static void forget_columns(rod_self_contact *sc)
 {
     sc->columns = 0;
     for (int p = 0; p < sc->count; p++) sc->pair[p].column = -1;
-    for (int p = 0; p < sc->prev_count; p++) sc->prev[p].column = -1;
+}
+
+/* Forget the nodes' columns Z */
+static void forget_nodes(rod_self_contact *sc)
+{
+    for (int s = 0; s < sc->slots; s++) sc->slot[sc->slot_node[s]] = -1;
+    sc->slots = 0;
+}
+
+void rod_self_contact_invalidate(rod_self_contact *sc)
+{
+    forget_columns(sc);
+    forget_nodes(sc);
+    sc->b_age = 0;
 }
 
 int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margin)
@@ -129,15 +148,10 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
     sc->margin = margin;
     int found = rod_proximity_pairs(sc->prox, pos0, n, sc->diameter + margin, sc->skip, sc->found,
                                     sc->max_pairs);
-    /* the last pairs' columns, kept while the band's factors are */
-    sc->prev_count = sc->count;
-    for (int q = 0; q < sc->count; q++) {
-        sc->prev[q].a = sc->pair[q].a;
-        sc->prev[q].b = sc->pair[q].b;
-        sc->prev[q].alpha = sc->pair[q].alpha;
-        sc->prev[q].beta = sc->pair[q].beta;
-        sc->prev[q].column = sc->pair[q].column;
-    }
+    /* every pair's columns are built again at its fractions of this step
+     * (rod_self_contact_correct) */
+    sc->columns = 0;
+    sc->b_age++;
     sc->count = 0;
     if (found < 0 || found > sc->max_pairs) return -1;
     for (int k = 0; k < found; k++) {
@@ -165,14 +179,6 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
         const int slot = same >= 0 ? same : sc->count++;
         self_pair *p = &sc->pair[slot];
         sc->found_distance[slot] = f->distance;
-        /* B^-1 V of the same pair at the last step, if B is unchanged since
-         * and the contact point has moved by less than a quarter segment:
-         * V changes little, and Newton only needs a near Jacobian */
-        int column = -1;
-        for (int l = 0; l < sc->prev_count; l++)
-            if (sc->prev[l].a == f->i && sc->prev[l].b == f->j && sc->prev[l].column >= 0 &&
-                fabs(sc->prev[l].alpha - f->s) < 0.25 && fabs(sc->prev[l].beta - f->t) < 0.25)
-                column = sc->prev[l].column;
         memset(p, 0, sizeof *p);
         p->a = f->i;
         p->b = f->j;
@@ -186,7 +192,7 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
         p->weight[1] = f->s;
         p->weight[2] = -(1.0 - f->t);
         p->weight[3] = -f->t;
-        p->column = column;
+        p->column = -1;
         /* the force of the same pair at the end of the last accepted step:
          * Newton's first guess */
         for (int l = 0; l < sc->last_count; l++)
@@ -387,8 +393,60 @@ static inline int row_of(const rod_self_contact *sc, int b, int c)
     return sc->block * (b - sc->first) + c;
 }
 
+/* The nodes' columns Z_k = B^-1 U_k that the first m ranked pairs without
+ * columns need and have not got (a node held still, push 0, takes no force
+ * and needs none), solved together: one pass over B's factors for all.
+ * Returns 0, or -1 when out of memory. */
+static int node_columns(rod_self_contact *sc, int m, const double *push,
+                        void (*solve)(const void *ctx, double *v, int count, int first),
+                        const void *ctx)
+{
+    const int nu = sc->unknowns;
+    int need = 0;
+    for (int r = 0; r < m; r++) need += sc->pair[sc->ranked[r]].column < 0 ? 4 : 0;
+    if (need == 0) return 0;
+    if (sc->slots + need > SELF_CONTACT_NODE_SLOTS) forget_nodes(sc); /* start again */
+    if (sc->slots + need > sc->slot_capacity) {
+        /* grown on demand: a run whose strands never touch holds none */
+        int capacity = 2 * sc->slot_capacity > 16 ? 2 * sc->slot_capacity : 16;
+        if (capacity < sc->slots + need) capacity = sc->slots + need;
+        if (capacity > SELF_CONTACT_NODE_SLOTS) capacity = SELF_CONTACT_NODE_SLOTS;
+        double *z = realloc(sc->z, (size_t)nu * 3 * (size_t)capacity * sizeof(double));
+        if (!z) return -1;
+        sc->z = z;
+        sc->slot_capacity = capacity;
+    }
+    const int from = sc->slots;
+    int first = nu; /* the first row any new U has */
+    for (int r = 0; r < m; r++) {
+        const self_pair *p = &sc->pair[sc->ranked[r]];
+        if (p->column >= 0) continue;
+        for (int e = 0; e < 4; e++) {
+            const int k = p->node[e];
+            if (push[k] == 0.0 || sc->slot[k] >= 0) continue;
+            const int s = sc->slots++;
+            sc->slot[k] = s;
+            sc->slot_node[s] = k;
+            for (int comp = 0; comp < 3; comp++) {
+                /* U_k: as pair_columns, per unit force */
+                double *col = &sc->z[(size_t)(3 * s + comp) * (size_t)nu];
+                memset(col, 0, (size_t)nu * sizeof(double));
+                if (k >= 1) col[row_of(sc, k, comp)] -= 1.0;
+                if (k + 1 <= sc->nodes - 1) col[row_of(sc, k + 1, comp)] += 1.0;
+            }
+            const int row = row_of(sc, k >= 1 ? k : k + 1, 0);
+            if (row < first) first = row;
+        }
+    }
+    const int count = 3 * (sc->slots - from);
+    if (count) solve(ctx, &sc->z[(size_t)3 * (size_t)from * (size_t)nu], count, first);
+    sc->node_solves += count;
+    return 0;
+}
+
 int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *push, double c,
-                             void (*solve)(const void *ctx, double *v), const void *ctx)
+                             void (*solve)(const void *ctx, double *v, int count, int first),
+                             const void *ctx)
 {
     const int nu = sc->unknowns;
     int m = 0;
@@ -406,31 +464,60 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
         sc->y = malloc((size_t)nu * 3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
         if (!sc->y) return -1;
     }
-    /* Y = B^-1 V for pairs that have no columns yet (kept while B and the
-     * pairs stay) */
-    for (int r = 0; r < m; r++) {
-        self_pair *p = &sc->pair[sc->ranked[r]];
-        if (p->column >= 0) continue;
-        if (sc->columns + 3 > 3 * SELF_CONTACT_RANK_PAIRS && r == 0) {
-            /* full of columns of pairs gone: start again */
-            rod_self_contact_invalidate(sc);
+    /* Y = B^-1 V for pairs that have no columns yet at this step: the sum
+     * of their nodes' columns (node_columns), solved for once per B. When
+     * the columns of pairs gone leave no room, all start again (m is at
+     * most SELF_CONTACT_RANK_PAIRS: then they fit). Out of memory for the
+     * nodes' columns, the pairs move to their laws' forces (delta g) */
+    int missing = 0;
+    for (int r = 0; r < m; r++) missing += sc->pair[sc->ranked[r]].column < 0;
+    if (sc->columns + 3 * missing > 3 * SELF_CONTACT_RANK_PAIRS) forget_columns(sc);
+    if (sc->b_age < 2) {
+        /* B made at this step or the last: it may not outlive the step,
+         * and its nodes' columns would cost more solves than the pairs'
+         * own (a knot held by friction, overhand.ini, renews B about 3
+         * times per step): B^-1 V of each pair, solved together */
+        const int from = sc->columns;
+        int first = nu;
+        for (int r = 0; r < m; r++) {
+            self_pair *p = &sc->pair[sc->ranked[r]];
+            if (p->column >= 0) continue;
+            p->column = sc->columns;
+            sc->columns += 3;
+            int block[8];
+            double coef[8];
+            const int count = pair_columns(sc, p, push, block, coef);
+            for (int comp = 0; comp < 3; comp++) {
+                double *col = &sc->y[(size_t)(p->column + comp) * (size_t)nu];
+                memset(col, 0, (size_t)nu * sizeof(double));
+                for (int e = 0; e < count; e++) {
+                    const int row = row_of(sc, block[e], comp);
+                    col[row] += coef[e];
+                    if (row < first) first = row;
+                }
+            }
         }
-        if (sc->columns + 3 > 3 * SELF_CONTACT_RANK_PAIRS) {
-            /* no room left until the next factorisation: drop it from the
-             * correction (Newton then converges more slowly) */
-            sc->ranked[r--] = sc->ranked[--m];
-            continue;
-        }
-        p->column = sc->columns;
-        sc->columns += 3;
-        int block[8];
-        double coef[8];
-        const int count = pair_columns(sc, p, push, block, coef);
-        for (int comp = 0; comp < 3; comp++) {
-            double *col = &sc->y[(size_t)(p->column + comp) * (size_t)nu];
-            memset(col, 0, (size_t)nu * sizeof(double));
-            for (int e = 0; e < count; e++) col[row_of(sc, block[e], comp)] += coef[e];
-            solve(ctx, col);
+        if (sc->columns > from)
+            solve(ctx, &sc->y[(size_t)from * (size_t)nu], sc->columns - from, first);
+        sc->pair_solves += sc->columns - from;
+    } else {
+        if (node_columns(sc, m, push, solve, ctx)) return -1;
+        for (int r = 0; r < m; r++) {
+            self_pair *p = &sc->pair[sc->ranked[r]];
+            if (p->column >= 0) continue;
+            p->column = sc->columns;
+            sc->columns += 3;
+            for (int comp = 0; comp < 3; comp++) {
+                double *col = &sc->y[(size_t)(p->column + comp) * (size_t)nu];
+                memset(col, 0, (size_t)nu * sizeof(double));
+                for (int e = 0; e < 4; e++) {
+                    const int k = p->node[e];
+                    const double g = p->weight[e] * push[k];
+                    if (g == 0.0) continue;
+                    const double *zk = &sc->z[(size_t)(3 * sc->slot[k] + comp) * (size_t)nu];
+                    for (int i = 0; i < nu; i++) col[i] += g * zk[i];
+                }
+            }
         }
     }
     if (m == 0) return 0;
