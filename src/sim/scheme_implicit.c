@@ -2188,6 +2188,17 @@ static double residual_norm_at(const implicit_work *w, double scale)
     return norm;
 }
 
+/* A fingerprint of which self-contact pairs are active (their laws ask for
+ * a force or they hold one) at the last evaluation */
+static unsigned long active_pairs(const implicit_work *w)
+{
+    unsigned long h = 1469598103934665603ul;
+    if (w->self)
+        for (int q = 0; q < w->self->count; q++)
+            if (w->self->pair[q].active) h = (h ^ (unsigned long)(q + 1)) * 1099511628211ul;
+    return h;
+}
+
 /* Newton on one step; on success the iterate x holds the solution. */
 static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod_report *report)
 {
@@ -2217,6 +2228,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         if (norm <= tol) return 0;
         if (--w->budget < 0) return -1;
         memcpy(w->dx, w->residual, (size_t)nu * sizeof(double));
+        const unsigned long active_before = active_pairs(w);
         newton_solve(w, m, dt);
         for (int i = 0; i < nu; i++) w->x[i] -= w->dx[i];
         if (w->self) rod_self_contact_move(w->self, -1.0);
@@ -2244,19 +2256,23 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         scale = pair_scale(w);
         const double next_norm = residual_norm_at(w, scale);
         if (next > IDLE_REFRESH_CONTRACTION * norm && next > tol) w->stale = 1;
-        /* slow in the self-contact pairs' residual alone: their laws are
+        /* slow in the self-contact pairs' residual alone, or where a pair
+         * switched on or off within the iteration: their laws are
          * linearised afresh at every iteration and B holds none of them, so
          * a new B would not help (a pair that starts touching within the
          * step joins the correction at the next iteration).
          * bench_self_contact's coil at NS = 201: 0.06 Jacobians per step
-         * instead of 0.31. Slow in the scheme's own residual with strands
-         * touching, B is renewed up to twice per attempt: a knot tightening
-         * or a rod snapping into a plectoneme moves far within a step
-         * (buckling_twist.ini's snap at 12.3 s stalls at a linear rate near
-         * 0.9 on a B made at the step's second iterate, and converges on
-         * one made again) */
+         * instead of 0.31; with the switches, its tight knot 5.5 instead of
+         * 8.2, buckling_twist.ini 39 s of CPU instead of 51-64,
+         * surgeons_knot.ini 20-21 instead of 25-26. Slow in the scheme's own
+         * residual with strands touching, B is renewed up to twice per
+         * attempt: a knot tightening or a rod snapping into a plectoneme
+         * moves far within a step (buckling_twist.ini's snap at 12.3 s
+         * stalled at a linear rate near 0.9 on a B made at the step's
+         * second iterate, and converged on one made again) */
         const int self_touch = w->self && w->self->count;
-        const int pairs_alone = self_touch && max_abs(w->residual, nu) <= 0.25 * norm;
+        const int pairs_alone = self_touch && (max_abs(w->residual, nu) <= 0.25 * norm ||
+                                               active_pairs(w) != active_before);
         if (next > 0.25 * norm && next > 10.0 * tol && !pairs_alone &&
             (!fresh || w->contact || (self_touch && rebuilt < 2))) {
             /* slow, and not merely at the round-off floor near the tolerance:

@@ -3,7 +3,7 @@
  *
  * 1. A tight overhand knot: scenes/overhand_tight.ini (NS = 241, its own
  * dt), the knot pulled tight by 15 N, timed from t = 2 s to 2.5 s, where
- * the strands press on each other at some 18 nodes (the issue's "about 30
+ * the strands press on each other at some 20 nodes (the issue's "about 30
  * active self-contacts" at NS = 201 is nearest this); beside the same scene
  * with rod.self_contact = no over the same steps (the strands pass through
  * each other, so the rod, no longer knotted, is pulled straight and barely
