@@ -49,4 +49,23 @@ static inline void helix_state(const rod_model *m, rod_state *s)
     }
 }
 
+/* The sagging coil of bench_self_contact and test_self_contact: one and a
+ * half turns of radius 5 cm and pitch 1.01 D (D = 2 mm, E = 1 GPa, root
+ * clamped, damping 0.02), under gravity along its axis: its last half turn
+ * comes to lie on its first. m from rod_model_default(); returns
+ * rod_model_derive's status (err set). */
+static inline int sagging_coil(rod_model *m, int nodes, int self_contact, char *err, size_t errlen)
+{
+    m->diameter = 0.002;
+    m->density = 1100.0;
+    m->youngs_modulus = 1e9;
+    m->shear_modulus = 1e9 / 2.6;
+    helix_model(m, 0.05, 1.01 * m->diameter, M_PI * 0.05, nodes);
+    m->linear_damping = 0.02;
+    m->self_contact = self_contact;
+    if (rod_model_derive(m, err, errlen)) return -1;
+    v3_set(m->distributed_force, 0.0, 0.0, -9.81 * m->mass_per_length);
+    return 0;
+}
+
 #endif

@@ -78,8 +78,6 @@ typedef struct rod_self_contact {
     int *slot_node;        /* (SELF_CONTACT_NODE_SLOTS) the node in each slot */
     int slots, slot_capacity; /* in use, allocated (grown on demand) */
     int b_age;             /* steps begun (rod_self_contact_find) since B was made */
-    long node_solves, pair_solves; /* banded solves made for Z and for pairs' Y since
-                              create */
     rod_proximity *prox;
     double margin;         /* m: the candidates' distance beyond one diameter */
     /* low-rank correction */

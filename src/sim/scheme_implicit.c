@@ -1441,49 +1441,18 @@ static double max_abs(const double *a, int n)
     return nan ? NAN : worst;
 }
 
-/* Solves A x = b in place with the factors of band_factor_kl (LAPACK band storage,
- * kl = ku): the same arithmetic as dgbtrs, written out because the library
- * call's per-column BLAS overhead dominated at this size. Inlined with kl a
- * constant, so that the inner loops have fixed lengths away from the ends
- * (unrolled, vectorised); in the back substitution the entry the next column
- * needs, b[j-1], is updated first: it alone is on the serial critical path. */
-static inline __attribute__((always_inline)) void band_solve_kl(const implicit_work *w,
-                                                               double *restrict b, const int kl)
-{
-    const int n = w->unknowns, kv = 2 * kl, ld = w->ldab;
-    const double *restrict ab = w->band;
-    const double *restrict inv_diag = w->inv_diag;
-    const lapack_int *restrict pivot = w->pivot;
-    for (int j = 0; j < n - 1; j++) { /* L: row interchanges and unit lower factor */
-        int p = pivot[j] - 1;
-        double bj = b[p];
-        b[p] = b[j];
-        b[j] = bj;
-        const double *col = &ab[(size_t)j * ld + kv + 1];
-        if (j + kl < n) {
-            for (int i = 0; i < kl; i++) b[j + 1 + i] -= col[i] * bj;
-        } else {
-            for (int i = 0; j + 1 + i < n; i++) b[j + 1 + i] -= col[i] * bj;
-        }
-    }
-    for (int j = n - 1; j >= 0; j--) { /* U: upper band of width kl + ku */
-        const double *col = &ab[(size_t)j * ld + kv - j]; /* col[i] = U(i, j) */
-        double bj = b[j] * inv_diag[j];
-        b[j] = bj;
-        if (j >= kv) {
-            b[j - 1] -= col[j - 1] * bj;
-            for (int i = j - kv; i < j - 1; i++) b[i] -= col[i] * bj;
-        } else {
-            for (int i = 0; i < j; i++) b[i] -= col[i] * bj;
-        }
-    }
-}
-
-/* band_solve_kl for count right-hand sides at once (column-major, unknowns
- * apart) whose rows above `first` are 0: the forward pass starts kl rows
- * above it (a row interchange reaches at most kl rows down, so the zeros
- * above stay zero until then), and each column of the factors serves every
- * right-hand side while it is in cache (their serial chains interleave). */
+/* Solves A x = b in place with the factors of band_factor_kl (LAPACK band
+ * storage, kl = ku) for count right-hand sides at once (column-major,
+ * unknowns apart) whose rows above `first` are 0: the same arithmetic as
+ * dgbtrs, written out because the library call's per-column BLAS overhead
+ * dominated at this size. Inlined with kl a constant, so that the inner
+ * loops have fixed lengths away from the ends (unrolled, vectorised). The
+ * forward pass starts kl rows above `first` (a row interchange reaches at
+ * most kl rows down, so the zeros above stay zero until then); each column
+ * of the factors serves every right-hand side while it is in cache (their
+ * serial chains interleave); in the back substitution the entry the next
+ * column needs, b[j-1], is updated first: it alone is on the serial
+ * critical path. */
 static inline __attribute__((always_inline)) void band_solve_many_kl(const implicit_work *w,
                                                                     double *restrict b, int count,
                                                                     int first, const int kl)
@@ -1509,12 +1478,13 @@ static inline __attribute__((always_inline)) void band_solve_many_kl(const impli
     }
     for (int j = n - 1; j >= 0; j--) {
         const double *col = &ab[(size_t)j * ld + kv - j]; /* col[i] = U(i, j) */
-        const int lo = j >= kv ? j - kv : 0;
+        const int lo = j - kv;
         for (int c = 0; c < count; c++) {
             double *restrict bc = b + (size_t)c * stride, bj = bc[j] * inv_diag[j];
             bc[j] = bj;
             if (j >= kv) {
-                for (int i = 0; i < kv; i++) bc[lo + i] -= col[lo + i] * bj;
+                bc[j - 1] -= col[j - 1] * bj;
+                for (int i = lo; i < j - 1; i++) bc[i] -= col[i] * bj;
             } else {
                 for (int i = 0; i < j; i++) bc[i] -= col[i] * bj;
             }
@@ -1532,9 +1502,9 @@ static void band_solve_many(const void *ctx, double *b, int count, int first)
 
 static void band_solve(const implicit_work *w, double *b)
 {
-    if (w->kl == BAND) band_solve_kl(w, b, BAND);
-    else if (w->kl == BAND_PUNCTURE) band_solve_kl(w, b, BAND_PUNCTURE);
-    else band_solve_kl(w, b, BAND_PLANAR);
+    if (w->kl == BAND) band_solve_many_kl(w, b, 1, 0, BAND);
+    else if (w->kl == BAND_PUNCTURE) band_solve_many_kl(w, b, 1, 0, BAND_PUNCTURE);
+    else band_solve_many_kl(w, b, 1, 0, BAND_PLANAR);
 }
 
 /* Finite-difference Jacobian into band by a (2 reach + 1)-colouring of the

@@ -440,7 +440,6 @@ static int node_columns(rod_self_contact *sc, int m, const double *push,
     }
     const int count = 3 * (sc->slots - from);
     if (count) solve(ctx, &sc->z[(size_t)3 * (size_t)from * (size_t)nu], count, first);
-    sc->node_solves += count;
     return 0;
 }
 
@@ -464,63 +463,52 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
         sc->y = malloc((size_t)nu * 3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
         if (!sc->y) return -1;
     }
-    /* Y = B^-1 V for pairs that have no columns yet at this step: the sum
-     * of their nodes' columns (node_columns), solved for once per B. When
-     * the columns of pairs gone leave no room, all start again (m is at
-     * most SELF_CONTACT_RANK_PAIRS: then they fit). Out of memory for the
-     * nodes' columns, the pairs move to their laws' forces (delta g) */
+    /* Y = B^-1 V for pairs that have no columns yet at this step. While B
+     * is young (made at this step or the last) it may not outlive the
+     * step, and its nodes' columns would cost more solves than the pairs'
+     * own (a knot held by friction, overhand.ini, renews B about 3 times
+     * per step): V of each pair, solved together. Once B has lasted, the
+     * sum of the pairs' nodes' columns (node_columns), solved for once per
+     * B. When the columns of pairs gone leave no room, all start again (m
+     * is at most SELF_CONTACT_RANK_PAIRS: then they fit). Out of memory
+     * for the nodes' columns, the pairs move to their laws' forces
+     * (delta g) */
     int missing = 0;
     for (int r = 0; r < m; r++) missing += sc->pair[sc->ranked[r]].column < 0;
     if (sc->columns + 3 * missing > 3 * SELF_CONTACT_RANK_PAIRS) forget_columns(sc);
-    if (sc->b_age < 2) {
-        /* B made at this step or the last: it may not outlive the step,
-         * and its nodes' columns would cost more solves than the pairs'
-         * own (a knot held by friction, overhand.ini, renews B about 3
-         * times per step): B^-1 V of each pair, solved together */
-        const int from = sc->columns;
-        int first = nu;
-        for (int r = 0; r < m; r++) {
-            self_pair *p = &sc->pair[sc->ranked[r]];
-            if (p->column >= 0) continue;
-            p->column = sc->columns;
-            sc->columns += 3;
-            int block[8];
-            double coef[8];
-            const int count = pair_columns(sc, p, push, block, coef);
-            for (int comp = 0; comp < 3; comp++) {
-                double *col = &sc->y[(size_t)(p->column + comp) * (size_t)nu];
-                memset(col, 0, (size_t)nu * sizeof(double));
+    const int direct = sc->b_age < 2, from = sc->columns;
+    if (!direct && node_columns(sc, m, push, solve, ctx)) return -1;
+    int first = nu; /* the first row of any new V (direct) */
+    for (int r = 0; r < m; r++) {
+        self_pair *p = &sc->pair[sc->ranked[r]];
+        if (p->column >= 0) continue;
+        p->column = sc->columns;
+        sc->columns += 3;
+        int block[8];
+        double coef[8];
+        const int count = pair_columns(sc, p, push, block, coef);
+        for (int comp = 0; comp < 3; comp++) {
+            double *col = &sc->y[(size_t)(p->column + comp) * (size_t)nu];
+            memset(col, 0, (size_t)nu * sizeof(double));
+            if (direct) {
                 for (int e = 0; e < count; e++) {
                     const int row = row_of(sc, block[e], comp);
                     col[row] += coef[e];
                     if (row < first) first = row;
                 }
+                continue;
             }
-        }
-        if (sc->columns > from)
-            solve(ctx, &sc->y[(size_t)from * (size_t)nu], sc->columns - from, first);
-        sc->pair_solves += sc->columns - from;
-    } else {
-        if (node_columns(sc, m, push, solve, ctx)) return -1;
-        for (int r = 0; r < m; r++) {
-            self_pair *p = &sc->pair[sc->ranked[r]];
-            if (p->column >= 0) continue;
-            p->column = sc->columns;
-            sc->columns += 3;
-            for (int comp = 0; comp < 3; comp++) {
-                double *col = &sc->y[(size_t)(p->column + comp) * (size_t)nu];
-                memset(col, 0, (size_t)nu * sizeof(double));
-                for (int e = 0; e < 4; e++) {
-                    const int k = p->node[e];
-                    const double g = p->weight[e] * push[k];
-                    if (g == 0.0) continue;
-                    const double *zk = &sc->z[(size_t)(3 * sc->slot[k] + comp) * (size_t)nu];
-                    for (int i = 0; i < nu; i++) col[i] += g * zk[i];
-                }
+            for (int e = 0; e < 4; e++) {
+                const int k = p->node[e];
+                const double g = p->weight[e] * push[k];
+                if (g == 0.0) continue;
+                const double *zk = &sc->z[(size_t)(3 * sc->slot[k] + comp) * (size_t)nu];
+                for (int i = 0; i < nu; i++) col[i] += g * zk[i];
             }
         }
     }
-    if (m == 0) return 0;
+    if (direct && sc->columns > from)
+        solve(ctx, &sc->y[(size_t)from * (size_t)nu], sc->columns - from, first);
     const int size = 3 * m;
     double *s = sc->s, *rhs = sc->rhs;
     /* H = A + c G (rows of pair r, columns of pair q), then S = I - gain H:

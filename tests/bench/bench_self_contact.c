@@ -83,20 +83,9 @@ static result run(int self_contact, int nodes)
 {
     result r = {0.0, 0.0, 0.0, 0, 0};
     rod_model m = rod_model_default();
-    m.diameter = 0.002;
-    m.density = 1100.0;
-    m.youngs_modulus = 1e9;
-    m.shear_modulus = 1e9 / 2.6;
-    helix_model(&m, 0.05, 1.01 * m.diameter, M_PI * 0.05, nodes);
-    m.linear_damping = 0.02;
-    m.self_contact = self_contact;
     char err[256];
-    if (rod_model_derive(&m, err, sizeof err)) {
-        printf("  derive: %s\n", err);
-    } else {
-        v3_set(m.distributed_force, 0.0, 0.0, -9.81 * m.mass_per_length);
-        r = timed(&m, 1, 1.0 / 240.0, 120, 240);
-    }
+    if (sagging_coil(&m, nodes, self_contact, err, sizeof err)) printf("  derive: %s\n", err);
+    else r = timed(&m, 1, 1.0 / 240.0, 120, 240);
     rod_model_release(&m);
     return r;
 }
