@@ -2428,10 +2428,11 @@ static void prepare_ends(implicit_work *w, const rod_model *m, const rod_state *
  * solutions (the first iterate) carry over. The time within 1e-6 dt, not
  * equal: run_simulate sets t to the output time after a frame's steps (no
  * drift), which differs from the sum of the steps in the last bits, and an
- * exact test made every frame's first step start cold (suture.ini: 1681
- * cold starts in 3990 steps, 400 of them at frames; refresh() skipped
- * there too: suture_cantilever.ini 66 Jacobians instead of 21). 1e-6 dt is
- * far above that rounding (a few ulps of t) and far below any real step. */
+ * exact test made every frame's first step start cold (suture.ini at
+ * dt = 5 ms: 1681 cold starts in 3990 steps, 400 of them at frames;
+ * refresh() skipped there too: suture_cantilever.ini 66 Jacobians instead
+ * of 21). 1e-6 dt is far above that rounding (a few ulps of t) and far
+ * below any real step. */
 static int continues_from(const implicit_work *w, const rod_state *s, double dt)
 {
     return w->start_valid && fabs(w->start_time - s->time) <= 1e-6 * dt &&
