@@ -408,15 +408,6 @@ static void test_run_loop(void)
     rod_model_release(&m);
 }
 
-/* ---- issue 9 (scene kinds, version) ---------------------------------------- */
-
-/* A beam (FEM) scene given to `rodsim run` said "[rod] length: missing": it
- * must say it is a beam scene and name `rodsim fem`. `rodsim --version` and
- * `rodsim version` print the version of include/cli/version.h. */
-/* A rod that does not start along +x from the origin: the summary says how
- * far the tip moved from its start (it said "deflection from (L, 0, 0)").
- * scenes/needle_lift.ini: the tip starts at (0, 0, 0.3) m and its path's last
- * row puts it at (0, 0, 0.4) m: 0.1 m. */
 /* Output frames do not cost the implicit scheme anything: run_simulate sets
  * t to each output time after a frame's steps, which differs from the sum of
  * the steps in the last bits, and the scheme took that for a new state (its
@@ -466,6 +457,15 @@ static void test_frames_keep_the_scheme_going(void)
     rod_model_release(&m);
 }
 
+/* ---- issue 9 (scene kinds, version) ---------------------------------------- */
+
+/* A beam (FEM) scene given to `rodsim run` said "[rod] length: missing": it
+ * must say it is a beam scene and name `rodsim fem`. `rodsim --version` and
+ * `rodsim version` print the version of include/cli/version.h. */
+/* A rod that does not start along +x from the origin: the summary says how
+ * far the tip moved from its start (it said "deflection from (L, 0, 0)").
+ * scenes/needle_lift.ini: the tip starts at (0, 0, 0.3) m and its path's last
+ * row puts it at (0, 0, 0.4) m: 0.1 m. */
 static void test_summary_of_a_driven_tip(void)
 {
     static char output[16384];
