@@ -97,6 +97,11 @@ typedef struct rod_self_contact {
     rod_segment_pair *reach; /* (reach_capacity) rod_self_contact_reachable's scratch, grown
                                 on demand up to SELF_CONTACT_REACH_PAIRS */
     int reach_capacity;
+    /* a search that found no pair within clear_reach (m) from the positions
+     * clear_pos (nodes x 3) answers "no pair" while the nodes stay near
+     * them (rod_self_contact_find); clear_reach 0: no such search */
+    double *clear_pos, clear_reach;
+    int clear_wait;        /* searches before a wider one is tried again */
 } rod_self_contact;
 
 /* NULL when out of memory. */

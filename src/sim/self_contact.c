@@ -52,12 +52,13 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->last_ab = calloc((size_t)sc->max_pairs * 2, sizeof(int));
     sc->last_force = calloc((size_t)sc->max_pairs * 3, sizeof(double));
     sc->prox = rod_proximity_create(nodes);
+    sc->clear_pos = malloc((size_t)nodes * 3 * sizeof(double));
     sc->s = malloc((size_t)9 * SELF_CONTACT_RANK_PAIRS * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->pivot = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(int));
     if (!sc->pair || !sc->found || !sc->node_force || !sc->prox || !sc->s || !sc->rhs ||
         !sc->pivot || !sc->last_ab || !sc->last_force || !sc->found_distance || !sc->slot ||
-        !sc->slot_node) {
+        !sc->slot_node || !sc->clear_pos) {
         rod_self_contact_destroy(sc);
         return NULL;
     }
@@ -81,6 +82,7 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->s);
     free(sc->rhs);
     free(sc->pivot);
+    free(sc->clear_pos);
     rod_proximity_destroy(sc->prox);
     free(sc);
 }
@@ -142,12 +144,56 @@ int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const d
     return count;
 }
 
+/* Whether no non-neighbouring pair can be within `threshold` (m) of each
+ * other at pos0, known without a search: the last wider search found none
+ * within clear_reach, and since then no node has moved by more than
+ * `moved`. Two segments' distance changes by at most the largest move of
+ * their end nodes on each side (it is the distance between convex
+ * combinations of them), so no pair has come closer than clear_reach - 2
+ * moved (a Verlet list's skin, here for the common case of a rod far from
+ * itself: a suture on skin, a cantilever) */
+static int still_clear(rod_self_contact *sc, const double *pos0, double threshold)
+{
+    if (!(sc->clear_reach > 0.0)) return 0;
+    double moved2 = 0.0;
+    for (int i = 0; i < sc->nodes; i++) {
+        double d[3];
+        v3_sub(d, &pos0[3 * i], &sc->clear_pos[3 * i]);
+        moved2 = fmax(moved2, v3_dot(d, d));
+    }
+    if (threshold + 2.0 * sqrt(moved2) < sc->clear_reach) return 1;
+    sc->clear_reach = 0.0;
+    return 0;
+}
+
+/* After a search at `threshold` that found no pair: one at threshold + 2
+ * skin (skin = threshold), whose emptiness spares the searches of the
+ * steps after it (still_clear); after a wider search that found pairs,
+ * the next one waits 16 searches (the rod lies near itself) */
+static void try_clear(rod_self_contact *sc, const double *pos0, double threshold)
+{
+    if (--sc->clear_wait > 0) return;
+    const double reach = 3.0 * threshold;
+    int found = rod_proximity_pairs(sc->prox, pos0, sc->nodes, reach, sc->skip, NULL, 0);
+    if (found == 0) {
+        memcpy(sc->clear_pos, pos0, (size_t)sc->nodes * 3 * sizeof(double));
+        sc->clear_reach = reach;
+    } else {
+        sc->clear_wait = 16;
+    }
+}
+
 int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margin)
 {
     const int n = sc->nodes, last = n - 2; /* segments 0..n-2 */
     sc->margin = margin;
-    int found = rod_proximity_pairs(sc->prox, pos0, n, sc->diameter + margin, sc->skip, sc->found,
+    const double threshold = sc->diameter + margin;
+    int found = 0;
+    if (!still_clear(sc, pos0, threshold)) {
+        found = rod_proximity_pairs(sc->prox, pos0, n, threshold, sc->skip, sc->found,
                                     sc->max_pairs);
+        if (found == 0) try_clear(sc, pos0, threshold);
+    }
     /* every pair's columns are built again at its fractions of this step
      * (rod_self_contact_correct) */
     sc->columns = 0;
