@@ -61,7 +61,7 @@ typedef struct self_pair {
 
 typedef struct rod_self_contact {
     int nodes;
-    double diameter, friction;
+    double diameter, friction, ds;
     int skip;              /* rod_proximity_skip */
     int max_pairs, count;  /* candidate pairs of this step */
     self_pair *pair;

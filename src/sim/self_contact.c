@@ -22,6 +22,7 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->block = block;
     sc->diameter = diameter;
     sc->friction = friction;
+    sc->ds = ds;
     /* Non-neighbours: closer in arc length than half a turn of the tightest
      * bend the rod can take, two points cannot touch as strands. That bend
      * is of radius d / 2 (rod_proximity_skip), or, on a grid whose nodes
@@ -167,13 +168,18 @@ static int still_clear(rod_self_contact *sc, const double *pos0, double threshol
 }
 
 /* After a search at `threshold` that found no pair: one at threshold + 2
- * skin (skin = threshold), whose emptiness spares the searches of the
- * steps after it (still_clear); after a wider search that found pairs,
- * the next one waits 16 searches (the rod lies near itself) */
+ * skin, whose emptiness spares the searches of the steps after it
+ * (still_clear); after a wider search that found pairs, the next one waits
+ * 16 searches (the rod lies near itself). The skin is the threshold, but
+ * less than half of what a straight rod leaves between its nearest
+ * non-neighbours, skip ds, beyond the threshold (else a straight stretch
+ * of a finely divided rod, ds near d, would always be "near itself"); on a
+ * grid too fine for any skin the wider search is not tried */
 static void try_clear(rod_self_contact *sc, const double *pos0, double threshold)
 {
-    if (--sc->clear_wait > 0) return;
-    const double reach = 3.0 * threshold;
+    const double skin = fmin(threshold, 0.45 * (sc->skip * sc->ds - threshold));
+    if (!(skin > 0.05 * threshold) || --sc->clear_wait > 0) return;
+    const double reach = threshold + 2.0 * skin;
     int found = rod_proximity_pairs(sc->prox, pos0, sc->nodes, reach, sc->skip, NULL, 0);
     if (found == 0) {
         memcpy(sc->clear_pos, pos0, (size_t)sc->nodes * 3 * sizeof(double));

@@ -6,7 +6,9 @@
  * own segment distance, not the contact code's), and the low-rank Newton
  * correction (it converges as the banded Newton does without contact:
  * test_converges); and
- * which pairs a step's motion can bring together (test_reach). */
+ * which pairs a step's motion can bring together (test_reach), and the
+ * search that skips its broad phase while the rod stays far from itself
+ * (test_clear_until_near). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -261,11 +263,56 @@ static void test_reach(void)
     rod_self_contact_destroy(sc);
 }
 
+/* The search a step starts with (rod_self_contact_find) skips the broad
+ * phase while an earlier, wider search found no pair and the nodes have
+ * not moved far since. A hairpin's legs, 12 diameters apart, close by 0.05
+ * diameters per call down to 0.3: at every call the search must find pairs
+ * exactly when this file's own segment distances say two non-neighbouring
+ * segments are within one diameter + margin, also on the calls that skip
+ * the broad phase (there must be some); then the whole rod jumps by 50
+ * diameters per call, and nothing near is missed either. */
+static void test_clear_until_near(void)
+{
+    const int n = 61;
+    const double d = 0.001, ds = 0.001, margin = 0.5 * d;
+    double pos[61 * 3];
+    rod_self_contact *sc = rod_self_contact_create(n, 6 * (n - 1), 1, 6, d, ds, 0.0);
+    if (!check(sc != NULL, "clear: self-contact scratch")) return;
+    int calls = 0, agree = 0, skipped = 0, near_calls = 0, first_bad = -1;
+    for (int k = 0; k < 260; k++) {
+        const double gap = k < 235 ? 12.0 * d - 0.05 * d * k : 0.3 * d, shift = k < 235 ? 0.0 : 50.0 * d * (k - 234);
+        /* nodes 0..20 along x at y = 0, a half turn of 10 nodes, then back
+         * along x at y = gap */
+        for (int i = 0; i < n; i++) {
+            double *p = &pos[3 * i];
+            if (i <= 20) v3_set(p, i * ds, 0, 0);
+            else if (i < 30) v3_set(p, 20 * ds + 0.5 * gap * sin(M_PI * (i - 20) / 10.0),
+                                    0.5 * gap * (1 - cos(M_PI * (i - 20) / 10.0)), 0);
+            else v3_set(p, 20 * ds - (i - 30) * ds, gap, 0);
+            p[0] += shift;
+        }
+        const int armed = sc->clear_reach > 0.0;
+        const int count = rod_self_contact_find(sc, pos, margin);
+        const int near = closest_strands(pos, n, sc->skip + 1, d + margin) < d + margin;
+        calls++;
+        near_calls += near;
+        skipped += armed && sc->clear_reach > 0.0; /* answered from the earlier search */
+        if ((count > 0) == near) agree++;
+        else if (first_bad < 0) first_bad = k;
+    }
+    check(agree == calls && skipped > 0 && near_calls > 0,
+          "clear: pairs found exactly when segments are within d + margin (this file's "
+          "distances) at %d of %d calls (first disagreement at call %d), %d calls with pairs, "
+          "%d answered without a broad phase (> 0)", agree, calls, first_bad, near_calls, skipped);
+    rod_self_contact_destroy(sc);
+}
+
 int main(void)
 {
     test_pressed();
     test_thrown();
     test_converges();
     test_reach();
+    test_clear_until_near();
     return test_finish();
 }
