@@ -16,4 +16,12 @@
 double rod_implicit_jacobian_error(const rod_model *m, const rod_state *s, double dt,
                                    double perturb, int *column, double *floor);
 
+/* The same for the whole Jacobian Newton uses with surfaces and punctures:
+ * the rod's part and contact's in closed form (friction, punctures'
+ * sliding and friction) against differences of the whole residual, by
+ * steps of 1e-7 of each unknown's size (self-contact's pairs left out:
+ * they join Newton's solve as a correction of their own). */
+double rod_implicit_contact_jacobian_error(const rod_model *m, const rod_state *s, double dt,
+                                           double perturb, int *column, double *floor);
+
 #endif

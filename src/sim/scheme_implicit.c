@@ -2818,8 +2818,15 @@ static int refresh(void *p, const rod_model *m, const rod_state *s, double dt)
     return rc == 0 ? 1 : -1;
 }
 
-double rod_implicit_jacobian_error(const rod_model *m, const rod_state *s, double dt,
-                                   double perturb, int *column, double *floor)
+/* rod_implicit_jacobian_error and rod_implicit_contact_jacobian_error:
+ * with_contact 0 compares the rod's part (contact, punctures and the
+ * pairs' laws left out, steps of 1e-4 of each unknown's size), 1 the whole
+ * Jacobian Newton uses with surfaces and punctures (rod_jacobian +
+ * add_contact_jacobian; the pairs' laws left out, they join through
+ * rod_self_contact_correct), by steps of 1e-7: friction turns within its
+ * creep speed, which a larger step would straddle */
+static double jacobian_error(const rod_model *m, const rod_state *s, double dt, double perturb,
+                             int with_contact, int *column, double *floor)
 {
     if (floor) *floor = 0.0;
     char err[256];
@@ -2850,11 +2857,12 @@ double rod_implicit_jacobian_error(const rod_model *m, const rod_state *s, doubl
         goto done;
     }
     memcpy(x0, w->x, (size_t)nu * sizeof(double));
-    w->contact_off = 1;
+    w->contact_off = !with_contact;
     w->self_off = 1;
+    const double relative = with_contact ? 1e-7 : 1e-4;
     for (int col = 0; col < nu; col++) {
         const double h = step[col] =
-            1e-4 * fmax(fabs(x0[col]), w->var_scale[w->var_kind[col % BLOCK]]);
+            relative * fmax(fabs(x0[col]), w->var_scale[w->var_kind[col % BLOCK]]);
         w->x[col] = x0[col] + h;
         evaluate(w, m, w->x, s->time, dt, plus);
         w->x[col] = x0[col] - h;
@@ -2865,11 +2873,13 @@ double rod_implicit_jacobian_error(const rod_model *m, const rod_state *s, doubl
                 fd[(size_t)(2 * kl + row - col) + (size_t)col * (size_t)ld] =
                     (plus[row] - w->perturbed[row]) / (2.0 * h);
     }
-    w->self_off = 0;
     free(plus);
     free(x0);
+    w->contact_off = 1;
     analytic_jacobian(w, m, s->time, dt);
     w->contact_off = 0;
+    if (with_contact) add_contact_jacobian(w, m, s->time, dt);
+    w->self_off = 0;
     /* per entry, the differences' rounding, about 1e-16 of the residual's
      * O(1) terms over h, is not held against the closed form */
     worst = 0.0;
@@ -2893,6 +2903,18 @@ double rod_implicit_jacobian_error(const rod_model *m, const rod_state *s, doubl
 done:
     destroy(w);
     return worst;
+}
+
+double rod_implicit_jacobian_error(const rod_model *m, const rod_state *s, double dt,
+                                   double perturb, int *column, double *floor)
+{
+    return jacobian_error(m, s, dt, perturb, 0, column, floor);
+}
+
+double rod_implicit_contact_jacobian_error(const rod_model *m, const rod_state *s, double dt,
+                                           double perturb, int *column, double *floor)
+{
+    return jacobian_error(m, s, dt, perturb, 1, column, floor);
 }
 
 static double stable_dt(const rod_model *m, const char **limit)

@@ -3,7 +3,11 @@
  * kind of end, both thetas, follower and dead tip loads, rotary inertia on
  * and off, at a state some steps into each run and away from it. A wrong
  * term shows as an error of order 1; the differences' own error is near
- * 1e-7 of a column's largest entry. */
+ * 1e-7 of a column's largest entry. Then the whole Jacobian Newton uses
+ * with contact (the rod's part and contact's, friction and punctures
+ * included) against differences of the whole residual, with a thread on
+ * a skin pad and in the running suture while the needle pulls thread
+ * through its punctures (test_contact_case). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -57,7 +61,16 @@ static int load(const jacobian_case *c, rod_model *m)
     return rc;
 }
 
-static void test_case(const jacobian_case *c)
+/* with contact: the error allowed (differences by steps of 1e-7 of each
+ * unknown's size, through friction's steep creep region) */
+#define CONTACT_TOLERANCE 1e-4
+
+static const jacobian_case contact_cases[] = {
+    {"skin_drop.ini", {NULL}, 60},
+    {"suture.ini", {"solver.dt=0.005", NULL}, 1100}, /* 5.5 s in: two punctures, thread pulled */
+};
+
+static void test_case(const jacobian_case *c, int with_contact)
 {
     rod_model m;
     char label[256] = "", err[512];
@@ -80,12 +93,17 @@ static void test_case(const jacobian_case *c)
             const double perturb = p ? 0.3 : 0.0;
             int column;
             double floor;
-            double e = rod_implicit_jacobian_error(&m, s, m.options.dt, perturb, &column, &floor);
-            check(isfinite(e) && e <= TOLERANCE && floor <= FLOOR_LIMIT,
-                  "%s at t = %g s, iterate moved by %g: closed form vs central differences, "
-                  "largest difference %.3e of its column's largest entry (column %d; "
+            const double moved = with_contact ? 0.01 * perturb : perturb;
+            const double tolerance = with_contact ? CONTACT_TOLERANCE : TOLERANCE;
+            double e = with_contact
+                           ? rod_implicit_contact_jacobian_error(&m, s, m.options.dt, moved, &column, &floor)
+                           : rod_implicit_jacobian_error(&m, s, m.options.dt, moved, &column, &floor);
+            check(isfinite(e) && e <= tolerance && floor <= FLOOR_LIMIT,
+                  "%s%s at t = %g s (%d punctures), iterate moved by %g: closed form vs central "
+                  "differences, largest difference %.3e of its column's largest entry (column %d; "
                   "tolerance %.0e; the differences' rounding resolves %.1e of it, limit %.0e)",
-                  label, s->time, perturb, e, column, TOLERANCE, floor, FLOOR_LIMIT);
+                  label, with_contact ? ", with contact" : "", s->time, s->puncture_count, moved, e,
+                  column, tolerance, floor, FLOOR_LIMIT);
         }
     }
     rod_state_destroy(s);
@@ -94,6 +112,8 @@ static void test_case(const jacobian_case *c)
 
 int main(void)
 {
-    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) test_case(&cases[k]);
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) test_case(&cases[k], 0);
+    for (size_t k = 0; k < sizeof contact_cases / sizeof contact_cases[0]; k++)
+        test_case(&contact_cases[k], 1);
     return test_finish();
 }
