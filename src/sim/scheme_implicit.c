@@ -1452,6 +1452,22 @@ static int evaluated_at_x(const implicit_work *w, double t, double dt)
            memcmp(w->eval_x, w->x, (size_t)w->unknowns * sizeof(double)) == 0;
 }
 
+/* The residual at Newton's iterate x. With contact (its part of the
+ * Jacobian in closed form), contact's velocity_jac is recorded too, so that
+ * a Jacobian renewed at this iterate need not evaluate it again. */
+static void evaluate_iterate(implicit_work *w, const rod_model *m, double t, double dt)
+{
+    w->want_jacobian = w->contact && !w->contact_fd;
+    evaluate(w, m, w->x, t, dt, w->residual);
+    w->want_jacobian = 0;
+}
+
+/* evaluate_iterate unless the last evaluation already was it (evaluated_at_x) */
+static void evaluate_iterate_once(implicit_work *w, const rod_model *m, double t, double dt)
+{
+    if (!evaluated_at_x(w, t, dt)) evaluate_iterate(w, m, t, dt);
+}
+
 static double max_abs(const double *a, int n)
 {
     /* branch-free (a data-dependent branch per entry mispredicted often):
@@ -1965,11 +1981,7 @@ static void analytic_jacobian(implicit_work *w, const rod_model *m, double t, do
  * in contact, and a sliding end's motion under a puncture beside it. */
 static void add_contact_jacobian(implicit_work *w, const rod_model *m, double t, double dt)
 {
-    if (!evaluated_at_x(w, t, dt)) {
-        w->want_jacobian = 1;
-        evaluate(w, m, w->x, t, dt, w->residual);
-        w->want_jacobian = 0;
-    }
+    evaluate_iterate_once(w, m, t, dt);
     const int n = w->nodes, kl = w->kl, ld = w->ldab, first = w->first;
     const double theta = m->options.theta, c = m->linear_damping;
     const double push = 1.0 / (m->ds * (m->mass_per_length / dt + theta * c));
@@ -2197,17 +2209,6 @@ static unsigned long active_pairs(const implicit_work *w)
     return h;
 }
 
-/* The residual at Newton's iterate x. With contact (its part of the
- * Jacobian in closed form), contact's velocity_jac is recorded too, so that
- * a Jacobian renewed at this iterate need not evaluate it again
- * (evaluated_at_x). */
-static void evaluate_iterate(implicit_work *w, const rod_model *m, double t, double dt)
-{
-    w->want_jacobian = w->contact && !w->contact_fd;
-    evaluate(w, m, w->x, t, dt, w->residual);
-    w->want_jacobian = 0;
-}
-
 /* Newton on one step; on success the iterate x holds the solution. */
 static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod_report *report)
 {
@@ -2217,7 +2218,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
     if (!w->have_factor || !same_dt(w->jacobian_dt, dt)) {
         if (factor_jacobian(w, m, t, dt)) return -1;
     }
-    if (!evaluated_at_x(w, t, dt)) evaluate_iterate(w, m, t, dt);
+    evaluate_iterate_once(w, m, t, dt);
     /* The pairs' residual is measured relative to the largest force their
      * laws ask for (residual_norm); within one iteration, the line search
      * compares the residual before and after on one scale, that of the
@@ -2878,7 +2879,7 @@ static double jacobian_error(const rod_model *m, const rod_state *s, double dt, 
     w->contact_off = 1;
     analytic_jacobian(w, m, s->time, dt);
     w->contact_off = 0;
-    if (with_contact) add_contact_jacobian(w, m, s->time, dt);
+    if (with_contact && w->contact) add_contact_jacobian(w, m, s->time, dt);
     w->self_off = 0;
     /* per entry, the differences' rounding, about 1e-16 of the residual's
      * O(1) terms over h, is not held against the closed form */

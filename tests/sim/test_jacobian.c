@@ -7,7 +7,7 @@
  * with contact (the rod's part and contact's, friction and punctures
  * included) against differences of the whole residual, with a thread on
  * a skin pad and in the running suture while the needle pulls thread
- * through its punctures (test_contact_case). */
+ * through its punctures (contact_cases). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
