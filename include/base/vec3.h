@@ -57,13 +57,16 @@ static inline void m3_column(double r[3], const double q[9], int k)
  * t = |phi|^2: a = sin(x)/x, b = (1 - cos x)/x^2, x = |phi|. */
 static inline void m3_exp_coefficients(double t, double *a, double *b)
 {
-    if (t < 2.5e-3) {
-        /* |angle| < 0.05: Taylor series to x^8, truncation below 1e-20; the
-         * common case (dt omega, ds u), and it avoids sin, cos and sqrt.
+    if (t < 6.25e-2) {
+        /* |angle| < 0.25: Taylor series to x^12, truncation below 1e-20; the
+         * common case (dt omega, ds u: half a segment's turn, 0.1 rad in
+         * suture.ini's tight bends), and it avoids sin, cos and sqrt.
          * Multiplications by the reciprocals (folded at compile time): a
          * division each costs as much as the rest of the function. */
-        *a = 1.0 - t * (1.0 / 6.0) * (1.0 - t * (1.0 / 20.0) * (1.0 - t * (1.0 / 42.0) * (1.0 - t * (1.0 / 72.0))));
-        *b = 0.5 - t * (1.0 / 24.0) * (1.0 - t * (1.0 / 30.0) * (1.0 - t * (1.0 / 56.0) * (1.0 - t * (1.0 / 90.0))));
+        *a = 1.0 - t * (1.0 / 6.0) * (1.0 - t * (1.0 / 20.0) * (1.0 - t * (1.0 / 42.0) * (1.0 - t * (1.0 / 72.0) *
+             (1.0 - t * (1.0 / 110.0) * (1.0 - t * (1.0 / 156.0))))));
+        *b = 0.5 - t * (1.0 / 24.0) * (1.0 - t * (1.0 / 30.0) * (1.0 - t * (1.0 / 56.0) * (1.0 - t * (1.0 / 90.0) *
+             (1.0 - t * (1.0 / 132.0) * (1.0 - t * (1.0 / 182.0))))));
     } else {
         double angle = sqrt(t);
         *a = sin(angle) / angle;

@@ -1733,9 +1733,13 @@ static void analytic_jacobian(implicit_work *w, const rod_model *m, double t, do
     const double push = 1.0 / (ds * (m->mass_per_length / dt + theta * c));
     const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
     memset(w->band, 0, (size_t)w->ldab * (size_t)w->unknowns * sizeof(double));
-    w->self_off = 1;
-    evaluate(w, m, w->x, t, dt, w->residual); /* frames, moments and velocities at x */
-    w->self_off = 0;
+    /* frames and moments at x: all the rod's part reads of the evaluation
+     * (it has no self-contact pairs: rod_jacobian). With contact on, the
+     * evaluation is the iterate's own, contact's velocity maps included,
+     * which add_contact_jacobian and Newton's first residual then reuse
+     * (evaluated_at_x): one evaluation per Jacobian instead of two */
+    if (w->contact_off) evaluate(w, m, w->x, t, dt, w->residual);
+    else evaluate_iterate(w, m, t, dt);
     double *turn = w->jac_node; /* per node: E (d e / d omega), Eth (at the theta point) */
     for (int i = 0; i < n; i++) {
         double *e1 = &turn[18 * i], *eth = e1 + 9;
@@ -2111,7 +2115,9 @@ static void rod_jacobian(implicit_work *w, const rod_model *m, double t, double 
 static int factor_jacobian(implicit_work *w, const rod_model *m, double t, double dt)
 {
     if (w->contact && !w->contact_fd) {
-        w->contact_off = 1;
+        /* the closed form reads only the frames of its evaluation, which
+         * contact leaves alone; differences must leave contact out */
+        w->contact_off = w->planar || w->fd_only || (w->self && w->self->count);
         rod_jacobian(w, m, t, dt);
         w->contact_off = 0;
         memcpy(w->band_smooth, w->band, (size_t)w->ldab * (size_t)w->unknowns * sizeof(double));
