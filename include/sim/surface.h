@@ -24,6 +24,15 @@ double rod_surface_gap(const rod_surface *s, const double p[3], double grow, dou
 int rod_surface_sweep(const rod_surface *s, const double a[3], const double b[3], double grow,
                       double *f, double point[3], double normal[3]);
 
+/* The curvature of the grown solid's surface at its point p (on it, outward
+ * normal n): the Hessian of the signed distance there, 1/m, row-major.
+ * (I - n n^T - e e^T) / R on a cylinder's side or a box's rounded edge
+ * (axis e, radius R: the cylinder's grown radius, or `grow`), (I - n n^T) / R
+ * on a sphere or a box's rounded corner, 0 on a plane or a box's flat face.
+ * Returns 1 where it is not 0. */
+int rod_surface_curvature(const rod_surface *s, const double p[3], const double n[3], double grow,
+                          double hessian[9]);
+
 /* Checks a surface's inputs; returns 0, or -1 with a message that starts
  * with the scene key at fault ("size: ...") and says what is accepted.
  * Normalises `normal`. */

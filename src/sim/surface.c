@@ -3,6 +3,7 @@
 #include "sim/surface.h"
 
 #include <math.h>
+#include <string.h>
 #include <stdio.h>
 
 #include "base/vec3.h"
@@ -204,6 +205,49 @@ int rod_surface_sweep(const rod_surface *s, const double a[3], const double b[3]
     if (f) *f = hi;
     if (point) v3_copy(point, near);
     if (normal) v3_copy(normal, n);
+    return 1;
+}
+
+int rod_surface_curvature(const rod_surface *s, const double p[3], const double n[3], double grow,
+                          double hessian[9])
+{
+    double axis[3] = {0.0, 0.0, 0.0}, radius = 0.0;
+    int along = 0; /* 1: a cylinder's side or an edge (no curvature along axis) */
+    switch (s->shape) {
+    case ROD_SURFACE_PLANE:
+        break;
+    case ROD_SURFACE_SPHERE:
+        radius = s->size[0] + grow;
+        break;
+    case ROD_SURFACE_CYLINDER:
+        radius = s->size[0] + grow;
+        v3_copy(axis, s->normal);
+        along = 1;
+        break;
+    case ROD_SURFACE_BOX:
+    default: {
+        /* the rounded part: two axes out of the box's extent (an edge, along
+         * the third) or three (a corner) */
+        int out = 0, in = 0;
+        for (int k = 0; k < 3; k++) {
+            if (fabs(p[k] - s->center[k]) > 0.5 * s->size[k]) out++;
+            else in = k;
+        }
+        if (out >= 2) radius = grow;
+        if (out == 2) {
+            axis[in] = 1.0;
+            along = 1;
+        }
+        break;
+    }
+    }
+    if (!(radius > 0.0)) {
+        memset(hessian, 0, 9 * sizeof(double));
+        return 0;
+    }
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            hessian[3 * i + j] = ((i == j) - n[i] * n[j] - (along ? axis[i] * axis[j] : 0.0)) / radius;
     return 1;
 }
 

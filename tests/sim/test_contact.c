@@ -141,6 +141,66 @@ static void test_geometry(void)
           "reference 0.5, (0.01, 0.001))", f, hit[0], hit[2]);
 }
 
+/* rod_surface_curvature against central differences of the normal that
+ * rod_surface_gap gives (the gradient of the signed distance), at a point
+ * of the grown surface of each kind: a sphere, a cylinder's side, a box's
+ * rounded edge and corner (1 / grow) and its flat face (0). */
+static void test_curvature(void)
+{
+    const double grow = 0.0005;
+    rod_surface s[5];
+    memset(s, 0, sizeof s);
+    s[0].shape = ROD_SURFACE_SPHERE;
+    s[0].size[0] = 0.02;
+    s[1].shape = ROD_SURFACE_CYLINDER;
+    s[1].size[0] = 0.01;
+    v3_set(s[1].normal, 0.6, 0.0, 0.8);
+    for (int k = 2; k < 5; k++) {
+        s[k].shape = ROD_SURFACE_BOX;
+        v3_set(s[k].size, 0.04, 0.02, 0.01);
+        v3_set(s[k].center, 0.001, -0.002, 0.003);
+    }
+    /* directions from the centre (sphere, cylinder) or from the box's
+     * edge x = 0.02, z = 0.005 (two axes out), its corner (three) and its
+     * top face (one) */
+    const double dir[5][3] = {{0.3, -0.5, 0.7}, {0.8, 0.3, -0.6}, {0.6, 0.0, 0.8},
+                              {0.5, -0.4, 0.7}, {0.0, 0.0, 1.0}};
+    const double from[5][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.021, -0.004, 0.008},
+                               {0.021, -0.012, 0.008}, {0.004, 0.001, 0.008}};
+    const char *names[5] = {"sphere", "cylinder's side", "box's rounded edge",
+                            "box's rounded corner", "box's flat face"};
+    const double radius[5] = {0.0205, 0.0105, grow, grow, 0.0};
+    for (int k = 0; k < 5; k++) {
+        double u[3], p[3], n[3], h[9];
+        v3_scale(u, dir[k], 1.0 / v3_norm(dir[k]));
+        if (k == 1) { /* across the cylinder's axis */
+            v3_axpy(u, -v3_dot(u, s[1].normal), s[1].normal);
+            v3_scale(u, u, 1.0 / v3_norm(u));
+        }
+        for (int c = 0; c < 3; c++) p[c] = from[k][c] + radius[k] * u[c];
+        if (k == 4) p[2] = 0.003 + 0.005 + grow;
+        rod_surface_gap(&s[k], p, grow, n, NULL);
+        int curved = rod_surface_curvature(&s[k], p, n, grow, h);
+        double worst = 0.0, step = 1e-7;
+        for (int j = 0; j < 3; j++) {
+            double pp[3], pm[3], np[3], nm[3];
+            v3_copy(pp, p);
+            v3_copy(pm, p);
+            pp[j] += step;
+            pm[j] -= step;
+            rod_surface_gap(&s[k], pp, grow, np, NULL);
+            rod_surface_gap(&s[k], pm, grow, nm, NULL);
+            for (int i = 0; i < 3; i++)
+                worst = fmax(worst, fabs((np[i] - nm[i]) / (2.0 * step) - h[3 * i + j]));
+        }
+        const double scale = k == 4 ? 1.0 : 1.0 / radius[k];
+        check(curved == (k != 4) && worst <= 1e-6 * scale,
+              "curvature of a %s: Hessian of the distance against differences of the normal, "
+              "largest difference %.3e 1/m (of 1/R = %.4g 1/m; tolerance 1e-6 of it)",
+              names[k], worst, k == 4 ? 0.0 : 1.0 / radius[k]);
+    }
+}
+
 /* The energy the contact stores in a node pressed delta deep (J). The
  * contact force is an implicit spring (scheme_implicit.c, node_contact and
  * compliant_fraction): of a free depth e it takes back the fraction kappa /
@@ -651,6 +711,7 @@ static void test_bad_input(void)
 int main(void)
 {
     test_geometry();
+    test_curvature();
     test_drop();
     test_incline();
     test_capstan();
