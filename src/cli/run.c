@@ -370,9 +370,10 @@ static rod_status advance(rod_solver *solver, const rod_model *m, rod_state *s, 
                           double h, double target, rod_report *report, run_stats *stats)
 {
     for (int64_t j = 0; j < n; j++) {
-        /* a Jacobian the last step found stale is renewed at the state the
-         * step starts from, not after the step's first slow iterations */
-        rod_solver_refresh(solver, m, s, h); /* -1: the step builds its own */
+        /* no rod_solver_refresh() here: a Jacobian the last step found stale
+         * is renewed by the step itself at its first iterate (the implicit
+         * scheme's single_step), which spares an evaluation; refresh() is
+         * for live mode's idle time between lines */
         rod_status status = rod_solver_step(solver, m, s, h, report);
         stats->steps++;
         if (h < stats->smallest_step || stats->steps == 1) stats->smallest_step = h;

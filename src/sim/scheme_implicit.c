@@ -119,8 +119,9 @@
  * of 17.7 in a loop of its steps) */
 #define CONTACT_STALL 6
 /* A chord iteration that leaves the residual above the tolerance, having
- * contracted it by less than this, marks the factorisation stale, for
- * refresh() to renew between steps. Below newton()'s 0.25 and without its
+ * contracted it by less than this, marks the factorisation stale, for the
+ * next step to renew at its first iterate (single_step), or refresh()
+ * between steps in live mode. Below newton()'s 0.25 and without its
  * floor of 10 tolerances: the contraction worsens over some tens of steps
  * (0.01 after a build; then 0.1 to 1 in the iterations below 1e-7 before
  * one of 0.3 above it rebuilds within a step, in bench_live at 1 kHz), so
@@ -2568,6 +2569,16 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
      * refresh()'s at the same state (live mode moves the driven end in
      * between) */
     w->eval_valid = 0;
+    /* a factorisation the last step found stale is renewed at this step's
+     * first iterate, before its slow iterations, unless refresh() did it
+     * between the steps: newton() builds it, and its Jacobian's evaluation
+     * of the iterate is also Newton's first residual (evaluated_at_x), one
+     * evaluation fewer than refresh() and the step each making one
+     * (suture.ini: 127,796 evaluations instead of 138,850, the results bit
+     * for bit the same). As refresh(), not while self-contact pairs exist */
+    if (w->stale && !w->jacobian_only && continuing && w->dt_last > 0.0 &&
+        !(w->self && w->self->count))
+        w->have_factor = 0;
     if (!continuing) {
         memcpy(w->frame0, s->frame, (size_t)n * 9 * sizeof(double));
         elastic_state(m, w->frame0, w->darboux1, w->mid1, w->d3mid0, w->moment0);
@@ -2872,7 +2883,9 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
 /* Between steps: a stale factorisation (IDLE_REFRESH_CONTRACTION) renewed
  * for the next step of dt from s, at that step's first iterate (the last
  * two solutions extrapolated), by that step's own preparation (single_step
- * up to newton), so that the step need not rebuild it on its own time.
+ * up to newton), so that the step need not rebuild it on its own time
+ * (live mode, between lines; a loop of steps leaves it to the step, which
+ * then spares an evaluation: single_step).
  * Only when continuing a run of steps (single_step then reads s and leaves
  * it as it is; after a failed or restored step, the step builds its own)
  * and while the last step had no self-contact candidates (the pairs and
