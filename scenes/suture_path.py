@@ -12,8 +12,16 @@ bite (a running suture). The tip starts at rest at the end of the starting U
 (frame Q0: d1 = -y, d2 = z, d3 = -x), so a row's rotation vector is the log
 of the needle's frame times Q0^T; it is unwrapped (angle + 2 pi k) to
 stay continuous, since the path interpolates it component by component.
-It also writes suture_shape.csv, the thread's starting centreline.
-Run: python3 suture_path.py > suture_path.csv"""
+It also writes suture_shape_u.csv, the thread laid in a U on the skin, and
+suture_hold.csv, the holder at rest at the path's start. The monofilament
+(bending length 8 cm) springs out of the U in 0.1 s, so suture.ini starts
+from the U settled for 1 s with the needle held, suture_shape.csv:
+  python3 suture_path.py > suture_path.csv
+  ../rodsim run suture.ini --no-video --quiet --csv settle.csv \
+      --set rod.shape=suture_shape_u.csv --set ends.tip_motion=suture_hold.csv \
+      --set solver.duration=1
+  awk -F, 'NR == 1 {print "x,y,z"} $1 == 1 {print $4 "," $5 "," $6}' \
+      settle.csv > suture_shape.csv"""
 import math
 
 RN, BITE = 0.005, 0.004
@@ -147,10 +155,14 @@ def shape():
 
 
 SHAPE = shape()
-with open("suture_shape.csv", "w") as f:
+with open("suture_shape_u.csv", "w") as f:
     f.write("x,y,z\n")
     for q in SHAPE:
         f.write("%.9f,%.9f,%.9f\n" % q)
+with open("suture_hold.csv", "w") as f:
+    f.write("t,x,y,z,rx,ry,rz\n")
+    for tt in (0.0, 1.0):
+        f.write("%.4f,%.7f,%.7f,%.7f,0.0000000,0.0000000,0.0000000\n" % ((tt,) + SHAPE[-1]))
 # the tip's starting frame: the root's (d1 = y, d2 = z, d3 = x) carried along
 # the U by parallel transport, a half turn about z
 Q0 = [[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]]
