@@ -1805,13 +1805,18 @@ static void analytic_jacobian(implicit_work *w, const rod_model *m, double t, do
     const double push = 1.0 / (ds * (m->mass_per_length / dt + theta * c));
     const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
     memset(w->band, 0, (size_t)w->ldab * (size_t)w->unknowns * sizeof(double));
-    /* frames and moments at x: all the rod's part reads of the evaluation
-     * (it has no self-contact pairs: rod_jacobian). With contact on, the
+    /* frames and moments at x: all the rod's part reads of the evaluation.
+     * Without self-contact pairs and with contact on, the
      * evaluation is the iterate's own, contact's velocity maps included,
      * which add_contact_jacobian and Newton's first residual then reuse
      * (evaluated_at_x): one evaluation per Jacobian instead of two */
-    if (w->contact_off) evaluate(w, m, w->x, t, dt, w->residual);
-    else evaluate_iterate(w, m, t, dt);
+    if (w->contact_off || (w->self && w->self->count)) {
+        w->self_off = 1; /* the pairs' forces as constants (fd_jacobian) */
+        evaluate(w, m, w->x, t, dt, w->residual);
+        w->self_off = 0;
+    } else {
+        evaluate_iterate(w, m, t, dt);
+    }
     double *turn = w->jac_node; /* per node: E (d e / d omega), Eth (at the theta point) */
     for (int i = 0; i < n; i++) {
         double *e1 = &turn[18 * i], *eth = e1 + 9;
@@ -2165,17 +2170,18 @@ static int factor_band(implicit_work *w, double dt)
 
 /* The rod's part of the Jacobian (contact and punctures left out by the
  * caller's contact_off): in closed form in 3-D (analytic_jacobian), by
- * finite differences in the plane (its cantilever is cheap) and while
- * strands of the rod are candidates for self-contact. There the closed
- * form made no run faster (overhand.ini 37.4 s of CPU, 37.2 s with
- * differences), and buckling_twist.ini's snap into a plectoneme with
- * friction failed to converge at 13.3 s, which runs through with
- * differences: both stall at friction's turn between stick and slip
- * there, and the differences' rounding happens to carry this scene past
- * it. */
+ * finite differences in the plane (its cantilever is cheap) and in step's
+ * retry (fd_only). Also while strands of the rod are candidates for
+ * self-contact (their forces join in newton_solve, not in this part):
+ * differences there cost 18 evaluations a Jacobian, and were kept once
+ * because buckling_twist.ini's snap failed at 13.3 s with the closed form;
+ * it now runs through (with the retry), in 28.5 s of CPU instead of 33.4,
+ * overhand_tight.ini in 15.0 s instead of 20.2 (the same knot in every
+ * frame, rope in the knot 19.7 diameters instead of 20.3), overhand.ini
+ * and surgeons_knot.ini in 1.00x and 0.97x the time. */
 static void rod_jacobian(implicit_work *w, const rod_model *m, double t, double dt)
 {
-    if (w->planar || w->fd_only || (w->self && w->self->count)) fd_jacobian(w, m, t, dt, 1);
+    if (w->planar || w->fd_only) fd_jacobian(w, m, t, dt, 1);
     else analytic_jacobian(w, m, t, dt);
 }
 
@@ -2189,7 +2195,7 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
     if (w->contact && !w->contact_fd) {
         /* the closed form reads only the frames of its evaluation, which
          * contact leaves alone; differences must leave contact out */
-        w->contact_off = w->planar || w->fd_only || (w->self && w->self->count);
+        w->contact_off = w->planar || w->fd_only;
         rod_jacobian(w, m, t, dt);
         w->contact_off = 0;
         memcpy(w->band_smooth, w->band, (size_t)w->ldab * (size_t)w->unknowns * sizeof(double));
