@@ -727,22 +727,66 @@ static void creep_slopes(double c, double sp, double *d_speed, double *d_c)
     *d_c = -g_c / g_sp;
 }
 
+/* How a swept contact's half-space turns with the node's velocity v
+ * (surface_turn): the depth's gradient g (d e = (a / push) g.d v) and the
+ * normal's Jacobian nn = d n / d v, with push lambda and vn = v'.n. */
+typedef struct surface_turn {
+    double g[3], nn[9], push_lambda, vn;
+} surface_turn;
+
+/* A node that did not touch at the step's start is held where its path
+ * r0 -> r1 = r0 + dt vbar first enters the grown solid (node_contact), at
+ * the fraction f, the point p = r0 + f D (D = r1 - r0) and the normal n
+ * there. On a curved part (the Hessian H of the signed distance at p,
+ * rod_surface_curvature) p and n turn with r1: with n.dp = 0, d p = f (I -
+ * D n^T / n.D) d r1 = P d r1, d n = H P d r1, and the depth e = (r1 - p).n
+ * has d e = g.d r1, g = n + (1 - f) (H P)^T D; d r1 / d v = a / push (a = dt
+ * theta push). Returns 0 for a path grazing the solid (n.D above -1e-9 |D|),
+ * where P is unbounded: n and p are then taken as fixed. */
+static int surface_turn_of(surface_turn *turn, const double n[3], const double hessian[9],
+                           const double d[3], double f, double a, double push, double lambda,
+                           double vn)
+{
+    const double nd = v3_dot(n, d);
+    if (!(nd < -1e-9 * v3_norm(d))) return 0;
+    double proj[9], hp[9];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) proj[3 * i + j] = f * ((i == j) - d[i] * n[j] / nd);
+    m3_mul(hp, hessian, proj);
+    for (int k = 0; k < 9; k++) turn->nn[k] = (a / push) * hp[k];
+    for (int j = 0; j < 3; j++) {
+        turn->g[j] = n[j];
+        for (int i = 0; i < 3; i++) turn->g[j] += (1.0 - f) * hp[3 * i + j] * d[i];
+    }
+    turn->push_lambda = push * lambda;
+    turn->vn = vn;
+    return 1;
+}
+
 /* Composes jac with the Jacobian of one surface's map in node_contact,
  * v -> v + push F(v) (normal n, the tangential velocity vt after the normal
  * force, its norm speed and the friction's sp = contact_creep_speed(speed, c),
  * c = push mu lambda; stiff = d(e kappa/(1+kappa))/de, compliant_slope):
- *   normal:   v' = v + push lambda n, d lambda / d v = -stiff / push n^T
- *             (the depth is linear in v: n and the point held over the
- *             iteration; a sweep's entry point on a curved surface moves
- *             with v: surface_map_jacobian_swept), so d v'/d v = I - stiff n n^T;
- *   friction: v'' = (n.v') n + sp vt/speed, with d sp from creep_slopes and
- *             d c / d v = -mu stiff n^T. */
+ *   normal:   v' = v + push lambda n, d lambda / d v = -stiff / push g^T,
+ *             so d v'/d v = A' = I - stiff n g^T + push lambda Nn; with the
+ *             half-space held over the iteration (turn NULL: a node touching
+ *             at the start, or a flat part) g = n and Nn = d n / d v = 0;
+ *   friction: v'' = vn n + sp t (vn = v'.n, vt = v' - vn n = speed t), with
+ *             d sp from creep_slopes and d c / d v = -mu stiff g^T:
+ *             d v'' = fric A' - d_c mu stiff t g^T + ((1 - ratio) n v'^T +
+ *             vn ((1 - ratio) I + (ratio - d_speed) t t^T)) Nn,
+ *             fric = n n^T + ratio (I - n n^T - t t^T) + d_speed t t^T,
+ *             ratio = sp / speed. */
 static void surface_map_jacobian(double jac[9], const double n[3], const double vt[3],
-                                 double speed, double sp, double c, double mu, double stiff)
+                                 double speed, double sp, double c, double mu, double stiff,
+                                 const surface_turn *turn)
 {
+    const double *g = turn ? turn->g : n;
     double map[9];
     for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) map[3 * i + j] = (i == j) - stiff * n[i] * n[j];
+        for (int j = 0; j < 3; j++) map[3 * i + j] = (i == j) - stiff * n[i] * g[j];
+    if (turn)
+        for (int k = 0; k < 9; k++) map[k] += turn->push_lambda * turn->nn[k];
     if (c > 0.0) {
         /* at speed 0 (a node pressed straight in) the limit: sp / speed ->
          * d sp / d speed, no direction t */
@@ -756,75 +800,20 @@ static void surface_map_jacobian(double jac[9], const double n[3], const double 
                                   d_speed * t[i] * t[j];
         m3_mul(map, fric, map);
         for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) map[3 * i + j] -= d_c * mu * stiff * t[i] * n[j];
+            for (int j = 0; j < 3; j++) map[3 * i + j] -= d_c * mu * stiff * t[i] * g[j];
+        if (turn) {
+            double vp[3], side[9], extra[9];
+            const double vn = turn->vn;
+            for (int k = 0; k < 3; k++) vp[k] = vt[k] + vn * n[k];
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++)
+                    side[3 * i + j] = (1.0 - ratio) * n[i] * vp[j] +
+                                      vn * ((1.0 - ratio) * (i == j) + (ratio - d_speed) * t[i] * t[j]);
+            m3_mul(extra, side, turn->nn);
+            for (int k = 0; k < 9; k++) map[k] += extra[k];
+        }
     }
     m3_mul(jac, map, jac);
-}
-
-/* surface_map_jacobian where the half-space moves with v: a node that did
- * not touch at the step's start is held where its path r0 -> r1 = r0 + dt
- * vbar first enters the grown solid (node_contact), at the fraction f, the
- * point p = r0 + f D (D = r1 - r0) and the normal n there. On a curved part
- * (the Hessian H of the signed distance at p, rod_surface_curvature) p and n
- * turn with r1: with n.dp = 0, d p = f (I - D n^T / n.D) d r1 = P d r1, d n
- * = H P d r1, and the depth e = (r1 - p).n has d e = g.d r1, g = n + (1 -
- * f) (H P)^T D. With d r1 / d v = a / push (a = dt theta push) and Nn =
- * d n / d v = (a / push) H P:
- *   normal:   d v' = A' d v, A' = I - stiff n g^T + push lambda Nn,
- *             d lambda = -stiff / push g.d v;
- *   friction: v'' = vn n + sp t (vn = v'.n, vt = v' - vn n = speed t):
- *             d vn = n.d v' + v'.d n, d vt = d v' - n d vn - vn d n,
- *             d v'' = n d vn + vn d n + t (d_speed t.d vt + d_c push mu
- *             d lambda) + (sp / speed) (I - t t^T) d vt.
- * With Nn = 0 and g = n it is surface_map_jacobian. A path grazing the
- * solid (n.D above -1e-9 |D|) keeps n and p fixed: there P is unbounded. */
-static void surface_map_jacobian_swept(double jac[9], const double n[3], const double hessian[9],
-                                       const double d[3], double f, double lambda, double a,
-                                       double push, double vn, const double vt[3], double speed,
-                                       double sp, double c, double mu, double stiff)
-{
-    const double nd = v3_dot(n, d);
-    if (!(nd < -1e-9 * v3_norm(d))) {
-        surface_map_jacobian(jac, n, vt, speed, sp, c, mu, stiff);
-        return;
-    }
-    double proj[9], hp[9], nn[9], g[3], ap[9], out[9];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) proj[3 * i + j] = f * ((i == j) - d[i] * n[j] / nd);
-    m3_mul(hp, hessian, proj);
-    for (int k = 0; k < 9; k++) nn[k] = (a / push) * hp[k];
-    for (int j = 0; j < 3; j++) {
-        g[j] = n[j];
-        for (int i = 0; i < 3; i++) g[j] += (1.0 - f) * hp[3 * i + j] * d[i];
-    }
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            ap[3 * i + j] = (i == j) - stiff * n[i] * g[j] + push * lambda * nn[3 * i + j];
-    if (c > 0.0) {
-        double t[3] = {0.0, 0.0, 0.0}, vp[3], dvn[3], dvt[9], d_speed, d_c;
-        if (speed > 0.0) v3_scale(t, vt, 1.0 / speed);
-        creep_slopes(c, sp, &d_speed, &d_c);
-        const double ratio = speed > 0.0 ? sp / speed : d_speed;
-        for (int k = 0; k < 3; k++) vp[k] = vt[k] + vn * n[k];
-        for (int j = 0; j < 3; j++) {
-            dvn[j] = 0.0;
-            for (int i = 0; i < 3; i++) dvn[j] += n[i] * ap[3 * i + j] + vp[i] * nn[3 * i + j];
-        }
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++)
-                dvt[3 * i + j] = ap[3 * i + j] - n[i] * dvn[j] - vn * nn[3 * i + j];
-        for (int j = 0; j < 3; j++) {
-            double tdvt = 0.0;
-            for (int i = 0; i < 3; i++) tdvt += t[i] * dvt[3 * i + j];
-            const double along = d_speed * tdvt - d_c * mu * stiff * g[j];
-            for (int i = 0; i < 3; i++)
-                out[3 * i + j] = n[i] * dvn[j] + vn * nn[3 * i + j] + t[i] * along +
-                                 ratio * (dvt[3 * i + j] - t[i] * tdvt);
-        }
-    } else {
-        memcpy(out, ap, sizeof out);
-    }
-    m3_mul(jac, out, jac);
 }
 
 /* Contact of node b with the surfaces (issue 11), inside the residual.
@@ -875,7 +864,7 @@ static void node_contact(implicit_work *w, const rod_model *m, int b, double pus
             const double *start = &w->start_gap[7 * ((size_t)b * (size_t)w->surface_count + (size_t)j)];
             const double gap0 = start[0], *n0 = start + 1, *near0 = start + 4;
             double depth, hit = 0.0, hessian[9];
-            int curved = 0; /* the sweep entered a curved part: p and n move with v */
+            int curved = 0; /* the sweep entered a curved part: p and n turn with v */
             if (gap0 <= 0.1 * grow) {
                 /* touching at the start: the half-space tangent at the start's
                  * nearest point, fixed over the step, so the depth is linear
@@ -917,13 +906,13 @@ static void node_contact(implicit_work *w, const rod_model *m, int b, double pus
                 v3_axpy(vb, theta * push, ft);
                 v3_axpy(force, 1.0, ft);
             }
-            if (w->want_jacobian && curved)
-                surface_map_jacobian_swept(jac, n, hessian, step, hit, lambda, a, push, vn, vt, speed,
-                                           sp, push * limit, sf->friction,
-                                           compliant_slope(-depth, 0.01 * grow));
-            else if (w->want_jacobian)
+            if (w->want_jacobian) {
+                surface_turn turn;
+                const int turning = curved && surface_turn_of(&turn, n, hessian, step, hit, a, push,
+                                                              lambda, vn);
                 surface_map_jacobian(jac, n, vt, speed, sp, push * limit, sf->friction,
-                                     compliant_slope(-depth, 0.01 * grow));
+                                     compliant_slope(-depth, 0.01 * grow), turning ? &turn : NULL);
+            }
         }
     if (w->want_jacobian && active) {
         double *d = &w->velocity_jac[27 * b];
