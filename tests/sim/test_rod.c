@@ -70,6 +70,40 @@ static void test_rotations(void)
     m3_exp(q, near_pi);
     m3_log(out, q);
     check_abs("log near pi", out[1], near_pi[1], 1e-7);
+
+    /* the series of m3_exp_coefficients (|angle| < 0.25) and m3_log
+     * (angle < 0.2527), on both sides of where they hand over to sin, cos
+     * and atan2, against long double: sin x / x, 2 sin^2(x/2) / x^2 (no
+     * cancellation), and the angle atan2(s, c) of the same double matrix */
+    static const double angles[] = {1e-6, 0.01, 0.049, 0.051, 0.1, 0.19, 0.2499, 0.2501,
+                                    0.2526, 0.2528, 0.4, 1.0};
+    static const double axes[3][3] = {{1, 0, 0}, {0.6, -0.8, 0}, {0.48, 0.6, -0.64}};
+    double worst_a = 0.0, worst_b = 0.0, worst_log = 0.0;
+    for (size_t i = 0; i < sizeof angles / sizeof angles[0]; i++) {
+        const long double x = angles[i], t = (long double)(angles[i] * angles[i]);
+        double a, b;
+        m3_exp_coefficients(angles[i] * angles[i], &a, &b);
+        const long double xs = sqrtl(t), half = sinl(0.5L * xs);
+        worst_a = fmax(worst_a, (double)fabsl((a - sinl(xs) / xs) / (sinl(xs) / xs)));
+        worst_b = fmax(worst_b, (double)fabsl((b - 2.0L * half * half / t) / (2.0L * half * half / t)));
+        for (int k = 0; k < 3; k++) {
+            double rv[3] = {axes[k][0] * angles[i], axes[k][1] * angles[i], axes[k][2] * angles[i]};
+            m3_exp(q, rv);
+            m3_log(out, q);
+            const long double wl[3] = {(long double)q[7] - q[5], (long double)q[2] - q[6],
+                                       (long double)q[3] - q[1]};
+            const long double c = 0.5L * ((long double)q[0] + q[4] + q[8] - 1.0L);
+            const long double sl = 0.5L * sqrtl(wl[0] * wl[0] + wl[1] * wl[1] + wl[2] * wl[2]);
+            const long double angle = atan2l(sl, c);
+            for (int j = 0; j < 3; j++)
+                worst_log = fmax(worst_log, (double)fabsl((out[j] - 0.5L * wl[j] * angle / sl) / x));
+        }
+    }
+    check(worst_a < 4e-16 && worst_b < 4e-16,
+          "exp map's a = sin x / x and b = (1 - cos x) / x^2 from 1e-6 to 1 rad against long double: "
+          "relative errors %.2e and %.2e (at most 4e-16)", worst_a, worst_b);
+    check(worst_log < 4e-16, "log map from 1e-6 to 1 rad against long double atan2 of the same "
+          "matrix: error %.2e of the angle (at most 4e-16)", worst_log);
 }
 
 static double largest_difference(const double *a, const double *b, int n)
