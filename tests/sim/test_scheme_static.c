@@ -1932,7 +1932,12 @@ static void test_pinned_hanging(void)
 
     /* a load straight back along the rod hangs it a half turn away, where
      * the pin's swing-twist rows are singular: reached all the same (the
-     * damped Newton, scheme_static.c newton_damping), straight along -x */
+     * damped Newton, scheme_static.c newton_damping), straight along -x.
+     * At a singular solution the answer is fixed only to about sqrt(eps) L:
+     * last-bit changes of the exp and log maps' series (Horner's or
+     * Estrin's order of the same sums) moved it by 1.4e-9, 1.8e-9, 8.0e-9
+     * and 3.3e-8 m, so the bound is 1e-7 L (it was 1e-8 L, from one of
+     * them); a rod that does not reach the half turn is off by far more */
     m = static_model(21, ROD_FRAME_GLOBAL);
     m.root_end = ROD_END_PINNED;
     m.distributed_force[0] = -q;
@@ -1945,7 +1950,7 @@ static void test_pinned_hanging(void)
         v3_sub(gap, &s->position[3 * i], expect);
         off = fmax(off, v3_norm(gap));
     }
-    check(status == ROD_OK && off < 1e-8 * length && fabs(s->end_force[0][0] + q * length) < 1e-9 * q * length,
+    check(status == ROD_OK && off < 1e-7 * length && fabs(s->end_force[0][0] + q * length) < 1e-9 * q * length,
           "pinned root, load along -x on a rod along +x: hangs a half turn away along -x (largest "
           "node distance from (-s, 0, 0) %.1e m), the pin carries q L (%.9e N, reference %.9e N)",
           off, -s->end_force[0][0], q * length);
