@@ -1608,7 +1608,7 @@ static inline __attribute__((always_inline)) void band_solve_many_kl(const impli
                 /* L's entries past its profile are zeros of the factor:
                  * a fixed length of 8 (the rod's own columns reach 6 to 8
                  * rows down) unrolls and vectorises, where the loop over
-                 * len did not (7 % of suture.ini's time) */
+                 * len did not (5 % of suture.ini's time) */
                 for (int i = 0; i < 8; i++) bc[j + 1 + i] -= col[i] * bj;
             } else {
                 for (int i = 0; i < len; i++) bc[j + 1 + i] -= col[i] * bj;
