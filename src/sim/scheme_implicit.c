@@ -57,7 +57,7 @@
  * The planar path models only today's cantilever; every other case is 3-D.
  *
  * Newton: the Jacobian is built in closed form (analytic_jacobian: one residual
- * evaluation and 3 x 3 algebra per node) or, in the plane and with self-contact,
+ * evaluation and 3 x 3 algebra per node) or, in the plane and in a step's retry,
  * by finite differences with a 3-colouring of
  * the block-tridiagonal pattern (18 residual evaluations; 15 in the plane), factored by
  * a banded LU with partial pivoting (LAPACK's dgbtf2, written out), and reused across
@@ -99,6 +99,9 @@
  * 2 BLOCK + 2 = 14, not 2 BLOCK + BLOCK - 1 = 17 (suture.ini: each
  * factorisation 0.68 of the cost) */
 #define BAND_PUNCTURE 14
+/* Loops over a column of L shorter than this run this length
+ * (band_factor_kl) */
+#define SHORT_COLUMN 8
 #define MAX_SPLIT_DEPTH 12
 /* Self-contact's candidate pairs lie within this many diameters of one
  * diameter apart at the start of a step, at most (single_step) */
@@ -137,7 +140,7 @@
  * instead of 0.25 takes 110,864 evaluations instead of 126,299 and 71,228
  * solves instead of 82,081, for 28,681 factorisations instead of 24,834
  * (0.1: 113,163, 73,035 and 27,339; 0.02: 109,697, 70,241 and 29,926);
- * 0.96x the CPU (6 paired runs); skin_drop.ini and `make bench`'s contact
+ * 0.96x the CPU (6 and 8 paired runs); skin_drop.ini and `make bench`'s contact
  * cases the same */
 #define CONTACT_SLOW_CONTRACTION 0.05
 /* Contact laws and their constants: sim/contact_law.h */
@@ -243,8 +246,9 @@ typedef struct implicit_work {
     double *inv_diag;  /* (unknowns) 1 / U_jj of the factorisation: the back substitution
                           multiplies instead of dividing (a division's latency sits on its
                           serial critical path) */
-    int *lower;        /* (unknowns) L's entries below the diagonal in column j, its
-                          trailing zeros trimmed (band_factor_kl) */
+    int *lower;        /* (unknowns) the length of column j's loops over L below the
+                          diagonal: its trailing zeros trimmed, then padded with them to 8
+                          where that is shorter than the band (band_factor_kl) */
     int *upper;        /* (unknowns) the first row of U's column j that is not zero */
     int have_factor;   /* band holds a usable factorisation */
 
@@ -1604,12 +1608,8 @@ static inline __attribute__((always_inline)) void band_solve_many_kl(const impli
             bc[j] = bj;
             if (len == kl) {
                 for (int i = 0; i < kl; i++) bc[j + 1 + i] -= col[i] * bj;
-            } else if (kl >= 8 && len <= 8 && j + 9 <= n) {
-                /* L's entries past its profile are zeros of the factor:
-                 * a fixed length of 8 (the rod's own columns reach 6 to 8
-                 * rows down) unrolls and vectorises, where the loop over
-                 * len did not (5 % of suture.ini's time) */
-                for (int i = 0; i < 8; i++) bc[j + 1 + i] -= col[i] * bj;
+            } else if (len == SHORT_COLUMN) { /* fixed length: unrolled, vectorised */
+                for (int i = 0; i < SHORT_COLUMN; i++) bc[j + 1 + i] -= col[i] * bj;
             } else {
                 for (int i = 0; i < len; i++) bc[j + 1 + i] -= col[i] * bj;
             }
@@ -2153,7 +2153,14 @@ static inline __attribute__((always_inline)) int band_factor_kl(implicit_work *w
         int km = kl < n - 1 - j ? kl : n - 1 - j;
         double *col = &ab[(size_t)j * ld + kv]; /* col[i] = A(j + i, j) */
         while (km > 0 && col[km] == 0.0) km--;
-        lower[j] = km;
+        /* the loops over L run a fixed length of SHORT_COLUMN where km is
+         * shorter and the band not narrower, over exact zeros past km (the same
+         * numbers): the rod's own columns reach 6 to 8 rows down, and a loop
+         * over km did not unroll or vectorise (5 % of suture.ini's time in
+         * the solves) */
+        const int len = kl >= SHORT_COLUMN && km < SHORT_COLUMN && j + SHORT_COLUMN < n
+                            ? SHORT_COLUMN : km;
+        lower[j] = len;
         int jp = 0;
         double big = fabs(col[0]);
         for (int i = 1; i <= km; i++)
@@ -2176,18 +2183,15 @@ static inline __attribute__((always_inline)) int band_factor_kl(implicit_work *w
             }
         const double inv = 1.0 / col[0];
         for (int i = 1; i <= km; i++) col[i] *= inv;
-        /* L's entries past km are zeros: a fixed length of 8 where km is at
-         * most 8 (the rod's own columns) unrolls and vectorises */
-        const int fixed8 = kl >= 8 && km <= 8 && j + 9 <= n;
         for (int c = 1; c <= ju - j; c++) { /* rank-1 update of columns j+1..ju */
             double *a = &col[(size_t)c * (ld - 1)];
             const double u = a[0]; /* U(j, j + c), final */
             if (u != 0.0) {
                 if (upper[j + c] > j) upper[j + c] = j;
-                if (fixed8)
-                    for (int i = 1; i <= 8; i++) a[i] -= col[i] * u;
+                if (len == SHORT_COLUMN)
+                    for (int i = 1; i <= SHORT_COLUMN; i++) a[i] -= col[i] * u;
                 else
-                    for (int i = 1; i <= km; i++) a[i] -= col[i] * u;
+                    for (int i = 1; i <= len; i++) a[i] -= col[i] * u;
             }
         }
     }
