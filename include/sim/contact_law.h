@@ -49,9 +49,16 @@ static inline double contact_fraction(double e, double floor)
  * fast); the floor CONTACT_CREEP keeps the law smooth where the normal force
  * is nearly 0. Sliding at v, the friction is short of mu lambda by about
  * (eps / v)^2 / 2. */
-static inline double contact_creep_speed(double speed, double c)
+/* eps for the compliance-limit product c; contact_creep_speed_eps takes
+ * eps given: a self-contact pair solves its law with a share of its
+ * compliance in c but keeps the whole compliance's eps (SELF_SHARE_LEAST) */
+static inline double contact_creep_eps(double c)
 {
-    const double eps = 1.0 / (CONTACT_STIFF / c + 1.0 / CONTACT_CREEP_MAX) + CONTACT_CREEP;
+    return 1.0 / (CONTACT_STIFF / c + 1.0 / CONTACT_CREEP_MAX) + CONTACT_CREEP;
+}
+
+static inline double contact_creep_speed_eps(double speed, double c, double eps)
+{
     double sp = speed > c ? speed - c : 0.0;
     for (int it = 0; it < 60; it++) {
         double x = sp / eps, q = 1.0 + x * x, root = sqrt(q);
@@ -60,6 +67,11 @@ static inline double contact_creep_speed(double speed, double c)
         sp -= g / (1.0 + (c / eps) / (q * root));
     }
     return sp > speed ? speed : sp;
+}
+
+static inline double contact_creep_speed(double speed, double c)
+{
+    return contact_creep_speed_eps(speed, c, contact_creep_eps(c));
 }
 
 #endif

@@ -43,6 +43,39 @@
 /* The most nodes whose columns are kept (4 per pair of the correction) */
 #define SELF_CONTACT_NODE_SLOTS (4 * SELF_CONTACT_RANK_PAIRS)
 
+/* The least share of a pair's compliance its friction law solves with.
+ * The law (pair_law) finds the force from the pair's relative motion z
+ * with its own force taken out, by the local problem of a point of
+ * compliance `share x compliance`; at the solution the force is the same
+ * for any share (it is the regularised Coulomb law's, whose creep speed
+ * stays that of the whole compliance), but Newton's path is not. In the
+ * terms of Alart and Curnier's augmented Lagrangian, share x compliance is
+ * 1 / r, and r is best near the inverse of the contact's true compliance
+ * (the Delassus operator's diagonal), which decides stick or slip from
+ * force and velocity in balance. A pair's compliance (its four nodes'
+ * push) is that of free nodes; the rod's inextensibility and bending leave
+ * the strands' tangential motion below 0.2 of it in a tight knot
+ * (overhand_tight.ini's first 2.5 s: 73 % of the pairs' steps below 0.05,
+ * all but 0.3 % below 0.2), so with share 1 a
+ * stuck pair's state was decided almost by its force alone, and Newton
+ * stalled where strands turned between stick and slip. Each pair's share is
+ * its own measured ratio (rod_self_contact_correct: the rod's part from
+ * B^-1 V) from its last step, at least this; a new pair starts at 1 */
+#define SELF_SHARE_LEAST 0.01
+
+/* A pair whose friction at the end of its last step used less than this
+ * share of its cone (|F_t| < SELF_SHARE_STUCK mu F_n) keeps share 1: held
+ * by force, it is best decided by force. With the measured ratio for every
+ * pair, the sagging coil of test_self_contact (its pairs stuck: 8 % of
+ * their steps at the cone's edge, against 60 % in overhand_tight.ini) took
+ * 4.72 Newton iterations a step instead of 2.24; with this rule 2.62, while
+ * the knots keep most of the gain (whole runs, CPU s, before / every pair /
+ * this rule: overhand.ini 12.05 / 6.77 / 6.82, overhand_tight.ini 8.18 /
+ * 7.16 / 7.44, buckling_twist.ini 17.03 / 6.29 / 13.07, surgeons_knot.ini
+ * 7.28 / 7.01 / 6.99; 0.5 left the coil at 4.62, 0.99 at 2.23 with
+ * buckling_twist.ini at 15.5 s) */
+#define SELF_SHARE_STUCK 0.9
+
 typedef struct self_pair {
     int a, b;              /* segments a < b (a to a+1, b to b+1) */
     double alpha, beta;    /* fractions along them, at the start of the step */
@@ -55,6 +88,10 @@ typedef struct self_pair {
     double delta[3];       /* N: Newton's correction of force (rod_self_contact_correct) */
     double gain[9];        /* dF / dz (N s / m), row-major, at this iterate */
     double compliance;     /* sum of weight^2 push over the four nodes (m/s per N) */
+    double share;          /* friction's compliance in the pair's law over `compliance`
+                              (pair_law): fixed within a step */
+    double ratio;          /* the pair's tangential compliance through the rod over
+                              `compliance`, at the last correction; 0: not measured */
     int active;            /* 1: the force is not 0 at this iterate */
     int column;            /* first column of the pair in the correction, or -1 */
 } self_pair;
@@ -94,6 +131,7 @@ typedef struct rod_self_contact {
     int last_count;        /* pairs with a force at the end of the last accepted step */
     int *last_ab;          /* (2 max_pairs) their segments a, b */
     double *last_force;    /* (3 max_pairs) their forces: the next step's first guess */
+    double *last_share;    /* (max_pairs) the share each is to take at the next step */
     rod_segment_pair *reach; /* (reach_capacity) rod_self_contact_reachable's scratch, grown
                                 on demand up to SELF_CONTACT_REACH_PAIRS */
     int reach_capacity;

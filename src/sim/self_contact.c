@@ -52,13 +52,14 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     for (int k = 0; sc->slot && k < nodes; k++) sc->slot[k] = -1;
     sc->last_ab = calloc((size_t)sc->max_pairs * 2, sizeof(int));
     sc->last_force = calloc((size_t)sc->max_pairs * 3, sizeof(double));
+    sc->last_share = calloc((size_t)sc->max_pairs, sizeof(double));
     sc->prox = rod_proximity_create(nodes);
     sc->clear_pos = malloc((size_t)nodes * 3 * sizeof(double));
     sc->s = malloc((size_t)9 * SELF_CONTACT_RANK_PAIRS * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->pivot = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(int));
     if (!sc->pair || !sc->found || !sc->node_force || !sc->prox || !sc->s || !sc->rhs ||
-        !sc->pivot || !sc->last_ab || !sc->last_force || !sc->found_distance || !sc->slot ||
+        !sc->pivot || !sc->last_ab || !sc->last_force || !sc->last_share || !sc->found_distance || !sc->slot ||
         !sc->slot_node || !sc->clear_pos) {
         rod_self_contact_destroy(sc);
         return NULL;
@@ -78,6 +79,7 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->z);
     free(sc->last_ab);
     free(sc->last_force);
+    free(sc->last_share);
     free(sc->reach);
     free(sc->y);
     free(sc->s);
@@ -246,10 +248,14 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
         p->weight[3] = -f->t;
         p->column = -1;
         /* the force of the same pair at the end of the last accepted step:
-         * Newton's first guess */
+         * Newton's first guess; and the share its law is to take */
+        p->share = 1.0;
+        p->ratio = 0.0;
         for (int l = 0; l < sc->last_count; l++)
-            if (sc->last_ab[2 * l] == p->a && sc->last_ab[2 * l + 1] == p->b)
+            if (sc->last_ab[2 * l] == p->a && sc->last_ab[2 * l + 1] == p->b) {
                 v3_copy(p->force, &sc->last_force[3 * l]);
+                p->share = sc->last_share[l];
+            }
         double pa[3], pb[3], d[3];
         for (int c = 0; c < 3; c++) {
             pa[c] = (1.0 - f->s) * pos0[3 * f->i + c] + f->s * pos0[3 * (f->i + 1) + c];
@@ -291,16 +297,19 @@ static void pair_motion(const self_pair *p, const double *pos0, const double *ve
     }
 }
 
-/* The pair's force (on a's point) for the relative motion d, z without it:
- * the normal force that takes back all but 1 / (1 + kappa) of the overlap
- * of the two capsules (contact_fraction), then Coulomb friction against the
- * relative tangential velocity, limited by mu times the normal force
- * (contact_creep_speed). As the surfaces' law (node_contact), with the
- * pair's compliance in place of one node's. */
+/* The pair's force (on a's point) for the relative motion d, z without it
+ * (z: without its normal part and `share` of its tangential part,
+ * pair_gain): the normal force that takes back all but 1 / (1 + kappa) of
+ * the overlap of the two capsules (contact_fraction), then Coulomb friction
+ * against the relative tangential velocity, limited by mu times the normal
+ * force (contact_creep_speed), its creep speed that of the pair's whole
+ * compliance. As the surfaces' law (node_contact), with the pair's
+ * compliance in place of one node's, and friction's local problem solved
+ * with share x compliance: see SELF_SHARE_LEAST. */
 static void pair_law(const rod_self_contact *sc, const self_pair *p, const double d[3],
                      const double z[3], double dt, double theta, double f[3])
 {
-    const double peff = p->compliance, a = dt * theta * peff;
+    const double peff = p->compliance, a = dt * theta * peff, pt = p->share * peff;
     const double depth = v3_dot(p->normal, d) - sc->diameter;
     v3_set(f, 0.0, 0.0, 0.0);
     if (!(depth < 0.0)) return;
@@ -312,8 +321,8 @@ static void pair_law(const rod_self_contact *sc, const self_pair *p, const doubl
     for (int c = 0; c < 3; c++) vt[c] = zz[c] - vn * p->normal[c];
     const double speed = v3_norm(vt), limit = sc->friction * lambda;
     if (speed == 0.0 || limit == 0.0) return;
-    const double sp = contact_creep_speed(speed, peff * limit);
-    v3_axpy(f, -(speed - sp) / (peff * speed), vt);
+    const double sp = contact_creep_speed_eps(speed, pt * limit, contact_creep_eps(peff * limit));
+    v3_axpy(f, -(speed - sp) / (pt * speed), vt);
 }
 
 /* Adds the pair force f (scaled by sign) to its nodes' velocities. */
@@ -346,6 +355,12 @@ static void pair_gain(rod_self_contact *sc, self_pair *p, const double *pos0, do
     pair_motion(p, pos0, vel1, vbar, dt, d, z);
     v3_axpy(z, -p->compliance, p->force);
     v3_axpy(d, -dt * theta * p->compliance, p->force);
+    /* friction's local problem keeps (1 - share) of the tangential force's
+     * own motion: the law solves for share x compliance (pair_law) */
+    double ft[3];
+    v3_copy(ft, p->force);
+    v3_axpy(ft, -v3_dot(ft, p->normal), p->normal);
+    v3_axpy(z, (1.0 - p->share) * p->compliance, ft);
     pair_law(sc, p, d, z, dt, theta, target);
     if (v3_norm(target) == 0.0) {
         /* apart: no force and none for a small change (the switch is
@@ -418,6 +433,16 @@ void rod_self_contact_accept(rod_self_contact *sc)
         sc->last_ab[2 * sc->last_count] = p->a;
         sc->last_ab[2 * sc->last_count + 1] = p->b;
         v3_copy(&sc->last_force[3 * sc->last_count], p->force);
+        /* the share at the next step: the pair's own measure of how much of
+         * its compliance the rod leaves (SELF_SHARE_LEAST), for a pair that
+         * slides or is at the edge of its friction cone; 1 for one stuck
+         * well inside it (SELF_SHARE_STUCK) */
+        double ft[3];
+        v3_copy(ft, p->force);
+        v3_axpy(ft, -v3_dot(ft, p->normal), p->normal);
+        const int stuck = v3_norm(ft) < SELF_SHARE_STUCK * sc->friction * v3_dot(p->force, p->normal);
+        sc->last_share[sc->last_count] =
+            stuck ? 1.0 : p->ratio > 0.0 ? fmin(1.0, fmax(SELF_SHARE_LEAST, p->ratio)) : p->share;
         sc->last_count++;
     }
 }
@@ -591,6 +616,21 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
             if (q != r) {
                 const double a = pair_coupling(pr, pq, push);
                 h[0] += a, h[4] += a, h[8] += a;
+            } else {
+                /* the pair's tangential compliance through the rod,
+                 * compliance + P h P over the two tangential directions,
+                 * over its compliance (for the next step's share), and the
+                 * part of the pair's own tangential motion its law keeps
+                 * in z (pair_gain) */
+                const double *nr = pr->normal, a = (1.0 - pr->share) * pr->compliance;
+                double tangential = 0.0;
+                for (int i = 0; i < 3; i++)
+                    for (int j = 0; j < 3; j++)
+                        tangential += ((i == j) - nr[i] * nr[j]) * h[3 * i + j];
+                sc->pair[sc->ranked[r]].ratio = 1.0 + tangential / (2.0 * pr->compliance);
+                if (!(sc->pair[sc->ranked[r]].ratio > 0.0)) sc->pair[sc->ranked[r]].ratio = SELF_SHARE_LEAST;
+                for (int i = 0; i < 3; i++)
+                    for (int j = 0; j < 3; j++) h[3 * i + j] += a * ((i == j) - nr[i] * nr[j]);
             }
             /* column-major S for LAPACK: S[(3r+i) + size (3q+j)] */
             for (int i = 0; i < 3; i++)
