@@ -8,8 +8,10 @@
 
 #include "base/vec3.h"
 
-/* Distance from point p to the segment a-b (m), by projection. */
-static inline double point_segment(const double p[3], const double a[3], const double b[3])
+/* The fraction t in [0, 1] of the point of segment a-b nearest p, by
+ * projection; its distance (m) in *distance. */
+static inline double segment_fraction(const double p[3], const double a[3], const double b[3],
+                                      double *distance)
 {
     double ab[3], ap[3], q[3];
     v3_sub(ab, b, a);
@@ -17,7 +19,16 @@ static inline double point_segment(const double p[3], const double a[3], const d
     double t = v3_dot(ap, ab) / v3_dot(ab, ab);
     t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
     for (int k = 0; k < 3; k++) q[k] = a[k] + t * ab[k] - p[k];
-    return v3_norm(q);
+    *distance = v3_norm(q);
+    return t;
+}
+
+/* Distance from point p to the segment a-b (m), by projection. */
+static inline double point_segment(const double p[3], const double a[3], const double b[3])
+{
+    double distance;
+    segment_fraction(p, a, b, &distance);
+    return distance;
 }
 
 /* Distance between segments a0-a1 and b0-b1 (m): the least over a fine

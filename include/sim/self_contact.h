@@ -44,23 +44,24 @@
 #define SELF_CONTACT_NODE_SLOTS (4 * SELF_CONTACT_RANK_PAIRS)
 
 /* The least share of a pair's compliance its friction law solves with.
- * The law (pair_law) finds the force from the pair's relative motion z
- * with its own force taken out, by the local problem of a point of
- * compliance `share x compliance`; at the solution the force is the same
- * for any share (it is the regularised Coulomb law's, whose creep speed
- * stays that of the whole compliance), but Newton's path is not. In the
- * terms of Alart and Curnier's augmented Lagrangian, share x compliance is
- * 1 / r, and r is best near the inverse of the contact's true compliance
- * (the Delassus operator's diagonal), which decides stick or slip from
- * force and velocity in balance. A pair's compliance (its four nodes'
- * push) is that of free nodes; the rod's inextensibility and bending leave
- * the strands' tangential motion below 0.2 of it in a tight knot
- * (overhand_tight.ini's first 2.5 s: 73 % of the pairs' steps below 0.05,
- * all but 0.3 % below 0.2), so with share 1 a
- * stuck pair's state was decided almost by its force alone, and Newton
- * stalled where strands turned between stick and slip. Each pair's share is
- * its own measured ratio (rod_self_contact_correct: the rod's part from
- * B^-1 V) from its last step, at least this; a new pair starts at 1 */
+ * The law (rod_self_contact_pair_law) finds the force from the pair's
+ * relative motion z with its own force taken out, by the local problem of
+ * a point of compliance `share x compliance`; at the solution the force is
+ * the same for any share (it is the regularised Coulomb law's, whose creep
+ * speed stays that of the whole compliance: test_self_contact's
+ * test_share_law), but Newton's path is not. In the terms of Alart and
+ * Curnier's augmented Lagrangian, share x compliance is 1 / r, and r is
+ * best near the inverse of the contact's true compliance (the Delassus
+ * operator's diagonal), which decides stick or slip from force and
+ * velocity in balance. A pair's compliance (its four nodes' push) is that
+ * of free nodes; the rod's inextensibility and bending leave the strands'
+ * tangential motion below 0.2 of it in a tight knot (overhand_tight.ini's
+ * first 2.5 s: 73 % of the pairs' steps below 0.05, all but 0.3 % below
+ * 0.2), so with share 1 a stuck pair's state was decided almost by its
+ * force alone, and Newton stalled where strands turned between stick and
+ * slip. Each pair's share is its own measured ratio
+ * (rod_self_contact_correct: the rod's part from B^-1 V) from its last
+ * step, at least this; a new pair starts at 1 */
 #define SELF_SHARE_LEAST 0.01
 
 /* A pair whose friction at the end of its last step used less than this
@@ -89,7 +90,7 @@ typedef struct self_pair {
     double gain[9];        /* dF / dz (N s / m), row-major, at this iterate */
     double compliance;     /* sum of weight^2 push over the four nodes (m/s per N) */
     double share;          /* friction's compliance in the pair's law over `compliance`
-                              (pair_law): fixed within a step */
+                              (rod_self_contact_pair_law): fixed within a step */
     double ratio;          /* the pair's tangential compliance through the rod over
                               `compliance`, at the last correction; 0: not measured */
     int active;            /* 1: the force is not 0 at this iterate */
@@ -179,6 +180,13 @@ int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const d
  * pos0 (gnorm: the largest |g|). */
 void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *vel1, double *vbar,
                              const double *push, double dt, double theta, int law);
+
+/* Pair p's law: its force (on a's point) for the relative position d and
+ * velocity z over the step with its own force taken out (z also with
+ * (1 - share) compliance times its tangential force kept in: pair_gain),
+ * from its normal, compliance, share and sc's diameter and friction. */
+void rod_self_contact_pair_law(const rod_self_contact *sc, const self_pair *p, const double d[3],
+                               const double z[3], double dt, double theta, double f[3]);
 
 /* force += amount delta for every pair (Newton's step and its line search). */
 void rod_self_contact_move(rod_self_contact *sc, double amount);

@@ -59,8 +59,8 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->pivot = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(int));
     if (!sc->pair || !sc->found || !sc->node_force || !sc->prox || !sc->s || !sc->rhs ||
-        !sc->pivot || !sc->last_ab || !sc->last_force || !sc->last_share || !sc->found_distance || !sc->slot ||
-        !sc->slot_node || !sc->clear_pos) {
+        !sc->pivot || !sc->last_ab || !sc->last_force || !sc->last_share || !sc->found_distance ||
+        !sc->slot || !sc->slot_node || !sc->clear_pos) {
         rod_self_contact_destroy(sc);
         return NULL;
     }
@@ -306,8 +306,8 @@ static void pair_motion(const self_pair *p, const double *pos0, const double *ve
  * compliance. As the surfaces' law (node_contact), with the pair's
  * compliance in place of one node's, and friction's local problem solved
  * with share x compliance: see SELF_SHARE_LEAST. */
-static void pair_law(const rod_self_contact *sc, const self_pair *p, const double d[3],
-                     const double z[3], double dt, double theta, double f[3])
+void rod_self_contact_pair_law(const rod_self_contact *sc, const self_pair *p, const double d[3],
+                               const double z[3], double dt, double theta, double f[3])
 {
     const double peff = p->compliance, a = dt * theta * peff, pt = p->share * peff;
     const double depth = v3_dot(p->normal, d) - sc->diameter;
@@ -356,12 +356,13 @@ static void pair_gain(rod_self_contact *sc, self_pair *p, const double *pos0, do
     v3_axpy(z, -p->compliance, p->force);
     v3_axpy(d, -dt * theta * p->compliance, p->force);
     /* friction's local problem keeps (1 - share) of the tangential force's
-     * own motion: the law solves for share x compliance (pair_law) */
+     * own motion: the law solves for share x compliance
+     * (rod_self_contact_pair_law) */
     double ft[3];
     v3_copy(ft, p->force);
     v3_axpy(ft, -v3_dot(ft, p->normal), p->normal);
     v3_axpy(z, (1.0 - p->share) * p->compliance, ft);
-    pair_law(sc, p, d, z, dt, theta, target);
+    rod_self_contact_pair_law(sc, p, d, z, dt, theta, target);
     if (v3_norm(target) == 0.0) {
         /* apart: no force and none for a small change (the switch is
          * within one difference step's reach only at the very touch) */
@@ -375,7 +376,7 @@ static void pair_gain(rod_self_contact *sc, self_pair *p, const double *pos0, do
         v3_copy(zp, z);
         zp[c] += h;
         dp[c] += dt * theta * h;
-        pair_law(sc, p, dp, zp, dt, theta, fp);
+        rod_self_contact_pair_law(sc, p, dp, zp, dt, theta, fp);
         for (int r = 0; r < 3; r++) p->gain[3 * r + c] = (fp[r] - target[r]) / h;
     }
 }
@@ -440,7 +441,8 @@ void rod_self_contact_accept(rod_self_contact *sc)
         double ft[3];
         v3_copy(ft, p->force);
         v3_axpy(ft, -v3_dot(ft, p->normal), p->normal);
-        const int stuck = v3_norm(ft) < SELF_SHARE_STUCK * sc->friction * v3_dot(p->force, p->normal);
+        const double cone = sc->friction * v3_dot(p->force, p->normal);
+        const int stuck = v3_norm(ft) < SELF_SHARE_STUCK * cone;
         sc->last_share[sc->last_count] =
             stuck ? 1.0 : p->ratio > 0.0 ? fmin(1.0, fmax(SELF_SHARE_LEAST, p->ratio)) : p->share;
         sc->last_count++;
@@ -627,8 +629,8 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
                 for (int i = 0; i < 3; i++)
                     for (int j = 0; j < 3; j++)
                         tangential += ((i == j) - nr[i] * nr[j]) * h[3 * i + j];
-                sc->pair[sc->ranked[r]].ratio = 1.0 + tangential / (2.0 * pr->compliance);
-                if (!(sc->pair[sc->ranked[r]].ratio > 0.0)) sc->pair[sc->ranked[r]].ratio = SELF_SHARE_LEAST;
+                const double ratio = 1.0 + tangential / (2.0 * pr->compliance);
+                sc->pair[sc->ranked[r]].ratio = ratio > 0.0 ? ratio : SELF_SHARE_LEAST;
                 for (int i = 0; i < 3; i++)
                     for (int j = 0; j < 3; j++) h[3 * i + j] += a * ((i == j) - nr[i] * nr[j]);
             }
