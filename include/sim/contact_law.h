@@ -48,10 +48,9 @@ static inline double contact_fraction(double e, double floor)
  * than CONTACT_CREEP_MAX (a light thread under a large force would creep
  * fast); the floor CONTACT_CREEP keeps the law smooth where the normal force
  * is nearly 0. Sliding at v, the friction is short of mu lambda by about
- * (eps / v)^2 / 2. */
-/* eps for the compliance-limit product c; contact_creep_speed_eps takes
- * eps given: a self-contact pair solves its law with a share of its
- * compliance in c but keeps the whole compliance's eps (SELF_SHARE_LEAST) */
+ * (eps / v)^2 / 2. contact_creep_speed_eps takes eps given: a self-contact
+ * pair solves its law with a share of its compliance in c but keeps the
+ * whole compliance's eps (SELF_SHARE_LEAST). */
 static inline double contact_creep_eps(double c)
 {
     return 1.0 / (CONTACT_STIFF / c + 1.0 / CONTACT_CREEP_MAX) + CONTACT_CREEP;

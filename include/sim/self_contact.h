@@ -92,7 +92,8 @@ typedef struct self_pair {
     double share;          /* friction's compliance in the pair's law over `compliance`
                               (rod_self_contact_pair_law): fixed within a step */
     double ratio;          /* the pair's tangential compliance through the rod over
-                              `compliance`, at the last correction; 0: not measured */
+                              `compliance`, at the last correction, within SELF_SHARE_LEAST
+                              .. 1; 0: not measured */
     int active;            /* 1: the force is not 0 at this iterate */
     int column;            /* first column of the pair in the correction, or -1 */
 } self_pair;

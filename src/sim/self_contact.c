@@ -297,6 +297,13 @@ static void pair_motion(const self_pair *p, const double *pos0, const double *ve
     }
 }
 
+/* out = v less its part along the unit normal n */
+static void tangential_part(double out[3], const double v[3], const double n[3])
+{
+    v3_copy(out, v);
+    v3_axpy(out, -v3_dot(v, n), n);
+}
+
 /* The pair's force (on a's point) for the relative motion d, z without it
  * (z: without its normal part and `share` of its tangential part,
  * pair_gain): the normal force that takes back all but 1 / (1 + kappa) of
@@ -317,8 +324,7 @@ void rod_self_contact_pair_law(const rod_self_contact *sc, const self_pair *p, c
     v3_scale(f, p->normal, lambda);
     double zz[3], vt[3];
     for (int c = 0; c < 3; c++) zz[c] = z[c] + peff * f[c];
-    const double vn = v3_dot(zz, p->normal);
-    for (int c = 0; c < 3; c++) vt[c] = zz[c] - vn * p->normal[c];
+    tangential_part(vt, zz, p->normal);
     const double speed = v3_norm(vt), limit = sc->friction * lambda;
     if (speed == 0.0 || limit == 0.0) return;
     const double sp = contact_creep_speed_eps(speed, pt * limit, contact_creep_eps(peff * limit));
@@ -359,8 +365,7 @@ static void pair_gain(rod_self_contact *sc, self_pair *p, const double *pos0, do
      * own motion: the law solves for share x compliance
      * (rod_self_contact_pair_law) */
     double ft[3];
-    v3_copy(ft, p->force);
-    v3_axpy(ft, -v3_dot(ft, p->normal), p->normal);
+    tangential_part(ft, p->force, p->normal);
     v3_axpy(z, (1.0 - p->share) * p->compliance, ft);
     rod_self_contact_pair_law(sc, p, d, z, dt, theta, target);
     if (v3_norm(target) == 0.0) {
@@ -439,12 +444,9 @@ void rod_self_contact_accept(rod_self_contact *sc)
          * slides or is at the edge of its friction cone; 1 for one stuck
          * well inside it (SELF_SHARE_STUCK) */
         double ft[3];
-        v3_copy(ft, p->force);
-        v3_axpy(ft, -v3_dot(ft, p->normal), p->normal);
-        const double cone = sc->friction * v3_dot(p->force, p->normal);
-        const int stuck = v3_norm(ft) < SELF_SHARE_STUCK * cone;
-        sc->last_share[sc->last_count] =
-            stuck ? 1.0 : p->ratio > 0.0 ? fmin(1.0, fmax(SELF_SHARE_LEAST, p->ratio)) : p->share;
+        tangential_part(ft, p->force, p->normal);
+        const int stuck = v3_norm(ft) < SELF_SHARE_STUCK * sc->friction * v3_dot(p->force, p->normal);
+        sc->last_share[sc->last_count] = stuck ? 1.0 : p->ratio > 0.0 ? p->ratio : p->share;
         sc->last_count++;
     }
 }
@@ -629,8 +631,8 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
                 for (int i = 0; i < 3; i++)
                     for (int j = 0; j < 3; j++)
                         tangential += ((i == j) - nr[i] * nr[j]) * h[3 * i + j];
-                const double ratio = 1.0 + tangential / (2.0 * pr->compliance);
-                sc->pair[sc->ranked[r]].ratio = ratio > 0.0 ? ratio : SELF_SHARE_LEAST;
+                sc->pair[sc->ranked[r]].ratio =
+                    fmin(1.0, fmax(SELF_SHARE_LEAST, 1.0 + tangential / (2.0 * pr->compliance)));
                 for (int i = 0; i < 3; i++)
                     for (int j = 0; j < 3; j++) h[3 * i + j] += a * ((i == j) - nr[i] * nr[j]);
             }

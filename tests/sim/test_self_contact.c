@@ -8,9 +8,8 @@
  * this file's own segment distance, not the contact code's), and the
  * low-rank Newton correction (it converges as the banded Newton does
  * without contact: test_converges); and which pairs a step's motion can
- * bring together (test_reach), and the
- * search that skips its broad phase while the rod stays far from itself
- * (test_clear_until_near). */
+ * bring together (test_reach), and the search that skips its broad phase
+ * while the rod stays far from itself (test_clear_until_near). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
