@@ -9,14 +9,23 @@
  *            it, the rest hangs over the edge;
  *   flat:    lying on a plane: every node touches.
  * CPU time per step (the process clock), Newton iterations and Jacobians per
- * step, active contacts, and the ratio to the step without contact. */
+ * step, active contacts, and the ratio to the step without contact.
+ *
+ * Then the headline scene, scenes/suture.ini, stepped as `rodsim run
+ * --no-video` steps it (its 19 s at the run's own steps, no CSV): CPU per
+ * step and per simulated second, how much faster than real time (issue
+ * 11 asks for 10x on one core), and the dearest and cheapest second, which
+ * separate the needle pulling thread through the holes from its travel. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
 
+#include "base/ini.h"
 #include "base/vec3.h"
+#include "cli/run.h"
 #include "sim/rod.h"
+#include "sim/scene.h"
 
 static double cpu(void)
 {
@@ -104,6 +113,67 @@ static result run(int setting)
     return r;
 }
 
+/* CPU at each whole second of simulated time (on_frame at every frame) */
+typedef struct seconds {
+    int fps, count;
+    double at[64];
+} seconds;
+
+static int mark(void *context, const rod_model *m, const rod_state *s, char *err, size_t errlen)
+{
+    (void)m, (void)err, (void)errlen;
+    seconds *c = context;
+    const long frame = lround(s->time * c->fps);
+    if (frame % c->fps == 0 && c->count < 64) c->at[c->count++] = cpu();
+    return 0;
+}
+
+static void suture(void)
+{
+    char err[1024];
+    ini_doc *doc = ini_load(RODSIM_SOURCE_DIR "/scenes/suture.ini", err, sizeof err);
+    rod_model m = rod_model_default();
+    run_output out;
+    rod_solver solver;
+    rod_state *s = NULL;
+    run_plan plan;
+    if (!doc || scene_read_rod(doc, &m, err, sizeof err) ||
+        run_read_output(doc, &out, err, sizeof err) || !(s = rod_state_create(&m)) ||
+        run_plan_make(&m, rod_choose_dt(&m, NULL), out.fps, &plan) ||
+        rod_solver_init(&solver, &m, err, sizeof err)) {
+        printf("  suture.ini: %s\n", s || !doc ? err : "out of memory");
+    } else {
+        rod_state_reset(&m, s);
+        seconds c = {out.fps, 0, {0.0}};
+        rod_report report;
+        run_stats stats;
+        const double t0 = cpu();
+        rod_status status = run_simulate(&solver, &m, s, &plan, out.fps, mark, &c, &report, &stats);
+        const double used = cpu() - t0, sim = m.options.duration;
+        if (status != ROD_OK) {
+            printf("  suture.ini: stopped at t = %g s: %s\n", s->time, report.message);
+        } else {
+            double dear = 0.0, cheap = INFINITY;
+            int dear_at = 0, cheap_at = 0;
+            for (int k = 1; k < c.count; k++) {
+                const double d = c.at[k] - c.at[k - 1];
+                if (d > dear) dear = d, dear_at = k;
+                if (d < cheap) cheap = d, cheap_at = k;
+            }
+            printf("  suture.ini (NS = %d, %lld steps of %.3g ms, %d punctures): %.1f us/step, "
+                   "%.3f s of CPU per simulated s: %.1fx real time (issue 11: 10x)\n",
+                   m.nodes, (long long)stats.steps, 1e3 * plan.step, s->puncture_count,
+                   1e6 * used / (double)stats.steps, used / sim, sim / used);
+            printf("    dearest second %d-%d s: %.3f s of CPU; cheapest %d-%d s: %.3f s\n",
+                   dear_at - 1, dear_at, dear, cheap_at - 1, cheap_at, cheap);
+        }
+        rod_solver_release(&solver);
+    }
+    rod_state_destroy(s);
+    if (doc) ini_destroy(doc);
+    rod_model_release(&m);
+}
+
 int main(void)
 {
     static const char *const names[] = {"none (swings from its pin)", "edge (draped over a box)",
@@ -123,5 +193,7 @@ int main(void)
         printf("  %-26s %12.1f %9.2f %10.2f %10.2f %8d\n", names[setting], 1e6 * r.per_step,
                base > 0.0 ? r.per_step / base : NAN, r.iterations, r.jacobians, r.contacts);
     }
+    printf("bench_contact: the headline scene as `rodsim run --no-video` steps it\n");
+    suture();
     return 0;
 }
