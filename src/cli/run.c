@@ -445,9 +445,14 @@ static int report_step_failure(rod_status status, int non_finite, const rod_mode
         fprintf(stderr, "rodsim run: the %s scheme's Newton iteration did not converge at "
                         "t = %g s (dt = %g s)\n",
                 scheme, s->time, dt);
-        if (report->message[0]) fprintf(stderr, "  %s\n", report->message);
-        fprintf(stderr, "  try a smaller solver.dt, a slower load (tip.profile = ramp T) or "
-                        "more solver.newton_max_iterations; nothing was written.\n");
+        /* the scheme's message says what to change (and, for the implicit
+         * scheme, where Newton stalled: a smaller dt does not help a stall
+         * at a contact) */
+        if (report->message[0])
+            fprintf(stderr, "  %s\n  nothing was written.\n", report->message);
+        else
+            fprintf(stderr, "  try a smaller solver.dt, a slower load (tip.profile = ramp T) or "
+                            "more solver.newton_max_iterations; nothing was written.\n");
         return RUN_EXIT_BAD_INPUT;
     }
     fprintf(stderr, "rodsim run: the %s scheme failed at t = %g s: %s\n", scheme, s->time,

@@ -286,6 +286,7 @@ typedef struct implicit_work {
     double dt_last;      /* s, length of the last step; 0 when x_before is not usable */
     double start_time;
     int budget;          /* Newton iterations left for the current step */
+    int deepest;         /* the deepest split of the current step (split_step) */
     int stale;           /* a chord iteration since the last whole build contracted by less
                             than IDLE_REFRESH_CONTRACTION (refresh() renews it) */
     int jacobian_only;   /* refresh(): single_step stops at its Jacobian */
@@ -2841,6 +2842,7 @@ static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double
      * bounded by the budget, not only by 2^MAX_SPLIT_DEPTH attempts, each
      * with a Jacobian build */
     if (--w->budget < 0) return -1;
+    if (depth > w->deepest) w->deepest = depth;
     int rc = single_step(w, m, s, dt, report);
     if (rc == 0 || rc == -2) return rc; /* -2: no splitting helps (message set) */
     if (depth >= MAX_SPLIT_DEPTH || w->budget < 0) return -1;
@@ -2849,6 +2851,60 @@ static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double
     if (rc) return rc;
     w->have_factor = 0;
     return split_step(w, m, s, 0.5 * dt, report, depth + 1);
+}
+
+/* Where a step that did not converge left its residual largest (the last
+ * attempt's last evaluation, w->residual): ", its residual largest in the
+ * moment balance of node b (s = ... m)" and what touches the rod there
+ * (within two nodes): a surface (its shape and scene line), a puncture or
+ * another strand. Returns 1 when something touches it there. */
+static int stall_site(const implicit_work *w, const rod_model *m, char *out, size_t len)
+{
+    static const char *const shapes[] = {"plane", "box", "cylinder", "sphere"};
+    out[0] = '\0';
+    int worst = -1;
+    double big = 0.0;
+    for (int i = 0; i < w->unknowns; i++)
+        if (isfinite(w->residual[i]) && fabs(w->residual[i]) > big) big = fabs(w->residual[i]), worst = i;
+    if (worst < 0) return 0;
+    const int n = w->nodes, node = worst / w->block + w->first, comp = worst % w->block;
+    const char *what = w->planar ? "the balances" : comp < 3 ? "the length constraint (3.14) next to"
+                                                             : "the moment balance (3.6)_2";
+    int used = snprintf(out, len, "; its residual stayed largest (%.2g) in %s of node %d of %d "
+                        "(s = %.4g m)", big, what, node, n, node * m->ds);
+    /* a surface within a quarter diameter of a node at the step's start (the
+     * last evaluation may have left contact out: a Jacobian's differences) */
+    int touching = 0;
+    static const int order[5] = {0, -1, 1, -2, 2}; /* the node itself first */
+    for (int o = 0; o < 5 && w->surface_count && used > 0 && (size_t)used < len; o++) {
+        const int i = node + order[o];
+        if (i < 0 || i >= n) continue;
+        int nearest = 0;
+        const double *gap = &w->start_gap[7 * (size_t)i * (size_t)w->surface_count];
+        for (int j = 1; j < w->surface_count; j++)
+            if (gap[7 * j] < gap[7 * nearest]) nearest = j;
+        if (!(gap[7 * nearest] < 0.25 * m->diameter)) continue;
+        const rod_surface *sf = &w->surfaces[nearest];
+        used += snprintf(out + used, len - (size_t)used, ", where node %d touches the %s of "
+                         "line %d", i, shapes[sf->shape], sf->line);
+        touching = 1;
+        break;
+    }
+    for (int k = 0; k < w->puncture_count && used > 0 && (size_t)used < len; k++)
+        if (w->punct[k].j >= node - 2 && w->punct[k].j <= node + 1) {
+            used += snprintf(out + used, len - (size_t)used, ", beside the puncture at s = %.4g m",
+                             (w->punct[k].j + w->punct[k].alpha) * m->ds);
+            touching = 1;
+            break;
+        }
+    if (w->self && used > 0 && (size_t)used < len)
+        for (int i = node - 2; i <= node + 2; i++)
+            if (i >= 0 && i < n && v3_norm(&w->self->node_force[3 * i]) > 0.0) {
+                snprintf(out + used, len - (size_t)used, ", pressed by another strand of the rod");
+                touching = 1;
+                break;
+            }
+    return touching;
 }
 
 static rod_status unresolved(const rod_model *m, const rod_state *s, double angle, int segment,
@@ -2879,6 +2935,7 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     s->staggered = 1;
     save_state(w, s);
     w->budget = STEP_ITERATION_BUDGET;
+    w->deepest = 0;
     int segment;
     int split = split_step(w, m, s, dt, report, 0), solved = split == 0;
     for (int retry = 1; retry <= 2 && split == -1 && w->contact; retry++) {
@@ -2919,17 +2976,24 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     if (angle > 0.5 * ROD_UNRESOLVED_BEND) return unresolved(m, s, angle, segment, report);
     const int both_held = w->ends[0].held && !w->ends[0].sliding && w->ends[1].held &&
                           !w->ends[1].sliding;
+    char site[256];
+    const int contact_site = stall_site(w, m, site, sizeof site);
     snprintf(report->message, sizeof report->message,
              "implicit scheme: Newton's method did not converge at t = %.6g s for the step "
-             "dt = %g s, split in halves up to %d parts within %d iterations (tolerance %.1e). "
-             "The load may change too abruptly for this dt, or exceed what the rod can carry; "
-             "try a smaller dt or a ramped load profile.%s",
-             s->time, dt, 1 << MAX_SPLIT_DEPTH, STEP_ITERATION_BUDGET,
-             m->options.newton_tolerance,
-             both_held ? " Both ends hold their place: a nearly straight rod between them can "
-                         "neither stretch nor shorten without bending, so its tension is "
-                         "(nearly) undetermined; start it slightly bent (rod.shape, "
-                         "rod.curvature) and let driven ends start from rest." : "");
+             "dt = %g s, split in halves down to dt/%d within %d iterations (tolerance %.1e)%s. "
+             "%s%s",
+             s->time, dt, 1 << w->deepest, STEP_ITERATION_BUDGET, m->options.newton_tolerance,
+             site,
+             contact_site ? "Contact turning there between touching and not, or stick and slip, "
+                            "can stall Newton at any step: a smaller dt may not help; change "
+                            "the scene a little there (the shape, the surface, its friction)."
+                          : "The load may change too abruptly for this dt, or exceed what the "
+                            "rod can carry; try a smaller dt or a ramped load profile.",
+             both_held && !contact_site
+                 ? " Both ends hold their place: a nearly straight rod between them can "
+                   "neither stretch nor shorten without bending, so its tension is "
+                   "(nearly) undetermined; start it slightly bent (rod.shape, "
+                   "rod.curvature) and let driven ends start from rest." : "");
     report->suggested_dt = dt / (1 << MAX_SPLIT_DEPTH);
     return ROD_NO_CONVERGENCE;
 }

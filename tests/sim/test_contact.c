@@ -708,6 +708,66 @@ static void test_bad_input(void)
     bad_scene("[surface]\nshape = tetrahedron\n", "shape", "an unknown shape");
 }
 
+/* A step Newton cannot finish (one iteration allowed, an unreachable
+ * tolerance) reports where its residual stayed largest: lying on a plane
+ * (every node touching), the node and the plane's scene line, with the
+ * advice that a smaller dt may not help; falling free, the node alone and
+ * the advice to take a smaller dt. */
+static void stall(int on_plane)
+{
+    rod_model m = thread_model(0.2, 0.001, 21);
+    v3_set(m.origin, 0.0, 0.0, 0.5 * m.diameter);
+    v3_set(m.direction, 0.0, 1.0, 0.0);
+    m.options.newton_max_iterations = 1;
+    m.options.newton_tolerance = 1e-15;
+    if (derive(&m)) return;
+    v3_set(m.distributed_force, 0.0, 0.0, -m.mass_per_length * GRAVITY);
+    const double zero[3] = {0, 0, 0}, up[3] = {0, 0, 1};
+    rod_surface floor = plane(zero, up, 0.5);
+    floor.line = 7;
+    m.surface_count = on_plane;
+    m.surfaces = on_plane ? &floor : NULL;
+    rod_state *s = rod_state_create(&m);
+    rod_solver solver;
+    char err[512];
+    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
+        check(0, "stall: create: %s", s ? err : "out of memory");
+    } else {
+        /* spinning about its normal and pressed down: a nonlinear step */
+        for (int i = 0; i < m.nodes; i++) {
+            v3_set(&s->angular_velocity[3 * i], 5.0, 20.0, 5.0);
+            v3_set(&s->velocity[3 * i], 0.1, 0.2, -0.3);
+        }
+        rod_report report;
+        memset(&report, 0, sizeof report);
+        rod_status st = rod_solver_step(&solver, &m, s, 1e-3, &report);
+        const char *site = strstr(report.message, "of node ");
+        int node = -1, nodes = 0;
+        if (site) sscanf(site, "of node %d of %d", &node, &nodes);
+        printf("     %s\n", report.message);
+        check(st == ROD_NO_CONVERGENCE && node >= 0 && node < m.nodes && nodes == m.nodes,
+              "a step Newton cannot finish %s: status %d, its residual's site named (node %d of "
+              "%d)", on_plane ? "on a plane" : "in free fall", (int)st, node, nodes);
+        const int touching = strstr(report.message, "touches the plane of line 7") != NULL;
+        const int dt_advice = strstr(report.message, "try a smaller dt") != NULL;
+        check(touching == on_plane && dt_advice == !on_plane,
+              "%s: the message %s the plane of line 7 and %s a smaller dt",
+              on_plane ? "on the plane" : "in free fall", touching ? "names" : "does not name",
+              dt_advice ? "advises" : "does not advise");
+        rod_solver_release(&solver);
+    }
+    rod_state_destroy(s);
+    m.surfaces = NULL;
+    m.surface_count = 0;
+    rod_model_release(&m);
+}
+
+static void test_stall_site(void)
+{
+    stall(1);
+    stall(0);
+}
+
 int main(void)
 {
     test_geometry();
@@ -717,5 +777,6 @@ int main(void)
     test_capstan();
     test_puncture();
     test_bad_input();
+    test_stall_site();
     return test_finish();
 }
