@@ -87,6 +87,7 @@ typedef struct rod_surface {
     double size[3];    /* m: the box's edge lengths; size[0] the cylinder's, sphere's radius */
     double friction;   /* Coulomb coefficient mu >= 0 between the rod and the surface */
     int tissue;        /* 1: a needle passing through it makes punctures */
+    double rounding;   /* m: a box's edges and corners rounded to this radius (0: sharp) */
     int line;          /* the scene line of its [surface] header (messages); 0: none */
 } rod_surface;
 

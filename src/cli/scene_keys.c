@@ -99,6 +99,8 @@ const ini_key scene_keys_rod[] = {
     {"surface", "friction", "-", "0.3", ">= 0", "Coulomb coefficient between rod and surface"},
     {"surface", "tissue", "-", "no", BOOL,
      "yes: the needle (driven tip) passing through makes punctures"},
+    {"surface", "rounding", "m", "0", ">= 0, below half the shortest edge; box only",
+     "the radius a box's edges and corners are rounded to (a skin pad's, a table's)"},
     {"puncture", "point", "m", "required", "3 numbers, on the starting shape",
      "a point the thread passes through, sliding ([puncture] repeats, at most 16); on a tissue surface, pairs in order: the thread between is inside"},
     {"puncture", "friction", "-", "0.2", ">= 0",

@@ -1039,6 +1039,50 @@ static void add_block(mesh *m, const double centre[3], double axes[3][3],
         }
 }
 
+/* An axis-aligned box of half edges `half` whose edges and corners are
+ * rounded to `radius` (rod_surface.rounding): each face a grid whose rows
+ * near its rim carry the rounding, every grid point q of the sharp face
+ * taken to c + radius (q - c) / |q - c|, c the nearest point of the core
+ * (the box less radius each side); its normal (q - c) / |q - c|. Each face
+ * holds half of each edge's quarter circle, ROUNDED_STEPS facets of it. */
+#define ROUNDED_STEPS 4
+static void add_rounded_block(mesh *m, const double centre[3], const double half[3],
+                              double radius, const float color[3])
+{
+    const int g = 2 * (ROUNDED_STEPS + 1); /* grid points along a face's side */
+    for (int a = 0; a < 3; a++)
+        for (int sign = -1; sign <= 1; sign += 2) {
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            double ub[2 * (ROUNDED_STEPS + 1)], uc[2 * (ROUNDED_STEPS + 1)];
+            for (int i = 0; i <= ROUNDED_STEPS; i++) {
+                /* from the rim (45 degrees of the edge's arc) to the flat part */
+                const double t = radius * tan(0.25 * M_PI * (ROUNDED_STEPS - i) / ROUNDED_STEPS);
+                ub[i] = -(half[b] - radius + t), ub[g - 1 - i] = half[b] - radius + t;
+                uc[i] = -(half[c] - radius + t), uc[g - 1 - i] = half[c] - radius + t;
+            }
+            const unsigned first = (unsigned)m->vertex_count;
+            for (int j = 0; j < g; j++)
+                for (int i = 0; i < g; i++) {
+                    double q[3], core[3], d[3], p[3];
+                    q[a] = sign * half[a], q[b] = ub[i], q[c] = uc[j];
+                    for (int k = 0; k < 3; k++) {
+                        const double h = half[k] - radius;
+                        core[k] = q[k] < -h ? -h : q[k] > h ? h : q[k];
+                    }
+                    v3_sub(d, q, core);
+                    v3_scale(d, d, 1.0 / v3_norm(d));
+                    for (int k = 0; k < 3; k++) p[k] = centre[k] + core[k] + radius * d[k];
+                    add_vertex(m, p, d, color);
+                }
+            for (int j = 0; j + 1 < g; j++)
+                for (int i = 0; i + 1 < g; i++) {
+                    const unsigned v = first + (unsigned)(j * g + i);
+                    add_triangle(m, v, v + 1, v + (unsigned)g + 1);
+                    add_triangle(m, v, v + (unsigned)g + 1, v + (unsigned)g);
+                }
+        }
+}
+
 /* A latitude-longitude sphere with radial normals (the pinned end's ball, a
  * sphere surface); the pole rows' degenerate triangles are left out. */
 static void add_globe(mesh *m, const double centre[3], double radius, int stacks, int slices,
@@ -3243,7 +3287,8 @@ static int renderer_receivers(renderer *r, const receiver_plan *plan, char *err,
         case ROD_SURFACE_BOX: {
             double axes[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
             double half[3] = {0.5 * sf->size[0], 0.5 * sf->size[1], 0.5 * sf->size[2]};
-            add_block(&m, sf->center, axes, half, color);
+            if (sf->rounding > 0) add_rounded_block(&m, sf->center, half, sf->rounding, color);
+            else add_block(&m, sf->center, axes, half, color);
             surface_bounds(sf, lo, hi);
             break;
         }

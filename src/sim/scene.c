@@ -335,7 +335,7 @@ static int read_point_loads(ini_doc *doc, rod_model *m, char *err, size_t errlen
 }
 
 /* Reads [surface] (repeatable): shape, center, normal, size, friction,
- * tissue (issue 11; keys fixed in PRODUCT.md). `size` holds 3 edge lengths
+ * tissue (issue 11; keys fixed in PRODUCT.md), and a box's rounding. `size` holds 3 edge lengths
  * for a box and one radius for a cylinder or a sphere; a plane has none. */
 static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
@@ -350,7 +350,8 @@ static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
             ini_get_vector(doc, "surface", i, "center", sf.center, 3, err, errlen) < 0 ||
             ini_get_vector(doc, "surface", i, "normal", sf.normal, 3, err, errlen) < 0 ||
             ini_get_double(doc, "surface", i, "friction", &sf.friction, err, errlen) < 0 ||
-            ini_get_bool(doc, "surface", i, "tissue", &sf.tissue, err, errlen) < 0)
+            ini_get_bool(doc, "surface", i, "tissue", &sf.tissue, err, errlen) < 0 ||
+            ini_get_double(doc, "surface", i, "rounding", &sf.rounding, err, errlen) < 0)
             return -1;
         sf.shape = (rod_surface_shape)shape;
         const char *size_text = NULL;

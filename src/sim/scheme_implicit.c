@@ -2868,9 +2868,10 @@ static int stall_site(const implicit_work *w, const rod_model *m, char *out, siz
         if (isfinite(w->residual[i]) && fabs(w->residual[i]) > big) big = fabs(w->residual[i]), worst = i;
     if (worst < 0) return 0;
     const int n = w->nodes, node = worst / w->block + w->first, comp = worst % w->block;
-    const char *what = w->planar ? "the balances" : comp < 3 ? "the length constraint (3.14) next to"
-                                                             : "the moment balance (3.6)_2";
-    int used = snprintf(out, len, "; its residual stayed largest (%.2g) in %s of node %d of %d "
+    const char *what = w->planar ? "the balances of"
+                       : comp < 3    ? "the length constraint (3.14) of the segment up to"
+                                     : "the moment balance (3.6)_2 of";
+    int used = snprintf(out, len, "; its residual stayed largest (%.2g) in %s node %d of %d "
                         "(s = %.4g m)", big, what, node, n, node * m->ds);
     /* a surface within a quarter diameter of a node at the step's start (the
      * last evaluation may have left contact out: a Jacobian's differences) */

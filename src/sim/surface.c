@@ -24,6 +24,13 @@ static void any_normal(const double a[3], double out[3])
     v3_scale(out, out, 1.0 / v3_norm(out));
 }
 
+/* Half an edge of the box's core: the box less its rounding on each side
+ * (its surface is the core grown by the rounding, then by the rod's radius) */
+static double box_half(const rod_surface *s, int k)
+{
+    return 0.5 * s->size[k] - s->rounding;
+}
+
 double rod_surface_gap(const rod_surface *s, const double p[3], double grow, double normal[3],
                        double nearest[3])
 {
@@ -55,11 +62,14 @@ double rod_surface_gap(const rod_surface *s, const double p[3], double grow, dou
     }
     case ROD_SURFACE_BOX:
     default: {
+        /* a box rounded by R: the box shrunk by R on every side, grown by R
+         * (box_half) */
+        grow += s->rounding;
         double h[3], clamp[3], diff[3];
         int outside = 0, face = 0;
         double most = -INFINITY;
         for (int k = 0; k < 3; k++) {
-            h[k] = 0.5 * s->size[k];
+            h[k] = box_half(s, k);
             clamp[k] = q[k] < -h[k] ? -h[k] : q[k] > h[k] ? h[k] : q[k];
             diff[k] = q[k] - clamp[k];
             if (fabs(q[k]) > h[k]) outside = 1;
@@ -112,6 +122,7 @@ static int box_entry(const rod_surface *s, const double a[3], const double ab[3]
     int face = -1;
     for (int k = 0; k < 3; k++) {
         const double h = 0.5 * s->size[k], lo = s->center[k] - h - grow, hi = s->center[k] + h + grow;
+        /* (the square box: the rounded one's core grown square by R + grow) */
         if (ab[k] == 0.0) {
             if (a[k] < lo || a[k] > hi) return 0;
             continue;
@@ -133,7 +144,7 @@ static int box_entry(const rod_surface *s, const double a[3], const double ab[3]
     for (int k = 0; k < 3; k++) {
         if (k == face) continue;
         const double q = a[k] + enter * ab[k] - s->center[k];
-        if (fabs(q) > 0.5 * s->size[k]) return -1;
+        if (fabs(q) > box_half(s, k)) return -1;
     }
     *f = enter;
     return 1;
@@ -230,10 +241,10 @@ int rod_surface_curvature(const rod_surface *s, const double p[3], const double 
          * the third) or three (a corner) */
         int out = 0, in = 0;
         for (int k = 0; k < 3; k++) {
-            if (fabs(p[k] - s->center[k]) > 0.5 * s->size[k]) out++;
+            if (fabs(p[k] - s->center[k]) > box_half(s, k)) out++;
             else in = k;
         }
-        if (out >= 2) radius = grow;
+        if (out >= 2) radius = grow + s->rounding;
         if (out == 2) {
             axis[in] = 1.0;
             along = 1;
@@ -283,6 +294,17 @@ int rod_surface_check(rod_surface *s, char *err, size_t errlen)
                          "%g)", "xyz"[k], s->size[k]);
                 return -1;
             }
+        const double least = fmin(s->size[0], fmin(s->size[1], s->size[2]));
+        if (!(s->rounding >= 0.0 && s->rounding < 0.5 * least)) {
+            snprintf(err, errlen, "rounding: a box's edges are rounded by a radius from 0 m up "
+                     "to less than half its shortest edge (%g m), not %g", 0.5 * least,
+                     s->rounding);
+            return -1;
+        }
+    } else if (s->rounding != 0.0) {
+        snprintf(err, errlen, "rounding: only a box has edges to round (this is a %s); remove "
+                 "the key", rod_surface_name(s->shape));
+        return -1;
     } else if (s->shape == ROD_SURFACE_CYLINDER || s->shape == ROD_SURFACE_SPHERE) {
         if (!(s->size[0] > 0.0) || !isfinite(s->size[0])) {
             snprintf(err, errlen, "size: a %s needs its radius > 0 m (one number)",

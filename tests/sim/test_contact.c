@@ -93,6 +93,28 @@ static void test_geometry(void)
     check(fabs(gap + 0.005) < 1e-15 && n[2] == 1.0, "box: inside, out through the nearest face "
           "(gap %.3g, reference -0.005)", gap);
 
+    /* rounded by R = 5 mm: on its faces as the sharp box; off an edge, the
+     * distance to the core's edge (the box less R each side) less R */
+    rod_surface round = box;
+    round.rounding = 0.005;
+    gap = rod_surface_gap(&round, p, 0.001, n, near);
+    check_abs("rounded box: gap above the top face (as the sharp box's, 0.009 m)", gap, 0.009,
+              1e-15);
+    double edge[3] = {0.103, 0.0, 0.023}; /* 3 mm out of the edge x = 0.1, z = 0.02 */
+    gap = rod_surface_gap(&round, edge, 0.001, n, NULL);
+    const double ref = sqrt(2.0) * 0.008 - 0.005 - 0.001;
+    check(fabs(gap - ref) < 1e-15 && fabs(n[0] - sqrt(0.5)) < 1e-15 &&
+              fabs(n[2] - sqrt(0.5)) < 1e-15 && n[1] == 0.0,
+          "rounded box: gap off an edge %.9g m (reference sqrt(2) 8 mm - 5 mm - 1 mm = %.9g), "
+          "normal (%.6f, %.6f, %.6f) (reference (0.707107, 0, 0.707107))", gap, ref, n[0],
+          n[1], n[2]);
+    double beside[3] = {0.0995, 0.0, 0.0195}; /* in the sharp box, 0.5 mm from both faces */
+    gap = rod_surface_gap(&round, beside, 0.0, n, NULL);
+    const double ref2 = sqrt(2.0) * 0.0045 - 0.005;
+    check(fabs(gap - ref2) < 1e-15,
+          "rounded box: a point off the sharp box's edge is outside the rounded one (gap %.9g "
+          "m, reference sqrt(2) 4.5 mm - 5 mm = %.9g; the sharp box's: -0.0005)", gap, ref2);
+
     rod_surface cyl;
     memset(&cyl, 0, sizeof cyl);
     cyl.shape = ROD_SURFACE_CYLINDER;
@@ -148,29 +170,32 @@ static void test_geometry(void)
 static void test_curvature(void)
 {
     const double grow = 0.0005;
-    rod_surface s[5];
+    rod_surface s[6];
     memset(s, 0, sizeof s);
     s[0].shape = ROD_SURFACE_SPHERE;
     s[0].size[0] = 0.02;
     s[1].shape = ROD_SURFACE_CYLINDER;
     s[1].size[0] = 0.01;
     v3_set(s[1].normal, 0.6, 0.0, 0.8);
-    for (int k = 2; k < 5; k++) {
+    for (int k = 2; k < 6; k++) {
         s[k].shape = ROD_SURFACE_BOX;
         v3_set(s[k].size, 0.04, 0.02, 0.01);
         v3_set(s[k].center, 0.001, -0.002, 0.003);
     }
+    s[5].rounding = 0.002; /* its edge: the core's edge x = 0.019, z = 0.006, R + grow */
     /* directions from the centre (sphere, cylinder) or from the box's
      * edge x = 0.02, z = 0.005 (two axes out), its corner (three) and its
      * top face (one) */
-    const double dir[5][3] = {{0.3, -0.5, 0.7}, {0.8, 0.3, -0.6}, {0.6, 0.0, 0.8},
-                              {0.5, -0.4, 0.7}, {0.0, 0.0, 1.0}};
-    const double from[5][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.021, -0.004, 0.008},
-                               {0.021, -0.012, 0.008}, {0.004, 0.001, 0.008}};
-    const char *names[5] = {"sphere", "cylinder's side", "box's rounded edge",
-                            "box's rounded corner", "box's flat face"};
-    const double radius[5] = {0.0205, 0.0105, grow, grow, 0.0};
-    for (int k = 0; k < 5; k++) {
+    const double dir[6][3] = {{0.3, -0.5, 0.7}, {0.8, 0.3, -0.6}, {0.6, 0.0, 0.8},
+                              {0.5, -0.4, 0.7}, {0.0, 0.0, 1.0}, {0.6, 0.0, 0.8}};
+    const double from[6][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.021, -0.004, 0.008},
+                               {0.021, -0.012, 0.008}, {0.004, 0.001, 0.008},
+                               {0.019, -0.004, 0.006}};
+    const char *names[6] = {"sphere", "cylinder's side", "box's rounded edge",
+                            "box's rounded corner", "box's flat face",
+                            "box's edge rounded by 2 mm"};
+    const double radius[6] = {0.0205, 0.0105, grow, grow, 0.0, 0.002 + grow};
+    for (int k = 0; k < 6; k++) {
         double u[3], p[3], n[3], h[9];
         v3_scale(u, dir[k], 1.0 / v3_norm(dir[k]));
         if (k == 1) { /* across the cylinder's axis */
@@ -705,6 +730,12 @@ static void test_bad_input(void)
         test_remove_tree(dir);
     }
     bad_scene("[surface]\nshape = sphere\n", "size", "a sphere without a radius");
+    bad_scene("[surface]\nshape = box\ncenter = 0 0 -0.02\nsize = 0.1 0.1 0.02\n"
+              "rounding = 0.01\n", "rounding", "a box rounded by half its shortest edge");
+    bad_scene("[surface]\nshape = box\ncenter = 0 0 -0.02\nsize = 0.1 0.1 0.02\n"
+              "rounding = -0.001\n", "rounding", "a negative rounding");
+    bad_scene("[surface]\nshape = sphere\nsize = 0.01\ncenter = 0 0 -0.1\nrounding = 0.001\n",
+              "rounding", "a sphere with a rounding");
     bad_scene("[surface]\nshape = tetrahedron\n", "shape", "an unknown shape");
 }
 
