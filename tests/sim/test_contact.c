@@ -793,6 +793,45 @@ static void stall(int on_plane)
     rod_model_release(&m);
 }
 
+/* The needle's holes in suture.ini lie where its path crosses the skin:
+ * suture_path.py turns the needle on circles across the wound (x = -12, 0,
+ * 12 mm) that meet the skin's top z = 0 at y = -4 mm (entry) and +4 mm
+ * (exit). The holes are made where the thread crosses, one step after
+ * the needle's back (NEEDLE_HOLE_CLEAR), so each lies within half the
+ * thread's diameter (0.15 mm) of the path's, and on the skin. */
+static void test_needle_holes(void)
+{
+    const char *args[] = {"run", RODSIM_SOURCE_DIR "/scenes/suture.ini", "--no-video", NULL};
+    static char output[16384];
+    int status = test_run_rodsim(args, output, sizeof output);
+    check(status == 0, "suture.ini runs through (exit %d)", status);
+    const double xs[3] = {-0.012, 0.0, 0.012};
+    int found = 0;
+    for (int k = 0; k < 6; k++) {
+        char key[32];
+        snprintf(key, sizeof key, "puncture %d at (", k + 1);
+        const char *at = strstr(output, key);
+        double p[3];
+        if (!at || sscanf(at + strlen(key), "%lf, %lf, %lf", &p[0], &p[1], &p[2]) != 3) continue;
+        found++;
+        const double ref[2] = {xs[k / 2], k % 2 ? 0.004 : -0.004};
+        const double off = hypot(p[0] - ref[0], p[1] - ref[1]);
+        check(off <= 1.5e-4 && fabs(p[2]) < 1e-9,
+              "suture.ini hole %d at (%.4f, %.4f, %.1e) mm: %.3f mm from the needle path's "
+              "(%.0f, %.0f, 0) mm (tolerance 0.15 mm)", k + 1, 1e3 * p[0], 1e3 * p[1],
+              1e3 * p[2], 1e3 * off, 1e3 * ref[0], 1e3 * ref[1]);
+    }
+    check(found == 6 && !strstr(output, "puncture 7"), "suture.ini makes 6 holes (%d found)",
+          found);
+    /* at dt = 0.8 ms the needle's back made its third hole at f = 0.9996 of
+     * its segment, then a second one 3 mm away, and Newton failed at 9.11 s */
+    const char *finer[] = {"run", RODSIM_SOURCE_DIR "/scenes/suture.ini", "--no-video", "--set",
+                           "solver.dt=0.0008", "--set", "solver.duration=9.5", NULL};
+    status = test_run_rodsim(finer, output, sizeof output);
+    check(status == 0 && strstr(output, "puncture 3 at") && !strstr(output, "puncture 4 at"),
+          "suture.ini at dt = 0.8 ms runs through its first 9.5 s (exit %d), 3 holes", status);
+}
+
 static void test_stall_site(void)
 {
     stall(1);
@@ -809,5 +848,6 @@ int main(void)
     test_puncture();
     test_bad_input();
     test_stall_site();
+    test_needle_holes();
     return test_finish();
 }
