@@ -2996,7 +2996,8 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
                           !w->ends[1].sliding;
     char site[256];
     const int contact_site = stall_site(w, m, site, sizeof site);
-    snprintf(report->message, sizeof report->message,
+    /* at most 768 bytes (rod_report): a longer one loses its last words */
+    const int written = snprintf(report->message, sizeof report->message,
              "implicit scheme: Newton's method did not converge at t = %.6g s for the step "
              "dt = %g s, split in halves down to dt/%d within %d iterations (tolerance %.1e)%s. "
              "%s%s",
@@ -3012,6 +3013,10 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
                    "neither stretch nor shorten without bending, so its tension is "
                    "(nearly) undetermined; start it slightly bent (rod.shape, "
                    "rod.curvature) and let driven ends start from rest." : "");
+    if (written >= (int)sizeof report->message) { /* cut at a word, not in one */
+        char *end = strrchr(report->message, ' ');
+        if (end) *end = '\0';
+    }
     report->suggested_dt = dt / (1 << MAX_SPLIT_DEPTH);
     return ROD_NO_CONVERGENCE;
 }
