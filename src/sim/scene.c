@@ -335,8 +335,9 @@ static int read_point_loads(ini_doc *doc, rod_model *m, char *err, size_t errlen
 }
 
 /* Reads [surface] (repeatable): shape, center, normal, size, friction,
- * tissue (issue 11; keys fixed in PRODUCT.md), and a box's rounding. `size` holds 3 edge lengths
- * for a box and one radius for a cylinder or a sphere; a plane has none. */
+ * tissue (issue 11; keys fixed in PRODUCT.md), and a box's rounding. `size`
+ * holds 3 edge lengths for a box and one radius for a cylinder or a sphere;
+ * a plane has none. */
 static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     int count = ini_section_count(doc, "surface");

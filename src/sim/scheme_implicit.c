@@ -2877,7 +2877,6 @@ static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double
  * another strand. Returns 1 when something touches it there. */
 static int stall_site(const implicit_work *w, const rod_model *m, char *out, size_t len)
 {
-    static const char *const shapes[] = {"plane", "box", "cylinder", "sphere"};
     out[0] = '\0';
     int worst = -1;
     double big = 0.0;
@@ -2904,7 +2903,7 @@ static int stall_site(const implicit_work *w, const rod_model *m, char *out, siz
         if (!(gap[7 * nearest] < 0.25 * m->diameter)) continue;
         const rod_surface *sf = &w->surfaces[nearest];
         used += snprintf(out + used, len - (size_t)used, ", where node %d touches the %s of "
-                         "line %d", i, shapes[sf->shape], sf->line);
+                         "line %d", i, rod_surface_name(sf->shape), sf->line);
         touching = 1;
         break;
     }

@@ -121,8 +121,8 @@ static int box_entry(const rod_surface *s, const double a[3], const double ab[3]
     double enter = -INFINITY, leave = INFINITY;
     int face = -1;
     for (int k = 0; k < 3; k++) {
+        /* the square box: a rounded one's core grown square by its rounding + grow */
         const double h = 0.5 * s->size[k], lo = s->center[k] - h - grow, hi = s->center[k] + h + grow;
-        /* (the square box: the rounded one's core grown square by R + grow) */
         if (ab[k] == 0.0) {
             if (a[k] < lo || a[k] > hi) return 0;
             continue;
