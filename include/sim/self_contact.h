@@ -126,7 +126,6 @@ typedef struct rod_self_contact {
     int ranked[SELF_CONTACT_RANK_PAIRS]; /* pairs in the correction, by column / 3 */
     double *y;             /* (unknowns x 3 SELF_CONTACT_RANK_PAIRS) B^-1 V, column-major */
     double *s, *rhs;       /* dense system of the correction */
-    int *pivot;
     double *node_force;    /* (nodes x 3) N, global: what the other strands exert on each node */
     double gnorm;          /* N: the largest |g| of the last rod_self_contact_forces */
     double fmax;           /* N: the largest force a pair's law asked for there */
