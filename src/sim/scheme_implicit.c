@@ -2381,7 +2381,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
     const double tol = m->options.newton_tolerance;
     const int max_it = m->options.newton_max_iterations;
     if (w->stale_start && w->contact && !w->contact_fd && !w->fd_only &&
-        w->smooth_kl == w->kl && same_dt(w->smooth_dt, dt) && same_dt(w->jacobian_dt, dt) &&
+        w->smooth_kl == w->kl && same_dt(w->smooth_dt, dt) &&
         w->smooth_renewals < CONTACT_START_REFRESHES) {
         /* stale at the last step: contact's part renewed at the first
          * iterate (CONTACT_START_REFRESHES) */
@@ -2674,10 +2674,9 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
      * evaluation fewer than refresh() and the step each making one
      * (suture.ini: 127,796 evaluations instead of 138,850, the results bit
      * for bit the same). As refresh(), not while self-contact pairs exist */
-    w->stale_start = 0;
-    if (w->stale && !w->jacobian_only && continuing && w->dt_last > 0.0 &&
-        !(w->self && w->self->count))
-        w->have_factor = 0, w->stale_start = 1;
+    w->stale_start = w->stale && !w->jacobian_only && continuing && w->dt_last > 0.0 &&
+                     !(w->self && w->self->count);
+    if (w->stale_start) w->have_factor = 0;
     if (!continuing) {
         memcpy(w->frame0, s->frame, (size_t)n * 9 * sizeof(double));
         elastic_state(m, w->frame0, w->darboux1, w->mid1, w->d3mid0, w->moment0);
