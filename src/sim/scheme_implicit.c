@@ -213,6 +213,15 @@ typedef struct implicit_work {
     int smooth_kl;         /* the half bandwidth band_smooth was built with, 0: none */
     double smooth_dt;      /* s, the step it was built for */
     int smooth_renewals;   /* contact-only renewals onto it at a step's start (newton) */
+    /* what the factors in band were made from, for a renewal of contact's
+     * part that refactors only from the first column it changes
+     * (refresh_contact_jacobian): contact's velocity maps and touched
+     * nodes, the step and the ends' holds then; valid while band holds the
+     * factors of band_smooth plus that contact part */
+    double *trail_jac;     /* (nodes x 27) velocity_jac */
+    unsigned char *trail_touched; /* (nodes) */
+    double trail_dt;
+    int trail_held[2], trail_valid;
     int stale_start;       /* 1: this step's factorisation was dropped as stale (single_step) */
     int contact_off;       /* 1: the residual leaves contact and punctures out */
     int fd_only;           /* 1: this attempt takes the rod's part of the Jacobian by finite
@@ -341,12 +350,13 @@ static void destroy(void *p)
                          &w->save_omega, &w->save_force, &w->phi0, &w->phi1, &w->phi_th,
                          &w->point_force, &w->point_moment, &w->vbar,
                          &w->pos0, &w->surface_force, &w->start_gap, &w->band_smooth,
-                         &w->velocity_jac, &w->jac_node, &w->jac_seg};
+                         &w->velocity_jac, &w->trail_jac, &w->jac_node, &w->jac_seg};
     for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++) free(*arrays[k]);
     free(w->threaded);
     free(w->node_push);
     rod_self_contact_destroy(w->self);
     free(w->touched);
+    free(w->trail_touched);
     free(w->pivot);
     free(w->inv_diag);
     free(w->lower);
@@ -466,7 +476,11 @@ static void *create(const rod_model *m, char *err, size_t errlen)
         w->band_smooth = calloc((size_t)w->ldab * u, sizeof(double));
         w->velocity_jac = calloc(n * 27, sizeof(double));
         w->touched = calloc(n, 1);
-        if (!w->band_smooth || !w->velocity_jac || !w->touched) goto oom;
+        w->trail_jac = calloc(n * 27, sizeof(double));
+        w->trail_touched = calloc(n, 1);
+        if (!w->band_smooth || !w->velocity_jac || !w->touched || !w->trail_jac ||
+            !w->trail_touched)
+            goto oom;
     }
     w->frame0 = calloc(n * 9, sizeof(double));
     w->omega0 = calloc(n * 3, sizeof(double));
@@ -1689,6 +1703,7 @@ static void band_solve(const implicit_work *w, double *b)
 static void fd_jacobian(implicit_work *w, const rod_model *m, double t, double dt, int reach)
 {
     const int nu = w->unknowns, kl = w->kl, ku = w->kl, ld = w->ldab, nb = w->block;
+    w->trail_valid = 0; /* band no longer holds factors */
     memset(w->band, 0, (size_t)ld * (size_t)nu * sizeof(double));
     /* the self-contact forces are unknowns of their own: they act on the
      * residual as constants here, so the band is d r / d x without them
@@ -1866,6 +1881,7 @@ static void analytic_jacobian(implicit_work *w, const rod_model *m, double t, do
     const double inv_ms = 1.0 / w->moment_scale, dt_ds = dt / ds;
     const double push = 1.0 / (ds * (m->mass_per_length / dt + theta * c));
     const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
+    w->trail_valid = 0; /* band no longer holds factors */
     memset(w->band, 0, (size_t)w->ldab * (size_t)w->unknowns * sizeof(double));
     /* frames and moments at x: all the rod's part reads of the evaluation.
      * Without self-contact pairs and with contact on, the
@@ -2122,7 +2138,8 @@ static void analytic_jacobian(implicit_work *w, const rod_model *m, double t, do
  * finite difference resolves friction's turn within its creep speed well).
  * Left out: a follower tip load's turn with the tip's omega at a free tip
  * in contact, and a sliding end's motion under a puncture beside it. */
-static void add_contact_jacobian(implicit_work *w, const rod_model *m, double t, double dt)
+static void add_contact_jacobian(implicit_work *w, const rod_model *m, double t, double dt,
+                                 int col_from)
 {
     evaluate_iterate_once(w, m, t, dt);
     const int n = w->nodes, kl = w->kl, ld = w->ldab, first = w->first;
@@ -2152,6 +2169,7 @@ static void add_contact_jacobian(implicit_work *w, const rod_model *m, double t,
                         for (int l = 0; l < 3; l++) {
                             const int row = BLOCK * (rb - first) + k, col = BLOCK * (cb - first) + l;
                             if (row - col > kl || col - row > kl) continue; /* not in the band */
+                            if (col < col_from) continue; /* factored already */
                             w->band[(size_t)(2 * kl + row - col) + (size_t)col * (size_t)ld] +=
                                 g * delta[3 * k + l];
                         }
@@ -2175,18 +2193,82 @@ static void add_contact_jacobian(implicit_work *w, const rod_model *m, double t,
  * are the same numbers (suture.ini's CSV identical byte for byte); its 6 s
  * 6.6 % fewer instructions, bench_self_contact's knot 0.78x the time (its
  * Schur columns are band solves). */
-static inline __attribute__((always_inline)) int band_factor_kl(implicit_work *w, const int kl)
+/* Step j's rank-1 update of columns j+c0 .. j+c1 (c0 >= 1) with L's
+ * column j (col, its len entries below the diagonal; the diagonal entry at
+ * col[0]), upper[] noting the first row of U that is not zero. The short
+ * case from a copy of L's column: the columns it updates lie in the same
+ * array, and the compiler, unable to rule out that they overlap it, left
+ * the loop scalar (the same operations in the same order either way; 0.92x
+ * suture.ini's time). */
+static inline __attribute__((always_inline)) void
+band_update(double *restrict col, int j, int c0, int c1, int len, int ld, int *restrict upper)
+{
+    if (len == SHORT_COLUMN) {
+        double l[SHORT_COLUMN];
+        for (int i = 0; i < SHORT_COLUMN; i++) l[i] = col[i + 1];
+        for (int c = c0; c <= c1; c++) {
+            double *a = &col[(size_t)c * (size_t)(ld - 1) + 1];
+            const double u = a[-1]; /* U(j, j + c), final */
+            if (u != 0.0) {
+                if (upper[j + c] > j) upper[j + c] = j;
+                for (int i = 0; i < SHORT_COLUMN; i++) a[i] -= l[i] * u;
+            }
+        }
+    } else {
+        for (int c = c0; c <= c1; c++) {
+            double *a = &col[(size_t)c * (size_t)(ld - 1)];
+            const double u = a[0];
+            if (u != 0.0) {
+                if (upper[j + c] > j) upper[j + c] = j;
+                for (int i = 1; i <= len; i++) a[i] -= col[i] * u;
+            }
+        }
+    }
+}
+
+/* Rows j and j + jp interchanged over columns j+c0 .. j+c1 (stride ld - 1
+ * along a row) */
+static inline __attribute__((always_inline)) void
+band_swap(double *col, int jp, int c0, int c1, int ld)
+{
+    for (int c = c0; c <= c1; c++) {
+        double *a = &col[(size_t)c * (size_t)(ld - 1)], t = a[0];
+        a[0] = a[jp];
+        a[jp] = t;
+    }
+}
+
+/* The factorisation from column `from` on, the columns before it factored
+ * already (from > 0: refresh_contact_jacobian), as the whole one would
+ * factor them: the columns from `from` on hold the matrix, and the steps
+ * before it whose interchanges and updates reach them (at most 2 kl back)
+ * are applied to them again from their pivots and L, then the steps go on
+ * from `from`. The same operations on every entry in the same order as the
+ * factorisation from 0, so the same numbers. */
+static inline __attribute__((always_inline)) int band_factor_kl(implicit_work *w, const int kl,
+                                                               const int from)
 {
     const int n = w->unknowns, kv = 2 * kl, ld = w->ldab;
     double *restrict ab = w->band;
     lapack_int *restrict pivot = w->pivot;
     int *restrict lower = w->lower, *restrict upper = w->upper;
     int info = 0, ju = 0;
-    for (int j = 0; j < n; j++) upper[j] = j; /* none above the diagonal yet */
+    for (int j = from; j < n; j++) upper[j] = j; /* none above the diagonal yet */
     /* the fill-in rows of the first kl columns start at zero */
-    for (int j = kl + 1; j < kv && j < n; j++)
+    for (int j = kl + 1 > from ? kl + 1 : from; j < kv && j < n; j++)
         for (int i = kv - j; i < kl; i++) ab[(size_t)j * ld + i] = 0.0;
-    for (int j = 0; j < n; j++) {
+    for (int j = 0; j < from; j++) { /* the steps before: their reach, and again on from.. */
+        const int jp = pivot[j] - 1 - j;
+        const int last = j + kl + jp < n - 1 ? j + kl + jp : n - 1;
+        if (last > ju) ju = last;
+        if (j + kv < n && j + kv >= from)
+            for (int i = 0; i < kl; i++) ab[(size_t)(j + kv) * ld + i] = 0.0;
+        if (ju < from) continue;
+        double *col = &ab[(size_t)j * ld + kv];
+        if (jp != 0) band_swap(col, jp, from - j, ju - j, ld);
+        band_update(col, j, from - j, ju - j, lower[j], ld, upper);
+    }
+    for (int j = from; j < n; j++) {
         if (j + kv < n)
             for (int i = 0; i < kl; i++) ab[(size_t)(j + kv) * ld + i] = 0.0;
         int km = kl < n - 1 - j ? kl : n - 1 - j;
@@ -2214,59 +2296,71 @@ static inline __attribute__((always_inline)) int band_factor_kl(implicit_work *w
         }
         const int last = j + kl + jp < n - 1 ? j + kl + jp : n - 1;
         if (last > ju) ju = last;
-        if (jp != 0) /* rows j and j + jp over columns j..ju (stride ld - 1 along a row) */
-            for (int c = 0; c <= ju - j; c++) {
-                double *a = &col[(size_t)c * (ld - 1)], t = a[0];
-                a[0] = a[jp];
-                a[jp] = t;
-            }
+        if (jp != 0) band_swap(col, jp, 0, ju - j, ld); /* over columns j..ju */
         const double inv = 1.0 / col[0];
         for (int i = 1; i <= km; i++) col[i] *= inv;
-        /* rank-1 update of columns j+1..ju. The short case from a copy of
-         * L's column: the columns it updates lie in the same array, and the
-         * compiler, unable to rule out that they overlap it, left the loop
-         * scalar (the same operations in the same order either way; 0.92x
-         * suture.ini's time) */
-        if (len == SHORT_COLUMN) {
-            double l[SHORT_COLUMN];
-            for (int i = 0; i < SHORT_COLUMN; i++) l[i] = col[i + 1];
-            for (int c = 1; c <= ju - j; c++) {
-                double *a = &col[(size_t)c * (ld - 1) + 1];
-                const double u = a[-1]; /* U(j, j + c), final */
-                if (u != 0.0) {
-                    if (upper[j + c] > j) upper[j + c] = j;
-                    for (int i = 0; i < SHORT_COLUMN; i++) a[i] -= l[i] * u;
-                }
-            }
-        } else {
-            for (int c = 1; c <= ju - j; c++) {
-                double *a = &col[(size_t)c * (ld - 1)];
-                const double u = a[0];
-                if (u != 0.0) {
-                    if (upper[j + c] > j) upper[j + c] = j;
-                    for (int i = 1; i <= len; i++) a[i] -= col[i] * u;
-                }
-            }
-        }
+        band_update(col, j, 1, ju - j, len, ld, upper); /* columns j+1..ju */
     }
     return info;
 }
 
-/* LU of band in place (band_factor_kl). Returns 0, or -1 when the matrix is
- * singular. */
-static int factor_band(implicit_work *w, double dt)
+/* LU of band in place (band_factor_kl), its columns before `from`
+ * factored already. Returns 0, or -1 when the matrix is singular. */
+static int factor_band_from(implicit_work *w, double dt, int from)
 {
     if (w->self) rod_self_contact_invalidate(w->self); /* its B^-1 V was for the old band */
+    w->trail_valid = 0; /* until the caller records what these factors are of */
     const int nu = w->unknowns, kl = w->kl, ku = w->kl, ld = w->ldab;
-    int info = w->kl == BAND ? band_factor_kl(w, BAND)
-               : w->kl == BAND_PUNCTURE ? band_factor_kl(w, BAND_PUNCTURE)
-                                        : band_factor_kl(w, BAND_PLANAR);
+    int info = w->kl == BAND ? band_factor_kl(w, BAND, from)
+               : w->kl == BAND_PUNCTURE ? band_factor_kl(w, BAND_PUNCTURE, from)
+                                        : band_factor_kl(w, BAND_PLANAR, from);
     w->jacobian_builds++;
     w->have_factor = (info == 0);
     w->jacobian_dt = dt;
     if (info == 0)
-        for (int j = 0; j < nu; j++) w->inv_diag[j] = 1.0 / w->band[(size_t)j * (size_t)ld + (size_t)(kl + ku)];
+        for (int j = from; j < nu; j++) w->inv_diag[j] = 1.0 / w->band[(size_t)j * (size_t)ld + (size_t)(kl + ku)];
     return info == 0 ? 0 : -1;
+}
+
+static int factor_band(implicit_work *w, double dt)
+{
+    return factor_band_from(w, dt, 0);
+}
+
+/* Records the contact part just added to band_smooth and factored: the
+ * base of the next renewal (refresh_contact_jacobian) */
+static void trail_record(implicit_work *w, double dt)
+{
+    const size_t n = (size_t)w->nodes;
+    memcpy(w->trail_jac, w->velocity_jac, n * 27 * sizeof(double));
+    memcpy(w->trail_touched, w->touched, n);
+    w->trail_dt = dt;
+    w->trail_held[0] = w->ends[0].held, w->trail_held[1] = w->ends[1].held;
+    w->trail_valid = 1;
+}
+
+/* The first unknown whose column or row contact's part changes since the
+ * factors in band were made (trail_record), 0 when they cannot be reused,
+ * or the number of unknowns when nothing changed. A touched node b's part
+ * (add_contact_jacobian) lies in the rows of blocks b, b+1 and the columns
+ * of blocks b-1 .. b+2; it is the same bit for bit when its velocity map,
+ * its touch, the step and the ends' holds are (push and the coefficients
+ * depend on nothing else). */
+static int trail_first_change(const implicit_work *w, double dt)
+{
+    if (!w->trail_valid || w->smooth_kl != w->kl || dt != w->trail_dt ||
+        w->trail_held[0] != w->ends[0].held || w->trail_held[1] != w->ends[1].held)
+        return 0;
+    const int n = w->nodes;
+    for (int b = 0; b < n; b++) {
+        const int now = w->touched[b] != 0, then = w->trail_touched[b] != 0;
+        if (now != then || (now && memcmp(&w->velocity_jac[27 * b], &w->trail_jac[27 * b],
+                                          27 * sizeof(double)) != 0)) {
+            const int block = b - 1 - w->first;
+            return block > 0 ? BLOCK * block : 0;
+        }
+    }
+    return w->unknowns;
 }
 
 /* The rod's part of the Jacobian (contact and punctures left out by the
@@ -2301,7 +2395,11 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
         w->contact_off = 0;
         memcpy(w->band_smooth, w->band, (size_t)w->ldab * (size_t)w->unknowns * sizeof(double));
         w->smooth_kl = w->kl, w->smooth_dt = dt, w->smooth_renewals = 0;
-        add_contact_jacobian(w, m, t, dt);
+        add_contact_jacobian(w, m, t, dt, 0);
+        w->stale = 0;
+        if (factor_band(w, dt)) return -1;
+        trail_record(w, dt);
+        return 0;
     } else {
         /* contact's friction turns within its creep speed (contact_creep_speed): a
          * step of 1e-7 of the force scale can move a node by more than that */
@@ -2324,9 +2422,24 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
  * factored. */
 static int refresh_contact_jacobian(implicit_work *w, const rod_model *m, double t, double dt)
 {
-    memcpy(w->band, w->band_smooth, (size_t)w->ldab * (size_t)w->unknowns * sizeof(double));
-    add_contact_jacobian(w, m, t, dt);
-    return factor_band(w, dt);
+    /* Only from the first column contact's part changes: the factors'
+     * columns before it stand as they are (trail_first_change,
+     * band_factor_kl's `from`); suture.ini's renewals start on average 0.3
+     * of the way along the thread, its tail on the skin changing least. */
+    evaluate_iterate_once(w, m, t, dt);
+    const int from = trail_first_change(w, dt), nu = w->unknowns;
+    if (from == nu) { /* the factors are those of this Jacobian already */
+        w->have_factor = 1;
+        w->jacobian_dt = dt;
+        return 0;
+    }
+    const size_t ld = (size_t)w->ldab;
+    memcpy(&w->band[(size_t)from * ld], &w->band_smooth[(size_t)from * ld],
+           ld * (size_t)(nu - from) * sizeof(double));
+    add_contact_jacobian(w, m, t, dt, from);
+    if (factor_band_from(w, dt, from)) return -1;
+    trail_record(w, dt);
+    return 0;
 }
 
 /* 1 when the factorisation made for dt_factored serves a step of dt.
@@ -3156,7 +3269,7 @@ static double jacobian_error(const rod_model *m, const rod_state *s, double dt, 
     w->contact_off = 1;
     analytic_jacobian(w, m, s->time, dt);
     w->contact_off = 0;
-    if (with_contact && w->contact) add_contact_jacobian(w, m, s->time, dt);
+    if (with_contact && w->contact) add_contact_jacobian(w, m, s->time, dt, 0);
     w->self_off = 0;
     /* per entry, the differences' rounding, about 1e-16 of the residual's
      * O(1) terms over h, is not held against the closed form */
