@@ -2179,20 +2179,6 @@ static void add_contact_jacobian(implicit_work *w, const rod_model *m, double t,
     }
 }
 
-/* LU of band in place with partial pivoting: LAPACK's dgbtf2 (what dgbtrf
- * runs for kl below its block size), written out as band_solve_kl is: its
- * per-column dger, dswap and dscal calls cost more than their arithmetic at
- * this size (29 % of the suture scene's time). The same storage (kv = 2 kl
- * rows above the diagonal, U's fill-in in the top kl), 1-based pivots, and
- * the first zero pivot's column + 1 returned as LAPACK's info.
- * The band is as wide as the widest coupling (kl = 14 while a puncture ties
- * four nodes) but most columns are narrower (the rod's own blocks reach 6
- * to 8 rows below the diagonal): each column's L is trimmed of its trailing
- * zeros before the pivot search and the update (which only skips products
- * with 0), and lower / upper record the profile for the solves. The factors
- * are the same numbers (suture.ini's CSV identical byte for byte); its 6 s
- * 6.6 % fewer instructions, bench_self_contact's knot 0.78x the time (its
- * Schur columns are band solves). */
 /* Step j's rank-1 update of columns j+c0 .. j+c1 (c0 >= 1) with L's
  * column j (col, its len entries below the diagonal; the diagonal entry at
  * col[0]), upper[] noting the first row of U that is not zero. The short
@@ -2238,13 +2224,27 @@ band_swap(double *col, int jp, int c0, int c1, int ld)
     }
 }
 
-/* The factorisation from column `from` on, the columns before it factored
- * already (from > 0: refresh_contact_jacobian), as the whole one would
- * factor them: the columns from `from` on hold the matrix, and the steps
- * before it whose interchanges and updates reach them (at most 2 kl back)
- * are applied to them again from their pivots and L, then the steps go on
- * from `from`. The same operations on every entry in the same order as the
- * factorisation from 0, so the same numbers. */
+/* LU of band in place with partial pivoting: LAPACK's dgbtf2 (what dgbtrf
+ * runs for kl below its block size), written out as band_solve_kl is: its
+ * per-column dger, dswap and dscal calls cost more than their arithmetic at
+ * this size (29 % of the suture scene's time). The same storage (kv = 2 kl
+ * rows above the diagonal, U's fill-in in the top kl), 1-based pivots, and
+ * the first zero pivot's column + 1 returned as LAPACK's info.
+ * The band is as wide as the widest coupling (kl = 14 while a puncture ties
+ * four nodes) but most columns are narrower (the rod's own blocks reach 6
+ * to 8 rows below the diagonal): each column's L is trimmed of its trailing
+ * zeros before the pivot search and the update (which only skips products
+ * with 0), and lower / upper record the profile for the solves. The factors
+ * are the same numbers (suture.ini's CSV identical byte for byte); its 6 s
+ * 6.6 % fewer instructions, bench_self_contact's knot 0.78x the time (its
+ * Schur columns are band solves).
+ * From column `from` on, the columns before it factored already (from > 0:
+ * refresh_contact_jacobian), as the whole factorisation would factor them:
+ * the columns from `from` on hold the matrix, and the steps before it whose
+ * interchanges and updates reach them (at most 2 kl back) are applied to
+ * them again from their pivots and L, then the steps go on from `from`. The
+ * same operations on every entry in the same order as from 0, so the same
+ * numbers. */
 static inline __attribute__((always_inline)) int band_factor_kl(implicit_work *w, const int kl,
                                                                const int from)
 {
@@ -2396,10 +2396,6 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
         memcpy(w->band_smooth, w->band, (size_t)w->ldab * (size_t)w->unknowns * sizeof(double));
         w->smooth_kl = w->kl, w->smooth_dt = dt, w->smooth_renewals = 0;
         add_contact_jacobian(w, m, t, dt, 0);
-        w->stale = 0;
-        if (factor_band(w, dt)) return -1;
-        trail_record(w, dt);
-        return 0;
     } else {
         /* contact's friction turns within its creep speed (contact_creep_speed): a
          * step of 1e-7 of the force scale can move a node by more than that */
@@ -2413,7 +2409,9 @@ static int factor_jacobian(implicit_work *w, const rod_model *m, double t, doubl
         w->fd_step = step;
     }
     w->stale = 0;
-    return factor_band(w, dt);
+    if (factor_band(w, dt)) return -1;
+    if (w->contact && !w->contact_fd) trail_record(w, dt); /* band_smooth + contact's part */
+    return 0;
 }
 
 /* The contact's part alone renewed at the iterate x onto the kept
@@ -2519,7 +2517,6 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         w->smooth_renewals < CONTACT_START_REFRESHES) {
         /* stale at the last step: contact's part renewed at the first
          * iterate (CONTACT_START_REFRESHES) */
-        evaluate_iterate_once(w, m, t, dt);
         if (refresh_contact_jacobian(w, m, t, dt)) return -1;
         w->smooth_renewals++;
         w->stale = 0;
