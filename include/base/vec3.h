@@ -53,6 +53,53 @@ static inline void m3_mul_tv(double r[3], const double q[9], const double a[3])
 static inline void m3_column(double r[3], const double q[9], int k)
 { r[0] = q[k]; r[1] = q[3 + k]; r[2] = q[6 + k]; }
 
+/* The series below are macros so that the same expressions, in the same
+ * order, serve a double and a vector of them (base/vec3_lanes.h: four
+ * nodes at a time give the same numbers bit for bit).
+ * Estrin's scheme: sin x / x = sum (-t)^n / (2n+1)!, (1 - cos x) / x^2 =
+ * sum (-t)^n / (2n+2)!, n = 0..6, t = x^2, in pairs joined by t2 = t^2 and
+ * t4 = t^4 (a third of Horner's chain of dependent operations) */
+#define SO3_SINC_SERIES(t, t2, t4)                                                              \
+    (((1.0 - (t) * (1.0 / 6.0)) + (t2) * (1.0 / 120.0 - (t) * (1.0 / 5040.0))) +               \
+     (t4) * ((1.0 / 362880.0 - (t) * (1.0 / 39916800.0)) + (t2) * (1.0 / 6227020800.0)))
+#define SO3_COSC_SERIES(t, t2, t4)                                                              \
+    (((0.5 - (t) * (1.0 / 24.0)) + (t2) * (1.0 / 720.0 - (t) * (1.0 / 40320.0))) +             \
+     (t4) * ((1.0 / 3628800.0 - (t) * (1.0 / 479001600.0)) + (t2) * (1.0 / 87178291200.0)))
+/* angle / sin(angle) = asin(s) / s for s2 = s^2 = sin^2(angle) below 1/16
+ * (angle < 0.2527): (2n)! / (4^n n!^2 (2n + 1)) s^2n to n = 14, truncation
+ * below 1e-20, by Estrin's scheme (pairs, then quads, ...): the same sum as
+ * Horner's to rounding, at a quarter of its chain of dependent operations
+ * (this series was a fifth of the residual's time in suture.ini). `type` is
+ * double or a vector of them; the result goes to `out`. */
+#define SO3_ASINC_SERIES(type, s2, out)                                                          \
+    do {                                                                                         \
+        const type x2_ = (s2) * (s2), x4_ = x2_ * x2_, x8_ = x4_ * x4_;                          \
+        const type p0_ = 1.0 + (s2) * (1.0 / 6.0), p1_ = 3.0 / 40.0 + (s2) * (5.0 / 112.0);      \
+        const type p2_ = 35.0 / 1152.0 + (s2) * (63.0 / 2816.0);                                 \
+        const type p3_ = 231.0 / 13312.0 + (s2) * (143.0 / 10240.0);                             \
+        const type p4_ = 6435.0 / 557056.0 + (s2) * (12155.0 / 1245184.0);                       \
+        const type p5_ = 46189.0 / 5505024.0 + (s2) * (88179.0 / 12058624.0);                    \
+        const type p6_ = 676039.0 / 104857600.0 + (s2) * (1300075.0 / 226492416.0);              \
+        const double p7_ = 5014575.0 / 973078528.0;                                              \
+        const type q0_ = p0_ + x2_ * p1_, q1_ = p2_ + x2_ * p3_, q2_ = p4_ + x2_ * p5_;          \
+        const type q3_ = p6_ + x2_ * p7_;                                                        \
+        (out) = (q0_ + x4_ * q1_) + x8_ * (q2_ + x4_ * q3_);                                     \
+    } while (0)
+
+/* exp([phi]x) = I + a [phi]x + b [phi]x^2 into r[9], phi = (x, y, z) */
+#define SO3_EXP_MATRIX(r, a, b, x, y, z)                                                         \
+    do {                                                                                         \
+        (r)[0] = 1.0 - (b) * ((y) * (y) + (z) * (z));                                            \
+        (r)[1] = -(a) * (z) + (b) * (x) * (y);                                                   \
+        (r)[2] = (a) * (y) + (b) * (x) * (z);                                                    \
+        (r)[3] = (a) * (z) + (b) * (x) * (y);                                                    \
+        (r)[4] = 1.0 - (b) * ((x) * (x) + (z) * (z));                                            \
+        (r)[5] = -(a) * (x) + (b) * (y) * (z);                                                   \
+        (r)[6] = -(a) * (y) + (b) * (x) * (z);                                                   \
+        (r)[7] = (a) * (x) + (b) * (y) * (z);                                                    \
+        (r)[8] = 1.0 - (b) * ((x) * (x) + (y) * (y));                                            \
+    } while (0)
+
 /* Rodrigues coefficients of exp([phi]x) = I + a [phi]x + b [phi]x^2 for
  * t = |phi|^2: a = sin(x)/x, b = (1 - cos x)/x^2, x = |phi|. */
 static inline void m3_exp_coefficients(double t, double *a, double *b)
@@ -64,13 +111,8 @@ static inline void m3_exp_coefficients(double t, double *a, double *b)
          * Multiplications by the reciprocals (folded at compile time): a
          * division each costs as much as the rest of the function. */
         const double t2 = t * t, t4 = t2 * t2;
-        /* Estrin's scheme: sin x / x = sum (-t)^n / (2n+1)!, (1 - cos x) / x^2 =
-         * sum (-t)^n / (2n+2)!, n = 0..6, in pairs joined by t^2 and t^4 (a
-         * third of Horner's chain of dependent operations) */
-        *a = ((1.0 - t * (1.0 / 6.0)) + t2 * (1.0 / 120.0 - t * (1.0 / 5040.0))) +
-             t4 * ((1.0 / 362880.0 - t * (1.0 / 39916800.0)) + t2 * (1.0 / 6227020800.0));
-        *b = ((0.5 - t * (1.0 / 24.0)) + t2 * (1.0 / 720.0 - t * (1.0 / 40320.0))) +
-             t4 * ((1.0 / 3628800.0 - t * (1.0 / 479001600.0)) + t2 * (1.0 / 87178291200.0));
+        *a = SO3_SINC_SERIES(t, t2, t4);
+        *b = SO3_COSC_SERIES(t, t2, t4);
     } else {
         /* from the half angle: 1 - cos x = 2 sin^2(x/2) has no cancellation
          * (1 - cos x lost 1e-15 of b just above the series' range; checked
@@ -116,16 +158,8 @@ static inline void m3_exp(double r[9], const double phi[3])
 {
     double a, b; /* sin(x)/x and (1 - cos x)/x^2 */
     m3_exp_coefficients(v3_dot(phi, phi), &a, &b);
-    double x = phi[0], y = phi[1], z = phi[2];
-    r[0] = 1.0 - b * (y * y + z * z);
-    r[1] = -a * z + b * x * y;
-    r[2] = a * y + b * x * z;
-    r[3] = a * z + b * x * y;
-    r[4] = 1.0 - b * (x * x + z * z);
-    r[5] = -a * x + b * y * z;
-    r[6] = -a * y + b * x * z;
-    r[7] = a * x + b * y * z;
-    r[8] = 1.0 - b * (x * x + y * y);
+    const double x = phi[0], y = phi[1], z = phi[2];
+    SO3_EXP_MATRIX(r, a, b, x, y, z);
 }
 /* Rotation vector phi with exp([phi]x) = q, |phi| <= pi. */
 static inline void m3_log(double phi[3], const double q[9])
@@ -136,23 +170,11 @@ static inline void m3_log(double phi[3], const double q[9])
     double w[3] = {q[7] - q[5], q[2] - q[6], q[3] - q[1]}; /* 2 sin(angle) axis */
     double s2 = 0.25 * v3_dot(w, w);                       /* sin^2(angle) */
     if (c > 0.0 && s2 < 6.25e-2) {
-        /* angle < 0.2527 (s < 0.25): angle/sin(angle) = asin(s)/s as a series
-         * in s^2, (2n)! / (4^n n!^2 (2n + 1)) s^2n to n = 14, truncation below
-         * 1e-20; no trigonometric call. The common case: a segment's turn,
-         * 0.19 rad in suture.ini's tight bends (below 0.05 before: atan2 was
-         * 1.6 % of its instructions) */
-        const double x2 = s2 * s2, x4 = x2 * x2, x8 = x4 * x4;
-        /* Estrin's scheme (pairs, then quads, ...): the same sum as Horner's
-         * to rounding, at a quarter of its chain of dependent operations
-         * (this series was a fifth of the residual's time in suture.ini) */
-        const double p0 = 1.0 + s2 * (1.0 / 6.0), p1 = 3.0 / 40.0 + s2 * (5.0 / 112.0);
-        const double p2 = 35.0 / 1152.0 + s2 * (63.0 / 2816.0), p3 = 231.0 / 13312.0 + s2 * (143.0 / 10240.0);
-        const double p4 = 6435.0 / 557056.0 + s2 * (12155.0 / 1245184.0);
-        const double p5 = 46189.0 / 5505024.0 + s2 * (88179.0 / 12058624.0);
-        const double p6 = 676039.0 / 104857600.0 + s2 * (1300075.0 / 226492416.0);
-        const double p7 = 5014575.0 / 973078528.0;
-        const double q0 = p0 + x2 * p1, q1 = p2 + x2 * p3, q2 = p4 + x2 * p5, q3 = p6 + x2 * p7;
-        const double k = (q0 + x4 * q1) + x8 * (q2 + x4 * q3);
+        /* angle < 0.2527 (s < 0.25): the series, no trigonometric call. The
+         * common case: a segment's turn, 0.19 rad in suture.ini's tight
+         * bends (below 0.05 before: atan2 was 1.6 % of its instructions) */
+        double k;
+        SO3_ASINC_SERIES(double, s2, k);
         v3_scale(phi, w, 0.5 * k);
         return;
     }

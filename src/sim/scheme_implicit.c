@@ -80,6 +80,7 @@
 #include "sim/self_contact.h"
 #include "sim/surface.h"
 #include "base/vec3.h"
+#include "base/vec3_lanes.h"
 
 /* Unknowns per block: N(3), omega(3) in 3-D; N(2), v(2), omega_2 in the
  * plane. Half bandwidth kl = ku of the Jacobian in that block order: 8 in 3-D
@@ -626,29 +627,70 @@ static void elastic_state(const rod_model *m, const double *frame, double *darbo
     }
 }
 
+/* end_geometry's segment j, one at a time */
+static inline __attribute__((always_inline)) void
+end_geometry_segment(const rod_model *m, const double *frame, int j, double *darboux,
+                     double *d3mid, double *moment)
+{
+    const double inv_ds = 1.0 / m->ds;
+    double rel[9], phi[3], half[3], bu[3], e3[3] = {0.0, 0.0, 1.0}, local[3];
+    const double *q = &frame[9 * j];
+    m3_mul_tn(rel, q, &frame[9 * (j + 1)]);
+    m3_log(phi, rel);
+    for (int k = 0; k < 3; k++) {
+        darboux[3 * j + k] = phi[k] * inv_ds;
+        half[k] = 0.5 * phi[k];
+        bu[k] = m->stiffness[k] * (darboux[3 * j + k] - m->intrinsic_curvature[k]);
+    }
+    v3_rotate(local, half, e3);
+    m3_mul_v(&d3mid[3 * j], q, local);
+    v3_rotate(local, half, bu);
+    m3_mul_v(&moment[3 * j], q, local);
+}
+
 /* The same as elastic_state for the end of the step, without forming the
  * midpoint frames Q_{i+1/2} = Q_i exp(h), h = ds/2 u: only d3 = Q_i exp(h) e3
  * and M = Q_i exp(h) B u are needed, each one rotation of a vector (the
- * residual evaluates this twice or more per step). */
-static void end_geometry(const rod_model *m, const double *frame, double *darboux,
-                         double *d3mid, double *moment)
+ * residual evaluates this twice or more per step). LANES segments at a time
+ * (base/vec3_lanes.h; the same numbers), one at a time where a segment turns
+ * too far for the series and at the end: suture.ini 0.3x the time of this
+ * loop one at a time with AVX2, 0.55x without. */
+LANES_TARGET static void end_geometry(const rod_model *m, const double *frame, double *darboux,
+                                      double *d3mid, double *moment)
 {
     const double inv_ds = 1.0 / m->ds;
-    for (int j = 0; j + 1 < m->nodes; j++) {
-        double rel[9], phi[3], half[3], bu[3], e3[3] = {0.0, 0.0, 1.0}, local[3];
-        const double *q = &frame[9 * j];
-        m3_mul_tn(rel, q, &frame[9 * (j + 1)]);
-        m3_log(phi, rel);
-        for (int k = 0; k < 3; k++) {
-            darboux[3 * j + k] = phi[k] * inv_ds;
-            half[k] = 0.5 * phi[k];
-            bu[k] = m->stiffness[k] * (darboux[3 * j + k] - m->intrinsic_curvature[k]);
+    const int segments = m->nodes - 1;
+    int j = 0;
+    for (; j + LANES <= segments; j += LANES) {
+        lanes q[9], next[9], rel[9], phi[3], half[3], bu[3], dar[3], local[3], t;
+        lanes_load9(q, frame, j, 9);
+        lanes_load9(next, frame, j + 1, 9);
+        lanes_mul_tn(rel, q, next);
+        if (!lanes_log(phi, rel)) {
+            for (int l = 0; l < LANES; l++) end_geometry_segment(m, frame, j + l, darboux, d3mid, moment);
+            continue;
         }
-        v3_rotate(local, half, e3);
-        m3_mul_v(&d3mid[3 * j], q, local);
-        v3_rotate(local, half, bu);
-        m3_mul_v(&moment[3 * j], q, local);
+        for (int k = 0; k < 3; k++) {
+            dar[k] = phi[k] * inv_ds;
+            half[k] = 0.5 * phi[k];
+            bu[k] = m->stiffness[k] * (dar[k] - m->intrinsic_curvature[k]);
+        }
+        if (!lanes_exp_in_series(half, &t)) {
+            for (int l = 0; l < LANES; l++) end_geometry_segment(m, frame, j + l, darboux, d3mid, moment);
+            continue;
+        }
+        const lanes zero = {0.0}, one = zero + 1.0;
+        const lanes e3[3] = {zero, zero, one};
+        lanes d3[3], mo[3];
+        lanes_rotate(local, half, &t, e3);
+        lanes_mul_v(d3, q, local);
+        lanes_rotate(local, half, &t, bu);
+        lanes_mul_v(mo, q, local);
+        lanes_store3(darboux, j, 3, dar);
+        lanes_store3(d3mid, j, 3, d3);
+        lanes_store3(moment, j, 3, mo);
     }
+    for (; j < segments; j++) end_geometry_segment(m, frame, j, darboux, d3mid, moment);
 }
 
 static inline const double *block_force(const implicit_work *w, const double *x, int b)
@@ -744,6 +786,37 @@ advance_frame(implicit_work *w, const double *x, int i, double dt, double theta,
         m3_exp(rot, wbar);
         m3_mul(&w->frame_th[9 * i], &w->frame0[9 * i], rot);
     }
+}
+
+/* advance_frame for the nodes lo .. hi - 1 (none held), LANES at a time
+ * (base/vec3_lanes.h; the same numbers), one at a time where a node turns
+ * too far within the step for the series and at the end */
+LANES_TARGET static void advance_frames(implicit_work *w, const double *x, int lo, int hi,
+                                        double dt, double theta)
+{
+    int i = lo;
+    for (; i + LANES <= hi; i += LANES) {
+        lanes om[3], om0[3], wbar[3], rot[9], q0[9], q1[9], t;
+        lanes_load3(om, x + 3, i - w->first, BLOCK); /* block_omega */
+        lanes_load3(om0, w->omega0, i, 3);
+        for (int k = 0; k < 3; k++) wbar[k] = dt * (theta * om[k] + (1.0 - theta) * om0[k]);
+        if (!lanes_exp_in_series(wbar, &t)) {
+            for (int l = 0; l < LANES; l++) advance_frame(w, x, i + l, dt, theta, NULL);
+            continue;
+        }
+        lanes_exp(rot, wbar, &t);
+        lanes_load9(q0, w->frame0, i, 9);
+        lanes_mul(q1, q0, rot);
+        lanes_store9(w->frame1, i, 9, q1);
+        if (theta < 1.0) {
+            for (int k = 0; k < 3; k++) wbar[k] = wbar[k] * theta;
+            lanes_exp_in_series(wbar, &t); /* smaller: within the series */
+            lanes_exp(rot, wbar, &t);
+            lanes_mul(q1, q0, rot);
+            lanes_store9(w->frame_th, i, 9, q1);
+        }
+    }
+    for (; i < hi; i++) advance_frame(w, x, i, dt, theta, NULL);
 }
 
 /* An end node's velocity at the end of the step and its mean over the
@@ -1340,6 +1413,76 @@ static void end_angular_rows(implicit_work *w, const rod_model *m, const end_con
         r[k] = (e->clamped || e->hold_omega[k]) ? xo[k] * dt : raw[k] / w->moment_scale;
 }
 
+/* The residual's rows of the blocks b = 1, 2, ... of interior nodes (b <=
+ * NS - 2), LANES at a time, as residual's loop writes them one at a time
+ * (the same numbers: base/vec3_lanes.h); returns the first block left to
+ * it. */
+LANES_TARGET static int interior_rows(const implicit_work *w, const rod_model *m, const double *x,
+                                      double dt, double *res)
+{
+    const int n = w->nodes, first = w->first;
+    const double theta = m->options.theta, ds = m->ds, dt_ds = dt / ds, inv_dt = 1.0 / dt;
+    const double ms = 1.0 / w->moment_scale, wb = ds, arm = 0.5 * ds;
+    const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1, *inertia = m->rotary_inertia;
+    int b = 1;
+    for (; b + LANES <= n - 1; b += LANES) {
+        const int j = b - 1;
+        lanes vb[3], vj[3], d31j[3], d30j[3], d31b[3], d30b[3], m1b[3], m0b[3], m1j[3], m0j[3];
+        lanes nl[3], nr[3], om[3], om0[3], q[9], r[3], total[3], d3[3], cr[3], body[3];
+        lanes wbar[3], iw[3], gyro[3];
+        lanes_load3(vb, w->vbar, b, 3);
+        lanes_load3(vj, w->vbar, j, 3);
+        lanes_load3(d31j, w->d3mid1, j, 3);
+        lanes_load3(d30j, w->d3mid0, j, 3);
+        for (int k = 0; k < 3; k++) r[k] = (vb[k] - vj[k]) * dt_ds - (d31j[k] - d30j[k]);
+        lanes_store3(res, b - first, BLOCK, r);
+        /* cell_moment with segments on both sides */
+        lanes_load3(m1b, w->moment1, b, 3);
+        lanes_load3(m0b, w->moment0, b, 3);
+        lanes_load3(d31b, w->d3mid1, b, 3);
+        lanes_load3(d30b, w->d3mid0, b, 3);
+        lanes_load3(nr, x, b + 1 - first, BLOCK); /* block_force */
+        for (int k = 0; k < 3; k++) {
+            total[k] = theta * m1b[k] + (1.0 - theta) * m0b[k];
+            d3[k] = theta * d31b[k] + (1.0 - theta) * d30b[k];
+        }
+        lanes_cross(cr, d3, nr);
+        for (int k = 0; k < 3; k++) total[k] += arm * cr[k];
+        lanes_load3(m1j, w->moment1, j, 3);
+        lanes_load3(m0j, w->moment0, j, 3);
+        lanes_load3(nl, x, b - first, BLOCK);
+        for (int k = 0; k < 3; k++) {
+            total[k] -= theta * m1j[k] + (1.0 - theta) * m0j[k];
+            d3[k] = theta * d31j[k] + (1.0 - theta) * d30j[k];
+        }
+        lanes_cross(cr, d3, nl);
+        for (int k = 0; k < 3; k++) total[k] += arm * cr[k];
+        if (w->distributed_moment)
+            for (int k = 0; k < 3; k++) total[k] += wb * m->distributed_moment[k];
+        if (w->point_moment) {
+            lanes point[3];
+            lanes_load3(point, w->point_moment, b, 3);
+            for (int k = 0; k < 3; k++) total[k] += w->point_factor * point[k];
+        }
+        /* angular_balance */
+        lanes_load9(q, frame_th, b, 9);
+        lanes_mul_tv(body, q, total);
+        lanes_load3(om, x + 3, b - first, BLOCK); /* block_omega */
+        lanes_load3(om0, w->omega0, b, 3);
+        for (int k = 0; k < 3; k++) {
+            wbar[k] = theta * om[k] + (1.0 - theta) * om0[k];
+            iw[k] = inertia[k] * wbar[k];
+        }
+        lanes_cross(gyro, wbar, iw);
+        for (int k = 0; k < 3; k++) {
+            const lanes inertial = wb * (inertia[k] * (om[k] - om0[k]) * inv_dt + gyro[k]);
+            r[k] = (inertial - body[k] + wb * m->angular_damping * wbar[k]) * ms;
+        }
+        lanes_store3(res + 3, b - first, BLOCK, r);
+    }
+    return b;
+}
+
 /* Scaled residual of the step t -> t + dt at the iterate x. Interior nodes
  * take the loops without end conditions; the two end nodes follow them. */
 static void residual(implicit_work *w, const rod_model *m, const double *x, double t, double dt,
@@ -1356,7 +1499,7 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
      * they are the same array */
     const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
     if (!w->frames_kept) {
-        for (int i = 1; i < n - 1; i++) advance_frame(w, x, i, dt, theta, NULL);
+        advance_frames(w, x, 1, n - 1, dt, theta);
         for (int which = 0; which < 2; which++) {
             const end_condition *e = &w->ends[which];
             const int i = which ? n - 1 : 0;
@@ -1404,7 +1547,7 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
 
     /* (3.14) constraint on segment b-1 and (3.6)_2 on node b: block b */
     const double ms = 1.0 / w->moment_scale;
-    for (int b = 1; b < n; b++) {
+    for (int b = interior_rows(w, m, x, dt, res); b < n; b++) {
         double *r = &res[BLOCK * (b - first)];
         const int j = b - 1; /* segment to the left of node b */
         for (int k = 0; k < 3; k++)
@@ -1879,6 +2022,178 @@ static int vbar_force_slope(const implicit_work *w, const rod_model *m, int i, i
     return 1;
 }
 
+/* Segment j's part of analytic_jacobian: d d3 / d omega_j, d omega_{j+1}
+ * and d M / the same, into jac_seg, from the node's turn matrices E */
+static inline __attribute__((always_inline)) void
+jacobian_segment(implicit_work *w, const rod_model *m, const double *turn, int j)
+{
+    const double ds = m->ds;
+    double *seg = w->jac_seg;
+    double *d3l = &seg[36 * j], *d3r = d3l + 9, *dml = d3l + 18, *dmr = d3l + 27;
+    const double *q = &w->frame1[9 * j];
+    double phi[3], h[3], rel[9], eh[9], jh[9], jinv[9], bu[3], ehe3[3], ehbu[3];
+    for (int k = 0; k < 3; k++) {
+        phi[k] = ds * w->darboux1[3 * j + k];
+        h[k] = 0.5 * phi[k];
+        bu[k] = m->stiffness[k] * (w->darboux1[3 * j + k] - m->intrinsic_curvature[k]);
+    }
+    m3_mul_tn(rel, q, &w->frame1[9 * (j + 1)]);
+    m3_exp(eh, h);
+    so3_jacobian(jh, h);
+    so3_jacobian_inverse(jinv, phi);
+    m3_column(ehe3, eh, 2);
+    m3_mul_v(ehbu, eh, bu);
+    double qeh[9], s3[9], sbu[9], p3[9], pm[9], tmp[9], a3r[9], a3l[9], amr[9], aml[9];
+    m3_mul(qeh, q, eh);
+    /* P3 = -Q exp(h) [e3]x J(h) / 2 */
+    const double e3[3] = {0.0, 0.0, 1.0};
+    skew3(s3, e3);
+    m3_mul(tmp, s3, jh);
+    m3_mul(p3, qeh, tmp);
+    for (int k = 0; k < 9; k++) p3[k] *= -0.5;
+    /* PM = Q exp(h) (B / ds - [bu]x J(h) / 2) */
+    skew3(sbu, bu);
+    m3_mul(tmp, sbu, jh);
+    for (int k = 0; k < 9; k++) tmp[k] *= -0.5;
+    for (int k = 0; k < 3; k++) tmp[4 * k] += m->stiffness[k] / ds;
+    m3_mul(pm, qeh, tmp);
+    /* right: P J^-1; left: -Q [exp(h) v]x - P J^-1 R^T */
+    m3_mul(a3r, p3, jinv);
+    m3_mul(amr, pm, jinv);
+    m3_mul_nt(tmp, a3r, rel);
+    double qs[9], sv[9];
+    skew3(sv, ehe3);
+    m3_mul(qs, q, sv);
+    for (int k = 0; k < 9; k++) a3l[k] = -qs[k] - tmp[k];
+    m3_mul_nt(tmp, amr, rel);
+    skew3(sv, ehbu);
+    m3_mul(qs, q, sv);
+    for (int k = 0; k < 9; k++) aml[k] = -qs[k] - tmp[k];
+    m3_mul(d3l, a3l, &turn[18 * j]);
+    m3_mul(d3r, a3r, &turn[18 * (j + 1)]);
+    m3_mul(dml, aml, &turn[18 * j]);
+    m3_mul(dmr, amr, &turn[18 * (j + 1)]);
+}
+
+/* skew3 of lanes */
+static inline __attribute__((always_inline)) void lanes_skew(lanes r[9], const lanes a[3])
+{
+    const lanes zero = {0.0};
+    r[0] = zero; r[1] = -a[2]; r[2] = a[1];
+    r[3] = a[2]; r[4] = zero;  r[5] = -a[0];
+    r[6] = -a[1]; r[7] = a[0]; r[8] = zero;
+}
+
+/* so3_series of lanes (t = |a|^2 given) */
+static inline __attribute__((always_inline)) void
+lanes_so3_series(lanes r[9], const lanes a[3], const lanes *t, const lanes *c1_of, const lanes *c2_of)
+{
+    const lanes c1 = *c1_of, c2 = *c2_of;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            r[3 * i + j] = (double)(i == j) * (1.0 - c2 * *t) + c2 * a[i] * a[j];
+    r[1] -= c1 * a[2]; r[2] += c1 * a[1];
+    r[3] += c1 * a[2]; r[5] -= c1 * a[0];
+    r[6] -= c1 * a[1]; r[7] += c1 * a[0];
+}
+
+/* where[l] ? a[l] : b[l] */
+static inline __attribute__((always_inline)) void
+lanes_select(lanes *r, const lanes_mask *where, const lanes *a, const lanes *b)
+{
+    const lanes_mask ai = (lanes_mask)*a, bi = (lanes_mask)*b;
+    *r = (lanes)((*where & ai) | (~*where & bi));
+}
+
+/* jacobian_segment for every segment, LANES at a time (the same numbers:
+ * base/vec3_lanes.h; one at a time where a segment turns too far for the
+ * series and at the end) */
+LANES_TARGET static void jacobian_segments(implicit_work *w, const rod_model *m, const double *turn)
+{
+    const int segments = w->nodes - 1;
+    const double ds = m->ds;
+    int j = 0;
+    for (; j + LANES <= segments; j += LANES) {
+        lanes phi[3], h[3], bu[3], dar[3], th, tp;
+        lanes_load3(dar, w->darboux1, j, 3);
+        for (int k = 0; k < 3; k++) {
+            phi[k] = ds * dar[k];
+            h[k] = 0.5 * phi[k];
+            bu[k] = m->stiffness[k] * (dar[k] - m->intrinsic_curvature[k]);
+        }
+        /* so3_jacobian_inverse(phi) takes m3_exp_coefficients' series above
+         * t = 2.5e-3 only within it; exp(h) and J(h) always */
+        if (!lanes_exp_in_series(phi, &tp) || !lanes_exp_in_series(h, &th)) {
+            for (int l = 0; l < LANES; l++) jacobian_segment(w, m, turn, j + l);
+            continue;
+        }
+        lanes q[9], next[9], rel[9], eh[9], jh[9], jinv[9], ehe3[3], ehbu[3];
+        lanes_load9(q, w->frame1, j, 9);
+        lanes_load9(next, w->frame1, j + 1, 9);
+        lanes_mul_tn(rel, q, next);
+        lanes_exp(eh, h, &th);
+        {   /* so3_jacobian(jh, h) */
+            lanes s, b;
+            lanes_exp_coefficients(&th, &s, &b);
+            const lanes series = (1.0 / 6.0) * (1.0 - th * (1.0 / 20.0) * (1.0 - th * (1.0 / 42.0) *
+                                                                          (1.0 - th * (1.0 / 72.0))));
+            const lanes_mask small = th < 2.5e-3;
+            const lanes other = (1.0 - s) / th, minus_b = -b;
+            lanes c2;
+            lanes_select(&c2, &small, &series, &other);
+            lanes_so3_series(jh, h, &th, &minus_b, &c2);
+        }
+        {   /* so3_jacobian_inverse(jinv, phi) */
+            lanes s, b;
+            lanes_exp_coefficients(&tp, &s, &b);
+            const lanes series = 1.0 / 12.0 + tp * (1.0 / 720.0 + tp * (1.0 / 30240.0 + tp * (1.0 / 1209600.0)));
+            const lanes_mask small = tp < 2.5e-3;
+            const lanes other = (1.0 - 0.5 * s / b) / tp, half = {0.5, 0.5, 0.5, 0.5};
+            lanes c2;
+            lanes_select(&c2, &small, &series, &other);
+            lanes_so3_series(jinv, phi, &tp, &half, &c2);
+        }
+        for (int k = 0; k < 3; k++) ehe3[k] = eh[3 * k + 2]; /* m3_column(eh, 2) */
+        lanes_mul_v(ehbu, eh, bu);
+        lanes qeh[9], s3[9], sbu[9], p3[9], pm[9], tmp[9], a3r[9], a3l[9], amr[9], aml[9];
+        lanes_mul(qeh, q, eh);
+        const lanes zero = {0.0}, one = zero + 1.0;
+        const lanes e3[3] = {zero, zero, one};
+        lanes_skew(s3, e3);
+        lanes_mul(tmp, s3, jh);
+        lanes_mul(p3, qeh, tmp);
+        for (int k = 0; k < 9; k++) p3[k] *= -0.5;
+        lanes_skew(sbu, bu);
+        lanes_mul(tmp, sbu, jh);
+        for (int k = 0; k < 9; k++) tmp[k] *= -0.5;
+        for (int k = 0; k < 3; k++) tmp[4 * k] += m->stiffness[k] / ds;
+        lanes_mul(pm, qeh, tmp);
+        lanes_mul(a3r, p3, jinv);
+        lanes_mul(amr, pm, jinv);
+        lanes_mul_nt(tmp, a3r, rel);
+        lanes qs[9], sv[9];
+        lanes_skew(sv, ehe3);
+        lanes_mul(qs, q, sv);
+        for (int k = 0; k < 9; k++) a3l[k] = -qs[k] - tmp[k];
+        lanes_mul_nt(tmp, amr, rel);
+        lanes_skew(sv, ehbu);
+        lanes_mul(qs, q, sv);
+        for (int k = 0; k < 9; k++) aml[k] = -qs[k] - tmp[k];
+        lanes el[9], er[9], out[9];
+        lanes_load9(el, turn, j, 18);
+        lanes_load9(er, turn, j + 1, 18);
+        lanes_mul(out, a3l, el);
+        lanes_store9(w->jac_seg, j, 36, out);
+        lanes_mul(out, a3r, er);
+        lanes_store9(w->jac_seg + 9, j, 36, out);
+        lanes_mul(out, aml, el);
+        lanes_store9(w->jac_seg + 18, j, 36, out);
+        lanes_mul(out, amr, er);
+        lanes_store9(w->jac_seg + 27, j, 36, out);
+    }
+    for (; j < segments; j++) jacobian_segment(w, m, turn, j);
+}
+
 static void analytic_jacobian(implicit_work *w, const rod_model *m, double t, double dt)
 {
     const int n = w->nodes, first = w->first;
@@ -1931,52 +2246,7 @@ static void analytic_jacobian(implicit_work *w, const rod_model *m, double t, do
     }
     /* per segment: d d3 / d omega_j, d omega_{j+1} and d M / the same */
     double *seg = w->jac_seg;
-    for (int j = 0; j + 1 < n; j++) {
-        double *d3l = &seg[36 * j], *d3r = d3l + 9, *dml = d3l + 18, *dmr = d3l + 27;
-        const double *q = &w->frame1[9 * j];
-        double phi[3], h[3], rel[9], eh[9], jh[9], jinv[9], bu[3], ehe3[3], ehbu[3];
-        for (int k = 0; k < 3; k++) {
-            phi[k] = ds * w->darboux1[3 * j + k];
-            h[k] = 0.5 * phi[k];
-            bu[k] = m->stiffness[k] * (w->darboux1[3 * j + k] - m->intrinsic_curvature[k]);
-        }
-        m3_mul_tn(rel, q, &w->frame1[9 * (j + 1)]);
-        m3_exp(eh, h);
-        so3_jacobian(jh, h);
-        so3_jacobian_inverse(jinv, phi);
-        m3_column(ehe3, eh, 2);
-        m3_mul_v(ehbu, eh, bu);
-        double qeh[9], s3[9], sbu[9], p3[9], pm[9], tmp[9], a3r[9], a3l[9], amr[9], aml[9];
-        m3_mul(qeh, q, eh);
-        /* P3 = -Q exp(h) [e3]x J(h) / 2 */
-        const double e3[3] = {0.0, 0.0, 1.0};
-        skew3(s3, e3);
-        m3_mul(tmp, s3, jh);
-        m3_mul(p3, qeh, tmp);
-        for (int k = 0; k < 9; k++) p3[k] *= -0.5;
-        /* PM = Q exp(h) (B / ds - [bu]x J(h) / 2) */
-        skew3(sbu, bu);
-        m3_mul(tmp, sbu, jh);
-        for (int k = 0; k < 9; k++) tmp[k] *= -0.5;
-        for (int k = 0; k < 3; k++) tmp[4 * k] += m->stiffness[k] / ds;
-        m3_mul(pm, qeh, tmp);
-        /* right: P J^-1; left: -Q [exp(h) v]x - P J^-1 R^T */
-        m3_mul(a3r, p3, jinv);
-        m3_mul(amr, pm, jinv);
-        m3_mul_nt(tmp, a3r, rel);
-        double qs[9], sv[9];
-        skew3(sv, ehe3);
-        m3_mul(qs, q, sv);
-        for (int k = 0; k < 9; k++) a3l[k] = -qs[k] - tmp[k];
-        m3_mul_nt(tmp, amr, rel);
-        skew3(sv, ehbu);
-        m3_mul(qs, q, sv);
-        for (int k = 0; k < 9; k++) aml[k] = -qs[k] - tmp[k];
-        m3_mul(d3l, a3l, &turn[18 * j]);
-        m3_mul(d3r, a3r, &turn[18 * (j + 1)]);
-        m3_mul(dml, aml, &turn[18 * j]);
-        m3_mul(dmr, amr, &turn[18 * (j + 1)]);
-    }
+    jacobian_segments(w, m, turn);
     /* a follower tip load turns with the tip's frame at the theta point */
     double dtipf[9] = {0}, dtipm[9] = {0};
     if (m->tip_frame == ROD_FRAME_DIRECTOR) {

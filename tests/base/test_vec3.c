@@ -1,12 +1,15 @@
 /* test_vec3.c: the 3-vector and 3x3 helpers with their output one of their
  * inputs (in place), against products worked by hand. m3_mul_tv(v, Q, v)
  * used to overwrite v while reading it (the implicit scheme's tip twist was
- * 0 in the CSV). */
+ * 0 in the CSV). And vec3_lanes.h against vec3.h: the same numbers bit for
+ * bit, lane by lane (the implicit scheme's residual and Jacobian rely on it:
+ * a scene steps the same with and without the lanes). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "base/vec3.h"
+#include "base/vec3_lanes.h"
 #include "test.h"
 
 /* The start frame of every rod: d1 = +y, d2 = +z, d3 = +x as the columns. */
@@ -81,9 +84,122 @@ static void test_matrices_in_place(void)
     check(same(q, ztx, 9), "m3_mul_tn(a, a, b): Rz(90)^T Rx(90) by hand");
 }
 
+/* a reproducible number in [-1, 1) */
+static double uniform(unsigned long *state)
+{
+    *state = *state * 6364136223846793005ul + 1442695040888963407ul;
+    return (double)(*state >> 11) / 4503599627370496.0 - 1.0;
+}
+
+/* LANES rotation vectors of up to `size` rad about random axes, as lanes
+ * and as plain vectors */
+static void random_rotations(unsigned long *state, double size, double plain[LANES][3], lanes v[3])
+{
+    double a[3][LANES];
+    for (int l = 0; l < LANES; l++)
+        for (int k = 0; k < 3; k++) plain[l][k] = a[k][l] = size * uniform(state) / sqrt(3.0);
+    memcpy(v, a, sizeof a);
+}
+
+static int same_bits(const double *a, const lanes *v, int count, int lane)
+{
+    for (int k = 0; k < count; k++)
+        if (memcmp(&a[k], &v[k][lane], sizeof(double)) != 0) return 0;
+    return 1;
+}
+
+/* Built like the scheme's callers (LANES_TARGET: with AVX2 where the
+ * processor has it): how many lanes of `trials` groups differ from
+ * vec3.h, by function */
+LANES_TARGET static void lanes_against_scalar(int trials, int differ[8], int tested[8])
+{
+    unsigned long state = 12345;
+    for (int trial = 0; trial < trials; trial++) {
+        double p[LANES][3], q[LANES][3], r[LANES][9], r2[LANES][9];
+        lanes vp[3], vq[3], vr[9], vr2[9], out9[9], out3[3], t;
+        /* r2 = r exp(p): a turn of up to 0.35 rad from r, at the series'
+         * edges (0.25 rad for exp, 0.2527 for log) */
+        random_rotations(&state, 0.35, p, vp);
+        random_rotations(&state, 1.5, q, vq);
+        for (int l = 0; l < LANES; l++) {
+            double e[9];
+            m3_exp(r[l], q[l]);
+            m3_exp(e, p[l]);
+            m3_mul(r2[l], r[l], e);
+        }
+        lanes_load9(vr, &r[0][0], 0, 9);
+        lanes_load9(vr2, &r2[0][0], 0, 9);
+        const int in_series = lanes_exp_in_series(vp, &t);
+        lanes rel[9];
+        lanes_mul_tn(rel, vr, vr2);
+        double logs[LANES][3];
+        lanes vlog[3];
+        const int logged = lanes_log(vlog, rel);
+        for (int l = 0; l < LANES; l++) {
+            double e[9], v[3], rl[9];
+            m3_mul_tn(rl, r[l], r2[l]);
+            m3_log(logs[l], rl);
+            if (logged) differ[0] += !same_bits(logs[l], vlog, 3, l), tested[0]++;
+            if (in_series) {
+                tested[1]++, tested[2]++;
+                m3_exp(e, p[l]);
+                lanes_exp(out9, vp, &t);
+                differ[1] += !same_bits(e, out9, 9, l);
+                v3_rotate(v, p[l], q[l]);
+                lanes_rotate(out3, vp, &t, vq);
+                differ[2] += !same_bits(v, out3, 3, l);
+            }
+            m3_mul(e, r[l], r2[l]);
+            lanes_mul(out9, vr, vr2);
+            differ[3] += !same_bits(e, out9, 9, l);
+            for (int f = 3; f < 8; f++) tested[f]++;
+            m3_mul_tn(e, r[l], r2[l]);
+            lanes_mul_tn(out9, vr, vr2);
+            differ[4] += !same_bits(e, out9, 9, l);
+            m3_mul_v(v, r[l], q[l]);
+            lanes_mul_v(out3, vr, vq);
+            differ[5] += !same_bits(v, out3, 3, l);
+            m3_mul_tv(v, r[l], q[l]);
+            lanes_mul_tv(out3, vr, vq);
+            differ[6] += !same_bits(v, out3, 3, l);
+            v3_cross(v, p[l], q[l]);
+            lanes_cross(out3, vp, vq);
+            differ[7] += !same_bits(v, out3, 3, l);
+        }
+    }
+}
+
+static void test_lanes_match_scalar(void)
+{
+    int differ[8] = {0}, tested[8] = {0};
+    const int trials = 20000;
+    lanes_against_scalar(trials, differ, tested);
+    const char *names[8] = {"lanes_log (within its series)", "lanes_exp (within its series)",
+                            "lanes_rotate (within the series)", "lanes_mul", "lanes_mul_tn",
+                            "lanes_mul_v", "lanes_mul_tv", "lanes_cross"};
+    /* a group is refused when one of its lanes turns beyond the series
+     * (the caller then takes vec3.h): some are, most are not */
+    for (int f = 0; f < 8; f++)
+        check(differ[f] == 0 && tested[f] > LANES * trials / 4 &&
+                  (f > 2 || tested[f] < LANES * trials),
+              "%s: %d of %d lanes compared differ from vec3.h in their bits (of %d lanes drawn)",
+              names[f], differ[f], tested[f], LANES * trials);
+    /* a lane outside the log's series refuses the group */
+    double big[9], small[9];
+    const double turn_big[3] = {0.0, 0.0, 0.3}, turn_small[3] = {0.01, 0.02, 0.03};
+    m3_exp(big, turn_big);
+    m3_exp(small, turn_small);
+    double group[LANES][9];
+    for (int l = 0; l < LANES; l++) memcpy(group[l], l == 2 ? big : small, sizeof big);
+    lanes g[9], phi[3];
+    lanes_load9(g, &group[0][0], 0, 9);
+    check(lanes_log(phi, g) == 0, "lanes_log refuses a group with one turn of 0.3 rad (series to 0.2527)");
+}
+
 int main(void)
 {
     test_vectors_in_place();
     test_matrices_in_place();
+    test_lanes_match_scalar();
     return test_finish();
 }
