@@ -666,16 +666,16 @@ LANES_TARGET static void end_geometry(const rod_model *m, const double *frame, d
         lanes_load9(q, frame, j, 9);
         lanes_load9(next, frame, j + 1, 9);
         lanes_mul_tn(rel, q, next);
-        if (!lanes_log(phi, rel)) {
-            for (int l = 0; l < LANES; l++) end_geometry_segment(m, frame, j + l, darboux, d3mid, moment);
-            continue;
+        int series = lanes_log(phi, rel);
+        if (series) {
+            for (int k = 0; k < 3; k++) {
+                dar[k] = phi[k] * inv_ds;
+                half[k] = 0.5 * phi[k];
+                bu[k] = m->stiffness[k] * (dar[k] - m->intrinsic_curvature[k]);
+            }
+            series = lanes_exp_in_series(half, &t);
         }
-        for (int k = 0; k < 3; k++) {
-            dar[k] = phi[k] * inv_ds;
-            half[k] = 0.5 * phi[k];
-            bu[k] = m->stiffness[k] * (dar[k] - m->intrinsic_curvature[k]);
-        }
-        if (!lanes_exp_in_series(half, &t)) {
+        if (!series) {
             for (int l = 0; l < LANES; l++) end_geometry_segment(m, frame, j + l, darboux, d3mid, moment);
             continue;
         }
