@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "base/vec3.h"
+#include "base/vec3_lanes.h"
 #include "sim/contact_law.h"
 
 
@@ -54,11 +55,12 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->last_share = calloc((size_t)sc->max_pairs, sizeof(double));
     sc->prox = rod_proximity_create(nodes);
     sc->clear_pos = malloc((size_t)nodes * 3 * sizeof(double));
+    sc->list_pos = malloc((size_t)nodes * 3 * sizeof(double));
     sc->s = malloc((size_t)9 * SELF_CONTACT_RANK_PAIRS * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     if (!sc->pair || !sc->found || !sc->node_force || !sc->prox || !sc->s || !sc->rhs ||
         !sc->last_ab || !sc->last_force || !sc->last_share || !sc->found_distance ||
-        !sc->slot || !sc->slot_node || !sc->clear_pos) {
+        !sc->slot || !sc->slot_node || !sc->clear_pos || !sc->list_pos) {
         rod_self_contact_destroy(sc);
         return NULL;
     }
@@ -83,6 +85,8 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->s);
     free(sc->rhs);
     free(sc->clear_pos);
+    free(sc->list_pos);
+    free(sc->list);
     rod_proximity_destroy(sc->prox);
     free(sc);
 }
@@ -188,6 +192,77 @@ static void try_clear(rod_self_contact *sc, const double *pos0, double threshold
     }
 }
 
+/* The list's pairs closer than threshold at pos0 into sc->found (up to
+ * max_pairs), in the list's order; their count */
+static int from_list(rod_self_contact *sc, const double *pos0, double threshold)
+{
+    int count = 0;
+    for (int k = 0; k < sc->list_count; k++) {
+        const rod_segment_pair *l = &sc->list[k];
+        double s, t;
+        const double d = rod_segment_distance(&pos0[3 * l->i], &pos0[3 * l->i + 3],
+                                              &pos0[3 * l->j], &pos0[3 * l->j + 3], &s, &t);
+        if (!(d < threshold)) continue;
+        if (count < sc->max_pairs) sc->found[count] = (rod_segment_pair){l->i, l->j, s, t, d};
+        count++;
+    }
+    return count;
+}
+
+/* The non-neighbouring pairs closer than threshold at pos0 into sc->found
+ * (up to max_pairs), sorted by (i, j); their count, or -1 on bad input.
+ * The same pairs, distances and order as rod_proximity_pairs gives: every
+ * such pair was within threshold + 2 moved of the list's positions (two
+ * segments' distance changes by at most their nodes' largest move on each
+ * side: still_clear), so a list made within list_reach holds them while
+ * threshold + 2 moved stays below it; their distances are measured again by
+ * the search's own function on the same points. A list that served no
+ * search but the one it was made for waits 8 plain searches (a rod moving
+ * a skin a step would pay for a wider search at every step) */
+static int search_pairs(rod_self_contact *sc, const double *pos0, double threshold)
+{
+    const int n = sc->nodes;
+    if (sc->list_reach > 0.0) {
+        double moved2 = 0.0;
+        for (int i = 0; i < n; i++) {
+            double d[3];
+            v3_sub(d, &pos0[3 * i], &sc->list_pos[3 * i]);
+            moved2 = fmax(moved2, v3_dot(d, d));
+        }
+        if (threshold + 2.0 * sqrt(moved2) < sc->list_reach) {
+            sc->list_uses++;
+            return from_list(sc, pos0, threshold);
+        }
+        if (sc->list_uses == 0) sc->list_wait = 8;
+        sc->list_reach = 0.0;
+    }
+    if (sc->list_wait > 0) {
+        sc->list_wait--;
+        return rod_proximity_pairs(sc->prox, pos0, n, threshold, sc->skip, sc->found,
+                                   sc->max_pairs);
+    }
+    const double reach = threshold + 2.0 * SELF_LIST_SKIN * sc->diameter;
+    int listed = rod_proximity_pairs(sc->prox, pos0, n, reach, sc->skip, sc->list,
+                                     sc->list_capacity);
+    if (listed > sc->list_capacity && listed <= SELF_LIST_MOST_PAIRS) {
+        rod_segment_pair *grown = realloc(sc->list, (size_t)listed * sizeof *grown);
+        if (grown) {
+            sc->list = grown;
+            sc->list_capacity = listed;
+            listed = rod_proximity_pairs(sc->prox, pos0, n, reach, sc->skip, sc->list,
+                                         sc->list_capacity);
+        }
+    }
+    if (listed < 0 || listed > sc->list_capacity) /* bad input, or no room: a plain search */
+        return rod_proximity_pairs(sc->prox, pos0, n, threshold, sc->skip, sc->found,
+                                   sc->max_pairs);
+    sc->list_count = listed;
+    sc->list_reach = reach;
+    sc->list_uses = 0;
+    memcpy(sc->list_pos, pos0, (size_t)n * 3 * sizeof(double));
+    return from_list(sc, pos0, threshold);
+}
+
 int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margin)
 {
     const int n = sc->nodes, last = n - 2; /* segments 0..n-2 */
@@ -195,8 +270,7 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
     const double threshold = sc->diameter + margin;
     int found = 0;
     if (!still_clear(sc, pos0, threshold)) {
-        found = rod_proximity_pairs(sc->prox, pos0, n, threshold, sc->skip, sc->found,
-                                    sc->max_pairs);
+        found = search_pairs(sc, pos0, threshold);
         if (found == 0) try_clear(sc, pos0, threshold);
     }
     /* every pair's columns are built again at its fractions of this step
@@ -521,6 +595,24 @@ static int node_columns(rod_self_contact *sc, int m, const double *push,
     return 0;
 }
 
+/* out = (((start + g_0 c_0) + g_1 c_1) + g_2 c_2) + g_3 c_3, entry by entry
+ * (start: out's own entries when add, else 0.0), the terms in this order:
+ * the same numbers on the baseline and on AVX2 (LANES_TARGET: no fused
+ * multiply-add), one pass over out for four columns */
+LANES_TARGET static void sum_columns(double *restrict out, int n, const double *const c[4],
+                                     const double g[4], int add)
+{
+    const double *restrict c0 = c[0], *restrict c1 = c[1], *restrict c2 = c[2],
+                           *restrict c3 = c[3];
+    const double g0 = g[0], g1 = g[1], g2 = g[2], g3 = g[3];
+    if (add)
+        for (int i = 0; i < n; i++)
+            out[i] = (((out[i] + g0 * c0[i]) + g1 * c1[i]) + g2 * c2[i]) + g3 * c3[i];
+    else
+        for (int i = 0; i < n; i++)
+            out[i] = (((0.0 + g0 * c0[i]) + g1 * c1[i]) + g2 * c2[i]) + g3 * c3[i];
+}
+
 /* Solves S x = b in place (S column-major, n x n, overwritten by its LU
  * factors; b by x): Gaussian elimination with partial pivoting, the row
  * interchanges applied to b as they are made. LAPACK's dgesv did the same
@@ -528,7 +620,7 @@ static int node_columns(rod_self_contact *sc, int m, const double *push,
  * dgemm and dtrsm calls cost twice the loops at this size (n = 3 x the
  * pairs touching: 60 in a tight knot, 47 us against 24). Returns 0, or -1
  * when S is singular. */
-static int dense_solve(int n, double *restrict s, double *restrict b)
+LANES_TARGET static int dense_solve(int n, double *restrict s, double *restrict b)
 {
     for (int k = 0; k < n; k++) {
         double *ck = s + (size_t)k * (size_t)n;
@@ -615,8 +707,8 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
         const int count = pair_columns(sc, p, push, block, coef);
         for (int comp = 0; comp < 3; comp++) {
             double *col = &sc->y[(size_t)(p->column + comp) * (size_t)nu];
-            memset(col, 0, (size_t)nu * sizeof(double));
             if (direct) {
+                memset(col, 0, (size_t)nu * sizeof(double));
                 for (int e = 0; e < count; e++) {
                     const int row = row_of(sc, block[e], comp);
                     col[row] += coef[e];
@@ -624,12 +716,25 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
                 }
                 continue;
             }
+            /* col = 0 + g_0 Z_0 + g_1 Z_1 + ... in the nodes' order, in one
+             * pass (0.0 + first keeps a -0 term's sum what four passes over
+             * the zeroed column gave) */
+            const double *zs[4];
+            double gs[4];
+            int terms = 0;
             for (int e = 0; e < 4; e++) {
                 const int k = p->node[e];
                 const double g = p->weight[e] * push[k];
                 if (g == 0.0) continue;
-                const double *zk = &sc->z[(size_t)(3 * sc->slot[k] + comp) * (size_t)nu];
-                for (int i = 0; i < nu; i++) col[i] += g * zk[i];
+                zs[terms] = &sc->z[(size_t)(3 * sc->slot[k] + comp) * (size_t)nu];
+                gs[terms++] = g;
+            }
+            if (terms == 4) {
+                sum_columns(col, nu, zs, gs, 0);
+            } else {
+                memset(col, 0, (size_t)nu * sizeof(double));
+                for (int t = 0; t < terms; t++)
+                    for (int i = 0; i < nu; i++) col[i] += gs[t] * zs[t][i];
             }
         }
     }
@@ -709,12 +814,7 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
         }
     }
     int k = 0;
-    for (; k + 4 <= used; k += 4) {
-        const double *c0 = cols[k], *c1 = cols[k + 1], *c2 = cols[k + 2], *c3 = cols[k + 3];
-        const double g0 = gs[k], g1 = gs[k + 1], g2 = gs[k + 2], g3 = gs[k + 3];
-        for (int i = 0; i < nu; i++)
-            dx[i] = (((dx[i] + g0 * c0[i]) + g1 * c1[i]) + g2 * c2[i]) + g3 * c3[i];
-    }
+    for (; k + 4 <= used; k += 4) sum_columns(dx, nu, &cols[k], &gs[k], 1);
     for (; k < used; k++)
         for (int i = 0; i < nu; i++) dx[i] += gs[k] * cols[k][i];
     return 0;

@@ -387,6 +387,77 @@ static void test_clear_until_near(void)
     rod_self_contact_destroy(sc);
 }
 
+/* The pair list (SELF_LIST_SKIN) answers as a fresh search would: a hairpin
+ * (two strands 0.05 d apart per call closing from 2.5 d to 0.6 d, the upper
+ * one sliding along by 0.02 d a call, then jumping 3 d along, then closing
+ * on the third part, a tail bent back over both) gives at every call the
+ * same pairs, in the same order, with the same fractions and distances bit
+ * for bit as rod_proximity_pairs on a scratch of its own; the list answers
+ * some calls and is made again after the jump. */
+static void test_pair_list(void)
+{
+    const int n = 81;
+    const double d = 0.001, ds = 0.001, margin = 0.5 * d;
+    double pos[81 * 3];
+    rod_self_contact *sc = rod_self_contact_create(n, 6 * (n - 1), 1, 6, d, ds, 0.0);
+    rod_proximity *fresh = rod_proximity_create(n);
+    rod_segment_pair *want = malloc((size_t)sc->max_pairs * sizeof *want);
+    if (!check(sc && fresh && want, "list: scratch")) {
+        rod_self_contact_destroy(sc);
+        rod_proximity_destroy(fresh);
+        free(want);
+        return;
+    }
+    int calls = 0, agree = 0, listed = 0, made = 0, with_pairs = 0, first_bad = -1;
+    double most = 0.0;
+    for (int k = 0; k < 120; k++) {
+        const double gap = fmax(0.6 * d, 2.5 * d - 0.05 * d * k);
+        const double slide = 0.02 * d * k + (k >= 60 ? 3.0 * d : 0.0);
+        const double tail = k < 80 ? 3.0 * d : fmax(1.2 * d, 3.0 * d - 0.1 * d * (k - 80));
+        /* nodes 0..20 along x, a half turn to y = gap, back along x to node
+         * 49, a half turn up to z = tail, and out along x over both */
+        for (int i = 0; i < n; i++) {
+            double *p = &pos[3 * i];
+            if (i <= 20) v3_set(p, i * ds, 0, 0);
+            else if (i < 30) v3_set(p, 20 * ds + 0.5 * gap * sin(M_PI * (i - 20) / 10.0),
+                                    0.5 * gap * (1 - cos(M_PI * (i - 20) / 10.0)), 0);
+            else if (i <= 49) v3_set(p, 20 * ds - (i - 30) * ds + slide, gap, 0);
+            else if (i < 60) v3_set(p, 1 * ds + slide - 0.5 * tail * sin(M_PI * (i - 49) / 10.0),
+                                    gap, 0.5 * tail * (1 - cos(M_PI * (i - 49) / 10.0)));
+            else v3_set(p, 1 * ds + slide + (i - 60) * ds, 0.5 * gap, tail);
+            if (i > 20 && i < 30) p[0] += slide * (i - 20) / 10.0;
+        }
+        const int uses = sc->list_uses, had = sc->list_reach > 0.0;
+        rod_self_contact_find(sc, pos, margin);
+        const int count = rod_proximity_pairs(fresh, pos, n, d + margin, sc->skip, want,
+                                              sc->max_pairs);
+        /* find keeps one pair per touching region; its candidates are in
+         * sc->found, what the search wrote */
+        int same = count >= 0 && count <= sc->max_pairs;
+        for (int q = 0; same && q < count; q++)
+            same = sc->found[q].i == want[q].i && sc->found[q].j == want[q].j &&
+                   memcmp(&sc->found[q].s, &want[q].s, sizeof(double)) == 0 &&
+                   memcmp(&sc->found[q].t, &want[q].t, sizeof(double)) == 0 &&
+                   memcmp(&sc->found[q].distance, &want[q].distance, sizeof(double)) == 0;
+        calls++;
+        with_pairs += count > 0;
+        if (same) agree++;
+        else if (first_bad < 0) first_bad = k;
+        if (had && sc->list_uses > uses) listed++;
+        else if (sc->list_reach > 0.0 && sc->list_uses == 0) made++;
+        most = fmax(most, (double)count);
+    }
+    check(agree == calls && with_pairs > 60 && listed > 30 && made >= 2,
+          "list: the pairs within d + margin as a fresh search gives them (i, j, fractions and "
+          "distance bit for bit, in order) at %d of %d calls (first difference at call %d); "
+          "%d calls with pairs (> 60, up to %.0f), %d answered from the list (> 30), %d lists "
+          "made (>= 2: the jump makes one again)", agree, calls, first_bad, with_pairs, most,
+          listed, made);
+    rod_self_contact_destroy(sc);
+    rod_proximity_destroy(fresh);
+    free(want);
+}
+
 /* A pair's friction law solved with a share s of its compliance c
  * (SELF_SHARE_LEAST) has the law of the whole compliance's solution as its
  * fixed point: with f1 = law_1(z0), law_s(z0 + (1 - s) c P f1) = f1 (P:
@@ -462,5 +533,6 @@ int main(void)
     test_converges();
     test_reach();
     test_clear_until_near();
+    test_pair_list();
     return test_finish();
 }
