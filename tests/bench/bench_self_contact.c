@@ -114,8 +114,16 @@ static result run_knot(int self_contact, double from, double to)
 
 int main(void)
 {
+    /* the fastest of 3 runs each, alternating, as the coil's below (the
+     * same steps every time: the runs differ by the machine's load alone) */
     result free = run_knot(0, 2.0, 2.5), knot = run_knot(1, 2.0, 2.5);
-    printf("self-contact: overhand_tight.ini (NS = 241), the knot pulled tight, t = 2 to 2.5 s\n");
+    for (int rep = 1; rep < 3; rep++) {
+        result a = run_knot(0, 2.0, 2.5), b = run_knot(1, 2.0, 2.5);
+        if (a.ok && a.per_step < free.per_step) free = a;
+        if (b.ok && b.per_step < knot.per_step) knot = b;
+    }
+    printf("self-contact: overhand_tight.ini (NS = 241), the knot pulled tight, t = 2 to 2.5 s, "
+           "best of 3\n");
     if (free.ok && knot.ok) {
         printf("  without: %8.1f us/step, %.2f Newton iterations, %.2f Jacobians\n",
                1e6 * free.per_step, free.iterations, free.jacobians);
