@@ -149,6 +149,8 @@ typedef struct render_options {
     const rod_surface *surfaces; /* the scene's obstacles, drawn (run.c copies the model's
                                     pointer; not owned); NULL with surface_count 0: none */
     int surface_count;
+    int smooth;                  /* 1 (default): the tube through a smooth curve between the
+                                    nodes (render.c: centreline_rings); 0: straight between */
     int shadows;                 /* 1 (default): the rod, needle, end glyphs and arrows cast
                                     shadows from the key light on the surfaces, the ground and
                                     each other (a shadow map) */

@@ -157,6 +157,9 @@ const ini_key scene_keys_rod[] = {
      "simulated s per video s (0.25: 4x slow motion); output fps/speed per simulated s"},
     {"render", "magnify", "-", "1", ">= 1", "motion from the first frame drawn x this"},
     /* issues 11 and 14: obstacles and depth */
+    {"render", "smooth", "-", "true", BOOL,
+     "the tube drawn through a smooth curve between the nodes (each node's tangent d3 kept, "
+     "frames turned evenly), a segment cut by its turn; false: straight from node to node"},
     {"render", "shadows", "-", "true", BOOL,
      "the rod, needle and glyphs cast shadows from the key light on the surfaces and ground"},
     {"render", "ground", "-", "auto", "auto | yes | no",

@@ -118,6 +118,7 @@ void render_options_default(render_options *o)
     o->speed = 1;
     o->magnify = 1;
     o->shadows = 1;
+    o->smooth = 1;
     o->ground = RENDER_GROUND_AUTO;
 }
 
@@ -349,6 +350,7 @@ static int read_teaching(ini_doc *doc, render_options *o, char *err, size_t errl
     if (status < 0) return -1;
     if (status > 0) o->ground = (render_ground_mode)choice;
     if (ini_get_bool(doc, "render", 0, "shadows", &o->shadows, err, errlen) < 0) return -1;
+    if (ini_get_bool(doc, "render", 0, "smooth", &o->smooth, err, errlen) < 0) return -1;
     double wound[6];
     status = ini_get_vector(doc, "render", 0, "wound", wound, 6, err, errlen);
     if (status < 0) return -1;
@@ -799,27 +801,124 @@ static void add_disc(mesh *m, const double centre[3], const double e1[3], const 
         add_triangle(m, middle, middle + 1 + (unsigned)j, middle + 1 + (unsigned)((j + 1) % sides));
 }
 
-/* The tube swept with the director frames: ring k at node k in the plane
- * (d1, d2), so the surface turns with the material; radial normals. */
-static void add_tube(mesh *m, const rod_recording *rec, int frame, double radius, int sides,
-                     const float *colors, const float solid[3])
+/* The most rings one segment is drawn with (centreline_rings) */
+#define SMOOTH_MOST_RINGS 8
+/* rad: the most a drawn segment of the tube turns (bend and twist
+ * together); a segment turning more is cut into as many as this needs */
+#define SMOOTH_TURN (M_PI / 32)
+
+/* The drawn centreline of one frame: rings along it, each a point and a
+ * frame (columns d1 d2 d3), node k at ring first[k]; between nodes k and
+ * k+1 the rings lie at fractions t of the segment (node[], t[]). */
+typedef struct centreline {
+    int count, capacity;   /* rings in use, allocated (SMOOTH_MOST_RINGS per segment + 1) */
+    double *point, *frame, *t;
+    int *node;             /* (capacity) the segment (its first node) of each ring */
+    int *first;            /* (nodes) each node's ring */
+    double *phi;           /* (nodes) scratch: the stripe's angle at each node */
+} centreline;
+
+/* Decision: the tube is drawn through a smooth curve, not straight from node
+ * to node, where render.smooth is on (the default): a tight knot's loop
+ * spans 12 segments and read as a polygon. Between nodes k and k+1 the
+ * point follows the cubic Hermite curve with each end's tangent the node's
+ * d3 times the segment's length (C1, through every node, along each node's
+ * director: the shape the discrete rod's frames describe), and the frame
+ * Q_k exp(t log(Q_k^T Q_k+1)) (the material line turns evenly). A segment
+ * is cut into ceil(turn / SMOOTH_TURN) pieces, up to SMOOTH_MOST_RINGS
+ * (turn: the angle of Q_k^T Q_k+1), so a straight stretch costs nothing.
+ * The curve leaves the chord by at most about ds turn / 8 (0.16 mm in
+ * overhand_tight.ini's loop, 4 % of its diameter), towards the outside of a
+ * bend. */
+static void centreline_rings(centreline *c, const rod_recording *rec, int frame, int smooth)
+{
+    const int n = rec->nodes;
+    c->count = 0;
+    for (int k = 0; k < n; k++) {
+        const double *r0 = node_position(rec, frame, k), *q0 = node_frame(rec, frame, k);
+        c->first[k] = c->count;
+        int pieces = 1;
+        double phi[3] = {0, 0, 0}, t0[3] = {0, 0, 0}, t1[3] = {0, 0, 0}, chord[3] = {0, 0, 0};
+        const double *r1 = r0;
+        if (smooth && k + 1 < n) {
+            const double *q1 = node_frame(rec, frame, k + 1);
+            double rel[9];
+            r1 = node_position(rec, frame, k + 1);
+            m3_mul_tn(rel, q0, q1);
+            m3_log(phi, rel);
+            const double turn = v3_norm(phi);
+            if (isfinite(turn)) pieces = (int)ceil(turn / SMOOTH_TURN - 1e-9);
+            pieces = pieces < 1 ? 1 : pieces > SMOOTH_MOST_RINGS ? SMOOTH_MOST_RINGS : pieces;
+            v3_sub(chord, r1, r0);
+            const double length = v3_norm(chord);
+            m3_column(t0, q0, 2);
+            m3_column(t1, q1, 2);
+            v3_scale(t0, t0, length);
+            v3_scale(t1, t1, length);
+        }
+        for (int piece = 0; piece < (k + 1 < n ? pieces : 1); piece++) {
+            const int ring = c->count++;
+            const double t = (double)piece / pieces;
+            double *p = &c->point[3 * ring], *q = &c->frame[9 * ring];
+            c->node[ring] = k;
+            c->t[ring] = t;
+            if (piece == 0) {
+                v3_copy(p, r0);
+                memcpy(q, q0, 9 * sizeof(double));
+                continue;
+            }
+            const double t2 = t * t, t3 = t2 * t;
+            const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2,
+                         h11 = t3 - t2;
+            for (int a = 0; a < 3; a++)
+                p[a] = h00 * r0[a] + h10 * t0[a] + h01 * r1[a] + h11 * t1[a];
+            double step[3], turn[9];
+            v3_scale(step, phi, t);
+            m3_exp(turn, step);
+            m3_mul(q, q0, turn);
+        }
+    }
+}
+
+/* A ring's colour between its segment's two nodes' */
+static void ring_color(const centreline *c, int ring, const float *colors, const float solid[3],
+                       float out[3])
+{
+    if (!colors) {
+        memcpy(out, solid, 3 * sizeof(float));
+        return;
+    }
+    const int k = c->node[ring];
+    const double t = c->t[ring];
+    for (int a = 0; a < 3; a++)
+        out[a] = t > 0 ? (float)((1 - t) * colors[3 * k + a] + t * colors[3 * (k + 1) + a])
+                       : colors[3 * k + a];
+}
+
+/* The tube swept with the director frames: a ring at each ring of the
+ * centreline in its plane (d1, d2), so the surface turns with the material;
+ * radial normals. */
+static void add_tube(mesh *m, const rod_recording *rec, const centreline *c, int frame,
+                     double radius, int sides, const float *colors, const float solid[3])
 {
     unsigned first = (unsigned)m->vertex_count;
-    for (int k = 0; k < rec->nodes; k++) {
-        const double *r = node_position(rec, frame, k), *q = node_frame(rec, frame, k);
+    for (int ring = 0; ring < c->count; ring++) {
+        const double *r = &c->point[3 * ring], *q = &c->frame[9 * ring];
         double d1[3], d2[3];
+        float color[3];
         m3_column(d1, q, 0);
         m3_column(d2, q, 1);
+        ring_color(c, ring, colors, solid, color);
         for (int j = 0; j < sides; j++) {
             double phi = 2 * M_PI * j / sides, n[3] = {0, 0, 0}, p[3];
             v3_axpy(n, cos(phi), d1);
             v3_axpy(n, sin(phi), d2);
             v3_copy(p, r);
             v3_axpy(p, radius, n);
-            add_vertex(m, p, n, colors ? &colors[3 * k] : solid);
+            add_vertex(m, p, n, color);
         }
     }
-    for (int k = 0; k + 1 < rec->nodes; k++)
+    for (int k = 0; k + 1 < c->count; k++)
         for (int j = 0; j < sides; j++) {
             unsigned a = first + (unsigned)(k * sides + j);
             unsigned b = first + (unsigned)(k * sides + (j + 1) % sides);
@@ -840,29 +939,39 @@ static void add_tube(mesh *m, const rod_recording *rec, int frame, double radius
 }
 
 /* The stripe as a band painted just above the tube surface, centred on the
- * angle (in the d1-d2 plane of each node) of the chosen material line. */
-static void add_stripe(mesh *m, const rod_recording *rec, int frame, double radius,
-                       render_stripe_mode mode, const float color[3])
+ * angle (in the d1-d2 plane of each ring) of the chosen material line:
+ * with the formula, each node's angle, and between nodes the angle turned
+ * evenly from one to the next (by the shorter way) */
+static void add_stripe(mesh *m, const rod_recording *rec, centreline *c, int frame,
+                       double radius, render_stripe_mode mode, const float color[3])
 {
     double phi_material = material_stripe_angle(rec), previous = phi_material;
-    unsigned first = (unsigned)m->vertex_count;
     for (int k = 0; k < rec->nodes; k++) {
-        const double *r = node_position(rec, frame, k), *q = node_frame(rec, frame, k);
-        double d1[3], d2[3], d3[3];
-        m3_column(d1, q, 0);
-        m3_column(d2, q, 1);
-        m3_column(d3, q, 2);
         double phi = phi_material;
         if (mode == RENDER_STRIPE_FORMULA) {
             /* (4.17)'s offset, projected on the cross-section so the band stays on the tube */
-            double offset[3];
+            const double *q = node_frame(rec, frame, k);
+            double d1[3], d2[3], d3[3], offset[3];
+            m3_column(d1, q, 0);
+            m3_column(d2, q, 1);
+            m3_column(d3, q, 2);
             formula_offset(rec, frame, k, offset);
             v3_axpy(offset, -v3_dot(offset, d3), d3);
             phi = v3_norm(offset) > 1e-9 ? atan2(v3_dot(offset, d2), v3_dot(offset, d1)) : previous;
             previous = phi;
         }
-        for (int c = -1; c <= 1; c++) {
-            double angle = phi + c * STRIPE_HALF_WIDTH, n[3] = {0, 0, 0}, p[3];
+        c->phi[k] = phi;
+    }
+    unsigned first = (unsigned)m->vertex_count;
+    for (int ring = 0; ring < c->count; ring++) {
+        const double *r = &c->point[3 * ring], *q = &c->frame[9 * ring];
+        const int k = c->node[ring];
+        double d1[3], d2[3], phi = c->phi[k];
+        if (c->t[ring] > 0) phi += c->t[ring] * remainder(c->phi[k + 1] - c->phi[k], 2 * M_PI);
+        m3_column(d1, q, 0);
+        m3_column(d2, q, 1);
+        for (int s = -1; s <= 1; s++) {
+            double angle = phi + s * STRIPE_HALF_WIDTH, n[3] = {0, 0, 0}, p[3];
             v3_axpy(n, cos(angle), d1);
             v3_axpy(n, sin(angle), d2);
             v3_copy(p, r);
@@ -870,9 +979,9 @@ static void add_stripe(mesh *m, const rod_recording *rec, int frame, double radi
             add_vertex(m, p, n, color);
         }
     }
-    for (int k = 0; k + 1 < rec->nodes; k++)
-        for (int c = 0; c < 2; c++) {
-            unsigned a = first + (unsigned)(3 * k + c);
+    for (int k = 0; k + 1 < c->count; k++)
+        for (int s = 0; s < 2; s++) {
+            unsigned a = first + (unsigned)(3 * k + s);
             add_triangle(m, a, a + 3, a + 4);
             add_triangle(m, a, a + 4, a + 1);
         }
@@ -2994,6 +3103,7 @@ static void progress(int done, int total, double started, int final)
 typedef struct renderer {
     const rod_recording *rec;
     const render_options *o;
+    centreline line;             /* the drawn centreline of the frame being drawn */
     render_camera camera;
     double radius;
     arrow_scales arrows;
@@ -3186,6 +3296,12 @@ static void renderer_destroy(renderer *r)
     rod_proximity_destroy(r->proximity);
     free(r->pairs);
     free(r->occlusion);
+    free(r->line.point);
+    free(r->line.frame);
+    free(r->line.t);
+    free(r->line.node);
+    free(r->line.first);
+    free(r->line.phi);
     edge_aa_destroy(r->edge_aa);
 }
 
@@ -3465,16 +3581,26 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
         r->previous = malloc((size_t)rec->nodes * 3 * sizeof(double));
     }
     int sides = o->sides;
-    r->mesh.max_vertices = rec->nodes * (sides + 3) + 2 * (sides + 1) + 2 * GLYPH_VERTICES +
+    /* the drawn centreline's rings: one per node, or up to SMOOTH_MOST_RINGS
+     * per segment (centreline_rings) */
+    const int rings = o->smooth ? (rec->nodes - 1) * SMOOTH_MOST_RINGS + 1 : rec->nodes;
+    r->line.capacity = rings;
+    r->line.point = malloc((size_t)rings * 3 * sizeof(double));
+    r->line.frame = malloc((size_t)rings * 9 * sizeof(double));
+    r->line.t = malloc((size_t)rings * sizeof(double));
+    r->line.node = malloc((size_t)rings * sizeof(int));
+    r->line.first = malloc((size_t)rec->nodes * sizeof(int));
+    r->line.phi = malloc((size_t)rec->nodes * sizeof(double));
+    r->mesh.max_vertices = rings * (sides + 3) + 2 * (sides + 1) + 2 * GLYPH_VERTICES +
                            2 * ARROW_MAX_VERTICES + PUNCTURE_VERTICES;
-    r->mesh.max_indices = 6 * rec->nodes * (sides + 2) + 6 * sides + 2 * GLYPH_INDICES +
+    r->mesh.max_indices = 6 * rings * (sides + 2) + 6 * sides + 2 * GLYPH_INDICES +
                           2 * ARROW_MAX_INDICES + PUNCTURE_INDICES;
     /* Decision: pairs beyond 32 a segment (an exaggerated radius over a
      * tight coil) are dropped, and with them some vertices' darkening */
     r->max_pairs = 32 * rec->nodes;
     r->proximity = rod_proximity_create(rec->nodes);
     r->pairs = malloc((size_t)r->max_pairs * sizeof *r->pairs);
-    r->occlusion = malloc((size_t)rec->nodes * (size_t)(sides + 3) * sizeof(float));
+    r->occlusion = malloc((size_t)rings * (size_t)(sides + 3) * sizeof(float));
     /* as self-contact (rod_proximity_skip): points closer along the rod than a
      * half turn of radius `radius` are one strand, and a bent tube's inside
      * is not darkened by its own next segments */
@@ -3484,7 +3610,8 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
     r->grid.capacity = o->grid ? 4 * (GRID_MAX_LINES + 2) : 0;
     r->grid.lines = malloc((size_t)(r->grid.capacity + 1) * sizeof(render_vertex));
     if (!r->mesh.vertices || !r->mesh.indices || !r->grid.lines || !r->proximity || !r->pairs ||
-        !r->occlusion ||
+        !r->occlusion || !r->line.point || !r->line.frame || !r->line.t || !r->line.node ||
+        !r->line.first || !r->line.phi ||
         (o->magnify != 1 && (!shown || !r->view)) ||
         (o->color != RENDER_COLOR_SOLID && (!r->values || !r->colors || !r->previous))) {
         snprintf(err, errlen, "render: out of memory");
@@ -3636,6 +3763,7 @@ static void occlude_strands(renderer *r, const rod_recording *rec, int frame, un
                             int stripe)
 {
     int nodes = rec->nodes, sides = r->o->sides, per_node = sides + 3;
+    const centreline *line = &r->line;
     double radius = r->radius;
     const double *points = node_position(rec, frame, 0);
     const rod_segment_pair *pairs = r->pairs;
@@ -3644,7 +3772,7 @@ static void occlude_strands(renderer *r, const rod_recording *rec, int frame, un
                                     r->pairs, r->max_pairs);
     if (found <= 0) return; /* none, or a non-finite point (drawn as it is) */
     if (found > r->max_pairs) found = r->max_pairs;
-    memset(r->occlusion, 0, (size_t)nodes * (size_t)per_node * sizeof(float));
+    memset(r->occlusion, 0, (size_t)line->count * (size_t)per_node * sizeof(float));
     for (int k = 0; k < found; k++) {
         int i = pairs[k].i, j = pairs[k].j;
         for (int side = 0; side < 2; side++) {
@@ -3656,22 +3784,23 @@ static void occlude_strands(renderer *r, const rod_recording *rec, int frame, un
                                pairs[k + 1].i == i && pairs[k + 1].j == j + 1 ? k + 1 : -1;
             if (!nearer(pairs, k, before, 1) || !nearer(pairs, k, after, 0)) continue;
             const double *a = &points[3 * segment], *b = &points[3 * (segment + 1)];
-            for (int node = ring; node <= ring + 1; node++) {
-                float *occlusion = &r->occlusion[node * per_node];
-                occlude_ring(&r->mesh, tube + (unsigned)(node * sides), sides, a, b, radius,
+            /* the drawn rings from node `ring` to node ring + 1 */
+            for (int at = line->first[ring]; at <= line->first[ring + 1]; at++) {
+                float *occlusion = &r->occlusion[at * per_node];
+                occlude_ring(&r->mesh, tube + (unsigned)(at * sides), sides, a, b, radius,
                              occlusion);
                 if (stripe >= 0)
-                    occlude_ring(&r->mesh, (unsigned)stripe + (unsigned)(3 * node), 3, a, b,
+                    occlude_ring(&r->mesh, (unsigned)stripe + (unsigned)(3 * at), 3, a, b,
                                  radius, occlusion + sides);
             }
         }
     }
-    for (int node = 0; node < nodes; node++)
+    for (int at = 0; at < line->count; at++)
         for (int j = 0; j < per_node; j++) {
-            float shade = 1.0f - (float)RENDER_OCCLUSION_STRENGTH * r->occlusion[node * per_node + j];
+            float shade = 1.0f - (float)RENDER_OCCLUSION_STRENGTH * r->occlusion[at * per_node + j];
             if (shade == 1.0f || (j >= sides && stripe < 0)) continue;
-            unsigned index = j < sides ? tube + (unsigned)(node * sides + j)
-                                       : (unsigned)stripe + (unsigned)(3 * node + j - sides);
+            unsigned index = j < sides ? tube + (unsigned)(at * sides + j)
+                                       : (unsigned)stripe + (unsigned)(3 * at + j - sides);
             for (int c = 0; c < 3; c++) r->mesh.vertices[index].color[c] *= shade;
         }
 }
@@ -3708,9 +3837,11 @@ static int renderer_draw(renderer *r, const rod_recording *rec, int frame, image
     rec = drawn;
     frame = drawn_frame;
     unsigned tube = (unsigned)m->vertex_count;
-    add_tube(m, rec, frame, r->radius, r->o->sides, r->colors, r->o->rod_color);
+    centreline_rings(&r->line, rec, frame, r->o->smooth);
+    add_tube(m, rec, &r->line, frame, r->radius, r->o->sides, r->colors, r->o->rod_color);
     int stripe = r->o->stripe != RENDER_STRIPE_OFF ? m->vertex_count : -1;
-    if (stripe >= 0) add_stripe(m, rec, frame, r->radius, r->o->stripe, stripe_color(r->o));
+    if (stripe >= 0)
+        add_stripe(m, rec, &r->line, frame, r->radius, r->o->stripe, stripe_color(r->o));
     occlude_strands(r, rec, frame, tube, stripe);
     add_end_glyphs(m, rec, r->o, frame, r->radius);
     if (r->o->arrows) add_arrows(m, &r->arrows, rec, frame);

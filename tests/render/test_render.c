@@ -825,6 +825,70 @@ static void test_teaching_options(void)
     }
 }
 
+/* render.smooth: an arc of 9 segments turning 30 degrees each, seen from
+ * above. Straight from node to node (smooth off) the tube's outer edge
+ * midway between nodes lies inside the arc by its sagitta, rho (1 - cos
+ * 15 deg) = 17.0 mm at rho = 0.5 m, by hand; through the smooth curve it
+ * lies on the arc as at the nodes, within a pixel (3.1 mm here: the cubic
+ * with the nodes' tangents misses the circle by 0.3 mm). The edge is read
+ * off the picture along rays from the arc's centre. */
+static void test_smooth_tube(void)
+{
+    char dir[256];
+    make_temp_dir(dir, sizeof dir, "smooth");
+    const int nodes = 10;
+    const double rho = 0.5, turn = M_PI / 6, radius = 0.02;
+    rod_recording *rec = synthetic_recording_create(nodes, 1, (nodes - 1) * turn * rho, 0.01);
+    synthetic_arc(rec, 0, rho, 0);
+    render_options o = plain_options(640, 480);
+    o.stripe = RENDER_STRIPE_OFF;
+    o.camera = RENDER_CAMERA_ORTHOGRAPHIC;
+    v3_set(o.view, 0, 0, 1);
+    o.visual_radius = radius;
+    o.ends[0].kind = o.ends[1].kind = RENDER_END_FREE;
+    double deficit[2] = {NAN, NAN}, pixel = NAN;
+    for (int smooth = 0; smooth < 2; smooth++) {
+        o.smooth = smooth;
+        image *img = render_poster(rec, &o, dir, smooth ? "smooth" : "straight");
+        if (!img) continue;
+        render_camera cam;
+        render_camera_fit(&cam, rec, &o);
+        double a[2], b[2], p0[3] = {0, 0, 0}, p1[3] = {0.1, 0, 0};
+        render_project(&cam, p0, a);
+        render_project(&cam, p1, b);
+        pixel = 0.1 / hypot(b[0] - a[0], b[1] - a[1]); /* m per pixel */
+        /* the outer edge's distance from the centre (0, rho) along the ray at
+         * arc angle th: the last rod-coloured point stepping out */
+        double at_nodes = 0, at_mids = 0;
+        for (int k = 2; k <= 7; k++)
+            for (int mid = 0; mid < 2; mid++) {
+                const double th = (k + 0.5 * mid) * turn, u[3] = {sin(th), -cos(th), 0};
+                double edge = NAN;
+                for (double d = rho; d < rho + 3 * radius; d += 0.05 * pixel) {
+                    double p[3] = {d * u[0], rho + d * u[1], 0}, px[2];
+                    render_project(&cam, p, px);
+                    const int x = (int)px[0], y = (int)px[1];
+                    if (x < 0 || y < 0 || x >= img->width || y >= img->height) break;
+                    if (is_rod_colour(img->rgb + ((size_t)y * img->width + x) * 3)) edge = d;
+                }
+                if (mid) at_mids += edge / 6;
+                else at_nodes += edge / 6;
+            }
+        deficit[smooth] = at_nodes - at_mids;
+        image_destroy(img);
+    }
+    const double sagitta = rho * (1 - cos(0.5 * turn));
+    check(fabs(deficit[0] - sagitta) < 1.5 * pixel,
+          "smooth off: the outer edge midway between nodes lies %.2f mm inside its place at "
+          "the nodes (the sagitta by hand %.2f mm; within 1.5 px = %.2f mm)", 1e3 * deficit[0],
+          1e3 * sagitta, 1.5e3 * pixel);
+    check(fabs(deficit[1]) < pixel,
+          "smooth on: midway between nodes %.2f mm from its place at the nodes (within 1 px = "
+          "%.2f mm; straight: %.2f)", 1e3 * deficit[1], 1e3 * pixel, 1e3 * deficit[0]);
+    rod_recording_destroy(rec);
+    test_remove_tree(dir);
+}
+
 int main(void)
 {
     test_stripe_geometry();
@@ -837,5 +901,6 @@ int main(void)
     test_teaching_options();
     test_teaching_overlay();
     test_speed_and_magnify();
+    test_smooth_tube();
     return test_finish();
 }
