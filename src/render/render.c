@@ -856,7 +856,7 @@ static void centreline_rings(centreline *c, const rod_recording *rec, int frame,
             v3_scale(t0, t0, length);
             v3_scale(t1, t1, length);
         }
-        for (int piece = 0; piece < (k + 1 < n ? pieces : 1); piece++) {
+        for (int piece = 0; piece < pieces; piece++) {
             const int ring = c->count++;
             const double t = (double)piece / pieces;
             double *p = &c->point[3 * ring], *q = &c->frame[9 * ring];

@@ -117,21 +117,29 @@ int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margi
     return rod_proximity_pairs(sc->prox, pos0, sc->nodes, sc->diameter + margin, sc->skip, NULL, 0);
 }
 
+/* The non-neighbouring pairs closer than threshold at pos0 into *buffer
+ * (*capacity pairs), grown to hold them when they are at most `most`.
+ * Returns their count: more than *capacity when there are more than `most`
+ * (none written beyond it), or -1 on bad input or out of memory. */
+static int pairs_grown(rod_self_contact *sc, const double *pos0, double threshold,
+                       rod_segment_pair **buffer, int *capacity, int most)
+{
+    int found = rod_proximity_pairs(sc->prox, pos0, sc->nodes, threshold, sc->skip, *buffer,
+                                    *capacity);
+    if (found <= *capacity || found > most) return found;
+    rod_segment_pair *grown = realloc(*buffer, (size_t)found * sizeof *grown);
+    if (!grown) return -1;
+    *buffer = grown;
+    *capacity = found;
+    return rod_proximity_pairs(sc->prox, pos0, sc->nodes, threshold, sc->skip, *buffer, *capacity);
+}
+
 int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const double *vbar,
                                double dt, double margin)
 {
-    int found = rod_proximity_pairs(sc->prox, pos0, sc->nodes, sc->diameter + margin, sc->skip,
-                                    sc->reach, sc->reach_capacity);
-    if (found < 0 || found > SELF_CONTACT_REACH_PAIRS) return found;
-    if (found > sc->reach_capacity) {
-        rod_segment_pair *grown = realloc(sc->reach, (size_t)found * sizeof *grown);
-        if (!grown) return -1;
-        sc->reach = grown;
-        sc->reach_capacity = found;
-        found = rod_proximity_pairs(sc->prox, pos0, sc->nodes, sc->diameter + margin, sc->skip,
-                                    sc->reach, sc->reach_capacity);
-        if (found < 0 || found > sc->reach_capacity) return found;
-    }
+    const int found = pairs_grown(sc, pos0, sc->diameter + margin, &sc->reach,
+                                  &sc->reach_capacity, SELF_CONTACT_REACH_PAIRS);
+    if (found < 0 || found > sc->reach_capacity) return found;
     int count = 0;
     for (int k = 0; k < found; k++) {
         const int e[2] = {sc->reach[k].i, sc->reach[k].i + 1};
@@ -148,24 +156,30 @@ int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const d
     return count;
 }
 
-/* Whether no non-neighbouring pair can be within `threshold` (m) of each
- * other at pos0, known without a search: the last wider search found none
- * within clear_reach, and since then no node has moved by more than
- * `moved`. Two segments' distance changes by at most the largest move of
- * their end nodes on each side (it is the distance between convex
- * combinations of them), so no pair has come closer than clear_reach - 2
- * moved (a Verlet list's skin, here for the common case of a rod far from
- * itself: a suture on skin, a cantilever) */
-static int still_clear(rod_self_contact *sc, const double *pos0, double threshold)
+/* Whether every pair within `threshold` (m) at pos0 was within `reach` at
+ * the positions `then` of a wider search: no node has moved by more than
+ * `moved` since, and two segments' distance changes by at most the largest
+ * move of their end nodes on each side (it is the distance between convex
+ * combinations of them), so threshold + 2 moved < reach will do (a Verlet
+ * list's skin). still_clear: that search found no pair, the common case of
+ * a rod far from itself (a suture on skin, a cantilever); search_pairs: it
+ * found the list's */
+static int still_within(const rod_self_contact *sc, const double *pos0, const double *then,
+                        double threshold, double reach)
 {
-    if (!(sc->clear_reach > 0.0)) return 0;
     double moved2 = 0.0;
     for (int i = 0; i < sc->nodes; i++) {
         double d[3];
-        v3_sub(d, &pos0[3 * i], &sc->clear_pos[3 * i]);
+        v3_sub(d, &pos0[3 * i], &then[3 * i]);
         moved2 = fmax(moved2, v3_dot(d, d));
     }
-    if (threshold + 2.0 * sqrt(moved2) < sc->clear_reach) return 1;
+    return threshold + 2.0 * sqrt(moved2) < reach;
+}
+
+static int still_clear(rod_self_contact *sc, const double *pos0, double threshold)
+{
+    if (!(sc->clear_reach > 0.0)) return 0;
+    if (still_within(sc, pos0, sc->clear_pos, threshold, sc->clear_reach)) return 1;
     sc->clear_reach = 0.0;
     return 0;
 }
@@ -214,7 +228,7 @@ static int from_list(rod_self_contact *sc, const double *pos0, double threshold)
  * The same pairs, distances and order as rod_proximity_pairs gives: every
  * such pair was within threshold + 2 moved of the list's positions (two
  * segments' distance changes by at most their nodes' largest move on each
- * side: still_clear), so a list made within list_reach holds them while
+ * side: still_within), so a list made within list_reach holds them while
  * threshold + 2 moved stays below it; their distances are measured again by
  * the search's own function on the same points. A list that served no
  * search but the one it was made for waits 8 plain searches (a rod moving
@@ -223,37 +237,18 @@ static int search_pairs(rod_self_contact *sc, const double *pos0, double thresho
 {
     const int n = sc->nodes;
     if (sc->list_reach > 0.0) {
-        double moved2 = 0.0;
-        for (int i = 0; i < n; i++) {
-            double d[3];
-            v3_sub(d, &pos0[3 * i], &sc->list_pos[3 * i]);
-            moved2 = fmax(moved2, v3_dot(d, d));
-        }
-        if (threshold + 2.0 * sqrt(moved2) < sc->list_reach) {
+        if (still_within(sc, pos0, sc->list_pos, threshold, sc->list_reach)) {
             sc->list_uses++;
             return from_list(sc, pos0, threshold);
         }
         if (sc->list_uses == 0) sc->list_wait = 8;
         sc->list_reach = 0.0;
     }
-    if (sc->list_wait > 0) {
-        sc->list_wait--;
-        return rod_proximity_pairs(sc->prox, pos0, n, threshold, sc->skip, sc->found,
-                                   sc->max_pairs);
-    }
     const double reach = threshold + 2.0 * SELF_LIST_SKIN * sc->diameter;
-    int listed = rod_proximity_pairs(sc->prox, pos0, n, reach, sc->skip, sc->list,
-                                     sc->list_capacity);
-    if (listed > sc->list_capacity && listed <= SELF_LIST_MOST_PAIRS) {
-        rod_segment_pair *grown = realloc(sc->list, (size_t)listed * sizeof *grown);
-        if (grown) {
-            sc->list = grown;
-            sc->list_capacity = listed;
-            listed = rod_proximity_pairs(sc->prox, pos0, n, reach, sc->skip, sc->list,
-                                         sc->list_capacity);
-        }
-    }
-    if (listed < 0 || listed > sc->list_capacity) /* bad input, or no room: a plain search */
+    int listed = -1; /* while the list waits: a plain search */
+    if (sc->list_wait > 0) sc->list_wait--;
+    else listed = pairs_grown(sc, pos0, reach, &sc->list, &sc->list_capacity, SELF_LIST_MOST_PAIRS);
+    if (listed < 0 || listed > sc->list_capacity) /* waiting, bad input or no room: plain */
         return rod_proximity_pairs(sc->prox, pos0, n, threshold, sc->skip, sc->found,
                                    sc->max_pairs);
     sc->list_count = listed;
