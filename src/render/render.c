@@ -3133,6 +3133,12 @@ typedef struct renderer {
     shadow_catcher catchers[ROD_MAX_SURFACES_DRAWN + 1];
     int catcher_count;
     int caster_indices;          /* this frame's triangles that cast (the punctures do not) */
+    /* the shadow map's light (shadow_fit): its basis (e1, e2 across the
+     * light, key along it), the casters' box in those coordinates over the
+     * whole run, the map's size in texels and the thinnest caster (m) */
+    double light_basis[3][3], light_lo[3], light_hi[3];
+    int map_size;
+    double thinnest;
     frame_band band;             /* the part of the picture the content may use */
     follow_path *follow;         /* framing follow: the camera's path; NULL: run */
     int draws_overlay;           /* 1: the overlay is drawn here (not by a split frame) */
@@ -3333,6 +3339,151 @@ static void receiver_plan_make(receiver_plan *p, const rod_recording *rec, const
 
 /* The surfaces, the ground and the wound as static receivers, the shadow
  * catchers for the tiles, and the shadow map's light (issues 11, 14). */
+/* The vertices of the convex set n_k . p <= offset_k (count planes, up to
+ * 12) into out (up to 220 points): every point where three of the planes
+ * meet that lies inside the others. Returns how many. */
+static int polytope_vertices(const double (*n)[3], const double *offset, int count, double *out)
+{
+    int found = 0;
+    for (int a = 0; a < count; a++)
+        for (int b = a + 1; b < count; b++)
+            for (int c = b + 1; c < count; c++) {
+                /* p = (offset_a (n_b x n_c) + offset_b (n_c x n_a) + offset_c (n_a x n_b)) / det */
+                double bc[3], ca[3], ab[3];
+                v3_cross(bc, n[b], n[c]);
+                v3_cross(ca, n[c], n[a]);
+                v3_cross(ab, n[a], n[b]);
+                const double det = v3_dot(n[a], bc);
+                if (fabs(det) < 1e-9) continue;
+                double p[3];
+                for (int i = 0; i < 3; i++)
+                    p[i] = (offset[a] * bc[i] + offset[b] * ca[i] + offset[c] * ab[i]) / det;
+                int inside = 1;
+                for (int k = 0; k < count && inside; k++)
+                    inside = v3_dot(n[k], p) <= offset[k] + 1e-9 * (1 + fabs(offset[k]));
+                if (inside) v3_copy(&out[3 * found++], p);
+            }
+    return found;
+}
+
+/* The six half-spaces of what the camera draws (its frustum, or the
+ * orthographic box), read off its matrices (camera_matrices). */
+static void view_planes(const render_camera *cam, double (*n)[3], double *offset)
+{
+    const double *p = cam->projection, *back = cam->direction;
+    double near, far;
+    if (cam->orthographic) {
+        const double span = -2.0 / p[10], sum = -p[14] * span;
+        near = 0.5 * (sum - span), far = 0.5 * (sum + span);
+    } else {
+        near = p[14] / (p[10] - 1.0), far = p[14] / (p[10] + 1.0);
+    }
+    /* across: |right . (q - eye)| <= w, |up . (q - eye)| <= h, w and h
+     * constant (orthographic) or growing with the depth -back . (q - eye) */
+    const double *axis[2] = {cam->right, cam->up};
+    const double half[2] = {1.0 / p[0], 1.0 / p[5]};
+    for (int k = 0; k < 2; k++)
+        for (int side = 0; side < 2; side++) {
+            double *m = n[2 * k + side];
+            const double sign = side ? -1.0 : 1.0;
+            for (int c = 0; c < 3; c++)
+                m[c] = sign * axis[k][c] + (cam->orthographic ? 0.0 : half[k] * back[c]);
+            offset[2 * k + side] = v3_dot(m, cam->eye) + (cam->orthographic ? half[k] : 0.0);
+        }
+    /* in depth: near <= -back . (q - eye) <= far */
+    for (int c = 0; c < 3; c++) n[4][c] = back[c], n[5][c] = -back[c];
+    offset[4] = v3_dot(back, cam->eye) - near;
+    offset[5] = -v3_dot(back, cam->eye) + far;
+}
+
+/* The shadow map's light, fitted to what the camera shows. Its box runs
+ * along the light over all the casters (a caster out of the picture can
+ * shadow what is in it), but across it only over the shadows that can be
+ * seen: where the receivers (the surfaces, the ground, the rod's own box)
+ * lie inside the camera's view, bounded by their convex sets' vertices
+ * there. A camera that follows a knot across a long thread (framing knot)
+ * sees a few centimetres of a box a metre and a half wide, whose 1024
+ * texels were 1.4 mm each and showed as steps along the shadows'
+ * edges (surgeons_knot.ini); fitted, they are about 0.2 mm. Called at
+ * set-up and for every frame of a camera that moves (renderer_follow). */
+static int shadow_fit(renderer *r, const double *own_lo, const double *own_hi, char *err,
+                      size_t errlen)
+{
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; a++) lo[a] = r->light_lo[a], hi[a] = r->light_hi[a];
+    double n[12][3], offset[12], points[3 * 220];
+    view_planes(&r->camera, n, offset);
+    double seen_lo[2] = {INFINITY, INFINITY}, seen_hi[2] = {-INFINITY, -INFINITY};
+    shadow_catcher own; /* the rod shadows itself inside the casters' box */
+    double box_lo[3], box_hi[3];
+    for (int c = 0; c < 3; c++) box_lo[c] = INFINITY, box_hi[c] = -INFINITY;
+    for (int corner = 0; corner < 8; corner++)
+        for (int c = 0; c < 3; c++) {
+            double q = 0;
+            for (int a = 0; a < 3; a++)
+                q += (corner >> a & 1 ? r->light_hi[a] : r->light_lo[a]) * r->light_basis[a][c];
+            box_lo[c] = fmin(box_lo[c], q);
+            box_hi[c] = fmax(box_hi[c], q);
+        }
+    if (own_lo) /* this frame's rod, tighter than the whole run's */
+        for (int c = 0; c < 3; c++) box_lo[c] = own_lo[c], box_hi[c] = own_hi[c];
+    catcher_box(&own, box_lo, box_hi);
+    for (int k = 0; k <= r->catcher_count; k++) {
+        const shadow_catcher *catcher = k < r->catcher_count ? &r->catchers[k] : &own;
+        for (int j = 0; j < catcher->count; j++) {
+            v3_copy(n[6 + j], catcher->normal[j]);
+            offset[6 + j] = catcher->offset[j];
+        }
+        const int count = polytope_vertices((const double (*)[3])n, offset, 6 + catcher->count,
+                                            points);
+        for (int i = 0; i < count; i++)
+            for (int a = 0; a < 2; a++) {
+                const double q = v3_dot(&points[3 * i], r->light_basis[a]);
+                seen_lo[a] = fmin(seen_lo[a], q);
+                seen_hi[a] = fmax(seen_hi[a], q);
+            }
+    }
+    /* the soft edges' filter reaches past what is seen by 1.5 texels at
+     * most, and the looked-up point moves by its offset: 3 of the whole
+     * box's texels bound both, whatever the fitted texel */
+    const double whole = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    const double reach = 0.5 * r->radius + 3.0 * whole / r->map_size;
+    for (int a = 0; a < 2; a++) {
+        if (seen_lo[a] <= seen_hi[a]) {
+            lo[a] = fmax(lo[a], seen_lo[a] - reach);
+            hi[a] = fmin(hi[a], seen_hi[a] + reach);
+        }
+        if (!(lo[a] < hi[a])) hi[a] = lo[a] + r->thinnest; /* nothing seen: any small box */
+    }
+    /* square texels: the longer side sets the scale */
+    const double extent = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    for (int a = 0; a < 2; a++) {
+        double middle = 0.5 * (lo[a] + hi[a]);
+        lo[a] = middle - 0.5 * extent;
+        hi[a] = middle + 0.5 * extent;
+    }
+    const double *e1 = r->light_basis[0], *e2 = r->light_basis[1], *key = r->light_basis[2];
+    double light[16] = {0};
+    for (int c = 0; c < 3; c++) {
+        light[4 * c + 0] = 2 * e1[c] / extent;
+        light[4 * c + 1] = 2 * e2[c] / extent;
+        light[4 * c + 2] = -2 * key[c] / (hi[2] - lo[2]); /* depth grows away from the light */
+    }
+    light[12] = -2 * lo[0] / extent - 1;
+    light[13] = -2 * lo[1] / extent - 1;
+    light[14] = 2 * hi[2] / (hi[2] - lo[2]) - 1;
+    light[15] = 1;
+    const double texel = extent / r->map_size;
+    /* soft edges: the filter spans half a visual radius, but its 3 x 3 taps
+     * at most 1.5 texels apart (farther apart they band) */
+    const double spread = fmin(fmax(0.5 * r->radius, texel), 1.5 * texel);
+    if (gl_renderer_set_shadows(r->gl, light, r->map_size, 1.5 * texel, spread / extent, err,
+                                errlen))
+        return -1;
+    r->shadow_pad = spread + 3 * texel;
+    return 0;
+}
+
 static int renderer_receivers(renderer *r, const receiver_plan *plan, char *err, size_t errlen)
 {
     const render_options *o = r->o;
@@ -3472,35 +3623,18 @@ static int renderer_receivers(renderer *r, const receiver_plan *plan, char *err,
         lo[a] -= margin;
         hi[a] += margin;
         extent = fmax(extent, hi[a] - lo[a]);
+        v3_copy(r->light_basis[a], basis[a]);
+        r->light_lo[a] = lo[a];
+        r->light_hi[a] = hi[a];
     }
-    /* square texels: the longer side sets the scale */
-    for (int a = 0; a < 2; a++) {
-        double middle = 0.5 * (lo[a] + hi[a]);
-        lo[a] = middle - 0.5 * extent;
-        hi[a] = middle + 0.5 * extent;
-    }
-    double light[16] = {0};
-    for (int c = 0; c < 3; c++) {
-        light[4 * c + 0] = 2 * e1[c] / extent;
-        light[4 * c + 1] = 2 * e2[c] / extent;
-        light[4 * c + 2] = -2 * r->key[c] / (hi[2] - lo[2]); /* depth grows away from the light */
-    }
-    light[12] = -2 * lo[0] / extent - 1;
-    light[13] = -2 * lo[1] / extent - 1;
-    light[14] = 2 * hi[2] / (hi[2] - lo[2]) - 1;
-    light[15] = 1;
-    /* the thinnest caster (the tube, or the needle's wire) spans 3 texels or more */
-    double thinnest = o->needle_radius > 0 ? fmin(r->radius, needle_wire(o, r->radius)) : r->radius;
-    int map_size = SHADOW_MAP_MIN;
-    while (map_size < SHADOW_MAP_MAX && extent / map_size > thinnest / 3) map_size *= 2;
-    double texel = extent / map_size;
-    /* soft edges: the filter spans half a visual radius, but its 3 x 3 taps
-     * at most 1.5 texels apart (farther apart they band) */
-    double spread = fmin(fmax(0.5 * r->radius, texel), 1.5 * texel);
-    if (gl_renderer_set_shadows(r->gl, light, map_size, 1.5 * texel, spread / extent, err, errlen))
-        return -1;
+    /* the thinnest caster (the tube, or the needle's wire) spans 3 texels or
+     * more of the whole box; the map keeps this size when it is fitted to a
+     * view (shadow_fit), whose texels are then finer */
+    r->thinnest = o->needle_radius > 0 ? fmin(r->radius, needle_wire(o, r->radius)) : r->radius;
+    r->map_size = SHADOW_MAP_MIN;
+    while (r->map_size < SHADOW_MAP_MAX && extent / r->map_size > r->thinnest / 3) r->map_size *= 2;
+    if (shadow_fit(r, NULL, NULL, err, errlen)) return -1;
     r->shadows = 1;
-    r->shadow_pad = spread + 3 * texel;
     return 0;
 }
 
@@ -3720,6 +3854,28 @@ static int renderer_create(renderer *r, const rod_recording *rec, const render_o
 static void renderer_follow(renderer *r, const rod_recording *drawn, int drawn_frame, double t)
 {
     follow_camera(r->follow, drawn, r->o, &r->arrows, drawn_frame, t, &r->camera);
+    if (r->shadows) {
+        /* the rod of this frame, with its glyphs' reach, as its own receiver */
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int k = 0; k < drawn->nodes; k++) {
+            const double *q = node_position(drawn, drawn_frame, k);
+            for (int c = 0; c < 3; c++) lo[c] = fmin(lo[c], q[c]), hi[c] = fmax(hi[c], q[c]);
+        }
+        for (int end = 0; end < 2; end++) {
+            double glyph[3 * GLYPH_MAX_POINTS], pad;
+            int chain, count = glyph_points(drawn, r->o, r->radius, drawn_frame, end, glyph, &pad,
+                                            &chain);
+            for (int i = 0; i < count; i++)
+                for (int c = 0; c < 3; c++) {
+                    lo[c] = fmin(lo[c], glyph[3 * i + c] - pad);
+                    hi[c] = fmax(hi[c], glyph[3 * i + c] + pad);
+                }
+        }
+        const double reach = 2 * r->radius + r->pad;
+        for (int c = 0; c < 3; c++) lo[c] -= reach, hi[c] += reach;
+        char err[256];
+        (void)shadow_fit(r, lo, hi, err, sizeof err); /* uniforms only: the map is made */
+    }
     if (r->o->grid && r->grid.count > 0) {
         grid_lines(&r->grid, &r->camera);
         gl_renderer_set_lines(r->gl, r->grid.lines, r->grid.count);

@@ -79,6 +79,8 @@ static void shadow_point(const render_camera *cam, const double p[3], double out
     for (int c = 0; c < 3; c++) out[c] = p[c] - t * key[c];
 }
 
+static int is_rod_pixel(const unsigned char *p) { return p[2] > p[0] + 40 && p[2] > 60; }
+
 static image *read_frame(const char *name, int frame)
 {
     char path[600], err[512];
@@ -342,6 +344,155 @@ static void test_keys(void)
     }
 }
 
+
+/* A 1.4 m thread crossing itself once (framing knot shows a few
+ * centimetres around the crossing), 1 cm above a pad, seen from above:
+ * the shadow map's light is fitted to the view (render.c's shadow_fit).
+ * Its whole box, over the whole thread, is over 1.2 m wide, so its 1024
+ * texels would be more than 1.2 mm each, and the shadows' edges take
+ * 1.64 mm from lit to dark (measured with the fit taken out); fitted, they
+ * must take less than 0.8 mm (0.55 at 0.18 mm a pixel),
+ * and the shadow of every part of the thread in the picture must be there
+ * (none cut off at the fitted box's edge). Where the shadow falls is
+ * computed here (the key light's ray onto the pad). */
+#define CROSS_NODES 401
+#define CROSS_RADIUS 0.03  /* m: the loop between the two straight strands */
+#define CROSS_STRAIGHT 0.6 /* m: each straight strand */
+#define CROSS_D 0.004      /* m: diameter */
+#define PAD_TOP (-0.01)    /* m */
+
+/* The thread's point at arc length s: strand A along +x to (R, 0, 0), a
+ * loop of radius R through three quarters of a turn to (0, R, 0), strand B
+ * along -y over strand A (one diameter above it at the crossing, rising
+ * along the loop). */
+static void crossing_point(double s, double p[3])
+{
+    const double loop = 1.5 * M_PI * CROSS_RADIUS;
+    if (s < CROSS_STRAIGHT) {
+        v3_set(p, CROSS_RADIUS - CROSS_STRAIGHT + s, 0, 0);
+    } else if (s < CROSS_STRAIGHT + loop) {
+        const double u = (s - CROSS_STRAIGHT) / loop, angle = -0.5 * M_PI + 1.5 * M_PI * u;
+        v3_set(p, CROSS_RADIUS + CROSS_RADIUS * cos(angle), CROSS_RADIUS + CROSS_RADIUS * sin(angle),
+               CROSS_D * (3 * u * u - 2 * u * u * u));
+    } else {
+        v3_set(p, 0, CROSS_RADIUS - (s - CROSS_STRAIGHT - loop), CROSS_D);
+    }
+}
+
+static void test_fitted_shadow(void)
+{
+    const double length = 2 * CROSS_STRAIGHT + 1.5 * M_PI * CROSS_RADIUS;
+    rod_recording *rec = synthetic_recording_create(CROSS_NODES, 1, length, CROSS_D);
+    for (int i = 0; i < CROSS_NODES; i++) crossing_point(i * rec->ds, &rec->position[3 * i]);
+    for (int i = 0; i < CROSS_NODES; i++) {
+        /* d3 along the chord through the neighbours, d1 across it in the plane */
+        const int a = i > 0 ? i - 1 : 0, b = i + 1 < CROSS_NODES ? i + 1 : i;
+        double d3[3], d1[3], d2[3], z[3] = {0, 0, 1};
+        v3_sub(d3, &rec->position[3 * b], &rec->position[3 * a]);
+        v3_scale(d3, d3, 1 / v3_norm(d3));
+        v3_cross(d1, z, d3);
+        v3_scale(d1, d1, 1 / v3_norm(d1));
+        v3_cross(d2, d3, d1);
+        double *q = &rec->frame[9 * i];
+        for (int r = 0; r < 3; r++) q[3 * r] = d1[r], q[3 * r + 1] = d2[r], q[3 * r + 2] = d3[r];
+    }
+    rod_surface pad = {.shape = ROD_SURFACE_BOX, .center = {0, 0, PAD_TOP - 0.02},
+                       .size = {2.0, 2.0, 0.04}};
+    render_options o = scene_options(&pad, 1);
+    o.ends[1].kind = RENDER_END_FREE;
+    o.stripe = RENDER_STRIPE_OFF;
+    o.camera = RENDER_CAMERA_ORTHOGRAPHIC;
+    o.framing = RENDER_FRAMING_KNOT;
+    o.wound = 0;
+    o.visual_radius = 0.5 * CROSS_D;
+    o.width = 1280, o.height = 720; /* pixels finer than the fitted texels */
+    v3_set(o.view, 0, 0, 1);
+    if (render(rec, &o, "crossing")) {
+        rod_recording_destroy(rec);
+        return;
+    }
+    image *img = read_frame("crossing", 0);
+    if (!img) {
+        rod_recording_destroy(rec);
+        return;
+    }
+    /* the camera of the frame: orthographic from above, centred on the
+     * crossing; its scale read off the picture's width (below) */
+    render_camera cam;
+    render_camera_fit(&cam, rec, &o);
+    /* the key light as the shading defines it (shadow_point) */
+    double key[3];
+    for (int c = 0; c < 3; c++) key[c] = cam.direction[c] + 0.6 * cam.up[c] - 0.5 * cam.right[c];
+    v3_scale(key, key, 1 / v3_norm(key));
+    /* the follow camera's target and scale are not exposed: find them from
+     * the picture, the thread's pixels (strand A's axis is the row where
+     * its colour is thickest, B's the column) */
+    int column = -1, best_column = 0;
+    for (int x = 0; x < img->width; x++) {
+        int n = 0;
+        for (int y = 0; y < img->height; y++)
+            n += is_rod_pixel(&img->rgb[3 * ((size_t)y * img->width + x)]);
+        if (n > best_column) best_column = n, column = x;
+    }
+    /* strand A alone left of strand B: its first and last rod pixels down a
+     * column there are its width (the diameter: the scale) and its axis */
+    const int probe = column / 2;
+    int top = -1, bottom = -1;
+    for (int y = 0; y < img->height; y++)
+        if (is_rod_pixel(&img->rgb[3 * ((size_t)y * img->width + probe)])) {
+            if (top < 0) top = y;
+            bottom = y;
+        }
+    const int row = (top + bottom) / 2;
+    const double mpp = CROSS_D / (bottom - top + 1);
+    printf("     crossing at pixel (%d, %d); strand A %d px wide: %.3f mm a pixel\n", column, row,
+           bottom - top + 1, 1e3 * mpp);
+    /* strand A's shadow on the pad: its axis moves by (height) key_xy /
+     * key_z; seen from above, x right and y up on the screen */
+    const double h = 0 - PAD_TOP, sx = -h * key[0] / key[2], sy = -h * key[1] / key[2];
+    /* along strand A at columns spread over the picture (not under strand
+     * B's shadow): the shadow's middle must be dark, and the lit-to-dark
+     * edge below it must be short */
+    int dark = 0, tried = 0;
+    double widest = 0, lit_level = 0;
+    /* strand A ends R right of the crossing, where the loop begins */
+    const double x_first = 4, x_last = fmin(column + (CROSS_RADIUS - 0.005) / mpp, img->width - 4);
+    for (int k = 0; k < 8; k++) {
+        const int x = (int)(x_first + (x_last - x_first) * k / 7.0);
+        const double x_shadow = x + sx / mpp, y_shadow = row - sy / mpp; /* picture y grows down */
+        if (fabs(x_shadow - (column + (h + CROSS_D) * -key[0] / key[2] / mpp)) < 3 * CROSS_D / mpp)
+            continue; /* strand B's shadow crosses there */
+        if (x_shadow < 2 || x_shadow > img->width - 3 || y_shadow < 2 ||
+            y_shadow > img->height - 3)
+            continue;
+        tried++;
+        const double px_mid[2] = {x, y_shadow}, px_lit[2] = {x, y_shadow + 3 * CROSS_D / mpp};
+        const double under = patch_luminance(img, px_mid, 1), lit = patch_luminance(img, px_lit, 1);
+        dark += under < 0.8 * lit;
+        lit_level = fmax(lit_level, lit);
+        /* the edge: from 90 % to 10 % of the way from lit to dark, stepping up */
+        double y90 = NAN, y10 = NAN;
+        for (double y = y_shadow + 3 * CROSS_D / mpp; y > y_shadow; y -= 0.25) {
+            const double px[2] = {x, y}, l = patch_luminance(img, px, 0);
+            if (isnan(y90) && l < lit - 0.1 * (lit - under)) y90 = y;
+            if (isnan(y10) && l < lit - 0.9 * (lit - under)) y10 = y;
+        }
+        if (!isnan(y90) && !isnan(y10)) widest = fmax(widest, (y90 - y10) * mpp);
+        else widest = INFINITY;
+    }
+    printf("     strand A's shadow %.1f mm below and %.1f mm beside it: dark at %d of %d "
+           "columns; its edge at most %.3f mm from 10 %% to 90 %%\n", 1e3 * sy, 1e3 * sx, dark,
+           tried, 1e3 * widest);
+    check(tried >= 5 && dark == tried,
+          "fitted shadow map: strand A's shadow is there across the picture (%d of %d columns, "
+          "at least 5)", dark, tried);
+    check(widest < 8e-4,
+          "fitted shadow map: the shadow's edge takes %.3f mm from lit to dark (< 0.8 mm; on the "
+          "whole thread's box, more than 1.2 mm a texel, it took 1.64)", 1e3 * widest);
+    image_destroy(img);
+    rod_recording_destroy(rec);
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/rodsim_test_shadow_%ld", (long)getpid());
@@ -351,6 +502,7 @@ int main(void)
     test_plane_shadow();
     test_box_and_punctures();
     test_ground();
+    test_fitted_shadow();
     if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir); /* keep the pictures to look at */
     return test_finish();
 }
