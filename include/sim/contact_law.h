@@ -73,4 +73,28 @@ static inline double contact_creep_speed(double speed, double c)
     return contact_creep_speed_eps(speed, c, contact_creep_eps(c));
 }
 
+/* The same local problem with friction's law kept at its corner:
+ * phi(x) = x up to x = 1, 1 beyond (viscous creep of slope 1 / eps at 0 as
+ * above, exactly Coulomb when sliding faster than eps), so that
+ * v + c min(v / eps, 1) = S is solved in closed form. The strands'
+ * contact uses it (rod_self_contact_pair_law): with the smooth phi, whose
+ * 1 - phi falls as 1 / (2 x^2), a pair turning from creep to slip moved x
+ * by about half of itself per Newton iteration of the step, which
+ * converged linearly over some ten iterations where a tight knot held
+ * (overhand_tight.ini at t = 4 s: every 5 ms step split, its halves
+ * contracting by 0.85 an iteration); with the corner each side of it is
+ * exact for Newton's linearisation (its `make bench` window t = 4 to 4.5 s
+ * then 3.6-4.3x the step without contact instead of 76x). The sums of
+ * the medians of 5 perturbed runs of the four knot scenes (scenes/README.md,
+ * Self-contact): 29.2 s of CPU with the smooth law, 24.2 with the corner,
+ * 19.3 with the corner and the last solution as a step's first iterate
+ * (single_step), 25.9 with that first iterate and the smooth law. A surface's contact
+ * keeps the smooth law: with the corner there too, suture.ini took 102-108
+ * s of CPU instead of 1.6-2.5 (its thread's nodes on the skin turning
+ * between stick and slip at every step). */
+static inline double contact_creep_speed_corner(double speed, double c, double eps)
+{
+    return speed <= eps + c ? speed / (1.0 + c / eps) : speed - c;
+}
+
 #endif

@@ -375,7 +375,7 @@ static void tangential_part(double out[3], const double v[3], const double n[3])
  * pair_gain): the normal force that takes back all but 1 / (1 + kappa) of
  * the overlap of the two capsules (contact_fraction), then Coulomb friction
  * against the relative tangential velocity, limited by mu times the normal
- * force (contact_creep_speed), its creep speed that of the pair's whole
+ * force (contact_creep_speed_corner), its creep speed that of the pair's whole
  * compliance. As the surfaces' law (node_contact), with the pair's
  * compliance in place of one node's, and friction's local problem solved
  * with share x compliance: see SELF_SHARE_LEAST. */
@@ -393,7 +393,7 @@ void rod_self_contact_pair_law(const rod_self_contact *sc, const self_pair *p, c
     tangential_part(vt, zz, p->normal);
     const double speed = v3_norm(vt), limit = sc->friction * lambda;
     if (speed == 0.0 || limit == 0.0) return;
-    const double sp = contact_creep_speed_eps(speed, pt * limit, contact_creep_eps(peff * limit));
+    const double sp = contact_creep_speed_corner(speed, pt * limit, contact_creep_eps(peff * limit));
     v3_axpy(f, -(speed - sp) / (pt * speed), vt);
 }
 

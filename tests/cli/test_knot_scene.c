@@ -224,12 +224,16 @@ int main(void)
           "segments in any frame is %.3f diameters (at least 0.75)", worst / DIAMETER);
     if (change > 1) {
         /* the knot slid toward the root: strands touch nearer to it frame
-         * after frame, and nowhere once it is off */
+         * after frame, and nowhere once it is off: in the frame it came off
+         * or the next (0.2 s apart; without friction the two strands that
+         * made its last crossing can still lie side by side as the end
+         * leaves the loop, nodes 4-20 along 61-80 at 1.8 s, none at 2 s) */
         int earlier = lowest_touching(x[change - 2]), before = lowest_touching(x[change - 1]),
-            after = lowest_touching(x[change]);
-        check(before >= 0 && earlier > before && after < 0,
-              "the knot slides to the root end: strands touch from node %d, then %d, then none "
-              "(%d)", earlier, before, after);
+            after = lowest_touching(x[change]),
+            next = change + 1 < frames ? lowest_touching(x[change + 1]) : after;
+        check(before >= 0 && earlier > before && (after < 0 || next < 0),
+              "the knot slides to the root end: strands touch from node %d, then %d, then %d, "
+              "then %d (-1: none, at one of the last two)", earlier, before, after, next);
     }
     remove(csv);
     remove(root);
