@@ -96,6 +96,9 @@ typedef struct self_pair {
                               .. 1; 0: not measured */
     int active;            /* 1: the force is not 0 at this iterate */
     int column;            /* first column of the pair in the correction, or -1 */
+    int has_last;          /* 1: force is the same pair's at the end of the last accepted
+                              step, where its fractions were alpha_last, beta_last */
+    double alpha_last, beta_last;
 } self_pair;
 
 typedef struct rod_self_contact {
@@ -133,6 +136,7 @@ typedef struct rod_self_contact {
     int *last_ab;          /* (2 max_pairs) their segments a, b */
     double *last_force;    /* (3 max_pairs) their forces: the next step's first guess */
     double *last_share;    /* (max_pairs) the share each is to take at the next step */
+    double *last_frac;     /* (2 max_pairs) their fractions alpha, beta */
     rod_segment_pair *reach; /* (reach_capacity) rod_self_contact_reachable's scratch, grown
                                 on demand up to SELF_CONTACT_REACH_PAIRS */
     int reach_capacity;

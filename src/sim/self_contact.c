@@ -53,13 +53,14 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->last_ab = calloc((size_t)sc->max_pairs * 2, sizeof(int));
     sc->last_force = calloc((size_t)sc->max_pairs * 3, sizeof(double));
     sc->last_share = calloc((size_t)sc->max_pairs, sizeof(double));
+    sc->last_frac = calloc((size_t)sc->max_pairs * 2, sizeof(double));
     sc->prox = rod_proximity_create(nodes);
     sc->clear_pos = malloc((size_t)nodes * 3 * sizeof(double));
     sc->list_pos = malloc((size_t)nodes * 3 * sizeof(double));
     sc->s = malloc((size_t)9 * SELF_CONTACT_RANK_PAIRS * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     if (!sc->pair || !sc->found || !sc->node_force || !sc->prox || !sc->s || !sc->rhs ||
-        !sc->last_ab || !sc->last_force || !sc->last_share || !sc->found_distance ||
+        !sc->last_ab || !sc->last_force || !sc->last_share || !sc->last_frac || !sc->found_distance ||
         !sc->slot || !sc->slot_node || !sc->clear_pos || !sc->list_pos) {
         rod_self_contact_destroy(sc);
         return NULL;
@@ -80,6 +81,7 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->last_ab);
     free(sc->last_force);
     free(sc->last_share);
+    free(sc->last_frac);
     free(sc->reach);
     free(sc->y);
     free(sc->s);
@@ -321,6 +323,9 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
             if (sc->last_ab[2 * l] == p->a && sc->last_ab[2 * l + 1] == p->b) {
                 v3_copy(p->force, &sc->last_force[3 * l]);
                 p->share = sc->last_share[l];
+                p->has_last = 1;
+                p->alpha_last = sc->last_frac[2 * l];
+                p->beta_last = sc->last_frac[2 * l + 1];
             }
         double pa[3], pb[3], d[3];
         for (int c = 0; c < 3; c++) {
@@ -512,6 +517,8 @@ void rod_self_contact_accept(rod_self_contact *sc)
         double ft[3];
         tangential_part(ft, p->force, p->normal);
         const int stuck = v3_norm(ft) < SELF_SHARE_STUCK * sc->friction * v3_dot(p->force, p->normal);
+        sc->last_frac[2 * sc->last_count] = p->alpha;
+        sc->last_frac[2 * sc->last_count + 1] = p->beta;
         sc->last_share[sc->last_count] = stuck ? 1.0 : p->ratio > 0.0 ? p->ratio : p->share;
         sc->last_count++;
     }
