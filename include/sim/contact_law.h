@@ -88,8 +88,8 @@ static inline double contact_creep_speed(double speed, double c)
  * the medians of 5 perturbed runs of the four knot scenes (scenes/README.md,
  * Self-contact): 29.2 s of CPU with the smooth law, 24.2 with the corner,
  * 19.3 with the corner and the last solution as a step's first iterate
- * (single_step), 25.9 with that first iterate and the smooth law. A surface's contact
- * keeps the smooth law: with the corner there too, suture.ini took 102-108
+ * (single_step), 25.9 with that first iterate and the smooth law. A
+ * surface's contact keeps the smooth law: with the corner there too, suture.ini took 102-108
  * s of CPU instead of 1.6-2.5 (its thread's nodes on the skin turning
  * between stick and slip at every step). */
 static inline double contact_creep_speed_corner(double speed, double c, double eps)

@@ -3337,8 +3337,6 @@ static void receiver_plan_make(receiver_plan *p, const rod_recording *rec, const
     p->ground = p->have_bounds && render_ground_plane(rec, o, p->ground_point, p->ground_normal);
 }
 
-/* The surfaces, the ground and the wound as static receivers, the shadow
- * catchers for the tiles, and the shadow map's light (issues 11, 14). */
 /* The vertices of the convex set n_k . p <= offset_k (count planes, up to
  * 12) into out (up to 220 points): every point where three of the planes
  * meet that lies inside the others. Returns how many. */
@@ -3414,20 +3412,24 @@ static int shadow_fit(renderer *r, const double *own_lo, const double *own_hi, c
     double n[12][3], offset[12], points[3 * 220];
     view_planes(&r->camera, n, offset);
     double seen_lo[2] = {INFINITY, INFINITY}, seen_hi[2] = {-INFINITY, -INFINITY};
-    shadow_catcher own; /* the rod shadows itself inside the casters' box */
-    double box_lo[3], box_hi[3];
-    for (int c = 0; c < 3; c++) box_lo[c] = INFINITY, box_hi[c] = -INFINITY;
-    for (int corner = 0; corner < 8; corner++)
-        for (int c = 0; c < 3; c++) {
-            double q = 0;
-            for (int a = 0; a < 3; a++)
-                q += (corner >> a & 1 ? r->light_hi[a] : r->light_lo[a]) * r->light_basis[a][c];
-            box_lo[c] = fmin(box_lo[c], q);
-            box_hi[c] = fmax(box_hi[c], q);
-        }
-    if (own_lo) /* this frame's rod, tighter than the whole run's */
-        for (int c = 0; c < 3; c++) box_lo[c] = own_lo[c], box_hi[c] = own_hi[c];
-    catcher_box(&own, box_lo, box_hi);
+    /* the rod shadows itself: inside this frame's box (own_lo, own_hi), or
+     * the world box around the light's box over the whole run */
+    shadow_catcher own;
+    if (own_lo) {
+        catcher_box(&own, own_lo, own_hi);
+    } else {
+        double box_lo[3], box_hi[3];
+        for (int c = 0; c < 3; c++) box_lo[c] = INFINITY, box_hi[c] = -INFINITY;
+        for (int corner = 0; corner < 8; corner++)
+            for (int c = 0; c < 3; c++) {
+                double q = 0;
+                for (int a = 0; a < 3; a++)
+                    q += (corner >> a & 1 ? r->light_hi[a] : r->light_lo[a]) * r->light_basis[a][c];
+                box_lo[c] = fmin(box_lo[c], q);
+                box_hi[c] = fmax(box_hi[c], q);
+            }
+        catcher_box(&own, box_lo, box_hi);
+    }
     for (int k = 0; k <= r->catcher_count; k++) {
         const shadow_catcher *catcher = k < r->catcher_count ? &r->catchers[k] : &own;
         for (int j = 0; j < catcher->count; j++) {
@@ -3474,8 +3476,8 @@ static int shadow_fit(renderer *r, const double *own_lo, const double *own_hi, c
     light[14] = 2 * hi[2] / (hi[2] - lo[2]) - 1;
     light[15] = 1;
     const double texel = extent / r->map_size;
-    /* soft edges: the filter spans half a visual radius, but its 3 x 3 taps
-     * at most 1.5 texels apart (farther apart they band) */
+    /* soft edges: the filter spans half a visual radius, but its 2 x 2
+     * bilinear taps at most 1.5 texels apart (farther apart they band) */
     const double spread = fmin(fmax(0.5 * r->radius, texel), 1.5 * texel);
     if (gl_renderer_set_shadows(r->gl, light, r->map_size, 1.5 * texel, spread / extent, err,
                                 errlen))
@@ -3484,6 +3486,8 @@ static int shadow_fit(renderer *r, const double *own_lo, const double *own_hi, c
     return 0;
 }
 
+/* The surfaces, the ground and the wound as static receivers, the shadow
+ * catchers for the tiles, and the shadow map's light (issues 11, 14). */
 static int renderer_receivers(renderer *r, const receiver_plan *plan, char *err, size_t errlen)
 {
     const render_options *o = r->o;

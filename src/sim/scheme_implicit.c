@@ -3099,6 +3099,38 @@ static int first_iterate_order(const implicit_work *w, double dt)
     return parabola < line ? 2 : 1;
 }
 
+/* The first iterate of a step that continues a run (single_step), mended
+ * for the pairs' new shares. The pairs are found again at each step's start, at
+ * fractions along their segments a little off the last step's: a pair's
+ * last force, its first guess, then lands on its nodes in other shares (node a
+ * takes (1 - alpha) F, a + 1 alpha F), and the nodes' first
+ * velocities are not those the last solution gave. N across the
+ * pair's segment takes the difference: (alpha - alpha_last) F more
+ * in N_{a+1/2}, which adds to node a what the pair's share there
+ * lost and takes from node a + 1 what it gained (push is the same
+ * for both), and (beta - beta_last) F less in N_{b+1/2}. Where
+ * overhand_tight.ini's knot held (t = 4 s), the first iterate's
+ * scaled residual was 3.5, in the constraint rows of nodes a pair
+ * pressed with 10 N, and each step took 5 iterations; with this,
+ * 5e-6 to 7e-7 and 1. `make bench`: the knot held 3.16x the step
+ * without contact (38x), pulled tight 12.5x (30x); the sums of the
+ * medians of 5 perturbed runs of the four knot scenes 12.7 s of CPU
+ * against 15.3 (0.65x to 1.01x each). The solution is the same:
+ * only where Newton starts moves */
+static void shift_for_pair_shares(implicit_work *w)
+{
+    const int n = w->nodes;
+    for (int q = 0; q < w->self->count; q++) {
+        const self_pair *p = &w->self->pair[q];
+        if (!p->has_last) continue;
+        const int ba = p->a + 1, bb = p->b + 1; /* blocks of N_{a+1/2}, N_{b+1/2} */
+        if (ba >= w->first && ba < n)
+            v3_axpy(&w->x[w->block * (ba - w->first)], p->alpha - p->alpha_last, p->force);
+        if (bb >= w->first && bb < n)
+            v3_axpy(&w->x[w->block * (bb - w->first)], -(p->beta - p->beta_last), p->force);
+    }
+}
+
 static int single_step(implicit_work *w, const rod_model *m, rod_state *s, double dt,
                        rod_report *report)
 {
@@ -3197,34 +3229,7 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
             }
         }
     }
-    if (continuing && w->self && w->self->count) {
-        /* The pairs are found again at each step's start, at fractions along
-         * their segments a little off the last step's: a pair's last force,
-         * its first guess, then lands on its nodes in other shares (node a
-         * takes (1 - alpha) F, a + 1 alpha F), and the nodes' first
-         * velocities are not those the last solution gave. N across the
-         * pair's segment takes the difference: (alpha - alpha_last) F more
-         * in N_{a+1/2}, which adds to node a what the pair's share there
-         * lost and takes from node a + 1 what it gained (push is the same
-         * for both), and (beta - beta_last) F less in N_{b+1/2}. Where
-         * overhand_tight.ini's knot held (t = 4 s), the first iterate's
-         * scaled residual was 3.5, in the constraint rows of nodes a pair
-         * pressed with 10 N, and each step took 5 iterations; with this,
-         * 5e-6 to 7e-7 and 1. `make bench`: the knot held 3.16x the step
-         * without contact (38x), pulled tight 12.5x (30x); the sums of the
-         * medians of 5 perturbed runs of the four knot scenes 12.7 s of CPU
-         * against 15.3 (0.65x to 1.01x each). The solution is the same:
-         * only where Newton starts moves */
-        for (int q = 0; q < w->self->count; q++) {
-            const self_pair *p = &w->self->pair[q];
-            if (!p->has_last) continue;
-            const int ba = p->a + 1, bb = p->b + 1; /* blocks of N_{a+1/2}, N_{b+1/2} */
-            if (ba >= w->first && ba < n)
-                v3_axpy(&w->x[w->block * (ba - w->first)], p->alpha - p->alpha_last, p->force);
-            if (bb >= w->first && bb < n)
-                v3_axpy(&w->x[w->block * (bb - w->first)], -(p->beta - p->beta_last), p->force);
-        }
-    }
+    if (continuing && w->self && w->self->count) shift_for_pair_shares(w);
     if (w->fd_only)
         /* step's retry: a first iterate off any symmetry of the state, by
          * 1e-9 of each unknown's typical size, deterministically (test_live:

@@ -252,11 +252,11 @@ static void test_thrown(void)
  * step (1.93 and 0.03 measured, with friction's corner, the last step's
  * solution as the first iterate and N shifted for the pairs' new shares,
  * single_step; 2.81 and 0.11 without the shift; the corner from the line
- * through the last two took 3.52 and 0.27, a pair near its cone's edge passing the corner
- * within the step; the smooth law 2.62 and 0.35, 2.24 before each pair's
- * friction took its own share of its compliance, SELF_SHARE_STUCK; the
- * columns reused from an earlier step's contact points, as before, 4.01
- * and 0.61). */
+ * through the last two took 3.52 and 0.27, a pair near its cone's edge
+ * passing the corner within the step; the smooth law 2.62 and 0.35, 2.24
+ * before each pair's friction took its own share of its compliance,
+ * SELF_SHARE_STUCK; the columns reused from an earlier step's contact
+ * points, as before, 4.01 and 0.61). */
 static void test_converges(void)
 {
     rod_model m = rod_model_default();
