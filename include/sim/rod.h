@@ -274,6 +274,8 @@ typedef struct rod_report {
     int newton_iterations;  /* of the last step (implicit, static) */
     long jacobian_builds;   /* implicit: Jacobians built and factored since rod_solver_init
                                (cumulative, for benches and tests); other schemes leave it */
+    long newton_total;      /* implicit: Newton iterations since rod_solver_init, those of
+                               attempts that failed and split included (cumulative) */
 } rod_report;
 
 /* Model --------------------------------------------------------------- */

@@ -96,9 +96,9 @@ typedef struct self_pair {
                               .. 1; 0: not measured */
     int active;            /* 1: the force is not 0 at this iterate */
     int column;            /* first column of the pair in the correction, or -1 */
-    int has_last;          /* 1: force is the same pair's at the end of the last accepted
-                              step, where its fractions were alpha_last, beta_last */
-    double alpha_last, beta_last;
+    int has_last;          /* 1: force holds forces of the last accepted step
+                              (rod_self_contact_find: last_to) */
+    double last_largest;   /* N: the largest of them */
 } self_pair;
 
 typedef struct rod_self_contact {
@@ -137,6 +137,7 @@ typedef struct rod_self_contact {
     double *last_force;    /* (3 max_pairs) their forces: the next step's first guess */
     double *last_share;    /* (max_pairs) the share each is to take at the next step */
     double *last_frac;     /* (2 max_pairs) their fractions alpha, beta */
+    int *last_to;          /* (max_pairs) the pair of this step each took its force, or -1 */
     rod_segment_pair *reach; /* (reach_capacity) rod_self_contact_reachable's scratch, grown
                                 on demand up to SELF_CONTACT_REACH_PAIRS */
     int reach_capacity;
@@ -200,7 +201,7 @@ int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const d
 /* Inside the residual: applies the pair forces (the iterate's) to the nodes'
  * end-of-step velocity vel1 and mean velocity vbar (global, nodes x 3, in
  * place) by each node's compliance push (nodes); with law set, also each
- * pair's g and gain dphi/dz at this iterate, from the positions at the start
+ * pair's g and gain dF/dz at this iterate (rod_self_contact_pair_law_gain), from the positions at the start
  * pos0 (gnorm: the largest |g|). */
 void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *vel1, double *vbar,
                              const double *push, double dt, double theta, int law);
@@ -211,6 +212,13 @@ void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *v
  * from its normal, compliance, share and sc's diameter and friction. */
 void rod_self_contact_pair_law(const rod_self_contact *sc, const self_pair *p, const double d[3],
                                const double z[3], double dt, double theta, double f[3]);
+
+/* The same law and its gain dF/dz (row-major, N s / m; a change dz moves d
+ * by dt theta dz) in closed form: the side of friction's corner the point
+ * is on (what Newton's correction uses, rod_self_contact_forces). */
+void rod_self_contact_pair_law_gain(const rod_self_contact *sc, const self_pair *p,
+                                    const double d[3], const double z[3], double dt, double theta,
+                                    double f[3], double gain[9]);
 
 /* force += amount delta for every pair (Newton's step and its line search). */
 void rod_self_contact_move(rod_self_contact *sc, double amount);

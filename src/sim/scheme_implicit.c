@@ -122,6 +122,21 @@
  * mostly converge (suture.ini: 13.8 s of CPU instead of 15.9 s; 12.6 instead
  * of 17.7 in a loop of its steps) */
 #define CONTACT_STALL 6
+/* While self-contact pairs touch, Newton's line search keeps a trial point
+ * whose residual is below the largest of the iterate's and the last
+ * PAIRS_NONMONOTONE iterates' (a non-monotone line search: Grippo,
+ * Lampariello and Lucidi, SIAM J. Numer. Anal. 23, 1986), not only below
+ * the iterate's. A full step that moves a pair across friction's corner or
+ * lets it part overshoots in that pair's residual for one iteration, and
+ * the monotone search cut it to 1/128-1/256 of itself, iteration after
+ * iteration, until CONTACT_STALL split the step: in buckling_twist.ini
+ * such stalls of the pairs were 40 % of all Newton iterations. The sums of
+ * the medians of 5 perturbed runs of the four knot scenes (scenes/README.md,
+ * Self-contact), paired: 16.28 s of CPU monotone, 12.25 with a memory of
+ * 2; 13.70 and 13.48 with 1 and 3 in another batch, 13.50 and 13.02 with 2
+ * and 3 in a third. The step still ends only at the tolerance, and
+ * CONTACT_STALL still asks for a halving within its iterations */
+#define PAIRS_NONMONOTONE 3
 /* A chord iteration that leaves the residual above the tolerance, having
  * contracted it by less than this, marks the factorisation stale, for the
  * next step to renew at its first iterate (single_step), or refresh()
@@ -319,6 +334,7 @@ typedef struct implicit_work {
     double var_scale[3]; /* typical N (N), v (m/s), omega (rad/s) for FD steps */
     double jacobian_dt;  /* dt the factorisation was made for */
     long jacobian_builds; /* factorisations since create (rod_report.jacobian_builds) */
+    long newton_total;    /* Newton iterations since create (rod_report.newton_total) */
     int start_valid;     /* frame0, d3mid0, moment0 hold the state at start_time */
     double *x_last;      /* (unknowns) solution of the last step, ending at start_time */
     double *x_before;    /* (unknowns) solution of the step before it */
@@ -2814,10 +2830,12 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
     int contact_fresh = 0; /* the contact's part was renewed at the last iteration */
     int rebuilt = 0;       /* whole Jacobians built at slow iterations of this attempt */
     double history[CONTACT_STALL]; /* the residual's norm at the last iterations */
+    double recent[PAIRS_NONMONOTONE]; /* the same, for the line search (PAIRS_NONMONOTONE) */
     for (int it = 0; it < max_it; it++) {
         report->newton_iterations = it;
         if (norm <= tol) return 0;
         if (--w->budget < 0) return -1;
+        w->newton_total++;
         memcpy(w->dx, w->residual, (size_t)nu * sizeof(double));
         const unsigned long active_before = active_pairs(w);
         newton_solve(w, m, dt);
@@ -2826,13 +2844,20 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         evaluate_iterate(w, m, t, dt);
         double next = residual_norm_at(w, scale);
         const int contact = w->contact || (w->self && w->self->count);
-        if (contact && !(next < norm)) {
+        /* what a trial point must beat: the iterate's residual, or with
+         * pairs touching the largest of it and the last PAIRS_NONMONOTONE */
+        double bar = norm;
+        if (w->self && w->self->count)
+            for (int j = 1; j <= PAIRS_NONMONOTONE && j <= it; j++)
+                bar = fmax(bar, recent[(it - j) % PAIRS_NONMONOTONE]);
+        recent[it % PAIRS_NONMONOTONE] = norm;
+        if (contact && !(next < bar)) {
             /* contact makes the residual piecewise smooth: a full step can
              * jump across contacts that switch on or off, so back along it
              * until the residual falls (a line search; without contact the
              * full step is always taken) */
             double step = 1.0;
-            for (int k = 0; k < 8 && !(next < norm); k++) {
+            for (int k = 0; k < 8 && !(next < bar); k++) {
                 step *= 0.5;
                 for (int i = 0; i < nu; i++) w->x[i] += step * w->dx[i];
                 if (w->self) rod_self_contact_move(w->self, step);
@@ -3100,34 +3125,51 @@ static int first_iterate_order(const implicit_work *w, double dt)
 }
 
 /* The first iterate of a step that continues a run (single_step), mended
- * for the pairs' new shares. The pairs are found again at each step's start, at
- * fractions along their segments a little off the last step's: a pair's
- * last force, its first guess, then lands on its nodes in other shares (node a
- * takes (1 - alpha) F, a + 1 alpha F), and the nodes' first
- * velocities are not those the last solution gave. N across the
- * pair's segment takes the difference: (alpha - alpha_last) F more
- * in N_{a+1/2}, which adds to node a what the pair's share there
- * lost and takes from node a + 1 what it gained (push is the same
- * for both), and (beta - beta_last) F less in N_{b+1/2}. Where
- * overhand_tight.ini's knot held (t = 4 s), the first iterate's
- * scaled residual was 3.5, in the constraint rows of nodes a pair
- * pressed with 10 N, and each step took 5 iterations; with this,
- * 5e-6 to 7e-7 and 1. `make bench`: the knot held 3.16x the step
- * without contact (38x), pulled tight 12.5x (30x); the sums of the
+ * for the pairs' new shares. The pairs are found again at each step's
+ * start, at fractions along their segments a little off the last step's,
+ * or on the next segment when the strands slid across a node: a pair's
+ * last force, its first guess, then lands on its nodes in other shares
+ * (node a takes (1 - alpha) F, a + 1 alpha F), and the nodes' first
+ * velocities are not those the last solution gave. Each node k's velocity
+ * gains push_k (N_{k+1/2} - N_{k-1/2} + its share of F) (3.3)_1, push the
+ * same for interior nodes, so N_{k+1/2} takes C_last(k) - C(k) of F, C(k)
+ * the share of F on the nodes up to k (0 before segment a, 1 - alpha at
+ * node a, 1 after): each node keeps the load the last solution gave it;
+ * on the same segment, (alpha - alpha_last) F more in N_{a+1/2}; on
+ * strand b the same with -F. Where overhand_tight.ini's knot held (t = 4
+ * s), the first iterate's scaled residual was 3.5, in the constraint rows
+ * of nodes a pair pressed with 10 N, and each step took 5 iterations;
+ * with this, 5e-6 to 7e-7 and 1. `make bench`: the knot held 3.16x the
+ * step without contact (38x), pulled tight 12.5x (30x); the sums of the
  * medians of 5 perturbed runs of the four knot scenes 12.7 s of CPU
- * against 15.3 (0.65x to 1.01x each). The solution is the same:
- * only where Newton starts moves */
+ * against 15.3 (0.65x to 1.01x each). The solution is the same: only
+ * where Newton starts moves */
+static double share_up_to(int k, int segment, double fraction)
+{
+    return k < segment ? 0.0 : k == segment ? 1.0 - fraction : 1.0;
+}
+
+static void shift_strand(implicit_work *w, int seg, double frac, int seg_last, double frac_last,
+                         double sign, const double force[3])
+{
+    const int lo = seg < seg_last ? seg : seg_last, hi = seg < seg_last ? seg_last : seg;
+    for (int k = lo; k <= hi; k++) {
+        const int b = k + 1; /* the block of N_{k+1/2} */
+        const double c = share_up_to(k, seg_last, frac_last) - share_up_to(k, seg, frac);
+        if (c != 0.0 && b >= w->first && b < w->nodes)
+            v3_axpy(&w->x[w->block * (b - w->first)], sign * c, force);
+    }
+}
+
 static void shift_for_pair_shares(implicit_work *w)
 {
-    const int n = w->nodes;
-    for (int q = 0; q < w->self->count; q++) {
-        const self_pair *p = &w->self->pair[q];
-        if (!p->has_last) continue;
-        const int ba = p->a + 1, bb = p->b + 1; /* blocks of N_{a+1/2}, N_{b+1/2} */
-        if (ba >= w->first && ba < n)
-            v3_axpy(&w->x[w->block * (ba - w->first)], p->alpha - p->alpha_last, p->force);
-        if (bb >= w->first && bb < n)
-            v3_axpy(&w->x[w->block * (bb - w->first)], -(p->beta - p->beta_last), p->force);
+    const rod_self_contact *sc = w->self;
+    for (int l = 0; l < sc->last_count; l++) {
+        if (sc->last_to[l] < 0) continue;
+        const self_pair *p = &sc->pair[sc->last_to[l]];
+        const double *f = &sc->last_force[3 * l];
+        shift_strand(w, p->a, p->alpha, sc->last_ab[2 * l], sc->last_frac[2 * l], 1.0, f);
+        shift_strand(w, p->b, p->beta, sc->last_ab[2 * l + 1], sc->last_frac[2 * l + 1], -1.0, f);
     }
 }
 
@@ -3510,6 +3552,7 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
         w->have_factor = 0;
     }
     report->jacobian_builds = w->jacobian_builds;
+    report->newton_total = w->newton_total;
     if (split == -2) {
         restore_state(w, s);
         w->have_factor = 0;

@@ -54,13 +54,15 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->last_force = calloc((size_t)sc->max_pairs * 3, sizeof(double));
     sc->last_share = calloc((size_t)sc->max_pairs, sizeof(double));
     sc->last_frac = calloc((size_t)sc->max_pairs * 2, sizeof(double));
+    sc->last_to = calloc((size_t)sc->max_pairs, sizeof(int));
     sc->prox = rod_proximity_create(nodes);
     sc->clear_pos = malloc((size_t)nodes * 3 * sizeof(double));
     sc->list_pos = malloc((size_t)nodes * 3 * sizeof(double));
     sc->s = malloc((size_t)9 * SELF_CONTACT_RANK_PAIRS * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     if (!sc->pair || !sc->found || !sc->node_force || !sc->prox || !sc->s || !sc->rhs ||
-        !sc->last_ab || !sc->last_force || !sc->last_share || !sc->last_frac || !sc->found_distance ||
+        !sc->last_ab || !sc->last_force || !sc->last_share || !sc->last_frac || !sc->last_to ||
+        !sc->found_distance ||
         !sc->slot || !sc->slot_node || !sc->clear_pos || !sc->list_pos) {
         rod_self_contact_destroy(sc);
         return NULL;
@@ -82,6 +84,7 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->last_force);
     free(sc->last_share);
     free(sc->last_frac);
+    free(sc->last_to);
     free(sc->reach);
     free(sc->y);
     free(sc->s);
@@ -260,6 +263,49 @@ static int search_pairs(rod_self_contact *sc, const double *pos0, double thresho
     return from_list(sc, pos0, threshold);
 }
 
+/* Each pair's first guess of its force, Newton's, from the forces of the
+ * last accepted step: each last pair's force goes to the pair of this step
+ * whose contact lies nearest its own, within one segment on both strands
+ * (the same pair, segments a and b, first), so that the load the last
+ * solution put on the nodes is all there again, moved by at most a
+ * segment (the scheme's first iterate moves N to match: last_to,
+ * shift_for_pair_shares); several may go to one. A pair takes the
+ * share of the largest force it was given. Strands sliding along each
+ * other carry their contacts across nodes, and the closest points of two
+ * strands lying side by side jump along them: in overhand.ini's pull
+ * through, 62 % of the steps began with a scaled residual above 10 in the
+ * constraint rows (3.14) where a contact had moved on to the next segment
+ * and its force was lost with the exact pair alone (and 30 % when each
+ * last force went to one pair at most) */
+static void take_last(rod_self_contact *sc)
+{
+    for (int l = 0; l < sc->last_count; l++) {
+        const int la = sc->last_ab[2 * l], lb = sc->last_ab[2 * l + 1];
+        const double sa = la + sc->last_frac[2 * l], sb = lb + sc->last_frac[2 * l + 1];
+        int best = -1;
+        double nearest = 1.0;
+        for (int q = 0; q < sc->count; q++) {
+            const self_pair *p = &sc->pair[q];
+            if (p->a == la && p->b == lb) {
+                best = q;
+                break;
+            }
+            const double d = fmax(fabs(p->a + p->alpha - sa), fabs(p->b + p->beta - sb));
+            if (d < nearest) nearest = d, best = q;
+        }
+        sc->last_to[l] = best;
+        if (best < 0) continue;
+        self_pair *p = &sc->pair[best];
+        const double *f = &sc->last_force[3 * l];
+        if (!p->has_last || v3_norm(f) > p->last_largest) {
+            p->share = sc->last_share[l];
+            p->last_largest = v3_norm(f);
+        }
+        v3_add(p->force, p->force, f);
+        p->has_last = 1;
+    }
+}
+
 int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margin)
 {
     const int n = sc->nodes, last = n - 2; /* segments 0..n-2 */
@@ -315,18 +361,8 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
         p->weight[2] = -(1.0 - f->t);
         p->weight[3] = -f->t;
         p->column = -1;
-        /* the force of the same pair at the end of the last accepted step:
-         * Newton's first guess; and the share its law is to take */
         p->share = 1.0;
         p->ratio = 0.0;
-        for (int l = 0; l < sc->last_count; l++)
-            if (sc->last_ab[2 * l] == p->a && sc->last_ab[2 * l + 1] == p->b) {
-                v3_copy(p->force, &sc->last_force[3 * l]);
-                p->share = sc->last_share[l];
-                p->has_last = 1;
-                p->alpha_last = sc->last_frac[2 * l];
-                p->beta_last = sc->last_frac[2 * l + 1];
-            }
         double pa[3], pb[3], d[3];
         for (int c = 0; c < 3; c++) {
             pa[c] = (1.0 - f->s) * pos0[3 * f->i + c] + f->s * pos0[3 * (f->i + 1) + c];
@@ -348,6 +384,7 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
             v3_scale(p->normal, d, 1.0 / len);
         }
     }
+    take_last(sc);
     return sc->count;
 }
 
@@ -380,26 +417,87 @@ static void tangential_part(double out[3], const double v[3], const double n[3])
  * pair_gain): the normal force that takes back all but 1 / (1 + kappa) of
  * the overlap of the two capsules (contact_fraction), then Coulomb friction
  * against the relative tangential velocity, limited by mu times the normal
- * force (contact_creep_speed_corner), its creep speed that of the pair's whole
- * compliance. As the surfaces' law (node_contact), with the pair's
+ * force (contact_creep_speed_corner), its creep speed that of the pair's
+ * whole compliance. As the surfaces' law (node_contact), with the pair's
  * compliance in place of one node's, and friction's local problem solved
- * with share x compliance: see SELF_SHARE_LEAST. */
-void rod_self_contact_pair_law(const rod_self_contact *sc, const self_pair *p, const double d[3],
-                               const double z[3], double dt, double theta, double f[3])
+ * with share x compliance: see SELF_SHARE_LEAST.
+ *
+ * When gain is not NULL, also the law's derivative dF/dz (row-major,
+ * N s / m) in closed form, where a change dz of the relative velocity
+ * moves the relative position by dt theta dz; at friction's corner, that of
+ * the side the point is on (creep up to eps + c, Coulomb beyond), as a
+ * semismooth Newton method takes it. Differences of the law, which this
+ * replaces, straddled the corner: their step, 1e-7 of |z|, is set by the
+ * normal part of the free motion, 280 m/s in overhand_tight.ini's knot,
+ * against a tangential speed within 2e-5 m/s of the corner; a pair
+ * sliding at the edge of its cone got a gain half creep, half slip, along
+ * which its residual rose (the line search halved to nothing: 18 of the
+ * 142 attempts of `make bench`'s window t = 2 to 2.5 s stalled and were
+ * split). */
+static void pair_law(const rod_self_contact *sc, const self_pair *p, const double d[3],
+                     const double z[3], double dt, double theta, double f[3], double *gain)
 {
     const double peff = p->compliance, a = dt * theta * peff, pt = p->share * peff;
     const double depth = v3_dot(p->normal, d) - sc->diameter;
     v3_set(f, 0.0, 0.0, 0.0);
+    if (gain) memset(gain, 0, 9 * sizeof(double));
     if (!(depth < 0.0)) return;
-    const double lambda = -depth / a * contact_fraction(-depth, 0.005 * sc->diameter);
+    const double e = -depth, floor = 0.005 * sc->diameter, frac = contact_fraction(e, floor);
+    const double lambda = -depth / a * frac;
     v3_scale(f, p->normal, lambda);
     double zz[3], vt[3];
     for (int c = 0; c < 3; c++) zz[c] = z[c] + peff * f[c];
     tangential_part(vt, zz, p->normal);
     const double speed = v3_norm(vt), limit = sc->friction * lambda;
+    const double *n = p->normal;
+    /* lambda' = d lambda / d(n . z): the depth falls by dt theta n . dz;
+     * d frac / de = 1 / (floor (1 + kappa)^2) (contact_fraction) */
+    double dlambda = 0.0;
+    if (gain) {
+        const double kappa = CONTACT_STIFF + e / floor;
+        dlambda = -dt * theta * (frac + e / (floor * (1.0 + kappa) * (1.0 + kappa))) / a;
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) gain[3 * r + c] = n[r] * dlambda * n[c];
+    }
     if (speed == 0.0 || limit == 0.0) return;
-    const double sp = contact_creep_speed_corner(speed, pt * limit, contact_creep_eps(peff * limit));
+    const double eps = contact_creep_eps(peff * limit);
+    const double sp = contact_creep_speed_corner(speed, pt * limit, eps);
     v3_axpy(f, -(speed - sp) / (pt * speed), vt);
+    if (!gain) return;
+    const double mu = sc->friction, c = pt * limit;
+    double t[3];
+    v3_scale(t, vt, 1.0 / speed);
+    if (speed <= eps + c) {
+        /* creep: F_t = -k vt, k = limit / (eps + c), with eps and c
+         * growing with lambda (contact_creep_eps: eps = 1 / u + CONTACT_CREEP,
+         * u = CONTACT_STIFF / (peff limit) + 1 / CONTACT_CREEP_MAX) */
+        const double k = limit / (eps + c);
+        const double u = CONTACT_STIFF / (peff * limit) + 1.0 / CONTACT_CREEP_MAX;
+        const double deps = mu * CONTACT_STIFF / (peff * limit * limit * u * u);
+        const double dk = mu / (eps + c) - limit * (deps + pt * mu) / ((eps + c) * (eps + c));
+        for (int r = 0; r < 3; r++)
+            for (int col = 0; col < 3; col++)
+                gain[3 * r + col] -= k * ((r == col) - n[r] * n[col]) + vt[r] * dk * dlambda * n[col];
+    } else {
+        /* Coulomb: F_t = -mu lambda t, t = vt / |vt|, dt/dz = (P - t t^T) / |vt| */
+        for (int r = 0; r < 3; r++)
+            for (int col = 0; col < 3; col++)
+                gain[3 * r + col] -= mu * t[r] * dlambda * n[col] +
+                                     limit * ((r == col) - n[r] * n[col] - t[r] * t[col]) / speed;
+    }
+}
+
+void rod_self_contact_pair_law(const rod_self_contact *sc, const self_pair *p, const double d[3],
+                               const double z[3], double dt, double theta, double f[3])
+{
+    pair_law(sc, p, d, z, dt, theta, f, NULL);
+}
+
+void rod_self_contact_pair_law_gain(const rod_self_contact *sc, const self_pair *p,
+                                    const double d[3], const double z[3], double dt, double theta,
+                                    double f[3], double gain[9])
+{
+    pair_law(sc, p, d, z, dt, theta, f, gain);
 }
 
 /* Adds the pair force f (scaled by sign) to its nodes' velocities. */
@@ -418,9 +516,8 @@ static void apply(rod_self_contact *sc, const self_pair *p, const double f[3], d
 }
 
 /* The gain dF/dz of pair p at the current velocities (its own force taken
- * out), by differences of the closed form: a change dz of the relative
- * velocity moves the relative position by dt theta dz. Writes the force
- * without its own contribution's change into target. */
+ * out), in closed form (pair_law). Writes the force without its own
+ * contribution's change into target. */
 static void pair_gain(rod_self_contact *sc, self_pair *p, const double *pos0, double *vel1,
                       double *vbar, const double *push, double dt, double theta, double target[3])
 {
@@ -438,23 +535,7 @@ static void pair_gain(rod_self_contact *sc, self_pair *p, const double *pos0, do
     double ft[3];
     tangential_part(ft, p->force, p->normal);
     v3_axpy(z, (1.0 - p->share) * p->compliance, ft);
-    rod_self_contact_pair_law(sc, p, d, z, dt, theta, target);
-    if (v3_norm(target) == 0.0) {
-        /* apart: no force and none for a small change (the switch is
-         * within one difference step's reach only at the very touch) */
-        memset(p->gain, 0, sizeof p->gain);
-        return;
-    }
-    const double h = 1e-9 + 1e-7 * v3_norm(z);
-    for (int c = 0; c < 3; c++) {
-        double dp[3], zp[3], fp[3];
-        v3_copy(dp, d);
-        v3_copy(zp, z);
-        zp[c] += h;
-        dp[c] += dt * theta * h;
-        rod_self_contact_pair_law(sc, p, dp, zp, dt, theta, fp);
-        for (int r = 0; r < 3; r++) p->gain[3 * r + c] = (fp[r] - target[r]) / h;
-    }
+    pair_law(sc, p, d, z, dt, theta, target, p->gain);
 }
 
 /* How a force on pair q moves pair p's relative velocity directly (through

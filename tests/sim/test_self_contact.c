@@ -8,14 +8,18 @@
  * this file's own segment distance, not the contact code's), and the
  * low-rank Newton correction (it converges as the banded Newton does
  * without contact: test_converges); and which pairs a step's motion can
- * bring together (test_reach), and the search that skips its broad phase
- * while the rod stays far from itself (test_clear_until_near). */
+ * bring together (test_reach), the search that skips its broad phase
+ * while the rod stays far from itself (test_clear_until_near), the pair
+ * law's gain in closed form against differences (test_law_gain), and the
+ * last step's forces as a step's first guess when contacts move across
+ * nodes (test_last_force). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/vec3.h"
+#include "sim/contact_law.h"
 #include "sim/rod.h"
 #include "sim/self_contact.h"
 #include "test.h"
@@ -529,9 +533,173 @@ static void test_share_law(void)
     check_rel("share: in fast slip |F_t| / mu F_n (Coulomb)", slip_ratio, 1.0, 1e-6);
 }
 
+/* The pair law's gain dF/dz in closed form (rod_self_contact_pair_law_gain)
+ * against central differences of the law itself (a change dz moving d by
+ * dt theta dz), in creep, in slip and pressed harder, each away from
+ * friction's corner by more than the difference step; then at 3e-5 past the
+ * corner with the free motion's normal part at 280 m/s (as overhand_tight.ini's
+ * knot): the gain is slip's, and a forward difference of 1e-7 |z| (the
+ * gain before) straddles the corner and misses it by far (what the check
+ * against differences would catch). */
+static void law_difference(const rod_self_contact *sc, const self_pair *p, const double d[3],
+                           const double z[3], double dt, double theta, double h, int central,
+                           double gain[9])
+{
+    double f0[3];
+    rod_self_contact_pair_law(sc, p, d, z, dt, theta, f0);
+    for (int c = 0; c < 3; c++) {
+        double dp[3], zp[3], dm[3], zm[3], fp[3], fm[3];
+        v3_copy(dp, d), v3_copy(zp, z), v3_copy(dm, d), v3_copy(zm, z);
+        zp[c] += h, dp[c] += dt * theta * h;
+        zm[c] -= h, dm[c] -= dt * theta * h;
+        rod_self_contact_pair_law(sc, p, dp, zp, dt, theta, fp);
+        if (central) rod_self_contact_pair_law(sc, p, dm, zm, dt, theta, fm);
+        for (int r = 0; r < 3; r++)
+            gain[3 * r + c] = central ? (fp[r] - fm[r]) / (2.0 * h) : (fp[r] - f0[r]) / h;
+    }
+}
+
+static double gain_difference(const double a[9], const double b[9])
+{
+    double big = 0.0, diff = 0.0;
+    for (int i = 0; i < 9; i++) big = fmax(big, fabs(b[i])), diff = fmax(diff, fabs(a[i] - b[i]));
+    return diff / big;
+}
+
+static void test_law_gain(void)
+{
+    rod_self_contact sc;
+    memset(&sc, 0, sizeof sc);
+    sc.diameter = 0.002;
+    sc.friction = 0.2;
+    const double dt = 1.0 / 240.0, theta = 1.0;
+    self_pair p;
+    memset(&p, 0, sizeof p);
+    v3_set(p.normal, 0.0, 0.6, 0.8);
+    /* compliance (m/s per N), share, the free overlap (m): two light
+     * contacts, and one as in overhand_tight.ini's knot (the pair's own
+     * force taken out, its free motion runs 0.6 m into the other strand
+     * over the step; it presses with 1 N) */
+    const double cases_of[3][3] = {{50.0, 0.05, 1e-5}, {50.0, 0.05, 4e-5}, {140.0, 0.01, 0.6}};
+    double worst = 0.0, corner_knot = 0.0, d_knot[3];
+    int cases = 0;
+    for (int ic = 0; ic < 3; ic++) {
+        p.compliance = cases_of[ic][0];
+        p.share = cases_of[ic][1];
+        double d[3], f[3], gain[9], fd[9];
+        v3_scale(d, p.normal, sc.diameter - cases_of[ic][2]);
+        const double zn[3] = {0.0, 0.0, 0.0};
+        rod_self_contact_pair_law(&sc, &p, d, zn, dt, theta, f);
+        /* friction's corner, c and eps as contact_creep_speed_corner takes them */
+        const double limit = sc.friction * v3_dot(f, p.normal);
+        const double corner = contact_creep_eps(p.compliance * limit) + p.share * p.compliance * limit;
+        corner_knot = corner, v3_copy(d_knot, d);
+        const double speeds[3] = {0.3, 0.9, 4.0}; /* of the corner's speed */
+        for (int iv = 0; iv < 3; iv++) {
+            /* tangential along (1, 0, 0) and (0, 0.8, -0.6), plus a normal part */
+            const double v = speeds[iv] * corner;
+            const double z[3] = {0.6 * v, 0.8 * 0.8 * v + 0.6 * 0.01, -0.6 * 0.8 * v + 0.8 * 0.01};
+            rod_self_contact_pair_law_gain(&sc, &p, d, z, dt, theta, f, gain);
+            law_difference(&sc, &p, d, z, dt, theta, 1e-4 * fmin(v, fabs(v - corner)), 1, fd);
+            worst = fmax(worst, gain_difference(gain, fd));
+            cases++;
+        }
+    }
+    check(worst <= 1e-6, "law gain: closed form against central differences over %d cases (creep "
+          "at 0.3 and 0.9 of the corner's speed, slip at 4x, three contacts): largest difference "
+          "%.3e of the largest entry (tolerance 1e-6)", cases, worst);
+    /* the knot's contact just past the corner, its free motion mostly
+     * normal (280 m/s) */
+    double f[3], gain[9], slip[9], old[9];
+    const double v = (1.0 + 3e-5) * corner_knot;
+    double z[3] = {-v, 0.0, 0.0}; /* a step along +x slows it */
+    v3_axpy(z, 280.0, p.normal);
+    rod_self_contact_pair_law_gain(&sc, &p, d_knot, z, dt, theta, f, gain);
+    law_difference(&sc, &p, d_knot, z, dt, theta, 0.3 * (v - corner_knot), 1, slip);
+    law_difference(&sc, &p, d_knot, z, dt, theta, 1e-9 + 1e-7 * v3_norm(z), 0, old);
+    const double e_slip = gain_difference(gain, slip), e_old = gain_difference(old, slip);
+    check(e_slip <= 1e-6, "law gain: 3e-5 past friction's corner (%.3f m/s; |z| = 280 m/s) "
+          "against slip's central differences: %.3e of the largest entry (tolerance 1e-6)",
+          corner_knot, e_slip);
+    check(e_old > 1e-2, "law gain: there a forward difference of 1e-7 |z| (%.2e m/s, the corner "
+          "%.2e m/s away) is off by %.3g of the largest entry (> 1e-2: it straddles the corner)",
+          1e-9 + 1e-7 * v3_norm(z), v - corner_knot, e_old);
+}
+
+/* Nodes 0..20 along x; 21..40 a detour far above; 41..60 along y, crossing
+ * above node-segment 10..11 at height `height` and x = xc (strand b's
+ * segment 50 at fraction 0.5 over y = 0) */
+static void crossing(double *pos, double ds, double xc, double height)
+{
+    for (int k = 0; k <= 20; k++) v3_set(&pos[3 * k], k * ds, 0.0, 0.0);
+    for (int k = 21; k <= 40; k++) v3_set(&pos[3 * k], 20 * ds - (k - 20) * ds, 0.0, 0.05);
+    for (int k = 41; k <= 60; k++) v3_set(&pos[3 * k], xc, (k - 50.5) * ds, height);
+}
+
+/* A step's first guess of each pair's force (rod_self_contact_find):
+ * the last step's forces, each to the pair of this step nearest its own
+ * contact within one segment on both strands. A crossing that slid across
+ * a node (segment 10 at 0.9 to segment 11 at 0.1) keeps its force; two
+ * last contacts beside the one of this step both go to it (the load the
+ * last solution put on the nodes is all there); one 2.4 segments away
+ * goes to none. */
+static void test_last_force(void)
+{
+    const int n = 61;
+    const double d = 0.001, ds = 0.001;
+    double pos[61 * 3];
+    rod_self_contact *sc = rod_self_contact_create(n, 6 * (n - 1), 1, 6, d, ds, 0.2);
+    if (!check(sc != NULL, "last force: self-contact scratch")) return;
+    const double f1[3] = {0.1, -0.2, -1.0}, f2[3] = {0.0, 0.05, -0.5};
+    /* last contacts: segment, fraction on strand a; strand b at 50, 0.5 */
+    const struct { int count; int a[2]; double alpha[2]; } cases[3] = {
+        {1, {10, 0}, {0.9, 0.0}}, {2, {10, 11}, {0.9, 0.3}}, {1, {13, 0}, {0.5, 0.0}}};
+    double got[3][3];
+    int pairs[3], has_last[3], where[3];
+    for (int c = 0; c < 3; c++) {
+        sc->last_count = cases[c].count;
+        for (int l = 0; l < cases[c].count; l++) {
+            sc->last_ab[2 * l] = cases[c].a[l], sc->last_ab[2 * l + 1] = 50;
+            sc->last_frac[2 * l] = cases[c].alpha[l], sc->last_frac[2 * l + 1] = 0.5;
+            v3_copy(&sc->last_force[3 * l], l ? f2 : f1);
+            sc->last_share[l] = 0.5;
+        }
+        crossing(pos, ds, 11.1 * ds, 0.98 * d);
+        /* two pairs: the crossing (11 at 0.1, 50 at 0.5) and node 12's
+         * end of it (12 at 0, 0.9 of a segment along: another region) */
+        pairs[c] = rod_self_contact_find(sc, pos, 0.5 * d);
+        const self_pair *p = NULL;
+        double others = 0.0;
+        for (int q = 0; q < pairs[c]; q++) {
+            if (sc->pair[q].a == 11 && !p) p = &sc->pair[q];
+            else others += v3_norm(sc->pair[q].force);
+        }
+        v3_copy(got[c], p ? p->force : (const double[3]){NAN, NAN, NAN});
+        has_last[c] = p && others == 0.0 ? p->has_last : -1;
+        where[c] = p ? 100 * p->a + p->b : -1;
+    }
+    double sum[3];
+    v3_add(sum, f1, f2);
+    double e0[3], e1[3];
+    v3_sub(e0, got[0], f1);
+    v3_sub(e1, got[1], sum);
+    check(where[0] == 1150 && has_last[0] == 1 && v3_norm(e0) == 0.0,
+          "last force: a crossing slid from segment 10 (0.9) to 11 (0.1) keeps its force, the "
+          "other pair none (%d pairs, segments %d/%d, |force - last| = %.3g N)", pairs[0],
+          where[0] / 100, where[0] % 100, v3_norm(e0));
+    check(where[1] == 1150 && has_last[1] == 1 && v3_norm(e1) < 1e-15,
+          "last force: two last contacts beside it (10 at 0.9, 11 at 0.3) both go to it: "
+          "|force - (F1 + F2)| = %.3g N", v3_norm(e1));
+    check(where[2] == 1150 && has_last[2] == 0 && v3_norm(got[2]) == 0.0,
+          "last force: a last contact 2.4 segments away goes to none (force %.3g N)",
+          v3_norm(got[2]));
+    rod_self_contact_destroy(sc);
+}
+
 int main(void)
 {
     test_share_law();
+    test_law_gain();
     test_pressed();
     test_strand_friction();
     test_thrown();
@@ -539,5 +707,6 @@ int main(void)
     test_reach();
     test_clear_until_near();
     test_pair_list();
+    test_last_force();
     return test_finish();
 }
