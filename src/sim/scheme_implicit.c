@@ -2896,7 +2896,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
          * too: the sagging coil at NS = 201 renewed B 0.23 times a step
          * (28 times in its 120 steps, each followed by the pairs' columns
          * solved again: 4.2x the step without contact), with this 0.025
-         * (2.5x); without the scheme's test at the full step,
+         * (2.3x); without the scheme's test at the full step,
          * buckling_twist.ini's snap stopped at 11.1 s */
         const int self_touch = w->self && w->self->count;
         const int cut_alone = cut < 1.0 && rod_full <= 0.25 * norm &&
