@@ -201,8 +201,8 @@ int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const d
 /* Inside the residual: applies the pair forces (the iterate's) to the nodes'
  * end-of-step velocity vel1 and mean velocity vbar (global, nodes x 3, in
  * place) by each node's compliance push (nodes); with law set, also each
- * pair's g and gain dF/dz at this iterate (rod_self_contact_pair_law_gain), from the positions at the start
- * pos0 (gnorm: the largest |g|). */
+ * pair's g and gain dF/dz at this iterate (rod_self_contact_pair_law_gain),
+ * from the positions at the start pos0 (gnorm: the largest |g|). */
 void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *vel1, double *vbar,
                              const double *push, double dt, double theta, int law);
 

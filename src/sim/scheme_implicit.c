@@ -2843,13 +2843,15 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         if (w->self) rod_self_contact_move(w->self, -1.0);
         evaluate_iterate(w, m, t, dt);
         double next = residual_norm_at(w, scale);
-        const double rod_full = max_abs(w->residual, nu); /* the scheme's own, at the full step */
+        const int self_touch = w->self && w->self->count;
+        /* the scheme's own residual at the full step (cut_alone, below) */
+        const double rod_full = self_touch ? max_abs(w->residual, nu) : 0.0;
         double cut = 1.0; /* the fraction of the step the line search kept */
-        const int contact = w->contact || (w->self && w->self->count);
+        const int contact = w->contact || self_touch;
         /* what a trial point must beat: the iterate's residual, or with
          * pairs touching the largest of it and the last PAIRS_NONMONOTONE */
         double bar = norm;
-        if (w->self && w->self->count)
+        if (self_touch)
             for (int j = 1; j <= PAIRS_NONMONOTONE && j <= it; j++)
                 bar = fmax(bar, recent[(it - j) % PAIRS_NONMONOTONE]);
         recent[it % PAIRS_NONMONOTONE] = norm;
@@ -2898,7 +2900,6 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
          * solved again: 4.2x the step without contact), with this 0.025
          * (2.3x); without the scheme's test at the full step,
          * buckling_twist.ini's snap stopped at 11.1 s */
-        const int self_touch = w->self && w->self->count;
         const int cut_alone = cut < 1.0 && rod_full <= 0.25 * norm &&
                               next <= (1.0 - 0.9 * cut) * norm;
         const int pairs_alone = self_touch && (max_abs(w->residual, nu) <= 0.25 * norm ||

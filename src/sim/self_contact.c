@@ -443,7 +443,7 @@ static void pair_law(const rod_self_contact *sc, const self_pair *p, const doubl
     if (gain) memset(gain, 0, 9 * sizeof(double));
     if (!(depth < 0.0)) return;
     const double e = -depth, floor = 0.005 * sc->diameter, frac = contact_fraction(e, floor);
-    const double lambda = -depth / a * frac;
+    const double lambda = e / a * frac;
     v3_scale(f, p->normal, lambda);
     double zz[3], vt[3];
     for (int c = 0; c < 3; c++) zz[c] = z[c] + peff * f[c];

@@ -85,7 +85,7 @@ static int timed_windows(const rod_model *m, int helix, double dt, int windows, 
         memset(&out[w], 0, sizeof out[w]);
     }
     int ok = 1;
-    for (long k = 0; k < end && ok; k++) {
+    for (long k = 0; k <= end && ok; k++) {
         const double now = cpu();
         for (int w = 0; w < windows; w++) {
             if (k == first[w])
@@ -94,14 +94,9 @@ static int timed_windows(const rod_model *m, int helix, double dt, int windows, 
                 close_window(&out[w], m, s, now - t0[w], report.newton_total - its[w],
                              report.jacobian_builds - builds0[w], last[w] - first[w]);
         }
-        ok = rod_solver_step(&solver, m, s, dt, &report) == ROD_OK;
+        if (k < end) ok = rod_solver_step(&solver, m, s, dt, &report) == ROD_OK;
     }
     if (!ok) printf("  step: %s\n", report.message);
-    const double now = cpu();
-    for (int w = 0; w < windows && ok; w++)
-        if (last[w] == end)
-            close_window(&out[w], m, s, now - t0[w], report.newton_total - its[w],
-                         report.jacobian_builds - builds0[w], last[w] - first[w]);
     rod_solver_release(&solver);
     rod_state_destroy(s);
     return ok;
