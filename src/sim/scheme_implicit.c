@@ -103,6 +103,8 @@
 /* Loops over a column of L shorter than this run this length
  * (band_factor_kl) */
 #define SHORT_COLUMN 8
+/* Right-hand sides band_solve_rows takes at a time: two vectors a row */
+#define ROWS_CHUNK (2 * LANES)
 #define MAX_SPLIT_DEPTH 12
 /* Self-contact's candidate pairs lie within this many diameters of one
  * diameter apart at the start of a step, at most (single_step) */
@@ -137,6 +139,23 @@
  * and 3 in a third. The step still ends only at the tolerance, and
  * CONTACT_STALL still asks for a halving within its iterations */
 #define PAIRS_NONMONOTONE 3
+/* With strands touching, a step that took at least PAIRS_SLOW_STEP Newton
+ * iterations on a B made PAIRS_B_AGE or more steps before renews B at the
+ * next step's first iterate. A knot slides through the rod as it
+ * tightens, its sharp bends with it, and B, made where the knot was some
+ * steps ago, is off where the strands now press: in overhand_tight.ini's
+ * tied knot (t = 2 to 5 s) the scheme's own residual after the first
+ * iteration stayed at 1e-8 to 1e-7 at the touching nodes, slowed one
+ * iteration more and left another, 3.0 iterations a step. A B made afresh
+ * at every step's start only over the span of the touching nodes (the rest
+ * as old) gave 1.8 (the span alone suffices: its margin of 0 to 15 nodes
+ * made no difference), a whole B every step the same at 2.3x the cost; this
+ * rule 2.05 iterations a step, `make bench`'s whole pull once tied 3.2x the
+ * step without contact instead of 3.7-4.0x (the renewal and the pairs'
+ * columns solved again after it cost about 5 iterations). With a B at
+ * least 5 steps old: 2.07 iterations and 3.5-3.8x; 20: 2.19 and 3.3x */
+#define PAIRS_SLOW_STEP 3
+#define PAIRS_B_AGE 10
 /* A chord iteration that leaves the residual above the tolerance, having
  * contracted it by less than this, marks the factorisation stale, for the
  * next step to renew at its first iterate (single_step), or refresh()
@@ -297,6 +316,8 @@ typedef struct implicit_work {
     double *perturbed; /* (unknowns) residual at a perturbed x */
     double *band;      /* (ldab x unknowns) LU factors, LAPACK band storage */
     lapack_int *pivot; /* (unknowns) */
+    double *rows;      /* (unknowns x ROWS_CHUNK, 32-byte aligned) band_solve_rows' scratch
+                          (with self-contact) */
     double *inv_diag;  /* (unknowns) 1 / U_jj of the factorisation: the back substitution
                           multiplies instead of dividing (a division's latency sits on its
                           serial critical path) */
@@ -345,6 +366,7 @@ typedef struct implicit_work {
                             (first_iterate_order) */
     double start_time;
     int budget;          /* Newton iterations left for the current step */
+    int renew_pairs;     /* the next step renews B at its first iterate (PAIRS_SLOW_STEP) */
     int deepest;         /* the deepest split of the current step (split_step) */
     int stale;           /* a chord iteration since the last whole build contracted by less
                             than IDLE_REFRESH_CONTRACTION (refresh() renews it) */
@@ -380,6 +402,7 @@ static void destroy(void *p)
     free(w->trail_touched);
     free(w->pivot);
     free(w->inv_diag);
+    free(w->rows);
     free(w->lower);
     free(w->upper);
     free(w);
@@ -550,7 +573,10 @@ static void *create(const rod_model *m, char *err, size_t errlen)
         w->self = rod_self_contact_create(m->nodes, w->unknowns, w->first, BLOCK, m->diameter,
                                           m->ds, m->self_friction);
         w->node_push = calloc(n, sizeof(double));
-        if (!w->self || !w->node_push) goto oom;
+        /* a multiple of 32 bytes (aligned_alloc's size must be one of the
+         * alignment) */
+        w->rows = aligned_alloc(32, (size_t)w->unknowns * ROWS_CHUNK * sizeof(double));
+        if (!w->self || !w->node_push || !w->rows) goto oom;
     }
     if (!w->phi0 || !w->phi1 || !w->phi_th || !w->vbar) goto oom;
     double point_peak = 0.0, point_moment_peak = 0.0;
@@ -1846,10 +1872,90 @@ static inline __attribute__((always_inline)) void band_solve_many_kl(const impli
     }
 }
 
+/* band_solve_many_kl for `lanes` right-hand sides side by side, stored by
+ * rows (t[LANES (i * width + v) + l] is row i of right-hand side
+ * LANES v + l, width vectors a row): each step of the substitutions updates
+ * a whole row of them at once, one vector operation for LANES numbers,
+ * where the columns' own loops run 8 or 16 long and wait on the serial
+ * chain from one step to the next. The same operations on each right-hand
+ * side in the same order as band_solve_many_kl (no fused multiply-add), so
+ * the same numbers. */
+static inline __attribute__((always_inline)) void
+band_solve_rows_kl(const implicit_work *w, lanes *restrict t, int first, const int kl,
+                   const int width)
+{
+    const int n = w->unknowns, kv = 2 * kl, ld = w->ldab;
+    const double *restrict ab = w->band;
+    const double *restrict inv_diag = w->inv_diag;
+    const lapack_int *restrict pivot = w->pivot;
+    const int *restrict lower = w->lower, *restrict upper = w->upper;
+    for (int j = first > kl ? first - kl : 0; j < n - 1; j++) {
+        const int p = pivot[j] - 1, len = lower[j];
+        const double *col = &ab[(size_t)j * ld + kv + 1];
+        lanes bj[2];
+        for (int v = 0; v < width; v++) {
+            bj[v] = t[p * width + v];
+            t[p * width + v] = t[j * width + v];
+            t[j * width + v] = bj[v];
+        }
+        for (int i = 0; i < len; i++)
+            for (int v = 0; v < width; v++) t[(j + 1 + i) * width + v] -= col[i] * bj[v];
+    }
+    for (int j = n - 1; j >= 0; j--) {
+        const double *col = &ab[(size_t)j * ld + kv - j]; /* col[i] = U(i, j) */
+        const int lo = upper[j];
+        lanes bj[2];
+        for (int v = 0; v < width; v++) {
+            bj[v] = t[j * width + v] * inv_diag[j];
+            t[j * width + v] = bj[v];
+        }
+        for (int i = lo; i < j; i++)
+            for (int v = 0; v < width; v++) t[i * width + v] -= col[i] * bj[v];
+    }
+}
+
+static inline __attribute__((always_inline)) void
+band_solve_rows_width(const implicit_work *w, lanes *t, int first, const int width)
+{
+    if (w->kl == BAND) band_solve_rows_kl(w, t, first, BAND, width);
+    else if (w->kl == BAND_PUNCTURE) band_solve_rows_kl(w, t, first, BAND_PUNCTURE, width);
+    else band_solve_rows_kl(w, t, first, BAND_PLANAR, width);
+}
+
+/* Solves A x = b (band_solve_many's contract) through band_solve_rows_kl,
+ * ROWS_CHUNK right-hand sides at a time (fewer in the last chunk, up to
+ * LANES of them in one vector a row), copied into the rows scratch and
+ * back. bench_self_contact's knot: 4.3 us a column against 8.5-11 us. */
+LANES_TARGET static void band_solve_rows(const implicit_work *w, double *b, int count, int first)
+{
+    const int n = w->unknowns;
+    const size_t stride = (size_t)n;
+    double *t = w->rows;
+    for (int c0 = 0; c0 < count; c0 += ROWS_CHUNK) {
+        const int cc = count - c0 < ROWS_CHUNK ? count - c0 : ROWS_CHUNK;
+        const int width = cc > LANES ? 2 : 1, wide = LANES * width;
+        /* rows above `first` are 0 in every column: the forward pass leaves
+         * them so until kl rows above it, where it starts */
+        for (int i = 0; i < n; i++) {
+            double *ti = t + (size_t)i * (size_t)wide;
+            int c = 0;
+            for (; c < cc; c++) ti[c] = b[(size_t)(c0 + c) * stride + (size_t)i];
+            for (; c < wide; c++) ti[c] = 0.0;
+        }
+        if (width == 2) band_solve_rows_width(w, (lanes *)t, first, 2);
+        else band_solve_rows_width(w, (lanes *)t, first, 1);
+        for (int c = 0; c < cc; c++) {
+            double *bc = b + (size_t)(c0 + c) * stride;
+            for (int i = 0; i < n; i++) bc[i] = t[(size_t)i * (size_t)wide + (size_t)c];
+        }
+    }
+}
+
 static void band_solve_many(const void *ctx, double *b, int count, int first)
 {
     const implicit_work *w = ctx;
-    if (w->kl == BAND) band_solve_many_kl(w, b, count, first, BAND);
+    if (w->rows && count > 1) band_solve_rows(w, b, count, first);
+    else if (w->kl == BAND) band_solve_many_kl(w, b, count, first, BAND);
     else if (w->kl == BAND_PUNCTURE) band_solve_many_kl(w, b, count, first, BAND_PUNCTURE);
     else band_solve_many_kl(w, b, count, first, BAND_PLANAR);
 }
@@ -2811,9 +2917,11 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
         if (refresh_contact_jacobian(w, m, t, dt)) return -1;
         w->smooth_renewals++;
         w->stale = 0;
-    } else if (!w->have_factor || !same_dt(w->jacobian_dt, dt)) {
+    } else if (!w->have_factor || !same_dt(w->jacobian_dt, dt) ||
+               (w->renew_pairs && w->self && w->self->count)) {
         if (factor_jacobian(w, m, t, dt)) return -1;
     }
+    w->renew_pairs = 0;
     w->stale_start = 0;
     evaluate_iterate_once(w, m, t, dt);
     /* The pairs' residual is measured relative to the largest force their
@@ -2831,9 +2939,15 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
     int rebuilt = 0;       /* whole Jacobians built at slow iterations of this attempt */
     double history[CONTACT_STALL]; /* the residual's norm at the last iterations */
     double recent[PAIRS_NONMONOTONE]; /* the same, for the line search (PAIRS_NONMONOTONE) */
+    int rod_leads = 0, rod_led = 0; /* the scheme's residual the larger at the last iterates */
     for (int it = 0; it < max_it; it++) {
         report->newton_iterations = it;
-        if (norm <= tol) return 0;
+        if (norm <= tol) {
+            /* slow on an old B with strands touching (PAIRS_SLOW_STEP) */
+            w->renew_pairs = w->self && w->self->count && it >= PAIRS_SLOW_STEP &&
+                             w->self->b_age >= PAIRS_B_AGE && rod_led;
+            return 0;
+        }
         if (--w->budget < 0) return -1;
         w->newton_total++;
         memcpy(w->dx, w->residual, (size_t)nu * sizeof(double));
@@ -2872,6 +2986,10 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
             cut = step;
         }
         if (!isfinite(next)) return -1;
+        /* the iterate before this one left the scheme's residual above the
+         * pairs' (PAIRS_SLOW_STEP) */
+        rod_led = rod_leads;
+        rod_leads = self_touch && max_abs(w->residual, nu) >= w->self->gnorm / scale;
         /* the new iterate's own scale, taken before a rebuild below
          * (whose finite differences leave the pairs' laws unevaluated) */
         scale = pair_scale(w);
@@ -3722,6 +3840,61 @@ static double jacobian_error(const rod_model *m, const rod_state *s, double dt, 
     }
     free(fd);
     free(step);
+done:
+    destroy(w);
+    return worst;
+}
+
+double rod_implicit_rows_solve_check(const rod_model *m, const rod_state *s, double dt, int count,
+                                     int first, long *differ)
+{
+    char err[256];
+    implicit_work *w = create(m, err, sizeof err);
+    double worst = NAN;
+    *differ = -1;
+    if (!w || w->planar || !w->rows || count < 1) goto done;
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    w->jacobian_only = 2;
+    if (single_step(w, m, (rod_state *)s, dt, &report)) goto done; /* reads s only */
+    w->jacobian_only = 0;
+    w->contact_off = 1;
+    analytic_jacobian(w, m, s->time, dt);
+    w->contact_off = 0;
+    const int nu = w->unknowns, kl = w->kl, ld = w->ldab;
+    const size_t size = (size_t)ld * (size_t)nu, all = (size_t)nu * (size_t)count;
+    double *a = malloc(size * sizeof(double)), *b = calloc(all, sizeof(double));
+    double *x = malloc(all * sizeof(double)), *y = malloc(all * sizeof(double));
+    if (a && b && x && y) {
+        memcpy(a, w->band, size * sizeof(double));
+        if (factor_band(w, dt) == 0) {
+            /* right-hand sides zero above row `first`, as the pairs' are */
+            for (int c = 0; c < count; c++)
+                for (int i = first; i < nu; i++)
+                    b[(size_t)c * (size_t)nu + (size_t)i] = sin(1.0 + 0.37 * i + 1.3 * c);
+            memcpy(x, b, all * sizeof(double));
+            memcpy(y, b, all * sizeof(double));
+            band_solve_rows(w, x, count, first);
+            for (int c = 0; c < count; c++) band_solve(w, &y[(size_t)c * (size_t)nu]);
+            *differ = 0;
+            for (size_t k = 0; k < all; k++) *differ += memcmp(&x[k], &y[k], sizeof(double)) != 0;
+            /* |A x - b| over b's largest entry, A the matrix before its factors */
+            worst = 0.0;
+            for (int c = 0; c < count; c++) {
+                const double *xc = &x[(size_t)c * (size_t)nu], *bc = &b[(size_t)c * (size_t)nu];
+                for (int i = 0; i < nu; i++) {
+                    double r = -bc[i];
+                    for (int j = i - kl; j <= i + kl; j++)
+                        if (j >= 0 && j < nu) r += a[(size_t)(2 * kl + i - j) + (size_t)j * (size_t)ld] * xc[j];
+                    worst = fmax(worst, fabs(r));
+                }
+            }
+        }
+    }
+    free(a);
+    free(b);
+    free(x);
+    free(y);
 done:
     destroy(w);
     return worst;

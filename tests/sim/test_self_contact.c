@@ -21,6 +21,7 @@
 #include "base/vec3.h"
 #include "sim/contact_law.h"
 #include "sim/rod.h"
+#include "sim/scheme_implicit.h"
 #include "sim/self_contact.h"
 #include "test.h"
 #include "test_helix.h"
@@ -696,6 +697,43 @@ static void test_last_force(void)
     rod_self_contact_destroy(sc);
 }
 
+/* The pairs' columns are solved several at a time, by rows (band_solve_rows):
+ * the same numbers as one at a time, bit for bit, and solutions of the
+ * Jacobian itself (A x - b at round-off), for counts that fill the rows'
+ * two vectors, one, and leave a remainder */
+static void test_rows_solve(void)
+{
+    rod_model m = rod_model_default();
+    char err[512] = "";
+    rod_state *s = NULL;
+    int ok = sagging_coil(&m, 101, 1, err, sizeof err) == 0;
+    if (ok) ok = (s = rod_state_create(&m)) != NULL;
+    if (!check(ok, "rows solve: set up (%s)", err)) {
+        rod_state_destroy(s);
+        rod_model_release(&m);
+        return;
+    }
+    helix_state(&m, s);
+    static const int counts[] = {1, 3, 4, 5, 8, 11, 45};
+    long differ_all = 0;
+    double worst = 0.0;
+    int cases = 0;
+    for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++)
+        for (int first = 0; first <= 300; first += 150) {
+            long differ = -1;
+            const double r = rod_implicit_rows_solve_check(&m, s, 1.0 / 240.0, counts[k], first, &differ);
+            if (!(r >= 0.0) || differ < 0) differ_all = -1000000;
+            else differ_all += differ, worst = fmax(worst, r);
+            cases++;
+        }
+    check(differ_all == 0, "rows solve: %d cases (1 to 45 right-hand sides): %ld entries differ "
+          "from the one-at-a-time solve in any bit (0)", cases, differ_all);
+    check(worst <= 1e-12, "rows solve: largest |A x - b| %.2e (b's entries within 1; at most 1e-12)",
+          worst);
+    rod_state_destroy(s);
+    rod_model_release(&m);
+}
+
 int main(void)
 {
     test_share_law();
@@ -708,5 +746,6 @@ int main(void)
     test_clear_until_near();
     test_pair_list();
     test_last_force();
+    test_rows_solve();
     return test_finish();
 }
