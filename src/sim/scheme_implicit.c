@@ -106,6 +106,30 @@
 /* Right-hand sides band_solve_rows takes at a time: two vectors a row */
 #define ROWS_CHUNK (2 * LANES)
 #define MAX_SPLIT_DEPTH 12
+/* With self-contact, a step some attempt of which moved the strands too
+ * far for the no-pass-through test (single_step: a converged solution
+ * split all the same) starts the next steps already split to one level
+ * below the deepest such attempt; after SPLIT_HOLD_STEPS steps with no
+ * such attempt, one level coarser again. A loose knot swinging as it is
+ * pulled tight moves too far within the scene's step at most of its steps
+ * (overhand_tight.ini before 2 s, one run: about 1000 attempts in 420
+ * steps, 162 of them converged and failed this test, 108 failed in
+ * Newton; each attempt has a Jacobian of its own and its pairs' columns),
+ * and there the halves' depth changes slowly. Only these failures count:
+ * Newton's come one at a time, and foresight from them split steps that
+ * would have passed (surgeons_knot.ini 1.2-1.6x the CPU, single runs).
+ * Medians of five perturbed runs, paired: overhand_tight.ini 0.71 s of CPU
+ * against 1.13, buckling_twist.ini 0.49 against 0.87, surgeons_knot.ini
+ * 2.44 against 2.56, overhand.ini 2.11 against 2.06; a second pair 0.93
+ * against 1.38, 0.56 against 0.93, 2.77 against 2.73, and overhand.ini
+ * 2.44 against 2.25 (1.08x: its splits are rare, 50 in 3360 steps, and
+ * each holds 4 steps split that would mostly have passed); holding 8
+ * steps, overhand.ini 1.08x; 2, within the noise of 4; one level coarser
+ * at once where twice the sub-steps' motion would have passed the test:
+ * the sum 1.03x (buckling_twist.ini 1.16x). The
+ * steps' sizes are still the scheme's own choice: each sub-step meets the
+ * same tolerance and the same no-pass-through test. */
+#define SPLIT_HOLD_STEPS 4
 /* Self-contact's candidate pairs lie within this many diameters of one
  * diameter apart at the start of a step, at most (single_step) */
 #define SELF_MARGIN 2.0
@@ -367,6 +391,12 @@ typedef struct implicit_work {
     double start_time;
     int budget;          /* Newton iterations left for the current step */
     int renew_pairs;     /* the next step renews B at its first iterate (PAIRS_SLOW_STEP) */
+    int start_depth;     /* split_step attempts no step at a depth below this */
+    int next_depth;      /* the next step's start_depth, for steps of depth_dt */
+    double depth_dt;
+    int split_depth;     /* the depth of the attempt single_step makes */
+    int motion_depth;    /* the deepest attempt of this step that moved too far, or -1 */
+    int depth_streak;    /* steps at next_depth with no such attempt */
     int deepest;         /* the deepest split of the current step (split_step) */
     int stale;           /* a chord iteration since the last whole build contracted by less
                             than IDLE_REFRESH_CONTRACTION (refresh() renews it) */
@@ -3437,16 +3467,20 @@ static int single_step(implicit_work *w, const rod_model *m, rod_state *s, doubl
                 /* nothing that could touch within the step: no candidates
                  * needed (a straight stretch swinging fast moves its
                  * nearby segments together: rod_self_contact_reachable) */
-                if (rod_self_contact_reachable(w->self, w->pos0, w->vbar, dt, 2.0 * moved) != 0)
+                if (rod_self_contact_reachable(w->self, w->pos0, w->vbar, dt, 2.0 * moved) != 0) {
+                    if (w->split_depth > w->motion_depth) w->motion_depth = w->split_depth;
                     return -1;
+                }
                 break;
             }
             if (prepare_self_contact(w, m, dt, 3.0 * moved, report)) return -2;
             if (newton(w, m, s->time, dt, report)) return -1;
             moved = largest_motion(w, dt);
         }
-        if (2.0 * moved > w->self->margin && 3.0 * moved <= SELF_MARGIN * m->diameter)
+        if (2.0 * moved > w->self->margin && 3.0 * moved <= SELF_MARGIN * m->diameter) {
+            if (w->split_depth > w->motion_depth) w->motion_depth = w->split_depth;
             return -1; /* split the step */
+        }
         w->self_motion = moved;
         rod_self_contact_accept(w->self);
     }
@@ -3568,7 +3602,13 @@ static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double
      * with a Jacobian build */
     if (--w->budget < 0) return -1;
     if (depth > w->deepest) w->deepest = depth;
-    int rc = single_step(w, m, s, dt, report);
+    int rc = -1;
+    if (depth >= w->start_depth) {
+        w->split_depth = depth;
+        rc = single_step(w, m, s, dt, report);
+    } else {
+        w->budget++; /* split without an attempt (SPLIT_HOLD_STEPS) */
+    }
     if (rc == 0 || rc == -2) return rc; /* -2: no splitting helps (message set) */
     if (depth >= MAX_SPLIT_DEPTH || w->budget < 0) return -1;
     w->have_factor = 0;
@@ -3662,7 +3702,23 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     w->budget = STEP_ITERATION_BUDGET;
     w->deepest = 0;
     int segment;
+    /* the depth the last steps' motion asked for (SPLIT_HOLD_STEPS) */
+    w->start_depth = w->self && same_dt(w->depth_dt, dt) ? w->next_depth : 0;
+    w->motion_depth = -1;
     int split = split_step(w, m, s, dt, report, 0), solved = split == 0;
+    if (w->self) {
+        int next = w->start_depth;
+        if (w->motion_depth >= 0) {
+            next = w->motion_depth + 1;
+            w->depth_streak = 0;
+        } else if (next > 0 && ++w->depth_streak >= SPLIT_HOLD_STEPS) {
+            next--;
+            w->depth_streak = 0;
+        }
+        w->next_depth = !solved ? 0 : next < MAX_SPLIT_DEPTH ? next : MAX_SPLIT_DEPTH - 1;
+        w->depth_dt = dt;
+    }
+    w->start_depth = 0; /* the retries below from the whole step */
     for (int retry = 1; retry <= 2 && split == -1 && w->contact; retry++) {
         /* the step again, splits included, with a budget of its own: first
          * with the rod's part of the Jacobian by finite differences and a
