@@ -2914,13 +2914,18 @@ static double pair_scale(const implicit_work *w)
     return w->self && w->self->count ? fmax(w->force_scale, w->self->fmax) : w->force_scale;
 }
 
+/* The size of a residual whose scheme's part (scaled) is rod: the larger
+ * of it and the pairs' (over scale, N) */
+static double norm_with_pairs(const implicit_work *w, double rod, double scale)
+{
+    return w->self && w->self->count ? fmax(rod, w->self->gnorm / scale) : rod;
+}
+
 /* The size of the residual: the scheme's (scaled) and the pairs' (over
  * scale, N) */
 static double residual_norm_at(const implicit_work *w, double scale)
 {
-    double norm = max_abs(w->residual, w->unknowns);
-    if (w->self && w->self->count) norm = fmax(norm, w->self->gnorm / scale);
-    return norm;
+    return norm_with_pairs(w, max_abs(w->residual, w->unknowns), scale);
 }
 
 /* A fingerprint of which self-contact pairs are active (their laws ask for
@@ -3017,14 +3022,16 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
             cut = step;
         }
         if (!isfinite(next)) return -1;
+        /* the scheme's own residual at the point kept */
+        const double rod_now = max_abs(w->residual, nu);
         /* the iterate before this one left the scheme's residual above the
          * pairs' (PAIRS_SLOW_STEP) */
         rod_led = rod_leads;
-        rod_leads = self_touch && max_abs(w->residual, nu) >= w->self->gnorm / scale;
+        rod_leads = self_touch && rod_now >= w->self->gnorm / scale;
         /* the new iterate's own scale, taken before a rebuild below
          * (whose finite differences leave the pairs' laws unevaluated) */
         scale = pair_scale(w);
-        const double next_norm = residual_norm_at(w, scale);
+        const double next_norm = norm_with_pairs(w, rod_now, scale);
         if (next > IDLE_REFRESH_CONTRACTION * norm && next > tol) w->stale = 1;
         /* slow in the self-contact pairs' residual alone, or where a pair
          * switched on or off within the iteration: their laws are
@@ -3051,7 +3058,7 @@ static int newton(implicit_work *w, const rod_model *m, double t, double dt, rod
          * buckling_twist.ini's snap stopped at 11.1 s */
         const int cut_alone = cut < 1.0 && rod_full <= 0.25 * norm &&
                               next <= (1.0 - 0.9 * cut) * norm;
-        const int pairs_alone = self_touch && (max_abs(w->residual, nu) <= 0.25 * norm ||
+        const int pairs_alone = self_touch && (rod_now <= 0.25 * norm ||
                                                active_pairs(w) != active_before || cut_alone);
         const double slow = w->contact && !self_touch ? CONTACT_SLOW_CONTRACTION : 0.25;
         if (next > slow * norm && next > 10.0 * tol && !pairs_alone &&
