@@ -30,17 +30,17 @@ LDFLAGS ?=
 BUILD   ?= build/release
 SAN_FLAGS := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 
-# One folder per layer (README "Layout"): src/LAYER/NAME.c, include/LAYER/NAME.h,
-# tests/LAYER/test_NAME.c; benchmarks in tests/bench/.
-SRC     := $(wildcard src/*/*.c)
-HEADERS := $(wildcard include/*/*.h)
+# One folder per layer (README "Layout"): src/LAYER/[ROOM/]NAME.c,
+# include/LAYER/[ROOM/]NAME.h, tests/LAYER/test_NAME.c; benchmarks in tests/bench/.
+SRC     := $(shell find src -name '*.c' | sort)
+HEADERS := $(shell find include -name '*.h' | sort)
 LIB_OBJ := $(patsubst src/%.c,$(BUILD)/obj/%.o,$(filter-out src/cli/main.c,$(SRC))) \
            $(BUILD)/obj/gen/embedded.o
 # Files compiled into the binary (include/base/embedded.h): the program reads
 # nothing from the source tree at run time, so an installed or moved binary works.
 EMBEDDED:= $(sort $(wildcard shaders/*.vert shaders/*.frag)) scenes/impulse.ini \
           scenes/buckling_figure.ini scenes/twist_figure.ini scenes/table2_450nN.ini
-TESTS   := $(filter-out tests/bench/%,$(wildcard tests/*/test_*.c))
+TESTS   := $(filter-out tests/bench/% tests/fuzz/%,$(shell find tests -name 'test_*.c' | sort))
 TEST_BIN:= $(patsubst tests/%.c,$(BUILD)/tests/%,$(TESTS))
 BENCHES := $(wildcard tests/bench/bench_*.c)
 BENCH_BIN := $(patsubst tests/%.c,$(BUILD)/tests/%,$(BENCHES))
