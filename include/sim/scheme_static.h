@@ -1,6 +1,10 @@
-/* scheme_static.h: internals of the static scheme that the buckling module
- * uses (not for other callers): the tangent stiffness of the discrete
- * equilibrium at the straight rod under axial tip loads.
+/* scheme_static.h: what other code may use of the static scheme besides
+ * rod_scheme_static (rod.h): its scratch memory, and the two questions the
+ * study layer asks of it, the stability of a state and the tangent
+ * stiffness of the discrete equilibrium at the straight rod under axial tip
+ * loads (buckling.h). The scheme lives in src/sim/scheme_static.c and the
+ * room src/sim/static/ (static_work.c, static_stability.c and
+ * static_buckling.c define these).
  *
  * At the straight (possibly twisted) rod under axial loads the problem is
  * symmetric under rotations about x, so every bending mode comes with a copy

@@ -1,0 +1,16 @@
+/* static_settle.h: internal to the static scheme's room (static_internal.h).
+ * The stability check of a solved answer, and the way off an unstable one. */
+#ifndef RODSIM_STATIC_SETTLE_H
+#define RODSIM_STATIC_SETTLE_H
+
+#include "sim/static/static_internal.h"
+
+/* Checks the solved base point's stability under `load` (at time, s) and,
+ * when it is unstable, follows the rod off it to a stable rest (adding the
+ * Jacobians formed to *iterations). Returns ROD_OK with the base point
+ * stable (or not checkable: loads without a potential), else a status with
+ * the report's message written. */
+rod_status static_settle_stable(static_work *w, const rod_model *m, const static_load *load,
+                                double tolerance, double time, int *iterations, rod_report *report);
+
+#endif
