@@ -1,5 +1,5 @@
 /* edge_aa.h: antialiasing of a picture drawn with one sample per pixel, by
- * its edges (issue 14): FXAA (T. Lottes, "FXAA", NVIDIA white paper, 2009;
+ * its edges: FXAA (T. Lottes, "FXAA", NVIDIA white paper, 2009;
  * the "quality" variant of FXAA 3.11, simplified), in C over RGB bytes.
  * Where the luma changes sharply across a pixel, the edge's direction and
  * its extent along the picture are found, and the pixel is blended with its
@@ -7,7 +7,7 @@
  * A flat pixel costs a few operations, an edge's about 30 reads; 4x
  * multisampling costs llvmpipe about as much as the rest of the drawing.
  *
- * A frame is a fixed backdrop with boxes drawn over it (render.c): the luma
+ * A frame is a fixed backdrop with boxes drawn over it (renderer.c): the luma
  * of the backdrop is kept, and only the boxes are looked at. */
 #ifndef RODSIM_EDGE_AA_H
 #define RODSIM_EDGE_AA_H

@@ -7,7 +7,7 @@
 #include <stddef.h>
 
 #include "render/image.h"
-#include "render/render.h"
+#include "render/render_types.h"
 
 typedef struct gl_renderer gl_renderer;
 

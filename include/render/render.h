@@ -4,192 +4,27 @@
  * tip load arrows, a backdrop grid with a scale bar and overlay text;
  * writes the MP4, the poster PNG and, on request, every frame as PNG.
  *
- * Geometry (stripe, tube, camera, projection) is pure C here and testable
- * without GL; GL drawing lives in gl_render.c, encoding in video.c. */
+ * This header is the renderer's front: the options (options.h), the drive
+ * of a run's frames (render.c: render_recording, the stream), and, for the
+ * tests, the pure-C geometry its parts expose: the stripe (geometry.h), the
+ * camera (camera.h), the ground (shadow.h), the colours (color.h), the
+ * strands' occlusion (mesh.h) and the overlay's text (overlay.h). GL
+ * drawing lives in gl_render.c, encoding in video.c. */
 #ifndef RODSIM_RENDER_H
 #define RODSIM_RENDER_H
 
 #include <stddef.h>
 
 #include "base/ini.h"
+#include "render/camera.h"
+#include "render/color.h"
+#include "render/geometry.h"
+#include "render/mesh.h"
+#include "render/options.h"
+#include "render/overlay.h"
+#include "render/render_types.h"
+#include "render/shadow.h"
 #include "sim/recording.h"
-
-typedef enum {
-    RENDER_STRIPE_DIRECTOR = 0, /* the material line from the director frames: exact for any shape */
-    RENDER_STRIPE_FORMULA,      /* thesis (4.17) literally: a rotation about x by s u3 */
-    RENDER_STRIPE_OFF
-} render_stripe_mode;
-
-typedef enum { RENDER_CAMERA_PERSPECTIVE = 0, RENDER_CAMERA_ORTHOGRAPHIC } render_camera_kind;
-
-/* How the camera frames the motion ([render] framing). */
-typedef enum {
-    RENDER_FRAMING_RUN = 0, /* one camera for the whole run: every frame's rod, glyphs, arrows */
-    RENDER_FRAMING_FOLLOW,  /* per frame: the rod's current bounds centred and filling the
-                               picture, smoothed over time (never clipped) */
-    RENDER_FRAMING_KNOT     /* as follow, around the knotted part only (the strands within
-                               3 diameters of a far strand, 3 diameters of arc beyond):
-                               the tails leave the picture; the whole rod while none is near */
-} render_framing;
-
-/* One view of a frame split into side-by-side tiles ([render] views). */
-typedef enum {
-    RENDER_VIEW_PERSPECTIVE = 0, /* along render.view, perspective */
-    RENDER_VIEW_ORTHOGRAPHIC,    /* along render.view, orthographic */
-    RENDER_VIEW_TOP,             /* orthographic, looking down z: x right, y up */
-    RENDER_VIEW_FRONT,           /* orthographic, looking along +y: x right, z up */
-    RENDER_VIEW_SIDE             /* orthographic, looking along -x: y right, z up */
-} render_view_kind;
-#define RENDER_MAX_VIEWS 3
-
-/* What holds an end, as drawn (the renderer does not see sim/rod.h; the
- * caller copies the model's end kinds here). */
-typedef enum {
-    RENDER_END_CLAMPED = 0, /* a block oriented with the end's frame */
-    RENDER_END_PINNED,      /* a ball */
-    RENDER_END_FREE         /* nothing */
-} render_end_kind;
-
-/* What colours the tube along its length ([render] color). */
-typedef enum {
-    RENDER_COLOR_SOLID = 0, /* one colour (render_rod_color) */
-    RENDER_COLOR_CURVATURE, /* bending curvature sqrt(u1^2 + u2^2), 1/m */
-    RENDER_COLOR_TWIST,     /* u3, 1/m */
-    RENDER_COLOR_TENSION,   /* N . d3, N: the internal force along the rod, as recorded */
-    RENDER_COLOR_SPEED      /* |v|, m/s, by finite difference between drawn frames */
-} render_color_mode;
-
-/* Perceptually uniform colour maps (never jet). */
-typedef enum { RENDER_MAP_VIRIDIS = 0, RENDER_MAP_CIVIDIS } render_colormap;
-
-/* Overlay items ([render] hide lists those not drawn); all shown by default. */
-enum {
-    RENDER_SHOW_TITLE = 1 << 0,    /* the scene's title */
-    RENDER_SHOW_CAPTION = 1 << 1,  /* [render] caption, when given */
-    RENDER_SHOW_TIME = 1 << 2,     /* t, scheme, nodes */
-    RENDER_SHOW_ENDS = 1 << 3,     /* what holds the ends, the needle */
-    RENDER_SHOW_LEGEND = 1 << 4,   /* top right: radius exaggeration, magnification, speed, stripe */
-    RENDER_SHOW_LOADS = 1 << 5,    /* bottom left: tip force and moment (hidden when zero) */
-    RENDER_SHOW_SCALE = 1 << 6,    /* scale bar (with the grid) */
-    RENDER_SHOW_TRIAD = 1 << 7,    /* x y z axes, turning with the camera */
-    RENDER_SHOW_GRAVITY = 1 << 8,  /* the distributed load's direction, when not zero */
-    RENDER_SHOW_COLORBAR = 1 << 9, /* the colour bar (color other than solid) */
-    RENDER_SHOW_ALL = (1 << 10) - 1
-};
-
-/* Whether a ground plane (with the rod's shadow) is drawn ([render] ground). */
-typedef enum {
-    RENDER_GROUND_AUTO = 0, /* when a distributed load (gravity) acts, no plane surface exists
-                               and the camera looks at the ground from above */
-    RENDER_GROUND_YES,      /* whenever a distributed load gives "down" (else as no) */
-    RENDER_GROUND_NO
-} render_ground_mode;
-
-/* Whether the overlay names the knot type of the centreline ([render] knot,
- * issue 12): top right, per frame, e.g. "knot: trefoil (3_1), right-handed". */
-typedef enum {
-    RENDER_KNOT_AUTO = 0, /* when a frame of the run is knotted (render_knot_shown) */
-    RENDER_KNOT_YES,
-    RENDER_KNOT_NO
-} render_knot_mode;
-
-/* How a frame is antialiased ([render] antialias, issue 14), when
- * render.samples > 0 (0: not at all). */
-typedef enum {
-    RENDER_AA_MSAA = 0, /* multisampling with `samples` samples */
-    RENDER_AA_FXAA      /* (default) one sample per pixel, then FXAA over what the
-                           frame drew (edge_aa.h); the backdrop still multisampled */
-} render_antialias;
-
-typedef struct render_end {
-    render_end_kind kind;
-    int driven;             /* 1: the end follows a path (named in the overlay) */
-    int sliding;            /* 1: on a slide (a sleeve), 2: on a slide without turning
-                               about it (a carriage; ends.*_twist = held) */
-} render_end;
-
-/* Scene [render] section; render_options_default() makes a good picture. */
-typedef struct render_options {
-    int width, height;           /* pixels (even: yuv420p) */
-    int fps;                     /* video frames per second */
-    int crf;                     /* H.264 quality 0 (lossless) .. 51 (worst); 18 looks clean */
-    char preset[16];             /* x264 speed preset: ultrafast .. veryslow */
-    int samples;                 /* multisample antialiasing, 0 = off */
-    render_antialias antialias;  /* fxaa (default; samples for the backdrop) or msaa */
-    double visual_radius;        /* m; <= 0: auto, 1% of the length (never below true radius) */
-    int sides;                   /* tube cross-section polygon, 6..128 */
-    render_stripe_mode stripe;
-    int arrows;                  /* tip force and moment arrows */
-    render_camera_kind camera;
-    double view[3];              /* direction from the target to the eye (any length) */
-    unsigned char background[3]; /* sRGB */
-    int grid;                    /* backdrop grid and scale bar */
-    int overlay;                 /* text: scene, time, scheme, loads */
-    int frames_png;              /* also write every frame as PNG */
-    render_end ends[2];          /* [0] the root (s = 0), [1] the tip (s = L); default: clamped
-                                    root, free tip (the thesis' cantilever) */
-    double needle_radius;        /* m; > 0: a curved needle whose back is at the tip, drawn
-                                    instead of the tip's block or ball (scene [ends] needle) */
-    double needle_arc;           /* the needle's arc, fraction of a circle: 0.375 (3/8, default)
-                                    or 0.5 (1/2) ([render] needle_arc) */
-    int poster;                  /* write the last frame as <scene>.png */
-    char title[256];             /* overlay title; "" (default): the scene's name */
-    char caption[256];           /* a line under the title; "" (default): none */
-    unsigned show;               /* RENDER_SHOW_* items drawn when overlay is on */
-    render_color_mode color;     /* what colours the tube (default solid) */
-    float rod_color[3];          /* linear 0..1, the solid tube (default render_rod_color) */
-    render_colormap colormap;    /* viridis (default) or cividis */
-    double color_range[2];       /* lo, hi in the quantity's unit; lo == hi (default): the
-                                    range over the whole run, fixed for the video */
-    double speed;                /* playback: simulated seconds per video second (1: real
-                                    time, 0.25: 4x slow motion, 10: time-lapse) */
-    double magnify;              /* displacements from the first frame drawn x this (1: none) */
-    double distributed_force[3]; /* N/m, global: the scene's weight and distributed force
-                                    (run.c copies the model's), drawn as an arrow when not 0 */
-    const rod_surface *surfaces; /* the scene's obstacles, drawn (run.c copies the model's
-                                    pointer; not owned); NULL with surface_count 0: none */
-    int surface_count;
-    int smooth;                  /* 1 (default): the tube through a smooth curve between the
-                                    nodes (render.c: centreline_rings); 0: straight between */
-    int shadows;                 /* 1 (default): the rod, needle, end glyphs and arrows cast
-                                    shadows from the key light on the surfaces, the ground and
-                                    each other (a shadow map) */
-    render_ground_mode ground;   /* a ground plane below the whole run's lowest point */
-    int wound;                   /* 1: wound_line is drawn (a dark red incision) */
-    double wound_line[6];        /* m, global: the wound's two ends x1 y1 z1 x2 y2 z2 */
-    render_knot_mode knot;       /* the knot type in the overlay: auto (default), yes, no */
-    render_framing framing;      /* run (default), follow or knot */
-    int view_count;              /* 0 (default): one view (camera, view); 2 .. RENDER_MAX_VIEWS:
-                                    the frame split into that many tiles, left to right */
-    render_view_kind views[RENDER_MAX_VIEWS];
-    struct render_timing *timing; /* NULL (default): not measured; else filled (make bench) */
-    struct render_camera *cameras; /* NULL (default); else each drawn frame's camera of each
-                                    view (frame x max(view_count, 1) + view), for the tests */
-    int camera_capacity;         /* entries in cameras; frames beyond it are not reported */
-} render_options;
-
-/* Where render_recording's time went (seconds summed over the frames), for
- * the benchmark. The drawing thread (mesh .. overlay) and the writing thread
- * (convert .. png) run at the same time, so the parts add up to more than
- * the wall time when the overlap works. */
-typedef struct render_timing {
-    double mesh;      /* tube, stripe, clamp, arrow triangles and the tile boxes */
-    double gl;        /* upload, clear, draw, resolve, read back (llvmpipe), shadow included */
-    double shadow;    /* the shadow map's depth pass (part of gl) */
-    double composite; /* backdrop copy and the boxes blended over it */
-    double overlay;   /* text */
-    double wait;      /* drawing thread waiting for a free queue slot */
-    double convert;   /* RGB to yuv420p */
-    double encode;    /* x264 and the MP4 muxer */
-    double png;       /* PNG frames */
-    double wall;      /* the whole call */
-    int frames;
-} render_timing;
-
-void render_options_default(render_options *o);
-/* Reads [render] (all keys optional) over the defaults. 0, or -1 with a
- * message naming file:line, the key and what is accepted. */
-int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errlen);
 
 /* Renders every frame of rec: out_dir/<scene>.mp4 when want_video,
  * out_dir/<scene>.png (last frame) when o->poster, out_dir/<scene>_frames/
@@ -216,106 +51,5 @@ int render_stream_frame(render_stream *st, const rod_recording *rec, int frame, 
                         size_t errlen);
 int render_stream_finish(render_stream *st, char *err, size_t errlen);
 void render_stream_destroy(render_stream *st);
-
-/* Frames per simulated second a run records for a video at o->fps that
- * plays at o->speed: round(fps / speed), at least 1 (each recorded frame is
- * one video frame). */
-int render_output_rate(const render_options *o);
-
-/* A number for people: `value` in `unit` with an SI prefix (f .. G) and 3
- * significant digits ("450 nN", "2.5 mN", "1.2 \u00b5N\u00b7m"), no "-0",
- * and 0 when |value| < 1e-12 |scale| (round-off of a quantity of that size).
- * A unit starting with "1/" or "" gets no prefix (plain %.3g). Returns out. */
-char *render_format_quantity(char *out, size_t outlen, double value, double scale,
-                             const char *unit);
-/* The colour map at f in 0..1 (clamped), sRGB bytes. */
-void render_colormap_rgb(render_colormap map, double f, unsigned char rgb[3]);
-
-/* The overlay's knot line for a centreline (nodes x 3, m, an open polygon):
- * "knot: unknot", "knot: trefoil (3_1), right-handed", ... (sim/knot.h names
- * the type). Returns 1 when the type was identified (0: "knot: not
- * identified"). Allocates per call; the renderer keeps a scratch instead. */
-int render_knot_text(const double *points, int nodes, char *text, size_t n);
-/* Whether a render of rec with o names the knot type: o->knot yes or no,
- * and auto when the overlay is drawn and some frame of rec (up to
- * RENDER_KNOT_SAMPLES of them, evenly spread, the first and last included)
- * is identified as other than the unknot. */
-int render_knot_shown(const rod_recording *rec, const render_options *o);
-#define RENDER_KNOT_SAMPLES 32
-
-/* Ambient occlusion of the tube by the other strands (issue 12): at a
- * surface point p with unit normal n, from a strand whose axis passes at
- * distance D (m) from p in the unit direction u, of visual radius `radius`:
- *   (radius / D) max(0, n . u) w(D),
- * the view factor of an infinite cylinder from a surface element (1 where
- * the strands touch), times a window w that is 1 up to D = 2 radius and
- * falls smoothly to 0 at RENDER_OCCLUSION_REACH radius. Clamped to 0..1;
- * the tube's colour is scaled by 1 - RENDER_OCCLUSION_STRENGTH x this. */
-double render_occlusion(const double p[3], const double n[3], const double axis_a[3],
-                        const double axis_b[3], double radius);
-#define RENDER_OCCLUSION_REACH 5.0
-#define RENDER_OCCLUSION_STRENGTH 0.7
-
-/* ---- geometry, pure C (used by the GL layer and the tests) ---- */
-
-/* The visual tube radius, m: o->visual_radius, or auto. */
-double render_visual_radius(const rod_recording *rec, const render_options *o);
-
-/* Points of the twist stripe of frame `frame` at distance `radius` (m) from
- * the centreline, into out (nodes x 3, m).
- * DIRECTOR: r(s) + radius Q(s) a, with a the material direction (director
- *   components) that points along +z at s = 0 in the first frame: the
- *   thesis' line through (0, 0, d/2) when radius = d/2.
- * FORMULA: (4.17) literally: r(s_i) + radius (0, -sin(s_i u3_i), cos(s_i u3_i)),
- *   s_i = i ds (node i of the recording is R(i+1) of the thesis' 1-based text). */
-void render_stripe_points(const rod_recording *rec, int frame, render_stripe_mode mode,
-                          double radius, double *out);
-
-/* A camera: matrices are column-major 4x4 (OpenGL's layout). */
-typedef struct render_camera {
-    int width, height;          /* pixels */
-    int orthographic;
-    double eye[3], target[3];   /* m */
-    double direction[3];        /* unit, from the target to the eye */
-    double right[3], up[3];     /* unit, screen axes in the world */
-    double view[16], projection[16], view_projection[16];
-    double metres_per_pixel;    /* at the target's depth */
-} render_camera;
-
-/* Frames the whole motion: the bounds over all frames of the tube (visual
- * radius included), the end glyphs (block, ball, needle) and the arrows,
- * seen along o->view, leave room for the overlay text at the top and bottom,
- * and do not change per frame: the camera of framing run with one view
- * (framing follow moves it frame by frame, a split frame has one per tile:
- * render_options.cameras reports the cameras drawn). */
-void render_camera_fit(render_camera *cam, const rod_recording *rec, const render_options *o);
-/* The key light's direction (unit, towards the light): it rides with the
- * camera, from upper left in front, so the picture reads the same from any
- * view; the shading and the shadows use it. */
-void render_key_light(const render_camera *cam, double key[3]);
-/* The ground plane a render draws (o->ground; render_recording's rule):
- * 1 with a point of it and its upward unit normal, 0 when none is drawn. */
-int render_ground_plane(const rod_recording *rec, const render_options *o, double point[3],
-                        double normal[3]);
-/* Pixel position (x right, y down, pixel centres at +0.5) of a world point.
- * Returns 0, or -1 when the point is behind the camera. */
-int render_project(const render_camera *cam, const double point[3], double pixel[2]);
-
-/* One vertex of the drawn geometry: world position (m), unit normal, colour. */
-typedef struct render_vertex {
-    float position[3], normal[3], color[3];
-} render_vertex;
-
-/* Colours the tests can look for (linear 0..1 before lighting). */
-extern const float render_rod_color[3];
-extern const float render_stripe_color[3];
-extern const float render_clamp_color[3];  /* block of a clamped end */
-extern const float render_ball_color[3];   /* ball of a pinned end */
-extern const float render_needle_color[3]; /* the needle */
-extern const float render_skin_color[3];   /* a tissue surface (matte) */
-extern const float render_surface_color[3]; /* any other surface and the ground (matte) */
-extern const float render_wound_color[3];  /* the wound line */
-extern const float render_puncture_color[3]; /* a puncture's ring */
-
 
 #endif

@@ -195,7 +195,7 @@ void edge_aa_frame(edge_aa *a, image *img, const int (*boxes)[4], int count)
         luma_rows(img, a->luma, x, y, w, h);
         if (a->last_count < a->max_boxes) memcpy(a->last[a->last_count++], boxes[b], sizeof *a->last);
     }
-    /* top down (render.c lists its boxes bottom up): each pixel blends with a
+    /* top down (renderer.c lists its boxes bottom up): each pixel blends with a
      * neighbour as drawn; the rows above and at it are kept before they change,
      * the ones below and to the right are not yet. Only above a box's first
      * row may a neighbour be smoothed already (a box above it): a blend of a

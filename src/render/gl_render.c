@@ -195,7 +195,7 @@ static void set_camera(gl_renderer *r, const render_camera *cam)
 {
     glEnable(GL_DEPTH_TEST);
     /* Back faces are culled: every surface is closed and wound outward
-     * (render.c add_triangle); the stripe band lies on the tube, so its
+     * (mesh.c: mesh_triangle); the stripe band lies on the tube, so its
      * back is inside. The shader still lights both sides. */
     glEnable(GL_CULL_FACE);
     glFrontFace(GL_CCW);

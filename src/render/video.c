@@ -5,9 +5,8 @@
  * RGB to yuv420p is done here, not by libswscale: consecutive frames of a
  * rod differ in a small part of the picture (the rod, a few text lines),
  * so only the blocks of 32 x 2 pixels that changed since the last frame are
- * converted; the yuv frame keeps the rest from the frame before. swscale (bicubic, accurate rounding)
- * converted every pixel of every frame: 2.6-3.6 ms per 720p frame, a third
- * of the encoder's thread. */
+ * converted; the yuv frame keeps the rest from the frame before (swscale
+ * converts every pixel: docs/decisions/draft-own-yuv-conversion.md). */
 #include "render/video.h"
 
 #include <libavcodec/avcodec.h>
@@ -301,10 +300,8 @@ video_writer *video_writer_create(const char *path, int width, int height, int f
     v->codec->time_base = (AVRational){1, fps};
     v->codec->framerate = (AVRational){fps, 1};
     v->codec->gop_size = 2 * fps;
-    /* No B-frames: measured on the bench's 720p rod frames, x264 veryfast used
-     * 15-25% less CPU (render + encode 15-20% more frames/s) for a file 24%
-     * larger at the same CRF, and PSNR against the source frames 50.9 dB
-     * against 50.5 with B-frames: not a worse picture. */
+    /* No B-frames: less of the encoder's CPU on rod frames for a somewhat
+     * larger file, and not a worse picture (docs/decisions/draft-no-b-frames.md) */
     v->codec->max_b_frames = 0;
     /* BT.709, limited range: what browsers assume for HD H.264 */
     v->codec->colorspace = AVCOL_SPC_BT709;

@@ -347,7 +347,7 @@ static void test_keys(void)
 
 /* A 1.4 m thread crossing itself once (framing knot shows a few
  * centimetres around the crossing), 1 cm above a pad, seen from above:
- * the shadow map's light is fitted to the view (render.c's shadow_fit).
+ * the shadow map's light is fitted to the view (shadow.c's shadow_fit).
  * Its whole box, over the whole thread, is over 1.2 m wide, so its 1024
  * texels would be more than 1.2 mm each, and the shadows' edges take
  * 1.64 mm from lit to dark (measured with the fit taken out); fitted, they

@@ -1,0 +1,216 @@
+/* surface.c: the surfaces as drawn (surface.h). */
+#include "render/surface.h"
+
+#include <math.h>
+
+#include "base/vec3.h"
+#include "render/geometry.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+void surface_bounds(const rod_surface *s, double lo[3], double hi[3])
+{
+    for (int c = 0; c < 3; c++) {
+        double reach;
+        switch (s->shape) {
+        case ROD_SURFACE_BOX: reach = 0.5 * s->size[c]; break;
+        case ROD_SURFACE_SPHERE: reach = s->size[0]; break;
+        case ROD_SURFACE_CYLINDER:
+            reach = fabs(s->normal[c]) > 1e-12 ? INFINITY
+                                                : s->size[0] * sqrt(1 - s->normal[c] * s->normal[c]);
+            break;
+        default: reach = INFINITY; break;
+        }
+        lo[c] = s->center[c] - reach;
+        hi[c] = s->center[c] + reach;
+    }
+}
+
+/* The point of the surface nearest p (into near) and the outward normal
+ * there; returns the distance. The renderer's own: it does not see
+ * sim/surface.h (layer rule), and needs no grown solid. */
+static double surface_nearest(const rod_surface *s, const double p[3], double near[3], double n[3])
+{
+    double d[3];
+    v3_sub(d, p, s->center);
+    switch (s->shape) {
+    default: /* ROD_SURFACE_PLANE */
+        v3_copy(n, s->normal);
+        v3_copy(near, p);
+        v3_axpy(near, -v3_dot(d, n), n);
+        break;
+    case ROD_SURFACE_SPHERE:
+    case ROD_SURFACE_CYLINDER: {
+        double radial[3];
+        v3_copy(radial, d);
+        if (s->shape == ROD_SURFACE_CYLINDER) v3_axpy(radial, -v3_dot(d, s->normal), s->normal);
+        double length = v3_norm(radial);
+        if (length > 0) v3_scale(n, radial, 1 / length);
+        else perpendicular_basis(s->normal, n, radial);
+        v3_copy(near, p);
+        v3_axpy(near, s->size[0] - length, n);
+        break;
+    }
+    case ROD_SURFACE_BOX: {
+        /* the face whose slab p is farthest out of (or least inside) */
+        int face = 0;
+        double out = -INFINITY;
+        for (int c = 0; c < 3; c++) {
+            double beyond = fabs(d[c]) - 0.5 * s->size[c];
+            if (beyond > out) out = beyond, face = c;
+        }
+        for (int c = 0; c < 3; c++) {
+            double h = 0.5 * s->size[c];
+            near[c] = s->center[c] + fmax(-h, fmin(h, d[c]));
+            n[c] = 0;
+        }
+        n[face] = d[face] < 0 ? -1 : 1;
+        near[face] = s->center[face] + n[face] * 0.5 * s->size[face];
+        break;
+    }
+    }
+    double gap[3];
+    v3_sub(gap, p, near);
+    return v3_norm(gap);
+}
+
+void surface_add_plane(render_mesh *m, const double point[3], const double n[3],
+                       const double centre[3], double half, const float color[3])
+{
+    double e1[3], e2[3], middle[3];
+    perpendicular_basis(n, e1, e2);
+    v3_copy(middle, centre);
+    v3_axpy(middle, -v3_dot(n, (double[3]){centre[0] - point[0], centre[1] - point[1],
+                                           centre[2] - point[2]}),
+            n);
+    unsigned first = (unsigned)m->vertex_count;
+    for (int corner = 0; corner < 4; corner++) {
+        double p[3];
+        v3_copy(p, middle);
+        v3_axpy(p, (corner & 1 ? 1 : -1) * half, e1);
+        v3_axpy(p, (corner & 2 ? 1 : -1) * half, e2);
+        mesh_vertex(m, p, n, color);
+    }
+    mesh_triangle(m, first, first + 1, first + 3);
+    mesh_triangle(m, first, first + 3, first + 2);
+}
+
+void surface_add_sphere(render_mesh *m, const double centre[3], double radius,
+                        const float color[3])
+{
+    mesh_globe(m, centre, radius, SURFACE_STACKS, SURFACE_SIDES, color);
+}
+
+void surface_add_cylinder(render_mesh *m, const double centre[3], const double a[3], double radius,
+                          double half, const float color[3])
+{
+    double e1[3], e2[3];
+    perpendicular_basis(a, e1, e2);
+    unsigned first = (unsigned)m->vertex_count;
+    for (int end = 0; end < 2; end++)
+        for (int j = 0; j <= SURFACE_SIDES; j++) {
+            double phi = 2 * M_PI * j / SURFACE_SIDES, n[3] = {0, 0, 0}, p[3];
+            v3_axpy(n, cos(phi), e1);
+            v3_axpy(n, sin(phi), e2);
+            v3_copy(p, centre);
+            v3_axpy(p, end ? half : -half, a);
+            v3_axpy(p, radius, n);
+            mesh_vertex(m, p, n, color);
+        }
+    for (int j = 0; j < SURFACE_SIDES; j++) {
+        unsigned p0 = first + (unsigned)j, q0 = p0 + SURFACE_SIDES + 1;
+        mesh_triangle(m, p0, q0, q0 + 1);
+        mesh_triangle(m, p0, q0 + 1, p0 + 1);
+    }
+    for (int end = 0; end < 2; end++) {
+        double c[3], n[3];
+        v3_copy(c, centre);
+        v3_axpy(c, end ? half : -half, a);
+        v3_scale(n, a, end ? 1 : -1);
+        mesh_disc(m, c, e1, e2, radius, n, SURFACE_SIDES, color);
+    }
+}
+
+void surface_cylinder_piece(const rod_surface *s, const double lo[3], const double hi[3],
+                            double size, double centre[3], double *half)
+{
+    double t0 = INFINITY, t1 = -INFINITY;
+    for (int corner = 0; corner < 8; corner++) {
+        double p[3];
+        for (int c = 0; c < 3; c++) p[c] = (corner >> c & 1 ? hi[c] : lo[c]) - s->center[c];
+        double t = v3_dot(p, s->normal);
+        t0 = fmin(t0, t);
+        t1 = fmax(t1, t);
+    }
+    v3_copy(centre, s->center);
+    v3_axpy(centre, 0.5 * (t0 + t1), s->normal);
+    *half = 0.5 * (t1 - t0) + size;
+}
+
+/* The surface nearest p among o's (-1: none), its nearest point and normal. */
+static int nearest_surface(const render_options *o, const double p[3], double near[3], double n[3])
+{
+    int best = -1;
+    double best_gap = INFINITY;
+    for (int k = 0; k < o->surface_count; k++) {
+        double q[3], m[3], gap = surface_nearest(&o->surfaces[k], p, q, m);
+        if (gap < best_gap) {
+            best_gap = gap;
+            best = k;
+            v3_copy(near, q);
+            v3_copy(n, m);
+        }
+    }
+    return best;
+}
+
+void surface_add_wound(render_mesh *m, const render_options *o, double width, double lift,
+                       const double up_fallback[3])
+{
+    const double *a = o->wound_line, *b = &o->wound_line[3];
+    double along[3];
+    v3_sub(along, b, a);
+    v3_scale(along, along, 1 / v3_norm(along));
+    unsigned first = (unsigned)m->vertex_count;
+    for (int k = 0; k <= WOUND_SEGMENTS; k++) {
+        double f = (double)k / WOUND_SEGMENTS, p[3], near[3], n[3], side[3];
+        for (int c = 0; c < 3; c++) p[c] = a[c] + f * (b[c] - a[c]);
+        if (nearest_surface(o, p, near, n) < 0) {
+            v3_copy(near, p);
+            v3_copy(n, up_fallback);
+        }
+        v3_axpy(near, lift, n);
+        v3_cross(side, n, along);
+        double length = v3_norm(side);
+        if (!(length > 0)) perpendicular_basis(n, side, p);
+        else v3_scale(side, side, 1 / length);
+        for (int e = -1; e <= 1; e += 2) {
+            double q[3];
+            v3_copy(q, near);
+            v3_axpy(q, 0.5 * width * e, side);
+            mesh_vertex(m, q, n, render_wound_color);
+        }
+    }
+    for (int k = 0; k < WOUND_SEGMENTS; k++) {
+        unsigned i = first + 2 * (unsigned)k;
+        mesh_triangle(m, i, i + 2, i + 3);
+        mesh_triangle(m, i, i + 3, i + 1);
+    }
+}
+
+void surface_add_punctures(render_mesh *m, const rod_recording *rec, const render_options *o,
+                           int frame, double radius, double lift)
+{
+    const double *points;
+    int count = rod_recording_punctures(rec, frame, &points);
+    for (int i = 0; i < count; i++) {
+        double near[3], n[3], e1[3], e2[3];
+        /* on the surface nearest the point, just off it */
+        if (nearest_surface(o, &points[3 * i], near, n) < 0) continue;
+        v3_axpy(near, lift, n);
+        perpendicular_basis(n, e1, e2);
+        mesh_disc(m, near, e1, e2, 1.8 * radius, n, PUNCTURE_SIDES, render_puncture_color);
+    }
+}
