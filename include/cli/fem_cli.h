@@ -1,4 +1,4 @@
-/* fem_cli.h: `rodsim fem`: beam scenes (PRODUCT.md's FEM sections), the
+/* fem_cli.h: `rodsim fem`: 2-D beam (frame) finite-element scenes, the
  * nodal table (stdout, CSV, Markdown) and the figure of the undeformed and
  * deformed structure (plot.h). The solver itself is fem.h. */
 #ifndef RODSIM_FEM_CLI_H

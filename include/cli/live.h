@@ -1,4 +1,4 @@
-/* live.h: `rodsim live` (issue 13): the thread driven line by line from
+/* live.h: `rodsim live`: the thread driven line by line from
  * standard input (a sensor bridge, a haptic device), each line answered at
  * once on standard output with the force and moment the thread exerts on
  * its driven end.

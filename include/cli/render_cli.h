@@ -1,4 +1,4 @@
-/* render_cli.h: `rodsim render RECORD` (issue 13): a session recorded by
+/* render_cli.h: `rodsim render RECORD`: a session recorded by
  * `rodsim live --record` becomes the usual video and poster. The record
  * names its scene, the --set overrides and dt (live.h LIVE_RECORD_*), and
  * holds the inputs that were stepped; the scene is simulated again driven by

@@ -1,16 +1,16 @@
-/* run.h: `rodsim run`: load a scene, simulate it, write its outputs.
+/* run.h: the run loop of `rodsim run`, `render` and `sweep` (and the
+ * benchmarks).
  *
  * The run loop steps the chosen scheme to the scene's duration in equal
  * steps: each frame interval 1/fps is split into n = ceil(interval/dt) steps
  * of interval/n, so the step is the same all run long (but for the final
  * partial interval, when the duration is not a whole number of intervals).
- * Every frame at k/fps goes to the CSV as it comes and, for the video, to a
- * recording; the run stops at the first unstable or non-finite step with the
- * scheme's advice. The outputs are one transaction: a diverged, refused,
- * failed or interrupted run writes nothing.
+ * Every frame at k/fps goes to a callback as it comes (the CSV, a
+ * recording); the run stops at the first unstable or non-finite step with
+ * the scheme's advice.
  *
  * Before any work the run is counted (64-bit, checked) and its cost
- * estimated (run_plan_seconds); an absurd run is refused with exit 2.
+ * estimated (run_plan_seconds), so an absurd run can be refused up front.
  */
 #ifndef RODSIM_RUN_H
 #define RODSIM_RUN_H
@@ -19,38 +19,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "base/ini.h"
-#include "sim/recording.h"
-#include "render/render.h"
 #include "sim/rod.h"
-
-/* Exit statuses of every command (PRODUCT.md "Command line"). */
-enum {
-    RUN_EXIT_OK = 0,
-    RUN_EXIT_FAILURE = 1, /* out of memory, a file that cannot be written, ... */
-    RUN_EXIT_BAD_INPUT = 2 /* bad scene or usage, or a numerically unstable run */
-};
-
-/* The [render] section: how the run is turned into frames and video. Read
- * here (and range-checked) so the scene stays strict before the renderer
- * lands; the renderer reads the same struct. */
-typedef struct run_output {
-    int fps;    /* output frames per simulated second; also the CSV rate (1..1000) */
-    int width;  /* video pixels, even, 16..7680 */
-    int height; /* video pixels, even, 16..4320 */
-    int crf;    /* H.264 constant rate factor, 0 (lossless) .. 51 */
-    render_options render; /* every [render] key, for the renderer (fps .. crf copied in) */
-} run_output;
-
-/* The renderer's defaults (render_options_default), then the scene's
- * [render] keys. Returns 0, or -1 with "file:line: [render] key = value: ..." in err. */
-int run_read_output(ini_doc *doc, run_output *out, char *err, size_t errlen);
-
-/* Reads a whole rod scene the way `rodsim run` does: every section and key
- * checked against scene_keys_rod first (an unknown one is reported at its
- * line, with the nearest accepted key), then the model (scene_read_rod), then
- * [render]. Returns 0, or -1 with a message; on failure *m owns nothing. */
-int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_t errlen);
 
 /* Frame and step counts above this are refused: the time would no longer
  * advance by a step (t + dt == t) long before 2^63 is reached. */
@@ -82,11 +51,6 @@ int run_plan_make(const rod_model *m, double dt, int fps, run_plan *p);
  * (per node, x NS) + frames x (video_pixels x the cost of a pixel + the CSV
  * rows when csv). See run.c for the measured model. */
 double run_plan_seconds(const run_plan *p, int nodes, int video_pixels, int csv);
-/* Bytes of the video's frames kept in memory before the run streams its
- * video instead (run.c: 256 MiB; for the tests, the environment variables
- * RODSIM_RECORDING_BUDGET and RODSIM_SAMPLE_BUDGET, bytes, override it and
- * the 16 MiB of frames a streamed video keeps to frame its camera). */
-double run_recording_budget(void);
 
 /* What a run cost. */
 typedef struct run_stats {
@@ -116,24 +80,5 @@ rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
  * internal force N(s), global (rod_internal_force). 0, or -1 out of memory. */
 void run_csv_header(FILE *f);
 int run_csv_frame(FILE *f, const rod_model *m, const rod_state *s);
-
-/* The renderer's hook: writes the video of `rec` into out_dir. */
-int run_write_video(const rod_recording *rec, const run_output *out, const char *out_dir,
-                    char *err, size_t errlen);
-
-/* Simulates a scene already read (run_read_scene) and writes its video and
- * poster into out_dir as `rodsim run` does, named `name`; `label` (the
- * scene's or a record's path) heads the summary. Checks out_dir first.
- * Returns an exit status (RUN_EXIT_*). For `rodsim render` (render_cli.h). */
-int run_scene_outputs(const char *label, const char *name, const rod_model *m,
-                      const run_output *out, const char *out_dir, int allow_long, int quiet);
-
-/* `rodsim run ...`: argv[0] is "run"; a SCENE that is a `rodsim live`
- * record is rendered by render_command. Returns an exit status (RUN_EXIT_*);
- * messages go to stdout (summary) and stderr (errors). Never calls exit(). */
-int run_command(int argc, char **argv);
-
-/* Prints the usage of `rodsim run` to f. */
-void run_usage(FILE *f);
 
 #endif

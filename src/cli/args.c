@@ -1,29 +1,196 @@
 /* args.c: see args.h. */
 #include "cli/args.h"
 
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
-int cli_option_value(const char *option, const char *value, char *err, size_t errlen)
+static int is_help(const char *word)
+{
+    return strcmp(word, "--help") == 0 || strcmp(word, "-h") == 0;
+}
+
+/* An option word: '-' and more. A negative number ("--jobs -3") is a value,
+ * so that its own check names what is accepted. */
+static int is_option_word(const char *word)
+{
+    if (word[0] != '-' || word[1] == '\0') return 0;
+    char *end;
+    (void)strtod(word, &end);
+    return end == word || *end != '\0';
+}
+
+/* The value's name in messages. */
+static const char *noun_of(const cli_option *o)
+{
+    switch (o->value) {
+    case CLI_SETTING: return "section.key=value";
+    case CLI_FILE: return "a file name";
+    case CLI_OUTPUT: return "a file name (or - for standard output)";
+    case CLI_DIR: return "a directory";
+    case CLI_COUNT: return "a whole number";
+    default: return o->noun ? o->noun : "a value";
+    }
+}
+
+/* The option `word` names (its name, its alias, or "--name=value" of a
+ * value option), or NULL; *inline_value is the text after '=' then. */
+static const cli_option *find_option(const cli_option *options, const char *word,
+                                     const char **inline_value)
+{
+    *inline_value = NULL;
+    for (const cli_option *o = options; o->name; o++)
+        if (strcmp(word, o->name) == 0 || (o->alias && strcmp(word, o->alias) == 0)) return o;
+    const char *eq = strchr(word, '=');
+    if (!eq || strncmp(word, "--", 2) != 0) return NULL;
+    size_t len = (size_t)(eq - word);
+    for (const cli_option *o = options; o->name; o++)
+        if (strlen(o->name) == len && strncmp(word, o->name, len) == 0) {
+            *inline_value = eq + 1;
+            return o;
+        }
+    return NULL;
+}
+
+/* Checks a value by its option's kind. 0, or -1 with a message. */
+static int check_value(const cli_option *o, const char *option, const char *value, char *err,
+                       size_t errlen)
 {
     if (value[0] == '\0') {
-        snprintf(err, errlen, "%s needs a value, got an empty one", option);
+        snprintf(err, errlen, "%s needs %s, got an empty value", option, noun_of(o));
         return -1;
     }
-    if (value[0] == '-' && value[1] != '\0') {
-        snprintf(err, errlen, "%s needs %s, got the option '%s'", option,
-                 strcmp(option, "--set") == 0 ? "section.key=value"
-                 : strcmp(option, "-o") == 0  ? "a directory"
-                                              : "a file name (or - for standard output)",
-                 value);
+    if (is_option_word(value)) {
+        snprintf(err, errlen, "%s needs %s, got the option '%s'", option, noun_of(o), value);
         return -1;
     }
-    if (strcmp(option, "--set") == 0 && !strchr(value, '=')) {
+    if (strcmp(value, "-") == 0 && (o->value == CLI_FILE || o->value == CLI_DIR)) {
+        snprintf(err, errlen, "%s needs %s, got '-' (standard output is not accepted here)",
+                 option, noun_of(o));
+        return -1;
+    }
+    if (o->value == CLI_SETTING && !strchr(value, '=')) {
         snprintf(err, errlen,
-                 "--set expects section.key=value in one argument, got '%s' (write --set "
+                 "%s expects section.key=value in one argument, got '%s' (write %s "
                  "%s=VALUE, no space around '=')",
-                 value, value);
+                 option, value, option, value);
         return -1;
+    }
+    if (o->value == CLI_COUNT) {
+        char *end;
+        errno = 0;
+        long n = strtol(value, &end, 10);
+        if (end == value || *end != '\0' || errno || n < o->lo || n > o->hi) {
+            snprintf(err, errlen, "%s %s: accepted: a whole number %ld .. %ld", option, value,
+                     o->lo, o->hi);
+            return -1;
+        }
     }
     return 0;
+}
+
+/* Stores a checked value in the option's target. 0, or -1 out of memory. */
+static int store(const cli_option *o, const char *value, int argc)
+{
+    if (o->value == CLI_FLAG || o->value == CLI_COUNT) {
+        *(int *)o->target = o->value == CLI_FLAG ? 1 : (int)strtol(value, NULL, 10);
+        return 0;
+    }
+    if (!o->repeated) {
+        *(const char **)o->target = value;
+        return 0;
+    }
+    cli_list *list = o->target;
+    if (!list->items && !(list->items = calloc((size_t)argc, sizeof *list->items))) return -1;
+    list->items[list->count++] = value;
+    return 0;
+}
+
+/* A word that is not an option: the operand, once. */
+static int take_operand(char **argv, int i, const cli_option *options,
+                        const cli_operand *operand, char *err, size_t errlen)
+{
+    const char *word = argv[i];
+    if (!operand || !operand->name) {
+        snprintf(err, errlen, "unexpected argument '%s' (only options are accepted)", word);
+        return -1;
+    }
+    if (!*operand->target) {
+        *operand->target = word;
+        return 0;
+    }
+    /* a value with spaces left unquoted: its second word comes here */
+    const char *inline_value;
+    const cli_option *before = i >= 2 ? find_option(options, argv[i - 2], &inline_value) : NULL;
+    if (before && before->value == CLI_SETTING && !inline_value)
+        snprintf(err, errlen, "'%s' follows %s %s: a value with spaces needs quotes "
+                              "(--set tip.force=\"0 4e-7 0\"); only one %s may be given",
+                 word, argv[i - 2], argv[i - 1], operand->name);
+    else
+        snprintf(err, errlen, "only one %s may be given ('%s' and '%s')", operand->name,
+                 *operand->target, word);
+    return -1;
+}
+
+int cli_parse(int argc, char **argv, const cli_option *options, const cli_operand *operand,
+              char *err, size_t errlen)
+{
+    for (int i = 1; i < argc; i++)
+        if (is_help(argv[i])) return CLI_HELP;
+    for (int i = 1; i < argc; i++) {
+        const char *word = argv[i];
+        if (!is_option_word(word)) {
+            if (take_operand(argv, i, options, operand, err, errlen)) return CLI_ERROR;
+            continue;
+        }
+        const char *value;
+        const cli_option *o = find_option(options, word, &value);
+        if (!o) {
+            snprintf(err, errlen, "unknown option '%s'", word);
+            return CLI_ERROR;
+        }
+        const char *option = value ? o->name : word; /* as typed: "-j" or "--jobs" */
+        if (o->value == CLI_FLAG) {
+            if (value) {
+                snprintf(err, errlen, "%s takes no value ('%s')", option, word);
+                return CLI_ERROR;
+            }
+        } else if (!value) {
+            if (i + 1 >= argc) {
+                snprintf(err, errlen, "%s needs %s", option, noun_of(o));
+                return CLI_ERROR;
+            }
+            value = argv[++i];
+        }
+        if (o->value != CLI_FLAG && check_value(o, option, value, err, errlen)) return CLI_ERROR;
+        if (store(o, value, argc)) {
+            snprintf(err, errlen, "out of memory");
+            return CLI_ERROR;
+        }
+    }
+    if (operand && operand->name && !operand->optional && !*operand->target) {
+        snprintf(err, errlen, "no %s given%s%s%s", operand->name, operand->hint ? " (" : "",
+                 operand->hint ? operand->hint : "", operand->hint ? ")" : "");
+        return CLI_ERROR;
+    }
+    return CLI_PARSED;
+}
+
+void cli_release(const cli_option *options)
+{
+    for (const cli_option *o = options; o->name; o++) {
+        if (!o->repeated) continue;
+        cli_list *list = o->target;
+        free(list->items);
+        list->items = NULL;
+        list->count = 0;
+    }
+}
+
+int cli_usage_error(const char *command, const char *message)
+{
+    fprintf(stderr, "rodsim %s: %s\n  (rodsim %s --help for the options)\n", command, message,
+            command);
+    return RUN_EXIT_BAD_INPUT;
 }

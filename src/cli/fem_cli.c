@@ -13,16 +13,9 @@
 #include "cli/scene_keys.h"
 
 /* At most this many elements ([geometry] elements, or nodes - 1), refused
- * before anything is assembled. Why 5000: with supports at its ends only (the
- * lab's clamped rod, a simply supported beam) the equilibrated stiffness'
- * condition number grows like N^4 (measured: 9.8e12 at 1000 elements
- * clamped, 2.3e14 at 4000 pinned-roller), so past a few thousand elements
- * round-off swamps the result and the condition check below refuses it
- * anyway; and LAPACK's estimate of so ill-conditioned a matrix (dpbcon's
- * rescaled triangular solves) turns quadratic: 2.4 s at 1e4 elements, 28 s
- * at 2e4, while a larger chain (7e4) fails its Cholesky on round-off and
- * looked like a mechanism. The cubic elements are exact at the nodes for
- * nodal loads; 5000 is far beyond what a figure or a table resolves. */
+ * before anything is assembled: the condition number grows like N^4, so
+ * round-off swamps a longer chain, whose condition estimate alone costs
+ * seconds (docs/decisions/draft-fem-element-limit.md). */
 #define FEM_MAX_ELEMENTS 5000
 #define FEM_CURVE_SAMPLES 24 /* points per element of the deformed curve */
 
@@ -177,191 +170,242 @@ static int read_figure(ini_doc *doc, fem_figure_options *figure, char *err, size
     return 0;
 }
 
-fem_model *fem_scene_read(ini_doc *doc, fem_figure_options *figure, char *err, size_t errlen)
+/* [material]: Young's modulus and the section (radius, or area and second
+ * moment). 0, or -1 with a message. */
+static int read_material(ini_doc *doc, double *youngs, double *area, double *second_moment,
+                         char *err, size_t errlen)
 {
-    fem_model *m = NULL;
-    double youngs = 0, radius = 0, area = 0, second_moment = 0;
-    if (refuse_rod_scene(doc, err, errlen)) return NULL;
-    /* unknown keys first, at their own line (issue 9) */
-    if (ini_check_keys(doc, scene_keys_beam, err, errlen)) return NULL;
+    double radius = 0;
     if (read_in_range(doc, "material", 0, "youngs_modulus", "Pa", FEM_YOUNGS_MIN, FEM_YOUNGS_MAX,
-                      &youngs, 1, err, errlen) < 0)
-        return NULL;
+                      youngs, 1, err, errlen) < 0)
+        return -1;
     int has_radius = read_in_range(doc, "material", 0, "radius", "m", FEM_RADIUS_MIN,
                                    FEM_RADIUS_MAX, &radius, 0, err, errlen);
-    if (has_radius < 0) return NULL;
+    if (has_radius < 0) return -1;
     int has_area = read_in_range(doc, "material", 0, "area", "m^2", FEM_AREA_MIN, FEM_AREA_MAX,
-                                 &area, 0, err, errlen);
-    if (has_area < 0) return NULL;
+                                 area, 0, err, errlen);
+    if (has_area < 0) return -1;
     int has_moment = read_in_range(doc, "material", 0, "second_moment", "m^4", FEM_MOMENT2_MIN,
-                                   FEM_MOMENT2_MAX, &second_moment, 0, err, errlen);
-    if (has_moment < 0) return NULL;
+                                   FEM_MOMENT2_MAX, second_moment, 0, err, errlen);
+    if (has_moment < 0) return -1;
     if (has_radius && (has_area || has_moment)) {
         ini_error(doc, "material", 0, has_area ? "area" : "second_moment", err, errlen,
                   "give either radius (solid circle) or area and second_moment, not both");
-        return NULL;
+        return -1;
     }
     if (!has_radius && !(has_area && has_moment)) {
         ini_error(doc, "material", 0, has_area ? "second_moment" : "radius", err, errlen,
                   "missing; give radius (m, solid circular section) or area (m^2) and "
                   "second_moment (m^4)");
-        return NULL;
+        return -1;
     }
-    if (has_radius) fem_circular_section(radius, &area, &second_moment);
+    if (has_radius) fem_circular_section(radius, area, second_moment);
+    return 0;
+}
 
-    /* geometry: an explicit node list, or generated from a few numbers */
-    const char *node_text = NULL;
-    int has_nodes = ini_get_string(doc, "geometry", 0, "nodes", &node_text, err, errlen) == 1;
-    double length = 0, angle_deg = 0, curvature_radius = 0;
-    int elements = 4;
-    int has_length = ini_get_double(doc, "geometry", 0, "length", &length, err, errlen);
-    int has_angle = has_length >= 0 ? ini_get_double(doc, "geometry", 0, "angle", &angle_deg, err, errlen) : -1;
-    int has_curvature = has_angle >= 0 ? ini_get_double(doc, "geometry", 0, "curvature_radius",
-                                                        &curvature_radius, err, errlen) : -1;
-    int has_elements = has_curvature >= 0 ? ini_get_int(doc, "geometry", 0, "elements", &elements,
-                                                        err, errlen) : -1;
-    if (has_elements < 0) return NULL;
+/* [geometry]: an explicit node list, or a few numbers the nodes are
+ * generated from. */
+typedef struct geometry_input {
+    const char *node_text; /* nodes = "x1 z1, x2 z2, ..." (m), or NULL */
+    double length;         /* m */
+    double angle_deg;      /* deg */
+    double curvature_radius; /* m, 0: straight */
+    int elements;
     int node_count;
-    if (has_nodes) {
-        if (has_length || has_angle || has_curvature || has_elements) {
-            const char *other = has_length ? "length" : has_angle ? "angle"
-                              : has_curvature ? "curvature_radius" : "elements";
-            ini_error(doc, "geometry", 0, other, err, errlen,
-                      "give either nodes = \"x1 z1, x2 z2, ...\" or length/angle/"
-                      "curvature_radius/elements, not both");
-            return NULL;
-        }
-        node_count = parse_node_list(node_text, NULL, NULL);
-        if (node_count < 2) {
-            ini_error(doc, "geometry", 0, "nodes", err, errlen,
-                      node_count < 0 ? "expected pairs \"x z\" in metres separated by commas, "
-                                       "e.g. 0 0, 0.5 0.2, 1 0.3"
-                                     : "at least 2 nodes are needed");
-            return NULL;
-        }
-        if (node_count > FEM_MAX_ELEMENTS + 1) {
-            ini_error(doc, "geometry", 0, "nodes", err, errlen,
-                      "%d nodes; accepted: at most %d (%d elements: round-off would swamp "
-                      "a larger chain, and the cubic elements are exact at the nodes)",
-                      node_count, FEM_MAX_ELEMENTS + 1, FEM_MAX_ELEMENTS);
-            return NULL;
-        }
-    } else {
-        if (!has_length) {
-            ini_error(doc, "geometry", 0, "length", err, errlen,
-                      "missing; give length (m) [angle (deg), curvature_radius (m), elements] "
-                      "or nodes = \"x1 z1, x2 z2, ...\"");
-            return NULL;
-        }
-        if (!(length >= FEM_LENGTH_MIN && length <= FEM_COORD_MAX)) {
-            ini_error(doc, "geometry", 0, "length", err, errlen, "accepted: %g .. %g m",
-                      FEM_LENGTH_MIN, FEM_COORD_MAX);
-            return NULL;
-        }
-        if (!(fabs(angle_deg) <= 360)) {
-            ini_error(doc, "geometry", 0, "angle", err, errlen, "accepted: -360 .. 360 degrees");
-            return NULL;
-        }
-        if (elements < 1 || elements > FEM_MAX_ELEMENTS) {
-            ini_error(doc, "geometry", 0, "elements", err, errlen,
-                      "accepted: 1 .. %d (round-off would swamp a larger chain, and the cubic "
-                      "elements are exact at the nodes for nodal loads: a few per member "
-                      "suffice)", FEM_MAX_ELEMENTS);
-            return NULL;
-        }
-        if (curvature_radius != 0 && fabs(length / curvature_radius) > 2 * M_PI) {
-            ini_error(doc, "geometry", 0, "curvature_radius", err, errlen,
-                      "the arc of length %g m would turn by more than a full circle; "
-                      "accepted: 0 (straight) or |R| >= length / (2 pi) = %g m",
-                      length, length / (2 * M_PI));
-            return NULL;
-        }
-        node_count = elements + 1;
-    }
+} geometry_input;
 
-    int supports = ini_section_count(doc, "support");
-    int loads = ini_section_count(doc, "load");
-    m = fem_model_create(node_count, supports, loads);
+/* The node list's count, checked. 0, or -1 with a message. */
+static int check_node_list(ini_doc *doc, geometry_input *g, char *err, size_t errlen)
+{
+    g->node_count = parse_node_list(g->node_text, NULL, NULL);
+    if (g->node_count < 2) {
+        ini_error(doc, "geometry", 0, "nodes", err, errlen,
+                  g->node_count < 0 ? "expected pairs \"x z\" in metres separated by commas, "
+                                      "e.g. 0 0, 0.5 0.2, 1 0.3"
+                                    : "at least 2 nodes are needed");
+        return -1;
+    }
+    if (g->node_count > FEM_MAX_ELEMENTS + 1) {
+        ini_error(doc, "geometry", 0, "nodes", err, errlen,
+                  "%d nodes; accepted: at most %d (%d elements: round-off would swamp "
+                  "a larger chain, and the cubic elements are exact at the nodes)",
+                  g->node_count, FEM_MAX_ELEMENTS + 1, FEM_MAX_ELEMENTS);
+        return -1;
+    }
+    return 0;
+}
+
+/* The generated geometry's numbers, checked. 0, or -1 with a message. */
+static int check_generated(ini_doc *doc, int has_length, geometry_input *g, char *err,
+                           size_t errlen)
+{
+    if (!has_length) {
+        ini_error(doc, "geometry", 0, "length", err, errlen,
+                  "missing; give length (m) [angle (deg), curvature_radius (m), elements] "
+                  "or nodes = \"x1 z1, x2 z2, ...\"");
+        return -1;
+    }
+    if (!(g->length >= FEM_LENGTH_MIN && g->length <= FEM_COORD_MAX)) {
+        ini_error(doc, "geometry", 0, "length", err, errlen, "accepted: %g .. %g m",
+                  FEM_LENGTH_MIN, FEM_COORD_MAX);
+        return -1;
+    }
+    if (!(fabs(g->angle_deg) <= 360)) {
+        ini_error(doc, "geometry", 0, "angle", err, errlen, "accepted: -360 .. 360 degrees");
+        return -1;
+    }
+    if (g->elements < 1 || g->elements > FEM_MAX_ELEMENTS) {
+        ini_error(doc, "geometry", 0, "elements", err, errlen,
+                  "accepted: 1 .. %d (round-off would swamp a larger chain, and the cubic "
+                  "elements are exact at the nodes for nodal loads: a few per member "
+                  "suffice)", FEM_MAX_ELEMENTS);
+        return -1;
+    }
+    if (g->curvature_radius != 0 && fabs(g->length / g->curvature_radius) > 2 * M_PI) {
+        ini_error(doc, "geometry", 0, "curvature_radius", err, errlen,
+                  "the arc of length %g m would turn by more than a full circle; "
+                  "accepted: 0 (straight) or |R| >= length / (2 pi) = %g m",
+                  g->length, g->length / (2 * M_PI));
+        return -1;
+    }
+    g->node_count = g->elements + 1;
+    return 0;
+}
+
+static int read_geometry(ini_doc *doc, geometry_input *g, char *err, size_t errlen)
+{
+    *g = (geometry_input){.elements = 4};
+    int has_nodes = ini_get_string(doc, "geometry", 0, "nodes", &g->node_text, err, errlen) == 1;
+    if (!has_nodes) g->node_text = NULL;
+    int has_length = ini_get_double(doc, "geometry", 0, "length", &g->length, err, errlen);
+    int has_angle = has_length >= 0 ? ini_get_double(doc, "geometry", 0, "angle", &g->angle_deg,
+                                                     err, errlen) : -1;
+    int has_curvature = has_angle >= 0 ? ini_get_double(doc, "geometry", 0, "curvature_radius",
+                                                        &g->curvature_radius, err, errlen) : -1;
+    int has_elements = has_curvature >= 0 ? ini_get_int(doc, "geometry", 0, "elements",
+                                                        &g->elements, err, errlen) : -1;
+    if (has_elements < 0) return -1;
+    if (!has_nodes) return check_generated(doc, has_length, g, err, errlen);
+    if (has_length || has_angle || has_curvature || has_elements) {
+        const char *other = has_length ? "length" : has_angle ? "angle"
+                          : has_curvature ? "curvature_radius" : "elements";
+        ini_error(doc, "geometry", 0, other, err, errlen,
+                  "give either nodes = \"x1 z1, x2 z2, ...\" or length/angle/"
+                  "curvature_radius/elements, not both");
+        return -1;
+    }
+    return check_node_list(doc, g, err, errlen);
+}
+
+/* The model's nodes from the geometry, checked (fem_model_check). 0, or -1
+ * with a message. */
+static int place_nodes(ini_doc *doc, const geometry_input *g, fem_model *m, char *err,
+                       size_t errlen)
+{
+    if (g->node_text) {
+        parse_node_list(g->node_text, m->x, m->z);
+        for (int i = 0; i < g->node_count; i++)
+            if (!(fabs(m->x[i]) <= FEM_COORD_MAX && fabs(m->z[i]) <= FEM_COORD_MAX)) {
+                ini_error(doc, "geometry", 0, "nodes", err, errlen,
+                          "node %d at (%g, %g) m; accepted: |x|, |z| <= %g m", i + 1, m->x[i],
+                          m->z[i], FEM_COORD_MAX);
+                return -1;
+            }
+    } else
+        fem_generate_nodes(g->length, g->angle_deg * M_PI / 180.0, g->curvature_radius,
+                           g->elements, m->x, m->z);
+    char check_err[256];
+    if (fem_model_check(m, check_err, sizeof check_err) != FEM_OK) {
+        ini_error(doc, "geometry", 0, g->node_text ? "nodes" : "length", err, errlen, "%s",
+                  check_err);
+        return -1;
+    }
+    return 0;
+}
+
+/* A [support] or [load] section's node, 1 .. node_count, as an index. */
+static int read_node(ini_doc *doc, const char *section, int i, int node_count, int *node,
+                     char *err, size_t errlen)
+{
+    int rc = ini_get_int(doc, section, i, "node", node, err, errlen);
+    if (rc < 0) return -1;
+    if (rc == 0 || *node < 1 || *node > node_count) {
+        ini_error(doc, section, i, "node", err, errlen,
+                  rc == 0 ? "missing; give the node number 1 .. %d"
+                          : "no such node; accepted: 1 .. %d", node_count);
+        return -1;
+    }
+    (*node)--;
+    return 0;
+}
+
+static int read_supports(ini_doc *doc, fem_model *m, char *err, size_t errlen)
+{
+    for (int i = 0; i < m->support_count; i++) {
+        int node = 0, type = 0;
+        if (read_node(doc, "support", i, m->node_count, &node, err, errlen)) return -1;
+        int rc = ini_get_choice(doc, "support", i, "type", support_names, &type, err, errlen);
+        if (rc < 0) return -1;
+        if (rc == 0) {
+            ini_error(doc, "support", i, "type", err, errlen,
+                      "missing; accepted: clamped | pinned | roller");
+            return -1;
+        }
+        m->supports[i].node = node;
+        m->supports[i].type = (fem_support_type)type;
+    }
+    return 0;
+}
+
+static int read_loads(ini_doc *doc, fem_model *m, char *err, size_t errlen)
+{
+    for (int i = 0; i < m->load_count; i++) {
+        int node = 0;
+        if (read_node(doc, "load", i, m->node_count, &node, err, errlen)) return -1;
+        m->loads[i].node = node;
+        if (ini_get_vector(doc, "load", i, "force", m->loads[i].force, 2, err, errlen) < 0 ||
+            ini_get_double(doc, "load", i, "moment", &m->loads[i].moment, err, errlen) < 0)
+            return -1;
+        const fem_load *l = &m->loads[i];
+        if (!(fabs(l->force[0]) <= FEM_LOAD_MAX && fabs(l->force[1]) <= FEM_LOAD_MAX)) {
+            ini_error(doc, "load", i, "force", err, errlen, "accepted: components within "
+                      "+-%g N", FEM_LOAD_MAX);
+            return -1;
+        }
+        if (!(fabs(l->moment) <= FEM_LOAD_MAX)) {
+            ini_error(doc, "load", i, "moment", err, errlen, "accepted: -%g .. %g N m",
+                      FEM_LOAD_MAX, FEM_LOAD_MAX);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+fem_model *fem_scene_read(ini_doc *doc, fem_figure_options *figure, char *err, size_t errlen)
+{
+    double youngs = 0, area = 0, second_moment = 0;
+    geometry_input g;
+    /* unknown keys first, at their own line */
+    if (refuse_rod_scene(doc, err, errlen) || ini_check_keys(doc, scene_keys_beam, err, errlen) ||
+        read_material(doc, &youngs, &area, &second_moment, err, errlen) ||
+        read_geometry(doc, &g, err, errlen))
+        return NULL;
+    fem_model *m = fem_model_create(g.node_count, ini_section_count(doc, "support"),
+                                    ini_section_count(doc, "load"));
     if (!m) {
-        snprintf(err, errlen, "%s: out of memory for %d nodes", ini_filename(doc), node_count);
+        snprintf(err, errlen, "%s: out of memory for %d nodes", ini_filename(doc), g.node_count);
         return NULL;
     }
     m->youngs_modulus = youngs;
     m->area = area;
     m->second_moment = second_moment;
-    if (has_nodes) {
-        parse_node_list(node_text, m->x, m->z);
-        for (int i = 0; i < node_count; i++)
-            if (!(fabs(m->x[i]) <= FEM_COORD_MAX && fabs(m->z[i]) <= FEM_COORD_MAX)) {
-                ini_error(doc, "geometry", 0, "nodes", err, errlen,
-                          "node %d at (%g, %g) m; accepted: |x|, |z| <= %g m", i + 1, m->x[i],
-                          m->z[i], FEM_COORD_MAX);
-                goto fail;
-            }
-    } else
-        fem_generate_nodes(length, angle_deg * M_PI / 180.0, curvature_radius, elements, m->x,
-                           m->z);
-    {
-        char check_err[256];
-        if (fem_model_check(m, check_err, sizeof check_err) != FEM_OK) {
-            ini_error(doc, "geometry", 0, has_nodes ? "nodes" : "length", err, errlen, "%s",
-                      check_err);
-            goto fail;
-        }
+    if (place_nodes(doc, &g, m, err, errlen) || read_supports(doc, m, err, errlen) ||
+        read_loads(doc, m, err, errlen) || read_figure(doc, figure, err, errlen) < 0 ||
+        ini_check_unused(doc, err, errlen) != 0) {
+        fem_model_destroy(m);
+        return NULL;
     }
-
-    for (int i = 0; i < supports; i++) {
-        int node = 0, type = 0;
-        int rc = ini_get_int(doc, "support", i, "node", &node, err, errlen);
-        if (rc < 0) goto fail;
-        if (rc == 0 || node < 1 || node > node_count) {
-            ini_error(doc, "support", i, "node", err, errlen,
-                      rc == 0 ? "missing; give the node number 1 .. %d"
-                              : "no such node; accepted: 1 .. %d", node_count);
-            goto fail;
-        }
-        rc = ini_get_choice(doc, "support", i, "type", support_names, &type, err, errlen);
-        if (rc < 0) goto fail;
-        if (rc == 0) {
-            ini_error(doc, "support", i, "type", err, errlen,
-                      "missing; accepted: clamped | pinned | roller");
-            goto fail;
-        }
-        m->supports[i].node = node - 1;
-        m->supports[i].type = (fem_support_type)type;
-    }
-    for (int i = 0; i < loads; i++) {
-        int node = 0;
-        int rc = ini_get_int(doc, "load", i, "node", &node, err, errlen);
-        if (rc < 0) goto fail;
-        if (rc == 0 || node < 1 || node > node_count) {
-            ini_error(doc, "load", i, "node", err, errlen,
-                      rc == 0 ? "missing; give the node number 1 .. %d"
-                              : "no such node; accepted: 1 .. %d", node_count);
-            goto fail;
-        }
-        m->loads[i].node = node - 1;
-        if (ini_get_vector(doc, "load", i, "force", m->loads[i].force, 2, err, errlen) < 0 ||
-            ini_get_double(doc, "load", i, "moment", &m->loads[i].moment, err, errlen) < 0)
-            goto fail;
-        const fem_load *l = &m->loads[i];
-        if (!(fabs(l->force[0]) <= FEM_LOAD_MAX && fabs(l->force[1]) <= FEM_LOAD_MAX)) {
-            ini_error(doc, "load", i, "force", err, errlen, "accepted: components within "
-                      "+-%g N", FEM_LOAD_MAX);
-            goto fail;
-        }
-        if (!(fabs(l->moment) <= FEM_LOAD_MAX)) {
-            ini_error(doc, "load", i, "moment", err, errlen, "accepted: -%g .. %g N m",
-                      FEM_LOAD_MAX, FEM_LOAD_MAX);
-            goto fail;
-        }
-    }
-    if (read_figure(doc, figure, err, errlen) < 0) goto fail;
-    if (ini_check_unused(doc, err, errlen) != 0) goto fail;
     return m;
-fail:
-    fem_model_destroy(m);
-    return NULL;
 }
 
 /* ---- figure --------------------------------------------------------------- */
@@ -708,190 +752,179 @@ static int check_small_deformation(ini_doc *doc, const fem_model *m, const fem_s
                      what, m->youngs_modulus, m->area, m->second_moment);
 }
 
-int fem_command(int argc, char **argv)
+/* What `rodsim fem` was asked for. */
+typedef struct fem_args {
+    const char *scene, *csv, *md, *png; /* csv "-": standard output; png NULL: DIR/NAME.png */
+    const char *out_dir;
+    int no_png;
+    cli_list sets; /* --set, applied after loading, in order */
+} fem_args;
+
+/* A beam scene solved: the model, its solution, the figure's options and
+ * the deformation's scale. */
+typedef struct fem_run {
+    ini_doc *doc;
+    fem_model *model;
+    fem_solution *solution;
+    fem_figure_options options;
+    double scale;
+    char scene_name[256];
+} fem_run;
+
+/* The scene with its overrides, read and checked. An exit status, with a
+ * message in err when not 0. */
+static int load_scene(const fem_args *a, fem_run *r, char *err, size_t errlen)
 {
-    const char *scene_path = NULL, *csv_path = NULL, *md_path = NULL, *png_path = NULL;
-    const char *out_dir = "out";
-    int no_png = 0;
-    char err[1024] = "";
-    /* the --set assignments are applied after loading, in order */
-    int set_count = 0;
-    const char **sets = calloc((size_t)(argc > 0 ? argc : 1), sizeof *sets);
-    if (!sets) {
-        fprintf(stderr, "rodsim fem: out of memory\n");
+    if (!(r->doc = ini_load(a->scene, err, errlen))) return 2;
+    for (int i = 0; i < a->sets.count; i++)
+        if (ini_set(r->doc, a->sets.items[i], err, errlen)) return 2;
+    if (!(r->model = fem_scene_read(r->doc, &r->options, err, errlen))) return 2;
+    ini_scene_name(r->doc, r->scene_name, sizeof r->scene_name);
+    return 0;
+}
+
+/* Solves the model and refuses what double precision or linear theory
+ * cannot answer. An exit status, with a message in err when not 0. */
+static int solve(const fem_args *a, fem_run *r, char *err, size_t errlen)
+{
+    if (!(r->solution = fem_solution_create(r->model->node_count))) {
+        snprintf(err, errlen, "out of memory");
         return 1;
     }
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        int has_value = i + 1 < argc;
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            usage(stdout);
-            free(sets);
-            return 0;
-        } else if (strcmp(a, "--no-png") == 0) {
-            no_png = 1;
-        } else if ((strcmp(a, "--set") == 0 || strcmp(a, "--csv") == 0 || strcmp(a, "--md") == 0 ||
-                    strcmp(a, "--png") == 0 || strcmp(a, "-o") == 0)) {
-            if (!has_value) {
-                fprintf(stderr, "rodsim fem: %s needs a value\n", a);
-                usage(stderr);
-                free(sets);
-                return 2;
-            }
-            const char *v = argv[++i];
-            /* an option word is not a value (--csv -o); "-" is stdout for --csv only */
-            if (cli_option_value(a, v, err, sizeof err) ||
-                (strcmp(v, "-") == 0 && strcmp(a, "--csv") != 0 &&
-                 snprintf(err, sizeof err, "%s needs a %s, got '-' (only --csv writes to "
-                          "standard output)", a, strcmp(a, "-o") == 0 ? "directory" : "file name"))) {
-                fprintf(stderr, "rodsim fem: %s\n", err);
-                free(sets);
-                return 2;
-            }
-            if (strcmp(a, "--set") == 0) sets[set_count++] = v;
-            else if (strcmp(a, "--csv") == 0) csv_path = v;
-            else if (strcmp(a, "--md") == 0) md_path = v;
-            else if (strcmp(a, "--png") == 0) png_path = v;
-            else out_dir = v;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            fprintf(stderr, "rodsim fem: unknown option '%s'\n", a);
-            usage(stderr);
-            free(sets);
-            return 2;
-        } else if (!scene_path) {
-            scene_path = a;
-        } else {
-            fprintf(stderr, "rodsim fem: one scene only ('%s' and '%s')\n", scene_path, a);
-            free(sets);
-            return 2;
-        }
-    }
-    if (!scene_path) {
-        fprintf(stderr, "rodsim fem: no scene given\n");
-        usage(stderr);
-        free(sets);
-        return 2;
-    }
-
-    int status = 1;
-    fem_model *model = NULL;
-    fem_solution *solution = NULL;
-    plot *figure = NULL;
-    ini_doc *doc = ini_load(scene_path, err, sizeof err);
-    if (!doc) {
-        status = 2;
-        goto done;
-    }
-    for (int i = 0; i < set_count; i++)
-        if (ini_set(doc, sets[i], err, sizeof err)) {
-            status = 2;
-            goto done;
-        }
-    fem_figure_options options;
-    if (!(model = fem_scene_read(doc, &options, err, sizeof err))) {
-        status = 2;
-        goto done;
-    }
-    if (!(solution = fem_solution_create(model->node_count))) {
-        snprintf(err, sizeof err, "out of memory");
-        goto done;
-    }
     char solve_err[768] = "";
-    fem_status solved = fem_solve(model, solution, solve_err, sizeof solve_err);
+    fem_status solved = fem_solve(r->model, r->solution, solve_err, sizeof solve_err);
     if (solved != FEM_OK) {
         /* a mechanism or bad model: name the scene it came from */
-        snprintf(err, sizeof err, "%s: %s", solved == FEM_FAILURE ? "rodsim" : scene_path,
-                 solve_err);
-        status = solved == FEM_FAILURE ? 1 : 2;
-        goto done;
+        snprintf(err, errlen, "%s: %s", solved == FEM_FAILURE ? "rodsim" : a->scene, solve_err);
+        return solved == FEM_FAILURE ? 1 : 2;
     }
-
     /* round-off: the relative error is about 1e-16 x the condition number */
-    double roundoff = 1.1e-16 * solution->condition_number;
+    double condition = r->solution->condition_number, roundoff = 1.1e-16 * condition;
     if (roundoff > 1e-2) {
-        snprintf(err, sizeof err,
+        snprintf(err, errlen,
                  "%s: %d elements make the stiffness matrix too ill-conditioned for double "
                  "precision (condition number %.2g: round-off of about %.0f %% in the "
                  "displacements); use fewer elements: the cubic elements are exact at the nodes "
                  "for nodal loads, a few per member suffice",
-                 scene_path, model->node_count - 1, solution->condition_number,
-                 fmin(100.0, 100 * roundoff));
-        status = 2;
-        goto done;
+                 a->scene, r->model->node_count - 1, condition, fmin(100.0, 100 * roundoff));
+        return 2;
     }
     if (roundoff > 1e-6)
         fprintf(stderr, "rodsim fem: warning: condition number %.2g: the displacements may carry "
                         "a relative round-off error of about %.1g; fewer elements would be more "
-                        "accurate\n", solution->condition_number, roundoff);
+                        "accurate\n", condition, roundoff);
+    return check_small_deformation(r->doc, r->model, r->solution, err, errlen) ? 2 : 0;
+}
 
-    if (check_small_deformation(doc, model, solution, err, sizeof err)) {
-        status = 2;
-        goto done;
+/* The figure's deformation scale: [plot] scale, or automatic. A scale that
+ * draws the deformation far larger than the structure (1e308: infinite
+ * coordinates) shows nothing: refused (exit 2, message in err). */
+static int choose_scale(fem_run *r, char *err, size_t errlen)
+{
+    const fem_model *model = r->model;
+    r->scale = r->options.scale > 0 ? r->options.scale : fem_auto_scale(model, r->solution);
+    double moved, turned, extent = structure_extent(model);
+    int moved_node, turned_node;
+    fem_largest_motion(model, r->solution, &moved, &moved_node, &turned, &turned_node);
+    if (r->options.scale > 0 && moved > 0 && !(r->scale * moved <= 10 * extent)) {
+        ini_error(r->doc, "plot", 0, "scale", err, errlen,
+                  "draws the largest displacement (%.3g m) %.3g m long, over 10 x the "
+                  "structure's size (%g m); accepted: auto, or at most %.3g here",
+                  moved, r->scale * moved, extent, 10 * extent / moved);
+        return 2;
     }
+    return 0;
+}
 
-    char scene_name[256];
-    ini_scene_name(doc, scene_name, sizeof scene_name);
-    double scale = options.scale > 0 ? options.scale : fem_auto_scale(model, solution);
-    {
-        /* a scale that draws the deformation far larger than the structure
-         * (1e308: infinite coordinates) shows nothing: refuse it */
-        double moved, turned, extent = structure_extent(model);
-        int moved_node, turned_node;
-        fem_largest_motion(model, solution, &moved, &moved_node, &turned, &turned_node);
-        if (options.scale > 0 && moved > 0 && !(scale * moved <= 10 * extent)) {
-            ini_error(doc, "plot", 0, "scale", err, sizeof err,
-                      "draws the largest displacement (%.3g m) %.3g m long, over 10 x the "
-                      "structure's size (%g m); accepted: auto, or at most %.3g here",
-                      moved, scale * moved, extent, 10 * extent / moved);
-            status = 2;
-            goto done;
-        }
+/* The CSV, the Markdown table and the figure: together or not at all
+ * (outfile.h); then the CSV on standard output when asked, and what was
+ * written. 0, or 1 with a message in err. */
+static int write_outputs(const fem_args *a, const fem_run *r, FILE *talk, char *err,
+                         size_t errlen)
+{
+    int csv_stdout = a->csv && strcmp(a->csv, "-") == 0;
+    char default_png[1100];
+    const char *png = a->png;
+    if (!png) {
+        snprintf(default_png, sizeof default_png, "%s/%s.png", a->out_dir, r->scene_name);
+        png = default_png;
     }
-    /* --csv -: the CSV alone on standard output, the rest on standard error */
-    int csv_stdout = csv_path && strcmp(csv_path, "-") == 0;
-    FILE *talk = csv_stdout ? stderr : stdout;
-    fprintf(talk, "rodsim fem: %s: %d nodes, %d elements, E = %g Pa, A = %.6g m^2, I = %.6g m^4\n"
-            "condition number of the (equilibrated) stiffness: %.3g\n\n",
-            scene_path, model->node_count, model->node_count - 1, model->youngs_modulus,
-            model->area, model->second_moment, solution->condition_number);
-    print_table(talk, model, solution);
-    fflush(talk);
-
-    /* the CSV, the Markdown table and the figure appear together or not at all */
+    plot *figure = NULL;
+    int status = 1;
     outfile_transaction_begin();
-    if (csv_path && !csv_stdout && write_csv(csv_path, model, solution, err, sizeof err))
+    if (a->csv && !csv_stdout && write_csv(a->csv, r->model, r->solution, err, errlen)) goto done;
+    if (a->md && write_markdown(a->md, r->scene_name, r->model, r->solution, err, errlen))
         goto done;
-    if (md_path && write_markdown(md_path, scene_name, model, solution, err, sizeof err)) goto done;
-    if (!no_png) {
-        char default_png[1100];
-        if (!png_path) {
-            snprintf(default_png, sizeof default_png, "%s/%s.png", out_dir, scene_name);
-            png_path = default_png;
-        }
-        if (!(figure = fem_figure_create(model, solution, &options, scale, scene_name))) {
-            snprintf(err, sizeof err, "out of memory for the figure");
+    if (!a->no_png) {
+        if (!(figure = fem_figure_create(r->model, r->solution, &r->options, r->scale,
+                                         r->scene_name))) {
+            snprintf(err, errlen, "out of memory for the figure");
             goto done;
         }
-        if (plot_write_png(figure, png_path, err, sizeof err)) goto done;
+        if (plot_write_png(figure, png, err, errlen)) goto done;
     }
-    if (outfile_transaction_commit(err, sizeof err)) goto done;
-    if (csv_stdout && write_csv(csv_path, model, solution, err, sizeof err)) goto done;
-    if (!no_png) {
-        fprintf(talk, "\nwrote %s (deformation drawn %s)\n", png_path,
-                scale == 1.0 ? "true to scale" : "magnified");
-        if (scale != 1.0)
-            fprintf(talk, "deformation scale: displacements x %g in the figure\n", scale);
+    if (outfile_transaction_commit(err, errlen)) goto done;
+    if (csv_stdout && write_csv(a->csv, r->model, r->solution, err, errlen)) goto done;
+    if (!a->no_png) {
+        fprintf(talk, "\nwrote %s (deformation drawn %s)\n", png,
+                r->scale == 1.0 ? "true to scale" : "magnified");
+        if (r->scale != 1.0)
+            fprintf(talk, "deformation scale: displacements x %g in the figure\n", r->scale);
     }
-    if (csv_path && !csv_stdout) fprintf(talk, "wrote %s\n", csv_path);
-    if (md_path) fprintf(talk, "wrote %s\n", md_path);
+    if (a->csv && !csv_stdout) fprintf(talk, "wrote %s\n", a->csv);
+    if (a->md) fprintf(talk, "wrote %s\n", a->md);
     status = 0;
 done:
     if (outfile_transaction_active()) outfile_transaction_abort();
-    if (status != 0) fprintf(stderr, "rodsim fem: %s\n", err);
     plot_destroy(figure);
-    fem_solution_destroy(solution);
-    fem_model_destroy(model);
-    ini_destroy(doc);
-    free(sets);
+    return status;
+}
+
+/* The scene solved, tabulated and drawn. An exit status. */
+static int fem_scene(const fem_args *a)
+{
+    char err[1024] = "";
+    fem_run r;
+    memset(&r, 0, sizeof r);
+    int status = load_scene(a, &r, err, sizeof err);
+    if (!status) status = solve(a, &r, err, sizeof err);
+    if (!status) status = choose_scale(&r, err, sizeof err);
+    if (!status) {
+        /* --csv -: the CSV alone on standard output, the rest on standard error */
+        FILE *talk = a->csv && strcmp(a->csv, "-") == 0 ? stderr : stdout;
+        fprintf(talk, "rodsim fem: %s: %d nodes, %d elements, E = %g Pa, A = %.6g m^2, "
+                      "I = %.6g m^4\ncondition number of the (equilibrated) stiffness: %.3g\n\n",
+                a->scene, r.model->node_count, r.model->node_count - 1,
+                r.model->youngs_modulus, r.model->area, r.model->second_moment,
+                r.solution->condition_number);
+        print_table(talk, r.model, r.solution);
+        fflush(talk);
+        status = write_outputs(a, &r, talk, err, sizeof err);
+    }
+    if (status != 0) fprintf(stderr, "rodsim fem: %s\n", err);
+    fem_solution_destroy(r.solution);
+    fem_model_destroy(r.model);
+    ini_destroy(r.doc);
+    return status;
+}
+
+int fem_command(int argc, char **argv)
+{
+    char err[1024] = "";
+    fem_args a = {.out_dir = "out"};
+    const cli_option options[] = {
+        {.name = "--set", .value = CLI_SETTING, .target = &a.sets, .repeated = 1},
+        {.name = "--csv", .value = CLI_OUTPUT, .target = &a.csv},
+        {.name = "--md", .value = CLI_FILE, .target = &a.md},
+        {.name = "--png", .value = CLI_FILE, .target = &a.png},
+        {.name = "--no-png", .value = CLI_FLAG, .target = &a.no_png},
+        {.name = "-o", .value = CLI_DIR, .target = &a.out_dir},
+        {0}};
+    const cli_operand scene = {.name = "SCENE", .target = &a.scene};
+    int parsed = cli_parse(argc, argv, options, &scene, err, sizeof err), status = 0;
+    if (parsed == CLI_HELP) usage(stdout);
+    else if (parsed != CLI_PARSED) status = cli_usage_error("fem", err);
+    else status = fem_scene(&a);
+    cli_release(options);
     return status;
 }

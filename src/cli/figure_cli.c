@@ -8,12 +8,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "cli/args.h"
 #include "cli/print_commands.h"
-#include "cli/sweep.h"
+#include "cli/sweep_figure.h"
 #include "study/figure.h"
 #include "base/outfile.h"
-
-enum { EXIT_OK = 0, EXIT_FAILURE_ = 1, EXIT_USAGE = 2 };
 
 typedef struct figure_args {
     const char *name;      /* a figure or "all" */
@@ -27,7 +26,6 @@ typedef struct figure_args {
     int quick;
     int print_commands;
     int list;
-    int help;
 } figure_args;
 
 void figure_usage(FILE *f)
@@ -62,63 +60,12 @@ void figure_usage(FILE *f)
     }
 }
 
-static int parse_count(const char *text, int lo, int hi, int *out)
+/* Which options go together, once parsed. 0, or -1 with a message. */
+static int check_args(const figure_args *a, char *err, size_t errlen)
 {
-    char *end;
-    errno = 0;
-    long v = strtol(text, &end, 10);
-    if (end == text || *end || errno || v < lo || v > hi) return -1;
-    *out = (int)v;
-    return 0;
-}
-
-static int parse_args(int argc, char **argv, figure_args *a, char *err, size_t errlen)
-{
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    *a = (figure_args){.out_dir = "out/figures", .point = -1, .jobs = cores > 0 ? (int)cores : 1};
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        const char *value = i + 1 < argc ? argv[i + 1] : NULL;
-        int takes_value = strcmp(arg, "--out") == 0 || strcmp(arg, "--jobs") == 0 ||
-                          strcmp(arg, "--point") == 0 || strcmp(arg, "--csv") == 0 ||
-                          strcmp(arg, "--from") == 0 || strcmp(arg, "--result") == 0;
-        if (takes_value && !value) {
-            snprintf(err, errlen, "%s needs a value", arg);
-            return -1;
-        }
-        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) a->help = 1;
-        else if (strcmp(arg, "--list") == 0) a->list = 1;
-        else if (strcmp(arg, "--quick") == 0) a->quick = 1;
-        else if (strcmp(arg, "--print-commands") == 0) a->print_commands = 1;
-        else if (strcmp(arg, "--print-sweep") == 0) a->print_sweep = 1;
-        else if (strcmp(arg, "--result") == 0) a->result_dir = value;
-        else if (strcmp(arg, "--out") == 0) a->out_dir = value;
-        else if (strcmp(arg, "--from") == 0) a->from_dir = value;
-        else if (strcmp(arg, "--csv") == 0) a->csv = value;
-        else if (strcmp(arg, "--jobs") == 0) {
-            if (parse_count(value, 1, 1024, &a->jobs)) {
-                snprintf(err, errlen, "--jobs %s: accepted: a whole number 1 .. 1024", value);
-                return -1;
-            }
-        } else if (strcmp(arg, "--point") == 0) {
-            if (parse_count(value, 0, 999999, &a->point)) {
-                snprintf(err, errlen, "--point %s: accepted: a point index 0, 1, ...", value);
-                return -1;
-            }
-        } else if (arg[0] == '-' && arg[1]) {
-            snprintf(err, errlen, "unknown option '%s'", arg);
-            return -1;
-        } else if (!a->name) {
-            a->name = arg;
-        } else {
-            snprintf(err, errlen, "one figure at a time: '%s' after '%s'", arg, a->name);
-            return -1;
-        }
-        if (takes_value) i++;
-    }
-    if (a->help || a->list) return 0;
+    if (a->list) return 0;
     if (!a->name) {
-        snprintf(err, errlen, "no figure named; give one of the list below, or all");
+        snprintf(err, errlen, "no figure named; give one of rodsim figure --list, or all");
         return -1;
     }
     const figure_spec *spec = figure_spec_find(a->name);
@@ -151,6 +98,29 @@ static int parse_args(int argc, char **argv, figure_args *a, char *err, size_t e
         return -1;
     }
     return 0;
+}
+
+/* CLI_PARSED, CLI_HELP or CLI_ERROR with a message (args.h). */
+static int parse_args(int argc, char **argv, figure_args *a, char *err, size_t errlen)
+{
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    *a = (figure_args){.out_dir = "out/figures", .point = -1, .jobs = cores > 0 ? (int)cores : 1};
+    const cli_option options[] = {
+        {.name = "--list", .value = CLI_FLAG, .target = &a->list},
+        {.name = "--quick", .value = CLI_FLAG, .target = &a->quick},
+        {.name = "--print-commands", .value = CLI_FLAG, .target = &a->print_commands},
+        {.name = "--print-sweep", .value = CLI_FLAG, .target = &a->print_sweep},
+        {.name = "--result", .value = CLI_DIR, .target = &a->result_dir},
+        {.name = "--out", .value = CLI_DIR, .target = &a->out_dir},
+        {.name = "--from", .value = CLI_DIR, .target = &a->from_dir},
+        {.name = "--csv", .value = CLI_OUTPUT, .target = &a->csv},
+        {.name = "--jobs", .value = CLI_COUNT, .target = &a->jobs, .lo = 1, .hi = 1024},
+        {.name = "--point", .value = CLI_COUNT, .target = &a->point, .lo = 0, .hi = 999999},
+        {0}};
+    const cli_operand name = {.name = "NAME", .optional = 1, .target = &a->name};
+    int parsed = cli_parse(argc, argv, options, &name, err, errlen);
+    if (parsed != CLI_PARSED) return parsed;
+    return check_args(a, err, errlen) ? CLI_ERROR : CLI_PARSED;
 }
 
 /* The figures NAME stands for: one, or all of them (figures, then sweep figures). */
@@ -198,7 +168,7 @@ static int print_commands(const figure_def *const *figs, int n, const figure_arg
     if (cli_self_path(self, sizeof self, err, sizeof err) ||
         cli_absolute_path(a->out_dir, out_dir, sizeof out_dir, err, sizeof err)) {
         fprintf(stderr, "rodsim figure: %s\n", err);
-        return EXIT_FAILURE_;
+        return RUN_EXIT_FAILURE;
     }
     const char *quick = a->quick ? " --quick" : "";
     printf("# rodsim figure %s: one independent command per point (run them in any order, in\n"
@@ -223,7 +193,7 @@ static int print_commands(const figure_def *const *figs, int n, const figure_arg
         cli_print_shell_word(stdout, out_dir);
         printf("%s\n", quick);
     }
-    return fflush(stdout) ? EXIT_FAILURE_ : EXIT_OK;
+    return fflush(stdout) ? RUN_EXIT_FAILURE : RUN_EXIT_OK;
 }
 
 /* --point K --csv FILE: one point, written atomically (or to stdout). */
@@ -232,22 +202,22 @@ static int compute_one(const figure_def *f, const figure_args *a)
     char err[1024];
     figure_points rows;
     figure_points_init(&rows, f);
-    int status = EXIT_OK;
+    int status = RUN_EXIT_OK;
     if (figure_compute_point(f, a->point, a->quick, &rows, err, sizeof err)) {
         fprintf(stderr, "rodsim figure %s: point %d: %s\n", figure_name(f), a->point, err);
-        status = a->point >= figure_point_count(f, a->quick) ? EXIT_USAGE : EXIT_FAILURE_;
+        status = a->point >= figure_point_count(f, a->quick) ? RUN_EXIT_BAD_INPUT : RUN_EXIT_FAILURE;
     } else if (strcmp(a->csv, "-") == 0) {
-        if (figure_points_write_csv(f, &rows, stdout) || fflush(stdout)) status = EXIT_FAILURE_;
+        if (figure_points_write_csv(f, &rows, stdout) || fflush(stdout)) status = RUN_EXIT_FAILURE;
     } else {
         outfile file;
         if (outfile_open(&file, a->csv, err, sizeof err)) {
-            status = EXIT_FAILURE_;
+            status = RUN_EXIT_FAILURE;
         } else if (figure_points_write_csv(f, &rows, file.fp)) {
             outfile_abort(&file);
             snprintf(err, sizeof err, "%s: write failed", a->csv);
-            status = EXIT_FAILURE_;
+            status = RUN_EXIT_FAILURE;
         } else if (outfile_commit(&file, err, sizeof err)) {
-            status = EXIT_FAILURE_;
+            status = RUN_EXIT_FAILURE;
         }
         if (status) fprintf(stderr, "rodsim figure: %s\n", err);
     }
@@ -265,14 +235,11 @@ int figure_command(int argc, char **argv)
 {
     char err[1024] = "";
     figure_args a;
-    if (parse_args(argc, argv, &a, err, sizeof err)) {
-        fprintf(stderr, "rodsim figure: %s\n\n", err);
-        figure_usage(stderr);
-        return EXIT_USAGE;
-    }
-    if (a.help || a.list) {
+    int parsed = parse_args(argc, argv, &a, err, sizeof err);
+    if (parsed == CLI_ERROR) return cli_usage_error("figure", err);
+    if (parsed == CLI_HELP || a.list) {
         figure_usage(stdout);
-        return EXIT_OK;
+        return RUN_EXIT_OK;
     }
     const figure_def *figs[64];
     const figure_spec *specs[64];
@@ -280,12 +247,12 @@ int figure_command(int argc, char **argv)
     if (select_figures(a.name, figs, &n, specs, &n_specs)) {
         fprintf(stderr, "rodsim figure: unknown figure '%s'\n\n", a.name);
         figure_usage(stderr);
-        return EXIT_USAGE;
+        return RUN_EXIT_BAD_INPUT;
     }
-    int status = EXIT_OK;
+    int status = RUN_EXIT_OK;
     if (a.print_commands && n > 0) status = print_commands(figs, n, &a);
     if (a.print_commands || a.print_sweep || a.point >= 0 || n == 0) {
-        for (int k = 0; k < n_specs && status == EXIT_OK; k++) status = run_spec(specs[k], &a);
+        for (int k = 0; k < n_specs && status == RUN_EXIT_OK; k++) status = run_spec(specs[k], &a);
         if (a.point >= 0 && n > 0) status = compute_one(figs[0], &a);
         return status;
     }
@@ -300,16 +267,16 @@ int figure_command(int argc, char **argv)
                             "NAME-K.csv (what the --print-commands lines wrote)\n",
                     a.from_dir, stat(a.from_dir, &info) != 0 ? strerror(errno)
                                                              : "not a directory");
-            return EXIT_USAGE;
+            return RUN_EXIT_BAD_INPUT;
         }
         for (int k = 0; k < n; k++) figure_points_init(&points[k], figs[k]);
-        for (int k = 0; k < n && status == EXIT_OK; k++) {
+        for (int k = 0; k < n && status == RUN_EXIT_OK; k++) {
             for (int i = 0; i < figure_point_count(figs[k], a.quick); i++) {
                 char path[OUTFILE_PATH_MAX];
                 snprintf(path, sizeof path, "%s/%s-%d.csv", a.from_dir, figure_name(figs[k]), i);
                 if (figure_points_read_csv(figs[k], path, &points[k], err, sizeof err)) {
                     fprintf(stderr, "rodsim figure: %s\n", err);
-                    status = EXIT_USAGE;
+                    status = RUN_EXIT_BAD_INPUT;
                     break;
                 }
             }
@@ -321,18 +288,18 @@ int figure_command(int argc, char **argv)
                a.quick ? " (quick)" : "");
         if (figure_sweep(figs, n, a.quick, a.jobs, stdout, points, err, sizeof err)) {
             fprintf(stderr, "rodsim figure: %s\n", err);
-            status = EXIT_FAILURE_;
+            status = RUN_EXIT_FAILURE;
         }
     }
-    for (int k = 0; k < n && status == EXIT_OK; k++) {
+    for (int k = 0; k < n && status == RUN_EXIT_OK; k++) {
         if (figure_draw(figs[k], &points[k], a.quick, a.out_dir, stdout, err, sizeof err)) {
             fprintf(stderr, "rodsim figure %s: %s\n", figure_name(figs[k]), err);
-            status = EXIT_FAILURE_;
+            status = RUN_EXIT_FAILURE;
         } else {
             print_outputs(figs[k], a.out_dir);
         }
     }
     for (int k = 0; k < n; k++) figure_points_release(&points[k]);
-    for (int k = 0; k < n_specs && status == EXIT_OK; k++) status = run_spec(specs[k], &a);
+    for (int k = 0; k < n_specs && status == RUN_EXIT_OK; k++) status = run_spec(specs[k], &a);
     return status;
 }

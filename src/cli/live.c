@@ -43,7 +43,7 @@
 #include "base/numfmt.h"
 #include "base/outfile.h"
 #include "cli/args.h"
-#include "cli/run.h"
+#include "cli/scene_outputs.h"
 #include "sim/path.h"
 #include "sim/rod.h"
 
@@ -73,49 +73,29 @@ typedef struct live_args {
     int centreline, realtime, stop_on_error, help;
 } live_args;
 
+/* Parses argv (argv[0] == "live") through the shared parser (args.h);
+ * a->sets holds argc entries. 0, or -1 with a message. */
 static int parse_args(int argc, char **argv, live_args *a, char *err, size_t errlen)
 {
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        int takes_value = !strcmp(arg, "--set") || !strcmp(arg, "--record") ||
-                          !strcmp(arg, "--on-error");
-        const char *value = NULL;
-        if (takes_value) {
-            if (i + 1 >= argc) {
-                snprintf(err, errlen, "%s needs a value", arg);
-                return -1;
-            }
-            value = argv[++i];
-            if (cli_option_value(arg, value, err, errlen)) return -1;
-        }
-        if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) a->help = 1;
-        else if (!strcmp(arg, "--set")) a->sets[a->set_count++] = value;
-        else if (!strcmp(arg, "--record")) a->record = value;
-        else if (!strcmp(arg, "--centreline")) a->centreline = 1;
-        else if (!strcmp(arg, "--realtime")) a->realtime = 1;
-        else if (!strcmp(arg, "--on-error")) {
-            if (!strcmp(value, "skip")) a->stop_on_error = 0;
-            else if (!strcmp(value, "stop")) a->stop_on_error = 1;
-            else {
-                snprintf(err, errlen, "--on-error %s: accepted: skip or stop", value);
-                return -1;
-            }
-        } else if (arg[0] == '-' && arg[1] != '\0') {
-            snprintf(err, errlen, "unknown option '%s'", arg);
-            return -1;
-        } else if (a->scene) {
-            snprintf(err, errlen, "only one SCENE may be given ('%s' and '%s')", a->scene, arg);
-            return -1;
-        } else {
-            a->scene = arg;
-        }
-    }
-    if (!a->help && !a->scene) {
-        snprintf(err, errlen, "no SCENE given");
-        return -1;
-    }
-    if (a->record && !strcmp(a->record, "-")) {
-        snprintf(err, errlen, "--record needs a file (standard output carries the answers)");
+    cli_list sets = {0};
+    const char *on_error = "skip";
+    const cli_option options[] = {
+        {.name = "--set", .value = CLI_SETTING, .target = &sets, .repeated = 1},
+        {.name = "--record", .value = CLI_FILE, .target = &a->record},
+        {.name = "--centreline", .value = CLI_FLAG, .target = &a->centreline},
+        {.name = "--realtime", .value = CLI_FLAG, .target = &a->realtime},
+        {.name = "--on-error", .value = CLI_WORD, .noun = "skip or stop", .target = &on_error},
+        {0}};
+    const cli_operand scene = {.name = "SCENE", .target = &a->scene};
+    int parsed = cli_parse(argc, argv, options, &scene, err, errlen);
+    for (int i = 0; i < sets.count; i++) a->sets[a->set_count++] = sets.items[i];
+    cli_release(options);
+    if (parsed == CLI_HELP) a->help = 1;
+    if (parsed != CLI_PARSED) return parsed == CLI_HELP ? 0 : -1;
+    if (!strcmp(on_error, "skip")) a->stop_on_error = 0;
+    else if (!strcmp(on_error, "stop")) a->stop_on_error = 1;
+    else {
+        snprintf(err, errlen, "--on-error %s: accepted: skip or stop", on_error);
         return -1;
     }
     return 0;
@@ -650,11 +630,9 @@ int live_command(int argc, char **argv)
         return RUN_EXIT_FAILURE;
     }
     if (parse_args(argc, argv, &a, err, sizeof err)) {
-        fprintf(stderr, "rodsim live: %s\n", err);
-        live_usage(stderr);
         free(a.sets);
         free(line);
-        return RUN_EXIT_BAD_INPUT;
+        return cli_usage_error("live", err);
     }
     if (a.help) {
         live_usage(stdout);

@@ -3,13 +3,13 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "base/outfile.h"
+#include "cli/args.h"
 #include "cli/fem_cli.h"
 #include "cli/figure_cli.h"
 #include "cli/live.h"
 #include "cli/render_cli.h"
-
-#include "base/outfile.h"
-#include "cli/run.h"
+#include "cli/run_cli.h"
 #include "cli/scene_keys.h"
 #include "cli/stability_cli.h"
 #include "cli/sweep.h"
@@ -19,11 +19,18 @@
 
 static int version_command(int argc, char **argv)
 {
-    (void)argc;
-    (void)argv;
+    char err[256];
+    const cli_option none[] = {{0}};
+    int parsed = cli_parse(argc, argv, none, NULL, err, sizeof err);
+    if (parsed == CLI_HELP) {
+        printf("usage: rodsim version   (or rodsim --version)\n"
+               "Prints rodsim's version and which GL backends (EGL, OSMesa) this machine has.\n");
+        return RUN_EXIT_OK;
+    }
+    if (parsed != CLI_PARSED) return cli_usage_error("version", err);
     char gl[2048]; /* the GL backends: opens both libraries (~50 ms), makes no context */
     printf("rodsim %s\n%s", RODSIM_VERSION, gl_context_backends_report(gl, sizeof gl));
-    return 0;
+    return RUN_EXIT_OK;
 }
 
 typedef struct command {
@@ -59,27 +66,35 @@ static void usage(FILE *f)
                "1 any other failure.\n");
 }
 
-/* `rodsim help [COMMAND | scene | beam]`. */
-static int help(int argc, char **argv)
+/* `rodsim help [COMMAND | scene | beam]`: argv[0] is "help". */
+static int help_command(int argc, char **argv)
 {
-    if (argc < 3) {
+    char err[256];
+    const char *topic = NULL;
+    const cli_option none[] = {{0}};
+    const cli_operand operand = {.name = "TOPIC", .optional = 1, .target = &topic};
+    int parsed = cli_parse(argc, argv, none, &operand, err, sizeof err);
+    if (parsed == CLI_HELP || (parsed == CLI_PARSED && !topic)) {
         usage(stdout);
-        return 0;
+        return RUN_EXIT_OK;
     }
-    if (strcmp(argv[2], "scene") == 0 || strcmp(argv[2], "beam") == 0) {
-        scene_keys_print_markdown(stdout, argv[2][0] == 's' ? scene_keys_rod : scene_keys_beam);
-        return 0;
+    if (parsed != CLI_PARSED) return cli_usage_error("help", err);
+    if (strcmp(topic, "scene") == 0 || strcmp(topic, "beam") == 0) {
+        scene_keys_print_markdown(stdout, topic[0] == 's' ? scene_keys_rod : scene_keys_beam);
+        return RUN_EXIT_OK;
     }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
-        if (strcmp(argv[2], commands[i].name) == 0) {
-            char *args[] = {argv[2], "--help", NULL};
+        if (strcmp(topic, commands[i].name) == 0) {
+            char name[32], option[] = "--help";
+            snprintf(name, sizeof name, "%s", topic);
+            char *args[] = {name, option, NULL};
             return commands[i].run(2, args);
         }
     }
     fprintf(stderr, "rodsim help: unknown topic '%s'; accepted: scene, beam or a command\n",
-            argv[2]);
+            topic);
     usage(stderr);
-    return 2;
+    return RUN_EXIT_BAD_INPUT;
 }
 
 int main(int argc, char **argv)
@@ -93,7 +108,7 @@ int main(int argc, char **argv)
         usage(stdout);
         return 0;
     }
-    if (strcmp(argv[1], "help") == 0) return help(argc, argv);
+    if (strcmp(argv[1], "help") == 0) return help_command(argc - 1, argv + 1);
     if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "-V") == 0)
         return version_command(argc - 1, argv + 1);
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {

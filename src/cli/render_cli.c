@@ -1,6 +1,6 @@
 /* render_cli.c: `rodsim render RECORD` (see render_cli.h).
  *
- * Decisions where the issue is silent:
+ * Decisions:
  *   - the video is the scene simulated again, driven by the recorded rows
  *     (the path with the velocities live gave them, or the load table), not
  *     a copy of live's states: the frames then fall at k/fps exactly, and a
@@ -26,7 +26,7 @@
 #include "base/ini.h"
 #include "cli/args.h"
 #include "cli/live.h"
-#include "cli/run.h"
+#include "cli/scene_outputs.h"
 
 /* The longest line of a record: a data row is at most 13 numbers of
  * %.17g; a header line holds a path or a --set value. */
@@ -47,55 +47,6 @@ void render_usage(FILE *f)
             "  --allow-long, --quiet   as for rodsim run\n"
             "Exit status: 0 success; 2 bad usage, a record or scene that cannot be read;\n"
             "1 any other failure. Nothing is written unless the whole video is.\n");
-}
-
-typedef struct render_args {
-    const char *record;
-    const char **sets;
-    int set_count;
-    const char *out_dir;
-    int allow_long, quiet, help;
-} render_args;
-
-static int parse_args(int argc, char **argv, render_args *a, char *err, size_t errlen)
-{
-    a->out_dir = "out";
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i], *value = NULL;
-        if (!strcmp(arg, "--set") || !strcmp(arg, "-o")) {
-            if (i + 1 >= argc) {
-                snprintf(err, errlen, "%s needs a value", arg);
-                return -1;
-            }
-            value = argv[++i];
-            if (cli_option_value(arg, value, err, errlen)) return -1;
-        }
-        if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) a->help = 1;
-        else if (!strcmp(arg, "--set")) {
-            if (strncmp(value, "render.", 7) != 0) {
-                snprintf(err, errlen, "--set %s: only render.KEY=VALUE is accepted (the "
-                         "session's scene and physics are the record's)", value);
-                return -1;
-            }
-            a->sets[a->set_count++] = value;
-        } else if (!strcmp(arg, "-o")) a->out_dir = value;
-        else if (!strcmp(arg, "--allow-long")) a->allow_long = 1;
-        else if (!strcmp(arg, "--quiet") || !strcmp(arg, "-q")) a->quiet = 1;
-        else if (arg[0] == '-' && arg[1] != '\0') {
-            snprintf(err, errlen, "unknown option '%s'", arg);
-            return -1;
-        } else if (a->record) {
-            snprintf(err, errlen, "only one RECORD may be given ('%s' and '%s')", a->record, arg);
-            return -1;
-        } else {
-            a->record = arg;
-        }
-    }
-    if (!a->help && !a->record) {
-        snprintf(err, errlen, "no RECORD given (a file written by rodsim live --record)");
-        return -1;
-    }
-    return 0;
 }
 
 /* What a record holds, read by record_scan. */
@@ -273,27 +224,11 @@ static void record_stem(const char *path, char *out, size_t outlen)
     snprintf(out, outlen, "%.*s", len, len > 0 ? base : "record");
 }
 
-int render_command(int argc, char **argv)
+/* The record's scene, its --set overrides and the session's inputs, then
+ * the outputs as `rodsim run` makes them. Returns an exit status. */
+static int render_record(const char *record, const cli_list *sets, scene_outputs_options *o)
 {
     char err[1024] = "";
-    render_args a;
-    memset(&a, 0, sizeof a);
-    a.sets = calloc((size_t)argc, sizeof *a.sets);
-    if (!a.sets) {
-        fprintf(stderr, "rodsim render: out of memory\n");
-        return RUN_EXIT_FAILURE;
-    }
-    if (parse_args(argc, argv, &a, err, sizeof err)) {
-        fprintf(stderr, "rodsim render: %s\n", err);
-        render_usage(stderr);
-        free(a.sets);
-        return RUN_EXIT_BAD_INPUT;
-    }
-    if (a.help) {
-        render_usage(stdout);
-        free(a.sets);
-        return RUN_EXIT_OK;
-    }
     int status = RUN_EXIT_BAD_INPUT;
     live_record r;
     memset(&r, 0, sizeof r);
@@ -302,38 +237,38 @@ int render_command(int argc, char **argv)
     ini_doc *doc = NULL;
     FILE *copy = NULL;
     char inputs[PATH_MAX + 32], assignment[PATH_MAX + 64];
-    if (record_scan(a.record, &r, err, sizeof err)) goto fail;
+    if (record_scan(record, &r, err, sizeof err)) goto fail;
     if (r.truncated_line || !r.closed) {
         /* what the session recorded before it was cut short */
         if (r.truncated_line)
             fprintf(stderr, "rodsim render: %s:%d: an incomplete last line (the session was "
                     "cut short while recording it): rendered to its last complete row, "
-                    "t = %.9g s\n", a.record, r.truncated_line, r.end);
+                    "t = %.9g s\n", record, r.truncated_line, r.end);
         else
             fprintf(stderr, "rodsim render: %s: no closing '# replay:' line (the session was "
-                    "killed): rendered to its last row, t = %.9g s\n", a.record, r.end);
+                    "killed): rendered to its last row, t = %.9g s\n", record, r.end);
     }
     if (r.truncated_line) {
-        if (complete_copy(a.record, r.complete_bytes, &copy, inputs, sizeof inputs, err,
+        if (complete_copy(record, r.complete_bytes, &copy, inputs, sizeof inputs, err,
                           sizeof err)) {
             status = RUN_EXIT_FAILURE;
             goto fail;
         }
-    } else if (!realpath(a.record, inputs)) {
-        snprintf(err, sizeof err, "%s: %s", a.record, strerror(errno));
+    } else if (!realpath(record, inputs)) {
+        snprintf(err, sizeof err, "%s: %s", record, strerror(errno));
         goto fail;
     }
     if (!(doc = ini_load(r.scene, err, sizeof err))) {
         char why[sizeof err];
         snprintf(why, sizeof why, "%s", err);
-        snprintf(err, sizeof err, "%.200s:%d: the session's scene: %.700s", a.record,
+        snprintf(err, sizeof err, "%.200s:%d: the session's scene: %.700s", record,
                  r.scene_line, why);
         goto fail;
     }
     for (int i = 0; i < r.set_count; i++)
         if (ini_set(doc, r.sets[i], err, sizeof err)) goto fail;
-    for (int i = 0; i < a.set_count; i++)
-        if (ini_set(doc, a.sets[i], err, sizeof err)) goto fail;
+    for (int i = 0; i < sets->count; i++)
+        if (ini_set(doc, sets->items[i], err, sizeof err)) goto fail;
     /* the session's length and step, and its inputs in place of the scene's */
     snprintf(assignment, sizeof assignment, "solver.duration=%.17g", r.end);
     if (ini_set(doc, assignment, err, sizeof err)) goto fail;
@@ -345,14 +280,16 @@ int render_command(int argc, char **argv)
     if (run_read_scene(doc, &m, &out, err, sizeof err)) goto fail;
     if ((m.tip_end != ROD_END_FREE) != r.pose) {
         snprintf(err, sizeof err, "%s:%d: the scene now has a %s tip, the record drives %s: "
-                 "the scene changed since the session", a.record, r.scene_line,
+                 "the scene changed since the session", record, r.scene_line,
                  m.tip_end == ROD_END_FREE ? "free" : "held",
                  r.pose ? "a held tip's pose" : "a free tip's loads");
         goto fail;
     }
     char name[128];
-    record_stem(a.record, name, sizeof name);
-    status = run_scene_outputs(a.record, name, &m, &out, a.out_dir, a.allow_long, a.quiet);
+    record_stem(record, name, sizeof name);
+    o->label = record;
+    if (scene_outputs_check(o, err, sizeof err)) goto fail;
+    status = scene_outputs_write(o, name, &m, &out);
     goto done;
 fail:
     fprintf(stderr, "rodsim render: %s\n", err);
@@ -361,6 +298,44 @@ done:
     ini_destroy(doc);
     if (copy) fclose(copy);
     record_release(&r);
-    free(a.sets);
+    return status;
+}
+
+/* Only the [render] keys of the scene may change: the session's physics
+ * is the record's. 0, or -1 with a message. */
+static int check_render_sets(const cli_list *sets, char *err, size_t errlen)
+{
+    for (int i = 0; i < sets->count; i++)
+        if (strncmp(sets->items[i], "render.", 7) != 0) {
+            snprintf(err, errlen, "--set %s: only render.KEY=VALUE is accepted (the "
+                     "session's scene and physics are the record's)", sets->items[i]);
+            return -1;
+        }
+    return 0;
+}
+
+int render_command(int argc, char **argv)
+{
+    char err[1024] = "";
+    const char *record = NULL;
+    cli_list sets = {0};
+    scene_outputs_options o = {.out_dir = "out"};
+    const cli_option options[] = {
+        {.name = "--set", .value = CLI_SETTING, .target = &sets, .repeated = 1},
+        {.name = "-o", .value = CLI_DIR, .target = &o.out_dir},
+        {.name = "--allow-long", .value = CLI_FLAG, .target = &o.allow_long},
+        {.name = "--quiet", .alias = "-q", .value = CLI_FLAG, .target = &o.quiet},
+        {0}};
+    const cli_operand operand = {.name = "RECORD",
+                                 .hint = "a file written by rodsim live --record",
+                                 .target = &record};
+    int parsed = cli_parse(argc, argv, options, &operand, err, sizeof err);
+    int status = RUN_EXIT_OK;
+    if (parsed == CLI_HELP) render_usage(stdout);
+    else if (parsed != CLI_PARSED || check_render_sets(&sets, err, sizeof err))
+        status = cli_usage_error("render", err);
+    else
+        status = render_record(record, &sets, &o);
+    cli_release(options);
     return status;
 }

@@ -87,7 +87,7 @@ const ini_key scene_keys_rod[] = {
     {"ends", "needle", "m", "0", ">= 0",
      "radius of a curved needle drawn with its back at the tip; 0: none (no mechanics)"},
 
-    /* issue 11: obstacles */
+    /* obstacles */
     {"surface", "shape", "-", "plane", "plane | box | cylinder | sphere",
      "a rigid obstacle ([surface] repeats); the rod touches it at its radius (implicit scheme)"},
     {"surface", "center", "m", "0 0 0", "3 numbers",
@@ -142,7 +142,7 @@ const ini_key scene_keys_rod[] = {
      "direction from the rod to the eye"},
     {"render", "background", "-", "f6f7f9", "rrggbb, \"#rrggbb\", or 3 numbers in 0..1",
      "background colour"},
-    /* issue 14: what a viewer needs */
+    /* what a viewer needs */
     {"render", "title", "-", "-", "text", "overlay title; absent: the scene's name"},
     {"render", "caption", "-", "-", "text", "a line under the title"},
     {"render", "hide", "-", "none",
@@ -156,7 +156,7 @@ const ini_key scene_keys_rod[] = {
     {"render", "speed", "-", "1", "> 0",
      "simulated s per video s (0.25: 4x slow motion); output fps/speed per simulated s"},
     {"render", "magnify", "-", "1", ">= 1", "motion from the first frame drawn x this"},
-    /* issues 11 and 14: obstacles and depth */
+    /* obstacles and depth */
     {"render", "smooth", "-", "true", BOOL,
      "the tube drawn through a smooth curve between the nodes (each node's tangent d3 kept, "
      "frames turned evenly), a segment cut by its turn; false: straight from node to node"},
@@ -167,11 +167,11 @@ const ini_key scene_keys_rod[] = {
      "when gravity acts, no plane surface exists and the camera looks from above"},
     {"render", "wound", "m", "-", "6 numbers x1 y1 z1 x2 y2 z2",
      "global: a wound line drawn on the surfaces as a dark red incision; absent: none"},
-    /* issue 12: knots */
+    /* knots */
     {"render", "knot", "-", "auto", "auto | yes | no",
      "the knot type of the centreline, per frame, top right (e.g. knot: trefoil (3_1)); "
      "auto: when a frame of the run is knotted"},
-    /* issue 14: a camera that follows, views side by side */
+    /* a camera that follows, views side by side */
     {"render", "framing", "-", "run", "run | follow | knot",
      "run: one camera frames the whole run; follow: the rod's current bounds centred and "
      "filling the picture, smoothed over 0.25 video s (a fall or a drift followed without "

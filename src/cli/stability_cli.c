@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "base/outfile.h"
+#include "cli/args.h"
 
 static const char *load_text(const stability_case *c, char *buf, size_t n)
 {
@@ -209,51 +210,11 @@ static void usage(FILE *f)
             "(crash, hang, NaN without a message) or an output not written; 2 usage.\n");
 }
 
-int stability_command(int argc, char **argv)
+/* The grid over the schemes: the table, then the CSV and the map. An exit
+ * status. */
+static int stability_run(const rod_scheme_kind *schemes, int n_schemes, int quick, int jobs,
+                         const char *csv, const char *png)
 {
-    rod_scheme_kind schemes[ROD_SCHEME_COUNT];
-    int n_schemes = 0, quick = 0, jobs = 1;
-    const char *csv = NULL, *png = NULL;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        int has_value = i + 1 < argc;
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            usage(stdout);
-            return 0;
-        } else if (strcmp(a, "--quick") == 0) {
-            quick = 1;
-        } else if (strcmp(a, "--scheme") == 0 && has_value) {
-            rod_scheme_kind kind;
-            if (!rod_scheme_find(argv[++i], &kind)) {
-                fprintf(stderr, "rodsim stability: --scheme %s: unknown; accepted: thesis, "
-                                "implicit, static\n", argv[i]);
-                return 2;
-            }
-            int dup = 0;
-            for (int k = 0; k < n_schemes; k++) dup |= schemes[k] == kind;
-            if (!dup) schemes[n_schemes++] = kind;
-        } else if (strcmp(a, "--csv") == 0 && has_value) {
-            csv = argv[++i];
-        } else if (strcmp(a, "--png") == 0 && has_value) {
-            png = argv[++i];
-        } else if (strcmp(a, "--jobs") == 0 && has_value) {
-            char *end = NULL;
-            long v = strtol(argv[++i], &end, 10);
-            if (!end || *end || v < 1 || v > 64) {
-                fprintf(stderr, "rodsim stability: --jobs %s: accepted: an integer 1..64\n",
-                        argv[i]);
-                return 2;
-            }
-            jobs = (int)v;
-        } else {
-            fprintf(stderr, "rodsim stability: unknown option or missing value: %s\n", a);
-            usage(stderr);
-            return 2;
-        }
-    }
-    if (n_schemes == 0)
-        for (int k = 0; k < ROD_SCHEME_COUNT; k++) schemes[n_schemes++] = (rod_scheme_kind)k;
-
     int n_cases = 0;
     const stability_case *cases = stability_grid(quick, &n_cases);
     stability_options o = stability_options_default(quick);
@@ -306,4 +267,50 @@ int stability_command(int argc, char **argv)
     }
     free(rows);
     return status;
+}
+
+/* --scheme NAME: a scheme, each once. 0, or -1 with a message. */
+static int add_scheme(const char *name, rod_scheme_kind *schemes, int *n, char *err,
+                      size_t errlen)
+{
+    rod_scheme_kind kind;
+    if (!rod_scheme_find(name, &kind)) {
+        snprintf(err, errlen, "--scheme '%s': unknown scheme; accepted: thesis | implicit | "
+                              "static", name);
+        return -1;
+    }
+    for (int k = 0; k < *n; k++)
+        if (schemes[k] == kind) return 0;
+    schemes[(*n)++] = kind;
+    return 0;
+}
+
+int stability_command(int argc, char **argv)
+{
+    rod_scheme_kind schemes[ROD_SCHEME_COUNT];
+    int n_schemes = 0, quick = 0, jobs = 1;
+    const char *csv = NULL, *png = NULL;
+    cli_list scheme_names = {0};
+    char err[512] = "";
+    const cli_option options[] = {
+        {.name = "--quick", .value = CLI_FLAG, .target = &quick},
+        {.name = "--scheme", .value = CLI_WORD, .target = &scheme_names, .repeated = 1,
+         .noun = "a scheme"},
+        {.name = "--csv", .value = CLI_FILE, .target = &csv},
+        {.name = "--png", .value = CLI_FILE, .target = &png},
+        {.name = "--jobs", .value = CLI_COUNT, .target = &jobs, .lo = 1, .hi = 64},
+        {0}};
+    int parsed = cli_parse(argc, argv, options, NULL, err, sizeof err);
+    for (int i = 0; parsed == CLI_PARSED && i < scheme_names.count; i++)
+        if (add_scheme(scheme_names.items[i], schemes, &n_schemes, err, sizeof err))
+            parsed = CLI_ERROR;
+    cli_release(options);
+    if (parsed == CLI_HELP) {
+        usage(stdout);
+        return RUN_EXIT_OK;
+    }
+    if (parsed != CLI_PARSED) return cli_usage_error("stability", err);
+    if (n_schemes == 0)
+        for (int k = 0; k < ROD_SCHEME_COUNT; k++) schemes[n_schemes++] = (rod_scheme_kind)k;
+    return stability_run(schemes, n_schemes, quick, jobs, csv, png);
 }

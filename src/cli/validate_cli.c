@@ -15,6 +15,7 @@
 
 #include "base/outfile.h"
 #include "base/worker.h"
+#include "cli/args.h"
 #include "cli/print_commands.h"
 #include "study/validate.h"
 
@@ -276,251 +277,298 @@ static void print_orders(const plan *p)
     }
 }
 
-int validate_command(int argc, char **argv)
-{
-    int case_list[max_list], case_count = 0;
+/* What `rodsim validate` was asked for, the defaults filled in. */
+typedef struct validate_args {
+    int case_list[max_list], case_count;
     rod_scheme_kind scheme_list[ROD_SCHEME_COUNT * 4];
-    int scheme_count = 0;
-    int node_list[max_list], node_count = 0;
-    double dt_list[max_list];
-    int dt_count = 0, quick = 0, jobs = 1, print_commands = 0;
-    const char *csv = NULL;
-    for (int a = 1; a < argc; a++) {
-        const char *opt = argv[a];
-        if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) {
-            usage(stdout);
-            return 0;
+    int scheme_count;
+    int node_list[max_list], node_count;
+    double dt_list[max_list]; /* s */
+    int dt_count, quick, jobs, print_commands;
+    const char *csv; /* "-": standard output, then no table */
+} validate_args;
+
+/* The repeated options' values into the lists. 0, or -1 with a message. */
+static int read_lists(validate_args *a, const cli_list *cases, const cli_list *schemes,
+                      const cli_list *nodes, const cli_list *dts, char *err, size_t errlen)
+{
+    for (int i = 0; i < cases->count; i++) {
+        int c = validate_case_index(cases->items[i]);
+        if (c < 0) {
+            int len = snprintf(err, errlen, "--case '%s': unknown case; accepted:",
+                               cases->items[i]);
+            for (const char *const *n = validate_case_names(); *n && len >= 0 &&
+                                                               (size_t)len < errlen; n++)
+                len += snprintf(err + len, errlen - (size_t)len, " %s", *n);
+            return -1;
         }
-        if (strcmp(opt, "--quick") == 0) {
-            quick = 1;
-            continue;
+        if (a->case_count < max_list) a->case_list[a->case_count++] = c;
+    }
+    for (int i = 0; i < schemes->count; i++) {
+        rod_scheme_kind kind;
+        if (!rod_scheme_find(schemes->items[i], &kind)) {
+            snprintf(err, errlen, "--scheme '%s': unknown scheme; accepted: thesis | implicit | "
+                                  "static", schemes->items[i]);
+            return -1;
         }
-        if (strcmp(opt, "--print-commands") == 0) {
-            print_commands = 1;
-            continue;
+        if (a->scheme_count < (int)(sizeof a->scheme_list / sizeof a->scheme_list[0]))
+            a->scheme_list[a->scheme_count++] = kind;
+    }
+    for (int i = 0; i < nodes->count; i++) {
+        int n;
+        if (parse_int(nodes->items[i], 3, 100001, &n) || a->node_count >= max_list) {
+            snprintf(err, errlen, "--nodes '%s': accepted: an integer 3..100001 (at most %d "
+                                  "values)", nodes->items[i], max_list);
+            return -1;
         }
-        int takes_value = strcmp(opt, "--case") == 0 || strcmp(opt, "--scheme") == 0 ||
-                          strcmp(opt, "--nodes") == 0 || strcmp(opt, "--dt") == 0 ||
-                          strcmp(opt, "--csv") == 0 || strcmp(opt, "--jobs") == 0;
-        if (!takes_value) {
-            fprintf(stderr, "rodsim validate: unknown option '%s'\n", opt);
-            usage(stderr);
-            return 2;
+        a->node_list[a->node_count++] = n;
+    }
+    for (int i = 0; i < dts->count; i++) {
+        double dt;
+        if (parse_positive(dts->items[i], &dt) || a->dt_count >= max_list) {
+            snprintf(err, errlen, "--dt '%s': accepted: a time step > 0 s (at most %d values)",
+                     dts->items[i], max_list);
+            return -1;
         }
-        if (a + 1 >= argc) {
-            fprintf(stderr, "rodsim validate: %s needs a value\n", opt);
-            return 2;
-        }
-        const char *value = argv[++a];
-        if (strcmp(opt, "--case") == 0) {
-            int c = validate_case_index(value);
-            if (c < 0) {
-                fprintf(stderr, "rodsim validate: --case '%s': unknown case; accepted:", value);
-                for (const char *const *n = validate_case_names(); *n; n++)
-                    fprintf(stderr, " %s", *n);
-                fprintf(stderr, "\n");
-                return 2;
-            }
-            if (case_count < max_list) case_list[case_count++] = c;
-        } else if (strcmp(opt, "--scheme") == 0) {
-            rod_scheme_kind kind;
-            if (!rod_scheme_find(value, &kind)) {
-                fprintf(stderr, "rodsim validate: --scheme '%s': unknown scheme; accepted: thesis "
-                                "| implicit | static\n", value);
-                return 2;
-            }
-            if (scheme_count < (int)(sizeof scheme_list / sizeof scheme_list[0]))
-                scheme_list[scheme_count++] = kind;
-        } else if (strcmp(opt, "--nodes") == 0) {
-            int n;
-            if (parse_int(value, 3, 100001, &n) || node_count >= max_list) {
-                fprintf(stderr, "rodsim validate: --nodes '%s': accepted: an integer 3..100001 "
-                                "(at most %d values)\n", value, max_list);
-                return 2;
-            }
-            node_list[node_count++] = n;
-        } else if (strcmp(opt, "--dt") == 0) {
-            double dt;
-            if (parse_positive(value, &dt) || dt_count >= max_list) {
-                fprintf(stderr, "rodsim validate: --dt '%s': accepted: a time step > 0 s (at "
-                                "most %d values)\n", value, max_list);
-                return 2;
-            }
-            dt_list[dt_count++] = dt;
-        } else if (strcmp(opt, "--jobs") == 0) {
-            if (parse_int(value, 1, 64, &jobs)) {
-                fprintf(stderr, "rodsim validate: --jobs '%s': accepted: an integer 1..64\n",
-                        value);
-                return 2;
+        a->dt_list[a->dt_count++] = dt;
+    }
+    return 0;
+}
+
+/* Every case, scheme and the default NS where none was given. */
+static void fill_defaults(validate_args *a)
+{
+    const char *const *names = validate_case_names();
+    if (a->case_count == 0)
+        for (int c = 0; names[c]; c++) a->case_list[a->case_count++] = c;
+    if (a->scheme_count == 0)
+        for (int s = 0; s < ROD_SCHEME_COUNT; s++)
+            a->scheme_list[a->scheme_count++] = (rod_scheme_kind)s;
+    if (a->node_count == 0) {
+        const int *defaults = a->quick ? quick_nodes : full_nodes;
+        a->node_count = a->quick ? 2 : 5;
+        for (int k = 0; k < a->node_count; k++) a->node_list[k] = defaults[k];
+    }
+}
+
+/* CLI_PARSED (defaults filled in), CLI_HELP, or CLI_ERROR with a message. */
+static int parse_args(int argc, char **argv, validate_args *a, char *err, size_t errlen)
+{
+    cli_list cases = {0}, schemes = {0}, nodes = {0}, dts = {0};
+    memset(a, 0, sizeof *a);
+    a->jobs = 1;
+    const cli_option options[] = {
+        {.name = "--quick", .value = CLI_FLAG, .target = &a->quick},
+        {.name = "--print-commands", .value = CLI_FLAG, .target = &a->print_commands},
+        {.name = "--case", .value = CLI_WORD, .target = &cases, .repeated = 1, .noun = "a case"},
+        {.name = "--scheme", .value = CLI_WORD, .target = &schemes, .repeated = 1,
+         .noun = "a scheme"},
+        {.name = "--nodes", .value = CLI_WORD, .target = &nodes, .repeated = 1, .noun = "NS"},
+        {.name = "--dt", .value = CLI_WORD, .target = &dts, .repeated = 1, .noun = "a time step"},
+        {.name = "--csv", .value = CLI_OUTPUT, .target = &a->csv},
+        {.name = "--jobs", .value = CLI_COUNT, .target = &a->jobs, .lo = 1, .hi = 64},
+        {0}};
+    int parsed = cli_parse(argc, argv, options, NULL, err, errlen);
+    if (parsed == CLI_PARSED && read_lists(a, &cases, &schemes, &nodes, &dts, err, errlen))
+        parsed = CLI_ERROR;
+    cli_release(options);
+    if (parsed == CLI_PARSED) fill_defaults(a);
+    return parsed;
+}
+
+/* The points of one case and scheme that applies: each NS (at each --dt),
+ * then the dt sweep at the finest NS. 0, or -1 when the plan is full. */
+static int plan_case(plan *p, const validate_args *a, int case_index, rod_scheme_kind scheme,
+                     int finest_nodes)
+{
+    const char *name = validate_case_names()[case_index];
+    int too_many = 0, dynamic = validate_case_depends_on_dt(name, scheme);
+    point base = {.case_index = case_index, .scheme = scheme};
+    for (int ni = 0; ni < a->node_count; ni++) {
+        base.nodes = a->node_list[ni];
+        if (a->dt_count > 0) {
+            for (int di = 0; di < a->dt_count; di++) {
+                base.dt = a->dt_list[di];
+                base.ds_sweep = di == 0;
+                base.dt_sweep = dynamic && base.nodes == finest_nodes;
+                too_many |= add_point(p, base) != 0;
             }
         } else {
-            csv = value;
+            /* quick: 200 steps per period instead of 2000 for the implicit scheme */
+            base.dt = a->quick && dynamic && scheme == ROD_SCHEME_IMPLICIT
+                          ? 10.0 * validate_default_dt(name, scheme, base.nodes)
+                          : 0.0;
+            base.ds_sweep = 1;
+            /* the thesis default belongs to its sweep; the implicit one is far
+               finer than its sweep (see implicit_dt_factors) */
+            base.dt_sweep = dynamic && base.nodes == finest_nodes && scheme == ROD_SCHEME_THESIS;
+            too_many |= add_point(p, base) != 0;
         }
     }
-    const char *const *names = validate_case_names();
-    if (case_count == 0)
-        for (int c = 0; names[c]; c++) case_list[case_count++] = c;
-    if (scheme_count == 0)
-        for (int s = 0; s < ROD_SCHEME_COUNT; s++) scheme_list[scheme_count++] = (rod_scheme_kind)s;
-    if (node_count == 0) {
-        const int *defaults = quick ? quick_nodes : full_nodes;
-        node_count = quick ? 2 : 5;
-        for (int k = 0; k < node_count; k++) node_list[k] = defaults[k];
+    if (dynamic && a->dt_count == 0) {
+        const double *factors =
+            scheme == ROD_SCHEME_THESIS ? thesis_dt_factors : implicit_dt_factors;
+        int n_factors = scheme == ROD_SCHEME_THESIS ? (a->quick ? 1 : 2) : (a->quick ? 2 : 3);
+        double default_dt = validate_default_dt(name, scheme, finest_nodes);
+        for (int f = 0; f < n_factors && default_dt > 0.0; f++) {
+            point sweep = {.case_index = case_index, .scheme = scheme, .nodes = finest_nodes,
+                           .dt = factors[f] * default_dt, .dt_sweep = 1};
+            too_many |= add_point(p, sweep) != 0;
+        }
     }
-    int finest_nodes = node_list[0];
-    for (int k = 1; k < node_count; k++)
-        if (node_list[k] > finest_nodes) finest_nodes = node_list[k];
+    return too_many ? -1 : 0;
+}
 
-    plan *p = calloc(1, sizeof *p);
-    if (!p) {
-        fprintf(stderr, "rodsim validate: out of memory\n");
-        return 1;
-    }
+/* The plan: every case and scheme; one row says why where one does not
+ * apply. 0, or -1 when it holds more than max_points runs. */
+static int make_plan(plan *p, const validate_args *a)
+{
+    int finest_nodes = a->node_list[0];
+    for (int k = 1; k < a->node_count; k++)
+        if (a->node_list[k] > finest_nodes) finest_nodes = a->node_list[k];
     int too_many = 0;
-    for (int ci = 0; ci < case_count; ci++) {
-        for (int si = 0; si < scheme_count; si++) {
-            const char *name = names[case_list[ci]];
-            rod_scheme_kind scheme = scheme_list[si];
-            point base = {.case_index = case_list[ci], .scheme = scheme};
+    for (int ci = 0; ci < a->case_count; ci++) {
+        for (int si = 0; si < a->scheme_count; si++) {
+            const char *name = validate_case_names()[a->case_list[ci]];
+            rod_scheme_kind scheme = a->scheme_list[si];
             validate_row row;
-            if (!validate_applicable(name, scheme, &row)) {
-                /* one row says why; nothing to run */
-                base.precomputed = 1;
-                if (add_point(p, base) == 0) {
-                    p->rows[p->count - 1] = row;
-                    p->done[p->count - 1] = 1;
-                } else too_many = 1;
+            if (validate_applicable(name, scheme, &row)) {
+                too_many |= plan_case(p, a, a->case_list[ci], scheme, finest_nodes) != 0;
                 continue;
             }
-            int dynamic = validate_case_depends_on_dt(name, scheme);
-            for (int ni = 0; ni < node_count; ni++) {
-                base.nodes = node_list[ni];
-                if (dt_count > 0) {
-                    for (int di = 0; di < dt_count; di++) {
-                        base.dt = dt_list[di];
-                        base.ds_sweep = di == 0;
-                        base.dt_sweep = dynamic && base.nodes == finest_nodes;
-                        too_many |= add_point(p, base) != 0;
-                    }
-                } else {
-                    /* quick: 200 steps per period instead of 2000 for the implicit scheme */
-                    base.dt = quick && dynamic && scheme == ROD_SCHEME_IMPLICIT
-                                  ? 10.0 * validate_default_dt(name, scheme, base.nodes)
-                                  : 0.0;
-                    base.ds_sweep = 1;
-                    /* the thesis default belongs to its sweep; the implicit one is far
-                       finer than its sweep (see implicit_dt_factors) */
-                    base.dt_sweep = dynamic && base.nodes == finest_nodes &&
-                                    scheme == ROD_SCHEME_THESIS;
-                    too_many |= add_point(p, base) != 0;
-                }
-            }
-            if (dynamic && dt_count == 0) {
-                const double *factors =
-                    scheme == ROD_SCHEME_THESIS ? thesis_dt_factors : implicit_dt_factors;
-                int n_factors = scheme == ROD_SCHEME_THESIS ? (quick ? 1 : 2) : (quick ? 2 : 3);
-                double default_dt = validate_default_dt(name, scheme, finest_nodes);
-                for (int f = 0; f < n_factors && default_dt > 0.0; f++) {
-                    point sweep = {.case_index = case_list[ci], .scheme = scheme,
-                                   .nodes = finest_nodes, .dt = factors[f] * default_dt,
-                                   .dt_sweep = 1};
-                    too_many |= add_point(p, sweep) != 0;
-                }
-            }
+            /* one row says why; nothing to run */
+            point base = {.case_index = a->case_list[ci], .scheme = scheme, .precomputed = 1};
+            if (add_point(p, base) == 0) {
+                p->rows[p->count - 1] = row;
+                p->done[p->count - 1] = 1;
+            } else too_many = 1;
         }
     }
-    /* A --dt far from the case's own (1e-300 or 1e300) made a step count
-     * that overflows, or a run of 0 steps reported "ok" with its initial
-     * value: accept 1e-6 .. 100 x the case's default dt (a finer dt is
-     * refused by the run's own step limit as a row; a coarser one leaves
-     * the frequency cases fewer than 20 steps per period). */
-    for (int k = 0; k < p->count && dt_count > 0; k++) {
+    return too_many ? -1 : 0;
+}
+
+/* A --dt far from the case's own (1e-300 or 1e300) made a step count that
+ * overflows, or a run of 0 steps reported "ok" with its initial value:
+ * accept 1e-6 .. 100 x the case's default dt (a finer dt is refused by the
+ * run's own step limit as a row; a coarser one leaves the frequency cases
+ * fewer than 20 steps per period). 0, or -1 with a message. */
+static int check_dt_range(const plan *p, char *err, size_t errlen)
+{
+    for (int k = 0; k < p->count; k++) {
         const point *pt = &p->points[k];
         if (pt->precomputed) continue;
-        const char *name = names[pt->case_index];
+        const char *name = validate_case_names()[pt->case_index];
         double reference_dt = validate_default_dt(name, pt->scheme, pt->nodes);
-        if (reference_dt > 0.0 && !(pt->dt >= 1e-6 * reference_dt && pt->dt <= 100 * reference_dt)) {
-            fprintf(stderr, "rodsim validate: --dt %g: for case %s, scheme %s, NS %d accepted: "
-                            "%.3g .. %.3g s (1e-6 .. 100 x its default dt, %.3g s)\n",
-                    pt->dt, name, rod_scheme_get(pt->scheme)->name, pt->nodes,
-                    1e-6 * reference_dt, 100 * reference_dt, reference_dt);
-            free(p);
-            return 2;
+        if (reference_dt > 0.0 &&
+            !(pt->dt >= 1e-6 * reference_dt && pt->dt <= 100 * reference_dt)) {
+            snprintf(err, errlen, "--dt %g: for case %s, scheme %s, NS %d accepted: %.3g .. %.3g "
+                                  "s (1e-6 .. 100 x its default dt, %.3g s)",
+                     pt->dt, name, rod_scheme_get(pt->scheme)->name, pt->nodes,
+                     1e-6 * reference_dt, 100 * reference_dt, reference_dt);
+            return -1;
         }
     }
-    if (too_many) {
-        fprintf(stderr, "rodsim validate: more than %d runs asked for; give fewer --case, "
-                        "--scheme, --nodes or --dt\n", max_points);
-        free(p);
-        return 2;
-    }
+    return 0;
+}
 
-    if (print_commands) {
-        /* one independent command line per point (a cluster user runs them with
-         * GNU parallel or a job array); each prints its CSV row with a header.
-         * The binary by its absolute path: a bare `rodsim` is not on a node's
-         * PATH. A point that does not apply (no NS) is asked for by case and
-         * scheme alone, which prints its n/a row. */
-        char self[PATH_MAX], err[PATH_MAX + 128];
-        if (cli_self_path(self, sizeof self, err, sizeof err)) {
-            fprintf(stderr, "rodsim validate: %s\n", err);
-            free(p);
-            return 1;
-        }
-        printf("# %d points; each line is one run. Concatenate their CSV output (one header)\n"
-               "# for the table; the orders of convergence need the whole set, as\n"
-               "# `rodsim validate` with the same options prints them.\n", p->count);
-        for (int k = 0; k < p->count; k++) {
-            const point *pt = &p->points[k];
-            const char *name = validate_case_names()[pt->case_index];
-            cli_print_shell_word(stdout, self);
-            printf(" validate --case %s --scheme %s", name, rod_scheme_get(pt->scheme)->name);
-            if (!pt->precomputed) {
-                double dt =
-                    pt->dt > 0.0 ? pt->dt : validate_default_dt(name, pt->scheme, pt->nodes);
-                printf(" --nodes %d", pt->nodes);
-                if (dt > 0.0) printf(" --dt %.17g", dt);
-            }
-            printf(" --csv - > validate_point_%03d.csv\n", k);
-        }
-        free(p);
-        return fflush(stdout) ? 1 : 0;
+/* --print-commands: one independent command line per point (a cluster user
+ * runs them with GNU parallel or a job array); each prints its CSV row with
+ * a header. The binary by its absolute path: a bare `rodsim` is not on a
+ * node's PATH. A point that does not apply (no NS) is asked for by case and
+ * scheme alone, which prints its n/a row. An exit status. */
+static int print_point_commands(const plan *p)
+{
+    char self[PATH_MAX], err[PATH_MAX + 128];
+    if (cli_self_path(self, sizeof self, err, sizeof err)) {
+        fprintf(stderr, "rodsim validate: %s\n", err);
+        return RUN_EXIT_FAILURE;
     }
+    printf("# %d points; each line is one run. Concatenate their CSV output (one header)\n"
+           "# for the table; the orders of convergence need the whole set, as\n"
+           "# `rodsim validate` with the same options prints them.\n", p->count);
+    for (int k = 0; k < p->count; k++) {
+        const point *pt = &p->points[k];
+        const char *name = validate_case_names()[pt->case_index];
+        cli_print_shell_word(stdout, self);
+        printf(" validate --case %s --scheme %s", name, rod_scheme_get(pt->scheme)->name);
+        if (!pt->precomputed) {
+            double dt = pt->dt > 0.0 ? pt->dt : validate_default_dt(name, pt->scheme, pt->nodes);
+            printf(" --nodes %d", pt->nodes);
+            if (dt > 0.0) printf(" --dt %.17g", dt);
+        }
+        printf(" --csv - > validate_point_%03d.csv\n", k);
+    }
+    return fflush(stdout) ? RUN_EXIT_FAILURE : RUN_EXIT_OK;
+}
 
-    int table = !(csv && strcmp(csv, "-") == 0);
+/* The CSV of the rows, to a file (atomically) or standard output. 0, or 1
+ * (reported). */
+static int write_csv(const char *csv, const plan *p)
+{
+    if (strcmp(csv, "-") == 0) {
+        write_csv_rows(stdout, p);
+        return 0;
+    }
+    outfile out;
+    char err[512];
+    if (outfile_open(&out, csv, err, sizeof err) != 0) {
+        fprintf(stderr, "rodsim validate: --csv %s: %s\n", csv, err);
+        return 1;
+    }
+    write_csv_rows(out.fp, p);
+    if (outfile_commit(&out, err, sizeof err) != 0) {
+        fprintf(stderr, "rodsim validate: --csv %s: %s\n", csv, err);
+        return 1;
+    }
+    return 0;
+}
+
+/* Runs the plan: the table as rows come and the orders (or the CSV on
+ * standard output), then the CSV. An exit status. */
+static int run_plan(plan *p, const validate_args *a)
+{
+    int table = !(a->csv && strcmp(a->csv, "-") == 0);
     int printed = 0;
     if (table) print_header();
     char pool_err[256];
-    if (run_points(p, jobs, table, &printed, pool_err, sizeof pool_err)) {
+    if (run_points(p, a->jobs, table, &printed, pool_err, sizeof pool_err)) {
         fprintf(stderr, "rodsim validate: %s\n", pool_err);
-        free(p);
-        return 1;
+        return RUN_EXIT_FAILURE;
     }
     if (table) print_orders(p);
-
     int failed = 0;
     for (int k = 0; k < p->count; k++) failed |= p->rows[k].status == 2;
-    int status = failed ? 1 : 0;
-    if (csv) {
-        if (strcmp(csv, "-") == 0) {
-            write_csv_rows(stdout, p);
-        } else {
-            outfile out;
-            char err[512];
-            if (outfile_open(&out, csv, err, sizeof err) != 0) {
-                fprintf(stderr, "rodsim validate: --csv %s: %s\n", csv, err);
-                status = 1;
-            } else {
-                write_csv_rows(out.fp, p);
-                if (outfile_commit(&out, err, sizeof err) != 0) {
-                    fprintf(stderr, "rodsim validate: --csv %s: %s\n", csv, err);
-                    status = 1;
-                }
-            }
-        }
+    int status = failed ? RUN_EXIT_FAILURE : RUN_EXIT_OK;
+    if (a->csv && write_csv(a->csv, p)) status = RUN_EXIT_FAILURE;
+    if (failed && table) printf("\nsome runs FAILED (status 2): see their notes\n");
+    return status;
+}
+
+int validate_command(int argc, char **argv)
+{
+    char err[1024] = "";
+    validate_args a;
+    int parsed = parse_args(argc, argv, &a, err, sizeof err);
+    if (parsed == CLI_HELP) {
+        usage(stdout);
+        return RUN_EXIT_OK;
     }
-    if (failed && table)
-        printf("\nsome runs FAILED (status 2): see their notes\n");
+    if (parsed != CLI_PARSED) return cli_usage_error("validate", err);
+    plan *p = calloc(1, sizeof *p);
+    if (!p) {
+        fprintf(stderr, "rodsim validate: out of memory\n");
+        return RUN_EXIT_FAILURE;
+    }
+    int status, too_many = make_plan(p, &a);
+    if (a.dt_count > 0 && check_dt_range(p, err, sizeof err)) {
+        status = cli_usage_error("validate", err);
+    } else if (too_many) {
+        snprintf(err, sizeof err, "more than %d runs asked for; give fewer --case, --scheme, "
+                                  "--nodes or --dt", max_points);
+        status = cli_usage_error("validate", err);
+    } else {
+        status = a.print_commands ? print_point_commands(p) : run_plan(p, &a);
+    }
     free(p);
     return status;
 }

@@ -25,6 +25,7 @@
 #include "base/ini.h"
 #include "base/vec3.h"
 #include "cli/run.h"
+#include "cli/scene_outputs.h"
 #include "sim/rod.h"
 #include "sim/scene.h"
 

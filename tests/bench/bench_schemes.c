@@ -14,6 +14,7 @@
 
 #include "base/ini.h"
 #include "cli/run.h"
+#include "cli/scene_outputs.h"
 #include "sim/path.h"
 #include "sim/rod.h"
 #include "sim/scene.h"

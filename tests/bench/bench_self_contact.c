@@ -28,7 +28,7 @@
 
 #include "base/ini.h"
 #include "base/vec3.h"
-#include "cli/run.h"
+#include "cli/scene_outputs.h"
 #include "sim/rod.h"
 #include "sim/scene.h"
 #include "test_helix.h"

@@ -21,7 +21,7 @@
 #include <unistd.h>
 
 #include "base/ini.h"
-#include "cli/run.h"
+#include "cli/scene_outputs.h"
 #include "render/image.h"
 #include "render/render.h"
 #include "test.h"

@@ -28,7 +28,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "cli/sweep.h"
+#include "cli/sweep_spec.h"
 #include "render/image.h"
 #include "study/reference.h"
 #include "test.h"

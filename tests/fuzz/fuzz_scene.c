@@ -9,7 +9,7 @@
 #include <math.h>
 
 #include "base/ini.h"
-#include "cli/run.h"
+#include "cli/scene_outputs.h"
 #include "fuzz.h"
 #include "sim/scene.h"
 

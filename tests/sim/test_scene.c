@@ -15,6 +15,7 @@
 #include "base/ini.h"
 #include "base/vec3.h"
 #include "cli/run.h"
+#include "cli/scene_outputs.h"
 #include "sim/path.h"
 #include "sim/scene.h"
 #include "test.h"

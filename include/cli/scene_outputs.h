@@ -1,0 +1,66 @@
+/* scene_outputs.h: a rod scene to its outputs, for `rodsim run` and
+ * `rodsim render`: reading the scene (its model and [render] section),
+ * checking where the outputs go, then simulating it (run.h's loop) and
+ * writing its CSV, video and poster with the summary on the way.
+ *
+ * The outputs are one transaction: a diverged, refused, failed or
+ * interrupted run writes nothing. A run estimated to take more than an hour
+ * (run_plan_seconds) is refused up front with exit 2 unless allow_long.
+ *
+ * The readers keep their run_ names: every command that reads a rod scene
+ * (run, render, sweep, live, the tests and benchmarks) calls them. */
+#ifndef RODSIM_SCENE_OUTPUTS_H
+#define RODSIM_SCENE_OUTPUTS_H
+
+#include <stddef.h>
+
+#include "base/ini.h"
+#include "render/render.h"
+#include "sim/recording.h"
+#include "sim/rod.h"
+
+/* The [render] section: how the run is turned into frames and video,
+ * range-checked here so the scene stays strict; the renderer reads the
+ * same struct. */
+typedef struct run_output {
+    int fps;    /* output frames per simulated second; also the CSV rate (1..1000) */
+    int width;  /* video pixels, even, 16..7680 */
+    int height; /* video pixels, even, 16..4320 */
+    int crf;    /* H.264 constant rate factor, 0 (lossless) .. 51 */
+    render_options render; /* every [render] key, for the renderer (fps .. crf copied in) */
+} run_output;
+
+/* The renderer's defaults (render_options_default), then the scene's
+ * [render] keys. Returns 0, or -1 with "file:line: [render] key = value: ..." in err. */
+int run_read_output(ini_doc *doc, run_output *out, char *err, size_t errlen);
+
+/* Reads a whole rod scene: every section and key checked against
+ * scene_keys_rod first (an unknown one is reported at its line, with the
+ * nearest accepted key), then the model (scene_read_rod), then [render].
+ * Returns 0, or -1 with a message; on failure *m owns nothing. */
+int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_t errlen);
+
+/* The renderer's hook: writes the video of `rec` into out_dir. */
+int run_write_video(const rod_recording *rec, const run_output *out, const char *out_dir,
+                    char *err, size_t errlen);
+
+/* Where a scene's outputs go and how it is run. */
+typedef struct scene_outputs_options {
+    const char *label;   /* the scene's (or record's) path: heads the summary */
+    const char *out_dir; /* the video and poster, DIR/NAME.mp4 and DIR/NAME.png */
+    const char *csv;     /* the centreline CSV; "-": standard output; NULL: none */
+    int no_video, allow_long, quiet;
+} scene_outputs_options;
+
+/* Checks the output places before any work: out_dir must be a directory
+ * (or creatable) when a video is made, and csv a file in one; then removes
+ * the temporaries a killed run left there. 0, or -1 with a message. */
+int scene_outputs_check(const scene_outputs_options *o, char *err, size_t errlen);
+
+/* Simulates the scene read into m and out, writes its outputs named `name`
+ * and prints the summary (stdout, or stderr when the CSV takes stdout).
+ * Returns an exit status (RUN_EXIT_*, args.h). */
+int scene_outputs_write(const scene_outputs_options *o, const char *name, const rod_model *m,
+                        const run_output *out);
+
+#endif

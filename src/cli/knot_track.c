@@ -1,0 +1,162 @@
+/* knot_track.c: see knot_track.h. */
+#include "cli/knot_track.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static double wall_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void knot_track_init(knot_track *k, int nodes)
+{
+    memset(k, 0, sizeof *k);
+    k->scratch = rod_knot_scratch_create();
+    k->touch_lo = k->touch_hi = -1;
+    k->slip_end = -1;
+    k->prev_pos = malloc((size_t)nodes * 3 * sizeof(double));
+}
+
+void knot_track_release(knot_track *k)
+{
+    rod_knot_scratch_destroy(k->scratch);
+    free(k->prev_pos);
+    k->scratch = NULL;
+    k->prev_pos = NULL;
+}
+
+static int same_knot(const rod_knot *a, const rod_knot *b)
+{
+    /* the signature too: a trefoil turning into its mirror image is a change */
+    return a->terms == b->terms &&
+           memcmp(a->coefficient, b->coefficient, (size_t)a->terms * sizeof a->coefficient[0]) == 0 &&
+           a->has_signature == b->has_signature && a->signature == b->signature;
+}
+
+/* Within how many segments of an end touching strands mean that a knot
+ * that comes undone slipped off that end: a few diameters of arc, never
+ * fewer than the proximity skip's 5 segments (a loop closing over an end
+ * node touches that far from it at the last frame before), and as far as
+ * the strands can have slid along each other between the two frames (at
+ * most twice the largest node motion: a frame rate low for the motion
+ * would otherwise call a slip a pass-through). */
+static int slip_reach(const rod_model *m, double moved)
+{
+    int reach = (int)ceil(3.0 * m->diameter / m->ds);
+    int slid = (int)fmin(ceil(2.0 * moved / m->ds) + 1.0, (double)m->nodes);
+    if (slid > reach) reach = slid;
+    return reach < 6 ? 6 : reach;
+}
+
+/* The largest node motion since the last frame (m), from the positions
+ * kept then (0 at the first frame, or when they could not be kept). */
+static double frame_motion(const knot_track *k, const rod_state *s)
+{
+    double moved = 0.0;
+    for (int i = 0; k->prev_pos && k->frames > 0 && i < s->nodes; i++) {
+        const double *a = &s->position[3 * i], *b = &k->prev_pos[3 * i];
+        const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+        moved = fmax(moved, sqrt(dx * dx + dy * dy + dz * dz));
+    }
+    return moved;
+}
+
+static void track_touch(knot_track *k, const rod_state *s)
+{
+    if (k->prev_pos) memcpy(k->prev_pos, s->position, (size_t)s->nodes * 3 * sizeof(double));
+    k->touch_lo = k->touch_hi = -1;
+    for (int i = 0; i < s->nodes; i++) {
+        const double *f = &s->self_force[3 * i];
+        if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
+        if (k->touch_lo < 0) k->touch_lo = i;
+        k->touch_hi = i;
+    }
+    k->touch_time = s->time;
+}
+
+void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s)
+{
+    double start = wall_seconds();
+    rod_knot now;
+    char err[200];
+    k->moved = frame_motion(k, s);
+    if (rod_knot_identify_in(k->scratch, s->position, s->nodes, 0, &now, err, sizeof err)) {
+        if (!k->failures++)
+            snprintf(k->failure, sizeof k->failure, "at t = %g s: %s", s->time, err);
+    } else {
+        if (k->frames == 0) {
+            k->first = now;
+            k->first_time = s->time;
+        } else if (!same_knot(&now, &k->last) && k->changes++ == 0) {
+            k->change_time = s->time;
+            snprintf(k->change_from, sizeof k->change_from, "%s", k->last.name);
+            snprintf(k->change_to, sizeof k->change_to, "%s", now.name);
+            /* strands touching near an end in the frame before: the knot
+             * slipped off it (an end is a point a loop can pass over) */
+            const int reach = slip_reach(m, k->moved), last = s->nodes - 1;
+            k->slip_end = -1;
+            if (k->touch_lo >= 0 && k->touch_lo <= reach) {
+                k->slip_end = 0;
+                k->slip_reach = k->touch_lo;
+            } else if (k->touch_hi >= 0 && last - k->touch_hi <= reach) {
+                k->slip_end = 1;
+                k->slip_reach = last - k->touch_hi;
+            }
+            k->slip_time = k->touch_time;
+        }
+        k->last = now;
+        k->last_time = s->time;
+        k->frames++;
+    }
+    track_touch(k, s);
+    k->seconds += wall_seconds() - start;
+}
+
+/* The ideal closed trefoil's ropelength, diameters: what the rope in a
+ * tightened overhand knot is reported against */
+#define IDEAL_TREFOIL_ROPELENGTH 16.37
+
+void knot_track_print(FILE *f, const knot_track *k, const rod_model *m)
+{
+    if (k->frames > 0) {
+        char poly[128];
+        rod_knot_polynomial_text(&k->first, poly, sizeof poly);
+        if (k->changes == 0)
+            fprintf(f, "        knot: %s at t = %g s and at t = %g s, the same in all %d output "
+                       "frames (Alexander polynomial %s, determinant %lld, signature %d%s)\n",
+                    k->first.name, k->first_time, k->last_time, k->frames, poly,
+                    k->first.determinant, k->first.signature,
+                    k->first.has_signature ? "" : " not computed");
+        else
+            fprintf(f, "        knot: %s at t = %g s, %s at t = %g s: CHANGED %d time%s over %d "
+                       "output frames, first at t = %g s (%s -> %s%s)\n",
+                    k->first.name, k->first_time, k->last.name, k->last_time, k->changes,
+                    k->changes == 1 ? "" : "s", k->frames, k->change_time, k->change_from,
+                    k->change_to,
+                    k->slip_end == 0 ? ", slipped off the root end"
+                    : k->slip_end == 1 ? ", slipped off the tip end" : "");
+        if (strcmp(k->last.name, "unknot") != 0 && k->touch_lo >= 0 &&
+            k->touch_time == k->last_time) {
+            /* the rope in the knot: the arc between the outermost nodes the
+             * strands press on, in the last frame */
+            const double rope = (k->touch_hi - k->touch_lo) * m->ds / m->diameter;
+            fprintf(f, "        knot: rope in the knot at t = %g s: %.1f diameters, between the "
+                       "outermost nodes where strands press on each other", k->last_time, rope);
+            if (strncmp(k->last.name, "trefoil", 7) == 0)
+                fprintf(f, " (the ideal closed trefoil takes %.2f: %+.0f %%)",
+                        IDEAL_TREFOIL_ROPELENGTH,
+                        100.0 * (rope - IDEAL_TREFOIL_ROPELENGTH) / IDEAL_TREFOIL_ROPELENGTH);
+            fputc('\n', f);
+        }
+        fprintf(f, "        knot identification: %.3g ms per output frame\n",
+                1e3 * k->seconds / (k->frames + k->failures));
+    }
+    if (k->failures)
+        fprintf(f, "        knot: not identified in %d output frames, first %s\n", k->failures,
+                k->failure);
+}

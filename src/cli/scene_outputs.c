@@ -1,0 +1,737 @@
+/* scene_outputs.c: a rod scene to its outputs (see scene_outputs.h): the
+ * scene read, the run planned and refused when absurd, the frames sent to
+ * the CSV, the recording and the knot tracker as they come, the video
+ * made (streamed when too long to keep), everything committed together. */
+#include "cli/scene_outputs.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "base/outfile.h"
+#include "base/vec3.h"
+#include "cli/args.h"
+#include "cli/knot_track.h"
+#include "cli/run.h"
+#include "cli/scene_keys.h"
+#include "render/gl_context.h"
+#include "sim/scene.h"
+
+#define SCENE_OUTPUTS_ERR_LEN 1024
+
+/* The time budget: a run estimated (run_plan_seconds) to take longer is
+ * refused up front unless --allow-long is given. An hour: CI renders and
+ * figure runs take seconds to minutes; an hour is a mistake more often than
+ * a plan. */
+#define RUN_TIME_BUDGET 3600.0
+
+/* The video's frames are kept in memory, and framed all at once, up to this
+ * many bytes (rod_recording_bytes; 256 MiB: 48000 frames of NS = 51, 27
+ * minutes of video at 30 fps). A longer run is simulated twice: once to
+ * write the CSV and to keep a sample of frames that frames the camera
+ * (at most RUN_SAMPLE_BUDGET bytes, and the peak loads of every frame), then
+ * again to stream each frame to the encoder as it comes. Memory then does not
+ * grow with the duration; the second pass costs the steps once more. */
+#define RUN_RECORDING_BUDGET (256.0 * 1024 * 1024)
+#define RUN_SAMPLE_BUDGET (16.0 * 1024 * 1024)
+
+/* A budget in bytes from the environment, else `fallback`: the tests set
+ * RODSIM_RECORDING_BUDGET and RODSIM_SAMPLE_BUDGET to stream short runs. */
+static double budget_from_env(const char *name, double fallback)
+{
+    const char *env = getenv(name);
+    char *end;
+    double bytes = env ? strtod(env, &end) : 0.0;
+    return env && end != env && bytes > 0.0 ? bytes : fallback;
+}
+
+static double recording_budget(void)
+{
+    return budget_from_env("RODSIM_RECORDING_BUDGET", RUN_RECORDING_BUDGET);
+}
+
+int run_read_output(ini_doc *doc, run_output *out, char *err, size_t errlen)
+{
+    /* one set of defaults and range checks for [render]: the renderer's,
+     * so that no default (crf) can differ between the two */
+    render_options_default(&out->render);
+    if (render_options_read(doc, &out->render, err, errlen)) return -1;
+    out->fps = render_output_rate(&out->render); /* fps / speed frames per simulated s */
+    out->width = out->render.width;
+    out->height = out->render.height;
+    out->crf = out->render.crf;
+    return 0;
+}
+
+/* The renderer's words for an end (render.h does not see rod.h). */
+static render_end_kind render_end_of(rod_end_kind kind)
+{
+    return kind == ROD_END_PINNED ? RENDER_END_PINNED
+         : kind == ROD_END_FREE   ? RENDER_END_FREE
+                                  : RENDER_END_CLAMPED;
+}
+
+int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_t errlen)
+{
+    /* unknown keys first, at their own line: a misspelt required
+     * key would otherwise be reported as a missing one */
+    if (scene_refuse_beam(doc, err, errlen) || ini_check_keys(doc, scene_keys_rod, err, errlen)) {
+        *m = rod_model_default();
+        return -1;
+    }
+    if (scene_read_rod(doc, m, err, errlen)) return -1;
+    if (run_read_output(doc, out, err, errlen) || ini_check_unused(doc, err, errlen)) {
+        rod_model_release(m);
+        return -1;
+    }
+    /* the renderer draws what holds each end and the needle */
+    out->render.ends[0].kind = render_end_of(m->root_end);
+    out->render.ends[0].driven = m->root_motion != NULL;
+    out->render.ends[1].kind = render_end_of(m->tip_end);
+    out->render.ends[1].driven = m->tip_motion != NULL;
+    for (int e = 0; e < 2; e++) {
+        const double *slide = e ? m->tip_slide : m->root_slide;
+        if (slide[0] != 0.0 || slide[1] != 0.0 || slide[2] != 0.0)
+            out->render.ends[e].sliding = m->slide_twist_held[e] ? 2 : 1;
+    }
+    out->render.needle_radius = m->needle_radius;
+    for (int k = 0; k < 3; k++) out->render.distributed_force[k] = m->distributed_force[k];
+    /* the obstacles are drawn; the model outlives the render */
+    out->render.surfaces = m->surfaces;
+    out->render.surface_count = m->surface_count;
+    return 0;
+}
+
+int run_write_video(const rod_recording *rec, const run_output *out, const char *out_dir,
+                    char *err, size_t errlen)
+{
+    return render_recording(rec, &out->render, out_dir, rec->scene, 1, err, errlen);
+}
+
+static const char *profile_text(const rod_profile *p, char *buf, size_t n)
+{
+    switch (p->kind) {
+    case ROD_PROFILE_STEP: snprintf(buf, n, "step"); break;
+    case ROD_PROFILE_RAMP: snprintf(buf, n, "ramp %g s", p->t1); break;
+    case ROD_PROFILE_PULSE: snprintf(buf, n, "pulse %g..%g s", p->t1, p->t2); break;
+    case ROD_PROFILE_IMPULSE: snprintf(buf, n, "impulse +%g s then -%g s", p->t1, p->t1); break;
+    case ROD_PROFILE_TABLE:
+        snprintf(buf, n, "table, %d rows of %d columns", p->table.rows, p->table.columns);
+        break;
+    }
+    return buf;
+}
+
+static void print_summary(FILE *f, const char *scene_path, const char *scene,
+                          const rod_model *m, double dt, const char *why, const run_output *out,
+                          const run_plan *plan, double estimate)
+{
+    char prof[96];
+    fprintf(f, "rodsim run: %s (%s)\n", scene, scene_path);
+    fprintf(f, "  rod      L = %g m, d = %g m, rho = %g kg/m^3, E = %g Pa, G = %g Pa\n",
+            m->length, m->diameter, m->density, m->youngs_modulus, m->shear_modulus);
+    fprintf(f, "           NS = %d nodes, ds = %g m, EI = %.4g N m^2, GJ = %.4g N m^2",
+            m->nodes, m->ds, m->stiffness[0], m->stiffness[2]);
+    if (m->rotary_inertia_scale != 1.0)
+        fprintf(f, ", rotary inertia x %g", m->rotary_inertia_scale);
+    fprintf(f, "\n");
+    fprintf(f, "  tip      force (%g, %g, %g) N, moment (%g, %g, %g) N m, %s frame, profile %s\n",
+            m->tip_force[0], m->tip_force[1], m->tip_force[2], m->tip_moment[0],
+            m->tip_moment[1], m->tip_moment[2],
+            m->tip_frame == ROD_FRAME_GLOBAL ? "global (dead load)" : "director (follower)",
+            profile_text(&m->profile, prof, sizeof prof));
+    if (m->distributed_force[0] != 0.0 || m->distributed_force[1] != 0.0 ||
+        m->distributed_force[2] != 0.0 || m->linear_damping > 0.0 || m->angular_damping > 0.0)
+        fprintf(f, "  loads    distributed (%g, %g, %g) N/m, damping %g N s/m^2, %g N m s/m\n",
+                m->distributed_force[0], m->distributed_force[1], m->distributed_force[2],
+                m->linear_damping, m->angular_damping);
+    fprintf(f, "  solver   scheme %s", rod_scheme_get(m->options.scheme)->name);
+    if (m->options.scheme == ROD_SCHEME_IMPLICIT)
+        fprintf(f, " (theta %g%s)", m->options.theta,
+                m->options.theta == 1.0 ? ", backward Euler"
+                : m->options.theta == 0.5 ? ", Crank-Nicolson" : "");
+    if (m->options.scheme == ROD_SCHEME_THESIS)
+        fprintf(f, " (%s rotation)", m->options.exact_rotation ? "exact" : "(4.6) literal");
+    fprintf(f, ", dt = %.6g s (%s)\n", dt, why);
+    fprintf(f, "           steps of %.6g s, %lld per frame interval 1/fps (equal steps, none "
+               "longer than dt)\n",
+            plan->step, (long long)plan->steps_per_interval);
+    fprintf(f, "  output   %g s simulated, %lld frames at %d fps, %lld steps, estimated %.3g s\n",
+            m->options.duration, (long long)plan->frames, out->fps, (long long)plan->steps,
+            estimate);
+    fflush(f);
+}
+
+/* Prints what went wrong in a step and returns the exit status for it. */
+static int report_step_failure(rod_status status, int non_finite, const rod_model *m,
+                               const rod_state *s, double dt, const rod_report *report)
+{
+    const char *scheme = rod_scheme_get(m->options.scheme)->name;
+    if (status == ROD_UNSTABLE) {
+        fprintf(stderr, "rodsim run: the %s scheme stopped: the run became unstable at t = %g s "
+                        "(dt = %g s)", scheme, s->time, dt);
+        if (non_finite) fprintf(stderr, ": the state is no longer finite");
+        fprintf(stderr, "\n");
+        if (report->message[0]) fprintf(stderr, "  %s\n", report->message);
+        if (report->suggested_scale > 0.0 && report->suggested_dt > 0.0)
+            fprintf(stderr, "  what would work: --set rod.rotary_inertia_scale=%g --set "
+                            "solver.dt=%g\n",
+                    report->suggested_scale, report->suggested_dt);
+        else if (report->suggested_scale > 0.0)
+            fprintf(stderr, "  what would work: --set rod.rotary_inertia_scale=%g\n",
+                    report->suggested_scale);
+        else if (report->suggested_dt > 0.0)
+            fprintf(stderr, "  what would work: --set solver.dt=%g\n", report->suggested_dt);
+        if (!report->message[0] && report->suggested_dt <= 0.0 && report->suggested_scale <= 0.0)
+            fprintf(stderr, "  try a smaller solver.dt%s\n",
+                    m->options.scheme == ROD_SCHEME_IMPLICIT
+                        ? " or a slower load (tip.profile = ramp T)"
+                        : ", or --set solver.scheme=implicit");
+        fprintf(stderr, "  nothing was written.\n");
+        return RUN_EXIT_BAD_INPUT;
+    }
+    if (status == ROD_NO_CONVERGENCE) {
+        fprintf(stderr, "rodsim run: the %s scheme's Newton iteration did not converge at "
+                        "t = %g s (dt = %g s)\n",
+                scheme, s->time, dt);
+        /* the scheme's message says what to change (and, for the implicit
+         * scheme, where Newton stalled: a smaller dt does not help a stall
+         * at a contact) */
+        if (report->message[0])
+            fprintf(stderr, "  %s\n  nothing was written.\n", report->message);
+        else
+            fprintf(stderr, "  try a smaller solver.dt, a slower load (tip.profile = ramp T) or "
+                            "more solver.newton_max_iterations; nothing was written.\n");
+        return RUN_EXIT_BAD_INPUT;
+    }
+    fprintf(stderr, "rodsim run: the %s scheme failed at t = %g s: %s\n", scheme, s->time,
+            report->message[0] ? report->message : "(no message)");
+    return RUN_EXIT_FAILURE;
+}
+
+static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_t steps,
+                         double wall)
+{
+    const double *tip = &s->position[3 * (s->nodes - 1)];
+    fprintf(f, "result: t = %g s, tip at (%.9g, %.9g, %.9g) m\n", s->time, tip[0], tip[1],
+            tip[2]);
+    int cantilever_start = !m->initial_shape && m->origin[0] == 0.0 && m->origin[1] == 0.0 &&
+                           m->origin[2] == 0.0 && m->direction[0] == 1.0;
+    if (cantilever_start) { /* the thesis' rod, straight along +x from the origin */
+        double dx = tip[0] - m->length, dy = tip[1], dz = tip[2];
+        fprintf(f, "        tip deflection from (L, 0, 0): %.6g m (transverse %.6g m)\n",
+                sqrt(dx * dx + dy * dy + dz * dz), sqrt(dy * dy + dz * dz));
+    } else { /* any other start: how far the tip moved from where it began */
+        double start[3], d[3];
+        if (m->initial_shape)
+            v3_copy(start, &m->initial_shape[3 * (m->nodes - 1)]);
+        else
+            for (int k = 0; k < 3; k++) start[k] = m->origin[k] + m->length * m->direction[k];
+        v3_sub(d, tip, start);
+        fprintf(f, "        tip moved from its start (%.6g, %.6g, %.6g) m by %.6g m\n", start[0],
+                start[1], start[2], v3_norm(d));
+    }
+    static const char *const names[2] = {"root", "tip"};
+    const rod_end_kind kinds[2] = {m->root_end, m->tip_end};
+    for (int e = 0; e < 2; e++) {
+        if (kinds[e] == ROD_END_FREE) continue;
+        const double *F = s->end_force[e], *M = s->end_moment[e];
+        /* what the rod exerts on what holds the end (a needle holder's force) */
+        fprintf(f, "        %s support: force (%.6g, %.6g, %.6g) N, moment (%.6g, %.6g, %.6g) N m\n",
+                names[e], F[0] + 0.0, F[1] + 0.0, F[2] + 0.0, M[0] + 0.0, M[1] + 0.0, M[2] + 0.0);
+    }
+    /* what the tissue feels at each puncture; the scene's come
+     * first (rod_state_reset) */
+    for (int k = 0; k < s->puncture_count; k++) {
+        const rod_puncture_state *p = &s->puncture[k];
+        fprintf(f, "        puncture %d at (%.6g, %.6g, %.6g) m (%s): the thread passes at s = "
+                "%.6g m, force on the tissue (%.6g, %.6g, %.6g) N\n", k + 1, p->point[0],
+                p->point[1], p->point[2], k < m->puncture_count ? "given" : "made by the needle", p->s,
+                p->force[0] + 0.0, p->force[1] + 0.0, p->force[2] + 0.0);
+    }
+    fprintf(f, "        %lld steps in %.3f s wall, %.2f us per step, %.4g wall s per simulated s\n",
+            (long long)steps, wall, steps > 0 ? 1e6 * wall / (double)steps : 0.0,
+            s->time > 0.0 ? wall / s->time : 0.0);
+}
+
+/* "2.5 h", "40 min", "12 s": an estimate a person reads. */
+static const char *duration_text(double seconds, char *buf, size_t n)
+{
+    if (seconds >= 86400 * 365.0) snprintf(buf, n, "%.3g years", seconds / (86400 * 365.0));
+    else if (seconds >= 86400) snprintf(buf, n, "%.3g days", seconds / 86400);
+    else if (seconds >= 3600) snprintf(buf, n, "%.3g h", seconds / 3600);
+    else if (seconds >= 60) snprintf(buf, n, "%.3g min", seconds / 60);
+    else snprintf(buf, n, "%.3g s", seconds);
+    return buf;
+}
+
+/* The estimated wall time of the run, s: a streamed video simulates twice. */
+static double estimate_seconds(const scene_outputs_options *a, const rod_model *m,
+                               const run_output *out, const run_plan *plan)
+{
+    int video_pixels = a->no_video ? 0 : out->width * out->height;
+    double seconds = run_plan_seconds(plan, m->nodes, video_pixels, a->csv != NULL);
+    if (video_pixels &&
+        rod_recording_bytes(m->nodes, plan->frames_estimate) > recording_budget())
+        seconds += plan->steps_estimate * plan->seconds_per_step;
+    return seconds;
+}
+
+/* Refuses, before any work, a run that cannot be counted, would outlast the
+ * time budget, or whose video frames cannot fit in memory: exit 2 with the
+ * numbers and the keys to change. 0 when the run may go. */
+static int check_budget(const scene_outputs_options *a, const rod_model *m,
+                        const run_output *out, double dt, const run_plan *plan, int countable)
+{
+    const char *scheme = rod_scheme_get(m->options.scheme)->name;
+    int video_pixels = a->no_video ? 0 : out->width * out->height;
+    double seconds = estimate_seconds(a, m, out, plan);
+    char when[48], limit[48];
+    if (!countable) {
+        fprintf(stderr,
+                "rodsim run: %s: this run needs %.3g steps of at most solver.dt = %g s over "
+                "solver.duration = %g s and %.3g frames at render.fps = %d: more than %.0e, "
+                "where the time no longer advances by a step; nothing was run.\n"
+                "  change: a larger solver.dt (or solver.dt = auto), a shorter "
+                "solver.duration, or a lower render.fps\n",
+                a->label, plan->steps_estimate, dt, m->options.duration, plan->frames_estimate,
+                out->fps, RUN_MAX_COUNT);
+        return -1;
+    }
+    if (seconds > RUN_TIME_BUDGET && !a->allow_long) {
+        fprintf(stderr,
+                "rodsim run: %s: this run would take about %s (the limit is %s): %lld steps of "
+                "%.3g s (solver.duration = %g s, solver.dt = %g s) at ~%.3g us per step (the %s "
+                "scheme at rod.nodes = %d)",
+                a->label, duration_text(seconds, when, sizeof when),
+                duration_text(RUN_TIME_BUDGET, limit, sizeof limit), (long long)plan->steps,
+                plan->step, m->options.duration, dt, 1e6 * plan->seconds_per_step, scheme,
+                m->nodes);
+        if (video_pixels)
+            fprintf(stderr, ", and %lld video frames of %dx%d (render.fps = %d)",
+                    (long long)plan->frames, out->width, out->height, out->fps);
+        fprintf(stderr, "; nothing was run.\n"
+                        "  to shorten it: a larger solver.dt (solver.dt = auto picks the "
+                        "largest stable one), a shorter solver.duration, fewer rod.nodes%s; or "
+                        "--allow-long to run it anyway\n",
+                video_pixels ? ", a lower render.fps or render.width/height, or --no-video" : "");
+        return -1;
+    }
+    return 0;
+}
+
+/* Where the frames of a run go as they come: the CSV (streamed) and the
+ * recording the video is made from (NULL without a video). */
+typedef struct frame_sink {
+    knot_track *knot;       /* the first pass only: knot type per output frame */
+    FILE *csv;
+    rod_recording *rec;     /* every frame, or a sample (sample_cap > 0) */
+    int sample_cap;         /* > 0: keep every stride-th frame, at most this many */
+    int64_t stride, index;  /* of the sample; frames seen */
+    render_stream *stream;  /* the second pass: frames go to the encoder */
+    int failed; /* 1: an output failed (message in the report), not the scheme */
+} frame_sink;
+
+static int on_frame(void *context, const rod_model *m, const rod_state *s, char *err,
+                    size_t errlen)
+{
+    frame_sink *sink = context;
+    int64_t index = sink->index++;
+    if (sink->knot) knot_track_frame(sink->knot, m, s);
+    if (sink->csv) {
+        if (run_csv_frame(sink->csv, m, s)) {
+            snprintf(err, errlen, "out of memory");
+            sink->failed = 1;
+            return -1;
+        }
+        if (ferror(sink->csv)) {
+            snprintf(err, errlen, "CSV: write failed at t = %g s (disk full?)", s->time);
+            sink->failed = 1;
+            return -1;
+        }
+    }
+    if (sink->stream) {
+        /* frame 0 stays the run's first (clamp, stripe direction); 1 is this one */
+        if (sink->rec->frame_count > 1) sink->rec->frame_count = 1;
+        if (rod_recording_append(sink->rec, m, s) ||
+            render_stream_frame(sink->stream, sink->rec, sink->rec->frame_count - 1, err,
+                                errlen)) {
+            if (!err[0]) snprintf(err, errlen, "out of memory");
+            sink->failed = 1;
+            return -1;
+        }
+        return 0;
+    }
+    if (sink->rec && sink->sample_cap > 0) {
+        if (index % sink->stride != 0) {
+            rod_recording_note_peaks(sink->rec, m, s);
+            return 0;
+        }
+        if (sink->rec->frame_count == sink->sample_cap) {
+            rod_recording_halve(sink->rec); /* bounded: the sample thins as the run goes */
+            sink->stride *= 2;
+            if (index % sink->stride != 0) {
+                rod_recording_note_peaks(sink->rec, m, s);
+                return 0;
+            }
+        }
+    }
+    if (sink->rec && rod_recording_append(sink->rec, m, s)) {
+        snprintf(err, errlen, "out of memory while recording the frame at t = %g s", s->time);
+        sink->failed = 1;
+        return -1;
+    }
+    return 0;
+}
+
+/* The second pass of a streamed video: the run again from t = 0, every frame
+ * drawn and encoded as it comes. The steps are the same, so are the frames.
+ * 0, or an exit status. */
+static int stream_video(const scene_outputs_options *a, const char *scene, const rod_model *m,
+                        const run_output *out, const run_plan *plan, rod_solver *solver,
+                        rod_state *s, const rod_recording *sample)
+{
+    char err[SCENE_OUTPUTS_ERR_LEN] = "";
+    rod_solver_release(solver);
+    memset(solver, 0, sizeof *solver);
+    if (rod_solver_init(solver, m, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: cannot restart the scheme for the video: %s\n", err);
+        return RUN_EXIT_FAILURE;
+    }
+    rod_state_reset(m, s);
+    frame_sink sink = {0};
+    sink.rec = rod_recording_create(m, scene, 2);
+    sink.stream = sink.rec ? render_stream_begin(sample, &out->render, a->out_dir, scene, 1,
+                                                 (int)plan->frames, err, sizeof err)
+                           : NULL;
+    int status = RUN_EXIT_FAILURE;
+    if (!sink.stream) {
+        fprintf(stderr, "rodsim run: video: %s\n", sink.rec ? err : "out of memory");
+        goto done;
+    }
+    rod_report report;
+    run_stats stats;
+    rod_status st = run_simulate(solver, m, s, plan, out->fps, on_frame, &sink, &report, &stats);
+    if (st != ROD_OK) {
+        fprintf(stderr, "rodsim run: video: %s\n",
+                sink.failed ? report.message : "the second pass did not repeat the first");
+        goto done;
+    }
+    if (render_stream_finish(sink.stream, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: video: %s\n", err);
+        goto done;
+    }
+    status = 0;
+done:
+    render_stream_destroy(sink.stream);
+    rod_recording_destroy(sink.rec);
+    return status;
+}
+
+/* Copies the finished CSV to standard output. 0, or -1 with a message. */
+static int copy_to_stdout(FILE *f, char *err, size_t errlen)
+{
+    char buf[1 << 16];
+    size_t got;
+    rewind(f);
+    while ((got = fread(buf, 1, sizeof buf, f)) > 0)
+        if (fwrite(buf, 1, got, stdout) != got) break;
+    if (ferror(f) || fflush(stdout) != 0 || ferror(stdout)) {
+        snprintf(err, errlen, "CSV: cannot write to standard output");
+        return -1;
+    }
+    return 0;
+}
+
+/* A scene being turned into its outputs: what each stage of
+ * scene_outputs_write leaves for the next. */
+typedef struct scene_run {
+    const scene_outputs_options *o;
+    const char *name; /* DIR/NAME.mp4, and the recording's scene name */
+    const rod_model *m;
+    const run_output *out;
+    double dt;        /* s, at most the step */
+    const char *why;  /* where dt came from */
+    run_plan plan;
+    int csv_stdout;   /* the CSV goes to standard output (through a temporary file) */
+    FILE *talk;       /* the summary: stdout, or stderr when stdout carries the CSV */
+    int streamed;     /* the video is made in a second pass, frame by frame */
+    rod_solver solver;
+    rod_state *s;
+    knot_track knots;
+    frame_sink sink;
+    outfile csv_file;
+    rod_report report;
+    run_stats stats;
+} scene_run;
+
+/* The stable-dt warnings of a dt the scene fixed. */
+static void warn_stable_dt(const rod_model *m, double dt)
+{
+    const rod_scheme_ops *ops = rod_scheme_get(m->options.scheme);
+    if (!ops->stable_dt || !(m->options.dt > 0.0)) return;
+    const char *limit = "";
+    double stable = ops->stable_dt(m, &limit);
+    if (isfinite(stable) && stable <= 0.0)
+        fprintf(stderr, "rodsim run: warning: the %s scheme has no stable dt for this "
+                        "model (%s); expect divergence\n",
+                ops->name, limit);
+    else if (isfinite(stable) && dt > stable)
+        fprintf(stderr, "rodsim run: warning: dt = %g s is above the %s scheme's stable "
+                        "limit %g s (%s); expect divergence\n",
+                dt, ops->name, stable, limit);
+}
+
+/* The step and the plan, refused when absurd (-1: exit 2); then the
+ * summary. */
+static int plan_run(scene_run *r)
+{
+    const rod_model *m = r->m;
+    r->why = "";
+    r->dt = rod_choose_dt(m, &r->why);
+    if (!(r->dt > 0.0)) {
+        /* dt = auto found no stable step (the thesis scheme below its rotary
+         * inertia threshold): run at one step per frame, where the scheme
+         * detects the divergence within a few steps and says what would work */
+        fprintf(stderr, "rodsim run: the %s scheme has no stable time step for this model (%s)\n",
+                rod_scheme_get(m->options.scheme)->name, r->why);
+        r->dt = 1.0 / r->out->fps;
+        r->why = "no stable dt exists; one step per frame to report the divergence";
+    }
+    int countable = run_plan_make(m, r->dt, r->out->fps, &r->plan) == 0;
+    if (check_budget(r->o, m, r->out, r->dt, &r->plan, countable)) return -1;
+    r->csv_stdout = r->o->csv && strcmp(r->o->csv, "-") == 0;
+    r->talk = r->csv_stdout ? stderr : stdout;
+    if (!r->o->quiet)
+        print_summary(r->talk, r->o->label, r->name, m, r->dt, r->why, r->out, &r->plan,
+                      estimate_seconds(r->o, m, r->out, &r->plan));
+    warn_stable_dt(m, r->dt);
+    return 0;
+}
+
+/* The scheme, the state and where the frames go: the recording (all of
+ * them, or a sample when the video is streamed) and the CSV. 0, or an exit
+ * status. */
+static int open_run(scene_run *r)
+{
+    const scene_outputs_options *a = r->o;
+    const rod_model *m = r->m;
+    char err[SCENE_OUTPUTS_ERR_LEN] = "";
+    if (rod_solver_init(&r->solver, m, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: %s: cannot start the %s scheme: %s\n", a->label,
+                rod_scheme_get(m->options.scheme)->name, err);
+        /* a scheme refuses what it does not model (an end combination, a key):
+         * bad input; only running out of memory is another failure */
+        return strstr(err, "out of memory") ? RUN_EXIT_FAILURE : RUN_EXIT_BAD_INPUT;
+    }
+    r->s = rod_state_create(m);
+    r->streamed = !a->no_video &&
+                  rod_recording_bytes(m->nodes, r->plan.frames_estimate) > recording_budget();
+    frame_sink *sink = &r->sink;
+    if (r->streamed) {
+        double frame_bytes = rod_recording_bytes(m->nodes, 1.0);
+        double cap = budget_from_env("RODSIM_SAMPLE_BUDGET", RUN_SAMPLE_BUDGET) / frame_bytes;
+        sink->sample_cap = cap < 2.0 ? 2 : cap > 1e6 ? 1000000 : (int)cap;
+        sink->stride = 1;
+        sink->rec = rod_recording_create(m, r->name, sink->sample_cap);
+    } else if (!a->no_video) {
+        sink->rec = rod_recording_create(m, r->name, (int)r->plan.frames);
+    }
+    if (!r->s || (!a->no_video && !sink->rec)) {
+        fprintf(stderr, "rodsim run: out of memory for rod.nodes = %d%s\n", m->nodes,
+                a->no_video ? "" : " and the video's frames (render.fps, solver.duration)");
+        return RUN_EXIT_FAILURE;
+    }
+    if (r->csv_stdout) {
+        sink->csv = tmpfile(); /* copied to stdout when the run has succeeded */
+        if (!sink->csv) {
+            fprintf(stderr, "rodsim run: CSV: cannot make a temporary file: %s\n",
+                    strerror(errno));
+            return RUN_EXIT_FAILURE;
+        }
+    } else if (a->csv) {
+        if (outfile_open(&r->csv_file, a->csv, err, sizeof err)) {
+            fprintf(stderr, "rodsim run: %s\n", err);
+            return RUN_EXIT_FAILURE;
+        }
+        sink->csv = r->csv_file.fp;
+    }
+    if (sink->csv) run_csv_header(sink->csv);
+    return 0;
+}
+
+/* The run itself. 0, or the exit status of its failure (reported). */
+static int step_run(scene_run *r)
+{
+    rod_status st = run_simulate(&r->solver, r->m, r->s, &r->plan, r->out->fps, on_frame,
+                                 &r->sink, &r->report, &r->stats);
+    if (st == ROD_OK) return 0;
+    if (r->sink.failed) {
+        fprintf(stderr, "rodsim run: %s\n", r->report.message);
+        return RUN_EXIT_FAILURE;
+    }
+    return report_step_failure(st, r->stats.non_finite, r->m, r->s,
+                               r->stats.largest_step > 0.0 ? r->stats.largest_step : r->dt,
+                               &r->report);
+}
+
+/* The streamed video's sample ends on the last frame, whatever its stride;
+ * then the second pass. 0, or an exit status. */
+static int finish_streamed_video(scene_run *r)
+{
+    rod_recording *rec = r->sink.rec;
+    if (rec->frame_count > 0 && rec->time[rec->frame_count - 1] != r->s->time) {
+        if (rec->frame_count == r->sink.sample_cap) rod_recording_halve(rec);
+        if (rod_recording_append(rec, r->m, r->s)) {
+            fprintf(stderr, "rodsim run: out of memory\n");
+            return RUN_EXIT_FAILURE;
+        }
+    }
+    if (!r->o->quiet)
+        fprintf(r->talk, "  video    streamed: %lld frames take more than %.3g MB; the camera "
+                         "frames a sample of %d, and the run is simulated again\n",
+                (long long)r->plan.frames, 1e-6 * recording_budget(), rec->frame_count);
+    return stream_video(r->o, r->name, r->m, r->out, &r->plan, &r->solver, r->s, rec);
+}
+
+/* The CSV, the video and poster, committed together; then the CSV to
+ * standard output when asked. 0, or an exit status. */
+static int commit_outputs(scene_run *r)
+{
+    const scene_outputs_options *a = r->o;
+    char err[SCENE_OUTPUTS_ERR_LEN] = "";
+    if (a->csv && !r->csv_stdout && outfile_commit(&r->csv_file, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: %s\n", err);
+        return RUN_EXIT_FAILURE;
+    }
+    if (r->streamed) {
+        int video_status = finish_streamed_video(r);
+        if (video_status) return video_status;
+    } else if (!a->no_video && run_write_video(r->sink.rec, r->out, a->out_dir, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: video: %s\n", err);
+        return RUN_EXIT_FAILURE;
+    }
+    if (outfile_transaction_commit(err, sizeof err)) {
+        fprintf(stderr, "rodsim run: %s; nothing was written\n", err);
+        return RUN_EXIT_FAILURE;
+    }
+    if (r->csv_stdout && copy_to_stdout(r->sink.csv, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: %s\n", err);
+        return RUN_EXIT_FAILURE;
+    }
+    return 0;
+}
+
+/* The warnings and the summary of a run whose outputs are written. Returns
+ * RUN_EXIT_FAILURE when a strand passed through another despite
+ * self-contact (the outputs kept for a look), else RUN_EXIT_OK. */
+static int report_run(const scene_run *r)
+{
+    const scene_outputs_options *a = r->o;
+    const rod_model *m = r->m;
+    const knot_track *knots = &r->knots;
+    if (r->report.warning[0]) fprintf(stderr, "rodsim run: warning: %s\n", r->report.warning);
+    /* Without self-contact a strand may pass through another and change the
+     * knot: a warning. With it (the implicit scheme in 3-D) a change is a
+     * pass-through the contact failed to stop: a failure (exit 1), the
+     * output kept for a look. */
+    const int guarded = m->self_contact && m->options.scheme == ROD_SCHEME_IMPLICIT;
+    /* A knot that slipped off an end under self-contact is the model's
+     * physics (an end is a point; a loop can pass over it), not a
+     * pass-through: a warning naming the end */
+    const int slipped = guarded && knots->changes && knots->slip_end >= 0;
+    if (slipped)
+        fprintf(stderr, "rodsim run: warning: the knot type changed at t = %g s (%s -> %s): the "
+                        "knot slipped off the rod's %s end (strands touched %d segment%s from it "
+                        "at t = %g s, the frame before); to keep it, lengthen the rod beyond the "
+                        "knot (rod.length, rod.shape) or raise rod.friction\n",
+                knots->change_time, knots->change_from, knots->change_to,
+                knots->slip_end ? "tip" : "root", knots->slip_reach,
+                knots->slip_reach == 1 ? "" : "s", knots->slip_time);
+    else if (knots->changes)
+        fprintf(stderr, "rodsim run: %s: the knot type changed %d time%s between output "
+                        "frames, first at t = %g s (%s -> %s)%s\n",
+                guarded ? "error" : "warning", knots->changes, knots->changes == 1 ? "" : "s",
+                knots->change_time, knots->change_from, knots->change_to,
+                guarded ? ": a strand passed through another despite self-contact" : "");
+    if (!a->quiet) {
+        FILE *talk = r->talk;
+        print_result(talk, m, r->s, r->stats.steps, r->stats.wall_seconds);
+        knot_track_print(talk, knots, m);
+        if (a->csv && !r->csv_stdout)
+            fprintf(talk, "        wrote %s (%lld frames x %d nodes)\n", a->csv,
+                    (long long)r->plan.frames, m->nodes);
+        if (!a->no_video)
+            fprintf(talk,
+                    "        wrote %s/%s.mp4 and %s/%s.png (%lld frames, %dx%d, drawn by %s)\n",
+                    a->out_dir, r->name, a->out_dir, r->name, (long long)r->plan.frames,
+                    r->out->width, r->out->height,
+                    gl_context_backend_used() ? gl_context_backend_used() : "?");
+    }
+    return knots->changes && guarded && !slipped ? RUN_EXIT_FAILURE : RUN_EXIT_OK;
+}
+
+/* All outputs (CSV, video, poster, frames) are one transaction: they appear
+ * together when the run succeeds, and none does otherwise (outfile.h). */
+int scene_outputs_write(const scene_outputs_options *o, const char *name, const rod_model *m,
+                        const run_output *out)
+{
+    scene_run r;
+    memset(&r, 0, sizeof r);
+    r.o = o;
+    r.name = name;
+    r.m = m;
+    r.out = out;
+    r.csv_file = (outfile){.fd = -1, .slot = -1};
+    if (plan_run(&r)) return RUN_EXIT_BAD_INPUT;
+    knot_track_init(&r.knots, m->nodes);
+    r.sink.knot = &r.knots;
+    outfile_transaction_begin();
+    int status = open_run(&r);
+    if (!status) status = step_run(&r);
+    if (!status) status = commit_outputs(&r);
+    if (!status) {
+        status = report_run(&r); /* a pass-through fails the run but keeps its outputs */
+    } else {
+        outfile_abort(&r.csv_file);
+        outfile_transaction_abort();
+    }
+    if (r.csv_stdout && r.sink.csv) fclose(r.sink.csv);
+    rod_recording_destroy(r.sink.rec);
+    knot_track_release(&r.knots);
+    rod_state_destroy(r.s);
+    rod_solver_release(&r.solver);
+    return status;
+}
+
+int scene_outputs_check(const scene_outputs_options *a, char *err, size_t errlen)
+{
+    if (!a->no_video) {
+        if (gl_context_check_env(err, errlen)) return -1; /* RODSIM_GL: bad input, exit 2 */
+        if (outfile_check_dir(a->out_dir, err, errlen)) return -1;
+        outfile_remove_stale(a->out_dir);
+    }
+    if (a->csv && strcmp(a->csv, "-") != 0) {
+        struct stat st;
+        if (stat(a->csv, &st) == 0 && S_ISDIR(st.st_mode)) {
+            snprintf(err, errlen, "--csv %s: is a directory, not a file", a->csv);
+            return -1;
+        }
+        char dir[OUTFILE_PATH_MAX];
+        const char *slash = strrchr(a->csv, '/');
+        if (!slash) snprintf(dir, sizeof dir, ".");
+        else if (slash == a->csv) snprintf(dir, sizeof dir, "/");
+        else snprintf(dir, sizeof dir, "%.*s", (int)(slash - a->csv), a->csv);
+        if (slash && slash[1] == '\0') {
+            snprintf(err, errlen, "--csv %s: names a directory, not a file", a->csv);
+            return -1;
+        }
+        if (outfile_check_dir(dir, err, errlen)) return -1;
+        outfile_remove_stale(dir);
+    }
+    return 0;
+}
