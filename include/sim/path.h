@@ -64,6 +64,9 @@ rod_path *rod_path_load(const char *filename, char *err, size_t errlen);
 
 void rod_path_destroy(rod_path *p);
 
+/* Moves every row's position by shift (m, global); rotations unchanged. */
+void rod_path_translate(rod_path *p, const double shift[3]);
+
 /* 4 or 7. */
 int rod_path_columns(const rod_path *p);
 /* The first and last row's time, s. */

@@ -199,6 +199,13 @@ typedef struct rod_model {
                                      resampled to equal arc lengths ds; NULL: straight from
                                      origin along direction. Frames are twist-free along it
                                      (parallel transport from the root's) */
+    double shape_tip_moved;       /* m: how far the resampling to NS nodes put the tip from
+                                     the shape's last point (0: straight, or given at NS) */
+    double shape_moved;           /* m: the farthest the resampled nodes stray from the
+                                     shape's points (0 as shape_tip_moved) */
+    char adjusted[512];           /* for people: what rod_model_derive moved to make the
+                                     inputs agree (an end's path shifted onto the resampled
+                                     end), or "" */
     double intrinsic_curvature[3];/* u0, 1/m, director components: M = B (u - u0) (thesis
                                      nomenclature; (3.5) with a rest curvature) */
     double initial_velocity[3];   /* m/s, global, the same at every node at t = 0 */

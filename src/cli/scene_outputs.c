@@ -509,6 +509,7 @@ static int plan_run(scene_run *r)
     if (!r->o->quiet)
         print_summary(r->talk, r->o->label, r->name, m, r->dt, r->why, r->out, &r->plan,
                       estimate_seconds(r->o, m, r->out, &r->plan));
+    if (m->adjusted[0]) fprintf(stderr, "rodsim run: warning: %s\n", m->adjusted);
     warn_stable_dt(m, r->dt);
     return 0;
 }

@@ -85,6 +85,12 @@ void rod_path_destroy(rod_path *p)
     free(p);
 }
 
+void rod_path_translate(rod_path *p, const double shift[3])
+{
+    for (int r = 0; r < p->rows; r++)
+        for (int k = 0; k < 3; k++) p->value[p->components * r + k] += shift[k];
+}
+
 int rod_path_columns(const rod_path *p) { return p->columns; }
 int rod_path_has_velocity(const rod_path *p) { return p->acceleration == NULL; }
 double rod_path_start(const rod_path *p) { return p->time[0]; }

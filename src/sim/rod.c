@@ -12,6 +12,10 @@
 #include "sim/rod_geometry.h"
 #include "sim/surface.h"
 
+/* How far (relative to the length) a path's first row may lie from the end
+ * it moves, beyond what the shape's resampling moved that end: rounding. */
+#define END_START_SLACK 1e-6
+
 rod_model rod_model_default(void)
 {
     rod_model m;
@@ -363,13 +367,32 @@ static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
         double gap[3], turn = 0.0;
         v3_sub(gap, first.position, start);
         for (int k = 0; k < 9; k++) turn = fmax(turn, fabs(first.rotation[k] - (k % 4 == 0)));
-        if (!(v3_norm(gap) <= 1e-6 * m->length)) {
+        /* The resampling to NS nodes moves the tip off the shape's last point
+         * (the chords' shortfall, scene.c: resample), where the path was
+         * written to start: a path that starts within that of the tip is
+         * shifted onto it, and the shift is reported. */
+        double moved = e == 1 ? m->shape_tip_moved : 0.0;
+        double tolerance = END_START_SLACK * m->length + moved;
+        if (!(v3_norm(gap) <= tolerance)) {
             snprintf(err, errlen, "%s_motion: the path starts at (%.9g, %.9g, %.9g) m but the %s "
-                     "starts at (%.9g, %.9g, %.9g) m: the first row is the %s's starting "
-                     "position (within 1e-6 of the length)", ends[e].name, first.position[0],
-                     first.position[1], first.position[2], ends[e].name, start[0], start[1],
-                     start[2], ends[e].name);
+                     "starts at (%.9g, %.9g, %.9g) m, %.3g m away: the first row is the %s's "
+                     "starting position (within %.3g m: %g of the length%s)", ends[e].name,
+                     first.position[0], first.position[1], first.position[2], ends[e].name,
+                     start[0], start[1], start[2], v3_norm(gap), ends[e].name, tolerance,
+                     END_START_SLACK, moved > 0.0 ? ", plus how far the resampling of the "
+                     "shape to rod.nodes moved the tip" : "");
             return -1;
+        }
+        if (v3_norm(gap) > END_START_SLACK * m->length) {
+            double shift[3];
+            v3_scale(shift, gap, -1.0);
+            rod_path_translate(ends[e].motion, shift);
+            size_t used = strlen(m->adjusted);
+            snprintf(m->adjusted + used, sizeof m->adjusted - used,
+                     "%s%s_motion: the path is shifted by %.3g m onto where the %s starts (the "
+                     "shape resampled to %d nodes puts the %s %.3g m from the shape's last point)",
+                     used ? "; " : "", ends[e].name, v3_norm(gap), ends[e].name, m->nodes,
+                     ends[e].name, moved);
         }
         if (turn > 0.0) {
             snprintf(err, errlen, "%s_motion: the first row's rotation must be 0 0 0 (the "

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/spline.h"
 #include "base/textline.h"
 #include "base/vec3.h"
 #include "sim/path.h"
@@ -422,7 +423,7 @@ static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
  * start with an impulse no scene means), naming the surface and the node.
  * A node may sit on the surface: up to 1 % of the radius inside is accepted
  * (a thread laid on a table at exactly its radius). */
-static int check_start_outside(ini_doc *doc, const rod_model *m, char *err, size_t errlen)
+static int check_start_outside(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     if (m->surface_count == 0 && m->puncture_count == 0) return 0;
     rod_state *s = rod_state_create(m);
@@ -459,13 +460,26 @@ static int check_start_outside(ini_doc *doc, const rod_model *m, char *err, size
         }
     }
     for (int j = 0; j < s->puncture_count && !rc; j++) {
-        double distance;
-        rod_nearest_arc_length(m, s->position, s->puncture[j].point, &distance);
-        if (distance > 0.01 * m->ds + 1e-3 * radius)
+        double distance, slack = 0.01 * m->ds + 1e-3 * radius;
+        double along = rod_nearest_arc_length(m, s->position, s->puncture[j].point, &distance);
+        if (distance > slack + m->shape_moved) {
             rc = ini_error(doc, "puncture", j, "point", err, errlen,
                            "the rod's starting shape does not pass through this point: its "
                            "nearest point is %.3g m away; a puncture holds the thread where it "
                            "already passes", distance);
+        } else if (distance > slack) {
+            /* the shape given passes here; resampled to rod.nodes it strays by
+             * up to shape_moved: the puncture moves onto the thread */
+            int i = (int)fmin(along / m->ds, m->nodes - 2);
+            double tau = along / m->ds - i, *point = m->punctures[j].point;
+            for (int k = 0; k < 3; k++)
+                point[k] = (1.0 - tau) * s->position[3 * i + k] + tau * s->position[3 * (i + 1) + k];
+            size_t used = strlen(m->adjusted);
+            snprintf(m->adjusted + used, sizeof m->adjusted - used,
+                     "%s[puncture] %d moved by %.3g m onto the thread (the shape resampled to %d "
+                     "nodes strays up to %.3g m from the shape's points)", used ? "; " : "", j + 1,
+                     distance, m->nodes, m->shape_moved);
+        }
     }
     free(threaded);
     rod_state_destroy(s);
@@ -555,35 +569,69 @@ done:
     return rc;
 }
 
-/* The rod's nodes along a polyline: node 0 at its first point, each next node
- * the first point further along the polyline that is exactly ds from the
- * previous node (linear between the polyline's points). Every segment of the
- * rod is then exactly ds long, as the inextensible schemes keep it; a curved
- * polyline is followed chord by chord, so the last node falls short of the
- * polyline's end by the chords' shortfall, about L (k ds)^2 / 24 for a
- * curvature k (or beyond it along the last segment, when the polyline is used
- * up first). Writes nodes (nodes x 3). */
-static void resample(const double *points, int count, int nodes, double ds, double *out)
+/* The rod's nodes along the shape: node 0 at its first point, each next node
+ * the first point further along the shape's smooth curve (base/spline.h)
+ * exactly ds from the previous one, so every segment is ds long, as the
+ * inextensible schemes keep it. The curve, not the polyline: resampled finer
+ * than its own points, a polyline's corners would become kinks between runs
+ * of straight segments, and the node tangents that the staggered schemes need
+ * (rod.c: shape_tangents) then drift by up to half a turn (a 301-point
+ * trefoil at NS = 601: 3 rad). A shape given at exactly the rod's nodes is
+ * taken as it is. The last node falls short of the shape's end by the chords'
+ * shortfall, about L (k ds)^2 / 24 for a curvature k. Writes nodes (nodes x
+ * 3); -1 when out of memory. */
+static int resample(const double *points, int count, int nodes, double ds, double *out)
 {
-    v3_copy(out, points);
-    int j = 0;         /* current polyline segment: points[j] -> points[j+1] */
-    for (int i = 1; i < nodes; i++) {
-        const double *current = &out[3 * (i - 1)];
-        /* advance to the first segment whose end is at least ds away */
-        while (j + 2 < count) {
-            double d[3];
-            v3_sub(d, &points[3 * (j + 1)], current);
-            if (v3_norm(d) >= ds) break;
-            j++;
-        }
-        /* |p_j + tau D - current| = ds, the larger root (the crossing beyond current) */
-        double e[3], dir[3];
-        v3_sub(e, &points[3 * j], current);
-        v3_sub(dir, &points[3 * (j + 1)], &points[3 * j]);
-        double a = v3_dot(dir, dir), b = v3_dot(e, dir), c = v3_dot(e, e) - ds * ds;
-        double tau = (-b + sqrt(fmax(0.0, b * b - a * c))) / a;
-        for (int k = 0; k < 3; k++) out[3 * i + k] = points[3 * j + k] + tau * dir[k];
+    int as_given = count == nodes;
+    for (int j = 0; as_given && j + 1 < count; j++) {
+        double d[3];
+        v3_sub(d, &points[3 * (j + 1)], &points[3 * j]);
+        as_given = fabs(v3_norm(d) - ds) <= 1e-9 * ds;
     }
+    if (as_given) {
+        memcpy(out, points, (size_t)nodes * 3 * sizeof(double));
+        return 0;
+    }
+    spline3 *curve = spline3_create(points, count);
+    if (!curve) return -1;
+    spline3_walk(curve, ds, nodes, out);
+    spline3_destroy(curve);
+    return 0;
+}
+
+/* How far the resampled nodes (nodes x 3) stray from the shape's points
+ * (count x 3): the largest distance from a point to the nodes' polygon,
+ * searched along the curve (a window of segments around the point's share
+ * of the length), not across to another strand. m. */
+static double shape_distance(const double *points, int count, const double *node, int nodes)
+{
+    double along = 0.0, total = 0.0, largest = 0.0;
+    for (int k = 0; k + 1 < count; k++) {
+        double d[3];
+        v3_sub(d, &points[3 * (k + 1)], &points[3 * k]);
+        total += v3_norm(d);
+    }
+    const int window = 4 + nodes / 50;
+    for (int k = 0; k < count; k++) {
+        if (k > 0) {
+            double d[3];
+            v3_sub(d, &points[3 * k], &points[3 * (k - 1)]);
+            along += v3_norm(d);
+        }
+        int centre = total > 0.0 ? (int)(along / total * (nodes - 1)) : 0;
+        double nearest = INFINITY;
+        for (int j = centre - window; j <= centre + window; j++) {
+            if (j < 0 || j + 1 >= nodes) continue;
+            double a[3], e[3];
+            v3_sub(e, &node[3 * (j + 1)], &node[3 * j]);
+            v3_sub(a, &points[3 * k], &node[3 * j]);
+            double tau = fmax(0.0, fmin(1.0, v3_dot(a, e) / v3_dot(e, e)));
+            v3_axpy(a, -tau, e);
+            nearest = fmin(nearest, v3_norm(a));
+        }
+        largest = fmax(largest, nearest);
+    }
+    return largest;
 }
 
 /* Reads [rod] origin, direction, shape, curvature, initial_velocity,
@@ -638,8 +686,15 @@ static int read_start(ini_doc *doc, rod_model *m, char *err, size_t errlen)
         free(points);
         return ini_error(doc, "rod", 0, "shape", err, errlen, "out of memory");
     }
-    resample(points, count, m->nodes, m->length / (m->nodes - 1), m->initial_shape);
+    int failed = resample(points, count, m->nodes, m->length / (m->nodes - 1), m->initial_shape);
+    if (!failed) {
+        double moved[3];
+        v3_sub(moved, &m->initial_shape[3 * (m->nodes - 1)], &points[3 * (count - 1)]);
+        m->shape_tip_moved = v3_norm(moved);
+        m->shape_moved = shape_distance(points, count, m->initial_shape, m->nodes);
+    }
     free(points);
+    if (failed) return ini_error(doc, "rod", 0, "shape", err, errlen, "out of memory");
     return 0;
 }
 
