@@ -569,27 +569,53 @@ done:
     return rc;
 }
 
+/* The nodes along a polyline, each next one the first point further along
+ * it exactly ds from the previous (linear between the polyline's points). */
+static void walk_polyline(const double *points, int count, int nodes, double ds, double *out)
+{
+    v3_copy(out, points);
+    int j = 0;         /* current polyline segment: points[j] -> points[j+1] */
+    for (int i = 1; i < nodes; i++) {
+        const double *current = &out[3 * (i - 1)];
+        /* advance to the first segment whose end is at least ds away */
+        while (j + 2 < count) {
+            double d[3];
+            v3_sub(d, &points[3 * (j + 1)], current);
+            if (v3_norm(d) >= ds) break;
+            j++;
+        }
+        /* |p_j + tau D - current| = ds, the larger root (the crossing beyond current) */
+        double e[3], dir[3];
+        v3_sub(e, &points[3 * j], current);
+        v3_sub(dir, &points[3 * (j + 1)], &points[3 * j]);
+        double a = v3_dot(dir, dir), b = v3_dot(e, dir), c = v3_dot(e, e) - ds * ds;
+        double tau = (-b + sqrt(fmax(0.0, b * b - a * c))) / a;
+        for (int k = 0; k < 3; k++) out[3 * i + k] = points[3 * j + k] + tau * dir[k];
+    }
+}
+
 /* The rod's nodes along the shape: node 0 at its first point, each next node
  * the first point further along the shape's smooth curve (base/spline.h)
  * exactly ds from the previous one, so every segment is ds long, as the
  * inextensible schemes keep it. The curve, not the polyline: resampled finer
- * than its own points, a polyline's corners would become kinks between runs
- * of straight segments, and the node tangents that the staggered schemes need
- * (rod.c: shape_tangents) then drift by up to half a turn (a 301-point
- * trefoil at NS = 601: 3 rad). A shape given at exactly the rod's nodes is
- * taken as it is. The last node falls short of the shape's end by the chords'
- * shortfall, about L (k ds)^2 / 24 for a curvature k. Writes nodes (nodes x
- * 3); -1 when out of memory. */
+ * or coarser than its own points, a polyline's corners would become kinks
+ * between runs of straight segments, and the node tangents that the
+ * staggered schemes need (rod.c: shape_tangents) then drift by up to half a
+ * turn (a 301-point trefoil at NS = 601: 3 rad). A shape given at the rod's
+ * nodes (its chords ds to 1e-6) is taken as it is, its chords made exactly
+ * ds along its own polyline. The last node falls short of the shape's end by
+ * the chords' shortfall, about L (k ds)^2 / 24 for a curvature k. Writes
+ * nodes (nodes x 3); -1 when out of memory. */
 static int resample(const double *points, int count, int nodes, double ds, double *out)
 {
     int as_given = count == nodes;
     for (int j = 0; as_given && j + 1 < count; j++) {
         double d[3];
         v3_sub(d, &points[3 * (j + 1)], &points[3 * j]);
-        as_given = fabs(v3_norm(d) - ds) <= 1e-9 * ds;
+        as_given = fabs(v3_norm(d) - ds) <= 1e-6 * ds;
     }
     if (as_given) {
-        memcpy(out, points, (size_t)nodes * 3 * sizeof(double));
+        walk_polyline(points, count, nodes, ds, out);
         return 0;
     }
     spline3 *curve = spline3_create(points, count);
