@@ -71,7 +71,7 @@ int plot_add_legend_note(plot *p, const char *text);
  * message in err (GL context, shader file, font, or file errors). */
 int plot_write_png(plot *p, const char *path, char *err, size_t errlen);
 
-/* The same figure as SVG (issue 15: for papers): the same layout and pixel
+/* The same figure as SVG (for papers): the same layout and pixel
  * coordinates as plot_write_png, text as text (tick labels with real minus
  * signs), written atomically. Needs no GL. 0, or -1 with a message. */
 int plot_write_svg(plot *p, const char *path, char *err, size_t errlen);

@@ -35,7 +35,7 @@
 int render_recording(const rod_recording *rec, const render_options *o, const char *out_dir,
                      const char *scene_name, int want_video, char *err, size_t errlen);
 
-/* The same, frame by frame, for a run too long to keep (run.c streams it):
+/* The same, frame by frame, for a run too long to keep (scene_outputs.c streams it):
  * `extent` frames the camera, the arrows and the grid (frames sampled over
  * the whole run, with the peak loads of all; render_recording passes the
  * recording itself), then render_stream_frame() is called total_frames

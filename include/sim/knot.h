@@ -1,4 +1,4 @@
-/* knot.h: the knot type of a rod's centreline (issue 12), from the Alexander
+/* knot.h: the knot type of a rod's centreline, from the Alexander
  * polynomial of a projection's crossings. Pure geometry: points in, a name out.
  *
  * An open polygon (a thread) has no knot type of its own: it is closed far

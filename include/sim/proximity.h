@@ -1,5 +1,5 @@
 /* proximity.h: closest approach between non-neighbouring segments of a rod's
- * centreline (issue 12's self-contact and its starting-shape check). Segment
+ * centreline (self-contact and the starting-shape check). Segment
  * i joins node i to node i+1 of an open polygon of `nodes` points (nodes x 3,
  * m). A broad phase (a hashed uniform grid of cells as large as the longest
  * segment plus the threshold) keeps the search near linear in the nodes; the

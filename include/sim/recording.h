@@ -34,7 +34,7 @@ typedef struct rod_recording {
     double *tip_force;    /* (frames x 3), N, global components */
     double *tip_moment;   /* (frames x 3), N m, global components */
     int *puncture_count;  /* (frames), punctures the thread passes through (0..ROD_MAX_PUNCTURES) */
-    double *puncture;     /* (frames x ROD_MAX_PUNCTURES x 3), m, global: their points (issue 11);
+    double *puncture;     /* (frames x ROD_MAX_PUNCTURES x 3), m, global: their points;
                              a recording made by hand may leave both NULL: none */
     double peak_force;    /* N, the largest |tip force| of every frame appended or noted */
     double peak_moment;   /* N m, the same for the tip moment */

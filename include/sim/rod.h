@@ -37,7 +37,7 @@ typedef enum {
     ROD_PROFILE_TABLE     /* piecewise linear from a CSV table, held after its last row */
 } rod_profile_kind;
 
-/* End conditions (issue 10), the same words at either end. The root is at
+/* End conditions, the same words at either end. The root is at
  * s = 0, the tip at s = L. A held end stays where it starts, or follows its
  * path (rod_model root_motion / tip_motion), or slides freely along its
  * `slide` direction (a sleeve: Euler's and Greenhill's columns use
@@ -69,7 +69,7 @@ typedef struct rod_point_load {
     double moment[3];  /* N m, global x y z */
 } rod_point_load;
 
-/* A rigid obstacle the rod touches (scene [surface], repeatable; issue 11).
+/* A rigid obstacle the rod touches (scene [surface], repeatable).
  * The rod touches it at its physical radius; contact and Coulomb friction
  * are solved by the implicit scheme (sim/surface.h has the geometry). */
 typedef enum {
@@ -210,7 +210,7 @@ typedef struct rod_model {
                                      nomenclature; (3.5) with a rest curvature) */
     double initial_velocity[3];   /* m/s, global, the same at every node at t = 0 */
     int self_contact;             /* 1 (default): non-neighbouring strands touch at the rod's
-                                     diameter (implicit scheme, 3-D; issue 12); 0: they pass */
+                                     diameter (implicit scheme, 3-D); 0: they pass */
     double self_friction;         /* Coulomb coefficient between strands (scene rod.friction) */
 
     /* inputs: loads along the rod (scene [point_load], [loads]) */
@@ -218,7 +218,7 @@ typedef struct rod_model {
     rod_point_load *point_loads;  /* (point_load_count), owned */
     double distributed_moment[3]; /* N m/m along the rod, global x y z */
 
-    /* inputs: obstacles (scene [surface], [puncture]; issue 11) */
+    /* inputs: obstacles (scene [surface], [puncture]) */
     int surface_count;
     rod_surface *surfaces;        /* (surface_count), owned */
     int puncture_count;

@@ -1,6 +1,6 @@
 /* scene.h: a rod scene (INI; every key: `rodsim help scene`) read into a rod_model.
  *
- * The keys are those of shared/PRODUCT.md plus the options of rod.h:
+ * The keys are the portable core keys of every rod scene plus the options of rod.h:
  *   [rod]     length, diameter, density, youngs_modulus, shear_modulus, nodes (all required),
  *             rotary_inertia_scale, origin, direction, shape, curvature, initial_velocity
  *   [solver]  scheme, dt, duration, theta, newton_tolerance, newton_max_iterations,
@@ -26,7 +26,7 @@
 /* Fills *m from the scene (starting from rod_model_default()), loads the
  * profile table, the starting shape (resampled to nodes exactly ds apart
  * along its polyline) and the motion paths the scene names, and calls
- * rod_model_derive() (its messages about issue 10's inputs are reported at
+ * rod_model_derive() (its messages about the ends' and the start's inputs are reported at
  * the key's line). Returns 0, or -1 with a message in err; on
  * failure *m owns nothing. On success release with rod_model_release().
  * Marks every key it reads as known; the caller runs ini_check_unused()

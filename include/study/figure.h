@@ -2,7 +2,7 @@
  *
  * Most are sweeps of a scene (figure_spec below: table2, the buckling
  * figures): `rodsim figure NAME` runs them through `rodsim sweep`'s
- * machinery (cli/sweep.c: the same point runner, result files and plot
+ * machinery (cli/sweep_figure.c: the same point runner, result files and plot
  * writer) and adds the reference curves. The two others (figure_def) are
  * not a measure per point of a scene against a varied key: impulse plots a
  * time series and its spectrum (one run, thousands of samples); pareto
@@ -84,7 +84,7 @@ int figure_points_read_csv(const figure_def *f, const char *path, figure_points 
 int figure_draw(const figure_def *f, const figure_points *points, int quick,
                 const char *out_dir, FILE *summary, char *err, size_t errlen);
 
-/* A figure drawn from sweeps (run by cli/sweep.c): a scene compiled into the
+/* A figure drawn from sweeps (run by cli/sweep_figure.c): a scene compiled into the
  * binary (base/embedded.h), one or more parts, each a sweep of that scene
  * (its --set and --vary arguments), every part's `measure` plotted against
  * the varied key `x_key`, and each part's reference value drawn as a curve

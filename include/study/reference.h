@@ -50,7 +50,7 @@ double reference_greenhill_pinned(double ei, double length);
 /* Greenhill, clamped ends: 2 x EI / L with x the first positive root of
  * tan x = x (4.4934...): 8.9868 EI / L, N m. */
 double reference_greenhill_clamped(double ei, double length);
-/* Greenhill's problem with tension (issue 12's plectoneme): the twisting
+/* Greenhill's problem with tension (the plectoneme): the twisting
  * moment M (N m) at which a straight rod of length L, clamped at both ends
  * (one end on a carriage that slides along the axis and does not turn, or a
  * sleeve: the same linear problem), under a tension T > 0 along it, stops

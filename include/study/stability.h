@@ -1,6 +1,6 @@
 /* stability.h: the largest stable time step of each scheme, measured by
  * bisection, over a grid of resolutions, materials, sizes and loads, against
- * the predicted limits (issue 5, "Stability at the extremes").
+ * the predicted limits (stability at the extremes).
  *
  * A trial runs a scheme for a number of steps of one dt from a small
  * perturbation (a deterministic pseudo-random angular velocity in all three

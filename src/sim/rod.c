@@ -187,7 +187,7 @@ static void end_start(const rod_model *m, int end, double out[3])
     for (int k = 0; k < 3; k++) out[k] = m->origin[k] + (end ? m->length : 0.0) * unit[k];
 }
 
-/* Issue 12: a starting shape whose strands already overlap (two non-neighbouring
+/* A starting shape whose strands already overlap (two non-neighbouring
  * segments closer than the diameter) is refused, naming the segments (1-based,
  * as the other shape messages) and the arc lengths of their closest points.
  * Non-neighbours: rod_proximity_skip (closer in arc length than pi d / 2 they
@@ -215,7 +215,7 @@ static int shape_self_contact(const rod_model *m, char *err, size_t errlen)
     return 0;
 }
 
-/* The checks of issue 10's inputs. Messages start with the scene key
+/* The checks of the ends' and the start's inputs. Messages start with the scene key
  * ("tip_motion: ...") so the scene reader can name its line. */
 static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
 {
@@ -455,7 +455,7 @@ int rod_model_loads_planar(const rod_model *m)
             if (k != moment_in && mo[k] != 0.0) return 0;
     }
     if (m->distributed_force[2] != 0.0) return 0;
-    /* issue 10: the starting shape in the x-y plane with d2 = z (so u0 bends about d2 only),
+    /* the starting shape in the x-y plane with d2 = z (so u0 bends about d2 only),
      * every new load in the plane, slides and paths in it, turning about z only */
     if (m->origin[2] != 0.0 || m->direction[2] != 0.0 || m->initial_velocity[2] != 0.0) return 0;
     if (m->intrinsic_curvature[0] != 0.0 || m->intrinsic_curvature[2] != 0.0) return 0;
@@ -519,7 +519,7 @@ int rod_model_require_cantilever(const rod_model *m, const char *scheme, char *e
                  scheme, names[m->root_end], names[m->tip_end]);
         return -1;
     }
-    /* issue 10's inputs, each named by its scene key */
+    /* the ends' and the start's inputs, each named by its scene key */
     const char *key = NULL;
     if (!zero3(m->origin)) key = "[rod] origin";
     else if (m->direction[0] != 1.0 || m->direction[1] != 0.0 || m->direction[2] != 0.0)

@@ -128,7 +128,7 @@ int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_t
         snprintf(err, errlen, "buckling: the ends must be held still (no root_motion or tip_motion)");
         return -1;
     }
-    /* The static scheme solves a rod hanging from a pin (issue 10), but its
+    /* The static scheme solves a rod hanging from a pin, but its
      * straight state under an axial tip force has no critical load to scale
      * to: the rod swings about the pin (an inverted pendulum when pushed). */
     if (m->root_end == ROD_END_PINNED && m->tip_end == ROD_END_FREE) {

@@ -1,5 +1,5 @@
 /* figure.c: the figures (see figure.h): those drawn from sweeps as
- * definitions (figure_spec, run by cli/sweep.c), the others with their
+ * definitions (figure_spec, run by cli/sweep_figure.c), the others with their
  * points, CSV and worker processes. */
 #include "study/figure.h"
 
@@ -690,7 +690,7 @@ static int pareto_draw(const figure_points *points, int quick, const char *out_d
 
 /* ---- buckling: critical axial force and twisting moment, as sweeps ------------ */
 
-/* Figures 7 to 9 are sweeps (figure.h: figure_spec; run by cli/sweep.c):
+/* Figures 7 to 9 are sweeps (figure.h: figure_spec; run by cli/sweep_figure.c):
  * the scene's small axial load scaled by the critical_load or
  * critical_moment measure (rod_buckling_factor) at each L or d. */
 #define BUCKLING_SCENE "scenes/buckling_figure.ini"

@@ -40,7 +40,7 @@ int stability_outcome_is_finding(stability_outcome outcome)
 stability_options stability_options_default(int quick)
 {
     stability_options o;
-    /* Trial length (issue 9 asked for longer ones): above the thesis limit the top
+    /* Trial length: above the thesis limit the top
      * mode grows by 1.11 to 1.26 per step at 0.1 % over and 1.33 to 1.39 at 1 %
      * (spectral radius of the step's Jacobian, NS 21 to 101), so the energy bound
      * (an amplitude x sqrt(100 NS)) is passed within ~60 steps at 0.1 % over and

@@ -330,7 +330,7 @@ static void run_buckling(const case_def *c, rod_scheme_kind scheme, int nodes, v
         m.tip_moment[0] = unit; /* twisting moment about the rod's axis x */
         m.root_end = pinned ? ROD_END_PINNED : ROD_END_CLAMPED;
         m.tip_end = pinned ? ROD_END_PINNED : ROD_END_CLAMPED;
-        m.tip_slide[0] = 1.0; /* Greenhill's tip slides along the axis (issue 10: explicit) */
+        m.tip_slide[0] = 1.0; /* Greenhill's tip slides along the axis: explicit) */
     }
     row->reference = reference;
     (void)scheme; /* not_applicable() leaves only the static scheme here */

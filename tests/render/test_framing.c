@@ -180,7 +180,7 @@ static rod_recording *frames_of(const rod_recording *rec, const int *which, int 
     return out;
 }
 
-/* A run too long to keep is streamed (run.c): the camera's path comes from
+/* A run too long to keep is streamed (cli/scene_outputs.c): the camera's path comes from
  * a sample of every 4th frame, each frame is drawn as it comes; the frames
  * between the samples and the ones the smoothed path would cut are still
  * framed whole. */

@@ -249,7 +249,7 @@ static void test_print_commands(const figure_points *impulse_serial)
     unlink(list_path);
 }
 
-/* ---- figures drawn from sweeps (figure_spec; cli/sweep.c) ------------------- */
+/* ---- figures drawn from sweeps (figure_spec; cli/sweep_figure.c) ------------------- */
 
 static char *read_text(const char *path)
 {
