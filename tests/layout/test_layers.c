@@ -36,6 +36,11 @@
  *  L8 An #include names its header: a macro include is allowed only for
  *     FreeType's FT_* (then L3 treats it as FreeType).
  *
+ *  L9 The names, not only the includes: a file of render or plot uses no
+ *     name (function, type, macro, enum constant) that a sim header declares
+ *     unless one of the headers L4 allows declares it; what the picture needs
+ *     of the model travels in the recording.
+ *
  * The checker runs first on synthetic lines (each rule must catch its case,
  * and allowed lines must pass), then on the tree at RODSIM_SOURCE_DIR. */
 #include <ctype.h>
@@ -74,7 +79,8 @@ typedef struct {
 static void report(sink *s, const char *file, int line, const char *header, const char *rule)
 {
     s->count++;
-    snprintf(s->last, sizeof s->last, "%s:%d: #include %s: %s", file, line, header, rule);
+    snprintf(s->last, sizeof s->last, "%s:%d: %s%s: %s", file, line,
+             strncmp(rule, "L9", 2) == 0 ? "name " : "#include ", header, rule);
     if (s->print) check(0, "%s", s->last);
 }
 
@@ -336,9 +342,261 @@ static void test_tree(void)
           s.count);
 }
 
+/* ---- L9: the names a render or plot file uses ------------------------- */
+
+#define MAX_NAMES 4096
+#define NAME_LEN 64
+
+/* Names declared by the sim headers, each with whether an L4 header (the
+ * renderer's allowed view) declares it and the header that does. */
+typedef struct {
+    int count;
+    char name[MAX_NAMES][NAME_LEN];
+    char header[MAX_NAMES][NAME_LEN];
+    int allowed[MAX_NAMES];
+} name_table;
+
+static int is_allowed_header(const char *rel)
+{
+    return strcmp(rel, "include/sim/recording.h") == 0 || strcmp(rel, "include/sim/knot.h") == 0 ||
+           strcmp(rel, "include/sim/proximity.h") == 0;
+}
+
+static int name_index(const name_table *t, const char *name)
+{
+    for (int k = 0; k < t->count; k++)
+        if (strcmp(t->name[k], name) == 0) return k;
+    return -1;
+}
+
+static void add_name(name_table *t, const char *name, size_t n, const char *rel)
+{
+    char word[NAME_LEN];
+    if (n == 0 || n >= sizeof word) return;
+    memcpy(word, name, n);
+    word[n] = '\0';
+    static const char *const keywords[] = {"if", "for", "while", "return", "sizeof", "switch",
+                                           "struct", "enum", "typedef", "const", "void"};
+    for (size_t k = 0; k < sizeof keywords / sizeof keywords[0]; k++)
+        if (strcmp(word, keywords[k]) == 0) return;
+    int at = name_index(t, word), allowed = is_allowed_header(rel);
+    if (at < 0 && t->count < MAX_NAMES) {
+        at = t->count++;
+        snprintf(t->name[at], NAME_LEN, "%s", word);
+        snprintf(t->header[at], NAME_LEN, "%s", rel + strlen("include/"));
+        t->allowed[at] = 0;
+    }
+    if (at >= 0 && allowed) t->allowed[at] = 1;
+}
+
+static size_t ident_len(const char *p)
+{
+    size_t n = 0;
+    if (!(isalpha((unsigned char)p[0]) || p[0] == '_')) return 0;
+    while (isalnum((unsigned char)p[n]) || p[n] == '_') n++;
+    return n;
+}
+
+/* The declarations of one header line, outside comments (the caller strips
+ * them): `#define NAME`, `} NAME;`, `typedef ... NAME;`, a prototype
+ * `TYPE NAME(` at the start of a line, an enum constant `    NAME = ` or
+ * `    NAME,` in capitals. */
+static void declared_names(name_table *t, const char *line, const char *rel)
+{
+    const char *p = line;
+    while (*p == ' ' || *p == '\t') p++;
+    if (starts(p, "#define")) {
+        p += strlen("#define");
+        while (*p == ' ') p++;
+        add_name(t, p, ident_len(p), rel);
+        return;
+    }
+    if (*p == '}') {
+        p++;
+        while (*p == ' ') p++;
+        add_name(t, p, ident_len(p), rel);
+        return;
+    }
+    const char *semi = strrchr(p, ';');
+    if (starts(p, "typedef") && semi) {
+        const char *e = semi;
+        while (e > p && !(isalnum((unsigned char)e[-1]) || e[-1] == '_')) e--;
+        const char *b = e;
+        while (b > p && (isalnum((unsigned char)b[-1]) || b[-1] == '_')) b--;
+        add_name(t, b, (size_t)(e - b), rel);
+        return;
+    }
+    if (line[0] != ' ' && line[0] != '\t' && line[0] != '#') {
+        const char *paren = strchr(line, '(');
+        if (paren) {
+            const char *e = paren;
+            while (e > line && e[-1] == ' ') e--;
+            const char *b = e;
+            while (b > line && (isalnum((unsigned char)b[-1]) || b[-1] == '_')) b--;
+            if (b > line) add_name(t, b, (size_t)(e - b), rel);
+        }
+        return;
+    }
+    size_t n = ident_len(p);
+    if (n > 3 && isupper((unsigned char)p[0])) {
+        int capitals = 1;
+        for (size_t k = 0; k < n; k++) capitals &= !islower((unsigned char)p[k]);
+        const char *after = p + n;
+        while (*after == ' ') after++;
+        if (capitals && (*after == '=' || *after == ',' || *after == '\n' || *after == '\0'))
+            add_name(t, p, n, rel);
+    }
+}
+
+/* Removes comments and string literals from a line in place; *in_comment
+ * carries a block comment across lines. */
+static void strip_line(char *line, int *in_comment)
+{
+    char *out = line;
+    for (char *p = line; *p;) {
+        if (*in_comment) {
+            if (p[0] == '*' && p[1] == '/') {
+                *in_comment = 0;
+                p += 2;
+            } else {
+                p++;
+            }
+        } else if (p[0] == '/' && p[1] == '*') {
+            *in_comment = 1;
+            p += 2;
+        } else if (p[0] == '/' && p[1] == '/') {
+            break;
+        } else if (*p == '"' || *p == '\'') {
+            char quote = *p++;
+            while (*p && *p != quote) p += (*p == '\\' && p[1]) ? 2 : 1;
+            if (*p) p++;
+            *out++ = ' ';
+        } else {
+            *out++ = *p++;
+        }
+    }
+    *out = '\0';
+}
+
+/* Reports each name of `text` (one line, stripped) that a sim header
+ * declares outside the renderer's view (L9). */
+static void check_names(sink *s, const name_table *t, const char *file, int line_no,
+                        const char *text)
+{
+    for (const char *p = text; *p;) {
+        size_t n = ident_len(p);
+        if (!n || (p > text && (isalnum((unsigned char)p[-1]) || p[-1] == '_'))) {
+            p += n ? n : 1;
+            continue;
+        }
+        char word[NAME_LEN];
+        if (n < sizeof word) {
+            memcpy(word, p, n);
+            word[n] = '\0';
+            int at = name_index(t, word);
+            if (at >= 0 && !t->allowed[at]) {
+                char rule[NAME_LEN * 2 + 128];
+                snprintf(rule, sizeof rule, "L9: render and plot take a plain snapshot: %s is "
+                         "declared in %s, not in the recording", word, t->header[at]);
+                report(s, file, line_no, word, rule);
+            }
+        }
+        p += n;
+    }
+}
+
+typedef void (*line_fn)(void *context, const char *rel, int line_no, char *text);
+
+/* Calls fn on every stripped line of the .c and .h files under root/rel. */
+static void walk_lines(const char *root, const char *rel, line_fn fn, void *context)
+{
+    char full[2 * PATH_LEN];
+    snprintf(full, sizeof full, "%s/%s", root, rel);
+    DIR *d = opendir(full);
+    if (!d) return;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (e->d_name[0] == '.') continue;
+        char child[PATH_LEN], child_full[2 * PATH_LEN + 2];
+        snprintf(child, sizeof child, "%s/%s", rel, e->d_name);
+        snprintf(child_full, sizeof child_full, "%s/%s", root, child);
+        struct stat st;
+        if (stat(child_full, &st) != 0) continue;
+        size_t n = strlen(e->d_name);
+        if (S_ISDIR(st.st_mode)) {
+            walk_lines(root, child, fn, context);
+        } else if (n > 2 && (strcmp(e->d_name + n - 2, ".c") == 0 ||
+                             strcmp(e->d_name + n - 2, ".h") == 0)) {
+            FILE *f = fopen(child_full, "r");
+            if (!f) continue;
+            char line[4096];
+            int line_no = 0, in_comment = 0;
+            while (fgets(line, sizeof line, f)) {
+                strip_line(line, &in_comment);
+                fn(context, child, ++line_no, line);
+            }
+            fclose(f);
+        }
+    }
+    closedir(d);
+}
+
+static void collect_line(void *context, const char *rel, int line_no, char *text)
+{
+    (void)line_no;
+    declared_names(context, text, rel);
+}
+
+typedef struct {
+    sink *s;
+    const name_table *t;
+    int lines;
+} names_scan;
+
+static void names_line(void *context, const char *rel, int line_no, char *text)
+{
+    names_scan *n = context;
+    n->lines++;
+    check_names(n->s, n->t, rel, line_no, text);
+}
+
+static void test_names(void)
+{
+    static name_table t;
+    t.count = 0;
+    walk_lines(RODSIM_SOURCE_DIR, "include/sim", collect_line, &t);
+    int allowed = 0;
+    for (int k = 0; k < t.count; k++) allowed += t.allowed[k];
+    int has_state = name_index(&t, "rod_state"), has_recording = name_index(&t, "rod_recording");
+    check(t.count > 100 && has_state >= 0 && !t.allowed[has_state] && has_recording >= 0 &&
+              t.allowed[has_recording],
+          "L9: %d names declared by the sim headers, %d of them in the renderer's view "
+          "(rod_state outside it, rod_recording inside)", t.count, allowed);
+    /* the checker on synthetic lines */
+    sink probe = {0, "", 0};
+    char line[] = "    const rod_state *s = rod_recording_frame(r); /* rod_model */";
+    int in_comment = 0;
+    strip_line(line, &in_comment);
+    check_names(&probe, &t, "src/render/x.c", 3, line);
+    check(probe.count == 1 && strstr(probe.last, "rod_state is declared in sim/rod.h") != NULL,
+          "L9 on a synthetic line: a sim name outside the recording is caught (%s), the "
+          "recording's name and a name in a comment are not", probe.last);
+    /* the tree */
+    sink s = {0, "", 1};
+    names_scan scan = {&s, &t, 0};
+    walk_lines(RODSIM_SOURCE_DIR, "src/render", names_line, &scan);
+    walk_lines(RODSIM_SOURCE_DIR, "include/render", names_line, &scan);
+    walk_lines(RODSIM_SOURCE_DIR, "src/plot", names_line, &scan);
+    walk_lines(RODSIM_SOURCE_DIR, "include/plot", names_line, &scan);
+    check(scan.lines > 1000 && s.count == 0,
+          "L9: the %d lines of render and plot use no sim name outside the recording: %d "
+          "violations", scan.lines, s.count);
+}
+
 int main(void)
 {
     test_synthetic();
     test_tree();
+    test_names();
     return test_finish();
 }
