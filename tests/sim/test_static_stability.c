@@ -6,6 +6,8 @@
  * and scenes/clamped_buckling.ini run static; every answer returned has no
  * negative eigenvalue of its tangent stiffness, and the energy rises along
  * every tested shape (from the shared geometry, not the scheme's Jacobian).
+ * Past buckling the side is the lateral load's, however small, whatever
+ * the number of load steps; with none, +y and a warning.
  * Then the grid's resolution and the budgets that make every step end.
  *
  * Geometry as in test_scheme_static.c: the rod starts along +x with d1 =
@@ -188,6 +190,131 @@ static void test_branch_independent_of_steps(void)
     }
     check(tips[0] > 0.0 && tips[1] > 0.0, "fps 30 and fps 10 end on the same side: tip y %.6f, %.6f m",
           tips[0], tips[1]);
+}
+
+/* Ramps to `load` (N, axial -x) with a lateral part `lateral` times it
+ * along y, in `steps` equal steps over 10 s, from the straight rod. Returns
+ * the status of the last step, ROD_UNSTABLE when the answer has a negative
+ * eigenvalue (unstable_count); the tip (m) into tip[3], the first warning
+ * into warning (length bytes). */
+static rod_status ramp_column(double load, double lateral, int steps, double tip[3], char *warning,
+                              size_t length)
+{
+    rod_model m = static_model(51, ROD_FRAME_GLOBAL);
+    v3_set(m.tip_force, -load, lateral * load, 0.0);
+    m.profile.kind = ROD_PROFILE_RAMP;
+    m.profile.t1 = 10.0;
+    rod_state *s = rod_state_create(&m);
+    rod_solver solver;
+    rod_report report;
+    char err[256];
+    warning[0] = '\0';
+    if (rod_solver_init(&solver, &m, err, sizeof err) != 0) {
+        printf("     solver init failed: %s\n", err);
+        rod_state_destroy(s);
+        return ROD_FAILED;
+    }
+    rod_status status = ROD_OK;
+    for (int i = 0; i < steps && status == ROD_OK; i++) {
+        memset(&report, 0, sizeof report);
+        status = rod_solver_step(&solver, &m, s, 10.0 / steps, &report);
+        if (status != ROD_OK) printf("     step %d: %s\n", i, report.message);
+        if (report.warning[0] && !warning[0]) snprintf(warning, length, "%s", report.warning);
+    }
+    v3_copy(tip, tip_of(s));
+    if (status == ROD_OK && unstable_count(&m, s) != 0) status = ROD_UNSTABLE;
+    rod_solver_release(&solver);
+    rod_state_destroy(s);
+    return status;
+}
+
+/* Past buckling the side is the lateral load's, however small it is and
+ * however many load steps the ramp takes. A 1e-6 lateral load went to the
+ * mirror image with no warning (the side was read from the load's part
+ * across the chord of the unstable equilibrium Newton had landed on, whose
+ * tilt outweighs the load's own lateral part), and 1e-9, 1e-12 and none
+ * stayed straight (the straight rod's residual is below the tolerance at
+ * every load, and the verdict of the first step was kept). At 1.5 P_E and
+ * at the buckling_axial.ini load (2.12e-5 N, 2.0004 P_E), lateral loads of
+ * +-1e-12 .. 1e-3 of the axial one, ramps of 30 and 300 steps: the tip's
+ * deflection against the elastica of the same load; with no lateral load
+ * the warning and +y. */
+static void test_side_of_small_lateral_loads(void)
+{
+    rod_model m = static_model(51, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], euler = M_PI * M_PI * ei / (4.0 * m.length * m.length);
+    const double loads[2] = {1.5 * euler, 2.12e-5}; /* N */
+    const double sizes[6] = {1e-12, 1e-9, 1e-6, 1e-5, 1e-4, 1e-3};
+    const int step_counts[2] = {30, 300};
+    char warning[sizeof ((rod_report *)0)->warning], what[200];
+    for (int l = 0; l < 2; l++) {
+        double symmetric_exact[2];
+        buckled_column(ei, m.length, -loads[l], 0.0, symmetric_exact);
+        for (int c = 0; c < 2; c++) {
+            double tip[3];
+            rod_status status =
+                ramp_column(loads[l], 0.0, step_counts[c], tip, warning, sizeof warning);
+            check(status == ROD_OK && tip[1] > 0.0 && strstr(warning, "mirror") != NULL,
+                  "P = %.4g P_E, no lateral load, %d steps: +y (tip y %.6f m) with the warning "
+                  "naming the mirror image", loads[l] / euler, step_counts[c], tip[1]);
+            snprintf(what, sizeof what, "P = %.4g P_E, no lateral load, %d steps: tip y vs "
+                     "elastica", loads[l] / euler, step_counts[c]);
+            check_rel(what, tip[1], symmetric_exact[1], 2e-3);
+        }
+        for (int e = 0; e < 6; e++) {
+            double exact[2];
+            buckled_column(ei, m.length, -loads[l], sizes[e] * loads[l], exact);
+            for (int sign = 1; sign >= -1; sign -= 2)
+                for (int c = 0; c < 2; c++) {
+                    double lateral = sign * sizes[e], tip[3];
+                    rod_status status = ramp_column(loads[l], lateral, step_counts[c], tip, warning,
+                                                    sizeof warning);
+                    check(status == ROD_OK && (tip[1] > 0.0) == (lateral > 0.0) && !warning[0],
+                          "P = %.4g P_E, lateral %+.0e P, %d steps: stable, on the load's side "
+                          "(tip y %+.6f m), no warning%s%.80s", loads[l] / euler, lateral,
+                          step_counts[c], tip[1], warning[0] ? ": " : "", warning);
+                    snprintf(what, sizeof what, "P = %.4g P_E, lateral %+.0e P, %d steps: tip x vs "
+                             "elastica", loads[l] / euler, lateral, step_counts[c]);
+                    check_abs(what, tip[0], exact[0], 3e-3);
+                    snprintf(what, sizeof what, "P = %.4g P_E, lateral %+.0e P, %d steps: tip y vs "
+                             "elastica", loads[l] / euler, lateral, step_counts[c]);
+                    check_rel(what, tip[1], sign * exact[1], 2e-3);
+                }
+        }
+    }
+}
+
+/* The load continuation keeps the side: ramps whose steps left the last
+ * answer (on the load's side, nearly straight) inside the next load's
+ * unstable region, from where Newton went through the straight rod to the
+ * mirror-image branch, stable and with no warning: to 1.05 P_E in 30
+ * steps, to 1.5 P_E in 100 and in 1000, lateral loads of +-1e-6 of the
+ * axial one. */
+static void test_side_kept_along_the_path(void)
+{
+    static const struct {
+        double load; /* P / P_E */
+        int steps;
+    } ramps[3] = {{1.05, 30}, {1.5, 100}, {1.5, 1000}};
+    rod_model m = static_model(51, ROD_FRAME_GLOBAL);
+    double ei = m.stiffness[0], euler = M_PI * M_PI * ei / (4.0 * m.length * m.length);
+    char warning[sizeof ((rod_report *)0)->warning], what[200];
+    for (int r = 0; r < 3; r++) {
+        double load = ramps[r].load * euler, exact[2];
+        buckled_column(ei, m.length, -load, 1e-6 * load, exact);
+        for (int sign = 1; sign >= -1; sign -= 2) {
+            double tip[3];
+            rod_status status = ramp_column(load, sign * 1e-6, ramps[r].steps, tip, warning,
+                                            sizeof warning);
+            check(status == ROD_OK && (tip[1] > 0.0) == (sign > 0) && !warning[0],
+                  "ramp to %.4g P_E in %d steps, lateral %+.0e P: stable, on the load's side "
+                  "(tip y %+.6f m), no warning", ramps[r].load, ramps[r].steps, sign * 1e-6,
+                  tip[1]);
+            snprintf(what, sizeof what, "ramp to %.4g P_E in %d steps, lateral %+.0e P: tip y vs "
+                     "elastica", ramps[r].load, ramps[r].steps, sign * 1e-6);
+            check_rel(what, tip[1], sign * exact[1], 2e-3);
+        }
+    }
 }
 
 /* A pinned-pinned column (sleeve at the tip) at 2 pi^2 EI/L^2: the sleeve
@@ -610,6 +737,8 @@ int main(void)
 {
     test_buckled_branch();
     test_branch_independent_of_steps();
+    test_side_of_small_lateral_loads();
+    test_side_kept_along_the_path();
     test_held_tip_buckling();
     test_clamped_clamped_elastica();
     test_point_load_buckling();

@@ -120,6 +120,18 @@ struct static_work {
     int have_verdict;     /* the state's unstable-mode count below is known */
     int negative_modes;   /* of the last solution */
 
+    /* Leaving an unstable answer (static_settle.c) both ways along its
+     * critical mode: the point both descents start from, its mode, and the
+     * first side's rest while the other side is tried. */
+    double *branch_start_frame; /* (nodes x 9) */
+    double *branch_start_force; /* (nodes-1 x 3) N */
+    double branch_start_reaction[MAX_BORDER]; /* N */
+    double *branch_mode;        /* (dofs) the critical mode at the start */
+    double *branch_dof_dir;     /* (dofs x 3) its rotations' axes (a pinned root's move) */
+    double *branch_rest_frame;  /* (nodes x 9) */
+    double *branch_rest_force;  /* (nodes-1 x 3) N */
+    double branch_rest_reaction[MAX_BORDER]; /* N */
+
     /* a free root with a clamped tip: the rod solved mirrored (see
      * static_mirror_create); NULL for every other rod */
     struct static_mirror *mirror;

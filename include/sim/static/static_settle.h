@@ -1,9 +1,19 @@
 /* static_settle.h: internal to the static scheme's room (static_internal.h).
- * The stability check of a solved answer, and the way off an unstable one. */
+ * The stability check of a solved answer and the way off an unstable one;
+ * the descent downhill that this and the load continuation use. */
 #ifndef RODSIM_STATIC_SETTLE_H
 #define RODSIM_STATIC_SETTLE_H
 
 #include "sim/static/static_internal.h"
+
+/* The over-damped descent (pseudo-transient continuation) from the base
+ * point under `load` (dead forces), downhill in the potential energy, to a
+ * rest: 0 at a scaled residual <= tolerance, -1 when its budget runs out or
+ * a step fails. relax: the damping added at the start, halved each
+ * iteration (reduced stiffness' units). *iterations counts the Jacobians,
+ * *residual_out the last norm. */
+int static_descend(static_work *w, const rod_model *m, const static_load *load, double tolerance,
+                   double relax, int *iterations, double *residual_out);
 
 /* Checks the solved base point's stability under `load` (at time, s) and,
  * when it is unstable, follows the rod off it to a stable rest (adding the

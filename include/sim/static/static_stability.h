@@ -19,6 +19,12 @@ int static_unstable_count(static_work *w);
  * quotient, NAN on failure. */
 double static_critical_mode(static_work *w);
 
+/* The curvature of the potential along the free rotations of `step`
+ * (unknowns long: phi per node, on the base point's frames), in the
+ * captured stiffness: omega.K omega / omega.omega, the reduced stiffness'
+ * units; 0 when the step turns no free rotation. */
+double static_step_curvature(static_work *w, const double *step);
+
 /* 1 when the loads have a potential (dead forces), so that stability is
  * the positive definiteness of the tangent stiffness. */
 int static_loads_conservative(const static_work *w, const rod_model *m, const static_load *load);

@@ -18,6 +18,7 @@
 #include "sim/static/static_internal.h"
 #include "sim/static/static_settle.h"
 #include "sim/static/static_solve.h"
+#include "sim/static/static_stability.h"
 #include "sim/static/static_work.h"
 #include "base/vec3.h"
 
@@ -597,8 +598,14 @@ static void follow_path(static_work *w, const rod_model *m, const step_plan *pla
         static_forces_from_statics(w, m, &load);
         w->stiffness_fresh = 0;
         int rc = static_newton(w, m, &load, plan->tolerance, plan->max_iterations,
-                               &progress->last_iterations, &progress->last_residual);
+                               static_loads_conservative(w, m, &load), &progress->last_iterations,
+                               &progress->last_residual);
         progress->total_iterations += progress->last_iterations;
+        if (rc == NEWTON_NOT_DOWNHILL) { /* downhill instead, as the rod would go */
+            rc = static_descend(w, m, &load, plan->tolerance, negative_eigenvalue,
+                                &progress->last_iterations, &progress->last_residual);
+            progress->total_iterations += progress->last_iterations;
+        }
         if (rc == 0) {
             fraction_step = fmin(2.0 * (trying - reached), 1.0);
             progress->reached = trying;
@@ -670,9 +677,12 @@ static rod_status explain_failure(static_work *w, const rod_model *m, const rod_
 
 /* The answer at the target: a bend the grid cannot resolve is none (one
  * definition with the implicit scheme: rod_geometry.h), nor worth a
- * stability check; the same state as the last solved one keeps its
- * verdict; otherwise the answer is checked, and an unstable one left for a
- * stable rest (static_settle.c). */
+ * stability check; the same state under the same load as the last solved
+ * one keeps its verdict; otherwise the answer is checked, and an unstable
+ * one left for a stable rest (static_settle.c). The load must be the same
+ * too: a straight rod under an axial load is an equilibrium at every load
+ * (its residual stays below the tolerance, Newton forms no Jacobian), and
+ * the verdict of a load below P_E kept it straight at 2 P_E. */
 static rod_status check_answer(static_work *w, const rod_model *m, const step_plan *plan,
                                path_progress *progress, rod_report *report)
 {
@@ -684,7 +694,8 @@ static rod_status check_answer(static_work *w, const rod_model *m, const step_pl
                                     sizeof report->message);
         return ROD_UNSTABLE;
     }
-    if (progress->total_iterations == 0 && plan->continuing && w->have_verdict) return ROD_OK;
+    if (progress->total_iterations == 0 && plan->continuing && plan->size == 0.0 && w->have_verdict)
+        return ROD_OK;
     rod_status verdict = static_settle_stable(w, m, &plan->target, plan->tolerance, plan->time,
                                               &progress->total_iterations, report);
     report->newton_iterations = progress->total_iterations;

@@ -1,10 +1,13 @@
 /* static_settle.c: an unstable answer of the static scheme
- * (static_stability.c) is left along its critical mode, to the side the
- * load's transverse part pulls (or +y, with a warning, when the load is
- * symmetric), by an over-damped descent (pseudo-transient continuation) to
- * a stable rest; when none is found the step fails rather than return it. */
+ * (static_stability.c) is left along its critical mode both ways, each by
+ * an over-damped descent (pseudo-transient continuation) to a stable rest,
+ * and the rest of lower potential energy is kept: the side the load picks
+ * (when the two agree to round-off, the side the load's transverse part
+ * pulls, or +y with a warning when the load is symmetric); when no rest is
+ * found the step fails rather than return an unstable answer. */
 #include "sim/static/static_settle.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -24,6 +27,12 @@ static const int max_descent_iterations = 300;
  * node rotation, rad. */
 static const double mode_push = 0.05;
 
+/* The two sides' rests are of equal potential energy when their energies
+ * differ by at most this times sqrt(NS), relative to the energies' size:
+ * some 25 x the round-off between mirror images, far below what a lateral
+ * load of 1e-12 of the axial one makes (docs/decisions/draft-static-branch.md). */
+static const double energy_tie = 4.0 * DBL_EPSILON;
+
 /* Turns every node by `scale` times the mode (global rotations). */
 static void turn_along_mode(static_work *w, double scale)
 {
@@ -41,14 +50,14 @@ static void turn_along_mode(static_work *w, double scale)
     }
 }
 
-/* Pushes the base point off an unstable equilibrium along the critical mode
- * (largest node turn mode_push). The side: the one the load's transverse
- * part (tip force plus distributed load, across the chord root-tip) pulls
- * the rod towards, like an imperfection would; when the load has none (a
- * symmetric bifurcation) the side where the centreline moves to +y (then
- * +z) and `symmetric` is set: the mirror image is an equally valid answer. */
-static void push_along_mode(static_work *w, const rod_model *m, const static_load *load,
-                            int *symmetric)
+/* The side of the critical mode the load's transverse part (tip force
+ * plus distributed and point loads, across the chord root-tip) pulls the
+ * rod towards, like an imperfection would: +1 or -1, the mode's sign. When
+ * the load has none (a symmetric bifurcation) the side where the centreline
+ * moves to +y (then +z), and `symmetric` is set. Read at the unstable
+ * point, so only a tie-break (settle_both_sides): a chord tilted by dy
+ * adds P dy across it, which outweighs a small transverse load. */
+static int mode_side(static_work *w, const rod_model *m, const static_load *load, int *symmetric)
 {
     int n = w->nodes, dofs = w->dofs;
     rod_darboux_from_frames(m, w->frame, w->darboux);
@@ -87,10 +96,17 @@ static void push_along_mode(static_work *w, const rod_model *m, const static_loa
     double side = v3_dot(moved, across);
     *symmetric = !(fabs(side) > 1e-9 * v3_norm(moved) * v3_norm(pull));
     if (*symmetric) side = fabs(moved[1]) > 1e-9 * v3_norm(moved) ? moved[1] : moved[2];
+    return side < 0.0 ? -1 : 1;
+}
+
+/* Pushes the base point off an unstable equilibrium along `sign` times the
+ * critical mode (largest node turn mode_push); the forces from statics. */
+static void push_along_mode(static_work *w, const rod_model *m, const static_load *load, int sign)
+{
     double largest = 0.0;
-    for (int b = 0; b < dofs; b++) largest = fmax(largest, fabs(w->mode[b]));
+    for (int b = 0; b < w->dofs; b++) largest = fmax(largest, fabs(w->mode[b]));
     double scale = largest > 0.0 ? mode_push / largest : 0.0;
-    turn_along_mode(w, side < 0.0 ? -scale : scale);
+    turn_along_mode(w, sign < 0 ? -scale : scale);
     static_forces_from_statics(w, m, load);
 }
 
@@ -101,7 +117,7 @@ static void push_along_mode(static_work *w, const rod_model *m, const static_loa
  * motion leaves an unstable equilibrium, as a real rod would; c -> 0 turns
  * it into Newton near the stable rest. Returns 0 at residual <= tolerance,
  * -1 when the budget runs out or a step fails. */
-static int descend(static_work *w, const rod_model *m, const static_load *load, double tolerance,
+int static_descend(static_work *w, const rod_model *m, const static_load *load, double tolerance,
                    double relax, int *iterations, double *residual_out)
 {
     int n = w->nodes, nu = w->unknowns;
@@ -132,11 +148,132 @@ static int descend(static_work *w, const rod_model *m, const static_load *load, 
     return -1;
 }
 
+/* The total potential energy of the base point under the dead loads, J,
+ * in two parts: `elastic` = sum ds/2 (u - u0).B(u - u0), the energy whose
+ * gradient is the constitutive law M = B (u - u0) (thesis (3.4), u0 the
+ * rest curvature along the load path as static_midpoint_moments has it),
+ * and `work` = the dead forces . positions from the root (tip force with
+ * the tip node's point load, the point loads, the distributed load lumped
+ * at the nodes, half at the tip, as the residual has them). A held tip's
+ * reaction does no work (its tip stays on its place or its sleeve). */
+static void potential_energy(static_work *w, const rod_model *m, const static_load *load,
+                             double *elastic, double *work)
+{
+    int n = w->nodes;
+    double ds = m->ds, c = load->curvature, position[3] = {0, 0, 0};
+    rod_darboux_from_frames(m, w->frame, w->darboux);
+    rod_midpoint_frames(m, w->frame, w->darboux, w->mid);
+    *elastic = 0.0;
+    *work = 0.0;
+    for (int j = 0; j + 1 < n; j++) {
+        for (int k = 0; k < 3; k++) {
+            double strain = w->darboux[3 * j + k] - c * m->intrinsic_curvature[k] -
+                            (1.0 - c) * w->start_darboux[3 * j + k];
+            *elastic += 0.5 * ds * m->stiffness[k] * strain * strain;
+        }
+        double d3[3], force[3];
+        m3_column(d3, &w->mid[9 * j], 2);
+        v3_axpy(position, ds, d3); /* node j + 1 */
+        if (j + 2 < n) {
+            v3_scale(force, load->distributed, ds);
+            v3_axpy(force, load->point_factor, &w->node_force[3 * (j + 1)]);
+        } else {
+            double tip_moment[3];
+            static_tip_load_global(w, m, load, &w->frame[9 * (n - 1)], force, tip_moment);
+            v3_axpy(force, 0.5 * ds, load->distributed);
+        }
+        *work += v3_dot(force, position);
+    }
+}
+
+/* The base point (frames, forces N, held tip's reaction) copied out or in. */
+static void copy_point_out(const static_work *w, double *frame, double *force, double *reaction)
+{
+    memcpy(frame, w->frame, (size_t)w->nodes * 9 * sizeof(double));
+    memcpy(force, w->force, (size_t)(w->nodes - 1) * 3 * sizeof(double));
+    memcpy(reaction, w->reaction, sizeof w->reaction);
+}
+
+static void copy_point_in(static_work *w, const double *frame, const double *force,
+                          const double *reaction)
+{
+    memcpy(w->frame, frame, (size_t)w->nodes * 9 * sizeof(double));
+    memcpy(w->force, force, (size_t)(w->nodes - 1) * 3 * sizeof(double));
+    memcpy(w->reaction, reaction, sizeof w->reaction);
+}
+
+/* One side's rest: from the start point (branch_start_*, its mode and
+ * axes), a push along `sign` times the mode and the descent. */
+typedef struct side_rest {
+    int converged;     /* the descent settled */
+    int iterations;    /* its Jacobians */
+    double residual;   /* its last scaled residual */
+    double elastic, work; /* the potential energy's parts there, J */
+} side_rest;
+
+static void settle_side(static_work *w, const rod_model *m, const static_load *load,
+                        double tolerance, double relax, int sign, side_rest *rest)
+{
+    copy_point_in(w, w->branch_start_frame, w->branch_start_force, w->branch_start_reaction);
+    memcpy(w->mode, w->branch_mode, (size_t)w->dofs * sizeof(double));
+    memcpy(w->dof_dir, w->branch_dof_dir, (size_t)w->dofs * 3 * sizeof(double));
+    push_along_mode(w, m, load, sign);
+    rest->iterations = 0;
+    rest->residual = 0.0;
+    rest->converged =
+        static_descend(w, m, load, tolerance, relax, &rest->iterations, &rest->residual) == 0;
+    rest->elastic = rest->work = 0.0;
+    if (rest->converged) potential_energy(w, m, load, &rest->elastic, &rest->work);
+}
+
+/* Leaves the unstable base point along its critical mode, both ways, and
+ * keeps the rest of lower potential energy Pi = elastic - work: the side
+ * the load picks. Not the side read at the unstable point (mode_side): a
+ * load step past P_E lands Newton on the complementary branch's unstable
+ * point, bent the wrong way, whose chord's tilt outweighs a lateral load
+ * up to 1e-4 of the axial one (thesis fig. 4a's column, 2 P_E, a lateral
+ * load 1e-6 of it: tip y -0.797 m, the mirror image). When the energies
+ * agree to within energy_tie (a symmetric load, or one rest reached both
+ * ways), mode_side's side is kept, and a symmetric choice is warned of;
+ * docs/decisions/draft-static-branch.md. Returns 0 with the base point at
+ * the rest kept (*symmetric set when the side was a symmetric choice),
+ * -1 when neither side settled (the first side's residual in *residual). */
+static int settle_both_sides(static_work *w, const rod_model *m, const static_load *load,
+                             double tolerance, double relax, int *symmetric, int *iterations,
+                             double *residual)
+{
+    int first = mode_side(w, m, load, symmetric);
+    copy_point_out(w, w->branch_start_frame, w->branch_start_force, w->branch_start_reaction);
+    memcpy(w->branch_mode, w->mode, (size_t)w->dofs * sizeof(double));
+    memcpy(w->branch_dof_dir, w->dof_dir, (size_t)w->dofs * 3 * sizeof(double));
+    side_rest rests[2];
+    settle_side(w, m, load, tolerance, relax, first, &rests[0]);
+    if (rests[0].converged)
+        copy_point_out(w, w->branch_rest_frame, w->branch_rest_force, w->branch_rest_reaction);
+    settle_side(w, m, load, tolerance, relax, -first, &rests[1]);
+    *iterations += rests[0].iterations + rests[1].iterations;
+    *residual = rests[0].residual;
+    if (!rests[0].converged && !rests[1].converged) return -1;
+    int keep = rests[0].converged ? 0 : 1;
+    if (rests[0].converged && rests[1].converged) {
+        double pi0 = rests[0].elastic - rests[0].work, pi1 = rests[1].elastic - rests[1].work;
+        double scale = fabs(rests[0].elastic) + fabs(rests[0].work) + fabs(rests[1].elastic) +
+                       fabs(rests[1].work);
+        if (fabs(pi0 - pi1) > energy_tie * sqrt((double)w->nodes) * scale) {
+            keep = pi1 < pi0 ? 1 : 0;
+            *symmetric = 0;
+        }
+    } else *symmetric = *symmetric && keep == 0; /* the only rest found */
+    if (keep == 0)
+        copy_point_in(w, w->branch_rest_frame, w->branch_rest_force, w->branch_rest_reaction);
+    return 0;
+}
+
 /* Checks the solved base point's stability and, when it is unstable,
- * follows the rod off it: a push along the critical mode, then the
- * over-damped descent to a stable rest (at most `tries` times). Returns
- * ROD_OK with the base point stable (or not checkable), else a status with
- * the report's message written. */
+ * follows the rod off it to the stable rest the load picks
+ * (settle_both_sides; at most `tries` times). Returns ROD_OK with the base
+ * point stable (or not checkable), else a status with the report's message
+ * written. */
 rod_status static_settle_stable(static_work *w, const rod_model *m, const static_load *load,
                                 double tolerance, double time, int *iterations, rod_report *report)
 {
@@ -153,9 +290,22 @@ rod_status static_settle_stable(static_work *w, const rod_model *m, const static
     for (int tries = 0; count != 0 && tries < 3; tries++) {
         double lowest = static_critical_mode(w);
         if (isnan(lowest)) break;
-        int symmetric = 0, descent_iterations = 0;
+        int symmetric = 0;
         double residual = 0.0;
-        push_along_mode(w, m, load, &symmetric);
+        int rc = settle_both_sides(w, m, load, tolerance, fabs(lowest) + negative_eigenvalue,
+                                   &symmetric, iterations, &residual);
+        if (rc != 0) {
+            static_describe_load(m, load, text, sizeof text);
+            snprintf(report->message, sizeof report->message,
+                     "static: the equilibrium at t = %g s (%s) is unstable (%d unstable mode%s) "
+                     "and the descent to a stable one, along either side of its critical mode, "
+                     "did not settle within %d iterations (scaled residual %.3e, tolerance "
+                     "%.1e). The state is left at the last stable time. A ramped load with more "
+                     "output frames (render.fps), or a dynamic scheme (solver.scheme = "
+                     "implicit), follows the rod through the instability.", time, text, count,
+                     count == 1 ? "" : "s", max_descent_iterations, residual, tolerance);
+            return ROD_NO_CONVERGENCE;
+        }
         if (symmetric && !report->warning[0])
             snprintf(report->warning, sizeof report->warning,
                      "static: at t = %g s the equilibrium on the path was unstable (a symmetric "
@@ -163,21 +313,9 @@ rod_status static_settle_stable(static_work *w, const rod_model *m, const static
                      "was pushed along its buckling mode to the side where it moves towards "
                      "+y (else +z). The mirror image is an equally valid equilibrium; a small "
                      "transverse load picks the side.", time);
-        int rc = descend(w, m, load, tolerance, fabs(lowest) + negative_eigenvalue,
-                         &descent_iterations, &residual);
-        *iterations += descent_iterations;
-        if (rc != 0) {
-            static_describe_load(m, load, text, sizeof text);
-            snprintf(report->message, sizeof report->message,
-                     "static: the equilibrium at t = %g s (%s) is unstable (%d unstable mode%s) "
-                     "and the descent to a stable one did not settle within %d iterations "
-                     "(scaled residual %.3e, tolerance %.1e). The state is left at the last "
-                     "stable time. A ramped load with more output frames (render.fps), or a "
-                     "dynamic scheme (solver.scheme = implicit), follows the rod through the "
-                     "instability.", time, text, count, count == 1 ? "" : "s",
-                     max_descent_iterations, residual, tolerance);
-            return ROD_NO_CONVERGENCE;
-        }
+        /* the stiffness at the rest kept (the last one captured may be the other side's) */
+        static_build_jacobian(w, m, load);
+        static_capture_stiffness(w);
         count = static_unstable_count(w);
     }
     if (count != 0) {

@@ -540,9 +540,16 @@ void static_damp_rotations(static_work *w, double damping)
 
 /* Newton on the discrete equilibrium from the base point in the work.
  * Returns 0 when the largest scaled residual is <= tolerance; then the base
- * point is the solution. `iterations` counts Jacobians formed. */
+ * point is the solution. `iterations` counts Jacobians formed. With
+ * `downhill` set (dead loads, from a stable point of the path), returns
+ * NEWTON_NOT_DOWNHILL before taking a first step along which the potential
+ * curves down: Newton heads for the stationary point that way, a saddle or
+ * what lies beyond it, not for the rest the rod would slide into: past P_E
+ * it went from the last answer (on the load's side, nearly straight)
+ * through the straight rod to the mirror-image branch
+ * (docs/decisions/draft-static-branch.md). */
 int static_newton(static_work *w, const rod_model *m, const static_load *load, double tolerance,
-                  int max_iterations, int *iterations, double *residual_out)
+                  int max_iterations, int downhill, int *iterations, double *residual_out)
 {
     int n = w->nodes, nu = w->unknowns;
     double damping = 0.0; /* see newton_damping */
@@ -561,6 +568,8 @@ int static_newton(static_work *w, const rod_model *m, const static_load *load, d
         static_capture_stiffness(w); /* for the stability check (cheap: 3 x 3 blocks) */
         static_damp_rotations(w, damping);
         if (static_solve_newton_step(w) != 0) return -1; /* singular Jacobian */
+        if (downhill && *iterations == 1 && static_step_curvature(w, w->newton_step) < 0.0)
+            return NEWTON_NOT_DOWNHILL;
 
         /* step limit: no node turns by more than max_rotation_step */
         double largest_turn = 0.0;

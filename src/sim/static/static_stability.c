@@ -345,6 +345,29 @@ static void stiffness_multiply(static_work *w, const double *x, double *y)
         }
 }
 
+/* The curvature of the potential along the free rotations of `step`
+ * (unknowns long, a node's turn phi on its frame at the base point):
+ * omega.K omega / omega.omega, omega_a = dof_dir_a . Q phi, in the reduced
+ * stiffness' units; 0 when the step turns no free rotation. */
+double static_step_curvature(static_work *w, const double *step)
+{
+    int dofs = w->dofs;
+    double *omega = w->eigen_work, *k_omega = &w->eigen_work[dofs];
+    for (int a = 0; a < dofs; a++) {
+        const double *q = &w->frame[9 * w->dof_node[a]], *dir = &w->dof_dir[3 * a];
+        const double *phi = &step[UNKNOWNS_PER_NODE * w->dof_node[a]];
+        omega[a] = 0.0;
+        for (int c = 0; c < 3; c++)
+            omega[a] += phi[c] * (q[c] * dir[0] + q[3 + c] * dir[1] + q[6 + c] * dir[2]);
+    }
+    double size = sum_squares(omega, dofs);
+    if (!(size > 0.0)) return 0.0;
+    stiffness_multiply(w, omega, k_omega);
+    double curvature = 0.0;
+    for (int a = 0; a < dofs; a++) curvature += omega[a] * k_omega[a];
+    return curvature / size;
+}
+
 /* Inverse iteration with the factored K - shift I from `start` (a global
  * rotation, the same at every node), kept on the constraint manifold by
  * Z = A^-1 C^T (nr columns) and C Z = projection for a held tip. Writes

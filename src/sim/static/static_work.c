@@ -349,6 +349,12 @@ static void allocate_stability(static_work *w)
     w->eigen_work = malloc(2 * dofs * sizeof(double));
     w->rotation_blocks = malloc(n * 27 * sizeof(double));
     w->mode = malloc((1 + MAX_BORDER) * dofs * sizeof(double));
+    w->branch_start_frame = malloc(n * 9 * sizeof(double));
+    w->branch_start_force = malloc((n - 1) * 3 * sizeof(double));
+    w->branch_mode = malloc((dofs + 1) * sizeof(double));
+    w->branch_dof_dir = malloc((dofs + 1) * 3 * sizeof(double));
+    w->branch_rest_frame = malloc(n * 9 * sizeof(double));
+    w->branch_rest_force = malloc((n - 1) * 3 * sizeof(double));
 }
 
 static int allocated(const static_work *w)
@@ -359,7 +365,8 @@ static int allocated(const static_work *w)
            w->border_rows && w->border_solution && w->pivots && w->saved_frame && w->saved_force &&
            w->dof_node && w->dof_axis && w->dof_row && w->dof_dir && w->stiffness &&
            w->stiffness_work && w->stiffness_pivots && w->constraint && w->eigen_work && w->mode &&
-           w->rotation_blocks;
+           w->rotation_blocks && w->branch_start_frame && w->branch_start_force &&
+           w->branch_mode && w->branch_dof_dir && w->branch_rest_frame && w->branch_rest_force;
 }
 
 static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
@@ -420,5 +427,11 @@ void static_work_destroy(static_work *w)
     free(w->eigen_work);
     free(w->rotation_blocks);
     free(w->mode);
+    free(w->branch_start_frame);
+    free(w->branch_start_force);
+    free(w->branch_mode);
+    free(w->branch_dof_dir);
+    free(w->branch_rest_frame);
+    free(w->branch_rest_force);
     free(w);
 }
