@@ -1,10 +1,12 @@
 /* ini.h: strict INI scene files.
  *
  * Syntax: `[section]` headers, `key = value` lines, `#` starts a comment
- * (anywhere outside double quotes), blank lines ignored. A section may
+ * (anywhere outside double quotes), blank lines ignored; a UTF-8 byte-order
+ * mark at the start (some editors write one) is skipped. A section may
  * repeat (the FEM scene's [support] and [load]); each occurrence is an
  * instance, numbered from 0 in file order. A key may appear once per
- * instance.
+ * instance. A section its reader reads once (only instance 0 is asked for)
+ * but the file repeats is reported by ini_check_unused().
  *
  * Strictness is by use: every ini_get_* call records the section and key as
  * known, whether or not the file has them. After the consumer has read all
@@ -25,8 +27,13 @@
 
 typedef struct ini_doc ini_doc;
 
-/* Parses the file at path. Returns NULL and writes a message into err on a
- * missing file or a syntax error. */
+/* The most bytes a scene file may hold (1 MiB, 200 times the largest shipped
+ * scene): a device, an endless pipe or a huge file is refused, not read. */
+#define INI_MAX_BYTES ((size_t)1 << 20)
+
+/* Parses the file at path (base/textfile.h: a text file of at most
+ * INI_MAX_BYTES). Returns NULL and writes a message into err on a missing
+ * file, a directory or device, a file over the limit, or a syntax error. */
 ini_doc *ini_load(const char *path, char *err, size_t errlen);
 /* Parses text held in memory; `name` stands for the file name in messages. */
 ini_doc *ini_parse(const char *name, const char *text, char *err, size_t errlen);
@@ -75,7 +82,9 @@ int ini_error(const ini_doc *doc, const char *section, int index, const char *ke
     __attribute__((format(printf, 7, 8)));
 
 /* Reports the first section or key present in the file that no ini_get_*
- * or ini_section_count call asked for. Returns 0 when all were used. */
+ * or ini_section_count call asked for, or a second instance of a section of
+ * which only instance 0 was read (a repeated [rod]). Returns 0 when all were
+ * used. */
 int ini_check_unused(const ini_doc *doc, char *err, size_t errlen);
 
 /* One key a scene may hold, as its reference documents it (`rodsim help

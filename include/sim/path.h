@@ -24,8 +24,11 @@ typedef struct rod_pose {
 
 /* A path from `rows` rows of (t, x, y, z) or (t, x, y, z, rx, ry, rz):
  * `columns` 4 or 7, data row-major. Times strictly increase, values finite;
- * 1 to 1e6 rows (one row: a constant pose). NULL with a message naming the
- * row (1-based) and what is accepted. */
+ * 1 to 1e6 rows (one row: a constant pose). The motion stays in range, so
+ * that every pose rod_path_eval() gives is finite: values within 1e12 (m,
+ * rad) and, between rows, velocities and accelerations within 1e50 (per s,
+ * per s^2; rows 1 m apart 1e-300 s apart are refused). NULL with a message
+ * naming the row (1-based) and what is accepted. */
 rod_path *rod_path_create(const double *data, int rows, int columns, char *err, size_t errlen);
 
 /* A path whose velocity is given at every row: rows of the pose columns
@@ -34,7 +37,8 @@ rod_path *rod_path_create(const double *data, int rows, int columns, char *err, 
  * numbers a row. Each interval is the cubic Hermite polynomial through its
  * rows' positions and velocities (velocity continuous, acceleration steps at
  * the rows); held at rest before the first and after the last row, the
- * given velocity exactly at a row. NULL with a message naming the row. */
+ * given velocity exactly at a row. In range as above (given velocities
+ * within 1e50). NULL with a message naming the row. */
 rod_path *rod_path_create_with_velocity(const double *data, int rows, int columns, char *err,
                                         size_t errlen);
 
@@ -58,9 +62,14 @@ int rod_path_has_velocity(const rod_path *p);
 
 /* Reads a CSV file with the header t,x,y,z or t,x,y,z,rx,ry,rz, or, with
  * velocities given (rod_path_create_with_velocity: a rodsim live record),
- * t,x,y,z,vx,vy,vz or t,x,y,z,rx,ry,rz,vx,vy,vz,vrx,vry,vrz. NULL with a
- * message naming file:line and what is accepted. */
+ * t,x,y,z,vx,vy,vz or t,x,y,z,rx,ry,rz,vx,vy,vz,vrx,vry,vrz. The file is a
+ * text file of at most 512 MiB (base/textfile.h: a device, a directory or a
+ * larger file is refused unread). NULL with a message naming file:line and
+ * what is accepted. */
 rod_path *rod_path_load(const char *filename, char *err, size_t errlen);
+/* The same from the file's text held in memory (NUL-terminated); `filename`
+ * names it in messages. */
+rod_path *rod_path_parse(const char *filename, const char *text, char *err, size_t errlen);
 
 void rod_path_destroy(rod_path *p);
 

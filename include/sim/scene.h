@@ -40,8 +40,24 @@ int scene_refuse_beam(ini_doc *doc, char *err, size_t errlen);
 /* Reads a load table (CSV): one header line, then rows of 2 numbers
  * (t s, factor) or 7 numbers (t s, fx fy fz N, mx my mz N m), separated by
  * commas; blank lines and '#' comments are skipped; times strictly increase.
- * Fills *table (data owned by the caller: free(table->data)). Returns 0, or -1
- * with "path:line: ..." in err. An empty table is an error. */
+ * The file is a text file of at most 256 MiB (base/textfile.h: a device, a
+ * directory or a larger file is refused unread). Fills *table (data owned by
+ * the caller: free(table->data)). Returns 0, or -1 with "path:..." in err and
+ * *table empty. An empty table is an error. */
 int scene_load_table(const char *path, rod_table *table, char *err, size_t errlen);
+/* The same from the file's text held in memory (NUL-terminated); `path`
+ * names it in messages. */
+int scene_parse_table(const char *path, const char *text, rod_table *table, char *err,
+                      size_t errlen);
+
+/* Reads a starting shape ([rod] shape = FILE.csv) from its text held in
+ * memory: the header x,y,z, then rows of 3 finite numbers (m), no point
+ * repeating the one before, 2 to 1e6 points; blank lines and '#' comments
+ * skipped. Fills *points (count x 3, m, owned by the caller: free) and
+ * *last_line (the line of the last point). Returns 0, or -1 with
+ * "path:line: ..." in err and *points NULL. The scene reads the file (a text
+ * file of at most 128 MiB) and checks its length against [rod] length. */
+int scene_parse_shape(const char *path, const char *text, double **points, int *count,
+                      int *last_line, char *err, size_t errlen);
 
 #endif

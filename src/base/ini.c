@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/textfile.h"
+
 typedef struct ini_entry {
     char *section;
     int instance;
@@ -27,6 +29,7 @@ typedef struct ini_section {
 typedef struct ini_known {
     char *section;
     char *key;     /* NULL: the section itself was asked for */
+    int max_index; /* section rows: the highest instance a key was asked of, or -1 */
 } ini_known;
 
 struct ini_doc {
@@ -151,6 +154,7 @@ static void mark_known(ini_doc *doc, const char *section, const char *key)
     ini_known *k = &doc->known[doc->known_count];
     k->section = dup_string(section);
     k->key = key ? dup_string(key) : NULL;
+    k->max_index = -1;
     if (!k->section || (key && !k->key)) {
         free(k->section); free(k->key);
         return;
@@ -180,7 +184,7 @@ ini_doc *ini_parse(const char *name, const char *text, char *err, size_t errlen)
     const char *current = NULL; /* section name of the lines being read */
     char *current_owned = NULL;
     int line = 0;
-    const char *p = text;
+    const char *p = textfile_skip_bom(text);
     while (*p) {
         line++;
         const char *eol = strchr(p, '\n');
@@ -220,14 +224,16 @@ ini_doc *ini_parse(const char *name, const char *text, char *err, size_t errlen)
                       name, line, (int)(end - begin), begin);
             goto fail;
         }
-        if (!current) {
-            set_error(err, errlen, "%s:%d: key outside any section; start with a [section] line",
-                      name, line);
-            goto fail;
-        }
         const char *kb = begin, *ke = eq, *vb = eq + 1, *ve = end;
         trim(&kb, &ke);
         trim(&vb, &ve);
+        if (!current) {
+            set_error(err, errlen, "%s:%d: key outside any section: %.*s comes before the first "
+                      "[section] line; accepted before it: only blank lines and # comments (put "
+                      "the key under the [section] it belongs to)",
+                      name, line, (int)(ke - kb < 64 ? ke - kb : 64), kb);
+            goto fail;
+        }
         if (!valid_name(kb, ke)) {
             set_error(err, errlen, "%s:%d: bad key name '%.*s' (letters, digits, _ and - only)",
                       name, line, (int)(ke - kb), kb);
@@ -260,36 +266,8 @@ fail:
 
 ini_doc *ini_load(const char *path, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        set_error(err, errlen, "%s: cannot open scene file: %s", path, strerror(errno));
-        return NULL;
-    }
-    size_t cap = 4096, len = 0;
-    char *text = malloc(cap);
-    size_t got;
-    while (text && (got = fread(text + len, 1, cap - len - 1, f)) > 0) {
-        len += got;
-        if (len + 1 == cap) {
-            char *bigger = realloc(text, cap * 2);
-            if (!bigger) { free(text); text = NULL; break; }
-            text = bigger;
-            cap *= 2;
-        }
-    }
-    int read_error = ferror(f);
-    fclose(f);
-    if (!text || read_error) {
-        free(text);
-        set_error(err, errlen, "%s: cannot read scene file", path);
-        return NULL;
-    }
-    text[len] = '\0';
-    if (strlen(text) != len) {
-        free(text);
-        set_error(err, errlen, "%s: not a text file (contains a NUL byte)", path);
-        return NULL;
-    }
+    char *text;
+    if (textfile_read(path, "scene", INI_MAX_BYTES, &text, NULL, err, errlen)) return NULL;
     ini_doc *doc = ini_parse(path, text, err, errlen);
     free(text);
     return doc;
@@ -419,11 +397,23 @@ int ini_error(const ini_doc *doc, const char *section, int index, const char *ke
     return -1;
 }
 
+/* Notes that a key of instance `index` of `section` was asked for: a section
+ * whose reader never asks past instance 0 is one it reads once. */
+static void mark_instance(ini_doc *doc, const char *section, int index)
+{
+    for (int i = 0; i < doc->known_count; i++) {
+        ini_known *k = &doc->known[i];
+        if (!k->key && strcmp(k->section, section) == 0 && index > k->max_index)
+            k->max_index = index;
+    }
+}
+
 int ini_get_string(ini_doc *doc, const char *section, int index, const char *key,
                    const char **out, char *err, size_t errlen)
 {
     (void)err; (void)errlen;
     mark_known(doc, section, NULL);
+    mark_instance(doc, section, index);
     mark_known(doc, section, key);
     ini_entry *e = find_entry(doc, section, index, key);
     if (!e) return 0;
@@ -546,6 +536,15 @@ static int section_is_known(const ini_doc *doc, const char *section)
     return 0;
 }
 
+/* Whether the reader asked for keys of instance 0 of `section` only. */
+static int section_read_once(const ini_doc *doc, const char *section)
+{
+    for (int i = 0; i < doc->known_count; i++)
+        if (!doc->known[i].key && strcmp(doc->known[i].section, section) == 0)
+            return doc->known[i].max_index == 0;
+    return 0;
+}
+
 static void known_list(const ini_doc *doc, const char *section, char *out, size_t outlen)
 {
     size_t used = 0;
@@ -565,6 +564,13 @@ int ini_check_unused(const ini_doc *doc, char *err, size_t errlen)
     char list[512];
     for (int i = 0; i < doc->section_count; i++) {
         const ini_section *s = &doc->sections[i];
+        if (s->instance > 0 && section_read_once(doc, s->name)) {
+            const ini_section *first = find_section(doc, s->name, 0);
+            set_error(err, errlen, "%s:%d: [%s] is given again (first on line %d); accepted: one "
+                      "[%s] section holding all its keys (a second one would be ignored)",
+                      doc->filename, s->line, s->name, first ? first->line : 0, s->name);
+            return -1;
+        }
         if (section_is_known(doc, s->name)) continue;
         known_list(doc, NULL, list, sizeof list);
         if (s->line > 0)

@@ -2,20 +2,28 @@
 #include "base/textline.h"
 
 #include <ctype.h>
+#include <stdio.h>
 #include <string.h>
 
-int textline_next(FILE *f, const char *filename, char *line, size_t size, int *line_no,
-                  char **text, char *err, size_t errlen)
+#include "base/textfile.h"
+
+int textline_next(const char **cursor, const char *filename, char *line, size_t size,
+                  int *line_no, char **text, char *err, size_t errlen)
 {
-    while (fgets(line, (int)size, f)) {
+    const char *p = *cursor;
+    if (*line_no == 0) p = textfile_skip_bom(p);
+    while (*p) {
         ++*line_no;
-        size_t n = strlen(line);
-        /* a full buffer without its newline, before the end: the line goes on */
-        if (n == size - 1 && line[n - 1] != '\n' && !feof(f)) {
+        const char *begin = p, *eol = strchr(p, '\n');
+        size_t n = eol ? (size_t)(eol - begin) : strlen(begin);
+        *cursor = p = eol ? eol + 1 : begin + n;
+        if (n > size - 2) {
             snprintf(err, errlen, "%s:%d: line longer than %zu characters", filename, *line_no,
                      size - 2);
             return -1;
         }
+        memcpy(line, begin, n);
+        line[n] = '\0';
         char *hash = strchr(line, '#');
         if (hash) *hash = '\0';
         for (n = strlen(line); n > 0 && isspace((unsigned char)line[n - 1]); n--) line[n - 1] = '\0';
@@ -25,5 +33,6 @@ int textline_next(FILE *f, const char *filename, char *line, size_t size, int *l
         *text = start;
         return 1;
     }
+    *cursor = p;
     return 0;
 }

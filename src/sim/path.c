@@ -53,12 +53,16 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/textfile.h"
 #include "base/textline.h"
 #include "base/vec3.h"
 
 /* A path of more rows is refused: 1e6 rows hold a 1 kHz recording of a
  * needle holder for 16 minutes, and cost 150 MB with their derivatives. */
 #define PATH_MAX_ROWS 1000000
+/* A path file of more bytes is refused unread: PATH_MAX_ROWS rows of the
+ * widest record (13 numbers written with 17 digits, 325 bytes a row) fit. */
+#define PATH_MAX_BYTES ((size_t)512 << 20)
 /* A live path keeps this many rows: the interval being stepped, the rows
  * of the backward difference, and one to restore after rod_path_pop(). */
 #define LIVE_ROWS 4
@@ -164,6 +168,71 @@ static int check_rows(const double *data, int rows, int width, char *err, size_t
     return 0;
 }
 
+/* Bounds of a path's motion between its rows (m or rad, and their rates per
+ * s and per s^2): within them every pose and the angular terms built from it
+ * (r x (r x r_ddot), ~1e12^2 x 1e50) stay finite. Rows of finite numbers too
+ * close in time for their change (1 m in 1e-300 s) overflow without them. */
+#define PATH_MAX_VALUE 1e12
+#define PATH_MAX_RATE 1e50
+
+/* Checks that, on every interval, the value, velocity and acceleration of
+ * each component are within the bounds above (bounded by the sums of the
+ * magnitudes of the terms interpolate() adds, for s in [0, 1]). */
+static int check_motion(const rod_path *p, char *err, size_t errlen)
+{
+    static const char *const names[6] = {"x", "y", "z", "rx", "ry", "rz"};
+    const int nc = p->components;
+    for (int i = 0; i < p->rows; i++) /* the rows as given (a one-row path is held) */
+        for (int c = 0; c < nc; c++) {
+            const double y = p->value[i * nc + c], v = p->velocity[i * nc + c];
+            if (!(fabs(y) <= PATH_MAX_VALUE)) {
+                snprintf(err, errlen, "row %d: %s = %.9g is out of range; accepted: within "
+                         "%.0e (m or rad)", i + 1, names[c], y, PATH_MAX_VALUE);
+                return -1;
+            }
+            if (!p->acceleration && !(fabs(v) <= PATH_MAX_RATE)) {
+                snprintf(err, errlen, "row %d: v%s = %.9g is out of range; accepted: within "
+                         "%.0e (m/s or rad/s)", i + 1, names[c], v, PATH_MAX_RATE);
+                return -1;
+            }
+        }
+    for (int i = 0; i + 1 < p->rows; i++) {
+        const double h = p->time[i + 1] - p->time[i];
+        for (int c = 0; c < nc; c++) {
+            const double y0 = p->value[i * nc + c], y1 = p->value[(i + 1) * nc + c];
+            const double v0 = p->velocity[i * nc + c], v1 = p->velocity[(i + 1) * nc + c];
+            double value, rate, rate2;
+            if (!p->acceleration) { /* cubic Hermite: |h00|, |h01| <= 1, |h10|, |h11| < 1 */
+                value = fabs(y0) + fabs(y1) + h * (fabs(v0) + fabs(v1));
+                rate = 1.5 * fabs(y1 - y0) / h + fabs(v0) + fabs(v1);
+                rate2 = (6.0 * fabs(y1 - y0) / h + 4.0 * (fabs(v0) + fabs(v1))) / h;
+            } else { /* the quintic of interpolate() */
+                const double a0 = p->acceleration[i * nc + c];
+                const double a1 = p->acceleration[(i + 1) * nc + c];
+                const double A = y1 - y0 - v0 * h - 0.5 * a0 * h * h;
+                const double B = (v1 - v0 - a0 * h) * h, C = (a1 - a0) * h * h;
+                const double z = 0.5 * C + 6.0 * A - 3.0 * B, w = 7.0 * B - 15.0 * A - C;
+                const double x = A - w - z;
+                const double size = fabs(x) + fabs(w) + fabs(z);
+                value = fabs(y0) + h * (fabs(v0) + 0.5 * fabs(a0) * h) + size;
+                rate = fabs(v0) + fabs(a0) * h + 5.0 * size / h;
+                rate2 = fabs(a0) + 20.0 * size / (h * h);
+            }
+            if (!(value <= PATH_MAX_VALUE && rate <= PATH_MAX_RATE && rate2 <= PATH_MAX_RATE)) {
+                snprintf(err, errlen,
+                         "rows %d to %d (t = %.9g to %.9g s): %s goes from %.9g to %.9g in %.3g "
+                         "s, a motion out of range (bounds %.3g, %.3g /s, %.3g /s^2); accepted: "
+                         "values within %.0e and rates within %.0e (m, rad, per s, per s^2)",
+                         i + 1, i + 2,
+                         p->time[i], p->time[i + 1], names[c], y0, y1, h, value, rate, rate2,
+                         PATH_MAX_VALUE, PATH_MAX_RATE);
+                return -1;
+            }
+        }
+    }
+    return 0;
+}
+
 /* An empty path with room for `capacity` rows; acceleration only when asked. */
 static rod_path *path_alloc(int capacity, int columns, int with_acceleration)
 {
@@ -208,6 +277,10 @@ rod_path *rod_path_create_with_velocity(const double *data, int rows, int column
         p->time[r] = row[0];
         memcpy(&p->value[(size_t)r * (size_t)nc], row + 1, (size_t)nc * sizeof(double));
         memcpy(&p->velocity[(size_t)r * (size_t)nc], row + columns, (size_t)nc * sizeof(double));
+    }
+    if (check_motion(p, err, errlen)) {
+        rod_path_destroy(p);
+        return NULL;
     }
     return p;
 }
@@ -333,6 +406,10 @@ rod_path *rod_path_create(const double *data, int rows, int columns, char *err, 
     for (int c = 0; c < p->components; c++) row_derivatives(p, c, diag, rhs);
     free(diag);
     free(rhs);
+    if (check_motion(p, err, errlen)) {
+        rod_path_destroy(p);
+        return NULL;
+    }
     return p;
 oom:
     snprintf(err, errlen, "out of memory for a path of %d rows", rows);
@@ -538,22 +615,28 @@ static int header_kind(const char *line)
 
 rod_path *rod_path_load(const char *filename, char *err, size_t errlen)
 {
+    char *text;
+    if (textfile_read(filename, "path", PATH_MAX_BYTES, &text, NULL, err, errlen)) return NULL;
+    rod_path *path = rod_path_parse(filename, text, err, errlen);
+    free(text);
+    return path;
+}
+
+rod_path *rod_path_parse(const char *filename, const char *text, char *err, size_t errlen)
+{
     static const char header_help[] = "expected the header t,x,y,z or t,x,y,z,rx,ry,rz (time s, "
                                       "position m, rotation vector rad), or with velocities "
                                       "t,x,y,z,vx,vy,vz or t,x,y,z,rx,ry,rz,vx,vy,vz,vrx,vry,vrz "
                                       "(m/s, rad/s; a rodsim live record)";
-    FILE *f = fopen(filename, "r");
-    if (!f) {
-        snprintf(err, errlen, "%s: cannot open the path: %s", filename, strerror(errno));
-        return NULL;
-    }
     char line[1024];
     int line_no = 0, columns = 0, kind = -1, rows = 0, capacity = 0;
     double *data = NULL;
     rod_path *path = NULL;
     char *start;
     int got;
-    while ((got = textline_next(f, filename, line, sizeof line, &line_no, &start, err, errlen))) {
+    const char *cursor = text;
+    while ((got = textline_next(&cursor, filename, line, sizeof line, &line_no, &start, err,
+                                errlen))) {
         if (got < 0) goto done;
         if (columns == 0) {
             if ((kind = header_kind(start)) < 0) {
@@ -605,10 +688,6 @@ rod_path *rod_path_load(const char *filename, char *err, size_t errlen)
         memcpy(&data[(size_t)rows * (size_t)columns], values, (size_t)columns * sizeof *values);
         rows++;
     }
-    if (ferror(f)) {
-        snprintf(err, errlen, "%s: read error", filename);
-        goto done;
-    }
     if (columns == 0) {
         snprintf(err, errlen, "%s:%d: empty path: %s, then rows", filename,
                  line_no > 0 ? line_no : 1, header_help);
@@ -625,6 +704,5 @@ rod_path *rod_path_load(const char *filename, char *err, size_t errlen)
     if (!path) snprintf(err, errlen, "%s: %s", filename, why);
 done:
     free(data);
-    fclose(f);
     return path;
 }

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "base/spline.h"
+#include "base/textfile.h"
 #include "base/textline.h"
 #include "base/vec3.h"
 #include "sim/path.h"
@@ -17,6 +18,10 @@
 #define PATH_MAX_LEN 1024
 /* A starting shape of more points is refused (like a path: 1e6 rows). */
 #define SHAPE_MAX_POINTS 1000000
+/* Shape and load-table files of more bytes are refused unread: 1e6 rows of
+ * 3 (a shape) or 7 numbers (a load record) written with 17 digits fit. */
+#define SHAPE_MAX_BYTES ((size_t)128 << 20)
+#define LOAD_TABLE_MAX_BYTES ((size_t)256 << 20)
 
 static int parse_row(char *line, double *values, int max);
 
@@ -488,24 +493,18 @@ static int check_start_outside(ini_doc *doc, rod_model *m, char *err, size_t err
 
 /* Shape CSV ------------------------------------------------------------ */
 
-/* Reads the polyline of a shape file (header x,y,z, then rows of 3 numbers)
- * into *points (count x 3, owned by the caller). Returns 0, or -1 with
- * "file:line: ..." in err; *last_line is the line of the last point. */
-static int load_polyline(const char *path, double **points, int *count, int *last_line,
-                         char *err, size_t errlen)
+int scene_parse_shape(const char *path, const char *text, double **points, int *count,
+                      int *last_line, char *err, size_t errlen)
 {
     *points = NULL;
     *count = 0;
-    FILE *f = fopen(path, "r");
-    if (!f) {
-        snprintf(err, errlen, "%s: cannot open the shape: %s", path, strerror(errno));
-        return -1;
-    }
     char line[1024];
     int line_no = 0, header = 0, capacity = 0, rc = -1;
     char *start;
     int got;
-    while ((got = textline_next(f, path, line, sizeof line, &line_no, &start, err, errlen))) {
+    const char *cursor = text;
+    while ((got = textline_next(&cursor, path, line, sizeof line, &line_no, &start, err,
+                                errlen))) {
         if (got < 0) goto done; /* a long line was read as two rows before */
         if (!header) {
             char compact[64];
@@ -560,12 +559,24 @@ static int load_polyline(const char *path, double **points, int *count, int *las
     }
     rc = 0;
 done:
-    fclose(f);
     if (rc) {
         free(*points);
         *points = NULL;
         *count = 0;
     }
+    return rc;
+}
+
+/* Reads the polyline of the shape file at path (scene_parse_shape). */
+static int load_polyline(const char *path, double **points, int *count, int *last_line,
+                         char *err, size_t errlen)
+{
+    char *text;
+    *points = NULL;
+    *count = 0;
+    if (textfile_read(path, "shape", SHAPE_MAX_BYTES, &text, NULL, err, errlen)) return -1;
+    int rc = scene_parse_shape(path, text, points, count, last_line, err, errlen);
+    free(text);
     return rc;
 }
 
@@ -823,19 +834,30 @@ static int parse_row(char *line, double *values, int max)
 
 int scene_load_table(const char *path, rod_table *table, char *err, size_t errlen)
 {
+    char *text;
     table->rows = 0;
     table->columns = 0;
     table->data = NULL;
-    FILE *f = fopen(path, "r");
-    if (!f) {
-        snprintf(err, errlen, "%s: cannot open load table: %s", path, strerror(errno));
+    if (textfile_read(path, "load table", LOAD_TABLE_MAX_BYTES, &text, NULL, err, errlen))
         return -1;
-    }
+    int rc = scene_parse_table(path, text, table, err, errlen);
+    free(text);
+    return rc;
+}
+
+int scene_parse_table(const char *path, const char *text, rod_table *table, char *err,
+                      size_t errlen)
+{
+    table->rows = 0;
+    table->columns = 0;
+    table->data = NULL;
     char line[1024];
     int line_no = 0, header_seen = 0, capacity = 0, rc = -1;
     char *start;
     int got;
-    while ((got = textline_next(f, path, line, sizeof line, &line_no, &start, err, errlen))) {
+    const char *cursor = text;
+    while ((got = textline_next(&cursor, path, line, sizeof line, &line_no, &start, err,
+                                errlen))) {
         if (got < 0) goto done;
         if (!header_seen) { /* the first non-blank line names the columns */
             header_seen = 1;
@@ -874,10 +896,6 @@ int scene_load_table(const char *path, rod_table *table, char *err, size_t errle
         memcpy(&table->data[table->rows * count], values, (size_t)count * sizeof *values);
         table->rows++;
     }
-    if (ferror(f)) {
-        snprintf(err, errlen, "%s: read error", path);
-        goto done;
-    }
     if (table->rows == 0) {
         snprintf(err, errlen,
                  "%s:%d: empty load table: expected a header line, then rows of t,factor or "
@@ -887,7 +905,6 @@ int scene_load_table(const char *path, rod_table *table, char *err, size_t errle
     }
     rc = 0;
 done:
-    fclose(f);
     if (rc) {
         free(table->data);
         table->data = NULL;

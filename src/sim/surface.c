@@ -279,8 +279,11 @@ int rod_surface_check(rod_surface *s, char *err, size_t errlen)
     }
     if (s->shape == ROD_SURFACE_PLANE || s->shape == ROD_SURFACE_CYLINDER) {
         double len = v3_norm(s->normal);
-        if (!finite3(s->normal) || !(len > 0.0)) {
-            snprintf(err, errlen, "normal: must be 3 finite numbers, not all 0 (the %s)",
+        /* a length that overflows (1e308 1e308 0) or underflows would scale
+         * the normal to 0 or leave it off unit length */
+        if (!finite3(s->normal) || !(len >= 1e-150 && len <= 1e150)) {
+            snprintf(err, errlen, "normal: must be a direction: 3 numbers, not all 0, of length "
+                     "1e-150 to 1e150 (it is normalised; e.g. 0 0 1) (the %s)",
                      s->shape == ROD_SURFACE_PLANE ? "plane's outward normal"
                                                    : "cylinder's axis direction");
             return -1;

@@ -1,5 +1,7 @@
 /* test_ini.c: strict scene parsing. */
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "base/ini.h"
 #include "test.h"
@@ -74,7 +76,12 @@ static void test_errors(void)
     expect_error("[tip]\nforce = 0 1\n", "bad.ini:2: [tip] force = 0 1: expected 3 numbers",
                  "short vector");
     expect_error("[tip]\nframe = local\n", "accepted: director | global", "bad choice");
-    expect_error("length = 1\n", "bad.ini:1: key outside any section", "key before section");
+    expect_error("length = 1\n[rod]\n", "bad.ini:1: key outside any section: length comes before "
+                 "the first [section] line; accepted before it: only blank lines and # comments",
+                 "a key before any section: named, and what may come before a section");
+    expect_error("[rod]\nlength = 1\n[tip]\nframe = global\n[rod]\nnodes = 3\n",
+                 "bad.ini:5: [rod] is given again (first on line 1); accepted: one [rod] section",
+                 "a section read once, given twice: named at its second line");
     expect_error("[rod]\nlength = 1\nlength = 2\n", "given twice", "duplicate key");
     expect_error("[rod]\nlength\n", "bad.ini:2: expected 'key = value'", "line without =");
     expect_error("[rod]\nlength = nan\n", "not a number", "nan is refused");
@@ -82,6 +89,38 @@ static void test_errors(void)
     check(ini_load("/nonexistent/scene.ini", err, sizeof err) == NULL &&
               strstr(err, "/nonexistent/scene.ini: cannot open") != NULL,
           "missing file: '%s'", err);
+}
+
+/* A UTF-8 byte-order mark before the first line is skipped; files that are
+ * not scenes (a directory, a device that never ends, a file over the
+ * limit) are refused before they are read. */
+static void test_files(void)
+{
+    char err[512] = "";
+    ini_doc *doc = ini_parse("bom.ini", "\xEF\xBB\xBF[rod]\nlength = 2\n", err, sizeof err);
+    double length = 0.0;
+    int read = doc && ini_get_double(doc, "rod", 0, "length", &length, err, sizeof err) == 1 &&
+               ini_check_unused(doc, err, sizeof err) == 0;
+    check(read && length == 2.0,
+          "a byte-order mark before [rod] is skipped: length = %g (%s)", length, err);
+    ini_destroy(doc);
+    check(ini_load("/dev/zero", err, sizeof err) == NULL &&
+              strstr(err, "/dev/zero: a character device, not a scene file") &&
+              strstr(err, "at most 1 MiB"),
+          "/dev/zero as the scene: refused unread: '%s'", err);
+    check(ini_load("/tmp", err, sizeof err) == NULL &&
+              strstr(err, "/tmp: a directory, not a scene file"),
+          "a directory as the scene: '%s'", err);
+    char path[] = "/tmp/rodsim_ini_XXXXXX";
+    int fd = mkstemp(path);
+    if (fd >= 0) {
+        int grown = ftruncate(fd, (off_t)INI_MAX_BYTES + 1) == 0;
+        close(fd);
+        check(grown && ini_load(path, err, sizeof err) == NULL && strstr(err, path) &&
+                  strstr(err, "1048577 bytes") && strstr(err, "at most 1 MiB (1048576 bytes)"),
+              "a scene one byte over 1 MiB: '%s'", err);
+        unlink(path);
+    }
 }
 
 /* Edit distances counted by hand; a key table checked before any read. */
@@ -124,6 +163,7 @@ int main(void)
 {
     test_values();
     test_errors();
+    test_files();
     test_key_table();
     return test_finish();
 }

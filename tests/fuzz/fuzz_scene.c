@@ -5,7 +5,8 @@
  *
  * Every '/' of the input becomes '_', so `profile = table NAME` can only
  * open files in the harness' folder (where two valid tables wait); an
- * absolute path could name a device or FIFO that never ends. */
+ * absolute path could name a FIFO that waits for a writer (a device is
+ * refused unread, base/textfile.c). */
 #include <math.h>
 
 #include "base/ini.h"

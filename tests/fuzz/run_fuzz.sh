@@ -2,8 +2,9 @@
 # Runs each libFuzzer harness build/fuzz/bin/fuzz_NAME for SECONDS on a copy of
 # its seed corpus: the edge cases in tests/fuzz/corpus/NAME/, plus the shipped
 # scenes/*.ini (rod scenes for NAME = scene, beam scenes with [material] for
-# fem_scene), so the seeds follow the scenes. New inputs go to a temporary
-# folder, never into the git tree. Each harness counts as one test: it passes when
+# fem_scene) and scenes/*.csv (by their header: x,y,z for shape, t,x,y,z... for
+# path, t,factor or t,fx,... for load_table), so the seeds follow the scenes.
+# New inputs go to a temporary folder, never into the git tree. Each harness counts as one test: it passes when
 # libFuzzer ran out its time without a crash, a sanitizer report, a leak, a
 # timeout (one input > 10 s) or an out-of-memory (> 2048 MB). A failing input is
 # kept in BUILD_DIR/crashes/NAME/ and printed with the command that replays it.
@@ -27,6 +28,16 @@ for bin in "$build"/bin/fuzz_*; do
     for scene in scenes/*.ini; do
         if grep -q '^\[material\]' "$scene"; then kind=fem_scene; else kind=scene; fi
         [ "$kind" = "${name#fuzz_}" ] && cp "$scene" "$work/corpus/"
+    done
+    for table in scenes/*.csv; do # by its header: a shape, a path or a load table
+        head=$(grep -v -e '^[[:space:]]*#' -e '^[[:space:]]*$' "$table" | head -n 1 | tr -d ' \r')
+        case "$head" in
+            x,y,z) kind=shape ;;
+            t,x,y,z*) kind=path ;;
+            t,*) kind=load_table ;;
+            *) kind=none ;;
+        esac
+        [ "$kind" = "${name#fuzz_}" ] && cp "$table" "$work/corpus/"
     done
     seeds_n=$(ls "$work/corpus" | wc -l)
     dict=tests/fuzz/${name#fuzz_}.dict

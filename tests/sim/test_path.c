@@ -389,6 +389,53 @@ static void test_csv(void)
     check(p == NULL && strstr(err, "missing.csv") && strstr(err, "cannot open"), "missing file: '%s'",
           err);
 
+    /* not path files: refused before a byte is read (/dev/zero never ends:
+     * the reader hung there); a file over 512 MiB by its size (sparse here) */
+    p = rod_path_load("/dev/zero", err, sizeof err);
+    check(p == NULL && strstr(err, "/dev/zero: a character device, not a path file") &&
+              strstr(err, "at most 512 MiB (536870912 bytes)"),
+          "/dev/zero: '%s'", err);
+    p = rod_path_load(dir, err, sizeof err);
+    check(p == NULL && strstr(err, "a directory, not a path file"), "a directory: '%s'", err);
+    snprintf(path, sizeof path, "%s/sparse.csv", dir);
+    FILE *sparse = fopen(path, "w");
+    if (sparse) {
+        int grown = ftruncate(fileno(sparse), ((off_t)512 << 20) + 1) == 0;
+        fclose(sparse);
+        p = rod_path_load(path, err, sizeof err);
+        check(grown && p == NULL && strstr(err, "sparse.csv: the path file is 536870913 bytes"),
+              "a path one byte over 512 MiB: '%s'", err);
+        unlink(path);
+    }
+    /* from memory: a byte-order mark before the header (a spreadsheet's CSV) */
+    err[0] = '\0';
+    p = rod_path_parse("mem.csv", "\xEF\xBB\xBFt,x,y,z\r\n0,0,0,0\r\n1,0,0,1\r\n", err, sizeof err);
+    check(p != NULL && rod_path_columns(p) == 4 && rod_path_end(p) == 1.0,
+          "a path parsed from memory, with a byte-order mark and CR LF (%s)", err);
+    rod_path_destroy(p);
+    p = rod_path_parse("mem.csv", "t,x,y,z\n0,0,0\n", err, sizeof err);
+    check(p == NULL && strstr(err, "mem.csv:2: expected 4 numbers"),
+          "a short row from memory, named by the given name: '%s'", err);
+
+    /* finite rows whose motion overflows (1 m in 1e-300 s: the velocity was
+     * inf, the acceleration NaN), or out of range: refused, naming the rows */
+    p = rod_path_parse("fast.csv", "t,x,y,z\n0,0,0,0\n1e-300,1,0,0\n1,2,0,0\n", err, sizeof err);
+    check(p == NULL && strstr(err, "fast.csv: rows 1 to 2 (t = 0 to 1e-300 s): x goes from 0 "
+                                   "to 1 in 1e-300 s, a motion out of range") &&
+              strstr(err, "accepted: values within 1e+12 and rates within 1e+50"),
+          "a motion that overflows: '%s'", err);
+    p = rod_path_parse("far.csv", "t,x,y,z\n0,0,0,0\n1,0,1e300,0\n", err, sizeof err);
+    check(p == NULL && strstr(err, "far.csv: row 2: y = 1e+300 is out of range"),
+          "a position out of range: '%s'", err);
+    p = rod_path_parse("fast.csv", "t,x,y,z,vx,vy,vz\n0,0,0,0,1e300,0,0\n", err, sizeof err);
+    check(p == NULL && strstr(err, "fast.csv: row 1: vx = 1e+300 is out of range"),
+          "a one-row path with a velocity out of range: '%s'", err);
+    err[0] = '\0';
+    p = rod_path_parse("quick.csv", "t,x,y,z,rx,ry,rz\n0,0,0,0,0,0,0\n1e-6,1e-3,0,0,0,0,1e-3\n",
+                       err, sizeof err);
+    check(p != NULL, "1 mm and 1 mrad in 1 us (a fast but finite motion) read (%s)", err);
+    rod_path_destroy(p);
+
     /* more rows than the bound: refused at the first row past it */
     snprintf(path, sizeof path, "%s/huge.csv", dir);
     FILE *f = fopen(path, "w");

@@ -229,6 +229,17 @@ static void test_bad_values(void)
                    "shear_modulus = 1e6\nnodes = 51\n",
                    "missing youngs_modulus", "bad.ini:1:", "[rod] youngs_modulus");
     expect_bad_rod("[solver]\nscheme = static\n", "no [rod] section", "bad.ini", "[rod] length");
+    /* a normal whose length overflows was scaled to 0 0 0 and the plane then
+     * reported at its center, at the rod's radius deep; one whose length
+     * underflows to a subnormal was left off unit length */
+    expect_bad("[surface]\nshape = plane\ncenter = 0 -1 0\nnormal = 1e308 1e308 0\n",
+               "a normal whose length overflows", "bad.ini:11: [surface] normal = 1e308 1e308 0",
+               "must be a direction: 3 numbers, not all 0, of length 1e-150 to 1e150");
+    expect_bad("[surface]\nshape = cylinder\nsize = 0.1\ncenter = 0 -1 0\nnormal = 1e-160 0 0\n",
+               "an axis whose length underflows", "bad.ini:12: [surface] normal = 1e-160 0 0",
+               "cylinder's axis direction");
+    expect_bad("[rod]\nnodes = 21\n", "[rod] given twice", "bad.ini:8: [rod] is given again "
+               "(first on line 1)", "accepted: one [rod] section holding all its keys");
 }
 
 static void write_file(const char *path, const char *text)
@@ -299,6 +310,29 @@ static void test_tables(void)
         check_abs("tip force from the table at t = 0.5 s", f[1], 0.5e-7, 1e-20);
         rod_model_release(&m);
     }
+    /* files that are not tables: refused before a byte is read (/dev/zero
+     * never ends: the reader hung there, growing without bound) */
+    check(scene_load_table("/dev/zero", &t, err, sizeof err) == -1 && t.data == NULL &&
+              strstr(err, "/dev/zero: a character device, not a load table file") &&
+              strstr(err, "at most 256 MiB"),
+          "/dev/zero as a load table: '%s'", err);
+    check(scene_load_table(dir, &t, err, sizeof err) == -1 && strstr(err, "a directory"),
+          "a directory as a load table: '%s'", err);
+    snprintf(text, sizeof text, "%s[tip]\nforce = 0 1e-7 0\nprofile = table /dev/zero\n",
+             valid_rod);
+    write_file(scene, text);
+    check(read_scene_file(scene, &m, &out, err, sizeof err) == -1 && strstr(err, "s.ini:10:") &&
+              strstr(err, "profile") && strstr(err, "a character device"),
+          "profile = table /dev/zero: '%s'", err);
+    /* from memory: a byte-order mark before the header, CR LF line ends */
+    err[0] = '\0';
+    check(scene_parse_table("mem.csv", "\xEF\xBB\xBFt,factor\r\n0,0\r\n1,2\r\n", &t, err,
+                            sizeof err) == 0 && t.rows == 2 && t.data[3] == 2.0,
+          "a table parsed from memory, with a byte-order mark and CR LF (%s)", err);
+    free(t.data);
+    check(scene_parse_table("mem.csv", "t,factor\n0\n", &t, err, sizeof err) == -1 &&
+              strstr(err, "mem.csv:2:") && t.data == NULL && t.rows == 0,
+          "a bad row parsed from memory, named by the given name: '%s'", err);
     const char *names[] = {"two.csv", "seven.csv", "back.csv", "mixed.csv", "word.csv",
                            "empty.csv", "s.ini"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
@@ -504,6 +538,28 @@ static void test_issue10_keys(void)
         unlink(path);
     }
     expect_scene_error(dir, "shape = missing.csv\n", "missing shape file", "s.ini:8:", "cannot open");
+    /* not shape files: refused unread (/dev/zero hung the reader) */
+    expect_scene_error(dir, "shape = /dev/zero\n", "/dev/zero as the shape", "s.ini:8:",
+                       "/dev/zero: a character device, not a shape file; a shape file is text "
+                       "of at most 128 MiB");
+    expect_scene_error(dir, "shape = .\n", "a directory as the shape", "s.ini:8:",
+                       "a directory, not a shape file");
+    {
+        /* a byte-order mark before the header (a spreadsheet's CSV) is skipped */
+        double *points = NULL;
+        int count = 0, last = 0;
+        err[0] = '\0';
+        int rc = scene_parse_shape("bom.csv", "\xEF\xBB\xBFx,y,z\n0,0,0\n1,0,0\n", &points, &count,
+                                   &last, err, sizeof err);
+        check(rc == 0 && count == 2 && last == 3 && points[3] == 1.0,
+              "a shape parsed from memory, with a byte-order mark: %d points, the last on line %d "
+              "(%s)", count, last, err);
+        free(points);
+        rc = scene_parse_shape("mem.csv", "x,y,z\n0,0,0\n", &points, &count, &last, err,
+                               sizeof err);
+        check(rc == -1 && points == NULL && count == 0 && strstr(err, "mem.csv:2:"),
+              "a one-point shape from memory: refused, owning nothing: '%s'", err);
+    }
     expect_scene_error(dir, "shape = arc.csv\norigin = 1 0 0\n", "origin with a shape", "s.ini:9:",
                        "remove this key");
     expect_scene_error(dir, "direction = 0 0 0\n", "zero direction", "s.ini:8:", "0 0 0");
@@ -537,6 +593,10 @@ static void test_issue10_keys(void)
     expect_scene_error(dir, "[ends]\ntip = clamped\ntip_motion = rot.csv\n",
                        "a rotation that is not finite", "s.ini:10:", "rot.csv:3: rx");
     unlink(path);
+
+    expect_scene_error(dir, "[ends]\ntip = pinned\ntip_motion = /dev/zero\n",
+                       "/dev/zero as a path", "s.ini:10:",
+                       "/dev/zero: a character device, not a path file");
 
     /* ends, slides, needle, point loads */
     expect_scene_error(dir, "[ends]\nroot = loose\n", "bad root word", "s.ini:9:",
