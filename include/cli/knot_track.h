@@ -1,7 +1,9 @@
 /* knot_track.h: the knot type of a run's centreline at every output frame,
  * for `rodsim run`'s summary: the first and last, whether and when it
  * changed, and whether a change was the knot slipping off an end (the
- * strands touched near it the frame before) rather than a pass-through.
+ * strands touched near it the frame before, or no two strands came closer
+ * than KNOT_PASS_GAP diameters between the two frames: a loop passed over an
+ * end without touching it) rather than a pass-through.
  * Summary only, no CSV column: one name per frame would repeat itself. */
 #ifndef RODSIM_KNOT_TRACK_H
 #define RODSIM_KNOT_TRACK_H
@@ -26,6 +28,9 @@ typedef struct knot_track {
     double *prev_pos;        /* (nodes x 3) m, owned: the last frame's positions, or NULL */
     double moved;            /* m: the largest node motion since the last frame */
     double slip_time;        /* s: the frame they touched there */
+    double change_gap;       /* m: the closest two non-neighbouring strands came at a step's
+                                end between the frames of the first change (INFINITY: they
+                                never touched) */
     double seconds;          /* wall time spent identifying */
     rod_knot_scratch *scratch; /* owned; NULL: each call allocates */
 } knot_track;
@@ -36,8 +41,21 @@ typedef struct knot_track {
 void knot_track_init(knot_track *k, int nodes);
 void knot_track_release(knot_track *k);
 
-/* Identifies the knot of the output frame s and notes a change. */
-void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s);
+/* A step-end distance between non-neighbouring strands below this many
+ * diameters means they interpenetrated: with self-contact they stay about a
+ * diameter apart, and a strand that passes through another is at distance 0
+ * halfway. */
+#define KNOT_PASS_GAP 0.5
+
+/* Identifies the knot of the output frame s and notes a change; `gap` (m)
+ * is the closest non-neighbouring strands came at a step's end since the
+ * last frame (run_stats.closest_gap_frame; INFINITY when unknown or never
+ * touching). */
+void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s, double gap);
+
+/* The first change was no pass-through: the knot slipped off an end (see
+ * slip_end) or no strands came within KNOT_PASS_GAP diameters. */
+int knot_track_change_is_slip(const knot_track *k, const rod_model *m);
 
 /* The summary lines (knot at start and end, a change, the rope in the knot,
  * the identification's cost, failures) to f. */

@@ -59,6 +59,10 @@ typedef struct run_stats {
     double smallest_step; /* s */
     double largest_step;  /* s */
     int non_finite;       /* 1 when the run stopped on a non-finite state */
+    double closest_gap;   /* m: the closest non-neighbouring strands came at a step's end,
+                             where closer than 0.9 d (self-contact runs); INFINITY: never */
+    double closest_gap_frame; /* m: the same since the last output frame (what the frame
+                             callback sees; reset after it) */
 } run_stats;
 
 /* Receives every output frame (the state at an output time). Returns 0, or

@@ -79,7 +79,7 @@ static void track_touch(knot_track *k, const rod_state *s)
     k->touch_time = s->time;
 }
 
-void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s)
+void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s, double gap)
 {
     double start = wall_seconds();
     rod_knot now;
@@ -108,6 +108,7 @@ void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s)
                 k->slip_reach = last - k->touch_hi;
             }
             k->slip_time = k->touch_time;
+            k->change_gap = gap;
         }
         k->last = now;
         k->last_time = s->time;
@@ -115,6 +116,12 @@ void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s)
     }
     track_touch(k, s);
     k->seconds += wall_seconds() - start;
+}
+
+int knot_track_change_is_slip(const knot_track *k, const rod_model *m)
+{
+    return k->changes > 0 &&
+           (k->slip_end >= 0 || !(k->change_gap < KNOT_PASS_GAP * m->diameter));
 }
 
 /* The ideal closed trefoil's ropelength, diameters: what the rope in a
@@ -139,7 +146,8 @@ void knot_track_print(FILE *f, const knot_track *k, const rod_model *m)
                     k->changes == 1 ? "" : "s", k->frames, k->change_time, k->change_from,
                     k->change_to,
                     k->slip_end == 0 ? ", slipped off the root end"
-                    : k->slip_end == 1 ? ", slipped off the tip end" : "");
+                    : k->slip_end == 1 ? ", slipped off the tip end"
+                    : knot_track_change_is_slip(k, m) ? ", a loop passed over an end" : "");
         if (strcmp(k->last.name, "unknot") != 0 && k->touch_lo >= 0 &&
             k->touch_time == k->last_time) {
             /* the rope in the knot: the arc between the outermost nodes the

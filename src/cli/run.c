@@ -10,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "sim/proximity.h"
 #include "sim/recording.h"
 
 /* Whole frame intervals 1/fps in duration (to a relative 1e-9), as a double:
@@ -120,11 +121,34 @@ static double wall_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* How close non-neighbouring strands came at a step's end, where closer
+ * than RUN_GAP_WATCH diameters (with self-contact they stay about one
+ * apart; a pass-through brings two to 0). Searched only when some strands
+ * touch, in one round of the proximity grid at that radius. */
+#define RUN_GAP_WATCH 0.9
+static void note_closest_gap(rod_proximity *gaps, const rod_model *m, const rod_state *s,
+                             run_stats *stats)
+{
+    int touching = 0;
+    for (int i = 0; i < 3 * s->nodes && !touching; i++) touching = s->self_force[i] != 0.0;
+    if (!touching) return;
+    rod_segment_pair close[8];
+    const int kept = (int)(sizeof close / sizeof close[0]);
+    int count = rod_proximity_pairs(gaps, s->position, s->nodes, RUN_GAP_WATCH * m->diameter,
+                                    rod_proximity_skip(m->diameter, m->ds), close, kept);
+    double gap = INFINITY;
+    for (int k = 0; k < count && k < kept; k++) gap = fmin(gap, close[k].distance);
+    if (count > kept) gap = 0.0; /* many pairs that deep: as good as through */
+    stats->closest_gap = fmin(stats->closest_gap, gap);
+    stats->closest_gap_frame = fmin(stats->closest_gap_frame, gap);
+}
+
 /* Takes n steps of h from the output time s->time to the next one, `target`.
  * Equal steps: dt is the same for every step of every whole interval, so an
  * implicit scheme keeps its Jacobian factorised across them. */
 static rod_status advance(rod_solver *solver, const rod_model *m, rod_state *s, int64_t n,
-                          double h, double target, rod_report *report, run_stats *stats)
+                          double h, double target, rod_report *report, run_stats *stats,
+                          rod_proximity *gaps)
 {
     for (int64_t j = 0; j < n; j++) {
         /* no rod_solver_refresh() here: a Jacobian the last step found stale
@@ -140,6 +164,7 @@ static rod_status advance(rod_solver *solver, const rod_model *m, rod_state *s, 
             stats->non_finite = 1;
             return ROD_UNSTABLE;
         }
+        if (gaps) note_closest_gap(gaps, m, s, stats);
     }
     s->time = target; /* no drift of output times from rounding */
     return ROD_OK;
@@ -151,8 +176,11 @@ rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
 {
     memset(stats, 0, sizeof *stats);
     memset(report, 0, sizeof *report);
+    stats->closest_gap = stats->closest_gap_frame = INFINITY;
     double start = wall_seconds();
     rod_status status = ROD_OK;
+    /* NULL (no self-contact, or out of memory): no closest approach */
+    rod_proximity *gaps = m->self_contact ? rod_proximity_create(m->nodes) : NULL;
     if (on_frame && on_frame(context, m, s, report->message, sizeof report->message))
         status = ROD_FAILED;
     /* whole intervals (k - 1)/fps .. k/fps, then the partial one to the duration */
@@ -161,11 +189,13 @@ rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
         int partial = k > plan->intervals;
         double target = partial ? m->options.duration : fmin((double)k / fps, m->options.duration);
         status = advance(solver, m, s, partial ? plan->last_steps : plan->steps_per_interval,
-                         partial ? plan->last_step : plan->step, target, report, stats);
+                         partial ? plan->last_step : plan->step, target, report, stats, gaps);
         if (status == ROD_OK && on_frame &&
             on_frame(context, m, s, report->message, sizeof report->message))
             status = ROD_FAILED;
+        stats->closest_gap_frame = INFINITY;
     }
+    rod_proximity_destroy(gaps);
     stats->wall_seconds = wall_seconds() - start;
     return status;
 }

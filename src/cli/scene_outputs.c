@@ -328,6 +328,7 @@ static int check_budget(const scene_outputs_options *a, const rod_model *m,
  * recording the video is made from (NULL without a video). */
 typedef struct frame_sink {
     knot_track *knot;       /* the first pass only: knot type per output frame */
+    const run_stats *stats; /* with knot: the run's, for the strands' closest approach */
     FILE *csv;
     rod_recording *rec;     /* every frame, or a sample (sample_cap > 0) */
     int sample_cap;         /* > 0: keep every stride-th frame, at most this many */
@@ -341,7 +342,8 @@ static int on_frame(void *context, const rod_model *m, const rod_state *s, char 
 {
     frame_sink *sink = context;
     int64_t index = sink->index++;
-    if (sink->knot) knot_track_frame(sink->knot, m, s);
+    if (sink->knot)
+        knot_track_frame(sink->knot, m, s, sink->stats ? sink->stats->closest_gap_frame : INFINITY);
     if (sink->csv) {
         if (run_csv_frame(sink->csv, m, s)) {
             snprintf(err, errlen, "out of memory");
@@ -644,8 +646,16 @@ static int report_run(const scene_run *r)
     /* A knot that slipped off an end under self-contact is the model's
      * physics (an end is a point; a loop can pass over it), not a
      * pass-through: a warning naming the end */
-    const int slipped = guarded && knots->changes && knots->slip_end >= 0;
-    if (slipped)
+    const int slipped = guarded && knot_track_change_is_slip(knots, m);
+    if (slipped && knots->slip_end < 0)
+        fprintf(stderr, "rodsim run: warning: the knot type changed at t = %g s (%s -> %s) with "
+                        "no two strands closer than %.3g diameters between that frame and the "
+                        "one before: no strand passed through another, a loop passed over an "
+                        "end of the rod; to keep the knot, lengthen the rod beyond it "
+                        "(rod.length, rod.shape) or raise rod.friction\n",
+                knots->change_time, knots->change_from, knots->change_to,
+                knots->change_gap / m->diameter);
+    else if (slipped)
         fprintf(stderr, "rodsim run: warning: the knot type changed at t = %g s (%s -> %s): the "
                         "knot slipped off the rod's %s end (strands touched %d segment%s from it "
                         "at t = %g s, the frame before); to keep it, lengthen the rod beyond the "
@@ -691,6 +701,7 @@ int scene_outputs_write(const scene_outputs_options *o, const char *name, const 
     if (plan_run(&r)) return RUN_EXIT_BAD_INPUT;
     knot_track_init(&r.knots, m->nodes);
     r.sink.knot = &r.knots;
+    r.sink.stats = &r.stats;
     outfile_transaction_begin();
     int status = open_run(&r);
     if (!status) status = step_run(&r);
