@@ -228,6 +228,10 @@ static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
                               "initial tangent, normalised)");
         return -1;
     }
+    /* scaled by its largest component first: |v| of 1e308 1e308 0 overflows
+     * and of 1e-170 0 0 underflows, either would lose the direction */
+    double largest = fmax(fabs(m->direction[0]), fmax(fabs(m->direction[1]), fabs(m->direction[2])));
+    v3_scale(m->direction, m->direction, 1.0 / largest);
     v3_scale(m->direction, m->direction, 1.0 / v3_norm(m->direction));
     if (!finite3(m->intrinsic_curvature)) {
         snprintf(err, errlen, "curvature: must be 3 finite numbers, 1/m (u0, director components)");

@@ -687,7 +687,7 @@ static int read_start(ini_doc *doc, rod_model *m, char *err, size_t errlen)
         return ini_error(doc, "rod", 0, "friction", err, errlen,
                          "must be a finite number >= 0: the Coulomb coefficient between strands "
                          "that touch (default 0.2)");
-    if (v3_norm(m->direction) == 0.0)
+    if (m->direction[0] == 0.0 && m->direction[1] == 0.0 && m->direction[2] == 0.0)
         return ini_error(doc, "rod", 0, "direction", err, errlen,
                          "must not be 0 0 0: the rod's initial tangent (normalised), e.g. 1 0 0");
     const char *text;

@@ -630,6 +630,30 @@ static void test_issue10_keys(void)
     rmdir(dir);
 }
 
+/* A direction of extreme length keeps its direction: its length would
+ * overflow (1e308 1e308 0) or underflow (1e-170 0 0) if squared as given. */
+static void test_extreme_direction(void)
+{
+    static const struct { const char *value; double x, y; } cases[] = {
+        {"1e308 1e308 0", M_SQRT1_2, M_SQRT1_2}, {"1e-170 0 0", 1.0, 0.0}, {"0 -3e200 0", 0.0, -1.0}};
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        char text[2048], err[1024] = "", set[96];
+        snprintf(text, sizeof text, "%s", valid_rod);
+        snprintf(set, sizeof set, "rod.direction=%s", cases[k].value);
+        ini_doc *doc = ini_parse("direction.ini", text, err, sizeof err);
+        rod_model m;
+        int ok = doc && ini_set(doc, set, err, sizeof err) == 0 &&
+                 scene_read_rod(doc, &m, err, sizeof err) == 0;
+        ini_destroy(doc);
+        check(ok && fabs(m.direction[0] - cases[k].x) < 1e-15 &&
+                  fabs(m.direction[1] - cases[k].y) < 1e-15 && m.direction[2] == 0.0,
+              "direction = %s reads as (%.17g, %.17g, %.17g), expected (%.17g, %.17g, 0) %s",
+              cases[k].value, ok ? m.direction[0] : NAN, ok ? m.direction[1] : NAN,
+              ok ? m.direction[2] : NAN, cases[k].x, cases[k].y, err);
+        if (ok) rod_model_release(&m);
+    }
+}
+
 int main(void)
 {
     test_every_scene_parses();
@@ -640,5 +664,6 @@ int main(void)
     test_frame_count();
     test_issue10_keys();
     test_self_intersecting_shape();
+    test_extreme_direction();
     return test_finish();
 }
