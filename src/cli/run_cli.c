@@ -4,6 +4,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "base/ini.h"
 #include "cli/args.h"
@@ -35,10 +36,14 @@ void run_usage(FILE *f)
             "then); 1 any other failure; 130 SIGINT, 143 SIGTERM.\n");
 }
 
-/* 1 when the file starts as a `rodsim live --record` record does. */
+/* 1 when the file starts as a `rodsim live --record` record does. Only a
+ * regular file is looked into: a pipe would lose what was peeked (the scene
+ * read next would start 4 KiB in), and a record is read twice anyway. */
 static int is_live_record(const char *path)
 {
     char head[sizeof LIVE_RECORD_MAGIC] = "";
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode)) return 0;
     FILE *f = fopen(path, "rb");
     size_t got = f ? fread(head, 1, sizeof head - 1, f) : 0;
     if (f) fclose(f);
