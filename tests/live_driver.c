@@ -1,4 +1,4 @@
-/* live_driver.c: an example client of `rodsim live` (issue 13), the shape
+/* live_driver.c: an example client of `rodsim live`, the shape
  * of a haptic rig's loop: it plays a needle-holder path at 1 kHz (paced by
  * the wall clock) into `rodsim live SCENE`, reads each answer before the
  * next line, and prints the last force and the latency write -> answer.

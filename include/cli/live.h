@@ -1,7 +1,7 @@
-/* live.h: `rodsim live`: the thread driven line by line from
- * standard input (a sensor bridge, a haptic device), each line answered at
- * once on standard output with the force and moment the thread exerts on
- * its driven end.
+/* live.h: `rodsim live`: the thread driven line by line from standard input
+ * (a sensor bridge, a haptic device), each line answered at once on
+ * standard output with the force and moment the thread exerts on its
+ * driven end.
  *
  * A scene whose tip is held (pinned or clamped) is driven by its tip's pose:
  * input t,x,y,z (or t,x,y,z,rx,ry,rz for a clamped tip), global m and the
@@ -12,18 +12,26 @@
  * exerts on its root. The scheme advances to each line's t in equal steps no
  * longer than solver.dt.
  *
- * Output: a header, then one line per input line, flushed:
+ * Output: a header, then exactly one line per input line, flushed:
  * t,fx,fy,fz,mx,my,mz,status[,x0,y0,z0,...] with status ok, failed (the
- * step failed: the last good state, the line dropped from the driven path)
- * or bad_input (the line was refused and skipped). Everything else goes to
- * standard error. --record writes a path (or load table) with velocities
- * that `rodsim run` replays and `rodsim render` turns into the video
- * (render_cli.h), row by row as the session goes.
+ * pose or loads asked for could not be reached within the line's budget:
+ * the end moved part of the way toward them, or held, or at worst the last
+ * good state stayed; the answer is the state reached) or bad_input (the
+ * line was refused and skipped). Everything else goes to standard error.
+ * --record writes a path (or load table) with velocities that `rodsim run`
+ * replays and `rodsim render` turns into the video (render_cli.h), row by
+ * row as the session goes.
+ *
+ * The session is also a library (live_session_*), so that a fuzzer feeds it
+ * bytes without a process per input (tests/fuzz/fuzz_live.c).
  */
 #ifndef RODSIM_LIVE_H
 #define RODSIM_LIVE_H
 
+#include <stddef.h>
 #include <stdio.h>
+
+#include "sim/rod.h"
 
 /* The record's first lines (then the CSV header and rows): the magic and
  * the scene given, the scene's absolute path, one line per --set (in order),
@@ -33,12 +41,70 @@
 #define LIVE_RECORD_SET "# set: "
 #define LIVE_RECORD_DT "# dt: "
 
-/* Longest input line, bytes with its newline: a longer one is refused. */
-#define LIVE_LINE_MAX 4096
+/* Longest input line, bytes, its line break (\n or \r\n) not counted: a
+ * longer one is refused. */
+#define LIVE_LINE_MAX 4095
+
+/* A line whose t is more than this many steps of solver.dt ahead of the
+ * state is refused (before --realtime waits for it): one line's work stays
+ * bounded (10^6 steps took 17 to 137 s; 10^4, 0.2 to 1.4 s). */
+#define LIVE_MAX_STEPS_AHEAD 10000
+
+/* Newton iterations a step of a live line may spend on each of its tries
+ * (rod_options.iteration_budget: the step with its splits, then up to two
+ * retries with contact) for each of the line's tries (the pose or loads
+ * asked for, half way toward them, held where they were): LIVE_BUDGET_FACTOR
+ * times the most a step of the last LIVE_RECENT_LINES lines that stepped
+ * took, within LIVE_STEP_BUDGET_MIN and LIVE_STEP_BUDGET_MAX. A line of one
+ * step these three tries fail or step costs at most 9 times that; only when
+ * all three fail is the line tried with the scheme's own budget (live.c
+ * line_tries). */
+#define LIVE_BUDGET_FACTOR 4
+#define LIVE_RECENT_LINES 32
+#define LIVE_STEP_BUDGET_MIN 60
+#define LIVE_STEP_BUDGET_MAX 1000
+
+/* What a session does besides stepping (rodsim live's options). */
+typedef struct live_settings {
+    int centreline;        /* 1: the answers carry the node positions */
+    int realtime;          /* 1: each line waits for its t on the wall clock */
+    int stop_on_error;     /* 1: a refused line ends the session (exit 2) */
+    long max_steps_ahead;  /* a line further ahead is refused; 0: LIVE_MAX_STEPS_AHEAD */
+    FILE *answers;         /* the header and the answers (rodsim live: stdout) */
+    FILE *messages;        /* what people read (rodsim live: stderr) */
+} live_settings;
+
+typedef struct live_session live_session;
+
+/* A session that steps m (a scene read by run_read_scene), which it keeps
+ * and changes: a held tip's ends.tip_motion is replaced by the live path (m
+ * owns it, rod_model_release frees it). m must outlive the session. Makes
+ * everything the lines need: no allocation after this. NULL with a message. */
+live_session *live_session_create(rod_model *m, const live_settings *settings, char *err,
+                                  size_t errlen);
+
+/* Writes the header; t = 0 on the wall clock is now. */
+void live_session_start(live_session *ls);
+
+/* Input bytes, any number, lines split anywhere: every complete line is
+ * answered. Returns 0 to go on, 1 when the session has ended (a refused
+ * line under stop_on_error, the answers' stream closed, the record's write
+ * failed, a stop signal); its exit status is live_session_finish's. */
+int live_session_feed(live_session *ls, const char *bytes, size_t size);
+
+/* Ends the session: at the end of input (end_of_input 1) a last line
+ * without its newline is answered; repeated messages are counted out, the
+ * summary goes to messages. Returns the exit status: 0, 2 when lines came
+ * and none was answered ok or one was refused under stop_on_error, 1 when
+ * the answers or the record could not be written. Call it once. */
+int live_session_finish(live_session *ls, int end_of_input);
+
+void live_session_destroy(live_session *ls);
 
 /* `rodsim live ...`: argv[0] is "live". Returns an exit status: 0 at the end
- * of input, 2 on bad usage or scene, or a bad line under --on-error stop, 1
- * on another failure. Never calls exit(). */
+ * of input, 2 on bad usage or scene, a bad line under --on-error stop, or
+ * no line answered ok; 1 on another failure (standard input unreadable,
+ * the answers or the record not written). Never calls exit(). */
 int live_command(int argc, char **argv);
 
 void live_usage(FILE *f);

@@ -55,6 +55,11 @@ rod_path *rod_path_create_live(int columns, const double *first_row, char *err, 
  * velocity (columns - 1 numbers) to `velocity` (may be NULL). Returns 0, or
  * -1 with a message when a number is not finite or t does not increase. */
 int rod_path_push(rod_path *p, const double *row, double *velocity, char *err, size_t errlen);
+/* rod_path_push with the row's velocity given (columns - 1 numbers, m/s
+ * and rad/s) instead of the backward difference: rodsim live holds an end
+ * with zero. The rows after it take their differences as usual. */
+int rod_path_push_with_velocity(rod_path *p, const double *row, const double *velocity,
+                                char *err, size_t errlen);
 /* Removes a live path's newest row (the step to it failed); the first row stays. */
 void rod_path_pop(rod_path *p);
 /* 1 when the path's velocity is given (with velocity, or live). */

@@ -148,6 +148,10 @@ typedef struct rod_options {
     double theta;                /* implicit scheme: 1 = backward Euler, 0.5 = Crank-Nicolson */
     double newton_tolerance;     /* implicit/static: relative residual to stop Newton */
     int newton_max_iterations;   /* implicit/static */
+    int iteration_budget;        /* implicit: when > 0, the Newton iterations a step may spend
+                                    on each of its tries (the step with its splits, then up to
+                                    two retries with contact); 0: the scheme's own (4000).
+                                    rodsim live bounds a line's work with it */
     int exact_rotation;          /* thesis scheme: 1 = exact exponential map with angle |u| ds;
                                     0 = (4.6) literally, with sin(ds) and 1 - cos(ds) */
 } rod_options;

@@ -1,43 +1,53 @@
 /* live.c: `rodsim live` (see live.h).
  *
- * Decisions where the issue is silent:
+ * Decisions where the specification is silent:
  *   - every input line gets exactly one answer, also a refused one (status
  *     bad_input, the current state), so a client that waits for the answer
- *     to line k before writing line k+1 never deadlocks;
- *   - a step that fails (Newton, instability, a non-finite state) restores
- *     the state of the line before and drops the line from the driven path
- *     (rod_path_pop): the next line continues from where the end really is,
- *     so one impossible pose (beyond the thread's reach) does not poison the
- *     lines after it;
+ *     to line k before writing line k+1 never deadlocks; a line is what
+ *     ends at a newline (or the end of input), whatever bytes it holds;
+ *   - a line's step that fails (Newton, instability, a non-finite state)
+ *     within its budget (line_budget) is tried again half way from
+ *     the last good pose (or loads) toward it, then holding them
+ *     (line_tries): the end stops where the thread lets it (a needle
+ *     holder pressed into tissue), the time goes on, and the next line
+ *     asks for a small move, so the stream recovers as soon as the request
+ *     is reachable again. Only when every try fails does the last good
+ *     state stay (the line dropped from the path);
  *   - the scene starts at t = 0 at rest; a first line's t must exceed 0;
- *   - the record holds only the lines that were stepped, with the velocity
- *     the live path gave each row: `rodsim run` interpolates them the same
- *     way (rod_path_create_with_velocity), so a replay whose steps are the
+ *   - the record holds only the rows that were stepped (a partial move's
+ *     row as reached), with the velocity the live path gave each row:
+ *     `rodsim run` interpolates them the same way
+ *     (rod_path_create_with_velocity), so a replay whose steps are the
  *     live steps (inputs every 1/render.fps s) gives the same forces to the
  *     Newton tolerance;
- *   - SIGINT and SIGTERM end the session like the end of input: the record
- *     is kept, exit 0;
+ *   - SIGINT and SIGTERM end the session like the end of input (the line
+ *     being stepped is answered failed at once): the record is kept;
+ *   - a message repeated on consecutive lines is said once, then counted;
  *   - the record is a journal, written under its own name as the session
  *     goes (not through outfile.h's temporary), each row flushed after its
  *     answer: a session killed outright (kill -9, a crash, power) keeps
  *     every step recorded so far, and `rodsim render` renders it up to its
  *     last complete row; the header names the scene (absolute path), the
- *     --set overrides and dt, so the record alone says how to replay it.
- * No allocation after the first line: the input buffer, the path's rows,
- * the load table and the snapshot of the last good state are made before.
+ *     --set overrides and dt, so the record alone says how to replay it. A
+ *     row that cannot be written ends the session at once (exit 1).
+ * No allocation after live_session_create: the line, the path's rows, the
+ * load table and the snapshot of the last good state are made there.
  */
 #define _GNU_SOURCE /* mlockall flags, clock_nanosleep, sched_setaffinity */
 #include "cli/live.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <sched.h>
 #include <signal.h>
+#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "base/ini.h"
 #include "base/numfmt.h"
@@ -45,7 +55,6 @@
 #include "cli/args.h"
 #include "cli/scene_outputs.h"
 #include "sim/path.h"
-#include "sim/rod.h"
 
 void live_usage(FILE *f)
 {
@@ -55,14 +64,15 @@ void live_usage(FILE *f)
         "stdin, one line per step, t (s) increasing from > 0: a held tip's pose t,x,y,z\n"
         "[,rx,ry,rz] (m, rad), or a free tip's loads t,fx,fy,fz,mx,my,mz (N, N m).\n"
         "stdout, a header, then per line, flushed: t,fx,fy,fz,mx,my,mz,status, what the\n"
-        "thread exerts on the driven tip (free tip: its root); status ok | failed (last\n"
-        "good state, the stream goes on) | bad_input (a line of over %d bytes, not 4 or 7\n"
-        "numbers, t not increasing, NaN: skipped; --on-error stop: exit 2)\n"
-        "  --centreline   the node positions x0,y0,z0,... follow on the line\n"
+        "thread exerts on the driven tip (free tip: its root); status ok | failed (moved\n"
+        "part way or held) | bad_input (over %d bytes, a NUL, not 4 or 7 numbers, NaN,\n"
+        "t not increasing or > %d steps ahead; --on-error stop: exit 2)\n"
+        "  --centreline   x0,y0,z0,... of each node follow on the line\n"
         "  --record FILE  the session, row by row (rodsim render FILE: its video)\n"
         "  --realtime     pace to the wall clock, count overruns; mlock, SCHED_FIFO, pin\n"
-        "End of input, SIGINT or SIGTERM end the session (exit 0, the record kept).\n",
-        LIVE_LINE_MAX - 1);
+        "End of input, SIGINT, SIGTERM end it, the record kept: exit 0; 2 if no line was\n"
+        "ok, 1 on an I/O error.\n",
+        LIVE_LINE_MAX, LIVE_MAX_STEPS_AHEAD);
 }
 
 typedef struct live_args {
@@ -125,6 +135,8 @@ static void realtime_setup(void)
                 strerror(errno));
 }
 
+/* Set by SIGINT and SIGTERM (rodsim live installs the handler); read
+ * between lines, within a line's steps and after a --realtime wait. */
 static volatile sig_atomic_t stop_signal;
 static void on_stop_signal(int sig) { stop_signal = sig; }
 
@@ -202,8 +214,30 @@ static double histogram_quantile(const unsigned *bins, long count, double q)
     return LIVE_HISTOGRAM_BINS;
 }
 
-typedef struct live_session {
-    const live_args *args;
+/* The tries of a line, in order until one steps: how far from the last
+ * good row toward the line's (1: the row asked for; 0: held there, at
+ * rest, while the time goes on), and the Newton iterations each step may
+ * spend on each of its tries (rod_options.iteration_budget: line_budget's,
+ * or the scheme's own, 4000). A pose beyond reach (the end pressed into a
+ * surface) fails the first within line_budget and is held; a hard
+ * step (a thread landing) may fail it and move half way. The last, the
+ * row asked for with the scheme's own budget, is the last resort before
+ * the stream sticks, given only at the 1st, 2nd, 4th, ... line in a row
+ * that no try stepped: a state nothing continues (a thread folded tighter
+ * than its grid resolves) costs it rarely. Measured choices:
+ * docs/decisions/draft-live-line-budget.md. */
+typedef struct live_try {
+    double fraction;
+    int rescue;     /* 1: the scheme's own budget (else line_budget's) */
+} live_try;
+static const live_try line_tries[] = {{1.0, 0}, {0.5, 0}, {0.0, 0}, {1.0, 1}};
+
+/* How a line ended. */
+enum { LINE_OK, LINE_FAILED, LINE_REFUSED };
+
+struct live_session {
+    live_settings set;
+    FILE *out, *msg;        /* set.answers, set.messages */
     rod_model *model;       /* the scene's (owns the live path in pose mode) */
     rod_model loads_model;  /* load mode: a copy whose profile is `table` */
     const rod_model *stepped; /* the model the solver steps */
@@ -213,28 +247,94 @@ typedef struct live_session {
     int pose_mode;          /* 1: the tip's pose; 0: tip loads */
     int columns;            /* path columns (4 or 7), or 7 for loads */
     int driven;             /* end whose force is answered: 1 tip, 0 root */
+    double last_row[7];     /* the last row stepped to: t, pose or loads */
     double table[14];       /* load mode: two rows t,fx..mz (the last good and the new) */
     double dt;              /* s, solver.dt */
+    long max_ahead;         /* steps: a line further ahead is refused */
+
+    /* the line being read: its first LIVE_LINE_MAX + 1 bytes (a '\r' may
+     * end a line of LIVE_LINE_MAX) and a '\0'; how many bytes it has so
+     * far (counted up to LIVE_LINE_MAX + 2 only) and its first NUL */
+    char line[LIVE_LINE_MAX + 2];
+    size_t line_len;
+    size_t nul_at;          /* 1-based byte of the line's first NUL; 0: none */
+    long line_no;
+    int ended;              /* 1: no more lines are read (live_session_feed) */
+    int status;             /* exit status so far */
+    int finished;
+
+    /* a message said for a line, then counted while the lines after it
+     * end the same way (run_kind: what they share) */
+    char run_kind[64];
+    long run_first, run_count;
+
+    const char *record_name; /* --record FILE, for messages */
     FILE *record;           /* --record: the journal (NULL: none) */
-    int recording;
-    double first_gap, min_gap, max_gap; /* s, between stepped lines (for the replay line) */
+    double first_gap, min_gap, max_gap; /* s, between stepped rows (for the replay line) */
     double line_gap;        /* s, the last stepped or failed line's t minus the state's before */
-    long lines, answered_ok, failed, bad, steps, overruns;
+    long lines, answered_ok, failed, partial, bad, stepped_rows, steps, overruns;
+    long stuck;             /* lines in a row that no try stepped */
+    int held;               /* 1: the last line was stepped holding the end (line_tries) */
+    double fraction;        /* of the way the last stepped line's try went (line_tries) */
     long jacobian_builds;   /* implicit scheme: since the start (rod_report) */
+    long newton_seen;       /* implicit scheme: rod_report.newton_total at the last step */
+    long line_iterations, line_builds; /* the line's Newton iterations and Jacobian builds */
+    long line_step_max;     /* the most Newton iterations a step of the line took that stepped */
+    long recent[LIVE_RECENT_LINES]; /* line_step_max of the last lines that stepped (a ring) */
+    long recent_count;
+    int budget, budget_max; /* line_budget's for the line, and its largest so far */
+    long ok_iterations, ok_iterations_max, failed_iterations, failed_iterations_max;
+    long failed_builds_max;
     double last_step;       /* s, the last stepped line's step (0: the line failed) */
     long idle_builds;       /* Jacobians renewed between lines (rod_solver_refresh) */
     double idle_sum;        /* s, their time */
     int realtime_policy;    /* SCHED_FIFO or SCHED_RR (--realtime, or inherited) */
+    double line_start;      /* wall s: the work on the line started (after --realtime's wait) */
     double step_wall_max, step_wall_sum, worst_overrun;
     /* what the work on a line is made of, s summed: parsing, the steps,
      * formatting and writing the answer; and the distributions of the
      * work per line and of its steps (LIVE_HISTOGRAM_BINS bins of 1 us, the
-     * last holds everything longer; made at setup) */
+     * last holds everything longer; made at create) */
     double parse_sum, step_sum, answer_sum;
     unsigned *work_histogram, *step_histogram;
-    char *answer;           /* an answer line: (7 + 3 NS) numbers, the status (made at setup) */
+    char *answer;           /* an answer line: (7 + 3 NS) numbers, the status (made at create) */
     double wall_origin;     /* --realtime: the wall time at t = 0 */
-} live_session;
+};
+
+/* Says the end of a run of lines that ended alike (complain). */
+static void close_run(live_session *ls)
+{
+    if (ls->run_count == 2)
+        fprintf(ls->msg, "rodsim live: input line %ld: the same as line %ld (%s)\n",
+                ls->run_first + 1, ls->run_first, ls->run_kind);
+    else if (ls->run_count > 2)
+        fprintf(ls->msg, "rodsim live: input lines %ld to %ld: %ld more lines like line %ld (%s)\n",
+                ls->run_first + 1, ls->run_first + ls->run_count - 1, ls->run_count - 1,
+                ls->run_first, ls->run_kind);
+    ls->run_count = 0;
+}
+
+/* A message on the current line, "rodsim live: input line N" then the
+ * text; on the lines right after it that end with the same kind of
+ * message, only counted (close_run says how many). */
+static void complain(live_session *ls, const char *kind, const char *fmt, ...)
+{
+    if (ls->run_count > 0 && ls->run_first + ls->run_count == ls->line_no &&
+        strcmp(ls->run_kind, kind) == 0) {
+        ls->run_count++;
+        return;
+    }
+    close_run(ls);
+    fprintf(ls->msg, "rodsim live: input line %ld", ls->line_no);
+    va_list ap;
+    va_start(ap, fmt);
+    vfprintf(ls->msg, fmt, ap);
+    va_end(ap);
+    fputc('\n', ls->msg);
+    snprintf(ls->run_kind, sizeof ls->run_kind, "%s", kind);
+    ls->run_first = ls->line_no;
+    ls->run_count = 1;
+}
 
 static void print_answer(live_session *ls, const char *status)
 {
@@ -252,159 +352,614 @@ static void print_answer(live_session *ls, const char *status)
     }
     *p++ = ',';
     p += snprintf(p, 16, "%s", status);
-    if (ls->args->centreline)
+    if (ls->set.centreline)
         for (int i = 0; i < 3 * s->nodes; i++) {
             *p++ = ',';
             p += numfmt_g(p, s->position[i] + 0.0, 12);
         }
     *p++ = '\n';
-    fwrite(ls->answer, 1, (size_t)(p - ls->answer), stdout);
-    fflush(stdout);
+    fwrite(ls->answer, 1, (size_t)(p - ls->answer), ls->out);
+    fflush(ls->out);
+}
+
+/* After a write to the record: a row that did not reach the file ends the
+ * session at once (exit 1; a full disk would otherwise lose every row
+ * after it unsaid). 0, or -1 said. */
+static int record_check(live_session *ls)
+{
+    if (!ls->record) return 0;
+    errno = 0;
+    if (fflush(ls->record) == 0 && !ferror(ls->record)) return 0;
+    const int e = errno;
+    char where[64] = "before the first line";
+    if (ls->line_no > 0) snprintf(where, sizeof where, "at input line %ld", ls->line_no);
+    fprintf(ls->msg, "rodsim live: --record %s: write error %s (%s); the session stops, the "
+                     "rows before it are kept\n",
+            ls->record_name, where, e ? strerror(e) : "an I/O error");
+    fclose(ls->record);
+    ls->record = NULL;
+    ls->status = RUN_EXIT_FAILURE;
+    ls->ended = 1;
+    return -1;
 }
 
 /* The record's row of a stepped line: t, pose, velocity (or t, loads). */
 static void record_row(live_session *ls, const double *row, const double *velocity)
 {
-    if (!ls->recording) return;
     FILE *f = ls->record;
+    if (!f) return;
     fprintf(f, "%.17g", row[0]);
     for (int k = 1; k < ls->columns; k++) fprintf(f, ",%.17g", row[k]);
     if (velocity)
         for (int k = 0; k < ls->columns - 1; k++) fprintf(f, ",%.17g", velocity[k]);
     fputc('\n', f);
-    fflush(f); /* a killed session keeps it */
+    record_check(ls); /* flushed: a killed session keeps it */
 }
 
-/* Steps the state to row[0] in equal steps of at most dt. 0, or -1 with the
- * state restored to the last good one and a message on stderr. */
-static int advance(live_session *ls, const double *row, long line_no)
+/* Steps the state to t in equal steps of at most dt (a stop signal ends
+ * them). 0, or -1 with the state restored to the last good one and
+ * *status, report set. */
+static int advance(live_session *ls, double t, rod_status *status, rod_report *report)
 {
     rod_state *s = ls->state;
-    const double t = row[0], gap = t - s->time;
+    const double gap = t - s->time;
     /* a gap of dt to within 1e-9 is one step (run.c steps_for): the
      * rounding of t (ulp 1.8e-15 s at t = 8 s, 1.8e-12 of a 1 ms gap) made
      * a 1 kHz session take two half steps, and two Jacobian builds for
-     * the changed dt, on many lines after t = 8 s */
+     * the changed dt, on many lines after t = 8 s. At most max_ahead
+     * steps: check_line refused a longer gap */
     double count = ceil(gap / ls->dt * (1.0 - 1e-9));
     if (count < 1.0) count = 1.0;
     const long n = (long)count;
     const double h = gap / count;
-    rod_report report;
-    memset(&report, 0, sizeof report);
+    memset(report, 0, sizeof *report);
     state_copy(ls->good, s);
-    rod_status status = ROD_OK;
-    for (long j = 0; j < n && status == ROD_OK; j++) {
-        status = rod_solver_step(&ls->solver, ls->stepped, s, h, &report);
+    *status = ROD_OK;
+    for (long j = 0; j < n && *status == ROD_OK; j++) {
+        if (stop_signal) {
+            *status = ROD_FAILED;
+            snprintf(report->message, sizeof report->message,
+                     "interrupted by a stop signal after %ld of its %ld steps", j, n);
+            break;
+        }
+        const long builds = ls->jacobian_builds;
+        *status = rod_solver_step(&ls->solver, ls->stepped, s, h, report);
         ls->steps++;
-        ls->jacobian_builds = report.jacobian_builds;
-        if (status == ROD_OK && !rod_state_is_finite(s)) {
-            status = ROD_UNSTABLE;
-            snprintf(report.message, sizeof report.message, "the state is no longer finite");
+        /* the implicit scheme counts since its start; the others not at all */
+        if (report->jacobian_builds > 0) {
+            ls->jacobian_builds = report->jacobian_builds;
+            ls->line_builds += ls->jacobian_builds - builds;
+        }
+        const long iterations = report->newton_total > 0 ? report->newton_total - ls->newton_seen
+                                                         : report->newton_iterations;
+        if (report->newton_total > 0) ls->newton_seen = report->newton_total;
+        ls->line_iterations += iterations;
+        if (*status == ROD_OK && iterations > ls->line_step_max) ls->line_step_max = iterations;
+        if (*status == ROD_OK && !rod_state_is_finite(s)) {
+            *status = ROD_UNSTABLE;
+            snprintf(report->message, sizeof report->message, "the state is no longer finite");
         }
     }
-    if (status == ROD_OK) {
+    if (*status == ROD_OK) {
         s->time = t; /* no drift from rounding */
         ls->last_step = h;
         return 0;
     }
     ls->last_step = 0.0;
     state_copy(s, ls->good);
-    fprintf(stderr, "rodsim live: input line %ld (t = %.9g s): the step failed (%s): %s; "
-                    "answered with the last good state (t = %.9g s), the line dropped from "
-                    "the path\n",
-            line_no, t, status == ROD_NO_CONVERGENCE ? "no convergence" :
-                        status == ROD_UNSTABLE ? "unstable" : "failure",
-            report.message[0] ? report.message : "(no message)", s->time);
     return -1;
 }
 
-/* One data line, parsed into values[count]; 0 answered, 1 refused (err). */
-static int handle_line(live_session *ls, const double *values, int count, long line_no,
-                       char *err, size_t errlen)
+/* The Newton iterations a step of the line may spend on each of its tries
+ * (line_tries): LIVE_BUDGET_FACTOR times the most a step of the last
+ * LIVE_RECENT_LINES lines that stepped took, within LIVE_STEP_BUDGET_MIN
+ * and LIVE_STEP_BUDGET_MAX: a small multiple of the session's own work. */
+static int line_budget(const live_session *ls)
 {
-    rod_state *s = ls->state;
+    long most = 0;
+    const long n = ls->recent_count < LIVE_RECENT_LINES ? ls->recent_count : LIVE_RECENT_LINES;
+    for (long k = 0; k < n; k++)
+        if (ls->recent[k] > most) most = ls->recent[k];
+    const long budget = LIVE_BUDGET_FACTOR * most;
+    return budget < LIVE_STEP_BUDGET_MIN   ? LIVE_STEP_BUDGET_MIN
+           : budget > LIVE_STEP_BUDGET_MAX ? LIVE_STEP_BUDGET_MAX
+                                           : (int)budget;
+}
+
+/* Sets rod_options.iteration_budget of the model stepped (0: the scheme's own). */
+static void set_budget(live_session *ls, int budget)
+{
+    ls->model->options.iteration_budget = budget;
+    ls->loads_model.options.iteration_budget = budget;
+}
+
+/* Steps to t through `row` (its time, then the pose or the loads; the path
+ * holds it after its time): 0, or -1 with the path (or the table) and the
+ * state as before. velocity: the path's at the row, the backward
+ * difference, or zero when `hold` (the end at rest there). */
+static int try_row(live_session *ls, const double *row, double t, int hold, double *velocity,
+                   rod_status *status, rod_report *report)
+{
+    if (ls->pose_mode) {
+        char err[256];
+        if (hold) memset(velocity, 0, 6 * sizeof(double));
+        if (hold ? rod_path_push_with_velocity(ls->path, row, velocity, err, sizeof err)
+                 : rod_path_push(ls->path, row, velocity, err, sizeof err)) {
+            /* a row off the numbers' range (a partial move of huge poses) */
+            *status = ROD_FAILED;
+            snprintf(report->message, sizeof report->message, "%s", err);
+            return -1;
+        }
+        if (advance(ls, t, status, report) == 0) return 0;
+        rod_path_pop(ls->path);
+        return -1;
+    }
+    memcpy(ls->table, ls->last_row, 7 * sizeof(double)); /* the last good row, then the new */
+    memcpy(&ls->table[7], row, 7 * sizeof(double));
+    ls->loads_model.profile.table.rows = 2;
+    if (advance(ls, t, status, report) == 0) return 0;
+    ls->loads_model.profile.table.rows = 1;
+    return -1;
+}
+
+/* --realtime: waits until t on the wall clock (a stop signal ends the
+ * wait); t is at most max_ahead steps after the state's time. */
+static void pace(live_session *ls, double t)
+{
+    /* t is at most max_ahead steps ahead, but solver.dt may be huge: the
+     * wait stays within time_t's range */
+    const double due = ls->wall_origin + fmin(t, 1e9);
+    struct timespec ts = {(time_t)due, (long)((due - floor(due)) * 1e9)};
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR && !stop_signal) {}
+}
+
+/* Refuses a line that cannot be stepped: the count of numbers, their
+ * finiteness, t against the state's time. 0, or 1 with err and kind. */
+static int check_line(live_session *ls, const double *values, int count, char *err,
+                      size_t errlen, const char **kind)
+{
+    const double now = ls->state->time;
     int accepted = ls->pose_mode ? (count == 4 || (count == 7 && ls->columns == 7)) : count == 7;
     if (!accepted) {
         snprintf(err, errlen, "%d numbers", count);
+        *kind = "the count of numbers";
         return 1;
     }
     for (int k = 0; k < count; k++)
         if (!isfinite(values[k])) {
             snprintf(err, errlen, "column %d is not a finite number", k + 1);
+            *kind = "a number not finite";
             return 1;
         }
-    if (!(values[0] > s->time)) {
+    if (!(values[0] > now)) {
         snprintf(err, errlen, "t = %.17g s does not increase (the state is at %.17g s)",
-                 values[0], s->time);
+                 values[0], now);
+        *kind = "t not increasing";
         return 1;
     }
-    if (values[0] - s->time > 1e6 * ls->dt) {
-        snprintf(err, errlen, "t = %.17g s is more than 1e6 steps (solver.dt = %g s) ahead of "
-                 "%.17g s", values[0], ls->dt, s->time);
+    if (values[0] - now > (double)ls->max_ahead * ls->dt) {
+        snprintf(err, errlen, "t = %.17g s is %.6g s ahead of the state (%.17g s), more than "
+                 "%ld steps of solver.dt = %g s (at most %g s a line)", values[0],
+                 values[0] - now, now, ls->max_ahead, ls->dt, (double)ls->max_ahead * ls->dt);
+        *kind = "t too far ahead";
         return 1;
     }
-    double row[7] = {0}, velocity[6];
+    return 0;
+}
+
+/* The statistics of a stepped or failed line's work. */
+static void count_line(live_session *ls, int outcome, double gap)
+{
+    if (outcome == LINE_OK) {
+        ls->answered_ok++;
+        ls->ok_iterations += ls->line_iterations;
+        if (ls->line_iterations > ls->ok_iterations_max) ls->ok_iterations_max = ls->line_iterations;
+    } else {
+        ls->failed++;
+        if (gap > 0.0) ls->partial++;
+        ls->failed_iterations += ls->line_iterations;
+        if (ls->line_iterations > ls->failed_iterations_max)
+            ls->failed_iterations_max = ls->line_iterations;
+        if (ls->line_builds > ls->failed_builds_max) ls->failed_builds_max = ls->line_builds;
+    }
+    if (gap > 0.0) { /* a row was stepped */
+        if (ls->stepped_rows == 0) ls->first_gap = ls->min_gap = ls->max_gap = gap;
+        ls->min_gap = fmin(ls->min_gap, gap);
+        ls->max_gap = fmax(ls->max_gap, gap);
+        ls->stepped_rows++;
+    }
+}
+
+/* A failed line's message: why the row asked for failed, then where the
+ * end went (fraction of the way; < 0: nowhere, and why the last try failed). */
+static void say_failed(live_session *ls, double t, rod_status status, const rod_report *report,
+                       double fraction, const rod_report *last)
+{
+    char where[1024];
+    if (fraction > 0.0)
+        snprintf(where, sizeof where, "the end moved %g of the way toward it, answered with "
+                 "that state", fraction);
+    else if (fraction == 0.0)
+        snprintf(where, sizeof where, "the end held where it was, answered with that state");
+    else
+        snprintf(where, sizeof where, "no try stepped (the last: %s); answered with the last "
+                 "good state (t = %.9g s), the line dropped from the path",
+                 last->message[0] ? last->message : "no message", ls->state->time);
+    const char *why = status == ROD_NO_CONVERGENCE ? "no convergence"
+                      : status == ROD_UNSTABLE     ? "unstable"
+                                                   : "failure";
+    char kind[64];
+    snprintf(kind, sizeof kind, "the step failed (%s), %s", why,
+             fraction > 0.0 ? "moved part of the way" : fraction == 0.0 ? "held" : "dropped");
+    complain(ls, kind, " (t = %.9g s): the step failed (%s): %s; %s", t, why,
+             report->message[0] ? report->message : "(no message)", where);
+}
+
+/* One data line, parsed into values[count], checked: stepped to (or part
+ * of the way: line_tries), answered and recorded. LINE_OK or LINE_FAILED. */
+static int step_line(live_session *ls, const double *values, int count)
+{
+    rod_state *s = ls->state;
+    if (ls->set.realtime) {
+        pace(ls, values[0]);
+        ls->line_start = wall_seconds();
+    }
+    double row[7] = {0}, velocity[6] = {0}, reached[7];
     memcpy(row, values, (size_t)count * sizeof(double)); /* 4 numbers on a clamped tip: no turn */
+    memcpy(reached, row, sizeof row);
     const double before = s->time;
     ls->line_gap = values[0] - before;
-    int failed;
-    double step_start;
-    if (ls->pose_mode) {
-        if (rod_path_push(ls->path, row, velocity, err, errlen)) return 1;
-        step_start = wall_seconds();
-        failed = advance(ls, row, line_no);
-        if (failed) rod_path_pop(ls->path);
-    } else {
-        double previous[7];
-        memcpy(previous, &ls->table[7], sizeof previous);
-        memcpy(ls->table, previous, sizeof previous); /* the last good row, then the new one */
-        memcpy(&ls->table[7], row, sizeof row);
-        ls->loads_model.profile.table.rows = 2;
-        step_start = wall_seconds();
-        failed = advance(ls, row, line_no);
-        if (failed) {
-            memcpy(&ls->table[7], previous, sizeof previous);
-            ls->loads_model.profile.table.rows = 1;
-            memmove(ls->table, previous, sizeof previous);
+    ls->line_iterations = ls->line_builds = ls->line_step_max = 0;
+    ls->budget = line_budget(ls);
+    if (ls->budget > ls->budget_max) ls->budget_max = ls->budget;
+    const double step_start = wall_seconds();
+    rod_status status = ROD_OK, first_status = ROD_OK;
+    rod_report report, first_report;
+    memset(&first_report, 0, sizeof first_report);
+    int failed = 1, tried = 0;
+    const int tries = (int)(sizeof line_tries / sizeof *line_tries);
+    /* the last resort at the 1st, 2nd, 4th, 8th ... line in a row that stuck */
+    const int rescue = ls->stuck == 0 || (ls->stuck & (ls->stuck - 1)) == 0;
+    const int held = ls->held;
+    /* a stop signal: the first try says it was interrupted, no other follows */
+    for (int k = 0; k < tries && failed && (k == 0 || !stop_signal); k++) {
+        const live_try *try = &line_tries[k];
+        if (try->rescue && !rescue) continue;
+        /* held at the line before: the end is at what stops it, half way no nearer */
+        if (try->fraction > 0.0 && try->fraction < 1.0 && held) continue;
+        /* held: at rest one step after the last good row, not at the line's
+         * t: the path is C1, so the end goes on at its last velocity before
+         * it stops, and over a longer gap (lines 10 ms apart) that went
+         * into what had stopped it */
+        reached[0] = try->fraction == 0.0 && ls->pose_mode ? fmin(row[0], before + ls->dt)
+                                                           : row[0];
+        for (int c = 1; c < 7; c++)
+            reached[c] = try->fraction == 1.0 ? row[c]
+                         : ls->last_row[c] + try->fraction * (row[c] - ls->last_row[c]);
+        set_budget(ls, try->rescue ? 0 : ls->budget);
+        failed = try_row(ls, reached, row[0], try->fraction == 0.0, velocity, &status, &report);
+        if (tried++ == 0) {
+            first_status = status;
+            memcpy(&first_report, &report, sizeof report);
         }
+        if (!failed) ls->fraction = try->fraction;
     }
     const double step_end = wall_seconds();
     ls->step_sum += step_end - step_start;
     histogram_add(ls->step_histogram, step_end - step_start);
+    const int ok = !failed && ls->fraction == 1.0;
+    ls->stuck = failed ? ls->stuck + 1 : 0;
+    ls->held = !failed && ls->fraction == 0.0;
     if (!failed) {
-        double gap = row[0] - before;
-        if (ls->answered_ok == 0) ls->first_gap = ls->min_gap = ls->max_gap = gap;
-        ls->min_gap = fmin(ls->min_gap, gap);
-        ls->max_gap = fmax(ls->max_gap, gap);
-        ls->answered_ok++;
-    } else {
-        ls->failed++;
+        memcpy(ls->last_row, reached, sizeof reached);
+        ls->recent[ls->recent_count++ % LIVE_RECENT_LINES] = ls->line_step_max;
     }
-    print_answer(ls, failed ? "failed" : "ok");
+    count_line(ls, ok ? LINE_OK : LINE_FAILED, failed ? 0.0 : row[0] - before);
+    print_answer(ls, ok ? "ok" : "failed");
     ls->answer_sum += wall_seconds() - step_end;
+    if (ok) close_run(ls);
+    else say_failed(ls, row[0], first_status, &first_report, failed ? -1.0 : ls->fraction,
+                    &report);
     /* the record after the answer: its formatting is not in the latency */
-    if (failed && ls->recording)
-        fprintf(ls->record, "# input line %ld (t = %.17g s) failed: not replayed\n", line_no,
-                row[0]);
-    else if (!failed)
-        record_row(ls, row, ls->pose_mode ? velocity : NULL);
+    if (ls->record) {
+        if (failed)
+            fprintf(ls->record, "# input line %ld (t = %.17g s) failed: not replayed\n",
+                    ls->line_no, row[0]);
+        else if (!ok)
+            fprintf(ls->record, "# input line %ld (t = %.17g s) not reached: %g of the way\n",
+                    ls->line_no, row[0], ls->fraction);
+        if (failed) record_check(ls);
+        else record_row(ls, reached, ls->pose_mode ? velocity : NULL);
+    }
+    return ok ? LINE_OK : LINE_FAILED;
+}
+
+/* The line in ls->line (len bytes, its line break taken off) answered:
+ * refused (bad_input), or stepped. */
+static void answer_line(live_session *ls, size_t len)
+{
+    ls->line_start = wall_seconds();
+    ls->lines++;
+    char err[512];
+    const char *kind = NULL;
+    int outcome = LINE_REFUSED;
+    if (len > LIVE_LINE_MAX) {
+        snprintf(err, sizeof err, "longer than %d bytes", LIVE_LINE_MAX);
+        kind = "a line too long";
+    } else if (ls->nul_at) {
+        snprintf(err, sizeof err, "a NUL byte at byte %zu", ls->nul_at);
+        kind = "a NUL byte";
+    } else {
+        double values[8];
+        int count = split_numbers(ls->line, values, 7);
+        ls->parse_sum += wall_seconds() - ls->line_start;
+        if (count == -1) {
+            snprintf(err, sizeof err, "a field is not a number");
+            kind = "a field not a number";
+        } else if (count == -2) {
+            snprintf(err, sizeof err, "more than 7 numbers");
+            kind = "more than 7 numbers";
+        } else if (!check_line(ls, values, count, err, sizeof err, &kind)) {
+            outcome = step_line(ls, values, count);
+        }
+    }
+    if (outcome == LINE_REFUSED) {
+        ls->bad++;
+        complain(ls, kind, ": %s; accepted: %s, t increasing (s), at most %ld steps of %g s "
+                 "ahead, at most %d bytes a line", err,
+                 !ls->pose_mode ? "t,fx,fy,fz,mx,my,mz (N, N m)"
+                 : ls->columns == 7 ? "t,x,y,z or t,x,y,z,rx,ry,rz (m, rad)"
+                                    : "t,x,y,z (m; a pinned tip takes no rotation)",
+                 ls->max_ahead, ls->dt, LIVE_LINE_MAX);
+        if (ls->set.stop_on_error) {
+            close_run(ls);
+            fprintf(ls->msg, "rodsim live: stopped at input line %ld (--on-error stop)\n",
+                    ls->line_no);
+            ls->status = RUN_EXIT_BAD_INPUT;
+            ls->ended = 1;
+            return;
+        }
+        print_answer(ls, "bad_input");
+    }
+    double spent = wall_seconds() - ls->line_start;
+    ls->step_wall_sum += spent;
+    ls->step_wall_max = fmax(ls->step_wall_max, spent);
+    histogram_add(ls->work_histogram, spent);
+    if (ls->set.realtime && outcome != LINE_REFUSED && spent > ls->line_gap) {
+        /* an overrun: the work on the line took longer than its own gap
+         * of simulated time, its wall budget: the next line, due one gap
+         * later, waits */
+        ls->overruns++;
+        ls->worst_overrun = fmax(ls->worst_overrun, spent);
+    }
+    if (outcome != LINE_REFUSED && ls->last_step > 0.0 && !ls->ended) {
+        /* after the answer, before the next line: the time a client
+         * waits for neither (at 1 kHz, 0.9 ms a line at NS = 51). A
+         * stale Jacobian renewed here is not rebuilt within the next
+         * step, the p99 of a line's work. Done whenever it is due, not
+         * only when no line waits: the answers then do not depend on the
+         * timing (a client writing ahead waits for it as it would for the
+         * build within the step). The CPU first to the client when
+         * real-time: on the same CPU at the same SCHED_FIFO priority
+         * (--realtime) it would otherwise read the answer only after this
+         * work (bench_live: p99 275 us instead of 90); not under the
+         * ordinary policy, where a yield may give the CPU to any busy
+         * process for its slice (bench_live on a loaded VM: p99 0.2 to 4
+         * ms with it and without, the load decides) */
+        if (ls->realtime_policy) sched_yield();
+        const double idle_start = wall_seconds();
+        if (rod_solver_refresh(&ls->solver, ls->stepped, ls->state, ls->last_step) > 0) {
+            ls->idle_builds++;
+            ls->jacobian_builds++; /* the next step's count includes it */
+            ls->idle_sum += wall_seconds() - idle_start;
+        }
+    }
+    if (ferror(ls->out)) {
+        close_run(ls);
+        fprintf(ls->msg, "rodsim live: standard output closed at input line %ld\n", ls->line_no);
+        ls->status = RUN_EXIT_FAILURE;
+        ls->ended = 1;
+    }
+    if (stop_signal) ls->ended = 1;
+}
+
+/* The line read so far is complete (its newline, or the end of input). */
+static void line_done(live_session *ls)
+{
+    size_t len = ls->line_len;
+    /* a line break \r\n (or \r\r\n): the \r are no part of the line */
+    while (len > 0 && len <= LIVE_LINE_MAX + 1 && ls->line[len - 1] == '\r') len--;
+    ls->line[len <= LIVE_LINE_MAX + 1 ? len : LIVE_LINE_MAX + 1] = '\0';
+    ls->line_no++;
+    answer_line(ls, len);
+    ls->line_len = 0;
+    ls->nul_at = 0;
+}
+
+/* Bytes of the line being read (no newline among them). */
+static void line_append(live_session *ls, const char *bytes, size_t size)
+{
+    const size_t keep = LIVE_LINE_MAX + 1; /* bytes kept; a longer line is only counted */
+    const char *nul = ls->nul_at ? NULL : memchr(bytes, '\0', size);
+    if (nul && ls->line_len <= keep) ls->nul_at = ls->line_len + (size_t)(nul - bytes) + 1;
+    if (nul && ls->line_len > keep) ls->nul_at = keep + 1; /* too long anyway */
+    if (ls->line_len < keep) {
+        const size_t room = keep - ls->line_len, take = size < room ? size : room;
+        memcpy(&ls->line[ls->line_len], bytes, take);
+    }
+    /* counted up to keep + 1: enough to know the line is too long */
+    ls->line_len = size > keep + 1 - ls->line_len ? keep + 1 : ls->line_len + size;
+}
+
+int live_session_feed(live_session *ls, const char *bytes, size_t size)
+{
+    while (size > 0 && !ls->ended) {
+        if (stop_signal) {
+            ls->ended = 1;
+            break;
+        }
+        const char *newline = memchr(bytes, '\n', size);
+        const size_t part = newline ? (size_t)(newline - bytes) : size;
+        line_append(ls, bytes, part);
+        if (!newline) break;
+        line_done(ls);
+        bytes += part + 1;
+        size -= part + 1;
+    }
+    return ls->ended;
+}
+
+static void print_summary(live_session *ls)
+{
+    /* the work per line, then what it is made of: what the latency adds
+     * beyond it is the pipes and the scheduler */
+    const long stepped = ls->answered_ok + ls->failed;
+    const double per_line = ls->lines ? 1e6 / (double)ls->lines : 0.0;
+    fprintf(ls->msg, "rodsim live: %ld lines: %ld ok, %ld failed (%ld moved part of the way "
+                     "or held), %ld bad; %ld steps to t = %g s (%ld Jacobian builds: %ld within "
+                     "steps, %ld between lines, mean %.0f us); Newton iterations a line: ok "
+                     "mean %.1f, max %ld; failed mean %.1f, max %ld (%ld Jacobian builds; "
+                     "budget %d to %d "
+                     "a try of a step); work per line mean %.1f us, p50 %.0f, p99 %.0f, p99.9 "
+                     "%.0f, max %.1f us; mean parse %.1f us, step %.1f us (p99 %.0f us), "
+                     "answer %.1f us",
+            ls->lines, ls->answered_ok, ls->failed, ls->partial, ls->bad, ls->steps,
+            ls->state->time, ls->jacobian_builds, ls->jacobian_builds - ls->idle_builds,
+            ls->idle_builds, ls->idle_builds ? 1e6 * ls->idle_sum / (double)ls->idle_builds : 0.0,
+            ls->answered_ok ? (double)ls->ok_iterations / (double)ls->answered_ok : 0.0,
+            ls->ok_iterations_max,
+            ls->failed ? (double)ls->failed_iterations / (double)ls->failed : 0.0,
+            ls->failed_iterations_max, ls->failed_builds_max,
+            LIVE_STEP_BUDGET_MIN, ls->budget_max, per_line * ls->step_wall_sum,
+            histogram_quantile(ls->work_histogram, ls->lines, 0.5),
+            histogram_quantile(ls->work_histogram, ls->lines, 0.99),
+            histogram_quantile(ls->work_histogram, ls->lines, 0.999), 1e6 * ls->step_wall_max,
+            per_line * ls->parse_sum, stepped ? 1e6 * ls->step_sum / (double)stepped : 0.0,
+            histogram_quantile(ls->step_histogram, stepped, 0.99),
+            stepped ? 1e6 * ls->answer_sum / (double)stepped : 0.0);
+    if (ls->set.realtime)
+        fprintf(ls->msg, "; realtime overruns %ld (worst %.1f us)", ls->overruns,
+                1e6 * ls->worst_overrun);
+    fprintf(ls->msg, "%s\n", stop_signal ? "; ended by a signal" : "");
+}
+
+int live_session_finish(live_session *ls, int end_of_input)
+{
+    if (ls->finished) return ls->status;
+    ls->finished = 1;
+    if (end_of_input && !ls->ended && (ls->line_len > 0 || ls->nul_at)) line_done(ls);
+    close_run(ls);
+    print_summary(ls);
+    if (ls->status == RUN_EXIT_OK && ls->lines > 0 && ls->answered_ok == 0) {
+        fprintf(ls->msg, "rodsim live: none of the %ld lines was answered ok (exit 2)\n",
+                ls->lines);
+        ls->status = RUN_EXIT_BAD_INPUT;
+    }
+    return ls->status;
+}
+
+void live_session_destroy(live_session *ls)
+{
+    if (!ls) return;
+    if (ls->record) fclose(ls->record); /* what was recorded stays */
+    if (ls->solver.ops) rod_solver_release(&ls->solver);
+    rod_state_destroy(ls->state);
+    rod_state_destroy(ls->good);
+    free(ls->work_histogram);
+    free(ls->step_histogram);
+    free(ls->answer);
+    free(ls);
+}
+
+/* Sets the session up from the scene's model; 0 or -1 with a message. */
+static int setup(live_session *ls, rod_model *m, char *err, size_t errlen)
+{
+    ls->model = m;
+    ls->dt = rod_choose_dt(m, NULL);
+    ls->pose_mode = m->tip_end != ROD_END_FREE;
+    ls->driven = ls->pose_mode ? 1 : 0;
+    ls->columns = ls->pose_mode ? (m->tip_end == ROD_END_CLAMPED ? 7 : 4) : 7;
+    ls->state = rod_state_create(m);
+    ls->good = rod_state_create(m);
+    ls->work_histogram = calloc(LIVE_HISTOGRAM_BINS, sizeof *ls->work_histogram);
+    ls->step_histogram = calloc(LIVE_HISTOGRAM_BINS, sizeof *ls->step_histogram);
+    ls->answer = malloc((size_t)(8 + 3 * m->nodes) * (NUMFMT_MAX + 1) + 16);
+    if (!ls->state || !ls->good || !ls->work_histogram || !ls->step_histogram || !ls->answer) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    /* a line's work bounded: a pose beyond reach fails within this, then
+     * is tried part of the way (line_tries) */
+    m->options.iteration_budget = LIVE_STEP_BUDGET_MIN;
+    rod_state_reset(m, ls->state);
+    if (ls->pose_mode) {
+        if (m->tip_motion) {
+            fprintf(ls->msg, "rodsim live: the live input replaces the scene's ends.tip_motion\n");
+            rod_path_destroy(m->tip_motion);
+            m->tip_motion = NULL;
+        }
+        memcpy(&ls->last_row[1], &ls->state->position[3 * (m->nodes - 1)], 3 * sizeof(double));
+        if (!(ls->path = rod_path_create_live(ls->columns, ls->last_row, err, errlen))) return -1;
+        m->tip_motion = ls->path;
+        ls->stepped = m;
+    } else {
+        ls->loads_model = *m; /* shares what m owns; only m is released */
+        double f[3], mo[3];
+        rod_tip_load(m, 0.0, f, mo);
+        memcpy(&ls->last_row[1], f, sizeof f);
+        memcpy(&ls->last_row[4], mo, sizeof mo);
+        memcpy(ls->table, ls->last_row, sizeof ls->last_row);
+        ls->loads_model.profile.kind = ROD_PROFILE_TABLE;
+        ls->loads_model.profile.table.columns = 7;
+        ls->loads_model.profile.table.rows = 1;
+        ls->loads_model.profile.table.data = ls->table;
+        ls->stepped = &ls->loads_model;
+    }
+    if (rod_solver_init(&ls->solver, ls->stepped, err, errlen)) return -1;
     return 0;
 }
 
-static void print_header(const live_session *ls)
+live_session *live_session_create(rod_model *m, const live_settings *settings, char *err,
+                                  size_t errlen)
 {
-    printf("t,fx,fy,fz,mx,my,mz,status");
-    if (ls->args->centreline)
-        for (int i = 0; i < ls->state->nodes; i++) printf(",x%d,y%d,z%d", i, i, i);
-    putchar('\n');
-    fflush(stdout);
+    live_session *ls = calloc(1, sizeof *ls);
+    if (!ls) {
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    ls->set = *settings;
+    ls->out = settings->answers ? settings->answers : stdout;
+    ls->msg = settings->messages ? settings->messages : stderr;
+    ls->max_ahead = settings->max_steps_ahead > 0 ? settings->max_steps_ahead
+                                                  : LIVE_MAX_STEPS_AHEAD;
+    if (setup(ls, m, err, errlen)) {
+        live_session_destroy(ls);
+        return NULL;
+    }
+    const int policy = sched_getscheduler(0);
+    ls->realtime_policy = policy == SCHED_FIFO || policy == SCHED_RR;
+    return ls;
 }
 
-/* Opens the record (its directory made if needed) and writes the lines
- * that say how to replay it (live.h LIVE_RECORD_*). 0, or -1 with err. */
-static int record_open(live_session *ls, char *err, size_t errlen)
+void live_session_start(live_session *ls)
 {
-    const live_args *a = ls->args;
+    /* t = 0 on the wall clock before the header goes out: a client that
+     * paces itself from the header on is then never ahead of rodsim's clock
+     * (taken after, the header's reader could start its clock first, and
+     * --realtime would hold every line back by the difference) */
+    ls->wall_origin = wall_seconds();
+    fprintf(ls->out, "t,fx,fy,fz,mx,my,mz,status");
+    if (ls->set.centreline)
+        for (int i = 0; i < ls->state->nodes; i++) fprintf(ls->out, ",x%d,y%d,z%d", i, i, i);
+    fputc('\n', ls->out);
+    fflush(ls->out);
+}
+
+/* Opens the record (its directory made if needed), writes the lines that
+ * say how to replay it (live.h LIVE_RECORD_*), the CSV header and the
+ * first row. 0, or -1 with err. */
+static int record_open(live_session *ls, const live_args *a, char *err, size_t errlen)
+{
     for (int i = 0; i < a->set_count; i++)
         if (strpbrk(a->sets[i], "\r\n")) {
             snprintf(err, errlen, "--set '%s': a line break cannot be recorded (--record)",
@@ -424,7 +979,7 @@ static int record_open(live_session *ls, char *err, size_t errlen)
         snprintf(err, errlen, "--record %s: %s", a->record, strerror(errno));
         return -1;
     }
-    ls->recording = 1;
+    ls->record_name = a->record;
     FILE *f = ls->record;
     fprintf(f, "%s%s: %s\n", LIVE_RECORD_MAGIC, a->scene,
             ls->pose_mode ? "the driven tip's path, with the velocities the live path gave"
@@ -432,22 +987,34 @@ static int record_open(live_session *ls, char *err, size_t errlen)
     fprintf(f, "%s%s\n", LIVE_RECORD_SCENE, scene);
     for (int i = 0; i < a->set_count; i++) fprintf(f, "%s%s\n", LIVE_RECORD_SET, a->sets[i]);
     fprintf(f, "%s%.17g\n", LIVE_RECORD_DT, ls->dt);
+    if (ls->pose_mode) {
+        fprintf(f, ls->columns == 7 ? "t,x,y,z,rx,ry,rz,vx,vy,vz,vrx,vry,vrz\n"
+                                    : "t,x,y,z,vx,vy,vz\n");
+        const double zero[6] = {0};
+        record_row(ls, ls->last_row, zero);
+    } else {
+        fprintf(f, "t,fx,fy,fz,mx,my,mz\n");
+        record_row(ls, ls->last_row, NULL);
+    }
+    if (!ls->record) { /* record_check said why */
+        err[0] = '\0';
+        return -1;
+    }
     return 0;
 }
 
 /* The replay command, the record's last comment. */
-static void record_replay_line(live_session *ls)
+static void record_replay_line(live_session *ls, const live_args *a)
 {
     FILE *f = ls->record;
-    const live_args *a = ls->args;
     fprintf(f, "# replay: rodsim run %s", a->scene);
     for (int i = 0; i < a->set_count; i++) fprintf(f, " --set '%s'", a->sets[i]);
     if (ls->pose_mode) fprintf(f, " --set ends.tip_motion=%s", a->record);
     else fprintf(f, " --set 'tip.profile=table %s'", a->record);
     fprintf(f, " --set solver.duration=%.17g --set solver.dt=%.17g", ls->state->time, ls->dt);
     /* the same steps as live when every gap is one frame interval 1/fps */
-    double fps = ls->answered_ok > 0 ? 1.0 / ls->first_gap : 0.0;
-    if (ls->answered_ok > 0 && ls->max_gap - ls->min_gap <= 1e-9 * ls->max_gap &&
+    double fps = ls->stepped_rows > 0 ? 1.0 / ls->first_gap : 0.0;
+    if (ls->stepped_rows > 0 && ls->max_gap - ls->min_gap <= 1e-9 * ls->max_gap &&
         fabs(fps - round(fps)) <= 1e-6 * fps && round(fps) >= 1.0 && round(fps) <= 1000.0)
         fprintf(f, " --set render.fps=%.0f\n", round(fps));
     else
@@ -455,219 +1022,38 @@ static void record_replay_line(live_session *ls)
                    "from the live ones; the forces agree to the scheme's time accuracy)\n");
 }
 
-/* Reads, steps and answers until the end of input, a signal, or a bad line
- * under --on-error stop. Returns the exit status. */
-static int serve(live_session *ls, char *line)
+/* Reads standard input into the session until its end, a read error, a
+ * stop signal or the session's own end. 1 when the input ended, 0 when
+ * not (ended otherwise), -1 on a read error (said). */
+static int serve(live_session *ls)
 {
-    long line_no = 0;
-    int status = 0;
-    char err[512];
+    char chunk[LIVE_LINE_MAX + 1];
     for (;;) {
-        if (stop_signal) break;
-        errno = 0;
-        if (!fgets(line, LIVE_LINE_MAX, stdin)) {
-            if (ferror(stdin) && errno != EINTR)
-                fprintf(stderr, "rodsim live: reading standard input: %s\n", strerror(errno));
-            break;
+        if (stop_signal) return 0;
+        ssize_t got = read(STDIN_FILENO, chunk, sizeof chunk);
+        if (got < 0 && errno == EINTR) continue;
+        if (got < 0) {
+            fprintf(stderr, "rodsim live: reading standard input after input line %ld: %s\n",
+                    ls->line_no, strerror(errno));
+            return -1;
         }
-        line_no++;
-        size_t len = strlen(line);
-        int too_long = 0;
-        while (len == LIVE_LINE_MAX - 1 && line[len - 1] != '\n') { /* discard the rest */
-            too_long = 1;
-            if (!fgets(line, LIVE_LINE_MAX, stdin)) break;
-            len = strlen(line);
-        }
-        while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) line[--len] = '\0';
-        double start = wall_seconds();
-        ls->lines++;
-        int refused = 0;
-        if (too_long) {
-            snprintf(err, sizeof err, "longer than %d bytes", LIVE_LINE_MAX - 1);
-            refused = 1;
-        } else {
-            double values[8];
-            int count = split_numbers(line, values, 7);
-            ls->parse_sum += wall_seconds() - start;
-            if (count == -1) {
-                snprintf(err, sizeof err, "a field is not a number");
-                refused = 1;
-            } else if (count == -2) {
-                snprintf(err, sizeof err, "more than 7 numbers");
-                refused = 1;
-            } else {
-                if (ls->args->realtime && count > 0 && isfinite(values[0]) &&
-                    values[0] > ls->state->time) {
-                    /* pace: wait until t on the wall clock */
-                    double due = ls->wall_origin + values[0];
-                    struct timespec ts = {(time_t)due, (long)((due - floor(due)) * 1e9)};
-                    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR &&
-                           !stop_signal) {}
-                    start = wall_seconds();
-                }
-                refused = handle_line(ls, values, count, line_no, err, sizeof err);
-            }
-        }
-        if (refused) {
-            ls->bad++;
-            fprintf(stderr, "rodsim live: input line %ld: %s; accepted: %s, t increasing (s), "
-                            "at most %d bytes a line\n",
-                    line_no, err,
-                    !ls->pose_mode ? "t,fx,fy,fz,mx,my,mz (N, N m)"
-                    : ls->columns == 7 ? "t,x,y,z or t,x,y,z,rx,ry,rz (m, rad)"
-                                       : "t,x,y,z (m; a pinned tip takes no rotation)",
-                    LIVE_LINE_MAX - 1);
-            if (ls->args->stop_on_error) {
-                fprintf(stderr, "rodsim live: stopped at input line %ld (--on-error stop)\n",
-                        line_no);
-                status = RUN_EXIT_BAD_INPUT;
-                break;
-            }
-            print_answer(ls, "bad_input");
-        }
-        double spent = wall_seconds() - start;
-        ls->step_wall_sum += spent;
-        ls->step_wall_max = fmax(ls->step_wall_max, spent);
-        histogram_add(ls->work_histogram, spent);
-        if (ls->args->realtime && !refused) {
-            /* an overrun: the work on the line took longer than its own gap
-             * of simulated time, its wall budget: the next line, due one gap
-             * later, waits */
-            if (spent > ls->line_gap) {
-                ls->overruns++;
-                ls->worst_overrun = fmax(ls->worst_overrun, spent);
-            }
-        }
-        if (!refused && ls->last_step > 0.0) {
-            /* after the answer, before the next line: the time a client
-             * waits for neither (at 1 kHz, 0.9 ms a line at NS = 51). A
-             * stale Jacobian renewed here is not rebuilt within the next
-             * step, the p99 of a line's work (issue 13). Done whenever it is
-             * due, not only when no line waits: the answers then do not
-             * depend on the timing (a client writing ahead waits for it as
-             * it would for the build within the step). The CPU first to the
-             * client when real-time: on the same CPU at the same SCHED_FIFO
-             * priority (--realtime) it would otherwise read the answer only
-             * after this work (bench_live: p99 275 us instead of 90); not
-             * under the ordinary policy, where a yield may give the CPU to
-             * any busy process for its slice (bench_live on a loaded VM:
-             * p99 0.2 to 4 ms with it and without, the load decides) */
-            if (ls->realtime_policy) sched_yield();
-            const double idle_start = wall_seconds();
-            if (rod_solver_refresh(&ls->solver, ls->stepped, ls->state, ls->last_step) > 0) {
-                ls->idle_builds++;
-                ls->jacobian_builds++; /* the next step's count includes it */
-                ls->idle_sum += wall_seconds() - idle_start;
-            }
-        }
-        if (ferror(stdout)) {
-            fprintf(stderr, "rodsim live: standard output closed at input line %ld\n", line_no);
-            status = RUN_EXIT_FAILURE;
-            break;
-        }
+        if (got == 0) return 1;
+        if (live_session_feed(ls, chunk, (size_t)got)) return 0;
     }
-    return status;
 }
 
-/* Sets the session up from the scene; 0 or -1 with a message. */
-static int setup(live_session *ls, rod_model *m, char *err, size_t errlen)
-{
-    ls->model = m;
-    ls->dt = rod_choose_dt(m, NULL);
-    ls->pose_mode = m->tip_end != ROD_END_FREE;
-    ls->driven = ls->pose_mode ? 1 : 0;
-    ls->columns = ls->pose_mode ? (m->tip_end == ROD_END_CLAMPED ? 7 : 4) : 7;
-    ls->state = rod_state_create(m);
-    ls->good = rod_state_create(m);
-    ls->work_histogram = calloc(LIVE_HISTOGRAM_BINS, sizeof *ls->work_histogram);
-    ls->step_histogram = calloc(LIVE_HISTOGRAM_BINS, sizeof *ls->step_histogram);
-    ls->answer = malloc((size_t)(8 + 3 * m->nodes) * (NUMFMT_MAX + 1) + 16);
-    if (!ls->state || !ls->good || !ls->work_histogram || !ls->step_histogram || !ls->answer) {
-        snprintf(err, errlen, "out of memory");
-        return -1;
-    }
-    rod_state_reset(m, ls->state);
-    if (ls->pose_mode) {
-        if (m->tip_motion) {
-            fprintf(stderr, "rodsim live: the live input replaces the scene's ends.tip_motion\n");
-            rod_path_destroy(m->tip_motion);
-            m->tip_motion = NULL;
-        }
-        double first[7] = {0};
-        memcpy(&first[1], &ls->state->position[3 * (m->nodes - 1)], 3 * sizeof(double));
-        if (!(ls->path = rod_path_create_live(ls->columns, first, err, errlen))) return -1;
-        m->tip_motion = ls->path;
-        ls->stepped = m;
-    } else {
-        ls->loads_model = *m; /* shares what m owns; only m is released */
-        double f[3], mo[3];
-        rod_tip_load(m, 0.0, f, mo);
-        ls->table[7] = 0.0;
-        memcpy(&ls->table[8], f, sizeof f);
-        memcpy(&ls->table[11], mo, sizeof mo);
-        memcpy(ls->table, &ls->table[7], 7 * sizeof(double));
-        ls->loads_model.profile.kind = ROD_PROFILE_TABLE;
-        ls->loads_model.profile.table.columns = 7;
-        ls->loads_model.profile.table.rows = 1;
-        ls->loads_model.profile.table.data = ls->table;
-        ls->stepped = &ls->loads_model;
-    }
-    if (rod_solver_init(&ls->solver, ls->stepped, err, errlen)) return -1;
-    return 0;
-}
-
-int live_command(int argc, char **argv)
+/* The session once the scene is read: the record, the signals, the lines,
+ * the summary. Returns the exit status. */
+static int run_session(live_session *ls, const live_args *a, const rod_model *m)
 {
     char err[1024] = "";
-    live_args a;
-    memset(&a, 0, sizeof a);
-    a.sets = calloc((size_t)argc, sizeof *a.sets);
-    char *line = malloc(LIVE_LINE_MAX);
-    if (!a.sets || !line) {
-        fprintf(stderr, "rodsim live: out of memory\n");
-        free(a.sets);
-        free(line);
+    if (a->record && record_open(ls, a, err, sizeof err)) {
+        if (err[0]) fprintf(stderr, "rodsim live: %s\n", err);
         return RUN_EXIT_FAILURE;
     }
-    if (parse_args(argc, argv, &a, err, sizeof err)) {
-        free(a.sets);
-        free(line);
-        return cli_usage_error("live", err);
-    }
-    if (a.help) {
-        live_usage(stdout);
-        free(a.sets);
-        free(line);
-        return RUN_EXIT_OK;
-    }
-    int status = RUN_EXIT_BAD_INPUT;
-    rod_model m = rod_model_default();
-    run_output out;
-    live_session ls;
-    memset(&ls, 0, sizeof ls);
-    ls.args = &a;
-    ini_doc *doc = ini_load(a.scene, err, sizeof err);
-    if (!doc) goto fail;
-    for (int i = 0; i < a.set_count; i++)
-        if (ini_set(doc, a.sets[i], err, sizeof err)) goto fail;
-    if (run_read_scene(doc, &m, &out, err, sizeof err)) goto fail;
-    if (setup(&ls, &m, err, sizeof err)) goto fail;
-    if (a.record) {
-        if (record_open(&ls, err, sizeof err)) goto fail;
-        FILE *f = ls.record;
-        if (ls.pose_mode) {
-            fprintf(f, ls.columns == 7 ? "t,x,y,z,rx,ry,rz,vx,vy,vz,vrx,vry,vrz\n"
-                                       : "t,x,y,z,vx,vy,vz\n");
-            double first[7] = {0}, zero[6] = {0};
-            memcpy(&first[1], &ls.state->position[3 * (m.nodes - 1)], 3 * sizeof(double));
-            record_row(&ls, first, zero);
-        } else {
-            fprintf(f, "t,fx,fy,fz,mx,my,mz\n");
-            record_row(&ls, ls.table, NULL);
-        }
-    }
-    if (a.realtime) realtime_setup();
-    /* the session ends on these like at the end of input (the record is kept) */
+    if (a->realtime) realtime_setup();
+    /* the session ends on these like at the end of input (the record is kept);
+     * no SA_RESTART: a read or a wait returns at once */
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_stop_signal;
@@ -677,67 +1063,74 @@ int live_command(int argc, char **argv)
     signal(SIGPIPE, SIG_IGN);
     fprintf(stderr, "rodsim live: %s, NS = %d, dt = %g s; input %s; answer: what the thread "
                     "exerts on its %s\n",
-            a.scene, m.nodes, ls.dt,
-            !ls.pose_mode ? "t,fx,fy,fz,mx,my,mz"
-            : ls.columns == 7 ? "t,x,y,z[,rx,ry,rz]" : "t,x,y,z",
-            ls.driven ? "tip" : "root");
-    /* t = 0 on the wall clock before the header goes out: a client that
-     * paces itself from the header on is then never ahead of rodsim's clock
-     * (taken after, the header's reader could start its clock first, and
-     * --realtime would hold every line back by the difference) */
-    const int policy = sched_getscheduler(0);
-    ls.realtime_policy = policy == SCHED_FIFO || policy == SCHED_RR;
-    ls.wall_origin = wall_seconds();
-    print_header(&ls);
-    status = serve(&ls, line);
-    /* the work per line, then what it is made of: what the latency adds
-     * beyond it is the pipes and the scheduler */
-    const long stepped = ls.answered_ok + ls.failed;
-    const double per_line = ls.lines ? 1e6 / (double)ls.lines : 0.0;
-    fprintf(stderr, "rodsim live: %ld lines: %ld ok, %ld failed, %ld bad; %ld steps to t = %g s "
-                    "(%ld Jacobian builds: %ld within steps, %ld between lines, mean %.0f us); "
-                    "work per line mean %.1f us, p50 %.0f, p99 %.0f, "
-                    "p99.9 %.0f, max %.1f us; mean parse %.1f us, step %.1f us (p99 %.0f us), "
-                    "answer %.1f us",
-            ls.lines, ls.answered_ok, ls.failed, ls.bad, ls.steps, ls.state->time,
-            ls.jacobian_builds, ls.jacobian_builds - ls.idle_builds, ls.idle_builds,
-            ls.idle_builds ? 1e6 * ls.idle_sum / (double)ls.idle_builds : 0.0,
-            per_line * ls.step_wall_sum,
-            histogram_quantile(ls.work_histogram, ls.lines, 0.5),
-            histogram_quantile(ls.work_histogram, ls.lines, 0.99),
-            histogram_quantile(ls.work_histogram, ls.lines, 0.999), 1e6 * ls.step_wall_max,
-            per_line * ls.parse_sum, stepped ? 1e6 * ls.step_sum / (double)stepped : 0.0,
-            histogram_quantile(ls.step_histogram, stepped, 0.99),
-            stepped ? 1e6 * ls.answer_sum / (double)stepped : 0.0);
-    if (a.realtime)
-        fprintf(stderr, "; realtime overruns %ld (worst %.1f us)", ls.overruns,
-                1e6 * ls.worst_overrun);
-    fprintf(stderr, "%s\n", stop_signal ? "; ended by a signal" : "");
-    if (ls.recording) {
-        record_replay_line(&ls);
-        int failed = ferror(ls.record) != 0;
-        failed |= fclose(ls.record) != 0;
-        ls.record = NULL;
+            a->scene, m->nodes, ls->dt,
+            !ls->pose_mode ? "t,fx,fy,fz,mx,my,mz"
+            : ls->columns == 7 ? "t,x,y,z[,rx,ry,rz]" : "t,x,y,z",
+            ls->driven ? "tip" : "root");
+    live_session_start(ls);
+    const int input = serve(ls);
+    if (input < 0 && ls->status == RUN_EXIT_OK) ls->status = RUN_EXIT_FAILURE;
+    int status = live_session_finish(ls, input == 1);
+    if (ls->record) {
+        record_replay_line(ls, a);
+        int failed = ferror(ls->record) != 0;
+        failed |= fclose(ls->record) != 0;
+        ls->record = NULL;
         if (failed) {
-            fprintf(stderr, "rodsim live: record %s: write error (disk full?)\n", a.record);
-            if (status == 0) status = RUN_EXIT_FAILURE;
+            fprintf(stderr, "rodsim live: record %s: write error (disk full?)\n", a->record);
+            if (status == RUN_EXIT_OK) status = RUN_EXIT_FAILURE;
         }
-        ls.recording = 0;
     }
+    return status;
+}
+
+int live_command(int argc, char **argv)
+{
+    char err[1024] = "";
+    live_args a;
+    memset(&a, 0, sizeof a);
+    a.sets = calloc((size_t)argc, sizeof *a.sets);
+    if (!a.sets) {
+        fprintf(stderr, "rodsim live: out of memory\n");
+        return RUN_EXIT_FAILURE;
+    }
+    if (parse_args(argc, argv, &a, err, sizeof err)) {
+        free(a.sets);
+        return cli_usage_error("live", err);
+    }
+    if (a.help) {
+        live_usage(stdout);
+        free(a.sets);
+        return RUN_EXIT_OK;
+    }
+    /* before anything is opened: a closed descriptor 0 would be the next
+     * file opened, and its bytes read as the lines */
+    if (fcntl(STDIN_FILENO, F_GETFD) < 0) {
+        fprintf(stderr, "rodsim live: standard input is closed: no lines to read\n");
+        free(a.sets);
+        return RUN_EXIT_FAILURE;
+    }
+    int status = RUN_EXIT_BAD_INPUT;
+    rod_model m = rod_model_default();
+    run_output out;
+    live_session *ls = NULL;
+    const live_settings settings = {.centreline = a.centreline, .realtime = a.realtime,
+                                    .stop_on_error = a.stop_on_error, .answers = stdout,
+                                    .messages = stderr};
+    ini_doc *doc = ini_load(a.scene, err, sizeof err);
+    if (!doc) goto fail;
+    for (int i = 0; i < a.set_count; i++)
+        if (ini_set(doc, a.sets[i], err, sizeof err)) goto fail;
+    if (run_read_scene(doc, &m, &out, err, sizeof err)) goto fail;
+    if (!(ls = live_session_create(&m, &settings, err, sizeof err))) goto fail;
+    status = run_session(ls, &a, &m);
     goto done;
 fail:
     fprintf(stderr, "rodsim live: %s\n", err);
 done:
-    if (ls.record) fclose(ls.record); /* what was recorded stays */
-    if (ls.solver.ops) rod_solver_release(&ls.solver);
-    rod_state_destroy(ls.state);
-    rod_state_destroy(ls.good);
-    free(ls.work_histogram);
-    free(ls.step_histogram);
-    free(ls.answer);
+    live_session_destroy(ls);
     rod_model_release(&m);
     ini_destroy(doc);
     free(a.sets);
-    free(line);
     return status;
 }

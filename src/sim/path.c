@@ -352,6 +352,20 @@ int rod_path_push(rod_path *p, const double *row, double *velocity, char *err, s
     return 0;
 }
 
+int rod_path_push_with_velocity(rod_path *p, const double *row, const double *velocity,
+                                char *err, size_t errlen)
+{
+    for (int c = 0; c < p->components; c++)
+        if (!isfinite(velocity[c])) {
+            snprintf(err, errlen, "velocity %d is not a finite number", c + 1);
+            return -1;
+        }
+    if (rod_path_push(p, row, NULL, err, errlen)) return -1;
+    memcpy(&p->velocity[(p->rows - 1) * p->components], velocity,
+           (size_t)p->components * sizeof(double));
+    return 0;
+}
+
 void rod_path_pop(rod_path *p)
 {
     if (p->live && p->rows > 1) p->rows--;

@@ -3707,7 +3707,10 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     }
     s->staggered = 1;
     save_state(w, s);
-    w->budget = STEP_ITERATION_BUDGET;
+    /* rod_options.iteration_budget > 0: a caller's own, for each try */
+    const int budget = m->options.iteration_budget > 0 ? m->options.iteration_budget
+                                                       : STEP_ITERATION_BUDGET;
+    w->budget = budget;
     w->deepest = 0;
     int segment;
     /* the depth the last steps' motion asked for (SPLIT_HOLD_STEPS) */
@@ -3741,7 +3744,7 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
         w->fd_only = 1;
         w->contact_fd = retry == 2;
         w->have_factor = 0;
-        w->budget = STEP_ITERATION_BUDGET;
+        w->budget = budget;
         split = split_step(w, m, s, dt, report, 0);
         solved = split == 0;
         w->contact_fd = 0;
@@ -3773,7 +3776,7 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
              "implicit scheme: Newton's method did not converge at t = %.6g s for the step "
              "dt = %g s, split in halves down to dt/%d within %d iterations (tolerance %.1e)%s. "
              "%s%s",
-             s->time, dt, 1 << w->deepest, STEP_ITERATION_BUDGET, m->options.newton_tolerance,
+             s->time, dt, 1 << w->deepest, budget, m->options.newton_tolerance,
              site,
              contact_site ? "Contact turning there between touching and not, or stick and slip, "
                             "can stall Newton at any step: a smaller dt may not help; change "

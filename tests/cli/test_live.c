@@ -3,19 +3,26 @@
  * independent formula); every answer arrives before the next line is written
  * (lock-step through pipes: a missing flush would hang, caught by alarm());
  * bad lines get their line number and the policy (skip: answered bad_input;
- * stop: exit 2, the record kept); the record replayed by `rodsim run` gives
- * the same tip force and centreline as the live session. */
+ * stop: exit 2, the record kept), exactly one answer each whatever their
+ * bytes; a repeated message is said once with its count; the record replayed
+ * by `rodsim run` gives the same tip force and centreline as the live
+ * session; a pose beyond reach costs a bounded count of Newton iterations
+ * and the stream goes on once the pose is reachable; a line too far ahead is
+ * refused before --realtime waits for it, and a stop signal ends a long line;
+ * an unreadable input, an unwritable record exit 1. */
 #include <fcntl.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "cli/live.h"
 #include "test.h"
 #include "test_process.h"
 
@@ -415,7 +422,8 @@ static void test_free_tip_loads(void)
 }
 
 /* A step that fails (a load that kinks the rod beyond its grid) answers
- * failed with the last good state, and the stream goes on. */
+ * failed: the load is held at the last good one (the loads' half way fails
+ * too), the time goes on to the line's, and the stream goes on. */
 static void test_failed_step(void)
 {
     FILE *f = fopen(DIR "/kink_in.csv", "w");
@@ -436,10 +444,11 @@ static void test_failed_step(void)
     }
     if (f) fclose(f);
     read_stderr();
-    check(rc == 0 && strcmp(statuses, ",ok,failed,ok") == 0 && t2 == 0.01 &&
-              strstr(stderr_text, "input line 2 (t = 0.02 s): the step failed") != NULL,
-          "a failed step: answers %s, the failed line at the last good t = %g s, stderr names "
-          "line 2, exit %d", statuses, t2, rc);
+    check(rc == 0 && strcmp(statuses, ",ok,failed,ok") == 0 && t2 == 0.02 &&
+              strstr(stderr_text, "input line 2 (t = 0.02 s): the step failed") != NULL &&
+              strstr(stderr_text, "held where it was") != NULL,
+          "a failed step: answers %s, the failed line at its own t = %g s with the load held, "
+          "stderr names line 2, exit %d", statuses, t2, rc);
 }
 
 /* The holder lowers the hanging thread from 0.5 m to 0.3 m above a table
@@ -510,30 +519,35 @@ static lowered lower_onto_table(const char *normal, const char *youngs)
     return r;
 }
 
-/* Live with contact (issues 11, 13): the part of the thread that reaches
- * the table rests on it, so the holder carries less than the whole
- * weight, and no node sinks into the table by more than 1 % of the
- * radius. On a table tilted by 2.9 degrees every line is answered ok, at
- * three stiffnesses within 1.1e-6 of each other.
+/* Live with contact: the part of the thread that reaches the table rests
+ * on it, so the holder carries less than the whole weight, and no node
+ * sinks into the table by more than 1 % of the radius.
+ *
+ * The step of the first touch (at 0.072-0.078 s) is the hardest of the
+ * session: with the scheme's own budget it converged in 200-300 Newton
+ * iterations; within a live line's budget (LIVE_STEP_BUDGET_MIN) it may
+ * fail and the end move half way (line_tries), and the stream goes on. On
+ * a table tilted by 2.9 degrees, at three stiffnesses within 1.1e-6 of each
+ * other: every line answered, at most 5 failed, all at the first touch.
  *
  * On a level table the thread lands end-on, straight along the normal:
  * the known gap (README, Decisions). The step of its first touch has no
  * solution near the straight iterate (the sink is capped at 1 % of the
  * radius, the holder lowers the thread 20 um a step, and the thread must
- * bend), and whether Newton finds the bent one is chance: E x (1 + 1.1e-8),
- * (1 - 1.1e-7), (1 + 1.1e-6) fail 1-2 lines there, E itself none (before
- * the parabolic first iterate; 1 line with it: scenes/README.md). The
- * stream goes on from the last good state: checked here are every line
- * answered, at most 5 failed, all at the first touch, and the sink. */
+ * bend), and whether Newton finds the bent one is chance. The stream goes
+ * on: checked here are every line answered, at most 10 failed, all at the
+ * first touch, and the sink. */
 static void test_contact_live(void)
 {
     const double radius = 0.0005, weight = 1000.0 * M_PI * 0.001 * 0.001 / 4.0 * 9.81;
     const char *stiffness[3] = {"87.5e6", "87.500001e6", "87.5001e6"};
     for (int k = 0; k < 3; k++) {
         lowered r = lower_onto_table("0.05 0 1", stiffness[k]);
-        check(r.rc == 0 && r.lines == 1500 && r.ok == 1500,
-              "live with a table tilted 2.9 degrees, E = %s Pa: %d of 1500 lines answered ok "
-              "(exit %d)", stiffness[k], r.ok, r.rc);
+        check(r.rc == 0 && r.lines == 1500 && r.ok + r.failed_early == 1500 &&
+                  r.failed_early <= 5,
+              "live with a table tilted 2.9 degrees, E = %s Pa: every line answered, %d of "
+              "1500 ok, %d failed, all at the first touch (at most 5; exit %d)", stiffness[k],
+              r.ok, r.failed_early, r.rc);
         /* the lowered 0.2 m folds onto the table as a stiff column (bending
          * length (EI / rho A g)^(1/3) = 8 cm), which carries part of the rest */
         check(-r.fz < 0.8 * weight * 0.5 && -r.fz > 0.0,
@@ -545,13 +559,395 @@ static void test_contact_live(void)
               "from it, the radius %.6g m", r.closest, radius);
     }
     lowered r = lower_onto_table("0 0 1", "87.5e6");
-    check(r.rc == 0 && r.lines == 1500 && r.ok + r.failed_early == 1500 && r.failed_early <= 5,
+    check(r.rc == 0 && r.lines == 1500 && r.ok + r.failed_early == 1500 && r.failed_early <= 10,
           "live with a level table (the thread end-on): every line answered, %d of 1500 ok, "
-          "%d failed, all at the first touch (at most 5; exit %d)", r.ok, r.failed_early, r.rc);
+          "%d failed, all at the first touch (at most 10; exit %d)", r.ok, r.failed_early, r.rc);
     check(-r.fz < 0.8 * weight * 0.5 && -r.fz > 0.0 && r.closest >= radius * 0.99,
           "on the level table the holder carries %.4g N (the weight %.4g N), the closest "
           "centreline point is %.6g m from it (the radius %.6g m)", -r.fz, weight * 0.5,
           r.closest, radius);
+}
+
+/* The number after `key` in the session's summary line on stderr
+ * ("rodsim live: N lines: ..."; -1: none). */
+static double summary_number(const char *key)
+{
+    const char *summary = strstr(stderr_text, " lines: ");
+    if (!summary) return -1.0;
+    while (summary > stderr_text && summary[-1] != '\n') summary--;
+    const char *end = strchr(summary, '\n'), *at = strstr(summary, key);
+    return at && (!end || at < end) ? strtod(at + strlen(key), NULL) : -1.0;
+}
+
+/* A pose beyond reach: the holder pushes the thread's tip up into a
+ * ceiling (a plane 2 cm above it, solid above) and brings it back. Each
+ * line beyond reach fails within its budget (counted in Newton iterations,
+ * the scheme's own count), the end held where the ceiling stops it and the
+ * time going on, so every line after the pose is reachable again is ok:
+ * before, a line beyond reach took Newton's whole budget (some 380 Jacobian
+ * builds a line here), was dropped, and the next line asked for a jump from
+ * the last good pose that never came back within reach (470 ok, then 1030
+ * failed to the end). */
+static void test_pose_beyond_reach(void)
+{
+    FILE *f = fopen(DIR "/ceiling.ini", "w");
+    if (!f) return;
+    fputs(scene_text, f);
+    fputs("[surface]\nshape = plane\ncenter = 0 0 0.52\nnormal = 0 0 -1\nfriction = 0.3\n", f);
+    fclose(f);
+    f = fopen(DIR "/up.csv", "w");
+    if (!f) return;
+    const int lines = 1500;
+    for (int k = 1; k <= lines; k++) { /* up 5 cm and back within 1.2 s, then held */
+        double t = k * 1e-3, a = t < 1.2 ? sin(M_PI * t / 1.2) : 0.0;
+        fprintf(f, "%.3f,0,0,%.9f\n", t, 0.5 + 0.05 * a * a);
+    }
+    fclose(f);
+    int rc = system(RODSIM_BIN " live " DIR "/ceiling.ini < " DIR "/up.csv > " DIR
+                    "/up_out.csv 2> " DIR "/stderr.txt");
+    read_stderr();
+    f = fopen(DIR "/up_out.csv", "r");
+    static char line[4096];
+    int answered = 0, failed = 0, own_t = 0, last_failed = 0, first_failed = 0;
+    while (f && fgets(line, sizeof line, f)) {
+        if (line[0] == 't') continue;
+        answered++;
+        own_t += fabs(strtod(line, NULL) - answered * 1e-3) < 1e-12;
+        if (strstr(line, ",failed")) {
+            failed++;
+            last_failed = answered;
+            if (!first_failed) first_failed = answered;
+        }
+    }
+    if (f) fclose(f);
+    /* the request passes the height it failed at on its way back at the
+     * mirror time, 1.2 s - t_first: the lines after are within reach */
+    const int reachable = 1200 - first_failed + 2;
+    check(rc == 0 && answered == lines && failed > 50 && last_failed <= reachable,
+          "pushed into a ceiling and back: %d lines answered, %d failed (lines %d to %d), every "
+          "line ok from line %d on, where the pose is within reach again (exit %d)", answered,
+          failed, first_failed, last_failed, reachable, rc);
+    check(own_t == lines && summary_number("failed (") == failed,
+          "each answer at its own line's t (%d of %d): the failed lines moved part of the way "
+          "or held (%g of %d), none dropped", own_t, lines, summary_number("failed ("), failed);
+    char key[64];
+    snprintf(key, sizeof key, "budget %d to ", LIVE_STEP_BUDGET_MIN);
+    const double mean = summary_number("failed mean "), budget = summary_number(key);
+    const double worst = mean > 0.0 ? strtod(strstr(strstr(stderr_text, "failed mean "), ", max ") +
+                                                 6, NULL)
+                                    : -1.0;
+    check(mean > 0.0 && budget == LIVE_STEP_BUDGET_MIN && worst > 0.0 &&
+              worst <= 9.0 * LIVE_STEP_BUDGET_MIN,
+          "a failed line: at most %g Newton iterations (mean %g), within 9 x %d (its tries: as "
+          "asked, half way, held; each a step whose two retries with contact have the budget "
+          "too; before: the scheme's own, 4000 a try)", worst, mean, LIVE_STEP_BUDGET_MIN);
+}
+
+/* The same push at 10 ms a line (10 steps each), recorded and replayed by
+ * `rodsim run`: the held rows (the end at rest one step after the last good
+ * row: over 10 ms the last velocity carried it into the ceiling, and the
+ * stream stuck from line 48 on) replay to the live forces, also on the
+ * failed lines. Newton tolerance 1e-10 in both (test_replay). */
+static void test_beyond_reach_replay(void)
+{
+    FILE *f = fopen(DIR "/up10.csv", "w");
+    if (!f) return;
+    for (int k = 1; k <= 150; k++) {
+        double t = k * 0.01, a = t < 1.2 ? sin(M_PI * t / 1.2) : 0.0;
+        fprintf(f, "%.2f,0,0,%.9f\n", t, 0.5 + 0.05 * a * a);
+    }
+    fclose(f);
+    int rc = system(RODSIM_BIN " live " DIR "/ceiling.ini --set solver.newton_tolerance=1e-10 "
+                    "--record " DIR "/up10_rec.csv < " DIR "/up10.csv > " DIR
+                    "/up10_out.csv 2>/dev/null");
+    char out[1 << 14];
+    const char *run_args[] = {"run", DIR "/ceiling.ini", "--set", "solver.newton_tolerance=1e-10",
+                              "--set", "ends.tip_motion=" DIR "/up10_rec.csv",
+                              "--set", "solver.duration=1.5", "--set", "render.fps=100",
+                              "--no-video", "--csv", DIR "/up10_run.csv", "-o", DIR, NULL};
+    int run_rc = test_run_rodsim_within(run_args, 120, out, sizeof out);
+    static double live_force[160][3];
+    static int live_failed[160];
+    f = fopen(DIR "/up10_out.csv", "r");
+    char line[1024];
+    int answers = 0, failed = 0;
+    while (f && fgets(line, sizeof line, f)) {
+        double t, x, y, z;
+        if (sscanf(line, "%lf,%lf,%lf,%lf", &t, &x, &y, &z) != 4) continue;
+        int k = (int)lround(t / 0.01);
+        if (k < 0 || k >= 160) continue;
+        live_force[k][0] = x, live_force[k][1] = y, live_force[k][2] = z;
+        live_failed[k] = strstr(line, ",failed") != NULL;
+        failed += live_failed[k];
+        answers++;
+    }
+    if (f) fclose(f);
+    f = fopen(DIR "/up10_run.csv", "r");
+    double worst = 0.0, worst_failed = 0.0;
+    int compared = 0;
+    while (f && fgets(line, sizeof line, f)) {
+        double t, nx, ny, nz;
+        int node;
+        if (sscanf(line, "%lf,%d,%*f,%*f,%*f,%*f,%*f,%*f,%*f,%*f,%lf,%lf,%lf", &t, &node, &nx, &ny,
+                   &nz) != 5 || t <= 0.0 || node != 20)
+            continue;
+        int k = (int)lround(t / 0.01);
+        if (k < 0 || k >= 160) continue;
+        double d = fmax(fabs(-nx - live_force[k][0]),
+                        fmax(fabs(-ny - live_force[k][1]), fabs(-nz - live_force[k][2])));
+        worst = fmax(worst, d);
+        if (live_failed[k]) worst_failed = fmax(worst_failed, d);
+        compared++;
+    }
+    if (f) fclose(f);
+    const double weight = 1000.0 * M_PI * 0.001 * 0.001 / 4.0 * 0.5 * 9.81;
+    check(rc == 0 && run_rc == 0 && answers == 150 && failed > 5 && failed < 50 &&
+              live_failed[149] == 0,
+          "10 ms a line into the ceiling and back: %d answers, %d failed, the last ok; the "
+          "record replayed (exit %d, %d)", answers, failed, rc, run_rc);
+    check(compared == 150 && worst <= 1e-5 * weight,
+          "live and replayed tip force agree at %d times: largest difference %.3e N (%.1e of the "
+          "weight), %.3e N on the failed lines", compared, worst, worst / weight, worst_failed);
+}
+
+/* A line too far ahead is refused before --realtime waits for it: t = 1e6 s
+ * (it slept 11.6 days before), t = 1e300 (a conversion to time_t out of
+ * range), one step more than LIVE_MAX_STEPS_AHEAD; the line at exactly
+ * that many steps is stepped. alarm() ends a session that waits. */
+static void test_far_ahead(void)
+{
+    live_proc p;
+    const char *args[] = {DIR "/hang.ini", "--realtime", NULL};
+    alarm(60);
+    if (!check(live_start(&p, args) == 0, "rodsim live --realtime started")) return;
+    char answer[8192], limit[64];
+    if (!fgets(answer, sizeof answer, p.out)) return;
+    const double last = 0.001 + LIVE_MAX_STEPS_AHEAD * 0.001; /* dt = 1 ms */
+    char at_limit[64], beyond[64]; /* at_limit: not with --realtime, which would wait 10 s */
+    snprintf(at_limit, sizeof at_limit, "%.3f,0,0,0.5\n", last);
+    snprintf(beyond, sizeof beyond, "%.4f,0,0,0.5\n", last + LIVE_MAX_STEPS_AHEAD * 0.001 + 1e-4);
+    const char *lines[] = {"0.001,0,0,0.5\n", "1e6,0,0,0.5\n", "1e300,0,0,0.5\n", beyond};
+    int refused = 0, first_ok = 0;
+    for (int i = 0; i < 4; i++) {
+        if (exchange(&p, lines[i], answer, sizeof answer)) break;
+        if (i == 0) first_ok = strstr(answer, ",ok\n") != NULL;
+        else refused += strstr(answer, ",bad_input\n") != NULL;
+    }
+    check(live_finish(&p) == 0 && first_ok && refused == 3,
+          "t = 1e6 s, 1e300 s and %d steps + 0.1 ahead: refused at once (%d of 3), exit 0",
+          LIVE_MAX_STEPS_AHEAD, refused);
+    read_stderr();
+    snprintf(limit, sizeof limit, "more than %d steps of solver.dt", LIVE_MAX_STEPS_AHEAD);
+    check(strstr(stderr_text, "input line 2: t = 1000000 s is") != NULL &&
+              strstr(stderr_text, limit) != NULL,
+          "the message names the line and the limit (\"%s\")", limit);
+    /* exactly LIVE_MAX_STEPS_AHEAD steps ahead is stepped (without --realtime) */
+    FILE *f = fopen(DIR "/ahead.csv", "w");
+    if (!f) return;
+    fprintf(f, "0.001,0,0,0.5\n%s", at_limit);
+    fclose(f);
+    int rc = system(RODSIM_BIN " live " DIR "/hang.ini < " DIR "/ahead.csv > " DIR
+                    "/ahead_out.csv 2> " DIR "/stderr.txt");
+    read_stderr();
+    char text[128];
+    snprintf(text, sizeof text, "2 lines: 2 ok, 0 failed (0 moved part of the way or held), "
+             "0 bad; %d steps", LIVE_MAX_STEPS_AHEAD + 1);
+    check(rc == 0 && strstr(stderr_text, text) != NULL, "a line %d steps ahead is stepped: "
+          "\"%s\"", LIVE_MAX_STEPS_AHEAD, text);
+    alarm(0);
+}
+
+/* SIGTERM while a line is being stepped (10^4 steps at NS = 401, the end
+ * moved 10 cm: about a second of work, the signal after 50 ms) ends it at
+ * once: the line is answered failed (interrupted), the session ends with
+ * its summary, exit 0 (a line before was ok). Before, the signal waited
+ * for the line's last step. */
+static void test_signal_within_line(void)
+{
+    const char *args[] = {DIR "/hang.ini", "--set", "rod.nodes=401", NULL};
+    live_proc p;
+    alarm(60);
+    if (!check(live_start(&p, args) == 0, "rodsim live started (signal)")) return;
+    char answer[8192], line[64];
+    if (!fgets(answer, sizeof answer, p.out)) return;
+    int first_ok = exchange(&p, "0.001,0,0,0.5\n", answer, sizeof answer) == 0 &&
+                   strstr(answer, ",ok\n") != NULL;
+    snprintf(line, sizeof line, "%.3f,0.1,0,0.5\n", 0.001 + LIVE_MAX_STEPS_AHEAD * 0.001);
+    fputs(line, p.in);
+    fflush(p.in);
+    struct timespec pause = {0, 50000000}; /* 50 ms: well within the line's steps */
+    nanosleep(&pause, NULL);
+    kill(p.pid, SIGTERM);
+    int interrupted = fgets(answer, sizeof answer, p.out) != NULL &&
+                      strstr(answer, ",failed\n") != NULL;
+    int rc = live_finish(&p);
+    alarm(0);
+    read_stderr();
+    const double steps = summary_number("bad; ");
+    check(first_ok && interrupted && rc == 0 && steps >= 1.0 && steps < LIVE_MAX_STEPS_AHEAD &&
+              strstr(stderr_text, "interrupted by a stop signal") != NULL &&
+              strstr(stderr_text, "ended by a signal") != NULL,
+          "SIGTERM within a line of %d steps: answered failed (%d), %g steps taken, exit %d",
+          LIVE_MAX_STEPS_AHEAD, interrupted, steps, rc);
+}
+
+/* One answer per line whatever its bytes: a NUL followed by more than
+ * 4095 bytes (two answers before: fgets cut it), a NUL in a short line; a
+ * line of exactly LIVE_MAX bytes is stepped (refused before, though --help
+ * said "over 4095"), also with \r\n, one byte more is refused. */
+static void test_line_bytes(void)
+{
+    static char text[3 * 8192];
+    size_t n = 0;
+    const char *prefix = "0.001,0,0,0.5";
+    /* 1: exactly LIVE_LINE_MAX bytes: the numbers, then blanks */
+    n += (size_t)snprintf(text + n, sizeof text - n, "%s", prefix);
+    memset(text + n, ' ', LIVE_LINE_MAX - strlen(prefix));
+    n += LIVE_LINE_MAX - strlen(prefix);
+    text[n++] = '\n';
+    /* 2: a NUL, then 5000 bytes: one line, too long */
+    memcpy(text + n, "0.002,0,0,0.5", 13);
+    n += 13;
+    text[n++] = '\0';
+    memset(text + n, '7', 5000);
+    n += 5000;
+    text[n++] = '\n';
+    /* 3: LIVE_LINE_MAX + 1 bytes */
+    n += (size_t)snprintf(text + n, sizeof text - n, "0.002,0,0,0.5");
+    memset(text + n, ' ', LIVE_LINE_MAX + 1 - 13);
+    n += LIVE_LINE_MAX + 1 - 13;
+    text[n++] = '\n';
+    /* 4: a NUL within a short line */
+    memcpy(text + n, "0.002,0\0,0,0.5\n", 15);
+    n += 15;
+    /* 5: LIVE_LINE_MAX bytes and \r\n */
+    n += (size_t)snprintf(text + n, sizeof text - n, "0.002,0,0,0.5");
+    memset(text + n, ' ', LIVE_LINE_MAX - 13);
+    n += LIVE_LINE_MAX - 13;
+    text[n++] = '\r';
+    text[n++] = '\n';
+    /* 6: the last line without its newline */
+    n += (size_t)snprintf(text + n, sizeof text - n, "0.003,0,0,0.5");
+    FILE *f = fopen(DIR "/bytes.csv", "w");
+    if (!f) return;
+    fwrite(text, 1, n, f);
+    fclose(f);
+    int rc = system(RODSIM_BIN " live " DIR "/hang.ini < " DIR "/bytes.csv > " DIR
+                    "/bytes_out.csv 2> " DIR "/stderr.txt");
+    f = fopen(DIR "/bytes_out.csv", "r");
+    char line[512], statuses[128] = "";
+    int answers = 0;
+    while (f && fgets(line, sizeof line, f)) {
+        if (line[0] == 't') continue;
+        answers++;
+        line[strcspn(line, "\n")] = '\0';
+        const char *c = strrchr(line, ',');
+        if (c) strncat(statuses, c, sizeof statuses - strlen(statuses) - 1);
+    }
+    if (f) fclose(f);
+    read_stderr();
+    check(rc == 0 && answers == 6 &&
+              strcmp(statuses, ",ok,bad_input,bad_input,bad_input,ok,ok") == 0,
+          "6 lines, 6 answers: %s (a line of %d bytes ok, with \\r\\n too; a NUL, a byte over: "
+          "refused), exit %d", statuses, LIVE_LINE_MAX, rc);
+    check(strstr(stderr_text, "input line 2: longer than 4095 bytes") &&
+              strstr(stderr_text, "input line 3: the same as line 2 (a line too long)") &&
+              strstr(stderr_text, "input line 4: a NUL byte at byte 8"),
+          "stderr names the length and the NUL's byte");
+    char out[4096];
+    const char *help[] = {"live", "--help", NULL};
+    test_run_rodsim_within(help, 30, out, sizeof out);
+    check(strstr(out, "over 4095 bytes") != NULL && LIVE_LINE_MAX == 4095,
+          "--help says what is refused: a line of over 4095 bytes");
+}
+
+/* 6000 lines, none a number: one message, then its count (6000 of them
+ * before), exit 2 as no line was answered ok. */
+static void test_repeated_message(void)
+{
+    FILE *f = fopen(DIR "/junk.csv", "w");
+    if (!f) return;
+    for (int k = 0; k < 6000; k++) fputs("junk\n", f);
+    fclose(f);
+    int rc = system(RODSIM_BIN " live " DIR "/hang.ini < " DIR "/junk.csv > " DIR
+                    "/junk_out.csv 2> " DIR "/stderr.txt");
+    read_stderr();
+    int messages = 0;
+    for (const char *c = stderr_text; (c = strstr(c, "rodsim live: ")); c++) messages++;
+    check(WIFEXITED(rc) && WEXITSTATUS(rc) == 2 && messages <= 5 &&
+              strstr(stderr_text, "input line 1: a field is not a number") &&
+              strstr(stderr_text, "input lines 2 to 6000: 5999 more lines like line 1") &&
+              strstr(stderr_text, "none of the 6000 lines was answered ok"),
+          "6000 malformed lines: %d messages on stderr (the first, its count, the summary), "
+          "exit %d (2: no line answered ok)", messages, WIFEXITED(rc) ? WEXITSTATUS(rc) : -1);
+}
+
+/* Standard input closed or unreadable (a directory): exit 1, said. */
+static void test_unreadable_input(void)
+{
+    int rc = system(RODSIM_BIN " live " DIR "/hang.ini <&- > /dev/null 2> " DIR "/stderr.txt");
+    read_stderr();
+    check(WIFEXITED(rc) && WEXITSTATUS(rc) == 1 &&
+              strstr(stderr_text, "standard input is closed"),
+          "standard input closed: exit %d (1), said", WIFEXITED(rc) ? WEXITSTATUS(rc) : -1);
+    rc = system(RODSIM_BIN " live " DIR "/hang.ini < " DIR " > /dev/null 2> " DIR "/stderr.txt");
+    read_stderr();
+    check(WIFEXITED(rc) && WEXITSTATUS(rc) == 1 &&
+              strstr(stderr_text, "reading standard input after input line 0"),
+          "standard input a directory (a read error): exit %d (1), said",
+          WIFEXITED(rc) ? WEXITSTATUS(rc) : -1);
+}
+
+/* A record that cannot be written stops the session when it happens, exit
+ * 1: on /dev/full at its first row (no line answered), and with the file
+ * size limited to 16 kB in the middle of the session (before: said only
+ * at the end, every line answered as if recorded). */
+static void test_record_write_error(void)
+{
+    FILE *f = fopen(DIR "/rec_in.csv", "w");
+    if (!f) return;
+    for (int k = 1; k <= 400; k++) fprintf(f, "%.3f,0,0,0.5\n", k * 1e-3);
+    fclose(f);
+    int rc = system(RODSIM_BIN " live " DIR "/hang.ini --record /dev/full < " DIR
+                    "/rec_in.csv > " DIR "/rec_out.csv 2> " DIR "/stderr.txt");
+    read_stderr();
+    f = fopen(DIR "/rec_out.csv", "r");
+    char line[512];
+    int answers = 0;
+    while (f && fgets(line, sizeof line, f)) answers += line[0] != 't';
+    if (f) fclose(f);
+    check(WIFEXITED(rc) && WEXITSTATUS(rc) == 1 && answers == 0 &&
+              strstr(stderr_text, "--record /dev/full: write error before the first line "
+                                  "(No space left on device)"),
+          "--record /dev/full: exit %d (1) before any line (%d answered), said at once",
+          WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, answers);
+
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) {
+        struct rlimit limit = {16384, 16384};
+        setrlimit(RLIMIT_FSIZE, &limit);
+        signal(SIGXFSZ, SIG_IGN); /* the write fails with EFBIG instead */
+        int in = open(DIR "/rec_in.csv", O_RDONLY), out = open("/dev/null", O_WRONLY);
+        int e = open(DIR "/stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (in < 0 || out < 0 || e < 0) _exit(126);
+        dup2(in, 0);
+        dup2(out, 1);
+        dup2(e, 2);
+        execl(RODSIM_BIN, RODSIM_BIN, "live", DIR "/hang.ini", "--record", DIR "/full.csv",
+              (char *)NULL);
+        _exit(127);
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    read_stderr();
+    const char *at = strstr(stderr_text, "write error at input line ");
+    const long stopped = at ? strtol(at + strlen("write error at input line "), NULL, 10) : -1;
+    const double lines = summary_number("rodsim live: ");
+    check(WIFEXITED(status) && WEXITSTATUS(status) == 1 && stopped > 10 && stopped < 400 &&
+              lines == stopped && strstr(stderr_text, "File too large"),
+          "a record that fills its 16 kB: stopped at input line %ld of 400 (%g read), exit %d (1)",
+          stopped, lines, WIFEXITED(status) ? WEXITSTATUS(status) : -1);
 }
 
 int main(void)
@@ -579,6 +975,14 @@ int main(void)
     test_free_tip_loads();
     test_failed_step();
     test_contact_live();
+    test_pose_beyond_reach();
+    test_beyond_reach_replay();
+    test_far_ahead();
+    test_signal_within_line();
+    test_line_bytes();
+    test_repeated_message();
+    test_unreadable_input();
+    test_record_write_error();
     test_remove_tree(DIR);
     return test_finish();
 }
