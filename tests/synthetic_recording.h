@@ -1,6 +1,7 @@
 /* synthetic_recording.h: recordings built from closed-form shapes, for the
  * renderer's tests and benchmark (no scheme involved). The rod starts along
- * +x with d1 = +y, d2 = +z, d3 = +x (rod.h). */
+ * +x with d1 = +y, d2 = +z, d3 = +x (rod.h); its root is clamped and its
+ * tip free (the thesis' cantilever), with no needle, load or surface. */
 #ifndef RODSIM_SYNTHETIC_RECORDING_H
 #define RODSIM_SYNTHETIC_RECORDING_H
 
@@ -21,6 +22,8 @@ static inline rod_recording *synthetic_recording_create(int nodes, int frames, d
     r->diameter = diameter;
     strcpy(r->scheme, "synthetic");
     strcpy(r->scene, "synthetic");
+    r->ends[0].kind = RECORDING_END_CLAMPED;
+    r->ends[1].kind = RECORDING_END_FREE;
     r->frame_count = frames;
     r->capacity = frames;
     size_t n = (size_t)nodes, f = (size_t)frames;
@@ -31,6 +34,22 @@ static inline rod_recording *synthetic_recording_create(int nodes, int frames, d
     r->tip_force = calloc(f * 3, sizeof(double));
     r->tip_moment = calloc(f * 3, sizeof(double));
     return r;
+}
+
+/* Gives r a copy of `count` surfaces (r owns it; count 0: none). Returns 0,
+ * or -1 when out of memory. */
+static inline int synthetic_recording_surfaces(rod_recording *r, const recording_surface *surfaces,
+                                               int count)
+{
+    free(r->surfaces);
+    r->surfaces = NULL;
+    r->surface_count = 0;
+    if (count <= 0) return 0;
+    r->surfaces = malloc((size_t)count * sizeof *r->surfaces);
+    if (!r->surfaces) return -1;
+    memcpy(r->surfaces, surfaces, (size_t)count * sizeof *r->surfaces);
+    r->surface_count = count;
+    return 0;
 }
 
 /* Frame `frame` as an arc of radius `bend_radius` in the x-y plane (0 or

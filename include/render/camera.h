@@ -59,10 +59,10 @@ extern const frame_band frame_band_full;
 
 /* 1 when the overlay names what holds the ends: not for the thesis'
  * cantilever (the old scenes look as before) */
-int ends_line_shown(const render_options *o);
+int ends_line_shown(const rod_recording *rec, const render_options *o);
 /* base with its top grown to clear the overlay's left column (its title,
  * caption, time and ends' lines, as drawn by overlay_draw). */
-frame_band overlay_band(const render_options *o, frame_band base);
+frame_band overlay_band(const rod_recording *rec, const render_options *o, frame_band base);
 /* The view, projection and their product from cam's eye, basis and target. */
 void camera_matrices(render_camera *cam, double half_height, double near, double far);
 /* The camera of rec's whole motion (as render_camera_fit) with the content

@@ -43,8 +43,8 @@ void stripe_formula_offset(const rod_recording *rec, int frame, int node, double
 /* Unit vectors e1, e2 completing the unit d to a right-handed basis. */
 void perpendicular_basis(const double d[3], double e1[3], double e2[3]);
 
-/* An empty recording shaped like rec with room for `frames` frames; NULL
- * when out of memory. */
+/* An empty recording shaped like rec (its ends, needle, loads and a copy of
+ * its surfaces) with room for `frames` frames; NULL when out of memory. */
 rod_recording *recording_like(const rod_recording *rec, int frames);
 /* Frame `frame` of rec, its displacement from rec's frame 0 times magnify,
  * into frame `to` of out: r0 + m (r - r0), Q0 exp(m log(Q0^T Q)), u3 likewise. */

@@ -28,7 +28,7 @@
 /* The needle's wire radius, m: as thick as the drawn thread at most (a real
  * needle is thicker than its thread, but a thicker wire hides the arc),
  * and thin beside the arc's radius. */
-double glyph_needle_wire(const render_options *o, double radius);
+double glyph_needle_wire(const rod_recording *rec, double radius);
 /* Points whose padded hull holds the glyph at `end` in `frame` (padded by
  * *pad, m); returns how many (0: nothing drawn). *chain = 1 when they are
  * a polyline (consecutive pairs bound it), 0 when a hull. */

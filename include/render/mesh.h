@@ -37,7 +37,7 @@ void mesh_disc(render_mesh *m, const double centre[3], const double e1[3], const
 void mesh_block(render_mesh *m, const double centre[3], double axes[3][3],
                 const double half[3], const float color[3]);
 /* An axis-aligned box of half edges `half` whose edges and corners are
- * rounded to `radius` (rod_surface.rounding): each face a grid whose rows
+ * rounded to `radius` (recording_surface.rounding): each face a grid whose rows
  * near its rim carry the rounding, every grid point q of the sharp face
  * taken to c + radius (q - c) / |q - c|, c the nearest point of the core
  * (the box less radius each side); its normal (q - c) / |q - c|. Each face

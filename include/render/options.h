@@ -37,14 +37,6 @@ typedef enum {
 } render_view_kind;
 #define RENDER_MAX_VIEWS 3
 
-/* What holds an end, as drawn (the renderer does not see sim/rod.h; the
- * caller copies the model's end kinds here). */
-typedef enum {
-    RENDER_END_CLAMPED = 0, /* a block oriented with the end's frame */
-    RENDER_END_PINNED,      /* a ball */
-    RENDER_END_FREE         /* nothing */
-} render_end_kind;
-
 /* What colours the tube along its length ([render] color). */
 typedef enum {
     RENDER_COLOR_SOLID = 0, /* one colour (render_rod_color) */
@@ -96,13 +88,6 @@ typedef enum {
                            frame drew (edge_aa.h); the backdrop still multisampled */
 } render_antialias;
 
-typedef struct render_end {
-    render_end_kind kind;
-    int driven;             /* 1: the end follows a path (named in the overlay) */
-    int sliding;            /* 1: on a slide (a sleeve), 2: on a slide without turning
-                               about it (a carriage; ends.*_twist = held) */
-} render_end;
-
 /* Scene [render] section; render_options_default() makes a good picture. */
 typedef struct render_options {
     int width, height;           /* pixels (even: yuv420p) */
@@ -121,12 +106,9 @@ typedef struct render_options {
     int grid;                    /* backdrop grid and scale bar */
     int overlay;                 /* text: scene, time, scheme, loads */
     int frames_png;              /* also write every frame as PNG */
-    render_end ends[2];          /* [0] the root (s = 0), [1] the tip (s = L); default: clamped
-                                    root, free tip (the thesis' cantilever) */
-    double needle_radius;        /* m; > 0: a curved needle whose back is at the tip, drawn
-                                    instead of the tip's block or ball (scene [ends] needle) */
-    double needle_arc;           /* the needle's arc, fraction of a circle: 0.375 (3/8, default)
-                                    or 0.5 (1/2) ([render] needle_arc) */
+    double needle_arc;           /* the needle's arc (its radius: rod_recording), fraction of
+                                    a circle: 0.375 (3/8, default) or 0.5 (1/2) ([render]
+                                    needle_arc) */
     int poster;                  /* write the last frame as <scene>.png */
     char title[256];             /* overlay title; "" (default): the scene's name */
     char caption[256];           /* a line under the title; "" (default): none */
@@ -139,11 +121,6 @@ typedef struct render_options {
     double speed;                /* playback: simulated seconds per video second (1: real
                                     time, 0.25: 4x slow motion, 10: time-lapse) */
     double magnify;              /* displacements from the first frame drawn x this (1: none) */
-    double distributed_force[3]; /* N/m, global: the scene's weight and distributed force
-                                    (run.c copies the model's), drawn as an arrow when not 0 */
-    const rod_surface *surfaces; /* the scene's obstacles, drawn (run.c copies the model's
-                                    pointer; not owned); NULL with surface_count 0: none */
-    int surface_count;
     int smooth;                  /* 1 (default): the tube through a smooth curve between the
                                     nodes (mesh.c: centreline_rings); 0: straight between */
     int shadows;                 /* 1 (default): the rod, needle, end glyphs and arrows cast

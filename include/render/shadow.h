@@ -67,13 +67,14 @@ void receiver_plan_make(receiver_plan *p, const rod_recording *rec, const render
 /* Clips the polygon (count points, up to 16) to the catcher (Sutherland-Hodgman);
  * returns the points left. */
 int shadow_clip_polygon(double *poly, int count, const shadow_catcher *k);
-/* The surfaces, the ground and the wound as static receivers (uploaded to
- * gl), the shadow catchers for the tiles, and with o->shadows the shadow
- * map's light fitted to cam. 0 (nothing to receive: s->receivers 0), or -1
+/* rec's surfaces, the ground and the wound as static receivers (uploaded
+ * to gl), the shadow catchers for the tiles, and with o->shadows the shadow
+ * map's light fitted to cam; rec is the run as recorded (the plan may come
+ * from its magnified copy). 0 (nothing to receive: s->receivers 0), or -1
  * with a message. */
 int shadow_receivers(shadow_scene *s, gl_renderer *gl, const receiver_plan *plan,
-                     const render_options *o, const render_camera *cam, char *err,
-                     size_t errlen);
+                     const rod_recording *rec, const render_options *o,
+                     const render_camera *cam, char *err, size_t errlen);
 /* The shadow map's light, fitted to what the camera shows. Its box runs
  * along the light over all the casters (a caster out of the picture can
  * shadow what is in it), but across it only over the shadows that can be

@@ -15,12 +15,12 @@
 /* vertices and indices one surface's mesh needs at most (the sphere) */
 #define SURFACE_VERTICES ((SURFACE_STACKS + 1) * (SURFACE_SIDES + 1) + 2 * (SURFACE_SIDES + 1))
 #define SURFACE_INDICES (6 * SURFACE_STACKS * SURFACE_SIDES + 6 * SURFACE_SIDES)
-#define PUNCTURE_VERTICES (ROD_MAX_PUNCTURES * (PUNCTURE_SIDES + 1))
-#define PUNCTURE_INDICES (ROD_MAX_PUNCTURES * 3 * PUNCTURE_SIDES)
+#define PUNCTURE_VERTICES (RECORDING_MAX_PUNCTURES * (PUNCTURE_SIDES + 1))
+#define PUNCTURE_INDICES (RECORDING_MAX_PUNCTURES * 3 * PUNCTURE_SIDES)
 
 /* The axis-aligned bounds of a surface (a plane's and a cylinder's are
  * infinite along them). */
-void surface_bounds(const rod_surface *s, double lo[3], double hi[3]);
+void surface_bounds(const recording_surface *s, double lo[3], double hi[3]);
 /* A square of half side `half` (m) in the plane through point with unit
  * normal n, centred where centre's perpendicular meets it. */
 void surface_add_plane(render_mesh *m, const double point[3], const double n[3],
@@ -34,16 +34,17 @@ void surface_add_cylinder(render_mesh *m, const double centre[3], const double a
                           double half, const float color[3]);
 /* The drawn piece of an unbounded cylinder: along its axis over the motion's
  * box and one motion size beyond it each way. */
-void surface_cylinder_piece(const rod_surface *s, const double lo[3], const double hi[3],
+void surface_cylinder_piece(const recording_surface *s, const double lo[3], const double hi[3],
                             double size, double centre[3], double *half);
-/* The wound: a dark red strip along the segment, laid on the nearest
- * surface and lifted off it by `lift` (m) so the depth test keeps it. */
-void surface_add_wound(render_mesh *m, const render_options *o, double width, double lift,
-                       const double up_fallback[3]);
+/* The wound (o->wound_line): a dark red strip along the segment, laid on
+ * the nearest of rec's surfaces and lifted off it by `lift` (m) so the depth
+ * test keeps it. */
+void surface_add_wound(render_mesh *m, const rod_recording *rec, const render_options *o,
+                       double width, double lift, const double up_fallback[3]);
 /* The punctures of frame `frame` of rec: dark discs (1.8 radius, m) on the
  * surface each is in, lifted off it by `lift` (m), the thread passing
  * through their centre. */
-void surface_add_punctures(render_mesh *m, const rod_recording *rec, const render_options *o,
-                           int frame, double radius, double lift);
+void surface_add_punctures(render_mesh *m, const rod_recording *rec, int frame, double radius,
+                           double lift);
 
 #endif

@@ -1,16 +1,55 @@
 /* recording.h: the frames of a run, as plain arrays, handed from the
  * simulation to the writers (CSV, renderer). The renderer sees only this:
- * centreline points, director frames, the twist, time and loads; nothing of
- * a scheme's internals. Frames are appended at the output rate while the run
- * goes; the renderer reads them after the run completes, so a diverged run
- * writes nothing, and the camera can frame the whole motion. The CSV does
- * not need them: it is written frame by frame from the state. */
+ * centreline points, director frames, the twist, time and loads, and what
+ * it draws of the scene (the ends' holders, the needle, the distributed
+ * load, the obstacles); nothing of the model or a scheme's internals.
+ * Frames are appended at the output rate while the run goes; the renderer
+ * reads them after the run completes, so a diverged run writes nothing,
+ * and the camera can frame the whole motion. The CSV does not need them:
+ * it is written frame by frame from the state. */
 #ifndef RODSIM_RECORDING_H
 #define RODSIM_RECORDING_H
 
 #include <stddef.h>
 
 #include "sim/rod.h"
+
+/* The most punctures a frame holds (the run's). */
+#define RECORDING_MAX_PUNCTURES ROD_MAX_PUNCTURES
+
+/* What holds an end, as drawn: the model's end kind in the renderer's
+ * words (the renderer does not see the model). */
+typedef enum {
+    RECORDING_END_CLAMPED = 0, /* position and frame held: a block oriented with the end's frame */
+    RECORDING_END_PINNED,      /* position held, free to rotate: a ball */
+    RECORDING_END_FREE         /* nothing held: nothing drawn */
+} recording_end_kind;
+
+typedef struct recording_end {
+    recording_end_kind kind;
+    int driven;                /* 1: the end follows a path (named in the overlay) */
+    int sliding;               /* 1: on a slide (a sleeve), 2: on a slide without turning
+                                  about it (a carriage; ends.*_twist = held); 0: neither */
+} recording_end;
+
+/* An obstacle of the scene, as drawn (the model's [surface], copied). */
+typedef enum {
+    RECORDING_SURFACE_PLANE = 0, /* the half-space below `normal` through `center` */
+    RECORDING_SURFACE_BOX,       /* axis-aligned, edges size[0..2] along x y z, centred on center */
+    RECORDING_SURFACE_CYLINDER,  /* radius size[0] about the axis through center along `normal`,
+                                    unbounded along it */
+    RECORDING_SURFACE_SPHERE     /* radius size[0] about center */
+} recording_surface_shape;
+
+typedef struct recording_surface {
+    recording_surface_shape shape;
+    double center[3];          /* m, global */
+    double normal[3];          /* unit: the plane's outward normal, the cylinder's axis */
+    double size[3];            /* m: the box's edge lengths; size[0] the cylinder's or
+                                  sphere's radius */
+    double rounding;           /* m: a box's edges and corners rounded to this radius (0: sharp) */
+    int tissue;                /* 1: skin (a needle passing through it makes punctures) */
+} recording_surface;
 
 typedef struct rod_recording {
     /* fixed for the run */
@@ -22,6 +61,13 @@ typedef struct rod_recording {
                              the true radius, so that touching strands look touching) */
     char scheme[16];      /* "thesis", "implicit", "static" */
     char scene[128];      /* scene name (file base name) */
+    recording_end ends[2]; /* [0] the root (s = 0), [1] the tip (s = L) */
+    double needle_radius; /* m; > 0: a curved needle whose back is at the tip, drawn instead
+                             of the tip's block or ball (scene [ends] needle) */
+    double distributed_force[3]; /* N/m, global: the weight and distributed force (drawn as
+                                    an arrow when not 0; "down" for the ground) */
+    int surface_count;
+    recording_surface *surfaces; /* (surface_count), owned; NULL with surface_count 0: none */
 
     /* frames */
     int frame_count;
@@ -33,8 +79,9 @@ typedef struct rod_recording {
     double *tension;      /* (frames x nodes), N . d3 at each node, N (colour by tension) */
     double *tip_force;    /* (frames x 3), N, global components */
     double *tip_moment;   /* (frames x 3), N m, global components */
-    int *puncture_count;  /* (frames), punctures the thread passes through (0..ROD_MAX_PUNCTURES) */
-    double *puncture;     /* (frames x ROD_MAX_PUNCTURES x 3), m, global: their points;
+    int *puncture_count;  /* (frames), punctures the thread passes through
+                             (0..RECORDING_MAX_PUNCTURES) */
+    double *puncture;     /* (frames x RECORDING_MAX_PUNCTURES x 3), m, global: their points;
                              a recording made by hand may leave both NULL: none */
     double peak_force;    /* N, the largest |tip force| of every frame appended or noted */
     double peak_moment;   /* N m, the same for the tip moment */
@@ -43,14 +90,16 @@ typedef struct rod_recording {
                                 is recorded from it: rod_recording_append) */
 } rod_recording;
 
-/* Room for `capacity` frames (grows when exceeded). NULL when out of memory. */
+/* Room for `capacity` frames (grows when exceeded), with what the picture
+ * needs of the model (its ends, needle, distributed force and surfaces,
+ * copied). NULL when out of memory. */
 rod_recording *rod_recording_create(const rod_model *m, const char *scene, int capacity);
 void rod_recording_destroy(rod_recording *r);
 /* u3 at node `node` of the state, 1/m (staggered schemes: the mean of the
  * midpoints beside it), as the recording and the CSV hold it. */
 double rod_recording_node_twist(const rod_state *s, int node);
 /* Bytes a recording of `frames` frames of `nodes` nodes holds (112 per node
- * per frame; 56 per frame for time and loads, 4 + 24 ROD_MAX_PUNCTURES for
+ * per frame; 56 per frame for time and loads, 4 + 24 RECORDING_MAX_PUNCTURES for
  * the punctures): what a run must fit in memory to frame its video. */
 double rod_recording_bytes(int nodes, double frames);
 /* The tip load at s->time from the model, global components: force (N) and

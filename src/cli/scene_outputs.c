@@ -67,14 +67,6 @@ int run_read_output(ini_doc *doc, run_output *out, char *err, size_t errlen)
     return 0;
 }
 
-/* The renderer's words for an end (render.h does not see rod.h). */
-static render_end_kind render_end_of(rod_end_kind kind)
-{
-    return kind == ROD_END_PINNED ? RENDER_END_PINNED
-         : kind == ROD_END_FREE   ? RENDER_END_FREE
-                                  : RENDER_END_CLAMPED;
-}
-
 int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_t errlen)
 {
     /* unknown keys first, at their own line: a misspelt required
@@ -88,21 +80,6 @@ int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_
         rod_model_release(m);
         return -1;
     }
-    /* the renderer draws what holds each end and the needle */
-    out->render.ends[0].kind = render_end_of(m->root_end);
-    out->render.ends[0].driven = m->root_motion != NULL;
-    out->render.ends[1].kind = render_end_of(m->tip_end);
-    out->render.ends[1].driven = m->tip_motion != NULL;
-    for (int e = 0; e < 2; e++) {
-        const double *slide = e ? m->tip_slide : m->root_slide;
-        if (slide[0] != 0.0 || slide[1] != 0.0 || slide[2] != 0.0)
-            out->render.ends[e].sliding = m->slide_twist_held[e] ? 2 : 1;
-    }
-    out->render.needle_radius = m->needle_radius;
-    for (int k = 0; k < 3; k++) out->render.distributed_force[k] = m->distributed_force[k];
-    /* the obstacles are drawn; the model outlives the render */
-    out->render.surfaces = m->surfaces;
-    out->render.surface_count = m->surface_count;
     return 0;
 }
 

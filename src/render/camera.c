@@ -26,9 +26,9 @@ void camera_basis(const double view[3], double back[3], double right[3], double 
  * box, cut to the motion's own box grown by half its size on every side, so
  * that a skin pad under the thread is framed but a large table or an
  * unbounded cylinder does not shrink the rod (a plane is never framed). */
-static void point_cloud_add_surfaces(point_cloud *pc, const render_options *o)
+static void point_cloud_add_surfaces(point_cloud *pc, const rod_recording *rec)
 {
-    if (o->surface_count <= 0 || pc->count == 0) return;
+    if (rec->surface_count <= 0 || pc->count == 0) return;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int i = 0; i < pc->count; i++)
         for (int c = 0; c < 3; c++) {
@@ -36,9 +36,9 @@ static void point_cloud_add_surfaces(point_cloud *pc, const render_options *o)
             hi[c] = fmax(hi[c], pc->points[3 * i + c] + pc->pad);
         }
     double size = fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
-    for (int k = 0; k < o->surface_count; k++) {
-        const rod_surface *sf = &o->surfaces[k];
-        if (sf->shape == ROD_SURFACE_PLANE) continue;
+    for (int k = 0; k < rec->surface_count; k++) {
+        const recording_surface *sf = &rec->surfaces[k];
+        if (sf->shape == RECORDING_SURFACE_PLANE) continue;
         double slo[3], shi[3];
         surface_bounds(sf, slo, shi);
         int empty = 0;
@@ -96,7 +96,7 @@ int point_cloud_create(point_cloud *pc, const rod_recording *rec, const render_o
      * for a ball (its padded centre) */
     size_t capacity = (size_t)(rec->frame_count / stride + 2) * (size_t)rec->nodes +
                       (size_t)rec->frame_count * (4 + 2 * GLYPH_MAX_POINTS) + 8 +
-                      8 * (size_t)(o->surface_count > 0 ? o->surface_count : 0);
+                      8 * (size_t)(rec->surface_count > 0 ? rec->surface_count : 0);
     pc->points = malloc(capacity * 3 * sizeof(double));
     pc->count = 0;
     pc->pad = radius;
@@ -133,12 +133,12 @@ static void mat4_mul(double r[16], const double a[16], const double b[16])
 
 const frame_band frame_band_full = {FRAME_TOP, FRAME_BOTTOM, FRAME_SIDE};
 
-int ends_line_shown(const render_options *o)
+int ends_line_shown(const rod_recording *rec, const render_options *o)
 {
-    const render_end *root = &o->ends[0], *tip = &o->ends[1];
+    const recording_end *root = &rec->ends[0], *tip = &rec->ends[1];
     return (o->show & RENDER_SHOW_ENDS) &&
-           (root->kind != RENDER_END_CLAMPED || root->driven || tip->kind != RENDER_END_FREE ||
-            tip->driven || o->needle_radius > 0);
+           (root->kind != RECORDING_END_CLAMPED || root->driven ||
+            tip->kind != RECORDING_END_FREE || tip->driven || rec->needle_radius > 0);
 }
 
 /* base with its top grown to clear the overlay's left column (overlay_draw:
@@ -147,7 +147,7 @@ int ends_line_shown(const render_options *o)
  * below the last): FRAME_TOP holds a title and the time line; a caption and
  * the ends' line need more (buckling_twist.ini's plectoneme, framed by
  * `follow`, ran into its fourth line with FRAME_TOP alone). */
-frame_band overlay_band(const render_options *o, frame_band base)
+frame_band overlay_band(const rod_recording *rec, const render_options *o, frame_band base)
 {
     if (!o->overlay || o->height <= 0) return base;
     const unsigned show = o->show;
@@ -155,7 +155,7 @@ frame_band overlay_band(const render_options *o, frame_band base)
     if (show & RENDER_SHOW_TITLE) lines++;
     if ((show & RENDER_SHOW_CAPTION) && o->caption[0]) lines++;
     if (show & RENDER_SHOW_TIME) lines++;
-    if (ends_line_shown(o)) lines++;
+    if (ends_line_shown(rec, o)) lines++;
     if (lines == 0) return base;
     const double h = o->height, body = fmax(h / 34.0, 7.0), title = fmax(h / 22.0, 8.0);
     const double line = 1.2 * body + 4.0;
@@ -205,7 +205,7 @@ void camera_fit(render_camera *cam, const rod_recording *rec, const render_optio
         /* out of memory: frame the first frame's ends */
         pc.count = 0;
     }
-    point_cloud_add_surfaces(&pc, o);
+    point_cloud_add_surfaces(&pc, rec);
     double aspect = (double)o->width / o->height;
     /* the band of the picture the content may use, as fractions of the half-size */
     double use_x = 1 - 2 * band->side, use_y = 1 - band->top - band->bottom;
@@ -231,7 +231,7 @@ void camera_fit(render_camera *cam, const rod_recording *rec, const render_optio
         distance = 0.5 * (hi[2] - lo[2]) + 0.5 * size + 1e-3;
         near = 1e-4 * size;
         far = distance + 4 * size;
-        if (o->surface_count > 0 || v3_norm(o->distributed_force) > 0) {
+        if (rec->surface_count > 0 || v3_norm(rec->distributed_force) > 0) {
             /* a floor (a plane, the ground) reaches 3 sizes and more from the
              * motion: the eye stands back so that no part of it is clipped
              * (an orthographic picture does not change with the distance) */
@@ -295,7 +295,7 @@ void render_camera_fit(render_camera *cam, const rod_recording *rec, const rende
 {
     /* the motion as drawn: magnified (out of memory: the true motion) */
     rod_recording *shown = o->magnify != 1 ? magnified_copy(rec, o->magnify) : NULL;
-    const frame_band band = overlay_band(o, frame_band_full);
+    const frame_band band = overlay_band(rec, o, frame_band_full);
     camera_fit(cam, shown ? shown : rec, o, &band);
     rod_recording_destroy(shown);
 }

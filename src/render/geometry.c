@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "base/vec3.h"
 
@@ -68,6 +69,9 @@ rod_recording *recording_like(const rod_recording *rec, int frames)
     r->puncture_count = NULL;
     r->puncture = NULL;
     r->force_scratch = NULL;
+    /* the surfaces too: the copy is drawn with them, and outlives nothing of rec */
+    r->surfaces = NULL;
+    r->surface_count = 0;
     size_t n = (size_t)rec->nodes, f = (size_t)(frames > 0 ? frames : 1);
     r->frame_count = r->capacity = (int)f;
     r->time = malloc(f * sizeof(double));
@@ -77,8 +81,14 @@ rod_recording *recording_like(const rod_recording *rec, int frames)
     r->tension = malloc(f * n * sizeof(double));
     r->tip_force = malloc(f * 3 * sizeof(double));
     r->tip_moment = malloc(f * 3 * sizeof(double));
+    if (rec->surface_count > 0 && rec->surfaces) {
+        size_t bytes = (size_t)rec->surface_count * sizeof *r->surfaces;
+        r->surfaces = malloc(bytes);
+        if (r->surfaces) memcpy(r->surfaces, rec->surfaces, bytes);
+        r->surface_count = rec->surface_count;
+    }
     if (!r->time || !r->position || !r->frame || !r->twist || !r->tension || !r->tip_force ||
-        !r->tip_moment) {
+        !r->tip_moment || (r->surface_count > 0 && !r->surfaces)) {
         rod_recording_destroy(r);
         return NULL;
     }

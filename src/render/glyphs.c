@@ -21,12 +21,12 @@
  * back; a free tip with a needle still shows it (a dropped needle). */
 typedef enum { GLYPH_NONE, GLYPH_BLOCK, GLYPH_BALL, GLYPH_NEEDLE } glyph_kind;
 
-static glyph_kind end_glyph(const render_options *o, int end)
+static glyph_kind end_glyph(const rod_recording *rec, int end)
 {
-    if (end == 1 && o->needle_radius > 0) return GLYPH_NEEDLE;
-    switch (o->ends[end].kind) {
-    case RENDER_END_CLAMPED: return GLYPH_BLOCK;
-    case RENDER_END_PINNED: return GLYPH_BALL;
+    if (end == 1 && rec->needle_radius > 0) return GLYPH_NEEDLE;
+    switch (rec->ends[end].kind) {
+    case RECORDING_END_CLAMPED: return GLYPH_BLOCK;
+    case RECORDING_END_PINNED: return GLYPH_BALL;
     default: return GLYPH_NONE;
     }
 }
@@ -48,9 +48,9 @@ static void clamp_box(const rod_recording *rec, double radius, int frame, int en
     v3_axpy(centre, end ? half[2] : -half[2], axes[2]);
 }
 
-double glyph_needle_wire(const render_options *o, double radius)
+double glyph_needle_wire(const rod_recording *rec, double radius)
 {
-    return fmin(0.8 * radius, 0.12 * o->needle_radius);
+    return fmin(0.8 * radius, 0.12 * rec->needle_radius);
 }
 
 /* The needle's arc: the circle of radius R through the tip r, tangent to its
@@ -62,7 +62,7 @@ static void needle_arc_points(const rod_recording *rec, const render_options *o,
 {
     int node = rec->nodes - 1;
     const double *q = node_frame(rec, frame, node), *r = node_position(rec, frame, node);
-    double d1[3], d3[3], big = o->needle_radius;
+    double d1[3], d3[3], big = rec->needle_radius;
     m3_column(d1, q, 0);
     m3_column(d3, q, 2);
     for (int k = 0; k <= NEEDLE_SEGMENTS; k++) {
@@ -78,7 +78,7 @@ int glyph_points(const rod_recording *rec, const render_options *o, double radiu
 {
     *pad = 0;
     *chain = 0;
-    switch (end_glyph(o, end)) {
+    switch (end_glyph(rec, end)) {
     case GLYPH_BLOCK: {
         double centre[3], axes[3][3], half[3];
         clamp_box(rec, radius, frame, end, centre, axes, half);
@@ -95,7 +95,7 @@ int glyph_points(const rod_recording *rec, const render_options *o, double radiu
         return 1;
     case GLYPH_NEEDLE:
         needle_arc_points(rec, o, frame, out);
-        *pad = glyph_needle_wire(o, radius);
+        *pad = glyph_needle_wire(rec, radius);
         *chain = 1;
         return NEEDLE_SEGMENTS + 1;
     default:
@@ -113,7 +113,7 @@ static void add_ball(render_mesh *m, const double centre[3], double ball_radius)
 static void add_needle(render_mesh *m, const rod_recording *rec, const render_options *o, int frame,
                        double radius)
 {
-    double arc[3 * (NEEDLE_SEGMENTS + 1)], wire = glyph_needle_wire(o, radius);
+    double arc[3 * (NEEDLE_SEGMENTS + 1)], wire = glyph_needle_wire(rec, radius);
     needle_arc_points(rec, o, frame, arc);
     const double *q = node_frame(rec, frame, rec->nodes - 1);
     double d1[3], d2[3], d3[3];
@@ -153,7 +153,7 @@ void glyph_add_ends(render_mesh *m, const rod_recording *rec, const render_optio
                     double radius)
 {
     for (int end = 0; end < 2; end++) {
-        switch (end_glyph(o, end)) {
+        switch (end_glyph(rec, end)) {
         case GLYPH_BLOCK: {
             double centre[3], axes[3][3], half[3];
             clamp_box(rec, radius, frame, end, centre, axes, half);

@@ -35,9 +35,6 @@ void render_options_default(render_options *o)
     o->overlay = 1;
     o->frames_png = 0;
     o->poster = 1;
-    o->ends[0].kind = RENDER_END_CLAMPED;
-    o->ends[1].kind = RENDER_END_FREE;
-    o->needle_radius = 0;
     o->needle_arc = 0.375; /* 3/8 circle: the most common suturing needle */
     o->show = RENDER_SHOW_ALL;
     o->color = RENDER_COLOR_SOLID;

@@ -330,16 +330,16 @@ static void draw_left_column(image *img, const render_overlay *ov, const rod_rec
         left_line(left, ov->body, x, y, text);
     }
     /* what holds the ends */
-    const render_end *root = &o->ends[0], *tip = &o->ends[1];
-    if (ends_line_shown(o)) {
+    const recording_end *root = &rec->ends[0], *tip = &rec->ends[1];
+    if (ends_line_shown(rec, o)) {
         static const char *const kinds[] = {"clamped", "pinned", "free"};
         static const char *const held[] = {"", " on a slide", " on a slide, not turning"};
         int used = snprintf(text, sizeof text, "root %s%s%s, tip %s%s%s", kinds[root->kind],
                             root->driven ? " (driven)" : "", held[root->sliding % 3],
                             kinds[tip->kind], tip->driven ? " (driven)" : "", held[tip->sliding % 3]);
-        if (o->needle_radius > 0 && used > 0 && (size_t)used < sizeof text) {
+        if (rec->needle_radius > 0 && used > 0 && (size_t)used < sizeof text) {
             char radius[32];
-            format_length(radius, sizeof radius, o->needle_radius);
+            format_length(radius, sizeof radius, rec->needle_radius);
             snprintf(text + used, sizeof text - (size_t)used, ", needle %s %s", radius,
                      o->needle_arc > 0.45 ? "1/2" : "3/8");
         }
@@ -424,7 +424,7 @@ static void draw_loads(image *img, const render_overlay *ov, const rod_recording
     }
     int show_force = (show & RENDER_SHOW_LOADS) && ov->force_scale > 0;
     int show_moment = (show & RENDER_SHOW_LOADS) && ov->moment_scale > 0;
-    double load = v3_norm(o->distributed_force);
+    double load = v3_norm(rec->distributed_force);
     int show_gravity = (show & RENDER_SHOW_GRAVITY) && load > 0;
     int y = bottom - (show_force + show_moment + show_gravity - 1) * line;
     int key = x, keyed = show_gravity || o->arrows;
@@ -447,8 +447,8 @@ static void draw_loads(image *img, const render_overlay *ov, const rod_recording
     }
     if (show_gravity) {
         /* its direction on the screen, scaled by how much of it lies in the picture's plane */
-        double half = 0.5 * (ascent + 4), sx = v3_dot(o->distributed_force, cam->right) / load;
-        double sy = -v3_dot(o->distributed_force, cam->up) / load;
+        double half = 0.5 * (ascent + 4), sx = v3_dot(rec->distributed_force, cam->right) / load;
+        double sy = -v3_dot(rec->distributed_force, cam->up) / load;
         double cx = key + half, cy = y - 0.4 * ascent;
         draw_arrow_2d(img, cx - sx * half, cy - sy * half, cx + sx * half, cy + sy * half,
                       fmax(1.5, img->height / 400.0), ov->ink);

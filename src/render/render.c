@@ -194,7 +194,7 @@ static int stream_tiles_create(render_stream *st, const rod_recording *extent,
         options_view_camera(t->kind, o->view, &t->o.camera, t->o.view);
         t->o.view_count = 0;
         t->o.overlay = 0; /* drawn once over the whole frame */
-        frame_band own = overlay_band(o, band);
+        frame_band own = overlay_band(extent, o, band);
         if (k == count - 1 && o->overlay && (o->show & RENDER_SHOW_COLORBAR) &&
             o->color != RENDER_COLOR_SOLID)
             /* the colour bar and its labels (about 0.17 of the height) stand at the
@@ -261,7 +261,7 @@ render_stream *render_stream_begin(const rod_recording *extent, const render_opt
             return NULL;
         }
     } else {
-        const frame_band band = overlay_band(o, frame_band_full);
+        const frame_band band = overlay_band(extent, o, frame_band_full);
         if (renderer_create(&st->r, extent, o, name, &band, err, errlen)) {
             free(st);
             return NULL;

@@ -271,7 +271,8 @@ static int renderer_framing(renderer *r, const rod_recording *shown, const rende
     if (o->grid && !floor) grid_build(&r->grid, shown, &r->camera, r->radius, o->background);
     if (o->framing == RENDER_FRAMING_RUN) return 0;
     r->follow = follow_create(shown, o, &r->arrows, r->radius, &r->camera, band,
-                              floor || o->surface_count > 0 || v3_norm(o->distributed_force) > 0);
+                              floor || shown->surface_count > 0 ||
+                                  v3_norm(shown->distributed_force) > 0);
     if (!r->follow) return -1;
     renderer_follow_grid(r, shown, o, floor);
     return 0;
@@ -292,7 +293,7 @@ static int renderer_gl(renderer *r, const rod_recording *rec, const render_optio
     if (o->grid) gl_renderer_set_lines(r->gl, r->grid.lines, r->grid.count);
     if (r->follow) gl_renderer_set_whole_boxes(r->gl, 1, o->background);
     r->pad = STRIPE_LIFT * r->radius;
-    return shadow_receivers(&r->shadow, r->gl, plan, o, &r->camera, err, errlen);
+    return shadow_receivers(&r->shadow, r->gl, plan, rec, o, &r->camera, err, errlen);
 }
 
 /* The tile grid, the backdrop drawn once and, antialias fxaa, the edges'
@@ -348,8 +349,8 @@ int renderer_create(renderer *r, const rod_recording *rec, const render_options 
     /* Decision: a floor (a plane surface or the ground) replaces the backdrop
      * grid, which would float over it or cut through it; the scale bar stays. */
     int floor = plan.ground;
-    for (int k = 0; o->surfaces && k < o->surface_count; k++)
-        floor |= o->surfaces[k].shape == ROD_SURFACE_PLANE;
+    for (int k = 0; rec->surfaces && k < rec->surface_count; k++)
+        floor |= rec->surfaces[k].shape == RECORDING_SURFACE_PLANE;
     const int framed = renderer_framing(r, drawn, o, band, floor);
     rod_recording_destroy(shown);
     if (framed) {
@@ -433,7 +434,7 @@ static void renderer_meshes(renderer *r, const rod_recording *rec, int frame,
     if (r->o->arrows) glyph_add_arrows(m, &r->arrows, rec, frame);
     r->caster_indices = m->index_count;
     if (r->shadow.receivers)
-        surface_add_punctures(m, given, r->o, given_frame, r->radius, r->shadow.lift);
+        surface_add_punctures(m, given, given_frame, r->radius, r->shadow.lift);
     frame_boxes(r, rec, frame, given, given_frame);
 }
 

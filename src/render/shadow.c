@@ -50,14 +50,14 @@ static int content_bounds(const rod_recording *rec, const render_options *o, dou
 int render_ground_plane(const rod_recording *rec, const render_options *o, double point[3],
                         double normal[3])
 {
-    double load = v3_norm(o->distributed_force);
+    double load = v3_norm(rec->distributed_force);
     if (o->ground == RENDER_GROUND_NO || !(load > 0) || rec->frame_count <= 0) return 0;
     double down[3], back[3], right[3], up[3];
-    v3_scale(down, o->distributed_force, 1 / load);
+    v3_scale(down, rec->distributed_force, 1 / load);
     camera_basis(o->view, back, right, up);
     if (o->ground == RENDER_GROUND_AUTO) {
-        for (int k = 0; k < o->surface_count; k++)
-            if (o->surfaces[k].shape == ROD_SURFACE_PLANE) return 0;
+        for (int k = 0; k < rec->surface_count; k++)
+            if (rec->surfaces[k].shape == RECORDING_SURFACE_PLANE) return 0;
         if (-v3_dot(back, down) < sin(6 * M_PI / 180)) return 0;
     }
     double radius = render_visual_radius(rec, o), lowest = -INFINITY;
@@ -275,9 +275,9 @@ int shadow_fit(shadow_scene *s, gl_renderer *gl, const render_camera *cam, doubl
  * about the motion's centre, sized for the nearest plane's distance from
  * it, which is returned (m; INFINITY: no plane). */
 static double receiver_planes(shadow_scene *s, render_mesh *m, const receiver_plan *plan,
-                              const render_options *o, const double centre[3], double size)
+                              const rod_recording *rec, const double centre[3], double size)
 {
-    int surfaces = o->surfaces ? o->surface_count : 0;
+    int surfaces = rec->surfaces ? rec->surface_count : 0;
     double plane_distance = INFINITY;
     const float *ground_color = render_surface_color;
     for (int pass = 0; pass < 2; pass++) {
@@ -290,10 +290,10 @@ static double receiver_planes(shadow_scene *s, render_mesh *m, const receiver_pl
                 n = plan->ground_normal;
                 color = ground_color;
             } else {
-                if (o->surfaces[k].shape != ROD_SURFACE_PLANE) continue;
-                point = o->surfaces[k].center;
-                n = o->surfaces[k].normal;
-                color = o->surfaces[k].tissue ? render_skin_color : render_surface_color;
+                if (rec->surfaces[k].shape != RECORDING_SURFACE_PLANE) continue;
+                point = rec->surfaces[k].center;
+                n = rec->surfaces[k].normal;
+                color = rec->surfaces[k].tissue ? render_skin_color : render_surface_color;
             }
             double to[3];
             v3_sub(to, centre, point);
@@ -316,15 +316,15 @@ static double receiver_planes(shadow_scene *s, render_mesh *m, const receiver_pl
 /* The solids' receivers (boxes, spheres, the drawn piece of a cylinder)
  * and their catchers. */
 static void receiver_solids(shadow_scene *s, render_mesh *m, const receiver_plan *plan,
-                            const render_options *o, double size)
+                            const rod_recording *rec, double size)
 {
-    int surfaces = o->surfaces ? o->surface_count : 0;
+    int surfaces = rec->surfaces ? rec->surface_count : 0;
     for (int k = 0; k < surfaces; k++) {
-        const rod_surface *sf = &o->surfaces[k];
+        const recording_surface *sf = &rec->surfaces[k];
         const float *color = sf->tissue ? render_skin_color : render_surface_color;
         double lo[3], hi[3];
         switch (sf->shape) {
-        case ROD_SURFACE_BOX: {
+        case RECORDING_SURFACE_BOX: {
             double axes[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
             double half[3] = {0.5 * sf->size[0], 0.5 * sf->size[1], 0.5 * sf->size[2]};
             if (sf->rounding > 0) mesh_rounded_block(m, sf->center, half, sf->rounding, color);
@@ -332,11 +332,11 @@ static void receiver_solids(shadow_scene *s, render_mesh *m, const receiver_plan
             surface_bounds(sf, lo, hi);
             break;
         }
-        case ROD_SURFACE_SPHERE:
+        case RECORDING_SURFACE_SPHERE:
             surface_add_sphere(m, sf->center, sf->size[0], color);
             surface_bounds(sf, lo, hi);
             break;
-        case ROD_SURFACE_CYLINDER: {
+        case RECORDING_SURFACE_CYLINDER: {
             double middle[3], half;
             surface_cylinder_piece(sf, plan->lo, plan->hi, size, middle, &half);
             surface_add_cylinder(m, middle, sf->normal, sf->size[0], half, color);
@@ -362,8 +362,8 @@ static void receiver_solids(shadow_scene *s, render_mesh *m, const receiver_plan
 
 /* The light's orthographic box around the casters, seen along -key, and
  * the shadow map's size. */
-static void shadow_light_box(shadow_scene *s, const receiver_plan *plan, const render_options *o,
-                             double size)
+static void shadow_light_box(shadow_scene *s, const receiver_plan *plan,
+                             const rod_recording *rec, double size)
 {
     /* the light's orthographic box around the casters, seen along -key */
     double e1[3], e2[3], lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -389,17 +389,17 @@ static void shadow_light_box(shadow_scene *s, const receiver_plan *plan, const r
     /* the thinnest caster (the tube, or the needle's wire) spans 3 texels or
      * more of the whole box; the map keeps this size when it is fitted to a
      * view (shadow_fit), whose texels are then finer */
-    s->thinnest = o->needle_radius > 0 ? fmin(plan->radius, glyph_needle_wire(o, plan->radius))
-                                       : plan->radius;
+    s->thinnest = rec->needle_radius > 0 ? fmin(plan->radius, glyph_needle_wire(rec, plan->radius))
+                                         : plan->radius;
     s->map_size = SHADOW_MAP_MIN;
     while (s->map_size < SHADOW_MAP_MAX && extent / s->map_size > s->thinnest / 3) s->map_size *= 2;
 }
 
 int shadow_receivers(shadow_scene *s, gl_renderer *gl, const receiver_plan *plan,
-                     const render_options *o, const render_camera *cam, char *err,
-                     size_t errlen)
+                     const rod_recording *rec, const render_options *o,
+                     const render_camera *cam, char *err, size_t errlen)
 {
-    int surfaces = o->surfaces ? o->surface_count : 0;
+    int surfaces = rec->surfaces ? rec->surface_count : 0;
     if (!plan->have_bounds || (surfaces <= 0 && !plan->ground)) return 0;
     double centre[3], size = 0;
     for (int c = 0; c < 3; c++) {
@@ -423,13 +423,13 @@ int shadow_receivers(shadow_scene *s, gl_renderer *gl, const receiver_plan *plan
         snprintf(err, errlen, "render: out of memory");
         return -1;
     }
-    const double plane_distance = receiver_planes(s, &m, plan, o, centre, size);
+    const double plane_distance = receiver_planes(s, &m, plan, rec, centre, size);
     int plane_indices = m.index_count;
-    receiver_solids(s, &m, plan, o, size);
+    receiver_solids(s, &m, plan, rec, size);
     if (o->wound) {
         double up[3];
         v3_copy(up, plan->ground ? plan->ground_normal : cam->up);
-        surface_add_wound(&m, o, 1.2 * plan->radius, s->lift, up);
+        surface_add_wound(&m, rec, o, 1.2 * plan->radius, s->lift, up);
     }
     /* the fade: from PLANE_FADE_START to PLANE_FADE_END motion sizes along the
      * nearest plane, measured from the motion's centre */
@@ -446,7 +446,7 @@ int shadow_receivers(shadow_scene *s, gl_renderer *gl, const receiver_plan *plan
         return -1;
     }
     if (!o->shadows) return 0;
-    shadow_light_box(s, plan, o, size);
+    shadow_light_box(s, plan, rec, size);
     if (shadow_fit(s, gl, cam, plan->radius, NULL, NULL, err, errlen)) return -1;
     s->shadows = 1;
     return 0;

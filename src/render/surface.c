@@ -10,14 +10,14 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-void surface_bounds(const rod_surface *s, double lo[3], double hi[3])
+void surface_bounds(const recording_surface *s, double lo[3], double hi[3])
 {
     for (int c = 0; c < 3; c++) {
         double reach;
         switch (s->shape) {
-        case ROD_SURFACE_BOX: reach = 0.5 * s->size[c]; break;
-        case ROD_SURFACE_SPHERE: reach = s->size[0]; break;
-        case ROD_SURFACE_CYLINDER:
+        case RECORDING_SURFACE_BOX: reach = 0.5 * s->size[c]; break;
+        case RECORDING_SURFACE_SPHERE: reach = s->size[0]; break;
+        case RECORDING_SURFACE_CYLINDER:
             reach = fabs(s->normal[c]) > 1e-12 ? INFINITY
                                                 : s->size[0] * sqrt(1 - s->normal[c] * s->normal[c]);
             break;
@@ -31,21 +31,23 @@ void surface_bounds(const rod_surface *s, double lo[3], double hi[3])
 /* The point of the surface nearest p (into near) and the outward normal
  * there; returns the distance. The renderer's own: it does not see
  * sim/surface.h (layer rule), and needs no grown solid. */
-static double surface_nearest(const rod_surface *s, const double p[3], double near[3], double n[3])
+static double surface_nearest(const recording_surface *s, const double p[3], double near[3],
+                              double n[3])
 {
     double d[3];
     v3_sub(d, p, s->center);
     switch (s->shape) {
-    default: /* ROD_SURFACE_PLANE */
+    default: /* RECORDING_SURFACE_PLANE */
         v3_copy(n, s->normal);
         v3_copy(near, p);
         v3_axpy(near, -v3_dot(d, n), n);
         break;
-    case ROD_SURFACE_SPHERE:
-    case ROD_SURFACE_CYLINDER: {
+    case RECORDING_SURFACE_SPHERE:
+    case RECORDING_SURFACE_CYLINDER: {
         double radial[3];
         v3_copy(radial, d);
-        if (s->shape == ROD_SURFACE_CYLINDER) v3_axpy(radial, -v3_dot(d, s->normal), s->normal);
+        if (s->shape == RECORDING_SURFACE_CYLINDER)
+            v3_axpy(radial, -v3_dot(d, s->normal), s->normal);
         double length = v3_norm(radial);
         if (length > 0) v3_scale(n, radial, 1 / length);
         else perpendicular_basis(s->normal, n, radial);
@@ -53,7 +55,7 @@ static double surface_nearest(const rod_surface *s, const double p[3], double ne
         v3_axpy(near, s->size[0] - length, n);
         break;
     }
-    case ROD_SURFACE_BOX: {
+    case RECORDING_SURFACE_BOX: {
         /* the face whose slab p is farthest out of (or least inside) */
         int face = 0;
         double out = -INFINITY;
@@ -133,7 +135,7 @@ void surface_add_cylinder(render_mesh *m, const double centre[3], const double a
     }
 }
 
-void surface_cylinder_piece(const rod_surface *s, const double lo[3], const double hi[3],
+void surface_cylinder_piece(const recording_surface *s, const double lo[3], const double hi[3],
                             double size, double centre[3], double *half)
 {
     double t0 = INFINITY, t1 = -INFINITY;
@@ -149,13 +151,14 @@ void surface_cylinder_piece(const rod_surface *s, const double lo[3], const doub
     *half = 0.5 * (t1 - t0) + size;
 }
 
-/* The surface nearest p among o's (-1: none), its nearest point and normal. */
-static int nearest_surface(const render_options *o, const double p[3], double near[3], double n[3])
+/* The surface nearest p among rec's (-1: none), its nearest point and normal. */
+static int nearest_surface(const rod_recording *rec, const double p[3], double near[3],
+                           double n[3])
 {
     int best = -1;
     double best_gap = INFINITY;
-    for (int k = 0; k < o->surface_count; k++) {
-        double q[3], m[3], gap = surface_nearest(&o->surfaces[k], p, q, m);
+    for (int k = 0; k < rec->surface_count; k++) {
+        double q[3], m[3], gap = surface_nearest(&rec->surfaces[k], p, q, m);
         if (gap < best_gap) {
             best_gap = gap;
             best = k;
@@ -166,8 +169,8 @@ static int nearest_surface(const render_options *o, const double p[3], double ne
     return best;
 }
 
-void surface_add_wound(render_mesh *m, const render_options *o, double width, double lift,
-                       const double up_fallback[3])
+void surface_add_wound(render_mesh *m, const rod_recording *rec, const render_options *o,
+                       double width, double lift, const double up_fallback[3])
 {
     const double *a = o->wound_line, *b = &o->wound_line[3];
     double along[3];
@@ -177,7 +180,7 @@ void surface_add_wound(render_mesh *m, const render_options *o, double width, do
     for (int k = 0; k <= WOUND_SEGMENTS; k++) {
         double f = (double)k / WOUND_SEGMENTS, p[3], near[3], n[3], side[3];
         for (int c = 0; c < 3; c++) p[c] = a[c] + f * (b[c] - a[c]);
-        if (nearest_surface(o, p, near, n) < 0) {
+        if (nearest_surface(rec, p, near, n) < 0) {
             v3_copy(near, p);
             v3_copy(n, up_fallback);
         }
@@ -200,15 +203,15 @@ void surface_add_wound(render_mesh *m, const render_options *o, double width, do
     }
 }
 
-void surface_add_punctures(render_mesh *m, const rod_recording *rec, const render_options *o,
-                           int frame, double radius, double lift)
+void surface_add_punctures(render_mesh *m, const rod_recording *rec, int frame, double radius,
+                           double lift)
 {
     const double *points;
     int count = rod_recording_punctures(rec, frame, &points);
     for (int i = 0; i < count; i++) {
         double near[3], n[3], e1[3], e2[3];
         /* on the surface nearest the point, just off it */
-        if (nearest_surface(o, &points[3 * i], near, n) < 0) continue;
+        if (nearest_surface(rec, &points[3 * i], near, n) < 0) continue;
         v3_axpy(near, lift, n);
         perpendicular_basis(n, e1, e2);
         mesh_disc(m, near, e1, e2, 1.8 * radius, n, PUNCTURE_SIDES, render_puncture_color);

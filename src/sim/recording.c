@@ -35,6 +35,57 @@ static int reserve(rod_recording *r, int capacity)
     return 0;
 }
 
+/* The recording's words for an end kind. */
+static recording_end_kind end_kind(rod_end_kind kind)
+{
+    return kind == ROD_END_PINNED ? RECORDING_END_PINNED
+         : kind == ROD_END_FREE   ? RECORDING_END_FREE
+                                  : RECORDING_END_CLAMPED;
+}
+
+static recording_surface_shape surface_shape(rod_surface_shape shape)
+{
+    switch (shape) {
+    case ROD_SURFACE_BOX: return RECORDING_SURFACE_BOX;
+    case ROD_SURFACE_CYLINDER: return RECORDING_SURFACE_CYLINDER;
+    case ROD_SURFACE_SPHERE: return RECORDING_SURFACE_SPHERE;
+    default: return RECORDING_SURFACE_PLANE;
+    }
+}
+
+/* What the picture needs of the model: what holds each end, the needle,
+ * the distributed load and the obstacles (copied). 0, or -1 when out of
+ * memory. */
+static int copy_scene(rod_recording *r, const rod_model *m)
+{
+    const rod_end_kind kinds[2] = {m->root_end, m->tip_end};
+    const rod_path *motions[2] = {m->root_motion, m->tip_motion};
+    for (int e = 0; e < 2; e++) {
+        const double *slide = e ? m->tip_slide : m->root_slide;
+        r->ends[e].kind = end_kind(kinds[e]);
+        r->ends[e].driven = motions[e] != NULL;
+        if (slide[0] != 0.0 || slide[1] != 0.0 || slide[2] != 0.0)
+            r->ends[e].sliding = m->slide_twist_held[e] ? 2 : 1;
+    }
+    r->needle_radius = m->needle_radius;
+    v3_copy(r->distributed_force, m->distributed_force);
+    if (m->surface_count <= 0 || !m->surfaces) return 0;
+    r->surfaces = calloc((size_t)m->surface_count, sizeof *r->surfaces);
+    if (!r->surfaces) return -1;
+    r->surface_count = m->surface_count;
+    for (int k = 0; k < m->surface_count; k++) {
+        const rod_surface *from = &m->surfaces[k];
+        recording_surface *to = &r->surfaces[k];
+        to->shape = surface_shape(from->shape);
+        v3_copy(to->center, from->center);
+        v3_copy(to->normal, from->normal);
+        v3_copy(to->size, from->size);
+        to->rounding = from->rounding;
+        to->tissue = from->tissue;
+    }
+    return 0;
+}
+
 rod_recording *rod_recording_create(const rod_model *m, const char *scene, int capacity)
 {
     rod_recording *r = calloc(1, sizeof *r);
@@ -47,7 +98,7 @@ rod_recording *rod_recording_create(const rod_model *m, const char *scene, int c
     snprintf(r->scheme, sizeof r->scheme, "%s", rod_scheme_get(m->options.scheme)->name);
     snprintf(r->scene, sizeof r->scene, "%s", scene ? scene : "");
     r->force_scratch = malloc((size_t)m->nodes * 3 * sizeof(double));
-    if (!r->force_scratch || reserve(r, capacity > 0 ? capacity : 16)) {
+    if (!r->force_scratch || copy_scene(r, m) || reserve(r, capacity > 0 ? capacity : 16)) {
         rod_recording_destroy(r);
         return NULL;
     }
@@ -67,6 +118,7 @@ void rod_recording_destroy(rod_recording *r)
     free(r->tip_moment);
     free(r->puncture_count);
     free(r->puncture);
+    free(r->surfaces);
     free(r);
 }
 

@@ -79,9 +79,9 @@ int main(int argc, char **argv)
      * same encoder, frames of plain background */
     /* and the default (FXAA, issue 14) against 4x multisampling, the old default */
     const int samples[5] = {o.samples, 0, o.samples, o.samples, o.samples};
-    rod_surface surfaces[2] = {
-        {.shape = ROD_SURFACE_PLANE, .center = {0, 0, -0.1}, .normal = {0, 0, 1}},
-        {.shape = ROD_SURFACE_BOX, .center = {0.3, 0.3, -0.08}, .size = {0.3, 0.2, 0.04},
+    const recording_surface surfaces[2] = {
+        {.shape = RECORDING_SURFACE_PLANE, .center = {0, 0, -0.1}, .normal = {0, 0, 1}},
+        {.shape = RECORDING_SURFACE_BOX, .center = {0.3, 0.3, -0.08}, .size = {0.3, 0.2, 0.04},
          .tissue = 1}};
     measured pipeline[5], floor_run;
     for (int repeat = 0; repeat < repeats; repeat++) {
@@ -89,8 +89,7 @@ int main(int argc, char **argv)
             render_timing timing;
             o.samples = samples[run];
             o.antialias = run == 4 ? RENDER_AA_MSAA : RENDER_AA_FXAA;
-            o.surfaces = run == 2 || run == 3 ? surfaces : NULL;
-            o.surface_count = run == 2 || run == 3 ? 2 : 0;
+            synthetic_recording_surfaces(rec, surfaces, run == 2 || run == 3 ? 2 : 0);
             o.shadows = run != 3;
             o.timing = &timing;
             double start = now_seconds(), cpu = cpu_seconds();
@@ -154,8 +153,7 @@ int main(int argc, char **argv)
     o.height = 1080;
     o.samples = samples[0];
     o.antialias = RENDER_AA_FXAA;
-    o.surfaces = NULL;
-    o.surface_count = 0;
+    synthetic_recording_surfaces(rec_hd, NULL, 0);
     o.shadows = 1;
     o.timing = NULL;
     image *blank_hd = image_create(o.width, o.height);

@@ -126,9 +126,9 @@ static void test_knot_shown(void)
     o.arrows = 0;
     o.stripe = RENDER_STRIPE_OFF; /* its legend line would share the corner, */
     o.visual_radius = 0.005;      /* and so would "radius exaggerated" */
-    o.ends[0].kind = o.ends[1].kind = RENDER_END_FREE;
     const int knotted[1] = {1};
     rod_recording *rec = knot_recording(knotted, 1);
+    rec->ends[0].kind = rec->ends[1].kind = RECORDING_END_FREE;
     int ink[2] = {-1, -1};
     for (int with = 0; with < 2; with++) {
         char err[1024], path[1200], name[16];
@@ -217,13 +217,13 @@ static void test_occlusion_render(void)
     rod_recording *rec = synthetic_recording_create(n, 1, (n - 1) * ds, 2 * radius);
     memcpy(rec->position, pts, (size_t)n * 3 * sizeof(double));
     frames_along(rec, 0);
+    rec->ends[0].kind = rec->ends[1].kind = RECORDING_END_FREE;
     render_options o;
     render_options_default(&o);
     o.width = 640;
     o.height = 480;
     o.grid = o.arrows = o.overlay = 0;
     o.stripe = RENDER_STRIPE_OFF;
-    o.ends[0].kind = o.ends[1].kind = RENDER_END_FREE;
     o.camera = RENDER_CAMERA_ORTHOGRAPHIC;
     v3_set(o.view, 0, 0, 1);
     o.visual_radius = radius;
@@ -279,11 +279,11 @@ static void test_overlay_layout(void)
     o.grid = 0;
     o.arrows = 0;
     o.visual_radius = 0.05; /* "radius exaggerated" takes the right column's first row */
-    o.ends[0].kind = o.ends[1].kind = RENDER_END_FREE;
     snprintf(o.caption, sizeof o.caption, "a caption long enough to run on under the legend that "
                                           "stands in the top right corner of this frame, and on");
     const int straight[1] = {0};
     rod_recording *rec = knot_recording(straight, 1);
+    rec->ends[0].kind = rec->ends[1].kind = RECORDING_END_FREE;
     image *img[2] = {NULL, NULL};
     for (int with = 0; with < 2; with++) {
         char err[1024], path[1200], name[16];

@@ -85,7 +85,7 @@ static void scan_maps(child_report *r)
 /* The recording both backends draw: three frames, straight to bent, an
  * arrow in the last, over a plane and a skin pad (the shadow map's depth
  * texture and its filtered look-ups). */
-static rod_recording *three_frames(render_options *o, rod_surface surfaces[2])
+static rod_recording *three_frames(render_options *o)
 {
     rod_recording *rec = synthetic_recording_create(41, FRAMES, 1.0, 0.01);
     synthetic_arc(rec, 0, INFINITY, 6.0); /* straight, twisted */
@@ -97,12 +97,11 @@ static rod_recording *three_frames(render_options *o, rod_surface surfaces[2])
     o->width = WIDTH;
     o->height = HEIGHT;
     snprintf(o->title, sizeof o->title, "two backends"); /* not the name, which differs */
-    surfaces[0] = (rod_surface){.shape = ROD_SURFACE_PLANE, .center = {0, 0, -0.1},
-                                .normal = {0, 0, 1}};
-    surfaces[1] = (rod_surface){.shape = ROD_SURFACE_BOX, .center = {0.5, 0.3, -0.08},
-                                .size = {0.3, 0.2, 0.04}, .tissue = 1};
-    o->surfaces = surfaces;
-    o->surface_count = 2;
+    const recording_surface surfaces[2] = {
+        {.shape = RECORDING_SURFACE_PLANE, .center = {0, 0, -0.1}, .normal = {0, 0, 1}},
+        {.shape = RECORDING_SURFACE_BOX, .center = {0.5, 0.3, -0.08}, .size = {0.3, 0.2, 0.04},
+         .tissue = 1}};
+    synthetic_recording_surfaces(rec, surfaces, 2);
     return rec;
 }
 
@@ -120,8 +119,7 @@ static void child_draw(const char *value, const char *dir, const char *name, chi
     gl_context_destroy(ctx);
 
     render_options o;
-    rod_surface surfaces[2];
-    rod_recording *rec = three_frames(&o, surfaces);
+    rod_recording *rec = three_frames(&o);
     o.frames_png = 1;
     r->rendered = render_recording(rec, &o, dir, name, 0, r->err, sizeof r->err) == 0;
     rod_recording_destroy(rec);
@@ -357,8 +355,7 @@ static void tls_body(void *report, const void *arg)
     snprintf(r->module, sizeof r->module, "%s", m.name);
     r->block = (unsigned long)place_tls_block(&m);
     render_options o;
-    rod_surface surfaces[2];
-    rod_recording *rec = three_frames(&o, surfaces);
+    rod_recording *rec = three_frames(&o);
     o.fps = 10;
     r->rendered = render_recording(rec, &o, tmp_dir, "tls", 1, r->err, sizeof r->err) == 0;
     rod_recording_destroy(rec);

@@ -343,7 +343,7 @@ static void test_threaded_same_as_serial(void)
     o.view_count = 2;
     o.views[0] = RENDER_VIEW_PERSPECTIVE;
     o.views[1] = RENDER_VIEW_SIDE;
-    o.distributed_force[1] = -1e-3; /* "down" is -y: a ground with the rod's shadow */
+    rec->distributed_force[1] = -1e-3; /* "down" is -y: a ground with the rod's shadow */
     o.ground = RENDER_GROUND_YES;
     snprintf(o.title, sizeof o.title, "one title"); /* not the two outputs' names */
     render_frames(rec, &o, dir, "threaded");

@@ -265,8 +265,8 @@ static void test_end_glyphs(void)
     glyph_view v;
 
     /* pinned root, clamped tip: the ball at the root, the block at the tip, not the other way */
-    o.ends[0].kind = RENDER_END_PINNED;
-    o.ends[1].kind = RENDER_END_CLAMPED;
+    rec->ends[0].kind = RECORDING_END_PINNED;
+    rec->ends[1].kind = RECORDING_END_CLAMPED;
     image *img = render_ends(rec, &o, dir, "pinned_clamped", &v);
     double ppm = hypot(v.tip[0] - v.root[0], v.tip[1] - v.root[1]) / length;
     double half = 0.07 * length * ppm; /* the block is 0.05 L, the ball 3.2 visual radii */
@@ -289,14 +289,13 @@ static void test_end_glyphs(void)
         image_destroy(img);
     }
 
-    /* the default: the thesis' cantilever (clamped root, free tip) */
+    /* the needle's arc by default (its radius and the ends come with the recording) */
     render_options_default(&o);
-    check(o.ends[0].kind == RENDER_END_CLAMPED && o.ends[1].kind == RENDER_END_FREE &&
-              o.needle_radius == 0 && o.needle_arc == 0.375,
-          "default ends: clamped root, free tip, no needle (3/8 arc when one is given)");
+    check(o.needle_arc == 0.375, "default needle arc: 3/8 of a circle");
     o = plain_options(480, 270);
     o.stripe = RENDER_STRIPE_OFF;
-    o.ends[1].kind = RENDER_END_PINNED;
+    rec->ends[0].kind = RECORDING_END_CLAMPED;
+    rec->ends[1].kind = RECORDING_END_PINNED;
     img = render_ends(rec, &o, dir, "clamped_pinned", &v);
     if (img) {
         int block_root = count_near(img, v.root[0], v.root[1], half, is_steel_colour);
@@ -308,7 +307,7 @@ static void test_end_glyphs(void)
     }
 
     /* free-free: nothing but the rod */
-    o.ends[0].kind = o.ends[1].kind = RENDER_END_FREE;
+    rec->ends[0].kind = rec->ends[1].kind = RECORDING_END_FREE;
     img = render_ends(rec, &o, dir, "free_free", &v);
     if (img) {
         int steel = count_solid(img, is_steel_colour), ball = count_all(img, is_ball_colour);
@@ -320,10 +319,10 @@ static void test_end_glyphs(void)
 
     /* a needle of radius 0.15 L at a driven clamped tip: pixels beyond the tip, on its arc */
     const double big = 0.15 * length;
-    o.ends[1].kind = RENDER_END_CLAMPED;
-    o.ends[1].driven = 1;
+    rec->ends[1].kind = RECORDING_END_CLAMPED;
+    rec->ends[1].driven = 1;
     for (int arc = 0; arc < 2; arc++) {
-        o.needle_radius = big;
+        rec->needle_radius = big;
         o.needle_arc = arc ? 0.5 : 0.375;
         img = render_ends(rec, &o, dir, arc ? "needle_half" : "needle_3_8", &v);
         if (!img) continue;
@@ -345,8 +344,8 @@ static void test_end_glyphs(void)
               on_far, far_px[0], far_px[1], arc ? "on a 1/2 arc" : "past a 3/8 arc's point");
         image_destroy(img);
     }
-    o.needle_radius = 0;
-    o.ends[1].kind = RENDER_END_FREE;
+    rec->needle_radius = 0;
+    rec->ends[1].kind = RECORDING_END_FREE;
     img = render_ends(rec, &o, dir, "no_needle", &v);
     if (img) {
         check(count_solid(img, is_steel_colour) == 0, "needle = 0: no needle pixels (%d alone)",
@@ -355,9 +354,9 @@ static void test_end_glyphs(void)
     }
 
     /* framing: a needle as big as half the rod is not clipped */
-    o.needle_radius = 0.5 * length;
+    rec->needle_radius = 0.5 * length;
     o.needle_arc = 0.5;
-    o.ends[1].kind = RENDER_END_CLAMPED;
+    rec->ends[1].kind = RECORDING_END_CLAMPED;
     img = render_ends(rec, &o, dir, "big_needle", &v);
     if (img) {
         int inside = 1;
@@ -383,8 +382,8 @@ static void test_end_glyphs(void)
     synthetic_arc(rec, 1, 0.5, 0); /* the tip moves to 0.5 (sin 2, 1 - cos 2, 0) */
     o = plain_options(480, 270);
     o.stripe = RENDER_STRIPE_OFF;
-    o.ends[1].kind = RENDER_END_CLAMPED;
-    o.ends[1].driven = 1;
+    rec->ends[1].kind = RECORDING_END_CLAMPED;
+    rec->ends[1].driven = 1;
     img = render_ends(rec, &o, dir, "driven", &v);
     if (img) {
         double start[3] = {length, 0, 0}, moved[3] = {0.5 * sin(2.0), 0.5 * (1 - cos(2.0)), 0};
@@ -623,7 +622,7 @@ static void test_teaching_overlay(void)
     int ink[2] = {-1, -1};
     o.show = RENDER_SHOW_ALL & ~RENDER_SHOW_TRIAD;
     for (int with = 0; with < 2; with++) {
-        v3_set(o.distributed_force, 0, 0, with ? -6.5e-3 : 0);
+        v3_set(rec->distributed_force, 0, 0, with ? -6.5e-3 : 0);
         image *img = render_poster(rec, &o, dir, with ? "gravity" : "no_gravity");
         if (!img) continue;
         ink[with] = 0;
@@ -634,7 +633,7 @@ static void test_teaching_overlay(void)
             }
         image_destroy(img);
     }
-    v3_set(o.distributed_force, 0, 0, 0);
+    v3_set(rec->distributed_force, 0, 0, 0);
     check(ink[0] == 0 && ink[1] > 100,
           "distributed load: %d dark pixels (arrow, label) in the bottom-left corner, %d without "
           "it and without tip loads", ink[1], ink[0]);
@@ -845,7 +844,7 @@ static void test_smooth_tube(void)
     o.camera = RENDER_CAMERA_ORTHOGRAPHIC;
     v3_set(o.view, 0, 0, 1);
     o.visual_radius = radius;
-    o.ends[0].kind = o.ends[1].kind = RENDER_END_FREE;
+    rec->ends[0].kind = rec->ends[1].kind = RECORDING_END_FREE;
     double deficit[2] = {NAN, NAN}, pixel = NAN;
     for (int smooth = 0; smooth < 2; smooth++) {
         o.smooth = smooth;

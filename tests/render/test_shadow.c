@@ -34,8 +34,14 @@ static rod_recording *lifted_rod(void)
     return rec;
 }
 
-static render_options scene_options(const rod_surface *surfaces, int count)
+/* The options of these pictures; rec's root free and its surfaces a copy
+ * of `count` of them. */
+static render_options scene_options(rod_recording *rec, const recording_surface *surfaces,
+                                    int count)
 {
+    rec->ends[0].kind = RECORDING_END_FREE;
+    if (synthetic_recording_surfaces(rec, surfaces, count))
+        check(0, "out of memory for %d surfaces", count);
     render_options o;
     render_options_default(&o);
     o.width = WIDTH;
@@ -45,9 +51,6 @@ static render_options scene_options(const rod_surface *surfaces, int count)
     o.arrows = 0;
     o.poster = 0;
     o.frames_png = 1;
-    o.ends[0].kind = RENDER_END_FREE;
-    o.surfaces = surfaces;
-    o.surface_count = count;
     return o;
 }
 
@@ -100,10 +103,10 @@ static int render(const rod_recording *rec, const render_options *o, const char 
 
 static void test_plane_shadow(void)
 {
-    rod_surface plane = {.shape = ROD_SURFACE_PLANE, .center = {0, 0, PLANE_Z},
-                         .normal = {0, 0, 1}, .friction = 0.3};
+    recording_surface plane = {.shape = RECORDING_SURFACE_PLANE, .center = {0, 0, PLANE_Z},
+                               .normal = {0, 0, 1}};
     rod_recording *rec = lifted_rod();
-    render_options o = scene_options(&plane, 1);
+    render_options o = scene_options(rec, &plane, 1);
     render_camera cam;
     render_camera_fit(&cam, rec, &o);
     if (render(rec, &o, "plane")) {
@@ -177,18 +180,18 @@ static int is_skin(const unsigned char *p)
 static void test_box_and_punctures(void)
 {
     /* a skin pad below the rod's middle, in view, and a wound across it */
-    rod_surface pad = {.shape = ROD_SURFACE_BOX, .center = {0.5, 0.2, -0.05},
-                       .size = {0.3, 0.2, 0.04}, .friction = 0.3, .tissue = 1};
+    recording_surface pad = {.shape = RECORDING_SURFACE_BOX, .center = {0.5, 0.2, -0.05},
+                             .size = {0.3, 0.2, 0.04}, .tissue = 1};
     rod_recording *rec = lifted_rod();
-    render_options o = scene_options(&pad, 1);
+    render_options o = scene_options(rec, &pad, 1);
     o.wound = 1;
     double wound[6] = {0.4, 0.2, -0.03, 0.6, 0.2, -0.03};
     memcpy(o.wound_line, wound, sizeof wound);
     /* a puncture in frame 1 at the pad's top */
     rec->puncture_count = calloc(2, sizeof(int));
-    rec->puncture = calloc(2 * ROD_MAX_PUNCTURES * 3, sizeof(double));
+    rec->puncture = calloc(2 * RECORDING_MAX_PUNCTURES * 3, sizeof(double));
     rec->puncture_count[1] = 1;
-    double *hole = &rec->puncture[ROD_MAX_PUNCTURES * 3];
+    double *hole = &rec->puncture[RECORDING_MAX_PUNCTURES * 3];
     hole[0] = 0.45, hole[1] = 0.25, hole[2] = -0.03;
     render_camera cam;
     render_camera_fit(&cam, rec, &o);
@@ -230,10 +233,10 @@ static void test_box_and_punctures(void)
 static void test_ground(void)
 {
     rod_recording *rec = lifted_rod();
-    render_options o = scene_options(NULL, 0);
+    render_options o = scene_options(rec, NULL, 0);
     double point[3], normal[3];
     check(!render_ground_plane(rec, &o, point, normal), "no distributed load: no ground");
-    v3_set(o.distributed_force, 0, 0, -2e-3);
+    v3_set(rec->distributed_force, 0, 0, -2e-3);
     int drawn = render_ground_plane(rec, &o, point, normal);
     double radius = render_visual_radius(rec, &o);
     /* the lowest tube surface over both frames is z = -radius (frame 0) */
@@ -245,11 +248,11 @@ static void test_ground(void)
     check(!render_ground_plane(rec, &below, point, normal), "auto: no ground seen from below");
     below.ground = RENDER_GROUND_YES;
     check(render_ground_plane(rec, &below, point, normal), "yes: a ground seen from below too");
-    rod_surface plane = {.shape = ROD_SURFACE_PLANE, .center = {0, 0, -1}, .normal = {0, 0, 1}};
-    render_options with_plane = o;
-    with_plane.surfaces = &plane;
-    with_plane.surface_count = 1;
-    check(!render_ground_plane(rec, &with_plane, point, normal), "auto: a plane surface replaces it");
+    recording_surface plane = {.shape = RECORDING_SURFACE_PLANE, .center = {0, 0, -1},
+                               .normal = {0, 0, 1}};
+    synthetic_recording_surfaces(rec, &plane, 1);
+    check(!render_ground_plane(rec, &o, point, normal), "auto: a plane surface replaces it");
+    synthetic_recording_surfaces(rec, NULL, 0);
     render_options no = o;
     no.ground = RENDER_GROUND_NO;
     check(!render_ground_plane(rec, &no, point, normal), "no: none");
@@ -282,18 +285,18 @@ static void test_framing(void)
     rod_recording *rec = lifted_rod();
     /* a pad below the rod, reaching 0.45 m in front of it (within half the
      * motion's size of its box) */
-    rod_surface surfaces[2] = {
-        {.shape = ROD_SURFACE_BOX, .center = {0.5, -0.25, -0.05}, .size = {0.4, 0.4, 0.04}},
-        {.shape = ROD_SURFACE_PLANE, .center = {0, 0, -5}, .normal = {0, 0.6, 0.8}}};
-    render_options bare = scene_options(NULL, 0), with_box = scene_options(surfaces, 1),
-                   with_plane = scene_options(&surfaces[1], 1);
-    v3_set(bare.view, 0.2, -1, 0.5);
-    v3_copy(with_box.view, bare.view);
-    v3_copy(with_plane.view, bare.view);
+    recording_surface surfaces[2] = {
+        {.shape = RECORDING_SURFACE_BOX, .center = {0.5, -0.25, -0.05}, .size = {0.4, 0.4, 0.04}},
+        {.shape = RECORDING_SURFACE_PLANE, .center = {0, 0, -5}, .normal = {0, 0.6, 0.8}}};
+    /* the same rod bare, with the box, with the plane */
+    render_options o = scene_options(rec, NULL, 0);
+    v3_set(o.view, 0.2, -1, 0.5);
     render_camera cam[3];
-    render_camera_fit(&cam[0], rec, &bare);
-    render_camera_fit(&cam[1], rec, &with_box);
-    render_camera_fit(&cam[2], rec, &with_plane);
+    render_camera_fit(&cam[0], rec, &o);
+    synthetic_recording_surfaces(rec, surfaces, 1);
+    render_camera_fit(&cam[1], rec, &o);
+    synthetic_recording_surfaces(rec, &surfaces[1], 1);
+    render_camera_fit(&cam[2], rec, &o);
     int inside[2] = {0, 0};
     for (int c = 0; c < 2; c++)
         for (int corner = 0; corner < 8; corner++) {
@@ -396,10 +399,10 @@ static void test_fitted_shadow(void)
         double *q = &rec->frame[9 * i];
         for (int r = 0; r < 3; r++) q[3 * r] = d1[r], q[3 * r + 1] = d2[r], q[3 * r + 2] = d3[r];
     }
-    rod_surface pad = {.shape = ROD_SURFACE_BOX, .center = {0, 0, PAD_TOP - 0.02},
-                       .size = {2.0, 2.0, 0.04}};
-    render_options o = scene_options(&pad, 1);
-    o.ends[1].kind = RENDER_END_FREE;
+    recording_surface pad = {.shape = RECORDING_SURFACE_BOX, .center = {0, 0, PAD_TOP - 0.02},
+                             .size = {2.0, 2.0, 0.04}};
+    render_options o = scene_options(rec, &pad, 1);
+    rec->ends[1].kind = RECORDING_END_FREE;
     o.stripe = RENDER_STRIPE_OFF;
     o.camera = RENDER_CAMERA_ORTHOGRAPHIC;
     o.framing = RENDER_FRAMING_KNOT;

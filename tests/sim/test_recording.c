@@ -164,8 +164,63 @@ static void test_tension(void)
     rod_model_release(&m);
 }
 
+/* What the picture needs of the model travels in the recording: what holds
+ * each end, the needle, the distributed load and a copy of the surfaces
+ * (the recording's own: it outlives the model's). */
+static void test_scene(void)
+{
+    rod_model m = rod_model_default();
+    char err[256] = "";
+    rod_recording *r = NULL;
+    if (!check(rod_model_derive(&m, err, sizeof err) == 0, "default model (%s)", err)) return;
+    r = rod_recording_create(&m, "cantilever", 2);
+    if (check(r != NULL, "recording of the default model")) {
+        check(r->ends[0].kind == RECORDING_END_CLAMPED && r->ends[1].kind == RECORDING_END_FREE &&
+                  !r->ends[0].driven && !r->ends[1].driven && !r->ends[0].sliding &&
+                  !r->ends[1].sliding && r->needle_radius == 0 && r->surface_count == 0 &&
+                  r->surfaces == NULL && v3_norm(r->distributed_force) == 0,
+              "the default model: clamped root, free tip, no needle, load or surface");
+        rod_recording_destroy(r);
+    }
+    rod_model_release(&m);
+
+    m = rod_model_default();
+    m.root_end = ROD_END_PINNED;
+    m.tip_end = ROD_END_CLAMPED;
+    v3_set(m.tip_slide, 1.0, 0.0, 0.0);
+    m.slide_twist_held[1] = 1;
+    m.needle_radius = 0.02;
+    v3_set(m.distributed_force, 0.0, 0.0, -1e-3);
+    m.surface_count = 2;
+    m.surfaces = calloc(2, sizeof *m.surfaces);
+    if (!check(m.surfaces != NULL, "surfaces made")) return;
+    m.surfaces[0] = (rod_surface){.shape = ROD_SURFACE_PLANE, .center = {0, 0, -0.1},
+                                  .normal = {0, 0, 1}, .friction = 0.3, .line = 7};
+    m.surfaces[1] = (rod_surface){.shape = ROD_SURFACE_BOX, .center = {0.5, 0.1, -0.05},
+                                  .size = {0.3, 0.2, 0.04}, .rounding = 0.005, .tissue = 1};
+    r = rod_recording_create(&m, "sleeve", 2);
+    rod_model_release(&m); /* frees the model's surfaces: the recording keeps its own */
+    if (!check(r != NULL, "recording of the model with a sleeve, a needle and surfaces")) return;
+    check(r->ends[0].kind == RECORDING_END_PINNED && r->ends[1].kind == RECORDING_END_CLAMPED &&
+              r->ends[0].sliding == 0 && r->ends[1].sliding == 2 && !r->ends[1].driven,
+          "pinned root; clamped tip on a slide, not turning (sliding %d)", r->ends[1].sliding);
+    check(r->needle_radius == 0.02 && r->distributed_force[2] == -1e-3,
+          "needle radius %g m, distributed force z %g N/m", r->needle_radius,
+          r->distributed_force[2]);
+    int same = r->surface_count == 2 && r->surfaces != NULL;
+    if (same) {
+        const recording_surface *a = &r->surfaces[0], *b = &r->surfaces[1];
+        same = a->shape == RECORDING_SURFACE_PLANE && a->center[2] == -0.1 &&
+               a->normal[2] == 1 && a->tissue == 0 && b->shape == RECORDING_SURFACE_BOX &&
+               b->center[0] == 0.5 && b->size[1] == 0.2 && b->rounding == 0.005 && b->tissue == 1;
+    }
+    check(same, "the two surfaces copied: shape, centre, normal, size, rounding, tissue");
+    rod_recording_destroy(r);
+}
+
 int main(void)
 {
+    test_scene();
     test_tension();
     test_needle_frame();
     test_punctures();
