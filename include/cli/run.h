@@ -10,7 +10,9 @@
  * the scheme's advice.
  *
  * Before any work the run is counted (64-bit, checked) and its cost
- * estimated (run_plan_seconds), so an absurd run can be refused up front.
+ * estimated (run_plan_seconds), so an absurd run can be refused up front;
+ * as it goes, the estimate is revised from the CPU time the steps take
+ * (run_pace), so a run the model misjudged is stopped early.
  */
 #ifndef RODSIM_RUN_H
 #define RODSIM_RUN_H
@@ -24,6 +26,16 @@
 /* Frame and step counts above this are refused: the time would no longer
  * advance by a step (t + dt == t) long before 2^63 is reached. */
 #define RUN_MAX_COUNT 1e15
+
+/* The time limit, s: a run estimated to take longer is refused up front,
+ * and stopped when its revised estimate passes it, unless --allow-long. An
+ * hour: CI renders and figure runs take seconds to minutes; an hour is a
+ * mistake more often than a plan. */
+#define RUN_TIME_LIMIT 3600.0
+
+/* RUN_TIME_LIMIT, or RODSIM_TIME_LIMIT (s, > 0) from the environment. For
+ * tests only: they lower it to see a run refused or stopped in seconds. */
+double run_time_limit(void);
 
 /* Output times k/fps <= duration, plus the end time when it is not one of
  * them; -1 when that is more than an int holds (run_plan counts in 64 bits). */
@@ -51,6 +63,10 @@ int run_plan_make(const rod_model *m, double dt, int fps, run_plan *p);
  * (per node, x NS) + frames x (video_pixels x the cost of a pixel + the CSV
  * rows when csv). See run.c for the measured model. */
 double run_plan_seconds(const run_plan *p, int nodes, int video_pixels, int csv);
+/* The model's part of that for the video alone, s: frames x video_pixels x
+ * the cost of a pixel (the frames are drawn after the steps, or in a second
+ * pass: not in what run_pace measures). */
+double run_plan_video_seconds(const run_plan *p, int video_pixels);
 
 /* What a run cost. */
 typedef struct run_stats {
@@ -78,6 +94,70 @@ typedef int (*run_frame_fn)(void *context, const rod_model *m, const rod_state *
 rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
                         const run_plan *plan, int fps, run_frame_fn on_frame, void *context,
                         rod_report *report, run_stats *stats);
+
+/* The estimate revised from what the run costs. The up-front estimate
+ * knows the scheme and NS, not how hard the steps are: where strands press
+ * on each other Newton's steps split and iterate, 100 times the model's cost
+ * (a twisted rod coiling into a plectoneme). So the run reads its CPU time
+ * (CLOCK_PROCESS_CPUTIME_ID: a busy machine does not make it look slower)
+ * every few steps and, at the end of each stretch of steps (RUN_PACE_SHARE of
+ * them, or limit / RUN_PACE_CPU_PARTS of CPU, whichever comes first),
+ * revises the estimate: the CPU spent so far plus the steps left at the
+ * stretch's own rate. A revision over the limit stops the run. The caller
+ * fills the first block; run_simulate_paced keeps the rest. */
+#define RUN_PACE_SHARE 0.02      /* of the steps: a stretch */
+#define RUN_PACE_CPU_PARTS 360.0 /* a stretch ends after limit / this s of CPU (10 s of 1 h) */
+typedef struct run_pace {
+    double limit;         /* s: a revision above it stops the run */
+    int keep_going;       /* 1 (--allow-long): revise only, never stop */
+    double passes;        /* the steps are run this many times (2: a streamed video's second
+                             pass), 1 when 0 */
+    double extra_seconds; /* s: the model's cost of what follows the steps (the video) */
+    void (*on_revise)(void *context, const struct run_pace *pace); /* each revision, or NULL */
+    void *context;
+    /* kept by the run */
+    int64_t total_steps;  /* the plan's */
+    double cpu_start;     /* s, the process's CPU clock when the run started */
+    double last_reading;  /* s, the clock at its last reading */
+    double stretch_cpu;   /* s, the clock at the start of the current stretch */
+    int64_t stretch_steps;/* the step count there */
+    int64_t next_check;   /* the step count at which the clock is read next */
+    int64_t stride;       /* steps between two readings */
+    int64_t steps;        /* the steps done at the last revision */
+    double cpu;           /* s of CPU spent by then */
+    double rate;          /* s of CPU per step over the last stretch */
+    double estimate;      /* s: the last revision (0: none yet) */
+    int revisions;
+    int stopped;          /* 1: the run stopped at a revision over the limit */
+} run_pace;
+
+/* run_simulate, paced (pace may be NULL: not paced). A revision over
+ * pace->limit stops the run: ROD_FAILED, pace->stopped = 1, the state at the
+ * step where it stopped. */
+rod_status run_simulate_paced(rod_solver *solver, const rod_model *m, rod_state *s,
+                              const run_plan *plan, int fps, run_frame_fn on_frame,
+                              void *context, run_pace *pace, rod_report *report,
+                              run_stats *stats);
+
+/* The warnings of a run, for people, in the order they came (the model's
+ * adjustments, a dt above the stable limit, the scheme's caveat, a knot that
+ * changed): `rodsim run` prints each as "rodsim run: warning: TEXT", a
+ * sweep joins them into its row's message. Fixed size: a sweep's worker
+ * process hands its row back whole. */
+#define RUN_WARNINGS_MAX 8
+#define RUN_WARNING_LEN 768
+typedef struct run_warnings {
+    int count;
+    char text[RUN_WARNINGS_MAX][RUN_WARNING_LEN];
+} run_warnings;
+
+/* Adds a warning (printf format); past RUN_WARNINGS_MAX it is dropped. */
+void run_warn(run_warnings *w, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Prints warnings from..count-1 to f, "rodsim run: warning: TEXT" each. */
+void run_warnings_print(FILE *f, const run_warnings *w, int from);
+/* The warnings joined with "; " into out (cut to n bytes), appended to what
+ * out holds, after "; " when it holds something. */
+void run_warnings_join(const run_warnings *w, char *out, size_t n);
 
 /* The CSV: the header row, then t,node,s,x,y,z,d3x,d3y,d3z,twist,nx,ny,nz (s, -,
  * m, m, m, m, -, -, -, 1/m, N, N, N), one row per node of the state; n is the

@@ -3,9 +3,11 @@
  * checking where the outputs go, then simulating it (run.h's loop) and
  * writing its CSV, video and poster with the summary on the way.
  *
- * The outputs are one transaction: a diverged, refused, failed or
- * interrupted run writes nothing. A run estimated to take more than an hour
- * (run_plan_seconds) is refused up front with exit 2 unless allow_long.
+ * The outputs are one transaction: a diverged, refused, stopped, failed or
+ * interrupted run writes nothing. A run estimated to take more than the
+ * time limit (run_time_limit, an hour: run_plan_seconds up front, then
+ * revised from the CPU time the run takes, run_pace) is refused up front or
+ * stopped with exit 2 unless allow_long.
  *
  * The readers keep their run_ names: every command that reads a rod scene
  * (run, render, sweep, live, the tests and benchmarks) calls them. */
@@ -15,6 +17,8 @@
 #include <stddef.h>
 
 #include "base/ini.h"
+#include "cli/knot_track.h"
+#include "cli/run.h"
 #include "render/render.h"
 #include "sim/recording.h"
 #include "sim/rod.h"
@@ -51,6 +55,19 @@ typedef struct scene_outputs_options {
     const char *csv;     /* the centreline CSV; "-": standard output; NULL: none */
     int no_video, allow_long, quiet;
 } scene_outputs_options;
+
+/* The warnings known before a run: what the model moved to make the inputs
+ * agree (m->adjusted), a dt above the scheme's stable limit. Into w. */
+void scene_outputs_plan_warnings(const rod_model *m, double dt, run_warnings *w);
+
+/* The warnings of a finished run: the scheme's caveat (report->warning), a
+ * knot that changed or slipped off an end (knots). Into w. Returns 1, with
+ * the message in `error`, when the knot changed where self-contact should
+ * have kept it (a strand passed through another: the run fails, exit 1,
+ * its outputs kept for a look); else 0. */
+int scene_outputs_result_warnings(const rod_model *m, const rod_report *report,
+                                  const knot_track *knots, run_warnings *w, char *error,
+                                  size_t errlen);
 
 /* Checks the output places before any work: out_dir must be a directory
  * (or creatable) when a video is made, and csv a file in one; then removes

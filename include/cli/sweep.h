@@ -4,8 +4,11 @@
  * Each point is run by run_simulate (run.h, the run loop of `rodsim run`,
  * no video), so a point equals the single run `rodsim run SCENE --set ...`
  * bit for bit. A point that fails to run (unstable, no convergence, refused
- * by the scheme or the time budget) is a row with its status and message; a
- * value the scene does not accept is bad input, found before anything runs
+ * by the scheme, or by the time limit up front or as it runs, run_pace) is a
+ * row with its status and message; the warnings `rodsim run` prints for the
+ * point (scene_outputs.h: the model's adjustments, the scheme's caveat, the
+ * knot) follow in the message, joined with "; ", an ok row's too. A value
+ * the scene does not accept is bad input, found before anything runs
  * (every point's scene is read first).
  *
  * With --result DIR every point's measures go to DIR/DIGEST.csv (the digest

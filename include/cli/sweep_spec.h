@@ -55,7 +55,7 @@ extern const char *const sweep_status_names[SWEEP_POINT_STATUS_COUNT];
 typedef struct sweep_point_result {
     double value[SWEEP_M_COUNT];
     int status; /* sweep_point_status */
-    char message[800];
+    char message[2048]; /* a failure's, or the warnings (run_warnings_join) */
 } sweep_point_result;
 
 /* One --vary: a key (or one component of a vector key) and its values. */

@@ -4,6 +4,7 @@
 
 #include <limits.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,6 +26,14 @@ static double partial_interval(double duration, int fps, double regular)
 {
     double rest = duration - regular / fps;
     return rest > 1e-9 * fmax(1.0, duration) ? rest : 0.0;
+}
+
+double run_time_limit(void)
+{
+    const char *env = getenv("RODSIM_TIME_LIMIT"); /* tests only (run.h) */
+    char *end;
+    double seconds = env ? strtod(env, &end) : 0.0;
+    return env && end != env && seconds > 0.0 ? seconds : RUN_TIME_LIMIT;
 }
 
 int run_frame_count(double duration, int fps)
@@ -90,6 +99,11 @@ double run_plan_seconds(const run_plan *p, int nodes, int video_pixels, int csv)
                                  (csv ? RUN_CSV_ROW_COST * nodes : 0.0));
 }
 
+double run_plan_video_seconds(const run_plan *p, int video_pixels)
+{
+    return p->frames_estimate * RUN_PIXEL_COST * video_pixels;
+}
+
 void run_csv_header(FILE *f)
 {
     fprintf(f, "t,node,s,x,y,z,d3x,d3y,d3z,twist,nx,ny,nz\n");
@@ -143,12 +157,79 @@ static void note_closest_gap(rod_proximity *gaps, const rod_model *m, const rod_
     stats->closest_gap_frame = fmin(stats->closest_gap_frame, gap);
 }
 
+static double cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Reading the CPU clock is a system call (about 0.3 us), as dear as a thesis
+ * step of a few nodes: it is read at steps 1, 2, 4, ... until two readings
+ * are RUN_PACE_READING s of CPU apart, then about that often. */
+#define RUN_PACE_READING 0.01
+
+static void pace_start(run_pace *pace, const run_plan *plan)
+{
+    pace->total_steps = plan->steps;
+    pace->cpu_start = pace->stretch_cpu = pace->last_reading = cpu_seconds();
+    pace->stretch_steps = pace->steps = 0;
+    pace->next_check = pace->stride = 1;
+    pace->cpu = pace->rate = pace->estimate = 0.0;
+    pace->revisions = pace->stopped = 0;
+}
+
+/* The step count that ends the current stretch. */
+static int64_t stretch_end(const run_pace *pace)
+{
+    int64_t stretch = (int64_t)ceil(RUN_PACE_SHARE * (double)pace->total_steps);
+    return pace->stretch_steps + (stretch < 1 ? 1 : stretch);
+}
+
+/* The next reading: a stride on, and never past the stretch's end. */
+static void pace_next(run_pace *pace, int64_t steps)
+{
+    int64_t end = stretch_end(pace);
+    pace->next_check = steps + pace->stride < end ? steps + pace->stride : end;
+}
+
+/* The clock read after `steps` steps; at a stretch's end, the estimate
+ * revised (run.h). 1 when the revision passed the limit: the run stops. */
+static int pace_check(run_pace *pace, int64_t steps)
+{
+    double now = cpu_seconds();
+    double since = now - pace->last_reading;
+    pace->last_reading = now;
+    if (since < RUN_PACE_READING) pace->stride *= 2;
+    else if (since > 8 * RUN_PACE_READING && pace->stride > 1) pace->stride /= 2;
+    int stretch_done = steps >= stretch_end(pace) ||
+                       now - pace->stretch_cpu >= pace->limit / RUN_PACE_CPU_PARTS;
+    if (!stretch_done || steps >= pace->total_steps) {
+        pace_next(pace, steps);
+        return 0;
+    }
+    /* the CPU so far, and the steps left at this stretch's rate */
+    pace->rate = (now - pace->stretch_cpu) / (double)(steps - pace->stretch_steps);
+    pace->cpu = now - pace->cpu_start;
+    pace->steps = steps;
+    double passes = pace->passes > 0.0 ? pace->passes : 1.0;
+    pace->estimate = passes * (pace->cpu + pace->rate * (double)(pace->total_steps - steps)) +
+                     pace->extra_seconds;
+    pace->revisions++;
+    pace->stretch_cpu = now;
+    pace->stretch_steps = steps;
+    pace_next(pace, steps);
+    if (pace->on_revise) pace->on_revise(pace->context, pace);
+    pace->stopped = pace->estimate > pace->limit && !pace->keep_going;
+    return pace->stopped;
+}
+
 /* Takes n steps of h from the output time s->time to the next one, `target`.
  * Equal steps: dt is the same for every step of every whole interval, so an
  * implicit scheme keeps its Jacobian factorised across them. */
 static rod_status advance(rod_solver *solver, const rod_model *m, rod_state *s, int64_t n,
                           double h, double target, rod_report *report, run_stats *stats,
-                          rod_proximity *gaps)
+                          rod_proximity *gaps, run_pace *pace)
 {
     for (int64_t j = 0; j < n; j++) {
         /* no rod_solver_refresh() here: a Jacobian the last step found stale
@@ -165,6 +246,12 @@ static rod_status advance(rod_solver *solver, const rod_model *m, rod_state *s, 
             return ROD_UNSTABLE;
         }
         if (gaps) note_closest_gap(gaps, m, s, stats);
+        if (pace && stats->steps >= pace->next_check && pace_check(pace, stats->steps)) {
+            snprintf(report->message, sizeof report->message,
+                     "stopped at t = %g s: the revised estimate, %.3g s of CPU, passes the "
+                     "limit of %.3g s", s->time, pace->estimate, pace->limit);
+            return ROD_FAILED;
+        }
     }
     s->time = target; /* no drift of output times from rounding */
     return ROD_OK;
@@ -174,6 +261,14 @@ rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
                         const run_plan *plan, int fps, run_frame_fn on_frame, void *context,
                         rod_report *report, run_stats *stats)
 {
+    return run_simulate_paced(solver, m, s, plan, fps, on_frame, context, NULL, report, stats);
+}
+
+rod_status run_simulate_paced(rod_solver *solver, const rod_model *m, rod_state *s,
+                              const run_plan *plan, int fps, run_frame_fn on_frame,
+                              void *context, run_pace *pace, rod_report *report,
+                              run_stats *stats)
+{
     memset(stats, 0, sizeof *stats);
     memset(report, 0, sizeof *report);
     stats->closest_gap = stats->closest_gap_frame = INFINITY;
@@ -181,6 +276,7 @@ rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
     rod_status status = ROD_OK;
     /* NULL (no self-contact, or out of memory): no closest approach */
     rod_proximity *gaps = m->self_contact ? rod_proximity_create(m->nodes) : NULL;
+    if (pace) pace_start(pace, plan);
     if (on_frame && on_frame(context, m, s, report->message, sizeof report->message))
         status = ROD_FAILED;
     /* whole intervals (k - 1)/fps .. k/fps, then the partial one to the duration */
@@ -189,7 +285,8 @@ rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
         int partial = k > plan->intervals;
         double target = partial ? m->options.duration : fmin((double)k / fps, m->options.duration);
         status = advance(solver, m, s, partial ? plan->last_steps : plan->steps_per_interval,
-                         partial ? plan->last_step : plan->step, target, report, stats, gaps);
+                         partial ? plan->last_step : plan->step, target, report, stats, gaps,
+                         pace);
         if (status == ROD_OK && on_frame &&
             on_frame(context, m, s, report->message, sizeof report->message))
             status = ROD_FAILED;
@@ -198,4 +295,27 @@ rod_status run_simulate(rod_solver *solver, const rod_model *m, rod_state *s,
     rod_proximity_destroy(gaps);
     stats->wall_seconds = wall_seconds() - start;
     return status;
+}
+
+void run_warn(run_warnings *w, const char *fmt, ...)
+{
+    if (w->count >= RUN_WARNINGS_MAX) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(w->text[w->count++], RUN_WARNING_LEN, fmt, ap);
+    va_end(ap);
+}
+
+void run_warnings_print(FILE *f, const run_warnings *w, int from)
+{
+    for (int i = from; i < w->count; i++) fprintf(f, "rodsim run: warning: %s\n", w->text[i]);
+}
+
+void run_warnings_join(const run_warnings *w, char *out, size_t n)
+{
+    for (int i = 0; i < w->count; i++) {
+        size_t used = strlen(out);
+        if (used + 1 >= n) return;
+        snprintf(out + used, n - used, "%s%s", used ? "; " : "", w->text[i]);
+    }
 }

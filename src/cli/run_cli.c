@@ -32,8 +32,8 @@ void run_usage(FILE *f)
             "  --quiet                  print only errors\n"
             "The outputs (CSV, video, poster) appear together when the run succeeds, and\n"
             "none otherwise. Exit status: 0 success; 2 bad scene, bad usage, a run refused up\n"
-            "front (too long, too large) or a numerically unstable run (nothing is written\n"
-            "then); 1 any other failure; 130 SIGINT, 143 SIGTERM.\n");
+            "front or stopped (too long, too large) or numerically unstable (nothing is\n"
+            "written then); 1 any other failure; 130 SIGINT, 143 SIGTERM.\n");
 }
 
 /* 1 when the file starts as a `rodsim live --record` record does. Only a

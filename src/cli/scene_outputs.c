@@ -23,12 +23,6 @@
 
 #define SCENE_OUTPUTS_ERR_LEN 1024
 
-/* The time budget: a run estimated (run_plan_seconds) to take longer is
- * refused up front unless --allow-long is given. An hour: CI renders and
- * figure runs take seconds to minutes; an hour is a mistake more often than
- * a plan. */
-#define RUN_TIME_BUDGET 3600.0
-
 /* The video's frames are kept in memory, and framed all at once, up to this
  * many bytes (rod_recording_bytes; 256 MiB: 48000 frames of NS = 51, 27
  * minutes of video at 30 fps). A longer run is simulated twice: once to
@@ -258,16 +252,51 @@ static double estimate_seconds(const scene_outputs_options *a, const rod_model *
     return seconds;
 }
 
+/* Says that a run would outlast the time limit, with the numbers and the
+ * keys that shorten it: up front (pace NULL: nothing was run), or when the
+ * estimate revised from the run's own CPU time passed the limit (the run
+ * stopped at t = stopped_at, s). */
+static void print_too_long(const scene_outputs_options *a, const rod_model *m,
+                           const run_output *out, double dt, const run_plan *plan,
+                           double seconds, const run_pace *pace, double stopped_at)
+{
+    const char *scheme = rod_scheme_get(m->options.scheme)->name;
+    int video_pixels = a->no_video ? 0 : out->width * out->height;
+    char when[48], limit[48], spent[48];
+    fprintf(stderr,
+            "rodsim run: %s: this run would take about %s (the limit is %s): %lld steps of "
+            "%.3g s (solver.duration = %g s, solver.dt = %g s) at ~%.3g us per step",
+            a->label, duration_text(seconds, when, sizeof when),
+            duration_text(run_time_limit(), limit, sizeof limit), (long long)plan->steps,
+            plan->step, m->options.duration, dt,
+            1e6 * (pace ? pace->rate : plan->seconds_per_step));
+    if (pace)
+        fprintf(stderr, " of CPU as measured (the model's %.3g us for the %s scheme at "
+                        "rod.nodes = %d)",
+                1e6 * plan->seconds_per_step, scheme, m->nodes);
+    else
+        fprintf(stderr, " (the %s scheme at rod.nodes = %d)", scheme, m->nodes);
+    if (video_pixels)
+        fprintf(stderr, ", and %lld video frames of %dx%d (render.fps = %d)",
+                (long long)plan->frames, out->width, out->height, out->fps);
+    if (pace)
+        fprintf(stderr, "; stopped at t = %g s after %s of CPU, nothing was written.\n",
+                stopped_at, duration_text(pace->cpu, spent, sizeof spent));
+    else
+        fprintf(stderr, "; nothing was run.\n");
+    fprintf(stderr, "  to shorten it: a larger solver.dt (solver.dt = auto picks the largest "
+                    "stable one), a shorter solver.duration, fewer rod.nodes%s; or "
+                    "--allow-long to run it anyway\n",
+            video_pixels ? ", a lower render.fps or render.width/height, or --no-video" : "");
+}
+
 /* Refuses, before any work, a run that cannot be counted, would outlast the
- * time budget, or whose video frames cannot fit in memory: exit 2 with the
+ * time limit, or whose video frames cannot fit in memory: exit 2 with the
  * numbers and the keys to change. 0 when the run may go. */
 static int check_budget(const scene_outputs_options *a, const rod_model *m,
                         const run_output *out, double dt, const run_plan *plan, int countable)
 {
-    const char *scheme = rod_scheme_get(m->options.scheme)->name;
-    int video_pixels = a->no_video ? 0 : out->width * out->height;
     double seconds = estimate_seconds(a, m, out, plan);
-    char when[48], limit[48];
     if (!countable) {
         fprintf(stderr,
                 "rodsim run: %s: this run needs %.3g steps of at most solver.dt = %g s over "
@@ -279,23 +308,8 @@ static int check_budget(const scene_outputs_options *a, const rod_model *m,
                 out->fps, RUN_MAX_COUNT);
         return -1;
     }
-    if (seconds > RUN_TIME_BUDGET && !a->allow_long) {
-        fprintf(stderr,
-                "rodsim run: %s: this run would take about %s (the limit is %s): %lld steps of "
-                "%.3g s (solver.duration = %g s, solver.dt = %g s) at ~%.3g us per step (the %s "
-                "scheme at rod.nodes = %d)",
-                a->label, duration_text(seconds, when, sizeof when),
-                duration_text(RUN_TIME_BUDGET, limit, sizeof limit), (long long)plan->steps,
-                plan->step, m->options.duration, dt, 1e6 * plan->seconds_per_step, scheme,
-                m->nodes);
-        if (video_pixels)
-            fprintf(stderr, ", and %lld video frames of %dx%d (render.fps = %d)",
-                    (long long)plan->frames, out->width, out->height, out->fps);
-        fprintf(stderr, "; nothing was run.\n"
-                        "  to shorten it: a larger solver.dt (solver.dt = auto picks the "
-                        "largest stable one), a shorter solver.duration, fewer rod.nodes%s; or "
-                        "--allow-long to run it anyway\n",
-                video_pixels ? ", a lower render.fps or render.width/height, or --no-video" : "");
+    if (seconds > run_time_limit() && !a->allow_long) {
+        print_too_long(a, m, out, dt, plan, seconds, NULL, 0.0);
         return -1;
     }
     return 0;
@@ -446,23 +460,26 @@ typedef struct scene_run {
     outfile csv_file;
     rod_report report;
     run_stats stats;
+    run_pace pace;         /* the estimate revised from the CPU time the steps take */
+    double told;           /* s: the last revised estimate printed (0: none) */
+    run_warnings warnings; /* printed as they come: the plan's, then the result's */
 } scene_run;
 
-/* The stable-dt warnings of a dt the scene fixed. */
-static void warn_stable_dt(const rod_model *m, double dt)
+void scene_outputs_plan_warnings(const rod_model *m, double dt, run_warnings *w)
 {
+    if (m->adjusted[0]) run_warn(w, "%s", m->adjusted);
+    /* the stable-dt warnings of a dt the scene fixed */
     const rod_scheme_ops *ops = rod_scheme_get(m->options.scheme);
     if (!ops->stable_dt || !(m->options.dt > 0.0)) return;
     const char *limit = "";
     double stable = ops->stable_dt(m, &limit);
     if (isfinite(stable) && stable <= 0.0)
-        fprintf(stderr, "rodsim run: warning: the %s scheme has no stable dt for this "
-                        "model (%s); expect divergence\n",
-                ops->name, limit);
+        run_warn(w, "the %s scheme has no stable dt for this model (%s); expect divergence",
+                 ops->name, limit);
     else if (isfinite(stable) && dt > stable)
-        fprintf(stderr, "rodsim run: warning: dt = %g s is above the %s scheme's stable "
-                        "limit %g s (%s); expect divergence\n",
-                dt, ops->name, stable, limit);
+        run_warn(w, "dt = %g s is above the %s scheme's stable limit %g s (%s); expect "
+                    "divergence",
+                 dt, ops->name, stable, limit);
 }
 
 /* The step and the plan, refused when absurd (-1: exit 2); then the
@@ -488,9 +505,42 @@ static int plan_run(scene_run *r)
     if (!r->o->quiet)
         print_summary(r->talk, r->o->label, r->name, m, r->dt, r->why, r->out, &r->plan,
                       estimate_seconds(r->o, m, r->out, &r->plan));
-    if (m->adjusted[0]) fprintf(stderr, "rodsim run: warning: %s\n", m->adjusted);
-    warn_stable_dt(m, r->dt);
+    scene_outputs_plan_warnings(m, r->dt, &r->warnings);
+    run_warnings_print(stderr, &r->warnings, 0);
     return 0;
+}
+
+/* A revised estimate, on stderr: the first that reaches TELL_SHARE of
+ * the limit (a run of seconds says nothing), then one whenever it has moved
+ * by more than a factor 2 since the last one printed. */
+#define TELL_SHARE (1.0 / 60.0) /* a minute of the hour */
+static void tell_revision(void *context, const run_pace *pace)
+{
+    scene_run *r = context;
+    if (pace->estimate < TELL_SHARE * pace->limit ||
+        (r->told > 0.0 && pace->estimate < 2.0 * r->told && pace->estimate > 0.5 * r->told))
+        return;
+    char when[48], spent[48];
+    fprintf(stderr, "rodsim run: revised estimate at t = %g of %g s: about %s of CPU (%.3g us "
+                    "per step as measured, the model's %.3g us; %s spent)\n",
+            r->s->time, r->m->options.duration, duration_text(pace->estimate, when, sizeof when),
+            1e6 * pace->rate, 1e6 * r->plan.seconds_per_step,
+            duration_text(pace->cpu, spent, sizeof spent));
+    r->told = pace->estimate;
+}
+
+/* The run paced against the time limit (run.h): a streamed video runs the
+ * steps twice; the video's frames are the model's estimate. */
+static void pace_run(scene_run *r)
+{
+    run_pace *pace = &r->pace;
+    pace->limit = run_time_limit();
+    pace->keep_going = r->o->allow_long;
+    pace->passes = r->streamed ? 2.0 : 1.0;
+    pace->extra_seconds =
+        r->o->no_video ? 0.0 : run_plan_video_seconds(&r->plan, r->out->width * r->out->height);
+    pace->on_revise = r->o->quiet ? NULL : tell_revision;
+    pace->context = r;
 }
 
 /* The scheme, the state and where the frames go: the recording (all of
@@ -541,15 +591,21 @@ static int open_run(scene_run *r)
         sink->csv = r->csv_file.fp;
     }
     if (sink->csv) run_csv_header(sink->csv);
+    pace_run(r);
     return 0;
 }
 
 /* The run itself. 0, or the exit status of its failure (reported). */
 static int step_run(scene_run *r)
 {
-    rod_status st = run_simulate(&r->solver, r->m, r->s, &r->plan, r->out->fps, on_frame,
-                                 &r->sink, &r->report, &r->stats);
+    rod_status st = run_simulate_paced(&r->solver, r->m, r->s, &r->plan, r->out->fps, on_frame,
+                                       &r->sink, &r->pace, &r->report, &r->stats);
     if (st == ROD_OK) return 0;
+    if (r->pace.stopped) { /* the revised estimate passed the limit */
+        print_too_long(r->o, r->m, r->out, r->dt, &r->plan, r->pace.estimate, &r->pace,
+                       r->s->time);
+        return RUN_EXIT_BAD_INPUT;
+    }
     if (r->sink.failed) {
         fprintf(stderr, "rodsim run: %s\n", r->report.message);
         return RUN_EXIT_FAILURE;
@@ -606,15 +662,11 @@ static int commit_outputs(scene_run *r)
     return 0;
 }
 
-/* The warnings and the summary of a run whose outputs are written. Returns
- * RUN_EXIT_FAILURE when a strand passed through another despite
- * self-contact (the outputs kept for a look), else RUN_EXIT_OK. */
-static int report_run(const scene_run *r)
+int scene_outputs_result_warnings(const rod_model *m, const rod_report *report,
+                                  const knot_track *knots, run_warnings *w, char *error,
+                                  size_t errlen)
 {
-    const scene_outputs_options *a = r->o;
-    const rod_model *m = r->m;
-    const knot_track *knots = &r->knots;
-    if (r->report.warning[0]) fprintf(stderr, "rodsim run: warning: %s\n", r->report.warning);
+    if (report->warning[0]) run_warn(w, "%s", report->warning);
     /* Without self-contact a strand may pass through another and change the
      * knot: a warning. With it (the implicit scheme in 3-D) a change is a
      * pass-through the contact failed to stop: a failure (exit 1), the
@@ -625,27 +677,51 @@ static int report_run(const scene_run *r)
      * pass-through: a warning naming the end */
     const int slipped = guarded && knot_track_change_is_slip(knots, m);
     if (slipped && knots->slip_end < 0)
-        fprintf(stderr, "rodsim run: warning: the knot type changed at t = %g s (%s -> %s) with "
-                        "no two strands closer than %.3g diameters between that frame and the "
-                        "one before: no strand passed through another, a loop passed over an "
-                        "end of the rod; to keep the knot, lengthen the rod beyond it "
-                        "(rod.length, rod.shape) or raise rod.friction\n",
-                knots->change_time, knots->change_from, knots->change_to,
-                knots->change_gap / m->diameter);
+        run_warn(w, "the knot type changed at t = %g s (%s -> %s) with no two strands closer "
+                    "than %.3g diameters between that frame and the one before: no strand "
+                    "passed through another, a loop passed over an end of the rod; to keep the "
+                    "knot, lengthen the rod beyond it (rod.length, rod.shape) or raise "
+                    "rod.friction",
+                 knots->change_time, knots->change_from, knots->change_to,
+                 knots->change_gap / m->diameter);
     else if (slipped)
-        fprintf(stderr, "rodsim run: warning: the knot type changed at t = %g s (%s -> %s): the "
-                        "knot slipped off the rod's %s end (strands touched %d segment%s from it "
-                        "at t = %g s, the frame before); to keep it, lengthen the rod beyond the "
-                        "knot (rod.length, rod.shape) or raise rod.friction\n",
-                knots->change_time, knots->change_from, knots->change_to,
-                knots->slip_end ? "tip" : "root", knots->slip_reach,
-                knots->slip_reach == 1 ? "" : "s", knots->slip_time);
-    else if (knots->changes)
-        fprintf(stderr, "rodsim run: %s: the knot type changed %d time%s between output "
-                        "frames, first at t = %g s (%s -> %s)%s\n",
-                guarded ? "error" : "warning", knots->changes, knots->changes == 1 ? "" : "s",
-                knots->change_time, knots->change_from, knots->change_to,
-                guarded ? ": a strand passed through another despite self-contact" : "");
+        run_warn(w, "the knot type changed at t = %g s (%s -> %s): the knot slipped off the "
+                    "rod's %s end (strands touched %d segment%s from it at t = %g s, the frame "
+                    "before); to keep it, lengthen the rod beyond the knot (rod.length, "
+                    "rod.shape) or raise rod.friction",
+                 knots->change_time, knots->change_from, knots->change_to,
+                 knots->slip_end ? "tip" : "root", knots->slip_reach,
+                 knots->slip_reach == 1 ? "" : "s", knots->slip_time);
+    else if (knots->changes && !guarded)
+        run_warn(w, "the knot type changed %d time%s between output frames, first at t = %g s "
+                    "(%s -> %s)",
+                 knots->changes, knots->changes == 1 ? "" : "s", knots->change_time,
+                 knots->change_from, knots->change_to);
+    else if (knots->changes) {
+        snprintf(error, errlen, "the knot type changed %d time%s between output frames, first "
+                                "at t = %g s (%s -> %s): a strand passed through another "
+                                "despite self-contact",
+                 knots->changes, knots->changes == 1 ? "" : "s", knots->change_time,
+                 knots->change_from, knots->change_to);
+        return 1;
+    }
+    return 0;
+}
+
+/* The warnings and the summary of a run whose outputs are written. Returns
+ * RUN_EXIT_FAILURE when a strand passed through another despite
+ * self-contact (the outputs kept for a look), else RUN_EXIT_OK. */
+static int report_run(scene_run *r)
+{
+    const scene_outputs_options *a = r->o;
+    const rod_model *m = r->m;
+    const knot_track *knots = &r->knots;
+    int from = r->warnings.count;
+    char error[RUN_WARNING_LEN] = "";
+    int passed_through =
+        scene_outputs_result_warnings(m, &r->report, knots, &r->warnings, error, sizeof error);
+    run_warnings_print(stderr, &r->warnings, from);
+    if (passed_through) fprintf(stderr, "rodsim run: error: %s\n", error);
     if (!a->quiet) {
         FILE *talk = r->talk;
         print_result(talk, m, r->s, r->stats.steps, r->stats.wall_seconds);
@@ -660,7 +736,7 @@ static int report_run(const scene_run *r)
                     r->out->width, r->out->height,
                     gl_context_backend_used() ? gl_context_backend_used() : "?");
     }
-    return knots->changes && guarded && !slipped ? RUN_EXIT_FAILURE : RUN_EXIT_OK;
+    return passed_through ? RUN_EXIT_FAILURE : RUN_EXIT_OK;
 }
 
 /* All outputs (CSV, video, poster, frames) are one transaction: they appear

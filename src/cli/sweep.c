@@ -19,9 +19,6 @@
 #include "cli/sweep_plot.h"
 #include "study/buckling.h"
 
-/* The time budget of one point, as `rodsim run` (scene_outputs.c): a point
- * estimated to take longer is a `refused` row unless --allow-long. */
-#define SWEEP_POINT_BUDGET 3600.0
 /* Tip samples kept for first_frequency (3 doubles each): 4M frames, 96 MiB. */
 #define SWEEP_MAX_SAMPLES (1 << 22)
 
@@ -34,7 +31,8 @@ void sweep_usage(FILE *f)
             "       [--plot X:Y --png|--svg FILE]\n"
             "Runs SCENE (no video) at every point of the product of the --vary lists (the\n"
             "first varies slowest); one CSV row per point: the varied keys, the measures (empty:\n"
-            "none), status (ok unstable no_convergence refused failed), message.\n"
+            "none), status (ok unstable no_convergence refused failed), message (why it\n"
+            "failed, then the warnings rodsim run prints, joined with '; ').\n"
             "  KEY            section.key as --set names it, or a vector's component, 0-based:\n"
             "                 tip.force[1] is y; whole vectors: 'tip.force=0 1e-7 0,0 2e-7 0'\n"
             "  --measure      tip_x tip_y tip_z (m, end of run), root_fx.. root_fz, tip_fx..\n"
@@ -72,13 +70,23 @@ typedef struct tip_samples {
     int64_t count, capacity;
 } tip_samples;
 
-static int sample_tip(void *context, const rod_model *m, const rod_state *s, char *err,
-                      size_t errlen)
+/* Where a point's frames go: the tip's samples (first_frequency) and the
+ * knot tracker, whose warnings are `rodsim run`'s. */
+typedef struct point_frames {
+    tip_samples tip;
+    knot_track knots;
+    const run_stats *stats; /* the run's: the strands' closest approach per frame */
+} point_frames;
+
+static int point_frame(void *context, const rod_model *m, const rod_state *s, char *err,
+                       size_t errlen)
 {
-    (void)m, (void)err, (void)errlen;
-    tip_samples *t = context;
+    (void)err, (void)errlen;
+    point_frames *f = context;
+    tip_samples *t = &f->tip;
     if (t->count < t->capacity)
         memcpy(&t->xyz[3 * t->count++], &s->position[3 * (s->nodes - 1)], 3 * sizeof(double));
+    knot_track_frame(&f->knots, m, s, f->stats ? f->stats->closest_gap_frame : INFINITY);
     return 0;
 }
 
@@ -167,8 +175,59 @@ static void critical_loads(const rod_model *m, sweep_point_result *r)
         r->value[SWEEP_M_CRITICAL_MOMENT] = lambda * fabs(axial.tip_moment[axis]);
 }
 
+/* The measures of a point's final state; first_frequency from its tip's
+ * samples at the output rate fps. */
+static void measure_state(const rod_state *s, const tip_samples *tip, int fps,
+                          sweep_point_result *r)
+{
+    const double *t = &s->position[3 * (s->nodes - 1)];
+    for (int a = 0; a < 3; a++) {
+        r->value[SWEEP_M_TIP_X + a] = t[a];
+        r->value[SWEEP_M_ROOT_FX + a] = s->end_force[0][a];
+        r->value[SWEEP_M_TIP_FX + a] = s->end_force[1][a];
+    }
+    double curvature = 0.0;
+    for (int i = 0; i < s->nodes; i++) {
+        const double *u = &s->darboux[3 * i];
+        curvature = fmax(curvature, sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+    }
+    r->value[SWEEP_M_MAX_CURVATURE] = curvature;
+    r->value[SWEEP_M_FIRST_FREQUENCY] = first_frequency(tip, 1.0 / fps);
+}
+
+/* The row of a run that did not reach its end: stopped by the time limit
+ * (the estimate revised from its CPU time, run.h), or by the scheme. */
+static void set_stopped(sweep_point_result *r, rod_status st, const rod_model *m, double dt,
+                        const rod_state *s, const run_plan *plan, const run_pace *pace,
+                        const rod_report *report, const run_stats *stats)
+{
+    const char *scheme = rod_scheme_get(m->options.scheme)->name;
+    if (pace->stopped) {
+        set_message(r, SWEEP_POINT_REFUSED,
+                    "stopped at t = %g s: estimated %.3g s from its CPU time (%.3g us per step "
+                    "as measured, the model's %.3g us for the %s scheme at NS = %d): over the "
+                    "%.0f s limit; --allow-long runs it",
+                    s->time, pace->estimate, 1e6 * pace->rate, 1e6 * plan->seconds_per_step,
+                    scheme, m->nodes, pace->limit);
+        return;
+    }
+    sweep_point_status ps = st == ROD_UNSTABLE         ? SWEEP_POINT_UNSTABLE
+                          : st == ROD_NO_CONVERGENCE ? SWEEP_POINT_NO_CONVERGENCE
+                                                     : SWEEP_POINT_FAILED;
+    char advice[160] = "";
+    if (report->suggested_dt > 0.0 && !report->message[0]) /* the message has its own */
+        snprintf(advice, sizeof advice, "; what would work: solver.dt = %g",
+                 report->suggested_dt);
+    set_message(r, ps, "the %s scheme stopped at t = %g s (dt = %g s)%s%s%s%s", scheme, s->time,
+                stats->largest_step > 0.0 ? stats->largest_step : dt,
+                stats->non_finite ? ": the state is no longer finite" : "",
+                report->message[0] ? ": " : "", report->message, advice);
+}
+
 /* Runs one point as `rodsim run --no-video` would (run_read_scene, the dt
- * and plan of run.c, run_simulate) and measures it. */
+ * and plan of run.c, run_simulate_paced against the time limit, the knot
+ * tracked) and measures it; its warnings, as the run prints them, go to
+ * the message, joined with "; ". */
 static void run_point(const sweep *sw, int point, sweep_point_result *r)
 {
     double wall0 = clock_seconds(CLOCK_MONOTONIC);
@@ -181,7 +240,8 @@ static void run_point(const sweep *sw, int point, sweep_point_result *r)
     run_output out;
     rod_solver solver = {0};
     rod_state *s = NULL;
-    tip_samples tip = {0};
+    point_frames frames = {0};
+    run_warnings warnings = {0};
     ini_doc *doc = NULL;
     int n = set ? sweep_point_settings(sw, point, set, err, sizeof err) : -1;
     if (n < 0 || !(doc = sweep_point_doc(sw, set, n, err, sizeof err)) ||
@@ -201,65 +261,52 @@ static void run_point(const sweep *sw, int point, sweep_point_result *r)
         goto done;
     }
     double estimate = run_plan_seconds(&plan, m.nodes, 0, 0);
-    if (estimate > SWEEP_POINT_BUDGET && !sw->allow_long) {
+    if (estimate > run_time_limit() && !sw->allow_long) {
         set_message(r, SWEEP_POINT_REFUSED, "estimated %.3g s (%lld steps of the %s scheme at "
                                       "NS = %d): over the %.0f s budget; --allow-long runs it",
-                    estimate, (long long)plan.steps, scheme, m.nodes, SWEEP_POINT_BUDGET);
+                    estimate, (long long)plan.steps, scheme, m.nodes, run_time_limit());
         goto done;
     }
     if (rod_solver_init(&solver, &m, err, sizeof err)) {
         set_message(r, SWEEP_POINT_REFUSED, "cannot start the %s scheme: %s", scheme, err);
         goto done;
     }
+    scene_outputs_plan_warnings(&m, dt, &warnings);
     s = rod_state_create(&m);
+    knot_track_init(&frames.knots, m.nodes);
     if (plan.frames <= SWEEP_MAX_SAMPLES) {
-        tip.capacity = plan.frames;
-        tip.xyz = malloc(sizeof(double) * 3 * (size_t)plan.frames);
+        frames.tip.capacity = plan.frames;
+        frames.tip.xyz = malloc(sizeof(double) * 3 * (size_t)plan.frames);
     }
-    if (!s || !tip.xyz) {
+    if (!s || !frames.tip.xyz) {
         set_message(r, SWEEP_POINT_FAILED, "out of memory for rod.nodes = %d", m.nodes);
         goto done;
     }
     rod_report report;
     run_stats stats;
-    rod_status st = run_simulate(&solver, &m, s, &plan, out.fps, sample_tip, &tip, &report,
-                                 &stats);
+    run_pace pace = {.limit = run_time_limit(), .keep_going = sw->allow_long};
+    frames.stats = &stats;
+    rod_status st = run_simulate_paced(&solver, &m, s, &plan, out.fps, point_frame, &frames,
+                                       &pace, &report, &stats);
     r->value[SWEEP_M_STEPS] = (double)stats.steps;
     if (st != ROD_OK) {
-        sweep_point_status ps = st == ROD_UNSTABLE         ? SWEEP_POINT_UNSTABLE
-                              : st == ROD_NO_CONVERGENCE ? SWEEP_POINT_NO_CONVERGENCE
-                                                         : SWEEP_POINT_FAILED;
-        char advice[160] = "";
-        if (report.suggested_dt > 0.0 && !report.message[0]) /* the message has its own */
-            snprintf(advice, sizeof advice, "; what would work: solver.dt = %g",
-                     report.suggested_dt);
-        set_message(r, ps, "the %s scheme stopped at t = %g s (dt = %g s)%s%s%s%s", scheme,
-                    s->time, stats.largest_step > 0.0 ? stats.largest_step : dt,
-                    stats.non_finite ? ": the state is no longer finite" : "",
-                    report.message[0] ? ": " : "", report.message, advice);
+        set_stopped(r, st, &m, dt, s, &plan, &pace, &report, &stats);
         goto done;
     }
-    const double *t = &s->position[3 * (s->nodes - 1)];
-    for (int a = 0; a < 3; a++) {
-        r->value[SWEEP_M_TIP_X + a] = t[a];
-        r->value[SWEEP_M_ROOT_FX + a] = s->end_force[0][a];
-        r->value[SWEEP_M_TIP_FX + a] = s->end_force[1][a];
-    }
-    double curvature = 0.0;
-    for (int i = 0; i < s->nodes; i++) {
-        const double *u = &s->darboux[3 * i];
-        curvature = fmax(curvature, sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
-    }
-    r->value[SWEEP_M_MAX_CURVATURE] = curvature;
-    r->value[SWEEP_M_FIRST_FREQUENCY] = first_frequency(&tip, 1.0 / out.fps);
-    if (report.warning[0]) snprintf(r->message, sizeof r->message, "%s", report.warning);
+    measure_state(s, &frames.tip, out.fps, r);
     r->status = SWEEP_POINT_OK;
+    /* a strand through another despite self-contact: `rodsim run` fails (exit 1) */
+    if (scene_outputs_result_warnings(&m, &report, &frames.knots, &warnings, r->message,
+                                      sizeof r->message))
+        r->status = SWEEP_POINT_FAILED;
 done:
+    run_warnings_join(&warnings, r->message, sizeof r->message);
     r->value[SWEEP_M_WALL] = clock_seconds(CLOCK_MONOTONIC) - wall0;
     r->value[SWEEP_M_CPU] = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
     /* not timed: not the run */
     if (sw->critical && r->status == SWEEP_POINT_OK) critical_loads(&m, r);
-    free(tip.xyz);
+    free(frames.tip.xyz);
+    knot_track_release(&frames.knots);
     rod_state_destroy(s);
     rod_solver_release(&solver);
     rod_model_release(&m);
@@ -335,7 +382,7 @@ int sweep_read_result(const sweep *sw, uint64_t digest, sweep_point_result *r, c
         snprintf(err, errlen, "%s: %s", path, strerror(errno));
         return -1;
     }
-    char text[4096];
+    char text[8192]; /* the header, the measures, a message of up to 2 x its size quoted */
     size_t got = fread(text, 1, sizeof text - 1, f);
     fclose(f);
     text[got] = '\0';

@@ -279,7 +279,8 @@ static int check_all_ok(const figure_spec *fig, const figure_part *parts, char *
             if (r->status == SWEEP_POINT_OK) continue;
             char what[512];
             sweep_describe_point(&parts[k].sw, point, what, sizeof what);
-            snprintf(err, errlen, "point %s: %s: %s; nothing drawn", what,
+            /* the message cut to what err holds beside the point */
+            snprintf(err, errlen, "point %s: %s: %.1400s; nothing drawn", what,
                      sweep_status_names[r->status], r->message);
             return -1;
         }

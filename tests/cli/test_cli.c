@@ -15,6 +15,7 @@
 #include <sys/stat.h>
 #include <sys/time.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "sim/recording.h"
@@ -403,6 +404,110 @@ static void test_run_loop(void)
     check(!planned && plan.steps_estimate > 1e300,
           "dt = 1e-300 s: the plan is refused as uncountable (%.3g steps)", plan.steps_estimate);
     rod_recording_destroy(rec);
+    rod_state_destroy(s);
+    rod_solver_release(&solver);
+    rod_model_release(&m);
+}
+
+/* A step dearer than the cost model says: the fake step after spinning
+ * until the process has spent DEAR_STEP_CPU more seconds of CPU, so that
+ * the CPU time a run measures is at least that per step on any machine. */
+#define DEAR_STEP_CPU 1e-3
+static double process_cpu(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static rod_status dear_step(void *work, const rod_model *m, rod_state *s, double dt,
+                            rod_report *report)
+{
+    double until = process_cpu() + DEAR_STEP_CPU;
+    while (process_cpu() < until) {
+    }
+    return fake_step(work, m, s, dt, report);
+}
+
+static const rod_scheme_ops dear_scheme = {"dear", fake_create, dear_step, free, NULL, NULL};
+
+static int revisions_seen;
+static void count_revision(void *context, const run_pace *pace)
+{
+    (void)context, (void)pace;
+    revisions_seen++;
+}
+
+/* The estimate revised from what the steps cost (run_pace): steps of at
+ * least 1 ms of CPU, where the model says 20 us, stop a run whose limit the
+ * up-front estimate passes, at the first revision, before the run's end; with
+ * keep_going the run revises and goes on; steps that cost what the model
+ * says are never stopped. Asserts on what the run did, not on its speed. */
+static void test_run_paced(void)
+{
+    rod_model m = rod_model_default();
+    char err[256];
+    m.nodes = 5;
+    m.options.duration = 1.0;
+    rod_model_derive(&m, err, sizeof err);
+    rod_solver solver = {&dear_scheme, dear_scheme.create(&m, err, sizeof err)};
+    rod_state *s = rod_state_create(&m);
+    rod_report report;
+    run_stats stats;
+    run_plan plan;
+    int planned = run_plan_make(&m, 1e-3, 10, &plan) == 0; /* 1000 steps */
+    double upfront = run_plan_seconds(&plan, m.nodes, 0, 0);
+    run_pace pace = {.limit = 0.2, .on_revise = count_revision};
+    check(planned && plan.steps == 1000 && upfront < pace.limit,
+          "paced run: 1000 steps, the up-front estimate %.3g s under the limit %.3g s", upfront,
+          pace.limit);
+    revisions_seen = 0;
+    rod_status st = run_simulate_paced(&solver, &m, s, &plan, 10, NULL, NULL, &pace, &report,
+                                       &stats);
+    check(st == ROD_FAILED && pace.stopped && stats.steps < plan.steps &&
+              pace.revisions >= 1 && revisions_seen == pace.revisions &&
+              pace.estimate > pace.limit && pace.rate >= DEAR_STEP_CPU &&
+              strstr(report.message, "revised estimate"),
+          "paced run: steps of >= 1 ms stop it (status %d, stopped %d) after %lld of %lld steps, "
+          "%d revisions (%d told), revised %.3g s > the limit %.3g s at %.3g s per step: %s",
+          (int)st, pace.stopped, (long long)stats.steps, (long long)plan.steps, pace.revisions,
+          revisions_seen, pace.estimate, pace.limit, pace.rate, report.message);
+
+    /* --allow-long: revised, told, never stopped (100 steps, >= 0.1 s) */
+    m.options.duration = 0.1;
+    rod_state_reset(&m, s);
+    run_plan_make(&m, 1e-3, 10, &plan);
+    pace = (run_pace){.limit = 0.01, .keep_going = 1, .on_revise = count_revision};
+    revisions_seen = 0;
+    st = run_simulate_paced(&solver, &m, s, &plan, 10, NULL, NULL, &pace, &report, &stats);
+    check(st == ROD_OK && !pace.stopped && stats.steps == plan.steps && pace.revisions >= 1 &&
+              revisions_seen == pace.revisions && pace.estimate > pace.limit,
+          "paced run, keep_going: all %lld steps run (status %d, stopped %d), %d revisions, "
+          "the last %.3g s over the limit %.3g s",
+          (long long)stats.steps, (int)st, pace.stopped, pace.revisions, pace.estimate,
+          pace.limit);
+
+    /* steps that cost what the model says (the fake one: nothing) run on */
+    rod_solver_release(&solver);
+    solver = (rod_solver){&fake_scheme, fake_scheme.create(&m, err, sizeof err)};
+    m.options.duration = 1.0;
+    rod_state_reset(&m, s);
+    run_plan_make(&m, 1e-3, 10, &plan);
+    pace = (run_pace){.limit = 1.0};
+    st = run_simulate_paced(&solver, &m, s, &plan, 10, NULL, NULL, &pace, &report, &stats);
+    check(st == ROD_OK && !pace.stopped && stats.steps == plan.steps,
+          "paced run of cheap steps: all %lld steps (status %d)", (long long)stats.steps,
+          (int)st);
+
+    /* the warnings a sweep copies: joined with "; " after what the message holds */
+    run_warnings w = {0};
+    run_warn(&w, "first %d", 1);
+    run_warn(&w, "second");
+    char joined[64] = "", after[64] = "stopped";
+    run_warnings_join(&w, joined, sizeof joined);
+    run_warnings_join(&w, after, sizeof after);
+    check(strcmp(joined, "first 1; second") == 0 && strcmp(after, "stopped; first 1; second") == 0,
+          "warnings joined: '%s', after a message: '%s'", joined, after);
     rod_state_destroy(s);
     rod_solver_release(&solver);
     rod_model_release(&m);
@@ -857,6 +962,7 @@ static void test_signals(void)
 int main(void)
 {
     test_run_loop();
+    test_run_paced();
     test_frames_keep_the_scheme_going();
     if (!check(mkdtemp(tmp_dir) != NULL, "temporary directory")) return test_finish();
     snprintf(out_dir, sizeof out_dir, "%s/out", tmp_dir);
