@@ -10,7 +10,7 @@
 #include "sim/path.h"
 #include "sim/proximity.h"
 #include "sim/rod_geometry.h"
-#include "sim/surface.h"
+#include "sim/contact/surface.h"
 
 rod_model rod_model_default(void)
 {
