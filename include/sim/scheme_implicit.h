@@ -1,5 +1,8 @@
-/* scheme_implicit.h: what the implicit scheme shows beyond rod_scheme_ops,
- * for its tests. */
+/* scheme_implicit.h: what the implicit scheme (rod_scheme_implicit, sim/rod.h)
+ * shows beyond rod_scheme_ops, for its tests. The rod equations (3.15)
+ * advanced by the theta-method, all unknowns of a step solved together by
+ * Newton's method on one banded system: src/sim/implicit/ (the equations:
+ * sim/implicit/residual.h); contact's laws: src/sim/contact/. */
 #ifndef RODSIM_SIM_SCHEME_IMPLICIT_H
 #define RODSIM_SIM_SCHEME_IMPLICIT_H
 

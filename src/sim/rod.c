@@ -10,7 +10,7 @@
 #include "sim/path.h"
 #include "sim/proximity.h"
 #include "sim/rod_geometry.h"
-#include "sim/surface.h"
+#include "sim/contact/surface.h"
 
 /* How far (relative to the length) a path's first row may lie from the end
  * it moves, beyond what the shape's resampling moved that end: rounding. */

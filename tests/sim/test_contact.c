@@ -13,7 +13,7 @@
 #include "base/vec3.h"
 #include "sim/path.h"
 #include "sim/rod.h"
-#include "sim/surface.h"
+#include "sim/contact/surface.h"
 #include "test.h"
 #include "test_curve.h"
 #include "test_process.h"
@@ -227,13 +227,13 @@ static void test_curvature(void)
 }
 
 /* The energy the contact stores in a node pressed delta deep (J). The
- * contact force is an implicit spring (scheme_implicit.c, node_contact and
- * compliant_fraction): of a free depth e it takes back the fraction kappa /
- * (1 + kappa), kappa = 1000 + e / f0, leaving delta = e / (1 + kappa), with
- * the force F = kappa / (1 + kappa) e / a (a = dt^2 / (w m): the node's
- * compliance over a backward Euler step). Its energy is the integral of F
- * d delta, here over e: e = 1001 delta / (1 - delta / f0), d delta / de =
- * 1001 / (1001 + e / f0)^2 (Simpson, 200 intervals). */
+ * contact force is an implicit spring (sim/contact/surface_contact.c,
+ * friction.h's contact_fraction): of a free depth e it takes back the
+ * fraction kappa / (1 + kappa), kappa = 1000 + e / f0, leaving delta =
+ * e / (1 + kappa), with the force F = kappa / (1 + kappa) e / a (a = dt^2 /
+ * (w m): the node's compliance over a backward Euler step). Its energy is
+ * the integral of F d delta, here over e: e = 1001 delta / (1 - delta /
+ * f0), d delta / de = 1001 / (1001 + e / f0)^2 (Simpson, 200 intervals). */
 static double contact_energy(double delta, double a, double f0)
 {
     if (!(delta < f0)) return INFINITY;
@@ -394,11 +394,11 @@ static void test_incline(void)
     double alpha = atan(0.5 * mu); /* below the friction angle */
     int rc = incline(alpha, mu, 0.5, 1.0, &v1, &v2, &moved);
     /* friction creeps below its regularisation speed (CONTACT_CREEP in
-     * scheme_implicit.c): at most that speed times tan(alpha) / mu */
+     * sim/contact/friction.h): at most that speed times tan(alpha) / mu */
     /* friction mu lambda phi(v / eps), phi(x) = x / sqrt(1 + x^2), holds the
      * weight's pull tan(a) mu lambda at the creep speed eps r / sqrt(1 -
      * r^2), r = tan(a) / mu; eps = c / 1000 + 1e-6 m/s with c = push mu
-     * lambda = mu g cos(a) dt (scheme_implicit.c creep_speed) */
+     * lambda = mu g cos(a) dt (friction.h's contact_creep_speed) */
     const double dt = 1e-3, eps = mu * GRAVITY * cos(alpha) * dt / 1000.0 + 1e-6;
     const double r = tan(alpha) / mu, speed = eps * r / sqrt(1.0 - r * r);
     check(rc == 0 && fabs(moved) <= 1.01 * speed * 1.0 && fabs(moved) >= 0.9 * speed * 0.5,

@@ -19,10 +19,10 @@
 #include <string.h>
 
 #include "base/vec3.h"
-#include "sim/contact_law.h"
+#include "sim/contact/friction.h"
 #include "sim/rod.h"
 #include "sim/scheme_implicit.h"
-#include "sim/self_contact.h"
+#include "sim/contact/self_contact.h"
 #include "test.h"
 #include "test_helix.h"
 #include "test_segment.h"

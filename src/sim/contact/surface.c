@@ -1,6 +1,6 @@
 /* surface.c: distance to the rigid obstacles and the first crossing of a
- * moving point (see surface.h). Issue 11. */
-#include "sim/surface.h"
+ * moving point (see surface.h). */
+#include "sim/contact/surface.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,6 +1,6 @@
 /* self_contact.c: contact between non-neighbouring strands of the rod in
- * the implicit step (self_contact.h; issue 12). */
-#include "sim/self_contact.h"
+ * the implicit step (self_contact.h). */
+#include "sim/contact/self_contact.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -8,7 +8,7 @@
 
 #include "base/vec3.h"
 #include "base/vec3_lanes.h"
-#include "sim/contact_law.h"
+#include "sim/contact/friction.h"
 
 
 rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, int block,
@@ -272,11 +272,9 @@ static int search_pairs(rod_self_contact *sc, const double *pos0, double thresho
  * shift_for_pair_shares); several may go to one. A pair takes the
  * share of the largest force it was given. Strands sliding along each
  * other carry their contacts across nodes, and the closest points of two
- * strands lying side by side jump along them: in overhand.ini's pull
- * through, 62 % of the steps began with a scaled residual above 10 in the
- * constraint rows (3.14) where a contact had moved on to the next segment
- * and its force was lost with the exact pair alone (and 30 % when each
- * last force went to one pair at most) */
+ * strands lying side by side jump along them: with the exact pair alone,
+ * most steps of a knot pulled through began with a contact's force lost
+ * (docs/decisions/draft-first-iterate.md) */
 static void take_last(rod_self_contact *sc)
 {
     for (int l = 0; l < sc->last_count; l++) {
@@ -418,7 +416,7 @@ static void tangential_part(double out[3], const double v[3], const double n[3])
  * the overlap of the two capsules (contact_fraction), then Coulomb friction
  * against the relative tangential velocity, limited by mu times the normal
  * force (contact_creep_speed_corner), its creep speed that of the pair's
- * whole compliance. As the surfaces' law (node_contact), with the pair's
+ * whole compliance. As the surfaces' law (surface_contact_node), with the pair's
  * compliance in place of one node's, and friction's local problem solved
  * with share x compliance: see SELF_SHARE_LEAST.
  *
@@ -426,14 +424,8 @@ static void tangential_part(double out[3], const double v[3], const double n[3])
  * N s / m) in closed form, where a change dz of the relative velocity
  * moves the relative position by dt theta dz; at friction's corner, that of
  * the side the point is on (creep up to eps + c, Coulomb beyond), as a
- * semismooth Newton method takes it. Differences of the law, which this
- * replaces, straddled the corner: their step, 1e-7 of |z|, is set by the
- * normal part of the free motion, 280 m/s in overhand_tight.ini's knot,
- * against a tangential speed within 2e-5 m/s of the corner; a pair
- * sliding at the edge of its cone got a gain half creep, half slip, along
- * which its residual rose (the line search halved to nothing: 18 of the
- * 142 attempts of `make bench`'s window t = 2 to 2.5 s stalled and were
- * split). */
+ * semismooth Newton method takes it (contact_corner_gain): differences of
+ * the law straddled the corner (docs/decisions/draft-friction-corner.md). */
 static void pair_law(const rod_self_contact *sc, const self_pair *p, const double d[3],
                      const double z[3], double dt, double theta, double f[3], double *gain)
 {
@@ -454,8 +446,7 @@ static void pair_law(const rod_self_contact *sc, const self_pair *p, const doubl
      * d frac / de = 1 / (floor (1 + kappa)^2) (contact_fraction) */
     double dlambda = 0.0;
     if (gain) {
-        const double kappa = CONTACT_STIFF + e / floor;
-        dlambda = -dt * theta * (frac + e / (floor * (1.0 + kappa) * (1.0 + kappa))) / a;
+        dlambda = -dt * theta * contact_compliant_slope_strands(e, floor) / a;
         for (int r = 0; r < 3; r++)
             for (int c = 0; c < 3; c++) gain[3 * r + c] = n[r] * dlambda * n[c];
     }
@@ -463,28 +454,7 @@ static void pair_law(const rod_self_contact *sc, const self_pair *p, const doubl
     const double eps = contact_creep_eps(peff * limit);
     const double sp = contact_creep_speed_corner(speed, pt * limit, eps);
     v3_axpy(f, -(speed - sp) / (pt * speed), vt);
-    if (!gain) return;
-    const double mu = sc->friction, c = pt * limit;
-    double t[3];
-    v3_scale(t, vt, 1.0 / speed);
-    if (speed <= eps + c) {
-        /* creep: F_t = -k vt, k = limit / (eps + c), with eps and c
-         * growing with lambda (contact_creep_eps: eps = 1 / u + CONTACT_CREEP,
-         * u = CONTACT_STIFF / (peff limit) + 1 / CONTACT_CREEP_MAX) */
-        const double k = limit / (eps + c);
-        const double u = CONTACT_STIFF / (peff * limit) + 1.0 / CONTACT_CREEP_MAX;
-        const double deps = mu * CONTACT_STIFF / (peff * limit * limit * u * u);
-        const double dk = mu / (eps + c) - limit * (deps + pt * mu) / ((eps + c) * (eps + c));
-        for (int r = 0; r < 3; r++)
-            for (int col = 0; col < 3; col++)
-                gain[3 * r + col] -= k * ((r == col) - n[r] * n[col]) + vt[r] * dk * dlambda * n[col];
-    } else {
-        /* Coulomb: F_t = -mu lambda t, t = vt / |vt|, dt/dz = (P - t t^T) / |vt| */
-        for (int r = 0; r < 3; r++)
-            for (int col = 0; col < 3; col++)
-                gain[3 * r + col] -= mu * t[r] * dlambda * n[col] +
-                                     limit * ((r == col) - n[r] * n[col] - t[r] * t[col]) / speed;
-    }
+    if (gain) contact_corner_gain(gain, n, vt, speed, eps, limit, sc->friction, peff, pt, dlambda);
 }
 
 void rod_self_contact_pair_law(const rod_self_contact *sc, const self_pair *p, const double d[3],
@@ -698,11 +668,10 @@ LANES_TARGET static void sum_columns(double *restrict out, int n, const double *
 
 /* Solves S x = b in place (S column-major, n x n, overwritten by its LU
  * factors; b by x): Gaussian elimination with partial pivoting, the row
- * interchanges applied to b as they are made. LAPACK's dgesv did the same
- * arithmetic through the reference BLAS's recursive dgetrf2, whose small
- * dgemm and dtrsm calls cost twice the loops at this size (n = 3 x the
- * pairs touching: 60 in a tight knot, 47 us against 24). Returns 0, or -1
- * when S is singular. */
+ * interchanges applied to b as they are made: LAPACK's dgesv's arithmetic,
+ * whose small BLAS calls cost twice the loops at this size (n = 3 x the
+ * pairs touching; docs/decisions/draft-band-lu-written-out.md). Returns 0,
+ * or -1 when S is singular. */
 LANES_TARGET static int dense_solve(int n, double *restrict s, double *restrict b)
 {
     for (int k = 0; k < n; k++) {
@@ -744,36 +713,35 @@ LANES_TARGET static int dense_solve(int n, double *restrict s, double *restrict 
     return 0;
 }
 
-int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *push, double c,
-                             void (*solve)(const void *ctx, double *v, int count, int first),
-                             const void *ctx)
+/* The pairs the correction carries (active, up to SELF_CONTACT_RANK_PAIRS)
+ * into sc->ranked; every pair's delta starts at its g (a pair the dense
+ * system has no room for moves to its law's force: a fixed-point step).
+ * Returns their count. */
+static int rank_pairs(rod_self_contact *sc)
 {
-    const int nu = sc->unknowns;
     int m = 0;
     for (int q = 0; q < sc->count; q++) {
         self_pair *p = &sc->pair[q];
-        /* a pair the dense system has no room for moves to its law's
-         * force (a fixed-point step) */
         v3_copy(p->delta, p->g);
         if (p->active && m < SELF_CONTACT_RANK_PAIRS) sc->ranked[m++] = q;
     }
-    if (m == 0) return 0;
-    if (!sc->y) {
-        /* allocated when a pair first touches: a run without self-contact
-         * never holds it */
-        sc->y = malloc((size_t)nu * 3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
-        if (!sc->y) return -1;
-    }
-    /* Y = B^-1 V for pairs that have no columns yet at this step. While B
-     * is young (made at this step or the last) it may not outlive the
-     * step, and its nodes' columns would cost more solves than the pairs'
-     * own (a knot held by friction, overhand.ini, renews B about 3 times
-     * per step): V of each pair, solved together. Once B has lasted, the
-     * sum of the pairs' nodes' columns (node_columns), solved for once per
-     * B. When the columns of pairs gone leave no room, all start again (m
-     * is at most SELF_CONTACT_RANK_PAIRS: then they fit). Out of memory
-     * for the nodes' columns, the pairs move to their laws' forces
-     * (delta g) */
+    return m;
+}
+
+/* Y = B^-1 V for the first m ranked pairs that have no columns yet at this
+ * step. While B is young (made at this step or the last) it may not outlive
+ * the step, and its nodes' columns would cost more solves than the pairs'
+ * own (a knot held by friction renews B about 3 times per step): V of each
+ * pair, solved together. Once B has lasted, the sum of the pairs' nodes'
+ * columns (node_columns), solved for once per B. When the columns of pairs
+ * gone leave no room, all start again (m is at most
+ * SELF_CONTACT_RANK_PAIRS: then they fit). Returns 0, or -1 when the
+ * nodes' columns find no memory. */
+static int pair_solutions(rod_self_contact *sc, int m, const double *push,
+                          void (*solve)(const void *ctx, double *v, int count, int first),
+                          const void *ctx)
+{
+    const int nu = sc->unknowns;
     int missing = 0;
     for (int r = 0; r < m; r++) missing += sc->pair[sc->ranked[r]].column < 0;
     if (sc->columns + 3 * missing > 3 * SELF_CONTACT_RANK_PAIRS) forget_columns(sc);
@@ -823,11 +791,19 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
     }
     if (direct && sc->columns > from)
         solve(ctx, &sc->y[(size_t)from * (size_t)nu], sc->columns - from, first);
-    const int size = 3 * m;
+    return 0;
+}
+
+/* The dense system of the correction, S delta = rhs (S column-major, 3 m
+ * square): H = A + c G (rows of pair r, columns of pair q), then S = I -
+ * gain H: G_rq = V_r^T Y_q; A_rq = sum over shared nodes of the weights'
+ * product times push (r != q): a force of q moves r's relative velocity
+ * directly. Also each pair's ratio (the next step's share). */
+static void assemble_system(rod_self_contact *sc, int m, const double *dx, const double *push,
+                            double c)
+{
+    const int nu = sc->unknowns, size = 3 * m;
     double *s = sc->s, *rhs = sc->rhs;
-    /* H = A + c G (rows of pair r, columns of pair q), then S = I - gain H:
-     * G_rq = V_r^T Y_q; A_rq = sum over shared nodes of the weights' product
-     * times push (r != q): a force of q moves r's relative velocity directly */
     for (int r = 0; r < m; r++) {
         const self_pair *pr = &sc->pair[sc->ranked[r]];
         int block[8];
@@ -869,7 +845,7 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
                 for (int i = 0; i < 3; i++)
                     for (int j = 0; j < 3; j++) h[3 * i + j] += a * ((i == j) - nr[i] * nr[j]);
             }
-            /* column-major S for LAPACK: S[(3r+i) + size (3q+j)] */
+            /* column-major S: S[(3r+i) + size (3q+j)] */
             for (int i = 0; i < 3; i++)
                 for (int j = 0; j < 3; j++) {
                     double g = 0.0;
@@ -879,10 +855,16 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
                 }
         }
     }
-    if (dense_solve(size, s, rhs)) return -1;
-    /* dx += c Y delta over the columns whose share is not 0, four at a time
-     * (dx read once per four: Y is 3 m columns of nu, past the caches in a
-     * tight knot), each entry's sum in the columns' order, as one at a time */
+}
+
+/* Each ranked pair's delta from the solved system (in sc->rhs), and dx +=
+ * c Y delta over the columns whose share is not 0, four at a time (dx read
+ * once per four: Y is 3 m columns of nu, past the caches in a tight knot),
+ * each entry's sum in the columns' order, as one at a time */
+static void apply_correction(rod_self_contact *sc, int m, double *dx, double c)
+{
+    const int nu = sc->unknowns;
+    const double *rhs = sc->rhs;
     const double *cols[3 * SELF_CONTACT_RANK_PAIRS];
     double gs[3 * SELF_CONTACT_RANK_PAIRS];
     int used = 0;
@@ -900,5 +882,25 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
     for (; k + 4 <= used; k += 4) sum_columns(dx, nu, &cols[k], &gs[k], 1);
     for (; k < used; k++)
         for (int i = 0; i < nu; i++) dx[i] += gs[k] * cols[k][i];
+}
+
+int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *push, double c,
+                             void (*solve)(const void *ctx, double *v, int count, int first),
+                             const void *ctx)
+{
+    const int m = rank_pairs(sc);
+    if (m == 0) return 0;
+    if (!sc->y) {
+        /* allocated when a pair first touches: a run without self-contact
+         * never holds it */
+        sc->y = malloc((size_t)sc->unknowns * 3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
+        if (!sc->y) return -1;
+    }
+    /* out of memory for the nodes' columns, the pairs move to their laws'
+     * forces (delta g) */
+    if (pair_solutions(sc, m, push, solve, ctx)) return -1;
+    assemble_system(sc, m, dx, push, c);
+    if (dense_solve(3 * m, sc->s, sc->rhs)) return -1;
+    apply_correction(sc, m, dx, c);
     return 0;
 }

@@ -5,8 +5,8 @@
  * surface touches the obstacle). Every solid is convex, so its signed
  * distance is a convex function along any segment: the swept test below
  * relies on that. */
-#ifndef RODSIM_SURFACE_H
-#define RODSIM_SURFACE_H
+#ifndef RODSIM_SIM_CONTACT_SURFACE_H
+#define RODSIM_SIM_CONTACT_SURFACE_H
 
 #include <stddef.h>
 

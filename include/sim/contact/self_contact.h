@@ -1,7 +1,8 @@
 /* self_contact.h: contact between non-neighbouring parts of the rod inside
- * the implicit scheme's step (issue 12): capsules of the rod's diameter,
- * a compliant normal force and regularised Coulomb friction between strands
- * (sim/contact_law.h), solved in the same Newton iteration as the rod.
+ * the implicit scheme's step: capsules of the rod's diameter, a compliant
+ * normal force and regularised Coulomb friction between strands (the
+ * contact law of sim/contact/friction.h, at friction's corner), solved in
+ * the same Newton iteration as the rod.
  *
  * The scheme eliminates the node velocities: v_k at the end of the step is
  * a linear function of the contact forces N beside node k (3.3)_1, and a
@@ -31,8 +32,8 @@
  * three banded solves per touching pair and step; once B has outlived two
  * steps, built from its nodes' columns (below), three banded solves per
  * node a touching pair holds, once for as long as B lasts. */
-#ifndef RODSIM_SIM_SELF_CONTACT_H
-#define RODSIM_SIM_SELF_CONTACT_H
+#ifndef RODSIM_SIM_CONTACT_SELF_CONTACT_H
+#define RODSIM_SIM_CONTACT_SELF_CONTACT_H
 
 #include "sim/proximity.h"
 
@@ -55,26 +56,19 @@
  * operator's diagonal), which decides stick or slip from force and
  * velocity in balance. A pair's compliance (its four nodes' push) is that
  * of free nodes; the rod's inextensibility and bending leave the strands'
- * tangential motion below 0.2 of it in a tight knot (overhand_tight.ini's
- * first 2.5 s: 73 % of the pairs' steps below 0.05, all but 0.3 % below
- * 0.2), so with share 1 a stuck pair's state was decided almost by its
- * force alone, and Newton stalled where strands turned between stick and
- * slip. Each pair's share is its own measured ratio
- * (rod_self_contact_correct: the rod's part from B^-1 V) from its last
- * step, at least this; a new pair starts at 1 */
+ * tangential motion far below it in a tight knot, so with share 1 a stuck
+ * pair's state was decided almost by its force alone, and Newton stalled
+ * where strands turned between stick and slip. Each pair's share is its
+ * own measured ratio (rod_self_contact_correct: the rod's part from B^-1 V)
+ * from its last step, at least this; a new pair starts at 1
+ * (docs/decisions/draft-self-contact-share.md) */
 #define SELF_SHARE_LEAST 0.01
 
 /* A pair whose friction at the end of its last step used less than this
  * share of its cone (|F_t| < SELF_SHARE_STUCK mu F_n) keeps share 1: held
- * by force, it is best decided by force. With the measured ratio for every
- * pair, the sagging coil of test_self_contact (its pairs stuck: 8 % of
- * their steps at the cone's edge, against 60 % in overhand_tight.ini) took
- * 4.72 Newton iterations a step instead of 2.24; with this rule 2.62, while
- * the knots keep most of the gain (whole runs, CPU s, before / every pair /
- * this rule: overhand.ini 12.05 / 6.77 / 6.82, overhand_tight.ini 8.18 /
- * 7.16 / 7.44, buckling_twist.ini 17.03 / 6.29 / 13.07, surgeons_knot.ini
- * 7.28 / 7.01 / 6.99; 0.5 left the coil at 4.62, 0.99 at 2.23 with
- * buckling_twist.ini at 15.5 s) */
+ * by force, it is best decided by force (a coil whose pairs stick took
+ * nearly twice the iterations with the measured ratio;
+ * docs/decisions/draft-self-contact-share.md) */
 #define SELF_SHARE_STUCK 0.9
 
 typedef struct self_pair {
@@ -160,9 +154,9 @@ typedef struct rod_self_contact {
 
 /* A pair list's skin (rod_self_contact_find), in diameters: the list holds
  * the pairs within the threshold + 2 skin, and serves until a node has
- * moved by a skin from where it was made (a Verlet list). In the sagging
- * coil of bench_self_contact (NS = 201), the search found 246 pairs within
- * 1.5 d in 30 us; the list of 311 within 2 d, measured again, 6 us */
+ * moved by a skin from where it was made (a Verlet list): measuring the
+ * list's pairs again costs a fifth of a search in a coil of 201 nodes
+ * (docs/decisions/draft-self-contact-pair-list.md) */
 #define SELF_LIST_SKIN 0.25
 /* The most pairs a list holds (it grows on demand); a search finding more
  * makes none */

@@ -1,0 +1,68 @@
+/* contact.h: the implicit scheme's contact with the scene's surfaces and
+ * with the punctures a thread passes through, over one step (the strands'
+ * own contact: self_contact.h). The data the residual's laws read and
+ * record (surface_contact.h, puncture.h), made once with the scheme's work.
+ *
+ * The node velocities are not Newton unknowns: the linear momentum balance
+ * gives them from the iterate's forces, and a contact force F at node b
+ * changes them by push F (push: the node's compliance over the step, m/s per
+ * N). Given the iterate, each contact is a local problem solved in closed
+ * form inside the residual, which corrects the velocities in place and, for
+ * the Jacobian, records how each touched node's velocity after contact
+ * depends on the free ones (velocity_jac). */
+#ifndef RODSIM_SIM_CONTACT_CONTACT_H
+#define RODSIM_SIM_CONTACT_CONTACT_H
+
+#include "sim/rod.h"
+
+/* One puncture of the step (from the state at its start; puncture_prepare) */
+typedef struct contact_puncture {
+    int j;             /* segment j..j+1 the thread passes the point through */
+    double alpha;      /* fraction along it */
+    double point[3], tangent[3], friction;
+    double force[3];   /* N, global: what the tissue exerts on the thread, this iterate */
+} contact_puncture;
+
+typedef struct rod_contact {
+    int nodes;
+    int held[2];           /* 1: the root's (0) or the tip's (1) position is held: its
+                              velocity is its support's, no contact moves it */
+    /* the scheme's arrays the laws read and correct (not owned) */
+    const double *pos0;    /* (nodes x 3) global, m: positions at the start of the step */
+    double *vel1, *vbar;   /* (nodes x 3) global, m/s: velocities at the end of the step and
+                              their theta-mean over it */
+    /* surfaces (surface_contact.h) */
+    int surface_count;
+    const rod_surface *surfaces; /* the model's */
+    double *surface_force; /* (nodes x 3) global, N: what the surfaces exert, this iterate */
+    double *start_gap;     /* (nodes x surfaces x 7): each node's gap (m), outward normal and
+                              nearest point (m, global) at the start of the step: fixed over
+                              the step, so found once, not in every residual; NULL without
+                              surfaces */
+    unsigned *threaded;    /* (nodes): bit j set when the node is threaded through tissue
+                              surface j (between its punctures): no contact with it */
+    int needle_tissue;     /* 1: the driven tip carries a needle and a surface is tissue */
+    /* punctures of this step (puncture.h) */
+    int puncture_count;
+    contact_puncture punct[ROD_MAX_PUNCTURES];
+    /* the velocity maps, for the Jacobian (NULL when made without) */
+    int want_jacobian;     /* 1: the laws record velocity_jac */
+    double *velocity_jac;  /* (nodes x 27) for a touched node b: d v_b / d u_{b-1}, d v_b / d u_b,
+                              d v_b / d u_{b+1} (row-major 3x3), v the end-of-step velocity
+                              after contact, u the free one */
+    unsigned char *touched;/* (nodes) 1: velocity_jac of the node is set (else the identity) */
+} rod_contact;
+
+/* Makes c for the model's surfaces and needle, reading and correcting the
+ * scheme's arrays pos0, vel1 and vbar (nodes x 3, kept by the caller for
+ * c's life); the velocity maps when `maps` is set. held: the ends' holds.
+ * Returns 0, or -1 when out of memory (then rod_contact_destroy frees what
+ * was made). */
+int rod_contact_create(rod_contact *c, const rod_model *m, const double *pos0, double *vel1,
+                       double *vbar, const int held[2], int maps);
+void rod_contact_destroy(rod_contact *c);
+
+/* Marks node b's velocity map as recorded, from the identity if it was not. */
+void rod_contact_touch_node(rod_contact *c, int b);
+
+#endif

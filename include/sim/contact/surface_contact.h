@@ -1,0 +1,46 @@
+/* surface_contact.h: contact of the rod's nodes with the scene's rigid
+ * surfaces (sim/contact/surface.h) inside the implicit scheme's residual:
+ * the contact law of friction.h (its smooth friction) on each node, with
+ * the node's velocity map for the Jacobian. */
+#ifndef RODSIM_SIM_CONTACT_SURFACE_CONTACT_H
+#define RODSIM_SIM_CONTACT_SURFACE_CONTACT_H
+
+#include "sim/contact/contact.h"
+#include "sim/rod.h"
+
+/* Each node's gap, normal and nearest point on each surface at the start
+ * of the step (surface_contact_node reads them in every residual
+ * evaluation), from ct->pos0. */
+void surface_contact_prepare(rod_contact *ct, const rod_model *m);
+
+/* Contact of node b with the surfaces inside the residual: corrects its
+ * vel1 and vbar in place, sets its surface_force and, with want_jacobian,
+ * its velocity map.
+ *
+ * The velocity is not a Newton unknown: (3.3)_1 gives it from N, and a
+ * contact force F at the node changes it by push F (push = 1 / (w_b (m/dt +
+ * theta c)), the node's compliance), so the end of the step moves by a F,
+ * a = dt theta push. Given the iterate's N, the node's contact is a problem
+ * of its own, solved here in closed form:
+ *   - normal: where the free motion would end a depth e inside the surface
+ *     grown by the rod's radius, the force along the outward normal that
+ *     takes back the fraction kappa / (1 + kappa) of it (contact_fraction:
+ *     an implicit spring; what is left is below 1 % of the radius), else 0;
+ *   - friction: regularised Coulomb against the end-of-step tangential
+ *     velocity, limited by mu times the normal force (contact_creep_speed).
+ * The contact force depends on the node's own N only, like v: the
+ * Jacobian's band and colouring are unchanged. The residual is piecewise
+ * smooth where a contact switches on; Newton takes a line search then.
+ *
+ * No tunnelling: a node that was clear of the surface (by more than a tenth
+ * of the radius) is held by the half-space where its straight path over the
+ * step enters the grown solid (rod_surface_sweep), so a node that would
+ * cross a thin pad within a step stops at its entry face; a node touching at
+ * the start is held by the half-space tangent at its nearest point. Only
+ * nodes carry contact: a segment over a box's edge can cut it by up to
+ * ds^2 / (8 R) for the rounding R of the grown edge, here the rod's radius
+ * (README). Nodes threaded through tissue between punctures skip that
+ * surface (puncture_prepare). */
+void surface_contact_node(rod_contact *ct, const rod_model *m, int b, double push, double dt);
+
+#endif

@@ -1,0 +1,253 @@
+/* puncture.c: the punctures a thread passes through, inside the implicit
+ * scheme's residual, and the needle that makes them (puncture.h). */
+#include "sim/contact/puncture.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "base/vec3.h"
+#include "sim/contact/friction.h"
+#include "sim/contact/surface.h"
+
+/* A needle's hole is made where the thread crosses the tissue, but not on
+ * the segment at the needle's back (the held tip) farther toward it than
+ * this fraction: the thread's point there moves with compliance (1 - f)^2
+ * push, so a hole too near the tip needs huge forces to correct a micron's
+ * miss at the next step (docs/decisions/draft-needle-hole-clear.md). */
+#define NEEDLE_HOLE_CLEAR 0.995
+
+/* One puncture's map in puncture_forces, for its Jacobian. */
+typedef struct puncture_map {
+    int j;                   /* segment j..j+1 */
+    double wj, wk;           /* the point's weights on nodes j, j+1 */
+    double pj, pk, peff;     /* the nodes' and the point's compliance, m/s per N */
+    double dt_theta;         /* s */
+    const double *t;         /* (3) the thread's direction */
+    const double *f;         /* (3) the force across, N */
+    double across;           /* |f|, N */
+    double mu, vt, sp;       /* friction; the point's velocity along t (after f) and
+                                contact_creep_speed's root, m/s */
+} puncture_map;
+
+/* Composes node j's and j+1's velocity maps with one puncture's: z = (v_j,
+ * v_j+1) -> z + (pj wj, pk wk) (f + ft t), differentiated as in
+ * puncture_forces: d e / d z = dt theta (wj, wk) (I - t t^T), d f / d e
+ * given; the friction ft = -(|vt| - sp) sign(vt) / peff with d vt / d z =
+ * (wj, wk) t^T (f is across t), d sp from contact_creep_slopes and d c = peff mu
+ * d|f|. A node's map keeps its neighbours' columns only: a second puncture on
+ * the next segment would reach two nodes on, beyond the band (left out). */
+static void puncture_map_jacobian(rod_contact *ct, const puncture_map *p, const double df_de[9])
+{
+    const double *t = p->t, g[2] = {p->pj * p->wj, p->pk * p->wk}, wz[2] = {p->wj, p->wk};
+    double fz[18], m6[36];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            double ap = 0.0; /* (d f / d e) (I - t t^T) */
+            for (int l = 0; l < 3; l++) ap += df_de[3 * r + l] * ((l == c) - t[l] * t[c]);
+            for (int q = 0; q < 2; q++) fz[6 * r + 3 * q + c] = ap * p->dt_theta * wz[q];
+        }
+    for (int r = 0; r < 6; r++)
+        for (int c = 0; c < 6; c++) m6[6 * r + c] = (r == c) + g[r / 3] * fz[6 * (r % 3) + c];
+    const double c_limit = p->peff * p->mu * p->across;
+    if (c_limit > 0.0) { /* at speed 0 too: sp has the slope d_speed there */
+        double d_speed, d_c, dft[6];
+        contact_creep_slopes(c_limit, p->sp, &d_speed, &d_c);
+        const double sign = p->vt > 0.0 ? 1.0 : -1.0;
+        for (int c = 0; c < 6; c++) {
+            double dvt = wz[c / 3] * t[c % 3], dacross = 0.0;
+            for (int r = 0; r < 3; r++) dacross += p->f[r] / p->across * fz[6 * r + c];
+            double dsp = d_speed * sign * dvt + d_c * p->peff * p->mu * dacross;
+            dft[c] = -(dvt - sign * dsp) / p->peff;
+        }
+        for (int r = 0; r < 6; r++)
+            for (int c = 0; c < 6; c++) m6[6 * r + c] += g[r / 3] * t[r % 3] * dft[c];
+    }
+    /* rows of nodes j and j+1 over the columns of nodes j-1 .. j+2 */
+    const int j = p->j;
+    rod_contact_touch_node(ct, j);
+    rod_contact_touch_node(ct, j + 1);
+    double rows[2][3][12], out[2][3][12];
+    memset(rows, 0, sizeof rows);
+    for (int q = 0; q < 2; q++)
+        for (int blk = 0; blk < 3; blk++)
+            for (int r = 0; r < 3; r++)
+                for (int c = 0; c < 3; c++)
+                    rows[q][r][3 * (blk + q) + c] = ct->velocity_jac[27 * (j + q) + 9 * blk + 3 * r + c];
+    for (int q = 0; q < 2; q++)
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 12; c++) {
+                double sum = 0.0;
+                for (int l = 0; l < 6; l++) sum += m6[6 * (3 * q + r) + l] * rows[l / 3][l % 3][c];
+                out[q][r][c] = sum;
+            }
+    for (int q = 0; q < 2; q++)
+        for (int blk = 0; blk < 3; blk++)
+            for (int r = 0; r < 3; r++)
+                for (int c = 0; c < 3; c++)
+                    ct->velocity_jac[27 * (j + q) + 9 * blk + 3 * r + c] = out[q][r][3 * (blk + q) + c];
+}
+
+void puncture_forces(rod_contact *ct, const rod_model *m, double push, double dt)
+{
+    const int n = ct->nodes;
+    const double theta = m->options.theta;
+    for (int k = 0; k < ct->puncture_count; k++) {
+        const int j = ct->punct[k].j, i2 = j + 1;
+        const double al = ct->punct[k].alpha, *t = ct->punct[k].tangent;
+        double pj = (j == 0 || j == n - 1) ? 2.0 * push : push;
+        double pk = (i2 == n - 1) ? 2.0 * push : push;
+        if (j == 0 && ct->held[0]) pj = 0.0; /* a held end's velocity is its support's */
+        if (i2 == n - 1 && ct->held[1]) pk = 0.0;
+        const double wj = 1.0 - al, wk = al, peff = wj * wj * pj + wk * wk * pk;
+        double *force = ct->punct[k].force;
+        v3_set(force, 0.0, 0.0, 0.0);
+        /* at a held end's node the support holds the thread at the point */
+        if (!(peff > 1e-6 * push)) continue;
+        double rp[3], e[3], f[3];
+        for (int c = 0; c < 3; c++)
+            rp[c] = wj * (ct->pos0[3 * j + c] + dt * ct->vbar[3 * j + c]) +
+                    wk * (ct->pos0[3 * i2 + c] + dt * ct->vbar[3 * i2 + c]);
+        v3_sub(e, rp, ct->punct[k].point);
+        v3_axpy(e, -v3_dot(e, t), t);
+        const double miss = v3_norm(e), floor = 0.005 * m->diameter;
+        v3_scale(f, e, -contact_fraction(miss, floor) / (dt * theta * peff));
+        for (int c = 0; c < 3; c++) {
+            ct->vel1[3 * j + c] += pj * wj * f[c];
+            ct->vbar[3 * j + c] += theta * pj * wj * f[c];
+            ct->vel1[3 * i2 + c] += pk * wk * f[c];
+            ct->vbar[3 * i2 + c] += theta * pk * wk * f[c];
+        }
+        v3_copy(force, f);
+        /* friction along the thread */
+        double across = v3_norm(f), limit = ct->punct[k].friction * across, vt = 0.0;
+        for (int c = 0; c < 3; c++) vt += t[c] * (wj * ct->vel1[3 * j + c] + wk * ct->vel1[3 * i2 + c]);
+        double speed = fabs(vt), sp = speed;
+        if (speed > 0.0 && limit > 0.0) {
+            sp = contact_creep_speed(speed, peff * limit);
+            double ft = -(speed - sp) / peff * (vt > 0.0 ? 1.0 : -1.0);
+            for (int c = 0; c < 3; c++) {
+                ct->vel1[3 * j + c] += pj * wj * ft * t[c];
+                ct->vbar[3 * j + c] += theta * pj * wj * ft * t[c];
+                ct->vel1[3 * i2 + c] += pk * wk * ft * t[c];
+                ct->vbar[3 * i2 + c] += theta * pk * wk * ft * t[c];
+                force[c] += ft * t[c];
+            }
+        }
+        if (ct->want_jacobian) {
+            /* d f / d e = -(s I + s' e e^T / |e|), s = kappa/(1+kappa) / (dt theta peff) */
+            const double scale = 1.0 / (dt * theta * peff), frac = contact_fraction(miss, floor);
+            double df_de[9];
+            for (int r = 0; r < 3; r++)
+                for (int c = 0; c < 3; c++)
+                    df_de[3 * r + c] = -scale * ((r == c) * frac +
+                        (miss > 0.0 ? (contact_compliant_slope(miss, floor) - frac) * e[r] * e[c] / (miss * miss) : 0.0));
+            const puncture_map map = {j, wj, wk, pj, pk, peff, dt * theta, t, f, across,
+                                      ct->punct[k].friction, vt, sp};
+            puncture_map_jacobian(ct, &map, df_de);
+        }
+    }
+}
+
+void puncture_prepare(rod_contact *ct, const rod_model *m, const rod_state *s)
+{
+    const int n = ct->nodes;
+    ct->puncture_count = s->puncture_count;
+    for (int k = 0; k < s->puncture_count; k++) {
+        double u = s->puncture[k].s / m->ds;
+        int j = (int)floor(u);
+        if (j > n - 2) j = n - 2;
+        if (j < 0) j = 0;
+        double al = u - j;
+        ct->punct[k].j = j;
+        ct->punct[k].alpha = al < 0.0 ? 0.0 : al > 1.0 ? 1.0 : al;
+        v3_copy(ct->punct[k].point, s->puncture[k].point);
+        ct->punct[k].friction = s->puncture[k].friction;
+        /* the thread's direction at the point: the node tangents (central
+         * differences) interpolated, not the segment's, so that the point can
+         * slide along the thread when it sits at a node where the thread
+         * turns (a tight bend at the puncture) */
+        double t[3] = {0.0, 0.0, 0.0};
+        for (int e = 0; e < 2; e++) {
+            int i = j + e, lo = i > 0 ? i - 1 : 0, hi = i < n - 1 ? i + 1 : n - 1;
+            double d[3];
+            v3_sub(d, &s->position[3 * hi], &s->position[3 * lo]);
+            v3_axpy(t, (e ? al : 1.0 - al) / v3_norm(d), d);
+        }
+        v3_scale(ct->punct[k].tangent, t, 1.0 / v3_norm(t));
+        v3_set(ct->punct[k].force, 0.0, 0.0, 0.0);
+    }
+    /* the thread between a tissue surface's punctures is inside it (no
+     * contact with that surface: rod_threaded_nodes) */
+    rod_threaded_nodes(m, s, ct->threaded);
+    for (int j = 0; j < m->surface_count && j < 32; j++) {
+        /* the thread within a needle radius of its tip follows the needle
+         * into the hole its point cuts before the back (the tip) crosses the
+         * surface, where the puncture is made: no contact with tissue there */
+        if (ct->needle_tissue && m->surfaces[j].tissue)
+            for (int i = 0; i < n; i++)
+                if (i * m->ds >= m->length - m->needle_radius - m->ds) ct->threaded[i] |= 1u << j;
+    }
+}
+
+int puncture_needle_holes(const rod_model *m, rod_state *s, rod_report *report)
+{
+    const int n = m->nodes;
+    const double reach = m->needle_radius + 2.0 * m->ds;
+    for (int j = 0; j < m->surface_count && j < 32; j++) {
+        const rod_surface *sf = &m->surfaces[j];
+        if (!sf->tissue) continue;
+        for (int i = n - 2; i >= 0 && (n - 1 - i) * m->ds <= reach; i--) {
+            const double *a = &s->position[3 * i], *b = &s->position[3 * (i + 1)];
+            double ga = rod_surface_gap(sf, a, 0.0, NULL, NULL);
+            double gb = rod_surface_gap(sf, b, 0.0, NULL, NULL);
+            if ((ga > 0.0) == (gb > 0.0)) continue;
+            /* the crossing, by bisection along the segment */
+            double lo = 0.0, hi = 1.0, point[3];
+            for (int it = 0; it < 60; it++) {
+                double mid = 0.5 * (lo + hi);
+                for (int c = 0; c < 3; c++) point[c] = a[c] + mid * (b[c] - a[c]);
+                if ((rod_surface_gap(sf, point, 0.0, NULL, NULL) > 0.0) == (ga > 0.0)) lo = mid;
+                else hi = mid;
+            }
+            double f = 0.5 * (lo + hi);
+            /* on the needle's own segment, not yet within NEEDLE_HOLE_CLEAR
+             * of the held tip: the hole waits for the next step */
+            if (i == n - 2 && f > NEEDLE_HOLE_CLEAR) continue;
+            for (int c = 0; c < 3; c++) point[c] = a[c] + f * (b[c] - a[c]);
+            int held = 0;
+            for (int k = 0; k < s->puncture_count && !held; k++) {
+                double d[3];
+                v3_sub(d, s->puncture[k].point, point);
+                held = s->puncture[k].surface == j && v3_norm(d) < 2.0 * m->ds;
+            }
+            if (held) continue;
+            if (s->puncture_count >= ROD_MAX_PUNCTURES) {
+                snprintf(report->message, sizeof report->message,
+                         "implicit scheme: the needle went through the tissue surface of line "
+                         "%d at t = %.6g s, but the run already holds %d punctures (the most); "
+                         "shorten the needle's path (ends.tip_motion)", sf->line, s->time,
+                         ROD_MAX_PUNCTURES);
+                return -1;
+            }
+            rod_puncture_state *ps = &s->puncture[s->puncture_count++];
+            memset(ps, 0, sizeof *ps);
+            v3_copy(ps->point, point);
+            ps->s = (i + f) * m->ds;
+            ps->friction = sf->friction;
+            ps->surface = j;
+        }
+    }
+    return 0;
+}
+
+void puncture_update(const rod_contact *ct, const rod_model *m, rod_state *s)
+{
+    for (int k = 0; k < s->puncture_count; k++) {
+        rod_puncture_state *ps = &s->puncture[k];
+        const int j0 = ct->punct[k].j;
+        ps->s = rod_nearest_arc_length_between(m, s->position, ps->point, j0 - 3, j0 + 3, NULL);
+        v3_scale(ps->force, ct->punct[k].force, -1.0);
+    }
+}
+

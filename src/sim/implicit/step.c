@@ -1,0 +1,377 @@
+/* step.c: the implicit scheme's step: one attempt (single_step, a short
+ * list of named stages), its splitting into halves when Newton fails, the
+ * depth a run of steps starts split at, the retries, and the message of a
+ * step that cannot be solved (step.h). */
+#include "sim/implicit/step.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "base/vec3.h"
+#include "sim/contact/surface.h"
+#include "sim/implicit/accept.h"
+#include "sim/implicit/jacobian.h"
+#include "sim/implicit/newton.h"
+#include "sim/implicit/start.h"
+#include "sim/rod_geometry.h"
+
+#define MAX_SPLIT_DEPTH 12
+/* With self-contact, a step some attempt of which moved the strands too
+ * far for the no-pass-through test starts the next steps already split to
+ * one level below the deepest such attempt; after SPLIT_HOLD_STEPS steps
+ * with no such attempt, one level coarser again: a loose knot swinging as
+ * it is pulled tight moves too far within the scene's step at most of its
+ * steps, and there the halves' depth changes slowly. Each sub-step still
+ * meets the same tolerance and the same test
+ * (docs/decisions/draft-split-hold-steps.md). */
+#define SPLIT_HOLD_STEPS 4
+/* Newton iterations one step may spend, splits included (each attempt costs
+ * one more; with contact twice: the retries): bounds the time a hopeless
+ * step takes instead of 4096 x 25 tries. Every loop of the scheme is
+ * bounded: Newton by newton_max_iterations and this budget, splitting by
+ * MAX_SPLIT_DEPTH and this budget, the rest by the node count
+ * (docs/decisions/draft-step-retry.md) */
+#define STEP_ITERATION_BUDGET 4000
+
+/* The Newton iterations one try of a step may spend: the caller's
+ * rod_options.iteration_budget when > 0 (rodsim live bounds each line),
+ * else STEP_ITERATION_BUDGET. */
+static int step_budget(const rod_model *m)
+{
+    return m->options.iteration_budget > 0 ? m->options.iteration_budget : STEP_ITERATION_BUDGET;
+}
+
+static void save_state(implicit_work *w, const rod_state *s)
+{
+    size_t n = (size_t)w->nodes;
+    memcpy(w->save_frame, s->frame, n * 9 * sizeof(double));
+    memcpy(w->save_pos, s->position, n * 3 * sizeof(double));
+    memcpy(w->save_vel, s->velocity, n * 3 * sizeof(double));
+    memcpy(w->save_omega, s->angular_velocity, n * 3 * sizeof(double));
+    memcpy(w->save_force, s->contact_force, n * 3 * sizeof(double));
+    memcpy(w->save_puncture, s->puncture, sizeof s->puncture);
+    w->save_puncture_count = s->puncture_count;
+    w->save_time = s->time;
+}
+
+static void restore_state(const implicit_work *w, rod_state *s)
+{
+    size_t n = (size_t)w->nodes;
+    memcpy(s->frame, w->save_frame, n * 9 * sizeof(double));
+    memcpy(s->position, w->save_pos, n * 3 * sizeof(double));
+    memcpy(s->velocity, w->save_vel, n * 3 * sizeof(double));
+    memcpy(s->angular_velocity, w->save_omega, n * 3 * sizeof(double));
+    memcpy(s->contact_force, w->save_force, n * 3 * sizeof(double));
+    memcpy(s->puncture, w->save_puncture, sizeof s->puncture);
+    s->puncture_count = w->save_puncture_count;
+    s->time = w->save_time;
+}
+
+/* m: the farthest a node moves over the step of the last residual
+ * evaluation (r(t+dt) = r(t) + dt vbar) */
+static double largest_motion(const implicit_work *w, double dt)
+{
+    double moved = 0.0;
+    for (int i = 0; i < w->nodes; i++) moved = fmax(moved, dt * v3_norm(&w->vbar[3 * i]));
+    return moved;
+}
+
+/* Notes that an attempt at this depth moved too far (SPLIT_HOLD_STEPS). */
+static void moved_too_far(implicit_work *w)
+{
+    if (w->split_depth > w->motion_depth) w->motion_depth = w->split_depth;
+}
+
+/* No pass-through: every pair that could have met within the step must
+ * have been a candidate. Points move by at most `moved`, so two segments
+ * farther apart than one diameter + 2 moved at the start cannot touch on
+ * the way; a step that moved farther than the candidates' margin allowed
+ * is solved again with a wider one. The margin stays within SELF_MARGIN
+ * diameters: the pairs' contact is linearised about the start (the
+ * half-space between the closest points), which stands for the strands
+ * only near them, so a step that would need more is split, unless no
+ * strand is near at all. Returns 0 (the pairs' forces kept), -1 (split the
+ * step) or -2 (report->message set). */
+static int strands_kept_apart(implicit_work *w, const rod_model *m, const rod_state *s,
+                              double dt, rod_report *report)
+{
+    double moved = largest_motion(w, dt);
+    for (int tries = 0; tries < 4 && 2.0 * moved > w->self->margin; tries++) {
+        if (3.0 * moved > SELF_MARGIN * m->diameter) {
+            /* nothing that could touch within the step: no candidates
+             * needed (a straight stretch swinging fast moves its
+             * nearby segments together: rod_self_contact_reachable) */
+            if (rod_self_contact_reachable(w->self, w->pos0, w->vbar, dt, 2.0 * moved) != 0) {
+                moved_too_far(w);
+                return -1;
+            }
+            break;
+        }
+        if (implicit_prepare_self_contact(w, m, dt, 3.0 * moved, report)) return -2;
+        if (implicit_newton(w, m, s->time, dt, report)) return -1;
+        moved = largest_motion(w, dt);
+    }
+    if (2.0 * moved > w->self->margin && 3.0 * moved <= SELF_MARGIN * m->diameter) {
+        moved_too_far(w);
+        return -1; /* split the step */
+    }
+    w->self_motion = moved;
+    rod_self_contact_accept(w->self);
+    return 0;
+}
+
+/* One theta-method step without splitting. Returns 0, -1 (no convergence:
+ * split it) or -2 (report->message set: no splitting helps). */
+static int single_step(implicit_work *w, const rod_model *m, rod_state *s, double dt,
+                       rod_report *report)
+{
+    int continuing, rc;
+    if ((rc = implicit_prepare_step(w, m, s, dt, report, 1, &continuing))) return rc;
+    if (implicit_newton(w, m, s->time, dt, report)) return -1;
+    for (int i = 0; i < w->unknowns; i++)
+        if (!isfinite(w->x[i])) return -1; /* never accept a non-finite solution */
+    if (w->self && (rc = strands_kept_apart(w, m, s, dt, report))) return rc;
+    return implicit_accept_step(w, m, s, dt, continuing, report);
+}
+
+/* The step of dt at split depth `depth`: one attempt, and when it fails its
+ * two halves, recursively (MAX_SPLIT_DEPTH deep at most, within the
+ * budget); no attempt at depths below start_depth (SPLIT_HOLD_STEPS).
+ * Returns 0, -1 (not solved) or -2 (report->message set: no splitting
+ * helps). */
+static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double dt,
+                      rod_report *report, int depth)
+{
+    /* every attempt costs the budget at least one iteration, also one that
+     * fails before Newton iterates (a singular Jacobian): the splits stay
+     * bounded by the budget, not only by 2^MAX_SPLIT_DEPTH attempts, each
+     * with a Jacobian build */
+    if (--w->budget < 0) return -1;
+    if (depth > w->deepest) w->deepest = depth;
+    int rc = -1;
+    if (depth >= w->start_depth) {
+        w->split_depth = depth;
+        rc = single_step(w, m, s, dt, report);
+    } else {
+        w->budget++; /* split without an attempt (SPLIT_HOLD_STEPS) */
+    }
+    if (rc == 0 || rc == -2) return rc; /* -2: no splitting helps (message set) */
+    if (depth >= MAX_SPLIT_DEPTH || w->budget < 0) return -1;
+    w->have_factor = 0;
+    rc = split_step(w, m, s, 0.5 * dt, report, depth + 1);
+    if (rc) return rc;
+    w->have_factor = 0;
+    return split_step(w, m, s, 0.5 * dt, report, depth + 1);
+}
+
+/* The depth the next steps start split at (SPLIT_HOLD_STEPS), after a step
+ * whose first attempt solved it or not */
+static void hold_split_depth(implicit_work *w, double dt, int solved)
+{
+    int next = w->start_depth;
+    if (w->motion_depth >= 0) {
+        next = w->motion_depth + 1;
+        w->depth_streak = 0;
+    } else if (next > 0 && ++w->depth_streak >= SPLIT_HOLD_STEPS) {
+        next--;
+        w->depth_streak = 0;
+    }
+    w->next_depth = !solved ? 0 : next < MAX_SPLIT_DEPTH ? next : MAX_SPLIT_DEPTH - 1;
+    w->depth_dt = dt;
+}
+
+/* With contact, a step that failed (split == -1) again, splits included,
+ * with a budget of its own: first with the rod's part of the Jacobian by
+ * finite differences and a first iterate off any symmetry, then the whole
+ * Jacobian by differences, refreshed at every slow iteration. A straight
+ * hanging thread lowered end-on onto a table has no solution that stays
+ * straight, and the exact Jacobian, as symmetric as the thread, keeps
+ * Newton on that line, its end pressed ever harder while the compliance
+ * caps its sink (docs/decisions/draft-step-retry.md). Returns the last
+ * attempt's split_step result. */
+static int retry_with_differences(implicit_work *w, const rod_model *m, rod_state *s, double dt,
+                                  rod_report *report, int split)
+{
+    for (int retry = 1; retry <= 2 && split == -1 && w->has_contact; retry++) {
+        restore_state(w, s);
+        w->fd_only = 1;
+        w->contact_fd = retry == 2;
+        w->have_factor = 0;
+        w->budget = step_budget(m);
+        split = split_step(w, m, s, dt, report, 0);
+        w->contact_fd = 0;
+        w->fd_only = 0;
+        w->have_factor = 0;
+    }
+    return split;
+}
+
+/* Where a step that did not converge left its residual largest (the last
+ * attempt's last evaluation, w->residual): ", its residual largest in the
+ * moment balance of node b (s = ... m)" and what touches the rod there
+ * (within two nodes): a surface (its shape and scene line), a puncture or
+ * another strand. Returns 1 when something touches it there. */
+static int stall_site(const implicit_work *w, const rod_model *m, char *out, size_t len)
+{
+    out[0] = '\0';
+    int worst = -1;
+    double big = 0.0;
+    for (int i = 0; i < w->unknowns; i++)
+        if (isfinite(w->residual[i]) && fabs(w->residual[i]) > big) big = fabs(w->residual[i]), worst = i;
+    if (worst < 0) return 0;
+    const int n = w->nodes, node = worst / w->block + w->first, comp = worst % w->block;
+    const char *what = w->planar ? "the balances of"
+                       : comp < 3    ? "the length constraint (3.14) of the segment up to"
+                                     : "the moment balance (3.6)_2 of";
+    int used = snprintf(out, len, "; its residual stayed largest (%.2g) in %s node %d of %d "
+                        "(s = %.4g m)", big, what, node, n, node * m->ds);
+    /* a surface within a quarter diameter of a node at the step's start (the
+     * last evaluation may have left contact out: a Jacobian's differences) */
+    int touching = 0;
+    static const int order[5] = {0, -1, 1, -2, 2}; /* the node itself first */
+    for (int o = 0; o < 5 && w->contact.surface_count && used > 0 && (size_t)used < len; o++) {
+        const int i = node + order[o];
+        if (i < 0 || i >= n) continue;
+        int nearest = 0;
+        const double *gap = &w->contact.start_gap[7 * (size_t)i * (size_t)w->contact.surface_count];
+        for (int j = 1; j < w->contact.surface_count; j++)
+            if (gap[7 * j] < gap[7 * nearest]) nearest = j;
+        if (!(gap[7 * nearest] < 0.25 * m->diameter)) continue;
+        const rod_surface *sf = &w->contact.surfaces[nearest];
+        used += snprintf(out + used, len - (size_t)used, ", where node %d touches the %s of "
+                         "line %d", i, rod_surface_name(sf->shape), sf->line);
+        touching = 1;
+        break;
+    }
+    for (int k = 0; k < w->contact.puncture_count && used > 0 && (size_t)used < len; k++)
+        if (w->contact.punct[k].j >= node - 2 && w->contact.punct[k].j <= node + 1) {
+            used += snprintf(out + used, len - (size_t)used, ", beside the puncture at s = %.4g m",
+                             (w->contact.punct[k].j + w->contact.punct[k].alpha) * m->ds);
+            touching = 1;
+            break;
+        }
+    if (w->self && used > 0 && (size_t)used < len)
+        for (int i = node - 2; i <= node + 2; i++)
+            if (i >= 0 && i < n && v3_norm(&w->self->node_force[3 * i]) > 0.0) {
+                snprintf(out + used, len - (size_t)used, ", pressed by another strand of the rod");
+                touching = 1;
+                break;
+            }
+    return touching;
+}
+
+static rod_status unresolved(const rod_model *m, const rod_state *s, double angle, int segment,
+                             rod_report *report)
+{
+    rod_unresolved_bend_message(m, "implicit", s->time, angle, segment, report->message,
+                                sizeof report->message);
+    return ROD_UNSTABLE;
+}
+
+/* A step that split and retried without converging: the state restored,
+ * and a message saying where it stalled and what may help. */
+static rod_status no_convergence(implicit_work *w, const rod_model *m, rod_state *s, double dt,
+                                 rod_report *report)
+{
+    int segment;
+    restore_state(w, s);
+    w->have_factor = 0;
+    double angle = rod_sharpest_bend(m, s->darboux, &segment);
+    if (angle > 0.5 * ROD_UNRESOLVED_BEND) return unresolved(m, s, angle, segment, report);
+    const int both_held = w->ends[0].held && !w->ends[0].sliding && w->ends[1].held &&
+                          !w->ends[1].sliding;
+    char site[256];
+    const int contact_site = stall_site(w, m, site, sizeof site);
+    /* at most 768 bytes (rod_report): a longer one loses its last words */
+    const int written = snprintf(report->message, sizeof report->message,
+             "implicit scheme: Newton's method did not converge at t = %.6g s for the step "
+             "dt = %g s, split in halves down to dt/%d within %d iterations (tolerance %.1e)%s. "
+             "%s%s",
+             s->time, dt, 1 << w->deepest, step_budget(m), m->options.newton_tolerance,
+             site,
+             contact_site ? "Contact turning there between touching and not, or stick and slip, "
+                            "can stall Newton at any step: a smaller dt may not help; change "
+                            "the scene a little there (the shape, the surface, its friction)."
+                          : "The load may change too abruptly for this dt, or exceed what the "
+                            "rod can carry; try a smaller dt or a ramped load profile.",
+             both_held && !contact_site
+                 ? " Both ends hold their place: a nearly straight rod between them can "
+                   "neither stretch nor shorten without bending, so its tension is "
+                   "(nearly) undetermined; start it slightly bent (rod.shape, "
+                   "rod.curvature) and let driven ends start from rest." : "");
+    if (written >= (int)sizeof report->message) { /* cut at a word, not in one */
+        char *end = strrchr(report->message, ' ');
+        if (end) *end = '\0';
+    }
+    report->suggested_dt = dt / (1 << MAX_SPLIT_DEPTH);
+    return ROD_NO_CONVERGENCE;
+}
+
+/* A step the caller should not ask for: ROD_FAILED with a message, else
+ * ROD_OK */
+static rod_status refuse(const rod_state *s, double dt, rod_report *report)
+{
+    if (!(dt > 0.0) || !isfinite(dt)) {
+        /* a programming error of the caller; refused rather than split 4096 ways */
+        snprintf(report->message, sizeof report->message,
+                 "implicit scheme: the step dt = %g s must be a positive finite time", dt);
+        return ROD_FAILED;
+    }
+    if (s->time + dt == s->time) {
+        /* below the rounding of t: the step would not advance the time, and a
+         * loop stepping until t reaches a target would never end */
+        snprintf(report->message, sizeof report->message,
+                 "implicit scheme: the step dt = %g s is below the rounding of t = %.17g s and "
+                 "would not advance the time; use a larger solver.dt", dt, s->time);
+        return ROD_FAILED;
+    }
+    return ROD_OK;
+}
+
+rod_status implicit_step(implicit_work *w, const rod_model *m, rod_state *s, double dt,
+                         rod_report *report)
+{
+    if (refuse(s, dt, report) != ROD_OK) return ROD_FAILED;
+    s->staggered = 1;
+    save_state(w, s);
+    w->budget = step_budget(m);
+    w->deepest = 0;
+    /* the depth the last steps' motion asked for (SPLIT_HOLD_STEPS) */
+    w->start_depth = w->self && implicit_same_dt(w->depth_dt, dt) ? w->next_depth : 0;
+    w->motion_depth = -1;
+    int split = split_step(w, m, s, dt, report, 0);
+    if (w->self) hold_split_depth(w, dt, split == 0);
+    w->start_depth = 0; /* the retries from the whole step */
+    split = retry_with_differences(w, m, s, dt, report, split);
+    report->jacobian_builds = w->jacobian_builds;
+    report->newton_total = w->newton_total;
+    if (split == -2) {
+        restore_state(w, s);
+        w->have_factor = 0;
+        return ROD_FAILED;
+    }
+    if (split != 0) return no_convergence(w, m, s, dt, report);
+    int segment;
+    double angle = rod_sharpest_bend(m, s->darboux, &segment);
+    if (angle <= ROD_UNRESOLVED_BEND) return ROD_OK;
+    return unresolved(m, s, angle, segment, report);
+}
+
+int implicit_refresh(implicit_work *w, const rod_model *m, const rod_state *s, double dt)
+{
+    if (!w->stale || (w->self && w->self->count) || !(dt > 0.0) || !(w->dt_last > 0.0) ||
+        !implicit_continues_from(w, s, dt))
+        return 0;
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    rod_self_contact *self = w->self; /* no pairs: it takes no part */
+    w->self = NULL;
+    int continuing;
+    int rc = implicit_prepare_step(w, m, s, dt, &report, 0, &continuing);
+    if (rc == 0) rc = implicit_factor_jacobian(w, m, s->time, dt);
+    w->self = self;
+    if (self) rod_self_contact_invalidate(self); /* its B^-1 V was for the old band */
+    w->start_valid = 1; /* s as the last step left it: the next step continues from it */
+    return rc == 0 ? 1 : -1;
+}
