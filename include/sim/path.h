@@ -1,4 +1,4 @@
-/* path.h: a driven end's path (issue 10; scene [ends] root_motion and
+/* path.h: a driven end's path (scene [ends] root_motion and
  * tip_motion): rows t, x, y, z [, rx, ry, rz] from a CSV table, interpolated
  * so that position and rotation have continuous velocity and acceleration,
  * held after the last row (and before the first). The first row is the end's

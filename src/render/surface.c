@@ -30,7 +30,7 @@ void surface_bounds(const recording_surface *s, double lo[3], double hi[3])
 
 /* The point of the surface nearest p (into near) and the outward normal
  * there; returns the distance. The renderer's own: it does not see
- * sim/surface.h (layer rule), and needs no grown solid. */
+ * sim/contact/surface.h (layer rule), and needs no grown solid. */
 static double surface_nearest(const recording_surface *s, const double p[3], double near[3],
                               double n[3])
 {

@@ -1,6 +1,6 @@
 /* path.c: a driven end's path (see path.h).
  *
- * Interpolation (decided for issue 10): on each interval between rows, a
+ * Interpolation: on each interval between rows, a
  * quintic Hermite polynomial per component, fixed by the position, velocity
  * and acceleration at its two rows. Neighbouring intervals share those three
  * values at their common row, so position, velocity and acceleration are
@@ -33,7 +33,7 @@
  *           + c(q) r_dot x (r x r_dot),
  * with b' and c' the derivatives with respect to q = |r|^2.
  *
- * Paths with their velocity given (issue 13: a live session's record, and
+ * Paths with their velocity given (a live session's record, and
  * the live path itself): each interval is the cubic Hermite polynomial
  * through the positions and velocities of its two rows, so position and
  * velocity are continuous and every row's velocity is the given one; the

@@ -341,7 +341,7 @@ static int read_point_loads(ini_doc *doc, rod_model *m, char *err, size_t errlen
 }
 
 /* Reads [surface] (repeatable): shape, center, normal, size, friction,
- * tissue (issue 11; keys fixed in PRODUCT.md), and a box's rounding. `size`
+ * tissue (portable core keys), and a box's rounding. `size`
  * holds 3 edge lengths for a box and one radius for a cylinder or a sphere;
  * a plane has none. */
 static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
@@ -735,7 +735,7 @@ static int read_start(ini_doc *doc, rod_model *m, char *err, size_t errlen)
     return 0;
 }
 
-/* rod_model_derive's messages on issue 10's inputs start with the scene key:
+/* rod_model_derive's messages on the ends' and the start's inputs start with the scene key:
  * report those at the key's line. */
 static int derive_error(ini_doc *doc, const char *why, char *err, size_t errlen)
 {

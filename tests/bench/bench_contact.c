@@ -1,5 +1,5 @@
-/* bench_contact.c: what contact with surfaces costs per implicit step
- * (issue 11). A benchmark: it reports, never fails on time.
+/* bench_contact.c: what contact with surfaces costs per implicit step.
+ * A benchmark: it reports, never fails on time.
  *
  * The same thread (L = 0.2 m, d = 1 mm, table 1's material, NS = 101,
  * pinned at its root, gravity, dt = 1/60 s) in three settings, timed over
@@ -189,7 +189,7 @@ static void suture(void)
         if (runs == SUTURE_RUNS) {
             const double best = used[0], median = used[SUTURE_RUNS / 2], worst = used[SUTURE_RUNS - 1];
             printf("  suture.ini (NS = %d, %lld steps of %.3g ms, %d punctures), best of %d runs: "
-                   "%.1f us/step, %.3f s of CPU per simulated s: %.1fx real time (issue 11: 10x); "
+                   "%.1f us/step, %.3f s of CPU per simulated s: %.1fx real time (10x); "
                    "median %.1fx, worst %.1fx\n",
                    m.nodes, (long long)steps, 1e3 * plan.step, s->puncture_count, SUTURE_RUNS,
                    1e6 * best / (double)steps, best / sim, sim / best, sim / median, sim / worst);

@@ -1,4 +1,4 @@
-/* bench_knot.c: the cost of issue 12's geometry at NS = 51 .. 1601 nodes, on
+/* bench_knot.c: the cost of the geometry at NS = 51 .. 1601 nodes, on
  * an open trefoil (a (2,3) torus knot cut open with its tails pulled out) and
  * a straight rod: knot identification per call, and the proximity search
  * (every non-neighbouring pair closer than a diameter, narrow-phase tests

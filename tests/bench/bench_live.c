@@ -1,4 +1,4 @@
-/* bench_live.c: `rodsim live` latency (issue 13), run by `make bench`, never
+/* bench_live.c: `rodsim live` latency, run by `make bench`, never
  * a test (it measures wall time). A thread hanging from its driven clamped
  * tip follows tests/live_driver.h's needle-holder path at 1 kHz through
  * pipes; for NS = 51 and 101, without contact and with tissue contact, it
@@ -14,7 +14,7 @@
  * priority on the same CPU (when permitted: root or CAP_SYS_NICE; otherwise
  * the line says n/a). The issue's 60 s per point would make
  * `make bench` long: the duration is BENCH_LIVE_SECONDS (default 10 s).
- * Targets (issue 13): p99 at most 200 us at NS = 51 without contact, at most
+ * Targets: p99 at most 200 us at NS = 51 without contact, at most
  * 1 ms at NS = 101 with tissue contact. The knot (a loose overhand knot
  * hanging from the driven tip, held by self-contact with friction 0.2) has
  * no target in the issue; it is measured to say what a knot costs. */

@@ -75,9 +75,9 @@ int main(int argc, char **argv)
 
     /* render + encode at the default antialiasing, then with none (what it
      * costs), then over a floor and a skin pad with the shadow map and
-     * without it (issues 11, 14: what the shadows cost), then the floor: the
+     * without it (what the shadows cost), then the floor: the
      * same encoder, frames of plain background */
-    /* and the default (FXAA, issue 14) against 4x multisampling, the old default */
+    /* and the default (FXAA) against 4x multisampling, the old default */
     const int samples[5] = {o.samples, 0, o.samples, o.samples, o.samples};
     const recording_surface surfaces[2] = {
         {.shape = RECORDING_SURFACE_PLANE, .center = {0, 0, -0.1}, .normal = {0, 0, 1}},
@@ -148,7 +148,7 @@ int main(int argc, char **argv)
            floor_run.best / pipeline[0].best, floor_run.best / pipeline[4].best,
            floor_run.best / pipeline[1].best);
 
-    /* 1080p in the same run (issue 14): the default picture and its floor */
+    /* 1080p in the same run: the default picture and its floor */
     o.width = 1920;
     o.height = 1080;
     o.samples = samples[0];
@@ -191,7 +191,7 @@ int main(int argc, char **argv)
     printf("  floor (blank frames)        %6.1f .. %6.1f frames/s, CPU %5.2f ms/frame\n",
            hd_floor.worst, hd_floor.best, hd_floor.cpu_ms);
     printf("  cost / floor (best runs): 720p %.2f, 1080p %.2f with default AA (FXAA; 720p with "
-           "4x MSAA %.2f) (issue 14's target at 720p: <= 1.5)\n",
+           "4x MSAA %.2f) (target at 720p: <= 1.5)\n",
            floor_run.best / pipeline[0].best, hd_floor.best / hd.best,
            floor_run.best / pipeline[4].best);
     return 0;

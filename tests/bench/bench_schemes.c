@@ -230,7 +230,7 @@ static void time_shipped_scenes(void)
     globfree(&found);
 }
 
-/* Issue 10's ends in the implicit scheme (3-D), each beside today's
+/* the ends in the implicit scheme (3-D), each beside today's
  * cantilever at the same NS: table 2's ramped tip load (on a held tip it
  * goes to the support) and a small distributed load along +y, so that a
  * rod held at both ends bends too. The cost per step of each, and its
@@ -251,7 +251,7 @@ static void time_ends(void)
         {"cantilever, root driven", ROD_END_CLAMPED, ROD_END_FREE, 0.0, 1},
     };
     static const int sizes[] = {51, 201};
-    printf("\nends (issue 10), implicit 3-D, dt = 1/60 s, 200 steps: us per step and the ratio "
+    printf("\nends, implicit 3-D, dt = 1/60 s, 200 steps: us per step and the ratio "
            "to the cantilever at the same NS:\n");
     for (size_t b = 0; b < sizeof sizes / sizeof *sizes; b++) {
         double reference = -1.0;

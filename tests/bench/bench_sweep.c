@@ -1,4 +1,4 @@
-/* bench_sweep.c: how `rodsim sweep` scales with --jobs (issue 15 "Speed").
+/* bench_sweep.c: how `rodsim sweep` scales with --jobs ("Speed").
  * A benchmark: it reports, never fails on time.
  *
  * The sweep: scenes/impulse.ini (implicit Crank-Nicolson, dt 0.5 ms, 10 s)

@@ -103,7 +103,7 @@ static void test_bad_scenes(void)
     expect_rejected("--set of an unknown key", text, "rod.colour=red", "--set rod.colour", "unknown key");
 }
 
-/* Issue 12: a starting shape that already intersects itself (a loop whose
+/* a starting shape that already intersects itself (a loop whose
  * strands cross 0.5 mm apart, d = 1 mm) is refused: exit 2, the shape key's
  * line and the segments named, nothing written. */
 static void test_self_intersecting_shape(void)
@@ -134,7 +134,7 @@ static void test_self_intersecting_shape(void)
     unlink(shape);
 }
 
-/* Issue 12: the summary names the knot of the centreline. A rod of 1 m
+/* the summary names the knot of the centreline. A rod of 1 m
  * (d = 1 mm, NS = 201) starting as a (2,3) torus knot cut open at its
  * outermost point (a gap of 1/50 of its length): the closure from the
  * centroid out through the two ends makes it the trefoil again. Run for 10 ms
@@ -242,7 +242,7 @@ static void test_csv_end_to_end(void)
                    &y, &z, &d3x, &d3y, &d3z, &twist, &n[0], &n[1], &n[2]) != 13)
             break;
         /* equilibrium under a dead tip force P alone: N(s) = P at every s, the
-         * root's entry being what the rod exerts on its clamp (issue 10) */
+         * root's entry being what the rod exerts on its clamp */
         if (rows >= 2 * nodes) {
             double d = sqrt(n[0] * n[0] + (n[1] - load) * (n[1] - load) + n[2] * n[2]) / load;
             if (d > worst_force) worst_force = d;
@@ -271,7 +271,7 @@ static void test_csv_end_to_end(void)
     check(unit_ok, "CSV d3 is a unit vector in every row");
     check(worst_segment < 1e-6, "CSV segments keep their length ds: worst relative change %.2e",
           worst_segment);
-    /* PL^3/3EI for P = 4.5e-7 N = 0.0349231 m (issue 2); NS = 11 and the large-deflection
+    /* PL^3/3EI for P = 4.5e-7 N = 0.0349231 m; NS = 11 and the large-deflection
      * correction (~0.2% smaller) stay well inside 3% */
     check_rel("tip deflection of the last frame vs PL^3/3EI", tip_y, 0.0349231, 0.03);
     unlink(csv_path);
@@ -281,7 +281,7 @@ static void test_csv_end_to_end(void)
 
 static void test_unstable_writes_nothing(void)
 {
-    /* the thesis scheme with physical rotary inertia diverges at every step (issue 2) */
+    /* the thesis scheme with physical rotary inertia diverges at every step */
     char scene[96], text[2048], output[8192];
     snprintf(scene, sizeof scene, "%s/unstable.ini", tmp_dir);
     snprintf(text, sizeof text,
@@ -368,8 +368,8 @@ static void test_run_loop(void)
     check(times_exact, "run loop: frames land exactly on 0, 0.1, 0.2, 0.26 s");
     check(stats.steps == 10 && fake_step_count == 10, "run loop: 4 + 4 + 2 steps: %lld",
           (long long)stats.steps);
-    /* the scheme sees one dt, bit for bit, in every whole interval (issue 9:
-     * a dt that changes in its last digit makes the implicit scheme refactor) */
+    /* the scheme sees one dt, bit for bit, in every whole interval (a dt
+     * that changes in its last digit makes the implicit scheme refactor) */
     int equal = fake_step_count == 10;
     for (int k = 0; k < 8 && equal; k++) equal = fake_steps[k] == 0.1 / 4;
     check(equal, "run loop: the 8 steps of the whole intervals all equal 0.1/4 exactly "
@@ -390,7 +390,7 @@ static void test_run_loop(void)
           rec->frame_count);
     fake_nan_time = INFINITY;
 
-    /* counts past 2^31 are counted, not wrapped (issue 9: duration = 1e9 printed
+    /* counts past 2^31 are counted, not wrapped (duration = 1e9 printed
      * -2147483646 frames); past RUN_MAX_COUNT they are refused */
     m.options.duration = 1e9;
     planned = run_plan_make(&m, 0.005, 30, &plan) == 0;
@@ -562,7 +562,7 @@ static void test_frames_keep_the_scheme_going(void)
     rod_model_release(&m);
 }
 
-/* ---- issue 9 (scene kinds, version) ---------------------------------------- */
+/* ---- scene kinds, version ---------------------------------------- */
 
 /* A beam (FEM) scene given to `rodsim run` said "[rod] length: missing": it
  * must say it is a beam scene and name `rodsim fem`. `rodsim --version` and
@@ -591,7 +591,7 @@ static void test_issue9_scene_kind_and_version(void)
     snprintf(expected, sizeof expected, "rodsim %s\n", RODSIM_VERSION);
     const char *dashed[] = {"--version", NULL};
     int status = test_run_rodsim(dashed, output, sizeof output);
-    /* then the GL backends (issue 14): each named, and the one that draws */
+    /* then the GL backends: each named, and the one that draws */
     int same = strncmp(output, expected, strlen(expected)) == 0 && strstr(output, "\nEGL ") &&
                strstr(output, "\nOSMesa ") && strstr(output, "draws with");
     check(status == 0 && same, "rodsim --version: exit %d, prints 'rodsim %s' then the GL "
@@ -687,7 +687,7 @@ static void write_small_scene(const char *path, const char *extra)
 }
 
 /* Impossible durations and steps are refused up front, exit 2, with the
- * numbers and the keys to change, and nothing written (issue 9). */
+ * numbers and the keys to change, and nothing written. */
 static void test_refused_runs(void)
 {
     char scene[96], output[8192];
@@ -714,7 +714,7 @@ static void test_refused_runs(void)
 }
 
 /* Without a video nothing is kept per frame: the peak memory of a run does
- * not grow with its duration (issue 9: duration = 1e5 peaked at 2.2 GB). */
+ * not grow with its duration (duration = 1e5 peaked at 2.2 GB). */
 static void test_memory_bound(void)
 {
     char scene[96], output[8192];
@@ -738,7 +738,7 @@ static void test_memory_bound(void)
 }
 
 /* A video too long to keep in memory is streamed: simulated twice, each frame
- * encoded as it comes (issue 9). RODSIM_RECORDING_BUDGET = 1 byte streams any
+ * encoded as it comes. RODSIM_RECORDING_BUDGET = 1 byte streams any
  * video; RODSIM_SAMPLE_BUDGET bounds the frames kept to frame the camera. */
 static void test_streamed_video(void)
 {
@@ -803,7 +803,7 @@ static void test_streamed_video(void)
     unlink(scene);
 }
 
-/* Command-line values (issue 9). */
+/* Command-line values. */
 static void test_option_values(void)
 {
     char scene[96], output[8192];
@@ -848,7 +848,7 @@ static void test_option_values(void)
     unlink(scene);
 }
 
-/* The outputs of a run appear together or none do (issue 9): a write that
+/* The outputs of a run appear together or none do: a write that
  * fails in the video (a full disk, here a file size limit) leaves no CSV. */
 static void test_outputs_together(void)
 {
@@ -896,7 +896,7 @@ static int child_is_writing(pid_t pid, const char *dir)
     return writing;
 }
 
-/* SIGINT, SIGTERM and kill -9 mid-render leave nothing (issue 9). */
+/* SIGINT, SIGTERM and kill -9 mid-render leave nothing. */
 static void test_signals(void)
 {
     char scene[96], output[8192];

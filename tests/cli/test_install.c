@@ -1,4 +1,4 @@
-/* test_install.c: the binary works wherever it is put (issue 8). A copy of
+/* test_install.c: the binary works wherever it is put. A copy of
  * RODSIM_BIN in a scratch directory, run with its working directory
  * elsewhere and, where a mount namespace can be made (unshare -rm), with the
  * source tree hidden under an empty directory, renders a tiny scene (MP4 of

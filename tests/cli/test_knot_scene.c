@@ -1,4 +1,4 @@
-/* test_knot_scene.c: scenes/overhand.ini through the real binary (issue 12):
+/* test_knot_scene.c: scenes/overhand.ini through the real binary:
  * a loose overhand knot pulled by its two ends. From the CSV it writes, this
  * file checks, with its own segment distance (not the contact code's), that
  * no two segments more than 5 apart along the rod ever come closer than 0.9

@@ -1,5 +1,5 @@
 /* test_plectoneme.c: a rod twisted under tension buckles into a plectoneme
- * (issue 12), through the real binary. The set-up of the twisted-rod
+ *, through the real binary. The set-up of the twisted-rod
  * experiments: the root clamped and turned about the axis by its path, the
  * tip clamped on a carriage that slides along the axis without turning
  * (ends.tip_twist = held), pulled by a dead tension T. The straight rod holds
@@ -10,7 +10,7 @@
  * touch. From the CSV, with its own segment distances (not the contact
  * code's), this file finds the first frame where two far segments touch,
  * and compares the end rotation there with the critical one,
- * Phi_c = M_c L / C, within 5 % (issue 12). It also checks that no strand
+ * Phi_c = M_c L / C, within 5 %. It also checks that no strand
  * passes another in any frame and that the carriage slides in as the rod
  * coils (the plectoneme takes up length). */
 #include <math.h>

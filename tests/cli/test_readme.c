@@ -1,7 +1,7 @@
 /* test_readme.c: the README is the program's own reference. Every generated
  * block (between "<!-- generated: rodsim ARGS -->" and "<!-- end generated
  * -->") equals what RODSIM_BIN prints for ARGS (tests/readme.sh check; `make
- * readme` rewrites them); the README is at most 30 KB (issue 8) and every
+ * readme` rewrites them); the README is at most 30 KB and every
  * repository path it names exists. */
 #include <ctype.h>
 #include <stdio.h>

@@ -1,5 +1,5 @@
 /* test_render_cli.c: `rodsim render` turns a `rodsim live --record` session
- * into the video and poster (issue 13). A session fed line by line through
+ * into the video and poster. A session fed line by line through
  * pipes (a hanging thread whose held tip is carried 3 cm sideways in
  * 0.4 s) is killed outright (SIGKILL) after its last answer: its record
  * survives with every row, and renders to the frame count the formula

@@ -3,7 +3,7 @@
  * asked for; every default the table prints is the value the reader uses
  * when the key is absent (setting it changes nothing, while setting another
  * value does); a misspelt key or section is reported at its own line, before
- * anything else, with the nearest accepted name (issue 9); `rodsim help
+ * anything else, with the nearest accepted name; `rodsim help
  * scene` prints one row per key. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -108,7 +108,7 @@ static int rod_reads_equal(const rod_read *a, const rod_read *b)
                x->options.newton_tolerance == y->options.newton_tolerance &&
                x->options.newton_max_iterations == y->options.newton_max_iterations &&
                x->options.exact_rotation == y->options.exact_rotation;
-    /* issue 10's inputs */
+    /* the inputs */
     same = same && x->needle_radius == y->needle_radius &&
            (x->root_motion == NULL) == (y->root_motion == NULL) &&
            (x->tip_motion == NULL) == (y->tip_motion == NULL) &&
@@ -119,7 +119,7 @@ static int rod_reads_equal(const rod_read *a, const rod_read *b)
         same = f->node == g->node;
         for (int k = 0; k < 3; k++) same = same && f->force[k] == g->force[k] && f->moment[k] == g->moment[k];
     }
-    /* issue 11's */
+    /* the */
     same = same && x->surface_count == y->surface_count && x->puncture_count == y->puncture_count;
     for (int i = 0; same && i < x->surface_count; i++) {
         const rod_surface *f = &x->surfaces[i], *g = &y->surfaces[i];
@@ -316,7 +316,7 @@ static void test_beam_table(void)
     fem_model_destroy(base.m);
 }
 
-/* ---- misspelt keys (issue 9) --------------------------------------------- */
+/* ---- misspelt keys --------------------------------------------- */
 
 static void expect_rod_error(const char *what, const char *text, const char *set,
                              const char *needle, const char *absent)

@@ -1,4 +1,4 @@
-/* test_scene_rest.c: a scene that says it starts at rest does (issue 11).
+/* test_scene_rest.c: a scene that says it starts at rest does.
  * scenes/suture.ini starts from a thread settled on the skin with the
  * needle held (suture_shape.csv): through the real binary, over the first
  * 0.5 s (15 frame intervals of 1/30 s), no node of the thread moves faster,

@@ -1,5 +1,5 @@
 /* test_surgeons_knot.c: scenes/surgeons_knot.ini through the real binary
- * (issue 12): a surgeon's knot (a double throw, then a single throw turned
+ *: a surgeon's knot (a double throw, then a single throw turned
  * the other way) over a bite through a practice pad, cinched by both ends.
  * From the run's summary: the knot is named the surgeon's knot (cinquefoil
  * # mirror trefoil: Delta = 1 - 2t + 3t^2 - 3t^3 + 3t^4 - 2t^5 + t^6,

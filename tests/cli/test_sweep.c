@@ -1,4 +1,4 @@
-/* test_sweep.c: `rodsim sweep` (issue 15), through the real binary.
+/* test_sweep.c: `rodsim sweep`, through the real binary.
  *  - FNV-1a 64 against the published test vectors;
  *  - a sweep of tip deflection against load on scenes/table2_450nN.ini equals
  *    `rodsim run --csv` single runs' last frame and lies within 2e-4 of the

@@ -366,7 +366,7 @@ static void test_command_errors(void)
 
 #define CLAMP "[support]\nnode = 1\ntype = clamped\n"
 
-/* Issue 9: a huge mesh is refused by its size, before any assembly (it was
+/* a huge mesh is refused by its size, before any assembly (it was
  * called a mechanism, or cost seconds of condition estimate); absurd or
  * non-finite inputs name file:line; a result outside linear theory is
  * refused or warned about; a rod scene says it is one. */
@@ -471,7 +471,7 @@ static void test_command_outputs(void)
     remove(png);
 }
 
-/* Issue 9: `--csv -` wrote a file named "-"; `--csv -o` took -o as the file
+/* `--csv -` wrote a file named "-"; `--csv -o` took -o as the file
  * name; and the outputs of one run are one transaction: a figure that cannot
  * be written leaves no CSV or Markdown table behind. */
 static void test_command_stdout_and_transaction(void)

@@ -21,7 +21,7 @@
  *  L4 The renderer gets a plain snapshot: of sim, render includes only
  *     sim/recording.h (rod_recording: centreline, director frames, twist,
  *     time, tip loads), and sim/knot.h and sim/proximity.h (pure geometry on
- *     a polygon: the overlay's knot type, the strands' shading; issue 12).
+ *     a polygon: the overlay's knot type, the strands' shading).
  *     Not sim/rod.h (the model and
  *     state; it comes along inside recording.h, but render does not use it),
  *     a scheme's header (sim/scheme_*.h), sim/rod_geometry.h or sim/scene.h.

@@ -1,4 +1,4 @@
-/* test_crossings.c: what makes a knot's crossings readable (issue 12): the
+/* test_crossings.c: what makes a knot's crossings readable: the
  * knot type in the overlay and the strands' shading by each other
  * (render_occlusion), against hand-computed values. */
 #include <math.h>

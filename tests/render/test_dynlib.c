@@ -1,12 +1,11 @@
-/* test_dynlib.c: the libraries only drawing needs are opened at run time
- * (issue 9). dynlib opens a library and finds a function in it (cos from
+/* test_dynlib.c: the libraries only drawing needs are opened at run time.
+ * dynlib opens a library and finds a function in it (cos from
  * libm gives cos(pi/3) = 1/2) or says which library, which package; the
  * binary does not link OSMesa, EGL or libav* (its ELF NEEDED list); and,
  * with one of them made unloadable (a mount namespace binds /dev/null over
  * the file), a run that draws exits 1 naming the library and the Debian
  * package and leaves no video, while --help and --no-video runs do not
- * notice; with one GL backend missing, the default draws with the other
- * (issue 14). */
+ * notice; with one GL backend missing, the default draws with the other. */
 #define _GNU_SOURCE /* dladdr */
 #include <dlfcn.h>
 #include <libavcodec/avcodec.h>
@@ -193,7 +192,7 @@ static int mapped_file(const char *tail, char *path, size_t pathlen)
     return found ? 0 : -1;
 }
 
-/* Issue 14: two backends. Without OSMesa (a Mesa of 25.1 or later) the
+/* two backends. Without OSMesa (a Mesa of 25.1 or later) the
  * default draws with EGL; without EGL, with OSMesa; a backend asked for by
  * RODSIM_GL but missing stops the run naming what to install: libEGL.so.1
  * (libegl1), Mesa's EGL driver (libegl-mesa0), its llvmpipe swrast_dri.so

@@ -1,4 +1,4 @@
-/* test_edge_aa.c: FXAA over a frame's boxes (issue 14) against the exact
+/* test_edge_aa.c: FXAA over a frame's boxes against the exact
  * coverage of an edge drawn without antialiasing. */
 #include <math.h>
 #include <stdio.h>

@@ -1,5 +1,5 @@
 /* test_framing.c: the follow camera ([render] framing = follow) and the
- * split frame ([render] views), issue 14: the rod never leaves the picture
+ * split frame ([render] views): the rod never leaves the picture
  * and fills it, the camera neither lags a steady motion nor follows a
  * jitter, the views show what orthographic geometry predicts, and a frame
  * drawn while the writer thread encodes the previous one is the frame drawn

@@ -176,7 +176,7 @@ static void test_pixels(void)
     test_remove_tree(dir);
 }
 
-/* ---- end glyphs: block, ball, needle (issue 10) ---- */
+/* ---- end glyphs: block, ball, needle ---- */
 
 static int is_ball_colour(const unsigned char *p) { return p[0] > p[1] + 30 && p[1] > p[2] + 20; }
 /* a neutral grey darker than the background: the block and the needle (the
@@ -465,7 +465,7 @@ static void test_options(void)
     }
 }
 
-/* ---- overlay for people, triad, loads, colour (issue 14) ---- */
+/* ---- overlay for people, triad, loads, colour ---- */
 
 static void test_format(void)
 {

@@ -1,5 +1,5 @@
 /* test_contact.c: contact with rigid surfaces and Coulomb friction in the
- * implicit scheme (issue 11), against independent values: a thread dropped
+ * implicit scheme, against independent values: a thread dropped
  * on a plane (penetration at rest and during the impact, energy never
  * rising), a rod on an inclined plane (stays below the friction angle,
  * slides at g (sin a - mu cos a) above), the capstan equation W exp(mu

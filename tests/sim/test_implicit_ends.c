@@ -1,4 +1,4 @@
-/* test_implicit_ends.c: the implicit scheme's ends (issue 10) against
+/* test_implicit_ends.c: the implicit scheme's ends against
  * independent values: a free-free thread in free fall (z0 - g t^2/2), its
  * momentum with no load, a thread hanging from a held root (m L g), a
  * pinned-pinned rod's bending frequencies, the rest shapes of an intrinsic

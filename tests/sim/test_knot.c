@@ -1,5 +1,5 @@
-/* test_knot.c: the knot type of polygons of known knots generated here
- * (issue 12). References: the Alexander polynomials of Rolfsen's table
+/* test_knot.c: the knot type of polygons of known knots generated here.
+ * References: the Alexander polynomials of Rolfsen's table
  * (Rolfsen, Knots and Links, 1976, appendix C; Livingston, Knot Theory,
  * 1993, table), normalised with the lowest term constant and positive, and
  * the determinants |Delta(-1)| computed by hand from them. Each knot is

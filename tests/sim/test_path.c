@@ -460,7 +460,7 @@ static void test_csv(void)
 }
 
 
-/* Live paths (issue 13): the pushed velocity is the one-sided three-point
+/* Live paths: the pushed velocity is the one-sided three-point
  * difference, exact for a quadratic on uneven times; the interpolant passes
  * the rows and their velocities; a velocity-given path made from the same
  * rows and velocities evaluates identically (the record replays); pop. */

@@ -1,6 +1,6 @@
 /* test_proximity.c: segment-segment distance against hand-solved cases and a
  * dense sampling; the grid search against brute force on random polygons; its
- * narrow-phase work against the nodes (issue 12). */
+ * narrow-phase work against the nodes. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -1,5 +1,5 @@
 /* test_recording.c: the frames a run hands to the renderer: the punctures
- * each frame carries (issue 11) survive append and halve, and the memory a
+ * each frame carries survive append and halve, and the memory a
  * recording is charged for is what it allocates. */
 #include <math.h>
 #include <stdio.h>

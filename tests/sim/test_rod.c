@@ -1,5 +1,5 @@
 /* test_rod.c: the model's derived quantities against table 1 of the thesis,
- * load profiles, the rotation utilities, and issue 10's model inputs: the
+ * load profiles, the rotation utilities, and the model inputs: the
  * starting shape and frames (against hand-computed frames, a circle's exact
  * discrete curvature, twist-free transport along a helix), the internal force
  * in global components, the checks of rod_model_derive, and which inputs keep

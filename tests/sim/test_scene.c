@@ -2,7 +2,7 @@
  * derives; a few values are checked against the numbers written in the file
  * and against hand-computed physics (PL^3/3EI, Euler's load, rho A g);
  * --set overrides; bad values give file:line and the key; load tables;
- * issue 10's keys (starting shape and state, ends, paths, point loads): read
+ * the keys (starting shape and state, ends, paths, point loads): read
  * into the model, shape files resampled to nodes exactly ds apart on the
  * polyline, and every bad value named at its line. */
 #include <dirent.h>
@@ -75,7 +75,7 @@ static void test_scene_values(void)
                   m.youngs_modulus == 87.5e6 && out.fps == 30,
               "table2_800nN: NS %d, scheme static, global frame, force %g N, E %g Pa, fps %d",
               m.nodes, m.tip_force[1], m.youngs_modulus, out.fps);
-        /* thesis table 2, y_exp = PL^3/3EI for P = 8e-7 N: 0.0620856 m (issue 2) */
+        /* thesis table 2, y_exp = PL^3/3EI for P = 8e-7 N: 0.0620856 m */
         double linear = m.tip_force[1] * pow(m.length, 3) / (3.0 * m.stiffness[0]);
         check_rel("table2_800nN: PL^3/3EI from the scene vs issue value", linear, 0.0620856, 1e-5);
         rod_model_release(&m);
@@ -398,7 +398,7 @@ static void write_loop_shape(const char *path, double rise)
     fclose(f);
 }
 
-/* Issue 12: a starting shape that already intersects itself is refused,
+/* a starting shape that already intersects itself is refused,
  * naming the segments and how far apart they are; one that keeps its strands
  * a diameter apart is read. */
 static void test_self_intersecting_shape(void)
@@ -446,7 +446,7 @@ static void test_issue10_keys(void)
              "[ends]\nroot = free\ntip = free\nneedle = 0.01\n"
              "[point_load]\ns = 0.509\nforce = 0 0 -1e-3\n[point_load]\ns = 1\nmoment = 1e-6 0 0\n",
              valid_rod);
-    if (check(read_text_scene(dir, text, &m, err, sizeof err) == 0, "issue 10 keys read (%s)", err)) {
+    if (check(read_text_scene(dir, text, &m, err, sizeof err) == 0, "keys read (%s)", err)) {
         check(m.origin[2] == 0.3 && m.direction[2] == -1.0 && m.intrinsic_curvature[1] == 3.0 &&
                   m.initial_velocity[1] == 2.0 && m.distributed_moment[2] == 1e-6 &&
                   m.root_end == ROD_END_FREE && m.tip_end == ROD_END_FREE && m.needle_radius == 0.01,
@@ -527,7 +527,7 @@ static void test_issue10_keys(void)
         unlink(path);
     }
     {
-        /* a line past the reader's buffer was read as two rows (issue 9's class):
+        /* a line past the reader's buffer was read as two rows (class):
          * now refused at its line, as the load table and path readers do */
         static char long_line[1400];
         snprintf(long_line, sizeof long_line, "x,y,z\n0,0,0\n1,0,%01100d\n", 0);

@@ -457,7 +457,7 @@ static void test_no_rotary_inertia(void)
     rod_state_destroy(s);
 }
 
-/* rod_solver_refresh (issue 13, rodsim live's idle time): a thread hanging
+/* rod_solver_refresh (rodsim live's idle time): a thread hanging
  * from its clamped tip, the tip moved as tests/live_driver.h's needle
  * holder at 1 kHz (rows pushed as rodsim live does), stepped twice: as
  * before, and with a refresh after every step. The refresh leaves the

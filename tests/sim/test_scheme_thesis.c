@@ -681,7 +681,7 @@ static void test_rotary_inertia_off_refused(void)
     rod_model_release(&m);
 }
 
-/* 9. long runs, steps of changing size, stretching (issue 9) ---------------- */
+/* 9. long runs, steps of changing size, stretching ---------------- */
 
 /* Table 2's scene (dead load 4.5e-7 N along +y, ramp over 2 s, no damping) at
  * NS nodes, scale 1e7; runs the step sizes `pattern` (n entries) cyclically for

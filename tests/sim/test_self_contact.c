@@ -1,5 +1,5 @@
 /* test_self_contact.c: contact between far parts of one rod in the implicit
- * scheme (issue 12), against independent values: a strand pressed across
+ * scheme, against independent values: a strand pressed across
  * another by a known force (the contact force equals it, the axes lie one
  * diameter apart), friction between them (stick below mu F_n, Coulomb's
  * limit in slip; the pair law's fixed point for any share of its

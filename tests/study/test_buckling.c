@@ -31,7 +31,7 @@ static rod_model unit_model(int nodes, rod_end_kind root, rod_end_kind tip)
     m.nodes = nodes;
     m.root_end = root;
     m.tip_end = tip;
-    if (tip != ROD_END_FREE) m.tip_slide[0] = 1.0; /* issue 10: a held tip stays in place unless it slides; this case is Euler's sleeve */
+    if (tip != ROD_END_FREE) m.tip_slide[0] = 1.0; /* a held tip stays in place unless it slides; this case is Euler's sleeve */
     m.tip_frame = ROD_FRAME_GLOBAL;
     m.options.scheme = ROD_SCHEME_STATIC;
     if (rod_model_derive(&m, err, sizeof err) != 0) printf("model: %s\n", err);
@@ -182,7 +182,7 @@ static void test_refusals(void)
     check(rod_buckling_factor(&m, 10.0, 1e-6, &lambda, err, sizeof err) == -1 && strstr(err, "mechanism"),
           "root pinned with a free tip is refused: '%s'", err);
     m.root_end = ROD_END_CLAMPED;
-    /* issue 10: a tip held in place carries the axial load itself, and a
+    /* a tip held in place carries the axial load itself, and a
      * rest curvature bends the rod from the start */
     m.tip_end = ROD_END_CLAMPED;
     check(rod_buckling_factor(&m, 10.0, 1e-6, &lambda, err, sizeof err) == -1 && strstr(err, "tip_slide"),

@@ -366,7 +366,7 @@ static void test_buckling_values(void)
 
 /* `rodsim figure NAME --print-sweep` prints the `rodsim sweep` lines of the
  * figure; run by the shell, they write the same results CSVs as the figure,
- * byte for byte (issue 15: one sweep machinery). table2's lines carry
+ * byte for byte (one sweep machinery). table2's lines carry
  * values with blanks (tip.profile=ramp 2), quoted for the shell. */
 static void test_figure_equals_sweep(void)
 {
@@ -481,7 +481,7 @@ static void test_usage(void)
     check(access(command, F_OK) != 0, "nothing written by the refused commands");
 }
 
-/* ---- issue 9: workers, temporaries, printed commands ------------------------- */
+/* ---- workers, temporaries, printed commands ------------------------- */
 
 /* The sweep's workers die with the parent, on SIGTERM and on kill -9 (which
  * runs no cleanup), and nothing is left in $TMPDIR or in the output
@@ -563,7 +563,7 @@ static void test_print_commands_run_anywhere(void)
     unlink(list_path);
 }
 
-/* The Pareto charts' cost is CPU time (issue 15): a point's row holds the
+/* The Pareto charts' cost is CPU time: a point's row holds the
  * median, fastest and slowest of >= 3 repeats, each timed by the process's
  * CPU clock over its simulation. Property: the repeats' times add up to no
  * more than the CPU the computing process used in all. Quick point 4 (the

@@ -163,7 +163,7 @@ static int run_shell_line(const char *line, const char *dir)
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-/* Issue 9: --print-commands wrote a bare `rodsim` (command not found under
+/* --print-commands wrote a bare `rodsim` (command not found under
  * GNU parallel) and `--nodes 0` for the points that do not apply (exit 2).
  * Every printed line must run as printed, from another directory, without
  * rodsim on PATH: exit 0, and its CSV holds the header and one row of its
@@ -211,10 +211,10 @@ static void test_print_commands_run_anywhere(void)
           "%d of 7 CSVs hold the header and one row of their case", ran, rows_ok);
 }
 
-/* Issue 9: --jobs workers die with their parent (SIGTERM, kill -9), rather
+/* --jobs workers die with their parent (SIGTERM, kill -9), rather
  * than computing on for nobody (the thesis scheme's second bending frequency
  * at NS = 21 takes seconds: 192000 steps). */
-/* Issue 9, the same class: --dt 1e-300 overflowed the step count and printed
+/* The same class: --dt 1e-300 overflowed the step count and printed
  * an "ok" row of -9223372036854775808 steps; --dt 1e300 ran 0 steps, "ok". */
 static void test_absurd_dt(void)
 {
