@@ -2,7 +2,7 @@
  * (half bandwidths kl = ku) and its solves, in LAPACK's band storage: the
  * arithmetic of dgbtf2 and dgbtrs, written out, because the library's
  * per-column BLAS calls cost more than their arithmetic at the sizes of a
- * rod's step (docs/decisions/draft-band-lu-written-out.md). The same
+ * rod's step (docs/decisions/0022-band-lu-profile.md). The same
  * numbers bit for bit whatever the path (rows or columns, any kl). */
 #ifndef RODSIM_BASE_BAND_H
 #define RODSIM_BASE_BAND_H

@@ -115,7 +115,7 @@ void occlusion_destroy(strand_occlusion *s);
  * the ends of a segment are shaded by the nearest segment of each other
  * strand only (the one whose distance to it is least among its neighbours
  * along that strand): its neighbours would give about the same, at several
- * times the cost (docs/decisions/draft-occlusion-nearest-segment.md). */
+ * times the cost (docs/decisions/0053-occlusion-nearest-segment.md). */
 void occlusion_shade(strand_occlusion *s, render_mesh *m, const render_centreline *line,
                      const rod_recording *rec, int frame, int sides, double radius,
                      unsigned tube, int stripe);

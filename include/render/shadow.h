@@ -82,7 +82,7 @@ int shadow_receivers(shadow_scene *s, gl_renderer *gl, const receiver_plan *plan
  * own_lo .. own_hi, m, or NULL: the casters' box over the whole run) lie
  * inside the camera's view, bounded by their convex sets' vertices there;
  * so a camera that follows a knot along a long thread keeps fine texels
- * (docs/decisions/draft-shadow-map-fitted.md). Called at set-up and for
+ * (docs/decisions/0036-shadow-map-fit.md). Called at set-up and for
  * every frame of a camera that moves. 0, or -1 with a message. */
 int shadow_fit(shadow_scene *s, gl_renderer *gl, const render_camera *cam, double radius,
                const double *own_lo, const double *own_hi, char *err, size_t errlen);

@@ -162,7 +162,7 @@ band_solve_rows_width(const band_lu *lu, lanes *t, int first, const int width)
 /* band_solve_rows_kl, ROWS_CHUNK right-hand sides at a time (fewer in the
  * last chunk, up to LANES of them in one vector a row), copied into the rows
  * scratch and back: about half the time of the columns one at a time
- * (docs/decisions/draft-band-lu-written-out.md). */
+ * (docs/decisions/0022-band-lu-profile.md). */
 LANES_TARGET void band_solve_rows(const band_lu *lu, double *b, int count, int first)
 {
     const int n = lu->n;

@@ -15,7 +15,7 @@
 /* At most this many elements ([geometry] elements, or nodes - 1), refused
  * before anything is assembled: the condition number grows like N^4, so
  * round-off swamps a longer chain, whose condition estimate alone costs
- * seconds (docs/decisions/draft-fem-element-limit.md). */
+ * seconds (docs/decisions/0041-fem-element-limit.md). */
 #define FEM_MAX_ELEMENTS 5000
 #define FEM_CURVE_SAMPLES 24 /* points per element of the deformed curve */
 

@@ -225,7 +225,7 @@ static double histogram_quantile(const unsigned *bins, long count, double q)
  * the stream sticks, given only at the 1st, 2nd, 4th, ... line in a row
  * that no try stepped: a state nothing continues (a thread folded tighter
  * than its grid resolves) costs it rarely. Measured choices:
- * docs/decisions/draft-live-line-budget.md. */
+ * docs/decisions/0044-live-line-budget.md. */
 typedef struct live_try {
     double fraction;
     int rescue;     /* 1: the scheme's own budget (else line_budget's) */

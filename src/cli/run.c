@@ -52,7 +52,7 @@ static double steps_for(double interval, double dt)
 }
 
 /* Cost model of a step, us per node (so us per step = this x NS), measured
- * and rounded up (docs/decisions/draft-run-cost-model.md). Only an
+ * and rounded up (docs/decisions/0042-run-cost-model.md). Only an
  * estimate, for refusing the absurd up front. */
 static double step_cost_us_per_node(rod_scheme_kind scheme)
 {

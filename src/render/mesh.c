@@ -159,7 +159,7 @@ void mesh_globe(render_mesh *m, const double centre[3], double radius, int stack
 
 /* Decision: with render.smooth (the default) the tube follows a smooth
  * curve, since a tight knot's loop drawn straight from node to node reads
- * as a polygon (docs/decisions/draft-smooth-tube.md). Between nodes k and
+ * as a polygon (docs/decisions/0037-smooth-tube.md). Between nodes k and
  * k+1 the point follows the cubic Hermite curve whose end tangents are the
  * nodes' d3 times the segment's length (C1, along each node's director),
  * the frame Q_k exp(t log(Q_k^T Q_k+1)); a segment is cut into

@@ -6,7 +6,7 @@
  * rod differ in a small part of the picture (the rod, a few text lines),
  * so only the blocks of 32 x 2 pixels that changed since the last frame are
  * converted; the yuv frame keeps the rest from the frame before (swscale
- * converts every pixel: docs/decisions/draft-own-yuv-conversion.md). */
+ * converts every pixel: docs/decisions/0052-own-yuv-conversion.md). */
 #include "render/video.h"
 
 #include <libavcodec/avcodec.h>
@@ -301,7 +301,7 @@ video_writer *video_writer_create(const char *path, int width, int height, int f
     v->codec->framerate = (AVRational){fps, 1};
     v->codec->gop_size = 2 * fps;
     /* No B-frames: less of the encoder's CPU on rod frames for a somewhat
-     * larger file, and not a worse picture (docs/decisions/draft-no-b-frames.md) */
+     * larger file, and not a worse picture (docs/decisions/0051-no-b-frames.md) */
     v->codec->max_b_frames = 0;
     /* BT.709, limited range: what browsers assume for HD H.264 */
     v->codec->colorspace = AVCOL_SPC_BT709;

@@ -3,7 +3,7 @@
  * self-contact (self_contact.h): a compliant normal response and
  * regularised Coulomb friction. Friction comes in two named variants of the
  * same law: smooth (surfaces, punctures) and kept at its corner (strands);
- * docs/decisions/draft-friction-corner.md says why each keeps its own. The
+ * docs/decisions/0026-friction-corner-between-strands.md says why each keeps its own. The
  * local laws are inline: they run inside the residual. */
 #ifndef RODSIM_SIM_CONTACT_FRICTION_H
 #define RODSIM_SIM_CONTACT_FRICTION_H

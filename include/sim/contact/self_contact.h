@@ -61,14 +61,14 @@
  * where strands turned between stick and slip. Each pair's share is its
  * own measured ratio (rod_self_contact_correct: the rod's part from B^-1 V)
  * from its last step, at least this; a new pair starts at 1
- * (docs/decisions/draft-self-contact-share.md) */
+ * (docs/decisions/0027-pair-compliance-share.md) */
 #define SELF_SHARE_LEAST 0.01
 
 /* A pair whose friction at the end of its last step used less than this
  * share of its cone (|F_t| < SELF_SHARE_STUCK mu F_n) keeps share 1: held
  * by force, it is best decided by force (a coil whose pairs stick took
  * nearly twice the iterations with the measured ratio;
- * docs/decisions/draft-self-contact-share.md) */
+ * docs/decisions/0027-pair-compliance-share.md) */
 #define SELF_SHARE_STUCK 0.9
 
 typedef struct self_pair {
@@ -156,7 +156,7 @@ typedef struct rod_self_contact {
  * the pairs within the threshold + 2 skin, and serves until a node has
  * moved by a skin from where it was made (a Verlet list): measuring the
  * list's pairs again costs a fifth of a search in a coil of 201 nodes
- * (docs/decisions/draft-self-contact-pair-list.md) */
+ * (docs/decisions/0033-pair-list.md) */
 #define SELF_LIST_SKIN 0.25
 /* The most pairs a list holds (it grows on demand); a search finding more
  * makes none */

@@ -27,7 +27,7 @@ int implicit_prepare_step(implicit_work *w, const rod_model *m, const rod_state 
  * equal: a run sets t to the output time after a frame's steps (no drift),
  * which differs from the sum of the steps in the last bits, and an exact
  * test made every frame's first step start cold
- * (docs/decisions/draft-first-iterate.md). */
+ * (docs/decisions/0029-first-iterate-with-pairs.md). */
 int implicit_continues_from(const implicit_work *w, const rod_state *s, double dt);
 
 /* Self-contact's data of a step: each node's compliance over the step and
@@ -47,7 +47,7 @@ int implicit_prepare_self_contact(implicit_work *w, const rod_model *m, double d
  * is O(dt^3) against the line's O(dt^2), while just after a contact
  * switches or a puncture is made the parabola carries the jump on for two
  * steps and the line for one. Used only with surfaces or punctures and no
- * self-contact pairs (docs/decisions/draft-first-iterate.md). */
+ * self-contact pairs (docs/decisions/0029-first-iterate-with-pairs.md). */
 int implicit_first_iterate_order(const implicit_work *w, double dt);
 
 #endif

@@ -14,7 +14,7 @@
  * the segment at the needle's back (the held tip) farther toward it than
  * this fraction: the thread's point there moves with compliance (1 - f)^2
  * push, so a hole too near the tip needs huge forces to correct a micron's
- * miss at the next step (docs/decisions/draft-needle-hole-clear.md). */
+ * miss at the next step (docs/decisions/0015-needle-holes.md). */
 #define NEEDLE_HOLE_CLEAR 0.995
 
 /* One puncture's map in puncture_forces, for its Jacobian. */

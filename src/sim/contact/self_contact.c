@@ -274,7 +274,7 @@ static int search_pairs(rod_self_contact *sc, const double *pos0, double thresho
  * other carry their contacts across nodes, and the closest points of two
  * strands lying side by side jump along them: with the exact pair alone,
  * most steps of a knot pulled through began with a contact's force lost
- * (docs/decisions/draft-first-iterate.md) */
+ * (docs/decisions/0029-first-iterate-with-pairs.md) */
 static void take_last(rod_self_contact *sc)
 {
     for (int l = 0; l < sc->last_count; l++) {
@@ -425,7 +425,7 @@ static void tangential_part(double out[3], const double v[3], const double n[3])
  * moves the relative position by dt theta dz; at friction's corner, that of
  * the side the point is on (creep up to eps + c, Coulomb beyond), as a
  * semismooth Newton method takes it (contact_corner_gain): differences of
- * the law straddled the corner (docs/decisions/draft-friction-corner.md). */
+ * the law straddled the corner (docs/decisions/0026-friction-corner-between-strands.md). */
 static void pair_law(const rod_self_contact *sc, const self_pair *p, const double d[3],
                      const double z[3], double dt, double theta, double f[3], double *gain)
 {
@@ -670,7 +670,7 @@ LANES_TARGET static void sum_columns(double *restrict out, int n, const double *
  * factors; b by x): Gaussian elimination with partial pivoting, the row
  * interchanges applied to b as they are made: LAPACK's dgesv's arithmetic,
  * whose small BLAS calls cost twice the loops at this size (n = 3 x the
- * pairs touching; docs/decisions/draft-band-lu-written-out.md). Returns 0,
+ * pairs touching; docs/decisions/0022-band-lu-profile.md). Returns 0,
  * or -1 when S is singular. */
 LANES_TARGET static int dense_solve(int n, double *restrict s, double *restrict b)
 {

@@ -725,7 +725,7 @@ static int trail_first_change(const implicit_work *w, double dt)
  * finite differences in the plane (its cantilever is cheap) and in step's
  * retry (fd_only). Also while strands of the rod are candidates for
  * self-contact, whose forces join in Newton's solve, not in this part
- * (docs/decisions/draft-closed-form-jacobian.md). */
+ * (docs/decisions/0003-implicit-scheme-unknowns.md). */
 static void rod_jacobian(implicit_work *w, const rod_model *m, double t, double dt)
 {
     if (w->planar || w->fd_only) fd_jacobian(w, m, t, dt, 1);

@@ -11,7 +11,7 @@
 /* Newton iterations over which a step with contact must halve its residual,
  * else it is split at once rather than after newton_max_iterations: a stall
  * at friction's turn between stick and slip seldom ends, and the half steps
- * mostly converge (docs/decisions/draft-jacobian-renewal.md) */
+ * mostly converge (docs/decisions/0019-contact-jacobian-renewal.md) */
 #define CONTACT_STALL 6
 /* While self-contact pairs touch, the line search keeps a trial point whose
  * residual is below the largest of the iterate's and the last
@@ -19,13 +19,13 @@
  * Lampariello and Lucidi, SIAM J. Numer. Anal. 23, 1986): a full step that
  * moves a pair across friction's corner overshoots in that pair's residual
  * for one iteration, and a monotone search cut it to nothing
- * (docs/decisions/draft-nonmonotone-line-search.md) */
+ * (docs/decisions/0030-nonmonotone-line-search.md) */
 #define PAIRS_NONMONOTONE 3
 /* With strands touching, a step that took at least PAIRS_SLOW_STEP Newton
  * iterations on a B made PAIRS_B_AGE or more steps before renews B at the
  * next step's first iterate: a knot slides through the rod as it tightens,
  * and a B made where it was some steps ago is off where the strands now
- * press (docs/decisions/draft-pairs-b-renewal.md) */
+ * press (docs/decisions/0031-b-renewal-policy.md) */
 #define PAIRS_SLOW_STEP 3
 #define PAIRS_B_AGE 10
 /* A chord iteration that leaves the residual above the tolerance, having
@@ -33,20 +33,20 @@
  * next step to renew at its first iterate, or implicit_refresh between
  * steps in live mode: the contraction worsens slowly over tens of steps,
  * and a renewal at its first signs spares the builds within a step
- * (docs/decisions/draft-jacobian-renewal.md) */
+ * (docs/decisions/0019-contact-jacobian-renewal.md) */
 #define IDLE_REFRESH_CONTRACTION 0.1
 /* A step that starts on a factorisation the last one found stale renews
  * only contact's part of it (onto the rod's part kept from the last whole
  * build) up to this many times in a row, then the whole: at a suture's
  * short steps the thread's own Jacobian barely changes from one step to the
  * next, while which nodes touch, stick or slip does
- * (docs/decisions/draft-jacobian-renewal.md) */
+ * (docs/decisions/0019-contact-jacobian-renewal.md) */
 #define CONTACT_START_REFRESHES 4
 /* A chord iteration with contact (surfaces, punctures) and no strands
  * touching that contracts the residual by less than this renews the
  * Jacobian (contact's part first); 0.25 elsewhere. A renewal of contact's
  * part costs about two residual evaluations, and each iteration it spares
- * saves one and a solve (docs/decisions/draft-jacobian-renewal.md) */
+ * saves one and a solve (docs/decisions/0019-contact-jacobian-renewal.md) */
 #define CONTACT_SLOW_CONTRACTION 0.05
 
 int implicit_same_dt(double dt_factored, double dt)
@@ -112,7 +112,7 @@ typedef struct newton_progress {
                               after on one scale, that of the iterate it starts from: with
                               each trial point's own, a trial that raised some pair's force
                               looked better than it was, and the search turned back from
-                              good steps (draft-nonmonotone-line-search.md) */
+                              good steps (0030-nonmonotone-line-search.md) */
     double norm;           /* the residual's size at the iterate */
     int fresh;             /* the factorisation was made at this step */
     int contact_fresh;     /* the contact's part was renewed at the last iteration */
@@ -187,7 +187,7 @@ static double line_search(implicit_work *w, const rod_model *m, double t, double
  * the last iteration, twice at most (a thread turning as it lands needs the
  * rod's part renewed; slowness beyond that is friction's turn between stick
  * and slip, which the rod's part does not change)
- * (docs/decisions/draft-pairs-b-renewal.md, draft-jacobian-renewal.md).
+ * (docs/decisions/0031-b-renewal-policy.md, 0019-contact-jacobian-renewal.md).
  * Returns 0, or -1 when the matrix is singular. */
 static int renew_if_slow(implicit_work *w, const rod_model *m, double t, double dt,
                          newton_progress *pr, double next, double cut, double rod_full,

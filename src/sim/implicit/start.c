@@ -25,7 +25,7 @@ int implicit_continues_from(const implicit_work *w, const rod_state *s, double d
  * (*continuing set). A factorisation the last step found stale is dropped,
  * for Newton to renew it at this step's first iterate, whose evaluation is
  * also Newton's first residual (renew_stale; not while self-contact pairs
- * exist: draft-jacobian-renewal.md). Returns 0, or -1 when the planar path
+ * exist: 0019-contact-jacobian-renewal.md). Returns 0, or -1 when the planar path
  * cannot start from s. */
 static int begin_step(implicit_work *w, const rod_model *m, const rod_state *s, double dt,
                       int renew_stale, int *continuing)
@@ -201,7 +201,7 @@ int implicit_first_iterate_order(const implicit_work *w, double dt)
  * after): each node keeps the load the last solution gave it; on the same
  * segment, (alpha - alpha_last) F more in N_{a+1/2}; on strand b the same
  * with -F. The solution is the same: only where Newton starts moves
- * (docs/decisions/draft-first-iterate.md). */
+ * (docs/decisions/0029-first-iterate-with-pairs.md). */
 static double share_up_to(int k, int segment, double fraction)
 {
     return k < segment ? 0.0 : k == segment ? 1.0 - fraction : 1.0;
@@ -239,8 +239,8 @@ static void shift_for_pair_shares(implicit_work *w)
  * itself, mended for the pairs' shares: strands pressed together turn
  * between stick and slip from one step to the next, and a line through the
  * last two solutions carries each such turn on into the next step, doubled
- * (docs/decisions/draft-first-iterate.md). In step's retry (fd_only), off
- * any symmetry of the state (draft-step-retry.md). */
+ * (docs/decisions/0029-first-iterate-with-pairs.md). In step's retry (fd_only), off
+ * any symmetry of the state (0020-stalled-step-splits.md). */
 static void first_iterate(implicit_work *w, const rod_state *s, double dt, int continuing)
 {
     const int n = w->nodes;

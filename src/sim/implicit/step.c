@@ -24,14 +24,14 @@
  * it is pulled tight moves too far within the scene's step at most of its
  * steps, and there the halves' depth changes slowly. Each sub-step still
  * meets the same tolerance and the same test
- * (docs/decisions/draft-split-hold-steps.md). */
+ * (docs/decisions/0032-split-hold-steps.md). */
 #define SPLIT_HOLD_STEPS 4
 /* Newton iterations one step may spend, splits included (each attempt costs
  * one more; with contact twice: the retries): bounds the time a hopeless
  * step takes instead of 4096 x 25 tries. Every loop of the scheme is
  * bounded: Newton by newton_max_iterations and this budget, splitting by
  * MAX_SPLIT_DEPTH and this budget, the rest by the node count
- * (docs/decisions/draft-step-retry.md) */
+ * (docs/decisions/0020-stalled-step-splits.md) */
 #define STEP_ITERATION_BUDGET 4000
 
 /* The Newton iterations one try of a step may spend: the caller's
@@ -188,7 +188,7 @@ static void hold_split_depth(implicit_work *w, double dt, int solved)
  * hanging thread lowered end-on onto a table has no solution that stays
  * straight, and the exact Jacobian, as symmetric as the thread, keeps
  * Newton on that line, its end pressed ever harder while the compliance
- * caps its sink (docs/decisions/draft-step-retry.md). Returns the last
+ * caps its sink (docs/decisions/0020-stalled-step-splits.md). Returns the last
  * attempt's split_step result. */
 static int retry_with_differences(implicit_work *w, const rod_model *m, rod_state *s, double dt,
                                   rod_report *report, int split)

@@ -30,7 +30,7 @@ static const double mode_push = 0.05;
 /* The two sides' rests are of equal potential energy when their energies
  * differ by at most this times sqrt(NS), relative to the energies' size:
  * some 25 x the round-off between mirror images, far below what a lateral
- * load of 1e-12 of the axial one makes (docs/decisions/draft-static-branch.md). */
+ * load of 1e-12 of the axial one makes (docs/decisions/0046-static-branch.md). */
 static const double energy_tie = 4.0 * DBL_EPSILON;
 
 /* Turns every node by `scale` times the mode (global rotations). */
@@ -235,7 +235,7 @@ static void settle_side(static_work *w, const rod_model *m, const static_load *l
  * load 1e-6 of it: tip y -0.797 m, the mirror image). When the energies
  * agree to within energy_tie (a symmetric load, or one rest reached both
  * ways), mode_side's side is kept, and a symmetric choice is warned of;
- * docs/decisions/draft-static-branch.md. Returns 0 with the base point at
+ * docs/decisions/0046-static-branch.md. Returns 0 with the base point at
  * the rest kept (*symmetric set when the side was a symmetric choice),
  * -1 when neither side settled (the first side's residual in *residual). */
 static int settle_both_sides(static_work *w, const rod_model *m, const static_load *load,

@@ -94,7 +94,7 @@
  * only the Jacobian's finite-difference noise gets no step, stiff modes keep
  * theirs, and the answer is unchanged. c starts at newton_damping (the noise
  * at NS = 300, in reduced stiffness units), times 10 at each further poor
- * step up to newton_damping_limit; docs/decisions/draft-static-newton-damping.md. */
+ * step up to newton_damping_limit; docs/decisions/0045-static-newton-damping.md. */
 static const double newton_poor_step = 0.25;
 static const double newton_damping = 1e-3;
 static const double newton_damping_limit = 1e-1;
@@ -547,7 +547,7 @@ void static_damp_rotations(static_work *w, double damping)
  * what lies beyond it, not for the rest the rod would slide into: past P_E
  * it went from the last answer (on the load's side, nearly straight)
  * through the straight rod to the mirror-image branch
- * (docs/decisions/draft-static-branch.md). */
+ * (docs/decisions/0046-static-branch.md). */
 int static_newton(static_work *w, const rod_model *m, const static_load *load, double tolerance,
                   int max_iterations, int downhill, int *iterations, double *residual_out)
 {
