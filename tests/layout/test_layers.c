@@ -270,6 +270,36 @@ typedef struct {
     int files[LAYER_COUNT], unknown_files, includes;
 } scan_totals;
 
+/* Calls fn on every .c and .h file under root/rel, folders recursively, in
+ * readdir order (rel: the path from the source root). */
+typedef void (*file_fn)(void *context, const char *root, const char *rel);
+static void walk_files(const char *root, const char *rel, file_fn fn, void *context)
+{
+    char full[2 * PATH_LEN];
+    snprintf(full, sizeof full, "%s/%s", root, rel);
+    DIR *d = opendir(full);
+    if (!d) {
+        check(0, "%s: cannot open the folder", full);
+        return;
+    }
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (e->d_name[0] == '.') continue;
+        char child[PATH_LEN], child_full[2 * PATH_LEN + 2];
+        snprintf(child, sizeof child, "%s/%s", rel, e->d_name);
+        snprintf(child_full, sizeof child_full, "%s/%s", root, child);
+        struct stat st;
+        if (stat(child_full, &st) != 0) continue;
+        size_t n = strlen(e->d_name);
+        if (S_ISDIR(st.st_mode))
+            walk_files(root, child, fn, context);
+        else if (n > 2 && (strcmp(e->d_name + n - 2, ".c") == 0 ||
+                           strcmp(e->d_name + n - 2, ".h") == 0))
+            fn(context, root, child);
+    }
+    closedir(d);
+}
+
 static void scan_file(sink *s, const char *root, const char *rel, scan_totals *t)
 {
     char full[2 * PATH_LEN];
@@ -294,40 +324,24 @@ static void scan_file(sink *s, const char *root, const char *rel, scan_totals *t
     if (layer < 0 && !any) report(s, rel, 1, "(none)", "L0: the file lies in no known layer folder");
 }
 
-/* Walks root/rel recursively over the .c and .h files, sorted by readdir. */
-static void scan_dir(sink *s, const char *root, const char *rel, scan_totals *t)
+typedef struct {
+    sink *s;
+    scan_totals *t;
+} tree_scan;
+
+static void scan_one(void *context, const char *root, const char *rel)
 {
-    char full[2 * PATH_LEN];
-    snprintf(full, sizeof full, "%s/%s", root, rel);
-    DIR *d = opendir(full);
-    if (!d) {
-        check(0, "%s: cannot open the folder", full);
-        return;
-    }
-    struct dirent *e;
-    while ((e = readdir(d))) {
-        if (e->d_name[0] == '.') continue;
-        char child[PATH_LEN], child_full[2 * PATH_LEN + 2];
-        snprintf(child, sizeof child, "%s/%s", rel, e->d_name);
-        snprintf(child_full, sizeof child_full, "%s/%s", root, child);
-        struct stat st;
-        if (stat(child_full, &st) != 0) continue;
-        size_t n = strlen(e->d_name);
-        if (S_ISDIR(st.st_mode))
-            scan_dir(s, root, child, t);
-        else if (n > 2 && (strcmp(e->d_name + n - 2, ".c") == 0 ||
-                           strcmp(e->d_name + n - 2, ".h") == 0))
-            scan_file(s, root, child, t);
-    }
-    closedir(d);
+    tree_scan *ts = context;
+    scan_file(ts->s, root, rel, ts->t);
 }
 
 static void test_tree(void)
 {
     sink s = {0, "", 1};
     scan_totals t = {{0}, 0, 0};
-    scan_dir(&s, RODSIM_SOURCE_DIR, "src", &t);
-    scan_dir(&s, RODSIM_SOURCE_DIR, "include", &t);
+    tree_scan ts = {&s, &t};
+    walk_files(RODSIM_SOURCE_DIR, "src", scan_one, &ts);
+    walk_files(RODSIM_SOURCE_DIR, "include", scan_one, &ts);
     int files = t.unknown_files;
     for (int k = 0; k < LAYER_COUNT; k++) files += t.files[k];
     /* guards against a vacuous pass: every layer has files, and the tree is
@@ -507,38 +521,34 @@ static void check_names(sink *s, const name_table *t, const char *file, int line
 
 typedef void (*line_fn)(void *context, const char *rel, int line_no, char *text);
 
+typedef struct {
+    line_fn fn;
+    void *context;
+} line_walk;
+
+/* Calls the line_walk's fn on every line of one file, comments and strings
+ * stripped. */
+static void file_lines(void *context, const char *root, const char *rel)
+{
+    const line_walk *w = context;
+    char full[2 * PATH_LEN + 2];
+    snprintf(full, sizeof full, "%s/%s", root, rel);
+    FILE *f = fopen(full, "r");
+    if (!f) return;
+    char line[4096];
+    int line_no = 0, in_comment = 0;
+    while (fgets(line, sizeof line, f)) {
+        strip_line(line, &in_comment);
+        w->fn(w->context, rel, ++line_no, line);
+    }
+    fclose(f);
+}
+
 /* Calls fn on every stripped line of the .c and .h files under root/rel. */
 static void walk_lines(const char *root, const char *rel, line_fn fn, void *context)
 {
-    char full[2 * PATH_LEN];
-    snprintf(full, sizeof full, "%s/%s", root, rel);
-    DIR *d = opendir(full);
-    if (!d) return;
-    struct dirent *e;
-    while ((e = readdir(d))) {
-        if (e->d_name[0] == '.') continue;
-        char child[PATH_LEN], child_full[2 * PATH_LEN + 2];
-        snprintf(child, sizeof child, "%s/%s", rel, e->d_name);
-        snprintf(child_full, sizeof child_full, "%s/%s", root, child);
-        struct stat st;
-        if (stat(child_full, &st) != 0) continue;
-        size_t n = strlen(e->d_name);
-        if (S_ISDIR(st.st_mode)) {
-            walk_lines(root, child, fn, context);
-        } else if (n > 2 && (strcmp(e->d_name + n - 2, ".c") == 0 ||
-                             strcmp(e->d_name + n - 2, ".h") == 0)) {
-            FILE *f = fopen(child_full, "r");
-            if (!f) continue;
-            char line[4096];
-            int line_no = 0, in_comment = 0;
-            while (fgets(line, sizeof line, f)) {
-                strip_line(line, &in_comment);
-                fn(context, child, ++line_no, line);
-            }
-            fclose(f);
-        }
-    }
-    closedir(d);
+    line_walk w = {fn, context};
+    walk_files(root, rel, file_lines, &w);
 }
 
 static void collect_line(void *context, const char *rel, int line_no, char *text)
