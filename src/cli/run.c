@@ -14,18 +14,22 @@
 #include "sim/proximity.h"
 #include "sim/recording.h"
 
+/* What rounding may add to or take from a duration or a count of steps
+ * (relative): an interval of exactly k dt takes k steps, not k + 1. */
+#define RUN_TIME_SLACK 1e-9
+
 /* Whole frame intervals 1/fps in duration (to a relative 1e-9), as a double:
  * it may be absurdly large, and is checked before it is counted. */
 static double regular_frames(double duration, int fps)
 {
-    return floor(duration * fps * (1.0 + 1e-12) + 1e-9);
+    return floor(duration * fps * (1.0 + 1e-12) + RUN_TIME_SLACK);
 }
 
 /* The length of the final partial interval, s (0 when duration is k/fps). */
 static double partial_interval(double duration, int fps, double regular)
 {
     double rest = duration - regular / fps;
-    return rest > 1e-9 * fmax(1.0, duration) ? rest : 0.0;
+    return rest > RUN_TIME_SLACK * fmax(1.0, duration) ? rest : 0.0;
 }
 
 double run_time_limit(void)
@@ -47,7 +51,7 @@ int run_frame_count(double duration, int fps)
  * hair so that an interval of exactly k dt takes k steps, not k + 1. */
 static double steps_for(double interval, double dt)
 {
-    double n = ceil(interval / dt * (1.0 - 1e-9));
+    double n = ceil(interval / dt * (1.0 - RUN_TIME_SLACK));
     return n < 1.0 ? 1.0 : n;
 }
 

@@ -12,6 +12,11 @@
 #include "render/image.h"
 #include "render/text.h"
 
+/* What rounding may take off a value that should sit on a tick, a whole
+ * number or a dash's end (relative to the tick step, 1, the dash length):
+ * within it, the value counts as on it, so no tick is added or dropped. */
+#define ROUNDING_SLACK 1e-9
+
 #define PLOT_MSAA_SAMPLES 8
 #define CIRCLE_SEGMENTS 20
 #define MAX_TICKS 9
@@ -142,7 +147,7 @@ static void tri_polyline(tri_buffer *b, const double *px, const double *py, int 
             }
             s += step;
             phase += step;
-            if (phase >= on + off - 1e-9) phase = 0;
+            if (phase >= on + off - ROUNDING_SLACK) phase = 0;
         }
     }
 }
@@ -336,12 +341,12 @@ int plot_nice_ticks(double lo, double hi, int max_ticks, double *first, double *
     static const double mantissas[] = {1, 2, 5, 10};
     double s = 10 * decade;
     for (int i = 0; i < 4; i++)
-        if (mantissas[i] * decade >= raw * (1 - 1e-9)) {
+        if (mantissas[i] * decade >= raw * (1 - ROUNDING_SLACK)) {
             s = mantissas[i] * decade;
             break;
         }
-    double f = ceil(lo / s - 1e-9) * s + 0.0; /* + 0.0: no -0 */
-    int count = (int)floor((hi - f) / s + 1e-9) + 1;
+    double f = ceil(lo / s - ROUNDING_SLACK) * s + 0.0; /* + 0.0: no -0 */
+    int count = (int)floor((hi - f) / s + ROUNDING_SLACK) + 1;
     *first = f;
     *step = s;
     return count;
@@ -388,16 +393,16 @@ static int log_ticks(double *lo, double *hi, double *first, double *step)
         *step = 1.0;
         return 1;
     }
-    if (floor(*hi + 1e-9) - ceil(*lo - 1e-9) < 1.0) {
-        *lo = floor(*lo + 1e-9);
-        *hi = ceil(*hi - 1e-9);
+    if (floor(*hi + ROUNDING_SLACK) - ceil(*lo - ROUNDING_SLACK) < 1.0) {
+        *lo = floor(*lo + ROUNDING_SLACK);
+        *hi = ceil(*hi - ROUNDING_SLACK);
         if (*hi - *lo < 1.0) *hi = *lo + 1.0;
     }
     int count = plot_nice_ticks(*lo, *hi, MAX_TICKS, first, step);
     if (*step < 1.0) {
         *step = 1.0;
-        *first = ceil(*lo - 1e-9);
-        count = (int)floor(*hi + 1e-9 - *first) + 1;
+        *first = ceil(*lo - ROUNDING_SLACK);
+        count = (int)floor(*hi + ROUNDING_SLACK - *first) + 1;
     }
     return count;
 }
@@ -409,13 +414,13 @@ static void tick_text(double value, double step, int log_axis, char *out, size_t
         snprintf(out, outlen, "%g", pow(10.0, value));
         return;
     }
-    if (fabs(value) < 1e-9 * step) value = 0;
+    if (fabs(value) < ROUNDING_SLACK * step) value = 0;
     double magnitude = fmax(fabs(value), step);
     if (magnitude >= 1e5 || magnitude < 1e-4) {
         snprintf(out, outlen, "%.3g", value);
         return;
     }
-    int decimals = (int)fmax(0, -floor(log10(step) + 1e-9));
+    int decimals = (int)fmax(0, -floor(log10(step) + ROUNDING_SLACK));
     snprintf(out, outlen, "%.*f", decimals, value);
 }
 
