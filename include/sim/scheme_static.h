@@ -23,6 +23,7 @@ typedef struct static_work static_work;
 
 /* The scheme's scratch memory for model m (as rod_scheme_static.create). */
 static_work *static_work_create(const rod_model *m, char *err, size_t errlen);
+/* Frees what static_work_create made (NULL: nothing). */
 void static_work_destroy(static_work *w);
 
 /* Sets the Newton base point to the straight rod along +x, twisted uniformly

@@ -8,20 +8,28 @@
  * the room src/sim/static/, with headers in include/sim/static/:
  *   static_work.c          the scratch memory: what the scheme refuses, the
  *                          ends' initial poses, the free rotations
+ *   static_load.c          the loads and held ends' poses at a time, and the
+ *                          load in words for messages
+ *   static_solve.c         the discrete equations and end conditions, their
+ *                          finite-difference Jacobian, the bordered band
+ *                          solve of a Newton step
+ *   static_stability.c     the tangent stiffness on the free rotations, its
+ *                          negative eigenvalues, the critical mode
+ *   static_settle.c        Newton and the descent to a rest, which watch the
+ *                          stiffness; an unstable answer left along its
+ *                          critical mode for a stable rest
  *   static_continuation.c  one step: the load path from the last answer to
  *                          the target in sub-steps, the starting shapes, the
  *                          answer written into the state
- *   static_solve.c         the discrete equations and end conditions, their
- *                          finite-difference Jacobian, the bordered band
- *                          solve, Newton
- *   static_stability.c     the tangent stiffness on the free rotations, its
- *                          negative eigenvalues, the critical mode
- *   static_settle.c        an unstable answer left along its critical mode
- *                          for a stable rest
  *   static_mirror.c        the ends solved as the mirrored rod
  *   static_buckling.c      the straight rod's complex determinant, from which
  *                          rod_buckling_factor (buckling.h) finds where it
  *                          stops being stable
+ *
+ * The files call one another one way only, up this ladder (each includes
+ * only the headers of files below it, and static_internal.h):
+ *   work < load < solve < stability < settle < continuation < mirror < this file
+ * static_buckling.c stands on solve alone; nothing in the room calls it.
  *
  * Every loop has a budget (Newton iterations, line-search halvings, load
  * sub-steps, descent iterations, solves per run), a load whose size in the
@@ -56,7 +64,13 @@ static void *create(const rod_model *m, char *err, size_t errlen)
     return static_work_create(m, err, errlen);
 }
 
-static void destroy(void *work) { static_work_destroy(work); }
+/* A mirrored rod's work owns its mirror, which frees both. */
+static void destroy(void *work)
+{
+    static_work *w = work;
+    if (w && w->mirror) static_mirror_destroy(w);
+    else static_work_destroy(w);
+}
 
 static rod_status step(void *work, const rod_model *m, rod_state *s, double dt,
                        rod_report *report)

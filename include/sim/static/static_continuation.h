@@ -1,10 +1,7 @@
 /* static_continuation.h: internal to the static scheme's room
- * (static_internal.h). One static step of a rod whose root is held, and the
- * loads along its path. */
+ * (static_internal.h). One static step of a rod whose root is held. */
 #ifndef RODSIM_STATIC_CONTINUATION_H
 #define RODSIM_STATIC_CONTINUATION_H
-
-#include <stddef.h>
 
 #include "sim/static/static_internal.h"
 
@@ -13,11 +10,5 @@
  * is left as it was and the report says why. */
 rod_status static_step_unmirrored(static_work *w, const rod_model *m, rod_state *s, double dt,
                                   rod_report *report);
-
-/* The loads and the held ends' poses at time t (s). */
-void static_target_load(const static_work *w, const rod_model *m, double t, static_load *load);
-
-/* The load in words, for messages, into text (length bytes). */
-void static_describe_load(const rod_model *m, const static_load *load, char *text, size_t length);
 
 #endif

@@ -133,7 +133,8 @@ struct static_work {
     double branch_rest_reaction[MAX_BORDER]; /* N */
 
     /* a free root with a clamped tip: the rod solved mirrored (see
-     * static_mirror_create); NULL for every other rod */
+     * static_mirror_create, freed with the work by static_mirror_destroy);
+     * NULL for every other rod */
     struct static_mirror *mirror;
 
     /* the load of the last solved step, the start of the next step's path */

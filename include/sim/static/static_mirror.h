@@ -9,18 +9,17 @@
 #include "sim/rod.h"
 #include "sim/scheme_static.h"
 
-struct static_mirror;
-
 /* The work of a mirrored rod (w->mirror set, owning the mirror's model,
  * state and inner work), or NULL with a message for ends the mirror does
- * not solve. Freed by static_work_destroy. */
+ * not solve. Freed by static_mirror_destroy. */
 static_work *static_mirror_create(const rod_model *m, char *err, size_t errlen);
 
 /* One step of the mirrored rod, its answer mirrored back into s. */
 rod_status static_mirror_step(static_work *w, const rod_model *m, rod_state *s, double dt,
                               rod_report *report);
 
-/* Frees what static_mirror_create made for the mirror (NULL: nothing). */
-void static_mirror_destroy(struct static_mirror *mirror);
+/* Frees the mirror, then the work itself (static_work_destroy, which
+ * frees only what static_work_create makes); NULL: nothing. */
+void static_mirror_destroy(static_work *w);
 
 #endif

@@ -1,6 +1,6 @@
 /* static_solve.h: internal to the static scheme's room (static_internal.h).
- * The discrete equilibrium (residual, Jacobian, bordered band solve) and
- * Newton on it, at the base point and load in the work. */
+ * The discrete equilibrium (residual, Jacobian, bordered band solve), at
+ * the base point and load in the work; Newton on it is static_settle.h's. */
 #ifndef RODSIM_STATIC_SOLVE_H
 #define RODSIM_STATIC_SOLVE_H
 
@@ -47,19 +47,5 @@ void static_accept_trial(static_work *w);
 /* J - damping D on the band: D the identity on the free rotations' moment
  * rows (damping in the reduced stiffness' units). */
 void static_damp_rotations(static_work *w, double damping);
-
-/* static_newton's answer when `downhill` was asked and its first step
- * would climb. */
-enum { NEWTON_NOT_DOWNHILL = 1 };
-
-/* Newton from the base point; 0 when the largest scaled residual is <=
- * tolerance (the base point is then the answer), -1 otherwise. With
- * `downhill` set (dead loads only) NEWTON_NOT_DOWNHILL, the base point
- * unmoved, when the potential curves down along the first Newton step
- * (static_step_curvature < 0): the step climbs towards a saddle or beyond
- * it (static_descend then goes downhill instead).
- * *iterations counts the Jacobians formed, *residual_out the last norm. */
-int static_newton(static_work *w, const rod_model *m, const static_load *load, double tolerance,
-                  int max_iterations, int downhill, int *iterations, double *residual_out);
 
 #endif

@@ -14,8 +14,8 @@
 #include <string.h>
 
 #include "sim/rod_geometry.h"
-#include "sim/path.h"
 #include "sim/static/static_internal.h"
+#include "sim/static/static_load.h"
 #include "sim/static/static_settle.h"
 #include "sim/static/static_solve.h"
 #include "sim/static/static_stability.h"
@@ -104,35 +104,6 @@ static void load_between(const static_load *a, const static_load *b, double frac
         v3_scale(phi, phi, fraction);
         m3_exp(step_rotation, phi);
         m3_mul(into[e], from[e], step_rotation);
-    }
-}
-
-/* The loads and the held ends' poses at time t: a driven end on its path
- * (position, and rotation from its initial frame), a held one where it
- * started (decided: a path's rotation is used only by a clamped end held in
- * place; a pinned end turns freely and a sliding clamp keeps d3 along its
- * slide). */
-void static_target_load(const static_work *w, const rod_model *m, double t, static_load *load)
-{
-    memset(load, 0, sizeof *load);
-    rod_tip_load(m, t, load->tip_force, load->tip_moment);
-    v3_copy(load->distributed, m->distributed_force);
-    v3_copy(load->distributed_moment, m->distributed_moment);
-    load->point_factor = rod_profile_factor(&m->profile, t);
-    load->curvature = 1.0;
-    v3_copy(load->root_position, w->root_position0);
-    v3_copy(load->tip_position, w->tip_position0);
-    m3_identity(load->root_rotation);
-    m3_identity(load->tip_rotation);
-    const rod_path *paths[2] = {m->root_motion, m->tip_motion};
-    double *positions[2] = {load->root_position, load->tip_position};
-    double *rotations[2] = {load->root_rotation, load->tip_rotation};
-    for (int e = 0; e < 2; e++) {
-        if (!paths[e]) continue;
-        rod_pose pose;
-        rod_path_eval(paths[e], t, &pose);
-        v3_copy(positions[e], pose.position);
-        memcpy(rotations[e], pose.rotation, sizeof pose.rotation);
     }
 }
 
@@ -381,17 +352,6 @@ static void write_state(static_work *w, const rod_model *m, const static_load *l
     memset(s->velocity, 0, (size_t)n * 3 * sizeof(double));
     memset(s->angular_velocity, 0, (size_t)n * 3 * sizeof(double));
     s->staggered = 1;
-}
-
-/* The load in words, for messages. */
-void static_describe_load(const rod_model *m, const static_load *load, char *text, size_t length)
-{
-    snprintf(text, length,
-             "tip force %g %g %g N, tip moment %g %g %g N m on the %s frame, distributed %g %g %g N/m",
-             load->tip_force[0], load->tip_force[1], load->tip_force[2], load->tip_moment[0],
-             load->tip_moment[1], load->tip_moment[2],
-             m->tip_frame == ROD_FRAME_DIRECTOR ? "tip director" : "global",
-             load->distributed[0], load->distributed[1], load->distributed[2]);
 }
 
 /* What a step aims at, and how close an answer must get. */

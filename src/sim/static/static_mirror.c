@@ -185,13 +185,13 @@ static_work *static_mirror_create(const rod_model *m, char *err, size_t errlen)
     mirror->state = rod_state_create(mm);
     if ((m->point_load_count > 0 && !mm->point_loads) || (m->initial_shape && !mm->initial_shape) ||
         !mirror->state) {
-        static_work_destroy(w);
+        static_mirror_destroy(w);
         snprintf(err, errlen, "static: out of memory for %d nodes", n);
         return NULL;
     }
     mirror->inner = static_work_create(mm, err, errlen);
     if (!mirror->inner) {
-        static_work_destroy(w);
+        static_mirror_destroy(w);
         return NULL;
     }
     return w;
@@ -304,12 +304,16 @@ rod_status static_mirror_step(static_work *w, const rod_model *m, rod_state *s, 
     return ROD_OK;
 }
 
-void static_mirror_destroy(static_mirror *mirror)
+void static_mirror_destroy(static_work *w)
 {
-    if (!mirror) return;
-    static_work_destroy(mirror->inner);
-    rod_state_destroy(mirror->state);
-    free(mirror->model.point_loads);
-    free(mirror->model.initial_shape);
-    free(mirror);
+    if (!w) return;
+    static_mirror *mirror = w->mirror;
+    if (mirror) {
+        static_work_destroy(mirror->inner);
+        rod_state_destroy(mirror->state);
+        free(mirror->model.point_loads);
+        free(mirror->model.initial_shape);
+        free(mirror);
+    }
+    static_work_destroy(w);
 }

@@ -1,10 +1,12 @@
-/* static_settle.c: an unstable answer of the static scheme
- * (static_stability.c) is left along its critical mode both ways, each by
- * an over-damped descent (pseudo-transient continuation) to a stable rest,
- * and the rest of lower potential energy is kept: the side the load picks
- * (when the two agree to round-off, the side the load's transverse part
- * pulls, or +y with a warning when the load is symmetric); when no rest is
- * found the step fails rather than return an unstable answer. */
+/* static_settle.c: the iterations to a rest, which watch the tangent
+ * stiffness (static_stability.c) as they go: Newton, which stops before a
+ * first step that climbs, and the over-damped descent (pseudo-transient
+ * continuation). An unstable answer of the static scheme is left along its
+ * critical mode both ways, each by the descent to a stable rest, and the
+ * rest of lower potential energy is kept: the side the load picks (when
+ * the two agree to round-off, the side the load's transverse part pulls,
+ * or +y with a warning when the load is symmetric); when no rest is found
+ * the step fails rather than return an unstable answer. */
 #include "sim/static/static_settle.h"
 
 #include <float.h>
@@ -13,8 +15,8 @@
 #include <string.h>
 
 #include "sim/rod_geometry.h"
-#include "sim/static/static_continuation.h"
 #include "sim/static/static_internal.h"
+#include "sim/static/static_load.h"
 #include "sim/static/static_solve.h"
 #include "sim/static/static_stability.h"
 #include "base/vec3.h"
@@ -32,6 +34,16 @@ static const double mode_push = 0.05;
  * some 25 x the round-off between mirror images, far below what a lateral
  * load of 1e-12 of the axial one makes (docs/decisions/0046-static-branch.md). */
 static const double energy_tie = 4.0 * DBL_EPSILON;
+
+/* After a poor step (the line search cut it below newton_poor_step) Newton
+ * solves with J - c D (static_damp_rotations): a null mode whose stiffness is
+ * only the Jacobian's finite-difference noise gets no step, stiff modes keep
+ * theirs, and the answer is unchanged. c starts at newton_damping (the noise
+ * at NS = 300, in reduced stiffness units), times 10 at each further poor
+ * step up to newton_damping_limit; docs/decisions/0045-static-newton-damping.md. */
+static const double newton_poor_step = 0.25;
+static const double newton_damping = 1e-3;
+static const double newton_damping_limit = 1e-1;
 
 /* Turns every node by `scale` times the mode (global rotations). */
 static void turn_along_mode(static_work *w, double scale)
@@ -108,6 +120,72 @@ static void push_along_mode(static_work *w, const rod_model *m, const static_loa
     double scale = largest > 0.0 ? mode_push / largest : 0.0;
     turn_along_mode(w, sign < 0 ? -scale : scale);
     static_forces_from_statics(w, m, load);
+}
+
+/* Newton on the discrete equilibrium from the base point in the work.
+ * Returns 0 when the largest scaled residual is <= tolerance; then the base
+ * point is the solution. `iterations` counts Jacobians formed. With
+ * `downhill` set (dead loads, from a stable point of the path), returns
+ * NEWTON_NOT_DOWNHILL before taking a first step along which the potential
+ * curves down: Newton heads for the stationary point that way, a saddle or
+ * what lies beyond it, not for the rest the rod would slide into: past P_E
+ * it went from the last answer (on the load's side, nearly straight)
+ * through the straight rod to the mirror-image branch
+ * (docs/decisions/0046-static-branch.md). */
+int static_newton(static_work *w, const rod_model *m, const static_load *load, double tolerance,
+                  int max_iterations, int downhill, int *iterations, double *residual_out)
+{
+    int n = w->nodes, nu = w->unknowns;
+    double damping = 0.0; /* see newton_damping */
+    *iterations = 0;
+    memset(w->increment, 0, (size_t)nu * sizeof(double));
+    static_evaluate_residual(w, m, load, w->increment, w->residual);
+    for (;;) {
+        double norm = max_abs(w->residual, nu);
+        *residual_out = norm;
+        if (!isfinite(norm)) return -1;
+        if (norm <= tolerance) return 0;
+        if (*iterations >= max_iterations) return -1;
+        ++*iterations;
+
+        static_build_jacobian(w, m, load);
+        static_capture_stiffness(w); /* for the stability check (cheap: 3 x 3 blocks) */
+        static_damp_rotations(w, damping);
+        if (static_solve_newton_step(w) != 0) return -1; /* singular Jacobian */
+        if (downhill && *iterations == 1 && static_step_curvature(w, w->newton_step) < 0.0)
+            return NEWTON_NOT_DOWNHILL;
+
+        /* step limit: no node turns by more than max_rotation_step */
+        double largest_turn = 0.0;
+        for (int i = 0; i < n; i++)
+            largest_turn = fmax(largest_turn, v3_norm(&w->newton_step[UNKNOWNS_PER_NODE * i]));
+        double alpha = largest_turn > max_rotation_step ? max_rotation_step / largest_turn : 1.0;
+
+        /* backtracking line search on 1/2 |R|^2 (Armijo) */
+        double merit = sum_squares(w->residual, nu);
+        int accepted = 0;
+        for (int halving = 0; halving < 12; halving++) {
+            for (int i = 0; i < nu; i++) w->increment[i] = alpha * w->newton_step[i];
+            static_evaluate_residual(w, m, load, w->increment, w->residual_trial);
+            double trial = sum_squares(w->residual_trial, nu);
+            if (isfinite(trial) && trial <= (1.0 - 1e-4 * alpha) * merit) {
+                accepted = 1;
+                break;
+            }
+            alpha *= 0.5;
+        }
+        if (alpha < newton_poor_step) {
+            damping = damping > 0.0 ? 10.0 * damping : newton_damping;
+            if (!accepted) {
+                if (damping > newton_damping_limit) return -1;
+                continue; /* from the same point, damped */
+            }
+        }
+        if (!accepted) return -1;
+        static_accept_trial(w);
+        memset(w->increment, 0, (size_t)nu * sizeof(double));
+        static_evaluate_residual(w, m, load, w->increment, w->residual);
+    }
 }
 
 /* Pseudo-transient continuation (an over-damped motion to rest, implicit

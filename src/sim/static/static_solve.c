@@ -1,5 +1,7 @@
-/* static_solve.c: the static scheme's discrete equilibrium and Newton on it
- * (scheme_static.c has the map of the room).
+/* static_solve.c: the static scheme's discrete equilibrium: residual,
+ * Jacobian, the bordered band solve of a Newton step (scheme_static.c has
+ * the map of the room; Newton itself is in static_settle.c, for it watches
+ * the tangent stiffness of static_stability.c).
  *
  * Discrete equations (6 per node i = 1..NS-1, global components). Between
  * the nodes the rod is made of straight segments of length ds along
@@ -23,10 +25,10 @@
  * Jacobian is banded (kl = ku = 11). It is formed by finite differences
  * with 3 colours (nodes 3 apart never share an equation): 18 residual
  * evaluations per Newton iteration, then a banded LU (LAPACK dgbtrf,
- * bordered for a held tip). Newton has a step limit, a backtracking line
- * search and, after a poor step, a damping of the rotations past null
- * modes (newton_damping); static_continuation.c splits a load increment
- * into sub-steps when it is large or when Newton fails.
+ * bordered for a held tip). Newton (static_settle.c) has a step limit, a
+ * backtracking line search and, after a poor step, a damping of the
+ * rotations past null modes (newton_damping); static_continuation.c splits
+ * a load increment into sub-steps when it is large or when Newton fails.
  *
  * Constitutive law with a rest curvature: M = B (u - u0)
  * (thesis nomenclature, (3.4)); point loads F_i, M_i (dead, global, times
@@ -86,18 +88,7 @@
 
 #include "sim/rod_geometry.h"
 #include "sim/static/static_internal.h"
-#include "sim/static/static_stability.h"
 #include "base/vec3.h"
-
-/* After a poor step (the line search cut it below newton_poor_step) Newton
- * solves with J - c D (static_damp_rotations): a null mode whose stiffness is
- * only the Jacobian's finite-difference noise gets no step, stiff modes keep
- * theirs, and the answer is unchanged. c starts at newton_damping (the noise
- * at NS = 300, in reduced stiffness units), times 10 at each further poor
- * step up to newton_damping_limit; docs/decisions/0045-static-newton-damping.md. */
-static const double newton_poor_step = 0.25;
-static const double newton_damping = 1e-3;
-static const double newton_damping_limit = 1e-1;
 
 /* Tip force and moment in global components for the tip frame q_tip. */
 void static_tip_load_global(const static_work *w, const rod_model *m, const static_load *load,
@@ -535,71 +526,5 @@ void static_damp_rotations(static_work *w, double damping)
             w->band[(size_t)col * w->band_rows + (BAND_LOWER + BAND_UPPER + row - col)] -=
                 damping * (q[c] * dir[0] + q[3 + c] * dir[1] + q[6 + c] * dir[2]);
         }
-    }
-}
-
-/* Newton on the discrete equilibrium from the base point in the work.
- * Returns 0 when the largest scaled residual is <= tolerance; then the base
- * point is the solution. `iterations` counts Jacobians formed. With
- * `downhill` set (dead loads, from a stable point of the path), returns
- * NEWTON_NOT_DOWNHILL before taking a first step along which the potential
- * curves down: Newton heads for the stationary point that way, a saddle or
- * what lies beyond it, not for the rest the rod would slide into: past P_E
- * it went from the last answer (on the load's side, nearly straight)
- * through the straight rod to the mirror-image branch
- * (docs/decisions/0046-static-branch.md). */
-int static_newton(static_work *w, const rod_model *m, const static_load *load, double tolerance,
-                  int max_iterations, int downhill, int *iterations, double *residual_out)
-{
-    int n = w->nodes, nu = w->unknowns;
-    double damping = 0.0; /* see newton_damping */
-    *iterations = 0;
-    memset(w->increment, 0, (size_t)nu * sizeof(double));
-    static_evaluate_residual(w, m, load, w->increment, w->residual);
-    for (;;) {
-        double norm = max_abs(w->residual, nu);
-        *residual_out = norm;
-        if (!isfinite(norm)) return -1;
-        if (norm <= tolerance) return 0;
-        if (*iterations >= max_iterations) return -1;
-        ++*iterations;
-
-        static_build_jacobian(w, m, load);
-        static_capture_stiffness(w); /* for the stability check (cheap: 3 x 3 blocks) */
-        static_damp_rotations(w, damping);
-        if (static_solve_newton_step(w) != 0) return -1; /* singular Jacobian */
-        if (downhill && *iterations == 1 && static_step_curvature(w, w->newton_step) < 0.0)
-            return NEWTON_NOT_DOWNHILL;
-
-        /* step limit: no node turns by more than max_rotation_step */
-        double largest_turn = 0.0;
-        for (int i = 0; i < n; i++)
-            largest_turn = fmax(largest_turn, v3_norm(&w->newton_step[UNKNOWNS_PER_NODE * i]));
-        double alpha = largest_turn > max_rotation_step ? max_rotation_step / largest_turn : 1.0;
-
-        /* backtracking line search on 1/2 |R|^2 (Armijo) */
-        double merit = sum_squares(w->residual, nu);
-        int accepted = 0;
-        for (int halving = 0; halving < 12; halving++) {
-            for (int i = 0; i < nu; i++) w->increment[i] = alpha * w->newton_step[i];
-            static_evaluate_residual(w, m, load, w->increment, w->residual_trial);
-            double trial = sum_squares(w->residual_trial, nu);
-            if (isfinite(trial) && trial <= (1.0 - 1e-4 * alpha) * merit) {
-                accepted = 1;
-                break;
-            }
-            alpha *= 0.5;
-        }
-        if (alpha < newton_poor_step) {
-            damping = damping > 0.0 ? 10.0 * damping : newton_damping;
-            if (!accepted) {
-                if (damping > newton_damping_limit) return -1;
-                continue; /* from the same point, damped */
-            }
-        }
-        if (!accepted) return -1;
-        static_accept_trial(w);
-        memset(w->increment, 0, (size_t)nu * sizeof(double));
-        static_evaluate_residual(w, m, load, w->increment, w->residual);
     }
 }

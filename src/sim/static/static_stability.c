@@ -15,8 +15,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sim/static/static_continuation.h"
 #include "sim/static/static_internal.h"
+#include "sim/static/static_load.h"
 #include "sim/static/static_solve.h"
 #include "sim/static/static_work.h"
 #include "base/vec3.h"

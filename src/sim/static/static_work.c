@@ -11,7 +11,6 @@
 #include <string.h>
 
 #include "sim/static/static_internal.h"
-#include "sim/static/static_mirror.h"
 #include "base/vec3.h"
 
 /* The smallest rotation taking the unit vector a to the unit vector b
@@ -393,7 +392,6 @@ static_work *static_work_create(const rod_model *m, char *err, size_t errlen)
 void static_work_destroy(static_work *w)
 {
     if (!w) return;
-    static_mirror_destroy(w->mirror);
     free(w->frame);
     free(w->force);
     free(w->frame_trial);
