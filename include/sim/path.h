@@ -10,6 +10,7 @@
 #include <stddef.h>
 
 #include "sim/rod.h"
+#include "sim/rod_types.h"
 
 /* The pose of a driven end at one time, global components. */
 typedef struct rod_pose {

@@ -12,7 +12,7 @@
 
 #include <stddef.h>
 
-#include "sim/rod.h"
+#include "sim/rod_types.h"
 
 /* The most punctures a frame holds (the run's). */
 #define RECORDING_MAX_PUNCTURES ROD_MAX_PUNCTURES

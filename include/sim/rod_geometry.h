@@ -8,7 +8,7 @@
 
 #include <stddef.h>
 
-#include "sim/rod.h"
+#include "sim/rod_types.h"
 
 /* u_{i+1/2} = log(Q_i^T Q_{i+1}) / ds, director components of the midpoint
  * frame (equal to those of Q_i and Q_{i+1}, as the rotation is about u).

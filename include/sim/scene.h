@@ -22,6 +22,7 @@
 
 #include "base/ini.h"
 #include "sim/rod.h"
+#include "sim/rod_types.h"
 
 /* Fills *m from the scene (starting from rod_model_default()), loads the
  * profile table, the starting shape (resampled to nodes exactly ds apart

@@ -17,7 +17,7 @@
 
 #include <stddef.h>
 
-#include "sim/rod.h"
+#include "sim/rod_types.h"
 
 typedef struct static_work static_work;
 

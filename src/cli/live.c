@@ -55,6 +55,7 @@
 #include "cli/args.h"
 #include "cli/scene_outputs.h"
 #include "sim/path.h"
+#include "sim/rod.h"
 
 void live_usage(FILE *f)
 {

@@ -27,6 +27,7 @@
 #include "cli/args.h"
 #include "cli/live.h"
 #include "cli/scene_outputs.h"
+#include "sim/rod.h"
 
 /* The longest line of a record: a data row is at most 13 numbers of
  * %.17g; a header line holds a path or a --set value. */

@@ -13,6 +13,7 @@
 
 #include "sim/proximity.h"
 #include "sim/recording.h"
+#include "sim/rod.h"
 
 /* What rounding may add to or take from a duration or a count of steps
  * (relative): an interval of exactly k dt takes k steps, not k + 1. */

@@ -11,6 +11,7 @@
 #include "cli/live.h"
 #include "cli/render_cli.h"
 #include "cli/scene_outputs.h"
+#include "sim/rod.h"
 
 #define RUN_ERR_LEN 1024
 

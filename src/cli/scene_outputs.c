@@ -19,6 +19,7 @@
 #include "cli/run.h"
 #include "cli/scene_keys.h"
 #include "render/gl_context.h"
+#include "sim/rod.h"
 #include "sim/scene.h"
 
 #define SCENE_OUTPUTS_ERR_LEN 1024

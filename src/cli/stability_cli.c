@@ -8,6 +8,7 @@
 
 #include "base/outfile.h"
 #include "cli/args.h"
+#include "sim/rod.h"
 
 static const char *load_text(const stability_case *c, char *buf, size_t n)
 {

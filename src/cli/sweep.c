@@ -17,6 +17,7 @@
 #include "cli/scene_outputs.h"
 #include "cli/sweep_export.h"
 #include "cli/sweep_plot.h"
+#include "sim/rod.h"
 #include "study/buckling.h"
 
 /* Tip samples kept for first_frequency (3 doubles each): 4M frames, 96 MiB. */

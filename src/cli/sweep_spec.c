@@ -13,6 +13,7 @@
 #include "cli/scene_keys.h"
 #include "cli/scene_outputs.h"
 #include "cli/version.h"
+#include "sim/rod.h"
 
 const char *const sweep_measure_names[SWEEP_M_COUNT] = {
     "tip_x", "tip_y", "tip_z", "root_fx", "root_fy", "root_fz", "tip_fx", "tip_fy", "tip_fz",

@@ -17,6 +17,7 @@
 #include "base/worker.h"
 #include "cli/args.h"
 #include "cli/print_commands.h"
+#include "sim/rod.h"
 #include "study/validate.h"
 
 enum { max_list = 64, max_points = 4096 };

@@ -8,6 +8,7 @@
 
 #include "base/vec3.h"
 #include "sim/path.h"
+#include "sim/rod.h"
 
 static int reserve(rod_recording *r, int capacity)
 {

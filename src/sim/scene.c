@@ -14,6 +14,7 @@
 #include "base/vec3.h"
 #include "sim/path.h"
 #include "sim/contact/surface.h"
+#include "sim/rod.h"
 
 #define PATH_MAX_LEN 1024
 /* A starting shape of more points is refused (like a path: 1e6 rows). */

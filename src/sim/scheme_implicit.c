@@ -15,6 +15,7 @@
 #include "sim/implicit/start.h"
 #include "sim/implicit/step.h"
 #include "sim/implicit/work.h"
+#include "sim/rod.h"
 
 static void *create(const rod_model *m, char *err, size_t errlen)
 {

@@ -40,6 +40,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "sim/rod.h"
 #include "sim/static/static_continuation.h"
 #include "sim/static/static_internal.h"
 #include "sim/static/static_mirror.h"

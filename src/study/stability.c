@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "base/worker.h"
+#include "sim/rod.h"
 #include "study/reference.h"
 
 /* Kinetic energy past this multiple of (initial + the most work the dead tip

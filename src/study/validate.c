@@ -10,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "sim/rod.h"
 #include "study/reference.h"
 #include "base/spectrum.h"
 #include "base/vec3.h"

@@ -17,6 +17,7 @@
 #include "base/vec3.h"
 #include "cli/knot_track.h"
 #include "test.h"
+#include "sim/rod.h"
 
 #define NODES 401
 #define TURN (0.97 * 2.0 * M_PI)

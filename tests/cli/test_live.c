@@ -25,6 +25,7 @@
 #include "cli/live.h"
 #include "test.h"
 #include "test_process.h"
+#include "sim/rod.h"
 
 #define DIR "/tmp/rodsim_test_live"
 static const char scene_text[] =

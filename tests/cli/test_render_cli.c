@@ -27,6 +27,7 @@
 #include "test.h"
 #include "test_media.h"
 #include "test_process.h"
+#include "sim/rod.h"
 
 #define DIR "/tmp/rodsim_test_render_cli"
 #define NODES 21

@@ -15,6 +15,7 @@
 #include "cli/scene_keys.h"
 #include "test.h"
 #include "test_process.h"
+#include "sim/rod.h"
 
 static const char valid_rod[] = "[rod]\nlength = 1.0\ndiameter = 0.001\ndensity = 850\n"
                                 "youngs_modulus = 87.5e6\nshear_modulus = 31.25e6\nnodes = 51\n";

@@ -20,6 +20,7 @@
 #include "cli/live.h"
 #include "cli/run.h"
 #include "fuzz.h"
+#include "sim/rod.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

@@ -12,6 +12,7 @@
 #include "base/ini.h"
 #include "cli/scene_outputs.h"
 #include "fuzz.h"
+#include "sim/rod.h"
 #include "sim/scene.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

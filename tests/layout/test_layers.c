@@ -588,7 +588,7 @@ static void test_names(void)
     int in_comment = 0;
     strip_line(line, &in_comment);
     check_names(&probe, &t, "src/render/x.c", 3, line);
-    check(probe.count == 1 && strstr(probe.last, "rod_state is declared in sim/rod.h") != NULL,
+    check(probe.count == 1 && strstr(probe.last, "rod_state is declared in sim/rod_types.h") != NULL,
           "L9 on a synthetic line: a sim name outside the recording is caught (%s), the "
           "recording's name and a name in a comment are not", probe.last);
     /* the tree */

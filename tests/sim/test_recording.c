@@ -10,6 +10,7 @@
 #include "sim/path.h"
 #include "sim/recording.h"
 #include "test.h"
+#include "sim/rod.h"
 
 static void test_punctures(void)
 {

@@ -17,6 +17,7 @@
 #include "cli/run.h"
 #include "cli/scene_outputs.h"
 #include "sim/path.h"
+#include "sim/rod.h"
 #include "sim/scene.h"
 #include "test.h"
 

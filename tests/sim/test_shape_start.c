@@ -18,6 +18,7 @@
 
 #include "base/ini.h"
 #include "base/vec3.h"
+#include "sim/rod.h"
 #include "sim/rod_geometry.h"
 #include "sim/scene.h"
 #include "test.h"

@@ -13,7 +13,7 @@
 #ifndef RODSIM_SIM_CONTACT_CONTACT_H
 #define RODSIM_SIM_CONTACT_CONTACT_H
 
-#include "sim/rod.h"
+#include "sim/rod_types.h"
 
 /* One puncture of the step (from the state at its start; puncture_prepare) */
 typedef struct contact_puncture {

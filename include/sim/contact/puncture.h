@@ -6,7 +6,7 @@
 #define RODSIM_SIM_CONTACT_PUNCTURE_H
 
 #include "sim/contact/contact.h"
-#include "sim/rod.h"
+#include "sim/rod_types.h"
 
 /* Segment and fraction of each puncture for the step from the state, and
  * the thread's direction there (from the start of the step). */

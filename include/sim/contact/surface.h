@@ -10,7 +10,7 @@
 
 #include <stddef.h>
 
-#include "sim/rod.h"
+#include "sim/rod_types.h"
 
 /* Signed distance (m) from p to the solid grown by `grow` (m): > 0 outside,
  * < 0 inside. `normal` (may be NULL) gets the unit outward normal at the

@@ -6,7 +6,7 @@
 #define RODSIM_SIM_CONTACT_SURFACE_CONTACT_H
 
 #include "sim/contact/contact.h"
-#include "sim/rod.h"
+#include "sim/rod_types.h"
 
 /* Each node's gap, normal and nearest point on each surface at the start
  * of the step (surface_contact_node reads them in every residual

@@ -11,6 +11,7 @@
 #include "sim/contact/contact.h"
 #include "sim/contact/self_contact.h"
 #include "sim/rod.h"
+#include "sim/rod_types.h"
 
 /* Unknowns per block: N(3), omega(3) in 3-D; N(2), v(2), omega_2 in the
  * plane. Half bandwidth kl = ku of the Jacobian in that block order: 8 in 3-D

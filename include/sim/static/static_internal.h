@@ -10,7 +10,7 @@
 #include <lapacke.h>
 #include <math.h>
 
-#include "sim/rod.h"
+#include "sim/rod_types.h"
 #include "sim/scheme_static.h"
 
 enum {

@@ -7,6 +7,7 @@
 #include <stddef.h>
 
 #include "sim/rod.h"
+#include "sim/rod_types.h"
 #include "sim/scheme_static.h"
 
 /* The work of a mirrored rod (w->mirror set, owning the mirror's model,

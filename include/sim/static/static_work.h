@@ -5,6 +5,7 @@
 #define RODSIM_STATIC_WORK_H
 
 #include "sim/rod.h"
+#include "sim/rod_types.h"
 #include "sim/scheme_static.h"
 
 /* out = v / |v|; returns 1, or 0 with out = 0 when v is zero, -1 when v is

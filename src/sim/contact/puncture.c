@@ -9,6 +9,7 @@
 #include "base/vec3.h"
 #include "sim/contact/friction.h"
 #include "sim/contact/surface.h"
+#include "sim/rod.h"
 
 /* A needle's hole is made where the thread crosses the tissue, but not on
  * the segment at the needle's back (the held tip) farther toward it than

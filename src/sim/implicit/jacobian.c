@@ -8,6 +8,7 @@
 #include "base/vec3.h"
 #include "base/vec3_lanes.h"
 #include "sim/implicit/residual.h"
+#include "sim/rod.h"
 
 /* Finite-difference Jacobian into lu by a (2 reach + 1)-colouring of the
  * blocks (3 colours: 18 residual evaluations, 15 in the plane), where a

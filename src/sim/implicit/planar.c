@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "base/vec3.h"
+#include "sim/rod.h"
 
 /* Tip force (x, y, N) and moment about z (N m) at time t for a tip angle phi. */
 static void tip_load_planar(const rod_model *m, double t, double phi, double force[2],

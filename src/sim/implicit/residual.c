@@ -10,6 +10,7 @@
 #include "sim/contact/puncture.h"
 #include "sim/contact/surface_contact.h"
 #include "sim/implicit/planar.h"
+#include "sim/rod.h"
 #include "sim/rod_geometry.h"
 
 void implicit_tip_load_global(const rod_model *m, double t, const double *tip_frame,

@@ -13,6 +13,7 @@
 #include "sim/implicit/planar.h"
 #include "sim/implicit/residual.h"
 #include "sim/path.h"
+#include "sim/rod.h"
 
 int implicit_continues_from(const implicit_work *w, const rod_state *s, double dt)
 {

@@ -14,6 +14,7 @@
 #include "sim/implicit/jacobian.h"
 #include "sim/implicit/newton.h"
 #include "sim/implicit/start.h"
+#include "sim/rod.h"
 #include "sim/rod_geometry.h"
 
 #define MAX_SPLIT_DEPTH 12

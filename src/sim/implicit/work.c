@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "base/vec3.h"
+#include "sim/rod.h"
 #include "sim/rod_geometry.h"
 
 void implicit_destroy(implicit_work *w)

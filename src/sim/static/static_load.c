@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "sim/path.h"
+#include "sim/rod.h"
 #include "sim/static/static_internal.h"
 #include "base/vec3.h"
 

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sim/rod.h"
 #include "sim/static/static_continuation.h"
 #include "sim/static/static_internal.h"
 #include "sim/static/static_work.h"

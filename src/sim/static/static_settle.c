@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "sim/rod.h"
 #include "sim/rod_geometry.h"
 #include "sim/static/static_internal.h"
 #include "sim/static/static_load.h"

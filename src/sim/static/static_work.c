@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sim/rod.h"
 #include "sim/static/static_internal.h"
 #include "base/vec3.h"
 
