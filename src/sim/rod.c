@@ -16,6 +16,11 @@
  * it moves, beyond what the shape's resampling moved that end: rounding. */
 #define END_START_SLACK 1e-6
 
+/* How far (rad) a clamped sliding end's starting tangent may be off its
+ * slide and have the slide turned onto it: what a shape's resampling or
+ * rounding leaves, far below any deliberate angle. */
+#define SLIDE_ALIGN_SLACK 1e-3
+
 rod_model rod_model_default(void)
 {
     rod_model m;
@@ -340,6 +345,17 @@ static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
                 v3_copy(tangent, m->direction);
             }
             v3_cross(cross, tangent, slide);
+            if (v3_norm(cross) > 1e-9 && v3_norm(cross) <= SLIDE_ALIGN_SLACK &&
+                v3_dot(tangent, slide) > 0.0) {
+                /* a shape's end chord off the slide by rounding or resampling:
+                 * the slide turns onto it (reported), the end does not jump */
+                size_t used = strlen(m->adjusted);
+                snprintf(m->adjusted + used, sizeof m->adjusted - used,
+                         "%s%s_slide: turned by %.3g rad onto the %s's starting tangent", used ? "; " : "",
+                         ends[e].name, asin(fmin(1.0, v3_norm(cross))), ends[e].name);
+                v3_copy(slide, tangent);
+                v3_set(cross, 0.0, 0.0, 0.0);
+            }
             if (v3_norm(cross) > 1e-9) {
                 snprintf(err, errlen, "%s_slide: a clamped %s that slides keeps its tangent d3 "
                          "along the slide, but it starts along (%.6g, %.6g, %.6g): give a slide "

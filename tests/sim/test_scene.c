@@ -655,6 +655,31 @@ static void test_extreme_direction(void)
     }
 }
 
+/* A clamped sliding tip whose start is off its slide by rounding (5e-4 rad)
+ * gets the slide turned onto its tangent, reported; 1e-2 rad is refused. */
+static void test_slide_alignment(void)
+{
+    char text[2048], err[1024] = "";
+    snprintf(text, sizeof text, "%s[ends]\ntip = clamped\ntip_slide = 1 0.0005 0\n", valid_rod);
+    ini_doc *doc = ini_parse("slide.ini", text, err, sizeof err);
+    rod_model m;
+    int ok = doc && scene_read_rod(doc, &m, err, sizeof err) == 0;
+    ini_destroy(doc);
+    check(ok && m.tip_slide[0] == 1.0 && m.tip_slide[1] == 0.0 &&
+              strstr(m.adjusted, "tip_slide: turned by 0.0005 rad") != NULL,
+          "tip_slide 5e-4 rad off the straight tip: turned onto it (%g %g %g), reported '%s' %s",
+          ok ? m.tip_slide[0] : NAN, ok ? m.tip_slide[1] : NAN, ok ? m.tip_slide[2] : NAN,
+          ok ? m.adjusted : "", err);
+    if (ok) rod_model_release(&m);
+    snprintf(text, sizeof text, "%s[ends]\ntip = clamped\ntip_slide = 1 0.01 0\n", valid_rod);
+    doc = ini_parse("slide.ini", text, err, sizeof err);
+    ok = doc && scene_read_rod(doc, &m, err, sizeof err) == 0;
+    ini_destroy(doc);
+    check(!ok && strstr(err, "keeps its tangent d3 along the slide") != NULL,
+          "tip_slide 1e-2 rad off: refused (%s)", err);
+    if (ok) rod_model_release(&m);
+}
+
 int main(void)
 {
     test_every_scene_parses();
@@ -666,5 +691,6 @@ int main(void)
     test_issue10_keys();
     test_self_intersecting_shape();
     test_extreme_direction();
+    test_slide_alignment();
     return test_finish();
 }
