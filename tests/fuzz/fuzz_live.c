@@ -18,7 +18,7 @@
 
 #include "base/ini.h"
 #include "cli/live.h"
-#include "cli/run.h"
+#include "cli/scene_outputs.h"
 #include "fuzz.h"
 #include "sim/rod.h"
 
