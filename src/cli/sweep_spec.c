@@ -3,12 +3,13 @@
  * point's settings, scene and digest. */
 #include "cli/sweep_spec.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
+#include "base/ini.h"
+#include "base/textfile.h"
 #include "cli/print_commands.h"
 #include "cli/scene_keys.h"
 #include "cli/scene_outputs.h"
@@ -429,35 +430,9 @@ int sweep_read_scene(sweep *sw, char *err, size_t errlen)
 {
     if (cli_absolute_path(sw->scene_arg, sw->scene_path, sizeof sw->scene_path, err, errlen))
         return -1;
-    FILE *f = fopen(sw->scene_arg, "rb");
-    if (!f) {
-        snprintf(err, errlen, "%s: cannot open scene file: %s", sw->scene_arg, strerror(errno));
-        return -1;
-    }
-    size_t cap = 4096, len = 0, got;
-    char *text = malloc(cap);
-    while (text && (got = fread(text + len, 1, cap - len - 1, f)) > 0) {
-        len += got;
-        if (len + 1 == cap) {
-            char *bigger = realloc(text, cap * 2);
-            if (!bigger) { free(text); text = NULL; break; }
-            text = bigger;
-            cap *= 2;
-        }
-    }
-    int bad = !text || ferror(f);
-    fclose(f);
-    if (bad) {
-        free(text);
-        snprintf(err, errlen, "%s: cannot read scene file", sw->scene_arg);
-        return -1;
-    }
-    text[len] = '\0';
-    if (strlen(text) != len) {
-        free(text);
-        snprintf(err, errlen, "%s: not a text file (contains a NUL byte)", sw->scene_arg);
-        return -1;
-    }
+    char *text;
+    size_t len;
+    if (textfile_read(sw->scene_arg, "scene", INI_MAX_BYTES, &text, &len, err, errlen)) return -1;
     sw->text = text;
     sw->text_len = len;
     return 0;

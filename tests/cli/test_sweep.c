@@ -364,6 +364,12 @@ static void refused(const char *what, const char *const *extra, const char *expe
 
 static void test_bad_input(void)
 {
+    {   /* a scene that never ends is refused before it is read */
+        const char *args[] = {"sweep", "/dev/zero", "--vary", "rod.nodes=11,21", NULL};
+        int rc = test_run_rodsim(args, output, sizeof output);
+        check(rc == 2 && strstr(output, "/dev/zero: a character device") != NULL,
+              "sweep of /dev/zero: exit %d (2), refused unread", rc);
+    }
     refused("unknown key", (const char *const[]){"--vary", "tip.forse=1e-7,2e-7", NULL},
             "did you mean tip.force?");
     refused("unknown section", (const char *const[]){"--vary", "tipp.force=1", NULL},
