@@ -10,7 +10,7 @@
 
 #include <stdio.h>
 
-#include "sim/knot.h"
+#include "sim/geometry/knot.h"
 #include "sim/rod.h"
 
 typedef struct knot_track {

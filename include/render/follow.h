@@ -7,7 +7,7 @@
 #include "render/camera.h"
 #include "render/glyphs.h"
 #include "render/options.h"
-#include "sim/proximity.h"
+#include "sim/geometry/proximity.h"
 #include "sim/recording.h"
 
 /* The framing of every frame of the extent recording, smoothed; the camera

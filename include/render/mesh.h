@@ -9,7 +9,7 @@
 
 #include "render/options.h"
 #include "render/render_types.h"
-#include "sim/proximity.h"
+#include "sim/geometry/proximity.h"
 #include "sim/recording.h"
 
 /* The band's radius over the tube's */

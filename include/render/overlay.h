@@ -12,7 +12,7 @@
 #include "render/options.h"
 #include "render/render_types.h"
 #include "render/text.h"
-#include "sim/knot.h"
+#include "sim/geometry/knot.h"
 #include "sim/recording.h"
 
 /* What the overlay draws every frame with: fonts, colours and what is fixed
@@ -45,7 +45,7 @@ char *render_format_quantity(char *out, size_t outlen, double value, double scal
                              const char *unit);
 
 /* The overlay's knot line for a centreline (nodes x 3, m, an open polygon):
- * "knot: unknot", "knot: trefoil (3_1), right-handed", ... (sim/knot.h names
+ * "knot: unknot", "knot: trefoil (3_1), right-handed", ... (sim/geometry/knot.h names
  * the type). Returns 1 when the type was identified (0: "knot: not
  * identified"). Allocates per call; the renderer keeps a scratch instead. */
 int render_knot_text(const double *points, int nodes, char *text, size_t n);

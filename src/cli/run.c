@@ -11,7 +11,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "sim/proximity.h"
+#include "sim/geometry/proximity.h"
 #include "sim/recording.h"
 #include "sim/rod.h"
 

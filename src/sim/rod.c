@@ -8,7 +8,7 @@
 
 #include "base/vec3.h"
 #include "sim/path.h"
-#include "sim/proximity.h"
+#include "sim/geometry/proximity.h"
 #include "sim/rod_geometry.h"
 #include "sim/contact/surface.h"
 

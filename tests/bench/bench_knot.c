@@ -9,8 +9,8 @@
 #include <stdlib.h>
 #include <time.h>
 
-#include "sim/knot.h"
-#include "sim/proximity.h"
+#include "sim/geometry/knot.h"
+#include "sim/geometry/proximity.h"
 
 /* CPU time of this process: the machine may be shared, wall time is not ours */
 static double now(void)

@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sim/knot.h"
+#include "sim/geometry/knot.h"
 #include "test.h"
 
 #define MAX_POINTS 20000

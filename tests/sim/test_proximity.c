@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sim/proximity.h"
+#include "sim/geometry/proximity.h"
 #include "test.h"
 
 static unsigned long long rng = 0x2545F4914F6CDD1Dull;

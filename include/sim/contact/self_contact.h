@@ -35,7 +35,7 @@
 #ifndef RODSIM_SIM_CONTACT_SELF_CONTACT_H
 #define RODSIM_SIM_CONTACT_SELF_CONTACT_H
 
-#include "sim/proximity.h"
+#include "sim/geometry/proximity.h"
 
 /* The most pairs the low-rank correction carries; beyond, the remaining
  * touching pairs act in the residual but not in the Jacobian (Newton

@@ -36,7 +36,7 @@
  *
  * Signature: from the same diagram's Goeritz matrix (Gordon-Litherland, see
  * signature()); it names the square knot and the granny apart. */
-#include "sim/knot.h"
+#include "sim/geometry/knot.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -11,7 +11,7 @@
  * cells of its bounding box) and the entries sorted into it by counting. The
  * work is linear in the nodes plus the pairs of segments sharing a cell,
  * which for a rod of bounded curvature and strands per cell is linear too. */
-#include "sim/proximity.h"
+#include "sim/geometry/proximity.h"
 
 #include <math.h>
 #include <stdint.h>
