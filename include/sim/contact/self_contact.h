@@ -90,6 +90,8 @@ typedef struct self_pair {
                               .. 1; 0: not measured */
     int active;            /* 1: the force is not 0 at this iterate */
     int column;            /* first column of the pair in the correction, or -1 */
+    int column_mapped;     /* 1: its columns were made through a surface's map (mapped):
+                              made again at every correction */
     int has_last;          /* 1: force holds forces of the last accepted step
                               (rod_self_contact_find: last_to) */
     double last_largest;   /* N: the largest of them */
@@ -124,6 +126,9 @@ typedef struct rod_self_contact {
     double *y;             /* (unknowns x 3 SELF_CONTACT_RANK_PAIRS) B^-1 V, column-major */
     double *s, *rhs;       /* dense system of the correction */
     double *node_force;    /* (nodes x 3) N, global: what the other strands exert on each node */
+    double *node_map;      /* (nodes x 9) row-major: d v / d v_in of the surfaces' contact on a
+                              node the pairs push (surface_contact_after_pairs), where mapped */
+    unsigned char *mapped; /* (nodes) 1: node_map holds the node's map at this iterate */
     double gnorm;          /* N: the largest |g| of the last rod_self_contact_forces */
     double fmax;           /* N: the largest force a pair's law asked for there */
     int last_count;        /* pairs with a force at the end of the last accepted step */
@@ -199,6 +204,14 @@ int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const d
  * from the positions at the start pos0 (gnorm: the largest |g|). */
 void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *vel1, double *vbar,
                              const double *push, double dt, double theta, int law);
+
+/* rod_self_contact_forces in two stages, so that the surfaces can act
+ * between them (surface_contact_after_pairs): the pair forces applied to
+ * the nodes, then each pair's g and gain on the velocities as they are. */
+void rod_self_contact_apply(rod_self_contact *sc, double *vel1, double *vbar, const double *push,
+                            double theta);
+void rod_self_contact_laws(rod_self_contact *sc, const double *pos0, double *vel1, double *vbar,
+                           const double *push, double dt, double theta);
 
 /* Pair p's law: its force (on a's point) for the relative position d and
  * velocity z over the step with its own force taken out (z also with

@@ -43,4 +43,16 @@ void surface_contact_prepare(rod_contact *ct, const rod_model *m);
  * surface (puncture_prepare). */
 void surface_contact_node(rod_contact *ct, const rod_model *m, int b, double push, double dt);
 
+/* The surfaces' contact again on the nodes the strands' own contact
+ * pushes (node_force, N, nodes x 3, not 0): each such node's surface force
+ * is taken out of its velocity and found anew with the pair forces in
+ * place, so that a strand pressed into a surface by another is held by it
+ * (push: each node's compliance, 0 at a held end). Nodes of a puncture's
+ * segment are left as they are. With want_jacobian, each such node's map
+ * d v / d v_in (velocity_jac's own block) goes to node_map (nodes x 9) and
+ * mapped[b] is set. */
+void surface_contact_after_pairs(rod_contact *ct, const rod_model *m, const double *node_force,
+                                 const double *push, double dt, double *node_map,
+                                 unsigned char *mapped);
+
 #endif

@@ -46,6 +46,8 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->pair = calloc((size_t)sc->max_pairs, sizeof *sc->pair);
     sc->found = calloc((size_t)sc->max_pairs, sizeof *sc->found);
     sc->node_force = calloc((size_t)nodes * 3, sizeof(double));
+    sc->node_map = calloc((size_t)nodes * 9, sizeof(double));
+    sc->mapped = calloc((size_t)nodes, 1);
     sc->found_distance = calloc((size_t)sc->max_pairs, sizeof(double));
     sc->slot = malloc((size_t)nodes * sizeof(int));
     sc->slot_node = malloc((size_t)SELF_CONTACT_NODE_SLOTS * sizeof(int));
@@ -60,7 +62,7 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->list_pos = malloc((size_t)nodes * 3 * sizeof(double));
     sc->s = malloc((size_t)9 * SELF_CONTACT_RANK_PAIRS * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
-    if (!sc->pair || !sc->found || !sc->node_force || !sc->prox || !sc->s || !sc->rhs ||
+    if (!sc->pair || !sc->found || !sc->node_force || !sc->node_map || !sc->mapped || !sc->prox || !sc->s || !sc->rhs ||
         !sc->last_ab || !sc->last_force || !sc->last_share || !sc->last_frac || !sc->last_to ||
         !sc->found_distance ||
         !sc->slot || !sc->slot_node || !sc->clear_pos || !sc->list_pos) {
@@ -76,6 +78,8 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->pair);
     free(sc->found);
     free(sc->node_force);
+    free(sc->node_map);
+    free(sc->mapped);
     free(sc->found_distance);
     free(sc->slot);
     free(sc->slot_node);
@@ -519,11 +523,12 @@ static double pair_coupling(const self_pair *p, const self_pair *q, const double
     return a;
 }
 
-void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *vel1, double *vbar,
-                             const double *push, double dt, double theta, int law)
+void rod_self_contact_apply(rod_self_contact *sc, double *vel1, double *vbar, const double *push,
+                            double theta)
 {
     const int n = sc->nodes;
     memset(sc->node_force, 0, (size_t)n * 3 * sizeof(double));
+    memset(sc->mapped, 0, (size_t)n);
     for (int q = 0; q < sc->count; q++) {
         self_pair *p = &sc->pair[q];
         p->compliance = 0.0;
@@ -532,7 +537,18 @@ void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *v
     }
     sc->gnorm = 0.0;
     sc->fmax = 0.0;
-    if (!law) return;
+}
+
+void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *vel1, double *vbar,
+                             const double *push, double dt, double theta, int law)
+{
+    rod_self_contact_apply(sc, vel1, vbar, push, theta);
+    if (law) rod_self_contact_laws(sc, pos0, vel1, vbar, push, dt, theta);
+}
+
+void rod_self_contact_laws(rod_self_contact *sc, const double *pos0, double *vel1, double *vbar,
+                           const double *push, double dt, double theta)
+{
     for (int q = 0; q < sc->count; q++) {
         self_pair *p = &sc->pair[q];
         double target[3] = {0.0, 0.0, 0.0};
@@ -713,6 +729,44 @@ LANES_TARGET static int dense_solve(int n, double *restrict s, double *restrict 
     return 0;
 }
 
+/* 1 when a surface holds one of the pair's nodes (mapped): its columns and
+ * rows pass through that node's map */
+static int pair_mapped(const rod_self_contact *sc, const self_pair *p)
+{
+    return sc->mapped[p->node[0]] | sc->mapped[p->node[1]] | sc->mapped[p->node[2]] |
+           sc->mapped[p->node[3]];
+}
+
+/* out += M_k u (M_k the node's map where mapped, else the identity) */
+static void add_mapped(const rod_self_contact *sc, int k, const double u[3], double out[3])
+{
+    if (!sc->mapped[k]) {
+        for (int l = 0; l < 3; l++) out[l] += u[l];
+        return;
+    }
+    const double *map = &sc->node_map[9 * k];
+    for (int l = 0; l < 3; l++) out[l] += map[3 * l] * u[0] + map[3 * l + 1] * u[1] + map[3 * l + 2] * u[2];
+}
+
+/* The pair's V^T v for a pair with a mapped node: how its relative velocity
+ * moves for the change v of the unknowns (v unknowns long) */
+static void mapped_rows(const rod_self_contact *sc, const self_pair *p, const double *push,
+                        const double *v, double t[3])
+{
+    v3_set(t, 0.0, 0.0, 0.0);
+    for (int e = 0; e < 4; e++) {
+        const int k = p->node[e];
+        const double g = p->weight[e] * push[k];
+        if (g == 0.0) continue;
+        double u[3] = {0.0, 0.0, 0.0};
+        for (int l = 0; l < 3; l++) {
+            if (k >= 1) u[l] -= g * v[row_of(sc, k, l)];
+            if (k + 1 <= sc->nodes - 1) u[l] += g * v[row_of(sc, k + 1, l)];
+        }
+        add_mapped(sc, k, u, t);
+    }
+}
+
 /* The pairs the correction carries (active, up to SELF_CONTACT_RANK_PAIRS)
  * into sc->ranked; every pair's delta starts at its g (a pair the dense
  * system has no room for moves to its law's force: a fixed-point step).
@@ -723,9 +777,44 @@ static int rank_pairs(rod_self_contact *sc)
     for (int q = 0; q < sc->count; q++) {
         self_pair *p = &sc->pair[q];
         v3_copy(p->delta, p->g);
+        if (p->column >= 0 && (p->column_mapped || pair_mapped(sc, p))) p->column = -1;
         if (p->active && m < SELF_CONTACT_RANK_PAIRS) sc->ranked[m++] = q;
     }
     return m;
+}
+
+/* The pair's 3 columns of V (direct: to be solved, *first lowered to
+ * their first row) or of Y from its nodes' columns, for a pair with a
+ * mapped node: a unit force component j at node k moves it by push w
+ * M_k e_j */
+static void mapped_columns(rod_self_contact *sc, const self_pair *p, const double *push,
+                           int direct, int *first)
+{
+    const int nu = sc->unknowns;
+    for (int j = 0; j < 3; j++) {
+        double *col = &sc->y[(size_t)(p->column + j) * (size_t)nu];
+        memset(col, 0, (size_t)nu * sizeof(double));
+        for (int e = 0; e < 4; e++) {
+            const int k = p->node[e];
+            const double g = p->weight[e] * push[k];
+            if (g == 0.0) continue;
+            double unit[3] = {0.0, 0.0, 0.0}, mj[3] = {0.0, 0.0, 0.0};
+            unit[j] = 1.0;
+            add_mapped(sc, k, unit, mj); /* M_k e_j */
+            for (int l = 0; l < 3; l++) {
+                if (mj[l] == 0.0) continue;
+                if (direct) {
+                    if (k >= 1) col[row_of(sc, k, l)] -= g * mj[l];
+                    if (k + 1 <= sc->nodes - 1) col[row_of(sc, k + 1, l)] += g * mj[l];
+                    const int row = row_of(sc, k >= 1 ? k : k + 1, 0);
+                    if (row < *first) *first = row;
+                } else {
+                    const double *z = &sc->z[(size_t)(3 * sc->slot[k] + l) * (size_t)nu];
+                    for (int i = 0; i < nu; i++) col[i] += g * mj[l] * z[i];
+                }
+            }
+        }
+    }
 }
 
 /* Y = B^-1 V for the first m ranked pairs that have no columns yet at this
@@ -753,6 +842,11 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
         if (p->column >= 0) continue;
         p->column = sc->columns;
         sc->columns += 3;
+        p->column_mapped = pair_mapped(sc, p);
+        if (p->column_mapped) {
+            mapped_columns(sc, p, push, direct, &first);
+            continue;
+        }
         int block[8];
         double coef[8];
         const int count = pair_columns(sc, p, push, block, coef);
@@ -799,6 +893,23 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
  * gain H: G_rq = V_r^T Y_q; A_rq = sum over shared nodes of the weights'
  * product times push (r != q): a force of q moves r's relative velocity
  * directly. Also each pair's ratio (the next step's share). */
+/* Where the surfaces hold a node the pairs push (mapped), a force on pair
+ * q moves it by push M F, not push F: adds the difference, sum over the
+ * shared mapped nodes of the weights' product times push (M - I), to h */
+static void pair_coupling_mapped(const rod_self_contact *sc, const self_pair *p,
+                                 const self_pair *q, const double *push, double h[9])
+{
+    for (int e = 0; e < 4; e++) {
+        const int k = p->node[e];
+        if (!sc->mapped[k]) continue;
+        for (int f = 0; f < 4; f++) {
+            if (q->node[f] != k) continue;
+            const double a = p->weight[e] * q->weight[f] * push[k], *map = &sc->node_map[9 * k];
+            for (int i = 0; i < 9; i++) h[i] += a * (map[i] - (i % 4 == 0));
+        }
+    }
+}
+
 static void assemble_system(rod_self_contact *sc, int m, const double *dx, const double *push,
                             double c)
 {
@@ -809,9 +920,12 @@ static void assemble_system(rod_self_contact *sc, int m, const double *dx, const
         int block[8];
         double coef[8];
         const int count = pair_columns(sc, pr, push, block, coef);
+        const int mapped = pair_mapped(sc, pr);
         double t[3] = {0.0, 0.0, 0.0};
-        for (int e = 0; e < count; e++)
-            for (int l = 0; l < 3; l++) t[l] += coef[e] * dx[row_of(sc, block[e], l)];
+        if (mapped) mapped_rows(sc, pr, push, dx, t);
+        else
+            for (int e = 0; e < count; e++)
+                for (int l = 0; l < 3; l++) t[l] += coef[e] * dx[row_of(sc, block[e], l)];
         for (int i = 0; i < 3; i++)
             rhs[3 * r + i] = pr->g[i] + pr->gain[3 * i] * t[0] + pr->gain[3 * i + 1] * t[1] +
                              pr->gain[3 * i + 2] * t[2];
@@ -820,6 +934,12 @@ static void assemble_system(rod_self_contact *sc, int m, const double *dx, const
             double h[9] = {0.0};
             for (int j = 0; j < 3; j++) {
                 const double *col = &sc->y[(size_t)(pq->column + j) * (size_t)nu];
+                if (mapped) {
+                    double g[3];
+                    mapped_rows(sc, pr, push, col, g);
+                    for (int l = 0; l < 3; l++) h[3 * l + j] = c * g[l];
+                    continue;
+                }
                 for (int l = 0; l < 3; l++) {
                     double g = 0.0;
                     for (int e = 0; e < count; e++) g += coef[e] * col[row_of(sc, block[e], l)];
@@ -829,7 +949,9 @@ static void assemble_system(rod_self_contact *sc, int m, const double *dx, const
             if (q != r) {
                 const double a = pair_coupling(pr, pq, push);
                 h[0] += a, h[4] += a, h[8] += a;
+                pair_coupling_mapped(sc, pr, pq, push, h);
             } else {
+                pair_coupling_mapped(sc, pr, pr, push, h);
                 /* the pair's tangential compliance through the rod,
                  * compliance + P h P over the two tangential directions,
                  * over its compliance (for the next step's share), and the

@@ -179,6 +179,30 @@ void surface_contact_node(rod_contact *ct, const rod_model *m, int b, double pus
     }
 }
 
+void surface_contact_after_pairs(rod_contact *ct, const rod_model *m, const double *node_force,
+                                 const double *push, double dt, double *node_map,
+                                 unsigned char *mapped)
+{
+    const double theta = m->options.theta;
+    for (int b = 0; b < ct->nodes; b++) {
+        const double *f = &node_force[3 * b];
+        if ((f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) || push[b] == 0.0) continue;
+        int punctured = 0;
+        for (int q = 0; q < ct->puncture_count; q++)
+            punctured |= b == ct->punct[q].j || b == ct->punct[q].j + 1;
+        if (punctured) continue;
+        double *sf = &ct->surface_force[3 * b];
+        v3_axpy(&ct->vel1[3 * b], -push[b], sf);
+        v3_axpy(&ct->vbar[3 * b], -theta * push[b], sf);
+        if (ct->want_jacobian) ct->touched[b] = 0;
+        surface_contact_node(ct, m, b, push[b], dt);
+        if (ct->want_jacobian && ct->touched[b]) {
+            memcpy(&node_map[9 * b], &ct->velocity_jac[27 * b + 9], 9 * sizeof(double));
+            mapped[b] = 1;
+        }
+    }
+}
+
 void surface_contact_prepare(rod_contact *ct, const rod_model *m)
 {
     const double grow = 0.5 * m->diameter;

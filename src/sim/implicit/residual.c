@@ -420,9 +420,16 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
         for (int which = 0; which < 2; which++)
             if (!w->ends[which].held) surface_contact_node(&w->contact, m, which ? n - 1 : 0, 2.0 * push, dt);
     if (contact && w->contact.puncture_count) puncture_forces(&w->contact, m, push, dt);
-    if (w->self && w->self->count)
-        rod_self_contact_forces(w->self, w->pos0, w->vel1, w->vbar, w->node_push, dt, theta,
-                                !w->self_off);
+    if (w->self && w->self->count) {
+        /* the surfaces act on the velocities with the pair forces in place: a
+         * strand pressed into a surface by another is held by it */
+        rod_self_contact_apply(w->self, w->vel1, w->vbar, w->node_push, theta);
+        if (contact && w->contact.surface_count)
+            surface_contact_after_pairs(&w->contact, m, w->self->node_force, w->node_push, dt,
+                                        w->self->node_map, w->self->mapped);
+        if (!w->self_off)
+            rod_self_contact_laws(w->self, w->pos0, w->vel1, w->vbar, w->node_push, dt, theta);
+    }
 
     /* (3.14) constraint on segment b-1 and (3.6)_2 on node b: block b */
     const double ms = 1.0 / w->moment_scale;
