@@ -786,18 +786,14 @@ static void layout(plot *p, plot_fonts *fonts)
     layout_labels(p, fonts);
 }
 
-/* Everything drawn with GL, in order: grid, series (clipped), frame, ticks, legend. */
-static void draw_geometry(plot *p, gl_plot *g, tri_buffer *b, double *scratch_x, double *scratch_y)
+/* The light grid: a line at every tick. */
+static void draw_grid(const plot *p, gl_plot *g, tri_buffer *b)
 {
-    static const unsigned char white[3] = {255, 255, 255}, grid[3] = {228, 228, 228},
-                               black[3] = {0, 0, 0}, frame[3] = {40, 40, 40};
-    gl_plot_clear(g, white);
+    static const unsigned char grid[3] = {228, 228, 228};
     b->count = 0;
     for (int i = 0; i < p->x_tick_count; i++) {
-        double px, py;
         double v = p->x_tick_first + i * p->x_tick_step;
-        px = p->left + (v - p->view[0]) / (p->view[1] - p->view[0]) * (p->right - p->left);
-        (void)py;
+        double px = p->left + (v - p->view[0]) / (p->view[1] - p->view[0]) * (p->right - p->left);
         tri_segment(b, px, p->top, px, p->bottom, 1.0);
     }
     for (int i = 0; i < p->y_tick_count; i++) {
@@ -806,7 +802,69 @@ static void draw_geometry(plot *p, gl_plot *g, tri_buffer *b, double *scratch_x,
         tri_segment(b, p->left, py, p->right, py, 1.0);
     }
     gl_plot_triangles(g, b->xy, b->count, grid);
+}
 
+/* One series at its n pixel points (x, y); x and y hold one spare slot
+ * (a polygon's outline closes there). */
+static void draw_series_shape(const series *s, gl_plot *g, tri_buffer *b, double *x, double *y,
+                              int n)
+{
+    const plot_style *st = &s->style;
+    switch (s->kind) {
+    case SERIES_LINE:
+        b->count = 0;
+        tri_polyline(b, x, y, n, st->width, st->dash);
+        gl_plot_triangles(g, b->xy, b->count, st->rgb);
+        break;
+    case SERIES_POLYGON:
+        if (n < 3) break;
+        b->count = 0;
+        for (int k = 1; k + 1 < n; k++) tri_add(b, x[0], y[0], x[k], y[k], x[k + 1], y[k + 1]);
+        gl_plot_triangles(g, b->xy, b->count, st->fill_rgb);
+        if (st->width > 0) {
+            b->count = 0;
+            x[n] = x[0];
+            y[n] = y[0];
+            tri_polyline(b, x, y, n + 1, st->width, st->dash);
+            gl_plot_triangles(g, b->xy, b->count, st->rgb);
+        }
+        break;
+    case SERIES_MARKERS: {
+        double r = st->marker_size / 2;
+        if (st->filled) {
+            b->count = 0;
+            for (int k = 0; k < n; k++) tri_disc(b, x[k], y[k], r);
+            gl_plot_triangles(g, b->xy, b->count, st->fill_rgb);
+        }
+        b->count = 0;
+        for (int k = 0; k < n; k++)
+            tri_ring(b, x[k], y[k], fmax(0, r - st->width / 2), r + st->width / 2);
+        gl_plot_triangles(g, b->xy, b->count, st->rgb);
+        break;
+    }
+    case SERIES_ARROW: {
+        if (n < 2) break;
+        double dx = x[1] - x[0], dy = y[1] - y[0];
+        double len = hypot(dx, dy);
+        if (len <= 0) break;
+        double ux = dx / len, uy = dy / len;
+        double head = fmin(st->marker_size, 0.6 * len), half = head * 0.45;
+        double bx = x[1] - ux * head, by = y[1] - uy * head;
+        b->count = 0;
+        tri_segment(b, x[0], y[0], bx + ux * 1.0, by + uy * 1.0, st->width);
+        tri_add(b, x[1], y[1], bx - uy * half, by + ux * half, bx + uy * half, by - ux * half);
+        gl_plot_triangles(g, b->xy, b->count, st->rgb);
+        break;
+    }
+    case SERIES_NOTE: break;
+    }
+}
+
+/* Every series, clipped to the axes; points that do not map to a finite
+ * pixel (a log axis at <= 0) are left out. */
+static void draw_all_series(const plot *p, gl_plot *g, tri_buffer *b, double *scratch_x,
+                            double *scratch_y)
+{
     gl_plot_clip(g, p->left, p->top, p->right, p->bottom);
     for (int i = 0; i < p->series_count; i++) {
         const series *s = &p->series[i];
@@ -815,62 +873,15 @@ static void draw_geometry(plot *p, gl_plot *g, tri_buffer *b, double *scratch_x,
             to_pixel(p, s->x[k], s->y[k], &scratch_x[n], &scratch_y[n]);
             if (isfinite(scratch_x[n]) && isfinite(scratch_y[n])) n++;
         }
-        const plot_style *st = &s->style;
-        switch (s->kind) {
-        case SERIES_LINE:
-            b->count = 0;
-            tri_polyline(b, scratch_x, scratch_y, n, st->width, st->dash);
-            gl_plot_triangles(g, b->xy, b->count, st->rgb);
-            break;
-        case SERIES_POLYGON:
-            if (n < 3) break;
-            b->count = 0;
-            for (int k = 1; k + 1 < n; k++)
-                tri_add(b, scratch_x[0], scratch_y[0], scratch_x[k], scratch_y[k],
-                        scratch_x[k + 1], scratch_y[k + 1]);
-            gl_plot_triangles(g, b->xy, b->count, st->fill_rgb);
-            if (st->width > 0) {
-                b->count = 0;
-                scratch_x[n] = scratch_x[0];
-                scratch_y[n] = scratch_y[0];
-                tri_polyline(b, scratch_x, scratch_y, n + 1, st->width, st->dash);
-                gl_plot_triangles(g, b->xy, b->count, st->rgb);
-            }
-            break;
-        case SERIES_MARKERS: {
-            double r = st->marker_size / 2;
-            if (st->filled) {
-                b->count = 0;
-                for (int k = 0; k < n; k++) tri_disc(b, scratch_x[k], scratch_y[k], r);
-                gl_plot_triangles(g, b->xy, b->count, st->fill_rgb);
-            }
-            b->count = 0;
-            for (int k = 0; k < n; k++)
-                tri_ring(b, scratch_x[k], scratch_y[k], fmax(0, r - st->width / 2), r + st->width / 2);
-            gl_plot_triangles(g, b->xy, b->count, st->rgb);
-            break;
-        }
-        case SERIES_ARROW: {
-            if (n < 2) break;
-            double dx = scratch_x[1] - scratch_x[0], dy = scratch_y[1] - scratch_y[0];
-            double len = hypot(dx, dy);
-            if (len <= 0) break;
-            double ux = dx / len, uy = dy / len;
-            double head = fmin(st->marker_size, 0.6 * len), half = head * 0.45;
-            double bx = scratch_x[1] - ux * head, by = scratch_y[1] - uy * head;
-            b->count = 0;
-            tri_segment(b, scratch_x[0], scratch_y[0], bx + ux * 1.0, by + uy * 1.0, st->width);
-            tri_add(b, scratch_x[1], scratch_y[1], bx - uy * half, by + ux * half, bx + uy * half,
-                    by - ux * half);
-            gl_plot_triangles(g, b->xy, b->count, st->rgb);
-            break;
-        }
-        case SERIES_NOTE: break;
-        }
+        draw_series_shape(s, g, b, scratch_x, scratch_y, n);
     }
     gl_plot_clip_off(g);
+}
 
-    /* frame and outward ticks */
+/* The frame round the axes and the outward ticks. */
+static void draw_frame(const plot *p, gl_plot *g, tri_buffer *b)
+{
+    static const unsigned char frame[3] = {40, 40, 40};
     b->count = 0;
     double fw = 1.5;
     tri_segment(b, p->left - fw / 2, p->top, p->right + fw / 2, p->top, fw);
@@ -888,71 +899,91 @@ static void draw_geometry(plot *p, gl_plot *g, tri_buffer *b, double *scratch_x,
         tri_segment(b, p->left - 6, py, p->left, py, 1.5);
     }
     gl_plot_triangles(g, b->xy, b->count, frame);
+}
 
-    /* legend box and samples */
-    if (p->legend_width > 0) {
-        int l = p->legend_left, t = p->legend_top, r = l + p->legend_width, bt = t + p->legend_height;
-        b->count = 0;
-        tri_add(b, l, t, r, t, r, bt);
-        tri_add(b, l, t, r, bt, l, bt);
-        gl_plot_triangles(g, b->xy, b->count, white);
-        b->count = 0;
-        tri_segment(b, l - 0.5, t, r + 0.5, t, 1.0);
-        tri_segment(b, l - 0.5, bt, r + 0.5, bt, 1.0);
-        tri_segment(b, l, t, l, bt, 1.0);
-        tri_segment(b, r, t, r, bt, 1.0);
-        gl_plot_triangles(g, b->xy, b->count, black);
-        int row = 0;
-        for (int i = 0; i < p->series_count; i++) {
-            const series *s = &p->series[i];
-            if (!s->legend) continue;
-            double cy = t + 6 + row * p->legend_row + p->legend_row / 2.0;
-            double x0 = l + 12, x1 = l + 52;
-            const plot_style *st = &s->style;
+/* A series' sample in the legend: between x0 and x1 on the row at cy (px). */
+static void draw_legend_sample(const series *s, gl_plot *g, tri_buffer *b, double x0, double x1,
+                               double cy)
+{
+    const plot_style *st = &s->style;
+    b->count = 0;
+    double sx[2] = {x0, x1}, sy[2] = {cy, cy};
+    switch (s->kind) {
+    case SERIES_LINE:
+        tri_polyline(b, sx, sy, 2, st->width, st->dash);
+        gl_plot_triangles(g, b->xy, b->count, st->rgb);
+        break;
+    case SERIES_MARKERS: {
+        double radius = st->marker_size / 2, cx = 0.5 * (x0 + x1);
+        if (st->filled) {
+            tri_disc(b, cx, cy, radius);
+            gl_plot_triangles(g, b->xy, b->count, st->fill_rgb);
             b->count = 0;
-            double sx[2] = {x0, x1}, sy[2] = {cy, cy};
-            switch (s->kind) {
-            case SERIES_LINE:
-                tri_polyline(b, sx, sy, 2, st->width, st->dash);
-                gl_plot_triangles(g, b->xy, b->count, st->rgb);
-                break;
-            case SERIES_MARKERS: {
-                double radius = st->marker_size / 2, cx = 0.5 * (x0 + x1);
-                if (st->filled) {
-                    tri_disc(b, cx, cy, radius);
-                    gl_plot_triangles(g, b->xy, b->count, st->fill_rgb);
-                    b->count = 0;
-                }
-                tri_ring(b, cx, cy, fmax(0, radius - st->width / 2), radius + st->width / 2);
-                gl_plot_triangles(g, b->xy, b->count, st->rgb);
-                break;
-            }
-            case SERIES_ARROW: {
-                double head = fmin(st->marker_size, 14), half = head * 0.45;
-                tri_segment(b, x0, cy, x1 - head + 1, cy, st->width);
-                tri_add(b, x1, cy, x1 - head, cy - half, x1 - head, cy + half);
-                gl_plot_triangles(g, b->xy, b->count, st->rgb);
-                break;
-            }
-            case SERIES_POLYGON: {
-                double h = 7;
-                tri_add(b, x0 + 8, cy - h, x1 - 8, cy - h, x1 - 8, cy + h);
-                tri_add(b, x0 + 8, cy - h, x1 - 8, cy + h, x0 + 8, cy + h);
-                gl_plot_triangles(g, b->xy, b->count, st->fill_rgb);
-                if (st->width > 0) {
-                    b->count = 0;
-                    double qx[5] = {x0 + 8, x1 - 8, x1 - 8, x0 + 8, x0 + 8};
-                    double qy[5] = {cy - h, cy - h, cy + h, cy + h, cy - h};
-                    tri_polyline(b, qx, qy, 5, fmin(st->width, 2), PLOT_SOLID);
-                    gl_plot_triangles(g, b->xy, b->count, st->rgb);
-                }
-                break;
-            }
-            case SERIES_NOTE: break;
-            }
-            row++;
         }
+        tri_ring(b, cx, cy, fmax(0, radius - st->width / 2), radius + st->width / 2);
+        gl_plot_triangles(g, b->xy, b->count, st->rgb);
+        break;
     }
+    case SERIES_ARROW: {
+        double head = fmin(st->marker_size, 14), half = head * 0.45;
+        tri_segment(b, x0, cy, x1 - head + 1, cy, st->width);
+        tri_add(b, x1, cy, x1 - head, cy - half, x1 - head, cy + half);
+        gl_plot_triangles(g, b->xy, b->count, st->rgb);
+        break;
+    }
+    case SERIES_POLYGON: {
+        double h = 7;
+        tri_add(b, x0 + 8, cy - h, x1 - 8, cy - h, x1 - 8, cy + h);
+        tri_add(b, x0 + 8, cy - h, x1 - 8, cy + h, x0 + 8, cy + h);
+        gl_plot_triangles(g, b->xy, b->count, st->fill_rgb);
+        if (st->width > 0) {
+            b->count = 0;
+            double qx[5] = {x0 + 8, x1 - 8, x1 - 8, x0 + 8, x0 + 8};
+            double qy[5] = {cy - h, cy - h, cy + h, cy + h, cy - h};
+            tri_polyline(b, qx, qy, 5, fmin(st->width, 2), PLOT_SOLID);
+            gl_plot_triangles(g, b->xy, b->count, st->rgb);
+        }
+        break;
+    }
+    case SERIES_NOTE: break;
+    }
+}
+
+/* The legend box and a sample of each series that has a legend. */
+static void draw_legend_box(const plot *p, gl_plot *g, tri_buffer *b)
+{
+    static const unsigned char white[3] = {255, 255, 255}, black[3] = {0, 0, 0};
+    if (p->legend_width <= 0) return;
+    int l = p->legend_left, t = p->legend_top, r = l + p->legend_width, bt = t + p->legend_height;
+    b->count = 0;
+    tri_add(b, l, t, r, t, r, bt);
+    tri_add(b, l, t, r, bt, l, bt);
+    gl_plot_triangles(g, b->xy, b->count, white);
+    b->count = 0;
+    tri_segment(b, l - 0.5, t, r + 0.5, t, 1.0);
+    tri_segment(b, l - 0.5, bt, r + 0.5, bt, 1.0);
+    tri_segment(b, l, t, l, bt, 1.0);
+    tri_segment(b, r, t, r, bt, 1.0);
+    gl_plot_triangles(g, b->xy, b->count, black);
+    int row = 0;
+    for (int i = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        if (!s->legend) continue;
+        double cy = t + 6 + row * p->legend_row + p->legend_row / 2.0;
+        draw_legend_sample(s, g, b, l + 12, l + 52, cy);
+        row++;
+    }
+}
+
+/* Everything drawn with GL, in order: grid, series (clipped), frame, ticks, legend. */
+static void draw_geometry(plot *p, gl_plot *g, tri_buffer *b, double *scratch_x, double *scratch_y)
+{
+    static const unsigned char white[3] = {255, 255, 255};
+    gl_plot_clear(g, white);
+    draw_grid(p, g, b);
+    draw_all_series(p, g, b, scratch_x, scratch_y);
+    draw_frame(p, g, b);
+    draw_legend_box(p, g, b);
 }
 
 static void draw_text(plot *p, image *img, plot_fonts *fonts)
@@ -1183,25 +1214,186 @@ static void svg_series(FILE *f, const series *s, const double *px, const double 
     }
 }
 
+/* Font sizes of the SVG text (px): those plot_write_png loads. */
+typedef struct svg_sizes {
+    int title, label, tick, legend, point;
+} svg_sizes;
+
+static svg_sizes svg_font_sizes(const plot *p)
+{
+    double k = fmax(0.75, fmin(p->width / 1200.0, p->height / 800.0));
+    return (svg_sizes){(int)lround(24 * k), (int)lround(18 * k), (int)lround(15 * k),
+                       (int)lround(15 * k), (int)lround(14 * k)};
+}
+
+/* 0, or -1 with a message (what loaded is freed by fonts_destroy) */
+static int svg_fonts_load(plot_fonts *fonts, const svg_sizes *size, char *err, size_t errlen)
+{
+    if (!(fonts->title = text_font_load(size->title, err, errlen)) ||
+        !(fonts->label = text_font_load(size->label, err, errlen)) ||
+        !(fonts->tick = text_font_load(size->tick, err, errlen)) ||
+        !(fonts->legend = text_font_load(size->legend, err, errlen)) ||
+        !(fonts->point = text_font_load(size->point, err, errlen)))
+        return -1;
+    return 0;
+}
+
+/* The light grid, a line at every tick; sx, sy: px per axis unit. */
+static void svg_grid(FILE *f, const plot *p, double sx, double sy)
+{
+    fprintf(f, "<g stroke=\"#e4e4e4\" stroke-width=\"1\">\n");
+    for (int i = 0; i < p->x_tick_count; i++) {
+        double x = p->left + (p->x_tick_first + i * p->x_tick_step - p->view[0]) * sx;
+        fprintf(f, "<line x1=\"%.2f\" y1=\"%d\" x2=\"%.2f\" y2=\"%d\"/>\n", x, p->top, x, p->bottom);
+    }
+    for (int i = 0; i < p->y_tick_count; i++) {
+        double y = p->bottom - (p->y_tick_first + i * p->y_tick_step - p->view[2]) * sy;
+        fprintf(f, "<line x1=\"%d\" y1=\"%.2f\" x2=\"%d\" y2=\"%.2f\"/>\n", p->left, y, p->right, y);
+    }
+    fprintf(f, "</g>\n");
+}
+
+/* Every series, clipped to the axes; px, py: room for the longest series. */
+static void svg_all_series(FILE *f, const plot *p, double *px, double *py)
+{
+    fprintf(f, "<clipPath id=\"axes\"><rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\"/>"
+               "</clipPath>\n<g clip-path=\"url(#axes)\">\n",
+            p->left, p->top, p->right - p->left, p->bottom - p->top);
+    for (int i = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        int n = 0;
+        for (int j = 0; j < s->n; j++) {
+            to_pixel(p, s->x[j], s->y[j], &px[n], &py[n]);
+            if (isfinite(px[n]) && isfinite(py[n])) n++;
+        }
+        svg_series(f, s, px, py, n);
+    }
+    fprintf(f, "</g>\n");
+}
+
+/* The frame round the axes and the outward ticks. */
+static void svg_frame(FILE *f, const plot *p, double sx, double sy)
+{
+    fprintf(f, "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"none\" "
+               "stroke=\"#282828\" stroke-width=\"1.5\"/>\n<g stroke=\"#282828\" "
+               "stroke-width=\"1.5\">\n",
+            p->left, p->top, p->right - p->left, p->bottom - p->top);
+    for (int i = 0; i < p->x_tick_count; i++) {
+        double x = p->left + (p->x_tick_first + i * p->x_tick_step - p->view[0]) * sx;
+        fprintf(f, "<line x1=\"%.2f\" y1=\"%d\" x2=\"%.2f\" y2=\"%d\"/>\n", x, p->bottom, x,
+                p->bottom + 6);
+    }
+    for (int i = 0; i < p->y_tick_count; i++) {
+        double y = p->bottom - (p->y_tick_first + i * p->y_tick_step - p->view[2]) * sy;
+        fprintf(f, "<line x1=\"%d\" y1=\"%.2f\" x2=\"%d\" y2=\"%.2f\"/>\n", p->left - 6, y,
+                p->left, y);
+    }
+    fprintf(f, "</g>\n");
+}
+
+/* Tick labels, axis labels and title at the positions of draw_text. */
+static void svg_axis_text(FILE *f, const plot *p, const plot_fonts *fonts, const svg_sizes *size,
+                          double sx, double sy)
+{
+    char text[64];
+    int tick_ascent = text_ascent(fonts->tick), y_tick_width = 0;
+    for (int i = 0; i < p->x_tick_count; i++) {
+        double v = p->x_tick_first + i * p->x_tick_step;
+        tick_text(v, p->x_tick_step, p->log_x, text, sizeof text);
+        svg_label(f, p->left + (v - p->view[0]) * sx, p->bottom + 6 + 4 + tick_ascent, size->tick,
+                  text, " text-anchor=\"middle\"", 1);
+    }
+    for (int i = 0; i < p->y_tick_count; i++) {
+        double v = p->y_tick_first + i * p->y_tick_step;
+        tick_text(v, p->y_tick_step, p->log_y, text, sizeof text);
+        int w = text_width(fonts->tick, text);
+        if (w > y_tick_width) y_tick_width = w;
+        svg_label(f, p->left - 6 - 4, p->bottom - (v - p->view[2]) * sy + tick_ascent / 2.0 - 1,
+                  size->tick, text, " text-anchor=\"end\"", 1);
+    }
+    if (p->x_label)
+        svg_label(f, (p->left + p->right) / 2.0,
+                  p->bottom + 6 + 4 + tick_ascent + text_descent(fonts->tick) + 10 +
+                      text_ascent(fonts->label),
+                  size->label, p->x_label, " text-anchor=\"middle\"", 0);
+    if (p->y_label) {
+        int column = p->left - 6 - 4 - y_tick_width - 10 - text_descent(fonts->label);
+        char rotate[96];
+        snprintf(rotate, sizeof rotate, " text-anchor=\"middle\" transform=\"rotate(-90 %d %.1f)\"",
+                 column, (p->top + p->bottom) / 2.0);
+        svg_label(f, column, (p->top + p->bottom) / 2.0, size->label, p->y_label, rotate, 0);
+    }
+    if (p->title) {
+        int w = text_width(fonts->title, p->title), x = (p->width - w) / 2;
+        svg_label(f, x < 4 ? 4 : x, 10 + text_ascent(fonts->title), size->title, p->title, "", 0);
+    }
+}
+
+/* The markers' point labels, in the boxes layout_labels placed them in. */
+static void svg_point_labels(FILE *f, const plot *p, const plot_fonts *fonts, int size_point)
+{
+    for (int i = 0, label = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        if (s->kind != SERIES_MARKERS || !s->point_labels) continue;
+        for (int j = 0; j < s->n; j++) {
+            double x, y, box[4];
+            if (!s->point_labels[j]) continue;
+            to_pixel(p, s->x[j], s->y[j], &x, &y);
+            int w = text_width(fonts->point, s->point_labels[j]);
+            if (label < p->label_count) memcpy(box, &p->label_box[4 * label], sizeof box);
+            else label_box_at(p, fonts, x + s->label_dx - w / 2.0,
+                              y + s->label_dy + text_ascent(fonts->point) / 2.0, w, box);
+            label++;
+            if (!isfinite(x) || !isfinite(y) || !isfinite(box[0])) continue;
+            double lx = box[0], ly = box[1] + text_ascent(fonts->point);
+            char fill[32];
+            snprintf(fill, sizeof fill, " fill=\"#%02x%02x%02x\"", s->style.rgb[0],
+                     s->style.rgb[1], s->style.rgb[2]);
+            svg_label(f, lx, ly, size_point, s->point_labels[j], fill, 0);
+        }
+    }
+}
+
+/* The legend box, and a sample and the text of each series with a legend. */
+static void svg_legend(FILE *f, const plot *p, const plot_fonts *fonts, int size_legend)
+{
+    if (p->legend_width <= 0) return;
+    int l = p->legend_left, t = p->legend_top, row = 0;
+    fprintf(f, "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"#ffffff\" "
+               "stroke=\"#000000\" stroke-width=\"1\"/>\n",
+            l, t, p->legend_width, p->legend_height);
+    for (int i = 0; i < p->series_count; i++) {
+        const series *s = &p->series[i];
+        if (!s->legend) continue;
+        double cy = t + 6 + row * p->legend_row + p->legend_row / 2.0;
+        double sample_x[2] = {l + 12, l + 52}, sample_y[2] = {cy, cy};
+        if (s->kind == SERIES_MARKERS) {
+            double cx = l + 32;
+            svg_series(f, s, &cx, &cy, 1);
+        } else if (s->kind == SERIES_LINE || s->kind == SERIES_ARROW) {
+            svg_series(f, s, sample_x, sample_y, 2);
+        } else if (s->kind == SERIES_POLYGON) {
+            double qx[4] = {l + 20, l + 44, l + 44, l + 20}, qy[4] = {cy - 7, cy - 7, cy + 7, cy + 7};
+            svg_series(f, s, qx, qy, 4);
+        }
+        int x = s->kind == SERIES_NOTE ? l + 12 : l + 62;
+        svg_label(f, x, cy + (text_ascent(fonts->legend) - text_descent(fonts->legend)) / 2.0,
+                  size_legend, s->legend, " fill=\"#141414\"", 0);
+        row++;
+    }
+}
+
 /* The same figure as plot_write_png, as SVG: the same layout (the same
  * fonts measure the text), every line, marker and text at the same pixel
  * coordinates, text as text. */
 int plot_write_svg(plot *p, const char *path, char *err, size_t errlen)
 {
-    double k = fmax(0.75, fmin(p->width / 1200.0, p->height / 800.0));
-    int size_title = (int)lround(24 * k), size_label = (int)lround(18 * k),
-        size_tick = (int)lround(15 * k), size_legend = (int)lround(15 * k),
-        size_point = (int)lround(14 * k);
+    svg_sizes size = svg_font_sizes(p);
     plot_fonts fonts = {0};
     outfile out = {.fd = -1, .slot = -1};
     double *px = NULL, *py = NULL;
     int status = -1;
-    if (!(fonts.title = text_font_load(size_title, err, errlen)) ||
-        !(fonts.label = text_font_load(size_label, err, errlen)) ||
-        !(fonts.tick = text_font_load(size_tick, err, errlen)) ||
-        !(fonts.legend = text_font_load(size_legend, err, errlen)) ||
-        !(fonts.point = text_font_load(size_point, err, errlen)))
-        goto done;
+    if (svg_fonts_load(&fonts, &size, err, errlen)) goto done;
     layout(p, &fonts);
     int most = 2;
     for (int i = 0; i < p->series_count; i++)
@@ -1219,123 +1411,16 @@ int plot_write_svg(plot *p, const char *path, char *err, size_t errlen)
                "viewBox=\"0 0 %d %d\" font-family=\"DejaVu Sans, Verdana, sans-serif\">\n"
                "<rect width=\"%d\" height=\"%d\" fill=\"#ffffff\"/>\n",
             p->width, p->height, p->width, p->height, p->width, p->height);
-    double sx = (p->right - p->left) / (p->view[1] - p->view[0]);
+    double sx = (p->right - p->left) / (p->view[1] - p->view[0]); /* px per axis unit */
     double sy = (p->bottom - p->top) / (p->view[3] - p->view[2]);
-    fprintf(f, "<g stroke=\"#e4e4e4\" stroke-width=\"1\">\n");
-    for (int i = 0; i < p->x_tick_count; i++) {
-        double x = p->left + (p->x_tick_first + i * p->x_tick_step - p->view[0]) * sx;
-        fprintf(f, "<line x1=\"%.2f\" y1=\"%d\" x2=\"%.2f\" y2=\"%d\"/>\n", x, p->top, x, p->bottom);
-    }
-    for (int i = 0; i < p->y_tick_count; i++) {
-        double y = p->bottom - (p->y_tick_first + i * p->y_tick_step - p->view[2]) * sy;
-        fprintf(f, "<line x1=\"%d\" y1=\"%.2f\" x2=\"%d\" y2=\"%.2f\"/>\n", p->left, y, p->right, y);
-    }
-    fprintf(f, "</g>\n<clipPath id=\"axes\"><rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\"/>"
-               "</clipPath>\n<g clip-path=\"url(#axes)\">\n",
-            p->left, p->top, p->right - p->left, p->bottom - p->top);
-    for (int i = 0; i < p->series_count; i++) {
-        const series *s = &p->series[i];
-        int n = 0;
-        for (int j = 0; j < s->n; j++) {
-            to_pixel(p, s->x[j], s->y[j], &px[n], &py[n]);
-            if (isfinite(px[n]) && isfinite(py[n])) n++;
-        }
-        svg_series(f, s, px, py, n);
-    }
-    fprintf(f, "</g>\n<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"none\" "
-               "stroke=\"#282828\" stroke-width=\"1.5\"/>\n<g stroke=\"#282828\" "
-               "stroke-width=\"1.5\">\n",
-            p->left, p->top, p->right - p->left, p->bottom - p->top);
-    for (int i = 0; i < p->x_tick_count; i++) {
-        double x = p->left + (p->x_tick_first + i * p->x_tick_step - p->view[0]) * sx;
-        fprintf(f, "<line x1=\"%.2f\" y1=\"%d\" x2=\"%.2f\" y2=\"%d\"/>\n", x, p->bottom, x,
-                p->bottom + 6);
-    }
-    for (int i = 0; i < p->y_tick_count; i++) {
-        double y = p->bottom - (p->y_tick_first + i * p->y_tick_step - p->view[2]) * sy;
-        fprintf(f, "<line x1=\"%d\" y1=\"%.2f\" x2=\"%d\" y2=\"%.2f\"/>\n", p->left - 6, y,
-                p->left, y);
-    }
-    fprintf(f, "</g>\n<g fill=\"#141414\">\n");
-    /* text: the positions of draw_text */
-    char text[64];
-    int tick_ascent = text_ascent(fonts.tick), y_tick_width = 0;
-    for (int i = 0; i < p->x_tick_count; i++) {
-        double v = p->x_tick_first + i * p->x_tick_step;
-        tick_text(v, p->x_tick_step, p->log_x, text, sizeof text);
-        svg_label(f, p->left + (v - p->view[0]) * sx, p->bottom + 6 + 4 + tick_ascent, size_tick,
-                  text, " text-anchor=\"middle\"", 1);
-    }
-    for (int i = 0; i < p->y_tick_count; i++) {
-        double v = p->y_tick_first + i * p->y_tick_step;
-        tick_text(v, p->y_tick_step, p->log_y, text, sizeof text);
-        int w = text_width(fonts.tick, text);
-        if (w > y_tick_width) y_tick_width = w;
-        svg_label(f, p->left - 6 - 4, p->bottom - (v - p->view[2]) * sy + tick_ascent / 2.0 - 1,
-                  size_tick, text, " text-anchor=\"end\"", 1);
-    }
-    if (p->x_label)
-        svg_label(f, (p->left + p->right) / 2.0,
-                  p->bottom + 6 + 4 + tick_ascent + text_descent(fonts.tick) + 10 +
-                      text_ascent(fonts.label),
-                  size_label, p->x_label, " text-anchor=\"middle\"", 0);
-    if (p->y_label) {
-        int column = p->left - 6 - 4 - y_tick_width - 10 - text_descent(fonts.label);
-        char rotate[96];
-        snprintf(rotate, sizeof rotate, " text-anchor=\"middle\" transform=\"rotate(-90 %d %.1f)\"",
-                 column, (p->top + p->bottom) / 2.0);
-        svg_label(f, column, (p->top + p->bottom) / 2.0, size_label, p->y_label, rotate, 0);
-    }
-    if (p->title) {
-        int w = text_width(fonts.title, p->title), x = (p->width - w) / 2;
-        svg_label(f, x < 4 ? 4 : x, 10 + text_ascent(fonts.title), size_title, p->title, "", 0);
-    }
-    for (int i = 0, label = 0; i < p->series_count; i++) {
-        const series *s = &p->series[i];
-        if (s->kind != SERIES_MARKERS || !s->point_labels) continue;
-        for (int j = 0; j < s->n; j++) {
-            double x, y, box[4];
-            if (!s->point_labels[j]) continue;
-            to_pixel(p, s->x[j], s->y[j], &x, &y);
-            int w = text_width(fonts.point, s->point_labels[j]);
-            if (label < p->label_count) memcpy(box, &p->label_box[4 * label], sizeof box);
-            else label_box_at(p, &fonts, x + s->label_dx - w / 2.0,
-                              y + s->label_dy + text_ascent(fonts.point) / 2.0, w, box);
-            label++;
-            if (!isfinite(x) || !isfinite(y) || !isfinite(box[0])) continue;
-            double lx = box[0], ly = box[1] + text_ascent(fonts.point);
-            char fill[32];
-            snprintf(fill, sizeof fill, " fill=\"#%02x%02x%02x\"", s->style.rgb[0],
-                     s->style.rgb[1], s->style.rgb[2]);
-            svg_label(f, lx, ly, size_point, s->point_labels[j], fill, 0);
-        }
-    }
+    svg_grid(f, p, sx, sy);
+    svg_all_series(f, p, px, py);
+    svg_frame(f, p, sx, sy);
+    fprintf(f, "<g fill=\"#141414\">\n");
+    svg_axis_text(f, p, &fonts, &size, sx, sy);
+    svg_point_labels(f, p, &fonts, size.point);
     fprintf(f, "</g>\n");
-    if (p->legend_width > 0) {
-        int l = p->legend_left, t = p->legend_top, row = 0;
-        fprintf(f, "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"#ffffff\" "
-                   "stroke=\"#000000\" stroke-width=\"1\"/>\n",
-                l, t, p->legend_width, p->legend_height);
-        for (int i = 0; i < p->series_count; i++) {
-            const series *s = &p->series[i];
-            if (!s->legend) continue;
-            double cy = t + 6 + row * p->legend_row + p->legend_row / 2.0;
-            double sample_x[2] = {l + 12, l + 52}, sample_y[2] = {cy, cy};
-            if (s->kind == SERIES_MARKERS) {
-                double cx = l + 32;
-                svg_series(f, s, &cx, &cy, 1);
-            } else if (s->kind == SERIES_LINE || s->kind == SERIES_ARROW) {
-                svg_series(f, s, sample_x, sample_y, 2);
-            } else if (s->kind == SERIES_POLYGON) {
-                double qx[4] = {l + 20, l + 44, l + 44, l + 20}, qy[4] = {cy - 7, cy - 7, cy + 7, cy + 7};
-                svg_series(f, s, qx, qy, 4);
-            }
-            int x = s->kind == SERIES_NOTE ? l + 12 : l + 62;
-            svg_label(f, x, cy + (text_ascent(fonts.legend) - text_descent(fonts.legend)) / 2.0,
-                      size_legend, s->legend, " fill=\"#141414\"", 0);
-            row++;
-        }
-    }
+    svg_legend(f, p, &fonts, size.legend);
     fprintf(f, "</svg>\n");
     if (ferror(f)) {
         snprintf(err, errlen, "%s: write failed", path);

@@ -316,135 +316,209 @@ static int impulse_compute(int point, int quick, figure_points *out, char *err, 
     return rc;
 }
 
-static int impulse_draw(const figure_points *points, int quick, const char *out_dir,
-                        FILE *summary, char *err, size_t errlen)
+/* The impulse run's samples, every IMPULSE_SAMPLE s. */
+typedef struct impulse_samples {
+    int n;
+    double *t;              /* (n) s */
+    double *tip, *mid;      /* (n) y, m */
+    double *tip_mm, *mid_mm; /* (n) y, mm */
+    double duration;        /* s: the last sample's time */
+} impulse_samples;
+
+/* The spectra plotted, IMPULSE_SPECTRUM frequencies up to IMPULSE_F_MAX. */
+#define IMPULSE_SPECTRUM 801
+
+/* EI (N m^2), mass per length (kg/m) and length (m) of scenes/impulse.ini. */
+static int impulse_rod_constants(double *ei, double *mass, double *length, char *err,
+                                 size_t errlen)
 {
-    (void)quick;
     ini_doc *doc = load_impulse_scene(err, errlen);
     if (!doc) return -1;
     rod_model m;
     int rc = scene_read_rod(doc, &m, err, errlen);
     ini_destroy(doc);
     if (rc) return -1;
-    double ei = m.stiffness[0], mass = m.mass_per_length, length = m.length;
+    *ei = m.stiffness[0];
+    *mass = m.mass_per_length;
+    *length = m.length;
     rod_model_release(&m);
+    return 0;
+}
 
-    enum { SPECTRUM = 801 };
+static void impulse_samples_fill(const figure_points *points, impulse_samples *s)
+{
+    for (int i = 0; i < s->n; i++) {
+        const double *row = row_of(points, i);
+        s->t[i] = row[1];
+        s->tip[i] = row[2];
+        s->mid[i] = row[3];
+        s->tip_mm[i] = 1e3 * s->tip[i];
+        s->mid_mm[i] = 1e3 * s->mid[i];
+    }
+    s->duration = s->t[s->n - 1];
+}
+
+/* Thesis fig. 11: tip and mid-point against time. 0, or -1 out of memory. */
+static int impulse_motion_plot(plot *motion, const impulse_samples *s)
+{
+    char title[160];
+    snprintf(title, sizeof title,
+             "Thesis fig. 11: displacement after the impulse (scenes/impulse.ini, %g s)",
+             s->duration);
+    plot_set_title(motion, title);
+    plot_set_axis_labels(motion, "time t [s]", "displacement y [mm]");
+    int rc = 0;
+    rc |= plot_add_line(motion, s->t, s->tip_mm, s->n, plot_style_line(200, 30, 30, 2, PLOT_SOLID),
+                        "free end (tip)");
+    rc |= plot_add_line(motion, s->t, s->mid_mm, s->n, plot_style_line(0, 90, 200, 2, PLOT_SOLID),
+                        "mid-point (s = L/2)");
+    rc |= plot_add_legend_note(motion, "implicit Crank-Nicolson, NS = 51, dt = 0.5 ms");
+    return rc;
+}
+
+/* Spectra of the displacement samples (Hann-windowed DFT, spectrum.h) at
+ * frequencies f (Hz); *lo, *hi: the amplitude range shown (mm). */
+static void impulse_spectra(const impulse_samples *s, double *f, double *tip_spectrum,
+                            double *mid_spectrum, double *lo_out, double *hi_out)
+{
+    int n = s->n;
+    double lo = INFINITY, hi = 0;
+    for (int i = 0; i < IMPULSE_SPECTRUM; i++) {
+        f[i] = IMPULSE_F_MAX * (i + 1) / IMPULSE_SPECTRUM;
+        /* a sinusoid of amplitude A gives |DFT| = A sum(w)/2 = A n/4 with Hann w */
+        tip_spectrum[i] = 4.0 / n * spectrum_magnitude(s->tip_mm, n, IMPULSE_SAMPLE, f[i]);
+        mid_spectrum[i] = 4.0 / n * spectrum_magnitude(s->mid_mm, n, IMPULSE_SAMPLE, f[i]);
+        lo = fmin(lo, fmin(tip_spectrum[i], mid_spectrum[i]));
+        hi = fmax(hi, fmax(tip_spectrum[i], mid_spectrum[i]));
+    }
+    *lo_out = fmax(lo, hi * 1e-6);
+    *hi_out = hi;
+}
+
+/* The summary's line for a mode at fn (Hz): the peaks found near it. */
+static void impulse_mode_summary(FILE *summary, const impulse_samples *s, int mode, double fn)
+{
+    int n = s->n;
+    double resolution = 2.0 / s->duration; /* Hann main lobe half width, Hz */
+    if (fn < 3.0 * resolution) {
+        fprintf(summary, "impulse: mode %d: analytical %.4f Hz: not resolved in %g s "
+                "(needs several periods)\n", mode, fn, s->duration);
+        return;
+    }
+    double band = fmin(fmax(0.15 * fn, 1.5 * resolution), 0.5);
+    double tip_peak = spectrum_peak(s->tip_mm, n, IMPULSE_SAMPLE, fn - band, fn + band);
+    double mid_peak = spectrum_peak(s->mid_mm, n, IMPULSE_SAMPLE, fn - band, fn + band);
+    /* a mode with a node near L/2 barely moves the mid-point: no peak there */
+    double tip_level = spectrum_magnitude(s->tip_mm, n, IMPULSE_SAMPLE, tip_peak);
+    double mid_level = spectrum_magnitude(s->mid_mm, n, IMPULSE_SAMPLE, fn);
+    fprintf(summary, "impulse: mode %d: analytical %.4f Hz; tip peak %.4f Hz (%+.2e)",
+            mode, fn, tip_peak, tip_peak / fn - 1.0);
+    if (mid_level > 0.05 * tip_level)
+        fprintf(summary, ", mid-point peak %.4f Hz (%+.2e)\n", mid_peak,
+                mid_peak / fn - 1.0);
+    else
+        fprintf(summary, "; mid-point: no peak (%.2g of the tip's level: a node "
+                "near L/2)\n", mid_level / tip_level);
+}
+
+/* The analytical modal frequencies, (beta_n L)^2/(2 pi L^2) sqrt(EI/m), as
+ * dashed lines from lo to 3 hi (mm) labelled f1, f2, ... above them; each
+ * mode's line in the summary. 0, or -1 out of memory. */
+static int impulse_modal_marks(plot *spectrum, const impulse_samples *s, double ei, double mass,
+                               double length, double lo, double hi, FILE *summary)
+{
+    double mark_f[IMPULSE_MODES], mark_y[IMPULSE_MODES];
+    char label_text[IMPULSE_MODES][16];
+    const char *labels[IMPULSE_MODES];
+    int marks = 0, rc = 0;
+    for (int mode = 1; mode <= IMPULSE_MODES; mode++) {
+        double fn = reference_cantilever_frequency(mode, ei, mass, length);
+        if (fn > IMPULSE_F_MAX) break;
+        double vx[2] = {fn, fn}, vy[2] = {lo, hi * 3};
+        rc |= plot_add_line(spectrum, vx, vy, 2, plot_style_line(0, 140, 60, 1.5, PLOT_DASHED),
+                            mode == 1 ? "analytical modal frequencies f_n" : NULL);
+        mark_f[marks] = fn;
+        mark_y[marks] = hi * 6;
+        snprintf(label_text[marks], sizeof label_text[marks], "f%d", mode);
+        labels[marks] = label_text[marks];
+        marks++;
+        if (summary) impulse_mode_summary(summary, s, mode, fn);
+    }
+    plot_style mark = plot_style_line(0, 140, 60, 1.5, PLOT_SOLID);
+    mark.marker_size = 1;
+    rc |= plot_add_markers(spectrum, mark_f, mark_y, marks, mark, labels, 6, 0, NULL);
+    return rc;
+}
+
+/* Thesis figs. 12-13: the spectra, with the modal frequencies marked.
+ * 0, or -1 out of memory. */
+static int impulse_spectrum_plot(plot *spectrum, const impulse_samples *s, double ei,
+                                 double mass, double length, FILE *summary)
+{
+    double f[IMPULSE_SPECTRUM], tip_spectrum[IMPULSE_SPECTRUM], mid_spectrum[IMPULSE_SPECTRUM];
+    double lo, hi;
+    impulse_spectra(s, f, tip_spectrum, mid_spectrum, &lo, &hi);
+    char title[160];
+    snprintf(title, sizeof title,
+             "Thesis figs. 12-13: spectrum of the tip and mid-point motion (%g s)", s->duration);
+    plot_set_title(spectrum, title);
+    plot_set_axis_labels(spectrum, "frequency f [Hz]", "amplitude 4 |DFT| / n, Hann window [mm]");
+    plot_set_log(spectrum, 0, 1);
+    plot_set_limits(spectrum, 0, IMPULSE_F_MAX, lo, hi * 300);
+    int rc = 0;
+    rc |= plot_add_line(spectrum, f, tip_spectrum, IMPULSE_SPECTRUM,
+                        plot_style_line(200, 30, 30, 2, PLOT_SOLID), "free end (tip)");
+    rc |= plot_add_line(spectrum, f, mid_spectrum, IMPULSE_SPECTRUM,
+                        plot_style_line(0, 90, 200, 2, PLOT_SOLID), "mid-point");
+    rc |= impulse_modal_marks(spectrum, s, ei, mass, length, lo, hi, summary);
+    return rc;
+}
+
+/* The summary's line of the largest |y| of the tip and the mid-point. */
+static void impulse_largest_summary(FILE *summary, const impulse_samples *s)
+{
+    double tip_max = 0, mid_max = 0;
+    for (int i = 0; i < s->n; i++) {
+        tip_max = fmax(tip_max, fabs(s->tip[i]));
+        mid_max = fmax(mid_max, fabs(s->mid[i]));
+    }
+    fprintf(summary, "impulse: largest |y| over %g s: tip %.3f mm, mid-point %.3f mm\n",
+            s->duration, 1e3 * tip_max, 1e3 * mid_max);
+}
+
+static int impulse_draw(const figure_points *points, int quick, const char *out_dir,
+                        FILE *summary, char *err, size_t errlen)
+{
+    (void)quick;
+    double ei, mass, length;
+    if (impulse_rod_constants(&ei, &mass, &length, err, errlen)) return -1;
     int n = points->rows;
-    double *t = malloc((size_t)n * sizeof *t);
-    double *tip = malloc((size_t)n * sizeof *tip);
-    double *mid = malloc((size_t)n * sizeof *mid);
-    double *tip_mm = malloc((size_t)n * sizeof *tip_mm);
-    double *mid_mm = malloc((size_t)n * sizeof *mid_mm);
-    double f[SPECTRUM], tip_spectrum[SPECTRUM], mid_spectrum[SPECTRUM];
+    impulse_samples s = {.n = n};
+    s.t = malloc((size_t)n * sizeof *s.t);
+    s.tip = malloc((size_t)n * sizeof *s.tip);
+    s.mid = malloc((size_t)n * sizeof *s.mid);
+    s.tip_mm = malloc((size_t)n * sizeof *s.tip_mm);
+    s.mid_mm = malloc((size_t)n * sizeof *s.mid_mm);
     plot *motion = plot_create(1200, 800), *spectrum = plot_create(1200, 800);
-    rc = (!t || !tip || !mid || !tip_mm || !mid_mm || !motion || !spectrum || n < 16) ? -1 : 0;
+    int rc = (!s.t || !s.tip || !s.mid || !s.tip_mm || !s.mid_mm || !motion || !spectrum ||
+              n < 16) ? -1 : 0;
     if (rc) snprintf(err, errlen, n < 16 ? "impulse: %d samples, too few" : "out of memory", n);
     if (rc == 0) {
-        for (int i = 0; i < n; i++) {
-            const double *row = row_of(points, i);
-            t[i] = row[1];
-            tip[i] = row[2];
-            mid[i] = row[3];
-            tip_mm[i] = 1e3 * tip[i];
-            mid_mm[i] = 1e3 * mid[i];
-        }
-        double duration = t[n - 1];
-        char title[160];
-        snprintf(title, sizeof title,
-                 "Thesis fig. 11: displacement after the impulse (scenes/impulse.ini, %g s)",
-                 duration);
-        plot_set_title(motion, title);
-        plot_set_axis_labels(motion, "time t [s]", "displacement y [mm]");
-        rc |= plot_add_line(motion, t, tip_mm, n, plot_style_line(200, 30, 30, 2, PLOT_SOLID),
-                            "free end (tip)");
-        rc |= plot_add_line(motion, t, mid_mm, n, plot_style_line(0, 90, 200, 2, PLOT_SOLID),
-                            "mid-point (s = L/2)");
-        rc |= plot_add_legend_note(motion, "implicit Crank-Nicolson, NS = 51, dt = 0.5 ms");
-
-        /* spectra of the displacement samples (Hann-windowed DFT, spectrum.h) */
-        double lo = INFINITY, hi = 0;
-        for (int i = 0; i < SPECTRUM; i++) {
-            f[i] = IMPULSE_F_MAX * (i + 1) / SPECTRUM;
-            /* a sinusoid of amplitude A gives |DFT| = A sum(w)/2 = A n/4 with Hann w */
-            tip_spectrum[i] = 4.0 / n * spectrum_magnitude(tip_mm, n, IMPULSE_SAMPLE, f[i]);
-            mid_spectrum[i] = 4.0 / n * spectrum_magnitude(mid_mm, n, IMPULSE_SAMPLE, f[i]);
-            lo = fmin(lo, fmin(tip_spectrum[i], mid_spectrum[i]));
-            hi = fmax(hi, fmax(tip_spectrum[i], mid_spectrum[i]));
-        }
-        lo = fmax(lo, hi * 1e-6);
-        snprintf(title, sizeof title,
-                 "Thesis figs. 12-13: spectrum of the tip and mid-point motion (%g s)", duration);
-        plot_set_title(spectrum, title);
-        plot_set_axis_labels(spectrum, "frequency f [Hz]", "amplitude 4 |DFT| / n, Hann window [mm]");
-        plot_set_log(spectrum, 0, 1);
-        plot_set_limits(spectrum, 0, IMPULSE_F_MAX, lo, hi * 300);
-        rc |= plot_add_line(spectrum, f, tip_spectrum, SPECTRUM,
-                            plot_style_line(200, 30, 30, 2, PLOT_SOLID), "free end (tip)");
-        rc |= plot_add_line(spectrum, f, mid_spectrum, SPECTRUM,
-                            plot_style_line(0, 90, 200, 2, PLOT_SOLID), "mid-point");
-        /* the analytical modal frequencies, (beta_n L)^2/(2 pi L^2) sqrt(EI/m) */
-        double mark_f[IMPULSE_MODES], mark_y[IMPULSE_MODES];
-        char label_text[IMPULSE_MODES][16];
-        const char *labels[IMPULSE_MODES];
-        int marks = 0;
-        double resolution = 2.0 / duration; /* Hann main lobe half width, Hz */
-        for (int mode = 1; mode <= IMPULSE_MODES; mode++) {
-            double fn = reference_cantilever_frequency(mode, ei, mass, length);
-            if (fn > IMPULSE_F_MAX) break;
-            double vx[2] = {fn, fn}, vy[2] = {lo, hi * 3};
-            rc |= plot_add_line(spectrum, vx, vy, 2, plot_style_line(0, 140, 60, 1.5, PLOT_DASHED),
-                                mode == 1 ? "analytical modal frequencies f_n" : NULL);
-            mark_f[marks] = fn;
-            mark_y[marks] = hi * 6;
-            snprintf(label_text[marks], sizeof label_text[marks], "f%d", mode);
-            labels[marks] = label_text[marks];
-            marks++;
-            if (summary) {
-                if (fn < 3.0 * resolution) {
-                    fprintf(summary, "impulse: mode %d: analytical %.4f Hz: not resolved in %g s "
-                            "(needs several periods)\n", mode, fn, duration);
-                    continue;
-                }
-                double band = fmin(fmax(0.15 * fn, 1.5 * resolution), 0.5);
-                double tip_peak = spectrum_peak(tip_mm, n, IMPULSE_SAMPLE, fn - band, fn + band);
-                double mid_peak = spectrum_peak(mid_mm, n, IMPULSE_SAMPLE, fn - band, fn + band);
-                /* a mode with a node near L/2 barely moves the mid-point: no peak there */
-                double tip_level = spectrum_magnitude(tip_mm, n, IMPULSE_SAMPLE, tip_peak);
-                double mid_level = spectrum_magnitude(mid_mm, n, IMPULSE_SAMPLE, fn);
-                fprintf(summary, "impulse: mode %d: analytical %.4f Hz; tip peak %.4f Hz (%+.2e)",
-                        mode, fn, tip_peak, tip_peak / fn - 1.0);
-                if (mid_level > 0.05 * tip_level)
-                    fprintf(summary, ", mid-point peak %.4f Hz (%+.2e)\n", mid_peak,
-                            mid_peak / fn - 1.0);
-                else
-                    fprintf(summary, "; mid-point: no peak (%.2g of the tip's level: a node "
-                            "near L/2)\n", mid_level / tip_level);
-            }
-        }
-        plot_style mark = plot_style_line(0, 140, 60, 1.5, PLOT_SOLID);
-        mark.marker_size = 1;
-        rc |= plot_add_markers(spectrum, mark_f, mark_y, marks, mark, labels, 6, 0, NULL);
+        impulse_samples_fill(points, &s);
+        rc |= impulse_motion_plot(motion, &s);
+        rc |= impulse_spectrum_plot(spectrum, &s, ei, mass, length, summary);
         if (rc) snprintf(err, errlen, "out of memory");
-        if (summary) {
-            double tip_max = 0, mid_max = 0;
-            for (int i = 0; i < n; i++) {
-                tip_max = fmax(tip_max, fabs(tip[i]));
-                mid_max = fmax(mid_max, fabs(mid[i]));
-            }
-            fprintf(summary, "impulse: largest |y| over %g s: tip %.3f mm, mid-point %.3f mm\n",
-                    duration, 1e3 * tip_max, 1e3 * mid_max);
-        }
+        if (summary) impulse_largest_summary(summary, &s);
     }
     if (rc == 0) rc = write_plot(motion, out_dir, "impulse.png", err, errlen);
     if (rc == 0) rc = write_plot(spectrum, out_dir, "impulse_spectrum.png", err, errlen);
     plot_destroy(motion);
     plot_destroy(spectrum);
-    free(t);
-    free(tip);
-    free(mid);
-    free(tip_mm);
-    free(mid_mm);
+    free(s.t);
+    free(s.tip);
+    free(s.mid);
+    free(s.tip_mm);
+    free(s.mid_mm);
     return rc;
 }
 
@@ -561,17 +635,131 @@ static int pareto_error_bars(plot *p, const double *y, const double *lo, const d
     return rc;
 }
 
+/* One curve of a Pareto chart: count points, sorted by CPU time once drawn. */
+typedef struct pareto_curve {
+    double *x, *y, *lo, *hi;  /* (n) median CPU s, relative error, fastest and slowest CPU s */
+    char (*label_text)[24];   /* (n) NS or dt, as text */
+    const char **labels;      /* (n) into label_text */
+    int count, varied;        /* points; of them, at a dt other than the default */
+} pareto_curve;
+
+/* Dt sweeps of the dynamic cases: sweep s > 0 is NS = this[s - 1]. */
+static const int pareto_dt_sweep_nodes[3] = {51, 21, 11};
+
+/* The points of one curve: sweep 0 is the scheme across NS at the default
+ * dt, sweep s > 0 the scheme at NS = pareto_dt_sweep_nodes[s - 1] across dt.
+ * extent (x_lo, x_hi, y_lo, y_hi) grows to take them in; each point's line
+ * in the summary. */
+static void pareto_gather(const figure_points *points, const char *case_name, int scheme,
+                          int sweep, pareto_curve *c, double extent[4], FILE *summary)
+{
+    int case_index = validate_case_index(case_name);
+    int dt_sweep_nodes = sweep > 0 ? pareto_dt_sweep_nodes[sweep - 1] : 0;
+    c->count = c->varied = 0;
+    for (int r = 0; r < points->rows; r++) {
+        const double *row = row_of(points, r);
+        if ((int)row[1] != case_index || (int)row[2] != scheme) continue;
+        /* row: point, case, scheme, nodes, dt_factor, dt, computed, reference,
+         * relative_error, cpu (median), cpu_min, cpu_max, repeats, status */
+        int nodes = (int)row[3], is_default = row[4] == 1.0;
+        double dt = row[5], error = row[8], cpu = row[9];
+        if (sweep == 0 ? !is_default : nodes != dt_sweep_nodes) continue;
+        if (row[13] != 0 || !(error > 0)) continue; /* diverged: no error to plot */
+        c->varied += !is_default;
+        extent[0] = fmin(extent[0], row[10]);
+        extent[1] = fmax(extent[1], row[11]);
+        extent[2] = fmin(extent[2], error);
+        extent[3] = fmax(extent[3], error);
+        int k = c->count++;
+        c->x[k] = cpu;
+        c->lo[k] = row[10];
+        c->hi[k] = row[11];
+        c->y[k] = error;
+        if (sweep == 0) snprintf(c->label_text[k], sizeof c->label_text[k], "%d", nodes);
+        else snprintf(c->label_text[k], sizeof c->label_text[k], "%.3g s", dt);
+        c->labels[k] = c->label_text[k];
+        if (summary && (sweep == 0 || !is_default))
+            fprintf(summary, "pareto %s: %-8s NS = %3d dt = %-8.4g error %.3e, CPU "
+                             "%.4f s (%.4f .. %.4f, %d repeats)\n",
+                    case_name, scheme_names[scheme], nodes, dt, error, cpu, row[10],
+                    row[11], (int)row[12]);
+    }
+}
+
+/* sort by CPU time so the line runs left to right */
+static void pareto_sort(pareto_curve *c)
+{
+    double *x = c->x, *y = c->y, *lo = c->lo, *hi = c->hi;
+    const char **labels = c->labels;
+    for (int i = 1; i < c->count; i++)
+        for (int j = i; j > 0 && x[j] < x[j - 1]; j--) {
+            double t = x[j]; x[j] = x[j - 1]; x[j - 1] = t;
+            t = y[j]; y[j] = y[j - 1]; y[j - 1] = t;
+            t = lo[j]; lo[j] = lo[j - 1]; lo[j - 1] = t;
+            t = hi[j]; hi[j] = hi[j - 1]; hi[j - 1] = t;
+            const char *l = labels[j]; labels[j] = labels[j - 1]; labels[j - 1] = l;
+        }
+}
+
+/* A curve's line, error bars and labelled markers, with its legend.
+ * 0, or -1 out of memory. */
+static int pareto_add_curve(plot *p, const pareto_curve *c, int scheme, int sweep)
+{
+    static const unsigned char dt_sweep_rgb[3] = {120, 50, 170}; /* purple */
+    int count = c->count, rc = 0;
+    char legend[96];
+    const unsigned char *rgb = sweep == 0 ? scheme_rgb[scheme] : dt_sweep_rgb;
+    plot_style line = plot_style_line(rgb[0], rgb[1], rgb[2], 2.0,
+                                      sweep == 0 ? PLOT_SOLID : PLOT_DASHED);
+    plot_style mark = marker_style(rgb, 10, sweep == 0);
+    if (sweep == 0)
+        snprintf(legend, sizeof legend, "%s: NS = 11 ... (labels), default dt",
+                 scheme_names[scheme]);
+    else
+        snprintf(legend, sizeof legend, "%s: NS = %d, dt varied (labels)",
+                 scheme_names[scheme], pareto_dt_sweep_nodes[sweep - 1]);
+    if (count >= 2) rc |= plot_add_line(p, c->x, c->y, count, line, NULL);
+    rc |= pareto_error_bars(p, c->y, c->lo, c->hi, count, line);
+    if (sweep == 0) {
+        rc |= plot_add_markers(p, c->x, c->y, count, mark, c->labels, 9, -14, legend);
+    } else {
+        /* dt labels alternate below and above the points: neighbours
+         * in wall time sit close together and their labels would overlap */
+        const char *below[64] = {0}, *above[64] = {0};
+        int shown = count < 64 ? count : 64;
+        for (int i = 0; i < shown; i++) (i % 2 ? above : below)[i] = c->labels[i];
+        rc |= plot_add_markers(p, c->x, c->y, shown, mark, below, -30, 18, legend);
+        rc |= plot_add_markers(p, c->x, c->y, shown, mark, above, -30, -12, NULL);
+    }
+    return rc;
+}
+
+/* Axis limits of whole decades, at least 3 of them, with room for the
+ * point labels, round extent (x_lo, x_hi, y_lo, y_hi). */
+static void pareto_decade_limits(plot *p, const double extent[4])
+{
+    double x_lo = extent[0], x_hi = extent[1], y_lo = extent[2], y_hi = extent[3];
+    double x0 = floor(log10(x_lo)), x1 = ceil(log10(x_hi) + 0.3);
+    double y0 = floor(log10(y_lo) - 0.3), y1 = ceil(log10(y_hi) + 0.5);
+    while (x1 - x0 < 3) x1 - log10(x_hi) < log10(x_lo) - x0 ? x1++ : x0--;
+    while (y1 - y0 < 3) y1 - log10(y_hi) < log10(y_lo) - y0 ? y1++ : y0--;
+    plot_set_limits(p, pow(10, x0), pow(10, x1), pow(10, y0), pow(10, y1));
+}
+
 static int pareto_chart(const figure_points *points, const char *case_name, const char *file,
                         const char *title, const char *out_dir, FILE *summary, char *err,
                         size_t errlen)
 {
-    int case_index = validate_case_index(case_name), n = points->rows;
-    double *x = malloc((size_t)n * sizeof *x), *y = malloc((size_t)n * sizeof *y);
-    double *lo = malloc((size_t)n * sizeof *lo), *hi = malloc((size_t)n * sizeof *hi);
-    char (*label_text)[24] = malloc((size_t)n * sizeof *label_text);
-    const char **labels = malloc((size_t)n * sizeof *labels);
+    int n = points->rows;
+    pareto_curve c = {0};
+    c.x = malloc((size_t)n * sizeof *c.x);
+    c.y = malloc((size_t)n * sizeof *c.y);
+    c.lo = malloc((size_t)n * sizeof *c.lo);
+    c.hi = malloc((size_t)n * sizeof *c.hi);
+    c.label_text = malloc((size_t)n * sizeof *c.label_text);
+    c.labels = malloc((size_t)n * sizeof *c.labels);
     plot *p = plot_create(1200, 800);
-    int rc = (!x || !y || !lo || !hi || !label_text || !labels || !p) ? -1 : 0;
+    int rc = (!c.x || !c.y || !c.lo || !c.hi || !c.label_text || !c.labels || !p) ? -1 : 0;
     if (rc == 0) {
         plot_set_title(p, title);
         plot_set_axis_labels(p, "CPU time per run [s] (median of 3 to 9 repeats; bars: "
@@ -581,96 +769,26 @@ static int pareto_chart(const figure_points *points, const char *case_name, cons
     }
     /* a curve per scheme across NS at the default dt; for dynamic cases also a
      * curve per NS across dt. Axes span whole decades (log ticks at 10^k). */
-    double x_lo = INFINITY, x_hi = 0, y_lo = INFINITY, y_hi = 0;
-    for (int scheme = 0; scheme < ROD_SCHEME_COUNT && rc == 0; scheme++) {
-        static const int dt_sweep_nodes_list[3] = {51, 21, 11};
-        static const unsigned char dt_sweep_rgb[3] = {120, 50, 170}; /* purple */
+    double extent[4] = {INFINITY, 0, INFINITY, 0}; /* x_lo, x_hi, y_lo, y_hi */
+    for (int scheme = 0; scheme < ROD_SCHEME_COUNT && rc == 0; scheme++)
         for (int sweep = 0; sweep < 4 && rc == 0; sweep++) {
-            int count = 0, varied = 0;
-            int dt_sweep_nodes = sweep > 0 ? dt_sweep_nodes_list[sweep - 1] : 0;
-            for (int r = 0; r < n; r++) {
-                const double *row = row_of(points, r);
-                if ((int)row[1] != case_index || (int)row[2] != scheme) continue;
-                /* row: point, case, scheme, nodes, dt_factor, dt, computed, reference,
-                 * relative_error, cpu (median), cpu_min, cpu_max, repeats, status */
-                int nodes = (int)row[3], is_default = row[4] == 1.0;
-                double dt = row[5], error = row[8], cpu = row[9];
-                if (sweep == 0 ? !is_default : nodes != dt_sweep_nodes) continue;
-                if (row[13] != 0 || !(error > 0)) continue; /* diverged: no error to plot */
-                varied += !is_default;
-                x_lo = fmin(x_lo, row[10]);
-                x_hi = fmax(x_hi, row[11]);
-                y_lo = fmin(y_lo, error);
-                y_hi = fmax(y_hi, error);
-                x[count] = cpu;
-                lo[count] = row[10];
-                hi[count] = row[11];
-                y[count] = error;
-                if (sweep == 0) snprintf(label_text[count], sizeof label_text[count], "%d", nodes);
-                else snprintf(label_text[count], sizeof label_text[count], "%.3g s", dt);
-                labels[count] = label_text[count];
-                count++;
-                if (summary && (sweep == 0 || !is_default))
-                    fprintf(summary, "pareto %s: %-8s NS = %3d dt = %-8.4g error %.3e, CPU "
-                                     "%.4f s (%.4f .. %.4f, %d repeats)\n",
-                            case_name, scheme_names[scheme], nodes, dt, error, cpu, row[10],
-                            row[11], (int)row[12]);
-            }
-            if (count == 0 || (sweep > 0 && (count < 2 || varied == 0))) continue;
-            /* sort by CPU time so the line runs left to right */
-            for (int i = 1; i < count; i++)
-                for (int j = i; j > 0 && x[j] < x[j - 1]; j--) {
-                    double t = x[j]; x[j] = x[j - 1]; x[j - 1] = t;
-                    t = y[j]; y[j] = y[j - 1]; y[j - 1] = t;
-                    t = lo[j]; lo[j] = lo[j - 1]; lo[j - 1] = t;
-                    t = hi[j]; hi[j] = hi[j - 1]; hi[j - 1] = t;
-                    const char *l = labels[j]; labels[j] = labels[j - 1]; labels[j - 1] = l;
-                }
-            char legend[96];
-            const unsigned char *rgb = sweep == 0 ? scheme_rgb[scheme] : dt_sweep_rgb;
-            plot_style line = plot_style_line(rgb[0], rgb[1], rgb[2], 2.0,
-                                              sweep == 0 ? PLOT_SOLID : PLOT_DASHED);
-            plot_style mark = marker_style(rgb, 10, sweep == 0);
-            if (sweep == 0)
-                snprintf(legend, sizeof legend, "%s: NS = 11 ... (labels), default dt",
-                         scheme_names[scheme]);
-            else
-                snprintf(legend, sizeof legend, "%s: NS = %d, dt varied (labels)",
-                         scheme_names[scheme], dt_sweep_nodes);
-            if (count >= 2) rc |= plot_add_line(p, x, y, count, line, NULL);
-            rc |= pareto_error_bars(p, y, lo, hi, count, line);
-            if (sweep == 0) {
-                rc |= plot_add_markers(p, x, y, count, mark, labels, 9, -14, legend);
-            } else {
-                /* dt labels alternate below and above the points: neighbours
-                 * in wall time sit close together and their labels would overlap */
-                const char *below[64] = {0}, *above[64] = {0};
-                int shown = count < 64 ? count : 64;
-                for (int i = 0; i < shown; i++) (i % 2 ? above : below)[i] = labels[i];
-                rc |= plot_add_markers(p, x, y, shown, mark, below, -30, 18, legend);
-                rc |= plot_add_markers(p, x, y, shown, mark, above, -30, -12, NULL);
-            }
+            pareto_gather(points, case_name, scheme, sweep, &c, extent, summary);
+            if (c.count == 0 || (sweep > 0 && (c.count < 2 || c.varied == 0))) continue;
+            pareto_sort(&c);
+            rc |= pareto_add_curve(p, &c, scheme, sweep);
         }
-    }
     if (rc == 0 && strcmp(case_name, PARETO_FREQUENCY) == 0)
         rc |= plot_add_legend_note(p, "thesis: rotary inertia x ~1e7 to run at all; halves f1");
     if (rc) snprintf(err, errlen, "out of memory");
-    if (rc == 0 && x_hi > 0 && y_hi > 0) {
-        /* whole decades, at least 3 of them, with room for the point labels */
-        double x0 = floor(log10(x_lo)), x1 = ceil(log10(x_hi) + 0.3);
-        double y0 = floor(log10(y_lo) - 0.3), y1 = ceil(log10(y_hi) + 0.5);
-        while (x1 - x0 < 3) x1 - log10(x_hi) < log10(x_lo) - x0 ? x1++ : x0--;
-        while (y1 - y0 < 3) y1 - log10(y_hi) < log10(y_lo) - y0 ? y1++ : y0--;
-        plot_set_limits(p, pow(10, x0), pow(10, x1), pow(10, y0), pow(10, y1));
-    }
+    if (rc == 0 && extent[1] > 0 && extent[3] > 0) pareto_decade_limits(p, extent);
     if (rc == 0) rc = write_plot(p, out_dir, file, err, errlen);
     plot_destroy(p);
-    free(x);
-    free(y);
-    free(lo);
-    free(hi);
-    free(label_text);
-    free(labels);
+    free(c.x);
+    free(c.y);
+    free(c.lo);
+    free(c.hi);
+    free(c.label_text);
+    free(c.labels);
     return rc;
 }
 

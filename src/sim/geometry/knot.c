@@ -181,6 +181,121 @@ static uint64_t mod_pow(uint64_t a, uint64_t e, uint64_t p)
 }
 static uint64_t mod_inv(uint64_t a, uint64_t p) { return mod_pow(a, p - 2, p); }
 
+/* [M | C] -> [I | M^-1 C] by Gauss-Jordan elimination mod p; *det = det M
+ * from the pivots. Returns 1 when M is singular mod p, else 0. */
+static int invert_into_mod(uint64_t *M, uint64_t *C, int m, uint64_t p, uint64_t *det_out)
+{
+    uint64_t det = 1;
+    int singular = 0;
+    for (int col = 0; col < m && !singular; col++) {
+        int piv = col;
+        while (piv < m && M[(size_t)piv * m + col] == 0) piv++;
+        if (piv == m) { singular = 1; break; }
+        if (piv != col) {
+            for (int k = 0; k < m; k++) {
+                uint64_t a = M[(size_t)piv * m + k], b = C[(size_t)piv * m + k];
+                M[(size_t)piv * m + k] = M[(size_t)col * m + k];
+                C[(size_t)piv * m + k] = C[(size_t)col * m + k];
+                M[(size_t)col * m + k] = a;
+                C[(size_t)col * m + k] = b;
+            }
+            det = mod_sub(0, det, p);
+        }
+        uint64_t pivot = M[(size_t)col * m + col], inv = mod_inv(pivot, p);
+        det = mod_mul(det, pivot, p);
+        for (int k = 0; k < m; k++) {
+            M[(size_t)col * m + k] = mod_mul(M[(size_t)col * m + k], inv, p);
+            C[(size_t)col * m + k] = mod_mul(C[(size_t)col * m + k], inv, p);
+        }
+        for (int r = 0; r < m; r++) {
+            uint64_t f = M[(size_t)r * m + col];
+            if (r == col || f == 0) continue;
+            for (int k = 0; k < m; k++) {
+                M[(size_t)r * m + k] = mod_sub(M[(size_t)r * m + k],
+                                               mod_mul(f, M[(size_t)col * m + k], p), p);
+                C[(size_t)r * m + k] = mod_sub(C[(size_t)r * m + k],
+                                               mod_mul(f, C[(size_t)col * m + k], p), p);
+            }
+        }
+    }
+    *det_out = det;
+    return singular;
+}
+
+/* H (m x m) reduced to upper Hessenberg form by similarity, mod p */
+static void hessenberg_mod(uint64_t *H, int m, uint64_t p)
+{
+    for (int j = 0; j + 2 < m; j++) {
+        int piv = j + 1;
+        while (piv < m && H[(size_t)piv * m + j] == 0) piv++;
+        if (piv == m) continue;
+        if (piv != j + 1) {
+            for (int k = 0; k < m; k++) {
+                uint64_t a = H[(size_t)piv * m + k];
+                H[(size_t)piv * m + k] = H[(size_t)(j + 1) * m + k];
+                H[(size_t)(j + 1) * m + k] = a;
+            }
+            for (int k = 0; k < m; k++) {
+                uint64_t a = H[(size_t)k * m + piv];
+                H[(size_t)k * m + piv] = H[(size_t)k * m + j + 1];
+                H[(size_t)k * m + j + 1] = a;
+            }
+        }
+        uint64_t inv = mod_inv(H[(size_t)(j + 1) * m + j], p);
+        for (int i = j + 2; i < m; i++) {
+            uint64_t u = mod_mul(H[(size_t)i * m + j], inv, p);
+            if (u == 0) continue;
+            for (int k = 0; k < m; k++)
+                H[(size_t)i * m + k] =
+                    mod_sub(H[(size_t)i * m + k], mod_mul(u, H[(size_t)(j + 1) * m + k], p), p);
+            for (int k = 0; k < m; k++)
+                H[(size_t)k * m + j + 1] =
+                    mod_add(H[(size_t)k * m + j + 1], mod_mul(u, H[(size_t)k * m + i], p), p);
+        }
+    }
+}
+
+/* chi_k(lambda) = det(lambda I - H_k), H_k the leading k x k block of the
+ * Hessenberg H, as rows k of chi ((m+1) x (m+1), coefficients by degree)
+ * (Cohen, A Course in Computational Algebraic Number Theory, alg. 2.2.9) */
+static void hessenberg_charpoly_mod(const uint64_t *H, int m, uint64_t p, uint64_t *chi)
+{
+    size_t w = (size_t)m + 1;
+    memset(chi, 0, w * w * sizeof *chi);
+    chi[0] = 1;
+    for (int k = 1; k <= m; k++) {
+        uint64_t *row = &chi[(size_t)k * w];
+        const uint64_t *prev = &chi[(size_t)(k - 1) * w];
+        uint64_t diag = H[(size_t)(k - 1) * m + k - 1];
+        for (int d = 0; d <= k; d++) {
+            uint64_t v = d > 0 ? prev[d - 1] : 0;
+            row[d] = mod_sub(v, mod_mul(diag, prev[d], p), p);
+        }
+        uint64_t prod = 1;
+        for (int i = k - 1; i >= 1; i--) {
+            prod = mod_mul(prod, H[(size_t)i * m + i - 1], p);
+            uint64_t f = mod_mul(H[(size_t)(i - 1) * m + k - 1], prod, p);
+            if (f == 0) continue;
+            const uint64_t *q = &chi[(size_t)(i - 1) * w];
+            for (int d = 0; d < i; d++) row[d] = mod_sub(row[d], mod_mul(f, q[d], p), p);
+        }
+    }
+}
+
+/* det(M0 + s B) = det M0 sum_j chi_{m-j} s^j, chim = chi_m; then s = t - t0
+ * (Horner) gives poly[0..m] in t */
+static void shift_back_mod(uint64_t det, const uint64_t *chim, int m, uint64_t t0, uint64_t p,
+                           uint64_t *poly)
+{
+    for (int d = 0; d <= m; d++) poly[d] = 0;
+    for (int j = m; j >= 0; j--) {
+        /* poly = poly (t - t0) + a_j */
+        for (int d = m; d >= 1; d--)
+            poly[d] = mod_sub(poly[d - 1], mod_mul(t0, poly[d], p), p);
+        poly[0] = mod_sub(mod_mul(det, chim[m - j], p), mod_mul(t0, poly[0], p), p);
+    }
+}
+
 /* det(A + t B) mod p as coefficients poly[0..m] (m x m, entries small
  * integers, row-major). Returns 0, or -1 when no shift t0 tried makes
  * A + t0 B invertible mod p. Scratch: 2 m^2 + (m+1)^2 words. */
@@ -202,103 +317,13 @@ static int det_polynomial_mod(rod_knot_scratch *sc, const long long *A, const lo
             M[k] = mod_add(mod_of(A[k], p), mod_mul(t0, mod_of(B[k], p), p), p);
             C[k] = mod_of(B[k], p);
         }
-        /* [M | C] -> [I | M^-1 B], det M from the pivots */
-        uint64_t det = 1;
-        int singular = 0;
-        for (int col = 0; col < m && !singular; col++) {
-            int piv = col;
-            while (piv < m && M[(size_t)piv * m + col] == 0) piv++;
-            if (piv == m) { singular = 1; break; }
-            if (piv != col) {
-                for (int k = 0; k < m; k++) {
-                    uint64_t a = M[(size_t)piv * m + k], b = C[(size_t)piv * m + k];
-                    M[(size_t)piv * m + k] = M[(size_t)col * m + k];
-                    C[(size_t)piv * m + k] = C[(size_t)col * m + k];
-                    M[(size_t)col * m + k] = a;
-                    C[(size_t)col * m + k] = b;
-                }
-                det = mod_sub(0, det, p);
-            }
-            uint64_t pivot = M[(size_t)col * m + col], inv = mod_inv(pivot, p);
-            det = mod_mul(det, pivot, p);
-            for (int k = 0; k < m; k++) {
-                M[(size_t)col * m + k] = mod_mul(M[(size_t)col * m + k], inv, p);
-                C[(size_t)col * m + k] = mod_mul(C[(size_t)col * m + k], inv, p);
-            }
-            for (int r = 0; r < m; r++) {
-                uint64_t f = M[(size_t)r * m + col];
-                if (r == col || f == 0) continue;
-                for (int k = 0; k < m; k++) {
-                    M[(size_t)r * m + k] = mod_sub(M[(size_t)r * m + k],
-                                                   mod_mul(f, M[(size_t)col * m + k], p), p);
-                    C[(size_t)r * m + k] = mod_sub(C[(size_t)r * m + k],
-                                                   mod_mul(f, C[(size_t)col * m + k], p), p);
-                }
-            }
-        }
-        if (singular) continue;
-        /* H = -C, reduced to upper Hessenberg form by similarity */
-        uint64_t *H = M;
+        uint64_t det;
+        if (invert_into_mod(M, C, m, p, &det)) continue;
+        uint64_t *H = M; /* H = -C, in M's place */
         for (size_t k = 0; k < mm; k++) H[k] = mod_sub(0, C[k], p);
-        for (int j = 0; j + 2 < m; j++) {
-            int piv = j + 1;
-            while (piv < m && H[(size_t)piv * m + j] == 0) piv++;
-            if (piv == m) continue;
-            if (piv != j + 1) {
-                for (int k = 0; k < m; k++) {
-                    uint64_t a = H[(size_t)piv * m + k];
-                    H[(size_t)piv * m + k] = H[(size_t)(j + 1) * m + k];
-                    H[(size_t)(j + 1) * m + k] = a;
-                }
-                for (int k = 0; k < m; k++) {
-                    uint64_t a = H[(size_t)k * m + piv];
-                    H[(size_t)k * m + piv] = H[(size_t)k * m + j + 1];
-                    H[(size_t)k * m + j + 1] = a;
-                }
-            }
-            uint64_t inv = mod_inv(H[(size_t)(j + 1) * m + j], p);
-            for (int i = j + 2; i < m; i++) {
-                uint64_t u = mod_mul(H[(size_t)i * m + j], inv, p);
-                if (u == 0) continue;
-                for (int k = 0; k < m; k++)
-                    H[(size_t)i * m + k] =
-                        mod_sub(H[(size_t)i * m + k], mod_mul(u, H[(size_t)(j + 1) * m + k], p), p);
-                for (int k = 0; k < m; k++)
-                    H[(size_t)k * m + j + 1] =
-                        mod_add(H[(size_t)k * m + j + 1], mod_mul(u, H[(size_t)k * m + i], p), p);
-            }
-        }
-        /* chi_k(lambda) = det(lambda I - H_k), H_k the leading k x k block
-         * (Cohen, A Course in Computational Algebraic Number Theory, alg. 2.2.9) */
-        size_t w = (size_t)m + 1;
-        memset(chi, 0, w * w * sizeof *chi);
-        chi[0] = 1;
-        for (int k = 1; k <= m; k++) {
-            uint64_t *row = &chi[(size_t)k * w];
-            const uint64_t *prev = &chi[(size_t)(k - 1) * w];
-            uint64_t diag = H[(size_t)(k - 1) * m + k - 1];
-            for (int d = 0; d <= k; d++) {
-                uint64_t v = d > 0 ? prev[d - 1] : 0;
-                row[d] = mod_sub(v, mod_mul(diag, prev[d], p), p);
-            }
-            uint64_t prod = 1;
-            for (int i = k - 1; i >= 1; i--) {
-                prod = mod_mul(prod, H[(size_t)i * m + i - 1], p);
-                uint64_t f = mod_mul(H[(size_t)(i - 1) * m + k - 1], prod, p);
-                if (f == 0) continue;
-                const uint64_t *q = &chi[(size_t)(i - 1) * w];
-                for (int d = 0; d < i; d++) row[d] = mod_sub(row[d], mod_mul(f, q[d], p), p);
-            }
-        }
-        /* det(M0 + s B) = det M0 sum_j chi_{m-j} s^j; then s = t - t0 (Horner) */
-        const uint64_t *chim = &chi[(size_t)m * w];
-        for (int d = 0; d <= m; d++) poly[d] = 0;
-        for (int j = m; j >= 0; j--) {
-            /* poly = poly (t - t0) + a_j */
-            for (int d = m; d >= 1; d--)
-                poly[d] = mod_sub(poly[d - 1], mod_mul(t0, poly[d], p), p);
-            poly[0] = mod_sub(mod_mul(det, chim[m - j], p), mod_mul(t0, poly[0], p), p);
-        }
+        hessenberg_mod(H, m, p);
+        hessenberg_charpoly_mod(H, m, p, chi);
+        shift_back_mod(det, &chi[(size_t)m * (m + 1)], m, t0, p, poly);
         rc = 0;
     }
 done:
@@ -723,37 +748,28 @@ static int signature(projection *pr, const passage *pass, int *sigma)
     return 0;
 }
 
-/* Delta from the crossings; 0, or -1 with a message. */
-static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
+/* The 2c passages through the crossings, in order along the curve. Returns
+ * 1 (and marks the projection degenerate) when two crossings fall at one
+ * point of a segment: a triple point. */
+static int order_passages(projection *pr, passage *pass)
 {
     int c = pr->crossings;
-    rod_knot_scratch *sc = pr->scratch;
-    passage *pass = take(sc, (size_t)(2 * c + 1) * sizeof *pass, 0);
-    int *arc_over = take(sc, (size_t)(c + 1) * sizeof *arc_over, 0);
-    int *arc_in = take(sc, (size_t)(c + 1) * sizeof *arc_in, 0);
-    int *arc_out = take(sc, (size_t)(c + 1) * sizeof *arc_out, 0);
-    int m = c > 0 ? c - 1 : 0;
-    long long *A = take(sc, ((size_t)m * m + 1) * sizeof *A, 1);
-    long long *B = take(sc, ((size_t)m * m + 1) * sizeof *B, 1);
-    uint64_t *poly[2] = {take(sc, (size_t)(m + 1) * sizeof(uint64_t), 0),
-                         take(sc, (size_t)(m + 1) * sizeof(uint64_t), 0)};
-    long long *value = take(sc, (size_t)(m + 1) * sizeof *value, 0);
-    int rc = -1;
-    if (!pass || !arc_over || !arc_in || !arc_out || !A || !B || !poly[0] || !poly[1] || !value) {
-        snprintf(err, errlen, "out of memory for %d crossings", c);
-        goto done;
-    }
     for (int k = 0; k < c; k++)
         for (int s = 0; s < 2; s++)
             pass[2 * k + s] = (passage){pr->x[k].seg[s], k, pr->x[k].over != s, pr->x[k].t[s]};
     qsort(pass, (size_t)(2 * c), sizeof *pass, passage_order);
     for (int k = 0; k + 1 < 2 * c; k++)
         if (pass[k].seg == pass[k + 1].seg && pass[k + 1].t - pass[k].t < KNOT_PARAM_TOL) {
-            pr->degenerate = 1; /* two crossings at one point: a triple point */
-            rc = 1;
-            goto done;
+            pr->degenerate = 1;
+            return 1;
         }
-    /* arc k runs from the k-th undercrossing along the curve to the next */
+    return 0;
+}
+
+/* Arc k runs from the k-th undercrossing along the curve to the next: at
+ * each crossing, the arc over it and the arcs in and out under it. */
+static void label_arcs(const passage *pass, int c, int *arc_over, int *arc_in, int *arc_out)
+{
     int unders = 0;
     for (int k = 0; k < 2 * c; k++) {
         const passage *q = &pass[k];
@@ -765,14 +781,13 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
             arc_over[q->crossing] = (unders - 1 + c) % c;
         }
     }
-    {
-        scratch_mark mark = scratch_save(sc);
-        int sigma;
-        out->has_signature = signature(pr, pass, &sigma) == 0;
-        out->signature = out->has_signature ? sigma : 0;
-        scratch_restore(sc, mark);
-    }
-    /* the Alexander matrix, its last row and column dropped */
+}
+
+/* The Alexander matrix A + t B (zeroed, m x m), its last row and column dropped. */
+static void alexander_matrix(const projection *pr, const int *arc_over, const int *arc_in,
+                             const int *arc_out, int m, long long *A, long long *B)
+{
+    int c = pr->crossings;
     for (int x = 0; x + 1 < c; x++) {
         int col[3] = {arc_over[x], arc_in[x], arc_out[x]};
         long long a[3] = {1, 0, -1}, b[3] = {-1, 1, 0};
@@ -786,13 +801,13 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
             B[(size_t)x * m + col[e]] += b[e];
         }
     }
-    for (int q = 0; q < 2; q++)
-        if (det_polynomial_mod(sc, A, B, m, knot_primes[q], poly[q])) {
-            snprintf(err, errlen, "the Alexander matrix of %d crossings is singular at every "
-                     "shift tried (not a knot diagram?)", c);
-            goto done;
-        }
-    /* each coefficient in (-p/2, p/2); both primes must agree */
+}
+
+/* The coefficients value[0..m] from the two residues: each in (-p/2, p/2);
+ * both primes must agree. 0, or -1 with a message. */
+static int lift_coefficients(uint64_t *const poly[2], int m, int c, long long *value, char *err,
+                             size_t errlen)
+{
     for (int d = 0; d <= m; d++) {
         long long v[2];
         for (int q = 0; q < 2; q++) {
@@ -802,10 +817,20 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
         if (v[0] != v[1]) {
             snprintf(err, errlen, "the Alexander polynomial of %d crossings has a coefficient "
                      "beyond 5e8", c);
-            goto done;
+            return -1;
         }
         value[d] = v[0];
     }
+    return 0;
+}
+
+/* Delta normalised into out (terms, coefficients, determinant) after the
+ * checks a knot's polynomial passes: |Delta(1)| = 1, symmetric. Returns its
+ * number of terms (degree + 1, before the ROD_KNOT_MAX_TERMS cap), or -1
+ * with a message. */
+static int normalise_polynomial(const long long *value, int m, int c, rod_knot *out, char *err,
+                                size_t errlen)
+{
     int lo = 0, hi = m;
     while (lo <= m && value[lo] == 0) lo++;
     while (hi >= 0 && value[hi] == 0) hi--;
@@ -814,14 +839,14 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
     if (lo > hi || (sum != 1 && sum != -1)) {
         snprintf(err, errlen, "the Alexander polynomial of %d crossings has |Delta(1)| = %lld, "
                  "not 1: not a knot diagram", c, sum < 0 ? -sum : sum);
-        goto done;
+        return -1;
     }
     long long sign = value[lo] < 0 ? -1 : 1;
     for (int d = lo; d <= hi; d++)
         if (value[d] != value[hi - (d - lo)]) {
             snprintf(err, errlen, "the Alexander polynomial of %d crossings is not symmetric",
                      c);
-            goto done;
+            return -1;
         }
     int terms = hi - lo + 1;
     long long det = 0, alt = 1;
@@ -829,9 +854,13 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
     out->determinant = det < 0 ? -det : det;
     out->terms = terms < ROD_KNOT_MAX_TERMS ? terms : ROD_KNOT_MAX_TERMS;
     for (int d = 0; d < out->terms; d++) out->coefficient[d] = sign * value[lo + d];
-    out->crossings = c;
-    out->writhe = 0;
-    for (int x = 0; x < c; x++) out->writhe += pr->x[x].sign;
+    return terms;
+}
+
+/* out->name from the table of known knots (the signature telling apart those
+ * that share a polynomial), else "unknown (...)"; terms: of the whole Delta. */
+static void name_knot(rod_knot *out, int terms)
+{
     snprintf(out->name, sizeof out->name, "unknown (degree %d)", terms - 1);
     int named = 0;
     for (size_t k = 0; k < sizeof known_knots / sizeof known_knots[0] && !named; k++) {
@@ -851,9 +880,50 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
         rod_knot_polynomial_text(out, text, sizeof text);
         snprintf(out->name, sizeof out->name, "unknown (Delta = %s)", text);
     }
-    rc = 0;
-done:
-    return rc; /* the scratch is released by the caller, per projection */
+}
+
+/* Delta from the crossings; 0, 1 (a triple point: the projection is
+ * degenerate), or -1 with a message. */
+static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
+{
+    int c = pr->crossings;
+    rod_knot_scratch *sc = pr->scratch;
+    passage *pass = take(sc, (size_t)(2 * c + 1) * sizeof *pass, 0);
+    int *arc_over = take(sc, (size_t)(c + 1) * sizeof *arc_over, 0);
+    int *arc_in = take(sc, (size_t)(c + 1) * sizeof *arc_in, 0);
+    int *arc_out = take(sc, (size_t)(c + 1) * sizeof *arc_out, 0);
+    int m = c > 0 ? c - 1 : 0;
+    long long *A = take(sc, ((size_t)m * m + 1) * sizeof *A, 1);
+    long long *B = take(sc, ((size_t)m * m + 1) * sizeof *B, 1);
+    uint64_t *poly[2] = {take(sc, (size_t)(m + 1) * sizeof(uint64_t), 0),
+                         take(sc, (size_t)(m + 1) * sizeof(uint64_t), 0)};
+    long long *value = take(sc, (size_t)(m + 1) * sizeof *value, 0);
+    if (!pass || !arc_over || !arc_in || !arc_out || !A || !B || !poly[0] || !poly[1] || !value) {
+        snprintf(err, errlen, "out of memory for %d crossings", c);
+        return -1;
+    }
+    if (order_passages(pr, pass)) return 1;
+    label_arcs(pass, c, arc_over, arc_in, arc_out);
+    scratch_mark mark = scratch_save(sc);
+    int sigma;
+    out->has_signature = signature(pr, pass, &sigma) == 0;
+    out->signature = out->has_signature ? sigma : 0;
+    scratch_restore(sc, mark);
+    alexander_matrix(pr, arc_over, arc_in, arc_out, m, A, B);
+    for (int q = 0; q < 2; q++)
+        if (det_polynomial_mod(sc, A, B, m, knot_primes[q], poly[q])) {
+            snprintf(err, errlen, "the Alexander matrix of %d crossings is singular at every "
+                     "shift tried (not a knot diagram?)", c);
+            return -1;
+        }
+    if (lift_coefficients(poly, m, c, value, err, errlen)) return -1;
+    int terms = normalise_polynomial(value, m, c, out, err, errlen);
+    if (terms < 0) return -1;
+    out->crossings = c;
+    out->writhe = 0;
+    for (int x = 0; x < c; x++) out->writhe += pr->x[x].sign;
+    name_knot(out, terms);
+    return 0; /* the scratch is released by the caller, per projection */
 }
 
 /* The closed polygon (count x 3) and how many of its first segments are the
