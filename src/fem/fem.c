@@ -312,75 +312,102 @@ static void band_residual(double *ab, int n, const double *x, const double *b, d
     }
 }
 
-fem_status fem_solve(const fem_model *m, fem_solution *sol, char *err, size_t errlen)
-{
-    fem_status status = fem_model_check(m, err, errlen);
-    if (status != FEM_OK) return status;
-    if (sol->node_count != m->node_count) {
-        snprintf(err, errlen, "solution sized for %d nodes, model has %d", sol->node_count,
-                 m->node_count);
-        return FEM_FAILURE;
-    }
-    int n = m->node_count * FEM_DOFS_PER_NODE;
-    size_t band_size = (size_t)n * (FEM_BANDWIDTH + 1);
-    double *stiffness = calloc(band_size, sizeof *stiffness); /* K, upper band */
-    double *factor = calloc(band_size, sizeof *factor);       /* its Cholesky factor */
-    double *load = calloc((size_t)n, sizeof *load);           /* F, N and N m */
-    double *rhs = calloc((size_t)n, sizeof *rhs);
-    unsigned char *restrained = calloc((size_t)n, 1);
-    double *constrained = calloc(band_size, sizeof *constrained); /* K, supports imposed */
-    double *correction = calloc((size_t)n, sizeof *correction);
-    double *scale = calloc((size_t)n, sizeof *scale);
-    if (!stiffness || !factor || !load || !rhs || !restrained || !constrained || !correction ||
-        !scale) {
-        snprintf(err, errlen, "out of memory for %d degrees of freedom", n);
-        status = FEM_FAILURE;
-        goto done;
-    }
+/* The solve's work arrays, all n = node_count x 3 long or band_size = n x (bandwidth + 1). */
+typedef struct fem_work {
+    int n;
+    size_t band_size;
+    double *stiffness;          /* K, upper band */
+    double *factor;             /* its Cholesky factor */
+    double *load;               /* F, N and N m */
+    double *rhs;
+    unsigned char *restrained;
+    double *constrained;        /* K, supports imposed */
+    double *correction;
+    double *scale;
+} fem_work;
 
+static void fem_work_destroy(fem_work *w)
+{
+    free(w->stiffness);
+    free(w->factor);
+    free(w->load);
+    free(w->rhs);
+    free(w->restrained);
+    free(w->constrained);
+    free(w->correction);
+    free(w->scale);
+}
+
+/* Returns 0, or -1 when out of memory (what was allocated is freed by fem_work_destroy). */
+static int fem_work_create(fem_work *w, int n)
+{
+    w->n = n;
+    w->band_size = (size_t)n * (FEM_BANDWIDTH + 1);
+    w->stiffness = calloc(w->band_size, sizeof *w->stiffness);
+    w->factor = calloc(w->band_size, sizeof *w->factor);
+    w->load = calloc((size_t)n, sizeof *w->load);
+    w->rhs = calloc((size_t)n, sizeof *w->rhs);
+    w->restrained = calloc((size_t)n, 1);
+    w->constrained = calloc(w->band_size, sizeof *w->constrained);
+    w->correction = calloc((size_t)n, sizeof *w->correction);
+    w->scale = calloc((size_t)n, sizeof *w->scale);
+    return w->stiffness && w->factor && w->load && w->rhs && w->restrained && w->constrained &&
+                   w->correction && w->scale
+               ? 0
+               : -1;
+}
+
+/* K from the elements, F from the loads, and which DOFs the supports restrain. */
+static void assemble(const fem_model *m, fem_work *w)
+{
     for (int e = 0; e + 1 < m->node_count; e++) {
         double ke[36];
         fem_element_stiffness_global(m, e, ke);
         int first = e * FEM_DOFS_PER_NODE; /* element DOFs are first .. first + 5 */
         for (int a = 0; a < 6; a++)
-            for (int b = a; b < 6; b++) *band_at(stiffness, first + a, first + b) += ke[a * 6 + b];
+            for (int b = a; b < 6; b++)
+                *band_at(w->stiffness, first + a, first + b) += ke[a * 6 + b];
     }
     for (int i = 0; i < m->load_count; i++) {
         const fem_load *l = &m->loads[i];
-        load[l->node * 3 + 0] += l->force[0];
-        load[l->node * 3 + 1] += l->force[1];
-        load[l->node * 3 + 2] += l->moment;
+        w->load[l->node * 3 + 0] += l->force[0];
+        w->load[l->node * 3 + 1] += l->force[1];
+        w->load[l->node * 3 + 2] += l->moment;
     }
     for (int i = 0; i < m->support_count; i++) {
         int base = m->supports[i].node * 3;
         switch (m->supports[i].type) {
-        case FEM_SUPPORT_CLAMPED: restrained[base + 2] = 1; /* fall through */
-        case FEM_SUPPORT_PINNED: restrained[base + 0] = 1; /* fall through */
-        case FEM_SUPPORT_ROLLER: restrained[base + 1] = 1; break;
+        case FEM_SUPPORT_CLAMPED: w->restrained[base + 2] = 1; /* fall through */
+        case FEM_SUPPORT_PINNED: w->restrained[base + 0] = 1; /* fall through */
+        case FEM_SUPPORT_ROLLER: w->restrained[base + 1] = 1; break;
         }
     }
+}
 
-    if (find_rigid_mechanism(m, restrained, err, errlen)) {
-        status = FEM_MECHANISM;
-        goto done;
-    }
-
-    /* Zero prescribed displacements: a restrained DOF's row and column become
-     * the identity, which keeps the band and the symmetry. */
-    memcpy(constrained, stiffness, band_size * sizeof *constrained);
-    for (int j = 0; j < n; j++) {
-        rhs[j] = restrained[j] ? 0.0 : load[j];
+/* Zero prescribed displacements: a restrained DOF's row and column become
+ * the identity, which keeps the band and the symmetry. */
+static void impose_supports(fem_work *w)
+{
+    memcpy(w->constrained, w->stiffness, w->band_size * sizeof *w->constrained);
+    for (int j = 0; j < w->n; j++) {
+        w->rhs[j] = w->restrained[j] ? 0.0 : w->load[j];
         for (int i = (j > FEM_BANDWIDTH ? j - FEM_BANDWIDTH : 0); i <= j; i++)
-            if (restrained[i] || restrained[j]) *band_at(constrained, i, j) = (i == j) ? 1.0 : 0.0;
+            if (w->restrained[i] || w->restrained[j])
+                *band_at(w->constrained, i, j) = (i == j) ? 1.0 : 0.0;
     }
+}
 
-    /* Equilibrate: S K S y = S F with S = diag(K)^-1/2, D = S y, so that
-     * rotations (N m/rad) and translations (N/m) weigh alike, and the
-     * condition number below means something. */
+/* Equilibrate: S K S y = S F with S = diag(K)^-1/2, D = S y, so that
+ * rotations (N m/rad) and translations (N/m) weigh alike, and the
+ * condition number below means something. Returns the scaled matrix' 1-norm. */
+static double equilibrate(fem_work *w)
+{
+    const int n = w->n;
+    double *constrained = w->constrained, *scale = w->scale;
     for (int j = 0; j < n; j++) scale[j] = 1.0 / sqrt(*band_at(constrained, j, j));
     double norm1 = 0; /* 1-norm of the scaled matrix, for the condition number */
     for (int j = 0; j < n; j++) {
-        rhs[j] *= scale[j];
+        w->rhs[j] *= scale[j];
         double column = 0;
         for (int i = (j > FEM_BANDWIDTH ? j - FEM_BANDWIDTH : 0); i <= j; i++) {
             *band_at(constrained, i, j) *= scale[i] * scale[j];
@@ -390,16 +417,21 @@ fem_status fem_solve(const fem_model *m, fem_solution *sol, char *err, size_t er
             column += fabs(*band_at(constrained, j, i) * scale[i] * scale[j]);
         norm1 = fmax(norm1, column);
     }
+    return norm1;
+}
 
-    /* banded Cholesky K = U^T U (what LAPACKE_dpbsv does, split so that the
-     * factor can be reused for the refinement below) */
-    memcpy(factor, constrained, band_size * sizeof *factor);
-    lapack_int info = LAPACKE_dpbtrf(LAPACK_COL_MAJOR, 'U', n, FEM_BANDWIDTH, factor,
+/* banded Cholesky K = U^T U (what LAPACKE_dpbsv does, split so that the
+ * factor can be reused for the refinement), and the condition number. */
+static fem_status factorise(fem_work *w, double norm1, fem_solution *sol, char *err,
+                            size_t errlen)
+{
+    const int n = w->n;
+    memcpy(w->factor, w->constrained, w->band_size * sizeof *w->factor);
+    lapack_int info = LAPACKE_dpbtrf(LAPACK_COL_MAJOR, 'U', n, FEM_BANDWIDTH, w->factor,
                                      FEM_BANDWIDTH + 1);
     if (info < 0) {
         snprintf(err, errlen, "LAPACKE_dpbtrf failed (info %d)", (int)info);
-        status = FEM_FAILURE;
-        goto done;
+        return FEM_FAILURE;
     }
     /* find_rigid_mechanism caught every mechanism a chain can have; a
      * non-positive pivot here would be a mechanism it missed, so name it too.
@@ -413,53 +445,82 @@ fem_status fem_solve(const fem_model *m, fem_solution *sol, char *err, size_t er
                  "element; add or change a [support] (clamped fixes u, w, theta; pinned u, w; "
                  "roller w)",
                  name);
-        status = FEM_MECHANISM;
-        goto done;
+        return FEM_MECHANISM;
     }
     double reciprocal_condition = 0;
-    LAPACKE_dpbcon(LAPACK_COL_MAJOR, 'U', n, FEM_BANDWIDTH, factor, FEM_BANDWIDTH + 1, norm1,
+    LAPACKE_dpbcon(LAPACK_COL_MAJOR, 'U', n, FEM_BANDWIDTH, w->factor, FEM_BANDWIDTH + 1, norm1,
                    &reciprocal_condition);
     sol->condition_number = reciprocal_condition > 0 ? 1.0 / reciprocal_condition : INFINITY;
-    double *d = sol->displacement; /* holds y until the end */
-    memcpy(d, rhs, (size_t)n * sizeof *d);
-    LAPACKE_dpbtrs(LAPACK_COL_MAJOR, 'U', n, FEM_BANDWIDTH, 1, factor, FEM_BANDWIDTH + 1, d, n);
-    /* Iterative refinement with the residual in long double. It recovers
-     * the digits the factorisation loses, not those lost when K itself was
-     * rounded: the bending stiffness' condition number grows like
-     * elements^4, and the error left is about condition x 1e-16. */
+    return FEM_OK;
+}
+
+/* y from the factor, then iterative refinement with the residual in long double. It
+ * recovers the digits the factorisation loses, not those lost when K itself was
+ * rounded: the bending stiffness' condition number grows like elements^4, and the
+ * error left is about condition x 1e-16. D = S y. */
+static fem_status solve_refined(fem_work *w, double *d, char *err, size_t errlen)
+{
+    const int n = w->n;
+    memcpy(d, w->rhs, (size_t)n * sizeof *d);
+    LAPACKE_dpbtrs(LAPACK_COL_MAJOR, 'U', n, FEM_BANDWIDTH, 1, w->factor, FEM_BANDWIDTH + 1, d,
+                   n);
     for (int iteration = 0; iteration < 6; iteration++) {
-        band_residual(constrained, n, d, rhs, correction);
-        LAPACKE_dpbtrs(LAPACK_COL_MAJOR, 'U', n, FEM_BANDWIDTH, 1, factor, FEM_BANDWIDTH + 1,
-                       correction, n);
+        band_residual(w->constrained, n, d, w->rhs, w->correction);
+        LAPACKE_dpbtrs(LAPACK_COL_MAJOR, 'U', n, FEM_BANDWIDTH, 1, w->factor, FEM_BANDWIDTH + 1,
+                       w->correction, n);
         double step = 0, size = 0;
         for (int j = 0; j < n; j++) {
-            d[j] += correction[j];
-            step = fmax(step, fabs(correction[j]));
+            d[j] += w->correction[j];
+            step = fmax(step, fabs(w->correction[j]));
             size = fmax(size, fabs(d[j]));
         }
         if (!(step > 1e-15 * size)) break;
     }
-    for (int j = 0; j < n; j++) d[j] *= scale[j];
+    for (int j = 0; j < n; j++) d[j] *= w->scale[j];
     for (int j = 0; j < n; j++)
         if (!isfinite(d[j])) {
             snprintf(err, errlen, "the solve produced a non-finite displacement");
-            status = FEM_FAILURE;
-            goto done;
+            return FEM_FAILURE;
         }
+    return FEM_OK;
+}
+
+/* The stages: assemble, supports, equilibrate, factorise, solve and refine, reactions. */
+fem_status fem_solve(const fem_model *m, fem_solution *sol, char *err, size_t errlen)
+{
+    fem_status status = fem_model_check(m, err, errlen);
+    if (status != FEM_OK) return status;
+    if (sol->node_count != m->node_count) {
+        snprintf(err, errlen, "solution sized for %d nodes, model has %d", sol->node_count,
+                 m->node_count);
+        return FEM_FAILURE;
+    }
+    int n = m->node_count * FEM_DOFS_PER_NODE;
+    fem_work w;
+    if (fem_work_create(&w, n)) {
+        snprintf(err, errlen, "out of memory for %d degrees of freedom", n);
+        status = FEM_FAILURE;
+        goto done;
+    }
+    assemble(m, &w);
+    if (find_rigid_mechanism(m, w.restrained, err, errlen)) {
+        status = FEM_MECHANISM;
+        goto done;
+    }
+    impose_supports(&w);
+    double norm1 = equilibrate(&w);
+    status = factorise(&w, norm1, sol, err, errlen);
+    if (status != FEM_OK) goto done;
+    status = solve_refined(&w, sol->displacement, err, errlen);
+    if (status != FEM_OK) goto done;
     /* reactions: what the supports must add to balance K D = F + R */
-    band_multiply(stiffness, n, sol->displacement, sol->reaction);
-    for (int j = 0; j < n; j++) sol->reaction[j] = restrained[j] ? sol->reaction[j] - load[j] : 0.0;
+    band_multiply(w.stiffness, n, sol->displacement, sol->reaction);
+    for (int j = 0; j < n; j++)
+        sol->reaction[j] = w.restrained[j] ? sol->reaction[j] - w.load[j] : 0.0;
     status = FEM_OK;
 
 done:
-    free(stiffness);
-    free(factor);
-    free(load);
-    free(rhs);
-    free(restrained);
-    free(constrained);
-    free(correction);
-    free(scale);
+    fem_work_destroy(&w);
     return status;
 }
 

@@ -220,9 +220,8 @@ static int shape_self_contact(const rod_model *m, char *err, size_t errlen)
     return 0;
 }
 
-/* The checks of the ends' and the start's inputs. Messages start with the scene key
- * ("tip_motion: ...") so the scene reader can name its line. */
-static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
+/* The start's vectors and the needle: finite, the direction normalised. */
+static int check_vectors(rod_model *m, char *err, size_t errlen)
 {
     if (!finite3(m->origin)) {
         snprintf(err, errlen, "origin: must be 3 finite numbers, m");
@@ -254,6 +253,12 @@ static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
         snprintf(err, errlen, "needle: must be a radius >= 0 m (0: no needle)");
         return -1;
     }
+    return 0;
+}
+
+/* Point loads: an array for the count, each on a node, force and moment finite. */
+static int check_point_loads(const rod_model *m, char *err, size_t errlen)
+{
     if (m->point_load_count < 0 || (m->point_load_count > 0 && !m->point_loads)) {
         snprintf(err, errlen, "point_load: %d loads without their array", m->point_load_count);
         return -1;
@@ -266,159 +271,203 @@ static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
             return -1;
         }
     }
-    if (m->initial_shape) {
-        /* resampled (scene_read_rod): every segment ds long, to 1e-6 */
-        for (int j = 0; j + 1 < m->nodes; j++) {
-            const double *a = &m->initial_shape[3 * j], *b = &m->initial_shape[3 * (j + 1)];
-            double d[3];
-            v3_sub(d, b, a);
-            if (!finite3(a) || !finite3(b) || !(fabs(v3_norm(d) - m->ds) <= 1e-6 * m->ds)) {
-                snprintf(err, errlen, "shape: segment %d is %.9g m long; the starting shape must "
-                         "have NS = %d finite nodes %.9g m apart (length / (NS - 1))", j + 1,
-                         v3_norm(d), m->nodes, m->ds);
-                return -1;
-            }
-        }
-        double *tangent = malloc((size_t)m->nodes * 3 * sizeof(double));
-        if (!tangent) {
-            snprintf(err, errlen, "shape: out of memory");
+    return 0;
+}
+
+/* A starting shape: segments ds long, bends resolved, no self-intersection; it sets the
+ * origin and the direction. */
+static int check_shape(rod_model *m, char *err, size_t errlen)
+{
+    /* resampled (scene_read_rod): every segment ds long, to 1e-6 */
+    for (int j = 0; j + 1 < m->nodes; j++) {
+        const double *a = &m->initial_shape[3 * j], *b = &m->initial_shape[3 * (j + 1)];
+        double d[3];
+        v3_sub(d, b, a);
+        if (!finite3(a) || !finite3(b) || !(fabs(v3_norm(d) - m->ds) <= 1e-6 * m->ds)) {
+            snprintf(err, errlen, "shape: segment %d is %.9g m long; the starting shape must "
+                     "have NS = %d finite nodes %.9g m apart (length / (NS - 1))", j + 1,
+                     v3_norm(d), m->nodes, m->ds);
             return -1;
         }
-        int bad = 0, rc = shape_tangents(m, m->initial_shape, tangent, &bad);
-        if (rc == 0) {
-            v3_copy(m->origin, m->initial_shape);
-            v3_copy(m->direction, tangent);
-        }
-        free(tangent);
-        if (rc) {
-            snprintf(err, errlen, "shape: turns by more than %.1f rad between the segments "
-                     "beside node %d (s = %.6g m): the grid does not resolve it; raise rod.nodes "
-                     "or smooth the shape", ROD_UNRESOLVED_BEND, bad, bad * m->ds);
-            return -1;
-        }
-        if (shape_self_contact(m, err, errlen)) return -1;
     }
-    struct {
-        const char *name;
-        rod_end_kind kind;
-        double *slide;
-        rod_path *motion;
-    } ends[2] = {{"root", m->root_end, m->root_slide, m->root_motion},
-                 {"tip", m->tip_end, m->tip_slide, m->tip_motion}};
+    double *tangent = malloc((size_t)m->nodes * 3 * sizeof(double));
+    if (!tangent) {
+        snprintf(err, errlen, "shape: out of memory");
+        return -1;
+    }
+    int bad = 0, rc = shape_tangents(m, m->initial_shape, tangent, &bad);
+    if (rc == 0) {
+        v3_copy(m->origin, m->initial_shape);
+        v3_copy(m->direction, tangent);
+    }
+    free(tangent);
+    if (rc) {
+        snprintf(err, errlen, "shape: turns by more than %.1f rad between the segments "
+                 "beside node %d (s = %.6g m): the grid does not resolve it; raise rod.nodes "
+                 "or smooth the shape", ROD_UNRESOLVED_BEND, bad, bad * m->ds);
+        return -1;
+    }
+    return shape_self_contact(m, err, errlen);
+}
+
+/* One end's inputs, by the scene keys' prefix ("root", "tip"). */
+typedef struct end_inputs {
+    const char *name;
+    rod_end_kind kind;
+    double *slide;
+    rod_path *motion;
+} end_inputs;
+
+/* An end's kind and slide: a known kind, a finite slide (normalised) only on a held end
+ * that is not driven, a held twist only on a clamped end that slides. */
+static int check_end_slide(const rod_model *m, int e, const end_inputs *end, char *err,
+                           size_t errlen)
+{
+    if ((int)end->kind < 0 || end->kind > ROD_END_FREE) {
+        snprintf(err, errlen, "%s: unknown end condition %d", end->name, (int)end->kind);
+        return -1;
+    }
+    double *slide = end->slide;
+    if (!finite3(slide)) {
+        snprintf(err, errlen, "%s_slide: must be 3 finite numbers (0 0 0: held in place)",
+                 end->name);
+        return -1;
+    }
+    if (!zero3(slide)) {
+        if (end->kind == ROD_END_FREE || end->motion) {
+            snprintf(err, errlen, "%s_slide: the %s is %s: only a held end that is not "
+                     "driven slides (set %s = pinned or clamped, without %s_motion)",
+                     end->name, end->name, end->motion ? "driven" : "free",
+                     end->name, end->name);
+            return -1;
+        }
+        v3_scale(slide, slide, 1.0 / v3_norm(slide));
+    }
+    if (m->slide_twist_held[e] && (zero3(slide) || end->kind != ROD_END_CLAMPED)) {
+        snprintf(err, errlen, "%s_twist: held applies to a clamped %s on a slide (%s = "
+                 "clamped and %s_slide); elsewhere the end condition says it (accepted: "
+                 "free, held)", end->name, end->name, end->name, end->name);
+        return -1;
+    }
+    return 0;
+}
+
+/* A clamped end that slides keeps d3 along the slide: it must start so. A shape's end
+ * chord off the slide by rounding turns the slide onto it (reported in m->adjusted). */
+static int check_clamped_slide(rod_model *m, int e, const end_inputs *end, char *err,
+                               size_t errlen)
+{
+    double *slide = end->slide;
+    if (zero3(slide) || end->kind != ROD_END_CLAMPED) return 0;
+    double tangent[3], cross[3];
+    if (m->initial_shape) {
+        const double *a = &m->initial_shape[3 * (e ? m->nodes - 2 : 0)];
+        v3_sub(tangent, &m->initial_shape[3 * (e ? m->nodes - 1 : 1)], a);
+        v3_scale(tangent, tangent, 1.0 / v3_norm(tangent));
+    } else {
+        v3_copy(tangent, m->direction);
+    }
+    v3_cross(cross, tangent, slide);
+    if (v3_norm(cross) > 1e-9 && v3_norm(cross) <= SLIDE_ALIGN_SLACK &&
+        v3_dot(tangent, slide) > 0.0) {
+        /* a shape's end chord off the slide by rounding or resampling:
+         * the slide turns onto it (reported), the end does not jump */
+        size_t used = strlen(m->adjusted);
+        snprintf(m->adjusted + used, sizeof m->adjusted - used,
+                 "%s%s_slide: turned by %.3g rad onto the %s's starting tangent", used ? "; " : "",
+                 end->name, asin(fmin(1.0, v3_norm(cross))), end->name);
+        v3_copy(slide, tangent);
+        v3_set(cross, 0.0, 0.0, 0.0);
+    }
+    if (v3_norm(cross) > 1e-9) {
+        snprintf(err, errlen, "%s_slide: a clamped %s that slides keeps its tangent d3 "
+                 "along the slide, but it starts along (%.6g, %.6g, %.6g): give a slide "
+                 "along it, or pin the %s", end->name, end->name, tangent[0],
+                 tangent[1], tangent[2], end->name);
+        return -1;
+    }
+    return 0;
+}
+
+/* A driven end's path: on a held end, rotation only where it may turn, starting where the
+ * end starts (within the resampling's shift, which moves the path, reported) and with
+ * no rotation. */
+static int check_end_path(rod_model *m, int e, const end_inputs *end, const double start[3],
+                          char *err, size_t errlen)
+{
+    const rod_path *path = end->motion;
+    if (!path) return 0;
+    if (end->kind == ROD_END_FREE) {
+        snprintf(err, errlen, "%s_motion: the %s is free: a driven end must be held (set %s "
+                 "= clamped or pinned)", end->name, end->name, end->name);
+        return -1;
+    }
+    /* a pinned tip carrying a needle may take a rotation: it turns the
+     * needle drawn there (the thread swivels at the needle's back; the
+     * mechanics ignore it, sim/recording.c draws it) */
+    if (end->kind == ROD_END_PINNED && rod_path_columns(path) == 7 &&
+        !(e == 1 && m->needle_radius > 0.0)) {
+        snprintf(err, errlen, "%s_motion: the %s is pinned (free to rotate): its path has no "
+                 "rotation (except a tip's that turns its needle); give t,x,y,z, or set %s = "
+                 "clamped", end->name, end->name,
+                 end->name);
+        return -1;
+    }
+    rod_pose first;
+    rod_path_eval(path, rod_path_start(path), &first);
+    double gap[3], turn = 0.0;
+    v3_sub(gap, first.position, start);
+    for (int k = 0; k < 9; k++) turn = fmax(turn, fabs(first.rotation[k] - (k % 4 == 0)));
+    /* The resampling to NS nodes moves the tip off the shape's last point
+     * (the chords' shortfall, scene.c: resample), where the path was
+     * written to start: a path that starts within that of the tip is
+     * shifted onto it, and the shift is reported. */
+    double moved = e == 1 ? m->shape_tip_moved : 0.0;
+    double tolerance = END_START_SLACK * m->length + moved;
+    if (!(v3_norm(gap) <= tolerance)) {
+        snprintf(err, errlen, "%s_motion: the path starts at (%.9g, %.9g, %.9g) m but the %s "
+                 "starts at (%.9g, %.9g, %.9g) m, %.3g m away: the first row is the %s's "
+                 "starting position (within %.3g m: %g of the length%s)", end->name,
+                 first.position[0], first.position[1], first.position[2], end->name,
+                 start[0], start[1], start[2], v3_norm(gap), end->name, tolerance,
+                 END_START_SLACK, moved > 0.0 ? ", plus how far the resampling of the "
+                 "shape to rod.nodes moved the tip" : "");
+        return -1;
+    }
+    if (v3_norm(gap) > END_START_SLACK * m->length) {
+        double shift[3];
+        v3_scale(shift, gap, -1.0);
+        rod_path_translate(end->motion, shift);
+        size_t used = strlen(m->adjusted);
+        snprintf(m->adjusted + used, sizeof m->adjusted - used,
+                 "%s%s_motion: the path is shifted by %.3g m onto where the %s starts (the "
+                 "shape resampled to %d nodes puts the %s %.3g m from the shape's last point)",
+                 used ? "; " : "", end->name, v3_norm(gap), end->name, m->nodes,
+                 end->name, moved);
+    }
+    if (turn > 0.0) {
+        snprintf(err, errlen, "%s_motion: the first row's rotation must be 0 0 0 (the "
+                 "rotation is from the %s's starting frame)", end->name, end->name);
+        return -1;
+    }
+    return 0;
+}
+
+/* The checks of the ends' and the start's inputs. Messages start with the scene key
+ * ("tip_motion: ...") so the scene reader can name its line. */
+static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
+{
+    if (check_vectors(m, err, errlen) || check_point_loads(m, err, errlen)) return -1;
+    if (m->initial_shape && check_shape(m, err, errlen)) return -1;
+    const end_inputs ends[2] = {{"root", m->root_end, m->root_slide, m->root_motion},
+                                {"tip", m->tip_end, m->tip_slide, m->tip_motion}};
     for (int e = 0; e < 2; e++) {
-        if ((int)ends[e].kind < 0 || ends[e].kind > ROD_END_FREE) {
-            snprintf(err, errlen, "%s: unknown end condition %d", ends[e].name, (int)ends[e].kind);
-            return -1;
-        }
-        double *slide = ends[e].slide;
-        if (!finite3(slide)) {
-            snprintf(err, errlen, "%s_slide: must be 3 finite numbers (0 0 0: held in place)",
-                     ends[e].name);
-            return -1;
-        }
-        if (!zero3(slide)) {
-            if (ends[e].kind == ROD_END_FREE || ends[e].motion) {
-                snprintf(err, errlen, "%s_slide: the %s is %s: only a held end that is not "
-                         "driven slides (set %s = pinned or clamped, without %s_motion)",
-                         ends[e].name, ends[e].name, ends[e].motion ? "driven" : "free",
-                         ends[e].name, ends[e].name);
-                return -1;
-            }
-            v3_scale(slide, slide, 1.0 / v3_norm(slide));
-        }
-        if (m->slide_twist_held[e] && (zero3(slide) || ends[e].kind != ROD_END_CLAMPED)) {
-            snprintf(err, errlen, "%s_twist: held applies to a clamped %s on a slide (%s = "
-                     "clamped and %s_slide); elsewhere the end condition says it (accepted: "
-                     "free, held)", ends[e].name, ends[e].name, ends[e].name, ends[e].name);
-            return -1;
-        }
+        if (check_end_slide(m, e, &ends[e], err, errlen)) return -1;
         double start[3];
         end_start(m, e, start);
-        if (!zero3(slide) && ends[e].kind == ROD_END_CLAMPED) {
-            /* a clamped end that slides keeps d3 along the slide: it must start so */
-            double tangent[3], cross[3];
-            if (m->initial_shape) {
-                const double *a = &m->initial_shape[3 * (e ? m->nodes - 2 : 0)];
-                v3_sub(tangent, &m->initial_shape[3 * (e ? m->nodes - 1 : 1)], a);
-                v3_scale(tangent, tangent, 1.0 / v3_norm(tangent));
-            } else {
-                v3_copy(tangent, m->direction);
-            }
-            v3_cross(cross, tangent, slide);
-            if (v3_norm(cross) > 1e-9 && v3_norm(cross) <= SLIDE_ALIGN_SLACK &&
-                v3_dot(tangent, slide) > 0.0) {
-                /* a shape's end chord off the slide by rounding or resampling:
-                 * the slide turns onto it (reported), the end does not jump */
-                size_t used = strlen(m->adjusted);
-                snprintf(m->adjusted + used, sizeof m->adjusted - used,
-                         "%s%s_slide: turned by %.3g rad onto the %s's starting tangent", used ? "; " : "",
-                         ends[e].name, asin(fmin(1.0, v3_norm(cross))), ends[e].name);
-                v3_copy(slide, tangent);
-                v3_set(cross, 0.0, 0.0, 0.0);
-            }
-            if (v3_norm(cross) > 1e-9) {
-                snprintf(err, errlen, "%s_slide: a clamped %s that slides keeps its tangent d3 "
-                         "along the slide, but it starts along (%.6g, %.6g, %.6g): give a slide "
-                         "along it, or pin the %s", ends[e].name, ends[e].name, tangent[0],
-                         tangent[1], tangent[2], ends[e].name);
-                return -1;
-            }
-        }
-        const rod_path *path = ends[e].motion;
-        if (!path) continue;
-        if (ends[e].kind == ROD_END_FREE) {
-            snprintf(err, errlen, "%s_motion: the %s is free: a driven end must be held (set %s "
-                     "= clamped or pinned)", ends[e].name, ends[e].name, ends[e].name);
+        if (check_clamped_slide(m, e, &ends[e], err, errlen) ||
+            check_end_path(m, e, &ends[e], start, err, errlen))
             return -1;
-        }
-        /* a pinned tip carrying a needle may take a rotation: it turns the
-         * needle drawn there (the thread swivels at the needle's back; the
-         * mechanics ignore it, sim/recording.c draws it) */
-        if (ends[e].kind == ROD_END_PINNED && rod_path_columns(path) == 7 &&
-            !(e == 1 && m->needle_radius > 0.0)) {
-            snprintf(err, errlen, "%s_motion: the %s is pinned (free to rotate): its path has no "
-                     "rotation (except a tip's that turns its needle); give t,x,y,z, or set %s = "
-                     "clamped", ends[e].name, ends[e].name,
-                     ends[e].name);
-            return -1;
-        }
-        rod_pose first;
-        rod_path_eval(path, rod_path_start(path), &first);
-        double gap[3], turn = 0.0;
-        v3_sub(gap, first.position, start);
-        for (int k = 0; k < 9; k++) turn = fmax(turn, fabs(first.rotation[k] - (k % 4 == 0)));
-        /* The resampling to NS nodes moves the tip off the shape's last point
-         * (the chords' shortfall, scene.c: resample), where the path was
-         * written to start: a path that starts within that of the tip is
-         * shifted onto it, and the shift is reported. */
-        double moved = e == 1 ? m->shape_tip_moved : 0.0;
-        double tolerance = END_START_SLACK * m->length + moved;
-        if (!(v3_norm(gap) <= tolerance)) {
-            snprintf(err, errlen, "%s_motion: the path starts at (%.9g, %.9g, %.9g) m but the %s "
-                     "starts at (%.9g, %.9g, %.9g) m, %.3g m away: the first row is the %s's "
-                     "starting position (within %.3g m: %g of the length%s)", ends[e].name,
-                     first.position[0], first.position[1], first.position[2], ends[e].name,
-                     start[0], start[1], start[2], v3_norm(gap), ends[e].name, tolerance,
-                     END_START_SLACK, moved > 0.0 ? ", plus how far the resampling of the "
-                     "shape to rod.nodes moved the tip" : "");
-            return -1;
-        }
-        if (v3_norm(gap) > END_START_SLACK * m->length) {
-            double shift[3];
-            v3_scale(shift, gap, -1.0);
-            rod_path_translate(ends[e].motion, shift);
-            size_t used = strlen(m->adjusted);
-            snprintf(m->adjusted + used, sizeof m->adjusted - used,
-                     "%s%s_motion: the path is shifted by %.3g m onto where the %s starts (the "
-                     "shape resampled to %d nodes puts the %s %.3g m from the shape's last point)",
-                     used ? "; " : "", ends[e].name, v3_norm(gap), ends[e].name, m->nodes,
-                     ends[e].name, moved);
-        }
-        if (turn > 0.0) {
-            snprintf(err, errlen, "%s_motion: the first row's rotation must be 0 0 0 (the "
-                     "rotation is from the %s's starting frame)", ends[e].name, ends[e].name);
-            return -1;
-        }
     }
     return 0;
 }

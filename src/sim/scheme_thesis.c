@@ -411,15 +411,12 @@ static double worst_stretch(const rod_model *m, const rod_state *s, int *segment
 
 /* The step ------------------------------------------------------------------ */
 
-static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, rod_report *report)
+static const double E3[3] = {0.0, 0.0, 1.0}; /* d3 in director components */
+
+/* A finite dt > 0 and the model's node count; a fresh (or reset) run forgets the last
+ * run's history. */
+static rod_status begin_step(thesis_work *w, rod_state *s, double dt, rod_report *report)
 {
-    thesis_work *w = work;
-    const int ns = m->nodes, tip = ns - 1;
-    const double ds = m->ds, mass = m->mass_per_length;
-    const double *inertia = m->rotary_inertia, *stiffness = m->stiffness;
-    double *u = s->darboux, *om = s->angular_velocity, *v = s->velocity, *nf = s->contact_force;
-    double *q = s->frame, *r = s->position;
-    const double e3[3] = {0.0, 0.0, 1.0}; /* d3 in director components */
     s->staggered = 0;
     if (!(dt > 0.0) || !isfinite(dt) || s->nodes != w->nodes) {
         snprintf(report->message, sizeof report->message,
@@ -437,13 +434,15 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
     w->steps++;
     if (dt < w->smallest_dt) w->smallest_dt = dt;
     if (dt > w->largest_dt) w->largest_dt = dt;
+    return ROD_OK;
+}
 
-    memcpy(w->old_velocity, v, (size_t)ns * 3 * sizeof(double));
-    const int twist_on = m->physics.twist;
-    const int components = twist_on ? 3 : 2; /* twist off: u3, omega3 from equilibrium below */
-    const double old_twist = u[3 * tip + 2];  /* u3^j: uniform when the twist is quasi-static */
-
-    /* 1. (4.5) u(j+1) = u(j) + dt (omega' + u x omega) */
+/* 1. (4.5) u(j+1) = u(j) + dt (omega' + u x omega) */
+static void update_curvature(const rod_model *m, rod_state *s, double dt, int components)
+{
+    const int tip = m->nodes - 1;
+    const double ds = m->ds;
+    double *u = s->darboux, *om = s->angular_velocity;
     for (int i = 0; i < tip; i++) {
         double dw[3], uxw[3];
         if (i == 0) { /* one-sided at the clamp */
@@ -456,42 +455,58 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
         v3_cross(uxw, &u[3 * i], &om[3 * i]);
         for (int c = 0; c < components; c++) u[3 * i + c] += dt * (dw[c] + uxw[c]);
     }
+}
 
-    /* twist off: u3 = M3_bar / C along the whole rod, from C u3' = (B1 - B2) u1 u2 = 0
-     * (round section); a global tip moment is taken on the tip frame of step j */
-    double t_new = s->time + dt;
-    double force[3], moment[3], tip_force[3], tip_moment[3];
-    rod_tip_load(m, t_new, force, moment);
-    if (!twist_on) {
-        double twist_moment = moment[2];
-        if (m->tip_frame == ROD_FRAME_GLOBAL) {
-            double local[3];
-            m3_mul_tv(local, &q[9 * tip], moment);
-            twist_moment = local[2];
-        }
-        for (int i = 0; i < tip; i++) u[3 * i + 2] = twist_moment / stiffness[2];
+/* twist off: u3 = M3_bar / C along the whole rod, from C u3' = (B1 - B2) u1 u2 = 0
+ * (round section); a global tip moment is taken on the tip frame of step j */
+static void quasi_static_twist(const rod_model *m, rod_state *s, const double moment[3])
+{
+    const int tip = m->nodes - 1;
+    double twist_moment = moment[2];
+    if (m->tip_frame == ROD_FRAME_GLOBAL) {
+        double local[3];
+        m3_mul_tv(local, &s->frame[9 * tip], moment);
+        twist_moment = local[2];
     }
+    for (int i = 0; i < tip; i++) s->darboux[3 * i + 2] = twist_moment / m->stiffness[2];
+}
 
-    /* 2. (4.6)-(4.8) frames from the clamp: Q(i+1) = Q(i) R(u(i)); Q(0) stays clamped */
-    for (int i = 0; i < tip; i++) {
+/* 2. (4.6)-(4.8) frames from the clamp: Q(i+1) = Q(i) R(u(i)); Q(0) stays clamped */
+static void march_frames(const rod_model *m, rod_state *s)
+{
+    double *q = s->frame;
+    for (int i = 0; i < m->nodes - 1; i++) {
         double rot[9];
-        segment_rotation(rot, &u[3 * i], ds, m->options.exact_rotation);
+        segment_rotation(rot, &s->darboux[3 * i], m->ds, m->options.exact_rotation);
         m3_mul(&q[9 * (i + 1)], &q[9 * i], rot);
     }
+}
 
-    /* tip loads at t + dt (4.2): N_bar, u(NS) = B^-1 M_bar, director components */
+/* tip loads at t + dt (4.2): N_bar, u(NS) = B^-1 M_bar, director components */
+static void tip_conditions(const rod_model *m, rod_state *s, const double force[3],
+                           const double moment[3], double tip_force[3])
+{
+    const int tip = m->nodes - 1;
+    double tip_moment[3];
     if (m->tip_frame == ROD_FRAME_GLOBAL) {
-        m3_mul_tv(tip_force, &q[9 * tip], force);
-        m3_mul_tv(tip_moment, &q[9 * tip], moment);
+        m3_mul_tv(tip_force, &s->frame[9 * tip], force);
+        m3_mul_tv(tip_moment, &s->frame[9 * tip], moment);
     } else {
         v3_copy(tip_force, force);
         v3_copy(tip_moment, moment);
     }
-    for (int c = 0; c < 3; c++) u[3 * tip + c] = tip_moment[c] / stiffness[c];
+    for (int c = 0; c < 3; c++) s->darboux[3 * tip + c] = tip_moment[c] / m->stiffness[c];
+}
 
-    /* 3. (4.12) I omega(j+1) = I omega(j) + dt (d3 x N(j) + L - omega x I omega
-     *                                          + B u'(j+1) + u x B u (j+1)) */
-    double *wn = w->new_omega;
+/* 3. (4.12) I omega(j+1) = I omega(j) + dt (d3 x N(j) + L - omega x I omega
+ *                                          + B u'(j+1) + u x B u (j+1)) */
+static void update_angular_velocity(const rod_model *m, const rod_state *s, double dt,
+                                    int components, double *wn)
+{
+    const int ns = m->nodes, tip = ns - 1;
+    const double ds = m->ds;
+    const double *inertia = m->rotary_inertia, *stiffness = m->stiffness;
+    const double *u = s->darboux, *om = s->angular_velocity, *nf = s->contact_force;
     v3_set(&wn[0], 0.0, 0.0, 0.0);
     for (int i = 1; i < ns; i++) {
         const double *ui = &u[3 * i], *wi = &om[3 * i];
@@ -507,7 +522,7 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
             bu[c] = stiffness[c] * ui[c];
             iw[c] = inertia[c] * wi[c];
         }
-        v3_cross(d3xn, e3, &nf[3 * i]);
+        v3_cross(d3xn, E3, &nf[3 * i]);
         v3_cross(wxiw, wi, iw);
         v3_cross(uxbu, ui, bu);
         for (int c = 0; c < components; c++) {
@@ -516,26 +531,38 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
             wn[3 * i + c] = wi[c] + dt * torque / inertia[c];
         }
     }
-    if (!twist_on) {
-        /* (4.5)_3: omega3' = u3_t - (u x omega)_3, trapezoidal march from omega3(0) = 0 */
-        double twist_rate = (u[3 * tip + 2] - old_twist) / dt;
-        double g_prev = twist_rate; /* at the clamp omega = 0 */
-        wn[2] = 0.0;
-        for (int i = 1; i < ns; i++) {
-            double g = twist_rate - (u[3 * i] * wn[3 * i + 1] - u[3 * i + 1] * wn[3 * i]);
-            wn[3 * i + 2] = wn[3 * (i - 1) + 2] + 0.5 * ds * (g_prev + g);
-            g_prev = g;
-        }
-    }
-    memcpy(om, wn, (size_t)ns * 3 * sizeof(double));
+}
 
-    /* 4. (4.10) v(i+1) = v(i-1) + 2 ds (omega x d3 - u x v)(i), from v(0) = 0 */
+/* twist off, (4.5)_3: omega3' = u3_t - (u x omega)_3, trapezoidal march from
+ * omega3(0) = 0 */
+static void quasi_static_spin(const rod_model *m, const rod_state *s, double dt,
+                              double old_twist, double *wn)
+{
+    const int ns = m->nodes, tip = ns - 1;
+    const double *u = s->darboux;
+    double twist_rate = (u[3 * tip + 2] - old_twist) / dt;
+    double g_prev = twist_rate; /* at the clamp omega = 0 */
+    wn[2] = 0.0;
+    for (int i = 1; i < ns; i++) {
+        double g = twist_rate - (u[3 * i] * wn[3 * i + 1] - u[3 * i + 1] * wn[3 * i]);
+        wn[3 * i + 2] = wn[3 * (i - 1) + 2] + 0.5 * m->ds * (g_prev + g);
+        g_prev = g;
+    }
+}
+
+/* 4. (4.10) v(i+1) = v(i-1) + 2 ds (omega x d3 - u x v)(i), from v(0) = 0 */
+static void march_velocity(const rod_model *m, rod_state *s)
+{
+    const int tip = m->nodes - 1;
+    const double ds = m->ds;
+    const double *u = s->darboux, *om = s->angular_velocity;
+    double *v = s->velocity;
     v3_set(&v[0], 0.0, 0.0, 0.0);
     {
         /* trapezoidal start: v1 + ds/2 u1 x v1 = ds/2 (omega0 x d3 + omega1 x d3 - u0 x v0) */
         double a[3], b[3], w0[3], w1[3];
-        v3_cross(w0, &om[0], e3);
-        v3_cross(w1, &om[3], e3);
+        v3_cross(w0, &om[0], E3);
+        v3_cross(w1, &om[3], E3);
         v3_add(b, w0, w1);
         v3_scale(b, b, 0.5 * ds);
         v3_scale(a, &u[3], 0.5 * ds);
@@ -543,37 +570,49 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
     }
     for (int i = 1; i < tip; i++) {
         double wxd3[3], uxv[3];
-        v3_cross(wxd3, &om[3 * i], e3);
+        v3_cross(wxd3, &om[3 * i], E3);
         v3_cross(uxv, &u[3 * i], &v[3 * i]);
         for (int c = 0; c < 3; c++)
             v[3 * (i + 1) + c] = v[3 * (i - 1) + c] + 2.0 * ds * (wxd3[c] - uxv[c]);
     }
+}
 
-    /* 5. (4.14) from the free end: N(i-1) = N(i+1) - 2 ds g(i),
-     *    g = m v-dot + m omega x v - u x N - T, T = distributed - c v (director) */
-    const double *vo = w->old_velocity;
+/* g(i) of (4.14) without the -u x N term: m v-dot + m omega x v - distributed + c v */
+static void force_rate(double h[3], const rod_model *m, const rod_state *s, const double *vo,
+                       double dt, int i)
+{
+    const double mass = m->mass_per_length;
+    const double *v = s->velocity;
+    double wxv[3], dist[3];
+    v3_cross(wxv, &s->angular_velocity[3 * i], &v[3 * i]);
+    m3_mul_tv(dist, &s->frame[9 * i], m->distributed_force);
+    for (int c = 0; c < 3; c++)
+        h[c] = mass * (v[3 * i + c] - vo[3 * i + c]) / dt + mass * wxv[c] - dist[c] +
+               m->linear_damping * v[3 * i + c];
+}
+
+/* 5. (4.14) from the free end: N(i-1) = N(i+1) - 2 ds g(i),
+ *    g = m v-dot + m omega x v - u x N - T, T = distributed - c v (director) */
+static void march_internal_force(const rod_model *m, rod_state *s, const double *vo, double dt,
+                                 const double tip_force[3])
+{
+    const int tip = m->nodes - 1;
+    const double ds = m->ds;
+    const double *u = s->darboux;
+    double *nf = s->contact_force;
     v3_copy(&nf[3 * tip], tip_force);
     for (int i = tip; i >= 1; i--) {
-        /* g(i) without the -u x N term */
-        double h[3], wxv[3], dist[3];
-        v3_cross(wxv, &om[3 * i], &v[3 * i]);
-        m3_mul_tv(dist, &q[9 * i], m->distributed_force);
-        for (int c = 0; c < 3; c++)
-            h[c] = mass * (v[3 * i + c] - vo[3 * i + c]) / dt + mass * wxv[c] - dist[c] +
-                   m->linear_damping * v[3 * i + c];
+        double h[3];
+        force_rate(h, m, s, vo, dt, i);
         if (i == tip) {
             /* trapezoidal start: N(tip-1) = N(tip) - ds/2 (g(tip) + g(tip-1)),
                g(tip-1) contains -u x N(tip-1): (I - ds/2 [u]x) N = rhs */
-            double uxn[3], hp[3], wxvp[3], distp[3], rhs[3], a[3];
+            double uxn[3], hp[3], rhs[3], a[3];
             const int p = tip - 1;
             v3_cross(uxn, &u[3 * tip], &nf[3 * tip]);
-            v3_cross(wxvp, &om[3 * p], &v[3 * p]);
-            m3_mul_tv(distp, &q[9 * p], m->distributed_force);
-            for (int c = 0; c < 3; c++) {
-                hp[c] = mass * (v[3 * p + c] - vo[3 * p + c]) / dt + mass * wxvp[c] - distp[c] +
-                        m->linear_damping * v[3 * p + c];
+            force_rate(hp, m, s, vo, dt, p);
+            for (int c = 0; c < 3; c++)
                 rhs[c] = nf[3 * tip + c] - 0.5 * ds * (h[c] - uxn[c] + hp[c]);
-            }
             v3_scale(a, &u[3 * p], -0.5 * ds);
             solve_plus_cross(&nf[3 * p], a, rhs);
             continue;
@@ -583,26 +622,75 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
         for (int c = 0; c < 3; c++)
             nf[3 * (i - 1) + c] = nf[3 * (i + 1) + c] - 2.0 * ds * (h[c] - uxn[c]);
     }
+}
 
-    /* 6. (4.16) R(i+1) = R(i-1) + 2 ds d3(i); R(0) clamped; trapezoidal start */
-    {
-        double d0[3], d1[3];
-        m3_column(d0, &q[0], 2);
-        m3_column(d1, &q[9], 2);
-        for (int c = 0; c < 3; c++) r[3 + c] = r[c] + 0.5 * ds * (d0[c] + d1[c]);
-        for (int i = 1; i < tip; i++) {
-            double d3[3];
-            m3_column(d3, &q[9 * i], 2);
-            for (int c = 0; c < 3; c++) r[3 * (i + 1) + c] = r[3 * (i - 1) + c] + 2.0 * ds * d3[c];
-        }
+/* 6. (4.16) R(i+1) = R(i-1) + 2 ds d3(i); R(0) clamped; trapezoidal start */
+static void march_centreline(const rod_model *m, rod_state *s)
+{
+    const int tip = m->nodes - 1;
+    const double ds = m->ds;
+    const double *q = s->frame;
+    double *r = s->position;
+    double d0[3], d1[3];
+    m3_column(d0, &q[0], 2);
+    m3_column(d1, &q[9], 2);
+    for (int c = 0; c < 3; c++) r[3 + c] = r[c] + 0.5 * ds * (d0[c] + d1[c]);
+    for (int i = 1; i < tip; i++) {
+        double d3[3];
+        m3_column(d3, &q[9 * i], 2);
+        for (int c = 0; c < 3; c++) r[3 * (i + 1) + c] = r[3 * (i - 1) + c] + 2.0 * ds * d3[c];
     }
-    s->time = t_new;
+}
 
-    /* divergence: non-finite, curvature beyond the rod's own radius, or growth */
-    double max_omega = max_norm(om, ns), max_u = max_norm(u, ns);
+/* A segment stretched beyond what the resolution explains: the start of (4.16), R(1) =
+ * R(0) + ds/2 (d3(0) + d3(1)), makes segment 2 ds sqrt(5/2 - 3/2 cos(|u| ds)) long; twice
+ * that is allowed (validation runs at NS = 11 with ML/EI = 2 pi reach 13 %), while |u| ds
+ * stays below MAX_TURN (beyond it the frame march (4.7) does not resolve the bend).
+ * Returns ROD_OK when the stretch is within bounds. */
+static rod_status check_stretch(const rod_model *m, const thesis_work *w, const rod_state *s,
+                                double max_u, rod_report *report)
+{
+    const double ds = m->ds;
     char what[400];
-    if (!isfinite(max_omega) || !isfinite(max_u) || !isfinite(max_norm(nf, ns)) ||
-        !isfinite(max_norm(v, ns))) {
+    int segment = 0;
+    double stretch = worst_stretch(m, s, &segment);
+    double turn = max_u * ds;
+    double explained = sqrt(2.5 - 1.5 * cos(fmin(turn, MAX_TURN))) - 1.0;
+    double stretch_limit = fmax(STRETCH_LIMIT, 2.0 * explained);
+    if (!(stretch > stretch_limit || (turn > MAX_TURN && stretch > STRETCH_LIMIT))) return ROD_OK;
+    /* segments 1-based, as a person counts them along the rod from the clamp */
+    double d[3];
+    v3_sub(d, &s->position[3 * (segment + 1)], &s->position[3 * segment]);
+    snprintf(what, sizeof what,
+             "segment %d of %d is %.3gx its rest length ds = %.3g m (limit %.3g %%: the "
+             "centreline (4.16) follows d3, so a stretch means d3 zig-zags from node to node "
+             "or the curvature is not resolved, |u| ds = %.2g rad, resolved up to %g)",
+             segment + 1, m->nodes - 1, v3_norm(d) / ds, ds,
+             100.0 * (turn > MAX_TURN ? STRETCH_LIMIT : stretch_limit), turn, MAX_TURN);
+    /* below the threshold scale or above the predicted dt: the stretch is that
+       limit's divergence, and its advice (scale, dt) is what works */
+    double limit_dt = thesis_limit(m, m->rotary_inertia_scale, NULL);
+    if (!(limit_dt > 0.0) || w->largest_dt > limit_dt)
+        return unstable(m, w, s, report, what, NULL);
+    /* the start of (4.16), R(1) = R(0) + ds/2 (d3(0) + d3(1)), alone makes segment 2
+       ds sqrt(1 + 3/4 (|u| ds)^2): 1 % at |u| ds = 0.16 rad */
+    rod_status st = unstable(m, w, s, report, what,
+                             "more nodes (the error grows as (|u| ds)^2), a smaller dt, or "
+                             "scheme = implicit (segments exactly ds by construction).");
+    report->suggested_dt = 0.0; /* neither dt nor scale alone is known to cure it */
+    report->suggested_scale = 0.0;
+    return st;
+}
+
+/* divergence: non-finite, curvature beyond the rod's own radius, stretch, or growth */
+static rod_status check_divergence(const rod_model *m, thesis_work *w, const rod_state *s,
+                                   rod_report *report)
+{
+    const int ns = m->nodes;
+    double max_omega = max_norm(s->angular_velocity, ns), max_u = max_norm(s->darboux, ns);
+    char what[400];
+    if (!isfinite(max_omega) || !isfinite(max_u) || !isfinite(max_norm(s->contact_force, ns)) ||
+        !isfinite(max_norm(s->velocity, ns))) {
         snprintf(what, sizeof what,
                  "the state became non-finite (max |omega| had grown by a factor %.3g in the "
                  "step before)", w->last_growth);
@@ -614,39 +702,8 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
                  max_u, 2.0 / m->diameter);
         return unstable(m, w, s, report, what, NULL);
     }
-    int segment = 0;
-    double stretch = worst_stretch(m, s, &segment);
-    /* what the resolution explains: the start of (4.16), R(1) = R(0) + ds/2 (d3(0) +
-       d3(1)), makes segment 2 ds sqrt(5/2 - 3/2 cos(|u| ds)) long; twice that is allowed
-       (validation runs at NS = 11 with ML/EI = 2 pi reach 13 %), while |u| ds stays
-       below MAX_TURN (beyond it the frame march (4.7) does not resolve the bend) */
-    double turn = max_u * ds;
-    double explained = sqrt(2.5 - 1.5 * cos(fmin(turn, MAX_TURN))) - 1.0;
-    double stretch_limit = fmax(STRETCH_LIMIT, 2.0 * explained);
-    if (stretch > stretch_limit || (turn > MAX_TURN && stretch > STRETCH_LIMIT)) {
-        /* segments 1-based, as a person counts them along the rod from the clamp */
-        double d[3];
-        v3_sub(d, &s->position[3 * (segment + 1)], &s->position[3 * segment]);
-        snprintf(what, sizeof what,
-                 "segment %d of %d is %.3gx its rest length ds = %.3g m (limit %.3g %%: the "
-                 "centreline (4.16) follows d3, so a stretch means d3 zig-zags from node to node "
-                 "or the curvature is not resolved, |u| ds = %.2g rad, resolved up to %g)",
-                 segment + 1, ns - 1, v3_norm(d) / ds, ds,
-                 100.0 * (turn > MAX_TURN ? STRETCH_LIMIT : stretch_limit), turn, MAX_TURN);
-        /* below the threshold scale or above the predicted dt: the stretch is that
-           limit's divergence, and its advice (scale, dt) is what works */
-        double limit_dt = thesis_limit(m, m->rotary_inertia_scale, NULL);
-        if (!(limit_dt > 0.0) || w->largest_dt > limit_dt)
-            return unstable(m, w, s, report, what, NULL);
-        /* the start of (4.16), R(1) = R(0) + ds/2 (d3(0) + d3(1)), alone makes segment 2
-           ds sqrt(1 + 3/4 (|u| ds)^2): 1 % at |u| ds = 0.16 rad */
-        rod_status st = unstable(m, w, s, report, what,
-                                 "more nodes (the error grows as (|u| ds)^2), a smaller dt, or "
-                                 "scheme = implicit (segments exactly ds by construction).");
-        report->suggested_dt = 0.0; /* neither dt nor scale alone is known to cure it */
-        report->suggested_scale = 0.0;
-        return st;
-    }
+    rod_status st = check_stretch(m, w, s, max_u, report);
+    if (st != ROD_OK) return st;
     double growth = w->previous_max_omega > 0.0 ? max_omega / w->previous_max_omega : 0.0;
     w->growth_count = growth > GROWTH_FACTOR ? w->growth_count + 1 : 0;
     w->last_growth = growth;
@@ -658,6 +715,37 @@ static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, 
         return unstable(m, w, s, report, what, NULL);
     }
     return ROD_OK;
+}
+
+/* One step of chapter 4: curvature, frames, tip conditions, spin, velocity, internal
+ * force and centreline, each marched along the rod, then the divergence checks. */
+static rod_status step(void *work, const rod_model *m, rod_state *s, double dt, rod_report *report)
+{
+    thesis_work *w = work;
+    const int tip = m->nodes - 1;
+    rod_status st = begin_step(w, s, dt, report);
+    if (st != ROD_OK) return st;
+
+    memcpy(w->old_velocity, s->velocity, (size_t)m->nodes * 3 * sizeof(double));
+    const int twist_on = m->physics.twist;
+    const int components = twist_on ? 3 : 2; /* twist off: u3, omega3 from equilibrium below */
+    const double old_twist = s->darboux[3 * tip + 2]; /* u3^j: uniform when quasi-static */
+
+    update_curvature(m, s, dt, components); /* (4.5) */
+    double t_new = s->time + dt;
+    double force[3], moment[3], tip_force[3];
+    rod_tip_load(m, t_new, force, moment);
+    if (!twist_on) quasi_static_twist(m, s, moment);
+    march_frames(m, s);                           /* (4.6)-(4.8) */
+    tip_conditions(m, s, force, moment, tip_force); /* (4.2) */
+    update_angular_velocity(m, s, dt, components, w->new_omega); /* (4.12) */
+    if (!twist_on) quasi_static_spin(m, s, dt, old_twist, w->new_omega);
+    memcpy(s->angular_velocity, w->new_omega, (size_t)m->nodes * 3 * sizeof(double));
+    march_velocity(m, s);                                       /* (4.10) */
+    march_internal_force(m, s, w->old_velocity, dt, tip_force); /* (4.14) */
+    march_centreline(m, s);                                     /* (4.16) */
+    s->time = t_new;
+    return check_divergence(m, w, s, report);
 }
 
 const rod_scheme_ops rod_scheme_thesis = {"thesis", create, step, destroy, stable_dt, NULL};

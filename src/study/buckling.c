@@ -61,8 +61,19 @@ static int crossed(const probe *a, const probe *b)
     return isinf(b->log_abs) || cos(b->phase - a->phase) < 0.0;
 }
 
-int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_tolerance,
-                        double *lambda, char *err, size_t errlen)
+/* axial: along d3 for a follower load, along global x for a dead one */
+static int load_axis(const rod_model *m)
+{
+    return m->tip_frame == ROD_FRAME_DIRECTOR ? 2 : 0;
+}
+
+static const char *load_axis_name(const rod_model *m)
+{
+    return m->tip_frame == ROD_FRAME_DIRECTOR ? "d3" : "x";
+}
+
+static int check_arguments(double lambda_max, double relative_tolerance, char *err,
+                           size_t errlen)
 {
     if (!(lambda_max > 0.0) || !isfinite(lambda_max)) {
         snprintf(err, errlen, "buckling: lambda_max must be > 0 (got %g)", lambda_max);
@@ -73,9 +84,13 @@ int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_t
                  relative_tolerance);
         return -1;
     }
-    /* axial: along d3 for a follower load, along global x for a dead one */
-    int axis = m->tip_frame == ROD_FRAME_DIRECTOR ? 2 : 0;
-    const char *axis_name = m->tip_frame == ROD_FRAME_DIRECTOR ? "d3" : "x";
+    return 0;
+}
+
+/* Every load axial, so that the straight rod is an equilibrium at every lambda. */
+static int check_loads_axial(const rod_model *m, char *err, size_t errlen)
+{
+    int axis = load_axis(m);
     for (int k = 0; k < 3; k++) {
         if (k == axis) continue;
         if (m->tip_force[k] != 0.0 || m->tip_moment[k] != 0.0) {
@@ -84,7 +99,7 @@ int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_t
                      "along %s so that the straight rod is an equilibrium; a transverse load "
                      "bends it from the start (solve it with the static scheme instead)",
                      m->tip_force[0], m->tip_force[1], m->tip_force[2], m->tip_moment[0],
-                     m->tip_moment[1], m->tip_moment[2], axis_name);
+                     m->tip_moment[1], m->tip_moment[2], load_axis_name(m));
             return -1;
         }
     }
@@ -108,6 +123,12 @@ int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_t
                  v3_norm(m->distributed_moment), m->initial_shape ? ", an initial shape" : "");
         return -1;
     }
+    return 0;
+}
+
+/* The rod along +x, its ends held still, a held tip on an axial slide, no mechanism. */
+static int check_ends(const rod_model *m, char *err, size_t errlen)
+{
     if (!(m->direction[0] > 0.0 && m->direction[1] == 0.0 && m->direction[2] == 0.0)) {
         snprintf(err, errlen, "buckling: the rod must start along +x (rod.direction = 1 0 0; got "
                  "%g %g %g): the tip loads' axial component is taken along x",
@@ -139,6 +160,14 @@ int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_t
                  "(tip = pinned or clamped, tip_slide = 1 0 0)");
         return -1;
     }
+    return 0;
+}
+
+/* The load in the rod's own scale, |F| L^2/EI + |M| L/EI; -1 when not finite and > 0. */
+static double load_size(const rod_model *m, char *err, size_t errlen)
+{
+    int axis = load_axis(m);
+    const char *axis_name = load_axis_name(m);
     double ei = m->stiffness[0], length = m->length;
     double size = fabs(m->tip_force[axis]) * length * length / ei +
                   fabs(m->tip_moment[axis]) * length / ei;
@@ -147,44 +176,48 @@ int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_t
                  "the rod's own scale (|F| L^2/EI + |M| L/EI is not finite, EI = %g N m^2): give "
                  "a load of the order of EI/L^2 = %g N", m->tip_force[axis], m->tip_moment[axis],
                  axis_name, ei, ei / (length * length));
-        return -1;
+        return -1.0;
     }
     if (!(size > 0.0)) {
         snprintf(err, errlen, "buckling: the tip force and moment along %s are both zero: "
                  "nothing to scale", axis_name);
-        return -1;
+        return -1.0;
     }
-    static_work *w = static_work_create(m, err, errlen);
-    if (!w) return -1;
+    return size;
+}
 
-    int rc = -1;
-    probe low, high;
-    if (probe_at(w, m, 0.0, &low, err, errlen)) goto done;
+/* From lambda = 0 up by scan_growth to lambda_max: low and high bracket the first zero.
+ * Returns 0 when bracketed, -1 (err written) otherwise. */
+static int scan_for_zero(static_work *w, const rod_model *m, double lambda_max, double size,
+                         probe *low, probe *high, char *err, size_t errlen)
+{
+    if (probe_at(w, m, 0.0, low, err, errlen)) return -1;
     double next = fmin(lambda_max, scan_start_size / size);
-    int bracketed = 0;
     for (;;) {
-        if (probe_at(w, m, next, &high, err, errlen)) goto done;
-        if (crossed(&low, &high)) {
-            bracketed = 1;
-            break;
-        }
+        if (probe_at(w, m, next, high, err, errlen)) return -1;
+        if (crossed(low, high)) return 0;
         if (next >= lambda_max) break;
-        low = high;
+        *low = *high;
         next = fmin(lambda_max, next * scan_growth);
     }
-    if (!bracketed) {
-        snprintf(err, errlen,
-                 "buckling: no loss of stability of the straight rod up to lambda = %g (tip "
-                 "force %g N, moment %g N m along %s, on the %s frame): the tangent stiffness "
-                 "stays regular%s", lambda_max, lambda_max * m->tip_force[axis],
-                 lambda_max * m->tip_moment[axis], axis_name,
-                 m->tip_frame == ROD_FRAME_DIRECTOR ? "follower (tip director)" : "dead (global)",
-                 m->tip_frame == ROD_FRAME_DIRECTOR
-                     ? ". A follower compressive force on a cantilever (Beck's column) is like "
-                       "that: it loses stability by flutter, which a static criterion cannot detect"
-                     : "");
-        goto done;
-    }
+    int axis = load_axis(m);
+    snprintf(err, errlen,
+             "buckling: no loss of stability of the straight rod up to lambda = %g (tip "
+             "force %g N, moment %g N m along %s, on the %s frame): the tangent stiffness "
+             "stays regular%s", lambda_max, lambda_max * m->tip_force[axis],
+             lambda_max * m->tip_moment[axis], load_axis_name(m),
+             m->tip_frame == ROD_FRAME_DIRECTOR ? "follower (tip director)" : "dead (global)",
+             m->tip_frame == ROD_FRAME_DIRECTOR
+                 ? ". A follower compressive force on a cantilever (Beck's column) is like "
+                   "that: it loses stability by flutter, which a static criterion cannot detect"
+                 : "");
+    return -1;
+}
+
+/* Bisection of the bracket to the tolerance; the critical factor in *lambda. */
+static int bisect(static_work *w, const rod_model *m, double relative_tolerance, probe low,
+                  probe high, double *lambda, char *err, size_t errlen)
+{
     /* a budget: halving cannot narrow the bracket below the spacing of
      * doubles, so a tolerance under ~1e-16 would loop for ever without one */
     for (int halving = 0; halving < max_bisections && high.lambda - low.lambda >
@@ -192,13 +225,27 @@ int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_t
                           !isinf(high.log_abs);
          halving++) {
         probe middle;
-        if (probe_at(w, m, 0.5 * (low.lambda + high.lambda), &middle, err, errlen)) goto done;
+        if (probe_at(w, m, 0.5 * (low.lambda + high.lambda), &middle, err, errlen)) return -1;
         if (crossed(&low, &middle)) high = middle;
         else low = middle;
     }
     *lambda = isinf(high.log_abs) ? high.lambda : 0.5 * (low.lambda + high.lambda);
-    rc = 0;
-done:
+    return 0;
+}
+
+int rod_buckling_factor(const rod_model *m, double lambda_max, double relative_tolerance,
+                        double *lambda, char *err, size_t errlen)
+{
+    if (check_arguments(lambda_max, relative_tolerance, err, errlen) ||
+        check_loads_axial(m, err, errlen) || check_ends(m, err, errlen))
+        return -1;
+    double size = load_size(m, err, errlen);
+    if (size < 0.0) return -1;
+    static_work *w = static_work_create(m, err, errlen);
+    if (!w) return -1;
+    probe low, high;
+    int rc = scan_for_zero(w, m, lambda_max, size, &low, &high, err, errlen);
+    if (rc == 0) rc = bisect(w, m, relative_tolerance, low, high, lambda, err, errlen);
     static_work_destroy(w);
     return rc;
 }
