@@ -75,8 +75,8 @@ typedef struct run_stats {
     double smallest_step; /* s */
     double largest_step;  /* s */
     int non_finite;       /* 1 when the run stopped on a non-finite state */
-    double closest_gap;   /* m: the closest non-neighbouring strands came at a step's end,
-                             where closer than 0.9 d (self-contact runs); INFINITY: never */
+    double closest_gap;   /* m: the closest non-neighbouring strands that could touch came
+                             at a step's end (rod_state.strand_gap); INFINITY: never near */
     double closest_gap_frame; /* m: the same since the last output frame (what the frame
                              callback sees; reset after it) */
 } run_stats;

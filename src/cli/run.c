@@ -11,7 +11,6 @@
 #include <string.h>
 #include <time.h>
 
-#include "sim/geometry/proximity.h"
 #include "sim/recording.h"
 #include "sim/rod.h"
 
@@ -140,26 +139,13 @@ static double wall_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* How close non-neighbouring strands came at a step's end, where closer
- * than RUN_GAP_WATCH diameters (with self-contact they stay about one
- * apart; a pass-through brings two to 0). Searched only when some strands
- * touch, in one round of the proximity grid at that radius. */
-#define RUN_GAP_WATCH 0.9
-static void note_closest_gap(rod_proximity *gaps, const rod_model *m, const rod_state *s,
-                             run_stats *stats)
+/* How close non-neighbouring strands came at a step's end: the scheme's
+ * own measure over the pairs that could touch (rod_state.strand_gap;
+ * INFINITY where none could, or where the scheme has no self-contact). */
+static void note_closest_gap(const rod_state *s, run_stats *stats)
 {
-    int touching = 0;
-    for (int i = 0; i < 3 * s->nodes && !touching; i++) touching = s->self_force[i] != 0.0;
-    if (!touching) return;
-    rod_segment_pair close[8];
-    const int kept = (int)(sizeof close / sizeof close[0]);
-    int count = rod_proximity_pairs(gaps, s->position, s->nodes, RUN_GAP_WATCH * m->diameter,
-                                    rod_proximity_skip(m->diameter, m->ds), close, kept);
-    double gap = INFINITY;
-    for (int k = 0; k < count && k < kept; k++) gap = fmin(gap, close[k].distance);
-    if (count > kept) gap = 0.0; /* many pairs that deep: as good as through */
-    stats->closest_gap = fmin(stats->closest_gap, gap);
-    stats->closest_gap_frame = fmin(stats->closest_gap_frame, gap);
+    stats->closest_gap = fmin(stats->closest_gap, s->strand_gap);
+    stats->closest_gap_frame = fmin(stats->closest_gap_frame, s->strand_gap);
 }
 
 static double cpu_seconds(void)
@@ -234,7 +220,7 @@ static int pace_check(run_pace *pace, int64_t steps)
  * implicit scheme keeps its Jacobian factorised across them. */
 static rod_status advance(rod_solver *solver, const rod_model *m, rod_state *s, int64_t n,
                           double h, double target, rod_report *report, run_stats *stats,
-                          rod_proximity *gaps, run_pace *pace)
+                          run_pace *pace)
 {
     for (int64_t j = 0; j < n; j++) {
         /* no rod_solver_refresh() here: a Jacobian the last step found stale
@@ -250,7 +236,7 @@ static rod_status advance(rod_solver *solver, const rod_model *m, rod_state *s, 
             stats->non_finite = 1;
             return ROD_UNSTABLE;
         }
-        if (gaps) note_closest_gap(gaps, m, s, stats);
+        note_closest_gap(s, stats);
         if (pace && stats->steps >= pace->next_check && pace_check(pace, stats->steps)) {
             snprintf(report->message, sizeof report->message,
                      "stopped at t = %g s: the revised estimate, %.3g s of CPU, passes the "
@@ -279,8 +265,6 @@ rod_status run_simulate_paced(rod_solver *solver, const rod_model *m, rod_state 
     stats->closest_gap = stats->closest_gap_frame = INFINITY;
     double start = wall_seconds();
     rod_status status = ROD_OK;
-    /* NULL (no self-contact, or out of memory): no closest approach */
-    rod_proximity *gaps = m->self_contact ? rod_proximity_create(m->nodes) : NULL;
     if (pace) pace_start(pace, plan);
     if (on_frame && on_frame(context, m, s, report->message, sizeof report->message))
         status = ROD_FAILED;
@@ -290,14 +274,12 @@ rod_status run_simulate_paced(rod_solver *solver, const rod_model *m, rod_state 
         int partial = k > plan->intervals;
         double target = partial ? m->options.duration : fmin((double)k / fps, m->options.duration);
         status = advance(solver, m, s, partial ? plan->last_steps : plan->steps_per_interval,
-                         partial ? plan->last_step : plan->step, target, report, stats, gaps,
-                         pace);
+                         partial ? plan->last_step : plan->step, target, report, stats, pace);
         if (status == ROD_OK && on_frame &&
             on_frame(context, m, s, report->message, sizeof report->message))
             status = ROD_FAILED;
         stats->closest_gap_frame = INFINITY;
     }
-    rod_proximity_destroy(gaps);
     stats->wall_seconds = wall_seconds() - start;
     return status;
 }

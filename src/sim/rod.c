@@ -729,6 +729,7 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     memset(s->end_moment, 0, sizeof s->end_moment);
     memset(s->surface_force, 0, n * 3 * sizeof(double));
     memset(s->self_force, 0, n * 3 * sizeof(double));
+    s->strand_gap = INFINITY;
     memset(s->puncture, 0, sizeof s->puncture);
     s->puncture_count = 0;
     /* the starting shape: positions exactly its nodes; frames twist-free along it. The

@@ -1,10 +1,13 @@
 /* accept.c: a converged implicit step taken into the state (accept.h). */
 #include "sim/implicit/accept.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "base/vec3.h"
 #include "sim/contact/puncture.h"
+#include "sim/contact/self_contact.h"
+#include "sim/geometry/proximity.h"
 #include "sim/implicit/planar.h"
 #include "sim/implicit/residual.h"
 #include "sim/implicit/start.h"
@@ -96,6 +99,16 @@ static int accept_contact(implicit_work *w, const rod_model *m, rod_state *s, do
         memcpy(s->self_force, w->self->node_force, (size_t)n * 3 * sizeof(double));
     else
         memset(s->self_force, 0, (size_t)n * 3 * sizeof(double));
+    /* the candidates hold every pair that could meet within the step (the
+     * no-pass-through guard): their end distances bound every strand's */
+    s->strand_gap = INFINITY;
+    for (int k = 0; w->self && k < w->self->count; k++) {
+        const self_pair *p = &w->self->pair[k];
+        const double *q = s->position;
+        s->strand_gap = fmin(s->strand_gap,
+                             rod_segment_distance(&q[3 * p->a], &q[3 * p->a + 3], &q[3 * p->b],
+                                                  &q[3 * p->b + 3], NULL, NULL));
+    }
     puncture_update(&w->contact, m, s);
     if (w->contact.needle_tissue && w->ends[1].held && puncture_needle_holes(m, s, report))
         return -2;
