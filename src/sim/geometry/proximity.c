@@ -34,6 +34,20 @@ typedef struct scratch {
     int *group, *next;           /* (segments + 1) sort_pairs' first pair of each segment i */
 } scratch;
 
+/* Frees the search's scratch and its arrays (NULL: nothing). */
+static void scratch_free(scratch *w)
+{
+    if (!w) return;
+    free(w->entry);
+    free(w->sorted);
+    free(w->start);
+    free(w->box);
+    free(w->low);
+    free(w->group);
+    free(w->next);
+    free(w);
+}
+
 rod_proximity *rod_proximity_create(int max_nodes)
 {
     if (max_nodes < 2 || max_nodes > (1 << 26)) return NULL;
@@ -56,16 +70,7 @@ rod_proximity *rod_proximity_create(int max_nodes)
     p->entries = w;
     return p;
 fail:
-    if (w) {
-        free(w->entry);
-        free(w->sorted);
-        free(w->start);
-        free(w->box);
-        free(w->low);
-        free(w->group);
-        free(w->next);
-        free(w);
-    }
+    scratch_free(w);
     free(p);
     return NULL;
 }
@@ -73,15 +78,7 @@ fail:
 void rod_proximity_destroy(rod_proximity *p)
 {
     if (!p) return;
-    scratch *w = p->entries;
-    free(w->entry);
-    free(w->sorted);
-    free(w->start);
-    free(w->box);
-    free(w->low);
-    free(w->group);
-    free(w->next);
-    free(w);
+    scratch_free(p->entries);
     free(p);
 }
 
