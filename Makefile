@@ -160,6 +160,7 @@ figures: deps
 readme:
 	@$(MAKE) --no-print-directory BUILD=build/release rodsim
 	@sh tests/readme.sh update build/release/rodsim README.md
+	@sh tests/readme.sh update build/release/rodsim docs/commands.md
 	@sh tests/readme.sh update build/release/rodsim scenes/README.md
 
 # make install [PREFIX=/usr/local] [DESTDIR=staging]: the binary (shaders

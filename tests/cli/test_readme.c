@@ -1,7 +1,8 @@
 /* test_readme.c: the README is the program's own reference. Every generated
  * block (between "<!-- generated: rodsim ARGS -->" and "<!-- end generated
  * -->") equals what RODSIM_BIN prints for ARGS (tests/readme.sh check; `make
- * readme` rewrites them); the README is at most 30 KB and every
+ * readme` rewrites them), in the README, docs/commands.md and scenes/README.md;
+ * the README is at most 30 KB and every
  * repository path it names exists. */
 #include <ctype.h>
 #include <stdio.h>
@@ -14,6 +15,8 @@
 #define README RODSIM_SOURCE_DIR "/README.md"
 /* the scene reference, beside the scenes (it would not fit in 30 KB) */
 #define SCENES_README RODSIM_SOURCE_DIR "/scenes/README.md"
+/* every command's --help, beside the decision records */
+#define COMMANDS_DOC RODSIM_SOURCE_DIR "/docs/commands.md"
 
 static void test_generated_blocks(const char *readme, int want)
 {
@@ -100,7 +103,8 @@ static void test_paths_exist(const char *text)
 
 int main(void)
 {
-    test_generated_blocks(README, 6);        /* run, fem, validate, stability, figure, sweep */
+    test_generated_blocks(README, 1);        /* help */
+    test_generated_blocks(COMMANDS_DOC, 7);  /* run, fem, validate, stability, figure, sweep, live */
     test_generated_blocks(SCENES_README, 2); /* help scene, help beam */
     long size = 0;
     char *text = read_readme(&size);
