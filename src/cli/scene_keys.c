@@ -75,12 +75,13 @@ const ini_key scene_keys_rod[] = {
      "rest at the first and after the last"},
     {"ends", "tip_motion", "-", "-", "FILE.csv", "the same for the held tip (the needle holder)"},
     {"ends", "root_slide", "-", "0 0 0", "3 numbers",
-     "direction along which the held root slides freely; 0 0 0: held in place"},
+     "direction along which the held root slides freely; 0 0 0: held in place; with "
+     "root_motion a sleeve that moves (and turns) with the path (implicit scheme)"},
     {"ends", "tip_slide", "-", "0 0 0", "3 numbers",
      "the same for the tip; 1 0 0: the sleeve of Euler's and Greenhill's columns"},
     {"ends", "root_twist", "-", "free", "free | held",
      "a clamped root on a slide: free turns about the slide (a sleeve), held does not (a "
-     "carriage; implicit scheme)"},
+     "carriage; with a turning root_motion the sleeve turns the end; implicit scheme)"},
     {"ends", "tip_twist", "-", "free", "free | held",
      "the same for a clamped tip on a slide: held is the twisted-rod experiment's carriage "
      "under tension"},

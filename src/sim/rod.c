@@ -319,7 +319,9 @@ typedef struct end_inputs {
 } end_inputs;
 
 /* An end's kind and slide: a known kind, a finite slide (normalised) only on a held end
- * that is not driven, a held twist only on a clamped end that slides. */
+ * (driven or not: a driven one slides along a sleeve that follows its path), a held
+ * twist only on a clamped end that slides, and a clamped end on a sleeve that turns
+ * (a path with rotation) holds its twist (the sleeve carries the end's frame). */
 static int check_end_slide(const rod_model *m, int e, const end_inputs *end, char *err,
                            size_t errlen)
 {
@@ -334,11 +336,18 @@ static int check_end_slide(const rod_model *m, int e, const end_inputs *end, cha
         return -1;
     }
     if (!zero3(slide)) {
-        if (end->kind == ROD_END_FREE || end->motion) {
-            snprintf(err, errlen, "%s_slide: the %s is %s: only a held end that is not "
-                     "driven slides (set %s = pinned or clamped, without %s_motion)",
-                     end->name, end->name, end->motion ? "driven" : "free",
-                     end->name, end->name);
+        if (end->kind == ROD_END_FREE) {
+            snprintf(err, errlen, "%s_slide: the %s is free: only a held end slides (set %s = "
+                     "pinned or clamped)", end->name, end->name, end->name);
+            return -1;
+        }
+        if (end->motion && end->kind == ROD_END_CLAMPED && rod_path_columns(end->motion) == 7 &&
+            !m->slide_twist_held[e]) {
+            snprintf(err, errlen, "%s_slide: the clamped %s slides along a sleeve that turns "
+                     "(%s_motion has rotation columns), which carries the end's frame: set "
+                     "%s_twist = held (a sleeve that turns the end), or give the path as "
+                     "t,x,y,z (a sleeve that only moves)", end->name, end->name, end->name,
+                     end->name);
             return -1;
         }
         v3_scale(slide, slide, 1.0 / v3_norm(slide));

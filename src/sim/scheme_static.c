@@ -58,6 +58,14 @@ static void *create(const rod_model *m, char *err, size_t errlen)
                  "sleeve (free)", m->slide_twist_held[0] ? "root" : "tip");
         return NULL;
     }
+    for (int e = 0; e < 2; e++)
+        if ((e ? m->tip_motion : m->root_motion) && v3_norm(e ? m->tip_slide : m->root_slide) > 0.0) {
+            snprintf(err, errlen, "static: the %s slides (ends.%s_slide) along a sleeve driven by "
+                     "ends.%s_motion: a moving sleeve is modelled by the implicit scheme only; use "
+                     "solver.scheme = implicit", e ? "tip" : "root", e ? "tip" : "root",
+                     e ? "tip" : "root");
+            return NULL;
+        }
     int tip_in_place = m->tip_end != ROD_END_FREE && v3_norm(m->tip_slide) == 0.0;
     int mirrored = (m->root_end == ROD_END_FREE && m->tip_end != ROD_END_FREE) ||
                    (m->root_end != ROD_END_FREE && v3_norm(m->root_slide) > 0.0 && tip_in_place);

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "sim/path.h"
 #include "sim/rod.h"
 #include "test.h"
 #include "base/vec3.h"
@@ -718,6 +719,95 @@ static void test_sliding_root(void)
     }
 }
 
+/* Eased 0 -> 1 over [0, T], resting at both ends (x^3 (10 - 15 x + 6 x^2)). */
+static double ease(double t, double duration)
+{
+    double x = t / duration;
+    return x * x * x * (10.0 - 15.0 * x + 6.0 * x * x);
+}
+
+/* A sleeve that moves: a clamped root sliding along x in a sleeve driven
+ * across (y, a 4-column path), the tip free and pulled along x by F. The
+ * sleeve exerts no force along x, so the rod's centre of mass moves as
+ * F t^2 / (2 m L) along x, whatever the bending the sleeve's motion causes
+ * (momentum along x, which the scheme conserves); the root stays on the
+ * moving line (y = the path's, z = 0). Then a sleeve that turns: the same
+ * root with its twist held (ends.root_twist = held), turned about x by phi
+ * along a 7-column path, the tip clamped in place: at rest the rod carries
+ * the torque G J phi / L, and the root's frame is the path's rotation. */
+static void test_driven_sleeve(void)
+{
+    enum { ROWS = 41 };
+    const double across = 0.2, duration = 4.0, force = 1e-6; /* m, s, N */
+    double rows[ROWS * 4];
+    for (int r = 0; r < ROWS; r++) {
+        double t = duration * r / (ROWS - 1);
+        rows[4 * r] = t;
+        rows[4 * r + 1] = 0.0;
+        rows[4 * r + 2] = across * ease(t, duration);
+        rows[4 * r + 3] = 0.0;
+    }
+    rod_model m = ends_model(21, 0.5, ROD_END_CLAMPED, ROD_END_FREE);
+    m.root_slide[0] = 1.0;
+    m.tip_frame = ROD_FRAME_GLOBAL;
+    m.tip_force[0] = force;
+    char err[256];
+    m.root_motion = rod_path_create(rows, ROWS, 4, err, sizeof err);
+    if (!check(m.root_motion != NULL, "moving sleeve's path: %s", m.root_motion ? "made" : err)) return;
+    rod_state *s = rod_state_create(&m);
+    double cm0 = 0.0;
+    for (int i = 0; i < m.nodes; i++) cm0 += node_weight(&m, i) * s->position[3 * i] / m.length;
+    rod_status st = run_steps(&m, s, 300, 0.02, NULL, NULL);
+    check(st == ROD_OK, "clamped root in a sleeve moving across, pulled along it: 300 steps");
+    double cm = 0.0, t = s->time, mass = m.mass_per_length * m.length;
+    for (int i = 0; i < m.nodes; i++) cm += node_weight(&m, i) * s->position[3 * i] / m.length;
+    check_rel("moving sleeve: centre of mass along the slide vs F t^2/(2 m L), m", cm - cm0,
+              force * t * t / (2.0 * mass), 1e-8);
+    rod_pose pose;
+    rod_path_eval(m.root_motion, t, &pose);
+    double off = fabs(s->position[1] - pose.position[1]) + fabs(s->position[2]);
+    check(off < 1e-12, "moving sleeve: the root stays on the moving line (%.2e m off; path y %.4f m)",
+          off, pose.position[1]);
+    double bend = fabs(s->position[3 * (m.nodes - 1) + 1] - s->position[1]);
+    check(bend > 1e-4, "moving sleeve: the rod bends as its sleeve moves across (tip %.3g m off the root's y)",
+          bend);
+    check(fabs(s->end_force[0][0]) < 1e-15, "moving sleeve: no force along the slide (%.2e N)",
+          s->end_force[0][0]);
+    rod_path_destroy(m.root_motion);
+    rod_state_destroy(s);
+
+    /* the turning sleeve */
+    const double phi = 0.5, turn_time = 5.0; /* rad, s */
+    double turn_rows[ROWS * 7];
+    for (int r = 0; r < ROWS; r++) {
+        double tr = turn_time * r / (ROWS - 1), *row = &turn_rows[7 * r];
+        row[0] = tr;
+        row[1] = row[2] = row[3] = 0.0;
+        row[4] = phi * ease(tr, turn_time);
+        row[5] = row[6] = 0.0;
+    }
+    m = ends_model(21, 1.0, ROD_END_CLAMPED, ROD_END_CLAMPED);
+    m.root_slide[0] = 1.0;
+    m.angular_damping = 1e-9; /* N m s/m: settles the twist */
+    m.root_motion = rod_path_create(turn_rows, ROWS, 7, err, sizeof err);
+    m.slide_twist_held[0] = 1;
+    if (!check(m.root_motion != NULL, "turning sleeve's path: %s", m.root_motion ? "made" : err)) return;
+    s = rod_state_create(&m);
+    st = run_steps(&m, s, 400, 0.1, NULL, NULL);
+    check(st == ROD_OK, "clamped root in a turning sleeve (twist held), tip clamped: 400 steps");
+    check_rel("turning sleeve: the sleeve's moment about the slide vs G J phi / L, N m",
+              -s->end_moment[0][0], m.stiffness[2] * phi / m.length, 1e-6);
+    double d1[3];
+    m3_column(d1, &s->frame[0], 0);
+    check(fabs(atan2(d1[2], d1[1]) - phi) < 1e-12 && fabs(d1[0]) < 1e-12,
+          "turning sleeve: the root's frame is turned by phi = %g rad about the slide (d1 = %.6f %.6f %.6f)",
+          phi, d1[0], d1[1], d1[2]);
+    check(fabs(s->position[0]) < 1e-12 && fabs(s->position[1]) + fabs(s->position[2]) < 1e-12,
+          "turning sleeve: the root stays at its place on the slide (%.2e m)", fabs(s->position[0]));
+    rod_path_destroy(m.root_motion);
+    rod_state_destroy(s);
+}
+
 /* A straight rod held in place at both ends under a load across it has no
  * solution (it cannot sag without stretching): the failure says why. */
 static void test_straight_held_advice(void)
@@ -835,6 +925,7 @@ int main(void)
     test_intrinsic_curvature();
     test_point_load_and_moment();
     test_sliding_root();
+    test_driven_sleeve();
     test_straight_held_advice();
     test_refusals();
     return test_finish();

@@ -378,8 +378,18 @@ static void test_derive_checks(void)
     m.tip_motion = rod_path_create(rows, 2, 7, why, sizeof why);
     check(rod_model_derive(&m, err, sizeof err) == 0, "a clamped tip driven from (L, 0, 0) (%s)",
           err);
+    /* a driven end may slide (a sleeve that follows the path); a clamped one on a
+     * sleeve that turns holds its twist */
     v3_set(m.tip_slide, 1, 0, 0);
-    expect_derive_error(&m, "tip_slide:", "driven");
+    expect_derive_error(&m, "tip_slide:", "tip_twist = held");
+    m = rod_model_default();
+    m.tip_end = ROD_END_CLAMPED;
+    m.tip_motion = rod_path_create(rows, 2, 7, why, sizeof why);
+    v3_set(m.tip_slide, 1, 0, 0);
+    m.slide_twist_held[1] = 1;
+    check(rod_model_derive(&m, err, sizeof err) == 0 && m.tip_motion,
+          "a clamped tip on a turning sleeve with its twist held (%s)", err);
+    rod_model_release(&m);
     m = rod_model_default();
     m.tip_end = ROD_END_CLAMPED;
     m.root_motion = rod_path_create(rows, 2, 7, why, sizeof why); /* starts at (1, 0, 0) */

@@ -35,10 +35,14 @@
 /* One end's condition, read once from the model (index 0 root, 1 tip). */
 typedef struct end_condition {
     int held;            /* position held: in place, driven, or on its slide line */
-    int sliding;         /* held on the line through its start along `slide` */
+    int sliding;         /* held on the line through its start along `slide` (through the
+                            path's point along the path's turn of it, when driven) */
     int clamped;         /* frame held (clamped, not sliding): from the path, no unknowns */
     int hold_omega[3];   /* omega components (director) held at zero by the end */
-    double slide[3];     /* unit, global */
+    double slide[3];     /* unit, global (a driven sleeve's: at t + dt of this step) */
+    double slide0[3];    /* unit, global: the slide at the start (a driven sleeve turns it) */
+    double line_vel1[3]; /* m/s, global: a driven sleeve's velocity across its slide at the
+                            end node, at t + dt (0 when not driven) */
     const rod_path *path;/* driven, or NULL */
     int have_initial;    /* initial_frame and anchor are known */
     double anchor[3];    /* m, global: where a held end started (a point of a slide's line) */

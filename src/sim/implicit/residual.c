@@ -255,10 +255,11 @@ static void end_velocity(implicit_work *w, const rod_model *m, const end_conditi
         v1[k] = (wb * (mass / dt - (1.0 - theta) * c) * v0[k] + applied[k]) * inv_coeff;
         vb[k] = theta * v1[k] + (1.0 - theta) * v0[k];
     }
-    if (e->sliding) { /* a sleeve: only the motion along it */
+    if (e->sliding) { /* a sleeve: only the motion along it (and a driven sleeve's across it) */
         v3_scale(v1, e->slide, v3_dot(v1, e->slide));
         v3_scale(vb, e->slide, v3_dot(vb, e->slide));
         v3_add(vb, vb, e->correction);
+        if (e->path) v3_add(v1, v1, e->line_vel1);
     }
 }
 

@@ -56,6 +56,31 @@ static int begin_step(implicit_work *w, const rod_model *m, const rod_state *s, 
     return 0;
 }
 
+/* A sleeve driven along its path: the line through the path's point P(t)
+ * along the slide, turned with the path for a clamped end (e(t) = R(t) e(0);
+ * a pinned end's rotation turns only its needle). The step lands the end on
+ * the line at t + dt: vbar = e e^T vbar_free + (I - e e^T) (P1 - r0) / dt,
+ * the static sleeve's rule with its anchor moving; the velocity at t + dt
+ * across the slide is the sleeve's there, v_P + omega x (r - P), at the
+ * start's point projected on that line. */
+static void driven_slide(end_condition *e, const rod_pose *p1, const double r0[3], double dt)
+{
+    double *slide = e->slide, off[3], lever[3], spin[3], across[3];
+    if (e->clamped || e->hold_omega[0]) m3_mul_v(slide, p1->rotation, e->slide0);
+    else v3_copy(slide, e->slide0);
+    /* the correction: (I - e e^T) (P1 - r0) / dt */
+    v3_sub(off, p1->position, r0);
+    v3_axpy(off, -v3_dot(off, slide), slide);
+    v3_scale(e->correction, off, 1.0 / dt);
+    /* the sleeve's velocity at r0's projection on the line */
+    v3_sub(lever, r0, p1->position);
+    v3_scale(lever, slide, v3_dot(lever, slide));
+    v3_cross(spin, p1->angular_velocity, lever);
+    v3_add(across, p1->velocity, spin);
+    v3_axpy(across, -v3_dot(across, slide), slide);
+    v3_copy(e->line_vel1, across);
+}
+
 /* The step's data of the held ends (from their paths; independent of the
  * Newton iterate) and the point loads' profile factor. */
 static void prepare_ends(implicit_work *w, const rod_model *m, const rod_state *s, double dt)
@@ -97,6 +122,7 @@ static void prepare_ends(implicit_work *w, const rod_model *m, const rod_state *
             for (int k = 0; k < 3; k++) e->vbar[k] = (p1.position[k] - r0[k]) / dt;
             v3_copy(e->vel1, p1.velocity);
             v3_copy(e->pos1, p1.position);
+            if (e->sliding) driven_slide(e, &p1, r0, dt);
             if (e->clamped) {
                 m3_mul(e->frame1, p1.rotation, e->initial_frame);
                 m3_mul_tv(e->omega1, e->frame1, p1.angular_velocity);

@@ -47,10 +47,9 @@ static int read_end(end_condition *e, int which, rod_end_kind kind, const double
         }
         return 0;
     }
-    if (!isfinite(len) || (len > 0.0 && path)) {
-        snprintf(err, errlen, "implicit scheme: the %s either slides (ends.%s_slide, a finite "
-                 "direction) or follows a path (ends.%s_motion), not both", end_names[which],
-                 end_names[which], end_names[which]);
+    if (!isfinite(len)) {
+        snprintf(err, errlen, "implicit scheme: the %s's slide (ends.%s_slide) must be a finite "
+                 "direction", end_names[which], end_names[which]);
         return -1;
     }
     e->held = 1;
@@ -58,9 +57,14 @@ static int read_end(end_condition *e, int which, rod_end_kind kind, const double
     if (len > 0.0) {
         e->sliding = 1;
         v3_scale(e->slide, slide, 1.0 / len);
+        v3_copy(e->slide0, e->slide);
     }
     if (kind == ROD_END_CLAMPED) {
-        if (e->sliding) { /* d3 along the slide; it may twist, unless held (ends.*_twist) */
+        if (e->sliding && path && twist_held) {
+            /* a sleeve that moves and turns the end: the frame is the path's
+             * (R(t) Q(0), d3 along the turned slide), the position free along it */
+            e->clamped = 1;
+        } else if (e->sliding) { /* d3 along the slide; it may twist, unless held (ends.*_twist) */
             e->hold_omega[0] = e->hold_omega[1] = 1;
             e->hold_omega[2] = twist_held;
         }
