@@ -382,11 +382,13 @@ static void progress_show(progress_line *p, double t)
     if (!p->on || (p->shown > 0.0 && wall - p->shown < PROGRESS_PERIOD && t < p->duration))
         return;
     double spent = wall - p->wall_start, cpu = cpu_clock() - p->cpu_start;
-    char line[160], left[48] = "?";
-    if (t > 0.0) snprintf(left, sizeof left, "%.0f s", spent / t * (p->duration - t));
-    int n = snprintf(line, sizeof line, "  t = %.4g of %g s (%.0f %%), %.3g CPU s per simulated "
-                     "s, %s left", t, p->duration, p->duration > 0.0 ? 100.0 * t / p->duration
-                     : 100.0, t > 0.0 ? cpu / t : 0.0, left);
+    char line[160], left[48];
+    double share = p->duration > 0.0 ? 100.0 * t / p->duration : 100.0;
+    int n = t > 0.0 ? snprintf(line, sizeof line, "  t = %.4g of %g s (%.0f %%), %.3g CPU s per "
+                               "simulated s, about %s left", t, p->duration, share, cpu / t,
+                               duration_text(spent / t * (p->duration - t), left, sizeof left))
+                    : snprintf(line, sizeof line, "  t = 0 of %g s", p->duration);
+    if (n >= (int)sizeof line) n = (int)sizeof line - 1;
     fprintf(stderr, "\r%s%*s", line, p->width > n ? p->width - n : 0, "");
     fflush(stderr);
     p->width = n;
@@ -637,10 +639,12 @@ static int plan_run(scene_run *r)
 static void tell_revision(void *context, const run_pace *pace)
 {
     scene_run *r = context;
-    if (pace->estimate < TELL_SHARE * pace->limit ||
+    progress_show(&r->progress, r->s->time); /* between frames too: a frame may take long */
+    if (r->o->quiet || pace->estimate < TELL_SHARE * pace->limit ||
         (r->told > 0.0 && pace->estimate < 2.0 * r->told && pace->estimate > 0.5 * r->told))
         return;
     char when[48], spent[48];
+    progress_clear(&r->progress); /* the line is drawn again at the next frame */
     fprintf(stderr, "rodsim run: revised estimate at t = %g of %g s: about %s of CPU (%.3g us "
                     "per step as measured, the model's %.3g us; %s spent)\n",
             r->s->time, r->m->options.duration, duration_text(pace->estimate, when, sizeof when),
@@ -659,7 +663,7 @@ static void pace_run(scene_run *r)
     pace->passes = r->streamed ? 2.0 : 1.0;
     pace->extra_seconds =
         r->o->no_video ? 0.0 : run_plan_video_seconds(&r->plan, r->out->width * r->out->height);
-    pace->on_revise = r->o->quiet ? NULL : tell_revision;
+    pace->on_revise = tell_revision; /* the progress line; the estimate unless quiet */
     pace->context = r;
 }
 
