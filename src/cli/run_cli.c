@@ -9,7 +9,6 @@
 #include <time.h>
 
 #include "base/ini.h"
-#include "base/suggest.h"
 #include "cli/args.h"
 #include "cli/live.h"
 #include "cli/render_cli.h"
@@ -111,29 +110,24 @@ static double cpu_used(void)
            1e-6 * (double)(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
-/* An option that is not one of run's: when a scene key has its name
- * ("--fps 60"), the --set that says it; else the nearest option's name. */
-static void unknown_option_hint(int argc, char **argv, const cli_option *options, char *err,
-                                size_t errlen)
+/* An option that is not one of run's but names a scene key ("--fps 60",
+ * "--self-contact=no"): the --set that says it. */
+static void unknown_option_hint(int argc, char **argv, char *err, size_t errlen)
 {
     const char *prefix = "unknown option '";
-    if (strncmp(err, prefix, strlen(prefix)) != 0) return;
+    if (strncmp(err, prefix, strlen(prefix)) != 0 || strstr(err, "did you mean")) return;
     int at = 0;
     for (int i = 1; i < argc && !at; i++)
         if (strncmp(err + strlen(prefix), argv[i], strlen(argv[i])) == 0 &&
             err[strlen(prefix) + strlen(argv[i])] == '\'')
             at = i;
     if (!at) return;
+    const char *typed = argv[at] + strspn(argv[at], "-");
     char word[64];
-    snprintf(word, sizeof word, "%s", argv[at] + strspn(argv[at], "-"));
-    const char *value = NULL;
-    char *eq = strchr(word, '=');
-    if (eq) {
-        *eq = '\0';
-        value = argv[at] + strspn(argv[at], "-") + (eq - word) + 1;
-    } else if (at + 1 < argc) {
-        value = argv[at + 1];
-    }
+    snprintf(word, sizeof word, "%.*s", (int)strcspn(typed, "="), typed);
+    const char *value = typed[strlen(word)] == '=' ? typed + strlen(word) + 1
+                        : at + 1 < argc              ? argv[at + 1]
+                                                     : NULL;
     for (char *c = word; *c; c++)
         if (*c == '-') *c = '_'; /* --self-contact: rod.self_contact */
     size_t used = strlen(err);
@@ -144,12 +138,6 @@ static void unknown_option_hint(int argc, char **argv, const cli_option *options
             return;
         }
     }
-    const char *names[32];
-    int n = 0;
-    for (const cli_option *o = options; o->name && n < 31; o++) names[n++] = o->name;
-    names[n] = NULL;
-    const char *near = suggest_nearest(argv[at], names);
-    if (near) snprintf(err + used, errlen - used, "; did you mean %s?", near);
 }
 
 /* The --summary path of words that did not parse: what is known is still
@@ -202,7 +190,7 @@ int run_command(int argc, char **argv)
         cli_release(options);
         return RUN_EXIT_OK;
     } else if (parsed != CLI_PARSED) {
-        unknown_option_hint(argc, argv, options, err, sizeof err);
+        unknown_option_hint(argc, argv, err, sizeof err);
         summary_set_message(&summary, err);
         status = cli_usage_error("run", err);
     } else if (is_live_record(o.label)) { /* `run` on a recording: its video */

@@ -620,6 +620,11 @@ static void test_did_you_mean(void)
     check(r.status == 2 && strstr(r.err, "unknown option '--cvs'; did you mean --csv?"),
           "run --cvs: did you mean --csv?");
     result_free(&r);
+    const char *other[] = {"sweep", "x.ini", "--job", "2", NULL};
+    r = run_rodsim(other, NULL, -1);
+    check(r.status == 2 && strstr(r.err, "unknown option '--job'; did you mean --jobs?"),
+          "every command: sweep --job: did you mean --jobs?");
+    result_free(&r);
     const char *key[] = {"run", "x.ini", "--duration=3", NULL};
     r = run_rodsim(key, NULL, -1);
     check(r.status == 2 && strstr(r.err, "--set solver.duration=3"),
