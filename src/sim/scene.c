@@ -220,7 +220,10 @@ static int read_profile(ini_doc *doc, rod_model *m, char *err, size_t errlen)
             return ini_error(doc, "tip", 0, "profile", err, errlen, "%s", table_err);
         pr->kind = ROD_PROFILE_TABLE;
     } else {
-        return ini_error(doc, "tip", 0, "profile", err, errlen, "%s", accepted);
+        static const char *const kinds[] = {"step", "ramp", "pulse", "impulse", "table", NULL};
+        const char *near = count > 0 ? suggest_nearest(words[0], kinds) : NULL;
+        return ini_error(doc, "tip", 0, "profile", err, errlen, "%s%s%s%s", near ?
+                         "did you mean " : "", near ? near : "", near ? "? " : "", accepted);
     }
     return 0;
 }
