@@ -919,6 +919,10 @@ static void summary_result(const scene_run *r, run_summary *sum)
                 snprintf(path, sizeof path, "%s/%s.%s", a->out_dir, r->name, k ? "png" : "mp4");
                 summary_add_file(sum, path);
             }
+            if (r->out->render.frames_png) { /* a directory: its name ends with '/' */
+                snprintf(path, sizeof path, "%s/%s_frames/", a->out_dir, r->name);
+                summary_add_file(sum, path);
+            }
             const char *gl = gl_context_backend_used();
             for (size_t i = 0; gl && gl[i] && i + 1 < sizeof sum->gl; i++) /* "egl", "osmesa" */
                 sum->gl[i] = (char)tolower((unsigned char)gl[i]);
