@@ -22,6 +22,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -73,6 +75,10 @@ static void result_free(run_result *r)
     free(r->err);
 }
 
+/* > 0: the files the next run_rodsim's child writes are limited to this
+ * many bytes (a full disk: writes past it fail with EFBIG). */
+static long file_size_limit;
+
 /* Runs rodsim with args (NULL-terminated); stdout and stderr apart.
  * `env` ("NAME=VALUE") is set in the child when not NULL; tty_fd >= 0
  * becomes the child's stderr (a terminal) instead of a file. */
@@ -96,6 +102,11 @@ static run_result run_rodsim(const char *const *args, const char *env, int tty_f
         dup2(out, 1);
         dup2(err, 2);
         if (env) putenv((char *)env);
+        if (file_size_limit > 0) {
+            struct rlimit limit = {(rlim_t)file_size_limit, (rlim_t)file_size_limit};
+            signal(SIGXFSZ, SIG_IGN);
+            setrlimit(RLIMIT_FSIZE, &limit);
+        }
         execv(RODSIM_BIN, (char *const *)argv);
         _exit(127);
     }
@@ -484,6 +495,32 @@ static void test_failures(void)
     }
 }
 
+/* A run whose CSV cannot be written (a full disk): failed, exit 1, the
+ * summary (smaller than the limit) still written, no file listed. */
+static void test_failed_run(void)
+{
+    char csv[128], json[128];
+    snprintf(csv, sizeof csv, "%s/full.csv", tmp_dir);
+    snprintf(json, sizeof json, "%s/full.json", tmp_dir);
+    const char *args[] = {"run", RODSIM_SOURCE_DIR "/scenes/suture_gravity.ini", "--no-video",
+                          "--quiet", "--set", "solver.duration=1", "--csv", csv, "--summary",
+                          json, NULL};
+    file_size_limit = 16384; /* bytes: the CSV needs about 3 MB, the summary 1 kB */
+    run_result r = run_rodsim(args, NULL, -1);
+    file_size_limit = 0;
+    json_value *doc = summary_of("full disk", json, r.status);
+    const json_value *status = json_get(doc, "status"), *message = json_get(doc, "message"),
+                     *files = json_get(doc, "files");
+    struct stat st;
+    check(r.status == 1 && json_is(status, JSON_STRING) && strcmp(status->string, "failed") == 0 &&
+              json_is(message, JSON_STRING) && strstr(message->string, "CSV") && files &&
+              files->count == 0 && stat(csv, &st) != 0,
+          "full disk: exit %d, status '%s' (expected failed, 1), the message names the CSV, "
+          "no file listed or left", r.status, json_is(status, JSON_STRING) ? status->string : "?");
+    json_free(doc);
+    result_free(&r);
+}
+
 /* --summary -: standard output is the object alone, the prose on stderr. */
 static void test_summary_stdout(void)
 {
@@ -494,6 +531,13 @@ static void test_summary_stdout(void)
     check(r.status == 0 && doc && strstr(r.err, "result: t = "),
           "--summary -: standard output is the JSON object alone; the prose went to stderr");
     json_free(doc);
+    const char *dir[] = {"run", RODSIM_SOURCE_DIR "/scenes/table2_450nN.ini", "--no-video",
+                         "--summary", tmp_dir, NULL};
+    result_free(&r);
+    r = run_rodsim(dir, NULL, -1);
+    check(r.status == 2 && strstr(r.err, "names a directory, not a file") &&
+              !strstr(r.err, "result:") && !strstr(r.out, "result:"),
+          "--summary DIR: refused before the run (exit %d)", r.status);
     const char *both[] = {"run", RODSIM_SOURCE_DIR "/scenes/table2_450nN.ini", "--no-video",
                           "--summary", "-", "--csv", "-", NULL};
     result_free(&r);
@@ -648,6 +692,7 @@ int main(void)
     test_knot();
     test_video();
     test_failures();
+    test_failed_run();
     test_summary_stdout();
     test_progress();
     test_prose();
