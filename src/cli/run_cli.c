@@ -181,6 +181,24 @@ static int check_summary_path(const char *path, char *err, size_t errlen)
     return 0;
 }
 
+/* The summary completed (exit status, times) and written. Returns the exit
+ * status: the run's, or 1 when a run that succeeded cannot write it. */
+static int finish_summary(const char *path, run_summary *summary, int status, double wall_start)
+{
+    summary->exit_code = status;
+    summary->cpu_s = cpu_used();
+    summary->wall_s = wall_now() - wall_start;
+    size_t n = strlen(summary->message); /* the prose's last newline */
+    while (n > 0 && (summary->message[n - 1] == '\n' || summary->message[n - 1] == ' '))
+        summary->message[--n] = '\0';
+    char err[RUN_ERR_LEN];
+    if (summary_write(path, summary, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: %s\n", err);
+        if (status == RUN_EXIT_OK) status = RUN_EXIT_FAILURE;
+    }
+    return status;
+}
+
 int run_command(int argc, char **argv)
 {
     double wall_start = wall_now();
@@ -239,20 +257,7 @@ int run_command(int argc, char **argv)
     } else {
         status = run_scene(&o, &sets);
     }
-    if (summary_path) {
-        summary.exit_code = status;
-        if (status == RUN_EXIT_OK) summary.status = "ok"; /* a pass-through is a failure */
-        summary.cpu_s = cpu_used();
-        summary.wall_s = wall_now() - wall_start;
-        size_t n = strlen(summary.message); /* the prose's last newline */
-        while (n > 0 && (summary.message[n - 1] == '\n' || summary.message[n - 1] == ' '))
-            summary.message[--n] = '\0';
-        char werr[RUN_ERR_LEN];
-        if (summary_write(summary_path, &summary, werr, sizeof werr)) {
-            fprintf(stderr, "rodsim run: %s\n", werr);
-            if (status == RUN_EXIT_OK) status = RUN_EXIT_FAILURE;
-        }
-    }
+    if (summary_path) status = finish_summary(summary_path, &summary, status, wall_start);
     cli_release(options);
     return status;
 }
