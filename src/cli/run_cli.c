@@ -131,13 +131,16 @@ static void unknown_option_hint(int argc, char **argv, char *err, size_t errlen)
                                                      : NULL;
     for (char *c = word; *c; c++)
         if (*c == '-') *c = '_'; /* --self-contact: rod.self_contact */
-    size_t used = strlen(err);
+    int found = 0; /* a key of that name in several sections: each is named */
     for (const ini_key *k = scene_keys_rod; k->section; k++) {
-        if (strcmp(k->key, word) == 0) {
-            snprintf(err + used, errlen - used, "; the scene key %s.%s is set with --set %s.%s=%s",
-                     k->section, k->key, k->section, k->key, value ? value : "VALUE");
-            return;
-        }
+        if (strcmp(k->key, word) != 0) continue;
+        size_t used = strlen(err);
+        snprintf(err + used, errlen - used, "%s--set %s.%s=%s", found++ ? " or " : "; write ",
+                 k->section, k->key, value ? value : "VALUE");
+    }
+    if (found) {
+        size_t used = strlen(err);
+        snprintf(err + used, errlen - used, " (a scene key)");
     }
 }
 
