@@ -57,6 +57,19 @@ void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s, dou
  * slip_end) or no strands came within KNOT_PASS_GAP diameters. */
 int knot_track_change_is_slip(const knot_track *k, const rod_model *m);
 
+/* The shortest rope that can hold a knot, diameters: the ideal closed
+ * trefoil's ropelength. */
+#define KNOT_SHORTEST_ROPE 16.37
+
+/* 1 when the scene can knot: its strands touch (self-contact on, which the
+ * implicit scheme models) and the rod is longer than KNOT_SHORTEST_ROPE
+ * diameters; a run that cannot knot says nothing of knots. */
+int knot_track_can_knot(const rod_model *m);
+
+/* 1 when the run's centreline was knotted at some output frame (a scene
+ * may start knotted whatever it can do). */
+int knot_track_was_knotted(const knot_track *k);
+
 /* The summary lines (knot at start and end, a change, the rope in the knot,
  * the identification's cost, failures) to f. */
 void knot_track_print(FILE *f, const knot_track *k, const rod_model *m);

@@ -7,8 +7,9 @@
 #include <stdio.h>
 
 /* `rodsim run ...`: argv[0] is "run". Returns an exit status (RUN_EXIT_*,
- * args.h); messages go to stdout (summary) and stderr (errors). Never calls
- * exit(). */
+ * args.h); messages go to stdout (the prose) and stderr (errors, warnings,
+ * the progress line); --summary FILE writes the JSON summary (summary.h)
+ * whatever the outcome. Never calls exit(). */
 int run_command(int argc, char **argv);
 
 /* Prints the usage of `rodsim run` to f. */

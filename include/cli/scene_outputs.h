@@ -54,6 +54,10 @@ typedef struct scene_outputs_options {
     const char *out_dir; /* the video and poster, DIR/NAME.mp4 and DIR/NAME.png */
     const char *csv;     /* the centreline CSV; "-": standard output; NULL: none */
     int no_video, allow_long, quiet;
+    int progress;         /* 1: the progress line on stderr whatever stderr is (--progress);
+                             0: only on a terminal, for a run estimated over 2 s */
+    int talk_stderr;      /* 1: the prose goes to stderr (stdout carries the summary) */
+    struct run_summary *summary; /* filled as the run goes (summary.h), or NULL */
 } scene_outputs_options;
 
 /* The warnings known before a run: what the model moved to make the inputs
@@ -75,7 +79,9 @@ int scene_outputs_result_warnings(const rod_model *m, const rod_report *report,
 int scene_outputs_check(const scene_outputs_options *o, char *err, size_t errlen);
 
 /* Simulates the scene read into m and out, writes its outputs named `name`
- * and prints the summary (stdout, or stderr when the CSV takes stdout).
+ * and prints the summary (stdout, or stderr when the CSV or the JSON summary
+ * takes stdout); fills o->summary when not NULL (but its exit code and
+ * times: the caller's).
  * Returns an exit status (RUN_EXIT_*, args.h). */
 int scene_outputs_write(const scene_outputs_options *o, const char *name, const rod_model *m,
                         const run_output *out);

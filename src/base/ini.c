@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/suggest.h"
 #include "base/textfile.h"
 
 typedef struct ini_entry {
@@ -516,7 +517,9 @@ int ini_get_choice(ini_doc *doc, const char *section, int index, const char *key
         int w = snprintf(list + used, sizeof list - used, "%s%s", i ? " | " : "", choices[i]);
         if (w > 0 && used + (size_t)w < sizeof list) used += (size_t)w;
     }
-    return ini_error(doc, section, index, key, err, errlen, "unknown value; accepted: %s", list);
+    const char *near = suggest_nearest(text, choices);
+    return ini_error(doc, section, index, key, err, errlen, "unknown value;%s%s%s accepted: %s",
+                     near ? " did you mean " : "", near ? near : "", near ? "?" : "", list);
 }
 
 int ini_get_bool(ini_doc *doc, const char *section, int index, const char *key, int *out,
@@ -604,44 +607,7 @@ int ini_check_unused(const ini_doc *doc, char *err, size_t errlen)
 
 /* ---- key tables ----------------------------------------------------------- */
 
-int ini_edit_distance(const char *a, const char *b)
-{
-    /* optimal string alignment: Levenshtein plus swaps of neighbours
-     * ("lenght"), on at most 63 characters of each word */
-    enum { MAX = 64 };
-    int n = (int)strlen(a), m = (int)strlen(b);
-    if (n >= MAX) n = MAX - 1;
-    if (m >= MAX) m = MAX - 1;
-    static const int cap = 255;
-    int d[MAX][MAX];
-    for (int i = 0; i <= n; i++) d[i][0] = i;
-    for (int j = 0; j <= m; j++) d[0][j] = j;
-    for (int i = 1; i <= n; i++) {
-        for (int j = 1; j <= m; j++) {
-            int cost = a[i - 1] == b[j - 1] ? 0 : 1;
-            int best = d[i - 1][j] + 1;
-            if (d[i][j - 1] + 1 < best) best = d[i][j - 1] + 1;
-            if (d[i - 1][j - 1] + cost < best) best = d[i - 1][j - 1] + cost;
-            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] &&
-                d[i - 2][j - 2] + 1 < best)
-                best = d[i - 2][j - 2] + 1;
-            d[i][j] = best;
-        }
-    }
-    return d[n][m] < cap ? d[n][m] : cap;
-}
-
-/* Whether `word` is close enough to `name` to suggest it: a few edits for
- * its length (one for short words), or the start of it ("youngs"). */
-static int near_enough(const char *word, const char *name, int *distance)
-{
-    int n = (int)strlen(word);
-    int limit = n <= 4 ? 1 : n <= 8 ? 2 : 3;
-    int d = ini_edit_distance(word, name);
-    if (n >= 3 && strncmp(word, name, (size_t)n) == 0) d = d < limit ? d : limit;
-    *distance = d;
-    return d <= limit && d < n;
-}
+int ini_edit_distance(const char *a, const char *b) { return suggest_distance(a, b); }
 
 static int table_has_section(const ini_key *table, const char *section)
 {
@@ -686,7 +652,7 @@ static const char *nearest_section(const ini_key *table, const char *word)
     const char *best = NULL;
     int best_d = 1 << 20, d;
     for (const ini_key *k = table; k->section; k++)
-        if (near_enough(word, k->section, &d) && d < best_d) {
+        if (suggest_near(word, k->section, &d) && d < best_d) {
             best = k->section;
             best_d = d;
         }
@@ -702,13 +668,13 @@ static const ini_key *nearest_key(const ini_key *table, const char *section, con
     int best_d = 1 << 20, d;
     *other_section = 0;
     for (const ini_key *k = table; k->section; k++)
-        if (strcmp(k->section, section) == 0 && near_enough(word, k->key, &d) && d < best_d) {
+        if (strcmp(k->section, section) == 0 && suggest_near(word, k->key, &d) && d < best_d) {
             best = k;
             best_d = d;
         }
     if (best) return best;
     for (const ini_key *k = table; k->section; k++)
-        if (near_enough(word, k->key, &d) && d < best_d) {
+        if (suggest_near(word, k->key, &d) && d < best_d) {
             best = k;
             best_d = d;
         }

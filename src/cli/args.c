@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/suggest.h"
+
 static int is_help(const char *word)
 {
     return strcmp(word, "--help") == 0 || strcmp(word, "-h") == 0;
@@ -51,6 +53,23 @@ static const cli_option *find_option(const cli_option *options, const char *word
             return o;
         }
     return NULL;
+}
+
+/* "unknown option 'WORD'", and the nearest option's name when one is near
+ * ("--cvs": did you mean --csv?). */
+static void unknown_option(const cli_option *options, const char *word, char *err,
+                           size_t errlen)
+{
+    enum { MAX_NAMES = 64 };
+    const char *names[MAX_NAMES];
+    int n = 0;
+    for (const cli_option *o = options; o->name && n < MAX_NAMES - 1; o++) names[n++] = o->name;
+    names[n] = NULL;
+    char typed[64]; /* "--csv=x.csv" is compared as "--csv" */
+    snprintf(typed, sizeof typed, "%.*s", (int)strcspn(word, "="), word);
+    const char *near = suggest_nearest(typed, names);
+    if (near) snprintf(err, errlen, "unknown option '%s'; did you mean %s?", word, near);
+    else snprintf(err, errlen, "unknown option '%s'", word);
 }
 
 /* Checks a value by its option's kind. 0, or -1 with a message. */
@@ -147,7 +166,7 @@ int cli_parse(int argc, char **argv, const cli_option *options, const cli_operan
         const char *value;
         const cli_option *o = find_option(options, word, &value);
         if (!o) {
-            snprintf(err, errlen, "unknown option '%s'", word);
+            unknown_option(options, word, err, errlen);
             return CLI_ERROR;
         }
         const char *option = value ? o->name : word; /* as typed: "-j" or "--jobs" */

@@ -124,9 +124,20 @@ int knot_track_change_is_slip(const knot_track *k, const rod_model *m)
            (k->slip_end >= 0 || !(k->change_gap < KNOT_PASS_GAP * m->diameter));
 }
 
-/* The ideal closed trefoil's ropelength, diameters: what the rope in a
- * tightened overhand knot is reported against */
-#define IDEAL_TREFOIL_ROPELENGTH 16.37
+/* what the rope in a tightened overhand knot is reported against */
+#define IDEAL_TREFOIL_ROPELENGTH KNOT_SHORTEST_ROPE
+
+int knot_track_can_knot(const rod_model *m)
+{
+    return m->self_contact && m->options.scheme == ROD_SCHEME_IMPLICIT &&
+           m->length > KNOT_SHORTEST_ROPE * m->diameter;
+}
+
+int knot_track_was_knotted(const knot_track *k)
+{
+    return k->frames > 0 && (k->changes > 0 || strcmp(k->first.name, "unknot") != 0 ||
+                             strcmp(k->last.name, "unknot") != 0);
+}
 
 void knot_track_print(FILE *f, const knot_track *k, const rod_model *m)
 {

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "base/outfile.h"
+#include "base/suggest.h"
 #include "cli/args.h"
 #include "cli/fem_cli.h"
 #include "cli/figure_cli.h"
@@ -20,16 +21,24 @@
 static int version_command(int argc, char **argv)
 {
     char err[256];
-    const cli_option none[] = {{0}};
-    int parsed = cli_parse(argc, argv, none, NULL, err, sizeof err);
+    int gl_report = 0;
+    const cli_option options[] = {{.name = "--gl", .value = CLI_FLAG, .target = &gl_report},
+                                  {0}};
+    int parsed = cli_parse(argc, argv, options, NULL, err, sizeof err);
     if (parsed == CLI_HELP) {
-        printf("usage: rodsim version   (or rodsim --version)\n"
-               "Prints rodsim's version and which GL backends (EGL, OSMesa) this machine has.\n");
+        printf("usage: rodsim version [--gl]   (or rodsim --version [--gl])\n"
+               "Prints rodsim's version.\n"
+               "  --gl   also which GL backends (EGL, OSMesa) this machine has, and which draws\n");
         return RUN_EXIT_OK;
     }
     if (parsed != CLI_PARSED) return cli_usage_error("version", err);
-    char gl[2048]; /* the GL backends: opens both libraries (~50 ms), makes no context */
-    printf("rodsim %s\n%s", RODSIM_VERSION, gl_context_backends_report(gl, sizeof gl));
+    printf("rodsim %s\n", RODSIM_VERSION);
+    if (gl_report) {
+        /* opens both libraries (Mesa, LLVM: ~100 ms of CPU), makes no
+         * context: only when asked, so that --version stays instant */
+        char gl[2048];
+        printf("%s", gl_context_backends_report(gl, sizeof gl));
+    }
     return RUN_EXIT_OK;
 }
 
@@ -49,13 +58,13 @@ static const command commands[] = {
     {"stability", stability_command, "largest stable dt per scheme at the extremes; table, map"},
     {"figure", figure_command, "regenerate the thesis' figures (parallel sweeps) as PNG plots"},
     {"validate", validate_command, "run the validation cases: errors, orders of convergence"},
-    {"version", version_command, "print rodsim's version (also rodsim --version)"},
+    {"version", version_command, "print rodsim's version (--gl: and the GL backends)"},
 };
 
 static void usage(FILE *f)
 {
     fprintf(f, "usage: rodsim COMMAND [options]   (rodsim COMMAND --help for its options)\n"
-               "       rodsim --version\n\n"
+               "       rodsim --version [--gl]\n\n"
                "commands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].summary);
@@ -117,7 +126,14 @@ int main(int argc, char **argv)
             return commands[i].run(argc - 1, argv + 1);
         }
     }
-    fprintf(stderr, "rodsim: unknown command '%s'\n", argv[1]);
+    const char *names[sizeof commands / sizeof commands[0] + 2];
+    size_t n = 0;
+    for (; n < sizeof commands / sizeof commands[0]; n++) names[n] = commands[n].name;
+    names[n++] = "help";
+    names[n] = NULL;
+    const char *near = suggest_nearest(argv[1], names);
+    if (near) fprintf(stderr, "rodsim: unknown command '%s'; did you mean %s?\n", argv[1], near);
+    else fprintf(stderr, "rodsim: unknown command '%s'\n", argv[1]);
     usage(stderr);
     return 2;
 }

@@ -4,13 +4,18 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <time.h>
 
 #include "base/ini.h"
+#include "base/outfile.h"
 #include "cli/args.h"
 #include "cli/live.h"
 #include "cli/render_cli.h"
+#include "cli/scene_keys.h"
 #include "cli/scene_outputs.h"
+#include "cli/summary.h"
 #include "sim/rod.h"
 
 #define RUN_ERR_LEN 1024
@@ -19,18 +24,31 @@ void run_usage(FILE *f)
 {
     fprintf(f,
             "usage: rodsim run SCENE [--set section.key=value]... [-o DIR] [--csv FILE]\n"
-            "                        [--no-video] [--allow-long] [--quiet]\n"
+            "                        [--summary FILE] [--no-video] [--allow-long]\n"
+            "                        [--progress] [--quiet]\n"
             "\n"
             "Simulates the rod scene SCENE (an INI file; its keys: rodsim help scene).\n"
             "  --set section.key=value  override a scene key (repeatable, applied in order),\n"
             "                           e.g. --set solver.scheme=thesis --set tip.force=\"0 8e-7 0\"\n"
             "  -o DIR                   directory for the video (default out/)\n"
             "  --csv FILE               write the centreline at every output frame:\n"
-            "                           t,node,s,x,y,z,d3x,d3y,d3z,twist (s, m, 1/m);\n"
+            "                           t,node,s,x,y,z,d3x,d3y,d3z,twist,nx,ny,nz (s, -, m,\n"
+            "                           m, m, m, -, -, -, 1/m, N, N, N): nx,ny,nz is the\n"
+            "                           internal force N(s), global; at a held end, the\n"
+            "                           force between the rod and its support;\n"
             "                           --csv - writes it to standard output\n"
+            "  --summary FILE           write how the run ended as one JSON object (status,\n"
+            "                           exit_code, message, warnings, counts, times, tip, end\n"
+            "                           forces, knot, punctures; docs/commands.md), whatever\n"
+            "                           the outcome; --summary - writes it to standard output\n"
+            "                           (the prose then goes to standard error)\n"
             "  --no-video               do not render the video\n"
             "  --allow-long             run even when the estimated time is over 1 hour\n"
-            "  --quiet                  print only errors\n"
+            "  --progress               show the progress line (simulated time, CPU s per\n"
+            "                           simulated s, time left) on standard error; by\n"
+            "                           default only on a terminal for a run over ~2 s\n"
+            "  --quiet                  print only errors (no progress line unless\n"
+            "                           --progress)\n"
             "The outputs (CSV, video, poster) appear together when the run succeeds, and\n"
             "none otherwise. Exit status: 0 success; 2 bad scene, bad usage, a run refused up\n"
             "front or stopped (too long, too large) or numerically unstable (nothing is\n"
@@ -61,49 +79,188 @@ static int run_scene(const scene_outputs_options *o, const cli_list *sets)
     char scene[128];
     ini_doc *doc = ini_load(o->label, err, sizeof err);
     if (!doc) goto fail;
+    ini_scene_name(doc, scene, sizeof scene);
+    if (o->summary) snprintf(o->summary->scene, sizeof o->summary->scene, "%s", scene);
     for (int i = 0; i < sets->count; i++)
         if (ini_set(doc, sets->items[i], err, sizeof err)) goto fail;
     if (run_read_scene(doc, &m, &out, err, sizeof err)) goto fail;
-    ini_scene_name(doc, scene, sizeof scene);
     status = scene_outputs_write(o, scene, &m, &out);
     goto done;
 fail:
     fprintf(stderr, "rodsim run: %s\n", err);
+    if (o->summary) summary_set_message(o->summary, err);
 done:
     rod_model_release(&m);
     ini_destroy(doc);
     return status;
 }
 
+static double wall_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* s: the process's CPU so far, user + system */
+static double cpu_used(void)
+{
+    struct rusage u;
+    if (getrusage(RUSAGE_SELF, &u) != 0) return 0.0;
+    return (double)(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+           1e-6 * (double)(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+/* An option that is not one of run's but names a scene key ("--fps 60",
+ * "--self-contact=no"): the --set that says it. */
+static void unknown_option_hint(int argc, char **argv, char *err, size_t errlen)
+{
+    const char *prefix = "unknown option '";
+    if (strncmp(err, prefix, strlen(prefix)) != 0 || strstr(err, "did you mean")) return;
+    int at = 0;
+    for (int i = 1; i < argc && !at; i++)
+        if (strncmp(err + strlen(prefix), argv[i], strlen(argv[i])) == 0 &&
+            err[strlen(prefix) + strlen(argv[i])] == '\'')
+            at = i;
+    if (!at) return;
+    const char *typed = argv[at] + strspn(argv[at], "-");
+    char word[64];
+    snprintf(word, sizeof word, "%.*s", (int)strcspn(typed, "="), typed);
+    const char *value = typed[strlen(word)] == '=' ? typed + strlen(word) + 1
+                        : at + 1 < argc              ? argv[at + 1]
+                                                     : NULL;
+    for (char *c = word; *c; c++)
+        if (*c == '-') *c = '_'; /* --self-contact: rod.self_contact */
+    int found = 0; /* a key of that name in several sections: each is named */
+    for (const ini_key *k = scene_keys_rod; k->section; k++) {
+        if (strcmp(k->key, word) != 0) continue;
+        size_t used = strlen(err);
+        snprintf(err + used, errlen - used, "%s--set %s.%s=%s", found++ ? " or " : "; write ",
+                 k->section, k->key, value ? value : "VALUE");
+    }
+    if (found) {
+        size_t used = strlen(err);
+        snprintf(err + used, errlen - used, " (a scene key)");
+    }
+}
+
+/* The --summary path of words that did not parse: what is known is still
+ * written. NULL when none was given. */
+static const char *summary_path_of(int argc, char **argv)
+{
+    const char *path = NULL;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--summary") == 0 && i + 1 < argc) path = argv[++i];
+        else if (strncmp(argv[i], "--summary=", 10) == 0) path = argv[i] + 10;
+    }
+    return path && path[0] ? path : NULL;
+}
+
+/* The summary's place, checked before any work: a file, in a directory that
+ * is or can be made. 0, or -1 with a message (the summary cannot be written
+ * then: only the message says why). */
+static int check_summary_path(const char *path, char *err, size_t errlen)
+{
+    struct stat st;
+    if (strcmp(path, "-") == 0) return 0;
+    size_t n = strlen(path);
+    if ((stat(path, &st) == 0 && S_ISDIR(st.st_mode)) || path[n - 1] == '/') {
+        snprintf(err, errlen, "--summary %s: names a directory, not a file", path);
+        return -1;
+    }
+    char dir[OUTFILE_PATH_MAX];
+    const char *slash = strrchr(path, '/');
+    if (!slash) snprintf(dir, sizeof dir, ".");
+    else if (slash == path) snprintf(dir, sizeof dir, "/");
+    else snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    char why[512];
+    if (outfile_check_dir(dir, why, sizeof why)) {
+        size_t cut = strcspn(why, "("); /* its advice names -o */
+        while (cut > 0 && why[cut - 1] == ' ') cut--;
+        why[cut] = '\0';
+        snprintf(err, errlen, "--summary %s: %s", path, why);
+        return -1;
+    }
+    return 0;
+}
+
+/* The summary completed (exit status, times) and written. Returns the exit
+ * status: the run's, or 1 when a run that succeeded cannot write it. */
+static int finish_summary(const char *path, run_summary *summary, int status, double wall_start)
+{
+    summary->exit_code = status;
+    summary->cpu_s = cpu_used();
+    summary->wall_s = wall_now() - wall_start;
+    size_t n = strlen(summary->message); /* the prose's last newline */
+    while (n > 0 && (summary->message[n - 1] == '\n' || summary->message[n - 1] == ' '))
+        summary->message[--n] = '\0';
+    char err[RUN_ERR_LEN];
+    if (summary_write(path, summary, err, sizeof err)) {
+        fprintf(stderr, "rodsim run: %s\n", err);
+        if (status == RUN_EXIT_OK) status = RUN_EXIT_FAILURE;
+    }
+    return status;
+}
+
 int run_command(int argc, char **argv)
 {
+    double wall_start = wall_now();
     char err[RUN_ERR_LEN] = "";
     scene_outputs_options o = {.out_dir = "out"};
     cli_list sets = {0};
+    const char *summary_path = NULL;
+    run_summary summary; /* ~30 KB */
+    summary_init(&summary);
     const cli_option options[] = {
         {.name = "--set", .value = CLI_SETTING, .target = &sets, .repeated = 1},
         {.name = "-o", .value = CLI_DIR, .target = &o.out_dir},
         {.name = "--csv", .value = CLI_OUTPUT, .target = &o.csv},
+        {.name = "--summary", .value = CLI_OUTPUT, .target = &summary_path},
         {.name = "--no-video", .value = CLI_FLAG, .target = &o.no_video},
         {.name = "--allow-long", .value = CLI_FLAG, .target = &o.allow_long},
+        {.name = "--progress", .value = CLI_FLAG, .target = &o.progress},
         {.name = "--quiet", .alias = "-q", .value = CLI_FLAG, .target = &o.quiet},
         {0}};
     const cli_operand scene = {.name = "SCENE", .target = &o.label};
     int parsed = cli_parse(argc, argv, options, &scene, err, sizeof err);
+    if (parsed == CLI_PARSED && summary_path && strcmp(summary_path, "-") == 0 && o.csv &&
+        strcmp(o.csv, "-") == 0) {
+        snprintf(err, sizeof err, "--csv - and --summary - both ask for standard output; "
+                                  "give one of them a file");
+        parsed = CLI_ERROR;
+    }
+    if (parsed == CLI_PARSED && summary_path && check_summary_path(summary_path, err, sizeof err)) {
+        summary_path = NULL; /* it cannot be written */
+        parsed = CLI_ERROR;
+    } else if (parsed == CLI_ERROR && !summary_path) {
+        summary_path = summary_path_of(argc, argv);
+        char unused[512];
+        if (summary_path && check_summary_path(summary_path, unused, sizeof unused))
+            summary_path = NULL; /* the usage error is the one reported */
+    }
+    if (summary_path) {
+        o.summary = &summary;
+        o.talk_stderr = strcmp(summary_path, "-") == 0;
+    }
     int status;
     if (parsed == CLI_HELP) {
         run_usage(stdout);
-        status = RUN_EXIT_OK;
+        cli_release(options);
+        return RUN_EXIT_OK;
     } else if (parsed != CLI_PARSED) {
+        unknown_option_hint(argc, argv, err, sizeof err);
+        summary_set_message(&summary, err);
         status = cli_usage_error("run", err);
     } else if (is_live_record(o.label)) { /* `run` on a recording: its video */
         status = render_command(argc, argv);
     } else if (scene_outputs_check(&o, err, sizeof err)) {
         fprintf(stderr, "rodsim run: %s\n", err);
+        summary_set_message(&summary, err);
         status = RUN_EXIT_BAD_INPUT;
     } else {
         status = run_scene(&o, &sets);
     }
+    if (summary_path) status = finish_summary(summary_path, &summary, status, wall_start);
     cli_release(options);
     return status;
 }

@@ -4,13 +4,17 @@
  * made (streamed when too long to keep), everything committed together. */
 #include "cli/scene_outputs.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "base/outfile.h"
 #include "base/vec3.h"
@@ -18,6 +22,7 @@
 #include "cli/knot_track.h"
 #include "cli/run.h"
 #include "cli/scene_keys.h"
+#include "cli/summary.h"
 #include "render/gl_context.h"
 #include "sim/rod.h"
 #include "sim/scene.h"
@@ -84,6 +89,26 @@ int run_write_video(const rod_recording *rec, const run_output *out, const char 
     return render_recording(rec, &out->render, out_dir, rec->scene, 1, err, errlen);
 }
 
+/* An error for people on stderr (fmt starts "rodsim run: "), kept without
+ * that prefix as the run summary's message (appended: one failure may take
+ * several lines). */
+static void complain(const scene_outputs_options *a, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+static void complain(const scene_outputs_options *a, const char *fmt, ...)
+{
+    char text[SUMMARY_TEXT_LEN];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    fputs(text, stderr);
+    if (!a->summary) return;
+    const char *prefix = "rodsim run: ";
+    const char *body = strncmp(text, prefix, strlen(prefix)) == 0 ? text + strlen(prefix) : text;
+    size_t used = strlen(a->summary->message);
+    snprintf(a->summary->message + used, sizeof a->summary->message - used, "%s", body);
+}
+
 static const char *profile_text(const rod_profile *p, char *buf, size_t n)
 {
     switch (p->kind) {
@@ -132,61 +157,69 @@ static void print_summary(FILE *f, const char *scene_path, const char *scene,
     fprintf(f, "           steps of %.6g s, %lld per frame interval 1/fps (equal steps, none "
                "longer than dt)\n",
             plan->step, (long long)plan->steps_per_interval);
-    fprintf(f, "  output   %g s simulated, %lld frames at %d fps, %lld steps, estimated %.3g s\n",
-            m->options.duration, (long long)plan->frames, out->fps, (long long)plan->steps,
-            estimate);
+    if (out->render.speed == 1.0)
+        fprintf(f, "  output   %g s simulated, %lld frames at %d fps, %lld steps, estimated "
+                   "%.3g s\n", m->options.duration, (long long)plan->frames, out->fps, (long long)plan->steps,
+                estimate);
+    else /* out->fps is frames per simulated s; the video plays render.fps of them a second */
+        fprintf(f, "  output   %g s simulated, %lld frames (%d per simulated s), a %d fps video "
+                   "played at speed %g (%.4g s long), %lld steps, estimated %.3g s\n",
+                m->options.duration, (long long)plan->frames, out->fps, out->render.fps,
+                out->render.speed, (double)plan->frames / out->render.fps,
+                (long long)plan->steps, estimate);
     fflush(f);
 }
 
 /* Prints what went wrong in a step and returns the exit status for it. */
-static int report_step_failure(rod_status status, int non_finite, const rod_model *m,
+static int report_step_failure(const scene_outputs_options *a, rod_status status,
+                               int non_finite, const rod_model *m,
                                const rod_state *s, double dt, const rod_report *report)
 {
     const char *scheme = rod_scheme_get(m->options.scheme)->name;
     if (status == ROD_UNSTABLE) {
-        fprintf(stderr, "rodsim run: the %s scheme stopped: the run became unstable at t = %g s "
-                        "(dt = %g s)", scheme, s->time, dt);
-        if (non_finite) fprintf(stderr, ": the state is no longer finite");
-        fprintf(stderr, "\n");
-        if (report->message[0]) fprintf(stderr, "  %s\n", report->message);
+        complain(a, "rodsim run: the %s scheme stopped: the run became unstable at t = %g s "
+                    "(dt = %g s)", scheme, s->time, dt);
+        if (non_finite) complain(a, ": the state is no longer finite");
+        complain(a, "\n");
+        if (report->message[0]) complain(a, "  %s\n", report->message);
         if (report->suggested_scale > 0.0 && report->suggested_dt > 0.0)
-            fprintf(stderr, "  what would work: --set rod.rotary_inertia_scale=%g --set "
-                            "solver.dt=%g\n",
+            complain(a, "  what would work: --set rod.rotary_inertia_scale=%g --set "
+                        "solver.dt=%g\n",
                     report->suggested_scale, report->suggested_dt);
         else if (report->suggested_scale > 0.0)
-            fprintf(stderr, "  what would work: --set rod.rotary_inertia_scale=%g\n",
+            complain(a, "  what would work: --set rod.rotary_inertia_scale=%g\n",
                     report->suggested_scale);
         else if (report->suggested_dt > 0.0)
-            fprintf(stderr, "  what would work: --set solver.dt=%g\n", report->suggested_dt);
+            complain(a, "  what would work: --set solver.dt=%g\n", report->suggested_dt);
         if (!report->message[0] && report->suggested_dt <= 0.0 && report->suggested_scale <= 0.0)
-            fprintf(stderr, "  try a smaller solver.dt%s\n",
+            complain(a, "  try a smaller solver.dt%s\n",
                     m->options.scheme == ROD_SCHEME_IMPLICIT
                         ? " or a slower load (tip.profile = ramp T)"
                         : ", or --set solver.scheme=implicit");
-        fprintf(stderr, "  nothing was written.\n");
+        complain(a, "  nothing was written.\n");
         return RUN_EXIT_BAD_INPUT;
     }
     if (status == ROD_NO_CONVERGENCE) {
-        fprintf(stderr, "rodsim run: the %s scheme's Newton iteration did not converge at "
-                        "t = %g s (dt = %g s)\n",
+        complain(a, "rodsim run: the %s scheme's Newton iteration did not converge at "
+                    "t = %g s (dt = %g s)\n",
                 scheme, s->time, dt);
         /* the scheme's message says what to change (and, for the implicit
          * scheme, where Newton stalled: a smaller dt does not help a stall
          * at a contact) */
         if (report->message[0])
-            fprintf(stderr, "  %s\n  nothing was written.\n", report->message);
+            complain(a, "  %s\n  nothing was written.\n", report->message);
         else
-            fprintf(stderr, "  try a smaller solver.dt, a slower load (tip.profile = ramp T) or "
-                            "more solver.newton_max_iterations; nothing was written.\n");
+            complain(a, "  try a smaller solver.dt, a slower load (tip.profile = ramp T) or "
+                        "more solver.newton_max_iterations; nothing was written.\n");
         return RUN_EXIT_BAD_INPUT;
     }
-    fprintf(stderr, "rodsim run: the %s scheme failed at t = %g s: %s\n", scheme, s->time,
+    complain(a, "rodsim run: the %s scheme failed at t = %g s: %s\n", scheme, s->time,
             report->message[0] ? report->message : "(no message)");
     return RUN_EXIT_FAILURE;
 }
 
 static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_t steps,
-                         double wall)
+                         double wall, double cpu)
 {
     const double *tip = &s->position[3 * (s->nodes - 1)];
     fprintf(f, "result: t = %g s, tip at (%.9g, %.9g, %.9g) m\n", s->time, tip[0], tip[1],
@@ -225,9 +258,11 @@ static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_
                 p->point[1], p->point[2], k < m->puncture_count ? "given" : "made by the needle", p->s,
                 p->force[0] + 0.0, p->force[1] + 0.0, p->force[2] + 0.0);
     }
-    fprintf(f, "        %lld steps in %.3f s wall, %.2f us per step, %.4g wall s per simulated s\n",
-            (long long)steps, wall, steps > 0 ? 1e6 * wall / (double)steps : 0.0,
-            s->time > 0.0 ? wall / s->time : 0.0);
+    /* CPU beside wall: a busy machine stretches the wall time, not the CPU */
+    fprintf(f, "        %lld steps in %.3f s wall, %.3f s CPU: %.2f us CPU per step, %.4g CPU s "
+               "(%.4g wall s) per simulated s\n",
+            (long long)steps, wall, cpu, steps > 0 ? 1e6 * cpu / (double)steps : 0.0,
+            s->time > 0.0 ? cpu / s->time : 0.0, s->time > 0.0 ? wall / s->time : 0.0);
 }
 
 /* "2.5 h", "40 min", "12 s": an estimate a person reads. */
@@ -264,7 +299,7 @@ static void print_too_long(const scene_outputs_options *a, const rod_model *m,
     const char *scheme = rod_scheme_get(m->options.scheme)->name;
     int video_pixels = a->no_video ? 0 : out->width * out->height;
     char when[48], limit[48], spent[48];
-    fprintf(stderr,
+    complain(a,
             "rodsim run: %s: this run would take about %s (the limit is %s): %lld steps of "
             "%.3g s (solver.duration = %g s, solver.dt = %g s) at ~%.3g us per step",
             a->label, duration_text(seconds, when, sizeof when),
@@ -272,22 +307,22 @@ static void print_too_long(const scene_outputs_options *a, const rod_model *m,
             plan->step, m->options.duration, dt,
             1e6 * (pace ? pace->rate : plan->seconds_per_step));
     if (pace)
-        fprintf(stderr, " of CPU as measured (the model's %.3g us for the %s scheme at "
-                        "rod.nodes = %d)",
+        complain(a, " of CPU as measured (the model's %.3g us for the %s scheme at "
+                    "rod.nodes = %d)",
                 1e6 * plan->seconds_per_step, scheme, m->nodes);
     else
-        fprintf(stderr, " (the %s scheme at rod.nodes = %d)", scheme, m->nodes);
+        complain(a, " (the %s scheme at rod.nodes = %d)", scheme, m->nodes);
     if (video_pixels)
-        fprintf(stderr, ", and %lld video frames of %dx%d (render.fps = %d)",
+        complain(a, ", and %lld video frames of %dx%d (render.fps = %d)",
                 (long long)plan->frames, out->width, out->height, out->fps);
     if (pace)
-        fprintf(stderr, "; stopped at t = %g s after %s of CPU, nothing was written.\n",
+        complain(a, "; stopped at t = %g s after %s of CPU, nothing was written.\n",
                 stopped_at, duration_text(pace->cpu, spent, sizeof spent));
     else
-        fprintf(stderr, "; nothing was run.\n");
-    fprintf(stderr, "  to shorten it: a larger solver.dt (solver.dt = auto picks the largest "
-                    "stable one), a shorter solver.duration, fewer rod.nodes%s; or "
-                    "--allow-long to run it anyway\n",
+        complain(a, "; nothing was run.\n");
+    complain(a, "  to shorten it: a larger solver.dt (solver.dt = auto picks the largest "
+                "stable one), a shorter solver.duration, fewer rod.nodes%s; or "
+                "--allow-long to run it anyway\n",
             video_pixels ? ", a lower render.fps or render.width/height, or --no-video" : "");
 }
 
@@ -299,7 +334,7 @@ static int check_budget(const scene_outputs_options *a, const rod_model *m,
 {
     double seconds = estimate_seconds(a, m, out, plan);
     if (!countable) {
-        fprintf(stderr,
+        complain(a,
                 "rodsim run: %s: this run needs %.3g steps of at most solver.dt = %g s over "
                 "solver.duration = %g s and %.3g frames at render.fps = %d: more than %.0e, "
                 "where the time no longer advances by a step; nothing was run.\n"
@@ -316,6 +351,58 @@ static int check_budget(const scene_outputs_options *a, const rod_model *m,
     return 0;
 }
 
+static double wall_clock(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static double cpu_clock(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The progress line on stderr: one line rewritten with \r at most every
+ * PROGRESS_PERIOD s of wall time, cleared when the run ends. */
+#define PROGRESS_PERIOD 0.25  /* s */
+#define PROGRESS_AUTO_SECONDS 2.0 /* s: shorter runs show none unless asked */
+typedef struct progress_line {
+    int on;
+    double duration;          /* s simulated */
+    double wall_start, cpu_start, shown; /* s, clocks; shown: the last line (0: none yet) */
+    int width;                /* characters of the last line */
+} progress_line;
+
+static void progress_show(progress_line *p, double t)
+{
+    double wall = wall_clock();
+    if (!p->on || (p->shown > 0.0 && wall - p->shown < PROGRESS_PERIOD && t < p->duration))
+        return;
+    double spent = wall - p->wall_start, cpu = cpu_clock() - p->cpu_start;
+    char line[160], left[48];
+    double share = p->duration > 0.0 ? 100.0 * t / p->duration : 100.0;
+    int n = t > 0.0 ? snprintf(line, sizeof line, "  t = %.4g of %g s (%.0f %%), %.3g CPU s per "
+                               "simulated s, about %s left", t, p->duration, share, cpu / t,
+                               duration_text(spent / t * (p->duration - t), left, sizeof left))
+                    : snprintf(line, sizeof line, "  t = 0 of %g s", p->duration);
+    if (n >= (int)sizeof line) n = (int)sizeof line - 1;
+    fprintf(stderr, "\r%s%*s", line, p->width > n ? p->width - n : 0, "");
+    fflush(stderr);
+    p->width = n;
+    p->shown = wall;
+}
+
+static void progress_clear(progress_line *p)
+{
+    if (!p->on || p->width == 0) return;
+    fprintf(stderr, "\r%*s\r", p->width, "");
+    fflush(stderr);
+    p->width = 0;
+}
+
 /* Where the frames of a run go as they come: the CSV (streamed) and the
  * recording the video is made from (NULL without a video). */
 typedef struct frame_sink {
@@ -327,15 +414,35 @@ typedef struct frame_sink {
     int64_t stride, index;  /* of the sample; frames seen */
     render_stream *stream;  /* the second pass: frames go to the encoder */
     int failed; /* 1: an output failed (message in the report), not the scheme */
+    run_summary *summary;   /* the first pass: knot changes and punctures, or NULL */
+    progress_line *progress;/* the first pass: the progress line, or NULL */
 } frame_sink;
+
+/* The summary's record of a frame: a knot change, the punctures made. */
+static void summary_frame(run_summary *sum, const knot_track *k, int changes_before,
+                          const rod_state *s)
+{
+    if (k && k->changes > changes_before && sum->knot_change_count < SUMMARY_MAX_KNOT_CHANGES) {
+        summary_knot_change *c = &sum->knot_changes[sum->knot_change_count++];
+        c->t = s->time;
+        snprintf(c->type, sizeof c->type, "%s", k->last.name);
+    }
+    for (int j = sum->puncture_count; j < s->puncture_count && j < SUMMARY_MAX_PUNCTURES; j++) {
+        sum->punctures[j].t = s->time; /* at t = 0 for the scene's own */
+        sum->puncture_count = j + 1;
+    }
+}
 
 static int on_frame(void *context, const rod_model *m, const rod_state *s, char *err,
                     size_t errlen)
 {
     frame_sink *sink = context;
     int64_t index = sink->index++;
+    int changes = sink->knot ? sink->knot->changes : 0;
     if (sink->knot)
         knot_track_frame(sink->knot, m, s, sink->stats ? sink->stats->closest_gap_frame : INFINITY);
+    if (sink->summary) summary_frame(sink->summary, sink->knot, changes, s);
+    if (sink->progress) progress_show(sink->progress, s->time);
     if (sink->csv) {
         if (run_csv_frame(sink->csv, m, s)) {
             snprintf(err, errlen, "out of memory");
@@ -393,7 +500,7 @@ static int stream_video(const scene_outputs_options *a, const char *scene, const
     rod_solver_release(solver);
     memset(solver, 0, sizeof *solver);
     if (rod_solver_init(solver, m, err, sizeof err)) {
-        fprintf(stderr, "rodsim run: cannot restart the scheme for the video: %s\n", err);
+        complain(a, "rodsim run: cannot restart the scheme for the video: %s\n", err);
         return RUN_EXIT_FAILURE;
     }
     rod_state_reset(m, s);
@@ -404,19 +511,19 @@ static int stream_video(const scene_outputs_options *a, const char *scene, const
                            : NULL;
     int status = RUN_EXIT_FAILURE;
     if (!sink.stream) {
-        fprintf(stderr, "rodsim run: video: %s\n", sink.rec ? err : "out of memory");
+        complain(a, "rodsim run: video: %s\n", sink.rec ? err : "out of memory");
         goto done;
     }
     rod_report report;
     run_stats stats;
     rod_status st = run_simulate(solver, m, s, plan, out->fps, on_frame, &sink, &report, &stats);
     if (st != ROD_OK) {
-        fprintf(stderr, "rodsim run: video: %s\n",
+        complain(a, "rodsim run: video: %s\n",
                 sink.failed ? report.message : "the second pass did not repeat the first");
         goto done;
     }
     if (render_stream_finish(sink.stream, err, sizeof err)) {
-        fprintf(stderr, "rodsim run: video: %s\n", err);
+        complain(a, "rodsim run: video: %s\n", err);
         goto done;
     }
     status = 0;
@@ -464,6 +571,9 @@ typedef struct scene_run {
     run_pace pace;         /* the estimate revised from the CPU time the steps take */
     double told;           /* s: the last revised estimate printed (0: none) */
     run_warnings warnings; /* printed as they come: the plan's, then the result's */
+    progress_line progress;
+    double step_cpu;       /* s: the CPU of the first pass's steps and frames */
+    int committed;         /* 1: the outputs were written */
 } scene_run;
 
 void scene_outputs_plan_warnings(const rod_model *m, double dt, run_warnings *w)
@@ -498,16 +608,27 @@ static int plan_run(scene_run *r)
                 rod_scheme_get(m->options.scheme)->name, r->why);
         r->dt = 1.0 / r->out->fps;
         r->why = "no stable dt exists; one step per frame to report the divergence";
+        if (r->o->summary) {
+            char text[SUMMARY_TEXT_LEN];
+            snprintf(text, sizeof text, "the %s scheme has no stable time step for this model (%s)",
+                     rod_scheme_get(m->options.scheme)->name, r->why);
+            summary_add_warning(r->o->summary, text);
+        }
     }
     int countable = run_plan_make(m, r->dt, r->out->fps, &r->plan) == 0;
     if (check_budget(r->o, m, r->out, r->dt, &r->plan, countable)) return -1;
     r->csv_stdout = r->o->csv && strcmp(r->o->csv, "-") == 0;
-    r->talk = r->csv_stdout ? stderr : stdout;
+    r->talk = r->csv_stdout || r->o->talk_stderr ? stderr : stdout;
     if (!r->o->quiet)
         print_summary(r->talk, r->o->label, r->name, m, r->dt, r->why, r->out, &r->plan,
                       estimate_seconds(r->o, m, r->out, &r->plan));
     scene_outputs_plan_warnings(m, r->dt, &r->warnings);
     run_warnings_print(stderr, &r->warnings, 0);
+    /* a long run shows where it is on a terminal; --progress shows it anywhere */
+    r->progress.on = r->o->progress ||
+                     (!r->o->quiet && isatty(STDERR_FILENO) &&
+                      estimate_seconds(r->o, m, r->out, &r->plan) > PROGRESS_AUTO_SECONDS);
+    r->progress.duration = m->options.duration;
     return 0;
 }
 
@@ -518,10 +639,12 @@ static int plan_run(scene_run *r)
 static void tell_revision(void *context, const run_pace *pace)
 {
     scene_run *r = context;
-    if (pace->estimate < TELL_SHARE * pace->limit ||
+    progress_show(&r->progress, r->s->time); /* between frames too: a frame may take long */
+    if (r->o->quiet || pace->estimate < TELL_SHARE * pace->limit ||
         (r->told > 0.0 && pace->estimate < 2.0 * r->told && pace->estimate > 0.5 * r->told))
         return;
     char when[48], spent[48];
+    progress_clear(&r->progress); /* the line is drawn again at the next frame */
     fprintf(stderr, "rodsim run: revised estimate at t = %g of %g s: about %s of CPU (%.3g us "
                     "per step as measured, the model's %.3g us; %s spent)\n",
             r->s->time, r->m->options.duration, duration_text(pace->estimate, when, sizeof when),
@@ -540,7 +663,7 @@ static void pace_run(scene_run *r)
     pace->passes = r->streamed ? 2.0 : 1.0;
     pace->extra_seconds =
         r->o->no_video ? 0.0 : run_plan_video_seconds(&r->plan, r->out->width * r->out->height);
-    pace->on_revise = r->o->quiet ? NULL : tell_revision;
+    pace->on_revise = tell_revision; /* the progress line; the estimate unless quiet */
     pace->context = r;
 }
 
@@ -553,7 +676,7 @@ static int open_run(scene_run *r)
     const rod_model *m = r->m;
     char err[SCENE_OUTPUTS_ERR_LEN] = "";
     if (rod_solver_init(&r->solver, m, err, sizeof err)) {
-        fprintf(stderr, "rodsim run: %s: cannot start the %s scheme: %s\n", a->label,
+        complain(a, "rodsim run: %s: cannot start the %s scheme: %s\n", a->label,
                 rod_scheme_get(m->options.scheme)->name, err);
         /* a scheme refuses what it does not model (an end combination, a key):
          * bad input; only running out of memory is another failure */
@@ -573,20 +696,20 @@ static int open_run(scene_run *r)
         sink->rec = rod_recording_create(m, r->name, (int)r->plan.frames);
     }
     if (!r->s || (!a->no_video && !sink->rec)) {
-        fprintf(stderr, "rodsim run: out of memory for rod.nodes = %d%s\n", m->nodes,
+        complain(a, "rodsim run: out of memory for rod.nodes = %d%s\n", m->nodes,
                 a->no_video ? "" : " and the video's frames (render.fps, solver.duration)");
         return RUN_EXIT_FAILURE;
     }
     if (r->csv_stdout) {
         sink->csv = tmpfile(); /* copied to stdout when the run has succeeded */
         if (!sink->csv) {
-            fprintf(stderr, "rodsim run: CSV: cannot make a temporary file: %s\n",
+            complain(a, "rodsim run: CSV: cannot make a temporary file: %s\n",
                     strerror(errno));
             return RUN_EXIT_FAILURE;
         }
     } else if (a->csv) {
         if (outfile_open(&r->csv_file, a->csv, err, sizeof err)) {
-            fprintf(stderr, "rodsim run: %s\n", err);
+            complain(a, "rodsim run: %s\n", err);
             return RUN_EXIT_FAILURE;
         }
         sink->csv = r->csv_file.fp;
@@ -599,19 +722,27 @@ static int open_run(scene_run *r)
 /* The run itself. 0, or the exit status of its failure (reported). */
 static int step_run(scene_run *r)
 {
+    r->progress.wall_start = wall_clock();
+    r->progress.cpu_start = cpu_clock();
+    r->sink.progress = &r->progress;
     rod_status st = run_simulate_paced(&r->solver, r->m, r->s, &r->plan, r->out->fps, on_frame,
                                        &r->sink, &r->pace, &r->report, &r->stats);
+    r->step_cpu = cpu_clock() - r->progress.cpu_start;
+    progress_clear(&r->progress);
     if (st == ROD_OK) return 0;
+    if ((st == ROD_UNSTABLE || st == ROD_NO_CONVERGENCE) && !r->pace.stopped && !r->sink.failed &&
+        r->o->summary)
+        r->o->summary->status = "unstable";
     if (r->pace.stopped) { /* the revised estimate passed the limit */
         print_too_long(r->o, r->m, r->out, r->dt, &r->plan, r->pace.estimate, &r->pace,
                        r->s->time);
         return RUN_EXIT_BAD_INPUT;
     }
     if (r->sink.failed) {
-        fprintf(stderr, "rodsim run: %s\n", r->report.message);
+        complain(r->o, "rodsim run: %s\n", r->report.message);
         return RUN_EXIT_FAILURE;
     }
-    return report_step_failure(st, r->stats.non_finite, r->m, r->s,
+    return report_step_failure(r->o, st, r->stats.non_finite, r->m, r->s,
                                r->stats.largest_step > 0.0 ? r->stats.largest_step : r->dt,
                                &r->report);
 }
@@ -624,7 +755,7 @@ static int finish_streamed_video(scene_run *r)
     if (rec->frame_count > 0 && rec->time[rec->frame_count - 1] != r->s->time) {
         if (rec->frame_count == r->sink.sample_cap) rod_recording_halve(rec);
         if (rod_recording_append(rec, r->m, r->s)) {
-            fprintf(stderr, "rodsim run: out of memory\n");
+            complain(r->o, "rodsim run: out of memory\n");
             return RUN_EXIT_FAILURE;
         }
     }
@@ -642,22 +773,22 @@ static int commit_outputs(scene_run *r)
     const scene_outputs_options *a = r->o;
     char err[SCENE_OUTPUTS_ERR_LEN] = "";
     if (a->csv && !r->csv_stdout && outfile_commit(&r->csv_file, err, sizeof err)) {
-        fprintf(stderr, "rodsim run: %s\n", err);
+        complain(a, "rodsim run: %s\n", err);
         return RUN_EXIT_FAILURE;
     }
     if (r->streamed) {
         int video_status = finish_streamed_video(r);
         if (video_status) return video_status;
     } else if (!a->no_video && run_write_video(r->sink.rec, r->out, a->out_dir, err, sizeof err)) {
-        fprintf(stderr, "rodsim run: video: %s\n", err);
+        complain(a, "rodsim run: video: %s\n", err);
         return RUN_EXIT_FAILURE;
     }
     if (outfile_transaction_commit(err, sizeof err)) {
-        fprintf(stderr, "rodsim run: %s; nothing was written\n", err);
+        complain(a, "rodsim run: %s; nothing was written\n", err);
         return RUN_EXIT_FAILURE;
     }
     if (r->csv_stdout && copy_to_stdout(r->sink.csv, err, sizeof err)) {
-        fprintf(stderr, "rodsim run: %s\n", err);
+        complain(a, "rodsim run: %s\n", err);
         return RUN_EXIT_FAILURE;
     }
     return 0;
@@ -722,11 +853,12 @@ static int report_run(scene_run *r)
     int passed_through =
         scene_outputs_result_warnings(m, &r->report, knots, &r->warnings, error, sizeof error);
     run_warnings_print(stderr, &r->warnings, from);
-    if (passed_through) fprintf(stderr, "rodsim run: error: %s\n", error);
+    if (passed_through) complain(a, "rodsim run: error: %s\n", error);
     if (!a->quiet) {
         FILE *talk = r->talk;
-        print_result(talk, m, r->s, r->stats.steps, r->stats.wall_seconds);
-        knot_track_print(talk, knots, m);
+        print_result(talk, m, r->s, r->stats.steps, r->stats.wall_seconds, r->step_cpu);
+        if (knot_track_can_knot(m) || knot_track_was_knotted(knots))
+            knot_track_print(talk, knots, m);
         if (a->csv && !r->csv_stdout)
             fprintf(talk, "        wrote %s (%lld frames x %d nodes)\n", a->csv,
                     (long long)r->plan.frames, m->nodes);
@@ -738,6 +870,80 @@ static int report_run(scene_run *r)
                     gl_context_backend_used() ? gl_context_backend_used() : "?");
     }
     return passed_through ? RUN_EXIT_FAILURE : RUN_EXIT_OK;
+}
+
+/* What the summary knows before the run. */
+static void summary_plan(const scene_run *r, run_summary *sum)
+{
+    snprintf(sum->scene, sizeof sum->scene, "%s", r->name);
+    snprintf(sum->scheme, sizeof sum->scheme, "%s", rod_scheme_get(r->m->options.scheme)->name);
+    sum->has_video_rate = 1;
+    sum->fps = r->out->render.fps;
+    sum->speed = r->out->render.speed;
+}
+
+/* The knot of the last frame (the scene can knot, or was knotted). */
+static void summary_knot(const scene_run *r, run_summary *sum)
+{
+    const knot_track *k = &r->knots;
+    const rod_model *m = r->m;
+    sum->has_knot = 1;
+    snprintf(sum->knot_type, sizeof sum->knot_type, "%s", k->last.name);
+    sum->knot_terms = k->last.terms < 32 ? k->last.terms : 32;
+    for (int i = 0; i < sum->knot_terms; i++) sum->knot_alexander[i] = k->last.coefficient[i];
+    sum->knot_determinant = k->last.determinant;
+    sum->knot_has_signature = k->last.has_signature;
+    sum->knot_signature = k->last.signature;
+    /* the rope in the knot, as knot_track_print measures it */
+    if (strcmp(k->last.name, "unknot") != 0 && k->touch_lo >= 0 && k->touch_time == k->last_time)
+        sum->rope_in_knot_d = (k->touch_hi - k->touch_lo) * m->ds / m->diameter;
+}
+
+/* What the summary knows after the run, whatever its outcome. */
+static void summary_result(const scene_run *r, run_summary *sum)
+{
+    const rod_model *m = r->m;
+    const scene_outputs_options *a = r->o;
+    for (int i = 0; i < r->warnings.count; i++) summary_add_warning(sum, r->warnings.text[i]);
+    if (!r->s) return;
+    sum->has_run = 1;
+    sum->steps = r->stats.steps;
+    sum->frames = r->sink.index;
+    sum->t_end = r->s->time;
+    sum->step_cpu_s = r->step_cpu;
+    if (r->committed) {
+        char path[SUMMARY_TEXT_LEN];
+        if (a->csv && !r->csv_stdout) summary_add_file(sum, a->csv);
+        if (!a->no_video) {
+            for (int k = 0; k < 2; k++) {
+                snprintf(path, sizeof path, "%s/%s.%s", a->out_dir, r->name, k ? "png" : "mp4");
+                summary_add_file(sum, path);
+            }
+            if (r->out->render.frames_png) { /* a directory: its name ends with '/' */
+                snprintf(path, sizeof path, "%s/%s_frames/", a->out_dir, r->name);
+                summary_add_file(sum, path);
+            }
+            const char *gl = gl_context_backend_used();
+            for (size_t i = 0; gl && gl[i] && i + 1 < sizeof sum->gl; i++) /* "egl", "osmesa" */
+                sum->gl[i] = (char)tolower((unsigned char)gl[i]);
+        }
+    }
+    sum->has_rod = 1;
+    sum->nodes = m->nodes;
+    v3_copy(sum->tip, &r->s->position[3 * (m->nodes - 1)]);
+    const rod_end_kind kinds[2] = {m->root_end, m->tip_end};
+    for (int e = 0; e < 2; e++) {
+        sum->has_end[e] = kinds[e] != ROD_END_FREE;
+        v3_copy(sum->end_force[e], r->s->end_force[e]);
+        v3_copy(sum->end_moment[e], r->s->end_moment[e]);
+    }
+    if (r->knots.frames > 0 && (knot_track_can_knot(m) || knot_track_was_knotted(&r->knots)))
+        summary_knot(r, sum);
+    if (isfinite(r->stats.closest_gap)) sum->min_strand_gap_d = r->stats.closest_gap / m->diameter;
+    for (int j = 0; j < sum->puncture_count && j < r->s->puncture_count; j++) {
+        v3_copy(sum->punctures[j].point, r->s->puncture[j].point);
+        v3_copy(sum->punctures[j].force, r->s->puncture[j].force);
+    }
 }
 
 /* All outputs (CSV, video, poster, frames) are one transaction: they appear
@@ -752,20 +958,24 @@ int scene_outputs_write(const scene_outputs_options *o, const char *name, const 
     r.m = m;
     r.out = out;
     r.csv_file = (outfile){.fd = -1, .slot = -1};
+    if (o->summary) summary_plan(&r, o->summary);
     if (plan_run(&r)) return RUN_EXIT_BAD_INPUT;
     knot_track_init(&r.knots, m->nodes);
     r.sink.knot = &r.knots;
     r.sink.stats = &r.stats;
+    r.sink.summary = o->summary;
     outfile_transaction_begin();
     int status = open_run(&r);
     if (!status) status = step_run(&r);
     if (!status) status = commit_outputs(&r);
+    r.committed = !status;
     if (!status) {
         status = report_run(&r); /* a pass-through fails the run but keeps its outputs */
     } else {
         outfile_abort(&r.csv_file);
         outfile_transaction_abort();
     }
+    if (o->summary) summary_result(&r, o->summary);
     if (r.csv_stdout && r.sink.csv) fclose(r.sink.csv);
     rod_recording_destroy(r.sink.rec);
     knot_track_release(&r.knots);

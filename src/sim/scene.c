@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/suggest.h"
 #include "base/spline.h"
 #include "base/textfile.h"
 #include "base/textline.h"
@@ -105,14 +106,18 @@ static int read_solver(ini_doc *doc, rod_model *m, char *err, size_t errlen)
     if (ini_get_string(doc, "solver", 0, "scheme", &text, err, errlen) == 1 &&
         !rod_scheme_find(text, &o->scheme)) {
         char list[128] = "";
+        const char *names[ROD_SCHEME_COUNT + 1];
         size_t used = 0;
         for (int k = 0; k < ROD_SCHEME_COUNT; k++) {
-            int w = snprintf(list + used, sizeof list - used, "%s%s", k ? " | " : "",
-                             rod_scheme_get((rod_scheme_kind)k)->name);
+            names[k] = rod_scheme_get((rod_scheme_kind)k)->name;
+            int w = snprintf(list + used, sizeof list - used, "%s%s", k ? " | " : "", names[k]);
             if (w > 0 && used + (size_t)w < sizeof list) used += (size_t)w;
         }
-        return ini_error(doc, "solver", 0, "scheme", err, errlen, "unknown scheme; accepted: %s",
-                         list);
+        names[ROD_SCHEME_COUNT] = NULL;
+        const char *near = suggest_nearest(text, names);
+        return ini_error(doc, "solver", 0, "scheme", err, errlen,
+                         "unknown scheme;%s%s%s accepted: %s", near ? " did you mean " : "",
+                         near ? near : "", near ? "?" : "", list);
     }
     if (ini_get_string(doc, "solver", 0, "dt", &text, err, errlen) == 1) {
         if (strcmp(text, "auto") == 0) {
@@ -215,7 +220,10 @@ static int read_profile(ini_doc *doc, rod_model *m, char *err, size_t errlen)
             return ini_error(doc, "tip", 0, "profile", err, errlen, "%s", table_err);
         pr->kind = ROD_PROFILE_TABLE;
     } else {
-        return ini_error(doc, "tip", 0, "profile", err, errlen, "%s", accepted);
+        static const char *const kinds[] = {"step", "ramp", "pulse", "impulse", "table", NULL};
+        const char *near = count > 0 ? suggest_nearest(words[0], kinds) : NULL;
+        return ini_error(doc, "tip", 0, "profile", err, errlen, "%s%s%s%s", near ?
+                         "did you mean " : "", near ? near : "", near ? "? " : "", accepted);
     }
     return 0;
 }

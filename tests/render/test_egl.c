@@ -9,7 +9,7 @@
  * be made here is a failure naming why. Under ASan, an EGL-drawn video run
  * must exit 0 with a dynamic TLS block of its drawing thread 16 bytes past
  * a page boundary, the place whose range this GCC's LeakSanitizer misreads
- * (tests/run_tests.sh). Last, the report `rodsim --version` can print. */
+ * (tests/run_tests.sh). Last, the report `rodsim version --gl` prints. */
 #define _GNU_SOURCE /* dl_iterate_phdr, in <link.h> */
 #include <math.h>
 #include <stdio.h>
@@ -379,7 +379,7 @@ static void test_dynamic_tls_at_exit(void)
 }
 #endif
 
-/* What `rodsim --version` can print: both backends available here, EGL
+/* What `rodsim version --gl` prints: both backends available here, EGL
  * first; RODSIM_GL's choice. Run last: it opens both libraries in this
  * process, which the children above must not inherit. */
 static void test_report(void)

@@ -1,0 +1,104 @@
+/* summary.h: `rodsim run --summary FILE`: one JSON object that says how a
+ * run ended, whatever its outcome, for a machine (a CI job, a sweep driver)
+ * to read instead of the prose. The run fills a run_summary as it goes;
+ * summary_write turns it into JSON (docs/commands.md lists every field).
+ *
+ * The writer is a small one: numbers in the fewest of 15 to 17 significant
+ * digits that read back as the same double, non-finite numbers as null, strings escaped (quotes,
+ * backslashes, control characters as \u00XX). A field that was never known
+ * is left out. */
+#ifndef RODSIM_SUMMARY_H
+#define RODSIM_SUMMARY_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#define SUMMARY_TEXT_LEN 1024
+#define SUMMARY_MAX_WARNINGS 16
+#define SUMMARY_MAX_FILES 8
+#define SUMMARY_MAX_KNOT_CHANGES 32
+#define SUMMARY_MAX_PUNCTURES 16
+
+/* A knot change: when (s) and the type after it. */
+typedef struct summary_knot_change {
+    double t;
+    char type[96];
+} summary_knot_change;
+
+/* A puncture: made at t (s; 0 for one the scene gives), its point (m,
+ * global) and the force the thread exerts on the tissue there at the run's
+ * end (N, global). */
+typedef struct summary_puncture {
+    double t;
+    double point[3];
+    double force[3];
+} summary_puncture;
+
+/* What a run tells; every `has_` flag says the part is known (else left
+ * out of the JSON). Strings are copied in (fixed size: no ownership). */
+typedef struct run_summary {
+    const char *status;   /* "ok" | "refused" | "unstable" | "failed"; NULL: from exit_code */
+    int exit_code;
+    char message[SUMMARY_TEXT_LEN];           /* why the run did not succeed ("" when ok) */
+    int warning_count;
+    char warnings[SUMMARY_MAX_WARNINGS][SUMMARY_TEXT_LEN];
+    char scene[256];      /* the scene's name ("" unknown) */
+    char scheme[32];      /* "" unknown */
+    int has_run;          /* 1: steps, frames, t_end known */
+    long long steps, frames;
+    double t_end;         /* s, the simulated time reached */
+    int has_video_rate;   /* 1: fps and speed known */
+    int fps;              /* video frames per video second (render.fps) */
+    double speed;         /* render.speed: simulated seconds per video second */
+    double cpu_s, wall_s; /* s: the whole command's CPU (user + sys) and wall time */
+    double step_cpu_s;    /* s: the CPU of the steps alone (0: none taken) */
+    char gl[16];          /* "egl" | "osmesa": the backend that drew; "" none */
+    int file_count;
+    char files[SUMMARY_MAX_FILES][SUMMARY_TEXT_LEN];
+    /* the rod ("rod": today's single rod) */
+    int has_rod;
+    int nodes;
+    double tip[3];        /* m, global */
+    int has_end[2];       /* root, tip: 1 when held (a free end exerts nothing) */
+    double end_force[2][3];  /* N: what the rod exerts on that end's support */
+    double end_moment[2][3]; /* N m */
+    int has_knot;         /* 1: the scene can knot and its knot was identified */
+    char knot_type[96];
+    long long knot_alexander[32];
+    int knot_terms;
+    long long knot_determinant;
+    int knot_has_signature, knot_signature;
+    double rope_in_knot_d; /* diameters; NAN: not measured */
+    int knot_change_count;
+    summary_knot_change knot_changes[SUMMARY_MAX_KNOT_CHANGES];
+    double min_strand_gap_d; /* diameters; INFINITY: strands never near (left out) */
+    int puncture_count;
+    summary_puncture punctures[SUMMARY_MAX_PUNCTURES];
+} run_summary;
+
+/* An empty summary: nothing known, rope and gap unknown. */
+void summary_init(run_summary *s);
+
+/* Adds a warning (copied, cut to SUMMARY_TEXT_LEN); past the maximum dropped. */
+void summary_add_warning(run_summary *s, const char *text);
+/* Adds a file written (copied); past the maximum dropped. */
+void summary_add_file(run_summary *s, const char *path);
+/* Sets the message unless one is set already (the first cause wins). */
+void summary_set_message(run_summary *s, const char *text);
+
+/* The status word for an exit code when none was set: 0 ok, 2 refused, else failed. */
+const char *summary_status(const run_summary *s);
+
+/* Writes the object (and a newline) to f. 0, or -1 when the write failed. */
+int summary_print(FILE *f, const run_summary *s);
+
+/* Writes it to `path` ("-": standard output) through base/outfile.h (a
+ * temporary name, then renamed: whole or not at all). 0, or -1 with err. */
+int summary_write(const char *path, const run_summary *s, char *err, size_t errlen);
+
+/* JSON pieces, for the summary and its tests: a string with its quotes
+ * (escaped), a number (shortest round trip; null when not finite). */
+void summary_json_string(FILE *f, const char *text);
+void summary_json_number(FILE *f, double x);
+
+#endif
