@@ -15,6 +15,7 @@
 #include "base/outfile.h"
 #include "base/vec3.h"
 #include "cli/args.h"
+#include "cli/frame_schedule.h"
 #include "cli/knot_track.h"
 #include "cli/run.h"
 #include "cli/scene_keys.h"
@@ -451,6 +452,7 @@ typedef struct scene_run {
     double dt;        /* s, at most the step */
     const char *why;  /* where dt came from */
     run_plan plan;
+    frame_schedule schedule; /* slow motion: the output times the plan points to */
     int csv_stdout;   /* the CSV goes to standard output (through a temporary file) */
     FILE *talk;       /* the summary: stdout, or stderr when stdout carries the CSV */
     int streamed;     /* the video is made in a second pass, frame by frame */
@@ -500,6 +502,11 @@ static int plan_run(scene_run *r)
         r->why = "no stable dt exists; one step per frame to report the divergence";
     }
     int countable = run_plan_make(m, r->dt, r->out->fps, &r->plan) == 0;
+    if (countable && r->out->render.slow_count > 0) {
+        countable = frame_schedule_make(&r->out->render, r->out->fps, m->options.duration,
+                                        &r->schedule) == 0;
+        if (countable) frame_schedule_plan(&r->schedule, r->dt, &r->plan);
+    }
     if (check_budget(r->o, m, r->out, r->dt, &r->plan, countable)) return -1;
     r->csv_stdout = r->o->csv && strcmp(r->o->csv, "-") == 0;
     r->talk = r->csv_stdout ? stderr : stdout;
@@ -752,7 +759,10 @@ int scene_outputs_write(const scene_outputs_options *o, const char *name, const 
     r.m = m;
     r.out = out;
     r.csv_file = (outfile){.fd = -1, .slot = -1};
-    if (plan_run(&r)) return RUN_EXIT_BAD_INPUT;
+    if (plan_run(&r)) {
+        frame_schedule_release(&r.schedule);
+        return RUN_EXIT_BAD_INPUT;
+    }
     knot_track_init(&r.knots, m->nodes);
     r.sink.knot = &r.knots;
     r.sink.stats = &r.stats;
@@ -771,6 +781,7 @@ int scene_outputs_write(const scene_outputs_options *o, const char *name, const 
     knot_track_release(&r.knots);
     rod_state_destroy(r.s);
     rod_solver_release(&r.solver);
+    frame_schedule_release(&r.schedule);
     return status;
 }
 
