@@ -93,7 +93,8 @@ typedef enum {
  * the framing makes (render.framing), so a shot may change only one thing. */
 #define RENDER_MAX_SHOTS 16
 typedef struct render_shot {
-    double start, end;     /* s, simulated: the shot covers start <= t < end ([render]: all) */
+    double start, end;     /* s, simulated: the shot covers start <= t <= end (where two
+                              meet, the later one; [render]: all) */
     double ease;           /* s, simulated: the camera moves from the one before over this
                               time from start (smoothstep); 0: a cut */
     int has_look_at;

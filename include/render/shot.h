@@ -18,9 +18,9 @@
  * file:line, the key and what is accepted. */
 int render_shots_read(ini_doc *doc, render_options *o, char *err, size_t errlen);
 
-/* The shot of o at simulated time t: o->shots[k] when start <= t < end
- * (the last shot's end included, so a shot to the run's end holds its last
- * frame), else &o->camera_keys. *index: k, or -1 for camera_keys. */
+/* The shot of o at simulated time t: o->shots[k] when start <= t <= end
+ * (where two shots meet, the later one), else &o->camera_keys. *index: k,
+ * or -1 for camera_keys. */
 const render_shot *render_shot_at(const render_options *o, double t, int *index);
 
 /* The camera of shot s from `base` (the framing's camera of this frame, whose

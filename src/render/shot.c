@@ -150,11 +150,8 @@ int render_shots_read(ini_doc *doc, render_options *o, char *err, size_t errlen)
     keys->start = -INFINITY;
     keys->end = INFINITY;
     if (read_camera_keys(doc, "render", 0, o->view, keys, err, errlen)) return -1;
-    if (keys->has_view) {
-        /* [render] azimuth and elevation are render.view in angles */
-        v3_copy(o->view, keys->view);
-        keys->has_view = 0;
-    }
+    /* [render] azimuth and elevation are render.view in angles */
+    if (keys->has_view) v3_copy(o->view, keys->view);
     int count = ini_section_count(doc, "shot");
     if (count > RENDER_MAX_SHOTS)
         return ini_error(doc, "shot", RENDER_MAX_SHOTS, "from", err, errlen,
@@ -180,8 +177,9 @@ const render_shot *render_shot_at(const render_options *o, double t, int *index)
 {
     for (int k = 0; k < o->shot_count; k++) {
         const render_shot *s = &o->shots[k];
-        int last = k + 1 == o->shot_count || o->shots[k + 1].start > s->end;
-        if (t >= s->start && (t < s->end || (last && t <= s->end))) {
+        /* the end is the shot's, unless the next one starts there */
+        int shared = k + 1 < o->shot_count && o->shots[k + 1].start <= s->end;
+        if (t >= s->start && (t < s->end || (!shared && t <= s->end))) {
             if (index) *index = k;
             return s;
         }
