@@ -200,14 +200,15 @@ const ini_key scene_keys_rod[] = {
     {"render", "eye", "m", "-", "3 numbers",
      "global: where the eye stands (direction and distance to the point looked at); not with "
      "azimuth or elevation"},
-    {"render", "slow_motion", "s s -", "-", "triples T0 T1 FACTOR, 0 <= T0 < T1, 1 < FACTOR <= 1000",
+    {"render", "slow_motion", "s s -", "none",
+     "none, or triples T0 T1 FACTOR, 0 <= T0 < T1, 1 < FACTOR <= 1000",
      "frames FACTOR times closer in simulated time within T0 .. T1 (moved to the nearest "
      "frames), so that range plays FACTOR times slower; the overlay says so while it is on; "
      "steps stay within solver.dt; e.g. 1.2 1.8 4, 3 3.5 2"},
     {"shot", "from", "s", "required", ">= 0",
      "a time range with its own camera ([shot] repeats, at most 16, not overlapping): "
      "its start; outside every shot the [render] camera"},
-    {"shot", "to", "s", "required", "> from", "its end (the last shot holds its end time too)"},
+    {"shot", "to", "s", "required", "> from", "its end, included unless the next shot starts there"},
     {"shot", "ease", "s", "-", "0 .. to - from",
      "absent or 0: a cut; else the camera moves from the one before over this time (smoothstep)"},
     {"shot", "look_at", "m", "-", "3 numbers", "as [render] look_at, for this shot; absent: [render]'s (each shot key)"},

@@ -130,9 +130,14 @@ static void print_summary(FILE *f, const char *scene_path, const char *scene,
     if (m->options.scheme == ROD_SCHEME_THESIS)
         fprintf(f, " (%s rotation)", m->options.exact_rotation ? "exact" : "(4.6) literal");
     fprintf(f, ", dt = %.6g s (%s)\n", dt, why);
-    fprintf(f, "           steps of %.6g s, %lld per frame interval 1/fps (equal steps, none "
-               "longer than dt)\n",
-            plan->step, (long long)plan->steps_per_interval);
+    if (plan->frame_times) /* slow motion: the intervals differ */
+        fprintf(f, "           steps of at most %.6g s, up to %lld per output interval (equal "
+                   "steps in each, none longer than dt; frames closer in render.slow_motion)\n",
+                plan->step, (long long)plan->steps_per_interval);
+    else
+        fprintf(f, "           steps of %.6g s, %lld per frame interval 1/fps (equal steps, none "
+                   "longer than dt)\n",
+                plan->step, (long long)plan->steps_per_interval);
     fprintf(f, "  output   %g s simulated, %lld frames at %d fps, %lld steps, estimated %.3g s\n",
             m->options.duration, (long long)plan->frames, out->fps, (long long)plan->steps,
             estimate);

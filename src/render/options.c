@@ -70,6 +70,8 @@ static int read_slow_motion(ini_doc *doc, render_options *o, char *err, size_t e
     const char *text;
     int status = ini_get_string(doc, "render", 0, "slow_motion", &text, err, errlen);
     if (status <= 0) return status;
+    o->slow_count = 0;
+    if (strcmp(text, "none") == 0) return 0;
     double numbers[3 * RENDER_MAX_SLOW];
     int count = 0;
     const char *c = text;
@@ -81,7 +83,7 @@ static int read_slow_motion(ini_doc *doc, render_options *o, char *err, size_t e
         if (end == c || !isfinite(x) || count == 3 * RENDER_MAX_SLOW ||
             (*end && !strchr(" ,;\t", *end)))
             return ini_error(doc, "render", 0, "slow_motion", err, errlen,
-                             "must be 1 to %d triples T0 T1 FACTOR (s, s, > 1), e.g. 1.2 1.8 4",
+                             "must be none, or 1 to %d triples T0 T1 FACTOR (s, s, > 1), e.g. 1.2 1.8 4",
                              RENDER_MAX_SLOW);
         numbers[count++] = x;
         c = end;

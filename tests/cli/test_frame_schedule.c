@@ -104,6 +104,8 @@ static void test_edges(void)
               render_slow_factor(&o, 0.9) == 2,
           "the overlay's factor: 3 at 0.15 s, 1 at 0.5 s, 2 at 0.9 s");
     frame_schedule_release(&fs);
+    check(read_slow("none", &o, err, sizeof err) == 0 && o.slow_count == 0,
+          "slow_motion = none: no range (--set turns a scene's off)");
     static const char *const bad[] = {"1 2", "1 2 1", "2 1 4", "0 1 2 0.5 1.5 2", "a b c"};
     for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
         err[0] = '\0';
