@@ -103,8 +103,8 @@ typedef struct render_shot {
     double distance;       /* m, from the eye to the point looked at; 0: the framing's scale */
     double fov;            /* deg, perspective vertical field of view; 0: the default 30 */
     int has_view;
-    double view[3];        /* direction from the point looked at to the eye (azimuth,
-                              elevation, or render.view for a shot); */
+    double view[3];        /* direction from the point looked at to the eye (from azimuth
+                              and elevation; a shot's missing angle from render.view) */
     int has_eye;
     double eye[3];         /* m, global: where the eye stands (sets view and distance) */
 } render_shot;

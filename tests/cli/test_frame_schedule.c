@@ -13,6 +13,7 @@
 #include "base/ini.h"
 #include "cli/frame_schedule.h"
 #include "test.h"
+#include "test_media.h"
 #include "test_process.h"
 
 static int read_slow(const char *value, render_options *o, char *err, size_t errlen)
@@ -128,7 +129,9 @@ static void test_run(void)
           "[solver]\nduration = 1\ndt = 0.01\n[render]\nfps = 10\nslow_motion = 0.2 0.4 5\n",
           f);
     fclose(f);
-    const char *args[] = {"run", scene, "--no-video", "--quiet", "--csv", csv, NULL};
+    const char *args[] = {"run",          scene,          "--quiet",      "--csv",
+                          csv,            "-o",           dir,            "--set",
+                          "render.width=64", "--set",     "render.height=36", NULL};
     int rc = test_run_rodsim(args, out, sizeof out);
     if (check(rc == 0, "rodsim run with slow_motion exits 0 (%s)", out)) {
         f = fopen(csv, "r");
@@ -143,6 +146,20 @@ static void test_run(void)
         check(n == 19 && spaced(times, 2, 12, 0.02) && spaced(times, 12, 18, 0.1) &&
                   spaced(times, 0, 2, 0.1),
               "rows 0.1 s apart, 0.02 s apart within 0.2 .. 0.4 s");
+        /* the video: a frame per row at 10 fps, 0.2 s simulated played over 1 s */
+        char path[300];
+        snprintf(path, sizeof path, "%s/slow.mp4", dir);
+        decoded video;
+        if (check(decode_video(path, &video) == 0, "the video decodes")) {
+            check(video.frames == 19, "the video's frames: %d (19)", video.frames);
+            check_rel("the video's duration (s): 19 frames at 10 fps, 1 s simulated + 0.2 s "
+                      "played 5x slower",
+                      video.duration, 1.9, 1e-6);
+            decoded_release(&video);
+        }
+        unlink(path);
+        snprintf(path, sizeof path, "%s/slow.png", dir);
+        unlink(path);
     }
     unlink(csv);
     unlink(scene);
