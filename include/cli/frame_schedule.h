@@ -33,4 +33,15 @@ void frame_schedule_release(frame_schedule *fs);
  * the largest step, and p->frame_times = fs->time (fs must outlive p). */
 void frame_schedule_plan(const frame_schedule *fs, double dt, run_plan *p);
 
+/* slow_motion = auto: where the knot tightens fastest. The run at the
+ * regular plan p (a first pass, no output) measures the rope in the knot at
+ * every frame: the arc between the outermost nodes other strands press on
+ * (rod_state.self_force), as the summary does; its rate of change over
+ * +-0.05 s; the range is the stretch around the fastest fall where it falls
+ * at least half as fast. 1 with *range (its factor `factor`), 0 when no
+ * strands press or the knot never tightens, -1 with a message when the run
+ * fails (the second pass would fail the same way, and say so). */
+int frame_schedule_find_tightening(const rod_model *m, const run_plan *p, int rate, double factor,
+                                   render_slow *range, char *err, size_t errlen);
+
 #endif

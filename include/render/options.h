@@ -173,6 +173,9 @@ typedef struct render_options {
                                     each starts from camera_keys */
     int slow_count;
     render_slow slow[RENDER_MAX_SLOW]; /* by start time, not overlapping */
+    double slow_auto;            /* > 1 (slow_motion = auto [FACTOR]): this factor around the
+                                    knot's fastest tightening, found by a first pass of the run
+                                    (frame_schedule.h); 0: not asked */
     struct render_timing *timing; /* NULL (default): not measured; else filled (make bench) */
     struct render_camera *cameras; /* NULL (default); else each drawn frame's camera of each
                                     view (frame x max(view_count, 1) + view), for the tests */

@@ -2,8 +2,11 @@
 #include "cli/frame_schedule.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "sim/rod.h"
 
 /* Regular intervals in duration and whether a partial one ends it (as run.c:
  * to a relative 1e-9, an interval of k / rate is k intervals). */
@@ -101,4 +104,87 @@ void frame_schedule_plan(const frame_schedule *fs, double dt, run_plan *p)
     p->steps_estimate = (double)steps;
     p->frame_times = fs->time;
     p->dt = dt;
+}
+
+/* The rope in the knot, frame by frame (m; NAN where no strands press). */
+typedef struct rope_series {
+    double *time, *rope;
+    int64_t count, capacity;
+} rope_series;
+
+static int note_rope(void *context, const rod_model *m, const rod_state *s, char *err,
+                     size_t errlen)
+{
+    rope_series *r = context;
+    (void)err;
+    (void)errlen;
+    if (r->count == r->capacity) return 0;
+    int lo = -1, hi = -1;
+    for (int i = 0; s->self_force && i < s->nodes; i++) {
+        const double *f = &s->self_force[3 * i];
+        if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
+        if (lo < 0) lo = i;
+        hi = i;
+    }
+    r->time[r->count] = s->time;
+    r->rope[r->count] = lo >= 0 && hi > lo ? (hi - lo) * m->ds : NAN;
+    r->count++;
+    return 0;
+}
+
+/* The stretch of the series where the rope falls at least half as fast as
+ * at its fastest. 1 with *range, 0 when it never falls. */
+static int fastest_fall(const rope_series *r, int rate, render_slow *range)
+{
+    int64_t h = (int64_t)fmax(1.0, round(0.05 * rate)), n = r->count, fastest = -1;
+    double *slope = malloc((size_t)(n > 0 ? n : 1) * sizeof *slope);
+    if (!slope) return 0;
+    double least = 0;
+    for (int64_t k = 0; k < n; k++) {
+        slope[k] = NAN;
+        if (k < h || k + h >= n || isnan(r->rope[k - h]) || isnan(r->rope[k + h])) continue;
+        slope[k] = (r->rope[k + h] - r->rope[k - h]) / (r->time[k + h] - r->time[k - h]);
+        if (slope[k] < least) least = slope[k], fastest = k;
+    }
+    int found = fastest >= 0;
+    if (found) {
+        int64_t a = fastest, b = fastest;
+        while (a > 0 && slope[a - 1] <= 0.5 * least) a--;
+        while (b + 1 < n && slope[b + 1] <= 0.5 * least) b++;
+        range->start = r->time[a > h ? a - h : 0];
+        range->end = r->time[b + h < n ? b + h : n - 1];
+    }
+    free(slope);
+    return found;
+}
+
+int frame_schedule_find_tightening(const rod_model *m, const run_plan *p, int rate, double factor,
+                                   render_slow *range, char *err, size_t errlen)
+{
+    rod_solver solver = {0};
+    rope_series r = {0};
+    r.capacity = p->frames;
+    r.time = malloc((size_t)r.capacity * sizeof(double));
+    r.rope = malloc((size_t)r.capacity * sizeof(double));
+    rod_state *s = rod_state_create(m);
+    int found = -1;
+    if (!r.time || !r.rope || !s) {
+        snprintf(err, errlen, "out of memory");
+    } else if (rod_solver_init(&solver, m, err, errlen) == 0) {
+        rod_report report;
+        run_stats stats;
+        rod_status st = run_simulate(&solver, m, s, p, rate, note_rope, &r, &report, &stats);
+        if (st == ROD_OK) {
+            found = fastest_fall(&r, rate, range);
+            range->factor = factor;
+        } else {
+            snprintf(err, errlen, "the first pass stopped at t = %g s: %s", s->time,
+                     report.message[0] ? report.message : "the scheme failed");
+        }
+        rod_solver_release(&solver);
+    }
+    rod_state_destroy(s);
+    free(r.time);
+    free(r.rope);
+    return found;
 }

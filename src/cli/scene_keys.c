@@ -201,10 +201,12 @@ const ini_key scene_keys_rod[] = {
      "global: where the eye stands (direction and distance to the point looked at); not with "
      "azimuth or elevation"},
     {"render", "slow_motion", "s s -", "none",
-     "none, or triples T0 T1 FACTOR, 0 <= T0 < T1, 1 < FACTOR <= 1000",
+     "none; auto [FACTOR]; or triples T0 T1 FACTOR, 0 <= T0 < T1, 1 < FACTOR <= 1000",
      "frames FACTOR times closer in simulated time within T0 .. T1 (moved to the nearest "
      "frames), so that range plays FACTOR times slower; the overlay says so while it is on; "
-     "steps stay within solver.dt; e.g. 1.2 1.8 4, 3 3.5 2"},
+     "steps stay within solver.dt; e.g. 1.2 1.8 4, 3 3.5 2; auto: around the knot's fastest "
+     "tightening (the rope in it, as the summary measures it, falling at least half as fast), "
+     "found by a first pass of the run, FACTOR 4 unless given"},
     {"shot", "from", "s", "required", ">= 0",
      "a time range with its own camera ([shot] repeats, at most 16, not overlapping): "
      "its start; outside every shot the [render] camera"},

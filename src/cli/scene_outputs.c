@@ -458,6 +458,8 @@ typedef struct scene_run {
     const char *why;  /* where dt came from */
     run_plan plan;
     frame_schedule schedule; /* slow motion: the output times the plan points to */
+    run_output found_out;    /* slow_motion = auto: the scene's output with the range found */
+    char slow_note[256];     /* what slow_motion = auto found, for the summary */
     int csv_stdout;   /* the CSV goes to standard output (through a temporary file) */
     FILE *talk;       /* the summary: stdout, or stderr when stdout carries the CSV */
     int streamed;     /* the video is made in a second pass, frame by frame */
@@ -490,6 +492,32 @@ void scene_outputs_plan_warnings(const rod_model *m, double dt, run_warnings *w)
                  dt, ops->name, stable, limit);
 }
 
+/* slow_motion = auto: a first pass of the run finds where the knot
+ * tightens fastest; the output read from then on is a copy with that range
+ * (none when no knot tightens; a failing pass leaves it to the run itself
+ * to fail and say why). */
+static void find_slow_motion(scene_run *r)
+{
+    r->found_out = *r->out;
+    r->out = &r->found_out;
+    render_options *o = &r->found_out.render;
+    render_slow range;
+    char err[SCENE_OUTPUTS_ERR_LEN] = "";
+    int found = frame_schedule_find_tightening(r->m, &r->plan, r->out->fps, o->slow_auto, &range,
+                                               err, sizeof err);
+    if (found > 0) {
+        o->slow[0] = range;
+        o->slow_count = 1;
+        snprintf(r->slow_note, sizeof r->slow_note,
+                 "auto: the knot tightens fastest between %.3g and %.3g s, played %gx slower "
+                 "(found by a first pass of the run)", range.start, range.end, range.factor);
+    } else if (found == 0) {
+        snprintf(r->slow_note, sizeof r->slow_note,
+                 "auto: no knot tightens (no strands press on each other), no slow motion");
+    }
+    o->slow_auto = 0;
+}
+
 /* The step and the plan, refused when absurd (-1: exit 2); then the
  * summary. */
 static int plan_run(scene_run *r)
@@ -507,6 +535,7 @@ static int plan_run(scene_run *r)
         r->why = "no stable dt exists; one step per frame to report the divergence";
     }
     int countable = run_plan_make(m, r->dt, r->out->fps, &r->plan) == 0;
+    if (countable && r->out->render.slow_auto > 0) find_slow_motion(r);
     if (countable && r->out->render.slow_count > 0) {
         countable = frame_schedule_make(&r->out->render, r->out->fps, m->options.duration,
                                         &r->schedule) == 0;
@@ -518,6 +547,7 @@ static int plan_run(scene_run *r)
     if (!r->o->quiet)
         print_summary(r->talk, r->o->label, r->name, m, r->dt, r->why, r->out, &r->plan,
                       estimate_seconds(r->o, m, r->out, &r->plan));
+    if (!r->o->quiet && r->slow_note[0]) fprintf(r->talk, "  slow     %s\n", r->slow_note);
     scene_outputs_plan_warnings(m, r->dt, &r->warnings);
     run_warnings_print(stderr, &r->warnings, 0);
     return 0;

@@ -71,7 +71,19 @@ static int read_slow_motion(ini_doc *doc, render_options *o, char *err, size_t e
     int status = ini_get_string(doc, "render", 0, "slow_motion", &text, err, errlen);
     if (status <= 0) return status;
     o->slow_count = 0;
+    o->slow_auto = 0;
     if (strcmp(text, "none") == 0) return 0;
+    if (strncmp(text, "auto", 4) == 0 && (text[4] == '\0' || text[4] == ' ')) {
+        char *end;
+        double factor = text[4] ? strtod(text + 4, &end) : 4;
+        if (text[4] && (end == text + 4 || strspn(end, " \t") != strlen(end)))
+            factor = NAN;
+        if (!(factor > 1 && factor <= 1000))
+            return ini_error(doc, "render", 0, "slow_motion", err, errlen,
+                             "auto takes one factor, 1 < FACTOR <= 1000 (auto alone: 4)");
+        o->slow_auto = factor;
+        return 0;
+    }
     double numbers[3 * RENDER_MAX_SLOW];
     int count = 0;
     const char *c = text;
@@ -83,7 +95,8 @@ static int read_slow_motion(ini_doc *doc, render_options *o, char *err, size_t e
         if (end == c || !isfinite(x) || count == 3 * RENDER_MAX_SLOW ||
             (*end && !strchr(" ,;\t", *end)))
             return ini_error(doc, "render", 0, "slow_motion", err, errlen,
-                             "must be none, or 1 to %d triples T0 T1 FACTOR (s, s, > 1), e.g. 1.2 1.8 4",
+                             "must be none, auto [FACTOR], or 1 to %d triples T0 T1 FACTOR (s, s, > 1), "
+                             "e.g. 1.2 1.8 4",
                              RENDER_MAX_SLOW);
         numbers[count++] = x;
         c = end;

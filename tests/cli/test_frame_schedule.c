@@ -107,7 +107,12 @@ static void test_edges(void)
     frame_schedule_release(&fs);
     check(read_slow("none", &o, err, sizeof err) == 0 && o.slow_count == 0,
           "slow_motion = none: no range (--set turns a scene's off)");
-    static const char *const bad[] = {"1 2", "1 2 1", "2 1 4", "0 1 2 0.5 1.5 2", "a b c"};
+    check(read_slow("auto", &o, err, sizeof err) == 0 && o.slow_auto == 4 && o.slow_count == 0,
+          "slow_motion = auto: factor 4 around the fastest tightening (%s)", err);
+    check(read_slow("auto 2.5", &o, err, sizeof err) == 0 && o.slow_auto == 2.5,
+          "slow_motion = auto 2.5: factor 2.5 (%s)", err);
+    static const char *const bad[] = {"1 2", "1 2 1", "2 1 4", "0 1 2 0.5 1.5 2", "a b c",
+                                      "auto 1", "auto x", "autox"};
     for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
         err[0] = '\0';
         check(read_slow(bad[k], &o, err, sizeof err) == -1 && strstr(err, "slow.ini:2"),
@@ -161,9 +166,36 @@ static void test_run(void)
         snprintf(path, sizeof path, "%s/slow.png", dir);
         unlink(path);
     }
+    const char *automatic[] = {"run",  scene, "--no-video", "--set", "render.slow_motion=auto",
+                               NULL};
+    rc = test_run_rodsim(automatic, out, sizeof out);
+    check(rc == 0 && strstr(out, "auto: no knot tightens") && strstr(out, "11 frames"),
+          "a rod with no knot, slow_motion = auto: none, 11 frames, and the summary says so");
     unlink(csv);
     unlink(scene);
     rmdir(dir);
+}
+
+/* slow_motion = auto: the knot of overhand_tight.ini, its first second at
+ * 10 frames per s (10 intervals), is found tightening and slowed: more
+ * frames, and the summary says where; a rod with no knot gets none. */
+static void test_auto(void)
+{
+    char out[16384];
+    const char *args[] = {"run", RODSIM_SOURCE_DIR "/scenes/overhand_tight.ini", "--no-video",
+                          "--set", "solver.duration=1", "--set", "render.fps=10", "--set",
+                          "render.slow_motion=auto", NULL};
+    int rc = test_run_rodsim(args, out, sizeof out);
+    const char *said = strstr(out, "auto: the knot tightens fastest between ");
+    double from = -1, to = -1;
+    if (said) sscanf(said, "auto: the knot tightens fastest between %lf and %lf", &from, &to);
+    const char *frames = strstr(out, "output   1 s simulated, ");
+    int count = frames ? atoi(frames + strlen("output   1 s simulated, ")) : 0;
+    check(rc == 0 && said && from >= 0 && to > from && to <= 1,
+          "overhand_tight.ini, 1 s, slow_motion = auto: the summary names %g .. %g s", from, to);
+    /* each slowed interval of 0.1 s becomes 4: 11 frames + 3 per interval in the range */
+    int slowed = (int)lround(to * 10) - (int)lround(from * 10);
+    check(count == 11 + 3 * slowed, "frames: %d (11 + 3 x %d slowed intervals)", count, slowed);
 }
 
 int main(void)
@@ -171,5 +203,6 @@ int main(void)
     test_one_range();
     test_edges();
     test_run();
+    test_auto();
     return test_finish();
 }
