@@ -535,7 +535,11 @@ static int plan_run(scene_run *r)
         r->why = "no stable dt exists; one step per frame to report the divergence";
     }
     int countable = run_plan_make(m, r->dt, r->out->fps, &r->plan) == 0;
-    if (countable && r->out->render.slow_auto > 0) find_slow_motion(r);
+    if (countable && r->out->render.slow_auto > 0) {
+        /* the first pass is a run too: refused up front as the run would be */
+        if (check_budget(r->o, m, r->out, r->dt, &r->plan, countable)) return -1;
+        find_slow_motion(r);
+    }
     if (countable && r->out->render.slow_count > 0) {
         countable = frame_schedule_make(&r->out->render, r->out->fps, m->options.duration,
                                         &r->schedule) == 0;
