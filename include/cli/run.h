@@ -53,7 +53,15 @@ typedef struct run_plan {
     int64_t steps;              /* all steps */
     double frames_estimate, steps_estimate; /* the same as doubles, also when uncountable */
     double seconds_per_step;    /* s, the cost model's estimate for this scheme and NS */
+    const double *frame_times;  /* NULL: the times k/fps; else (frames) s, every output time
+                                   (slow motion, frame_schedule.h), each interval stepped in
+                                   run_interval_steps(interval, dt) equal steps */
+    double dt;                  /* s, the longest step, with frame_times */
 } run_plan;
+
+/* Equal steps no longer than dt (s) over an interval (s): ceil(interval/dt),
+ * at least 1, less a hair so that an interval of exactly k dt takes k. */
+int64_t run_interval_steps(double interval, double dt);
 
 /* Plans m->options.duration at fps with steps no longer than dt (s). Returns
  * 0, or -1 when the counts exceed RUN_MAX_COUNT (the *_estimate fields are

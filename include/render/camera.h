@@ -22,6 +22,9 @@
 #define FRAME_BOTTOM 0.15
 #define FRAME_SIDE 0.05
 
+/* tan of half the camera's vertical field of view (perspective). */
+double camera_tan_half_fov(const render_camera *cam);
+
 /* The camera's unit basis looking along -view: back (towards the eye),
  * right and up (y up when looking along z, the thesis' x-y plane, else z). */
 void camera_basis(const double view[3], double back[3], double right[3], double up[3]);

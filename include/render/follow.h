@@ -22,7 +22,10 @@ typedef struct follow_path {
     int floor;           /* a floor (plane or ground) is drawn: the orthographic eye stands back */
     frame_band band;
     render_camera basis; /* the run's camera: size, projection kind and basis */
-    /* framing knot: the broad phase and its pairs (NULL: follow) */
+    int knot_framing;    /* framing knot: the knotted part is framed */
+    double *knot_centre; /* (count x 3), m, global: the knotted part's centre, smoothed
+                            (follow = knot); NULL: not asked */
+    /* framing knot or follow = knot: the broad phase and its pairs (NULL: neither) */
     rod_proximity *prox;
     rod_segment_pair *pairs;
     int max_pairs;
@@ -37,6 +40,9 @@ follow_path *follow_create(const rod_recording *rec, const render_options *o,
                            const render_camera *run_camera, const frame_band *band,
                            int floor);
 void follow_destroy(follow_path *fp);
+/* The knotted part's centre (m, global) at time t, interpolated between
+ * the path's frames. 0, or -1 when the path has no knot centres. */
+int follow_knot_centre(const follow_path *fp, double t, double centre[3]);
 /* The camera of frame `frame` of rec (the motion as drawn) at time t: the
  * path's framing at t, widened where it would cut this frame's rod. */
 void follow_camera(follow_path *fp, const rod_recording *rec, const render_options *o,

@@ -88,6 +88,34 @@ typedef enum {
                            frame drew (edge_aa.h); the backdrop still multisampled */
 } render_antialias;
 
+/* A camera asked for by the scene: [render]'s camera keys (the whole run)
+ * or a [shot]'s (a time range). What is not given comes from the camera
+ * the framing makes (render.framing), so a shot may change only one thing. */
+#define RENDER_MAX_SHOTS 16
+typedef struct render_shot {
+    double start, end;     /* s, simulated: the shot covers start <= t <= end (where two
+                              meet, the later one; [render]: all) */
+    double ease;           /* s, simulated: the camera moves from the one before over this
+                              time from start (smoothstep); 0: a cut */
+    int has_look_at;
+    double look_at[3];     /* m, global: the point at the picture's centre */
+    int follow_knot;       /* 1: the centre of the knotted part instead (per frame, smoothed) */
+    double distance;       /* m, from the eye to the point looked at; 0: the framing's scale */
+    double fov;            /* deg, perspective vertical field of view; 0: the default 30 */
+    int has_view;
+    double view[3];        /* direction from the point looked at to the eye (from azimuth
+                              and elevation; a shot's missing angle from render.view) */
+    int has_eye;
+    double eye[3];         /* m, global: where the eye stands (sets view and distance) */
+} render_shot;
+
+/* A time range played slower ([render] slow_motion = T0 T1 FACTOR). */
+#define RENDER_MAX_SLOW 8
+typedef struct render_slow {
+    double start, end; /* s, simulated */
+    double factor;     /* > 1: frames this many times closer in simulated time */
+} render_slow;
+
 /* Scene [render] section; render_options_default() makes a good picture. */
 typedef struct render_options {
     int width, height;           /* pixels (even: yuv420p) */
@@ -111,6 +139,8 @@ typedef struct render_options {
                                     needle_arc) */
     int poster;                  /* write the last frame as <scene>.png */
     char title[256];             /* overlay title; "" (default): the scene's name */
+    int title_auto;              /* 1: title holds the scene's own words (render_title_from_text),
+                                    cut to the picture's width when drawn */
     char caption[256];           /* a line under the title; "" (default): none */
     unsigned show;               /* RENDER_SHOW_* items drawn when overlay is on */
     render_color_mode color;     /* what colours the tube (default solid) */
@@ -134,6 +164,18 @@ typedef struct render_options {
     int view_count;              /* 0 (default): one view (camera, view); 2 .. RENDER_MAX_VIEWS:
                                     the frame split into that many tiles, left to right */
     render_view_kind views[RENDER_MAX_VIEWS];
+    int overlay_solver;          /* 1 (default): the time line names the scheme and nodes */
+    int directed;                /* 1: camera keys or shots given (the camera is rebuilt per
+                                    frame from camera_keys and shots) */
+    render_shot camera_keys;     /* [render]'s camera keys, the camera outside every shot */
+    int shot_count;
+    render_shot shots[RENDER_MAX_SHOTS]; /* [shot] sections, by start time, not overlapping;
+                                    each starts from camera_keys */
+    int slow_count;
+    render_slow slow[RENDER_MAX_SLOW]; /* by start time, not overlapping */
+    double slow_auto;            /* > 1 (slow_motion = auto [FACTOR]): this factor around the
+                                    knot's fastest tightening, found by a first pass of the run
+                                    (frame_schedule.h); 0: not asked */
     struct render_timing *timing; /* NULL (default): not measured; else filled (make bench) */
     struct render_camera *cameras; /* NULL (default); else each drawn frame's camera of each
                                     view (frame x max(view_count, 1) + view), for the tests */
@@ -167,6 +209,17 @@ int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errle
  * plays at o->speed: round(fps / speed), at least 1 (each recorded frame is
  * one video frame). */
 int render_output_rate(const render_options *o);
+
+/* The slow-motion factor at simulated time t (1: none). */
+double render_slow_factor(const render_options *o, double t);
+
+/* The overlay title a scene file's own words give: its first comment
+ * paragraph's first sentence (the text after '#' of the comment lines that
+ * open the file, up to a blank comment line), shortened to at most `outlen`
+ * - 1 and RENDER_TITLE_WORDS characters at a ": " or ", " or a word; ""
+ * when the file opens with no comment. */
+#define RENDER_TITLE_WORDS 72
+void render_title_from_text(const char *text, char *out, size_t outlen);
 
 /* The camera and direction (from the rod to the eye) of a view; scene_view
  * is render.view (may alias view). */

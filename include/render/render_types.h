@@ -15,6 +15,8 @@ typedef struct render_camera {
     double right[3], up[3];     /* unit, screen axes in the world */
     double view[16], projection[16], view_projection[16];
     double metres_per_pixel;    /* at the target's depth */
+    double fovy;                /* rad, perspective's vertical field of view; 0: the
+                                   default PERSPECTIVE_FOVY (camera.h) */
 } render_camera;
 
 /* The key light's direction (unit, towards the light): it rides with the

@@ -48,7 +48,9 @@ typedef struct renderer {
     shadow_scene shadow;         /* surfaces, ground and shadows */
     int caster_indices;          /* this frame's triangles that cast (the punctures do not) */
     frame_band band;             /* the part of the picture the content may use */
-    follow_path *follow;         /* framing follow: the camera's path; NULL: run */
+    follow_path *follow;         /* framing follow or knot, or a directed camera (camera keys,
+                                    shots): the camera's path; NULL: one camera for the run */
+    render_camera fitted;        /* the run's camera (framing run), before any shot */
     int draws_overlay;           /* 1: the overlay is drawn here (not by a split frame) */
     strand_occlusion shading;    /* strands darkened where others pass near */
     edge_aa *edge_aa;            /* antialias fxaa: drawn at one sample, then the edges

@@ -55,6 +55,11 @@ static double steps_for(double interval, double dt)
     return n < 1.0 ? 1.0 : n;
 }
 
+int64_t run_interval_steps(double interval, double dt)
+{
+    return (int64_t)steps_for(interval, dt);
+}
+
 /* Cost model of a step, us per node (so us per step = this x NS), measured
  * and rounded up (docs/decisions/0042-run-cost-model.md). Only an
  * estimate, for refusing the absurd up front. */
@@ -271,10 +276,17 @@ rod_status run_simulate_paced(rod_solver *solver, const rod_model *m, rod_state 
     /* whole intervals (k - 1)/fps .. k/fps, then the partial one to the duration */
     int64_t intervals = plan->intervals + (plan->last_steps > 0 ? 1 : 0);
     for (int64_t k = 1; k <= intervals && status == ROD_OK; k++) {
-        int partial = k > plan->intervals;
-        double target = partial ? m->options.duration : fmin((double)k / fps, m->options.duration);
-        status = advance(solver, m, s, partial ? plan->last_steps : plan->steps_per_interval,
-                         partial ? plan->last_step : plan->step, target, report, stats, pace);
+        if (plan->frame_times) { /* slow motion: the schedule's times */
+            double target = plan->frame_times[k], interval = target - plan->frame_times[k - 1];
+            int64_t n = run_interval_steps(interval, plan->dt);
+            status = advance(solver, m, s, n, interval / (double)n, target, report, stats, pace);
+        } else {
+            int partial = k > plan->intervals;
+            double target =
+                partial ? m->options.duration : fmin((double)k / fps, m->options.duration);
+            status = advance(solver, m, s, partial ? plan->last_steps : plan->steps_per_interval,
+                             partial ? plan->last_step : plan->step, target, report, stats, pace);
+        }
         if (status == ROD_OK && on_frame &&
             on_frame(context, m, s, report->message, sizeof report->message))
             status = ROD_FAILED;

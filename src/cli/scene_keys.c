@@ -136,6 +136,8 @@ const ini_key scene_keys_rod[] = {
     {"render", "arrows", "-", "true", BOOL, "tip force (red) and moment (green) arrows"},
     {"render", "grid", "-", "true", BOOL, "backdrop grid and scale bar"},
     {"render", "overlay", "-", "true", BOOL, "text: scene, time, scheme, nodes, loads"},
+    {"render", "overlay_solver", "-", "true", BOOL,
+     "the time line names the scheme and the nodes; false: the time alone"},
     {"render", "poster", "-", "true", BOOL, "write SCENE.png, the last frame"},
     {"render", "frames_png", "-", "false", BOOL, "also write SCENE_frames/NNNNN.png"},
     {"render", "camera", "-", "perspective", "perspective | orthographic", "projection"},
@@ -144,7 +146,9 @@ const ini_key scene_keys_rod[] = {
     {"render", "background", "-", "f6f7f9", "rrggbb, \"#rrggbb\", or 3 numbers in 0..1",
      "background colour"},
     /* what a viewer needs */
-    {"render", "title", "-", "-", "text", "overlay title; absent: the scene's name"},
+    {"render", "title", "-", "-", "text",
+     "overlay title; absent: the scene's own words, the first sentence of the comment that "
+     "opens the file (at most 72 characters, cut at a clause), else the file's name"},
     {"render", "caption", "-", "-", "text", "a line under the title"},
     {"render", "hide", "-", "none",
      "none, or of: title caption time ends legend loads scale triad gravity colorbar",
@@ -181,6 +185,43 @@ const ini_key scene_keys_rod[] = {
     {"render", "views", "-", "-", "1 to 3 of: perspective orthographic top front side",
      "the frame split into side-by-side views, each labelled with its axes and scale bar; "
      "top, front, side: orthographic along -z, +y, -x; absent: camera and view"},
+    /* a camera for a course: where it looks, from where, and in which time ranges */
+    {"render", "look_at", "m", "-", "3 numbers",
+     "global: the point at the picture's centre, for the whole run (a [shot] may change it)"},
+    {"render", "follow", "-", "none", "none | knot",
+     "knot: the picture centred on the knotted part (strands within 3 diameters), smoothed "
+     "over 0.25 video s; with distance, its scale held (the knot seen to tighten)"},
+    {"render", "distance", "m", "-", "> 0",
+     "eye to the point looked at: the picture is 2 distance tan(fov/2) high there (orthographic "
+     "too); absent: the framing's scale"},
+    {"render", "fov", "deg", "30", "1 .. 120", "perspective's vertical field of view"},
+    {"render", "azimuth", "deg", "-", "-360 .. 360",
+     "view direction from +x towards +y (with elevation; replaces view; the other from view)"},
+    {"render", "elevation", "deg", "-", "-90 .. 90", "view direction above the x-y plane"},
+    {"render", "eye", "m", "-", "3 numbers",
+     "global: where the eye stands (direction and distance to the point looked at); not with "
+     "azimuth or elevation"},
+    {"render", "slow_motion", "s s -", "none",
+     "none; auto [FACTOR]; or triples T0 T1 FACTOR, 0 <= T0 < T1, 1 < FACTOR <= 1000",
+     "frames FACTOR times closer in simulated time within T0 .. T1 (moved to the nearest "
+     "frames), so that range plays FACTOR times slower; the overlay says so while it is on; "
+     "steps stay within solver.dt; e.g. 1.2 1.8 4, 3 3.5 2; auto: around the knot's fastest "
+     "tightening (the rope in it, as the summary measures it, falling at least half as fast), "
+     "found by a first pass of the run, FACTOR 4 unless given"},
+    {"shot", "from", "s", "required", ">= 0",
+     "a time range with its own camera ([shot] repeats, at most 16, not overlapping): "
+     "its start; outside every shot the [render] camera"},
+    {"shot", "to", "s", "required", "> from", "its end, included unless the next shot starts there"},
+    {"shot", "ease", "s", "-", "0 .. to - from",
+     "absent or 0: a cut; else the camera moves from the one before over this time (smoothstep)"},
+    {"shot", "look_at", "m", "-", "3 numbers", "as [render] look_at, for this shot; absent: [render]'s (each shot key)"},
+    {"shot", "follow", "-", "-", "none | knot", "as [render] follow"},
+    {"shot", "distance", "m", "-", "> 0", "as [render] distance"},
+    {"shot", "fov", "deg", "-", "1 .. 120", "as [render] fov"},
+    {"shot", "azimuth", "deg", "-", "-360 .. 360",
+     "as [render] azimuth (the other angle from the [render] view)"},
+    {"shot", "elevation", "deg", "-", "-90 .. 90", "as [render] elevation"},
+    {"shot", "eye", "m", "-", "3 numbers", "as [render] eye"},
     {NULL, NULL, NULL, NULL, NULL, NULL},
 };
 

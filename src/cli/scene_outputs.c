@@ -19,6 +19,7 @@
 #include "base/outfile.h"
 #include "base/vec3.h"
 #include "cli/args.h"
+#include "cli/frame_schedule.h"
 #include "cli/knot_track.h"
 #include "cli/run.h"
 #include "cli/scene_keys.h"
@@ -154,9 +155,14 @@ static void print_summary(FILE *f, const char *scene_path, const char *scene,
     if (m->options.scheme == ROD_SCHEME_THESIS)
         fprintf(f, " (%s rotation)", m->options.exact_rotation ? "exact" : "(4.6) literal");
     fprintf(f, ", dt = %.6g s (%s)\n", dt, why);
-    fprintf(f, "           steps of %.6g s, %lld per frame interval 1/fps (equal steps, none "
-               "longer than dt)\n",
-            plan->step, (long long)plan->steps_per_interval);
+    if (plan->frame_times) /* slow motion: the intervals differ */
+        fprintf(f, "           steps of at most %.6g s, up to %lld per output interval (equal "
+                   "steps in each, none longer than dt; frames closer in render.slow_motion)\n",
+                plan->step, (long long)plan->steps_per_interval);
+    else
+        fprintf(f, "           steps of %.6g s, %lld per frame interval 1/fps (equal steps, none "
+                   "longer than dt)\n",
+                plan->step, (long long)plan->steps_per_interval);
     if (out->render.speed == 1.0)
         fprintf(f, "  output   %g s simulated, %lld frames at %d fps, %lld steps, estimated "
                    "%.3g s\n", m->options.duration, (long long)plan->frames, out->fps, (long long)plan->steps,
@@ -558,6 +564,9 @@ typedef struct scene_run {
     double dt;        /* s, at most the step */
     const char *why;  /* where dt came from */
     run_plan plan;
+    frame_schedule schedule; /* slow motion: the output times the plan points to */
+    run_output found_out;    /* slow_motion = auto: the scene's output with the range found */
+    char slow_note[256];     /* what slow_motion = auto found, for the summary */
     int csv_stdout;   /* the CSV goes to standard output (through a temporary file) */
     FILE *talk;       /* the summary: stdout, or stderr when stdout carries the CSV */
     int streamed;     /* the video is made in a second pass, frame by frame */
@@ -593,6 +602,32 @@ void scene_outputs_plan_warnings(const rod_model *m, double dt, run_warnings *w)
                  dt, ops->name, stable, limit);
 }
 
+/* slow_motion = auto: a first pass of the run finds where the knot
+ * tightens fastest; the output read from then on is a copy with that range
+ * (none when no knot tightens; a failing pass leaves it to the run itself
+ * to fail and say why). */
+static void find_slow_motion(scene_run *r)
+{
+    r->found_out = *r->out;
+    r->out = &r->found_out;
+    render_options *o = &r->found_out.render;
+    render_slow range;
+    char err[SCENE_OUTPUTS_ERR_LEN] = "";
+    int found = frame_schedule_find_tightening(r->m, &r->plan, r->out->fps, o->slow_auto, &range,
+                                               err, sizeof err);
+    if (found > 0) {
+        o->slow[0] = range;
+        o->slow_count = 1;
+        snprintf(r->slow_note, sizeof r->slow_note,
+                 "auto: the knot tightens fastest between %.3g and %.3g s, played %gx slower "
+                 "(found by a first pass of the run)", range.start, range.end, range.factor);
+    } else if (found == 0) {
+        snprintf(r->slow_note, sizeof r->slow_note,
+                 "auto: no knot tightens (no strands press on each other), no slow motion");
+    }
+    o->slow_auto = 0;
+}
+
 /* The step and the plan, refused when absurd (-1: exit 2); then the
  * summary. */
 static int plan_run(scene_run *r)
@@ -616,12 +651,23 @@ static int plan_run(scene_run *r)
         }
     }
     int countable = run_plan_make(m, r->dt, r->out->fps, &r->plan) == 0;
+    if (countable && r->out->render.slow_auto > 0) {
+        /* the first pass is a run too: refused up front as the run would be */
+        if (check_budget(r->o, m, r->out, r->dt, &r->plan, countable)) return -1;
+        find_slow_motion(r);
+    }
+    if (countable && r->out->render.slow_count > 0) {
+        countable = frame_schedule_make(&r->out->render, r->out->fps, m->options.duration,
+                                        &r->schedule) == 0;
+        if (countable) frame_schedule_plan(&r->schedule, r->dt, &r->plan);
+    }
     if (check_budget(r->o, m, r->out, r->dt, &r->plan, countable)) return -1;
     r->csv_stdout = r->o->csv && strcmp(r->o->csv, "-") == 0;
     r->talk = r->csv_stdout || r->o->talk_stderr ? stderr : stdout;
     if (!r->o->quiet)
         print_summary(r->talk, r->o->label, r->name, m, r->dt, r->why, r->out, &r->plan,
                       estimate_seconds(r->o, m, r->out, &r->plan));
+    if (!r->o->quiet && r->slow_note[0]) fprintf(r->talk, "  slow     %s\n", r->slow_note);
     scene_outputs_plan_warnings(m, r->dt, &r->warnings);
     run_warnings_print(stderr, &r->warnings, 0);
     /* a long run shows where it is on a terminal; --progress shows it anywhere */
@@ -959,7 +1005,10 @@ int scene_outputs_write(const scene_outputs_options *o, const char *name, const 
     r.out = out;
     r.csv_file = (outfile){.fd = -1, .slot = -1};
     if (o->summary) summary_plan(&r, o->summary);
-    if (plan_run(&r)) return RUN_EXIT_BAD_INPUT;
+    if (plan_run(&r)) {
+        frame_schedule_release(&r.schedule);
+        return RUN_EXIT_BAD_INPUT;
+    }
     knot_track_init(&r.knots, m->nodes);
     r.sink.knot = &r.knots;
     r.sink.stats = &r.stats;
@@ -981,6 +1030,7 @@ int scene_outputs_write(const scene_outputs_options *o, const char *name, const 
     knot_track_release(&r.knots);
     rod_state_destroy(r.s);
     rod_solver_release(&r.solver);
+    frame_schedule_release(&r.schedule);
     return status;
 }
 

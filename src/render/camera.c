@@ -165,6 +165,11 @@ frame_band overlay_band(const rod_recording *rec, const render_options *o, frame
     return base;
 }
 
+double camera_tan_half_fov(const render_camera *cam)
+{
+    return tan(0.5 * (cam->fovy > 0 ? cam->fovy : PERSPECTIVE_FOVY));
+}
+
 void camera_matrices(render_camera *cam, double half_height, double near, double far)
 {
     double aspect = (double)cam->width / cam->height;
@@ -178,7 +183,7 @@ void camera_matrices(render_camera *cam, double half_height, double near, double
         p[14] = -(far + near) / (far - near);
         p[15] = 1;
     } else {
-        double f = 1.0 / tan(0.5 * PERSPECTIVE_FOVY);
+        double f = 1.0 / camera_tan_half_fov(cam);
         p[0] = f / aspect;
         p[5] = f;
         p[10] = (far + near) / (near - far);

@@ -25,6 +25,7 @@ void follow_destroy(follow_path *fp)
     free(fp->time);
     free(fp->centre);
     free(fp->extent);
+    free(fp->knot_centre);
     free(fp->frame.points);
     rod_proximity_destroy(fp->prox);
     free(fp->pairs);
@@ -41,10 +42,10 @@ void follow_destroy(follow_path *fp)
  * strand, KNOT_FRAMING_REACH diameters of arc beyond either end), or all
  * of it while no strands are that near. */
 static void follow_cloud(follow_path *fp, const rod_recording *rec, const render_options *o,
-                         const arrow_scales *arrows, int f)
+                         const arrow_scales *arrows, int f, int knot)
 {
     fp->frame.count = 0;
-    if (fp->prox) {
+    if (knot && fp->prox) {
         const double reach = KNOT_FRAMING_REACH * rec->diameter;
         /* far: points closer than pi reach / 2 in arc cannot come within
          * reach of each other (rod_proximity_skip's argument, for reach) */
@@ -161,6 +162,28 @@ static void smooth_path(double *x, int stride, const double *t, int n, double si
     }
 }
 
+/* follow = knot: the centre of the knotted part's bounds (global) in every
+ * frame, smoothed as the framing's centre is (the knot's own jitter from
+ * frame to frame averages out; a steady drift is kept). scratch: count doubles. */
+static void follow_knot_path(follow_path *fp, const rod_recording *rec, const render_options *o,
+                             const arrow_scales *arrows, double radius, double sigma,
+                             double *scratch)
+{
+    for (int f = 0; f < fp->count; f++) {
+        follow_cloud(fp, rec, o, arrows, f, 1);
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int i = 0; i < fp->frame.count; i++)
+            for (int a = 0; a < 3; a++) {
+                lo[a] = fmin(lo[a], fp->frame.points[3 * i + a] - radius);
+                hi[a] = fmax(hi[a], fp->frame.points[3 * i + a] + radius);
+            }
+        for (int a = 0; a < 3; a++)
+            fp->knot_centre[3 * f + a] = fp->frame.count ? 0.5 * (lo[a] + hi[a]) : 0;
+    }
+    for (int a = 0; a < 3; a++)
+        smooth_path(fp->knot_centre + a, 3, fp->time, fp->count, sigma, scratch);
+}
+
 follow_path *follow_create(const rod_recording *rec, const render_options *o,
                            const arrow_scales *arrows, double radius,
                            const render_camera *run_camera, const frame_band *band,
@@ -179,7 +202,11 @@ follow_path *follow_create(const rod_recording *rec, const render_options *o,
     double *need = malloc((size_t)n * sizeof(double));
     fp->frame.points = malloc(((size_t)rec->nodes + FRAME_EXTRA_POINTS) * 3 * sizeof(double));
     fp->frame.pad = radius;
-    if (o->framing == RENDER_FRAMING_KNOT) {
+    fp->knot_framing = o->framing == RENDER_FRAMING_KNOT;
+    int follow_knot = o->camera_keys.follow_knot;
+    for (int k = 0; k < o->shot_count; k++) follow_knot |= o->shots[k].follow_knot;
+    if (follow_knot) fp->knot_centre = malloc((size_t)n * 3 * sizeof(double));
+    if (fp->knot_framing || follow_knot) {
         fp->max_pairs = 16 * rec->nodes;
         fp->prox = rod_proximity_create(rec->nodes);
         fp->pairs = malloc((size_t)fp->max_pairs * sizeof *fp->pairs);
@@ -189,7 +216,8 @@ follow_path *follow_create(const rod_recording *rec, const render_options *o,
             return NULL;
         }
     }
-    if (!fp->time || !fp->centre || !fp->extent || !need || !fp->frame.points) {
+    if (!fp->time || !fp->centre || !fp->extent || !need || !fp->frame.points ||
+        (follow_knot && !fp->knot_centre)) {
         free(need);
         follow_destroy(fp);
         return NULL;
@@ -200,12 +228,12 @@ follow_path *follow_create(const rod_recording *rec, const render_options *o,
         fp->time[f] = rec->time[f];
         /* the whole rod bounds the clip planes (depth, size); what is
          * framed, the centre */
-        for (int pass = 0; pass < (fp->prox ? 2 : 1); pass++) {
+        for (int pass = 0; pass < (fp->knot_framing ? 2 : 1); pass++) {
             if (pass == 0) {
                 fp->frame.count = 0;
                 point_cloud_add_frame(&fp->frame, rec, o, arrows, f, 1);
             } else {
-                follow_cloud(fp, rec, o, arrows, f);
+                follow_cloud(fp, rec, o, arrows, f, fp->knot_framing);
             }
             double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
             for (int i = 0; i < fp->frame.count; i++)
@@ -229,7 +257,7 @@ follow_path *follow_create(const rod_recording *rec, const render_options *o,
     double sigma = FOLLOW_TIME * o->fps / render_output_rate(o);
     for (int a = 0; a < 3; a++) smooth_path(fp->centre + a, 3, fp->time, n, sigma, need);
     for (int f = 0; f < n; f++) {
-        follow_cloud(fp, rec, o, arrows, f);
+        follow_cloud(fp, rec, o, arrows, f, fp->knot_framing);
         need[f] = follow_need(fp, &fp->frame, &fp->centre[3 * f]);
     }
     /* the size: the largest need within 2 sigma, smoothed in log (zoom reads as a ratio);
@@ -245,8 +273,31 @@ follow_path *follow_create(const rod_recording *rec, const render_options *o,
     }
     smooth_path(fp->extent, 1, fp->time, n, sigma, need);
     for (int f = 0; f < n; f++) fp->extent[f] = exp(fp->extent[f]);
+    if (fp->knot_centre) follow_knot_path(fp, rec, o, arrows, radius, sigma, need);
     free(need);
     return fp;
+}
+
+int follow_knot_centre(const follow_path *fp, double t, double centre[3])
+{
+    if (!fp->knot_centre) return -1;
+    int n = fp->count, i = 0, last = n - 1;
+    while (last - i > 1) {
+        int middle = (i + last) / 2;
+        if (fp->time[middle] <= t) i = middle;
+        else last = middle;
+    }
+    if (n == 1 || t <= fp->time[0]) {
+        v3_copy(centre, fp->knot_centre);
+    } else if (t >= fp->time[n - 1]) {
+        v3_copy(centre, &fp->knot_centre[3 * (n - 1)]);
+    } else {
+        double span = fp->time[i + 1] - fp->time[i];
+        double a = span > 0 ? (t - fp->time[i]) / span : 0;
+        for (int k = 0; k < 3; k++)
+            centre[k] = (1 - a) * fp->knot_centre[3 * i + k] + a * fp->knot_centre[3 * (i + 1) + k];
+    }
+    return 0;
 }
 
 void follow_camera(follow_path *fp, const rod_recording *rec, const render_options *o,
@@ -272,9 +323,9 @@ void follow_camera(follow_path *fp, const rod_recording *rec, const render_optio
             c[k] = (1 - a) * fp->centre[3 * i + k] + a * fp->centre[3 * (i + 1) + k];
         extent = (1 - a) * fp->extent[i] + a * fp->extent[i + 1];
     }
-    follow_cloud(fp, rec, o, arrows, frame);
+    follow_cloud(fp, rec, o, arrows, frame, fp->knot_framing);
     extent = fmax(extent, follow_need(fp, &fp->frame, c));
-    if (fp->prox) { /* the near plane from the whole rod: the tails come nearer */
+    if (fp->knot_framing) { /* the near plane from the whole rod: the tails come nearer */
         fp->frame.count = 0;
         point_cloud_add_frame(&fp->frame, rec, o, arrows, frame, 1);
     }

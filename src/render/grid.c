@@ -29,7 +29,7 @@ void grid_region(const grid *g, const render_camera *cam, double region_lo[2],
     double plane = g->plane, size = g->size;
     region_lo[0] = region_lo[1] = INFINITY;
     region_hi[0] = region_hi[1] = -INFINITY;
-    double tan_y = tan(0.5 * PERSPECTIVE_FOVY), aspect = (double)cam->width / cam->height;
+    double tan_y = camera_tan_half_fov(cam), aspect = (double)cam->width / cam->height;
     double half_height = 0.5 * cam->metres_per_pixel * cam->height;
     for (int corner = 0; corner < 4; corner++) {
         double sx = corner & 1 ? 1 : -1, sy = corner & 2 ? 1 : -1, origin[3], ray[3];

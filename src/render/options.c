@@ -6,7 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/textfile.h"
 #include "base/vec3.h"
+#include "render/shot.h"
 
 void render_options_default(render_options *o)
 {
@@ -45,6 +47,167 @@ void render_options_default(render_options *o)
     o->shadows = 1;
     o->smooth = 1;
     o->ground = RENDER_GROUND_AUTO;
+    o->overlay_solver = 1;
+}
+
+double render_slow_factor(const render_options *o, double t)
+{
+    for (int k = 0; k < o->slow_count; k++)
+        if (t >= o->slow[k].start && t <= o->slow[k].end) return o->slow[k].factor;
+    return 1;
+}
+
+static int by_slow_start(const void *a, const void *b)
+{
+    double x = ((const render_slow *)a)->start, y = ((const render_slow *)b)->start;
+    return x < y ? -1 : x > y;
+}
+
+/* [render] slow_motion: triples T0 T1 FACTOR (s, s, -) separated by blanks,
+ * commas or semicolons. */
+static int read_slow_motion(ini_doc *doc, render_options *o, char *err, size_t errlen)
+{
+    const char *text;
+    int status = ini_get_string(doc, "render", 0, "slow_motion", &text, err, errlen);
+    if (status <= 0) return status;
+    o->slow_count = 0;
+    o->slow_auto = 0;
+    if (strcmp(text, "none") == 0) return 0;
+    if (strncmp(text, "auto", 4) == 0 && (text[4] == '\0' || text[4] == ' ')) {
+        char *end;
+        double factor = text[4] ? strtod(text + 4, &end) : 4;
+        if (text[4] && (end == text + 4 || strspn(end, " \t") != strlen(end)))
+            factor = NAN;
+        if (!(factor > 1 && factor <= 1000))
+            return ini_error(doc, "render", 0, "slow_motion", err, errlen,
+                             "auto takes one factor, 1 < FACTOR <= 1000 (auto alone: 4)");
+        o->slow_auto = factor;
+        return 0;
+    }
+    double numbers[3 * RENDER_MAX_SLOW];
+    int count = 0;
+    const char *c = text;
+    for (;;) {
+        while (*c == ' ' || *c == ',' || *c == ';' || *c == '\t') c++;
+        if (!*c) break;
+        char *end;
+        double x = strtod(c, &end);
+        if (end == c || !isfinite(x) || count == 3 * RENDER_MAX_SLOW ||
+            (*end && !strchr(" ,;\t", *end)))
+            return ini_error(doc, "render", 0, "slow_motion", err, errlen,
+                             "must be none, auto [FACTOR], or 1 to %d triples T0 T1 FACTOR (s, s, > 1), "
+                             "e.g. 1.2 1.8 4",
+                             RENDER_MAX_SLOW);
+        numbers[count++] = x;
+        c = end;
+    }
+    if (count == 0 || count % 3)
+        return ini_error(doc, "render", 0, "slow_motion", err, errlen,
+                         "must be triples T0 T1 FACTOR (s, s, > 1): %d numbers given", count);
+    o->slow_count = count / 3;
+    for (int k = 0; k < o->slow_count; k++) {
+        render_slow *r = &o->slow[k];
+        r->start = numbers[3 * k];
+        r->end = numbers[3 * k + 1];
+        r->factor = numbers[3 * k + 2];
+        if (!(r->start >= 0 && r->end > r->start && r->factor > 1 && r->factor <= 1000))
+            return ini_error(doc, "render", 0, "slow_motion", err, errlen,
+                             "%g %g %g: needs 0 <= T0 < T1 (s) and 1 < FACTOR <= 1000", r->start,
+                             r->end, r->factor);
+    }
+    qsort(o->slow, (size_t)o->slow_count, sizeof *o->slow, by_slow_start);
+    for (int k = 1; k < o->slow_count; k++)
+        if (o->slow[k].start < o->slow[k - 1].end)
+            return ini_error(doc, "render", 0, "slow_motion", err, errlen,
+                             "the ranges %g .. %g s and %g .. %g s overlap", o->slow[k - 1].start,
+                             o->slow[k - 1].end, o->slow[k].start, o->slow[k].end);
+    return 0;
+}
+
+/* Where a sentence of the title may end: ". " before a capital (not "fig. 3b"). */
+static int sentence_end(const char *c)
+{
+    return c[0] == '.' && (c[1] == '\0' || (c[1] == ' ' && c[2] >= 'A' && c[2] <= 'Z'));
+}
+
+void render_title_from_text(const char *text, char *out, size_t outlen)
+{
+    char words[1024];
+    size_t n = 0;
+    out[0] = '\0';
+    if (outlen < 8) return;
+    /* the comment lines that open the file, to the first blank one */
+    const char *c = textfile_skip_bom(text);
+    while (*c == '#') {
+        c++;
+        while (*c == '#' || *c == ' ' || *c == '\t') c++;
+        size_t len = strcspn(c, "\r\n");
+        while (len > 0 && (c[len - 1] == ' ' || c[len - 1] == '\t')) len--;
+        if (len == 0) break;
+        if (n > 0 && n + 1 < sizeof words) words[n++] = ' ';
+        for (size_t i = 0; i < len && n + 1 < sizeof words; i++) words[n++] = c[i];
+        c += strcspn(c, "\n");
+        if (*c == '\n') c++;
+    }
+    words[n] = '\0';
+    for (size_t i = 0; i < n; i++)
+        if (sentence_end(&words[i])) {
+            n = i;
+            words[n] = '\0';
+            break;
+        }
+    size_t most = outlen - 1 < RENDER_TITLE_WORDS ? outlen - 1 : RENDER_TITLE_WORDS;
+    if (n > most) {
+        /* too long: the remarks in parentheses go first */
+        size_t kept = 0;
+        int depth = 0;
+        for (size_t i = 0; i < n; i++) {
+            if (words[i] == '(') depth++;
+            if (depth == 0) words[kept++] = words[i];
+            if (words[i] == ')' && depth > 0 && --depth == 0 && kept > 0 && words[kept - 1] == ' ')
+                kept--;
+        }
+        if (depth == 0) n = kept; /* unbalanced: left as it was */
+        words[n] = '\0';
+    }
+    while (n > 0 && strchr(".:;, ", words[n - 1])) words[--n] = '\0';
+    if (n > most) {
+        /* then a cut where a clause ends (": ", else ", ") in the second half,
+         * outside parentheses; else at a word, with "..." */
+        size_t cut = 0;
+        for (const char *mark = ":,"; *mark && cut == 0; mark++) {
+            int depth = 0;
+            for (size_t i = 0; i < most; i++) {
+                depth += words[i] == '(' ? 1 : words[i] == ')' ? -1 : 0;
+                if (i >= most / 3 && depth == 0 && words[i] == *mark && words[i + 1] == ' ')
+                    cut = i;
+            }
+        }
+        if (cut > 0) {
+            n = cut;
+        } else {
+            for (size_t i = most - 3; i > 0 && cut == 0; i--)
+                if (words[i] == ' ') cut = i;
+            n = cut > 0 ? cut : most - 3;
+            memcpy(words + n, "...", 3);
+            n += 3;
+        }
+        words[n] = '\0';
+    }
+    snprintf(out, outlen, "%s", words);
+}
+
+/* The title when the scene gives none: its first comment's words (the
+ * file read again: the parsed scene keeps no comments); "" when the scene
+ * opens with no comment or is not a file (the scene's name is the title). */
+static void title_from_scene(ini_doc *doc, char *out, size_t outlen)
+{
+    char *text = NULL, err[256];
+    const char *path = ini_filename(doc);
+    out[0] = '\0';
+    if (!path || textfile_read(path, "scene", 1 << 20, &text, NULL, err, sizeof err)) return;
+    render_title_from_text(text, out, outlen);
+    free(text);
 }
 
 /* Decision: speed is the playback rate, simulated seconds per video second,
@@ -364,9 +527,16 @@ int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errle
         ini_get_bool(doc, "render", 0, "grid", &o->grid, err, errlen) < 0 ||
         ini_get_bool(doc, "render", 0, "overlay", &o->overlay, err, errlen) < 0 ||
         ini_get_bool(doc, "render", 0, "frames_png", &o->frames_png, err, errlen) < 0 ||
-        ini_get_bool(doc, "render", 0, "poster", &o->poster, err, errlen) < 0)
+        ini_get_bool(doc, "render", 0, "poster", &o->poster, err, errlen) < 0 ||
+        ini_get_bool(doc, "render", 0, "overlay_solver", &o->overlay_solver, err, errlen) < 0)
         return -1;
-    return read_teaching(doc, o, err, errlen);
+    if (read_teaching(doc, o, err, errlen) || read_slow_motion(doc, o, err, errlen)) return -1;
+    if (!o->title[0]) {
+        title_from_scene(doc, o->title, sizeof o->title);
+        o->title_auto = o->title[0] != '\0';
+    }
+    /* after view: azimuth and elevation are another way to give it */
+    return render_shots_read(doc, o, err, errlen);
 }
 
 void options_view_camera(render_view_kind kind, const double scene_view[3],

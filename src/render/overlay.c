@@ -324,10 +324,14 @@ static void draw_left_column(image *img, const render_overlay *ov, const rod_rec
     if (show & RENDER_SHOW_TIME) {
         y += line;
         int x = draw_time(img, ov, margin, y, rec->time[frame]);
-        snprintf(text, sizeof text, "      scheme: %s      %d nodes",
-                 rec->scheme[0] ? rec->scheme : "?", rec->nodes);
-        text_draw(img, ov->body, x, y, text, ov->ink);
-        left_line(left, ov->body, x, y, text);
+        if (o->overlay_solver) {
+            snprintf(text, sizeof text, "      scheme: %s      %d nodes",
+                     rec->scheme[0] ? rec->scheme : "?", rec->nodes);
+            text_draw(img, ov->body, x, y, text, ov->ink);
+            left_line(left, ov->body, x, y, text);
+        } else {
+            left_line(left, ov->body, x, y, ""); /* the time alone */
+        }
     }
     /* what holds the ends */
     const recording_end *root = &rec->ends[0], *tip = &rec->ends[1];
@@ -352,8 +356,10 @@ static void draw_left_column(image *img, const render_overlay *ov, const rod_rec
 /* Top right: the knot's type, what is not to scale or not real time, and
  * what the stripe is; each line moved down past the left column's. */
 static void draw_right_column(image *img, const render_overlay *ov, const render_options *o,
-                              const overlay_lines *left, int margin, int line)
+                              const overlay_lines *left, int margin, int line, double t)
 {
+    /* slow motion around an event (render.slow_motion) while it is on */
+    const double playback = ov->playback / render_slow_factor(o, t);
     unsigned show = o->show;
     char text[512];
     int right = img->width - margin;
@@ -379,11 +385,11 @@ static void draw_right_column(image *img, const render_overlay *ov, const render
             text_draw(img, ov->body, right - text_width(ov->body, text), y, text, ov->ink);
             y += line;
         }
-        if (fabs(ov->playback - 1) > 1e-3) {
-            if (ov->playback < 1)
-                snprintf(text, sizeof text, "slow motion %.3g\xc3\x97", 1 / ov->playback);
+        if (fabs(playback - 1) > 1e-3) {
+            if (playback < 1)
+                snprintf(text, sizeof text, "slow motion %.3g\xc3\x97", 1 / playback);
             else
-                snprintf(text, sizeof text, "time-lapse %.3g\xc3\x97", ov->playback);
+                snprintf(text, sizeof text, "time-lapse %.3g\xc3\x97", playback);
             y = right_line_y(left, ov, right - text_width(ov->body, text), y, line);
             text_draw(img, ov->body, right - text_width(ov->body, text), y, text, ov->ink);
             y += line;
@@ -480,7 +486,7 @@ void overlay_draw(image *img, const render_overlay *ov, const rod_recording *rec
     overlay_lines left = {0};
     int margin = img->height / 40 + 4, line = text_ascent(ov->body) + text_descent(ov->body) + 4;
     draw_left_column(img, ov, rec, o, frame, margin, line, &left);
-    draw_right_column(img, ov, o, &left, margin, line);
+    draw_right_column(img, ov, o, &left, margin, line, rec->time[frame]);
     if ((o->show & RENDER_SHOW_COLORBAR) && o->color != RENDER_COLOR_SOLID)
         draw_colorbar(img, ov, o, margin);
     draw_loads(img, ov, rec, o, cam, frame, margin, line);
@@ -492,6 +498,20 @@ void overlay_scale_bar(render_overlay *ov, int width, double metres_per_pixel)
     ov->bar_metres = nice_below(0.18 * width * metres_per_pixel);
     ov->bar_pixels = (int)lround(ov->bar_metres / metres_per_pixel);
     format_length(ov->bar_label, sizeof ov->bar_label, ov->bar_metres);
+}
+
+/* A title from the scene's words (not one it gave) cut at a word, with
+ * "...", to `width` pixels: a small picture gets a shorter one. */
+static void fit_title(render_overlay *ov, int width)
+{
+    char *t = ov->title_text;
+    size_t n = strlen(t);
+    while (n > 0 && text_width(ov->title, t) > width) {
+        while (n > 0 && t[n - 1] != ' ') n--; /* the last word goes */
+        while (n > 0 && strchr(" ,:;.", t[n - 1])) n--;
+        if (n == 0) break;
+        memcpy(t + n, "...", 4);
+    }
 }
 
 int overlay_create(render_overlay *ov, const rod_recording *rec, const render_options *o,
@@ -506,7 +526,9 @@ int overlay_create(render_overlay *ov, const rod_recording *rec, const render_op
     while (ov->time_digits < 12 && last_time >= pow(10, ov->time_digits) - 0.5) ov->time_digits++;
     /* decimals that tell consecutive frames apart: 3 at 30 frames per simulated second */
     int rate = render_output_rate(o);
-    ov->time_decimals = (int)ceil(log10((double)rate) - 1e-9) + 1;
+    double slowest = 1;
+    for (int k = 0; k < o->slow_count; k++) slowest = fmax(slowest, o->slow[k].factor);
+    ov->time_decimals = (int)ceil(log10(rate * slowest) - 1e-9) + 1;
     if (ov->time_decimals < 1) ov->time_decimals = 1;
     if (ov->time_decimals > 7) ov->time_decimals = 7;
     ov->playback = (double)o->fps / rate;
@@ -535,6 +557,7 @@ int overlay_create(render_overlay *ov, const rod_recording *rec, const render_op
          * rod or a surface passes under it */
         text_set_halo(ov->title, o->background);
         text_set_halo(ov->body, o->background);
+        if (o->title_auto) fit_title(ov, o->width - 2 * (o->height / 40 + 4));
     }
     return 0;
 }

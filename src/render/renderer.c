@@ -10,6 +10,7 @@
 #include "base/vec3.h"
 #include "render/color.h"
 #include "render/geometry.h"
+#include "render/shot.h"
 #include "render/surface.h"
 
 /* pixels; measured with 4x MSAA: less area to clear and resolve than 64
@@ -32,7 +33,7 @@ static double pixels_per_metre(const render_camera *cam, const double p[3])
     if (cam->orthographic) return 1.0 / cam->metres_per_pixel;
     double to_eye[3];
     v3_sub(to_eye, cam->eye, p);
-    return cam->height / (2 * v3_dot(to_eye, cam->direction) * tan(0.5 * PERSPECTIVE_FOVY));
+    return cam->height / (2 * v3_dot(to_eye, cam->direction) * camera_tan_half_fov(cam));
 }
 
 /* Marks the tiles under the screen box of the points (padded by pad, m). */
@@ -269,12 +270,14 @@ static int renderer_framing(renderer *r, const rod_recording *shown, const rende
                             const frame_band *band, int floor)
 {
     if (o->grid && !floor) grid_build(&r->grid, shown, &r->camera, r->radius, o->background);
-    if (o->framing == RENDER_FRAMING_RUN) return 0;
+    r->fitted = r->camera;
+    if (o->framing == RENDER_FRAMING_RUN && !o->directed) return 0;
     r->follow = follow_create(shown, o, &r->arrows, r->radius, &r->camera, band,
                               floor || shown->surface_count > 0 ||
                                   v3_norm(shown->distributed_force) > 0);
     if (!r->follow) return -1;
-    renderer_follow_grid(r, shown, o, floor);
+    /* a directed camera without a framing path: each camera's own grid spacing */
+    if (o->framing != RENDER_FRAMING_RUN) renderer_follow_grid(r, shown, o, floor);
     return 0;
 }
 
@@ -366,11 +369,37 @@ int renderer_create(renderer *r, const rod_recording *rec, const render_options 
     return 0;
 }
 
-/* Follow framing: this frame's camera, and what hangs on it (the grid, the
- * scale bar; the backdrop is not used: the whole picture is one box). */
+/* What a directed camera starts from at time t: the framing's camera of the
+ * frame being drawn, and the knot's centre. */
+typedef struct directed_base {
+    renderer *r;
+    const rod_recording *drawn;
+    int frame;
+} directed_base;
+
+static void directed_base_at(void *context, double t, render_camera *base, double knot[3],
+                             int *has_knot)
+{
+    const directed_base *b = context;
+    renderer *r = b->r;
+    if (r->o->framing != RENDER_FRAMING_RUN)
+        follow_camera(r->follow, b->drawn, r->o, &r->arrows, b->frame, t, base);
+    else
+        *base = r->fitted;
+    *has_knot = follow_knot_centre(r->follow, t, knot) == 0;
+}
+
+/* Follow framing or a directed camera: this frame's camera, and what hangs
+ * on it (the grid, the scale bar; the backdrop is not used: the whole
+ * picture is one box). */
 static void renderer_follow(renderer *r, const rod_recording *drawn, int drawn_frame, double t)
 {
-    follow_camera(r->follow, drawn, r->o, &r->arrows, drawn_frame, t, &r->camera);
+    if (r->o->directed) {
+        directed_base base = {r, drawn, drawn_frame};
+        render_directed_camera(r->o, t, directed_base_at, &base, r->follow->size, &r->camera);
+    } else {
+        follow_camera(r->follow, drawn, r->o, &r->arrows, drawn_frame, t, &r->camera);
+    }
     if (r->shadow.shadows) {
         /* the rod of this frame, with its glyphs' reach, as its own receiver */
         double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};

@@ -36,6 +36,7 @@ static void run_scene(const char *dir, const char *file)
     }
     snprintf(cmd, sizeof cmd,
              "%s run %s --quiet -o %s --set solver.duration=%g --set render.fps=%d --set render.speed=1 "
+             "--set render.slow_motion=none "
              "--set render.width=%d --set render.height=%d > %s/log.txt 2>&1",
              RODSIM_BIN, scene, out, DURATION, FPS, WIDTH, HEIGHT, out);
     int status = system(cmd);
