@@ -57,6 +57,11 @@ void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s, dou
  * slip_end) or no strands came within KNOT_PASS_GAP diameters. */
 int knot_track_change_is_slip(const knot_track *k, const rod_model *m);
 
+/* The rope in the knot at the last frame, diameters: the arc between the
+ * outermost nodes where strands press on each other; NAN when no frame was
+ * identified, the last is an unknot, or no strands touched there. */
+double knot_track_rope(const knot_track *k, const rod_model *m);
+
 /* The summary lines (knot at start and end, a change, the rope in the knot,
  * the identification's cost, failures) to f. */
 void knot_track_print(FILE *f, const knot_track *k, const rod_model *m);
