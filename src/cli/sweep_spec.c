@@ -716,7 +716,7 @@ static int check_measures_apply(const sweep *sw, const rod_model *m, const char 
     if (!which) return 0;
     char apply[1024] = "";
     for (int k = 0; k < SWEEP_M_COUNT; k++) {
-        int general = !(k >= SWEEP_M_KNOT && k < SWEEP_M_STEPS);
+        int general = measure_is_general(k);
         int knot = k >= SWEEP_M_KNOT && k <= SWEEP_M_MIN_STRAND_GAP;
         if (!general && !(knot && knots) && !(!knot && tissue && k <= SWEEP_M_PUNCTURE_F))
             continue;

@@ -69,8 +69,8 @@ static int read_axes(const char *svg, axes_map *map)
     for (const char *c = svg; (c = strstr(c, "<text ")); c++) {
         double x, y;
         char anchor[16], body[64];
-        if (sscanf(c, "<text x=\"%lf\" y=\"%lf\" font-size=\"%*d\" text-anchor=\"%15[a-z]\">%63[^<]",
-                   &x, &y, anchor, body) != 4)
+        if (sscanf(c, "<text x=\"%lf\" y=\"%lf\" font-size=\"%*d\" "
+                      "text-anchor=\"%15[a-z]\">%63[^<]", &x, &y, anchor, body) != 4)
             continue;
         double v = label_number(body);
         if (!isfinite(v)) continue;
@@ -163,7 +163,8 @@ static void test_scene(const char *name)
     double worst_u = 0.0, worst_d = 0.0;
     for (int i = 0; i < nodes; i++) {
         double x = node[i][0], z = node[i][1], u = node[i][2], w = node[i][3];
-        worst_u = fmax(worst_u, hypot(ux[i] - (map.x0 + map.kx * x), uy[i] - (map.z0 - map.kz * z)));
+        worst_u = fmax(worst_u, hypot(ux[i] - (map.x0 + map.kx * x),
+                                      uy[i] - (map.z0 - map.kz * z)));
         worst_d = fmax(worst_d, hypot(dx[i] - (map.x0 + map.kx * (x + scale * u)),
                                       dy[i] - (map.z0 - map.kz * (z + scale * w))));
     }

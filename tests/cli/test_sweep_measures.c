@@ -23,6 +23,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "cli/sweep_spec.h"
 #include "test.h"
 #include "test_process.h"
 
@@ -388,10 +389,26 @@ static void test_log_axes(void)
     free(text);
 }
 
+/* Every measure has its name, unit and axis label (the tables are filled
+ * by position: one missing shifts the rest). */
+static void test_tables(void)
+{
+    int complete = 1;
+    for (int m = 0; m < SWEEP_M_COUNT; m++)
+        complete &= sweep_measure_names[m] && sweep_measure_units[m] && sweep_measure_labels[m];
+    check(complete && strcmp(sweep_measure_names[SWEEP_M_CPU], "cpu_s") == 0 &&
+              strcmp(sweep_measure_units[SWEEP_M_CPU], "s") == 0 &&
+              strcmp(sweep_measure_names[SWEEP_M_ROPE_IN_KNOT], "rope_in_knot_d") == 0 &&
+              strcmp(sweep_measure_units[SWEEP_M_ROPE_IN_KNOT], "d") == 0 &&
+              strcmp(sweep_measure_names[SWEEP_M_PUNCTURE_F + 15], "puncture_f[15]") == 0,
+          "the measures' names, units and labels: %d each, in step", SWEEP_M_COUNT);
+}
+
 int main(void)
 {
     snprintf(scratch, sizeof scratch, "/tmp/rodsim_test_sweep_measures_%d", (int)getpid());
     mkdir(scratch, 0755);
+    test_tables();
     test_end_force();
     test_punctures();
     test_knots();
