@@ -70,6 +70,11 @@ int knot_track_can_knot(const rod_model *m);
  * may start knotted whatever it can do). */
 int knot_track_was_knotted(const knot_track *k);
 
+/* The rope in the knot at the last frame, diameters: the arc between the
+ * outermost nodes where strands press on each other; NAN when no frame was
+ * identified, the last is an unknot, or no strands touched there. */
+double knot_track_rope(const knot_track *k, const rod_model *m);
+
 /* The summary lines (knot at start and end, a change, the rope in the knot,
  * the identification's cost, failures) to f. */
 void knot_track_print(FILE *f, const knot_track *k, const rod_model *m);

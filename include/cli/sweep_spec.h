@@ -31,17 +31,30 @@
 /* Continues the FNV-1a 64 digest h over n bytes. */
 uint64_t sweep_fnv1a64(uint64_t h, const void *bytes, size_t n);
 
+#define SWEEP_PUNCTURE_SLOTS 16 /* ROD_MAX_PUNCTURES */
+
 /* The measures of a point, in the order of a result file's columns. */
 enum {
     SWEEP_M_TIP_X, SWEEP_M_TIP_Y, SWEEP_M_TIP_Z,
     SWEEP_M_ROOT_FX, SWEEP_M_ROOT_FY, SWEEP_M_ROOT_FZ,
     SWEEP_M_TIP_FX, SWEEP_M_TIP_FY, SWEEP_M_TIP_FZ,
     SWEEP_M_MAX_CURVATURE, SWEEP_M_FIRST_FREQUENCY, SWEEP_M_CRITICAL_LOAD,
-    SWEEP_M_CRITICAL_MOMENT, SWEEP_M_STEPS, SWEEP_M_WALL, SWEEP_M_CPU,
+    SWEEP_M_CRITICAL_MOMENT,
+    SWEEP_M_ROOT_F, SWEEP_M_TIP_F, /* magnitudes of the end forces */
+    SWEEP_M_KNOT,                  /* text: the knot type's name (sweep_point_result.knot) */
+    SWEEP_M_ROPE_IN_KNOT, SWEEP_M_MIN_STRAND_GAP,
+    SWEEP_M_PUNCTURE_COUNT,
+    SWEEP_M_PUNCTURE_F, /* puncture_f[0]: the first of SWEEP_PUNCTURE_SLOTS, one per puncture */
+    SWEEP_M_STEPS = SWEEP_M_PUNCTURE_F + SWEEP_PUNCTURE_SLOTS, SWEEP_M_WALL, SWEEP_M_CPU,
     SWEEP_M_COUNT
 };
+/* In a --measure list: puncture_f, a column per puncture the run ends with
+ * (as many as the most any point has), after the measures' own columns. */
+#define SWEEP_M_PUNCTURE_COLUMNS SWEEP_M_COUNT
 extern const char *const sweep_measure_names[SWEEP_M_COUNT];
 extern const char *const sweep_measure_units[SWEEP_M_COUNT]; /* for plot axes */
+/* The name a plot's axis gives a measure ("rope in knot"), without its unit. */
+extern const char *const sweep_measure_labels[SWEEP_M_COUNT];
 
 typedef enum {
     SWEEP_POINT_OK = 0, SWEEP_POINT_UNSTABLE, SWEEP_POINT_NO_CONVERGENCE, SWEEP_POINT_REFUSED,
@@ -55,6 +68,7 @@ extern const char *const sweep_status_names[SWEEP_POINT_STATUS_COUNT];
 typedef struct sweep_point_result {
     double value[SWEEP_M_COUNT];
     int status; /* sweep_point_status */
+    char knot[96]; /* the knot type at the end (rod_knot.name), "" where none */
     char message[2048]; /* a failure's, or the warnings (run_warnings_join) */
 } sweep_point_result;
 
@@ -83,7 +97,7 @@ typedef struct sweep {
     cli_list sets;  /* --set arguments */
     sweep_vary *varies; /* owned, vary_count of them */
     int vary_count;
-    int measures[SWEEP_M_COUNT]; /* the columns, in order */
+    int measures[SWEEP_M_COUNT + 1]; /* the columns, in order (SWEEP_M_PUNCTURE_COLUMNS too) */
     int measure_count;
     int jobs, quiet, allow_long, print_commands, assemble;
     int critical; /* critical_load or critical_moment asked for (--measure, --plot) */
@@ -95,6 +109,8 @@ typedef struct sweep {
     const char *measure_arg;
     int point_count;
     const char *plot_arg, *png, *svg, *log_axes; /* --plot X:Y, --png, --svg, --log */
+    const char *title, *xlabel, *ylabel;   /* --title, --xlabel, --ylabel: NULL, the default */
+    const char *xformat, *yformat;         /* --xformat, --yformat: tick labels, or NULL */
     int plot_x;       /* the varied key on the x axis */
     int plot_y;       /* the measure on the y axis */
     char plot_csv[OUTFILE_PATH_MAX]; /* the plotted data, beside the PNG */

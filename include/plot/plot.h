@@ -46,6 +46,14 @@ void plot_set_axis_labels(plot *p, const char *x_label, const char *y_label);
 void plot_set_equal_aspect(plot *p, int on);
 /* Logarithmic axes (Pareto charts); data <= 0 on a log axis is skipped. */
 void plot_set_log(plot *p, int log_x, int log_y);
+/* Tick labels printed with a printf format of one double (x_format,
+ * y_format; NULL: automatic), e.g. "%.2g"; on a log axis the decade's
+ * value. Returns -1 (nothing set) when a format is not one conversion
+ * %e %f or %g (flags, width, precision allowed) among text and %%, or is
+ * PLOT_TICK_FORMAT_MAX bytes or longer. */
+#define PLOT_TICK_FORMAT_MAX 32
+int plot_check_tick_format(const char *format);
+int plot_set_tick_format(plot *p, const char *x_format, const char *y_format);
 /* Fixed axis limits instead of the data range (xmin < xmax, ymin < ymax). */
 void plot_set_limits(plot *p, double xmin, double xmax, double ymin, double ymax);
 

@@ -692,7 +692,7 @@ static void usage(FILE *out)
 {
     fprintf(out,
             "usage: rodsim fem SCENE [--set section.key=value]... [--csv FILE] [--md FILE]\n"
-            "                        [--png FILE | --no-png] [-o DIR]\n"
+            "                        [--png FILE | --no-png] [--svg FILE] [-o DIR]\n"
             "Solves a 2-D beam (frame) finite-element scene, prints the nodal table\n"
             "(node, x, z, u, w, theta, |d|) and the support reactions, and draws the\n"
             "undeformed and deformed structure into DIR/<scene>.png (DIR defaults to out).\n"
@@ -700,7 +700,8 @@ static void usage(FILE *out)
             "  --set s.k=v  override a scene key (repeatable)\n"
             "  --csv FILE   nodal table as CSV: node,x,z,u,w,theta,displacement (m, rad)\n"
             "  --md FILE    nodal table and reactions as Markdown\n"
-            "  --png FILE   figure path instead of DIR/<scene>.png; --no-png: no figure\n"
+            "  --png FILE   figure path instead of DIR/<scene>.png; --no-png: no PNG\n"
+            "  --svg FILE   the same figure as SVG too (text as text, for papers; needs no GL)\n"
             "  -o DIR       directory of the figure (default out)\n"
             "Exit status: 0 done, 2 bad input or a mechanism, 1 other failure.\n");
 }
@@ -755,6 +756,7 @@ static int check_small_deformation(ini_doc *doc, const fem_model *m, const fem_s
 /* What `rodsim fem` was asked for. */
 typedef struct fem_args {
     const char *scene, *csv, *md, *png; /* csv "-": standard output; png NULL: DIR/NAME.png */
+    const char *svg;                    /* NULL: no SVG */
     const char *out_dir;
     int no_png;
     cli_list sets; /* --set, applied after loading, in order */
@@ -855,18 +857,20 @@ static int write_outputs(const fem_args *a, const fem_run *r, FILE *talk, char *
     if (a->csv && !csv_stdout && write_csv(a->csv, r->model, r->solution, err, errlen)) goto done;
     if (a->md && write_markdown(a->md, r->scene_name, r->model, r->solution, err, errlen))
         goto done;
-    if (!a->no_png) {
+    if (!a->no_png || a->svg) {
         if (!(figure = fem_figure_create(r->model, r->solution, &r->options, r->scale,
                                          r->scene_name))) {
             snprintf(err, errlen, "out of memory for the figure");
             goto done;
         }
-        if (plot_write_png(figure, png, err, errlen)) goto done;
+        if (!a->no_png && plot_write_png(figure, png, err, errlen)) goto done;
+        if (a->svg && plot_write_svg(figure, a->svg, err, errlen)) goto done;
     }
     if (outfile_transaction_commit(err, errlen)) goto done;
     if (csv_stdout && write_csv(a->csv, r->model, r->solution, err, errlen)) goto done;
-    if (!a->no_png) {
-        fprintf(talk, "\nwrote %s (deformation drawn %s)\n", png,
+    if (figure) {
+        fprintf(talk, "\nwrote %s%s%s (deformation drawn %s)\n", a->no_png ? "" : png,
+                !a->no_png && a->svg ? " and " : "", a->svg ? a->svg : "",
                 r->scale == 1.0 ? "true to scale" : "magnified");
         if (r->scale != 1.0)
             fprintf(talk, "deformation scale: displacements x %g in the figure\n", r->scale);
@@ -918,6 +922,7 @@ int fem_command(int argc, char **argv)
         {.name = "--md", .value = CLI_FILE, .target = &a.md},
         {.name = "--png", .value = CLI_FILE, .target = &a.png},
         {.name = "--no-png", .value = CLI_FLAG, .target = &a.no_png},
+        {.name = "--svg", .value = CLI_FILE, .target = &a.svg},
         {.name = "-o", .value = CLI_DIR, .target = &a.out_dir},
         {0}};
     const cli_operand scene = {.name = "SCENE", .target = &a.scene};

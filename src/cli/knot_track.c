@@ -139,6 +139,15 @@ int knot_track_was_knotted(const knot_track *k)
                              strcmp(k->last.name, "unknot") != 0);
 }
 
+double knot_track_rope(const knot_track *k, const rod_model *m)
+{
+    if (k->frames == 0 || strcmp(k->last.name, "unknot") == 0 || k->touch_lo < 0 ||
+        k->touch_time != k->last_time)
+        return NAN;
+    /* the arc between the outermost nodes the strands press on */
+    return (k->touch_hi - k->touch_lo) * m->ds / m->diameter;
+}
+
 void knot_track_print(FILE *f, const knot_track *k, const rod_model *m)
 {
     if (k->frames > 0) {
@@ -159,11 +168,8 @@ void knot_track_print(FILE *f, const knot_track *k, const rod_model *m)
                     k->slip_end == 0 ? ", slipped off the root end"
                     : k->slip_end == 1 ? ", slipped off the tip end"
                     : knot_track_change_is_slip(k, m) ? ", a loop passed over an end" : "");
-        if (strcmp(k->last.name, "unknot") != 0 && k->touch_lo >= 0 &&
-            k->touch_time == k->last_time) {
-            /* the rope in the knot: the arc between the outermost nodes the
-             * strands press on, in the last frame */
-            const double rope = (k->touch_hi - k->touch_lo) * m->ds / m->diameter;
+        const double rope = knot_track_rope(k, m);
+        if (!isnan(rope)) {
             fprintf(f, "        knot: rope in the knot at t = %g s: %.1f diameters, between the "
                        "outermost nodes where strands press on each other", k->last_time, rope);
             if (strncmp(k->last.name, "trefoil", 7) == 0)

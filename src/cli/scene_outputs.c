@@ -940,9 +940,7 @@ static void summary_knot(const scene_run *r, run_summary *sum)
     sum->knot_determinant = k->last.determinant;
     sum->knot_has_signature = k->last.has_signature;
     sum->knot_signature = k->last.signature;
-    /* the rope in the knot, as knot_track_print measures it */
-    if (strcmp(k->last.name, "unknot") != 0 && k->touch_lo >= 0 && k->touch_time == k->last_time)
-        sum->rope_in_knot_d = (k->touch_hi - k->touch_lo) * m->ds / m->diameter;
+    sum->rope_in_knot_d = knot_track_rope(k, m); /* NAN: none */
 }
 
 /* What the summary knows after the run, whatever its outcome. */

@@ -29,19 +29,27 @@ void sweep_usage(FILE *f)
             "usage: rodsim sweep SCENE --vary KEY=V1,V2,...|KEY=START:STOP:COUNT[:log] ...\n"
             "       [--set section.key=value]... [--measure WHAT,...] [--jobs N] [--csv FILE]\n"
             "       [--result DIR [--print-commands|--assemble|--snakefile F|--sbatch F]]\n"
-            "       [--plot X:Y --png|--svg FILE]\n"
+            "       [--plot X:Y --png|--svg FILE [--title T] [--xlabel T] [--ylabel T]\n"
+            "       [--log x|y|xy] [--xformat F] [--yformat F]]\n"
             "Runs SCENE (no video) at every point of the product of the --vary lists (the\n"
             "first varies slowest); one CSV row per point: the varied keys, the measures (empty:\n"
             "none), status (ok unstable no_convergence refused failed), message (why it\n"
             "failed, then the warnings rodsim run prints, joined with '; ').\n"
             "  KEY            section.key as --set names it, or a vector's component, 0-based:\n"
             "                 tip.force[1] is y; whole vectors: 'tip.force=0 1e-7 0,0 2e-7 0'\n"
-            "  --measure      tip_x tip_y tip_z (m, end of run), root_fx.. root_fz, tip_fx..\n"
-            "                 tip_fz (N, on what holds the end), max_curvature (1/m),\n"
-            "                 first_frequency (Hz, tip spectrum), critical_load (N),\n"
-            "                 critical_moment (N m: the axial tip load where the straight\n"
-            "                 rod buckles; only when asked), steps, wall_s, cpu_s (s);\n"
-            "                 groups tip, root_force, tip_force, all; default tip,wall_s,cpu_s\n"
+            "  --measure      at the end of the run: tip_x tip_y tip_z (m), root_fx.. root_fz,\n"
+            "                 tip_fx.. tip_fz and their magnitudes root_f tip_f (N, on what\n"
+            "                 holds the end), max_curvature (1/m); first_frequency (Hz, tip\n"
+            "                 spectrum), critical_load (N), critical_moment (N m: the axial tip\n"
+            "                 load where the straight rod buckles; only when asked), steps,\n"
+            "                 wall_s, cpu_s (s). With self-contact (implicit scheme): knot (its\n"
+            "                 type's name, text), rope_in_knot_d (arc between the outermost\n"
+            "                 pressing strands), min_strand_gap_d (closest strands over the\n"
+            "                 run), in diameters. With punctures: puncture_count, puncture_f\n"
+            "                 (N: a column puncture_f[i] per puncture, force on the tissue).\n"
+            "                 Groups tip, root_force, tip_force, knots, punctures, all (the\n"
+            "                 measures every scene has); default tip,wall_s,cpu_s. A measure the\n"
+            "                 scene cannot have is refused, naming those it can\n"
             "  --jobs N       N worker processes (1..64); rows stay in point order\n"
             "  --csv FILE     the results (default: standard output; - too)\n"
             "  --result DIR   one file per point, DIR/DIGEST.csv; existing ones are not rerun\n"
@@ -51,8 +59,13 @@ void sweep_usage(FILE *f)
             "  --sbatch FILE  write a Slurm job array script (needs --result): task i runs\n"
             "                 point i; sbatch FILE, then its # assemble: line\n"
             "  --assemble     the CSV from DIR only (exit 1 when a point has no file)\n"
-            "  --plot X:Y --png FILE --svg FILE [--log x|y|xy]  measure Y against varied key\n"
-            "                 X, a curve per value of the other varied keys; data in FILE.csv\n"
+            "  --plot X:Y --png FILE --svg FILE  measure Y against varied key X, a curve per\n"
+            "                 value of the other varied keys; data in FILE.csv. Labels name\n"
+            "                 the key and the measure with units (rod.friction [-], rope in\n"
+            "                 knot [d]), the title the scene; --title, --xlabel, --ylabel\n"
+            "                 replace them; --log x|y|xy: log axes, ticks at the\n"
+            "                 decades; --xformat, --yformat: tick labels as printf formats of\n"
+            "                 one number (%%.2g, %%.0f %%%%, %%.1e)\n"
             "  --allow-long   run points estimated over 1 hour;  --quiet  no progress lines\n"
             "Bad key, value, list, measure or axis: exit 2, nothing run or written.\n");
 }
@@ -176,6 +189,26 @@ static void critical_loads(const rod_model *m, sweep_point_result *r)
         r->value[SWEEP_M_CRITICAL_MOMENT] = lambda * fabs(axial.tip_moment[axis]);
 }
 
+static double norm3(const double v[3])
+{
+    return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
+/* The knot's measures at the end of the run (as `rodsim run`'s summary has
+ * them): its type, the rope in it (knot_track_rope) and the closest the
+ * strands came over the run (run_stats.closest_gap), in diameters. Decision:
+ * only where strands touch (self-contact, implicit); the strands' gap is
+ * NAN when no two ever came near. */
+static void measure_knot(const rod_model *m, const knot_track *k, const run_stats *stats,
+                         sweep_point_result *r)
+{
+    if (!(m->self_contact && m->options.scheme == ROD_SCHEME_IMPLICIT)) return;
+    if (k->frames > 0) snprintf(r->knot, sizeof r->knot, "%s", k->last.name);
+    r->value[SWEEP_M_ROPE_IN_KNOT] = knot_track_rope(k, m);
+    if (isfinite(stats->closest_gap))
+        r->value[SWEEP_M_MIN_STRAND_GAP] = stats->closest_gap / m->diameter;
+}
+
 /* The measures of a point's final state; first_frequency from its tip's
  * samples at the output rate fps. */
 static void measure_state(const rod_state *s, const tip_samples *tip, int fps,
@@ -187,6 +220,12 @@ static void measure_state(const rod_state *s, const tip_samples *tip, int fps,
         r->value[SWEEP_M_ROOT_FX + a] = s->end_force[0][a];
         r->value[SWEEP_M_TIP_FX + a] = s->end_force[1][a];
     }
+    r->value[SWEEP_M_ROOT_F] = norm3(s->end_force[0]);
+    r->value[SWEEP_M_TIP_F] = norm3(s->end_force[1]);
+    /* the punctures the thread passes through at the end, in the order made */
+    r->value[SWEEP_M_PUNCTURE_COUNT] = s->puncture_count;
+    for (int i = 0; i < s->puncture_count && i < SWEEP_PUNCTURE_SLOTS; i++)
+        r->value[SWEEP_M_PUNCTURE_F + i] = norm3(s->puncture[i].force);
     double curvature = 0.0;
     for (int i = 0; i < s->nodes; i++) {
         const double *u = &s->darboux[3 * i];
@@ -295,6 +334,7 @@ static void run_point(const sweep *sw, int point, sweep_point_result *r)
         goto done;
     }
     measure_state(s, &frames.tip, out.fps, r);
+    measure_knot(&m, &frames.knots, &stats, r);
     r->status = SWEEP_POINT_OK;
     /* a strand through another despite self-contact: `rodsim run` fails (exit 1) */
     if (scene_outputs_result_warnings(&m, &report, &frames.knots, &warnings, r->message,
@@ -336,7 +376,8 @@ static int write_result(const sweep *sw, uint64_t digest, const sweep_point_resu
     for (int m = 0; m < SWEEP_M_COUNT; m++) {
         char num[40];
         sweep_format_double(r->value[m], num, sizeof num);
-        fprintf(f.fp, "%s,", num);
+        if (m == SWEEP_M_KNOT) sweep_csv_field(f.fp, r->knot, 0);
+        fprintf(f.fp, "%s,", m == SWEEP_M_KNOT ? "" : num);
     }
     fprintf(f.fp, "%s,", sweep_status_names[r->status]);
     sweep_csv_field(f.fp, r->message, 1);
@@ -387,7 +428,7 @@ int sweep_read_result(const sweep *sw, uint64_t digest, sweep_point_result *r, c
     size_t got = fread(text, 1, sizeof text - 1, f);
     fclose(f);
     text[got] = '\0';
-    char header[512] = "";
+    char header[1024] = "";
     for (int m = 0; m < SWEEP_M_COUNT; m++) {
         strcat(header, sweep_measure_names[m]);
         strcat(header, ",");
@@ -399,6 +440,11 @@ int sweep_read_result(const sweep *sw, uint64_t digest, sweep_point_result *r, c
     char field[sizeof r->message];
     for (int m = 0; ok && m < SWEEP_M_COUNT; m++) {
         ok = read_field(&p, field, sizeof field);
+        if (m == SWEEP_M_KNOT) {
+            snprintf(r->knot, sizeof r->knot, "%.95s", field);
+            r->value[m] = NAN;
+            continue;
+        }
         char *end;
         r->value[m] = field[0] ? strtod(field, &end) : NAN;
         ok = ok && (!field[0] || *end == '\0');
@@ -484,14 +530,31 @@ int sweep_run_points(sweep_progress *pg, char *err, size_t errlen)
     return rc ? -1 : 0;
 }
 
+/* The columns of puncture_f: as many as the most punctures a point ends
+ * with (points differ: a needle makes them as it goes). */
+static int puncture_columns(const sweep *sw, const sweep_point_result *rows)
+{
+    int most = 0;
+    for (int k = 0; k < sw->point_count; k++) {
+        double n = rows[k].value[SWEEP_M_PUNCTURE_COUNT];
+        if (n > most) most = n < SWEEP_PUNCTURE_SLOTS ? (int)n : SWEEP_PUNCTURE_SLOTS;
+    }
+    return most;
+}
+
 void sweep_write_csv(FILE *f, const sweep *sw, const sweep_point_result *rows)
 {
+    const int punctures = puncture_columns(sw, rows);
     for (int i = 0; i < sw->vary_count; i++) {
         sweep_csv_field(f, sw->varies[i].name, 0);
         fputc(',', f);
     }
-    for (int i = 0; i < sw->measure_count; i++)
-        fprintf(f, "%s,", sweep_measure_names[sw->measures[i]]);
+    for (int i = 0; i < sw->measure_count; i++) {
+        int m = sw->measures[i];
+        for (int j = 0; m == SWEEP_M_PUNCTURE_COLUMNS && j < punctures; j++)
+            fprintf(f, "%s,", sweep_measure_names[SWEEP_M_PUNCTURE_F + j]);
+        if (m != SWEEP_M_PUNCTURE_COLUMNS) fprintf(f, "%s,", sweep_measure_names[m]);
+    }
     fprintf(f, "status,message\n");
     for (int k = 0; k < sw->point_count; k++) {
         for (int i = 0; i < sw->vary_count; i++) {
@@ -499,9 +562,15 @@ void sweep_write_csv(FILE *f, const sweep *sw, const sweep_point_result *rows)
             fputc(',', f);
         }
         for (int i = 0; i < sw->measure_count; i++) {
-            char num[40];
-            sweep_format_double(rows[k].value[sw->measures[i]], num, sizeof num);
-            fprintf(f, "%s,", num);
+            int m = sw->measures[i], first = m, last = m;
+            if (m == SWEEP_M_PUNCTURE_COLUMNS)
+                first = SWEEP_M_PUNCTURE_F, last = SWEEP_M_PUNCTURE_F + punctures - 1;
+            for (int c = first; c <= last; c++) {
+                char num[40];
+                sweep_format_double(rows[k].value[c], num, sizeof num);
+                if (c == SWEEP_M_KNOT) sweep_csv_field(f, rows[k].knot, 0);
+                fprintf(f, "%s,", c == SWEEP_M_KNOT ? "" : num);
+            }
         }
         fprintf(f, "%s,", sweep_status_names[rows[k].status]);
         sweep_csv_field(f, rows[k].message, 1);

@@ -69,6 +69,14 @@ static int write_assemble_command(FILE *f, const sweep *sw, const char *self, co
             cli_print_shell_word(f, path);
         }
         if (sw->log_axes) fprintf(f, " --log %s", sw->log_axes);
+        const char *labels[][2] = {{" --title ", sw->title}, {" --xlabel ", sw->xlabel},
+                                   {" --ylabel ", sw->ylabel}, {" --xformat ", sw->xformat},
+                                   {" --yformat ", sw->yformat}};
+        for (size_t i = 0; i < sizeof labels / sizeof labels[0]; i++)
+            if (labels[i][1]) {
+                fputs(labels[i][0], f);
+                cli_print_shell_word(f, labels[i][1]);
+            }
     }
     fprintf(f, " --assemble --csv ");
     if (!sw->csv || strcmp(sw->csv, "-") == 0) {

@@ -14,7 +14,8 @@ static const unsigned char curve_rgb[8][3] = {
     {0, 90, 200}, {200, 30, 30}, {0, 150, 60}, {200, 110, 0},
     {120, 60, 170}, {0, 150, 160}, {170, 40, 120}, {90, 90, 90}};
 
-/* The axis label of a varied key: its name and the scene table's unit. */
+/* The axis label of a varied key: its name and the scene table's unit
+ * ([-]: a number without one, such as a friction coefficient). */
 static void key_label(const sweep_vary *v, char *out, size_t n)
 {
     const char *unit = "-";
@@ -24,8 +25,7 @@ static void key_label(const sweep_vary *v, char *out, size_t n)
             strcmp(v->key + len + 1, k->key) == 0)
             unit = k->unit;
     }
-    if (strcmp(unit, "-") == 0) snprintf(out, n, "%s", v->name);
-    else snprintf(out, n, "%s [%s]", v->name, unit);
+    snprintf(out, n, "%s [%s]", v->name, unit);
 }
 
 /* Reference curve samples per curve of a figure. */
@@ -123,34 +123,32 @@ static void canvas_close(plot_canvas *c)
 }
 
 /* The title and axis labels (the figure's, or the measure against the
- * varied key, with units), log axes, and the data file's header. */
+ * varied key, with units; --title, --xlabel, --ylabel over either), tick
+ * formats, log axes, and the data file's header. */
 static void label_canvas(plot_canvas *c)
 {
     const figure_spec *fig = c->fig;
     const sweep *sw = c->sw;
     const sweep_vary *xv = &sw->varies[sw->plot_x];
-    if (fig) {
-        plot_set_title(c->p, fig->title);
-        plot_set_axis_labels(c->p, fig->x_label, fig->y_label);
-        if (c->ratio) {
-            plot_set_title(c->ratio, fig->ratio_title);
-            plot_set_axis_labels(c->ratio, fig->x_label, fig->ratio_y_label);
-        }
-    } else {
-        char xlabel[SWEEP_KEY_LEN + 32], ylabel[64], title[OUTFILE_PATH_MAX + 256], scene[128];
-        key_label(xv, xlabel, sizeof xlabel);
-        if (strcmp(sweep_measure_units[sw->plot_y], "-") == 0)
-            snprintf(ylabel, sizeof ylabel, "%s", sweep_measure_names[sw->plot_y]);
-        else
-            snprintf(ylabel, sizeof ylabel, "%s [%s]", sweep_measure_names[sw->plot_y],
-                     sweep_measure_units[sw->plot_y]);
-        const char *base = strrchr(sw->scene_path, '/');
-        snprintf(scene, sizeof scene, "%.127s", base ? base + 1 : sw->scene_path);
-        snprintf(title, sizeof title, "%s: %s against %s", scene, sweep_measure_names[sw->plot_y],
-                 xv->name);
-        plot_set_title(c->p, title);
-        plot_set_axis_labels(c->p, xlabel, ylabel);
+    /* Decision: a label says what is drawn in words, its unit in brackets
+     * as every figure of rodsim has it (x [m]); the title names the scene,
+     * so that a figure found alone says where it came from */
+    char xlabel[SWEEP_KEY_LEN + 32], ylabel[96], title[OUTFILE_PATH_MAX + 256], scene[128];
+    key_label(xv, xlabel, sizeof xlabel);
+    snprintf(ylabel, sizeof ylabel, "%s [%s]", sweep_measure_labels[sw->plot_y],
+             sweep_measure_units[sw->plot_y]);
+    const char *base = strrchr(sw->scene_path, '/');
+    snprintf(scene, sizeof scene, "%.127s", base ? base + 1 : sw->scene_path);
+    snprintf(title, sizeof title, "%s: %s against %s", scene, sweep_measure_labels[sw->plot_y],
+             xv->name);
+    if (fig && c->ratio) {
+        plot_set_title(c->ratio, fig->ratio_title);
+        plot_set_axis_labels(c->ratio, fig->x_label, fig->ratio_y_label);
     }
+    plot_set_title(c->p, sw->title ? sw->title : fig ? fig->title : title);
+    plot_set_axis_labels(c->p, sw->xlabel ? sw->xlabel : fig ? fig->x_label : xlabel,
+                         sw->ylabel ? sw->ylabel : fig ? fig->y_label : ylabel);
+    plot_set_tick_format(c->p, sw->xformat, sw->yformat); /* checked when parsed */
     if (sw->log_axes) plot_set_log(c->p, strchr(sw->log_axes, 'x') != NULL,
                                    strchr(sw->log_axes, 'y') != NULL);
     fprintf(c->data.fp, "curve,");

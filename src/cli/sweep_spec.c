@@ -14,15 +14,33 @@
 #include "cli/scene_keys.h"
 #include "cli/scene_outputs.h"
 #include "cli/version.h"
+#include "plot/plot.h"
 #include "sim/rod.h"
 
 const char *const sweep_measure_names[SWEEP_M_COUNT] = {
     "tip_x", "tip_y", "tip_z", "root_fx", "root_fy", "root_fz", "tip_fx", "tip_fy", "tip_fz",
-    "max_curvature", "first_frequency", "critical_load", "critical_moment", "steps", "wall_s",
-    "cpu_s"};
+    "max_curvature", "first_frequency", "critical_load", "critical_moment", "root_f", "tip_f",
+    "knot", "rope_in_knot_d", "min_strand_gap_d", "puncture_count",
+    "puncture_f[0]", "puncture_f[1]", "puncture_f[2]", "puncture_f[3]", "puncture_f[4]",
+    "puncture_f[5]", "puncture_f[6]", "puncture_f[7]", "puncture_f[8]", "puncture_f[9]",
+    "puncture_f[10]", "puncture_f[11]", "puncture_f[12]", "puncture_f[13]", "puncture_f[14]",
+    "puncture_f[15]", "steps", "wall_s", "cpu_s"};
 
 const char *const sweep_measure_units[SWEEP_M_COUNT] = {
-    "m", "m", "m", "N", "N", "N", "N", "N", "N", "1/m", "Hz", "N", "N m", "-", "s", "s"};
+    "m", "m", "m", "N", "N", "N", "N", "N", "N", "1/m", "Hz", "N", "N m", "N", "N", "-", "d",
+    "d", "-", "N", "N", "N", "N", "N", "N", "N", "N", "N", "N", "N", "N", "N", "N", "N", "N",
+    "-", "s", "s"};
+
+const char *const sweep_measure_labels[SWEEP_M_COUNT] = {
+    "tip x", "tip y", "tip z", "root force x", "root force y", "root force z", "tip force x",
+    "tip force y", "tip force z", "max curvature", "first frequency", "critical load",
+    "critical moment", "root force |F|", "tip force |F|", "knot", "rope in knot",
+    "closest strands", "punctures", "puncture 1 force |F|", "puncture 2 force |F|",
+    "puncture 3 force |F|", "puncture 4 force |F|", "puncture 5 force |F|",
+    "puncture 6 force |F|", "puncture 7 force |F|", "puncture 8 force |F|",
+    "puncture 9 force |F|", "puncture 10 force |F|", "puncture 11 force |F|",
+    "puncture 12 force |F|", "puncture 13 force |F|", "puncture 14 force |F|",
+    "puncture 15 force |F|", "puncture 16 force |F|", "steps", "wall time", "CPU time"};
 
 const char *const sweep_status_names[SWEEP_POINT_STATUS_COUNT] = {
     "ok", "unstable", "no_convergence", "refused", "failed"};
@@ -220,34 +238,63 @@ static int parse_vary(sweep_vary *v, const char *arg, char *err, size_t errlen)
     return parse_values(v, eq + 1, err, errlen);
 }
 
+/* Which measures apply to every scene: not the knot's (self-contact) nor
+ * the punctures' (punctures or tissue), nor a puncture's own column. */
+static int measure_is_general(int m)
+{
+    return !(m >= SWEEP_M_KNOT && m < SWEEP_M_STEPS);
+}
+
+/* The measures of a --measure group into first..last; `all` is those that
+ * apply to every scene. 0, or -1 when `tok` names no group. */
+static int measure_group(const char *tok, int *first, int *last)
+{
+    if (strcmp(tok, "tip") == 0) *first = SWEEP_M_TIP_X, *last = SWEEP_M_TIP_Z;
+    else if (strcmp(tok, "root_force") == 0) *first = SWEEP_M_ROOT_FX, *last = SWEEP_M_ROOT_FZ;
+    else if (strcmp(tok, "tip_force") == 0) *first = SWEEP_M_TIP_FX, *last = SWEEP_M_TIP_FZ;
+    else if (strcmp(tok, "knots") == 0) *first = SWEEP_M_KNOT, *last = SWEEP_M_MIN_STRAND_GAP;
+    else if (strcmp(tok, "all") == 0) *first = 0, *last = SWEEP_M_COUNT - 1;
+    else return -1;
+    return 0;
+}
+
+static void add_measure(sweep *sw, int m)
+{
+    for (int i = 0; i < sw->measure_count; i++)
+        if (sw->measures[i] == m) return;
+    sw->measures[sw->measure_count++] = m;
+}
+
 static int add_measures(sweep *sw, const char *list, char *err, size_t errlen)
 {
     char buf[512];
     snprintf(buf, sizeof buf, "%s", list);
     sw->measure_count = 0;
     for (char *p = buf, *tok; (tok = strsep(&p, ",")); ) {
-        int first = -1, last = -1;
-        if (strcmp(tok, "tip") == 0) first = SWEEP_M_TIP_X, last = SWEEP_M_TIP_Z;
-        else if (strcmp(tok, "root_force") == 0) first = SWEEP_M_ROOT_FX, last = SWEEP_M_ROOT_FZ;
-        else if (strcmp(tok, "tip_force") == 0) first = SWEEP_M_TIP_FX, last = SWEEP_M_TIP_FZ;
-        else if (strcmp(tok, "all") == 0) first = 0, last = SWEEP_M_COUNT - 1;
+        int first = -1, last = -1, all = strcmp(tok, "all") == 0;
+        if (strcmp(tok, "punctures") == 0 || strcmp(tok, "puncture_f") == 0) {
+            if (strcmp(tok, "punctures") == 0) add_measure(sw, SWEEP_M_PUNCTURE_COUNT);
+            add_measure(sw, SWEEP_M_PUNCTURE_COLUMNS);
+            continue;
+        }
+        measure_group(tok, &first, &last);
         for (int m = 0; m < SWEEP_M_COUNT && first < 0; m++)
             if (strcmp(tok, sweep_measure_names[m]) == 0) first = last = m;
         if (first < 0) {
-            char accepted[512] = "";
+            char accepted[1024] = "";
             for (int m = 0; m < SWEEP_M_COUNT; m++) {
-                strcat(accepted, sweep_measure_names[m]);
+                if (m > SWEEP_M_PUNCTURE_F && m < SWEEP_M_STEPS) continue;
+                strcat(accepted, m == SWEEP_M_PUNCTURE_F ? "puncture_f (puncture_f[i] one)"
+                                                         : sweep_measure_names[m]);
                 strcat(accepted, ", ");
             }
             snprintf(err, errlen, "--measure %s: unknown measure '%s'; accepted: %sand the "
-                                  "groups tip, root_force, tip_force, all", list, tok, accepted);
+                                  "groups tip, root_force, tip_force, knots, punctures, all",
+                     list, tok, accepted);
             return -1;
         }
-        for (int m = first; m <= last; m++) {
-            int seen = 0;
-            for (int i = 0; i < sw->measure_count; i++) seen |= sw->measures[i] == m;
-            if (!seen) sw->measures[sw->measure_count++] = m;
-        }
+        for (int m = first; m <= last; m++)
+            if (!all || measure_is_general(m)) add_measure(sw, m);
     }
     return 0;
 }
@@ -256,13 +303,26 @@ static int add_measures(sweep *sw, const char *list, char *err, size_t errlen)
 static int parse_plot(sweep *sw, char *err, size_t errlen)
 {
     if (!sw->plot_arg) {
-        if (sw->png || sw->svg || sw->log_axes) {
-            snprintf(err, errlen, "%s needs --plot X:Y",
-                     sw->png ? "--png" : sw->svg ? "--svg" : "--log");
-            return -1;
-        }
+        const char *figure_only[][2] = {
+            {"--png", sw->png}, {"--svg", sw->svg}, {"--log", sw->log_axes},
+            {"--title", sw->title}, {"--xlabel", sw->xlabel}, {"--ylabel", sw->ylabel},
+            {"--xformat", sw->xformat}, {"--yformat", sw->yformat}};
+        for (size_t i = 0; i < sizeof figure_only / sizeof figure_only[0]; i++)
+            if (figure_only[i][1]) {
+                snprintf(err, errlen, "%s needs --plot X:Y", figure_only[i][0]);
+                return -1;
+            }
         return 0;
     }
+    const char *formats[2][2] = {{"--xformat", sw->xformat}, {"--yformat", sw->yformat}};
+    for (int i = 0; i < 2; i++)
+        if (formats[i][1] && plot_check_tick_format(formats[i][1])) {
+            snprintf(err, errlen, "%s %s: a tick format is one printf conversion of a number "
+                                  "(%%e, %%f or %%g, with flags, width and precision, e.g. "
+                                  "%%.2g or %%.0f%%%%), and any other text",
+                     formats[i][0], formats[i][1]);
+            return -1;
+        }
     if (!sw->png && !sw->svg) {
         snprintf(err, errlen, "--plot %s needs --png FILE or --svg FILE (or both)", sw->plot_arg);
         return -1;
@@ -294,6 +354,12 @@ static int parse_plot(sweep *sw, char *err, size_t errlen)
     if (sw->plot_y < 0) {
         snprintf(err, errlen, "--plot %s: the y axis must be a measure; accepted: %s",
                  sw->plot_arg, measures);
+        return -1;
+    }
+    if (sw->plot_y == SWEEP_M_KNOT) {
+        snprintf(err, errlen, "--plot %s: the knot type is a name, not a number: it goes into "
+                              "the CSV (--measure knot); plot rope_in_knot_d or "
+                              "min_strand_gap_d", sw->plot_arg);
         return -1;
     }
     const sweep_vary *v = &sw->varies[sw->plot_x];
@@ -403,6 +469,11 @@ int sweep_parse_args(int argc, char **argv, sweep *sw, char *err, size_t errlen)
         {.name = "--png", .value = CLI_FILE, .target = &sw->png},
         {.name = "--svg", .value = CLI_FILE, .target = &sw->svg},
         {.name = "--log", .value = CLI_WORD, .target = &sw->log_axes, .noun = "x, y or xy"},
+        {.name = "--title", .value = CLI_WORD, .target = &sw->title, .noun = "TEXT"},
+        {.name = "--xlabel", .value = CLI_WORD, .target = &sw->xlabel, .noun = "TEXT"},
+        {.name = "--ylabel", .value = CLI_WORD, .target = &sw->ylabel, .noun = "TEXT"},
+        {.name = "--xformat", .value = CLI_WORD, .target = &sw->xformat, .noun = "FORMAT"},
+        {.name = "--yformat", .value = CLI_WORD, .target = &sw->yformat, .noun = "FORMAT"},
         {.name = "--sbatch", .value = CLI_FILE, .target = &sw->sbatch},
         {.name = "--snakefile", .value = CLI_FILE, .target = &sw->snakefile},
         {.name = "--result", .value = CLI_DIR, .target = &sw->result_dir},
@@ -608,6 +679,58 @@ void sweep_describe_point(const sweep *sw, int point, char *out, size_t n)
     }
 }
 
+/* A bit per measure kind that not every scene has (1 knot, 2 punctures). */
+static int measure_kind(int m)
+{
+    if (m >= SWEEP_M_KNOT && m <= SWEEP_M_MIN_STRAND_GAP) return 1;
+    if ((m >= SWEEP_M_PUNCTURE_COUNT && m < SWEEP_M_STEPS) || m == SWEEP_M_PUNCTURE_COLUMNS)
+        return 2;
+    return 0;
+}
+
+/* A knot measure needs strands that touch (self-contact, the implicit
+ * scheme: elsewhere a strand passes through another and no knot holds);
+ * a puncture measure needs punctures (given, or a tissue a needle makes
+ * them in). 0, or -1 with a message naming the measures that apply. */
+static int check_measures_apply(const sweep *sw, const rod_model *m, const char *where,
+                                char *err, size_t errlen)
+{
+    int kinds = 0, plotted = sw->plot_arg ? measure_kind(sw->plot_y) : 0;
+    for (int i = 0; i < sw->measure_count; i++) kinds |= measure_kind(sw->measures[i]);
+    int tissue = m->puncture_count > 0;
+    for (int i = 0; i < m->surface_count; i++) tissue |= m->surfaces[i].tissue;
+    int knots = m->self_contact && m->options.scheme == ROD_SCHEME_IMPLICIT;
+    const char *why = NULL, *which = NULL;
+    kinds |= plotted;
+    if ((kinds & 1) && !knots) {
+        which = "knot, rope_in_knot_d and min_strand_gap_d";
+        why = m->self_contact ? "its scheme is not implicit: strands pass through each other, "
+                                "no knot holds"
+                              : "rod.self_contact = no: strands pass through each other, no "
+                                "knot holds";
+    } else if ((kinds & 2) && !tissue) {
+        which = "puncture_count and puncture_f";
+        why = "it has no [puncture] and no tissue surface (surface.tissue = yes) for a needle "
+              "to puncture";
+    }
+    if (!which) return 0;
+    char apply[1024] = "";
+    for (int k = 0; k < SWEEP_M_COUNT; k++) {
+        int general = measure_is_general(k);
+        int knot = k >= SWEEP_M_KNOT && k <= SWEEP_M_MIN_STRAND_GAP;
+        if (!general && !(knot && knots) && !(!knot && tissue && k <= SWEEP_M_PUNCTURE_F))
+            continue;
+        snprintf(apply + strlen(apply), sizeof apply - strlen(apply), "%s%s", apply[0] ? ", " : "",
+                 k == SWEEP_M_PUNCTURE_F ? "puncture_f" : sweep_measure_names[k]);
+    }
+    int by_plot = (plotted & ((kinds & 1) && !knots ? 1 : 2)) != 0;
+    snprintf(err, errlen, "%s %.200s: %.60s do not apply to %.300s: %.200s; the measures "
+                          "that apply: %.900s",
+             by_plot ? "--plot" : "--measure", by_plot ? sw->plot_arg : sw->measure_arg, which,
+             where, why, apply);
+    return -1;
+}
+
 /* Every point's scene read before anything runs: a value a key does not
  * accept is bad input naming the --vary argument. */
 int sweep_check_points(const sweep *sw, sweep_setting *set, uint64_t *digests, char *err,
@@ -622,9 +745,20 @@ int sweep_check_points(const sweep *sw, sweep_setting *set, uint64_t *digests, c
         run_output out;
         ini_doc *doc = sweep_point_doc(sw, set, n, msg, sizeof msg);
         int bad = !doc || run_read_scene(doc, &m, &out, msg, sizeof msg);
-        if (!bad) rod_model_release(&m);
+        if (!bad) {
+            char what[512], where[OUTFILE_PATH_MAX + 600];
+            sweep_describe_point(sw, k, what, sizeof what);
+            if (what[0])
+                snprintf(where, sizeof where, "%s at point %d (%s)", sw->scene_arg, k + 1, what);
+            else
+                snprintf(where, sizeof where, "%s", sw->scene_arg);
+            int inapt = check_measures_apply(sw, &m, where, err, errlen);
+            rod_model_release(&m);
+            ini_destroy(doc);
+            if (inapt) return -1;
+            continue;
+        }
         ini_destroy(doc);
-        if (!bad) continue;
         const char *arg = NULL;
         for (int i = 0; i < sw->vary_count && !arg; i++) {
             char named[SWEEP_KEY_LEN + 8];

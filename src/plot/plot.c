@@ -42,6 +42,7 @@ struct plot {
     int width, height;                  /* px */
     char *title, *x_label, *y_label;
     int equal_aspect, log_x, log_y;
+    char tick_format[2][PLOT_TICK_FORMAT_MAX]; /* x, y: printf format of a tick label, "" auto */
     int fixed_limits;
     double limits[4];                   /* xmin xmax ymin ymax (data units) */
     series *series;
@@ -234,6 +235,39 @@ void plot_set_log(plot *p, int log_x, int log_y)
     p->log_y = log_y;
 }
 
+/* One conversion of a double (%e %f %g, upper case too, with flags, width
+ * and precision) among other text, %% for a percent sign. */
+int plot_check_tick_format(const char *format)
+{
+    int conversions = 0;
+    if (strlen(format) >= PLOT_TICK_FORMAT_MAX) return -1;
+    for (const char *c = format; *c; c++) {
+        if (*c != '%') continue;
+        if (c[1] == '%') {
+            c++;
+            continue;
+        }
+        c++;
+        c += strspn(c, "-+ #0");
+        c += strspn(c, "0123456789");
+        if (*c == '.') c += 1 + strspn(c + 1, "0123456789");
+        if (!*c || !strchr("eEfFgG", *c)) return -1;
+        conversions++;
+    }
+    return conversions == 1 ? 0 : -1;
+}
+
+int plot_set_tick_format(plot *p, const char *x_format, const char *y_format)
+{
+    const char *formats[2] = {x_format, y_format};
+    for (int a = 0; a < 2; a++)
+        if (formats[a] && plot_check_tick_format(formats[a])) return -1;
+    for (int a = 0; a < 2; a++)
+        snprintf(p->tick_format[a], sizeof p->tick_format[a], "%s",
+                 formats[a] ? formats[a] : "");
+    return 0;
+}
+
 void plot_set_limits(plot *p, double xmin, double xmax, double ymin, double ymax)
 {
     p->fixed_limits = xmin < xmax && ymin < ymax;
@@ -407,14 +441,20 @@ static int log_ticks(double *lo, double *hi, double *first, double *step)
     return count;
 }
 
-/* Tick label text: as many decimals as the step needs; plain "0" at zero. */
-static void tick_text(double value, double step, int log_axis, char *out, size_t outlen)
+/* Tick label text: as many decimals as the step needs; plain "0" at zero;
+ * or the axis's format (plot_set_tick_format, checked there) when set. */
+static void tick_text(double value, double step, int log_axis, const char *format, char *out,
+                      size_t outlen)
 {
+    if (!log_axis && fabs(value) < ROUNDING_SLACK * step) value = 0;
+    if (format[0]) {
+        snprintf(out, outlen, format, log_axis ? pow(10.0, value) : value);
+        return;
+    }
     if (log_axis) {
         snprintf(out, outlen, "%g", pow(10.0, value));
         return;
     }
-    if (fabs(value) < ROUNDING_SLACK * step) value = 0;
     double magnitude = fmax(fabs(value), step);
     if (magnitude >= 1e5 || magnitude < 1e-4) {
         snprintf(out, outlen, "%.3g", value);
@@ -463,7 +503,7 @@ static int max_tick_label_width(plot *p, text_font *f, double first, double step
     int widest = 0;
     char text[64];
     for (int i = 0; i < count; i++) {
-        tick_text(first + i * step, step, log_axis, text, sizeof text);
+        tick_text(first + i * step, step, log_axis, p->tick_format[1], text, sizeof text);
         int w = text_width(f, text);
         if (w > widest) widest = w;
     }
@@ -551,7 +591,7 @@ static void layout_range(plot *p, plot_fonts *fonts, double range[4])
         int left_margin = pad + (p->y_label ? label_height + pad : 0) + y_tick_width + 4 + tick_len;
         char last[64];
         tick_text(p->x_tick_first + (p->x_tick_count - 1) * p->x_tick_step, p->x_tick_step,
-                  p->log_x, last, sizeof last);
+                  p->log_x, p->tick_format[0], last, sizeof last);
         int right_margin = pad + text_width(fonts->tick, last) / 2 + 4;
         p->left = left_margin;
         p->right = p->width - right_margin;
@@ -994,7 +1034,7 @@ static void draw_text(plot *p, image *img, plot_fonts *fonts)
     for (int i = 0; i < p->x_tick_count; i++) {
         double v = p->x_tick_first + i * p->x_tick_step;
         double px = p->left + (v - p->view[0]) / (p->view[1] - p->view[0]) * (p->right - p->left);
-        tick_text(v, p->x_tick_step, p->log_x, text, sizeof text);
+        tick_text(v, p->x_tick_step, p->log_x, p->tick_format[0], text, sizeof text);
         text_draw(img, fonts->tick, (int)lround(px - text_width(fonts->tick, text) / 2.0),
                   p->bottom + 6 + 4 + tick_ascent, text, ink);
     }
@@ -1002,7 +1042,7 @@ static void draw_text(plot *p, image *img, plot_fonts *fonts)
     for (int i = 0; i < p->y_tick_count; i++) {
         double v = p->y_tick_first + i * p->y_tick_step;
         double py = p->bottom - (v - p->view[2]) / (p->view[3] - p->view[2]) * (p->bottom - p->top);
-        tick_text(v, p->y_tick_step, p->log_y, text, sizeof text);
+        tick_text(v, p->y_tick_step, p->log_y, p->tick_format[1], text, sizeof text);
         int w = text_width(fonts->tick, text);
         if (w > y_tick_width) y_tick_width = w;
         text_draw(img, fonts->tick, p->left - 6 - 4 - w, (int)lround(py + tick_ascent / 2.0 - 1),
@@ -1299,13 +1339,13 @@ static void svg_axis_text(FILE *f, const plot *p, const plot_fonts *fonts, const
     int tick_ascent = text_ascent(fonts->tick), y_tick_width = 0;
     for (int i = 0; i < p->x_tick_count; i++) {
         double v = p->x_tick_first + i * p->x_tick_step;
-        tick_text(v, p->x_tick_step, p->log_x, text, sizeof text);
+        tick_text(v, p->x_tick_step, p->log_x, p->tick_format[0], text, sizeof text);
         svg_label(f, p->left + (v - p->view[0]) * sx, p->bottom + 6 + 4 + tick_ascent, size->tick,
                   text, " text-anchor=\"middle\"", 1);
     }
     for (int i = 0; i < p->y_tick_count; i++) {
         double v = p->y_tick_first + i * p->y_tick_step;
-        tick_text(v, p->y_tick_step, p->log_y, text, sizeof text);
+        tick_text(v, p->y_tick_step, p->log_y, p->tick_format[1], text, sizeof text);
         int w = text_width(fonts->tick, text);
         if (w > y_tick_width) y_tick_width = w;
         svg_label(f, p->left - 6 - 4, p->bottom - (v - p->view[2]) * sy + tick_ascent / 2.0 - 1,
