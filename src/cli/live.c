@@ -49,6 +49,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "api/stepping.h"
 #include "base/ini.h"
 #include "base/numfmt.h"
 #include "base/outfile.h"
@@ -404,13 +405,12 @@ static int advance(live_session *ls, double t, rod_status *status, rod_report *r
 {
     rod_state *s = ls->state;
     const double gap = t - s->time;
-    /* a gap of dt to within 1e-9 is one step (run.c steps_for): the
+    /* a gap of dt to within 1e-9 is one step (api/stepping.h): the
      * rounding of t (ulp 1.8e-15 s at t = 8 s, 1.8e-12 of a 1 ms gap) made
      * a 1 kHz session take two half steps, and two Jacobian builds for
      * the changed dt, on many lines after t = 8 s. At most max_ahead
      * steps: check_line refused a longer gap */
-    double count = ceil(gap / ls->dt * (1.0 - 1e-9));
-    if (count < 1.0) count = 1.0;
+    const double count = stepping_count(gap, ls->dt);
     const long n = (long)count;
     const double h = gap / count;
     memset(report, 0, sizeof *report);
