@@ -343,6 +343,58 @@ static void test_tip_load(void)
     rodsim_free(b);
 }
 
+/* make install (release flavour): the library, its soname links, the header
+ * and rodsim.pc under DESTDIR; a C client built by pkg-config against them
+ * runs a scene through the installed librodsim.so.1. */
+static void test_install(void)
+{
+    const char *flavour = getenv("RODSIM_TEST_FLAVOUR");
+    if (flavour && strcmp(flavour, "release") != 0) return; /* one install is enough */
+    char dir[] = "/tmp/rodsim_api_installXXXXXX";
+    if (!mkdtemp(dir)) return;
+    char cmd[4096], app[600];
+    snprintf(cmd, sizeof cmd, "make -s --no-print-directory -C '%s' install PREFIX=/usr/local "
+             "DESTDIR='%s' >'%s/log' 2>&1", RODSIM_SOURCE_DIR, dir, dir);
+    int made = system(cmd) == 0;
+    const char *files[] = {"lib/librodsim.so.1", "lib/librodsim.so", "include/rodsim.h",
+                           "lib/pkgconfig/rodsim.pc"};
+    int present = 0;
+    for (int k = 0; k < 4; k++) {
+        char path[700];
+        snprintf(path, sizeof path, "%s/usr/local/%s", dir, files[k]);
+        present += access(path, R_OK) == 0;
+    }
+    check(made && present == 4, "make install DESTDIR: lib/librodsim.so.1 and .so, "
+                                "include/rodsim.h, lib/pkgconfig/rodsim.pc (%d of 4)", present);
+    snprintf(app, sizeof app, "%s/app.c", dir);
+    FILE *f = fopen(app, "w");
+    if (!f) return;
+    fprintf(f, "#include <stdio.h>\n#include <rodsim.h>\nint main(int c, char **v)\n{\n"
+               "    rodsim_scene *s;\n    if (c < 2 || rodsim_load_file(v[1], 0, 0, &s)) "
+               "return 2;\n    int ok = rodsim_run(s, 0.1) == RODSIM_OK;\n"
+               "    printf(\"%%d %%.17g\\n\", rodsim_api_version(), rodsim_time(s));\n"
+               "    rodsim_free(s);\n    return ok ? 0 : 1;\n}\n");
+    fclose(f);
+    snprintf(cmd, sizeof cmd,
+             "cd '%s' && export PKG_CONFIG_SYSROOT_DIR='%s' "
+             "PKG_CONFIG_PATH='%s/usr/local/lib/pkgconfig' && cc -o app app.c "
+             "$(pkg-config --cflags --libs rodsim) >>log 2>&1 && "
+             "LD_LIBRARY_PATH='%s/usr/local/lib' ./app '%s' >out 2>>log",
+             dir, dir, dir, dir, SCENE("impulse.ini"));
+    int ran = system(cmd) == 0;
+    char out[128] = "";
+    snprintf(app, sizeof app, "%s/out", dir);
+    f = fopen(app, "r");
+    if (f) {
+        if (!fgets(out, sizeof out, f)) out[0] = '\0';
+        fclose(f);
+    }
+    check(ran && strcmp(out, "1000 0.10000000000000001\n") == 0,
+          "a C client built with pkg-config --cflags --libs rodsim runs impulse.ini to 0.1 s "
+          "on the installed library: %s", out[0] ? out : "(no output)\n");
+    test_remove_tree(dir);
+}
+
 int main(void)
 {
     test_same_as_cli();
@@ -350,5 +402,6 @@ int main(void)
     test_bad_scene();
     test_overrides_and_use();
     test_tip_load();
+    test_install();
     return test_finish();
 }
