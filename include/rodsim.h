@@ -12,8 +12,9 @@
  * Ownership: a handle is made by rodsim_load_* and freed by rodsim_free;
  * every other pointer is the caller's, except those the functions below say
  * are borrowed (valid until the next call that steps, restores or frees the
- * scene). A handle is used by one thread at a time; distinct handles are
- * independent.
+ * scene). A handle is used by one thread at a time; distinct handles may
+ * step in distinct threads at once (rodsim_render draws in one thread at a
+ * time: one GL context per process).
  *
  * Errors: every function that can fail returns a rodsim_status; the message
  * for people is rodsim_last_error(scene) (or rodsim_last_error(NULL): the

@@ -5,6 +5,7 @@
  * CLI's message; overrides apply; a thread hanging from a driven needle
  * pulls on it with its weight, rho A L g. */
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -90,7 +91,8 @@ static void test_same_as_cli(void)
                "impulse.ini loads: %s", rodsim_last_error(NULL)))
         return;
     const int n = rodsim_nodes(sc);
-    double *pos = malloc(sizeof(double) * 3 * (size_t)n), *dir = malloc(sizeof(double) * 9 * (size_t)n);
+    double *pos = malloc(sizeof(double) * 3 * (size_t)n);
+    double *dir = malloc(sizeof(double) * 9 * (size_t)n);
     double *force = malloc(sizeof(double) * 3 * (size_t)n);
     int same = 1, frames_seen = 0;
     double worst = 0.0;
@@ -210,7 +212,8 @@ static void test_save_restore_and_weight(void)
           rodsim_time(sc), size);
     const double saved_t = rodsim_time(sc);
     drive(sc, saved_t, 2.0, h);
-    double *first = malloc(sizeof(double) * 9 * (size_t)n), *second = malloc(sizeof(double) * 9 * (size_t)n);
+    double *first = malloc(sizeof(double) * 9 * (size_t)n);
+    double *second = malloc(sizeof(double) * 9 * (size_t)n);
     double f1[3], f2[3], m1[3], m2[3];
     rodsim_get(sc, RODSIM_DIRECTORS, first, 9 * (size_t)n);
     rodsim_end_load(sc, RODSIM_TIP, f1, m1);
@@ -343,6 +346,50 @@ static void test_tip_load(void)
     rodsim_free(b);
 }
 
+/* Distinct handles in distinct threads: each thread's run is the one a
+ * single thread makes, bit for bit; a failed load's message is the
+ * thread's own. */
+typedef struct thread_run {
+    double tip[3];
+    const char *sets[2];
+    int ok;
+    char error[256];
+} thread_run;
+
+static void *run_in_thread(void *arg)
+{
+    thread_run *r = arg;
+    rodsim_scene *sc = NULL;
+    r->ok = rodsim_load_file(SCENE("impulse.ini"), r->sets, 2, &sc) == RODSIM_OK &&
+            rodsim_run(sc, -1.0) == RODSIM_OK;
+    if (r->ok) memcpy(r->tip, rodsim_view(sc, RODSIM_POSITIONS) + 3 * 50, sizeof r->tip);
+    const char *const bad[] = {"rod.nodes=1"};
+    rodsim_scene *none = NULL;
+    rodsim_load_file(SCENE("impulse.ini"), bad, 1, &none);
+    snprintf(r->error, sizeof r->error, "%s", rodsim_last_error(NULL));
+    rodsim_free(sc);
+    return NULL;
+}
+
+static void test_threads(void)
+{
+    thread_run runs[3] = {{.sets = {"solver.duration=0.1", "tip.force=1e-3 0 0"}},
+                          {.sets = {"solver.duration=0.1", "tip.force=2e-3 0 0"}},
+                          {.sets = {"solver.duration=0.1", "tip.force=1e-3 0 0"}}};
+    pthread_t threads[2];
+    int started = 0;
+    for (int k = 0; k < 2; k++)
+        started += pthread_create(&threads[k], NULL, run_in_thread, &runs[k]) == 0;
+    for (int k = 0; k < started; k++) pthread_join(threads[k], NULL);
+    run_in_thread(&runs[2]); /* the first thread's scene, alone */
+    check(started == 2 && runs[0].ok && runs[1].ok && runs[2].ok &&
+              memcmp(runs[0].tip, runs[2].tip, sizeof runs[0].tip) == 0 &&
+              runs[0].tip[1] != runs[1].tip[1] && strstr(runs[0].error, "nodes"),
+          "two scenes stepped in two threads at once: the first's tip (%.9g, %.9g) m is the "
+          "one it reaches alone, bit for bit; each thread keeps its own message (%s)",
+          runs[0].tip[0], runs[0].tip[1], runs[0].error);
+}
+
 /* make install (release flavour): the library, its soname links, the header
  * and rodsim.pc under DESTDIR; a C client built by pkg-config against them
  * runs a scene through the installed librodsim.so.1. */
@@ -402,6 +449,7 @@ int main(void)
     test_bad_scene();
     test_overrides_and_use();
     test_tip_load();
+    test_threads();
     test_install();
     return test_finish();
 }
