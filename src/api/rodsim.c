@@ -43,6 +43,8 @@ struct rodsim_scene {
     double fps;              /* output frames per simulated s */
     int64_t next_frame;      /* k: the next output time is k / fps */
     rod_recording *rec;      /* t = 0 and every output time passed */
+    int64_t start_frame;     /* next_frame and rec's frame count at the start of a call */
+    int start_frames;        /* that steps (put back when it fails) */
     double *directors;       /* NS x 9, rodsim_view's */
     double *velocities;      /* NS x 3, m/s */
     double *forces;          /* NS x 3, N */
@@ -263,6 +265,8 @@ static rodsim_status begin_call(rodsim_scene *sc, double target)
 {
     char err[RODSIM_ERR_LEN] = "";
     state_copy(sc->start, sc->state);
+    sc->start_frame = sc->next_frame;
+    sc->start_frames = sc->rec->frame_count;
     for (int e = 0; e < 2; e++) {
         if (!sc->pending[e]) continue;
         double row[7] = {target};
@@ -275,9 +279,14 @@ static rodsim_status begin_call(rodsim_scene *sc, double target)
     return RODSIM_OK;
 }
 
-/* After it: the poses are spent, or (failed) taken back off the paths. */
+/* After it: the poses are spent, or (failed: the state is the one at its
+ * start) taken back off the paths, with the frames it recorded. */
 static void end_call(rodsim_scene *sc, rodsim_status st)
 {
+    if (st != RODSIM_OK) {
+        sc->next_frame = sc->start_frame;
+        sc->rec->frame_count = sc->start_frames;
+    }
     for (int e = 0; e < 2; e++) {
         if (sc->pending[e] && st != RODSIM_OK) rod_path_pop(sc->live[e]);
         if (st == RODSIM_OK) sc->pending[e] = 0;
@@ -324,6 +333,7 @@ rodsim_status rodsim_run(rodsim_scene *sc, double until)
     const double regular = whole_frames(until, sc->fps);
     if (regular > 1e15) return fail(sc, RODSIM_BAD_INPUT, "rodsim_run: until = %g s", until);
     rodsim_status st = begin_call(sc, until);
+    if (st) return st;
     const double interval = 1.0 / sc->fps;
     const double per_interval = stepping_count(interval, sc->dt);
     /* the whole intervals (k - 1)/fps .. k/fps: on the grid, rodsim run's
@@ -475,6 +485,20 @@ static rodsim_status make_live_path(rodsim_scene *sc, rodsim_end e)
     return restart_solver(sc);
 }
 
+/* Undoes make_live_path: the end held as the scene holds it (a restore of a
+ * state saved before the end was driven); the solver, which read the
+ * path, starts afresh. */
+static rodsim_status drop_live_path(rodsim_scene *sc, rodsim_end e)
+{
+    rod_path **motion = e == RODSIM_TIP ? &sc->model.tip_motion : &sc->model.root_motion;
+    rod_path_destroy(*motion);
+    *motion = sc->live[e] = NULL;
+    sc->pending[e] = 0;
+    sc->loads_model.root_motion = sc->model.root_motion;
+    sc->loads_model.tip_motion = sc->model.tip_motion;
+    return restart_solver(sc);
+}
+
 rodsim_status rodsim_set_end_pose(rodsim_scene *sc, rodsim_end end, const double position[3],
                                   const double rotation[3])
 {
@@ -615,8 +639,9 @@ rodsim_status rodsim_restore(rodsim_scene *sc, const void *blob, size_t size)
                                           "this scene (rod.nodes, solver.dt or rod.length "
                                           "differ)");
     /* the ends driven in the blob are made here first (at rest where the
-     * end is; the saved rows replace the row) */
+     * end is; the saved rows replace the row); those it had not, undone */
     for (int e = 0; e < 2; e++) {
+        if (!h.live[e] && sc->live[e] && drop_live_path(sc, (rodsim_end)e)) return RODSIM_FAILED;
         if (h.live[e] && !sc->live[e] && make_live_path(sc, (rodsim_end)e)) return RODSIM_FAILED;
         if (h.live[e] != (sc->live[e] ? sc->columns[e] : 0))
             return fail(sc, RODSIM_BAD_INPUT, "rodsim_restore: the %s's path differs from the "
@@ -641,6 +666,10 @@ rodsim_status rodsim_restore(rodsim_scene *sc, const void *blob, size_t size)
     }
     if (h.loads_set && !sc->loads_set && rodsim_set_tip_load(sc, NULL, NULL))
         return RODSIM_FAILED;
+    if (!h.loads_set && sc->loads_set) { /* back to the scene's own tip loads */
+        sc->stepped = &sc->model;
+        sc->loads_set = 0;
+    }
     memcpy(sc->load_row, load_row, sizeof load_row);
     memcpy(&sc->pose[0][0], pose, sizeof pose);
     sc->pending[0] = h.pending[0];

@@ -241,6 +241,25 @@ static void test_save_restore_and_weight(void)
           "a blob restored into a scene of 21 nodes is refused: %s",
           other ? rodsim_last_error(other) : "(no scene)");
     rodsim_free(other);
+    /* a state saved before the tip was driven: after driving, its restore
+     * holds the tip as the scene does again, and steps as after the save */
+    rodsim_scene *fresh = NULL;
+    rodsim_load_text("hanging", hanging, NULL, 0, &fresh);
+    void *early = fresh ? malloc(size) : NULL;
+    int early_same = 0;
+    if (early && rodsim_step(fresh, 0.1) == RODSIM_OK &&
+        rodsim_save(fresh, early, size) == RODSIM_OK && rodsim_step(fresh, 0.2) == RODSIM_OK) {
+        memcpy(p1, rodsim_view(fresh, RODSIM_POSITIONS), sizeof(double) * 3 * (size_t)n);
+        drive(fresh, 0.3, 0.6, h);
+        early_same = rodsim_restore(fresh, early, size) == RODSIM_OK &&
+                     rodsim_step(fresh, 0.2) == RODSIM_OK &&
+                     memcmp(p1, rodsim_view(fresh, RODSIM_POSITIONS),
+                            sizeof(double) * 3 * (size_t)n) == 0;
+    }
+    check(early_same, "a state saved before the tip was driven, restored after driving it: "
+                      "the tip held again, the next 0.2 s bit for bit as after the save");
+    free(early);
+    rodsim_free(fresh);
     /* at rest under gravity the needle holds the thread's weight */
     drive(sc, rodsim_time(sc), 6.0, 0.05);
     rodsim_end_load(sc, RODSIM_TIP, f1, m1);
@@ -320,6 +339,25 @@ static void test_overrides_and_use(void)
           "a hanging thread's knot type: %s", knot);
     rodsim_free(sc);
     rodsim_free(NULL);
+}
+
+/* A step that diverges: the status and `rodsim run`'s words for it; the
+ * state stays the one before the call, frames and all. */
+static void test_divergence(void)
+{
+    const char *const sets[] = {"solver.scheme=thesis", "solver.dt=0.01"};
+    rodsim_scene *sc = NULL;
+    if (rodsim_load_file(SCENE("impulse.ini"), sets, 2, &sc)) return;
+    double before[3 * 51];
+    rodsim_get(sc, RODSIM_POSITIONS, before, 3 * 51);
+    rodsim_status st = rodsim_run(sc, 1.0);
+    check(st == RODSIM_UNSTABLE && strstr(rodsim_last_error(sc), "the thesis scheme stopped: the "
+                                                                 "run became unstable at t =") &&
+              rodsim_time(sc) == 0.0 &&
+              memcmp(before, rodsim_view(sc, RODSIM_POSITIONS), sizeof before) == 0,
+          "the thesis scheme at dt = 0.01 s: status %d (unstable, 2), the state back at t = %g s; "
+          "%s", (int)st, rodsim_time(sc), rodsim_last_error(sc));
+    rodsim_free(sc);
 }
 
 /* A free tip loaded from the API as the scene would load it: a dead load
@@ -449,6 +487,7 @@ int main(void)
     test_bad_scene();
     test_overrides_and_use();
     test_tip_load();
+    test_divergence();
     test_threads();
     test_install();
     return test_finish();
