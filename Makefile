@@ -209,6 +209,8 @@ install:
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
 	  -e 's|@VERSION@|$(SO_MAJOR).$(SO_MINOR)|' src/api/rodsim.pc.in \
 	  >$(DESTDIR)$(LIBDIR)/pkgconfig/rodsim.pc
+	@# the loader's cache, so librodsim.so.1 is found (python/rodsim, clients)
+	@if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ]; then ldconfig; fi
 
 clean:
 	rm -rf build rodsim

@@ -194,7 +194,10 @@ class Scene:
         self.close()
 
     def __del__(self):
-        self.close()
+        try:
+            self.close()
+        except Exception:  # at interpreter exit the library may be gone
+            pass
 
     def _handle(self):
         if self._h is None:

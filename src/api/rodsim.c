@@ -181,27 +181,6 @@ double rodsim_length(const rodsim_scene *sc) { return sc->model.length; }
 
 /* Stepping -------------------------------------------------------------- */
 
-/* Copies what a step changes (the arrays were made for the same model). */
-static void state_copy(rod_state *to, const rod_state *from)
-{
-    const size_t n3 = (size_t)from->nodes * 3 * sizeof(double);
-    memcpy(to->position, from->position, n3);
-    memcpy(to->frame, from->frame, 3 * n3);
-    memcpy(to->velocity, from->velocity, n3);
-    memcpy(to->angular_velocity, from->angular_velocity, n3);
-    memcpy(to->darboux, from->darboux, n3);
-    memcpy(to->contact_force, from->contact_force, n3);
-    memcpy(to->surface_force, from->surface_force, n3);
-    memcpy(to->self_force, from->self_force, n3);
-    to->staggered = from->staggered;
-    to->time = from->time;
-    memcpy(to->end_force, from->end_force, sizeof to->end_force);
-    memcpy(to->end_moment, from->end_moment, sizeof to->end_moment);
-    to->strand_gap = from->strand_gap;
-    to->puncture_count = from->puncture_count;
-    memcpy(to->puncture, from->puncture, sizeof to->puncture);
-}
-
 /* The message of a failed step, in the words of `rodsim run`. */
 static rodsim_status step_failure(rodsim_scene *sc, rod_status status, int non_finite, double t,
                                   double h, const rod_report *r)
@@ -242,7 +221,7 @@ static rodsim_status advance(rodsim_scene *sc, double n, double h, double target
         if (st != ROD_OK || non_finite) {
             rodsim_status out = step_failure(sc, non_finite ? ROD_UNSTABLE : st, non_finite,
                                              s->time, h, &report);
-            state_copy(s, sc->start);
+            rod_state_copy(s, sc->start);
             return out;
         }
     }
@@ -264,7 +243,7 @@ static rodsim_status record(rodsim_scene *sc)
 static rodsim_status begin_call(rodsim_scene *sc, double target)
 {
     char err[RODSIM_ERR_LEN] = "";
-    state_copy(sc->start, sc->state);
+    rod_state_copy(sc->start, sc->state);
     sc->start_frame = sc->next_frame;
     sc->start_frames = sc->rec->frame_count;
     for (int e = 0; e < 2; e++) {

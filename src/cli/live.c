@@ -149,28 +149,6 @@ static double wall_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* Copies what a step changes (the arrays were made for the same model). */
-static void state_copy(rod_state *to, const rod_state *from)
-{
-    const size_t n = (size_t)from->nodes;
-    memcpy(to->position, from->position, n * 3 * sizeof(double));
-    memcpy(to->frame, from->frame, n * 9 * sizeof(double));
-    memcpy(to->velocity, from->velocity, n * 3 * sizeof(double));
-    memcpy(to->angular_velocity, from->angular_velocity, n * 3 * sizeof(double));
-    memcpy(to->darboux, from->darboux, n * 3 * sizeof(double));
-    memcpy(to->contact_force, from->contact_force, n * 3 * sizeof(double));
-    to->staggered = from->staggered;
-    to->time = from->time;
-    memcpy(to->end_force, from->end_force, sizeof to->end_force);
-    memcpy(to->end_moment, from->end_moment, sizeof to->end_moment);
-    /* contact: what the tissue and the strands exert, and where the thread
-     * passes through the tissue (a failed step answers with these too) */
-    memcpy(to->surface_force, from->surface_force, n * 3 * sizeof(double));
-    memcpy(to->self_force, from->self_force, n * 3 * sizeof(double));
-    to->puncture_count = from->puncture_count;
-    memcpy(to->puncture, from->puncture, sizeof to->puncture);
-}
-
 /* Splits a line at commas into at most `max` numbers; -1 at a field that is
  * not a number (strtod: "nan", "inf" parse, finiteness is checked after),
  * -2 when there are more than `max`. */
@@ -414,7 +392,7 @@ static int advance(live_session *ls, double t, rod_status *status, rod_report *r
     const long n = (long)count;
     const double h = gap / count;
     memset(report, 0, sizeof *report);
-    state_copy(ls->good, s);
+    rod_state_copy(ls->good, s);
     *status = ROD_OK;
     for (long j = 0; j < n && *status == ROD_OK; j++) {
         if (stop_signal) {
@@ -447,7 +425,7 @@ static int advance(live_session *ls, double t, rod_status *status, rod_report *r
         return 0;
     }
     ls->last_step = 0.0;
-    state_copy(s, ls->good);
+    rod_state_copy(s, ls->good);
     return -1;
 }
 
