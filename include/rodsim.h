@@ -99,14 +99,17 @@ double rodsim_length(const rodsim_scene *scene);    /* m, rod.length */
 /* Stepping -------------------------------------------------------------- */
 
 /* Advances the state by dt (s; dt <= 0: one step of solver.dt) in
- * ceil(dt / solver.dt) equal steps. On failure the state is the one before
- * the failing step and the message is `rodsim run`'s. */
+ * ceil(dt / solver.dt) equal steps; a time within 1e-9 of a frame interval
+ * of an output time k / fps is set to it. On failure (RODSIM_UNSTABLE,
+ * RODSIM_NO_CONVERGENCE, RODSIM_FAILED) the scene is as it was before the
+ * call and the message is in `rodsim run`'s words. */
 rodsim_status rodsim_step(rodsim_scene *scene, double dt);
 
 /* Advances the state to the time `until` (s; until < 0: solver.duration)
  * as `rodsim run` does: each output frame interval 1/fps split into equal
  * steps no longer than solver.dt, the time set to the frame's exactly at
- * its end, a final partial interval to `until`. Nothing when until <= t. */
+ * its end, a final partial interval to `until`. Nothing when until <= t.
+ * On failure, as rodsim_step. */
 rodsim_status rodsim_run(rodsim_scene *scene, double until);
 
 /* Reading the state ----------------------------------------------------- */

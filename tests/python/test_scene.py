@@ -160,3 +160,28 @@ def test_library_exports_only_the_api():
                           capture_output=True, text=True, check=True).stdout.split()
     names = [s.split("@")[0] for s in syms if s[0].isalpha() and "@" in s]
     assert names and all(n.startswith("rodsim_") or n == "RODSIM_1" for n in names), names
+
+
+def test_pip_install_offline(tmp_path):
+    """pip install ./python works offline with Debian's setuptools (a venv
+    that sees the system's numpy, --no-build-isolation --no-index); the
+    installed package finds the library through RODSIM_LIBRARY."""
+    import shutil
+    import sys
+    src = tmp_path / "python"
+    shutil.copytree(os.path.join(ROOT, "python"), src,
+                    ignore=shutil.ignore_patterns("build", "*.egg-info", "__pycache__"))
+    venv = tmp_path / "venv"
+    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)],
+                   check=True)
+    pip = subprocess.run([str(venv / "bin" / "pip"), "install", "-q", "--no-build-isolation",
+                          "--no-index", str(src)], capture_output=True, text=True)
+    assert pip.returncode == 0, pip.stderr
+    probe = subprocess.run([str(venv / "bin" / "python"), "-c",
+                            "import rodsim; s = rodsim.Scene(%r); s.step(); "
+                            "print(rodsim.__file__, s.t)" % IMPULSE],
+                           capture_output=True, text=True, cwd=str(tmp_path),
+                           env=dict(os.environ, PYTHONPATH=""))
+    assert probe.returncode == 0, probe.stderr
+    where, t = probe.stdout.split()
+    assert where.startswith(str(venv)) and float(t) == 0.0005
