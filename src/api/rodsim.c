@@ -15,7 +15,6 @@
 #include "base/ini.h"
 #include "base/outfile.h"
 #include "render/gl_context.h"
-#include "render/render.h"
 #include "sim/geometry/knot.h"
 #include "sim/path.h"
 #include "sim/recording.h"
@@ -685,7 +684,7 @@ rodsim_status rodsim_render(rodsim_scene *sc, const char *out_dir)
         return fail(sc, RODSIM_BAD_INPUT, "%s", err);
     outfile_remove_stale(out_dir);
     if (outfile_mkdirs(out_dir, err, sizeof err) ||
-        render_recording(sc->rec, &sc->out.render, out_dir, sc->name, 1, err, sizeof err))
+        run_write_video(sc->rec, &sc->out, out_dir, err, sizeof err)) /* rodsim run's */
         return fail(sc, RODSIM_FAILED, "video: %s", err);
     return RODSIM_OK;
 }
