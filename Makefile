@@ -31,9 +31,11 @@ LDLIBS  = $(shell pkg-config --libs $(LINK_PKGS) 2>/dev/null) -llapack -lblas -l
 TEST_LDLIBS = $(shell pkg-config --libs $(TEST_PKGS) 2>/dev/null)
 LDFLAGS ?=
 
-# Python (python/rodsim, tests/python, make bench's bench_python): the
-# package's tests and examples, apart from DEBS; `make test` installs both.
-PY_DEBS := python3 python3-numpy python3-pytest python3-matplotlib python3-setuptools python3-pip
+# Python (python/rodsim, tests/python, make bench's bench_api): the package,
+# its tests and examples' plots, `pip install ./python` offline in a venv;
+# apart from DEBS: `make test` and `make bench` install both lists.
+PY_DEBS := python3 python3-numpy python3-pytest python3-matplotlib python3-setuptools \
+           python3-pip python3-venv
 
 # The shared library: librodsim.so.MAJOR.MINOR, soname librodsim.so.MAJOR
 # (MAJOR, MINOR: include/rodsim.h's RODSIM_API_VERSION_*).
