@@ -144,9 +144,10 @@ def _closed(*args):
 class Scene:
     """A rod scene loaded from a file or from INI text, stepped in time.
 
-    Scene(path_or_ini_text, overrides=None): a string naming an existing file
-    (or ending in .ini) is read as a file, any other string as the scene's
-    INI text. overrides: {"section.key": value} (or a list of
+    Scene(path_or_ini_text, overrides=None): a path (os.PathLike), or a
+    string naming an existing file or ending in .ini, is read as a file; any
+    other string as the scene's INI text (name: its name in messages and
+    the video's file name). overrides: {"section.key": value} (or a list of
     "section.key=value"), applied in order as `rodsim run --set` does; a
     list or array value is written as numbers separated by spaces.
     Raises rodsim.Error with `rodsim run`'s message for a bad scene.
@@ -161,8 +162,9 @@ class Scene:
             sets = list(overrides or [])
         arr = (ctypes.c_char_p * max(1, len(sets)))(*[s.encode() for s in sets])
         handle = ctypes.c_void_p()
+        is_path = isinstance(scene, os.PathLike)
         scene = os.fspath(scene)
-        if "\n" not in scene and (os.path.exists(scene) or scene.endswith(".ini")):
+        if is_path or ("\n" not in scene and (os.path.exists(scene) or scene.endswith(".ini"))):
             st = _lib.rodsim_load_file(scene.encode(), arr, len(sets), ctypes.byref(handle))
         else:
             st = _lib.rodsim_load_text((name or "scene").encode(), scene.encode(), arr,
