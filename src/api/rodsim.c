@@ -181,8 +181,8 @@ double rodsim_length(const rodsim_scene *sc) { return sc->model.length; }
 /* Stepping -------------------------------------------------------------- */
 
 /* The message of a failed step, in the words of `rodsim run`. */
-static rodsim_status step_failure(rodsim_scene *sc, rod_status status, int non_finite, double t,
-                                  double h, const rod_report *r)
+static rodsim_status step_failure(rodsim_scene *sc, rod_status status, double t, double h,
+                                  const rod_report *r)
 {
     const char *scheme = rod_scheme_get(sc->model.options.scheme)->name;
     char what[RODSIM_ERR_LEN] = "";
@@ -196,8 +196,7 @@ static rodsim_status step_failure(rodsim_scene *sc, rod_status status, int non_f
         snprintf(what, sizeof what, "; what would work: --set solver.dt=%g", r->suggested_dt);
     if (status == ROD_UNSTABLE)
         return fail(sc, RODSIM_UNSTABLE, "the %s scheme stopped: the run became unstable at t = "
-                                         "%g s (dt = %g s)%s%s%s%s", scheme, t, h,
-                    non_finite ? ": the state is no longer finite" : "",
+                                         "%g s (dt = %g s)%s%s%s", scheme, t, h,
                     r->message[0] ? "; " : "", r->message, what);
     if (status == ROD_NO_CONVERGENCE)
         return fail(sc, RODSIM_NO_CONVERGENCE, "the %s scheme's Newton iteration did not "
@@ -207,25 +206,18 @@ static rodsim_status step_failure(rodsim_scene *sc, rod_status status, int non_f
                 r->message[0] ? r->message : "(no message)");
 }
 
-/* n steps of h, then the time set to `target` exactly (no drift). On a
- * failure the state is put back to sc->start. */
+/* n steps of h, then the time set to `target` exactly (no drift): the
+ * steps of rodsim live (api/stepping.h). On a failure the state is put
+ * back to sc->start, the state at the call's start. */
 static rodsim_status advance(rodsim_scene *sc, double n, double h, double target)
 {
-    rod_state *s = sc->state;
     rod_report report;
-    memset(&report, 0, sizeof report);
-    for (double j = 0; j < n; j++) {
-        rod_status st = rod_solver_step(&sc->solver, sc->stepped, s, h, &report);
-        int non_finite = st == ROD_OK && !rod_state_is_finite(s);
-        if (st != ROD_OK || non_finite) {
-            rodsim_status out = step_failure(sc, non_finite ? ROD_UNSTABLE : st, non_finite,
-                                             s->time, h, &report);
-            rod_state_copy(s, sc->start);
-            return out;
-        }
-    }
-    s->time = target;
-    return RODSIM_OK;
+    rod_status st = stepping_take(&sc->solver, sc->stepped, sc->state, (long)n, h, target, NULL,
+                                  &report);
+    if (st == ROD_OK) return RODSIM_OK;
+    rodsim_status out = step_failure(sc, st, sc->state->time, h, &report);
+    rod_state_copy(sc->state, sc->start);
+    return out;
 }
 
 /* Appends the state as a frame of the video. */

@@ -376,9 +376,37 @@ static void record_row(live_session *ls, const double *row, const double *veloci
     record_check(ls); /* flushed: a killed session keeps it */
 }
 
+/* stepping_take's hooks: a stop signal ends the line's steps; each step's
+ * Newton iterations and Jacobian builds are counted. */
+static int stop_between_steps(void *context, long step, long steps, rod_report *report)
+{
+    (void)context;
+    if (!stop_signal) return 0;
+    snprintf(report->message, sizeof report->message,
+             "interrupted by a stop signal after %ld of its %ld steps", step, steps);
+    return 1;
+}
+
+static void count_step(void *context, rod_status status, const rod_report *report)
+{
+    live_session *ls = context;
+    const long builds = ls->jacobian_builds;
+    ls->steps++;
+    /* the implicit scheme counts since its start; the others not at all */
+    if (report->jacobian_builds > 0) {
+        ls->jacobian_builds = report->jacobian_builds;
+        ls->line_builds += ls->jacobian_builds - builds;
+    }
+    const long iterations = report->newton_total > 0 ? report->newton_total - ls->newton_seen
+                                                     : report->newton_iterations;
+    if (report->newton_total > 0) ls->newton_seen = report->newton_total;
+    ls->line_iterations += iterations;
+    if (status == ROD_OK && iterations > ls->line_step_max) ls->line_step_max = iterations;
+}
+
 /* Steps the state to t in equal steps of at most dt (a stop signal ends
- * them). 0, or -1 with the state restored to the last good one and
- * *status, report set. */
+ * them), as the library steps (api/stepping.h). 0, or -1 with the state
+ * restored to the last good one and *status, report set. */
 static int advance(live_session *ls, double t, rod_status *status, rod_report *report)
 {
     rod_state *s = ls->state;
@@ -389,38 +417,11 @@ static int advance(live_session *ls, double t, rod_status *status, rod_report *r
      * the changed dt, on many lines after t = 8 s. At most max_ahead
      * steps: check_line refused a longer gap */
     const double count = stepping_count(gap, ls->dt);
-    const long n = (long)count;
     const double h = gap / count;
-    memset(report, 0, sizeof *report);
+    const stepping_hooks hooks = {stop_between_steps, count_step, ls};
     rod_state_copy(ls->good, s);
-    *status = ROD_OK;
-    for (long j = 0; j < n && *status == ROD_OK; j++) {
-        if (stop_signal) {
-            *status = ROD_FAILED;
-            snprintf(report->message, sizeof report->message,
-                     "interrupted by a stop signal after %ld of its %ld steps", j, n);
-            break;
-        }
-        const long builds = ls->jacobian_builds;
-        *status = rod_solver_step(&ls->solver, ls->stepped, s, h, report);
-        ls->steps++;
-        /* the implicit scheme counts since its start; the others not at all */
-        if (report->jacobian_builds > 0) {
-            ls->jacobian_builds = report->jacobian_builds;
-            ls->line_builds += ls->jacobian_builds - builds;
-        }
-        const long iterations = report->newton_total > 0 ? report->newton_total - ls->newton_seen
-                                                         : report->newton_iterations;
-        if (report->newton_total > 0) ls->newton_seen = report->newton_total;
-        ls->line_iterations += iterations;
-        if (*status == ROD_OK && iterations > ls->line_step_max) ls->line_step_max = iterations;
-        if (*status == ROD_OK && !rod_state_is_finite(s)) {
-            *status = ROD_UNSTABLE;
-            snprintf(report->message, sizeof report->message, "the state is no longer finite");
-        }
-    }
+    *status = stepping_take(&ls->solver, ls->stepped, s, (long)count, h, t, &hooks, report);
     if (*status == ROD_OK) {
-        s->time = t; /* no drift from rounding */
         ls->last_step = h;
         return 0;
     }
