@@ -5,8 +5,8 @@
  * driven at its ends, saved and restored, and drawn. The step control is
  * `rodsim run`'s: a stretch of time is split into equal steps no longer
  * than the scene's solver.dt, and rodsim_run() goes from output frame to
- * output frame (render.fps), so a scene run to its duration here is the
- * scene `rodsim run --csv` writes, bit for bit.
+ * output frame (render.fps), so a scene run here has, bit for bit, the
+ * states `rodsim run` steps through (and its --csv prints).
  *
  * Units are SI: m, s, N, N m, rad. Arrays are flat, row-major doubles.
  * Ownership: a handle is made by rodsim_load_* and freed by rodsim_free;
@@ -122,7 +122,8 @@ rodsim_status rodsim_get(const rodsim_scene *scene, rodsim_field field, double *
                          size_t count);
 
 /* The same, borrowed: the scene's own array, valid until the scene steps,
- * is restored or freed. NULL for an unknown field. */
+ * is restored or freed (a field other than RODSIM_POSITIONS is refilled at
+ * each call for it). NULL for an unknown field. */
 const double *rodsim_view(rodsim_scene *scene, rodsim_field field);
 
 /* The force (N) and moment (N m) the rod exerts on what holds `end`
