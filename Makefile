@@ -20,11 +20,27 @@ DEBS    := build-essential pkg-config libegl-dev libegl-mesa0 libgl1-mesa-dri li
            libclang-rt-dev libxml2-utils parallel snakemake slurm-wlm
 WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes
 CFLAGS  ?= -O3 -g
-ALL_CFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(EXTRA_CFLAGS) -Iinclude \
+# -fPIC: one set of objects makes both the program (librodsim.a) and the
+# shared library (librodsim.so); -fno-semantic-interposition keeps calls
+# inside the library direct (inlined as without -fPIC), and the library
+# exports only rodsim_* (src/api/rodsim.map).
+PIC     := -fPIC -fno-semantic-interposition
+ALL_CFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(PIC) $(CFLAGS) $(EXTRA_CFLAGS) -Iinclude \
              $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
 LDLIBS  = $(shell pkg-config --libs $(LINK_PKGS) 2>/dev/null) -llapack -lblas -ldl -lpthread -lm
 TEST_LDLIBS = $(shell pkg-config --libs $(TEST_PKGS) 2>/dev/null)
 LDFLAGS ?=
+
+# Python (python/rodsim, tests/python, make bench's bench_api): the package,
+# its tests and examples' plots, `pip install ./python` offline in a venv;
+# apart from DEBS: `make test` and `make bench` install both lists.
+PY_DEBS := python3 python3-numpy python3-pytest python3-matplotlib python3-setuptools \
+           python3-pip python3-venv
+
+# The shared library: librodsim.so.MAJOR.MINOR, soname librodsim.so.MAJOR
+# (MAJOR, MINOR: include/rodsim.h's RODSIM_API_VERSION_*).
+SO_MAJOR := $(shell sed -n 's/^\#define RODSIM_API_VERSION_MAJOR \([0-9]*\).*/\1/p' include/rodsim.h)
+SO_MINOR := $(shell sed -n 's/^\#define RODSIM_API_VERSION_MINOR \([0-9]*\).*/\1/p' include/rodsim.h)
 
 # Build flavours: release (default) and asan (AddressSanitizer + UBSan).
 BUILD   ?= build/release
@@ -45,16 +61,25 @@ TEST_BIN:= $(patsubst tests/%.c,$(BUILD)/tests/%,$(TESTS))
 BENCHES := $(wildcard tests/bench/bench_*.c)
 BENCH_BIN := $(patsubst tests/%.c,$(BUILD)/tests/%,$(BENCHES))
 
-.PHONY: all deps rodsim tests test test-release test-asan fuzz fuzzers demo bench figures readme install clean
+.PHONY: all deps pydeps lib rodsim tests test test-release test-asan fuzz fuzzers demo bench figures readme install clean
 .DEFAULT_GOAL := all
 
-all: rodsim
+all: rodsim lib
+
+# librodsim.so (and its soname link) in $(BUILD), for C programs and python/rodsim.
+lib: $(BUILD)/librodsim.so
 
 rodsim: $(BUILD)/rodsim
 	@ln -sf $(BUILD)/rodsim rodsim
 
 $(BUILD)/rodsim: $(BUILD)/obj/cli/main.o $(BUILD)/librodsim.a
 	$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $^ $(LDLIBS)
+
+$(BUILD)/librodsim.so: $(LIB_OBJ) src/api/rodsim.map
+	$(CC) -shared -Wl,-soname,librodsim.so.$(SO_MAJOR) -Wl,--version-script=src/api/rodsim.map \
+	  $(LDFLAGS) -o $@.$(SO_MAJOR).$(SO_MINOR) $(LIB_OBJ) $(LDLIBS)
+	ln -sf librodsim.so.$(SO_MAJOR).$(SO_MINOR) $@.$(SO_MAJOR)
+	ln -sf librodsim.so.$(SO_MAJOR).$(SO_MINOR) $@
 
 $(BUILD)/librodsim.a: $(LIB_OBJ)
 	@mkdir -p $(dir $@)
@@ -109,11 +134,11 @@ deps:
 	fi
 
 # The README's test command: every test, in the release build and under ASan+UBSan.
-test: deps
+test: deps pydeps
 	@sh tests/run_all.sh
 
 test-release:
-	@$(MAKE) --no-print-directory BUILD=build/release tests rodsim
+	@$(MAKE) --no-print-directory BUILD=build/release tests rodsim lib
 	@sh tests/run_tests.sh build/release
 
 test-asan:
@@ -141,8 +166,8 @@ build/fuzz/bin/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz.h build/fuzz/librodsi
 fuzz: fuzzers
 	@sh tests/fuzz/run_fuzz.sh build/fuzz $(FUZZ_SECONDS)
 
-bench: deps
-	@$(MAKE) --no-print-directory BUILD=build/release rodsim $(patsubst tests/%.c,build/release/tests/%,$(BENCHES))
+bench: deps pydeps
+	@$(MAKE) --no-print-directory BUILD=build/release rodsim lib $(patsubst tests/%.c,build/release/tests/%,$(BENCHES))
 	@for b in $(patsubst tests/%.c,build/release/tests/%,$(BENCHES)); do $$b || exit 1; done
 
 demo: deps
@@ -155,6 +180,10 @@ figures: deps
 	@$(MAKE) --no-print-directory BUILD=build/release rodsim
 	./rodsim figure all --out out/figures
 
+# The Python packages (PY_DEBS): deps with that list.
+pydeps:
+	@$(MAKE) --no-print-directory deps DEBS="$(PY_DEBS)"
+
 # Rewrites the README's generated blocks (command reference, scene keys) from
 # the program's own output; tests/cli/test_readme.c fails when they differ.
 readme:
@@ -164,13 +193,26 @@ readme:
 	@sh tests/readme.sh update build/release/rodsim scenes/README.md
 
 # make install [PREFIX=/usr/local] [DESTDIR=staging]: the binary (shaders
-# compiled in) and the scenes as examples in PREFIX/share/rodsim/scenes.
+# compiled in) and the scenes as examples in PREFIX/share/rodsim/scenes; the
+# library: PREFIX/lib/librodsim.so.MAJOR.MINOR with its links, the header
+# PREFIX/include/rodsim.h and PREFIX/lib/pkgconfig/rodsim.pc.
 PREFIX  ?= /usr/local
+LIBDIR  ?= $(PREFIX)/lib
 install:
-	@$(MAKE) --no-print-directory BUILD=build/release build/release/rodsim
+	@$(MAKE) --no-print-directory BUILD=build/release build/release/rodsim build/release/librodsim.so
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/rodsim/scenes
 	install -m 755 build/release/rodsim $(DESTDIR)$(PREFIX)/bin/rodsim
 	install -m 644 scenes/*.ini scenes/*.csv $(DESTDIR)$(PREFIX)/share/rodsim/scenes
+	install -d $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(PREFIX)/include
+	install -m 755 build/release/librodsim.so.$(SO_MAJOR).$(SO_MINOR) $(DESTDIR)$(LIBDIR)/
+	ln -sf librodsim.so.$(SO_MAJOR).$(SO_MINOR) $(DESTDIR)$(LIBDIR)/librodsim.so.$(SO_MAJOR)
+	ln -sf librodsim.so.$(SO_MAJOR).$(SO_MINOR) $(DESTDIR)$(LIBDIR)/librodsim.so
+	install -m 644 include/rodsim.h $(DESTDIR)$(PREFIX)/include/rodsim.h
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
+	  -e 's|@VERSION@|$(SO_MAJOR).$(SO_MINOR)|' src/api/rodsim.pc.in \
+	  >$(DESTDIR)$(LIBDIR)/pkgconfig/rodsim.pc
+	@# the loader's cache, so librodsim.so.1 is found (python/rodsim, clients)
+	@if [ -z "$(DESTDIR)" ] && [ "$$(id -u)" = 0 ]; then ldconfig; fi
 
 clean:
 	rm -rf build rodsim

@@ -61,6 +61,34 @@ while read -r t; do
     failed=$((failed + f))
 done <"$logs/list"
 rm -rf "$logs"
+# The Python package (tests/python) on this build's librodsim.so, in the
+# release flavour only (a sanitized library cannot be loaded into python3).
+# Debian's python3 (python3-pytest, python3-numpy: PY_DEBS); its summary
+# line ("N passed, M failed in S s") is counted like a binary's.
+python=${RODSIM_PYTHON:-/usr/bin/python3}
+if [ "$flavour" = release ] && [ -e "$build/librodsim.so" ]; then
+    echo "== $flavour/python"
+    log=$(mktemp)
+    RODSIM_LIBRARY="$(pwd)/$build/librodsim.so" RODSIM_BIN="$(pwd)/$build/rodsim" \
+        "$python" -m pytest -q -rA -p no:cacheprovider tests/python >"$log" 2>&1
+    status=$?
+    grep -E '^(PASSED|FAILED|ERROR) ' "$log" | sed 's/^PASSED/PASS/; s/^FAILED/FAIL/; s/^ERROR/FAIL/'
+    last=$(tail -n 1 "$log")
+    p=$(echo "$last" | sed -n 's/.* \([0-9][0-9]*\) passed.*/\1/p; s/^\([0-9][0-9]*\) passed.*/\1/p' | head -n 1)
+    f=$(echo "$last" | sed -n 's/^\([0-9][0-9]*\) failed.*/\1/p; s/.* \([0-9][0-9]*\) failed.*/\1/p' | head -n 1)
+    e=$(echo "$last" | sed -n 's/.* \([0-9][0-9]*\) errors\{0,1\}.*/\1/p' | head -n 1)
+    p=${p:-0}
+    f=$((${f:-0} + ${e:-0}))
+    if [ "$status" -ne 0 ] && [ "$f" -eq 0 ]; then
+        tail -n 30 "$log"
+        echo "FAIL python: pytest exited with status $status"
+        f=1
+    fi
+    echo "$p passed, $f failed"
+    passed=$((passed + p))
+    failed=$((failed + f))
+    rm -f "$log"
+fi
 echo "== $flavour: $passed passed, $failed failed"
 echo "$passed passed, $failed failed" >"$build/summary"
 [ "$failed" -eq 0 ]

@@ -63,6 +63,14 @@ int rod_path_push_with_velocity(rod_path *p, const double *row, const double *ve
                                 char *err, size_t errlen);
 /* Removes a live path's newest row (the step to it failed); the first row stays. */
 void rod_path_pop(rod_path *p);
+/* A live path's rows as numbers, to save and restore it exactly: at most
+ * ROD_PATH_LIVE_NUMBERS doubles (its row count, then per row t, the pose,
+ * its velocity). rod_path_live_save writes them into out and returns how
+ * many; rod_path_live_restore reads them back into a live path of the same
+ * columns: 0, or -1 when they are not such a path's. No allocation. */
+#define ROD_PATH_LIVE_NUMBERS (1 + 4 * 13)
+int rod_path_live_save(const rod_path *p, double *out);
+int rod_path_live_restore(rod_path *p, const double *in, int count);
 /* 1 when the path's velocity is given (with velocity, or live). */
 int rod_path_has_velocity(const rod_path *p);
 

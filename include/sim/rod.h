@@ -53,6 +53,9 @@ double rod_first_bending_frequency(const rod_model *m);
 
 rod_state *rod_state_create(const rod_model *m);
 void rod_state_destroy(rod_state *s);
+/* Copies everything a step changes from one state into another made for
+ * the same model (no allocation): a state kept to go back to. */
+void rod_state_copy(rod_state *to, const rod_state *from);
 /* t = 0: the starting shape (initial_shape, or straight from origin along
  * direction: thesis 4.2's initial condition when those are the defaults),
  * frames twist-free along it, every node moving with initial_velocity, no

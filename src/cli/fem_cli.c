@@ -10,7 +10,7 @@
 
 #include "base/outfile.h"
 #include "cli/args.h"
-#include "cli/scene_keys.h"
+#include "api/scene_keys.h"
 
 /* At most this many elements ([geometry] elements, or nodes - 1), refused
  * before anything is assembled: the condition number grows like N^4, so

@@ -49,6 +49,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "api/stepping.h"
 #include "base/ini.h"
 #include "base/numfmt.h"
 #include "base/outfile.h"
@@ -146,28 +147,6 @@ static double wall_seconds(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* Copies what a step changes (the arrays were made for the same model). */
-static void state_copy(rod_state *to, const rod_state *from)
-{
-    const size_t n = (size_t)from->nodes;
-    memcpy(to->position, from->position, n * 3 * sizeof(double));
-    memcpy(to->frame, from->frame, n * 9 * sizeof(double));
-    memcpy(to->velocity, from->velocity, n * 3 * sizeof(double));
-    memcpy(to->angular_velocity, from->angular_velocity, n * 3 * sizeof(double));
-    memcpy(to->darboux, from->darboux, n * 3 * sizeof(double));
-    memcpy(to->contact_force, from->contact_force, n * 3 * sizeof(double));
-    to->staggered = from->staggered;
-    to->time = from->time;
-    memcpy(to->end_force, from->end_force, sizeof to->end_force);
-    memcpy(to->end_moment, from->end_moment, sizeof to->end_moment);
-    /* contact: what the tissue and the strands exert, and where the thread
-     * passes through the tissue (a failed step answers with these too) */
-    memcpy(to->surface_force, from->surface_force, n * 3 * sizeof(double));
-    memcpy(to->self_force, from->self_force, n * 3 * sizeof(double));
-    to->puncture_count = from->puncture_count;
-    memcpy(to->puncture, from->puncture, sizeof to->puncture);
 }
 
 /* Splits a line at commas into at most `max` numbers; -1 at a field that is
@@ -397,57 +376,57 @@ static void record_row(live_session *ls, const double *row, const double *veloci
     record_check(ls); /* flushed: a killed session keeps it */
 }
 
+/* stepping_take's hooks: a stop signal ends the line's steps; each step's
+ * Newton iterations and Jacobian builds are counted. */
+static int stop_between_steps(void *context, long step, long steps, rod_report *report)
+{
+    (void)context;
+    if (!stop_signal) return 0;
+    snprintf(report->message, sizeof report->message,
+             "interrupted by a stop signal after %ld of its %ld steps", step, steps);
+    return 1;
+}
+
+static void count_step(void *context, rod_status status, const rod_report *report)
+{
+    live_session *ls = context;
+    const long builds = ls->jacobian_builds;
+    ls->steps++;
+    /* the implicit scheme counts since its start; the others not at all */
+    if (report->jacobian_builds > 0) {
+        ls->jacobian_builds = report->jacobian_builds;
+        ls->line_builds += ls->jacobian_builds - builds;
+    }
+    const long iterations = report->newton_total > 0 ? report->newton_total - ls->newton_seen
+                                                     : report->newton_iterations;
+    if (report->newton_total > 0) ls->newton_seen = report->newton_total;
+    ls->line_iterations += iterations;
+    if (status == ROD_OK && iterations > ls->line_step_max) ls->line_step_max = iterations;
+}
+
 /* Steps the state to t in equal steps of at most dt (a stop signal ends
- * them). 0, or -1 with the state restored to the last good one and
- * *status, report set. */
+ * them), as the library steps (api/stepping.h). 0, or -1 with the state
+ * restored to the last good one and *status, report set. */
 static int advance(live_session *ls, double t, rod_status *status, rod_report *report)
 {
     rod_state *s = ls->state;
     const double gap = t - s->time;
-    /* a gap of dt to within 1e-9 is one step (run.c steps_for): the
+    /* a gap of dt to within 1e-9 is one step (api/stepping.h): the
      * rounding of t (ulp 1.8e-15 s at t = 8 s, 1.8e-12 of a 1 ms gap) made
      * a 1 kHz session take two half steps, and two Jacobian builds for
      * the changed dt, on many lines after t = 8 s. At most max_ahead
      * steps: check_line refused a longer gap */
-    double count = ceil(gap / ls->dt * (1.0 - 1e-9));
-    if (count < 1.0) count = 1.0;
-    const long n = (long)count;
+    const double count = stepping_count(gap, ls->dt);
     const double h = gap / count;
-    memset(report, 0, sizeof *report);
-    state_copy(ls->good, s);
-    *status = ROD_OK;
-    for (long j = 0; j < n && *status == ROD_OK; j++) {
-        if (stop_signal) {
-            *status = ROD_FAILED;
-            snprintf(report->message, sizeof report->message,
-                     "interrupted by a stop signal after %ld of its %ld steps", j, n);
-            break;
-        }
-        const long builds = ls->jacobian_builds;
-        *status = rod_solver_step(&ls->solver, ls->stepped, s, h, report);
-        ls->steps++;
-        /* the implicit scheme counts since its start; the others not at all */
-        if (report->jacobian_builds > 0) {
-            ls->jacobian_builds = report->jacobian_builds;
-            ls->line_builds += ls->jacobian_builds - builds;
-        }
-        const long iterations = report->newton_total > 0 ? report->newton_total - ls->newton_seen
-                                                         : report->newton_iterations;
-        if (report->newton_total > 0) ls->newton_seen = report->newton_total;
-        ls->line_iterations += iterations;
-        if (*status == ROD_OK && iterations > ls->line_step_max) ls->line_step_max = iterations;
-        if (*status == ROD_OK && !rod_state_is_finite(s)) {
-            *status = ROD_UNSTABLE;
-            snprintf(report->message, sizeof report->message, "the state is no longer finite");
-        }
-    }
+    const stepping_hooks hooks = {stop_between_steps, count_step, ls};
+    rod_state_copy(ls->good, s);
+    *status = stepping_take(&ls->solver, ls->stepped, s, (long)count, h, t, &hooks, report);
     if (*status == ROD_OK) {
-        s->time = t; /* no drift from rounding */
         ls->last_step = h;
         return 0;
     }
     ls->last_step = 0.0;
-    state_copy(s, ls->good);
+    rod_state_copy(s, ls->good);
     return -1;
 }
 

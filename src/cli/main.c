@@ -11,7 +11,7 @@
 #include "cli/live.h"
 #include "cli/render_cli.h"
 #include "cli/run_cli.h"
-#include "cli/scene_keys.h"
+#include "api/scene_keys.h"
 #include "cli/stability_cli.h"
 #include "cli/sweep.h"
 #include "cli/validate_cli.h"

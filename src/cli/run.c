@@ -11,6 +11,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "api/stepping.h"
 #include "sim/recording.h"
 #include "sim/rod.h"
 
@@ -47,12 +48,11 @@ int run_frame_count(double duration, int fps)
     return (int)n + 1 + (partial_interval(duration, fps, n) > 0.0 ? 1 : 0);
 }
 
-/* Equal steps no longer than dt over an interval: ceil(interval/dt), less a
- * hair so that an interval of exactly k dt takes k steps, not k + 1. */
+/* Equal steps no longer than dt over an interval: the library's rule
+ * (api/stepping.h), so a scene stepped through rodsim.h takes these steps. */
 static double steps_for(double interval, double dt)
 {
-    double n = ceil(interval / dt * (1.0 - RUN_TIME_SLACK));
-    return n < 1.0 ? 1.0 : n;
+    return stepping_count(interval, dt);
 }
 
 int64_t run_interval_steps(double interval, double dt)

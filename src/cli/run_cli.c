@@ -13,7 +13,7 @@
 #include "cli/args.h"
 #include "cli/live.h"
 #include "cli/render_cli.h"
-#include "cli/scene_keys.h"
+#include "api/scene_keys.h"
 #include "cli/scene_outputs.h"
 #include "cli/summary.h"
 #include "sim/rod.h"

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "base/outfile.h"
-#include "cli/scene_keys.h"
+#include "api/scene_keys.h"
 #include "plot/plot.h"
 
 static const unsigned char curve_rgb[8][3] = {

@@ -11,7 +11,7 @@
 #include "base/ini.h"
 #include "base/textfile.h"
 #include "cli/print_commands.h"
-#include "cli/scene_keys.h"
+#include "api/scene_keys.h"
 #include "cli/scene_outputs.h"
 #include "cli/version.h"
 #include "plot/plot.h"

@@ -720,3 +720,32 @@ done:
     free(data);
     return path;
 }
+
+int rod_path_live_save(const rod_path *p, double *out)
+{
+    const int nc = p->components;
+    int k = 0;
+    out[k++] = p->rows;
+    for (int r = 0; r < p->rows; r++) {
+        out[k++] = p->time[r];
+        for (int c = 0; c < nc; c++) out[k++] = p->value[r * nc + c];
+        for (int c = 0; c < nc; c++) out[k++] = p->velocity[r * nc + c];
+    }
+    return k;
+}
+
+int rod_path_live_restore(rod_path *p, const double *in, int count)
+{
+    const int nc = p->components;
+    if (!p->live || count < 1) return -1;
+    const double rows = in[0];
+    if (!(rows >= 1 && rows <= LIVE_ROWS) || count != 1 + (int)rows * (1 + 2 * nc)) return -1;
+    p->rows = (int)rows;
+    int k = 1;
+    for (int r = 0; r < p->rows; r++) {
+        p->time[r] = in[k++];
+        for (int c = 0; c < nc; c++) p->value[r * nc + c] = in[k++];
+        for (int c = 0; c < nc; c++) p->velocity[r * nc + c] = in[k++];
+    }
+    return 0;
+}

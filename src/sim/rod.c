@@ -727,6 +727,26 @@ void rod_state_destroy(rod_state *s)
     free(s);
 }
 
+void rod_state_copy(rod_state *to, const rod_state *from)
+{
+    const size_t n3 = (size_t)from->nodes * 3 * sizeof(double);
+    memcpy(to->position, from->position, n3);
+    memcpy(to->frame, from->frame, 3 * n3);
+    memcpy(to->velocity, from->velocity, n3);
+    memcpy(to->angular_velocity, from->angular_velocity, n3);
+    memcpy(to->darboux, from->darboux, n3);
+    memcpy(to->contact_force, from->contact_force, n3);
+    memcpy(to->surface_force, from->surface_force, n3);
+    memcpy(to->self_force, from->self_force, n3);
+    to->staggered = from->staggered;
+    to->time = from->time;
+    memcpy(to->end_force, from->end_force, sizeof to->end_force);
+    memcpy(to->end_moment, from->end_moment, sizeof to->end_moment);
+    to->strand_gap = from->strand_gap;
+    to->puncture_count = from->puncture_count;
+    memcpy(to->puncture, from->puncture, sizeof to->puncture);
+}
+
 void rod_state_reset(const rod_model *m, rod_state *s)
 {
     size_t n = (size_t)s->nodes;

@@ -12,7 +12,7 @@
 #include "base/ini.h"
 #include "cli/fem_cli.h"
 #include "cli/scene_outputs.h"
-#include "cli/scene_keys.h"
+#include "api/scene_keys.h"
 #include "test.h"
 #include "test_process.h"
 #include "sim/rod.h"

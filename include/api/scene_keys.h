@@ -6,9 +6,10 @@
  * asks for is in its table, every table key is read, and every default
  * written here is the value the reader uses when the key is absent.
  *
- * Decision: the tables live in the cli layer because a rod scene mixes
+ * Decision: the tables live in the api layer because a rod scene mixes
  * sections owned by two layers (sim reads [rod] .. [physics], render reads
- * [render]); only the cli, which composes them, may know both. */
+ * [render]); the api, the lowest layer that composes them, knows both, and
+ * the cli and the library (rodsim.h) read scenes through it. */
 #ifndef RODSIM_SCENE_KEYS_H
 #define RODSIM_SCENE_KEYS_H
 

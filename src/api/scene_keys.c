@@ -2,7 +2,7 @@
  * meaning (see scene_keys.h). A default here must be the value the reader
  * uses when the key is absent: tests/cli/test_scene_keys.c sets each one
  * and checks nothing changes. */
-#include "cli/scene_keys.h"
+#include "api/scene_keys.h"
 
 #define BOOL "boolean"
 

@@ -1,0 +1,187 @@
+"""rodsim.Scene against `rodsim run` and `rodsim live` (the same scene, the
+same numbers), and against independent values."""
+import math
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import rodsim
+from conftest import ROOT, RODSIM_BIN
+
+IMPULSE = os.path.join(ROOT, "scenes", "impulse.ini")
+HANGING = """
+[rod]
+length = 0.3
+diameter = 0.0005
+density = 850
+youngs_modulus = 87.5e6
+shear_modulus = 31.25e6
+nodes = 31
+origin = 0 0 0
+direction = 0 0 1
+[ends]
+root = free
+tip = clamped
+[solver]
+scheme = implicit
+dt = 0.002
+duration = 4
+[loads]
+gravity = 0 0 -9.81
+linear_damping = 2e-3
+"""
+
+
+def g10(v):
+    return "%.10g" % (v + 0.0)
+
+
+def test_same_as_rodsim_run_csv(tmp_path):
+    """The CSV of `rodsim run` and the state read through Python, printed
+    alike, are the same text at every output frame (x, y, z, d3, n)."""
+    csv = tmp_path / "run.csv"
+    subprocess.run([RODSIM_BIN, "run", IMPULSE, "--set", "solver.duration=0.2", "--no-video",
+                    "--quiet", "--csv", str(csv)], check=True)
+    rows = [line.split(",") for line in csv.read_text().splitlines()[1:]]
+    with rodsim.Scene(IMPULSE, overrides={"solver.duration": 0.2}) as s:
+        differ = 0
+        frames = len(rows) // s.nodes
+        for k in range(frames):
+            if k:
+                s.run(k / s.frame_rate)
+            st = s.state()
+            for i in range(s.nodes):
+                r = rows[k * s.nodes + i]
+                mine = [g10(st["t"])] + [g10(v) for v in st["positions"][i]] + \
+                       [g10(v) for v in st["directors"][i, 2]] + [g10(v) for v in st["forces"][i]]
+                theirs = [r[0]] + r[3:6] + r[6:9] + r[10:13]
+                differ += mine != theirs
+    assert frames == 7 and differ == 0, "%d of %d rows differ" % (differ, len(rows))
+
+
+def test_same_as_rodsim_live(tmp_path):
+    """`rodsim live` driven along a path and Python driving the same tip along
+    the same poses answer the same end force, to round-off (live renews its
+    Jacobian between lines: the same to Newton's tolerance)."""
+    scene = tmp_path / "hanging.ini"
+    scene.write_text(HANGING)
+    poses = []
+    for k in range(1, 101):
+        t = k * 0.01
+        poses.append((t, 0.02 * math.sin(3 * t), 0.0, 0.3 + 0.01 * t, 0.0, 0.0, 0.1 * t))
+    lines = "".join(",".join("%.17g" % v for v in p) + "\n" for p in poses)
+    out = subprocess.run([RODSIM_BIN, "live", str(scene)], input=lines, capture_output=True,
+                         text=True, check=True).stdout.splitlines()
+    answers = [line.split(",") for line in out[1:]]
+    assert len(answers) == len(poses) and all(a[7] == "ok" for a in answers)
+    worst = 0.0
+    with rodsim.Scene(str(scene)) as s:
+        for p, a in zip(poses, answers):
+            s.set_end_pose("tip", p[1:4], rotvec=p[4:7])
+            s.step(p[0] - s.t)
+            f, m = s.end_load("tip")
+            live = np.array([float(v) for v in a[1:7]])
+            mine = np.concatenate([f, m])
+            assert float(a[0]) == pytest.approx(s.t, abs=1e-15)
+            worst = max(worst, np.max(np.abs(mine - live)) / np.max(np.abs(live)))
+    print("largest difference of the end loads, relative to the largest: %.3g" % worst)
+    assert worst < 1e-9
+
+
+def test_save_restore_exact():
+    with rodsim.Scene(HANGING) as s:
+        for k in range(50):
+            s.set_end_pose("tip", (0.01 * math.sin(0.1 * k), 0, 0.3), rotvec=(0, 0, 0))
+            s.step(0.01)
+        blob = s.save()
+        for k in range(30):
+            s.step(0.01)
+        a = s.state()
+        s.restore(blob)
+        assert s.t == pytest.approx(0.5, abs=1e-15)
+        for k in range(30):
+            s.step(0.01)
+        b = s.state()
+    for key in a:
+        assert np.array_equal(a[key], b[key]), key
+
+
+def test_bad_scene_message_is_the_cli_s(tmp_path):
+    scene = tmp_path / "bad.ini"
+    scene.write_text(HANGING.replace("nodes = 31", "nodes = 2"))
+    cli = subprocess.run([RODSIM_BIN, "run", str(scene), "--no-video"], capture_output=True,
+                         text=True)
+    with pytest.raises(rodsim.Error) as e:
+        rodsim.Scene(str(scene))
+    assert cli.returncode == 2 and e.value.status == "bad_input"
+    assert cli.stderr == "rodsim run: %s\n" % e.value
+
+
+def test_overrides_and_state_shapes():
+    with rodsim.Scene(HANGING, overrides={"rod.nodes": 11, "solver.dt": 0.004}) as s:
+        assert s.nodes == 11 and s.dt == 0.004
+        st = s.state()
+        assert st["positions"].shape == (11, 3) and st["directors"].shape == (11, 3, 3)
+        # a straight thread along +z: d3 = z, positions 3 cm apart
+        assert np.allclose(st["directors"][:, 2], [0, 0, 1])
+        assert np.allclose(np.diff(st["positions"][:, 2]), 0.03)
+        s.step()
+        assert s.t == 0.004
+    with pytest.raises(rodsim.Error, match="closed"):
+        s.step()
+
+
+def test_tip_load_is_a_dead_load():
+    """A free tip loaded from Python steps as the scene's own tip.force."""
+    sets = {"tip.frame": "global", "tip.moment": "0 0 0", "solver.duration": 0.1}
+    with rodsim.Scene(IMPULSE, overrides=dict(sets, **{"tip.force": "0 0 1e-4",
+                                                       "tip.profile": "step"})) as a, \
+            rodsim.Scene(IMPULSE, overrides=sets) as b:
+        b.set_tip_load((0, 0, 1e-4))
+        a.run()
+        b.run()
+        assert np.array_equal(a.positions(), b.positions())
+
+
+def test_render(tmp_path):
+    with rodsim.Scene(IMPULSE, overrides={"solver.duration": 0.1, "render.width": 320,
+                                          "render.height": 240}) as s:
+        s.run()
+        s.render(tmp_path)
+    mp4, png = tmp_path / "impulse.mp4", tmp_path / "impulse.png"
+    assert mp4.stat().st_size > 1000
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_library_exports_only_the_api():
+    syms = subprocess.run(["nm", "-D", "--defined-only", rodsim.library_path],
+                          capture_output=True, text=True, check=True).stdout.split()
+    names = [s.split("@")[0] for s in syms if s[0].isalpha() and "@" in s]
+    assert names and all(n.startswith("rodsim_") or n == "RODSIM_1" for n in names), names
+
+
+def test_pip_install_offline(tmp_path):
+    """pip install ./python works offline with Debian's setuptools (a venv
+    that sees the system's numpy, --no-build-isolation --no-index); the
+    installed package finds the library through RODSIM_LIBRARY."""
+    import shutil
+    import sys
+    src = tmp_path / "python"
+    shutil.copytree(os.path.join(ROOT, "python"), src,
+                    ignore=shutil.ignore_patterns("build", "*.egg-info", "__pycache__"))
+    venv = tmp_path / "venv"
+    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)],
+                   check=True)
+    pip = subprocess.run([str(venv / "bin" / "pip"), "install", "-q", "--no-build-isolation",
+                          "--no-index", str(src)], capture_output=True, text=True)
+    assert pip.returncode == 0, pip.stderr
+    probe = subprocess.run([str(venv / "bin" / "python"), "-c",
+                            "import rodsim; s = rodsim.Scene(%r); s.step(); "
+                            "print(rodsim.__file__, s.t)" % IMPULSE],
+                           capture_output=True, text=True, cwd=str(tmp_path),
+                           env=dict(os.environ, PYTHONPATH=""))
+    assert probe.returncode == 0, probe.stderr
+    where, t = probe.stdout.split()
+    assert where.startswith(str(venv)) and float(t) == 0.0005
