@@ -114,6 +114,11 @@ int rod_proximity_skip(double diameter, double ds)
 
 static double clamp01(double x) { return x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x; }
 
+/* fmin and fmax for numbers known finite: inlined (the library's, which
+ * handle NaN, are calls: a tenth of a sparse search's time) */
+static inline double least(double a, double b) { return b < a ? b : a; }
+static inline double most(double a, double b) { return b > a ? b : a; }
+
 /* Distance from point q to segment a + u d (u in [0, 1]); *u the closest. */
 static double point_segment(const double q[3], const double a[3], const double d[3], double dd,
                             double *u)
@@ -219,8 +224,8 @@ static void build_tree(scratch *w, int segments)
         memcpy(b, &w->box[6 * lo], 6 * sizeof *b);
         for (int i = lo + 1; i <= t->hi; i++)
             for (int k = 0; k < 3; k++) {
-                b[k] = fmin(b[k], w->box[6 * i + k]);
-                b[3 + k] = fmax(b[3 + k], w->box[6 * i + 3 + k]);
+                b[k] = least(b[k], w->box[6 * i + k]);
+                b[3 + k] = most(b[3 + k], w->box[6 * i + 3 + k]);
             }
         count++;
     }
@@ -243,8 +248,8 @@ static void build_tree(scratch *w, int segments)
             t->left = l;
             t->right = r;
             for (int c = 0; c < 3; c++) {
-                b[c] = fmin(bl[c], br[c]);
-                b[3 + c] = fmax(bl[3 + c], br[3 + c]);
+                b[c] = least(bl[c], br[c]);
+                b[3 + c] = most(bl[3 + c], br[3 + c]);
             }
             count++;
         }
@@ -290,8 +295,8 @@ static int nodes_may_hold(const walk *k, const scratch *w, int a, int b)
     const double *ma = &w->node_move[6 * a], *mb = &w->node_move[6 * b];
     double gap2 = 0.0, rel2 = 0.0;
     for (int c = 0; c < 3; c++) {
-        const double g = fmax(0.0, fmax(ba[c] - bb[3 + c], bb[c] - ba[3 + c]) + k->threshold);
-        const double r = k->dt * fmax(ma[3 + c] - mb[c], mb[3 + c] - ma[c]);
+        const double g = most(0.0, most(ba[c] - bb[3 + c], bb[c] - ba[3 + c]) + k->threshold);
+        const double r = k->dt * most(ma[3 + c] - mb[c], mb[3 + c] - ma[c]);
         gap2 += g * g;
         rel2 += r * r;
     }
@@ -324,7 +329,7 @@ static void leaf_pairs(walk *k, const scratch *w, int a, int b)
                     for (int y = 0; y < 2; y++) {
                         const double *u = &k->move[3 * e[x]], *v = &k->move[3 * f[y]];
                         const double dd[3] = {u[0] - v[0], u[1] - v[1], u[2] - v[2]};
-                        rel = fmax(rel, k->dt * sqrt(dd[0] * dd[0] + dd[1] * dd[1] +
+                        rel = most(rel, k->dt * sqrt(dd[0] * dd[0] + dd[1] * dd[1] +
                                                      dd[2] * dd[2]));
                     }
                 k->count += d - rel < k->reach;
@@ -386,8 +391,8 @@ static int prepare(scratch *w, const double *points, int nodes, double grow)
         const double *a = &points[3 * i], *b = &points[3 * i + 3];
         double *box = &w->box[6 * i];
         for (int k = 0; k < 3; k++) {
-            box[k] = fmin(a[k], b[k]) - grow;
-            box[3 + k] = fmax(a[k], b[k]) + grow;
+            box[k] = least(a[k], b[k]) - grow;
+            box[3 + k] = most(a[k], b[k]) + grow;
         }
     }
     build_tree(w, nodes - 1);
@@ -435,14 +440,17 @@ int rod_proximity_reachable(rod_proximity *p, const double *points, const double
         const tree_node *t = &w->node[n];
         if (t->left >= 0) {
             const double *l = &w->node_move[6 * t->left], *r = &w->node_move[6 * t->right];
-            for (int c = 0; c < 3; c++) m[c] = fmin(l[c], r[c]), m[3 + c] = fmax(l[3 + c], r[3 + c]);
+            for (int c = 0; c < 3; c++) {
+                m[c] = least(l[c], r[c]);
+                m[3 + c] = most(l[3 + c], r[3 + c]);
+            }
             continue;
         }
         for (int c = 0; c < 3; c++) m[c] = m[3 + c] = vel[3 * t->lo + c];
         for (int i = t->lo + 1; i <= t->hi + 1; i++)
             for (int c = 0; c < 3; c++) {
-                m[c] = fmin(m[c], vel[3 * i + c]);
-                m[3 + c] = fmax(m[3 + c], vel[3 * i + c]);
+                m[c] = least(m[c], vel[3 * i + c]);
+                m[3 + c] = most(m[3 + c], vel[3 * i + c]);
             }
     }
     walk k = {p, points, vel, dt, threshold, reach, skip, NULL, NULL, 0, 0};
