@@ -175,6 +175,11 @@ int main(void)
         compare("random walk", prox, p, 500, trial % 3 == 0 ? 0.3 : trial % 3 == 1 ? 1.0 : 2.5,
                 1 + 2 * (trial % 3), got, want);
     }
+    /* runs of 8 segments each near most others: more pairs of runs than
+     * the walk notes (32 a run), the search sorts what it finds */
+    random_walk(p, 1601, 2.0);
+    compare("random walk piled in a box of 2 (every run near every other)", prox, p, 1601, 0.3,
+            4, got, want);
     trefoil(p, 301);
     compare("trefoil", prox, p, 301, 0.5, 4, got, want);
     compare("trefoil, threshold 20 segments", prox, p, 301, 20 * 0.0628, 4, got, want);

@@ -45,6 +45,10 @@ typedef struct scratch {
     int nodes_max, root;
     int *stack;                  /* (2 stack_max) pairs of tree nodes still to walk */
     int stack_max;
+    int *met, met_max, met_count; /* (2 met_max) the pairs of leaves the walk met (a <= b) */
+    int *met_start;              /* (leaves + 1) the first of leaf a's in met_sorted */
+    int *met_sorted;             /* (met_max) leaf b of each, by a then b */
+    int leaves;
     double *box;                 /* (segments x 6) grown bounding boxes: min xyz, max xyz */
     int *group, *next;           /* (segments + 1) sort_pairs' first pair of each segment i */
 } scratch;
@@ -57,6 +61,9 @@ static void scratch_free(scratch *w)
     free(w->node_box);
     free(w->node_move);
     free(w->stack);
+    free(w->met);
+    free(w->met_start);
+    free(w->met_sorted);
     free(w->box);
     free(w->group);
     free(w->next);
@@ -81,11 +88,18 @@ rod_proximity *rod_proximity_create(int max_nodes)
     w->node_box = malloc((size_t)w->nodes_max * 6 * sizeof *w->node_box);
     w->node_move = malloc((size_t)w->nodes_max * 6 * sizeof *w->node_move);
     w->stack = malloc((size_t)w->stack_max * 2 * sizeof *w->stack);
+    /* room for each leaf to meet 32 others: a run of 8 segments lies within
+     * the threshold of a handful in a knot; more, and the search sorts its
+     * pairs instead (search) */
+    w->met_max = 32 * leaves + 64;
+    w->met = malloc((size_t)w->met_max * 2 * sizeof *w->met);
+    w->met_start = malloc(((size_t)leaves + 1) * sizeof *w->met_start);
+    w->met_sorted = malloc((size_t)w->met_max * sizeof *w->met_sorted);
     w->box = malloc(segments * 6 * sizeof *w->box);
     w->group = malloc((segments + 1) * sizeof *w->group);
     w->next = malloc((segments + 1) * sizeof *w->next);
-    if (!w->node || !w->node_box || !w->node_move || !w->stack || !w->box || !w->group ||
-        !w->next)
+    if (!w->node || !w->node_box || !w->node_move || !w->stack || !w->met || !w->met_start ||
+        !w->met_sorted || !w->box || !w->group || !w->next)
         goto fail;
     p->max_nodes = max_nodes;
     p->entries = w;
@@ -229,6 +243,7 @@ static void build_tree(scratch *w, int segments)
             }
         count++;
     }
+    w->leaves = count;
     int first = 0, level = count; /* the level below: nodes first..first+level-1 */
     while (level > 1) {
         const int start = count;
@@ -276,6 +291,8 @@ typedef struct walk {
     int skip;
     rod_segment_pair *pairs, *best;
     int max_pairs, count;
+    int collect;           /* 1: the pairs of leaves met go to w->met (leaf_pairs later) */
+    int overflow;          /* 1: more than w->met_max of them */
 } walk;
 
 /* Whether the pair of tree nodes a, b (a's segments before b's, or a ==
@@ -305,49 +322,96 @@ static int nodes_may_hold(const walk *k, const scratch *w, int a, int b)
     return sqrt(gap2) - sqrt(rel2) <= k->reach * (1.0 + 1e-9) + 1e-12 * (sqrt(gap2) + sqrt(rel2));
 }
 
-/* The pairs of segments i in a, j in b (j - i > skip) the walk looks for */
-static void leaf_pairs(walk *k, const scratch *w, int a, int b)
+/* Segments i < j (j - i > skip): a pair the walk looks for is counted
+ * (written, the closest kept) */
+static void pair_test(walk *k, const scratch *w, int i, int j)
 {
-    const tree_node *ta = &w->node[a], *tb = &w->node[b];
+    if (!boxes_overlap(&w->box[6 * i], &w->box[6 * j])) return;
     const double *pt = k->points;
-    for (int i = ta->lo; i <= ta->hi; i++) {
-        const double *bi = &w->box[6 * i];
-        int j = tb->lo > i + k->skip + 1 ? tb->lo : i + k->skip + 1;
-        for (; j <= tb->hi; j++) {
-            if (!boxes_overlap(bi, &w->box[6 * j])) continue;
-            k->p->narrow_tests++;
-            double s, t;
-            const double d = rod_segment_distance(&pt[3 * i], &pt[3 * i + 3], &pt[3 * j],
-                                                  &pt[3 * j + 3], &s, &t);
-            if (!(d < k->threshold)) continue;
-            if (k->move) {
-                /* rod_self_contact_reachable's test: the distance less the
-                 * largest relative displacement of the four node pairs */
-                const int e[2] = {i, i + 1}, f[2] = {j, j + 1};
-                double rel = 0.0;
-                for (int x = 0; x < 2; x++)
-                    for (int y = 0; y < 2; y++) {
-                        const double *u = &k->move[3 * e[x]], *v = &k->move[3 * f[y]];
-                        const double dd[3] = {u[0] - v[0], u[1] - v[1], u[2] - v[2]};
-                        rel = most(rel, k->dt * sqrt(dd[0] * dd[0] + dd[1] * dd[1] +
-                                                     dd[2] * dd[2]));
-                    }
-                k->count += d - rel < k->reach;
-                continue;
+    k->p->narrow_tests++;
+    double s, t;
+    const double d = rod_segment_distance(&pt[3 * i], &pt[3 * i + 3], &pt[3 * j], &pt[3 * j + 3],
+                                          &s, &t);
+    if (!(d < k->threshold)) return;
+    if (k->move) {
+        /* rod_self_contact_reachable's test: the distance less the largest
+         * relative displacement of the four node pairs */
+        const int e[2] = {i, i + 1}, f[2] = {j, j + 1};
+        double rel = 0.0;
+        for (int x = 0; x < 2; x++)
+            for (int y = 0; y < 2; y++) {
+                const double *u = &k->move[3 * e[x]], *v = &k->move[3 * f[y]];
+                const double dd[3] = {u[0] - v[0], u[1] - v[1], u[2] - v[2]};
+                rel = most(rel, k->dt * sqrt(dd[0] * dd[0] + dd[1] * dd[1] + dd[2] * dd[2]));
             }
-            const rod_segment_pair found = {i, j, s, t, d};
-            if (k->count < k->max_pairs) k->pairs[k->count] = found;
-            k->count++;
-            if (k->best && (d < k->best->distance ||
-                            (d == k->best->distance && pair_order(&found, k->best) < 0)))
-                *k->best = found;
+        k->count += d - rel < k->reach;
+        return;
+    }
+    const rod_segment_pair found = {i, j, s, t, d};
+    if (k->count < k->max_pairs) k->pairs[k->count] = found;
+    k->count++;
+    if (k->best &&
+        (d < k->best->distance || (d == k->best->distance && pair_order(&found, k->best) < 0)))
+        *k->best = found;
+}
+
+/* The pairs of segments i in leaf a, j in leaf b (j - i > skip), or, when
+ * the walk collects, the pair of leaves noted for later */
+static void leaf_pairs(walk *k, scratch *w, int a, int b)
+{
+    if (k->collect) {
+        if (w->met_count < w->met_max) { /* by leaf: a leaf passed up alone has a copy */
+            w->met[2 * w->met_count] = w->node[a].lo / LEAF;
+            w->met[2 * w->met_count + 1] = w->node[b].lo / LEAF;
+            w->met_count++;
+        } else {
+            k->overflow = 1;
         }
+        return;
+    }
+    const tree_node *ta = &w->node[a], *tb = &w->node[b];
+    for (int i = ta->lo; i <= ta->hi; i++)
+        for (int j = tb->lo > i + k->skip + 1 ? tb->lo : i + k->skip + 1; j <= tb->hi; j++)
+            pair_test(k, w, i, j);
+}
+
+/* The pairs of segments of the pairs of leaves the walk met, in (i, j)
+ * order: the leaves met sorted by a, then b (counting, then insertion:
+ * a few per leaf), and for each leaf a, each of its segments i against
+ * the segments of each leaf b in turn */
+static void met_pairs(walk *k, scratch *w)
+{
+    int *start = w->met_start, *sorted = w->met_sorted;
+    memset(start, 0, ((size_t)w->leaves + 1) * sizeof *start);
+    for (int m = 0; m < w->met_count; m++) start[w->met[2 * m] + 1]++;
+    for (int a = 0; a < w->leaves; a++) start[a + 1] += start[a];
+    for (int m = 0; m < w->met_count; m++) sorted[start[w->met[2 * m]]++] = w->met[2 * m + 1];
+    /* start[a] now ends a's run: shift back, then order each run by b */
+    for (int a = w->leaves; a > 0; a--) start[a] = start[a - 1];
+    start[0] = 0;
+    for (int a = 0; a < w->leaves; a++)
+        for (int x = start[a] + 1; x < start[a + 1]; x++) {
+            const int b = sorted[x];
+            int y = x;
+            for (; y > start[a] && sorted[y - 1] > b; y--) sorted[y] = sorted[y - 1];
+            sorted[y] = b;
+        }
+    for (int a = 0; a < w->leaves; a++) {
+        if (start[a] == start[a + 1]) continue;
+        const tree_node *ta = &w->node[a];
+        for (int i = ta->lo; i <= ta->hi; i++)
+            for (int x = start[a]; x < start[a + 1]; x++) {
+                const tree_node *tb = &w->node[sorted[x]];
+                for (int j = tb->lo > i + k->skip + 1 ? tb->lo : i + k->skip + 1; j <= tb->hi; j++)
+                    pair_test(k, w, i, j);
+            }
     }
 }
 
 /* Walks the pairs of tree nodes from (root, root) down, depth first */
 static void walk_tree(walk *k, scratch *w)
 {
+    w->met_count = 0;
     int top = 0;
     w->stack[0] = w->stack[1] = w->root;
     top = 1;
@@ -412,7 +476,16 @@ static int search(rod_proximity *p, const double *points, int nodes, double thre
     scratch *w = p->entries;
     if (prepare(w, points, nodes, threshold / 2.0)) return -1;
     if (best) best->distance = INFINITY;
-    walk k = {p, points, NULL, 0.0, threshold, 0.0, skip, pairs, best, max_pairs, 0};
+    /* the pairs of leaves first, then their segments' pairs in order; a
+     * walk meeting more pairs of leaves than noted (segments piled in one
+     * place) tests them as it meets them and sorts what it found */
+    walk k = {p, points, NULL, 0.0, threshold, 0.0, skip, pairs, best, max_pairs, 0, 1, 0};
+    walk_tree(&k, w);
+    if (!k.overflow) {
+        met_pairs(&k, w);
+        return k.count;
+    }
+    k.collect = 0;
     walk_tree(&k, w);
     int written = k.count < max_pairs ? k.count : max_pairs;
     if (written > 1) sort_pairs(w, pairs, written, segments);
@@ -453,7 +526,7 @@ int rod_proximity_reachable(rod_proximity *p, const double *points, const double
                 m[3 + c] = most(m[3 + c], vel[3 * i + c]);
             }
     }
-    walk k = {p, points, vel, dt, threshold, reach, skip, NULL, NULL, 0, 0};
+    walk k = {p, points, vel, dt, threshold, reach, skip, NULL, NULL, 0, 0, 0, 0};
     walk_tree(&k, w);
     return k.count;
 }
