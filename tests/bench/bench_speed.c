@@ -174,7 +174,14 @@ static void scene_builds(const char *name)
 
 int main(int argc, char **argv)
 {
-    /* bench_speed [sag|builds]: one part alone */
+    /* bench_speed [sag|builds]: one part alone; bench_speed rod NS DT SECONDS
+     * ON: one sagging rod's run (for a profiler) */
+    if (argc == 6 && strcmp(argv[1], "rod") == 0) {
+        const outcome o = sagging_rod(atoi(argv[2]), atoi(argv[5]), atof(argv[3]),
+                                      lround(atof(argv[4]) / atof(argv[3])));
+        printf("%.1f us/step, %.2f Newton its/step\n", 1e6 * o.per_step, o.iterations);
+        return !o.ok;
+    }
     const int all = argc < 2;
     if (all || strcmp(argv[1], "sag") == 0) {
         self_contact_idle(1.0 / 30.0, 1.0);

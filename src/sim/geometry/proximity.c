@@ -326,24 +326,37 @@ static int nodes_may_hold(const walk *k, const scratch *w, int a, int b)
  * (written, the closest kept) */
 static void pair_test(walk *k, const scratch *w, int i, int j)
 {
-    if (!boxes_overlap(&w->box[6 * i], &w->box[6 * j])) return;
+    const double *bi = &w->box[6 * i], *bj = &w->box[6 * j];
+    if (!boxes_overlap(bi, bj)) return;
     const double *pt = k->points;
-    k->p->narrow_tests++;
-    double s, t;
-    const double d = rod_segment_distance(&pt[3 * i], &pt[3 * i + 3], &pt[3 * j], &pt[3 * j + 3],
-                                          &s, &t);
-    if (!(d < k->threshold)) return;
+    double rel = 0.0;
     if (k->move) {
         /* rod_self_contact_reachable's test: the distance less the largest
-         * relative displacement of the four node pairs */
+         * relative displacement of the four node pairs; the segments' own
+         * boxes' gap (grown by threshold / 2 each) bounds the distance from
+         * below, and a pair whose gap less rel stays above reach (with a
+         * margin for rounding) is not measured */
         const int e[2] = {i, i + 1}, f[2] = {j, j + 1};
-        double rel = 0.0;
         for (int x = 0; x < 2; x++)
             for (int y = 0; y < 2; y++) {
                 const double *u = &k->move[3 * e[x]], *v = &k->move[3 * f[y]];
                 const double dd[3] = {u[0] - v[0], u[1] - v[1], u[2] - v[2]};
                 rel = most(rel, k->dt * sqrt(dd[0] * dd[0] + dd[1] * dd[1] + dd[2] * dd[2]));
             }
+        double gap2 = 0.0;
+        for (int c = 0; c < 3; c++) {
+            const double g = most(0.0, most(bi[c] - bj[3 + c], bj[c] - bi[3 + c]) + k->threshold);
+            gap2 += g * g;
+        }
+        const double gap = sqrt(gap2);
+        if (gap - rel > k->reach * (1.0 + 1e-9) + 1e-12 * (gap + rel)) return;
+    }
+    k->p->narrow_tests++;
+    double s, t;
+    const double d = rod_segment_distance(&pt[3 * i], &pt[3 * i + 3], &pt[3 * j], &pt[3 * j + 3],
+                                          &s, &t);
+    if (!(d < k->threshold)) return;
+    if (k->move) {
         k->count += d - rel < k->reach;
         return;
     }
