@@ -18,9 +18,11 @@
  * box is about as large as the run, whatever its shape, and the work is
  * about linear in the nodes plus the pairs found.
  *
- * The walk meets each pair once, in no particular order; the pairs are
- * then sorted by (i, j) in linear time (sort_pairs), which gives the same
- * list, distances and closest points as any complete search. */
+ * The walk notes the pairs of leaves it meets; sorted by leaf, they give
+ * the segment pairs in (i, j) order (met_pairs), the same list, distances
+ * and closest points as any complete search. Segments piled in one place
+ * (a leaf meeting more than 32 others) are tested as the walk meets them
+ * and sorted after (sort_pairs). */
 #include "sim/geometry/proximity.h"
 
 #include <math.h>
@@ -193,8 +195,7 @@ static int pair_order(const rod_segment_pair *a, const rod_segment_pair *b)
  * linear time: an American flag sort by i (each pair swapped into its
  * segment's group, whose bounds a count gave), then each group, a few
  * pairs, by j by insertion. The pairs are distinct (search meets each once),
- * so the order is the one qsort gave, at a third of its cost in a coil lying
- * on itself (246 pairs at NS = 201: the sort was a fifth of the search) */
+ * so the order is the one qsort gave, at a third of its cost */
 static void sort_pairs(scratch *w, rod_segment_pair *pairs, int count, int segments)
 {
     int *group = w->group, *next = w->next;
