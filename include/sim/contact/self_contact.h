@@ -137,9 +137,6 @@ typedef struct rod_self_contact {
     double *last_share;    /* (max_pairs) the share each is to take at the next step */
     double *last_frac;     /* (2 max_pairs) their fractions alpha, beta */
     int *last_to;          /* (max_pairs) the pair of this step each took its force, or -1 */
-    rod_segment_pair *reach; /* (reach_capacity) rod_self_contact_reachable's scratch, grown
-                                on demand up to SELF_CONTACT_REACH_PAIRS */
-    int reach_capacity;
     /* a search that found no pair within clear_reach (m) from the positions
      * clear_pos (nodes x 3) answers "no pair" while the nodes stay near
      * them (rod_self_contact_find); clear_reach 0: no such search */
@@ -191,9 +188,8 @@ int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margi
  * vbar_f)|: a pair whose start distance exceeds one diameter by that much
  * cannot touch. A straight stretch that swings or slides along itself
  * moves its nearby segments together, so it is not counted as it is by
- * rod_self_contact_near. More than SELF_CONTACT_REACH_PAIRS pairs within
- * the margin: their count, unfiltered (the caller splits the step). */
-#define SELF_CONTACT_REACH_PAIRS 1000000
+ * rod_self_contact_near (rod_proximity_reachable: runs of the rod whose
+ * velocities differ too little to close their gap are never enumerated). */
 int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const double *vbar,
                                double dt, double margin);
 

@@ -1,9 +1,10 @@
 /* proximity.h: closest approach between non-neighbouring segments of a rod's
  * centreline (self-contact and the starting-shape check). Segment
  * i joins node i to node i+1 of an open polygon of `nodes` points (nodes x 3,
- * m). A broad phase (a hashed uniform grid of cells as large as the longest
- * segment plus the threshold) keeps the search near linear in the nodes; the
- * narrow phase is the exact segment-segment distance. */
+ * m). A broad phase (a tree of bounding boxes over runs of consecutive
+ * segments, pairs of runs within skip of each other in the index never
+ * visited) keeps the search near linear in the nodes plus the pairs found;
+ * the narrow phase is the exact segment-segment distance. */
 #ifndef RODSIM_SIM_PROXIMITY_H
 #define RODSIM_SIM_PROXIMITY_H
 
@@ -19,7 +20,7 @@ typedef struct rod_segment_pair {
  * per call: a step loop may call it). Counters of the last call for benches. */
 typedef struct rod_proximity {
     int max_nodes;
-    void *entries;     /* (8 (max_nodes - 1)) grid entries */
+    void *entries;     /* the tree and its walk's scratch */
     long long narrow_tests;  /* segment pairs whose distance the last call computed */
 } rod_proximity;
 
@@ -40,6 +41,19 @@ int rod_proximity_skip(double diameter, double ds);
  * the scratch's max_nodes or an input is not finite. */
 int rod_proximity_pairs(rod_proximity *p, const double *points, int nodes, double threshold,
                         int skip, rod_segment_pair *pairs, int max_pairs);
+
+/* How many pairs i < j, j - i > skip, closer than threshold (m) in points
+ * could come closer than reach (m) over a step of dt (s) that moves each
+ * node by dt vel (vel: nodes x 3, m/s) along a straight line: those whose
+ * distance less the largest |dt (vel_e - vel_f)| over their four pairs of
+ * end nodes e, f is below reach (points of the two segments are convex
+ * combinations of their ends, so their distance falls by at most that).
+ * The tree's pairs of runs whose boxes' gap less the spread of their
+ * velocities over dt exceeds reach are never enumerated, so a rod moving
+ * fast with nothing near costs a walk over its own runs. Returns the
+ * count, or -1 as rod_proximity_pairs. */
+int rod_proximity_reachable(rod_proximity *p, const double *points, const double *vel,
+                            double dt, int nodes, double threshold, double reach, int skip);
 
 /* The closest pair i < j with j - i > skip into *closest. Returns 1, 0 when
  * no pair is that far apart in index (a short polygon), or -1 as above. */

@@ -60,6 +60,18 @@ typedef struct end_condition {
     double reaction_moment[3]; /* N m, global */
 } end_condition;
 
+/* Why a factorisation was made (implicit_work.builds_by): the first of the
+ * run; a step's start with none (after an attempt that failed and split, a
+ * retry, the band's width changed); a step's start on a factorisation the
+ * last step found stale, contact's part renewed or the whole; a step of
+ * another dt than the factorisation's; a step whose strands asked for a
+ * new B (PAIRS_SLOW_STEP); a slow iteration, contact's part or the whole;
+ * between steps (implicit_refresh) */
+enum {
+    BUILD_FIRST, BUILD_LOST, BUILD_STALE_CONTACT, BUILD_STALE_WHOLE, BUILD_DT, BUILD_PAIRS,
+    BUILD_SLOW_CONTACT, BUILD_SLOW_WHOLE, BUILD_BETWEEN, BUILD_WHY
+};
+
 typedef struct implicit_work {
     int nodes, blocks, unknowns;
     int first;         /* first node with an omega block: 0 when the root may turn, else 1 */
@@ -155,6 +167,7 @@ typedef struct implicit_work {
     double var_scale[3]; /* typical N (N), v (m/s), omega (rad/s) for FD steps */
     double jacobian_dt;  /* dt the factorisation was made for */
     long jacobian_builds; /* factorisations since create (rod_report.jacobian_builds) */
+    long builds_by[BUILD_WHY]; /* the same by why they were made (for benches) */
     long newton_total;    /* Newton iterations since create (rod_report.newton_total) */
     int start_valid;     /* frame0, d3mid0, moment0 hold the state at start_time */
     double *x_last;      /* (unknowns) solution of the last step, ending at start_time */

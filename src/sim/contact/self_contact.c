@@ -89,7 +89,6 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->last_share);
     free(sc->last_frac);
     free(sc->last_to);
-    free(sc->reach);
     free(sc->y);
     free(sc->s);
     free(sc->rhs);
@@ -146,23 +145,8 @@ static int pairs_grown(rod_self_contact *sc, const double *pos0, double threshol
 int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const double *vbar,
                                double dt, double margin)
 {
-    const int found = pairs_grown(sc, pos0, sc->diameter + margin, &sc->reach,
-                                  &sc->reach_capacity, SELF_CONTACT_REACH_PAIRS);
-    if (found < 0 || found > sc->reach_capacity) return found;
-    int count = 0;
-    for (int k = 0; k < found; k++) {
-        const int e[2] = {sc->reach[k].i, sc->reach[k].i + 1};
-        const int f[2] = {sc->reach[k].j, sc->reach[k].j + 1};
-        double rel = 0.0;
-        for (int x = 0; x < 2; x++)
-            for (int y = 0; y < 2; y++) {
-                double d[3];
-                v3_sub(d, &vbar[3 * e[x]], &vbar[3 * f[y]]);
-                rel = fmax(rel, dt * v3_norm(d));
-            }
-        count += sc->reach[k].distance - rel < sc->diameter;
-    }
-    return count;
+    return rod_proximity_reachable(sc->prox, pos0, vbar, dt, sc->nodes, sc->diameter + margin,
+                                   sc->diameter, sc->skip);
 }
 
 /* Whether every pair within `threshold` (m) at pos0 was within `reach` at

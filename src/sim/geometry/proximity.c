@@ -1,16 +1,28 @@
 /* proximity.c: non-neighbouring segment pairs closer than a threshold
  * (proximity.h).
  *
- * Broad phase: each segment's bounding box, grown by threshold / 2 on every
- * side, is entered in the cells of a uniform grid of side h = (longest
- * segment) + threshold that it touches (at most 2 per axis: 8 cells). Two
- * segments closer than the threshold have grown boxes that overlap (both hold
- * the midpoint of their closest points), so they share a cell; a pair is
- * examined only in the lowest cell of the boxes' overlap, so once. The cells
- * are hashed into a table twice as long as the entries (a bent rod fills few
- * cells of its bounding box) and the entries sorted into it by counting. The
- * work is linear in the nodes plus the pairs of segments sharing a cell,
- * which for a rod of bounded curvature and strands per cell is linear too. */
+ * Broad phase: a tree of bounding boxes over the rod's own order. The
+ * segments, in runs of LEAF, are the leaves; each node of the tree holds
+ * two neighbouring runs of the level below (a balanced binary tree over
+ * the index), and its box is the union of theirs. Each segment's box is
+ * grown by threshold / 2 on every side: two segments closer than the
+ * threshold have grown boxes that overlap (both hold the midpoint of their
+ * closest points), and so have the boxes of every node holding them. The
+ * pairs of nodes are walked from the root's pair with itself down: a pair
+ * of nodes is dropped when their boxes do not overlap, or when every
+ * segment of one lies within `skip` of every segment of the other in the
+ * index (all neighbours: a rod's stretch near itself in space because it
+ * is near itself in arc length is never enumerated); a pair of leaves
+ * tests its segments' boxes, then their exact distance. The rod's order is
+ * what makes the tree tight: consecutive segments lie together, so a run's
+ * box is about as large as the run, whatever its shape, and the work is
+ * about linear in the nodes plus the pairs found.
+ *
+ * The walk notes the pairs of leaves it meets; sorted by leaf, they give
+ * the segment pairs in (i, j) order (met_pairs), the same list, distances
+ * and closest points as any complete search. Segments piled in one place
+ * (a leaf meeting more than 32 others) are tested as the walk meets them
+ * and sorted after (sort_pairs). */
 #include "sim/geometry/proximity.h"
 
 #include <math.h>
@@ -18,19 +30,28 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define CELLS_PER_SEGMENT 8
+/* segments per leaf of the tree */
+#define LEAF 8
 
-typedef struct grid_entry {
-    int segment, cell[3];
-} grid_entry;
+/* A node of the tree: segments lo..hi (inclusive), its children (-1 at a
+ * leaf) and its box (min xyz, max xyz) */
+typedef struct tree_node {
+    int lo, hi, left, right;
+} tree_node;
 
 /* The scratch behind rod_proximity.entries. */
 typedef struct scratch {
-    grid_entry *entry, *sorted;  /* (8 segments) */
-    uint32_t *start;             /* (table + 1) first sorted entry of each bucket */
-    uint32_t table;              /* buckets, a power of 2 */
+    tree_node *node;             /* (nodes_max) leaves first, then each level, the root last */
+    double *node_box;            /* (nodes_max x 6) */
+    double *node_move;           /* (nodes_max x 6) box of the nodes' displacements (reach) */
+    int nodes_max, root;
+    int *stack;                  /* (2 stack_max) pairs of tree nodes still to walk */
+    int stack_max;
+    int *met, met_max, met_count; /* (2 met_max) the pairs of leaves the walk met (a <= b) */
+    int *met_start;              /* (leaves + 1) the first of leaf a's in met_sorted */
+    int *met_sorted;             /* (met_max) leaf b of each, by a then b */
+    int leaves;
     double *box;                 /* (segments x 6) grown bounding boxes: min xyz, max xyz */
-    int *low;                    /* (segments x 3) cell of each box's minimum */
     int *group, *next;           /* (segments + 1) sort_pairs' first pair of each segment i */
 } scratch;
 
@@ -38,11 +59,14 @@ typedef struct scratch {
 static void scratch_free(scratch *w)
 {
     if (!w) return;
-    free(w->entry);
-    free(w->sorted);
-    free(w->start);
+    free(w->node);
+    free(w->node_box);
+    free(w->node_move);
+    free(w->stack);
+    free(w->met);
+    free(w->met_start);
+    free(w->met_sorted);
     free(w->box);
-    free(w->low);
     free(w->group);
     free(w->next);
     free(w);
@@ -53,18 +77,31 @@ rod_proximity *rod_proximity_create(int max_nodes)
     if (max_nodes < 2 || max_nodes > (1 << 26)) return NULL;
     rod_proximity *p = calloc(1, sizeof *p);
     scratch *w = calloc(1, sizeof *w);
-    size_t segments = (size_t)max_nodes - 1, entries = CELLS_PER_SEGMENT * segments;
+    size_t segments = (size_t)max_nodes - 1;
     if (!p || !w) goto fail;
-    w->table = 1;
-    while (w->table < 2 * entries) w->table <<= 1;
-    w->entry = malloc(entries * sizeof *w->entry);
-    w->sorted = malloc(entries * sizeof *w->sorted);
-    w->start = malloc(((size_t)w->table + 1) * sizeof *w->start);
+    /* a tree over ceil(segments / LEAF) leaves: fewer than twice as many
+     * nodes, and as many levels as halvings; the walk's stack grows by at
+     * most 2 pairs per level it descends on either side */
+    int leaves = (int)((segments + LEAF - 1) / LEAF), depth = 1;
+    for (int k = leaves; k > 1; k = (k + 1) / 2) depth++;
+    w->nodes_max = 2 * leaves + depth;
+    w->stack_max = 4 * depth + 8;
+    w->node = malloc((size_t)w->nodes_max * sizeof *w->node);
+    w->node_box = malloc((size_t)w->nodes_max * 6 * sizeof *w->node_box);
+    w->node_move = malloc((size_t)w->nodes_max * 6 * sizeof *w->node_move);
+    w->stack = malloc((size_t)w->stack_max * 2 * sizeof *w->stack);
+    /* room for each leaf to meet 32 others: a run of 8 segments lies within
+     * the threshold of a handful in a knot; more, and the search sorts its
+     * pairs instead (search) */
+    w->met_max = 32 * leaves + 64;
+    w->met = malloc((size_t)w->met_max * 2 * sizeof *w->met);
+    w->met_start = malloc(((size_t)leaves + 1) * sizeof *w->met_start);
+    w->met_sorted = malloc((size_t)w->met_max * sizeof *w->met_sorted);
     w->box = malloc(segments * 6 * sizeof *w->box);
-    w->low = malloc(segments * 3 * sizeof *w->low);
     w->group = malloc((segments + 1) * sizeof *w->group);
     w->next = malloc((segments + 1) * sizeof *w->next);
-    if (!w->entry || !w->sorted || !w->start || !w->box || !w->low || !w->group || !w->next)
+    if (!w->node || !w->node_box || !w->node_move || !w->stack || !w->met || !w->met_start ||
+        !w->met_sorted || !w->box || !w->group || !w->next)
         goto fail;
     p->max_nodes = max_nodes;
     p->entries = w;
@@ -92,6 +129,11 @@ int rod_proximity_skip(double diameter, double ds)
 }
 
 static double clamp01(double x) { return x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x; }
+
+/* fmin and fmax for numbers known finite: inlined (the library's, which
+ * handle NaN, are calls: a tenth of a sparse search's time) */
+static inline double least(double a, double b) { return b < a ? b : a; }
+static inline double most(double a, double b) { return b > a ? b : a; }
 
 /* Distance from point q to segment a + u d (u in [0, 1]); *u the closest. */
 static double point_segment(const double q[3], const double a[3], const double d[3], double dd,
@@ -143,12 +185,6 @@ double rod_segment_distance(const double a0[3], const double a1[3], const double
     return best;
 }
 
-static uint32_t cell_hash(const int c[3], uint32_t mask)
-{
-    return ((uint32_t)c[0] * 73856093u ^ (uint32_t)c[1] * 19349663u ^ (uint32_t)c[2] * 83492791u) &
-           mask;
-}
-
 static int pair_order(const rod_segment_pair *a, const rod_segment_pair *b)
 {
     if (a->i != b->i) return a->i - b->i;
@@ -159,8 +195,7 @@ static int pair_order(const rod_segment_pair *a, const rod_segment_pair *b)
  * linear time: an American flag sort by i (each pair swapped into its
  * segment's group, whose bounds a count gave), then each group, a few
  * pairs, by j by insertion. The pairs are distinct (search meets each once),
- * so the order is the one qsort gave, at a third of its cost in a coil lying
- * on itself (246 pairs at NS = 201: the sort was a fifth of the search) */
+ * so the order is the one qsort gave, at a third of its cost */
 static void sort_pairs(scratch *w, rod_segment_pair *pairs, int count, int segments)
 {
     int *group = w->group, *next = w->next;
@@ -188,6 +223,260 @@ static void sort_pairs(scratch *w, rod_segment_pair *pairs, int count, int segme
         }
 }
 
+/* The tree over segments 0..segments-1 whose grown boxes are in w->box:
+ * the leaves (LEAF segments each, the last fewer) first, then each level's
+ * nodes over pairs of the level below (an odd one passed up alone). Sets
+ * w->root. */
+static void build_tree(scratch *w, int segments)
+{
+    int count = 0;
+    for (int lo = 0; lo < segments; lo += LEAF) {
+        tree_node *t = &w->node[count];
+        double *b = &w->node_box[6 * count];
+        t->lo = lo;
+        t->hi = lo + LEAF - 1 < segments - 1 ? lo + LEAF - 1 : segments - 1;
+        t->left = t->right = -1;
+        memcpy(b, &w->box[6 * lo], 6 * sizeof *b);
+        for (int i = lo + 1; i <= t->hi; i++)
+            for (int k = 0; k < 3; k++) {
+                b[k] = least(b[k], w->box[6 * i + k]);
+                b[3 + k] = most(b[3 + k], w->box[6 * i + 3 + k]);
+            }
+        count++;
+    }
+    w->leaves = count;
+    int first = 0, level = count; /* the level below: nodes first..first+level-1 */
+    while (level > 1) {
+        const int start = count;
+        for (int k = 0; k < level; k += 2) {
+            const int l = first + k, r = k + 1 < level ? first + k + 1 : -1;
+            if (r < 0) { /* passed up alone */
+                w->node[count] = w->node[l];
+                memcpy(&w->node_box[6 * count], &w->node_box[6 * l], 6 * sizeof(double));
+                count++;
+                continue;
+            }
+            tree_node *t = &w->node[count];
+            const double *bl = &w->node_box[6 * l], *br = &w->node_box[6 * r];
+            double *b = &w->node_box[6 * count];
+            t->lo = w->node[l].lo;
+            t->hi = w->node[r].hi;
+            t->left = l;
+            t->right = r;
+            for (int c = 0; c < 3; c++) {
+                b[c] = least(bl[c], br[c]);
+                b[3 + c] = most(bl[3 + c], br[3 + c]);
+            }
+            count++;
+        }
+        first = start;
+        level = count - start;
+    }
+    w->root = count - 1;
+}
+
+static int boxes_overlap(const double *a, const double *b)
+{
+    return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] &&
+           b[2] <= a[5];
+}
+
+/* What a walk over the tree looks for: the pairs of segments closer than
+ * threshold (search), or those that may come within reach over a step
+ * (rod_proximity_reachable) */
+typedef struct walk {
+    rod_proximity *p;
+    const double *points;  /* nodes x 3, m */
+    const double *move;    /* nodes x 3, m/s: each node's velocity (reachable), or NULL */
+    double dt, threshold, reach; /* s, m, m */
+    int skip;
+    rod_segment_pair *pairs, *best;
+    int max_pairs, count;
+    int collect;           /* 1: the pairs of leaves met go to w->met (leaf_pairs later) */
+    int overflow;          /* 1: more than w->met_max of them */
+} walk;
+
+/* Whether the pair of tree nodes a, b (a's segments before b's, or a ==
+ * b) may hold a pair the walk looks for */
+static int nodes_may_hold(const walk *k, const scratch *w, int a, int b)
+{
+    const tree_node *ta = &w->node[a], *tb = &w->node[b];
+    if (tb->hi - ta->lo <= k->skip) return 0; /* every pair a neighbour */
+    if (!boxes_overlap(&w->node_box[6 * a], &w->node_box[6 * b])) return 0;
+    if (!k->move || a == b) return 1;
+    /* reachable: the boxes (grown by threshold / 2 each) are at least gap
+     * apart less the growth, and no two nodes' displacements differ by
+     * more than the farthest corners of the two displacement boxes: a pair
+     * whose distance less that cannot fall below reach is dropped (with a
+     * margin for the rounding of both bounds) */
+    const double *ba = &w->node_box[6 * a], *bb = &w->node_box[6 * b];
+    const double *ma = &w->node_move[6 * a], *mb = &w->node_move[6 * b];
+    double gap2 = 0.0, rel2 = 0.0;
+    for (int c = 0; c < 3; c++) {
+        const double g = most(0.0, most(ba[c] - bb[3 + c], bb[c] - ba[3 + c]) + k->threshold);
+        const double r = k->dt * most(ma[3 + c] - mb[c], mb[3 + c] - ma[c]);
+        gap2 += g * g;
+        rel2 += r * r;
+    }
+    /* g above is the boxes' own gap on the axis: each was grown by
+     * threshold / 2 */
+    return sqrt(gap2) - sqrt(rel2) <= k->reach * (1.0 + 1e-9) + 1e-12 * (sqrt(gap2) + sqrt(rel2));
+}
+
+/* Segments i < j (j - i > skip): a pair the walk looks for is counted
+ * (written, the closest kept) */
+static void pair_test(walk *k, const scratch *w, int i, int j)
+{
+    const double *bi = &w->box[6 * i], *bj = &w->box[6 * j];
+    if (!boxes_overlap(bi, bj)) return;
+    const double *pt = k->points;
+    double rel = 0.0;
+    if (k->move) {
+        /* rod_self_contact_reachable's test: the distance less the largest
+         * relative displacement of the four node pairs; the segments' own
+         * boxes' gap (grown by threshold / 2 each) bounds the distance from
+         * below, and a pair whose gap less rel stays above reach (with a
+         * margin for rounding) is not measured */
+        const int e[2] = {i, i + 1}, f[2] = {j, j + 1};
+        for (int x = 0; x < 2; x++)
+            for (int y = 0; y < 2; y++) {
+                const double *u = &k->move[3 * e[x]], *v = &k->move[3 * f[y]];
+                const double dd[3] = {u[0] - v[0], u[1] - v[1], u[2] - v[2]};
+                rel = most(rel, k->dt * sqrt(dd[0] * dd[0] + dd[1] * dd[1] + dd[2] * dd[2]));
+            }
+        double gap2 = 0.0;
+        for (int c = 0; c < 3; c++) {
+            const double g = most(0.0, most(bi[c] - bj[3 + c], bj[c] - bi[3 + c]) + k->threshold);
+            gap2 += g * g;
+        }
+        const double gap = sqrt(gap2);
+        if (gap - rel > k->reach * (1.0 + 1e-9) + 1e-12 * (gap + rel)) return;
+    }
+    k->p->narrow_tests++;
+    double s, t;
+    const double d = rod_segment_distance(&pt[3 * i], &pt[3 * i + 3], &pt[3 * j], &pt[3 * j + 3],
+                                          &s, &t);
+    if (!(d < k->threshold)) return;
+    if (k->move) {
+        k->count += d - rel < k->reach;
+        return;
+    }
+    const rod_segment_pair found = {i, j, s, t, d};
+    if (k->count < k->max_pairs) k->pairs[k->count] = found;
+    k->count++;
+    if (k->best &&
+        (d < k->best->distance || (d == k->best->distance && pair_order(&found, k->best) < 0)))
+        *k->best = found;
+}
+
+/* The pairs of segments i in leaf a, j in leaf b (j - i > skip), or, when
+ * the walk collects, the pair of leaves noted for later */
+static void leaf_pairs(walk *k, scratch *w, int a, int b)
+{
+    if (k->collect) {
+        if (w->met_count < w->met_max) { /* by leaf: a leaf passed up alone has a copy */
+            w->met[2 * w->met_count] = w->node[a].lo / LEAF;
+            w->met[2 * w->met_count + 1] = w->node[b].lo / LEAF;
+            w->met_count++;
+        } else {
+            k->overflow = 1;
+        }
+        return;
+    }
+    const tree_node *ta = &w->node[a], *tb = &w->node[b];
+    for (int i = ta->lo; i <= ta->hi; i++)
+        for (int j = tb->lo > i + k->skip + 1 ? tb->lo : i + k->skip + 1; j <= tb->hi; j++)
+            pair_test(k, w, i, j);
+}
+
+/* The pairs of segments of the pairs of leaves the walk met, in (i, j)
+ * order: the leaves met sorted by a, then b (counting, then insertion:
+ * a few per leaf), and for each leaf a, each of its segments i against
+ * the segments of each leaf b in turn */
+static void met_pairs(walk *k, scratch *w)
+{
+    int *start = w->met_start, *sorted = w->met_sorted;
+    memset(start, 0, ((size_t)w->leaves + 1) * sizeof *start);
+    for (int m = 0; m < w->met_count; m++) start[w->met[2 * m] + 1]++;
+    for (int a = 0; a < w->leaves; a++) start[a + 1] += start[a];
+    for (int m = 0; m < w->met_count; m++) sorted[start[w->met[2 * m]]++] = w->met[2 * m + 1];
+    /* start[a] now ends a's run: shift back, then order each run by b */
+    for (int a = w->leaves; a > 0; a--) start[a] = start[a - 1];
+    start[0] = 0;
+    for (int a = 0; a < w->leaves; a++)
+        for (int x = start[a] + 1; x < start[a + 1]; x++) {
+            const int b = sorted[x];
+            int y = x;
+            for (; y > start[a] && sorted[y - 1] > b; y--) sorted[y] = sorted[y - 1];
+            sorted[y] = b;
+        }
+    for (int a = 0; a < w->leaves; a++) {
+        if (start[a] == start[a + 1]) continue;
+        const tree_node *ta = &w->node[a];
+        for (int i = ta->lo; i <= ta->hi; i++)
+            for (int x = start[a]; x < start[a + 1]; x++) {
+                const tree_node *tb = &w->node[sorted[x]];
+                for (int j = tb->lo > i + k->skip + 1 ? tb->lo : i + k->skip + 1; j <= tb->hi; j++)
+                    pair_test(k, w, i, j);
+            }
+    }
+}
+
+/* Walks the pairs of tree nodes from (root, root) down, depth first */
+static void walk_tree(walk *k, scratch *w)
+{
+    w->met_count = 0;
+    int top = 0;
+    w->stack[0] = w->stack[1] = w->root;
+    top = 1;
+    while (top > 0) {
+        top--;
+        const int a = w->stack[2 * top], b = w->stack[2 * top + 1];
+        if (!nodes_may_hold(k, w, a, b)) continue;
+        const tree_node *ta = &w->node[a], *tb = &w->node[b];
+        int *push = &w->stack[2 * top];
+        if (a == b) {
+            if (ta->left < 0) {
+                leaf_pairs(k, w, a, a);
+                continue;
+            }
+            const int l = ta->left, r = ta->right;
+            push[0] = l, push[1] = l, push[2] = r, push[3] = r, push[4] = l, push[5] = r;
+            top += 3;
+            continue;
+        }
+        if (ta->left < 0 && tb->left < 0) {
+            leaf_pairs(k, w, a, b);
+            continue;
+        }
+        /* split the wider of the two (a leaf never) */
+        if (tb->left < 0 || (ta->left >= 0 && ta->hi - ta->lo > tb->hi - tb->lo)) {
+            push[0] = ta->left, push[1] = b, push[2] = ta->right, push[3] = b;
+        } else {
+            push[0] = a, push[1] = tb->left, push[2] = a, push[3] = tb->right;
+        }
+        top += 2;
+    }
+}
+
+/* The segments' boxes grown by grow on every side into w->box, and the
+ * tree over them; -1 when a point is not finite */
+static int prepare(scratch *w, const double *points, int nodes, double grow)
+{
+    for (int i = 0; i < 3 * nodes; i++)
+        if (!isfinite(points[i])) return -1;
+    for (int i = 0; i + 1 < nodes; i++) {
+        const double *a = &points[3 * i], *b = &points[3 * i + 3];
+        double *box = &w->box[6 * i];
+        for (int k = 0; k < 3; k++) {
+            box[k] = least(a[k], b[k]) - grow;
+            box[3 + k] = most(a[k], b[k]) + grow;
+        }
+    }
+    build_tree(w, nodes - 1);
+    return 0;
+}
+
 /* The pairs closer than threshold: written into pairs (up to max_pairs) and
  * the closest into *best (when not NULL). Returns the count, or -1. */
 static int search(rod_proximity *p, const double *points, int nodes, double threshold, int skip,
@@ -199,88 +488,61 @@ static int search(rod_proximity *p, const double *points, int nodes, double thre
     int segments = nodes - 1;
     if (segments < 1) return 0;
     scratch *w = p->entries;
-    double longest = 0.0, origin[3];
-    memcpy(origin, points, sizeof origin);
-    for (int i = 0; i < nodes; i++)
-        for (int k = 0; k < 3; k++) {
-            if (!isfinite(points[3 * i + k])) return -1;
-            origin[k] = fmin(origin[k], points[3 * i + k]);
-        }
-    for (int i = 0; i < segments; i++) {
-        const double *a = &points[3 * i], *b = &points[3 * i + 3];
-        double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-        longest = fmax(longest, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
-    }
-    /* a box spans at most (longest + threshold) < h: 2 cells per axis */
-    double h = (longest + threshold) * (1.0 + 1e-9), grow = threshold / 2.0;
-    uint32_t mask = w->table - 1;
-    memset(w->start, 0, ((size_t)w->table + 1) * sizeof *w->start);
-    int entries = 0;
-    for (int i = 0; i < segments; i++) {
-        const double *a = &points[3 * i], *b = &points[3 * i + 3];
-        double *box = &w->box[6 * i];
-        int hi[3];
-        for (int k = 0; k < 3; k++) {
-            box[k] = fmin(a[k], b[k]) - grow;
-            box[3 + k] = fmax(a[k], b[k]) + grow;
-            w->low[3 * i + k] = (int)floor((box[k] - origin[k]) / h);
-            hi[k] = (int)floor((box[3 + k] - origin[k]) / h);
-            if (hi[k] > w->low[3 * i + k] + 1) hi[k] = w->low[3 * i + k] + 1;
-        }
-        int c[3];
-        for (c[0] = w->low[3 * i]; c[0] <= hi[0]; c[0]++)
-            for (c[1] = w->low[3 * i + 1]; c[1] <= hi[1]; c[1]++)
-                for (c[2] = w->low[3 * i + 2]; c[2] <= hi[2]; c[2]++) {
-                    grid_entry *g = &w->entry[entries++];
-                    g->segment = i;
-                    memcpy(g->cell, c, sizeof c);
-                    w->start[cell_hash(c, mask) + 1]++;
-                }
-    }
-    for (uint32_t b = 0; b < w->table; b++) w->start[b + 1] += w->start[b];
-    /* counting sort, stable: each bucket's entries in segment order */
-    for (int e = 0; e < entries; e++) {
-        uint32_t bucket = cell_hash(w->entry[e].cell, mask);
-        w->sorted[w->start[bucket]++] = w->entry[e];
-    }
-    for (uint32_t b = w->table; b > 0; b--) w->start[b] = w->start[b - 1];
-    w->start[0] = 0;
-    int count = 0;
+    if (prepare(w, points, nodes, threshold / 2.0)) return -1;
     if (best) best->distance = INFINITY;
-    for (uint32_t b = 0; b < w->table; b++) {
-        for (uint32_t x = w->start[b]; x < w->start[b + 1]; x++) {
-            const grid_entry *gx = &w->sorted[x];
-            for (uint32_t y = x + 1; y < w->start[b + 1]; y++) {
-                const grid_entry *gy = &w->sorted[y];
-                int i = gx->segment, j = gy->segment;  /* i < j: sorted by segment */
-                if (j - i <= skip) continue;
-                if (memcmp(gx->cell, gy->cell, sizeof gx->cell) != 0) continue;
-                const double *bi = &w->box[6 * i], *bj = &w->box[6 * j];
-                int overlap = 1, first = 1;
-                for (int k = 0; k < 3; k++) {
-                    overlap = overlap && bi[k] <= bj[3 + k] && bj[k] <= bi[3 + k];
-                    int lowest = w->low[3 * i + k] > w->low[3 * j + k] ? w->low[3 * i + k]
-                                                                       : w->low[3 * j + k];
-                    first = first && gx->cell[k] == lowest;
-                }
-                if (!overlap || !first) continue;
-                p->narrow_tests++;
-                double s, t;
-                double d = rod_segment_distance(&points[3 * i], &points[3 * i + 3],
-                                                &points[3 * j], &points[3 * j + 3], &s, &t);
-                if (!(d < threshold)) continue;
-                rod_segment_pair found = {i, j, s, t, d};
-                if (count < max_pairs) pairs[count] = found;
-                count++;
-                if (best && (d < best->distance ||
-                             (d == best->distance && pair_order(&found, best) < 0)))
-                    *best = found;
-            }
-        }
+    /* the pairs of leaves first, then their segments' pairs in order; a
+     * walk meeting more pairs of leaves than noted (segments piled in one
+     * place) tests them as it meets them and sorts what it found */
+    walk k = {p, points, NULL, 0.0, threshold, 0.0, skip, pairs, best, max_pairs, 0, 1, 0};
+    walk_tree(&k, w);
+    if (!k.overflow) {
+        met_pairs(&k, w);
+        return k.count;
     }
-    int written = count < max_pairs ? count : max_pairs;
+    k.collect = 0;
+    walk_tree(&k, w);
+    int written = k.count < max_pairs ? k.count : max_pairs;
     if (written > 1) sort_pairs(w, pairs, written, segments);
-    return count;
+    return k.count;
+}
+
+int rod_proximity_reachable(rod_proximity *p, const double *points, const double *vel,
+                            double dt, int nodes, double threshold, double reach, int skip)
+{
+    p->narrow_tests = 0;
+    if (!points || !vel || nodes > p->max_nodes || !(threshold > 0.0) || !isfinite(threshold) ||
+        !(dt >= 0.0) || !isfinite(dt))
+        return -1;
+    if (skip < 1) skip = 1;
+    if (nodes < 2) return 0;
+    scratch *w = p->entries;
+    for (int i = 0; i < 3 * nodes; i++)
+        if (!isfinite(vel[i])) return -1;
+    if (prepare(w, points, nodes, threshold / 2.0)) return -1;
+    /* each tree node's box of its nodes' velocities (its segments' ends):
+     * a leaf's from the nodes, the others' from their children (built
+     * before them) */
+    for (int n = 0; n <= w->root; n++) {
+        double *m = &w->node_move[6 * n];
+        const tree_node *t = &w->node[n];
+        if (t->left >= 0) {
+            const double *l = &w->node_move[6 * t->left], *r = &w->node_move[6 * t->right];
+            for (int c = 0; c < 3; c++) {
+                m[c] = least(l[c], r[c]);
+                m[3 + c] = most(l[3 + c], r[3 + c]);
+            }
+            continue;
+        }
+        for (int c = 0; c < 3; c++) m[c] = m[3 + c] = vel[3 * t->lo + c];
+        for (int i = t->lo + 1; i <= t->hi + 1; i++)
+            for (int c = 0; c < 3; c++) {
+                m[c] = least(m[c], vel[3 * i + c]);
+                m[3 + c] = most(m[3 + c], vel[3 * i + c]);
+            }
+    }
+    walk k = {p, points, vel, dt, threshold, reach, skip, NULL, NULL, 0, 0, 0, 0};
+    walk_tree(&k, w);
+    return k.count;
 }
 
 int rod_proximity_pairs(rod_proximity *p, const double *points, int nodes, double threshold,

@@ -128,16 +128,25 @@ typedef struct newton_progress {
  * (PAIRS_SLOW_STEP). Returns 0, or -1 when the matrix is singular. */
 static int start_factorisation(implicit_work *w, const rod_model *m, double t, double dt)
 {
+    const long before = w->jacobian_builds;
+    int why = BUILD_WHY;
     if (w->stale_start && w->has_contact && !w->contact_fd && !w->fd_only &&
         w->smooth_kl == w->lu.kl && implicit_same_dt(w->smooth_dt, dt) &&
         w->smooth_renewals < CONTACT_START_REFRESHES) {
+        why = BUILD_STALE_CONTACT;
         if (implicit_refresh_contact_jacobian(w, m, t, dt)) return -1;
         w->smooth_renewals++;
         w->stale = 0;
     } else if (!w->have_factor || !implicit_same_dt(w->jacobian_dt, dt) ||
                (w->renew_pairs && w->self && w->self->count)) {
+        why = w->stale_start          ? BUILD_STALE_WHOLE
+              : w->jacobian_builds == 0 ? BUILD_FIRST
+              : !w->have_factor       ? BUILD_LOST
+              : !implicit_same_dt(w->jacobian_dt, dt) ? BUILD_DT
+                                                    : BUILD_PAIRS;
         if (implicit_factor_jacobian(w, m, t, dt)) return -1;
     }
+    if (why < BUILD_WHY) w->builds_by[why] += w->jacobian_builds - before;
     w->renew_pairs = 0;
     w->stale_start = 0;
     return 0;
@@ -202,13 +211,16 @@ static int renew_if_slow(implicit_work *w, const rod_model *m, double t, double 
     /* slow, and not merely at the round-off floor near the tolerance */
     if (next > slow * norm && next > 10.0 * tol && !pairs_alone &&
         (!pr->fresh || w->has_contact || (self_touch && pr->rebuilt < 2))) {
+        const long before = w->jacobian_builds;
         if (w->has_contact && !w->contact_fd && (!pr->contact_fresh || pr->rebuilt >= 2)) {
             if (implicit_refresh_contact_jacobian(w, m, t, dt)) return -1;
             pr->contact_fresh = 1;
+            w->builds_by[BUILD_SLOW_CONTACT] += w->jacobian_builds - before;
         } else {
             if (implicit_factor_jacobian(w, m, t, dt)) return -1;
             pr->fresh = 1;
             pr->rebuilt++;
+            w->builds_by[BUILD_SLOW_WHOLE] += w->jacobian_builds - before;
         }
     } else {
         pr->contact_fresh = 0;

@@ -370,7 +370,9 @@ int implicit_refresh(implicit_work *w, const rod_model *m, const rod_state *s, d
     w->self = NULL;
     int continuing;
     int rc = implicit_prepare_step(w, m, s, dt, &report, 0, &continuing);
+    const long before = w->jacobian_builds;
     if (rc == 0) rc = implicit_factor_jacobian(w, m, s->time, dt);
+    w->builds_by[BUILD_BETWEEN] += w->jacobian_builds - before;
     w->self = self;
     if (self) rod_self_contact_invalidate(self); /* its B^-1 V was for the old band */
     w->start_valid = 1; /* s as the last step left it: the next step continues from it */
