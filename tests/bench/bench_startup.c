@@ -8,15 +8,22 @@
  * CSV: scenes/suture.ini --no-video without and with --csv to a scratch
  * file, run in pairs (one after the other, so a slower spell of the shared
  * machine hits both), BENCH_CSV_PAIRS (3) pairs: the median CPU of each and
- * the median of the pairs' ratios. */
+ * the median of the pairs' ratios. Then the cost of one number's text: 10^6
+ * doubles of a simulation's sizes (1e-9 to 1 m, random mantissa) by
+ * printf's %.10g and %.17g and by dtoa_shortest, the CSV's. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <time.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "base/dtoa.h"
+
 #define TINY "/tmp/rodsim_bench_startup.ini"
+#define NUMBERS 1000000
 
 /* CPU seconds (user + sys) of RODSIM_BIN with args; -1 when it failed. */
 static double child_cpu(const char *const *args)
@@ -40,6 +47,45 @@ static double child_cpu(const char *const *args)
         return -1.0;
     return (double)use.ru_utime.tv_sec + 1e-6 * (double)use.ru_utime.tv_usec +
            (double)use.ru_stime.tv_sec + 1e-6 * (double)use.ru_stime.tv_usec;
+}
+
+static double process_cpu(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ns per number of %.10g, %.17g and dtoa_shortest over the same values. */
+static void number_rows(void)
+{
+    double *value = malloc(NUMBERS * sizeof *value);
+    if (!value) return;
+    unsigned long long state = 0x9E3779B97F4A7C15ull;
+    for (int i = 0; i < NUMBERS; i++) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        double mantissa = 1.0 + (double)(state >> 11) * 0x1p-53;
+        value[i] = mantissa * pow(10.0, -9.0 + 9.0 * (double)(i % 997) / 997.0);
+        if (state >> 63) value[i] = -value[i];
+    }
+    char text[64];
+    long chars[3] = {0, 0, 0};
+    double t0 = process_cpu();
+    for (int i = 0; i < NUMBERS; i++) chars[0] += snprintf(text, sizeof text, "%.10g", value[i]);
+    double t1 = process_cpu();
+    for (int i = 0; i < NUMBERS; i++) chars[1] += snprintf(text, sizeof text, "%.17g", value[i]);
+    double t2 = process_cpu();
+    for (int i = 0; i < NUMBERS; i++) chars[2] += dtoa_shortest(text, value[i]);
+    double t3 = process_cpu();
+    printf("one number's text, %d doubles of 1e-9 to 1 (signed)\n", NUMBERS);
+    printf("%-34s %10s %10s\n", "formatter", "ns each", "chars each");
+    printf("%-34s %10.1f %10.2f\n", "printf %.10g (10 digits)", 1e9 * (t1 - t0) / NUMBERS,
+           (double)chars[0] / NUMBERS);
+    printf("%-34s %10.1f %10.2f\n", "printf %.17g (round trip)", 1e9 * (t2 - t1) / NUMBERS,
+           (double)chars[1] / NUMBERS);
+    printf("%-34s %10.1f %10.2f\n", "dtoa_shortest (round trip, CSV)", 1e9 * (t3 - t2) / NUMBERS,
+           (double)chars[2] / NUMBERS);
+    free(value);
 }
 
 static int compare(const void *a, const void *b)
@@ -129,5 +175,6 @@ int main(void)
     double ma = median(a, pairs), mb = median(b, pairs), mr = median(ratio, pairs);
     printf("median: %.3f s without, %.3f s with --csv (%.1f MB): ratio %.3fx, the CSV %.3f s\n",
            ma, mb, 1e-6 * (double)bytes, mr, mb - ma);
+    number_rows();
     return 0;
 }
