@@ -1,23 +1,32 @@
 # rodsim: plain Makefile. `make demo` and `make test` are the README's two commands;
-# both first install any missing Debian package (see `make deps`).
+# each first installs the missing Debian packages it needs (DEBS_DEMO, + DEBS_TEST).
 
 CC      ?= cc
 # Headers of every package; the binary links only LINK_PKGS: EGL, OSMesa and
 # libav* are opened at run time when something is drawn (gl_context.c,
 # video.c; ~40 ms of every start otherwise). TEST_PKGS: tests that decode video.
-PKGS    := egl osmesa libpng freetype2 libavcodec libavformat libswscale libavutil lapacke
-LINK_PKGS := libpng freetype2 lapacke
+PKGS    := egl osmesa libpng freetype2 fontconfig libavcodec libavformat libswscale libavutil lapacke
+LINK_PKGS := libpng freetype2 fontconfig lapacke
 TEST_PKGS := libavcodec libavformat libswscale libavutil
+# Debian packages, by the target that needs them (README: "Dependencies and
+# why each is there"; tests/cli/test_deps.c checks the two agree).
+# DEBS_DEMO: building and rendering (make, make demo, make figures, make bench).
+# libegl-dev (EGL headers, glvnd's libEGL.so.1), libegl-mesa0 (Mesa's EGL
+# driver) and libgl1-mesa-dri (its llvmpipe, swrast_dri.so): the EGL backend;
+# libosmesa6-dev: the OSMesa one; libfontconfig-dev: finds DejaVu Sans.
+DEBS_DEMO := build-essential pkg-config libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev \
+           libpng-dev libfreetype-dev libfontconfig-dev fonts-dejavu-core libavcodec-dev \
+           libavformat-dev libswscale-dev libavutil-dev liblapacke-dev liblapack-dev libblas-dev
+# DEBS_TEST: what make test adds. clang, libclang-rt-dev: the fuzz run;
 # libxml2-utils (xmllint), parallel (GNU parallel), snakemake and slurm-wlm:
 # tests/cli/test_sweep.c parses the sweep's SVG, runs its --print-commands lines under GNU
 # parallel, its --snakefile under Snakemake and its --sbatch array under a one-node Slurm
-# it starts (slurmctld + slurmd, as root). libegl-dev (EGL
-# headers, glvnd's libEGL.so.1), libegl-mesa0 (Mesa's EGL driver) and libgl1-mesa-dri
-# (its llvmpipe, swrast_dri.so): the EGL backend; libosmesa6-dev: the OSMesa one.
-DEBS    := build-essential pkg-config libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev \
-           libpng-dev libfreetype-dev fonts-dejavu-core libavcodec-dev libavformat-dev \
-           libswscale-dev libavutil-dev liblapacke-dev liblapack-dev libblas-dev clang \
-           libclang-rt-dev libxml2-utils parallel snakemake slurm-wlm
+# it starts (slurmctld + slurmd, as root). python3 and the rest: python/rodsim, its
+# tests (tests/python), the examples' plots, `pip install ./python` offline in a venv,
+# make bench's bench_api (make bench installs this list too).
+DEBS_TEST := clang libclang-rt-dev libxml2-utils parallel snakemake slurm-wlm python3 \
+           python3-numpy python3-pytest python3-matplotlib python3-setuptools python3-pip \
+           python3-venv
 WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes
 CFLAGS  ?= -O3 -g
 # -fPIC: one set of objects makes both the program (librodsim.a) and the
@@ -30,12 +39,6 @@ ALL_CFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(PIC) $(CFLAGS) $(EXTRA_CFLAGS)
 LDLIBS  = $(shell pkg-config --libs $(LINK_PKGS) 2>/dev/null) -llapack -lblas -ldl -lpthread -lm
 TEST_LDLIBS = $(shell pkg-config --libs $(TEST_PKGS) 2>/dev/null)
 LDFLAGS ?=
-
-# Python (python/rodsim, tests/python, make bench's bench_api): the package,
-# its tests and examples' plots, `pip install ./python` offline in a venv;
-# apart from DEBS: `make test` and `make bench` install both lists.
-PY_DEBS := python3 python3-numpy python3-pytest python3-matplotlib python3-setuptools \
-           python3-pip python3-venv
 
 # The shared library: librodsim.so.MAJOR.MINOR, soname librodsim.so.MAJOR
 # (MAJOR, MINOR: include/rodsim.h's RODSIM_API_VERSION_*).
@@ -61,7 +64,7 @@ TEST_BIN:= $(patsubst tests/%.c,$(BUILD)/tests/%,$(TESTS))
 BENCHES := $(wildcard tests/bench/bench_*.c)
 BENCH_BIN := $(patsubst tests/%.c,$(BUILD)/tests/%,$(BENCHES))
 
-.PHONY: all deps pydeps lib rodsim tests test test-release test-asan fuzz fuzzers demo bench figures readme install clean
+.PHONY: all deps deps-demo deps-test lib rodsim tests test test-release test-asan fuzz fuzzers demo bench figures readme install clean
 .DEFAULT_GOAL := all
 
 all: rodsim lib
@@ -121,20 +124,18 @@ tests: $(TEST_BIN)
 # The example client of rodsim live (not a test): test_live runs it.
 $(BUILD)/tests/cli/test_live: $(BUILD)/tests/live_driver
 
-# Installs the Debian packages that are missing (root, or sudo when not root).
-deps:
-	@missing=""; for p in $(DEBS); do \
-	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
-	done; \
-	if [ -n "$$missing" ]; then \
-	  echo "rodsim: installing missing Debian packages:$$missing"; \
-	  if [ "$$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi; \
-	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing >/dev/null \
-	    || { echo "rodsim: apt-get install failed for:$$missing" >&2; exit 1; }; \
-	fi
+# Install the Debian packages that are missing (root, or sudo when not root);
+# when they cannot be installed, one line names each missing package.
+deps-demo:
+	@sh tests/deps.sh demo $(DEBS_DEMO)
+
+deps-test:
+	@sh tests/deps.sh test $(DEBS_DEMO) $(DEBS_TEST)
+
+deps: deps-test
 
 # The README's test command: every test, in the release build and under ASan+UBSan.
-test: deps pydeps
+test: deps-test
 	@sh tests/run_all.sh
 
 test-release:
@@ -148,7 +149,7 @@ test-asan:
 # Fuzzing (make test runs it): each parser's libFuzzer harness, tests/fuzz/fuzz_NAME.c,
 # runs FUZZ_SECONDS on a copy of tests/fuzz/corpus/NAME/ under ASan + UBSan. The
 # library is built with clang into build/fuzz (coverage for libFuzzer); clang and its
-# libFuzzer come from the Debian packages clang and libclang-rt-dev (DEBS).
+# libFuzzer come from the Debian packages clang and libclang-rt-dev (DEBS_TEST).
 FUZZ_SECONDS ?= 30
 FUZZ_CFLAGS := -O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer \
                -fno-sanitize-recover=undefined
@@ -166,23 +167,19 @@ build/fuzz/bin/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz.h build/fuzz/librodsi
 fuzz: fuzzers
 	@sh tests/fuzz/run_fuzz.sh build/fuzz $(FUZZ_SECONDS)
 
-bench: deps pydeps
+bench: deps-test
 	@$(MAKE) --no-print-directory BUILD=build/release rodsim lib $(patsubst tests/%.c,build/release/tests/%,$(BENCHES))
 	@for b in $(patsubst tests/%.c,build/release/tests/%,$(BENCHES)); do $$b || exit 1; done
 
-demo: deps
+demo: deps-demo
 	@$(MAKE) --no-print-directory BUILD=build/release rodsim
 	@sh tests/demo.sh
 
 # The thesis' figures into out/figures/, every point of every figure in parallel
 # (one process per point, as many at once as there are cores).
-figures: deps
+figures: deps-demo
 	@$(MAKE) --no-print-directory BUILD=build/release rodsim
 	./rodsim figure all --out out/figures
-
-# The Python packages (PY_DEBS): deps with that list.
-pydeps:
-	@$(MAKE) --no-print-directory deps DEBS="$(PY_DEBS)"
 
 # Rewrites the README's generated blocks (command reference, scene keys) from
 # the program's own output; tests/cli/test_readme.c fails when they differ.

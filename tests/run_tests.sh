@@ -63,7 +63,7 @@ done <"$logs/list"
 rm -rf "$logs"
 # The Python package (tests/python) on this build's librodsim.so, in the
 # release flavour only (a sanitized library cannot be loaded into python3).
-# Debian's python3 (python3-pytest, python3-numpy: PY_DEBS); its summary
+# Debian's python3 (python3-pytest, python3-numpy: the Makefile's DEBS_TEST); its summary
 # line ("N passed, M failed in S s") is counted like a binary's.
 python=${RODSIM_PYTHON:-/usr/bin/python3}
 if [ "$flavour" = release ] && [ -e "$build/librodsim.so" ]; then

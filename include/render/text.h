@@ -1,5 +1,6 @@
 /* text.h: overlay text drawn on the CPU into an image (after GL read-back),
- * antialiased, with FreeType and DejaVu Sans (Debian fonts-dejavu-core,
+ * antialiased, with FreeType and DejaVu Sans (Debian fonts-dejavu-core),
+ * whose file fontconfig finds (on Debian
  * /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf).
  *
  * Coordinates are image pixels, y down. Printable ASCII is rendered once at
@@ -12,6 +13,11 @@
 #include "render/image.h"
 
 typedef struct text_font text_font;
+
+/* The DejaVu Sans (regular) file fontconfig finds, looked up once per
+ * process; NULL with a message naming the Debian package to install when
+ * fontconfig has no DejaVu Sans. Owned by this module. */
+const char *text_font_file(char *err, size_t errlen);
 
 /* Loads DejaVu Sans at pixel_height (pixels per em). NULL with a message. */
 text_font *text_font_load(int pixel_height, char *err, size_t errlen);

@@ -1,13 +1,15 @@
 /* text.c: FreeType text into an image (see text.h). */
 #include "render/text.h"
 
+#include <fontconfig/fontconfig.h>
 #include <ft2build.h>
 #include FT_FREETYPE_H
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define TEXT_FONT_PATH "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
+#define TEXT_FONT_FAMILY "DejaVu Sans"
 #define TEXT_CACHE_FIRST 32
 #define TEXT_CACHE_LAST 126
 
@@ -66,6 +68,53 @@ static int render_slot(text_font *f, unsigned code, glyph *g)
     return 0;
 }
 
+/* The font's file, looked up once per process (plots load five sizes). */
+static pthread_once_t font_once = PTHREAD_ONCE_INIT;
+static char font_file[4096]; /* "" when not found */
+static int font_index;       /* the face in the file */
+static char font_error[512];
+
+/* Asks fontconfig for DejaVu Sans (regular); fontconfig answers its nearest
+ * font when the family is missing, so the family it names is checked. */
+static void find_font(void)
+{
+    FcConfig *config = FcInitLoadConfigAndFonts();
+    FcPattern *pattern = FcNameParse((const FcChar8 *)TEXT_FONT_FAMILY);
+    FcPattern *match = NULL;
+    if (config && pattern && FcConfigSubstitute(config, pattern, FcMatchPattern)) {
+        FcDefaultSubstitute(pattern);
+        FcResult result;
+        match = FcFontMatch(config, pattern, &result);
+    }
+    FcChar8 *family = NULL, *file = NULL;
+    if (match && FcPatternGetString(match, FC_FAMILY, 0, &family) == FcResultMatch &&
+        strcmp((const char *)family, TEXT_FONT_FAMILY) == 0 &&
+        FcPatternGetString(match, FC_FILE, 0, &file) == FcResultMatch &&
+        strlen((const char *)file) < sizeof font_file) {
+        snprintf(font_file, sizeof font_file, "%s", (const char *)file);
+        if (FcPatternGetInteger(match, FC_INDEX, 0, &font_index) != FcResultMatch) font_index = 0;
+    } else {
+        snprintf(font_error, sizeof font_error,
+                 "text: fontconfig finds no %s font%s%s%s (install the Debian package "
+                 "fonts-dejavu-core)",
+                 TEXT_FONT_FAMILY, family ? " (its nearest is " : "",
+                 family ? (const char *)family : "", family ? ")" : "");
+    }
+    if (match) FcPatternDestroy(match);
+    if (pattern) FcPatternDestroy(pattern);
+    if (config) FcConfigDestroy(config);
+}
+
+const char *text_font_file(char *err, size_t errlen)
+{
+    pthread_once(&font_once, find_font);
+    if (!font_file[0]) {
+        snprintf(err, errlen, "%s", font_error);
+        return NULL;
+    }
+    return font_file;
+}
+
 text_font *text_font_load(int pixel_height, char *err, size_t errlen)
 {
     if (pixel_height < 4 || pixel_height > 512) {
@@ -82,9 +131,11 @@ text_font *text_font_load(int pixel_height, char *err, size_t errlen)
         free(f);
         return NULL;
     }
-    if (FT_New_Face(f->library, TEXT_FONT_PATH, 0, &f->face)) {
-        snprintf(err, errlen, "%s: cannot load the font (install fonts-dejavu-core)",
-                 TEXT_FONT_PATH);
+    const char *file = text_font_file(err, errlen);
+    if (!file || FT_New_Face(f->library, file, font_index, &f->face)) {
+        if (file)
+            snprintf(err, errlen, "%s: FreeType cannot load this font (reinstall the Debian "
+                     "package fonts-dejavu-core)", file);
         FT_Done_FreeType(f->library);
         free(f);
         return NULL;

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "api/scene_read.h"
+#include "base/dtoa.h"
 #include "cli/run.h"
 #include "rodsim.h"
 #include "sim/rod.h"
@@ -117,13 +118,21 @@ static void test_same_as_cli(void)
         same &= rodsim_time(sc) == cli.time[k];
         frames_seen++;
         /* the CSV's row, as run_csv_frame prints it */
-        for (int i = 0; api_csv && i < n; i++)
-            fprintf(api_csv, "%.10g,%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,"
-                             "%.10g,%.10g\n",
-                    rodsim_time(sc), i, (double)i * rodsim_length(sc) / (n - 1), pos[3 * i],
-                    pos[3 * i + 1], pos[3 * i + 2], dir[9 * i + 6], dir[9 * i + 7],
-                    dir[9 * i + 8], 0.0, force[3 * i] + 0.0, force[3 * i + 1] + 0.0,
-                    force[3 * i + 2] + 0.0);
+        for (int i = 0; api_csv && i < n; i++) {
+            const double field[12] = {rodsim_time(sc), (double)i * (rodsim_length(sc) / (n - 1)),
+                                      pos[3 * i], pos[3 * i + 1], pos[3 * i + 2], dir[9 * i + 6],
+                                      dir[9 * i + 7], dir[9 * i + 8], 0.0, force[3 * i] + 0.0,
+                                      force[3 * i + 1] + 0.0, force[3 * i + 2] + 0.0};
+            char line[13 * DTOA_MAX];
+            char *p = line + dtoa_shortest(line, field[0]);
+            p += snprintf(p, 16, ",%d", i);
+            for (int c = 1; c < 12; c++) {
+                *p++ = ',';
+                p += dtoa_shortest(p, field[c]);
+            }
+            *p++ = '\n';
+            fwrite(line, 1, (size_t)(p - line), api_csv);
+        }
     }
     check(same && frames_seen == cli.count && cli.count == 7,
           "impulse.ini to 0.2 s: the API's positions, directors, internal forces and times at "
@@ -150,6 +159,10 @@ static void test_same_as_cli(void)
         int row_same = na == nb && na == 13;
         for (int k = 0; row_same && k < na; k++)
             if (k != 9) row_same &= strcmp(fa[k], fb[k]) == 0;
+        if (!row_same && differ == 0)
+            printf("     first differing row %ld: field %s vs %s\n", rows, fa[0], fb[0]);
+        for (int k = 0; !row_same && differ == 0 && k < na && k < nb; k++)
+            if (k != 9 && strcmp(fa[k], fb[k]) != 0) printf("     field %d: API %s, CLI %s\n", k, fa[k], fb[k]);
         differ += !row_same;
         rows++;
     }

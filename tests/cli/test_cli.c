@@ -812,7 +812,8 @@ static void test_streamed_video(void)
 /* Command-line values. */
 static void test_option_values(void)
 {
-    char scene[96], output[8192];
+    static char output[65536]; /* --csv -: 67 lines of up to 13 17-digit numbers */
+    char scene[96];
     snprintf(scene, sizeof scene, "%s/small.ini", tmp_dir);
     write_small_scene(scene, NULL);
     const char *spaced[] = {"run", scene, "--no-video", "--set", "solver.duration", "2", NULL};
