@@ -31,6 +31,12 @@ static int degenerate(const double *v)
 
 /* ---- ASCII ---- */
 
+/* The blanks between words (as isspace in the C locale). */
+static int is_blank(unsigned char c)
+{
+    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
+}
+
 typedef struct ascii_reader {
     const char *name;
     const unsigned char *p, *end;
@@ -44,15 +50,13 @@ typedef struct ascii_reader {
  * at the end of the data. r->line is the word's line. */
 static int next_token(ascii_reader *r)
 {
-    while (r->p < r->end && (*r->p == ' ' || *r->p == '\t' || *r->p == '\r' || *r->p == '\n' ||
-                             *r->p == '\f' || *r->p == '\v')) {
+    while (r->p < r->end && is_blank(*r->p)) {
         if (*r->p == '\n') r->line++;
         r->p++;
     }
     if (r->p >= r->end) return 0;
     size_t n = 0;
-    while (r->p < r->end && !(*r->p == ' ' || *r->p == '\t' || *r->p == '\r' || *r->p == '\n' ||
-                              *r->p == '\f' || *r->p == '\v')) {
+    while (r->p < r->end && !is_blank(*r->p)) {
         if (n + 1 < sizeof r->token) r->token[n++] = (char)(*r->p == '\0' ? '?' : *r->p);
         r->p++;
     }
@@ -111,10 +115,8 @@ static size_t count_facets(const unsigned char *data, size_t size)
     size_t count = 0;
     for (size_t i = 0; i + 5 <= size; i++) {
         if (data[i] != 'f' || memcmp(data + i, "facet", 5) != 0) continue;
-        int before = i == 0 || data[i - 1] == ' ' || data[i - 1] == '\t' || data[i - 1] == '\n' ||
-                     data[i - 1] == '\r';
-        int after = i + 5 == size || data[i + 5] == ' ' || data[i + 5] == '\t' ||
-                    data[i + 5] == '\n' || data[i + 5] == '\r';
+        int before = i == 0 || is_blank(data[i - 1]);
+        int after = i + 5 == size || is_blank(data[i + 5]);
         count += (size_t)(before && after);
     }
     return count;
@@ -169,7 +171,11 @@ static int parse_ascii(const char *name, const unsigned char *data, size_t size,
                          line);
             continue;
         }
-        /* count_facets counted every facet keyword: there is room */
+        /* count_facets counted every word "facet": there is room */
+        if ((size_t)out->triangle_count >= facets) {
+            snprintf(err, errlen, "%s:%d: more facets than counted (an internal error)", name, line);
+            return -1;
+        }
         memcpy(&out->triangles[9 * (size_t)out->triangle_count++], v, sizeof v);
     }
     return 0;
@@ -240,8 +246,7 @@ int stl_parse(const char *name, const unsigned char *data, size_t size, int max_
     const uint32_t count = size >= 84 ? le32(data + 80) : 0;
     const int binary = size >= 84 && (uint64_t)size == 84 + 50 * (uint64_t)count;
     size_t lead = 0;
-    while (lead < size && (data[lead] == ' ' || data[lead] == '\t' || data[lead] == '\r' ||
-                           data[lead] == '\n'))
+    while (lead < size && is_blank(data[lead]))
         lead++;
     /* ASCII: "solid" first and no NUL byte (a binary file's counts have them) */
     const int ascii = !binary && size - lead >= 5 && memcmp(data + lead, "solid", 5) == 0 &&

@@ -343,20 +343,16 @@ static int read_point_loads(ini_doc *doc, rod_model *m, char *err, size_t errlen
     return 0;
 }
 
-/* A mesh surface's triangles: `file` (an STL file, relative to the scene),
- * at most `max_triangles` of them, moved by `center`. The keys are read for
- * every shape (so that a key another shape would take is not unknown), and
- * refused where they do not apply. */
-static int read_mesh(ini_doc *doc, int i, rod_surface *sf, char *err, size_t errlen)
+/* A mesh surface's triangles: `file` (an STL file, relative to the scene;
+ * NULL: not given), at most `max_triangles` of them, moved by `center`.
+ * `file` is refused on other shapes. */
+static int read_mesh(ini_doc *doc, int i, rod_surface *sf, const char *file, int max_triangles,
+                     char *err, size_t errlen)
 {
-    const char *file = NULL;
-    int max_triangles = 200000;
-    int has_file = ini_get_string(doc, "surface", i, "file", &file, err, errlen);
-    int has_max = ini_get_int(doc, "surface", i, "max_triangles", &max_triangles, err, errlen);
-    if (has_file < 0 || has_max < 0) return -1;
+    const int has_file = file != NULL;
     if (sf->shape != ROD_SURFACE_MESH) {
-        if (has_file || has_max)
-            return ini_error(doc, "surface", i, has_file ? "file" : "max_triangles", err, errlen,
+        if (has_file)
+            return ini_error(doc, "surface", i, "file", err, errlen,
                              "only a mesh (shape = mesh) is read from a file; remove the key");
         return 0;
     }
@@ -405,7 +401,11 @@ static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
         sf.shape = (rod_surface_shape)shape;
         const char *size_text = NULL;
         has_size = ini_get_string(doc, "surface", i, "size", &size_text, err, errlen);
-        if (has_size < 0) return -1;
+        const char *file = NULL;
+        int max_triangles = 200000;
+        if (has_size < 0 || ini_get_string(doc, "surface", i, "file", &file, err, errlen) < 0 ||
+            ini_get_int(doc, "surface", i, "max_triangles", &max_triangles, err, errlen) < 0)
+            return -1;
         if (count == 0) break;
         if (sf.shape == ROD_SURFACE_MESH) {
             if (has_size)
@@ -424,7 +424,7 @@ static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
                              "a plane has no size (it is unbounded); remove the key, or use "
                              "shape = box");
         }
-        if (read_mesh(doc, i, &sf, err, errlen)) return -1;
+        if (read_mesh(doc, i, &sf, file, max_triangles, err, errlen)) return -1;
         char why[256];
         if (rod_surface_check(&sf, why, sizeof why)) {
             rod_mesh_destroy(sf.mesh);

@@ -10,11 +10,13 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "base/ini.h"
 #include "base/vec3.h"
 #include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
 #include "sim/path.h"
 #include "sim/rod.h"
+#include "sim/scene.h"
 #include "test.h"
 #include "test_curve.h"
 #include "test_process.h"
@@ -387,11 +389,97 @@ static void test_box_drop(void)
     rod_mesh_destroy(box.mesh);
 }
 
+/* ---- the shipped scene, and scenes naming bad files ---- */
+
+#define SCENES RODSIM_SOURCE_DIR "/scenes"
+
+/* scenes/mesh_bowl.ini: its STL (relative to the scene) loads, and over
+ * the whole run no node comes nearer the triangles than 0.98 of the radius
+ * (checked every step). */
+static void test_bowl_scene(void)
+{
+    char err[1024] = "";
+    ini_doc *doc = ini_load(SCENES "/mesh_bowl.ini", err, sizeof err);
+    rod_model m;
+    if (!check(doc && scene_read_rod(doc, &m, err, sizeof err) == 0, "mesh_bowl.ini loads: %s",
+               err)) {
+        ini_destroy(doc);
+        return;
+    }
+    ini_destroy(doc);
+    check(m.surface_count == 1 && m.surfaces[0].mesh &&
+              rod_mesh_triangle_count(m.surfaces[0].mesh) == 2064,
+          "mesh_bowl.ini: its bowl of %d triangles (make_bowl.py writes 2064)",
+          m.surfaces[0].mesh ? rod_mesh_triangle_count(m.surfaces[0].mesh) : 0);
+    rod_state *s = rod_state_create(&m);
+    rod_solver solver;
+    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
+        check(0, "mesh_bowl: create: %s", err);
+        rod_state_destroy(s);
+        rod_model_release(&m);
+        return;
+    }
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    const double radius = 0.5 * m.diameter;
+    double least = INFINITY, lowest = INFINITY, least_rest = INFINITY, least_t = 0;
+    int status = 0, steps = (int)lround(m.options.duration / m.options.dt);
+    for (int k = 0; k < steps && !status; k++) {
+        status = rod_solver_step(&solver, &m, s, m.options.dt, &report);
+        for (int i = 0; i < m.nodes; i++) {
+            double d = rod_mesh_distance(m.surfaces[0].mesh, &s->position[3 * i], NULL, NULL);
+            if (d < least) least = d, least_t = s->time;
+            if (s->time > m.options.duration - 0.5) least_rest = fmin(least_rest, d);
+        }
+    }
+    for (int i = 0; i < m.nodes; i++) lowest = fmin(lowest, s->position[3 * i + 2]);
+    check(status == 0, "mesh_bowl: %d steps run (%s)", steps, status ? report.message : "ok");
+    check(least > 0.9 * radius, "mesh_bowl: the least distance of a node from the bowl over "
+          "every step %.6g m = %.4f radius at t = %.3f s (limit 0.9: an impact)", least,
+          least / radius, least_t);
+    check(least_rest > 0.99 * radius, "mesh_bowl: over the last 0.5 s (at rest) %.6g m = %.4f "
+          "radius (limit 0.99)", least_rest, least_rest / radius);
+    check(lowest < 0.01, "mesh_bowl: the cord ends in the bowl's floor (lowest node z = %.4g m, "
+          "below 0.01; the lip is at 0.04)", lowest);
+    rod_solver_release(&solver);
+    rod_state_destroy(s);
+    rod_model_release(&m);
+}
+
+static void bad_mesh_scene(const char *lines, const char *want1, const char *want2)
+{
+    char text[2048], err[1024] = "";
+    snprintf(text, sizeof text,
+             "[rod]\nlength = 0.1\ndiameter = 0.001\ndensity = 1000\nyoungs_modulus = 1e9\n"
+             "shear_modulus = 4e8\nnodes = 11\norigin = 0 0 0.2\n[surface]\nshape = mesh\n%s",
+             lines);
+    ini_doc *doc = ini_parse(SCENES "/bad.ini", text, err, sizeof err);
+    rod_model m;
+    int failed = !doc || scene_read_rod(doc, &m, err, sizeof err) != 0;
+    if (!failed) rod_model_release(&m);
+    ini_destroy(doc);
+    check(failed && strstr(err, want1) && strstr(err, want2), "bad mesh surface refused: %s", err);
+}
+
+static void test_bad_scenes(void)
+{
+    bad_mesh_scene("", "file", "missing");
+    bad_mesh_scene("file = none.stl\n", "none.stl", "cannot open");
+    bad_mesh_scene("file = mesh_bowl.stl\nmax_triangles = 1000\n", "2064 triangles",
+                   "surface.max_triangles");
+    bad_mesh_scene("file = mesh_bowl.ini\n", "mesh_bowl.ini: byte 80", "starts with 'solid'");
+    bad_mesh_scene("file = mesh_bowl.stl\nsize = 1\n", "size", "remove");
+    bad_mesh_scene("file = mesh_bowl.stl\nrounding = 0.01\n", "rounding", "only a box");
+    bad_mesh_scene("file = mesh_bowl.stl\ncenter = 0 0 0.25\n", "inside this mesh", "node");
+}
+
 int main(void)
 {
     test_distance();
     test_plane();
     test_capstan();
     test_box_drop();
+    test_bowl_scene();
+    test_bad_scenes();
     return test_finish();
 }
