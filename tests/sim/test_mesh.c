@@ -1,4 +1,4 @@
-/* test_mesh_contact.c: triangle-mesh obstacles (sim/contact/mesh.c, shape =
+/* test_mesh.c: triangle-mesh obstacles (sim/contact/mesh.c, shape =
  * mesh) against independent values: the distance to a cube's 12 triangles is
  * the box's (exact, signed, at random points in and out); a thread dropped
  * on a plane of two triangles, and of 800, ends where it ends on the
