@@ -138,6 +138,44 @@ static void test_distance(void)
     rod_mesh_destroy(mesh.mesh);
 }
 
+/* rod_surface_curvature on a mesh against central differences of the
+ * normal rod_surface_gap gives, at points off a cube's edge, its corner
+ * (1 / distance across the edge, both ways at the corner) and its face (0). */
+static void test_curvature(void)
+{
+    double tri[12 * 9];
+    const double c[3] = {0.0, 0.0, 0.0}, h[3] = {0.02, 0.01, 0.005};
+    int count = box_triangles(c, h, tri);
+    rod_surface mesh = mesh_surface(tri, count, 0.3);
+    const double grow = 0.0005;
+    const double at[3][3] = {{0.0203, 0.0, 0.0054}, {0.0203, 0.0102, 0.0054}, {0.0, 0.0, 0.0055}};
+    const char *names[3] = {"edge", "corner", "face"};
+    for (int k = 0; k < 3; k++) {
+        double n[3], hess[9], worst = 0.0, size = 0.0;
+        rod_surface_gap(&mesh, at[k], grow, n, NULL);
+        int curved = rod_surface_curvature(&mesh, at[k], n, grow, hess);
+        const double eps = 1e-7;
+        for (int j = 0; j < 3; j++) {
+            double a[3], b[3], na[3], nb[3];
+            v3_copy(a, at[k]);
+            v3_copy(b, at[k]);
+            a[j] += eps;
+            b[j] -= eps;
+            rod_surface_gap(&mesh, a, grow, na, NULL);
+            rod_surface_gap(&mesh, b, grow, nb, NULL);
+            for (int i = 0; i < 3; i++) {
+                double fd = (na[i] - nb[i]) / (2 * eps);
+                worst = fmax(worst, fabs(fd - hess[3 * i + j]));
+                size = fmax(size, fabs(fd));
+            }
+        }
+        check(curved == (k < 2) && worst <= 1e-6 * fmax(size, 1.0),
+              "mesh curvature off a cube's %s: largest |H - central difference of the normal| "
+              "%.3g 1/m (largest entry %.4g 1/m)", names[k], worst, size);
+    }
+    rod_mesh_destroy(mesh.mesh);
+}
+
 /* ---- runs ---- */
 
 static rod_model thread_model(double length, double diameter, int nodes)
@@ -476,6 +514,7 @@ static void test_bad_scenes(void)
 int main(void)
 {
     test_distance();
+    test_curvature();
     test_plane();
     test_capstan();
     test_box_drop();

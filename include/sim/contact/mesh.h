@@ -33,6 +33,13 @@ void rod_mesh_destroy(rod_mesh *m);
 double rod_mesh_distance(const rod_mesh *m, const double p[3], double normal[3],
                          double nearest[3]);
 
+/* The Hessian of the distance at p outside the mesh (1/m, row-major):
+ * (I - n n^T - e e^T) / d where an edge (along e) is nearest, (I - n n^T) /
+ * d where a vertex is (n the unit direction from it to p, d the distance);
+ * 0 where a face is, or p is inside or on the mesh. Returns 1 where it is
+ * not 0. */
+int rod_mesh_curvature(const rod_mesh *m, const double p[3], double hessian[9]);
+
 /* The merged vertices (vertex_count x 3, m) and the triangles (count x 3
  * vertex indices, counter-clockwise seen from outside): owned by the mesh. */
 int rod_mesh_vertex_count(const rod_mesh *m);

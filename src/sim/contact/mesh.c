@@ -294,8 +294,10 @@ static const double *feature_normal(const rod_mesh *m, int t, int feature)
     return &m->edge_normal[3 * (3 * (size_t)t + (size_t)(feature - 4))];
 }
 
-double rod_mesh_distance(const rod_mesh *m, const double p[3], double normal[3],
-                         double nearest[3])
+/* The triangle nearest p, its feature (closest_on_triangle) and point;
+ * returns the squared distance. */
+static double nearest_triangle(const rod_mesh *m, const double p[3], int *triangle, int *feature,
+                               double point[3])
 {
     /* the clamped point q: for any point x of the grid's box |p - x|^2 >=
      * |p - q|^2 + |q - x|^2, so cells r rings out from q's are at least
@@ -331,7 +333,7 @@ double rod_mesh_distance(const rod_mesh *m, const double p[3], double normal[3],
                         const int t = m->cell_list[e];
                         const int *v = &m->triangles[3 * t];
                         double x[3], d[3];
-                        int feature = closest_on_triangle(p, &m->vertices[3 * v[0]],
+                        int kind = closest_on_triangle(p, &m->vertices[3 * v[0]],
                                                           &m->vertices[3 * v[1]],
                                                           &m->vertices[3 * v[2]], x);
                         v3_sub(d, p, x);
@@ -339,7 +341,7 @@ double rod_mesh_distance(const rod_mesh *m, const double p[3], double normal[3],
                         if (d2 < best2) {
                             best2 = d2;
                             best_t = t;
-                            best_feature = feature;
+                            best_feature = kind;
                             v3_copy(best_point, x);
                         }
                     }
@@ -347,6 +349,18 @@ double rod_mesh_distance(const rod_mesh *m, const double p[3], double normal[3],
             }
         }
     }
+    *triangle = best_t;
+    *feature = best_feature;
+    v3_copy(point, best_point);
+    return best2;
+}
+
+double rod_mesh_distance(const rod_mesh *m, const double p[3], double normal[3],
+                         double nearest[3])
+{
+    int best_t, best_feature;
+    double best_point[3];
+    const double best2 = nearest_triangle(m, p, &best_t, &best_feature, best_point);
     const double *pseudo = feature_normal(m, best_t, best_feature);
     double d[3];
     v3_sub(d, p, best_point);
@@ -358,6 +372,33 @@ double rod_mesh_distance(const rod_mesh *m, const double p[3], double normal[3],
     }
     if (nearest) v3_copy(nearest, best_point);
     return inside ? -dist : dist;
+}
+
+int rod_mesh_curvature(const rod_mesh *m, const double p[3], double hessian[9])
+{
+    int t, feature;
+    double point[3], d[3];
+    const double dist = sqrt(nearest_triangle(m, p, &t, &feature, point));
+    memset(hessian, 0, 9 * sizeof(double));
+    v3_sub(d, p, point);
+    /* on a face, or too near the mesh to tell a direction */
+    if (feature == 0 || !(dist > 1e-9 * m->cell) || v3_dot(d, feature_normal(m, t, feature)) < 0.0)
+        return 0;
+    double n[3], axis[3] = {0.0, 0.0, 0.0};
+    v3_scale(n, d, 1.0 / dist);
+    /* straight above the triangle's plane: an edge or vertex between faces
+     * in one plane (a quad's diagonal), flat */
+    if (v3_dot(n, &m->face_normal[3 * t]) > 1.0 - 1e-12) return 0;
+    if (feature >= 4) {
+        const int *v = &m->triangles[3 * t];
+        const int k = feature - 4;
+        v3_sub(axis, &m->vertices[3 * v[(k + 1) % 3]], &m->vertices[3 * v[k]]);
+        v3_scale(axis, axis, 1.0 / v3_norm(axis));
+    }
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            hessian[3 * i + j] = ((i == j) - n[i] * n[j] - axis[i] * axis[j]) / dist;
+    return 1;
 }
 
 int rod_mesh_vertex_count(const rod_mesh *m) { return m->vertex_count; }

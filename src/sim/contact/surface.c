@@ -262,8 +262,9 @@ int rod_surface_curvature(const rod_surface *s, const double p[3], const double 
     int along = 0; /* 1: a cylinder's side or an edge (no curvature along axis) */
     switch (s->shape) {
     case ROD_SURFACE_PLANE:
-    case ROD_SURFACE_MESH: /* flat faces; its edges' turn is left out of the Jacobian */
         break;
+    case ROD_SURFACE_MESH: /* flat faces; edges and vertices grown round by `grow` */
+        return rod_mesh_curvature(s->mesh, p, hessian);
     case ROD_SURFACE_SPHERE:
         radius = s->size[0] + grow;
         break;
