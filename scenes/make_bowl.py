@@ -32,7 +32,8 @@ def radius(i):
 
 triangles = []
 for j in range(SIDES):
-    a0, a1 = 2 * math.pi * j / SIDES, 2 * math.pi * (j + 1) / SIDES
+    # the last column shares the first one's points exactly (one closed surface)
+    a0, a1 = 2 * math.pi * j / SIDES, 2 * math.pi * ((j + 1) % SIDES) / SIDES
     triangles.append((point(0, 0), point(radius(1), a0), point(radius(1), a1)))
     for i in range(1, RINGS + 4):
         p00, p01 = point(radius(i), a0), point(radius(i), a1)

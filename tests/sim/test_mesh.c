@@ -15,6 +15,7 @@
 #include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
 #include "sim/path.h"
+#include "sim/recording.h"
 #include "sim/rod.h"
 #include "sim/scene.h"
 #include "test.h"
@@ -449,6 +450,23 @@ static void test_bowl_scene(void)
               rod_mesh_triangle_count(m.surfaces[0].mesh) == 2064,
           "mesh_bowl.ini: its bowl of %d triangles (make_bowl.py writes 2064)",
           m.surfaces[0].mesh ? rod_mesh_triangle_count(m.surfaces[0].mesh) : 0);
+    /* the recording carries the triangles for the picture (its own copy) */
+    rod_recording *rec = rod_recording_create(&m, "mesh_bowl", 4);
+    const rod_mesh *mesh = m.surfaces[0].mesh;
+    int same = rec && rec->surface_count == 1 && rec->surfaces[0].shape == RECORDING_SURFACE_MESH &&
+               rec->surfaces[0].mesh_vertex_count == rod_mesh_vertex_count(mesh) &&
+               rec->surfaces[0].mesh_triangle_count == rod_mesh_triangle_count(mesh) &&
+               rec->surfaces[0].mesh_vertices != rod_mesh_vertices(mesh) &&
+               memcmp(rec->surfaces[0].mesh_vertices, rod_mesh_vertices(mesh),
+                      (size_t)rod_mesh_vertex_count(mesh) * 3 * sizeof(double)) == 0 &&
+               memcmp(rec->surfaces[0].mesh_triangles, rod_mesh_triangles(mesh),
+                      (size_t)rod_mesh_triangle_count(mesh) * 3 * sizeof(int)) == 0;
+    check(same, "mesh_bowl: the recording copies the bowl's %d vertices and %d triangles",
+          rod_mesh_vertex_count(mesh), rod_mesh_triangle_count(mesh));
+    check(rod_mesh_vertex_count(mesh) == 1 + 48 * 22, "mesh_bowl: the corners merge into %d "
+          "vertices (make_bowl.py: a centre and 48 x 22 ring points, 1057; no seam)",
+          rod_mesh_vertex_count(mesh));
+    rod_recording_destroy(rec);
     rod_state *s = rod_state_create(&m);
     rod_solver solver;
     if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
