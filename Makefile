@@ -170,7 +170,7 @@ install:
 	@$(MAKE) --no-print-directory BUILD=build/release build/release/rodsim
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/rodsim/scenes
 	install -m 755 build/release/rodsim $(DESTDIR)$(PREFIX)/bin/rodsim
-	install -m 644 scenes/*.ini scenes/*.csv $(DESTDIR)$(PREFIX)/share/rodsim/scenes
+	install -m 644 scenes/*.ini scenes/*.csv scenes/*.stl $(DESTDIR)$(PREFIX)/share/rodsim/scenes
 
 clean:
 	rm -rf build rodsim
