@@ -199,7 +199,7 @@ install:
 	@$(MAKE) --no-print-directory BUILD=build/release build/release/rodsim build/release/librodsim.so
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/rodsim/scenes
 	install -m 755 build/release/rodsim $(DESTDIR)$(PREFIX)/bin/rodsim
-	install -m 644 scenes/*.ini scenes/*.csv $(DESTDIR)$(PREFIX)/share/rodsim/scenes
+	install -m 644 scenes/*.ini scenes/*.csv scenes/*.stl $(DESTDIR)$(PREFIX)/share/rodsim/scenes
 	install -d $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(PREFIX)/include
 	install -m 755 build/release/librodsim.so.$(SO_MAJOR).$(SO_MINOR) $(DESTDIR)$(LIBDIR)/
 	ln -sf librodsim.so.$(SO_MAJOR).$(SO_MINOR) $(DESTDIR)$(LIBDIR)/librodsim.so.$(SO_MAJOR)

@@ -32,6 +32,11 @@ void surface_add_sphere(render_mesh *m, const double centre[3], double radius,
  * from -half to +half along it, closed by discs. */
 void surface_add_cylinder(render_mesh *m, const double centre[3], const double a[3], double radius,
                           double half, const float color[3]);
+/* A mesh surface's triangles: each vertex's normal the angle-weighted mean
+ * of its faces within MESH_CREASE_ANGLE of the triangle's own (smooth over
+ * gentle bends, flat across sharp edges). 0, or -1 when out of memory. */
+#define MESH_CREASE_ANGLE 0.6 /* rad, about 34 degrees */
+int surface_add_mesh(render_mesh *m, const recording_surface *s, const float color[3]);
 /* The drawn piece of an unbounded cylinder: along its axis over the motion's
  * box and one motion size beyond it each way. */
 void surface_cylinder_piece(const recording_surface *s, const double lo[3], const double hi[3],

@@ -38,7 +38,8 @@ typedef enum {
     RECORDING_SURFACE_BOX,       /* axis-aligned, edges size[0..2] along x y z, centred on center */
     RECORDING_SURFACE_CYLINDER,  /* radius size[0] about the axis through center along `normal`,
                                     unbounded along it */
-    RECORDING_SURFACE_SPHERE     /* radius size[0] about center */
+    RECORDING_SURFACE_SPHERE,    /* radius size[0] about center */
+    RECORDING_SURFACE_MESH       /* triangles (mesh_vertices, mesh_triangles) */
 } recording_surface_shape;
 
 typedef struct recording_surface {
@@ -49,7 +50,15 @@ typedef struct recording_surface {
                                   sphere's radius */
     double rounding;           /* m: a box's edges and corners rounded to this radius (0: sharp) */
     int tissue;                /* 1: skin (a needle passing through it makes punctures) */
+    int mesh_vertex_count, mesh_triangle_count; /* a mesh's; 0 for other shapes */
+    double *mesh_vertices;     /* (mesh_vertex_count x 3), m, global; owned by the recording */
+    int *mesh_triangles;       /* (mesh_triangle_count x 3) vertex indices, counter-clockwise
+                                  seen from outside; owned by the recording */
 } recording_surface;
+
+/* Copies a mesh surface's vertices and triangles into to (from's, or a
+ * zeroed surface): 0, or -1 when out of memory. */
+int recording_surface_copy_mesh(recording_surface *to, const recording_surface *from);
 
 typedef struct rod_recording {
     /* fixed for the run */

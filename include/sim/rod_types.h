@@ -79,8 +79,11 @@ typedef enum {
     ROD_SURFACE_BOX,       /* axis-aligned, edges size[0..2] along x y z, centred on center */
     ROD_SURFACE_CYLINDER,  /* radius size[0] about the axis through center along `normal`;
                               unbounded along its axis (a spool, a vessel, a capstan) */
-    ROD_SURFACE_SPHERE     /* radius size[0] about center */
+    ROD_SURFACE_SPHERE,    /* radius size[0] about center */
+    ROD_SURFACE_MESH       /* a fixed triangle mesh (an STL file), moved by center */
 } rod_surface_shape;
+
+struct rod_mesh; /* sim/contact/mesh.h */
 
 typedef struct rod_surface {
     rod_surface_shape shape;
@@ -91,6 +94,8 @@ typedef struct rod_surface {
     int tissue;        /* 1: a needle passing through it makes punctures */
     double rounding;   /* m: a box's edges and corners rounded to this radius (0: sharp) */
     int line;          /* the scene line of its [surface] header (messages); 0: none */
+    struct rod_mesh *mesh; /* shape mesh: its triangles, owned by the model (released with
+                              it); NULL otherwise */
 } rod_surface;
 
 /* A puncture given in the scene ([puncture], repeatable): a point the

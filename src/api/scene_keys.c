@@ -89,10 +89,10 @@ const ini_key scene_keys_rod[] = {
      "radius of a curved needle drawn with its back at the tip; 0: none (no mechanics)"},
 
     /* obstacles */
-    {"surface", "shape", "-", "plane", "plane | box | cylinder | sphere",
+    {"surface", "shape", "-", "plane", "plane | box | cylinder | sphere | mesh",
      "a rigid obstacle ([surface] repeats); the rod touches it at its radius (implicit scheme)"},
     {"surface", "center", "m", "0 0 0", "3 numbers",
-     "a point of the plane; the box's centre; a point on the cylinder's axis; the sphere's centre"},
+     "a point of the plane; the box's centre; a point on the cylinder's axis; the sphere's centre; mesh: added to the file's coordinates"},
     {"surface", "normal", "-", "0 0 1", "3 numbers, not all 0",
      "plane: outward normal; cylinder: axis (the cylinder is unbounded along it)"},
     {"surface", "size", "m", "-", "box: 3 numbers > 0; cylinder, sphere: 1 number > 0",
@@ -102,6 +102,10 @@ const ini_key scene_keys_rod[] = {
      "yes: the needle (driven tip) passing through makes punctures"},
     {"surface", "rounding", "m", "0", ">= 0, below half the shortest edge; box only",
      "the radius a box's edges and corners are rounded to (a skin pad's, a table's)"},
+    {"surface", "file", "-", "-", "FILE.stl (ASCII or binary); mesh only, required",
+     "the mesh's triangles (m), outward side counter-clockwise; solid behind the closest face, edge or vertex (a sheet is solid behind its front)"},
+    {"surface", "max_triangles", "-", "200000", "1 .. 5000000",
+     "mesh: the most triangles its file may hold (a larger file is refused before it is read)"},
     {"puncture", "point", "m", "required", "3 numbers, on the starting shape",
      "a point the thread passes through, sliding ([puncture] repeats, at most 16); on a tissue surface, pairs in order: the thread between is inside"},
     {"puncture", "friction", "-", "0.2", ">= 0",

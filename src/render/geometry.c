@@ -84,8 +84,18 @@ rod_recording *recording_like(const rod_recording *rec, int frames)
     if (rec->surface_count > 0 && rec->surfaces) {
         size_t bytes = (size_t)rec->surface_count * sizeof *r->surfaces;
         r->surfaces = malloc(bytes);
-        if (r->surfaces) memcpy(r->surfaces, rec->surfaces, bytes);
         r->surface_count = rec->surface_count;
+        if (r->surfaces) {
+            memcpy(r->surfaces, rec->surfaces, bytes);
+            /* each mesh's arrays the copy's own */
+            for (int k = 0; k < rec->surface_count; k++)
+                r->surfaces[k].mesh_vertices = NULL, r->surfaces[k].mesh_triangles = NULL;
+            for (int k = 0; k < rec->surface_count; k++)
+                if (recording_surface_copy_mesh(&r->surfaces[k], &rec->surfaces[k])) {
+                    rod_recording_destroy(r);
+                    return NULL;
+                }
+        }
     }
     if (!r->time || !r->position || !r->frame || !r->twist || !r->tension || !r->tip_force ||
         !r->tip_moment || (r->surface_count > 0 && !r->surfaces)) {

@@ -332,6 +332,10 @@ static void receiver_solids(shadow_scene *s, render_mesh *m, const receiver_plan
             surface_bounds(sf, lo, hi);
             break;
         }
+        case RECORDING_SURFACE_MESH:
+            if (surface_add_mesh(m, sf, color)) continue;
+            surface_bounds(sf, lo, hi);
+            break;
         case RECORDING_SURFACE_SPHERE:
             surface_add_sphere(m, sf->center, sf->size[0], color);
             surface_bounds(sf, lo, hi);
@@ -415,6 +419,11 @@ int shadow_receivers(shadow_scene *s, gl_renderer *gl, const receiver_plan *plan
     render_mesh m = {0};
     m.max_vertices = (surfaces + 1) * SURFACE_VERTICES + 2 * (WOUND_SEGMENTS + 1);
     m.max_indices = (surfaces + 1) * SURFACE_INDICES + 6 * WOUND_SEGMENTS;
+    for (int k = 0; k < surfaces; k++) {
+        /* a mesh: three vertices a triangle (each corner its own normal) */
+        m.max_vertices += 3 * rec->surfaces[k].mesh_triangle_count;
+        m.max_indices += 3 * rec->surfaces[k].mesh_triangle_count;
+    }
     m.vertices = malloc((size_t)m.max_vertices * sizeof(render_vertex));
     m.indices = malloc((size_t)m.max_indices * sizeof(unsigned));
     if (!m.vertices || !m.indices) {

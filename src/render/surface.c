@@ -2,6 +2,7 @@
 #include "render/surface.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 #include "base/vec3.h"
 #include "render/geometry.h"
@@ -17,6 +18,16 @@ void surface_bounds(const recording_surface *s, double lo[3], double hi[3])
         switch (s->shape) {
         case RECORDING_SURFACE_BOX: reach = 0.5 * s->size[c]; break;
         case RECORDING_SURFACE_SPHERE: reach = s->size[0]; break;
+        case RECORDING_SURFACE_MESH: {
+            double a = INFINITY, b = -INFINITY;
+            for (int i = 0; i < s->mesh_vertex_count; i++) {
+                a = fmin(a, s->mesh_vertices[3 * i + c]);
+                b = fmax(b, s->mesh_vertices[3 * i + c]);
+            }
+            lo[c] = a;
+            hi[c] = b;
+            continue;
+        }
         case RECORDING_SURFACE_CYLINDER:
             reach = fabs(s->normal[c]) > 1e-12 ? INFINITY
                                                 : s->size[0] * sqrt(1 - s->normal[c] * s->normal[c]);
@@ -37,6 +48,10 @@ static double surface_nearest(const recording_surface *s, const double p[3], dou
     double d[3];
     v3_sub(d, p, s->center);
     switch (s->shape) {
+    case RECORDING_SURFACE_MESH: /* not a surface a wound or a puncture is laid on */
+        v3_copy(near, p);
+        v3_set(n, 0, 0, 1);
+        return INFINITY;
     default: /* RECORDING_SURFACE_PLANE */
         v3_copy(n, s->normal);
         v3_copy(near, p);
@@ -216,4 +231,76 @@ void surface_add_punctures(render_mesh *m, const rod_recording *rec, int frame, 
         perpendicular_basis(n, e1, e2);
         mesh_disc(m, near, e1, e2, 1.8 * radius, n, PUNCTURE_SIDES, render_puncture_color);
     }
+}
+
+/* The unit normal of triangle t of a mesh surface (0 0 0 for a degenerate one). */
+static void mesh_face_normal(const recording_surface *s, int t, double n[3])
+{
+    const int *v = &s->mesh_triangles[3 * t];
+    double ab[3], ac[3];
+    v3_sub(ab, &s->mesh_vertices[3 * v[1]], &s->mesh_vertices[3 * v[0]]);
+    v3_sub(ac, &s->mesh_vertices[3 * v[2]], &s->mesh_vertices[3 * v[0]]);
+    v3_cross(n, ab, ac);
+    double length = v3_norm(n);
+    if (length > 0) v3_scale(n, n, 1 / length);
+}
+
+/* The corner angle of triangle t at its k-th vertex, rad. */
+static double mesh_corner_angle(const recording_surface *s, int t, int k)
+{
+    const int *v = &s->mesh_triangles[3 * t];
+    const double *p = &s->mesh_vertices[3 * v[k]];
+    double e1[3], e2[3];
+    v3_sub(e1, &s->mesh_vertices[3 * v[(k + 1) % 3]], p);
+    v3_sub(e2, &s->mesh_vertices[3 * v[(k + 2) % 3]], p);
+    double l = v3_norm(e1) * v3_norm(e2);
+    if (!(l > 0)) return 0;
+    double c = v3_dot(e1, e2) / l;
+    return acos(c > 1 ? 1 : c < -1 ? -1 : c);
+}
+
+int surface_add_mesh(render_mesh *m, const recording_surface *s, const float color[3])
+{
+    const int nv = s->mesh_vertex_count, nt = s->mesh_triangle_count;
+    if (nv <= 0 || nt <= 0) return 0;
+    /* each vertex's triangles (CSR), and each triangle's normal */
+    int *start = calloc((size_t)nv + 1, sizeof(int)), *list = malloc((size_t)nt * 3 * sizeof(int));
+    double *normal = malloc((size_t)nt * 3 * sizeof(double));
+    if (!start || !list || !normal) {
+        free(start);
+        free(list);
+        free(normal);
+        return -1;
+    }
+    for (int e = 0; e < 3 * nt; e++) start[s->mesh_triangles[e] + 1]++;
+    for (int i = 0; i < nv; i++) start[i + 1] += start[i];
+    for (int e = 0; e < 3 * nt; e++) list[start[s->mesh_triangles[e]]++] = e;
+    for (int i = nv; i > 0; i--) start[i] = start[i - 1];
+    start[0] = 0;
+    for (int t = 0; t < nt; t++) mesh_face_normal(s, t, &normal[3 * t]);
+    const double crease = cos(MESH_CREASE_ANGLE);
+    for (int t = 0; t < nt; t++) {
+        const double *own = &normal[3 * t];
+        unsigned first = (unsigned)m->vertex_count;
+        for (int k = 0; k < 3; k++) {
+            const int v = s->mesh_triangles[3 * t + k];
+            /* smooth across the faces at the vertex within the crease angle
+             * of this one (angle-weighted); flat across sharper edges */
+            double n[3] = {0, 0, 0};
+            for (int e = start[v]; e < start[v + 1]; e++) {
+                const int u = list[e] / 3;
+                if (v3_dot(&normal[3 * u], own) < crease) continue;
+                v3_axpy(n, mesh_corner_angle(s, u, list[e] % 3), &normal[3 * u]);
+            }
+            double length = v3_norm(n);
+            if (length > 0) v3_scale(n, n, 1 / length);
+            else v3_copy(n, own);
+            mesh_vertex(m, &s->mesh_vertices[3 * v], n, color);
+        }
+        mesh_triangle(m, first, first + 1, first + 2);
+    }
+    free(start);
+    free(list);
+    free(normal);
+    return 0;
 }

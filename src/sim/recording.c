@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "base/vec3.h"
+#include "sim/contact/mesh.h"
 #include "sim/path.h"
 #include "sim/rod.h"
 
@@ -50,6 +51,7 @@ static recording_surface_shape surface_shape(rod_surface_shape shape)
     case ROD_SURFACE_BOX: return RECORDING_SURFACE_BOX;
     case ROD_SURFACE_CYLINDER: return RECORDING_SURFACE_CYLINDER;
     case ROD_SURFACE_SPHERE: return RECORDING_SURFACE_SPHERE;
+    case ROD_SURFACE_MESH: return RECORDING_SURFACE_MESH;
     default: return RECORDING_SURFACE_PLANE;
     }
 }
@@ -83,7 +85,39 @@ static int copy_scene(rod_recording *r, const rod_model *m)
         v3_copy(to->size, from->size);
         to->rounding = from->rounding;
         to->tissue = from->tissue;
+        if (from->shape == ROD_SURFACE_MESH && from->mesh) {
+            recording_surface mesh = {0};
+            mesh.mesh_vertex_count = rod_mesh_vertex_count(from->mesh);
+            mesh.mesh_triangle_count = rod_mesh_triangle_count(from->mesh);
+            mesh.mesh_vertices = (double *)rod_mesh_vertices(from->mesh);
+            mesh.mesh_triangles = (int *)rod_mesh_triangles(from->mesh);
+            if (recording_surface_copy_mesh(to, &mesh)) return -1;
+        }
     }
+    return 0;
+}
+
+int recording_surface_copy_mesh(recording_surface *to, const recording_surface *from)
+{
+    to->mesh_vertex_count = to->mesh_triangle_count = 0;
+    to->mesh_vertices = NULL;
+    to->mesh_triangles = NULL;
+    if (from->mesh_vertex_count <= 0 || from->mesh_triangle_count <= 0) return 0;
+    size_t vbytes = (size_t)from->mesh_vertex_count * 3 * sizeof(double);
+    size_t tbytes = (size_t)from->mesh_triangle_count * 3 * sizeof(int);
+    to->mesh_vertices = malloc(vbytes);
+    to->mesh_triangles = malloc(tbytes);
+    if (!to->mesh_vertices || !to->mesh_triangles) {
+        free(to->mesh_vertices);
+        free(to->mesh_triangles);
+        to->mesh_vertices = NULL;
+        to->mesh_triangles = NULL;
+        return -1;
+    }
+    memcpy(to->mesh_vertices, from->mesh_vertices, vbytes);
+    memcpy(to->mesh_triangles, from->mesh_triangles, tbytes);
+    to->mesh_vertex_count = from->mesh_vertex_count;
+    to->mesh_triangle_count = from->mesh_triangle_count;
     return 0;
 }
 
@@ -119,6 +153,10 @@ void rod_recording_destroy(rod_recording *r)
     free(r->tip_moment);
     free(r->puncture_count);
     free(r->puncture);
+    for (int k = 0; r->surfaces && k < r->surface_count; k++) {
+        free(r->surfaces[k].mesh_vertices);
+        free(r->surfaces[k].mesh_triangles);
+    }
     free(r->surfaces);
     free(r);
 }

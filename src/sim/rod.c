@@ -10,6 +10,7 @@
 #include "sim/path.h"
 #include "sim/geometry/proximity.h"
 #include "sim/rod_geometry.h"
+#include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
 
 /* How far (relative to the length) a path's first row may lie from the end
@@ -564,6 +565,7 @@ void rod_model_release(rod_model *m)
     free(m->point_loads);
     m->point_loads = NULL;
     m->point_load_count = 0;
+    for (int k = 0; k < m->surface_count; k++) rod_mesh_destroy(m->surfaces[k].mesh);
     free(m->surfaces);
     m->surfaces = NULL;
     m->surface_count = 0;

@@ -10,10 +10,12 @@
 
 #include "base/suggest.h"
 #include "base/spline.h"
+#include "base/stl.h"
 #include "base/textfile.h"
 #include "base/textline.h"
 #include "base/vec3.h"
 #include "sim/path.h"
+#include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
 #include "sim/rod.h"
 
@@ -349,6 +351,41 @@ static int read_point_loads(ini_doc *doc, rod_model *m, char *err, size_t errlen
     return 0;
 }
 
+/* A mesh surface's triangles: `file` (an STL file, relative to the scene;
+ * NULL: not given), at most `max_triangles` of them, moved by `center`.
+ * `file` is refused on other shapes. */
+static int read_mesh(ini_doc *doc, int i, rod_surface *sf, const char *file, int max_triangles,
+                     char *err, size_t errlen)
+{
+    const int has_file = file != NULL;
+    if (sf->shape != ROD_SURFACE_MESH) {
+        if (has_file)
+            return ini_error(doc, "surface", i, "file", err, errlen,
+                             "only a mesh (shape = mesh) is read from a file; remove the key");
+        return 0;
+    }
+    if (!has_file)
+        return ini_error(doc, "surface", i, "file", err, errlen,
+                         "missing; required for a mesh: an STL file (ASCII or binary), relative "
+                         "to the scene");
+    if (max_triangles < 1 || max_triangles > 5000000)
+        return ini_error(doc, "surface", i, "max_triangles", err, errlen,
+                         "must be 1 .. 5000000 (the most triangles the file may hold)");
+    char path[2 * PATH_MAX_LEN + 2], why[768], warn[512];
+    scene_relative(doc, file, path, sizeof path);
+    stl_mesh stl;
+    if (stl_load(path, max_triangles, "surface.max_triangles", &stl, warn, sizeof warn, why,
+                 sizeof why))
+        return ini_error(doc, "surface", i, "file", err, errlen, "%s", why);
+    if (stl.dropped)
+        fprintf(stderr, "rodsim: warning: %s (%d degenerate triangle%s left out in all)\n", warn,
+                stl.dropped, stl.dropped == 1 ? "" : "s");
+    sf->mesh = rod_mesh_create(stl.triangles, stl.triangle_count, sf->center, why, sizeof why);
+    stl_release(&stl);
+    if (!sf->mesh) return ini_error(doc, "surface", i, "file", err, errlen, "%s: %s", path, why);
+    return 0;
+}
+
 /* Reads [surface] (repeatable): shape, center, normal, size, friction,
  * tissue (portable core keys), and a box's rounding. `size`
  * holds 3 edge lengths for a box and one radius for a cylinder or a sphere;
@@ -356,7 +393,7 @@ static int read_point_loads(ini_doc *doc, rod_model *m, char *err, size_t errlen
 static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     int count = ini_section_count(doc, "surface");
-    static const char *const shapes[] = {"plane", "box", "cylinder", "sphere", NULL};
+    static const char *const shapes[] = {"plane", "box", "cylinder", "sphere", "mesh", NULL};
     for (int i = 0; i < (count > 0 ? count : 1); i++) {
         rod_surface sf = {0};
         int shape = 0, has_size;
@@ -372,9 +409,17 @@ static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
         sf.shape = (rod_surface_shape)shape;
         const char *size_text = NULL;
         has_size = ini_get_string(doc, "surface", i, "size", &size_text, err, errlen);
-        if (has_size < 0) return -1;
+        const char *file = NULL;
+        int max_triangles = 200000;
+        if (has_size < 0 || ini_get_string(doc, "surface", i, "file", &file, err, errlen) < 0 ||
+            ini_get_int(doc, "surface", i, "max_triangles", &max_triangles, err, errlen) < 0)
+            return -1;
         if (count == 0) break;
-        if (sf.shape != ROD_SURFACE_PLANE) {
+        if (sf.shape == ROD_SURFACE_MESH) {
+            if (has_size)
+                return ini_error(doc, "surface", i, "size", err, errlen,
+                                 "a mesh takes its size from its file; remove the key");
+        } else if (sf.shape != ROD_SURFACE_PLANE) {
             int want = sf.shape == ROD_SURFACE_BOX ? 3 : 1;
             if (has_size == 0)
                 return ini_error(doc, "surface", i, "size", err, errlen,
@@ -387,8 +432,10 @@ static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
                              "a plane has no size (it is unbounded); remove the key, or use "
                              "shape = box");
         }
+        if (read_mesh(doc, i, &sf, file, max_triangles, err, errlen)) return -1;
         char why[256];
         if (rod_surface_check(&sf, why, sizeof why)) {
+            rod_mesh_destroy(sf.mesh);
             const char *colon = strchr(why, ':');
             char key[32] = "shape";
             if (colon && (size_t)(colon - why) < sizeof key) {

@@ -230,6 +230,62 @@ static void test_box_and_punctures(void)
     rod_recording_destroy(rec);
 }
 
+/* The same pad as 12 triangles (a mesh surface): drawn where the box is,
+ * in the skin colour, its top flat (a face's normal, not smoothed over the
+ * 90 degree edges). */
+static void test_mesh_pad(void)
+{
+    static const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                    {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    const double centre[3] = {0.5, 0.2, -0.05}, half[3] = {0.15, 0.1, 0.02};
+    recording_surface pad = {.shape = RECORDING_SURFACE_MESH, .tissue = 1,
+                             .mesh_vertex_count = 8, .mesh_triangle_count = 12};
+    rod_recording *rec = lifted_rod();
+    render_options o = scene_options(rec, &pad, 1);
+    recording_surface *sf = &rec->surfaces[0];
+    sf->mesh_vertices = malloc(8 * 3 * sizeof(double));
+    sf->mesh_triangles = malloc(12 * 3 * sizeof(int));
+    if (!sf->mesh_vertices || !sf->mesh_triangles) {
+        check(0, "out of memory");
+        rod_recording_destroy(rec);
+        return;
+    }
+    for (int v = 0; v < 8; v++)
+        for (int a = 0; a < 3; a++)
+            sf->mesh_vertices[3 * v + a] = centre[a] + (v >> a & 1 ? half[a] : -half[a]);
+    for (int f = 0; f < 6; f++) {
+        const int order[6] = {0, 1, 2, 0, 2, 3};
+        for (int k = 0; k < 6; k++) sf->mesh_triangles[6 * f + k] = quads[f][order[k]];
+    }
+    render_camera cam;
+    render_camera_fit(&cam, rec, &o);
+    if (render(rec, &o, "mesh_pad")) {
+        rod_recording_destroy(rec);
+        return;
+    }
+    image *img = read_frame("mesh_pad", 0);
+    if (img) {
+        const double tops[2][3] = {{0.55, 0.14, -0.03}, {0.42, 0.25, -0.03}};
+        int skin = 0, n = 0;
+        double lum[2];
+        for (int t = 0; t < 2; t++) {
+            double px[2];
+            render_project(&cam, tops[t], px);
+            for (int y = (int)px[1] - 3; y <= (int)px[1] + 3; y++)
+                for (int x = (int)px[0] - 3; x <= (int)px[0] + 3; x++, n++)
+                    skin += is_skin(&img->rgb[3 * ((size_t)y * WIDTH + (size_t)x)]);
+            lum[t] = patch_luminance(img, px, 1);
+        }
+        check(skin == n, "a mesh pad (12 triangles) is drawn in the skin colour on its top: %d of "
+                         "%d pixels", skin, n);
+        check(fabs(lum[0] - lum[1]) < 0.08 * lum[0], "its top is flat-shaded (two points "
+              "apart, luminance %.1f and %.1f: one normal, not smoothed over the edges)", lum[0],
+              lum[1]);
+    }
+    image_destroy(img);
+    rod_recording_destroy(rec);
+}
+
 static void test_ground(void)
 {
     rod_recording *rec = lifted_rod();
@@ -504,6 +560,7 @@ int main(void)
     test_framing();
     test_plane_shadow();
     test_box_and_punctures();
+    test_mesh_pad();
     test_ground();
     test_fitted_shadow();
     if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir); /* keep the pictures to look at */

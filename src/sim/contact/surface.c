@@ -7,11 +7,12 @@
 #include <stdio.h>
 
 #include "base/vec3.h"
+#include "sim/contact/mesh.h"
 
 const char *rod_surface_name(rod_surface_shape shape)
 {
-    static const char *const names[] = {"plane", "box", "cylinder", "sphere"};
-    return shape >= ROD_SURFACE_PLANE && shape <= ROD_SURFACE_SPHERE ? names[shape] : "?";
+    static const char *const names[] = {"plane", "box", "cylinder", "sphere", "mesh"};
+    return shape >= ROD_SURFACE_PLANE && shape <= ROD_SURFACE_MESH ? names[shape] : "?";
 }
 
 /* A unit vector normal to `a` (for the degenerate point on an axis or at a
@@ -58,6 +59,14 @@ double rod_surface_gap(const rod_surface *s, const double p[3], double grow, dou
         else any_normal(s->normal, n);
         gap = d - r;
         for (int k = 0; k < 3; k++) near[k] = s->center[k] + along * s->normal[k] + r * n[k];
+        break;
+    }
+    case ROD_SURFACE_MESH: {
+        /* the distance to the triangles less the rod's radius (exact
+         * outside: the grown solid is the mesh's solid grown by a ball) */
+        double d = rod_mesh_distance(s->mesh, p, n, near);
+        gap = d - grow;
+        v3_axpy(near, grow, n);
         break;
     }
     case ROD_SURFACE_BOX:
@@ -150,6 +159,30 @@ static int box_entry(const rod_surface *s, const double a[3], const double ab[3]
     return 1;
 }
 
+/* The entry of the segment a + f ab (length len, gap ga > 0 at a) into a
+ * mesh's grown solid, which need not be convex: sphere tracing, each step
+ * the gap itself (the gap is 1-Lipschitz, so no step passes the surface),
+ * until within 1e-6 of the radius of it (a grazing path that stays that
+ * near is taken as touching there: the caller's half-space then decides).
+ * Returns 1 with *f, or 0 when the segment ends first. */
+static int mesh_entry(const rod_surface *s, const double a[3], const double ab[3], double len,
+                      double ga, double grow, double *f)
+{
+    const double near = 1e-6 * (grow > 0.0 ? grow : 1e-3 * len) + 1e-15;
+    double at = 0.0, gap = ga;
+    for (int it = 0; it < 200; it++) {
+        if (gap <= near) {
+            *f = at;
+            return 1;
+        }
+        at += gap / len;
+        if (at > 1.0) return 0;
+        gap = gap_at(s, a, ab, at, grow);
+    }
+    *f = at;
+    return 1;
+}
+
 int rod_surface_sweep(const rod_surface *s, const double a[3], const double b[3], double grow,
                       double *f, double point[3], double normal[3])
 {
@@ -163,7 +196,10 @@ int rod_surface_sweep(const rod_surface *s, const double a[3], const double b[3]
      * a plane's gap is linear along the segment; a box is entered through a
      * face's flat part */
     int closed = -1;
-    if (s->shape == ROD_SURFACE_PLANE) {
+    if (s->shape == ROD_SURFACE_MESH) {
+        if (!mesh_entry(s, a, ab, len, ga, grow, &hi)) return 0;
+        closed = 1;
+    } else if (s->shape == ROD_SURFACE_PLANE) {
         const double gb = rod_surface_gap(s, b, grow, NULL, NULL);
         closed = gb > 0.0 ? 0 : 1;
         if (closed) hi = ga / (ga - gb);
@@ -227,6 +263,8 @@ int rod_surface_curvature(const rod_surface *s, const double p[3], const double 
     switch (s->shape) {
     case ROD_SURFACE_PLANE:
         break;
+    case ROD_SURFACE_MESH: /* flat faces; edges and vertices grown round by `grow` */
+        return rod_mesh_curvature(s->mesh, p, hessian);
     case ROD_SURFACE_SPHERE:
         radius = s->size[0] + grow;
         break;
@@ -289,6 +327,10 @@ int rod_surface_check(rod_surface *s, char *err, size_t errlen)
             return -1;
         }
         v3_scale(s->normal, s->normal, 1.0 / len);
+    }
+    if (s->shape == ROD_SURFACE_MESH && !s->mesh) {
+        snprintf(err, errlen, "file: a mesh needs its triangles: file = FILE.stl");
+        return -1;
     }
     if (s->shape == ROD_SURFACE_BOX) {
         for (int k = 0; k < 3; k++)

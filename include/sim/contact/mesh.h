@@ -1,0 +1,52 @@
+/* mesh.h: a fixed triangle mesh as a rigid obstacle (scene [surface] shape =
+ * mesh): the exact distance from a point to the triangles, signed by the
+ * closest feature's pseudonormal, through a uniform grid built once.
+ *
+ * Inside and outside: a triangle's outward side is the one its vertices
+ * turn counter-clockwise about (STL). A point is inside when it lies behind
+ * the angle-weighted pseudonormal of its closest feature (the face's
+ * normal on a face; the sum of the two faces' normals on an edge; the
+ * angle-weighted sum on a vertex; Baerentzen and Aanaes 2005): exact for a
+ * closed, consistently oriented mesh. An open mesh (a sheet, a heightfield)
+ * is solid behind its front side, as a plane is behind its normal, out to
+ * and around its rim: keep the rod on the front. */
+#ifndef RODSIM_SIM_CONTACT_MESH_H
+#define RODSIM_SIM_CONTACT_MESH_H
+
+#include <stddef.h>
+
+typedef struct rod_mesh rod_mesh;
+
+/* A mesh of `count` triangles (count x 9, m: vertices a b c, x y z each),
+ * moved by offset (m, may be NULL). Vertices at the same point are merged
+ * (the edges and vertices their faces share give the pseudonormals). NULL
+ * with a message when out of memory. */
+rod_mesh *rod_mesh_create(const double *triangles, int count, const double offset[3], char *err,
+                          size_t errlen);
+void rod_mesh_destroy(rod_mesh *m);
+
+/* Signed distance (m) from p to the mesh's surface: > 0 outside, < 0
+ * inside. nearest (may be NULL) gets the closest point of the triangles,
+ * normal (may be NULL) the unit outward direction there: (p - nearest)
+ * / distance outside, the reverse inside, the feature's pseudonormal when p
+ * is on it. Exact (the nearest of all triangles). */
+double rod_mesh_distance(const rod_mesh *m, const double p[3], double normal[3],
+                         double nearest[3]);
+
+/* The Hessian of the distance at p outside the mesh (1/m, row-major):
+ * (I - n n^T - e e^T) / d where an edge (along e) is nearest, (I - n n^T) /
+ * d where a vertex is (n the unit direction from it to p, d the distance);
+ * 0 where a face is, or p is inside or on the mesh. Returns 1 where it is
+ * not 0. */
+int rod_mesh_curvature(const rod_mesh *m, const double p[3], double hessian[9]);
+
+/* The merged vertices (vertex_count x 3, m) and the triangles (count x 3
+ * vertex indices, counter-clockwise seen from outside): owned by the mesh. */
+int rod_mesh_vertex_count(const rod_mesh *m);
+const double *rod_mesh_vertices(const rod_mesh *m);
+int rod_mesh_triangle_count(const rod_mesh *m);
+const int *rod_mesh_triangles(const rod_mesh *m);
+/* Axis-aligned bounds of the vertices, m. */
+void rod_mesh_bounds(const rod_mesh *m, double lo[3], double hi[3]);
+
+#endif

@@ -1,0 +1,420 @@
+/* mesh.c: distance to a fixed triangle mesh through a uniform grid (mesh.h). */
+#include "sim/contact/mesh.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/vec3.h"
+
+struct rod_mesh {
+    int vertex_count, triangle_count;
+    double *vertices;        /* (vertex_count x 3), m */
+    int *triangles;          /* (triangle_count x 3) vertex indices */
+    double *face_normal;     /* (triangle_count x 3) unit */
+    double *edge_normal;     /* (triangle_count x 3 x 3): edge k (vertex k to k+1), unit */
+    double *vertex_normal;   /* (vertex_count x 3) angle-weighted, unit */
+    /* the grid: cells of edge `cell` (m) from lo, dims[3] of them; cell c
+     * holds the triangles cell_list[cell_start[c] .. cell_start[c + 1]) */
+    double lo[3], hi[3], cell;
+    int dims[3];
+    int *cell_start, *cell_list;
+};
+
+typedef struct corner_key {
+    double x[3];
+    int index;
+} corner_key;
+
+static int compare_corner(const void *pa, const void *pb)
+{
+    const corner_key *a = pa, *b = pb;
+    for (int c = 0; c < 3; c++)
+        if (a->x[c] != b->x[c]) return a->x[c] < b->x[c] ? -1 : 1;
+    return a->index - b->index;
+}
+
+typedef struct edge_key {
+    int lo, hi, slot; /* slot: 3 t + k */
+} edge_key;
+
+static int compare_edge(const void *pa, const void *pb)
+{
+    const edge_key *a = pa, *b = pb;
+    if (a->lo != b->lo) return a->lo < b->lo ? -1 : 1;
+    if (a->hi != b->hi) return a->hi < b->hi ? -1 : 1;
+    return a->slot - b->slot;
+}
+
+static void normalise(double v[3], const double fallback[3])
+{
+    double n = v3_norm(v);
+    if (n > 0.0) v3_scale(v, v, 1.0 / n);
+    else v3_copy(v, fallback);
+}
+
+/* Merges the corners at the same point into vertices. */
+static int weld(rod_mesh *m, const double *tri, int count, const double offset[3])
+{
+    const size_t corners = 3 * (size_t)count;
+    corner_key *keys = malloc(corners * sizeof *keys);
+    m->vertices = malloc(corners * 3 * sizeof(double));
+    m->triangles = malloc(corners * sizeof(int));
+    if (!keys || !m->vertices || !m->triangles) {
+        free(keys);
+        return -1;
+    }
+    for (size_t i = 0; i < corners; i++) {
+        for (int c = 0; c < 3; c++) keys[i].x[c] = tri[3 * i + c] + (offset ? offset[c] : 0.0);
+        keys[i].index = (int)i;
+    }
+    qsort(keys, corners, sizeof *keys, compare_corner);
+    int n = 0;
+    for (size_t i = 0; i < corners; i++) {
+        const double *x = keys[i].x, *y = i > 0 ? keys[i - 1].x : NULL;
+        if (!y || x[0] != y[0] || x[1] != y[1] || x[2] != y[2]) {
+            v3_copy(&m->vertices[3 * (size_t)n], x);
+            n++;
+        }
+        m->triangles[keys[i].index] = n - 1;
+    }
+    free(keys);
+    m->vertex_count = n;
+    return 0;
+}
+
+/* Face, edge and vertex pseudonormals. */
+static int pseudonormals(rod_mesh *m)
+{
+    const int t_count = m->triangle_count;
+    m->face_normal = calloc((size_t)t_count * 3, sizeof(double));
+    m->edge_normal = calloc((size_t)t_count * 9, sizeof(double));
+    m->vertex_normal = calloc((size_t)m->vertex_count * 3, sizeof(double));
+    edge_key *edges = malloc((size_t)t_count * 3 * sizeof *edges);
+    if (!m->face_normal || !m->edge_normal || !m->vertex_normal || !edges) {
+        free(edges);
+        return -1;
+    }
+    static const double up[3] = {0.0, 0.0, 1.0};
+    for (int t = 0; t < t_count; t++) {
+        const int *v = &m->triangles[3 * t];
+        const double *a = &m->vertices[3 * v[0]], *b = &m->vertices[3 * v[1]],
+                     *c = &m->vertices[3 * v[2]];
+        double ab[3], ac[3], *n = &m->face_normal[3 * t];
+        v3_sub(ab, b, a);
+        v3_sub(ac, c, a);
+        v3_cross(n, ab, ac);
+        normalise(n, up);
+        for (int k = 0; k < 3; k++) {
+            /* the corner's angle weights the face at the vertex */
+            const double *p = &m->vertices[3 * v[k]], *q = &m->vertices[3 * v[(k + 1) % 3]],
+                         *r = &m->vertices[3 * v[(k + 2) % 3]];
+            double e1[3], e2[3];
+            v3_sub(e1, q, p);
+            v3_sub(e2, r, p);
+            double l1 = v3_norm(e1), l2 = v3_norm(e2), angle = 0.0;
+            if (l1 > 0.0 && l2 > 0.0) {
+                double cosine = v3_dot(e1, e2) / (l1 * l2);
+                angle = acos(cosine > 1.0 ? 1.0 : cosine < -1.0 ? -1.0 : cosine);
+            }
+            v3_axpy(&m->vertex_normal[3 * v[k]], angle, n);
+            edges[3 * t + k].lo = v[k] < v[(k + 1) % 3] ? v[k] : v[(k + 1) % 3];
+            edges[3 * t + k].hi = v[k] < v[(k + 1) % 3] ? v[(k + 1) % 3] : v[k];
+            edges[3 * t + k].slot = 3 * t + k;
+        }
+    }
+    for (int i = 0; i < m->vertex_count; i++) normalise(&m->vertex_normal[3 * i], up);
+    const size_t e_count = 3 * (size_t)t_count;
+    qsort(edges, e_count, sizeof *edges, compare_edge);
+    for (size_t i = 0; i < e_count;) {
+        size_t j = i;
+        double sum[3] = {0.0, 0.0, 0.0};
+        while (j < e_count && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) {
+            v3_axpy(sum, 1.0, &m->face_normal[3 * (edges[j].slot / 3)]);
+            j++;
+        }
+        for (size_t k = i; k < j; k++) {
+            double *out = &m->edge_normal[3 * (size_t)edges[k].slot];
+            v3_copy(out, sum);
+            normalise(out, &m->face_normal[3 * (edges[k].slot / 3)]);
+        }
+        i = j;
+    }
+    free(edges);
+    return 0;
+}
+
+static int cell_of(const rod_mesh *m, int axis, double x)
+{
+    int c = (int)floor((x - m->lo[axis]) / m->cell);
+    return c < 0 ? 0 : c >= m->dims[axis] ? m->dims[axis] - 1 : c;
+}
+
+/* The grid: a cell about twice the mean triangle's size, at most 8 cells a
+ * triangle; each triangle listed in the cells its bounding box meets. */
+static int build_grid(rod_mesh *m)
+{
+    double area = 0.0, extent = 0.0;
+    for (int t = 0; t < m->triangle_count; t++) {
+        const int *v = &m->triangles[3 * t];
+        double ab[3], ac[3], n[3];
+        v3_sub(ab, &m->vertices[3 * v[1]], &m->vertices[3 * v[0]]);
+        v3_sub(ac, &m->vertices[3 * v[2]], &m->vertices[3 * v[0]]);
+        v3_cross(n, ab, ac);
+        area += 0.5 * v3_norm(n);
+    }
+    rod_mesh_bounds(m, m->lo, m->hi);
+    for (int c = 0; c < 3; c++) extent = fmax(extent, m->hi[c] - m->lo[c]);
+    double cell = 2.0 * sqrt(2.0 * area / m->triangle_count);
+    if (!(cell > 1e-9 * extent)) cell = extent > 0.0 ? extent : 1.0;
+    for (;;) {
+        double cells = 1.0;
+        for (int c = 0; c < 3; c++) cells *= floor((m->hi[c] - m->lo[c]) / cell) + 1.0;
+        if (cells <= 8.0 * m->triangle_count + 64.0) break;
+        cell *= 1.25;
+    }
+    m->cell = cell;
+    size_t total = 1;
+    for (int c = 0; c < 3; c++) {
+        m->dims[c] = (int)floor((m->hi[c] - m->lo[c]) / cell) + 1;
+        total *= (size_t)m->dims[c];
+    }
+    m->cell_start = calloc(total + 1, sizeof(int));
+    if (!m->cell_start) return -1;
+    for (int pass = 0; pass < 2; pass++) {
+        for (int t = 0; t < m->triangle_count; t++) {
+            int from[3], to[3];
+            for (int c = 0; c < 3; c++) {
+                double a = m->vertices[3 * m->triangles[3 * t] + c], lo = a, hi = a;
+                for (int k = 1; k < 3; k++) {
+                    double x = m->vertices[3 * m->triangles[3 * t + k] + c];
+                    lo = fmin(lo, x);
+                    hi = fmax(hi, x);
+                }
+                from[c] = cell_of(m, c, lo);
+                to[c] = cell_of(m, c, hi);
+            }
+            for (int i = from[0]; i <= to[0]; i++)
+                for (int j = from[1]; j <= to[1]; j++)
+                    for (int k = from[2]; k <= to[2]; k++) {
+                        size_t c = ((size_t)k * (size_t)m->dims[1] + (size_t)j) * (size_t)m->dims[0] + (size_t)i;
+                        if (pass == 0) m->cell_start[c + 1]++;
+                        else m->cell_list[m->cell_start[c]++] = t;
+                    }
+        }
+        if (pass == 0) {
+            for (size_t c = 0; c < total; c++) m->cell_start[c + 1] += m->cell_start[c];
+            m->cell_list = malloc((size_t)(m->cell_start[total] > 0 ? m->cell_start[total] : 1) * sizeof(int));
+            if (!m->cell_list) return -1;
+        } else {
+            /* the second pass moved each start to the next cell's: back */
+            for (size_t c = total; c > 0; c--) m->cell_start[c] = m->cell_start[c - 1];
+            m->cell_start[0] = 0;
+        }
+    }
+    return 0;
+}
+
+rod_mesh *rod_mesh_create(const double *triangles, int count, const double offset[3], char *err,
+                          size_t errlen)
+{
+    rod_mesh *m = calloc(1, sizeof *m);
+    if (m && count > 0) {
+        m->triangle_count = count;
+        if (weld(m, triangles, count, offset) == 0 && pseudonormals(m) == 0 && build_grid(m) == 0)
+            return m;
+    }
+    rod_mesh_destroy(m);
+    snprintf(err, errlen, count > 0 ? "out of memory for a mesh of %d triangles"
+                                    : "a mesh needs at least one triangle (%d given)", count);
+    return NULL;
+}
+
+void rod_mesh_destroy(rod_mesh *m)
+{
+    if (!m) return;
+    free(m->vertices);
+    free(m->triangles);
+    free(m->face_normal);
+    free(m->edge_normal);
+    free(m->vertex_normal);
+    free(m->cell_start);
+    free(m->cell_list);
+    free(m);
+}
+
+/* The point of triangle a b c nearest p (Ericson, Real-Time Collision
+ * Detection 5.1.5) and its feature: 0 the face, 1 2 3 the vertices a b c,
+ * 4 5 6 the edges ab bc ca. */
+static int closest_on_triangle(const double p[3], const double a[3], const double b[3],
+                               const double c[3], double out[3])
+{
+    double ab[3], ac[3], ap[3], bp[3], cp[3];
+    v3_sub(ab, b, a);
+    v3_sub(ac, c, a);
+    v3_sub(ap, p, a);
+    const double d1 = v3_dot(ab, ap), d2 = v3_dot(ac, ap);
+    if (d1 <= 0.0 && d2 <= 0.0) { v3_copy(out, a); return 1; }
+    v3_sub(bp, p, b);
+    const double d3 = v3_dot(ab, bp), d4 = v3_dot(ac, bp);
+    if (d3 >= 0.0 && d4 <= d3) { v3_copy(out, b); return 2; }
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        const double v = d1 / (d1 - d3);
+        v3_copy(out, a);
+        v3_axpy(out, v, ab);
+        return 4;
+    }
+    v3_sub(cp, p, c);
+    const double d5 = v3_dot(ab, cp), d6 = v3_dot(ac, cp);
+    if (d6 >= 0.0 && d5 <= d6) { v3_copy(out, c); return 3; }
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        const double w = d2 / (d2 - d6);
+        v3_copy(out, a);
+        v3_axpy(out, w, ac);
+        return 6;
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        for (int k = 0; k < 3; k++) out[k] = b[k] + w * (c[k] - b[k]);
+        return 5;
+    }
+    const double denom = 1.0 / (va + vb + vc), v = vb * denom, w = vc * denom;
+    for (int k = 0; k < 3; k++) out[k] = a[k] + v * ab[k] + w * ac[k];
+    return 0;
+}
+
+static const double *feature_normal(const rod_mesh *m, int t, int feature)
+{
+    if (feature == 0) return &m->face_normal[3 * t];
+    if (feature <= 3) return &m->vertex_normal[3 * m->triangles[3 * t + feature - 1]];
+    return &m->edge_normal[3 * (3 * (size_t)t + (size_t)(feature - 4))];
+}
+
+/* The triangle nearest p, its feature (closest_on_triangle) and point;
+ * returns the squared distance. */
+static double nearest_triangle(const rod_mesh *m, const double p[3], int *triangle, int *feature,
+                               double point[3])
+{
+    /* the clamped point q: for any point x of the grid's box |p - x|^2 >=
+     * |p - q|^2 + |q - x|^2, so cells r rings out from q's are at least
+     * sqrt(|p - q|^2 + ((r - 1) cell)^2) away */
+    int centre[3];
+    double q[3], outside2 = 0.0;
+    for (int c = 0; c < 3; c++) {
+        q[c] = p[c] < m->lo[c] ? m->lo[c] : p[c] > m->hi[c] ? m->hi[c] : p[c];
+        outside2 += (p[c] - q[c]) * (p[c] - q[c]);
+        centre[c] = cell_of(m, c, q[c]);
+    }
+    int most = 0;
+    for (int c = 0; c < 3; c++) {
+        int reach = centre[c] > m->dims[c] - 1 - centre[c] ? centre[c] : m->dims[c] - 1 - centre[c];
+        if (reach > most) most = reach;
+    }
+    double best2 = INFINITY, best_point[3] = {0.0, 0.0, 0.0};
+    int best_t = 0, best_feature = 0;
+    for (int r = 0; r <= most; r++) {
+        if (r > 0) {
+            double bound = (r - 1) * m->cell;
+            if (outside2 + bound * bound >= best2) break;
+        }
+        for (int k = centre[2] - r; k <= centre[2] + r; k++) {
+            if (k < 0 || k >= m->dims[2]) continue;
+            for (int j = centre[1] - r; j <= centre[1] + r; j++) {
+                if (j < 0 || j >= m->dims[1]) continue;
+                const int shell = abs(k - centre[2]) == r || abs(j - centre[1]) == r;
+                for (int i = centre[0] - r; i <= centre[0] + r; i += (shell || r == 0) ? 1 : 2 * r) {
+                    if (i < 0 || i >= m->dims[0]) continue;
+                    size_t cidx = ((size_t)k * (size_t)m->dims[1] + (size_t)j) * (size_t)m->dims[0] + (size_t)i;
+                    for (int e = m->cell_start[cidx]; e < m->cell_start[cidx + 1]; e++) {
+                        const int t = m->cell_list[e];
+                        const int *v = &m->triangles[3 * t];
+                        double x[3], d[3];
+                        int kind = closest_on_triangle(p, &m->vertices[3 * v[0]],
+                                                          &m->vertices[3 * v[1]],
+                                                          &m->vertices[3 * v[2]], x);
+                        v3_sub(d, p, x);
+                        double d2 = v3_dot(d, d);
+                        if (d2 < best2) {
+                            best2 = d2;
+                            best_t = t;
+                            best_feature = kind;
+                            v3_copy(best_point, x);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    *triangle = best_t;
+    *feature = best_feature;
+    v3_copy(point, best_point);
+    return best2;
+}
+
+double rod_mesh_distance(const rod_mesh *m, const double p[3], double normal[3],
+                         double nearest[3])
+{
+    int best_t, best_feature;
+    double best_point[3];
+    const double best2 = nearest_triangle(m, p, &best_t, &best_feature, best_point);
+    const double *pseudo = feature_normal(m, best_t, best_feature);
+    double d[3];
+    v3_sub(d, p, best_point);
+    const double dist = sqrt(best2);
+    const int inside = v3_dot(d, pseudo) < 0.0;
+    if (normal) {
+        if (dist > 1e-12 * (m->cell + dist)) v3_scale(normal, d, (inside ? -1.0 : 1.0) / dist);
+        else v3_copy(normal, pseudo);
+    }
+    if (nearest) v3_copy(nearest, best_point);
+    return inside ? -dist : dist;
+}
+
+int rod_mesh_curvature(const rod_mesh *m, const double p[3], double hessian[9])
+{
+    int t, feature;
+    double point[3], d[3];
+    const double dist = sqrt(nearest_triangle(m, p, &t, &feature, point));
+    memset(hessian, 0, 9 * sizeof(double));
+    v3_sub(d, p, point);
+    /* on a face, or too near the mesh to tell a direction */
+    if (feature == 0 || !(dist > 1e-9 * m->cell) || v3_dot(d, feature_normal(m, t, feature)) < 0.0)
+        return 0;
+    double n[3], axis[3] = {0.0, 0.0, 0.0};
+    v3_scale(n, d, 1.0 / dist);
+    /* straight above the triangle's plane: an edge or vertex between faces
+     * in one plane (a quad's diagonal), flat */
+    if (v3_dot(n, &m->face_normal[3 * t]) > 1.0 - 1e-12) return 0;
+    if (feature >= 4) {
+        const int *v = &m->triangles[3 * t];
+        const int k = feature - 4;
+        v3_sub(axis, &m->vertices[3 * v[(k + 1) % 3]], &m->vertices[3 * v[k]]);
+        v3_scale(axis, axis, 1.0 / v3_norm(axis));
+    }
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            hessian[3 * i + j] = ((i == j) - n[i] * n[j] - axis[i] * axis[j]) / dist;
+    return 1;
+}
+
+int rod_mesh_vertex_count(const rod_mesh *m) { return m->vertex_count; }
+const double *rod_mesh_vertices(const rod_mesh *m) { return m->vertices; }
+int rod_mesh_triangle_count(const rod_mesh *m) { return m->triangle_count; }
+const int *rod_mesh_triangles(const rod_mesh *m) { return m->triangles; }
+
+void rod_mesh_bounds(const rod_mesh *m, double lo[3], double hi[3])
+{
+    for (int c = 0; c < 3; c++) {
+        lo[c] = INFINITY;
+        hi[c] = -INFINITY;
+    }
+    for (int i = 0; i < m->vertex_count; i++)
+        for (int c = 0; c < 3; c++) {
+            lo[c] = fmin(lo[c], m->vertices[3 * i + c]);
+            hi[c] = fmax(hi[c], m->vertices[3 * i + c]);
+        }
+}
