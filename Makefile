@@ -14,15 +14,16 @@ TEST_PKGS := libavcodec libavformat libswscale libavutil
 # it starts (slurmctld + slurmd, as root). libegl-dev (EGL
 # headers, glvnd's libEGL.so.1), libegl-mesa0 (Mesa's EGL driver) and libgl1-mesa-dri
 # (its llvmpipe, swrast_dri.so): the EGL backend; libosmesa6-dev: the OSMesa one.
+# libsuitesparse-dev: CHOLMOD, the tissue's sparse Cholesky (-lcholmod: no pkg-config file).
 DEBS    := build-essential pkg-config libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev \
            libpng-dev libfreetype-dev fonts-dejavu-core libavcodec-dev libavformat-dev \
            libswscale-dev libavutil-dev liblapacke-dev liblapack-dev libblas-dev clang \
-           libclang-rt-dev libxml2-utils parallel snakemake slurm-wlm
+           libclang-rt-dev libxml2-utils parallel snakemake slurm-wlm libsuitesparse-dev
 WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes
 CFLAGS  ?= -O3 -g
 ALL_CFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(CFLAGS) $(EXTRA_CFLAGS) -Iinclude \
              $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
-LDLIBS  = $(shell pkg-config --libs $(LINK_PKGS) 2>/dev/null) -llapack -lblas -ldl -lpthread -lm
+LDLIBS  = $(shell pkg-config --libs $(LINK_PKGS) 2>/dev/null) -lcholmod -llapack -lblas -ldl -lpthread -lm
 TEST_LDLIBS = $(shell pkg-config --libs $(TEST_PKGS) 2>/dev/null)
 LDFLAGS ?=
 
