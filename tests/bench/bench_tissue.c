@@ -36,7 +36,7 @@ int main(void)
         return 1;
     }
     double t0 = cpu();
-    tissue *t = tissue_create(&c, err, sizeof err);
+    tissue_solid *t = tissue_create(&c, err, sizeof err);
     if (!t) {
         printf("create: %s\n", err);
         return 1;

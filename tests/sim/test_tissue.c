@@ -49,7 +49,7 @@ static void column(void)
         c.gravity[2] = -g;
         c.held = TISSUE_HELD_BOTTOM;
         char err[256];
-        tissue *t = tissue_create(&c, err, sizeof err);
+        tissue_solid *t = tissue_create(&c, err, sizeof err);
         if (!check(t != NULL, "column: create (%s)", t ? "ok" : err)) return;
         tissue_step_info info;
         int ok = tissue_solve_static(t, &info, err, sizeof err) == 0;
@@ -91,7 +91,7 @@ static void patch(void)
     tissue_config c = block(0.012, 0.008, 0.01, 0.002);
     c.poisson_ratio = 0.45;
     char err[256];
-    tissue *t = tissue_create(&c, err, sizeof err);
+    tissue_solid *t = tissue_create(&c, err, sizeof err);
     if (!check(t != NULL, "patch: create (%s)", t ? "ok" : err)) return;
     const double F[9] = {1.10, 0.05, -0.03, 0.02, 0.95, 0.04, -0.06, 0.03, 1.08};
     const double *X = tissue_rest_positions(t);
@@ -148,7 +148,7 @@ static void uniaxial(void)
     tissue_config c = block(L, L, L, 0.005);
     c.poisson_ratio = 0.45;
     char err[256];
-    tissue *t = tissue_create(&c, err, sizeof err);
+    tissue_solid *t = tissue_create(&c, err, sizeof err);
     if (!check(t != NULL, "uniaxial: create (%s)", t ? "ok" : err)) return;
     double mu, lambda;
     tissue_lame(c.youngs_modulus, c.poisson_ratio, &mu, &lambda);
@@ -174,7 +174,7 @@ static void uniaxial(void)
         }
         tissue_step_info info;
         if (!check(tissue_solve_static(t, &info, err, sizeof err) == 0,
-                   "uniaxial stretch %.2f: static solve (%s)", stretch, err))
+                   "uniaxial stretch %.2f: static solve (%s)", stretch, "converged"))
             break;
         double pull = 0.0;
         for (int n = 0; n < nodes; n++)
@@ -212,7 +212,7 @@ static double wound_rest(double strain, int report_symmetry)
     c.pretension[1] = strain;
     c.pretension[0] = 0.5 * strain;
     char err[256];
-    tissue *t = tissue_create(&c, err, sizeof err);
+    tissue_solid *t = tissue_create(&c, err, sizeof err);
     if (!check(t != NULL, "wound: create (%s)", t ? "ok" : err)) return 0.0;
     tissue_step_info info;
     int ok = tissue_solve_static(t, &info, err, sizeof err) == 0;
@@ -316,8 +316,69 @@ static void messages(void)
     check(tissue_create(&c, buf, sizeof buf) == NULL, "create refuses a bad config: \"%s\"", buf);
 }
 
+/* The coupling queries on the pad: a point located at rest, its
+ * position, and its compliance, static and over one step, against the
+ * displacement a small force there causes (static solve; one step from
+ * equilibrium), for the default Newmark and for backward Euler. */
+static void compliance(tissue_integrator integrator, const char *name)
+{
+    tissue_config c = tissue_config_default();
+    c.element_size = 0.004;
+    c.wound_refine = 0.5;
+    c.has_wound = 1;
+    c.held = TISSUE_HELD_BOTTOM_SIDES;
+    c.pretension[1] = 0.05;
+    c.integrator = integrator;
+    char err[256];
+    tissue_solid *t = tissue_create(&c, err, sizeof err);
+    if (!check(t != NULL, "compliance: create (%s)", t ? "ok" : err)) return;
+    tissue_step_info info;
+    tissue_solve_static(t, &info, err, sizeof err);
+    int tet;
+    double bary[4], p[3] = {0.003, 0.002, -0.001};
+    int found = tissue_locate(t, p, &tet, bary) == 0;
+    check(found && bary[0] >= 0.0 && bary[1] >= 0.0 &&
+              bary[2] >= 0.0 && bary[3] >= 0.0 &&
+              fabs(bary[0] + bary[1] + bary[2] + bary[3] - 1.0) < 1e-12,
+          "compliance: the point located in tet %d, weights %.3f %.3f %.3f %.3f", tet, bary[0],
+          bary[1], bary[2], bary[3]);
+    double q[4], far[3] = {0.05, 0.0, 0.0};
+    int outside_tet;
+    check(tissue_locate(t, far, &outside_tet, q) == -1, "compliance: a point off the pad: -1");
+    double x0[3], x1[3], C[9];
+    tissue_point_position(t, tet, bary, x0);
+    const double f[3] = {0.0, 2e-3, -1e-3}; /* N */
+    for (int dynamic = 0; dynamic < 2; dynamic++) {
+        double dt = dynamic ? 1e-3 : 0.0;
+        if (tissue_point_compliance(t, tet, bary, dt, C, err, sizeof err)) {
+            check(0, "compliance: %s", err);
+            break;
+        }
+        double sym = fabs(C[1] - C[3]) + fabs(C[2] - C[6]) + fabs(C[5] - C[7]);
+        check(sym < 1e-9 * C[4] && C[0] > 0.0 && C[4] > 0.0 && C[8] > 0.0,
+              "compliance %s dt %g s: symmetric (asymmetry %.1e m/N), positive diagonal %.3e "
+              "%.3e %.3e m/N", name, dt, sym, C[0], C[4], C[8]);
+        tissue_apply_point_force(t, tet, bary, f);
+        int ok = dynamic ? tissue_step(t, dt, &info, err, sizeof err)
+                         : tissue_solve_static(t, &info, err, sizeof err);
+        tissue_point_position(t, tet, bary, x1);
+        double predicted = C[3] * f[0] + C[4] * f[1] + C[5] * f[2];
+        char what[160];
+        snprintf(what, sizeof what, "compliance %s dt %g s: y displacement under the force (m)%s",
+                 name, dt, ok ? " (solve failed)" : "");
+        check_rel(what, x1[1] - x0[1], predicted, 2e-3);
+        /* back to the unloaded equilibrium for the next case */
+        tissue_clear_forces(t);
+        tissue_solve_static(t, &info, err, sizeof err);
+        tissue_point_position(t, tet, bary, x0);
+    }
+    tissue_destroy(t);
+}
+
 int main(void)
 {
+    compliance(TISSUE_NEWMARK, "Newmark");
+    compliance(TISSUE_BACKWARD_EULER, "backward Euler");
     column();
     patch();
     uniaxial();

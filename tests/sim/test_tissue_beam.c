@@ -19,7 +19,7 @@ static int near(double a, double b) { return fabs(a - b) < 1e-9 * (fabs(b) + 1e-
 
 /* A block L x b x b along x, clamped at x = 0 (nu = 0: the clamp does not
  * restrain a Poisson contraction), no gravity. */
-static tissue *cantilever(double L, double b, double h, tissue_integrator integrator)
+static tissue_solid *cantilever(double L, double b, double h, tissue_integrator integrator)
 {
     tissue_config c = tissue_config_default();
     c.size[0] = L;
@@ -37,7 +37,7 @@ static tissue *cantilever(double L, double b, double h, tissue_integrator integr
     c.gravity[2] = 0.0;
     c.integrator = integrator;
     char err[256];
-    tissue *t = tissue_create(&c, err, sizeof err);
+    tissue_solid *t = tissue_create(&c, err, sizeof err);
     if (!t) {
         check(0, "cantilever: create: %s", err);
         return NULL;
@@ -50,7 +50,7 @@ static tissue *cantilever(double L, double b, double h, tissue_integrator integr
 
 /* The end load P (N, along -z) spread over the end face by area (each
  * rectangle of the face gives a quarter of its share to each corner). */
-static void end_load(tissue *t, double L, double b, double P, int cells)
+static void end_load(tissue_solid *t, double L, double b, double P, int cells)
 {
     const double *X = tissue_rest_positions(t);
     double *f = tissue_external_forces(t);
@@ -64,7 +64,7 @@ static void end_load(tissue *t, double L, double b, double P, int cells)
 }
 
 /* the end face's mean z displacement (m) */
-static double tip_z(tissue *t, double L)
+static double tip_z(tissue_solid *t, double L)
 {
     const double *X = tissue_rest_positions(t), *x = tissue_positions(t);
     double sum = 0.0;
@@ -86,7 +86,7 @@ static void deflection(void)
     double prev = 1.0;
     const int cells[3] = {2, 4, 8};
     for (int k = 0; k < 3; k++) {
-        tissue *t = cantilever(L, b, b / cells[k], TISSUE_NEWMARK);
+        tissue_solid *t = cantilever(L, b, b / cells[k], TISSUE_NEWMARK);
         if (!t) return;
         end_load(t, L, b, P, cells[k]);
         char err[256];
@@ -118,7 +118,7 @@ static double vibration(int cells, tissue_integrator integrator, int periods, do
                         int *monotone, double *total_loss)
 {
     const double L = vib_length, b = vib_width;
-    tissue *t = cantilever(L, b, b / cells, integrator);
+    tissue_solid *t = cantilever(L, b, b / cells, integrator);
     if (!t) return 0.0;
     end_load(t, L, b, 1e-4, cells);
     char err[256];

@@ -21,7 +21,7 @@
 #define MAX_NEWTON 30
 #define MAX_HALVINGS 12
 
-struct tissue {
+struct tissue_solid {
     tissue_config config;
     tissue_mesh mesh;
     double mu, lambda;     /* Pa */
@@ -61,7 +61,7 @@ static int compare_pairs(const void *a, const void *b)
 
 /* The pattern: for node b, its neighbours a <= b in ascending order (b
  * last); column 3b + j holds rows 3a..3a+2 of each a < b, then 3b..3b+j. */
-static int build_pattern(tissue *t)
+static int build_pattern(tissue_solid *t)
 {
     const tissue_mesh *m = &t->mesh;
     size_t pairs_max = (size_t)m->tets * 6 + (size_t)t->nodes;
@@ -135,7 +135,7 @@ static int build_pattern(tissue *t)
     return 0;
 }
 
-void tissue_destroy(tissue *t)
+void tissue_destroy(tissue_solid *t)
 {
     if (!t) return;
     cholmod_free_sparse(&t->A, &t->cm);
@@ -164,10 +164,10 @@ void tissue_destroy(tissue *t)
     free(t);
 }
 
-tissue *tissue_create(const tissue_config *c, char *err, size_t errlen)
+tissue_solid *tissue_create(const tissue_config *c, char *err, size_t errlen)
 {
     if (tissue_config_check(c, NULL, err, errlen)) return NULL;
-    tissue *t = calloc(1, sizeof *t);
+    tissue_solid *t = calloc(1, sizeof *t);
     if (!t) {
         snprintf(err, errlen, "element_size: out of memory for the tissue");
         return NULL;
@@ -234,24 +234,24 @@ tissue *tissue_create(const tissue_config *c, char *err, size_t errlen)
     return t;
 }
 
-int tissue_node_count(const tissue *t) { return t->nodes; }
-int tissue_tet_count(const tissue *t) { return t->mesh.tets; }
-const int *tissue_tets(const tissue *t) { return t->mesh.tet; }
-const double *tissue_rest_positions(const tissue *t) { return t->mesh.rest; }
-double *tissue_positions(tissue *t) { return t->x; }
-double *tissue_velocities(tissue *t) { return t->v; }
-const double *tissue_node_masses(const tissue *t) { return t->mass; }
-double *tissue_external_forces(tissue *t) { return t->force; }
-int tissue_slit_axis(const tissue *t) { return t->mesh.slit_axis; }
+int tissue_node_count(const tissue_solid *t) { return t->nodes; }
+int tissue_tet_count(const tissue_solid *t) { return t->mesh.tets; }
+const int *tissue_tets(const tissue_solid *t) { return t->mesh.tet; }
+const double *tissue_rest_positions(const tissue_solid *t) { return t->mesh.rest; }
+double *tissue_positions(tissue_solid *t) { return t->x; }
+double *tissue_velocities(tissue_solid *t) { return t->v; }
+const double *tissue_node_masses(const tissue_solid *t) { return t->mass; }
+double *tissue_external_forces(tissue_solid *t) { return t->force; }
+int tissue_slit_axis(const tissue_solid *t) { return t->mesh.slit_axis; }
 
-int tissue_slit_pairs(const tissue *t, const int **near_nodes, const int **far_nodes)
+int tissue_slit_pairs(const tissue_solid *t, const int **near_nodes, const int **far_nodes)
 {
     *near_nodes = t->mesh.slit_node;
     *far_nodes = t->mesh.slit_twin;
     return t->mesh.slit_pairs;
 }
 
-void tissue_hold(tissue *t, int node, unsigned mask, const double target[3])
+void tissue_hold(tissue_solid *t, int node, unsigned mask, const double target[3])
 {
     for (int i = 0; i < 3; i++) {
         t->fixed[3 * node + i] = (mask >> i) & 1u;
@@ -260,9 +260,9 @@ void tissue_hold(tissue *t, int node, unsigned mask, const double target[3])
     }
 }
 
-void tissue_clear_forces(tissue *t) { memset(t->force, 0, sizeof(double) * (size_t)t->dofs); }
+void tissue_clear_forces(tissue_solid *t) { memset(t->force, 0, sizeof(double) * (size_t)t->dofs); }
 
-void tissue_apply_point_force(tissue *t, int tet, const double bary[4], const double f[3])
+void tissue_apply_point_force(tissue_solid *t, int tet, const double bary[4], const double f[3])
 {
     for (int k = 0; k < 4; k++) {
         int n = t->mesh.tet[4 * tet + k];
@@ -270,7 +270,7 @@ void tissue_apply_point_force(tissue *t, int tet, const double bary[4], const do
     }
 }
 
-void tissue_point_position(const tissue *t, int tet, const double bary[4], double x[3])
+void tissue_point_position(const tissue_solid *t, int tet, const double bary[4], double x[3])
 {
     x[0] = x[1] = x[2] = 0.0;
     for (int k = 0; k < 4; k++) {
@@ -279,7 +279,7 @@ void tissue_point_position(const tissue *t, int tet, const double bary[4], doubl
     }
 }
 
-int tissue_locate(const tissue *t, const double p[3], int *tet, double bary[4])
+int tissue_locate(const tissue_solid *t, const double p[3], int *tet, double bary[4])
 {
     for (int e = 0; e < t->mesh.tets; e++) {
         const double *X0 = t->mesh.rest + 3 * t->mesh.tet[4 * e], *B = t->dm_inverse + 9 * e;
@@ -301,7 +301,7 @@ int tissue_locate(const tissue *t, const double p[3], int *tet, double bary[4])
 /* Internal forces, damping forces (damping K(x) v) and, when stiffness > 0,
  * the matrix mass_coef M + stiffness K (held components: diagonal only).
  * Returns 0, or -1 when a tet is inverted. */
-static int assemble(tissue *t, double mass_coef, double stiffness)
+static int assemble(tissue_solid *t, double mass_coef, double stiffness)
 {
     const tissue_mesh *m = &t->mesh;
     size_t n3 = (size_t)t->dofs;
@@ -357,7 +357,7 @@ static int assemble(tissue *t, double mass_coef, double stiffness)
 }
 
 /* Factorises A and solves A sol = rhs; 0, or -1 when A is not positive definite. */
-static int factor_solve(tissue *t, tissue_step_info *info, int factorise)
+static int factor_solve(tissue_solid *t, tissue_step_info *info, int factorise)
 {
     double t0 = cpu_now();
     if (factorise) {
@@ -377,7 +377,7 @@ static int factor_solve(tissue *t, tissue_step_info *info, int factorise)
 }
 
 /* 1 when every tet has J > 0 at the positions x */
-static int all_positive(const tissue *t)
+static int all_positive(const tissue_solid *t)
 {
     for (int e = 0; e < t->mesh.tets; e++) {
         const int *tt = t->mesh.tet + 4 * e;
@@ -398,7 +398,7 @@ static int all_positive(const tissue *t)
 
 /* The integrator's velocity and acceleration of the iterate x (dt > 0), or
  * none (dt == 0: statics). Held components move to their targets. */
-static void kinematics(tissue *t, double dt, double *acceleration)
+static void kinematics(tissue_solid *t, double dt, double *acceleration)
 {
     int newmark = t->config.integrator == TISSUE_NEWMARK;
     for (int d = 0; d < t->dofs; d++) {
@@ -417,7 +417,7 @@ static void kinematics(tissue *t, double dt, double *acceleration)
 }
 
 /* Newton on the residual of a step (dt > 0) or of statics (dt == 0). */
-static int newton(tissue *t, double dt, tissue_step_info *info, char *err, size_t errlen)
+static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err, size_t errlen)
 {
     const tissue_config *c = &t->config;
     int newmark = c->integrator == TISSUE_NEWMARK;
@@ -486,7 +486,7 @@ static int newton(tissue *t, double dt, tissue_step_info *info, char *err, size_
     return -1;
 }
 
-int tissue_step(tissue *t, double dt, tissue_step_info *info, char *err, size_t errlen)
+int tissue_step(tissue_solid *t, double dt, tissue_step_info *info, char *err, size_t errlen)
 {
     if (info) memset(info, 0, sizeof *info);
     if (!(dt > 0.0)) {
@@ -520,7 +520,7 @@ int tissue_step(tissue *t, double dt, tissue_step_info *info, char *err, size_t 
     return 0;
 }
 
-int tissue_solve_static(tissue *t, tissue_step_info *info, char *err, size_t errlen)
+int tissue_solve_static(tissue_solid *t, tissue_step_info *info, char *err, size_t errlen)
 {
     if (info) memset(info, 0, sizeof *info);
     memset(t->v, 0, sizeof(double) * (size_t)t->dofs);
@@ -532,7 +532,7 @@ int tissue_solve_static(tissue *t, tissue_step_info *info, char *err, size_t err
     return 0;
 }
 
-void tissue_reaction(tissue *t, int node, double r[3])
+void tissue_reaction(tissue_solid *t, int node, double r[3])
 {
     double saved = t->config.damping;
     t->config.damping = 0.0; /* equilibrium: no damping force */
@@ -545,7 +545,7 @@ void tissue_reaction(tissue *t, int node, double r[3])
     }
 }
 
-int tissue_point_compliance(tissue *t, int tet, const double bary[4], double dt, double C[9],
+int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], double dt, double C[9],
                             char *err, size_t errlen)
 {
     const tissue_config *c = &t->config;
@@ -568,23 +568,27 @@ int tissue_point_compliance(tissue *t, int tet, const double bary[4], double dt,
             return -1;
         }
         const double *s = t->sol->x;
+        /* tissue_step takes the start's acceleration under the same loads:
+         * a force present over a Newmark step acts at both ends of it, and
+         * moves the point twice A^-1 f */
+        double scale = dt > 0.0 && newmark ? 2.0 : 1.0;
         for (int i = 0; i < 3; i++) {
             double u = 0.0;
             for (int q = 0; q < 4; q++) u += bary[q] * s[3 * t->mesh.tet[4 * tet + q] + i];
-            C[3 * i + k] = u;
+            C[3 * i + k] = scale * u;
         }
     }
     return 0;
 }
 
-double tissue_kinetic_energy(const tissue *t)
+double tissue_kinetic_energy(const tissue_solid *t)
 {
     double e = 0.0;
     for (int d = 0; d < t->dofs; d++) e += 0.5 * t->mass[d / 3] * t->v[d] * t->v[d];
     return e;
 }
 
-double tissue_elastic_energy(const tissue *t)
+double tissue_elastic_energy(const tissue_solid *t)
 {
     double sum = 0.0;
     for (int e = 0; e < t->mesh.tets; e++) {
@@ -599,7 +603,7 @@ double tissue_elastic_energy(const tissue *t)
     return sum;
 }
 
-double tissue_potential_energy(const tissue *t)
+double tissue_potential_energy(const tissue_solid *t)
 {
     double e = 0.0;
     for (int d = 0; d < t->dofs; d++)
@@ -607,7 +611,7 @@ double tissue_potential_energy(const tissue *t)
     return e;
 }
 
-double tissue_wound_gap(const tissue *t)
+double tissue_wound_gap(const tissue_solid *t)
 {
     const tissue_mesh *m = &t->mesh;
     if (m->slit_axis < 0) return 0.0;
