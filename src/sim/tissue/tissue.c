@@ -40,6 +40,8 @@ struct tissue_solid {
     int *rank;             /* (tets x 16): 3 x the rank of the smaller node in the larger one's
                               column list, for each ordered node pair of the tet */
     double hold_diagonal;  /* N/m: a held component's diagonal, a stiffness-like scale */
+    int factor_ok;         /* 1: L factors a matrix of the current holds and coefficients */
+    double factor_mass, factor_stiffness; /* the coefficients L was made with */
     cholmod_common cm;
     cholmod_sparse *A;     /* upper triangle, stype 1 */
     cholmod_factor *L;
@@ -253,6 +255,7 @@ int tissue_slit_pairs(const tissue_solid *t, const int **near_nodes, const int *
 
 void tissue_hold(tissue_solid *t, int node, unsigned mask, const double target[3])
 {
+    t->factor_ok = 0; /* the held rows change the matrix */
     for (int i = 0; i < 3; i++) {
         t->fixed[3 * node + i] = (mask >> i) & 1u;
         t->target[3 * node + i] = target ? target[i] : t->x[3 * node + i];
@@ -356,13 +359,19 @@ static int assemble(tissue_solid *t, double mass_coef, double stiffness)
     return 0;
 }
 
-/* Factorises A and solves A sol = rhs; 0, or -1 when A is not positive definite. */
-static int factor_solve(tissue_solid *t, tissue_step_info *info, int factorise)
+/* Factorises A (made with these coefficients) when asked, and solves
+ * A sol = rhs; 0, or -1 when A is not positive definite. */
+static int factor_solve(tissue_solid *t, tissue_step_info *info, int factorise, double mass_coef,
+                        double stiffness)
 {
     double t0 = cpu_now();
     if (factorise) {
+        t->factor_ok = 0;
         cholmod_factorize(t->A, t->L, &t->cm);
         if (t->cm.status != CHOLMOD_OK || t->L->minor < t->L->n) return -1;
+        t->factor_ok = 1;
+        t->factor_mass = mass_coef;
+        t->factor_stiffness = stiffness;
     }
     double t1 = cpu_now();
     if (!cholmod_solve2(CHOLMOD_A, t->L, t->rhs, NULL, &t->sol, NULL, &t->work_y, &t->work_e,
@@ -429,12 +438,11 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
     double *acceleration = t->residual; /* shares storage: filled, then turned into residual */
     for (int d = 0; d < t->dofs; d++)
         if (t->fixed[d]) t->x[d] = t->target[d];
-    /* The factor of the step's first iteration serves the next ones while
-     * the residual falls at least fourfold per iteration (a factorisation
-     * costs ~10 assemblies at the pad's size: decision record
-     * draft-tissue-fem); a slower fall renews it. */
+    /* The last factor (of this step or an earlier one with the same dt and
+     * holds) serves while the residual falls at least fourfold per
+     * iteration; a slower fall renews it (a factorisation costs ~10
+     * assemblies at the pad's size: decision record draft-tissue-fem). */
     double last_worst = HUGE_VAL;
-    int factored = 0;
     for (int it = 0; it < MAX_NEWTON; it++) {
         if (dt > 0.0) kinematics(t, dt, acceleration);
         double t0 = cpu_now();
@@ -457,10 +465,10 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
             info->residual = worst;
         }
         if (worst <= force_tol) return 0;
-        int renew = !factored || worst > 0.25 * last_worst;
+        int renew = !t->factor_ok || t->factor_mass != mass_coef ||
+                    t->factor_stiffness != stiffness || (it > 0 && worst > 0.25 * last_worst);
         last_worst = worst;
-        factored = 1;
-        if (factor_solve(t, info, renew)) {
+        if (factor_solve(t, info, renew, mass_coef, stiffness)) {
             snprintf(err, errlen,
                      "the tissue's Newton matrix is not positive definite (iteration %d): "
                      "a smaller time step, or more held nodes",
@@ -563,7 +571,7 @@ int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], doub
             int d = 3 * t->mesh.tet[4 * tet + q] + k;
             if (!t->fixed[d]) rhs[d] = bary[q];
         }
-        if (factor_solve(t, NULL, k == 0)) {
+        if (factor_solve(t, NULL, k == 0, mass_coef, stiffness)) {
             snprintf(err, errlen, "the tissue's matrix is not positive definite (nothing held?)");
             return -1;
         }
