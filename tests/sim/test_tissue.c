@@ -250,8 +250,45 @@ static double wound_rest(double strain, int report_symmetry)
     return gap;
 }
 
+/* A slit along y, off the pad's centre, opened by pretension along x. */
+static void wound_along_y(void)
+{
+    tissue_config c = tissue_config_default();
+    c.element_size = 0.004;
+    c.wound_refine = 0.5;
+    c.held = TISSUE_HELD_BOTTOM_SIDES;
+    c.has_wound = 1;
+    const double w[5] = {0.006, -0.008, 0.006, 0.01, 0.003};
+    memcpy(c.wound, w, sizeof w);
+    c.pretension[0] = 0.05;
+    char err[256];
+    tissue_solid *t = tissue_create(&c, err, sizeof err);
+    if (!check(t != NULL, "wound along y: create (%s)", t ? "ok" : err)) return;
+    tissue_step_info info;
+    int ok = tissue_solve_static(t, &info, err, sizeof err) == 0;
+    const int *nearn, *farn;
+    int pairs = tissue_slit_pairs(t, &nearn, &farn);
+    check(ok && tissue_slit_axis(t) == 0 && pairs > 0,
+          "wound along y at x = 6 mm: %d node pairs on the slit, faces facing x, solve %s", pairs,
+          ok ? "converged" : err);
+    const double *X = tissue_rest_positions(t);
+    double lo = 1.0, hi = -1.0;
+    for (int k = 0; k < pairs; k++) {
+        lo = fmin(lo, X[3 * nearn[k] + 1]);
+        hi = fmax(hi, X[3 * nearn[k] + 1]);
+        ok &= near(X[3 * nearn[k]], 0.006) && X[3 * nearn[k] + 2] > 0.004 - 0.003;
+    }
+    check(ok && lo > -0.008 && hi < 0.01,
+          "wound along y: the slit's nodes lie on x = 6 mm, y in (%g, %g) mm inside (-8, 10) mm, "
+          "above 3 mm depth", 1e3 * lo, 1e3 * hi);
+    double gap = tissue_wound_gap(t);
+    check(gap > 1e-4, "wound along y: pretension x 0.05: gap %.4f mm > 0", 1e3 * gap);
+    tissue_destroy(t);
+}
+
 static void wound(void)
 {
+    wound_along_y();
     double g0 = wound_rest(0.0, 0), g1 = wound_rest(0.05, 1), g2 = wound_rest(0.10, 0);
     check(fabs(g0) < 1e-7, "wound: no pretension, gap %.3e m (only gravity: closed)", g0);
     check(g1 > 1e-4, "wound: pretension 0.05: gap %.4f mm > 0", 1e3 * g1);
@@ -272,8 +309,9 @@ static void messages(void)
     char err[512] = "";
     tissue_mesh_size size;
     int ok = tissue_config_check(&c, &size, err, sizeof err) == 0;
-    check(ok, "config: the defaults pass (%d nodes, %d tets, %lld stiffness entries) %s",
-          size.nodes, size.tets, size.stiffness_entries, err);
+    check(ok, "config: the defaults pass (%d nodes, %d tets, %lld stiffness entries, factor "
+          "about %.2g entries) %s", size.nodes, size.tets, size.stiffness_entries,
+          size.factor_entries, err);
     c.poisson_ratio = 0.5;
     message("poisson_ratio 0.5", c, "poisson_ratio:");
     c = tissue_config_default();
