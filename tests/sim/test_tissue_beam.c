@@ -19,7 +19,8 @@ static int near(double a, double b) { return fabs(a - b) < 1e-9 * (fabs(b) + 1e-
 
 /* A block L x b x b along x, clamped at x = 0 (nu = 0: the clamp does not
  * restrain a Poisson contraction), no gravity. */
-static tissue_solid *cantilever(double L, double b, double h, tissue_integrator integrator)
+static tissue_solid *cantilever(double L, double b, double h, tissue_integrator integrator,
+                                int order)
 {
     tissue_config c = tissue_config_default();
     c.size[0] = L;
@@ -36,6 +37,7 @@ static tissue_solid *cantilever(double L, double b, double h, tissue_integrator 
     c.held = TISSUE_HELD_NONE;
     c.gravity[2] = 0.0;
     c.integrator = integrator;
+    c.element_order = order;
     char err[256];
     tissue_solid *t = tissue_create(&c, err, sizeof err);
     if (!t) {
@@ -48,62 +50,70 @@ static tissue_solid *cantilever(double L, double b, double h, tissue_integrator 
     return t;
 }
 
-/* The end load P (N, along -z) spread over the end face by area (each
- * rectangle of the face gives a quarter of its share to each corner). */
-static void end_load(tissue_solid *t, double L, double b, double P, int cells)
+/* The end load P (N, along -z) spread over the end face by area: each
+ * tet face on it gets a third of its share at each of its edges'
+ * midpoints (exact for linear and quadratic tets). */
+static void end_load(tissue_solid *t, double L, double b, double P)
 {
     const double *X = tissue_rest_positions(t);
-    double *f = tissue_external_forces(t);
-    double h = b / cells;
-    for (int n = 0; n < tissue_node_count(t); n++) {
-        if (!near(X[3 * n], L)) continue;
-        int edge_y = near(fabs(X[3 * n + 1]), 0.5 * b), edge_z = near(fabs(X[3 * n + 2]), 0.5 * b);
-        double area = h * h * (edge_y ? 0.5 : 1.0) * (edge_z ? 0.5 : 1.0);
-        f[3 * n + 2] -= P * area / (b * b);
+    const int *tets = tissue_tets(t);
+    int npe = tissue_node_count(t) > 0 ? tissue_nodes_per_tet(t) : 4;
+    for (int e = 0; e < tissue_tet_count(t); e++) {
+        const int *tt = tets + npe * e;
+        int on[4], count = 0;
+        for (int k = 0; k < 4; k++)
+            if (near(X[3 * tt[k]], L)) on[count++] = k;
+        if (count != 3) continue;
+        const double *p0 = X + 3 * tt[on[0]], *p1 = X + 3 * tt[on[1]], *p2 = X + 3 * tt[on[2]];
+        double area = 0.5 * fabs((p1[1] - p0[1]) * (p2[2] - p0[2]) - (p1[2] - p0[2]) * (p2[1] - p0[1]));
+        double f[3] = {0.0, 0.0, -P * area / (b * b) / 3.0};
+        for (int m = 0; m < 3; m++) {
+            double bary[4] = {0.0, 0.0, 0.0, 0.0};
+            bary[on[m]] = 0.5;
+            bary[on[(m + 1) % 3]] = 0.5;
+            tissue_apply_point_force(t, e, bary, f);
+        }
     }
 }
 
-/* the end face's mean z displacement (m) */
+/* the z displacement (m) of the end face's centre (on the beam's axis) */
 static double tip_z(tissue_solid *t, double L)
 {
-    const double *X = tissue_rest_positions(t), *x = tissue_positions(t);
-    double sum = 0.0;
-    int count = 0;
-    for (int n = 0; n < tissue_node_count(t); n++)
-        if (near(X[3 * n], L)) {
-            sum += x[3 * n + 2] - X[3 * n + 2];
-            count++;
-        }
-    return sum / count;
+    const double centre[3] = {L, 0.0, 0.0};
+    int tet;
+    double bary[4], x[3];
+    if (tissue_locate(t, centre, &tet, bary)) return NAN;
+    tissue_point_position(t, tet, bary, x);
+    return x[2];
 }
 
-static void deflection(void)
+static void deflection(int order, int levels, const int *cells, const double *tol)
 {
     const double L = 0.05, b = 0.01; /* m: aspect 5, where shear adds 3 % */
     double I = b * b * b * b / 12.0, A = b * b, G = E / 2.0, kappa = 5.0 / 6.0;
     double P = 1e-3; /* N: tip deflection ~ 1e-4 of L, linear range */
     double ref = P * L * L * L / (3.0 * E * I) + P * L / (kappa * G * A);
     double prev = 1.0;
-    const int cells[3] = {2, 4, 8};
-    for (int k = 0; k < 3; k++) {
-        tissue_solid *t = cantilever(L, b, b / cells[k], TISSUE_NEWMARK);
+    for (int k = 0; k < levels; k++) {
+        tissue_solid *t = cantilever(L, b, b / cells[k], TISSUE_NEWMARK, order);
         if (!t) return;
-        end_load(t, L, b, P, cells[k]);
+        end_load(t, L, b, P);
         char err[256];
         tissue_step_info info;
         int ok = tissue_solve_static(t, &info, err, sizeof err) == 0;
-        check(ok, "cantilever, %d cells across: %d nodes, static solve in %d iterations (%s)",
-              cells[k], tissue_node_count(t), info.iterations, ok ? "converged" : err);
+        check(ok, "cantilever, order %d, %d cells across: %d nodes, static solve in %d iterations "
+              "(%s)", order, cells[k], tissue_node_count(t), info.iterations,
+              ok ? "converged" : err);
         double d = -tip_z(t, L);
         double e = fabs(d - ref) / ref;
         char what[160];
-        snprintf(what, sizeof what, "cantilever, %d cells across: tip deflection (m) vs Timoshenko",
+        snprintf(what, sizeof what,
+                 "cantilever, order %d, %d cells across: tip deflection (m) vs Timoshenko", order,
                  cells[k]);
-        const double tol[3] = {0.5, 0.2, 0.06};
         check_rel(what, d, ref, tol[k]);
         if (k > 0)
-            check(e < prev, "cantilever: error falls %.3e -> %.3e at half the size (ratio %.2f, "
-                  "order %.2f)", prev, e, prev / e, log2(prev / e));
+            check(e < prev, "cantilever, order %d: error falls %.3e -> %.3e at half the size "
+                  "(ratio %.2f, order %.2f)", order, prev, e, prev / e, log2(prev / e));
         prev = e;
         tissue_destroy(t);
     }
@@ -114,13 +124,13 @@ static void deflection(void)
 static const double vib_length = 0.05, vib_width = 0.01; /* m: aspect 5 */
 #define STEPS_PER_PERIOD 40
 
-static double vibration(int cells, tissue_integrator integrator, int periods, double *drift,
-                        int *monotone, double *total_loss)
+static double vibration(int cells, int order, tissue_integrator integrator, int periods,
+                        double *drift, int *monotone, double *total_loss)
 {
     const double L = vib_length, b = vib_width;
-    tissue_solid *t = cantilever(L, b, b / cells, integrator);
+    tissue_solid *t = cantilever(L, b, b / cells, integrator, order);
     if (!t) return 0.0;
-    end_load(t, L, b, 1e-4, cells);
+    end_load(t, L, b, 1e-4);
     char err[256];
     if (!check(tissue_solve_static(t, NULL, err, sizeof err) == 0, "vibration: the push (%s)",
                err)) {
@@ -162,9 +172,9 @@ static double vibration(int cells, tissue_integrator integrator, int periods, do
         prev_z = z;
     }
     *total_loss = (e0 - prev_e) / e0;
-    printf("     (%d cells: %d nodes, %.2f Newton iterations per step; CPU per step: assembly "
+    printf("     (order %d, %d cells: %d nodes, %.2f Newton iterations per step; CPU per step: assembly "
            "%.2f ms, factorisation %.2f ms, solve %.2f ms)\n",
-           cells, tissue_node_count(t), (double)sum.iterations / steps, 1e3 * sum.assembly_s / steps,
+           order, cells, tissue_node_count(t), (double)sum.iterations / steps, 1e3 * sum.assembly_s / steps,
            1e3 * sum.factor_s / steps, 1e3 * sum.solve_s / steps);
     tissue_destroy(t);
     return crossings > 1 ? (crossings - 1) / (last - first) : 0.0;
@@ -185,7 +195,7 @@ static void frequency_and_energy(void)
     double prev = 1.0;
     const int cells[2] = {2, 4};
     for (int k = 0; k < 2; k++) {
-        double f = vibration(cells[k], TISSUE_NEWMARK, 2, &drift, &monotone, &loss);
+        double f = vibration(cells[k], 1, TISSUE_NEWMARK, 2, &drift, &monotone, &loss);
         if (k == 0) f_coarse = f;
         double e = fabs(f - f_ref) / f_ref;
         char what[160];
@@ -199,7 +209,12 @@ static void frequency_and_energy(void)
               "periods, %d steps each (tolerance 1e-6)", cells[k], drift, STEPS_PER_PERIOD);
     }
     printf("     (Euler-Bernoulli %.4f Hz, Timoshenko %.4f Hz)\n", f_eb, f_ref);
-    vibration(2, TISSUE_BACKWARD_EULER, 1, &drift, &monotone, &loss);
+    double f2 = vibration(2, 2, TISSUE_NEWMARK, 2, &drift, &monotone, &loss);
+    check_rel("vibration, quadratic tets, 2 cells across: first frequency (Hz) vs Timoshenko", f2,
+              f_ref, 0.03);
+    check(drift < 1e-6, "vibration, quadratic, Newmark: total energy drift %.3e over 2 periods "
+          "(tolerance 1e-6)", drift);
+    vibration(2, 1, TISSUE_BACKWARD_EULER, 1, &drift, &monotone, &loss);
     check(monotone, "vibration, backward Euler: the total energy falls at every step");
     /* backward Euler's amplitude factor per step is 1/sqrt(1 + (w dt)^2):
      * energy falls by (1 + (w dt)^2)^-N over N steps, w the mesh's own
@@ -212,7 +227,10 @@ static void frequency_and_energy(void)
 
 int main(void)
 {
-    deflection();
+    const int linear_cells[3] = {2, 4, 8}, quadratic_cells[3] = {1, 2, 4};
+    const double linear_tol[3] = {0.5, 0.2, 0.06}, quadratic_tol[3] = {0.2, 0.05, 0.02};
+    deflection(1, 3, linear_cells, linear_tol);
+    deflection(2, 3, quadratic_cells, quadratic_tol);
     frequency_and_energy();
     return test_finish();
 }

@@ -34,7 +34,9 @@ void tissue_destroy(tissue_solid *t); /* NULL is fine */
 
 int tissue_node_count(const tissue_solid *t);
 int tissue_tet_count(const tissue_solid *t);
-const int *tissue_tets(const tissue_solid *t);              /* (tets x 4) node indices */
+int tissue_nodes_per_tet(const tissue_solid *t);            /* 4 linear, 10 quadratic */
+const int *tissue_tets(const tissue_solid *t); /* (tets x nodes_per_tet) node indices: corners,
+                                                  then midpoints of edges 01 02 03 12 13 23 */
 const double *tissue_rest_positions(const tissue_solid *t); /* (nodes x 3), m */
 double *tissue_positions(tissue_solid *t);                   /* (nodes x 3), m: the state, writable */
 double *tissue_velocities(tissue_solid *t);                  /* (nodes x 3), m/s: writable */

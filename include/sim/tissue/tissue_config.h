@@ -41,13 +41,14 @@ typedef struct tissue_config {
     double size[3];        /* m: the pad box's edge lengths x y z */
     double gravity[3];     /* m/s^2 */
     tissue_integrator integrator;
+    int element_order;     /* 1: linear tets (4 nodes), 2: quadratic tets (10 nodes) */
     int max_nodes;         /* the mesh budget: more nodes are refused (default 20000: a
                               factor of ~200 MB, ~4 s per factorisation) */
 } tissue_config;
 
 /* The product's defaults: elastic, E 5e5 Pa, nu 0.45, 1100 kg/m^3, damping
  * 0.01 s, element_size 3 mm, held bottom, no pretension, no wound, a pad of
- * 40 x 30 x 8 mm centred at the origin, gravity -9.81 z, Newmark. */
+ * 40 x 30 x 8 mm centred at the origin, gravity -9.81 z, Newmark, linear tets. */
 tissue_config tissue_config_default(void);
 
 /* The mesh a config makes, counted before anything is allocated. */

@@ -22,6 +22,17 @@ double tissue_tet_rest(const double *rest[4], double dm_inverse[9]);
 int tissue_tet_energy(const double *x[4], const double dm_inverse[9], double volume, double mu,
                       double lambda, double *energy, double gradient[12], double hessian[144]);
 
+/* The same for a quadratic (10-node) tet with straight edges: nodes 0..3
+ * the corners, 4..9 the edge midpoints of (01 02 03 12 13 23); F varies
+ * linearly, integrated at 4 points (exact for degree 2). gradient: 30,
+ * hessian: 30 x 30 (may be NULL). -1 when J <= 0 at a point. */
+int tissue_tet10_energy(const double *x[10], const double dm_inverse[9], double volume, double mu,
+                        double lambda, double *energy, double gradient[30], double hessian[900]);
+
+/* The shape functions of a tet of `nodes_per_tet` (4 or 10) nodes at
+ * barycentric weights bary (4): N (nodes_per_tet). */
+void tissue_shape(int nodes_per_tet, const double bary[4], double N[10]);
+
 /* The first Piola-Kirchhoff stress P (Pa, row-major) of F (row-major);
  * returns 0, or -1 when det F <= 0. */
 int tissue_neo_hookean_stress(const double F[9], double mu, double lambda, double P[9]);

@@ -7,7 +7,8 @@
  * A wound is a slit along x or y in the top face to a depth: the grid has a
  * plane through it, and the nodes on the slit (its rim and ends excluded)
  * are duplicated, the tets on the far side using the copies, so the two
- * faces separate. */
+ * faces separate. Quadratic tets add a node at each edge's midpoint (the
+ * slit's edges are distinct on its two sides, so their midpoints are too). */
 #ifndef RODSIM_SIM_TISSUE_TISSUE_MESH_H
 #define RODSIM_SIM_TISSUE_TISSUE_MESH_H
 
@@ -18,8 +19,10 @@
 typedef struct tissue_mesh {
     int nodes;
     int tets;
+    int nodes_per_tet;     /* 4 (linear) or 10 (quadratic: corners, then the midpoints
+                              of the edges 01 02 03 12 13 23) */
     double *rest;          /* (nodes x 3), m: reference positions */
-    int *tet;              /* (tets x 4): node indices, positive volume order */
+    int *tet;              /* (tets x nodes_per_tet): node indices, positive volume order */
     unsigned char *held;   /* (nodes): 1 on a face the config holds */
     int slit_pairs;        /* pairs of nodes that coincide at rest across the slit */
     int *slit_node;        /* (slit_pairs): the node on the near side (smaller coordinate) */

@@ -28,7 +28,11 @@ struct tissue_solid {
     int nodes, dofs;
     double *dm_inverse;    /* (tets x 9), 1/m */
     double *volume;        /* (tets), m^3 */
-    double *mass;          /* (nodes), kg: a quarter of each tet's */
+    int per_tet;           /* nodes per tet: 4 or 10 */
+    double *mass;          /* (nodes), kg: lumped (linear: a quarter of each tet's;
+                              quadratic: row-sum-free HRZ, 1/36 per corner, 4/27 per edge) */
+    double *weight;        /* (nodes), kg: the consistent share of the weight (gravity
+                              force = weight g; linear 1/4, quadratic -1/20 and 1/5) */
     double *x, *v;         /* (nodes x 3), m, m/s */
     double *x_start, *v_start, *a_start; /* (nodes x 3): the step's start; m, m/s, m/s^2 */
     double *force;         /* (nodes x 3), N: external */
@@ -37,7 +41,7 @@ struct tissue_solid {
     double *residual;      /* (dofs), N */
     double *target;        /* (nodes x 3), m: where held components are held */
     unsigned char *fixed;  /* (dofs): 1 held */
-    int *rank;             /* (tets x 16): 3 x the rank of the smaller node in the larger one's
+    int *rank;             /* (tets x per_tet^2): 3 x the rank of the smaller node in the larger one's
                               column list, for each ordered node pair of the tet */
     double hold_diagonal;  /* N/m: a held component's diagonal, a stiffness-like scale */
     int factor_ok;         /* 1: L factors a matrix of the current holds and coefficients */
@@ -66,7 +70,8 @@ static int compare_pairs(const void *a, const void *b)
 static int build_pattern(tissue_solid *t)
 {
     const tissue_mesh *m = &t->mesh;
-    size_t pairs_max = (size_t)m->tets * 6 + (size_t)t->nodes;
+    int npe = t->per_tet;
+    size_t pairs_max = (size_t)m->tets * (size_t)(npe * (npe - 1) / 2) + (size_t)t->nodes;
     long long *pairs = malloc(sizeof *pairs * pairs_max);
     int *first = malloc(sizeof(int) * (size_t)(t->nodes + 1));
     if (!pairs || !first) {
@@ -77,9 +82,9 @@ static int build_pattern(tissue_solid *t)
     size_t np = 0;
     for (int n = 0; n < t->nodes; n++) pairs[np++] = (long long)n * t->nodes + n;
     for (int e = 0; e < m->tets; e++) {
-        const int *tt = m->tet + 4 * e;
-        for (int p = 0; p < 4; p++)
-            for (int q = p + 1; q < 4; q++) {
+        const int *tt = m->tet + npe * e;
+        for (int p = 0; p < npe; p++)
+            for (int q = p + 1; q < npe; q++) {
                 long long a = tt[p] < tt[q] ? tt[p] : tt[q], b = tt[p] < tt[q] ? tt[q] : tt[p];
                 pairs[np++] = b * t->nodes + a; /* sorted by b, then a */
             }
@@ -120,16 +125,16 @@ static int build_pattern(tissue_solid *t)
         }
     Ap[t->dofs] = at;
     for (int e = 0; e < m->tets; e++) {
-        const int *tt = m->tet + 4 * e;
-        for (int p = 0; p < 4; p++)
-            for (int q = 0; q < 4; q++) {
+        const int *tt = m->tet + npe * e;
+        for (int p = 0; p < npe; p++)
+            for (int q = 0; q < npe; q++) {
                 int a = tt[p] < tt[q] ? tt[p] : tt[q], b = tt[p] < tt[q] ? tt[q] : tt[p];
                 int lo = first[b], hi = first[b + 1] - 1;
                 while (lo < hi) { /* binary search of a in b's list */
                     int mid = (lo + hi) / 2;
                     if (pairs[mid] % t->nodes < a) lo = mid + 1; else hi = mid;
                 }
-                t->rank[16 * e + 4 * p + q] = 3 * (lo - first[b]);
+                t->rank[(size_t)npe * npe * e + npe * p + q] = 3 * (lo - first[b]);
             }
     }
     free(pairs);
@@ -151,6 +156,7 @@ void tissue_destroy(tissue_solid *t)
     free(t->dm_inverse);
     free(t->volume);
     free(t->mass);
+    free(t->weight);
     free(t->x);
     free(t->v);
     free(t->x_start);
@@ -184,11 +190,14 @@ tissue_solid *tissue_create(const tissue_config *c, char *err, size_t errlen)
     tissue_lame(c->youngs_modulus, c->poisson_ratio, &t->mu, &t->lambda);
     const tissue_mesh *m = &t->mesh;
     t->nodes = m->nodes;
+    t->per_tet = m->nodes_per_tet;
+    int npe = t->per_tet;
     t->dofs = 3 * m->nodes;
     size_t n3 = (size_t)t->dofs;
     t->dm_inverse = malloc(sizeof(double) * 9 * (size_t)m->tets);
     t->volume = malloc(sizeof(double) * (size_t)m->tets);
     t->mass = calloc((size_t)t->nodes, sizeof(double));
+    t->weight = calloc((size_t)t->nodes, sizeof(double));
     t->x = malloc(sizeof(double) * n3);
     t->v = calloc(n3, sizeof(double));
     t->x_start = malloc(sizeof(double) * n3);
@@ -200,8 +209,8 @@ tissue_solid *tissue_create(const tissue_config *c, char *err, size_t errlen)
     t->residual = malloc(sizeof(double) * n3);
     t->target = malloc(sizeof(double) * n3);
     t->fixed = calloc(n3, 1);
-    t->rank = malloc(sizeof(int) * 16 * (size_t)m->tets);
-    if (!t->dm_inverse || !t->volume || !t->mass || !t->x || !t->v || !t->x_start ||
+    t->rank = malloc(sizeof(int) * (size_t)(npe * npe) * (size_t)m->tets);
+    if (!t->dm_inverse || !t->volume || !t->mass || !t->weight || !t->x || !t->v || !t->x_start ||
         !t->v_start || !t->a_start || !t->force || !t->internal || !t->damping_force ||
         !t->residual || !t->target || !t->fixed || !t->rank || build_pattern(t)) {
         snprintf(err, errlen, "element_size: out of memory for the tissue's %d nodes", t->nodes);
@@ -210,9 +219,15 @@ tissue_solid *tissue_create(const tissue_config *c, char *err, size_t errlen)
     }
     for (int e = 0; e < m->tets; e++) {
         const double *rest[4];
-        for (int k = 0; k < 4; k++) rest[k] = m->rest + 3 * m->tet[4 * e + k];
+        for (int k = 0; k < 4; k++) rest[k] = m->rest + 3 * m->tet[npe * e + k];
         t->volume[e] = tissue_tet_rest(rest, t->dm_inverse + 9 * e);
-        for (int k = 0; k < 4; k++) t->mass[m->tet[4 * e + k]] += 0.25 * c->density * t->volume[e];
+        double me = c->density * t->volume[e];
+        for (int k = 0; k < npe; k++) {
+            int n = m->tet[npe * e + k];
+            int corner = k < 4;
+            t->mass[n] += me * (npe == 4 ? 0.25 : corner ? 1.0 / 36.0 : 4.0 / 27.0);
+            t->weight[n] += me * (npe == 4 ? 0.25 : corner ? -0.05 : 0.2);
+        }
     }
     t->hold_diagonal = c->youngs_modulus * c->element_size;
     /* the pretension: the homogeneous strain's displacement, zero at the
@@ -238,6 +253,7 @@ tissue_solid *tissue_create(const tissue_config *c, char *err, size_t errlen)
 
 int tissue_node_count(const tissue_solid *t) { return t->nodes; }
 int tissue_tet_count(const tissue_solid *t) { return t->mesh.tets; }
+int tissue_nodes_per_tet(const tissue_solid *t) { return t->per_tet; }
 const int *tissue_tets(const tissue_solid *t) { return t->mesh.tet; }
 const double *tissue_rest_positions(const tissue_solid *t) { return t->mesh.rest; }
 double *tissue_positions(tissue_solid *t) { return t->x; }
@@ -267,25 +283,29 @@ void tissue_clear_forces(tissue_solid *t) { memset(t->force, 0, sizeof(double) *
 
 void tissue_apply_point_force(tissue_solid *t, int tet, const double bary[4], const double f[3])
 {
-    for (int k = 0; k < 4; k++) {
-        int n = t->mesh.tet[4 * tet + k];
-        for (int i = 0; i < 3; i++) t->force[3 * n + i] += bary[k] * f[i];
+    double N[10];
+    tissue_shape(t->per_tet, bary, N);
+    for (int k = 0; k < t->per_tet; k++) {
+        int n = t->mesh.tet[t->per_tet * tet + k];
+        for (int i = 0; i < 3; i++) t->force[3 * n + i] += N[k] * f[i];
     }
 }
 
 void tissue_point_position(const tissue_solid *t, int tet, const double bary[4], double x[3])
 {
+    double N[10];
+    tissue_shape(t->per_tet, bary, N);
     x[0] = x[1] = x[2] = 0.0;
-    for (int k = 0; k < 4; k++) {
-        int n = t->mesh.tet[4 * tet + k];
-        for (int i = 0; i < 3; i++) x[i] += bary[k] * t->x[3 * n + i];
+    for (int k = 0; k < t->per_tet; k++) {
+        int n = t->mesh.tet[t->per_tet * tet + k];
+        for (int i = 0; i < 3; i++) x[i] += N[k] * t->x[3 * n + i];
     }
 }
 
 int tissue_locate(const tissue_solid *t, const double p[3], int *tet, double bary[4])
 {
     for (int e = 0; e < t->mesh.tets; e++) {
-        const double *X0 = t->mesh.rest + 3 * t->mesh.tet[4 * e], *B = t->dm_inverse + 9 * e;
+        const double *X0 = t->mesh.rest + 3 * t->mesh.tet[t->per_tet * e], *B = t->dm_inverse + 9 * e;
         double d[3] = {p[0] - X0[0], p[1] - X0[1], p[2] - X0[2]};
         double w[4];
         w[1] = B[0] * d[0] + B[1] * d[1] + B[2] * d[2];
@@ -299,6 +319,20 @@ int tissue_locate(const tissue_solid *t, const double p[3], int *tet, double bar
         }
     }
     return -1;
+}
+
+/* One tet's energy (J), gradient (N) and Hessian (N/m), each may be NULL;
+ * -1 when inverted. */
+static int element(const tissue_solid *t, int e, double *energy, double *gradient, double *hessian)
+{
+    const int *tt = t->mesh.tet + t->per_tet * e;
+    const double *xe[10];
+    for (int k = 0; k < t->per_tet; k++) xe[k] = t->x + 3 * tt[k];
+    if (t->per_tet == 4)
+        return tissue_tet_energy(xe, t->dm_inverse + 9 * e, t->volume[e], t->mu, t->lambda, energy,
+                                 gradient, hessian);
+    return tissue_tet10_energy(xe, t->dm_inverse + 9 * e, t->volume[e], t->mu, t->lambda, energy,
+                               gradient, hessian);
 }
 
 /* Internal forces, damping forces (damping K(x) v) and, when stiffness > 0,
@@ -315,39 +349,37 @@ static int assemble(tissue_solid *t, double mass_coef, double stiffness)
     int matrix = stiffness > 0.0;
     int damp = t->config.damping > 0.0;
     if (matrix) memset(Ax, 0, sizeof(double) * (size_t)Ap[t->dofs]);
-    double H[144], g[12];
+    int npe = t->per_tet, row = 3 * npe;
+    double H[900], g[30];
     for (int e = 0; e < m->tets; e++) {
-        const int *tt = m->tet + 4 * e;
-        const double *xe[4];
-        for (int k = 0; k < 4; k++) xe[k] = t->x + 3 * tt[k];
-        if (tissue_tet_energy(xe, t->dm_inverse + 9 * e, t->volume[e], t->mu, t->lambda, NULL, g,
-                              matrix || damp ? H : NULL))
-            return -1;
-        for (int k = 0; k < 4; k++)
+        const int *tt = m->tet + npe * e;
+        if (element(t, e, NULL, g, matrix || damp ? H : NULL)) return -1;
+        for (int k = 0; k < npe; k++)
             for (int i = 0; i < 3; i++) t->internal[3 * tt[k] + i] += g[3 * k + i];
         if (damp) {
-            double ve[12];
-            for (int k = 0; k < 4; k++)
+            double ve[30];
+            for (int k = 0; k < npe; k++)
                 for (int i = 0; i < 3; i++) ve[3 * k + i] = t->v[3 * tt[k] + i];
-            for (int r = 0; r < 12; r++) {
+            for (int r = 0; r < row; r++) {
                 double s = 0.0;
-                for (int q = 0; q < 12; q++) s += H[12 * r + q] * ve[q];
+                for (int q = 0; q < row; q++) s += H[row * r + q] * ve[q];
                 t->damping_force[3 * tt[r / 3] + r % 3] += t->config.damping * s;
             }
         }
         if (!matrix) continue;
-        for (int p = 0; p < 4; p++)
-            for (int q = 0; q < 4; q++) {
+        const int *rank = t->rank + (size_t)npe * npe * e;
+        for (int p = 0; p < npe; p++)
+            for (int q = 0; q < npe; q++) {
                 int a = tt[p], b = tt[q];
                 if (a > b) continue; /* the pair (q, p) adds it */
-                int off = t->rank[16 * e + 4 * p + q];
+                int off = rank[npe * p + q];
                 for (int j = 0; j < 3; j++) {
                     int col = 3 * b + j;
                     if (t->fixed[col]) continue;
                     int rows = a < b ? 3 : j + 1;
                     for (int i = 0; i < rows; i++) {
                         if (t->fixed[3 * a + i]) continue;
-                        Ax[Ap[col] + off + i] += stiffness * H[12 * (3 * p + i) + 3 * q + j];
+                        Ax[Ap[col] + off + i] += stiffness * H[row * (3 * p + i) + 3 * q + j];
                     }
                 }
             }
@@ -385,23 +417,12 @@ static int factor_solve(tissue_solid *t, tissue_step_info *info, int factorise, 
     return 0;
 }
 
-/* 1 when every tet has J > 0 at the positions x */
+/* 1 when every tet has J > 0 at the positions x (at its integration points) */
 static int all_positive(const tissue_solid *t)
 {
-    for (int e = 0; e < t->mesh.tets; e++) {
-        const int *tt = t->mesh.tet + 4 * e;
-        const double *a = t->x + 3 * tt[0], *b = t->x + 3 * tt[1], *c = t->x + 3 * tt[2],
-                     *d = t->x + 3 * tt[3];
-        double u[3], v[3], w[3];
-        for (int i = 0; i < 3; i++) {
-            u[i] = b[i] - a[i];
-            v[i] = c[i] - a[i];
-            w[i] = d[i] - a[i];
-        }
-        double det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-                     u[2] * (v[0] * w[1] - v[1] * w[0]);
-        if (!(det > 0.0)) return 0;
-    }
+    double w;
+    for (int e = 0; e < t->mesh.tets; e++)
+        if (element(t, e, &w, NULL, NULL)) return 0;
     return 1;
 }
 
@@ -443,10 +464,16 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
      * iteration; a slower fall renews it (a factorisation costs ~10
      * assemblies at the pad's size: decision record draft-tissue-fem). */
     double last_worst = HUGE_VAL;
+    /* statics far from equilibrium may meet an indefinite K: then a
+     * mass-proportional shift (1/s^2; a pseudo time step), cut tenfold per
+     * iteration, keeps the matrix positive; the residual stays the static one */
+    double shift = 0.0, mean_mass = 0.0;
+    for (int n = 0; n < t->nodes; n++) mean_mass += t->mass[n] / t->nodes;
     for (int it = 0; it < MAX_NEWTON; it++) {
+        double coef = dt > 0.0 ? mass_coef : shift;
         if (dt > 0.0) kinematics(t, dt, acceleration);
         double t0 = cpu_now();
-        if (assemble(t, mass_coef, stiffness)) {
+        if (assemble(t, coef, stiffness)) {
             snprintf(err, errlen, "a tet inverted (J <= 0) at Newton iteration %d", it);
             return -1;
         }
@@ -454,7 +481,8 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
         double *rhs = t->rhs->x, worst = 0.0;
         for (int d = 0; d < t->dofs; d++) {
             double m = t->mass[d / 3];
-            double r = t->internal[d] + t->damping_force[d] - t->force[d] - m * c->gravity[d % 3];
+            double r = t->internal[d] + t->damping_force[d] - t->force[d] -
+                       t->weight[d / 3] * c->gravity[d % 3];
             if (dt > 0.0) r += m * acceleration[d];
             if (t->fixed[d]) r = 0.0;
             rhs[d] = -r;
@@ -465,10 +493,14 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
             info->residual = worst;
         }
         if (worst <= force_tol) return 0;
-        int renew = !t->factor_ok || t->factor_mass != mass_coef ||
-                    t->factor_stiffness != stiffness || (it > 0 && worst > 0.25 * last_worst);
+        int renew = !t->factor_ok || t->factor_mass != coef || t->factor_stiffness != stiffness ||
+                    (it > 0 && worst > 0.25 * last_worst);
         last_worst = worst;
-        if (factor_solve(t, info, renew, mass_coef, stiffness)) {
+        if (factor_solve(t, info, renew, coef, stiffness)) {
+            if (dt == 0.0 && it + 1 < MAX_NEWTON) {
+                shift = shift > 0.0 ? 10.0 * shift : 0.1 * c->youngs_modulus * h / mean_mass;
+                continue;
+            }
             snprintf(err, errlen,
                      "the tissue's Newton matrix is not positive definite (iteration %d): "
                      "a smaller time step, or more held nodes",
@@ -485,7 +517,8 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
             fraction *= 0.5;
             for (int d = 0; d < t->dofs; d++) t->x[d] -= fraction * dx[d];
         }
-        if (fraction == 1.0 && largest <= step_tol) {
+        shift = shift > 1e-6 * c->youngs_modulus * h / mean_mass ? 0.1 * shift : 0.0;
+        if (fraction == 1.0 && largest <= step_tol && shift == 0.0) {
             if (dt > 0.0) kinematics(t, dt, acceleration);
             return 0;
         }
@@ -516,7 +549,7 @@ int tissue_step(tissue_solid *t, double dt, tissue_step_info *info, char *err, s
     for (int d = 0; d < t->dofs; d++) {
         double m = t->mass[d / 3];
         t->a_start[d] = t->fixed[d] ? 0.0
-                                    : (t->force[d] + m * c->gravity[d % 3] - t->internal[d] -
+                                    : (t->force[d] + t->weight[d / 3] * c->gravity[d % 3] - t->internal[d] -
                                        t->damping_force[d]) / m;
         t->x[d] += dt * t->v[d]; /* the first iterate: constant velocity */
     }
@@ -549,7 +582,7 @@ void tissue_reaction(tissue_solid *t, int node, double r[3])
     for (int i = 0; i < 3; i++) {
         int d = 3 * node + i;
         r[i] = bad ? NAN
-                   : t->internal[d] - t->force[d] - t->mass[node] * t->config.gravity[i];
+                   : t->internal[d] - t->force[d] - t->weight[node] * t->config.gravity[i];
     }
 }
 
@@ -564,12 +597,15 @@ int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], doub
         snprintf(err, errlen, "a tet is inverted");
         return -1;
     }
-    double *rhs = t->rhs->x;
+    double *rhs = t->rhs->x, N[10];
+    int npe = t->per_tet;
+    const int *tt = t->mesh.tet + npe * tet;
+    tissue_shape(npe, bary, N);
     for (int k = 0; k < 3; k++) {
         memset(rhs, 0, sizeof(double) * (size_t)t->dofs);
-        for (int q = 0; q < 4; q++) {
-            int d = 3 * t->mesh.tet[4 * tet + q] + k;
-            if (!t->fixed[d]) rhs[d] = bary[q];
+        for (int q = 0; q < npe; q++) {
+            int d = 3 * tt[q] + k;
+            if (!t->fixed[d]) rhs[d] += N[q];
         }
         if (factor_solve(t, NULL, k == 0, mass_coef, stiffness)) {
             snprintf(err, errlen, "the tissue's matrix is not positive definite (nothing held?)");
@@ -582,7 +618,7 @@ int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], doub
         double scale = dt > 0.0 && newmark ? 2.0 : 1.0;
         for (int i = 0; i < 3; i++) {
             double u = 0.0;
-            for (int q = 0; q < 4; q++) u += bary[q] * s[3 * t->mesh.tet[4 * tet + q] + i];
+            for (int q = 0; q < npe; q++) u += N[q] * s[3 * tt[q] + i];
             C[3 * i + k] = scale * u;
         }
     }
@@ -600,12 +636,8 @@ double tissue_elastic_energy(const tissue_solid *t)
 {
     double sum = 0.0;
     for (int e = 0; e < t->mesh.tets; e++) {
-        const double *xe[4];
-        for (int k = 0; k < 4; k++) xe[k] = t->x + 3 * t->mesh.tet[4 * e + k];
         double w;
-        if (tissue_tet_energy(xe, t->dm_inverse + 9 * e, t->volume[e], t->mu, t->lambda, &w, NULL,
-                              NULL))
-            return HUGE_VAL;
+        if (element(t, e, &w, NULL, NULL)) return HUGE_VAL;
         sum += w;
     }
     return sum;
@@ -615,7 +647,7 @@ double tissue_potential_energy(const tissue_solid *t)
 {
     double e = 0.0;
     for (int d = 0; d < t->dofs; d++)
-        e -= (t->mass[d / 3] * t->config.gravity[d % 3] + t->force[d]) * t->x[d];
+        e -= (t->weight[d / 3] * t->config.gravity[d % 3] + t->force[d]) * t->x[d];
     return e;
 }
 

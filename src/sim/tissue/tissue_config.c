@@ -25,6 +25,7 @@ tissue_config tissue_config_default(void)
         .size = {0.04, 0.03, 0.008},
         .gravity = {0.0, 0.0, -9.81},
         .integrator = TISSUE_NEWMARK,
+        .element_order = 1,
         .max_nodes = 20000,
     };
     return c;
@@ -99,14 +100,26 @@ int tissue_config_check(const tissue_config *c, tissue_mesh_size *size, char *er
         snprintf(err, errlen, "integrator: accepted newmark | backward_euler");
         return -1;
     }
+    if (c->element_order != 1 && c->element_order != 2) {
+        snprintf(err, errlen, "element_order: %d; accepted 1 (linear tets) or 2 (quadratic)",
+                 c->element_order);
+        return -1;
+    }
     int grid[3], slit = 0;
     if (tissue_mesh_count(c, grid, &slit, err, errlen)) return -1;
     /* Counted in double: a too-fine size overflows int. */
     double nodes = (double)grid[0] * grid[1] * grid[2] + slit;
     double tets = 6.0 * (grid[0] - 1) * (grid[1] - 1) * (grid[2] - 1);
+    /* quadratic: a node per edge too, 7 edges per grid point (3 along the
+     * axes, 3 face diagonals, 1 body diagonal), each coupled to ~27 nodes */
+    double couplings = 14.0;
+    if (c->element_order == 2) {
+        nodes *= 8.0;
+        couplings = 27.0;
+    }
     /* Kuhn's split: an inner node has 14 neighbours; 3 x 3 blocks, half of
      * the off-diagonal ones in the upper triangle, plus the diagonal blocks. */
-    double entries = nodes * (9.0 * 14.0 / 2.0 + 6.0);
+    double entries = nodes * (9.0 * couplings / 2.0 + 6.0);
     /* The Cholesky factor's fill under nested dissection grows like
      * unknowns^(4/3) on a 3-D mesh: measured 3.1e6 entries at 12975 unknowns
      * (the 40 x 30 x 8 mm pad at 3 mm, 1 mm at the wound). */

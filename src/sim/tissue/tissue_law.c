@@ -3,6 +3,7 @@
 #include "sim/tissue/tissue_law.h"
 
 #include <math.h>
+#include <string.h>
 
 static double det3(const double m[9])
 {
@@ -111,6 +112,96 @@ int tissue_tet_energy(const double *x[4], const double dm_inverse[9], double vol
                             volume * (dP[3 * i] * r[m][0] + dP[3 * i + 1] * r[m][1] +
                                       dP[3 * i + 2] * r[m][2]);
             }
+    }
+    return 0;
+}
+
+/* the edges of the 10-node tet, in node order 4..9 */
+static const int edge_of[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+
+void tissue_shape(int nodes_per_tet, const double bary[4], double N[10])
+{
+    if (nodes_per_tet == 4) {
+        for (int k = 0; k < 4; k++) N[k] = bary[k];
+        return;
+    }
+    for (int k = 0; k < 4; k++) N[k] = bary[k] * (2.0 * bary[k] - 1.0);
+    for (int e = 0; e < 6; e++) N[4 + e] = 4.0 * bary[edge_of[e][0]] * bary[edge_of[e][1]];
+}
+
+/* the material gradients (1/m) of the 10 shape functions at bary, from
+ * those of the barycentric weights (g[4][3]) */
+static void shape_gradients(const double bary[4], double g[4][3], double G[10][3])
+{
+    for (int k = 0; k < 4; k++)
+        for (int j = 0; j < 3; j++) G[k][j] = (4.0 * bary[k] - 1.0) * g[k][j];
+    for (int e = 0; e < 6; e++) {
+        int a = edge_of[e][0], b = edge_of[e][1];
+        for (int j = 0; j < 3; j++) G[4 + e][j] = 4.0 * (bary[a] * g[b][j] + bary[b] * g[a][j]);
+    }
+}
+
+int tissue_tet10_energy(const double *x[10], const double dm_inverse[9], double volume, double mu,
+                        double lambda, double *energy, double gradient[30], double hessian[900])
+{
+    const double *B = dm_inverse;
+    double g[4][3];
+    for (int j = 0; j < 3; j++) {
+        g[1][j] = B[j];
+        g[2][j] = B[3 + j];
+        g[3][j] = B[6 + j];
+        g[0][j] = -(B[j] + B[3 + j] + B[6 + j]);
+    }
+    if (energy) *energy = 0.0;
+    if (gradient) memset(gradient, 0, sizeof(double) * 30);
+    if (hessian) memset(hessian, 0, sizeof(double) * 900);
+    const double qa = 0.5854101966249685, qb = 0.1381966011250105, w = 0.25 * volume;
+    for (int q = 0; q < 4; q++) {
+        double bary[4] = {qb, qb, qb, qb};
+        bary[q] = qa;
+        double G[10][3], F[9] = {0}, Finv[9], FinvT[9];
+        shape_gradients(bary, g, G);
+        for (int a = 0; a < 10; a++)
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++) F[3 * i + j] += x[a][i] * G[a][j];
+        double J = inverse3(F, Finv);
+        if (!(J > 0.0)) return -1;
+        double lnJ = log(J);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) FinvT[3 * i + j] = Finv[3 * j + i];
+        if (energy) {
+            double I1 = 0.0;
+            for (int k = 0; k < 9; k++) I1 += F[k] * F[k];
+            *energy += w * (0.5 * mu * (I1 - 3.0) - mu * lnJ + 0.5 * lambda * lnJ * lnJ);
+        }
+        if (gradient) {
+            double P[9];
+            for (int k = 0; k < 9; k++) P[k] = mu * (F[k] - FinvT[k]) + lambda * lnJ * FinvT[k];
+            for (int a = 0; a < 10; a++)
+                for (int i = 0; i < 3; i++)
+                    gradient[3 * a + i] +=
+                        w * (P[3 * i] * G[a][0] + P[3 * i + 1] * G[a][1] + P[3 * i + 2] * G[a][2]);
+        }
+        if (hessian) { /* as in tissue_tet_energy, r = the gradient of N_b */
+            double c = mu - lambda * lnJ;
+            for (int b = 0; b < 10; b++)
+                for (int k = 0; k < 3; k++) {
+                    const double *rn = G[b];
+                    double u[3], dP[9];
+                    for (int i = 0; i < 3; i++)
+                        u[i] = FinvT[3 * i] * rn[0] + FinvT[3 * i + 1] * rn[1] + FinvT[3 * i + 2] * rn[2];
+                    for (int i = 0; i < 3; i++)
+                        for (int j = 0; j < 3; j++)
+                            dP[3 * i + j] = (i == k ? mu * rn[j] : 0.0) + c * u[i] * FinvT[3 * k + j] +
+                                            lambda * u[k] * FinvT[3 * i + j];
+                    int col = 3 * b + k;
+                    for (int a = 0; a < 10; a++)
+                        for (int i = 0; i < 3; i++)
+                            hessian[30 * (3 * a + i) + col] +=
+                                w * (dP[3 * i] * G[a][0] + dP[3 * i + 1] * G[a][1] +
+                                     dP[3 * i + 2] * G[a][2]);
+                }
+        }
     }
     return 0;
 }

@@ -196,6 +196,78 @@ static double tet_volume6(const double *x, const int *t)
            u[2] * (v[0] * w[1] - v[1] * w[0]);
 }
 
+static int compare_keys(const void *a, const void *b)
+{
+    const long long *p = a, *q = b;
+    return p[0] < q[0] ? -1 : p[0] > q[0] ? 1 : (p[1] > q[1]) - (p[1] < q[1]);
+}
+
+/* Quadratic tets: a node at each distinct edge's midpoint, held when it
+ * lies on a held face. */
+static int add_edge_nodes(const tissue_config *c, tissue_mesh *m)
+{
+    static const int edge_of[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+    size_t count = (size_t)m->tets * 6;
+    long long *keys = malloc(sizeof(long long) * 2 * count); /* (edge key, tet * 6 + edge) */
+    int *tet10 = malloc(sizeof(int) * 10 * (size_t)m->tets);
+    if (!keys || !tet10) {
+        free(keys);
+        free(tet10);
+        return -1;
+    }
+    long long N = m->nodes;
+    for (int e = 0; e < m->tets; e++)
+        for (int k = 0; k < 6; k++) {
+            long long a = m->tet[4 * e + edge_of[k][0]], b = m->tet[4 * e + edge_of[k][1]];
+            keys[2 * (6 * (size_t)e + k)] = a < b ? a * N + b : b * N + a;
+            keys[2 * (6 * (size_t)e + k) + 1] = 6LL * e + k;
+        }
+    qsort(keys, count, 2 * sizeof(long long), compare_keys);
+    int edges = 0;
+    for (size_t k = 0; k < count; k++)
+        if (k == 0 || keys[2 * k] != keys[2 * (k - 1)]) edges++;
+    double *rest = realloc(m->rest, sizeof(double) * 3 * (size_t)(m->nodes + edges));
+    unsigned char *held = rest ? realloc(m->held, (size_t)(m->nodes + edges)) : NULL;
+    if (rest) m->rest = rest;
+    if (held) m->held = held;
+    if (!rest || !held) {
+        free(keys);
+        free(tet10);
+        return -1;
+    }
+    double lo[3], hi[3];
+    for (int i = 0; i < 3; i++) {
+        lo[i] = c->center[i] - 0.5 * c->size[i];
+        hi[i] = c->center[i] + 0.5 * c->size[i];
+    }
+    int next = m->nodes - 1;
+    for (size_t k = 0; k < count; k++) {
+        long long key = keys[2 * k];
+        if (k == 0 || key != keys[2 * (k - 1)]) {
+            next++;
+            int a = (int)(key / N), b = (int)(key % N);
+            double *p = m->rest + 3 * next;
+            for (int i = 0; i < 3; i++) p[i] = 0.5 * (m->rest[3 * a + i] + m->rest[3 * b + i]);
+            double tol = 1e-9 * c->element_size;
+            int bottom = fabs(p[2] - lo[2]) < tol;
+            int side = fabs(p[0] - lo[0]) < tol || fabs(p[0] - hi[0]) < tol ||
+                       fabs(p[1] - lo[1]) < tol || fabs(p[1] - hi[1]) < tol;
+            m->held[next] = (c->held != TISSUE_HELD_NONE && bottom) ||
+                            (c->held == TISSUE_HELD_BOTTOM_SIDES && side);
+        }
+        long long where = keys[2 * k + 1];
+        tet10[10 * (where / 6) + 4 + where % 6] = next;
+    }
+    for (int e = 0; e < m->tets; e++)
+        for (int v = 0; v < 4; v++) tet10[10 * e + v] = m->tet[4 * e + v];
+    free(m->tet);
+    m->tet = tet10;
+    m->nodes += edges;
+    m->nodes_per_tet = 10;
+    free(keys);
+    return 0;
+}
+
 int tissue_mesh_build(const tissue_config *c, tissue_mesh *m, char *err, size_t errlen)
 {
     memset(m, 0, sizeof *m);
@@ -289,6 +361,8 @@ int tissue_mesh_build(const tissue_config *c, tissue_mesh *m, char *err, size_t 
                 }
             }
     free(copy);
+    m->nodes_per_tet = 4;
+    if (c->element_order == 2 && add_edge_nodes(c, m)) goto oom;
     return 0;
 oom:
     snprintf(err, errlen, "element_size: out of memory for the tissue mesh");
