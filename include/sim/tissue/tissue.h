@@ -1,5 +1,5 @@
 /* tissue.h: an elastic tissue pad, a 3-D finite-element soft solid
- * (compressible neo-Hookean, linear tets, lumped mass, stiffness-
+ * (compressible neo-Hookean, linear or quadratic tets, lumped mass, stiffness-
  * proportional Rayleigh damping, gravity), stepped implicitly with Newton
  * iterations on the nonlinear residual; each iteration's sparse symmetric
  * system is factorised by CHOLMOD (the ordering analysed once, at create).
