@@ -1,8 +1,9 @@
 /* tissue.h: an elastic tissue pad, a 3-D finite-element soft solid
  * (compressible neo-Hookean, linear or quadratic tets, lumped mass, stiffness-
  * proportional Rayleigh damping, gravity), stepped implicitly with Newton
- * iterations on the nonlinear residual; each iteration's sparse symmetric
- * system is factorised by CHOLMOD (the ordering analysed once, at create).
+ * iterations on the nonlinear residual; their sparse symmetric system is
+ * factorised by CHOLMOD (the ordering analysed once, at create; a factor is
+ * kept while Newton's residual falls fourfold per iteration).
  *
  * For coupling (to a rod): the state is the nodes' positions and
  * velocities; forces act at material points, a tet and barycentric
