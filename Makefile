@@ -13,10 +13,12 @@ TEST_PKGS := libavcodec libavformat libswscale libavutil
 # DEBS_DEMO: building and rendering (make, make demo, make figures, make bench).
 # libegl-dev (EGL headers, glvnd's libEGL.so.1), libegl-mesa0 (Mesa's EGL
 # driver) and libgl1-mesa-dri (its llvmpipe, swrast_dri.so): the EGL backend;
-# libosmesa6-dev: the OSMesa one; libfontconfig-dev: finds DejaVu Sans.
+# libosmesa6-dev: the OSMesa one; libfontconfig-dev: finds DejaVu Sans;
+# libsuitesparse-dev: CHOLMOD, the tissue's sparse Cholesky (-lcholmod: no pkg-config file).
 DEBS_DEMO := build-essential pkg-config libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev \
            libpng-dev libfreetype-dev libfontconfig-dev fonts-dejavu-core libavcodec-dev \
-           libavformat-dev libswscale-dev libavutil-dev liblapacke-dev liblapack-dev libblas-dev
+           libavformat-dev libswscale-dev libavutil-dev liblapacke-dev liblapack-dev libblas-dev \
+           libsuitesparse-dev
 # DEBS_TEST: what make test adds. clang, libclang-rt-dev: the fuzz run;
 # libxml2-utils (xmllint), parallel (GNU parallel), snakemake and slurm-wlm:
 # tests/cli/test_sweep.c parses the sweep's SVG, runs its --print-commands lines under GNU
@@ -36,7 +38,7 @@ CFLAGS  ?= -O3 -g
 PIC     := -fPIC -fno-semantic-interposition
 ALL_CFLAGS = -std=c11 -D_DEFAULT_SOURCE $(WARN) $(PIC) $(CFLAGS) $(EXTRA_CFLAGS) -Iinclude \
              $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
-LDLIBS  = $(shell pkg-config --libs $(LINK_PKGS) 2>/dev/null) -llapack -lblas -ldl -lpthread -lm
+LDLIBS  = $(shell pkg-config --libs $(LINK_PKGS) 2>/dev/null) -lcholmod -llapack -lblas -ldl -lpthread -lm
 TEST_LDLIBS = $(shell pkg-config --libs $(TEST_PKGS) 2>/dev/null)
 LDFLAGS ?=
 

@@ -1,0 +1,96 @@
+/* tissue.h: an elastic tissue pad, a 3-D finite-element soft solid
+ * (compressible neo-Hookean, linear or quadratic tets, lumped mass, stiffness-
+ * proportional Rayleigh damping, gravity), stepped implicitly with Newton
+ * iterations on the nonlinear residual; their sparse symmetric system is
+ * factorised by CHOLMOD (the ordering analysed once, at create; a factor is
+ * kept while Newton's residual falls fourfold per iteration).
+ *
+ * For coupling (to a rod): the state is the nodes' positions and
+ * velocities; forces act at material points, a tet and barycentric
+ * weights; a material point's position and compliance (displacement per
+ * unit force over a step) are queried. Everything a step needs is
+ * allocated by tissue_create. Units SI. */
+#ifndef RODSIM_SIM_TISSUE_TISSUE_H
+#define RODSIM_SIM_TISSUE_TISSUE_H
+
+#include <stddef.h>
+
+#include "sim/tissue/tissue_config.h"
+
+typedef struct tissue_solid tissue_solid;
+
+/* What a step or a static solve did. */
+typedef struct tissue_step_info {
+    int iterations;        /* Newton iterations */
+    double residual;       /* N: largest free force residual at the end */
+    double assembly_s;     /* s of CPU: forces and matrix */
+    double factor_s;       /* s: numeric factorisations */
+    double solve_s;        /* s: triangular solves */
+} tissue_step_info;
+
+/* Meshes and sizes everything from a config (checked here); NULL with a
+ * message naming the key on bad input. */
+tissue_solid *tissue_create(const tissue_config *c, char *err, size_t errlen);
+void tissue_destroy(tissue_solid *t); /* NULL is fine */
+
+int tissue_node_count(const tissue_solid *t);
+int tissue_tet_count(const tissue_solid *t);
+int tissue_nodes_per_tet(const tissue_solid *t);            /* 4 linear, 10 quadratic */
+const int *tissue_tets(const tissue_solid *t); /* (tets x nodes_per_tet) node indices: corners,
+                                                  then midpoints of edges 01 02 03 12 13 23 */
+const double *tissue_rest_positions(const tissue_solid *t); /* (nodes x 3), m */
+double *tissue_positions(tissue_solid *t);                   /* (nodes x 3), m: the state, writable */
+double *tissue_velocities(tissue_solid *t);                  /* (nodes x 3), m/s: writable */
+const double *tissue_node_masses(const tissue_solid *t);     /* (nodes), kg: lumped */
+/* Pairs of nodes coincident at rest across the wound's slit (near side,
+ * far side); returns the count, 0 without a wound. */
+int tissue_slit_pairs(const tissue_solid *t, const int **near_nodes, const int **far_nodes);
+/* 0 or 1: the slit's faces face x (0) or y (1); -1 without a wound. */
+int tissue_slit_axis(const tissue_solid *t);
+
+/* Holds the components of a node in `mask` (bit 0 x, 1 y, 2 z) at target
+ * (m; NULL: where it is); mask 0 releases it. A held component's target may
+ * move between steps (a prescribed displacement). The config's held faces
+ * are held at create, displaced by the pretension. */
+void tissue_hold(tissue_solid *t, int node, unsigned mask, const double target[3]);
+
+/* External forces (N) on the nodes, (nodes x 3), writable; they stay until
+ * cleared. Gravity is separate (the config's). */
+double *tissue_external_forces(tissue_solid *t);
+void tissue_clear_forces(tissue_solid *t);
+/* Adds force f (N) at the material point of tet `tet` with barycentric
+ * weights bary (4, summing to 1). */
+void tissue_apply_point_force(tissue_solid *t, int tet, const double bary[4], const double f[3]);
+/* Where that material point is now (m). */
+void tissue_point_position(const tissue_solid *t, int tet, const double bary[4], double x[3]);
+/* The tet holding the rest-state point p (m) and its weights; 0, or -1 when
+ * p lies outside the pad. Searches every tet: not for the step loop. */
+int tissue_locate(const tissue_solid *t, const double p[3], int *tet, double bary[4]);
+/* The compliance at a material point (m/N, 3 x 3 row-major): how far it
+ * moves over a tissue_step of dt (s) from the current state per newton of
+ * extra force there, applied before the step, the other loads fixed (to
+ * first order); dt = 0: the static compliance (needs held nodes).
+ * Factorises once; returns 0, or -1 with a message. */
+int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], double dt, double C[9],
+                            char *err, size_t errlen);
+
+/* One implicit step of dt (s). 0, or -1 with a message (a tet inverted,
+ * Newton did not converge, the matrix is not positive definite): then the
+ * state is the one before the step. info may be NULL. */
+int tissue_step(tissue_solid *t, double dt, tissue_step_info *info, char *err, size_t errlen);
+/* The equilibrium under the current loads and holds (Newton from the
+ * current positions; velocities set to 0). 0, or -1 with a message. */
+int tissue_solve_static(tissue_solid *t, tissue_step_info *info, char *err, size_t errlen);
+
+/* The force (N) a holder applies to a node to keep it where it is, at
+ * equilibrium (internal elastic force minus external load and weight). */
+void tissue_reaction(tissue_solid *t, int node, double r[3]);
+
+double tissue_kinetic_energy(const tissue_solid *t); /* J */
+double tissue_elastic_energy(const tissue_solid *t); /* J; HUGE_VAL when a tet is inverted */
+double tissue_potential_energy(const tissue_solid *t); /* J: of gravity and the external forces */
+/* The wound's opening (m): the largest separation, across the slit, of a
+ * node pair on the top face; 0 without a wound. */
+double tissue_wound_gap(const tissue_solid *t);
+
+#endif

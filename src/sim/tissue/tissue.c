@@ -1,0 +1,665 @@
+/* tissue.c: the elastic tissue pad: assembly, Newton, CHOLMOD (tissue.h).
+ *
+ * The stiffness is stored as the upper triangle of a 3N x 3N CSC matrix
+ * whose pattern is fixed at create (node pairs sharing a tet); a held
+ * component keeps its row and column with only a diagonal entry, so holding
+ * or releasing never changes the pattern and CHOLMOD's analysis (ordering,
+ * supernodes) is done once. Each Newton iteration assembles the values
+ * and factorises numerically. */
+#include "sim/tissue/tissue.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <suitesparse/cholmod.h>
+#include <time.h>
+
+#include "sim/tissue/tissue_law.h"
+#include "sim/tissue/tissue_mesh.h"
+
+#define MAX_NEWTON 30
+#define MAX_HALVINGS 12
+
+struct tissue_solid {
+    tissue_config config;
+    tissue_mesh mesh;
+    double mu, lambda;     /* Pa */
+    int nodes, dofs;
+    double *dm_inverse;    /* (tets x 9), 1/m */
+    double *volume;        /* (tets), m^3 */
+    int per_tet;           /* nodes per tet: 4 or 10 */
+    double *mass;          /* (nodes), kg: lumped (linear: a quarter of each tet's;
+                              quadratic: row-sum-free HRZ, 1/36 per corner, 4/27 per edge) */
+    double *weight;        /* (nodes), kg: the consistent share of the weight (gravity
+                              force = weight g; linear 1/4, quadratic -1/20 and 1/5) */
+    double *x, *v;         /* (nodes x 3), m, m/s */
+    double *x_start, *v_start, *a_start; /* (nodes x 3): the step's start; m, m/s, m/s^2 */
+    double *force;         /* (nodes x 3), N: external */
+    double *internal;      /* (nodes x 3), N: dE/dx at the last assembly */
+    double *damping_force; /* (nodes x 3), N: damping K v at the last assembly */
+    double *residual;      /* (dofs), N */
+    double *target;        /* (nodes x 3), m: where held components are held */
+    unsigned char *fixed;  /* (dofs): 1 held */
+    int *rank;             /* (tets x per_tet^2): 3 x the rank of the smaller node in the larger one's
+                              column list, for each ordered node pair of the tet */
+    double hold_diagonal;  /* N/m: a held component's diagonal, a stiffness-like scale */
+    int factor_ok;         /* 1: L factors a matrix of the current holds and coefficients */
+    double factor_mass, factor_stiffness; /* the coefficients L was made with */
+    cholmod_common cm;
+    cholmod_sparse *A;     /* upper triangle, stype 1 */
+    cholmod_factor *L;
+    cholmod_dense *rhs, *sol, *work_y, *work_e;
+};
+
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int compare_pairs(const void *a, const void *b)
+{
+    const long long *p = a, *q = b;
+    return *p < *q ? -1 : *p > *q;
+}
+
+/* The pattern: for node b, its neighbours a <= b in ascending order (b
+ * last); column 3b + j holds rows 3a..3a+2 of each a < b, then 3b..3b+j. */
+static int build_pattern(tissue_solid *t)
+{
+    const tissue_mesh *m = &t->mesh;
+    int npe = t->per_tet;
+    size_t pairs_max = (size_t)m->tets * (size_t)(npe * (npe - 1) / 2) + (size_t)t->nodes;
+    long long *pairs = malloc(sizeof *pairs * pairs_max);
+    int *first = malloc(sizeof(int) * (size_t)(t->nodes + 1));
+    if (!pairs || !first) {
+        free(pairs);
+        free(first);
+        return -1;
+    }
+    size_t np = 0;
+    for (int n = 0; n < t->nodes; n++) pairs[np++] = (long long)n * t->nodes + n;
+    for (int e = 0; e < m->tets; e++) {
+        const int *tt = m->tet + npe * e;
+        for (int p = 0; p < npe; p++)
+            for (int q = p + 1; q < npe; q++) {
+                long long a = tt[p] < tt[q] ? tt[p] : tt[q], b = tt[p] < tt[q] ? tt[q] : tt[p];
+                pairs[np++] = b * t->nodes + a; /* sorted by b, then a */
+            }
+    }
+    qsort(pairs, np, sizeof *pairs, compare_pairs);
+    size_t unique = 0;
+    for (size_t k = 0; k < np; k++)
+        if (!unique || pairs[k] != pairs[unique - 1]) pairs[unique++] = pairs[k];
+    /* first[b]: the index in pairs of b's first lower neighbour */
+    size_t k = 0;
+    for (int b = 0; b < t->nodes; b++) {
+        first[b] = (int)k;
+        while (k < unique && pairs[k] / t->nodes == b) k++;
+    }
+    first[t->nodes] = (int)k;
+    size_t nnz = 0;
+    for (int b = 0; b < t->nodes; b++) {
+        int lower = first[b + 1] - first[b] - 1; /* neighbours below b */
+        nnz += (size_t)(3 * 3 * lower + 6);
+    }
+    t->A = cholmod_allocate_sparse((size_t)t->dofs, (size_t)t->dofs, nnz, 1, 1, 1, CHOLMOD_REAL,
+                                   &t->cm);
+    if (!t->A) {
+        free(pairs);
+        free(first);
+        return -1;
+    }
+    int *Ap = t->A->p, *Ai = t->A->i;
+    int at = 0;
+    for (int b = 0; b < t->nodes; b++)
+        for (int j = 0; j < 3; j++) {
+            Ap[3 * b + j] = at;
+            for (int q = first[b]; q < first[b + 1]; q++) {
+                int a = (int)(pairs[q] % t->nodes);
+                int rows = a < b ? 3 : j + 1;
+                for (int i = 0; i < rows; i++) Ai[at++] = 3 * a + i;
+            }
+        }
+    Ap[t->dofs] = at;
+    for (int e = 0; e < m->tets; e++) {
+        const int *tt = m->tet + npe * e;
+        for (int p = 0; p < npe; p++)
+            for (int q = 0; q < npe; q++) {
+                int a = tt[p] < tt[q] ? tt[p] : tt[q], b = tt[p] < tt[q] ? tt[q] : tt[p];
+                int lo = first[b], hi = first[b + 1] - 1;
+                while (lo < hi) { /* binary search of a in b's list */
+                    int mid = (lo + hi) / 2;
+                    if (pairs[mid] % t->nodes < a) lo = mid + 1; else hi = mid;
+                }
+                t->rank[(size_t)npe * npe * e + npe * p + q] = 3 * (lo - first[b]);
+            }
+    }
+    free(pairs);
+    free(first);
+    return 0;
+}
+
+void tissue_destroy(tissue_solid *t)
+{
+    if (!t) return;
+    cholmod_free_sparse(&t->A, &t->cm);
+    cholmod_free_factor(&t->L, &t->cm);
+    cholmod_free_dense(&t->rhs, &t->cm);
+    cholmod_free_dense(&t->sol, &t->cm);
+    cholmod_free_dense(&t->work_y, &t->cm);
+    cholmod_free_dense(&t->work_e, &t->cm);
+    cholmod_finish(&t->cm);
+    tissue_mesh_destroy(&t->mesh);
+    free(t->dm_inverse);
+    free(t->volume);
+    free(t->mass);
+    free(t->weight);
+    free(t->x);
+    free(t->v);
+    free(t->x_start);
+    free(t->v_start);
+    free(t->a_start);
+    free(t->force);
+    free(t->internal);
+    free(t->damping_force);
+    free(t->residual);
+    free(t->target);
+    free(t->fixed);
+    free(t->rank);
+    free(t);
+}
+
+tissue_solid *tissue_create(const tissue_config *c, char *err, size_t errlen)
+{
+    if (tissue_config_check(c, NULL, err, errlen)) return NULL;
+    tissue_solid *t = calloc(1, sizeof *t);
+    if (!t) {
+        snprintf(err, errlen, "element_size: out of memory for the tissue");
+        return NULL;
+    }
+    t->config = *c;
+    cholmod_start(&t->cm);
+    t->cm.print = 0; /* failures are reported through err */
+    if (tissue_mesh_build(c, &t->mesh, err, errlen)) {
+        tissue_destroy(t);
+        return NULL;
+    }
+    tissue_lame(c->youngs_modulus, c->poisson_ratio, &t->mu, &t->lambda);
+    const tissue_mesh *m = &t->mesh;
+    t->nodes = m->nodes;
+    t->per_tet = m->nodes_per_tet;
+    int npe = t->per_tet;
+    t->dofs = 3 * m->nodes;
+    size_t n3 = (size_t)t->dofs;
+    t->dm_inverse = malloc(sizeof(double) * 9 * (size_t)m->tets);
+    t->volume = malloc(sizeof(double) * (size_t)m->tets);
+    t->mass = calloc((size_t)t->nodes, sizeof(double));
+    t->weight = calloc((size_t)t->nodes, sizeof(double));
+    t->x = malloc(sizeof(double) * n3);
+    t->v = calloc(n3, sizeof(double));
+    t->x_start = malloc(sizeof(double) * n3);
+    t->v_start = malloc(sizeof(double) * n3);
+    t->a_start = malloc(sizeof(double) * n3);
+    t->force = calloc(n3, sizeof(double));
+    t->internal = calloc(n3, sizeof(double));
+    t->damping_force = calloc(n3, sizeof(double));
+    t->residual = malloc(sizeof(double) * n3);
+    t->target = malloc(sizeof(double) * n3);
+    t->fixed = calloc(n3, 1);
+    t->rank = malloc(sizeof(int) * (size_t)(npe * npe) * (size_t)m->tets);
+    if (!t->dm_inverse || !t->volume || !t->mass || !t->weight || !t->x || !t->v || !t->x_start ||
+        !t->v_start || !t->a_start || !t->force || !t->internal || !t->damping_force ||
+        !t->residual || !t->target || !t->fixed || !t->rank || build_pattern(t)) {
+        snprintf(err, errlen, "element_size: out of memory for the tissue's %d nodes", t->nodes);
+        tissue_destroy(t);
+        return NULL;
+    }
+    for (int e = 0; e < m->tets; e++) {
+        const double *rest[4];
+        for (int k = 0; k < 4; k++) rest[k] = m->rest + 3 * m->tet[npe * e + k];
+        t->volume[e] = tissue_tet_rest(rest, t->dm_inverse + 9 * e);
+        double me = c->density * t->volume[e];
+        for (int k = 0; k < npe; k++) {
+            int n = m->tet[npe * e + k];
+            int corner = k < 4;
+            t->mass[n] += me * (npe == 4 ? 0.25 : corner ? 1.0 / 36.0 : 4.0 / 27.0);
+            t->weight[n] += me * (npe == 4 ? 0.25 : corner ? -0.05 : 0.2);
+        }
+    }
+    t->hold_diagonal = c->youngs_modulus * c->element_size;
+    /* the pretension: the homogeneous strain's displacement, zero at the
+     * bottom's centre, on every node; held faces keep it */
+    double bottom = c->center[2] - 0.5 * c->size[2];
+    for (int n = 0; n < t->nodes; n++) {
+        const double *X = m->rest + 3 * n;
+        double u[3] = {c->pretension[0] * (X[0] - c->center[0]),
+                       c->pretension[1] * (X[1] - c->center[1]), c->pretension[2] * (X[2] - bottom)};
+        for (int i = 0; i < 3; i++) t->x[3 * n + i] = X[i] + u[i];
+        if (m->held[n]) tissue_hold(t, n, 7u, NULL);
+    }
+    t->rhs = cholmod_zeros(n3, 1, CHOLMOD_REAL, &t->cm);
+    t->L = cholmod_analyze(t->A, &t->cm);
+    if (!t->rhs || !t->L) {
+        snprintf(err, errlen, "element_size: CHOLMOD could not analyse the %d-unknown system",
+                 t->dofs);
+        tissue_destroy(t);
+        return NULL;
+    }
+    return t;
+}
+
+int tissue_node_count(const tissue_solid *t) { return t->nodes; }
+int tissue_tet_count(const tissue_solid *t) { return t->mesh.tets; }
+int tissue_nodes_per_tet(const tissue_solid *t) { return t->per_tet; }
+const int *tissue_tets(const tissue_solid *t) { return t->mesh.tet; }
+const double *tissue_rest_positions(const tissue_solid *t) { return t->mesh.rest; }
+double *tissue_positions(tissue_solid *t) { return t->x; }
+double *tissue_velocities(tissue_solid *t) { return t->v; }
+const double *tissue_node_masses(const tissue_solid *t) { return t->mass; }
+double *tissue_external_forces(tissue_solid *t) { return t->force; }
+int tissue_slit_axis(const tissue_solid *t) { return t->mesh.slit_axis; }
+
+int tissue_slit_pairs(const tissue_solid *t, const int **near_nodes, const int **far_nodes)
+{
+    *near_nodes = t->mesh.slit_node;
+    *far_nodes = t->mesh.slit_twin;
+    return t->mesh.slit_pairs;
+}
+
+void tissue_hold(tissue_solid *t, int node, unsigned mask, const double target[3])
+{
+    t->factor_ok = 0; /* the held rows change the matrix */
+    for (int i = 0; i < 3; i++) {
+        t->fixed[3 * node + i] = (mask >> i) & 1u;
+        t->target[3 * node + i] = target ? target[i] : t->x[3 * node + i];
+        if (t->fixed[3 * node + i]) t->v[3 * node + i] = 0.0;
+    }
+}
+
+void tissue_clear_forces(tissue_solid *t) { memset(t->force, 0, sizeof(double) * (size_t)t->dofs); }
+
+void tissue_apply_point_force(tissue_solid *t, int tet, const double bary[4], const double f[3])
+{
+    double N[10];
+    tissue_shape(t->per_tet, bary, N);
+    for (int k = 0; k < t->per_tet; k++) {
+        int n = t->mesh.tet[t->per_tet * tet + k];
+        for (int i = 0; i < 3; i++) t->force[3 * n + i] += N[k] * f[i];
+    }
+}
+
+void tissue_point_position(const tissue_solid *t, int tet, const double bary[4], double x[3])
+{
+    double N[10];
+    tissue_shape(t->per_tet, bary, N);
+    x[0] = x[1] = x[2] = 0.0;
+    for (int k = 0; k < t->per_tet; k++) {
+        int n = t->mesh.tet[t->per_tet * tet + k];
+        for (int i = 0; i < 3; i++) x[i] += N[k] * t->x[3 * n + i];
+    }
+}
+
+int tissue_locate(const tissue_solid *t, const double p[3], int *tet, double bary[4])
+{
+    for (int e = 0; e < t->mesh.tets; e++) {
+        const double *X0 = t->mesh.rest + 3 * t->mesh.tet[t->per_tet * e], *B = t->dm_inverse + 9 * e;
+        double d[3] = {p[0] - X0[0], p[1] - X0[1], p[2] - X0[2]};
+        double w[4];
+        w[1] = B[0] * d[0] + B[1] * d[1] + B[2] * d[2];
+        w[2] = B[3] * d[0] + B[4] * d[1] + B[5] * d[2];
+        w[3] = B[6] * d[0] + B[7] * d[1] + B[8] * d[2];
+        w[0] = 1.0 - w[1] - w[2] - w[3];
+        if (w[0] >= -1e-12 && w[1] >= -1e-12 && w[2] >= -1e-12 && w[3] >= -1e-12) {
+            *tet = e;
+            memcpy(bary, w, sizeof w);
+            return 0;
+        }
+    }
+    return -1;
+}
+
+/* One tet's energy (J), gradient (N) and Hessian (N/m), each may be NULL;
+ * -1 when inverted. */
+static int element(const tissue_solid *t, int e, double *energy, double *gradient, double *hessian)
+{
+    const int *tt = t->mesh.tet + t->per_tet * e;
+    const double *xe[10];
+    for (int k = 0; k < t->per_tet; k++) xe[k] = t->x + 3 * tt[k];
+    if (t->per_tet == 4)
+        return tissue_tet_energy(xe, t->dm_inverse + 9 * e, t->volume[e], t->mu, t->lambda, energy,
+                                 gradient, hessian);
+    return tissue_tet10_energy(xe, t->dm_inverse + 9 * e, t->volume[e], t->mu, t->lambda, energy,
+                               gradient, hessian);
+}
+
+/* Internal forces, damping forces (damping K(x) v) and, when stiffness > 0,
+ * the matrix mass_coef M + stiffness K (held components: diagonal only).
+ * Returns 0, or -1 when a tet is inverted. */
+static int assemble(tissue_solid *t, double mass_coef, double stiffness)
+{
+    const tissue_mesh *m = &t->mesh;
+    size_t n3 = (size_t)t->dofs;
+    memset(t->internal, 0, sizeof(double) * n3);
+    memset(t->damping_force, 0, sizeof(double) * n3);
+    double *Ax = t->A->x;
+    const int *Ap = t->A->p;
+    int matrix = stiffness > 0.0;
+    int damp = t->config.damping > 0.0;
+    if (matrix) memset(Ax, 0, sizeof(double) * (size_t)Ap[t->dofs]);
+    int npe = t->per_tet, row = 3 * npe;
+    double H[900], g[30];
+    for (int e = 0; e < m->tets; e++) {
+        const int *tt = m->tet + npe * e;
+        if (element(t, e, NULL, g, matrix || damp ? H : NULL)) return -1;
+        for (int k = 0; k < npe; k++)
+            for (int i = 0; i < 3; i++) t->internal[3 * tt[k] + i] += g[3 * k + i];
+        if (damp) {
+            double ve[30];
+            for (int k = 0; k < npe; k++)
+                for (int i = 0; i < 3; i++) ve[3 * k + i] = t->v[3 * tt[k] + i];
+            for (int r = 0; r < row; r++) {
+                double s = 0.0;
+                for (int q = 0; q < row; q++) s += H[row * r + q] * ve[q];
+                t->damping_force[3 * tt[r / 3] + r % 3] += t->config.damping * s;
+            }
+        }
+        if (!matrix) continue;
+        const int *rank = t->rank + (size_t)npe * npe * e;
+        for (int p = 0; p < npe; p++)
+            for (int q = 0; q < npe; q++) {
+                int a = tt[p], b = tt[q];
+                if (a > b) continue; /* the pair (q, p) adds it */
+                int off = rank[npe * p + q];
+                for (int j = 0; j < 3; j++) {
+                    int col = 3 * b + j;
+                    if (t->fixed[col]) continue;
+                    int rows = a < b ? 3 : j + 1;
+                    for (int i = 0; i < rows; i++) {
+                        if (t->fixed[3 * a + i]) continue;
+                        Ax[Ap[col] + off + i] += stiffness * H[row * (3 * p + i) + 3 * q + j];
+                    }
+                }
+            }
+    }
+    if (matrix)
+        for (int d = 0; d < t->dofs; d++) /* the diagonal closes each column */
+            Ax[Ap[d + 1] - 1] += t->fixed[d] ? t->hold_diagonal * stiffness
+                                             : mass_coef * t->mass[d / 3];
+    return 0;
+}
+
+/* Factorises A (made with these coefficients) when asked, and solves
+ * A sol = rhs; 0, or -1 when A is not positive definite. */
+static int factor_solve(tissue_solid *t, tissue_step_info *info, int factorise, double mass_coef,
+                        double stiffness)
+{
+    double t0 = cpu_now();
+    if (factorise) {
+        t->factor_ok = 0;
+        cholmod_factorize(t->A, t->L, &t->cm);
+        if (t->cm.status != CHOLMOD_OK || t->L->minor < t->L->n) return -1;
+        t->factor_ok = 1;
+        t->factor_mass = mass_coef;
+        t->factor_stiffness = stiffness;
+    }
+    double t1 = cpu_now();
+    if (!cholmod_solve2(CHOLMOD_A, t->L, t->rhs, NULL, &t->sol, NULL, &t->work_y, &t->work_e,
+                        &t->cm))
+        return -1;
+    double t2 = cpu_now();
+    if (info) {
+        info->factor_s += t1 - t0;
+        info->solve_s += t2 - t1;
+    }
+    return 0;
+}
+
+/* 1 when every tet has J > 0 at the positions x (at its integration points) */
+static int all_positive(const tissue_solid *t)
+{
+    double w;
+    for (int e = 0; e < t->mesh.tets; e++)
+        if (element(t, e, &w, NULL, NULL)) return 0;
+    return 1;
+}
+
+/* The integrator's velocity and acceleration of the iterate x (dt > 0), or
+ * none (dt == 0: statics). Held components move to their targets. */
+static void kinematics(tissue_solid *t, double dt, double *acceleration)
+{
+    int newmark = t->config.integrator == TISSUE_NEWMARK;
+    for (int d = 0; d < t->dofs; d++) {
+        double dx = t->x[d] - t->x_start[d];
+        if (t->fixed[d]) {
+            t->v[d] = dx / dt;
+            acceleration[d] = 0.0;
+        } else if (newmark) { /* trapezoidal: x1 = x0 + dt (v0 + v1) / 2, v1 = v0 + dt (a0 + a1) / 2 */
+            t->v[d] = 2.0 * dx / dt - t->v_start[d];
+            acceleration[d] = 2.0 * (t->v[d] - t->v_start[d]) / dt - t->a_start[d];
+        } else { /* backward Euler */
+            t->v[d] = dx / dt;
+            acceleration[d] = (t->v[d] - t->v_start[d]) / dt;
+        }
+    }
+}
+
+/* Newton on the residual of a step (dt > 0) or of statics (dt == 0). */
+static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err, size_t errlen)
+{
+    const tissue_config *c = &t->config;
+    int newmark = c->integrator == TISSUE_NEWMARK;
+    double mass_coef = dt > 0.0 ? (newmark ? 4.0 : 1.0) / (dt * dt) : 0.0;
+    double stiffness = 1.0 + (dt > 0.0 ? c->damping * (newmark ? 2.0 : 1.0) / dt : 0.0);
+    double h = c->element_size * c->wound_refine;
+    double force_tol = 1e-10 * c->youngs_modulus * h * h; /* N */
+    double step_tol = 1e-11 * h;                           /* m */
+    double *acceleration = t->residual; /* shares storage: filled, then turned into residual */
+    for (int d = 0; d < t->dofs; d++)
+        if (t->fixed[d]) t->x[d] = t->target[d];
+    /* The last factor (of this step or an earlier one with the same dt and
+     * holds) serves while the residual falls at least fourfold per
+     * iteration; a slower fall renews it (a factorisation costs ~10
+     * assemblies at the pad's size: decision record draft-tissue-fem). */
+    double last_worst = HUGE_VAL;
+    /* statics far from equilibrium may meet an indefinite K: then a
+     * mass-proportional shift (1/s^2; a pseudo time step), cut tenfold per
+     * iteration, keeps the matrix positive; the residual stays the static one */
+    double shift = 0.0, mean_mass = 0.0;
+    for (int n = 0; n < t->nodes; n++) mean_mass += t->mass[n] / t->nodes;
+    for (int it = 0; it < MAX_NEWTON; it++) {
+        double coef = dt > 0.0 ? mass_coef : shift;
+        if (dt > 0.0) kinematics(t, dt, acceleration);
+        double t0 = cpu_now();
+        if (assemble(t, coef, stiffness)) {
+            snprintf(err, errlen, "a tet inverted (J <= 0) at Newton iteration %d", it);
+            return -1;
+        }
+        if (info) info->assembly_s += cpu_now() - t0;
+        double *rhs = t->rhs->x, worst = 0.0;
+        for (int d = 0; d < t->dofs; d++) {
+            double m = t->mass[d / 3];
+            double r = t->internal[d] + t->damping_force[d] - t->force[d] -
+                       t->weight[d / 3] * c->gravity[d % 3];
+            if (dt > 0.0) r += m * acceleration[d];
+            if (t->fixed[d]) r = 0.0;
+            rhs[d] = -r;
+            worst = fmax(worst, fabs(r));
+        }
+        if (info) {
+            info->iterations = it + 1;
+            info->residual = worst;
+        }
+        if (worst <= force_tol) return 0;
+        int renew = !t->factor_ok || t->factor_mass != coef || t->factor_stiffness != stiffness ||
+                    (it > 0 && worst > 0.25 * last_worst);
+        last_worst = worst;
+        if (factor_solve(t, info, renew, coef, stiffness)) {
+            if (dt == 0.0 && it + 1 < MAX_NEWTON) {
+                shift = shift > 0.0 ? 10.0 * shift : 0.1 * c->youngs_modulus * h / mean_mass;
+                continue;
+            }
+            snprintf(err, errlen,
+                     "the tissue's Newton matrix is not positive definite (iteration %d): "
+                     "a smaller time step, or more held nodes",
+                     it);
+            return -1;
+        }
+        const double *dx = t->sol->x;
+        double largest = 0.0, fraction = 1.0;
+        for (int d = 0; d < t->dofs; d++) {
+            t->x[d] += dx[d];
+            largest = fmax(largest, fabs(dx[d]));
+        }
+        for (int k = 0; k < MAX_HALVINGS && !all_positive(t); k++) {
+            fraction *= 0.5;
+            for (int d = 0; d < t->dofs; d++) t->x[d] -= fraction * dx[d];
+        }
+        shift = shift > 1e-6 * c->youngs_modulus * h / mean_mass ? 0.1 * shift : 0.0;
+        if (fraction == 1.0 && largest <= step_tol && shift == 0.0) {
+            if (dt > 0.0) kinematics(t, dt, acceleration);
+            return 0;
+        }
+    }
+    snprintf(err, errlen, "the tissue's Newton iterations did not converge in %d", MAX_NEWTON);
+    return -1;
+}
+
+int tissue_step(tissue_solid *t, double dt, tissue_step_info *info, char *err, size_t errlen)
+{
+    if (info) memset(info, 0, sizeof *info);
+    if (!(dt > 0.0)) {
+        snprintf(err, errlen, "dt: %g s; accepted > 0", dt);
+        return -1;
+    }
+    const tissue_config *c = &t->config;
+    size_t bytes = sizeof(double) * (size_t)t->dofs;
+    memcpy(t->x_start, t->x, bytes);
+    memcpy(t->v_start, t->v, bytes);
+    /* the start's acceleration from the equation of motion (the caller may
+     * have changed the state or the loads since the last step) */
+    double t0 = cpu_now();
+    if (assemble(t, 0.0, 0.0)) {
+        snprintf(err, errlen, "a tet is inverted at the step's start");
+        return -1;
+    }
+    if (info) info->assembly_s += cpu_now() - t0;
+    for (int d = 0; d < t->dofs; d++) {
+        double m = t->mass[d / 3];
+        t->a_start[d] = t->fixed[d] ? 0.0
+                                    : (t->force[d] + t->weight[d / 3] * c->gravity[d % 3] - t->internal[d] -
+                                       t->damping_force[d]) / m;
+        t->x[d] += dt * t->v[d]; /* the first iterate: constant velocity */
+    }
+    if (newton(t, dt, info, err, errlen)) {
+        memcpy(t->x, t->x_start, bytes);
+        memcpy(t->v, t->v_start, bytes);
+        return -1;
+    }
+    return 0;
+}
+
+int tissue_solve_static(tissue_solid *t, tissue_step_info *info, char *err, size_t errlen)
+{
+    if (info) memset(info, 0, sizeof *info);
+    memset(t->v, 0, sizeof(double) * (size_t)t->dofs);
+    memcpy(t->x_start, t->x, sizeof(double) * (size_t)t->dofs);
+    if (newton(t, 0.0, info, err, errlen)) {
+        memcpy(t->x, t->x_start, sizeof(double) * (size_t)t->dofs);
+        return -1;
+    }
+    return 0;
+}
+
+void tissue_reaction(tissue_solid *t, int node, double r[3])
+{
+    double saved = t->config.damping;
+    t->config.damping = 0.0; /* equilibrium: no damping force */
+    int bad = assemble(t, 0.0, 0.0);
+    t->config.damping = saved;
+    for (int i = 0; i < 3; i++) {
+        int d = 3 * node + i;
+        r[i] = bad ? NAN
+                   : t->internal[d] - t->force[d] - t->weight[node] * t->config.gravity[i];
+    }
+}
+
+int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], double dt, double C[9],
+                            char *err, size_t errlen)
+{
+    const tissue_config *c = &t->config;
+    int newmark = c->integrator == TISSUE_NEWMARK;
+    double mass_coef = dt > 0.0 ? (newmark ? 4.0 : 1.0) / (dt * dt) : 0.0;
+    double stiffness = 1.0 + (dt > 0.0 ? c->damping * (newmark ? 2.0 : 1.0) / dt : 0.0);
+    if (assemble(t, mass_coef, stiffness)) {
+        snprintf(err, errlen, "a tet is inverted");
+        return -1;
+    }
+    double *rhs = t->rhs->x, N[10];
+    int npe = t->per_tet;
+    const int *tt = t->mesh.tet + npe * tet;
+    tissue_shape(npe, bary, N);
+    for (int k = 0; k < 3; k++) {
+        memset(rhs, 0, sizeof(double) * (size_t)t->dofs);
+        for (int q = 0; q < npe; q++) {
+            int d = 3 * tt[q] + k;
+            if (!t->fixed[d]) rhs[d] += N[q];
+        }
+        if (factor_solve(t, NULL, k == 0, mass_coef, stiffness)) {
+            snprintf(err, errlen, "the tissue's matrix is not positive definite (nothing held?)");
+            return -1;
+        }
+        const double *s = t->sol->x;
+        /* tissue_step takes the start's acceleration under the same loads:
+         * a force present over a Newmark step acts at both ends of it, and
+         * moves the point twice A^-1 f */
+        double scale = dt > 0.0 && newmark ? 2.0 : 1.0;
+        for (int i = 0; i < 3; i++) {
+            double u = 0.0;
+            for (int q = 0; q < npe; q++) u += N[q] * s[3 * tt[q] + i];
+            C[3 * i + k] = scale * u;
+        }
+    }
+    return 0;
+}
+
+double tissue_kinetic_energy(const tissue_solid *t)
+{
+    double e = 0.0;
+    for (int d = 0; d < t->dofs; d++) e += 0.5 * t->mass[d / 3] * t->v[d] * t->v[d];
+    return e;
+}
+
+double tissue_elastic_energy(const tissue_solid *t)
+{
+    double sum = 0.0;
+    for (int e = 0; e < t->mesh.tets; e++) {
+        double w;
+        if (element(t, e, &w, NULL, NULL)) return HUGE_VAL;
+        sum += w;
+    }
+    return sum;
+}
+
+double tissue_potential_energy(const tissue_solid *t)
+{
+    double e = 0.0;
+    for (int d = 0; d < t->dofs; d++)
+        e -= (t->weight[d / 3] * t->config.gravity[d % 3] + t->force[d]) * t->x[d];
+    return e;
+}
+
+double tissue_wound_gap(const tissue_solid *t)
+{
+    const tissue_mesh *m = &t->mesh;
+    if (m->slit_axis < 0) return 0.0;
+    double top = t->config.center[2] + 0.5 * t->config.size[2], gap = 0.0;
+    for (int k = 0; k < m->slit_pairs; k++) {
+        int a = m->slit_node[k], b = m->slit_twin[k];
+        if (fabs(m->rest[3 * a + 2] - top) > 1e-9 * t->config.size[2]) continue;
+        gap = fmax(gap, t->x[3 * b + m->slit_axis] - t->x[3 * a + m->slit_axis]);
+    }
+    return gap;
+}
