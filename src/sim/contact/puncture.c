@@ -29,6 +29,7 @@ typedef struct puncture_map {
     double across;           /* |f|, N */
     double mu, vt, sp;       /* friction; the point's velocity along t (after f) and
                                 contact_creep_speed's root, m/s */
+    double grip;             /* N: > 0, the friction's fixed limit (a grasp) */
 } puncture_map;
 
 /* Composes node j's and j+1's velocity maps with one puncture's: z = (v_j,
@@ -50,7 +51,8 @@ static void puncture_map_jacobian(rod_contact *ct, const puncture_map *p, const 
         }
     for (int r = 0; r < 6; r++)
         for (int c = 0; c < 6; c++) m6[6 * r + c] = (r == c) + g[r / 3] * fz[6 * (r % 3) + c];
-    const double c_limit = p->peff * p->mu * p->across;
+    const double c_limit = p->grip > 0.0 ? p->peff * p->grip : p->peff * p->mu * p->across;
+    const double mu = p->grip > 0.0 ? 0.0 : p->mu; /* a fixed limit does not grow with f */
     if (c_limit > 0.0) { /* at speed 0 too: sp has the slope d_speed there */
         double d_speed, d_c, dft[6];
         contact_creep_slopes(c_limit, p->sp, &d_speed, &d_c);
@@ -58,7 +60,7 @@ static void puncture_map_jacobian(rod_contact *ct, const puncture_map *p, const 
         for (int c = 0; c < 6; c++) {
             double dvt = wz[c / 3] * t[c % 3], dacross = 0.0;
             for (int r = 0; r < 3; r++) dacross += p->f[r] / p->across * fz[6 * r + c];
-            double dsp = d_speed * sign * dvt + d_c * p->peff * p->mu * dacross;
+            double dsp = d_speed * sign * dvt + d_c * p->peff * mu * dacross;
             dft[c] = -(dvt - sign * dsp) / p->peff;
         }
         for (int r = 0; r < 6; r++)
@@ -121,7 +123,10 @@ void puncture_forces(rod_contact *ct, const rod_model *m, double push, double dt
         }
         v3_copy(force, f);
         /* friction along the thread */
-        double across = v3_norm(f), limit = ct->punct[k].friction * across, vt = 0.0;
+        const double grip = ct->punct[k].grip;
+        double across = v3_norm(f), limit = grip > 0.0 ? grip : ct->punct[k].friction * across;
+        /* relative to the point's own motion (a grasp's jaws) */
+        double vt = -v3_dot(t, ct->punct[k].velocity);
         for (int c = 0; c < 3; c++) vt += t[c] * (wj * ct->vel1[3 * j + c] + wk * ct->vel1[3 * i2 + c]);
         double speed = fabs(vt), sp = speed;
         if (speed > 0.0 && limit > 0.0) {
@@ -144,7 +149,7 @@ void puncture_forces(rod_contact *ct, const rod_model *m, double push, double dt
                     df_de[3 * r + c] = -scale * ((r == c) * frac +
                         (miss > 0.0 ? (contact_compliant_slope(miss, floor) - frac) * e[r] * e[c] / (miss * miss) : 0.0));
             const puncture_map map = {j, wj, wk, pj, pk, peff, dt * theta, t, f, across,
-                                      ct->punct[k].friction, vt, sp};
+                                      ct->punct[k].friction, vt, sp, grip};
             puncture_map_jacobian(ct, &map, df_de);
         }
     }
@@ -177,6 +182,8 @@ void puncture_prepare(rod_contact *ct, const rod_model *m, const rod_state *s)
         }
         v3_scale(ct->punct[k].tangent, t, 1.0 / v3_norm(t));
         v3_set(ct->punct[k].force, 0.0, 0.0, 0.0);
+        v3_set(ct->punct[k].velocity, 0.0, 0.0, 0.0);
+        ct->punct[k].grip = 0.0;
     }
     /* the thread between a tissue surface's punctures is inside it (no
      * contact with that surface: rod_threaded_nodes) */

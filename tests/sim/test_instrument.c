@@ -1,0 +1,420 @@
+/* test_instrument.c: surgical instruments and their grasps in the implicit
+ * scheme, against independent values: a thread grasped at mid-length and
+ * lifted (the point follows the jaws, the jaws carry the weight rho A L g),
+ * the capstan law W exp(mu pi) over an instrument's shafts, grasp, release
+ * and re-grasp (the arc lengths), the free fall after a release (the centre
+ * of mass at g t^2 / 2), and bad input. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "base/vec3.h"
+#include "sim/instrument.h"
+#include "sim/path.h"
+#include "sim/rod.h"
+#include "test.h"
+#include "test_curve.h"
+#include "test_process.h"
+
+#define GRAVITY 9.81 /* m/s^2 */
+
+/* A thread (table 1's material, L, d given), free-free, implicit. */
+static rod_model thread_model(double length, double diameter, int nodes)
+{
+    rod_model m = rod_model_default();
+    m.length = length;
+    m.diameter = diameter;
+    m.nodes = nodes;
+    m.options.scheme = ROD_SCHEME_IMPLICIT;
+    m.root_end = ROD_END_FREE;
+    m.tip_end = ROD_END_FREE;
+    m.self_contact = 0;
+    return m;
+}
+
+/* An instrument from rows (t, x, y, z, rx, ry, rz, jaw); NULL paths on failure. */
+static rod_instrument instrument(rod_instrument_kind kind, double size, const double *rows,
+                                 int count, double friction, double grip)
+{
+    rod_instrument in;
+    memset(&in, 0, sizeof in);
+    in.kind = kind;
+    snprintf(in.name, sizeof in.name, "%s", rod_instrument_kind_name(kind));
+    in.size = size;
+    in.friction = friction;
+    in.grip = grip;
+    double *pose = malloc((size_t)count * 7 * sizeof(double)), *jaw = malloc((size_t)count * 4 * sizeof(double));
+    for (int r = 0; r < count; r++) {
+        memcpy(&pose[7 * r], &rows[8 * r], 7 * sizeof(double));
+        const double o[4] = {rows[8 * r], rows[8 * r + 7], 0.0, 0.0};
+        memcpy(&jaw[4 * r], o, sizeof o);
+    }
+    char err[256];
+    in.pose = rod_path_create(pose, count, 7, err, sizeof err);
+    in.jaw = rod_path_create(jaw, count, 4, err, sizeof err);
+    free(pose);
+    free(jaw);
+    return in;
+}
+
+/* The rotation vector of the rotation whose columns are a, b, c. */
+static void rotation_vector(const double a[3], const double b[3], const double c[3], double rv[3])
+{
+    double r[9];
+    for (int i = 0; i < 3; i++) {
+        r[3 * i] = a[i];
+        r[3 * i + 1] = b[i];
+        r[3 * i + 2] = c[i];
+    }
+    m3_log(rv, r);
+}
+
+/* Forceps pointing down (local x = -z), closing across a thread along x
+ * (local y = +x): the jaws' middle at p when the tip is at p - (lj/2) z. */
+static void down_forceps(double rv[3])
+{
+    const double a[3] = {0.0, 0.0, -1.0}, b[3] = {1.0, 0.0, 0.0}, c[3] = {0.0, -1.0, 0.0};
+    rotation_vector(a, b, c, rv);
+}
+
+static double centre_z(const rod_model *m, const rod_state *s)
+{
+    double z = 0.0;
+    for (int i = 0; i < m->nodes; i++)
+        z += ((i == 0 || i == m->nodes - 1) ? 0.5 : 1.0) * s->position[3 * i + 2];
+    return z / (m->nodes - 1);
+}
+
+static double centre_vz(const rod_model *m, const rod_state *s)
+{
+    double v = 0.0;
+    for (int i = 0; i < m->nodes; i++) {
+        double g[3];
+        m3_mul_v(g, &s->frame[9 * i], &s->velocity[3 * i]);
+        v += ((i == 0 || i == m->nodes - 1) ? 0.5 : 1.0) * g[2];
+    }
+    return v / (m->nodes - 1);
+}
+
+/* The thread's point at arc length s. */
+static void point_at(const rod_model *m, const rod_state *s, double arc, double p[3])
+{
+    int j = (int)floor(arc / m->ds);
+    if (j > m->nodes - 2) j = m->nodes - 2;
+    double f = arc / m->ds - j;
+    for (int c = 0; c < 3; c++)
+        p[c] = (1.0 - f) * s->position[3 * j + c] + f * s->position[3 * j + 3 + c];
+}
+
+/* Grasp at mid-length and lift ----------------------------------------- */
+
+static void test_lift(void)
+{
+    const double length = 0.2, d = 0.0005, size = 0.12, z0 = 0.05, lift = 0.05;
+    rod_model m = thread_model(length, d, 41);
+    m.origin[2] = z0;
+    m.linear_damping = 0.02; /* N s/m^2: the swing settles within the rest */
+    double rv[3];
+    down_forceps(rv);
+    rod_instrument probe = {.kind = ROD_INSTRUMENT_FORCEPS, .size = size};
+    double lj, rj, rs;
+    rod_instrument_dimensions(&probe, &lj, &rj, &rs);
+    const double x = 0.5 * length, tip = z0 - 0.5 * lj;
+    const double rows[] = {0.0, x, 0.0, tip, rv[0], rv[1], rv[2], 0.0,
+                           0.5, x, 0.0, tip, rv[0], rv[1], rv[2], 0.0,
+                           3.0, x, 0.0, tip + lift, rv[0], rv[1], rv[2], 0.0,
+                           6.0, x, 0.0, tip + lift, rv[0], rv[1], rv[2], 0.0};
+    rod_instrument in = instrument(ROD_INSTRUMENT_FORCEPS, size, rows, 4, 0.3, 5.0);
+    m.instruments = &in;
+    m.instrument_count = 1;
+    char err[512];
+    rod_state *s = NULL;
+    rod_solver solver;
+    for (int k = 0; k < 3; k++) m.distributed_force[k] = 0.0;
+    if (rod_model_derive(&m, err, sizeof err)) {
+        check(0, "lift model: %s", err);
+        goto done;
+    }
+    m.distributed_force[2] = -m.mass_per_length * GRAVITY;
+    s = rod_state_create(&m);
+    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
+        check(0, "lift solver: %s", err);
+        goto done;
+    }
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    const double dt = 2e-3;
+    double s0 = -1.0, worst = 0.0, z_on = 0.0;
+    int ok = 1;
+    for (int k = 1; k <= 3000 && ok; k++) {
+        if (rod_solver_step(&solver, &m, s, dt, &report)) {
+            check(0, "lift step %d (t = %g s): %s", k, s->time, report.message);
+            ok = 0;
+            break;
+        }
+        if (!s->grasp[0].held) continue;
+        if (s0 < 0.0) {
+            s0 = s->grasp[0].s;
+            double p0[3];
+            point_at(&m, s, s0, p0);
+            z_on = p0[2];
+        }
+        double jawp[3], p[3], e[3];
+        rod_grasp_point(&m, 0, &s->grasp[0], s->time, jawp, NULL);
+        point_at(&m, s, s0, p); /* the material point first grasped */
+        v3_sub(e, p, jawp);
+        worst = fmax(worst, v3_norm(e));
+    }
+    rod_solver_release(&solver);
+    if (ok) {
+        check_abs("lift: grasped at arc length, m (mid-length)", s0, 0.5 * length, 0.5 * m.ds);
+        printf("     the grasped material point's largest distance from the jaws' point: %.3g m "
+               "= %.3g d\n", worst, worst / d);
+        check(worst < 0.05 * d, "lift: the grasped point follows the jaws within 5 %% of d "
+              "(computed %.3g d, limit 0.05 d)", worst / d);
+        const double weight = m.mass_per_length * length * GRAVITY;
+        check_rel("lift: at rest, the force on the jaws (down) vs rho A L g, N",
+                  -s->grasp[0].force[2], weight, 0.01);
+        double zp[3];
+        point_at(&m, s, s0, zp);
+        check_abs("lift: the grasped point's rise, m (the jaws' lift)", zp[2] - z_on, lift, 0.05 * d);
+    }
+done:
+    rod_state_destroy(s);
+    m.instruments = NULL;
+    m.instrument_count = 0;
+    rod_path_destroy(in.pose);
+    rod_path_destroy(in.jaw);
+    rod_model_release(&m);
+}
+
+/* Capstan over the forceps' closed tines ---------------------------------- */
+
+/* The curve over two circles of radius rc centred at x = -+a, z = 0: up at
+ * x = -(a + rc) from z = -h, a quarter turn, straight over, a quarter turn,
+ * down. par: h, rc, a. */
+static void twin_curve(double u, const double par[3], double p[3])
+{
+    const double h = par[0], rc = par[1], a = par[2], q = 0.5 * M_PI * rc;
+    if (u <= h) {
+        v3_set(p, -a - rc, 0.0, -h + u);
+    } else if (u <= h + q) {
+        double phi = M_PI - (u - h) / rc;
+        v3_set(p, -a + rc * cos(phi), 0.0, rc * sin(phi));
+    } else if (u <= h + q + 2.0 * a) {
+        v3_set(p, -a + (u - h - q), 0.0, rc);
+    } else if (u <= h + 2.0 * q + 2.0 * a) {
+        double phi = 0.5 * M_PI - (u - h - q - 2.0 * a) / rc;
+        v3_set(p, a + rc * cos(phi), 0.0, rc * sin(phi));
+    } else {
+        v3_set(p, a + rc, 0.0, -(u - h - 2.0 * q - 2.0 * a));
+    }
+}
+
+/* The root (pinned) driven down by pull over duration, the tip carrying W:
+ * the mean |root force| over the middle fifth (as the surfaces' capstan). */
+static double capstan(double mu, double w_load, double pull, double duration, int nodes)
+{
+    /* forceps whose tines' back parts (radius rs, axes 2 rj apart) lie
+     * side by side along y: the thread wraps them in the x-z plane */
+    const double rs = 0.05, size = rs / 0.012, d = 0.0005, h = 0.1;
+    rod_instrument probe = {.kind = ROD_INSTRUMENT_FORCEPS, .size = size};
+    double lj, rj, rsh;
+    rod_instrument_dimensions(&probe, &lj, &rj, &rsh);
+    const double rc = rs + 0.5 * d, length = 2.0 * h + M_PI * rc + 2.0 * rj;
+    rod_model m = thread_model(length, d, nodes);
+    m.root_end = ROD_END_PINNED;
+    m.tip_frame = ROD_FRAME_GLOBAL;
+    v3_set(m.tip_force, 0.0, 0.0, -w_load);
+    m.profile.kind = ROD_PROFILE_RAMP;
+    m.profile.t1 = 0.1 * duration;
+    m.linear_damping = 1e-3;
+    double ds = length / (m.nodes - 1);
+    m.initial_shape = malloc((size_t)m.nodes * 3 * sizeof(double));
+    const double par[3] = {h, rc, rj};
+    chord_nodes(twin_curve, par, m.initial_shape, m.nodes, ds);
+    double rows[2 * 4] = {0.0, -rj - rc, 0.0, -h, duration, -rj - rc, 0.0, -h - pull};
+    char err[512];
+    m.root_motion = rod_path_create(rows, 2, 4, err, sizeof err);
+    /* local x -> y, y -> z, z -> x; the tines' middle (local x = -0.5 size) at y = 0 */
+    const double ex[3] = {0.0, 1.0, 0.0}, ey[3] = {0.0, 0.0, 1.0}, ez[3] = {1.0, 0.0, 0.0};
+    double rv[3];
+    rotation_vector(ex, ey, ez, rv);
+    const double irows[8] = {0.0, 0.0, 0.5 * size, 0.0, rv[0], rv[1], rv[2], 0.0};
+    rod_instrument in = instrument(ROD_INSTRUMENT_FORCEPS, size, irows, 1, mu, 5.0);
+    double result = NAN;
+    rod_state *s = NULL;
+    if (!m.root_motion || rod_model_derive(&m, err, sizeof err)) {
+        printf("     capstan model: %s\n", err);
+        goto done;
+    }
+    m.instruments = &in;
+    m.instrument_count = 1;
+    s = rod_state_create(&m);
+    rod_solver solver;
+    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
+        printf("     create: %s\n", err);
+        goto done;
+    }
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    const double dt = 2e-3;
+    int steps = (int)lround(duration / dt), count = 0;
+    double sum = 0.0;
+    for (int k = 1; k <= steps; k++) {
+        if (rod_solver_step(&solver, &m, s, dt, &report)) {
+            printf("     capstan step %d (t = %g s): %s\n", k, s->time, report.message);
+            sum = NAN;
+            break;
+        }
+        if (s->time >= 0.4 * duration && s->time <= 0.6 * duration) {
+            sum += v3_norm(s->end_force[0]);
+            count++;
+        }
+    }
+    rod_solver_release(&solver);
+    if (count) result = sum / count;
+done:
+    rod_state_destroy(s);
+    m.instruments = NULL;
+    m.instrument_count = 0;
+    rod_path_destroy(in.pose);
+    rod_path_destroy(in.jaw);
+    rod_model_release(&m);
+    return result;
+}
+
+static void test_capstan(void)
+{
+    const double mu = 0.2, w_load = 0.05;
+    check_rel("capstan over the forceps' tines (a half turn), NS = 81: root force vs "
+              "W exp(mu pi), N", capstan(mu, w_load, 0.03, 2.0, 81), w_load * exp(mu * M_PI), 0.03);
+}
+
+/* Grasp, release, re-grasp; free fall after release ------------------------ */
+
+static void test_regrasp_and_fall(void)
+{
+    const double length = 0.2, d = 0.0005, size = 0.12, z0 = 0.05;
+    rod_model m = thread_model(length, d, 41);
+    m.origin[2] = z0;
+    double rv[3];
+    down_forceps(rv);
+    rod_instrument probe = {.kind = ROD_INSTRUMENT_FORCEPS, .size = size};
+    double lj, rj, rs;
+    rod_instrument_dimensions(&probe, &lj, &rj, &rs);
+    const double x = 0.5 * length, tip = z0 - 0.5 * lj, slide = 0.03;
+    /* no gravity first: closed at mid-length, opened at 0.3 s, moved along
+     * the thread by `slide` with open jaws, closed again at 1.0 s, opened at
+     * 1.3 s; then gravity on (a second model) for the fall */
+    const double rows[] = {0.0, x, 0.0, tip, rv[0], rv[1], rv[2], 0.0,
+                           0.3, x, 0.0, tip, rv[0], rv[1], rv[2], 0.0,
+                           0.35, x, 0.0, tip, rv[0], rv[1], rv[2], 1.0,
+                           0.9, x + slide, 0.0, tip, rv[0], rv[1], rv[2], 1.0,
+                           1.0, x + slide, 0.0, tip, rv[0], rv[1], rv[2], 0.0,
+                           1.3, x + slide, 0.0, tip, rv[0], rv[1], rv[2], 0.0,
+                           1.32, x + slide, 0.0, tip, rv[0], rv[1], rv[2], 1.0};
+    rod_instrument in = instrument(ROD_INSTRUMENT_FORCEPS, size, rows, 7, 0.3, 5.0);
+    m.instruments = &in;
+    m.instrument_count = 1;
+    char err[512];
+    rod_state *s = NULL;
+    rod_solver solver;
+    int solver_made = 0;
+    if (rod_model_derive(&m, err, sizeof err)) {
+        check(0, "regrasp model: %s", err);
+        goto done;
+    }
+    s = rod_state_create(&m);
+    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
+        check(0, "regrasp solver: %s", err);
+        goto done;
+    }
+    solver_made = 1;
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    const double dt = 2e-3;
+    double on[2] = {NAN, NAN}, off[2] = {NAN, NAN}, arc[2] = {NAN, NAN};
+    int grasps = 0, was = 0;
+    for (int k = 1; k <= 700; k++) {
+        if (rod_solver_step(&solver, &m, s, dt, &report)) {
+            check(0, "regrasp step %d (t = %g s): %s", k, s->time, report.message);
+            goto done;
+        }
+        const int held = s->grasp[0].held;
+        if (held && !was && grasps < 2) {
+            on[grasps] = s->grasp[0].t_on;
+            arc[grasps] = s->grasp[0].s;
+            grasps++;
+        }
+        if (!held && was) off[grasps - 1] = s->time;
+        was = held;
+    }
+    check(grasps == 2, "grasp, release, re-grasp: %d grasps (2)", grasps);
+    check_abs("first grasp's arc length, m (mid-length)", arc[0], 0.5 * length, 0.5 * m.ds);
+    check_abs("re-grasp's arc length, m (mid-length + the jaws' slide)", arc[1], 0.5 * length + slide,
+              0.5 * m.ds);
+    printf("     grasps: t_on %.4g s, t_off %.4g s; t_on %.4g s, t_off %.4g s\n", on[0], off[0], on[1], off[1]);
+    check(on[0] <= dt + 1e-12 && off[0] > 0.3 && off[0] < 0.35 && on[1] > 0.9 && on[1] <= 1.0 + 1e-9 &&
+          off[1] > 1.3 && off[1] < 1.32, "grasp times where the jaws close and open");
+    /* the fall: gravity on the same model from a grasp held at rest */
+    rod_solver_release(&solver);
+    solver_made = 0;
+    rod_state_destroy(s);
+    s = NULL;
+    m.distributed_force[2] = -m.mass_per_length * GRAVITY;
+    const double frows[] = {0.0, x, 0.0, tip, rv[0], rv[1], rv[2], 0.0,
+                            0.2, x, 0.0, tip, rv[0], rv[1], rv[2], 0.0,
+                            0.21, x, 0.0, tip, rv[0], rv[1], rv[2], 1.0};
+    rod_path_destroy(in.pose);
+    rod_path_destroy(in.jaw);
+    in = instrument(ROD_INSTRUMENT_FORCEPS, size, frows, 3, 0.3, 5.0);
+    s = rod_state_create(&m);
+    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
+        check(0, "fall solver: %s", err);
+        goto done;
+    }
+    solver_made = 1;
+    double t_release = NAN, z_release = 0.0, v_release = 0.0;
+    was = 0;
+    for (int k = 1; k <= 250; k++) {
+        if (rod_solver_step(&solver, &m, s, dt, &report)) {
+            check(0, "fall step %d (t = %g s): %s", k, s->time, report.message);
+            goto done;
+        }
+        if (was && !s->grasp[0].held) {
+            t_release = s->time;
+            z_release = centre_z(&m, s);
+            v_release = centre_vz(&m, s);
+        }
+        was = s->grasp[0].held;
+    }
+    const double tau = s->time - t_release;
+    const double expect = z_release + v_release * tau - 0.5 * GRAVITY * tau * tau;
+    printf("     released at t = %.4g s, centre's velocity then %.3g m/s\n", t_release, v_release);
+    check_rel("free fall after the release: the centre's drop over the fall, m vs v t - g t^2/2",
+              z_release - centre_z(&m, s), z_release - expect, 0.01);
+    /* backward Euler's own: z_n = z_r + dt sum v_k, v_k = v_r - g k dt */
+    const double steps = round(tau / dt);
+    check_rel("free fall, against backward Euler's sum v t + g dt^2 n (n + 1) / 2, m",
+              z_release - centre_z(&m, s), -v_release * tau + 0.5 * GRAVITY * dt * dt * steps * (steps + 1.0),
+              1e-3);
+done:
+    if (solver_made) rod_solver_release(&solver);
+    rod_state_destroy(s);
+    m.instruments = NULL;
+    m.instrument_count = 0;
+    rod_path_destroy(in.pose);
+    rod_path_destroy(in.jaw);
+    rod_model_release(&m);
+}
+
+int main(void)
+{
+    test_lift();
+    test_capstan();
+    test_regrasp_and_fall();
+    return test_finish();
+}
