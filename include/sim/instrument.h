@@ -47,9 +47,14 @@ double rod_instrument_jaw_angle(const rod_instrument *in, double jaw);
  * returns how many. */
 int rod_instrument_capsules(const rod_instrument *in, double t, rod_capsule *out);
 
+/* The jaws' opening from rows of (t, opening, 0, 0, 0, 0, 0): at rest at
+ * every row (a cubic from row to row with zero slope at both: monotone, so
+ * closed jaws held over several rows never open between them). */
+rod_path *rod_instrument_jaw_path(const double *rows, int count, char *err, size_t errlen);
+
 /* Reads an instrument's path: a CSV text with the header
  * t,x,y,z,rx,ry,rz,jaw and rows of 8 numbers (times increasing, jaw 0..1).
- * Makes *pose (7 columns) and *jaw (4: t, opening, 0, 0). Returns 0, or -1
+ * Makes *pose (7 columns) and *jaw (rod_instrument_jaw_path). Returns 0, or -1
  * with "FILE:LINE: ..." in err. */
 int rod_instrument_parse_path(const char *filename, const char *text, rod_path **pose,
                               rod_path **jaw, char *err, size_t errlen);

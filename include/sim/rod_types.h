@@ -138,7 +138,20 @@ typedef struct rod_grasp_state {
     double local[3];   /* m: the held point in the instrument's frame (from its tip) */
     double t_on;       /* s: when the jaws closed on it */
     double force[3];   /* N, global: the force the thread exerts on the jaws there */
+    int log;           /* its entry in rod_state grasp_log, or -1 (the log is full) */
 } rod_grasp_state;
+
+/* One grasp of the run, for its report (rod_state grasp_log). */
+typedef struct rod_grasp_record {
+    int instrument;    /* index in the model's instruments */
+    double t_on;       /* s: when the jaws closed on the thread */
+    double t_off;      /* s: when they opened; -1 while they hold it */
+    double s;          /* m: the arc length grasped at t_on */
+    double force;      /* N: the largest force the thread exerted on the jaws while held */
+} rod_grasp_record;
+
+/* The most grasps a run reports. */
+#define ROD_MAX_GRASP_LOG 32
 
 /* A puncture as the run sees it now (rod_state). */
 typedef struct rod_puncture_state {
@@ -310,6 +323,8 @@ typedef struct rod_state {
     int puncture_count;       /* punctures the thread passes through now */
     rod_puncture_state puncture[ROD_MAX_PUNCTURES];
     rod_grasp_state grasp[ROD_MAX_INSTRUMENTS]; /* one per instrument of the model */
+    int grasp_log_count;
+    rod_grasp_record grasp_log[ROD_MAX_GRASP_LOG]; /* the run's grasps, in order */
 } rod_state;
 
 /* Outcome of a step or a solve. */

@@ -109,6 +109,11 @@ int rod_instrument_capsules(const rod_instrument *in, double t, rod_capsule *out
 
 /* Path file ------------------------------------------------------------- */
 
+rod_path *rod_instrument_jaw_path(const double *rows, int count, char *err, size_t errlen)
+{
+    return rod_path_create_with_velocity(rows, count, 4, err, errlen);
+}
+
 /* Numbers of a comma-separated row; the count, or -1 on a bad field. */
 static int row_numbers(char *line, double *values, int max)
 {
@@ -180,7 +185,7 @@ int rod_instrument_parse_path(const char *filename, const char *text, rod_path *
             capacity = capacity ? 2 * capacity : 64;
             double *p7 = realloc(poses, (size_t)capacity * 7 * sizeof *p7);
             if (p7) poses = p7;
-            double *p4 = realloc(opening, (size_t)capacity * 4 * sizeof *p4);
+            double *p4 = realloc(opening, (size_t)capacity * 7 * sizeof *p4);
             if (p4) opening = p4;
             if (!p7 || !p4) {
                 snprintf(err, errlen, "%s:%d: out of memory", filename, line_no);
@@ -188,8 +193,8 @@ int rod_instrument_parse_path(const char *filename, const char *text, rod_path *
             }
         }
         memcpy(&poses[7 * rows], v, 7 * sizeof(double));
-        const double o[4] = {v[0], v[7], 0.0, 0.0};
-        memcpy(&opening[4 * rows], o, sizeof o);
+        const double o[7] = {v[0], v[7], 0.0, 0.0, 0.0, 0.0, 0.0};
+        memcpy(&opening[7 * rows], o, sizeof o);
         rows++;
     }
     if (!header || rows < 1) {
@@ -199,7 +204,7 @@ int rod_instrument_parse_path(const char *filename, const char *text, rod_path *
     }
     char why[512];
     if (!(*pose = rod_path_create(poses, rows, 7, why, sizeof why)) ||
-        !(*jaw = rod_path_create(opening, rows, 4, why, sizeof why))) {
+        !(*jaw = rod_instrument_jaw_path(opening, rows, why, sizeof why))) {
         snprintf(err, errlen, "%s: %s", filename, why);
         goto done;
     }
@@ -293,6 +298,12 @@ static void grasp_on_close(const rod_model *m, int k, rod_state *s, rod_report *
     g->s = best_s;
     g->t_on = s->time;
     v3_set(g->force, 0.0, 0.0, 0.0);
+    g->log = -1;
+    if (s->grasp_log_count < ROD_MAX_GRASP_LOG) {
+        g->log = s->grasp_log_count++;
+        const rod_grasp_record r = {k, s->time, -1.0, best_s, 0.0};
+        s->grasp_log[g->log] = r;
+    }
 }
 
 void rod_instruments_update(const rod_model *m, rod_state *s, rod_report *report)
@@ -307,10 +318,13 @@ void rod_instruments_update(const rod_model *m, rod_state *s, rod_report *report
             g->closed = closed; /* its jaws hold the needle, not the thread */
             continue;
         }
+        if (g->held && g->log >= 0)
+            s->grasp_log[g->log].force = fmax(s->grasp_log[g->log].force, v3_norm(g->force));
         if (closed && !g->closed) grasp_on_close(m, k, s, report);
         if (!closed && g->held) {
             g->held = 0;
             v3_set(g->force, 0.0, 0.0, 0.0);
+            if (g->log >= 0) s->grasp_log[g->log].t_off = s->time;
         }
         g->closed = closed;
     }

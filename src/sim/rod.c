@@ -753,6 +753,8 @@ void rod_state_copy(rod_state *to, const rod_state *from)
     to->puncture_count = from->puncture_count;
     memcpy(to->puncture, from->puncture, sizeof to->puncture);
     memcpy(to->grasp, from->grasp, sizeof to->grasp);
+    to->grasp_log_count = from->grasp_log_count;
+    memcpy(to->grasp_log, from->grasp_log, sizeof to->grasp_log);
 }
 
 void rod_state_reset(const rod_model *m, rod_state *s)
@@ -770,6 +772,7 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     memset(s->puncture, 0, sizeof s->puncture);
     s->puncture_count = 0;
     memset(s->grasp, 0, sizeof s->grasp);
+    s->grasp_log_count = 0;
     /* the starting shape: positions exactly its nodes; frames twist-free along it. The
      * tangents go in the velocity array (n x 3) until the velocities are written. */
     int bad;

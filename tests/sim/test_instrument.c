@@ -45,15 +45,15 @@ static rod_instrument instrument(rod_instrument_kind kind, double size, const do
     in.size = size;
     in.friction = friction;
     in.grip = grip;
-    double *pose = malloc((size_t)count * 7 * sizeof(double)), *jaw = malloc((size_t)count * 4 * sizeof(double));
+    double *pose = malloc((size_t)count * 7 * sizeof(double)), *jaw = malloc((size_t)count * 7 * sizeof(double));
     for (int r = 0; r < count; r++) {
         memcpy(&pose[7 * r], &rows[8 * r], 7 * sizeof(double));
-        const double o[4] = {rows[8 * r], rows[8 * r + 7], 0.0, 0.0};
-        memcpy(&jaw[4 * r], o, sizeof o);
+        const double o[7] = {rows[8 * r], rows[8 * r + 7], 0.0, 0.0, 0.0, 0.0, 0.0};
+        memcpy(&jaw[7 * r], o, sizeof o);
     }
     char err[256];
     in.pose = rod_path_create(pose, count, 7, err, sizeof err);
-    in.jaw = rod_path_create(jaw, count, 4, err, sizeof err);
+    in.jaw = rod_instrument_jaw_path(jaw, count, err, sizeof err);
     free(pose);
     free(jaw);
     return in;
@@ -336,7 +336,7 @@ static void test_regrasp_and_fall(void)
     rod_report report;
     memset(&report, 0, sizeof report);
     const double dt = 2e-3;
-    double on[2] = {NAN, NAN}, off[2] = {NAN, NAN}, arc[2] = {NAN, NAN};
+    double on[2] = {NAN, NAN}, off[2] = {NAN, NAN}, arc[2] = {NAN, NAN}, root_x[2] = {0.0, 0.0};
     int grasps = 0, was = 0;
     for (int k = 1; k <= 700; k++) {
         if (rod_solver_step(&solver, &m, s, dt, &report)) {
@@ -347,15 +347,18 @@ static void test_regrasp_and_fall(void)
         if (held && !was && grasps < 2) {
             on[grasps] = s->grasp[0].t_on;
             arc[grasps] = s->grasp[0].s;
+            root_x[grasps] = s->position[0]; /* the straight thread's arc = x - x_root */
             grasps++;
         }
         if (!held && was) off[grasps - 1] = s->time;
         was = held;
     }
     check(grasps == 2, "grasp, release, re-grasp: %d grasps (2)", grasps);
-    check_abs("first grasp's arc length, m (mid-length)", arc[0], 0.5 * length, 0.5 * m.ds);
-    check_abs("re-grasp's arc length, m (mid-length + the jaws' slide)", arc[1], 0.5 * length + slide,
-              0.5 * m.ds);
+    check_abs("first grasp's arc length, m (the jaws' x - the root's x)", arc[0], x - root_x[0],
+              0.05 * m.ds);
+    printf("     the thread's root moved %.3g m along x between the grasps\n", root_x[1] - root_x[0]);
+    check_abs("re-grasp's arc length, m (the jaws' x after their slide - the root's x)", arc[1],
+              x + slide - root_x[1], 0.05 * m.ds);
     printf("     grasps: t_on %.4g s, t_off %.4g s; t_on %.4g s, t_off %.4g s\n", on[0], off[0], on[1], off[1]);
     check(on[0] <= dt + 1e-12 && off[0] > 0.3 && off[0] < 0.35 && on[1] > 0.9 && on[1] <= 1.0 + 1e-9 &&
           off[1] > 1.3 && off[1] < 1.32, "grasp times where the jaws close and open");
