@@ -414,8 +414,86 @@ done:
     rod_model_release(&m);
 }
 
+/* Bad input ------------------------------------------------------------ */
+
+#define BAD_DIR "/tmp/rodsim_test_instrument_bad"
+
+/* Runs a scene of a thread with `ends` in its [ends], `lines` added and a path file `path_text`
+ * (as path.csv beside it); `expect` must appear in the output. want_exit:
+ * the exit status wanted. */
+static void scene_case(const char *ends, const char *lines, const char *path_text, int want_exit, const char *expect,
+                       const char *what)
+{
+    test_remove_tree(BAD_DIR);
+    mkdir(BAD_DIR, 0700);
+    char scene[256], path[256], out[300];
+    snprintf(scene, sizeof scene, "%s/bad.ini", BAD_DIR);
+    snprintf(path, sizeof path, "%s/path.csv", BAD_DIR);
+    snprintf(out, sizeof out, "%s/out", BAD_DIR);
+    FILE *f = fopen(scene, "w");
+    FILE *g = fopen(path, "w");
+    if (!f || !g) {
+        if (f) fclose(f);
+        if (g) fclose(g);
+        check(0, "%s: cannot write the scene", what);
+        return;
+    }
+    fprintf(f, "[rod]\nlength = 0.2\ndiameter = 0.0005\ndensity = 850\nyoungs_modulus = 87.5e6\n"
+               "shear_modulus = 31.25e6\nnodes = 21\norigin = 0 0 0.05\n[ends]\nroot = free\n%s"
+               "[solver]\nduration = 0.05\ndt = 0.001\n[loads]\ngravity = 0 0 -9.81\n%s", ends, lines);
+    fputs(path_text, g);
+    fclose(f);
+    fclose(g);
+    snprintf(path, sizeof path, "%s/tip.csv", BAD_DIR); /* a tip_motion path */
+    if ((g = fopen(path, "w"))) {
+        fputs("t,x,y,z\n0,0.2,0,0.05\n", g);
+        fclose(g);
+    }
+    const char *args[] = {"run", scene, "-o", out, "--csv", out, NULL};
+    const char *quiet[] = {"run", scene, "--no-video", NULL};
+    char output[8192];
+    int status = test_run_rodsim(want_exit ? args : quiet, output, sizeof output);
+    check(status == want_exit && strstr(output, expect) != NULL &&
+              (want_exit == 0 || test_dir_entries(out) <= 0),
+          "%s: exit %d (%d), the output says \"%s\"%s: %s", what, status, want_exit, expect,
+          want_exit ? ", nothing written" : "", output);
+    test_remove_tree(BAD_DIR);
+}
+
+static void test_bad_input(void)
+{
+    const char *far_path = "t,x,y,z,rx,ry,rz,jaw\n0,0.1,0.2,0.3,0,0,0,1\n0.02,0.1,0.2,0.3,0,0,0,0\n";
+    scene_case("", "[instrument]\nkind = forceps\npath = path.csv\n", far_path, 0,
+               "closed its jaws at t = ", "jaws closing far from the thread: a warning");
+    scene_case("", "[instrument]\nkind = forceps\npath = path.csv\n",
+               "t,x,y,z,rx,ry,rz,jaw\n0,0.1,0.2,0.3,0,0,0,1\n0.02,0.1,0.2,0.3,0,0\n", 2,
+               "path.csv:3: expected 8 finite numbers", "a path row of 6 numbers: file:line");
+    scene_case("", "[instrument]\nkind = forceps\npath = path.csv\n",
+               "t,x,y,z,rx,ry,rz\n0,0.1,0.2,0.3,0,0,0\n", 2,
+               "path.csv:1: expected the header t,x,y,z,rx,ry,rz,jaw", "a path without the jaw column");
+    scene_case("", "[instrument]\nkind = forceps\npath = path.csv\n",
+               "t,x,y,z,rx,ry,rz,jaw\n0,0.1,0.2,0.3,0,0,0,1.5\n", 2,
+               "path.csv:2: jaw 1.5", "a jaw opening beyond 1");
+    scene_case("", "[instrument]\nkind = forcep\npath = path.csv\n", far_path, 2,
+               "did you mean forceps?", "an unknown kind: did you mean");
+    scene_case("", "[instrument]\nkind = forceps\n", far_path, 2, "path",
+               "an instrument without its path");
+    scene_case("tip = clamped\ntip_motion = tip.csv\n", "[instrument]\nkind = needle_holder\n"
+               "path = path.csv\nneedle = yes\n", far_path, 2, "remove [ends] tip_motion",
+               "both tip_motion and a needle holder holding the needle");
+    /* the holder's path drives the thread's tip: (0.2, 0, 0.05) up 2 mm */
+    scene_case("tip = clamped\nneedle = 0.01\n",
+               "[instrument]\nkind = needle_holder\npath = path.csv\nneedle = yes\n",
+               "t,x,y,z,rx,ry,rz,jaw\n0,0.2,0,0.05,0,0,0,0\n0.04,0.2,0,0.052,0,0,0,0\n", 0,
+               "tip at (0.2, 0, 0.052)", "a needle holder holding the needle drives the tip to its "
+               "path's end");
+    scene_case("", "[instrument]\nkind = forceps\npath = path.csv\nneedle = yes\n", far_path, 2,
+               "only a needle_holder holds the needle", "needle = yes on forceps");
+}
+
 int main(void)
 {
+    test_bad_input();
     test_lift();
     test_capstan();
     test_regrasp_and_fall();
