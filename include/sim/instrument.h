@@ -40,6 +40,10 @@ void rod_instrument_dimensions(const rod_instrument *in, double *jaw_length, dou
  * (0 closed .. 1 open, clamped). */
 void rod_instrument_pose(const rod_instrument *in, double t, rod_pose *pose, double *jaw);
 
+/* From the jaws' tip back to where the jaws turn (m): the box lock, or the
+ * forceps' sprung back end. */
+double rod_instrument_hinge(const rod_instrument *in);
+
 /* The angle each jaw turns from the axis at opening `jaw` (rad). */
 double rod_instrument_jaw_angle(const rod_instrument *in, double jaw);
 

@@ -42,6 +42,13 @@ void rod_instrument_dimensions(const rod_instrument *in, double *jaw_length, dou
     *shank_radius = kinds[k].shank_radius * in->size;
 }
 
+double rod_instrument_hinge(const rod_instrument *in)
+{
+    const int k = (unsigned)in->kind < 3 ? (int)in->kind : 0;
+    return k == ROD_INSTRUMENT_FORCEPS ? (kinds[k].shank_length + kinds[k].jaw_length) * in->size
+                                       : kinds[k].jaw_length * in->size;
+}
+
 double rod_instrument_jaw_angle(const rod_instrument *in, double jaw)
 {
     const int k = (unsigned)in->kind < 3 ? (int)in->kind : 0;
@@ -76,7 +83,7 @@ int rod_instrument_capsules(const rod_instrument *in, double t, rod_capsule *out
     const double angle = rod_instrument_jaw_angle(in, jaw), L = in->size;
     /* each jaw turns about its hinge, beside the axis by its radius, so
      * that closed jaws meet on the axis (local z = 0) */
-    const double reach = k == ROD_INSTRUMENT_FORCEPS ? kinds[k].shank_length * L + lj : lj;
+    const double reach = rod_instrument_hinge(in);
     for (int side = 0; side < 2; side++) {
         const double sg = side ? -1.0 : 1.0, dir[3] = {cos(angle), 0.0, sg * sin(angle)};
         double hinge[3] = {-reach, 0.0, sg * rj}, a[3], b[3], back[3];
