@@ -586,7 +586,12 @@ void rod_model_release(rod_model *m)
 
 int rod_model_refuse_obstacles(const rod_model *m, const char *scheme, char *err, size_t errlen)
 {
-    if (m->surface_count == 0 && m->puncture_count == 0) return 0;
+    if (m->surface_count == 0 && m->puncture_count == 0 && m->instrument_count == 0) return 0;
+    if (m->instrument_count > 0 && m->surface_count == 0 && m->puncture_count == 0) {
+        snprintf(err, errlen, "the %s scheme models no contact; this scene has %d [instrument] "
+                 "sections: use scheme = implicit", scheme, m->instrument_count);
+        return -1;
+    }
     snprintf(err, errlen,
              "the %s scheme models no contact; this scene has %d [surface] and %d [puncture] "
              "sections: use scheme = implicit", scheme, m->surface_count, m->puncture_count);
