@@ -293,6 +293,83 @@ static void test_capstan(void)
               "W exp(mu pi), N", capstan(mu, w_load, 0.03, 2.0, 81), w_load * exp(mu * M_PI), 0.03);
 }
 
+/* A moving instrument drags the thread by friction ----------------------- */
+
+/* A thread hanging over the forceps' closed tines (lying along y) while the
+ * forceps slide `shift` along their own axis over 2 s: friction acts on the
+ * thread's velocity relative to the tines, so with mu > 0 the thread rides
+ * along (nothing holds it back but its inertia), with mu = 0 it stays.
+ * Returns the thread's mean displacement along y, m. */
+static double ride(double mu, double shift)
+{
+    const double rs = 0.005, size = rs / 0.012, d = 0.0005, h = 0.05;
+    rod_instrument probe = {.kind = ROD_INSTRUMENT_FORCEPS, .size = size};
+    double lj, rj, rsh;
+    rod_instrument_dimensions(&probe, &lj, &rj, &rsh);
+    const double rc = rs + 0.5 * d, length = 2.0 * h + M_PI * rc + 2.0 * rj;
+    rod_model m = thread_model(length, d, 41);
+    m.linear_damping = 1e-3; /* N s/m^2 */
+    m.initial_shape = malloc((size_t)m.nodes * 3 * sizeof(double));
+    const double par[3] = {h, rc, rj};
+    chord_nodes(twin_curve, par, m.initial_shape, m.nodes, length / (m.nodes - 1));
+    const double ex[3] = {0.0, 1.0, 0.0}, ey[3] = {0.0, 0.0, 1.0}, ez[3] = {1.0, 0.0, 0.0};
+    double rv[3];
+    rotation_vector(ex, ey, ez, rv);
+    const double y0 = 0.5 * size;
+    const double rows[] = {0.0, 0.0, y0, 0.0, rv[0], rv[1], rv[2], 0.0,
+                           0.5, 0.0, y0, 0.0, rv[0], rv[1], rv[2], 0.0,
+                           2.5, 0.0, y0 + shift, 0.0, rv[0], rv[1], rv[2], 0.0,
+                           3.0, 0.0, y0 + shift, 0.0, rv[0], rv[1], rv[2], 0.0};
+    rod_instrument in = instrument(ROD_INSTRUMENT_FORCEPS, size, rows, 4, mu, 5.0);
+    char err[512];
+    double result = NAN;
+    rod_state *s = NULL;
+    if (rod_model_derive(&m, err, sizeof err)) {
+        printf("     ride model: %s\n", err);
+        goto done;
+    }
+    m.distributed_force[2] = -m.mass_per_length * GRAVITY;
+    m.instruments = &in;
+    m.instrument_count = 1;
+    s = rod_state_create(&m);
+    rod_solver solver;
+    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
+        printf("     ride solver: %s\n", err);
+        goto done;
+    }
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    int ok = 1;
+    for (int k = 1; k <= 1600 && ok; k++)
+        if (rod_solver_step(&solver, &m, s, 2e-3, &report)) {
+            printf("     ride step %d (t = %g s): %s\n", k, s->time, report.message);
+            ok = 0;
+        }
+    rod_solver_release(&solver);
+    if (ok) {
+        double y = 0.0;
+        for (int i = 0; i < m.nodes; i++) y += s->position[3 * i + 1];
+        result = y / m.nodes;
+    }
+done:
+    rod_state_destroy(s);
+    m.instruments = NULL;
+    m.instrument_count = 0;
+    rod_path_destroy(in.pose);
+    rod_path_destroy(in.jaw);
+    rod_model_release(&m);
+    return result;
+}
+
+static void test_ride(void)
+{
+    const double shift = 0.02;
+    check_rel("tines sliding 2 cm along their axis, mu = 0.3: the thread over them rides along, "
+              "its mean y shift, m", ride(0.3, shift), shift, 0.02);
+    check_abs("the same with mu = 0: the thread stays, its mean y shift, m", ride(0.0, shift), 0.0,
+              1e-4);
+}
+
 /* Grasp, release, re-grasp; free fall after release ------------------------ */
 
 static void test_regrasp_and_fall(void)
@@ -496,6 +573,7 @@ int main(void)
     test_bad_input();
     test_lift();
     test_capstan();
+    test_ride();
     test_regrasp_and_fall();
     return test_finish();
 }
