@@ -14,6 +14,7 @@
 #include "sim/instrument.h"
 #include "sim/path.h"
 #include "sim/rod.h"
+#include "sim/scheme_implicit.h"
 #include "test.h"
 #include "test_curve.h"
 #include "test_process.h"
@@ -169,6 +170,13 @@ static void test_lift(void)
     }
     rod_solver_release(&solver);
     if (ok) {
+        /* the grasp's velocity maps in Newton's Jacobian against central differences */
+        int column = -1;
+        double floor = 0.0;
+        const double e = rod_implicit_contact_jacobian_error(&m, s, dt, 0.003, &column, &floor);
+        check(e <= 1e-4 && floor < 1e-2, "lift, held: the Jacobian with the grasp vs central "
+              "differences, largest difference %.3e of its column's largest entry (column %d; "
+              "tolerance 1e-4; the differences' rounding resolves %.1e of it)", e, column, floor);
         check_abs("lift: grasped at arc length, m (mid-length)", s0, 0.5 * length, 0.5 * m.ds);
         printf("     the grasped material point's largest distance from the jaws' point: %.3g m "
                "= %.3g d\n", worst, worst / d);
@@ -346,6 +354,16 @@ static double ride(double mu, double shift)
             ok = 0;
         }
     rod_solver_release(&solver);
+    if (ok && mu > 0.0) {
+        /* the capsules' velocity maps in Newton's Jacobian against central differences */
+        int column = -1;
+        double floor = 0.0;
+        const double e = rod_implicit_contact_jacobian_error(&m, s, 2e-3, 0.003, &column, &floor);
+        check(e <= 1e-4 && floor < 1e-2, "thread over the tines: the Jacobian with their contact "
+              "vs central differences, largest difference %.3e of its column's largest entry "
+              "(column %d; tolerance 1e-4; the differences' rounding resolves %.1e of it)", e,
+              column, floor);
+    }
     if (ok) {
         double y = 0.0;
         for (int i = 0; i < m.nodes; i++) y += s->position[3 * i + 1];
