@@ -147,8 +147,7 @@ static void tool_layout(const recording_instrument *in, double angle, double gap
             /* the ring beyond the shank's end, outward */
             const double back[3] = {-cos(angle), 0.0, -sg * sin(angle)};
             for (int c = 0; c < 3; c++)
-                tp->ring_centre[side][c] = tp->shank_b[side][c] + 0.9 * tp->ring_radius * back[c];
-            tp->ring_centre[side][2] -= sg * 0.9 * tp->ring_radius;
+                tp->ring_centre[side][c] = tp->shank_b[side][c] + 0.95 * tp->ring_radius * back[c];
         }
     }
 }

@@ -872,7 +872,16 @@ int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
         goto fail;
     char why[768];
     if (rod_model_derive(m, why, sizeof why)) {
-        derive_error(doc, why, err, errlen);
+        /* a needle holder's path is the tip's: its complaints name the holder */
+        int holder = -1;
+        for (int k = 0; k < m->instrument_count && holder < 0; k++)
+            if (m->instruments[k].needle) holder = k;
+        if (holder >= 0 && strncmp(why, "tip_motion: ", 12) == 0)
+            ini_error(doc, "instrument", holder, "path", err, errlen,
+                      "the needle holder drives the thread's tip (ends.tip = clamped or pinned): %s",
+                      why + 12);
+        else
+            derive_error(doc, why, err, errlen);
         goto fail;
     }
     if (check_start_outside(doc, m, err, errlen)) goto fail;

@@ -582,12 +582,49 @@ static void test_bad_input(void)
                "t,x,y,z,rx,ry,rz,jaw\n0,0.2,0,0.05,0,0,0,0\n0.04,0.2,0,0.052,0,0,0,0\n", 0,
                "tip at (0.2, 0, 0.052)", "a needle holder holding the needle drives the tip to its "
                "path's end");
+    scene_case("tip = clamped\nneedle = 0.01\n",
+               "[instrument]\nkind = needle_holder\npath = path.csv\nneedle = yes\n", far_path, 2,
+               "[instrument] path = path.csv: the needle holder drives the thread's tip",
+               "a needle holder's path that does not start at the thread's tip");
     scene_case("", "[instrument]\nkind = forceps\npath = path.csv\nneedle = yes\n", far_path, 2,
                "only a needle_holder holds the needle", "needle = yes on forceps");
 }
 
+/* The shipped scene: its summary lists the grasp with its times, arc
+ * length and force; the prose says the same. */
+static void test_summary(void)
+{
+    const char *args[] = {"run", RODSIM_SOURCE_DIR "/scenes/grasp_lift.ini", "--no-video",
+                          "--summary", "-", NULL};
+    static char output[65536];
+    int status = test_run_rodsim(args, output, sizeof output);
+    const char *g = strstr(output, "\"grasps\":[{\"instrument\":\"forceps\",\"t_on\":");
+    double t_on = NAN, t_off = NAN, arc = NAN, force = NAN;
+    if (g) {
+        const char *p = strstr(g, "\"t_on\":"), *q = strstr(g, "\"t_off\":"), *r = strstr(g, "\"s\":"),
+                   *f = strstr(g, "\"force\":");
+        if (p) t_on = atof(p + 7);
+        if (q) t_off = atof(q + 8);
+        if (r) arc = atof(r + 4);
+        if (f) force = atof(f + 8);
+    }
+    check(status == 0 && g && strstr(output, "grasp 1 by forceps: at t = ") != NULL,
+          "grasp_lift.ini: exit %d, the summary's grasps and the prose name the forceps' grasp",
+          status);
+    /* the path closes the jaws from 0.8 to 1 s and opens them from 4.2 to 4.5 s:
+     * below 0.1 at 0.96 s and above at 4.26 s (the cubic through them) */
+    check(t_on > 0.8 && t_on < 1.0 && t_off > 4.2 && t_off < 4.5,
+          "grasp_lift.ini: grasped at t = %.4g s (closing 0.8 .. 1 s), released at %.4g s "
+          "(opening 4.2 .. 4.5 s)", t_on, t_off);
+    check_abs("grasp_lift.ini: the grasp's arc length, m (the thread's middle)", arc, 0.1, 0.0025);
+    /* the largest force: at least the weight of the lifted thread */
+    printf("     the largest force on the jaws %.4g N, the thread's weight %.4g N\n", force,
+           850.0 * M_PI * 0.0005 * 0.0005 / 4.0 * 0.2 * GRAVITY);
+}
+
 int main(void)
 {
+    test_summary();
     test_bad_input();
     test_lift();
     test_capstan();
