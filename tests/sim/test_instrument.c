@@ -198,6 +198,81 @@ done:
     rod_model_release(&m);
 }
 
+/* Grasped off-centre and held still: the longer side outweighs the shorter
+ * by (L - 2 s0) rho A g along the thread; a grip above that holds it, one
+ * below lets it slide, the longer side growing, until the thread's end
+ * slips out of the jaws. Returns the grasp's arc length at the end (m), or
+ * -1 when the thread slid out, with the time it did in *t_out; *at_3s: the
+ * arc length at 3 s (NAN when it slid out before). */
+static double slide_through(double grip, double s0, double *t_out, double *at_3s)
+{
+    const double length = 0.2, d = 0.0005, size = 0.12, z0 = 0.05;
+    rod_model m = thread_model(length, d, 41);
+    m.origin[2] = z0;
+    m.linear_damping = 2e-3; /* N s/m^2: the sides hang down within a second */
+    double rv[3];
+    down_forceps(rv);
+    rod_instrument probe = {.kind = ROD_INSTRUMENT_FORCEPS, .size = size};
+    double lj, rj, rs;
+    rod_instrument_dimensions(&probe, &lj, &rj, &rs);
+    const double tip = z0 - 0.5 * lj;
+    const double rows[] = {0.0, s0, 0.0, tip, rv[0], rv[1], rv[2], 0.0};
+    rod_instrument in = instrument(ROD_INSTRUMENT_FORCEPS, size, rows, 1, 0.3, grip);
+    m.instruments = &in;
+    m.instrument_count = 1;
+    char err[512];
+    double result = NAN;
+    rod_state *s = NULL;
+    rod_solver solver;
+    if (rod_model_derive(&m, err, sizeof err)) goto done;
+    m.distributed_force[2] = -m.mass_per_length * GRAVITY;
+    s = rod_state_create(&m);
+    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) goto done;
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    int ok = 1;
+    *t_out = *at_3s = NAN;
+    for (int k = 1; k <= 2500 && ok && (s->grasp_log_count == 0 || s->grasp_log[0].t_off < 0.0); k++) {
+        if (rod_solver_step(&solver, &m, s, 2e-3, &report)) {
+            printf("     slide step %d (t = %g s): %s\n", k, s->time, report.message);
+            ok = 0;
+        }
+        if (k == 1500 && s->grasp[0].held) *at_3s = s->grasp[0].s;
+    }
+    rod_solver_release(&solver);
+    if (ok && s->grasp_log_count == 1) {
+        result = s->grasp[0].held ? s->grasp[0].s : -1.0;
+        if (!s->grasp[0].held) *t_out = s->grasp_log[0].t_off;
+    }
+done:
+    rod_state_destroy(s);
+    m.instruments = NULL;
+    m.instrument_count = 0;
+    rod_path_destroy(in.pose);
+    rod_path_destroy(in.jaw);
+    rod_model_release(&m);
+    return result;
+}
+
+static void test_slide_through(void)
+{
+    const double length = 0.2, weight = 850.0 * M_PI * 0.0005 * 0.0005 / 4.0 * GRAVITY; /* N/m */
+    const double s0 = 0.05, pull = (length - 2.0 * s0) * weight; /* N along the thread */
+    double t_out;
+    printf("     the longer side's pull along the thread at rest: (L - 2 s0) rho A g = %.4g N\n", pull);
+    double at_3s;
+    const double held = slide_through(2.0 * pull, s0, &t_out, &at_3s);
+    printf("     grip 2x the pull: the grasp's arc length %.6g m at 3 s, %.6g m at 5 s (a creep of "
+           "%.3g m/s)\n", at_3s, held, (at_3s - held) / 2.0);
+    check(held > 0.0, "grasped at s = 0.05 m, grip 2x the pull: the jaws keep the thread");
+    check_abs("grasped at s = 0.05 m, grip 2x the pull: at rest it holds, arc length from 3 s to "
+              "5 s, m", held, at_3s, 0.2 * 0.0005);
+    const double out = slide_through(0.6 * pull, s0, &t_out, &at_3s);
+    check(out == -1.0 && t_out > 0.0,
+          "grasped at s = 0.05 m, grip 0.6x the pull: the thread slides through and out of the "
+          "jaws (at t = %.4g s), the grasp released", t_out);
+}
+
 /* Capstan over the forceps' closed tines ---------------------------------- */
 
 /* The curve over two circles of radius rc centred at x = -+a, z = 0: up at
@@ -628,6 +703,7 @@ int main(void)
     test_bad_input();
     test_lift();
     test_capstan();
+    test_slide_through();
     test_ride();
     test_regrasp_and_fall();
     return test_finish();

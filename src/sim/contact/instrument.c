@@ -204,9 +204,16 @@ void instrument_contact_update(const rod_contact *ct, const rod_model *m, rod_st
         const int k = ct->grasp_instrument[g];
         const contact_puncture *p = &ct->punct[first + g];
         rod_grasp_state *gs = &s->grasp[k];
-        double point[3];
+        double point[3], miss = 0.0;
         rod_grasp_point(m, k, gs, s->time, point, NULL);
-        gs->s = rod_nearest_arc_length_between(m, s->position, point, p->j - 3, p->j + 3, NULL);
+        gs->s = rod_nearest_arc_length_between(m, s->position, point, p->j - 3, p->j + 3, &miss);
         v3_scale(gs->force, p->force, -1.0);
+        if ((gs->s <= 0.0 || gs->s >= m->length) && miss > m->diameter) {
+            /* the thread slid out of the jaws past its end (pulled harder
+             * than the grip): they hold nothing now */
+            gs->held = 0;
+            v3_set(gs->force, 0.0, 0.0, 0.0);
+            if (gs->log >= 0) s->grasp_log[gs->log].t_off = s->time;
+        }
     }
 }

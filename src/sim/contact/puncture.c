@@ -18,6 +18,17 @@
  * miss at the next step (docs/decisions/0015-needle-holes.md). */
 #define NEEDLE_HOLE_CLEAR 0.995
 
+/* m/s: a grasp's creep speed at most (contact_creep_eps caps the shared law's
+ * at CONTACT_CREEP_MAX = 1 mm/s: a thread under half the grip would creep
+ * through closed jaws at 0.6 mm/s; closed jaws hold, below the grip, to
+ * 6 um/s). The grip is a fixed limit, so only d sp / d speed enters the map. */
+#define GRASP_CREEP_MAX 1e-5
+
+static double grasp_creep_eps(double c)
+{
+    return 1.0 / (CONTACT_STIFF / c + 1.0 / GRASP_CREEP_MAX) + CONTACT_CREEP;
+}
+
 /* One puncture's map in puncture_forces, for its Jacobian. */
 typedef struct puncture_map {
     int j;                   /* segment j..j+1 */
@@ -55,7 +66,14 @@ static void puncture_map_jacobian(rod_contact *ct, const puncture_map *p, const 
     const double mu = p->grip > 0.0 ? 0.0 : p->mu; /* a fixed limit does not grow with f */
     if (c_limit > 0.0) { /* at speed 0 too: sp has the slope d_speed there */
         double d_speed, d_c, dft[6];
-        contact_creep_slopes(c_limit, p->sp, &d_speed, &d_c);
+        if (p->grip > 0.0) {
+            /* sp + c phi(sp / eps) = speed, eps fixed: d sp / d speed = 1 / (1 + c phi' / eps) */
+            const double eps = grasp_creep_eps(c_limit), x = p->sp / eps, q = 1.0 + x * x;
+            d_speed = 1.0 / (1.0 + (c_limit / eps) / (q * sqrt(q)));
+            d_c = 0.0;
+        } else {
+            contact_creep_slopes(c_limit, p->sp, &d_speed, &d_c);
+        }
         const double sign = p->vt > 0.0 ? 1.0 : -1.0;
         for (int c = 0; c < 6; c++) {
             double dvt = wz[c / 3] * t[c % 3], dacross = 0.0;
@@ -130,7 +148,8 @@ void puncture_forces(rod_contact *ct, const rod_model *m, double push, double dt
         for (int c = 0; c < 3; c++) vt += t[c] * (wj * ct->vel1[3 * j + c] + wk * ct->vel1[3 * i2 + c]);
         double speed = fabs(vt), sp = speed;
         if (speed > 0.0 && limit > 0.0) {
-            sp = contact_creep_speed(speed, peff * limit);
+            sp = grip > 0.0 ? contact_creep_speed_eps(speed, peff * limit, grasp_creep_eps(peff * limit))
+                            : contact_creep_speed(speed, peff * limit);
             double ft = -(speed - sp) / peff * (vt > 0.0 ? 1.0 : -1.0);
             for (int c = 0; c < 3; c++) {
                 ct->vel1[3 * j + c] += pj * wj * ft * t[c];
