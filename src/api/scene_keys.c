@@ -111,7 +111,8 @@ const ini_key scene_keys_rod[] = {
      "a rigid surgical instrument driven along its path ([instrument] repeats, at most 4): "
      "jaws, box lock and shanks as capsules the thread touches with friction"},
     {"instrument", "name", "-", "-", "a word, unique",
-     "names it in the summary's grasps and in messages; absent: its kind"},
+     "names it in the summary's grasps, in messages and in --set instrument.NAME.key=value; "
+     "absent: its kind"},
     {"instrument", "path", "-", "required", "FILE.csv",
      "header t,x,y,z,rx,ry,rz,jaw: the jaws' tip (m, global), its rotation vector (rad; local "
      "x along the shafts to the tip, z the jaws' opening plane) and the jaws' opening (0 "

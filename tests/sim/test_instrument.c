@@ -692,6 +692,18 @@ static void test_summary(void)
           "grasp_lift.ini: grasped at t = %.4g s (closing 0.8 .. 1 s), released at %.4g s "
           "(opening 4.2 .. 4.5 s)", t_on, t_off);
     check_abs("grasp_lift.ini: the grasp's arc length, m (the thread's middle)", arc, 0.1, 0.0025);
+    /* --set names an instrument by its name */
+    const char *named[] = {"run", RODSIM_SOURCE_DIR "/scenes/grasp_lift.ini", "--no-video",
+                           "--set", "instrument.forceps.grip=-1", NULL};
+    status = test_run_rodsim(named, output, sizeof output);
+    check(status == 2 && strstr(output, "must be a force > 0 N") != NULL,
+          "--set instrument.forceps.grip=-1 reaches the forceps' grip: exit %d (2)", status);
+    const char *unnamed[] = {"run", RODSIM_SOURCE_DIR "/scenes/grasp_lift.ini", "--no-video",
+                             "--set", "instrument.holder.grip=1", NULL};
+    status = test_run_rodsim(unnamed, output, sizeof output);
+    check(status == 2 && strstr(output, "no [instrument] has name = holder") != NULL,
+          "--set instrument.holder.grip=1 with no instrument of that name: exit %d (2), %s", status,
+          output);
     /* the largest force: at least the weight of the lifted thread */
     printf("     the largest force on the jaws %.4g N, the thread's weight %.4g N\n", force,
            850.0 * M_PI * 0.0005 * 0.0005 / 4.0 * 0.2 * GRAVITY);
