@@ -7,12 +7,12 @@
 #include "base/vec3.h"
 #include "sim/contact/instrument.h"
 #include "sim/contact/puncture.h"
-#include "sim/instrument.h"
 #include "sim/contact/self_contact.h"
 #include "sim/geometry/proximity.h"
 #include "sim/implicit/planar.h"
 #include "sim/implicit/residual.h"
 #include "sim/implicit/start.h"
+#include "sim/instrument.h"
 
 /* The frames at the end of the step (a clamped end's from its path) and the
  * strains. Newton's last residual evaluation was at x, so frame1,
