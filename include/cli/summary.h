@@ -34,6 +34,15 @@ typedef struct summary_puncture {
     double force[3];
 } summary_puncture;
 
+/* A grasp: the instrument's name, when its jaws closed on the thread and
+ * opened (s; t_off < 0: they hold it at the run's end), the arc length
+ * grasped (m) and the largest force the thread exerted on the jaws (N). */
+#define SUMMARY_MAX_GRASPS 32
+typedef struct summary_grasp {
+    char instrument[32];
+    double t_on, t_off, s, force;
+} summary_grasp;
+
 /* What a run tells; every `has_` flag says the part is known (else left
  * out of the JSON). Strings are copied in (fixed size: no ownership). */
 typedef struct run_summary {
@@ -74,6 +83,8 @@ typedef struct run_summary {
     double min_strand_gap_d; /* diameters; INFINITY: strands never near (left out) */
     int puncture_count;
     summary_puncture punctures[SUMMARY_MAX_PUNCTURES];
+    int grasp_count;
+    summary_grasp grasps[SUMMARY_MAX_GRASPS];
 } run_summary;
 
 /* An empty summary: nothing known, rope and gap unknown. */

@@ -60,6 +60,29 @@ typedef struct recording_surface {
  * zeroed surface): 0, or -1 when out of memory. */
 int recording_surface_copy_mesh(recording_surface *to, const recording_surface *from);
 
+/* A surgical instrument, as drawn (the model's [instrument]): its kind and
+ * dimensions, fixed; its pose and opening are per frame. Local frame: x
+ * along the shafts toward the jaws' tip (the origin), z the jaws' opening
+ * plane with x; each jaw turns about its hinge at (-hinge, 0, +-jaw_radius). */
+typedef enum {
+    RECORDING_NEEDLE_HOLDER = 0, /* short jaws, a box lock, crossed shanks, ring handles */
+    RECORDING_FORCEPS,           /* two tines sprung from their back end */
+    RECORDING_SCISSORS           /* long blades, a screw, crossed shanks, ring handles */
+} recording_instrument_kind;
+
+typedef struct recording_instrument {
+    recording_instrument_kind kind;
+    double size;              /* m: overall length */
+    double hinge;             /* m: from the tip back to where the jaws turn */
+    double jaw_length;        /* m: the gripping part at the front */
+    double jaw_radius;        /* m */
+    double shank_radius;      /* m */
+} recording_instrument;
+
+/* Numbers a frame records per instrument: position (3, m), rotation (9,
+ * row-major, local to global), each jaw's turn from the axis (1, rad). */
+#define RECORDING_INSTRUMENT_NUMBERS 13
+
 typedef struct rod_recording {
     /* fixed for the run */
     int nodes;
@@ -77,6 +100,8 @@ typedef struct rod_recording {
                                     an arrow when not 0; "down" for the ground) */
     int surface_count;
     recording_surface *surfaces; /* (surface_count), owned; NULL with surface_count 0: none */
+    int instrument_count;        /* 0 .. ROD_MAX_INSTRUMENTS */
+    recording_instrument instruments[ROD_MAX_INSTRUMENTS];
 
     /* frames */
     int frame_count;
@@ -92,12 +117,18 @@ typedef struct rod_recording {
                              (0..RECORDING_MAX_PUNCTURES) */
     double *puncture;     /* (frames x RECORDING_MAX_PUNCTURES x 3), m, global: their points;
                              a recording made by hand may leave both NULL: none */
+    double *instrument_pose; /* (frames x instrument_count x RECORDING_INSTRUMENT_NUMBERS);
+                             NULL without instruments */
     double peak_force;    /* N, the largest |tip force| of every frame appended or noted */
     double peak_moment;   /* N m, the same for the tip moment */
     double *force_scratch; /* (nodes x 3) the internal force while appending */
     double needle_frame0[9]; /* a pinned tip's frame at the first frame (its needle's turn
                                 is recorded from it: rod_recording_append) */
 } rod_recording;
+
+/* Instrument k's pose in `frame`: its RECORDING_INSTRUMENT_NUMBERS numbers,
+ * or NULL when the recording has none. */
+const double *rod_recording_instrument(const rod_recording *r, int frame, int k);
 
 /* Room for `capacity` frames (grows when exceeded), with what the picture
  * needs of the model (its ends, needle, distributed force and surfaces,

@@ -109,6 +109,55 @@ typedef struct rod_puncture {
 /* The most punctures a run holds (given plus made by the needle). */
 #define ROD_MAX_PUNCTURES 16
 
+/* Surgical instruments (scene [instrument], sim/instrument.h): rigid tools
+ * driven along a path of poses of their jaws' tip, whose capsules the thread
+ * touches and whose closed jaws grasp it. */
+typedef enum {
+    ROD_INSTRUMENT_NEEDLE_HOLDER = 0,
+    ROD_INSTRUMENT_FORCEPS,
+    ROD_INSTRUMENT_SCISSORS
+} rod_instrument_kind;
+
+#define ROD_MAX_INSTRUMENTS 4
+
+typedef struct rod_instrument {
+    rod_instrument_kind kind;
+    char name[32];
+    rod_path *pose;    /* owned: t,x,y,z,rx,ry,rz: the jaws' tip (m, global) and the rotation
+                          from the global axes (local x: along the shafts toward the tip,
+                          local z: the jaws' opening plane with x) */
+    rod_path *jaw;     /* owned: t, opening (0 closed .. 1 open), 0, 0 */
+    double size;       /* m: overall length */
+    double friction;   /* Coulomb coefficient of the thread on the instrument */
+    double grip;       /* N: the force along the thread beyond which it slides through
+                          closed jaws */
+    int needle;        /* 1: holds the needle: the path drives the thread's tip */
+    int line;          /* the scene line of its [instrument] header (messages); 0: none */
+} rod_instrument;
+
+/* An instrument's grasp as the run sees it now (rod_state). */
+typedef struct rod_grasp_state {
+    int held;          /* 1: the closed jaws hold the thread */
+    int closed;        /* 1: the jaws were closed at the last step (a closing is an edge) */
+    double s;          /* m: the arc length of the thread in the jaws now */
+    double local[3];   /* m: the held point in the instrument's frame (from its tip) */
+    double t_on;       /* s: when the jaws closed on it */
+    double force[3];   /* N, global: the force the thread exerts on the jaws there */
+    int log;           /* its entry in rod_state grasp_log, or -1 (the log is full) */
+} rod_grasp_state;
+
+/* One grasp of the run, for its report (rod_state grasp_log). */
+typedef struct rod_grasp_record {
+    int instrument;    /* index in the model's instruments */
+    double t_on;       /* s: when the jaws closed on the thread */
+    double t_off;      /* s: when they opened; -1 while they hold it */
+    double s;          /* m: the arc length grasped at t_on */
+    double force;      /* N: the largest force the thread exerted on the jaws while held */
+} rod_grasp_record;
+
+/* The most grasps a run reports. */
+#define ROD_MAX_GRASP_LOG 32
+
 /* A puncture as the run sees it now (rod_state). */
 typedef struct rod_puncture_state {
     double point[3];   /* m, global: where the tissue holds the thread */
@@ -234,6 +283,8 @@ typedef struct rod_model {
     rod_surface *surfaces;        /* (surface_count), owned */
     int puncture_count;
     rod_puncture *punctures;      /* (puncture_count), owned */
+    int instrument_count;         /* scene [instrument], at most ROD_MAX_INSTRUMENTS */
+    rod_instrument *instruments;  /* (instrument_count), owned */
 
     rod_options options;
 
@@ -276,6 +327,9 @@ typedef struct rod_state {
                                  its end; INFINITY when there are none (implicit scheme) */
     int puncture_count;       /* punctures the thread passes through now */
     rod_puncture_state puncture[ROD_MAX_PUNCTURES];
+    rod_grasp_state grasp[ROD_MAX_INSTRUMENTS]; /* one per instrument of the model */
+    int grasp_log_count;
+    rod_grasp_record grasp_log[ROD_MAX_GRASP_LOG]; /* the run's grasps, in order */
 } rod_state;
 
 /* Outcome of a step or a solve. */

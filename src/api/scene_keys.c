@@ -111,6 +111,27 @@ const ini_key scene_keys_rod[] = {
     {"puncture", "friction", "-", "0.2", ">= 0",
      "Coulomb coefficient along the thread in the puncture"},
 
+    {"instrument", "kind", "-", "required", "needle_holder | forceps | scissors",
+     "a rigid surgical instrument driven along its path ([instrument] repeats, at most 4): "
+     "jaws, box lock and shanks as capsules the thread touches with friction"},
+    {"instrument", "name", "-", "-", "a word, unique",
+     "names it in the summary's grasps, in messages and in --set instrument.NAME.key=value; "
+     "absent: its kind"},
+    {"instrument", "path", "-", "required", "FILE.csv",
+     "header t,x,y,z,rx,ry,rz,jaw: the jaws' tip (m, global), its rotation vector (rad; local "
+     "x along the shafts to the tip, z the jaws' opening plane) and the jaws' opening (0 "
+     "closed .. 1 open), interpolated smoothly; jaws closing below 0.1 grasp the thread "
+     "between them, opening release it"},
+    {"instrument", "size", "m", "0.14", "> 0",
+     "overall length; jaws and shanks scale with it (a 0.14 m needle holder: 15 mm jaws)"},
+    {"instrument", "friction", "-", "0.3", ">= 0",
+     "Coulomb coefficient of the thread on the instrument"},
+    {"instrument", "grip", "N", "5", "> 0",
+     "the force along the thread beyond which it slides through closed jaws"},
+    {"instrument", "needle", "-", "no", "yes | no",
+     "needle_holder: holds the needle (ends.needle) at its jaws' tip: its path drives the "
+     "thread's tip (ends.tip = clamped; no ends.tip_motion)"},
+
     {"physics", "twist", "-", "on", BOOL, "off: twist quasi-static (no torsion waves)"},
     {"physics", "rotary_inertia", "-", "on", BOOL, "off: no rotary inertia (implicit scheme)"},
     {"physics", "gravity", "-", "on", BOOL, "off: [loads] gravity and distributed_force ignored"},

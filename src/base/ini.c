@@ -294,10 +294,62 @@ void ini_destroy(ini_doc *doc)
     free(doc);
 }
 
+/* The instance of a repeatable section whose `name` key is `name`, or -1. */
+static int named_instance(const ini_doc *doc, const char *section, const char *name)
+{
+    for (int i = 0; find_section(doc, section, i); i++) {
+        const ini_entry *e = find_entry(doc, section, i, "name");
+        if (e && strcmp(e->value, name) == 0) return i;
+    }
+    return -1;
+}
+
+/* ini_set's "section.NAME.key=value": the instance named NAME. */
+static int set_named(ini_doc *doc, const char *assignment, const char *dot, const char *dot2,
+                     const char *eq, char *err, size_t errlen)
+{
+    char *section = dup_range(assignment, dot), *name = dup_range(dot + 1, dot2);
+    int rc = -1;
+    if (!section || !name) {
+        set_error(err, errlen, "--set: out of memory");
+    } else {
+        const int instance = named_instance(doc, section, name);
+        if (instance < 0) {
+            set_error(err, errlen, "--set %.*s: no [%s] has name = %s", (int)(eq - assignment),
+                      assignment, section, name);
+        } else {
+            char *key = dup_range(dot2 + 1, eq);
+            const char *vb = eq + 1, *ve = eq + strlen(eq);
+            trim(&vb, &ve);
+            if (ve - vb >= 2 && *vb == '"' && ve[-1] == '"') { vb++; ve--; }
+            char *value = dup_range(vb, ve);
+            ini_entry *e = key && value ? find_entry(doc, section, instance, key) : NULL;
+            if (!key || !value) {
+                set_error(err, errlen, "--set: out of memory");
+            } else if (e) {
+                free(e->value);
+                rc = (e->value = dup_string(value)) ? 0 : -1;
+                e->line = 0;
+            } else {
+                rc = add_entry(doc, section, instance, key, value, 0);
+            }
+            if (rc && key && value) set_error(err, errlen, "--set: out of memory");
+            free(key);
+            free(value);
+        }
+    }
+    free(section);
+    free(name);
+    return rc;
+}
+
 int ini_set(ini_doc *doc, const char *assignment, char *err, size_t errlen)
 {
     const char *dot = strchr(assignment, '.');
     const char *eq = strchr(assignment, '=');
+    const char *dot2 = dot && eq ? memchr(dot + 1, '.', (size_t)(eq - dot - 1)) : NULL;
+    if (dot2 && valid_name(assignment, dot) && valid_name(dot + 1, dot2) && valid_name(dot2 + 1, eq))
+        return set_named(doc, assignment, dot, dot2, eq, err, errlen);
     if (!dot || !eq || dot > eq || !valid_name(assignment, dot) || !valid_name(dot + 1, eq)) {
         set_error(err, errlen, "--set %s: expected section.key=value, e.g. solver.dt=0.01",
                   assignment);

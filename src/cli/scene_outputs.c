@@ -229,6 +229,15 @@ static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_
                 p->point[1], p->point[2], k < m->puncture_count ? "given" : "made by the needle", p->s,
                 p->force[0] + 0.0, p->force[1] + 0.0, p->force[2] + 0.0);
     }
+    /* each grasp: when the jaws held the thread, where, how hard */
+    for (int k = 0; k < s->grasp_log_count; k++) {
+        const rod_grasp_record *g = &s->grasp_log[k];
+        char off[64] = "held at the end";
+        if (g->t_off >= 0.0) snprintf(off, sizeof off, "released at t = %.6g s", g->t_off);
+        fprintf(f, "        grasp %d by %s: at t = %.6g s, %s, the thread at s = %.6g m, "
+                "largest force on the jaws %.6g N\n", k + 1, m->instruments[g->instrument].name,
+                g->t_on, off, g->s, g->force);
+    }
     /* CPU beside wall: a busy machine stretches the wall time, not the CPU */
     fprintf(f, "        %lld steps in %.3f s wall, %.3f s CPU: %.2f us CPU per step, %.4g CPU s "
                "(%.4g wall s) per simulated s\n",
@@ -952,6 +961,16 @@ static void summary_result(const scene_run *r, run_summary *sum)
     for (int j = 0; j < sum->puncture_count && j < r->s->puncture_count; j++) {
         v3_copy(sum->punctures[j].point, r->s->puncture[j].point);
         v3_copy(sum->punctures[j].force, r->s->puncture[j].force);
+    }
+    sum->grasp_count = 0;
+    for (int j = 0; j < r->s->grasp_log_count && j < SUMMARY_MAX_GRASPS; j++) {
+        const rod_grasp_record *g = &r->s->grasp_log[j];
+        summary_grasp *out = &sum->grasps[sum->grasp_count++];
+        snprintf(out->instrument, sizeof out->instrument, "%s", m->instruments[g->instrument].name);
+        out->t_on = g->t_on;
+        out->t_off = g->t_off;
+        out->s = g->s;
+        out->force = g->force;
     }
 }
 

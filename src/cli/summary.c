@@ -211,6 +211,24 @@ static void punctures_list(json_out *j, const run_summary *s)
     close_(j, ']');
 }
 
+static void grasps_list(json_out *j, const run_summary *s)
+{
+    key(j, "grasps");
+    open_(j, '[');
+    for (int i = 0; i < s->grasp_count; i++) {
+        const summary_grasp *g = &s->grasps[i];
+        comma(j);
+        open_(j, '{');
+        string_field(j, "instrument", g->instrument);
+        number_field(j, "t_on", g->t_on);
+        if (g->t_off >= 0.0) number_field(j, "t_off", g->t_off); /* absent: held at the end */
+        number_field(j, "s", g->s);
+        number_field(j, "force", g->force);
+        close_(j, '}');
+    }
+    close_(j, ']');
+}
+
 int summary_print(FILE *f, const run_summary *s)
 {
     json_out j = {.f = f, .first = 1};
@@ -245,6 +263,7 @@ int summary_print(FILE *f, const run_summary *s)
         close_(&j, ']');
     }
     if (s->puncture_count > 0) punctures_list(&j, s);
+    if (s->grasp_count > 0) grasps_list(&j, s);
     close_(&j, '}');
     fputc('\n', f);
     return ferror(f) ? -1 : 0;

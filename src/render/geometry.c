@@ -69,6 +69,8 @@ rod_recording *recording_like(const rod_recording *rec, int frames)
     r->puncture_count = NULL;
     r->puncture = NULL;
     r->force_scratch = NULL;
+    /* no instruments' poses either: drawn from the recording given */
+    r->instrument_pose = NULL;
     /* the surfaces too: the copy is drawn with them, and outlives nothing of rec */
     r->surfaces = NULL;
     r->surface_count = 0;

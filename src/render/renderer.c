@@ -10,6 +10,7 @@
 #include "base/vec3.h"
 #include "render/color.h"
 #include "render/geometry.h"
+#include "render/instrument_mesh.h"
 #include "render/shot.h"
 #include "render/surface.h"
 
@@ -120,6 +121,21 @@ static void frame_boxes(renderer *r, const rod_recording *rec, int frame,
         else if (count > 0)
             mark_points(r, glyph, count, pad);
     }
+    for (int k = 0; k < given->instrument_count; k++) {
+        double points[3 * INSTRUMENT_MESH_POINTS], pad;
+        if (!instrument_mesh_points(given, given_frame, k, 2.0 * r->radius, points, &pad)) continue;
+        for (int side = 0; side < 2; side++) {
+            const double *p = &points[3 * 8 * side];
+            mark_points(r, p, 2, pad);
+            mark_points(r, p + 6, 2, pad);
+            mark_points(r, p + 12, 4, pad);
+            if (r->shadow.shadows) {
+                mark_shadow(r, p, 2, 1, pad);
+                mark_shadow(r, p + 6, 2, 1, pad);
+                mark_shadow(r, p + 12, 4, 0, pad);
+            }
+        }
+    }
     for (int which = 0; r->o->arrows && which < 2; which++) {
         double ends[6], d[3], length;
         if (!arrow_geometry(&r->arrows, rec, frame, which, ends, d, &length)) continue;
@@ -216,9 +232,11 @@ static int renderer_buffers(renderer *r, const rod_recording *rec, const render_
     r->line.first = malloc((size_t)rec->nodes * sizeof(int));
     r->line.phi = malloc((size_t)rec->nodes * sizeof(double));
     r->mesh.max_vertices = rings * (sides + 3) + 2 * (sides + 1) + 2 * GLYPH_VERTICES +
-                           2 * ARROW_MAX_VERTICES + PUNCTURE_VERTICES;
+                           2 * ARROW_MAX_VERTICES + PUNCTURE_VERTICES +
+                           rec->instrument_count * INSTRUMENT_MESH_VERTICES;
     r->mesh.max_indices = 6 * rings * (sides + 2) + 6 * sides + 2 * GLYPH_INDICES +
-                          2 * ARROW_MAX_INDICES + PUNCTURE_INDICES;
+                          2 * ARROW_MAX_INDICES + PUNCTURE_INDICES +
+                          rec->instrument_count * INSTRUMENT_MESH_INDICES;
     int shading = occlusion_create(&r->shading, rec->nodes, rings, sides, r->radius, rec->ds);
     r->mesh.vertices = malloc((size_t)r->mesh.max_vertices * sizeof(render_vertex));
     r->mesh.indices = malloc((size_t)r->mesh.max_indices * sizeof(unsigned));
@@ -460,6 +478,7 @@ static void renderer_meshes(renderer *r, const rod_recording *rec, int frame,
         mesh_stripe(m, rec, &r->line, frame, r->radius, r->o->stripe, color_stripe(r->o));
     occlusion_shade(&r->shading, m, &r->line, rec, frame, r->o->sides, r->radius, tube, stripe);
     glyph_add_ends(m, rec, r->o, frame, r->radius);
+    instrument_mesh_add(m, given, given_frame, 2.0 * r->radius);
     if (r->o->arrows) glyph_add_arrows(m, &r->arrows, rec, frame);
     r->caster_indices = m->index_count;
     if (r->shadow.receivers)

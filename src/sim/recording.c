@@ -8,6 +8,7 @@
 
 #include "base/vec3.h"
 #include "sim/contact/mesh.h"
+#include "sim/instrument.h"
 #include "sim/path.h"
 #include "sim/rod.h"
 
@@ -32,7 +33,14 @@ static int reserve(rod_recording *r, int capacity)
     if (pc) r->puncture_count = pc;
     double *pp = realloc(r->puncture, c * ROD_MAX_PUNCTURES * 3 * sizeof *pp);
     if (pp) r->puncture = pp;
-    if (!t || !p || !q || !w || !te || !f || !mo || !pc || !pp) return -1;
+    int ok_instruments = 1;
+    if (r->instrument_count > 0) {
+        double *ip = realloc(r->instrument_pose,
+                             c * (size_t)r->instrument_count * RECORDING_INSTRUMENT_NUMBERS * sizeof *ip);
+        if (ip) r->instrument_pose = ip;
+        ok_instruments = ip != NULL;
+    }
+    if (!t || !p || !q || !w || !te || !f || !mo || !pc || !pp || !ok_instruments) return -1;
     r->capacity = capacity;
     return 0;
 }
@@ -133,6 +141,18 @@ rod_recording *rod_recording_create(const rod_model *m, const char *scene, int c
     snprintf(r->scheme, sizeof r->scheme, "%s", rod_scheme_get(m->options.scheme)->name);
     snprintf(r->scene, sizeof r->scene, "%s", scene ? scene : "");
     r->force_scratch = malloc((size_t)m->nodes * 3 * sizeof(double));
+    r->instrument_count = m->instrument_count < ROD_MAX_INSTRUMENTS ? m->instrument_count
+                                                                    : ROD_MAX_INSTRUMENTS;
+    for (int k = 0; k < r->instrument_count; k++) {
+        const rod_instrument *in = &m->instruments[k];
+        recording_instrument *to = &r->instruments[k];
+        to->kind = in->kind == ROD_INSTRUMENT_FORCEPS    ? RECORDING_FORCEPS
+                 : in->kind == ROD_INSTRUMENT_SCISSORS   ? RECORDING_SCISSORS
+                                                         : RECORDING_NEEDLE_HOLDER;
+        to->size = in->size;
+        rod_instrument_dimensions(in, &to->jaw_length, &to->jaw_radius, &to->shank_radius);
+        to->hinge = rod_instrument_hinge(in);
+    }
     if (!r->force_scratch || copy_scene(r, m) || reserve(r, capacity > 0 ? capacity : 16)) {
         rod_recording_destroy(r);
         return NULL;
@@ -158,6 +178,7 @@ void rod_recording_destroy(rod_recording *r)
         free(r->surfaces[k].mesh_triangles);
     }
     free(r->surfaces);
+    free(r->instrument_pose);
     free(r);
 }
 
@@ -227,8 +248,27 @@ int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *
         if (i < punctures) v3_copy(to, s->puncture[i].point);
         else v3_set(to, 0, 0, 0);
     }
+    for (int i = 0; i < r->instrument_count; i++) {
+        double *to = &r->instrument_pose[(k * (size_t)r->instrument_count + (size_t)i) *
+                                         RECORDING_INSTRUMENT_NUMBERS];
+        rod_pose pose;
+        double jaw;
+        rod_instrument_pose(&m->instruments[i], s->time, &pose, &jaw);
+        v3_copy(to, pose.position);
+        memcpy(to + 3, pose.rotation, 9 * sizeof(double));
+        to[12] = rod_instrument_jaw_angle(&m->instruments[i], jaw);
+    }
     r->frame_count++;
     return 0;
+}
+
+const double *rod_recording_instrument(const rod_recording *r, int frame, int k)
+{
+    if (!r->instrument_pose || k < 0 || k >= r->instrument_count || frame < 0 ||
+        frame >= r->frame_count)
+        return NULL;
+    return &r->instrument_pose[((size_t)frame * (size_t)r->instrument_count + (size_t)k) *
+                               RECORDING_INSTRUMENT_NUMBERS];
 }
 
 void rod_recording_tip_load(const rod_model *m, const rod_state *s, double force[3],
@@ -280,6 +320,8 @@ void rod_recording_halve(rod_recording *r)
         r->puncture_count[to] = r->puncture_count[from];
         memmove(&r->puncture[to * ROD_MAX_PUNCTURES * 3], &r->puncture[from * ROD_MAX_PUNCTURES * 3],
                 ROD_MAX_PUNCTURES * 3 * sizeof(double));
+        const size_t per = (size_t)r->instrument_count * RECORDING_INSTRUMENT_NUMBERS;
+        if (per) memmove(&r->instrument_pose[to * per], &r->instrument_pose[from * per], per * sizeof(double));
     }
     r->frame_count = kept;
 }

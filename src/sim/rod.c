@@ -577,11 +577,23 @@ void rod_model_release(rod_model *m)
     m->root_motion = NULL;
     rod_path_destroy(m->tip_motion);
     m->tip_motion = NULL;
+    for (int k = 0; k < m->instrument_count; k++) {
+        rod_path_destroy(m->instruments[k].pose);
+        rod_path_destroy(m->instruments[k].jaw);
+    }
+    free(m->instruments);
+    m->instruments = NULL;
+    m->instrument_count = 0;
 }
 
 int rod_model_refuse_obstacles(const rod_model *m, const char *scheme, char *err, size_t errlen)
 {
-    if (m->surface_count == 0 && m->puncture_count == 0) return 0;
+    if (m->surface_count == 0 && m->puncture_count == 0 && m->instrument_count == 0) return 0;
+    if (m->instrument_count > 0 && m->surface_count == 0 && m->puncture_count == 0) {
+        snprintf(err, errlen, "the %s scheme models no contact; this scene has %d [instrument] "
+                 "sections: use scheme = implicit", scheme, m->instrument_count);
+        return -1;
+    }
     snprintf(err, errlen,
              "the %s scheme models no contact; this scene has %d [surface] and %d [puncture] "
              "sections: use scheme = implicit", scheme, m->surface_count, m->puncture_count);
@@ -747,6 +759,9 @@ void rod_state_copy(rod_state *to, const rod_state *from)
     to->strand_gap = from->strand_gap;
     to->puncture_count = from->puncture_count;
     memcpy(to->puncture, from->puncture, sizeof to->puncture);
+    memcpy(to->grasp, from->grasp, sizeof to->grasp);
+    to->grasp_log_count = from->grasp_log_count;
+    memcpy(to->grasp_log, from->grasp_log, sizeof to->grasp_log);
 }
 
 void rod_state_reset(const rod_model *m, rod_state *s)
@@ -763,6 +778,8 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     s->strand_gap = INFINITY;
     memset(s->puncture, 0, sizeof s->puncture);
     s->puncture_count = 0;
+    memset(s->grasp, 0, sizeof s->grasp);
+    s->grasp_log_count = 0;
     /* the starting shape: positions exactly its nodes; frames twist-free along it. The
      * tangents go in the velocity array (n x 3) until the velocities are written. */
     int bad;

@@ -17,6 +17,7 @@
 #include "sim/path.h"
 #include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
+#include "sim/instrument.h"
 #include "sim/rod.h"
 
 #define PATH_MAX_LEN 1024
@@ -480,6 +481,83 @@ static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
     return 0;
 }
 
+/* Reads [instrument] (repeatable, at most ROD_MAX_INSTRUMENTS): kind, name,
+ * path (a CSV t,x,y,z,rx,ry,rz,jaw), size, friction, grip, needle. A needle
+ * holder with needle = yes drives the thread's tip (the needle's back, held
+ * in its jaws' tip) along its path: [ends] tip_motion cannot be given too. */
+static int read_instruments(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+{
+    const int count = ini_section_count(doc, "instrument");
+    if (count > ROD_MAX_INSTRUMENTS)
+        return ini_error(doc, "instrument", ROD_MAX_INSTRUMENTS, "kind", err, errlen,
+                         "at most %d instruments", ROD_MAX_INSTRUMENTS);
+    for (int i = 0; i < (count > 0 ? count : 1); i++) {
+        rod_instrument in = {0};
+        int kind = 0, has_kind;
+        const char *name = NULL, *path_text = NULL;
+        in.size = 0.14;
+        in.friction = 0.3;
+        in.grip = 5.0;
+        has_kind = ini_get_choice(doc, "instrument", i, "kind", rod_instrument_kind_names, &kind,
+                                  err, errlen);
+        int has_name = ini_get_string(doc, "instrument", i, "name", &name, err, errlen);
+        int has_path = ini_get_string(doc, "instrument", i, "path", &path_text, err, errlen);
+        if (has_kind < 0 || has_name < 0 || has_path < 0 ||
+            ini_get_double(doc, "instrument", i, "size", &in.size, err, errlen) < 0 ||
+            ini_get_double(doc, "instrument", i, "friction", &in.friction, err, errlen) < 0 ||
+            ini_get_double(doc, "instrument", i, "grip", &in.grip, err, errlen) < 0 ||
+            ini_get_bool(doc, "instrument", i, "needle", &in.needle, err, errlen) < 0)
+            return -1;
+        if (count == 0) break;
+        if (has_kind == 0)
+            return ini_error(doc, "instrument", i, "kind", err, errlen,
+                             "missing; required: needle_holder | forceps | scissors");
+        in.kind = (rod_instrument_kind)kind;
+        if (!(in.size > 0.0) || !isfinite(in.size))
+            return ini_error(doc, "instrument", i, "size", err, errlen,
+                             "must be the overall length > 0 m, e.g. 0.14");
+        if (!(in.friction >= 0.0) || !isfinite(in.friction))
+            return ini_error(doc, "instrument", i, "friction", err, errlen,
+                             "must be a Coulomb coefficient >= 0");
+        if (!(in.grip > 0.0) || !isfinite(in.grip))
+            return ini_error(doc, "instrument", i, "grip", err, errlen,
+                             "must be a force > 0 N (the thread slides through the jaws beyond it)");
+        if (in.needle && in.kind != ROD_INSTRUMENT_NEEDLE_HOLDER)
+            return ini_error(doc, "instrument", i, "needle", err, errlen,
+                             "only a needle_holder holds the needle");
+        if (in.needle && m->tip_motion)
+            return ini_error(doc, "instrument", i, "needle", err, errlen,
+                             "the needle holder drives the needle (the thread's tip) along its "
+                             "path: remove [ends] tip_motion, or set needle = no");
+        snprintf(in.name, sizeof in.name, "%s", has_name ? name : rod_instrument_kind_name(in.kind));
+        for (int k = 0; k < m->instrument_count; k++)
+            if (strcmp(m->instruments[k].name, in.name) == 0)
+                return ini_error(doc, "instrument", i, "name", err, errlen,
+                                 "'%s' names another instrument already: give each its own name",
+                                 in.name);
+        if (has_path == 0)
+            return ini_error(doc, "instrument", i, "path", err, errlen,
+                             "missing; required: a CSV with the header t,x,y,z,rx,ry,rz,jaw");
+        char file[2 * PATH_MAX_LEN + 2], why[768];
+        scene_relative(doc, path_text, file, sizeof file);
+        if (!m->instruments) {
+            m->instruments = calloc((size_t)count, sizeof *m->instruments);
+            if (!m->instruments) return ini_error(doc, "instrument", i, "kind", err, errlen, "out of memory");
+        }
+        if (rod_instrument_load_path(file, &in.pose, &in.jaw, why, sizeof why))
+            return ini_error(doc, "instrument", i, "path", err, errlen, "%s", why);
+        in.line = ini_section_line(doc, "instrument", i);
+        m->instruments[m->instrument_count++] = in;
+        if (in.needle) {
+            rod_path *jaw = NULL;
+            if (rod_instrument_load_path(file, &m->tip_motion, &jaw, why, sizeof why))
+                return ini_error(doc, "instrument", i, "path", err, errlen, "%s", why);
+            rod_path_destroy(jaw);
+        }
+    }
+    return 0;
+}
+
 /* A starting shape already inside a surface is refused (the contact would
  * start with an impulse no scene means), naming the surface and the node.
  * A node may sit on the surface: up to 1 % of the radius inside is accepted
@@ -837,11 +915,20 @@ int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
         read_start(doc, m, err, errlen) || read_solver(doc, m, err, errlen) ||
         read_tip(doc, m, err, errlen) || read_loads(doc, m, gravity, err, errlen) ||
         read_ends_physics(doc, m, err, errlen) || read_point_loads(doc, m, err, errlen) ||
-        read_surfaces(doc, m, err, errlen))
+        read_surfaces(doc, m, err, errlen) || read_instruments(doc, m, err, errlen))
         goto fail;
     char why[768];
     if (rod_model_derive(m, why, sizeof why)) {
-        derive_error(doc, why, err, errlen);
+        /* a needle holder's path is the tip's: its complaints name the holder */
+        int holder = -1;
+        for (int k = 0; k < m->instrument_count && holder < 0; k++)
+            if (m->instruments[k].needle) holder = k;
+        if (holder >= 0 && strncmp(why, "tip_motion: ", 12) == 0)
+            ini_error(doc, "instrument", holder, "path", err, errlen,
+                      "the needle holder drives the thread's tip (ends.tip = clamped or pinned): %s",
+                      why + 12);
+        else
+            derive_error(doc, why, err, errlen);
         goto fail;
     }
     if (check_start_outside(doc, m, err, errlen)) goto fail;

@@ -134,6 +134,12 @@ static int rod_reads_equal(const rod_read *a, const rod_read *b)
         same = f->friction == g->friction && f->point[0] == g->point[0] &&
                f->point[1] == g->point[1] && f->point[2] == g->point[2];
     }
+    same = same && x->instrument_count == y->instrument_count;
+    for (int i = 0; same && i < x->instrument_count; i++) {
+        const rod_instrument *f = &x->instruments[i], *g = &y->instruments[i];
+        same = f->kind == g->kind && strcmp(f->name, g->name) == 0 && f->size == g->size &&
+               f->friction == g->friction && f->grip == g->grip && f->needle == g->needle;
+    }
     for (int k = 0; k < 3; k++)
         same = same && x->origin[k] == y->origin[k] && x->direction[k] == y->direction[k] &&
                x->intrinsic_curvature[k] == y->intrinsic_curvature[k] &&
@@ -198,18 +204,42 @@ static void test_rod_table(void)
         rod_model_release(&base_load.m);
         return;
     }
+    /* [instrument] too (its kind and path are required), with a path file */
+    const char *tool_path = "/tmp/rodsim_test_scene_keys_instrument.csv";
+    FILE *tool_file = fopen(tool_path, "w");
+    if (tool_file) {
+        fputs("t,x,y,z,rx,ry,rz,jaw\n0,0.5,0,0.1,0,0,0,1\n", tool_file);
+        fclose(tool_file);
+    }
+    char with_tool[640];
+    snprintf(with_tool, sizeof with_tool, "%s[instrument]\nkind = forceps\nname = forceps\npath = %s\n",
+             valid_rod, tool_path);
+    rod_read base_tool;
+    if (!check(read_rod(with_tool, NULL, &base_tool, err, sizeof err) == 0 &&
+                   base_tool.m.instrument_count == 1,
+               "a scene with an [instrument] reads (%s)", err)) {
+        rod_model_release(&base.m);
+        rod_model_release(&base_load.m);
+        rod_model_release(&base_obstacles.m);
+        remove(tool_path);
+        return;
+    }
     int defaults = 0, wrong = 0;
     for (const ini_key *k = scene_keys_rod; k->section; k++) {
         if (!literal_default(k)) continue;
         int load = strcmp(k->section, "point_load") == 0;
+        int tool = strcmp(k->section, "instrument") == 0;
         int obstacle = strcmp(k->section, "surface") == 0 || strcmp(k->section, "puncture") == 0;
         char set[256];
         snprintf(set, sizeof set, "%s.%s=%s", k->section, k->key, k->fallback);
         rod_read r;
-        const char *text = load ? with_load : obstacle ? with_obstacles : valid_rod;
+        const char *text = load ? with_load : obstacle ? with_obstacles : tool ? with_tool : valid_rod;
         int ok = read_rod(text, set, &r, err, sizeof err) == 0;
         if (ok) {
-            ok = rod_reads_equal(load ? &base_load : obstacle ? &base_obstacles : &base, &r);
+            ok = rod_reads_equal(load       ? &base_load
+                                 : obstacle ? &base_obstacles
+                                 : tool     ? &base_tool
+                                            : &base, &r);
             rod_model_release(&r.m);
         }
         defaults++;
@@ -235,6 +265,8 @@ static void test_rod_table(void)
     }
     rod_model_release(&base_load.m);
     rod_model_release(&base_obstacles.m);
+    rod_model_release(&base_tool.m);
+    remove(tool_path);
     check(base.out.crf == 18 && base.out.render.crf == 18,
           "one crf default: run_output %d, renderer %d (the table says 18)", base.out.crf,
           base.out.render.crf);

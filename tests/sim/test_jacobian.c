@@ -73,6 +73,9 @@ static const jacobian_case contact_cases[] = {
      * on their swept path (the hit point and normal turn with the iterate;
      * with them held fixed the closed form is off by 0.64 of a column) */
     {"suture.ini", {"solver.dt=0.00417", "rod.shape=suture_shape_u.csv", NULL}, 22},
+    /* 1.5 s in: lifted by the forceps' grasp (a point carried by the jaws,
+     * sliding beyond the grip), its ends dragged on the pads */
+    {"grasp_lift.ini", {NULL}, 1500},
 };
 
 static void test_case(const jacobian_case *c, int with_contact)

@@ -21,6 +21,10 @@ typedef struct contact_puncture {
     double alpha;      /* fraction along it */
     double point[3], tangent[3], friction;
     double force[3];   /* N, global: what the tissue exerts on the thread, this iterate */
+    double velocity[3];/* m/s, global: the point's own velocity (a grasp's jaws; 0 in tissue):
+                          friction acts on the thread's velocity relative to it */
+    double grip;       /* N: > 0: the friction's limit (a grasp), instead of friction
+                          times the force across */
 } contact_puncture;
 
 typedef struct rod_contact {
@@ -42,9 +46,21 @@ typedef struct rod_contact {
     unsigned *threaded;    /* (nodes): bit j set when the node is threaded through tissue
                               surface j (between its punctures): no contact with it */
     int needle_tissue;     /* 1: the driven tip carries a needle and a surface is tissue */
-    /* punctures of this step (puncture.h) */
+    /* instruments (sim/contact/instrument.h) */
+    int instrument_count;
+    double *instrument_start; /* (nodes x instruments x capsules x 10): each node's gap (m) to
+                              each capsule at the step's start, its outward normal and the
+                              capsule's point it faces at the step's end (m, global) and that
+                              point's velocity (m/s); NULL without instruments */
+    double *instrument_force; /* (nodes x 3) global, N: what the instruments exert, this
+                              iterate; NULL without instruments */
+    int grasp_instrument[ROD_MAX_INSTRUMENTS]; /* the instrument of punct[puncture_count - grasps
+                              + g] for each of this step's grasps */
+    int grasp_count;
+    /* punctures of this step (puncture.h), then the grasps (a point carried
+     * by closed jaws: instrument.h), counted in puncture_count */
     int puncture_count;
-    contact_puncture punct[ROD_MAX_PUNCTURES];
+    contact_puncture punct[ROD_MAX_PUNCTURES + ROD_MAX_INSTRUMENTS];
     /* the velocity maps, for the Jacobian (NULL when made without) */
     int want_jacobian;     /* 1: the laws record velocity_jac */
     double *velocity_jac;  /* (nodes x 27) for a touched node b: d v_b / d u_{b-1}, d v_b / d u_b,

@@ -4,6 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sim/instrument.h"
+
 int rod_contact_create(rod_contact *c, const rod_model *m, const double *pos0, double *vel1,
                        double *vbar, const int held[2], int maps)
 {
@@ -27,6 +29,13 @@ int rod_contact_create(rod_contact *c, const rod_model *m, const double *pos0, d
         c->start_gap = calloc(n * (size_t)m->surface_count * 7, sizeof(double));
         if (!c->start_gap) return -1;
     }
+    if (m->instrument_count > 0) {
+        c->instrument_count = m->instrument_count;
+        c->instrument_start = calloc(n * (size_t)m->instrument_count * ROD_INSTRUMENT_CAPSULES * 10,
+                                     sizeof(double));
+        c->instrument_force = calloc(n * 3, sizeof(double));
+        if (!c->instrument_start || !c->instrument_force) return -1;
+    }
     if (maps) {
         c->velocity_jac = calloc(n * 27, sizeof(double));
         c->touched = calloc(n, 1);
@@ -40,6 +49,8 @@ void rod_contact_destroy(rod_contact *c)
     free(c->surface_force);
     free(c->threaded);
     free(c->start_gap);
+    free(c->instrument_start);
+    free(c->instrument_force);
     free(c->velocity_jac);
     free(c->touched);
     memset(c, 0, sizeof *c);

@@ -18,6 +18,17 @@
  * miss at the next step (docs/decisions/0015-needle-holes.md). */
 #define NEEDLE_HOLE_CLEAR 0.995
 
+/* m/s: a grasp's creep speed at most (contact_creep_eps caps the shared law's
+ * at CONTACT_CREEP_MAX = 1 mm/s: a thread under half the grip would creep
+ * through closed jaws at 0.6 mm/s; closed jaws hold, below the grip, to
+ * 6 um/s). The grip is a fixed limit, so only d sp / d speed enters the map. */
+#define GRASP_CREEP_MAX 1e-5
+
+static double grasp_creep_eps(double c)
+{
+    return 1.0 / (CONTACT_STIFF / c + 1.0 / GRASP_CREEP_MAX) + CONTACT_CREEP;
+}
+
 /* One puncture's map in puncture_forces, for its Jacobian. */
 typedef struct puncture_map {
     int j;                   /* segment j..j+1 */
@@ -29,6 +40,7 @@ typedef struct puncture_map {
     double across;           /* |f|, N */
     double mu, vt, sp;       /* friction; the point's velocity along t (after f) and
                                 contact_creep_speed's root, m/s */
+    double grip;             /* N: > 0, the friction's fixed limit (a grasp) */
 } puncture_map;
 
 /* Composes node j's and j+1's velocity maps with one puncture's: z = (v_j,
@@ -50,15 +62,23 @@ static void puncture_map_jacobian(rod_contact *ct, const puncture_map *p, const 
         }
     for (int r = 0; r < 6; r++)
         for (int c = 0; c < 6; c++) m6[6 * r + c] = (r == c) + g[r / 3] * fz[6 * (r % 3) + c];
-    const double c_limit = p->peff * p->mu * p->across;
+    const double c_limit = p->grip > 0.0 ? p->peff * p->grip : p->peff * p->mu * p->across;
+    const double mu = p->grip > 0.0 ? 0.0 : p->mu; /* a fixed limit does not grow with f */
     if (c_limit > 0.0) { /* at speed 0 too: sp has the slope d_speed there */
         double d_speed, d_c, dft[6];
-        contact_creep_slopes(c_limit, p->sp, &d_speed, &d_c);
+        if (p->grip > 0.0) {
+            /* sp + c phi(sp / eps) = speed, eps fixed: d sp / d speed = 1 / (1 + c phi' / eps) */
+            const double eps = grasp_creep_eps(c_limit), x = p->sp / eps, q = 1.0 + x * x;
+            d_speed = 1.0 / (1.0 + (c_limit / eps) / (q * sqrt(q)));
+            d_c = 0.0;
+        } else {
+            contact_creep_slopes(c_limit, p->sp, &d_speed, &d_c);
+        }
         const double sign = p->vt > 0.0 ? 1.0 : -1.0;
         for (int c = 0; c < 6; c++) {
             double dvt = wz[c / 3] * t[c % 3], dacross = 0.0;
             for (int r = 0; r < 3; r++) dacross += p->f[r] / p->across * fz[6 * r + c];
-            double dsp = d_speed * sign * dvt + d_c * p->peff * p->mu * dacross;
+            double dsp = d_speed * sign * dvt + d_c * p->peff * mu * dacross;
             dft[c] = -(dvt - sign * dsp) / p->peff;
         }
         for (int r = 0; r < 6; r++)
@@ -121,11 +141,15 @@ void puncture_forces(rod_contact *ct, const rod_model *m, double push, double dt
         }
         v3_copy(force, f);
         /* friction along the thread */
-        double across = v3_norm(f), limit = ct->punct[k].friction * across, vt = 0.0;
+        const double grip = ct->punct[k].grip;
+        double across = v3_norm(f), limit = grip > 0.0 ? grip : ct->punct[k].friction * across;
+        /* relative to the point's own motion (a grasp's jaws) */
+        double vt = -v3_dot(t, ct->punct[k].velocity);
         for (int c = 0; c < 3; c++) vt += t[c] * (wj * ct->vel1[3 * j + c] + wk * ct->vel1[3 * i2 + c]);
         double speed = fabs(vt), sp = speed;
         if (speed > 0.0 && limit > 0.0) {
-            sp = contact_creep_speed(speed, peff * limit);
+            sp = grip > 0.0 ? contact_creep_speed_eps(speed, peff * limit, grasp_creep_eps(peff * limit))
+                            : contact_creep_speed(speed, peff * limit);
             double ft = -(speed - sp) / peff * (vt > 0.0 ? 1.0 : -1.0);
             for (int c = 0; c < 3; c++) {
                 ct->vel1[3 * j + c] += pj * wj * ft * t[c];
@@ -144,7 +168,7 @@ void puncture_forces(rod_contact *ct, const rod_model *m, double push, double dt
                     df_de[3 * r + c] = -scale * ((r == c) * frac +
                         (miss > 0.0 ? (contact_compliant_slope(miss, floor) - frac) * e[r] * e[c] / (miss * miss) : 0.0));
             const puncture_map map = {j, wj, wk, pj, pk, peff, dt * theta, t, f, across,
-                                      ct->punct[k].friction, vt, sp};
+                                      ct->punct[k].friction, vt, sp, grip};
             puncture_map_jacobian(ct, &map, df_de);
         }
     }
@@ -177,6 +201,8 @@ void puncture_prepare(rod_contact *ct, const rod_model *m, const rod_state *s)
         }
         v3_scale(ct->punct[k].tangent, t, 1.0 / v3_norm(t));
         v3_set(ct->punct[k].force, 0.0, 0.0, 0.0);
+        v3_set(ct->punct[k].velocity, 0.0, 0.0, 0.0);
+        ct->punct[k].grip = 0.0;
     }
     /* the thread between a tissue surface's punctures is inside it (no
      * contact with that surface: rod_threaded_nodes) */

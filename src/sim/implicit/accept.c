@@ -5,12 +5,14 @@
 #include <string.h>
 
 #include "base/vec3.h"
+#include "sim/contact/instrument.h"
 #include "sim/contact/puncture.h"
 #include "sim/contact/self_contact.h"
 #include "sim/geometry/proximity.h"
 #include "sim/implicit/planar.h"
 #include "sim/implicit/residual.h"
 #include "sim/implicit/start.h"
+#include "sim/instrument.h"
 
 /* The frames at the end of the step (a clamped end's from its path) and the
  * strains. Newton's last residual evaluation was at x, so frame1,
@@ -177,6 +179,13 @@ int implicit_accept_step(implicit_work *w, const rod_model *m, rod_state *s, dou
         memcpy(w->d3mid0, w->d3mid1, (size_t)(n - 1) * 3 * sizeof(double));
     }
     accept_end_loads(w, m, s, dt);
+    if (w->contact.instrument_count) {
+        /* at the step's end: where the grasps hold the thread, the jaws that
+         * closed or opened, and what the instruments exert beside the surfaces */
+        instrument_contact_update(&w->contact, m, s);
+        rod_instruments_update(m, s, report);
+        for (size_t k = 0; k < (size_t)n * 3; k++) s->surface_force[k] += w->contact.instrument_force[k];
+    }
     keep_solution(w, s, dt, continuing);
     return 0;
 }

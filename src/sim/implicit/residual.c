@@ -7,6 +7,7 @@
 
 #include "base/vec3.h"
 #include "base/vec3_lanes.h"
+#include "sim/contact/instrument.h"
 #include "sim/contact/puncture.h"
 #include "sim/contact/surface_contact.h"
 #include "sim/implicit/planar.h"
@@ -414,12 +415,17 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
             v3_axpy(v1, w->point_factor * push, &w->point_force[3 * b]);
         for (int k = 0; k < 3; k++) vb[k] = theta * v1[k] + (1.0 - theta) * v0[k];
         if (contact && w->contact.surface_count) surface_contact_node(&w->contact, m, b, push, dt);
+        if (contact && w->contact.instrument_count) instrument_contact_node(&w->contact, m, b, push, dt);
     }
     end_velocity(w, m, root, 0, zero3, block_force(w, x, 1), dt, applied);
     end_velocity(w, m, tip, n - 1, block_force(w, x, n - 1), tipf, dt, applied);
     if (contact && w->contact.surface_count)
         for (int which = 0; which < 2; which++)
             if (!w->ends[which].held) surface_contact_node(&w->contact, m, which ? n - 1 : 0, 2.0 * push, dt);
+    if (contact && w->contact.instrument_count)
+        for (int which = 0; which < 2; which++)
+            if (!w->ends[which].held)
+                instrument_contact_node(&w->contact, m, which ? n - 1 : 0, 2.0 * push, dt);
     if (contact && w->contact.puncture_count) puncture_forces(&w->contact, m, push, dt);
     if (w->self && w->self->count) {
         /* the surfaces act on the velocities with the pair forces in place: a

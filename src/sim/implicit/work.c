@@ -112,7 +112,7 @@ static void choose_layout(implicit_work *w, const rod_model *m)
                 vector_zero(m->intrinsic_curvature) && m->point_load_count == 0 &&
                 vector_zero(m->distributed_moment) && !m->initial_shape &&
                 m->initial_velocity[2] == 0.0 && m->direction[2] == 0.0 &&
-                m->surface_count == 0 && m->puncture_count == 0;
+                m->surface_count == 0 && m->puncture_count == 0 && m->instrument_count == 0;
     w->planar = m->physics.planar && rod_model_loads_planar(m) && plain;
     w->distributed_moment = !vector_zero(m->distributed_moment);
     w->first = (w->planar || ends[0].clamped) ? 1 : 0;
@@ -122,7 +122,8 @@ static void choose_layout(implicit_work *w, const rod_model *m)
      * a needle and a tissue surface make room for them from the start */
     int tissue = 0;
     for (int k = 0; k < m->surface_count; k++) tissue |= m->surfaces[k].tissue;
-    w->reach = (m->puncture_count > 0 || (tissue && m->needle_radius > 0.0)) ? 2 : 1;
+    w->reach = (m->puncture_count > 0 || (tissue && m->needle_radius > 0.0) ||
+                m->instrument_count > 0) ? 2 : 1; /* a grasp couples as a puncture */
     w->has_contact = m->surface_count > 0 || w->reach == 2;
     static const int kinds3[BLOCK] = {0, 0, 0, 2, 2, 2};
     static const int kinds2[BLOCK_PLANAR] = {0, 0, 1, 1, 2};
