@@ -56,6 +56,8 @@ struct gl_renderer {
     GLuint shadow_program, shadow_fbo, shadow_texture;
     GLint u_shadow_light;
     float light[16], shadow_offset, shadow_spread;
+    int shadow_drawn[4];        /* texels x0, y0, x1, y1 the last depth pass may have drawn
+                                   (x0 >= x1: none); the rest of the map is cleared */
 };
 
 static void set_vertex_layout(void)
@@ -350,15 +352,62 @@ int gl_renderer_set_shadows(gl_renderer *r, const double light_view_projection[1
     return 0;
 }
 
+/* The texels (x0, y0, x1, y1) that hold the shadow map's pixels of the
+ * vertices, a texel of margin around: the casters' triangles lie inside. */
+static void caster_texels(const gl_renderer *r, const render_vertex *vertices, int count,
+                          int texels[4])
+{
+    const float *m = r->light; /* column-major; orthographic: w = 1 */
+    float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
+    for (int i = 0; i < count; i++) {
+        const float *p = vertices[i].position;
+        for (int a = 0; a < 2; a++) {
+            float c = m[a] * p[0] + m[4 + a] * p[1] + m[8 + a] * p[2] + m[12 + a];
+            lo[a] = c < lo[a] ? c : lo[a];
+            hi[a] = c > hi[a] ? c : hi[a];
+        }
+    }
+    for (int a = 0; a < 2; a++) {
+        double from = floor((0.5 * lo[a] + 0.5) * r->shadow_size) - 2;
+        double to = ceil((0.5 * hi[a] + 0.5) * r->shadow_size) + 2;
+        texels[a] = (int)fmax(0, fmin(r->shadow_size, from));
+        texels[2 + a] = (int)fmax(0, fmin(r->shadow_size, to));
+    }
+}
+
 /* The depth pass: the first caster_indices indices of the frame's
- * triangles (0: an empty map, nothing casts) into the shadow map. */
-static void draw_shadow_map(gl_renderer *r, int caster_indices)
+ * triangles (0: an empty map, nothing casts) into the shadow map. Only
+ * the texels the casters may cover, now or in the pass before, are
+ * cleared and drawn (the map's clear was a fixed cost of every frame);
+ * the rest stays cleared. vertices: the frame's, NULL: the whole map. */
+static void draw_shadow_map(gl_renderer *r, int caster_indices, const render_vertex *vertices,
+                            int vertex_count)
 {
     glBindFramebuffer(GL_FRAMEBUFFER, r->shadow_fbo);
     glViewport(0, 0, r->shadow_size, r->shadow_size);
-    glDisable(GL_SCISSOR_TEST);
     glEnable(GL_DEPTH_TEST);
+    int now[4] = {0, 0, 0, 0};
+    if (vertices && caster_indices > 0) caster_texels(r, vertices, vertex_count, now);
+    int *was = r->shadow_drawn;
+    if (!vertices) {
+        glDisable(GL_SCISSOR_TEST);
+    } else {
+        /* the union of what was drawn and what will be */
+        int box[4];
+        for (int a = 0; a < 2; a++) {
+            int empty_now = now[0] >= now[2] || now[1] >= now[3];
+            int empty_was = was[0] >= was[2] || was[1] >= was[3];
+            box[a] = empty_now ? was[a] : empty_was ? now[a] : (now[a] < was[a] ? now[a] : was[a]);
+            box[2 + a] = empty_now ? was[2 + a]
+                         : empty_was ? now[2 + a]
+                                     : (now[2 + a] > was[2 + a] ? now[2 + a] : was[2 + a]);
+        }
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(box[0], box[1], box[2] > box[0] ? box[2] - box[0] : 0,
+                  box[3] > box[1] ? box[3] - box[1] : 0);
+    }
     glClear(GL_DEPTH_BUFFER_BIT);
+    for (int k = 0; k < 4; k++) was[k] = now[k];
     if (caster_indices > 0) {
         /* the casters' far sides: the lit side of the tube compares against
          * the side away from the light, so it does not shadow itself */
@@ -371,6 +420,7 @@ static void draw_shadow_map(gl_renderer *r, int caster_indices)
         glBindVertexArray(0);
         glCullFace(GL_BACK);
     }
+    glDisable(GL_SCISSOR_TEST);
 }
 
 /* The static receivers, inside the scissor box set: the solids, then the
@@ -396,7 +446,7 @@ int gl_renderer_draw_backdrop(gl_renderer *r, const render_camera *cam,
                               const unsigned char background[3], image *out)
 {
     if (gl_context_make_current(r->context)) return -1;
-    if (r->shadow_size > 0) draw_shadow_map(r, 0); /* nothing casts on the backdrop */
+    if (r->shadow_size > 0) draw_shadow_map(r, 0, NULL, 0); /* nothing casts on the backdrop */
     gl_target_bind(r->target);
     glDisable(GL_SCISSOR_TEST);
     glClearColor(background[0] / 255.0f, background[1] / 255.0f, background[2] / 255.0f, 1.0f);
@@ -431,7 +481,7 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
     glBindVertexArray(0);
     if (r->shadow_size > 0) {
         double started = shadow_seconds ? gl_seconds() : 0;
-        draw_shadow_map(r, caster_index_count);
+        draw_shadow_map(r, caster_index_count, vertices, vertex_count);
         if (shadow_seconds) {
             /* llvmpipe draws when asked for the result: wait for it to time the pass */
             glFinish();
