@@ -6,7 +6,9 @@ in vec3 world_position;
 in vec3 world_normal;
 in vec3 base_color;
 
-uniform int lit;              // 0: flat colour (grid lines); 1: glossy (rod); 2: matte (surfaces)
+// LIT and FADING are defined by the program that compiles this (src/render/gl_render.c):
+// one variant each, so that no pixel pays for another kind's shading
+const int lit = LIT;          // 0: flat colour (grid lines); 1: glossy (rod); 2: matte (surfaces)
 uniform int orthographic;     // 1: the eye direction is the same everywhere
 uniform vec3 eye;             // world position of the camera (perspective)
 uniform vec3 view_direction;  // unit, from the scene towards the eye (orthographic)
@@ -17,7 +19,7 @@ uniform sampler2DShadow shadow_map;
 uniform mat4 light_view_projection;
 uniform float shadow_offset;  // m: the point looked up moves this far along its normal (no acne)
 uniform float shadow_spread;  // shadow-map texture units: half the PCF kernel's width
-uniform int fading;           // 1: fade to the background away from fade_centre (a plane)
+const int fading = FADING;    // 1: fade to the background away from fade_centre (a plane)
 uniform vec4 fade;            // xyz: centre (m); w: radius where the fade starts (m)
 uniform float fade_end;       // m: radius where only the background remains
 uniform vec3 background;      // linear 0..1

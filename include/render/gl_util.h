@@ -13,6 +13,9 @@
  * shader development). Returns the program name (> 0), or 0 with a message
  * naming the file and the GLSL compiler's log. */
 unsigned gl_program_load(const char *name, char *err, size_t errlen);
+/* The same with `defines` ("#define X 1\n" lines; NULL: none) after each
+ * shader's #version line: a variant with constants folded in. */
+unsigned gl_program_load_defined(const char *name, const char *defines, char *err, size_t errlen);
 
 typedef struct gl_target gl_target;
 

@@ -28,4 +28,11 @@ int video_writer_finish(video_writer *v, char *err, size_t errlen);
 /* Frees everything; an unfinished file is removed. */
 void video_writer_destroy(video_writer *v);
 
+/* For the benchmark's baseline: decodes the video in_path and encodes its
+ * frames again into out_path with this writer's encoder settings (crf,
+ * preset; what `ffmpeg -i in -c:v libx264 -preset P -crf C -bf 0` does), the
+ * count of frames into *frames (may be NULL). 0, or -1 with a message. */
+int video_reencode(const char *in_path, const char *out_path, int crf, const char *preset,
+                   int *frames, char *err, size_t errlen);
+
 #endif

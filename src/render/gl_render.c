@@ -18,18 +18,34 @@ static double gl_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The scene shader's variants, each with its kind of shading folded in as
+ * constants: llvmpipe runs both sides of a branch for every pixel, so one
+ * shader for all paid the rod's highlight and the plane's fade on every
+ * pixel of every surface. */
+enum { SHADE_FLAT, SHADE_GLOSSY, SHADE_MATTE, SHADE_MATTE_FADED, SHADE_VARIANTS };
+static const char *const shade_defines[SHADE_VARIANTS] = {
+    [SHADE_FLAT] = "#define LIT 0\n#define FADING 0\n",
+    [SHADE_GLOSSY] = "#define LIT 1\n#define FADING 0\n",
+    [SHADE_MATTE] = "#define LIT 2\n#define FADING 0\n",
+    [SHADE_MATTE_FADED] = "#define LIT 2\n#define FADING 1\n",
+};
+
+typedef struct scene_program {
+    GLuint id;
+    GLint u_view_projection, u_orthographic, u_eye, u_view_direction, u_key, u_fill;
+    GLint u_shadows, u_shadow_map, u_light, u_shadow_offset, u_shadow_spread;
+    GLint u_fade, u_fade_end, u_background;
+} scene_program;
+
 struct gl_renderer {
     gl_context *context;
     gl_target *target;
     int width, height;          /* the target's, pixels */
-    GLuint program;
+    scene_program programs[SHADE_VARIANTS];
     GLuint vao, vbo, ibo;       /* per-frame triangles */
     GLuint line_vao, line_vbo;  /* static lines */
     int max_vertices, max_indices, max_line_vertices, line_count;
     unsigned char *box_pixels; /* (height x width x 4), RGBA of the last read rectangle */
-    GLint u_view_projection, u_lit, u_orthographic, u_eye, u_view_direction, u_key, u_fill;
-    GLint u_shadows, u_shadow_map, u_light, u_shadow_offset, u_shadow_spread;
-    GLint u_fading, u_fade, u_fade_end, u_background;
     /* static receivers (surfaces, ground, wound): drawn in the backdrop and in every box */
     GLuint receiver_vao, receiver_vbo, receiver_ibo;
     int receiver_plane_indices, receiver_indices; /* planes first (faded), then the rest */
@@ -40,6 +56,8 @@ struct gl_renderer {
     GLuint shadow_program, shadow_fbo, shadow_texture;
     GLint u_shadow_light;
     float light[16], shadow_offset, shadow_spread;
+    int shadow_drawn[4];        /* texels x0, y0, x1, y1 the last depth pass may have drawn
+                                   (x0 >= x1: none); the rest of the map is cleared */
 };
 
 static void set_vertex_layout(void)
@@ -78,30 +96,35 @@ gl_renderer *gl_renderer_create(int width, int height, int samples, int max_vert
     r->width = width;
     r->height = height;
     r->target = gl_target_create(width, height, samples, err, errlen);
-    r->program = r->target ? gl_program_load("scene", err, errlen) : 0;
-    if (!r->target || !r->program) {
+    if (!r->target) {
         gl_renderer_destroy(r);
         return NULL;
+    }
+    for (int v = 0; v < SHADE_VARIANTS; v++) {
+        scene_program *p = &r->programs[v];
+        p->id = gl_program_load_defined("scene", shade_defines[v], err, errlen);
+        if (!p->id) {
+            gl_renderer_destroy(r);
+            return NULL;
+        }
+        p->u_view_projection = glGetUniformLocation(p->id, "view_projection");
+        p->u_orthographic = glGetUniformLocation(p->id, "orthographic");
+        p->u_eye = glGetUniformLocation(p->id, "eye");
+        p->u_view_direction = glGetUniformLocation(p->id, "view_direction");
+        p->u_key = glGetUniformLocation(p->id, "key_direction");
+        p->u_fill = glGetUniformLocation(p->id, "fill_direction");
+        p->u_shadows = glGetUniformLocation(p->id, "shadows");
+        p->u_shadow_map = glGetUniformLocation(p->id, "shadow_map");
+        p->u_light = glGetUniformLocation(p->id, "light_view_projection");
+        p->u_shadow_offset = glGetUniformLocation(p->id, "shadow_offset");
+        p->u_shadow_spread = glGetUniformLocation(p->id, "shadow_spread");
+        p->u_fade = glGetUniformLocation(p->id, "fade");
+        p->u_fade_end = glGetUniformLocation(p->id, "fade_end");
+        p->u_background = glGetUniformLocation(p->id, "background");
     }
     r->max_vertices = max_vertices;
     r->max_indices = max_indices;
     r->max_line_vertices = max_line_vertices;
-    r->u_view_projection = glGetUniformLocation(r->program, "view_projection");
-    r->u_lit = glGetUniformLocation(r->program, "lit");
-    r->u_orthographic = glGetUniformLocation(r->program, "orthographic");
-    r->u_eye = glGetUniformLocation(r->program, "eye");
-    r->u_view_direction = glGetUniformLocation(r->program, "view_direction");
-    r->u_key = glGetUniformLocation(r->program, "key_direction");
-    r->u_fill = glGetUniformLocation(r->program, "fill_direction");
-    r->u_shadows = glGetUniformLocation(r->program, "shadows");
-    r->u_shadow_map = glGetUniformLocation(r->program, "shadow_map");
-    r->u_light = glGetUniformLocation(r->program, "light_view_projection");
-    r->u_shadow_offset = glGetUniformLocation(r->program, "shadow_offset");
-    r->u_shadow_spread = glGetUniformLocation(r->program, "shadow_spread");
-    r->u_fading = glGetUniformLocation(r->program, "fading");
-    r->u_fade = glGetUniformLocation(r->program, "fade");
-    r->u_fade_end = glGetUniformLocation(r->program, "fade_end");
-    r->u_background = glGetUniformLocation(r->program, "background");
 
     glGenVertexArrays(1, &r->vao);
     glBindVertexArray(r->vao);
@@ -149,7 +172,8 @@ void gl_renderer_destroy(gl_renderer *r)
     if (r->vbo) glDeleteBuffers(1, &r->vbo);
     if (r->ibo) glDeleteBuffers(1, &r->ibo);
     if (r->line_vbo) glDeleteBuffers(1, &r->line_vbo);
-    if (r->program) glDeleteProgram(r->program);
+    for (int v = 0; v < SHADE_VARIANTS; v++)
+        if (r->programs[v].id) glDeleteProgram(r->programs[v].id);
     gl_target_destroy(r->target);
     gl_context_destroy(r->context);
     free(r->box_pixels);
@@ -200,14 +224,8 @@ static void set_camera(gl_renderer *r, const render_camera *cam)
     glEnable(GL_CULL_FACE);
     glFrontFace(GL_CCW);
     glCullFace(GL_BACK);
-    glUseProgram(r->program);
     float matrix[16];
     for (int i = 0; i < 16; i++) matrix[i] = (float)cam->view_projection[i];
-    glUniformMatrix4fv(r->u_view_projection, 1, GL_FALSE, matrix);
-    glUniform1i(r->u_orthographic, cam->orthographic);
-    glUniform3f(r->u_eye, (float)cam->eye[0], (float)cam->eye[1], (float)cam->eye[2]);
-    glUniform3f(r->u_view_direction, (float)cam->direction[0], (float)cam->direction[1],
-                (float)cam->direction[2]);
     /* Lights ride with the camera: the key from upper left in front
      * (render_key_light, which the shadows use too), the fill from the
      * right, so the picture reads the same from any view. */
@@ -218,19 +236,35 @@ static void set_camera(gl_renderer *r, const render_camera *cam)
     normalized(key, key_direction[0], key_direction[1], key_direction[2]);
     normalized(fill, 0.5 * d[0] - 0.2 * u[0] + 0.9 * rt[0], 0.5 * d[1] - 0.2 * u[1] + 0.9 * rt[1],
                0.5 * d[2] - 0.2 * u[2] + 0.9 * rt[2]);
-    glUniform3fv(r->u_key, 1, key);
-    glUniform3fv(r->u_fill, 1, fill);
-    glUniform1i(r->u_shadows, r->shadow_size > 0);
-    glUniform1i(r->u_fading, 0);
     if (r->shadow_size > 0) {
         glActiveTexture(GL_TEXTURE1);
         glBindTexture(GL_TEXTURE_2D, r->shadow_texture);
         glActiveTexture(GL_TEXTURE0);
-        glUniform1i(r->u_shadow_map, 1);
-        glUniformMatrix4fv(r->u_light, 1, GL_FALSE, r->light);
-        glUniform1f(r->u_shadow_offset, r->shadow_offset);
-        glUniform1f(r->u_shadow_spread, r->shadow_spread);
     }
+    for (int v = 0; v < SHADE_VARIANTS; v++) {
+        const scene_program *p = &r->programs[v];
+        glUseProgram(p->id);
+        glUniformMatrix4fv(p->u_view_projection, 1, GL_FALSE, matrix);
+        glUniform1i(p->u_orthographic, cam->orthographic);
+        glUniform3f(p->u_eye, (float)cam->eye[0], (float)cam->eye[1], (float)cam->eye[2]);
+        glUniform3f(p->u_view_direction, (float)cam->direction[0], (float)cam->direction[1],
+                    (float)cam->direction[2]);
+        glUniform3fv(p->u_key, 1, key);
+        glUniform3fv(p->u_fill, 1, fill);
+        glUniform1i(p->u_shadows, r->shadow_size > 0);
+        if (r->shadow_size > 0) {
+            glUniform1i(p->u_shadow_map, 1);
+            glUniformMatrix4fv(p->u_light, 1, GL_FALSE, r->light);
+            glUniform1f(p->u_shadow_offset, r->shadow_offset);
+            glUniform1f(p->u_shadow_spread, r->shadow_spread);
+        }
+    }
+}
+
+/* Draws with shading variant v from now on. */
+static void use_shading(const gl_renderer *r, int v)
+{
+    glUseProgram(r->programs[v].id);
 }
 
 int gl_renderer_set_receivers(gl_renderer *r, const render_vertex *vertices, int vertex_count,
@@ -259,8 +293,12 @@ int gl_renderer_set_receivers(gl_renderer *r, const render_vertex *vertices, int
     for (int k = 0; k < 4; k++) r->fade[k] = (float)fade[k];
     r->fade_end = (float)fade[4];
     for (int k = 0; k < 3; k++) r->background_rgb[k] = background[k] / 255.0f;
-    glUseProgram(r->program);
-    glUniform3fv(r->u_background, 1, r->background_rgb);
+    for (int v = 0; v < SHADE_VARIANTS; v++) {
+        glUseProgram(r->programs[v].id);
+        glUniform3fv(r->programs[v].u_background, 1, r->background_rgb);
+        glUniform4fv(r->programs[v].u_fade, 1, r->fade);
+        glUniform1f(r->programs[v].u_fade_end, r->fade_end);
+    }
     return glGetError() == GL_NO_ERROR ? 0 : -1;
 }
 
@@ -314,15 +352,62 @@ int gl_renderer_set_shadows(gl_renderer *r, const double light_view_projection[1
     return 0;
 }
 
+/* The texels (x0, y0, x1, y1) that hold the shadow map's pixels of the
+ * vertices, a texel of margin around: the casters' triangles lie inside. */
+static void caster_texels(const gl_renderer *r, const render_vertex *vertices, int count,
+                          int texels[4])
+{
+    const float *m = r->light; /* column-major; orthographic: w = 1 */
+    float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
+    for (int i = 0; i < count; i++) {
+        const float *p = vertices[i].position;
+        for (int a = 0; a < 2; a++) {
+            float c = m[a] * p[0] + m[4 + a] * p[1] + m[8 + a] * p[2] + m[12 + a];
+            lo[a] = c < lo[a] ? c : lo[a];
+            hi[a] = c > hi[a] ? c : hi[a];
+        }
+    }
+    for (int a = 0; a < 2; a++) {
+        double from = floor((0.5 * lo[a] + 0.5) * r->shadow_size) - 2;
+        double to = ceil((0.5 * hi[a] + 0.5) * r->shadow_size) + 2;
+        texels[a] = (int)fmax(0, fmin(r->shadow_size, from));
+        texels[2 + a] = (int)fmax(0, fmin(r->shadow_size, to));
+    }
+}
+
 /* The depth pass: the first caster_indices indices of the frame's
- * triangles (0: an empty map, nothing casts) into the shadow map. */
-static void draw_shadow_map(gl_renderer *r, int caster_indices)
+ * triangles (0: an empty map, nothing casts) into the shadow map. Only
+ * the texels the casters may cover, now or in the pass before, are
+ * cleared and drawn (the map's clear was a fixed cost of every frame);
+ * the rest stays cleared. vertices: the frame's, NULL: the whole map. */
+static void draw_shadow_map(gl_renderer *r, int caster_indices, const render_vertex *vertices,
+                            int vertex_count)
 {
     glBindFramebuffer(GL_FRAMEBUFFER, r->shadow_fbo);
     glViewport(0, 0, r->shadow_size, r->shadow_size);
-    glDisable(GL_SCISSOR_TEST);
     glEnable(GL_DEPTH_TEST);
+    int now[4] = {0, 0, 0, 0};
+    if (vertices && caster_indices > 0) caster_texels(r, vertices, vertex_count, now);
+    int *was = r->shadow_drawn;
+    if (!vertices) {
+        glDisable(GL_SCISSOR_TEST);
+    } else {
+        /* the union of what was drawn and what will be */
+        int box[4];
+        for (int a = 0; a < 2; a++) {
+            int empty_now = now[0] >= now[2] || now[1] >= now[3];
+            int empty_was = was[0] >= was[2] || was[1] >= was[3];
+            box[a] = empty_now ? was[a] : empty_was ? now[a] : (now[a] < was[a] ? now[a] : was[a]);
+            box[2 + a] = empty_now ? was[2 + a]
+                         : empty_was ? now[2 + a]
+                                     : (now[2 + a] > was[2 + a] ? now[2 + a] : was[2 + a]);
+        }
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(box[0], box[1], box[2] > box[0] ? box[2] - box[0] : 0,
+                  box[3] > box[1] ? box[3] - box[1] : 0);
+    }
     glClear(GL_DEPTH_BUFFER_BIT);
+    for (int k = 0; k < 4; k++) was[k] = now[k];
     if (caster_indices > 0) {
         /* the casters' far sides: the lit side of the tube compares against
          * the side away from the light, so it does not shadow itself */
@@ -335,25 +420,25 @@ static void draw_shadow_map(gl_renderer *r, int caster_indices)
         glBindVertexArray(0);
         glCullFace(GL_BACK);
     }
+    glDisable(GL_SCISSOR_TEST);
 }
 
-/* The static receivers, inside the scissor box set (planes faded, then the rest). */
+/* The static receivers, inside the scissor box set: the solids, then the
+ * planes (faded) behind them, whose hidden pixels the depth test then
+ * drops before they are shaded (llvmpipe tests depth first). */
 static void draw_receivers(gl_renderer *r)
 {
     if (r->receiver_indices <= 0) return;
-    glUniform1i(r->u_lit, 2);
     glBindVertexArray(r->receiver_vao);
-    if (r->receiver_plane_indices > 0) {
-        glUniform1i(r->u_fading, 1);
-        glUniform4fv(r->u_fade, 1, r->fade);
-        glUniform1f(r->u_fade_end, r->fade_end);
-        glDrawElements(GL_TRIANGLES, r->receiver_plane_indices, GL_UNSIGNED_INT, NULL);
-        glUniform1i(r->u_fading, 0);
-    }
+    use_shading(r, SHADE_MATTE);
     if (r->receiver_indices > r->receiver_plane_indices)
         glDrawElements(GL_TRIANGLES, r->receiver_indices - r->receiver_plane_indices,
                        GL_UNSIGNED_INT,
                        (const void *)((size_t)r->receiver_plane_indices * sizeof(unsigned)));
+    if (r->receiver_plane_indices > 0) {
+        use_shading(r, SHADE_MATTE_FADED);
+        glDrawElements(GL_TRIANGLES, r->receiver_plane_indices, GL_UNSIGNED_INT, NULL);
+    }
     glBindVertexArray(0);
 }
 
@@ -361,14 +446,14 @@ int gl_renderer_draw_backdrop(gl_renderer *r, const render_camera *cam,
                               const unsigned char background[3], image *out)
 {
     if (gl_context_make_current(r->context)) return -1;
-    if (r->shadow_size > 0) draw_shadow_map(r, 0); /* nothing casts on the backdrop */
+    if (r->shadow_size > 0) draw_shadow_map(r, 0, NULL, 0); /* nothing casts on the backdrop */
     gl_target_bind(r->target);
     glDisable(GL_SCISSOR_TEST);
     glClearColor(background[0] / 255.0f, background[1] / 255.0f, background[2] / 255.0f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     set_camera(r, cam);
     if (r->line_count > 0) {
-        glUniform1i(r->u_lit, 0);
+        use_shading(r, SHADE_FLAT);
         glBindVertexArray(r->line_vao);
         glDrawArrays(GL_LINES, 0, r->line_count);
         glBindVertexArray(0);
@@ -396,7 +481,7 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
     glBindVertexArray(0);
     if (r->shadow_size > 0) {
         double started = shadow_seconds ? gl_seconds() : 0;
-        draw_shadow_map(r, caster_index_count);
+        draw_shadow_map(r, caster_index_count, vertices, vertex_count);
         if (shadow_seconds) {
             /* llvmpipe draws when asked for the result: wait for it to time the pass */
             glFinish();
@@ -421,7 +506,7 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
         if (!opaque) continue;
         /* as the backdrop draws them, so that the box's edges do not show */
         if (r->line_count > 0) {
-            glUniform1i(r->u_lit, 0);
+            use_shading(r, SHADE_FLAT);
             glBindVertexArray(r->line_vao);
             glDrawArrays(GL_LINES, 0, r->line_count);
             glBindVertexArray(0);
@@ -432,12 +517,12 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
     /* One draw for all boxes: the boxes cover the geometry by construction,
      * and whatever lands outside them is never resolved or read. */
     glBindVertexArray(r->vao);
-    glUniform1i(r->u_lit, 1);
+    use_shading(r, SHADE_GLOSSY);
     if (caster_index_count > 0)
         glDrawElements(GL_TRIANGLES, caster_index_count, GL_UNSIGNED_INT, NULL);
     if (index_count > caster_index_count) {
         /* the punctures: matte marks on the surfaces */
-        glUniform1i(r->u_lit, 2);
+        use_shading(r, SHADE_MATTE);
         glDrawElements(GL_TRIANGLES, index_count - caster_index_count, GL_UNSIGNED_INT,
                        (const void *)((size_t)caster_index_count * sizeof(unsigned)));
     }

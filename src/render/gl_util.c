@@ -54,14 +54,18 @@ static char *shader_source(const char *file, char *path, size_t pathlen, char *e
     return strcpy(copy, text);
 }
 
-static GLuint compile_shader(GLenum kind, const char *file, char *path, size_t pathlen, char *err,
-                             size_t errlen)
+static GLuint compile_shader(GLenum kind, const char *file, const char *defines, char *path,
+                             size_t pathlen, char *err, size_t errlen)
 {
     char *source = shader_source(file, path, pathlen, err, errlen);
     if (!source) return 0;
     GLuint shader = glCreateShader(kind);
-    const char *sources[1] = {source};
-    glShaderSource(shader, 1, sources, NULL);
+    /* the defines go after the #version line, which must come first */
+    char *body = strchr(source, '\n');
+    body = body ? body + 1 : source + strlen(source);
+    const char *sources[3] = {source, defines ? defines : "", body};
+    const GLint lengths[3] = {(GLint)(body - source), -1, -1};
+    glShaderSource(shader, 3, sources, lengths);
     glCompileShader(shader);
     free(source);
     GLint ok = 0;
@@ -78,14 +82,19 @@ static GLuint compile_shader(GLenum kind, const char *file, char *path, size_t p
 
 unsigned gl_program_load(const char *name, char *err, size_t errlen)
 {
+    return gl_program_load_defined(name, NULL, err, errlen);
+}
+
+unsigned gl_program_load_defined(const char *name, const char *defines, char *err, size_t errlen)
+{
     char vert_file[256], frag_file[256], vert_path[1200], frag_path[1200];
     snprintf(vert_file, sizeof vert_file, "%s.vert", name);
     snprintf(frag_file, sizeof frag_file, "%s.frag", name);
-    GLuint vert = compile_shader(GL_VERTEX_SHADER, vert_file, vert_path, sizeof vert_path, err,
-                                 errlen);
+    GLuint vert = compile_shader(GL_VERTEX_SHADER, vert_file, defines, vert_path,
+                                 sizeof vert_path, err, errlen);
     if (!vert) return 0;
-    GLuint frag = compile_shader(GL_FRAGMENT_SHADER, frag_file, frag_path, sizeof frag_path, err,
-                                 errlen);
+    GLuint frag = compile_shader(GL_FRAGMENT_SHADER, frag_file, defines, frag_path,
+                                 sizeof frag_path, err, errlen);
     if (!frag) {
         glDeleteShader(vert);
         return 0;

@@ -38,6 +38,20 @@
     X(AVUTIL, int, av_frame_get_buffer, (AVFrame *frame, int align))                        \
     X(AVUTIL, int, av_frame_make_writable, (AVFrame *frame))                                \
     X(AVUTIL, void, av_frame_free, (AVFrame **frame))                                       \
+    X(AVUTIL, void, av_frame_unref, (AVFrame *frame))                                       \
+    X(AVCODEC, const AVCodec *, avcodec_find_decoder, (enum AVCodecID id))                  \
+    X(AVCODEC, int, avcodec_parameters_to_context, (AVCodecContext *codec,                  \
+                                                    const AVCodecParameters *par))          \
+    X(AVCODEC, int, avcodec_send_packet, (AVCodecContext *avctx, const AVPacket *avpkt))    \
+    X(AVCODEC, int, avcodec_receive_frame, (AVCodecContext *avctx, AVFrame *frame))         \
+    X(AVCODEC, void, av_packet_unref, (AVPacket *pkt))                                      \
+    X(AVFORMAT, int, avformat_open_input, (AVFormatContext **ps, const char *url,           \
+                                           const AVInputFormat *fmt,                        \
+                                           AVDictionary **options))                         \
+    X(AVFORMAT, int, avformat_find_stream_info, (AVFormatContext *ic,                       \
+                                                 AVDictionary **options))                   \
+    X(AVFORMAT, int, av_read_frame, (AVFormatContext *s, AVPacket *pkt))                    \
+    X(AVFORMAT, void, avformat_close_input, (AVFormatContext **s))                          \
     X(AVUTIL, int, av_opt_set, (void *obj, const char *name, const char *val, int flags))   \
     X(AVUTIL, int, av_opt_set_int, (void *obj, const char *name, int64_t val, int flags))   \
     X(AVUTIL, int, av_dict_set, (AVDictionary **pm, const char *key, const char *value,     \
@@ -127,6 +141,16 @@ static int av_load(const char *path, char *err, size_t errlen)
 #define av_frame_get_buffer av.av_frame_get_buffer
 #define av_frame_make_writable av.av_frame_make_writable
 #define av_frame_free av.av_frame_free
+#define av_frame_unref av.av_frame_unref
+#define avcodec_find_decoder av.avcodec_find_decoder
+#define avcodec_parameters_to_context av.avcodec_parameters_to_context
+#define avcodec_send_packet av.avcodec_send_packet
+#define avcodec_receive_frame av.avcodec_receive_frame
+#define av_packet_unref av.av_packet_unref
+#define avformat_open_input av.avformat_open_input
+#define avformat_find_stream_info av.avformat_find_stream_info
+#define av_read_frame av.av_read_frame
+#define avformat_close_input av.avformat_close_input
 #define av_opt_set av.av_opt_set
 #define av_opt_set_int av.av_opt_set_int
 #define av_dict_set av.av_dict_set
@@ -438,4 +462,91 @@ void video_writer_destroy(video_writer *v)
     avcodec_free_context(&v->codec);
     avformat_free_context(v->format);
     free(v);
+}
+
+/* ------------------------------------------------------------------ re-encoding */
+
+/* The decoder's frames, as they come, into the writer (pts in order). */
+static int reencode_frames(video_writer *v, AVCodecContext *decoder, AVFrame *frame,
+                           const AVPacket *packet, char *err, size_t errlen)
+{
+    int code = avcodec_send_packet(decoder, packet);
+    if (code < 0) {
+        av_message(err, errlen, v->file.path, "cannot decode", code);
+        return -1;
+    }
+    for (;;) {
+        code = avcodec_receive_frame(decoder, frame);
+        if (code == AVERROR(EAGAIN) || code == AVERROR_EOF) return 0;
+        if (code < 0) {
+            av_message(err, errlen, v->file.path, "cannot decode", code);
+            return -1;
+        }
+        if (frame->format != AV_PIX_FMT_YUV420P || frame->width != v->width ||
+            frame->height != v->height) {
+            snprintf(err, errlen, "%s: the decoded frames are not yuv420p %dx%d", v->file.path,
+                     v->width, v->height);
+            av_frame_unref(frame);
+            return -1;
+        }
+        frame->pts = v->next_pts++;
+        frame->pict_type = AV_PICTURE_TYPE_NONE; /* the encoder decides, as ffmpeg's CLI does */
+        int status = encode(v, frame, err, errlen);
+        av_frame_unref(frame);
+        if (status) return -1;
+    }
+}
+
+int video_reencode(const char *in_path, const char *out_path, int crf, const char *preset,
+                   int *frames, char *err, size_t errlen)
+{
+    if (av_load(in_path, err, errlen)) return -1;
+    AVFormatContext *input = NULL;
+    int code = avformat_open_input(&input, in_path, NULL, NULL);
+    if (code < 0) {
+        av_message(err, errlen, in_path, "cannot open", code);
+        return -1;
+    }
+    AVCodecContext *decoder = NULL;
+    video_writer *v = NULL;
+    AVFrame *frame = av_frame_alloc();
+    AVPacket *packet = av_packet_alloc();
+    int status = -1, stream = -1;
+    if (avformat_find_stream_info(input, NULL) >= 0)
+        for (unsigned i = 0; i < input->nb_streams && stream < 0; i++)
+            if (input->streams[i]->codecpar->codec_type == AVMEDIA_TYPE_VIDEO) stream = (int)i;
+    const AVCodec *codec = stream >= 0
+                               ? avcodec_find_decoder(input->streams[stream]->codecpar->codec_id)
+                               : NULL;
+    if (!codec || !frame || !packet || !(decoder = avcodec_alloc_context3(codec)) ||
+        avcodec_parameters_to_context(decoder, input->streams[stream]->codecpar) < 0) {
+        snprintf(err, errlen, "%s: no video stream that libavcodec decodes", in_path);
+        goto done;
+    }
+    decoder->thread_count = 0; /* as many as the machine has, as ffmpeg's CLI */
+    if ((code = avcodec_open2(decoder, codec, NULL)) < 0) {
+        av_message(err, errlen, in_path, "cannot open the decoder", code);
+        goto done;
+    }
+    AVRational rate = input->streams[stream]->avg_frame_rate;
+    int fps = rate.den > 0 && rate.num > 0 ? (int)lround((double)rate.num / rate.den) : 30;
+    v = video_writer_create(out_path, decoder->width, decoder->height, fps, crf, preset, err,
+                            errlen);
+    if (!v) goto done;
+    status = 0;
+    while (!status && av_read_frame(input, packet) >= 0) {
+        if (packet->stream_index == stream)
+            status = reencode_frames(v, decoder, frame, packet, err, errlen);
+        av_packet_unref(packet);
+    }
+    if (!status) status = reencode_frames(v, decoder, frame, NULL, err, errlen); /* flush */
+    if (frames) *frames = (int)v->next_pts;
+    if (!status) status = video_writer_finish(v, err, errlen);
+done:
+    video_writer_destroy(v);
+    av_packet_free(&packet);
+    av_frame_free(&frame);
+    avcodec_free_context(&decoder);
+    avformat_close_input(&input);
+    return status;
 }
