@@ -20,11 +20,18 @@
  * 1993, ch. 6 and 8). So the square knot 3_1 # 3_1* has 0, the granny +-4,
  * the surgeon's knot 5_1 # 3_1* +-2 and the surgeon's granny 5_1 # 3_1 +-6.
  *
+ * Then the starting shapes of two shipped scenes, tied from throw geometry
+ * by their generators: overhand.ini's overhand (its hand from the Gauss
+ * writhe of the open thread) and surgeons_knot.ini's surgeon's knot (each
+ * throw a double helix of the two strands; left-handed, signature 2, as its
+ * generator builds it).
+ *
  * Every shape is identified as built and under 50 random rotations (knot.c
  * projects along a fixed direction: a rotation is another viewing
  * direction), and each rotated copy's mirror image too: all must agree. The
  * CPU time per identification is printed (not checked). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -67,15 +74,16 @@ static void throw_curve(polygon *g, int n, int q, int hand)
     }
 }
 
-/* Gauss writhe integral of a closed polygon, midpoint rule:
+/* Gauss writhe integral of a polygon (closed: the last point joins the
+ * first), midpoint rule:
  * (1 / 4 pi) sum_{i != j} (r_i - r_j) . (dr_i x dr_j) / |r_i - r_j|^3 */
-static double writhe(const polygon *g)
+static double writhe(const polygon *g, int closed)
 {
-    int n = g->n;
+    int n = g->n, segments = closed ? n : n - 1;
     double w = 0.0;
-    for (int i = 0; i < n; i++) {
+    for (int i = 0; i < segments; i++) {
         const double *a0 = &g->p[3 * i], *a1 = &g->p[3 * ((i + 1) % n)];
-        for (int j = 0; j < n; j++) {
+        for (int j = 0; j < segments; j++) {
             if (j == i) continue;
             const double *b0 = &g->p[3 * j], *b1 = &g->p[3 * ((j + 1) % n)];
             double da[3], db[3], r[3];
@@ -241,26 +249,23 @@ static void print_knot(const char *label, const rod_knot *k)
 static double total_seconds;
 static int total_calls;
 
-static void expect_shape(rod_knot_scratch *scratch, const shape *s)
+/* The thread as given and under ROTATIONS random rotations, each also
+ * mirrored: every call must give ref[0] (ref[1] mirrored). */
+static void expect_thread(rod_knot_scratch *scratch, const char *what, const polygon *thread,
+                          const rod_knot ref[2])
 {
-    static polygon thread, turned;
-    build_thread(&thread, s);
-    double gap = closest_approach(&thread);
-    check(gap > 0.05, "%s: %d points, least distance between non-adjacent segments %.3f "
-          "(reference > 0.05, the throws' radius 3)", s->what, thread.n, gap);
-    rod_knot ref[2], first = {0};
-    reference_of(s, 0, &ref[0]);
-    reference_of(s, 1, &ref[1]);
+    static polygon turned;
+    rod_knot first = {0};
     int agree[2] = {0, 0}, tried[2] = {0, 0}, lo = 1 << 30, hi = 0, fails = 0;
     char err[256] = "", bad[640] = "";
     double t0 = cpu_seconds();
     for (int r = 0; r <= ROTATIONS; r++)
         for (int mirror = 0; mirror < 2; mirror++) {
             if (r == 0) { /* as built (the mirror: z -> -z) */
-                turned = thread;
+                turned = *thread;
                 if (mirror)
                     for (int i = 0; i < turned.n; i++) turned.p[3 * i + 2] *= -1.0;
-            } else rotate_random(&turned, &thread, mirror);
+            } else rotate_random(&turned, thread, mirror);
             rod_knot k;
             int rc = rod_knot_identify_in(scratch, turned.p, turned.n, 0, &k, err, sizeof err);
             tried[mirror]++;
@@ -289,8 +294,58 @@ static void expect_shape(rod_knot_scratch *scratch, const shape *s)
     check(agree[0] == tried[0] && agree[1] == tried[1] && fails == 0,
           "%s: %d of %d directions name it %s and %d of %d mirrored ones %s (%d to %d "
           "crossings; %.3f ms per call)%s%s",
-          s->what, agree[0], tried[0], ref[0].name, agree[1], tried[1], ref[1].name, lo, hi,
+          what, agree[0], tried[0], ref[0].name, agree[1], tried[1], ref[1].name, lo, hi,
           1e3 * seconds / (tried[0] + tried[1]), bad[0] ? "; first disagreement " : "", bad);
+}
+
+static void expect_shape(rod_knot_scratch *scratch, const shape *s)
+{
+    static polygon thread;
+    build_thread(&thread, s);
+    double gap = closest_approach(&thread);
+    check(gap > 0.05, "%s: %d points, least distance between non-adjacent segments %.3f "
+          "(reference > 0.05, the throws' radius 3)", s->what, thread.n, gap);
+    rod_knot ref[2];
+    reference_of(s, 0, &ref[0]);
+    reference_of(s, 1, &ref[1]);
+    expect_thread(scratch, s->what, &thread, ref);
+}
+
+/* A shipped scene's starting shape (x,y,z per line after a header, m);
+ * 0 or -1. */
+static int load_shape(const char *path, polygon *g)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) return -1;
+    char line[256];
+    g->n = 0;
+    if (!fgets(line, sizeof line, f)) g->n = -1;
+    while (g->n >= 0 && g->n < MAX_POINTS && fgets(line, sizeof line, f)) {
+        double *r = &g->p[3 * g->n];
+        if (sscanf(line, "%lf,%lf,%lf", &r[0], &r[1], &r[2]) == 3) g->n++;
+    }
+    fclose(f);
+    return g->n > 1 ? 0 : -1;
+}
+
+/* The scenes' knots tied from throws by their generators (a double helix
+ * per throw: surgeons_knot_path.py; Shastri's long trefoil:
+ * overhand_path.py), with their tissue-side tails: the same from every
+ * direction. */
+static void expect_scene_shape(rod_knot_scratch *scratch, const char *file, const shape *s,
+                               double diameter)
+{
+    static polygon thread;
+    char path[512];
+    snprintf(path, sizeof path, "%s/scenes/%s", RODSIM_SOURCE_DIR, file);
+    if (!check(load_shape(path, &thread) == 0, "%s: read (%s)", file, path)) return;
+    double gap = closest_approach(&thread);
+    check(gap > 0.5 * diameter, "%s: %d points, least distance between non-adjacent segments "
+          "%.3g m (reference > half the cord's %.3g m)", file, thread.n, gap, diameter);
+    rod_knot ref[2];
+    reference_of(s, 0, &ref[0]);
+    reference_of(s, 1, &ref[1]);
+    expect_thread(scratch, s->what, &thread, ref);
 }
 
 int main(void)
@@ -300,7 +355,7 @@ int main(void)
     for (int q = 3; q <= 5; q += 2)
         for (int hand = -1; hand <= 1; hand += 2) {
             throw_curve(&curve, THROW_POINTS * (q + 1) / 4, q, hand);
-            double w = writhe(&curve);
+            double w = writhe(&curve, 1);
             check(w * hand > 1.0, "(2,%d) torus knot built %s-handed: Gauss writhe %.3f "
                   "(reference: sign %+d, |writhe| > 1)", q, hand > 0 ? "right" : "left", w, hand);
         }
@@ -338,6 +393,23 @@ int main(void)
         printf("-- %s\n", shapes[i].what);
         expect_shape(scratch, &shapes[i]);
     }
+    printf("-- the scenes' starting shapes\n");
+    /* the overhand: its hand from the open thread's Gauss writhe integral */
+    static polygon overhand;
+    char path[512];
+    snprintf(path, sizeof path, "%s/scenes/overhand_shape.csv", RODSIM_SOURCE_DIR);
+    double w = load_shape(path, &overhand) == 0 ? writhe(&overhand, 0) : NAN;
+    check(w > 1.0, "overhand_shape.csv: Gauss writhe of the open thread %.3f (reference > 1: "
+          "right-handed)", w);
+    const shape overhand_knot = {"overhand.ini's overhand", 1, {{3, 1}}, "trefoil, right-handed",
+                                 "trefoil, left-handed"};
+    expect_scene_shape(scratch, "overhand_shape.csv", &overhand_knot, 0.004);
+    /* the surgeon's knot: a left-handed double throw, the single throw the
+     * other way (its generator: signature 2) */
+    const shape surgeons = {"surgeons_knot.ini's surgeon's knot", 2, {{5, -1}, {3, 1}},
+                            "surgeon's knot (cinquefoil # mirror trefoil), left-handed",
+                            "surgeon's knot (cinquefoil # mirror trefoil), right-handed"};
+    expect_scene_shape(scratch, "surgeons_knot_shape.csv", &surgeons, 0.004);
     rod_knot_scratch_destroy(scratch);
     printf("-- identification cost: %.3f ms CPU per call over %d calls (not checked)\n",
            1e3 * total_seconds / total_calls, total_calls);
