@@ -264,7 +264,7 @@ class Scene:
         return f, m
 
     def knot_type(self):
-        """The centreline's knot type ("unknot", "trefoil", ...)."""
+        """The centreline's knot type ("unknot", "trefoil, right-handed", ...)."""
         buf = ctypes.create_string_buffer(128)
         self._check(_lib.rodsim_knot_type(self._handle(), buf, len(buf)))
         return buf.value.decode()

@@ -64,16 +64,15 @@ static int knot_line(rod_knot_scratch *scratch, const double *points, int nodes,
         snprintf(text, n, "knot: not identified");
         return 0;
     }
-    /* Rolfsen's labels for the two that knot.c names without one */
-    const char *label = !strcmp(k.name, "trefoil")        ? " (3_1)"
-                        : !strcmp(k.name, "figure-eight") ? " (4_1)"
-                                                          : "";
-    /* the trefoil is chiral and its signature says which: -2 right-handed (knot.h) */
-    const char *hand = strcmp(k.name, "trefoil") || !k.has_signature ? ""
-                       : k.signature < 0                           ? ", right-handed"
-                       : k.signature > 0                           ? ", left-handed"
-                                                                   : "";
-    snprintf(text, n, "knot: %s%s%s", k.name, label, hand);
+    /* Rolfsen's labels for the two that knot.c names without one, before
+     * the hand that ends a chiral knot's name (", right-handed", knot.h) */
+    const char *hand = strstr(k.name, ", right-handed");
+    if (!hand) hand = strstr(k.name, ", left-handed");
+    int stem = hand ? (int)(hand - k.name) : (int)strlen(k.name);
+    const char *label = !strncmp(k.name, "trefoil", 7) && stem == 7        ? " (3_1)"
+                        : !strncmp(k.name, "figure-eight", 12) && stem == 12 ? " (4_1)"
+                                                                             : "";
+    snprintf(text, n, "knot: %.*s%s%s", stem, k.name, label, hand ? hand : "");
     return 1;
 }
 

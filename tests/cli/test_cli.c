@@ -176,9 +176,10 @@ static void test_knot_summary(void)
     const char *line = strstr(output, "knot:");
     char first[256] = "";
     if (line) snprintf(first, sizeof first, "%.*s", (int)strcspn(line, "\n"), line);
-    check(status == 0 && strstr(first, "knot: trefoil at t = 0 s and at t = 0.01 s") &&
+    check(status == 0 && strstr(first, "knot: trefoil, left-handed at t = 0 s and at t = 0.01 s") &&
               strstr(first, "Alexander polynomial 1 - t + t^2, determinant 3, signature 2)"),
-          "a rod starting as an open trefoil: exit %d, summary '%s' (reference: trefoil, 1 - t + "
+          "a rod starting as an open trefoil: exit %d, summary '%s' (reference: trefoil, "
+          "left-handed, 1 - t + "
           "t^2, determinant 3, signature 2: this parametrisation is left-handed, see test_knot)",
           status, line ? first : output);
     unlink(shape);

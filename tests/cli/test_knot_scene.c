@@ -124,8 +124,8 @@ static void test_pulled_tight(const char *dir)
                           duration, "--set", "render.fps=10", NULL};
     int status = test_run_rodsim(args, output, sizeof output);
     check(status == 0, "overhand_tight.ini, %s s: the run completes (exit %d)", until, status);
-    snprintf(text, sizeof text, "knot: trefoil at t = 0 s and at t = %s s, the same in all %d output "
-             "frames", until, want);
+    snprintf(text, sizeof text, "knot: trefoil, right-handed at t = 0 s and at t = %s s, the same "
+             "in all %d output frames", until, want);
     check(strstr(output, text) != NULL,
           "overhand_tight.ini: the summary names the knot a trefoil in all %d frames", want);
     static double x[MAX_FRAMES][NODES * 3];
@@ -166,7 +166,8 @@ int main(void)
                           "solver.duration=3", "--set", "render.fps=5", NULL};
     int status = test_run_rodsim(args, output, sizeof output);
     check(status == 0, "overhand.ini, 3 s: the run completes (exit %d)", status);
-    check(strstr(output, "knot: trefoil at t = 0 s and at t = 3 s, the same in all 16 output frames") != NULL,
+    check(strstr(output, "knot: trefoil, right-handed at t = 0 s and at t = 3 s, the same in all 16 "
+                         "output frames") != NULL,
           "overhand.ini: the summary names the knot a trefoil in all 16 frames");
     static double x[MAX_FRAMES][NODES * 3];
     double t[MAX_FRAMES];
@@ -203,7 +204,7 @@ int main(void)
     status = test_run_rodsim(slip, output, sizeof output);
     check(status == 0, "without friction: the run completes (exit %d; a slip is a warning)", status);
     check(strstr(output, "the knot slipped off the rod's root end") != NULL &&
-          strstr(output, "trefoil -> unknot, slipped off the root end") != NULL &&
+          strstr(output, "trefoil, right-handed -> unknot, slipped off the root end") != NULL &&
           strstr(output, "passed through") == NULL,
           "the run says the knot slipped off the root end, not that a strand passed through");
     frames = read_frames(csv, t, x, &rows);

@@ -3,7 +3,8 @@
  * the other way) over a bite through a practice pad, cinched by both ends.
  * From the run's summary: the knot is named the surgeon's knot (cinquefoil
  * # mirror trefoil: Delta = 1 - 2t + 3t^2 - 3t^3 + 3t^4 - 2t^5 + t^6,
- * signature 2, test_knot checks those on polygons) in every output frame.
+ * signature 2: left-handed; test_knot checks those on polygons) in every
+ * output frame.
  * From the CSV, with this file's own geometry (tests/test_segment.h, not
  * the contact code): no two segments more than 5 apart come closer than
  * 0.9 diameters in any frame; the thread passes through both puncture
@@ -50,8 +51,8 @@ int main(void)
                           duration, "--set", "render.fps=2", NULL};
     int status = test_run_rodsim(args, output, sizeof output);
     check(status == 0, "surgeons_knot.ini, %s s: the run completes (exit %d)", until, status);
-    snprintf(want, sizeof want, "knot: surgeon's knot (cinquefoil # mirror trefoil) at t = 0 s and at "
-             "t = %s s, the same in all %d output frames", until, want_frames);
+    snprintf(want, sizeof want, "knot: surgeon's knot (cinquefoil # mirror trefoil), left-handed at "
+             "t = 0 s and at t = %s s, the same in all %d output frames", until, want_frames);
     check(strstr(output, want) != NULL, "the summary names the surgeon's knot in all %d frames",
           want_frames);
     check(strstr(output, "puncture 1 at (0, -0.0471986, 0) m (given)") &&

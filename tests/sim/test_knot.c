@@ -219,22 +219,25 @@ typedef struct reference {
  * convention in which the right-handed trefoil has -2 (sign(V + V^T) of its
  * Seifert matrix V = [-1 1; 0 -1]). */
 static const reference UNKNOT = {"unknot", 1, {1}, 1, 0};
-static const reference TREFOIL = {"trefoil", 3, {1, -1, 1}, 3, 2};
-static const reference MIRROR_TREFOIL = {"trefoil", 3, {1, -1, 1}, 3, -2};
+static const reference TREFOIL = {"trefoil, left-handed", 3, {1, -1, 1}, 3, 2};
+static const reference MIRROR_TREFOIL = {"trefoil, right-handed", 3, {1, -1, 1}, 3, -2};
 static const reference FIGURE_EIGHT = {"figure-eight", 3, {1, -3, 1}, 5, 0};
-static const reference CINQUEFOIL = {"cinquefoil (5_1)", 5, {1, -1, 1, -1, 1}, 5, 4};
-static const reference GRANNY = {"granny knot (trefoil # trefoil)", 5, {1, -2, 3, -2, 1}, 9, 4};
+static const reference CINQUEFOIL = {"cinquefoil (5_1), left-handed", 5, {1, -1, 1, -1, 1}, 5, 4};
+static const reference GRANNY = {"granny knot (trefoil # trefoil), left-handed", 5,
+                                 {1, -2, 3, -2, 1}, 9, 4};
 static const reference SQUARE = {"square knot (trefoil # mirror trefoil)", 5, {1, -2, 3, -2, 1},
                                  9, 0};
 /* the cinquefoil (+4) with a mirror trefoil (-2): the surgeon's knot's
  * double throw and its single throw turned the other way; with a trefoil of
  * its own hand (+2), the surgeon's granny. Delta = (t^4 - t^3 + t^2 - t + 1)
  * (t^2 - t + 1) expanded by hand; determinant 5 x 3. */
-static const reference SURGEONS = {"surgeon's knot (cinquefoil # mirror trefoil)", 7,
-                                   {1, -2, 3, -3, 3, -2, 1}, 15, 2};
-static const reference SURGEONS_GRANNY = {"granny surgeon's knot (cinquefoil # trefoil)", 7,
-                                          {1, -2, 3, -3, 3, -2, 1}, 15, 6};
-static const reference TREFOIL_FIGURE_EIGHT = {"trefoil # figure-eight", 5,
+static const reference SURGEONS = {
+    "surgeon's knot (cinquefoil # mirror trefoil), left-handed", 7, {1, -2, 3, -3, 3, -2, 1}, 15,
+    2};
+static const reference SURGEONS_GRANNY = {
+    "granny surgeon's knot (cinquefoil # trefoil), left-handed", 7, {1, -2, 3, -3, 3, -2, 1}, 15,
+    6};
+static const reference TREFOIL_FIGURE_EIGHT = {"trefoil # figure-eight, left-handed", 5,
                                                {1, -4, 5, -4, 1}, 15, 2};
 
 /* Identifies g (closed or open) and checks name, polynomial and determinant. */

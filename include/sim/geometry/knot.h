@@ -10,7 +10,8 @@
  * chirality, and it cannot tell the square knot from the granny (both
  * (t^2 - t + 1)^2). The signature (from the Goeritz matrix of the same
  * diagram) tells those two apart, and a knot from its mirror image when it is
- * not 0 (Rolfsen's convention: the right-handed trefoil has -2). */
+ * not 0 (Rolfsen's convention: the right-handed trefoil has -2): the name
+ * then says the hand. */
 #ifndef RODSIM_SIM_KNOT_H
 #define RODSIM_SIM_KNOT_H
 
@@ -26,8 +27,10 @@
 #define ROD_KNOT_MAX_TERMS 64
 
 typedef struct rod_knot {
-    char name[96];            /* "unknot", "trefoil", "square knot ...", "granny knot ...",
-                                 ..., or "unknown (Delta = ...)" */
+    char name[96];            /* "unknot", "trefoil, right-handed", "square knot ...",
+                                 "granny knot ..., left-handed", ..., or "unknown (Delta =
+                                 ...)"; a knot whose signature is not 0 ends in ",
+                                 right-handed" (signature < 0) or ", left-handed" (> 0) */
     int terms;                /* coefficients in `coefficient`: degree + 1 */
     long long coefficient[ROD_KNOT_MAX_TERMS]; /* Delta(t) = sum c_k t^k, normalised:
                                  lowest term constant and positive (trefoil 1 -1 1) */

@@ -526,8 +526,12 @@ static const struct {
     {"square or granny (composite of two trefoils)", 5, {1, -2, 3, -2, 1},
      {{0, "square knot (trefoil # mirror trefoil)"}, {4, "granny knot (trefoil # trefoil)"}}},
     {"trefoil # figure-eight", 5, {1, -4, 5, -4, 1}, {{0, NULL}}},
-    /* the surgeon's knot: a double throw (closed, the double overhand knot:
-     * the cinquefoil) and a single one (the trefoil); no prime knot of up to
+    /* Delta and signature of the surgical knots (KnotInfo, knotinfo.math.indiana.edu:
+     * 3_1 1 - t + t^2, sigma -2; 5_1 1 - t + t^2 - t^3 + t^4, sigma -4, both for
+     * the positive (right-handed) diagram; Rolfsen, Knots and Links, app. C):
+     * Delta multiplies and sigma adds under #. The surgeon's knot: a double
+     * throw (closed, the double overhand knot: the cinquefoil) and a single
+     * one (the trefoil); no prime knot of up to
      * 8 crossings has this polynomial (Rolfsen's table). The signature tells
      * the surgeon's knot, whose throws turn opposite ways as a square knot's
      * (+-4 -+ 2 = +-2), from its granny (+-6) */
@@ -858,7 +862,9 @@ static int normalise_polynomial(const long long *value, int m, int c, rod_knot *
 }
 
 /* out->name from the table of known knots (the signature telling apart those
- * that share a polynomial), else "unknown (...)"; terms: of the whole Delta. */
+ * that share a polynomial, and its sign giving a chiral knot's hand: ",
+ * right-handed" or ", left-handed" after the name), else "unknown (...)";
+ * terms: of the whole Delta. */
 static void name_knot(rod_knot *out, int terms)
 {
     snprintf(out->name, sizeof out->name, "unknown (degree %d)", terms - 1);
@@ -873,7 +879,14 @@ static void name_knot(rod_knot *out, int terms)
             if (sn->name && out->has_signature && abs(out->signature) == sn->abs_signature)
                 name = sn->name;
         }
-        snprintf(out->name, sizeof out->name, "%s", name);
+        /* a chiral knot's hand from its signature's sign, as Rolfsen's table:
+         * negative for the right-handed trefoil (positive crossings), so the
+         * hand of a composite is that of its dominant part (the surgeon's
+         * knot's double throw) */
+        const char *hand = !out->has_signature || out->signature == 0 ? ""
+                           : out->signature < 0                       ? ", right-handed"
+                                                                      : ", left-handed";
+        snprintf(out->name, sizeof out->name, "%s%s", name, hand);
     }
     if (!named && terms <= ROD_KNOT_MAX_TERMS) {
         char text[72];
