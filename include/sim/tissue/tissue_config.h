@@ -20,7 +20,7 @@ typedef enum {
 } tissue_held;
 
 /* Time integration of M a + C v + f_int(x) = f_ext (decision record
- * draft-tissue-fem): Newmark's average acceleration (trapezoidal rule,
+ * 0064-tissue-fem): Newmark's average acceleration (trapezoidal rule,
  * second order, no numerical dissipation) or backward Euler (first order,
  * dissipates the high modes). */
 typedef enum { TISSUE_NEWMARK = 0, TISSUE_BACKWARD_EULER } tissue_integrator;

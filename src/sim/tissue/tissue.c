@@ -462,7 +462,7 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
     /* The last factor (of this step or an earlier one with the same dt and
      * holds) serves while the residual falls at least fourfold per
      * iteration; a slower fall renews it (a factorisation costs ~10
-     * assemblies at the pad's size: decision record draft-tissue-fem). */
+     * assemblies at the pad's size: decision record 0064-tissue-fem). */
     double last_worst = HUGE_VAL;
     /* statics far from equilibrium may meet an indefinite K: then a
      * mass-proportional shift (1/s^2; a pseudo time step), cut tenfold per
