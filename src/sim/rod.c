@@ -12,6 +12,7 @@
 #include "sim/rod_geometry.h"
 #include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
+#include "sim/tissue/tissue.h"
 
 /* How far (relative to the length) a path's first row may lie from the end
  * it moves, beyond what the shape's resampling moved that end: rounding. */
@@ -565,7 +566,10 @@ void rod_model_release(rod_model *m)
     free(m->point_loads);
     m->point_loads = NULL;
     m->point_load_count = 0;
-    for (int k = 0; k < m->surface_count; k++) rod_mesh_destroy(m->surfaces[k].mesh);
+    for (int k = 0; k < m->surface_count; k++) {
+        rod_mesh_destroy(m->surfaces[k].mesh);
+        tissue_destroy(m->surfaces[k].solid);
+    }
     free(m->surfaces);
     m->surfaces = NULL;
     m->surface_count = 0;

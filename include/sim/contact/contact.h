@@ -21,6 +21,8 @@ typedef struct contact_puncture {
     double alpha;      /* fraction along it */
     double point[3], tangent[3], friction;
     double force[3];   /* N, global: what the tissue exerts on the thread, this iterate */
+    double compliance[9]; /* m/N: an elastic pad's point moves by C times the force on it
+                             (the point: where it is with that force removed); 0: rigid */
 } contact_puncture;
 
 typedef struct rod_contact {
