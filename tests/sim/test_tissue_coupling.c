@@ -3,7 +3,8 @@
  * through two punctures in a slab, at rest (the pad's reaction is W, and the
  * punctures sit where a pad-only solve under the thread's forces puts
  * those material points), the wound's gap falling as a stitch is pulled
- * tight (scenes/wound_closure.ini, shortened), and the scene's refusals. */
+ * tight (scenes/wound_closure.ini), the compliance from the kept factor,
+ * and the scene's refusals. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -203,8 +204,58 @@ static void stitch_tightened(void)
     rod_model_release(&m);
 }
 
+/* The compliance at a material point, taken from the factor the static
+ * solve kept (3 solves), against one from a fresh factorisation, and
+ * against the displacement a small force there makes (the pad linear at
+ * 1 mN: a 0.1 um step). */
+static void compliance_from_kept_factor(void)
+{
+    char err[512] = "";
+    tissue_config c = tissue_config_default();
+    c.element_size = 0.004;
+    c.gravity[2] = 0.0;
+    tissue_solid *t = tissue_create(&c, err, sizeof err);
+    const double p[3] = {0.003, 0.002, 0.002};
+    int tet;
+    double bary[4], C1[9], C2[9];
+    if (!check(t && tissue_solve_static(t, NULL, err, sizeof err) == 0 &&
+                   tissue_locate(t, p, &tet, bary) == 0,
+               "a pad at rest, a point in it (%s)", err)) {
+        tissue_destroy(t);
+        return;
+    }
+    /* the pad unloaded is at rest already: its static solve factorises
+     * nothing, the first compliance does */
+    double C0[9];
+    int rc = tissue_point_compliance(t, tet, bary, 0.0, C0, err, sizeof err);
+    const long first = tissue_factorisations(t);
+    rc |= tissue_point_compliance(t, tet, bary, 0.0, C1, err, sizeof err);
+    const long kept = tissue_factorisations(t);
+    check(rc == 0 && first == 1 && kept == 1,
+          "the compliance again from the kept factor: no factorisation (%ld, then %ld)", first,
+          kept);
+    tissue_hold(t, 0, 7u, NULL); /* node 0 is held already: the same matrix, factor dropped */
+    rc = tissue_point_compliance(t, tet, bary, 0.0, C2, err, sizeof err);
+    const long fresh = tissue_factorisations(t);
+    check(rc == 0 && fresh == 2, "after a hold, the compliance factorises once (%ld)", fresh);
+    double worst = 0.0;
+    for (int k = 0; k < 9; k++) worst = fmax(worst, fabs(C1[k] - C2[k]));
+    check_rel("compliance C_zz (m/N), kept factor against a fresh one", C1[8], C2[8], 1e-12);
+    check(worst <= 1e-12 * fabs(C2[8]), "every entry agrees to 1e-12 of C_zz (%.3g m/N)", worst);
+    double before_x[3], after_x[3];
+    const double f[3] = {0.0, 0.0, -1e-3};
+    tissue_point_position(t, tet, bary, before_x);
+    tissue_apply_point_force(t, tet, bary, f);
+    check(tissue_solve_static(t, NULL, err, sizeof err) == 0, "1 mN at the point solves (%s)", err);
+    tissue_point_position(t, tet, bary, after_x);
+    check_rel("the point's drop under 1 mN (m) against C f", before_x[2] - after_x[2],
+              -C1[8] * f[2], 1e-4);
+    tissue_destroy(t);
+}
+
 int main(void)
 {
+    compliance_from_kept_factor();
     hanging_weight();
     stitch_tightened();
     bad_input();
