@@ -793,6 +793,16 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     }
     /* initial_velocity is global; the state keeps velocity in director components */
     for (size_t i = 0; i < n; i++) m3_mul_tv(&s->velocity[3 * i], &s->frame[9 * i], m->initial_velocity);
+    /* an elastic pad back at its rest under its pretension and weight (a
+     * model run again, or a run's second pass for its video, starts where
+     * the first did); it found that rest when the scene was read, and a
+     * failure here leaves it where it is */
+    for (int j = 0; j < m->surface_count; j++) {
+        if (!m->surfaces[j].solid) continue;
+        char why[256];
+        tissue_clear_forces(m->surfaces[j].solid);
+        (void)tissue_solve_static(m->surfaces[j].solid, NULL, why, sizeof why);
+    }
     /* the scene's punctures, at the arc length of the starting shape nearest
      * them; one on a tissue surface's boundary (within 1 % of the radius)
      * belongs to that surface, so that the thread between two of them is
