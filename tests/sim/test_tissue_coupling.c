@@ -3,8 +3,9 @@
  * through two punctures in a slab, at rest (the pad's reaction is W, and the
  * punctures sit where a pad-only solve under the thread's forces puts
  * those material points), the wound's gap falling as a stitch is pulled
- * tight (scenes/wound_closure.ini), the compliance from the kept factor,
- * and the scene's refusals. */
+ * tight (scenes/wound_closure.ini), the needle's holes linked to the pad
+ * (scenes/suture.ini), the compliance from the kept factor, and the
+ * scene's refusals. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -253,8 +254,59 @@ static void compliance_from_kept_factor(void)
     tissue_destroy(t);
 }
 
+/* scenes/suture.ini's first bite on an elastic pad (E 6e5 Pa, tets of
+ * 1 cm): the needle's two holes are linked to the pad where they are made
+ * and move with it; the pad is stiff against these mN forces, so the
+ * thread's forces there match the rigid pad's to 1 %. */
+static void needle_holes(void)
+{
+    char err[1024] = "";
+    rod_model m[2];
+    rod_state *s[2] = {NULL, NULL};
+    for (int k = 0; k < 2; k++) {
+        ini_doc *doc = ini_load(SCENES "/suture.ini", err, sizeof err);
+        int rc = !doc || (k == 1 && (ini_set(doc, "surface.model=elastic", err, sizeof err) ||
+                                     ini_set(doc, "surface.element_size=0.01", err, sizeof err) ||
+                                     ini_set(doc, "surface.youngs_modulus=6e5", err, sizeof err))) ||
+                 scene_read_rod(doc, &m[k], err, sizeof err);
+        ini_destroy(doc);
+        if (!check(rc == 0, "suture.ini reads (%s pad; %s)", k ? "elastic" : "rigid", err)) {
+            if (k == 1) {
+                rod_state_destroy(s[0]);
+                rod_model_release(&m[0]);
+            }
+            return;
+        }
+        s[k] = rod_state_create(&m[k]);
+        check(s[k] && run(&m[k], s[k], 7200, m[k].options.dt) == 0 && s[k]->puncture_count == 2,
+              "the first bite (6 s) with the %s pad: two holes", k ? "elastic" : "rigid");
+    }
+    const tissue_solid *t = m[1].surfaces[0].solid;
+    for (int k = 0; k < 2 && s[1]->puncture_count == 2 && s[0]->puncture_count == 2; k++) {
+        const rod_puncture_state *ps = &s[1]->puncture[k];
+        double at[3];
+        tissue_point_position(t, ps->tet, ps->bary, at);
+        double d = 0.0, df = 0.0, f = 0.0;
+        for (int c = 0; c < 3; c++) {
+            d = fmax(d, fabs(at[c] + ps->offset[c] - ps->point[c]));
+            df += (ps->force[c] - s[0]->puncture[k].force[c]) * (ps->force[c] - s[0]->puncture[k].force[c]);
+            f += s[0]->puncture[k].force[c] * s[0]->puncture[k].force[c];
+        }
+        check(ps->linked == 1 && d < 1e-15, "hole %d: linked to the pad, at its material point "
+              "(%.2g m off)", k + 1, d);
+        check(sqrt(df) <= 0.01 * sqrt(f), "hole %d: the thread's force %.4g N, the rigid pad's "
+              "%.4g N (%.2g apart)", k + 1, sqrt(ps->force[0] * ps->force[0] +
+              ps->force[1] * ps->force[1] + ps->force[2] * ps->force[2]), sqrt(f), sqrt(df));
+    }
+    for (int k = 0; k < 2; k++) {
+        rod_state_destroy(s[k]);
+        rod_model_release(&m[k]);
+    }
+}
+
 int main(void)
 {
+    needle_holes();
     compliance_from_kept_factor();
     hanging_weight();
     stitch_tightened();
