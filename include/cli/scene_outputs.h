@@ -28,6 +28,7 @@ typedef struct scene_outputs_options {
     const char *label;   /* the scene's (or record's) path: heads the summary */
     const char *out_dir; /* the video and poster, DIR/NAME.mp4 and DIR/NAME.png */
     const char *csv;     /* the centreline CSV; "-": standard output; NULL: none */
+    const char *tissue_csv; /* an elastic pad's top-face nodes per frame; NULL: none */
     int no_video, allow_long, quiet;
     int progress;         /* 1: the progress line on stderr whatever stderr is (--progress);
                              0: only on a terminal, for a run estimated over 2 s */

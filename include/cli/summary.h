@@ -18,6 +18,7 @@
 #define SUMMARY_MAX_FILES 8
 #define SUMMARY_MAX_KNOT_CHANGES 32
 #define SUMMARY_MAX_PUNCTURES 16
+#define SUMMARY_MAX_GAPS 512
 
 /* A knot change: when (s) and the type after it. */
 typedef struct summary_knot_change {
@@ -85,6 +86,15 @@ typedef struct run_summary {
     summary_puncture punctures[SUMMARY_MAX_PUNCTURES];
     int grasp_count;
     summary_grasp grasps[SUMMARY_MAX_GRASPS];
+    /* an elastic pad ([surface] model = elastic) */
+    int has_tissue;
+    double tissue_max_displacement; /* m: the farthest a pad node is from its rest place,
+                                       over the output frames */
+    int gap_count;
+    double wound_gap[SUMMARY_MAX_GAPS][2]; /* t s, gap m: the wound's opening at the stitch
+                                              (the pad's punctures' mean place along the
+                                              wound; without one, the widest) per output
+                                              frame, the first SUMMARY_MAX_GAPS */
 } run_summary;
 
 /* An empty summary: nothing known, rope and gap unknown. */

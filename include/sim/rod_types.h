@@ -96,6 +96,9 @@ typedef struct rod_surface {
     int line;          /* the scene line of its [surface] header (messages); 0: none */
     struct rod_mesh *mesh; /* shape mesh: its triangles, owned by the model (released with
                               it); NULL otherwise */
+    struct tissue_solid *solid; /* box with model = elastic: the deformable pad (its state:
+                              positions and loads, stepped with the rod), owned by the model
+                              (released with it); NULL: rigid */
 } rod_surface;
 
 /* A puncture given in the scene ([puncture], repeatable): a point the
@@ -165,6 +168,15 @@ typedef struct rod_puncture_state {
     double friction;   /* Coulomb coefficient along the thread */
     double force[3];   /* N, global: the force the thread exerts on the tissue there */
     int surface;       /* index of the tissue surface it was made in; -1: given in the scene */
+    /* in an elastic pad (rod_surface.solid): the material point it moves with */
+    int linked;        /* 1: tet, bary, offset and compliance are set */
+    int tet;           /* the pad's tet holding it */
+    double bary[4];    /* its barycentric weights there */
+    double offset[3];  /* m: point - the material point's position (constant) */
+    double compliance[9]; /* m/N, 3 x 3 row-major: the point's static displacement per
+                             newton at it, at the pad's last equilibrium */
+    double pad_force[3];  /* N: the force on the pad there at its last equilibrium */
+    long compliance_factor; /* the pad's factorisation the compliance was taken from */
 } rod_puncture_state;
 
 /* Which physics a run models (scene [physics]). Switching one off removes

@@ -24,8 +24,8 @@ void run_usage(FILE *f)
 {
     fprintf(f,
             "usage: rodsim run SCENE [--set section.key=value]... [-o DIR] [--csv FILE]\n"
-            "                        [--summary FILE] [--no-video] [--allow-long]\n"
-            "                        [--progress] [--quiet]\n"
+            "                        [--tissue-csv FILE] [--summary FILE] [--no-video]\n"
+            "                        [--allow-long] [--progress] [--quiet]\n"
             "\n"
             "Simulates the rod scene SCENE (an INI file; its keys: rodsim help scene).\n"
             "  --set section.key=value  override a scene key (repeatable, applied in order),\n"
@@ -37,11 +37,14 @@ void run_usage(FILE *f)
             "                           internal force N(s), global; at a held end, the\n"
             "                           force between the rod and its support;\n"
             "                           --csv - writes it to standard output\n"
+            "  --tissue-csv FILE        write an elastic pad's top-face nodes at every\n"
+            "                           output frame: t,node,x,y,z (s, -, m, m, m)\n"
             "  --summary FILE           write how the run ended as one JSON object (status,\n"
             "                           exit_code, message, warnings, counts, times, tip, end\n"
-            "                           forces, knot, punctures; docs/commands.md), whatever\n"
-            "                           the outcome; --summary - writes it to standard output\n"
-            "                           (the prose then goes to standard error)\n"
+            "                           forces, knot, punctures, tissue; docs/commands.md),\n"
+            "                           whatever the outcome; --summary - writes it to\n"
+            "                           standard output (the prose then goes to standard\n"
+            "                           error)\n"
             "  --no-video               do not render the video\n"
             "  --allow-long             run even when the estimated time is over 1 hour\n"
             "  --progress               show the progress line (simulated time, CPU s per\n"
@@ -215,6 +218,7 @@ int run_command(int argc, char **argv)
         {.name = "--set", .value = CLI_SETTING, .target = &sets, .repeated = 1},
         {.name = "-o", .value = CLI_DIR, .target = &o.out_dir},
         {.name = "--csv", .value = CLI_OUTPUT, .target = &o.csv},
+        {.name = "--tissue-csv", .value = CLI_OUTPUT, .target = &o.tissue_csv},
         {.name = "--summary", .value = CLI_OUTPUT, .target = &summary_path},
         {.name = "--no-video", .value = CLI_FLAG, .target = &o.no_video},
         {.name = "--allow-long", .value = CLI_FLAG, .target = &o.allow_long},

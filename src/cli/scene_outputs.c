@@ -27,6 +27,8 @@
 #include "render/gl_context.h"
 #include "sim/rod.h"
 #include "sim/scene.h"
+#include "sim/tissue/tissue.h"
+#include "sim/tissue/tissue_coupling.h"
 
 #define SCENE_OUTPUTS_ERR_LEN 1024
 
@@ -189,6 +191,23 @@ static int report_step_failure(const scene_outputs_options *a, rod_status status
     return RUN_EXIT_FAILURE;
 }
 
+/* The wound's opening (m) of an elastic pad at its stitch: at the mean
+ * place of the punctures in it, or the widest without one. */
+static double stitch_gap(const rod_model *m, const rod_state *s, int pad)
+{
+    double at[3] = {0, 0, 0};
+    int count = 0;
+    for (int k = 0; k < s->puncture_count; k++)
+        if (s->puncture[k].linked == pad + 1) {
+            v3_axpy(at, 1.0, s->puncture[k].point);
+            count++;
+        }
+    const tissue_solid *t = m->surfaces[pad].solid;
+    if (count == 0) return tissue_wound_gap(t);
+    v3_scale(at, at, 1.0 / count);
+    return tissue_coupling_gap_at(t, at);
+}
+
 static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_t steps,
                          double wall, double cpu)
 {
@@ -238,6 +257,11 @@ static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_
                 "largest force on the jaws %.6g N\n", k + 1, m->instruments[g->instrument].name,
                 g->t_on, off, g->s, g->force);
     }
+    const int pad = tissue_coupling_pad(m);
+    if (pad >= 0)
+        fprintf(f, "        elastic pad: the wound's opening at the stitch %.4g mm, its nodes at most "
+                "%.4g mm from rest\n", 1e3 * stitch_gap(m, s, pad),
+                1e3 * tissue_coupling_max_displacement(m->surfaces[pad].solid));
     /* CPU beside wall: a busy machine stretches the wall time, not the CPU */
     fprintf(f, "        %lld steps in %.3f s wall, %.3f s CPU: %.2f us CPU per step, %.4g CPU s "
                "(%.4g wall s) per simulated s\n",
@@ -389,6 +413,7 @@ typedef struct frame_sink {
     knot_track *knot;       /* the first pass only: knot type per output frame */
     const run_stats *stats; /* with knot: the run's, for the strands' closest approach */
     FILE *csv;
+    FILE *tissue_csv;       /* the elastic pad's top nodes per frame (--tissue-csv), or NULL */
     rod_recording *rec;     /* every frame, or a sample (sample_cap > 0) */
     int sample_cap;         /* > 0: keep every stride-th frame, at most this many */
     int64_t stride, index;  /* of the sample; frames seen */
@@ -413,6 +438,35 @@ static void summary_frame(run_summary *sum, const knot_track *k, int changes_bef
     }
 }
 
+/* The summary's record of an elastic pad at a frame */
+static void summary_tissue(run_summary *sum, const rod_model *m, const rod_state *s)
+{
+    const int pad = tissue_coupling_pad(m);
+    if (pad < 0) return;
+    sum->has_tissue = 1;
+    sum->tissue_max_displacement =
+        fmax(sum->tissue_max_displacement, tissue_coupling_max_displacement(m->surfaces[pad].solid));
+    if (sum->gap_count < SUMMARY_MAX_GAPS) {
+        sum->wound_gap[sum->gap_count][0] = s->time;
+        sum->wound_gap[sum->gap_count++][1] = stitch_gap(m, s, pad);
+    }
+}
+
+/* --tissue-csv: t,node,x,y,z (s, -, m, m, m) of the elastic pad's top-face
+ * nodes (the skin's surface, both lips of the wound) at a frame */
+static void tissue_csv_frame(FILE *f, const rod_model *m, const rod_state *s)
+{
+    const int pad = tissue_coupling_pad(m);
+    if (pad < 0) return;
+    tissue_solid *t = m->surfaces[pad].solid;
+    const double *rest = tissue_rest_positions(t), *x = tissue_positions(t);
+    const double top = m->surfaces[pad].center[2] + 0.5 * m->surfaces[pad].size[2];
+    for (int n = 0; n < tissue_node_count(t); n++) {
+        if (fabs(rest[3 * n + 2] - top) > 1e-9 * m->surfaces[pad].size[2]) continue;
+        fprintf(f, "%.9g,%d,%.9g,%.9g,%.9g\n", s->time, n, x[3 * n], x[3 * n + 1], x[3 * n + 2]);
+    }
+}
+
 static int on_frame(void *context, const rod_model *m, const rod_state *s, char *err,
                     size_t errlen)
 {
@@ -421,7 +475,10 @@ static int on_frame(void *context, const rod_model *m, const rod_state *s, char 
     int changes = sink->knot ? sink->knot->changes : 0;
     if (sink->knot)
         knot_track_frame(sink->knot, m, s, sink->stats ? sink->stats->closest_gap_frame : INFINITY);
-    if (sink->summary) summary_frame(sink->summary, sink->knot, changes, s);
+    if (sink->summary) {
+        summary_frame(sink->summary, sink->knot, changes, s);
+        summary_tissue(sink->summary, m, s);
+    }
     if (sink->progress) progress_show(sink->progress, s->time);
     if (sink->csv) {
         if (run_csv_frame(sink->csv, m, s)) {
@@ -431,6 +488,14 @@ static int on_frame(void *context, const rod_model *m, const rod_state *s, char 
         }
         if (ferror(sink->csv)) {
             snprintf(err, errlen, "CSV: write failed at t = %g s (disk full?)", s->time);
+            sink->failed = 1;
+            return -1;
+        }
+    }
+    if (sink->tissue_csv) {
+        tissue_csv_frame(sink->tissue_csv, m, s);
+        if (ferror(sink->tissue_csv)) {
+            snprintf(err, errlen, "--tissue-csv: write failed at t = %g s (disk full?)", s->time);
             sink->failed = 1;
             return -1;
         }
@@ -549,6 +614,7 @@ typedef struct scene_run {
     knot_track knots;
     frame_sink sink;
     outfile csv_file;
+    outfile tissue_file;   /* --tissue-csv */
     rod_report report;
     run_stats stats;
     run_pace pace;         /* the estimate revised from the CPU time the steps take */
@@ -735,6 +801,19 @@ static int open_run(scene_run *r)
         sink->csv = r->csv_file.fp;
     }
     if (sink->csv) run_csv_header(sink->csv);
+    if (a->tissue_csv) {
+        if (tissue_coupling_pad(m) < 0) {
+            complain(a, "rodsim run: --tissue-csv %s: the scene has no elastic pad (a [surface] "
+                        "box with tissue = yes and model = elastic)\n", a->tissue_csv);
+            return RUN_EXIT_BAD_INPUT;
+        }
+        if (outfile_open(&r->tissue_file, a->tissue_csv, err, sizeof err)) {
+            complain(a, "rodsim run: %s\n", err);
+            return RUN_EXIT_FAILURE;
+        }
+        sink->tissue_csv = r->tissue_file.fp;
+        fprintf(sink->tissue_csv, "t,node,x,y,z\n");
+    }
     pace_run(r);
     return 0;
 }
@@ -793,6 +872,10 @@ static int commit_outputs(scene_run *r)
     const scene_outputs_options *a = r->o;
     char err[SCENE_OUTPUTS_ERR_LEN] = "";
     if (a->csv && !r->csv_stdout && outfile_commit(&r->csv_file, err, sizeof err)) {
+        complain(a, "rodsim run: %s\n", err);
+        return RUN_EXIT_FAILURE;
+    }
+    if (a->tissue_csv && outfile_commit(&r->tissue_file, err, sizeof err)) {
         complain(a, "rodsim run: %s\n", err);
         return RUN_EXIT_FAILURE;
     }
@@ -932,6 +1015,7 @@ static void summary_result(const scene_run *r, run_summary *sum)
     if (r->committed) {
         char path[SUMMARY_TEXT_LEN];
         if (a->csv && !r->csv_stdout) summary_add_file(sum, a->csv);
+        if (a->tissue_csv) summary_add_file(sum, a->tissue_csv);
         if (!a->no_video) {
             for (int k = 0; k < 2; k++) {
                 snprintf(path, sizeof path, "%s/%s.%s", a->out_dir, r->name, k ? "png" : "mp4");
@@ -986,6 +1070,7 @@ int scene_outputs_write(const scene_outputs_options *o, const char *name, const 
     r.m = m;
     r.out = out;
     r.csv_file = (outfile){.fd = -1, .slot = -1};
+    r.tissue_file = (outfile){.fd = -1, .slot = -1};
     if (o->summary) summary_plan(&r, o->summary);
     if (plan_run(&r)) {
         frame_schedule_release(&r.schedule);
@@ -1004,6 +1089,7 @@ int scene_outputs_write(const scene_outputs_options *o, const char *name, const 
         status = report_run(&r); /* a pass-through fails the run but keeps its outputs */
     } else {
         outfile_abort(&r.csv_file);
+        outfile_abort(&r.tissue_file);
         outfile_transaction_abort();
     }
     if (o->summary) summary_result(&r, o->summary);

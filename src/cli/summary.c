@@ -229,6 +229,26 @@ static void grasps_list(json_out *j, const run_summary *s)
     close_(j, ']');
 }
 
+static void tissue_object(json_out *j, const run_summary *s)
+{
+    key(j, "tissue");
+    open_(j, '{');
+    string_field(j, "model", "elastic");
+    number_field(j, "max_displacement", s->tissue_max_displacement);
+    key(j, "wound_gap");
+    open_(j, '[');
+    for (int i = 0; i < s->gap_count; i++) {
+        comma(j);
+        fputc('[', j->f);
+        summary_json_number(j->f, s->wound_gap[i][0]);
+        fputc(',', j->f);
+        summary_json_number(j->f, s->wound_gap[i][1]);
+        fputc(']', j->f);
+    }
+    close_(j, ']');
+    close_(j, '}');
+}
+
 int summary_print(FILE *f, const run_summary *s)
 {
     json_out j = {.f = f, .first = 1};
@@ -264,6 +284,7 @@ int summary_print(FILE *f, const run_summary *s)
     }
     if (s->puncture_count > 0) punctures_list(&j, s);
     if (s->grasp_count > 0) grasps_list(&j, s);
+    if (s->has_tissue) tissue_object(&j, s);
     close_(&j, '}');
     fputc('\n', f);
     return ferror(f) ? -1 : 0;

@@ -12,6 +12,7 @@
 #include "sim/rod_geometry.h"
 #include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
+#include "sim/tissue/tissue.h"
 
 /* How far (relative to the length) a path's first row may lie from the end
  * it moves, beyond what the shape's resampling moved that end: rounding. */
@@ -565,7 +566,10 @@ void rod_model_release(rod_model *m)
     free(m->point_loads);
     m->point_loads = NULL;
     m->point_load_count = 0;
-    for (int k = 0; k < m->surface_count; k++) rod_mesh_destroy(m->surfaces[k].mesh);
+    for (int k = 0; k < m->surface_count; k++) {
+        rod_mesh_destroy(m->surfaces[k].mesh);
+        tissue_destroy(m->surfaces[k].solid);
+    }
     free(m->surfaces);
     m->surfaces = NULL;
     m->surface_count = 0;
@@ -806,6 +810,16 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     }
     /* initial_velocity is global; the state keeps velocity in director components */
     for (size_t i = 0; i < n; i++) m3_mul_tv(&s->velocity[3 * i], &s->frame[9 * i], m->initial_velocity);
+    /* an elastic pad back at its rest under its pretension and weight (a
+     * model run again, or a run's second pass for its video, starts where
+     * the first did); it found that rest when the scene was read, and a
+     * failure here leaves it where it is */
+    for (int j = 0; j < m->surface_count; j++) {
+        if (!m->surfaces[j].solid) continue;
+        char why[256];
+        tissue_clear_forces(m->surfaces[j].solid);
+        (void)tissue_solve_static(m->surfaces[j].solid, NULL, why, sizeof why);
+    }
     /* the scene's punctures, at the arc length of the starting shape nearest
      * them; one on a tissue surface's boundary (within 1 % of the radius)
      * belongs to that surface, so that the thread between two of them is

@@ -19,6 +19,8 @@
 #include "sim/contact/surface.h"
 #include "sim/instrument.h"
 #include "sim/rod.h"
+#include "sim/tissue/tissue.h"
+#include "sim/tissue/tissue_coupling.h"
 
 #define PATH_MAX_LEN 1024
 /* A starting shape of more points is refused (like a path: 1e6 rows). */
@@ -907,6 +909,69 @@ int scene_refuse_beam(ini_doc *doc, char *err, size_t errlen)
     return 0;
 }
 
+/* Reads an elastic pad's keys on the [surface] boxes with tissue = yes
+ * (model, youngs_modulus, poisson_ratio, density, damping, element_size,
+ * held, pretension, wound, element_order, wound_refine, max_nodes), checks
+ * them up front (tissue_config_check: the message names the key), meshes
+ * the pad from the box's center and size, and solves its rest under the
+ * pretension and gravity (m/s^2, 0 when the scene's gravity is off). A pad
+ * is quasi-static: mass and damping are not used by the coupling. */
+static int read_tissue_pads(ini_doc *doc, rod_model *m, const double gravity[3], char *err,
+                            size_t errlen)
+{
+    static const char *const models[] = {"rigid", "elastic", NULL};
+    static const char *const helds[] = {"bottom", "bottom sides", "none", NULL};
+    int count = ini_section_count(doc, "surface");
+    for (int i = 0; i < (count > 0 ? count : 1); i++) {
+        tissue_config c = tissue_config_default();
+        int model = 0, held = 0, has_wound;
+        if (ini_get_choice(doc, "surface", i, "model", models, &model, err, errlen) < 0 ||
+            ini_get_double(doc, "surface", i, "youngs_modulus", &c.youngs_modulus, err, errlen) < 0 ||
+            ini_get_double(doc, "surface", i, "poisson_ratio", &c.poisson_ratio, err, errlen) < 0 ||
+            ini_get_double(doc, "surface", i, "density", &c.density, err, errlen) < 0 ||
+            ini_get_double(doc, "surface", i, "damping", &c.damping, err, errlen) < 0 ||
+            ini_get_double(doc, "surface", i, "element_size", &c.element_size, err, errlen) < 0 ||
+            ini_get_choice(doc, "surface", i, "held", helds, &held, err, errlen) < 0 ||
+            ini_get_vector(doc, "surface", i, "pretension", c.pretension, 3, err, errlen) < 0 ||
+            (has_wound = ini_get_vector(doc, "surface", i, "wound", c.wound, 5, err, errlen)) < 0 ||
+            ini_get_int(doc, "surface", i, "element_order", &c.element_order, err, errlen) < 0 ||
+            ini_get_double(doc, "surface", i, "wound_refine", &c.wound_refine, err, errlen) < 0 ||
+            ini_get_int(doc, "surface", i, "max_nodes", &c.max_nodes, err, errlen) < 0)
+            return -1;
+        if (count == 0 || model == 0) continue;
+        rod_surface *sf = &m->surfaces[i];
+        if (sf->shape != ROD_SURFACE_BOX || !sf->tissue)
+            return ini_error(doc, "surface", i, "model", err, errlen,
+                             "elastic needs shape = box and tissue = yes (the pad is meshed "
+                             "from the box); accepted rigid here");
+        if (tissue_coupling_pad(m) >= 0)
+            return ini_error(doc, "surface", i, "model", err, errlen,
+                             "one elastic pad per scene; accepted rigid for this one");
+        c.model = TISSUE_ELASTIC;
+        c.held = (tissue_held)held;
+        c.has_wound = has_wound > 0;
+        v3_copy(c.center, sf->center);
+        v3_copy(c.size, sf->size);
+        v3_copy(c.gravity, gravity);
+        char why[512];
+        if (tissue_config_check(&c, NULL, why, sizeof why)) {
+            const char *colon = strchr(why, ':');
+            char key[32] = "model";
+            if (colon && (size_t)(colon - why) < sizeof key) {
+                memcpy(key, why, (size_t)(colon - why));
+                key[colon - why] = '\0';
+            }
+            return ini_error(doc, "surface", i, key, err, errlen, "%s", colon ? colon + 2 : why);
+        }
+        sf->solid = tissue_create(&c, why, sizeof why);
+        if (!sf->solid) return ini_error(doc, "surface", i, "model", err, errlen, "%s", why);
+        if (tissue_solve_static(sf->solid, NULL, why, sizeof why))
+            return ini_error(doc, "surface", i, "pretension", err, errlen,
+                             "the pad finds no rest under its pretension and weight: %s", why);
+    }
+    return 0;
+}
+
 int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     *m = rod_model_default();
@@ -931,7 +996,10 @@ int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
             derive_error(doc, why, err, errlen);
         goto fail;
     }
-    if (check_start_outside(doc, m, err, errlen)) goto fail;
+    if (check_start_outside(doc, m, err, errlen) ||
+        read_tissue_pads(doc, m, m->physics.gravity ? gravity : (const double[3]){0, 0, 0}, err,
+                         errlen))
+        goto fail;
     /* gravity acts on the mass per length: f = rho A g, added to any given distributed force */
     for (int k = 0; k < 3; k++) m->distributed_force[k] += m->mass_per_length * gravity[k];
     /* switched-off physics costs nothing: the loads it would add are zero */

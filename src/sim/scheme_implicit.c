@@ -16,6 +16,7 @@
 #include "sim/implicit/step.h"
 #include "sim/implicit/work.h"
 #include "sim/rod.h"
+#include "sim/tissue/tissue_coupling.h"
 
 static void *create(const rod_model *m, char *err, size_t errlen)
 {
@@ -27,9 +28,16 @@ static void destroy(void *p)
     implicit_destroy(p);
 }
 
+/* The rod's step, and an elastic pad's equilibrium under the forces the
+ * thread exerts at its punctures (tissue_coupling.h) */
 static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod_report *report)
 {
-    return implicit_step(p, m, s, dt, report);
+    const int pad = tissue_coupling_pad(m) >= 0;
+    if (pad && tissue_coupling_link(m, s, report->message, sizeof report->message)) return ROD_FAILED;
+    rod_status st = implicit_step(p, m, s, dt, report);
+    if (st == ROD_OK && pad && tissue_coupling_step(m, s, report->message, sizeof report->message))
+        return ROD_FAILED;
+    return st;
 }
 
 static int refresh(void *p, const rod_model *m, const rod_state *s, double dt)

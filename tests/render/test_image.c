@@ -139,8 +139,20 @@ static void test_gl(void)
     char err[1024];
     gl_context *ctx = gl_context_create(64, 48, err, sizeof err);
     if (!check(ctx != NULL, "GL context: %s", ctx ? gl_context_description(ctx) : err)) return;
-    unsigned program = gl_program_load("scene", err, sizeof err);
-    check(program != 0, "shaders/scene.vert+frag compile and link (%s)", program ? "ok" : err);
+    /* the scene shader as the renderer compiles it: one program per kind of
+     * shading (gl_render.c); without its defines it names what is missing */
+    static const char *const variants[] = {"#define LIT 0\n#define FADING 0\n",
+                                           "#define LIT 1\n#define FADING 0\n",
+                                           "#define LIT 2\n#define FADING 0\n",
+                                           "#define LIT 2\n#define FADING 1\n"};
+    unsigned program = 0;
+    for (int v = 0; v < 4; v++) {
+        program = gl_program_load_defined("scene", variants[v], err, sizeof err);
+        check(program != 0, "shaders/scene.vert+frag, shading variant %d of 4, compile and link (%s)",
+              v + 1, program ? "ok" : err);
+    }
+    unsigned bare = gl_program_load("scene", err, sizeof err);
+    check(bare == 0 && strstr(err, "LIT"), "scene.frag without its defines is refused naming LIT");
     unsigned none = gl_program_load("no_such_shader", err, sizeof err);
     check(none == 0 && strstr(err, "no_such_shader.vert"), "missing shader named: %s", err);
 

@@ -25,6 +25,8 @@ typedef struct contact_puncture {
                           friction acts on the thread's velocity relative to it */
     double grip;       /* N: > 0: the friction's limit (a grasp), instead of friction
                           times the force across */
+    double compliance[9]; /* m/N: an elastic pad's point moves by C times the force on it
+                             (the point: where it is with that force removed); 0: rigid */
 } contact_puncture;
 
 typedef struct rod_contact {

@@ -70,7 +70,9 @@ int tissue_locate(const tissue_solid *t, const double p[3], int *tet, double bar
  * moves over a tissue_step of dt (s) from the current state per newton of
  * extra force there, applied before the step, the other loads fixed (to
  * first order); dt = 0: the static compliance (needs held nodes).
- * Factorises once; returns 0, or -1 with a message. */
+ * Uses the factor the last step or static solve kept when it is of the same
+ * dt and holds (3 solves: the tangent of that solve's last iterate), else
+ * factorises once; returns 0, or -1 with a message. */
 int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], double dt, double C[9],
                             char *err, size_t errlen);
 
@@ -81,6 +83,16 @@ int tissue_step(tissue_solid *t, double dt, tissue_step_info *info, char *err, s
 /* The equilibrium under the current loads and holds (Newton from the
  * current positions; velocities set to 0). 0, or -1 with a message. */
 int tissue_solve_static(tissue_solid *t, tissue_step_info *info, char *err, size_t errlen);
+
+/* The same, stopping once the largest free residual is below force_tol (N)
+ * when that is above the default bound (1e-10 E h^2), or after
+ * max_iterations Newton updates (> 0; 0: no bound) without a failure: a
+ * caller that solves again at its next step carries the rest over. */
+int tissue_solve_static_to(tissue_solid *t, double force_tol, int max_iterations,
+                           tissue_step_info *info, char *err, size_t errlen);
+/* Numeric factorisations since create: a compliance taken from the kept
+ * factor changes only when this does. */
+long tissue_factorisations(const tissue_solid *t);
 
 /* The force (N) a holder applies to a node to keep it where it is, at
  * equilibrium (internal elastic force minus external load and weight). */

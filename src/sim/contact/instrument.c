@@ -56,6 +56,7 @@ static void grasp_prepare(rod_contact *ct, const rod_model *m, const rod_state *
         else v3_set(p->tangent, 1.0, 0.0, 0.0);
         p->friction = 0.0;
         p->grip = m->instruments[k].grip;
+        memset(p->compliance, 0, sizeof p->compliance); /* the jaws are rigid */
         v3_set(p->force, 0.0, 0.0, 0.0);
     }
 }

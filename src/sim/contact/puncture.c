@@ -109,6 +109,36 @@ static void puncture_map_jacobian(rod_contact *ct, const puncture_map *p, const 
                     ct->velocity_jac[27 * (j + q) + 9 * blk + 3 * r + c] = out[q][r][3 * (blk + q) + c];
 }
 
+/* The gain G (N/m) of a puncture's law f = -G e across the thread t: the
+ * force that moves the thread's point by -e relative to the pad's. The
+ * thread's point moves by `lag` (dt theta peff, m/N) times f, an elastic
+ * pad's point by -C f (C its compliance), so G is the inverse of
+ * lag I + P C P on the plane across t (P = I - t t^T), zero along t; on a
+ * rigid pad (C = 0) G = P / lag. */
+static void puncture_gain(const double C[9], const double t[3], double lag, double G[9])
+{
+    double u[2][3], a[4];
+    const double pick[3] = {fabs(t[0]) < 0.6 ? 1.0 : 0.0, fabs(t[0]) < 0.6 ? 0.0 : 1.0, 0.0};
+    v3_cross(u[0], t, pick);
+    v3_scale(u[0], u[0], 1.0 / v3_norm(u[0]));
+    v3_cross(u[1], t, u[0]);
+    for (int p = 0; p < 2; p++)
+        for (int q = 0; q < 2; q++) {
+            double cu[3];
+            m3_mul_v(cu, C, u[q]);
+            a[2 * p + q] = (p == q) * lag + v3_dot(u[p], cu);
+        }
+    const double det = a[0] * a[3] - a[1] * a[2];
+    const double inv[4] = {a[3] / det, -a[1] / det, -a[2] / det, a[0] / det};
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            double g = 0.0;
+            for (int p = 0; p < 2; p++)
+                for (int q = 0; q < 2; q++) g += u[p][r] * inv[2 * p + q] * u[q][c];
+            G[3 * r + c] = g;
+        }
+}
+
 void puncture_forces(rod_contact *ct, const rod_model *m, double push, double dt)
 {
     const int n = ct->nodes;
@@ -125,14 +155,23 @@ void puncture_forces(rod_contact *ct, const rod_model *m, double push, double dt
         v3_set(force, 0.0, 0.0, 0.0);
         /* at a held end's node the support holds the thread at the point */
         if (!(peff > 1e-6 * push)) continue;
-        double rp[3], e[3], f[3];
+        double rp[3], e[3], f[3], gain[9];
         for (int c = 0; c < 3; c++)
             rp[c] = wj * (ct->pos0[3 * j + c] + dt * ct->vbar[3 * j + c]) +
                     wk * (ct->pos0[3 * i2 + c] + dt * ct->vbar[3 * i2 + c]);
         v3_sub(e, rp, ct->punct[k].point);
         v3_axpy(e, -v3_dot(e, t), t);
         const double miss = v3_norm(e), floor = 0.005 * m->diameter;
-        v3_scale(f, e, -contact_fraction(miss, floor) / (dt * theta * peff));
+        /* a rigid pad's gain is P / lag, applied as such (its arithmetic kept) */
+        const int soft = ct->punct[k].compliance[0] != 0.0 || ct->punct[k].compliance[4] != 0.0 ||
+                         ct->punct[k].compliance[8] != 0.0;
+        if (soft) {
+            puncture_gain(ct->punct[k].compliance, t, dt * theta * peff, gain);
+            m3_mul_v(f, gain, e);
+            v3_scale(f, f, -contact_fraction(miss, floor));
+        } else {
+            v3_scale(f, e, -contact_fraction(miss, floor) / (dt * theta * peff));
+        }
         for (int c = 0; c < 3; c++) {
             ct->vel1[3 * j + c] += pj * wj * f[c];
             ct->vbar[3 * j + c] += theta * pj * wj * f[c];
@@ -160,13 +199,19 @@ void puncture_forces(rod_contact *ct, const rod_model *m, double push, double dt
             }
         }
         if (ct->want_jacobian) {
-            /* d f / d e = -(s I + s' e e^T / |e|), s = kappa/(1+kappa) / (dt theta peff) */
-            const double scale = 1.0 / (dt * theta * peff), frac = contact_fraction(miss, floor);
-            double df_de[9];
+            /* f = -frac(|e|) G e: d f / d e = -(frac G + (slope - frac) G e e^T / |e|^2),
+             * frac = kappa/(1+kappa), G the gain (1 / (dt theta peff) on a rigid pad) */
+            const double frac = contact_fraction(miss, floor);
+            const double scale = 1.0 / (dt * theta * peff);
+            double df_de[9], ge[3];
+            if (soft) m3_mul_v(ge, gain, e);
             for (int r = 0; r < 3; r++)
                 for (int c = 0; c < 3; c++)
-                    df_de[3 * r + c] = -scale * ((r == c) * frac +
-                        (miss > 0.0 ? (contact_compliant_slope(miss, floor) - frac) * e[r] * e[c] / (miss * miss) : 0.0));
+                    df_de[3 * r + c] = soft
+                        ? -(gain[3 * r + c] * frac +
+                            (miss > 0.0 ? (contact_compliant_slope(miss, floor) - frac) * ge[r] * e[c] / (miss * miss) : 0.0))
+                        : -scale * ((r == c) * frac +
+                            (miss > 0.0 ? (contact_compliant_slope(miss, floor) - frac) * e[r] * e[c] / (miss * miss) : 0.0));
             const puncture_map map = {j, wj, wk, pj, pk, peff, dt * theta, t, f, across,
                                       ct->punct[k].friction, vt, sp, grip};
             puncture_map_jacobian(ct, &map, df_de);
@@ -187,6 +232,16 @@ void puncture_prepare(rod_contact *ct, const rod_model *m, const rod_state *s)
         ct->punct[k].j = j;
         ct->punct[k].alpha = al < 0.0 ? 0.0 : al > 1.0 ? 1.0 : al;
         v3_copy(ct->punct[k].point, s->puncture[k].point);
+        /* in an elastic pad the point moves by C (F - F_last) with the force F
+         * on the pad: at the point with the last force removed, C F added by
+         * the law (puncture_gain) */
+        memset(ct->punct[k].compliance, 0, sizeof ct->punct[k].compliance);
+        if (s->puncture[k].linked) {
+            double back[3];
+            memcpy(ct->punct[k].compliance, s->puncture[k].compliance, 9 * sizeof(double));
+            m3_mul_v(back, s->puncture[k].compliance, s->puncture[k].pad_force);
+            v3_axpy(ct->punct[k].point, -1.0, back);
+        }
         ct->punct[k].friction = s->puncture[k].friction;
         /* the thread's direction at the point: the node tangents (central
          * differences) interpolated, not the segment's, so that the point can

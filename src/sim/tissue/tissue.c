@@ -45,6 +45,9 @@ struct tissue_solid {
                               column list, for each ordered node pair of the tet */
     double hold_diagonal;  /* N/m: a held component's diagonal, a stiffness-like scale */
     int factor_ok;         /* 1: L factors a matrix of the current holds and coefficients */
+    long factorisations;   /* numeric factorisations since create */
+    double static_tol;     /* N: tissue_solve_static_to's residual bound (0: the default) */
+    int static_iterations; /* tissue_solve_static_to's most iterations (0: MAX_NEWTON) */
     double factor_mass, factor_stiffness; /* the coefficients L was made with */
     cholmod_common cm;
     cholmod_sparse *A;     /* upper triangle, stype 1 */
@@ -402,6 +405,7 @@ static int factor_solve(tissue_solid *t, tissue_step_info *info, int factorise, 
         cholmod_factorize(t->A, t->L, &t->cm);
         if (t->cm.status != CHOLMOD_OK || t->L->minor < t->L->n) return -1;
         t->factor_ok = 1;
+        t->factorisations++;
         t->factor_mass = mass_coef;
         t->factor_stiffness = stiffness;
     }
@@ -455,6 +459,7 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
     double stiffness = 1.0 + (dt > 0.0 ? c->damping * (newmark ? 2.0 : 1.0) / dt : 0.0);
     double h = c->element_size * c->wound_refine;
     double force_tol = 1e-10 * c->youngs_modulus * h * h; /* N */
+    if (dt == 0.0 && t->static_tol > force_tol) force_tol = t->static_tol;
     double step_tol = 1e-11 * h;                           /* m */
     double *acceleration = t->residual; /* shares storage: filled, then turned into residual */
     for (int d = 0; d < t->dofs; d++)
@@ -518,6 +523,9 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
             for (int d = 0; d < t->dofs; d++) t->x[d] -= fraction * dx[d];
         }
         shift = shift > 1e-6 * c->youngs_modulus * h / mean_mass ? 0.1 * shift : 0.0;
+        if (dt == 0.0 && t->static_iterations > 0 && it + 1 >= t->static_iterations && shift == 0.0 &&
+            fraction == 1.0)
+            return 0; /* the caller carries the rest over */
         if (fraction == 1.0 && largest <= step_tol && shift == 0.0) {
             if (dt > 0.0) kinematics(t, dt, acceleration);
             return 0;
@@ -573,6 +581,19 @@ int tissue_solve_static(tissue_solid *t, tissue_step_info *info, char *err, size
     return 0;
 }
 
+int tissue_solve_static_to(tissue_solid *t, double force_tol, int max_iterations,
+                           tissue_step_info *info, char *err, size_t errlen)
+{
+    t->static_tol = force_tol;
+    t->static_iterations = max_iterations;
+    int rc = tissue_solve_static(t, info, err, errlen);
+    t->static_tol = 0.0;
+    t->static_iterations = 0;
+    return rc;
+}
+
+long tissue_factorisations(const tissue_solid *t) { return t->factorisations; }
+
 void tissue_reaction(tissue_solid *t, int node, double r[3])
 {
     double saved = t->config.damping;
@@ -593,7 +614,10 @@ int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], doub
     int newmark = c->integrator == TISSUE_NEWMARK;
     double mass_coef = dt > 0.0 ? (newmark ? 4.0 : 1.0) / (dt * dt) : 0.0;
     double stiffness = 1.0 + (dt > 0.0 ? c->damping * (newmark ? 2.0 : 1.0) / dt : 0.0);
-    if (assemble(t, mass_coef, stiffness)) {
+    /* the factor kept from the last Newton iteration serves when it is of the
+     * same coefficients and holds (3 solves); else one is made here */
+    const int renew = !t->factor_ok || t->factor_mass != mass_coef || t->factor_stiffness != stiffness;
+    if (renew && assemble(t, mass_coef, stiffness)) {
         snprintf(err, errlen, "a tet is inverted");
         return -1;
     }
@@ -607,7 +631,7 @@ int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], doub
             int d = 3 * tt[q] + k;
             if (!t->fixed[d]) rhs[d] += N[q];
         }
-        if (factor_solve(t, NULL, k == 0, mass_coef, stiffness)) {
+        if (factor_solve(t, NULL, renew && k == 0, mass_coef, stiffness)) {
             snprintf(err, errlen, "the tissue's matrix is not positive definite (nothing held?)");
             return -1;
         }

@@ -1,0 +1,45 @@
+/* tissue_coupling.h: a rod's punctures in an elastic pad (a [surface] box
+ * with model = elastic: rod_surface.solid), coupled two ways.
+ *
+ * Each puncture in a pad is a material point of it (a tet and barycentric
+ * weights, found where the puncture is when it is linked) and moves with
+ * it. The pad is quasi-static: after every rod step it is solved to
+ * equilibrium under the forces the thread exerts at its punctures, and the
+ * punctures move with it. Within the rod's step the pad's compliance at each
+ * puncture (3 x 3, at the last equilibrium) is folded into the puncture's
+ * law (puncture.h): the point moves by C (F - F_last) with the force F on
+ * the pad, so the coupling is implicit at each puncture; between
+ * punctures (the pad's cross-compliance) it lags one step
+ * (docs/decisions/0070-tissue-coupling.md). */
+#ifndef RODSIM_SIM_TISSUE_TISSUE_COUPLING_H
+#define RODSIM_SIM_TISSUE_TISSUE_COUPLING_H
+
+#include <stddef.h>
+
+#include "sim/rod_types.h"
+
+/* After a rod step (and before the first): links the punctures not yet
+ * linked that lie in an elastic pad (made there by the needle, or given in
+ * the scene inside its box), puts every linked puncture's force on its pad,
+ * solves each pad's equilibrium, moves the punctures with their material
+ * points and renews their compliances. 0, or -1 with a message (the pad's
+ * Newton failed: the state's punctures are left as they were). A model
+ * without an elastic pad: nothing, 0. */
+int tissue_coupling_step(const rod_model *m, rod_state *s, char *err, size_t errlen);
+
+/* Before a rod step: links the punctures not yet linked (as above) and
+ * sets their compliance, without solving the pads. 0, or -1 with a message. */
+int tissue_coupling_link(const rod_model *m, rod_state *s, char *err, size_t errlen);
+
+/* The first elastic pad's surface index, or -1. */
+int tissue_coupling_pad(const rod_model *m);
+
+/* The wound's opening (m) at the slit's top-face node pair nearest to p
+ * along the slit (the gap at a stitch's place): the pair's separation
+ * across the slit; 0 without a wound. */
+double tissue_coupling_gap_at(const struct tissue_solid *t, const double p[3]);
+
+/* m: the largest displacement of a node of the pad from its rest place. */
+double tissue_coupling_max_displacement(const struct tissue_solid *t);
+
+#endif
