@@ -267,7 +267,7 @@ static void test_titles(void)
         {"[rod]\n# a comment, but not the first line\n", ""},
         {"\n# after a blank line\n", ""},
         {"# A loose overhand knot (an open trefoil) pulled tighter by its two ends\n"
-         "# (issue 12): self-contact between the strands keeps it a knot.\n",
+         "# (a classic test): self-contact between the strands keeps it a knot.\n",
          "A loose overhand knot pulled tighter by its two ends"},
         {"# one two three four five six seven eight nine ten eleven twelve thirteen "
          "fourteen fifteen sixteen\n",
