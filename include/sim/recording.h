@@ -54,6 +54,14 @@ typedef struct recording_surface {
     double *mesh_vertices;     /* (mesh_vertex_count x 3), m, global; owned by the recording */
     int *mesh_triangles;       /* (mesh_triangle_count x 3) vertex indices, counter-clockwise
                                   seen from outside; owned by the recording */
+    /* an elastic pad (a box with model = elastic), drawn deformed: its surface, the
+     * boundary faces of its tets (faces of exactly one tet; the wound's slit walls
+     * among them), and its surface nodes' positions each frame; 0 / NULL otherwise */
+    int pad_node_count, pad_triangle_count;
+    int *pad_nodes;            /* (pad_node_count) the solid's node of each surface node */
+    int *pad_triangles;        /* (pad_triangle_count x 3) surface node indices, counter-
+                                  clockwise seen from outside (at rest) */
+    double *pad_positions;     /* (frames x pad_node_count x 3), m, global; owned */
 } recording_surface;
 
 /* Copies a mesh surface's vertices and triangles into to (from's, or a
@@ -129,6 +137,12 @@ typedef struct rod_recording {
 /* Instrument k's pose in `frame`: its RECORDING_INSTRUMENT_NUMBERS numbers,
  * or NULL when the recording has none. */
 const double *rod_recording_instrument(const rod_recording *r, int frame, int k);
+/* Surface k's pad node positions at `frame` (pad_node_count x 3, m), or
+ * NULL when it is no elastic pad or the frame is out of range. */
+const double *rod_recording_pad_positions(const rod_recording *r, int k, int frame);
+/* Bytes a recording of the model holds for `frames` frames: rod_recording_bytes
+ * and its elastic pads' positions (every solid node counted: a bound). */
+double rod_recording_model_bytes(const rod_model *m, double frames);
 
 /* Room for `capacity` frames (grows when exceeded), with what the picture
  * needs of the model (its ends, needle, distributed force and surfaces,

@@ -287,7 +287,7 @@ static double estimate_seconds(const scene_outputs_options *a, const rod_model *
     int video_pixels = a->no_video ? 0 : out->width * out->height;
     double seconds = run_plan_seconds(plan, m->nodes, video_pixels, a->csv != NULL);
     if (video_pixels &&
-        rod_recording_bytes(m->nodes, plan->frames_estimate) > recording_budget())
+        rod_recording_model_bytes(m, plan->frames_estimate) > recording_budget())
         seconds += plan->steps_estimate * plan->seconds_per_step;
     return seconds;
 }
@@ -770,10 +770,10 @@ static int open_run(scene_run *r)
     }
     r->s = rod_state_create(m);
     r->streamed = !a->no_video &&
-                  rod_recording_bytes(m->nodes, r->plan.frames_estimate) > recording_budget();
+                  rod_recording_model_bytes(m, r->plan.frames_estimate) > recording_budget();
     frame_sink *sink = &r->sink;
     if (r->streamed) {
-        double frame_bytes = rod_recording_bytes(m->nodes, 1.0);
+        double frame_bytes = rod_recording_model_bytes(m, 1.0);
         double cap = budget_from_env("RODSIM_SAMPLE_BUDGET", RUN_SAMPLE_BUDGET) / frame_bytes;
         sink->sample_cap = cap < 2.0 ? 2 : cap > 1e6 ? 1000000 : (int)cap;
         sink->stride = 1;

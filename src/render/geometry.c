@@ -90,8 +90,14 @@ rod_recording *recording_like(const rod_recording *rec, int frames)
         if (r->surfaces) {
             memcpy(r->surfaces, rec->surfaces, bytes);
             /* each mesh's arrays the copy's own */
-            for (int k = 0; k < rec->surface_count; k++)
-                r->surfaces[k].mesh_vertices = NULL, r->surfaces[k].mesh_triangles = NULL;
+            for (int k = 0; k < rec->surface_count; k++) {
+                recording_surface *sf = &r->surfaces[k];
+                sf->mesh_vertices = NULL, sf->mesh_triangles = NULL;
+                /* an elastic pad is drawn from the recording given, per frame */
+                sf->pad_nodes = sf->pad_triangles = NULL;
+                sf->pad_positions = NULL;
+                sf->pad_node_count = sf->pad_triangle_count = 0;
+            }
             for (int k = 0; k < rec->surface_count; k++)
                 if (recording_surface_copy_mesh(&r->surfaces[k], &rec->surfaces[k])) {
                     rod_recording_destroy(r);

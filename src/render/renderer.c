@@ -144,6 +144,11 @@ static void frame_boxes(renderer *r, const rod_recording *rec, int frame,
         mark_points(r, ends, 2, r->arrows.style.head_radius);
         if (r->shadow.shadows) mark_shadow(r, ends, 2, 1, r->arrows.style.head_radius);
     }
+    for (int k = 0; k < given->surface_count; k++) {
+        /* an elastic pad, drawn deformed each frame: the box around it */
+        const double *pad = rod_recording_pad_positions(given, k, given_frame);
+        if (pad) mark_points(r, pad, given->surfaces[k].pad_node_count, 0);
+    }
     const double *punctures;
     int puncture_count = rod_recording_punctures(given, given_frame, &punctures);
     for (int i = 0; r->shadow.receivers && i < puncture_count; i++)
@@ -237,6 +242,11 @@ static int renderer_buffers(renderer *r, const rod_recording *rec, const render_
     r->mesh.max_indices = 6 * rings * (sides + 2) + 6 * sides + 2 * GLYPH_INDICES +
                           2 * ARROW_MAX_INDICES + PUNCTURE_INDICES +
                           rec->instrument_count * INSTRUMENT_MESH_INDICES;
+    for (int k = 0; rec->surfaces && k < rec->surface_count; k++) {
+        /* an elastic pad's surface, drawn each frame: three vertices a triangle */
+        r->mesh.max_vertices += 3 * rec->surfaces[k].pad_triangle_count;
+        r->mesh.max_indices += 3 * rec->surfaces[k].pad_triangle_count;
+    }
     int shading = occlusion_create(&r->shading, rec->nodes, rings, sides, r->radius, rec->ds);
     r->mesh.vertices = malloc((size_t)r->mesh.max_vertices * sizeof(render_vertex));
     r->mesh.indices = malloc((size_t)r->mesh.max_indices * sizeof(unsigned));
@@ -462,6 +472,26 @@ static void renderer_colors(renderer *r, const rod_recording *rec, int frame)
     renderer_remember(r, rec, frame);
 }
 
+/* Each elastic pad's surface as it is at given_frame (smooth-shaded, the
+ * skin's colour): it is drawn every frame, not in the backdrop, and casts
+ * no shadow. */
+static void renderer_pads(renderer *r, const rod_recording *given, int given_frame)
+{
+    for (int k = 0; k < given->surface_count; k++) {
+        const recording_surface *sf = &given->surfaces[k];
+        const double *pad = rod_recording_pad_positions(given, k, given_frame);
+        if (!pad) continue;
+        recording_surface now = {0};
+        now.shape = RECORDING_SURFACE_MESH;
+        now.mesh_vertex_count = sf->pad_node_count;
+        now.mesh_triangle_count = sf->pad_triangle_count;
+        now.mesh_vertices = (double *)pad;
+        now.mesh_triangles = sf->pad_triangles;
+        /* out of memory for its normals: the pad is left out of this frame */
+        (void)surface_add_mesh(&r->mesh, &now, sf->tissue ? render_skin_color : render_surface_color);
+    }
+}
+
 /* The frame's meshes (the tube, its stripe shaded by the strands near,
  * the glyphs, the arrows; then the punctures, which cast no shadow) and
  * the boxes of the picture they cover. rec, frame: the motion as drawn;
@@ -481,6 +511,7 @@ static void renderer_meshes(renderer *r, const rod_recording *rec, int frame,
     instrument_mesh_add(m, given, given_frame, 2.0 * r->radius);
     if (r->o->arrows) glyph_add_arrows(m, &r->arrows, rec, frame);
     r->caster_indices = m->index_count;
+    renderer_pads(r, given, given_frame);
     if (r->shadow.receivers)
         surface_add_punctures(m, given, given_frame, r->radius, r->shadow.lift);
     frame_boxes(r, rec, frame, given, given_frame);

@@ -323,6 +323,7 @@ static void receiver_solids(shadow_scene *s, render_mesh *m, const receiver_plan
         const recording_surface *sf = &rec->surfaces[k];
         const float *color = sf->tissue ? render_skin_color : render_surface_color;
         double lo[3], hi[3];
+        if (sf->pad_node_count > 0) continue; /* an elastic pad: drawn each frame (renderer.c) */
         switch (sf->shape) {
         case RECORDING_SURFACE_BOX: {
             double axes[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};

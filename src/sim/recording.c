@@ -11,6 +11,7 @@
 #include "sim/instrument.h"
 #include "sim/path.h"
 #include "sim/rod.h"
+#include "sim/tissue/tissue.h"
 
 static int reserve(rod_recording *r, int capacity)
 {
@@ -40,6 +41,13 @@ static int reserve(rod_recording *r, int capacity)
         if (ip) r->instrument_pose = ip;
         ok_instruments = ip != NULL;
     }
+    for (int k = 0; r->surfaces && k < r->surface_count; k++) {
+        recording_surface *sf = &r->surfaces[k];
+        if (sf->pad_node_count <= 0) continue;
+        double *pad = realloc(sf->pad_positions, c * (size_t)sf->pad_node_count * 3 * sizeof *pad);
+        if (pad) sf->pad_positions = pad;
+        else ok_instruments = 0;
+    }
     if (!t || !p || !q || !w || !te || !f || !mo || !pc || !pp || !ok_instruments) return -1;
     r->capacity = capacity;
     return 0;
@@ -62,6 +70,97 @@ static recording_surface_shape surface_shape(rod_surface_shape shape)
     case ROD_SURFACE_MESH: return RECORDING_SURFACE_MESH;
     default: return RECORDING_SURFACE_PLANE;
     }
+}
+
+/* A tet face: its corners as wound (outward) and sorted (the key). */
+typedef struct pad_face {
+    int key[3], corner[3];
+} pad_face;
+
+static int pad_face_compare(const void *a, const void *b)
+{
+    const pad_face *x = a, *y = b;
+    for (int i = 0; i < 3; i++)
+        if (x->key[i] != y->key[i]) return x->key[i] < y->key[i] ? -1 : 1;
+    return 0;
+}
+
+/* The pad's surface: the faces of exactly one tet (by their corners; a
+ * quadratic tet's midpoints are not drawn), wound outward at rest, and the
+ * nodes they use. 0, or -1 when out of memory. */
+static int copy_pad(recording_surface *to, const tissue_solid *t)
+{
+    const int tets = tissue_tet_count(t), per = tissue_nodes_per_tet(t);
+    const int nodes = tissue_node_count(t);
+    const int *tet = tissue_tets(t);
+    const double *x = tissue_rest_positions(t);
+    static const int opposite[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+    pad_face *faces = malloc((size_t)tets * 4 * sizeof *faces);
+    int *index = malloc((size_t)nodes * sizeof *index);
+    if (!faces || !index) {
+        free(faces);
+        free(index);
+        return -1;
+    }
+    for (int e = 0; e < tets; e++) {
+        const int *v = &tet[(size_t)e * (size_t)per];
+        for (int f = 0; f < 4; f++) {
+            pad_face *face = &faces[4 * e + f];
+            for (int i = 0; i < 3; i++) face->corner[i] = v[opposite[f][i]];
+            /* outward: the fourth corner behind the face */
+            const double *a = &x[3 * face->corner[0]];
+            double ab[3], ac[3], ad[3], n[3];
+            v3_sub(ab, &x[3 * face->corner[1]], a);
+            v3_sub(ac, &x[3 * face->corner[2]], a);
+            v3_sub(ad, &x[3 * v[f]], a);
+            v3_cross(n, ab, ac);
+            if (v3_dot(n, ad) > 0) {
+                int swap = face->corner[1];
+                face->corner[1] = face->corner[2];
+                face->corner[2] = swap;
+            }
+            int *k = face->key;
+            for (int i = 0; i < 3; i++) k[i] = face->corner[i];
+            for (int i = 0; i < 2; i++)
+                for (int j = 0; j < 2 - i; j++)
+                    if (k[j] > k[j + 1]) {
+                        int swap = k[j];
+                        k[j] = k[j + 1];
+                        k[j + 1] = swap;
+                    }
+        }
+    }
+    qsort(faces, (size_t)tets * 4, sizeof *faces, pad_face_compare);
+    /* the boundary faces to the front, their nodes numbered in order of use */
+    int kept = 0, used = 0;
+    for (int i = 0; i < nodes; i++) index[i] = -1;
+    for (int i = 0; i < 4 * tets;) {
+        int j = i + 1;
+        while (j < 4 * tets && pad_face_compare(&faces[i], &faces[j]) == 0) j++;
+        if (j == i + 1) {
+            faces[kept] = faces[i];
+            for (int c = 0; c < 3; c++)
+                if (index[faces[kept].corner[c]] < 0) index[faces[kept].corner[c]] = used++;
+            kept++;
+        }
+        i = j;
+    }
+    to->pad_nodes = malloc((size_t)(used > 0 ? used : 1) * sizeof(int));
+    to->pad_triangles = malloc((size_t)(kept > 0 ? kept : 1) * 3 * sizeof(int));
+    if (!to->pad_nodes || !to->pad_triangles) {
+        free(faces);
+        free(index);
+        return -1;
+    }
+    for (int i = 0; i < nodes; i++)
+        if (index[i] >= 0) to->pad_nodes[index[i]] = i;
+    for (int f = 0; f < kept; f++)
+        for (int c = 0; c < 3; c++) to->pad_triangles[3 * f + c] = index[faces[f].corner[c]];
+    to->pad_node_count = used;
+    to->pad_triangle_count = kept;
+    free(faces);
+    free(index);
+    return 0;
 }
 
 /* What the picture needs of the model: what holds each end, the needle,
@@ -101,6 +200,7 @@ static int copy_scene(rod_recording *r, const rod_model *m)
             mesh.mesh_triangles = (int *)rod_mesh_triangles(from->mesh);
             if (recording_surface_copy_mesh(to, &mesh)) return -1;
         }
+        if (from->solid && copy_pad(to, from->solid)) return -1;
     }
     return 0;
 }
@@ -176,6 +276,9 @@ void rod_recording_destroy(rod_recording *r)
     for (int k = 0; r->surfaces && k < r->surface_count; k++) {
         free(r->surfaces[k].mesh_vertices);
         free(r->surfaces[k].mesh_triangles);
+        free(r->surfaces[k].pad_nodes);
+        free(r->surfaces[k].pad_triangles);
+        free(r->surfaces[k].pad_positions);
     }
     free(r->surfaces);
     free(r->instrument_pose);
@@ -200,6 +303,24 @@ double rod_recording_bytes(int nodes, double frames)
      * tension: 14 a node; the punctures: a count and ROD_MAX_PUNCTURES points */
     return frames * (((double)nodes * 14 + 7 + 3 * ROD_MAX_PUNCTURES) * (double)sizeof(double) +
                      (double)sizeof(int));
+}
+
+double rod_recording_model_bytes(const rod_model *m, double frames)
+{
+    double bytes = rod_recording_bytes(m->nodes, frames);
+    for (int k = 0; m->surfaces && k < m->surface_count; k++)
+        if (m->surfaces[k].solid)
+            bytes += frames * 3 * (double)sizeof(double) * tissue_node_count(m->surfaces[k].solid);
+    return bytes;
+}
+
+const double *rod_recording_pad_positions(const rod_recording *r, int k, int frame)
+{
+    if (!r->surfaces || k < 0 || k >= r->surface_count || frame < 0 || frame >= r->frame_count)
+        return NULL;
+    const recording_surface *sf = &r->surfaces[k];
+    if (sf->pad_node_count <= 0 || !sf->pad_positions) return NULL;
+    return &sf->pad_positions[(size_t)frame * (size_t)sf->pad_node_count * 3];
 }
 
 int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *s)
@@ -257,6 +378,14 @@ int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *
         v3_copy(to, pose.position);
         memcpy(to + 3, pose.rotation, 9 * sizeof(double));
         to[12] = rod_instrument_jaw_angle(&m->instruments[i], jaw);
+    }
+    for (int j = 0; r->surfaces && j < r->surface_count && j < m->surface_count; j++) {
+        recording_surface *sf = &r->surfaces[j];
+        if (sf->pad_node_count <= 0 || !m->surfaces[j].solid) continue;
+        const double *x = tissue_positions(m->surfaces[j].solid);
+        double *to = &sf->pad_positions[k * (size_t)sf->pad_node_count * 3];
+        for (int i = 0; i < sf->pad_node_count; i++)
+            v3_copy(&to[3 * i], &x[3 * (size_t)sf->pad_nodes[i]]);
     }
     r->frame_count++;
     return 0;
@@ -322,6 +451,12 @@ void rod_recording_halve(rod_recording *r)
                 ROD_MAX_PUNCTURES * 3 * sizeof(double));
         const size_t per = (size_t)r->instrument_count * RECORDING_INSTRUMENT_NUMBERS;
         if (per) memmove(&r->instrument_pose[to * per], &r->instrument_pose[from * per], per * sizeof(double));
+        for (int j = 0; r->surfaces && j < r->surface_count; j++) {
+            const size_t pad = (size_t)r->surfaces[j].pad_node_count * 3;
+            if (pad)
+                memmove(&r->surfaces[j].pad_positions[to * pad],
+                        &r->surfaces[j].pad_positions[from * pad], pad * sizeof(double));
+        }
     }
     r->frame_count = kept;
 }
