@@ -189,7 +189,7 @@ readme:
 	@$(MAKE) --no-print-directory BUILD=build/release rodsim
 	@sh tests/readme.sh update build/release/rodsim README.md
 	@sh tests/readme.sh update build/release/rodsim docs/commands.md
-	@sh tests/readme.sh update build/release/rodsim scenes/README.md
+	@sh tests/readme.sh update build/release/rodsim docs/scene-keys.md
 
 # make install [PREFIX=/usr/local] [DESTDIR=staging]: the binary (shaders
 # compiled in) and the scenes as examples in PREFIX/share/rodsim/scenes; the

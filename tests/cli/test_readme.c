@@ -1,7 +1,7 @@
 /* test_readme.c: the README is the program's own reference. Every generated
  * block (between "<!-- generated: rodsim ARGS -->" and "<!-- end generated
  * -->") equals what RODSIM_BIN prints for ARGS (tests/readme.sh check; `make
- * readme` rewrites them), in the README, docs/commands.md and scenes/README.md;
+ * readme` rewrites them), in the README, docs/commands.md and docs/scene-keys.md;
  * the README is at most 30 KB and every
  * repository path it names exists. */
 #include <ctype.h>
@@ -15,6 +15,8 @@
 #define README RODSIM_SOURCE_DIR "/README.md"
 /* the scene reference, beside the scenes (it would not fit in 30 KB) */
 #define SCENES_README RODSIM_SOURCE_DIR "/scenes/README.md"
+/* every scene key: the program's own tables, beside the decision records */
+#define SCENE_KEYS_DOC RODSIM_SOURCE_DIR "/docs/scene-keys.md"
 /* every command's --help, beside the decision records */
 #define COMMANDS_DOC RODSIM_SOURCE_DIR "/docs/commands.md"
 
@@ -44,9 +46,9 @@ static void test_generated_blocks(const char *readme, int want)
           "(want >= %d and 0), status %d", readme, same, differ, want, status);
 }
 
-static char *read_readme(long *size)
+static char *read_readme(const char *path, long *size)
 {
-    FILE *f = fopen(README, "rb");
+    FILE *f = fopen(path, "rb");
     if (!f) return NULL;
     fseek(f, 0, SEEK_END);
     *size = ftell(f);
@@ -105,13 +107,19 @@ int main(void)
 {
     test_generated_blocks(README, 1);        /* help */
     test_generated_blocks(COMMANDS_DOC, 7);  /* run, fem, validate, stability, figure, sweep, live */
-    test_generated_blocks(SCENES_README, 2); /* help scene, help beam */
+    test_generated_blocks(SCENE_KEYS_DOC, 2); /* help scene, help beam */
     long size = 0;
-    char *text = read_readme(&size);
+    char *text = read_readme(README, &size);
     if (check(text != NULL, "README.md reads")) {
         check(size <= 30 * 1024, "README.md is %ld bytes, at most 30 KB (%d)", size, 30 * 1024);
         test_paths_exist(text);
     }
+    free(text);
+    /* the scenes' guide too: the key tables stand in docs/scene-keys.md */
+    text = read_readme(SCENES_README, &size);
+    if (check(text != NULL, "scenes/README.md reads"))
+        check(size <= 30 * 1024, "scenes/README.md is %ld bytes, at most 30 KB (%d)", size,
+              30 * 1024);
     free(text);
     return test_finish();
 }
