@@ -16,4 +16,10 @@
 int textline_next(const char **cursor, const char *filename, char *line, size_t size,
                   int *line_no, char **text, char *err, size_t errlen);
 
+/* Splits a data line at commas into at most `max` finite numbers (blanks
+ * around each allowed); returns the count, or -1 at an empty, non-numeric,
+ * out-of-range or non-finite field, or more than `max` fields. The line is
+ * restored as it was. */
+int textline_numbers(char *line, double *values, int max);
+
 #endif

@@ -19,6 +19,7 @@
 #include "render/options.h"
 #include "render/overlay.h"
 #include "render/shadow.h"
+#include "render/surface.h"
 #include "sim/recording.h"
 
 /* Everything the frame loop of one view uses, made once. */
@@ -55,6 +56,9 @@ typedef struct renderer {
     strand_occlusion shading;    /* strands darkened where others pass near */
     edge_aa *edge_aa;            /* antialias fxaa: drawn at one sample, then the edges
                                     smoothed; NULL: multisampled or none */
+    surface_mesh_topology *pads; /* (pad_slots) each elastic pad's triangle lists, by
+                                    surface, made at the first frame; NULL: not yet */
+    int pad_slots;
 } renderer;
 
 /* Makes r for the run rec (its camera, grid and arrows from the whole of

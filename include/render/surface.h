@@ -37,6 +37,21 @@ void surface_add_cylinder(render_mesh *m, const double centre[3], const double a
  * gentle bends, flat across sharp edges). 0, or -1 when out of memory. */
 #define MESH_CREASE_ANGLE 0.6 /* rad, about 34 degrees */
 int surface_add_mesh(render_mesh *m, const recording_surface *s, const float color[3]);
+/* A mesh's vertex-to-triangle lists (fixed with its triangles) and room for
+ * its face normals: made once for a mesh drawn every frame whose vertices
+ * move (an elastic pad), so that drawing it allocates nothing. */
+typedef struct surface_mesh_topology {
+    int vertices, triangles;
+    int *start, *list;   /* CSR: vertex v's corners list[start[v] .. start[v + 1]) (3 t + k) */
+    double *normal;      /* (triangles x 3): scratch for the frame's face normals */
+} surface_mesh_topology;
+/* 0, or -1 when out of memory (t then empty); a mesh without triangles
+ * gives an empty t. */
+int surface_mesh_topology_init(surface_mesh_topology *t, const recording_surface *s);
+void surface_mesh_topology_release(surface_mesh_topology *t);
+/* surface_add_mesh with t made for s's triangles (s's vertices as they are now). */
+void surface_add_mesh_shaded(render_mesh *m, const recording_surface *s, surface_mesh_topology *t,
+                             const float color[3]);
 /* The drawn piece of an unbounded cylinder: along its axis over the motion's
  * box and one motion size beyond it each way. */
 void surface_cylinder_piece(const recording_surface *s, const double lo[3], const double hi[3],

@@ -2,7 +2,10 @@
 #include "base/textline.h"
 
 #include <ctype.h>
+#include <errno.h>
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "base/textfile.h"
@@ -35,4 +38,33 @@ int textline_next(const char **cursor, const char *filename, char *line, size_t 
     }
     *cursor = p;
     return 0;
+}
+
+int textline_numbers(char *line, double *values, int max)
+{
+    int count = 0;
+    char *p = line;
+    for (;;) {
+        while (*p == ' ' || *p == '\t') p++;
+        if (!*p) break;
+        char *b = p;
+        while (*p && *p != ',') p++;
+        char *e = p;
+        while (e > b && isspace((unsigned char)e[-1])) e--;
+        if (count == max || e == b) return -1;
+        char keep = *e;
+        *e = '\0';
+        char *stop;
+        errno = 0;
+        double v = strtod(b, &stop);
+        int ok = stop == e && errno != ERANGE && isfinite(v);
+        *e = keep;
+        if (!ok) return -1;
+        values[count++] = v;
+        if (*p == ',') {
+            p++;
+            if (!*p) return -1; /* trailing comma: an empty field */
+        }
+    }
+    return count;
 }

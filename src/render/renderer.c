@@ -192,6 +192,8 @@ void renderer_destroy(renderer *r)
     free(r->mesh.vertices);
     free(r->mesh.indices);
     free(r->grid.lines);
+    for (int k = 0; k < r->pad_slots; k++) surface_mesh_topology_release(&r->pads[k]);
+    free(r->pads);
     rod_recording_destroy(r->view);
     free(r->values);
     free(r->colors);
@@ -477,7 +479,20 @@ static void renderer_colors(renderer *r, const rod_recording *rec, int frame)
  * no shadow. */
 static void renderer_pads(renderer *r, const rod_recording *given, int given_frame)
 {
-    for (int k = 0; k < given->surface_count; k++) {
+    if (!r->pads) {
+        r->pads = calloc((size_t)given->surface_count + 1, sizeof *r->pads);
+        if (!r->pads) return; /* out of memory: the pads are left out */
+        r->pad_slots = given->surface_count;
+        for (int k = 0; k < given->surface_count; k++) {
+            const recording_surface *sf = &given->surfaces[k];
+            recording_surface shape = {0};
+            shape.mesh_vertex_count = sf->pad_node_count;
+            shape.mesh_triangle_count = sf->pad_triangle_count;
+            shape.mesh_triangles = sf->pad_triangles;
+            if (sf->pad_triangles) (void)surface_mesh_topology_init(&r->pads[k], &shape);
+        }
+    }
+    for (int k = 0; k < given->surface_count && k < r->pad_slots; k++) {
         const recording_surface *sf = &given->surfaces[k];
         const double *pad = rod_recording_pad_positions(given, k, given_frame);
         if (!pad) continue;
@@ -487,8 +502,9 @@ static void renderer_pads(renderer *r, const rod_recording *given, int given_fra
         now.mesh_triangle_count = sf->pad_triangle_count;
         now.mesh_vertices = (double *)pad;
         now.mesh_triangles = sf->pad_triangles;
-        /* out of memory for its normals: the pad is left out of this frame */
-        (void)surface_add_mesh(&r->mesh, &now, sf->tissue ? render_skin_color : render_surface_color);
+        if (r->pads[k].triangles != sf->pad_triangle_count) continue; /* out of memory */
+        surface_add_mesh_shaded(&r->mesh, &now, &r->pads[k],
+                                sf->tissue ? render_skin_color : render_surface_color);
     }
 }
 

@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "base/vec3.h"
 #include "render/geometry.h"
@@ -259,31 +260,51 @@ static double mesh_corner_angle(const recording_surface *s, int t, int k)
     return acos(c > 1 ? 1 : c < -1 ? -1 : c);
 }
 
-int surface_add_mesh(render_mesh *m, const recording_surface *s, const float color[3])
+int surface_mesh_topology_init(surface_mesh_topology *t, const recording_surface *s)
 {
+    memset(t, 0, sizeof *t);
     const int nv = s->mesh_vertex_count, nt = s->mesh_triangle_count;
     if (nv <= 0 || nt <= 0) return 0;
-    /* each vertex's triangles (CSR), and each triangle's normal */
-    int *start = calloc((size_t)nv + 1, sizeof(int)), *list = malloc((size_t)nt * 3 * sizeof(int));
-    double *normal = malloc((size_t)nt * 3 * sizeof(double));
-    if (!start || !list || !normal) {
-        free(start);
-        free(list);
-        free(normal);
+    t->start = calloc((size_t)nv + 1, sizeof(int));
+    t->list = malloc((size_t)nt * 3 * sizeof(int));
+    t->normal = malloc((size_t)nt * 3 * sizeof(double));
+    if (!t->start || !t->list || !t->normal) {
+        surface_mesh_topology_release(t);
         return -1;
     }
+    t->vertices = nv;
+    t->triangles = nt;
+    /* each vertex's triangles (CSR) */
+    int *start = t->start, *list = t->list;
     for (int e = 0; e < 3 * nt; e++) start[s->mesh_triangles[e] + 1]++;
     for (int i = 0; i < nv; i++) start[i + 1] += start[i];
     for (int e = 0; e < 3 * nt; e++) list[start[s->mesh_triangles[e]]++] = e;
     for (int i = nv; i > 0; i--) start[i] = start[i - 1];
     start[0] = 0;
-    for (int t = 0; t < nt; t++) mesh_face_normal(s, t, &normal[3 * t]);
+    return 0;
+}
+
+void surface_mesh_topology_release(surface_mesh_topology *t)
+{
+    free(t->start);
+    free(t->list);
+    free(t->normal);
+    memset(t, 0, sizeof *t);
+}
+
+void surface_add_mesh_shaded(render_mesh *m, const recording_surface *s, surface_mesh_topology *t,
+                             const float color[3])
+{
+    const int nt = t->triangles;
+    const int *start = t->start, *list = t->list;
+    double *normal = t->normal;
+    for (int f = 0; f < nt; f++) mesh_face_normal(s, f, &normal[3 * f]);
     const double crease = cos(MESH_CREASE_ANGLE);
-    for (int t = 0; t < nt; t++) {
-        const double *own = &normal[3 * t];
+    for (int f = 0; f < nt; f++) {
+        const double *own = &normal[3 * f];
         unsigned first = (unsigned)m->vertex_count;
         for (int k = 0; k < 3; k++) {
-            const int v = s->mesh_triangles[3 * t + k];
+            const int v = s->mesh_triangles[3 * f + k];
             /* smooth across the faces at the vertex within the crease angle
              * of this one (angle-weighted); flat across sharper edges */
             double n[3] = {0, 0, 0};
@@ -299,8 +320,13 @@ int surface_add_mesh(render_mesh *m, const recording_surface *s, const float col
         }
         mesh_triangle(m, first, first + 1, first + 2);
     }
-    free(start);
-    free(list);
-    free(normal);
+}
+
+int surface_add_mesh(render_mesh *m, const recording_surface *s, const float color[3])
+{
+    surface_mesh_topology t;
+    if (surface_mesh_topology_init(&t, s)) return -1;
+    surface_add_mesh_shaded(m, s, &t, color);
+    surface_mesh_topology_release(&t);
     return 0;
 }

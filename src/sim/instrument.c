@@ -3,7 +3,6 @@
 #include "sim/instrument.h"
 
 #include <ctype.h>
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -121,36 +120,6 @@ rod_path *rod_instrument_jaw_path(const double *rows, int count, char *err, size
     return rod_path_create_with_velocity(rows, count, 4, err, errlen);
 }
 
-/* Numbers of a comma-separated row; the count, or -1 on a bad field. */
-static int row_numbers(char *line, double *values, int max)
-{
-    int count = 0;
-    char *p = line;
-    for (;;) {
-        while (*p == ' ' || *p == '\t') p++;
-        if (!*p) break;
-        char *b = p;
-        while (*p && *p != ',') p++;
-        char *e = p;
-        while (e > b && isspace((unsigned char)e[-1])) e--;
-        if (count == max || e == b) return -1;
-        char keep = *e;
-        *e = '\0';
-        char *stop;
-        errno = 0;
-        double v = strtod(b, &stop);
-        int ok = stop == e && errno != ERANGE && isfinite(v);
-        *e = keep;
-        if (!ok) return -1;
-        values[count++] = v;
-        if (*p == ',') {
-            p++;
-            if (!*p) return -1;
-        }
-    }
-    return count;
-}
-
 int rod_instrument_parse_path(const char *filename, const char *text, rod_path **pose,
                               rod_path **jaw, char *err, size_t errlen)
 {
@@ -178,7 +147,7 @@ int rod_instrument_parse_path(const char *filename, const char *text, rod_path *
             continue;
         }
         double v[9];
-        if (row_numbers(start, v, 9) != 8) {
+        if (textline_numbers(start, v, 9) != 8) {
             snprintf(err, errlen, "%s:%d: expected 8 finite numbers t,x,y,z,rx,ry,rz,jaw "
                      "separated by commas", filename, line_no);
             goto done;

@@ -30,7 +30,6 @@
 #define SHAPE_MAX_BYTES ((size_t)128 << 20)
 #define LOAD_TABLE_MAX_BYTES ((size_t)256 << 20)
 
-static int parse_row(char *line, double *values, int max);
 
 /* A file named in the scene: relative to the scene file's folder unless absolute. */
 static void scene_relative(ini_doc *doc, const char *name, char *path, size_t pathlen)
@@ -657,7 +656,7 @@ int scene_parse_shape(const char *path, const char *text, double **points, int *
             continue;
         }
         double values[4];
-        if (parse_row(start, values, 4) != 3) {
+        if (textline_numbers(start, values, 4) != 3) {
             snprintf(err, errlen, "%s:%d: expected 3 finite numbers x,y,z (m) separated by commas",
                      path, line_no);
             goto done;
@@ -1013,35 +1012,6 @@ fail:
 
 /* Table CSV ------------------------------------------------------------ */
 
-/* Splits a data line into numbers; returns the count, or -1 on a bad field. */
-static int parse_row(char *line, double *values, int max)
-{
-    int count = 0;
-    char *p = line;
-    for (;;) {
-        while (*p == ' ' || *p == '\t') p++;
-        if (!*p) break;
-        char *b = p;
-        while (*p && *p != ',') p++;
-        char *e = p;
-        while (e > b && isspace((unsigned char)e[-1])) e--;
-        if (count == max || e == b) return -1;
-        char keep = *e;
-        *e = '\0';
-        char *stop;
-        errno = 0;
-        double v = strtod(b, &stop);
-        int ok = stop == e && errno != ERANGE && isfinite(v);
-        *e = keep;
-        if (!ok) return -1;
-        values[count++] = v;
-        if (*p == ',') {
-            p++;
-            if (!*p) return -1; /* trailing comma: an empty field */
-        }
-    }
-    return count;
-}
 
 int scene_load_table(const char *path, rod_table *table, char *err, size_t errlen)
 {
@@ -1075,7 +1045,7 @@ int scene_parse_table(const char *path, const char *text, rod_table *table, char
             continue;
         }
         double values[8];
-        int count = parse_row(start, values, 8);
+        int count = textline_numbers(start, values, 8);
         if (count != 2 && count != 7) {
             snprintf(err, errlen,
                      "%s:%d: expected 2 numbers (t, factor) or 7 numbers (t, fx, fy, fz, mx, my, "

@@ -16,6 +16,7 @@
 #include "sim/rod.h"
 #include "sim/scheme_implicit.h"
 #include "test.h"
+#include "test_capstan.h"
 #include "test_curve.h"
 #include "test_process.h"
 
@@ -336,29 +337,7 @@ static double capstan(double mu, double w_load, double pull, double duration, in
     m.instruments = &in;
     m.instrument_count = 1;
     s = rod_state_create(&m);
-    rod_solver solver;
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        printf("     create: %s\n", err);
-        goto done;
-    }
-    rod_report report;
-    memset(&report, 0, sizeof report);
-    const double dt = 2e-3;
-    int steps = (int)lround(duration / dt), count = 0;
-    double sum = 0.0;
-    for (int k = 1; k <= steps; k++) {
-        if (rod_solver_step(&solver, &m, s, dt, &report)) {
-            printf("     capstan step %d (t = %g s): %s\n", k, s->time, report.message);
-            sum = NAN;
-            break;
-        }
-        if (s->time >= 0.4 * duration && s->time <= 0.6 * duration) {
-            sum += v3_norm(s->end_force[0]);
-            count++;
-        }
-    }
-    rod_solver_release(&solver);
-    if (count) result = sum / count;
+    result = capstan_mean_root_force(&m, s, duration);
 done:
     rod_state_destroy(s);
     m.instruments = NULL;

@@ -54,6 +54,46 @@ int tissue_neo_hookean_stress(const double F[9], double mu, double lambda, doubl
     return 0;
 }
 
+/* One material point's share (weight w, m^3) of an element's gradient and
+ * Hessian, added: the first Piola-Kirchhoff stress P of W (the energy above) and
+ * its tangent, through the material gradients g[a] (1/m) of the element's
+ * `nodes` shape functions (dF = e_k g_a^T for a unit move of node a along
+ * k). dP = mu dF + (mu - lambda ln J) F^-T dF^T F^-T + lambda tr(F^-1 dF)
+ * F^-T; with dF = e_k r^T and u = F^-T r: dP_ij = mu d_ik r_j
+ * + (mu - lambda ln J) u_i F^-T_kj + lambda u_k F^-T_ij. */
+static void add_point_terms(const double F[9], const double FinvT[9], double lnJ, double mu,
+                            double lambda, double (*g)[3], int nodes, double w,
+                            double *gradient, double *hessian)
+{
+    if (gradient) {
+        double P[9];
+        for (int k = 0; k < 9; k++) P[k] = mu * (F[k] - FinvT[k]) + lambda * lnJ * FinvT[k];
+        for (int a = 0; a < nodes; a++)
+            for (int i = 0; i < 3; i++) /* dE/dx_ai = w P_ij g_aj */
+                gradient[3 * a + i] +=
+                    w * (P[3 * i] * g[a][0] + P[3 * i + 1] * g[a][1] + P[3 * i + 2] * g[a][2]);
+    }
+    if (!hessian) return;
+    const double c = mu - lambda * lnJ;
+    const int size = 3 * nodes;
+    for (int b = 0; b < nodes; b++)
+        for (int k = 0; k < 3; k++) {
+            const double *rn = g[b];
+            double u[3], dP[9];
+            for (int i = 0; i < 3; i++)
+                u[i] = FinvT[3 * i] * rn[0] + FinvT[3 * i + 1] * rn[1] + FinvT[3 * i + 2] * rn[2];
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++)
+                    dP[3 * i + j] = (i == k ? mu * rn[j] : 0.0) + c * u[i] * FinvT[3 * k + j] +
+                                    lambda * u[k] * FinvT[3 * i + j];
+            const int col = 3 * b + k;
+            for (int a = 0; a < nodes; a++)
+                for (int i = 0; i < 3; i++)
+                    hessian[size * (3 * a + i) + col] +=
+                        w * (dP[3 * i] * g[a][0] + dP[3 * i + 1] * g[a][1] + dP[3 * i + 2] * g[a][2]);
+        }
+}
+
 int tissue_tet_energy(const double *x[4], const double dm_inverse[9], double volume, double mu,
                       double lambda, double *energy, double gradient[12], double hessian[144])
 {
@@ -82,37 +122,9 @@ int tissue_tet_energy(const double *x[4], const double dm_inverse[9], double vol
         r[3][j] = B[6 + j];
         r[0][j] = -(B[j] + B[3 + j] + B[6 + j]);
     }
-    if (gradient) {
-        double P[9];
-        for (int k = 0; k < 9; k++) P[k] = mu * (F[k] - FinvT[k]) + lambda * lnJ * FinvT[k];
-        for (int n = 0; n < 4; n++)
-            for (int i = 0; i < 3; i++) /* dE/dx_ni = V P_ij r_nj */
-                gradient[3 * n + i] =
-                    volume * (P[3 * i] * r[n][0] + P[3 * i + 1] * r[n][1] + P[3 * i + 2] * r[n][2]);
-    }
-    if (hessian) {
-        /* dP = mu dF + (mu - lambda ln J) F^-T dF^T F^-T + lambda tr(F^-1 dF) F^-T;
-         * with dF = e_k r^T and u = F^-T r: dP_ij = mu d_ik r_j
-         * + (mu - lambda ln J) u_i F^-T_kj + lambda u_k F^-T_ij. */
-        double c = mu - lambda * lnJ;
-        for (int n = 0; n < 4; n++)
-            for (int k = 0; k < 3; k++) {
-                const double *rn = r[n];
-                double u[3], dP[9];
-                for (int i = 0; i < 3; i++)
-                    u[i] = FinvT[3 * i] * rn[0] + FinvT[3 * i + 1] * rn[1] + FinvT[3 * i + 2] * rn[2];
-                for (int i = 0; i < 3; i++)
-                    for (int j = 0; j < 3; j++)
-                        dP[3 * i + j] = (i == k ? mu * rn[j] : 0.0) + c * u[i] * FinvT[3 * k + j] +
-                                        lambda * u[k] * FinvT[3 * i + j];
-                int col = 3 * n + k;
-                for (int m = 0; m < 4; m++)
-                    for (int i = 0; i < 3; i++)
-                        hessian[12 * (3 * m + i) + col] =
-                            volume * (dP[3 * i] * r[m][0] + dP[3 * i + 1] * r[m][1] +
-                                      dP[3 * i + 2] * r[m][2]);
-            }
-    }
+    if (gradient) memset(gradient, 0, sizeof(double) * 12);
+    if (hessian) memset(hessian, 0, sizeof(double) * 144);
+    add_point_terms(F, FinvT, lnJ, mu, lambda, r, 4, volume, gradient, hessian);
     return 0;
 }
 
@@ -174,34 +186,7 @@ int tissue_tet10_energy(const double *x[10], const double dm_inverse[9], double 
             for (int k = 0; k < 9; k++) I1 += F[k] * F[k];
             *energy += w * (0.5 * mu * (I1 - 3.0) - mu * lnJ + 0.5 * lambda * lnJ * lnJ);
         }
-        if (gradient) {
-            double P[9];
-            for (int k = 0; k < 9; k++) P[k] = mu * (F[k] - FinvT[k]) + lambda * lnJ * FinvT[k];
-            for (int a = 0; a < 10; a++)
-                for (int i = 0; i < 3; i++)
-                    gradient[3 * a + i] +=
-                        w * (P[3 * i] * G[a][0] + P[3 * i + 1] * G[a][1] + P[3 * i + 2] * G[a][2]);
-        }
-        if (hessian) { /* as in tissue_tet_energy, r = the gradient of N_b */
-            double c = mu - lambda * lnJ;
-            for (int b = 0; b < 10; b++)
-                for (int k = 0; k < 3; k++) {
-                    const double *rn = G[b];
-                    double u[3], dP[9];
-                    for (int i = 0; i < 3; i++)
-                        u[i] = FinvT[3 * i] * rn[0] + FinvT[3 * i + 1] * rn[1] + FinvT[3 * i + 2] * rn[2];
-                    for (int i = 0; i < 3; i++)
-                        for (int j = 0; j < 3; j++)
-                            dP[3 * i + j] = (i == k ? mu * rn[j] : 0.0) + c * u[i] * FinvT[3 * k + j] +
-                                            lambda * u[k] * FinvT[3 * i + j];
-                    int col = 3 * b + k;
-                    for (int a = 0; a < 10; a++)
-                        for (int i = 0; i < 3; i++)
-                            hessian[30 * (3 * a + i) + col] +=
-                                w * (dP[3 * i] * G[a][0] + dP[3 * i + 1] * G[a][1] +
-                                     dP[3 * i + 2] * G[a][2]);
-                }
-        }
+        add_point_terms(F, FinvT, lnJ, mu, lambda, G, 10, w, gradient, hessian);
     }
     return 0;
 }
