@@ -26,6 +26,7 @@ typedef struct knot_track {
     int slip_end;            /* at the first change: 0 root, 1 tip, -1 neither */
     int slip_reach;          /* segments from that end the strands touched */
     double *prev_pos;        /* (nodes x 3) m, owned: the last frame's positions, or NULL */
+    int prev_first;          /* the uncut thread's node that was node 0 then (sim/cut.h) */
     double moved;            /* m: the largest node motion since the last frame */
     double slip_time;        /* s: the frame they touched there */
     double change_gap;       /* m: the closest two non-neighbouring strands came at a step's

@@ -169,7 +169,9 @@ void run_warnings_join(const run_warnings *w, char *out, size_t n);
 
 /* The CSV: the header row, then t,node,s,x,y,z,d3x,d3y,d3z,twist,nx,ny,nz (s, -,
  * m, m, m, m, -, -, -, 1/m, N, N, N), one row per node of the state; n is the
- * internal force N(s), global (rod_internal_force). 0, or -1 out of memory. */
+ * internal force N(s), global (rod_internal_force). After a cut only the
+ * thread left has rows, numbered as on the uncut thread (node and s from
+ * its first node; sim/cut.h). 0, or -1 out of memory. */
 void run_csv_header(FILE *f);
 int run_csv_frame(FILE *f, const rod_model *m, const rod_state *s);
 

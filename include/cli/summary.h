@@ -44,6 +44,15 @@ typedef struct summary_grasp {
     double t_on, t_off, s, force;
 } summary_grasp;
 
+/* A cut of the thread (sim/cut.h): the scissors' name ("" for the scene's
+ * [cut]), when (s), where on the uncut thread (m of arc length from its
+ * first node) and the length of the piece taken away (m). */
+#define SUMMARY_MAX_CUTS 8
+typedef struct summary_cut {
+    char instrument[32];
+    double t, s, removed;
+} summary_cut;
+
 /* What a run tells; every `has_` flag says the part is known (else left
  * out of the JSON). Strings are copied in (fixed size: no ownership). */
 typedef struct run_summary {
@@ -86,6 +95,8 @@ typedef struct run_summary {
     summary_puncture punctures[SUMMARY_MAX_PUNCTURES];
     int grasp_count;
     summary_grasp grasps[SUMMARY_MAX_GRASPS];
+    int cut_count;
+    summary_cut cuts[SUMMARY_MAX_CUTS];
     /* an elastic pad ([surface] model = elastic) */
     int has_tissue;
     double tissue_max_displacement; /* m: the farthest a pad node is from its rest place,

@@ -168,7 +168,9 @@ int rod_recording_punctures(const rod_recording *r, int frame, const double **po
 /* Keeps frames 0, 2, 4, ... (and the peaks): halves a sampled recording. */
 void rod_recording_halve(rod_recording *r);
 /* Appends the state as a frame; the tip load at s->time comes from the model.
- * Returns 0, or -1 when out of memory. */
+ * A state of a cut thread (sim/cut.h; m its model) fills its nodes of the
+ * recording's and puts the ones cut away at the cut end. Returns 0, or -1
+ * when out of memory. */
 int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *s);
 
 #endif

@@ -121,9 +121,14 @@ const rod_scheme_ops *rod_scheme_find(const char *name, rod_scheme_kind *kind);
 typedef struct rod_solver {
     const rod_scheme_ops *ops;
     void *work;
+    int cuts;  /* the cuts of the thread its work is made for (rod_state cut_count; sim/cut.h) */
 } rod_solver;
 
 int rod_solver_init(rod_solver *solver, const rod_model *m, char *err, size_t errlen);
+/* One step of dt from s, m the scene's model. A cut (sim/cut.h) asked for
+ * in the step (scissors closing, the scene's [cut]) is made after it; the
+ * next step then makes the work again for the thread left and steps that
+ * (rod_cut_model(m, s)). */
 rod_status rod_solver_step(rod_solver *solver, const rod_model *m, rod_state *s, double dt,
                            rod_report *report);
 void rod_solver_release(rod_solver *solver);

@@ -161,6 +161,36 @@ typedef struct rod_grasp_record {
 /* The most grasps a run reports. */
 #define ROD_MAX_GRASP_LOG 32
 
+/* A cut of the thread (sim/cut.h): asked for by scissors closing across
+ * it, or by the scene ([cut]); made after the step that asked. */
+typedef struct rod_cut_request {
+    int pending;       /* 1: a cut is due after this step */
+    int instrument;    /* the scissors' index in the model's instruments; -1: the scene's */
+    double s;          /* m: where, as arc length of the thread as it is now (node 0 at 0) */
+} rod_cut_request;
+
+/* One cut of the run, for its report (rod_state cut_log). Arc lengths are
+ * the uncut thread's (from its first node). */
+typedef struct rod_cut_record {
+    int instrument;    /* index in the model's instruments; -1: the scene's [cut] */
+    double t;          /* s: when */
+    double s;          /* m: where the blades crossed the thread */
+    double removed;    /* m: the length of the piece taken away */
+    int side;          /* 0: the root's side was removed, 1: the tip's */
+} rod_cut_record;
+
+/* The most cuts a run makes. */
+#define ROD_MAX_CUTS 8
+
+struct rod_cut_thread; /* sim/cut.h: the model of the thread left after cuts */
+
+/* A cut the scene gives ([cut], repeatable): at time t the thread is cut
+ * at arc length s of the uncut thread (sim/cut.h). */
+typedef struct rod_cut_event {
+    double t;          /* s */
+    double s;          /* m, from the uncut thread's first node */
+} rod_cut_event;
+
 /* A puncture as the run sees it now (rod_state). */
 typedef struct rod_puncture_state {
     double point[3];   /* m, global: where the tissue holds the thread */
@@ -297,6 +327,8 @@ typedef struct rod_model {
     rod_puncture *punctures;      /* (puncture_count), owned */
     int instrument_count;         /* scene [instrument], at most ROD_MAX_INSTRUMENTS */
     rod_instrument *instruments;  /* (instrument_count), owned */
+    int cut_event_count;          /* scene [cut]: cuts at given times, without scissors */
+    struct rod_cut_event *cut_events; /* (cut_event_count), owned */
 
     rod_options options;
 
@@ -342,6 +374,13 @@ typedef struct rod_state {
     rod_grasp_state grasp[ROD_MAX_INSTRUMENTS]; /* one per instrument of the model */
     int grasp_log_count;
     rod_grasp_record grasp_log[ROD_MAX_GRASP_LOG]; /* the run's grasps, in order */
+    /* trimming (sim/cut.h): after a cut, `nodes` counts the nodes left (the
+     * arrays keep their size) and cut holds their model */
+    int first_node;           /* the uncut thread's node that is node 0 now (0: none cut) */
+    rod_cut_request cut_request;
+    int cut_count;
+    rod_cut_record cut_log[ROD_MAX_CUTS]; /* the run's cuts, in order */
+    struct rod_cut_thread *cut; /* shared by copies (counted); NULL: the thread is whole */
 } rod_state;
 
 /* Outcome of a step or a solve. */

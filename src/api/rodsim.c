@@ -15,6 +15,7 @@
 #include "base/ini.h"
 #include "base/outfile.h"
 #include "render/gl_context.h"
+#include "sim/cut.h"
 #include "sim/geometry/knot.h"
 #include "sim/path.h"
 #include "sim/recording.h"
@@ -223,7 +224,7 @@ static rodsim_status advance(rodsim_scene *sc, double n, double h, double target
 /* Appends the state as a frame of the video. */
 static rodsim_status record(rodsim_scene *sc)
 {
-    if (rod_recording_append(sc->rec, sc->stepped, sc->state))
+    if (rod_recording_append(sc->rec, rod_cut_model(sc->stepped, sc->state), sc->state))
         return fail(sc, RODSIM_FAILED, "out of memory while recording the frame at t = %g s",
                     sc->state->time);
     return RODSIM_OK;

@@ -146,7 +146,8 @@ const ini_key scene_keys_rod[] = {
      "header t,x,y,z,rx,ry,rz,jaw: the jaws' tip (m, global), its rotation vector (rad; local "
      "x along the shafts to the tip, z the jaws' opening plane) and the jaws' opening (0 "
      "closed .. 1 open), interpolated smoothly; jaws closing below 0.1 grasp the thread "
-     "between them, opening release it"},
+     "between them, opening release it; scissors' blades closing below 0.1 cut it where it "
+     "crosses them (the piece on the side no end, grasp or puncture holds leaves the run)"},
     {"instrument", "size", "m", "0.14", "> 0",
      "overall length; jaws and shanks scale with it (a 0.14 m needle holder: 15 mm jaws)"},
     {"instrument", "friction", "-", "0.3", ">= 0",
@@ -156,6 +157,12 @@ const ini_key scene_keys_rod[] = {
     {"instrument", "needle", "-", "no", "yes | no",
      "needle_holder: holds the needle (ends.needle) at its jaws' tip: its path drives the "
      "thread's tip (ends.tip = clamped; no ends.tip_motion)"},
+    {"cut", "t", "s", "required", "> 0",
+     "the thread is cut at this time, without scissors ([cut] repeats, at most 8; the summary's "
+     "cuts): the piece from the cut to the free end on the side no end, grasp or puncture holds "
+     "leaves the run (neither held: the shorter)"},
+    {"cut", "s", "m", "required", "0 < s < rod.length",
+     "where: arc length on the uncut thread from its root, cut at the nearest node"},
 
     {"physics", "twist", "-", "on", BOOL, "off: twist quasi-static (no torsion waves)"},
     {"physics", "rotary_inertia", "-", "on", BOOL, "off: no rotary inertia (implicit scheme)"},

@@ -58,8 +58,11 @@ static int slip_reach(const rod_model *m, double moved)
 static double frame_motion(const knot_track *k, const rod_state *s)
 {
     double moved = 0.0;
+    /* a cut that took the root's side moved the nodes down (sim/cut.h) */
+    const int shift = s->first_node - k->prev_first;
+    if (shift < 0) return 0.0; /* the whole thread again: no last frame to compare */
     for (int i = 0; k->prev_pos && k->frames > 0 && i < s->nodes; i++) {
-        const double *a = &s->position[3 * i], *b = &k->prev_pos[3 * i];
+        const double *a = &s->position[3 * i], *b = &k->prev_pos[3 * (i + shift)];
         const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
         moved = fmax(moved, sqrt(dx * dx + dy * dy + dz * dz));
     }
@@ -69,6 +72,7 @@ static double frame_motion(const knot_track *k, const rod_state *s)
 static void track_touch(knot_track *k, const rod_state *s)
 {
     if (k->prev_pos) memcpy(k->prev_pos, s->position, (size_t)s->nodes * 3 * sizeof(double));
+    k->prev_first = s->first_node;
     k->touch_lo = k->touch_hi = -1;
     for (int i = 0; i < s->nodes; i++) {
         const double *f = &s->self_force[3 * i];

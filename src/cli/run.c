@@ -13,6 +13,7 @@
 
 #include "api/stepping.h"
 #include "base/dtoa.h"
+#include "sim/cut.h"
 #include "sim/recording.h"
 #include "sim/rod.h"
 
@@ -125,19 +126,22 @@ int run_csv_frame(FILE *f, const rod_model *m, const rod_state *s)
     double *force = malloc((size_t)s->nodes * 3 * sizeof *force);
     if (!force) return -1;
     rod_internal_force(s, force);
+    /* node and s are the uncut thread's: a cut taking the root's side leaves
+     * the rows of the nodes left under their own numbers */
     for (int i = 0; i < s->nodes; i++) {
+        const int node = i + s->first_node;
         const double *r = &s->position[3 * i];
         const double *q = &s->frame[9 * i];
         const double *n = &force[3 * i];
         /* d3 is column 3 of Q (row-major): q[2], q[5], q[8]; + 0.0 writes -0 as 0.
          * Shortest texts that read back to the same doubles (dtoa.h): 55 ns a
          * number against printf's 160 (%.17g) or 125 (%.10g, which loses bits) */
-        const double field[12] = {s->time, (double)i * m->ds, r[0], r[1], r[2], q[2], q[5], q[8],
+        const double field[12] = {s->time, (double)node * m->ds, r[0], r[1], r[2], q[2], q[5], q[8],
                                   rod_recording_node_twist(s, i), n[0] + 0.0, n[1] + 0.0,
                                   n[2] + 0.0};
         char line[13 * DTOA_MAX];
         char *p = line + dtoa_shortest(line, field[0]);
-        p += snprintf(p, 16, ",%d", i);
+        p += snprintf(p, 16, ",%d", node);
         for (int k = 1; k < 12; k++) {
             *p++ = ',';
             p += dtoa_shortest(p, field[k]);
@@ -283,7 +287,9 @@ rod_status run_simulate_paced(rod_solver *solver, const rod_model *m, rod_state 
     double start = wall_seconds();
     rod_status status = ROD_OK;
     if (pace) pace_start(pace, plan);
-    if (on_frame && on_frame(context, m, s, report->message, sizeof report->message))
+    /* the frames see the thread as it is: after a cut, the thread left (sim/cut.h) */
+    if (on_frame && on_frame(context, rod_cut_model(m, s), s, report->message,
+                             sizeof report->message))
         status = ROD_FAILED;
     /* whole intervals (k - 1)/fps .. k/fps, then the partial one to the duration */
     int64_t intervals = plan->intervals + (plan->last_steps > 0 ? 1 : 0);
@@ -300,7 +306,7 @@ rod_status run_simulate_paced(rod_solver *solver, const rod_model *m, rod_state 
                              partial ? plan->last_step : plan->step, target, report, stats, pace);
         }
         if (status == ROD_OK && on_frame &&
-            on_frame(context, m, s, report->message, sizeof report->message))
+            on_frame(context, rod_cut_model(m, s), s, report->message, sizeof report->message))
             status = ROD_FAILED;
         stats->closest_gap_frame = INFINITY;
     }

@@ -25,6 +25,7 @@
 #include "api/scene_keys.h"
 #include "cli/summary.h"
 #include "render/gl_context.h"
+#include "sim/cut.h"
 #include "sim/rod.h"
 #include "sim/scene.h"
 #include "sim/tissue/tissue.h"
@@ -256,6 +257,15 @@ static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_
         fprintf(f, "        grasp %d by %s: at t = %.6g s, %s, the thread at s = %.6g m, "
                 "largest force on the jaws %.6g N\n", k + 1, m->instruments[g->instrument].name,
                 g->t_on, off, g->s, g->force);
+    }
+    /* each cut: when, where on the uncut thread, how much it took away */
+    for (int k = 0; k < s->cut_count; k++) {
+        const rod_cut_record *c = &s->cut_log[k];
+        char who[64] = "the scene's [cut]";
+        if (c->instrument >= 0) snprintf(who, sizeof who, "%.40s", m->instruments[c->instrument].name);
+        fprintf(f, "        cut %d by %s: at t = %.6g s, the thread at s = %.6g m, %.6g m taken "
+                "away from the %s's side\n", k + 1, who, c->t, c->s, c->removed,
+                c->side ? "tip" : "root");
     }
     const int pad = tissue_coupling_pad(m);
     if (pad >= 0)
@@ -853,7 +863,7 @@ static int finish_streamed_video(scene_run *r)
     rod_recording *rec = r->sink.rec;
     if (rec->frame_count > 0 && rec->time[rec->frame_count - 1] != r->s->time) {
         if (rec->frame_count == r->sink.sample_cap) rod_recording_halve(rec);
-        if (rod_recording_append(rec, r->m, r->s)) {
+        if (rod_recording_append(rec, rod_cut_model(r->m, r->s), r->s)) {
             complain(r->o, "rodsim run: out of memory\n");
             return RUN_EXIT_FAILURE;
         }
@@ -959,7 +969,8 @@ static int report_run(scene_run *r)
     if (passed_through) complain(a, "rodsim run: error: %s\n", error);
     if (!a->quiet) {
         FILE *talk = r->talk;
-        print_result(talk, m, r->s, r->stats.steps, r->stats.wall_seconds, r->step_cpu);
+        print_result(talk, rod_cut_model(m, r->s), r->s, r->stats.steps, r->stats.wall_seconds,
+                     r->step_cpu);
         if (knot_track_can_knot(m) || knot_track_was_knotted(knots))
             knot_track_print(talk, knots, m);
         if (a->csv && !r->csv_stdout)
@@ -1003,10 +1014,10 @@ static void summary_knot(const scene_run *r, run_summary *sum)
 /* What the summary knows after the run, whatever its outcome. */
 static void summary_result(const scene_run *r, run_summary *sum)
 {
-    const rod_model *m = r->m;
     const scene_outputs_options *a = r->o;
     for (int i = 0; i < r->warnings.count; i++) summary_add_warning(sum, r->warnings.text[i]);
     if (!r->s) return;
+    const rod_model *m = rod_cut_model(r->m, r->s); /* after cuts: the thread left */
     sum->has_run = 1;
     sum->steps = r->stats.steps;
     sum->frames = r->sink.index;
@@ -1055,6 +1066,17 @@ static void summary_result(const scene_run *r, run_summary *sum)
         out->t_off = g->t_off;
         out->s = g->s;
         out->force = g->force;
+    }
+    sum->cut_count = 0;
+    for (int j = 0; j < r->s->cut_count && j < SUMMARY_MAX_CUTS; j++) {
+        const rod_cut_record *c = &r->s->cut_log[j];
+        summary_cut *out = &sum->cuts[sum->cut_count++];
+        out->instrument[0] = '\0';
+        if (c->instrument >= 0)
+            snprintf(out->instrument, sizeof out->instrument, "%s", m->instruments[c->instrument].name);
+        out->t = c->t;
+        out->s = c->s;
+        out->removed = c->removed;
     }
 }
 

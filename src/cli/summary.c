@@ -229,6 +229,23 @@ static void grasps_list(json_out *j, const run_summary *s)
     close_(j, ']');
 }
 
+static void cuts_list(json_out *j, const run_summary *s)
+{
+    key(j, "cuts");
+    open_(j, '[');
+    for (int i = 0; i < s->cut_count; i++) {
+        const summary_cut *c = &s->cuts[i];
+        comma(j);
+        open_(j, '{');
+        if (c->instrument[0]) string_field(j, "instrument", c->instrument); /* absent: [cut] */
+        number_field(j, "t", c->t);
+        number_field(j, "s", c->s);
+        number_field(j, "removed", c->removed);
+        close_(j, '}');
+    }
+    close_(j, ']');
+}
+
 static void tissue_object(json_out *j, const run_summary *s)
 {
     key(j, "tissue");
@@ -284,6 +301,7 @@ int summary_print(FILE *f, const run_summary *s)
     }
     if (s->puncture_count > 0) punctures_list(&j, s);
     if (s->grasp_count > 0) grasps_list(&j, s);
+    if (s->cut_count > 0) cuts_list(&j, s);
     if (s->has_tissue) tissue_object(&j, s);
     close_(&j, '}');
     fputc('\n', f);

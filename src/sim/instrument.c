@@ -11,6 +11,7 @@
 #include "base/textfile.h"
 #include "base/textline.h"
 #include "base/vec3.h"
+#include "sim/cut.h"
 #include "sim/rod.h"
 
 const char *const rod_instrument_kind_names[] = {"needle_holder", "forceps", "scissors", NULL};
@@ -277,7 +278,8 @@ static void grasp_on_close(const rod_model *m, int k, rod_state *s, rod_report *
     g->log = -1;
     if (s->grasp_log_count < ROD_MAX_GRASP_LOG) {
         g->log = s->grasp_log_count++;
-        const rod_grasp_record r = {k, s->time, -1.0, best_s, 0.0};
+        /* the arc length on the uncut thread (a cut may have taken its root's side) */
+        const rod_grasp_record r = {k, s->time, -1.0, best_s + s->first_node * m->ds, 0.0};
         s->grasp_log[g->log] = r;
     }
 }
@@ -292,6 +294,12 @@ void rod_instruments_update(const rod_model *m, rod_state *s, rod_report *report
         const int closed = jaw < ROD_JAW_CLOSED;
         if (m->instruments[k].needle) {
             g->closed = closed; /* its jaws hold the needle, not the thread */
+            continue;
+        }
+        if (m->instruments[k].kind == ROD_INSTRUMENT_SCISSORS) {
+            /* blades cut what they close across; they never hold (sim/cut.h) */
+            if (closed && !g->closed) rod_cut_on_close(m, k, s, report);
+            g->closed = closed;
             continue;
         }
         if (g->held && g->log >= 0)

@@ -330,31 +330,46 @@ int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *
                           s->self_force[3 * i + 2] != 0.0;
     if (r->frame_count == r->capacity && reserve(r, 2 * r->capacity)) return -1;
     size_t k = (size_t)r->frame_count, n = (size_t)r->nodes;
+    /* after a cut (sim/cut.h) the state holds the thread left, nodes
+     * lo..lo+kept-1 of the recording's; the nodes cut away are drawn
+     * where the cut end is (a tube of no length there), so a frame keeps the
+     * recording's node count */
+    const size_t kept = (size_t)s->nodes < n ? (size_t)s->nodes : n;
+    const size_t lo = (size_t)s->first_node + kept <= n ? (size_t)s->first_node : n - kept;
     r->time[k] = s->time;
-    memcpy(&r->position[k * n * 3], s->position, n * 3 * sizeof(double));
-    memcpy(&r->frame[k * n * 9], s->frame, n * 9 * sizeof(double));
+    memcpy(&r->position[(k * n + lo) * 3], s->position, kept * 3 * sizeof(double));
+    memcpy(&r->frame[(k * n + lo) * 9], s->frame, kept * 9 * sizeof(double));
     if (m->tip_end == ROD_END_PINNED && m->tip_motion && m->needle_radius > 0.0 &&
         rod_path_columns(m->tip_motion) == 7) {
         /* a pinned tip swivels on its needle: the frame recorded at the tip is
          * the needle's, R(t) R(t0)^T Q_tip(0) from its path, so the needle is
          * drawn along its arc (the thread's own frame there is not drawn) */
-        double *tip = &r->frame[(k * n + n - 1) * 9];
+        double *tip = &r->frame[(k * n + lo + kept - 1) * 9];
         if (k == 0) memcpy(r->needle_frame0, tip, sizeof r->needle_frame0);
-        rod_pose now, first;
+        rod_pose now, start;
         rod_path_eval(m->tip_motion, s->time, &now);
-        rod_path_eval(m->tip_motion, rod_path_start(m->tip_motion), &first);
+        rod_path_eval(m->tip_motion, rod_path_start(m->tip_motion), &start);
         double rel[9], back[9];
-        m3_mul_tn(back, first.rotation, r->needle_frame0); /* R(t0)^T Q_tip(0) */
+        m3_mul_tn(back, start.rotation, r->needle_frame0); /* R(t0)^T Q_tip(0) */
         m3_mul(rel, now.rotation, back);
         memcpy(tip, rel, sizeof rel);
     }
-    for (size_t i = 0; i < n; i++) r->twist[k * n + i] = rod_recording_node_twist(s, (int)i);
+    for (size_t i = 0; i < kept; i++)
+        r->twist[k * n + lo + i] = rod_recording_node_twist(s, (int)i);
     /* tension N . d3 at each node (the internal force along the rod, N) */
     rod_internal_force(s, r->force_scratch);
-    for (size_t i = 0; i < n; i++) {
+    for (size_t i = 0; i < kept; i++) {
         double d3[3];
         m3_column(d3, &s->frame[9 * i], 2);
-        r->tension[k * n + i] = v3_dot(&r->force_scratch[3 * i], d3);
+        r->tension[k * n + lo + i] = v3_dot(&r->force_scratch[3 * i], d3);
+    }
+    for (size_t i = 0; i < n; i++) {
+        if (i >= lo && i < lo + kept) continue;
+        const size_t end = k * n + (i < lo ? lo : lo + kept - 1), at = k * n + i;
+        memcpy(&r->position[3 * at], &r->position[3 * end], 3 * sizeof(double));
+        memcpy(&r->frame[9 * at], &r->frame[9 * end], 9 * sizeof(double));
+        r->twist[at] = r->twist[end];
+        r->tension[at] = 0.0;
     }
     double force[3], moment[3];
     rod_recording_tip_load(m, s, force, moment);

@@ -12,6 +12,7 @@
 #include "sim/rod_geometry.h"
 #include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
+#include "sim/cut.h"
 #include "sim/tissue/tissue.h"
 
 /* How far (relative to the length) a path's first row may lie from the end
@@ -588,6 +589,9 @@ void rod_model_release(rod_model *m)
     free(m->instruments);
     m->instruments = NULL;
     m->instrument_count = 0;
+    free(m->cut_events);
+    m->cut_events = NULL;
+    m->cut_event_count = 0;
 }
 
 int rod_model_refuse_obstacles(const rod_model *m, const char *scheme, char *err, size_t errlen)
@@ -734,6 +738,7 @@ rod_state *rod_state_create(const rod_model *m)
 void rod_state_destroy(rod_state *s)
 {
     if (!s) return;
+    rod_cut_clear(s);
     free(s->position);
     free(s->frame);
     free(s->velocity);
@@ -766,10 +771,12 @@ void rod_state_copy(rod_state *to, const rod_state *from)
     memcpy(to->grasp, from->grasp, sizeof to->grasp);
     to->grasp_log_count = from->grasp_log_count;
     memcpy(to->grasp_log, from->grasp_log, sizeof to->grasp_log);
+    rod_cut_share(to, from);
 }
 
 void rod_state_reset(const rod_model *m, rod_state *s)
 {
+    rod_cut_clear(s); /* the whole thread again */
     size_t n = (size_t)s->nodes;
     s->time = 0.0;
     memset(s->angular_velocity, 0, n * 3 * sizeof(double));
@@ -1012,6 +1019,7 @@ int rod_solver_init(rod_solver *solver, const rod_model *m, char *err, size_t er
         return -1;
     }
     solver->work = solver->ops->create(m, err, errlen);
+    solver->cuts = 0;
     return solver->work ? 0 : -1;
 }
 
@@ -1022,13 +1030,24 @@ rod_status rod_solver_step(rod_solver *solver, const rod_model *m, rod_state *s,
     report->suggested_dt = 0.0;
     report->suggested_scale = 0.0;
     report->newton_iterations = 0;
-    return solver->ops->step(solver->work, m, s, dt, report);
+    /* a cut (sim/cut.h) changes the thread between steps: the work is made
+     * again for the thread left, and cuts due after this step are made */
+    if (solver->cuts != s->cut_count &&
+        rod_cut_solver_sync(solver, m, s, report->message, sizeof report->message))
+        return ROD_FAILED;
+    const double t0 = s->time;
+    rod_status status = solver->ops->step(solver->work, rod_cut_model(m, s), s, dt, report);
+    if (status == ROD_OK && m->cut_event_count > 0) rod_cut_scene_events(m, s, t0);
+    if (status == ROD_OK && s->cut_request.pending && rod_cut_apply(m, s, report))
+        status = ROD_FAILED;
+    return status;
 }
 
 int rod_solver_refresh(rod_solver *solver, const rod_model *m, const rod_state *s, double dt)
 {
-    if (!solver->ops || !solver->ops->refresh || !solver->work) return 0;
-    return solver->ops->refresh(solver->work, m, s, dt);
+    if (!solver->ops || !solver->ops->refresh || !solver->work || solver->cuts != s->cut_count)
+        return 0;
+    return solver->ops->refresh(solver->work, rod_cut_model(m, s), s, dt);
 }
 
 void rod_solver_release(rod_solver *solver)

@@ -17,6 +17,7 @@
 #include "sim/path.h"
 #include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
+#include "sim/cut.h"
 #include "sim/instrument.h"
 #include "sim/rod.h"
 #include "sim/tissue/tissue.h"
@@ -979,7 +980,8 @@ int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
         read_start(doc, m, err, errlen) || read_solver(doc, m, err, errlen) ||
         read_tip(doc, m, err, errlen) || read_loads(doc, m, gravity, err, errlen) ||
         read_ends_physics(doc, m, err, errlen) || read_point_loads(doc, m, err, errlen) ||
-        read_surfaces(doc, m, err, errlen) || read_instruments(doc, m, err, errlen))
+        read_surfaces(doc, m, err, errlen) || read_instruments(doc, m, err, errlen) ||
+        rod_cut_read_scene(doc, m, err, errlen))
         goto fail;
     char why[768];
     if (rod_model_derive(m, why, sizeof why)) {

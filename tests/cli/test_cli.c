@@ -344,7 +344,7 @@ static void test_run_loop(void)
     rod_model_derive(&m, err, sizeof err);
     const int fps = 10;
     int frames = run_frame_count(m.options.duration, fps); /* 0, 0.1, 0.2, 0.26 */
-    rod_solver solver = {&fake_scheme, fake_scheme.create(&m, err, sizeof err)};
+    rod_solver solver = {&fake_scheme, fake_scheme.create(&m, err, sizeof err), 0};
     rod_state *s = rod_state_create(&m);
     rod_recording *rec = rod_recording_create(&m, "loop", frames);
     rod_report report;
@@ -451,7 +451,7 @@ static void test_run_paced(void)
     m.nodes = 5;
     m.options.duration = 1.0;
     rod_model_derive(&m, err, sizeof err);
-    rod_solver solver = {&dear_scheme, dear_scheme.create(&m, err, sizeof err)};
+    rod_solver solver = {&dear_scheme, dear_scheme.create(&m, err, sizeof err), 0};
     rod_state *s = rod_state_create(&m);
     rod_report report;
     run_stats stats;
@@ -490,7 +490,7 @@ static void test_run_paced(void)
 
     /* steps that cost what the model says (the fake one: nothing) run on */
     rod_solver_release(&solver);
-    solver = (rod_solver){&fake_scheme, fake_scheme.create(&m, err, sizeof err)};
+    solver = (rod_solver){&fake_scheme, fake_scheme.create(&m, err, sizeof err), 0};
     m.options.duration = 1.0;
     rod_state_reset(&m, s);
     run_plan_make(&m, 1e-3, 10, &plan);
