@@ -139,7 +139,10 @@ void rod_cut_scene_events(const rod_model *m, rod_state *s, double t0)
 {
     for (int e = 0; e < m->cut_event_count; e++) {
         const rod_cut_event *ev = &m->cut_events[e];
-        if (ev->t > t0 && ev->t <= s->time)
+        /* a run sets the time to each output time after its steps, a hair
+         * past where their sum ended: the steps' ends with that hair */
+        const double hair = 1e-9 * fmax(1.0, fabs(ev->t));
+        if (ev->t > t0 + hair && ev->t <= s->time + hair)
             rod_cut_ask(s, -1, ev->s - s->first_node * m->ds);
     }
 }

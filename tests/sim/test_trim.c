@@ -469,6 +469,20 @@ static void test_scene(void)
           "75)", rows, lo, hi);
     unlink(csv);
     rmdir(dir);
+    /* [cut] at an output time (the run sets the time to it after the
+     * steps): a 1 m thread hanging from its clamped root, cut at its middle
+     * at 2 s; at 10 s the root carries the half left */
+    const char *half[] = {"run", RODSIM_SOURCE_DIR "/scenes/suture_gravity.ini", "--no-video",
+                          "--set", "cut.t=2", "--set", "cut.s=0.5", "--summary", "-", NULL};
+    status = test_run_rodsim(half, output, sizeof output);
+    const char *cuts = strstr(output, "\"cuts\":[{\"t\":"), *f = strstr(output, "\"force\":[");
+    double fz = NAN;
+    if (f && (f = strchr(f, ',')) && (f = strchr(f + 1, ','))) fz = atof(f + 1);
+    const double weight = 850.0 * M_PI * 0.001 * 0.001 / 4.0 * 9.81 * 0.5;
+    check(status == 0 && cuts && strstr(output, "\"nodes\":51"),
+          "[cut] at t = 2 s, an output time: made (exit %d), 51 of 101 nodes left", status);
+    check_rel("[cut] at the middle: the root's force at 10 s vs rho A g L / 2, N", -fz, weight,
+              0.01);
 }
 
 int main(void)
