@@ -89,12 +89,14 @@ const char *rodsim_last_error(const rodsim_scene *scene);
 
 /* The scene ------------------------------------------------------------- */
 
-int rodsim_nodes(const rodsim_scene *scene);        /* NS */
+int rodsim_nodes(const rodsim_scene *scene);        /* NS; after a cut ([cut], scissors), the
+                                                       nodes left */
 double rodsim_time(const rodsim_scene *scene);      /* s, of the state */
 double rodsim_dt(const rodsim_scene *scene);        /* s, solver.dt (auto resolved) */
 double rodsim_duration(const rodsim_scene *scene);  /* s, solver.duration */
 double rodsim_frame_rate(const rodsim_scene *scene);/* output frames per simulated s */
-double rodsim_length(const rodsim_scene *scene);    /* m, rod.length */
+double rodsim_length(const rodsim_scene *scene);    /* m, rod.length; after a cut, the length
+                                                       left */
 
 /* Stepping -------------------------------------------------------------- */
 

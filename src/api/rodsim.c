@@ -172,12 +172,16 @@ rodsim_status rodsim_load_text(const char *name, const char *text, const char *c
     return st;
 }
 
-int rodsim_nodes(const rodsim_scene *sc) { return sc->model.nodes; }
+/* after a cut (sim/cut.h), the thread left's */
+int rodsim_nodes(const rodsim_scene *sc) { return sc->state->nodes; }
 double rodsim_time(const rodsim_scene *sc) { return sc->state->time; }
 double rodsim_dt(const rodsim_scene *sc) { return sc->dt; }
 double rodsim_duration(const rodsim_scene *sc) { return sc->model.options.duration; }
 double rodsim_frame_rate(const rodsim_scene *sc) { return sc->fps; }
-double rodsim_length(const rodsim_scene *sc) { return sc->model.length; }
+double rodsim_length(const rodsim_scene *sc)
+{
+    return rod_cut_model(&sc->model, sc->state)->length;
+}
 
 /* Stepping -------------------------------------------------------------- */
 

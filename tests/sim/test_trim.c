@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "base/ini.h"
+#include "rodsim.h"
 #include "base/vec3.h"
 #include "sim/cut.h"
 #include "sim/instrument.h"
@@ -485,8 +486,35 @@ static void test_scene(void)
               0.01);
 }
 
+/* The C API (rodsim.h): a scene's [cut] made while it steps ---------------- */
+
+static void test_api(void)
+{
+    static const char *const text =
+        "[rod]\nlength = 0.2\ndiameter = 0.0005\ndensity = 850\nyoungs_modulus = 87.5e6\n"
+        "shear_modulus = 31.25e6\nnodes = 41\ndirection = 0 0 -1\n"
+        "[cut]\nt = 0.5\ns = 0.1\n"
+        "[solver]\nscheme = implicit\ndt = 0.002\nduration = 1\n"
+        "[loads]\ngravity = 0 0 -9.81\nlinear_damping = 2e-3\n";
+    rodsim_scene *sc = NULL;
+    if (!check(rodsim_load_text("hanging_cut", text, NULL, 0, &sc) == RODSIM_OK,
+               "API: the hanging thread with a [cut] loads: %s", rodsim_last_error(NULL)))
+        return;
+    const int before = rodsim_nodes(sc);
+    double force[3] = {0.0, 0.0, 0.0}, moment[3];
+    const int ran = rodsim_run(sc, 1.0) == RODSIM_OK;
+    rodsim_end_load(sc, RODSIM_ROOT, force, moment);
+    check(ran && before == 41 && rodsim_nodes(sc) == 21,
+          "API: rodsim_nodes 41 before the cut, %d after (21)", rodsim_nodes(sc));
+    check_abs("API: rodsim_length after the cut, m", rodsim_length(sc), 0.1, 1e-12);
+    const double weight = 850.0 * M_PI * 0.0005 * 0.0005 / 4.0 * GRAVITY * 0.1;
+    check_rel("API: the root's load after the cut vs rho A g l, N", fabs(force[2]), weight, 0.01);
+    rodsim_free(sc);
+}
+
 int main(void)
 {
+    test_api();
     test_scene();
     test_hanging_cut();
     test_root_side();
