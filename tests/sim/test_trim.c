@@ -365,6 +365,53 @@ done:
     rod_model_release(&m);
 }
 
+/* The side rule with grasps: the piece not anchored goes, and a grasp on it
+ * lets go; neither side anchored, the one not grasped goes, longer or not */
+static void test_grasped_side(void)
+{
+    const double origin[3] = {0.0, 0.0, 0.0}, along[3] = {1.0, 0.0, 0.0};
+    rod_instrument forceps;
+    memset(&forceps, 0, sizeof forceps);
+    forceps.kind = ROD_INSTRUMENT_FORCEPS;
+    snprintf(forceps.name, sizeof forceps.name, "forceps");
+    for (int free_root = 0; free_root < 2; free_root++) {
+        rod_model m = hanging_model(free_root ? ROD_END_FREE : ROD_END_CLAMPED, ROD_END_FREE,
+                                    origin, along);
+        m.instruments = &forceps;
+        m.instrument_count = 1;
+        rod_state *s = NULL;
+        if (derive(&m)) goto next;
+        s = rod_state_create(&m);
+        /* clamped root: forceps hold the tip's tail at 0.18 m, cut at 0.1 m;
+         * free root: they hold the root's tail at 0.02 m, cut at 0.05 m */
+        const double held_s = free_root ? 0.02 : 0.18, cut_s = free_root ? 0.05 : 0.1;
+        s->grasp[0].held = 1;
+        s->grasp[0].s = held_s;
+        s->grasp[0].log = 0;
+        s->grasp_log_count = 1;
+        s->grasp_log[0] = (rod_grasp_record){0, 0.0, -1.0, held_s, 0.0};
+        s->time = 0.25;
+        rod_report report;
+        memset(&report, 0, sizeof report);
+        rod_cut_ask(s, -1, cut_s);
+        rod_cut_apply(&m, s, &report);
+        if (!free_root)
+            check(s->cut_count == 1 && s->cut_log[0].side == 1 && !s->grasp[0].held &&
+                  s->grasp_log[0].t_off == 0.25, "grasped tail, clamped root: the tip's side "
+                  "went and the forceps let go of it at t = %g s", s->grasp_log[0].t_off);
+        else
+            check(s->cut_count == 1 && s->cut_log[0].side == 1 && s->grasp[0].held &&
+                  fabs(s->cut_log[0].removed - 0.15) < 1e-12, "free ends, the root's tail "
+                  "grasped: the tip's side went (%.3g m, the longer) and the grasp holds",
+                  s->cut_count ? s->cut_log[0].removed : 0.0);
+    next:
+        rod_state_destroy(s);
+        m.instruments = NULL;
+        m.instrument_count = 0;
+        rod_model_release(&m);
+    }
+}
+
 /* The scene's [cut] ------------------------------------------------------- */
 
 static void test_scene_key(void)
@@ -521,6 +568,7 @@ int main(void)
     test_two_tails();
     test_scissors();
     test_both_held();
+    test_grasped_side();
     test_scene_key();
     return test_finish();
 }
