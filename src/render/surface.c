@@ -219,6 +219,129 @@ void surface_add_wound(render_mesh *m, const rod_recording *rec, const render_op
     }
 }
 
+/* The point of triangle a b c nearest p (Ericson, Real-Time Collision
+ * Detection, 5.1.5) into q. */
+static void triangle_nearest(const double p[3], const double a[3], const double b[3],
+                             const double c[3], double q[3])
+{
+    double ab[3], ac[3], ap[3], bp[3], cp[3];
+    v3_sub(ab, b, a);
+    v3_sub(ac, c, a);
+    v3_sub(ap, p, a);
+    double d1 = v3_dot(ab, ap), d2 = v3_dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) {
+        v3_copy(q, a);
+        return;
+    }
+    v3_sub(bp, p, b);
+    double d3 = v3_dot(ab, bp), d4 = v3_dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) {
+        v3_copy(q, b);
+        return;
+    }
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        v3_copy(q, a);
+        v3_axpy(q, d1 / (d1 - d3), ab);
+        return;
+    }
+    v3_sub(cp, p, c);
+    double d5 = v3_dot(ab, cp), d6 = v3_dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) {
+        v3_copy(q, c);
+        return;
+    }
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        v3_copy(q, a);
+        v3_axpy(q, d2 / (d2 - d6), ac);
+        return;
+    }
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+        double bc[3];
+        v3_sub(bc, c, b);
+        v3_copy(q, b);
+        v3_axpy(q, (d4 - d3) / ((d4 - d3) + (d5 - d6)), bc);
+        return;
+    }
+    double denom = 1 / (va + vb + vc);
+    v3_copy(q, a);
+    v3_axpy(q, vb * denom, ab);
+    v3_axpy(q, vc * denom, ac);
+}
+
+/* The point of elastic pad k's surface at `frame` nearest p, and the
+ * outward normal of its triangle there; the distance (m), or INFINITY
+ * when the frame holds no pad. */
+static double pad_nearest(const rod_recording *rec, int k, int frame, const double p[3],
+                          double near[3], double n[3])
+{
+    const recording_surface *s = &rec->surfaces[k];
+    const double *x = rod_recording_pad_positions(rec, k, frame);
+    double best = INFINITY;
+    for (int t = 0; x && t < s->pad_triangle_count; t++) {
+        const int *v = &s->pad_triangles[3 * t];
+        double q[3], gap[3];
+        triangle_nearest(p, &x[3 * v[0]], &x[3 * v[1]], &x[3 * v[2]], q);
+        v3_sub(gap, p, q);
+        double d = v3_norm(gap);
+        if (d >= best) continue;
+        double ab[3], ac[3], face[3];
+        v3_sub(ab, &x[3 * v[1]], &x[3 * v[0]]);
+        v3_sub(ac, &x[3 * v[2]], &x[3 * v[0]]);
+        v3_cross(face, ab, ac);
+        double length = v3_norm(face);
+        if (!(length > 0)) continue;
+        best = d;
+        v3_copy(near, q);
+        v3_scale(n, face, 1 / length);
+    }
+    return best;
+}
+
+/* Where the thread of `frame` crosses elastic pad k's surface nearest p
+ * (Moller-Trumbore, each segment against each triangle): 1 with the point
+ * and the outward normal of the triangle crossed, 0 when it crosses none. */
+static int thread_crossing(const rod_recording *rec, int k, int frame, const double p[3],
+                           double at[3], double n[3])
+{
+    const recording_surface *s = &rec->surfaces[k];
+    const double *x = rod_recording_pad_positions(rec, k, frame);
+    double best = INFINITY;
+    for (int t = 0; x && t < s->pad_triangle_count; t++) {
+        const int *v = &s->pad_triangles[3 * t];
+        const double *a = &x[3 * v[0]];
+        double ab[3], ac[3], face[3];
+        v3_sub(ab, &x[3 * v[1]], a);
+        v3_sub(ac, &x[3 * v[2]], a);
+        v3_cross(face, ab, ac);
+        for (int j = 0; j + 1 < rec->nodes; j++) {
+            const double *q0 = node_position(rec, frame, j), *q1 = node_position(rec, frame, j + 1);
+            double d[3], h[3], w[3], q[3];
+            v3_sub(d, q1, q0);
+            v3_cross(h, d, ac);
+            double det = v3_dot(ab, h);
+            if (fabs(det) < 1e-30) continue;
+            v3_sub(w, q0, a);
+            double u = v3_dot(w, h) / det;
+            if (u < 0 || u > 1) continue;
+            v3_cross(q, w, ab);
+            double second = v3_dot(d, q) / det, f = v3_dot(ac, q) / det;
+            if (second < 0 || u + second > 1 || f < 0 || f > 1) continue;
+            double hit[3], gap[3];
+            v3_copy(hit, q0);
+            v3_axpy(hit, f, d);
+            v3_sub(gap, hit, p);
+            if (v3_norm(gap) >= best) continue;
+            best = v3_norm(gap);
+            v3_copy(at, hit);
+            v3_scale(n, face, 1 / v3_norm(face));
+        }
+    }
+    return isfinite(best);
+}
+
 void surface_add_punctures(render_mesh *m, const rod_recording *rec, int frame, double radius,
                            double lift)
 {
@@ -227,10 +350,23 @@ void surface_add_punctures(render_mesh *m, const rod_recording *rec, int frame, 
     for (int i = 0; i < count; i++) {
         double near[3], n[3], e1[3], e2[3];
         /* on the surface nearest the point, just off it */
-        if (nearest_surface(rec, &points[3 * i], near, n) < 0) continue;
+        int k = nearest_surface(rec, &points[3 * i], near, n);
+        if (k < 0) continue;
+        if (rec->surfaces[k].pad_node_count > 0) {
+            /* an elastic pad: where the thread goes through its surface as it
+             * is at this frame, nearest the point; a point inside it (more
+             * than a disc's radius: where the thread passes under the skin)
+             * has no hole to draw */
+            double off[3];
+            if (!isfinite(pad_nearest(rec, k, frame, &points[3 * i], near, n))) continue;
+            v3_sub(off, &points[3 * i], near);
+            if (v3_dot(off, n) < -PUNCTURE_DISC * radius) continue;
+            (void)thread_crossing(rec, k, frame, &points[3 * i], near, n);
+        }
         v3_axpy(near, lift, n);
         perpendicular_basis(n, e1, e2);
-        mesh_disc(m, near, e1, e2, 1.8 * radius, n, PUNCTURE_SIDES, render_puncture_color);
+        mesh_disc(m, near, e1, e2, PUNCTURE_DISC * radius, n, PUNCTURE_SIDES,
+                  render_puncture_color);
     }
 }
 
