@@ -282,7 +282,15 @@ static double pad_nearest(const rod_recording *rec, int k, int frame, const doub
     double best = INFINITY;
     for (int t = 0; x && t < s->pad_triangle_count; t++) {
         const int *v = &s->pad_triangles[3 * t];
-        double q[3], gap[3];
+        double q[3], gap[3], outside = 0;
+        for (int c = 0; c < 3; c++) {
+            /* the triangle's box no nearer than the best: skip it */
+            double lo = fmin(x[3 * v[0] + c], fmin(x[3 * v[1] + c], x[3 * v[2] + c]));
+            double hi = fmax(x[3 * v[0] + c], fmax(x[3 * v[1] + c], x[3 * v[2] + c]));
+            double beyond = fmax(lo - p[c], p[c] - hi);
+            if (beyond > 0) outside += beyond * beyond;
+        }
+        if (outside >= best * best) continue;
         triangle_nearest(p, &x[3 * v[0]], &x[3 * v[1]], &x[3 * v[2]], q);
         v3_sub(gap, p, q);
         double d = v3_norm(gap);
@@ -300,45 +308,69 @@ static double pad_nearest(const rod_recording *rec, int k, int frame, const doub
     return best;
 }
 
-/* Where the thread of `frame` crosses elastic pad k's surface nearest p
- * (Moller-Trumbore, each segment against each triangle): 1 with the point
- * and the outward normal of the triangle crossed, 0 when it crosses none. */
+/* Where segment j of the thread of `frame` crosses the pad's triangles x
+ * (Moller-Trumbore), if nearer p than *best: the point and the outward
+ * normal of the triangle crossed, *best its distance from p. */
+static void segment_crossing(const rod_recording *rec, const recording_surface *s,
+                             const double *x, int frame, int j, const double p[3], double *best,
+                             double at[3], double n[3])
+{
+    const double *q0 = node_position(rec, frame, j), *q1 = node_position(rec, frame, j + 1);
+    double d[3], mid[3], to[3];
+    v3_sub(d, q1, q0);
+    v3_copy(mid, q0);
+    v3_axpy(mid, 0.5, d);
+    v3_sub(to, mid, p);
+    if (v3_norm(to) - 0.5 * v3_norm(d) >= *best) return; /* no point of it nearer */
+    for (int t = 0; t < s->pad_triangle_count; t++) {
+        const int *v = &s->pad_triangles[3 * t];
+        const double *a = &x[3 * v[0]];
+        double ab[3], ac[3], h[3], w[3], q[3];
+        v3_sub(ab, &x[3 * v[1]], a);
+        v3_sub(ac, &x[3 * v[2]], a);
+        v3_cross(h, d, ac);
+        double det = v3_dot(ab, h);
+        if (fabs(det) < 1e-30) continue;
+        v3_sub(w, q0, a);
+        double u = v3_dot(w, h) / det;
+        if (u < 0 || u > 1) continue;
+        v3_cross(q, w, ab);
+        double second = v3_dot(d, q) / det, f = v3_dot(ac, q) / det;
+        if (second < 0 || u + second > 1 || f < 0 || f > 1) continue;
+        double hit[3], gap[3], face[3];
+        v3_copy(hit, q0);
+        v3_axpy(hit, f, d);
+        v3_sub(gap, hit, p);
+        if (v3_norm(gap) >= *best) continue;
+        *best = v3_norm(gap);
+        v3_copy(at, hit);
+        v3_cross(face, ab, ac);
+        v3_scale(n, face, 1 / v3_norm(face));
+    }
+}
+
+/* Where the thread of `frame` crosses elastic pad k's surface nearest p:
+ * 1 with the point and the outward normal of the triangle crossed, 0 when
+ * it crosses none. The segments beside the one nearest p are tried first,
+ * so that the others, farther than the crossing found, are not. */
 static int thread_crossing(const rod_recording *rec, int k, int frame, const double p[3],
                            double at[3], double n[3])
 {
     const recording_surface *s = &rec->surfaces[k];
     const double *x = rod_recording_pad_positions(rec, k, frame);
-    double best = INFINITY;
-    for (int t = 0; x && t < s->pad_triangle_count; t++) {
-        const int *v = &s->pad_triangles[3 * t];
-        const double *a = &x[3 * v[0]];
-        double ab[3], ac[3], face[3];
-        v3_sub(ab, &x[3 * v[1]], a);
-        v3_sub(ac, &x[3 * v[2]], a);
-        v3_cross(face, ab, ac);
-        for (int j = 0; j + 1 < rec->nodes; j++) {
-            const double *q0 = node_position(rec, frame, j), *q1 = node_position(rec, frame, j + 1);
-            double d[3], h[3], w[3], q[3];
-            v3_sub(d, q1, q0);
-            v3_cross(h, d, ac);
-            double det = v3_dot(ab, h);
-            if (fabs(det) < 1e-30) continue;
-            v3_sub(w, q0, a);
-            double u = v3_dot(w, h) / det;
-            if (u < 0 || u > 1) continue;
-            v3_cross(q, w, ab);
-            double second = v3_dot(d, q) / det, f = v3_dot(ac, q) / det;
-            if (second < 0 || u + second > 1 || f < 0 || f > 1) continue;
-            double hit[3], gap[3];
-            v3_copy(hit, q0);
-            v3_axpy(hit, f, d);
-            v3_sub(gap, hit, p);
-            if (v3_norm(gap) >= best) continue;
-            best = v3_norm(gap);
-            v3_copy(at, hit);
-            v3_scale(n, face, 1 / v3_norm(face));
-        }
+    if (!x) return 0;
+    int nearest = 0;
+    double least = INFINITY, best = INFINITY;
+    for (int j = 0; j + 1 < rec->nodes; j++) {
+        double to[3];
+        v3_sub(to, node_position(rec, frame, j), p);
+        if (v3_norm(to) < least) least = v3_norm(to), nearest = j;
     }
+    for (int j = nearest - 2; j <= nearest + 1; j++)
+        if (j >= 0 && j + 1 < rec->nodes) segment_crossing(rec, s, x, frame, j, p, &best, at, n);
+    for (int j = 0; j + 1 < rec->nodes; j++)
+        if (j < nearest - 2 || j > nearest + 1)
+            segment_crossing(rec, s, x, frame, j, p, &best, at, n);
     return isfinite(best);
 }
 
