@@ -26,6 +26,7 @@
 #include "sim/recording.h"
 #include "sim/rod.h"
 #include "sim/scene.h"
+#include "synthetic_recording.h"
 #include "test.h"
 #include "test_process.h"
 
@@ -180,6 +181,51 @@ static void test_notch(cutaway_scratch *s)
     check_rel("subcutis area (m^2)", subcutis, 2 * a * (h - dermis_depth), 1e-5);
     free(m.vertices);
     free(m.indices);
+}
+
+/* ------------------------------------------------------------------ the plane */
+
+/* cutaway = yes: one stitch's four punctures (a line across the wound,
+ * along y) give the plane x = 0 facing the eye; a running suture's holes
+ * (zig-zag along the wound, x) give an upright plane along x. */
+static void test_stitch_plane(void)
+{
+    rod_recording *r = synthetic_recording_create(3, 1, 0.01, 0.0003);
+    recording_surface pad = {0};
+    pad.shape = RECORDING_SURFACE_BOX;
+    v3_set(pad.size, 0.04, 0.03, 0.008);
+    pad.tissue = 1;
+    synthetic_recording_surfaces(r, &pad, 1);
+    r->puncture_count = malloc(sizeof(int));
+    r->puncture = calloc(RECORDING_MAX_PUNCTURES * 3, sizeof(double));
+    const double stitch[4][3] = {{0, -0.004, 0}, {0, -0.001, -0.003}, {0, 0.001, -0.003},
+                                 {0, 0.004, 0}};
+    r->puncture_count[0] = 4;
+    memcpy(r->puncture, stitch, sizeof stitch);
+    render_options o;
+    render_options_default(&o);
+    o.cutaway = RENDER_CUTAWAY_STITCH;
+    v3_set(o.view, 0.5, -0.5, 1.2);
+    cutaway_plane c;
+    cutaway_resolve(&c, r, &o);
+    printf("one stitch: point (%g, %g, %g) mm, normal (%g, %g, %g)\n", 1e3 * c.point[0],
+           1e3 * c.point[1], 1e3 * c.point[2], c.normal[0], c.normal[1], c.normal[2]);
+    check(c.on && fabs(c.normal[0] - 1) < 1e-12 && fabs(c.point[0]) < 1e-15 &&
+              fabs(c.point[2] + 0.0015) < 1e-15,
+          "one stitch: the plane x = 0 through its punctures' centroid, normal +x (the eye's)");
+    v3_set(o.view, -0.5, -0.5, 1.2);
+    cutaway_resolve(&c, r, &o);
+    check(c.on && fabs(c.normal[0] + 1) < 1e-12, "the eye on -x: normal -x (%g)", c.normal[0]);
+    const double running[6][3] = {{0, -0.003, 0},     {0.004, 0.003, 0}, {0.008, -0.003, 0},
+                                  {0.012, 0.003, 0},  {0.016, -0.003, 0}, {0.020, 0.003, 0}};
+    r->puncture_count[0] = 6;
+    memcpy(r->puncture, running, sizeof running);
+    cutaway_resolve(&c, r, &o);
+    printf("running suture: normal (%g, %g, %g)\n", c.normal[0], c.normal[1], c.normal[2]);
+    check(c.on && fabs(c.normal[2]) < 1e-12 && fabs(fabs(c.normal[1]) - 1) < 0.05,
+          "a running suture along x: an upright plane along the wound (normal y %g)",
+          c.normal[1]);
+    rod_recording_destroy(r);
 }
 
 /* ------------------------------------------------------------------ pictures */
@@ -342,6 +388,7 @@ int main(void)
         test_notch(s);
     }
     cutaway_scratch_destroy(s);
+    test_stitch_plane();
     test_pictures();
     if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir); /* keep the pictures to look at */
     return test_finish();
