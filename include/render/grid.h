@@ -1,5 +1,5 @@
 /* grid.h: the backdrop grid, pure C: lines on the world plane most facing
- * the camera, behind the motion, spaced 1, 2 or 5 x 10^k, and the lengths
+ * the camera, behind the motion and the surfaces, spaced 1, 2 or 5 x 10^k, and the lengths
  * the scale bar is labelled with. */
 #ifndef RODSIM_RENDER_GRID_H
 #define RODSIM_RENDER_GRID_H
@@ -34,7 +34,9 @@ void grid_region(const grid *g, const render_camera *cam, double region_lo[2],
 /* The grid lines where the camera sees the grid's plane. */
 void grid_lines(grid *g, const render_camera *cam);
 /* The grid for the motion of rec seen by cam (its plane, spacing and
- * colours from the background's), then its lines. */
+ * colours from the background's), then its lines. Its plane lies beyond
+ * the thread and every surface (an elastic pad as drawn in every frame),
+ * seen from the camera; the thread's motion alone sets the spacing. */
 void grid_build(grid *g, const rod_recording *rec, const render_camera *cam, double radius,
                 const unsigned char background[3]);
 

@@ -72,6 +72,15 @@ typedef enum {
     RENDER_GROUND_NO
 } render_ground_mode;
 
+/* The tissue cut open along a plane ([render] cutaway), as a textbook draws
+ * a stitch in section: the tissue on the normal's side is not drawn, its
+ * cut face is (render/cutaway.h). */
+typedef enum {
+    RENDER_CUTAWAY_NO = 0,
+    RENDER_CUTAWAY_STITCH, /* yes: the plane through the stitch's punctures, facing the eye */
+    RENDER_CUTAWAY_PLANE   /* x0 y0 z0 nx ny nz: render_options.cutaway_plane */
+} render_cutaway_mode;
+
 /* Whether the overlay names the knot type of the centreline ([render]
  * knot): top right, per frame, e.g. "knot: trefoil (3_1), right-handed". */
 typedef enum {
@@ -159,6 +168,9 @@ typedef struct render_options {
     render_ground_mode ground;   /* a ground plane below the whole run's lowest point */
     int wound;                   /* 1: wound_line is drawn (a dark red incision) */
     double wound_line[6];        /* m, global: the wound's two ends x1 y1 z1 x2 y2 z2 */
+    render_cutaway_mode cutaway; /* the tissue cut open along a plane (cutaway.h); default no */
+    double cutaway_plane[6];     /* RENDER_CUTAWAY_PLANE: a point (m, global) and a normal
+                                    towards the side not drawn (any length) */
     render_knot_mode knot;       /* the knot type in the overlay: auto (default), yes, no */
     render_framing framing;      /* run (default), follow or knot */
     int view_count;              /* 0 (default): one view (camera, view); 2 .. RENDER_MAX_VIEWS:

@@ -39,6 +39,8 @@ extern const float render_skin_color[3];   /* a tissue surface (matte) */
 extern const float render_surface_color[3]; /* any other surface and the ground (matte) */
 extern const float render_wound_color[3];  /* the wound line */
 extern const float render_puncture_color[3]; /* a puncture's ring */
+extern const float render_dermis_color[3];   /* a cut tissue's face, under the skin's top */
+extern const float render_subcutis_color[3]; /* a cut tissue's face, below the dermis (fat) */
 /* the stripe over a colour map: white, since the amber one would read as a
  * value (viridis ends in yellow) */
 extern const float render_stripe_on_map_color[3];

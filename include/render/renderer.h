@@ -9,6 +9,7 @@
 #include <stddef.h>
 
 #include "render/camera.h"
+#include "render/cutaway.h"
 #include "render/edge_aa.h"
 #include "render/follow.h"
 #include "render/gl_render.h"
@@ -59,6 +60,8 @@ typedef struct renderer {
     surface_mesh_topology *pads; /* (pad_slots) each elastic pad's triangle lists, by
                                     surface, made at the first frame; NULL: not yet */
     int pad_slots;
+    cutaway_plane cut;           /* [render] cutaway: the tissue cut open along it (cut.on) */
+    cutaway_scratch *cut_scratch; /* a cut elastic pad's cap, each frame; NULL: no cut */
 } renderer;
 
 /* Makes r for the run rec (its camera, grid and arrows from the whole of

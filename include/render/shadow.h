@@ -9,6 +9,7 @@
 #include <stddef.h>
 
 #include "render/camera.h"
+#include "render/cutaway.h"
 #include "render/gl_render.h"
 #include "render/options.h"
 #include "sim/recording.h"
@@ -55,6 +56,7 @@ typedef struct receiver_plan {
     double radius;        /* m: the tube's visual radius */
     double pad;           /* m: the geometry's reach around the points that carry it */
     double length;        /* m: the rod's */
+    cutaway_plane cut;    /* the tissue cut open along it (cut.on; receiver_plan_make: none) */
 } receiver_plan;
 
 /* The ground plane a render draws (o->ground; render_recording's rule):

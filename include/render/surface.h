@@ -12,6 +12,7 @@
 #define SURFACE_STACKS 24     /* a sphere's latitude bands */
 #define WOUND_SEGMENTS 48     /* along the wound line */
 #define PUNCTURE_SIDES 16
+#define PUNCTURE_DISC 1.8     /* a puncture's disc radius over the tube's */
 /* vertices and indices one surface's mesh needs at most (the sphere) */
 #define SURFACE_VERTICES ((SURFACE_STACKS + 1) * (SURFACE_SIDES + 1) + 2 * (SURFACE_SIDES + 1))
 #define SURFACE_INDICES (6 * SURFACE_STACKS * SURFACE_SIDES + 6 * SURFACE_SIDES)
@@ -61,9 +62,13 @@ void surface_cylinder_piece(const recording_surface *s, const double lo[3], cons
  * test keeps it. */
 void surface_add_wound(render_mesh *m, const rod_recording *rec, const render_options *o,
                        double width, double lift, const double up_fallback[3]);
-/* The punctures of frame `frame` of rec: dark discs (1.8 radius, m) on the
- * surface each is in, lifted off it by `lift` (m), the thread passing
- * through their centre. */
+/* The punctures of frame `frame` of rec: dark discs (PUNCTURE_DISC x
+ * radius, m) on the surface each is in, lifted off it by `lift` (m), the
+ * thread passing through their centre. In an elastic pad: where the
+ * thread goes through its surface as deformed at that frame (the crossing
+ * nearest the point; none: the surface point nearest it), facing as the
+ * triangle there does; a point farther inside than the disc's radius
+ * (where the thread passes under the skin) has none. */
 void surface_add_punctures(render_mesh *m, const rod_recording *rec, int frame, double radius,
                            double lift);
 

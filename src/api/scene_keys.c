@@ -229,6 +229,12 @@ const ini_key scene_keys_rod[] = {
      "when gravity acts, no plane surface exists and the camera looks from above"},
     {"render", "wound", "m", "-", "6 numbers x1 y1 z1 x2 y2 z2",
      "global: a wound line drawn on the surfaces as a dark red incision; absent: none"},
+    {"render", "cutaway", "-", "no", "no | yes | x0 y0 z0 nx ny nz",
+     "the tissue drawn cut open, as a stitch is drawn in section: the tissue surfaces (rigid "
+     "or elastic) on the normal's side of the plane are not drawn, their cut face is (dermis "
+     "and subcutis), the thread and needle inside are seen whole; yes: the plane through the "
+     "stitch's punctures, across the wound, facing the eye; x0 y0 z0 (m, global) a point of "
+     "it, nx ny nz its normal, towards the side not drawn"},
     /* knots */
     {"render", "knot", "-", "auto", "auto | yes | no",
      "the knot type of the centreline, per frame, top right (e.g. knot: trefoil (3_1)); "

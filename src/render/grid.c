@@ -6,6 +6,7 @@
 
 #include "base/vec3.h"
 #include "render/camera.h"
+#include "render/surface.h"
 
 double nice_below(double x)
 {
@@ -92,6 +93,27 @@ void grid_lines(grid *g, const render_camera *cam)
     }
 }
 
+/* Widens lo .. hi (m) along `axis` to the surfaces' finite bounds: an
+ * elastic pad's over every frame, a solid's (a plane's and a cylinder's
+ * reach along it are infinite: left out). */
+static void surfaces_reach(const rod_recording *rec, int axis, double *lo, double *hi)
+{
+    for (int k = 0; rec->surfaces && k < rec->surface_count; k++) {
+        const recording_surface *s = &rec->surfaces[k];
+        double a[3], b[3];
+        surface_bounds(s, a, b);
+        if (isfinite(a[axis])) *lo = fmin(*lo, a[axis]);
+        if (isfinite(b[axis])) *hi = fmax(*hi, b[axis]);
+        for (int f = 0; f < rec->frame_count; f++) {
+            const double *x = rod_recording_pad_positions(rec, k, f);
+            for (int i = 0; x && i < s->pad_node_count; i++) {
+                *lo = fmin(*lo, x[3 * i + axis]);
+                *hi = fmax(*hi, x[3 * i + axis]);
+            }
+        }
+    }
+}
+
 void grid_build(grid *g, const rod_recording *rec, const render_camera *cam, double radius,
                 const unsigned char background[3])
 {
@@ -107,6 +129,9 @@ void grid_build(grid *g, const rod_recording *rec, const render_camera *cam, dou
     for (int c = 1; c < 3; c++)
         if (fabs(cam->direction[c]) > fabs(cam->direction[axis])) axis = c;
     double margin = fmax(4 * radius, 0.1 * size);
+    /* behind the surfaces too: a grid through a pad the thread dips into
+     * would cut it (the thread alone sets the cells) */
+    surfaces_reach(rec, axis, &lo[axis], &hi[axis]);
     g->axis = axis;
     g->plane = cam->direction[axis] > 0 ? lo[axis] - margin : hi[axis] + margin;
     g->size = size;

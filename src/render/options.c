@@ -331,6 +331,30 @@ static int read_positive(ini_doc *doc, const char *key, double *out, double lo, 
     return 0;
 }
 
+/* [render] cutaway: no, yes, or a plane x0 y0 z0 nx ny nz. */
+static int read_cutaway(ini_doc *doc, render_options *o, char *err, size_t errlen)
+{
+    const char *text;
+    int status = ini_get_string(doc, "render", 0, "cutaway", &text, err, errlen);
+    if (status <= 0) return status;
+    static const char *const words[] = {"no", "yes", NULL};
+    for (int k = 0; words[k]; k++)
+        if (strcmp(text, words[k]) == 0) {
+            o->cutaway = k ? RENDER_CUTAWAY_STITCH : RENDER_CUTAWAY_NO;
+            return 0;
+        }
+    double plane[6];
+    if (ini_get_vector(doc, "render", 0, "cutaway", plane, 6, err, errlen) <= 0 ||
+        !(v3_norm(&plane[3]) > 0) || !isfinite(v3_norm(plane)) || !isfinite(v3_norm(&plane[3])))
+        return ini_error(doc, "render", 0, "cutaway", err, errlen,
+                         "must be no, yes (the plane through the stitch's punctures) or a "
+                         "plane x0 y0 z0 nx ny nz (a point, m, global, and a non-zero normal "
+                         "towards the side not drawn)");
+    memcpy(o->cutaway_plane, plane, sizeof plane);
+    o->cutaway = RENDER_CUTAWAY_PLANE;
+    return 0;
+}
+
 /* [render] color, colormap, color_range, speed, magnify, title, caption, hide. */
 static int read_teaching(ini_doc *doc, render_options *o, char *err, size_t errlen)
 {
@@ -530,7 +554,9 @@ int render_options_read(ini_doc *doc, render_options *o, char *err, size_t errle
         ini_get_bool(doc, "render", 0, "poster", &o->poster, err, errlen) < 0 ||
         ini_get_bool(doc, "render", 0, "overlay_solver", &o->overlay_solver, err, errlen) < 0)
         return -1;
-    if (read_teaching(doc, o, err, errlen) || read_slow_motion(doc, o, err, errlen)) return -1;
+    if (read_teaching(doc, o, err, errlen) || read_cutaway(doc, o, err, errlen) ||
+        read_slow_motion(doc, o, err, errlen))
+        return -1;
     if (!o->title[0]) {
         title_from_scene(doc, o->title, sizeof o->title);
         o->title_auto = o->title[0] != '\0';

@@ -206,6 +206,7 @@ void renderer_destroy(renderer *r)
     free(r->line.first);
     free(r->line.phi);
     edge_aa_destroy(r->edge_aa);
+    cutaway_scratch_destroy(r->cut_scratch);
 }
 
 void renderer_remember(renderer *r, const rod_recording *rec, int frame)
@@ -246,8 +247,20 @@ static int renderer_buffers(renderer *r, const rod_recording *rec, const render_
                           rec->instrument_count * INSTRUMENT_MESH_INDICES;
     for (int k = 0; rec->surfaces && k < rec->surface_count; k++) {
         /* an elastic pad's surface, drawn each frame: three vertices a triangle */
-        r->mesh.max_vertices += 3 * rec->surfaces[k].pad_triangle_count;
-        r->mesh.max_indices += 3 * rec->surfaces[k].pad_triangle_count;
+        const int triangles = rec->surfaces[k].pad_triangle_count;
+        r->mesh.max_vertices += 3 * triangles;
+        r->mesh.max_indices += 3 * triangles;
+        if (o->cutaway) {
+            /* cut open: its cap and its cut triangles' pieces */
+            r->mesh.max_vertices += CUTAWAY_EXTRA_VERTICES(triangles);
+            r->mesh.max_indices += CUTAWAY_EXTRA_INDICES(triangles);
+        }
+    }
+    if (o->cutaway) {
+        /* the punctures' discs cut too */
+        r->mesh.max_vertices += CUTAWAY_EXTRA_VERTICES(PUNCTURE_INDICES / 3);
+        r->mesh.max_indices += CUTAWAY_EXTRA_INDICES(PUNCTURE_INDICES / 3);
+        r->cut_scratch = cutaway_scratch_create();
     }
     int shading = occlusion_create(&r->shading, rec->nodes, rings, sides, r->radius, rec->ds);
     r->mesh.vertices = malloc((size_t)r->mesh.max_vertices * sizeof(render_vertex));
@@ -257,7 +270,8 @@ static int renderer_buffers(renderer *r, const rod_recording *rec, const render_
     return shading || !r->mesh.vertices || !r->mesh.indices || !r->grid.lines ||
                    !r->line.point || !r->line.frame || !r->line.t || !r->line.node ||
                    !r->line.first || !r->line.phi || (o->magnify != 1 && !r->view) ||
-                   (o->color != RENDER_COLOR_SOLID && (!r->values || !r->colors || !r->previous))
+                   (o->color != RENDER_COLOR_SOLID && (!r->values || !r->colors || !r->previous)) ||
+                   (o->cutaway && !r->cut_scratch)
                ? -1
                : 0;
 }
@@ -369,6 +383,7 @@ int renderer_create(renderer *r, const rod_recording *rec, const render_options 
     /* the camera and the grid frame the motion as drawn (magnified) */
     rod_recording *shown = o->magnify != 1 ? magnified_copy(rec, o->magnify) : NULL;
     camera_fit(&r->camera, shown ? shown : rec, o, band);
+    cutaway_resolve(&r->cut, rec, o);
     arrow_scales_compute(&r->arrows, rec, r->radius, o->arrows);
     if (renderer_buffers(r, rec, o) || (o->magnify != 1 && !shown)) {
         snprintf(err, errlen, "render: out of memory");
@@ -379,6 +394,7 @@ int renderer_create(renderer *r, const rod_recording *rec, const render_options 
     const rod_recording *drawn = shown ? shown : rec;
     receiver_plan plan;
     receiver_plan_make(&plan, drawn, o, r->radius);
+    plan.cut = r->cut;
     /* Decision: a floor (a plane surface or the ground) replaces the backdrop
      * grid, which would float over it or cut through it; the scale bar stays. */
     int floor = plan.ground;
@@ -503,8 +519,15 @@ static void renderer_pads(renderer *r, const rod_recording *given, int given_fra
         now.mesh_vertices = (double *)pad;
         now.mesh_triangles = sf->pad_triangles;
         if (r->pads[k].triangles != sf->pad_triangle_count) continue; /* out of memory */
+        const int first = r->mesh.index_count;
         surface_add_mesh_shaded(&r->mesh, &now, &r->pads[k],
                                 sf->tissue ? render_skin_color : render_surface_color);
+        if (r->cut.on && sf->tissue) {
+            /* the dermis as thick as the pad at rest (its box) allows */
+            double lo[3], hi[3];
+            surface_bounds(sf, lo, hi);
+            cutaway_cut(&r->mesh, first, &r->cut, cutaway_dermis(lo, hi), r->cut_scratch);
+        }
     }
 }
 
@@ -528,8 +551,10 @@ static void renderer_meshes(renderer *r, const rod_recording *rec, int frame,
     if (r->o->arrows) glyph_add_arrows(m, &r->arrows, rec, frame);
     r->caster_indices = m->index_count;
     renderer_pads(r, given, given_frame);
+    const int discs = m->index_count;
     if (r->shadow.receivers)
         surface_add_punctures(m, given, given_frame, r->radius, r->shadow.lift);
+    if (r->cut.on) cutaway_clip(m, discs, &r->cut);
     frame_boxes(r, rec, frame, given, given_frame);
 }
 

@@ -316,13 +316,14 @@ static double receiver_planes(shadow_scene *s, render_mesh *m, const receiver_pl
 /* The solids' receivers (boxes, spheres, the drawn piece of a cylinder)
  * and their catchers. */
 static void receiver_solids(shadow_scene *s, render_mesh *m, const receiver_plan *plan,
-                            const rod_recording *rec, double size)
+                            const rod_recording *rec, double size, cutaway_scratch *cut)
 {
     int surfaces = rec->surfaces ? rec->surface_count : 0;
     for (int k = 0; k < surfaces; k++) {
         const recording_surface *sf = &rec->surfaces[k];
         const float *color = sf->tissue ? render_skin_color : render_surface_color;
         double lo[3], hi[3];
+        const int first = m->index_count;
         if (sf->pad_node_count > 0) continue; /* an elastic pad: drawn each frame (renderer.c) */
         switch (sf->shape) {
         case RECORDING_SURFACE_BOX: {
@@ -355,6 +356,10 @@ static void receiver_solids(shadow_scene *s, render_mesh *m, const receiver_plan
         }
         default:
             continue;
+        }
+        if (plan->cut.on && sf->tissue) {
+            /* cut open: its cap, and nothing on the eye's side */
+            cutaway_cut(m, first, &plan->cut, cutaway_dermis(lo, hi), cut);
         }
         if (s->catcher_count < ROD_MAX_SURFACES_DRAWN + 1) {
             shadow_catcher *c = &s->catchers[s->catcher_count++];
@@ -422,24 +427,40 @@ int shadow_receivers(shadow_scene *s, gl_renderer *gl, const receiver_plan *plan
     m.max_indices = (surfaces + 1) * SURFACE_INDICES + 6 * WOUND_SEGMENTS;
     for (int k = 0; k < surfaces; k++) {
         /* a mesh: three vertices a triangle (each corner its own normal) */
-        m.max_vertices += 3 * rec->surfaces[k].mesh_triangle_count;
-        m.max_indices += 3 * rec->surfaces[k].mesh_triangle_count;
+        const int triangles = rec->surfaces[k].mesh_triangle_count;
+        m.max_vertices += 3 * triangles;
+        m.max_indices += 3 * triangles;
+        if (plan->cut.on) {
+            /* cut open: the cap and the cut triangles' pieces */
+            m.max_vertices += CUTAWAY_EXTRA_VERTICES(triangles + SURFACE_INDICES / 3);
+            m.max_indices += CUTAWAY_EXTRA_INDICES(triangles + SURFACE_INDICES / 3);
+        }
+    }
+    if (plan->cut.on) {
+        /* the wound line cut too */
+        m.max_vertices += CUTAWAY_EXTRA_VERTICES(2 * WOUND_SEGMENTS);
+        m.max_indices += CUTAWAY_EXTRA_INDICES(2 * WOUND_SEGMENTS);
     }
     m.vertices = malloc((size_t)m.max_vertices * sizeof(render_vertex));
     m.indices = malloc((size_t)m.max_indices * sizeof(unsigned));
-    if (!m.vertices || !m.indices) {
+    cutaway_scratch *cut = plan->cut.on ? cutaway_scratch_create() : NULL;
+    if (!m.vertices || !m.indices || (plan->cut.on && !cut)) {
         free(m.vertices);
         free(m.indices);
+        cutaway_scratch_destroy(cut);
         snprintf(err, errlen, "render: out of memory");
         return -1;
     }
     const double plane_distance = receiver_planes(s, &m, plan, rec, centre, size);
     int plane_indices = m.index_count;
-    receiver_solids(s, &m, plan, rec, size);
+    receiver_solids(s, &m, plan, rec, size, cut);
+    cutaway_scratch_destroy(cut);
     if (o->wound) {
         double up[3];
+        const int first = m.index_count;
         v3_copy(up, plan->ground ? plan->ground_normal : cam->up);
         surface_add_wound(&m, rec, o, 1.2 * plan->radius, s->lift, up);
+        if (plan->cut.on) cutaway_clip(&m, first, &plan->cut);
     }
     /* the fade: from PLANE_FADE_START to PLANE_FADE_END motion sizes along the
      * nearest plane, measured from the motion's centre */

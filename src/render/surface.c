@@ -219,6 +219,161 @@ void surface_add_wound(render_mesh *m, const rod_recording *rec, const render_op
     }
 }
 
+/* The point of triangle a b c nearest p (Ericson, Real-Time Collision
+ * Detection, 5.1.5) into q. */
+static void triangle_nearest(const double p[3], const double a[3], const double b[3],
+                             const double c[3], double q[3])
+{
+    double ab[3], ac[3], ap[3], bp[3], cp[3];
+    v3_sub(ab, b, a);
+    v3_sub(ac, c, a);
+    v3_sub(ap, p, a);
+    double d1 = v3_dot(ab, ap), d2 = v3_dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) {
+        v3_copy(q, a);
+        return;
+    }
+    v3_sub(bp, p, b);
+    double d3 = v3_dot(ab, bp), d4 = v3_dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) {
+        v3_copy(q, b);
+        return;
+    }
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        v3_copy(q, a);
+        v3_axpy(q, d1 / (d1 - d3), ab);
+        return;
+    }
+    v3_sub(cp, p, c);
+    double d5 = v3_dot(ab, cp), d6 = v3_dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) {
+        v3_copy(q, c);
+        return;
+    }
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        v3_copy(q, a);
+        v3_axpy(q, d2 / (d2 - d6), ac);
+        return;
+    }
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+        double bc[3];
+        v3_sub(bc, c, b);
+        v3_copy(q, b);
+        v3_axpy(q, (d4 - d3) / ((d4 - d3) + (d5 - d6)), bc);
+        return;
+    }
+    double denom = 1 / (va + vb + vc);
+    v3_copy(q, a);
+    v3_axpy(q, vb * denom, ab);
+    v3_axpy(q, vc * denom, ac);
+}
+
+/* The point of elastic pad k's surface at `frame` nearest p, and the
+ * outward normal of its triangle there; the distance (m), or INFINITY
+ * when the frame holds no pad. */
+static double pad_nearest(const rod_recording *rec, int k, int frame, const double p[3],
+                          double near[3], double n[3])
+{
+    const recording_surface *s = &rec->surfaces[k];
+    const double *x = rod_recording_pad_positions(rec, k, frame);
+    double best = INFINITY;
+    for (int t = 0; x && t < s->pad_triangle_count; t++) {
+        const int *v = &s->pad_triangles[3 * t];
+        double q[3], gap[3], outside = 0;
+        for (int c = 0; c < 3; c++) {
+            /* the triangle's box no nearer than the best: skip it */
+            double lo = fmin(x[3 * v[0] + c], fmin(x[3 * v[1] + c], x[3 * v[2] + c]));
+            double hi = fmax(x[3 * v[0] + c], fmax(x[3 * v[1] + c], x[3 * v[2] + c]));
+            double beyond = fmax(lo - p[c], p[c] - hi);
+            if (beyond > 0) outside += beyond * beyond;
+        }
+        if (outside >= best * best) continue;
+        triangle_nearest(p, &x[3 * v[0]], &x[3 * v[1]], &x[3 * v[2]], q);
+        v3_sub(gap, p, q);
+        double d = v3_norm(gap);
+        if (d >= best) continue;
+        double ab[3], ac[3], face[3];
+        v3_sub(ab, &x[3 * v[1]], &x[3 * v[0]]);
+        v3_sub(ac, &x[3 * v[2]], &x[3 * v[0]]);
+        v3_cross(face, ab, ac);
+        double length = v3_norm(face);
+        if (!(length > 0)) continue;
+        best = d;
+        v3_copy(near, q);
+        v3_scale(n, face, 1 / length);
+    }
+    return best;
+}
+
+/* Where segment j of the thread of `frame` crosses the pad's triangles x
+ * (Moller-Trumbore), if nearer p than *best: the point and the outward
+ * normal of the triangle crossed, *best its distance from p. */
+static void segment_crossing(const rod_recording *rec, const recording_surface *s,
+                             const double *x, int frame, int j, const double p[3], double *best,
+                             double at[3], double n[3])
+{
+    const double *q0 = node_position(rec, frame, j), *q1 = node_position(rec, frame, j + 1);
+    double d[3], mid[3], to[3];
+    v3_sub(d, q1, q0);
+    v3_copy(mid, q0);
+    v3_axpy(mid, 0.5, d);
+    v3_sub(to, mid, p);
+    if (v3_norm(to) - 0.5 * v3_norm(d) >= *best) return; /* no point of it nearer */
+    for (int t = 0; t < s->pad_triangle_count; t++) {
+        const int *v = &s->pad_triangles[3 * t];
+        const double *a = &x[3 * v[0]];
+        double ab[3], ac[3], h[3], w[3], q[3];
+        v3_sub(ab, &x[3 * v[1]], a);
+        v3_sub(ac, &x[3 * v[2]], a);
+        v3_cross(h, d, ac);
+        double det = v3_dot(ab, h);
+        if (fabs(det) < 1e-30) continue;
+        v3_sub(w, q0, a);
+        double u = v3_dot(w, h) / det;
+        if (u < 0 || u > 1) continue;
+        v3_cross(q, w, ab);
+        double second = v3_dot(d, q) / det, f = v3_dot(ac, q) / det;
+        if (second < 0 || u + second > 1 || f < 0 || f > 1) continue;
+        double hit[3], gap[3], face[3];
+        v3_copy(hit, q0);
+        v3_axpy(hit, f, d);
+        v3_sub(gap, hit, p);
+        if (v3_norm(gap) >= *best) continue;
+        *best = v3_norm(gap);
+        v3_copy(at, hit);
+        v3_cross(face, ab, ac);
+        v3_scale(n, face, 1 / v3_norm(face));
+    }
+}
+
+/* Where the thread of `frame` crosses elastic pad k's surface nearest p:
+ * 1 with the point and the outward normal of the triangle crossed, 0 when
+ * it crosses none. The segments beside the one nearest p are tried first,
+ * so that the others, farther than the crossing found, are not. */
+static int thread_crossing(const rod_recording *rec, int k, int frame, const double p[3],
+                           double at[3], double n[3])
+{
+    const recording_surface *s = &rec->surfaces[k];
+    const double *x = rod_recording_pad_positions(rec, k, frame);
+    if (!x) return 0;
+    int nearest = 0;
+    double least = INFINITY, best = INFINITY;
+    for (int j = 0; j + 1 < rec->nodes; j++) {
+        double to[3];
+        v3_sub(to, node_position(rec, frame, j), p);
+        if (v3_norm(to) < least) least = v3_norm(to), nearest = j;
+    }
+    for (int j = nearest - 2; j <= nearest + 1; j++)
+        if (j >= 0 && j + 1 < rec->nodes) segment_crossing(rec, s, x, frame, j, p, &best, at, n);
+    for (int j = 0; j + 1 < rec->nodes; j++)
+        if (j < nearest - 2 || j > nearest + 1)
+            segment_crossing(rec, s, x, frame, j, p, &best, at, n);
+    return isfinite(best);
+}
+
 void surface_add_punctures(render_mesh *m, const rod_recording *rec, int frame, double radius,
                            double lift)
 {
@@ -227,10 +382,23 @@ void surface_add_punctures(render_mesh *m, const rod_recording *rec, int frame, 
     for (int i = 0; i < count; i++) {
         double near[3], n[3], e1[3], e2[3];
         /* on the surface nearest the point, just off it */
-        if (nearest_surface(rec, &points[3 * i], near, n) < 0) continue;
+        int k = nearest_surface(rec, &points[3 * i], near, n);
+        if (k < 0) continue;
+        if (rec->surfaces[k].pad_node_count > 0) {
+            /* an elastic pad: where the thread goes through its surface as it
+             * is at this frame, nearest the point; a point inside it (more
+             * than a disc's radius: where the thread passes under the skin)
+             * has no hole to draw */
+            double off[3];
+            if (!isfinite(pad_nearest(rec, k, frame, &points[3 * i], near, n))) continue;
+            v3_sub(off, &points[3 * i], near);
+            if (v3_dot(off, n) < -PUNCTURE_DISC * radius) continue;
+            (void)thread_crossing(rec, k, frame, &points[3 * i], near, n);
+        }
         v3_axpy(near, lift, n);
         perpendicular_basis(n, e1, e2);
-        mesh_disc(m, near, e1, e2, 1.8 * radius, n, PUNCTURE_SIDES, render_puncture_color);
+        mesh_disc(m, near, e1, e2, PUNCTURE_DISC * radius, n, PUNCTURE_SIDES,
+                  render_puncture_color);
     }
 }
 
