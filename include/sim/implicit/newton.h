@@ -10,6 +10,17 @@
 
 #include "sim/implicit/work.h"
 
+/* The iterations a patient attempt (w->patient: the step's last retry, and
+ * the steps held patient after it) allows, with no stall test. A rope on a
+ * floor under strands piled on it turns some nodes between stick and slip
+ * at most iterations, and the line search cuts the step to 1/8 - 1/16 for
+ * ten or more of them before Newton settles (20 - 95 iterations at the
+ * step's own dt); the halves a stall splits into are worse: a resting
+ * node's sink over a step (g dt^2) falls below the iterates' error, and
+ * every other node of the strand on the floor turns between touching and
+ * not (docs/decisions/draft-pile-planar.md) */
+#define PATIENT_ITERATIONS 100
+
 /* 1 when the factorisation made for dt_factored serves a step of dt.
  *
  * A relative tolerance, not equality: a caller that lands its steps on
@@ -36,6 +47,8 @@ int implicit_same_dt(double dt_factored, double dt);
 /* Newton on the step t -> t + dt from the first iterate in x, within the
  * step's budget of iterations (w->budget); on success (0) x holds the
  * solution; -1 when it does not converge (the caller splits the step).
+ * With w->patient: up to PATIENT_ITERATIONS, no stall test; sets
+ * w->patience_used when it went past either.
  * report->newton_iterations: the iterations taken. */
 int implicit_newton(implicit_work *w, const rod_model *m, double t, double dt, rod_report *report);
 

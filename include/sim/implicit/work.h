@@ -105,6 +105,13 @@ typedef struct implicit_work {
                               differences (step's retry; rod_jacobian) */
     int contact_fd;        /* 1: this attempt takes the whole Jacobian by finite differences
                               (step's second retry) */
+    int patient;           /* 1: this attempt lets Newton run past the contact stall test, up to
+                              PATIENT_ITERATIONS (step's last retry, held steps; newton.h) */
+    long patient_steps;    /* steps since create that needed it (step.c's note_patient) */
+    double patient_first;  /* s: the time the first of them started at */
+    int patient_hold;      /* steps left that start patient (PATIENT_HOLD_STEPS) */
+    int patience_used;     /* a patient attempt of this step went past the stall test or
+                              newton_max_iterations */
     double fd_step;        /* relative step of the finite-difference Jacobian */
     int reach;             /* blocks a block's unknowns reach: 1, or 2 with punctures */
     int max_reach;         /* the reach the band is sized for; a step uses 2 only while

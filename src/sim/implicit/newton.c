@@ -81,10 +81,13 @@ static double pair_scale(const implicit_work *w)
 }
 
 /* The size of a residual whose scheme's part (scaled) is rod: the larger
- * of it and the pairs' (over scale, N) */
+ * of it and the pairs' (over scale, N); NaN when either is (fmax drops a
+ * NaN: a residual gone NaN beside small pairs' was taken for converged) */
 static double norm_with_pairs(const implicit_work *w, double rod, double scale)
 {
-    return w->self && w->self->count ? fmax(rod, w->self->gnorm / scale) : rod;
+    if (!(w->self && w->self->count)) return rod;
+    const double pairs = w->self->gnorm / scale;
+    return isnan(rod) || isnan(pairs) ? NAN : fmax(rod, pairs);
 }
 
 /* The size of the residual: the scheme's (scaled) and the pairs' (over
@@ -273,13 +276,16 @@ static int newton_iteration(implicit_work *w, const rod_model *m, double t, doub
 }
 
 /* With contact or pairs touching: 1 when the residual has not halved over
- * the last CONTACT_STALL iterations (the step is split at once) */
+ * the last CONTACT_STALL iterations (the step is split at once); a patient
+ * attempt goes on, noting it did (patience_used) */
 static int stalled(implicit_work *w, const rod_model *m, int it, newton_progress *pr)
 {
     if (!((w->has_contact && !w->contact_fd) || (w->self && w->self->count))) return 0;
     if (it >= CONTACT_STALL && pr->norm > m->options.newton_tolerance &&
-        !(pr->norm <= 0.5 * pr->history[it % CONTACT_STALL]))
-        return 1;
+        !(pr->norm <= 0.5 * pr->history[it % CONTACT_STALL])) {
+        if (!w->patient) return 1;
+        w->patience_used = 1;
+    }
     pr->history[it % CONTACT_STALL] = pr->norm;
     return 0;
 }
@@ -287,7 +293,8 @@ static int stalled(implicit_work *w, const rod_model *m, int it, newton_progress
 int implicit_newton(implicit_work *w, const rod_model *m, double t, double dt, rod_report *report)
 {
     const double tol = m->options.newton_tolerance;
-    const int max_it = m->options.newton_max_iterations;
+    const int max_it = w->patient && PATIENT_ITERATIONS > m->options.newton_max_iterations
+                           ? PATIENT_ITERATIONS : m->options.newton_max_iterations;
     if (start_factorisation(w, m, t, dt)) return -1;
     implicit_evaluate_iterate_once(w, m, t, dt);
     newton_progress pr = {.fresh = 0};
@@ -302,6 +309,7 @@ int implicit_newton(implicit_work *w, const rod_model *m, double t, double dt, r
             return 0;
         }
         if (--w->budget < 0) return -1;
+        if (it >= m->options.newton_max_iterations) w->patience_used = 1;
         w->newton_total++;
         if (newton_iteration(w, m, t, dt, it, &pr)) return -1;
         if (stalled(w, m, it, &pr)) return -1;

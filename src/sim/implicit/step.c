@@ -34,6 +34,12 @@
  * MAX_SPLIT_DEPTH and this budget, the rest by the node count
  * (docs/decisions/0020-stalled-step-splits.md) */
 #define STEP_ITERATION_BUDGET 4000
+/* After a step that needed patience (PATIENT_ITERATIONS: the last retry
+ * solved it, or a held step went past the stall test), this many steps
+ * start patient, without the failed tries first: such steps come in runs (a
+ * strand settling onto another on a floor), and the failed tries of one
+ * cost about 20 steps' time (docs/decisions/draft-pile-planar.md) */
+#define PATIENT_HOLD_STEPS 4
 
 /* The Newton iterations one try of a step may spend: the caller's
  * rod_options.iteration_budget when > 0 (rodsim live bounds each line),
@@ -182,6 +188,21 @@ static void hold_split_depth(implicit_work *w, double dt, int solved)
     w->depth_dt = dt;
 }
 
+/* Counts a step that needed patience, in report's warning (its count
+ * kept up to date; another warning that came first stays) */
+static void note_patient(implicit_work *w, rod_report *report)
+{
+    static const char what[] = "implicit scheme: Newton's method was let run past its stall test";
+    w->patient_steps++;
+    if (w->patient_steps == 1) w->patient_first = w->save_time;
+    if (report->warning[0] && strncmp(report->warning, what, sizeof what - 1) != 0) return;
+    snprintf(report->warning, sizeof report->warning,
+             "%s (up to %d iterations at the step's dt, not split when slow) at %ld step%s, the "
+             "first at t = %.6g s (contact turning between stick and slip at most iterations)",
+             what, PATIENT_ITERATIONS, w->patient_steps, w->patient_steps == 1 ? "" : "s",
+             w->patient_first);
+}
+
 /* With contact, a step that failed (split == -1) again, splits included,
  * with a budget of its own: first with the rod's part of the Jacobian by
  * finite differences and a first iterate off any symmetry, then the whole
@@ -189,18 +210,29 @@ static void hold_split_depth(implicit_work *w, double dt, int solved)
  * hanging thread lowered end-on onto a table has no solution that stays
  * straight, and the exact Jacobian, as symmetric as the thread, keeps
  * Newton on that line, its end pressed ever harder while the compliance
- * caps its sink (docs/decisions/0020-stalled-step-splits.md). Returns the last
- * attempt's split_step result. */
+ * caps its sink (docs/decisions/0020-stalled-step-splits.md). Last, a
+ * patient attempt (PATIENT_ITERATIONS): the exact Jacobian, Newton let run
+ * past the stall test; it starts PATIENT_HOLD_STEPS patient steps, and it
+ * and those of them that needed patience are counted in report's warning.
+ * Only a step every earlier try failed gets here, so no run that converged
+ * without it changes. Returns the last attempt's
+ * split_step result. */
 static int retry_with_differences(implicit_work *w, const rod_model *m, rod_state *s, double dt,
                                   rod_report *report, int split)
 {
-    for (int retry = 1; retry <= 2 && split == -1 && w->has_contact; retry++) {
+    for (int retry = 1; retry <= 3 && split == -1 && w->has_contact; retry++) {
         restore_state(w, s);
-        w->fd_only = 1;
+        w->fd_only = retry < 3;
         w->contact_fd = retry == 2;
+        w->patient = retry == 3;
         w->have_factor = 0;
         w->budget = step_budget(m);
         split = split_step(w, m, s, dt, report, 0);
+        if (split == 0 && w->patient) {
+            note_patient(w, report);
+            w->patient_hold = PATIENT_HOLD_STEPS;
+        }
+        w->patient = 0;
         w->contact_fd = 0;
         w->fd_only = 0;
         w->have_factor = 0;
@@ -341,7 +373,17 @@ rod_status implicit_step(implicit_work *w, const rod_model *m, rod_state *s, dou
     /* the depth the last steps' motion asked for (SPLIT_HOLD_STEPS) */
     w->start_depth = w->self && implicit_same_dt(w->depth_dt, dt) ? w->next_depth : 0;
     w->motion_depth = -1;
+    /* the steps after one that needed patience start patient
+     * (PATIENT_HOLD_STEPS) */
+    w->patient = w->patient_hold > 0 && w->has_contact;
+    w->patience_used = 0;
+    if (w->patient_hold > 0) w->patient_hold--;
     int split = split_step(w, m, s, dt, report, 0);
+    if (split == 0 && w->patience_used) {
+        note_patient(w, report);
+        w->patient_hold = PATIENT_HOLD_STEPS;
+    }
+    w->patient = 0;
     if (w->self) hold_split_depth(w, dt, split == 0);
     w->start_depth = 0; /* the retries from the whole step */
     split = retry_with_differences(w, m, s, dt, report, split);
