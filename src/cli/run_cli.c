@@ -14,9 +14,11 @@
 #include "cli/live.h"
 #include "cli/render_cli.h"
 #include "api/scene_keys.h"
+#include "cli/rods_run.h"
 #include "cli/scene_outputs.h"
 #include "cli/summary.h"
 #include "sim/rod.h"
+#include "sim/rod_set.h"
 
 #define RUN_ERR_LEN 1024
 
@@ -86,6 +88,11 @@ static int run_scene(const scene_outputs_options *o, const cli_list *sets)
     if (o->summary) snprintf(o->summary->scene, sizeof o->summary->scene, "%s", scene);
     for (int i = 0; i < sets->count; i++)
         if (ini_set(doc, sets->items[i], err, sizeof err)) goto fail;
+    int named;
+    if (scene_has_named_rods(doc, &named)) { /* several rods: their own run */
+        status = rods_run_scene(o, doc, scene);
+        goto done;
+    }
     if (run_read_scene(doc, &m, &out, err, sizeof err)) goto fail;
     status = scene_outputs_write(o, scene, &m, &out);
     goto done;

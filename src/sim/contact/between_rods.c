@@ -1,0 +1,306 @@
+/* between_rods.c: contact between the rods of a scene (between_rods.h). */
+#include "sim/contact/between_rods.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/vec3.h"
+#include "sim/geometry/proximity.h"
+
+/* Pairs per node a rod's list holds (a rod lying along another touches it
+ * at every node; a crossing, at one or two) */
+#define CROSS_PAIRS_PER_NODE 4
+/* m: the candidates' distance beyond the contact distance, in diameters,
+ * plus the relative motion over the step */
+#define CROSS_MARGIN 0.5
+
+rod_link *rod_link_create(int count, const rod_model *models)
+{
+    rod_link *l = calloc(1, sizeof *l);
+    if (!l) return NULL;
+    l->count = count;
+    l->closest = INFINITY;
+    l->cross = calloc((size_t)count, sizeof *l->cross);
+    l->start = calloc((size_t)count, sizeof *l->start);
+    l->stepped = calloc((size_t)count, sizeof *l->stepped);
+    if (!l->cross || !l->start || !l->stepped) {
+        rod_link_destroy(l);
+        return NULL;
+    }
+    for (int k = 0; k < count; k++) {
+        rod_cross *c = &l->cross[k];
+        const size_t n = (size_t)models[k].nodes;
+        c->nodes = models[k].nodes;
+        c->capacity = CROSS_PAIRS_PER_NODE * c->nodes + 16;
+        c->pair = calloc((size_t)c->capacity, sizeof *c->pair);
+        c->load = calloc(n * 3, sizeof(double));
+        l->start[k] = calloc(n * 3, sizeof(double));
+        if (!c->pair || !c->load || !l->start[k]) {
+            rod_link_destroy(l);
+            return NULL;
+        }
+    }
+    return l;
+}
+
+void rod_link_destroy(rod_link *l)
+{
+    if (!l) return;
+    for (int k = 0; l->cross && k < l->count; k++) {
+        free(l->cross[k].pair);
+        free(l->cross[k].load);
+    }
+    for (int k = 0; l->start && k < l->count; k++) free(l->start[k]);
+    free(l->cross);
+    free(l->start);
+    free(l->stepped);
+    free(l);
+}
+
+void rod_link_begin(rod_link *l, const rod_state *const *states)
+{
+    for (int k = 0; k < l->count; k++) {
+        memcpy(l->start[k], states[k]->position, (size_t)states[k]->nodes * 3 * sizeof(double));
+        l->stepped[k] = 0;
+    }
+    l->closest = INFINITY;
+}
+
+void rod_link_done(rod_link *l, int k) { l->stepped[k] = 1; }
+
+/* The box of positions (nodes x 3) grown by `grow` (m) */
+static void box_of(const double *p, int nodes, double grow, double lo[3], double hi[3])
+{
+    for (int c = 0; c < 3; c++) lo[c] = hi[c] = p[c];
+    for (int i = 1; i < nodes; i++)
+        for (int c = 0; c < 3; c++) {
+            lo[c] = fmin(lo[c], p[3 * i + c]);
+            hi[c] = fmax(hi[c], p[3 * i + c]);
+        }
+    for (int c = 0; c < 3; c++) lo[c] -= grow, hi[c] += grow;
+}
+
+/* The largest node speed (m/s) of a state: its velocities' norms */
+static double fastest(const rod_state *s)
+{
+    double v = 0.0;
+    for (int i = 0; i < s->nodes; i++) v = fmax(v, v3_norm(&s->velocity[3 * i]));
+    return v;
+}
+
+/* A node's velocity in global components (the state holds director ones) */
+static void global_velocity(const rod_state *s, int i, double out[3])
+{
+    m3_mul_v(out, &s->frame[9 * i], &s->velocity[3 * i]);
+}
+
+/* Whether a kept pair stands for the same touching region as (a + alpha,
+ * rod, b + beta): within 3/4 of a segment on both strands (as the strands'
+ * own pairs, rod_self_contact_find) */
+static int same_region(const rod_cross *c, int upto, int rod, double sa, double sb)
+{
+    for (int q = 0; q < upto; q++) {
+        const rod_cross_pair *o = &c->pair[q];
+        if (o->rod == rod && fabs(o->a + o->alpha - sa) < 0.75 && fabs(o->b + o->beta - sb) < 0.75)
+            return 1;
+    }
+    return 0;
+}
+
+/* Rod k's pairs with rod j into c (appended); -1 when out of room */
+static int pairs_with(rod_link *l, int k, int j, const rod_model *models,
+                      const rod_state *const *states, double dt, double margin)
+{
+    rod_cross *c = &l->cross[k];
+    const rod_model *mk = &models[k], *mj = &models[j];
+    const double *pa = l->start[k];
+    /* j's path over the step: from its start to where it is (stepped), or
+     * from where it is along its velocity */
+    const double *pb = l->stepped[j] ? l->start[j] : states[j]->position;
+    const double reach = 0.5 * (mk->diameter + mj->diameter);
+    const double threshold = reach + margin;
+    double alo[3], ahi[3], blo[3], bhi[3];
+    box_of(pa, mk->nodes, threshold, alo, ahi);
+    box_of(pb, mj->nodes, 0.0, blo, bhi);
+    for (int e = 0; e < 3; e++)
+        if (alo[e] > bhi[e] || blo[e] > ahi[e]) return 0; /* far apart: nothing to compare */
+    const int first = c->count;
+    for (int a = 0; a + 1 < mk->nodes; a++) {
+        double slo[3], shi[3];
+        for (int e = 0; e < 3; e++) {
+            slo[e] = fmin(pa[3 * a + e], pa[3 * a + 3 + e]) - threshold;
+            shi[e] = fmax(pa[3 * a + e], pa[3 * a + 3 + e]) + threshold;
+        }
+        int outside = 0;
+        for (int e = 0; e < 3; e++) outside |= slo[e] > bhi[e] || blo[e] > shi[e];
+        if (outside) continue;
+        for (int b = 0; b + 1 < mj->nodes; b++) {
+            double s, t;
+            const double d = rod_segment_distance(&pa[3 * a], &pa[3 * a + 3], &pb[3 * b],
+                                                  &pb[3 * b + 3], &s, &t);
+            if (!(d < threshold)) continue;
+            if (c->count == c->capacity) return -1;
+            rod_cross_pair *p = &c->pair[c->count++];
+            memset(p, 0, sizeof *p);
+            p->a = a, p->alpha = s, p->rod = j, p->b = b, p->beta = t;
+            p->reach = reach;
+            p->friction = 0.5 * (mk->self_friction + mj->self_friction);
+            p->force[0] = d; /* the distance, for the sort below */
+        }
+    }
+    /* one pair per touching region, the nearest first */
+    const int found = c->count - first;
+    for (int x = first + 1; x < c->count; x++) /* insertion sort by distance: few pairs */
+        for (int y = x; y > first && c->pair[y].force[0] < c->pair[y - 1].force[0]; y--) {
+            rod_cross_pair tmp = c->pair[y];
+            c->pair[y] = c->pair[y - 1];
+            c->pair[y - 1] = tmp;
+        }
+    c->count = first;
+    for (int x = first; x < first + found; x++) {
+        rod_cross_pair p = c->pair[x];
+        if (same_region(c, c->count, j, p.a + p.alpha, p.b + p.beta)) continue;
+        double ra[3], rb[3], d[3];
+        for (int e = 0; e < 3; e++) {
+            ra[e] = (1.0 - p.alpha) * pa[3 * p.a + e] + p.alpha * pa[3 * p.a + 3 + e];
+            rb[e] = (1.0 - p.beta) * pb[3 * p.b + e] + p.beta * pb[3 * p.b + 3 + e];
+        }
+        l->closest = fmin(l->closest, p.force[0] - reach);
+        v3_sub(d, ra, rb);
+        double len = v3_norm(d);
+        if (!(len > 1e-12 * reach)) { /* the axes meet: across both tangents */
+            double ta[3], tb[3];
+            v3_sub(ta, &pa[3 * p.a + 3], &pa[3 * p.a]);
+            v3_sub(tb, &pb[3 * p.b + 3], &pb[3 * p.b]);
+            v3_cross(d, ta, tb);
+            len = v3_norm(d);
+            if (!(len > 0.0)) v3_set(d, 0.0, 0.0, 1.0), len = 1.0;
+        }
+        v3_scale(p.normal, d, 1.0 / len);
+        v3_copy(p.point0, rb);
+        if (l->stepped[j]) { /* its actual motion over this step */
+            const double *now = states[j]->position;
+            for (int e = 0; e < 3; e++) {
+                const double end = (1.0 - p.beta) * now[3 * p.b + e] + p.beta * now[3 * p.b + 3 + e];
+                p.velocity[e] = (end - rb[e]) / dt;
+            }
+        } else { /* its velocity at the start */
+            double v0[3], v1[3];
+            global_velocity(states[j], p.b, v0);
+            global_velocity(states[j], p.b + 1, v1);
+            for (int e = 0; e < 3; e++) p.velocity[e] = (1.0 - p.beta) * v0[e] + p.beta * v1[e];
+        }
+        v3_set(p.force, 0.0, 0.0, 0.0);
+        c->pair[c->count++] = p;
+    }
+    return 0;
+}
+
+/* The reactions of the other rods' pairs with rod k on its nodes */
+static void gather_loads(rod_link *l, int k)
+{
+    rod_cross *c = &l->cross[k];
+    memset(c->load, 0, (size_t)c->nodes * 3 * sizeof(double));
+    c->has_load = 0;
+    for (int j = 0; j < l->count; j++) {
+        if (j == k) continue;
+        const rod_cross *o = &l->cross[j];
+        for (int q = 0; q < o->count; q++) {
+            const rod_cross_pair *p = &o->pair[q];
+            if (p->rod != k || !(v3_norm(p->force) > 0.0)) continue;
+            v3_axpy(&c->load[3 * p->b], -(1.0 - p->beta), p->force);
+            v3_axpy(&c->load[3 * p->b + 3], -p->beta, p->force);
+            c->has_load = 1;
+        }
+    }
+}
+
+int rod_link_prepare(rod_link *l, int k, const rod_model *models,
+                     const rod_state *const *states, double dt)
+{
+    rod_cross *c = &l->cross[k];
+    gather_loads(l, k);
+    c->count = 0;
+    const double vk = fastest(states[k]);
+    int rc = 0;
+    for (int j = 0; j < l->count && rc == 0; j++) {
+        if (j == k) continue;
+        /* how far the two may close over the step, at their speeds at its start */
+        const double margin = CROSS_MARGIN * fmax(models[k].diameter, models[j].diameter) +
+                              2.0 * dt * (vk + fastest(states[j]));
+        rc = pairs_with(l, k, j, models, states, dt, margin);
+    }
+    return rc < 0 ? -1 : c->count;
+}
+
+/* The velocity map of node i composed with (I + coef G): its own block,
+ * d v / d v_in, recorded for the Jacobian */
+static void compose_map(rod_contact *ct, int i, double coef, const double gain[9])
+{
+    rod_contact_touch_node(ct, i);
+    double *d = &ct->velocity_jac[27 * i + 9], m[9], out[9];
+    for (int r = 0; r < 9; r++) m[r] = (r % 4 == 0 ? 1.0 : 0.0) + coef * gain[r];
+    for (int r = 0; r < 3; r++)
+        for (int q = 0; q < 3; q++)
+            out[3 * r + q] = m[3 * r] * d[q] + m[3 * r + 1] * d[3 + q] + m[3 * r + 2] * d[6 + q];
+    memcpy(d, out, sizeof out);
+}
+
+void rod_cross_apply(rod_cross *c, const double *pos0, double *vel1, double *vbar, double push,
+                     const int held[2], double dt, double theta, rod_contact *ct)
+{
+    const int n = c->nodes;
+    for (int q = 0; q < c->count; q++) {
+        rod_cross_pair *p = &c->pair[q];
+        const int node[2] = {p->a, p->a + 1};
+        const double weight[2] = {1.0 - p->alpha, p->alpha};
+        double pk[2];
+        for (int e = 0; e < 2; e++) {
+            const int i = node[e];
+            const int end = i == 0 ? 0 : i == n - 1 ? 1 : -1;
+            pk[e] = end < 0 ? push : held[end] ? 0.0 : 2.0 * push;
+        }
+        /* the pair's relative motion without its own force: d at the end of
+         * the step, z the end velocity (the other rod's point on its path) */
+        double d[3], z[3];
+        for (int e = 0; e < 3; e++) {
+            d[e] = -(p->point0[e] + dt * p->velocity[e]);
+            z[e] = -p->velocity[e];
+        }
+        for (int e = 0; e < 2; e++)
+            for (int x = 0; x < 3; x++) {
+                d[x] += weight[e] * (pos0[3 * node[e] + x] + dt * vbar[3 * node[e] + x]);
+                z[x] += weight[e] * vel1[3 * node[e] + x];
+            }
+        self_pair law = {0};
+        law.a = p->a;
+        v3_copy(law.normal, p->normal);
+        law.compliance = weight[0] * weight[0] * pk[0] + weight[1] * weight[1] * pk[1];
+        law.share = 1.0;
+        c->law.diameter = p->reach;
+        c->law.friction = p->friction;
+        double gain[9];
+        v3_set(p->force, 0.0, 0.0, 0.0);
+        if (!(law.compliance > 0.0)) continue; /* both nodes held: the supports take it */
+        if (ct && ct->want_jacobian)
+            rod_self_contact_pair_law_gain(&c->law, &law, d, z, dt, theta, p->force, gain);
+        else
+            rod_self_contact_pair_law(&c->law, &law, d, z, dt, theta, p->force);
+        if (!(v3_norm(p->force) > 0.0)) continue;
+        for (int e = 0; e < 2; e++) {
+            const double s = pk[e] * weight[e];
+            v3_axpy(&vel1[3 * node[e]], s, p->force);
+            v3_axpy(&vbar[3 * node[e]], theta * s, p->force);
+            if (ct && ct->want_jacobian && pk[e] > 0.0)
+                compose_map(ct, node[e], s * weight[e], gain);
+        }
+    }
+}
+
+void rod_cross_total(const rod_cross *c, double out[3])
+{
+    v3_set(out, 0.0, 0.0, 0.0);
+    for (int q = 0; q < c->count; q++) v3_axpy(out, 1.0, c->pair[q].force);
+    for (int i = 0; c->has_load && i < c->nodes; i++) v3_axpy(out, 1.0, &c->load[3 * i]);
+}
