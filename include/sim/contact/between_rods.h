@@ -1,19 +1,22 @@
 /* between_rods.h: contact between the rods of a scene (sim/rod_set.h),
  * inside each rod's implicit step.
  *
- * Each rod takes its own step (its own Newton iteration) and sees the
- * segments of the other rods near it as capsules that move over the step
- * along a known path: a rod already advanced in this step by its actual
- * motion, one not yet advanced by its velocity at the start (a Gauss-Seidel
- * sweep over the rods). A pair joins the point at fraction alpha of this
- * rod's segment a to the point at fraction beta of another rod's segment b;
- * its force follows the strands' own law (rod_self_contact_pair_law:
- * compliant normal force, regularised Coulomb friction at its corner) with
- * the compliance of this rod's two nodes alone, solved in closed form in
- * the residual like a surface's (the other rod does not move in this
- * rod's Newton iteration). What a pair exerts on the other rod acts on it
- * as a load at its next solve (its nodes by the weights 1 - beta, beta),
- * so at rest every contact force has its reaction.
+ * Each rod takes its own step (its own Newton iteration), in the scene's
+ * order. A contact between two rods is solved by the later of the two in
+ * that order, which sees the earlier one's segments near it as capsules
+ * moving over the step along that rod's actual motion (it has taken the
+ * step already: a Gauss-Seidel sweep over the rods). A pair joins the
+ * point at fraction alpha of this rod's segment a to the point at fraction
+ * beta of the earlier rod's segment b; its force follows the strands' own
+ * law (rod_self_contact_pair_law: compliant normal force, regularised
+ * Coulomb friction at its corner) with the compliance of this rod's two
+ * nodes alone, solved in closed form in the residual like a surface's, and
+ * the surfaces act again on its nodes with it in place (a rope pressed
+ * onto the floor by another is held by the floor). What a pair exerts on
+ * the earlier rod acts on it as a load at its next step (its nodes by the
+ * weights 1 - beta, beta), before its surfaces act, so at rest every
+ * contact force has its reaction. A rod resting on another is best listed
+ * after it (the one that moves onto a support solves the contact).
  *
  * Rods whose boxes (grown by the contact distance and a margin) do not
  * overlap are never compared: rods far apart cost what they cost alone. */
@@ -36,6 +39,7 @@ typedef struct rod_cross_pair {
     double friction;     /* Coulomb coefficient: the mean of the two rods' rod.friction */
     double force[3];     /* N, global: on this rod's point (the opposite on b's), at the
                             last residual evaluation */
+    double gain[9];      /* dF / dz there (N s / m, row-major), for the Jacobian */
 } rod_cross_pair;
 
 /* One rod's view of the others over a step (made by rod_link_prepare, read
@@ -46,6 +50,11 @@ typedef struct rod_cross {
     rod_cross_pair *pair;
     double *load;        /* (nodes x 3) N, global: the other rods' reactions on each node */
     int has_load;        /* 1: load is not all 0 */
+    double *node_force;  /* (nodes x 3) N, global: the pairs' forces on each node */
+    double *push;        /* (nodes) m/s per N: each node's compliance over the step */
+    double *node_map;    /* (nodes x 9), unsigned char *mapped (nodes): the surfaces' maps
+                            of the nodes they act on again (surface_contact_after_pairs) */
+    unsigned char *mapped;
     rod_self_contact law; /* the strands' law's parameters (diameter, friction) per pair */
 } rod_cross;
 
@@ -68,9 +77,9 @@ void rod_link_destroy(rod_link *l);
 /* Begins a step of dt: every rod's start positions (states: count). */
 void rod_link_begin(rod_link *l, const rod_state *const *states);
 
-/* Before rod k's solve: its pairs with the other rods (positions and
- * motion as above) and the other rods' reactions on it. Returns the pair
- * count, or -1 when more than its room (pairs farther apart dropped). */
+/* Before rod k's solve: its pairs with the rods before it (positions and
+ * motion as above) and the later rods' reactions on it from their last
+ * step. Returns the pair count, or -1 when more than its room. */
 int rod_link_prepare(rod_link *l, int k, const rod_model *models,
                      const rod_state *const *states, double dt);
 
@@ -79,12 +88,14 @@ void rod_link_done(rod_link *l, int k);
 
 /* Inside rod k's residual, after the surfaces and the strands' pairs:
  * each pair's force from its law, applied to the velocities vel1 and vbar
- * (global, nodes x 3) of its two nodes by their compliance push (m/s per N;
- * push_end at a free end, 0 at a held one: held[2]); with want_jacobian
- * in ct, each node's velocity map composed with the pair's own (its
- * coupling of the two nodes left out). */
-void rod_cross_apply(rod_cross *c, const double *pos0, double *vel1, double *vbar, double push,
-                     const int held[2], double dt, double theta, rod_contact *ct);
+ * (global, nodes x 3) of its two nodes by their compliance (push, m/s per
+ * N; twice at a free end, 0 at a held one: held[2]), then the surfaces of
+ * m again on those nodes (ct); with ct->want_jacobian, each node's velocity
+ * map composed with the pair's own (its coupling of the two nodes left
+ * out). */
+void rod_cross_apply(rod_cross *c, const rod_model *m, const double *pos0, double *vel1,
+                     double *vbar, double push, const int held[2], double dt, double theta,
+                     rod_contact *ct);
 
 /* The total force (N, global) the other rods exert on this one at the last
  * evaluation: the pairs' forces and the reactions. */

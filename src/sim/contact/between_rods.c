@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "base/vec3.h"
+#include "sim/contact/surface_contact.h"
 #include "sim/geometry/proximity.h"
 
 /* Pairs per node a rod's list holds (a rod lying along another touches it
@@ -35,8 +36,13 @@ rod_link *rod_link_create(int count, const rod_model *models)
         c->capacity = CROSS_PAIRS_PER_NODE * c->nodes + 16;
         c->pair = calloc((size_t)c->capacity, sizeof *c->pair);
         c->load = calloc(n * 3, sizeof(double));
+        c->node_force = calloc(n * 3, sizeof(double));
+        c->push = calloc(n, sizeof(double));
+        c->node_map = calloc(n * 9, sizeof(double));
+        c->mapped = calloc(n, 1);
         l->start[k] = calloc(n * 3, sizeof(double));
-        if (!c->pair || !c->load || !l->start[k]) {
+        if (!c->pair || !c->load || !c->node_force || !c->push || !c->node_map || !c->mapped ||
+            !l->start[k]) {
             rod_link_destroy(l);
             return NULL;
         }
@@ -50,6 +56,10 @@ void rod_link_destroy(rod_link *l)
     for (int k = 0; l->cross && k < l->count; k++) {
         free(l->cross[k].pair);
         free(l->cross[k].load);
+        free(l->cross[k].node_force);
+        free(l->cross[k].push);
+        free(l->cross[k].node_map);
+        free(l->cross[k].mapped);
     }
     for (int k = 0; l->start && k < l->count; k++) free(l->start[k]);
     free(l->cross);
@@ -224,8 +234,7 @@ int rod_link_prepare(rod_link *l, int k, const rod_model *models,
     c->count = 0;
     const double vk = fastest(states[k]);
     int rc = 0;
-    for (int j = 0; j < l->count && rc == 0; j++) {
-        if (j == k) continue;
+    for (int j = 0; j < k && rc == 0; j++) { /* the earlier rods: stepped already */
         /* how far the two may close over the step, at their speeds at its start */
         const double margin = CROSS_MARGIN * fmax(models[k].diameter, models[j].diameter) +
                               2.0 * dt * (vk + fastest(states[j]));
@@ -247,20 +256,20 @@ static void compose_map(rod_contact *ct, int i, double coef, const double gain[9
     memcpy(d, out, sizeof out);
 }
 
-void rod_cross_apply(rod_cross *c, const double *pos0, double *vel1, double *vbar, double push,
-                     const int held[2], double dt, double theta, rod_contact *ct)
+void rod_cross_apply(rod_cross *c, const rod_model *m, const double *pos0, double *vel1,
+                     double *vbar, double push, const int held[2], double dt, double theta,
+                     rod_contact *ct)
 {
     const int n = c->nodes;
+    const int jac = ct && ct->want_jacobian;
+    for (int i = 0; i < n; i++) c->push[i] = push;
+    c->push[0] = held[0] ? 0.0 : 2.0 * push;
+    c->push[n - 1] = held[1] ? 0.0 : 2.0 * push;
+    memset(c->node_force, 0, (size_t)n * 3 * sizeof(double));
     for (int q = 0; q < c->count; q++) {
         rod_cross_pair *p = &c->pair[q];
         const int node[2] = {p->a, p->a + 1};
         const double weight[2] = {1.0 - p->alpha, p->alpha};
-        double pk[2];
-        for (int e = 0; e < 2; e++) {
-            const int i = node[e];
-            const int end = i == 0 ? 0 : i == n - 1 ? 1 : -1;
-            pk[e] = end < 0 ? push : held[end] ? 0.0 : 2.0 * push;
-        }
         /* the pair's relative motion without its own force: d at the end of
          * the step, z the end velocity (the other rod's point on its path) */
         double d[3], z[3];
@@ -276,24 +285,33 @@ void rod_cross_apply(rod_cross *c, const double *pos0, double *vel1, double *vba
         self_pair law = {0};
         law.a = p->a;
         v3_copy(law.normal, p->normal);
-        law.compliance = weight[0] * weight[0] * pk[0] + weight[1] * weight[1] * pk[1];
+        law.compliance = weight[0] * weight[0] * c->push[node[0]] +
+                         weight[1] * weight[1] * c->push[node[1]];
         law.share = 1.0;
         c->law.diameter = p->reach;
         c->law.friction = p->friction;
-        double gain[9];
         v3_set(p->force, 0.0, 0.0, 0.0);
+        memset(p->gain, 0, sizeof p->gain);
         if (!(law.compliance > 0.0)) continue; /* both nodes held: the supports take it */
-        if (ct && ct->want_jacobian)
-            rod_self_contact_pair_law_gain(&c->law, &law, d, z, dt, theta, p->force, gain);
-        else
-            rod_self_contact_pair_law(&c->law, &law, d, z, dt, theta, p->force);
-        if (!(v3_norm(p->force) > 0.0)) continue;
+        if (jac) rod_self_contact_pair_law_gain(&c->law, &law, d, z, dt, theta, p->force, p->gain);
+        else rod_self_contact_pair_law(&c->law, &law, d, z, dt, theta, p->force);
         for (int e = 0; e < 2; e++) {
-            const double s = pk[e] * weight[e];
+            const double s = c->push[node[e]] * weight[e];
             v3_axpy(&vel1[3 * node[e]], s, p->force);
             v3_axpy(&vbar[3 * node[e]], theta * s, p->force);
-            if (ct && ct->want_jacobian && pk[e] > 0.0)
-                compose_map(ct, node[e], s * weight[e], gain);
+            v3_axpy(&c->node_force[3 * node[e]], weight[e], p->force);
+        }
+    }
+    /* the surfaces again, with the pairs' forces in place */
+    if (ct && ct->surface_count)
+        surface_contact_after_pairs(ct, m, c->node_force, c->push, dt, c->node_map, c->mapped);
+    for (int q = 0; jac && q < c->count; q++) {
+        const rod_cross_pair *p = &c->pair[q];
+        if (!(v3_norm(p->force) > 0.0)) continue;
+        const double weight[2] = {1.0 - p->alpha, p->alpha};
+        for (int e = 0; e < 2; e++) {
+            const int i = p->a + e;
+            if (c->push[i] > 0.0) compose_map(ct, i, c->push[i] * weight[e] * weight[e], p->gain);
         }
     }
 }

@@ -441,8 +441,8 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
     }
     if (contact && w->cross && w->cross->count) {
         const int held[2] = {w->ends[0].held, w->ends[1].held};
-        rod_cross_apply(w->cross, w->pos0, w->vel1, w->vbar, push, held, dt, theta,
-                        w->contact.want_jacobian ? &w->contact : NULL);
+        rod_cross_apply(w->cross, m, w->pos0, w->vel1, w->vbar, push, held, dt, theta,
+                        &w->contact);
     }
 
     /* (3.14) constraint on segment b-1 and (3.6)_2 on node b: block b */
