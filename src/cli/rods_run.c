@@ -128,7 +128,7 @@ static void fill_summary(const rods_run *r, run_summary *sum, int ran)
 {
     const rod_model *m0 = &r->set.model[0];
     snprintf(sum->scheme, sizeof sum->scheme, "%s", rod_scheme_get(m0->options.scheme)->name);
-    sum->has_video_rate = 1;
+    sum->has_video_rate = r->out.fps > 0;
     sum->fps = r->out.render.fps;
     sum->speed = r->out.render.speed;
     if (!ran) return;

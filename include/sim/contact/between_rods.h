@@ -55,6 +55,7 @@ typedef struct rod_cross {
     double *node_map;    /* (nodes x 9), unsigned char *mapped (nodes): the surfaces' maps
                             of the nodes they act on again (surface_contact_after_pairs) */
     unsigned char *mapped;
+    unsigned char *used; /* (nodes) 1: the node is in a pair (rod_link_prepare) */
     rod_self_contact law; /* the strands' law's parameters (diameter, friction) per pair */
 } rod_cross;
 

@@ -9,9 +9,10 @@
 #include "sim/contact/surface_contact.h"
 #include "sim/geometry/proximity.h"
 
-/* Pairs per node a rod's list holds (a rod lying along another touches it
- * at every node; a crossing, at one or two) */
-#define CROSS_PAIRS_PER_NODE 4
+/* Pairs per node a rod's list holds: each segment keeps its nearest
+ * segment of each other rod (rods' count ROD_SET_MAX: 2 is room for a
+ * segment between two others) */
+#define CROSS_PAIRS_PER_NODE 2
 /* m: the candidates' distance beyond the contact distance, in diameters,
  * plus the relative motion over the step */
 #define CROSS_MARGIN 0.5
@@ -40,8 +41,9 @@ rod_link *rod_link_create(int count, const rod_model *models)
         c->push = calloc(n, sizeof(double));
         c->node_map = calloc(n * 9, sizeof(double));
         c->mapped = calloc(n, 1);
+        c->used = calloc(n, 1);
         l->start[k] = calloc(n * 3, sizeof(double));
-        if (!c->pair || !c->load || !c->node_force || !c->push || !c->node_map || !c->mapped ||
+        if (!c->pair || !c->load || !c->node_force || !c->push || !c->node_map || !c->mapped || !c->used ||
             !l->start[k]) {
             rod_link_destroy(l);
             return NULL;
@@ -60,6 +62,7 @@ void rod_link_destroy(rod_link *l)
         free(l->cross[k].push);
         free(l->cross[k].node_map);
         free(l->cross[k].mapped);
+        free(l->cross[k].used);
     }
     for (int k = 0; l->start && k < l->count; k++) free(l->start[k]);
     free(l->cross);
@@ -145,19 +148,24 @@ static int pairs_with(rod_link *l, int k, int j, const rod_model *models,
         int outside = 0;
         for (int e = 0; e < 3; e++) outside |= slo[e] > bhi[e] || blo[e] > shi[e];
         if (outside) continue;
+        /* the nearest of j's segments to segment a: a short segment touches
+         * another rod at one place */
+        int nearest = -1;
+        double best = threshold, best_s = 0.0, best_t = 0.0;
         for (int b = 0; b + 1 < mj->nodes; b++) {
             double s, t;
             const double d = rod_segment_distance(&pa[3 * a], &pa[3 * a + 3], &pb[3 * b],
                                                   &pb[3 * b + 3], &s, &t);
-            if (!(d < threshold)) continue;
-            if (c->count == c->capacity) return -1;
-            rod_cross_pair *p = &c->pair[c->count++];
-            memset(p, 0, sizeof *p);
-            p->a = a, p->alpha = s, p->rod = j, p->b = b, p->beta = t;
-            p->reach = reach;
-            p->friction = 0.5 * (mk->self_friction + mj->self_friction);
-            p->force[0] = d; /* the distance, for the sort below */
+            if (d < best) best = d, best_s = s, best_t = t, nearest = b;
         }
+        if (nearest < 0) continue;
+        if (c->count == c->capacity) return -1;
+        rod_cross_pair *p = &c->pair[c->count++];
+        memset(p, 0, sizeof *p);
+        p->a = a, p->alpha = best_s, p->rod = j, p->b = nearest, p->beta = best_t;
+        p->reach = reach;
+        p->friction = 0.5 * (mk->self_friction + mj->self_friction);
+        p->force[0] = best; /* the distance, for the sort below */
     }
     /* one pair per touching region, the nearest first */
     const int found = c->count - first;
@@ -171,6 +179,11 @@ static int pairs_with(rod_link *l, int k, int j, const rod_model *models,
     for (int x = first; x < first + found; x++) {
         rod_cross_pair p = c->pair[x];
         if (same_region(c, c->count, j, p.a + p.alpha, p.b + p.beta)) continue;
+        /* no node in two pairs: a pair's force then moves its own two nodes
+         * only, so the residual stays local (the band holds its Jacobian);
+         * along a wrap every other segment carries a pair, every node one */
+        if (c->used[p.a] || c->used[p.a + 1]) continue;
+        c->used[p.a] = c->used[p.a + 1] = 1;
         double ra[3], rb[3], d[3];
         for (int e = 0; e < 3; e++) {
             ra[e] = (1.0 - p.alpha) * pa[3 * p.a + e] + p.alpha * pa[3 * p.a + 3 + e];
@@ -232,11 +245,12 @@ int rod_link_prepare(rod_link *l, int k, const rod_model *models,
     rod_cross *c = &l->cross[k];
     gather_loads(l, k);
     c->count = 0;
+    memset(c->used, 0, (size_t)c->nodes);
     const double vk = fastest(states[k]);
     int rc = 0;
     for (int j = 0; j < k && rc == 0; j++) { /* the earlier rods: stepped already */
         /* how far the two may close over the step, at their speeds at its start */
-        const double margin = CROSS_MARGIN * fmax(models[k].diameter, models[j].diameter) +
+        const double margin = CROSS_MARGIN * fmin(models[k].diameter, models[j].diameter) +
                               2.0 * dt * (vk + fastest(states[j]));
         rc = pairs_with(l, k, j, models, states, dt, margin);
     }
@@ -256,6 +270,60 @@ static void compose_map(rod_contact *ct, int i, double coef, const double gain[9
     memcpy(d, out, sizeof out);
 }
 
+/* Pair p's force from its law with every other force on its nodes in
+ * place (its own taken out first): applied to vel1, vbar and node_force */
+static void solve_pair(rod_cross *c, rod_cross_pair *p, const double *pos0, double *vel1,
+                       double *vbar, double dt, double theta, int jac)
+{
+    const int node[2] = {p->a, p->a + 1};
+    const double weight[2] = {1.0 - p->alpha, p->alpha};
+    for (int e = 0; e < 2; e++) { /* its own force out */
+        const double s = c->push[node[e]] * weight[e];
+        v3_axpy(&vel1[3 * node[e]], -s, p->force);
+        v3_axpy(&vbar[3 * node[e]], -theta * s, p->force);
+        v3_axpy(&c->node_force[3 * node[e]], -weight[e], p->force);
+    }
+    /* the pair's relative motion without its own force: d at the end of
+     * the step, z the end velocity (the other rod's point on its path) */
+    double d[3], z[3];
+    for (int e = 0; e < 3; e++) {
+        d[e] = -(p->point0[e] + dt * p->velocity[e]);
+        z[e] = -p->velocity[e];
+    }
+    for (int e = 0; e < 2; e++)
+        for (int x = 0; x < 3; x++) {
+            d[x] += weight[e] * (pos0[3 * node[e] + x] + dt * vbar[3 * node[e] + x]);
+            z[x] += weight[e] * vel1[3 * node[e] + x];
+        }
+    self_pair law = {0};
+    law.a = p->a;
+    v3_copy(law.normal, p->normal);
+    law.compliance = weight[0] * weight[0] * c->push[node[0]] +
+                     weight[1] * weight[1] * c->push[node[1]];
+    law.share = 1.0;
+    c->law.diameter = p->reach;
+    c->law.friction = p->friction;
+    v3_set(p->force, 0.0, 0.0, 0.0);
+    memset(p->gain, 0, sizeof p->gain);
+    if (!(law.compliance > 0.0)) return; /* both nodes held: the supports take it */
+    if (jac) rod_self_contact_pair_law_gain(&c->law, &law, d, z, dt, theta, p->force, p->gain);
+    else rod_self_contact_pair_law(&c->law, &law, d, z, dt, theta, p->force);
+    for (int e = 0; e < 2; e++) {
+        const double s = c->push[node[e]] * weight[e];
+        v3_axpy(&vel1[3 * node[e]], s, p->force);
+        v3_axpy(&vbar[3 * node[e]], theta * s, p->force);
+        v3_axpy(&c->node_force[3 * node[e]], weight[e], p->force);
+    }
+}
+
+/* Sweeps over the pairs (each solved with the others in place) until no
+ * force changes by more than this share of the largest, or CROSS_SWEEPS:
+ * pairs along a wrap share nodes, and one pass left each pushed further
+ * by its neighbours than its own law asked (a projected Gauss-Seidel
+ * solve of the pairs' local problem, at each residual evaluation) */
+#define CROSS_SWEEP_TOLERANCE 1e-12
+#define CROSS_SWEEPS 60
+
 void rod_cross_apply(rod_cross *c, const rod_model *m, const double *pos0, double *vel1,
                      double *vbar, double push, const int held[2], double dt, double theta,
                      rod_contact *ct)
@@ -266,41 +334,20 @@ void rod_cross_apply(rod_cross *c, const rod_model *m, const double *pos0, doubl
     c->push[0] = held[0] ? 0.0 : 2.0 * push;
     c->push[n - 1] = held[1] ? 0.0 : 2.0 * push;
     memset(c->node_force, 0, (size_t)n * 3 * sizeof(double));
-    for (int q = 0; q < c->count; q++) {
-        rod_cross_pair *p = &c->pair[q];
-        const int node[2] = {p->a, p->a + 1};
-        const double weight[2] = {1.0 - p->alpha, p->alpha};
-        /* the pair's relative motion without its own force: d at the end of
-         * the step, z the end velocity (the other rod's point on its path) */
-        double d[3], z[3];
-        for (int e = 0; e < 3; e++) {
-            d[e] = -(p->point0[e] + dt * p->velocity[e]);
-            z[e] = -p->velocity[e];
+    for (int q = 0; q < c->count; q++) v3_set(c->pair[q].force, 0.0, 0.0, 0.0);
+    for (int sweep = 0; sweep < CROSS_SWEEPS; sweep++) {
+        double change = 0.0, largest = 0.0;
+        for (int q = 0; q < c->count; q++) {
+            rod_cross_pair *p = &c->pair[q];
+            double before[3];
+            v3_copy(before, p->force);
+            solve_pair(c, p, pos0, vel1, vbar, dt, theta, jac);
+            double d[3];
+            v3_sub(d, p->force, before);
+            change = fmax(change, v3_norm(d));
+            largest = fmax(largest, v3_norm(p->force));
         }
-        for (int e = 0; e < 2; e++)
-            for (int x = 0; x < 3; x++) {
-                d[x] += weight[e] * (pos0[3 * node[e] + x] + dt * vbar[3 * node[e] + x]);
-                z[x] += weight[e] * vel1[3 * node[e] + x];
-            }
-        self_pair law = {0};
-        law.a = p->a;
-        v3_copy(law.normal, p->normal);
-        law.compliance = weight[0] * weight[0] * c->push[node[0]] +
-                         weight[1] * weight[1] * c->push[node[1]];
-        law.share = 1.0;
-        c->law.diameter = p->reach;
-        c->law.friction = p->friction;
-        v3_set(p->force, 0.0, 0.0, 0.0);
-        memset(p->gain, 0, sizeof p->gain);
-        if (!(law.compliance > 0.0)) continue; /* both nodes held: the supports take it */
-        if (jac) rod_self_contact_pair_law_gain(&c->law, &law, d, z, dt, theta, p->force, p->gain);
-        else rod_self_contact_pair_law(&c->law, &law, d, z, dt, theta, p->force);
-        for (int e = 0; e < 2; e++) {
-            const double s = c->push[node[e]] * weight[e];
-            v3_axpy(&vel1[3 * node[e]], s, p->force);
-            v3_axpy(&vbar[3 * node[e]], theta * s, p->force);
-            v3_axpy(&c->node_force[3 * node[e]], weight[e], p->force);
-        }
+        if (!(change > CROSS_SWEEP_TOLERANCE * largest)) break;
     }
     /* the surfaces again, with the pairs' forces in place */
     if (ct && ct->surface_count)
@@ -311,7 +358,11 @@ void rod_cross_apply(rod_cross *c, const rod_model *m, const double *pos0, doubl
         const double weight[2] = {1.0 - p->alpha, p->alpha};
         for (int e = 0; e < 2; e++) {
             const int i = p->a + e;
-            if (c->push[i] > 0.0) compose_map(ct, i, c->push[i] * weight[e] * weight[e], p->gain);
+            if (!(c->push[i] > 0.0)) continue;
+            compose_map(ct, i, c->push[i] * weight[e] * weight[e], p->gain);
+            /* the pair's coupling of its two nodes: d v_a / d u_{a+1}, d v_{a+1} / d u_a */
+            double *off = &ct->velocity_jac[27 * i + (e ? 0 : 18)];
+            for (int r = 0; r < 9; r++) off[r] += c->push[i] * weight[0] * weight[1] * p->gain[r];
         }
     }
 }
