@@ -108,7 +108,7 @@ static rod_status simulate(rods_run *r, rod_report *report)
 static void print_result(const rods_run *r)
 {
     if (r->o->quiet) return;
-    FILE *f = r->o->talk_stderr ? stderr : stdout;
+    FILE *f = r->o->talk_stderr || r->csv_stdout ? stderr : stdout;
     fprintf(f, "rodsim run: %s: %d rods, %lld steps of %g s, %lld frames, t = %g s, %.3g s of "
             "CPU in the steps (%.3g ms a step)\n", r->scene, r->set.count, (long long)r->run.steps,
             r->plan.step, r->frames, r->run.state[0]->time, r->step_cpu,
@@ -162,7 +162,11 @@ static int open_outputs(rods_run *r, char *err, size_t errlen)
     const scene_outputs_options *o = r->o;
     r->csv_stdout = o->csv && strcmp(o->csv, "-") == 0;
     if (r->csv_stdout) {
-        r->csv = stdout;
+        r->csv = tmpfile(); /* copied to stdout when the run has succeeded */
+        if (!r->csv) {
+            snprintf(err, errlen, "CSV: cannot make a temporary file");
+            return RUN_EXIT_FAILURE;
+        }
     } else if (o->csv) {
         if (outfile_open(&r->csv_file, o->csv, err, errlen)) return RUN_EXIT_FAILURE;
         r->csv = r->csv_file.fp;
@@ -240,6 +244,18 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
         status = RUN_EXIT_FAILURE;
         goto abort;
     }
+    if (r.csv_stdout) { /* the whole CSV, now that the run succeeded */
+        char buffer[1 << 14];
+        size_t got;
+        rewind(r.csv);
+        while ((got = fread(buffer, 1, sizeof buffer, r.csv)) > 0)
+            if (fwrite(buffer, 1, got, stdout) != got) break;
+        if (fflush(stdout) != 0 || ferror(r.csv)) {
+            snprintf(err, sizeof err, "--csv -: standard output could not be written");
+            status = RUN_EXIT_FAILURE;
+            goto fail;
+        }
+    }
     status = 0;
     print_result(&r);
     if (o->summary) {
@@ -264,6 +280,7 @@ fail:
         fill_summary(&r, o->summary, ran && r.run.count > 0);
     }
 done:
+    if (r.csv_stdout && r.csv) fclose(r.csv);
     for (int k = 0; k < ROD_SET_MAX; k++) rod_recording_destroy(r.rec[k]);
     rod_set_run_destroy(&r.run);
     rod_set_release(&r.set);

@@ -42,8 +42,11 @@ rod_link *rod_link_create(int count, const rod_model *models)
         c->node_map = calloc(n * 9, sizeof(double));
         c->mapped = calloc(n, 1);
         c->used = calloc(n, 1);
+        c->paired = calloc(n, 1);
+        c->candidate = calloc((size_t)c->capacity, sizeof *c->candidate);
+        c->last = calloc(n, 1);
         l->start[k] = calloc(n * 3, sizeof(double));
-        if (!c->pair || !c->load || !c->node_force || !c->push || !c->node_map || !c->mapped || !c->used ||
+        if (!c->pair || !c->load || !c->node_force || !c->push || !c->node_map || !c->mapped || !c->used || !c->paired || !c->last || !c->candidate ||
             !l->start[k]) {
             rod_link_destroy(l);
             return NULL;
@@ -63,6 +66,9 @@ void rod_link_destroy(rod_link *l)
         free(l->cross[k].node_map);
         free(l->cross[k].mapped);
         free(l->cross[k].used);
+        free(l->cross[k].paired);
+        free(l->cross[k].candidate);
+        free(l->cross[k].last);
     }
     for (int k = 0; l->start && k < l->count; k++) free(l->start[k]);
     free(l->cross);
@@ -176,14 +182,22 @@ static int pairs_with(rod_link *l, int k, int j, const rod_model *models,
             c->pair[y - 1] = tmp;
         }
     c->count = first;
-    for (int x = first; x < first + found; x++) {
-        rod_cross_pair p = c->pair[x];
+    /* the segments paired at the last step first, then the others: along a
+     * wrap the choice of every other segment stays put from step to step
+     * (else it flipped between the odd and the even ones, and the rope's
+     * support with it) */
+    memcpy(c->candidate, &c->pair[first], (size_t)found * sizeof *c->candidate);
+    for (int y = 0; y < 2 * found; y++) {
+        const int x = y % found, pass = y / found;
+        if (c->last[c->candidate[x].a] != !pass) continue;
+        rod_cross_pair p = c->candidate[x];
         if (same_region(c, c->count, j, p.a + p.alpha, p.b + p.beta)) continue;
         /* no node in two pairs: a pair's force then moves its own two nodes
          * only, so the residual stays local (the band holds its Jacobian);
          * along a wrap every other segment carries a pair, every node one */
         if (c->used[p.a] || c->used[p.a + 1]) continue;
         c->used[p.a] = c->used[p.a + 1] = 1;
+        c->paired[p.a] = 1;
         double ra[3], rb[3], d[3];
         for (int e = 0; e < 3; e++) {
             ra[e] = (1.0 - p.alpha) * pa[3 * p.a + e] + p.alpha * pa[3 * p.a + 3 + e];
@@ -246,6 +260,8 @@ int rod_link_prepare(rod_link *l, int k, const rod_model *models,
     gather_loads(l, k);
     c->count = 0;
     memset(c->used, 0, (size_t)c->nodes);
+    memcpy(c->last, c->paired, (size_t)c->nodes);
+    memset(c->paired, 0, (size_t)c->nodes);
     const double vk = fastest(states[k]);
     int rc = 0;
     for (int j = 0; j < k && rc == 0; j++) { /* the earlier rods: stepped already */
