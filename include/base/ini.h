@@ -43,7 +43,9 @@ void ini_destroy(ini_doc *doc);
  * the first instance of the section, or adding the key (and the section)
  * when absent; "section.NAME.key=value" sets it in the instance of a
  * repeatable section whose `name` is NAME (an [instrument]'s), refused when
- * none is. Messages about it name "--set section.key" instead of a line. */
+ * none is; "word NAME.key=value" sets it in the named section [word NAME]
+ * (a rod of several: --set "rod a.length=0.3"). Messages about it name
+ * "--set section.key" instead of a line. */
 int ini_set(ini_doc *doc, const char *assignment, char *err, size_t errlen);
 
 const char *ini_filename(const ini_doc *doc);

@@ -332,7 +332,8 @@ void scene_keys_print_markdown(FILE *f, const ini_key *table)
                    "contact law (friction: the mean of the two rods' `rod.friction`); a rod "
                    "resting on another is listed after it. Drawn in the order's colours "
                    "(`render.rod_color` first). Not with several rods yet: the thesis and static "
-                   "schemes, `[instrument]`, `[puncture]`, `[point_load]`, tissue.\n\n");
+                   "schemes, `[instrument]`, `[puncture]`, `[point_load]`, tissue. `--set \"rod NAME.key=V\"` "
+                   "sets a key of one rod.\n\n");
     fprintf(f, "| key | unit | default | accepted | meaning |\n| --- | --- | --- | --- | --- |\n");
     for (const ini_key *k = table; k->section; k++) {
         fprintf(f, "| `%s.%s` | ", k->section, k->key);

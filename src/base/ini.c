@@ -86,6 +86,13 @@ static int valid_name(const char *begin, const char *end)
     return 1;
 }
 
+/* A section's name: a word, or two words ([rod NAME]) separated by one space */
+static int valid_section(const char *begin, const char *end)
+{
+    const char *space = memchr(begin, ' ', (size_t)(end - begin));
+    return space ? valid_name(begin, space) && valid_name(space + 1, end) : valid_name(begin, end);
+}
+
 static int section_instances(const ini_doc *doc, const char *name)
 {
     int n = 0;
@@ -406,7 +413,7 @@ int ini_set(ini_doc *doc, const char *assignment, char *err, size_t errlen)
     const char *dot2 = dot && eq ? memchr(dot + 1, '.', (size_t)(eq - dot - 1)) : NULL;
     if (dot2 && valid_name(assignment, dot) && valid_name(dot + 1, dot2) && valid_name(dot2 + 1, eq))
         return set_named(doc, assignment, dot, dot2, eq, err, errlen);
-    if (!dot || !eq || dot > eq || !valid_name(assignment, dot) || !valid_name(dot + 1, eq)) {
+    if (!dot || !eq || dot > eq || !valid_section(assignment, dot) || !valid_name(dot + 1, eq)) {
         set_error(err, errlen, "--set %s: expected section.key=value, e.g. solver.dt=0.01",
                   assignment);
         return -1;
