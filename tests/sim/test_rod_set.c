@@ -133,13 +133,18 @@ static double closest(const rod_state *lo, const rod_state *up, double *height)
  * beside the lift is EI y'''(l) = -2 w l / 3 on each side, so the lift
  * carries F = 4 w l / 3 (and the floor, at each point of departure, w l / 3,
  * the rest of w l). Small slopes: here h / l = 0.02. */
-static void test_crossing(void)
+static void test_crossing(double shift)
 {
-    char err[1024];
+    char err[1024], origin[96];
+    /* the upper rope moved along itself by `shift` (m): the crossing at a
+     * node (0) or inside a segment of 1 cm */
+    snprintf(origin, sizeof origin, "rod upper.origin=0 %.17g 0.007", -0.4 + shift);
     ini_doc *doc = ini_load(RODSIM_SOURCE_DIR "/scenes/crossing.ini", err, sizeof err);
     rod_set set;
-    int ok = doc && scene_read_rods(doc, &set, err, sizeof err) == 0;
+    int ok = doc && ini_set(doc, origin, err, sizeof err) == 0 &&
+             scene_read_rods(doc, &set, err, sizeof err) == 0;
     ini_destroy(doc);
+    printf("  the crossing %.4g m from the upper rope's node at the lower's axis\n", shift);
     if (!check(ok, "scenes/crossing.ini read (%s)", ok ? "ok" : err)) return;
     rod_set_run run;
     if (rod_set_run_create(&set, &run, err, sizeof err)) {
@@ -220,7 +225,10 @@ static void test_refusals(void)
 int main(void)
 {
     test_far_apart();
-    test_crossing();
+    test_crossing(0.0);
+    test_crossing(0.0005); /* within CROSS_SNAP (0.8 mm): the pair acts at the node */
+    test_crossing(0.002);  /* inside the segment */
+    test_crossing(0.005);  /* mid-segment */
     test_refusals();
     return test_finish();
 }

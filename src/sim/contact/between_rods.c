@@ -16,6 +16,10 @@
 /* m: the candidates' distance beyond the contact distance, in diameters,
  * plus the relative motion over the step */
 #define CROSS_MARGIN 0.5
+/* A pair whose point lies within this share of the contact distance from
+ * a node acts at the node: the segment's surface may then dip into the
+ * other rod by 1 - sqrt(1 - 0.2^2) = 2 % of the contact distance */
+#define CROSS_SNAP 0.2
 
 rod_link *rod_link_create(int count, const rod_model *models)
 {
@@ -195,8 +199,25 @@ static int pairs_with(rod_link *l, int k, int j, const rod_model *models,
         /* no node in two pairs: a pair's force then moves its own two nodes
          * only, so the residual stays local (the band holds its Jacobian);
          * along a wrap every other segment carries a pair, every node one */
-        if (c->used[p.a] || c->used[p.a + 1]) continue;
-        c->used[p.a] = c->used[p.a + 1] = 1;
+        /* a point near a node is that node's (its other node stays free for
+         * the next segment's pair: along a wrap every node is held) */
+        double along[3];
+        v3_sub(along, &pa[3 * p.a + 3], &pa[3 * p.a]);
+        /* as a fraction of segment a, at most a quarter (a wrap around a
+         * thick rod: every node held, and each pair's segment half free) */
+        const double snap = fmin(0.25, CROSS_SNAP * reach / v3_norm(along));
+        if (p.alpha < snap || p.alpha > 1.0 - snap) {
+            p.alpha = p.alpha < 0.5 ? 0.0 : 1.0;
+            const int i = p.a + (int)p.alpha;
+            if (c->used[i]) continue;
+            double t;
+            rod_segment_distance(&pa[3 * i], &pa[3 * i], &pb[3 * p.b], &pb[3 * p.b + 3], NULL, &t);
+            p.beta = t;
+            c->used[i] = 1;
+        } else {
+            if (c->used[p.a] || c->used[p.a + 1]) continue;
+            c->used[p.a] = c->used[p.a + 1] = 1;
+        }
         c->paired[p.a] = 1;
         double ra[3], rb[3], d[3];
         for (int e = 0; e < 3; e++) {
