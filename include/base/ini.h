@@ -43,7 +43,9 @@ void ini_destroy(ini_doc *doc);
  * the first instance of the section, or adding the key (and the section)
  * when absent; "section.NAME.key=value" sets it in the instance of a
  * repeatable section whose `name` is NAME (an [instrument]'s), refused when
- * none is. Messages about it name "--set section.key" instead of a line. */
+ * none is; "word NAME.key=value" sets it in the named section [word NAME]
+ * (a rod of several: --set "rod a.length=0.3"). Messages about it name
+ * "--set section.key" instead of a line. */
 int ini_set(ini_doc *doc, const char *assignment, char *err, size_t errlen);
 
 const char *ini_filename(const ini_doc *doc);
@@ -51,6 +53,18 @@ const char *ini_filename(const ini_doc *doc);
 void ini_scene_name(const ini_doc *doc, char *out, size_t outlen);
 /* Directory of the file ("." when none), for paths relative to the scene. */
 void ini_directory(const ini_doc *doc, char *out, size_t outlen);
+
+/* Named instances: a header [word NAME] (two words) is the section
+ * "word NAME" (several rods: [rod a], [ends a], [tip a]). The NAMEs of the
+ * sections [word NAME] in file order into names (up to `most`; pointers
+ * into doc); returns their count. */
+int ini_section_names(const ini_doc *doc, const char *word, const char **names, int most);
+/* While set, every lookup of `section` (ini_get_*, ini_section_count,
+ * ini_section_line, ini_error) reads the section `actual` instead, and
+ * messages name `actual` (a reader of [rod] reads [rod a]); actual NULL
+ * removes the alias. Returns 0, or -1 when too many are set (8) or a name
+ * is too long. */
+int ini_alias(ini_doc *doc, const char *section, const char *actual);
 
 /* Number of instances of a section in the file (marks it known). */
 int ini_section_count(ini_doc *doc, const char *section);

@@ -174,5 +174,9 @@ void run_warnings_join(const run_warnings *w, char *out, size_t n);
  * its first node; sim/cut.h). 0, or -1 out of memory. */
 void run_csv_header(FILE *f);
 int run_csv_frame(FILE *f, const rod_model *m, const rod_state *s);
+/* A scene of several rods: the column rod (its name) after t */
+void run_csv_header_rods(FILE *f);
+/* run_csv_frame with the rod's name after t (rod NULL: as run_csv_frame) */
+int run_csv_frame_named(FILE *f, const rod_model *m, const rod_state *s, const char *rod);
 
 #endif

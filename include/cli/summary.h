@@ -52,6 +52,20 @@ typedef struct summary_cut {
     char instrument[32];
     double t, s, removed;
 } summary_cut;
+/* One rod of a scene of several ([rod NAME]): its name, node count, tip
+ * (m, global), ends (as the single rod's below) and the force the other
+ * rods exert on it at the end (N, global: contact and reactions). */
+#define SUMMARY_MAX_RODS 8
+typedef struct summary_rod {
+    char name[32];
+    int nodes;
+    double tip[3];
+    int has_end[2];
+    double end_force[2][3];
+    double end_moment[2][3];
+    double contact_force[3];
+    double min_strand_gap_d; /* diameters; INFINITY: strands never near (left out) */
+} summary_rod;
 
 /* What a run tells; every `has_` flag says the part is known (else left
  * out of the JSON). Strings are copied in (fixed size: no ownership). */
@@ -91,6 +105,9 @@ typedef struct run_summary {
     int knot_change_count;
     summary_knot_change knot_changes[SUMMARY_MAX_KNOT_CHANGES];
     double min_strand_gap_d; /* diameters; INFINITY: strands never near (left out) */
+    /* several rods: rod_count > 0 lists these (has_rod then unused) */
+    int rod_count;
+    summary_rod rods[SUMMARY_MAX_RODS];
     int puncture_count;
     summary_puncture punctures[SUMMARY_MAX_PUNCTURES];
     int grasp_count;

@@ -91,9 +91,18 @@ typedef struct recording_instrument {
  * row-major, local to global), each jaw's turn from the axis (1, rad). */
 #define RECORDING_INSTRUMENT_NUMBERS 13
 
+/* The most rods a joined recording holds (rod_recording_join) */
+#define RECORDING_MAX_RODS 8
+
 typedef struct rod_recording {
     /* fixed for the run */
     int nodes;
+    /* several rods (rod_recording_join): rod k is nodes rod_first[k] ..
+     * rod_first[k + 1] - 1, each drawn as its own tube with its own ends
+     * (rod_end[k]); 0: one rod, all the nodes */
+    int rod_count;
+    int rod_first[RECORDING_MAX_RODS + 1];
+    recording_end rod_end[RECORDING_MAX_RODS][2];
     double length;        /* m */
     double ds;            /* m, node spacing */
     double diameter;      /* m, true diameter */
@@ -167,6 +176,13 @@ void rod_recording_note_peaks(rod_recording *r, const rod_model *m, const rod_st
 int rod_recording_punctures(const rod_recording *r, int frame, const double **points);
 /* Keeps frames 0, 2, 4, ... (and the peaks): halves a sampled recording. */
 void rod_recording_halve(rod_recording *r);
+/* One recording of several rods recorded side by side (parts: count, 2 ..
+ * RECORDING_MAX_RODS, each with the same frames): their nodes one after
+ * another in each frame, rod_count and rod_first set; the scene (surfaces,
+ * loads, scheme) is the first part's, whose surfaces move into the joined
+ * one. NULL when out of memory or the parts differ in frames. */
+rod_recording *rod_recording_join(rod_recording *const *parts, int count);
+
 /* Appends the state as a frame; the tip load at s->time comes from the model.
  * A state of a cut thread (sim/cut.h; m its model) fills its nodes of the
  * recording's and puts the ones cut away at the cut end. Returns 0, or -1

@@ -314,6 +314,9 @@ typedef struct rod_model {
     int self_contact;             /* 1 (default): non-neighbouring strands touch at the rod's
                                      diameter (implicit scheme, 3-D); 0: they pass */
     double self_friction;         /* Coulomb coefficient between strands (scene rod.friction) */
+    int between_rods;             /* 1: other rods of the scene may touch this one (sim/rod_set.h):
+                                     the implicit scheme takes contact's path (line search,
+                                     contact's Jacobian) even without surfaces; 0 (default) */
 
     /* inputs: loads along the rod (scene [point_load], [loads]) */
     int point_load_count;

@@ -337,7 +337,16 @@ void scene_keys_print_markdown(FILE *f, const ini_key *table)
         fprintf(f, "A rod scene (`rodsim run`): `[section]`, `key = value`, `#` comments, SI "
                    "units; vectors: numbers separated by blanks or commas; booleans: true false "
                    "yes no on off 1 0. A bad key or value is an error naming `file:line` (exit "
-                   "2).\n\n");
+                   "2).\n\n"
+                   "Several rods: `[rod NAME]`, `[ends NAME]`, `[tip NAME]` for each rod (up to "
+                   "8; a bare `[rod]` is a scene's single rod, named `rod`) hold the keys of "
+                   "`[rod]`, `[ends]`, `[tip]` below; the other sections are shared. The rods "
+                   "take one implicit step together and touch one another with the strands' "
+                   "contact law (friction: the mean of the two rods' `rod.friction`); a rod "
+                   "resting on another is listed after it. Drawn in the order's colours "
+                   "(`render.rod_color` first). Not with several rods yet: the thesis and static "
+                   "schemes, `[instrument]`, `[puncture]`, `[point_load]`, tissue. `--set \"rod NAME.key=V\"` "
+                   "sets a key of one rod.\n\n");
     fprintf(f, "| key | unit | default | accepted | meaning |\n| --- | --- | --- | --- | --- |\n");
     for (const ini_key *k = table; k->section; k++) {
         fprintf(f, "| `%s.%s` | ", k->section, k->key);

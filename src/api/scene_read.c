@@ -1,6 +1,8 @@
 /* scene_read.c: a rod scene read whole (see scene_read.h). */
 #include "api/scene_read.h"
 
+#include <stdio.h>
+
 #include "api/scene_keys.h"
 #include "render/render.h"
 #include "sim/scene.h"
@@ -24,6 +26,16 @@ int run_read_scene(ini_doc *doc, rod_model *m, run_output *out, char *err, size_
      * key would otherwise be reported as a missing one */
     if (scene_refuse_beam(doc, err, errlen) || ini_check_keys(doc, scene_keys_rod, err, errlen)) {
         *m = rod_model_default();
+        return -1;
+    }
+    const char *name[1];
+    if (ini_section_names(doc, "rod", name, 1) > 0) {
+        *m = rod_model_default();
+        char section[96];
+        snprintf(section, sizeof section, "rod %.80s", name[0]);
+        snprintf(err, errlen, "%s:%d: [%s]: a scene of named rods is run by `rodsim run` "
+                 "only; accepted here: one bare [rod]", ini_filename(doc),
+                 ini_section_line(doc, section, 0), section);
         return -1;
     }
     if (scene_read_rod(doc, m, err, errlen)) return -1;

@@ -33,8 +33,13 @@ typedef struct ini_known {
     int max_index; /* section rows: the highest instance a key was asked of, or -1 */
 } ini_known;
 
+/* The most aliases a doc holds at once (ini_alias) */
+#define INI_ALIASES 8
+
 struct ini_doc {
     char *filename;
+    char alias_from[INI_ALIASES][32], alias_to[INI_ALIASES][96]; /* ini_alias */
+    int alias_count;
     ini_entry *entries;
     int entry_count, entry_cap;
     ini_section *sections;
@@ -81,6 +86,13 @@ static int valid_name(const char *begin, const char *end)
     return 1;
 }
 
+/* A section's name: a word, or two words ([rod NAME]) separated by one space */
+static int valid_section(const char *begin, const char *end)
+{
+    const char *space = memchr(begin, ' ', (size_t)(end - begin));
+    return space ? valid_name(begin, space) && valid_name(space + 1, end) : valid_name(begin, end);
+}
+
 static int section_instances(const ini_doc *doc, const char *name)
 {
     int n = 0;
@@ -107,6 +119,49 @@ static ini_entry *find_entry(const ini_doc *doc, const char *section, int instan
             return e;
     }
     return NULL;
+}
+
+/* The section a lookup of `section` reads (ini_alias) */
+static const char *resolve(const ini_doc *doc, const char *section)
+{
+    for (int i = 0; i < doc->alias_count; i++)
+        if (strcmp(doc->alias_from[i], section) == 0) return doc->alias_to[i];
+    return section;
+}
+
+int ini_alias(ini_doc *doc, const char *section, const char *actual)
+{
+    int at = 0;
+    while (at < doc->alias_count && strcmp(doc->alias_from[at], section) != 0) at++;
+    if (!actual) { /* remove: the last one takes its place */
+        if (at < doc->alias_count) {
+            doc->alias_count--;
+            memcpy(doc->alias_from[at], doc->alias_from[doc->alias_count], sizeof doc->alias_from[at]);
+            memcpy(doc->alias_to[at], doc->alias_to[doc->alias_count], sizeof doc->alias_to[at]);
+        }
+        return 0;
+    }
+    if (at == INI_ALIASES || strlen(section) >= sizeof doc->alias_from[0] ||
+        strlen(actual) >= sizeof doc->alias_to[0])
+        return -1;
+    snprintf(doc->alias_from[at], sizeof doc->alias_from[at], "%s", section);
+    snprintf(doc->alias_to[at], sizeof doc->alias_to[at], "%s", actual);
+    if (at == doc->alias_count) doc->alias_count++;
+    return 0;
+}
+
+int ini_section_names(const ini_doc *doc, const char *word, const char **names, int most)
+{
+    const size_t n = strlen(word);
+    int count = 0;
+    for (int i = 0; i < doc->section_count; i++) {
+        const char *name = doc->sections[i].name;
+        if (strncmp(name, word, n) != 0 || name[n] != ' ' || doc->sections[i].instance > 0)
+            continue;
+        if (count < most) names[count] = name + n + 1;
+        count++;
+    }
+    return count;
 }
 
 static int add_section(ini_doc *doc, const char *name, int line)
@@ -208,13 +263,21 @@ ini_doc *ini_parse(const char *name, const char *text, char *err, size_t errlen)
             }
             const char *nb = begin + 1, *ne = end - 1;
             trim(&nb, &ne);
-            if (!valid_name(nb, ne)) {
-                set_error(err, errlen, "%s:%d: bad section name (letters, digits, _ and - only)",
-                          name, line);
+            /* [word NAME]: a named instance (several rods: [rod a], [ends a]) */
+            const char *wb = nb, *we = nb;
+            while (we < ne && !isspace((unsigned char)*we)) we++;
+            const char *mb = we, *me = ne;
+            trim(&mb, &me);
+            if (!valid_name(wb, we) || (mb < me && !valid_name(mb, me))) {
+                set_error(err, errlen, "%s:%d: bad section name (letters, digits, _ and - only; "
+                          "or two such words, [rod NAME])", name, line);
                 goto fail;
             }
             free(current_owned);
-            current_owned = dup_range(nb, ne);
+            current_owned = malloc((size_t)(ne - nb) + 2);
+            if (current_owned)
+                snprintf(current_owned, (size_t)(ne - nb) + 2, "%.*s%s%.*s", (int)(we - wb), wb,
+                         mb < me ? " " : "", (int)(me - mb), mb);
             if (!current_owned || add_section(doc, current_owned, line)) goto oom;
             current = current_owned;
             continue;
@@ -350,7 +413,7 @@ int ini_set(ini_doc *doc, const char *assignment, char *err, size_t errlen)
     const char *dot2 = dot && eq ? memchr(dot + 1, '.', (size_t)(eq - dot - 1)) : NULL;
     if (dot2 && valid_name(assignment, dot) && valid_name(dot + 1, dot2) && valid_name(dot2 + 1, eq))
         return set_named(doc, assignment, dot, dot2, eq, err, errlen);
-    if (!dot || !eq || dot > eq || !valid_name(assignment, dot) || !valid_name(dot + 1, eq)) {
+    if (!dot || !eq || dot > eq || !valid_section(assignment, dot) || !valid_name(dot + 1, eq)) {
         set_error(err, errlen, "--set %s: expected section.key=value, e.g. solver.dt=0.01",
                   assignment);
         return -1;
@@ -405,13 +468,14 @@ void ini_directory(const ini_doc *doc, char *out, size_t outlen)
 
 int ini_section_count(ini_doc *doc, const char *section)
 {
+    section = resolve(doc, section);
     mark_known(doc, section, NULL);
     return section_instances(doc, section);
 }
 
 int ini_section_line(const ini_doc *doc, const char *section, int index)
 {
-    const ini_section *s = find_section(doc, section, index);
+    const ini_section *s = find_section(doc, resolve(doc, section), index);
     return s ? s->line : 0;
 }
 
@@ -438,6 +502,7 @@ int ini_error(const ini_doc *doc, const char *section, int index, const char *ke
               size_t errlen, const char *fmt, ...)
 {
     if (!err || errlen == 0) return -1;
+    section = resolve(doc, section);
     const ini_entry *e = find_entry(doc, section, index, key);
     int n = describe(doc, e, section, index, key, err, errlen);
     if (n < 0 || (size_t)n + 2 >= errlen) return -1;
@@ -465,6 +530,7 @@ int ini_get_string(ini_doc *doc, const char *section, int index, const char *key
                    const char **out, char *err, size_t errlen)
 {
     (void)err; (void)errlen;
+    section = resolve(doc, section);
     mark_known(doc, section, NULL);
     mark_instance(doc, section, index);
     mark_known(doc, section, key);
@@ -661,17 +727,24 @@ int ini_check_unused(const ini_doc *doc, char *err, size_t errlen)
 
 int ini_edit_distance(const char *a, const char *b) { return suggest_distance(a, b); }
 
+/* The table's name of a section: a named instance [rod a] holds [rod]'s keys */
+static int same_section(const char *table_section, const char *section)
+{
+    const size_t n = strlen(table_section);
+    return strncmp(table_section, section, n) == 0 && (section[n] == '\0' || section[n] == ' ');
+}
+
 static int table_has_section(const ini_key *table, const char *section)
 {
     for (const ini_key *k = table; k->section; k++)
-        if (strcmp(k->section, section) == 0) return 1;
+        if (same_section(k->section, section)) return 1;
     return 0;
 }
 
 static const ini_key *table_find(const ini_key *table, const char *section, const char *key)
 {
     for (const ini_key *k = table; k->section; k++)
-        if (strcmp(k->section, section) == 0 && strcmp(k->key, key) == 0) return k;
+        if (same_section(k->section, section) && strcmp(k->key, key) == 0) return k;
     return NULL;
 }
 
@@ -683,7 +756,7 @@ static void table_list(const ini_key *table, const char *section, char *out, siz
     for (const ini_key *k = table; k->section; k++) {
         const char *word;
         if (section) {
-            if (strcmp(k->section, section) != 0) continue;
+            if (!same_section(k->section, section)) continue;
             word = k->key;
         } else {
             int seen = 0; /* each section once */
@@ -720,7 +793,7 @@ static const ini_key *nearest_key(const ini_key *table, const char *section, con
     int best_d = 1 << 20, d;
     *other_section = 0;
     for (const ini_key *k = table; k->section; k++)
-        if (strcmp(k->section, section) == 0 && suggest_near(word, k->key, &d) && d < best_d) {
+        if (same_section(k->section, section) && suggest_near(word, k->key, &d) && d < best_d) {
             best = k;
             best_d = d;
         }

@@ -115,12 +115,25 @@ double run_plan_video_seconds(const run_plan *p, int video_pixels)
     return p->frames_estimate * RUN_PIXEL_COST * video_pixels;
 }
 
+/* the columns after t and the rod's name */
+#define RUN_CSV_COLUMNS "node,s,x,y,z,d3x,d3y,d3z,twist,nx,ny,nz\n"
+
 void run_csv_header(FILE *f)
 {
-    fprintf(f, "t,node,s,x,y,z,d3x,d3y,d3z,twist,nx,ny,nz\n");
+    fprintf(f, "t," RUN_CSV_COLUMNS);
+}
+
+void run_csv_header_rods(FILE *f)
+{
+    fprintf(f, "t,rod," RUN_CSV_COLUMNS);
 }
 
 int run_csv_frame(FILE *f, const rod_model *m, const rod_state *s)
+{
+    return run_csv_frame_named(f, m, s, NULL);
+}
+
+int run_csv_frame_named(FILE *f, const rod_model *m, const rod_state *s, const char *rod)
 {
     /* N(s), global: the internal force, a frame's worth at a time */
     double *force = malloc((size_t)s->nodes * 3 * sizeof *force);
@@ -139,8 +152,9 @@ int run_csv_frame(FILE *f, const rod_model *m, const rod_state *s)
         const double field[12] = {s->time, (double)node * m->ds, r[0], r[1], r[2], q[2], q[5], q[8],
                                   rod_recording_node_twist(s, i), n[0] + 0.0, n[1] + 0.0,
                                   n[2] + 0.0};
-        char line[13 * DTOA_MAX];
+        char line[13 * DTOA_MAX + 64];
         char *p = line + dtoa_shortest(line, field[0]);
+        if (rod) p += snprintf(p, 40, ",%.32s", rod);
         p += snprintf(p, 16, ",%d", node);
         for (int k = 1; k < 12; k++) {
             *p++ = ',';

@@ -14,9 +14,11 @@
 #include "cli/live.h"
 #include "cli/render_cli.h"
 #include "api/scene_keys.h"
+#include "cli/rods_run.h"
 #include "cli/scene_outputs.h"
 #include "cli/summary.h"
 #include "sim/rod.h"
+#include "sim/rod_set.h"
 
 #define RUN_ERR_LEN 1024
 
@@ -36,7 +38,9 @@ void run_usage(FILE *f)
             "                           m, m, m, -, -, -, 1/m, N, N, N): nx,ny,nz is the\n"
             "                           internal force N(s), global; at a held end, the\n"
             "                           force between the rod and its support;\n"
-            "                           --csv - writes it to standard output\n"
+            "                           --csv - writes it to standard output; a scene of\n"
+            "                           several rods ([rod NAME]) adds the column rod (its\n"
+            "                           name) after t\n"
             "  --tissue-csv FILE        write an elastic pad's top-face nodes at every\n"
             "                           output frame: t,node,x,y,z (s, -, m, m, m)\n"
             "  --summary FILE           write how the run ended as one JSON object (status,\n"
@@ -86,6 +90,11 @@ static int run_scene(const scene_outputs_options *o, const cli_list *sets)
     if (o->summary) snprintf(o->summary->scene, sizeof o->summary->scene, "%s", scene);
     for (int i = 0; i < sets->count; i++)
         if (ini_set(doc, sets->items[i], err, sizeof err)) goto fail;
+    int named;
+    if (scene_has_named_rods(doc, &named)) { /* several rods: their own run */
+        status = rods_run_scene(o, doc, scene);
+        goto done;
+    }
     if (run_read_scene(doc, &m, &out, err, sizeof err)) goto fail;
     status = scene_outputs_write(o, scene, &m, &out);
     goto done;

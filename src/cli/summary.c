@@ -196,6 +196,31 @@ static void rod_object(json_out *j, const run_summary *s)
     close_(j, '}');
 }
 
+/* One rod of a scene of several: the single rod's fields, and its
+ * contact force */
+static void set_rod_object(json_out *j, const summary_rod *r)
+{
+    static const char *const end_names[2] = {"root", "tip"};
+    open_(j, '{');
+    string_field(j, "name", r->name);
+    number_field(j, "nodes", r->nodes);
+    vector_field(j, "tip", r->tip);
+    key(j, "ends");
+    open_(j, '{');
+    for (int e = 0; e < 2; e++) {
+        if (!r->has_end[e]) continue;
+        key(j, end_names[e]);
+        open_(j, '{');
+        vector_field(j, "force", r->end_force[e]);
+        vector_field(j, "moment", r->end_moment[e]);
+        close_(j, '}');
+    }
+    close_(j, '}');
+    vector_field(j, "contact_force", r->contact_force);
+    if (isfinite(r->min_strand_gap_d)) number_field(j, "min_strand_gap_d", r->min_strand_gap_d);
+    close_(j, '}');
+}
+
 static void punctures_list(json_out *j, const run_summary *s)
 {
     key(j, "punctures");
@@ -292,7 +317,15 @@ int summary_print(FILE *f, const run_summary *s)
         number_field(&j, "cpu_us_per_step", 1e6 * s->step_cpu_s / (double)s->steps);
     if (s->gl[0]) string_field(&j, "gl", s->gl);
     string_list(&j, "files", s->file_count, s->files);
-    if (s->has_rod) {
+    if (s->rod_count > 0) {
+        key(&j, "rods");
+        open_(&j, '[');
+        for (int k = 0; k < s->rod_count && k < SUMMARY_MAX_RODS; k++) {
+            comma(&j);
+            set_rod_object(&j, &s->rods[k]);
+        }
+        close_(&j, ']');
+    } else if (s->has_rod) {
         key(&j, "rods");
         open_(&j, '[');
         comma(&j);

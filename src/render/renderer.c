@@ -531,6 +531,61 @@ static void renderer_pads(renderer *r, const rod_recording *given, int given_fra
     }
 }
 
+/* The colours of the rods of a scene of several, after the first's
+ * (the [render] rod_color): orange, green, red, purple, teal, gold, grey */
+static const float rod_palette[RECORDING_MAX_RODS - 1][3] = {
+    {0.85f, 0.51f, 0.17f}, {0.23f, 0.60f, 0.29f}, {0.75f, 0.22f, 0.17f}, {0.56f, 0.27f, 0.68f},
+    {0.09f, 0.63f, 0.52f}, {0.79f, 0.64f, 0.15f}, {0.50f, 0.55f, 0.55f}};
+
+/* Each rod of a recording of several (rec->rod_count > 1) as its own tube,
+ * stripe and end glyphs, in its own colour: rod k's nodes of this frame
+ * copied into a recording of one frame and one rod */
+static void renderer_rods(renderer *r, const rod_recording *rec, int frame)
+{
+    render_mesh *m = &r->mesh;
+    const size_t n = (size_t)rec->nodes;
+    double *position = malloc(n * 3 * sizeof(double)), *frames = malloc(n * 9 * sizeof(double));
+    double *twist = malloc(n * sizeof(double)), *tension = malloc(n * sizeof(double));
+    int no_punctures = 0;
+    for (int k = 0; position && frames && twist && tension && k < rec->rod_count; k++) {
+        const size_t first = (size_t)rec->rod_first[k], count = (size_t)rec->rod_first[k + 1] - first;
+        const size_t at = (size_t)frame * n + first;
+        rod_recording view = *rec;
+        memcpy(position, &rec->position[3 * at], count * 3 * sizeof(double));
+        memcpy(frames, &rec->frame[9 * at], count * 9 * sizeof(double));
+        memcpy(twist, &rec->twist[at], count * sizeof(double));
+        memcpy(tension, &rec->tension[at], count * sizeof(double));
+        view.nodes = (int)count;
+        view.rod_count = 0;
+        view.frame_count = view.capacity = 1;
+        view.time = &rec->time[frame];
+        view.position = position;
+        view.frame = frames;
+        view.twist = twist;
+        view.tension = tension;
+        view.tip_force = &rec->tip_force[3 * frame];
+        view.tip_moment = &rec->tip_moment[3 * frame];
+        view.puncture_count = &no_punctures;
+        view.puncture = NULL;
+        view.instrument_count = 0;
+        view.instrument_pose = NULL;
+        view.needle_radius = 0.0;
+        view.ends[0] = rec->rod_end[k][0];
+        view.ends[1] = rec->rod_end[k][1];
+        const float *solid = k == 0 ? r->o->rod_color : rod_palette[(k - 1) % (RECORDING_MAX_RODS - 1)];
+        const float *colors = r->o->color != RENDER_COLOR_SOLID && r->colors ? r->colors + 3 * first : NULL;
+        centreline_rings(&r->line, &view, 0, r->o->smooth);
+        mesh_tube(m, &view, &r->line, 0, r->radius, r->o->sides, colors, solid);
+        if (r->o->stripe != RENDER_STRIPE_OFF)
+            mesh_stripe(m, &view, &r->line, 0, r->radius, r->o->stripe, color_stripe(r->o));
+        glyph_add_ends(m, &view, r->o, 0, r->radius);
+    }
+    free(position);
+    free(frames);
+    free(twist);
+    free(tension);
+}
+
 /* The frame's meshes (the tube, its stripe shaded by the strands near,
  * the glyphs, the arrows; then the punctures, which cast no shadow) and
  * the boxes of the picture they cover. rec, frame: the motion as drawn;
@@ -539,6 +594,15 @@ static void renderer_meshes(renderer *r, const rod_recording *rec, int frame,
                             const rod_recording *given, int given_frame)
 {
     render_mesh *m = &r->mesh;
+    if (rec->rod_count > 1) {
+        renderer_rods(r, rec, frame);
+        if (r->o->arrows) glyph_add_arrows(m, &r->arrows, rec, frame);
+        r->caster_indices = m->index_count;
+        if (r->shadow.receivers)
+            surface_add_punctures(m, given, given_frame, r->radius, r->shadow.lift);
+        frame_boxes(r, rec, frame, given, given_frame);
+        return;
+    }
     unsigned tube = (unsigned)m->vertex_count;
     centreline_rings(&r->line, rec, frame, r->o->smooth);
     mesh_tube(m, rec, &r->line, frame, r->radius, r->o->sides, r->colors, r->o->rod_color);

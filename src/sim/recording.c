@@ -475,3 +475,63 @@ void rod_recording_halve(rod_recording *r)
     }
     r->frame_count = kept;
 }
+
+rod_recording *rod_recording_join(rod_recording *const *parts, int count)
+{
+    if (count < 2 || count > RECORDING_MAX_RODS) return NULL;
+    const int frames = parts[0]->frame_count;
+    int nodes = 0;
+    for (int k = 0; k < count; k++) {
+        if (parts[k]->frame_count != frames) return NULL;
+        nodes += parts[k]->nodes;
+    }
+    rod_recording *r = calloc(1, sizeof *r);
+    if (!r) return NULL;
+    *r = *parts[0]; /* the scene's fields; the arrays are made below */
+    r->time = r->position = r->frame = r->twist = r->tension = NULL;
+    r->tip_force = r->tip_moment = r->puncture = r->instrument_pose = NULL;
+    r->puncture_count = NULL;
+    r->instrument_count = 0;
+    r->surfaces = NULL;
+    r->surface_count = 0;
+    r->nodes = nodes;
+    r->frame_count = 0;
+    r->force_scratch = malloc((size_t)nodes * 3 * sizeof(double));
+    if (!r->force_scratch || reserve(r, frames > 0 ? frames : 1)) {
+        rod_recording_destroy(r);
+        return NULL;
+    }
+    r->surfaces = parts[0]->surfaces; /* moved */
+    r->surface_count = parts[0]->surface_count;
+    parts[0]->surfaces = NULL;
+    parts[0]->surface_count = 0;
+    r->rod_count = count;
+    const size_t n = (size_t)nodes;
+    size_t first = 0;
+    for (int k = 0; k < count; k++) {
+        const rod_recording *p = parts[k];
+        const size_t pn = (size_t)p->nodes;
+        r->rod_first[k] = (int)first;
+        r->rod_end[k][0] = p->ends[0];
+        r->rod_end[k][1] = p->ends[1];
+        r->diameter = fmax(r->diameter, p->diameter);
+        r->self_contact |= p->self_contact;
+        for (size_t f = 0; f < (size_t)frames; f++) {
+            memcpy(&r->position[(f * n + first) * 3], &p->position[f * pn * 3], pn * 3 * sizeof(double));
+            memcpy(&r->frame[(f * n + first) * 9], &p->frame[f * pn * 9], pn * 9 * sizeof(double));
+            memcpy(&r->twist[f * n + first], &p->twist[f * pn], pn * sizeof(double));
+            memcpy(&r->tension[f * n + first], &p->tension[f * pn], pn * sizeof(double));
+        }
+        first += pn;
+    }
+    r->rod_first[count] = (int)first;
+    for (size_t f = 0; f < (size_t)frames; f++) {
+        r->time[f] = parts[0]->time[f];
+        v3_copy(&r->tip_force[3 * f], &parts[0]->tip_force[3 * f]);
+        v3_copy(&r->tip_moment[3 * f], &parts[0]->tip_moment[3 * f]);
+        r->puncture_count[f] = 0;
+    }
+    memset(r->puncture, 0, (size_t)frames * ROD_MAX_PUNCTURES * 3 * sizeof(double));
+    r->frame_count = frames;
+    return r;
+}

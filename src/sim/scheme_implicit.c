@@ -52,6 +52,11 @@ static double stable_dt(const rod_model *m, const char **limit)
     return INFINITY;
 }
 
+void rod_implicit_link(void *work, struct rod_cross *cross)
+{
+    ((implicit_work *)work)->cross = cross;
+}
+
 const rod_scheme_ops rod_scheme_implicit = {"implicit", create, step, destroy, stable_dt,
                                              refresh};
 

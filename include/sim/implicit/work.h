@@ -122,6 +122,9 @@ typedef struct implicit_work {
     int frames_kept;       /* 1: the residual keeps the end-of-step frames, darboux1, d3mid1
                               and moment1 of its last evaluation (fd_jacobian's force
                               columns: the frames depend on omega alone) */
+    /* contact with the other rods of a set (sim/contact/between_rods.h): NULL
+     * when alone; set by rod_implicit_link, owned by the set's link */
+    struct rod_cross *cross;
     int self_off;          /* 1 while the banded Jacobian is built: the pair forces act,
                               their laws are not evaluated (B does not depend on them) */
     double *node_push;     /* (nodes) m/s per N: a force's effect on each node's velocity

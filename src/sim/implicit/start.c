@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "base/vec3.h"
+#include "sim/contact/between_rods.h"
 #include "sim/contact/puncture.h"
 #include "sim/contact/instrument.h"
 #include "sim/contact/surface_contact.h"
@@ -161,7 +162,8 @@ static int prepare_contact(implicit_work *w, const rod_model *m, const rod_state
     if (w->contact.surface_count) surface_contact_prepare(&w->contact, m);
     if (w->contact.instrument_count) instrument_contact_prepare(&w->contact, m, s, dt);
     if (w->max_reach == 2) {
-        int reach = w->contact.puncture_count > 0 ? 2 : 1; /* grasps counted */
+        int reach = w->contact.puncture_count > 0 || (w->cross && w->cross->count > 0)
+                        ? 2 : 1; /* grasps counted */
         if (reach != w->reach) {
             w->reach = reach;
             w->lu.kl = reach == 2 ? BAND_PUNCTURE : BAND;

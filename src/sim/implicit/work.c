@@ -123,8 +123,9 @@ static void choose_layout(implicit_work *w, const rod_model *m)
     int tissue = 0;
     for (int k = 0; k < m->surface_count; k++) tissue |= m->surfaces[k].tissue;
     w->reach = (m->puncture_count > 0 || (tissue && m->needle_radius > 0.0) ||
-                m->instrument_count > 0) ? 2 : 1; /* a grasp couples as a puncture */
-    w->has_contact = m->surface_count > 0 || w->reach == 2;
+                m->instrument_count > 0 || m->between_rods) ? 2 : 1; /* a grasp couples as a
+                                                 puncture, a pair with another rod its segment */
+    w->has_contact = m->surface_count > 0 || w->reach == 2 || m->between_rods;
     static const int kinds3[BLOCK] = {0, 0, 0, 2, 2, 2};
     static const int kinds2[BLOCK_PLANAR] = {0, 0, 1, 1, 2};
     memcpy(w->var_kind, w->planar ? kinds2 : kinds3, (size_t)w->block * sizeof(int));

@@ -1,0 +1,288 @@
+/* rods_run.c: `rodsim run` of a scene of named rods (rods_run.h). */
+#include "cli/rods_run.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include "api/scene_keys.h"
+#include "api/scene_read.h"
+#include "base/outfile.h"
+#include "base/vec3.h"
+#include "cli/args.h"
+#include "cli/run.h"
+#include "cli/summary.h"
+#include "sim/contact/between_rods.h"
+#include "sim/recording.h"
+#include "sim/rod_set.h"
+
+#define RODS_ERR_LEN 1024
+
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* What the run holds */
+typedef struct rods_run {
+    const scene_outputs_options *o;
+    const char *scene;
+    rod_set set;
+    run_output out;
+    rod_set_run run;
+    run_plan plan;
+    double dt;
+    FILE *csv;
+    outfile csv_file;
+    int csv_stdout;
+    rod_recording *rec[ROD_SET_MAX];
+    long long frames;
+    double closest_gap;    /* m: between rods, over the run */
+    double step_cpu;
+} rods_run;
+
+/* A frame: the CSV rows of every rod, and the recordings */
+static int output_frame(rods_run *r)
+{
+    const int several = r->set.count > 1;
+    for (int k = 0; k < r->set.count; k++) {
+        if (r->csv && run_csv_frame_named(r->csv, &r->set.model[k], r->run.state[k],
+                                          several ? r->set.name[k] : NULL))
+            return -1;
+        if (r->rec[k] && rod_recording_append(r->rec[k], &r->set.model[k], r->run.state[k]))
+            return -1;
+    }
+    r->frames++;
+    return 0;
+}
+
+/* n steps of h to the output time target */
+static rod_status advance(rods_run *r, long long n, double h, double target, rod_report *report)
+{
+    for (long long j = 0; j < n; j++) {
+        double t0 = cpu_now();
+        rod_status st = rod_set_step(&r->set, &r->run, h, report);
+        r->step_cpu += cpu_now() - t0;
+        if (st != ROD_OK) return st;
+        for (int k = 0; k < r->set.count; k++)
+            if (!rod_state_is_finite(r->run.state[k])) {
+                snprintf(report->message, sizeof report->message,
+                         "rod %s: the state is no longer finite at t = %g s", r->set.name[k],
+                         r->run.state[k]->time);
+                return ROD_UNSTABLE;
+            }
+        if (r->run.link) r->closest_gap = fmin(r->closest_gap, r->run.link->closest);
+    }
+    for (int k = 0; k < r->set.count; k++) r->run.state[k]->time = target;
+    return ROD_OK;
+}
+
+static rod_status simulate(rods_run *r, rod_report *report)
+{
+    memset(report, 0, sizeof *report);
+    if (output_frame(r)) {
+        snprintf(report->message, sizeof report->message, "out of memory");
+        return ROD_FAILED;
+    }
+    const double duration = r->set.model[0].options.duration;
+    const long long intervals = r->plan.intervals + (r->plan.last_steps > 0 ? 1 : 0);
+    for (long long k = 1; k <= intervals; k++) {
+        const int partial = k > r->plan.intervals;
+        const double target = partial ? duration : fmin((double)k / r->out.fps, duration);
+        rod_status st = advance(r, partial ? r->plan.last_steps : r->plan.steps_per_interval,
+                                partial ? r->plan.last_step : r->plan.step, target, report);
+        if (st != ROD_OK) return st;
+        if (output_frame(r)) {
+            snprintf(report->message, sizeof report->message, "out of memory");
+            return ROD_FAILED;
+        }
+    }
+    return ROD_OK;
+}
+
+/* The result in prose: each rod's tip, held ends and the force of the
+ * other rods on it */
+static void print_result(const rods_run *r)
+{
+    if (r->o->quiet) return;
+    FILE *f = r->o->talk_stderr || r->csv_stdout ? stderr : stdout;
+    fprintf(f, "rodsim run: %s: %d rods, %lld steps of %g s, %lld frames, t = %g s, %.3g s of "
+            "CPU in the steps (%.3g ms a step)\n", r->scene, r->set.count, (long long)r->run.steps,
+            r->plan.step, r->frames, r->run.state[0]->time, r->step_cpu,
+            r->run.steps ? 1e3 * r->step_cpu / (double)r->run.steps : 0.0);
+    for (int k = 0; k < r->set.count; k++) {
+        const rod_state *s = r->run.state[k];
+        const double *tip = &s->position[3 * (s->nodes - 1)];
+        const double *c = r->run.touch_force[k];
+        fprintf(f, "  rod %s: tip (%.6g, %.6g, %.6g) m; other rods' force on it (%.4g, %.4g, "
+                "%.4g) N\n", r->set.name[k], tip[0], tip[1], tip[2], c[0], c[1], c[2]);
+    }
+    if (isfinite(r->closest_gap))
+        fprintf(f, "  closest approach between rods: %.3g m beyond contact\n", r->closest_gap);
+}
+
+static void fill_summary(const rods_run *r, run_summary *sum, int ran)
+{
+    const rod_model *m0 = &r->set.model[0];
+    snprintf(sum->scheme, sizeof sum->scheme, "%s", rod_scheme_get(m0->options.scheme)->name);
+    sum->has_video_rate = r->out.fps > 0;
+    sum->fps = r->out.render.fps;
+    sum->speed = r->out.render.speed;
+    if (!ran) return;
+    sum->has_run = 1;
+    sum->steps = r->run.steps;
+    sum->frames = r->frames;
+    sum->t_end = r->run.state[0]->time;
+    sum->step_cpu_s = r->step_cpu;
+    sum->rod_count = r->set.count < SUMMARY_MAX_RODS ? r->set.count : SUMMARY_MAX_RODS;
+    for (int k = 0; k < sum->rod_count; k++) {
+        const rod_model *m = &r->set.model[k];
+        const rod_state *s = r->run.state[k];
+        summary_rod *out = &sum->rods[k];
+        snprintf(out->name, sizeof out->name, "%s", r->set.name[k]);
+        out->nodes = m->nodes;
+        v3_copy(out->tip, &s->position[3 * (m->nodes - 1)]);
+        const rod_end_kind kinds[2] = {m->root_end, m->tip_end};
+        for (int e = 0; e < 2; e++) {
+            out->has_end[e] = kinds[e] != ROD_END_FREE;
+            v3_copy(out->end_force[e], s->end_force[e]);
+            v3_copy(out->end_moment[e], s->end_moment[e]);
+        }
+        v3_copy(out->contact_force, r->run.touch_force[k]);
+        out->min_strand_gap_d = INFINITY;
+    }
+}
+
+/* Opens the CSV and the recordings; an exit status */
+static int open_outputs(rods_run *r, char *err, size_t errlen)
+{
+    const scene_outputs_options *o = r->o;
+    r->csv_stdout = o->csv && strcmp(o->csv, "-") == 0;
+    if (r->csv_stdout) {
+        r->csv = tmpfile(); /* copied to stdout when the run has succeeded */
+        if (!r->csv) {
+            snprintf(err, errlen, "CSV: cannot make a temporary file");
+            return RUN_EXIT_FAILURE;
+        }
+    } else if (o->csv) {
+        if (outfile_open(&r->csv_file, o->csv, err, errlen)) return RUN_EXIT_FAILURE;
+        r->csv = r->csv_file.fp;
+    }
+    if (r->csv) {
+        if (r->set.count > 1) run_csv_header_rods(r->csv);
+        else run_csv_header(r->csv);
+    }
+    for (int k = 0; !o->no_video && k < r->set.count; k++) {
+        r->rec[k] = rod_recording_create(&r->set.model[k], r->scene, (int)r->plan.frames);
+        if (!r->rec[k]) {
+            snprintf(err, errlen, "out of memory for the video's frames");
+            return RUN_EXIT_FAILURE;
+        }
+    }
+    return 0;
+}
+
+/* The video of every rod; an exit status */
+static int write_video(rods_run *r, char *err, size_t errlen)
+{
+    if (r->o->no_video) return 0;
+    rod_recording *joined = r->set.count > 1 ? rod_recording_join(r->rec, r->set.count) : NULL;
+    const rod_recording *drawn = r->set.count > 1 ? joined : r->rec[0];
+    if (!drawn) {
+        snprintf(err, errlen, "video: out of memory");
+        return RUN_EXIT_FAILURE;
+    }
+    int rc = run_write_video(drawn, &r->out, r->o->out_dir, err, errlen);
+    rod_recording_destroy(joined);
+    return rc ? RUN_EXIT_FAILURE : 0;
+}
+
+int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *scene)
+{
+    char err[RODS_ERR_LEN] = "";
+    rods_run r;
+    memset(&r, 0, sizeof r);
+    r.o = o;
+    r.scene = scene;
+    r.closest_gap = INFINITY;
+    r.csv_file = (outfile){.fd = -1, .slot = -1};
+    int status = RUN_EXIT_BAD_INPUT, ran = 0;
+    if (ini_check_keys(doc, scene_keys_rod, err, sizeof err) ||
+        scene_read_rods(doc, &r.set, err, sizeof err))
+        goto fail;
+    if (run_read_output(doc, &r.out, err, sizeof err) || ini_check_unused(doc, err, sizeof err))
+        goto fail;
+    r.dt = rod_set_choose_dt(&r.set, NULL);
+    if (run_plan_make(&r.set.model[0], r.dt, r.out.fps, &r.plan)) {
+        snprintf(err, sizeof err, "%s: solver.duration / solver.dt: too many steps or frames",
+                 ini_filename(doc));
+        goto fail;
+    }
+    status = RUN_EXIT_FAILURE;
+    if (rod_set_run_create(&r.set, &r.run, err, sizeof err)) goto fail;
+    outfile_transaction_begin();
+    status = open_outputs(&r, err, sizeof err);
+    if (status) goto abort;
+    rod_report report;
+    rod_status st = simulate(&r, &report);
+    ran = 1;
+    if (st != ROD_OK) {
+        snprintf(err, sizeof err, "%s", report.message);
+        status = st == ROD_FAILED ? RUN_EXIT_FAILURE : RUN_EXIT_BAD_INPUT;
+        if (o->summary && st != ROD_FAILED) o->summary->status = "unstable";
+        goto abort;
+    }
+    if ((status = write_video(&r, err, sizeof err))) goto abort;
+    if (o->csv && !r.csv_stdout && outfile_commit(&r.csv_file, err, sizeof err)) {
+        status = RUN_EXIT_FAILURE;
+        goto abort;
+    }
+    if (outfile_transaction_commit(err, sizeof err)) {
+        status = RUN_EXIT_FAILURE;
+        goto abort;
+    }
+    if (r.csv_stdout) { /* the whole CSV, now that the run succeeded */
+        char buffer[1 << 14];
+        size_t got;
+        rewind(r.csv);
+        while ((got = fread(buffer, 1, sizeof buffer, r.csv)) > 0)
+            if (fwrite(buffer, 1, got, stdout) != got) break;
+        if (fflush(stdout) != 0 || ferror(r.csv)) {
+            snprintf(err, sizeof err, "--csv -: standard output could not be written");
+            status = RUN_EXIT_FAILURE;
+            goto fail;
+        }
+    }
+    status = 0;
+    print_result(&r);
+    if (o->summary) {
+        fill_summary(&r, o->summary, ran);
+        if (o->csv && !r.csv_stdout) summary_add_file(o->summary, o->csv);
+        if (!o->no_video) {
+            char path[SUMMARY_TEXT_LEN];
+            for (int k = 0; k < 2; k++) {
+                snprintf(path, sizeof path, "%s/%s.%s", o->out_dir, scene, k ? "png" : "mp4");
+                summary_add_file(o->summary, path);
+            }
+        }
+    }
+    goto done;
+abort:
+    outfile_abort(&r.csv_file);
+    outfile_transaction_abort();
+fail:
+    fprintf(stderr, "rodsim run: %s\n", err);
+    if (o->summary) {
+        summary_set_message(o->summary, err);
+        fill_summary(&r, o->summary, ran && r.run.count > 0);
+    }
+done:
+    if (r.csv_stdout && r.csv) fclose(r.csv);
+    for (int k = 0; k < ROD_SET_MAX; k++) rod_recording_destroy(r.rec[k]);
+    rod_set_run_destroy(&r.run);
+    rod_set_release(&r.set);
+    return status;
+}

@@ -1,0 +1,234 @@
+/* rod_set.c: several rods in one scene (rod_set.h). */
+#include "sim/rod_set.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim/contact/between_rods.h"
+#include "sim/scene.h"
+#include "sim/scheme_implicit.h"
+
+int scene_has_named_rods(const ini_doc *doc, int *count)
+{
+    const char *names[1];
+    *count = ini_section_names(doc, "rod", names, 0);
+    return *count > 0;
+}
+
+/* What several rods cannot have yet: the first such part of model k, as a
+ * message at its line, or 0 */
+static int refuse_for_several(ini_doc *doc, const rod_set *set, int k, char *err, size_t errlen)
+{
+    const rod_model *m = &set->model[k];
+    const char *rod = set->name[k];
+    if (m->options.scheme != ROD_SCHEME_IMPLICIT)
+        return ini_error(doc, "solver", 0, "scheme", err, errlen,
+                         "several rods ([rod %s] and others) are stepped by the implicit scheme "
+                         "only; accepted here: implicit", rod);
+    if (m->instrument_count > 0)
+        return ini_error(doc, "instrument", 0, "kind", err, errlen,
+                         "instruments are not modelled with several rods yet; accepted: a scene "
+                         "with one [rod], or no [instrument]");
+    if (m->puncture_count > 0)
+        return ini_error(doc, "puncture", 0, "point", err, errlen,
+                         "punctures are not modelled with several rods yet; accepted: a scene "
+                         "with one [rod], or no [puncture]");
+    if (m->point_load_count > 0)
+        return ini_error(doc, "point_load", 0, "s", err, errlen,
+                         "a point load names no rod: with several rods it is not accepted yet");
+    for (int j = 0; j < m->surface_count; j++)
+        if (m->surfaces[j].solid || m->surfaces[j].tissue)
+            return ini_error(doc, "surface", j, "tissue", err, errlen,
+                             "tissue is not modelled with several rods yet; accepted: no");
+    return 0;
+}
+
+/* Reads rod k of a named set: [rod NAME], [ends NAME], [tip NAME] read as
+ * [rod], [ends], [tip] (ini_alias), so every key and message is the single
+ * rod's */
+static int read_named(ini_doc *doc, rod_set *set, int k, char *err, size_t errlen)
+{
+    char rod[ROD_NAME_LEN + 8], ends[ROD_NAME_LEN + 8], tip[ROD_NAME_LEN + 8];
+    snprintf(rod, sizeof rod, "rod %s", set->name[k]);
+    snprintf(ends, sizeof ends, "ends %s", set->name[k]);
+    snprintf(tip, sizeof tip, "tip %s", set->name[k]);
+    int rc = ini_alias(doc, "rod", rod) || ini_alias(doc, "ends", ends) ||
+             ini_alias(doc, "tip", tip);
+    if (rc) snprintf(err, errlen, "%s: [rod %s]: the name is too long", ini_filename(doc), set->name[k]);
+    else rc = scene_read_rod(doc, &set->model[k], err, errlen);
+    ini_alias(doc, "rod", NULL);
+    ini_alias(doc, "ends", NULL);
+    ini_alias(doc, "tip", NULL);
+    return rc ? -1 : 0;
+}
+
+/* [ends NAME] or [tip NAME] naming no rod: the first, as a message */
+static int refuse_orphans(const ini_doc *doc, const rod_set *set, char *err, size_t errlen)
+{
+    static const char *const words[] = {"ends", "tip"};
+    for (int w = 0; w < 2; w++) {
+        const char *names[64];
+        int n = ini_section_names(doc, words[w], names, 64);
+        for (int i = 0; i < n && i < 64; i++) {
+            int found = 0;
+            for (int k = 0; k < set->count; k++) found |= strcmp(names[i], set->name[k]) == 0;
+            if (found) continue;
+            char section[ROD_NAME_LEN + 80];
+            snprintf(section, sizeof section, "%s %s", words[w], names[i]);
+            snprintf(err, errlen, "%s:%d: [%s] names no rod; accepted: the NAME of a [rod NAME]",
+                     ini_filename(doc), ini_section_line(doc, section, 0), section);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+int scene_read_rods(ini_doc *doc, rod_set *set, char *err, size_t errlen)
+{
+    memset(set, 0, sizeof *set);
+    const char *names[ROD_SET_MAX + 1];
+    const int named = ini_section_names(doc, "rod", names, ROD_SET_MAX + 1);
+    if (named == 0) {
+        set->count = 1;
+        snprintf(set->name[0], ROD_NAME_LEN, "rod");
+        return scene_read_rod(doc, &set->model[0], err, errlen);
+    }
+    set->named = 1;
+    static const char *const bare[] = {"rod", "ends", "tip"};
+    for (int w = 0; w < 3; w++)
+        if (ini_section_line(doc, bare[w], 0) > 0 || ini_section_count(doc, bare[w]) > 0) {
+            snprintf(err, errlen, "%s:%d: [%s] in a scene of named rods ([rod %s]); accepted: "
+                     "[%s NAME] for each rod (a bare [rod] is a scene's single rod)",
+                     ini_filename(doc), ini_section_line(doc, bare[w], 0), bare[w], names[0],
+                     bare[w]);
+            return -1;
+        }
+    if (named > ROD_SET_MAX) {
+        snprintf(err, errlen, "%s:%d: [rod %s]: more than %d rods; accepted: at most %d",
+                 ini_filename(doc), 0, names[ROD_SET_MAX], ROD_SET_MAX, ROD_SET_MAX);
+        return -1;
+    }
+    for (int k = 0; k < named; k++) {
+        if (strlen(names[k]) >= ROD_NAME_LEN) {
+            char section[ROD_NAME_LEN * 4];
+            snprintf(section, sizeof section, "rod %.*s", ROD_NAME_LEN * 3, names[k]);
+            snprintf(err, errlen, "%s:%d: [%s]: the name is longer than %d characters",
+                     ini_filename(doc), ini_section_line(doc, section, 0), section,
+                     ROD_NAME_LEN - 1);
+            rod_set_release(set);
+            return -1;
+        }
+        snprintf(set->name[k], ROD_NAME_LEN, "%s", names[k]);
+        if (read_named(doc, set, k, err, errlen)) {
+            rod_set_release(set);
+            return -1;
+        }
+        set->count = k + 1;
+        if (named > 1 && refuse_for_several(doc, set, k, err, errlen)) {
+            rod_set_release(set);
+            return -1;
+        }
+    }
+    if (refuse_orphans(doc, set, err, errlen)) {
+        rod_set_release(set);
+        return -1;
+    }
+    for (int k = 0; named > 1 && k < set->count; k++) {
+        set->model[k].between_rods = 1;
+        set->model[k].physics.planar = 0; /* the others may push it out of any plane */
+    }
+    return 0;
+}
+
+void rod_set_release(rod_set *set)
+{
+    for (int k = 0; k < set->count; k++) rod_model_release(&set->model[k]);
+    set->count = 0;
+}
+
+int rod_set_run_create(const rod_set *set, rod_set_run *run, char *err, size_t errlen)
+{
+    memset(run, 0, sizeof *run);
+    for (int k = 0; k < set->count; k++) {
+        run->state[k] = rod_state_create(&set->model[k]);
+        if (!run->state[k]) {
+            snprintf(err, errlen, "out of memory");
+            rod_set_run_destroy(run);
+            return -1;
+        }
+        run->count = k + 1;
+        rod_state_reset(&set->model[k], run->state[k]);
+        char why[512];
+        if (rod_solver_init(&run->solver[k], &set->model[k], why, sizeof why)) {
+            snprintf(err, errlen, "rod %s: %s", set->name[k], why);
+            rod_set_run_destroy(run);
+            return -1;
+        }
+    }
+    if (set->count > 1) {
+        run->link = rod_link_create(set->count, set->model);
+        if (!run->link) {
+            snprintf(err, errlen, "out of memory");
+            rod_set_run_destroy(run);
+            return -1;
+        }
+        for (int k = 0; k < set->count; k++)
+            rod_implicit_link(run->solver[k].work, &run->link->cross[k]);
+    }
+    return 0;
+}
+
+void rod_set_run_destroy(rod_set_run *run)
+{
+    for (int k = 0; k < run->count; k++) {
+        rod_solver_release(&run->solver[k]);
+        rod_state_destroy(run->state[k]);
+    }
+    rod_link_destroy(run->link);
+    memset(run, 0, sizeof *run);
+}
+
+rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_report *report)
+{
+    if (run->link) rod_link_begin(run->link, (const rod_state *const *)run->state);
+    for (int k = 0; k < set->count; k++) {
+        if (run->link &&
+            rod_link_prepare(run->link, k, set->model, (const rod_state *const *)run->state, dt) < 0) {
+            snprintf(report->message, sizeof report->message,
+                     "rod %s: at t = %.6g s it lies along the other rods at more points than "
+                     "its pairs' room (%d); use fewer nodes", set->name[k], run->state[k]->time,
+                     run->link->cross[k].capacity);
+            return ROD_FAILED;
+        }
+        rod_status st = rod_solver_step(&run->solver[k], &set->model[k], run->state[k], dt, report);
+        if (st != ROD_OK) {
+            char why[sizeof report->message];
+            snprintf(why, sizeof why, "%s", report->message);
+            if (set->count > 1)
+                snprintf(report->message, sizeof report->message, "rod %s: %.700s", set->name[k], why);
+            return st;
+        }
+        if (run->link) {
+            rod_link_done(run->link, k);
+            rod_cross_total(&run->link->cross[k], run->touch_force[k]);
+        }
+    }
+    run->steps++;
+    return ROD_OK;
+}
+
+double rod_set_choose_dt(const rod_set *set, const char **why)
+{
+    double dt = INFINITY;
+    for (int k = 0; k < set->count; k++) {
+        const char *w = NULL;
+        double d = rod_choose_dt(&set->model[k], &w);
+        if (d < dt) {
+            dt = d;
+            if (why) *why = w;
+        }
+    }
+    return dt;
+}

@@ -1,0 +1,137 @@
+/* test_rods_run.c: `rodsim run` of a scene of several rods ([rod NAME]):
+ * two identical ropes far apart give, each, the CSV rows of that rope run
+ * alone (the column rod added, and nothing else); the summary lists each
+ * rod by name; a single-rod scene's CSV has no column rod. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+
+#include "test.h"
+#include "test_process.h"
+
+#define ROPE "length = 0.3\ndiameter = 0.004\ndensity = 1100\nyoungs_modulus = 5e7\n" \
+             "shear_modulus = 1.9e7\nnodes = 31\ndirection = 1 0 0.1\nfriction = 0.3\n"
+#define SHARED "[solver]\nscheme = implicit\ndt = 0.002\nduration = 0.5\n" \
+               "[loads]\ngravity = 0 0 -9.81\nlinear_damping = 0.01\n" \
+               "[surface]\nshape = plane\ncenter = 0 0 0\nnormal = 0 0 1\nfriction = 0.4\n"
+
+static int write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) return -1;
+    fputs(text, f);
+    return fclose(f);
+}
+
+static char *read_all(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    rewind(f);
+    char *text = malloc((size_t)n + 1);
+    if (text && fread(text, 1, (size_t)n, f) != (size_t)n) {
+        free(text);
+        text = NULL;
+    }
+    if (text) text[n] = '\0';
+    fclose(f);
+    return text;
+}
+
+/* The largest difference of the numbers of the rows of rod `name` in the
+ * two-rod CSV (its y less y_offset) from the rows of the single rod's CSV,
+ * over the columns after node; -1 when the rows do not pair up */
+static double csv_difference(const char *two, const char *one, const char *name, double y_offset)
+{
+    double worst = 0.0;
+    const char *p = strchr(two, '\n') + 1, *q = strchr(one, '\n') + 1;
+    int rows = 0;
+    while (*p && *q) {
+        const char *end = strchr(p, '\n');
+        char rod[32];
+        double t2, v2[12], t1, v1[12];
+        int node2, node1;
+        if (sscanf(p, "%lf,%31[^,],%d,", &t2, rod, &node2) != 3) return -1;
+        if (strcmp(rod, name) != 0) {
+            p = end + 1;
+            continue;
+        }
+        const char *after2 = strchr(strchr(strchr(p, ',') + 1, ',') + 1, ',') + 1;
+        const char *after1 = strchr(strchr(q, ',') + 1, ',') + 1;
+        if (sscanf(q, "%lf,%d,", &t1, &node1) != 2 || t1 != t2 || node1 != node2) return -1;
+        for (int k = 0; k < 11; k++) {
+            if (sscanf(after2, "%lf", &v2[k]) != 1 || sscanf(after1, "%lf", &v1[k]) != 1)
+                return -1;
+            if (k == 2) v2[k] -= y_offset;
+            worst = fmax(worst, fabs(v2[k] - v1[k]));
+            after2 = strchr(after2, ',') + 1;
+            after1 = strchr(after1, ',') + 1;
+        }
+        rows++;
+        p = end + 1;
+        q = strchr(q, '\n') + 1;
+    }
+    return rows > 0 && !*q ? worst : -1;
+}
+
+int main(void)
+{
+    char dir[] = "/tmp/rodsim_rodsXXXXXX", path[512], cmd[2048];
+    if (!mkdtemp(dir)) return check(0, "mkdtemp"), test_finish();
+    snprintf(path, sizeof path, "%s/two.ini", dir);
+    write_text(path, "[rod a]\n" ROPE "origin = -0.15 0 0.01\n[ends a]\nroot = free\ntip = free\n"
+                     "[rod b]\n" ROPE "origin = -0.15 1 0.01\n[ends b]\nroot = free\ntip = free\n"
+                     SHARED);
+    snprintf(path, sizeof path, "%s/one.ini", dir);
+    write_text(path, "[rod]\n" ROPE "origin = -0.15 0 0.01\n[ends]\nroot = free\ntip = free\n" SHARED);
+    snprintf(cmd, sizeof cmd,
+             "%s run %s/two.ini --no-video --quiet --csv %s/two.csv --summary %s/two.json && "
+             "%s run %s/one.ini --no-video --quiet --csv %s/one.csv",
+             RODSIM_BIN, dir, dir, dir, RODSIM_BIN, dir, dir);
+    int status = system(cmd);
+    check(status == 0, "rodsim run of two rods and of one exit 0 (status %d)", status);
+    snprintf(path, sizeof path, "%s/two.csv", dir);
+    char *two = read_all(path);
+    snprintf(path, sizeof path, "%s/one.csv", dir);
+    char *one = read_all(path);
+    snprintf(path, sizeof path, "%s/two.json", dir);
+    char *json = read_all(path);
+    if (two && one && json) {
+        check(strncmp(two, "t,rod,node,s,x,y,z,", 19) == 0, "two rods: the CSV's header has "
+              "the column rod after t");
+        check(strncmp(one, "t,node,s,x,y,z,", 15) == 0, "one rod: no column rod");
+        const double da = csv_difference(two, one, "a", 0.0);
+        const double db = csv_difference(two, one, "b", 1.0);
+        check(da >= 0.0 && da <= 1e-12, "rod a's rows against the rope alone: largest "
+              "difference %.3g (every column after node; round-off: <= 1e-12)", da);
+        check(db >= 0.0 && db <= 1e-12, "rod b's rows (1 m away, y less 1 m) against the rope "
+              "alone: largest difference %.3g", db);
+        check(strstr(json, "\"rods\":[{\"name\":\"a\",\"nodes\":31,") &&
+                  strstr(json, "{\"name\":\"b\",\"nodes\":31,") &&
+                  strstr(json, "\"contact_force\":[0,0,0]"),
+              "the summary lists rods a and b, no contact force between them");
+    } else {
+        check(0, "the outputs are readable");
+    }
+    free(two);
+    free(one);
+    free(json);
+    /* a bad key of a named rod is reported at its line, with the rod's section */
+    snprintf(path, sizeof path, "%s/bad.ini", dir);
+    write_text(path, "[rod a]\n" ROPE "origin = 0 0 0.01\n[rod b]\n" ROPE "origin = 0 1 0.01\n"
+                     "nodes_typo = 3\n" SHARED);
+    snprintf(cmd, sizeof cmd, "%s run %s --no-video > %s/bad.txt 2>&1", RODSIM_BIN, path, dir);
+    status = system(cmd);
+    snprintf(path, sizeof path, "%s/bad.txt", dir);
+    char *said = read_all(path);
+    check(WIFEXITED(status) && WEXITSTATUS(status) == 2 && said &&
+              strstr(said, "bad.ini:21: [rod b] nodes_typo: unknown key"),
+          "an unknown key of [rod b]: exit 2 naming line and section (%s)", said ? said : "");
+    free(said);
+    test_remove_tree(dir);
+    return test_finish();
+}

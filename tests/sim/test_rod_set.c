@@ -1,0 +1,234 @@
+/* test_rod_set.c: several rods in one scene (sim/rod_set.h): rods far
+ * apart step as each alone; rod-on-rod contact of two ropes crossing on a
+ * floor holds them apart at every step and carries the upper rope's weight
+ * share, against the heavy beam lifted off a floor; the refusals. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "base/ini.h"
+#include "base/vec3.h"
+#include "sim/contact/between_rods.h"
+#include "sim/geometry/proximity.h"
+#include "sim/rod_set.h"
+#include "test.h"
+
+/* A rope on a floor, falling onto it: the rod's keys for `section` */
+static void rope_keys(char *out, size_t n, const char *rod, const char *ends, double y)
+{
+    snprintf(out, n,
+             "[%s]\nlength = 0.3\ndiameter = 0.004\ndensity = 1100\nyoungs_modulus = 5e7\n"
+             "shear_modulus = 1.9e7\nnodes = 31\norigin = -0.15 %.17g 0.01\ndirection = 1 0 0.1\n"
+             "friction = 0.3\n[%s]\nroot = free\ntip = free\n",
+             rod, y, ends);
+}
+
+static const char *const shared_keys =
+    "[solver]\nscheme = implicit\ndt = 0.002\nduration = 0.5\n"
+    "[loads]\ngravity = 0 0 -9.81\nlinear_damping = 0.01\n"
+    "[surface]\nshape = plane\ncenter = 0 0 0\nnormal = 0 0 1\nfriction = 0.4\n";
+
+static int read_set(const char *text, rod_set *set, char *err, size_t errlen)
+{
+    ini_doc *doc = ini_parse("test.ini", text, err, errlen);
+    if (!doc) return -1;
+    int rc = scene_read_rods(doc, set, err, errlen);
+    if (rc == 0 && ini_check_unused(doc, err, errlen)) {
+        rod_set_release(set);
+        rc = -1;
+    }
+    ini_destroy(doc);
+    return rc;
+}
+
+/* Two identical ropes 1 m apart, dropped on a floor: each steps as it does
+ * alone (the same numbers: the contact between rods is never looked at
+ * for rods whose boxes are apart) */
+static void test_far_apart(void)
+{
+    char a[1024], b[1024], alone[1024], two[4096], one[4096], err[1024];
+    rope_keys(a, sizeof a, "rod a", "ends a", 0.0);
+    rope_keys(b, sizeof b, "rod b", "ends b", 1.0);
+    rope_keys(alone, sizeof alone, "rod", "ends", 0.0);
+    snprintf(two, sizeof two, "%s%s%s", a, b, shared_keys);
+    snprintf(one, sizeof one, "%s%s", alone, shared_keys);
+    rod_set set2, set1;
+    rod_set_run run2, run1;
+    int ok = read_set(two, &set2, err, sizeof err) == 0;
+    if (!check(ok, "two named rods read (%s)", ok ? "ok" : err)) return;
+    ok = read_set(one, &set1, err, sizeof err) == 0;
+    if (!check(ok, "the bare rod read (%s)", ok ? "ok" : err)) return;
+    check(set2.count == 2 && strcmp(set2.name[0], "a") == 0 && strcmp(set2.name[1], "b") == 0,
+          "named rods: count %d, names %s, %s", set2.count, set2.name[0], set2.name[1]);
+    check(set1.count == 1 && strcmp(set1.name[0], "rod") == 0, "a bare [rod] is named \"rod\"");
+    if (rod_set_run_create(&set2, &run2, err, sizeof err) ||
+        rod_set_run_create(&set1, &run1, err, sizeof err)) {
+        check(0, "runs made: %s", err);
+        return;
+    }
+    double worst[2] = {0.0, 0.0};
+    rod_report report;
+    int steps = 250, failed = 0;
+    for (int i = 0; i < steps && !failed; i++) {
+        failed |= rod_set_step(&set2, &run2, 0.002, &report) != ROD_OK;
+        failed |= rod_set_step(&set1, &run1, 0.002, &report) != ROD_OK;
+        for (int k = 0; k < 2; k++) {
+            const rod_state *s = run2.state[k], *o = run1.state[0];
+            for (int n = 0; n < s->nodes; n++) {
+                double p[3];
+                v3_copy(p, &s->position[3 * n]);
+                p[1] -= k ? 1.0 : 0.0;
+                for (int c = 0; c < 3; c++) {
+                    worst[k] = fmax(worst[k], fabs(p[c] - o->position[3 * n + c]));
+                    for (int r = 0; r < 3; r++)
+                        worst[k] = fmax(worst[k], fabs(s->frame[9 * n + 3 * c + r] -
+                                                       o->frame[9 * n + 3 * c + r]) * 0.004);
+                }
+            }
+        }
+    }
+    check(!failed, "250 steps of both runs: %s", failed ? report.message : "ok");
+    for (int k = 0; k < 2; k++)
+        check_abs(k ? "rod b (1 m away) against the rod alone: largest difference of positions "
+                      "(m) and frames (x d) over 250 steps"
+                    : "rod a against the rod alone: largest difference of positions (m) and "
+                      "frames (x d) over 250 steps",
+                  worst[k], 0.0, 1e-12);
+    rod_set_run_destroy(&run2);
+    rod_set_run_destroy(&run1);
+    rod_set_release(&set2);
+    rod_set_release(&set1);
+}
+
+/* The closest approach of two centrelines (m) and the height of the second
+ * over the first there (m, along z) */
+static double closest(const rod_state *lo, const rod_state *up, double *height)
+{
+    double best = INFINITY;
+    for (int a = 0; a + 1 < lo->nodes; a++)
+        for (int b = 0; b + 1 < up->nodes; b++) {
+            double s, t;
+            const double *p = lo->position, *q = up->position;
+            double d = rod_segment_distance(&p[3 * a], &p[3 * a + 3], &q[3 * b], &q[3 * b + 3],
+                                            &s, &t);
+            if (d < best) {
+                best = d;
+                *height = ((1 - t) * q[3 * b + 2] + t * q[3 * b + 5]) -
+                          ((1 - s) * p[3 * a + 2] + s * p[3 * a + 5]);
+            }
+        }
+    return best;
+}
+
+/* scenes/crossing.ini: an 80 cm rope dropped across a 40 cm one on a floor.
+ *
+ * The reference: the upper rope is a heavy beam (weight w per length,
+ * bending stiffness EI) on a rigid floor, lifted at one point by h (the
+ * lower rope's diameter: its axis rises from one radius to the lower rope's
+ * diameter plus its own radius). Each side, from where it leaves the floor
+ * (x = 0) to the lift (x = l), EI y'''' = -w with y = y' = y'' = 0 at x = 0
+ * (it leaves the floor flat and without moment) and y' = 0 at x = l
+ * (symmetry): y = -w x^4 / (24 EI) + w l x^3 / (18 EI), so that
+ * h = y(l) = w l^4 / (72 EI), l = (72 EI h / w)^(1/4); the shear just
+ * beside the lift is EI y'''(l) = -2 w l / 3 on each side, so the lift
+ * carries F = 4 w l / 3 (and the floor, at each point of departure, w l / 3,
+ * the rest of w l). Small slopes: here h / l = 0.02. */
+static void test_crossing(double shift)
+{
+    char err[1024], origin[96];
+    /* the upper rope moved along itself by `shift` (m): the crossing at a
+     * node (0) or inside a segment of 1 cm */
+    snprintf(origin, sizeof origin, "rod upper.origin=0 %.17g 0.007", -0.4 + shift);
+    ini_doc *doc = ini_load(RODSIM_SOURCE_DIR "/scenes/crossing.ini", err, sizeof err);
+    rod_set set;
+    int ok = doc && ini_set(doc, origin, err, sizeof err) == 0 &&
+             scene_read_rods(doc, &set, err, sizeof err) == 0;
+    ini_destroy(doc);
+    printf("  the crossing %.4g m from the upper rope's node at the lower's axis\n", shift);
+    if (!check(ok, "scenes/crossing.ini read (%s)", ok ? "ok" : err)) return;
+    rod_set_run run;
+    if (rod_set_run_create(&set, &run, err, sizeof err)) {
+        check(0, "run made: %s", err);
+        rod_set_release(&set);
+        return;
+    }
+    const rod_model *lower = &set.model[0], *upper = &set.model[1];
+    const double reach = 0.5 * (lower->diameter + upper->diameter);
+    const double dt = 0.002, duration = lower->options.duration;
+    const int steps = (int)lround(duration / dt);
+    double least_gap = INFINITY, least_height = INFINITY, fz_late_min = INFINITY,
+           fz_late_max = -INFINITY;
+    int failed = 0, below = 0;
+    rod_report report;
+    for (int i = 0; i < steps && !failed; i++) {
+        failed = rod_set_step(&set, &run, dt, &report) != ROD_OK;
+        double height = 0.0;
+        double gap = closest(run.state[0], run.state[1], &height) - reach;
+        least_gap = fmin(least_gap, gap);
+        least_height = fmin(least_height, height);
+        below += height <= 0.0;
+        if (i >= steps - 100) {
+            fz_late_min = fmin(fz_late_min, run.touch_force[1][2]);
+            fz_late_max = fmax(fz_late_max, run.touch_force[1][2]);
+        }
+    }
+    check(!failed, "%d steps: %s", steps, failed ? report.message : "ok");
+    check(below == 0, "no pass-through at any step: the upper rope's axis above the lower's "
+          "where they are closest at every step (least height %.4g m)", least_height);
+    check(least_gap > -0.05 * reach, "the ropes' surfaces overlap by at most 5 %% of the "
+          "contact distance at any step: least gap %.3g m (contact distance %.3g m)",
+          least_gap, reach);
+    const double ei = upper->stiffness[0], w = upper->mass_per_length * 9.81;
+    const double h = lower->diameter; /* the lift of the upper rope's axis */
+    const double l = pow(72.0 * ei * h / w, 0.25), lift = 4.0 * w * l / 3.0;
+    printf("  upper rope: EI = %.6g N m^2, w = %.6g N/m, h = %.4g m: l = %.5g m, F = 4 w l / 3 = "
+           "%.6g N (its weight %.6g N)\n", ei, w, h, l, lift, w * upper->length);
+    check_rel("crossing at rest: the lower rope's force on the upper (N, z)",
+              run.touch_force[1][2], lift, 0.03);
+    check_rel("action and reaction: the upper rope's force on the lower (N, -z)",
+              -run.touch_force[0][2], lift, 0.03);
+    check(fz_late_max - fz_late_min < 0.01 * lift, "at rest over the last 100 steps: the force "
+          "varies by %.3g N (< 1 %% of it)", fz_late_max - fz_late_min);
+    rod_set_run_destroy(&run);
+    rod_set_release(&set);
+}
+
+/* A scene of several rods that asks for what they do not model is refused
+ * with its line and key */
+static void test_refusals(void)
+{
+    char a[1024], b[1024], text[4096], err[1024];
+    rope_keys(a, sizeof a, "rod a", "ends a", 0.0);
+    rope_keys(b, sizeof b, "rod b", "ends b", 1.0);
+    struct {
+        const char *extra, *expect;
+    } cases[] = {
+        {"[solver]\nscheme = thesis\n", "implicit scheme only"},
+        {"[ends]\nroot = free\n", "[ends] in a scene of named rods"},
+        {"[tip c]\nforce = 0 0 1\n", "[tip c] names no rod"},
+        {"[point_load]\ns = 0.1\nforce = 0 0 1\n", "point load names no rod"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        const char *solver = strstr(cases[i].extra, "[solver]") ? "" : "[solver]\nscheme = implicit\n";
+        snprintf(text, sizeof text, "%s%s%s%s[solver]\n", a, b, solver, cases[i].extra);
+        /* the [solver] above is given once: drop the last header */
+        text[strlen(text) - strlen("[solver]\n")] = '\0';
+        rod_set set;
+        err[0] = '\0';
+        int rc = read_set(text, &set, err, sizeof err);
+        if (rc == 0) rod_set_release(&set);
+        check(rc != 0 && strstr(err, cases[i].expect) && strstr(err, "test.ini:"),
+              "refused with its line: %s", err);
+    }
+}
+
+int main(void)
+{
+    test_far_apart();
+    test_crossing(0.0);
+    test_crossing(0.0005); /* within CROSS_SNAP (0.8 mm): the pair acts at the node */
+    test_crossing(0.002);  /* inside the segment */
+    test_crossing(0.005);  /* mid-segment */
+    test_refusals();
+    return test_finish();
+}
