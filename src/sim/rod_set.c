@@ -35,6 +35,10 @@ static int refuse_for_several(ini_doc *doc, const rod_set *set, int k, char *err
         return ini_error(doc, "puncture", 0, "point", err, errlen,
                          "punctures are not modelled with several rods yet; accepted: a scene "
                          "with one [rod], or no [puncture]");
+    if (m->cut_event_count > 0)
+        return ini_error(doc, "cut", 0, "t", err, errlen,
+                         "a [cut] names no rod: with several rods it is not accepted yet; "
+                         "accepted: a scene with one [rod], or no [cut]");
     if (m->point_load_count > 0)
         return ini_error(doc, "point_load", 0, "s", err, errlen,
                          "a point load names no rod: with several rods it is not accepted yet");

@@ -207,6 +207,7 @@ static void test_refusals(void)
         {"[ends]\nroot = free\n", "[ends] in a scene of named rods"},
         {"[tip c]\nforce = 0 0 1\n", "[tip c] names no rod"},
         {"[point_load]\ns = 0.1\nforce = 0 0 1\n", "point load names no rod"},
+        {"[cut]\nt = 0.1\ns = 0.1\n", "a [cut] names no rod"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         const char *solver = strstr(cases[i].extra, "[solver]") ? "" : "[solver]\nscheme = implicit\n";
