@@ -185,6 +185,71 @@ double rod_segment_distance(const double a0[3], const double a1[3], const double
     return best;
 }
 
+/* rod_segment_distance's own steps, the square roots left out: its inner
+ * critical point is tried first and, when inside, may win; then a0, a1,
+ * b0, b1 in turn, each replacing the best only when strictly nearer. Here
+ * the inner point is rejected by the same expressions; a0's and a1's
+ * closest points on b are b0 (their projections' numerators <= 0: u is
+ * +-0, the point's offset is q - b0 exactly), and a1's squared distance is
+ * below a0's by 1e-12 of it, more than two roundings of a root: a1
+ * replaces a0 (s = 1). b0 and b1 project onto a at or past a1 (numerator
+ * >= |d1|^2: u = 1 exactly), so whichever of them replaces a1 keeps s = 1. */
+static inline int closest_is_end(const double a0[3], const double a1[3], const double b0[3],
+                                 const double b1[3])
+{
+    const double d1[3] = {a1[0] - a0[0], a1[1] - a0[1], a1[2] - a0[2]};
+    const double d2[3] = {b1[0] - b0[0], b1[1] - b0[1], b1[2] - b0[2]};
+    const double r[3] = {a0[0] - b0[0], a0[1] - b0[1], a0[2] - b0[2]};
+    const double a = d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2];
+    const double e = d2[0] * d2[0] + d2[1] * d2[1] + d2[2] * d2[2];
+    const double f = d2[0] * r[0] + d2[1] * r[1] + d2[2] * r[2];
+    if (!(a > 0.0) || !(e > 0.0) || !(f <= 0.0)) return 0;
+    const double q[3] = {a1[0] - b0[0], a1[1] - b0[1], a1[2] - b0[2]};
+    if (!(q[0] * d2[0] + q[1] * d2[1] + q[2] * d2[2] <= 0.0)) return 0;
+    const double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    const double q2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
+    if (!(q2 < r2 * (1.0 - 1e-12))) return 0;
+    const double g[3] = {b0[0] - a0[0], b0[1] - a0[1], b0[2] - a0[2]};
+    const double h[3] = {b1[0] - a0[0], b1[1] - a0[1], b1[2] - a0[2]};
+    if (!(g[0] * d1[0] + g[1] * d1[1] + g[2] * d1[2] >= a) ||
+        !(h[0] * d1[0] + h[1] * d1[1] + h[2] * d1[2] >= a))
+        return 0;
+    const double b = d1[0] * d2[0] + d1[1] * d2[1] + d1[2] * d2[2];
+    const double c = d1[0] * r[0] + d1[1] * r[1] + d1[2] * r[2];
+    const double denom = a * e - b * b;
+    if (denom > 1e-12 * a * e) {
+        const double ti = (a * f - b * c) / denom;
+        if (ti >= 0.0 && ti <= 1.0) {
+            const double si = (b * f - c * e) / denom;
+            if (si >= 0.0 && si <= 1.0) return 0;
+        }
+    }
+    return 1;
+}
+
+int rod_segment_closest_is_end(const double a0[3], const double a1[3], const double b0[3],
+                               const double b1[3])
+{
+    return closest_is_end(a0, a1, b0, b1);
+}
+
+/* rod_segment_distance's result is at most its candidate a1, whose
+ * closest point on b is b0 when the projection's numerator is <= 0 (u =
+ * +-0): then it is the root of |a1 - b0|^2 as computed here, below the
+ * threshold when the square is below threshold^2 by more than the
+ * roundings of both roots */
+int rod_segment_surely_within(const double a0[3], const double a1[3], const double b0[3],
+                              const double b1[3], double threshold)
+{
+    (void)a0;
+    const double d2[3] = {b1[0] - b0[0], b1[1] - b0[1], b1[2] - b0[2]};
+    const double q[3] = {a1[0] - b0[0], a1[1] - b0[1], a1[2] - b0[2]};
+    const double e = d2[0] * d2[0] + d2[1] * d2[1] + d2[2] * d2[2];
+    if (!(e > 0.0) || !(q[0] * d2[0] + q[1] * d2[1] + q[2] * d2[2] <= 0.0)) return 0;
+    const double q2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
+    return q2 < threshold * threshold * (1.0 - 1e-12);
+}
+
 static int pair_order(const rod_segment_pair *a, const rod_segment_pair *b)
 {
     if (a->i != b->i) return a->i - b->i;
@@ -292,6 +357,8 @@ typedef struct walk {
     int skip;
     rod_segment_pair *pairs, *best;
     int max_pairs, count;
+    int flags;             /* ROD_PROXIMITY_* */
+    int segments;
     int collect;           /* 1: the pairs of leaves met go to w->met (leaf_pairs later) */
     int overflow;          /* 1: more than w->met_max of them */
 } walk;
@@ -352,15 +419,26 @@ static void pair_test(walk *k, const scratch *w, int i, int j)
         const double gap = sqrt(gap2);
         if (gap - rel > k->reach * (1.0 + 1e-9) + 1e-12 * (gap + rel)) return;
     }
+    const double *a0 = &pt[3 * i], *a1 = &pt[3 * i + 3], *b0 = &pt[3 * j], *b1 = &pt[3 * j + 3];
+    /* the next segment's pair stands for this one (ROD_PROXIMITY_SHARED_END) */
+    const int shared = (k->flags & ROD_PROXIMITY_SHARED_END) && i + 1 < k->segments &&
+                       j - i - 1 > k->skip;
+    if (shared && closest_is_end(a0, a1, b0, b1)) return;
+    if ((k->flags & ROD_PROXIMITY_INDEX_ONLY) && !shared &&
+        rod_segment_surely_within(a0, a1, b0, b1, k->threshold)) {
+        if (k->count < k->max_pairs) k->pairs[k->count] = (rod_segment_pair){i, j, 0.0, 0.0, 0.0};
+        k->count++;
+        return;
+    }
     k->p->narrow_tests++;
     double s, t;
-    const double d = rod_segment_distance(&pt[3 * i], &pt[3 * i + 3], &pt[3 * j], &pt[3 * j + 3],
-                                          &s, &t);
+    const double d = rod_segment_distance(a0, a1, b0, b1, &s, &t);
     if (!(d < k->threshold)) return;
     if (k->move) {
         k->count += d - rel < k->reach;
         return;
     }
+    if (shared && s >= 1.0) return;
     const rod_segment_pair found = {i, j, s, t, d};
     if (k->count < k->max_pairs) k->pairs[k->count] = found;
     k->count++;
@@ -480,7 +558,7 @@ static int prepare(scratch *w, const double *points, int nodes, double grow)
 /* The pairs closer than threshold: written into pairs (up to max_pairs) and
  * the closest into *best (when not NULL). Returns the count, or -1. */
 static int search(rod_proximity *p, const double *points, int nodes, double threshold, int skip,
-                  rod_segment_pair *pairs, int max_pairs, rod_segment_pair *best)
+                  int flags, rod_segment_pair *pairs, int max_pairs, rod_segment_pair *best)
 {
     p->narrow_tests = 0;
     if (!points || nodes > p->max_nodes || !(threshold > 0.0) || !isfinite(threshold)) return -1;
@@ -493,7 +571,8 @@ static int search(rod_proximity *p, const double *points, int nodes, double thre
     /* the pairs of leaves first, then their segments' pairs in order; a
      * walk meeting more pairs of leaves than noted (segments piled in one
      * place) tests them as it meets them and sorts what it found */
-    walk k = {p, points, NULL, 0.0, threshold, 0.0, skip, pairs, best, max_pairs, 0, 1, 0};
+    walk k = {p,      points,    NULL, 0.0, threshold, 0.0, skip, pairs,
+              best,   max_pairs, 0,    flags, segments, 1,   0};
     walk_tree(&k, w);
     if (!k.overflow) {
         met_pairs(&k, w);
@@ -540,7 +619,7 @@ int rod_proximity_reachable(rod_proximity *p, const double *points, const double
                 m[3 + c] = most(m[3 + c], vel[3 * i + c]);
             }
     }
-    walk k = {p, points, vel, dt, threshold, reach, skip, NULL, NULL, 0, 0, 0, 0};
+    walk k = {p, points, vel, dt, threshold, reach, skip, NULL, NULL, 0, 0, 0, nodes - 1, 0, 0};
     walk_tree(&k, w);
     return k.count;
 }
@@ -548,8 +627,14 @@ int rod_proximity_reachable(rod_proximity *p, const double *points, const double
 int rod_proximity_pairs(rod_proximity *p, const double *points, int nodes, double threshold,
                         int skip, rod_segment_pair *pairs, int max_pairs)
 {
+    return rod_proximity_select(p, points, nodes, threshold, skip, 0, pairs, max_pairs);
+}
+
+int rod_proximity_select(rod_proximity *p, const double *points, int nodes, double threshold,
+                         int skip, int flags, rod_segment_pair *pairs, int max_pairs)
+{
     if (max_pairs < 0 || (max_pairs > 0 && !pairs)) return -1;
-    return search(p, points, nodes, threshold, skip, pairs, max_pairs, NULL);
+    return search(p, points, nodes, threshold, skip, flags, pairs, max_pairs, NULL);
 }
 
 int rod_proximity_min(rod_proximity *p, const double *points, int nodes, int skip,
@@ -585,7 +670,7 @@ int rod_proximity_min(rod_proximity *p, const double *points, int nodes, int ski
     for (double threshold = longest > 0.0 ? longest : 1.0;; threshold *= 4.0) {
         int last = threshold > diagonal;
         if (last) threshold = 2.0 * diagonal + 1e-300;
-        int count = search(p, points, nodes, threshold, skip, NULL, 0, closest);
+        int count = search(p, points, nodes, threshold, skip, 0, NULL, 0, closest);
         tests += p->narrow_tests;
         if (count < 0) return -1;
         if (count > 0 || last) {
