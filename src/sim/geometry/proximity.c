@@ -30,6 +30,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/vec3_lanes.h"
+
 /* segments per leaf of the tree */
 #define LEAF 8
 
@@ -231,6 +233,51 @@ int rod_segment_closest_is_end(const double a0[3], const double a1[3], const dou
                                const double b1[3])
 {
     return closest_is_end(a0, a1, b0, b1);
+}
+
+/* closest_is_end for segment i against segments j .. j + LANES - 1, one
+ * in each lane, by the same expressions (lanes of the same operations
+ * give the same numbers: no fused multiply-adds, vec3_lanes.h): bit l set
+ * when pair (i, j + l) is shown */
+LANES_TARGET static int closest_is_end_lanes(const double *pt, int i, int j)
+{
+    const double *a0 = &pt[3 * i], *a1 = &pt[3 * i + 3];
+    const double d1[3] = {a1[0] - a0[0], a1[1] - a0[1], a1[2] - a0[2]};
+    const double a = d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2];
+    lanes b0[3], b1[3];
+    for (int c = 0; c < 3; c++)
+        for (int l = 0; l < LANES; l++) {
+            b0[c][l] = pt[3 * (j + l) + c];
+            b1[c][l] = pt[3 * (j + l + 1) + c];
+        }
+    lanes d2[3], r[3], q[3], g[3], h[3];
+    for (int c = 0; c < 3; c++) {
+        d2[c] = b1[c] - b0[c];
+        r[c] = a0[c] - b0[c];
+        q[c] = a1[c] - b0[c];
+        g[c] = b0[c] - a0[c];
+        h[c] = b1[c] - a0[c];
+    }
+    const lanes e = d2[0] * d2[0] + d2[1] * d2[1] + d2[2] * d2[2];
+    const lanes f = d2[0] * r[0] + d2[1] * r[1] + d2[2] * r[2];
+    const lanes qd = q[0] * d2[0] + q[1] * d2[1] + q[2] * d2[2];
+    const lanes r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    const lanes q2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
+    const lanes gd = g[0] * d1[0] + g[1] * d1[1] + g[2] * d1[2];
+    const lanes hd = h[0] * d1[0] + h[1] * d1[1] + h[2] * d1[2];
+    const lanes b = d1[0] * d2[0] + d1[1] * d2[1] + d1[2] * d2[2];
+    const lanes c = d1[0] * r[0] + d1[1] * r[1] + d1[2] * r[2];
+    const lanes denom = a * e - b * b;
+    const lanes ti = (a * f - b * c) / denom, si = (b * f - c * e) / denom;
+    const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = {1.0, 1.0, 1.0, 1.0};
+    const lanes_mask inside = (denom > 1e-12 * a * e) & (ti >= zero) & (ti <= one) &
+                              (si >= zero) & (si <= one);
+    const lanes_mask ok = (e > zero) & (f <= zero) & (qd <= zero) & (q2 < r2 * (1.0 - 1e-12)) &
+                          (gd >= a) & (hd >= a) & ~inside;
+    int shown = 0;
+    if (!(a > 0.0)) return 0;
+    for (int l = 0; l < LANES; l++) shown |= (ok[l] != 0) << l;
+    return shown;
 }
 
 /* rod_segment_distance's result is at most its candidate a1, whose
@@ -488,14 +535,26 @@ static void met_pairs(walk *k, scratch *w)
             for (; y > start[a] && sorted[y - 1] > b; y--) sorted[y] = sorted[y - 1];
             sorted[y] = b;
         }
+    const int shared = (k->flags & ROD_PROXIMITY_SHARED_END) != 0;
     for (int a = 0; a < w->leaves; a++) {
         if (start[a] == start[a + 1]) continue;
         const tree_node *ta = &w->node[a];
         for (int i = ta->lo; i <= ta->hi; i++)
             for (int x = start[a]; x < start[a + 1]; x++) {
                 const tree_node *tb = &w->node[sorted[x]];
-                for (int j = tb->lo > i + k->skip + 1 ? tb->lo : i + k->skip + 1; j <= tb->hi; j++)
-                    pair_test(k, w, i, j);
+                int j = tb->lo > i + k->skip + 1 ? tb->lo : i + k->skip + 1;
+                if (shared && i + 1 < k->segments) {
+                    /* from j = i + skip + 2 every pair is one the next
+                     * segment's may stand for: four at a time, those shown
+                     * left out, the others tested in order */
+                    for (; j <= tb->hi && j < i + k->skip + 2; j++) pair_test(k, w, i, j);
+                    for (; j + 3 <= tb->hi; j += LANES) {
+                        const int shown = closest_is_end_lanes(k->points, i, j);
+                        for (int l = 0; l < LANES; l++)
+                            if (!(shown >> l & 1)) pair_test(k, w, i, j + l);
+                    }
+                }
+                for (; j <= tb->hi; j++) pair_test(k, w, i, j);
             }
     }
 }
