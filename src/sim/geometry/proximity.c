@@ -54,6 +54,8 @@ typedef struct scratch {
     int *met_sorted;             /* (met_max) leaf b of each, by a then b */
     int leaves;
     double *box;                 /* (segments x 6) grown bounding boxes: min xyz, max xyz */
+    double *coord;               /* (3 x stride) the points by coordinate: x, then y, then z */
+    int stride;                  /* max_nodes + LANES (a lane's load past the last node) */
     int *group, *next;           /* (segments + 1) sort_pairs' first pair of each segment i */
 } scratch;
 
@@ -69,6 +71,7 @@ static void scratch_free(scratch *w)
     free(w->met_start);
     free(w->met_sorted);
     free(w->box);
+    free(w->coord);
     free(w->group);
     free(w->next);
     free(w);
@@ -100,10 +103,12 @@ rod_proximity *rod_proximity_create(int max_nodes)
     w->met_start = malloc(((size_t)leaves + 1) * sizeof *w->met_start);
     w->met_sorted = malloc((size_t)w->met_max * sizeof *w->met_sorted);
     w->box = malloc(segments * 6 * sizeof *w->box);
+    w->stride = max_nodes + LANES;
+    w->coord = calloc((size_t)w->stride * 3, sizeof *w->coord);
     w->group = malloc((segments + 1) * sizeof *w->group);
     w->next = malloc((segments + 1) * sizeof *w->next);
     if (!w->node || !w->node_box || !w->node_move || !w->stack || !w->met || !w->met_start ||
-        !w->met_sorted || !w->box || !w->group || !w->next)
+        !w->met_sorted || !w->box || !w->coord || !w->group || !w->next)
         goto fail;
     p->max_nodes = max_nodes;
     p->entries = w;
@@ -239,17 +244,19 @@ int rod_segment_closest_is_end(const double a0[3], const double a1[3], const dou
  * in each lane, by the same expressions (lanes of the same operations
  * give the same numbers: no fused multiply-adds, vec3_lanes.h): bit l set
  * when pair (i, j + l) is shown */
-LANES_TARGET static int closest_is_end_lanes(const double *pt, int i, int j)
+LANES_TARGET static int closest_is_end_lanes(const double *pt, const double *coord, int stride,
+                                             int i, int j)
 {
     const double *a0 = &pt[3 * i], *a1 = &pt[3 * i + 3];
     const double d1[3] = {a1[0] - a0[0], a1[1] - a0[1], a1[2] - a0[2]};
     const double a = d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2];
+    /* nodes j .. j + 3 and j + 1 .. j + 4, loaded whole from the points
+     * by coordinate (lanes filled one by one stall the load) */
     lanes b0[3], b1[3];
-    for (int c = 0; c < 3; c++)
-        for (int l = 0; l < LANES; l++) {
-            b0[c][l] = pt[3 * (j + l) + c];
-            b1[c][l] = pt[3 * (j + l + 1) + c];
-        }
+    for (int c = 0; c < 3; c++) {
+        memcpy(&b0[c], &coord[(size_t)c * stride + j], sizeof b0[c]);
+        memcpy(&b1[c], &coord[(size_t)c * stride + j + 1], sizeof b1[c]);
+    }
     lanes d2[3], r[3], q[3], g[3], h[3];
     for (int c = 0; c < 3; c++) {
         d2[c] = b1[c] - b0[c];
@@ -268,10 +275,18 @@ LANES_TARGET static int closest_is_end_lanes(const double *pt, int i, int j)
     const lanes b = d1[0] * d2[0] + d1[1] * d2[1] + d1[2] * d2[2];
     const lanes c = d1[0] * r[0] + d1[1] * r[1] + d1[2] * r[2];
     const lanes denom = a * e - b * b;
-    const lanes ti = (a * f - b * c) / denom, si = (b * f - c * e) / denom;
-    const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = {1.0, 1.0, 1.0, 1.0};
-    const lanes_mask inside = (denom > 1e-12 * a * e) & (ti >= zero) & (ti <= one) &
-                              (si >= zero) & (si <= one);
+    /* the inner point's parameters t = nt / denom, s = ns / denom (when
+     * denom > 1e-12 a e > 0) without the divisions: a quotient is surely
+     * below 0 when the numerator is negative and at least denom 2^-1022
+     * in size (the quotient then a negative normal number, not -0), and
+     * surely above 1 when the numerator exceeds denom (1 + 2^-51) as
+     * rounded (the quotient then at least the double after 1) */
+    const lanes nt = a * f - b * c, ns = b * f - c * e;
+    const lanes zero = {0.0, 0.0, 0.0, 0.0};
+    const lanes above = denom * (1.0 + 0x1p-51);
+    const lanes_mask outside = ((nt < zero) & (-nt * 0x1p1022 >= denom)) | (nt > above) |
+                               ((ns < zero) & (-ns * 0x1p1022 >= denom)) | (ns > above);
+    const lanes_mask inside = (denom > 1e-12 * a * e) & ~outside;
     const lanes_mask ok = (e > zero) & (f <= zero) & (qd <= zero) & (q2 < r2 * (1.0 - 1e-12)) &
                           (gd >= a) & (hd >= a) & ~inside;
     int shown = 0;
@@ -548,9 +563,12 @@ static void met_pairs(walk *k, scratch *w)
                      * segment's may stand for: four at a time, those shown
                      * left out, the others tested in order */
                     for (; j <= tb->hi && j < i + k->skip + 2; j++) pair_test(k, w, i, j);
-                    for (; j + 3 <= tb->hi; j += LANES) {
-                        const int shown = closest_is_end_lanes(k->points, i, j);
-                        for (int l = 0; l < LANES; l++)
+                    /* lanes past the leaf's end (segments still) are shown
+                     * for nothing: only the leaf's go on */
+                    for (; j <= tb->hi && j + LANES - 1 < k->segments; j += LANES) {
+                        const int shown = closest_is_end_lanes(k->points, w->coord, w->stride,
+                                                               i, j);
+                        for (int l = 0; l < LANES && j + l <= tb->hi; l++)
                             if (!(shown >> l & 1)) pair_test(k, w, i, j + l);
                     }
                 }
@@ -602,6 +620,8 @@ static int prepare(scratch *w, const double *points, int nodes, double grow)
 {
     for (int i = 0; i < 3 * nodes; i++)
         if (!isfinite(points[i])) return -1;
+    for (int i = 0; i < nodes; i++)
+        for (int c = 0; c < 3; c++) w->coord[(size_t)c * w->stride + i] = points[3 * i + c];
     for (int i = 0; i + 1 < nodes; i++) {
         const double *a = &points[3 * i], *b = &points[3 * i + 3];
         double *box = &w->box[6 * i];
