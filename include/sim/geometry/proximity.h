@@ -55,6 +55,16 @@ int rod_proximity_pairs(rod_proximity *p, const double *points, int nodes, doubl
  * the threshold (a list of candidates, measured again later). */
 enum { ROD_PROXIMITY_SHARED_END = 1, ROD_PROXIMITY_INDEX_ONLY = 2 };
 
+/* 1 when the pair (i + 1, j) of a polygon of `segments` segments stands
+ * for (i, j) whose closest point on segment i is node i + 1: i + 1 is a
+ * segment and (i + 1, j) is itself a pair (j - i - 1 > skip). The rule
+ * rod_self_contact_find drops such pairs by; ROD_PROXIMITY_SHARED_END and
+ * the self-contact pair list use this function. */
+static inline int rod_proximity_next_stands(int i, int j, int segments, int skip)
+{
+    return i + 1 < segments && j - i - 1 > skip;
+}
+
 /* rod_proximity_pairs with `flags` (ROD_PROXIMITY_*, or 0: the same) */
 int rod_proximity_select(rod_proximity *p, const double *points, int nodes, double threshold,
                          int skip, int flags, rod_segment_pair *pairs, int max_pairs);

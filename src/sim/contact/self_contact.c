@@ -211,7 +211,7 @@ static int from_list(rod_self_contact *sc, const double *pos0, double threshold)
     for (int k = 0; k < sc->list_count; k++) {
         const rod_segment_pair *l = &sc->list[k];
         const double *a0 = &pos0[3 * l->i], *b0 = &pos0[3 * l->j];
-        const int shared = l->i + 1 <= last && l->j - l->i - 1 > sc->skip;
+        const int shared = rod_proximity_next_stands(l->i, l->j, last + 1, sc->skip);
         if (shared && rod_segment_closest_is_end(a0, a0 + 3, b0, b0 + 3)) continue;
         double s, t;
         const double d = rod_segment_distance(a0, a0 + 3, b0, b0 + 3, &s, &t);

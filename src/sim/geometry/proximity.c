@@ -483,8 +483,8 @@ static void pair_test(walk *k, const scratch *w, int i, int j)
     }
     const double *a0 = &pt[3 * i], *a1 = &pt[3 * i + 3], *b0 = &pt[3 * j], *b1 = &pt[3 * j + 3];
     /* the next segment's pair stands for this one (ROD_PROXIMITY_SHARED_END) */
-    const int shared = (k->flags & ROD_PROXIMITY_SHARED_END) && i + 1 < k->segments &&
-                       j - i - 1 > k->skip;
+    const int shared = (k->flags & ROD_PROXIMITY_SHARED_END) &&
+                       rod_proximity_next_stands(i, j, k->segments, k->skip);
     if (shared && closest_is_end(a0, a1, b0, b1)) return;
     if ((k->flags & ROD_PROXIMITY_INDEX_ONLY) && !shared &&
         rod_segment_surely_within(a0, a1, b0, b1, k->threshold)) {
@@ -558,18 +558,22 @@ static void met_pairs(walk *k, scratch *w)
             for (int x = start[a]; x < start[a + 1]; x++) {
                 const tree_node *tb = &w->node[sorted[x]];
                 int j = tb->lo > i + k->skip + 1 ? tb->lo : i + k->skip + 1;
-                if (shared && i + 1 < k->segments) {
-                    /* from j = i + skip + 2 every pair is one the next
-                     * segment's may stand for: four at a time, those shown
-                     * left out, the others tested in order */
-                    for (; j <= tb->hi && j < i + k->skip + 2; j++) pair_test(k, w, i, j);
+                if (shared) {
+                    /* past the first pair the next segment's stands for,
+                     * four at a time: those shown (and stood for) left
+                     * out, the others tested in order */
+                    for (; j <= tb->hi && !rod_proximity_next_stands(i, j, k->segments, k->skip);
+                         j++)
+                        pair_test(k, w, i, j);
                     /* lanes past the leaf's end (segments still) are shown
                      * for nothing: only the leaf's go on */
                     for (; j <= tb->hi && j + LANES - 1 < k->segments; j += LANES) {
                         const int shown = closest_is_end_lanes(k->points, w->coord, w->stride,
                                                                i, j);
                         for (int l = 0; l < LANES && j + l <= tb->hi; l++)
-                            if (!(shown >> l & 1)) pair_test(k, w, i, j + l);
+                            if (!(shown >> l & 1) ||
+                                !rod_proximity_next_stands(i, j + l, k->segments, k->skip))
+                                pair_test(k, w, i, j + l);
                     }
                 }
                 for (; j <= tb->hi; j++) pair_test(k, w, i, j);
