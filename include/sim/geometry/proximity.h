@@ -97,9 +97,9 @@ double rod_segment_distance(const double a0[3], const double a1[3], const double
  * s = 1 (the closest point on a is a1), shown by its own comparisons
  * without its square roots: its inner critical point is outside, b0 and
  * b1 project past a1, and a1 is nearer b (at b0) than a0 by a margin no
- * rounding of a root closes. 0: not shown (s may still be 1). A tenth of
- * the distance's cost; the facing inner ends of two stretches of one
- * strand pass it. */
+ * rounding of a root closes. 0: not shown (s may still be 1). No root and
+ * at most two divisions (the distance takes five and six); the facing
+ * inner ends of two stretches of one strand pass it. */
 int rod_segment_closest_is_end(const double a0[3], const double a1[3], const double b0[3],
                                const double b1[3]);
 
