@@ -6,7 +6,10 @@
  * same closest points and distances bit for bit (the same function on the
  * same points), in (i, j) order; rod_proximity_reachable counts what a
  * brute force count of its rule counts, for rigid motions and random
- * ones; rod_proximity_min finds the brute force's minimum. */
+ * ones; rod_proximity_min finds the brute force's minimum. The selections
+ * (ROD_PROXIMITY_SHARED_END, INDEX_ONLY) give the brute force's pairs less
+ * those the flag leaves out, and the certificates they rest on never claim
+ * what the exact distance does not give. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -133,6 +136,25 @@ static void compare(const char *what, rod_proximity *prox, const double *p, int 
           "closest points and distances bit for bit (%lld narrow tests of %lld pairs)",
           what, n, threshold, skip, count, expected, prox->narrow_tests,
           (long long)(n - 1) * (n - 2) / 2);
+    /* INDEX_ONLY: the same (i, j), in order */
+    const int listed = rod_proximity_select(prox, p, n, threshold, skip,
+                                            ROD_PROXIMITY_INDEX_ONLY, got, MOST);
+    int same_index = listed == expected;
+    for (int k = 0; same_index && k < listed; k++)
+        same_index = got[k].i == want[k].i && got[k].j == want[k].j;
+    check(same_index, "  index only: %d pairs, the brute force's (i, j) in order (%lld measured)",
+          listed, prox->narrow_tests);
+    /* SHARED_END: the brute force's less those with s = 1 whose (i + 1, j)
+     * is a pair too, the rest bit for bit */
+    int kept = 0;
+    for (int k = 0; k < expected; k++)
+        if (!(want[k].s >= 1.0 && want[k].i + 1 < n - 1 && want[k].j - want[k].i - 1 > skip))
+            want[kept++] = want[k];
+    const int shared = rod_proximity_select(prox, p, n, threshold, skip,
+                                            ROD_PROXIMITY_SHARED_END, got, MOST);
+    check(shared == kept && same_pairs(got, want, kept),
+          "  shared ends left out: %d pairs, brute force less them %d, bit for bit "
+          "(%lld measured)", shared, kept, prox->narrow_tests);
     rod_segment_pair closest;
     double brute = INFINITY;
     int bi = -1, bj = -1;
@@ -148,6 +170,78 @@ static void compare(const char *what, rod_proximity *prox, const double *p, int 
           "  closest non-neighbours: %.12g (segments %d, %d), brute force %.12g (%d, %d)",
           found == 1 ? closest.distance : -1.0, found == 1 ? closest.i : -1,
           found == 1 ? closest.j : -1, brute, bi, bj);
+}
+
+/* An arc of radius r (ds = 1 / (n - 1)) in the xz plane, each node moved
+ * by up to `noise` (ds) at random */
+static void arc(double *p, int n, double r, double noise)
+{
+    const double ds = 1.0 / (n - 1);
+    for (int i = 0; i < n; i++) {
+        const double a = i * ds / r;
+        p[3 * i] = r * sin(a) + noise * ds * (2 * uniform() - 1);
+        p[3 * i + 1] = noise * ds * (2 * uniform() - 1);
+        p[3 * i + 2] = -r * (1.0 - cos(a)) + noise * ds * (2 * uniform() - 1);
+    }
+}
+
+/* rod_segment_closest_is_end and rod_segment_surely_within never claim
+ * what rod_segment_distance does not give: over pairs of an arc's
+ * segments (the facing inner ends), of random segments, nearly parallel,
+ * collinear, touching and degenerate ones */
+static void certificates(double *p)
+{
+    long tried = 0, shown = 0, wrong = 0, within = 0, wrong_within = 0;
+    for (int shape = 0; shape < 6; shape++) {
+        const int n = 401;
+        if (shape < 3) arc(p, n, shape == 0 ? 1e3 : shape == 1 ? 0.05 : 0.01, shape * 0.3);
+        else if (shape == 3) random_walk(p, n, 3.0);
+        else if (shape == 4) coil(p, n);
+        else
+            for (int i = 0; i < n; i++) /* collinear, some segments of length 0 */
+                p[3 * i] = (double)(i / 2), p[3 * i + 1] = p[3 * i + 2] = 0.0;
+        for (int i = 0; i + 1 < n; i++)
+            for (int j = i + 1; j + 1 < n && j < i + 60; j++) {
+                const double *a0 = &p[3 * i], *b0 = &p[3 * j];
+                double s, t;
+                const double d = rod_segment_distance(a0, a0 + 3, b0, b0 + 3, &s, &t);
+                const double threshold = d * (1.0 + 1e-13 * (2 * uniform() - 1));
+                tried++;
+                if (rod_segment_closest_is_end(a0, a0 + 3, b0, b0 + 3)) {
+                    shown++;
+                    wrong += s != 1.0;
+                }
+                if (rod_segment_surely_within(a0, a0 + 3, b0, b0 + 3, threshold)) {
+                    within++;
+                    wrong_within += !(d < threshold);
+                }
+                if (rod_segment_surely_within(a0, a0 + 3, b0, b0 + 3, 1.5 * d + 1e-300)) {
+                    within++;
+                    wrong_within += !(d < 1.5 * d + 1e-300);
+                }
+            }
+    }
+    check(wrong == 0 && shown > tried / 4,
+          "closest point at a1 shown for %ld of %ld pairs, rod_segment_distance's s = 1 in "
+          "all but %ld", shown, tried, wrong);
+    check(wrong_within == 0 && within > tried / 4,
+          "below thresholds 1e-13 of the distance either side and 1.5 times it: shown %ld "
+          "times of %ld, wrong %ld", within, 2 * tried, wrong_within);
+    /* nearly parallel segments facing each other end to end */
+    long tight = 0, tight_wrong = 0;
+    for (int k = 0; k < 200000; k++) {
+        const double e = pow(10.0, -14.0 * uniform()), g = 0.5 + 30.0 * uniform();
+        const double a0[3] = {0.0, 0.0, 0.0}, a1[3] = {1.0, e * (2 * uniform() - 1), 0.0};
+        const double b0[3] = {1.0 + g, e * (2 * uniform() - 1), e * (2 * uniform() - 1)};
+        const double b1[3] = {2.0 + g + e * (2 * uniform() - 1), e * (2 * uniform() - 1),
+                              e * (2 * uniform() - 1)};
+        double s, t;
+        rod_segment_distance(a0, a1, b0, b1, &s, &t);
+        if (rod_segment_closest_is_end(a0, a1, b0, b1)) tight++, tight_wrong += s != 1.0;
+    }
+    check(tight_wrong == 0 && tight > 100000,
+          "nearly parallel, end to end (angles 1e-14 to 1): shown %ld of 200000, wrong %ld",
+          tight, tight_wrong);
 }
 
 /* Velocities: a rigid rotation about the z axis through the origin
@@ -191,8 +285,18 @@ int main(void)
     bent_rod(p, 401);
     compare("straight then bent, threshold 0.7 (its bend's far side)", prox, p, 401, 0.7, 11,
             got, want);
+    /* ds far below the threshold: the pairs just past the skip are most
+     * of the answer, their closest points the facing inner ends (the
+     * sagging rod of bench_speed at NS = 1601) */
+    arc(p, 1601, 2.0, 0.0);
+    compare("gentle arc, threshold 45 ds", prox, p, 1601, 45.0 / 1600, 21, got, want);
+    arc(p, 1601, 0.1, 0.2);
+    compare("arc of 1.6 turns, noise 0.2 ds", prox, p, 1601, 0.03, 21, got, want);
     for (int k = 0; k < 3 * 100; k++) p[k] = 0.0; /* every point the same */
     compare("100 nodes at one point", prox, p, 100, 1e-3, 4, got, want);
+
+    printf("-- certificates that spare the distance\n");
+    certificates(p);
 
     printf("-- truncated answers keep the whole count\n");
     {

@@ -42,6 +42,33 @@ int rod_proximity_skip(double diameter, double ds);
 int rod_proximity_pairs(rod_proximity *p, const double *points, int nodes, double threshold,
                         int skip, rod_segment_pair *pairs, int max_pairs);
 
+/* What rod_proximity_select leaves out of rod_proximity_pairs' answer.
+ * SHARED_END: the pairs (i, j) whose closest point on segment i is its end
+ * node i + 1 (s = 1) while (i + 1, j) is itself a pair (i + 1 < nodes - 1,
+ * j - i - 1 > skip): the same contact, at the next segment's start, which
+ * self-contact keeps instead. A pair rod_segment_closest_is_end shows to
+ * be one is left out without its distance measured: at ds < d the pairs
+ * just beyond the skip are all within a contact's threshold, and their
+ * closest points are the facing inner ends.
+ * INDEX_ONLY: every pair is listed, but only i and j are set (s, t and
+ * distance 0) where the distance of a node pair bounds the pair's below
+ * the threshold (a list of candidates, measured again later). */
+enum { ROD_PROXIMITY_SHARED_END = 1, ROD_PROXIMITY_INDEX_ONLY = 2 };
+
+/* 1 when the pair (i + 1, j) of a polygon of `segments` segments stands
+ * for (i, j) whose closest point on segment i is node i + 1: i + 1 is a
+ * segment and (i + 1, j) is itself a pair (j - i - 1 > skip). The rule
+ * rod_self_contact_find drops such pairs by; ROD_PROXIMITY_SHARED_END and
+ * the self-contact pair list use this function. */
+static inline int rod_proximity_next_stands(int i, int j, int segments, int skip)
+{
+    return i + 1 < segments && j - i - 1 > skip;
+}
+
+/* rod_proximity_pairs with `flags` (ROD_PROXIMITY_*, or 0: the same) */
+int rod_proximity_select(rod_proximity *p, const double *points, int nodes, double threshold,
+                         int skip, int flags, rod_segment_pair *pairs, int max_pairs);
+
 /* How many pairs i < j, j - i > skip, closer than threshold (m) in points
  * could come closer than reach (m) over a step of dt (s) that moves each
  * node by dt vel (vel: nodes x 3, m/s) along a straight line: those whose
@@ -65,5 +92,22 @@ int rod_proximity_min(rod_proximity *p, const double *points, int nodes, int ski
  * zero-length segments give the distance and one of the closest pairs. */
 double rod_segment_distance(const double a0[3], const double a1[3], const double b0[3],
                             const double b1[3], double *s, double *t);
+
+/* 1 when rod_segment_distance(a0, a1, b0, b1, &s, &t) certainly sets
+ * s = 1 (the closest point on a is a1), shown by its own comparisons
+ * without its square roots: its inner critical point is outside, b0 and
+ * b1 project past a1, and a1 is nearer b (at b0) than a0 by a margin no
+ * rounding of a root closes. 0: not shown (s may still be 1). No root and
+ * at most two divisions (the distance takes five and six); the facing
+ * inner ends of two stretches of one strand pass it. */
+int rod_segment_closest_is_end(const double a0[3], const double a1[3], const double b0[3],
+                               const double b1[3]);
+
+/* 1 when rod_segment_distance(a0, a1, b0, b1, ...) is certainly below
+ * threshold (m), shown from a1's distance to b0 where b0 is a1's closest
+ * point on b (as the distance computes it), with a margin over rounding;
+ * 0: not shown. */
+int rod_segment_surely_within(const double a0[3], const double a1[3], const double b0[3],
+                              const double b1[3], double threshold);
 
 #endif

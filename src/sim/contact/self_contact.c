@@ -132,14 +132,16 @@ int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margi
 static int pairs_grown(rod_self_contact *sc, const double *pos0, double threshold,
                        rod_segment_pair **buffer, int *capacity, int most)
 {
-    int found = rod_proximity_pairs(sc->prox, pos0, sc->nodes, threshold, sc->skip, *buffer,
-                                    *capacity);
+    const int only = ROD_PROXIMITY_INDEX_ONLY; /* from_list measures them again */
+    int found = rod_proximity_select(sc->prox, pos0, sc->nodes, threshold, sc->skip, only, *buffer,
+                                     *capacity);
     if (found <= *capacity || found > most) return found;
     rod_segment_pair *grown = realloc(*buffer, (size_t)found * sizeof *grown);
     if (!grown) return -1;
     *buffer = grown;
     *capacity = found;
-    return rod_proximity_pairs(sc->prox, pos0, sc->nodes, threshold, sc->skip, *buffer, *capacity);
+    return rod_proximity_select(sc->prox, pos0, sc->nodes, threshold, sc->skip, only, *buffer,
+                                *capacity);
 }
 
 int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const double *vbar,
@@ -200,16 +202,20 @@ static void try_clear(rod_self_contact *sc, const double *pos0, double threshold
 }
 
 /* The list's pairs closer than threshold at pos0 into sc->found (up to
- * max_pairs), in the list's order; their count */
+ * max_pairs), in the list's order, less those the next segment's pair
+ * stands for (as the plain search's ROD_PROXIMITY_SHARED_END); their count */
 static int from_list(rod_self_contact *sc, const double *pos0, double threshold)
 {
     int count = 0;
+    const int last = sc->nodes - 2; /* segments 0..last */
     for (int k = 0; k < sc->list_count; k++) {
         const rod_segment_pair *l = &sc->list[k];
+        const double *a0 = &pos0[3 * l->i], *b0 = &pos0[3 * l->j];
+        const int shared = rod_proximity_next_stands(l->i, l->j, last + 1, sc->skip);
+        if (shared && rod_segment_closest_is_end(a0, a0 + 3, b0, b0 + 3)) continue;
         double s, t;
-        const double d = rod_segment_distance(&pos0[3 * l->i], &pos0[3 * l->i + 3],
-                                              &pos0[3 * l->j], &pos0[3 * l->j + 3], &s, &t);
-        if (!(d < threshold)) continue;
+        const double d = rod_segment_distance(a0, a0 + 3, b0, b0 + 3, &s, &t);
+        if (!(d < threshold) || (shared && s >= 1.0)) continue;
         if (count < sc->max_pairs) sc->found[count] = (rod_segment_pair){l->i, l->j, s, t, d};
         count++;
     }
@@ -217,8 +223,12 @@ static int from_list(rod_self_contact *sc, const double *pos0, double threshold)
 }
 
 /* The non-neighbouring pairs closer than threshold at pos0 into sc->found
- * (up to max_pairs), sorted by (i, j); their count, or -1 on bad input.
- * The same pairs, distances and order as rod_proximity_pairs gives: every
+ * (up to max_pairs), sorted by (i, j), less those whose closest point is
+ * the node segment i shares with i + 1 when (i + 1, j) is a pair too
+ * (rod_self_contact_find keeps that one: ROD_PROXIMITY_SHARED_END, never
+ * measured where rod_segment_closest_is_end shows it); their count, or -1
+ * on bad input. The same pairs, distances and order as
+ * rod_proximity_select with that flag gives: every
  * such pair was within threshold + 2 moved of the list's positions (two
  * segments' distance changes by at most their nodes' largest move on each
  * side: still_within), so a list made within list_reach holds them while
@@ -242,8 +252,8 @@ static int search_pairs(rod_self_contact *sc, const double *pos0, double thresho
     if (sc->list_wait > 0) sc->list_wait--;
     else listed = pairs_grown(sc, pos0, reach, &sc->list, &sc->list_capacity, SELF_LIST_MOST_PAIRS);
     if (listed < 0 || listed > sc->list_capacity) /* waiting, bad input or no room: plain */
-        return rod_proximity_pairs(sc->prox, pos0, n, threshold, sc->skip, sc->found,
-                                   sc->max_pairs);
+        return rod_proximity_select(sc->prox, pos0, n, threshold, sc->skip,
+                                    ROD_PROXIMITY_SHARED_END, sc->found, sc->max_pairs);
     sc->list_count = listed;
     sc->list_reach = reach;
     sc->list_uses = 0;
@@ -517,7 +527,10 @@ void rod_self_contact_apply(rod_self_contact *sc, double *vel1, double *vbar, co
         self_pair *p = &sc->pair[q];
         p->compliance = 0.0;
         for (int e = 0; e < 4; e++) p->compliance += p->weight[e] * p->weight[e] * push[p->node[e]];
-        apply(sc, p, p->force, 1.0, vel1, vbar, push, theta);
+        /* a pair without a force (most candidates: strands near, not
+         * touching) would add zeros */
+        if (p->force[0] != 0.0 || p->force[1] != 0.0 || p->force[2] != 0.0)
+            apply(sc, p, p->force, 1.0, vel1, vbar, push, theta);
     }
     sc->gnorm = 0.0;
     sc->fmax = 0.0;

@@ -30,6 +30,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/vec3_lanes.h"
+
 /* segments per leaf of the tree */
 #define LEAF 8
 
@@ -52,6 +54,8 @@ typedef struct scratch {
     int *met_sorted;             /* (met_max) leaf b of each, by a then b */
     int leaves;
     double *box;                 /* (segments x 6) grown bounding boxes: min xyz, max xyz */
+    double *coord;               /* (3 x stride) the points by coordinate: x, then y, then z */
+    int stride;                  /* max_nodes + LANES (a lane's load past the last node) */
     int *group, *next;           /* (segments + 1) sort_pairs' first pair of each segment i */
 } scratch;
 
@@ -67,6 +71,7 @@ static void scratch_free(scratch *w)
     free(w->met_start);
     free(w->met_sorted);
     free(w->box);
+    free(w->coord);
     free(w->group);
     free(w->next);
     free(w);
@@ -98,10 +103,12 @@ rod_proximity *rod_proximity_create(int max_nodes)
     w->met_start = malloc(((size_t)leaves + 1) * sizeof *w->met_start);
     w->met_sorted = malloc((size_t)w->met_max * sizeof *w->met_sorted);
     w->box = malloc(segments * 6 * sizeof *w->box);
+    w->stride = max_nodes + LANES;
+    w->coord = calloc((size_t)w->stride * 3, sizeof *w->coord);
     w->group = malloc((segments + 1) * sizeof *w->group);
     w->next = malloc((segments + 1) * sizeof *w->next);
     if (!w->node || !w->node_box || !w->node_move || !w->stack || !w->met || !w->met_start ||
-        !w->met_sorted || !w->box || !w->group || !w->next)
+        !w->met_sorted || !w->box || !w->coord || !w->group || !w->next)
         goto fail;
     p->max_nodes = max_nodes;
     p->entries = w;
@@ -183,6 +190,126 @@ double rod_segment_distance(const double a0[3], const double a1[3], const double
     if (s_out) *s_out = s;
     if (t_out) *t_out = t;
     return best;
+}
+
+/* rod_segment_distance's own steps, the square roots left out: its inner
+ * critical point is tried first and, when inside, may win; then a0, a1,
+ * b0, b1 in turn, each replacing the best only when strictly nearer. Here
+ * the inner point is rejected by the same expressions; a0's and a1's
+ * closest points on b are b0 (their projections' numerators <= 0: u is
+ * +-0, the point's offset is q - b0 exactly), and a1's squared distance is
+ * below a0's by 1e-12 of it, more than two roundings of a root: a1
+ * replaces a0 (s = 1). b0 and b1 project onto a at or past a1 (numerator
+ * >= |d1|^2: u = 1 exactly), so whichever of them replaces a1 keeps s = 1. */
+static inline int closest_is_end(const double a0[3], const double a1[3], const double b0[3],
+                                 const double b1[3])
+{
+    const double d1[3] = {a1[0] - a0[0], a1[1] - a0[1], a1[2] - a0[2]};
+    const double d2[3] = {b1[0] - b0[0], b1[1] - b0[1], b1[2] - b0[2]};
+    const double r[3] = {a0[0] - b0[0], a0[1] - b0[1], a0[2] - b0[2]};
+    const double a = d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2];
+    const double e = d2[0] * d2[0] + d2[1] * d2[1] + d2[2] * d2[2];
+    const double f = d2[0] * r[0] + d2[1] * r[1] + d2[2] * r[2];
+    if (!(a > 0.0) || !(e > 0.0) || !(f <= 0.0)) return 0;
+    const double q[3] = {a1[0] - b0[0], a1[1] - b0[1], a1[2] - b0[2]};
+    if (!(q[0] * d2[0] + q[1] * d2[1] + q[2] * d2[2] <= 0.0)) return 0;
+    const double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    const double q2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
+    if (!(q2 < r2 * (1.0 - 1e-12))) return 0;
+    const double g[3] = {b0[0] - a0[0], b0[1] - a0[1], b0[2] - a0[2]};
+    const double h[3] = {b1[0] - a0[0], b1[1] - a0[1], b1[2] - a0[2]};
+    if (!(g[0] * d1[0] + g[1] * d1[1] + g[2] * d1[2] >= a) ||
+        !(h[0] * d1[0] + h[1] * d1[1] + h[2] * d1[2] >= a))
+        return 0;
+    const double b = d1[0] * d2[0] + d1[1] * d2[1] + d1[2] * d2[2];
+    const double c = d1[0] * r[0] + d1[1] * r[1] + d1[2] * r[2];
+    const double denom = a * e - b * b;
+    if (denom > 1e-12 * a * e) {
+        const double ti = (a * f - b * c) / denom;
+        if (ti >= 0.0 && ti <= 1.0) {
+            const double si = (b * f - c * e) / denom;
+            if (si >= 0.0 && si <= 1.0) return 0;
+        }
+    }
+    return 1;
+}
+
+int rod_segment_closest_is_end(const double a0[3], const double a1[3], const double b0[3],
+                               const double b1[3])
+{
+    return closest_is_end(a0, a1, b0, b1);
+}
+
+/* closest_is_end for segment i against segments j .. j + LANES - 1, one
+ * in each lane, by the same expressions (lanes of the same operations
+ * give the same numbers: no fused multiply-adds, vec3_lanes.h): bit l set
+ * when pair (i, j + l) is shown */
+LANES_TARGET static int closest_is_end_lanes(const double *pt, const double *coord, int stride,
+                                             int i, int j)
+{
+    const double *a0 = &pt[3 * i], *a1 = &pt[3 * i + 3];
+    const double d1[3] = {a1[0] - a0[0], a1[1] - a0[1], a1[2] - a0[2]};
+    const double a = d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2];
+    /* nodes j .. j + 3 and j + 1 .. j + 4, loaded whole from the points
+     * by coordinate (lanes filled one by one stall the load) */
+    lanes b0[3], b1[3];
+    for (int c = 0; c < 3; c++) {
+        memcpy(&b0[c], &coord[(size_t)c * stride + j], sizeof b0[c]);
+        memcpy(&b1[c], &coord[(size_t)c * stride + j + 1], sizeof b1[c]);
+    }
+    lanes d2[3], r[3], q[3], g[3], h[3];
+    for (int c = 0; c < 3; c++) {
+        d2[c] = b1[c] - b0[c];
+        r[c] = a0[c] - b0[c];
+        q[c] = a1[c] - b0[c];
+        g[c] = b0[c] - a0[c];
+        h[c] = b1[c] - a0[c];
+    }
+    const lanes e = d2[0] * d2[0] + d2[1] * d2[1] + d2[2] * d2[2];
+    const lanes f = d2[0] * r[0] + d2[1] * r[1] + d2[2] * r[2];
+    const lanes qd = q[0] * d2[0] + q[1] * d2[1] + q[2] * d2[2];
+    const lanes r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    const lanes q2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
+    const lanes gd = g[0] * d1[0] + g[1] * d1[1] + g[2] * d1[2];
+    const lanes hd = h[0] * d1[0] + h[1] * d1[1] + h[2] * d1[2];
+    const lanes b = d1[0] * d2[0] + d1[1] * d2[1] + d1[2] * d2[2];
+    const lanes c = d1[0] * r[0] + d1[1] * r[1] + d1[2] * r[2];
+    const lanes denom = a * e - b * b;
+    /* the inner point's parameters t = nt / denom, s = ns / denom (when
+     * denom > 1e-12 a e > 0) without the divisions: a quotient is surely
+     * below 0 when the numerator is negative and at least denom 2^-1022
+     * in size (the quotient then a negative normal number, not -0), and
+     * surely above 1 when the numerator exceeds denom (1 + 2^-51) as
+     * rounded (the quotient then at least the double after 1) */
+    const lanes nt = a * f - b * c, ns = b * f - c * e;
+    const lanes zero = {0.0, 0.0, 0.0, 0.0};
+    const lanes above = denom * (1.0 + 0x1p-51);
+    const lanes_mask outside = ((nt < zero) & (-nt * 0x1p1022 >= denom)) | (nt > above) |
+                               ((ns < zero) & (-ns * 0x1p1022 >= denom)) | (ns > above);
+    const lanes_mask inside = (denom > 1e-12 * a * e) & ~outside;
+    const lanes_mask ok = (e > zero) & (f <= zero) & (qd <= zero) & (q2 < r2 * (1.0 - 1e-12)) &
+                          (gd >= a) & (hd >= a) & ~inside;
+    int shown = 0;
+    if (!(a > 0.0)) return 0;
+    for (int l = 0; l < LANES; l++) shown |= (ok[l] != 0) << l;
+    return shown;
+}
+
+/* rod_segment_distance's result is at most its candidate a1, whose
+ * closest point on b is b0 when the projection's numerator is <= 0 (u =
+ * +-0): then it is the root of |a1 - b0|^2 as computed here, below the
+ * threshold when the square is below threshold^2 by more than the
+ * roundings of both roots */
+int rod_segment_surely_within(const double a0[3], const double a1[3], const double b0[3],
+                              const double b1[3], double threshold)
+{
+    (void)a0;
+    const double d2[3] = {b1[0] - b0[0], b1[1] - b0[1], b1[2] - b0[2]};
+    const double q[3] = {a1[0] - b0[0], a1[1] - b0[1], a1[2] - b0[2]};
+    const double e = d2[0] * d2[0] + d2[1] * d2[1] + d2[2] * d2[2];
+    if (!(e > 0.0) || !(q[0] * d2[0] + q[1] * d2[1] + q[2] * d2[2] <= 0.0)) return 0;
+    const double q2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
+    return q2 < threshold * threshold * (1.0 - 1e-12);
 }
 
 static int pair_order(const rod_segment_pair *a, const rod_segment_pair *b)
@@ -292,6 +419,8 @@ typedef struct walk {
     int skip;
     rod_segment_pair *pairs, *best;
     int max_pairs, count;
+    int flags;             /* ROD_PROXIMITY_* */
+    int segments;
     int collect;           /* 1: the pairs of leaves met go to w->met (leaf_pairs later) */
     int overflow;          /* 1: more than w->met_max of them */
 } walk;
@@ -352,15 +481,26 @@ static void pair_test(walk *k, const scratch *w, int i, int j)
         const double gap = sqrt(gap2);
         if (gap - rel > k->reach * (1.0 + 1e-9) + 1e-12 * (gap + rel)) return;
     }
+    const double *a0 = &pt[3 * i], *a1 = &pt[3 * i + 3], *b0 = &pt[3 * j], *b1 = &pt[3 * j + 3];
+    /* the next segment's pair stands for this one (ROD_PROXIMITY_SHARED_END) */
+    const int shared = (k->flags & ROD_PROXIMITY_SHARED_END) &&
+                       rod_proximity_next_stands(i, j, k->segments, k->skip);
+    if (shared && closest_is_end(a0, a1, b0, b1)) return;
+    if ((k->flags & ROD_PROXIMITY_INDEX_ONLY) && !shared &&
+        rod_segment_surely_within(a0, a1, b0, b1, k->threshold)) {
+        if (k->count < k->max_pairs) k->pairs[k->count] = (rod_segment_pair){i, j, 0.0, 0.0, 0.0};
+        k->count++;
+        return;
+    }
     k->p->narrow_tests++;
     double s, t;
-    const double d = rod_segment_distance(&pt[3 * i], &pt[3 * i + 3], &pt[3 * j], &pt[3 * j + 3],
-                                          &s, &t);
+    const double d = rod_segment_distance(a0, a1, b0, b1, &s, &t);
     if (!(d < k->threshold)) return;
     if (k->move) {
         k->count += d - rel < k->reach;
         return;
     }
+    if (shared && s >= 1.0) return;
     const rod_segment_pair found = {i, j, s, t, d};
     if (k->count < k->max_pairs) k->pairs[k->count] = found;
     k->count++;
@@ -410,14 +550,33 @@ static void met_pairs(walk *k, scratch *w)
             for (; y > start[a] && sorted[y - 1] > b; y--) sorted[y] = sorted[y - 1];
             sorted[y] = b;
         }
+    const int shared = (k->flags & ROD_PROXIMITY_SHARED_END) != 0;
     for (int a = 0; a < w->leaves; a++) {
         if (start[a] == start[a + 1]) continue;
         const tree_node *ta = &w->node[a];
         for (int i = ta->lo; i <= ta->hi; i++)
             for (int x = start[a]; x < start[a + 1]; x++) {
                 const tree_node *tb = &w->node[sorted[x]];
-                for (int j = tb->lo > i + k->skip + 1 ? tb->lo : i + k->skip + 1; j <= tb->hi; j++)
-                    pair_test(k, w, i, j);
+                int j = tb->lo > i + k->skip + 1 ? tb->lo : i + k->skip + 1;
+                if (shared) {
+                    /* past the first pair the next segment's stands for,
+                     * four at a time: those shown (and stood for) left
+                     * out, the others tested in order */
+                    for (; j <= tb->hi && !rod_proximity_next_stands(i, j, k->segments, k->skip);
+                         j++)
+                        pair_test(k, w, i, j);
+                    /* lanes past the leaf's end (segments still) are shown
+                     * for nothing: only the leaf's go on */
+                    for (; j <= tb->hi && j + LANES - 1 < k->segments; j += LANES) {
+                        const int shown = closest_is_end_lanes(k->points, w->coord, w->stride,
+                                                               i, j);
+                        for (int l = 0; l < LANES && j + l <= tb->hi; l++)
+                            if (!(shown >> l & 1) ||
+                                !rod_proximity_next_stands(i, j + l, k->segments, k->skip))
+                                pair_test(k, w, i, j + l);
+                    }
+                }
+                for (; j <= tb->hi; j++) pair_test(k, w, i, j);
             }
     }
 }
@@ -465,6 +624,8 @@ static int prepare(scratch *w, const double *points, int nodes, double grow)
 {
     for (int i = 0; i < 3 * nodes; i++)
         if (!isfinite(points[i])) return -1;
+    for (int i = 0; i < nodes; i++)
+        for (int c = 0; c < 3; c++) w->coord[(size_t)c * w->stride + i] = points[3 * i + c];
     for (int i = 0; i + 1 < nodes; i++) {
         const double *a = &points[3 * i], *b = &points[3 * i + 3];
         double *box = &w->box[6 * i];
@@ -480,7 +641,7 @@ static int prepare(scratch *w, const double *points, int nodes, double grow)
 /* The pairs closer than threshold: written into pairs (up to max_pairs) and
  * the closest into *best (when not NULL). Returns the count, or -1. */
 static int search(rod_proximity *p, const double *points, int nodes, double threshold, int skip,
-                  rod_segment_pair *pairs, int max_pairs, rod_segment_pair *best)
+                  int flags, rod_segment_pair *pairs, int max_pairs, rod_segment_pair *best)
 {
     p->narrow_tests = 0;
     if (!points || nodes > p->max_nodes || !(threshold > 0.0) || !isfinite(threshold)) return -1;
@@ -493,7 +654,8 @@ static int search(rod_proximity *p, const double *points, int nodes, double thre
     /* the pairs of leaves first, then their segments' pairs in order; a
      * walk meeting more pairs of leaves than noted (segments piled in one
      * place) tests them as it meets them and sorts what it found */
-    walk k = {p, points, NULL, 0.0, threshold, 0.0, skip, pairs, best, max_pairs, 0, 1, 0};
+    walk k = {p,      points,    NULL, 0.0, threshold, 0.0, skip, pairs,
+              best,   max_pairs, 0,    flags, segments, 1,   0};
     walk_tree(&k, w);
     if (!k.overflow) {
         met_pairs(&k, w);
@@ -540,7 +702,7 @@ int rod_proximity_reachable(rod_proximity *p, const double *points, const double
                 m[3 + c] = most(m[3 + c], vel[3 * i + c]);
             }
     }
-    walk k = {p, points, vel, dt, threshold, reach, skip, NULL, NULL, 0, 0, 0, 0};
+    walk k = {p, points, vel, dt, threshold, reach, skip, NULL, NULL, 0, 0, 0, nodes - 1, 0, 0};
     walk_tree(&k, w);
     return k.count;
 }
@@ -548,8 +710,14 @@ int rod_proximity_reachable(rod_proximity *p, const double *points, const double
 int rod_proximity_pairs(rod_proximity *p, const double *points, int nodes, double threshold,
                         int skip, rod_segment_pair *pairs, int max_pairs)
 {
+    return rod_proximity_select(p, points, nodes, threshold, skip, 0, pairs, max_pairs);
+}
+
+int rod_proximity_select(rod_proximity *p, const double *points, int nodes, double threshold,
+                         int skip, int flags, rod_segment_pair *pairs, int max_pairs)
+{
     if (max_pairs < 0 || (max_pairs > 0 && !pairs)) return -1;
-    return search(p, points, nodes, threshold, skip, pairs, max_pairs, NULL);
+    return search(p, points, nodes, threshold, skip, flags, pairs, max_pairs, NULL);
 }
 
 int rod_proximity_min(rod_proximity *p, const double *points, int nodes, int skip,
@@ -585,7 +753,7 @@ int rod_proximity_min(rod_proximity *p, const double *points, int nodes, int ski
     for (double threshold = longest > 0.0 ? longest : 1.0;; threshold *= 4.0) {
         int last = threshold > diagonal;
         if (last) threshold = 2.0 * diagonal + 1e-300;
-        int count = search(p, points, nodes, threshold, skip, NULL, 0, closest);
+        int count = search(p, points, nodes, threshold, skip, 0, NULL, 0, closest);
         tests += p->narrow_tests;
         if (count < 0) return -1;
         if (count > 0 || last) {
