@@ -20,16 +20,28 @@
 
 /* After a rod step (and before the first): links the punctures not yet
  * linked that lie in an elastic pad (made there by the needle, or given in
- * the scene inside its box), puts every linked puncture's force on its pad,
- * solves each pad's equilibrium, moves the punctures with their material
+ * the scene inside its box), puts every linked puncture's force on its pad
+ * and the thread's contact on its surface (pad_force, nodes x 3, N: what the
+ * pad's surface exerted on each node over the step, rod_contact.pad_force;
+ * may be NULL), solves each pad's equilibrium, moves the punctures with their material
  * points and renews their compliances. 0, or -1 with a message (the pad's
  * Newton failed: the state's punctures are left as they were). A model
  * without an elastic pad: nothing, 0. */
-int tissue_coupling_step(const rod_model *m, rod_state *s, char *err, size_t errlen);
+int tissue_coupling_step(const rod_model *m, rod_state *s, const double *pad_force, char *err,
+                         size_t errlen);
 
 /* Before a rod step: links the punctures not yet linked (as above) and
- * sets their compliance, without solving the pads. 0, or -1 with a message. */
+ * sets their compliance, without solving the pads, and moves each pad's
+ * surface mesh (rod_surface.mesh) to the pad's nodes, its velocity the
+ * change since the last step. 0, or -1 with a message. */
 int tissue_coupling_link(const rod_model *m, rod_state *s, char *err, size_t errlen);
+
+/* The surface the rod's contact sees of a pad (rod_surface.mesh): a moving
+ * mesh over all its nodes (vertex i is node i), of its boundary's faces
+ * except the wound's slit (the thread passes the wound there; the slit's
+ * opening is a hole in the surface), a quadratic face cut into four flat
+ * triangles at its midpoints. NULL with a message when out of memory. */
+struct rod_mesh *tissue_coupling_surface(struct tissue_solid *t, char *err, size_t errlen);
 
 /* The first elastic pad's surface index, or -1. */
 int tissue_coupling_pad(const rod_model *m);
