@@ -35,7 +35,7 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     const int pad = tissue_coupling_pad(m) >= 0;
     if (pad && tissue_coupling_link(m, s, report->message, sizeof report->message)) return ROD_FAILED;
     rod_status st = implicit_step(p, m, s, dt, report);
-    const implicit_work *w = p;
+    implicit_work *w = p;
     if (st == ROD_OK && pad &&
         tissue_coupling_step(m, s, w->contact.pad_last, report->message, sizeof report->message))
         return ROD_FAILED;

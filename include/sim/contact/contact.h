@@ -53,8 +53,10 @@ typedef struct rod_contact {
                               an elastic pad's does) */
     double *pad_force;     /* (nodes x 3) global, N: what an elastic pad's surface exerts
                               (its share of surface_force), this iterate; NULL without a pad */
-    double *pad_last;      /* (nodes x 3) global, N: pad_force of the last accepted step (what
-                              the pad is loaded with); NULL without a pad */
+    double *pad_last;      /* (2 x nodes x 3) global, N: pad_force of the last accepted step
+                              (what the pad is loaded with), then the pad's own record of
+                              what it was loaded with before (tissue_coupling_step); NULL
+                              without a pad */
     unsigned *threaded;    /* (nodes): bit j set when the node is threaded through tissue
                               surface j (between its punctures): no contact with it */
     int needle_tissue;     /* 1: the driven tip carries a needle and a surface is tissue */

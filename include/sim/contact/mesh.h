@@ -76,6 +76,11 @@ double *rod_mesh_vertex_compliance(rod_mesh *m);
  * point by at most this much where neighbouring vertices' cross-compliances
  * are below their own); 0 for a fixed mesh. */
 double rod_mesh_point_compliance(const rod_mesh *m, int triangle, const double weights[3]);
+/* A factor on every vertex's compliance (1 at create): the give a load
+ * spread over many vertices meets is their cross-compliances' sum, which
+ * the owner may measure. */
+void rod_mesh_set_compliance_scale(rod_mesh *m, double scale);
+double rod_mesh_compliance_scale(const rod_mesh *m);
 /* Vertex v's unit angle-weighted normal. */
 const double *rod_mesh_vertex_normal(const rod_mesh *m, int vertex);
 

@@ -10,7 +10,15 @@
  * law (puncture.h): the point moves by C (F - F_last) with the force F on
  * the pad, so the coupling is implicit at each puncture; between
  * punctures (the pad's cross-compliance) it lags one step
- * (docs/decisions/0070-tissue-coupling.md). */
+ * (docs/decisions/0070-tissue-coupling.md).
+ *
+ * The thread lies on the pad's deformed surface (a moving triangle mesh of
+ * its boundary faces, rod_surface.mesh, moved to the pad before each rod
+ * step): its contact forces go on the pad after the step at the touched
+ * triangles' nodes by barycentric weights, and the pad's give along the
+ * surface's normal (its vertices' compliances, scaled by the give the last
+ * update met) is folded into each node's contact law
+ * (docs/decisions/draft-tissue-contact.md). */
 #ifndef RODSIM_SIM_TISSUE_TISSUE_COUPLING_H
 #define RODSIM_SIM_TISSUE_TISSUE_COUPLING_H
 
@@ -21,13 +29,14 @@
 /* After a rod step (and before the first): links the punctures not yet
  * linked that lie in an elastic pad (made there by the needle, or given in
  * the scene inside its box), puts every linked puncture's force on its pad
- * and the thread's contact on its surface (pad_force, nodes x 3, N: what the
- * pad's surface exerted on each node over the step, rod_contact.pad_force;
- * may be NULL), solves each pad's equilibrium, moves the punctures with their material
+ * and the thread's contact on its surface (pad_force, 2 x nodes x 3, N: what
+ * the pad's surface exerted on each node over the step, then the record of
+ * what it exerted at the last call, renewed here: rod_contact.pad_last; may
+ * be NULL), solves each pad's equilibrium, moves the punctures with their material
  * points and renews their compliances. 0, or -1 with a message (the pad's
  * Newton failed: the state's punctures are left as they were). A model
  * without an elastic pad: nothing, 0. */
-int tissue_coupling_step(const rod_model *m, rod_state *s, const double *pad_force, char *err,
+int tissue_coupling_step(const rod_model *m, rod_state *s, double *pad_force, char *err,
                          size_t errlen);
 
 /* Before a rod step: links the punctures not yet linked (as above) and

@@ -32,6 +32,7 @@ struct rod_mesh {
     double *velocity;        /* (vertex_count x 3), m/s */
     double *compliance;      /* (vertex_count x 2): along the vertex's normal, m/N, and its
                                 owner's tag */
+    double compliance_scale; /* the vertices' compliances scaled by it (>= 1) */
     double moved_at;         /* s */
     int node_count;
     double *node_box;        /* (node_count x 6): lo xyz, hi xyz, m */
@@ -377,6 +378,7 @@ rod_mesh *rod_mesh_create_moving(const double *vertices, int vertex_count, const
         m->triangle_count = count;
         m->vertex_count = vertex_count;
         m->moved_at = HUGE_VAL;
+        m->compliance_scale = 1.0;
         m->vertices = malloc((size_t)vertex_count * 3 * sizeof(double));
         m->velocity = calloc((size_t)vertex_count * 3, sizeof(double));
         m->compliance = calloc((size_t)vertex_count * 2, sizeof(double));
@@ -723,10 +725,13 @@ double rod_mesh_point_compliance(const rod_mesh *m, int triangle, const double w
     double c = 0.0;
     if (!m->compliance) return 0.0;
     for (int k = 0; k < 3; k++) c += weights[k] * m->compliance[2 * m->triangles[3 * triangle + k]];
-    return c;
+    return c * m->compliance_scale;
 }
 
 double *rod_mesh_vertex_compliance(rod_mesh *m) { return m->compliance; }
+
+void rod_mesh_set_compliance_scale(rod_mesh *m, double scale) { m->compliance_scale = scale; }
+double rod_mesh_compliance_scale(const rod_mesh *m) { return m->compliance_scale; }
 
 const double *rod_mesh_vertex_normal(const rod_mesh *m, int vertex)
 {

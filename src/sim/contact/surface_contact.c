@@ -243,9 +243,10 @@ void surface_contact_prepare(rod_contact *ct, const rod_model *m)
                 int t;
                 double weights[3], *motion = &ct->surface_motion[5 * at];
                 (void)rod_mesh_nearest(sf->mesh, &ct->pos0[3 * b], &t, weights);
-                /* the surface's velocity stays 0: the lagged pad's change over
-                 * a step holds the thread's own dent following it, which drove
-                 * a loaded wire sideways (rod_mesh_point_velocity gives it) */
+                /* the surface's velocity is left 0 (decision record
+                 * draft-tissue-contact): the lagged pad's change over a step
+                 * holds the thread's own dent following it one step late, and
+                 * friction against it drove a pressed wire off its rest */
                 v3_set(motion, 0.0, 0.0, 0.0);
                 motion[3] = rod_mesh_point_compliance(sf->mesh, t, weights);
                 /* what the last accepted step put on the pad */

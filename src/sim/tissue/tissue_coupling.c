@@ -272,7 +272,54 @@ static int renew_compliance(const rod_model *m, int j, const rod_state *s, const
     return 0;
 }
 
-int tissue_coupling_step(const rod_model *m, rod_state *s, const double *pad_force, char *err,
+/* The give the thread's contact met over the pad's update just made: for
+ * each node on the surface, its force across (along the surface's normal
+ * there) changed by dl from what the pad carried before (pad_force + 3
+ * nodes: the record), and the surface there moved in by ds (the mesh still
+ * holds the pad before the update, tissue_positions after it). The
+ * vertices' compliances are their own (a point load's); a load along the
+ * thread meets their cross-compliances too, so they are scaled by the
+ * least-squares ratio of the give met to the give predicted, sum(ds dl) /
+ * sum(c dl^2), kept at 1 to 50, taken when the change is above 1e-3 of the
+ * load (an overestimate is safe: the fold then converges monotonically).
+ * The record becomes this step's forces. */
+static void measure_give(const rod_model *m, int j, const rod_state *s, double *pad_force)
+{
+    struct rod_mesh *mesh = m->surfaces[j].mesh;
+    if (!mesh || !pad_force) return;
+    const int n3 = 3 * s->nodes, *tri = rod_mesh_triangles(mesh);
+    const double *before = rod_mesh_vertices(mesh), *after = tissue_positions(m->surfaces[j].solid);
+    const double scale = rod_mesh_compliance_scale(mesh);
+    double met = 0.0, predicted = 0.0, change = 0.0, load = 0.0;
+    for (int b = 0; b < s->nodes; b++) {
+        const double *f = &pad_force[3 * b], *f_before = &pad_force[n3 + 3 * b];
+        if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0 && f_before[0] == 0.0 &&
+            f_before[1] == 0.0 && f_before[2] == 0.0)
+            continue;
+        int t;
+        double w[3], n[3] = {0.0, 0.0, 0.0}, moved[3] = {0.0, 0.0, 0.0};
+        (void)rod_mesh_nearest(mesh, &s->position[3 * b], &t, w);
+        for (int k = 0; k < 3; k++) {
+            const int v = tri[3 * t + k];
+            v3_axpy(n, w[k], rod_mesh_vertex_normal(mesh, v));
+            for (int c = 0; c < 3; c++) moved[c] += w[k] * (after[3 * v + c] - before[3 * v + c]);
+        }
+        const double len = v3_norm(n);
+        if (!(len > 0.0)) continue;
+        v3_scale(n, n, 1.0 / len);
+        const double dl = v3_dot(f, n) - v3_dot(f_before, n), ds = -v3_dot(moved, n);
+        const double c = rod_mesh_point_compliance(mesh, t, w) / scale;
+        met += ds * dl;
+        predicted += c * dl * dl;
+        change += fabs(dl);
+        load += fabs(v3_dot(f, n));
+    }
+    if (predicted > 0.0 && change > 1e-3 * load)
+        rod_mesh_set_compliance_scale(mesh, fmin(fmax(met / predicted, 1.0), 50.0));
+    memcpy(pad_force + n3, pad_force, (size_t)n3 * sizeof(double));
+}
+
+int tissue_coupling_step(const rod_model *m, rod_state *s, double *pad_force, char *err,
                          size_t errlen)
 {
     for (int j = 0; j < m->surface_count; j++) {
@@ -310,6 +357,7 @@ int tissue_coupling_step(const rod_model *m, rod_state *s, const double *pad_for
                      m->surfaces[j].line, s->time, why);
             return -1;
         }
+        measure_give(m, j, s, pad_force);
         if (renew_compliance(m, j, s, pad_force, why, sizeof why)) {
             snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
                      m->surfaces[j].line, s->time, why);
