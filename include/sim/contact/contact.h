@@ -45,12 +45,12 @@ typedef struct rod_contact {
                               nearest point (m, global) at the start of the step: fixed over
                               the step, so found once, not in every residual; NULL without
                               surfaces */
-    double *surface_motion; /* (nodes x surfaces x 5) at each node's nearest point at the
+    double *surface_motion; /* (nodes x surfaces x 8) at each node's nearest point at the
                               step's start: the surface's velocity (m/s, global), which the
-                              friction acts relative to, its compliance along the normal
-                              (m/N) and the force across (N) the node put on it at the
-                              surface's last equilibrium; NULL when no surface moves (only
-                              an elastic pad's does) */
+                              friction acts relative to, its compliance (m/N; 0 rigid), and
+                              the force the node put on it at its last equilibrium: across
+                              (N) and along it (3, N, global); NULL when no surface moves
+                              (only an elastic pad's does) */
     double *pad_force;     /* (nodes x 3) global, N: what an elastic pad's surface exerts
                               (its share of surface_force), this iterate; NULL without a pad */
     double *pad_last;      /* (2 x nodes x 3) global, N: pad_force of the last accepted step

@@ -38,8 +38,10 @@ rod_mesh *rod_mesh_create_moving(const double *vertices, int vertex_count, const
                                  int count, char *err, size_t errlen);
 /* Moves a moving mesh's vertices to `vertices` (vertex_count x 3, m) at
  * `time` (s): their velocities become the change over the time since the
- * last move (0 at the first move or when time does not advance); the
- * pseudonormals are renewed and the tree refitted. No allocation. */
+ * last move; a move at the same time keeps them (the surface put right
+ * where it is), one at an earlier time (a new run) or the first sets them
+ * to 0. The pseudonormals are renewed and the tree refitted. No
+ * allocation. */
 void rod_mesh_move(rod_mesh *m, const double *vertices, double time);
 
 /* Signed distance (m) from p to the mesh's surface: > 0 outside, < 0

@@ -14,11 +14,14 @@
  *
  * The thread lies on the pad's deformed surface (a moving triangle mesh of
  * its boundary faces, rod_surface.mesh, moved to the pad before each rod
- * step): its contact forces go on the pad after the step at the touched
- * triangles' nodes by barycentric weights, and the pad's give along the
- * surface's normal (its vertices' compliances, scaled by the give the last
- * update met) is folded into each node's contact law
- * (docs/decisions/draft-tissue-contact.md). */
+ * step): its contact forces (across and friction) go on the pad after the
+ * step at the touched triangles' nodes by barycentric weights, and the
+ * pad's give (its vertices' compliances along their normals, scaled by the
+ * give the last update met) is folded into each node's contact law. The
+ * surface's velocity, which the friction acts relative to, is the pad's
+ * motion apart from the thread's contact: an update under the punctures'
+ * new forces and the contact's forces as carried, before the update under
+ * the contact's new forces (docs/decisions/draft-tissue-contact.md). */
 #ifndef RODSIM_SIM_TISSUE_TISSUE_COUPLING_H
 #define RODSIM_SIM_TISSUE_TISSUE_COUPLING_H
 

@@ -32,7 +32,7 @@ int rod_contact_create(rod_contact *c, const rod_model *m, const double *pos0, d
     int pad = 0;
     for (int k = 0; k < m->surface_count; k++) pad |= m->surfaces[k].solid && m->surfaces[k].mesh;
     if (pad) {
-        c->surface_motion = calloc(n * (size_t)m->surface_count * 5, sizeof(double));
+        c->surface_motion = calloc(n * (size_t)m->surface_count * 8, sizeof(double));
         c->pad_force = calloc(n * 3, sizeof(double));
         c->pad_last = calloc(n * 6, sizeof(double));
         if (!c->surface_motion || !c->pad_force || !c->pad_last) return -1;

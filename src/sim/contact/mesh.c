@@ -416,7 +416,7 @@ void rod_mesh_move(rod_mesh *m, const double *vertices, double time)
     const size_t n = (size_t)m->vertex_count * 3;
     const double dt = time - m->moved_at;
     for (size_t i = 0; i < n; i++) {
-        m->velocity[i] = dt > 0.0 ? (vertices[i] - m->vertices[i]) / dt : 0.0;
+        if (dt != 0.0) m->velocity[i] = dt > 0.0 ? (vertices[i] - m->vertices[i]) / dt : 0.0;
         m->vertices[i] = vertices[i];
     }
     m->moved_at = time;

@@ -62,7 +62,7 @@ static int surface_turn_of(surface_turn *turn, const double n[3], const double h
  *             ratio = sp / speed. */
 static void surface_map_jacobian(double jac[9], const double n[3], const double vt[3],
                                  double speed, double sp, double c, double mu, double stiff,
-                                 const surface_turn *turn)
+                                 double share, const surface_turn *turn)
 {
     const double *g = turn ? turn->g : n;
     double map[9];
@@ -76,7 +76,15 @@ static void surface_map_jacobian(double jac[9], const double n[3], const double 
         double t[3] = {0.0, 0.0, 0.0}, d_speed, d_c, fric[9];
         if (speed > 0.0) v3_scale(t, vt, 1.0 / speed);
         contact_creep_slopes(c, sp, &d_speed, &d_c);
-        const double ratio = speed > 0.0 ? sp / speed : d_speed;
+        double ratio = speed > 0.0 ? sp / speed : d_speed;
+        if (share < 1.0) {
+            /* a compliant surface takes 1 - share of the friction's change
+             * of the relative velocity: the node's is (1 - share) speed +
+             * share sp along t (c's slope term is unchanged: share times
+             * c's own scale push_t / push is 1) */
+            ratio = (1.0 - share) + share * ratio;
+            d_speed = (1.0 - share) + share * d_speed;
+        }
         for (int i = 0; i < 3; i++)
             for (int j = 0; j < 3; j++)
                 fric[3 * i + j] = n[i] * n[j] + ratio * ((i == j) - n[i] * n[j] - t[i] * t[j]) +
@@ -155,7 +163,7 @@ void surface_contact_node(rod_contact *ct, const rod_model *m, int b, double pus
              * the depth against it is e = depth - c lambda_last and lambda =
              * -e / (a + c) (the pad's own give folded in, as a puncture's) */
             const double *motion = ct->surface_motion
-                                       ? &ct->surface_motion[5 * ((size_t)b * (size_t)ct->surface_count + (size_t)j)]
+                                       ? &ct->surface_motion[8 * ((size_t)b * (size_t)ct->surface_count + (size_t)j)]
                                        : NULL;
             const double give = motion ? motion[3] : 0.0;
             if (give > 0.0) depth -= give * motion[4];
@@ -173,12 +181,19 @@ void surface_contact_node(rod_contact *ct, const rod_model *m, int b, double pus
             double rel[3];
             v3_copy(rel, v1);
             if (motion) v3_axpy(rel, -1.0, motion);
+            /* a compliant surface's point moves along by give times the
+             * change of the friction on it over the step (against its last
+             * equilibrium's, motion + 5): the relative velocity changes by
+             * push_t = push (a + give) / a per newton of friction, the
+             * node's own by push */
+            const double push_t = give > 0.0 ? push * (a + give) / a : push;
+            if (give > 0.0) v3_axpy(rel, -(push_t - push), motion + 5);
             double vn = v3_dot(rel, n);
             for (int k = 0; k < 3; k++) vt[k] = rel[k] - vn * n[k];
             double speed = v3_norm(vt), limit = sf->friction * lambda, ft[3] = {0.0, 0.0, 0.0}, sp = speed;
             if (speed > 0.0 && limit > 0.0) {
-                sp = contact_creep_speed(speed, push * limit);
-                v3_scale(ft, vt, -(speed - sp) / (push * speed));
+                sp = contact_creep_speed(speed, push_t * limit);
+                v3_scale(ft, vt, -(speed - sp) / (push_t * speed));
                 v3_axpy(v1, push, ft);
                 v3_axpy(vb, theta * push, ft);
                 v3_axpy(force, 1.0, ft);
@@ -193,8 +208,8 @@ void surface_contact_node(rod_contact *ct, const rod_model *m, int b, double pus
                                                               lambda, vn);
                 double stiff = contact_compliant_slope(-depth, 0.01 * grow);
                 if (give > 0.0) stiff *= a / (a + give);
-                surface_map_jacobian(jac, n, vt, speed, sp, push * limit, sf->friction, stiff,
-                                     turning ? &turn : NULL);
+                surface_map_jacobian(jac, n, vt, speed, sp, push_t * limit, sf->friction, stiff,
+                                     give > 0.0 ? push / push_t : 1.0, turning ? &turn : NULL);
             }
         }
     if (ct->want_jacobian && active) {
@@ -241,16 +256,14 @@ void surface_contact_prepare(rod_contact *ct, const rod_model *m)
             start[0] = rod_surface_gap(sf, &ct->pos0[3 * b], grow, start + 1, start + 4);
             if (ct->surface_motion && sf->shape == ROD_SURFACE_MESH && sf->mesh) {
                 int t;
-                double weights[3], *motion = &ct->surface_motion[5 * at];
+                double weights[3], *motion = &ct->surface_motion[8 * at];
                 (void)rod_mesh_nearest(sf->mesh, &ct->pos0[3 * b], &t, weights);
-                /* the surface's velocity is left 0 (decision record
-                 * draft-tissue-contact): the lagged pad's change over a step
-                 * holds the thread's own dent following it one step late, and
-                 * friction against it drove a pressed wire off its rest */
-                v3_set(motion, 0.0, 0.0, 0.0);
+                rod_mesh_point_velocity(sf->mesh, t, weights, motion);
                 motion[3] = rod_mesh_point_compliance(sf->mesh, t, weights);
                 /* what the last accepted step put on the pad */
                 motion[4] = ct->pad_last ? v3_dot(&ct->pad_last[3 * b], start + 1) : 0.0;
+                for (int k = 0; k < 3; k++)
+                    motion[5 + k] = ct->pad_last ? ct->pad_last[3 * b + k] - motion[4] * start[1 + k] : 0.0;
             }
         }
 }

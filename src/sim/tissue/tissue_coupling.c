@@ -314,9 +314,57 @@ static void measure_give(const rod_model *m, int j, const rod_state *s, double *
         change += fabs(dl);
         load += fabs(v3_dot(f, n));
     }
-    if (predicted > 0.0 && change > 1e-3 * load)
+    if (predicted > 0.0 && change > 1e-2 * load)
         rod_mesh_set_compliance_scale(mesh, fmin(fmax(met / predicted, 1.0), 50.0));
     memcpy(pad_force + n3, pad_force, (size_t)n3 * sizeof(double));
+}
+
+/* Pad j's loads: the linked punctures' forces and the contact's forces
+ * `contact` (nodes x 3, may be NULL). Sets *any when a puncture loads it;
+ * returns apply_contact's largest node force. */
+static double load_pad(const rod_model *m, int j, const rod_state *s, const double *contact, int *any)
+{
+    tissue_solid *t = m->surfaces[j].solid;
+    tissue_clear_forces(t);
+    *any = 0;
+    for (int k = 0; k < s->puncture_count; k++) {
+        const rod_puncture_state *ps = &s->puncture[k];
+        if (ps->linked != j + 1) continue;
+        tissue_apply_point_force(t, ps->tet, ps->bary, ps->force);
+        *any = 1;
+    }
+    return apply_contact(m, j, s, contact);
+}
+
+/* The pad's motion apart from the thread's contact, for the friction's
+ * surface velocity: with the thread on its surface, the pad first takes an
+ * update under the punctures' new forces and the contact's forces as the
+ * pad carried them (the record, pad_force + 3 nodes), and the surface mesh
+ * moves there, its velocities that change over the step; the contact's
+ * change then acts in the update after (the caller's), which moves the
+ * surface only (rod_mesh_move at the same time). The velocity thus leaves
+ * out the thread's own dent following it one step late, which the
+ * friction would drag the thread with. The loads are left as the caller
+ * set them (the punctures and the contact's new forces). 0, or -1 with a
+ * message. */
+static int contact_apart(const rod_model *m, int j, const rod_state *s, const double *pad_force,
+                         double largest, char *err, size_t errlen)
+{
+    struct rod_mesh *mesh = m->surfaces[j].mesh;
+    tissue_solid *t = m->surfaces[j].solid;
+    if (!mesh || !pad_force) return 0;
+    const double *record = pad_force + 3 * s->nodes;
+    double before = 0.0;
+    for (int k = 0; k < 3 * s->nodes; k++) before = fmax(before, fabs(record[k]));
+    if (!(largest > 0.0) && !(before > 0.0)) return 0;
+    int any;
+    (void)load_pad(m, j, s, record, &any);
+    for (int k = 0; k < s->puncture_count; k++)
+        if (s->puncture[k].linked == j + 1) largest = fmax(largest, v3_norm(s->puncture[k].force));
+    if (tissue_solve_static_to(t, 1e-5 * fmax(largest, before), 1, NULL, err, errlen)) return -1;
+    (void)load_pad(m, j, s, pad_force, &any);
+    rod_mesh_move(mesh, tissue_positions(t), s->time);
+    return 0;
 }
 
 int tissue_coupling_step(const rod_model *m, rod_state *s, double *pad_force, char *err,
@@ -331,19 +379,18 @@ int tissue_coupling_step(const rod_model *m, rod_state *s, double *pad_force, ch
         const double *load = tissue_external_forces(t);
         int loaded = 0;
         for (int k = 0; k < 3 * tissue_node_count(t) && !loaded; k++) loaded = load[k] != 0.0;
-        tissue_clear_forces(t);
-        int any = 0;
-        for (int k = 0; k < s->puncture_count; k++) {
-            rod_puncture_state *ps = &s->puncture[k];
-            if (ps->linked != j + 1) continue;
-            tissue_apply_point_force(t, ps->tet, ps->bary, ps->force);
-            any = 1;
-        }
-        /* the thread lying on the pad's surface (lagged like the
-         * cross-compliance: the step's contact saw the surface where the
-         * last equilibrium left it) */
-        double largest = apply_contact(m, j, s, pad_force);
+        /* the punctures and the thread lying on the pad's surface (lagged
+         * like the cross-compliance: the step's contact saw the surface
+         * where the last equilibrium left it) */
+        int any;
+        double largest = load_pad(m, j, s, pad_force, &any);
         if (!any && !(largest > 0.0) && !loaded) continue;
+        char why[256];
+        if (contact_apart(m, j, s, pad_force, largest, why, sizeof why)) {
+            snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
+                     m->surfaces[j].line, s->time, why);
+            return -1;
+        }
         /* one Newton update a step, from the last equilibrium with the kept
          * factor (the residual falls about a hundredfold per update), or none
          * once the residual is below 1e-5 of the largest force at a
@@ -351,7 +398,6 @@ int tissue_coupling_step(const rod_model *m, rod_state *s, double *pad_force, ch
          * the rest over */
         for (int k = 0; k < s->puncture_count; k++)
             if (s->puncture[k].linked == j + 1) largest = fmax(largest, v3_norm(s->puncture[k].force));
-        char why[256];
         if (tissue_solve_static_to(t, 1e-5 * largest, 1, NULL, why, sizeof why)) {
             snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
                      m->surfaces[j].line, s->time, why);
