@@ -266,25 +266,27 @@ static int build_grid(rod_mesh *m)
 
 enum { LEAF_SIZE = 4 };
 
-static const rod_mesh *sort_mesh; /* the mesh whose centroids sort_axis compares */
-static int sort_axis;
-
 static double centroid(const rod_mesh *m, int t, int c)
 {
     const int *v = &m->triangles[3 * t];
     return m->vertices[3 * v[0] + c] + m->vertices[3 * v[1] + c] + m->vertices[3 * v[2] + c];
 }
 
+typedef struct centroid_key {
+    double x;  /* the centroid's coordinate along the split's axis (times 3), m */
+    int t;
+} centroid_key;
+
 static int compare_centroid(const void *pa, const void *pb)
 {
-    const int a = *(const int *)pa, b = *(const int *)pb;
-    const double ca = centroid(sort_mesh, a, sort_axis), cb = centroid(sort_mesh, b, sort_axis);
-    if (ca != cb) return ca < cb ? -1 : 1;
-    return a - b;
+    const centroid_key *a = pa, *b = pb;
+    if (a->x != b->x) return a->x < b->x ? -1 : 1;
+    return a->t - b->t;
 }
 
-/* Node `node` over order[first .. first + count); returns the next free node. */
-static int tree_split(rod_mesh *m, int node, int first, int count, int next)
+/* Node `node` over order[first .. first + count); returns the next free
+ * node. keys: scratch of triangle_count. */
+static int tree_split(rod_mesh *m, centroid_key *keys, int node, int first, int count, int next)
 {
     m->node_first[node] = first;
     m->node_count_of[node] = count;
@@ -299,14 +301,17 @@ static int tree_split(rod_mesh *m, int node, int first, int count, int next)
     int axis = 0;
     for (int c = 1; c < 3; c++)
         if (hi[c] - lo[c] > hi[axis] - lo[axis]) axis = c;
-    sort_mesh = m;
-    sort_axis = axis;
-    qsort(&m->order[first], (size_t)count, sizeof(int), compare_centroid);
+    for (int e = 0; e < count; e++) {
+        keys[e].t = m->order[first + e];
+        keys[e].x = centroid(m, keys[e].t, axis);
+    }
+    qsort(keys, (size_t)count, sizeof *keys, compare_centroid);
+    for (int e = 0; e < count; e++) m->order[first + e] = keys[e].t;
     const int half = count / 2, left = next;
     m->node_first[node] = left;
     m->node_count_of[node] = 0;
-    next = tree_split(m, left, first, half, next + 2);
-    return tree_split(m, left + 1, first + half, count - half, next);
+    next = tree_split(m, keys, left, first, half, next + 2);
+    return tree_split(m, keys, left + 1, first + half, count - half, next);
 }
 
 /* Every node's box from the vertices where they are (children come after
@@ -346,8 +351,11 @@ static int build_tree(rod_mesh *m)
     m->node_first = malloc((size_t)2 * (size_t)t_count * sizeof(int));
     m->node_count_of = malloc((size_t)2 * (size_t)t_count * sizeof(int));
     if (!m->order || !m->node_box || !m->node_first || !m->node_count_of) return -1;
+    centroid_key *keys = malloc((size_t)t_count * sizeof *keys);
+    if (!keys) return -1;
     for (int t = 0; t < t_count; t++) m->order[t] = t;
-    m->node_count = tree_split(m, 0, 0, t_count, 1);
+    m->node_count = tree_split(m, keys, 0, 0, t_count, 1);
+    free(keys);
     tree_refit(m);
     return 0;
 }
