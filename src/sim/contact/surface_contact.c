@@ -254,7 +254,7 @@ void surface_contact_prepare(rod_contact *ct, const rod_model *m)
             rod_surface view;
             const rod_surface *sf = rod_surface_contact_view(&ct->surfaces[j], &view);
             start[0] = rod_surface_gap(sf, &ct->pos0[3 * b], grow, start + 1, start + 4);
-            if (ct->surface_motion && sf->shape == ROD_SURFACE_MESH && sf->mesh) {
+            if (ct->surface_motion && ct->surfaces[j].solid && sf->mesh) {
                 int t;
                 double weights[3], *motion = &ct->surface_motion[8 * at];
                 (void)rod_mesh_nearest(sf->mesh, &ct->pos0[3 * b], &t, weights);
