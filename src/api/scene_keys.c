@@ -109,7 +109,8 @@ const ini_key scene_keys_rod[] = {
     {"surface", "model", "-", "rigid", "rigid | elastic",
      "elastic (a box with tissue = yes): the pad deforms, a finite-element neo-Hookean solid "
      "meshed from the box, quasi-static, each puncture a point of it that moves with it and "
-     "carries the thread's force; the rod touches the rigid box elsewhere"},
+     "carries the thread's force; the rod lies on its deformed surface (the wound's slit "
+     "open), pressing it where it touches"},
     {"surface", "youngs_modulus", "Pa", "500000", "> 0",
      "elastic pad: E (skin 1e5..1e6)"},
     {"surface", "poisson_ratio", "-", "0.45", "-1 < nu < 0.5", "elastic pad: nu"},

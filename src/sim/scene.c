@@ -965,6 +965,8 @@ static int read_tissue_pads(ini_doc *doc, rod_model *m, const double gravity[3],
         }
         sf->solid = tissue_create(&c, why, sizeof why);
         if (!sf->solid) return ini_error(doc, "surface", i, "model", err, errlen, "%s", why);
+        sf->mesh = tissue_coupling_surface(sf->solid, why, sizeof why);
+        if (!sf->mesh) return ini_error(doc, "surface", i, "model", err, errlen, "%s", why);
         if (tissue_solve_static(sf->solid, NULL, why, sizeof why))
             return ini_error(doc, "surface", i, "pretension", err, errlen,
                              "the pad finds no rest under its pretension and weight: %s", why);

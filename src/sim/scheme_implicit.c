@@ -29,13 +29,15 @@ static void destroy(void *p)
 }
 
 /* The rod's step, and an elastic pad's equilibrium under the forces the
- * thread exerts at its punctures (tissue_coupling.h) */
+ * thread exerts at its punctures and on its surface (tissue_coupling.h) */
 static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod_report *report)
 {
     const int pad = tissue_coupling_pad(m) >= 0;
     if (pad && tissue_coupling_link(m, s, report->message, sizeof report->message)) return ROD_FAILED;
     rod_status st = implicit_step(p, m, s, dt, report);
-    if (st == ROD_OK && pad && tissue_coupling_step(m, s, report->message, sizeof report->message))
+    implicit_work *w = p;
+    if (st == ROD_OK && pad &&
+        tissue_coupling_step(m, s, w->contact.pad_last, report->message, sizeof report->message))
         return ROD_FAILED;
     return st;
 }

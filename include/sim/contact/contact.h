@@ -45,6 +45,18 @@ typedef struct rod_contact {
                               nearest point (m, global) at the start of the step: fixed over
                               the step, so found once, not in every residual; NULL without
                               surfaces */
+    double *surface_motion; /* (nodes x surfaces x 8) at each node's nearest point at the
+                              step's start: the surface's velocity (m/s, global), which the
+                              friction acts relative to, its compliance (m/N; 0 rigid), and
+                              the force the node put on it at its last equilibrium: across
+                              (N) and along it (3, N, global); NULL when no surface moves
+                              (only an elastic pad's does) */
+    double *pad_force;     /* (nodes x 3) global, N: what an elastic pad's surface exerts
+                              (its share of surface_force), this iterate; NULL without a pad */
+    double *pad_last;      /* (2 x nodes x 3) global, N: pad_force of the last accepted step
+                              (what the pad is loaded with), then the pad's own record of
+                              what it was loaded with before (tissue_coupling_step); NULL
+                              without a pad */
     unsigned *threaded;    /* (nodes): bit j set when the node is threaded through tissue
                               surface j (between its punctures): no contact with it */
     int needle_tissue;     /* 1: the driven tip carries a needle and a surface is tissue */

@@ -33,6 +33,12 @@ int rod_surface_sweep(const rod_surface *s, const double a[3], const double b[3]
 int rod_surface_curvature(const rod_surface *s, const double p[3], const double n[3], double grow,
                           double hessian[9]);
 
+/* The geometry the rod's contact sees: an elastic pad's deformed surface
+ * (the moving mesh of its surface faces, rod_surface.mesh) where it has
+ * one, written into scratch as a mesh; else s itself. The other uses of a
+ * pad (punctures, the needle's holes) keep its box. */
+const rod_surface *rod_surface_contact_view(const rod_surface *s, rod_surface *scratch);
+
 /* Checks a surface's inputs; returns 0, or -1 with a message that starts
  * with the scene key at fault ("size: ...") and says what is accepted.
  * Normalises `normal`. */

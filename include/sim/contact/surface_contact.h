@@ -10,7 +10,8 @@
 
 /* Each node's gap, normal and nearest point on each surface at the start
  * of the step (surface_contact_node reads them in every residual
- * evaluation), from ct->pos0. */
+ * evaluation), from ct->pos0; on an elastic pad's surface also its
+ * velocity, give and last forces there (surface_motion). */
 void surface_contact_prepare(rod_contact *ct, const rod_model *m);
 
 /* Contact of node b with the surfaces inside the residual: corrects its
@@ -27,7 +28,17 @@ void surface_contact_prepare(rod_contact *ct, const rod_model *m);
  *     takes back the fraction kappa / (1 + kappa) of it (contact_fraction:
  *     an implicit spring; what is left is below 1 % of the radius), else 0;
  *   - friction: regularised Coulomb against the end-of-step tangential
- *     velocity, limited by mu times the normal force (contact_creep_speed).
+ *     velocity relative to the surface's (an elastic pad's moves), limited
+ *     by mu times the normal force (contact_creep_speed).
+ * An elastic pad's surface is compliant (surface_motion: its give c, m/N,
+ * and the forces its last equilibrium carries): its point moves by c times
+ * the change of the force on it over the step, across and along, so the
+ * depth is taken against e = depth - c lambda_last and the force across is
+ * -e / (a + c); the friction's relative velocity changes by push (a + c) /
+ * a per newton, from the free one less that of the last equilibrium's
+ * friction (the pad's give folded in, as a puncture's; what the pad does
+ * beyond c, its cross-compliance, lags a step: tissue_coupling.h). Its
+ * share of the force goes to pad_force.
  * The contact force depends on the node's own N only, like v: the
  * Jacobian's band and colouring are unchanged. The residual is piecewise
  * smooth where a contact switches on; Newton takes a line search then.

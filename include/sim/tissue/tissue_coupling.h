@@ -10,7 +10,18 @@
  * law (puncture.h): the point moves by C (F - F_last) with the force F on
  * the pad, so the coupling is implicit at each puncture; between
  * punctures (the pad's cross-compliance) it lags one step
- * (docs/decisions/0070-tissue-coupling.md). */
+ * (docs/decisions/0070-tissue-coupling.md).
+ *
+ * The thread lies on the pad's deformed surface (a moving triangle mesh of
+ * its boundary faces, rod_surface.mesh, moved to the pad before each rod
+ * step): its contact forces (across and friction) go on the pad after the
+ * step at the touched triangles' nodes by barycentric weights, and the
+ * pad's give (its vertices' compliances along their normals, scaled by the
+ * give the last update met) is folded into each node's contact law. The
+ * surface's velocity, which the friction acts relative to, is the pad's
+ * motion apart from the thread's contact: an update under the punctures'
+ * new forces and the contact's forces as carried, before the update under
+ * the contact's new forces (docs/decisions/draft-tissue-contact.md). */
 #ifndef RODSIM_SIM_TISSUE_TISSUE_COUPLING_H
 #define RODSIM_SIM_TISSUE_TISSUE_COUPLING_H
 
@@ -20,16 +31,29 @@
 
 /* After a rod step (and before the first): links the punctures not yet
  * linked that lie in an elastic pad (made there by the needle, or given in
- * the scene inside its box), puts every linked puncture's force on its pad,
- * solves each pad's equilibrium, moves the punctures with their material
+ * the scene inside its box), puts every linked puncture's force on its pad
+ * and the thread's contact on its surface (pad_force, 2 x nodes x 3, N: what
+ * the pad's surface exerted on each node over the step, then the record of
+ * what it exerted at the last call, renewed here: rod_contact.pad_last; may
+ * be NULL), solves each pad's equilibrium, moves the punctures with their material
  * points and renews their compliances. 0, or -1 with a message (the pad's
  * Newton failed: the state's punctures are left as they were). A model
  * without an elastic pad: nothing, 0. */
-int tissue_coupling_step(const rod_model *m, rod_state *s, char *err, size_t errlen);
+int tissue_coupling_step(const rod_model *m, rod_state *s, double *pad_force, char *err,
+                         size_t errlen);
 
 /* Before a rod step: links the punctures not yet linked (as above) and
- * sets their compliance, without solving the pads. 0, or -1 with a message. */
+ * sets their compliance, without solving the pads, and moves each pad's
+ * surface mesh (rod_surface.mesh) to the pad's nodes, its velocity the
+ * change since the last step. 0, or -1 with a message. */
 int tissue_coupling_link(const rod_model *m, rod_state *s, char *err, size_t errlen);
+
+/* The surface the rod's contact sees of a pad (rod_surface.mesh): a moving
+ * mesh over all its nodes (vertex i is node i), of its boundary's faces
+ * except the wound's slit (the thread passes the wound there; the slit's
+ * opening is a hole in the surface), a quadratic face cut into four flat
+ * triangles at its midpoints. NULL with a message when out of memory. */
+struct rod_mesh *tissue_coupling_surface(struct tissue_solid *t, char *err, size_t errlen);
 
 /* The first elastic pad's surface index, or -1. */
 int tissue_coupling_pad(const rod_model *m);

@@ -29,6 +29,14 @@ int rod_contact_create(rod_contact *c, const rod_model *m, const double *pos0, d
         c->start_gap = calloc(n * (size_t)m->surface_count * 7, sizeof(double));
         if (!c->start_gap) return -1;
     }
+    int pad = 0;
+    for (int k = 0; k < m->surface_count; k++) pad |= m->surfaces[k].solid && m->surfaces[k].mesh;
+    if (pad) {
+        c->surface_motion = calloc(n * (size_t)m->surface_count * 8, sizeof(double));
+        c->pad_force = calloc(n * 3, sizeof(double));
+        c->pad_last = calloc(n * 6, sizeof(double));
+        if (!c->surface_motion || !c->pad_force || !c->pad_last) return -1;
+    }
     if (m->instrument_count > 0) {
         c->instrument_count = m->instrument_count;
         c->instrument_start = calloc(n * (size_t)m->instrument_count * ROD_INSTRUMENT_CAPSULES * 10,
@@ -49,6 +57,9 @@ void rod_contact_destroy(rod_contact *c)
     free(c->surface_force);
     free(c->threaded);
     free(c->start_gap);
+    free(c->surface_motion);
+    free(c->pad_force);
+    free(c->pad_last);
     free(c->instrument_start);
     free(c->instrument_force);
     free(c->velocity_jac);

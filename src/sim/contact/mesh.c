@@ -20,6 +20,25 @@ struct rod_mesh {
     double lo[3], hi[3], cell;
     int dims[3];
     int *cell_start, *cell_list;
+    /* the edges sorted by their vertex pair (the faces that share one are
+     * adjacent): the pseudonormals are renewed from it when the mesh moves */
+    struct edge_key *edges;
+    /* a moving mesh (rod_mesh_create_moving): a bounding-volume tree
+     * instead of the grid, its vertices' velocities, the time they are of */
+    int moving;
+    unsigned char *rim;      /* (triangle_count x 3): edge k of t has no other face;
+                                with vertex_rim (vertex_count): on such an edge */
+    unsigned char *vertex_rim;
+    double *velocity;        /* (vertex_count x 3), m/s */
+    double *compliance;      /* (vertex_count x 2): along the vertex's normal, m/N, and its
+                                owner's tag */
+    double compliance_scale; /* the vertices' compliances scaled by it (>= 1) */
+    double moved_at;         /* s */
+    int node_count;
+    double *node_box;        /* (node_count x 6): lo xyz, hi xyz, m */
+    int *node_first, *node_count_of; /* a leaf's triangles: order[first .. first + count);
+                                        count 0: children at first and first + 1 */
+    int *order;              /* (triangle_count) the triangles by leaf */
 };
 
 typedef struct corner_key {
@@ -84,18 +103,48 @@ static int weld(rod_mesh *m, const double *tri, int count, const double offset[3
     return 0;
 }
 
-/* Face, edge and vertex pseudonormals. */
-static int pseudonormals(rod_mesh *m)
+/* Sorts the edges by their vertex pair, once (the faces sharing an edge
+ * are then adjacent), and marks the rims: edges of one face. */
+static int pseudonormals_alloc(rod_mesh *m)
 {
     const int t_count = m->triangle_count;
     m->face_normal = calloc((size_t)t_count * 3, sizeof(double));
     m->edge_normal = calloc((size_t)t_count * 9, sizeof(double));
     m->vertex_normal = calloc((size_t)m->vertex_count * 3, sizeof(double));
-    edge_key *edges = malloc((size_t)t_count * 3 * sizeof *edges);
-    if (!m->face_normal || !m->edge_normal || !m->vertex_normal || !edges) {
-        free(edges);
+    m->edges = malloc((size_t)t_count * 3 * sizeof *m->edges);
+    m->rim = calloc((size_t)t_count * 3, 1);
+    m->vertex_rim = calloc((size_t)m->vertex_count, 1);
+    if (!m->face_normal || !m->edge_normal || !m->vertex_normal || !m->edges || !m->rim ||
+        !m->vertex_rim)
         return -1;
+    for (int t = 0; t < t_count; t++) {
+        const int *v = &m->triangles[3 * t];
+        for (int k = 0; k < 3; k++) {
+            m->edges[3 * t + k].lo = v[k] < v[(k + 1) % 3] ? v[k] : v[(k + 1) % 3];
+            m->edges[3 * t + k].hi = v[k] < v[(k + 1) % 3] ? v[(k + 1) % 3] : v[k];
+            m->edges[3 * t + k].slot = 3 * t + k;
+        }
     }
+    const size_t e_count = 3 * (size_t)t_count;
+    qsort(m->edges, e_count, sizeof *m->edges, compare_edge);
+    for (size_t i = 0; i < e_count;) {
+        size_t j = i;
+        while (j < e_count && m->edges[j].lo == m->edges[i].lo && m->edges[j].hi == m->edges[i].hi)
+            j++;
+        if (j == i + 1) {
+            m->rim[m->edges[i].slot] = 1;
+            m->vertex_rim[m->edges[i].lo] = m->vertex_rim[m->edges[i].hi] = 1;
+        }
+        i = j;
+    }
+    return 0;
+}
+
+/* Face, edge and vertex pseudonormals of the vertices where they are. */
+static void pseudonormals(rod_mesh *m)
+{
+    const int t_count = m->triangle_count;
+    memset(m->vertex_normal, 0, (size_t)m->vertex_count * 3 * sizeof(double));
     static const double up[3] = {0.0, 0.0, 1.0};
     for (int t = 0; t < t_count; t++) {
         const int *v = &m->triangles[3 * t];
@@ -119,14 +168,11 @@ static int pseudonormals(rod_mesh *m)
                 angle = acos(cosine > 1.0 ? 1.0 : cosine < -1.0 ? -1.0 : cosine);
             }
             v3_axpy(&m->vertex_normal[3 * v[k]], angle, n);
-            edges[3 * t + k].lo = v[k] < v[(k + 1) % 3] ? v[k] : v[(k + 1) % 3];
-            edges[3 * t + k].hi = v[k] < v[(k + 1) % 3] ? v[(k + 1) % 3] : v[k];
-            edges[3 * t + k].slot = 3 * t + k;
         }
     }
     for (int i = 0; i < m->vertex_count; i++) normalise(&m->vertex_normal[3 * i], up);
     const size_t e_count = 3 * (size_t)t_count;
-    qsort(edges, e_count, sizeof *edges, compare_edge);
+    const edge_key *edges = m->edges;
     for (size_t i = 0; i < e_count;) {
         size_t j = i;
         double sum[3] = {0.0, 0.0, 0.0};
@@ -141,8 +187,6 @@ static int pseudonormals(rod_mesh *m)
         }
         i = j;
     }
-    free(edges);
-    return 0;
 }
 
 static int cell_of(const rod_mesh *m, int axis, double x)
@@ -216,19 +260,176 @@ static int build_grid(rod_mesh *m)
     return 0;
 }
 
+/* ---- A moving mesh's tree: leaves of up to 4 triangles, split at the
+ * median of the triangles' centroids along the longer extent; built once,
+ * its boxes refitted when the vertices move. */
+
+enum { LEAF_SIZE = 4 };
+
+static double centroid(const rod_mesh *m, int t, int c)
+{
+    const int *v = &m->triangles[3 * t];
+    return m->vertices[3 * v[0] + c] + m->vertices[3 * v[1] + c] + m->vertices[3 * v[2] + c];
+}
+
+typedef struct centroid_key {
+    double x;  /* the centroid's coordinate along the split's axis (times 3), m */
+    int t;
+} centroid_key;
+
+static int compare_centroid(const void *pa, const void *pb)
+{
+    const centroid_key *a = pa, *b = pb;
+    if (a->x != b->x) return a->x < b->x ? -1 : 1;
+    return a->t - b->t;
+}
+
+/* Node `node` over order[first .. first + count); returns the next free
+ * node. keys: scratch of triangle_count. */
+static int tree_split(rod_mesh *m, centroid_key *keys, int node, int first, int count, int next)
+{
+    m->node_first[node] = first;
+    m->node_count_of[node] = count;
+    if (count <= LEAF_SIZE) return next;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int e = first; e < first + count; e++)
+        for (int c = 0; c < 3; c++) {
+            const double x = centroid(m, m->order[e], c);
+            lo[c] = fmin(lo[c], x);
+            hi[c] = fmax(hi[c], x);
+        }
+    int axis = 0;
+    for (int c = 1; c < 3; c++)
+        if (hi[c] - lo[c] > hi[axis] - lo[axis]) axis = c;
+    for (int e = 0; e < count; e++) {
+        keys[e].t = m->order[first + e];
+        keys[e].x = centroid(m, keys[e].t, axis);
+    }
+    qsort(keys, (size_t)count, sizeof *keys, compare_centroid);
+    for (int e = 0; e < count; e++) m->order[first + e] = keys[e].t;
+    const int half = count / 2, left = next;
+    m->node_first[node] = left;
+    m->node_count_of[node] = 0;
+    next = tree_split(m, keys, left, first, half, next + 2);
+    return tree_split(m, keys, left + 1, first + half, count - half, next);
+}
+
+/* Every node's box from the vertices where they are (children come after
+ * their parent, so backwards each child is done before its parent). */
+static void tree_refit(rod_mesh *m)
+{
+    for (int node = m->node_count - 1; node >= 0; node--) {
+        double *box = &m->node_box[6 * node];
+        if (m->node_count_of[node] == 0) {
+            const double *l = &m->node_box[6 * m->node_first[node]], *r = l + 6;
+            for (int c = 0; c < 3; c++) {
+                box[c] = fmin(l[c], r[c]);
+                box[3 + c] = fmax(l[3 + c], r[3 + c]);
+            }
+            continue;
+        }
+        for (int c = 0; c < 3; c++) {
+            box[c] = INFINITY;
+            box[3 + c] = -INFINITY;
+        }
+        for (int e = m->node_first[node]; e < m->node_first[node] + m->node_count_of[node]; e++)
+            for (int k = 0; k < 3; k++) {
+                const double *x = &m->vertices[3 * m->triangles[3 * m->order[e] + k]];
+                for (int c = 0; c < 3; c++) {
+                    box[c] = fmin(box[c], x[c]);
+                    box[3 + c] = fmax(box[3 + c], x[c]);
+                }
+            }
+    }
+}
+
+static int build_tree(rod_mesh *m)
+{
+    const int t_count = m->triangle_count;
+    m->order = malloc((size_t)t_count * sizeof(int));
+    m->node_box = malloc((size_t)2 * (size_t)t_count * 6 * sizeof(double));
+    m->node_first = malloc((size_t)2 * (size_t)t_count * sizeof(int));
+    m->node_count_of = malloc((size_t)2 * (size_t)t_count * sizeof(int));
+    if (!m->order || !m->node_box || !m->node_first || !m->node_count_of) return -1;
+    centroid_key *keys = malloc((size_t)t_count * sizeof *keys);
+    if (!keys) return -1;
+    for (int t = 0; t < t_count; t++) m->order[t] = t;
+    m->node_count = tree_split(m, keys, 0, 0, t_count, 1);
+    free(keys);
+    tree_refit(m);
+    return 0;
+}
+
 rod_mesh *rod_mesh_create(const double *triangles, int count, const double offset[3], char *err,
                           size_t errlen)
 {
     rod_mesh *m = calloc(1, sizeof *m);
     if (m && count > 0) {
         m->triangle_count = count;
-        if (weld(m, triangles, count, offset) == 0 && pseudonormals(m) == 0 && build_grid(m) == 0)
-            return m;
+        if (weld(m, triangles, count, offset) == 0 && pseudonormals_alloc(m) == 0) {
+            pseudonormals(m);
+            if (build_grid(m) == 0) return m;
+        }
     }
     rod_mesh_destroy(m);
     snprintf(err, errlen, count > 0 ? "out of memory for a mesh of %d triangles"
                                     : "a mesh needs at least one triangle (%d given)", count);
     return NULL;
+}
+
+rod_mesh *rod_mesh_create_moving(const double *vertices, int vertex_count, const int *triangles,
+                                 int count, char *err, size_t errlen)
+{
+    rod_mesh *m = calloc(1, sizeof *m);
+    if (m && count > 0 && vertex_count > 0) {
+        m->moving = 1;
+        m->triangle_count = count;
+        m->vertex_count = vertex_count;
+        m->moved_at = HUGE_VAL;
+        m->compliance_scale = 1.0;
+        m->vertices = malloc((size_t)vertex_count * 3 * sizeof(double));
+        m->velocity = calloc((size_t)vertex_count * 3, sizeof(double));
+        m->compliance = calloc((size_t)vertex_count * 2, sizeof(double));
+        m->triangles = malloc((size_t)count * 3 * sizeof(int));
+        if (m->vertices && m->velocity && m->compliance && m->triangles) {
+            memcpy(m->vertices, vertices, (size_t)vertex_count * 3 * sizeof(double));
+            memcpy(m->triangles, triangles, (size_t)count * 3 * sizeof(int));
+            double area = 0.0;
+            for (int t = 0; t < count; t++) {
+                const int *v = &m->triangles[3 * t];
+                double ab[3], ac[3], n[3];
+                v3_sub(ab, &m->vertices[3 * v[1]], &m->vertices[3 * v[0]]);
+                v3_sub(ac, &m->vertices[3 * v[2]], &m->vertices[3 * v[0]]);
+                v3_cross(n, ab, ac);
+                area += 0.5 * v3_norm(n);
+            }
+            /* the scale of the tolerances the grid's cell sets for a fixed mesh */
+            m->cell = 2.0 * sqrt(2.0 * area / count);
+            if (pseudonormals_alloc(m) == 0 && build_tree(m) == 0) {
+                pseudonormals(m);
+                return m;
+            }
+        }
+    }
+    rod_mesh_destroy(m);
+    snprintf(err, errlen, count > 0 && vertex_count > 0
+                              ? "out of memory for a mesh of %d triangles"
+                              : "a mesh needs at least one triangle and its vertices (%d given)",
+             count);
+    return NULL;
+}
+
+void rod_mesh_move(rod_mesh *m, const double *vertices, double time)
+{
+    const size_t n = (size_t)m->vertex_count * 3;
+    const double dt = time - m->moved_at;
+    for (size_t i = 0; i < n; i++) {
+        if (dt != 0.0) m->velocity[i] = dt > 0.0 ? (vertices[i] - m->vertices[i]) / dt : 0.0;
+        m->vertices[i] = vertices[i];
+    }
+    m->moved_at = time;
+    pseudonormals(m);
+    tree_refit(m);
 }
 
 void rod_mesh_destroy(rod_mesh *m)
@@ -241,6 +442,15 @@ void rod_mesh_destroy(rod_mesh *m)
     free(m->vertex_normal);
     free(m->cell_start);
     free(m->cell_list);
+    free(m->edges);
+    free(m->rim);
+    free(m->vertex_rim);
+    free(m->velocity);
+    free(m->compliance);
+    free(m->node_box);
+    free(m->node_first);
+    free(m->node_count_of);
+    free(m->order);
     free(m);
 }
 
@@ -296,9 +506,64 @@ static const double *feature_normal(const rod_mesh *m, int t, int feature)
 
 /* The triangle nearest p, its feature (closest_on_triangle) and point;
  * returns the squared distance. */
+static double box_distance2(const double box[6], const double p[3])
+{
+    double d2 = 0.0;
+    for (int c = 0; c < 3; c++) {
+        const double d = p[c] < box[c] ? box[c] - p[c] : p[c] > box[3 + c] ? p[c] - box[3 + c] : 0.0;
+        d2 += d * d;
+    }
+    return d2;
+}
+
+/* nearest_triangle through a moving mesh's tree: the nearer child first,
+ * a node skipped when its box is no nearer than the best so far */
+static double nearest_in_tree(const rod_mesh *m, const double p[3], int *triangle, int *feature,
+                              double point[3])
+{
+    int stack[128], top = 0;
+    double best2 = INFINITY, best_point[3] = {0.0, 0.0, 0.0};
+    int best_t = 0, best_feature = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const int node = stack[--top];
+        if (box_distance2(&m->node_box[6 * node], p) >= best2) continue;
+        if (m->node_count_of[node] == 0) {
+            const int l = m->node_first[node];
+            const double dl = box_distance2(&m->node_box[6 * l], p),
+                         dr = box_distance2(&m->node_box[6 * (l + 1)], p);
+            /* the nearer pushed last, popped first */
+            if (top + 2 > (int)(sizeof stack / sizeof stack[0])) continue;
+            stack[top++] = dl <= dr ? l + 1 : l;
+            stack[top++] = dl <= dr ? l : l + 1;
+            continue;
+        }
+        for (int e = m->node_first[node]; e < m->node_first[node] + m->node_count_of[node]; e++) {
+            const int t = m->order[e];
+            const int *v = &m->triangles[3 * t];
+            double x[3], d[3];
+            const int kind = closest_on_triangle(p, &m->vertices[3 * v[0]], &m->vertices[3 * v[1]],
+                                                 &m->vertices[3 * v[2]], x);
+            v3_sub(d, p, x);
+            const double d2 = v3_dot(d, d);
+            if (d2 < best2) {
+                best2 = d2;
+                best_t = t;
+                best_feature = kind;
+                v3_copy(best_point, x);
+            }
+        }
+    }
+    *triangle = best_t;
+    *feature = best_feature;
+    v3_copy(point, best_point);
+    return best2;
+}
+
 static double nearest_triangle(const rod_mesh *m, const double p[3], int *triangle, int *feature,
                                double point[3])
 {
+    if (m->moving) return nearest_in_tree(m, p, triangle, feature, point);
     /* the clamped point q: for any point x of the grid's box |p - x|^2 >=
      * |p - q|^2 + |q - x|^2, so cells r rings out from q's are at least
      * sqrt(|p - q|^2 + ((r - 1) cell)^2) away */
@@ -355,6 +620,15 @@ static double nearest_triangle(const rod_mesh *m, const double p[3], int *triang
     return best2;
 }
 
+/* A moving mesh's rims are openings in a closed surface (the edges of a
+ * hole): a point nearest to one is outside. */
+static int on_rim(const rod_mesh *m, int t, int feature)
+{
+    if (!m->moving || feature == 0) return 0;
+    if (feature <= 3) return m->vertex_rim[m->triangles[3 * t + feature - 1]];
+    return m->rim[3 * t + feature - 4];
+}
+
 double rod_mesh_distance(const rod_mesh *m, const double p[3], double normal[3],
                          double nearest[3])
 {
@@ -365,7 +639,7 @@ double rod_mesh_distance(const rod_mesh *m, const double p[3], double normal[3],
     double d[3];
     v3_sub(d, p, best_point);
     const double dist = sqrt(best2);
-    const int inside = v3_dot(d, pseudo) < 0.0;
+    const int inside = v3_dot(d, pseudo) < 0.0 && !on_rim(m, best_t, best_feature);
     if (normal) {
         if (dist > 1e-12 * (m->cell + dist)) v3_scale(normal, d, (inside ? -1.0 : 1.0) / dist);
         else v3_copy(normal, pseudo);
@@ -382,7 +656,8 @@ int rod_mesh_curvature(const rod_mesh *m, const double p[3], double hessian[9])
     memset(hessian, 0, 9 * sizeof(double));
     v3_sub(d, p, point);
     /* on a face, or too near the mesh to tell a direction */
-    if (feature == 0 || !(dist > 1e-9 * m->cell) || v3_dot(d, feature_normal(m, t, feature)) < 0.0)
+    if (feature == 0 || !(dist > 1e-9 * m->cell) ||
+        (v3_dot(d, feature_normal(m, t, feature)) < 0.0 && !on_rim(m, t, feature)))
         return 0;
     double n[3], axis[3] = {0.0, 0.0, 0.0};
     v3_scale(n, d, 1.0 / dist);
@@ -417,4 +692,56 @@ void rod_mesh_bounds(const rod_mesh *m, double lo[3], double hi[3])
             lo[c] = fmin(lo[c], m->vertices[3 * i + c]);
             hi[c] = fmax(hi[c], m->vertices[3 * i + c]);
         }
+}
+
+double rod_mesh_nearest(const rod_mesh *m, const double p[3], int *triangle, double weights[3])
+{
+    int t, feature;
+    double x[3];
+    const double d2 = nearest_triangle(m, p, &t, &feature, x);
+    /* the weights of x in its triangle (Ericson 3.4), clamped against rounding */
+    const int *v = &m->triangles[3 * t];
+    const double *a = &m->vertices[3 * v[0]];
+    double e0[3], e1[3], e2[3];
+    v3_sub(e0, &m->vertices[3 * v[1]], a);
+    v3_sub(e1, &m->vertices[3 * v[2]], a);
+    v3_sub(e2, x, a);
+    const double d00 = v3_dot(e0, e0), d01 = v3_dot(e0, e1), d11 = v3_dot(e1, e1),
+                 d20 = v3_dot(e2, e0), d21 = v3_dot(e2, e1), denom = d00 * d11 - d01 * d01;
+    double wb = 0.0, wc = 0.0;
+    if (denom > 0.0) {
+        wb = fmin(fmax((d11 * d20 - d01 * d21) / denom, 0.0), 1.0);
+        wc = fmin(fmax((d00 * d21 - d01 * d20) / denom, 0.0), 1.0 - wb);
+    }
+    *triangle = t;
+    weights[0] = 1.0 - wb - wc;
+    weights[1] = wb;
+    weights[2] = wc;
+    return sqrt(d2);
+}
+
+void rod_mesh_point_velocity(const rod_mesh *m, int triangle, const double weights[3],
+                             double v[3])
+{
+    v3_set(v, 0.0, 0.0, 0.0);
+    if (!m->velocity) return;
+    for (int k = 0; k < 3; k++) v3_axpy(v, weights[k], &m->velocity[3 * m->triangles[3 * triangle + k]]);
+}
+
+double rod_mesh_point_compliance(const rod_mesh *m, int triangle, const double weights[3])
+{
+    double c = 0.0;
+    if (!m->compliance) return 0.0;
+    for (int k = 0; k < 3; k++) c += weights[k] * m->compliance[2 * m->triangles[3 * triangle + k]];
+    return c * m->compliance_scale;
+}
+
+double *rod_mesh_vertex_compliance(rod_mesh *m) { return m->compliance; }
+
+void rod_mesh_set_compliance_scale(rod_mesh *m, double scale) { m->compliance_scale = scale; }
+double rod_mesh_compliance_scale(const rod_mesh *m) { return m->compliance_scale; }
+
+const double *rod_mesh_vertex_normal(const rod_mesh *m, int vertex)
+{
+    return &m->vertex_normal[3 * vertex];
 }

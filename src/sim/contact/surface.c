@@ -300,6 +300,14 @@ int rod_surface_curvature(const rod_surface *s, const double p[3], const double 
     return 1;
 }
 
+const rod_surface *rod_surface_contact_view(const rod_surface *s, rod_surface *scratch)
+{
+    if (!s->solid || !s->mesh) return s;
+    *scratch = *s;
+    scratch->shape = ROD_SURFACE_MESH;
+    return scratch;
+}
+
 static int finite3(const double a[3])
 {
     return isfinite(a[0]) && isfinite(a[1]) && isfinite(a[2]);

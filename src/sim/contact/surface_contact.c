@@ -7,6 +7,7 @@
 
 #include "base/vec3.h"
 #include "sim/contact/friction.h"
+#include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
 
 /* How a swept contact's half-space turns with the node's velocity v
@@ -61,7 +62,7 @@ static int surface_turn_of(surface_turn *turn, const double n[3], const double h
  *             ratio = sp / speed. */
 static void surface_map_jacobian(double jac[9], const double n[3], const double vt[3],
                                  double speed, double sp, double c, double mu, double stiff,
-                                 const surface_turn *turn)
+                                 double share, const surface_turn *turn)
 {
     const double *g = turn ? turn->g : n;
     double map[9];
@@ -75,7 +76,15 @@ static void surface_map_jacobian(double jac[9], const double n[3], const double 
         double t[3] = {0.0, 0.0, 0.0}, d_speed, d_c, fric[9];
         if (speed > 0.0) v3_scale(t, vt, 1.0 / speed);
         contact_creep_slopes(c, sp, &d_speed, &d_c);
-        const double ratio = speed > 0.0 ? sp / speed : d_speed;
+        double ratio = speed > 0.0 ? sp / speed : d_speed;
+        if (share < 1.0) {
+            /* a compliant surface takes 1 - share of the friction's change
+             * of the relative velocity: the node's is (1 - share) speed +
+             * share sp along t (c's slope term is unchanged: share times
+             * c's own scale push_t / push is 1) */
+            ratio = (1.0 - share) + share * ratio;
+            d_speed = (1.0 - share) + share * d_speed;
+        }
         for (int i = 0; i < 3; i++)
             for (int j = 0; j < 3; j++)
                 fric[3 * i + j] = n[i] * n[j] + ratio * ((i == j) - n[i] * n[j] - t[i] * t[j]) +
@@ -104,6 +113,8 @@ void surface_contact_node(rod_contact *ct, const rod_model *m, int b, double pus
     const double *r0 = &ct->pos0[3 * b];
     const double theta = m->options.theta, grow = 0.5 * m->diameter, a = dt * theta * push;
     v3_set(force, 0.0, 0.0, 0.0);
+    double *pad_force = ct->pad_force ? &ct->pad_force[3 * b] : NULL;
+    if (pad_force) v3_set(pad_force, 0.0, 0.0, 0.0);
     /* want_jacobian: jac = d v1 / d (v1 on entry), composed over the surfaces */
     double jac[9] = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
     /* a second pass only when two surfaces act on the node (a corner): one
@@ -111,7 +122,8 @@ void surface_contact_node(rod_contact *ct, const rod_model *m, int b, double pus
     int active = 0;
     for (int pass = 0; pass < 2 && (pass == 0 || active > 1); pass++)
         for (int j = 0; j < ct->surface_count; j++) {
-            const rod_surface *sf = &ct->surfaces[j];
+            rod_surface view;
+            const rod_surface *sf = rod_surface_contact_view(&ct->surfaces[j], &view);
             if (ct->threaded[b] & (1u << j)) continue;
             double r1[3], n[3], p[3], step[3];
             for (int k = 0; k < 3; k++) {
@@ -145,30 +157,59 @@ void surface_contact_node(rod_contact *ct, const rod_model *m, int b, double pus
                 depth = v3_dot(d, n);
                 curved = ct->want_jacobian && depth < 0.0 && rod_surface_curvature(sf, p, n, grow, hessian);
             }
+            /* a compliant surface (an elastic pad): its point moves in by c
+             * (lambda - lambda_last) under the force across lambda, c its
+             * compliance, lambda_last what its last equilibrium carries, so
+             * the depth against it is e = depth - c lambda_last and lambda =
+             * -e / (a + c) (the pad's own give folded in, as a puncture's) */
+            const double *motion = ct->surface_motion
+                                       ? &ct->surface_motion[8 * ((size_t)b * (size_t)ct->surface_count + (size_t)j)]
+                                       : NULL;
+            const double give = motion ? motion[3] : 0.0;
+            if (give > 0.0) depth -= give * motion[4];
             if (!(depth < 0.0)) continue;
             active++;
-            double lambda = -depth / a * contact_fraction(-depth, 0.01 * grow), fn[3], vt[3];
+            double lambda = give > 0.0 ? -depth / (a + give) * contact_fraction(-depth, 0.01 * grow)
+                                       : -depth / a * contact_fraction(-depth, 0.01 * grow),
+                   fn[3], vt[3];
             v3_scale(fn, n, lambda);
             v3_axpy(v1, push, fn);
             v3_axpy(vb, theta * push, fn);
             v3_axpy(force, 1.0, fn);
-            /* friction against the tangential velocity (contact_creep_speed) */
-            double vn = v3_dot(v1, n);
-            for (int k = 0; k < 3; k++) vt[k] = v1[k] - vn * n[k];
-            double speed = v3_norm(vt), limit = sf->friction * lambda, ft[3], sp = speed;
+            /* friction against the tangential velocity (contact_creep_speed),
+             * relative to a moving surface's */
+            double rel[3];
+            v3_copy(rel, v1);
+            if (motion) v3_axpy(rel, -1.0, motion);
+            /* a compliant surface's point moves along by give times the
+             * change of the friction on it over the step (against its last
+             * equilibrium's, motion + 5): the relative velocity changes by
+             * push_t = push (a + give) / a per newton of friction, the
+             * node's own by push */
+            const double push_t = give > 0.0 ? push * (a + give) / a : push;
+            if (give > 0.0) v3_axpy(rel, -(push_t - push), motion + 5);
+            double vn = v3_dot(rel, n);
+            for (int k = 0; k < 3; k++) vt[k] = rel[k] - vn * n[k];
+            double speed = v3_norm(vt), limit = sf->friction * lambda, ft[3] = {0.0, 0.0, 0.0}, sp = speed;
             if (speed > 0.0 && limit > 0.0) {
-                sp = contact_creep_speed(speed, push * limit);
-                v3_scale(ft, vt, -(speed - sp) / (push * speed));
+                sp = contact_creep_speed(speed, push_t * limit);
+                v3_scale(ft, vt, -(speed - sp) / (push_t * speed));
                 v3_axpy(v1, push, ft);
                 v3_axpy(vb, theta * push, ft);
                 v3_axpy(force, 1.0, ft);
+            }
+            if (pad_force && ct->surfaces[j].solid) {
+                v3_axpy(pad_force, 1.0, fn);
+                v3_axpy(pad_force, 1.0, ft);
             }
             if (ct->want_jacobian) {
                 surface_turn turn;
                 const int turning = curved && surface_turn_of(&turn, n, hessian, step, hit, a, push,
                                                               lambda, vn);
-                surface_map_jacobian(jac, n, vt, speed, sp, push * limit, sf->friction,
-                                     contact_compliant_slope(-depth, 0.01 * grow), turning ? &turn : NULL);
+                double stiff = contact_compliant_slope(-depth, 0.01 * grow);
+                if (give > 0.0) stiff *= a / (a + give);
+                surface_map_jacobian(jac, n, vt, speed, sp, push_t * limit, sf->friction, stiff,
+                                     give > 0.0 ? push / push_t : 1.0, turning ? &turn : NULL);
             }
         }
     if (ct->want_jacobian && active) {
@@ -208,7 +249,21 @@ void surface_contact_prepare(rod_contact *ct, const rod_model *m)
     const double grow = 0.5 * m->diameter;
     for (int b = 0; b < ct->nodes; b++)
         for (int j = 0; j < ct->surface_count; j++) {
-            double *start = &ct->start_gap[7 * ((size_t)b * (size_t)ct->surface_count + (size_t)j)];
-            start[0] = rod_surface_gap(&ct->surfaces[j], &ct->pos0[3 * b], grow, start + 1, start + 4);
+            const size_t at = (size_t)b * (size_t)ct->surface_count + (size_t)j;
+            double *start = &ct->start_gap[7 * at];
+            rod_surface view;
+            const rod_surface *sf = rod_surface_contact_view(&ct->surfaces[j], &view);
+            start[0] = rod_surface_gap(sf, &ct->pos0[3 * b], grow, start + 1, start + 4);
+            if (ct->surface_motion && ct->surfaces[j].solid && sf->mesh) {
+                int t;
+                double weights[3], *motion = &ct->surface_motion[8 * at];
+                (void)rod_mesh_nearest(sf->mesh, &ct->pos0[3 * b], &t, weights);
+                rod_mesh_point_velocity(sf->mesh, t, weights, motion);
+                motion[3] = rod_mesh_point_compliance(sf->mesh, t, weights);
+                /* what the last accepted step put on the pad */
+                motion[4] = ct->pad_last ? v3_dot(&ct->pad_last[3 * b], start + 1) : 0.0;
+                for (int k = 0; k < 3; k++)
+                    motion[5 + k] = ct->pad_last ? ct->pad_last[3 * b + k] - motion[4] * start[1 + k] : 0.0;
+            }
         }
 }

@@ -97,6 +97,8 @@ static int accept_contact(implicit_work *w, const rod_model *m, rod_state *s, do
     const int n = w->nodes;
     implicit_end_reactions(w, m, s->time, dt);
     memcpy(s->surface_force, w->contact.surface_force, (size_t)n * 3 * sizeof(double));
+    if (w->contact.pad_force)
+        memcpy(w->contact.pad_last, w->contact.pad_force, (size_t)n * 3 * sizeof(double));
     if (w->self && w->self->count)
         memcpy(s->self_force, w->self->node_force, (size_t)n * 3 * sizeof(double));
     else

@@ -4,9 +4,11 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "base/vec3.h"
+#include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
 #include "sim/tissue/tissue.h"
 
@@ -99,37 +101,310 @@ static int link_new(const rod_model *m, int j, rod_state *s, char *err, size_t e
     return 0;
 }
 
+/* Outward faces of a positive tet's corners (counter-clockwise seen from
+ * outside): opposite corner 0, 1, 2, 3 */
+static const int tet_face[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+/* a quadratic tet's midpoint node of its corners' edge (a, b) */
+static int midpoint_slot(int a, int b)
+{
+    static const int slot[4][4] = {{-1, 4, 5, 6}, {4, -1, 7, 8}, {5, 7, -1, 9}, {6, 8, 9, -1}};
+    return slot[a][b];
+}
+
+typedef struct face_key {
+    int v[3];  /* corner nodes, sorted */
+    int tet, face;
+} face_key;
+
+static int compare_face(const void *pa, const void *pb)
+{
+    const face_key *a = pa, *b = pb;
+    for (int k = 0; k < 3; k++)
+        if (a->v[k] != b->v[k]) return a->v[k] < b->v[k] ? -1 : 1;
+    return a->tet != b->tet ? (a->tet < b->tet ? -1 : 1) : a->face - b->face;
+}
+
+struct rod_mesh *tissue_coupling_surface(struct tissue_solid *t, char *err, size_t errlen)
+{
+    const int tets = tissue_tet_count(t), per = tissue_nodes_per_tet(t), *tt = tissue_tets(t);
+    const double *rest = tissue_rest_positions(t);
+    const int *near_nodes, *far_nodes, pairs = tissue_slit_pairs(t, &near_nodes, &far_nodes);
+    const int axis = tissue_slit_axis(t);
+    const double plane = axis >= 0 && pairs > 0 ? rest[3 * near_nodes[0] + axis] : 0.0;
+    face_key *faces = malloc((size_t)tets * 4 * sizeof *faces);
+    int *tri = malloc((size_t)tets * 4 * 4 * 3 * sizeof(int));
+    if (!faces || !tri) {
+        free(faces);
+        free(tri);
+        snprintf(err, errlen, "out of memory for the pad's surface");
+        return NULL;
+    }
+    for (int e = 0; e < tets; e++)
+        for (int f = 0; f < 4; f++) {
+            face_key *k = &faces[4 * e + f];
+            for (int c = 0; c < 3; c++) k->v[c] = tt[per * e + tet_face[f][c]];
+            for (int a = 0; a < 2; a++)
+                for (int b = 0; b < 2 - a; b++)
+                    if (k->v[b] > k->v[b + 1]) {
+                        const int swap = k->v[b];
+                        k->v[b] = k->v[b + 1];
+                        k->v[b + 1] = swap;
+                    }
+            k->tet = e;
+            k->face = f;
+        }
+    const size_t count = 4 * (size_t)tets;
+    qsort(faces, count, sizeof *faces, compare_face);
+    int triangles = 0;
+    for (size_t i = 0; i < count;) {
+        size_t j = i + 1;
+        while (j < count && !memcmp(faces[j].v, faces[i].v, sizeof faces[i].v)) j++;
+        const int single = j == i + 1;
+        const int e = faces[i].tet, *corner = tet_face[faces[i].face];
+        i = j;
+        if (!single) continue;
+        /* the wound's slit faces (all three corners on its plane, inside
+         * the pad) are left out: the thread passes the wound there */
+        if (axis >= 0 && pairs > 0 && rest[3 * tt[per * e + corner[0]] + axis] == plane &&
+            rest[3 * tt[per * e + corner[1]] + axis] == plane &&
+            rest[3 * tt[per * e + corner[2]] + axis] == plane)
+            continue;
+        int *out = &tri[3 * triangles];
+        if (per == 4) {
+            for (int c = 0; c < 3; c++) out[c] = tt[per * e + corner[c]];
+            triangles++;
+            continue;
+        }
+        /* a quadratic face: four flat triangles through its midpoints */
+        int a = tt[per * e + corner[0]], b = tt[per * e + corner[1]], c = tt[per * e + corner[2]];
+        int ab = tt[per * e + midpoint_slot(corner[0], corner[1])],
+            bc = tt[per * e + midpoint_slot(corner[1], corner[2])],
+            ca = tt[per * e + midpoint_slot(corner[2], corner[0])];
+        const int split[4][3] = {{a, ab, ca}, {ab, b, bc}, {ca, bc, c}, {ab, bc, ca}};
+        memcpy(out, split, sizeof split);
+        triangles += 4;
+    }
+    free(faces);
+    struct rod_mesh *mesh = rod_mesh_create_moving(tissue_positions(t), tissue_node_count(t), tri,
+                                                   triangles, err, errlen);
+    free(tri);
+    return mesh;
+}
+
 int tissue_coupling_link(const rod_model *m, rod_state *s, char *err, size_t errlen)
 {
-    for (int j = 0; j < m->surface_count; j++)
-        if (m->surfaces[j].solid && link_new(m, j, s, err, errlen)) return -1;
+    for (int j = 0; j < m->surface_count; j++) {
+        if (!m->surfaces[j].solid) continue;
+        if (link_new(m, j, s, err, errlen)) return -1;
+        /* the rod's contact sees the pad's surface where it is now */
+        if (m->surfaces[j].mesh)
+            rod_mesh_move(m->surfaces[j].mesh, tissue_positions(m->surfaces[j].solid), s->time);
+    }
     return 0;
 }
 
-int tissue_coupling_step(const rod_model *m, rod_state *s, char *err, size_t errlen)
+/* Puts the thread's contact on pad j's surface on the pad: each node's
+ * force (minus what the surface exerts on it) at the nearest point of the
+ * surface mesh the step's contact saw, split to that triangle's nodes by
+ * their weights. Returns the largest node force (N), 0 when none. */
+static double apply_contact(const rod_model *m, int j, const rod_state *s, const double *pad_force)
+{
+    const struct rod_mesh *mesh = m->surfaces[j].mesh;
+    if (!mesh || !pad_force) return 0.0;
+    double *load = tissue_external_forces(m->surfaces[j].solid), largest = 0.0;
+    const int *tri = rod_mesh_triangles(mesh);
+    for (int b = 0; b < s->nodes; b++) {
+        const double *f = &pad_force[3 * b];
+        if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
+        int t;
+        double w[3];
+        (void)rod_mesh_nearest(mesh, &s->position[3 * b], &t, w);
+        for (int k = 0; k < 3; k++) v3_axpy(&load[3 * tri[3 * t + k]], -w[k], f);
+        largest = fmax(largest, v3_norm(f));
+    }
+    return largest;
+}
+
+/* The compliance along its normal of each vertex of the surface's
+ * triangles the thread touches (rod_mesh_vertex_compliance), from the pad's
+ * kept factor (3 solves a vertex), renewed only when the factor is (the
+ * tag: the factorisation it is of, + 1). 0, or -1 with a message. */
+static int renew_compliance(const rod_model *m, int j, const rod_state *s, const double *pad_force,
+                            char *err, size_t errlen)
+{
+    struct rod_mesh *mesh = m->surfaces[j].mesh;
+    tissue_solid *t = m->surfaces[j].solid;
+    if (!mesh || !pad_force) return 0;
+    double *comp = rod_mesh_vertex_compliance(mesh);
+    const double tag = (double)tissue_factorisations(t) + 1.0;
+    const int *tri = rod_mesh_triangles(mesh), tets = tissue_tet_count(t),
+              per = tissue_nodes_per_tet(t), *tt = tissue_tets(t);
+    for (int b = 0; b < s->nodes; b++) {
+        const double *f = &pad_force[3 * b];
+        if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
+        int tr;
+        double w[3];
+        (void)rod_mesh_nearest(mesh, &s->position[3 * b], &tr, w);
+        for (int k = 0; k < 3; k++) {
+            const int v = tri[3 * tr + k];
+            if (comp[2 * v + 1] == tag) continue;
+            /* a tet of the vertex's, and its weights there (a corner, or an
+             * edge's midpoint of a quadratic tet) */
+            int tet = -1;
+            double bary[4] = {0.0, 0.0, 0.0, 0.0};
+            static const int ends[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+            for (int e = 0; e < tets && tet < 0; e++)
+                for (int q = 0; q < per && tet < 0; q++)
+                    if (tt[per * e + q] == v) {
+                        tet = e;
+                        if (q < 4) bary[q] = 1.0;
+                        else bary[ends[q - 4][0]] = bary[ends[q - 4][1]] = 0.5;
+                    }
+            double C[9], Cn[3];
+            if (tet < 0) continue;
+            if (tissue_point_compliance(t, tet, bary, 0.0, C, err, errlen)) return -1;
+            const double *n = rod_mesh_vertex_normal(mesh, v);
+            for (int r = 0; r < 3; r++) Cn[r] = C[3 * r] * n[0] + C[3 * r + 1] * n[1] + C[3 * r + 2] * n[2];
+            comp[2 * v] = fmax(v3_dot(n, Cn), 0.0);
+            comp[2 * v + 1] = tag;
+        }
+    }
+    return 0;
+}
+
+/* The give the thread's contact met over the pad's update just made: for
+ * each node on the surface, its force across (along the surface's normal
+ * there) changed by dl from what the pad carried before (pad_force + 3
+ * nodes: the record), and the surface there moved in by ds (the mesh still
+ * holds the pad before the update, tissue_positions after it). The
+ * vertices' compliances are their own (a point load's); a load along the
+ * thread meets their cross-compliances too, so they are scaled by the
+ * least-squares ratio of the give met to the give predicted, sum(ds dl) /
+ * sum(c dl^2), kept at 1 to 50, taken when the change is above 1e-3 of the
+ * load (an overestimate is safe: the fold then converges monotonically).
+ * The record becomes this step's forces. */
+static void measure_give(const rod_model *m, int j, const rod_state *s, double *pad_force)
+{
+    struct rod_mesh *mesh = m->surfaces[j].mesh;
+    if (!mesh || !pad_force) return;
+    const int n3 = 3 * s->nodes, *tri = rod_mesh_triangles(mesh);
+    const double *before = rod_mesh_vertices(mesh), *after = tissue_positions(m->surfaces[j].solid);
+    const double scale = rod_mesh_compliance_scale(mesh);
+    double met = 0.0, predicted = 0.0, change = 0.0, load = 0.0;
+    for (int b = 0; b < s->nodes; b++) {
+        const double *f = &pad_force[3 * b], *f_before = &pad_force[n3 + 3 * b];
+        if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0 && f_before[0] == 0.0 &&
+            f_before[1] == 0.0 && f_before[2] == 0.0)
+            continue;
+        int t;
+        double w[3], n[3] = {0.0, 0.0, 0.0}, moved[3] = {0.0, 0.0, 0.0};
+        (void)rod_mesh_nearest(mesh, &s->position[3 * b], &t, w);
+        for (int k = 0; k < 3; k++) {
+            const int v = tri[3 * t + k];
+            v3_axpy(n, w[k], rod_mesh_vertex_normal(mesh, v));
+            for (int c = 0; c < 3; c++) moved[c] += w[k] * (after[3 * v + c] - before[3 * v + c]);
+        }
+        const double len = v3_norm(n);
+        if (!(len > 0.0)) continue;
+        v3_scale(n, n, 1.0 / len);
+        const double dl = v3_dot(f, n) - v3_dot(f_before, n), ds = -v3_dot(moved, n);
+        const double c = rod_mesh_point_compliance(mesh, t, w) / scale;
+        met += ds * dl;
+        predicted += c * dl * dl;
+        change += fabs(dl);
+        load += fabs(v3_dot(f, n));
+    }
+    if (predicted > 0.0 && change > 1e-2 * load)
+        rod_mesh_set_compliance_scale(mesh, fmin(fmax(met / predicted, 1.0), 50.0));
+    memcpy(pad_force + n3, pad_force, (size_t)n3 * sizeof(double));
+}
+
+/* Pad j's loads: the linked punctures' forces and the contact's forces
+ * `contact` (nodes x 3, may be NULL). Sets *any when a puncture loads it;
+ * returns apply_contact's largest node force. */
+static double load_pad(const rod_model *m, int j, const rod_state *s, const double *contact, int *any)
+{
+    tissue_solid *t = m->surfaces[j].solid;
+    tissue_clear_forces(t);
+    *any = 0;
+    for (int k = 0; k < s->puncture_count; k++) {
+        const rod_puncture_state *ps = &s->puncture[k];
+        if (ps->linked != j + 1) continue;
+        tissue_apply_point_force(t, ps->tet, ps->bary, ps->force);
+        *any = 1;
+    }
+    return apply_contact(m, j, s, contact);
+}
+
+/* The pad's motion apart from the thread's contact, for the friction's
+ * surface velocity: with the thread on its surface, the pad first takes an
+ * update under the punctures' new forces and the contact's forces as the
+ * pad carried them (the record, pad_force + 3 nodes), and the surface mesh
+ * moves there, its velocities that change over the step; the contact's
+ * change then acts in the update after (the caller's), which moves the
+ * surface only (rod_mesh_move at the same time). The velocity thus leaves
+ * out the thread's own dent following it one step late, which the
+ * friction would drag the thread with. The loads are left as the caller
+ * set them (the punctures and the contact's new forces). 0, or -1 with a
+ * message. */
+static int contact_apart(const rod_model *m, int j, const rod_state *s, const double *pad_force,
+                         double largest, char *err, size_t errlen)
+{
+    struct rod_mesh *mesh = m->surfaces[j].mesh;
+    tissue_solid *t = m->surfaces[j].solid;
+    if (!mesh || !pad_force) return 0;
+    const double *record = pad_force + 3 * s->nodes;
+    double before = 0.0;
+    for (int k = 0; k < 3 * s->nodes; k++) before = fmax(before, fabs(record[k]));
+    if (!(largest > 0.0) && !(before > 0.0)) return 0;
+    int any;
+    (void)load_pad(m, j, s, record, &any);
+    for (int k = 0; k < s->puncture_count; k++)
+        if (s->puncture[k].linked == j + 1) largest = fmax(largest, v3_norm(s->puncture[k].force));
+    if (tissue_solve_static_to(t, 1e-5 * fmax(largest, before), 1, NULL, err, errlen)) return -1;
+    (void)load_pad(m, j, s, pad_force, &any);
+    rod_mesh_move(mesh, tissue_positions(t), s->time);
+    return 0;
+}
+
+int tissue_coupling_step(const rod_model *m, rod_state *s, double *pad_force, char *err,
+                         size_t errlen)
 {
     for (int j = 0; j < m->surface_count; j++) {
         tissue_solid *t = m->surfaces[j].solid;
         if (!t) continue;
         if (link_new(m, j, s, err, errlen)) return -1;
-        tissue_clear_forces(t);
-        int any = 0;
-        for (int k = 0; k < s->puncture_count; k++) {
-            rod_puncture_state *ps = &s->puncture[k];
-            if (ps->linked != j + 1) continue;
-            tissue_apply_point_force(t, ps->tet, ps->bary, ps->force);
-            any = 1;
+        /* loads left from the last step: the pad is solved once more
+         * without them when nothing loads it now */
+        const double *load = tissue_external_forces(t);
+        int loaded = 0;
+        for (int k = 0; k < 3 * tissue_node_count(t) && !loaded; k++) loaded = load[k] != 0.0;
+        /* the punctures and the thread lying on the pad's surface (lagged
+         * like the cross-compliance: the step's contact saw the surface
+         * where the last equilibrium left it) */
+        int any;
+        double largest = load_pad(m, j, s, pad_force, &any);
+        if (!any && !(largest > 0.0) && !loaded) continue;
+        char why[256];
+        if (contact_apart(m, j, s, pad_force, largest, why, sizeof why)) {
+            snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
+                     m->surfaces[j].line, s->time, why);
+            return -1;
         }
-        if (!any) continue;
         /* one Newton update a step, from the last equilibrium with the kept
          * factor (the residual falls about a hundredfold per update), or none
          * once the residual is below 1e-5 of the largest force at a
-         * puncture: the next step's update carries the rest over */
-        double largest = 0.0;
+         * puncture or a node on the surface: the next step's update carries
+         * the rest over */
         for (int k = 0; k < s->puncture_count; k++)
             if (s->puncture[k].linked == j + 1) largest = fmax(largest, v3_norm(s->puncture[k].force));
-        char why[256];
         if (tissue_solve_static_to(t, 1e-5 * largest, 1, NULL, why, sizeof why)) {
+            snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
+                     m->surfaces[j].line, s->time, why);
+            return -1;
+        }
+        measure_give(m, j, s, pad_force);
+        if (renew_compliance(m, j, s, pad_force, why, sizeof why)) {
             snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
                      m->surfaces[j].line, s->time, why);
             return -1;
