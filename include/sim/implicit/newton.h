@@ -11,7 +11,9 @@
 #include "sim/implicit/work.h"
 
 /* The iterations a patient attempt (w->patient: the step's last retry, and
- * the steps held patient after it) allows, with no stall test. A rope on a
+ * the steps held patient after it) allows, with no stall test, as a
+ * multiple of solver.newton_max_iterations (25 by default: 100), so that
+ * key still bounds every attempt's work. A rope on a
  * floor under strands piled on it turns some nodes between stick and slip
  * at most iterations, and the line search cuts the step to 1/8 - 1/16 for
  * ten or more of them before Newton settles (20 - 95 iterations at the
@@ -19,7 +21,7 @@
  * node's sink over a step (g dt^2) falls below the iterates' error, and
  * every other node of the strand on the floor turns between touching and
  * not (docs/decisions/draft-pile-planar.md) */
-#define PATIENT_ITERATIONS 100
+#define PATIENT_FACTOR 4
 
 /* 1 when the factorisation made for dt_factored serves a step of dt.
  *
@@ -47,7 +49,7 @@ int implicit_same_dt(double dt_factored, double dt);
 /* Newton on the step t -> t + dt from the first iterate in x, within the
  * step's budget of iterations (w->budget); on success (0) x holds the
  * solution; -1 when it does not converge (the caller splits the step).
- * With w->patient: up to PATIENT_ITERATIONS, no stall test; sets
+ * With w->patient: up to PATIENT_FACTOR times as many, no stall test; sets
  * w->patience_used when it went past either.
  * report->newton_iterations: the iterations taken. */
 int implicit_newton(implicit_work *w, const rod_model *m, double t, double dt, rod_report *report);

@@ -106,7 +106,7 @@ typedef struct implicit_work {
     int contact_fd;        /* 1: this attempt takes the whole Jacobian by finite differences
                               (step's second retry) */
     int patient;           /* 1: this attempt lets Newton run past the contact stall test, up to
-                              PATIENT_ITERATIONS (step's last retry, held steps; newton.h) */
+                              PATIENT_FACTOR x newton_max_iterations (step's last retry, held steps; newton.h) */
     long patient_steps;    /* steps since create that needed it (step.c's note_patient) */
     double patient_first;  /* s: the time the first of them started at */
     int patient_hold;      /* steps left that start patient (PATIENT_HOLD_STEPS) */

@@ -293,8 +293,7 @@ static int stalled(implicit_work *w, const rod_model *m, int it, newton_progress
 int implicit_newton(implicit_work *w, const rod_model *m, double t, double dt, rod_report *report)
 {
     const double tol = m->options.newton_tolerance;
-    const int max_it = w->patient && PATIENT_ITERATIONS > m->options.newton_max_iterations
-                           ? PATIENT_ITERATIONS : m->options.newton_max_iterations;
+    const int max_it = (w->patient ? PATIENT_FACTOR : 1) * m->options.newton_max_iterations;
     if (start_factorisation(w, m, t, dt)) return -1;
     implicit_evaluate_iterate_once(w, m, t, dt);
     newton_progress pr = {.fresh = 0};

@@ -34,7 +34,7 @@
  * MAX_SPLIT_DEPTH and this budget, the rest by the node count
  * (docs/decisions/0020-stalled-step-splits.md) */
 #define STEP_ITERATION_BUDGET 4000
-/* After a step that needed patience (PATIENT_ITERATIONS: the last retry
+/* After a step that needed patience (PATIENT_FACTOR: the last retry
  * solved it, or a held step went past the stall test), this many steps
  * start patient, without the failed tries first: such steps come in runs (a
  * strand settling onto another on a floor), and the failed tries of one
@@ -190,7 +190,7 @@ static void hold_split_depth(implicit_work *w, double dt, int solved)
 
 /* Counts a step that needed patience, in report's warning (its count
  * kept up to date; another warning that came first stays) */
-static void note_patient(implicit_work *w, rod_report *report)
+static void note_patient(implicit_work *w, const rod_model *m, rod_report *report)
 {
     static const char what[] = "implicit scheme: Newton's method was let run past its stall test";
     w->patient_steps++;
@@ -199,7 +199,7 @@ static void note_patient(implicit_work *w, rod_report *report)
     snprintf(report->warning, sizeof report->warning,
              "%s (up to %d iterations at the step's dt, not split when slow) at %ld step%s, the "
              "first at t = %.6g s (contact turning between stick and slip at most iterations)",
-             what, PATIENT_ITERATIONS, w->patient_steps, w->patient_steps == 1 ? "" : "s",
+             what, PATIENT_FACTOR * m->options.newton_max_iterations, w->patient_steps, w->patient_steps == 1 ? "" : "s",
              w->patient_first);
 }
 
@@ -211,7 +211,7 @@ static void note_patient(implicit_work *w, rod_report *report)
  * straight, and the exact Jacobian, as symmetric as the thread, keeps
  * Newton on that line, its end pressed ever harder while the compliance
  * caps its sink (docs/decisions/0020-stalled-step-splits.md). Last, a
- * patient attempt (PATIENT_ITERATIONS): the exact Jacobian, Newton let run
+ * patient attempt (PATIENT_FACTOR): the exact Jacobian, Newton let run
  * past the stall test; it starts PATIENT_HOLD_STEPS patient steps, and it
  * and those of them that needed patience are counted in report's warning.
  * Only a step every earlier try failed gets here, so no run that converged
@@ -229,7 +229,7 @@ static int retry_with_differences(implicit_work *w, const rod_model *m, rod_stat
         w->budget = step_budget(m);
         split = split_step(w, m, s, dt, report, 0);
         if (split == 0 && w->patient) {
-            note_patient(w, report);
+            note_patient(w, m, report);
             w->patient_hold = PATIENT_HOLD_STEPS;
         }
         w->patient = 0;
@@ -380,7 +380,7 @@ rod_status implicit_step(implicit_work *w, const rod_model *m, rod_state *s, dou
     if (w->patient_hold > 0) w->patient_hold--;
     int split = split_step(w, m, s, dt, report, 0);
     if (split == 0 && w->patience_used) {
-        note_patient(w, report);
+        note_patient(w, m, report);
         w->patient_hold = PATIENT_HOLD_STEPS;
     }
     w->patient = 0;
