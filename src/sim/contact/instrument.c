@@ -75,10 +75,24 @@ void instrument_contact_prepare(rod_contact *ct, const rod_model *m, const rod_s
         rod_pose pose;
         double jaw;
         rod_instrument_pose(in, t1, &pose, &jaw);
-        const int jaws_off = in->needle || jaw < 2.0 * ROD_JAW_CLOSED ||
-                             (k < ROD_MAX_INSTRUMENTS && s->grasp[k].held);
+        /* Jaws holding the needle touch nothing. Nearly closed jaws (below
+         * twice the grasping opening) and jaws holding the thread leave out
+         * the nodes inside them at the step's start (the thread held or
+         * being pinched between them: closed capsules overlap there) and,
+         * when holding, the thread within their length (plus a jaw's
+         * thickness) of the held point; they touch the rest, so that loops
+         * wound round them (an instrument tie) slide along them and off
+         * their tip. */
+        const int held = k < ROD_MAX_INSTRUMENTS && s->grasp[k].held;
+        const int jaws_off = in->needle;
+        const int jaws_inside_off = held || jaw < 2.0 * ROD_JAW_CLOSED;
+        double lj, rj, rs;
+        rod_instrument_dimensions(in, &lj, &rj, &rs);
+        const double held_s = held ? s->grasp[k].s : 0.0, window = lj + 2.0 * rj;
         for (int q = 0; q < ROD_INSTRUMENT_CAPSULES; q++) {
             const int off = jaws_off && c0[q].jaw;
+            const int near_held = held && c0[q].jaw;
+            const int inside_off = jaws_inside_off && c0[q].jaw;
             double da[3], db[3];
             v3_sub(da, c1[q].a, c0[q].a);
             v3_sub(db, c1[q].b, c0[q].b);
@@ -86,7 +100,7 @@ void instrument_contact_prepare(rod_contact *ct, const rod_model *m, const rod_s
             for (int b = 0; b < m->nodes; b++) {
                 double *st = &ct->instrument_start[START_STRIDE * ((size_t)b * (size_t)per +
                                                                    (size_t)(k * ROD_INSTRUMENT_CAPSULES + q))];
-                if (off) {
+                if (off || (near_held && fabs(b * m->ds - held_s) < window)) {
                     st[0] = INFINITY;
                     continue;
                 }
@@ -103,6 +117,10 @@ void instrument_contact_prepare(rod_contact *ct, const rod_model *m, const rod_s
                 if (dist > 0.0) v3_scale(n, d, 1.0 / dist);
                 else v3_set(n, 0.0, 0.0, 1.0);
                 st[0] = dist - c0[q].radius - grow;
+                if (inside_off && st[0] < -0.05 * grow) {
+                    st[0] = INFINITY;
+                    continue;
+                }
                 v3_copy(st + 1, n);
                 for (int c = 0; c < 3; c++) {
                     st[4 + c] = q1[c] + (c0[q].radius + grow) * n[c];
