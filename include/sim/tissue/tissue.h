@@ -101,6 +101,18 @@ void tissue_reaction(tissue_solid *t, int node, double r[3]);
 double tissue_kinetic_energy(const tissue_solid *t); /* J */
 double tissue_elastic_energy(const tissue_solid *t); /* J; HUGE_VAL when a tet is inverted */
 double tissue_potential_energy(const tissue_solid *t); /* J: of gravity and the external forces */
+/* The wound's lips (tissue_config lip_stiffness): the pairs of nodes
+ * coincident at rest across the slit (its faces' corners and, quadratic,
+ * edge midpoints), each pressed apart along the slit's axis by k g when
+ * their separation g (far minus near, along the axis, m) is negative, k its
+ * penalty (N/m); frictionless. Returns the pair count (0 without a wound or
+ * with lip_stiffness 0); any pointer may be NULL. */
+int tissue_lip_pairs(const tissue_solid *t, const int **near_nodes, const int **far_nodes,
+                     const double **stiffness);
+/* The lips' penalty energy (J, included in tissue_elastic_energy), their
+ * least separation (m; negative where they cross; 0 without pairs) and the
+ * total force pressing them apart (N, >= 0); the pointers may be NULL. */
+double tissue_lip_contact(const tissue_solid *t, double *min_separation, double *force);
 /* The wound's opening (m): the largest separation, across the slit, of a
  * node pair on the top face; 0 without a wound. */
 double tissue_wound_gap(const tissue_solid *t);

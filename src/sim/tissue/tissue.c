@@ -49,6 +49,15 @@ struct tissue_solid {
     double static_tol;     /* N: tissue_solve_static_to's residual bound (0: the default) */
     int static_iterations; /* tissue_solve_static_to's most iterations (0: MAX_NEWTON) */
     double factor_mass, factor_stiffness; /* the coefficients L was made with */
+    /* the wound's lips: node pairs coincident at rest across the slit (its
+     * faces' corners and, quadratic, edge midpoints), pressed apart along the
+     * slit's axis by a penalty when they cross (frictionless) */
+    int lip_pairs;
+    int *lip_near, *lip_far; /* (lip_pairs): the near (smaller coordinate) and far node */
+    double *lip_k;         /* (lip_pairs), N/m: lip_stiffness E A / h, A the near node's
+                              share of the lip's area */
+    int *lip_rank;         /* (lip_pairs): 3 x the rank of the smaller node in the larger
+                              one's column list */
     cholmod_common cm;
     cholmod_sparse *A;     /* upper triangle, stype 1 */
     cholmod_factor *L;
@@ -74,7 +83,8 @@ static int build_pattern(tissue_solid *t)
 {
     const tissue_mesh *m = &t->mesh;
     int npe = t->per_tet;
-    size_t pairs_max = (size_t)m->tets * (size_t)(npe * (npe - 1) / 2) + (size_t)t->nodes;
+    size_t pairs_max = (size_t)m->tets * (size_t)(npe * (npe - 1) / 2) + (size_t)t->nodes +
+                       (size_t)t->lip_pairs;
     long long *pairs = malloc(sizeof *pairs * pairs_max);
     int *first = malloc(sizeof(int) * (size_t)(t->nodes + 1));
     if (!pairs || !first) {
@@ -91,6 +101,11 @@ static int build_pattern(tissue_solid *t)
                 long long a = tt[p] < tt[q] ? tt[p] : tt[q], b = tt[p] < tt[q] ? tt[q] : tt[p];
                 pairs[np++] = b * t->nodes + a; /* sorted by b, then a */
             }
+    }
+    for (int p = 0; p < t->lip_pairs; p++) {
+        long long a = t->lip_near[p] < t->lip_far[p] ? t->lip_near[p] : t->lip_far[p];
+        long long b = t->lip_near[p] < t->lip_far[p] ? t->lip_far[p] : t->lip_near[p];
+        pairs[np++] = b * t->nodes + a;
     }
     qsort(pairs, np, sizeof *pairs, compare_pairs);
     size_t unique = 0;
@@ -140,8 +155,126 @@ static int build_pattern(tissue_solid *t)
                 t->rank[(size_t)npe * npe * e + npe * p + q] = 3 * (lo - first[b]);
             }
     }
+    for (int p = 0; p < t->lip_pairs; p++) {
+        int a = t->lip_near[p] < t->lip_far[p] ? t->lip_near[p] : t->lip_far[p];
+        int b = t->lip_near[p] < t->lip_far[p] ? t->lip_far[p] : t->lip_near[p];
+        int lo = first[b], hi = first[b + 1] - 1;
+        while (lo < hi) {
+            int mid = (lo + hi) / 2;
+            if (pairs[mid] % t->nodes < a) lo = mid + 1; else hi = mid;
+        }
+        t->lip_rank[p] = 3 * (lo - first[b]);
+    }
     free(pairs);
     free(first);
+    return 0;
+}
+
+/* For find_lips' sort: lip nodes by their rest place in the slit's plane. */
+static const double *lip_sort_rest;
+static int lip_sort_along;
+
+static int compare_lip_nodes(const void *pa, const void *pb)
+{
+    const double *a = lip_sort_rest + 3 * *(const int *)pa, *b = lip_sort_rest + 3 * *(const int *)pb;
+    const int along = lip_sort_along;
+    if (a[along] != b[along]) return a[along] < b[along] ? -1 : 1;
+    if (a[2] != b[2]) return a[2] < b[2] ? -1 : 1;
+    return (*(const int *)pa > *(const int *)pb) - (*(const int *)pa < *(const int *)pb);
+}
+
+/* The wound's lips: the nodes in the slit's plane used by tets of one side
+ * only, paired with the node of the other side at the same rest place (the
+ * slit's duplicated corners and, quadratic, its faces' edge midpoints), and
+ * each pair's penalty stiffness from the near node's share of the lip's
+ * area (a third of each face triangle, a sixth per node of a quadratic one).
+ * 0, or -1 when out of memory. */
+static int find_lips(tissue_solid *t)
+{
+    const tissue_mesh *m = &t->mesh;
+    const int axis = m->slit_axis, npe = t->per_tet;
+    if (axis < 0 || m->slit_pairs == 0 || !(t->config.lip_stiffness > 0.0)) return 0;
+    const double plane = m->rest[3 * m->slit_node[0] + axis];
+    const double tol = 1e-9 * t->config.element_size;
+    unsigned char *side = calloc((size_t)t->nodes, 1); /* bit 0: a near tet uses it, 1: far */
+    int *lip = malloc(sizeof(int) * (size_t)t->nodes);
+    double *area = calloc((size_t)t->nodes, sizeof(double));
+    if (!side || !lip || !area) {
+        free(side);
+        free(lip);
+        free(area);
+        return -1;
+    }
+    for (int e = 0; e < m->tets; e++) {
+        double centre = 0.0;
+        for (int k = 0; k < 4; k++) centre += 0.25 * m->rest[3 * m->tet[npe * e + k] + axis];
+        for (int k = 0; k < npe; k++) side[m->tet[npe * e + k]] |= centre < plane ? 1u : 2u;
+    }
+    int count = 0;
+    for (int n = 0; n < t->nodes; n++)
+        if (fabs(m->rest[3 * n + axis] - plane) < tol && (side[n] == 1 || side[n] == 2))
+            lip[count++] = n;
+    /* each near tet's faces in the plane with every node a near lip node */
+    static const int face_of[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+    static const int edge_node[4][4] = {{-1, 4, 5, 6}, {4, -1, 7, 8}, {5, 7, -1, 9}, {6, 8, 9, -1}};
+    for (int e = 0; e < m->tets; e++) {
+        const int *tt = m->tet + npe * e;
+        for (int f = 0; f < 4; f++) {
+            /* in the plane, and of the lip (a node of it not shared with the
+             * far side: the uncut tissue's faces have none) */
+            int in = 1, lip_node = 0;
+            for (int v = 0; v < 3 && in; v++) {
+                int n = tt[face_of[f][v]];
+                in = side[n] != 2 && fabs(m->rest[3 * n + axis] - plane) < tol;
+                lip_node |= side[n] == 1;
+            }
+            if (!in || !lip_node) continue;
+            const double *a = m->rest + 3 * tt[face_of[f][0]], *b = m->rest + 3 * tt[face_of[f][1]],
+                         *c = m->rest + 3 * tt[face_of[f][2]];
+            double u[3], w[3];
+            for (int i = 0; i < 3; i++) {
+                u[i] = b[i] - a[i];
+                w[i] = c[i] - a[i];
+            }
+            double cr[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+            double A = 0.5 * sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+            /* (a shared node's share is lost: it cannot part from the far side) */
+            for (int v = 0; v < 3; v++) area[tt[face_of[f][v]]] += A / (npe == 4 ? 3.0 : 6.0);
+            if (npe == 10)
+                for (int v = 0; v < 3; v++)
+                    area[tt[edge_node[face_of[f][v]][face_of[f][(v + 1) % 3]]]] += A / 6.0;
+        }
+    }
+    lip_sort_rest = m->rest;
+    lip_sort_along = 1 - axis;
+    qsort(lip, (size_t)count, sizeof *lip, compare_lip_nodes);
+    t->lip_near = malloc(sizeof(int) * (size_t)(count / 2 + 1));
+    t->lip_far = malloc(sizeof(int) * (size_t)(count / 2 + 1));
+    t->lip_k = malloc(sizeof(double) * (size_t)(count / 2 + 1));
+    t->lip_rank = malloc(sizeof(int) * (size_t)(count / 2 + 1));
+    if (!t->lip_near || !t->lip_far || !t->lip_k || !t->lip_rank) {
+        free(side);
+        free(lip);
+        free(area);
+        return -1;
+    }
+    /* the node spacing at the wound: the penalty per unit area is E / h times lip_stiffness */
+    const double h = t->config.element_size * t->config.wound_refine / (npe == 10 ? 2.0 : 1.0);
+    for (int k = 0; k + 1 < count; k++) {
+        const double *a = m->rest + 3 * lip[k], *b = m->rest + 3 * lip[k + 1];
+        if (fabs(a[0] - b[0]) > tol || fabs(a[1] - b[1]) > tol || fabs(a[2] - b[2]) > tol ||
+            side[lip[k]] == side[lip[k + 1]])
+            continue;
+        int near = side[lip[k]] == 1 ? lip[k] : lip[k + 1];
+        int far = near == lip[k] ? lip[k + 1] : lip[k];
+        t->lip_near[t->lip_pairs] = near;
+        t->lip_far[t->lip_pairs] = far;
+        t->lip_k[t->lip_pairs++] = t->config.lip_stiffness * t->config.youngs_modulus * area[near] / h;
+        k++;
+    }
+    free(side);
+    free(lip);
+    free(area);
     return 0;
 }
 
@@ -172,6 +305,10 @@ void tissue_destroy(tissue_solid *t)
     free(t->target);
     free(t->fixed);
     free(t->rank);
+    free(t->lip_near);
+    free(t->lip_far);
+    free(t->lip_k);
+    free(t->lip_rank);
     free(t);
 }
 
@@ -215,7 +352,7 @@ tissue_solid *tissue_create(const tissue_config *c, char *err, size_t errlen)
     t->rank = malloc(sizeof(int) * (size_t)(npe * npe) * (size_t)m->tets);
     if (!t->dm_inverse || !t->volume || !t->mass || !t->weight || !t->x || !t->v || !t->x_start ||
         !t->v_start || !t->a_start || !t->force || !t->internal || !t->damping_force ||
-        !t->residual || !t->target || !t->fixed || !t->rank || build_pattern(t)) {
+        !t->residual || !t->target || !t->fixed || !t->rank || find_lips(t) || build_pattern(t)) {
         snprintf(err, errlen, "element_size: out of memory for the tissue's %d nodes", t->nodes);
         tissue_destroy(t);
         return NULL;
@@ -386,6 +523,21 @@ static int assemble(tissue_solid *t, double mass_coef, double stiffness)
                     }
                 }
             }
+    }
+    /* the lips: E = k/2 g^2 for a pair crossed by g < 0 along the slit's axis */
+    const int axis = m->slit_axis;
+    for (int p = 0; p < t->lip_pairs; p++) {
+        const int a = t->lip_near[p], b = t->lip_far[p];
+        const double sep = t->x[3 * b + axis] - t->x[3 * a + axis], k = t->lip_k[p];
+        if (!(sep < 0.0)) continue;
+        t->internal[3 * b + axis] += k * sep;
+        t->internal[3 * a + axis] -= k * sep;
+        if (!matrix) continue;
+        const int da = 3 * a + axis, db = 3 * b + axis, hi = a < b ? b : a;
+        if (!t->fixed[da]) Ax[Ap[da + 1] - 1] += stiffness * k;
+        if (!t->fixed[db]) Ax[Ap[db + 1] - 1] += stiffness * k;
+        if (!t->fixed[da] && !t->fixed[db])
+            Ax[Ap[3 * hi + axis] + t->lip_rank[p] + axis] -= stiffness * k;
     }
     if (matrix)
         for (int d = 0; d < t->dofs; d++) /* the diagonal closes each column */
@@ -664,7 +816,33 @@ double tissue_elastic_energy(const tissue_solid *t)
         if (element(t, e, &w, NULL, NULL)) return HUGE_VAL;
         sum += w;
     }
-    return sum;
+    return sum + tissue_lip_contact(t, NULL, NULL);
+}
+
+double tissue_lip_contact(const tissue_solid *t, double *min_separation, double *force)
+{
+    const int axis = t->mesh.slit_axis;
+    double energy = 0.0, least = HUGE_VAL, total = 0.0;
+    for (int p = 0; p < t->lip_pairs; p++) {
+        const double g = t->x[3 * t->lip_far[p] + axis] - t->x[3 * t->lip_near[p] + axis];
+        least = fmin(least, g);
+        if (g < 0.0) {
+            energy += 0.5 * t->lip_k[p] * g * g;
+            total -= t->lip_k[p] * g;
+        }
+    }
+    if (min_separation) *min_separation = t->lip_pairs ? least : 0.0;
+    if (force) *force = total;
+    return energy;
+}
+
+int tissue_lip_pairs(const tissue_solid *t, const int **near_nodes, const int **far_nodes,
+                     const double **stiffness)
+{
+    if (near_nodes) *near_nodes = t->lip_near;
+    if (far_nodes) *far_nodes = t->lip_far;
+    if (stiffness) *stiffness = t->lip_k;
+    return t->lip_pairs;
 }
 
 double tissue_potential_energy(const tissue_solid *t)
