@@ -175,6 +175,9 @@ typedef struct rod_puncture_state {
     double offset[3];  /* m: point - the material point's position (constant) */
     double compliance[9]; /* m/N, 3 x 3 row-major: the point's static displacement per
                              newton at it, at the pad's last equilibrium */
+    double cross[ROD_MAX_PUNCTURES][9]; /* m/N, 3 x 3 row-major each: how far the point moves
+                             per newton at puncture l of the same pad (l != this one; 0 for
+                             the others), at the pad's last equilibrium */
     double pad_force[3];  /* N: the force on the pad there at its last equilibrium */
     long compliance_factor; /* the pad's factorisation the compliance was taken from */
 } rod_puncture_state;

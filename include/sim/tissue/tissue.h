@@ -75,6 +75,11 @@ int tissue_locate(const tissue_solid *t, const double p[3], int *tet, double bar
  * factorises once; returns 0, or -1 with a message. */
 int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], double dt, double C[9],
                             char *err, size_t errlen);
+/* The same for `count` material points together (tets[p], bary[p]): C
+ * (3 count x 3 count, row-major, m/N), block (o, p) how far point o moves
+ * per newton at point p; 3 count solves, as many as each point alone. */
+int tissue_points_compliance(tissue_solid *t, int count, const int *tets, const double (*bary)[4],
+                             double dt, double *C, char *err, size_t errlen);
 
 /* One implicit step of dt (s). 0, or -1 with a message (a tet inverted,
  * Newton did not converge, the matrix is not positive definite): then the

@@ -6,11 +6,12 @@
  * it. The pad is quasi-static: after every rod step it is solved to
  * equilibrium under the forces the thread exerts at its punctures, and the
  * punctures move with it. Within the rod's step the pad's compliance at each
- * puncture (3 x 3, at the last equilibrium) is folded into the puncture's
- * law (puncture.h): the point moves by C (F - F_last) with the force F on
- * the pad, so the coupling is implicit at each puncture; between
- * punctures (the pad's cross-compliance) it lags one step
- * (docs/decisions/0070-tissue-coupling.md). */
+ * puncture and between every two of a pad's punctures (the 3P x 3P block
+ * of its P punctures, at the last equilibrium) is folded into the
+ * punctures' laws (puncture.h), solved together: a point moves by
+ * sum_l C_kl (F_l - F_l,last) with the forces F_l on the pad, so the
+ * coupling is implicit within the step (docs/decisions/0070-tissue-coupling.md;
+ * the cross blocks: draft-stitch-compliance.md). */
 #ifndef RODSIM_SIM_TISSUE_TISSUE_COUPLING_H
 #define RODSIM_SIM_TISSUE_TISSUE_COUPLING_H
 
@@ -21,8 +22,10 @@
 /* After a rod step (and before the first): links the punctures not yet
  * linked that lie in an elastic pad (made there by the needle, or given in
  * the scene inside its box), puts every linked puncture's force on its pad,
- * solves each pad's equilibrium, moves the punctures with their material
- * points and renews their compliances. 0, or -1 with a message (the pad's
+ * brings each pad towards equilibrium (up to two Newton updates), moves
+ * the punctures with their material points and renews their compliances
+ * (all of a pad's together, when its factor was renewed or a puncture
+ * linked). 0, or -1 with a message (the pad's
  * Newton failed: the state's punctures are left as they were). A model
  * without an elastic pad: nothing, 0. */
 int tissue_coupling_step(const rod_model *m, rod_state *s, char *err, size_t errlen);

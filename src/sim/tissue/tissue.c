@@ -721,16 +721,43 @@ int tissue_step(tissue_solid *t, double dt, tissue_step_info *info, char *err, s
     return 0;
 }
 
+/* Statics by continuation from the start x_start, where the residual is
+ * R0: the equilibrium of R(x) = (1 - lambda) R0 for lambda up to 1 in
+ * `parts` equal steps, each Newton from the last. 0, or -1 (x is left
+ * anywhere, the forces as they were). */
+static int solve_by_parts(tissue_solid *t, int parts, tissue_step_info *info, char *err,
+                          size_t errlen)
+{
+    double *saved = t->v_start, *r0 = t->a_start; /* unused by statics */
+    const size_t bytes = sizeof(double) * (size_t)t->dofs;
+    memcpy(t->x, t->x_start, bytes);
+    memcpy(saved, t->force, bytes);
+    if (assemble(t, 0.0, 0.0)) return -1;
+    for (int d = 0; d < t->dofs; d++)
+        r0[d] = t->fixed[d] ? 0.0 : t->internal[d] - t->force[d] - t->weight[d / 3] * t->config.gravity[d % 3];
+    int rc = 0;
+    for (int k = 1; k <= parts && rc == 0; k++) {
+        const double rest = 1.0 - (double)k / parts;
+        for (int d = 0; d < t->dofs; d++) t->force[d] = saved[d] + rest * r0[d];
+        rc = newton(t, 0.0, info, err, errlen);
+    }
+    memcpy(t->force, saved, bytes);
+    return rc;
+}
+
 int tissue_solve_static(tissue_solid *t, tissue_step_info *info, char *err, size_t errlen)
 {
     if (info) memset(info, 0, sizeof *info);
     memset(t->v, 0, sizeof(double) * (size_t)t->dofs);
     memcpy(t->x_start, t->x, sizeof(double) * (size_t)t->dofs);
-    if (newton(t, 0.0, info, err, errlen)) {
-        memcpy(t->x, t->x_start, sizeof(double) * (size_t)t->dofs);
-        return -1;
-    }
-    return 0;
+    int rc = newton(t, 0.0, info, err, errlen);
+    /* far from equilibrium (a fine mesh's slit under the pretension: the
+     * tangent goes indefinite on the way) the rest is reached in parts;
+     * not for a bounded solve, which the caller carries over */
+    for (int parts = 4; rc && t->static_iterations == 0 && parts <= 64; parts *= 4)
+        rc = solve_by_parts(t, parts, info, err, errlen);
+    if (rc) memcpy(t->x, t->x_start, sizeof(double) * (size_t)t->dofs);
+    return rc;
 }
 
 int tissue_solve_static_to(tissue_solid *t, double force_tol, int max_iterations,
@@ -762,6 +789,13 @@ void tissue_reaction(tissue_solid *t, int node, double r[3])
 int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], double dt, double C[9],
                             char *err, size_t errlen)
 {
+    const double(*weights)[4] = (const double(*)[4])bary;
+    return tissue_points_compliance(t, 1, &tet, weights, dt, C, err, errlen);
+}
+
+int tissue_points_compliance(tissue_solid *t, int count, const int *tets, const double (*bary)[4],
+                             double dt, double *C, char *err, size_t errlen)
+{
     const tissue_config *c = &t->config;
     int newmark = c->integrator == TISSUE_NEWMARK;
     double mass_coef = dt > 0.0 ? (newmark ? 4.0 : 1.0) / (dt * dt) : 0.0;
@@ -775,27 +809,35 @@ int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], doub
     }
     double *rhs = t->rhs->x, N[10];
     int npe = t->per_tet;
-    const int *tt = t->mesh.tet + npe * tet;
-    tissue_shape(npe, bary, N);
-    for (int k = 0; k < 3; k++) {
-        memset(rhs, 0, sizeof(double) * (size_t)t->dofs);
-        for (int q = 0; q < npe; q++) {
-            int d = 3 * tt[q] + k;
-            if (!t->fixed[d]) rhs[d] += N[q];
-        }
-        if (factor_solve(t, NULL, renew && k == 0, mass_coef, stiffness)) {
-            snprintf(err, errlen, "the tissue's matrix is not positive definite (nothing held?)");
-            return -1;
-        }
-        const double *s = t->sol->x;
-        /* tissue_step takes the start's acceleration under the same loads:
-         * a force present over a Newmark step acts at both ends of it, and
-         * moves the point twice A^-1 f */
-        double scale = dt > 0.0 && newmark ? 2.0 : 1.0;
-        for (int i = 0; i < 3; i++) {
-            double u = 0.0;
-            for (int q = 0; q < npe; q++) u += N[q] * s[3 * tt[q] + i];
-            C[3 * i + k] = scale * u;
+    const int row = 3 * count;
+    for (int p = 0; p < count; p++) {
+        const int *tt = t->mesh.tet + npe * tets[p];
+        tissue_shape(npe, bary[p], N);
+        for (int k = 0; k < 3; k++) {
+            memset(rhs, 0, sizeof(double) * (size_t)t->dofs);
+            for (int q = 0; q < npe; q++) {
+                int d = 3 * tt[q] + k;
+                if (!t->fixed[d]) rhs[d] += N[q];
+            }
+            if (factor_solve(t, NULL, renew && p == 0 && k == 0, mass_coef, stiffness)) {
+                snprintf(err, errlen, "the tissue's matrix is not positive definite (nothing held?)");
+                return -1;
+            }
+            const double *s = t->sol->x;
+            /* tissue_step takes the start's acceleration under the same loads:
+             * a force present over a Newmark step acts at both ends of it, and
+             * moves the point twice A^-1 f */
+            double scale = dt > 0.0 && newmark ? 2.0 : 1.0;
+            for (int o = 0; o < count; o++) { /* every point's answer to this force */
+                const int *to = t->mesh.tet + npe * tets[o];
+                double No[10];
+                tissue_shape(npe, bary[o], No);
+                for (int i = 0; i < 3; i++) {
+                    double u = 0.0;
+                    for (int q = 0; q < npe; q++) u += No[q] * s[3 * to[q] + i];
+                    C[row * (3 * o + i) + 3 * p + k] = scale * u;
+                }
+            }
         }
     }
     return 0;
