@@ -796,6 +796,32 @@ int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], doub
 int tissue_points_compliance(tissue_solid *t, int count, const int *tets, const double (*bary)[4],
                              double dt, double *C, char *err, size_t errlen)
 {
+    return tissue_patches_compliance(t, count, NULL, tets, bary, dt, C, err, errlen);
+}
+
+/* The weights (shape functions over the samples, summed, / samples) of a
+ * patch on the nodes of its tets: adds w * N_s to out for each sample. */
+static void patch_weights(const tissue_solid *t, int samples, const int *tets,
+                          const double (*bary)[4], double *node_index_weight, int *nodes_out,
+                          int *count_out)
+{
+    const int npe = t->per_tet;
+    int count = 0;
+    for (int s = 0; s < samples; s++) {
+        double N[10];
+        tissue_shape(npe, bary[s], N);
+        for (int q = 0; q < npe; q++) {
+            nodes_out[count] = t->mesh.tet[npe * tets[s] + q];
+            node_index_weight[count++] = N[q] / samples;
+        }
+    }
+    *count_out = count;
+}
+
+int tissue_patches_compliance(tissue_solid *t, int count, const int *samples, const int *tets,
+                              const double (*bary)[4], double dt, double *C, char *err,
+                              size_t errlen)
+{
     const tissue_config *c = &t->config;
     int newmark = c->integrator == TISSUE_NEWMARK;
     double mass_coef = dt > 0.0 ? (newmark ? 4.0 : 1.0) / (dt * dt) : 0.0;
@@ -807,40 +833,96 @@ int tissue_points_compliance(tissue_solid *t, int count, const int *tets, const 
         snprintf(err, errlen, "a tet is inverted");
         return -1;
     }
-    double *rhs = t->rhs->x, N[10];
-    int npe = t->per_tet;
+    double *rhs = t->rhs->x;
     const int row = 3 * count;
+    /* tissue_step takes the start's acceleration under the same loads:
+     * a force present over a Newmark step acts at both ends of it, and
+     * moves the point twice A^-1 f */
+    const double scale = dt > 0.0 && newmark ? 2.0 : 1.0;
+    int first = 0;
     for (int p = 0; p < count; p++) {
-        const int *tt = t->mesh.tet + npe * tets[p];
-        tissue_shape(npe, bary[p], N);
+        const int sp = samples ? samples[p] : 1;
+        int nodes_p[10 * 8], np;
+        double w_p[10 * 8];
+        patch_weights(t, sp > 8 ? 8 : sp, tets + first, bary + first, w_p, nodes_p, &np);
         for (int k = 0; k < 3; k++) {
             memset(rhs, 0, sizeof(double) * (size_t)t->dofs);
-            for (int q = 0; q < npe; q++) {
-                int d = 3 * tt[q] + k;
-                if (!t->fixed[d]) rhs[d] += N[q];
+            for (int q = 0; q < np; q++) {
+                int d = 3 * nodes_p[q] + k;
+                if (!t->fixed[d]) rhs[d] += w_p[q];
             }
             if (factor_solve(t, NULL, renew && p == 0 && k == 0, mass_coef, stiffness)) {
                 snprintf(err, errlen, "the tissue's matrix is not positive definite (nothing held?)");
                 return -1;
             }
-            const double *s = t->sol->x;
-            /* tissue_step takes the start's acceleration under the same loads:
-             * a force present over a Newmark step acts at both ends of it, and
-             * moves the point twice A^-1 f */
-            double scale = dt > 0.0 && newmark ? 2.0 : 1.0;
-            for (int o = 0; o < count; o++) { /* every point's answer to this force */
-                const int *to = t->mesh.tet + npe * tets[o];
-                double No[10];
-                tissue_shape(npe, bary[o], No);
+            const double *sol = t->sol->x;
+            int other = 0;
+            for (int o = 0; o < count; o++) { /* every patch's answer to this force */
+                const int so = samples ? samples[o] : 1;
+                int nodes_o[10 * 8], no;
+                double w_o[10 * 8];
+                patch_weights(t, so > 8 ? 8 : so, tets + other, bary + other, w_o, nodes_o, &no);
                 for (int i = 0; i < 3; i++) {
                     double u = 0.0;
-                    for (int q = 0; q < npe; q++) u += No[q] * s[3 * to[q] + i];
+                    for (int q = 0; q < no; q++) u += w_o[q] * sol[3 * nodes_o[q] + i];
                     C[row * (3 * o + i) + 3 * p + k] = scale * u;
                 }
+                other += so;
             }
         }
+        first += sp;
     }
     return 0;
+}
+
+void tissue_apply_patch_force(tissue_solid *t, int samples, const int *tets, const double (*bary)[4],
+                              const double f[3])
+{
+    for (int s = 0; s < samples; s++) {
+        const double share[3] = {f[0] / samples, f[1] / samples, f[2] / samples};
+        tissue_apply_point_force(t, tets[s], bary[s], share);
+    }
+}
+
+void tissue_patch_position(const tissue_solid *t, int samples, const int *tets,
+                           const double (*bary)[4], double x[3])
+{
+    x[0] = x[1] = x[2] = 0.0;
+    for (int s = 0; s < samples; s++) {
+        double at[3];
+        tissue_point_position(t, tets[s], bary[s], at);
+        for (int i = 0; i < 3; i++) x[i] += at[i] / samples;
+    }
+}
+
+int tissue_patch_samples(const tissue_solid *t, int tet, const double bary[4], double radius,
+                         int max, int *tets, double (*bary_out)[4])
+{
+    const tissue_mesh *m = &t->mesh;
+    const tissue_config *c = &t->config;
+    double N[10], centre[3] = {0.0, 0.0, 0.0};
+    tissue_shape(t->per_tet, bary, N);
+    for (int q = 0; q < t->per_tet; q++)
+        for (int i = 0; i < 3; i++) centre[i] += N[q] * m->rest[3 * m->tet[t->per_tet * tet + q] + i];
+    tets[0] = tet;
+    memcpy(bary_out[0], bary, sizeof bary_out[0]);
+    int count = 1;
+    const int axis = m->slit_axis, along = 1 - axis;
+    const double top = c->center[2] + 0.5 * c->size[2];
+    for (int d = 0; d < 6 && count < max; d++) {
+        double p[3] = {centre[0], centre[1], centre[2]};
+        p[d / 2] += d % 2 ? -radius : radius;
+        if (axis >= 0 && c->has_wound) { /* not across the slit from the point */
+            const double plane = c->wound[axis], lo = fmin(c->wound[along], c->wound[2 + along]),
+                         hi = fmax(c->wound[along], c->wound[2 + along]);
+            const int across = (centre[axis] - plane) * (p[axis] - plane) < 0.0 ||
+                               (p[axis] == plane && centre[axis] != plane);
+            if (across && fmax(p[2], centre[2]) > top - c->wound[4] && p[along] > lo && p[along] < hi)
+                continue;
+        }
+        if (tissue_locate(t, p, &tets[count], bary_out[count]) == 0) count++;
+    }
+    return count;
 }
 
 double tissue_kinetic_energy(const tissue_solid *t)

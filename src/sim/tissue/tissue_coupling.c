@@ -16,6 +16,12 @@
  * linear 6 mm: the same CPU time and gap). */
 #define PAD_UPDATES 2
 
+/* m: the radius of the tissue a puncture's thread bears on. A point
+ * force's dimple deepens as the mesh is refined (about F / (E h)), so the
+ * stitch's answer would depend on the mesh; spread over points a fixed
+ * distance around the hole it converges (draft-stitch-compliance.md). */
+#define PATCH_RADIUS 1e-3
+
 int tissue_coupling_pad(const rod_model *m)
 {
     for (int j = 0; j < m->surface_count; j++)
@@ -76,7 +82,9 @@ static void link(rod_puncture_state *ps, int j, tissue_solid *t)
 {
     double at[3];
     locate_deformed(t, ps->point, &ps->tet, ps->bary);
-    tissue_point_position(t, ps->tet, ps->bary, at);
+    ps->samples = tissue_patch_samples(t, ps->tet, ps->bary, PATCH_RADIUS, ROD_PATCH_SAMPLES,
+                                       ps->sample_tet, ps->sample_bary);
+    tissue_patch_position(t, ps->samples, ps->sample_tet, (const double(*)[4])ps->sample_bary, at);
     v3_sub(ps->offset, ps->point, at);
     memset(ps->pad_force, 0, sizeof ps->pad_force);
     memset(ps->compliance, 0, sizeof ps->compliance);
@@ -93,18 +101,23 @@ static void link(rod_puncture_state *ps, int j, tissue_solid *t)
 static int renew_compliance(const rod_model *m, int j, rod_state *s, char *err, size_t errlen)
 {
     tissue_solid *t = m->surfaces[j].solid;
-    int index[ROD_MAX_PUNCTURES], tets[ROD_MAX_PUNCTURES], count = 0;
-    double bary[ROD_MAX_PUNCTURES][4];
+    int index[ROD_MAX_PUNCTURES], samples[ROD_MAX_PUNCTURES], count = 0, used = 0;
+    int tets[ROD_MAX_PUNCTURES * ROD_PATCH_SAMPLES];
+    double bary[ROD_MAX_PUNCTURES * ROD_PATCH_SAMPLES][4];
     double C[9 * ROD_MAX_PUNCTURES * ROD_MAX_PUNCTURES]; /* m/N (18 KB) */
     for (int k = 0; k < s->puncture_count; k++) {
         if (s->puncture[k].linked != j + 1) continue;
+        const rod_puncture_state *ps = &s->puncture[k];
         index[count] = k;
-        tets[count] = s->puncture[k].tet;
-        memcpy(bary[count++], s->puncture[k].bary, sizeof bary[0]);
+        samples[count++] = ps->samples;
+        memcpy(tets + used, ps->sample_tet, sizeof(int) * (size_t)ps->samples);
+        memcpy(bary + used, ps->sample_bary, sizeof bary[0] * (size_t)ps->samples);
+        used += ps->samples;
     }
     if (count == 0) return 0;
     char why[256];
-    if (tissue_points_compliance(t, count, tets, (const double(*)[4])bary, 0.0, C, why, sizeof why)) {
+    if (tissue_patches_compliance(t, count, samples, tets, (const double(*)[4])bary, 0.0, C, why,
+                                  sizeof why)) {
         snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
                  m->surfaces[j].line, s->time, why);
         return -1;
@@ -160,7 +173,8 @@ int tissue_coupling_step(const rod_model *m, rod_state *s, char *err, size_t err
         for (int k = 0; k < s->puncture_count; k++) {
             rod_puncture_state *ps = &s->puncture[k];
             if (ps->linked != j + 1) continue;
-            tissue_apply_point_force(t, ps->tet, ps->bary, ps->force);
+            tissue_apply_patch_force(t, ps->samples, ps->sample_tet,
+                                     (const double(*)[4])ps->sample_bary, ps->force);
             any = 1;
         }
         if (!any) continue;
@@ -181,7 +195,8 @@ int tissue_coupling_step(const rod_model *m, rod_state *s, char *err, size_t err
         for (int k = 0; k < s->puncture_count; k++) {
             rod_puncture_state *ps = &s->puncture[k];
             if (ps->linked != j + 1) continue;
-            tissue_point_position(t, ps->tet, ps->bary, ps->point);
+            tissue_patch_position(t, ps->samples, ps->sample_tet,
+                                  (const double(*)[4])ps->sample_bary, ps->point);
             v3_axpy(ps->point, 1.0, ps->offset);
             v3_copy(ps->pad_force, ps->force);
             /* from the kept factor: the same until it is renewed */
