@@ -121,6 +121,13 @@ int tissue_solve_static_to(tissue_solid *t, double force_tol, int max_iterations
  * factor changes only when this does. */
 long tissue_factorisations(const tissue_solid *t);
 
+/* The pad's state, its nodes' positions and velocities (6 x nodes
+ * doubles, m and m/s), saved to buf and restored from it (a caller that
+ * rolls a failed step back); the loads and holds are not in it. */
+size_t tissue_state_doubles(const tissue_solid *t);
+void tissue_state_save(const tissue_solid *t, double *buf);
+void tissue_state_restore(tissue_solid *t, const double *buf);
+
 /* The force (N) a holder applies to a node to keep it where it is, at
  * equilibrium (internal elastic force minus external load and weight). */
 void tissue_reaction(tissue_solid *t, int node, double r[3]);

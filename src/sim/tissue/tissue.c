@@ -773,6 +773,22 @@ int tissue_solve_static_to(tissue_solid *t, double force_tol, int max_iterations
 
 long tissue_factorisations(const tissue_solid *t) { return t->factorisations; }
 
+size_t tissue_state_doubles(const tissue_solid *t) { return 2 * (size_t)t->dofs; }
+
+void tissue_state_save(const tissue_solid *t, double *buf)
+{
+    memcpy(buf, t->x, sizeof(double) * (size_t)t->dofs);
+    memcpy(buf + t->dofs, t->v, sizeof(double) * (size_t)t->dofs);
+}
+
+/* The kept factor stays: it is a tangent near the restored state, and the
+ * punctures' compliances are renewed when it is (tissue_factorisations). */
+void tissue_state_restore(tissue_solid *t, const double *buf)
+{
+    memcpy(t->x, buf, sizeof(double) * (size_t)t->dofs);
+    memcpy(t->v, buf + t->dofs, sizeof(double) * (size_t)t->dofs);
+}
+
 void tissue_reaction(tissue_solid *t, int node, double r[3])
 {
     double saved = t->config.damping;
