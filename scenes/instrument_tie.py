@@ -164,7 +164,9 @@ def spiral_radius(wraps, e):
 
 def thread_line():
     """Waypoints of the starting shape (mm), from the tail's end."""
-    pts = [(0.0, -TAIL_END, 0.6), (0.0, -W - 3.0, 1.0), (0.0, -W - 1.5, 1.0), (0.0, -W, 0.0),
+    # 1.5 mm before its hole the tail is 1.4 mm up: at 1.0 the line
+    # resampled to 132 nodes cut 56 um into the skin beside the hole
+    pts = [(0.0, -TAIL_END, 0.6), (0.0, -W - 3.0, 1.0), (0.0, -W - 1.5, 1.4), (0.0, -W, 0.0),
            (0.0, -W + 1.5, -DEPTH * 0.8), (0.0, 0.0, -DEPTH), (0.0, W - 1.5, -DEPTH * 0.8),
            (0.0, W, 0.0), (1.0, W + 0.5, 1.5)]
     f = on_circle(-1, 0.0, XF, spiral_radius(THROWS[0][0], 0.0))

@@ -1,51 +1,87 @@
 #!/usr/bin/env python3
 """Writes wound_closure_shape.csv and wound_closure_root.csv /
 wound_closure_tip.csv, the starting thread and its ends' paths of
-scenes/wound_closure.ini.
+scenes/wound_closure.ini, and prints the scene's rod length and inner
+puncture points.
 
 The stitch is placed already (the needle's bite made): the thread comes
 straight down into the entry hole (y = -BITE on the skin), turns under the
 skin on an arc of radius RC, runs across under the wound at depth RC, turns
-up on a second arc into the exit hole (y = +BITE) and goes straight up. Each end, held
-H above the skin, is then pulled up by PULL over T_PULL seconds (a smooth
-ramp, 3 s^2 - 2 s^3), which draws the holes together:
-  python3 wound_closure_path.py"""
+up on a second arc into the exit hole (y = +BITE) and goes straight up. Each
+end, held H above the skin, is then pulled up by PULL over T_PULL seconds (a
+smooth ramp, 3 s^2 - 2 s^3), which draws the holes together:
+  python3 wound_closure_path.py
+
+The shape is written at the rod's 49 nodes, every chord DS long, so the run
+takes it as it is: resampled, a shape's ends and corners move (the ends'
+paths would start off the ends, the punctures off the thread). The nodes
+are walked along that curve from its middle (node 24, under the wound) by
+chords DS, DS chosen so that the eighth lands on each hole (nodes 16 and
+32); the legs are 16 chords each. The two points where the bite turns
+across fall inside a chord: their punctures are put on it (12 um from the
+curve's turn)."""
 import math
 
-BITE, RC = 0.004, 0.003
-# the legs as long as the part under the skin: a third of the thread each,
-# so that the holes fall on nodes
-# (49 nodes: nodes 16 and 32)
-H = (math.pi * RC + 2 * (BITE - RC))
+BITE, RC = 0.004, 0.003       # m: each hole's distance from the wound; the arcs' radius
+HALF_BOTTOM = BITE - RC       # m: half the straight run under the wound
+UNDER, LEGS = 8, 16           # chords from the middle to a hole; chords of a leg
+NODES = 2 * (UNDER + LEGS) + 1
 PULL, T_PULL, T_REST = 0.002, 2.0, 0.5
 
 
-def shape():
-    """Points (y, z) of the stitch at x = 0: down through the entry hole,
-    an arc under the skin, across under the wound at depth RC, an arc, up
-    through the exit hole."""
-    pts = [(-BITE, H), (-BITE, 0.0)]
-    n = 24
-    for k in range(1, n + 1):  # centre (-BITE + RC, 0), from the hole down to +y
-        a = math.pi + k * (math.pi / 2) / n
-        pts.append((-BITE + RC + RC * math.cos(a), RC * math.sin(a)))
-    for k in range(n + 1):  # centre (BITE - RC, 0), from +y up to the hole
-        a = 1.5 * math.pi + k * (math.pi / 2) / n
-        pts.append((BITE - RC + RC * math.cos(a), RC * math.sin(a)))
-    pts.append((BITE, H))
-    return pts
+def curve(s):
+    """The point (y, z) of the +y half at arc length s from the middle."""
+    if s <= HALF_BOTTOM:
+        return (s, -RC)
+    a = (s - HALF_BOTTOM) / RC
+    if a <= math.pi / 2:  # centre (BITE - RC, 0), from -RC up to the hole
+        return (HALF_BOTTOM + RC * math.sin(a), -RC * math.cos(a))
+    return (BITE, s - HALF_BOTTOM - RC * math.pi / 2)
+
+
+def walk(ds, chords):
+    """Arc lengths of the nodes from the middle, each next node DS (chord)
+    from the last, further along."""
+    s, out = 0.0, [0.0]
+    for _ in range(chords):
+        p, lo, hi = curve(s), s, s + 2 * ds
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            q = curve(mid)
+            if math.hypot(q[0] - p[0], q[1] - p[1]) < ds:
+                lo = mid
+            else:
+                hi = mid
+        s = 0.5 * (lo + hi)
+        out.append(s)
+    return out
+
+
+def chord_length():
+    """DS such that the UNDER-th node lands on the hole."""
+    hole = HALF_BOTTOM + RC * math.pi / 2
+    lo, hi = 0.9 * hole / UNDER, hole / UNDER
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if walk(mid, UNDER)[-1] < hole:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
 
 
 def main():
-    pts = shape()
+    ds = chord_length()
+    under = [curve(s) for s in walk(ds, UNDER)]
+    half = under + [(BITE, k * ds) for k in range(1, LEGS + 1)]
+    half[UNDER] = (BITE, 0.0)  # on the hole to round-off
+    pts = [(-y, z) for y, z in reversed(half[1:])] + half
+    assert len(pts) == NODES
+    height = LEGS * ds
     with open("wound_closure_shape.csv", "w") as f:
         f.write("x,y,z\n")
-        last = None
         for y, z in pts:
-            if last and abs(last[0] - y) < 1e-12 and abs(last[1] - z) < 1e-12:
-                continue
-            f.write(f"0,{y:.9f},{z:.9f}\n")
-            last = (y, z)
+            f.write(f"0,{y:.12f},{z:.12f}\n")
     for name, y in (("root", pts[0][0]), ("tip", pts[-1][0])):
         with open(f"wound_closure_{name}.csv", "w") as f:
             f.write("t,x,y,z\n")
@@ -53,8 +89,23 @@ def main():
             for k in range(steps + 1):
                 t = T_PULL * k / steps
                 s = t / T_PULL
-                f.write(f"{t:.4f},0,{y:.9f},{H + PULL * (3 * s * s - 2 * s ** 3):.9f}\n")
-            f.write(f"{T_PULL + T_REST:.4f},0,{y:.9f},{H + PULL:.9f}\n")
+                f.write(f"{t:.4f},0,{y:.12f},{height + PULL * (3 * s * s - 2 * s ** 3):.12f}\n")
+            f.write(f"{T_PULL + T_REST:.4f},0,{y:.12f},{height + PULL:.12f}\n")
+    # the turn across (y = HALF_BOTTOM, z = -RC) put on the chord that passes it
+    turn = (HALF_BOTTOM, -RC)
+    best = None
+    for a, b in zip(half, half[1:]):
+        e = (b[0] - a[0], b[1] - a[1])
+        tau = ((turn[0] - a[0]) * e[0] + (turn[1] - a[1]) * e[1]) / (ds * ds)
+        tau = min(1.0, max(0.0, tau))
+        q = (a[0] + tau * e[0], a[1] + tau * e[1])
+        d = math.hypot(q[0] - turn[0], q[1] - turn[1])
+        if best is None or d < best[0]:
+            best = (d, q)
+    print(f"[rod] length = {(NODES - 1) * ds:.12g}, nodes = {NODES} (ds {ds:.6g} m), "
+          f"the ends {height:.6g} m above the skin")
+    print(f"[puncture] under the skin: 0 -+{best[1][0]:.12g} {best[1][1]:.12g} "
+          f"({best[0]:.2g} m from the curve's turn)")
 
 
 if __name__ == "__main__":

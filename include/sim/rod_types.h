@@ -111,6 +111,8 @@ typedef struct rod_puncture {
 
 /* The most punctures a run holds (given plus made by the needle). */
 #define ROD_MAX_PUNCTURES 16
+/* The most material points a puncture in an elastic pad bears on. */
+#define ROD_PATCH_SAMPLES 7
 
 /* Surgical instruments (scene [instrument], sim/instrument.h): rigid tools
  * driven along a path of poses of their jaws' tip, whose capsules the thread
@@ -202,9 +204,17 @@ typedef struct rod_puncture_state {
     int linked;        /* 1: tet, bary, offset and compliance are set */
     int tet;           /* the pad's tet holding it */
     double bary[4];    /* its barycentric weights there */
+    int samples;       /* the material points the thread bears on, of equal weight: the
+                          point itself (sample 0) and those of the pad a patch radius
+                          around it (tissue_patch_samples) */
+    int sample_tet[ROD_PATCH_SAMPLES];
+    double sample_bary[ROD_PATCH_SAMPLES][4];
     double offset[3];  /* m: point - the material point's position (constant) */
     double compliance[9]; /* m/N, 3 x 3 row-major: the point's static displacement per
                              newton at it, at the pad's last equilibrium */
+    double cross[ROD_MAX_PUNCTURES][9]; /* m/N, 3 x 3 row-major each: how far the point moves
+                             per newton at puncture l of the same pad (l != this one; 0 for
+                             the others), at the pad's last equilibrium */
     double pad_force[3];  /* N: the force on the pad there at its last equilibrium */
     long compliance_factor; /* the pad's factorisation the compliance was taken from */
 } rod_puncture_state;

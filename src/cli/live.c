@@ -57,6 +57,8 @@
 #include "cli/scene_outputs.h"
 #include "sim/path.h"
 #include "sim/rod.h"
+#include "sim/tissue/tissue.h"
+#include "sim/tissue/tissue_coupling.h"
 
 void live_usage(FILE *f)
 {
@@ -223,6 +225,8 @@ struct live_session {
     const rod_model *stepped; /* the model the solver steps */
     rod_solver solver;
     rod_state *state, *good;
+    struct tissue_solid *pad; /* the scene's elastic pad (the model's), or NULL */
+    double *pad_good;       /* its state at the last good step (tissue_state_save) */
     rod_path *path;         /* pose mode: the tip's live path (owned by model) */
     int pose_mode;          /* 1: the tip's pose; 0: tip loads */
     int columns;            /* path columns (4 or 7), or 7 for loads */
@@ -420,6 +424,7 @@ static int advance(live_session *ls, double t, rod_status *status, rod_report *r
     const double h = gap / count;
     const stepping_hooks hooks = {stop_between_steps, count_step, ls};
     rod_state_copy(ls->good, s);
+    if (ls->pad) tissue_state_save(ls->pad, ls->pad_good);
     *status = stepping_take(&ls->solver, ls->stepped, s, (long)count, h, t, &hooks, report);
     if (*status == ROD_OK) {
         ls->last_step = h;
@@ -427,6 +432,9 @@ static int advance(live_session *ls, double t, rod_status *status, rod_report *r
     }
     ls->last_step = 0.0;
     rod_state_copy(s, ls->good);
+    /* the elastic pad lives in the model: its nodes go back with the
+     * thread's punctures */
+    if (ls->pad) tissue_state_restore(ls->pad, ls->pad_good);
     return -1;
 }
 
@@ -845,6 +853,7 @@ void live_session_destroy(live_session *ls)
     if (ls->solver.ops) rod_solver_release(&ls->solver);
     rod_state_destroy(ls->state);
     rod_state_destroy(ls->good);
+    free(ls->pad_good);
     free(ls->work_histogram);
     free(ls->step_histogram);
     free(ls->answer);
@@ -864,7 +873,11 @@ static int setup(live_session *ls, rod_model *m, char *err, size_t errlen)
     ls->work_histogram = calloc(LIVE_HISTOGRAM_BINS, sizeof *ls->work_histogram);
     ls->step_histogram = calloc(LIVE_HISTOGRAM_BINS, sizeof *ls->step_histogram);
     ls->answer = malloc((size_t)(8 + 3 * m->nodes) * (NUMFMT_MAX + 1) + 16);
-    if (!ls->state || !ls->good || !ls->work_histogram || !ls->step_histogram || !ls->answer) {
+    const int pad = tissue_coupling_pad(m);
+    ls->pad = pad >= 0 ? m->surfaces[pad].solid : NULL;
+    if (ls->pad) ls->pad_good = malloc(sizeof(double) * tissue_state_doubles(ls->pad));
+    if (!ls->state || !ls->good || !ls->work_histogram || !ls->step_histogram || !ls->answer ||
+        (ls->pad && !ls->pad_good)) {
         snprintf(err, errlen, "out of memory");
         return -1;
     }

@@ -70,6 +70,45 @@ static void run_scene(const char *dir, const char *file)
     test_remove_tree(out);
 }
 
+/* A scene that draws another's run differently (its physics copied: the
+ * scene format has no include) must keep the same physics: every key line
+ * before [render], comments and spacing aside, is the same in both */
+static int physics_lines(const char *path, char *out, size_t size)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) return -1;
+    char line[512];
+    size_t used = 0;
+    out[0] = '\0';
+    while (fgets(line, sizeof line, f)) {
+        if (strncmp(line, "[render]", 8) == 0) break;
+        char *hash = strchr(line, '#');
+        if (hash) *hash = '\0';
+        size_t n = strlen(line);
+        while (n > 0 && (line[n - 1] == '\n' || line[n - 1] == ' ' || line[n - 1] == '\t')) n--;
+        if (n == 0) continue;
+        if (used + n + 2 > size) break;
+        memcpy(out + used, line, n);
+        used += n;
+        out[used++] = '\n';
+        out[used] = '\0';
+    }
+    fclose(f);
+    return (int)used;
+}
+
+static void same_physics(const char *dir, const char *copy, const char *original)
+{
+    static char a[16384], b[16384];
+    char pa[600], pb[600];
+    snprintf(pa, sizeof pa, "%s/%s", dir, copy);
+    snprintf(pb, sizeof pb, "%s/%s", dir, original);
+    const int na = physics_lines(pa, a, sizeof a), nb = physics_lines(pb, b, sizeof b);
+    check(na > 0 && nb > 0 && strcmp(a, b) == 0,
+          "%s keeps %s's physics: every key before [render] the same (%d and %d bytes)", copy,
+          original, na, nb);
+}
+
 int main(void)
 {
     const char *dir = RODSIM_SOURCE_DIR "/scenes";
@@ -92,5 +131,6 @@ int main(void)
     closedir(d);
     check(count >= 9, "found %d rod scenes", count);
     for (int i = 0; i < count; i++) run_scene(dir, names[i]);
+    same_physics(dir, "wound_closure_section.ini", "wound_closure.ini");
     return test_finish();
 }

@@ -27,6 +27,11 @@ typedef struct contact_puncture {
                           times the force across */
     double compliance[9]; /* m/N: an elastic pad's point moves by C times the force on it
                              (the point: where it is with that force removed); 0: rigid */
+    int pad;           /* > 0: linked to that elastic pad (rod_puncture_state linked): its
+                          law is solved with the pad's other punctures' */
+    const double (*cross)[9]; /* the state's cross-compliances (rod_puncture_state cross,
+                          m/N): the point moves by cross[l] times the force at puncture l;
+                          NULL when not linked */
 } contact_puncture;
 
 typedef struct rod_contact {

@@ -75,6 +75,33 @@ int tissue_locate(const tissue_solid *t, const double p[3], int *tet, double bar
  * factorises once; returns 0, or -1 with a message. */
 int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], double dt, double C[9],
                             char *err, size_t errlen);
+/* A patch: material points (tets[s], bary[s], s < samples) of equal
+ * weight, a force spread over them and their mean position. A point force's
+ * dimple deepens without bound as the mesh is refined (about F / (E h));
+ * spread over a patch of fixed size, the answer converges. */
+void tissue_apply_patch_force(tissue_solid *t, int samples, const int *tets, const double (*bary)[4],
+                              const double f[3]);
+void tissue_patch_position(const tissue_solid *t, int samples, const int *tets,
+                           const double (*bary)[4], double x[3]);
+/* The patch around the material point (tet, bary): the point itself and
+ * the points `radius` (m) from its rest place along +-x, +-y, +-z that lie
+ * in the pad and not across the wound's slit from it; at most `max` (>= 1).
+ * Writes tets, bary; returns the count. Searches the tets: not for the step
+ * loop. */
+int tissue_patch_samples(const tissue_solid *t, int tet, const double bary[4], double radius,
+                         int max, int *tets, double (*bary_out)[4]);
+/* The compliance of `count` patches together (patch p: samples[p] material
+ * points, in order in tets and bary): C as tissue_points_compliance's, the
+ * displacement of patch o's mean position per newton spread over patch p;
+ * samples NULL: one point each. */
+int tissue_patches_compliance(tissue_solid *t, int count, const int *samples, const int *tets,
+                              const double (*bary)[4], double dt, double *C, char *err,
+                              size_t errlen);
+/* The same for `count` material points together (tets[p], bary[p]): C
+ * (3 count x 3 count, row-major, m/N), block (o, p) how far point o moves
+ * per newton at point p; 3 count solves, as many as each point alone. */
+int tissue_points_compliance(tissue_solid *t, int count, const int *tets, const double (*bary)[4],
+                             double dt, double *C, char *err, size_t errlen);
 
 /* One implicit step of dt (s). 0, or -1 with a message (a tet inverted,
  * Newton did not converge, the matrix is not positive definite): then the
@@ -94,6 +121,13 @@ int tissue_solve_static_to(tissue_solid *t, double force_tol, int max_iterations
  * factor changes only when this does. */
 long tissue_factorisations(const tissue_solid *t);
 
+/* The pad's state, its nodes' positions and velocities (6 x nodes
+ * doubles, m and m/s), saved to buf and restored from it (a caller that
+ * rolls a failed step back); the loads and holds are not in it. */
+size_t tissue_state_doubles(const tissue_solid *t);
+void tissue_state_save(const tissue_solid *t, double *buf);
+void tissue_state_restore(tissue_solid *t, const double *buf);
+
 /* The force (N) a holder applies to a node to keep it where it is, at
  * equilibrium (internal elastic force minus external load and weight). */
 void tissue_reaction(tissue_solid *t, int node, double r[3]);
@@ -101,6 +135,18 @@ void tissue_reaction(tissue_solid *t, int node, double r[3]);
 double tissue_kinetic_energy(const tissue_solid *t); /* J */
 double tissue_elastic_energy(const tissue_solid *t); /* J; HUGE_VAL when a tet is inverted */
 double tissue_potential_energy(const tissue_solid *t); /* J: of gravity and the external forces */
+/* The wound's lips (tissue_config lip_stiffness): the pairs of nodes
+ * coincident at rest across the slit (its faces' corners and, quadratic,
+ * edge midpoints), each pressed apart along the slit's axis by k g when
+ * their separation g (far minus near, along the axis, m) is negative, k its
+ * penalty (N/m); frictionless. Returns the pair count (0 without a wound or
+ * with lip_stiffness 0); any pointer may be NULL. */
+int tissue_lip_pairs(const tissue_solid *t, const int **near_nodes, const int **far_nodes,
+                     const double **stiffness);
+/* The lips' penalty energy (J, included in tissue_elastic_energy), their
+ * least separation (m; negative where they cross; 0 without pairs) and the
+ * total force pressing them apart (N, >= 0); the pointers may be NULL. */
+double tissue_lip_contact(const tissue_solid *t, double *min_separation, double *force);
 /* The wound's opening (m): the largest separation, across the slit, of a
  * node pair on the top face; 0 without a wound. */
 double tissue_wound_gap(const tissue_solid *t);

@@ -42,6 +42,9 @@ typedef struct tissue_config {
     double gravity[3];     /* m/s^2 */
     tissue_integrator integrator;
     int element_order;     /* 1: linear tets (4 nodes), 2: quadratic tets (10 nodes) */
+    double lip_stiffness;  /* the wound's lips' contact (frictionless, normal to the slit):
+                              a penalty of lip_stiffness E / h per unit area of lip (h the
+                              node spacing at the wound); 0: the lips pass through each other */
     int max_nodes;         /* the mesh budget: more nodes are refused (default 20000: a
                               factor of ~200 MB, ~4 s per factorisation) */
 } tissue_config;

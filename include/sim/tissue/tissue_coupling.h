@@ -6,11 +6,12 @@
  * it. The pad is quasi-static: after every rod step it is solved to
  * equilibrium under the forces the thread exerts at its punctures, and the
  * punctures move with it. Within the rod's step the pad's compliance at each
- * puncture (3 x 3, at the last equilibrium) is folded into the puncture's
- * law (puncture.h): the point moves by C (F - F_last) with the force F on
- * the pad, so the coupling is implicit at each puncture; between
- * punctures (the pad's cross-compliance) it lags one step
- * (docs/decisions/0070-tissue-coupling.md).
+ * puncture and between every two of a pad's punctures (the 3P x 3P block
+ * of its P punctures, at the last equilibrium) is folded into the
+ * punctures' laws (puncture.h), solved together: a point moves by
+ * sum_l C_kl (F_l - F_l,last) with the forces F_l on the pad, so the
+ * coupling is implicit within the step (docs/decisions/0070-tissue-coupling.md;
+ * the cross blocks: draft-stitch-compliance.md).
  *
  * The thread lies on the pad's deformed surface (a moving triangle mesh of
  * its boundary faces, rod_surface.mesh, moved to the pad before each rod
@@ -35,8 +36,10 @@
  * and the thread's contact on its surface (pad_force, 2 x nodes x 3, N: what
  * the pad's surface exerted on each node over the step, then the record of
  * what it exerted at the last call, renewed here: rod_contact.pad_last; may
- * be NULL), solves each pad's equilibrium, moves the punctures with their material
- * points and renews their compliances. 0, or -1 with a message (the pad's
+ * be NULL), brings each pad towards equilibrium (up to two Newton updates),
+ * moves the punctures with their material points and renews their
+ * compliances (all of a pad's together, when its factor was renewed or a
+ * puncture linked). 0, or -1 with a message (the pad's
  * Newton failed: the state's punctures are left as they were). A model
  * without an elastic pad: nothing, 0. */
 int tissue_coupling_step(const rod_model *m, rod_state *s, double *pad_force, char *err,

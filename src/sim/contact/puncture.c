@@ -139,71 +139,217 @@ static void puncture_gain(const double C[9], const double t[3], double lag, doub
         }
 }
 
+/* One puncture's place on the thread over the step (puncture_forces). */
+typedef struct puncture_at {
+    int j;                   /* segment j..j+1 */
+    double wj, wk, pj, pk;   /* the point's weights on nodes j, j+1; their compliance */
+    double peff;             /* the point's compliance, m/s per N */
+    double e[3], miss;       /* m: the thread's point minus the puncture's, across t; |e| */
+} puncture_at;
+
+/* Where puncture k's thread point is, from the iterate: 0, or -1 when the
+ * point cannot move (a held end's node: the support holds it there). */
+static int puncture_place(const rod_contact *ct, int k, double push, double dt, puncture_at *a)
+{
+    const int n = ct->nodes, j = ct->punct[k].j, i2 = j + 1;
+    const double al = ct->punct[k].alpha, *t = ct->punct[k].tangent;
+    a->j = j;
+    a->pj = (j == 0 || j == n - 1) ? 2.0 * push : push;
+    a->pk = (i2 == n - 1) ? 2.0 * push : push;
+    if (j == 0 && ct->held[0]) a->pj = 0.0; /* a held end's velocity is its support's */
+    if (i2 == n - 1 && ct->held[1]) a->pk = 0.0;
+    a->wj = 1.0 - al;
+    a->wk = al;
+    a->peff = a->wj * a->wj * a->pj + a->wk * a->wk * a->pk;
+    if (!(a->peff > 1e-6 * push)) return -1;
+    double rp[3];
+    for (int c = 0; c < 3; c++)
+        rp[c] = a->wj * (ct->pos0[3 * j + c] + dt * ct->vbar[3 * j + c]) +
+                a->wk * (ct->pos0[3 * i2 + c] + dt * ct->vbar[3 * i2 + c]);
+    v3_sub(a->e, rp, ct->punct[k].point);
+    v3_axpy(a->e, -v3_dot(a->e, t), t);
+    a->miss = v3_norm(a->e);
+    return 0;
+}
+
+/* Puts the force f (N, across the thread) of puncture k on its nodes, adds
+ * the friction along the thread and, when the Jacobian is wanted, composes
+ * the map with d f / d e = df_de. */
+static void puncture_apply(rod_contact *ct, int k, const puncture_at *a, const double f[3],
+                           const double df_de[9], double dt, double theta)
+{
+    const int j = a->j, i2 = j + 1;
+    const double *t = ct->punct[k].tangent, pj = a->pj, pk = a->pk, wj = a->wj, wk = a->wk,
+                 peff = a->peff;
+    double *force = ct->punct[k].force;
+    for (int c = 0; c < 3; c++) {
+        ct->vel1[3 * j + c] += pj * wj * f[c];
+        ct->vbar[3 * j + c] += theta * pj * wj * f[c];
+        ct->vel1[3 * i2 + c] += pk * wk * f[c];
+        ct->vbar[3 * i2 + c] += theta * pk * wk * f[c];
+    }
+    v3_copy(force, f);
+    /* friction along the thread */
+    const double grip = ct->punct[k].grip;
+    double across = v3_norm(f), limit = grip > 0.0 ? grip : ct->punct[k].friction * across;
+    /* relative to the point's own motion (a grasp's jaws) */
+    double vt = -v3_dot(t, ct->punct[k].velocity);
+    for (int c = 0; c < 3; c++) vt += t[c] * (wj * ct->vel1[3 * j + c] + wk * ct->vel1[3 * i2 + c]);
+    double speed = fabs(vt), sp = speed;
+    if (speed > 0.0 && limit > 0.0) {
+        sp = grip > 0.0 ? contact_creep_speed_eps(speed, peff * limit, grasp_creep_eps(peff * limit))
+                        : contact_creep_speed(speed, peff * limit);
+        double ft = -(speed - sp) / peff * (vt > 0.0 ? 1.0 : -1.0);
+        for (int c = 0; c < 3; c++) {
+            ct->vel1[3 * j + c] += pj * wj * ft * t[c];
+            ct->vbar[3 * j + c] += theta * pj * wj * ft * t[c];
+            ct->vel1[3 * i2 + c] += pk * wk * ft * t[c];
+            ct->vbar[3 * i2 + c] += theta * pk * wk * ft * t[c];
+            force[c] += ft * t[c];
+        }
+    }
+    if (ct->want_jacobian) {
+        const puncture_map map = {j, wj, wk, pj, pk, peff, dt * theta, t, f, across,
+                                  ct->punct[k].friction, vt, sp, grip};
+        puncture_map_jacobian(ct, &map, df_de);
+    }
+}
+
+/* The basis u[0], u[1] of the plane across the thread's direction t. */
+static void across_basis(const double t[3], double u[2][3])
+{
+    const double pick[3] = {fabs(t[0]) < 0.6 ? 1.0 : 0.0, fabs(t[0]) < 0.6 ? 0.0 : 1.0, 0.0};
+    v3_cross(u[0], t, pick);
+    v3_scale(u[0], u[0], 1.0 / v3_norm(u[0]));
+    v3_cross(u[1], t, u[0]);
+}
+
+/* Inverts the symmetric positive definite n x n matrix a (row-major) in
+ * place, by Gauss-Jordan without pivoting (its diagonal dominates by the
+ * thread's own compliance); 0, or -1 when a pivot is not positive. */
+static int invert_spd(double *a, int n)
+{
+    for (int p = 0; p < n; p++) {
+        const double pivot = a[n * p + p];
+        if (!(pivot > 0.0)) return -1;
+        for (int c = 0; c < n; c++) a[n * p + c] /= pivot;
+        a[n * p + p] = 1.0 / pivot;
+        for (int r = 0; r < n; r++) {
+            if (r == p) continue;
+            const double f = a[n * r + p];
+            if (f == 0.0) continue;
+            for (int c = 0; c < n; c++) a[n * r + c] -= f * a[n * p + c];
+            a[n * r + p] = -f * a[n * p + p];
+        }
+    }
+    return 0;
+}
+
+/* The punctures of one elastic pad (those of ct->punct with pad == pad,
+ * from index first on), their laws solved together: the thread's point at
+ * puncture a moves by lag_a f_a, the pad's by -sum_b C_ab f_b (C_ab its
+ * cross-compliances, C_aa its own), so on the planes across the threads
+ * (bases U) A g = -U^T e with A_ab = lag_a I delta_ab + U_a^T C_ab U_b, and
+ * f_a = -frac(|e_a|) U_a (A^-1 U^T e)_a: each bite sees the pad move under
+ * the others' forces within the step. The Jacobian keeps each puncture's
+ * own block (the rod's band holds no other): an inexact Newton between
+ * punctures, exact at each. */
+static void pad_forces(rod_contact *ct, const rod_model *m, int first, double push, double dt,
+                       unsigned char *done)
+{
+    const double theta = m->options.theta, floor = 0.005 * m->diameter;
+    const int pad = ct->punct[first].pad;
+    int member[ROD_MAX_PUNCTURES], count = 0;
+    puncture_at at[ROD_MAX_PUNCTURES];
+    double u[ROD_MAX_PUNCTURES][2][3];
+    for (int k = first; k < ct->puncture_count && count < ROD_MAX_PUNCTURES; k++) {
+        if (ct->punct[k].pad != pad) continue;
+        done[k] = 1;
+        v3_set(ct->punct[k].force, 0.0, 0.0, 0.0);
+        if (puncture_place(ct, k, push, dt, &at[count])) continue;
+        across_basis(ct->punct[k].tangent, u[count]);
+        member[count++] = k;
+    }
+    if (count == 0) return;
+    const int size = 2 * count;
+    double A[4 * ROD_MAX_PUNCTURES * ROD_MAX_PUNCTURES], ue[2 * ROD_MAX_PUNCTURES];
+    for (int a = 0; a < count; a++) {
+        const contact_puncture *pa = &ct->punct[member[a]];
+        for (int b = 0; b < count; b++) {
+            const double *C = a == b ? pa->compliance : pa->cross[member[b]];
+            for (int q = 0; q < 2; q++) {
+                double cu[3];
+                m3_mul_v(cu, C, u[b][q]);
+                for (int p = 0; p < 2; p++)
+                    A[size * (2 * a + p) + 2 * b + q] =
+                        (a == b && p == q) * dt * theta * at[a].peff + v3_dot(u[a][p], cu);
+            }
+        }
+        for (int p = 0; p < 2; p++) ue[2 * a + p] = v3_dot(u[a][p], at[a].e);
+    }
+    if (invert_spd(A, size)) return; /* not reached: A is lag I plus a compliance */
+    for (int a = 0; a < count; a++) {
+        const int k = member[a];
+        double ge[3] = {0.0, 0.0, 0.0}, gain[9], f[3], df_de[9];
+        for (int p = 0; p < 2; p++) {
+            double g = 0.0;
+            for (int c = 0; c < size; c++) g += A[size * (2 * a + p) + c] * ue[c];
+            v3_axpy(ge, g, u[a][p]);
+        }
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) {
+                double g = 0.0;
+                for (int p = 0; p < 2; p++)
+                    for (int q = 0; q < 2; q++)
+                        g += u[a][p][r] * A[size * (2 * a + p) + 2 * a + q] * u[a][q][c];
+                gain[3 * r + c] = g;
+            }
+        const double miss = at[a].miss, frac = contact_fraction(miss, floor);
+        v3_scale(f, ge, -frac);
+        if (ct->want_jacobian)
+            for (int r = 0; r < 3; r++)
+                for (int c = 0; c < 3; c++)
+                    df_de[3 * r + c] =
+                        -(gain[3 * r + c] * frac +
+                          (miss > 0.0 ? (contact_compliant_slope(miss, floor) - frac) * ge[r] *
+                                            at[a].e[c] / (miss * miss)
+                                      : 0.0));
+        puncture_apply(ct, k, &at[a], f, df_de, dt, theta);
+    }
+}
+
 void puncture_forces(rod_contact *ct, const rod_model *m, double push, double dt)
 {
-    const int n = ct->nodes;
     const double theta = m->options.theta;
+    unsigned char done[ROD_MAX_PUNCTURES + ROD_MAX_INSTRUMENTS] = {0};
     for (int k = 0; k < ct->puncture_count; k++) {
-        const int j = ct->punct[k].j, i2 = j + 1;
-        const double al = ct->punct[k].alpha, *t = ct->punct[k].tangent;
-        double pj = (j == 0 || j == n - 1) ? 2.0 * push : push;
-        double pk = (i2 == n - 1) ? 2.0 * push : push;
-        if (j == 0 && ct->held[0]) pj = 0.0; /* a held end's velocity is its support's */
-        if (i2 == n - 1 && ct->held[1]) pk = 0.0;
-        const double wj = 1.0 - al, wk = al, peff = wj * wj * pj + wk * wk * pk;
-        double *force = ct->punct[k].force;
-        v3_set(force, 0.0, 0.0, 0.0);
+        if (done[k]) continue;
+        if (ct->punct[k].pad > 0) { /* an elastic pad's: with its others */
+            pad_forces(ct, m, k, push, dt, done);
+            continue;
+        }
+        puncture_at a;
+        v3_set(ct->punct[k].force, 0.0, 0.0, 0.0);
         /* at a held end's node the support holds the thread at the point */
-        if (!(peff > 1e-6 * push)) continue;
-        double rp[3], e[3], f[3], gain[9];
-        for (int c = 0; c < 3; c++)
-            rp[c] = wj * (ct->pos0[3 * j + c] + dt * ct->vbar[3 * j + c]) +
-                    wk * (ct->pos0[3 * i2 + c] + dt * ct->vbar[3 * i2 + c]);
-        v3_sub(e, rp, ct->punct[k].point);
-        v3_axpy(e, -v3_dot(e, t), t);
-        const double miss = v3_norm(e), floor = 0.005 * m->diameter;
+        if (puncture_place(ct, k, push, dt, &a)) continue;
+        const double *e = a.e, miss = a.miss, floor = 0.005 * m->diameter;
+        double f[3], gain[9], df_de[9];
         /* a rigid pad's gain is P / lag, applied as such (its arithmetic kept) */
         const int soft = ct->punct[k].compliance[0] != 0.0 || ct->punct[k].compliance[4] != 0.0 ||
                          ct->punct[k].compliance[8] != 0.0;
         if (soft) {
-            puncture_gain(ct->punct[k].compliance, t, dt * theta * peff, gain);
+            puncture_gain(ct->punct[k].compliance, ct->punct[k].tangent, dt * theta * a.peff, gain);
             m3_mul_v(f, gain, e);
             v3_scale(f, f, -contact_fraction(miss, floor));
         } else {
-            v3_scale(f, e, -contact_fraction(miss, floor) / (dt * theta * peff));
-        }
-        for (int c = 0; c < 3; c++) {
-            ct->vel1[3 * j + c] += pj * wj * f[c];
-            ct->vbar[3 * j + c] += theta * pj * wj * f[c];
-            ct->vel1[3 * i2 + c] += pk * wk * f[c];
-            ct->vbar[3 * i2 + c] += theta * pk * wk * f[c];
-        }
-        v3_copy(force, f);
-        /* friction along the thread */
-        const double grip = ct->punct[k].grip;
-        double across = v3_norm(f), limit = grip > 0.0 ? grip : ct->punct[k].friction * across;
-        /* relative to the point's own motion (a grasp's jaws) */
-        double vt = -v3_dot(t, ct->punct[k].velocity);
-        for (int c = 0; c < 3; c++) vt += t[c] * (wj * ct->vel1[3 * j + c] + wk * ct->vel1[3 * i2 + c]);
-        double speed = fabs(vt), sp = speed;
-        if (speed > 0.0 && limit > 0.0) {
-            sp = grip > 0.0 ? contact_creep_speed_eps(speed, peff * limit, grasp_creep_eps(peff * limit))
-                            : contact_creep_speed(speed, peff * limit);
-            double ft = -(speed - sp) / peff * (vt > 0.0 ? 1.0 : -1.0);
-            for (int c = 0; c < 3; c++) {
-                ct->vel1[3 * j + c] += pj * wj * ft * t[c];
-                ct->vbar[3 * j + c] += theta * pj * wj * ft * t[c];
-                ct->vel1[3 * i2 + c] += pk * wk * ft * t[c];
-                ct->vbar[3 * i2 + c] += theta * pk * wk * ft * t[c];
-                force[c] += ft * t[c];
-            }
+            v3_scale(f, e, -contact_fraction(miss, floor) / (dt * theta * a.peff));
         }
         if (ct->want_jacobian) {
             /* f = -frac(|e|) G e: d f / d e = -(frac G + (slope - frac) G e e^T / |e|^2),
              * frac = kappa/(1+kappa), G the gain (1 / (dt theta peff) on a rigid pad) */
             const double frac = contact_fraction(miss, floor);
-            const double scale = 1.0 / (dt * theta * peff);
-            double df_de[9], ge[3];
+            const double scale = 1.0 / (dt * theta * a.peff);
+            double ge[3];
             if (soft) m3_mul_v(ge, gain, e);
             for (int r = 0; r < 3; r++)
                 for (int c = 0; c < 3; c++)
@@ -212,10 +358,8 @@ void puncture_forces(rod_contact *ct, const rod_model *m, double push, double dt
                             (miss > 0.0 ? (contact_compliant_slope(miss, floor) - frac) * ge[r] * e[c] / (miss * miss) : 0.0))
                         : -scale * ((r == c) * frac +
                             (miss > 0.0 ? (contact_compliant_slope(miss, floor) - frac) * e[r] * e[c] / (miss * miss) : 0.0));
-            const puncture_map map = {j, wj, wk, pj, pk, peff, dt * theta, t, f, across,
-                                      ct->punct[k].friction, vt, sp, grip};
-            puncture_map_jacobian(ct, &map, df_de);
         }
+        puncture_apply(ct, k, &a, f, df_de, dt, theta);
     }
 }
 
@@ -223,6 +367,10 @@ void puncture_prepare(rod_contact *ct, const rod_model *m, const rod_state *s)
 {
     const int n = ct->nodes;
     ct->puncture_count = s->puncture_count;
+    for (int k = 0; k < ROD_MAX_PUNCTURES + ROD_MAX_INSTRUMENTS; k++) {
+        ct->punct[k].pad = 0; /* a grasp's too (instrument.h) */
+        ct->punct[k].cross = NULL;
+    }
     for (int k = 0; k < s->puncture_count; k++) {
         double u = s->puncture[k].s / m->ds;
         int j = (int)floor(u);
@@ -241,6 +389,14 @@ void puncture_prepare(rod_contact *ct, const rod_model *m, const rod_state *s)
             memcpy(ct->punct[k].compliance, s->puncture[k].compliance, 9 * sizeof(double));
             m3_mul_v(back, s->puncture[k].compliance, s->puncture[k].pad_force);
             v3_axpy(ct->punct[k].point, -1.0, back);
+            /* and the others' of the same pad, by the cross-compliances */
+            ct->punct[k].pad = s->puncture[k].linked;
+            ct->punct[k].cross = (const double(*)[9])s->puncture[k].cross;
+            for (int l = 0; l < s->puncture_count; l++) {
+                if (l == k || s->puncture[l].linked != s->puncture[k].linked) continue;
+                m3_mul_v(back, s->puncture[k].cross[l], s->puncture[l].pad_force);
+                v3_axpy(ct->punct[k].point, -1.0, back);
+            }
         }
         ct->punct[k].friction = s->puncture[k].friction;
         /* the thread's direction at the point: the node tangents (central

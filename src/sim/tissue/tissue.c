@@ -49,6 +49,15 @@ struct tissue_solid {
     double static_tol;     /* N: tissue_solve_static_to's residual bound (0: the default) */
     int static_iterations; /* tissue_solve_static_to's most iterations (0: MAX_NEWTON) */
     double factor_mass, factor_stiffness; /* the coefficients L was made with */
+    /* the wound's lips: node pairs coincident at rest across the slit (its
+     * faces' corners and, quadratic, edge midpoints), pressed apart along the
+     * slit's axis by a penalty when they cross (frictionless) */
+    int lip_pairs;
+    int *lip_near, *lip_far; /* (lip_pairs): the near (smaller coordinate) and far node */
+    double *lip_k;         /* (lip_pairs), N/m: lip_stiffness E A / h, A the near node's
+                              share of the lip's area */
+    int *lip_rank;         /* (lip_pairs): 3 x the rank of the smaller node in the larger
+                              one's column list */
     cholmod_common cm;
     cholmod_sparse *A;     /* upper triangle, stype 1 */
     cholmod_factor *L;
@@ -74,7 +83,8 @@ static int build_pattern(tissue_solid *t)
 {
     const tissue_mesh *m = &t->mesh;
     int npe = t->per_tet;
-    size_t pairs_max = (size_t)m->tets * (size_t)(npe * (npe - 1) / 2) + (size_t)t->nodes;
+    size_t pairs_max = (size_t)m->tets * (size_t)(npe * (npe - 1) / 2) + (size_t)t->nodes +
+                       (size_t)t->lip_pairs;
     long long *pairs = malloc(sizeof *pairs * pairs_max);
     int *first = malloc(sizeof(int) * (size_t)(t->nodes + 1));
     if (!pairs || !first) {
@@ -91,6 +101,11 @@ static int build_pattern(tissue_solid *t)
                 long long a = tt[p] < tt[q] ? tt[p] : tt[q], b = tt[p] < tt[q] ? tt[q] : tt[p];
                 pairs[np++] = b * t->nodes + a; /* sorted by b, then a */
             }
+    }
+    for (int p = 0; p < t->lip_pairs; p++) {
+        long long a = t->lip_near[p] < t->lip_far[p] ? t->lip_near[p] : t->lip_far[p];
+        long long b = t->lip_near[p] < t->lip_far[p] ? t->lip_far[p] : t->lip_near[p];
+        pairs[np++] = b * t->nodes + a;
     }
     qsort(pairs, np, sizeof *pairs, compare_pairs);
     size_t unique = 0;
@@ -140,8 +155,126 @@ static int build_pattern(tissue_solid *t)
                 t->rank[(size_t)npe * npe * e + npe * p + q] = 3 * (lo - first[b]);
             }
     }
+    for (int p = 0; p < t->lip_pairs; p++) {
+        int a = t->lip_near[p] < t->lip_far[p] ? t->lip_near[p] : t->lip_far[p];
+        int b = t->lip_near[p] < t->lip_far[p] ? t->lip_far[p] : t->lip_near[p];
+        int lo = first[b], hi = first[b + 1] - 1;
+        while (lo < hi) {
+            int mid = (lo + hi) / 2;
+            if (pairs[mid] % t->nodes < a) lo = mid + 1; else hi = mid;
+        }
+        t->lip_rank[p] = 3 * (lo - first[b]);
+    }
     free(pairs);
     free(first);
+    return 0;
+}
+
+/* For find_lips' sort: lip nodes by their rest place in the slit's plane. */
+static const double *lip_sort_rest;
+static int lip_sort_along;
+
+static int compare_lip_nodes(const void *pa, const void *pb)
+{
+    const double *a = lip_sort_rest + 3 * *(const int *)pa, *b = lip_sort_rest + 3 * *(const int *)pb;
+    const int along = lip_sort_along;
+    if (a[along] != b[along]) return a[along] < b[along] ? -1 : 1;
+    if (a[2] != b[2]) return a[2] < b[2] ? -1 : 1;
+    return (*(const int *)pa > *(const int *)pb) - (*(const int *)pa < *(const int *)pb);
+}
+
+/* The wound's lips: the nodes in the slit's plane used by tets of one side
+ * only, paired with the node of the other side at the same rest place (the
+ * slit's duplicated corners and, quadratic, its faces' edge midpoints), and
+ * each pair's penalty stiffness from the near node's share of the lip's
+ * area (a third of each face triangle, a sixth per node of a quadratic one).
+ * 0, or -1 when out of memory. */
+static int find_lips(tissue_solid *t)
+{
+    const tissue_mesh *m = &t->mesh;
+    const int axis = m->slit_axis, npe = t->per_tet;
+    if (axis < 0 || m->slit_pairs == 0 || !(t->config.lip_stiffness > 0.0)) return 0;
+    const double plane = m->rest[3 * m->slit_node[0] + axis];
+    const double tol = 1e-9 * t->config.element_size;
+    unsigned char *side = calloc((size_t)t->nodes, 1); /* bit 0: a near tet uses it, 1: far */
+    int *lip = malloc(sizeof(int) * (size_t)t->nodes);
+    double *area = calloc((size_t)t->nodes, sizeof(double));
+    if (!side || !lip || !area) {
+        free(side);
+        free(lip);
+        free(area);
+        return -1;
+    }
+    for (int e = 0; e < m->tets; e++) {
+        double centre = 0.0;
+        for (int k = 0; k < 4; k++) centre += 0.25 * m->rest[3 * m->tet[npe * e + k] + axis];
+        for (int k = 0; k < npe; k++) side[m->tet[npe * e + k]] |= centre < plane ? 1u : 2u;
+    }
+    int count = 0;
+    for (int n = 0; n < t->nodes; n++)
+        if (fabs(m->rest[3 * n + axis] - plane) < tol && (side[n] == 1 || side[n] == 2))
+            lip[count++] = n;
+    /* each near tet's faces in the plane with every node a near lip node */
+    static const int face_of[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+    static const int edge_node[4][4] = {{-1, 4, 5, 6}, {4, -1, 7, 8}, {5, 7, -1, 9}, {6, 8, 9, -1}};
+    for (int e = 0; e < m->tets; e++) {
+        const int *tt = m->tet + npe * e;
+        for (int f = 0; f < 4; f++) {
+            /* in the plane, and of the lip (a node of it not shared with the
+             * far side: the uncut tissue's faces have none) */
+            int in = 1, lip_node = 0;
+            for (int v = 0; v < 3 && in; v++) {
+                int n = tt[face_of[f][v]];
+                in = side[n] != 2 && fabs(m->rest[3 * n + axis] - plane) < tol;
+                lip_node |= side[n] == 1;
+            }
+            if (!in || !lip_node) continue;
+            const double *a = m->rest + 3 * tt[face_of[f][0]], *b = m->rest + 3 * tt[face_of[f][1]],
+                         *c = m->rest + 3 * tt[face_of[f][2]];
+            double u[3], w[3];
+            for (int i = 0; i < 3; i++) {
+                u[i] = b[i] - a[i];
+                w[i] = c[i] - a[i];
+            }
+            double cr[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+            double A = 0.5 * sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+            /* (a shared node's share is lost: it cannot part from the far side) */
+            for (int v = 0; v < 3; v++) area[tt[face_of[f][v]]] += A / (npe == 4 ? 3.0 : 6.0);
+            if (npe == 10)
+                for (int v = 0; v < 3; v++)
+                    area[tt[edge_node[face_of[f][v]][face_of[f][(v + 1) % 3]]]] += A / 6.0;
+        }
+    }
+    lip_sort_rest = m->rest;
+    lip_sort_along = 1 - axis;
+    qsort(lip, (size_t)count, sizeof *lip, compare_lip_nodes);
+    t->lip_near = malloc(sizeof(int) * (size_t)(count / 2 + 1));
+    t->lip_far = malloc(sizeof(int) * (size_t)(count / 2 + 1));
+    t->lip_k = malloc(sizeof(double) * (size_t)(count / 2 + 1));
+    t->lip_rank = malloc(sizeof(int) * (size_t)(count / 2 + 1));
+    if (!t->lip_near || !t->lip_far || !t->lip_k || !t->lip_rank) {
+        free(side);
+        free(lip);
+        free(area);
+        return -1;
+    }
+    /* the node spacing at the wound: the penalty per unit area is E / h times lip_stiffness */
+    const double h = t->config.element_size * t->config.wound_refine / (npe == 10 ? 2.0 : 1.0);
+    for (int k = 0; k + 1 < count; k++) {
+        const double *a = m->rest + 3 * lip[k], *b = m->rest + 3 * lip[k + 1];
+        if (fabs(a[0] - b[0]) > tol || fabs(a[1] - b[1]) > tol || fabs(a[2] - b[2]) > tol ||
+            side[lip[k]] == side[lip[k + 1]])
+            continue;
+        int near = side[lip[k]] == 1 ? lip[k] : lip[k + 1];
+        int far = near == lip[k] ? lip[k + 1] : lip[k];
+        t->lip_near[t->lip_pairs] = near;
+        t->lip_far[t->lip_pairs] = far;
+        t->lip_k[t->lip_pairs++] = t->config.lip_stiffness * t->config.youngs_modulus * area[near] / h;
+        k++;
+    }
+    free(side);
+    free(lip);
+    free(area);
     return 0;
 }
 
@@ -172,6 +305,10 @@ void tissue_destroy(tissue_solid *t)
     free(t->target);
     free(t->fixed);
     free(t->rank);
+    free(t->lip_near);
+    free(t->lip_far);
+    free(t->lip_k);
+    free(t->lip_rank);
     free(t);
 }
 
@@ -215,7 +352,7 @@ tissue_solid *tissue_create(const tissue_config *c, char *err, size_t errlen)
     t->rank = malloc(sizeof(int) * (size_t)(npe * npe) * (size_t)m->tets);
     if (!t->dm_inverse || !t->volume || !t->mass || !t->weight || !t->x || !t->v || !t->x_start ||
         !t->v_start || !t->a_start || !t->force || !t->internal || !t->damping_force ||
-        !t->residual || !t->target || !t->fixed || !t->rank || build_pattern(t)) {
+        !t->residual || !t->target || !t->fixed || !t->rank || find_lips(t) || build_pattern(t)) {
         snprintf(err, errlen, "element_size: out of memory for the tissue's %d nodes", t->nodes);
         tissue_destroy(t);
         return NULL;
@@ -386,6 +523,21 @@ static int assemble(tissue_solid *t, double mass_coef, double stiffness)
                     }
                 }
             }
+    }
+    /* the lips: E = k/2 g^2 for a pair crossed by g < 0 along the slit's axis */
+    const int axis = m->slit_axis;
+    for (int p = 0; p < t->lip_pairs; p++) {
+        const int a = t->lip_near[p], b = t->lip_far[p];
+        const double sep = t->x[3 * b + axis] - t->x[3 * a + axis], k = t->lip_k[p];
+        if (!(sep < 0.0)) continue;
+        t->internal[3 * b + axis] += k * sep;
+        t->internal[3 * a + axis] -= k * sep;
+        if (!matrix) continue;
+        const int da = 3 * a + axis, db = 3 * b + axis, hi = a < b ? b : a;
+        if (!t->fixed[da]) Ax[Ap[da + 1] - 1] += stiffness * k;
+        if (!t->fixed[db]) Ax[Ap[db + 1] - 1] += stiffness * k;
+        if (!t->fixed[da] && !t->fixed[db])
+            Ax[Ap[3 * hi + axis] + t->lip_rank[p] + axis] -= stiffness * k;
     }
     if (matrix)
         for (int d = 0; d < t->dofs; d++) /* the diagonal closes each column */
@@ -569,16 +721,43 @@ int tissue_step(tissue_solid *t, double dt, tissue_step_info *info, char *err, s
     return 0;
 }
 
+/* Statics by continuation from the start x_start, where the residual is
+ * R0: the equilibrium of R(x) = (1 - lambda) R0 for lambda up to 1 in
+ * `parts` equal steps, each Newton from the last. 0, or -1 (x is left
+ * anywhere, the forces as they were). */
+static int solve_by_parts(tissue_solid *t, int parts, tissue_step_info *info, char *err,
+                          size_t errlen)
+{
+    double *saved = t->v_start, *r0 = t->a_start; /* unused by statics */
+    const size_t bytes = sizeof(double) * (size_t)t->dofs;
+    memcpy(t->x, t->x_start, bytes);
+    memcpy(saved, t->force, bytes);
+    if (assemble(t, 0.0, 0.0)) return -1;
+    for (int d = 0; d < t->dofs; d++)
+        r0[d] = t->fixed[d] ? 0.0 : t->internal[d] - t->force[d] - t->weight[d / 3] * t->config.gravity[d % 3];
+    int rc = 0;
+    for (int k = 1; k <= parts && rc == 0; k++) {
+        const double rest = 1.0 - (double)k / parts;
+        for (int d = 0; d < t->dofs; d++) t->force[d] = saved[d] + rest * r0[d];
+        rc = newton(t, 0.0, info, err, errlen);
+    }
+    memcpy(t->force, saved, bytes);
+    return rc;
+}
+
 int tissue_solve_static(tissue_solid *t, tissue_step_info *info, char *err, size_t errlen)
 {
     if (info) memset(info, 0, sizeof *info);
     memset(t->v, 0, sizeof(double) * (size_t)t->dofs);
     memcpy(t->x_start, t->x, sizeof(double) * (size_t)t->dofs);
-    if (newton(t, 0.0, info, err, errlen)) {
-        memcpy(t->x, t->x_start, sizeof(double) * (size_t)t->dofs);
-        return -1;
-    }
-    return 0;
+    int rc = newton(t, 0.0, info, err, errlen);
+    /* far from equilibrium (a fine mesh's slit under the pretension: the
+     * tangent goes indefinite on the way) the rest is reached in parts;
+     * not for a bounded solve, which the caller carries over */
+    for (int parts = 4; rc && t->static_iterations == 0 && parts <= 64; parts *= 4)
+        rc = solve_by_parts(t, parts, info, err, errlen);
+    if (rc) memcpy(t->x, t->x_start, sizeof(double) * (size_t)t->dofs);
+    return rc;
 }
 
 int tissue_solve_static_to(tissue_solid *t, double force_tol, int max_iterations,
@@ -593,6 +772,22 @@ int tissue_solve_static_to(tissue_solid *t, double force_tol, int max_iterations
 }
 
 long tissue_factorisations(const tissue_solid *t) { return t->factorisations; }
+
+size_t tissue_state_doubles(const tissue_solid *t) { return 2 * (size_t)t->dofs; }
+
+void tissue_state_save(const tissue_solid *t, double *buf)
+{
+    memcpy(buf, t->x, sizeof(double) * (size_t)t->dofs);
+    memcpy(buf + t->dofs, t->v, sizeof(double) * (size_t)t->dofs);
+}
+
+/* The kept factor stays: it is a tangent near the restored state, and the
+ * punctures' compliances are renewed when it is (tissue_factorisations). */
+void tissue_state_restore(tissue_solid *t, const double *buf)
+{
+    memcpy(t->x, buf, sizeof(double) * (size_t)t->dofs);
+    memcpy(t->v, buf + t->dofs, sizeof(double) * (size_t)t->dofs);
+}
 
 void tissue_reaction(tissue_solid *t, int node, double r[3])
 {
@@ -610,6 +805,39 @@ void tissue_reaction(tissue_solid *t, int node, double r[3])
 int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], double dt, double C[9],
                             char *err, size_t errlen)
 {
+    const double(*weights)[4] = (const double(*)[4])bary;
+    return tissue_points_compliance(t, 1, &tet, weights, dt, C, err, errlen);
+}
+
+int tissue_points_compliance(tissue_solid *t, int count, const int *tets, const double (*bary)[4],
+                             double dt, double *C, char *err, size_t errlen)
+{
+    return tissue_patches_compliance(t, count, NULL, tets, bary, dt, C, err, errlen);
+}
+
+/* The weights (shape functions over the samples, summed, / samples) of a
+ * patch on the nodes of its tets: adds w * N_s to out for each sample. */
+static void patch_weights(const tissue_solid *t, int samples, const int *tets,
+                          const double (*bary)[4], double *node_index_weight, int *nodes_out,
+                          int *count_out)
+{
+    const int npe = t->per_tet;
+    int count = 0;
+    for (int s = 0; s < samples; s++) {
+        double N[10];
+        tissue_shape(npe, bary[s], N);
+        for (int q = 0; q < npe; q++) {
+            nodes_out[count] = t->mesh.tet[npe * tets[s] + q];
+            node_index_weight[count++] = N[q] / samples;
+        }
+    }
+    *count_out = count;
+}
+
+int tissue_patches_compliance(tissue_solid *t, int count, const int *samples, const int *tets,
+                              const double (*bary)[4], double dt, double *C, char *err,
+                              size_t errlen)
+{
     const tissue_config *c = &t->config;
     int newmark = c->integrator == TISSUE_NEWMARK;
     double mass_coef = dt > 0.0 ? (newmark ? 4.0 : 1.0) / (dt * dt) : 0.0;
@@ -621,32 +849,96 @@ int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], doub
         snprintf(err, errlen, "a tet is inverted");
         return -1;
     }
-    double *rhs = t->rhs->x, N[10];
-    int npe = t->per_tet;
-    const int *tt = t->mesh.tet + npe * tet;
-    tissue_shape(npe, bary, N);
-    for (int k = 0; k < 3; k++) {
-        memset(rhs, 0, sizeof(double) * (size_t)t->dofs);
-        for (int q = 0; q < npe; q++) {
-            int d = 3 * tt[q] + k;
-            if (!t->fixed[d]) rhs[d] += N[q];
+    double *rhs = t->rhs->x;
+    const int row = 3 * count;
+    /* tissue_step takes the start's acceleration under the same loads:
+     * a force present over a Newmark step acts at both ends of it, and
+     * moves the point twice A^-1 f */
+    const double scale = dt > 0.0 && newmark ? 2.0 : 1.0;
+    int first = 0;
+    for (int p = 0; p < count; p++) {
+        const int sp = samples ? samples[p] : 1;
+        int nodes_p[10 * 8], np;
+        double w_p[10 * 8];
+        patch_weights(t, sp > 8 ? 8 : sp, tets + first, bary + first, w_p, nodes_p, &np);
+        for (int k = 0; k < 3; k++) {
+            memset(rhs, 0, sizeof(double) * (size_t)t->dofs);
+            for (int q = 0; q < np; q++) {
+                int d = 3 * nodes_p[q] + k;
+                if (!t->fixed[d]) rhs[d] += w_p[q];
+            }
+            if (factor_solve(t, NULL, renew && p == 0 && k == 0, mass_coef, stiffness)) {
+                snprintf(err, errlen, "the tissue's matrix is not positive definite (nothing held?)");
+                return -1;
+            }
+            const double *sol = t->sol->x;
+            int other = 0;
+            for (int o = 0; o < count; o++) { /* every patch's answer to this force */
+                const int so = samples ? samples[o] : 1;
+                int nodes_o[10 * 8], no;
+                double w_o[10 * 8];
+                patch_weights(t, so > 8 ? 8 : so, tets + other, bary + other, w_o, nodes_o, &no);
+                for (int i = 0; i < 3; i++) {
+                    double u = 0.0;
+                    for (int q = 0; q < no; q++) u += w_o[q] * sol[3 * nodes_o[q] + i];
+                    C[row * (3 * o + i) + 3 * p + k] = scale * u;
+                }
+                other += so;
+            }
         }
-        if (factor_solve(t, NULL, renew && k == 0, mass_coef, stiffness)) {
-            snprintf(err, errlen, "the tissue's matrix is not positive definite (nothing held?)");
-            return -1;
-        }
-        const double *s = t->sol->x;
-        /* tissue_step takes the start's acceleration under the same loads:
-         * a force present over a Newmark step acts at both ends of it, and
-         * moves the point twice A^-1 f */
-        double scale = dt > 0.0 && newmark ? 2.0 : 1.0;
-        for (int i = 0; i < 3; i++) {
-            double u = 0.0;
-            for (int q = 0; q < npe; q++) u += N[q] * s[3 * tt[q] + i];
-            C[3 * i + k] = scale * u;
-        }
+        first += sp;
     }
     return 0;
+}
+
+void tissue_apply_patch_force(tissue_solid *t, int samples, const int *tets, const double (*bary)[4],
+                              const double f[3])
+{
+    for (int s = 0; s < samples; s++) {
+        const double share[3] = {f[0] / samples, f[1] / samples, f[2] / samples};
+        tissue_apply_point_force(t, tets[s], bary[s], share);
+    }
+}
+
+void tissue_patch_position(const tissue_solid *t, int samples, const int *tets,
+                           const double (*bary)[4], double x[3])
+{
+    x[0] = x[1] = x[2] = 0.0;
+    for (int s = 0; s < samples; s++) {
+        double at[3];
+        tissue_point_position(t, tets[s], bary[s], at);
+        for (int i = 0; i < 3; i++) x[i] += at[i] / samples;
+    }
+}
+
+int tissue_patch_samples(const tissue_solid *t, int tet, const double bary[4], double radius,
+                         int max, int *tets, double (*bary_out)[4])
+{
+    const tissue_mesh *m = &t->mesh;
+    const tissue_config *c = &t->config;
+    double N[10], centre[3] = {0.0, 0.0, 0.0};
+    tissue_shape(t->per_tet, bary, N);
+    for (int q = 0; q < t->per_tet; q++)
+        for (int i = 0; i < 3; i++) centre[i] += N[q] * m->rest[3 * m->tet[t->per_tet * tet + q] + i];
+    tets[0] = tet;
+    memcpy(bary_out[0], bary, sizeof bary_out[0]);
+    int count = 1;
+    const int axis = m->slit_axis, along = 1 - axis;
+    const double top = c->center[2] + 0.5 * c->size[2];
+    for (int d = 0; d < 6 && count < max; d++) {
+        double p[3] = {centre[0], centre[1], centre[2]};
+        p[d / 2] += d % 2 ? -radius : radius;
+        if (axis >= 0 && c->has_wound) { /* not across the slit from the point */
+            const double plane = c->wound[axis], lo = fmin(c->wound[along], c->wound[2 + along]),
+                         hi = fmax(c->wound[along], c->wound[2 + along]);
+            const int across = (centre[axis] - plane) * (p[axis] - plane) < 0.0 ||
+                               (p[axis] == plane && centre[axis] != plane);
+            if (across && fmax(p[2], centre[2]) > top - c->wound[4] && p[along] > lo && p[along] < hi)
+                continue;
+        }
+        if (tissue_locate(t, p, &tets[count], bary_out[count]) == 0) count++;
+    }
+    return count;
 }
 
 double tissue_kinetic_energy(const tissue_solid *t)
@@ -664,7 +956,33 @@ double tissue_elastic_energy(const tissue_solid *t)
         if (element(t, e, &w, NULL, NULL)) return HUGE_VAL;
         sum += w;
     }
-    return sum;
+    return sum + tissue_lip_contact(t, NULL, NULL);
+}
+
+double tissue_lip_contact(const tissue_solid *t, double *min_separation, double *force)
+{
+    const int axis = t->mesh.slit_axis;
+    double energy = 0.0, least = HUGE_VAL, total = 0.0;
+    for (int p = 0; p < t->lip_pairs; p++) {
+        const double g = t->x[3 * t->lip_far[p] + axis] - t->x[3 * t->lip_near[p] + axis];
+        least = fmin(least, g);
+        if (g < 0.0) {
+            energy += 0.5 * t->lip_k[p] * g * g;
+            total -= t->lip_k[p] * g;
+        }
+    }
+    if (min_separation) *min_separation = t->lip_pairs ? least : 0.0;
+    if (force) *force = total;
+    return energy;
+}
+
+int tissue_lip_pairs(const tissue_solid *t, const int **near_nodes, const int **far_nodes,
+                     const double **stiffness)
+{
+    if (near_nodes) *near_nodes = t->lip_near;
+    if (far_nodes) *far_nodes = t->lip_far;
+    if (stiffness) *stiffness = t->lip_k;
+    return t->lip_pairs;
 }
 
 double tissue_potential_energy(const tissue_solid *t)

@@ -26,6 +26,7 @@ tissue_config tissue_config_default(void)
         .gravity = {0.0, 0.0, -9.81},
         .integrator = TISSUE_NEWMARK,
         .element_order = 1,
+        .lip_stiffness = 100.0,
         .max_nodes = 20000,
     };
     return c;
@@ -103,6 +104,11 @@ int tissue_config_check(const tissue_config *c, tissue_mesh_size *size, char *er
     if (c->element_order != 1 && c->element_order != 2) {
         snprintf(err, errlen, "element_order: %d; accepted 1 (linear tets) or 2 (quadratic)",
                  c->element_order);
+        return -1;
+    }
+    if (!(c->lip_stiffness >= 0.0) || !isfinite(c->lip_stiffness)) {
+        snprintf(err, errlen, "lip_stiffness: %g; accepted a finite number >= 0 (0: no contact "
+                 "between the wound's lips)", c->lip_stiffness);
         return -1;
     }
     int grid[3], slit = 0;

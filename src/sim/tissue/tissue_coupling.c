@@ -12,6 +12,19 @@
 #include "sim/contact/surface.h"
 #include "sim/tissue/tissue.h"
 
+/* The most Newton updates of a pad per rod step. One let the quadratic
+ * wound pad (8 mm) fall out of equilibrium as the stitch tightened: its gap
+ * jumped by up to 2 mm between frames; two keep it smooth (wound_closure at
+ * linear 6 mm: the same CPU time and gap). */
+#define PAD_UPDATES 2
+
+/* m: the radius of the tissue a puncture's thread bears on. A point
+ * force's dimple deepens as the mesh is refined (about F / (E h)), so the
+ * stitch's answer would depend on the mesh; spread over points a fixed
+ * distance around the hole it converges (draft-stitch-compliance.md). */
+#define PATCH_RADIUS 1e-3
+
+
 int tissue_coupling_pad(const rod_model *m)
 {
     for (int j = 0; j < m->surface_count; j++)
@@ -72,17 +85,67 @@ static void link(rod_puncture_state *ps, int j, tissue_solid *t)
 {
     double at[3];
     locate_deformed(t, ps->point, &ps->tet, ps->bary);
-    tissue_point_position(t, ps->tet, ps->bary, at);
+    ps->samples = tissue_patch_samples(t, ps->tet, ps->bary, PATCH_RADIUS, ROD_PATCH_SAMPLES,
+                                       ps->sample_tet, ps->sample_bary);
+    tissue_patch_position(t, ps->samples, ps->sample_tet, (const double(*)[4])ps->sample_bary, at);
     v3_sub(ps->offset, ps->point, at);
     memset(ps->pad_force, 0, sizeof ps->pad_force);
     memset(ps->compliance, 0, sizeof ps->compliance);
+    memset(ps->cross, 0, sizeof ps->cross);
     ps->linked = j + 1;
 }
 
-/* Links the punctures of pad j not yet linked; 0, or -1 with a message */
+/* The static compliance of pad j's punctures, all together (3P x 3P, P of
+ * them: 3P solves with the kept factor, as many as each alone): each
+ * puncture's own block and its cross blocks with the others, so that the
+ * thread's law at one sees the pad move under the others' forces within the
+ * rod's step (a stitch's two bites pull each other's holes). 0, or -1 with
+ * a message. */
+static int renew_puncture_compliance(const rod_model *m, int j, rod_state *s, char *err, size_t errlen)
+{
+    tissue_solid *t = m->surfaces[j].solid;
+    int index[ROD_MAX_PUNCTURES], samples[ROD_MAX_PUNCTURES], count = 0, used = 0;
+    int tets[ROD_MAX_PUNCTURES * ROD_PATCH_SAMPLES];
+    double bary[ROD_MAX_PUNCTURES * ROD_PATCH_SAMPLES][4];
+    double C[9 * ROD_MAX_PUNCTURES * ROD_MAX_PUNCTURES]; /* m/N (18 KB) */
+    for (int k = 0; k < s->puncture_count; k++) {
+        if (s->puncture[k].linked != j + 1) continue;
+        const rod_puncture_state *ps = &s->puncture[k];
+        index[count] = k;
+        samples[count++] = ps->samples;
+        memcpy(tets + used, ps->sample_tet, sizeof(int) * (size_t)ps->samples);
+        memcpy(bary + used, ps->sample_bary, sizeof bary[0] * (size_t)ps->samples);
+        used += ps->samples;
+    }
+    if (count == 0) return 0;
+    char why[256];
+    if (tissue_patches_compliance(t, count, samples, tets, (const double(*)[4])bary, 0.0, C, why,
+                                  sizeof why)) {
+        snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
+                 m->surfaces[j].line, s->time, why);
+        return -1;
+    }
+    const int row = 3 * count;
+    const long factor = tissue_factorisations(t);
+    for (int o = 0; o < count; o++) {
+        rod_puncture_state *ps = &s->puncture[index[o]];
+        memset(ps->cross, 0, sizeof ps->cross);
+        for (int p = 0; p < count; p++) {
+            double *block = p == o ? ps->compliance : ps->cross[index[p]];
+            for (int r = 0; r < 3; r++)
+                for (int c = 0; c < 3; c++) block[3 * r + c] = C[row * (3 * o + r) + 3 * p + c];
+        }
+        ps->compliance_factor = factor;
+    }
+    return 0;
+}
+
+/* Links the punctures of pad j not yet linked and, when any was, renews
+ * the pad's compliances; 0, or -1 with a message */
 static int link_new(const rod_model *m, int j, rod_state *s, char *err, size_t errlen)
 {
     tissue_solid *t = m->surfaces[j].solid;
+    int linked = 0;
     for (int k = 0; k < s->puncture_count; k++) {
         rod_puncture_state *ps = &s->puncture[k];
         if (ps->linked || !(ps->surface == j ||
@@ -90,15 +153,9 @@ static int link_new(const rod_model *m, int j, rod_state *s, char *err, size_t e
                              rod_surface_gap(&m->surfaces[j], ps->point, 0.0, NULL, NULL) <= 0.0)))
             continue;
         link(ps, j, t);
-        char why[256];
-        if (tissue_point_compliance(t, ps->tet, ps->bary, 0.0, ps->compliance, why, sizeof why)) {
-            snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
-                     m->surfaces[j].line, s->time, why);
-            return -1;
-        }
-        ps->compliance_factor = tissue_factorisations(t);
+        linked = 1;
     }
-    return 0;
+    return linked ? renew_puncture_compliance(m, j, s, err, errlen) : 0;
 }
 
 /* Outward faces of a positive tet's corners (counter-clockwise seen from
@@ -229,7 +286,8 @@ static double apply_contact(const rod_model *m, int j, const rod_state *s, const
  * triangles the thread touches (rod_mesh_vertex_compliance), from the pad's
  * kept factor (3 solves a vertex), renewed only when the factor is (the
  * tag: the factorisation it is of, + 1). 0, or -1 with a message. */
-static int renew_compliance(const rod_model *m, int j, const rod_state *s, const double *pad_force,
+static int renew_surface_compliance(const rod_model *m, int j, const rod_state *s,
+                                    const double *pad_force,
                             char *err, size_t errlen)
 {
     struct rod_mesh *mesh = m->surfaces[j].mesh;
@@ -330,7 +388,8 @@ static double load_pad(const rod_model *m, int j, const rod_state *s, const doub
     for (int k = 0; k < s->puncture_count; k++) {
         const rod_puncture_state *ps = &s->puncture[k];
         if (ps->linked != j + 1) continue;
-        tissue_apply_point_force(t, ps->tet, ps->bary, ps->force);
+        tissue_apply_patch_force(t, ps->samples, ps->sample_tet,
+                                 (const double(*)[4])ps->sample_bary, ps->force);
         *any = 1;
     }
     return apply_contact(m, j, s, contact);
@@ -391,39 +450,36 @@ int tissue_coupling_step(const rod_model *m, rod_state *s, double *pad_force, ch
                      m->surfaces[j].line, s->time, why);
             return -1;
         }
-        /* one Newton update a step, from the last equilibrium with the kept
-         * factor (the residual falls about a hundredfold per update), or none
-         * once the residual is below 1e-5 of the largest force at a
-         * puncture or a node on the surface: the next step's update carries
-         * the rest over */
+        /* up to PAD_UPDATES Newton updates a step, from the last equilibrium
+         * with the kept factor (the residual falls about a hundredfold per
+         * update), none once the residual is below 1e-5 of the largest force
+         * at a puncture or a node on the surface: the next step's updates
+         * carry the rest over */
         for (int k = 0; k < s->puncture_count; k++)
             if (s->puncture[k].linked == j + 1) largest = fmax(largest, v3_norm(s->puncture[k].force));
-        if (tissue_solve_static_to(t, 1e-5 * largest, 1, NULL, why, sizeof why)) {
+        if (tissue_solve_static_to(t, 1e-5 * largest, PAD_UPDATES, NULL, why, sizeof why)) {
             snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
                      m->surfaces[j].line, s->time, why);
             return -1;
         }
         measure_give(m, j, s, pad_force);
-        if (renew_compliance(m, j, s, pad_force, why, sizeof why)) {
+        if (renew_surface_compliance(m, j, s, pad_force, why, sizeof why)) {
             snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
                      m->surfaces[j].line, s->time, why);
             return -1;
         }
+        int stale = 0;
         for (int k = 0; k < s->puncture_count; k++) {
             rod_puncture_state *ps = &s->puncture[k];
             if (ps->linked != j + 1) continue;
-            tissue_point_position(t, ps->tet, ps->bary, ps->point);
+            tissue_patch_position(t, ps->samples, ps->sample_tet,
+                                  (const double(*)[4])ps->sample_bary, ps->point);
             v3_axpy(ps->point, 1.0, ps->offset);
             v3_copy(ps->pad_force, ps->force);
             /* from the kept factor: the same until it is renewed */
-            if (ps->compliance_factor == tissue_factorisations(t)) continue;
-            if (tissue_point_compliance(t, ps->tet, ps->bary, 0.0, ps->compliance, why, sizeof why)) {
-                snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
-                         m->surfaces[j].line, s->time, why);
-                return -1;
-            }
-            ps->compliance_factor = tissue_factorisations(t);
+            stale |= ps->compliance_factor != tissue_factorisations(t);
         }
+        if (stale && renew_puncture_compliance(m, j, s, err, errlen)) return -1;
     }
     return 0;
 }
