@@ -268,10 +268,17 @@ static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_
                 c->side ? "tip" : "root");
     }
     const int pad = tissue_coupling_pad(m);
-    if (pad >= 0)
-        fprintf(f, "        elastic pad: the wound's opening at the stitch %.4g mm, its nodes at most "
-                "%.4g mm from rest\n", 1e3 * stitch_gap(m, s, pad),
+    if (pad >= 0) {
+        /* a gap below 0 is the lips pressed together: the contact between
+         * them is a penalty, which lets them overlap by its give */
+        const double gap = stitch_gap(m, s, pad);
+        char opening[128];
+        if (gap > 0.0) snprintf(opening, sizeof opening, "the wound's opening at the stitch %.4g mm", 1e3 * gap);
+        else snprintf(opening, sizeof opening, "the wound closed at the stitch, its lips pressed "
+                      "together (overlapping by %.3g um, the contact's give)", -1e6 * gap);
+        fprintf(f, "        elastic pad: %s, its nodes at most %.4g mm from rest\n", opening,
                 1e3 * tissue_coupling_max_displacement(m->surfaces[pad].solid));
+    }
     /* CPU beside wall: a busy machine stretches the wall time, not the CPU */
     fprintf(f, "        %lld steps in %.3f s wall, %.3f s CPU: %.2f us CPU per step, %.4g CPU s "
                "(%.4g wall s) per simulated s\n",
