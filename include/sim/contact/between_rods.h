@@ -7,7 +7,10 @@
  * moving over the step along that rod's actual motion (it has taken the
  * step already: a Gauss-Seidel sweep over the rods). A pair joins the
  * point at fraction alpha of this rod's segment a to the point at fraction
- * beta of the earlier rod's segment b; its force follows the strands' own
+ * beta of the earlier rod's segment b (a rod whose segments are all
+ * shorter than 0.4 contact distances, a thin rope on a thick bar, has a
+ * pair at each node near the other rod instead, alpha 0 or 1, no node in
+ * two pairs either way); its force follows the strands' own
  * law (rod_self_contact_pair_law: compliant normal force, regularised
  * Coulomb friction at its corner) with the compliance of this rod's two
  * nodes alone, solved in closed form in the residual like a surface's, and

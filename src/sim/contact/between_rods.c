@@ -131,6 +131,83 @@ static int same_region(const rod_cross *c, int upto, int rod, double sa, double 
     return 0;
 }
 
+/* Pair p's normal (from rod j's point at fraction beta of its segment b to
+ * this rod's at alpha of segment a, at the start of the step), j's point
+ * and its velocity over the step; dist (m) their distance, for closest */
+static void fill_pair(rod_link *l, rod_cross_pair *p, const double *pa, const double *pb,
+                     const rod_state *const *states, int j, double dt, double dist)
+{
+    double ra[3], rb[3], d[3];
+    for (int e = 0; e < 3; e++) {
+        ra[e] = (1.0 - p->alpha) * pa[3 * p->a + e] + p->alpha * pa[3 * p->a + 3 + e];
+        rb[e] = (1.0 - p->beta) * pb[3 * p->b + e] + p->beta * pb[3 * p->b + 3 + e];
+    }
+    l->closest = fmin(l->closest, dist - p->reach);
+    v3_sub(d, ra, rb);
+    double len = v3_norm(d);
+    if (!(len > 1e-12 * p->reach)) { /* the axes meet: across both tangents */
+        double ta[3], tb[3];
+        v3_sub(ta, &pa[3 * p->a + 3], &pa[3 * p->a]);
+        v3_sub(tb, &pb[3 * p->b + 3], &pb[3 * p->b]);
+        v3_cross(d, ta, tb);
+        len = v3_norm(d);
+        if (!(len > 0.0)) v3_set(d, 0.0, 0.0, 1.0), len = 1.0;
+    }
+    v3_scale(p->normal, d, 1.0 / len);
+    v3_copy(p->point0, rb);
+    if (l->stepped[j]) { /* its actual motion over this step */
+        const double *now = states[j]->position;
+        for (int e = 0; e < 3; e++) {
+            const double end =
+                (1.0 - p->beta) * now[3 * p->b + e] + p->beta * now[3 * p->b + 3 + e];
+            p->velocity[e] = (end - rb[e]) / dt;
+        }
+    } else { /* its velocity at the start */
+        double v0[3], v1[3];
+        global_velocity(states[j], p->b, v0);
+        global_velocity(states[j], p->b + 1, v1);
+        for (int e = 0; e < 3; e++) p->velocity[e] = (1.0 - p->beta) * v0[e] + p->beta * v1[e];
+    }
+    v3_set(p->force, 0.0, 0.0, 0.0);
+}
+
+/* Rod k's pairs with rod j, one at each node of k within threshold (m) of
+ * j (its own pair, on no other node: a wrap of short segments over a thick
+ * rod is held at every node, as by a cylinder surface), against j's
+ * nearest segment; -1 when out of room */
+static int node_pairs(rod_link *l, int k, int j, const rod_model *models, const double *pa,
+                      const double *pb, const rod_state *const *states, double dt,
+                      double threshold)
+{
+    rod_cross *c = &l->cross[k];
+    const rod_model *mk = &models[k], *mj = &models[j];
+    const double reach = 0.5 * (mk->diameter + mj->diameter);
+    for (int i = 0; i < mk->nodes; i++) {
+        if (c->used[i]) continue;
+        int nearest = -1;
+        double best = threshold, best_t = 0.0;
+        for (int b = 0; b + 1 < mj->nodes; b++) {
+            double t;
+            const double dist = rod_segment_distance(&pa[3 * i], &pa[3 * i], &pb[3 * b],
+                                                     &pb[3 * b + 3], NULL, &t);
+            if (dist < best) best = dist, best_t = t, nearest = b;
+        }
+        if (nearest < 0) continue;
+        if (c->count == c->capacity) return -1;
+        rod_cross_pair p;
+        memset(&p, 0, sizeof p);
+        p.a = i + 1 < mk->nodes ? i : i - 1;
+        p.alpha = i + 1 < mk->nodes ? 0.0 : 1.0;
+        p.rod = j, p.b = nearest, p.beta = best_t;
+        p.reach = reach;
+        p.friction = 0.5 * (mk->self_friction + mj->self_friction);
+        c->used[i] = 1;
+        fill_pair(l, &p, pa, pb, states, j, dt, best);
+        c->pair[c->count++] = p;
+    }
+    return 0;
+}
+
 /* Rod k's pairs with rod j into c (appended); -1 when out of room */
 static int pairs_with(rod_link *l, int k, int j, const rod_model *models,
                       const rod_state *const *states, double dt, double margin)
@@ -148,6 +225,21 @@ static int pairs_with(rod_link *l, int k, int j, const rod_model *models,
     box_of(pb, mj->nodes, 0.0, blo, bhi);
     for (int e = 0; e < 3; e++)
         if (alo[e] > bhi[e] || blo[e] > ahi[e]) return 0; /* far apart: nothing to compare */
+    /* segments all shorter than 2 CROSS_SNAP contact distances (a thin rope
+     * on a thick bar): every point of one lies within CROSS_SNAP contact
+     * distances of a node, and its dip into rod j between two held nodes is
+     * under 2 % of the contact distance, so each node near rod j takes a
+     * pair of its own and no segment does. Segment pairs along a wrap held
+     * every other segment, nodes left between them: over a capstan the
+     * hand's force dropped towards the weight in a third of the steps */
+    double longest = 0.0;
+    for (int a = 0; a + 1 < mk->nodes; a++) {
+        double along[3];
+        v3_sub(along, &pa[3 * a + 3], &pa[3 * a]);
+        longest = fmax(longest, v3_norm(along));
+    }
+    if (longest < 2.0 * CROSS_SNAP * reach)
+        return node_pairs(l, k, j, models, pa, pb, states, dt, threshold);
     const int first = c->count;
     for (int a = 0; a + 1 < mk->nodes; a++) {
         double slo[3], shi[3];
@@ -219,36 +311,7 @@ static int pairs_with(rod_link *l, int k, int j, const rod_model *models,
             c->used[p.a] = c->used[p.a + 1] = 1;
         }
         c->paired[p.a] = 1;
-        double ra[3], rb[3], d[3];
-        for (int e = 0; e < 3; e++) {
-            ra[e] = (1.0 - p.alpha) * pa[3 * p.a + e] + p.alpha * pa[3 * p.a + 3 + e];
-            rb[e] = (1.0 - p.beta) * pb[3 * p.b + e] + p.beta * pb[3 * p.b + 3 + e];
-        }
-        l->closest = fmin(l->closest, p.force[0] - reach);
-        v3_sub(d, ra, rb);
-        double len = v3_norm(d);
-        if (!(len > 1e-12 * reach)) { /* the axes meet: across both tangents */
-            double ta[3], tb[3];
-            v3_sub(ta, &pa[3 * p.a + 3], &pa[3 * p.a]);
-            v3_sub(tb, &pb[3 * p.b + 3], &pb[3 * p.b]);
-            v3_cross(d, ta, tb);
-            len = v3_norm(d);
-            if (!(len > 0.0)) v3_set(d, 0.0, 0.0, 1.0), len = 1.0;
-        }
-        v3_scale(p.normal, d, 1.0 / len);
-        v3_copy(p.point0, rb);
-        if (l->stepped[j]) { /* its actual motion over this step */
-            const double *now = states[j]->position;
-            for (int e = 0; e < 3; e++) {
-                const double end = (1.0 - p.beta) * now[3 * p.b + e] + p.beta * now[3 * p.b + 3 + e];
-                p.velocity[e] = (end - rb[e]) / dt;
-            }
-        } else { /* its velocity at the start */
-            double v0[3], v1[3];
-            global_velocity(states[j], p.b, v0);
-            global_velocity(states[j], p.b + 1, v1);
-            for (int e = 0; e < 3; e++) p.velocity[e] = (1.0 - p.beta) * v0[e] + p.beta * v1[e];
-        }
+        fill_pair(l, &p, pa, pb, states, j, dt, p.force[0]);
         v3_set(p.force, 0.0, 0.0, 0.0);
         c->pair[c->count++] = p;
     }
