@@ -101,7 +101,7 @@ const ini_key scene_keys_rod[] = {
     {"surface", "tissue", "-", "no", BOOL,
      "yes: the needle (driven tip) passing through makes punctures"},
     {"surface", "rounding", "m", "0", ">= 0, below half the shortest edge; box only",
-     "the radius a box's edges and corners are rounded to (a skin pad's, a table's)"},
+     "the radius a box's edges and corners are rounded to (a skin pad's, a table's); an elastic pad's deformed surface has its convex edges rounded to it where the thread touches"},
     {"surface", "file", "-", "-", "FILE.stl (ASCII or binary); mesh only, required",
      "the mesh's triangles (m), outward side counter-clockwise; solid behind the closest face, edge or vertex (a sheet is solid behind its front)"},
     {"surface", "max_triangles", "-", "200000", "1 .. 5000000",

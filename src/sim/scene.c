@@ -967,6 +967,8 @@ static int read_tissue_pads(ini_doc *doc, rod_model *m, const double gravity[3],
         if (!sf->solid) return ini_error(doc, "surface", i, "model", err, errlen, "%s", why);
         sf->mesh = tissue_coupling_surface(sf->solid, why, sizeof why);
         if (!sf->mesh) return ini_error(doc, "surface", i, "model", err, errlen, "%s", why);
+        /* the box's rounding rounds the deformed surface's convex edges */
+        rod_mesh_set_rounding(sf->mesh, sf->rounding);
         if (tissue_solve_static(sf->solid, NULL, why, sizeof why))
             return ini_error(doc, "surface", i, "pretension", err, errlen,
                              "the pad finds no rest under its pretension and weight: %s", why);

@@ -6,13 +6,15 @@
  * take the wire's weight beside the pad's own; the wire lies on the sunken
  * top, not on the box's), a point load pressing a wire into the pad (a dent,
  * the wire's lowest point on the dented surface), the wound's slit left
- * out of the surface, and a rigid pad touched as its box. */
+ * out of the surface, and a rigid pad touched as its box; a suture draped
+ * over the held, ridged edge of a stretched pad, the surface rounded there. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/ini.h"
+#include "base/vec3.h"
 #include "sim/contact/contact.h"
 #include "sim/contact/friction.h"
 #include "sim/contact/mesh.h"
@@ -304,6 +306,17 @@ static void slit_left_out(void)
     check(gap > 1e-3 && d > 0.0,
           "0.5 mm down in the open wound (gap %.3g mm) is outside the surface (%.3g mm from it)",
           1e3 * gap, 1e3 * d);
+    /* rounded to 0.5 mm: the rounding takes material off the edges and the
+     * lips' rims are rounded away from the opening, so the point in it is
+     * no nearer; a point over the top away from the wound and the pad's
+     * edges is as far as before */
+    const double q[3] = {0.008, 0.008, 0.0}, over = rod_mesh_distance(mesh, q, NULL, NULL);
+    rod_mesh_set_rounding(mesh, 0.0005);
+    const double d_round = rod_mesh_distance(mesh, p, NULL, NULL);
+    check(d_round >= d, "rounded to 0.5 mm: the point in the open wound is no nearer the surface "
+          "(%.4g mm, sharp %.4g mm)", 1e3 * d_round, 1e3 * d);
+    check_abs("rounded to 0.5 mm: a point over the top, its distance (m) against the sharp "
+              "surface's", rod_mesh_distance(mesh, q, NULL, NULL), over, 1e-6);
     rod_model_release(&m);
 }
 
@@ -453,8 +466,112 @@ static void friction_relative_velocity(void)
     rod_model_release(&m);
 }
 
+/* A suture (nylon, 0.3 mm) draped over the held front edge of a pad
+ * stretched 30 % across (E 0.6 MPa, held at its bottom and sides): its root
+ * held 2 mm above the top, its tip pulled down by 0.3 N (a weight hanging on
+ * it), friction 0.3. The stretched top sinks between the held sides, so the
+ * held edge is a ridge (the top slopes up to it, the side falls from it).
+ * `rounding` (m) rounds the surface's convex edges. Returns, through
+ * *cut, how deep (m) a point of a segment between nodes reaches into the
+ * solid (0: none), and through *drift the nodes' largest |x| (m). */
+static const char edge_scene[] =
+    "[rod]\nlength = 0.06\ndiameter = 0.0003\ndensity = 1140\nyoungs_modulus = 1e9\n"
+    "shear_modulus = 0.37e9\nnodes = 41\norigin = 0 0 0.002\ndirection = 0 -1 -0.1\n"
+    "[ends]\nroot = pinned\ntip = free\n[tip]\nforce = 0 0 -0.3\nframe = global\n"
+    "[solver]\nscheme = implicit\ndt = 0.000834\nduration = 1\n"
+    "[loads]\ngravity = 0 0 -9.81\nlinear_damping = 2e-3\n"
+    "[surface]\nshape = box\ncenter = 0 0 -0.004\nsize = 0.04 0.03 0.008\nfriction = 0.3\n"
+    "tissue = yes\nmodel = elastic\nyoungs_modulus = 6e5\npoisson_ratio = 0.45\n"
+    "element_size = 0.006\nheld = bottom sides\npretension = 0 0.3 0\n";
+
+/* What all the pad's holders (bottom and sides) take upwards (N) less the
+ * pad's own weight. */
+static double pad_support(tissue_solid *t, double g)
+{
+    const double *mass = tissue_node_masses(t);
+    double sum = 0.0;
+    for (int n = 0; n < tissue_node_count(t); n++) {
+        double r[3];
+        tissue_reaction(t, n, r);
+        sum += r[2] - mass[n] * g;
+    }
+    return sum;
+}
+
+static int drape(double rounding, rod_model *m, rod_state **s, double *cut, double *drift,
+                 double *before)
+{
+    char text[2048], err[1024] = "";
+    snprintf(text, sizeof text, "%srounding = %.17g\n", edge_scene, rounding);
+    *s = NULL;
+    if (!check(read_scene(text, m, err, sizeof err) == 0, "the edge scene reads (%s)", err))
+        return -1;
+    *before = pad_support(m->surfaces[0].solid, 9.81);
+    *s = rod_state_create(m);
+    if (!*s || run(m, *s, 1200, 0.000834) != 0) return -1;
+    rod_mesh *mesh = m->surfaces[0].mesh;
+    rod_mesh_move(mesh, tissue_positions(m->surfaces[0].solid), (*s)->time);
+    const double r = 0.5 * m->diameter;
+    *cut = 0.0;
+    *drift = 0.0;
+    for (int b = 0; b < m->nodes; b++) *drift = fmax(*drift, fabs((*s)->position[3 * b]));
+    for (int b = 0; b + 1 < m->nodes; b++)
+        for (int q = 1; q < 8; q++) {
+            double p[3];
+            for (int c = 0; c < 3; c++)
+                p[c] = (*s)->position[3 * b + c] +
+                       q / 8.0 * ((*s)->position[3 * (b + 1) + c] - (*s)->position[3 * b + c]);
+            *cut = fmax(*cut, r - rod_mesh_distance(mesh, p, NULL, NULL));
+        }
+    return 0;
+}
+
+static void draped_over_edge(void)
+{
+    rod_model m;
+    rod_state *s;
+    double cut, drift, before;
+    const double tip = 0.3; /* N */
+    /* the sharp ridge: the nodes rest on its two faces, the segment between
+     * them cuts it */
+    if (drape(0.0, &m, &s, &cut, &drift, &before) == 0)
+        printf("note: over the sharp ridge a segment reaches %.3g mm into the pad (the radius "
+               "%.3g mm), the nodes drift %.3g mm sideways\n", 1e3 * cut, 0.5e3 * m.diameter,
+               1e3 * drift);
+    rod_state_destroy(s);
+    rod_model_release(&m);
+    const double rounding = 0.001;
+    if (!check(drape(rounding, &m, &s, &cut, &drift, &before) == 0,
+               "over the edge rounded to 1 mm the draped thread settles in 1 s")) {
+        rod_state_destroy(s);
+        rod_model_release(&m);
+        return;
+    }
+    double speed = 0.0;
+    for (int b = 0; b < m.nodes; b++) speed = fmax(speed, v3_norm(&s->velocity[3 * b]));
+    check(speed < 1e-3, "the thread is at rest (largest speed %.3g m/s, below 1e-3)", speed);
+    /* what the pad carries: the thread's weight and the tip's load less what
+     * the root's holder takes (end_force: the rod's force on it) */
+    const double weight = m.mass_per_length * m.length * 9.81;
+    const double share = weight + tip + s->end_force[0][2];
+    check_rel("the pad's holders take the thread's share (N): its weight and the tip's load "
+              "less the root's", pad_support(m.surfaces[0].solid, 9.81) - before, share, 0.03);
+    check(share > 0.5 * tip, "most of the load is on the pad's edge (%.3g N of %.3g N)", share,
+          weight + tip);
+    /* a chord of ds over the edge rounded to R (grown by the radius r) dips
+     * ds^2 / (8 (R + r)) below the arc its nodes rest on */
+    const double r = 0.5 * m.diameter, ds = m.length / (m.nodes - 1),
+                 sag = ds * ds / (8.0 * (rounding + r));
+    check(cut < sag, "no segment cuts the rounded edge deeper than a chord's dip: %.3g um into "
+          "it (the dip %.3g um)", 1e6 * cut, 1e6 * sag);
+    check(drift < 1e-4, "the thread stays in its plane x = 0 (largest |x| %.3g mm)", 1e3 * drift);
+    rod_state_destroy(s);
+    rod_model_release(&m);
+}
+
 int main(void)
 {
+    draped_over_edge();
     tree_against_grid();
     wire_at_rest();
     point_load_dent();

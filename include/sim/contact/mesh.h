@@ -43,6 +43,12 @@ rod_mesh *rod_mesh_create_moving(const double *vertices, int vertex_count, const
  * to 0. The pseudonormals are renewed and the tree refitted. No
  * allocation. */
 void rod_mesh_move(rod_mesh *m, const double *vertices, double time);
+/* A moving mesh's surface with its convex edges and corners rounded to
+ * `rounding` (m, 0: sharp): the distances are to the solid within it of
+ * the core, the triangles moved in by it along their normals (a flat face
+ * stays where it is); rod_mesh_vertices stays the vertices as moved. A
+ * fixed mesh ignores it. No allocation. */
+void rod_mesh_set_rounding(rod_mesh *m, double rounding);
 
 /* Signed distance (m) from p to the mesh's surface: > 0 outside, < 0
  * inside. nearest (may be NULL) gets the closest point of the triangles,

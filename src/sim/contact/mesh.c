@@ -34,6 +34,13 @@ struct rod_mesh {
                                 owner's tag */
     double compliance_scale; /* the vertices' compliances scaled by it (>= 1) */
     double moved_at;         /* s */
+    /* a moving mesh's rounding (rod_mesh_set_rounding): the triangles are
+     * the surface moved in by it (vertices holds them), the solid is
+     * within `rounding` of them; actual holds the vertices as moved */
+    double rounding;         /* m */
+    double *actual;          /* (vertex_count x 3), m */
+    double *lowest_cosine;   /* (vertex_count) scratch */
+    double *rim_inward;      /* (vertex_count x 3) scratch: into the faces from a rim */
     int node_count;
     double *node_box;        /* (node_count x 6): lo xyz, hi xyz, m */
     int *node_first, *node_count_of; /* a leaf's triangles: order[first .. first + count);
@@ -391,8 +398,13 @@ rod_mesh *rod_mesh_create_moving(const double *vertices, int vertex_count, const
         m->velocity = calloc((size_t)vertex_count * 3, sizeof(double));
         m->compliance = calloc((size_t)vertex_count * 2, sizeof(double));
         m->triangles = malloc((size_t)count * 3 * sizeof(int));
-        if (m->vertices && m->velocity && m->compliance && m->triangles) {
+        m->actual = malloc((size_t)vertex_count * 3 * sizeof(double));
+        m->lowest_cosine = malloc((size_t)vertex_count * sizeof(double));
+        m->rim_inward = malloc((size_t)vertex_count * 3 * sizeof(double));
+        if (m->vertices && m->velocity && m->compliance && m->triangles && m->actual &&
+            m->lowest_cosine && m->rim_inward) {
             memcpy(m->vertices, vertices, (size_t)vertex_count * 3 * sizeof(double));
+            memcpy(m->actual, vertices, (size_t)vertex_count * 3 * sizeof(double));
             memcpy(m->triangles, triangles, (size_t)count * 3 * sizeof(int));
             double area = 0.0;
             for (int t = 0; t < count; t++) {
@@ -419,16 +431,70 @@ rod_mesh *rod_mesh_create_moving(const double *vertices, int vertex_count, const
     return NULL;
 }
 
+/* The rounded surface's core: each vertex moved in along its pseudonormal
+ * n by R / min(n.f) over its faces f (a vertex between faces in a plane
+ * by R, one on an edge between two faces to where both faces' planes moved
+ * in by R meet, a box's corner by R along each face's normal), at most 3 R
+ * (a needle-sharp vertex). The faces' planes move in by R: the solid within
+ * R of the core is the surface with its convex edges rounded to R. A rim
+ * (a hole's edge: the hole's walls are not in the surface) is taken as a
+ * right-angled edge to the hole's wall: its vertices also move by R along
+ * the faces away from the hole, so the rounded lip ends where the hole
+ * begins (the hole stays as wide). */
+static void round_in(rod_mesh *m)
+{
+    const int nv = m->vertex_count;
+    for (int i = 0; i < nv; i++) {
+        m->lowest_cosine[i] = 1.0;
+        v3_set(&m->rim_inward[3 * i], 0.0, 0.0, 0.0);
+    }
+    for (int t = 0; t < m->triangle_count; t++)
+        for (int k = 0; k < 3; k++) {
+            const int v = m->triangles[3 * t + k];
+            const double c = v3_dot(&m->vertex_normal[3 * v], &m->face_normal[3 * t]);
+            if (c < m->lowest_cosine[v]) m->lowest_cosine[v] = c;
+            if (!m->rim[3 * t + k]) continue;
+            /* rim edge v -> w: the face lies to its left, n x (w - v) */
+            const int w = m->triangles[3 * t + (k + 1) % 3];
+            double e[3], in[3];
+            v3_sub(e, &m->vertices[3 * w], &m->vertices[3 * v]);
+            v3_cross(in, &m->face_normal[3 * t], e);
+            const double len = v3_norm(in);
+            if (!(len > 0.0)) continue;
+            v3_axpy(&m->rim_inward[3 * v], 1.0 / len, in);
+            v3_axpy(&m->rim_inward[3 * w], 1.0 / len, in);
+        }
+    for (int i = 0; i < nv; i++) {
+        const double c = fmax(m->lowest_cosine[i], 1.0 / 3.0);
+        double *in = &m->rim_inward[3 * i];
+        const double len = v3_norm(in);
+        if (len > 0.0) v3_axpy(&m->vertices[3 * i], m->rounding / len, in);
+        v3_axpy(&m->vertices[3 * i], -m->rounding / c, &m->vertex_normal[3 * i]);
+    }
+    pseudonormals(m);
+}
+
 void rod_mesh_move(rod_mesh *m, const double *vertices, double time)
 {
     const size_t n = (size_t)m->vertex_count * 3;
     const double dt = time - m->moved_at;
     for (size_t i = 0; i < n; i++) {
-        if (dt != 0.0) m->velocity[i] = dt > 0.0 ? (vertices[i] - m->vertices[i]) / dt : 0.0;
-        m->vertices[i] = vertices[i];
+        if (dt != 0.0) m->velocity[i] = dt > 0.0 ? (vertices[i] - m->actual[i]) / dt : 0.0;
+        m->actual[i] = m->vertices[i] = vertices[i];
     }
     m->moved_at = time;
     pseudonormals(m);
+    if (m->rounding > 0.0) round_in(m);
+    tree_refit(m);
+}
+
+void rod_mesh_set_rounding(rod_mesh *m, double rounding)
+{
+    if (!m->moving) return;
+    m->rounding = rounding;
+    memcpy(m->vertices, m->actual, (size_t)m->vertex_count * 3 * sizeof(double));
+    pseudonormals(m);
+    if (m->rounding > 0.0) round_in(m);
     tree_refit(m);
 }
 
@@ -451,6 +517,9 @@ void rod_mesh_destroy(rod_mesh *m)
     free(m->node_first);
     free(m->node_count_of);
     free(m->order);
+    free(m->actual);
+    free(m->lowest_cosine);
+    free(m->rim_inward);
     free(m);
 }
 
@@ -645,6 +714,14 @@ double rod_mesh_distance(const rod_mesh *m, const double p[3], double normal[3],
         else v3_copy(normal, pseudo);
     }
     if (nearest) v3_copy(nearest, best_point);
+    if (m->rounding > 0.0) {
+        /* the rounded surface: within `rounding` of the core's triangles */
+        double out[3];
+        if (dist > 1e-12 * (m->cell + dist)) v3_scale(out, d, (inside ? -1.0 : 1.0) / dist);
+        else v3_copy(out, pseudo);
+        if (nearest) v3_axpy(nearest, m->rounding, out);
+        return (inside ? -dist : dist) - m->rounding;
+    }
     return inside ? -dist : dist;
 }
 
@@ -677,7 +754,7 @@ int rod_mesh_curvature(const rod_mesh *m, const double p[3], double hessian[9])
 }
 
 int rod_mesh_vertex_count(const rod_mesh *m) { return m->vertex_count; }
-const double *rod_mesh_vertices(const rod_mesh *m) { return m->vertices; }
+const double *rod_mesh_vertices(const rod_mesh *m) { return m->moving ? m->actual : m->vertices; }
 int rod_mesh_triangle_count(const rod_mesh *m) { return m->triangle_count; }
 const int *rod_mesh_triangles(const rod_mesh *m) { return m->triangles; }
 
