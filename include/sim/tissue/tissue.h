@@ -121,6 +121,23 @@ int tissue_solve_static_to(tissue_solid *t, double force_tol, int max_iterations
  * factor changes only when this does. */
 long tissue_factorisations(const tissue_solid *t);
 
+/* What the pad has cost since create (CPU s, the process clock), for
+ * benchmarks and profiles: its parts, and the time its coupling to a rod
+ * spent in all (tissue_coupling.h adds it, these parts included). */
+typedef struct tissue_costs {
+    double assembly_s;    /* forces and matrix */
+    double check_s;       /* the inversion test after each Newton update */
+    double factor_s;      /* numeric factorisations */
+    double solve_s;       /* triangular solves (Newton and compliances) */
+    double coupling_s;    /* the coupling's calls in all, these included */
+    long assemblies;      /* of them with the matrix: */
+    long matrix_assemblies;
+    long forces_reused;   /* forces taken from the last assembly at the same positions */
+    long solves;
+} tissue_costs;
+tissue_costs tissue_cost(const tissue_solid *t);
+void tissue_add_coupling_time(tissue_solid *t, double seconds);
+
 /* The pad's state, its nodes' positions and velocities (6 x nodes
  * doubles, m and m/s), saved to buf and restored from it (a caller that
  * rolls a failed step back); the loads and holds are not in it. */

@@ -22,6 +22,11 @@ double tissue_tet_rest(const double *rest[4], double dm_inverse[9]);
 int tissue_tet_energy(const double *x[4], const double dm_inverse[9], double volume, double mu,
                       double lambda, double *energy, double gradient[12], double hessian[144]);
 
+/* 1 when the tet at positions x (4 nodes, m) is positive (J > 0, J as
+ * tissue_tet_energy computes it, to the bit), else 0: the inversion test
+ * alone, without the logarithm, forces and tangent. */
+int tissue_tet_positive(const double *x[4], const double dm_inverse[9]);
+
 /* The same for a quadratic (10-node) tet with straight edges: nodes 0..3
  * the corners, 4..9 the edge midpoints of (01 02 03 12 13 23); F varies
  * linearly, integrated at 4 points (exact for degree 2). gradient: 30,

@@ -4,8 +4,10 @@
  * whose pattern is fixed at create (node pairs sharing a tet); a held
  * component keeps its row and column with only a diagonal entry, so holding
  * or releasing never changes the pattern and CHOLMOD's analysis (ordering,
- * supernodes) is done once. Each Newton iteration assembles the values
- * and factorises numerically. */
+ * supernodes) is done once. Each Newton iteration assembles the forces;
+ * the matrix's values only when its factor is renewed (the kept factor
+ * serves while the residual falls fast: the tangent costs most of an
+ * assembly), then factorised numerically. */
 #include "sim/tissue/tissue.h"
 
 #include <math.h>
@@ -38,6 +40,9 @@ struct tissue_solid {
     double *force;         /* (nodes x 3), N: external */
     double *internal;      /* (nodes x 3), N: dE/dx at the last assembly */
     double *damping_force; /* (nodes x 3), N: damping K v at the last assembly */
+    double *x_forces;      /* (nodes x 3), m: where `internal` was last assembled without
+                              damping (valid when forces_at_x_forces) */
+    int forces_at_x_forces;
     double *residual;      /* (dofs), N */
     double *target;        /* (nodes x 3), m: where held components are held */
     unsigned char *fixed;  /* (dofs): 1 held */
@@ -49,6 +54,7 @@ struct tissue_solid {
     double static_tol;     /* N: tissue_solve_static_to's residual bound (0: the default) */
     int static_iterations; /* tissue_solve_static_to's most iterations (0: MAX_NEWTON) */
     double factor_mass, factor_stiffness; /* the coefficients L was made with */
+    tissue_costs costs;    /* CPU time and counts since create */
     /* the wound's lips: node pairs coincident at rest across the slit (its
      * faces' corners and, quadratic, edge midpoints), pressed apart along the
      * slit's axis by a penalty when they cross (frictionless) */
@@ -301,6 +307,7 @@ void tissue_destroy(tissue_solid *t)
     free(t->force);
     free(t->internal);
     free(t->damping_force);
+    free(t->x_forces);
     free(t->residual);
     free(t->target);
     free(t->fixed);
@@ -346,12 +353,14 @@ tissue_solid *tissue_create(const tissue_config *c, char *err, size_t errlen)
     t->force = calloc(n3, sizeof(double));
     t->internal = calloc(n3, sizeof(double));
     t->damping_force = calloc(n3, sizeof(double));
+    t->x_forces = malloc(sizeof(double) * n3);
     t->residual = malloc(sizeof(double) * n3);
     t->target = malloc(sizeof(double) * n3);
     t->fixed = calloc(n3, 1);
     t->rank = malloc(sizeof(int) * (size_t)(npe * npe) * (size_t)m->tets);
     if (!t->dm_inverse || !t->volume || !t->mass || !t->weight || !t->x || !t->v || !t->x_start ||
         !t->v_start || !t->a_start || !t->force || !t->internal || !t->damping_force ||
+        !t->x_forces ||
         !t->residual || !t->target || !t->fixed || !t->rank || find_lips(t) || build_pattern(t)) {
         snprintf(err, errlen, "element_size: out of memory for the tissue's %d nodes", t->nodes);
         tissue_destroy(t);
@@ -482,12 +491,27 @@ static int assemble(tissue_solid *t, double mass_coef, double stiffness)
 {
     const tissue_mesh *m = &t->mesh;
     size_t n3 = (size_t)t->dofs;
-    memset(t->internal, 0, sizeof(double) * n3);
-    memset(t->damping_force, 0, sizeof(double) * n3);
     double *Ax = t->A->x;
     const int *Ap = t->A->p;
     int matrix = stiffness > 0.0;
-    int damp = t->config.damping > 0.0;
+    /* damping K v: nothing to add while every node is at rest (statics,
+     * where tissue_solve_static zeroes v): the tangent is then needed only
+     * for the matrix */
+    int damp = 0;
+    for (int d = 0; d < t->dofs && t->config.damping > 0.0 && !damp; d++) damp = t->v[d] != 0.0;
+    memset(t->damping_force, 0, sizeof(double) * n3);
+    /* the forces depend on the positions alone then: those of the same
+     * positions (to the bit) serve again (a static solve that ended on its
+     * convergence test, and the next one from there under new loads) */
+    if (!matrix && !damp && t->forces_at_x_forces &&
+        !memcmp(t->x, t->x_forces, sizeof(double) * n3)) {
+        t->costs.forces_reused++;
+        return 0;
+    }
+    t->forces_at_x_forces = 0;
+    t->costs.assemblies++;
+    t->costs.matrix_assemblies += matrix;
+    memset(t->internal, 0, sizeof(double) * n3);
     if (matrix) memset(Ax, 0, sizeof(double) * (size_t)Ap[t->dofs]);
     int npe = t->per_tet, row = 3 * npe;
     double H[900], g[30];
@@ -543,6 +567,10 @@ static int assemble(tissue_solid *t, double mass_coef, double stiffness)
         for (int d = 0; d < t->dofs; d++) /* the diagonal closes each column */
             Ax[Ap[d + 1] - 1] += t->fixed[d] ? t->hold_diagonal * stiffness
                                              : mass_coef * t->mass[d / 3];
+    if (!damp) {
+        memcpy(t->x_forces, t->x, sizeof(double) * n3);
+        t->forces_at_x_forces = 1;
+    }
     return 0;
 }
 
@@ -570,15 +598,26 @@ static int factor_solve(tissue_solid *t, tissue_step_info *info, int factorise, 
         info->factor_s += t1 - t0;
         info->solve_s += t2 - t1;
     }
+    t->costs.factor_s += t1 - t0;
+    t->costs.solve_s += t2 - t1;
+    t->costs.solves++;
     return 0;
 }
 
-/* 1 when every tet has J > 0 at the positions x (at its integration points) */
+/* 1 when every tet has J > 0 at the positions x (at its integration points;
+ * a linear tet's test alone, without its energy) */
 static int all_positive(const tissue_solid *t)
 {
     double w;
-    for (int e = 0; e < t->mesh.tets; e++)
-        if (element(t, e, &w, NULL, NULL)) return 0;
+    for (int e = 0; e < t->mesh.tets; e++) {
+        if (t->per_tet == 4) {
+            const int *tt = t->mesh.tet + 4 * e;
+            const double *xe[4] = {t->x + 3 * tt[0], t->x + 3 * tt[1], t->x + 3 * tt[2],
+                                   t->x + 3 * tt[3]};
+            if (!tissue_tet_positive(xe, t->dm_inverse + 9 * e)) return 0;
+        } else if (element(t, e, &w, NULL, NULL))
+            return 0;
+    }
     return 1;
 }
 
@@ -629,12 +668,17 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
     for (int it = 0; it < MAX_NEWTON; it++) {
         double coef = dt > 0.0 ? mass_coef : shift;
         if (dt > 0.0) kinematics(t, dt, acceleration);
+        /* the forces first; the matrix only when the factor is renewed
+         * (its tangent costs most of an assembly, and the kept factor
+         * serves most iterations) */
         double t0 = cpu_now();
-        if (assemble(t, coef, stiffness)) {
+        if (assemble(t, coef, 0.0)) {
             snprintf(err, errlen, "a tet inverted (J <= 0) at Newton iteration %d", it);
             return -1;
         }
-        if (info) info->assembly_s += cpu_now() - t0;
+        const double t_forces = cpu_now() - t0;
+        t->costs.assembly_s += t_forces;
+        if (info) info->assembly_s += t_forces;
         double *rhs = t->rhs->x, worst = 0.0;
         for (int d = 0; d < t->dofs; d++) {
             double m = t->mass[d / 3];
@@ -653,6 +697,16 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
         int renew = !t->factor_ok || t->factor_mass != coef || t->factor_stiffness != stiffness ||
                     (it > 0 && worst > 0.25 * last_worst);
         last_worst = worst;
+        if (renew) {
+            t0 = cpu_now();
+            if (assemble(t, coef, stiffness)) {
+                snprintf(err, errlen, "a tet inverted (J <= 0) at Newton iteration %d", it);
+                return -1;
+            }
+            const double t_matrix = cpu_now() - t0;
+            t->costs.assembly_s += t_matrix;
+            if (info) info->assembly_s += t_matrix;
+        }
         if (factor_solve(t, info, renew, coef, stiffness)) {
             if (dt == 0.0 && it + 1 < MAX_NEWTON) {
                 shift = shift > 0.0 ? 10.0 * shift : 0.1 * c->youngs_modulus * h / mean_mass;
@@ -670,10 +724,12 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
             t->x[d] += dx[d];
             largest = fmax(largest, fabs(dx[d]));
         }
+        const double t_check = cpu_now();
         for (int k = 0; k < MAX_HALVINGS && !all_positive(t); k++) {
             fraction *= 0.5;
             for (int d = 0; d < t->dofs; d++) t->x[d] -= fraction * dx[d];
         }
+        t->costs.check_s += cpu_now() - t_check;
         shift = shift > 1e-6 * c->youngs_modulus * h / mean_mass ? 0.1 * shift : 0.0;
         if (dt == 0.0 && t->static_iterations > 0 && it + 1 >= t->static_iterations && shift == 0.0 &&
             fraction == 1.0)
@@ -705,7 +761,9 @@ int tissue_step(tissue_solid *t, double dt, tissue_step_info *info, char *err, s
         snprintf(err, errlen, "a tet is inverted at the step's start");
         return -1;
     }
-    if (info) info->assembly_s += cpu_now() - t0;
+    const double t_start = cpu_now() - t0;
+    t->costs.assembly_s += t_start;
+    if (info) info->assembly_s += t_start;
     for (int d = 0; d < t->dofs; d++) {
         double m = t->mass[d / 3];
         t->a_start[d] = t->fixed[d] ? 0.0
@@ -772,6 +830,10 @@ int tissue_solve_static_to(tissue_solid *t, double force_tol, int max_iterations
 }
 
 long tissue_factorisations(const tissue_solid *t) { return t->factorisations; }
+
+tissue_costs tissue_cost(const tissue_solid *t) { return t->costs; }
+
+void tissue_add_coupling_time(tissue_solid *t, double seconds) { t->costs.coupling_s += seconds; }
 
 size_t tissue_state_doubles(const tissue_solid *t) { return 2 * (size_t)t->dofs; }
 
@@ -845,10 +907,12 @@ int tissue_patches_compliance(tissue_solid *t, int count, const int *samples, co
     /* the factor kept from the last Newton iteration serves when it is of the
      * same coefficients and holds (3 solves); else one is made here */
     const int renew = !t->factor_ok || t->factor_mass != mass_coef || t->factor_stiffness != stiffness;
+    const double t0 = cpu_now();
     if (renew && assemble(t, mass_coef, stiffness)) {
         snprintf(err, errlen, "a tet is inverted");
         return -1;
     }
+    t->costs.assembly_s += cpu_now() - t0;
     double *rhs = t->rhs->x;
     const int row = 3 * count;
     /* tissue_step takes the start's acceleration under the same loads:

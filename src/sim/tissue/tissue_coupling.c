@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "base/vec3.h"
 #include "sim/contact/mesh.h"
@@ -24,6 +25,15 @@
  * distance around the hole it converges (draft-stitch-compliance.md). */
 #define PATCH_RADIUS 1e-3
 
+
+/* CPU s (the process clock): the coupling's time, added to each pad's
+ * account (tissue_cost) */
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 int tissue_coupling_pad(const rod_model *m)
 {
@@ -252,10 +262,12 @@ int tissue_coupling_link(const rod_model *m, rod_state *s, char *err, size_t err
 {
     for (int j = 0; j < m->surface_count; j++) {
         if (!m->surfaces[j].solid) continue;
+        const double t0 = cpu_now();
         if (link_new(m, j, s, err, errlen)) return -1;
         /* the rod's contact sees the pad's surface where it is now */
         if (m->surfaces[j].mesh)
             rod_mesh_move(m->surfaces[j].mesh, tissue_positions(m->surfaces[j].solid), s->time);
+        tissue_add_coupling_time(m->surfaces[j].solid, cpu_now() - t0);
     }
     return 0;
 }
@@ -426,60 +438,71 @@ static int contact_apart(const rod_model *m, int j, const rod_state *s, const do
     return 0;
 }
 
+/* One pad's part of tissue_coupling_step */
+static int couple_pad(const rod_model *m, int j, rod_state *s, double *pad_force, char *err,
+                      size_t errlen)
+{
+    tissue_solid *t = m->surfaces[j].solid;
+    if (link_new(m, j, s, err, errlen)) return -1;
+    /* loads left from the last step: the pad is solved once more
+     * without them when nothing loads it now */
+    const double *load = tissue_external_forces(t);
+    int loaded = 0;
+    for (int k = 0; k < 3 * tissue_node_count(t) && !loaded; k++) loaded = load[k] != 0.0;
+    /* the punctures and the thread lying on the pad's surface (lagged
+     * like the cross-compliance: the step's contact saw the surface
+     * where the last equilibrium left it) */
+    int any;
+    double largest = load_pad(m, j, s, pad_force, &any);
+    if (!any && !(largest > 0.0) && !loaded) return 0;
+    char why[256];
+    if (contact_apart(m, j, s, pad_force, largest, why, sizeof why)) {
+        snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
+                 m->surfaces[j].line, s->time, why);
+        return -1;
+    }
+    /* up to PAD_UPDATES Newton updates a step, from the last equilibrium
+     * with the kept factor (the residual falls about a hundredfold per
+     * update), none once the residual is below 1e-5 of the largest force
+     * at a puncture or a node on the surface: the next step's updates
+     * carry the rest over */
+    for (int k = 0; k < s->puncture_count; k++)
+        if (s->puncture[k].linked == j + 1) largest = fmax(largest, v3_norm(s->puncture[k].force));
+    if (tissue_solve_static_to(t, 1e-5 * largest, PAD_UPDATES, NULL, why, sizeof why)) {
+        snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
+                 m->surfaces[j].line, s->time, why);
+        return -1;
+    }
+    measure_give(m, j, s, pad_force);
+    if (renew_surface_compliance(m, j, s, pad_force, why, sizeof why)) {
+        snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
+                 m->surfaces[j].line, s->time, why);
+        return -1;
+    }
+    int stale = 0;
+    for (int k = 0; k < s->puncture_count; k++) {
+        rod_puncture_state *ps = &s->puncture[k];
+        if (ps->linked != j + 1) continue;
+        tissue_patch_position(t, ps->samples, ps->sample_tet,
+                              (const double(*)[4])ps->sample_bary, ps->point);
+        v3_axpy(ps->point, 1.0, ps->offset);
+        v3_copy(ps->pad_force, ps->force);
+        /* from the kept factor: the same until it is renewed */
+        stale |= ps->compliance_factor != tissue_factorisations(t);
+    }
+    if (stale && renew_puncture_compliance(m, j, s, err, errlen)) return -1;
+    return 0;
+}
+
 int tissue_coupling_step(const rod_model *m, rod_state *s, double *pad_force, char *err,
                          size_t errlen)
 {
     for (int j = 0; j < m->surface_count; j++) {
-        tissue_solid *t = m->surfaces[j].solid;
-        if (!t) continue;
-        if (link_new(m, j, s, err, errlen)) return -1;
-        /* loads left from the last step: the pad is solved once more
-         * without them when nothing loads it now */
-        const double *load = tissue_external_forces(t);
-        int loaded = 0;
-        for (int k = 0; k < 3 * tissue_node_count(t) && !loaded; k++) loaded = load[k] != 0.0;
-        /* the punctures and the thread lying on the pad's surface (lagged
-         * like the cross-compliance: the step's contact saw the surface
-         * where the last equilibrium left it) */
-        int any;
-        double largest = load_pad(m, j, s, pad_force, &any);
-        if (!any && !(largest > 0.0) && !loaded) continue;
-        char why[256];
-        if (contact_apart(m, j, s, pad_force, largest, why, sizeof why)) {
-            snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
-                     m->surfaces[j].line, s->time, why);
-            return -1;
-        }
-        /* up to PAD_UPDATES Newton updates a step, from the last equilibrium
-         * with the kept factor (the residual falls about a hundredfold per
-         * update), none once the residual is below 1e-5 of the largest force
-         * at a puncture or a node on the surface: the next step's updates
-         * carry the rest over */
-        for (int k = 0; k < s->puncture_count; k++)
-            if (s->puncture[k].linked == j + 1) largest = fmax(largest, v3_norm(s->puncture[k].force));
-        if (tissue_solve_static_to(t, 1e-5 * largest, PAD_UPDATES, NULL, why, sizeof why)) {
-            snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
-                     m->surfaces[j].line, s->time, why);
-            return -1;
-        }
-        measure_give(m, j, s, pad_force);
-        if (renew_surface_compliance(m, j, s, pad_force, why, sizeof why)) {
-            snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
-                     m->surfaces[j].line, s->time, why);
-            return -1;
-        }
-        int stale = 0;
-        for (int k = 0; k < s->puncture_count; k++) {
-            rod_puncture_state *ps = &s->puncture[k];
-            if (ps->linked != j + 1) continue;
-            tissue_patch_position(t, ps->samples, ps->sample_tet,
-                                  (const double(*)[4])ps->sample_bary, ps->point);
-            v3_axpy(ps->point, 1.0, ps->offset);
-            v3_copy(ps->pad_force, ps->force);
-            /* from the kept factor: the same until it is renewed */
-            stale |= ps->compliance_factor != tissue_factorisations(t);
-        }
-        if (stale && renew_puncture_compliance(m, j, s, err, errlen)) return -1;
+        if (!m->surfaces[j].solid) continue;
+        const double t0 = cpu_now();
+        const int rc = couple_pad(m, j, s, pad_force, err, errlen);
+        tissue_add_coupling_time(m->surfaces[j].solid, cpu_now() - t0);
+        if (rc) return -1;
     }
     return 0;
 }

@@ -128,6 +128,17 @@ int tissue_tet_energy(const double *x[4], const double dm_inverse[9], double vol
     return 0;
 }
 
+int tissue_tet_positive(const double *x[4], const double dm_inverse[9])
+{
+    const double *B = dm_inverse;
+    double D[9], F[9];
+    edges(x, D);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            F[3 * i + j] = D[3 * i] * B[j] + D[3 * i + 1] * B[3 + j] + D[3 * i + 2] * B[6 + j];
+    return det3(F) > 0.0;
+}
+
 /* the edges of the 10-node tet, in node order 4..9 */
 static const int edge_of[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 
