@@ -5,7 +5,7 @@
  * and the thread inside the tissue are seen. The cut is made on the
  * triangles a frame draws (a rigid tissue's once, an elastic pad's each
  * frame, as it is deformed): the cap is the section of the closed surface,
- * its loops filled by ear clipping (docs/decisions: draft-cutaway). */
+ * its loops filled by ear clipping (docs/decisions: 0076-cutaway). */
 #ifndef RODSIM_RENDER_CUTAWAY_H
 #define RODSIM_RENDER_CUTAWAY_H
 

@@ -13,7 +13,7 @@
  * tracker, the summary) then sees only the thread left. The cut lands on the
  * node nearest the crossing: the length left is right to half a segment.
  *
- * Which side goes (docs/decisions/draft-trimming.md): a side is anchored
+ * Which side goes (docs/decisions/0077-trimming.md): a side is anchored
  * when a held or driven end, the needle's holder or a puncture is on it,
  * grasped when an instrument's jaws hold it there. The side that is not
  * anchored goes; neither anchored: the side not grasped (a grasp on the

@@ -6,7 +6,7 @@
  * [rod] is a set of one rod named "rod".
  *
  * Why separate models with a Newton each, not one system of all nodes:
- * docs/decisions/draft-several-rods.md. */
+ * docs/decisions/0078-several-rods.md. */
 #ifndef RODSIM_SIM_ROD_SET_H
 #define RODSIM_SIM_ROD_SET_H
 

@@ -7,7 +7,7 @@
  * dt a resting node's sink over the step (g dt^2) fell below the iterates'
  * error: the run stopped at t = 4.45 s (strands' friction 0.3) and 4.93 s
  * (0). The last retry lets Newton run past the stall test at the step's dt
- * (newton.h's PATIENT_FACTOR; docs/decisions/draft-pile-planar.md).
+ * (newton.h's PATIENT_FACTOR; docs/decisions/0072-pile-planar.md).
  *
  * Checked at the end (12 s) of each variant: every step converged; no node
  * below the floor by more than 1 % of the radius (the contact's own bound);

@@ -20,7 +20,7 @@
  * step's own dt); the halves a stall splits into are worse: a resting
  * node's sink over a step (g dt^2) falls below the iterates' error, and
  * every other node of the strand on the floor turns between touching and
- * not (docs/decisions/draft-pile-planar.md) */
+ * not (docs/decisions/0072-pile-planar.md) */
 #define PATIENT_FACTOR 4
 
 /* 1 when the factorisation made for dt_factored serves a step of dt.

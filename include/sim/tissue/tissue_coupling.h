@@ -11,7 +11,7 @@
  * punctures' laws (puncture.h), solved together: a point moves by
  * sum_l C_kl (F_l - F_l,last) with the forces F_l on the pad, so the
  * coupling is implicit within the step (docs/decisions/0070-tissue-coupling.md;
- * the cross blocks: draft-stitch-compliance.md).
+ * the cross blocks: 0075-stitch-compliance.md).
  *
  * The thread lies on the pad's deformed surface (a moving triangle mesh of
  * its boundary faces, rod_surface.mesh, moved to the pad before each rod
@@ -22,7 +22,7 @@
  * surface's velocity, which the friction acts relative to, is the pad's
  * motion apart from the thread's contact: an update under the punctures'
  * new forces and the contact's forces as carried, before the update under
- * the contact's new forces (docs/decisions/draft-tissue-contact.md). */
+ * the contact's new forces (docs/decisions/0073-tissue-contact.md). */
 #ifndef RODSIM_SIM_TISSUE_TISSUE_COUPLING_H
 #define RODSIM_SIM_TISSUE_TISSUE_COUPLING_H
 

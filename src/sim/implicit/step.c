@@ -38,7 +38,7 @@
  * solved it, or a held step went past the stall test), this many steps
  * start patient, without the failed tries first: such steps come in runs (a
  * strand settling onto another on a floor), and the failed tries of one
- * cost about 20 steps' time (docs/decisions/draft-pile-planar.md) */
+ * cost about 20 steps' time (docs/decisions/0072-pile-planar.md) */
 #define PATIENT_HOLD_STEPS 4
 
 /* The Newton iterations one try of a step may spend: the caller's

@@ -22,7 +22,7 @@
 /* m: the radius of the tissue a puncture's thread bears on. A point
  * force's dimple deepens as the mesh is refined (about F / (E h)), so the
  * stitch's answer would depend on the mesh; spread over points a fixed
- * distance around the hole it converges (draft-stitch-compliance.md). */
+ * distance around the hole it converges (0075-stitch-compliance.md). */
 #define PATCH_RADIUS 1e-3
 
 
