@@ -52,9 +52,24 @@ typedef struct summary_cut {
     char instrument[32];
     double t, s, removed;
 } summary_cut;
+/* A rod's knot at the last output frame, as the single rod's knot fields
+ * below: its name, Alexander polynomial's coefficients, determinant,
+ * signature, the rope in it and every change between output frames. */
+typedef struct summary_rod_knot {
+    char type[96];
+    long long alexander[32];
+    int terms;
+    long long determinant;
+    int has_signature, signature;
+    double rope_d;        /* diameters; NAN: not measured */
+    int change_count;
+    summary_knot_change changes[SUMMARY_MAX_KNOT_CHANGES];
+} summary_rod_knot;
+
 /* One rod of a scene of several ([rod NAME]): its name, node count, tip
- * (m, global), ends (as the single rod's below) and the force the other
- * rods exert on it at the end (N, global: contact and reactions). */
+ * (m, global), ends (as the single rod's below), the force the other
+ * rods exert on it at the end (N, global: contact and reactions) and its
+ * own knot (its centreline closed far outside it). */
 #define SUMMARY_MAX_RODS 8
 typedef struct summary_rod {
     char name[32];
@@ -65,6 +80,8 @@ typedef struct summary_rod {
     double end_moment[2][3];
     double contact_force[3];
     double min_strand_gap_d; /* diameters; INFINITY: strands never near (left out) */
+    int has_knot;         /* 1: the rod can knot (or was knotted) and its knot was identified */
+    summary_rod_knot knot;
 } summary_rod;
 
 /* What a run tells; every `has_` flag says the part is known (else left

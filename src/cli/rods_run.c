@@ -11,6 +11,7 @@
 #include "base/outfile.h"
 #include "base/vec3.h"
 #include "cli/args.h"
+#include "cli/knot_track.h"
 #include "cli/run.h"
 #include "cli/summary.h"
 #include "sim/contact/between_rods.h"
@@ -42,7 +43,39 @@ typedef struct rods_run {
     long long frames;
     double closest_gap;    /* m: between rods, over the run */
     double step_cpu;
+    /* each rod's knot per output frame (its own centreline, closed far
+     * outside it, as a single rod's), and every change: t s, the type after */
+    knot_track knot[ROD_SET_MAX];
+    int knot_change_count[ROD_SET_MAX];
+    summary_knot_change knot_changes[ROD_SET_MAX][SUMMARY_MAX_KNOT_CHANGES];
 } rods_run;
+
+/* Identifies rod k's knot in this frame and notes a change. The strands'
+ * closest approach between frames is not measured in a run of several rods:
+ * 0 is passed, so that only strands touching near an end call a change a
+ * slip (INFINITY would call every change a loop passing over an end). */
+static void track_knot(rods_run *r, int k)
+{
+    knot_track *t = &r->knot[k];
+    const int before = t->changes;
+    const rod_state *s = r->run.state[k];
+    knot_track_frame(t, &r->set.model[k], s, 0.0);
+    if (t->changes > before && r->knot_change_count[k] < SUMMARY_MAX_KNOT_CHANGES) {
+        summary_knot_change *c = &r->knot_changes[k][r->knot_change_count[k]++];
+        c->t = s->time;
+        /* both are 96 bytes, the name terminated (a copy: snprintf from one
+         * part of r to another reads as an overlap to the compiler) */
+        memcpy(c->type, t->last.name, sizeof c->type);
+        c->type[sizeof c->type - 1] = '\0';
+    }
+}
+
+/* The rod can knot, or was knotted: its knot belongs in the summary */
+static int knot_told(const rods_run *r, int k)
+{
+    return r->knot[k].frames > 0 &&
+           (knot_track_can_knot(&r->set.model[k]) || knot_track_was_knotted(&r->knot[k]));
+}
 
 /* A frame: the CSV rows of every rod, and the recordings */
 static int output_frame(rods_run *r)
@@ -54,6 +87,7 @@ static int output_frame(rods_run *r)
             return -1;
         if (r->rec[k] && rod_recording_append(r->rec[k], &r->set.model[k], r->run.state[k]))
             return -1;
+        track_knot(r, k);
     }
     r->frames++;
     return 0;
@@ -119,9 +153,25 @@ static void print_result(const rods_run *r)
         const double *c = r->run.touch_force[k];
         fprintf(f, "  rod %s: tip (%.6g, %.6g, %.6g) m; other rods' force on it (%.4g, %.4g, "
                 "%.4g) N\n", r->set.name[k], tip[0], tip[1], tip[2], c[0], c[1], c[2]);
+        if (knot_told(r, k)) knot_track_print(f, &r->knot[k], &r->set.model[k]);
     }
     if (isfinite(r->closest_gap))
         fprintf(f, "  closest approach between rods: %.3g m beyond contact\n", r->closest_gap);
+}
+
+/* Rod k's knot at the last frame, and its changes */
+static void summary_rod_knot_fill(const rods_run *r, int k, summary_rod_knot *out)
+{
+    const rod_knot *last = &r->knot[k].last;
+    snprintf(out->type, sizeof out->type, "%s", last->name);
+    out->terms = last->terms < 32 ? last->terms : 32;
+    for (int i = 0; i < out->terms; i++) out->alexander[i] = last->coefficient[i];
+    out->determinant = last->determinant;
+    out->has_signature = last->has_signature;
+    out->signature = last->signature;
+    out->rope_d = knot_track_rope(&r->knot[k], &r->set.model[k]); /* NAN: none */
+    out->change_count = r->knot_change_count[k];
+    memcpy(out->changes, r->knot_changes[k], sizeof out->changes);
 }
 
 static void fill_summary(const rods_run *r, run_summary *sum, int ran)
@@ -153,6 +203,8 @@ static void fill_summary(const rods_run *r, run_summary *sum, int ran)
         }
         v3_copy(out->contact_force, r->run.touch_force[k]);
         out->min_strand_gap_d = INFINITY;
+        out->has_knot = knot_told(r, k);
+        if (out->has_knot) summary_rod_knot_fill(r, k, &out->knot);
     }
 }
 
@@ -223,6 +275,7 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
     }
     status = RUN_EXIT_FAILURE;
     if (rod_set_run_create(&r.set, &r.run, err, sizeof err)) goto fail;
+    for (int k = 0; k < r.set.count; k++) knot_track_init(&r.knot[k], r.set.model[k].nodes);
     outfile_transaction_begin();
     status = open_outputs(&r, err, sizeof err);
     if (status) goto abort;
@@ -281,7 +334,10 @@ fail:
     }
 done:
     if (r.csv_stdout && r.csv) fclose(r.csv);
-    for (int k = 0; k < ROD_SET_MAX; k++) rod_recording_destroy(r.rec[k]);
+    for (int k = 0; k < ROD_SET_MAX; k++) {
+        rod_recording_destroy(r.rec[k]);
+        knot_track_release(&r.knot[k]);
+    }
     rod_set_run_destroy(&r.run);
     rod_set_release(&r.set);
     return status;

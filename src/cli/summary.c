@@ -142,35 +142,50 @@ static void string_list(json_out *j, const char *name, int count,
     close_(j, ']');
 }
 
-static void knot_object(json_out *j, const run_summary *s)
+static void knot_object(json_out *j, const summary_rod_knot *k)
 {
     key(j, "knot");
     open_(j, '{');
-    string_field(j, "type", s->knot_type);
+    string_field(j, "type", k->type);
     key(j, "alexander");
     open_(j, '[');
-    for (int i = 0; i < s->knot_terms; i++) {
+    for (int i = 0; i < k->terms; i++) {
         comma(j);
-        fprintf(j->f, "%lld", s->knot_alexander[i]);
+        fprintf(j->f, "%lld", k->alexander[i]);
     }
     close_(j, ']');
     key(j, "determinant");
-    fprintf(j->f, "%lld", s->knot_determinant);
-    if (s->knot_has_signature) number_field(j, "signature", s->knot_signature);
-    if (isfinite(s->rope_in_knot_d)) number_field(j, "rope_in_knot_d", s->rope_in_knot_d);
+    fprintf(j->f, "%lld", k->determinant);
+    if (k->has_signature) number_field(j, "signature", k->signature);
+    if (isfinite(k->rope_d)) number_field(j, "rope_in_knot_d", k->rope_d);
     key(j, "changes");
     open_(j, '[');
-    for (int i = 0; i < s->knot_change_count; i++) {
+    for (int i = 0; i < k->change_count; i++) {
         comma(j);
         open_(j, '[');
         comma(j);
-        summary_json_number(j->f, s->knot_changes[i].t);
+        summary_json_number(j->f, k->changes[i].t);
         comma(j);
-        summary_json_string(j->f, s->knot_changes[i].type);
+        summary_json_string(j->f, k->changes[i].type);
         close_(j, ']');
     }
     close_(j, ']');
     close_(j, '}');
+}
+
+/* The single rod's knot fields as a rod's knot */
+static void single_knot(const run_summary *s, summary_rod_knot *k)
+{
+    snprintf(k->type, sizeof k->type, "%s", s->knot_type);
+    k->terms = s->knot_terms < 32 ? s->knot_terms : 32;
+    memcpy(k->alexander, s->knot_alexander, sizeof k->alexander);
+    k->determinant = s->knot_determinant;
+    k->has_signature = s->knot_has_signature;
+    k->signature = s->knot_signature;
+    k->rope_d = s->rope_in_knot_d;
+    k->change_count = s->knot_change_count < SUMMARY_MAX_KNOT_CHANGES
+                          ? s->knot_change_count : SUMMARY_MAX_KNOT_CHANGES;
+    memcpy(k->changes, s->knot_changes, sizeof k->changes);
 }
 
 static void rod_object(json_out *j, const run_summary *s)
@@ -191,7 +206,11 @@ static void rod_object(json_out *j, const run_summary *s)
         close_(j, '}');
     }
     close_(j, '}');
-    if (s->has_knot) knot_object(j, s);
+    if (s->has_knot) {
+        summary_rod_knot k;
+        single_knot(s, &k);
+        knot_object(j, &k);
+    }
     if (isfinite(s->min_strand_gap_d)) number_field(j, "min_strand_gap_d", s->min_strand_gap_d);
     close_(j, '}');
 }
@@ -217,6 +236,7 @@ static void set_rod_object(json_out *j, const summary_rod *r)
     }
     close_(j, '}');
     vector_field(j, "contact_force", r->contact_force);
+    if (r->has_knot) knot_object(j, &r->knot);
     if (isfinite(r->min_strand_gap_d)) number_field(j, "min_strand_gap_d", r->min_strand_gap_d);
     close_(j, '}');
 }

@@ -1,7 +1,10 @@
 /* test_rods_run.c: `rodsim run` of a scene of several rods ([rod NAME]):
  * two identical ropes far apart give, each, the CSV rows of that rope run
  * alone (the column rod added, and nothing else); the summary lists each
- * rod by name; a single-rod scene's CSV has no column rod. */
+ * rod by name; a single-rod scene's CSV has no column rod. Each rod's knot
+ * is named: an overhand-knotted rod beside a straight one gives a trefoil
+ * (Alexander polynomial 1 - t + t^2, determinant 3, the hand the same rod
+ * gets run alone) and an unknot (1, determinant 1). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -78,6 +81,87 @@ static double csv_difference(const char *two, const char *one, const char *name,
     return rows > 0 && !*q ? worst : -1;
 }
 
+/* The overhand knot's rod (scenes/overhand_shape.csv, pinned ends; the
+ * cord of scenes/overhand.ini) as [rod NAME], NAME "" for a bare [rod] */
+static void overhand_rod(char *buf, size_t n, const char *name)
+{
+    snprintf(buf, n, "[rod%s%s]\nlength = 0.609684253\ndiameter = 0.004\ndensity = 1100\n"
+             "youngs_modulus = 5e7\nshear_modulus = 2e7\nnodes = 241\n"
+             "shape = %s/scenes/overhand_shape.csv\nfriction = 0.2\n[ends%s%s]\nroot = pinned\n"
+             "tip = pinned\n", name[0] ? " " : "", name, RODSIM_SOURCE_DIR, name[0] ? " " : "",
+             name);
+}
+
+#define SHORT_RUN "[solver]\nscheme = implicit\ndt = 0.005\nduration = 0.02\n[render]\nfps = 100\n"
+
+/* rod a tied in an overhand knot, rod b straight 0.5 m beside it: the
+ * summary (JSON and text) names each rod's knot; 4 steps, 3 frames */
+static void check_knots(const char *dir)
+{
+    char path[512], cmd[2048], text[4096];
+    snprintf(path, sizeof path, "%s/knots.ini", dir);
+    overhand_rod(text, sizeof text, "a");
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        check(0, "writing %s", path);
+        return;
+    }
+    fprintf(f, "%s[rod b]\n" ROPE "origin = -0.15 0.5 0\n[ends b]\nroot = pinned\ntip = free\n"
+            SHORT_RUN, text);
+    fclose(f);
+    snprintf(path, sizeof path, "%s/alone.ini", dir);
+    overhand_rod(text, sizeof text, "");
+    f = fopen(path, "w");
+    if (!f) {
+        check(0, "writing %s", path);
+        return;
+    }
+    fprintf(f, "%s" SHORT_RUN, text);
+    fclose(f);
+    snprintf(cmd, sizeof cmd,
+             "%s run %s/knots.ini --no-video --summary %s/knots.json > %s/knots.txt && "
+             "%s run %s/alone.ini --no-video --quiet --summary %s/alone.json",
+             RODSIM_BIN, dir, dir, dir, RODSIM_BIN, dir, dir);
+    int status = system(cmd);
+    check(status == 0, "the knotted and the straight rod, and the knotted one alone: exit 0 "
+          "(status %d)", status);
+    snprintf(path, sizeof path, "%s/knots.json", dir);
+    char *json = read_all(path);
+    snprintf(path, sizeof path, "%s/alone.json", dir);
+    char *alone = read_all(path);
+    snprintf(path, sizeof path, "%s/knots.txt", dir);
+    char *said = read_all(path);
+    if (!json || !alone || !said) {
+        check(0, "the knot run's outputs are readable");
+    } else {
+        /* the knot rod a gets alone: its type, with the hand */
+        const char *t = strstr(alone, "\"knot\":{\"type\":\"");
+        char type[96] = "";
+        if (t) sscanf(t + 16, "%95[^\"]", type);
+        char a_knot[256], b_knot[256];
+        snprintf(a_knot, sizeof a_knot, "\"knot\":{\"type\":\"%s\",\"alexander\":[1,-1,1],"
+                 "\"determinant\":3,", type);
+        snprintf(b_knot, sizeof b_knot, "\"knot\":{\"type\":\"unknot\",\"alexander\":[1],"
+                 "\"determinant\":1,\"signature\":0,\"changes\":[]}");
+        const char *rod_b = strstr(json, "{\"name\":\"b\"");
+        const char *in_a = strstr(json, a_knot);
+        check(strncmp(type, "trefoil, ", 9) == 0, "the overhand rod alone: %s (reference: a "
+              "trefoil with its hand)", type);
+        check(in_a && rod_b && in_a < rod_b, "rod a's knot in the JSON: %s (Alexander 1 -1 1, "
+              "determinant 3: the trefoil's)", type);
+        check(rod_b && strstr(rod_b, b_knot), "rod b's knot in the JSON: unknot (Alexander 1, "
+              "determinant 1, signature 0, no change)");
+        const char *line_a = strstr(said, "rod a:"), *line_b = strstr(said, "rod b:");
+        const char *knot_a = line_a ? strstr(line_a, "knot: trefoil") : NULL;
+        const char *knot_b = line_b ? strstr(line_b, "knot: unknot") : NULL;
+        check(knot_a && line_b && knot_a < line_b && knot_b, "the text names rod a's knot "
+              "trefoil and rod b's unknot under each rod");
+    }
+    free(json);
+    free(alone);
+    free(said);
+}
+
 int main(void)
 {
     char dir[] = "/tmp/rodsim_rodsXXXXXX", path[512], cmd[2048];
@@ -120,6 +204,7 @@ int main(void)
     free(two);
     free(one);
     free(json);
+    check_knots(dir);
     /* a bad key of a named rod is reported at its line, with the rod's section */
     snprintf(path, sizeof path, "%s/bad.ini", dir);
     write_text(path, "[rod a]\n" ROPE "origin = 0 0 0.01\n[rod b]\n" ROPE "origin = 0 1 0.01\n"
