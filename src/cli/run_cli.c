@@ -221,7 +221,7 @@ int run_command(int argc, char **argv)
     scene_outputs_options o = {.out_dir = "out"};
     cli_list sets = {0};
     const char *summary_path = NULL;
-    run_summary summary; /* ~30 KB */
+    run_summary summary; /* ~73 KB */
     summary_init(&summary);
     const cli_option options[] = {
         {.name = "--set", .value = CLI_SETTING, .target = &sets, .repeated = 1},
