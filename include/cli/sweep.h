@@ -11,6 +11,11 @@
  * the scene does not accept is bad input, found before anything runs
  * (every point's scene is read first).
  *
+ * A scene of named rods ([rod NAME]) is run point by point through `rodsim
+ * run`'s own entry for it (rods_run.h, no video), measured by each rod's tip
+ * (a column per rod, tip_x[NAME]) and the steps and times; only into the
+ * CSV (its result files and figure hold one rod's measures).
+ *
  * With --result DIR every point's measures go to DIR/DIGEST.csv (the digest
  * of its inputs, sweep_spec.h); a point whose file exists is not run again
  * (resume), and sweep_export.h hands the points to other runners. */

@@ -32,6 +32,8 @@
 uint64_t sweep_fnv1a64(uint64_t h, const void *bytes, size_t n);
 
 #define SWEEP_PUNCTURE_SLOTS 16 /* ROD_MAX_PUNCTURES */
+#define SWEEP_MAX_RODS 8        /* ROD_SET_MAX */
+#define SWEEP_ROD_NAME_LEN 32   /* ROD_NAME_LEN */
 
 /* The measures of a point, in the order of a result file's columns. */
 enum {
@@ -70,6 +72,7 @@ typedef struct sweep_point_result {
     int status; /* sweep_point_status */
     char knot[96]; /* the knot type at the end (rod_knot.name), "" where none */
     char message[2048]; /* a failure's, or the warnings (run_warnings_join) */
+    double rod_tip[SWEEP_MAX_RODS][3]; /* m: each named rod's tip (several rods), NAN none */
 } sweep_point_result;
 
 /* One --vary: a key (or one component of a vector key) and its values. */
@@ -108,6 +111,10 @@ typedef struct sweep {
     cli_list vary_args;     /* as given, for the assemble line */
     const char *measure_arg;
     int point_count;
+    /* a scene of named rods ([rod NAME]): their names, in the scene's order;
+     * 0 for one bare [rod] (sweep_read_bases) */
+    int rod_count;
+    char rod_names[SWEEP_MAX_RODS][SWEEP_ROD_NAME_LEN];
     const char *plot_arg, *png, *svg, *log_axes; /* --plot X:Y, --png, --svg, --log */
     const char *title, *xlabel, *ylabel;   /* --title, --xlabel, --ylabel: NULL, the default */
     const char *xformat, *yformat;         /* --xformat, --yformat: tick labels, or NULL */

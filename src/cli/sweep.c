@@ -13,8 +13,10 @@
 #include "base/outfile.h"
 #include "base/spectrum.h"
 #include "base/worker.h"
+#include "cli/rods_run.h"
 #include "cli/run.h"
 #include "cli/scene_outputs.h"
+#include "cli/summary.h"
 #include "cli/sweep_export.h"
 #include "cli/sweep_plot.h"
 #include "sim/rod.h"
@@ -36,7 +38,8 @@ void sweep_usage(FILE *f)
             "none), status (ok unstable no_convergence refused failed), message (why it\n"
             "failed, then the warnings rodsim run prints, joined with '; ').\n"
             "  KEY            section.key as --set names it, or a vector's component, 0-based:\n"
-            "                 tip.force[1] is y; whole vectors: 'tip.force=0 1e-7 0,0 2e-7 0'\n"
+            "                 tip.force[1] is y; whole vectors: 'tip.force=0 1e-7 0,0 2e-7 0';\n"
+            "                 a named rod's: 'rod upper.youngs_modulus=2e7,5e7'\n"
             "  --measure      at the end of the run: tip_x tip_y tip_z (m), root_fx.. root_fz,\n"
             "                 tip_fx.. tip_fz and their magnitudes root_f tip_f (N, on what\n"
             "                 holds the end), max_curvature (1/m); first_frequency (Hz, tip\n"
@@ -49,7 +52,10 @@ void sweep_usage(FILE *f)
             "                 (N: a column puncture_f[i] per puncture, force on the tissue).\n"
             "                 Groups tip, root_force, tip_force, knots, punctures, all (the\n"
             "                 measures every scene has); default tip,wall_s,cpu_s. A measure the\n"
-            "                 scene cannot have is refused, naming those it can\n"
+            "                 scene cannot have is refused, naming those it can. Several rods\n"
+            "                 ([rod NAME]): each point is `rodsim run`'s run of them; tip_x..\n"
+            "                 tip_z a column per rod (tip_x[NAME]), steps, wall_s, cpu_s; CSV\n"
+            "                 only (no --result, no --plot)\n"
             "  --jobs N       N worker processes (1..64); rows stay in point order\n"
             "  --csv FILE     the results (default: standard output; - too)\n"
             "  --result DIR   one file per point, DIR/DIGEST.csv; existing ones are not rerun\n"
@@ -264,6 +270,49 @@ static void set_stopped(sweep_point_result *r, rod_status st, const rod_model *m
                 report->message[0] ? ": " : "", report->message, advice);
 }
 
+/* A point of a scene of named rods, run by `rodsim run`'s own entry for
+ * them (rods_run.h: quiet, no video, no CSV), so that it equals `rodsim run
+ * SCENE --set ...` bit for bit; measured from its summary: each rod's tip,
+ * the steps. */
+static void run_rods_point(const sweep *sw, int point, sweep_point_result *r)
+{
+    double wall0 = clock_seconds(CLOCK_MONOTONIC);
+    double cpu0 = clock_seconds(CLOCK_PROCESS_CPUTIME_ID);
+    char err[SWEEP_ERR_LEN] = "";
+    sweep_setting *set = calloc((size_t)(sw->sets.count + sw->vary_count + 1), sizeof *set);
+    run_summary *sum = malloc(sizeof *sum);
+    ini_doc *doc = NULL;
+    int n = set ? sweep_point_settings(sw, point, set, err, sizeof err) : -1;
+    if (!sum || n < 0 || !(doc = sweep_point_doc(sw, set, n, err, sizeof err))) {
+        set_message(r, SWEEP_POINT_FAILED, "%s", set && sum ? err : "out of memory");
+        goto done;
+    }
+    summary_init(sum);
+    scene_outputs_options o = {.label = sw->scene_arg, .out_dir = ".", .no_video = 1,
+                               .allow_long = sw->allow_long, .quiet = 1, .summary = sum};
+    int status = rods_run_scene(&o, doc, "sweep");
+    if (sum->has_run) r->value[SWEEP_M_STEPS] = (double)sum->steps;
+    if (status != RUN_EXIT_OK) {
+        sweep_point_status ps = sum->status && strcmp(sum->status, "unstable") == 0
+                                    ? SWEEP_POINT_UNSTABLE
+                              : status == RUN_EXIT_BAD_INPUT ? SWEEP_POINT_REFUSED
+                                                             : SWEEP_POINT_FAILED;
+        set_message(r, ps, "%s", sum->message);
+        goto done;
+    }
+    for (int k = 0; k < sw->rod_count; k++)
+        for (int j = 0; j < sum->rod_count; j++)
+            if (strcmp(sum->rods[j].name, sw->rod_names[k]) == 0)
+                memcpy(r->rod_tip[k], sum->rods[j].tip, sizeof r->rod_tip[k]);
+    r->status = SWEEP_POINT_OK;
+done:
+    r->value[SWEEP_M_WALL] = clock_seconds(CLOCK_MONOTONIC) - wall0;
+    r->value[SWEEP_M_CPU] = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
+    ini_destroy(doc);
+    free(sum);
+    free(set);
+}
+
 /* Runs one point as `rodsim run --no-video` would (run_read_scene, the dt
  * and plan of run.c, run_simulate_paced against the time limit, the knot
  * tracked) and measures it; its warnings, as the run prints them, go to
@@ -274,6 +323,12 @@ static void run_point(const sweep *sw, int point, sweep_point_result *r)
     double cpu0 = clock_seconds(CLOCK_PROCESS_CPUTIME_ID);
     memset(r, 0, sizeof *r);
     for (int i = 0; i < SWEEP_M_COUNT; i++) r->value[i] = NAN;
+    for (int k = 0; k < SWEEP_MAX_RODS; k++) r->rod_tip[k][0] = r->rod_tip[k][1] = NAN,
+                                             r->rod_tip[k][2] = NAN;
+    if (sw->rod_count > 0) {
+        run_rods_point(sw, point, r);
+        return;
+    }
     char err[SWEEP_ERR_LEN] = "";
     sweep_setting *set = calloc((size_t)(sw->sets.count + sw->vary_count + 1), sizeof *set);
     rod_model m = rod_model_default();
@@ -553,7 +608,10 @@ void sweep_write_csv(FILE *f, const sweep *sw, const sweep_point_result *rows)
         int m = sw->measures[i];
         for (int j = 0; m == SWEEP_M_PUNCTURE_COLUMNS && j < punctures; j++)
             fprintf(f, "%s,", sweep_measure_names[SWEEP_M_PUNCTURE_F + j]);
-        if (m != SWEEP_M_PUNCTURE_COLUMNS) fprintf(f, "%s,", sweep_measure_names[m]);
+        const int per_rod = sw->rod_count > 0 && m >= SWEEP_M_TIP_X && m <= SWEEP_M_TIP_Z;
+        for (int j = 0; per_rod && j < sw->rod_count; j++)
+            fprintf(f, "%s[%s],", sweep_measure_names[m], sw->rod_names[j]);
+        if (m != SWEEP_M_PUNCTURE_COLUMNS && !per_rod) fprintf(f, "%s,", sweep_measure_names[m]);
     }
     fprintf(f, "status,message\n");
     for (int k = 0; k < sw->point_count; k++) {
@@ -565,6 +623,14 @@ void sweep_write_csv(FILE *f, const sweep *sw, const sweep_point_result *rows)
             int m = sw->measures[i], first = m, last = m;
             if (m == SWEEP_M_PUNCTURE_COLUMNS)
                 first = SWEEP_M_PUNCTURE_F, last = SWEEP_M_PUNCTURE_F + punctures - 1;
+            if (sw->rod_count > 0 && m >= SWEEP_M_TIP_X && m <= SWEEP_M_TIP_Z) {
+                for (int j = 0; j < sw->rod_count; j++) { /* a column per named rod */
+                    char num[40];
+                    sweep_format_double(rows[k].rod_tip[j][m - SWEEP_M_TIP_X], num, sizeof num);
+                    fprintf(f, "%s,", num);
+                }
+                continue;
+            }
             for (int c = first; c <= last; c++) {
                 char num[40];
                 sweep_format_double(rows[k].value[c], num, sizeof num);

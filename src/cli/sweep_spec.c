@@ -15,7 +15,9 @@
 #include "cli/scene_outputs.h"
 #include "cli/version.h"
 #include "plot/plot.h"
+#include "api/scene_read.h"
 #include "sim/rod.h"
+#include "sim/rod_set.h"
 
 const char *const sweep_measure_names[SWEEP_M_COUNT] = {
     "tip_x", "tip_y", "tip_z", "root_fx", "root_fy", "root_fz", "tip_fx", "tip_fy", "tip_fz",
@@ -516,16 +518,41 @@ int sweep_read_bases(sweep *sw, char *err, size_t errlen)
 {
     ini_doc *doc = ini_parse(sw->scene_arg, sw->text, err, errlen);
     if (!doc) return -1;
+    const char *names[SWEEP_MAX_RODS];
+    int rods = ini_section_names(doc, "rod", names, SWEEP_MAX_RODS);
+    sw->rod_count = rods < SWEEP_MAX_RODS ? rods : SWEEP_MAX_RODS;
+    char listed[SWEEP_MAX_RODS * (SWEEP_ROD_NAME_LEN + 2)] = "";
+    for (int k = 0; k < sw->rod_count; k++) {
+        snprintf(sw->rod_names[k], sizeof sw->rod_names[k], "%s", names[k]);
+        snprintf(listed + strlen(listed), sizeof listed - strlen(listed), "%s%s", k ? ", " : "",
+                 sw->rod_names[k]);
+    }
     for (int i = 0; i < sw->vary_count; i++) {
         sweep_vary *v = &sw->varies[i];
-        if (v->component < 0) continue;
         char section[SWEEP_KEY_LEN];
         snprintf(section, sizeof section, "%s", v->key);
         char *dot = strchr(section, '.');
         *dot = '\0';
+        char *space = strchr(section, ' '); /* [rod NAME], [ends NAME], [tip NAME] */
+        int known = !space;
+        for (int k = 0; space && k < sw->rod_count; k++)
+            known |= strcmp(space + 1, sw->rod_names[k]) == 0;
+        if (!known) {
+            if (sw->rod_count)
+                snprintf(err, errlen, "--vary %s: %s: the scene has no rod named '%s'; its "
+                                      "rods: %s", v->arg, sw->scene_arg, space + 1, listed);
+            else
+                snprintf(err, errlen, "--vary %s: %s has one bare [rod], no named rods; "
+                                      "accepted here: %.*s.KEY", v->arg, sw->scene_arg,
+                         (int)(space - section), section);
+            ini_destroy(doc);
+            return -1;
+        }
+        if (v->component < 0) continue;
         const char *value = NULL;
         if (ini_get_string(doc, section, 0, dot + 1, &value, err, errlen) != 1) {
             value = NULL;
+            if (space) *space = '\0'; /* a named rod's default is the bare section's */
             for (const ini_key *k = scene_keys_rod; k->section; k++)
                 if (strcmp(k->section, section) == 0 && strcmp(k->key, dot + 1) == 0)
                     value = k->fallback;
@@ -731,6 +758,37 @@ static int check_measures_apply(const sweep *sw, const rod_model *m, const char 
     return -1;
 }
 
+/* A scene of named rods is run by rods_run.h: its measures are each rod's
+ * tip (a column per rod) and the run's steps and times; the result files
+ * and the figure hold one rod's measures. 0, or -1 with a message. */
+static int check_rods_apply(const sweep *sw, char *err, size_t errlen)
+{
+    char listed[SWEEP_MAX_RODS * (SWEEP_ROD_NAME_LEN + 2)] = "";
+    for (int k = 0; k < sw->rod_count; k++)
+        snprintf(listed + strlen(listed), sizeof listed - strlen(listed), "%s%s", k ? ", " : "",
+                 sw->rod_names[k]);
+    for (int i = 0; i < sw->measure_count; i++) {
+        int m = sw->measures[i];
+        if ((m >= SWEEP_M_TIP_X && m <= SWEEP_M_TIP_Z) || m == SWEEP_M_STEPS ||
+            m == SWEEP_M_WALL || m == SWEEP_M_CPU)
+            continue;
+        snprintf(err, errlen, "--measure %.200s: %s does not apply to %.300s, a scene of "
+                              "several rods (%s); the measures that apply: tip_x, tip_y, tip_z "
+                              "(a column per rod: tip_x[%s]), steps, wall_s, cpu_s",
+                 sw->measure_arg ? sw->measure_arg : "",
+                 m == SWEEP_M_PUNCTURE_COLUMNS ? "puncture_f" : sweep_measure_names[m],
+                 sw->scene_arg, listed, sw->rod_names[0]);
+        return -1;
+    }
+    const char *option = sw->plot_arg ? "--plot" : sw->result_dir ? "--result" : NULL;
+    if (option) {
+        snprintf(err, errlen, "%s: a scene of several rods (%s) is swept into the CSV only "
+                              "(--csv); %s holds one rod's measures", option, listed, option);
+        return -1;
+    }
+    return 0;
+}
+
 /* Every point's scene read before anything runs: a value a key does not
  * accept is bad input naming the --vary argument. */
 int sweep_check_points(const sweep *sw, sweep_setting *set, uint64_t *digests, char *err,
@@ -744,6 +802,24 @@ int sweep_check_points(const sweep *sw, sweep_setting *set, uint64_t *digests, c
         rod_model m = rod_model_default();
         run_output out;
         ini_doc *doc = sweep_point_doc(sw, set, n, msg, sizeof msg);
+        if (sw->rod_count > 0) { /* named rods: read as `rodsim run` reads them */
+            rod_set rods;
+            int bad = !doc || ini_check_keys(doc, scene_keys_rod, msg, sizeof msg) ||
+                      scene_read_rods(doc, &rods, msg, sizeof msg);
+            if (!bad) {
+                bad = run_read_output(doc, &out, msg, sizeof msg) ||
+                      ini_check_unused(doc, msg, sizeof msg);
+                rod_set_release(&rods);
+            }
+            if (!bad) {
+                ini_destroy(doc);
+                if (k == 0 && check_rods_apply(sw, err, errlen)) return -1;
+                continue;
+            }
+            ini_destroy(doc);
+            doc = NULL;
+            goto refused;
+        }
         int bad = !doc || run_read_scene(doc, &m, &out, msg, sizeof msg);
         if (!bad) {
             char what[512], where[OUTFILE_PATH_MAX + 600];
@@ -759,6 +835,7 @@ int sweep_check_points(const sweep *sw, sweep_setting *set, uint64_t *digests, c
             continue;
         }
         ini_destroy(doc);
+    refused:;
         const char *arg = NULL;
         for (int i = 0; i < sw->vary_count && !arg; i++) {
             char named[SWEEP_KEY_LEN + 8];
