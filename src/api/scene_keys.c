@@ -148,7 +148,9 @@ const ini_key scene_keys_rod[] = {
      "x along the shafts to the tip, z the jaws' opening plane) and the jaws' opening (0 "
      "closed .. 1 open), interpolated smoothly; jaws closing below 0.1 grasp the thread "
      "between them, opening release it; scissors' blades closing below 0.1 cut it where it "
-     "crosses them (the piece on the side no end, grasp or puncture holds leaves the run)"},
+     "crosses them (the piece on the side no end, grasp or puncture holds leaves the run); "
+     "instruments pass through surfaces: a path taking a jaw or shank more than its radius "
+     "into a [surface] (sampled every 1 ms) is a warning"},
     {"instrument", "size", "m", "0.14", "> 0",
      "overall length; jaws and shanks scale with it (a 0.14 m needle holder: 15 mm jaws)"},
     {"instrument", "friction", "-", "0.3", ">= 0",
