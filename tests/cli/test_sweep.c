@@ -34,6 +34,7 @@
 #include "render/image.h"
 #include "study/reference.h"
 #include "test.h"
+#include "test_csv.h"
 #include "test_process.h"
 
 #define SCENE RODSIM_SOURCE_DIR "/scenes/table2_450nN.ini"
@@ -41,35 +42,6 @@
 
 static char output[OUTPUT_LEN];
 static char scratch[256];
-
-static char *read_text(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    char *text = calloc(1, 1 << 20);
-    if (text) text[fread(text, 1, (1 << 20) - 1, f)] = '\0';
-    fclose(f);
-    return text;
-}
-
-/* Field `column` (0-based) of CSV line `row` (0: the header) of text; fields
- * here hold no commas except in the last (message). */
-static int csv_cell(const char *text, int row, int column, char *out, size_t n)
-{
-    const char *p = text;
-    for (int r = 0; r < row && p; r++) {
-        p = strchr(p, '\n');
-        if (p) p++;
-    }
-    for (int c = 0; c < column && p; c++) {
-        p = strpbrk(p, ",\n");
-        p = p && *p == ',' ? p + 1 : NULL;
-    }
-    if (!p) return -1;
-    size_t len = strcspn(p, ",\n");
-    snprintf(out, n, "%.*s", (int)len, p);
-    return 0;
-}
 
 static void test_fnv(void)
 {
@@ -430,9 +402,9 @@ static void test_plot(void)
           "--plot writes the PNG (signature), the CSV and the plotted data (exit %d)", rc);
     if (!rows || !plotted) return;
     /* plotted row j: curve (rod.nodes), x sorted ascending within the curve */
-    static const char *const curve[6] = {"\"rod.nodes = 11\"", "\"rod.nodes = 11\"",
-                                         "\"rod.nodes = 11\"", "\"rod.nodes = 21\"",
-                                         "\"rod.nodes = 21\"", "\"rod.nodes = 21\""};
+    /* (the names are quoted in the file; csv_cell takes the quotes off) */
+    static const char *const curve[6] = {"rod.nodes = 11", "rod.nodes = 11", "rod.nodes = 11",
+                                         "rod.nodes = 21", "rod.nodes = 21", "rod.nodes = 21"};
     static const int source_row[6] = {2, 3, 1, 5, 6, 4}; /* 1e-7, 4.5e-7, 9e-7 */
     int same = 1;
     for (int j = 0; j < 6; j++) {

@@ -25,6 +25,7 @@
 
 #include "cli/sweep_spec.h"
 #include "test.h"
+#include "test_csv.h"
 #include "test_process.h"
 
 #define OUTPUT_LEN 65536
@@ -32,48 +33,6 @@
 
 static char output[OUTPUT_LEN];
 static char scratch[256];
-
-static char *read_text(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    char *text = calloc(1, 1 << 20);
-    if (text) text[fread(text, 1, (1 << 20) - 1, f)] = '\0';
-    fclose(f);
-    return text;
-}
-
-/* Field `column` (0-based) of CSV line `row` (0: the header); fields here
- * hold no commas. */
-/* A quoted field (a knot's name "trefoil, right-handed") may hold commas. */
-static const char *csv_field_end(const char *p)
-{
-    int quoted = 0;
-    for (; *p && (quoted || (*p != ',' && *p != '\n')); p++)
-        if (*p == '"') quoted = !quoted;
-    return p;
-}
-
-static int csv_cell(const char *text, int row, int column, char *out, size_t n)
-{
-    const char *p = text;
-    for (int r = 0; r < row && p; r++) {
-        p = strchr(p, '\n');
-        if (p) p++;
-    }
-    for (int c = 0; c < column && p; c++) {
-        p = csv_field_end(p);
-        p = *p == ',' ? p + 1 : NULL;
-    }
-    if (!p) return -1;
-    size_t len = (size_t)(csv_field_end(p) - p);
-    if (len >= 2 && p[0] == '"' && p[len - 1] == '"') { /* no doubled quotes in these */
-        p++;
-        len -= 2;
-    }
-    snprintf(out, n, "%.*s", (int)len, p);
-    return 0;
-}
 
 static double csv_number(const char *text, int row, int column)
 {

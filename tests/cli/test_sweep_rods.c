@@ -20,6 +20,7 @@
 #include <unistd.h>
 
 #include "test.h"
+#include "test_csv.h"
 #include "test_process.h"
 
 #define SCENE RODSIM_SOURCE_DIR "/scenes/crossing.ini"
@@ -27,43 +28,6 @@
 
 static char output[OUTPUT_LEN];
 static char scratch[256];
-
-static char *read_text(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    char *text = calloc(1, 1 << 20);
-    if (text) text[fread(text, 1, (1 << 20) - 1, f)] = '\0';
-    fclose(f);
-    return text;
-}
-
-/* Field `column` (0-based) of CSV line `row` (0: the header), as a string */
-static int csv_cell(const char *text, int row, int column, char *out, size_t n)
-{
-    const char *p = text;
-    for (int r = 0; r < row && p; r++) {
-        p = strchr(p, '\n');
-        if (p) p++;
-    }
-    for (int c = 0; c < column && p; c++) {
-        p = strpbrk(p, ",\n");
-        p = p && *p == ',' ? p + 1 : NULL;
-    }
-    if (!p) return -1;
-    size_t len = strcspn(p, ",\n");
-    snprintf(out, n, "%.*s", (int)len, p);
-    return 0;
-}
-
-/* The column named `name` in the header of text; -1 when none */
-static int csv_column(const char *text, const char *name)
-{
-    char cell[128];
-    for (int c = 0; csv_cell(text, 0, c, cell, sizeof cell) == 0 && c < 64; c++)
-        if (strcmp(cell, name) == 0) return c;
-    return -1;
-}
 
 static double csv_number(const char *text, int row, const char *name)
 {

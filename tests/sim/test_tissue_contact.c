@@ -26,37 +26,7 @@
 #include "sim/tissue/tissue.h"
 #include "sim/tissue/tissue_coupling.h"
 #include "test.h"
-
-#define SCENES RODSIM_SOURCE_DIR "/scenes"
-
-static int read_scene(const char *text, rod_model *m, char *err, size_t errlen)
-{
-    ini_doc *doc = ini_parse(SCENES "/test.ini", text, err, errlen);
-    int rc = !doc || scene_read_rod(doc, m, err, errlen) != 0 ? -1 : 0;
-    ini_destroy(doc);
-    return rc;
-}
-
-/* Runs m from rest for `steps` steps of dt; 0 or -1 (message printed). */
-static int run(const rod_model *m, rod_state *s, int steps, double dt)
-{
-    rod_solver solver;
-    char err[512];
-    if (rod_solver_init(&solver, m, err, sizeof err)) {
-        printf("solver: %s\n", err);
-        return -1;
-    }
-    rod_report report;
-    memset(&report, 0, sizeof report);
-    int rc = 0;
-    for (int k = 0; k < steps && rc == 0; k++)
-        if (rod_solver_step(&solver, m, s, dt, &report) != ROD_OK) {
-            printf("step %d: %s\n", k, report.message);
-            rc = -1;
-        }
-    rod_solver_release(&solver);
-    return rc;
-}
+#include "test_scene_run.h"
 
 /* What the pad's holders take (N, z up) less the pad's own weight (its
  * lumped masses times g): the load the thread puts on it. */
@@ -86,7 +56,7 @@ static void tree_against_grid(void)
         "model = elastic\nelement_size = 0.005\n";
     rod_model m;
     char err[1024] = "";
-    if (!check(read_scene(scene, &m, err, sizeof err) == 0, "the pad scene reads (%s)", err))
+    if (!check(read_scene_text(scene, &m, err, sizeof err) == 0, "the pad scene reads (%s)", err))
         return;
     tissue_solid *t = m.surfaces[0].solid;
     rod_mesh *moving = m.surfaces[0].mesh;
@@ -177,11 +147,11 @@ static void wire_at_rest(void)
 {
     rod_model m;
     char err[1024] = "";
-    if (!check(read_scene(rest_scene, &m, err, sizeof err) == 0, "the rest scene reads (%s)", err))
+    if (!check(read_scene_text(rest_scene, &m, err, sizeof err) == 0, "the rest scene reads (%s)", err))
         return;
     rod_state *s = rod_state_create(&m);
     const double r = 0.5 * m.diameter;
-    if (!check(s && run(&m, s, 1000, 0.001) == 0, "the wire settles on the slab in 1 s")) {
+    if (!check(s && run_steps(&m, s, 1000, 0.001) == 0, "the wire settles on the slab in 1 s")) {
         rod_state_destroy(s);
         rod_model_release(&m);
         return;
@@ -245,11 +215,11 @@ static void point_load_dent(void)
 {
     rod_model m;
     char err[1024] = "";
-    if (!check(read_scene(dent_scene, &m, err, sizeof err) == 0, "the dent scene reads (%s)", err))
+    if (!check(read_scene_text(dent_scene, &m, err, sizeof err) == 0, "the dent scene reads (%s)", err))
         return;
     rod_state *s = rod_state_create(&m);
     const double r = 0.5 * m.diameter, F = 0.2;
-    if (!check(s && run(&m, s, 1000, 0.001) == 0, "the loaded wire settles in 1 s")) {
+    if (!check(s && run_steps(&m, s, 1000, 0.001) == 0, "the loaded wire settles in 1 s")) {
         rod_state_destroy(s);
         rod_model_release(&m);
         return;
@@ -288,7 +258,7 @@ static void slit_left_out(void)
         "pretension = 0 0.3 0\nwound = -0.012 0 0.012 0 0.002\n";
     rod_model m;
     char err[1024] = "";
-    if (!check(read_scene(scene, &m, err, sizeof err) == 0, "the wound scene reads (%s)", err))
+    if (!check(read_scene_text(scene, &m, err, sizeof err) == 0, "the wound scene reads (%s)", err))
         return;
     tissue_solid *t = m.surfaces[0].solid;
     rod_mesh *mesh = m.surfaces[0].mesh;
@@ -327,7 +297,7 @@ static void wire_carried(void)
 {
     rod_model m;
     char err[1024] = "";
-    if (!check(read_scene(rest_scene, &m, err, sizeof err) == 0, "the carried scene reads (%s)", err))
+    if (!check(read_scene_text(rest_scene, &m, err, sizeof err) == 0, "the carried scene reads (%s)", err))
         return;
     rod_state *s = rod_state_create(&m);
     rod_solver solver;
@@ -376,11 +346,11 @@ static void rigid_pad_is_the_box(void)
     memcpy(at, "model = rigid  ", 15);
     rod_model m;
     char err[1024] = "";
-    if (!check(read_scene(text, &m, err, sizeof err) == 0, "the rigid pad reads (%s)", err)) return;
+    if (!check(read_scene_text(text, &m, err, sizeof err) == 0, "the rigid pad reads (%s)", err)) return;
     rod_state *s = rod_state_create(&m);
     check(m.surfaces[0].solid == NULL && m.surfaces[0].mesh == NULL,
           "a rigid pad has neither a solid nor a surface mesh");
-    if (s && run(&m, s, 300, 0.001) == 0) {
+    if (s && run_steps(&m, s, 300, 0.001) == 0) {
         double lowest = INFINITY, held = 0.0;
         for (int b = 0; b < m.nodes; b++) {
             lowest = fmin(lowest, s->position[3 * b + 2]);
@@ -406,7 +376,7 @@ static void friction_relative_velocity(void)
 {
     rod_model m;
     char err[1024] = "";
-    if (!check(read_scene(rest_scene, &m, err, sizeof err) == 0, "the law's pad reads (%s)", err))
+    if (!check(read_scene_text(rest_scene, &m, err, sizeof err) == 0, "the law's pad reads (%s)", err))
         return;
     const int n = m.nodes, b = 5;
     const double r = 0.5 * m.diameter, dt = 1e-3, push = 1.0, theta = m.options.theta;
@@ -504,11 +474,11 @@ static int drape(double rounding, rod_model *m, rod_state **s, double *cut, doub
     char text[2048], err[1024] = "";
     snprintf(text, sizeof text, "%srounding = %.17g\n", edge_scene, rounding);
     *s = NULL;
-    if (!check(read_scene(text, m, err, sizeof err) == 0, "the edge scene reads (%s)", err))
+    if (!check(read_scene_text(text, m, err, sizeof err) == 0, "the edge scene reads (%s)", err))
         return -1;
     *before = pad_support(m->surfaces[0].solid, 9.81);
     *s = rod_state_create(m);
-    if (!*s || run(m, *s, 1200, 0.000834) != 0) return -1;
+    if (!*s || run_steps(m, *s, 1200, 0.000834) != 0) return -1;
     rod_mesh *mesh = m->surfaces[0].mesh;
     rod_mesh_move(mesh, tissue_positions(m->surfaces[0].solid), (*s)->time);
     const double r = 0.5 * m->diameter;

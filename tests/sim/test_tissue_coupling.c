@@ -16,6 +16,7 @@
 #include "sim/tissue/tissue.h"
 #include "sim/tissue/tissue_coupling.h"
 #include "test.h"
+#include "test_scene_run.h"
 
 #define SCENES RODSIM_SOURCE_DIR "/scenes"
 
@@ -35,45 +36,16 @@ static const char weight_scene[] =
     "model = elastic\nelement_size = 0.004\n"
     "[puncture]\npoint = -0.02 0 0\n[puncture]\npoint = 0.02 0 0\n";
 
-static int read_scene(const char *text, rod_model *m, char *err, size_t errlen)
-{
-    ini_doc *doc = ini_parse(SCENES "/test.ini", text, err, errlen);
-    int rc = !doc || scene_read_rod(doc, m, err, errlen) != 0 ? -1 : 0;
-    ini_destroy(doc);
-    return rc;
-}
-
-/* Runs m from rest for `steps` steps of dt; 0 or -1 (message printed). */
-static int run(const rod_model *m, rod_state *s, int steps, double dt)
-{
-    rod_solver solver;
-    char err[512];
-    if (rod_solver_init(&solver, m, err, sizeof err)) {
-        printf("solver: %s\n", err);
-        return -1;
-    }
-    rod_report report;
-    memset(&report, 0, sizeof report);
-    int rc = 0;
-    for (int k = 0; k < steps && rc == 0; k++)
-        if (rod_solver_step(&solver, m, s, dt, &report) != ROD_OK) {
-            printf("step %d: %s\n", k, report.message);
-            rc = -1;
-        }
-    rod_solver_release(&solver);
-    return rc;
-}
-
 static void hanging_weight(void)
 {
     const double W = 0.1; /* N */
     rod_model m;
     char err[1024] = "";
-    if (!check(read_scene(weight_scene, &m, err, sizeof err) == 0, "the weight scene reads (%s)", err))
+    if (!check(read_scene_text(weight_scene, &m, err, sizeof err) == 0, "the weight scene reads (%s)", err))
         return;
     rod_state *s = rod_state_create(&m);
     const int pad = tissue_coupling_pad(&m);
-    if (!check(s && pad == 0 && run(&m, s, 1000, 0.001) == 0 && s->puncture_count == 2,
+    if (!check(s && pad == 0 && run_steps(&m, s, 1000, 0.001) == 0 && s->puncture_count == 2,
                "the wire settles on its two punctures in 1 s")) {
         rod_state_destroy(s);
         rod_model_release(&m);
@@ -149,7 +121,7 @@ static void refused(const char *what, const char *surface_keys, const char *key,
              "[surface]\nshape = box\ncenter = 0 0 0\nsize = 0.04 0.03 0.008\n"
              "model = elastic\n%s", surface_keys);
     rod_model m;
-    int failed = read_scene(text, &m, err, sizeof err) != 0;
+    int failed = read_scene_text(text, &m, err, sizeof err) != 0;
     if (!failed) rod_model_release(&m);
     check(failed && strstr(err, "test.ini:") && strstr(err, key) && strstr(err, want),
           "%s refused: %s", what, err);
@@ -191,7 +163,7 @@ static void stitch_tightened(void)
     gap[0] = tissue_coupling_gap_at(t, at);
     printf("      t = 0.0 s: gap %.4f mm\n", 1e3 * gap[0]);
     for (int i = 1; i <= 25 && ok; i++) {
-        ok = run(&m, s, 100, dt) == 0;
+        ok = run_steps(&m, s, 100, dt) == 0;
         gap[i] = tissue_coupling_gap_at(t, at);
         printf("      t = %.1f s: gap %.4f mm, holes' forces on the pad y %.4g, %.4g N\n", 0.1 * i,
                1e3 * gap[i], s->puncture[0].force[1], s->puncture[s->puncture_count - 1].force[1]);
@@ -284,7 +256,7 @@ static void needle_holes(void)
             return;
         }
         s[k] = rod_state_create(&m[k]);
-        check(s[k] && run(&m[k], s[k], 7200, m[k].options.dt) == 0 && s[k]->puncture_count == 2,
+        check(s[k] && run_steps(&m[k], s[k], 7200, m[k].options.dt) == 0 && s[k]->puncture_count == 2,
               "the first bite (6 s) with the %s pad: two holes", k ? "elastic" : "rigid");
     }
     const tissue_solid *t = m[1].surfaces[0].solid;
