@@ -1,8 +1,10 @@
 /* rod_set.h: several rods in one scene ([rod NAME], [ends NAME], [tip
  * NAME]), each its own rod_model (material, shape, ends, paths, tip loads,
- * needle) and state, advanced together by one implicit step of one dt and
- * coupled only through contact (each rod's strands touch the others' as
- * they touch their own: sim/contact/rod_contact.h). A scene with a bare
+ * needle) and state, each advanced by its own implicit step, in the scene's
+ * order, with one dt, and coupled only through contact: each rod's strands
+ * touch the others' as they touch their own, the later rod solving the
+ * contact against the earlier's motion and the earlier taking the reaction
+ * a step late (sim/contact/between_rods.h). A scene with a bare
  * [rod] is a set of one rod named "rod".
  *
  * Why separate models with a Newton each, not one system of all nodes:
