@@ -19,8 +19,21 @@ are walked along that curve from its middle (node 24, under the wound) by
 chords DS, DS chosen so that the eighth lands on each hole (nodes 16 and
 32); the legs are 16 chords each. The two points where the bite turns
 across fall inside a chord: their punctures are put on it (12 um from the
-curve's turn)."""
+curve's turn).
+
+The skin is the pad as it is at t = 0: settled under its pretension (the
+held sides stretched 30 % across the wound), its top some 1.86 mm under the
+box's top z = 0 at the holes. The script reads that settled top from
+`rodsim run --tissue-csv` of the pad alone (wound_closure.ini's [surface],
+a short rod far above it, one step): the holes are put on it (the scene's
+punctures are points of the settled skin) and the whole stitch lowered with
+them, so the bite runs RC under the skin. RODSIM names the program
+(default ../build/release/rodsim):
+  RODSIM=../build/release/rodsim python3 wound_closure_path.py"""
 import math
+import os
+import subprocess
+import tempfile
 
 BITE, RC = 0.004, 0.003       # m: each hole's distance from the wound; the arcs' radius
 HALF_BOTTOM = BITE - RC       # m: half the straight run under the wound
@@ -70,7 +83,60 @@ def chord_length():
     return 0.5 * (lo + hi)
 
 
+def pad_section(scene="wound_closure.ini"):
+    """The [surface] section of the scene, as it is written."""
+    lines, inside = [], False
+    with open(scene) as f:
+        for line in f:
+            if line.startswith("["):
+                inside = line.split("#")[0].strip() == "[surface]"
+            if inside:
+                lines.append(line)
+    return "".join(lines)
+
+
+def settled_top():
+    """The settled pad's top-face nodes at t = 0, [(x, y, z)] (m)."""
+    rodsim = os.environ.get("RODSIM", "../build/release/rodsim")
+    with tempfile.TemporaryDirectory() as tmp:
+        scene, csv = os.path.join(tmp, "pad.ini"), os.path.join(tmp, "top.csv")
+        with open(scene, "w") as f:
+            f.write("[rod]\nlength = 0.01\ndiameter = 0.0003\ndensity = 1140\nyoungs_modulus = 1e9\n"
+                    "shear_modulus = 0.37e9\nnodes = 5\n"
+                    "origin = -0.005 0 0.02\n[solver]\nscheme = implicit\ndt = 0.001\n"
+                    "duration = 0.001\n[physics]\ngravity = off\n" + pad_section())
+        subprocess.run([rodsim, "run", scene, "--no-video", "--quiet", "--tissue-csv", csv],
+                       check=True)
+        with open(csv) as f:
+            rows = [r.strip().split(",") for r in f.readlines()[1:]]
+    return [tuple(map(float, r[2:5])) for r in rows if float(r[0]) == 0.0]
+
+
+def top_at(top, x, y):
+    """z of the settled top at (x, y): linear on the triangle of three
+    nearby nodes that holds (x, y) and is smallest (the pad's top is flat
+    to some 30 um over a cell there)."""
+    near = sorted(top, key=lambda p: (p[0] - x) ** 2 + (p[1] - y) ** 2)[:8]
+    best = None
+    for i in range(len(near)):
+        for j in range(i + 1, len(near)):
+            for k in range(j + 1, len(near)):
+                a, b, c = near[i], near[j], near[k]
+                det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
+                if abs(det) < 1e-12:
+                    continue
+                u = ((x - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (y - a[1])) / det
+                v = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / det
+                if min(u, v, 1 - u - v) < -1e-12:
+                    continue
+                if best is None or abs(det) < best[0]:
+                    best = (abs(det), a[2] + u * (b[2] - a[2]) + v * (c[2] - a[2]))
+    return best[1]
+
+
 def main():
+    top = settled_top()
+    skin = top_at(top, 0.0, -BITE)  # the holes' height; the mesh is mirrored about the slit
     ds = chord_length()
     under = [curve(s) for s in walk(ds, UNDER)]
     half = under + [(BITE, k * ds) for k in range(1, LEGS + 1)]
@@ -81,7 +147,7 @@ def main():
     with open("wound_closure_shape.csv", "w") as f:
         f.write("x,y,z\n")
         for y, z in pts:
-            f.write(f"0,{y:.12f},{z:.12f}\n")
+            f.write(f"0,{y:.12f},{z + skin:.12f}\n")
     for name, y in (("root", pts[0][0]), ("tip", pts[-1][0])):
         with open(f"wound_closure_{name}.csv", "w") as f:
             f.write("t,x,y,z\n")
@@ -89,8 +155,9 @@ def main():
             for k in range(steps + 1):
                 t = T_PULL * k / steps
                 s = t / T_PULL
-                f.write(f"{t:.4f},0,{y:.12f},{height + PULL * (3 * s * s - 2 * s ** 3):.12f}\n")
-            f.write(f"{T_PULL + T_REST:.4f},0,{y:.12f},{height + PULL:.12f}\n")
+                z = skin + height + PULL * (3 * s * s - 2 * s ** 3)
+                f.write(f"{t:.4f},0,{y:.12f},{z:.12f}\n")
+            f.write(f"{T_PULL + T_REST:.4f},0,{y:.12f},{skin + height + PULL:.12f}\n")
     # the turn across (y = HALF_BOTTOM, z = -RC) put on the chord that passes it
     turn = (HALF_BOTTOM, -RC)
     best = None
@@ -104,7 +171,9 @@ def main():
             best = (d, q)
     print(f"[rod] length = {(NODES - 1) * ds:.12g}, nodes = {NODES} (ds {ds:.6g} m), "
           f"the ends {height:.6g} m above the skin")
-    print(f"[puncture] under the skin: 0 -+{best[1][0]:.12g} {best[1][1]:.12g} "
+    print(f"[puncture] the holes: 0 -+{BITE:.12g} {skin:.12g} (the settled skin; "
+          f"{top_at(top, 0.0, BITE) - skin:.2g} m between the two sides)")
+    print(f"[puncture] under the skin: 0 -+{best[1][0]:.12g} {best[1][1] + skin:.12g} "
           f"({best[0]:.2g} m from the curve's turn)")
 
 

@@ -110,7 +110,8 @@ const ini_key scene_keys_rod[] = {
      "elastic (a box with tissue = yes): the pad deforms, a finite-element neo-Hookean solid "
      "meshed from the box, quasi-static, each puncture a point of it that moves with it and "
      "carries the thread's force; the rod lies on its deformed surface (the wound's slit "
-     "open), pressing it where it touches"},
+     "open), pressing it where it touches; it starts at rest, settled before t = 0 under its "
+     "pretension, held faces and weight"},
     {"surface", "youngs_modulus", "Pa", "500000", "> 0",
      "elastic pad: E (skin 1e5..1e6)"},
     {"surface", "poisson_ratio", "-", "0.45", "-1 < nu < 0.5", "elastic pad: nu"},
@@ -133,7 +134,7 @@ const ini_key scene_keys_rod[] = {
      "elastic pad: a slit in the top face along x or y, ends inside the top face, 0 < depth < "
      "the box's height"},
     {"puncture", "point", "m", "required", "3 numbers, on the starting shape",
-     "a point the thread passes through, sliding ([puncture] repeats, at most 16); on a tissue surface, pairs in order: the thread between is inside"},
+     "a point the thread passes through, sliding ([puncture] repeats, at most 16); on a tissue surface, pairs in order: the thread between is inside; on an elastic pad, on its skin as settled at t = 0"},
     {"puncture", "friction", "-", "0.2", ">= 0",
      "Coulomb coefficient along the thread in the puncture"},
 

@@ -826,9 +826,13 @@ void rod_state_reset(const rod_model *m, rod_state *s)
         char why[256];
         tissue_clear_forces(m->surfaces[j].solid);
         (void)tissue_solve_static(m->surfaces[j].solid, NULL, why, sizeof why);
+        if (m->surfaces[j].mesh)
+            rod_mesh_move(m->surfaces[j].mesh, tissue_positions(m->surfaces[j].solid), 0.0);
     }
     /* the scene's punctures, at the arc length of the starting shape nearest
      * them; one on a tissue surface's boundary (within 1 % of the radius)
+     * or, an elastic pad's, within the thread's radius of its settled
+     * surface (the scene's holes are meant on the skin as it is at t = 0)
      * belongs to that surface, so that the thread between two of them is
      * inside it (rod_threaded_nodes) */
     for (int p = 0; p < m->puncture_count && p < ROD_MAX_PUNCTURES; p++) {
@@ -836,11 +840,15 @@ void rod_state_reset(const rod_model *m, rod_state *s)
         v3_copy(ps->point, m->punctures[p].point);
         ps->friction = m->punctures[p].friction;
         ps->surface = -1;
-        for (int j = 0; j < m->surface_count && j < 32 && ps->surface < 0; j++)
-            if (m->surfaces[j].tissue &&
-                fabs(rod_surface_gap(&m->surfaces[j], ps->point, 0.0, NULL, NULL)) <=
-                    0.005 * m->diameter)
+        for (int j = 0; j < m->surface_count && j < 32 && ps->surface < 0; j++) {
+            const rod_surface *sf = &m->surfaces[j];
+            if (sf->tissue && (fabs(rod_surface_gap(sf, ps->point, 0.0, NULL, NULL)) <=
+                                   0.005 * m->diameter ||
+                               (sf->solid && sf->mesh &&
+                                fabs(rod_mesh_distance(sf->mesh, ps->point, NULL, NULL)) <=
+                                    0.5 * m->diameter)))
                 ps->surface = j;
+        }
         ps->s = rod_nearest_arc_length(m, s->position, ps->point, NULL);
     }
 }

@@ -587,7 +587,10 @@ static int check_start_outside(ini_doc *doc, rod_model *m, char *err, size_t err
         const rod_surface *sf = &m->surfaces[j];
         for (int i = 0; i < m->nodes; i++) {
             if (j < 32 && (threaded[i] >> j & 1u)) continue;
-            double gap = rod_surface_gap(sf, &s->position[3 * i], radius, NULL, NULL);
+            /* an elastic pad: its settled surface */
+            rod_surface view;
+            double gap = rod_surface_gap(rod_surface_contact_view(sf, &view), &s->position[3 * i],
+                                         radius, NULL, NULL);
             if (gap < -0.01 * radius) {
                 rc = ini_error(doc, "surface", j, "center", err, errlen,
                                "the rod's starting shape is already inside this %s: node %d "
@@ -969,9 +972,17 @@ static int read_tissue_pads(ini_doc *doc, rod_model *m, const double gravity[3],
         if (!sf->mesh) return ini_error(doc, "surface", i, "model", err, errlen, "%s", why);
         /* the box's rounding rounds the deformed surface's convex edges */
         rod_mesh_set_rounding(sf->mesh, sf->rounding);
+        /* the pad starts at rest: its static equilibrium under the pretension
+         * at its held faces and its weight, solved before t = 0 */
         if (tissue_solve_static(sf->solid, NULL, why, sizeof why))
             return ini_error(doc, "surface", i, "pretension", err, errlen,
-                             "the pad finds no rest under its pretension and weight: %s", why);
+                             "the pad finds no rest under its pretension, held faces and weight "
+                             "(Newton, then 4, 16 and 64 load steps, %d iterations each: %s); "
+                             "accepted: a smaller pretension, a finer element_size or "
+                             "wound_refine, other held faces, or physics.gravity = off",
+                             TISSUE_STATIC_ITERATIONS, why);
+        /* the surface the thread sees and its scene's holes lie on: the settled one */
+        rod_mesh_move(sf->mesh, tissue_positions(sf->solid), 0.0);
     }
     return 0;
 }
@@ -1001,9 +1012,11 @@ int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
             derive_error(doc, why, err, errlen);
         goto fail;
     }
-    if (check_start_outside(doc, m, err, errlen) ||
-        read_tissue_pads(doc, m, m->physics.gravity ? gravity : (const double[3]){0, 0, 0}, err,
-                         errlen))
+    /* the pads first: the thread's start is checked against an elastic pad
+     * as it is at t = 0, settled */
+    if (read_tissue_pads(doc, m, m->physics.gravity ? gravity : (const double[3]){0, 0, 0}, err,
+                         errlen) ||
+        check_start_outside(doc, m, err, errlen))
         goto fail;
     /* gravity acts on the mass per length: f = rho A g, added to any given distributed force */
     for (int k = 0; k < 3; k++) m->distributed_force[k] += m->mass_per_length * gravity[k];

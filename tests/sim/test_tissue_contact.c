@@ -438,15 +438,16 @@ static void friction_relative_velocity(void)
 
 /* A suture (nylon, 0.3 mm) draped over the held front edge of a pad
  * stretched 30 % across (E 0.6 MPa, held at its bottom and sides): its root
- * held 2 mm above the top, its tip pulled down by 0.3 N (a weight hanging on
- * it), friction 0.3. The stretched top sinks between the held sides, so the
+ * held 2.2 mm above the top (so that it starts clear of the settled pad's
+ * stretched edge, at y = -19.5 mm), its tip pulled down by 0.3 N (a weight
+ * hanging on it), friction 0.3. The stretched top sinks between the held sides, so the
  * held edge is a ridge (the top slopes up to it, the side falls from it).
  * `rounding` (m) rounds the surface's convex edges. Returns, through
  * *cut, how deep (m) a point of a segment between nodes reaches into the
  * solid (0: none), and through *drift the nodes' largest |x| (m). */
 static const char edge_scene[] =
     "[rod]\nlength = 0.06\ndiameter = 0.0003\ndensity = 1140\nyoungs_modulus = 1e9\n"
-    "shear_modulus = 0.37e9\nnodes = 41\norigin = 0 0 0.002\ndirection = 0 -1 -0.1\n"
+    "shear_modulus = 0.37e9\nnodes = 41\norigin = 0 0 0.0022\ndirection = 0 -1 -0.1\n"
     "[ends]\nroot = pinned\ntip = free\n[tip]\nforce = 0 0 -0.3\nframe = global\n"
     "[solver]\nscheme = implicit\ndt = 0.000834\nduration = 1\n"
     "[loads]\ngravity = 0 0 -9.81\nlinear_damping = 2e-3\n"

@@ -107,8 +107,16 @@ int tissue_points_compliance(tissue_solid *t, int count, const int *tets, const 
  * Newton did not converge, the matrix is not positive definite): then the
  * state is the one before the step. info may be NULL. */
 int tissue_step(tissue_solid *t, double dt, tissue_step_info *info, char *err, size_t errlen);
+/* The most Newton iterations of one static solve (and of each load step). */
+#define TISSUE_STATIC_ITERATIONS 30
+
 /* The equilibrium under the current loads and holds (Newton from the
- * current positions; velocities set to 0). 0, or -1 with a message. */
+ * current positions; velocities set to 0); when Newton fails from far off
+ * equilibrium, by load steps (continuation on the starting residual in 4,
+ * then 16, then 64 equal parts, each a Newton of at most
+ * TISSUE_STATIC_ITERATIONS). A scene's pad is settled so, under its
+ * pretension, held faces and weight, before t = 0. 0, or -1 with a message
+ * (then the positions are the starting ones). */
 int tissue_solve_static(tissue_solid *t, tissue_step_info *info, char *err, size_t errlen);
 
 /* The same, stopping once the largest free residual is below force_tol (N)

@@ -20,7 +20,7 @@
 #include "sim/tissue/tissue_law.h"
 #include "sim/tissue/tissue_mesh.h"
 
-#define MAX_NEWTON 30
+#define MAX_NEWTON TISSUE_STATIC_ITERATIONS /* a step's Newton or a static solve's */
 #define MAX_HALVINGS 12
 
 struct tissue_solid {
