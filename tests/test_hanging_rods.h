@@ -11,8 +11,9 @@
 #include <stdio.h>
 
 /* Each rod: from its root (free, below) straight up to its tip (pinned) at
- * z = 0; 0.2 m apart in x, so they never touch. Linear damping 0.5 N s/m^2
- * takes the axial ringing down at c / (rho A) = 159 /s: at rest in 0.1 s. */
+ * z = 0; 0.2 m apart in x, so they never touch. Linear damping 0.03 N s/m^2
+ * is about critical for a swing (2 rho A sqrt(g / L) = 0.036 and 0.028 N
+ * s/m^2): a rod swung by its tip is at rest within a few seconds. */
 #define HANGING_RODS_SCENE                                                                        \
     "[rod short]\nlength = 0.3\ndiameter = 0.002\ndensity = 1000\nyoungs_modulus = 1e8\n"        \
     "shear_modulus = 4e7\nnodes = 16\norigin = 0 0 -0.3\ndirection = 0 0 1\n"                    \
@@ -21,7 +22,7 @@
     "shear_modulus = 4e7\nnodes = 26\norigin = 0.2 0 -0.5\ndirection = 0 0 1\n"                  \
     "[ends long]\nroot = free\ntip = pinned\n"                                                     \
     "[solver]\nscheme = implicit\ndt = 0.001\nduration = 0.5\n"                                  \
-    "[loads]\ngravity = 0 0 -9.81\nlinear_damping = 0.5\n"
+    "[loads]\ngravity = 0 0 -9.81\nlinear_damping = 0.03\n"
 
 /* N: the weight rho A g L of a rod of the scene of length L (m) and density
  * rho (kg/m^3) */
