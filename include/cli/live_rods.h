@@ -4,14 +4,17 @@
  * force.
  *
  * A line is NAME:t,x,y,z (or NAME:t,x,y,z,rx,ry,rz for a clamped tip):
- * rod NAME's tip pose at t, as a single rod's line; without "NAME:" it
- * drives the rod of --rod, else the first rod. Every other rod's tip stays
- * where its last line put it (at rest): a rod's path gets a row at rest
- * at the state's time before its next line's row, so its tip moves
+ * rod NAME's held tip's pose at t, as a single rod's line, or, for a free
+ * tip, NAME:t,fx,fy,fz,mx,my,mz, its loads on [tip NAME] frame, linear
+ * from the state's time to t; without "NAME:" it drives the rod of --rod,
+ * else the first rod. Every other rod's tip stays where its last line put
+ * it (at rest), or keeps its last loads: a rod's path gets a row at rest at
+ * the state's time before its next line's row, so its tip moves
  * continuously. The answer: NAME,t,fx,fy,fz,mx,my,mz,status, the force (N)
- * and moment (N m) rod NAME exerts on what holds its tip (global), status
- * ok, failed (the step failed: the last good state answered, the row
- * dropped) or bad_input (an empty NAME: the line named no rod of the scene).
+ * and moment (N m) rod NAME exerts on what holds its tip (a free tip: its
+ * root), global; status ok, failed (the step failed: the last good state
+ * answered, the row dropped) or bad_input (an empty NAME: the line named no
+ * rod of the scene).
  * Why this syntax: docs/decisions/draft-rod-surfaces.md. */
 #ifndef RODSIM_CLI_LIVE_RODS_H
 #define RODSIM_CLI_LIVE_RODS_H

@@ -77,11 +77,10 @@ void live_usage(FILE *f)
         "  --centreline   x0,y0,z0,... of each node follow on the line\n"
         "  --record FILE  the session, row by row (rodsim render FILE: its video)\n"
         "  --realtime     pace to the wall clock, count overruns; mlock, SCHED_FIFO, pin\n"
-        "Several rods ([rod NAME]): a line NAME:t,x,y,z[,rx,ry,rz] drives rod NAME's held\n"
-        "tip (no NAME: --rod's rod, else the first), every rod stepped to t, the others'\n"
-        "tips held; answer NAME,t,fx,..,mz,status: what rod NAME exerts on its tip;\n"
-        "bad_input with an empty NAME for a rod the scene lacks; no --record,\n"
-        "--centreline, --realtime yet.\n"
+        "Several rods ([rod NAME]): a line NAME:t,... drives rod NAME's tip as above (no\n"
+        "NAME: --rod's rod, else the first), every rod stepped to t, the others' ends as\n"
+        "their last lines left them; answer NAME,t,fx,..,mz,status for rod NAME (an empty\n"
+        "NAME: bad_input, no such rod); no --record, --centreline, --realtime yet.\n"
         "End of input, SIGINT, SIGTERM end it, the record kept: exit 0; 2 if no line was\n"
         "ok, 1 on an I/O error.\n",
         LIVE_LINE_MAX, LIVE_MAX_STEPS_AHEAD);

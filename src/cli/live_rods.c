@@ -25,8 +25,13 @@ typedef struct live_rods {
     int run_made;
     rod_state *good[ROD_SET_MAX];   /* each rod's state before the line's steps */
     rod_path *path[ROD_SET_MAX];    /* the held tip's live path (owned by the model); NULL: free */
-    int columns[ROD_SET_MAX];       /* its columns: 4 (pinned) or 7 (clamped) */
-    double last_row[ROD_SET_MAX][7];/* its last row: t (s), pose (m, rad) */
+    int columns[ROD_SET_MAX];       /* its columns: 4 (pinned) or 7 (clamped); 7 loads */
+    double last_row[ROD_SET_MAX][7];/* its last row: t (s), pose (m, rad) or loads (N, N m) */
+    /* a free tip: its loads a table of two rows t,fx..mz (the last good and
+     * the line's) in place of the scene's profile, put back before release */
+    double table[ROD_SET_MAX][14];
+    rod_profile scene_profile[ROD_SET_MAX];
+    int loads[ROD_SET_MAX];         /* 1: the free tip's loads are the table's */
     int default_rod;                /* the rod of a line without NAME: */
     double dt;                      /* s, the step (rod_set_choose_dt) */
     long line_no, ok, failed, bad, steps;
@@ -38,12 +43,13 @@ typedef struct live_rods {
 static volatile sig_atomic_t stop_signal;
 static void on_stop_signal(int sig) { stop_signal = sig; }
 
-/* The rods' names, ", " between them */
-static void rod_names(const live_rods *lr, int held_only, char *out, size_t size)
+/* The rods' names, ", " between them: all (which 0), those with a held tip
+ * (1) or a free one (2) */
+static void rod_names(const live_rods *lr, int which, char *out, size_t size)
 {
     out[0] = '\0';
     for (int k = 0; k < lr->set.count; k++)
-        if (!held_only || lr->path[k])
+        if (which == 0 || (which == 1) == (lr->path[k] != NULL))
             snprintf(out + strlen(out), size - strlen(out), "%s%s", out[0] ? ", " : "",
                      lr->set.name[k]);
 }
@@ -54,7 +60,17 @@ static int make_paths(live_rods *lr, char *err, size_t errlen)
 {
     for (int k = 0; k < lr->set.count; k++) {
         rod_model *m = &lr->set.model[k];
-        if (m->tip_end == ROD_END_FREE) continue;
+        if (m->tip_end == ROD_END_FREE) { /* its loads from the lines, as one rod's */
+            lr->columns[k] = 7;
+            memset(lr->last_row[k], 0, sizeof lr->last_row[k]);
+            rod_tip_load(m, 0.0, &lr->last_row[k][1], &lr->last_row[k][4]);
+            memcpy(lr->table[k], lr->last_row[k], sizeof lr->last_row[k]);
+            lr->scene_profile[k] = m->profile;
+            m->profile.kind = ROD_PROFILE_TABLE;
+            m->profile.table = (rod_table){.rows = 1, .columns = 7, .data = lr->table[k]};
+            lr->loads[k] = 1;
+            continue;
+        }
         rod_state *s = rod_state_create(m);
         if (!s) {
             snprintf(err, errlen, "out of memory");
@@ -82,6 +98,8 @@ static void release(live_rods *lr)
 {
     for (int k = 0; k < ROD_SET_MAX; k++) rod_state_destroy(lr->good[k]);
     if (lr->run_made) rod_set_run_destroy(&lr->run);
+    for (int k = 0; k < lr->set.count; k++) /* the scene's own, which the model owns */
+        if (lr->loads[k]) lr->set.model[k].profile = lr->scene_profile[k];
     rod_set_release(&lr->set); /* the live paths too: the models own them */
 }
 
@@ -105,15 +123,6 @@ static int setup(live_rods *lr, ini_doc *doc, const char *default_rod, char *err
     }
     lr->status = RUN_EXIT_FAILURE;
     if (make_paths(lr, err, errlen)) return -1;
-    int held = 0;
-    for (int k = 0; k < lr->set.count; k++) held += lr->path[k] != NULL;
-    if (!held) {
-        snprintf(err, errlen, "%s: no rod's tip is held (ends NAME.tip = pinned or clamped): "
-                 "rodsim live drives a held tip of a scene of several rods",
-                 ini_filename(doc));
-        lr->status = RUN_EXIT_BAD_INPUT;
-        return -1;
-    }
     if (rod_set_run_create(&lr->set, &lr->run, err, errlen)) return -1;
     lr->run_made = 1;
     for (int k = 0; k < lr->set.count; k++)
@@ -127,16 +136,18 @@ static int setup(live_rods *lr, ini_doc *doc, const char *default_rod, char *err
 }
 
 /* The answer to a line: rod k's name ("" and zeros for k < 0), the time,
- * the force and moment it exerts on what holds its tip, the status. */
+ * the force and moment it exerts on what holds its driven end (a held tip;
+ * for a free tip, driven by its loads, the root), the status. */
 static void answer(live_rods *lr, int k, const char *status)
 {
     char text[16 * (NUMFMT_MAX + 1) + 64], *p = text;
     const rod_state *s = lr->run.state[k < 0 ? 0 : k];
+    const int end = k >= 0 && lr->loads[k] ? 0 : 1;
     p += snprintf(p, ROD_NAME_LEN + 1, "%s", k < 0 ? "" : lr->set.name[k]);
     *p++ = ',';
     p += numfmt_g(p, s->time, 12);
     for (int c = 0; c < 6; c++) {
-        const double v = k < 0 ? 0.0 : c < 3 ? s->end_force[1][c] : s->end_moment[1][c - 3];
+        const double v = k < 0 ? 0.0 : c < 3 ? s->end_force[end][c] : s->end_moment[end][c - 3];
         *p++ = ',';
         p += numfmt_g(p, v + 0.0, 12); /* + 0.0: -0 prints as 0 */
     }
@@ -172,21 +183,15 @@ static int check_line(live_rods *lr, int k, const double *v, int count, char *er
 {
     const char *name = lr->set.name[k];
     const double now = lr->run.state[0]->time;
-    if (!lr->path[k]) {
-        char held[ROD_SET_MAX * (ROD_NAME_LEN + 2)];
-        rod_names(lr, 1, held, sizeof held);
-        snprintf(err, errlen, "rod %s's tip is free (ends %s.tip = free); a line drives a held "
-                 "tip: %s", name, name, held);
-        return -1;
-    }
     if (count == -1 || count == -2) {
         snprintf(err, errlen, "%s", count == -1 ? "a field is not a number" : "more than 7 numbers");
         return -1;
     }
-    if (!(count == 4 || (count == 7 && lr->columns[k] == 7))) {
+    if (lr->loads[k] ? count != 7 : !(count == 4 || (count == 7 && lr->columns[k] == 7))) {
         snprintf(err, errlen, "%d numbers; accepted for rod %s: %s", count, name,
-                 lr->columns[k] == 7 ? "t,x,y,z or t,x,y,z,rx,ry,rz (m, rad)"
-                                     : "t,x,y,z (m; a pinned tip takes no rotation)");
+                 lr->loads[k]         ? "t,fx,fy,fz,mx,my,mz (N, N m: its free tip's loads)"
+                 : lr->columns[k] == 7 ? "t,x,y,z or t,x,y,z,rx,ry,rz (m, rad)"
+                                      : "t,x,y,z (m; a pinned tip takes no rotation)");
         return -1;
     }
     for (int c = 0; c < count; c++)
@@ -213,7 +218,12 @@ static int check_line(live_rods *lr, int k, const double *v, int count, char *er
 static int step_line(live_rods *lr, int k, const double *row, char *err, size_t errlen)
 {
     const double now = lr->run.state[0]->time, t = row[0];
-    if (lr->last_row[k][0] < now) {
+    if (lr->loads[k]) { /* from the loads held since its last line, linear to the line's */
+        memcpy(lr->table[k], lr->last_row[k], sizeof lr->last_row[k]);
+        lr->table[k][0] = now;
+        memcpy(&lr->table[k][7], row, 7 * sizeof(double));
+        lr->set.model[k].profile.table.rows = 2;
+    } else if (lr->last_row[k][0] < now) {
         /* held since its last row: a row at rest at the state's time, so
          * the path from it to the line's is what the tip does */
         const double zero[6] = {0};
@@ -221,7 +231,7 @@ static int step_line(live_rods *lr, int k, const double *row, char *err, size_t 
         if (rod_path_push_with_velocity(lr->path[k], lr->last_row[k], zero, err, errlen))
             return -1;
     }
-    if (rod_path_push(lr->path[k], row, NULL, err, errlen)) return -1;
+    if (!lr->loads[k] && rod_path_push(lr->path[k], row, NULL, err, errlen)) return -1;
     for (int j = 0; j < lr->set.count; j++) rod_state_copy(lr->good[j], lr->run.state[j]);
     const double n = stepping_count(t - now, lr->dt);
     rod_report report;
@@ -233,7 +243,12 @@ static int step_line(live_rods *lr, int k, const double *row, char *err, size_t 
         return 0;
     }
     for (int j = 0; j < lr->set.count; j++) rod_state_copy(lr->run.state[j], lr->good[j]);
-    rod_path_pop(lr->path[k]);
+    if (lr->loads[k]) { /* back to the last good loads, held */
+        memcpy(lr->table[k], lr->last_row[k], sizeof lr->last_row[k]);
+        lr->set.model[k].profile.table.rows = 1;
+    } else {
+        rod_path_pop(lr->path[k]);
+    }
     snprintf(err, errlen, "the step failed (%s): %s; answered with the last good state (t = "
              "%.9g s), the line dropped",
              st == ROD_NO_CONVERGENCE ? "no convergence" : st == ROD_UNSTABLE ? "unstable"
@@ -267,7 +282,8 @@ static int serve_line(live_rods *lr, char *text, int too_long)
     }
     lr->bad++;
     fprintf(stderr, "rodsim live: input line %ld: %s; a line is [NAME:]t,x,y,z[,rx,ry,rz] (s, "
-            "m, rad), t increasing\n", lr->line_no, err);
+            "m, rad; a held tip) or [NAME:]t,fx,fy,fz,mx,my,mz (N, N m; a free tip), t "
+            "increasing\n", lr->line_no, err);
     if (lr->stop_on_error) {
         fprintf(stderr, "rodsim live: stopped at input line %ld (--on-error stop)\n",
                 lr->line_no);
@@ -329,11 +345,14 @@ int live_rods_run(ini_doc *doc, const char *scene, const char *default_rod, int 
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     signal(SIGPIPE, SIG_IGN);
-    char held[ROD_SET_MAX * (ROD_NAME_LEN + 2)];
+    char held[ROD_SET_MAX * (ROD_NAME_LEN + 2)], free_tips[ROD_SET_MAX * (ROD_NAME_LEN + 2)];
     rod_names(lr, 1, held, sizeof held);
+    rod_names(lr, 2, free_tips, sizeof free_tips);
     fprintf(stderr, "rodsim live: %s, %d rods, dt = %g s; input NAME:t,x,y,z[,rx,ry,rz] for a "
-            "held tip (%s; no NAME: %s); answer: NAME,t and what the rod exerts on its tip\n",
-            scene, lr->set.count, lr->dt, held, lr->set.name[lr->default_rod]);
+            "held tip (%s), NAME:t,fx,fy,fz,mx,my,mz for a free tip (%s); no NAME: %s; "
+            "answer: NAME,t and what the rod exerts on its held tip, or a free tip's root\n",
+            scene, lr->set.count, lr->dt, held[0] ? held : "none",
+            free_tips[0] ? free_tips : "none", lr->set.name[lr->default_rod]);
     printf("rod,t,fx,fy,fz,mx,my,mz,status\n");
     fflush(stdout);
     serve(lr);

@@ -1053,6 +1053,51 @@ static void test_several_rods(void)
     alarm(0);
 }
 
+/* A free tip of one of several rods, driven by its loads: a rod clamped at
+ * its root at z = 0 hanging down, a tip force of 10 mN down ramped in over
+ * 0.2 s; its root carries its weight and the force, rho A g L + F. */
+static void test_several_rods_loads(void)
+{
+    FILE *f = fopen(DIR "/loaded.ini", "w");
+    if (!f) return;
+    fputs(HANGING_RODS_SCENE "[tip long]\nframe = global\n", f);
+    fclose(f);
+    live_proc p;
+    const char *args[] = {DIR "/loaded.ini", "--set", "ends long.root=clamped", "--set",
+                          "ends long.tip=free", "--set", "rod long.origin=0.2 0 0", "--set",
+                          "rod long.direction=0 0 -1", NULL};
+    alarm(120);
+    if (!check(live_start(&p, args) == 0, "rodsim live of a held and a loaded rod started"))
+        return;
+    char answer[8192], line[256];
+    if (!fgets(answer, sizeof answer, p.out)) answer[0] = '\0';
+    double fz = 0.0, fx = 1.0;
+    int answered = 0;
+    for (int i = 1; i <= 300; i++) {
+        if (i % 2) snprintf(line, sizeof line, "long:%.2f,0,0,%.17g,0,0,0\n", i * 0.01,
+                            -0.01 * (i >= 20 ? 1.0 : i / 20.0));
+        else snprintf(line, sizeof line, "short:%.2f,0,0,0\n", i * 0.01);
+        if (exchange(&p, line, answer, sizeof answer)) break;
+        char status[32] = "";
+        if (i % 2 && sscanf(answer, "long,%*f,%lf,%*f,%lf,%*f,%*f,%*f,%31s", &fx, &fz,
+                            status) == 3 && strcmp(status, "ok") == 0)
+            answered++;
+    }
+    exchange(&p, "long:3.01,0,0,0\n", answer, sizeof answer);
+    check(answered == 150 && strstr(answer, ",bad_input\n"),
+          "150 load lines to rod long answered ok (%d); 4 numbers to it refused: %s", answered,
+          answer);
+    const double expected = hanging_rod_weight(0.5, 1000.0) + 0.01;
+    check_rel("rod long's root at rest (-fz, N): rho A g L + 10 mN of tip load", -fz, expected,
+              1e-6);
+    check_abs("its horizontal force, N", fx, 0.0, 1e-6 * expected);
+    check(live_finish(&p) == 0, "exit 0 at the end of input");
+    read_stderr();
+    check(strstr(stderr_text, "accepted for rod long: t,fx,fy,fz,mx,my,mz") != NULL,
+          "the message names the free tip's numbers");
+    alarm(0);
+}
+
 int main(void)
 {
     signal(SIGPIPE, SIG_IGN);
@@ -1070,6 +1115,7 @@ int main(void)
     check(rc == 0 && lines <= 20, "rodsim live --help: exit 0, %d lines (at most 20)", lines);
     test_hanging_weight_lockstep();
     test_several_rods();
+    test_several_rods_loads();
     test_bad_lines();
     test_one_step_per_line();
     test_fifos();
