@@ -257,14 +257,16 @@ static int step_line(live_rods *lr, int k, const double *row, char *err, size_t 
     return -1;
 }
 
-/* One line (its line break taken off): answered; 1 when the session ends. */
-static int serve_line(live_rods *lr, char *text, int too_long)
+/* One line (its line break taken off; too_long: over LIVE_LINE_MAX bytes,
+ * nul: it holds a NUL byte): answered; 1 when the session ends. */
+static int serve_line(live_rods *lr, char *text, int too_long, int nul)
 {
     char err[1024] = "";
     lr->line_no++;
     char *numbers = text;
-    int k = too_long ? -1 : line_rod(lr, &numbers, err, sizeof err);
+    int k = too_long || nul ? -1 : line_rod(lr, &numbers, err, sizeof err);
     if (too_long) snprintf(err, sizeof err, "longer than %d bytes", LIVE_LINE_MAX);
+    else if (nul) snprintf(err, sizeof err, "a NUL byte");
     double v[8], row[7] = {0};
     int count = k < 0 ? 0 : live_split_numbers(numbers, v, 7);
     if (k >= 0 && check_line(lr, k, v, count, err, sizeof err) == 0) {
@@ -295,29 +297,30 @@ static int serve_line(live_rods *lr, char *text, int too_long)
 }
 
 /* Reads standard input line by line until its end, a stop signal or the
- * session's end. */
+ * session's end. A line is what ends at a newline (or the end of input); a
+ * \r before it is no part of it; one over LIVE_LINE_MAX bytes or with a
+ * NUL byte is refused whole. */
 static void serve(live_rods *lr)
 {
     for (;;) {
+        size_t len = 0;
+        int c = 0, nul = 0;
+        while (!stop_signal && (c = getchar()) != EOF && c != '\n') {
+            if (c == '\0') nul = 1;
+            if (len < sizeof lr->line - 1) lr->line[len] = (char)c;
+            len++;
+        }
         if (stop_signal) return;
-        if (!fgets(lr->line, sizeof lr->line, stdin)) {
-            if (ferror(stdin) && errno != EINTR) {
-                fprintf(stderr, "rodsim live: reading standard input after input line %ld: %s\n",
-                        lr->line_no, strerror(errno));
-                lr->status = RUN_EXIT_FAILURE;
-            }
+        if (c == EOF && ferror(stdin) && errno != EINTR) {
+            fprintf(stderr, "rodsim live: reading standard input after input line %ld: %s\n",
+                    lr->line_no, strerror(errno));
+            lr->status = RUN_EXIT_FAILURE;
             return;
         }
-        size_t len = strlen(lr->line);
-        int too_long = 0;
-        if (len > 0 && lr->line[len - 1] == '\n') lr->line[--len] = '\0';
-        else if (len == sizeof lr->line - 1) { /* the rest of a long line is skipped */
-            int c;
-            while ((c = getchar()) != EOF && c != '\n') {}
-            too_long = 1;
-        }
-        while (len > 0 && lr->line[len - 1] == '\r') lr->line[--len] = '\0';
-        if (serve_line(lr, lr->line, too_long || len > LIVE_LINE_MAX)) return;
+        if (c == EOF && len == 0) return;
+        while (len > 0 && len < sizeof lr->line && lr->line[len - 1] == '\r') len--;
+        lr->line[len < sizeof lr->line ? len : sizeof lr->line - 1] = '\0';
+        if (serve_line(lr, lr->line, len > LIVE_LINE_MAX, nul) || c == EOF) return;
     }
 }
 

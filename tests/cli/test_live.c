@@ -1018,8 +1018,14 @@ static void test_several_rods(void)
     exchange(&p, "short:5.02,0,0,0,1,0,0\n", answer, sizeof answer);
     check(strncmp(answer, "short,5.01,", 11) == 0 && strstr(answer, ",bad_input\n"),
           "a rotation for short's pinned tip: bad_input: %s", answer);
+    fwrite("short:5.02,0,0,0\0x\n", 1, 19, p.in); /* a NUL within the line */
+    fflush(p.in);
+    if (!fgets(answer, sizeof answer, p.out)) answer[0] = '\0';
+    check(strncmp(answer, ",5.01,", 6) == 0 && strstr(answer, ",bad_input\n"),
+          "a line holding a NUL byte: bad_input: %s", answer);
     check(live_finish(&p) == 0, "exit 0 at the end of input");
     read_stderr();
+    check(strstr(stderr_text, "input line 504: a NUL byte") != NULL, "line 504: a NUL byte");
     check(strstr(stderr_text, "input line 502: no rod named 'middle'; accepted: short, long") !=
               NULL,
           "the message names line 502 and the accepted rods: %s", stderr_text);
