@@ -318,6 +318,18 @@ static void test_bad_scene(void)
     snprintf(expected, sizeof expected, "rodsim run: %s\n", rodsim_last_error(NULL));
     check(status == 2 && st == RODSIM_BAD_INPUT && strcmp(output, expected) == 0,
           "a bad override: the CLI prints (exit %d) %sthe API the same", status, output);
+    /* several rods: a misspelt key of a named rod */
+    unlink(path);
+    f = fopen(path, "w");
+    fprintf(f, "%s[tip long]\nfroce = 1 0 0\n", HANGING_RODS_SCENE);
+    fclose(f);
+    status = test_run_rodsim(args, output, sizeof output);
+    st = rodsim_load_file(path, NULL, 0, &sc);
+    snprintf(expected, sizeof expected, "rodsim run: %s\n", rodsim_last_error(NULL));
+    check(status == 2 && st == RODSIM_BAD_INPUT && !sc && strcmp(output, expected) == 0 &&
+              strstr(output, "froce"),
+          "several rods, a misspelt key: the CLI prints (exit %d) %sthe API the same", status,
+          output);
     unlink(path);
     st = rodsim_load_file("/nonexistent/scene.ini", NULL, 0, &sc);
     check(st == RODSIM_BAD_INPUT && strstr(rodsim_last_error(NULL), "/nonexistent/scene.ini"),
