@@ -16,6 +16,13 @@
  * step in distinct threads at once (rodsim_render draws in one thread at a
  * time: one GL context per process).
  *
+ * Several rods: a scene of named rods ([rod NAME]) is stepped as `rodsim
+ * run` steps it, all rods together (rodsim_rod_count, rodsim_rod_name; the
+ * calls ending in _rod take the rod's index, 0-based in the scene's order).
+ * The calls without a rod read and drive the first rod (index 0); those
+ * that save, restore, draw or set tip loads take a scene of one rod only
+ * (RODSIM_BAD_INPUT, saying so; rodsim_state_size is 0).
+ *
  * Errors: every function that can fail returns a rodsim_status; the message
  * for people is rodsim_last_error(scene) (or rodsim_last_error(NULL): the
  * last one of the calling thread, the only one when a load failed). A bad
@@ -33,7 +40,7 @@ extern "C" {
 /* The version of this header: a new MINOR adds, a new MAJOR changes or
  * removes (and the library's soname, librodsim.so.MAJOR, follows it). */
 #define RODSIM_API_VERSION_MAJOR 1
-#define RODSIM_API_VERSION_MINOR 0
+#define RODSIM_API_VERSION_MINOR 1
 #define RODSIM_API_VERSION (RODSIM_API_VERSION_MAJOR * 1000 + RODSIM_API_VERSION_MINOR)
 
 /* The library's version, MAJOR * 1000 + MINOR: compare with
@@ -154,6 +161,37 @@ rodsim_status rodsim_set_end_pose(rodsim_scene *scene, rodsim_end end, const dou
  * they replace tip.force, tip.moment and tip.profile. NULL: 0 0 0. */
 rodsim_status rodsim_set_tip_load(rodsim_scene *scene, const double force[3],
                                   const double moment[3]);
+
+/* Several rods ---------------------------------------------------------- */
+
+/* The rods: 1 for a scene of one bare [rod], else its [rod NAME] sections. */
+int rodsim_rod_count(const rodsim_scene *scene);
+
+/* Rod `rod`'s name ("rod" for a bare [rod]); borrowed, valid until the
+ * scene is freed. NULL when rod is not 0 .. rodsim_rod_count() - 1. */
+const char *rodsim_rod_name(const rodsim_scene *scene, int rod);
+
+/* The index of the rod named `name`, or -1 with the message naming the
+ * scene's rods (rodsim_last_error). */
+int rodsim_rod_index(const rodsim_scene *scene, const char *name);
+
+/* Rod `rod`'s NS (0 when there is no such rod). */
+int rodsim_rod_nodes(const rodsim_scene *scene, int rod);
+
+/* rodsim_get of rod `rod` (count at least its NS x 3, or NS x 9). */
+rodsim_status rodsim_get_rod(const rodsim_scene *scene, int rod, rodsim_field field, double *out,
+                             size_t count);
+
+/* rodsim_end_load of rod `rod`'s end. */
+rodsim_status rodsim_end_load_rod(const rodsim_scene *scene, int rod, rodsim_end end,
+                                  double force[3], double moment[3]);
+
+/* rodsim_set_end_pose of rod `rod`'s held end. With several rods, the first
+ * pose of an end starts the rods' scheme afresh (as a save does for one):
+ * a contact reaction the earlier rod would take at its next step is
+ * dropped. */
+rodsim_status rodsim_set_end_pose_rod(rodsim_scene *scene, int rod, rodsim_end end,
+                                      const double position[3], const double rotation[3]);
 
 /* Saving ---------------------------------------------------------------- */
 

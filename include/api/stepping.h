@@ -7,6 +7,7 @@
 #define RODSIM_STEPPING_H
 
 #include "sim/rod.h"
+#include "sim/rod_set.h"
 
 /* What rounding may add to or take from a stretch or a count of steps
  * (relative): a stretch of exactly k dt takes k steps, not k + 1. */
@@ -37,5 +38,11 @@ typedef struct stepping_hooks {
  * to). report is cleared first. */
 rod_status stepping_take(rod_solver *solver, const rod_model *m, rod_state *s, long n, double h,
                          double target, const stepping_hooks *hooks, rod_report *report);
+
+/* The same for the rods of a set (sim/rod_set.h), stepped together by
+ * rod_set_step: n steps of h, then every rod's time set to target. A state
+ * that is not finite is ROD_UNSTABLE, the message naming the rod. */
+rod_status stepping_take_set(const rod_set *set, rod_set_run *run, long n, double h,
+                             double target, const stepping_hooks *hooks, rod_report *report);
 
 #endif

@@ -22,6 +22,9 @@
  * replays and `rodsim render` turns into the video (render_cli.h), row by
  * row as the session goes.
  *
+ * A line may start with the rod's name, "rod:" (the name of a bare [rod]);
+ * a scene of named rods is served by live_rods.h.
+ *
  * The session is also a library (live_session_*), so that a fuzzer feeds it
  * bytes without a process per input (tests/fuzz/fuzz_live.c).
  */
@@ -108,5 +111,10 @@ void live_session_destroy(live_session *ls);
 int live_command(int argc, char **argv);
 
 void live_usage(FILE *f);
+
+/* Splits a line at commas into at most `max` numbers (the count); -1 at a
+ * field that is not a number (strtod: "nan", "inf" parse, finiteness is
+ * checked after), -2 when there are more than `max`. */
+int live_split_numbers(char *line, double *values, int max);
 
 #endif

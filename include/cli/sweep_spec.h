@@ -33,6 +33,7 @@ uint64_t sweep_fnv1a64(uint64_t h, const void *bytes, size_t n);
 
 #define SWEEP_PUNCTURE_SLOTS 16 /* ROD_MAX_PUNCTURES */
 #define SWEEP_MAX_RODS 8        /* ROD_SET_MAX */
+#define SWEEP_ROD_MEASURES 11   /* tip_x .. tip_fz, root_f, tip_f (sweep_rod_slot) */
 #define SWEEP_ROD_NAME_LEN 32   /* ROD_NAME_LEN */
 
 /* The measures of a point, in the order of a result file's columns. */
@@ -72,8 +73,14 @@ typedef struct sweep_point_result {
     int status; /* sweep_point_status */
     char knot[96]; /* the knot type at the end (rod_knot.name), "" where none */
     char message[2048]; /* a failure's, or the warnings (run_warnings_join) */
-    double rod_tip[SWEEP_MAX_RODS][3]; /* m: each named rod's tip (several rods), NAN none */
+    /* several rods: each named rod's tip (m) and end forces (N), NAN none;
+     * [k][sweep_rod_slot(m)] holds measure m of rod k */
+    double rod_value[SWEEP_MAX_RODS][SWEEP_ROD_MEASURES];
 } sweep_point_result;
+
+/* The slot of measure m in sweep_point_result.rod_value (a column per named
+ * rod: tip_x .. tip_fz, root_f, tip_f), or -1 for a measure of the run. */
+int sweep_rod_slot(int m);
 
 /* One --vary: a key (or one component of a vector key) and its values. */
 typedef struct sweep_vary {

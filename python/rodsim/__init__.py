@@ -6,6 +6,11 @@
         st = s.state()               # dict of numpy arrays (SI units)
         print(st["t"], st["tip_force"])
 
+A scene of several rods ([rod NAME]) is stepped as `rodsim run` steps it;
+s.rods lists their names, and the calls that read or drive a rod take
+rod=NAME (s.state(rod="upper"), s.set_end_pose("tip", p, rod="upper")).
+Without it they address the first rod, as for a scene of one rod.
+
 The library is found through the environment variable RODSIM_LIBRARY (a
 path to librodsim.so), else next to this package (a build copy, or a
 checkout's build/release), else the system's (librodsim.so.1).
@@ -20,6 +25,7 @@ import numpy as np
 __all__ = ["Scene", "Error", "api_version", "library_path"]
 
 _MAJOR = 1  # the major of rodsim.h this package speaks
+_MINOR = 1  # the least minor it needs (1: several rods)
 
 # rodsim_status and rodsim_field (rodsim.h)
 _STATUS = {0: "ok", 1: "bad_input", 2: "unstable", 3: "no_convergence", 4: "failed"}
@@ -61,9 +67,10 @@ def _load():
             continue
         _declare(lib)
         major = lib.rodsim_api_version() // 1000
-        if major != _MAJOR:
-            raise ImportError("rodsim: %s speaks rodsim.h version %d, this package %d"
-                              % (path, major, _MAJOR))
+        if major != _MAJOR or lib.rodsim_api_version() % 1000 < _MINOR:
+            raise ImportError("rodsim: %s speaks rodsim.h version %d.%d, this package %d.%d "
+                              "or a later minor" % (path, major, lib.rodsim_api_version() % 1000,
+                                                    _MAJOR, _MINOR))
         return lib, path
     raise ImportError("rodsim: librodsim.so not found; build it (make lib) and set "
                       "RODSIM_LIBRARY=build/release/librodsim.so, or make install. Tried: "
@@ -101,9 +108,20 @@ def _declare(lib):
         "rodsim_save": (ctypes.c_int, [c_scene, ctypes.c_void_p, ctypes.c_size_t]),
         "rodsim_restore": (ctypes.c_int, [c_scene, ctypes.c_void_p, ctypes.c_size_t]),
         "rodsim_render": (ctypes.c_int, [c_scene, ctypes.c_char_p]),
+        "rodsim_rod_count": (ctypes.c_int, [c_scene]),
+        "rodsim_rod_name": (ctypes.c_char_p, [c_scene, ctypes.c_int]),
+        "rodsim_rod_index": (ctypes.c_int, [c_scene, ctypes.c_char_p]),
+        "rodsim_rod_nodes": (ctypes.c_int, [c_scene, ctypes.c_int]),
+        "rodsim_get_rod": (ctypes.c_int, [c_scene, ctypes.c_int, ctypes.c_int, dblp,
+                                          ctypes.c_size_t]),
+        "rodsim_end_load_rod": (ctypes.c_int, [c_scene, ctypes.c_int, ctypes.c_int, dblp, dblp]),
+        "rodsim_set_end_pose_rod": (ctypes.c_int, [c_scene, ctypes.c_int, ctypes.c_int, dblp,
+                                                   dblp]),
     }
     for name, (res, args) in sig.items():
-        f = getattr(lib, name)
+        f = getattr(lib, name, None)
+        if f is None:  # an older minor: refused by _load
+            continue
         f.restype, f.argtypes = res, args
 
 
@@ -177,6 +195,9 @@ class Scene:
         self.duration = _lib.rodsim_duration(handle)  # s, solver.duration
         self.frame_rate = _lib.rodsim_frame_rate(handle)  # output frames per simulated s
         self.length = _lib.rodsim_length(handle)  # m
+        # the rods' names, in the scene's order ("rod" for a bare [rod])
+        self.rods = [_lib.rodsim_rod_name(handle, k).decode()
+                     for k in range(_lib.rodsim_rod_count(handle))]
         self._step = _lib.rodsim_step
         self._pose = np.zeros(6)
         self._load = np.zeros(6)
@@ -229,38 +250,54 @@ class Scene:
         self._check(_lib.rodsim_run(self._handle(), -1.0 if until is None else float(until)))
 
     # -- reading ------------------------------------------------------------
-    def _field(self, field, shape):
+    def _rod(self, rod):
+        """The index of the rod named `rod` (None: 0, the first rod); Error
+        (bad_input) naming the scene's rods for another name."""
+        if rod is None:
+            return 0
+        k = _lib.rodsim_rod_index(self._handle(), str(rod).encode())
+        if k < 0:
+            raise Error(_lib.rodsim_last_error(self._h).decode(), "bad_input")
+        return k
+
+    def _field(self, field, shape, rod=0):
         out = np.empty(shape)
-        self._check(_lib.rodsim_get(self._handle(), field, _ptr(out), out.size))
+        self._check(_lib.rodsim_get_rod(self._handle(), rod, field, _ptr(out), out.size))
         return out
 
-    def positions(self):
-        """NS x 3, m, global."""
-        return self._field(_POSITIONS, (self.nodes, 3))
+    def positions(self, rod=None):
+        """NS x 3, m, global (rod: its name in a scene of several rods)."""
+        k = self._rod(rod)
+        return self._field(_POSITIONS, (_lib.rodsim_rod_nodes(self._h, k), 3), k)
 
-    def state(self):
+    def state(self, rod=None):
         """The state as numpy arrays (copies): t (s), positions (NS x 3, m),
         directors (NS x 3 x 3, rows d1 d2 d3, global), velocities (NS x 3,
         m/s), forces (NS x 3, N: the internal force, the CSV's nx,ny,nz),
         and for each end the force (N) and moment (N m) the rod exerts on
-        what holds it: root_force, root_moment, tip_force, tip_moment."""
+        what holds it: root_force, root_moment, tip_force, tip_moment.
+        rod: the rod's name in a scene of several rods (None: the first);
+        an unknown name raises Error naming the scene's rods."""
         h = self._handle()
-        n = self.nodes
+        r = self._rod(rod)
+        n = _lib.rodsim_rod_nodes(h, r)
         out = {"t": _lib.rodsim_time(h),
-               "positions": self._field(_POSITIONS, (n, 3)),
-               "directors": self._field(_DIRECTORS, (n, 3, 3)),
-               "velocities": self._field(_VELOCITIES, (n, 3)),
-               "forces": self._field(_FORCES, (n, 3))}
+               "positions": self._field(_POSITIONS, (n, 3), r),
+               "directors": self._field(_DIRECTORS, (n, 3, 3), r),
+               "velocities": self._field(_VELOCITIES, (n, 3), r),
+               "forces": self._field(_FORCES, (n, 3), r)}
         for end, k in _ENDS.items():
             f, m = np.empty(3), np.empty(3)
-            self._check(_lib.rodsim_end_load(h, k, _ptr(f), _ptr(m)))
+            self._check(_lib.rodsim_end_load_rod(h, r, k, _ptr(f), _ptr(m)))
             out[end + "_force"], out[end + "_moment"] = f, m
         return out
 
-    def end_load(self, end="tip"):
-        """(force N, moment N m) the rod exerts on what holds `end`."""
+    def end_load(self, end="tip", rod=None):
+        """(force N, moment N m) the rod exerts on what holds `end` (rod:
+        its name in a scene of several rods)."""
         f, m = np.empty(3), np.empty(3)
-        self._check(_lib.rodsim_end_load(self._handle(), _ENDS[end], _ptr(f), _ptr(m)))
+        r = self._rod(rod)
+        self._check(_lib.rodsim_end_load_rod(self._handle(), r, _ENDS[end], _ptr(f), _ptr(m)))
         return f, m
 
     def knot_type(self):
@@ -270,17 +307,19 @@ class Scene:
         return buf.value.decode()
 
     # -- driving ------------------------------------------------------------
-    def set_end_pose(self, end, position, rotvec=None):
+    def set_end_pose(self, end, position, rotvec=None, rod=None):
         """Drives a held end ("root" or "tip") to position (m) and, for a
         clamped end, rotation vector rotvec (rad, from its starting frame),
-        reached at the end of the next step() or run()."""
+        reached at the end of the next step() or run(). rod: the rod's name
+        in a scene of several rods (None: the first)."""
+        r = self._rod(rod)
         pose = self._pose
         pose[:3] = _vec3(position, "position")
         rot = None
         if rotvec is not None:
             pose[3:] = _vec3(rotvec, "rotvec")
             rot = _ptr(pose[3:])
-        self._check(_lib.rodsim_set_end_pose(self._handle(), _ENDS[end], _ptr(pose), rot))
+        self._check(_lib.rodsim_set_end_pose_rod(self._handle(), r, _ENDS[end], _ptr(pose), rot))
 
     def set_tip_load(self, force=(0, 0, 0), moment=(0, 0, 0)):
         """Loads on a free tip from the next step on (N, N m, on tip.frame)."""

@@ -1,6 +1,9 @@
 /* rodsim.c: the library (see rodsim.h, the public contract): a scene read
  * by the cli's reader (api/scene_read.h), stepped by the run's rule
- * (api/stepping.h), read, driven, saved and drawn. */
+ * (api/stepping.h), read, driven, saved and drawn. A scene of named rods
+ * ([rod NAME], sim/rod_set.h) is stepped as a set: rod 0's model and state
+ * stand in the single rod's place (model: a borrowed copy, state: the
+ * set's), so the calls without a rod read the first rod. */
 #include "rodsim.h"
 
 #include <math.h>
@@ -10,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "api/scene_keys.h"
 #include "api/scene_read.h"
 #include "api/stepping.h"
 #include "base/ini.h"
@@ -20,6 +24,7 @@
 #include "sim/path.h"
 #include "sim/recording.h"
 #include "sim/rod.h"
+#include "sim/rod_set.h"
 
 #define RODSIM_ERR_LEN 1024
 #define RODSIM_SAVE_MAGIC 0x52534d31u /* "RSM1" */
@@ -33,10 +38,15 @@ struct rodsim_scene {
     rod_solver solver;
     rod_state *state;
     rod_state *start;        /* the state at the start of a call that steps (failure) */
-    rod_path *live[2];       /* root, tip: the driven end's live path (owned by model) */
-    int columns[2];          /* its columns: 4 (pinned) or 7 (clamped) */
-    int pending[2];          /* 1: a pose was set and is pushed at the next call that steps */
-    double pose[2][6];       /* that pose: m, rad */
+    /* per rod (one: [0] only), root and tip: */
+    rod_path *live[ROD_SET_MAX][2]; /* the driven end's live path (owned by its model) */
+    int columns[ROD_SET_MAX][2];    /* its columns: 4 (pinned) or 7 (clamped) */
+    int pending[ROD_SET_MAX][2];    /* 1: a pose was set and is pushed at the next call that steps */
+    double pose[ROD_SET_MAX][2][6]; /* that pose: m, rad */
+    /* several rods ([rod NAME]); NULL for a bare [rod] */
+    rod_set *set;
+    rod_set_run *run;
+    rod_state *set_start[ROD_SET_MAX]; /* each rod's state at the start of a call that steps */
     double load_row[7];      /* t = 0, fx fy fz N, mx my mz N m: a one-row table, held */
     int loads_set;           /* 1: stepped is &loads_model */
     double dt;               /* s, solver.dt resolved */
@@ -73,9 +83,34 @@ const char *rodsim_last_error(const rodsim_scene *scene)
     return scene ? scene->error : thread_error;
 }
 
+/* The rods' count: 1 for a bare [rod] */
+static int rod_count(const rodsim_scene *sc) { return sc->set ? sc->set->count : 1; }
+
+/* Rod k's model and state (k < rod_count) */
+static rod_model *model_of(rodsim_scene *sc, int k)
+{
+    return sc->set ? &sc->set->model[k] : &sc->model;
+}
+static rod_state *state_of(const rodsim_scene *sc, int k)
+{
+    return sc->set ? sc->run->state[k] : sc->state;
+}
+
 void rodsim_free(rodsim_scene *sc)
 {
     if (!sc) return;
+    if (sc->set) { /* model and state are rod 0's, borrowed */
+        for (int k = 0; k < sc->set->count; k++) rod_state_destroy(sc->set_start[k]);
+        if (sc->run) rod_set_run_destroy(sc->run);
+        rod_set_release(sc->set);
+        free(sc->run);
+        free(sc->set);
+        free(sc->directors);
+        free(sc->velocities);
+        free(sc->forces);
+        free(sc);
+        return;
+    }
     rod_solver_release(&sc->solver);
     rod_state_destroy(sc->state);
     rod_state_destroy(sc->start);
@@ -85,6 +120,64 @@ void rodsim_free(rodsim_scene *sc)
     free(sc->forces);
     rod_model_release(&sc->model); /* the live paths too: the model owns them */
     free(sc);
+}
+
+/* The scene of named rods from its parsed INI (the overrides applied), read
+ * as `rodsim run` reads it (rods_run.c): the set, its run at t = 0, no
+ * recording (rodsim_render refuses it). */
+static rodsim_status make_rods_scene(ini_doc *doc, rodsim_scene **scene)
+{
+    char err[RODSIM_ERR_LEN] = "";
+    rodsim_scene *sc = calloc(1, sizeof *sc);
+    if (sc) sc->set = calloc(1, sizeof *sc->set);
+    if (sc && sc->set) sc->run = calloc(1, sizeof *sc->run);
+    if (!sc || !sc->set || !sc->run) {
+        if (sc) free(sc->set);
+        free(sc);
+        return fail(NULL, RODSIM_FAILED, "out of memory");
+    }
+    if (ini_check_keys(doc, scene_keys_rod, err, sizeof err) ||
+        scene_read_rods(doc, sc->set, err, sizeof err)) {
+        free(sc->run);
+        free(sc->set);
+        free(sc);
+        return fail(NULL, RODSIM_BAD_INPUT, "%s", err);
+    }
+    rodsim_status st = RODSIM_BAD_INPUT;
+    if (run_read_output(doc, &sc->out, err, sizeof err) || ini_check_unused(doc, err, sizeof err))
+        goto fail;
+    st = RODSIM_FAILED;
+    if (rod_set_run_create(sc->set, sc->run, err, sizeof err)) {
+        free(sc->run); /* nothing owned after a failure */
+        sc->run = NULL;
+        goto fail;
+    }
+    ini_scene_name(doc, sc->name, sizeof sc->name);
+    sc->fps = sc->out.fps;
+    sc->dt = rod_set_choose_dt(sc->set, NULL);
+    if (!(sc->dt > 0.0)) sc->dt = 1.0 / sc->fps;
+    sc->model = sc->set->model[0]; /* borrowed: never released through sc->model */
+    sc->stepped = &sc->set->model[0];
+    sc->state = sc->run->state[0];
+    int most = 0;
+    for (int k = 0; k < sc->set->count; k++) {
+        if (!(sc->set_start[k] = rod_state_create(&sc->set->model[k]))) goto fail;
+        if (sc->set->model[k].nodes > most) most = sc->set->model[k].nodes;
+    }
+    sc->directors = malloc((size_t)most * 9 * sizeof(double));
+    sc->velocities = malloc((size_t)most * 3 * sizeof(double));
+    sc->forces = malloc((size_t)most * 3 * sizeof(double));
+    if (!sc->directors || !sc->velocities || !sc->forces) {
+        snprintf(err, sizeof err, "out of memory");
+        goto fail;
+    }
+    sc->next_frame = 1;
+    *scene = sc;
+    return RODSIM_OK;
+fail:
+    fail(NULL, st, "%s", err[0] ? err : "out of memory");
+    rodsim_free(sc);
+    return st;
 }
 
 /* The scene from its parsed INI: the overrides, the reader of `rodsim
@@ -102,6 +195,11 @@ static rodsim_status make_scene(ini_doc *doc, const char *const *overrides, int 
             return fail(NULL, RODSIM_BAD_INPUT, "%s",
                         err[0] ? err : "an override is NULL (section.key=value expected)");
         }
+    int named = 0;
+    if (scene_has_named_rods(doc, &named)) {
+        rodsim_free(sc);
+        return make_rods_scene(doc, scene);
+    }
     if (run_read_scene(doc, &sc->model, &sc->out, err, sizeof err)) {
         rodsim_free(sc);
         return fail(NULL, RODSIM_BAD_INPUT, "%s", err);
@@ -217,17 +315,22 @@ static rodsim_status step_failure(rodsim_scene *sc, rod_status status, double t,
 static rodsim_status advance(rodsim_scene *sc, double n, double h, double target)
 {
     rod_report report;
-    rod_status st = stepping_take(&sc->solver, sc->stepped, sc->state, (long)n, h, target, NULL,
-                                  &report);
+    rod_status st = sc->set ? stepping_take_set(sc->set, sc->run, (long)n, h, target, NULL,
+                                                &report)
+                            : stepping_take(&sc->solver, sc->stepped, sc->state, (long)n, h,
+                                            target, NULL, &report);
     if (st == ROD_OK) return RODSIM_OK;
     rodsim_status out = step_failure(sc, st, sc->state->time, h, &report);
-    rod_state_copy(sc->state, sc->start);
+    if (!sc->set) rod_state_copy(sc->state, sc->start);
+    for (int k = 0; sc->set && k < sc->set->count; k++)
+        rod_state_copy(sc->run->state[k], sc->set_start[k]);
     return out;
 }
 
 /* Appends the state as a frame of the video. */
 static rodsim_status record(rodsim_scene *sc)
 {
+    if (!sc->rec) return RODSIM_OK; /* several rods: not recorded */
     if (rod_recording_append(sc->rec, rod_cut_model(sc->stepped, sc->state), sc->state))
         return fail(sc, RODSIM_FAILED, "out of memory while recording the frame at t = %g s",
                     sc->state->time);
@@ -239,18 +342,27 @@ static rodsim_status record(rodsim_scene *sc)
 static rodsim_status begin_call(rodsim_scene *sc, double target)
 {
     char err[RODSIM_ERR_LEN] = "";
-    rod_state_copy(sc->start, sc->state);
+    if (sc->set)
+        for (int k = 0; k < sc->set->count; k++) rod_state_copy(sc->set_start[k], state_of(sc, k));
+    else
+        rod_state_copy(sc->start, sc->state);
     sc->start_frame = sc->next_frame;
-    sc->start_frames = sc->rec->frame_count;
-    for (int e = 0; e < 2; e++) {
-        if (!sc->pending[e]) continue;
-        double row[7] = {target};
-        memcpy(&row[1], sc->pose[e], (size_t)(sc->columns[e] - 1) * sizeof(double));
-        if (rod_path_push(sc->live[e], row, NULL, err, sizeof err)) {
-            if (e == 1 && sc->pending[0]) rod_path_pop(sc->live[0]);
-            return fail(sc, RODSIM_BAD_INPUT, "the %s's pose: %s", e ? "tip" : "root", err);
+    sc->start_frames = sc->rec ? sc->rec->frame_count : 0;
+    for (int k = 0; k < rod_count(sc); k++)
+        for (int e = 0; e < 2; e++) {
+            if (!sc->pending[k][e]) continue;
+            double row[7] = {target};
+            memcpy(&row[1], sc->pose[k][e], (size_t)(sc->columns[k][e] - 1) * sizeof(double));
+            if (rod_path_push(sc->live[k][e], row, NULL, err, sizeof err)) {
+                /* the poses pushed before it taken back */
+                for (int j = 0; j <= k; j++)
+                    for (int d = 0; d < 2; d++)
+                        if (sc->pending[j][d] && (j < k || d < e)) rod_path_pop(sc->live[j][d]);
+                return fail(sc, RODSIM_BAD_INPUT, "%s%s%sthe %s's pose: %s",
+                            sc->set ? "rod " : "", sc->set ? sc->set->name[k] : "",
+                            sc->set ? ": " : "", e ? "tip" : "root", err);
+            }
         }
-    }
     return RODSIM_OK;
 }
 
@@ -260,12 +372,13 @@ static void end_call(rodsim_scene *sc, rodsim_status st)
 {
     if (st != RODSIM_OK) {
         sc->next_frame = sc->start_frame;
-        sc->rec->frame_count = sc->start_frames;
+        if (sc->rec) sc->rec->frame_count = sc->start_frames;
     }
-    for (int e = 0; e < 2; e++) {
-        if (sc->pending[e] && st != RODSIM_OK) rod_path_pop(sc->live[e]);
-        if (st == RODSIM_OK) sc->pending[e] = 0;
-    }
+    for (int k = 0; k < rod_count(sc); k++)
+        for (int e = 0; e < 2; e++) {
+            if (sc->pending[k][e] && st != RODSIM_OK) rod_path_pop(sc->live[k][e]);
+            if (st == RODSIM_OK) sc->pending[k][e] = 0;
+        }
 }
 
 rodsim_status rodsim_step(rodsim_scene *sc, double dt)
@@ -345,10 +458,10 @@ size_t rodsim_field_size(const rodsim_scene *sc, rodsim_field field)
     return (size_t)sc->model.nodes * (field == RODSIM_DIRECTORS ? 9 : 3);
 }
 
-/* Fills out with field (rodsim_field_size doubles). 0, or -1 when unknown. */
-static int fill(const rodsim_scene *sc, rodsim_field field, double *out)
+/* Fills out with field of state s (NS x 3 or NS x 9 doubles). 0, or -1
+ * when unknown. */
+static int fill(const rod_state *s, rodsim_field field, double *out)
 {
-    const rod_state *s = sc->state;
     const int n = s->nodes;
     switch (field) {
     case RODSIM_POSITIONS:
@@ -381,7 +494,7 @@ rodsim_status rodsim_get(const rodsim_scene *sc, rodsim_field field, double *out
     if (!out || count < rodsim_field_size(sc, field))
         return fail(w, RODSIM_BAD_INPUT, "rodsim_get: field %d takes %zu doubles, not %zu",
                     (int)field, rodsim_field_size(sc, field), out ? count : 0);
-    fill(sc, field, out);
+    fill(sc->state, field, out);
     return RODSIM_OK;
 }
 
@@ -389,9 +502,9 @@ const double *rodsim_view(rodsim_scene *sc, rodsim_field field)
 {
     switch (field) {
     case RODSIM_POSITIONS: return sc->state->position;
-    case RODSIM_DIRECTORS: fill(sc, field, sc->directors); return sc->directors;
-    case RODSIM_VELOCITIES: fill(sc, field, sc->velocities); return sc->velocities;
-    case RODSIM_FORCES: fill(sc, field, sc->forces); return sc->forces;
+    case RODSIM_DIRECTORS: fill(sc->state, field, sc->directors); return sc->directors;
+    case RODSIM_VELOCITIES: fill(sc->state, field, sc->velocities); return sc->velocities;
+    case RODSIM_FORCES: fill(sc->state, field, sc->forces); return sc->forces;
     }
     fail(sc, RODSIM_BAD_INPUT, "rodsim_view: no field %d", (int)field);
     return NULL;
@@ -400,11 +513,80 @@ const double *rodsim_view(rodsim_scene *sc, rodsim_field field)
 rodsim_status rodsim_end_load(const rodsim_scene *sc, rodsim_end end, double force[3],
                               double moment[3])
 {
+    return rodsim_end_load_rod(sc, 0, end, force, moment);
+}
+
+/* Several rods ------------------------------------------------------------ */
+
+int rodsim_rod_count(const rodsim_scene *sc) { return rod_count(sc); }
+
+const char *rodsim_rod_name(const rodsim_scene *sc, int rod)
+{
+    if (rod < 0 || rod >= rod_count(sc)) return NULL;
+    return sc->set ? sc->set->name[rod] : "rod";
+}
+
+/* The rods' names, ", " between them, into out */
+static void rod_names(const rodsim_scene *sc, char *out, size_t size)
+{
+    out[0] = '\0';
+    for (int k = 0; k < rod_count(sc); k++)
+        snprintf(out + strlen(out), size - strlen(out), "%s%s", k ? ", " : "",
+                 rodsim_rod_name(sc, k));
+}
+
+int rodsim_rod_index(const rodsim_scene *sc, const char *name)
+{
+    for (int k = 0; name && k < rod_count(sc); k++)
+        if (strcmp(name, rodsim_rod_name(sc, k)) == 0) return k;
+    char names[ROD_SET_MAX * (ROD_NAME_LEN + 2)];
+    rod_names(sc, names, sizeof names);
+    fail((rodsim_scene *)sc, RODSIM_BAD_INPUT, "no rod named '%.64s' in %s; its rods: %s",
+         name ? name : "(NULL)", sc->name, names);
+    return -1;
+}
+
+/* RODSIM_OK when rod is one of the scene's, else the message naming them */
+static rodsim_status check_rod(const rodsim_scene *sc, int rod, const char *call)
+{
+    if (rod >= 0 && rod < rod_count(sc)) return RODSIM_OK;
+    char names[ROD_SET_MAX * (ROD_NAME_LEN + 2)];
+    rod_names(sc, names, sizeof names);
+    return fail((rodsim_scene *)sc, RODSIM_BAD_INPUT, "%s: no rod %d; the scene's rods are 0 .. "
+                "%d (%s)", call, rod, rod_count(sc) - 1, names);
+}
+
+int rodsim_rod_nodes(const rodsim_scene *sc, int rod)
+{
+    return check_rod(sc, rod, "rodsim_rod_nodes") ? 0 : state_of(sc, rod)->nodes;
+}
+
+rodsim_status rodsim_get_rod(const rodsim_scene *sc, int rod, rodsim_field field, double *out,
+                             size_t count)
+{
+    rodsim_scene *w = (rodsim_scene *)sc; /* only its message changes */
+    if (check_rod(sc, rod, "rodsim_get_rod")) return RODSIM_BAD_INPUT;
+    const rod_state *s = state_of(sc, rod);
+    const size_t size = (size_t)s->nodes * (field == RODSIM_DIRECTORS ? 9 : 3);
+    if ((unsigned)field > RODSIM_FORCES)
+        return fail(w, RODSIM_BAD_INPUT, "rodsim_get_rod: no field %d", (int)field);
+    if (!out || count < size)
+        return fail(w, RODSIM_BAD_INPUT, "rodsim_get_rod: field %d of rod %d takes %zu "
+                    "doubles, not %zu", (int)field, rod, size, out ? count : 0);
+    fill(s, field, out);
+    return RODSIM_OK;
+}
+
+rodsim_status rodsim_end_load_rod(const rodsim_scene *sc, int rod, rodsim_end end,
+                                  double force[3], double moment[3])
+{
+    if (check_rod(sc, rod, "rodsim_end_load_rod")) return RODSIM_BAD_INPUT;
     if (end != RODSIM_ROOT && end != RODSIM_TIP)
         return fail((rodsim_scene *)sc, RODSIM_BAD_INPUT, "no end %d (0 root, 1 tip)", (int)end);
+    const rod_state *s = state_of(sc, rod);
     for (int k = 0; k < 3; k++) { /* + 0.0: -0 reads as 0, as the CLI prints it */
-        if (force) force[k] = sc->state->end_force[end][k] + 0.0;
-        if (moment) moment[k] = sc->state->end_moment[end][k] + 0.0;
+        if (force) force[k] = s->end_force[end][k] + 0.0;
+        if (moment) moment[k] = s->end_moment[end][k] + 0.0;
     }
     return RODSIM_OK;
 }
@@ -435,24 +617,47 @@ static rodsim_status restart_solver(rodsim_scene *sc)
     return RODSIM_OK;
 }
 
-/* The end's live path, made at the first pose: it starts where the end is,
- * at rest, and replaces no path of the scene's. */
-static rodsim_status make_live_path(rodsim_scene *sc, rodsim_end e)
+/* Several rods: the set's run made afresh (its solvers read the paths),
+ * each rod's state put back. The contact between rods starts afresh too: a
+ * reaction due to the earlier rod at its next step is dropped. */
+static rodsim_status restart_rods(rodsim_scene *sc)
 {
     char err[RODSIM_ERR_LEN] = "";
-    rod_model *m = &sc->model;
+    for (int k = 0; k < sc->set->count; k++) rod_state_copy(sc->set_start[k], sc->run->state[k]);
+    rod_set_run_destroy(sc->run);
+    if (rod_set_run_create(sc->set, sc->run, err, sizeof err)) {
+        /* only out of memory: the models are those the load started */
+        sc->state = NULL;
+        return fail(sc, RODSIM_FAILED, "cannot restart the rods' scheme: %s; free the scene",
+                    err);
+    }
+    for (int k = 0; k < sc->set->count; k++) rod_state_copy(sc->run->state[k], sc->set_start[k]);
+    sc->state = sc->run->state[0];
+    sc->model = sc->set->model[0];
+    return RODSIM_OK;
+}
+
+/* The end's live path, made at the first pose: it starts where the end is,
+ * at rest, and replaces no path of the scene's. */
+static rodsim_status make_live_path(rodsim_scene *sc, int rod, rodsim_end e)
+{
+    char err[RODSIM_ERR_LEN] = "";
+    rod_model *m = model_of(sc, rod);
+    const rod_state *state = state_of(sc, rod);
     rod_path **motion = e == RODSIM_TIP ? &m->tip_motion : &m->root_motion;
     const char *word = e == RODSIM_TIP ? "tip" : "root";
     if (*motion)
         return fail(sc, RODSIM_BAD_INPUT, "the %s follows the scene's ends.%s_motion; remove "
                                           "it to drive the %s from here", word, word, word);
-    sc->columns[e] = (e == RODSIM_TIP ? m->tip_end : m->root_end) == ROD_END_CLAMPED ? 7 : 4;
-    double row[7] = {sc->state->time}; /* rotation 0: the end is where it started */
-    memcpy(&row[1], &sc->state->position[e == RODSIM_TIP ? 3 * (m->nodes - 1) : 0],
+    int *columns = &sc->columns[rod][e];
+    *columns = (e == RODSIM_TIP ? m->tip_end : m->root_end) == ROD_END_CLAMPED ? 7 : 4;
+    double row[7] = {state->time}; /* rotation 0: the end is where it started */
+    memcpy(&row[1], &state->position[e == RODSIM_TIP ? 3 * (m->nodes - 1) : 0],
            3 * sizeof(double));
-    rod_path *p = rod_path_create_live(sc->columns[e], row, err, sizeof err);
+    rod_path *p = rod_path_create_live(*columns, row, err, sizeof err);
     if (!p) return fail(sc, RODSIM_FAILED, "%s", err);
-    *motion = sc->live[e] = p;
+    *motion = sc->live[rod][e] = p;
+    if (sc->set) return restart_rods(sc);
     if (sc->loads_set) { /* the copy shares the model's paths */
         sc->loads_model.root_motion = m->root_motion;
         sc->loads_model.tip_motion = m->tip_motion;
@@ -467,8 +672,8 @@ static rodsim_status drop_live_path(rodsim_scene *sc, rodsim_end e)
 {
     rod_path **motion = e == RODSIM_TIP ? &sc->model.tip_motion : &sc->model.root_motion;
     rod_path_destroy(*motion);
-    *motion = sc->live[e] = NULL;
-    sc->pending[e] = 0;
+    *motion = sc->live[0][e] = NULL;
+    sc->pending[0][e] = 0;
     sc->loads_model.root_motion = sc->model.root_motion;
     sc->loads_model.tip_motion = sc->model.tip_motion;
     return restart_solver(sc);
@@ -477,33 +682,57 @@ static rodsim_status drop_live_path(rodsim_scene *sc, rodsim_end e)
 rodsim_status rodsim_set_end_pose(rodsim_scene *sc, rodsim_end end, const double position[3],
                                   const double rotation[3])
 {
+    return rodsim_set_end_pose_rod(sc, 0, end, position, rotation);
+}
+
+rodsim_status rodsim_set_end_pose_rod(rodsim_scene *sc, int rod, rodsim_end end,
+                                      const double position[3], const double rotation[3])
+{
+    if (check_rod(sc, rod, "rodsim_set_end_pose_rod")) return RODSIM_BAD_INPUT;
     if (end != RODSIM_ROOT && end != RODSIM_TIP)
         return fail(sc, RODSIM_BAD_INPUT, "no end %d (0 root, 1 tip)", (int)end);
+    /* a named rod's words: "rod NAME: the tip is free (ends NAME.tip = free)" */
+    char who[ROD_NAME_LEN + 8] = "", section[ROD_NAME_LEN + 8] = "ends";
+    if (sc->set) {
+        snprintf(who, sizeof who, "rod %s: ", sc->set->name[rod]);
+        snprintf(section, sizeof section, "ends %s", sc->set->name[rod]);
+    }
+    const rod_model *m = model_of(sc, rod);
     const char *word = end == RODSIM_TIP ? "tip" : "root";
-    rod_end_kind kind = end == RODSIM_TIP ? sc->model.tip_end : sc->model.root_end;
+    rod_end_kind kind = end == RODSIM_TIP ? m->tip_end : m->root_end;
     if (kind == ROD_END_FREE)
-        return fail(sc, RODSIM_BAD_INPUT, "the %s is free (ends.%s = free): only a pinned or "
-                                          "clamped end is driven by its pose", word, word);
+        return fail(sc, RODSIM_BAD_INPUT, "%sthe %s is free (%s.%s = free): only a pinned or "
+                                          "clamped end is driven by its pose", who, word, section,
+                    word);
     if (kind == ROD_END_PINNED && rotation)
-        return fail(sc, RODSIM_BAD_INPUT, "the %s is pinned (ends.%s = pinned): it takes a "
-                                          "position, not a rotation", word, word);
-    if (!position) return fail(sc, RODSIM_BAD_INPUT, "the %s's position is NULL", word);
+        return fail(sc, RODSIM_BAD_INPUT, "%sthe %s is pinned (%s.%s = pinned): it takes a "
+                                          "position, not a rotation", who, word, section, word);
+    if (!position) return fail(sc, RODSIM_BAD_INPUT, "%sthe %s's position is NULL", who, word);
     for (int k = 0; k < 3; k++)
         if (!isfinite(position[k]) || (rotation && !isfinite(rotation[k])))
-            return fail(sc, RODSIM_BAD_INPUT, "the %s's pose is not finite", word);
-    if (!sc->live[end]) {
-        rodsim_status st = make_live_path(sc, end);
+            return fail(sc, RODSIM_BAD_INPUT, "%sthe %s's pose is not finite", who, word);
+    if (!sc->live[rod][end]) {
+        rodsim_status st = make_live_path(sc, rod, end);
         if (st) return st;
     }
-    memcpy(sc->pose[end], position, 3 * sizeof(double));
-    for (int k = 0; k < 3; k++) sc->pose[end][3 + k] = rotation ? rotation[k] : 0.0;
-    sc->pending[end] = 1;
+    memcpy(sc->pose[rod][end], position, 3 * sizeof(double));
+    for (int k = 0; k < 3; k++) sc->pose[rod][end][3 + k] = rotation ? rotation[k] : 0.0;
+    sc->pending[rod][end] = 1;
     return RODSIM_OK;
+}
+
+/* RODSIM_OK for one rod; for several, the message that `call` takes one */
+static rodsim_status one_rod_only(rodsim_scene *sc, const char *call)
+{
+    if (!sc->set) return RODSIM_OK;
+    return fail(sc, RODSIM_BAD_INPUT, "%s: %s is a scene of several rods; %s takes a scene of "
+                "one rod (not modelled for several yet)", call, sc->name, call);
 }
 
 rodsim_status rodsim_set_tip_load(rodsim_scene *sc, const double force[3],
                                   const double moment[3])
 {
+    if (one_rod_only(sc, "rodsim_set_tip_load")) return RODSIM_BAD_INPUT;
     if (sc->model.tip_end != ROD_END_FREE)
         return fail(sc, RODSIM_BAD_INPUT, "the tip is held (ends.tip): loads act on a free "
                                           "tip; drive a held one by its pose");
@@ -547,6 +776,7 @@ static size_t save_numbers(const rodsim_scene *sc)
 
 size_t rodsim_state_size(const rodsim_scene *sc)
 {
+    if (sc->set) return 0; /* several rods: not saved yet (rodsim_save says so) */
     return sizeof(save_header) + save_numbers(sc) * sizeof(double);
 }
 
@@ -564,6 +794,7 @@ static void take(const double **at, double *to, size_t n)
 
 rodsim_status rodsim_save(rodsim_scene *sc, void *blob, size_t size)
 {
+    if (one_rod_only(sc, "rodsim_save")) return RODSIM_BAD_INPUT;
     const rod_state *s = sc->state;
     const size_t n3 = (size_t)s->nodes * 3;
     if (!blob || size < rodsim_state_size(sc))
@@ -571,8 +802,9 @@ rodsim_status rodsim_save(rodsim_scene *sc, void *blob, size_t size)
                     rodsim_state_size(sc), blob ? size : 0);
     memset(blob, 0, rodsim_state_size(sc));
     save_header h = {RODSIM_SAVE_MAGIC, s->nodes, rodsim_state_size(sc), sc->dt,
-                     sc->model.length, {sc->live[0] ? sc->columns[0] : 0,
-                     sc->live[1] ? sc->columns[1] : 0}, {sc->pending[0], sc->pending[1]},
+                     sc->model.length, {sc->live[0][0] ? sc->columns[0][0] : 0,
+                     sc->live[0][1] ? sc->columns[0][1] : 0},
+                     {sc->pending[0][0], sc->pending[0][1]},
                      sc->loads_set, s->staggered, s->puncture_count, 0};
     memcpy(blob, &h, sizeof h);
     double *at = (double *)((char *)blob + sizeof h);
@@ -589,10 +821,10 @@ rodsim_status rodsim_save(rodsim_scene *sc, void *blob, size_t size)
     put(&at, &s->end_force[0][0], 6);
     put(&at, &s->end_moment[0][0], 6);
     put(&at, sc->load_row, 7);
-    put(&at, &sc->pose[0][0], 12);
+    put(&at, &sc->pose[0][0][0], 12);
     for (int e = 0; e < 2; e++) {
         double path[ROD_PATH_LIVE_NUMBERS] = {0};
-        if (sc->live[e]) rod_path_live_save(sc->live[e], path);
+        if (sc->live[0][e]) rod_path_live_save(sc->live[0][e], path);
         put(&at, path, ROD_PATH_LIVE_NUMBERS);
     }
     memcpy(at, s->puncture, sizeof s->puncture);
@@ -601,6 +833,7 @@ rodsim_status rodsim_save(rodsim_scene *sc, void *blob, size_t size)
 
 rodsim_status rodsim_restore(rodsim_scene *sc, const void *blob, size_t size)
 {
+    if (one_rod_only(sc, "rodsim_restore")) return RODSIM_BAD_INPUT;
     rod_state *s = sc->state;
     const size_t n3 = (size_t)s->nodes * 3;
     save_header h;
@@ -616,9 +849,11 @@ rodsim_status rodsim_restore(rodsim_scene *sc, const void *blob, size_t size)
     /* the ends driven in the blob are made here first (at rest where the
      * end is; the saved rows replace the row); those it had not, undone */
     for (int e = 0; e < 2; e++) {
-        if (!h.live[e] && sc->live[e] && drop_live_path(sc, (rodsim_end)e)) return RODSIM_FAILED;
-        if (h.live[e] && !sc->live[e] && make_live_path(sc, (rodsim_end)e)) return RODSIM_FAILED;
-        if (h.live[e] != (sc->live[e] ? sc->columns[e] : 0))
+        if (!h.live[e] && sc->live[0][e] && drop_live_path(sc, (rodsim_end)e))
+            return RODSIM_FAILED;
+        if (h.live[e] && !sc->live[0][e] && make_live_path(sc, 0, (rodsim_end)e))
+            return RODSIM_FAILED;
+        if (h.live[e] != (sc->live[0][e] ? sc->columns[0][e] : 0))
             return fail(sc, RODSIM_BAD_INPUT, "rodsim_restore: the %s's path differs from the "
                                               "saved one's", e ? "tip" : "root");
     }
@@ -633,9 +868,10 @@ rodsim_status rodsim_restore(rodsim_scene *sc, const void *blob, size_t size)
     take(&at, path[0], ROD_PATH_LIVE_NUMBERS);
     take(&at, path[1], ROD_PATH_LIVE_NUMBERS);
     for (int e = 0; e < 2; e++) {
-        if (!sc->live[e]) continue;
-        const int count = 1 + (int)path[e][0] * (2 * sc->columns[e] - 1);
-        if (count > ROD_PATH_LIVE_NUMBERS || rod_path_live_restore(sc->live[e], path[e], count))
+        if (!sc->live[0][e]) continue;
+        const int count = 1 + (int)path[e][0] * (2 * sc->columns[0][e] - 1);
+        if (count > ROD_PATH_LIVE_NUMBERS ||
+            rod_path_live_restore(sc->live[0][e], path[e], count))
             return fail(sc, RODSIM_BAD_INPUT, "rodsim_restore: the %s's saved path is damaged",
                         e ? "tip" : "root");
     }
@@ -646,9 +882,9 @@ rodsim_status rodsim_restore(rodsim_scene *sc, const void *blob, size_t size)
         sc->loads_set = 0;
     }
     memcpy(sc->load_row, load_row, sizeof load_row);
-    memcpy(&sc->pose[0][0], pose, sizeof pose);
-    sc->pending[0] = h.pending[0];
-    sc->pending[1] = h.pending[1];
+    memcpy(&sc->pose[0][0][0], pose, sizeof pose);
+    sc->pending[0][0] = h.pending[0];
+    sc->pending[0][1] = h.pending[1];
     s->time = scalars[0];
     s->strand_gap = scalars[1];
     sc->next_frame = (int64_t)scalars[2];
@@ -676,6 +912,7 @@ rodsim_status rodsim_restore(rodsim_scene *sc, const void *blob, size_t size)
 rodsim_status rodsim_render(rodsim_scene *sc, const char *out_dir)
 {
     char err[RODSIM_ERR_LEN] = "";
+    if (one_rod_only(sc, "rodsim_render")) return RODSIM_BAD_INPUT;
     if (!out_dir) return fail(sc, RODSIM_BAD_INPUT, "rodsim_render: out_dir is NULL");
     if (gl_context_check_env(err, sizeof err) || outfile_check_dir(out_dir, err, sizeof err))
         return fail(sc, RODSIM_BAD_INPUT, "%s", err);

@@ -54,9 +54,11 @@
 #include "base/numfmt.h"
 #include "base/outfile.h"
 #include "cli/args.h"
+#include "cli/live_rods.h"
 #include "cli/scene_outputs.h"
 #include "sim/path.h"
 #include "sim/rod.h"
+#include "sim/rod_set.h"
 #include "sim/tissue/tissue.h"
 #include "sim/tissue/tissue_coupling.h"
 
@@ -64,9 +66,10 @@ void live_usage(FILE *f)
 {
     fprintf(f,
         "usage: rodsim live SCENE [--set section.key=value]... [--record FILE] [--centreline]\n"
-        "                   [--realtime] [--on-error skip|stop]\n"
+        "                   [--realtime] [--on-error skip|stop] [--rod NAME]\n"
         "stdin, one line per step, t (s) increasing from > 0: a held tip's pose t,x,y,z\n"
-        "[,rx,ry,rz] (m, rad), or a free tip's loads t,fx,fy,fz,mx,my,mz (N, N m).\n"
+        "[,rx,ry,rz] (m, rad), or a free tip's loads t,fx,fy,fz,mx,my,mz (N, N m); a\n"
+        "leading NAME: names the rod (one bare [rod]: rod).\n"
         "stdout, a header, then per line, flushed: t,fx,fy,fz,mx,my,mz,status, what the\n"
         "thread exerts on the driven tip (free tip: its root); status ok | failed (moved\n"
         "part way or held) | bad_input (over %d bytes, a NUL, not 4 or 7 numbers, NaN,\n"
@@ -74,6 +77,10 @@ void live_usage(FILE *f)
         "  --centreline   x0,y0,z0,... of each node follow on the line\n"
         "  --record FILE  the session, row by row (rodsim render FILE: its video)\n"
         "  --realtime     pace to the wall clock, count overruns; mlock, SCHED_FIFO, pin\n"
+        "Several rods ([rod NAME]): a line NAME:t,... drives rod NAME's tip as above (no\n"
+        "NAME: --rod's rod, else the first), every rod stepped to t, the others' ends as\n"
+        "their last lines left them; answer NAME,t,fx,..,mz,status for rod NAME (an empty\n"
+        "NAME: bad_input, no such rod); no --record, --centreline, --realtime yet.\n"
         "End of input, SIGINT, SIGTERM end it, the record kept: exit 0; 2 if no line was\n"
         "ok, 1 on an I/O error.\n",
         LIVE_LINE_MAX, LIVE_MAX_STEPS_AHEAD);
@@ -84,6 +91,7 @@ typedef struct live_args {
     const char **sets;
     int set_count;
     const char *record;
+    const char *rod;        /* --rod NAME: the rod of lines without NAME: */
     int centreline, realtime, stop_on_error, help;
 } live_args;
 
@@ -99,6 +107,7 @@ static int parse_args(int argc, char **argv, live_args *a, char *err, size_t err
         {.name = "--centreline", .value = CLI_FLAG, .target = &a->centreline},
         {.name = "--realtime", .value = CLI_FLAG, .target = &a->realtime},
         {.name = "--on-error", .value = CLI_WORD, .noun = "skip or stop", .target = &on_error},
+        {.name = "--rod", .value = CLI_WORD, .noun = "a rod's name", .target = &a->rod},
         {0}};
     const cli_operand scene = {.name = "SCENE", .target = &a->scene};
     int parsed = cli_parse(argc, argv, options, &scene, err, errlen);
@@ -151,10 +160,7 @@ static double wall_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* Splits a line at commas into at most `max` numbers; -1 at a field that is
- * not a number (strtod: "nan", "inf" parse, finiteness is checked after),
- * -2 when there are more than `max`. */
-static int split_numbers(char *line, double *values, int max)
+int live_split_numbers(char *line, double *values, int max)
 {
     int count = 0;
     char *p = line;
@@ -679,9 +685,23 @@ static void answer_line(live_session *ls, size_t len)
         kind = "a NUL byte";
     } else {
         double values[8];
-        int count = split_numbers(ls->line, values, 7);
+        /* "rod:" before the numbers: the one rod's name (live_rods.h) */
+        char *numbers = ls->line, *colon = strchr(ls->line, ':');
+        int named_ok = 1;
+        if (colon) {
+            char *name = ls->line, *end = colon;
+            while (*name == ' ' || *name == '\t') name++;
+            while (end > name && (end[-1] == ' ' || end[-1] == '\t')) end--;
+            named_ok = end - name == 3 && strncmp(name, "rod", 3) == 0;
+            numbers = colon + 1;
+        }
+        int count = named_ok ? live_split_numbers(numbers, values, 7) : -3;
         ls->parse_sum += wall_seconds() - ls->line_start;
-        if (count == -1) {
+        if (count == -3) {
+            snprintf(err, sizeof err, "no rod named '%.*s'; accepted: rod (the scene's one "
+                     "rod)", (int)(colon - ls->line > 64 ? 64 : colon - ls->line), ls->line);
+            kind = "no such rod";
+        } else if (count == -1) {
             snprintf(err, sizeof err, "a field is not a number");
             kind = "a field not a number";
         } else if (count == -2) {
@@ -1114,6 +1134,22 @@ int live_command(int argc, char **argv)
     if (!doc) goto fail;
     for (int i = 0; i < a.set_count; i++)
         if (ini_set(doc, a.sets[i], err, sizeof err)) goto fail;
+    int named = 0;
+    if (scene_has_named_rods(doc, &named)) { /* several rods: their own session */
+        const char *one = a.record ? "--record" : a.centreline ? "--centreline"
+                          : a.realtime ? "--realtime" : NULL;
+        if (one) {
+            snprintf(err, sizeof err, "%s: %s is a scene of several rods; %s takes a scene of "
+                     "one rod (not modelled for several yet)", one, a.scene, one);
+            goto fail;
+        }
+        status = live_rods_run(doc, a.scene, a.rod, a.stop_on_error);
+        goto done;
+    }
+    if (a.rod && strcmp(a.rod, "rod") != 0) {
+        snprintf(err, sizeof err, "--rod %s: %s has one bare [rod], named rod", a.rod, a.scene);
+        goto fail;
+    }
     if (run_read_scene(doc, &m, &out, err, sizeof err)) goto fail;
     if (!(ls = live_session_create(&m, &settings, err, sizeof err))) goto fail;
     status = run_session(ls, &a, &m);

@@ -53,9 +53,10 @@ void sweep_usage(FILE *f)
             "                 Groups tip, root_force, tip_force, knots, punctures, all (the\n"
             "                 measures every scene has); default tip,wall_s,cpu_s. A measure the\n"
             "                 scene cannot have is refused, naming those it can. Several rods\n"
-            "                 ([rod NAME]): each point is `rodsim run`'s run of them; tip_x..\n"
-            "                 tip_z a column per rod (tip_x[NAME]), steps, wall_s, cpu_s; CSV\n"
-            "                 only (no --result, no --plot)\n"
+            "                 ([rod NAME]): each point is `rodsim run`'s run of them; the tip\n"
+            "                 and end-force measures a column per rod (tip_x[NAME],\n"
+            "                 tip_fz[NAME]), steps, wall_s, cpu_s; CSV only (no --result, no\n"
+            "                 --plot)\n"
             "  --jobs N       N worker processes (1..64); rows stay in point order\n"
             "  --csv FILE     the results (default: standard output; - too)\n"
             "  --result DIR   one file per point, DIR/DIGEST.csv; existing ones are not rerun\n"
@@ -301,9 +302,18 @@ static void run_rods_point(const sweep *sw, int point, sweep_point_result *r)
         goto done;
     }
     for (int k = 0; k < sw->rod_count; k++)
-        for (int j = 0; j < sum->rod_count; j++)
-            if (strcmp(sum->rods[j].name, sw->rod_names[k]) == 0)
-                memcpy(r->rod_tip[k], sum->rods[j].tip, sizeof r->rod_tip[k]);
+        for (int j = 0; j < sum->rod_count; j++) {
+            const summary_rod *rod = &sum->rods[j];
+            if (strcmp(rod->name, sw->rod_names[k]) != 0) continue;
+            double *v = r->rod_value[k];
+            for (int a = 0; a < 3; a++) {
+                v[sweep_rod_slot(SWEEP_M_TIP_X + a)] = rod->tip[a];
+                v[sweep_rod_slot(SWEEP_M_ROOT_FX + a)] = rod->end_force[0][a];
+                v[sweep_rod_slot(SWEEP_M_TIP_FX + a)] = rod->end_force[1][a];
+            }
+            v[sweep_rod_slot(SWEEP_M_ROOT_F)] = norm3(rod->end_force[0]);
+            v[sweep_rod_slot(SWEEP_M_TIP_F)] = norm3(rod->end_force[1]);
+        }
     r->status = SWEEP_POINT_OK;
 done:
     r->value[SWEEP_M_WALL] = clock_seconds(CLOCK_MONOTONIC) - wall0;
@@ -323,8 +333,8 @@ static void run_point(const sweep *sw, int point, sweep_point_result *r)
     double cpu0 = clock_seconds(CLOCK_PROCESS_CPUTIME_ID);
     memset(r, 0, sizeof *r);
     for (int i = 0; i < SWEEP_M_COUNT; i++) r->value[i] = NAN;
-    for (int k = 0; k < SWEEP_MAX_RODS; k++) r->rod_tip[k][0] = r->rod_tip[k][1] = NAN,
-                                             r->rod_tip[k][2] = NAN;
+    for (int k = 0; k < SWEEP_MAX_RODS; k++)
+        for (int i = 0; i < SWEEP_ROD_MEASURES; i++) r->rod_value[k][i] = NAN;
     if (sw->rod_count > 0) {
         run_rods_point(sw, point, r);
         return;
@@ -608,7 +618,7 @@ void sweep_write_csv(FILE *f, const sweep *sw, const sweep_point_result *rows)
         int m = sw->measures[i];
         for (int j = 0; m == SWEEP_M_PUNCTURE_COLUMNS && j < punctures; j++)
             fprintf(f, "%s,", sweep_measure_names[SWEEP_M_PUNCTURE_F + j]);
-        const int per_rod = sw->rod_count > 0 && m >= SWEEP_M_TIP_X && m <= SWEEP_M_TIP_Z;
+        const int per_rod = sw->rod_count > 0 && sweep_rod_slot(m) >= 0;
         for (int j = 0; per_rod && j < sw->rod_count; j++)
             fprintf(f, "%s[%s],", sweep_measure_names[m], sw->rod_names[j]);
         if (m != SWEEP_M_PUNCTURE_COLUMNS && !per_rod) fprintf(f, "%s,", sweep_measure_names[m]);
@@ -623,10 +633,10 @@ void sweep_write_csv(FILE *f, const sweep *sw, const sweep_point_result *rows)
             int m = sw->measures[i], first = m, last = m;
             if (m == SWEEP_M_PUNCTURE_COLUMNS)
                 first = SWEEP_M_PUNCTURE_F, last = SWEEP_M_PUNCTURE_F + punctures - 1;
-            if (sw->rod_count > 0 && m >= SWEEP_M_TIP_X && m <= SWEEP_M_TIP_Z) {
+            if (sw->rod_count > 0 && sweep_rod_slot(m) >= 0) {
                 for (int j = 0; j < sw->rod_count; j++) { /* a column per named rod */
                     char num[40];
-                    sweep_format_double(rows[k].rod_tip[j][m - SWEEP_M_TIP_X], num, sizeof num);
+                    sweep_format_double(rows[k].rod_value[j][sweep_rod_slot(m)], num, sizeof num);
                     fprintf(f, "%s,", num);
                 }
                 continue;

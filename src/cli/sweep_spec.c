@@ -47,6 +47,14 @@ const char *const sweep_measure_labels[SWEEP_M_COUNT] = {
 const char *const sweep_status_names[SWEEP_POINT_STATUS_COUNT] = {
     "ok", "unstable", "no_convergence", "refused", "failed"};
 
+int sweep_rod_slot(int m)
+{
+    if (m >= SWEEP_M_TIP_X && m <= SWEEP_M_TIP_FZ) return m - SWEEP_M_TIP_X;
+    if (m == SWEEP_M_ROOT_F) return SWEEP_M_TIP_FZ - SWEEP_M_TIP_X + 1;
+    if (m == SWEEP_M_TIP_F) return SWEEP_M_TIP_FZ - SWEEP_M_TIP_X + 2;
+    return -1;
+}
+
 uint64_t sweep_fnv1a64(uint64_t h, const void *bytes, size_t n)
 {
     const unsigned char *b = bytes;
@@ -759,8 +767,9 @@ static int check_measures_apply(const sweep *sw, const rod_model *m, const char 
 }
 
 /* A scene of named rods is run by rods_run.h: its measures are each rod's
- * tip (a column per rod) and the run's steps and times; the result files
- * and the figure hold one rod's measures. 0, or -1 with a message. */
+ * tip and end forces (a column per rod) and the run's steps and times; the
+ * result files and the figure hold one rod's measures. 0, or -1 with a
+ * message. */
 static int check_rods_apply(const sweep *sw, char *err, size_t errlen)
 {
     char listed[SWEEP_MAX_RODS * (SWEEP_ROD_NAME_LEN + 2)] = "";
@@ -769,12 +778,13 @@ static int check_rods_apply(const sweep *sw, char *err, size_t errlen)
                  sw->rod_names[k]);
     for (int i = 0; i < sw->measure_count; i++) {
         int m = sw->measures[i];
-        if ((m >= SWEEP_M_TIP_X && m <= SWEEP_M_TIP_Z) || m == SWEEP_M_STEPS ||
-            m == SWEEP_M_WALL || m == SWEEP_M_CPU)
+        if (sweep_rod_slot(m) >= 0 || m == SWEEP_M_STEPS || m == SWEEP_M_WALL ||
+            m == SWEEP_M_CPU)
             continue;
         snprintf(err, errlen, "--measure %.200s: %s does not apply to %.300s, a scene of "
-                              "several rods (%s); the measures that apply: tip_x, tip_y, tip_z "
-                              "(a column per rod: tip_x[%s]), steps, wall_s, cpu_s",
+                              "several rods (%s); the measures that apply: tip_x, tip_y, "
+                              "tip_z, root_fx .. root_fz, tip_fx .. tip_fz, root_f, tip_f (a "
+                              "column per rod: tip_fz[%s]), steps, wall_s, cpu_s",
                  sw->measure_arg ? sw->measure_arg : "",
                  m == SWEEP_M_PUNCTURE_COLUMNS ? "puncture_f" : sweep_measure_names[m],
                  sw->scene_arg, listed, sw->rod_names[0]);

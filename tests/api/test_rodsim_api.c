@@ -3,7 +3,8 @@
  * gives the same numbers bit for bit (the CLI's own loop in process, and its
  * CSV's text); a save and its restore step identically; a bad scene gets the
  * CLI's message; overrides apply; a thread hanging from a driven needle
- * pulls on it with its weight, rho A L g. */
+ * pulls on it with its weight, rho A L g; a scene of two named rods, each
+ * hanging from its own driven tip, pulls on each with that rod's weight. */
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -17,6 +18,7 @@
 #include "rodsim.h"
 #include "sim/rod.h"
 #include "test.h"
+#include "test_hanging_rods.h"
 #include "test_process.h"
 
 #define SCENE(name) RODSIM_SOURCE_DIR "/scenes/" name
@@ -316,6 +318,18 @@ static void test_bad_scene(void)
     snprintf(expected, sizeof expected, "rodsim run: %s\n", rodsim_last_error(NULL));
     check(status == 2 && st == RODSIM_BAD_INPUT && strcmp(output, expected) == 0,
           "a bad override: the CLI prints (exit %d) %sthe API the same", status, output);
+    /* several rods: a misspelt key of a named rod */
+    unlink(path);
+    f = fopen(path, "w");
+    fprintf(f, "%s[tip long]\nfroce = 1 0 0\n", HANGING_RODS_SCENE);
+    fclose(f);
+    status = test_run_rodsim(args, output, sizeof output);
+    st = rodsim_load_file(path, NULL, 0, &sc);
+    snprintf(expected, sizeof expected, "rodsim run: %s\n", rodsim_last_error(NULL));
+    check(status == 2 && st == RODSIM_BAD_INPUT && !sc && strcmp(output, expected) == 0 &&
+              strstr(output, "froce"),
+          "several rods, a misspelt key: the CLI prints (exit %d) %sthe API the same", status,
+          output);
     unlink(path);
     st = rodsim_load_file("/nonexistent/scene.ini", NULL, 0, &sc);
     check(st == RODSIM_BAD_INPUT && strstr(rodsim_last_error(NULL), "/nonexistent/scene.ini"),
@@ -487,10 +501,93 @@ static void test_install(void)
         if (!fgets(out, sizeof out, f)) out[0] = '\0';
         fclose(f);
     }
-    check(ran && strcmp(out, "1000 0.10000000000000001\n") == 0,
+    char expect[64];
+    snprintf(expect, sizeof expect, "%d 0.10000000000000001\n", RODSIM_API_VERSION);
+    check(ran && strcmp(out, expect) == 0,
           "a C client built with pkg-config --cflags --libs rodsim runs impulse.ini to 0.1 s "
           "on the installed library: %s", out[0] ? out : "(no output)\n");
     test_remove_tree(dir);
+}
+
+/* Two named rods hanging from pinned tips (test_hanging_rods.h): the list
+ * of rods, each driven by rodsim_set_end_pose_rod to a pose of its own and
+ * held; at rest each tip carries its own rod's weight rho A g L, the tip
+ * node is where it was driven and the root hangs L below it (the stretch
+ * w / (2 EA) = 3e-7 m at most); the calls without a rod read rod 0; a bad
+ * rod and the calls for one rod only are refused, naming what is accepted. */
+static void test_several_rods(void)
+{
+    rodsim_scene *sc = NULL;
+    if (!check(rodsim_load_text("hanging_rods", HANGING_RODS_SCENE, NULL, 0, &sc) == RODSIM_OK,
+               "two hanging rods load%s%s", sc ? "" : ": ", sc ? "" : rodsim_last_error(NULL)))
+        return;
+    check(rodsim_rod_count(sc) == 2 && strcmp(rodsim_rod_name(sc, 0), "short") == 0 &&
+              strcmp(rodsim_rod_name(sc, 1), "long") == 0 && rodsim_rod_name(sc, 2) == NULL,
+          "rods: %d (2), named %s, %s", rodsim_rod_count(sc), rodsim_rod_name(sc, 0),
+          rodsim_rod_name(sc, 1));
+    check(rodsim_rod_index(sc, "long") == 1 && rodsim_rod_nodes(sc, 1) == 26 &&
+              rodsim_rod_nodes(sc, 0) == 16 && rodsim_nodes(sc) == 16,
+          "rod 'long' is index %d (1) of 26 nodes (%d); rod 0 and rodsim_nodes: 16 (%d, %d)",
+          rodsim_rod_index(sc, "long"), rodsim_rod_nodes(sc, 1), rodsim_rod_nodes(sc, 0),
+          rodsim_nodes(sc));
+    check(rodsim_rod_index(sc, "middle") == -1 &&
+              strstr(rodsim_last_error(sc), "no rod named 'middle'") &&
+              strstr(rodsim_last_error(sc), "its rods: short, long"),
+          "an unknown rod name: -1, %s", rodsim_last_error(sc));
+    const double length[2] = {0.3, 0.5};
+    const double goal[2][3] = {{0.01, 0.0, 0.02}, {0.2, -0.015, 0.01}}; /* m, the tips' poses */
+    /* 0.2 s to the goal in steps of 10 ms (straight, in ramps), then held
+     * 4.8 s: the swing (2 pi sqrt(L / g) = 1.1 s at most) near critically
+     * damped, 1e-8 of it left */
+    int ok = 1;
+    for (int i = 1; ok && i <= 500; i++) {
+        const double f = i >= 20 ? 1.0 : i / 20.0;
+        for (int k = 0; k < 2 && ok; k++) {
+            const double start[3] = {k ? 0.2 : 0.0, 0.0, 0.0};
+            double p[3];
+            for (int a = 0; a < 3; a++) p[a] = start[a] + f * (goal[k][a] - start[a]);
+            ok = rodsim_set_end_pose_rod(sc, k, RODSIM_TIP, p, NULL) == RODSIM_OK;
+        }
+        ok = ok && rodsim_step(sc, 0.01) == RODSIM_OK;
+    }
+    check(ok, "both tips driven for 5 s: t = %g s%s%s", rodsim_time(sc), ok ? "" : ": ",
+          ok ? "" : rodsim_last_error(sc));
+    for (int k = 0; k < 2; k++) {
+        double f[3], m[3], x[26 * 3];
+        const int n = rodsim_rod_nodes(sc, k);
+        rodsim_end_load_rod(sc, k, RODSIM_TIP, f, m);
+        rodsim_get_rod(sc, k, RODSIM_POSITIONS, x, sizeof x / sizeof x[0]);
+        const double weight = hanging_rod_weight(length[k], 1000.0);
+        printf("rod %s: tip force %.12g %.12g %.12g N, weight %.12g N\n", rodsim_rod_name(sc, k),
+               f[0], f[1], f[2], weight);
+        check_rel("the rod's pull on its tip's holder at rest (-fz), N: rho A g L", -f[2], weight,
+                  1e-6);
+        check_abs("its horizontal pull, N", hypot(f[0], f[1]), 0.0, 1e-6 * weight);
+        double off = 0.0;
+        for (int a = 0; a < 3; a++) off = fmax(off, fabs(x[3 * (n - 1) + a] - goal[k][a]));
+        check_abs("the tip node off its driven pose, m", off, 0.0, 1e-12);
+        check_abs("the root below the tip by L, m", x[3 * (n - 1) + 2] - x[2], length[k], 1e-6);
+    }
+    double f0[3], r0[3];
+    rodsim_end_load(sc, RODSIM_TIP, f0, NULL);
+    rodsim_end_load_rod(sc, 0, RODSIM_TIP, r0, NULL);
+    check(memcmp(f0, r0, sizeof f0) == 0, "rodsim_end_load reads rod 0: fz %.12g and %.12g N",
+          f0[2], r0[2]);
+    double tip[3] = {0, 0, 0}, buf[3];
+    check(rodsim_set_end_pose_rod(sc, 2, RODSIM_TIP, tip, NULL) == RODSIM_BAD_INPUT &&
+              strstr(rodsim_last_error(sc), "0 .. 1 (short, long)"),
+          "rod 2 is refused: %s", rodsim_last_error(sc));
+    check(rodsim_get_rod(sc, 1, RODSIM_POSITIONS, buf, 3) == RODSIM_BAD_INPUT,
+          "rod 1's positions need 78 doubles: %s", rodsim_last_error(sc));
+    check(rodsim_set_end_pose_rod(sc, 0, RODSIM_ROOT, tip, NULL) == RODSIM_BAD_INPUT &&
+              strstr(rodsim_last_error(sc), "rod short: the root is free (ends short.root"),
+          "a free root is not driven: %s", rodsim_last_error(sc));
+    check(rodsim_state_size(sc) == 0 && rodsim_save(sc, buf, 3) == RODSIM_BAD_INPUT &&
+              strstr(rodsim_last_error(sc), "several rods"),
+          "saving several rods is refused: %s", rodsim_last_error(sc));
+    check(rodsim_set_tip_load(sc, NULL, NULL) == RODSIM_BAD_INPUT,
+          "tip loads on several rods are refused: %s", rodsim_last_error(sc));
+    rodsim_free(sc);
 }
 
 int main(void)
@@ -500,6 +597,7 @@ int main(void)
     test_bad_scene();
     test_overrides_and_use();
     test_tip_load();
+    test_several_rods();
     test_divergence();
     test_threads();
     test_install();

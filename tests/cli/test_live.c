@@ -9,7 +9,12 @@
  * session; a pose beyond reach costs a bounded count of Newton iterations
  * and the stream goes on once the pose is reachable; a line too far ahead is
  * refused before --realtime waits for it, and a stop signal ends a long line;
- * an unreadable input, an unwritable record exit 1. */
+ * an unreadable input, an unwritable record exit 1. Several rods: two rods
+ * hanging from pinned tips (test_hanging_rods.h), driven by lines that
+ * name each rod, answer each rod's own weight rho A g L at rest; a line
+ * without a name drives --rod's rod; a name the scene lacks is refused
+ * naming the line and the accepted names; "rod:" is the name of a bare
+ * [rod]. */
 #include <fcntl.h>
 #include <math.h>
 #include <signal.h>
@@ -24,6 +29,7 @@
 
 #include "cli/live.h"
 #include "test.h"
+#include "test_hanging_rods.h"
 #include "test_process.h"
 #include "sim/rod.h"
 
@@ -951,6 +957,153 @@ static void test_record_write_error(void)
           stopped, lines, WIFEXITED(status) ? WEXITSTATUS(status) : -1);
 }
 
+/* Two named rods: lines alternate between them (100 Hz each rod, 50 Hz a
+ * rod), each tip moved 0.2 s to a pose of its own then held to t = 5 s;
+ * the last answer of each rod: its tip force -rho A g L (the swing damped
+ * near critically, 1e-8 of it left). Then bad names, and --rod. */
+static void test_several_rods(void)
+{
+    if (!check(hanging_rods_write(DIR "/rods.ini") == 0, "wrote the two rods' scene")) return;
+    live_proc p;
+    const char *args[] = {DIR "/rods.ini", "--rod", "long", NULL};
+    alarm(120);
+    if (!check(live_start(&p, args) == 0, "rodsim live of two rods started")) return;
+    char answer[8192], line[256];
+    int header = fgets(answer, sizeof answer, p.out) != NULL &&
+                 strcmp(answer, "rod,t,fx,fy,fz,mx,my,mz,status\n") == 0;
+    check(header, "header line rod,t,fx,fy,fz,mx,my,mz,status: %s", answer);
+    const char *names[2] = {"short", "long"};
+    const double length[2] = {0.3, 0.5};
+    const double start[2][3] = {{0, 0, 0}, {0.2, 0, 0}}, goal[2][3] = {{0.01, 0, 0.02},
+                                                                       {0.2, -0.015, 0.01}};
+    double force[2][3] = {{0}};
+    int answered = 0;
+    for (int i = 1; i <= 500; i++) {
+        const int k = i % 2 == 1 ? 0 : 1;
+        const double f = i >= 20 ? 1.0 : i / 20.0;
+        snprintf(line, sizeof line, "%s:%.2f,%.17g,%.17g,%.17g\n", names[k], i * 0.01,
+                 start[k][0] + f * (goal[k][0] - start[k][0]),
+                 start[k][1] + f * (goal[k][1] - start[k][1]),
+                 start[k][2] + f * (goal[k][2] - start[k][2]));
+        if (exchange(&p, line, answer, sizeof answer)) break;
+        char rod[32] = "", status[32] = "";
+        double t, v[6];
+        if (sscanf(answer, "%31[^,],%lf,%lf,%lf,%lf,%lf,%lf,%lf,%31s", rod, &t, &v[0], &v[1],
+                   &v[2], &v[3], &v[4], &v[5], status) == 9 &&
+            strcmp(rod, names[k]) == 0 && fabs(t - i * 0.01) < 1e-12 &&
+            strcmp(status, "ok") == 0) {
+            answered++;
+            memcpy(force[k], v, sizeof force[k]);
+        }
+    }
+    check(answered == 500, "500 lines naming short and long in turn, each answered ok with its "
+                           "rod's name and t: %d", answered);
+    for (int k = 0; k < 2; k++) {
+        const double weight = hanging_rod_weight(length[k], 1000.0);
+        printf("rod %s at rest: tip force %.12g %.12g %.12g N; rho A g L = %.12g N\n", names[k],
+               force[k][0], force[k][1], force[k][2], weight);
+        check_rel(k ? "rod long's answer -fz at rest, N: rho A g L (0.5 m)"
+                    : "rod short's answer -fz at rest, N: rho A g L (0.3 m)",
+                  -force[k][2], weight, 1e-6);
+        check_abs("its horizontal force, N", hypot(force[k][0], force[k][1]), 0.0,
+                  1e-6 * weight);
+    }
+    /* no name: --rod long's; a name the scene lacks: refused, named */
+    exchange(&p, "5.01,0.2,-0.015,0.01\n", answer, sizeof answer);
+    check(strncmp(answer, "long,5.01,", 10) == 0 && strstr(answer, ",ok\n"),
+          "a line without a name drives --rod long: %s", answer);
+    exchange(&p, "middle:5.02,0,0,0\n", answer, sizeof answer);
+    check(strncmp(answer, ",5.01,0,0,0,0,0,0,bad_input", 27) == 0,
+          "a line naming rod middle: answered bad_input with no name: %s", answer);
+    exchange(&p, "short:5.02,0,0,0,1,0,0\n", answer, sizeof answer);
+    check(strncmp(answer, "short,5.01,", 11) == 0 && strstr(answer, ",bad_input\n"),
+          "a rotation for short's pinned tip: bad_input: %s", answer);
+    fwrite("short:5.02,0,0,0\0x\n", 1, 19, p.in); /* a NUL within the line */
+    fflush(p.in);
+    if (!fgets(answer, sizeof answer, p.out)) answer[0] = '\0';
+    check(strncmp(answer, ",5.01,", 6) == 0 && strstr(answer, ",bad_input\n"),
+          "a line holding a NUL byte: bad_input: %s", answer);
+    check(live_finish(&p) == 0, "exit 0 at the end of input");
+    read_stderr();
+    check(strstr(stderr_text, "input line 504: a NUL byte") != NULL, "line 504: a NUL byte");
+    check(strstr(stderr_text, "input line 502: no rod named 'middle'; accepted: short, long") !=
+              NULL,
+          "the message names line 502 and the accepted rods: %s", stderr_text);
+    check(strstr(stderr_text, "input line 503: 4 numbers") == NULL &&
+              strstr(stderr_text, "input line 503: 7 numbers; accepted for rod short: t,x,y,z"),
+          "and the pinned tip's accepted numbers");
+    /* --rod a name the scene lacks, and --record, refused before any line */
+    char out[4096];
+    const char *bad_rod[] = {"live", DIR "/rods.ini", "--rod", "middle", NULL};
+    int rc = test_run_rodsim_within(bad_rod, 30, out, sizeof out);
+    check(rc == 2 && strstr(out, "--rod middle:") && strstr(out, "its rods: short, long"),
+          "--rod middle: exit %d (2): %s", rc, out);
+    const char *record[] = {"live", DIR "/rods.ini", "--record", DIR "/r.csv", NULL};
+    rc = test_run_rodsim_within(record, 30, out, sizeof out);
+    check(rc == 2 && strstr(out, "several rods") && access(DIR "/r.csv", F_OK) != 0,
+          "--record on several rods: exit %d (2), no record: %s", rc, out);
+    /* one bare [rod]: its name is rod */
+    const char *one[] = {DIR "/hang.ini", NULL};
+    if (live_start(&p, one) == 0) {
+        fgets(answer, sizeof answer, p.out);
+        char first[256] = "", second[256] = "";
+        exchange(&p, "rod:0.001,0,0,0.5\n", first, sizeof first);
+        exchange(&p, "thread:0.002,0,0,0.5\n", second, sizeof second);
+        check(strstr(first, ",ok\n") && strstr(second, ",bad_input\n"),
+              "one bare [rod]: rod: is its name (%s), thread: is refused (%s)", first, second);
+        live_finish(&p);
+        read_stderr();
+        check(strstr(stderr_text, "input line 2: no rod named 'thread'; accepted: rod") != NULL,
+              "naming line 2 and the accepted name");
+    }
+    alarm(0);
+}
+
+/* A free tip of one of several rods, driven by its loads: a rod clamped at
+ * its root at z = 0 hanging down, a tip force of 10 mN down ramped in over
+ * 0.2 s; its root carries its weight and the force, rho A g L + F. */
+static void test_several_rods_loads(void)
+{
+    FILE *f = fopen(DIR "/loaded.ini", "w");
+    if (!f) return;
+    fputs(HANGING_RODS_SCENE "[tip long]\nframe = global\n", f);
+    fclose(f);
+    live_proc p;
+    const char *args[] = {DIR "/loaded.ini", "--set", "ends long.root=clamped", "--set",
+                          "ends long.tip=free", "--set", "rod long.origin=0.2 0 0", "--set",
+                          "rod long.direction=0 0 -1", NULL};
+    alarm(120);
+    if (!check(live_start(&p, args) == 0, "rodsim live of a held and a loaded rod started"))
+        return;
+    char answer[8192], line[256];
+    if (!fgets(answer, sizeof answer, p.out)) answer[0] = '\0';
+    double fz = 0.0, fx = 1.0;
+    int answered = 0;
+    for (int i = 1; i <= 300; i++) {
+        if (i % 2) snprintf(line, sizeof line, "long:%.2f,0,0,%.17g,0,0,0\n", i * 0.01,
+                            -0.01 * (i >= 20 ? 1.0 : i / 20.0));
+        else snprintf(line, sizeof line, "short:%.2f,0,0,0\n", i * 0.01);
+        if (exchange(&p, line, answer, sizeof answer)) break;
+        char status[32] = "";
+        if (i % 2 && sscanf(answer, "long,%*f,%lf,%*f,%lf,%*f,%*f,%*f,%31s", &fx, &fz,
+                            status) == 3 && strcmp(status, "ok") == 0)
+            answered++;
+    }
+    exchange(&p, "long:3.01,0,0,0\n", answer, sizeof answer);
+    check(answered == 150 && strstr(answer, ",bad_input\n"),
+          "150 load lines to rod long answered ok (%d); 4 numbers to it refused: %s", answered,
+          answer);
+    const double expected = hanging_rod_weight(0.5, 1000.0) + 0.01;
+    check_rel("rod long's root at rest (-fz, N): rho A g L + 10 mN of tip load", -fz, expected,
+              1e-6);
+    check_abs("its horizontal force, N", fx, 0.0, 1e-6 * expected);
+    check(live_finish(&p) == 0, "exit 0 at the end of input");
+    read_stderr();
+    check(strstr(stderr_text, "accepted for rod long: t,fx,fy,fz,mx,my,mz") != NULL,
+          "the message names the free tip's numbers");
+    alarm(0);
+}
+
 int main(void)
 {
     signal(SIGPIPE, SIG_IGN);
@@ -967,6 +1120,8 @@ int main(void)
     for (const char *c = out; *c; c++) lines += *c == '\n';
     check(rc == 0 && lines <= 20, "rodsim live --help: exit 0, %d lines (at most 20)", lines);
     test_hanging_weight_lockstep();
+    test_several_rods();
+    test_several_rods_loads();
     test_bad_lines();
     test_one_step_per_line();
     test_fifos();

@@ -9,6 +9,9 @@
  *  - the upper rope's stiffness changes its tip (the points differ by more
  *    than round-off), and a point equals `rodsim run --set` of the same
  *    setting (its --summary's tips) to the last bit;
+ *  - per-rod end forces: two rods hanging from their pinned tips
+ *    (test_hanging_rods.h), one rod's density varied: tip_fz[NAME] of each
+ *    rod equals minus its weight rho A g L at rest, tip_f[NAME] the weight;
  *  - an unknown rod name in --vary, and a single-rod measure (knot,
  *    puncture_count), exit 2 naming the rods or the measures that apply, and
  *    write nothing. */
@@ -21,6 +24,7 @@
 
 #include "test.h"
 #include "test_csv.h"
+#include "test_hanging_rods.h"
 #include "test_process.h"
 
 #define SCENE RODSIM_SOURCE_DIR "/scenes/crossing.ini"
@@ -114,6 +118,43 @@ static void test_two_rods(void)
     free(text);
 }
 
+/* Per-rod end forces against each hanging rod's weight, at two densities of
+ * the short rod (the long one's weight the same at both points). */
+static void test_end_forces(void)
+{
+    char scene[320], csv[320];
+    snprintf(scene, sizeof scene, "%s/hanging.ini", scratch);
+    snprintf(csv, sizeof csv, "%s/hanging.csv", scratch);
+    check(hanging_rods_write(scene) == 0, "wrote %s", scene);
+    const char *args[] = {"sweep", scene, "--vary", "rod short.density=1000,2500", "--measure",
+                          "tip_force,tip_f,root_f", "--csv", csv, "--quiet", NULL};
+    int rc = test_run_rodsim(args, output, sizeof output);
+    char *text = read_text(csv);
+    check(rc == 0 && text, "sweep of two hanging rods: exit %d (0)%s", rc, text ? "" : output);
+    if (!text) return;
+    const char *rods[2] = {"short", "long"};
+    const double length[2] = {0.3, 0.5}, density[2][2] = {{1000, 2500}, {1000, 1000}};
+    for (int row = 1; row <= 2; row++)
+        for (int k = 0; k < 2; k++) {
+            char name[64];
+            const double weight = hanging_rod_weight(length[k], density[k][row - 1]);
+            snprintf(name, sizeof name, "tip_fz[%s]", rods[k]);
+            double fz = csv_number(text, row, name);
+            check(fabs(fz + weight) <= 1e-6 * weight,
+                  "point %d: %s = %.9g N, reference -rho A g L = %.9g N, error %.2g", row, name,
+                  fz, -weight, fabs(fz + weight) / weight);
+            snprintf(name, sizeof name, "tip_f[%s]", rods[k]);
+            double f = csv_number(text, row, name);
+            check(fabs(f - weight) <= 1e-6 * weight,
+                  "point %d: %s = %.9g N, reference %.9g N, error %.2g", row, name, f, weight,
+                  fabs(f - weight) / weight);
+            snprintf(name, sizeof name, "root_f[%s]", rods[k]);
+            f = csv_number(text, row, name);
+            check(f == 0.0, "point %d: %s = %g N at the free root (0)", row, name, f);
+        }
+    free(text);
+}
+
 /* A sweep that must exit 2, name `expect` and write nothing */
 static void refused(const char *what, const char *vary, const char *measure, const char *expect)
 {
@@ -137,12 +178,13 @@ int main(void)
     snprintf(scratch, sizeof scratch, "/tmp/rodsim_test_sweep_rods_%d", (int)getpid());
     mkdir(scratch, 0755);
     test_two_rods();
+    test_end_forces();
     refused("unknown rod", "rod middle.youngs_modulus=2e7,5e7", "tip",
             "no rod named 'middle'; its rods: lower, upper");
     refused("knot measures", "rod upper.youngs_modulus=2e7", "knots",
             "knot does not apply to");
     refused("puncture measures", "rod upper.youngs_modulus=2e7", "puncture_count",
-            "the measures that apply: tip_x, tip_y, tip_z");
+            "the measures that apply: tip_x, tip_y, tip_z, root_fx");
     test_remove_tree(scratch);
     return test_finish();
 }

@@ -183,3 +183,101 @@ def test_pip_install_offline(tmp_path):
     assert probe.returncode == 0, probe.stderr
     where, t = probe.stdout.split()
     assert where.startswith(str(venv)) and float(t) == 0.0005
+
+
+HANGING_RODS = """
+[rod short]
+length = 0.3
+diameter = 0.002
+density = 1000
+youngs_modulus = 1e8
+shear_modulus = 4e7
+nodes = 16
+origin = 0 0 -0.3
+direction = 0 0 1
+[ends short]
+root = free
+tip = pinned
+[rod long]
+length = 0.5
+diameter = 0.002
+density = 1000
+youngs_modulus = 1e8
+shear_modulus = 4e7
+nodes = 26
+origin = 0.2 0 -0.5
+direction = 0 0 1
+[ends long]
+root = free
+tip = pinned
+[solver]
+scheme = implicit
+dt = 0.001
+duration = 0.5
+[loads]
+gravity = 0 0 -9.81
+linear_damping = 0.03
+"""
+
+
+def test_several_rods_hang_with_their_weights():
+    """Two named rods, each hanging from its own pinned tip, each tip driven
+    by set_end_pose(rod=NAME) to a pose of its own and held: at rest each
+    holder carries that rod's weight rho A g L (a closed form), each tip node
+    is where it was driven, and state(rod=NAME) has that rod's nodes."""
+    goal = {"short": np.array([0.01, 0.0, 0.02]), "long": np.array([0.2, -0.015, 0.01])}
+    start = {"short": np.zeros(3), "long": np.array([0.2, 0.0, 0.0])}
+    length = {"short": 0.3, "long": 0.5}
+    with rodsim.Scene(HANGING_RODS, name="hanging_rods") as s:
+        assert s.rods == ["short", "long"]
+        for i in range(1, 501):  # 0.2 s to the goal, then held to t = 5 s
+            f = min(1.0, i / 20.0)
+            for rod in s.rods:
+                s.set_end_pose("tip", start[rod] + f * (goal[rod] - start[rod]), rod=rod)
+            s.step(0.01)
+        for rod in s.rods:
+            st = s.state(rod=rod)
+            weight = 1000 * math.pi * 0.001 ** 2 * 9.81 * length[rod]  # rho A g L, N
+            fz = -st["tip_force"][2]
+            print("rod %s: -fz %.12g N, rho A g L %.12g N, error %.2g"
+                  % (rod, fz, weight, abs(fz - weight) / weight))
+            assert abs(fz - weight) <= 1e-6 * weight
+            assert np.hypot(*st["tip_force"][:2]) <= 1e-6 * weight
+            assert st["positions"].shape == ({"short": 16, "long": 26}[rod], 3)
+            assert np.max(np.abs(st["positions"][-1] - goal[rod])) <= 1e-12
+            force, _ = s.end_load("tip", rod=rod)
+            assert np.array_equal(force, st["tip_force"])
+        # the calls without a rod address the first
+        assert np.array_equal(s.positions(), s.positions(rod="short"))
+        with pytest.raises(rodsim.Error) as e:
+            s.state(rod="middle")
+        assert e.value.status == "bad_input"
+        assert "no rod named 'middle'" in str(e.value) and "its rods: short, long" in str(e.value)
+        with pytest.raises(rodsim.Error) as e:
+            s.save()
+        assert "several rods" in str(e.value)
+
+
+def test_one_rod_is_named_rod():
+    with rodsim.Scene(HANGING) as s:
+        assert s.rods == ["rod"]
+        assert np.array_equal(s.state(rod="rod")["positions"], s.state()["positions"])
+
+
+def test_several_rods_same_as_rodsim_run(tmp_path):
+    """scenes/crossing.ini (two ropes in contact) run to 0.3 s through Python
+    and by `rodsim run`: each rod's tip and tip force bit for bit (the JSON
+    summary prints the shortest text that reads back exactly)."""
+    import json
+    crossing = os.path.join(ROOT, "scenes", "crossing.ini")
+    summary = tmp_path / "s.json"
+    subprocess.run([RODSIM_BIN, "run", crossing, "--no-video", "--quiet", "--summary",
+                    str(summary), "--set", "solver.duration=0.3"], check=True,
+                   cwd=tmp_path, capture_output=True)
+    rods = json.loads(summary.read_text())["rods"]
+    with rodsim.Scene(crossing, overrides={"solver.duration": 0.3}) as s:
+        s.run()
+        assert s.rods == [r["name"] for r in rods]
+        for r in rods:
+            st = s.state(rod=r["name"])
+            assert list(st["positions"][-1]) == r["tip"], r["name"]

@@ -1,0 +1,374 @@
+/* live_rods.c: `rodsim live` of a scene of named rods (see live_rods.h).
+ * No allocation after the session is made: the line, the snapshots of
+ * the last good states and the rods' live paths are made first. */
+#include "cli/live_rods.h"
+
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "api/scene_keys.h"
+#include "api/scene_read.h"
+#include "api/stepping.h"
+#include "base/numfmt.h"
+#include "cli/args.h"
+#include "cli/live.h"
+#include "sim/path.h"
+#include "sim/rod_set.h"
+
+typedef struct live_rods {
+    rod_set set;
+    rod_set_run run;
+    int run_made;
+    rod_state *good[ROD_SET_MAX];   /* each rod's state before the line's steps */
+    rod_path *path[ROD_SET_MAX];    /* the held tip's live path (owned by the model); NULL: free */
+    int columns[ROD_SET_MAX];       /* its columns: 4 (pinned) or 7 (clamped); 7 loads */
+    double last_row[ROD_SET_MAX][7];/* its last row: t (s), pose (m, rad) or loads (N, N m) */
+    /* a free tip: its loads a table of two rows t,fx..mz (the last good and
+     * the line's) in place of the scene's profile, put back before release */
+    double table[ROD_SET_MAX][14];
+    rod_profile scene_profile[ROD_SET_MAX];
+    int loads[ROD_SET_MAX];         /* 1: the free tip's loads are the table's */
+    int default_rod;                /* the rod of a line without NAME: */
+    double dt;                      /* s, the step (rod_set_choose_dt) */
+    long line_no, ok, failed, bad, steps;
+    int stop_on_error, status;
+    char line[LIVE_LINE_MAX + 2];
+} live_rods;
+
+/* Set by SIGINT and SIGTERM: the session ends like at the end of input */
+static volatile sig_atomic_t stop_signal;
+static void on_stop_signal(int sig) { stop_signal = sig; }
+
+/* The rods' names, ", " between them: all (which 0), those with a held tip
+ * (1) or a free one (2) */
+static void rod_names(const live_rods *lr, int which, char *out, size_t size)
+{
+    out[0] = '\0';
+    for (int k = 0; k < lr->set.count; k++)
+        if (which == 0 || (which == 1) == (lr->path[k] != NULL))
+            snprintf(out + strlen(out), size - strlen(out), "%s%s", out[0] ? ", " : "",
+                     lr->set.name[k]);
+}
+
+/* Each held tip's live path in place of the scene's tip_motion, starting
+ * where the tip is at t = 0, at rest. 0, or -1 with err. */
+static int make_paths(live_rods *lr, char *err, size_t errlen)
+{
+    for (int k = 0; k < lr->set.count; k++) {
+        rod_model *m = &lr->set.model[k];
+        if (m->tip_end == ROD_END_FREE) { /* its loads from the lines, as one rod's */
+            lr->columns[k] = 7;
+            memset(lr->last_row[k], 0, sizeof lr->last_row[k]);
+            rod_tip_load(m, 0.0, &lr->last_row[k][1], &lr->last_row[k][4]);
+            memcpy(lr->table[k], lr->last_row[k], sizeof lr->last_row[k]);
+            lr->scene_profile[k] = m->profile;
+            m->profile.kind = ROD_PROFILE_TABLE;
+            m->profile.table = (rod_table){.rows = 1, .columns = 7, .data = lr->table[k]};
+            lr->loads[k] = 1;
+            continue;
+        }
+        rod_state *s = rod_state_create(m);
+        if (!s) {
+            snprintf(err, errlen, "out of memory");
+            return -1;
+        }
+        rod_state_reset(m, s);
+        lr->columns[k] = m->tip_end == ROD_END_CLAMPED ? 7 : 4;
+        memset(lr->last_row[k], 0, sizeof lr->last_row[k]);
+        memcpy(&lr->last_row[k][1], &s->position[3 * (m->nodes - 1)], 3 * sizeof(double));
+        rod_state_destroy(s);
+        if (m->tip_motion) {
+            fprintf(stderr, "rodsim live: the live input replaces rod %s's ends %s.tip_motion\n",
+                    lr->set.name[k], lr->set.name[k]);
+            rod_path_destroy(m->tip_motion);
+            m->tip_motion = NULL;
+        }
+        if (!(lr->path[k] = rod_path_create_live(lr->columns[k], lr->last_row[k], err, errlen)))
+            return -1;
+        m->tip_motion = lr->path[k];
+    }
+    return 0;
+}
+
+static void release(live_rods *lr)
+{
+    for (int k = 0; k < ROD_SET_MAX; k++) rod_state_destroy(lr->good[k]);
+    if (lr->run_made) rod_set_run_destroy(&lr->run);
+    for (int k = 0; k < lr->set.count; k++) /* the scene's own, which the model owns */
+        if (lr->loads[k]) lr->set.model[k].profile = lr->scene_profile[k];
+    rod_set_release(&lr->set); /* the live paths too: the models own them */
+}
+
+/* The session from the scene: 0, or -1 with err and *status. */
+static int setup(live_rods *lr, ini_doc *doc, const char *default_rod, char *err, size_t errlen)
+{
+    run_output out;
+    if (ini_check_keys(doc, scene_keys_rod, err, errlen) ||
+        scene_read_rods(doc, &lr->set, err, errlen))
+        return -1;
+    if (run_read_output(doc, &out, err, errlen) || ini_check_unused(doc, err, errlen)) return -1;
+    char names[ROD_SET_MAX * (ROD_NAME_LEN + 2)];
+    rod_names(lr, 0, names, sizeof names);
+    lr->default_rod = default_rod ? -1 : 0;
+    for (int k = 0; default_rod && k < lr->set.count; k++)
+        if (strcmp(default_rod, lr->set.name[k]) == 0) lr->default_rod = k;
+    if (lr->default_rod < 0) {
+        snprintf(err, errlen, "--rod %s: %s has no rod named '%s'; its rods: %s", default_rod,
+                 ini_filename(doc), default_rod, names);
+        return -1;
+    }
+    lr->status = RUN_EXIT_FAILURE;
+    if (make_paths(lr, err, errlen)) return -1;
+    if (rod_set_run_create(&lr->set, &lr->run, err, errlen)) return -1;
+    lr->run_made = 1;
+    for (int k = 0; k < lr->set.count; k++)
+        if (!(lr->good[k] = rod_state_create(&lr->set.model[k]))) {
+            snprintf(err, errlen, "out of memory");
+            return -1;
+        }
+    lr->dt = rod_set_choose_dt(&lr->set, NULL);
+    lr->status = RUN_EXIT_OK;
+    return 0;
+}
+
+/* The answer to a line: rod k's name ("" and zeros for k < 0), the time,
+ * the force and moment it exerts on what holds its driven end (a held tip;
+ * for a free tip, driven by its loads, the root), the status. */
+static void answer(live_rods *lr, int k, const char *status)
+{
+    char text[16 * (NUMFMT_MAX + 1) + 64], *p = text;
+    const rod_state *s = lr->run.state[k < 0 ? 0 : k];
+    const int end = k >= 0 && lr->loads[k] ? 0 : 1;
+    p += snprintf(p, ROD_NAME_LEN + 1, "%s", k < 0 ? "" : lr->set.name[k]);
+    *p++ = ',';
+    p += numfmt_g(p, s->time, 12);
+    for (int c = 0; c < 6; c++) {
+        const double v = k < 0 ? 0.0 : c < 3 ? s->end_force[end][c] : s->end_moment[end][c - 3];
+        *p++ = ',';
+        p += numfmt_g(p, v + 0.0, 12); /* + 0.0: -0 prints as 0 */
+    }
+    p += snprintf(p, 16, ",%s\n", status);
+    fwrite(text, 1, (size_t)(p - text), stdout);
+    fflush(stdout);
+}
+
+/* Which rod the line addresses: "NAME:" taken off *text, or the default.
+ * -1 with err when NAME is none of the scene's. */
+static int line_rod(live_rods *lr, char **text, char *err, size_t errlen)
+{
+    char *colon = strchr(*text, ':');
+    if (!colon) return lr->default_rod;
+    char *name = *text, *end = colon;
+    while (*name == ' ' || *name == '\t') name++;
+    while (end > name && (end[-1] == ' ' || end[-1] == '\t')) end--;
+    *text = colon + 1;
+    for (int k = 0; k < lr->set.count; k++)
+        if ((size_t)(end - name) == strlen(lr->set.name[k]) &&
+            strncmp(name, lr->set.name[k], (size_t)(end - name)) == 0)
+            return k;
+    char names[ROD_SET_MAX * (ROD_NAME_LEN + 2)];
+    rod_names(lr, 0, names, sizeof names);
+    snprintf(err, errlen, "no rod named '%.*s'; accepted: %s", (int)(end - name > 64 ? 64 : end - name),
+             name, names);
+    return -1;
+}
+
+/* Refuses what cannot be stepped: 0, or -1 with err. */
+static int check_line(live_rods *lr, int k, const double *v, int count, char *err,
+                      size_t errlen)
+{
+    const char *name = lr->set.name[k];
+    const double now = lr->run.state[0]->time;
+    if (count == -1 || count == -2) {
+        snprintf(err, errlen, "%s", count == -1 ? "a field is not a number" : "more than 7 numbers");
+        return -1;
+    }
+    if (lr->loads[k] ? count != 7 : !(count == 4 || (count == 7 && lr->columns[k] == 7))) {
+        snprintf(err, errlen, "%d numbers; accepted for rod %s: %s", count, name,
+                 lr->loads[k]         ? "t,fx,fy,fz,mx,my,mz (N, N m: its free tip's loads)"
+                 : lr->columns[k] == 7 ? "t,x,y,z or t,x,y,z,rx,ry,rz (m, rad)"
+                                      : "t,x,y,z (m; a pinned tip takes no rotation)");
+        return -1;
+    }
+    for (int c = 0; c < count; c++)
+        if (!isfinite(v[c])) {
+            snprintf(err, errlen, "column %d is not a finite number", c + 1);
+            return -1;
+        }
+    if (!(v[0] > now)) {
+        snprintf(err, errlen, "t = %.17g s does not increase (the state is at %.17g s)", v[0],
+                 now);
+        return -1;
+    }
+    if (v[0] - now > (double)LIVE_MAX_STEPS_AHEAD * lr->dt) {
+        snprintf(err, errlen, "t = %.17g s is more than %d steps of %g s ahead of the state "
+                 "(%.17g s)", v[0], LIVE_MAX_STEPS_AHEAD, lr->dt, now);
+        return -1;
+    }
+    return 0;
+}
+
+/* Rod k's tip to the pose at t (row: t, pose), every rod stepped to t.
+ * 0, or -1 with the states and the path as before the line's row, the
+ * message in err. */
+static int step_line(live_rods *lr, int k, const double *row, char *err, size_t errlen)
+{
+    const double now = lr->run.state[0]->time, t = row[0];
+    if (lr->loads[k]) { /* from the loads held since its last line, linear to the line's */
+        memcpy(lr->table[k], lr->last_row[k], sizeof lr->last_row[k]);
+        lr->table[k][0] = now;
+        memcpy(&lr->table[k][7], row, 7 * sizeof(double));
+        lr->set.model[k].profile.table.rows = 2;
+    } else if (lr->last_row[k][0] < now) {
+        /* held since its last row: a row at rest at the state's time, so
+         * the path from it to the line's is what the tip does */
+        const double zero[6] = {0};
+        lr->last_row[k][0] = now;
+        if (rod_path_push_with_velocity(lr->path[k], lr->last_row[k], zero, err, errlen))
+            return -1;
+    }
+    if (!lr->loads[k] && rod_path_push(lr->path[k], row, NULL, err, errlen)) return -1;
+    for (int j = 0; j < lr->set.count; j++) rod_state_copy(lr->good[j], lr->run.state[j]);
+    const double n = stepping_count(t - now, lr->dt);
+    rod_report report;
+    rod_status st = stepping_take_set(&lr->set, &lr->run, (long)n, (t - now) / n, t, NULL,
+                                      &report);
+    lr->steps += (long)n;
+    if (st == ROD_OK) {
+        memcpy(lr->last_row[k], row, sizeof lr->last_row[k]);
+        return 0;
+    }
+    for (int j = 0; j < lr->set.count; j++) rod_state_copy(lr->run.state[j], lr->good[j]);
+    if (lr->loads[k]) { /* back to the last good loads, held */
+        memcpy(lr->table[k], lr->last_row[k], sizeof lr->last_row[k]);
+        lr->set.model[k].profile.table.rows = 1;
+    } else {
+        rod_path_pop(lr->path[k]);
+    }
+    snprintf(err, errlen, "the step failed (%s): %s; answered with the last good state (t = "
+             "%.9g s), the line dropped",
+             st == ROD_NO_CONVERGENCE ? "no convergence" : st == ROD_UNSTABLE ? "unstable"
+                                                                            : "failure",
+             report.message[0] ? report.message : "no message", now);
+    return -1;
+}
+
+/* One line (its line break taken off; too_long: over LIVE_LINE_MAX bytes,
+ * nul: it holds a NUL byte): answered; 1 when the session ends. */
+static int serve_line(live_rods *lr, char *text, int too_long, int nul)
+{
+    char err[1024] = "";
+    lr->line_no++;
+    char *numbers = text;
+    int k = too_long || nul ? -1 : line_rod(lr, &numbers, err, sizeof err);
+    if (too_long) snprintf(err, sizeof err, "longer than %d bytes", LIVE_LINE_MAX);
+    else if (nul) snprintf(err, sizeof err, "a NUL byte");
+    double v[8], row[7] = {0};
+    int count = k < 0 ? 0 : live_split_numbers(numbers, v, 7);
+    if (k >= 0 && check_line(lr, k, v, count, err, sizeof err) == 0) {
+        memcpy(row, v, (size_t)count * sizeof(double)); /* 4 numbers on a clamped tip: no turn */
+        if (step_line(lr, k, row, err, sizeof err) == 0) {
+            lr->ok++;
+            answer(lr, k, "ok");
+        } else {
+            lr->failed++;
+            fprintf(stderr, "rodsim live: input line %ld (rod %s, t = %.9g s): %s\n", lr->line_no,
+                    lr->set.name[k], row[0], err);
+            answer(lr, k, "failed");
+        }
+        return ferror(stdout) ? (lr->status = RUN_EXIT_FAILURE, 1) : 0;
+    }
+    lr->bad++;
+    fprintf(stderr, "rodsim live: input line %ld: %s; a line is [NAME:]t,x,y,z[,rx,ry,rz] (s, "
+            "m, rad; a held tip) or [NAME:]t,fx,fy,fz,mx,my,mz (N, N m; a free tip), t "
+            "increasing\n", lr->line_no, err);
+    if (lr->stop_on_error) {
+        fprintf(stderr, "rodsim live: stopped at input line %ld (--on-error stop)\n",
+                lr->line_no);
+        lr->status = RUN_EXIT_BAD_INPUT;
+        return 1;
+    }
+    answer(lr, k, "bad_input");
+    return ferror(stdout) ? (lr->status = RUN_EXIT_FAILURE, 1) : 0;
+}
+
+/* Reads standard input line by line until its end, a stop signal or the
+ * session's end. A line is what ends at a newline (or the end of input); a
+ * \r before it is no part of it; one over LIVE_LINE_MAX bytes or with a
+ * NUL byte is refused whole. */
+static void serve(live_rods *lr)
+{
+    for (;;) {
+        size_t len = 0;
+        int c = 0, nul = 0;
+        while (!stop_signal && (c = getchar()) != EOF && c != '\n') {
+            if (c == '\0') nul = 1;
+            if (len < sizeof lr->line - 1) lr->line[len] = (char)c;
+            len++;
+        }
+        if (stop_signal) return;
+        if (c == EOF && ferror(stdin) && errno != EINTR) {
+            fprintf(stderr, "rodsim live: reading standard input after input line %ld: %s\n",
+                    lr->line_no, strerror(errno));
+            lr->status = RUN_EXIT_FAILURE;
+            return;
+        }
+        if (c == EOF && len == 0) return;
+        while (len > 0 && len < sizeof lr->line && lr->line[len - 1] == '\r') len--;
+        lr->line[len < sizeof lr->line ? len : sizeof lr->line - 1] = '\0';
+        if (serve_line(lr, lr->line, len > LIVE_LINE_MAX, nul) || c == EOF) return;
+    }
+}
+
+int live_rods_run(ini_doc *doc, const char *scene, const char *default_rod, int stop_on_error)
+{
+    char err[1024] = "";
+    live_rods *lr = calloc(1, sizeof *lr);
+    if (!lr) {
+        fprintf(stderr, "rodsim live: out of memory\n");
+        return RUN_EXIT_FAILURE;
+    }
+    lr->stop_on_error = stop_on_error;
+    lr->status = RUN_EXIT_BAD_INPUT;
+    if (setup(lr, doc, default_rod, err, sizeof err)) {
+        fprintf(stderr, "rodsim live: %s\n", err);
+        int status = lr->status == RUN_EXIT_OK ? RUN_EXIT_BAD_INPUT : lr->status;
+        release(lr);
+        free(lr);
+        return status;
+    }
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_stop_signal; /* no SA_RESTART: a read returns at once */
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN);
+    char held[ROD_SET_MAX * (ROD_NAME_LEN + 2)], free_tips[ROD_SET_MAX * (ROD_NAME_LEN + 2)];
+    rod_names(lr, 1, held, sizeof held);
+    rod_names(lr, 2, free_tips, sizeof free_tips);
+    fprintf(stderr, "rodsim live: %s, %d rods, dt = %g s; input NAME:t,x,y,z[,rx,ry,rz] for a "
+            "held tip (%s), NAME:t,fx,fy,fz,mx,my,mz for a free tip (%s); no NAME: %s; "
+            "answer: NAME,t and what the rod exerts on its held tip, or a free tip's root\n",
+            scene, lr->set.count, lr->dt, held[0] ? held : "none",
+            free_tips[0] ? free_tips : "none", lr->set.name[lr->default_rod]);
+    printf("rod,t,fx,fy,fz,mx,my,mz,status\n");
+    fflush(stdout);
+    serve(lr);
+    const long lines = lr->ok + lr->failed + lr->bad;
+    fprintf(stderr, "rodsim live: %ld lines: %ld ok, %ld failed, %ld bad; %ld steps to t = %g "
+            "s%s\n", lines, lr->ok, lr->failed, lr->bad, lr->steps, lr->run.state[0]->time,
+            stop_signal ? "; ended by a signal" : "");
+    int status = lr->status;
+    if (status == RUN_EXIT_OK && lines > 0 && lr->ok == 0) {
+        fprintf(stderr, "rodsim live: none of the %ld lines was answered ok (exit 2)\n", lines);
+        status = RUN_EXIT_BAD_INPUT;
+    }
+    release(lr);
+    free(lr);
+    return status;
+}
