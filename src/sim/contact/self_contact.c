@@ -132,10 +132,12 @@ int rod_self_contact_nothing_near(rod_self_contact *sc, const double *pos0, doub
     /* a straight stretch's pairs closer than threshold are at most this
      * far apart in index: (j - i - 1) ds < threshold */
     const int straight = 1 + (int)ceil(threshold / sc->ds);
-    if (rod_proximity_pairs(sc->prox, pos0, sc->nodes, sc->diameter + near, sc->skip, NULL, 0))
+    const int any = ROD_PROXIMITY_ANY | ROD_PROXIMITY_INDEX_ONLY;
+    if (rod_proximity_select(sc->prox, pos0, sc->nodes, sc->diameter + near, sc->skip, any, NULL,
+                             0))
         return 0;
     return straight <= sc->skip ||
-           rod_proximity_pairs(sc->prox, pos0, sc->nodes, threshold, straight, NULL, 0) == 0;
+           rod_proximity_select(sc->prox, pos0, sc->nodes, threshold, straight, any, NULL, 0) == 0;
 }
 
 /* The non-neighbouring pairs closer than threshold at pos0 into *buffer
