@@ -180,7 +180,8 @@ static int prepare_contact(implicit_work *w, const rod_model *m, const rod_state
     double margin = fmax(SELF_NEAR * m->diameter,
                          fmin(SELF_MARGIN * m->diameter, 3.0 * w->self_motion));
     if (margin > SELF_NEAR * m->diameter &&
-        rod_self_contact_nothing_near(w->self, w->pos0, SELF_NEAR * m->diameter, margin)) margin = 0.0;
+        rod_self_contact_nothing_near(w->self, w->pos0, SELF_NEAR * m->diameter, margin))
+        margin = 0.0;
     if (implicit_prepare_self_contact(w, m, dt, margin, report)) return -2;
     return 0;
 }
