@@ -17,7 +17,8 @@
  * Targets: p99 at most 200 us at NS = 51 without contact, at most
  * 1 ms at NS = 101 with tissue contact. The knot (a loose overhand knot
  * hanging from the driven tip, held by self-contact with friction 0.2) has
- * no target in the issue; it is measured to say what a knot costs. */
+ * no target in the issue; it is measured to say what a knot costs.
+ * `bench_live knot`: the knot's two points alone. */
 #define _GNU_SOURCE /* sched_setaffinity, sched_getcpu */
 #include <sched.h>
 
@@ -93,8 +94,10 @@ static int write_knot_shape(double *length, double tip[3])
     return fclose(f) ? -1 : 0;
 }
 
-int main(void)
+int main(int argc, char **options)
 {
+    /* bench_live knot: the knot's two points alone */
+    const int knot_only = argc > 1 && strcmp(options[1], "knot") == 0;
     const char *env = getenv("BENCH_LIVE_SECONDS");
     double seconds = env ? atof(env) : 10.0;
     if (!(seconds > 0.0)) seconds = 10.0;
@@ -128,6 +131,7 @@ int main(void)
     int status = 0;
     for (size_t i = 0; i < 2 * sizeof points / sizeof points[0]; i++) {
         const int p = (int)(i / 2), realtime = (int)(i % 2);
+        if (knot_only && points[p].tissue != 2) continue;
         char set[64], log[] = "/tmp/rodsim_bench_live_stderr.txt";
         snprintf(set, sizeof set, "rod.nodes=%d", points[p].nodes);
         const char *which = points[p].tissue == 2 ? knot : points[p].tissue ? tissue : scene;

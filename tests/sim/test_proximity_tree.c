@@ -155,6 +155,12 @@ static void compare(const char *what, rod_proximity *prox, const double *p, int 
     check(shared == kept && same_pairs(got, want, kept),
           "  shared ends left out: %d pairs, brute force less them %d, bit for bit "
           "(%lld measured)", shared, kept, prox->narrow_tests);
+    /* ANY: whether there is a pair, with or without INDEX_ONLY */
+    const int any = rod_proximity_select(prox, p, n, threshold, skip, ROD_PROXIMITY_ANY, NULL, 0);
+    const int any_index = rod_proximity_select(
+        prox, p, n, threshold, skip, ROD_PROXIMITY_ANY | ROD_PROXIMITY_INDEX_ONLY, NULL, 0);
+    check((any > 0) == (expected > 0) && (any_index > 0) == (expected > 0) && any <= expected,
+          "  any pair: %d and %d (index only), brute force %d pairs", any, any_index, expected);
     rod_segment_pair closest;
     double brute = INFINITY;
     int bi = -1, bj = -1;

@@ -12,7 +12,8 @@
  * while the rod stays far from itself (test_clear_until_near), the pair
  * law's gain in closed form against differences (test_law_gain), and the
  * last step's forces as a step's first guess when contacts move across
- * nodes (test_last_force). */
+ * nodes (test_last_force); the thrown strand again on a grid finer than
+ * the diameter, its steps begun without candidates (test_thrown_fine). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,6 +24,7 @@
 #include "sim/rod.h"
 #include "sim/scheme_implicit.h"
 #include "sim/contact/self_contact.h"
+#include "sim/implicit/work.h"
 #include "test.h"
 #include "test_helix.h"
 #include "test_segment.h"
@@ -41,6 +43,7 @@ typedef struct helix_run {
     double tangential;   /* N: the contact on the last part along the side load, at the end */
     double friction;     /* N: ... along the strand below there */
     double normal;       /* N: ... and across it */
+    long without;        /* steps begun without candidates (nothing was near) */
 } helix_run;
 
 /* The arc length (m) of the point of the strand's first `count` segments
@@ -64,7 +67,7 @@ static helix_run helix(double r, double P, double overlap, double force, double 
                        int nodes, double dt, double duration, double damping, int self_contact,
                        double side, double t_side)
 {
-    helix_run out = {ROD_FAILED, {0, 0, 0}, NAN, INFINITY, INFINITY, NAN, 0.0, 0, 0, 0.0, NAN, NAN, NAN};
+    helix_run out = {ROD_FAILED, {0, 0, 0}, NAN, INFINITY, INFINITY, NAN, 0.0, 0, 0, 0.0, NAN, NAN, NAN, 0};
     rod_model m = rod_model_default();
     m.diameter = 0.002;
     m.density = 1100.0;
@@ -136,6 +139,8 @@ static helix_run helix(double r, double P, double overlap, double force, double 
         out.lowest = fmin(out.lowest, height);
     }
     free(before);
+    const implicit_work *w = solver.work;
+    out.without = w->self ? w->self->without : 0;
     /* the contact on the last part: the self-contact forces on the nodes
      * above the first turn */
     for (int i = nodes - below; i < nodes; i++) v3_axpy(out.contact, 1.0, &s->self_force[3 * i]);
@@ -245,6 +250,41 @@ static void test_thrown(void)
           hit.closest, hit.closest / d);
     check(coarse.closest >= 0.9 * d, "thrown strand with self-contact, dt = 1e-2 s: the least "
           "distance between far segments over the run %.4g m = %.3f diameters (limit 0.9)",
+          coarse.closest, coarse.closest / d);
+}
+
+/* The thrown strand on a grid finer than the diameter (NS = 301, ds = 1.29
+ * mm = 0.64 d): a straight stretch's own arc puts pairs within the
+ * candidates' reach (skip 4, (i, i + 5) 5.2 mm apart, below d + 2 d), none
+ * within 1.5 d, so the steps while the strands are apart begin without
+ * candidates (rod_self_contact_nothing_near) and are kept only when no
+ * pair can come within a diameter over the step. The tip thrown down a
+ * pitch of 16 d at up to some 2 m/s never passes the turn below: the least
+ * distance between far segments, by this file's own brute force over every
+ * pair after every step, stays at 0.9 d or more; without self-contact it
+ * passes. */
+static void test_thrown_fine(void)
+{
+    const double d = 0.002;
+    helix_run pass = helix(0.06, 16.0 * d, 0.01, 0.05, 0.02, 1, 301, 1e-3, 0.15, 0.0, 0, 0.0, 0.0);
+    helix_run hit = helix(0.06, 16.0 * d, 0.01, 0.05, 0.02, 1, 301, 1e-3, 0.15, 0.0, 1, 0.0, 0.0);
+    helix_run coarse = helix(0.06, 16.0 * d, 0.01, 0.05, 0.02, 1, 301, 1e-2, 0.15, 0.0, 1, 0.0, 0.0);
+    check(hit.status == ROD_OK && pass.status == ROD_OK && coarse.status == ROD_OK,
+          "thrown strand, NS = 301: the three runs complete");
+    check(pass.closest < 0.75 * d && pass.lowest < -d, "thrown strand, NS = 301, without "
+          "self-contact: the tip passes through the turn below (least distance %.3g m; it ends "
+          "%.3g m below it)", pass.closest, -pass.lowest);
+    check(hit.without > 0 && coarse.without > 0, "thrown strand, NS = 301: attempts begun "
+          "without candidates, nothing near (halves of split steps counted): %ld over %d steps "
+          "(dt = 1e-3 s), %ld over %d (1e-2 s)", hit.without, hit.steps, coarse.without,
+          coarse.steps);
+    check(coarse.approach > 2.0 * d, "thrown strand, NS = 301, dt = 1e-2 s: the fastest node "
+          "moves %.3g m between steps, more than two diameters", coarse.approach);
+    check(hit.closest >= 0.9 * d, "thrown strand, NS = 301, dt = 1e-3 s: the least distance "
+          "between far segments after every step %.4g m = %.3f diameters (limit 0.9)",
+          hit.closest, hit.closest / d);
+    check(coarse.closest >= 0.9 * d, "thrown strand, NS = 301, dt = 1e-2 s: the least distance "
+          "between far segments after every step %.4g m = %.3f diameters (limit 0.9)",
           coarse.closest, coarse.closest / d);
 }
 
@@ -743,6 +783,7 @@ int main(void)
     test_pressed();
     test_strand_friction();
     test_thrown();
+    test_thrown_fine();
     test_converges();
     test_reach();
     test_clear_until_near();

@@ -152,6 +152,8 @@ typedef struct rod_self_contact {
     int list_count, list_capacity; /* grown on demand up to SELF_LIST_MOST_PAIRS */
     int list_uses;         /* searches the list has answered since it was made */
     int list_wait;         /* plain searches before a list is made again */
+    long without;          /* steps begun without candidates (rod_self_contact_find,
+                              margin 0: nothing was near) */
 } rod_self_contact;
 
 /* A pair list's skin (rod_self_contact_find), in diameters: the list holds
@@ -172,9 +174,16 @@ void rod_self_contact_destroy(rod_self_contact *sc);
 /* The candidate pairs of a step from the positions at its start: every
  * non-neighbouring pair of segments closer than diameter + margin, one per
  * touching region (a pair whose closest point is the shared node of two
- * segments is kept once). Returns the count, or -1 when there are more than
- * the scratch holds (then the caller reports it). */
+ * segments is kept once); margin 0: none, unsearched (the caller showed
+ * nothing near: rod_self_contact_nothing_near). Returns the count, or -1
+ * when there are more than the scratch holds (then the caller reports it). */
 int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margin);
+
+/* 1 when no non-neighbouring pair is closer than diameter + near (m) in
+ * pos0, and none closer than diameter + margin (m) but those a straight
+ * stretch's own arc puts there (j - i - 1 < (diameter + margin) / ds) */
+int rod_self_contact_nothing_near(rod_self_contact *sc, const double *pos0, double near,
+                                  double margin);
 
 /* How many non-neighbouring pairs are closer than diameter + margin (m)
  * in pos0 (-1 on bad input); the candidates are left as they are. */

@@ -52,8 +52,10 @@ int rod_proximity_pairs(rod_proximity *p, const double *points, int nodes, doubl
  * closest points are the facing inner ends.
  * INDEX_ONLY: every pair is listed, but only i and j are set (s, t and
  * distance 0) where the distance of a node pair bounds the pair's below
- * the threshold (a list of candidates, measured again later). */
-enum { ROD_PROXIMITY_SHARED_END = 1, ROD_PROXIMITY_INDEX_ONLY = 2 };
+ * the threshold (a list of candidates, measured again later).
+ * ANY: whether there is a pair at all: the walk stops at the first it
+ * finds, and the count is 0 or at least 1, not every pair's. */
+enum { ROD_PROXIMITY_SHARED_END = 1, ROD_PROXIMITY_INDEX_ONLY = 2, ROD_PROXIMITY_ANY = 4 };
 
 /* 1 when the pair (i + 1, j) of a polygon of `segments` segments stands
  * for (i, j) whose closest point on segment i is node i + 1: i + 1 is a

@@ -10,6 +10,9 @@
 /* Self-contact's candidate pairs lie within this many diameters of one
  * diameter apart at the start of a step, at most */
 #define SELF_MARGIN 2.0
+/* ... and at least this many: with no pair that near, none is a candidate
+ * (prepare_contact) */
+#define SELF_NEAR 0.5
 
 /* Prepares the step of dt from s (read only) up to Newton: its data and the
  * first iterate in w->x; *continuing: s is the state the last accepted step

@@ -125,6 +125,21 @@ int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margi
     return rod_proximity_pairs(sc->prox, pos0, sc->nodes, sc->diameter + margin, sc->skip, NULL, 0);
 }
 
+int rod_self_contact_nothing_near(rod_self_contact *sc, const double *pos0, double near,
+                                  double margin)
+{
+    const double threshold = sc->diameter + margin;
+    /* a straight stretch's pairs closer than threshold are at most this
+     * far apart in index: (j - i - 1) ds < threshold */
+    const int straight = 1 + (int)ceil(threshold / sc->ds);
+    const int any = ROD_PROXIMITY_ANY | ROD_PROXIMITY_INDEX_ONLY;
+    if (rod_proximity_select(sc->prox, pos0, sc->nodes, sc->diameter + near, sc->skip, any, NULL,
+                             0))
+        return 0;
+    return straight <= sc->skip ||
+           rod_proximity_select(sc->prox, pos0, sc->nodes, threshold, straight, any, NULL, 0) == 0;
+}
+
 /* The non-neighbouring pairs closer than threshold at pos0 into *buffer
  * (*capacity pairs), grown to hold them when they are at most `most`.
  * Returns their count: more than *capacity when there are more than `most`
@@ -308,7 +323,8 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
     sc->margin = margin;
     const double threshold = sc->diameter + margin;
     int found = 0;
-    if (!still_clear(sc, pos0, threshold)) {
+    if (margin == 0.0) sc->without++;
+    else if (!still_clear(sc, pos0, threshold)) {
         found = search_pairs(sc, pos0, threshold);
         if (found == 0) try_clear(sc, pos0, threshold);
     }

@@ -170,12 +170,19 @@ static int prepare_contact(implicit_work *w, const rod_model *m, const rod_state
             w->have_factor = 0;
         }
     }
-    if (w->self && implicit_prepare_self_contact(w, m, dt,
-                                                 fmax(0.5 * m->diameter,
-                                                      fmin(SELF_MARGIN * m->diameter,
-                                                           3.0 * w->self_motion)),
-                                                 report))
-        return -2;
+    if (!w->self) return 0;
+    /* nothing within the least margin: no candidates at all, and the step
+     * is kept only when no pair can come within a diameter
+     * (strands_kept_apart); a straight stretch leaves pi d / 2 between its
+     * nearest non-neighbours (rod_proximity_skip), beyond d + SELF_NEAR, so
+     * a rod far from itself searches for nothing more
+     * (docs/decisions/draft-nothing-near.md) */
+    double margin = fmax(SELF_NEAR * m->diameter,
+                         fmin(SELF_MARGIN * m->diameter, 3.0 * w->self_motion));
+    if (margin > SELF_NEAR * m->diameter &&
+        rod_self_contact_nothing_near(w->self, w->pos0, SELF_NEAR * m->diameter, margin))
+        margin = 0.0;
+    if (implicit_prepare_self_contact(w, m, dt, margin, report)) return -2;
     return 0;
 }
 

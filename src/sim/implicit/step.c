@@ -104,22 +104,26 @@ static int strands_kept_apart(implicit_work *w, const rod_model *m, const rod_st
                               double dt, rod_report *report)
 {
     double moved = largest_motion(w, dt);
+    int apart = 0; /* no pair could touch within the step */
     for (int tries = 0; tries < 4 && 2.0 * moved > w->self->margin; tries++) {
-        if (3.0 * moved > SELF_MARGIN * m->diameter) {
+        const int fast = 3.0 * moved > SELF_MARGIN * m->diameter;
+        if (fast || w->self->margin == 0.0) {
             /* nothing that could touch within the step: no candidates
              * needed (a straight stretch swinging fast moves its
-             * nearby segments together: rod_self_contact_reachable) */
-            if (rod_self_contact_reachable(w->self, w->pos0, w->vbar, dt, 2.0 * moved) != 0) {
+             * nearby segments together: rod_self_contact_reachable); a
+             * step without candidates (nothing was near) is kept so */
+            apart = rod_self_contact_reachable(w->self, w->pos0, w->vbar, dt, 2.0 * moved) == 0;
+            if (apart) break;
+            if (fast) {
                 moved_too_far(w);
                 return -1;
             }
-            break;
         }
         if (implicit_prepare_self_contact(w, m, dt, 3.0 * moved, report)) return -2;
         if (implicit_newton(w, m, s->time, dt, report)) return -1;
         moved = largest_motion(w, dt);
     }
-    if (2.0 * moved > w->self->margin && 3.0 * moved <= SELF_MARGIN * m->diameter) {
+    if (!apart && 2.0 * moved > w->self->margin && 3.0 * moved <= SELF_MARGIN * m->diameter) {
         moved_too_far(w);
         return -1; /* split the step */
     }
