@@ -563,7 +563,9 @@ static int read_instruments(ini_doc *doc, rod_model *m, char *err, size_t errlen
 /* A starting shape already inside a surface is refused (the contact would
  * start with an impulse no scene means), naming the surface and the node.
  * A node may sit on the surface: up to 1 % of the radius inside is accepted
- * (a thread laid on a table at exactly its radius). */
+ * (a thread laid on a table at exactly its radius). An elastic pad is
+ * checked as the run's contact sees it: its surface at rest under its
+ * pretension and weight, not its box. */
 static int check_start_outside(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     if (m->surface_count == 0 && m->puncture_count == 0) return 0;
@@ -584,7 +586,8 @@ static int check_start_outside(ini_doc *doc, rod_model *m, char *err, size_t err
     rod_threaded_nodes(m, s, threaded);
     int rc = 0;
     for (int j = 0; j < m->surface_count && !rc; j++) {
-        const rod_surface *sf = &m->surfaces[j];
+        rod_surface scratch;
+        const rod_surface *sf = rod_surface_contact_view(&m->surfaces[j], &scratch);
         for (int i = 0; i < m->nodes; i++) {
             if (j < 32 && (threaded[i] >> j & 1u)) continue;
             double gap = rod_surface_gap(sf, &s->position[3 * i], radius, NULL, NULL);
@@ -594,8 +597,9 @@ static int check_start_outside(ini_doc *doc, rod_model *m, char *err, size_t err
                                "(s = %.6g m, at %.6g %.6g %.6g m) is %.3g m deep (the rod "
                                "touches at its radius %.3g m); move the surface or the rod "
                                "(rod.origin, rod.direction, rod.shape)",
-                               rod_surface_name(sf->shape), i, i * m->ds, s->position[3 * i],
-                               s->position[3 * i + 1], s->position[3 * i + 2], -gap, radius);
+                               rod_surface_name(m->surfaces[j].shape), i, i * m->ds,
+                               s->position[3 * i], s->position[3 * i + 1], s->position[3 * i + 2],
+                               -gap, radius);
                 break;
             }
         }
@@ -972,6 +976,8 @@ static int read_tissue_pads(ini_doc *doc, rod_model *m, const double gravity[3],
         if (tissue_solve_static(sf->solid, NULL, why, sizeof why))
             return ini_error(doc, "surface", i, "pretension", err, errlen,
                              "the pad finds no rest under its pretension and weight: %s", why);
+        /* the surface where the pad rests (the start's check sees it there) */
+        rod_mesh_move(sf->mesh, tissue_positions(sf->solid), 0.0);
     }
     return 0;
 }
@@ -1001,9 +1007,9 @@ int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
             derive_error(doc, why, err, errlen);
         goto fail;
     }
-    if (check_start_outside(doc, m, err, errlen) ||
-        read_tissue_pads(doc, m, m->physics.gravity ? gravity : (const double[3]){0, 0, 0}, err,
-                         errlen))
+    if (read_tissue_pads(doc, m, m->physics.gravity ? gravity : (const double[3]){0, 0, 0}, err,
+                         errlen) ||
+        check_start_outside(doc, m, err, errlen))
         goto fail;
     /* gravity acts on the mass per length: f = rho A g, added to any given distributed force */
     for (int k = 0; k < 3; k++) m->distributed_force[k] += m->mass_per_length * gravity[k];
