@@ -563,9 +563,11 @@ static int read_instruments(ini_doc *doc, rod_model *m, char *err, size_t errlen
 /* A starting shape already inside a surface is refused (the contact would
  * start with an impulse no scene means), naming the surface and the node.
  * A node may sit on the surface: up to 1 % of the radius inside is accepted
- * (a thread laid on a table at exactly its radius). An elastic pad is
- * checked as the run's contact sees it: its surface at rest under its
- * pretension and weight, not its box. */
+ * (a thread laid on a table at exactly its radius). An elastic pad's node
+ * is inside only when inside both its box and its surface at rest under
+ * its pretension and weight (the run's contact sees that surface): a
+ * stretched pad's top sinks under its box, and its held sides stand out of
+ * it. */
 static int check_start_outside(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     if (m->surface_count == 0 && m->puncture_count == 0) return 0;
@@ -586,18 +588,21 @@ static int check_start_outside(ini_doc *doc, rod_model *m, char *err, size_t err
     rod_threaded_nodes(m, s, threaded);
     int rc = 0;
     for (int j = 0; j < m->surface_count && !rc; j++) {
+        const rod_surface *sf = &m->surfaces[j];
         rod_surface scratch;
-        const rod_surface *sf = rod_surface_contact_view(&m->surfaces[j], &scratch);
+        const rod_surface *rest = rod_surface_contact_view(sf, &scratch);
         for (int i = 0; i < m->nodes; i++) {
             if (j < 32 && (threaded[i] >> j & 1u)) continue;
             double gap = rod_surface_gap(sf, &s->position[3 * i], radius, NULL, NULL);
+            if (rest != sf)
+                gap = fmax(gap, rod_surface_gap(rest, &s->position[3 * i], radius, NULL, NULL));
             if (gap < -0.01 * radius) {
                 rc = ini_error(doc, "surface", j, "center", err, errlen,
                                "the rod's starting shape is already inside this %s: node %d "
                                "(s = %.6g m, at %.6g %.6g %.6g m) is %.3g m deep (the rod "
                                "touches at its radius %.3g m); move the surface or the rod "
                                "(rod.origin, rod.direction, rod.shape)",
-                               rod_surface_name(m->surfaces[j].shape), i, i * m->ds,
+                               rod_surface_name(sf->shape), i, i * m->ds,
                                s->position[3 * i], s->position[3 * i + 1], s->position[3 * i + 2],
                                -gap, radius);
                 break;
