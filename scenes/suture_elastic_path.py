@@ -13,11 +13,12 @@ top-face nodes, settled under its pretension, at t = 0 with nothing on it):
       pad.csv > suture_elastic_top.csv
 top(x, y) is a plane fitted to those nodes near (x, y), weighted by a
 Gaussian of 5 mm (the mesh is 5 mm at the wound). Each bite's circle is
-centred ZC above the mean top at its two holes, so the needle enters and
-leaves on the skin 4 mm either side of the wound and passes 2 mm under
-it, as on the rigid pad; the lifts and the thread's starting U are taken
-from that top too. Then, as for suture.ini (settled 1 s with the needle
-held):
+centred ZC = 2 mm above the mean top at its two holes, so the 5 mm
+needle enters and leaves the skin 4.58 mm either side of the wound and
+passes 3 mm under the top (the wound is 2 mm deep); two bites, 12 mm
+apart. The lifts and the thread's starting U are taken from that top
+too, and the holder first lifts the needle off the skin. Then, as for
+suture.ini (settled 1 s with the needle held):
   python3 suture_elastic_path.py > suture_elastic_path.csv
   ../rodsim run suture_elastic.ini --no-video --quiet --csv settle.csv \
       --set rod.shape=suture_elastic_shape_u.csv \
