@@ -563,7 +563,11 @@ static int read_instruments(ini_doc *doc, rod_model *m, char *err, size_t errlen
 /* A starting shape already inside a surface is refused (the contact would
  * start with an impulse no scene means), naming the surface and the node.
  * A node may sit on the surface: up to 1 % of the radius inside is accepted
- * (a thread laid on a table at exactly its radius). */
+ * (a thread laid on a table at exactly its radius). An elastic pad's node
+ * is inside only when inside both its box and its surface at rest under
+ * its pretension and weight (the run's contact sees that surface): a
+ * stretched pad's top sinks under its box, and its held sides stand out of
+ * it. */
 static int check_start_outside(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     if (m->surface_count == 0 && m->puncture_count == 0) return 0;
@@ -597,8 +601,9 @@ static int check_start_outside(ini_doc *doc, rod_model *m, char *err, size_t err
                                "(s = %.6g m, at %.6g %.6g %.6g m) is %.3g m deep (the rod "
                                "touches at its radius %.3g m); move the surface or the rod "
                                "(rod.origin, rod.direction, rod.shape)",
-                               rod_surface_name(sf->shape), i, i * m->ds, s->position[3 * i],
-                               s->position[3 * i + 1], s->position[3 * i + 2], -gap, radius);
+                               rod_surface_name(sf->shape), i, i * m->ds,
+                               s->position[3 * i], s->position[3 * i + 1], s->position[3 * i + 2],
+                               -gap, radius);
                 break;
             }
         }

@@ -433,7 +433,10 @@ int puncture_needle_holes(const rod_model *m, rod_state *s, rod_report *report)
     const int n = m->nodes;
     const double reach = m->needle_radius + 2.0 * m->ds;
     for (int j = 0; j < m->surface_count && j < 32; j++) {
-        const rod_surface *sf = &m->surfaces[j];
+        /* an elastic pad's holes are made where the needle crosses its
+         * surface as it rests (the contact's view), not its box */
+        rod_surface scratch;
+        const rod_surface *sf = rod_surface_contact_view(&m->surfaces[j], &scratch);
         if (!sf->tissue) continue;
         for (int i = n - 2; i >= 0 && (n - 1 - i) * m->ds <= reach; i--) {
             const double *a = &s->position[3 * i], *b = &s->position[3 * (i + 1)];
