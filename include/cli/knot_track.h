@@ -54,6 +54,10 @@ void knot_track_release(knot_track *k);
  * touching). */
 void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s, double gap);
 
+/* 1 when a and b are the same knot: the same Alexander polynomial and
+ * signature (a knot turning into its mirror image is a change). */
+int knot_track_same(const rod_knot *a, const rod_knot *b);
+
 /* The first change was no pass-through: the knot slipped off an end (see
  * slip_end) or no strands came within KNOT_PASS_GAP diameters. */
 int knot_track_change_is_slip(const knot_track *k, const rod_model *m);

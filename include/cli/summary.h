@@ -84,6 +84,16 @@ typedef struct summary_rod {
     summary_rod_knot knot;
 } summary_rod;
 
+/* The knot two rods of several make together (their centrelines closed
+ * into one curve, sim/geometry/knot_across.h): the rods' names and the
+ * knot as a rod's (rope_d NAN). For the first SUMMARY_MAX_KNOTS_ACROSS
+ * pairs in the scene's order. */
+#define SUMMARY_MAX_KNOTS_ACROSS 8
+typedef struct summary_knot_across {
+    char rods[2][32];
+    summary_rod_knot knot;
+} summary_knot_across;
+
 /* What a run tells; every `has_` flag says the part is known (else left
  * out of the JSON). Strings are copied in (fixed size: no ownership). */
 typedef struct run_summary {
@@ -125,6 +135,8 @@ typedef struct run_summary {
     /* several rods: rod_count > 0 lists these (has_rod then unused) */
     int rod_count;
     summary_rod rods[SUMMARY_MAX_RODS];
+    int knot_across_count;
+    summary_knot_across knots_across[SUMMARY_MAX_KNOTS_ACROSS];
     int puncture_count;
     summary_puncture punctures[SUMMARY_MAX_PUNCTURES];
     int grasp_count;

@@ -30,7 +30,7 @@ void knot_track_release(knot_track *k)
     k->prev_pos = NULL;
 }
 
-static int same_knot(const rod_knot *a, const rod_knot *b)
+int knot_track_same(const rod_knot *a, const rod_knot *b)
 {
     /* the signature too: a trefoil turning into its mirror image is a change */
     return a->terms == b->terms &&
@@ -96,7 +96,7 @@ void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s, dou
         if (k->frames == 0) {
             k->first = now;
             k->first_time = s->time;
-        } else if (!same_knot(&now, &k->last) && k->changes++ == 0) {
+        } else if (!knot_track_same(&now, &k->last) && k->changes++ == 0) {
             k->change_time = s->time;
             snprintf(k->change_from, sizeof k->change_from, "%s", k->last.name);
             snprintf(k->change_to, sizeof k->change_to, "%s", now.name);

@@ -11,6 +11,7 @@
 #include "base/outfile.h"
 #include "base/vec3.h"
 #include "cli/args.h"
+#include "cli/knot_across_track.h"
 #include "cli/knot_track.h"
 #include "cli/run.h"
 #include "cli/summary.h"
@@ -48,6 +49,10 @@ typedef struct rods_run {
     knot_track knot[ROD_SET_MAX];
     int knot_change_count[ROD_SET_MAX];
     summary_knot_change knot_changes[ROD_SET_MAX][SUMMARY_MAX_KNOT_CHANGES];
+    /* the knot each pair of rods makes together (the first pairs in the
+     * order), per output frame */
+    knot_across_track across[SUMMARY_MAX_KNOTS_ACROSS];
+    int across_count;
 } rods_run;
 
 /* Identifies rod k's knot in this frame and notes a change. The strands'
@@ -77,6 +82,26 @@ static int knot_told(const rods_run *r, int k)
            (knot_track_can_knot(&r->set.model[k]) || knot_track_was_knotted(&r->knot[k]));
 }
 
+/* The pair's knot belongs in the summary: both rods' knots do, or the two
+ * were tied together at some frame */
+static int across_told(const rods_run *r, const knot_across_track *t)
+{
+    return t->frames > 0 &&
+           ((knot_told(r, t->rod[0]) && knot_told(r, t->rod[1])) || t->changes > 0 ||
+            strcmp(t->first.name, "unknot") != 0);
+}
+
+/* Trackers for the knots of the first pairs of rods; -1 out of memory */
+static int across_init(rods_run *r)
+{
+    for (int k = 0; k < r->set.count; k++)
+        for (int l = k + 1; l < r->set.count && r->across_count < SUMMARY_MAX_KNOTS_ACROSS; l++)
+            if (knot_across_track_init(&r->across[r->across_count++], k, l,
+                                       r->set.model[k].nodes, r->set.model[l].nodes))
+                return -1;
+    return 0;
+}
+
 /* A frame: the CSV rows of every rod, and the recordings */
 static int output_frame(rods_run *r)
 {
@@ -88,6 +113,11 @@ static int output_frame(rods_run *r)
         if (r->rec[k] && rod_recording_append(r->rec[k], &r->set.model[k], r->run.state[k]))
             return -1;
         track_knot(r, k);
+    }
+    for (int p = 0; p < r->across_count; p++) {
+        knot_across_track *t = &r->across[p];
+        const rod_state *a = r->run.state[t->rod[0]], *b = r->run.state[t->rod[1]];
+        knot_across_track_frame(t, a->position, a->nodes, b->position, b->nodes, a->time);
     }
     r->frames++;
     return 0;
@@ -155,6 +185,10 @@ static void print_result(const rods_run *r)
                 "%.4g) N\n", r->set.name[k], tip[0], tip[1], tip[2], c[0], c[1], c[2]);
         if (knot_told(r, k)) knot_track_print(f, &r->knot[k], &r->set.model[k]);
     }
+    for (int p = 0; p < r->across_count; p++)
+        if (across_told(r, &r->across[p]))
+            knot_across_track_print(f, &r->across[p], r->set.name[r->across[p].rod[0]],
+                                    r->set.name[r->across[p].rod[1]]);
     if (isfinite(r->closest_gap))
         fprintf(f, "  closest approach between rods: %.3g m beyond contact\n", r->closest_gap);
 }
@@ -205,6 +239,15 @@ static void fill_summary(const rods_run *r, run_summary *sum, int ran)
         out->min_strand_gap_d = INFINITY;
         out->has_knot = knot_told(r, k);
         if (out->has_knot) summary_rod_knot_fill(r, k, &out->knot);
+    }
+    sum->knot_across_count = 0;
+    for (int p = 0; p < r->across_count; p++) {
+        const knot_across_track *t = &r->across[p];
+        if (!across_told(r, t)) continue;
+        summary_knot_across *out = &sum->knots_across[sum->knot_across_count++];
+        for (int e = 0; e < 2; e++)
+            snprintf(out->rods[e], sizeof out->rods[e], "%s", r->set.name[t->rod[e]]);
+        knot_across_track_fill(t, &out->knot);
     }
 }
 
@@ -276,6 +319,10 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
     status = RUN_EXIT_FAILURE;
     if (rod_set_run_create(&r.set, &r.run, err, sizeof err)) goto fail;
     for (int k = 0; k < r.set.count; k++) knot_track_init(&r.knot[k], r.set.model[k].nodes);
+    if (across_init(&r)) {
+        snprintf(err, sizeof err, "out of memory for the knots across rods");
+        goto fail;
+    }
     outfile_transaction_begin();
     status = open_outputs(&r, err, sizeof err);
     if (status) goto abort;
@@ -338,6 +385,7 @@ done:
         rod_recording_destroy(r.rec[k]);
         knot_track_release(&r.knot[k]);
     }
+    for (int p = 0; p < r.across_count; p++) knot_across_track_release(&r.across[p]);
     rod_set_run_destroy(&r.run);
     rod_set_release(&r.set);
     return status;

@@ -241,6 +241,28 @@ static void set_rod_object(json_out *j, const summary_rod *r)
     close_(j, '}');
 }
 
+/* The knots two rods make together: rods [a, b] and the knot */
+static void knots_across_list(json_out *j, const run_summary *s)
+{
+    key(j, "knots_across");
+    open_(j, '[');
+    for (int i = 0; i < s->knot_across_count && i < SUMMARY_MAX_KNOTS_ACROSS; i++) {
+        const summary_knot_across *k = &s->knots_across[i];
+        comma(j);
+        open_(j, '{');
+        key(j, "rods");
+        open_(j, '[');
+        for (int r = 0; r < 2; r++) {
+            comma(j);
+            summary_json_string(j->f, k->rods[r]);
+        }
+        close_(j, ']');
+        knot_object(j, &k->knot);
+        close_(j, '}');
+    }
+    close_(j, ']');
+}
+
 static void punctures_list(json_out *j, const run_summary *s)
 {
     key(j, "punctures");
@@ -345,6 +367,7 @@ int summary_print(FILE *f, const run_summary *s)
             set_rod_object(&j, &s->rods[k]);
         }
         close_(&j, ']');
+        if (s->knot_across_count > 0) knots_across_list(&j, s);
     } else if (s->has_rod) {
         key(&j, "rods");
         open_(&j, '[');

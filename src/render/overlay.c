@@ -11,6 +11,7 @@
 #include "render/color.h"
 #include "render/geometry.h"
 #include "render/grid.h"
+#include "sim/geometry/knot_across.h"
 
 char *render_format_quantity(char *out, size_t outlen, double value, double scale,
                              const char *unit)
@@ -54,13 +55,31 @@ void overlay_destroy(render_overlay *ov)
     ov->title = ov->body = NULL;
 }
 
-/* The knot line of a centreline (render_knot_text), with a scratch. */
-static int knot_line(rod_knot_scratch *scratch, const double *points, int nodes, char *text,
-                     size_t n)
+/* The knot of a recording's frame: its rod's, or of two rods the knot they
+ * make together (sim/geometry/knot_across.h: their concatenation would
+ * join one's tip to the other's root straight through the knot). 0, or -1
+ * (not identified, or more than two rods). */
+static int frame_knot(rod_knot_scratch *scratch, const rod_recording *rec, int frame, rod_knot *k)
 {
-    rod_knot k;
     char err[200];
-    if (rod_knot_identify_in(scratch, points, nodes, 0, &k, err, sizeof err)) {
+    const double *points = node_position(rec, frame, 0);
+    if (rec->rod_count < 2) return rod_knot_identify_in(scratch, points, rec->nodes, 0, k, err,
+                                                        sizeof err);
+    if (rec->rod_count > 2) return -1;
+    const int na = rec->rod_first[1], nb = rec->rod_first[2] - na;
+    double *work = malloc((size_t)rod_knot_across_points(na, nb) * 3 * sizeof *work);
+    int rc = !work ? -1 : rod_knot_identify_across(scratch, points, na, &points[3 * na], nb,
+                                                    work, k, err, sizeof err);
+    free(work);
+    return rc;
+}
+
+/* The knot line of a knot (render_knot_text); identified: 0 "not
+ * identified" */
+static int knot_line_of(const rod_knot *found, int identified, char *text, size_t n)
+{
+    const rod_knot k = *found;
+    if (!identified) {
         snprintf(text, n, "knot: not identified");
         return 0;
     }
@@ -78,7 +97,10 @@ static int knot_line(rod_knot_scratch *scratch, const double *points, int nodes,
 
 int render_knot_text(const double *points, int nodes, char *text, size_t n)
 {
-    return knot_line(NULL, points, nodes, text, n);
+    rod_knot k;
+    char err[200];
+    const int rc = rod_knot_identify_in(NULL, points, nodes, 0, &k, err, sizeof err);
+    return knot_line_of(&k, rc == 0, text, n);
 }
 
 /* Decision: auto shows the line when any of up to RENDER_KNOT_SAMPLES frames
@@ -95,10 +117,7 @@ static int knot_shown(rod_knot_scratch *scratch, const rod_recording *rec, const
     for (int k = 0; k < samples; k++) {
         int frame = samples > 1 ? (int)((long)k * (rec->frame_count - 1) / (samples - 1)) : 0;
         rod_knot knot;
-        char err[200];
-        if (rod_knot_identify_in(scratch, node_position(rec, frame, 0), rec->nodes, 0, &knot, err,
-                                 sizeof err) == 0 &&
-            strcmp(knot.name, "unknot") != 0)
+        if (frame_knot(scratch, rec, frame, &knot) == 0 && strcmp(knot.name, "unknot") != 0)
             return 1;
     }
     return 0;
@@ -111,9 +130,11 @@ int render_knot_shown(const rod_recording *rec, const render_options *o)
 
 void overlay_knot(render_overlay *ov, const rod_recording *rec, int frame)
 {
-    if (ov->knot_shown)
-        knot_line(ov->knot_scratch, node_position(rec, frame, 0), rec->nodes, ov->knot_text,
-                  sizeof ov->knot_text);
+    if (ov->knot_shown) {
+        rod_knot k;
+        const int rc = frame_knot(ov->knot_scratch, rec, frame, &k);
+        knot_line_of(&k, rc == 0, ov->knot_text, sizeof ov->knot_text);
+    }
 }
 
 static void swatch(image *img, int x, int y, int size, const float color[3])

@@ -67,6 +67,16 @@ void rod_knot_scratch_destroy(rod_knot_scratch *scratch);
 int rod_knot_identify_in(rod_knot_scratch *scratch, const double *points, int nodes, int closed,
                          rod_knot *out, char *err, size_t errlen);
 
+/* A closed polygon (count x 3, as rod_knot_identify_closed) made of short
+ * pieces and long joins far outside (two threads closed into one:
+ * knot_across.h): segments [short_ranges[0] = 0, short_ranges[1]) and
+ * [short_ranges[2], short_ranges[3]) are short (segment k joins point k to
+ * k + 1), the others long: the crossing search then hashes the short ones
+ * into cells their size (else the longest segment's) and tests each long
+ * one against all. The same result, faster. */
+int rod_knot_identify_joined(rod_knot_scratch *scratch, const double *points, int count,
+                             const int short_ranges[4], rod_knot *out, char *err, size_t errlen);
+
 /* "1 - t + t^2": Delta(t) of a result, as text. */
 void rod_knot_polynomial_text(const rod_knot *k, char *buf, size_t n);
 

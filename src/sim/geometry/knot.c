@@ -72,6 +72,7 @@ typedef struct projection {
     const double *p;       /* (count x 3) the closed polygon */
     int count;             /* vertices = segments */
     int knot_segments;     /* segments [0, knot_segments) are the curve's own (short) */
+    int mid_lo, mid_hi;    /* and [mid_lo, mid_hi) (two threads joined: knot_across.h) */
     double *xy;            /* (count x 2) projected */
     double *z;             /* (count) height along the direction */
     double extent;         /* m, of the curve */
@@ -413,10 +414,14 @@ static uint32_t cell_hash(int ix, int iy, uint32_t mask)
 /* Every crossing of the projection. Returns 0, or -1 out of memory. */
 static int find_crossings(projection *pr)
 {
-    int n = pr->knot_segments;
+    const int first = pr->knot_segments, n = first + (pr->mid_hi - pr->mid_lo);
+    /* the short segments: [0, first), then [mid_lo, mid_hi) */
+#define SHORT_SEGMENT(i) ((i) < first ? (i) : pr->mid_lo + (i) - first)
+#define IS_SHORT(k) ((k) < first || ((k) >= pr->mid_lo && (k) < pr->mid_hi))
     /* cell: the longest short segment's projection (each covers <= 2 x 2 cells) */
     double h = 0.0;
-    for (int k = 0; k < n; k++) {
+    for (int i = 0; i < n; i++) {
+        const int k = SHORT_SEGMENT(i);
         int k1 = (k + 1) % pr->count;
         h = fmax(h, hypot(pr->xy[2 * k1] - pr->xy[2 * k], pr->xy[2 * k1 + 1] - pr->xy[2 * k + 1]));
     }
@@ -427,7 +432,8 @@ static int find_crossings(projection *pr)
     uint32_t size = 1;
     while (size < (uint32_t)(8 * (n > 0 ? n : 1))) size <<= 1;
     int count = 0;
-    for (int k = 0; k < n; k++) {
+    for (int i = 0; i < n; i++) {
+        const int k = SHORT_SEGMENT(i);
         int k1 = (k + 1) % pr->count;
         double ax = pr->xy[2 * k] - x0, ay = pr->xy[2 * k + 1] - y0;
         double bx = pr->xy[2 * k1] - x0, by = pr->xy[2 * k1 + 1] - y0;
@@ -468,7 +474,8 @@ static int find_crossings(projection *pr)
         if (pr->tests > KNOT_MAX_TESTS || pr->crossings > ROD_KNOT_MAX_CROSSINGS) break;
     }
     /* the closure's long segments against every segment whose box meets theirs */
-    for (int a = n; a < pr->count && !pr->degenerate; a++) {
+    for (int a = first; a < pr->count && !pr->degenerate; a++) {
+        if (IS_SHORT(a)) continue;
         int a1 = (a + 1) % pr->count;
         double lo[2], hi[2];
         for (int k = 0; k < 2; k++) {
@@ -476,7 +483,7 @@ static int find_crossings(projection *pr)
             hi[k] = fmax(pr->xy[2 * a + k], pr->xy[2 * a1 + k]) + KNOT_PARAM_TOL * pr->extent;
         }
         for (int b = 0; b < pr->count && !pr->degenerate; b++) {
-            if (b >= n && b <= a) continue;
+            if (!IS_SHORT(b) && b <= a) continue;
             int b1 = (b + 1) % pr->count, apart = 0;
             for (int k = 0; k < 2; k++)
                 apart = apart || fmax(pr->xy[2 * b + k], pr->xy[2 * b1 + k]) < lo[k] ||
@@ -485,6 +492,8 @@ static int find_crossings(projection *pr)
         }
     }
     return pr->degenerate == 2 ? -1 : 0;
+#undef SHORT_SEGMENT
+#undef IS_SHORT
 }
 
 static int passage_order(const void *a, const void *b)
@@ -1026,7 +1035,7 @@ static double *close_polygon(rod_knot_scratch *sc, const double *p, int nodes, i
 }
 
 static int identify(rod_knot_scratch *sc, const double *points, int nodes, int closed,
-                    rod_knot *out, char *err, size_t errlen)
+                    const int *short_ranges, rod_knot *out, char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
     if (!points || nodes < (closed ? 3 : 2) || nodes > ROD_KNOT_MAX_POINTS) {
@@ -1057,6 +1066,11 @@ static int identify(rod_knot_scratch *sc, const double *points, int nodes, int c
     pr.scratch = sc;
     double *q = close_polygon(sc, points, nodes, closed, centre, extent, &pr.count,
                               &pr.knot_segments);
+    if (short_ranges) { /* a closed polygon whose joins are long */
+        pr.knot_segments = short_ranges[1];
+        pr.mid_lo = short_ranges[2];
+        pr.mid_hi = short_ranges[3];
+    }
     pr.p = q;
     pr.xy = q ? take(sc, (size_t)pr.count * 2 * sizeof *pr.xy, 0) : NULL;
     pr.z = q ? take(sc, (size_t)pr.count * sizeof *pr.z, 0) : NULL;
@@ -1140,14 +1154,36 @@ done:
 int rod_knot_identify_in(rod_knot_scratch *scratch, const double *points, int nodes, int closed,
                          rod_knot *out, char *err, size_t errlen)
 {
-    if (scratch) return identify(scratch, points, nodes, closed, out, err, errlen);
+    if (scratch) return identify(scratch, points, nodes, closed, NULL, out, err, errlen);
     rod_knot_scratch *own = rod_knot_scratch_create();
     if (!own) {
         memset(out, 0, sizeof *out);
         snprintf(err, errlen, "out of memory");
         return -1;
     }
-    int rc = identify(own, points, nodes, closed, out, err, errlen);
+    int rc = identify(own, points, nodes, closed, NULL, out, err, errlen);
+    rod_knot_scratch_destroy(own);
+    return rc;
+}
+
+int rod_knot_identify_joined(rod_knot_scratch *scratch, const double *points, int count,
+                             const int short_ranges[4], rod_knot *out, char *err, size_t errlen)
+{
+    if (short_ranges[0] != 0 || short_ranges[1] < 0 || short_ranges[2] < short_ranges[1] ||
+        short_ranges[3] < short_ranges[2] || short_ranges[3] > count) {
+        memset(out, 0, sizeof *out);
+        snprintf(err, errlen, "the short segments [%d, %d) and [%d, %d) are not in order",
+                 short_ranges[0], short_ranges[1], short_ranges[2], short_ranges[3]);
+        return -1;
+    }
+    if (scratch) return identify(scratch, points, count, 1, short_ranges, out, err, errlen);
+    rod_knot_scratch *own = rod_knot_scratch_create();
+    if (!own) {
+        memset(out, 0, sizeof *out);
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    int rc = identify(own, points, count, 1, short_ranges, out, err, errlen);
     rod_knot_scratch_destroy(own);
     return rc;
 }
