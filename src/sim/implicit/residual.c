@@ -439,6 +439,10 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
         if (!w->self_off)
             rod_self_contact_laws(w->self, w->pos0, w->vel1, w->vbar, w->node_push, dt, theta);
     }
+    if (w->cross) { /* the other rods' pairs on this one read its compliance */
+        w->cross->node_push = push;
+        w->cross->held[0] = w->ends[0].held, w->cross->held[1] = w->ends[1].held;
+    }
     if (contact && w->cross && w->cross->count) {
         const int held[2] = {w->ends[0].held, w->ends[1].held};
         rod_cross_apply(w->cross, m, w->pos0, w->vel1, w->vbar, push, held, dt, theta,
