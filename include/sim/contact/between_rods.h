@@ -1,30 +1,30 @@
 /* between_rods.h: contact between the rods of a scene (sim/rod_set.h),
  * inside one implicit step of all the rods.
  *
- * Each contact between two rods is held by a pair list of one of them, its
- * owner: the rod with the shorter segments (it samples the contact more
- * finely), then the thinner, then the name first in alphabetical order, so
- * that the listing order of the [rod] sections changes nothing. A pair
- * joins the point at fraction alpha of the owner's segment a to the point
- * at fraction beta of the other rod's segment b (an owner whose segments
- * are all shorter than 0.4 contact distances, a thin rope on a thick bar,
- * has a pair at each node near the other rod instead, alpha 0 or 1, no
- * node in two pairs either way); its force follows the strands' own law
- * (rod_self_contact_pair_law: compliant normal force, regularised Coulomb
- * friction at its corner) solved in closed form in the owner's residual
- * like a surface's, with the compliance of the owner's two nodes plus an
- * estimate of the other rod's at its point (its yield to the pair's force
- * over the step), and the surfaces act again on the owner's nodes with it
- * in place. The other rod takes the opposite force, by the weights
- * 1 - beta, beta on its two nodes, as a load in its own Newton solve.
+ * Each contact between two rods is held over a step by a pair list of one
+ * of them, its owner: under gravity the rod above where the two are near
+ * (it rests on the other); else, and when level, the rod with the shorter
+ * segments (it samples the contact more finely), then the thinner, then
+ * the name first in alphabetical order. Nothing depends on the order the
+ * [rod] sections are listed in. A pair joins the point at fraction alpha
+ * of the owner's segment a to the point at fraction beta of the other
+ * rod's segment b (an owner whose segments are all shorter than 0.4
+ * contact distances, a thin rope on a thick bar, has a pair at each node
+ * near the other rod instead, alpha 0 or 1, no node in two pairs either
+ * way); its force follows the strands' own law (rod_self_contact_pair_law:
+ * compliant normal force, regularised Coulomb friction at its corner)
+ * with the owner's two nodes' compliance, solved in closed form in the
+ * owner's residual like a surface's, against the other rod's point moving
+ * over the step as the other rod's solve has it; the surfaces act again on
+ * the owner's nodes with it in place. The other rod takes the opposite
+ * force, by the weights 1 - beta, beta on its two nodes, as a load in its
+ * own Newton solve of the same step.
  *
- * The set steps by sweeps (sim/rod_set.h): each rod in the owners-first
- * order solves its step from the step's start, an owner against the other
- * rods' motion from their last solve, the other rod with the owner's last
- * force; the sweeps repeat until the other rods' motion changes the forces
- * by less than the Newton tolerance. The estimate of the other rod's yield
- * is a secant of its last two solves (a stiff bar yields nothing, a free
- * rope its nodes' mass), so that a sweep or two suffices.
+ * The set's step (sim/rod_set.h) repeats the rods' solves in sweeps, owners
+ * first, until the other rods' motion changes no pair's force beyond the
+ * tolerance, so that every force acts on both rods, equal and opposite, and
+ * agrees with both rods' motion at the step's end (the other rod's motion
+ * the owner sees is relaxed between sweeps by Aitken's rule).
  *
  * Rods whose boxes (grown by the contact distance and a margin) do not
  * overlap are never compared, and a rod in no pair is solved once: rods far
@@ -48,8 +48,9 @@ typedef struct rod_cross_pair {
                             the start, then from the other rod's solves (relaxed) */
     double end_velocity[3]; /* m/s, global: b's point's velocity at the step's end, the same */
     double applied[3];   /* N, global: the force the other rod took in its latest solve */
-    double yield;        /* m/s per N: the other rod's compliance at b's point (its nodes',
-                            as the strands' law takes both strands') */
+    double yield;        /* m/s per N: the other rod's nodes' compliance at b's point (the
+                            force's scale of a change of its motion when the owner's nodes
+                            are held) */
     double own;          /* m/s per N: the owner's two nodes' compliance at the last evaluation */
     double change[6], change_before[6]; /* m/s: the other rod's last solve's motion (mean, end)
                             less the one taken, at this sweep and the one before */

@@ -245,6 +245,7 @@ static void end_velocity(implicit_work *w, const rod_model *m, const end_conditi
     const double mass = m->mass_per_length;
     for (int k = 0; k < 3; k++) applied[k] = n_right[k] - n_left[k] + wb * m->distributed_force[k];
     if (w->point_force) v3_axpy(applied, w->point_factor, &w->point_force[3 * b]);
+    if (w->cross && w->cross->has_load) v3_axpy(applied, 1.0, &w->cross->load[3 * b]);
     double *v1 = &w->vel1[3 * b], *vb = &w->vbar[3 * b];
     const double *v0 = &w->vel0[3 * b];
     if (e->held && !e->sliding) {
