@@ -491,6 +491,8 @@ static void test_capstan(void)
     printf("  while sliding (%.1f .. %.1f s): the hand's force %.4f .. %.4f N; the weight rose "
            "%.4g m while the hand came down %.4g m\n", t_measure, t_end, lo, hi, rise,
            pull * (t_end - t_measure));
+    printf("  the step: %ld Newton solves and %ld sweeps in %ld steps, %ld short of the "
+           "tolerance\n", run.solves, run.sweeps, run.steps, run.unsettled);
     check(rise > 0.8 * pull * (t_end - t_measure),
           "the rope slides over the bar: the weight rises with the hand's pull");
     check_rel("capstan: the hand's mean force while sliding (N) against W e^(mu pi)",

@@ -100,7 +100,7 @@ typedef struct rod_link {
                             last solves imply (their motion against what the owner used) */
     double largest;      /* N: the largest pair force */
     double relax;        /* the share of the other rods' motion's change taken at the next
-                            sweep (Aitken's, from the last two) */
+                            sweep (Aitken's, from the last two; kept from step to step) */
     double closest;      /* m: the smallest surface gap between two rods (centre distance
                             less the contact distance) among the last step's pairs; INFINITY
                             when none */

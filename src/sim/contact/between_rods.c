@@ -43,6 +43,7 @@ rod_link *rod_link_create(int count, const rod_model *models, const char *const 
     if (!l) return NULL;
     l->count = count;
     l->closest = INFINITY;
+    l->relax = 1.0;
     l->cross = calloc((size_t)count, sizeof *l->cross);
     l->start = calloc((size_t)count, sizeof *l->start);
     l->stepped = calloc((size_t)count, sizeof *l->stepped);
@@ -458,7 +459,6 @@ int rod_link_begin(rod_link *l, const rod_model *models, const rod_state *const 
             v3_set(p->applied, 0.0, 0.0, 0.0);
         }
     }
-    l->relax = 1.0;
     return -1;
 }
 
