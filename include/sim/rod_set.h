@@ -26,7 +26,7 @@
 /* The longest rod name (bytes, with its NUL) */
 #define ROD_NAME_LEN 32
 
-struct rod_link; /* sim/contact/rod_contact.h */
+struct rod_link; /* sim/contact/between_rods.h */
 
 typedef struct rod_set {
     int count;                         /* rods, 1 .. ROD_SET_MAX */

@@ -61,13 +61,13 @@ typedef struct rod_cross_pair {
     double gain[9];      /* dF / dz there (N s / m, row-major), for the Jacobian */
 } rod_cross_pair;
 
-/* One rod's view of the others over a step (made by rod_link_prepare, read
+/* One rod's view of the others over a step (made by rod_link_begin, read
  * by its residual). */
 typedef struct rod_cross {
     int nodes;
     int count, capacity;
     rod_cross_pair *pair;
-    rod_cross_pair *candidate; /* (capacity) scratch of rod_link_prepare */
+    rod_cross_pair *candidate; /* (capacity) scratch of rod_link_begin */
     double *load;        /* (nodes x 3) N, global: the other rods' reactions on each node */
     int has_load;        /* 1: load is not all 0 */
     double *node_force;  /* (nodes x 3) N, global: the pairs' forces on each node */
@@ -77,7 +77,7 @@ typedef struct rod_cross {
     double *node_map;    /* (nodes x 9), unsigned char *mapped (nodes): the surfaces' maps
                             of the nodes they act on again (surface_contact_after_pairs) */
     unsigned char *mapped;
-    unsigned char *used; /* (nodes) 1: the node is in a pair (rod_link_prepare) */
+    unsigned char *used; /* (nodes) 1: the node is in a pair (rod_link_begin) */
     unsigned char *paired, *last; /* (nodes) 1: segment a holds a pair at this step, at the
                             last one (a pair's segment is kept from step to step) */
     rod_self_contact law; /* the strands' law's parameters (diameter, friction) per pair */

@@ -8,6 +8,7 @@
 #include "base/vec3.h"
 #include "sim/contact/surface_contact.h"
 #include "sim/geometry/proximity.h"
+#include "sim/rod_set.h"
 
 /* Pairs per node a rod's list holds: each segment keeps its nearest
  * segment of each other rod (rods' count ROD_SET_MAX: 2 is room for a
@@ -20,8 +21,6 @@
  * a node acts at the node: the segment's surface may then dip into the
  * other rod by 1 - sqrt(1 - 0.2^2) = 2 % of the contact distance */
 #define CROSS_SNAP 0.2
-/* The most rods of a link (as ROD_SET_MAX) */
-#define ROD_LINK_MAX 8
 
 /* Whether rod k holds the pairs with rod j: the shorter segments (m, at
  * rest), then the thinner, then the name first in alphabetical order; a
@@ -38,7 +37,7 @@ static int holds(const rod_model *models, const char *const *names, int k, int j
 
 rod_link *rod_link_create(int count, const rod_model *models, const char *const *names)
 {
-    if (count > ROD_LINK_MAX) return NULL;
+    if (count > ROD_SET_MAX) return NULL;
     rod_link *l = calloc(1, sizeof *l);
     if (!l) return NULL;
     l->count = count;
@@ -405,7 +404,7 @@ static int holds_now(const rod_link *l, const rod_model *models, int k, int j, d
 static void order_owners_first(rod_link *l)
 {
     const int n = l->count;
-    unsigned char placed[ROD_LINK_MAX] = {0};
+    unsigned char placed[ROD_SET_MAX] = {0};
     for (int x = 0; x < n; x++) {
         int best = -1, best_held = 0;
         for (int k = 0; k < n; k++) {
@@ -436,7 +435,7 @@ int rod_link_begin(rod_link *l, const rod_model *models, const rod_state *const 
         memset(c->load, 0, (size_t)c->nodes * 3 * sizeof(double));
         c->has_load = 0;
     }
-    double speed[ROD_LINK_MAX];
+    double speed[ROD_SET_MAX];
     for (int k = 0; k < n; k++) speed[k] = fastest(states[k]);
     for (int k = 0; k < n; k++)
         for (int j = k + 1; j < n; j++) {
