@@ -255,8 +255,11 @@ static void test_order(void)
     if (!check(ok && strcmp(set[1].name[0], "upper") == 0, "both orders read (%s)",
                ok ? "ok" : err))
         return;
-    rod_set_run_create(&set[0], &run[0], err, sizeof err);
-    rod_set_run_create(&set[1], &run[1], err, sizeof err);
+    if (rod_set_run_create(&set[0], &run[0], err, sizeof err) ||
+        rod_set_run_create(&set[1], &run[1], err, sizeof err)) {
+        check(0, "runs made: %s", err);
+        return;
+    }
     const double dt = 0.002;
     const int steps = 600; /* the landing and the settling */
     double worst = 0.0, largest = 0.0, reach = 0.5 * (set[0].model[0].diameter +

@@ -439,9 +439,17 @@ int rod_link_begin(rod_link *l, const rod_model *models, const rod_state *const 
     for (int k = 0; k < n; k++) speed[k] = fastest(states[k]);
     for (int k = 0; k < n; k++)
         for (int j = k + 1; j < n; j++) {
-            const int k_holds = holds_now(l, models, k, j, margin_of(models, speed, k, j, dt));
+            const double margin = margin_of(models, speed, k, j, dt);
+            const double grow = 0.5 * (models[k].diameter + models[j].diameter) + margin;
+            double klo[3], khi[3], jlo[3], jhi[3];
+            box_of(l->start[k], models[k].nodes, grow, klo, khi);
+            box_of(l->start[j], models[j].nodes, 0.0, jlo, jhi);
+            int apart = 0;
+            for (int e = 0; e < 3; e++) apart |= klo[e] > jhi[e] || jlo[e] > khi[e];
+            /* apart: neither holds pairs with the other (nothing compared) */
+            const int k_holds = !apart && holds_now(l, models, k, j, margin);
             l->owner[k * n + j] = k_holds;
-            l->owner[j * n + k] = !k_holds;
+            l->owner[j * n + k] = !apart && !k_holds;
         }
     order_owners_first(l);
     for (int k = 0; k < n; k++) {
