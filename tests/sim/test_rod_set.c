@@ -1,9 +1,12 @@
 /* test_rod_set.c: several rods in one scene (sim/rod_set.h): rods far
- * apart step as each alone; rod-on-rod contact of two ropes crossing on a
- * floor holds them apart at every step and carries the upper rope's weight
- * share, against the heavy beam lifted off a floor; a rope sliding half a
- * turn over a bar (another rod) holds W e^(mu pi), the capstan; the
- * refusals. */
+ * apart step as each alone, one Newton solve each a step; rod-on-rod
+ * contact of two ropes crossing on a floor holds them apart at every step
+ * and carries the upper rope's weight share, against the heavy beam lifted
+ * off a floor, whatever the order of the [rod] sections; two ropes pressed
+ * together in space keep the momentum balance to round-off (every contact
+ * force on both rods, equal and opposite, in the same step); a rope
+ * sliding half a turn over a bar (another rod) holds W e^(mu pi), the
+ * capstan; the refusals. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
