@@ -99,8 +99,9 @@ typedef struct rod_link {
     double mismatch;     /* N: the largest change of a pair's force that the other rods'
                             last solves imply (their motion against what the owner used) */
     double largest;      /* N: the largest pair force */
-    double relax;        /* the share of the other rods' motion's change taken at the next
-                            sweep (Aitken's, from the last two; kept from step to step) */
+    double *relax;       /* (count x count) at [k * count + j]: the share of rod j's motion's
+                            change that rod k's pairs take at the next sweep (Aitken's, from
+                            the last two; kept from step to step) */
     double closest;      /* m: the smallest surface gap between two rods (centre distance
                             less the contact distance) among the last step's pairs; INFINITY
                             when none */

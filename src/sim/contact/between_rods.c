@@ -42,7 +42,6 @@ rod_link *rod_link_create(int count, const rod_model *models, const char *const 
     if (!l) return NULL;
     l->count = count;
     l->closest = INFINITY;
-    l->relax = 1.0;
     l->cross = calloc((size_t)count, sizeof *l->cross);
     l->start = calloc((size_t)count, sizeof *l->start);
     l->stepped = calloc((size_t)count, sizeof *l->stepped);
@@ -50,11 +49,13 @@ rod_link *rod_link_create(int count, const rod_model *models, const char *const 
     l->order = calloc((size_t)count, sizeof *l->order);
     l->involved = calloc((size_t)count, sizeof *l->involved);
     l->rank = calloc((size_t)count, sizeof *l->rank);
+    l->relax = malloc((size_t)count * (size_t)count * sizeof *l->relax);
     if (!l->cross || !l->start || !l->stepped || !l->owner || !l->order || !l->involved ||
-        !l->rank) {
+        !l->rank || !l->relax) {
         rod_link_destroy(l);
         return NULL;
     }
+    for (int x = 0; x < count * count; x++) l->relax[x] = 1.0;
     for (int k = 0; k < count; k++) { /* the rank: how many rods hold pairs with it at rest */
         l->rank[k] = 0;
         for (int j = 0; j < count; j++) l->rank[k] += j != k && holds(models, names, j, k);
@@ -108,6 +109,7 @@ void rod_link_destroy(rod_link *l)
     free(l->order);
     free(l->involved);
     free(l->rank);
+    free(l->relax);
     free(l);
 }
 
@@ -546,26 +548,32 @@ void rod_link_after(rod_link *l, int k, const rod_model *models, const rod_state
 
 void rod_link_relax(rod_link *l, int sweep)
 {
-    double num = 0.0, den = 0.0;
-    for (int k = 0; k < l->count; k++)
-        for (int q = 0; q < l->cross[k].count; q++) {
-            const rod_cross_pair *p = &l->cross[k].pair[q];
-            for (int e = 0; e < 6; e++) {
-                const double d = p->change[e] - p->change_before[e];
-                num += p->change_before[e] * d;
-                den += d * d;
+    const int n = l->count;
+    for (int k = 0; k < n; k++) /* each rod's pairs with each other rod on their own */
+        for (int j = 0; j < n; j++) {
+            if (!l->owner[k * n + j]) continue;
+            double num = 0.0, den = 0.0;
+            for (int q = 0; q < l->cross[k].count; q++) {
+                const rod_cross_pair *p = &l->cross[k].pair[q];
+                if (p->rod != j) continue;
+                for (int e = 0; e < 6; e++) {
+                    const double d = p->change[e] - p->change_before[e];
+                    num += p->change_before[e] * d;
+                    den += d * d;
+                }
             }
-        }
-    if (sweep > 0 && den > 0.0)
-        l->relax = fmin(RELAX_MOST, fmax(RELAX_LEAST, -l->relax * num / den));
-    for (int k = 0; k < l->count; k++)
-        for (int q = 0; q < l->cross[k].count; q++) {
-            rod_cross_pair *p = &l->cross[k].pair[q];
-            for (int e = 0; e < 3; e++) {
-                p->velocity[e] += l->relax * p->change[e];
-                p->end_velocity[e] += l->relax * p->change[3 + e];
+            double *relax = &l->relax[k * n + j];
+            if (sweep > 0 && den > 0.0)
+                *relax = fmin(RELAX_MOST, fmax(RELAX_LEAST, -*relax * num / den));
+            for (int q = 0; q < l->cross[k].count; q++) {
+                rod_cross_pair *p = &l->cross[k].pair[q];
+                if (p->rod != j) continue;
+                for (int e = 0; e < 3; e++) {
+                    p->velocity[e] += *relax * p->change[e];
+                    p->end_velocity[e] += *relax * p->change[3 + e];
+                }
+                memcpy(p->change_before, p->change, sizeof p->change);
             }
-            memcpy(p->change_before, p->change, sizeof p->change);
         }
 }
 
