@@ -1,14 +1,17 @@
 /* rod_set.h: several rods in one scene ([rod NAME], [ends NAME], [tip
  * NAME]), each its own rod_model (material, shape, ends, paths, tip loads,
- * needle) and state, each advanced by its own implicit step, in the scene's
- * order, with one dt, and coupled only through contact: each rod's strands
- * touch the others' as they touch their own, the later rod solving the
- * contact against the earlier's motion and the earlier taking the reaction
- * a step late (sim/contact/between_rods.h). A scene with a bare
- * [rod] is a set of one rod named "rod".
+ * needle) and state, advanced together by one implicit step of one dt and
+ * coupled only through contact: each rod's strands touch the others' as
+ * they touch their own, every contact force acting on both rods, equal and
+ * opposite, at the end of the step (sim/contact/between_rods.h). A scene
+ * with a bare [rod] is a set of one rod named "rod".
  *
- * Why separate models with a Newton each, not one system of all nodes:
- * docs/decisions/0078-several-rods.md. */
+ * The step: each rod's own Newton solve, repeated in sweeps over the rods
+ * in contact until the contact forces agree with both rods' motion to the
+ * Newton tolerance; a rod in no contact is solved once. Why separate models
+ * with a Newton each, not one system of all nodes:
+ * docs/decisions/0078-several-rods.md; why the sweeps: the decision record
+ * on one step for all rods. */
 #ifndef RODSIM_SIM_ROD_SET_H
 #define RODSIM_SIM_ROD_SET_H
 
@@ -23,7 +26,7 @@
 /* The longest rod name (bytes, with its NUL) */
 #define ROD_NAME_LEN 32
 
-struct rod_link; /* sim/contact/rod_contact.h */
+struct rod_link; /* sim/contact/between_rods.h */
 
 typedef struct rod_set {
     int count;                         /* rods, 1 .. ROD_SET_MAX */
@@ -50,9 +53,14 @@ int scene_has_named_rods(const ini_doc *doc, int *count);
 typedef struct rod_set_run {
     int count;
     rod_state *state[ROD_SET_MAX];
+    rod_state *begin[ROD_SET_MAX];     /* the step's start, for a rod's solve again */
     rod_solver solver[ROD_SET_MAX];
     struct rod_link *link;             /* contact between rods; NULL for one rod */
     long steps;                        /* taken */
+    long sweeps;                       /* sweeps over the rods in contact, in all steps */
+    long solves;                       /* rods' Newton solves, in all steps */
+    long unsettled;                    /* steps whose sweeps stopped at ROD_SET_SWEEPS short
+                                          of the tolerance */
     double touch_force[ROD_SET_MAX][3];/* N, global: the force the other rods exert on each
                                           rod, at the end of the last step */
 } rod_set_run;
@@ -62,9 +70,19 @@ typedef struct rod_set_run {
 int rod_set_run_create(const rod_set *set, rod_set_run *run, char *err, size_t errlen);
 void rod_set_run_destroy(rod_set_run *run);
 
+/* The most sweeps of a step */
+#define ROD_SET_SWEEPS 30
+/* The sweeps end when the pairs' forces change by less than this times the
+ * rods' Newton tolerance, relative to the largest: each Newton solve leaves
+ * the other rods' motion, and so the forces, uncertain by about 3e-7 of
+ * them at a tolerance of 1e-8 (measured on the crossing) */
+#define ROD_SET_SWEEP_TOLERANCE 100.0
+
 /* One step of dt for every rod: the contact between rods is found from the
- * states at the start, then each rod takes its implicit step. On failure
- * the message names the rod. */
+ * states at the start, then the rods solve in sweeps until every contact
+ * force agrees with both rods' motion (the largest newton_tolerance of the
+ * rods, relative to the largest contact force). On failure the message
+ * names the rod. */
 rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_report *report);
 
 /* The step every rod takes: the smallest of each rod's rod_choose_dt. */

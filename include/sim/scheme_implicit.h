@@ -12,7 +12,7 @@ struct rod_cross; /* sim/contact/between_rods.h */
 
 /* Joins a rod's implicit work (rod_solver.work of rod_scheme_implicit) to
  * its view of the other rods of a set, which the set keeps and fills
- * before each step (rod_link_prepare); NULL: alone. */
+ * at each step (rod_link_begin, rod_link_before); NULL: alone. */
 void rod_implicit_link(void *work, struct rod_cross *cross);
 
 /* The largest difference, over the Jacobian's columns, between the rod's

@@ -191,6 +191,10 @@ static void print_result(const rods_run *r)
                                     r->set.name[r->across[p].rod[1]]);
     if (isfinite(r->closest_gap))
         fprintf(f, "  closest approach between rods: %.3g m beyond contact\n", r->closest_gap);
+    if (r->run.sweeps > 0) /* the steps' sweeps over rods in contact (sim/rod_set.h) */
+        fprintf(f, "  contact between rods: %.3g sweeps a step, %ld Newton "
+                "solves in all; %ld steps stopped short of the tolerance\n",
+                (double)r->run.sweeps / (double)r->run.steps, r->run.solves, r->run.unsettled);
 }
 
 /* Rod k's knot at the last frame, and its changes */

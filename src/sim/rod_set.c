@@ -172,7 +172,16 @@ int rod_set_run_create(const rod_set *set, rod_set_run *run, char *err, size_t e
         }
     }
     if (set->count > 1) {
-        run->link = rod_link_create(set->count, set->model);
+        const char *names[ROD_SET_MAX];
+        for (int k = 0; k < set->count; k++) names[k] = set->name[k];
+        run->link = rod_link_create(set->count, set->model, names);
+        for (int k = 0; run->link && k < set->count; k++) {
+            run->begin[k] = rod_state_create(&set->model[k]);
+            if (!run->begin[k]) {
+                rod_link_destroy(run->link);
+                run->link = NULL;
+            }
+        }
         if (!run->link) {
             snprintf(err, errlen, "out of memory");
             rod_set_run_destroy(run);
@@ -189,36 +198,82 @@ void rod_set_run_destroy(rod_set_run *run)
     for (int k = 0; k < run->count; k++) {
         rod_solver_release(&run->solver[k]);
         rod_state_destroy(run->state[k]);
+        if (run->begin[k]) rod_state_destroy(run->begin[k]);
     }
     rod_link_destroy(run->link);
     memset(run, 0, sizeof *run);
 }
 
+/* Rod k's solve of the step (from run->begin[k] when `again`) */
+static rod_status solve_one(const rod_set *set, rod_set_run *run, int k, double dt, int again,
+                            rod_report *report)
+{
+    const rod_state *const *states = (const rod_state *const *)run->state;
+    if (again) rod_state_copy(run->state[k], run->begin[k]);
+    if (run->link) rod_link_before(run->link, k);
+    rod_status st = rod_solver_step(&run->solver[k], &set->model[k], run->state[k], dt, report);
+    run->solves++;
+    if (st != ROD_OK) {
+        char why[sizeof report->message];
+        snprintf(why, sizeof why, "%s", report->message);
+        if (set->count > 1)
+            snprintf(report->message, sizeof report->message, "rod %s: %.700s", set->name[k], why);
+        return st;
+    }
+    if (run->link) rod_link_after(run->link, k, set->model, states, dt);
+    return ROD_OK;
+}
+
 rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_report *report)
 {
-    if (run->link) rod_link_begin(run->link, (const rod_state *const *)run->state);
-    for (int k = 0; k < set->count; k++) {
-        if (run->link &&
-            rod_link_prepare(run->link, k, set->model, (const rod_state *const *)run->state, dt) < 0) {
-            snprintf(report->message, sizeof report->message,
-                     "rod %s: at t = %.6g s it lies along the other rods at more points than "
-                     "its pairs' room (%d); use fewer nodes", set->name[k], run->state[k]->time,
-                     run->link->cross[k].capacity);
-            return ROD_FAILED;
-        }
-        rod_status st = rod_solver_step(&run->solver[k], &set->model[k], run->state[k], dt, report);
-        if (st != ROD_OK) {
-            char why[sizeof report->message];
-            snprintf(why, sizeof why, "%s", report->message);
-            if (set->count > 1)
-                snprintf(report->message, sizeof report->message, "rod %s: %.700s", set->name[k], why);
-            return st;
-        }
-        if (run->link) {
-            rod_link_done(run->link, k);
-            rod_cross_total(&run->link->cross[k], run->touch_force[k]);
-        }
+    rod_link *l = run->link;
+    if (!l) {
+        rod_status st = solve_one(set, run, 0, dt, 0, report);
+        if (st == ROD_OK) run->steps++;
+        return st;
     }
+    const rod_state *const *states = (const rod_state *const *)run->state;
+    const int full = rod_link_begin(l, set->model, states, dt);
+    if (full >= 0) {
+        snprintf(report->message, sizeof report->message,
+                 "rod %s: at t = %.6g s it lies along the other rods at more points than "
+                 "its pairs' room (%d); use fewer nodes", set->name[full],
+                 run->state[full]->time, l->cross[full].capacity);
+        return ROD_FAILED;
+    }
+    double tolerance = 0.0;
+    int any = 0;
+    for (int k = 0; k < set->count; k++) {
+        tolerance = fmax(tolerance, set->model[k].options.newton_tolerance);
+        if (l->involved[k]) rod_state_copy(run->begin[k], run->state[k]), any = 1;
+    }
+    /* sweeps in the owners-first order: an owner solves against the other
+     * rods' last motion, the other rods with its last forces; a rod in no
+     * pair solves once. The sweeps end when the last solves of the rods
+     * held by others change no pair's force by more than the tolerance:
+     * every pair's force then acts on both its rods, equal and opposite */
+    double scale = 0.0;
+    int sweep = 0;
+    for (;; sweep++) {
+        l->mismatch = 0.0;
+        l->largest = 0.0;
+        for (int x = 0; x < set->count; x++) {
+            const int k = l->order[x];
+            if (sweep > 0 && !l->involved[k]) continue;
+            rod_status st = solve_one(set, run, k, dt, sweep > 0, report);
+            if (st != ROD_OK) return st;
+        }
+        if (!any) break;
+        run->sweeps++;
+        scale = fmax(scale, l->largest);
+        if (l->mismatch <= ROD_SET_SWEEP_TOLERANCE * tolerance * scale) break;
+        if (sweep + 1 == ROD_SET_SWEEPS) {
+            run->unsettled++;
+            break;
+        }
+        rod_link_relax(l, sweep);
+    }
+    for (int k = 0; k < set->count; k++) rod_cross_total(&l->cross[k], run->touch_force[k]);
     run->steps++;
     return ROD_OK;
 }

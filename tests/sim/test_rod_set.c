@@ -1,9 +1,12 @@
 /* test_rod_set.c: several rods in one scene (sim/rod_set.h): rods far
- * apart step as each alone; rod-on-rod contact of two ropes crossing on a
- * floor holds them apart at every step and carries the upper rope's weight
- * share, against the heavy beam lifted off a floor; a rope sliding half a
- * turn over a bar (another rod) holds W e^(mu pi), the capstan; the
- * refusals. */
+ * apart step as each alone, one Newton solve each a step; rod-on-rod
+ * contact of two ropes crossing on a floor holds them apart at every step
+ * and carries the upper rope's weight share, against the heavy beam lifted
+ * off a floor, whatever the order of the [rod] sections; two ropes pressed
+ * together in space keep the momentum balance to round-off (every contact
+ * force on both rods, equal and opposite, in the same step); a rope
+ * sliding half a turn over a bar (another rod) holds W e^(mu pi), the
+ * capstan; the refusals. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -98,6 +101,10 @@ static void test_far_apart(void)
                     : "rod a against the rod alone: largest difference of positions (m) and "
                       "frames (x d) over 250 steps",
                   worst[k], 0.0, 1e-12);
+    /* no extra work: each rod solved once a step, no sweep */
+    check(run2.solves == 2L * steps && run2.sweeps == 0,
+          "rods apart: %ld Newton solves in %d steps (2 a step), %ld sweeps (0)", run2.solves,
+          steps, run2.sweeps);
     rod_set_run_destroy(&run2);
     rod_set_run_destroy(&run1);
     rod_set_release(&set2);
@@ -193,6 +200,180 @@ static void test_crossing(double shift)
               -run.touch_force[0][2], lift, 0.03);
     check(fz_late_max - fz_late_min < 0.01 * lift, "at rest over the last 100 steps: the force "
           "varies by %.3g N (< 1 %% of it)", fz_late_max - fz_late_min);
+    rod_set_run_destroy(&run);
+    rod_set_release(&set);
+}
+
+/* The text of a file (malloc'd), or NULL */
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *text = malloc((size_t)n + 1);
+    if (text && fread(text, 1, (size_t)n, f) != (size_t)n) {
+        free(text);
+        text = NULL;
+    }
+    if (text) text[n] = 0;
+    fclose(f);
+    return text;
+}
+
+/* scenes/crossing.ini as written and with its two [rod] sections (with
+ * their [ends]) swapped: the same contact force at every step, to the
+ * sweeps' tolerance (the rods solve in an order of their own, whatever the
+ * listing) */
+static void test_order(void)
+{
+    char err[1024];
+    char *text = slurp(RODSIM_SOURCE_DIR "/scenes/crossing.ini");
+    if (!check(text != NULL, "scenes/crossing.ini read as text")) return;
+    char *upper = strstr(text, "[rod upper]"), *solver = strstr(text, "[solver]");
+    char *lower = strstr(text, "[rod lower]");
+    if (!check(upper && solver && lower && lower < upper && upper < solver,
+               "its sections [rod lower], [rod upper], [solver] in that order")) {
+        free(text);
+        return;
+    }
+    const size_t n = strlen(text);
+    char *swapped = malloc(n + 1);
+    size_t at = 0;
+    memcpy(swapped + at, text, (size_t)(lower - text)), at += (size_t)(lower - text);
+    memcpy(swapped + at, upper, (size_t)(solver - upper)), at += (size_t)(solver - upper);
+    memcpy(swapped + at, lower, (size_t)(upper - lower)), at += (size_t)(upper - lower);
+    memcpy(swapped + at, solver, strlen(solver) + 1);
+    rod_set set[2];
+    rod_set_run run[2];
+    int ok = 1;
+    for (int r = 0; r < 2; r++) { /* as `rodsim run` reads it ([render] is its own) */
+        ini_doc *doc = ok ? ini_parse("crossing.ini", r ? swapped : text, err, sizeof err) : NULL;
+        ok = doc && scene_read_rods(doc, &set[r], err, sizeof err) == 0;
+        ini_destroy(doc);
+    }
+    free(text);
+    free(swapped);
+    if (!check(ok && strcmp(set[1].name[0], "upper") == 0, "both orders read (%s)",
+               ok ? "ok" : err))
+        return;
+    if (rod_set_run_create(&set[0], &run[0], err, sizeof err) ||
+        rod_set_run_create(&set[1], &run[1], err, sizeof err)) {
+        check(0, "runs made: %s", err);
+        return;
+    }
+    const double dt = 0.002;
+    const int steps = 600; /* the landing and the settling */
+    double worst = 0.0, largest = 0.0, reach = 0.5 * (set[0].model[0].diameter +
+                                                      set[0].model[1].diameter);
+    double least = INFINITY;
+    int failed = 0;
+    rod_report report;
+    for (int i = 0; i < steps && !failed; i++) {
+        for (int r = 0; r < 2; r++) failed |= rod_set_step(&set[r], &run[r], dt, &report) != ROD_OK;
+        /* upper is rod 1 as written, rod 0 swapped */
+        double d[3];
+        v3_sub(d, run[0].touch_force[1], run[1].touch_force[0]);
+        worst = fmax(worst, v3_norm(d));
+        largest = fmax(largest, v3_norm(run[0].touch_force[1]));
+        double h;
+        least = fmin(least, closest(run[1].state[1], run[1].state[0], &h) - reach);
+    }
+    check(!failed, "%d steps of both: %s", steps, failed ? report.message : "ok");
+    printf("  the lower rope's force on the upper at t = %.3g s: as written %.10g %.10g %.10g N, "
+           "swapped %.10g %.10g %.10g N\n", steps * dt, run[0].touch_force[1][0],
+           run[0].touch_force[1][1], run[0].touch_force[1][2], run[1].touch_force[0][0],
+           run[1].touch_force[0][1], run[1].touch_force[0][2]);
+    const double tolerance = ROD_SET_SWEEP_TOLERANCE * set[0].model[0].options.newton_tolerance;
+    check(worst <= tolerance * largest, "the [rod] sections swapped: the contact force differs "
+          "by at most %.3g N at any of %d steps (tolerance %.3g of its largest, %.4g N)", worst,
+          steps, tolerance, largest);
+    check(least > -0.05 * reach, "swapped, no pass-through at any step: least gap %.3g m", least);
+    for (int r = 0; r < 2; r++) {
+        rod_set_run_destroy(&run[r]);
+        rod_set_release(&set[r]);
+    }
+}
+
+/* Linear momentum (kg m/s, global) of a rod: its nodes' lumped masses
+ * (rho A ds, half at the two ends, as the implicit scheme's cells) times
+ * their velocities */
+static void momentum(const rod_model *m, const rod_state *s, double out[3])
+{
+    const double ds = m->length / (m->nodes - 1);
+    v3_set(out, 0.0, 0.0, 0.0);
+    for (int i = 0; i < s->nodes; i++) {
+        double v[3];
+        m3_mul_v(v, &s->frame[9 * i], &s->velocity[3 * i]);
+        const double mass = m->mass_per_length * ds * (i == 0 || i == s->nodes - 1 ? 0.5 : 1.0);
+        v3_axpy(out, mass, v);
+    }
+}
+
+/* Two ropes crossing in space, no gravity, damping or surface: a tip force
+ * (global, constant) presses the tip of one onto the middle of the other.
+ * The sum of the two rods' momentum changes equals the tip force's impulse
+ * at every step to round-off: every contact force acts on both, equal and
+ * opposite, in the same step */
+static void test_momentum(void)
+{
+    char text[4096], err[1024];
+    const double push = 0.02; /* N, -z on b's tip */
+    snprintf(text, sizeof text,
+             "[rod a]\nlength = 0.3\ndiameter = 0.004\ndensity = 1100\nyoungs_modulus = 5e7\n"
+             "shear_modulus = 1.9e7\nnodes = 31\norigin = -0.15 0 0\ndirection = 1 0 0\n"
+             "friction = 0.3\n[ends a]\nroot = free\ntip = free\n"
+             "[rod b]\nlength = 0.2\ndiameter = 0.004\ndensity = 1100\nyoungs_modulus = 5e7\n"
+             "shear_modulus = 1.9e7\nnodes = 21\norigin = 0.003 -0.19 0.0045\n"
+             "direction = 0 1 0\nfriction = 0.3\n[ends b]\nroot = free\ntip = free\n"
+             "[tip b]\nframe = global\nforce = 0 0 %.17g\n"
+             "[solver]\nscheme = implicit\ndt = 0.001\nduration = 0.3\n"
+             "[physics]\ngravity = off\n",
+             -push);
+    rod_set set;
+    rod_set_run run;
+    int ok = read_set(text, &set, err, sizeof err) == 0;
+    if (!check(ok, "two ropes in space read (%s)", ok ? "ok" : err)) return;
+    if (rod_set_run_create(&set, &run, err, sizeof err)) {
+        check(0, "run made: %s", err);
+        rod_set_release(&set);
+        return;
+    }
+    const double dt = 0.001;
+    const int steps = 300;
+    double p0[2][3], worst = 0.0, touch = 0.0, least = INFINITY;
+    for (int k = 0; k < 2; k++) momentum(&set.model[k], run.state[k], p0[k]);
+    const double reach = 0.004;
+    int failed = 0;
+    rod_report report;
+    for (int i = 0; i < steps && !failed; i++) {
+        failed = rod_set_step(&set, &run, dt, &report) != ROD_OK;
+        double total[3] = {0.0, 0.0, 0.0};
+        for (int k = 0; k < 2; k++) {
+            double p[3];
+            momentum(&set.model[k], run.state[k], p);
+            v3_axpy(total, 1.0, p);
+            v3_axpy(total, -1.0, p0[k]);
+        }
+        total[2] += push * (i + 1) * dt; /* less the impulse of the tip force */
+        worst = fmax(worst, v3_norm(total));
+        touch = fmax(touch, v3_norm(run.touch_force[0]));
+        double h;
+        least = fmin(least, closest(run.state[0], run.state[1], &h) - reach);
+    }
+    check(!failed, "%d steps: %s", steps, failed ? report.message : "ok");
+    check(touch > 0.5 * push, "the ropes touch: the largest contact force %.4g N (tip force %.3g N)",
+          touch, push);
+    const double impulse = push * steps * dt;
+    printf("  momentum: sum of changes less the tip force's impulse, largest over the steps "
+           "%.3g kg m/s (the impulse %.4g kg m/s; %.3g of it)\n", worst, impulse,
+           worst / impulse);
+    check(worst < 1e-12 * impulse + 1e-15, "momentum: the rods' momentum changes sum to the "
+          "external impulse to round-off at every step (%.3g of it)", worst / impulse);
+    check(least > -0.05 * reach, "no pass-through at any step: least gap %.3g m", least);
+    printf("  sweeps: %ld in %ld steps, %ld Newton solves; %ld steps short of the tolerance\n",
+           run.sweeps, run.steps, run.solves, run.unsettled);
     rod_set_run_destroy(&run);
     rod_set_release(&set);
 }
@@ -316,6 +497,8 @@ static void test_capstan(void)
     printf("  while sliding (%.1f .. %.1f s): the hand's force %.4f .. %.4f N; the weight rose "
            "%.4g m while the hand came down %.4g m\n", t_measure, t_end, lo, hi, rise,
            pull * (t_end - t_measure));
+    printf("  the step: %ld Newton solves and %ld sweeps in %ld steps, %ld short of the "
+           "tolerance\n", run.solves, run.sweeps, run.steps, run.unsettled);
     check(rise > 0.8 * pull * (t_end - t_measure),
           "the rope slides over the bar: the weight rises with the hand's pull");
     check_rel("capstan: the hand's mean force while sliding (N) against W e^(mu pi)",
@@ -331,6 +514,8 @@ static void test_capstan(void)
 int main(void)
 {
     test_far_apart();
+    test_order();
+    test_momentum();
     test_crossing(0.0);
     test_crossing(0.0005); /* within CROSS_SNAP (0.8 mm): the pair acts at the node */
     test_crossing(0.002);  /* inside the segment */

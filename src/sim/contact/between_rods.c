@@ -8,6 +8,7 @@
 #include "base/vec3.h"
 #include "sim/contact/surface_contact.h"
 #include "sim/geometry/proximity.h"
+#include "sim/rod_set.h"
 
 /* Pairs per node a rod's list holds: each segment keeps its nearest
  * segment of each other rod (rods' count ROD_SET_MAX: 2 is room for a
@@ -21,8 +22,22 @@
  * other rod by 1 - sqrt(1 - 0.2^2) = 2 % of the contact distance */
 #define CROSS_SNAP 0.2
 
-rod_link *rod_link_create(int count, const rod_model *models)
+/* Whether rod k holds the pairs with rod j: the shorter segments (m, at
+ * rest), then the thinner, then the name first in alphabetical order; a
+ * total order, so that every contact has one holder whatever the rods'
+ * listing order */
+static int holds(const rod_model *models, const char *const *names, int k, int j)
 {
+    const double sk = models[k].length / (models[k].nodes - 1);
+    const double sj = models[j].length / (models[j].nodes - 1);
+    if (fabs(sk - sj) > 1e-9 * fmax(sk, sj)) return sk < sj;
+    if (models[k].diameter != models[j].diameter) return models[k].diameter < models[j].diameter;
+    return strcmp(names[k], names[j]) < 0;
+}
+
+rod_link *rod_link_create(int count, const rod_model *models, const char *const *names)
+{
+    if (count > ROD_SET_MAX) return NULL;
     rod_link *l = calloc(1, sizeof *l);
     if (!l) return NULL;
     l->count = count;
@@ -30,9 +45,20 @@ rod_link *rod_link_create(int count, const rod_model *models)
     l->cross = calloc((size_t)count, sizeof *l->cross);
     l->start = calloc((size_t)count, sizeof *l->start);
     l->stepped = calloc((size_t)count, sizeof *l->stepped);
-    if (!l->cross || !l->start || !l->stepped) {
+    l->owner = calloc((size_t)count * (size_t)count, sizeof *l->owner);
+    l->order = calloc((size_t)count, sizeof *l->order);
+    l->involved = calloc((size_t)count, sizeof *l->involved);
+    l->rank = calloc((size_t)count, sizeof *l->rank);
+    l->relax = malloc((size_t)count * (size_t)count * sizeof *l->relax);
+    if (!l->cross || !l->start || !l->stepped || !l->owner || !l->order || !l->involved ||
+        !l->rank || !l->relax) {
         rod_link_destroy(l);
         return NULL;
+    }
+    for (int x = 0; x < count * count; x++) l->relax[x] = 1.0;
+    for (int k = 0; k < count; k++) { /* the rank: how many rods hold pairs with it at rest */
+        l->rank[k] = 0;
+        for (int j = 0; j < count; j++) l->rank[k] += j != k && holds(models, names, j, k);
     }
     for (int k = 0; k < count; k++) {
         rod_cross *c = &l->cross[k];
@@ -50,7 +76,8 @@ rod_link *rod_link_create(int count, const rod_model *models)
         c->candidate = calloc((size_t)c->capacity, sizeof *c->candidate);
         c->last = calloc(n, 1);
         l->start[k] = calloc(n * 3, sizeof(double));
-        if (!c->pair || !c->load || !c->node_force || !c->push || !c->node_map || !c->mapped || !c->used || !c->paired || !c->last || !c->candidate ||
+        if (!c->pair || !c->load || !c->node_force || !c->push || !c->node_map || !c->mapped ||
+            !c->used || !c->paired || !c->last || !c->candidate ||
             !l->start[k]) {
             rod_link_destroy(l);
             return NULL;
@@ -78,19 +105,13 @@ void rod_link_destroy(rod_link *l)
     free(l->cross);
     free(l->start);
     free(l->stepped);
+    free(l->owner);
+    free(l->order);
+    free(l->involved);
+    free(l->rank);
+    free(l->relax);
     free(l);
 }
-
-void rod_link_begin(rod_link *l, const rod_state *const *states)
-{
-    for (int k = 0; k < l->count; k++) {
-        memcpy(l->start[k], states[k]->position, (size_t)states[k]->nodes * 3 * sizeof(double));
-        l->stepped[k] = 0;
-    }
-    l->closest = INFINITY;
-}
-
-void rod_link_done(rod_link *l, int k) { l->stepped[k] = 1; }
 
 /* The box of positions (nodes x 3) grown by `grow` (m) */
 static void box_of(const double *p, int nodes, double grow, double lo[3], double hi[3])
@@ -135,7 +156,7 @@ static int same_region(const rod_cross *c, int upto, int rod, double sa, double 
  * this rod's at alpha of segment a, at the start of the step), j's point
  * and its velocity over the step; dist (m) their distance, for closest */
 static void fill_pair(rod_link *l, rod_cross_pair *p, const double *pa, const double *pb,
-                     const rod_state *const *states, int j, double dt, double dist)
+                     const rod_state *const *states, int j, double dist)
 {
     double ra[3], rb[3], d[3];
     for (int e = 0; e < 3; e++) {
@@ -155,19 +176,12 @@ static void fill_pair(rod_link *l, rod_cross_pair *p, const double *pa, const do
     }
     v3_scale(p->normal, d, 1.0 / len);
     v3_copy(p->point0, rb);
-    if (l->stepped[j]) { /* its actual motion over this step */
-        const double *now = states[j]->position;
-        for (int e = 0; e < 3; e++) {
-            const double end =
-                (1.0 - p->beta) * now[3 * p->b + e] + p->beta * now[3 * p->b + 3 + e];
-            p->velocity[e] = (end - rb[e]) / dt;
-        }
-    } else { /* its velocity at the start */
-        double v0[3], v1[3];
-        global_velocity(states[j], p->b, v0);
-        global_velocity(states[j], p->b + 1, v1);
-        for (int e = 0; e < 3; e++) p->velocity[e] = (1.0 - p->beta) * v0[e] + p->beta * v1[e];
-    }
+    /* its velocity at the start, until it has solved the step */
+    double v0[3], v1[3];
+    global_velocity(states[j], p->b, v0);
+    global_velocity(states[j], p->b + 1, v1);
+    for (int e = 0; e < 3; e++) p->velocity[e] = (1.0 - p->beta) * v0[e] + p->beta * v1[e];
+    v3_copy(p->end_velocity, p->velocity);
     v3_set(p->force, 0.0, 0.0, 0.0);
 }
 
@@ -176,8 +190,7 @@ static void fill_pair(rod_link *l, rod_cross_pair *p, const double *pa, const do
  * rod is held at every node, as by a cylinder surface), against j's
  * nearest segment; -1 when out of room */
 static int node_pairs(rod_link *l, int k, int j, const rod_model *models, const double *pa,
-                      const double *pb, const rod_state *const *states, double dt,
-                      double threshold)
+                      const double *pb, const rod_state *const *states, double threshold)
 {
     rod_cross *c = &l->cross[k];
     const rod_model *mk = &models[k], *mj = &models[j];
@@ -202,7 +215,7 @@ static int node_pairs(rod_link *l, int k, int j, const rod_model *models, const 
         p.reach = reach;
         p.friction = 0.5 * (mk->self_friction + mj->self_friction);
         c->used[i] = 1;
-        fill_pair(l, &p, pa, pb, states, j, dt, best);
+        fill_pair(l, &p, pa, pb, states, j, best);
         c->pair[c->count++] = p;
     }
     return 0;
@@ -210,14 +223,12 @@ static int node_pairs(rod_link *l, int k, int j, const rod_model *models, const 
 
 /* Rod k's pairs with rod j into c (appended); -1 when out of room */
 static int pairs_with(rod_link *l, int k, int j, const rod_model *models,
-                      const rod_state *const *states, double dt, double margin)
+                      const rod_state *const *states, double margin)
 {
     rod_cross *c = &l->cross[k];
     const rod_model *mk = &models[k], *mj = &models[j];
     const double *pa = l->start[k];
-    /* j's path over the step: from its start to where it is (stepped), or
-     * from where it is along its velocity */
-    const double *pb = l->stepped[j] ? l->start[j] : states[j]->position;
+    const double *pb = l->start[j];
     const double reach = 0.5 * (mk->diameter + mj->diameter);
     const double threshold = reach + margin;
     double alo[3], ahi[3], blo[3], bhi[3];
@@ -239,7 +250,7 @@ static int pairs_with(rod_link *l, int k, int j, const rod_model *models,
         longest = fmax(longest, v3_norm(along));
     }
     if (longest < 2.0 * CROSS_SNAP * reach)
-        return node_pairs(l, k, j, models, pa, pb, states, dt, threshold);
+        return node_pairs(l, k, j, models, pa, pb, states, threshold);
     const int first = c->count;
     for (int a = 0; a + 1 < mk->nodes; a++) {
         double slo[3], shi[3];
@@ -311,25 +322,169 @@ static int pairs_with(rod_link *l, int k, int j, const rod_model *models,
             c->used[p.a] = c->used[p.a + 1] = 1;
         }
         c->paired[p.a] = 1;
-        fill_pair(l, &p, pa, pb, states, j, dt, p.force[0]);
+        fill_pair(l, &p, pa, pb, states, j, p.force[0]);
         v3_set(p.force, 0.0, 0.0, 0.0);
         c->pair[c->count++] = p;
     }
     return 0;
 }
 
-/* The reactions of the other rods' pairs with rod k on its nodes */
-static void gather_loads(rod_link *l, int k)
+/* Rod j's compliance (m/s per N) at the point beta of its segment b: its
+ * nodes' by the weights squared (an end node's twice, a held one's 0) */
+static double point_push(const rod_cross *c, int b, double beta)
 {
+    double push[2];
+    for (int e = 0; e < 2; e++) {
+        const int i = b + e;
+        const int end = i == 0 ? 0 : i == c->nodes - 1 ? 1 : -1;
+        push[e] = end < 0 ? c->node_push : c->held[end] ? 0.0 : 2.0 * c->node_push;
+    }
+    return (1.0 - beta) * (1.0 - beta) * push[0] + beta * beta * push[1];
+}
+
+/* Rod j's point at fraction beta of its segment b: its position (m) and
+ * velocity (m/s), global, now */
+static void point_now(const rod_state *s, int b, double beta, double pos[3], double vel[3])
+{
+    double v0[3], v1[3];
+    global_velocity(s, b, v0);
+    global_velocity(s, b + 1, v1);
+    for (int e = 0; e < 3; e++) {
+        pos[e] = (1.0 - beta) * s->position[3 * b + e] + beta * s->position[3 * b + 3 + e];
+        vel[e] = (1.0 - beta) * v0[e] + beta * v1[e];
+    }
+}
+
+/* m: how far rods k and j may close over the step, at their speeds (m/s)
+ * at its start, beyond the contact distance */
+static double margin_of(const rod_model *models, const double *speed, int k, int j, double dt)
+{
+    return CROSS_MARGIN * fmin(models[k].diameter, models[j].diameter) +
+           2.0 * dt * (speed[k] + speed[j]);
+}
+
+/* The mean height (m, against `down`) of rod k's nodes inside rod j's box
+ * grown by grow (m); NAN when none */
+static double height_near(const rod_link *l, const rod_model *models, int k, int j,
+                          double grow, const double down[3])
+{
+    double lo[3], hi[3], sum = 0.0;
+    int count = 0;
+    box_of(l->start[j], models[j].nodes, grow, lo, hi);
+    for (int i = 0; i < models[k].nodes; i++) {
+        const double *x = &l->start[k][3 * i];
+        if (x[0] < lo[0] || x[0] > hi[0] || x[1] < lo[1] || x[1] > hi[1] || x[2] < lo[2] ||
+            x[2] > hi[2])
+            continue;
+        sum -= v3_dot(x, down);
+        count++;
+    }
+    return count ? sum / count : NAN;
+}
+
+/* Whether rod k holds the pairs with rod j over this step: under gravity
+ * the one above where they are near (it rests on the other: the other's
+ * motion, a support's, changes little with the force, and the sweeps
+ * settle in one or two), else the rule of rest (holds) */
+static int holds_now(const rod_link *l, const rod_model *models, int k, int j, double margin)
+{
+    const double reach = 0.5 * (models[k].diameter + models[j].diameter);
+    double down[3];
+    v3_add(down, models[k].distributed_force, models[j].distributed_force);
+    const double weight = v3_norm(down);
+    if (weight > 0.0 && models[k].physics.gravity && models[j].physics.gravity) {
+        v3_scale(down, down, 1.0 / weight);
+        const double hk = height_near(l, models, k, j, reach + margin, down);
+        const double hj = height_near(l, models, j, k, reach + margin, down);
+        if (isfinite(hk) && isfinite(hj) && fabs(hk - hj) > 0.01 * reach) return hk > hj;
+    }
+    return l->rank[k] < l->rank[j];
+}
+
+/* l->order: each owner before the rods it holds pairs with (the rod held
+ * by the fewest rods not yet placed first, then the rank) */
+static void order_owners_first(rod_link *l)
+{
+    const int n = l->count;
+    unsigned char placed[ROD_SET_MAX] = {0};
+    for (int x = 0; x < n; x++) {
+        int best = -1, best_held = 0;
+        for (int k = 0; k < n; k++) {
+            if (placed[k]) continue;
+            int held = 0;
+            for (int j = 0; j < n; j++) held += !placed[j] && l->owner[j * n + k];
+            if (best < 0 || held < best_held || (held == best_held && l->rank[k] < l->rank[best]))
+                best = k, best_held = held;
+        }
+        placed[best] = 1;
+        l->order[x] = best;
+    }
+}
+
+int rod_link_begin(rod_link *l, const rod_model *models, const rod_state *const *states,
+                   double dt)
+{
+    const int n = l->count;
+    l->closest = INFINITY;
+    for (int k = 0; k < n; k++) {
+        memcpy(l->start[k], states[k]->position, (size_t)states[k]->nodes * 3 * sizeof(double));
+        l->stepped[k] = l->involved[k] = 0;
+        rod_cross *c = &l->cross[k];
+        c->count = 0;
+        memset(c->used, 0, (size_t)c->nodes);
+        memcpy(c->last, c->paired, (size_t)c->nodes);
+        memset(c->paired, 0, (size_t)c->nodes);
+        memset(c->load, 0, (size_t)c->nodes * 3 * sizeof(double));
+        c->has_load = 0;
+    }
+    double speed[ROD_SET_MAX];
+    for (int k = 0; k < n; k++) speed[k] = fastest(states[k]);
+    for (int k = 0; k < n; k++)
+        for (int j = k + 1; j < n; j++) {
+            const double margin = margin_of(models, speed, k, j, dt);
+            const double grow = 0.5 * (models[k].diameter + models[j].diameter) + margin;
+            double klo[3], khi[3], jlo[3], jhi[3];
+            box_of(l->start[k], models[k].nodes, grow, klo, khi);
+            box_of(l->start[j], models[j].nodes, 0.0, jlo, jhi);
+            int apart = 0;
+            for (int e = 0; e < 3; e++) apart |= klo[e] > jhi[e] || jlo[e] > khi[e];
+            /* apart: neither holds pairs with the other (nothing compared) */
+            const int k_holds = !apart && holds_now(l, models, k, j, margin);
+            l->owner[k * n + j] = k_holds;
+            l->owner[j * n + k] = !apart && !k_holds;
+        }
+    order_owners_first(l);
+    for (int k = 0; k < n; k++) {
+        for (int j = 0; j < n; j++) {
+            if (!l->owner[k * n + j]) continue;
+            if (pairs_with(l, k, j, models, states, margin_of(models, speed, k, j, dt)) < 0)
+                return k;
+        }
+        rod_cross *c = &l->cross[k];
+        for (int q = 0; q < c->count; q++) {
+            rod_cross_pair *p = &c->pair[q];
+            l->involved[k] = l->involved[p->rod] = 1;
+            p->yield = point_push(&l->cross[p->rod], p->b, p->beta); /* its last residual's */
+            v3_set(p->applied, 0.0, 0.0, 0.0);
+        }
+    }
+    return -1;
+}
+
+void rod_link_before(rod_link *l, int k)
+{
+    /* the pairs others hold with this rod: their last forces, opposite */
     rod_cross *c = &l->cross[k];
     memset(c->load, 0, (size_t)c->nodes * 3 * sizeof(double));
     c->has_load = 0;
     for (int j = 0; j < l->count; j++) {
         if (j == k) continue;
-        const rod_cross *o = &l->cross[j];
+        rod_cross *o = &l->cross[j];
         for (int q = 0; q < o->count; q++) {
-            const rod_cross_pair *p = &o->pair[q];
-            if (p->rod != k || !(v3_norm(p->force) > 0.0)) continue;
+            rod_cross_pair *p = &o->pair[q];
+            if (p->rod != k) continue;
+            v3_copy(p->applied, p->force);
+            if (!(v3_norm(p->force) > 0.0)) continue;
             v3_axpy(&c->load[3 * p->b], -(1.0 - p->beta), p->force);
             v3_axpy(&c->load[3 * p->b + 3], -p->beta, p->force);
             c->has_load = 1;
@@ -337,24 +492,89 @@ static void gather_loads(rod_link *l, int k)
     }
 }
 
-int rod_link_prepare(rod_link *l, int k, const rod_model *models,
-                     const rod_state *const *states, double dt)
+/* After rod k's solve, pair p (held by another rod, on k's point): the
+ * motion of k's point without the pair's force, less the one the owner
+ * took (p->change); returns the change of the pair's force it implies, as
+ * for a contact held hard (the relative velocity's change over the pair's
+ * compliance), N */
+static double pair_after(rod_cross_pair *p, const rod_cross *ck, const rod_state *sk,
+                         const rod_state *owner, double theta, double dt)
 {
-    rod_cross *c = &l->cross[k];
-    gather_loads(l, k);
-    c->count = 0;
-    memset(c->used, 0, (size_t)c->nodes);
-    memcpy(c->last, c->paired, (size_t)c->nodes);
-    memset(c->paired, 0, (size_t)c->nodes);
-    const double vk = fastest(states[k]);
-    int rc = 0;
-    for (int j = 0; j < k && rc == 0; j++) { /* the earlier rods: stepped already */
-        /* how far the two may close over the step, at their speeds at its start */
-        const double margin = CROSS_MARGIN * fmin(models[k].diameter, models[j].diameter) +
-                              2.0 * dt * (vk + fastest(states[j]));
-        rc = pairs_with(l, k, j, models, states, dt, margin);
+    double pos[3], end[3];
+    point_now(sk, p->b, p->beta, pos, end);
+    p->yield = point_push(ck, p->b, p->beta);
+    double change = 0.0;
+    for (int e = 0; e < 3; e++) {
+        const double mean = (pos[e] - p->point0[e]) / dt, last = end[e];
+        p->change[e] = mean - p->velocity[e];
+        p->change[3 + e] = last - p->end_velocity[e];
+        change = fmax(change, fmax(fabs(p->change[e]) / theta, fabs(p->change[3 + e])));
     }
-    return rc < 0 ? -1 : c->count;
+    const double compliance = p->own > 0.0 ? p->own : p->yield;
+    double gap[3], mine[3];
+    const double *q = owner->position;
+    for (int e = 0; e < 3; e++)
+        mine[e] = (1.0 - p->alpha) * q[3 * p->a + e] + p->alpha * q[3 * p->a + 3 + e];
+    v3_sub(gap, mine, pos);
+    /* a pair apart, with no force, changes none while it stays apart */
+    const int apart = !(v3_norm(p->force) > 0.0) && v3_norm(gap) > p->reach;
+    return apart || !(compliance > 0.0) ? 0.0 : change / compliance;
+}
+
+void rod_link_after(rod_link *l, int k, const rod_model *models, const rod_state *const *states,
+                    double dt)
+{
+    l->stepped[k] = 1;
+    const double theta = models[k].options.theta;
+    for (int j = 0; j < l->count; j++) {
+        if (j == k) continue;
+        rod_cross *o = &l->cross[j];
+        for (int q = 0; q < o->count; q++) {
+            rod_cross_pair *p = &o->pair[q];
+            if (p->rod != k) continue;
+            const double change = pair_after(p, &l->cross[k], states[k], states[j], theta, dt);
+            if (l->stepped[j]) l->mismatch = fmax(l->mismatch, change);
+            l->largest = fmax(l->largest, v3_norm(p->force));
+        }
+    }
+}
+
+/* Aitken's relaxation of the sweeps' fixed point (as for partitioned
+ * fluid-structure coupling): the share of the change taken next,
+ * -relax r_before . (r - r_before) / |r - r_before|^2 over all pairs,
+ * within [0.05, 2] */
+#define RELAX_LEAST 0.05
+#define RELAX_MOST 2.0
+
+void rod_link_relax(rod_link *l, int sweep)
+{
+    const int n = l->count;
+    for (int k = 0; k < n; k++) /* each rod's pairs with each other rod on their own */
+        for (int j = 0; j < n; j++) {
+            if (!l->owner[k * n + j]) continue;
+            double num = 0.0, den = 0.0;
+            for (int q = 0; q < l->cross[k].count; q++) {
+                const rod_cross_pair *p = &l->cross[k].pair[q];
+                if (p->rod != j) continue;
+                for (int e = 0; e < 6; e++) {
+                    const double d = p->change[e] - p->change_before[e];
+                    num += p->change_before[e] * d;
+                    den += d * d;
+                }
+            }
+            double *relax = &l->relax[k * n + j];
+            if (sweep > 0 && den > 0.0)
+                *relax = fmin(RELAX_MOST, fmax(RELAX_LEAST, -*relax * num / den));
+            for (int q = 0; q < l->cross[k].count; q++) {
+                rod_cross_pair *p = &l->cross[k].pair[q];
+                if (p->rod != j) continue;
+                for (int e = 0; e < 3; e++) {
+                    p->velocity[e] += *relax * p->change[e];
+                    p->end_velocity[e] += *relax * p->change[3 + e];
+                }
+                memcpy(p->change_before, p->change, sizeof p->change);
+            }
+        }
 }
 
 /* The velocity map of node i composed with (I + coef G): its own block,
@@ -386,9 +606,9 @@ static void solve_pair(rod_cross *c, rod_cross_pair *p, const double *pos0, doub
     /* the pair's relative motion without its own force: d at the end of
      * the step, z the end velocity (the other rod's point on its path) */
     double d[3], z[3];
-    for (int e = 0; e < 3; e++) {
+    for (int e = 0; e < 3; e++) { /* the other rod's point without this force on it */
         d[e] = -(p->point0[e] + dt * p->velocity[e]);
-        z[e] = -p->velocity[e];
+        z[e] = -p->end_velocity[e];
     }
     for (int e = 0; e < 2; e++)
         for (int x = 0; x < 3; x++) {
@@ -398,8 +618,8 @@ static void solve_pair(rod_cross *c, rod_cross_pair *p, const double *pos0, doub
     self_pair law = {0};
     law.a = p->a;
     v3_copy(law.normal, p->normal);
-    law.compliance = weight[0] * weight[0] * c->push[node[0]] +
-                     weight[1] * weight[1] * c->push[node[1]];
+    p->own = weight[0] * weight[0] * c->push[node[0]] + weight[1] * weight[1] * c->push[node[1]];
+    law.compliance = p->own;
     law.share = 1.0;
     c->law.diameter = p->reach;
     c->law.friction = p->friction;

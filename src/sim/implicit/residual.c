@@ -245,6 +245,7 @@ static void end_velocity(implicit_work *w, const rod_model *m, const end_conditi
     const double mass = m->mass_per_length;
     for (int k = 0; k < 3; k++) applied[k] = n_right[k] - n_left[k] + wb * m->distributed_force[k];
     if (w->point_force) v3_axpy(applied, w->point_factor, &w->point_force[3 * b]);
+    if (w->cross && w->cross->has_load) v3_axpy(applied, 1.0, &w->cross->load[3 * b]);
     double *v1 = &w->vel1[3 * b], *vb = &w->vbar[3 * b];
     const double *v0 = &w->vel0[3 * b];
     if (e->held && !e->sliding) {
@@ -438,6 +439,10 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
                                         w->self->node_map, w->self->mapped);
         if (!w->self_off)
             rod_self_contact_laws(w->self, w->pos0, w->vel1, w->vbar, w->node_push, dt, theta);
+    }
+    if (w->cross) { /* the other rods' pairs on this one read its compliance */
+        w->cross->node_push = push;
+        w->cross->held[0] = w->ends[0].held, w->cross->held[1] = w->ends[1].held;
     }
     if (contact && w->cross && w->cross->count) {
         const int held[2] = {w->ends[0].held, w->ends[1].held};
