@@ -31,8 +31,9 @@ A throw (the tail on side S of the wound):
   that keeps the long end's length (straight at the start, wound at the end)
   in to RF by half a turn, so that they pass under the holder clear of the
   skin;
-- the holder runs REACH along its axis onto the tail, the forceps with it,
-  and its jaws close on the tail (the grasp);
+- the holder runs REACH along its axis onto the tail, the forceps LEAD
+  further (the long end keeps the turn near the jaws' tip), and its jaws
+  close on the tail (the grasp);
 - the holder backs out along its axis while the forceps draw the long end
   toward the jaws' tip, meant to strip the turns off the tip over the held
   tail;
@@ -57,6 +58,7 @@ WRAP_R = 2.4                 # mm: a turn's radius round the jaws (their 1.7 + d
 PITCH = 1.6                  # back along the jaws per turn
 XF = -6.0                    # the forceps' circle along the holder's axis (from its tip)
 REACH = 14.0                 # the holder's run along its axis to the tail
+LEAD = 8.0                   # mm: the forceps run this much further along it
 TAIL_GRASP = 21.0            # mm: where the holder takes the tail (-y, on side -1)
 TAIL_END = 30.0              # the tail's end: -y (on side -1), lying on the skin
 STUB = 4.0                   # mm: the long end beyond the forceps, along their tines
@@ -272,13 +274,15 @@ def throw(holder, forceps, side, wraps, sense, t):
     forceps.to(t + 0.4, pos=fw)
     holder.to(t + 0.4)
     t += 0.4
-    # the holder runs to the tail, opening; the forceps follow
+    # the holder runs to the tail, opening; the forceps run LEAD further, so
+    # that the long end draws the turn toward the jaws' tip against the
+    # strand from the puncture, which drags it back toward the box lock
     holder.to(t + 0.4, pos=tip_wrap(side) + 0.4 * REACH * x, jaw=0.22)
     inward = -r[:, 2]                          # the circle ends on the +x side
-    forceps.to(t + 0.4, pos=fw + 0.4 * REACH * x + 3.0 * inward)
+    forceps.to(t + 0.4, pos=fw + 0.4 * (REACH + LEAD) * x + 3.0 * inward)
     t += 0.4
     holder.to(t + 0.4, pos=tail_grasp(side) + 0.5 * x)
-    forceps.to(t + 0.4, pos=fw + REACH * x + 3.0 * inward)
+    forceps.to(t + 0.4, pos=fw + (REACH + LEAD) * x + 3.0 * inward)
     t += 0.4
     holder.to(t + 0.2, jaw=0.0)                # the grasp
     forceps.to(t + 0.2)
