@@ -112,7 +112,7 @@ typedef struct rod_puncture {
 /* The most punctures a run holds (given plus made by the needle). */
 #define ROD_MAX_PUNCTURES 16
 /* The most material points a puncture in an elastic pad bears on. */
-#define ROD_PATCH_NODES 256
+#define ROD_PATCH_NODES 512
 
 /* Surgical instruments (scene [instrument], sim/instrument.h): rigid tools
  * driven along a path of poses of their jaws' tip, whose capsules the thread
