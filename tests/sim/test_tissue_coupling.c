@@ -139,9 +139,8 @@ static void bad_input(void)
 /* scenes/wound_closure.ini as it is (linear tets of 6 mm, 2 mm at the
  * wound, pretension 0.3): as the ends rise the wound's opening at the stitch
  * falls at every sample (every 0.1 s) once the pull has begun, until the
- * lips meet or the pull ends; it ends under a tenth of its rest (these stiff
- * linear tets close it to 0.07 mm with the holes' pull spread by the patch's
- * kernel, draft-wound-refinement.md; finer or quadratic tets leave it open);
+ * lips meet or the pull ends; it ends under a tenth of its rest (these
+ * linear tets close it at 1.26 s; draft-wound-refinement.md);
  * the holes' forces on the pad point towards each other. */
 static void stitch_tightened(void)
 {

@@ -45,14 +45,17 @@ int tissue_coupling_pad(const rod_model *m)
     return -1;
 }
 
-/* The tet whose corners (where they are now) hold p, or the one it is
- * least outside of (the needle's crossing of the box may lie just off the
- * deformed pad), and its barycentric weights by the corners. */
+/* The tet whose corners (where they are now) hold p, or, outside every
+ * tet (a hole on the top face lies above a pretensioned pad, whose top
+ * sinks as it is stretched), the tet whose point nearest p (its weights
+ * clamped into it) is nearest; and its barycentric weights by the corners.
+ * The least negative weight is no distance: it linked a wound scene's
+ * hole 4 to 8 mm from where it is, a different point on every mesh. */
 static void locate_deformed(tissue_solid *t, const double p[3], int *tet, double bary[4])
 {
     const int tets = tissue_tet_count(t), per = tissue_nodes_per_tet(t), *tt = tissue_tets(t);
     const double *x = tissue_positions(t);
-    double best = -HUGE_VAL;
+    double best = HUGE_VAL; /* m: the distance from p to the tet's clamped point */
     *tet = 0;
     bary[0] = 1.0;
     bary[1] = bary[2] = bary[3] = 0.0;
@@ -77,18 +80,24 @@ static void locate_deformed(tissue_solid *t, const double p[3], int *tet, double
         }
         w[0] = 1.0 - w[1] - w[2] - w[3];
         const double worst = fmin(fmin(w[0], w[1]), fmin(w[2], w[3]));
-        if (worst > best) {
-            best = worst;
+        if (worst >= 0.0) { /* inside */
+            *tet = e;
+            memcpy(bary, w, sizeof w);
+            return;
+        }
+        double sum = 0.0, q[3] = {0.0, 0.0, 0.0};
+        for (int k = 0; k < 4; k++) sum += w[k] = fmax(w[k], 0.0);
+        for (int k = 0; k < 4; k++) {
+            w[k] /= sum;
+            v3_axpy(q, w[k], &x[3 * tt[per * e + k]]);
+        }
+        v3_sub(d, p, q);
+        const double dist = v3_norm(d);
+        if (dist < best) {
+            best = dist;
             *tet = e;
             memcpy(bary, w, sizeof w);
         }
-        if (worst >= 0.0) break;
-    }
-    /* outside every tet: the nearest one's weights clamped into it */
-    if (best < 0.0) {
-        double sum = 0.0;
-        for (int k = 0; k < 4; k++) sum += bary[k] = fmax(bary[k], 0.0);
-        for (int k = 0; k < 4; k++) bary[k] /= sum;
     }
 }
 
