@@ -2,7 +2,7 @@
  * several sizes, linear and quadratic tets: the wound's gap at the stitch at
  * rest, half way through the pull (1 s) and at the end (2.5 s; 0 once the
  * lips meet), per mesh, and the differences between successive meshes of
- * one order; CPU time per run. A study: it reports,
+ * one order; the gap every 0.5 s and the closing time; CPU time per run. A study: it reports,
  * never fails (a run that fails is named with its message).
  *
  *   bench_wound_refine                 every mesh (minutes)
