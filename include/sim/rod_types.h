@@ -112,7 +112,7 @@ typedef struct rod_puncture {
 /* The most punctures a run holds (given plus made by the needle). */
 #define ROD_MAX_PUNCTURES 16
 /* The most material points a puncture in an elastic pad bears on. */
-#define ROD_PATCH_SAMPLES 7
+#define ROD_PATCH_NODES 512
 
 /* Surgical instruments (scene [instrument], sim/instrument.h): rigid tools
  * driven along a path of poses of their jaws' tip, whose capsules the thread
@@ -204,11 +204,9 @@ typedef struct rod_puncture_state {
     int linked;        /* 1: tet, bary, offset and compliance are set */
     int tet;           /* the pad's tet holding it */
     double bary[4];    /* its barycentric weights there */
-    int samples;       /* the material points the thread bears on, of equal weight: the
-                          point itself (sample 0) and those of the pad a patch radius
-                          around it (tissue_patch_samples) */
-    int sample_tet[ROD_PATCH_SAMPLES];
-    double sample_bary[ROD_PATCH_SAMPLES][4];
+    int patch_nodes;   /* the pad's nodes the thread bears on (tissue_patch_weights): */
+    int patch_node[ROD_PATCH_NODES];      /* their indices */
+    double patch_weight[ROD_PATCH_NODES]; /* their shares of the force (sum 1) */
     double offset[3];  /* m: point - the material point's position (constant) */
     double compliance[9]; /* m/N, 3 x 3 row-major: the point's static displacement per
                              newton at it, at the pad's last equilibrium */

@@ -75,27 +75,31 @@ int tissue_locate(const tissue_solid *t, const double p[3], int *tet, double bar
  * factorises once; returns 0, or -1 with a message. */
 int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], double dt, double C[9],
                             char *err, size_t errlen);
-/* A patch: material points (tets[s], bary[s], s < samples) of equal
- * weight, a force spread over them and their mean position. A point force's
- * dimple deepens without bound as the mesh is refined (about F / (E h));
- * spread over a patch of fixed size, the answer converges. */
-void tissue_apply_patch_force(tissue_solid *t, int samples, const int *tets, const double (*bary)[4],
+/* A patch: pad nodes (nodes[q], q < count) with weights summing to 1, a
+ * force spread over them by their weights and their weighted mean position.
+ * A point force's dimple deepens without bound as the mesh is refined
+ * (about F / (E h)); spread over a patch of fixed size by a smooth kernel
+ * integrated over the tets, the answer converges. */
+void tissue_apply_patch_force(tissue_solid *t, int count, const int *nodes, const double *weights,
                               const double f[3]);
-void tissue_patch_position(const tissue_solid *t, int samples, const int *tets,
-                           const double (*bary)[4], double x[3]);
-/* The patch around the material point (tet, bary): the point itself and
- * the points `radius` (m) from its rest place along +-x, +-y, +-z that lie
- * in the pad and not across the wound's slit from it; at most `max` (>= 1).
- * Writes tets, bary; returns the count. Searches the tets: not for the step
- * loop. */
-int tissue_patch_samples(const tissue_solid *t, int tet, const double bary[4], double radius,
-                         int max, int *tets, double (*bary_out)[4]);
-/* The compliance of `count` patches together (patch p: samples[p] material
- * points, in order in tets and bary): C as tissue_points_compliance's, the
- * displacement of patch o's mean position per newton spread over patch p;
- * samples NULL: one point each. */
-int tissue_patches_compliance(tissue_solid *t, int count, const int *samples, const int *tets,
-                              const double (*bary)[4], double dt, double *C, char *err,
+void tissue_patch_position(const tissue_solid *t, int count, const int *nodes,
+                           const double *weights, double x[3]);
+/* The patch around the material point (tet, bary): the kernel
+ * (1 - r^2 / radius^2)^2 about its rest place, r < radius (m), over the pad
+ * but not across the wound's slit from it, integrated against each tet's
+ * shape functions (the tets split until their pieces are a quarter of the
+ * radius), normalised: the nodes' weights of a load spread by that kernel,
+ * consistent with the elements. At most `max` nodes (a mesh finer than that
+ * allows: the first `max` found carry the patch). Writes nodes, weights;
+ * returns the count. Searches the tets: not for the step loop. */
+int tissue_patch_weights(const tissue_solid *t, int tet, const double bary[4], double radius,
+                         int max, int *nodes, double *weights);
+/* The compliance of `count` patches together (patch p: counts[p] nodes and
+ * weights, in order in nodes and weights): C as tissue_points_compliance's,
+ * the displacement of patch o's weighted position per newton spread over
+ * patch p. */
+int tissue_patches_compliance(tissue_solid *t, int count, const int *counts, const int *nodes,
+                              const double *weights, double dt, double *C, char *err,
                               size_t errlen);
 /* The same for `count` material points together (tets[p], bary[p]): C
  * (3 count x 3 count, row-major, m/N), block (o, p) how far point o moves

@@ -22,6 +22,8 @@
 
 #define MAX_NEWTON TISSUE_STATIC_ITERATIONS /* a step's Newton or a static solve's */
 #define MAX_HALVINGS 12
+/* the most material points tissue_points_compliance takes together */
+#define TISSUE_POINTS_MAX 16
 
 struct tissue_solid {
     tissue_config config;
@@ -874,30 +876,29 @@ int tissue_point_compliance(tissue_solid *t, int tet, const double bary[4], doub
 int tissue_points_compliance(tissue_solid *t, int count, const int *tets, const double (*bary)[4],
                              double dt, double *C, char *err, size_t errlen)
 {
-    return tissue_patches_compliance(t, count, NULL, tets, bary, dt, C, err, errlen);
-}
-
-/* The weights (shape functions over the samples, summed, / samples) of a
- * patch on the nodes of its tets: adds w * N_s to out for each sample. */
-static void patch_weights(const tissue_solid *t, int samples, const int *tets,
-                          const double (*bary)[4], double *node_index_weight, int *nodes_out,
-                          int *count_out)
-{
+    /* each point a patch of its tet's nodes weighted by their shape
+     * functions there */
+    int counts[TISSUE_POINTS_MAX], nodes[TISSUE_POINTS_MAX * 10];
+    double weights[TISSUE_POINTS_MAX * 10];
+    if (count > TISSUE_POINTS_MAX) {
+        snprintf(err, errlen, "%d points' compliance asked for, at most %d", count, TISSUE_POINTS_MAX);
+        return -1;
+    }
     const int npe = t->per_tet;
-    int count = 0;
-    for (int s = 0; s < samples; s++) {
+    for (int p = 0; p < count; p++) {
         double N[10];
-        tissue_shape(npe, bary[s], N);
+        tissue_shape(npe, bary[p], N);
+        counts[p] = npe;
         for (int q = 0; q < npe; q++) {
-            nodes_out[count] = t->mesh.tet[npe * tets[s] + q];
-            node_index_weight[count++] = N[q] / samples;
+            nodes[npe * p + q] = t->mesh.tet[npe * tets[p] + q];
+            weights[npe * p + q] = N[q];
         }
     }
-    *count_out = count;
+    return tissue_patches_compliance(t, count, counts, nodes, weights, dt, C, err, errlen);
 }
 
-int tissue_patches_compliance(tissue_solid *t, int count, const int *samples, const int *tets,
-                              const double (*bary)[4], double dt, double *C, char *err,
+int tissue_patches_compliance(tissue_solid *t, int count, const int *counts, const int *nodes,
+                              const double *weights, double dt, double *C, char *err,
                               size_t errlen)
 {
     const tissue_config *c = &t->config;
@@ -921,15 +922,11 @@ int tissue_patches_compliance(tissue_solid *t, int count, const int *samples, co
     const double scale = dt > 0.0 && newmark ? 2.0 : 1.0;
     int first = 0;
     for (int p = 0; p < count; p++) {
-        const int sp = samples ? samples[p] : 1;
-        int nodes_p[10 * 8], np;
-        double w_p[10 * 8];
-        patch_weights(t, sp > 8 ? 8 : sp, tets + first, bary + first, w_p, nodes_p, &np);
         for (int k = 0; k < 3; k++) {
             memset(rhs, 0, sizeof(double) * (size_t)t->dofs);
-            for (int q = 0; q < np; q++) {
-                int d = 3 * nodes_p[q] + k;
-                if (!t->fixed[d]) rhs[d] += w_p[q];
+            for (int q = first; q < first + counts[p]; q++) {
+                int d = 3 * nodes[q] + k;
+                if (!t->fixed[d]) rhs[d] += weights[q];
             }
             if (factor_solve(t, NULL, renew && p == 0 && k == 0, mass_coef, stiffness)) {
                 snprintf(err, errlen, "the tissue's matrix is not positive definite (nothing held?)");
@@ -938,71 +935,165 @@ int tissue_patches_compliance(tissue_solid *t, int count, const int *samples, co
             const double *sol = t->sol->x;
             int other = 0;
             for (int o = 0; o < count; o++) { /* every patch's answer to this force */
-                const int so = samples ? samples[o] : 1;
-                int nodes_o[10 * 8], no;
-                double w_o[10 * 8];
-                patch_weights(t, so > 8 ? 8 : so, tets + other, bary + other, w_o, nodes_o, &no);
                 for (int i = 0; i < 3; i++) {
                     double u = 0.0;
-                    for (int q = 0; q < no; q++) u += w_o[q] * sol[3 * nodes_o[q] + i];
+                    for (int q = other; q < other + counts[o]; q++) u += weights[q] * sol[3 * nodes[q] + i];
                     C[row * (3 * o + i) + 3 * p + k] = scale * u;
                 }
-                other += so;
+                other += counts[o];
             }
         }
-        first += sp;
+        first += counts[p];
     }
     return 0;
 }
 
-void tissue_apply_patch_force(tissue_solid *t, int samples, const int *tets, const double (*bary)[4],
+void tissue_apply_patch_force(tissue_solid *t, int count, const int *nodes, const double *weights,
                               const double f[3])
 {
-    for (int s = 0; s < samples; s++) {
-        const double share[3] = {f[0] / samples, f[1] / samples, f[2] / samples};
-        tissue_apply_point_force(t, tets[s], bary[s], share);
-    }
+    for (int q = 0; q < count; q++)
+        for (int i = 0; i < 3; i++) t->force[3 * nodes[q] + i] += weights[q] * f[i];
 }
 
-void tissue_patch_position(const tissue_solid *t, int samples, const int *tets,
-                           const double (*bary)[4], double x[3])
+void tissue_patch_position(const tissue_solid *t, int count, const int *nodes,
+                           const double *weights, double x[3])
 {
     x[0] = x[1] = x[2] = 0.0;
-    for (int s = 0; s < samples; s++) {
-        double at[3];
-        tissue_point_position(t, tets[s], bary[s], at);
-        for (int i = 0; i < 3; i++) x[i] += at[i] / samples;
+    for (int q = 0; q < count; q++)
+        for (int i = 0; i < 3; i++) x[i] += weights[q] * t->x[3 * nodes[q] + i];
+}
+
+/* One patch's integration (tissue_patch_weights): the kernel's centre and
+ * radius, the slit it may not reach across, the nodes' sums so far. */
+typedef struct patch_sum {
+    const tissue_solid *t;
+    double centre[3], radius; /* m */
+    int tet;                  /* the tet being integrated */
+    int count, max, over;     /* nodes so far; room; 1: more nodes than room */
+    int *nodes;
+    double *weights, total;   /* m^3: the kernel's integral over each node's shape function; all */
+} patch_sum;
+
+/* 1 when rest point p is across the wound's slit from the patch's centre
+ * (the cut tissue there does not carry the thread's pull) */
+static int across_slit(const tissue_solid *t, const double centre[3], const double p[3])
+{
+    const tissue_config *c = &t->config;
+    const int axis = t->mesh.slit_axis, along = 1 - axis;
+    if (axis < 0 || !c->has_wound) return 0;
+    const double top = c->center[2] + 0.5 * c->size[2], plane = c->wound[axis],
+                 lo = fmin(c->wound[along], c->wound[2 + along]),
+                 hi = fmax(c->wound[along], c->wound[2 + along]);
+    const int across = (centre[axis] - plane) * (p[axis] - plane) < 0.0 ||
+                       (p[axis] == plane && centre[axis] != plane);
+    return across && fmax(p[2], centre[2]) > top - c->wound[4] && p[along] > lo && p[along] < hi;
+}
+
+/* Adds the kernel times the tet's shape functions over the sub-tet of
+ * barycentric corners b (4 x 4) of volume vol (m^3): split in eight
+ * (its corners' and its edges' midpoints) `depth` times more, then a
+ * 4-point rule of degree 2 on each piece. */
+static void patch_integrate(patch_sum *ps, const double b[4][4], double vol, int depth)
+{
+    const tissue_solid *t = ps->t;
+    const int npe = t->per_tet, *tet = &t->mesh.tet[npe * ps->tet];
+    if (depth > 0) {
+        double m[4][4][4]; /* m[i][j]: the midpoint of corners i and j (m[i][i] the corner) */
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 4; j++)
+                for (int k = 0; k < 4; k++) m[i][j][k] = 0.5 * (b[i][k] + b[j][k]);
+        static const int child[8][4][2] = {
+            {{0, 0}, {0, 1}, {0, 2}, {0, 3}}, {{0, 1}, {1, 1}, {1, 2}, {1, 3}},
+            {{0, 2}, {1, 2}, {2, 2}, {2, 3}}, {{0, 3}, {1, 3}, {2, 3}, {3, 3}},
+            {{0, 1}, {0, 2}, {0, 3}, {1, 3}}, {{0, 1}, {0, 2}, {1, 2}, {1, 3}},
+            {{0, 2}, {0, 3}, {1, 3}, {2, 3}}, {{0, 2}, {1, 2}, {1, 3}, {2, 3}}};
+        for (int c = 0; c < 8; c++) {
+            double cb[4][4];
+            for (int i = 0; i < 4; i++) memcpy(cb[i], m[child[c][i][0]][child[c][i][1]], sizeof cb[i]);
+            patch_integrate(ps, (const double(*)[4])cb, vol / 8.0, depth - 1);
+        }
+        return;
+    }
+    static const double a = 0.5854101966249685, o = 0.1381966011250105;
+    for (int g = 0; g < 4; g++) {
+        double w[4] = {0.0, 0.0, 0.0, 0.0}, x[3] = {0.0, 0.0, 0.0}, N[10];
+        for (int i = 0; i < 4; i++)
+            for (int k = 0; k < 4; k++) w[k] += (i == g ? a : o) * b[i][k];
+        for (int k = 0; k < 4; k++)
+            for (int i = 0; i < 3; i++) x[i] += w[k] * t->mesh.rest[3 * tet[k] + i];
+        double d[3] = {x[0] - ps->centre[0], x[1] - ps->centre[1], x[2] - ps->centre[2]};
+        const double s2 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / (ps->radius * ps->radius);
+        if (s2 >= 1.0 || across_slit(t, ps->centre, x)) continue;
+        const double kernel = (1.0 - s2) * (1.0 - s2) * 0.25 * vol;
+        ps->total += kernel;
+        tissue_shape(npe, w, N);
+        for (int q = 0; q < npe; q++) {
+            if (N[q] == 0.0) continue;
+            int at = 0;
+            while (at < ps->count && ps->nodes[at] != tet[q]) at++;
+            if (at == ps->count) {
+                if (ps->count == ps->max) {
+                    ps->over = 1;
+                    continue;
+                }
+                ps->nodes[ps->count] = tet[q];
+                ps->weights[ps->count++] = 0.0;
+            }
+            ps->weights[at] += kernel * N[q];
+        }
     }
 }
 
-int tissue_patch_samples(const tissue_solid *t, int tet, const double bary[4], double radius,
-                         int max, int *tets, double (*bary_out)[4])
+int tissue_patch_weights(const tissue_solid *t, int tet, const double bary[4], double radius,
+                         int max, int *nodes, double *weights)
 {
     const tissue_mesh *m = &t->mesh;
-    const tissue_config *c = &t->config;
-    double N[10], centre[3] = {0.0, 0.0, 0.0};
-    tissue_shape(t->per_tet, bary, N);
-    for (int q = 0; q < t->per_tet; q++)
-        for (int i = 0; i < 3; i++) centre[i] += N[q] * m->rest[3 * m->tet[t->per_tet * tet + q] + i];
-    tets[0] = tet;
-    memcpy(bary_out[0], bary, sizeof bary_out[0]);
-    int count = 1;
-    const int axis = m->slit_axis, along = 1 - axis;
-    const double top = c->center[2] + 0.5 * c->size[2];
-    for (int d = 0; d < 6 && count < max; d++) {
-        double p[3] = {centre[0], centre[1], centre[2]};
-        p[d / 2] += d % 2 ? -radius : radius;
-        if (axis >= 0 && c->has_wound) { /* not across the slit from the point */
-            const double plane = c->wound[axis], lo = fmin(c->wound[along], c->wound[2 + along]),
-                         hi = fmax(c->wound[along], c->wound[2 + along]);
-            const int across = (centre[axis] - plane) * (p[axis] - plane) < 0.0 ||
-                               (p[axis] == plane && centre[axis] != plane);
-            if (across && fmax(p[2], centre[2]) > top - c->wound[4] && p[along] > lo && p[along] < hi)
-                continue;
-        }
-        if (tissue_locate(t, p, &tets[count], bary_out[count]) == 0) count++;
+    const int npe = t->per_tet;
+    patch_sum ps = {.t = t, .radius = radius, .max = max, .nodes = nodes, .weights = weights};
+    double N[10];
+    tissue_shape(npe, bary, N);
+    for (int q = 0; q < npe; q++)
+        for (int i = 0; i < 3; i++) ps.centre[i] += N[q] * m->rest[3 * m->tet[npe * tet + q] + i];
+    static const double corners[4][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};
+    for (int e = 0; e < m->tets; e++) {
+        const int *v = &m->tet[npe * e];
+        double lo[3], hi[3], longest = 0.0;
+        for (int i = 0; i < 3; i++) lo[i] = hi[i] = m->rest[3 * v[0] + i];
+        for (int k = 1; k < 4; k++)
+            for (int i = 0; i < 3; i++) {
+                lo[i] = fmin(lo[i], m->rest[3 * v[k] + i]);
+                hi[i] = fmax(hi[i], m->rest[3 * v[k] + i]);
+            }
+        int near = 1;
+        for (int i = 0; i < 3 && near; i++)
+            near = ps.centre[i] > lo[i] - radius && ps.centre[i] < hi[i] + radius;
+        if (!near) continue;
+        for (int i = 0; i < 3; i++) longest = fmax(longest, hi[i] - lo[i]);
+        /* pieces of a quarter of the radius or less: the kernel resolved */
+        int depth = 0;
+        while (depth < 5 && longest / (double)(1 << depth) > 0.25 * radius) depth++;
+        const double *X0 = m->rest + 3 * v[0];
+        double edge[3][3];
+        for (int k = 0; k < 3; k++)
+            for (int i = 0; i < 3; i++) edge[k][i] = m->rest[3 * v[k + 1] + i] - X0[i];
+        const double vol = fabs(edge[0][0] * (edge[1][1] * edge[2][2] - edge[1][2] * edge[2][1]) -
+                                edge[0][1] * (edge[1][0] * edge[2][2] - edge[1][2] * edge[2][0]) +
+                                edge[0][2] * (edge[1][0] * edge[2][1] - edge[1][1] * edge[2][0])) / 6.0;
+        ps.tet = e;
+        patch_integrate(&ps, corners, vol, depth);
     }
-    return count;
+    /* finer than room allows (ps.over): the nodes kept carry the patch */
+    if (!(ps.total > 0.0)) { /* the kernel missed every piece: the point's own weights */
+        for (int q = 0; q < npe && q < max; q++) {
+            nodes[q] = m->tet[npe * tet + q];
+            weights[q] = N[q];
+        }
+        return npe < max ? npe : max;
+    }
+    double sum = 0.0;
+    for (int q = 0; q < ps.count; q++) sum += weights[q];
+    for (int q = 0; q < ps.count; q++) weights[q] /= sum;
+    return ps.count;
 }
 
 double tissue_kinetic_energy(const tissue_solid *t)

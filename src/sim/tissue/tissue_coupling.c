@@ -19,11 +19,14 @@
  * linear 6 mm: the same CPU time and gap). */
 #define PAD_UPDATES 2
 
-/* m: the radius of the tissue a puncture's thread bears on. A point
- * force's dimple deepens as the mesh is refined (about F / (E h)), so the
- * stitch's answer would depend on the mesh; spread over points a fixed
- * distance around the hole it converges (0075-stitch-compliance.md). */
-#define PATCH_RADIUS 1e-3
+/* m: the support of the kernel (1 - r^2 / R^2)^2 a puncture's pull is
+ * spread over, integrated against the elements (tissue_patch_weights; its
+ * mean radius 0.82 mm). A point force's dimple deepens as the mesh is
+ * refined (about F / (E h)), and so did the old patch's, seven points of
+ * equal weight (its compliance 327, 444, 513 um/N at a hole on linear tets
+ * of 2, 1.3, 1 mm at the wound); the kernel's converges to the continuum's
+ * (test_tissue_patch: to Kelvin's solution; draft-wound-refinement.md). */
+#define PATCH_RADIUS 1.5e-3
 
 
 /* CPU s (the process clock): the coupling's time, added to each pad's
@@ -42,14 +45,17 @@ int tissue_coupling_pad(const rod_model *m)
     return -1;
 }
 
-/* The tet whose corners (where they are now) hold p, or the one it is
- * least outside of (the needle's crossing of the box may lie just off the
- * deformed pad), and its barycentric weights by the corners. */
+/* The tet whose corners (where they are now) hold p, or, outside every
+ * tet (a hole on the top face lies above a pretensioned pad, whose top
+ * sinks as it is stretched), the tet whose point nearest p (its weights
+ * clamped into it) is nearest; and its barycentric weights by the corners.
+ * The least negative weight is no distance: it linked a wound scene's
+ * hole 4 to 8 mm from where it is, a different point on every mesh. */
 static void locate_deformed(tissue_solid *t, const double p[3], int *tet, double bary[4])
 {
     const int tets = tissue_tet_count(t), per = tissue_nodes_per_tet(t), *tt = tissue_tets(t);
     const double *x = tissue_positions(t);
-    double best = -HUGE_VAL;
+    double best = HUGE_VAL; /* m: the distance from p to the tet's clamped point */
     *tet = 0;
     bary[0] = 1.0;
     bary[1] = bary[2] = bary[3] = 0.0;
@@ -74,18 +80,24 @@ static void locate_deformed(tissue_solid *t, const double p[3], int *tet, double
         }
         w[0] = 1.0 - w[1] - w[2] - w[3];
         const double worst = fmin(fmin(w[0], w[1]), fmin(w[2], w[3]));
-        if (worst > best) {
-            best = worst;
+        if (worst >= 0.0) { /* inside */
+            *tet = e;
+            memcpy(bary, w, sizeof w);
+            return;
+        }
+        double sum = 0.0, q[3] = {0.0, 0.0, 0.0};
+        for (int k = 0; k < 4; k++) sum += w[k] = fmax(w[k], 0.0);
+        for (int k = 0; k < 4; k++) {
+            w[k] /= sum;
+            v3_axpy(q, w[k], &x[3 * tt[per * e + k]]);
+        }
+        v3_sub(d, p, q);
+        const double dist = v3_norm(d);
+        if (dist < best) {
+            best = dist;
             *tet = e;
             memcpy(bary, w, sizeof w);
         }
-        if (worst >= 0.0) break;
-    }
-    /* outside every tet: the nearest one's weights clamped into it */
-    if (best < 0.0) {
-        double sum = 0.0;
-        for (int k = 0; k < 4; k++) sum += bary[k] = fmax(bary[k], 0.0);
-        for (int k = 0; k < 4; k++) bary[k] /= sum;
     }
 }
 
@@ -95,9 +107,9 @@ static void link(rod_puncture_state *ps, int j, tissue_solid *t)
 {
     double at[3];
     locate_deformed(t, ps->point, &ps->tet, ps->bary);
-    ps->samples = tissue_patch_samples(t, ps->tet, ps->bary, PATCH_RADIUS, ROD_PATCH_SAMPLES,
-                                       ps->sample_tet, ps->sample_bary);
-    tissue_patch_position(t, ps->samples, ps->sample_tet, (const double(*)[4])ps->sample_bary, at);
+    ps->patch_nodes = tissue_patch_weights(t, ps->tet, ps->bary, PATCH_RADIUS, ROD_PATCH_NODES,
+                                           ps->patch_node, ps->patch_weight);
+    tissue_patch_position(t, ps->patch_nodes, ps->patch_node, ps->patch_weight, at);
     v3_sub(ps->offset, ps->point, at);
     memset(ps->pad_force, 0, sizeof ps->pad_force);
     memset(ps->compliance, 0, sizeof ps->compliance);
@@ -114,23 +126,22 @@ static void link(rod_puncture_state *ps, int j, tissue_solid *t)
 static int renew_puncture_compliance(const rod_model *m, int j, rod_state *s, char *err, size_t errlen)
 {
     tissue_solid *t = m->surfaces[j].solid;
-    int index[ROD_MAX_PUNCTURES], samples[ROD_MAX_PUNCTURES], count = 0, used = 0;
-    int tets[ROD_MAX_PUNCTURES * ROD_PATCH_SAMPLES];
-    double bary[ROD_MAX_PUNCTURES * ROD_PATCH_SAMPLES][4];
+    int index[ROD_MAX_PUNCTURES], counts[ROD_MAX_PUNCTURES], count = 0, used = 0;
+    int nodes[ROD_MAX_PUNCTURES * ROD_PATCH_NODES];
+    double weights[ROD_MAX_PUNCTURES * ROD_PATCH_NODES];
     double C[9 * ROD_MAX_PUNCTURES * ROD_MAX_PUNCTURES]; /* m/N (18 KB) */
     for (int k = 0; k < s->puncture_count; k++) {
         if (s->puncture[k].linked != j + 1) continue;
         const rod_puncture_state *ps = &s->puncture[k];
         index[count] = k;
-        samples[count++] = ps->samples;
-        memcpy(tets + used, ps->sample_tet, sizeof(int) * (size_t)ps->samples);
-        memcpy(bary + used, ps->sample_bary, sizeof bary[0] * (size_t)ps->samples);
-        used += ps->samples;
+        counts[count++] = ps->patch_nodes;
+        memcpy(nodes + used, ps->patch_node, sizeof(int) * (size_t)ps->patch_nodes);
+        memcpy(weights + used, ps->patch_weight, sizeof(double) * (size_t)ps->patch_nodes);
+        used += ps->patch_nodes;
     }
     if (count == 0) return 0;
     char why[256];
-    if (tissue_patches_compliance(t, count, samples, tets, (const double(*)[4])bary, 0.0, C, why,
-                                  sizeof why)) {
+    if (tissue_patches_compliance(t, count, counts, nodes, weights, 0.0, C, why, sizeof why)) {
         snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
                  m->surfaces[j].line, s->time, why);
         return -1;
@@ -400,8 +411,7 @@ static double load_pad(const rod_model *m, int j, const rod_state *s, const doub
     for (int k = 0; k < s->puncture_count; k++) {
         const rod_puncture_state *ps = &s->puncture[k];
         if (ps->linked != j + 1) continue;
-        tissue_apply_patch_force(t, ps->samples, ps->sample_tet,
-                                 (const double(*)[4])ps->sample_bary, ps->force);
+        tissue_apply_patch_force(t, ps->patch_nodes, ps->patch_node, ps->patch_weight, ps->force);
         *any = 1;
     }
     return apply_contact(m, j, s, contact);
@@ -483,8 +493,7 @@ static int couple_pad(const rod_model *m, int j, rod_state *s, double *pad_force
     for (int k = 0; k < s->puncture_count; k++) {
         rod_puncture_state *ps = &s->puncture[k];
         if (ps->linked != j + 1) continue;
-        tissue_patch_position(t, ps->samples, ps->sample_tet,
-                              (const double(*)[4])ps->sample_bary, ps->point);
+        tissue_patch_position(t, ps->patch_nodes, ps->patch_node, ps->patch_weight, ps->point);
         v3_axpy(ps->point, 1.0, ps->offset);
         v3_copy(ps->pad_force, ps->force);
         /* from the kept factor: the same until it is renewed */
