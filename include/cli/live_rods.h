@@ -15,7 +15,7 @@
  * root), global; status ok, failed (the step failed: the last good state
  * answered, the row dropped) or bad_input (an empty NAME: the line named no
  * rod of the scene).
- * Why this syntax: docs/decisions/draft-rod-surfaces.md. */
+ * Why this syntax: docs/decisions/0089-rod-surfaces.md. */
 #ifndef RODSIM_CLI_LIVE_RODS_H
 #define RODSIM_CLI_LIVE_RODS_H
 

@@ -140,7 +140,7 @@ static void bad_input(void)
  * wound, pretension 0.3): as the ends rise the wound's opening at the stitch
  * falls at every sample (every 0.1 s) once the pull has begun, until the
  * lips meet or the pull ends; it ends under a tenth of its rest (these
- * linear tets close it at 1.26 s; draft-wound-refinement.md);
+ * linear tets close it at 1.26 s; 0096-wound-refinement.md);
  * the holes' forces on the pad point towards each other. */
 static void stitch_tightened(void)
 {

@@ -176,7 +176,7 @@ static int prepare_contact(implicit_work *w, const rod_model *m, const rod_state
      * (strands_kept_apart); a straight stretch leaves pi d / 2 between its
      * nearest non-neighbours (rod_proximity_skip), beyond d + SELF_NEAR, so
      * a rod far from itself searches for nothing more
-     * (docs/decisions/draft-nothing-near.md) */
+     * (docs/decisions/0090-nothing-near.md) */
     double margin = fmax(SELF_NEAR * m->diameter,
                          fmin(SELF_MARGIN * m->diameter, 3.0 * w->self_motion));
     if (margin > SELF_NEAR * m->diameter &&

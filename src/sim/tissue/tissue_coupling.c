@@ -25,7 +25,7 @@
  * refined (about F / (E h)), and so did the old patch's, seven points of
  * equal weight (its compliance 327, 444, 513 um/N at a hole on linear tets
  * of 2, 1.3, 1 mm at the wound); the kernel's converges to the continuum's
- * (test_tissue_patch: to Kelvin's solution; draft-wound-refinement.md). */
+ * (test_tissue_patch: to Kelvin's solution; 0096-wound-refinement.md). */
 #define PATCH_RADIUS 1.5e-3
 
 
