@@ -14,8 +14,9 @@
 /* Jaws at an opening below this are closed: they grasp what is between them. */
 #define ROD_JAW_CLOSED 0.1
 
-/* The most capsules an instrument is made of: two jaws, two shanks. */
-#define ROD_INSTRUMENT_CAPSULES 4
+/* The most capsules an instrument is made of: two jaws, two shanks and a
+ * needle holder's box lock. */
+#define ROD_INSTRUMENT_CAPSULES 5
 
 /* One capsule of an instrument at a time: the segment a..b (m, global) grown
  * by radius (m). jaw: 1 for a jaw (the grasp holds the thread between them). */
@@ -44,11 +45,19 @@ void rod_instrument_pose(const rod_instrument *in, double t, rod_pose *pose, dou
  * forceps' sprung back end. */
 double rod_instrument_hinge(const rod_instrument *in);
 
+/* A needle holder's box lock, the block at the hinge where the jaws cross:
+ * a capsule across the hinge along the local z axis (the jaws' opening plane
+ * with x, through both jaws), its segment from (-hinge, 0, -half_span) to
+ * (-hinge, 0, half_span), grown by radius (m). Returns 1, or 0 (and zeros)
+ * for kinds without one. Drawn and touched alike. */
+int rod_instrument_box_lock(const rod_instrument *in, double *radius, double *half_span);
+
 /* The angle each jaw turns from the axis at opening `jaw` (rad). */
 double rod_instrument_jaw_angle(const rod_instrument *in, double jaw);
 
 /* The capsules at time t (global), into out (ROD_INSTRUMENT_CAPSULES):
- * returns how many. */
+ * the two jaws, the two shanks (or tines' back parts), then the box lock
+ * when the kind has one; returns how many (4 or 5). */
 int rod_instrument_capsules(const rod_instrument *in, double t, rod_capsule *out);
 
 /* The jaws' opening from rows of (t, opening, 0, 0, 0, 0, 0): at rest at

@@ -85,6 +85,8 @@ typedef struct recording_instrument {
     double jaw_length;        /* m: the gripping part at the front */
     double jaw_radius;        /* m */
     double shank_radius;      /* m */
+    double lock_radius;       /* m: the box lock's capsule (0: none), across the hinge */
+    double lock_half_span;    /* m: its segment from local z = -this to +this */
 } recording_instrument;
 
 /* Numbers a frame records per instrument: position (3, m), rotation (9,

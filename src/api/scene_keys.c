@@ -140,7 +140,8 @@ const ini_key scene_keys_rod[] = {
 
     {"instrument", "kind", "-", "required", "needle_holder | forceps | scissors",
      "a rigid surgical instrument driven along its path ([instrument] repeats, at most 4): "
-     "jaws, box lock and shanks as capsules the thread touches with friction"},
+     "jaws, shanks and a needle holder's box lock (across the hinge, drawn as it touches) "
+     "as capsules the thread touches with friction"},
     {"instrument", "name", "-", "-", "a word, unique",
      "names it in the summary's grasps, in messages and in --set instrument.NAME.key=value; "
      "absent: its kind"},

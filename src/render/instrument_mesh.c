@@ -188,14 +188,12 @@ void instrument_mesh_add(render_mesh *m, const rod_recording *rec, int frame, do
             for (int a = 0; a < 3; a++) m3_column(axes[a], t.rot, a);
             mesh_block(m, centre, axes, half, steel);
         } else {
-            /* the box lock (a needle holder) or the screw (scissors) at the hinge */
-            double centre[3], axes[3][3];
-            const double local[3] = {-in->hinge, 0.0, 0.0};
-            const double half[3] = {1.5 * rs, 1.3 * rs, 2.0 * rj + 0.5 * rs};
-            to_global(&t, local, centre);
-            for (int a = 0; a < 3; a++) m3_column(axes[a], t.rot, a);
-            if (in->kind == RECORDING_NEEDLE_HOLDER) {
-                mesh_block(m, centre, axes, half, steel);
+            /* the box lock (a needle holder): the capsule the thread touches;
+             * the screw (scissors) at the hinge */
+            if (in->lock_radius > 0.0) {
+                const double a[3] = {-in->hinge, 0.0, -in->lock_half_span};
+                const double b[3] = {-in->hinge, 0.0, in->lock_half_span};
+                bar(m, &t, a, b, in->lock_radius, in->lock_radius, steel);
             } else {
                 const double a[3] = {-in->hinge, -1.4 * rs, 0.0}, b[3] = {-in->hinge, 1.4 * rs, 0.0};
                 bar(m, &t, a, b, 1.2 * rs, 1.2 * rs, jaw_steel);

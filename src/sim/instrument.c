@@ -24,13 +24,17 @@ const char *rod_instrument_kind_name(rod_instrument_kind kind)
 /* Proportions of each kind, as fractions of its overall length: a 14 cm
  * needle holder has 1.5 cm jaws 3.4 mm thick closed; forceps are two tines
  * sprung from their back end; scissors' blades are a third of their length.
- * The opening: the angle each jaw (tine, blade) turns at jaw = 1. */
+ * The opening: the angle each jaw (tine, blade) turns at jaw = 1. The box
+ * lock (a needle holder's): a capsule across the hinge through both jaws,
+ * its radius 1.5 shank radii and its half height, end to end, 2 jaw radii
+ * (the closed jaws) plus half a shank radius (the lock's walls). */
 static const struct {
     double jaw_length, jaw_radius, shank_radius, shank_length, open_angle;
+    double lock_radius, lock_half;
 } kinds[3] = {
-    {0.107, 0.012, 0.016, 0.60, 0.35},  /* needle holder */
-    {0.15, 0.010, 0.012, 0.70, 0.08},   /* forceps: shank = the tines' back part */
-    {0.33, 0.010, 0.016, 0.45, 0.45},   /* scissors */
+    {0.107, 0.012, 0.016, 0.60, 0.35, 0.024, 0.032}, /* needle holder */
+    {0.15, 0.010, 0.012, 0.70, 0.08, 0.0, 0.0},      /* forceps: shank = the tines' back part */
+    {0.33, 0.010, 0.016, 0.45, 0.45, 0.0, 0.0},      /* scissors */
 };
 
 void rod_instrument_dimensions(const rod_instrument *in, double *jaw_length, double *jaw_radius,
@@ -40,6 +44,14 @@ void rod_instrument_dimensions(const rod_instrument *in, double *jaw_length, dou
     *jaw_length = kinds[k].jaw_length * in->size;
     *jaw_radius = kinds[k].jaw_radius * in->size;
     *shank_radius = kinds[k].shank_radius * in->size;
+}
+
+int rod_instrument_box_lock(const rod_instrument *in, double *radius, double *half_span)
+{
+    const int k = (unsigned)in->kind < 3 ? (int)in->kind : 0;
+    *radius = kinds[k].lock_radius * in->size;
+    *half_span = (kinds[k].lock_half - kinds[k].lock_radius) * in->size;
+    return kinds[k].lock_radius > 0.0;
 }
 
 double rod_instrument_hinge(const rod_instrument *in)
@@ -111,7 +123,15 @@ int rod_instrument_capsules(const rod_instrument *in, double t, rod_capsule *out
         sc->radius = rs;
         sc->jaw = 0;
     }
-    return ROD_INSTRUMENT_CAPSULES;
+    double lock_radius, half_span;
+    if (!rod_instrument_box_lock(in, &lock_radius, &half_span)) return 4;
+    /* the box lock: across the hinge, along local z through both jaws */
+    const double a[3] = {-reach, 0.0, -half_span}, b[3] = {-reach, 0.0, half_span};
+    to_global(&pose, a, out[4].a);
+    to_global(&pose, b, out[4].b);
+    out[4].radius = lock_radius;
+    out[4].jaw = 0;
+    return 5;
 }
 
 /* Path file ------------------------------------------------------------- */

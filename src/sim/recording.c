@@ -252,6 +252,7 @@ rod_recording *rod_recording_create(const rod_model *m, const char *scene, int c
         to->size = in->size;
         rod_instrument_dimensions(in, &to->jaw_length, &to->jaw_radius, &to->shank_radius);
         to->hinge = rod_instrument_hinge(in);
+        rod_instrument_box_lock(in, &to->lock_radius, &to->lock_half_span);
     }
     if (!r->force_scratch || copy_scene(r, m) || reserve(r, capacity > 0 ? capacity : 16)) {
         rod_recording_destroy(r);

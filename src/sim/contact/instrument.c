@@ -70,7 +70,7 @@ void instrument_contact_prepare(rod_contact *ct, const rod_model *m, const rod_s
     for (int k = 0; k < m->instrument_count; k++) {
         const rod_instrument *in = &m->instruments[k];
         rod_capsule c0[ROD_INSTRUMENT_CAPSULES], c1[ROD_INSTRUMENT_CAPSULES];
-        rod_instrument_capsules(in, t0, c0);
+        const int count = rod_instrument_capsules(in, t0, c0);
         rod_instrument_capsules(in, t1, c1);
         rod_pose pose;
         double jaw;
@@ -90,6 +90,13 @@ void instrument_contact_prepare(rod_contact *ct, const rod_model *m, const rod_s
         rod_instrument_dimensions(in, &lj, &rj, &rs);
         const double held_s = held ? s->grasp[k].s : 0.0, window = lj + 2.0 * rj;
         for (int q = 0; q < ROD_INSTRUMENT_CAPSULES; q++) {
+            if (q >= count) { /* no such part (only needle holders have a box lock) */
+                const size_t slot = (size_t)(k * ROD_INSTRUMENT_CAPSULES + q);
+                for (int b = 0; b < m->nodes; b++)
+                    ct->instrument_start[START_STRIDE * ((size_t)b * (size_t)per + slot)] =
+                        INFINITY;
+                continue;
+            }
             const int off = jaws_off && c0[q].jaw;
             const int near_held = held && c0[q].jaw;
             const int inside_off = jaws_inside_off && c0[q].jaw;
