@@ -80,7 +80,8 @@ void live_usage(FILE *f)
         "Several rods ([rod NAME]): a line NAME:t,... drives rod NAME's tip as above (no\n"
         "NAME: --rod's rod, else the first), every rod stepped to t, the others' ends as\n"
         "their last lines left them; answer NAME,t,fx,..,mz,status for rod NAME (an empty\n"
-        "NAME: bad_input, no such rod); no --record, --centreline, --realtime yet.\n"
+        "NAME: bad_input, no such rod), --centreline: then every rod's, NAME.x0,...;\n"
+        "--record: rodsim run's --csv (column rod), a frame a line ok; no --realtime yet.\n"
         "End of input, SIGINT, SIGTERM end it, the record kept: exit 0; 2 if no line was\n"
         "ok, 1 on an I/O error.\n",
         LIVE_LINE_MAX, LIVE_MAX_STEPS_AHEAD);
@@ -1136,14 +1137,15 @@ int live_command(int argc, char **argv)
         if (ini_set(doc, a.sets[i], err, sizeof err)) goto fail;
     int named = 0;
     if (scene_has_named_rods(doc, &named)) { /* several rods: their own session */
-        const char *one = a.record ? "--record" : a.centreline ? "--centreline"
-                          : a.realtime ? "--realtime" : NULL;
-        if (one) {
-            snprintf(err, sizeof err, "%s: %s is a scene of several rods; %s takes a scene of "
-                     "one rod (not modelled for several yet)", one, a.scene, one);
+        if (a.realtime) {
+            snprintf(err, sizeof err, "--realtime: %s is a scene of several rods; --realtime "
+                     "takes a scene of one rod (not modelled for several yet)", a.scene);
             goto fail;
         }
-        status = live_rods_run(doc, a.scene, a.rod, a.stop_on_error);
+        const live_rods_options o = {.default_rod = a.rod, .record = a.record,
+                                     .stop_on_error = a.stop_on_error,
+                                     .centreline = a.centreline};
+        status = live_rods_run(doc, a.scene, &o);
         goto done;
     }
     if (a.rod && strcmp(a.rod, "rod") != 0) {
