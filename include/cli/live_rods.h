@@ -20,7 +20,10 @@
  * moves one rod moves the others through their contact. With record, the
  * CSV `rodsim run --csv` writes of the scene (its column rod when there
  * are several), a frame at t = 0 and after each line answered ok, through
- * outfile.h: it appears whole at the session's end (a signal's too).
+ * outfile.h: it appears whole at the session's end (a signal's too). With
+ * realtime, as for one rod: each line waits until its t on the wall clock
+ * from the header's time (live_realtime_setup first), and a line whose work
+ * took longer than its gap of simulated time is counted an overrun.
  * Why this syntax: docs/decisions/0089-rod-surfaces.md. */
 #ifndef RODSIM_CLI_LIVE_RODS_H
 #define RODSIM_CLI_LIVE_RODS_H
@@ -32,6 +35,7 @@ typedef struct live_rods_options {
     const char *record;      /* --record FILE, or NULL */
     int stop_on_error;       /* a refused line ends the session (exit 2) */
     int centreline;          /* every rod's centreline after each answer */
+    int realtime;            /* each line waits for its t on the wall clock */
 } live_rods_options;
 
 /* The session on standard input and output, messages on standard error:

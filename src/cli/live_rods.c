@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "api/scene_keys.h"
 #include "api/scene_read.h"
@@ -39,6 +40,10 @@ typedef struct live_rods {
     long line_no, ok, failed, bad, steps;
     int stop_on_error, status;
     int centreline;                 /* every rod's centreline after each answer */
+    int realtime;                   /* --realtime: lines paced to the wall clock */
+    double wall_origin;             /* wall s at t = 0 (--realtime) */
+    long overruns;                  /* lines whose work outlasted their gap (--realtime) */
+    double worst_overrun;           /* s */
     char *text;                     /* an answer line (made at setup) */
     outfile record;                 /* --record: the CSV (record_on) */
     int record_on;
@@ -49,6 +54,22 @@ typedef struct live_rods {
 /* Set by SIGINT and SIGTERM: the session ends like at the end of input */
 static volatile sig_atomic_t stop_signal;
 static void on_stop_signal(int sig) { stop_signal = sig; }
+
+static double wall_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* --realtime: waits until t (s, at most LIVE_MAX_STEPS_AHEAD steps after
+ * the state's) on the wall clock; a stop signal ends the wait */
+static void pace(const live_rods *lr, double t)
+{
+    const double due = lr->wall_origin + fmin(t, 1e9); /* within time_t's range */
+    struct timespec ts = {(time_t)due, (long)((due - floor(due)) * 1e9)};
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR && !stop_signal) {}
+}
 
 /* The rods' names, ", " between them: all (which 0), those with a held tip
  * (1) or a free one (2) */
@@ -311,7 +332,16 @@ static int serve_line(live_rods *lr, char *text, int too_long, int nul)
     int count = k < 0 ? 0 : live_split_numbers(numbers, v, 7);
     if (k >= 0 && check_line(lr, k, v, count, err, sizeof err) == 0) {
         memcpy(row, v, (size_t)count * sizeof(double)); /* 4 numbers on a clamped tip: no turn */
-        if (step_line(lr, k, row, err, sizeof err) == 0) {
+        const double gap = row[0] - lr->run.state[0]->time;
+        if (lr->realtime) pace(lr, row[0]);
+        const double start = wall_seconds();
+        const int stepped = step_line(lr, k, row, err, sizeof err);
+        const double spent = wall_seconds() - start;
+        if (lr->realtime && spent > gap) { /* the next line, one gap later, waits */
+            lr->overruns++;
+            lr->worst_overrun = fmax(lr->worst_overrun, spent);
+        }
+        if (stepped == 0) {
             lr->ok++;
             answer(lr, k, "ok");
             record_frame(lr);
@@ -381,6 +411,7 @@ int live_rods_run(ini_doc *doc, const char *scene, const live_rods_options *o)
     }
     lr->stop_on_error = o->stop_on_error;
     lr->centreline = o->centreline;
+    lr->realtime = o->realtime;
     lr->record = (outfile){.fd = -1, .slot = -1};
     lr->status = RUN_EXIT_BAD_INPUT;
     int opened = 0; /* 1: setup passed, -1: the record could not be opened */
@@ -415,6 +446,10 @@ int live_rods_run(ini_doc *doc, const char *scene, const live_rods_options *o)
         else run_csv_header(lr->record.fp);
         record_frame(lr); /* t = 0 */
     }
+    if (lr->realtime) live_realtime_setup();
+    /* t = 0 on the wall clock before the header goes out: a client pacing
+     * itself from the header is never ahead of this clock */
+    lr->wall_origin = wall_seconds();
     printf("rod,t,fx,fy,fz,mx,my,mz,status");
     for (int k = 0; lr->centreline && k < lr->set.count; k++)
         for (int i = 0; i < lr->set.model[k].nodes; i++)
@@ -425,8 +460,11 @@ int live_rods_run(ini_doc *doc, const char *scene, const live_rods_options *o)
     serve(lr);
     const long lines = lr->ok + lr->failed + lr->bad;
     fprintf(stderr, "rodsim live: %ld lines: %ld ok, %ld failed, %ld bad; %ld steps to t = %g "
-            "s%s\n", lines, lr->ok, lr->failed, lr->bad, lr->steps, lr->run.state[0]->time,
-            stop_signal ? "; ended by a signal" : "");
+            "s", lines, lr->ok, lr->failed, lr->bad, lr->steps, lr->run.state[0]->time);
+    if (lr->realtime)
+        fprintf(stderr, "; realtime overruns %ld (worst %.1f us)", lr->overruns,
+                1e6 * lr->worst_overrun);
+    fprintf(stderr, "%s\n", stop_signal ? "; ended by a signal" : "");
     int status = lr->status;
     if (status == RUN_EXIT_OK && lines > 0 && lr->ok == 0) {
         fprintf(stderr, "rodsim live: none of the %ld lines was answered ok (exit 2)\n", lines);

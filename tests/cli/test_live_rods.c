@@ -6,11 +6,13 @@
  * names in it; at rest each rod's recorded internal force at its held tip
  * is its weight rho A g L (a closed form, independent of the code); every
  * answer carries both rods' centrelines, equal to the record's last frame. A record that cannot be
- * made: exit 1, no answer; --realtime on several rods: exit 2. */
+ * made: exit 1, no answer. --realtime paces the lines of two rods to the
+ * wall clock: 0.2 s of lines take at least 0.2 s. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "test.h"
@@ -158,10 +160,32 @@ static void test_refused(void)
     int rc = test_run_rodsim_within(bad_dir, 30, out, sizeof out);
     check(rc == 1 && strstr(out, "rods.ini") && !strstr(out, "rod,t,"),
           "--record under a file: exit %d (1), no answer: %s", rc, out);
-    const char *realtime[] = {"live", DIR "/rods.ini", "--realtime", NULL};
-    rc = test_run_rodsim_within(realtime, 30, out, sizeof out);
-    check(rc == 2 && strstr(out, "several rods"), "--realtime on several rods: exit %d (2): %s",
-          rc, out);
+}
+
+/* --realtime: 100 lines 2 ms apart (the two rods in turn) take at least
+ * their 0.2 s of wall clock, each answered ok, the overruns counted */
+static void test_realtime(void)
+{
+    FILE *f = fopen(DIR "/paced.txt", "w");
+    if (!f) return;
+    for (int i = 1; i <= 100; i++)
+        fprintf(f, i % 2 ? "short:%.3f,0,0,0\n" : "long:%.3f,0.2,0,0\n", i * 2e-3);
+    fclose(f);
+    struct timespec a, b;
+    clock_gettime(CLOCK_MONOTONIC, &a);
+    const int rc = system(RODSIM_BIN " live " DIR "/rods.ini --realtime < " DIR "/paced.txt > "
+                          DIR "/paced_out.txt 2> " DIR "/stderr.txt");
+    clock_gettime(CLOCK_MONOTONIC, &b);
+    const double wall = (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
+    long got = read_file(DIR "/paced_out.txt", text, sizeof text);
+    int ok = 0;
+    for (const char *c = text; got > 0 && (c = strstr(c, ",ok\n")); c++) ok++;
+    char err[4096] = "";
+    read_file(DIR "/stderr.txt", err, sizeof err);
+    printf("%s", err);
+    check(rc == 0 && ok == 100 && wall >= 0.2 && strstr(err, "realtime overruns") != NULL,
+          "--realtime, two rods: 100 lines 2 ms apart answered ok (%d) in %.3f s >= 0.2 s, "
+          "overruns counted, exit %d", ok, wall, rc);
 }
 
 int main(void)
@@ -171,6 +195,7 @@ int main(void)
     if (!check(hanging_rods_write(DIR "/rods.ini") == 0, "wrote the two rods' scene")) return 1;
     test_record_and_centreline();
     test_refused();
+    test_realtime();
     test_remove_tree(DIR);
     return test_finish();
 }
