@@ -19,9 +19,9 @@
  * Several rods: a scene of named rods ([rod NAME]) is stepped as `rodsim
  * run` steps it, all rods together (rodsim_rod_count, rodsim_rod_name; the
  * calls ending in _rod take the rod's index, 0-based in the scene's order).
- * The calls without a rod read and drive the first rod (index 0); those
- * that save, restore, draw or set tip loads take a scene of one rod only
- * (RODSIM_BAD_INPUT, saying so; rodsim_state_size is 0).
+ * The calls without a rod read and drive the first rod (index 0); a save
+ * holds every rod; those that draw or set tip loads take a scene of one
+ * rod only (RODSIM_BAD_INPUT, saying so).
  *
  * Errors: every function that can fail returns a rodsim_status; the message
  * for people is rodsim_last_error(scene) (or rodsim_last_error(NULL): the

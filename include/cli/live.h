@@ -112,6 +112,11 @@ int live_command(int argc, char **argv);
 
 void live_usage(FILE *f);
 
+/* --realtime: locks the memory, takes a real-time priority (SCHED_FIFO 10)
+ * and pins the process to its CPU; what is not permitted is said on
+ * standard error and the session goes on without it. */
+void live_realtime_setup(void);
+
 /* Splits a line at commas into at most `max` numbers (the count); -1 at a
  * field that is not a number (strtod: "nan", "inf" parse, finiteness is
  * checked after), -2 when there are more than `max`. */

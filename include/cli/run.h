@@ -178,5 +178,9 @@ int run_csv_frame(FILE *f, const rod_model *m, const rod_state *s);
 void run_csv_header_rods(FILE *f);
 /* run_csv_frame with the rod's name after t (rod NULL: as run_csv_frame) */
 int run_csv_frame_named(FILE *f, const rod_model *m, const rod_state *s, const char *rod);
+/* run_csv_frame_named with force room for s->nodes x 3 doubles (N, the
+ * internal force written there): no allocation */
+void run_csv_frame_into(FILE *f, const rod_model *m, const rod_state *s, const char *rod,
+                        double *force);
 
 #endif

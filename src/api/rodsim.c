@@ -28,6 +28,7 @@
 
 #define RODSIM_ERR_LEN 1024
 #define RODSIM_SAVE_MAGIC 0x52534d31u /* "RSM1" */
+#define RODSIM_SAVE_RODS_MAGIC 0x52534d32u /* "RSM2": a scene of several rods */
 
 struct rodsim_scene {
     rod_model model;         /* the scene's; owns its paths, the live ones put in included */
@@ -774,9 +775,24 @@ static size_t save_numbers(const rodsim_scene *sc)
            (sizeof(sc->state->puncture) + sizeof(double) - 1) / sizeof(double);
 }
 
+/* Several rods: rod k's numbers, after the header and the frame counter:
+ * its 2 scalars (time, strand gap), 10 arrays of NS x 3, the ends' 12, its
+ * ends' live columns and pending poses (4), the poses' 12, the two paths */
+static size_t save_rod_numbers(const rodsim_scene *sc, int k)
+{
+    return 2 + (size_t)sc->set->model[k].nodes * 30 + 12 + 4 + 12 + 2 * ROD_PATH_LIVE_NUMBERS;
+}
+
+static size_t save_rods_size(const rodsim_scene *sc)
+{
+    size_t n = 1;
+    for (int k = 0; k < sc->set->count; k++) n += save_rod_numbers(sc, k);
+    return sizeof(save_header) + n * sizeof(double);
+}
+
 size_t rodsim_state_size(const rodsim_scene *sc)
 {
-    if (sc->set) return 0; /* several rods: not saved yet (rodsim_save says so) */
+    if (sc->set) return save_rods_size(sc);
     return sizeof(save_header) + save_numbers(sc) * sizeof(double);
 }
 
@@ -792,9 +808,66 @@ static void take(const double **at, double *to, size_t n)
     *at += n;
 }
 
+/* The header of several rods' blob: nodes the rods' total, length their
+ * summed lengths, staggered the count of rods */
+static save_header save_rods_header(const rodsim_scene *sc)
+{
+    save_header h = {RODSIM_SAVE_RODS_MAGIC, 0, save_rods_size(sc), sc->dt, 0.0, {0, 0}, {0, 0},
+                     0, sc->set->count, 0, 0};
+    for (int k = 0; k < sc->set->count; k++) {
+        h.nodes += sc->set->model[k].nodes;
+        h.length += sc->set->model[k].length;
+    }
+    return h;
+}
+
+/* rodsim_save of several rods: each rod's state, driven ends and poses;
+ * the rods' run made afresh after it, as after a restore */
+static rodsim_status save_rods(rodsim_scene *sc, void *blob)
+{
+    const save_header h = save_rods_header(sc);
+    memset(blob, 0, h.bytes);
+    memcpy(blob, &h, sizeof h);
+    double *at = (double *)((char *)blob + sizeof h);
+    const double frame = (double)sc->next_frame;
+    put(&at, &frame, 1);
+    for (int k = 0; k < sc->set->count; k++) {
+        const rod_state *s = sc->run->state[k];
+        const size_t n3 = (size_t)s->nodes * 3;
+        const double scalars[2] = {s->time, s->strand_gap};
+        const double ends[4] = {sc->live[k][0] ? sc->columns[k][0] : 0,
+                                sc->live[k][1] ? sc->columns[k][1] : 0, sc->pending[k][0],
+                                sc->pending[k][1]};
+        put(&at, scalars, 2);
+        put(&at, s->position, n3);
+        put(&at, s->frame, 3 * n3);
+        put(&at, s->velocity, n3);
+        put(&at, s->angular_velocity, n3);
+        put(&at, s->darboux, n3);
+        put(&at, s->contact_force, n3);
+        put(&at, s->surface_force, n3);
+        put(&at, s->self_force, n3);
+        put(&at, &s->end_force[0][0], 6);
+        put(&at, &s->end_moment[0][0], 6);
+        put(&at, ends, 4);
+        put(&at, &sc->pose[k][0][0], 12);
+        for (int e = 0; e < 2; e++) {
+            double path[ROD_PATH_LIVE_NUMBERS] = {0};
+            if (sc->live[k][e]) rod_path_live_save(sc->live[k][e], path);
+            put(&at, path, ROD_PATH_LIVE_NUMBERS);
+        }
+    }
+    return restart_rods(sc);
+}
+
 rodsim_status rodsim_save(rodsim_scene *sc, void *blob, size_t size)
 {
-    if (one_rod_only(sc, "rodsim_save")) return RODSIM_BAD_INPUT;
+    if (sc->set) {
+        if (!blob || size < rodsim_state_size(sc))
+            return fail(sc, RODSIM_BAD_INPUT, "rodsim_save: the blob takes %zu bytes, not %zu",
+                        rodsim_state_size(sc), blob ? size : 0);
+        return save_rods(sc, blob);
+    }
     const rod_state *s = sc->state;
     const size_t n3 = (size_t)s->nodes * 3;
     if (!blob || size < rodsim_state_size(sc))
@@ -831,9 +904,90 @@ rodsim_status rodsim_save(rodsim_scene *sc, void *blob, size_t size)
     return restart_solver(sc);
 }
 
+/* Several rods: rod k's end e driven by the blob (columns: 0 none) as the
+ * scene's is, its live path made or dropped (the rods' run made afresh by
+ * the caller). 0, or a failure said. */
+static rodsim_status restore_rod_end(rodsim_scene *sc, int k, int e, int columns)
+{
+    if (!columns && sc->live[k][e]) {
+        rod_model *m = model_of(sc, k);
+        rod_path **motion = e == RODSIM_TIP ? &m->tip_motion : &m->root_motion;
+        rod_path_destroy(*motion);
+        *motion = sc->live[k][e] = NULL;
+        sc->pending[k][e] = 0;
+    }
+    if (columns && !sc->live[k][e] && make_live_path(sc, k, (rodsim_end)e))
+        return RODSIM_FAILED;
+    if (columns != (sc->live[k][e] ? sc->columns[k][e] : 0))
+        return fail(sc, RODSIM_BAD_INPUT, "rodsim_restore: rod %s's %s's path differs from the "
+                    "saved one's", sc->set->name[k], e ? "tip" : "root");
+    return RODSIM_OK;
+}
+
+/* rodsim_restore of several rods (size checked) */
+static rodsim_status restore_rods(rodsim_scene *sc, const void *blob)
+{
+    save_header h;
+    const save_header mine = save_rods_header(sc);
+    memcpy(&h, blob, sizeof h);
+    if (h.magic != mine.magic || h.nodes != mine.nodes || h.bytes != mine.bytes ||
+        h.dt != mine.dt || h.length != mine.length || h.staggered != mine.staggered)
+        return fail(sc, RODSIM_BAD_INPUT, "rodsim_restore: the blob is not a saved state of "
+                                          "this scene (its rods, their nodes or lengths, or "
+                                          "solver.dt differ)");
+    const double *at = (const double *)((const char *)blob + sizeof h);
+    double frame;
+    take(&at, &frame, 1);
+    for (int k = 0; k < sc->set->count; k++) {
+        rod_state *s = sc->run->state[k];
+        const size_t n3 = (size_t)s->nodes * 3;
+        double scalars[2], ends[4], path[ROD_PATH_LIVE_NUMBERS];
+        take(&at, scalars, 2);
+        const double *arrays = at;
+        at += 10 * n3 + 12;
+        take(&at, ends, 4);
+        for (int e = 0; e < 2; e++) {
+            const rodsim_status st = restore_rod_end(sc, k, e, (int)ends[e]);
+            if (st) return st;
+        }
+        s = sc->run->state[k]; /* a path made: the run made afresh */
+        take(&at, &sc->pose[k][0][0], 12);
+        for (int e = 0; e < 2; e++) {
+            take(&at, path, ROD_PATH_LIVE_NUMBERS);
+            if (!sc->live[k][e]) continue;
+            const int count = 1 + (int)path[0] * (2 * sc->columns[k][e] - 1);
+            if (count > ROD_PATH_LIVE_NUMBERS ||
+                rod_path_live_restore(sc->live[k][e], path, count))
+                return fail(sc, RODSIM_BAD_INPUT, "rodsim_restore: rod %s's %s's saved path "
+                            "is damaged", sc->set->name[k], e ? "tip" : "root");
+        }
+        sc->pending[k][0] = (int)ends[2];
+        sc->pending[k][1] = (int)ends[3];
+        s->time = scalars[0];
+        s->strand_gap = scalars[1];
+        take(&arrays, s->position, n3);
+        take(&arrays, s->frame, 3 * n3);
+        take(&arrays, s->velocity, n3);
+        take(&arrays, s->angular_velocity, n3);
+        take(&arrays, s->darboux, n3);
+        take(&arrays, s->contact_force, n3);
+        take(&arrays, s->surface_force, n3);
+        take(&arrays, s->self_force, n3);
+        take(&arrays, &s->end_force[0][0], 6);
+        take(&arrays, &s->end_moment[0][0], 6);
+    }
+    sc->next_frame = (int64_t)frame;
+    return restart_rods(sc);
+}
+
 rodsim_status rodsim_restore(rodsim_scene *sc, const void *blob, size_t size)
 {
-    if (one_rod_only(sc, "rodsim_restore")) return RODSIM_BAD_INPUT;
+    if (sc->set) {
+        if (!blob || size != rodsim_state_size(sc))
+            return fail(sc, RODSIM_BAD_INPUT, "rodsim_restore: a saved state of this scene has "
+                        "%zu bytes, not %zu", rodsim_state_size(sc), size);
+        return restore_rods(sc, blob);
+    }
     rod_state *s = sc->state;
     const size_t n3 = (size_t)s->nodes * 3;
     save_header h;

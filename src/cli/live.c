@@ -80,7 +80,8 @@ void live_usage(FILE *f)
         "Several rods ([rod NAME]): a line NAME:t,... drives rod NAME's tip as above (no\n"
         "NAME: --rod's rod, else the first), every rod stepped to t, the others' ends as\n"
         "their last lines left them; answer NAME,t,fx,..,mz,status for rod NAME (an empty\n"
-        "NAME: bad_input, no such rod); no --record, --centreline, --realtime yet.\n"
+        "NAME: bad_input, no such rod), --centreline: then every rod's, NAME.x0,...;\n"
+        "--record: rodsim run's --csv (column rod), a frame a line ok.\n"
         "End of input, SIGINT, SIGTERM end it, the record kept: exit 0; 2 if no line was\n"
         "ok, 1 on an I/O error.\n",
         LIVE_LINE_MAX, LIVE_MAX_STEPS_AHEAD);
@@ -130,7 +131,7 @@ static int parse_args(int argc, char **argv, live_args *a, char *err, size_t err
  * pins the process to the CPU it runs on (no migration between lines).
  * What is not permitted (no CAP_IPC_LOCK or CAP_SYS_NICE) is said, and the
  * session goes on without it. */
-static void realtime_setup(void)
+void live_realtime_setup(void)
 {
     if (mlockall(MCL_CURRENT | MCL_FUTURE))
         fprintf(stderr, "rodsim live: --realtime: could not lock memory (%s); going on\n",
@@ -1064,7 +1065,7 @@ static int run_session(live_session *ls, const live_args *a, const rod_model *m)
         if (err[0]) fprintf(stderr, "rodsim live: %s\n", err);
         return RUN_EXIT_FAILURE;
     }
-    if (a->realtime) realtime_setup();
+    if (a->realtime) live_realtime_setup();
     /* the session ends on these like at the end of input (the record is kept);
      * no SA_RESTART: a read or a wait returns at once */
     struct sigaction sa;
@@ -1136,14 +1137,10 @@ int live_command(int argc, char **argv)
         if (ini_set(doc, a.sets[i], err, sizeof err)) goto fail;
     int named = 0;
     if (scene_has_named_rods(doc, &named)) { /* several rods: their own session */
-        const char *one = a.record ? "--record" : a.centreline ? "--centreline"
-                          : a.realtime ? "--realtime" : NULL;
-        if (one) {
-            snprintf(err, sizeof err, "%s: %s is a scene of several rods; %s takes a scene of "
-                     "one rod (not modelled for several yet)", one, a.scene, one);
-            goto fail;
-        }
-        status = live_rods_run(doc, a.scene, a.rod, a.stop_on_error);
+        const live_rods_options o = {.default_rod = a.rod, .record = a.record,
+                                     .stop_on_error = a.stop_on_error,
+                                     .centreline = a.centreline, .realtime = a.realtime};
+        status = live_rods_run(doc, a.scene, &o);
         goto done;
     }
     if (a.rod && strcmp(a.rod, "rod") != 0) {

@@ -9,13 +9,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "api/scene_keys.h"
 #include "api/scene_read.h"
 #include "api/stepping.h"
 #include "base/numfmt.h"
+#include "base/outfile.h"
 #include "cli/args.h"
 #include "cli/live.h"
+#include "cli/run.h"
 #include "sim/path.h"
 #include "sim/rod_set.h"
 
@@ -36,12 +39,37 @@ typedef struct live_rods {
     double dt;                      /* s, the step (rod_set_choose_dt) */
     long line_no, ok, failed, bad, steps;
     int stop_on_error, status;
+    int centreline;                 /* every rod's centreline after each answer */
+    int realtime;                   /* --realtime: lines paced to the wall clock */
+    double wall_origin;             /* wall s at t = 0 (--realtime) */
+    long overruns;                  /* lines whose work outlasted their gap (--realtime) */
+    double worst_overrun;           /* s */
+    char *text;                     /* an answer line (made at setup) */
+    outfile record;                 /* --record: the CSV (record_on) */
+    int record_on;
+    double *force;                  /* N, the CSV's internal forces: the most nodes x 3 */
     char line[LIVE_LINE_MAX + 2];
 } live_rods;
 
 /* Set by SIGINT and SIGTERM: the session ends like at the end of input */
 static volatile sig_atomic_t stop_signal;
 static void on_stop_signal(int sig) { stop_signal = sig; }
+
+static double wall_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* --realtime: waits until t (s, at most LIVE_MAX_STEPS_AHEAD steps after
+ * the state's) on the wall clock; a stop signal ends the wait */
+static void pace(const live_rods *lr, double t)
+{
+    const double due = lr->wall_origin + fmin(t, 1e9); /* within time_t's range */
+    struct timespec ts = {(time_t)due, (long)((due - floor(due)) * 1e9)};
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR && !stop_signal) {}
+}
 
 /* The rods' names, ", " between them: all (which 0), those with a held tip
  * (1) or a free one (2) */
@@ -98,13 +126,17 @@ static void release(live_rods *lr)
 {
     for (int k = 0; k < ROD_SET_MAX; k++) rod_state_destroy(lr->good[k]);
     if (lr->run_made) rod_set_run_destroy(&lr->run);
+    if (lr->record_on) outfile_abort(&lr->record); /* unless committed */
+    free(lr->text);
+    free(lr->force);
     for (int k = 0; k < lr->set.count; k++) /* the scene's own, which the model owns */
         if (lr->loads[k]) lr->set.model[k].profile = lr->scene_profile[k];
     rod_set_release(&lr->set); /* the live paths too: the models own them */
 }
 
 /* The session from the scene: 0, or -1 with err and *status. */
-static int setup(live_rods *lr, ini_doc *doc, const char *default_rod, char *err, size_t errlen)
+static int setup(live_rods *lr, ini_doc *doc, const char *default_rod, char *err,
+                 size_t errlen)
 {
     run_output out;
     if (ini_check_keys(doc, scene_keys_rod, err, errlen) ||
@@ -131,8 +163,29 @@ static int setup(live_rods *lr, ini_doc *doc, const char *default_rod, char *err
             return -1;
         }
     lr->dt = rod_set_choose_dt(&lr->set, NULL);
+    int nodes = 0, most = 0;
+    for (int k = 0; k < lr->set.count; k++) {
+        nodes += lr->set.model[k].nodes;
+        if (lr->set.model[k].nodes > most) most = lr->set.model[k].nodes;
+    }
+    lr->text = malloc((size_t)(16 + 3 * nodes) * (NUMFMT_MAX + 1) + ROD_NAME_LEN + 64);
+    lr->force = malloc((size_t)most * 3 * sizeof *lr->force);
+    if (!lr->text || !lr->force) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
     lr->status = RUN_EXIT_OK;
     return 0;
+}
+
+/* --record: a frame of the CSV, every rod's rows (the column rod when there
+ * are several, as `rodsim run --csv`) */
+static void record_frame(live_rods *lr)
+{
+    if (!lr->record_on) return;
+    for (int k = 0; k < lr->set.count; k++)
+        run_csv_frame_into(lr->record.fp, &lr->set.model[k], lr->run.state[k],
+                           lr->set.count > 1 ? lr->set.name[k] : NULL, lr->force);
 }
 
 /* The answer to a line: rod k's name ("" and zeros for k < 0), the time,
@@ -140,7 +193,7 @@ static int setup(live_rods *lr, ini_doc *doc, const char *default_rod, char *err
  * for a free tip, driven by its loads, the root), the status. */
 static void answer(live_rods *lr, int k, const char *status)
 {
-    char text[16 * (NUMFMT_MAX + 1) + 64], *p = text;
+    char *p = lr->text;
     const rod_state *s = lr->run.state[k < 0 ? 0 : k];
     const int end = k >= 0 && lr->loads[k] ? 0 : 1;
     p += snprintf(p, ROD_NAME_LEN + 1, "%s", k < 0 ? "" : lr->set.name[k]);
@@ -151,8 +204,16 @@ static void answer(live_rods *lr, int k, const char *status)
         *p++ = ',';
         p += numfmt_g(p, v + 0.0, 12); /* + 0.0: -0 prints as 0 */
     }
-    p += snprintf(p, 16, ",%s\n", status);
-    fwrite(text, 1, (size_t)(p - text), stdout);
+    p += snprintf(p, 16, ",%s", status);
+    for (int j = 0; lr->centreline && j < lr->set.count; j++) {
+        const rod_state *r = lr->run.state[j];
+        for (int i = 0; i < 3 * r->nodes; i++) {
+            *p++ = ',';
+            p += numfmt_g(p, r->position[i] + 0.0, 12);
+        }
+    }
+    *p++ = '\n';
+    fwrite(lr->text, 1, (size_t)(p - lr->text), stdout);
     fflush(stdout);
 }
 
@@ -271,9 +332,25 @@ static int serve_line(live_rods *lr, char *text, int too_long, int nul)
     int count = k < 0 ? 0 : live_split_numbers(numbers, v, 7);
     if (k >= 0 && check_line(lr, k, v, count, err, sizeof err) == 0) {
         memcpy(row, v, (size_t)count * sizeof(double)); /* 4 numbers on a clamped tip: no turn */
-        if (step_line(lr, k, row, err, sizeof err) == 0) {
+        const double gap = row[0] - lr->run.state[0]->time;
+        if (lr->realtime) pace(lr, row[0]);
+        const double start = wall_seconds();
+        const int stepped = step_line(lr, k, row, err, sizeof err);
+        const double spent = wall_seconds() - start;
+        if (lr->realtime && spent > gap) { /* the next line, one gap later, waits */
+            lr->overruns++;
+            lr->worst_overrun = fmax(lr->worst_overrun, spent);
+        }
+        if (stepped == 0) {
             lr->ok++;
             answer(lr, k, "ok");
+            record_frame(lr);
+            if (lr->record_on && ferror(lr->record.fp)) {
+                fprintf(stderr, "rodsim live: --record %s: write error at input line %ld "
+                        "(disk full?); stopped\n", lr->record.path, lr->line_no);
+                lr->status = RUN_EXIT_FAILURE;
+                return 1;
+            }
         } else {
             lr->failed++;
             fprintf(stderr, "rodsim live: input line %ld (rod %s, t = %.9g s): %s\n", lr->line_no,
@@ -324,7 +401,7 @@ static void serve(live_rods *lr)
     }
 }
 
-int live_rods_run(ini_doc *doc, const char *scene, const char *default_rod, int stop_on_error)
+int live_rods_run(ini_doc *doc, const char *scene, const live_rods_options *o)
 {
     char err[1024] = "";
     live_rods *lr = calloc(1, sizeof *lr);
@@ -332,11 +409,18 @@ int live_rods_run(ini_doc *doc, const char *scene, const char *default_rod, int 
         fprintf(stderr, "rodsim live: out of memory\n");
         return RUN_EXIT_FAILURE;
     }
-    lr->stop_on_error = stop_on_error;
+    lr->stop_on_error = o->stop_on_error;
+    lr->centreline = o->centreline;
+    lr->realtime = o->realtime;
+    lr->record = (outfile){.fd = -1, .slot = -1};
     lr->status = RUN_EXIT_BAD_INPUT;
-    if (setup(lr, doc, default_rod, err, sizeof err)) {
+    int opened = 0; /* 1: setup passed, -1: the record could not be opened */
+    if (setup(lr, doc, o->default_rod, err, sizeof err) == 0)
+        opened = !o->record || outfile_open(&lr->record, o->record, err, sizeof err) == 0 ? 1 : -1;
+    if (opened != 1) {
         fprintf(stderr, "rodsim live: %s\n", err);
-        int status = lr->status == RUN_EXIT_OK ? RUN_EXIT_BAD_INPUT : lr->status;
+        int status = opened < 0 ? RUN_EXIT_FAILURE
+                     : lr->status == RUN_EXIT_OK ? RUN_EXIT_BAD_INPUT : lr->status;
         release(lr);
         free(lr);
         return status;
@@ -356,17 +440,44 @@ int live_rods_run(ini_doc *doc, const char *scene, const char *default_rod, int 
             "answer: NAME,t and what the rod exerts on its held tip, or a free tip's root\n",
             scene, lr->set.count, lr->dt, held[0] ? held : "none",
             free_tips[0] ? free_tips : "none", lr->set.name[lr->default_rod]);
-    printf("rod,t,fx,fy,fz,mx,my,mz,status\n");
+    lr->record_on = o->record != NULL;
+    if (o->record) {
+        if (lr->set.count > 1) run_csv_header_rods(lr->record.fp);
+        else run_csv_header(lr->record.fp);
+        record_frame(lr); /* t = 0 */
+    }
+    if (lr->realtime) live_realtime_setup();
+    /* t = 0 on the wall clock before the header goes out: a client pacing
+     * itself from the header is never ahead of this clock */
+    lr->wall_origin = wall_seconds();
+    printf("rod,t,fx,fy,fz,mx,my,mz,status");
+    for (int k = 0; lr->centreline && k < lr->set.count; k++)
+        for (int i = 0; i < lr->set.model[k].nodes; i++)
+            printf(",%s.x%d,%s.y%d,%s.z%d", lr->set.name[k], i, lr->set.name[k], i,
+                   lr->set.name[k], i);
+    printf("\n");
     fflush(stdout);
     serve(lr);
     const long lines = lr->ok + lr->failed + lr->bad;
     fprintf(stderr, "rodsim live: %ld lines: %ld ok, %ld failed, %ld bad; %ld steps to t = %g "
-            "s%s\n", lines, lr->ok, lr->failed, lr->bad, lr->steps, lr->run.state[0]->time,
-            stop_signal ? "; ended by a signal" : "");
+            "s", lines, lr->ok, lr->failed, lr->bad, lr->steps, lr->run.state[0]->time);
+    if (lr->realtime)
+        fprintf(stderr, "; realtime overruns %ld (worst %.1f us)", lr->overruns,
+                1e6 * lr->worst_overrun);
+    fprintf(stderr, "%s\n", stop_signal ? "; ended by a signal" : "");
     int status = lr->status;
     if (status == RUN_EXIT_OK && lines > 0 && lr->ok == 0) {
         fprintf(stderr, "rodsim live: none of the %ld lines was answered ok (exit 2)\n", lines);
         status = RUN_EXIT_BAD_INPUT;
+    }
+    /* the record whole, whatever the exit status, unless it could not be
+     * written (then none) */
+    if (lr->record_on && !ferror(lr->record.fp)) {
+        lr->record_on = 0;
+        if (outfile_commit(&lr->record, err, sizeof err)) {
+            fprintf(stderr, "rodsim live: %s\n", err);
+            status = RUN_EXIT_FAILURE;
+        }
     }
     release(lr);
     free(lr);

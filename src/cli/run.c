@@ -138,6 +138,14 @@ int run_csv_frame_named(FILE *f, const rod_model *m, const rod_state *s, const c
     /* N(s), global: the internal force, a frame's worth at a time */
     double *force = malloc((size_t)s->nodes * 3 * sizeof *force);
     if (!force) return -1;
+    run_csv_frame_into(f, m, s, rod, force);
+    free(force);
+    return 0;
+}
+
+void run_csv_frame_into(FILE *f, const rod_model *m, const rod_state *s, const char *rod,
+                        double *force)
+{
     rod_internal_force(s, force);
     /* node and s are the uncut thread's: a cut taking the root's side leaves
      * the rows of the nodes left under their own numbers */
@@ -163,8 +171,6 @@ int run_csv_frame_named(FILE *f, const rod_model *m, const rod_state *s, const c
         *p++ = '\n';
         fwrite(line, 1, (size_t)(p - line), f);
     }
-    free(force);
-    return 0;
 }
 
 static double wall_seconds(void)

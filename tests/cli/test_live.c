@@ -1032,16 +1032,12 @@ static void test_several_rods(void)
     check(strstr(stderr_text, "input line 503: 4 numbers") == NULL &&
               strstr(stderr_text, "input line 503: 7 numbers; accepted for rod short: t,x,y,z"),
           "and the pinned tip's accepted numbers");
-    /* --rod a name the scene lacks, and --record, refused before any line */
+    /* --rod a name the scene lacks, refused before any line */
     char out[4096];
     const char *bad_rod[] = {"live", DIR "/rods.ini", "--rod", "middle", NULL};
     int rc = test_run_rodsim_within(bad_rod, 30, out, sizeof out);
     check(rc == 2 && strstr(out, "--rod middle:") && strstr(out, "its rods: short, long"),
           "--rod middle: exit %d (2): %s", rc, out);
-    const char *record[] = {"live", DIR "/rods.ini", "--record", DIR "/r.csv", NULL};
-    rc = test_run_rodsim_within(record, 30, out, sizeof out);
-    check(rc == 2 && strstr(out, "several rods") && access(DIR "/r.csv", F_OK) != 0,
-          "--record on several rods: exit %d (2), no record: %s", rc, out);
     /* one bare [rod]: its name is rod */
     const char *one[] = {DIR "/hang.ini", NULL};
     if (live_start(&p, one) == 0) {
