@@ -13,6 +13,11 @@
  * last half turn on the first) with self-contact against without. The
  * overhead of each kind of contact is its ratio.
  *
+ * 3. A third rope (30 cm, 31 nodes) laid across the crossing's upper rope
+ * 5 cm from the crossing, where the upper rope hangs in its drape and gives
+ * way as easily as the rope on it: the sweeps a step, and the steps that
+ * stop at the sweeps' cap (docs/decisions: the sweeps' quasi-Newton step).
+ *
  * CPU time per step (the process clock), Newton solves and sweeps per
  * step; the fastest of three runs. */
 #include <math.h>
@@ -133,6 +138,45 @@ static timing time_crossing(int apart)
     return t;
 }
 
+/* The crossing with a third rope across its upper one (section 3 of the
+ * top), steps 100 .. 1500; the steps stopped at the cap in *unsettled */
+static timing time_three(long *unsettled)
+{
+    static const char third[] =
+        "[rod third]\nlength = 0.3\ndiameter = 0.004\ndensity = 1100\n"
+        "youngs_modulus = 5e7\nshear_modulus = 1.9e7\nnodes = 31\n"
+        "origin = -0.15 0.05 0.0125\ndirection = 1 0 0\nfriction = 0.3\n"
+        "[ends third]\nroot = free\ntip = free\n";
+    char err[1024];
+    static char text[16384];
+    FILE *f = fopen(RODSIM_SOURCE_DIR "/scenes/crossing.ini", "r");
+    size_t n = f ? fread(text, 1, sizeof text - sizeof third - 1, f) : 0;
+    if (f) fclose(f);
+    memcpy(text + n, third, sizeof third);
+    ini_doc *doc = n ? ini_parse("crossing_three.ini", text, err, sizeof err) : NULL;
+    if (!doc) {
+        printf("  three ropes: %s\n", n ? err : "scenes/crossing.ini not read");
+        return (timing){INFINITY, 0.0, 0.0, 0};
+    }
+    rod_set set;
+    rod_set_run run;
+    *unsettled = -1;
+    if (scene_read_rods(doc, &set, err, sizeof err) == 0) {
+        if (rod_set_run_create(&set, &run, err, sizeof err) == 0) {
+            rod_report report;
+            memset(&report, 0, sizeof report);
+            for (int i = 0; i < 1500; i++)
+                if (rod_set_step(&set, &run, 0.002, &report) != ROD_OK) break;
+            *unsettled = run.unsettled;
+            rod_set_run_destroy(&run);
+        }
+        rod_set_release(&set);
+    }
+    timing t = time_set(doc, 100, 1500, 0.002);
+    ini_destroy(doc);
+    return t;
+}
+
 /* The coil, steps 120 to 240 of 1/240 s, with or without self-contact */
 static double time_coil(int self_contact)
 {
@@ -188,6 +232,12 @@ int main(void)
            "%.2f x\n",
            1e6 * cross.per_step, cross.solves, cross.sweeps, 1e6 * apart.per_step,
            cross.per_step / apart.per_step);
+    long unsettled = 0;
+    const timing three = time_three(&unsettled);
+    printf("  a third rope on the crossing's upper rope (41 + 81 + 31 nodes, steps 100 .. "
+           "1500): %.1f us a step, %.2f solves and %.2f sweeps a step; %ld of 1500 steps "
+           "stopped at the sweeps' cap\n",
+           1e6 * three.per_step, three.solves, three.sweeps, unsettled);
     const double coil = time_coil(1), bare = time_coil(0);
     printf("  the coil on its own turns (201 nodes, steps 120 .. 240): %.1f us a step with "
            "self-contact, %.1f us without: self-contact costs %.2f x\n",

@@ -24,7 +24,9 @@
  * first, until the other rods' motion changes no pair's force beyond the
  * tolerance, so that every force acts on both rods, equal and opposite, and
  * agrees with both rods' motion at the step's end (the other rod's motion
- * the owner sees is relaxed between sweeps by Aitken's rule).
+ * the owner sees is relaxed after a step's first sweep by Aitken's rule,
+ * after the later ones by an interface quasi-Newton step fitted to the
+ * last sweeps: rod_link_relax).
  *
  * Rods whose boxes (grown by the contact distance and a margin) do not
  * overlap are never compared, and a rod in no pair is solved once: rods far
@@ -81,7 +83,19 @@ typedef struct rod_cross {
     unsigned char *paired, *last; /* (nodes) 1: segment a holds a pair at this step, at the
                             last one (a pair's segment is kept from step to step) */
     rod_self_contact law; /* the strands' law's parameters (diameter, friction) per pair */
+    double *taken_diff;  /* (CROSS_COLUMNS x capacity x 6) m/s: the interface quasi-Newton's
+                            history (rod_link_relax), the last sweeps' changes of the other
+                            rod's solved motion, and of its change (the residual), by turns */
+    double *change_diff;
+    double *solved_before; /* (capacity x 6) m/s: the other rod's last solve's motion, the
+                            sweep before */
 } rod_cross;
+
+/* the sweeps' differences the interface quasi-Newton step fits (rod_link_relax):
+ * the last 4 (a third rope on the crossing's upper one: 3.18 .. 3.4 sweeps a
+ * step with 3 .. 8, 4.6 with all of the step's; two free ropes pressed: 6.7
+ * with 4, 10.3 with all) */
+#define CROSS_COLUMNS 4
 
 /* The contact between the rods of a set. */
 typedef struct rod_link {
@@ -129,7 +143,10 @@ void rod_link_after(rod_link *l, int k, const rod_model *models, const rod_state
                     double dt);
 
 /* Between sweeps: each pair's other rod's motion moved towards its last
- * solve's by Aitken's relaxation (sweep: the sweep just ended, from 0). */
+ * solve's, by Aitken's relaxation after the first sweep, by the interface
+ * quasi-Newton step (IQN-ILS: the least-squares secant of the last
+ * 4 sweeps' changes, for each owner and other rod) after the
+ * later ones (sweep: the sweep just ended, from 0). */
 void rod_link_relax(rod_link *l, int sweep);
 
 /* Inside rod k's residual, after the surfaces and the strands' pairs:

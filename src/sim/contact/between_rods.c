@@ -76,7 +76,11 @@ rod_link *rod_link_create(int count, const rod_model *models, const char *const 
         c->candidate = calloc((size_t)c->capacity, sizeof *c->candidate);
         c->last = calloc(n, 1);
         l->start[k] = calloc(n * 3, sizeof(double));
-        if (!c->pair || !c->load || !c->node_force || !c->push || !c->node_map || !c->mapped ||
+        const size_t hist = (size_t)CROSS_COLUMNS * (size_t)c->capacity * 6;
+        c->taken_diff = malloc(hist * sizeof(double));
+        c->change_diff = malloc(hist * sizeof(double));
+        c->solved_before = malloc((size_t)c->capacity * 6 * sizeof(double));
+        if (!c->taken_diff || !c->change_diff || !c->solved_before || !c->pair || !c->load || !c->node_force || !c->push || !c->node_map || !c->mapped ||
             !c->used || !c->paired || !c->last || !c->candidate ||
             !l->start[k]) {
             rod_link_destroy(l);
@@ -100,6 +104,9 @@ void rod_link_destroy(rod_link *l)
         free(l->cross[k].paired);
         free(l->cross[k].candidate);
         free(l->cross[k].last);
+        free(l->cross[k].taken_diff);
+        free(l->cross[k].change_diff);
+        free(l->cross[k].solved_before);
     }
     for (int k = 0; l->start && k < l->count; k++) free(l->start[k]);
     free(l->cross);
@@ -542,9 +549,83 @@ void rod_link_after(rod_link *l, int k, const rod_model *models, const rod_state
 /* Aitken's relaxation of the sweeps' fixed point (as for partitioned
  * fluid-structure coupling): the share of the change taken next,
  * -relax r_before . (r - r_before) / |r - r_before|^2 over all pairs,
- * within [0.05, 2] */
+ * within [0.05, 2]; taken after a step's first sweep, the interface
+ * quasi-Newton step after the later ones */
 #define RELAX_LEAST 0.05
 #define RELAX_MOST 2.0
+
+/* The interface quasi-Newton step of rod k's pairs with rod j (IQN-ILS, as
+ * in partitioned fluid-structure coupling): with the columns dR of the
+ * pairs' residual's (change's) differences over the last sweeps and dS of
+ * the other rod's solved motion's, c = argmin |dR c + r| (normal equations,
+ * regularised), and the motion taken next is the solved one plus dS c: a
+ * secant estimate of the inverse of (1 - the other rod's compliance at the
+ * pairs times the owner's law's gain), from the first `columns` columns
+ * (their order does not matter).
+ * Returns 0 when the columns give no step */
+static int quasi_newton(rod_cross *c, int j, int columns)
+{
+    enum { M = CROSS_COLUMNS };
+    double a[M * M], b[M], x[M];
+    const size_t stride = (size_t)c->capacity * 6;
+    for (int u = 0; u < columns; u++) {
+        b[u] = 0.0;
+        for (int v = 0; v <= u; v++) a[u * M + v] = 0.0;
+    }
+    for (int q = 0; q < c->count; q++) {
+        const rod_cross_pair *p = &c->pair[q];
+        if (p->rod != j) continue;
+        for (int e = 0; e < 6; e++) {
+            for (int u = 0; u < columns; u++) {
+                const double ru = c->change_diff[(size_t)u * stride + 6 * (size_t)q + (size_t)e];
+                b[u] -= ru * p->change[e];
+                for (int v = 0; v <= u; v++)
+                    a[u * M + v] += ru * c->change_diff[(size_t)v * stride + 6 * (size_t)q + (size_t)e];
+            }
+        }
+    }
+    double trace = 0.0;
+    for (int u = 0; u < columns; u++) trace += a[u * M + u];
+    if (!(trace > 0.0)) return 0;
+    for (int u = 0; u < columns; u++) a[u * M + u] += 1e-10 * trace;
+    for (int u = 0; u < columns; u++) { /* Cholesky, lower */
+        for (int v = 0; v <= u; v++) {
+            double sum = a[u * M + v];
+            for (int w = 0; w < v; w++) sum -= a[u * M + w] * a[v * M + w];
+            if (u == v) {
+                if (!(sum > 0.0)) return 0;
+                a[u * M + u] = sqrt(sum);
+            } else {
+                a[u * M + v] = sum / a[v * M + v];
+            }
+        }
+    }
+    for (int u = 0; u < columns; u++) {
+        double sum = b[u];
+        for (int w = 0; w < u; w++) sum -= a[u * M + w] * x[w];
+        x[u] = sum / a[u * M + u];
+    }
+    for (int u = columns - 1; u >= 0; u--) {
+        double sum = x[u];
+        for (int w = u + 1; w < columns; w++) sum -= a[w * M + u] * x[w];
+        x[u] = sum / a[u * M + u];
+    }
+    for (int q = 0; q < c->count; q++) {
+        rod_cross_pair *p = &c->pair[q];
+        if (p->rod != j) continue;
+        double step[6];
+        for (int e = 0; e < 6; e++) {
+            step[e] = p->change[e];
+            for (int u = 0; u < columns; u++)
+                step[e] += x[u] * c->taken_diff[(size_t)u * stride + 6 * (size_t)q + (size_t)e];
+        }
+        for (int e = 0; e < 3; e++) {
+            p->velocity[e] += step[e];
+            p->end_velocity[e] += step[3 + e];
+        }
+    }
+    return 1;
+}
 
 void rod_link_relax(rod_link *l, int sweep)
 {
@@ -552,9 +633,11 @@ void rod_link_relax(rod_link *l, int sweep)
     for (int k = 0; k < n; k++) /* each rod's pairs with each other rod on their own */
         for (int j = 0; j < n; j++) {
             if (!l->owner[k * n + j]) continue;
+            rod_cross *c = &l->cross[k];
+            const size_t stride = (size_t)c->capacity * 6;
             double num = 0.0, den = 0.0;
-            for (int q = 0; q < l->cross[k].count; q++) {
-                const rod_cross_pair *p = &l->cross[k].pair[q];
+            for (int q = 0; q < c->count; q++) {
+                const rod_cross_pair *p = &c->pair[q];
                 if (p->rod != j) continue;
                 for (int e = 0; e < 6; e++) {
                     const double d = p->change[e] - p->change_before[e];
@@ -565,14 +648,37 @@ void rod_link_relax(rod_link *l, int sweep)
             double *relax = &l->relax[k * n + j];
             if (sweep > 0 && den > 0.0)
                 *relax = fmin(RELAX_MOST, fmax(RELAX_LEAST, -*relax * num / den));
-            for (int q = 0; q < l->cross[k].count; q++) {
-                rod_cross_pair *p = &l->cross[k].pair[q];
+            /* the history: the solved motion (taken + change) and the change */
+            const int column = (sweep + CROSS_COLUMNS - 1) % CROSS_COLUMNS;
+            const int columns = sweep < CROSS_COLUMNS ? sweep : CROSS_COLUMNS;
+            for (int q = 0; q < c->count; q++) {
+                rod_cross_pair *p = &c->pair[q];
                 if (p->rod != j) continue;
-                for (int e = 0; e < 3; e++) {
-                    p->velocity[e] += *relax * p->change[e];
-                    p->end_velocity[e] += *relax * p->change[3 + e];
+                double *before = &c->solved_before[6 * q];
+                for (int e = 0; e < 6; e++) {
+                    const double solved =
+                        (e < 3 ? p->velocity[e] : p->end_velocity[e - 3]) + p->change[e];
+                    if (columns > 0) {
+                        c->taken_diff[(size_t)column * stride + 6 * (size_t)q + (size_t)e] =
+                            solved - before[e];
+                        c->change_diff[(size_t)column * stride + 6 * (size_t)q + (size_t)e] =
+                            p->change[e] - p->change_before[e];
+                    }
+                    before[e] = solved;
                 }
-                memcpy(p->change_before, p->change, sizeof p->change);
+            }
+            if (!(columns > 0 && quasi_newton(c, j, columns)))
+                for (int q = 0; q < c->count; q++) {
+                    rod_cross_pair *p = &c->pair[q];
+                    if (p->rod != j) continue;
+                    for (int e = 0; e < 3; e++) {
+                        p->velocity[e] += *relax * p->change[e];
+                        p->end_velocity[e] += *relax * p->change[3 + e];
+                    }
+                }
+            for (int q = 0; q < c->count; q++) {
+                rod_cross_pair *p = &c->pair[q];
+                if (p->rod == j) memcpy(p->change_before, p->change, sizeof p->change);
             }
         }
 }
