@@ -808,6 +808,39 @@ static void take(const double **at, double *to, size_t n)
     *at += n;
 }
 
+/* A rod's state arrays in a blob, in this order (10 NS x 3 + 12 numbers):
+ * positions, frames, velocities, angular velocities, Darboux vectors, the
+ * three contact forces, the end forces and moments */
+#define SAVE_ARRAY_NUMBERS(n3) (10 * (n3) + 12)
+static void put_arrays(double **at, const rod_state *s)
+{
+    const size_t n3 = (size_t)s->nodes * 3;
+    put(at, s->position, n3);
+    put(at, s->frame, 3 * n3);
+    put(at, s->velocity, n3);
+    put(at, s->angular_velocity, n3);
+    put(at, s->darboux, n3);
+    put(at, s->contact_force, n3);
+    put(at, s->surface_force, n3);
+    put(at, s->self_force, n3);
+    put(at, &s->end_force[0][0], 6);
+    put(at, &s->end_moment[0][0], 6);
+}
+static void take_arrays(const double **at, rod_state *s)
+{
+    const size_t n3 = (size_t)s->nodes * 3;
+    take(at, s->position, n3);
+    take(at, s->frame, 3 * n3);
+    take(at, s->velocity, n3);
+    take(at, s->angular_velocity, n3);
+    take(at, s->darboux, n3);
+    take(at, s->contact_force, n3);
+    take(at, s->surface_force, n3);
+    take(at, s->self_force, n3);
+    take(at, &s->end_force[0][0], 6);
+    take(at, &s->end_moment[0][0], 6);
+}
+
 /* The header of several rods' blob: nodes the rods' total, length their
  * summed lengths, staggered the count of rods */
 static save_header save_rods_header(const rodsim_scene *sc)
@@ -833,22 +866,12 @@ static rodsim_status save_rods(rodsim_scene *sc, void *blob)
     put(&at, &frame, 1);
     for (int k = 0; k < sc->set->count; k++) {
         const rod_state *s = sc->run->state[k];
-        const size_t n3 = (size_t)s->nodes * 3;
         const double scalars[2] = {s->time, s->strand_gap};
         const double ends[4] = {sc->live[k][0] ? sc->columns[k][0] : 0,
                                 sc->live[k][1] ? sc->columns[k][1] : 0, sc->pending[k][0],
                                 sc->pending[k][1]};
         put(&at, scalars, 2);
-        put(&at, s->position, n3);
-        put(&at, s->frame, 3 * n3);
-        put(&at, s->velocity, n3);
-        put(&at, s->angular_velocity, n3);
-        put(&at, s->darboux, n3);
-        put(&at, s->contact_force, n3);
-        put(&at, s->surface_force, n3);
-        put(&at, s->self_force, n3);
-        put(&at, &s->end_force[0][0], 6);
-        put(&at, &s->end_moment[0][0], 6);
+        put_arrays(&at, s);
         put(&at, ends, 4);
         put(&at, &sc->pose[k][0][0], 12);
         for (int e = 0; e < 2; e++) {
@@ -862,17 +885,11 @@ static rodsim_status save_rods(rodsim_scene *sc, void *blob)
 
 rodsim_status rodsim_save(rodsim_scene *sc, void *blob, size_t size)
 {
-    if (sc->set) {
-        if (!blob || size < rodsim_state_size(sc))
-            return fail(sc, RODSIM_BAD_INPUT, "rodsim_save: the blob takes %zu bytes, not %zu",
-                        rodsim_state_size(sc), blob ? size : 0);
-        return save_rods(sc, blob);
-    }
-    const rod_state *s = sc->state;
-    const size_t n3 = (size_t)s->nodes * 3;
     if (!blob || size < rodsim_state_size(sc))
         return fail(sc, RODSIM_BAD_INPUT, "rodsim_save: the blob takes %zu bytes, not %zu",
                     rodsim_state_size(sc), blob ? size : 0);
+    if (sc->set) return save_rods(sc, blob);
+    const rod_state *s = sc->state;
     memset(blob, 0, rodsim_state_size(sc));
     save_header h = {RODSIM_SAVE_MAGIC, s->nodes, rodsim_state_size(sc), sc->dt,
                      sc->model.length, {sc->live[0][0] ? sc->columns[0][0] : 0,
@@ -883,16 +900,7 @@ rodsim_status rodsim_save(rodsim_scene *sc, void *blob, size_t size)
     double *at = (double *)((char *)blob + sizeof h);
     const double scalars[4] = {s->time, s->strand_gap, (double)sc->next_frame, 0.0};
     put(&at, scalars, 4);
-    put(&at, s->position, n3);
-    put(&at, s->frame, 3 * n3);
-    put(&at, s->velocity, n3);
-    put(&at, s->angular_velocity, n3);
-    put(&at, s->darboux, n3);
-    put(&at, s->contact_force, n3);
-    put(&at, s->surface_force, n3);
-    put(&at, s->self_force, n3);
-    put(&at, &s->end_force[0][0], 6);
-    put(&at, &s->end_moment[0][0], 6);
+    put_arrays(&at, s);
     put(&at, sc->load_row, 7);
     put(&at, &sc->pose[0][0][0], 12);
     for (int e = 0; e < 2; e++) {
@@ -940,11 +948,10 @@ static rodsim_status restore_rods(rodsim_scene *sc, const void *blob)
     take(&at, &frame, 1);
     for (int k = 0; k < sc->set->count; k++) {
         rod_state *s = sc->run->state[k];
-        const size_t n3 = (size_t)s->nodes * 3;
         double scalars[2], ends[4], path[ROD_PATH_LIVE_NUMBERS];
         take(&at, scalars, 2);
         const double *arrays = at;
-        at += 10 * n3 + 12;
+        at += SAVE_ARRAY_NUMBERS((size_t)s->nodes * 3);
         take(&at, ends, 4);
         for (int e = 0; e < 2; e++) {
             const rodsim_status st = restore_rod_end(sc, k, e, (int)ends[e]);
@@ -965,16 +972,7 @@ static rodsim_status restore_rods(rodsim_scene *sc, const void *blob)
         sc->pending[k][1] = (int)ends[3];
         s->time = scalars[0];
         s->strand_gap = scalars[1];
-        take(&arrays, s->position, n3);
-        take(&arrays, s->frame, 3 * n3);
-        take(&arrays, s->velocity, n3);
-        take(&arrays, s->angular_velocity, n3);
-        take(&arrays, s->darboux, n3);
-        take(&arrays, s->contact_force, n3);
-        take(&arrays, s->surface_force, n3);
-        take(&arrays, s->self_force, n3);
-        take(&arrays, &s->end_force[0][0], 6);
-        take(&arrays, &s->end_moment[0][0], 6);
+        take_arrays(&arrays, s);
     }
     sc->next_frame = (int64_t)frame;
     return restart_rods(sc);
@@ -982,18 +980,12 @@ static rodsim_status restore_rods(rodsim_scene *sc, const void *blob)
 
 rodsim_status rodsim_restore(rodsim_scene *sc, const void *blob, size_t size)
 {
-    if (sc->set) {
-        if (!blob || size != rodsim_state_size(sc))
-            return fail(sc, RODSIM_BAD_INPUT, "rodsim_restore: a saved state of this scene has "
-                        "%zu bytes, not %zu", rodsim_state_size(sc), size);
-        return restore_rods(sc, blob);
-    }
-    rod_state *s = sc->state;
-    const size_t n3 = (size_t)s->nodes * 3;
-    save_header h;
     if (!blob || size != rodsim_state_size(sc))
         return fail(sc, RODSIM_BAD_INPUT, "rodsim_restore: a saved state of this scene has "
                                           "%zu bytes, not %zu", rodsim_state_size(sc), size);
+    if (sc->set) return restore_rods(sc, blob);
+    rod_state *s = sc->state;
+    save_header h;
     memcpy(&h, blob, sizeof h);
     if (h.magic != RODSIM_SAVE_MAGIC || h.nodes != s->nodes || h.bytes != size ||
         h.dt != sc->dt || h.length != sc->model.length)
@@ -1015,7 +1007,7 @@ rodsim_status rodsim_restore(rodsim_scene *sc, const void *blob, size_t size)
     double scalars[4];
     take(&at, scalars, 4);
     const double *arrays = at;
-    at += 10 * n3 + 12;
+    at += SAVE_ARRAY_NUMBERS((size_t)s->nodes * 3);
     double load_row[7], pose[12], path[2][ROD_PATH_LIVE_NUMBERS];
     take(&at, load_row, 7);
     take(&at, pose, 12);
@@ -1042,16 +1034,7 @@ rodsim_status rodsim_restore(rodsim_scene *sc, const void *blob, size_t size)
     s->time = scalars[0];
     s->strand_gap = scalars[1];
     sc->next_frame = (int64_t)scalars[2];
-    take(&arrays, s->position, n3);
-    take(&arrays, s->frame, 3 * n3);
-    take(&arrays, s->velocity, n3);
-    take(&arrays, s->angular_velocity, n3);
-    take(&arrays, s->darboux, n3);
-    take(&arrays, s->contact_force, n3);
-    take(&arrays, s->surface_force, n3);
-    take(&arrays, s->self_force, n3);
-    take(&arrays, &s->end_force[0][0], 6);
-    take(&arrays, &s->end_moment[0][0], 6);
+    take_arrays(&arrays, s);
     s->staggered = h.staggered;
     s->puncture_count = h.puncture_count;
     memcpy(s->puncture, at, sizeof s->puncture);
