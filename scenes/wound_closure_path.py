@@ -134,31 +134,20 @@ def top_at(top, x, y):
     return best[1]
 
 
-def main():
-    top = settled_top()
-    skin = top_at(top, 0.0, -BITE)  # the holes' height; the mesh is mirrored about the slit
-    ds = chord_length()
+def stitch_half(ds):
+    """The +y half of the stitch from the middle: the nodes (y, z) (z from
+    the skin), the UNDER-th on the hole; and the whole stitch's NODES."""
     under = [curve(s) for s in walk(ds, UNDER)]
     half = under + [(BITE, k * ds) for k in range(1, LEGS + 1)]
     half[UNDER] = (BITE, 0.0)  # on the hole to round-off
     pts = [(-y, z) for y, z in reversed(half[1:])] + half
     assert len(pts) == NODES
-    height = LEGS * ds
-    with open("wound_closure_shape.csv", "w") as f:
-        f.write("x,y,z\n")
-        for y, z in pts:
-            f.write(f"0,{y:.12f},{z + skin:.12f}\n")
-    for name, y in (("root", pts[0][0]), ("tip", pts[-1][0])):
-        with open(f"wound_closure_{name}.csv", "w") as f:
-            f.write("t,x,y,z\n")
-            steps = 40
-            for k in range(steps + 1):
-                t = T_PULL * k / steps
-                s = t / T_PULL
-                z = skin + height + PULL * (3 * s * s - 2 * s ** 3)
-                f.write(f"{t:.4f},0,{y:.12f},{z:.12f}\n")
-            f.write(f"{T_PULL + T_REST:.4f},0,{y:.12f},{skin + height + PULL:.12f}\n")
-    # the turn across (y = HALF_BOTTOM, z = -RC) put on the chord that passes it
+    return half, pts
+
+
+def turn_on_chord(half, ds):
+    """The turn across (y = HALF_BOTTOM, z = -RC) put on the chord of the
+    half that passes it: (distance from the turn, (y, z))."""
     turn = (HALF_BOTTOM, -RC)
     best = None
     for a, b in zip(half, half[1:]):
@@ -169,6 +158,36 @@ def main():
         d = math.hypot(q[0] - turn[0], q[1] - turn[1])
         if best is None or d < best[0]:
             best = (d, q)
+    return best
+
+
+def end_path(f, y, skin, height, x=0.0):
+    """An end's path: held `height` above the skin at (x, y), pulled up by
+    PULL over T_PULL (3 s^2 - 2 s^3), then held over T_REST."""
+    f.write("t,x,y,z\n")
+    steps = 40
+    for k in range(steps + 1):
+        t = T_PULL * k / steps
+        s = t / T_PULL
+        z = skin + height + PULL * (3 * s * s - 2 * s ** 3)
+        f.write(f"{t:.4f},{x:.12g},{y:.12f},{z:.12f}\n")
+    f.write(f"{T_PULL + T_REST:.4f},{x:.12g},{y:.12f},{skin + height + PULL:.12f}\n")
+
+
+def main():
+    top = settled_top()
+    skin = top_at(top, 0.0, -BITE)  # the holes' height; the mesh is mirrored about the slit
+    ds = chord_length()
+    half, pts = stitch_half(ds)
+    height = LEGS * ds
+    with open("wound_closure_shape.csv", "w") as f:
+        f.write("x,y,z\n")
+        for y, z in pts:
+            f.write(f"0,{y:.12f},{z + skin:.12f}\n")
+    for name, y in (("root", pts[0][0]), ("tip", pts[-1][0])):
+        with open(f"wound_closure_{name}.csv", "w") as f:
+            end_path(f, y, skin, height)
+    best = turn_on_chord(half, ds)
     print(f"[rod] length = {(NODES - 1) * ds:.12g}, nodes = {NODES} (ds {ds:.6g} m), "
           f"the ends {height:.6g} m above the skin")
     print(f"[puncture] the holes: 0 -+{BITE:.12g} {skin:.12g} (the settled skin; "

@@ -14,6 +14,7 @@
 #define RODSIM_SCENE_OUTPUTS_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "api/scene_read.h"
 #include "base/ini.h"
@@ -48,6 +49,15 @@ void scene_outputs_plan_warnings(const rod_model *m, double dt, run_warnings *w)
 int scene_outputs_result_warnings(const rod_model *m, const rod_report *report,
                                   const knot_track *knots, run_warnings *w, char *error,
                                   size_t errlen);
+
+/* The wound's opening (m) of the elastic pad (surface `pad`) at the
+ * stitch of the punctures of s in it: at their mean place, or the widest
+ * without one. */
+double scene_outputs_stitch_gap(const rod_model *m, const rod_state *s, int pad);
+
+/* --tissue-csv's rows at a frame: t,node,x,y,z (s, -, m, m, m) of the
+ * elastic pad's top-face nodes (nothing without a pad). */
+void scene_outputs_tissue_csv_frame(FILE *f, const rod_model *m, const rod_state *s);
 
 /* Checks the output places before any work: out_dir must be a directory
  * (or creatable) when a video is made, and csv a file in one; then removes

@@ -28,12 +28,19 @@ typedef struct summary_knot_change {
 
 /* A puncture: made at t (s; 0 for one the scene gives), its point (m,
  * global) and the force the thread exerts on the tissue there at the run's
- * end (N, global). */
+ * end (N, global); with several rods, the rod whose thread it holds ("":
+ * the single rod, left out of the JSON). */
 typedef struct summary_puncture {
     double t;
     double point[3];
     double force[3];
+    char rod[32];
 } summary_puncture;
+
+/* Several rods on an elastic pad: each rod with punctures in it is a
+ * stitch, the wound's opening measured at its punctures' mean place along
+ * the wound per output frame (stitch_gap, beside wound_gap's times). */
+#define SUMMARY_MAX_STITCHES 8
 
 /* A grasp: the instrument's name, when its jaws closed on the thread and
  * opened (s; t_off < 0: they hold it at the run's end), the arc length
@@ -151,7 +158,11 @@ typedef struct run_summary {
     double wound_gap[SUMMARY_MAX_GAPS][2]; /* t s, gap m: the wound's opening at the stitch
                                               (the pad's punctures' mean place along the
                                               wound; without one, the widest) per output
-                                              frame, the first SUMMARY_MAX_GAPS */
+                                              frame, the first SUMMARY_MAX_GAPS; several
+                                              rods: the widest along the wound */
+    int stitch_count;
+    char stitch_rod[SUMMARY_MAX_STITCHES][32];
+    double stitch_gap[SUMMARY_MAX_GAPS][SUMMARY_MAX_STITCHES]; /* m, at wound_gap's times */
 } run_summary;
 
 /* An empty summary: nothing known, rope and gap unknown. */

@@ -99,6 +99,9 @@ typedef struct rod_surface {
     struct tissue_solid *solid; /* box with model = elastic: the deformable pad (its state:
                               positions and loads, stepped with the rod), owned by the model
                               (released with it); NULL: rigid */
+    int solid_shared;  /* 1: solid is another rod's of the scene (several rods share one
+                          pad: sim/rod_set.h): not released with this model, and stepped by
+                          the set, not by this rod's step */
 } rod_surface;
 
 /* A puncture given in the scene ([puncture], repeatable): a point the
@@ -107,6 +110,8 @@ typedef struct rod_surface {
 typedef struct rod_puncture {
     double point[3];   /* m, global */
     double friction;   /* Coulomb coefficient along the thread, >= 0 */
+    int index;         /* its [puncture] instance in the scene (messages; with several rods
+                          a rod holds only those naming it) */
 } rod_puncture;
 
 /* The most punctures a run holds (given plus made by the needle). */
@@ -325,6 +330,9 @@ typedef struct rod_model {
     int between_rods;             /* 1: other rods of the scene may touch this one (sim/rod_set.h):
                                      the implicit scheme takes contact's path (line search,
                                      contact's Jacobian) even without surfaces; 0 (default) */
+    int pad_by_set;               /* 1: its elastic pad is shared with other rods of the scene
+                                     (sim/rod_set.h), which couple it after every rod's step:
+                                     the rod's own step only links its punctures; 0 (default) */
 
     /* inputs: loads along the rod (scene [point_load], [loads]) */
     int point_load_count;

@@ -34,6 +34,14 @@
  * after reading the sections it owns itself (e.g. [render]). */
 int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen);
 
+/* The same for a rod of several (sim/rod_set.h): `rod` its NAME (the
+ * [puncture]s with rod = NAME and those naming no rod are its; NULL: the
+ * scene's single rod, which refuses a [puncture] rod key) and `share`
+ * another rod of the scene already read (NULL: none), whose elastic pad
+ * this one shares (rod_surface.solid_shared) instead of making its own. */
+int scene_read_rod_of(ini_doc *doc, rod_model *m, const char *rod, const rod_model *share,
+                      char *err, size_t errlen);
+
 /* -1 with a message saying to use `rodsim fem` when doc is a beam (FEM) scene
  * (beam sections and no [rod]); 0 otherwise. */
 int scene_refuse_beam(ini_doc *doc, char *err, size_t errlen);

@@ -15,6 +15,11 @@ struct rod_cross; /* sim/contact/between_rods.h */
  * at each step (rod_link_begin, rod_link_before); NULL: alone. */
 void rod_implicit_link(void *work, struct rod_cross *cross);
 
+/* The rod's record of its contact on an elastic pad (rod_contact.pad_last,
+ * 2 x nodes x 3, N; NULL without a pad), for a set that couples a shared
+ * pad after every rod's step (tissue_coupling_step_rods). */
+double *rod_implicit_pad_record(void *work);
+
 /* The largest difference, over the Jacobian's columns, between the rod's
  * Jacobian in closed form and by finite differences (contact left out),
  * relative to the column's largest entry, for the step of dt from s at its

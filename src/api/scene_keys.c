@@ -137,6 +137,10 @@ const ini_key scene_keys_rod[] = {
      "a point the thread passes through, sliding ([puncture] repeats, at most 16); on a tissue surface, pairs in order: the thread between is inside; on an elastic pad, on its skin as settled at t = 0"},
     {"puncture", "friction", "-", "0.2", ">= 0",
      "Coulomb coefficient along the thread in the puncture"},
+    {"puncture", "rod", "-", "the single rod", "a [rod NAME]'s NAME",
+     "several rods: the rod whose thread passes through it (required with several rods; "
+     "refused with a bare [rod]); an elastic pad is one for all rods, each rod's punctures "
+     "loading it and moving with it"},
 
     {"instrument", "kind", "-", "required", "needle_holder | forceps | scissors",
      "a rigid surgical instrument driven along its path ([instrument] repeats, at most 4): "
@@ -352,7 +356,8 @@ void scene_keys_print_markdown(FILE *f, const ini_key *table)
                    "the step, whatever the order of the sections; rods apart cost what each "
                    "costs alone. Drawn in the order's colours "
                    "(`render.rod_color` first). Not with several rods yet: the thesis and static "
-                   "schemes, `[instrument]`, `[puncture]`, `[point_load]`, tissue. `--set \"rod NAME.key=V\"` "
+                   "schemes, `[instrument]`, `[point_load]`. Each `[puncture]` names its rod (`puncture.rod`); "
+                   "a tissue surface, rigid or an elastic pad, is one for all rods. `--set \"rod NAME.key=V\"` "
                    "sets a key of one rod.\n\n");
     fprintf(f, "| key | unit | default | accepted | meaning |\n| --- | --- | --- | --- | --- |\n");
     for (const ini_key *k = table; k->section; k++) {

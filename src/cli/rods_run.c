@@ -14,10 +14,13 @@
 #include "cli/knot_across_track.h"
 #include "cli/knot_track.h"
 #include "cli/run.h"
+#include "cli/scene_outputs.h"
 #include "cli/summary.h"
 #include "sim/contact/between_rods.h"
 #include "sim/recording.h"
 #include "sim/rod_set.h"
+#include "sim/tissue/tissue.h"
+#include "sim/tissue/tissue_coupling.h"
 
 #define RODS_ERR_LEN 1024
 
@@ -53,7 +56,64 @@ typedef struct rods_run {
      * order), per output frame */
     knot_across_track across[SUMMARY_MAX_KNOTS_ACROSS];
     int across_count;
+    /* an elastic pad (the first rod's surface `pad`, shared by all; -1:
+     * none): its top nodes per frame, when each rod's punctures were
+     * made (s), and the stitches: the rods with punctures, whose gaps the
+     * summary follows */
+    int pad;
+    FILE *tissue_csv;
+    outfile tissue_file;
+    int punctures_seen[ROD_SET_MAX];
+    double puncture_t[ROD_SET_MAX][ROD_MAX_PUNCTURES];
+    int stitch_count;
+    int stitch_rod[SUMMARY_MAX_STITCHES];
 } rods_run;
+
+/* The wound's opening (m) at rod k's stitch: at the mean place of its
+ * punctures in the pad (linked, or made in it), or the widest without one */
+static double rod_stitch_gap(const rods_run *r, int k)
+{
+    const rod_state *s = r->run.state[k];
+    const tissue_solid *t = r->set.model[0].surfaces[r->pad].solid;
+    double at[3] = {0.0, 0.0, 0.0};
+    int count = 0;
+    for (int p = 0; p < s->puncture_count; p++)
+        if (s->puncture[p].linked == r->pad + 1 || s->puncture[p].surface == r->pad) {
+            v3_axpy(at, 1.0, s->puncture[p].point);
+            count++;
+        }
+    if (count == 0) return tissue_wound_gap(t);
+    v3_scale(at, at, 1.0 / count);
+    return tissue_coupling_gap_at(t, at);
+}
+
+/* A frame's record of the pad and the punctures: the tissue CSV's rows,
+ * the punctures made since the last frame, the gaps for the summary */
+static void pad_frame(rods_run *r)
+{
+    for (int k = 0; k < r->set.count; k++)
+        for (; r->punctures_seen[k] < r->run.state[k]->puncture_count &&
+               r->punctures_seen[k] < ROD_MAX_PUNCTURES;
+             r->punctures_seen[k]++)
+            r->puncture_t[k][r->punctures_seen[k]] = r->run.state[k]->time;
+    if (r->pad < 0) return;
+    const rod_model *m0 = &r->set.model[0];
+    const rod_state *s0 = r->run.state[0];
+    if (r->tissue_csv) scene_outputs_tissue_csv_frame(r->tissue_csv, m0, s0);
+    run_summary *sum = r->o->summary;
+    if (!sum) return;
+    sum->has_tissue = 1;
+    sum->tissue_max_displacement =
+        fmax(sum->tissue_max_displacement,
+             tissue_coupling_max_displacement(m0->surfaces[r->pad].solid));
+    if (sum->gap_count >= SUMMARY_MAX_GAPS) return;
+    const int g = sum->gap_count++;
+    sum->wound_gap[g][0] = s0->time;
+    /* one rod: as the bare [rod]'s; several: the widest, each stitch apart */
+    sum->wound_gap[g][1] = r->set.count > 1 ? tissue_wound_gap(m0->surfaces[r->pad].solid)
+                                            : scene_outputs_stitch_gap(m0, s0, r->pad);
+    for (int q = 0; q < r->stitch_count; q++) sum->stitch_gap[g][q] = rod_stitch_gap(r, r->stitch_rod[q]);
+}
 
 /* Identifies rod k's knot in this frame and notes a change. The strands'
  * closest approach between frames is not measured in a run of several rods:
@@ -119,6 +179,8 @@ static int output_frame(rods_run *r)
         const rod_state *a = r->run.state[t->rod[0]], *b = r->run.state[t->rod[1]];
         knot_across_track_frame(t, a->position, a->nodes, b->position, b->nodes, a->time);
     }
+    pad_frame(r);
+    if (r->tissue_csv && ferror(r->tissue_csv)) return -1;
     r->frames++;
     return 0;
 }
@@ -184,6 +246,30 @@ static void print_result(const rods_run *r)
         fprintf(f, "  rod %s: tip (%.6g, %.6g, %.6g) m; other rods' force on it (%.4g, %.4g, "
                 "%.4g) N\n", r->set.name[k], tip[0], tip[1], tip[2], c[0], c[1], c[2]);
         if (knot_told(r, k)) knot_track_print(f, &r->knot[k], &r->set.model[k]);
+        /* what the tissue feels at each of its punctures; the scene's first */
+        for (int p = 0; p < s->puncture_count; p++) {
+            const rod_puncture_state *ps = &s->puncture[p];
+            fprintf(f, "        puncture %d at (%.6g, %.6g, %.6g) m (%s): the thread passes at "
+                    "s = %.6g m, force on the tissue (%.6g, %.6g, %.6g) N\n", p + 1,
+                    ps->point[0], ps->point[1], ps->point[2],
+                    p < r->set.model[k].puncture_count ? "given" : "made by the needle", ps->s,
+                    ps->force[0] + 0.0, ps->force[1] + 0.0, ps->force[2] + 0.0);
+        }
+    }
+    if (r->pad >= 0) {
+        const tissue_solid *t = r->set.model[0].surfaces[r->pad].solid;
+        fprintf(f, "  elastic pad: its nodes at most %.4g mm from rest; the wound's opening",
+                1e3 * tissue_coupling_max_displacement(t));
+        for (int q = 0; q < r->stitch_count; q++)
+            fprintf(f, "%s at rod %s's stitch %.4g mm", q ? "," : "",
+                    r->set.name[r->stitch_rod[q]], 1e3 * rod_stitch_gap(r, r->stitch_rod[q]));
+        fprintf(f, "%s widest %.4g mm (below 0: the lips pressed together, by the contact's "
+                "give)\n", r->stitch_count ? ";" : "", 1e3 * tissue_wound_gap(t));
+        const tissue_costs c = tissue_cost(t);
+        fprintf(f, "  the pad's CPU: %.3g s of the steps' %.3g s (%.0f %%); %.4g CPU s per "
+                "simulated s in all\n", c.coupling_s, r->step_cpu,
+                r->step_cpu > 0.0 ? 100.0 * c.coupling_s / r->step_cpu : 0.0,
+                r->run.state[0]->time > 0.0 ? r->step_cpu / r->run.state[0]->time : 0.0);
     }
     for (int p = 0; p < r->across_count; p++)
         if (across_told(r, &r->across[p]))
@@ -244,6 +330,20 @@ static void fill_summary(const rods_run *r, run_summary *sum, int ran)
         out->has_knot = knot_told(r, k);
         if (out->has_knot) summary_rod_knot_fill(r, k, &out->knot);
     }
+    sum->puncture_count = 0;
+    for (int k = 0; k < r->set.count; k++) {
+        const rod_state *s = r->run.state[k];
+        for (int p = 0; p < s->puncture_count && sum->puncture_count < SUMMARY_MAX_PUNCTURES; p++) {
+            summary_puncture *out = &sum->punctures[sum->puncture_count++];
+            out->t = p < r->punctures_seen[k] ? r->puncture_t[k][p] : s->time;
+            v3_copy(out->point, s->puncture[p].point);
+            v3_copy(out->force, s->puncture[p].force);
+            if (r->set.count > 1) snprintf(out->rod, sizeof out->rod, "%s", r->set.name[k]);
+        }
+    }
+    sum->stitch_count = r->stitch_count;
+    for (int q = 0; q < r->stitch_count; q++)
+        snprintf(sum->stitch_rod[q], sizeof sum->stitch_rod[q], "%s", r->set.name[r->stitch_rod[q]]);
     sum->knot_across_count = 0;
     for (int p = 0; p < r->across_count; p++) {
         const knot_across_track *t = &r->across[p];
@@ -273,6 +373,16 @@ static int open_outputs(rods_run *r, char *err, size_t errlen)
     if (r->csv) {
         if (r->set.count > 1) run_csv_header_rods(r->csv);
         else run_csv_header(r->csv);
+    }
+    if (o->tissue_csv) {
+        if (r->pad < 0) {
+            snprintf(err, errlen, "--tissue-csv %s: the scene has no elastic pad (a [surface] box "
+                     "with tissue = yes and model = elastic)", o->tissue_csv);
+            return RUN_EXIT_BAD_INPUT;
+        }
+        if (outfile_open(&r->tissue_file, o->tissue_csv, err, errlen)) return RUN_EXIT_FAILURE;
+        r->tissue_csv = r->tissue_file.fp;
+        fprintf(r->tissue_csv, "t,node,x,y,z\n");
     }
     for (int k = 0; !o->no_video && k < r->set.count; k++) {
         r->rec[k] = rod_recording_create(&r->set.model[k], r->scene, (int)r->plan.frames);
@@ -308,6 +418,8 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
     r.scene = scene;
     r.closest_gap = INFINITY;
     r.csv_file = (outfile){.fd = -1, .slot = -1};
+    r.tissue_file = (outfile){.fd = -1, .slot = -1};
+    r.pad = -1;
     int status = RUN_EXIT_BAD_INPUT, ran = 0;
     if (ini_check_keys(doc, scene_keys_rod, err, sizeof err) ||
         scene_read_rods(doc, &r.set, err, sizeof err))
@@ -315,6 +427,12 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
     if (run_read_output(doc, &r.out, err, sizeof err) || ini_check_unused(doc, err, sizeof err))
         goto fail;
     r.dt = rod_set_choose_dt(&r.set, NULL);
+    r.pad = tissue_coupling_pad(&r.set.model[0]);
+    /* the stitches: the rods that hold punctures or carry a needle */
+    for (int k = 0; r.pad >= 0 && r.set.count > 1 && k < r.set.count; k++)
+        if ((r.set.model[k].puncture_count > 0 || r.set.model[k].needle_radius > 0.0) &&
+            r.stitch_count < SUMMARY_MAX_STITCHES)
+            r.stitch_rod[r.stitch_count++] = k;
     if (run_plan_make(&r.set.model[0], r.dt, r.out.fps, &r.plan)) {
         snprintf(err, sizeof err, "%s: solver.duration / solver.dt: too many steps or frames",
                  ini_filename(doc));
@@ -344,6 +462,10 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
         status = RUN_EXIT_FAILURE;
         goto abort;
     }
+    if (r.tissue_csv && outfile_commit(&r.tissue_file, err, sizeof err)) {
+        status = RUN_EXIT_FAILURE;
+        goto abort;
+    }
     if (outfile_transaction_commit(err, sizeof err)) {
         status = RUN_EXIT_FAILURE;
         goto abort;
@@ -365,6 +487,7 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
     if (o->summary) {
         fill_summary(&r, o->summary, ran);
         if (o->csv && !r.csv_stdout) summary_add_file(o->summary, o->csv);
+        if (o->tissue_csv) summary_add_file(o->summary, o->tissue_csv);
         if (!o->no_video) {
             char path[SUMMARY_TEXT_LEN];
             for (int k = 0; k < 2; k++) {
@@ -376,6 +499,7 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
     goto done;
 abort:
     outfile_abort(&r.csv_file);
+    outfile_abort(&r.tissue_file);
     outfile_transaction_abort();
 fail:
     fprintf(stderr, "rodsim run: %s\n", err);

@@ -195,7 +195,7 @@ static int report_step_failure(const scene_outputs_options *a, rod_status status
 
 /* The wound's opening (m) of an elastic pad at its stitch: at the mean
  * place of the punctures in it, or the widest without one. */
-static double stitch_gap(const rod_model *m, const rod_state *s, int pad)
+double scene_outputs_stitch_gap(const rod_model *m, const rod_state *s, int pad)
 {
     double at[3] = {0, 0, 0};
     int count = 0;
@@ -272,7 +272,7 @@ static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_
     if (pad >= 0) {
         /* a gap below 0 is the lips pressed together: the contact between
          * them is a penalty, which lets them overlap by its give */
-        const double gap = stitch_gap(m, s, pad);
+        const double gap = scene_outputs_stitch_gap(m, s, pad);
         char opening[128];
         if (gap > 0.0) snprintf(opening, sizeof opening, "the wound's opening at the stitch %.4g mm", 1e3 * gap);
         else snprintf(opening, sizeof opening, "the wound closed at the stitch, its lips pressed "
@@ -466,13 +466,13 @@ static void summary_tissue(run_summary *sum, const rod_model *m, const rod_state
         fmax(sum->tissue_max_displacement, tissue_coupling_max_displacement(m->surfaces[pad].solid));
     if (sum->gap_count < SUMMARY_MAX_GAPS) {
         sum->wound_gap[sum->gap_count][0] = s->time;
-        sum->wound_gap[sum->gap_count++][1] = stitch_gap(m, s, pad);
+        sum->wound_gap[sum->gap_count++][1] = scene_outputs_stitch_gap(m, s, pad);
     }
 }
 
 /* --tissue-csv: t,node,x,y,z (s, -, m, m, m) of the elastic pad's top-face
  * nodes (the skin's surface, both lips of the wound) at a frame */
-static void tissue_csv_frame(FILE *f, const rod_model *m, const rod_state *s)
+void scene_outputs_tissue_csv_frame(FILE *f, const rod_model *m, const rod_state *s)
 {
     const int pad = tissue_coupling_pad(m);
     if (pad < 0) return;
@@ -511,7 +511,7 @@ static int on_frame(void *context, const rod_model *m, const rod_state *s, char 
         }
     }
     if (sink->tissue_csv) {
-        tissue_csv_frame(sink->tissue_csv, m, s);
+        scene_outputs_tissue_csv_frame(sink->tissue_csv, m, s);
         if (ferror(sink->tissue_csv)) {
             snprintf(err, errlen, "--tissue-csv: write failed at t = %g s (disk full?)", s->time);
             sink->failed = 1;

@@ -270,6 +270,7 @@ static void punctures_list(json_out *j, const run_summary *s)
     for (int i = 0; i < s->puncture_count; i++) {
         comma(j);
         open_(j, '{');
+        if (s->punctures[i].rod[0]) string_field(j, "rod", s->punctures[i].rod);
         number_field(j, "t", s->punctures[i].t);
         vector_field(j, "point", s->punctures[i].point);
         vector_field(j, "force", s->punctures[i].force);
@@ -330,6 +331,28 @@ static void tissue_object(json_out *j, const run_summary *s)
         fputc(']', j->f);
     }
     close_(j, ']');
+    if (s->stitch_count > 0) { /* several rods: the gap at each stitch */
+        key(j, "stitches");
+        open_(j, '[');
+        for (int k = 0; k < s->stitch_count; k++) {
+            comma(j);
+            open_(j, '{');
+            string_field(j, "rod", s->stitch_rod[k]);
+            key(j, "gap");
+            open_(j, '[');
+            for (int i = 0; i < s->gap_count; i++) {
+                comma(j);
+                fputc('[', j->f);
+                summary_json_number(j->f, s->wound_gap[i][0]);
+                fputc(',', j->f);
+                summary_json_number(j->f, s->stitch_gap[i][k]);
+                fputc(']', j->f);
+            }
+            close_(j, ']');
+            close_(j, '}');
+        }
+        close_(j, ']');
+    }
     close_(j, '}');
 }
 

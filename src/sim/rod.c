@@ -569,7 +569,7 @@ void rod_model_release(rod_model *m)
     m->point_load_count = 0;
     for (int k = 0; k < m->surface_count; k++) {
         rod_mesh_destroy(m->surfaces[k].mesh);
-        tissue_destroy(m->surfaces[k].solid);
+        if (!m->surfaces[k].solid_shared) tissue_destroy(m->surfaces[k].solid);
     }
     free(m->surfaces);
     m->surfaces = NULL;
@@ -824,8 +824,11 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     for (int j = 0; j < m->surface_count; j++) {
         if (!m->surfaces[j].solid) continue;
         char why[256];
-        tissue_clear_forces(m->surfaces[j].solid);
-        (void)tissue_solve_static(m->surfaces[j].solid, NULL, why, sizeof why);
+        /* a pad shared by several rods is reset with its owner's */
+        if (!m->surfaces[j].solid_shared) {
+            tissue_clear_forces(m->surfaces[j].solid);
+            (void)tissue_solve_static(m->surfaces[j].solid, NULL, why, sizeof why);
+        }
         if (m->surfaces[j].mesh)
             rod_mesh_move(m->surfaces[j].mesh, tissue_positions(m->surfaces[j].solid), 0.0);
     }

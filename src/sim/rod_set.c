@@ -9,6 +9,7 @@
 #include "sim/contact/between_rods.h"
 #include "sim/scene.h"
 #include "sim/scheme_implicit.h"
+#include "sim/tissue/tissue_coupling.h"
 
 int scene_has_named_rods(const ini_doc *doc, int *count)
 {
@@ -31,10 +32,6 @@ static int refuse_for_several(ini_doc *doc, const rod_set *set, int k, char *err
         return ini_error(doc, "instrument", 0, "kind", err, errlen,
                          "instruments are not modelled with several rods yet; accepted: a scene "
                          "with one [rod], or no [instrument]");
-    if (m->puncture_count > 0)
-        return ini_error(doc, "puncture", 0, "point", err, errlen,
-                         "punctures are not modelled with several rods yet; accepted: a scene "
-                         "with one [rod], or no [puncture]");
     if (m->cut_event_count > 0)
         return ini_error(doc, "cut", 0, "t", err, errlen,
                          "a [cut] names no rod: with several rods it is not accepted yet; "
@@ -42,10 +39,6 @@ static int refuse_for_several(ini_doc *doc, const rod_set *set, int k, char *err
     if (m->point_load_count > 0)
         return ini_error(doc, "point_load", 0, "s", err, errlen,
                          "a point load names no rod: with several rods it is not accepted yet");
-    for (int j = 0; j < m->surface_count; j++)
-        if (m->surfaces[j].solid || m->surfaces[j].tissue)
-            return ini_error(doc, "surface", j, "tissue", err, errlen,
-                             "tissue is not modelled with several rods yet; accepted: no");
     return 0;
 }
 
@@ -61,7 +54,8 @@ static int read_named(ini_doc *doc, rod_set *set, int k, char *err, size_t errle
     int rc = ini_alias(doc, "rod", rod) || ini_alias(doc, "ends", ends) ||
              ini_alias(doc, "tip", tip);
     if (rc) snprintf(err, errlen, "%s: [rod %s]: the name is too long", ini_filename(doc), set->name[k]);
-    else rc = scene_read_rod(doc, &set->model[k], err, errlen);
+    else rc = scene_read_rod_of(doc, &set->model[k], set->name[k], k > 0 ? &set->model[0] : NULL,
+                                err, errlen);
     ini_alias(doc, "rod", NULL);
     ini_alias(doc, "ends", NULL);
     ini_alias(doc, "tip", NULL);
@@ -85,6 +79,34 @@ static int refuse_orphans(const ini_doc *doc, const rod_set *set, char *err, siz
                      ini_filename(doc), ini_section_line(doc, section, 0), section);
             return -1;
         }
+    }
+    return 0;
+}
+
+/* Every [puncture]'s rod key names a rod of the set (`names`, `count` of
+ * them); with several rods it is required. 0, or -1 with a message. */
+static int check_puncture_rods(ini_doc *doc, const char *const *names, int count, char *err,
+                               size_t errlen)
+{
+    char listed[ROD_SET_MAX * (ROD_NAME_LEN + 2)] = "";
+    for (int k = 0; k < count && k < ROD_SET_MAX; k++) {
+        size_t used = strlen(listed);
+        snprintf(listed + used, sizeof listed - used, "%s%.*s", k ? ", " : "", ROD_NAME_LEN - 1,
+                 names[k]);
+    }
+    const int punctures = ini_section_count(doc, "puncture");
+    for (int i = 0; i < punctures; i++) {
+        const char *rod = NULL;
+        if (ini_get_string(doc, "puncture", i, "rod", &rod, err, errlen) < 0) return -1;
+        if (!rod && count > 1)
+            return ini_error(doc, "puncture", i, "rod", err, errlen,
+                             "missing; required with several rods: the NAME of the [rod NAME] "
+                             "the thread passing through it is; accepted: %s", listed);
+        int found = !rod;
+        for (int k = 0; k < count && !found; k++) found = strcmp(rod, names[k]) == 0;
+        if (!found)
+            return ini_error(doc, "puncture", i, "rod", err, errlen,
+                             "names no rod of the scene; accepted: %s", listed);
     }
     return 0;
 }
@@ -114,6 +136,7 @@ int scene_read_rods(ini_doc *doc, rod_set *set, char *err, size_t errlen)
                  ini_filename(doc), 0, names[ROD_SET_MAX], ROD_SET_MAX, ROD_SET_MAX);
         return -1;
     }
+    if (check_puncture_rods(doc, names, named, err, errlen)) return -1;
     for (int k = 0; k < named; k++) {
         if (strlen(names[k]) >= ROD_NAME_LEN) {
             char section[ROD_NAME_LEN * 4];
@@ -139,9 +162,11 @@ int scene_read_rods(ini_doc *doc, rod_set *set, char *err, size_t errlen)
         rod_set_release(set);
         return -1;
     }
+    const int pad = tissue_coupling_pad(&set->model[0]) >= 0;
     for (int k = 0; named > 1 && k < set->count; k++) {
         set->model[k].between_rods = 1;
         set->model[k].physics.planar = 0; /* the others may push it out of any plane */
+        set->model[k].pad_by_set = pad;   /* one pad, coupled once a step for all */
     }
     return 0;
 }
@@ -224,6 +249,21 @@ static rod_status solve_one(const rod_set *set, rod_set_run *run, int k, double 
     return ROD_OK;
 }
 
+/* The pad the rods share, once a step after every rod's solve: every
+ * rod's punctures and contact load it, and its motion moves every rod's
+ * punctures (tissue_coupling_step_rods). 0, or -1 with the message. */
+static int couple_pad(const rod_set *set, rod_set_run *run, rod_report *report)
+{
+    const rod_model *models[ROD_SET_MAX];
+    double *records[ROD_SET_MAX];
+    for (int k = 0; k < set->count; k++) {
+        models[k] = &set->model[k];
+        records[k] = rod_implicit_pad_record(run->solver[k].work);
+    }
+    return tissue_coupling_step_rods(set->count, models, run->state, records, report->message,
+                                     sizeof report->message);
+}
+
 rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_report *report)
 {
     rod_link *l = run->link;
@@ -274,6 +314,7 @@ rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_rep
         rod_link_relax(l, sweep);
     }
     for (int k = 0; k < set->count; k++) rod_cross_total(&l->cross[k], run->touch_force[k]);
+    if (set->model[0].pad_by_set && couple_pad(set, run, report)) return ROD_FAILED;
     run->steps++;
     return ROD_OK;
 }

@@ -393,7 +393,9 @@ static int read_mesh(ini_doc *doc, int i, rod_surface *sf, const char *file, int
  * tissue (portable core keys), and a box's rounding. `size`
  * holds 3 edge lengths for a box and one radius for a cylinder or a sphere;
  * a plane has none. */
-static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+/* [surface]s and the [puncture]s of the rod named `rod` (NULL: the
+ * scene's single rod; a [puncture] naming another rod is not its) */
+static int read_surfaces(ini_doc *doc, rod_model *m, const char *rod, char *err, size_t errlen)
 {
     int count = ini_section_count(doc, "surface");
     static const char *const shapes[] = {"plane", "box", "cylinder", "sphere", "mesh", NULL};
@@ -461,12 +463,19 @@ static int read_surfaces(ini_doc *doc, rod_model *m, char *err, size_t errlen)
                          "at most %d punctures (given and made by the needle together)",
                          ROD_MAX_PUNCTURES);
     for (int i = 0; i < (pcount > 0 ? pcount : 1); i++) {
-        rod_puncture pu = {{0.0, 0.0, 0.0}, 0.2};
+        rod_puncture pu = {{0.0, 0.0, 0.0}, 0.2, i};
+        const char *owner = NULL;
         int has_point = ini_get_vector(doc, "puncture", i, "point", pu.point, 3, err, errlen);
         if (has_point < 0 ||
-            ini_get_double(doc, "puncture", i, "friction", &pu.friction, err, errlen) < 0)
+            ini_get_double(doc, "puncture", i, "friction", &pu.friction, err, errlen) < 0 ||
+            ini_get_string(doc, "puncture", i, "rod", &owner, err, errlen) < 0)
             return -1;
         if (pcount == 0) break;
+        if (owner && !rod)
+            return ini_error(doc, "puncture", i, "rod", err, errlen,
+                             "the scene has one bare [rod]: a puncture is its own; accepted: "
+                             "no rod key, or [rod NAME] sections");
+        if (owner && strcmp(owner, rod) != 0) continue; /* another rod's */
         if (has_point == 0)
             return ini_error(doc, "puncture", i, "point", err, errlen,
                              "missing; required: the point x y z (m, global) the thread passes "
@@ -612,7 +621,7 @@ static int check_start_outside(ini_doc *doc, rod_model *m, char *err, size_t err
         double distance, slack = 0.01 * m->ds + 1e-3 * radius;
         double along = rod_nearest_arc_length(m, s->position, s->puncture[j].point, &distance);
         if (distance > slack + m->shape_moved) {
-            rc = ini_error(doc, "puncture", j, "point", err, errlen,
+            rc = ini_error(doc, "puncture", m->punctures[j].index, "point", err, errlen,
                            "the rod's starting shape does not pass through this point: its "
                            "nearest point is %.3g m away; a puncture holds the thread where it "
                            "already passes", distance);
@@ -924,7 +933,8 @@ int scene_refuse_beam(ini_doc *doc, char *err, size_t errlen)
  * the pad from the box's center and size, and solves its rest under the
  * pretension and gravity (m/s^2, 0 when the scene's gravity is off). A pad
  * is quasi-static: mass and damping are not used by the coupling. */
-static int read_tissue_pads(ini_doc *doc, rod_model *m, const double gravity[3], char *err,
+static int read_tissue_pads(ini_doc *doc, rod_model *m, const rod_model *share,
+                            const double gravity[3], char *err,
                             size_t errlen)
 {
     static const char *const models[] = {"rigid", "elastic", NULL};
@@ -955,6 +965,18 @@ static int read_tissue_pads(ini_doc *doc, rod_model *m, const double gravity[3],
         if (tissue_coupling_pad(m) >= 0)
             return ini_error(doc, "surface", i, "model", err, errlen,
                              "one elastic pad per scene; accepted rigid for this one");
+        if (share && share->surfaces[i].solid) {
+            /* the pad another rod of the scene read: its own surface mesh
+             * over the one pad, settled already */
+            sf->solid = share->surfaces[i].solid;
+            sf->solid_shared = 1;
+            char why[512];
+            sf->mesh = tissue_coupling_surface(sf->solid, why, sizeof why);
+            if (!sf->mesh) return ini_error(doc, "surface", i, "model", err, errlen, "%s", why);
+            rod_mesh_set_rounding(sf->mesh, sf->rounding);
+            rod_mesh_move(sf->mesh, tissue_positions(sf->solid), 0.0);
+            continue;
+        }
         c.model = TISSUE_ELASTIC;
         c.held = (tissue_held)held;
         c.has_wound = has_wound > 0;
@@ -994,13 +1016,19 @@ static int read_tissue_pads(ini_doc *doc, rod_model *m, const double gravity[3],
 
 int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
+    return scene_read_rod_of(doc, m, NULL, NULL, err, errlen);
+}
+
+int scene_read_rod_of(ini_doc *doc, rod_model *m, const char *rod, const rod_model *share,
+                      char *err, size_t errlen)
+{
     *m = rod_model_default();
     double gravity[3] = {0.0, 0.0, 0.0}; /* m/s^2 */
     if (scene_refuse_beam(doc, err, errlen) || read_rod(doc, m, err, errlen) ||
         read_start(doc, m, err, errlen) || read_solver(doc, m, err, errlen) ||
         read_tip(doc, m, err, errlen) || read_loads(doc, m, gravity, err, errlen) ||
         read_ends_physics(doc, m, err, errlen) || read_point_loads(doc, m, err, errlen) ||
-        read_surfaces(doc, m, err, errlen) || read_instruments(doc, m, err, errlen) ||
+        read_surfaces(doc, m, rod, err, errlen) || read_instruments(doc, m, err, errlen) ||
         rod_cut_read_scene(doc, m, err, errlen))
         goto fail;
     char why[768];
@@ -1019,8 +1047,8 @@ int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
     }
     /* the pads first: the thread's start is checked against an elastic pad
      * as it is at t = 0, settled */
-    if (read_tissue_pads(doc, m, m->physics.gravity ? gravity : (const double[3]){0, 0, 0}, err,
-                         errlen) ||
+    if (read_tissue_pads(doc, m, share, m->physics.gravity ? gravity : (const double[3]){0, 0, 0},
+                         err, errlen) ||
         check_start_outside(doc, m, err, errlen))
         goto fail;
     /* gravity acts on the mass per length: f = rho A g, added to any given distributed force */

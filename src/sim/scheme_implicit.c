@@ -36,7 +36,7 @@ static rod_status step(void *p, const rod_model *m, rod_state *s, double dt, rod
     if (pad && tissue_coupling_link(m, s, report->message, sizeof report->message)) return ROD_FAILED;
     rod_status st = implicit_step(p, m, s, dt, report);
     implicit_work *w = p;
-    if (st == ROD_OK && pad &&
+    if (st == ROD_OK && pad && !m->pad_by_set &&
         tissue_coupling_step(m, s, w->contact.pad_last, report->message, sizeof report->message))
         return ROD_FAILED;
     return st;
@@ -57,6 +57,11 @@ static double stable_dt(const rod_model *m, const char **limit)
 void rod_implicit_link(void *work, struct rod_cross *cross)
 {
     ((implicit_work *)work)->cross = cross;
+}
+
+double *rod_implicit_pad_record(void *work)
+{
+    return ((implicit_work *)work)->contact.pad_last;
 }
 
 const rod_scheme_ops rod_scheme_implicit = {"implicit", create, step, destroy, stable_dt,

@@ -45,6 +45,16 @@
 int tissue_coupling_step(const rod_model *m, rod_state *s, double *pad_force, char *err,
                          size_t errlen);
 
+/* The same for `count` rods sharing their pads (sim/rod_set.h: each
+ * model's surface j is the same pad, rod_surface.solid_shared but for
+ * m[0]'s): after every rod's step, every rod's punctures and contact
+ * (pad_force[q], may be NULL) load each pad, one solve, and every rod's
+ * punctures move with it. A puncture's compliance folds in the pad's give
+ * under its own rod's punctures only: the other rods' pulls reach it
+ * through the pad's solve, a step late. count 1 is tissue_coupling_step. */
+int tissue_coupling_step_rods(int count, const rod_model *const *m, rod_state *const *s,
+                              double *const *pad_force, char *err, size_t errlen);
+
 /* Before a rod step: links the punctures not yet linked (as above) and
  * sets their compliance, without solving the pads, and moves each pad's
  * surface mesh (rod_surface.mesh) to the pad's nodes, its velocity the

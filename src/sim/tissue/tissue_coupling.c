@@ -400,21 +400,48 @@ static void measure_give(const rod_model *m, int j, const rod_state *s, double *
     memcpy(pad_force + n3, pad_force, (size_t)n3 * sizeof(double));
 }
 
-/* Pad j's loads: the linked punctures' forces and the contact's forces
- * `contact` (nodes x 3, may be NULL). Sets *any when a puncture loads it;
+/* The rods that load one pad (one rod's run, or several rods sharing the
+ * pad: sim/rod_set.h), each with its contact record (may be NULL) */
+typedef struct pad_rods {
+    int count;
+    const rod_model *const *m;
+    rod_state *const *s;
+    double *const *pad_force;
+} pad_rods;
+
+/* Pad j's loads: every rod's linked punctures' forces and its contact's
+ * forces (`record` 1: the record, pad_force + 3 nodes; 0: pad_force; a
+ * rod without pad_force: none). Sets *any when a puncture loads it;
  * returns apply_contact's largest node force. */
-static double load_pad(const rod_model *m, int j, const rod_state *s, const double *contact, int *any)
+static double load_pad(const pad_rods *r, int j, int record, int *any)
 {
-    tissue_solid *t = m->surfaces[j].solid;
+    tissue_solid *t = r->m[0]->surfaces[j].solid;
     tissue_clear_forces(t);
     *any = 0;
-    for (int k = 0; k < s->puncture_count; k++) {
-        const rod_puncture_state *ps = &s->puncture[k];
-        if (ps->linked != j + 1) continue;
-        tissue_apply_patch_force(t, ps->patch_nodes, ps->patch_node, ps->patch_weight, ps->force);
-        *any = 1;
+    double largest = 0.0;
+    for (int q = 0; q < r->count; q++) {
+        const rod_state *s = r->s[q];
+        for (int k = 0; k < s->puncture_count; k++) {
+            const rod_puncture_state *ps = &s->puncture[k];
+            if (ps->linked != j + 1) continue;
+            tissue_apply_patch_force(t, ps->patch_nodes, ps->patch_node, ps->patch_weight, ps->force);
+            *any = 1;
+        }
+        const double *contact = r->pad_force[q];
+        if (contact && record) contact += 3 * s->nodes;
+        largest = fmax(largest, apply_contact(r->m[q], j, s, contact));
     }
-    return apply_contact(m, j, s, contact);
+    return largest;
+}
+
+/* The largest force at a puncture of pad j, of every rod (N), or `largest` */
+static double largest_puncture(const pad_rods *r, int j, double largest)
+{
+    for (int q = 0; q < r->count; q++)
+        for (int k = 0; k < r->s[q]->puncture_count; k++)
+            if (r->s[q]->puncture[k].linked == j + 1)
+                largest = fmax(largest, v3_norm(r->s[q]->puncture[k].force));
+    return largest;
 }
 
 /* The pad's motion apart from the thread's contact, for the friction's
@@ -426,34 +453,40 @@ static double load_pad(const rod_model *m, int j, const rod_state *s, const doub
  * surface only (rod_mesh_move at the same time). The velocity thus leaves
  * out the thread's own dent following it one step late, which the
  * friction would drag the thread with. The loads are left as the caller
- * set them (the punctures and the contact's new forces). 0, or -1 with a
- * message. */
-static int contact_apart(const rod_model *m, int j, const rod_state *s, const double *pad_force,
-                         double largest, char *err, size_t errlen)
+ * set them (the punctures and the contact's new forces). With several
+ * rods, every rod's surface mesh moves so. 0, or -1 with a message. */
+static int contact_apart(const pad_rods *r, int j, double largest, char *err, size_t errlen)
 {
-    struct rod_mesh *mesh = m->surfaces[j].mesh;
-    tissue_solid *t = m->surfaces[j].solid;
-    if (!mesh || !pad_force) return 0;
-    const double *record = pad_force + 3 * s->nodes;
+    tissue_solid *t = r->m[0]->surfaces[j].solid;
     double before = 0.0;
-    for (int k = 0; k < 3 * s->nodes; k++) before = fmax(before, fabs(record[k]));
+    int meshes = 0;
+    for (int q = 0; q < r->count; q++) {
+        if (!r->m[q]->surfaces[j].mesh || !r->pad_force[q]) continue;
+        const double *record = r->pad_force[q] + 3 * r->s[q]->nodes;
+        for (int k = 0; k < 3 * r->s[q]->nodes; k++) before = fmax(before, fabs(record[k]));
+        meshes++;
+    }
+    if (meshes == 0) return 0;
     if (!(largest > 0.0) && !(before > 0.0)) return 0;
     int any;
-    (void)load_pad(m, j, s, record, &any);
-    for (int k = 0; k < s->puncture_count; k++)
-        if (s->puncture[k].linked == j + 1) largest = fmax(largest, v3_norm(s->puncture[k].force));
+    (void)load_pad(r, j, 1, &any);
+    largest = largest_puncture(r, j, largest);
     if (tissue_solve_static_to(t, 1e-5 * fmax(largest, before), 1, NULL, err, errlen)) return -1;
-    (void)load_pad(m, j, s, pad_force, &any);
-    rod_mesh_move(mesh, tissue_positions(t), s->time);
+    (void)load_pad(r, j, 0, &any);
+    for (int q = 0; q < r->count; q++)
+        if (r->m[q]->surfaces[j].mesh && r->pad_force[q])
+            rod_mesh_move(r->m[q]->surfaces[j].mesh, tissue_positions(t), r->s[q]->time);
     return 0;
 }
 
-/* One pad's part of tissue_coupling_step */
-static int couple_pad(const rod_model *m, int j, rod_state *s, double *pad_force, char *err,
-                      size_t errlen)
+/* One pad's part of tissue_coupling_step: every rod's punctures and
+ * contact load it, one solve, every rod's punctures move with it */
+static int couple_pad(const pad_rods *r, int j, char *err, size_t errlen)
 {
-    tissue_solid *t = m->surfaces[j].solid;
-    if (link_new(m, j, s, err, errlen)) return -1;
+    const rod_model *m0 = r->m[0];
+    tissue_solid *t = m0->surfaces[j].solid;
+    for (int q = 0; q < r->count; q++)
+        if (link_new(r->m[q], j, r->s[q], err, errlen)) return -1;
     /* loads left from the last step: the pad is solved once more
      * without them when nothing loads it now */
     const double *load = tissue_external_forces(t);
@@ -463,12 +496,12 @@ static int couple_pad(const rod_model *m, int j, rod_state *s, double *pad_force
      * like the cross-compliance: the step's contact saw the surface
      * where the last equilibrium left it) */
     int any;
-    double largest = load_pad(m, j, s, pad_force, &any);
+    double largest = load_pad(r, j, 0, &any);
     if (!any && !(largest > 0.0) && !loaded) return 0;
     char why[256];
-    if (contact_apart(m, j, s, pad_force, largest, why, sizeof why)) {
+    if (contact_apart(r, j, largest, why, sizeof why)) {
         snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
-                 m->surfaces[j].line, s->time, why);
+                 m0->surfaces[j].line, r->s[0]->time, why);
         return -1;
     }
     /* up to PAD_UPDATES Newton updates a step, from the last equilibrium
@@ -476,41 +509,51 @@ static int couple_pad(const rod_model *m, int j, rod_state *s, double *pad_force
      * update), none once the residual is below 1e-5 of the largest force
      * at a puncture or a node on the surface: the next step's updates
      * carry the rest over */
-    for (int k = 0; k < s->puncture_count; k++)
-        if (s->puncture[k].linked == j + 1) largest = fmax(largest, v3_norm(s->puncture[k].force));
+    largest = largest_puncture(r, j, largest);
     if (tissue_solve_static_to(t, 1e-5 * largest, PAD_UPDATES, NULL, why, sizeof why)) {
         snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
-                 m->surfaces[j].line, s->time, why);
+                 m0->surfaces[j].line, r->s[0]->time, why);
         return -1;
     }
-    measure_give(m, j, s, pad_force);
-    if (renew_surface_compliance(m, j, s, pad_force, why, sizeof why)) {
-        snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
-                 m->surfaces[j].line, s->time, why);
-        return -1;
+    for (int q = 0; q < r->count; q++) {
+        const rod_model *m = r->m[q];
+        rod_state *s = r->s[q];
+        measure_give(m, j, s, r->pad_force[q]);
+        if (renew_surface_compliance(m, j, s, r->pad_force[q], why, sizeof why)) {
+            snprintf(err, errlen, "the elastic tissue of the [surface] of line %d at t = %.6g s: %s",
+                     m->surfaces[j].line, s->time, why);
+            return -1;
+        }
+        int stale = 0;
+        for (int k = 0; k < s->puncture_count; k++) {
+            rod_puncture_state *ps = &s->puncture[k];
+            if (ps->linked != j + 1) continue;
+            tissue_patch_position(t, ps->patch_nodes, ps->patch_node, ps->patch_weight, ps->point);
+            v3_axpy(ps->point, 1.0, ps->offset);
+            v3_copy(ps->pad_force, ps->force);
+            /* from the kept factor: the same until it is renewed */
+            stale |= ps->compliance_factor != tissue_factorisations(t);
+        }
+        if (stale && renew_puncture_compliance(m, j, s, err, errlen)) return -1;
     }
-    int stale = 0;
-    for (int k = 0; k < s->puncture_count; k++) {
-        rod_puncture_state *ps = &s->puncture[k];
-        if (ps->linked != j + 1) continue;
-        tissue_patch_position(t, ps->patch_nodes, ps->patch_node, ps->patch_weight, ps->point);
-        v3_axpy(ps->point, 1.0, ps->offset);
-        v3_copy(ps->pad_force, ps->force);
-        /* from the kept factor: the same until it is renewed */
-        stale |= ps->compliance_factor != tissue_factorisations(t);
-    }
-    if (stale && renew_puncture_compliance(m, j, s, err, errlen)) return -1;
     return 0;
 }
 
 int tissue_coupling_step(const rod_model *m, rod_state *s, double *pad_force, char *err,
                          size_t errlen)
 {
-    for (int j = 0; j < m->surface_count; j++) {
-        if (!m->surfaces[j].solid) continue;
+    return tissue_coupling_step_rods(1, &m, &s, &pad_force, err, errlen);
+}
+
+int tissue_coupling_step_rods(int count, const rod_model *const *m, rod_state *const *s,
+                              double *const *pad_force, char *err, size_t errlen)
+{
+    const pad_rods r = {count, m, s, pad_force};
+    for (int j = 0; j < m[0]->surface_count; j++) {
+        if (!m[0]->surfaces[j].solid) continue;
         const double t0 = cpu_now();
-        const int rc = couple_pad(m, j, s, pad_force, err, errlen);
-        tissue_add_coupling_time(m->surfaces[j].solid, cpu_now() - t0);
+        const int rc = couple_pad(&r, j, err, errlen);
+        tissue_add_coupling_time(m[0]->surfaces[j].solid, cpu_now() - t0);
         if (rc) return -1;
     }
     return 0;
