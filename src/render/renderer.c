@@ -598,6 +598,7 @@ static void renderer_meshes(renderer *r, const rod_recording *rec, int frame,
         renderer_rods(r, rec, frame);
         if (r->o->arrows) glyph_add_arrows(m, &r->arrows, rec, frame);
         r->caster_indices = m->index_count;
+        renderer_pads(r, given, given_frame); /* the pad the rods share */
         if (r->shadow.receivers)
             surface_add_punctures(m, given, given_frame, r->radius, r->shadow.lift);
         frame_boxes(r, rec, frame, given, given_frame);

@@ -200,7 +200,8 @@ static int copy_scene(rod_recording *r, const rod_model *m)
             mesh.mesh_triangles = (int *)rod_mesh_triangles(from->mesh);
             if (recording_surface_copy_mesh(to, &mesh)) return -1;
         }
-        if (from->solid && copy_pad(to, from->solid)) return -1;
+        /* a pad several rods share is recorded with its owner's */
+        if (from->solid && !from->solid_shared && copy_pad(to, from->solid)) return -1;
     }
     return 0;
 }
@@ -310,7 +311,7 @@ double rod_recording_model_bytes(const rod_model *m, double frames)
 {
     double bytes = rod_recording_bytes(m->nodes, frames);
     for (int k = 0; m->surfaces && k < m->surface_count; k++)
-        if (m->surfaces[k].solid)
+        if (m->surfaces[k].solid && !m->surfaces[k].solid_shared)
             bytes += frames * 3 * (double)sizeof(double) * tissue_node_count(m->surfaces[k].solid);
     return bytes;
 }
@@ -533,6 +534,15 @@ rod_recording *rod_recording_join(rod_recording *const *parts, int count)
         r->puncture_count[f] = 0;
     }
     memset(r->puncture, 0, (size_t)frames * ROD_MAX_PUNCTURES * 3 * sizeof(double));
+    /* every rod's punctures, in the rods' order, the first ROD_MAX_PUNCTURES */
+    for (size_t f = 0; f < (size_t)frames; f++)
+        for (int k = 0; k < count; k++) {
+            const rod_recording *p = parts[k];
+            if (!p->puncture_count || !p->puncture) continue;
+            for (int i = 0; i < p->puncture_count[f] && r->puncture_count[f] < ROD_MAX_PUNCTURES; i++)
+                v3_copy(&r->puncture[(f * ROD_MAX_PUNCTURES + (size_t)r->puncture_count[f]++) * 3],
+                        &p->puncture[(f * ROD_MAX_PUNCTURES + (size_t)i) * 3]);
+        }
     r->frame_count = frames;
     return r;
 }
