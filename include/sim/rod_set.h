@@ -38,10 +38,12 @@ typedef struct rod_set {
 /* The scene's rods: the bare [rod] (with [ends], [tip]) as one rod named
  * "rod", or every [rod NAME] with its [ends NAME] and [tip NAME], each read
  * by scene_read_rod (the shared sections, [solver], [loads], [physics],
- * [surface], read for each). Several rods need the implicit scheme and
- * refuse what is not modelled between rods yet (instruments, punctures,
- * point loads, an elastic pad): the message names the file, line and key.
- * Returns 0, or -1 with a message in err (nothing owned then). */
+ * [surface], read for each; each rod's the [puncture]s naming it, and
+ * one elastic pad, the first rod's, shared by all: rod_surface.solid_shared,
+ * rod_model.pad_by_set). Several rods need the implicit scheme and refuse
+ * what is not modelled between rods yet (instruments, point loads, cuts):
+ * the message names the file, line and key. Returns 0, or -1 with a
+ * message in err (nothing owned then). */
 int scene_read_rods(ini_doc *doc, rod_set *set, char *err, size_t errlen);
 void rod_set_release(rod_set *set);
 
@@ -81,8 +83,9 @@ void rod_set_run_destroy(rod_set_run *run);
 /* One step of dt for every rod: the contact between rods is found from the
  * states at the start, then the rods solve in sweeps until every contact
  * force agrees with both rods' motion (the largest newton_tolerance of the
- * rods, relative to the largest contact force). On failure the message
- * names the rod. */
+ * rods, relative to the largest contact force); then the elastic pad they
+ * share, once, under every rod's punctures and contact
+ * (tissue_coupling_step_rods). On failure the message names the rod. */
 rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_report *report);
 
 /* The step every rod takes: the smallest of each rod's rod_choose_dt. */

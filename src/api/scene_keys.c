@@ -137,10 +137,10 @@ const ini_key scene_keys_rod[] = {
      "a point the thread passes through, sliding ([puncture] repeats, at most 16); on a tissue surface, pairs in order: the thread between is inside; on an elastic pad, on its skin as settled at t = 0"},
     {"puncture", "friction", "-", "0.2", ">= 0",
      "Coulomb coefficient along the thread in the puncture"},
-    {"puncture", "rod", "-", "the single rod", "a [rod NAME]'s NAME",
-     "several rods: the rod whose thread passes through it (required with several rods; "
-     "refused with a bare [rod]); an elastic pad is one for all rods, each rod's punctures "
-     "loading it and moving with it"},
+    {"puncture", "rod", "-", "-", "a [rod NAME]'s NAME",
+     "several rods: the rod whose thread passes through it (required with several rods, "
+     "refused with a bare [rod], whose punctures are its own); an elastic pad is one for all "
+     "rods, each rod's punctures loading it and moving with it"},
 
     {"instrument", "kind", "-", "required", "needle_holder | forceps | scissors",
      "a rigid surgical instrument driven along its path ([instrument] repeats, at most 4): "
