@@ -39,8 +39,10 @@ typedef struct rod_set {
  * "rod", or every [rod NAME] with its [ends NAME] and [tip NAME], each read
  * by scene_read_rod (the shared sections, [solver], [loads], [physics],
  * [surface], read for each). Several rods need the implicit scheme and
- * refuse what is not modelled between rods yet (instruments, punctures,
- * point loads, an elastic pad): the message names the file, line and key.
+ * refuse what is not modelled between rods yet (scissors, a needle holder
+ * holding the needle, punctures, point loads, an elastic pad): the message
+ * names the file, line and key. Every [instrument] is the scene's: each rod
+ * touches all of them; rod = NAME keeps the other rods out of its grasps.
  * Returns 0, or -1 with a message in err (nothing owned then). */
 int scene_read_rods(ini_doc *doc, rod_set *set, char *err, size_t errlen);
 void rod_set_release(rod_set *set);
@@ -63,6 +65,8 @@ typedef struct rod_set_run {
                                           of the tolerance */
     double touch_force[ROD_SET_MAX][3];/* N, global: the force the other rods exert on each
                                           rod, at the end of the last step */
+    int jaw_closed[ROD_MAX_INSTRUMENTS]; /* 1: instrument k's jaws were closed at the last
+                                          step's end (a closing takes a grasp) */
 } rod_set_run;
 
 /* Makes the states (at t = 0) and solvers. 0, or -1 with err (nothing
@@ -82,7 +86,8 @@ void rod_set_run_destroy(rod_set_run *run);
  * states at the start, then the rods solve in sweeps until every contact
  * force agrees with both rods' motion (the largest newton_tolerance of the
  * rods, relative to the largest contact force). On failure the message
- * names the rod. */
+ * names the rod. Jaws that closed in the step then take the rod nearest
+ * their middle line within their reach (rod_grasp_nearest), once. */
 rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_report *report);
 
 /* The step every rod takes: the smallest of each rod's rod_choose_dt. */

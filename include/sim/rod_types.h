@@ -137,6 +137,11 @@ typedef struct rod_instrument {
     double grip;       /* N: the force along the thread beyond which it slides through
                           closed jaws */
     int needle;        /* 1: holds the needle: the path drives the thread's tip */
+    double max_depth;  /* m: the deepest its path may take the jaws into a rigid surface
+                          (sim/instrument_path.h); 0: the jaws' thickness */
+    char rod[32];      /* rod = NAME: the only rod its jaws take ("": the nearest of any) */
+    int grasp_off;     /* 1: its jaws never take this model's rod (rod = another rod's
+                          name); they still touch it */
     int line;          /* the scene line of its [instrument] header (messages); 0: none */
 } rod_instrument;
 

@@ -16,6 +16,7 @@
 #include "cli/run.h"
 #include "cli/summary.h"
 #include "sim/contact/between_rods.h"
+#include "sim/instrument_path.h"
 #include "sim/recording.h"
 #include "sim/rod_set.h"
 
@@ -43,6 +44,8 @@ typedef struct rods_run {
     rod_recording *rec[ROD_SET_MAX];
     long long frames;
     double closest_gap;    /* m: between rods, over the run */
+    run_warnings warnings; /* the paths' and the steps' (jaws closed on nothing) */
+    int warned_steps;      /* the steps' warnings said so far */
     double step_cpu;
     /* each rod's knot per output frame (its own centreline, closed far
      * outside it, as a single rod's), and every change: t s, the type after */
@@ -131,6 +134,11 @@ static rod_status advance(rods_run *r, long long n, double h, double target, rod
         rod_status st = rod_set_step(&r->set, &r->run, h, report);
         r->step_cpu += cpu_now() - t0;
         if (st != ROD_OK) return st;
+        if (report->warning[0]) { /* said once each (a full list drops the rest) */
+            if (r->warned_steps++ < RUN_WARNINGS_MAX / 2)
+                run_warn(&r->warnings, "%s", report->warning);
+            report->warning[0] = '\0';
+        }
         for (int k = 0; k < r->set.count; k++)
             if (!rod_state_is_finite(r->run.state[k])) {
                 snprintf(report->message, sizeof report->message,
@@ -184,6 +192,14 @@ static void print_result(const rods_run *r)
         fprintf(f, "  rod %s: tip (%.6g, %.6g, %.6g) m; other rods' force on it (%.4g, %.4g, "
                 "%.4g) N\n", r->set.name[k], tip[0], tip[1], tip[2], c[0], c[1], c[2]);
         if (knot_told(r, k)) knot_track_print(f, &r->knot[k], &r->set.model[k]);
+        for (int g = 0; g < s->grasp_log_count; g++) {
+            const rod_grasp_record *gr = &s->grasp_log[g];
+            char off[64] = "held at the end";
+            if (gr->t_off >= 0.0) snprintf(off, sizeof off, "released at t = %.6g s", gr->t_off);
+            fprintf(f, "    grasp by %s: at t = %.6g s, %s, rod %s at s = %.6g m, largest "
+                    "force on the jaws %.6g N\n", r->set.model[k].instruments[gr->instrument].name,
+                    gr->t_on, off, r->set.name[k], gr->s, gr->force);
+        }
     }
     for (int p = 0; p < r->across_count; p++)
         if (across_told(r, &r->across[p]))
@@ -244,6 +260,19 @@ static void fill_summary(const rods_run *r, run_summary *sum, int ran)
         out->has_knot = knot_told(r, k);
         if (out->has_knot) summary_rod_knot_fill(r, k, &out->knot);
     }
+    sum->grasp_count = 0; /* every rod's, in the order of the rods */
+    for (int k = 0; k < r->set.count; k++)
+        for (int g = 0; g < r->run.state[k]->grasp_log_count && sum->grasp_count < SUMMARY_MAX_GRASPS; g++) {
+            const rod_grasp_record *gr = &r->run.state[k]->grasp_log[g];
+            summary_grasp *out = &sum->grasps[sum->grasp_count++];
+            snprintf(out->instrument, sizeof out->instrument, "%s",
+                     r->set.model[k].instruments[gr->instrument].name);
+            if (r->set.named) snprintf(out->rod, sizeof out->rod, "%s", r->set.name[k]);
+            out->t_on = gr->t_on;
+            out->t_off = gr->t_off;
+            out->s = gr->s;
+            out->force = gr->force;
+        }
     sum->knot_across_count = 0;
     for (int p = 0; p < r->across_count; p++) {
         const knot_across_track *t = &r->across[p];
@@ -299,6 +328,23 @@ static int write_video(rods_run *r, char *err, size_t errlen)
     return rc ? RUN_EXIT_FAILURE : 0;
 }
 
+/* The instruments' paths against the surfaces (the scene's, every rod's
+ * alike): warnings, or a refusal in err (-1) */
+static int check_paths(rods_run *r, char *err, size_t errlen)
+{
+    const rod_model *m = &r->set.model[0];
+    for (int k = 0; k < m->instrument_count; k++) {
+        char text[RUN_WARNING_LEN];
+        const int said = rod_instrument_path_warning(m, k, r->o->label, text, sizeof text);
+        if (said < 0) {
+            snprintf(err, errlen, "%s; nothing was run", text);
+            return -1;
+        }
+        if (said) run_warn(&r->warnings, "%s", text);
+    }
+    return 0;
+}
+
 int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *scene)
 {
     char err[RODS_ERR_LEN] = "";
@@ -314,6 +360,9 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
         goto fail;
     if (run_read_output(doc, &r.out, err, sizeof err) || ini_check_unused(doc, err, sizeof err))
         goto fail;
+    if (check_paths(&r, err, sizeof err)) goto fail;
+    run_warnings_print(stderr, &r.warnings, 0);
+    const int path_warnings = r.warnings.count;
     r.dt = rod_set_choose_dt(&r.set, NULL);
     if (run_plan_make(&r.set.model[0], r.dt, r.out.fps, &r.plan)) {
         snprintf(err, sizeof err, "%s: solver.duration / solver.dt: too many steps or frames",
@@ -361,9 +410,11 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
         }
     }
     status = 0;
+    run_warnings_print(stderr, &r.warnings, path_warnings);
     print_result(&r);
     if (o->summary) {
         fill_summary(&r, o->summary, ran);
+        for (int w = 0; w < r.warnings.count; w++) summary_add_warning(o->summary, r.warnings.text[w]);
         if (o->csv && !r.csv_stdout) summary_add_file(o->summary, o->csv);
         if (!o->no_video) {
             char path[SUMMARY_TEXT_LEN];
