@@ -113,6 +113,8 @@ static void check_at(const rod_model *m, const rod_capsule *c, int count, double
                 found->part = found->depth_part = part_of(i);
                 found->depth = depth;
             } else if (depth > found->depth) {
+                /* parts entering at the same sample: the deepest is named */
+                if (found->t == t) found->part = part_of(i);
                 found->depth = depth;
                 found->depth_t = t;
                 found->depth_part = part_of(i);
