@@ -154,9 +154,9 @@ const ini_key scene_keys_rod[] = {
      "instruments pass through surfaces: a path taking a jaw, shank or box lock more than "
      "its radius into a [surface] (sampled every 1 ms) is a warning naming the part, the time "
      "and the depth; the jaws deeper than max_depth into a rigid [surface]: refused"},
-    {"instrument", "max_depth", "m", "2 jaw radii", "> 0",
+    {"instrument", "max_depth", "m", "-", "> 0",
      "the deepest the path may take the jaws into a rigid [surface] (deeper: the run is "
-     "refused, exit 2); absent: the jaws' thickness"},
+     "refused, exit 2); absent: the jaws' thickness, 2 jaw radii"},
     {"instrument", "size", "m", "0.14", "> 0",
      "overall length; jaws and shanks scale with it (a 0.14 m needle holder: 15 mm jaws)"},
     {"instrument", "friction", "-", "0.3", ">= 0",
