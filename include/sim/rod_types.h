@@ -153,6 +153,8 @@ typedef struct rod_grasp_state {
     double local[3];   /* m: the held point in the instrument's frame (from its tip) */
     double t_on;       /* s: when the jaws closed on it */
     double force[3];   /* N, global: the force the thread exerts on the jaws there */
+    double touch[3];   /* N, global: the force the thread exerts on its parts (jaws,
+                          shanks, box lock) by contact at the last step, besides the grasp */
     int log;           /* its entry in rod_state grasp_log, or -1 (the log is full) */
 } rod_grasp_state;
 

@@ -708,7 +708,8 @@ static int step_line(live_session *ls, const double *values, int count)
 }
 
 /* Instrument k's answer: NAME,t,fx,fy,fz,held,s,status: the force the
- * thread exerts on its jaws through the grasp (N, global), 1 while they
+ * thread exerts on it (N, global: through the grasp and by contact on its
+ * jaws, shanks and box lock), 1 while they
  * hold the thread, where (m of arc length; -1: nothing held); then the
  * centreline with --centreline */
 static void print_instrument_answer(live_session *ls, int k, const char *status)
@@ -720,7 +721,7 @@ static void print_instrument_answer(live_session *ls, int k, const char *status)
     p += numfmt_g(p, s->time, 12);
     for (int c = 0; c < 3; c++) {
         *p++ = ',';
-        p += numfmt_g(p, g->force[c] + 0.0, 12);
+        p += numfmt_g(p, g->force[c] + g->touch[c] + 0.0, 12);
     }
     p += snprintf(p, 8, ",%d,", g->held);
     p += numfmt_g(p, g->held ? g->s : -1.0, 12);
