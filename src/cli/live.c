@@ -79,7 +79,7 @@ void live_usage(FILE *f)
         "  --centreline   x0,y0,z0,... of each node follow on the line\n"
         "  --record FILE  the session, row by row (rodsim render FILE: its video)\n"
         "  --realtime     pace to the wall clock, count overruns; mlock, SCHED_FIFO, pin\n"
-        "One rod: INSTRUMENT:t,x,y,z,rx,ry,rz,jaw; answer NAME,t,fx,fy,fz,held,s,status\n"
+        "INSTRUMENT:t,x,y,z,rx,ry,rz,jaw: answer NAME,t,fx,fy,fz,held|ROD,s,status\n"
         "Several rods ([rod NAME]): a line NAME:t,... drives rod NAME's tip as above (no\n"
         "NAME: --rod's rod, else the first), every rod stepped to t, the others' ends as\n"
         "their last lines left them; answer NAME,t,fx,..,mz,status for rod NAME (an empty\n"
@@ -297,6 +297,7 @@ struct live_session {
      * live paths (owned by the model), NULL for a needle holder holding
      * the needle (its path is the scene's) */
     rod_path *instrument_pose[ROD_MAX_INSTRUMENTS], *instrument_jaw[ROD_MAX_INSTRUMENTS];
+    double instrument_row[ROD_MAX_INSTRUMENTS][8]; /* each one's last row: t, pose, opening */
 };
 
 /* Says the end of a run of lines that ended alike (complain). */
@@ -767,7 +768,18 @@ static int step_instrument_line(live_session *ls, int k, const double *v)
     rod_status status = ROD_FAILED;
     rod_report report;
     memset(&report, 0, sizeof report);
-    int failed = rod_path_push(ls->instrument_pose[k], v, NULL, err, sizeof err) ||
+    /* held since its last row (other lines between): a row at rest at the
+     * state's time first, so that the path from it is what it does */
+    double *last = ls->instrument_row[k], held_row[7];
+    const int hold = last[0] < before;
+    memcpy(held_row, last, sizeof held_row);
+    held_row[0] = before;
+    const double held_opening[4] = {before, last[7], 0.0, 0.0}, rest[6] = {0};
+    int failed = (hold && (rod_path_push_with_velocity(ls->instrument_pose[k], held_row, rest, err,
+                                                       sizeof err) ||
+                           rod_path_push_with_velocity(ls->instrument_jaw[k], held_opening,
+                                                       still, err, sizeof err))) ||
+                 rod_path_push(ls->instrument_pose[k], v, NULL, err, sizeof err) ||
                  rod_path_push_with_velocity(ls->instrument_jaw[k], opening, still, err,
                                              sizeof err);
     if (failed) snprintf(report.message, sizeof report.message, "%s", err);
@@ -782,9 +794,12 @@ static int step_instrument_line(live_session *ls, int k, const double *v)
         if (rescue) failed = 1;
     }
     if (failed) {
-        rod_path_pop(ls->instrument_pose[k]);
-        rod_path_pop(ls->instrument_jaw[k]);
+        for (int r = 0; r < 1 + hold; r++) {
+            rod_path_pop(ls->instrument_pose[k]);
+            rod_path_pop(ls->instrument_jaw[k]);
+        }
     } else {
+        memcpy(last, v, 8 * sizeof(double));
         memcpy(ls->last_row, tip_row, sizeof tip_row);
         ls->recent[ls->recent_count++ % LIVE_RECENT_LINES] = ls->line_step_max;
     }
@@ -1045,6 +1060,8 @@ static int live_instruments(live_session *ls, rod_model *m, char *err, size_t er
             rod_path_destroy(p);
             return -1;
         }
+        memcpy(ls->instrument_row[k], row, sizeof row);
+        ls->instrument_row[k][7] = jaw;
         rod_path_destroy(in->pose);
         rod_path_destroy(in->jaw);
         in->pose = ls->instrument_pose[k] = p;
