@@ -42,12 +42,13 @@ typedef struct summary_puncture {
  * the wound per output frame (stitch_gap, beside wound_gap's times). */
 #define SUMMARY_MAX_STITCHES 8
 
-/* A grasp: the instrument's name, when its jaws closed on the thread and
+/* A grasp: the instrument's name (and the rod's, of several), when its jaws closed on the thread and
  * opened (s; t_off < 0: they hold it at the run's end), the arc length
  * grasped (m) and the largest force the thread exerted on the jaws (N). */
 #define SUMMARY_MAX_GRASPS 32
 typedef struct summary_grasp {
     char instrument[32];
+    char rod[32];      /* the rod it took, in a scene of named rods ("": the one rod) */
     double t_on, t_off, s, force;
 } summary_grasp;
 

@@ -80,10 +80,24 @@ int rod_instrument_load_path(const char *filename, rod_path **pose, rod_path **j
 void rod_grasp_point(const rod_model *m, int k, const rod_grasp_state *g, double t,
                      double point[3], double velocity[3]);
 
+/* The thread's point nearest the middle line of instrument k's jaws at
+ * s->time: its distance (m), its arc length in *arc (m) and the distance
+ * within which the jaws take it in *reach (m: two jaw radii plus d). */
+double rod_grasp_nearest(const rod_model *m, int k, const rod_state *s, double *arc,
+                         double *reach);
+/* Instrument k's jaws take the thread at arc length arc (m) at s->time: the
+ * grasp held, logged (grasp_log). */
+void rod_grasp_take(const rod_model *m, int k, rod_state *s, double arc);
+/* Jaws closed on nothing: the warning, in report->warning when it is empty. */
+void rod_grasp_missed(const rod_instrument *in, double t, double distance, double reach,
+                      rod_report *report);
+
 /* After a step (s at its end): jaws that closed grasp the thread's point
  * between them (the nearest within the jaws' reach; none: a warning in
  * report->warning, when it is empty), jaws that opened release it, and a
- * held point's arc length follows the thread sliding through. */
+ * held point's arc length follows the thread sliding through. A rod of
+ * several (m->between_rods) takes no grasp here: the set gives each
+ * closing to the rod nearest the jaws (rod_set_step). */
 void rod_instruments_update(const rod_model *m, rod_state *s, rod_report *report);
 
 /* 1 when an instrument holds the needle (needle = yes). */

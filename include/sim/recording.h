@@ -181,8 +181,8 @@ void rod_recording_halve(rod_recording *r);
 /* One recording of several rods recorded side by side (parts: count, 2 ..
  * RECORDING_MAX_RODS, each with the same frames): their nodes one after
  * another in each frame, rod_count and rod_first set; the scene (surfaces,
- * loads, scheme) is the first part's, whose surfaces move into the joined
- * one. NULL when out of memory or the parts differ in frames. */
+ * loads, scheme, instruments) is the first part's, whose surfaces and
+ * instruments' poses move into the joined one. NULL when out of memory or the parts differ in frames. */
 rod_recording *rod_recording_join(rod_recording *const *parts, int count);
 
 /* Appends the state as a frame; the tip load at s->time comes from the model.

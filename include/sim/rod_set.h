@@ -41,9 +41,11 @@ typedef struct rod_set {
  * [surface], read for each; each rod's the [puncture]s naming it, and
  * one elastic pad, the first rod's, shared by all: rod_surface.solid_shared,
  * rod_model.pad_by_set). Several rods need the implicit scheme and refuse
- * what is not modelled between rods yet (instruments, point loads, cuts):
- * the message names the file, line and key. Returns 0, or -1 with a
- * message in err (nothing owned then). */
+ * what is not modelled between rods yet (scissors, a needle holder holding
+ * the needle, point loads, cuts): the message names the file, line and
+ * key. Every [instrument] is the scene's: each rod touches all of them;
+ * rod = NAME keeps the other rods out of its grasps. Returns 0, or -1 with
+ * a message in err (nothing owned then). */
 int scene_read_rods(ini_doc *doc, rod_set *set, char *err, size_t errlen);
 void rod_set_release(rod_set *set);
 
@@ -65,6 +67,8 @@ typedef struct rod_set_run {
                                           of the tolerance */
     double touch_force[ROD_SET_MAX][3];/* N, global: the force the other rods exert on each
                                           rod, at the end of the last step */
+    int jaw_closed[ROD_MAX_INSTRUMENTS]; /* 1: instrument k's jaws were closed at the last
+                                          step's end (a closing takes a grasp) */
 } rod_set_run;
 
 /* Makes the states (at t = 0) and solvers. 0, or -1 with err (nothing
@@ -85,7 +89,9 @@ void rod_set_run_destroy(rod_set_run *run);
  * force agrees with both rods' motion (the largest newton_tolerance of the
  * rods, relative to the largest contact force); then the elastic pad they
  * share, once, under every rod's punctures and contact
- * (tissue_coupling_step_rods). On failure the message names the rod. */
+ * (tissue_coupling_step_rods). Jaws that closed in the step then take the
+ * rod nearest their middle line within their reach (rod_grasp_nearest),
+ * once. On failure the message names the rod. */
 rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_report *report);
 
 /* The step every rod takes: the smallest of each rod's rod_choose_dt. */

@@ -142,6 +142,11 @@ typedef struct rod_instrument {
     double grip;       /* N: the force along the thread beyond which it slides through
                           closed jaws */
     int needle;        /* 1: holds the needle: the path drives the thread's tip */
+    double max_depth;  /* m: the deepest its path may take the jaws into a rigid surface
+                          (sim/instrument_path.h); 0: the jaws' thickness */
+    char rod[32];      /* rod = NAME: the only rod its jaws take ("": the nearest of any) */
+    int grasp_off;     /* 1: its jaws never take this model's rod (rod = another rod's
+                          name); they still touch it */
     int line;          /* the scene line of its [instrument] header (messages); 0: none */
 } rod_instrument;
 
@@ -153,6 +158,8 @@ typedef struct rod_grasp_state {
     double local[3];   /* m: the held point in the instrument's frame (from its tip) */
     double t_on;       /* s: when the jaws closed on it */
     double force[3];   /* N, global: the force the thread exerts on the jaws there */
+    double touch[3];   /* N, global: the force the thread exerts on its parts (jaws,
+                          shanks, box lock) by contact at the last step, besides the grasp */
     int log;           /* its entry in rod_state grasp_log, or -1 (the log is full) */
 } rod_grasp_state;
 

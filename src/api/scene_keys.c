@@ -155,14 +155,21 @@ const ini_key scene_keys_rod[] = {
      "closed .. 1 open), interpolated smoothly; jaws closing below 0.1 grasp the thread "
      "between them, opening release it; scissors' blades closing below 0.1 cut it where it "
      "crosses them (the piece on the side no end, grasp or puncture holds leaves the run); "
-     "instruments pass through surfaces: a path taking a jaw or shank more than its radius "
-     "into a [surface] (sampled every 1 ms) is a warning"},
+     "instruments pass through surfaces: a path taking a jaw, shank or box lock more than "
+     "its radius into a [surface] (sampled every 1 ms) is a warning naming the part, the time "
+     "and the depth; the jaws deeper than max_depth into a rigid [surface]: refused"},
+    {"instrument", "max_depth", "m", "-", "> 0",
+     "the deepest the path may take the jaws into a rigid [surface] (deeper: the run is "
+     "refused, exit 2); absent: the jaws' thickness, 2 jaw radii"},
     {"instrument", "size", "m", "0.14", "> 0",
      "overall length; jaws and shanks scale with it (a 0.14 m needle holder: 15 mm jaws)"},
     {"instrument", "friction", "-", "0.3", ">= 0",
      "Coulomb coefficient of the thread on the instrument"},
     {"instrument", "grip", "N", "5", "> 0",
      "the force along the thread beyond which it slides through closed jaws"},
+    {"instrument", "rod", "-", "-", "the NAME of a [rod NAME] (a bare [rod]: rod)",
+     "the only rod its jaws take; absent: the rod nearest their middle when they close (all "
+     "rods touch every instrument); the summary's grasps name the rod"},
     {"instrument", "needle", "-", "no", "yes | no",
      "needle_holder: holds the needle (ends.needle) at its jaws' tip: its path drives the "
      "thread's tip (ends.tip = clamped; no ends.tip_motion)"},

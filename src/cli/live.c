@@ -56,6 +56,8 @@
 #include "cli/args.h"
 #include "cli/live_rods.h"
 #include "cli/scene_outputs.h"
+#include "base/vec3.h"
+#include "sim/instrument.h"
 #include "sim/path.h"
 #include "sim/rod.h"
 #include "sim/rod_set.h"
@@ -77,6 +79,7 @@ void live_usage(FILE *f)
         "  --centreline   x0,y0,z0,... of each node follow on the line\n"
         "  --record FILE  the session, row by row (rodsim render FILE: its video)\n"
         "  --realtime     pace to the wall clock, count overruns; mlock, SCHED_FIFO, pin\n"
+        "INSTRUMENT:t,x,y,z,rx,ry,rz,jaw: answer NAME,t,fx,fy,fz,held|ROD,s,status\n"
         "Several rods ([rod NAME]): a line NAME:t,... drives rod NAME's tip as above (no\n"
         "NAME: --rod's rod, else the first), every rod stepped to t, the others' ends as\n"
         "their last lines left them; answer NAME,t,fx,..,mz,status for rod NAME (an empty\n"
@@ -290,6 +293,11 @@ struct live_session {
     unsigned *work_histogram, *step_histogram;
     char *answer;           /* an answer line: (7 + 3 NS) numbers, the status (made at create) */
     double wall_origin;     /* --realtime: the wall time at t = 0 */
+    /* the instruments driven by lines NAME: t,x,y,z,rx,ry,rz,jaw: their
+     * live paths (owned by the model), NULL for a needle holder holding
+     * the needle (its path is the scene's) */
+    rod_path *instrument_pose[ROD_MAX_INSTRUMENTS], *instrument_jaw[ROD_MAX_INSTRUMENTS];
+    double instrument_row[ROD_MAX_INSTRUMENTS][8]; /* each one's last row: t, pose, opening */
 };
 
 /* Says the end of a run of lines that ended alike (complain). */
@@ -542,6 +550,37 @@ static int check_line(live_session *ls, const double *values, int count, char *e
     return 0;
 }
 
+/* An instrument's line: 8 finite numbers, the opening 0..1, t as
+ * check_line's. 0, or 1 with err and kind. */
+static int check_instrument_line(live_session *ls, const double *values, int count, char *err,
+                                 size_t errlen, const char **kind)
+{
+    if (count != 8) {
+        snprintf(err, errlen, "%d numbers (an instrument's line: t,x,y,z,rx,ry,rz,jaw)", count);
+        *kind = "the count of numbers";
+        return 1;
+    }
+    for (int k = 0; k < count; k++)
+        if (!isfinite(values[k])) {
+            snprintf(err, errlen, "column %d is not a finite number", k + 1);
+            *kind = "a number not finite";
+            return 1;
+        }
+    if (!(values[7] >= 0.0 && values[7] <= 1.0)) {
+        snprintf(err, errlen, "jaw %.17g: the opening is 0 (closed) .. 1 (open)", values[7]);
+        *kind = "an opening out of range";
+        return 1;
+    }
+    /* t as a tip's line; its count of numbers already checked */
+    const int columns = ls->columns, pose = ls->pose_mode;
+    ls->columns = 7;
+    ls->pose_mode = 1;
+    const int refused = check_line(ls, values, 4, err, errlen, kind);
+    ls->columns = columns;
+    ls->pose_mode = pose;
+    return refused;
+}
+
 /* The statistics of a stepped or failed line's work. */
 static void count_line(live_session *ls, int outcome, double gap)
 {
@@ -669,6 +708,118 @@ static int step_line(live_session *ls, const double *values, int count)
     return ok ? LINE_OK : LINE_FAILED;
 }
 
+/* Instrument k's answer: NAME,t,fx,fy,fz,held,s,status: the force the
+ * thread exerts on it (N, global: through the grasp and by contact on its
+ * jaws, shanks and box lock), 1 while they
+ * hold the thread, where (m of arc length; -1: nothing held); then the
+ * centreline with --centreline */
+static void print_instrument_answer(live_session *ls, int k, const char *status)
+{
+    const rod_state *s = ls->state;
+    const rod_grasp_state *g = &s->grasp[k];
+    char *p = ls->answer;
+    p += snprintf(p, 40, "%s,", ls->model->instruments[k].name);
+    p += numfmt_g(p, s->time, 12);
+    for (int c = 0; c < 3; c++) {
+        *p++ = ',';
+        p += numfmt_g(p, g->force[c] + g->touch[c] + 0.0, 12);
+    }
+    p += snprintf(p, 8, ",%d,", g->held);
+    p += numfmt_g(p, g->held ? g->s : -1.0, 12);
+    p += snprintf(p, 16, ",%s", status);
+    if (ls->set.centreline)
+        for (int i = 0; i < 3 * s->nodes; i++) {
+            *p++ = ',';
+            p += numfmt_g(p, s->position[i] + 0.0, 12);
+        }
+    *p++ = '\n';
+    fwrite(ls->answer, 1, (size_t)(p - ls->answer), ls->out);
+    fflush(ls->out);
+}
+
+/* The instrument named by the line's NAME (not a needle holder holding
+ * the needle), or -1 */
+static int line_instrument(const live_session *ls, const char *name, size_t len)
+{
+    for (int k = 0; k < ls->model->instrument_count && k < ROD_MAX_INSTRUMENTS; k++)
+        if (ls->instrument_pose[k] && strlen(ls->model->instruments[k].name) == len &&
+            strncmp(ls->model->instruments[k].name, name, len) == 0)
+            return k;
+    return -1;
+}
+
+/* A line of instrument k: t,x,y,z,rx,ry,rz,jaw (values, checked): its
+ * paths pushed (the opening at rest at each row, as a path file's), every
+ * part stepped to t; a try within the line's budget, then the scheme's own
+ * (line_tries' first and last); none steps: the rows taken back, the last
+ * good state answered failed. LINE_OK or LINE_FAILED. */
+static int step_instrument_line(live_session *ls, int k, const double *v)
+{
+    if (ls->set.realtime) {
+        pace(ls, v[0]);
+        ls->line_start = wall_seconds();
+    }
+    const double before = ls->state->time;
+    ls->line_gap = v[0] - before;
+    ls->line_iterations = ls->line_builds = ls->line_step_max = 0;
+    ls->budget = line_budget(ls);
+    const double opening[4] = {v[0], v[7], 0.0, 0.0}, still[3] = {0.0, 0.0, 0.0};
+    char err[256];
+    rod_status status = ROD_FAILED;
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    /* held since its last row (other lines between): a row at rest at the
+     * state's time first, so that the path from it is what it does */
+    double *last = ls->instrument_row[k], held_row[7];
+    const int hold = last[0] < before;
+    memcpy(held_row, last, sizeof held_row);
+    held_row[0] = before;
+    const double held_opening[4] = {before, last[7], 0.0, 0.0}, rest[6] = {0};
+    int failed = (hold && (rod_path_push_with_velocity(ls->instrument_pose[k], held_row, rest, err,
+                                                       sizeof err) ||
+                           rod_path_push_with_velocity(ls->instrument_jaw[k], held_opening,
+                                                       still, err, sizeof err))) ||
+                 rod_path_push(ls->instrument_pose[k], v, NULL, err, sizeof err) ||
+                 rod_path_push_with_velocity(ls->instrument_jaw[k], opening, still, err,
+                                             sizeof err);
+    if (failed) snprintf(report.message, sizeof report.message, "%s", err);
+    /* the driven tip (or its loads) held where the last line left it */
+    double tip_row[7];
+    memcpy(tip_row, ls->last_row, sizeof tip_row);
+    tip_row[0] = v[0];
+    double velocity[6] = {0};
+    for (int rescue = 0; rescue < 2 && failed == 0; rescue++) {
+        set_budget(ls, rescue ? 0 : ls->budget);
+        if (try_row(ls, tip_row, v[0], 1, velocity, &status, &report) == 0) break;
+        if (rescue) failed = 1;
+    }
+    if (failed) {
+        for (int r = 0; r < 1 + hold; r++) {
+            rod_path_pop(ls->instrument_pose[k]);
+            rod_path_pop(ls->instrument_jaw[k]);
+        }
+    } else {
+        memcpy(last, v, 8 * sizeof(double));
+        memcpy(ls->last_row, tip_row, sizeof tip_row);
+        ls->recent[ls->recent_count++ % LIVE_RECENT_LINES] = ls->line_step_max;
+    }
+    ls->stuck = failed ? ls->stuck + 1 : 0;
+    count_line(ls, failed ? LINE_FAILED : LINE_OK, failed ? 0.0 : v[0] - before);
+    print_instrument_answer(ls, k, failed ? "failed" : "ok");
+    if (failed)
+        complain(ls, "an instrument's step failed", " (t = %.9g s): %s's step failed: %s; "
+                 "answered with the last good state, the line dropped", v[0],
+                 ls->model->instruments[k].name, report.message[0] ? report.message : "no message");
+    else close_run(ls);
+    if (ls->record && !failed) { /* kept as a comment: the replay drives the tip only */
+        fprintf(ls->record, "# %s: %.17g", ls->model->instruments[k].name, v[0]);
+        for (int c = 1; c < 8; c++) fprintf(ls->record, ",%.17g", v[c]);
+        fputc('\n', ls->record);
+        record_check(ls);
+    }
+    return failed ? LINE_FAILED : LINE_OK;
+}
+
 /* The line in ls->line (len bytes, its line break taken off) answered:
  * refused (bad_input), or stepped. */
 static void answer_line(live_session *ls, size_t len)
@@ -677,7 +828,7 @@ static void answer_line(live_session *ls, size_t len)
     ls->lines++;
     char err[512];
     const char *kind = NULL;
-    int outcome = LINE_REFUSED;
+    int outcome = LINE_REFUSED, answered_by = -1; /* the instrument a line names */
     if (len > LIVE_LINE_MAX) {
         snprintf(err, sizeof err, "longer than %d bytes", LIVE_LINE_MAX);
         kind = "a line too long";
@@ -688,15 +839,16 @@ static void answer_line(live_session *ls, size_t len)
         double values[8];
         /* "rod:" before the numbers: the one rod's name (live_rods.h) */
         char *numbers = ls->line, *colon = strchr(ls->line, ':');
-        int named_ok = 1;
+        int named_ok = 1, instrument = -1;
         if (colon) {
             char *name = ls->line, *end = colon;
             while (*name == ' ' || *name == '\t') name++;
             while (end > name && (end[-1] == ' ' || end[-1] == '\t')) end--;
-            named_ok = end - name == 3 && strncmp(name, "rod", 3) == 0;
+            instrument = line_instrument(ls, name, (size_t)(end - name));
+            named_ok = instrument >= 0 || (end - name == 3 && strncmp(name, "rod", 3) == 0);
             numbers = colon + 1;
         }
-        int count = named_ok ? live_split_numbers(numbers, values, 7) : -3;
+        int count = named_ok ? live_split_numbers(numbers, values, instrument >= 0 ? 8 : 7) : -3;
         ls->parse_sum += wall_seconds() - ls->line_start;
         if (count == -3) {
             snprintf(err, sizeof err, "no rod named '%.*s'; accepted: rod (the scene's one "
@@ -706,8 +858,12 @@ static void answer_line(live_session *ls, size_t len)
             snprintf(err, sizeof err, "a field is not a number");
             kind = "a field not a number";
         } else if (count == -2) {
-            snprintf(err, sizeof err, "more than 7 numbers");
+            snprintf(err, sizeof err, "more than %d numbers", instrument >= 0 ? 8 : 7);
             kind = "more than 7 numbers";
+        } else if (instrument >= 0) {
+            answered_by = instrument;
+            if (!check_instrument_line(ls, values, count, err, sizeof err, &kind))
+                outcome = step_instrument_line(ls, instrument, values);
         } else if (!check_line(ls, values, count, err, sizeof err, &kind)) {
             outcome = step_line(ls, values, count);
         }
@@ -716,7 +872,8 @@ static void answer_line(live_session *ls, size_t len)
         ls->bad++;
         complain(ls, kind, ": %s; accepted: %s, t increasing (s), at most %ld steps of %g s "
                  "ahead, at most %d bytes a line", err,
-                 !ls->pose_mode ? "t,fx,fy,fz,mx,my,mz (N, N m)"
+                 answered_by >= 0 ? "INSTRUMENT: t,x,y,z,rx,ry,rz,jaw (m, rad, 0..1)"
+                 : !ls->pose_mode ? "t,fx,fy,fz,mx,my,mz (N, N m)"
                  : ls->columns == 7 ? "t,x,y,z or t,x,y,z,rx,ry,rz (m, rad)"
                                     : "t,x,y,z (m; a pinned tip takes no rotation)",
                  ls->max_ahead, ls->dt, LIVE_LINE_MAX);
@@ -728,7 +885,8 @@ static void answer_line(live_session *ls, size_t len)
             ls->ended = 1;
             return;
         }
-        print_answer(ls, "bad_input");
+        if (answered_by >= 0) print_instrument_answer(ls, answered_by, "bad_input");
+        else print_answer(ls, "bad_input");
     }
     double spent = wall_seconds() - ls->line_start;
     ls->step_wall_sum += spent;
@@ -881,6 +1039,37 @@ void live_session_destroy(live_session *ls)
     free(ls);
 }
 
+/* Every instrument (but a needle holder holding the needle) is driven by
+ * the lines that name it: its scene path gives only its pose and opening
+ * at t = 0, where its live paths start at rest. 0 or -1 with a message. */
+static int live_instruments(live_session *ls, rod_model *m, char *err, size_t errlen)
+{
+    for (int k = 0; k < m->instrument_count && k < ROD_MAX_INSTRUMENTS; k++) {
+        rod_instrument *in = &m->instruments[k];
+        if (in->needle) continue;
+        rod_pose pose;
+        double jaw, row[7] = {0.0}, rv[3];
+        rod_instrument_pose(in, 0.0, &pose, &jaw);
+        m3_log(rv, pose.rotation);
+        memcpy(&row[1], pose.position, sizeof pose.position);
+        memcpy(&row[4], rv, sizeof rv);
+        const double opening[4] = {0.0, jaw, 0.0, 0.0};
+        rod_path *p = rod_path_create_live(7, row, err, errlen);
+        rod_path *o = p ? rod_path_create_live(4, opening, err, errlen) : NULL;
+        if (!o) {
+            rod_path_destroy(p);
+            return -1;
+        }
+        memcpy(ls->instrument_row[k], row, sizeof row);
+        ls->instrument_row[k][7] = jaw;
+        rod_path_destroy(in->pose);
+        rod_path_destroy(in->jaw);
+        in->pose = ls->instrument_pose[k] = p;
+        in->jaw = ls->instrument_jaw[k] = o;
+    }
+    return 0;
+}
+
 /* Sets the session up from the scene's model; 0 or -1 with a message. */
 static int setup(live_session *ls, rod_model *m, char *err, size_t errlen)
 {
@@ -929,6 +1118,7 @@ static int setup(live_session *ls, rod_model *m, char *err, size_t errlen)
         ls->loads_model.profile.table.data = ls->table;
         ls->stepped = &ls->loads_model;
     }
+    if (live_instruments(ls, m, err, errlen)) return -1;
     if (rod_solver_init(&ls->solver, ls->stepped, err, errlen)) return -1;
     return 0;
 }

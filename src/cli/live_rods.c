@@ -19,6 +19,8 @@
 #include "cli/args.h"
 #include "cli/live.h"
 #include "cli/run.h"
+#include "base/vec3.h"
+#include "sim/instrument.h"
 #include "sim/path.h"
 #include "sim/rod_set.h"
 
@@ -49,6 +51,12 @@ typedef struct live_rods {
     int record_on;
     double *force;                  /* N, the CSV's internal forces: the most nodes x 3 */
     char line[LIVE_LINE_MAX + 2];
+    /* the instruments driven by lines NAME:t,x,y,z,rx,ry,rz,jaw: every
+     * rod's copy of each follows live paths (owned by the models) with the
+     * same rows; NULL for none; the last row (t, pose, opening) */
+    rod_path *instrument_pose[ROD_SET_MAX][ROD_MAX_INSTRUMENTS];
+    rod_path *instrument_jaw[ROD_SET_MAX][ROD_MAX_INSTRUMENTS];
+    double instrument_row[ROD_MAX_INSTRUMENTS][8];
 } live_rods;
 
 /* Set by SIGINT and SIGTERM: the session ends like at the end of input */
@@ -122,6 +130,39 @@ static int make_paths(live_rods *lr, char *err, size_t errlen)
     return 0;
 }
 
+/* Every instrument (several rods hold no needle) follows the lines that
+ * name it: live paths in place of each rod's copy of its scene path,
+ * starting at its pose and opening at t = 0, at rest. 0, or -1 with err. */
+static int make_instrument_paths(live_rods *lr, char *err, size_t errlen)
+{
+    const rod_model *m0 = &lr->set.model[0];
+    for (int i = 0; i < m0->instrument_count && i < ROD_MAX_INSTRUMENTS; i++) {
+        rod_pose pose;
+        double jaw, rv[3], *row = lr->instrument_row[i];
+        rod_instrument_pose(&m0->instruments[i], 0.0, &pose, &jaw);
+        m3_log(rv, pose.rotation);
+        row[0] = 0.0;
+        memcpy(&row[1], pose.position, sizeof pose.position);
+        memcpy(&row[4], rv, sizeof rv);
+        row[7] = jaw;
+        const double opening[4] = {0.0, jaw, 0.0, 0.0};
+        for (int k = 0; k < lr->set.count; k++) {
+            rod_instrument *in = &lr->set.model[k].instruments[i];
+            rod_path *p = rod_path_create_live(7, row, err, errlen);
+            rod_path *o = p ? rod_path_create_live(4, opening, err, errlen) : NULL;
+            if (!o) {
+                rod_path_destroy(p);
+                return -1;
+            }
+            rod_path_destroy(in->pose);
+            rod_path_destroy(in->jaw);
+            in->pose = lr->instrument_pose[k][i] = p;
+            in->jaw = lr->instrument_jaw[k][i] = o;
+        }
+    }
+    return 0;
+}
+
 static void release(live_rods *lr)
 {
     for (int k = 0; k < ROD_SET_MAX; k++) rod_state_destroy(lr->good[k]);
@@ -154,7 +195,7 @@ static int setup(live_rods *lr, ini_doc *doc, const char *default_rod, char *err
         return -1;
     }
     lr->status = RUN_EXIT_FAILURE;
-    if (make_paths(lr, err, errlen)) return -1;
+    if (make_paths(lr, err, errlen) || make_instrument_paths(lr, err, errlen)) return -1;
     if (rod_set_run_create(&lr->set, &lr->run, err, errlen)) return -1;
     lr->run_made = 1;
     for (int k = 0; k < lr->set.count; k++)
@@ -215,6 +256,147 @@ static void answer(live_rods *lr, int k, const char *status)
     *p++ = '\n';
     fwrite(lr->text, 1, (size_t)(p - lr->text), stdout);
     fflush(stdout);
+}
+
+/* Instrument i's answer: NAME,t,fx,fy,fz,ROD,s,status: the force the
+ * thread exerts on it (N, global: every rod's grasp and contact), the rod
+ * its jaws hold and where (m of arc length; "" and -1: none) */
+static void answer_instrument(live_rods *lr, int i, const char *status)
+{
+    char *p = lr->text;
+    const rod_state *s0 = lr->run.state[0];
+    double force[3] = {0.0, 0.0, 0.0}, at = -1.0;
+    const char *held = "";
+    for (int k = 0; k < lr->set.count; k++) {
+        const rod_grasp_state *g = &lr->run.state[k]->grasp[i];
+        for (int c = 0; c < 3; c++) force[c] += g->force[c] + g->touch[c];
+        if (g->held) held = lr->set.name[k], at = g->s;
+    }
+    p += snprintf(p, 40, "%s,", lr->set.model[0].instruments[i].name);
+    p += numfmt_g(p, s0->time, 12);
+    for (int c = 0; c < 3; c++) {
+        *p++ = ',';
+        p += numfmt_g(p, force[c] + 0.0, 12);
+    }
+    p += snprintf(p, ROD_NAME_LEN + 2, ",%s,", held);
+    p += numfmt_g(p, at, 12);
+    p += snprintf(p, 16, ",%s", status);
+    for (int j = 0; lr->centreline && j < lr->set.count; j++) {
+        const rod_state *r = lr->run.state[j];
+        for (int n = 0; n < 3 * r->nodes; n++) {
+            *p++ = ',';
+            p += numfmt_g(p, r->position[n] + 0.0, 12);
+        }
+    }
+    *p++ = '\n';
+    fwrite(lr->text, 1, (size_t)(p - lr->text), stdout);
+    fflush(stdout);
+}
+
+/* Instrument i to the pose and opening of v (t,x,y,z,rx,ry,rz,jaw, checked),
+ * every rod stepped to t; 0, or -1 with the states and paths as before and
+ * the message in err */
+static int step_instrument(live_rods *lr, int i, const double *v, char *err, size_t errlen)
+{
+    const double now = lr->run.state[0]->time, still[6] = {0};
+    double *last = lr->instrument_row[i];
+    /* held since its last row: a row at rest at the state's time first */
+    const int hold = last[0] < now;
+    const double held_opening[4] = {now, last[7], 0.0, 0.0}, opening[4] = {v[0], v[7], 0.0, 0.0};
+    double held_row[7];
+    memcpy(held_row, last, sizeof held_row);
+    held_row[0] = now;
+    int pushed = 0, failed = 0;
+    for (int k = 0; k < lr->set.count && !failed; k++, pushed++)
+        failed = (hold && (rod_path_push_with_velocity(lr->instrument_pose[k][i], held_row, still,
+                                                       err, errlen) ||
+                           rod_path_push_with_velocity(lr->instrument_jaw[k][i], held_opening,
+                                                       still, err, errlen))) ||
+                 rod_path_push(lr->instrument_pose[k][i], v, NULL, err, errlen) ||
+                 rod_path_push_with_velocity(lr->instrument_jaw[k][i], opening, still, err, errlen);
+    rod_status st = ROD_FAILED;
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    if (!failed) {
+        for (int j = 0; j < lr->set.count; j++) rod_state_copy(lr->good[j], lr->run.state[j]);
+        const double n = stepping_count(v[0] - now, lr->dt);
+        st = stepping_take_set(&lr->set, &lr->run, (long)n, (v[0] - now) / n, v[0], NULL, &report);
+        lr->steps += (long)n;
+        if (st == ROD_OK) {
+            memcpy(last, v, 8 * sizeof(double));
+            return 0;
+        }
+        for (int j = 0; j < lr->set.count; j++) rod_state_copy(lr->run.state[j], lr->good[j]);
+        snprintf(err, errlen, "the step failed (%s): %s; answered with the last good state (t = "
+                 "%.9g s), the line dropped",
+                 st == ROD_NO_CONVERGENCE ? "no convergence" : st == ROD_UNSTABLE ? "unstable"
+                                                                                : "failure",
+                 report.message[0] ? report.message : "no message", now);
+    }
+    /* the rows pushed taken back (a partly pushed rod's too: pop leaves the first row) */
+    for (int k = 0; k < pushed; k++)
+        for (int r = 0; r < 1 + hold; r++) {
+            rod_path_pop(lr->instrument_pose[k][i]);
+            rod_path_pop(lr->instrument_jaw[k][i]);
+        }
+    return -1;
+}
+
+/* The instrument a line "NAME:" names, or -1 */
+static int line_instrument(const live_rods *lr, const char *text)
+{
+    const char *colon = strchr(text, ':'), *name = text, *end = colon;
+    if (!colon) return -1;
+    while (*name == ' ' || *name == '\t') name++;
+    while (end > name && (end[-1] == ' ' || end[-1] == '\t')) end--;
+    const rod_model *m0 = &lr->set.model[0];
+    for (int i = 0; i < m0->instrument_count && i < ROD_MAX_INSTRUMENTS; i++)
+        if ((size_t)(end - name) == strlen(m0->instruments[i].name) &&
+            strncmp(name, m0->instruments[i].name, (size_t)(end - name)) == 0)
+            return i;
+    return -1;
+}
+
+/* An instrument's line: answered; 1 when the session ends */
+static int serve_instrument_line(live_rods *lr, int i, char *text)
+{
+    char err[1024] = "";
+    double v[9];
+    const int count = live_split_numbers(strchr(text, ':') + 1, v, 8);
+    const double now = lr->run.state[0]->time;
+    if (count != 8) snprintf(err, sizeof err, "not 8 numbers t,x,y,z,rx,ry,rz,jaw");
+    for (int c = 0; c < count && !err[0]; c++)
+        if (!isfinite(v[c])) snprintf(err, sizeof err, "column %d is not a finite number", c + 1);
+    if (!err[0] && !(v[7] >= 0.0 && v[7] <= 1.0))
+        snprintf(err, sizeof err, "jaw %.17g: the opening is 0 (closed) .. 1 (open)", v[7]);
+    if (!err[0] && !(v[0] > now && v[0] - now <= (double)LIVE_MAX_STEPS_AHEAD * lr->dt))
+        snprintf(err, sizeof err, "t = %.17g s: not after the state's %.17g s, or more than %d "
+                 "steps of %g s ahead", v[0], now, LIVE_MAX_STEPS_AHEAD, lr->dt);
+    if (err[0]) {
+        lr->bad++;
+        fprintf(stderr, "rodsim live: input line %ld: %s; an instrument's line is "
+                "NAME:t,x,y,z,rx,ry,rz,jaw (s, m, rad, 0..1), t increasing\n", lr->line_no, err);
+        if (lr->stop_on_error) {
+            fprintf(stderr, "rodsim live: stopped at input line %ld (--on-error stop)\n",
+                    lr->line_no);
+            lr->status = RUN_EXIT_BAD_INPUT;
+            return 1;
+        }
+        answer_instrument(lr, i, "bad_input");
+        return ferror(stdout) ? (lr->status = RUN_EXIT_FAILURE, 1) : 0;
+    }
+    if (lr->realtime) pace(lr, v[0]);
+    if (step_instrument(lr, i, v, err, sizeof err) == 0) {
+        lr->ok++;
+        answer_instrument(lr, i, "ok");
+        record_frame(lr);
+    } else {
+        lr->failed++;
+        fprintf(stderr, "rodsim live: input line %ld (instrument %s, t = %.9g s): %s\n",
+                lr->line_no, lr->set.model[0].instruments[i].name, v[0], err);
+        answer_instrument(lr, i, "failed");
+    }
+    return ferror(stdout) ? (lr->status = RUN_EXIT_FAILURE, 1) : 0;
 }
 
 /* Which rod the line addresses: "NAME:" taken off *text, or the default.
@@ -324,6 +506,8 @@ static int serve_line(live_rods *lr, char *text, int too_long, int nul)
 {
     char err[1024] = "";
     lr->line_no++;
+    const int instrument = too_long || nul ? -1 : line_instrument(lr, text);
+    if (instrument >= 0) return serve_instrument_line(lr, instrument, text);
     char *numbers = text;
     int k = too_long || nul ? -1 : line_rod(lr, &numbers, err, sizeof err);
     if (too_long) snprintf(err, sizeof err, "longer than %d bytes", LIVE_LINE_MAX);

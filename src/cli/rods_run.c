@@ -17,6 +17,7 @@
 #include "cli/scene_outputs.h"
 #include "cli/summary.h"
 #include "sim/contact/between_rods.h"
+#include "sim/instrument_path.h"
 #include "sim/recording.h"
 #include "sim/rod_set.h"
 #include "sim/tissue/tissue.h"
@@ -46,6 +47,8 @@ typedef struct rods_run {
     rod_recording *rec[ROD_SET_MAX];
     long long frames;
     double closest_gap;    /* m: between rods, over the run */
+    run_warnings warnings; /* the paths' and the steps' (jaws closed on nothing) */
+    int warned_steps;      /* the steps' warnings said so far */
     double step_cpu;
     /* each rod's knot per output frame (its own centreline, closed far
      * outside it, as a single rod's), and every change: t s, the type after */
@@ -193,6 +196,11 @@ static rod_status advance(rods_run *r, long long n, double h, double target, rod
         rod_status st = rod_set_step(&r->set, &r->run, h, report);
         r->step_cpu += cpu_now() - t0;
         if (st != ROD_OK) return st;
+        if (report->warning[0]) { /* said once each (a full list drops the rest) */
+            if (r->warned_steps++ < RUN_WARNINGS_MAX / 2)
+                run_warn(&r->warnings, "%s", report->warning);
+            report->warning[0] = '\0';
+        }
         for (int k = 0; k < r->set.count; k++)
             if (!rod_state_is_finite(r->run.state[k])) {
                 snprintf(report->message, sizeof report->message,
@@ -254,6 +262,14 @@ static void print_result(const rods_run *r)
                     ps->point[0], ps->point[1], ps->point[2],
                     p < r->set.model[k].puncture_count ? "given" : "made by the needle", ps->s,
                     ps->force[0] + 0.0, ps->force[1] + 0.0, ps->force[2] + 0.0);
+        }
+        for (int g = 0; g < s->grasp_log_count; g++) {
+            const rod_grasp_record *gr = &s->grasp_log[g];
+            char off[64] = "held at the end";
+            if (gr->t_off >= 0.0) snprintf(off, sizeof off, "released at t = %.6g s", gr->t_off);
+            fprintf(f, "    grasp by %s: at t = %.6g s, %s, rod %s at s = %.6g m, largest "
+                    "force on the jaws %.6g N\n", r->set.model[k].instruments[gr->instrument].name,
+                    gr->t_on, off, r->set.name[k], gr->s, gr->force);
         }
     }
     if (r->pad >= 0) {
@@ -344,6 +360,19 @@ static void fill_summary(const rods_run *r, run_summary *sum, int ran)
     sum->stitch_count = r->stitch_count;
     for (int q = 0; q < r->stitch_count; q++)
         snprintf(sum->stitch_rod[q], sizeof sum->stitch_rod[q], "%s", r->set.name[r->stitch_rod[q]]);
+    sum->grasp_count = 0; /* every rod's, in the order of the rods */
+    for (int k = 0; k < r->set.count; k++)
+        for (int g = 0; g < r->run.state[k]->grasp_log_count && sum->grasp_count < SUMMARY_MAX_GRASPS; g++) {
+            const rod_grasp_record *gr = &r->run.state[k]->grasp_log[g];
+            summary_grasp *out = &sum->grasps[sum->grasp_count++];
+            snprintf(out->instrument, sizeof out->instrument, "%s",
+                     r->set.model[k].instruments[gr->instrument].name);
+            if (r->set.named) snprintf(out->rod, sizeof out->rod, "%s", r->set.name[k]);
+            out->t_on = gr->t_on;
+            out->t_off = gr->t_off;
+            out->s = gr->s;
+            out->force = gr->force;
+        }
     sum->knot_across_count = 0;
     for (int p = 0; p < r->across_count; p++) {
         const knot_across_track *t = &r->across[p];
@@ -409,6 +438,23 @@ static int write_video(rods_run *r, char *err, size_t errlen)
     return rc ? RUN_EXIT_FAILURE : 0;
 }
 
+/* The instruments' paths against the surfaces (the scene's, every rod's
+ * alike): warnings, or a refusal in err (-1) */
+static int check_paths(rods_run *r, char *err, size_t errlen)
+{
+    const rod_model *m = &r->set.model[0];
+    for (int k = 0; k < m->instrument_count; k++) {
+        char text[RUN_WARNING_LEN];
+        const int said = rod_instrument_path_warning(m, k, r->o->label, text, sizeof text);
+        if (said < 0) {
+            snprintf(err, errlen, "%s; nothing was run", text);
+            return -1;
+        }
+        if (said) run_warn(&r->warnings, "%s", text);
+    }
+    return 0;
+}
+
 int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *scene)
 {
     char err[RODS_ERR_LEN] = "";
@@ -426,6 +472,9 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
         goto fail;
     if (run_read_output(doc, &r.out, err, sizeof err) || ini_check_unused(doc, err, sizeof err))
         goto fail;
+    if (check_paths(&r, err, sizeof err)) goto fail;
+    run_warnings_print(stderr, &r.warnings, 0);
+    const int path_warnings = r.warnings.count;
     r.dt = rod_set_choose_dt(&r.set, NULL);
     r.pad = tissue_coupling_pad(&r.set.model[0]);
     /* the stitches: the rods that hold punctures or carry a needle */
@@ -483,9 +532,11 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
         }
     }
     status = 0;
+    run_warnings_print(stderr, &r.warnings, path_warnings);
     print_result(&r);
     if (o->summary) {
         fill_summary(&r, o->summary, ran);
+        for (int w = 0; w < r.warnings.count; w++) summary_add_warning(o->summary, r.warnings.text[w]);
         if (o->csv && !r.csv_stdout) summary_add_file(o->summary, o->csv);
         if (o->tissue_csv) summary_add_file(o->summary, o->tissue_csv);
         if (!o->no_video) {

@@ -727,13 +727,18 @@ static int plan_run(scene_run *r)
                       estimate_seconds(r->o, m, r->out, &r->plan));
     if (!r->o->quiet && r->slow_note[0]) fprintf(r->talk, "  slow     %s\n", r->slow_note);
     scene_outputs_plan_warnings(m, r->dt, &r->warnings);
-    /* a path that takes an instrument into a surface: a warning, not a
-     * refusal (the run is still what was asked: instruments pass through
-     * surfaces; a hand-made path that grazes the skin is common) */
+    /* a path that takes an instrument into a surface: a warning (the run
+     * is still what was asked: instruments pass through surfaces; a
+     * hand-made path that grazes the skin is common); the jaws driven deep
+     * into a rigid surface: refused, nothing run */
     for (int k = 0; k < m->instrument_count; k++) {
         char text[RUN_WARNING_LEN];
-        if (rod_instrument_path_warning(m, k, r->o->label, text, sizeof text))
-            run_warn(&r->warnings, "%s", text);
+        const int said = rod_instrument_path_warning(m, k, r->o->label, text, sizeof text);
+        if (said < 0) {
+            complain(r->o, "rodsim run: %s; nothing was run\n", text);
+            return -1;
+        }
+        if (said) run_warn(&r->warnings, "%s", text);
     }
     run_warnings_print(stderr, &r->warnings, 0);
     /* a long run shows where it is on a terminal; --progress shows it anywhere */

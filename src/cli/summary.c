@@ -288,6 +288,7 @@ static void grasps_list(json_out *j, const run_summary *s)
         comma(j);
         open_(j, '{');
         string_field(j, "instrument", g->instrument);
+        if (g->rod[0]) string_field(j, "rod", g->rod);
         number_field(j, "t_on", g->t_on);
         if (g->t_off >= 0.0) number_field(j, "t_off", g->t_off); /* absent: held at the end */
         number_field(j, "s", g->s);

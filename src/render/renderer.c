@@ -596,6 +596,7 @@ static void renderer_meshes(renderer *r, const rod_recording *rec, int frame,
     render_mesh *m = &r->mesh;
     if (rec->rod_count > 1) {
         renderer_rods(r, rec, frame);
+        instrument_mesh_add(m, given, given_frame, 2.0 * r->radius); /* the scene's */
         if (r->o->arrows) glyph_add_arrows(m, &r->arrows, rec, frame);
         r->caster_indices = m->index_count;
         renderer_pads(r, given, given_frame); /* the pad the rods share */

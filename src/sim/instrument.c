@@ -257,11 +257,10 @@ static void thread_point(const rod_model *m, const rod_state *s, double arc, dou
         p[c] = (1.0 - f) * s->position[3 * j + c] + f * s->position[3 * (j + 1) + c];
 }
 
-/* Jaws that close take the thread's point nearest their middle line. */
-static void grasp_on_close(const rod_model *m, int k, rod_state *s, rod_report *report)
+double rod_grasp_nearest(const rod_model *m, int k, const rod_state *s, double *arc,
+                         double *reach)
 {
     const rod_instrument *in = &m->instruments[k];
-    rod_grasp_state *g = &s->grasp[k];
     rod_pose pose;
     double lj, rj, rs;
     rod_instrument_pose(in, s->time, &pose, NULL);
@@ -272,36 +271,59 @@ static void grasp_on_close(const rod_model *m, int k, rod_state *s, rod_report *
         const double local[3] = {-lj * q / 8.0, 0.0, 0.0};
         double p[3], dist;
         to_global(&pose, local, p);
-        double arc = rod_nearest_arc_length_between(m, s->position, p, 0, m->nodes - 2, &dist);
+        double at = rod_nearest_arc_length_between(m, s->position, p, 0, m->nodes - 2, &dist);
         if (dist < best) {
             best = dist;
-            best_s = arc;
+            best_s = at;
         }
     }
-    const double reach = 2.0 * rj + m->diameter;
-    if (best > reach) {
-        if (report && !report->warning[0])
-            snprintf(report->warning, sizeof report->warning,
-                     "instrument '%s' (scene line %d) closed its jaws at t = %.6g s on "
-                     "nothing: the thread is %.3g m from them (they grasp within %.3g m)",
-                     in->name, in->line, s->time, best, reach);
-        return;
-    }
+    *arc = best_s;
+    *reach = 2.0 * rj + m->diameter;
+    return best;
+}
+
+void rod_grasp_take(const rod_model *m, int k, rod_state *s, double arc)
+{
+    rod_grasp_state *g = &s->grasp[k];
+    rod_pose pose;
+    rod_instrument_pose(&m->instruments[k], s->time, &pose, NULL);
     double p[3], d[3];
-    thread_point(m, s, best_s, p);
+    thread_point(m, s, arc, p);
     v3_sub(d, p, pose.position);
     m3_mul_tv(g->local, pose.rotation, d);
     g->held = 1;
-    g->s = best_s;
+    g->s = arc;
     g->t_on = s->time;
     v3_set(g->force, 0.0, 0.0, 0.0);
     g->log = -1;
     if (s->grasp_log_count < ROD_MAX_GRASP_LOG) {
         g->log = s->grasp_log_count++;
         /* the arc length on the uncut thread (a cut may have taken its root's side) */
-        const rod_grasp_record r = {k, s->time, -1.0, best_s + s->first_node * m->ds, 0.0};
+        const rod_grasp_record r = {k, s->time, -1.0, arc + s->first_node * m->ds, 0.0};
         s->grasp_log[g->log] = r;
     }
+}
+
+void rod_grasp_missed(const rod_instrument *in, double t, double distance, double reach,
+                      rod_report *report)
+{
+    if (report && !report->warning[0])
+        snprintf(report->warning, sizeof report->warning,
+                 "instrument '%s' (scene line %d) closed its jaws at t = %.6g s on "
+                 "nothing: the thread is %.3g m from them (they grasp within %.3g m)",
+                 in->name, in->line, t, distance, reach);
+}
+
+/* Jaws that close take the thread's point nearest their middle line. */
+static void grasp_on_close(const rod_model *m, int k, rod_state *s, rod_report *report)
+{
+    double arc, reach;
+    const double best = rod_grasp_nearest(m, k, s, &arc, &reach);
+    if (best > reach) {
+        rod_grasp_missed(&m->instruments[k], s->time, best, reach, report);
+        return;
+    }
+    rod_grasp_take(m, k, s, arc);
 }
 
 void rod_instruments_update(const rod_model *m, rod_state *s, rod_report *report)
@@ -324,7 +346,9 @@ void rod_instruments_update(const rod_model *m, rod_state *s, rod_report *report
         }
         if (g->held && g->log >= 0)
             s->grasp_log[g->log].force = fmax(s->grasp_log[g->log].force, v3_norm(g->force));
-        if (closed && !g->closed) grasp_on_close(m, k, s, report);
+        /* several rods: the set gives the grasp to the nearest rod after
+         * the step (rod_set_step) */
+        if (closed && !g->closed && !m->between_rods) grasp_on_close(m, k, s, report);
         if (!closed && g->held) {
             g->held = 0;
             v3_set(g->force, 0.0, 0.0, 0.0);

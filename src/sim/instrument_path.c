@@ -67,24 +67,57 @@ static double moved(const rod_capsule *c0, const rod_capsule *c1, int count)
     return most;
 }
 
+const char *rod_instrument_part_name(rod_instrument_part part)
+{
+    static const char *const names[] = {"jaws", "shanks", "box lock"};
+    return (unsigned)part < 3 ? names[part] : "parts";
+}
+
+double rod_instrument_max_depth(const rod_instrument *in)
+{
+    if (in->max_depth > 0.0) return in->max_depth;
+    double lj, rj, rs;
+    rod_instrument_dimensions(in, &lj, &rj, &rs);
+    return 2.0 * rj;
+}
+
+/* Capsule i's part (rod_instrument_capsules' order) */
+static int part_of(int i)
+{
+    return i < 2 ? ROD_PART_JAWS : i < 4 ? ROD_PART_SHANKS : ROD_PART_BOX_LOCK;
+}
+
 /* The capsules at t against every surface: the first intrusion into
- * *found (t = -1: none yet), the deepest into that surface in *found. */
+ * *found (t = -1: none yet), the deepest into that surface in *found; the
+ * jaws' deepest into any rigid surface. */
 static void check_at(const rod_model *m, const rod_capsule *c, int count, double t,
                      rod_instrument_intrusion *found)
 {
     for (int j = 0; j < m->surface_count; j++) {
-        if (found->t >= 0.0 && found->surface != j) continue;
+        const int rigid = !m->surfaces[j].solid;
+        if (found->t >= 0.0 && found->surface != j && !rigid) continue;
         for (int i = 0; i < count; i++) {
+            if (found->t >= 0.0 && found->surface != j && !c[i].jaw) continue;
             const double gap = segment_gap(&m->surfaces[j], c[i].a, c[i].b);
+            if (rigid && c[i].jaw && c[i].radius - gap > found->jaw_depth) {
+                found->jaw_depth = c[i].radius - gap;
+                found->jaw_t = t;
+                found->jaw_surface = j;
+            }
             if (gap >= 0.0) continue; /* within its radius: a graze */
+            if (found->t >= 0.0 && found->surface != j) continue;
             const double depth = c[i].radius - gap;
             if (found->t < 0.0) {
-                found->t = t;
+                found->t = found->depth_t = t;
                 found->surface = j;
-                found->jaw = c[i].jaw;
+                found->part = found->depth_part = part_of(i);
                 found->depth = depth;
             } else if (depth > found->depth) {
+                /* parts entering at the same sample: the deepest is named */
+                if (found->t == t) found->part = part_of(i);
                 found->depth = depth;
+                found->depth_t = t;
+                found->depth_part = part_of(i);
             }
         }
     }
@@ -93,7 +126,7 @@ static void check_at(const rod_model *m, const rod_capsule *c, int count, double
 int rod_instrument_path_intrusion(const rod_model *m, int k, rod_instrument_intrusion *out)
 {
     const rod_instrument *in = &m->instruments[k];
-    rod_instrument_intrusion found = {.t = -1.0, .depth = 0.0, .surface = -1, .jaw = 0};
+    rod_instrument_intrusion found = {.t = -1.0, .surface = -1, .jaw_surface = -1};
     double t0 = rod_path_start(in->pose), t1 = rod_path_end(in->pose);
     if (in->jaw) {
         t0 = fmin(t0, rod_path_start(in->jaw));
@@ -125,9 +158,16 @@ int rod_instrument_path_intrusion(const rod_model *m, int k, rod_instrument_intr
         for (int c = 0; c < count; c++) now[c] = next[c];
         t = target;
     }
-    if (found.t < 0.0) return 0;
     *out = found;
-    return 1;
+    return found.t >= 0.0 || found.jaw_depth > rod_instrument_max_depth(in);
+}
+
+/* "[surface] of line N" or "[surface] N (shape)" */
+static void surface_where(const rod_model *m, int j, char *where, size_t n)
+{
+    const rod_surface *s = &m->surfaces[j];
+    if (s->line > 0) snprintf(where, n, "[surface] of line %d", s->line);
+    else snprintf(where, n, "[surface] %d (%s)", j + 1, rod_surface_name(s->shape));
 }
 
 int rod_instrument_path_warning(const rod_model *m, int k, const char *file, char *out,
@@ -137,19 +177,35 @@ int rod_instrument_path_warning(const rod_model *m, int k, const char *file, cha
     rod_instrument_intrusion hit;
     if (!rod_instrument_path_intrusion(m, k, &hit)) return 0;
     const rod_instrument *in = &m->instruments[k];
-    const rod_surface *s = &m->surfaces[hit.surface];
-    char where[64];
-    if (s->line > 0) snprintf(where, sizeof where, "[surface] of line %d", s->line);
-    else snprintf(where, sizeof where, "[surface] %d (%s)", hit.surface + 1,
-                  rod_surface_name(s->shape));
-    /* the possessive: "the forceps' jaws", "the needle holder's jaws" */
+    /* the possessive: "the forceps' jaws", "the needle holder's box lock" */
     static const char *const whose[] = {"needle holder's", "forceps'", "scissors'"};
+    const char *owner = (unsigned)in->kind < 3 ? whose[in->kind] : "instrument's";
+    char where[64];
+    const double limit = rod_instrument_max_depth(in);
+    if (hit.jaw_depth > limit) {
+        surface_where(m, hit.jaw_surface, where, sizeof where);
+        snprintf(out, n,
+                 "%s:%d: [instrument] %s: the path drives the %s jaws %.2f mm into the rigid "
+                 "%s at t = %.3f s, deeper than max_depth = %.2f mm (%s): the thread would "
+                 "be pressed into the surface; move the path, or raise [instrument] max_depth "
+                 "(m)",
+                 file ? file : "scene", in->line, in->name, owner, 1e3 * hit.jaw_depth, where,
+                 hit.jaw_t, 1e3 * limit,
+                 in->max_depth > 0.0 ? "given" : "the jaws' thickness, when not given");
+        return -1;
+    }
+    if (hit.t < 0.0) return 0;
+    surface_where(m, hit.surface, where, sizeof where);
+    char deepest[96] = "";
+    if (hit.depth_part != hit.part)
+        snprintf(deepest, sizeof deepest, ", its %s deepest", rod_instrument_part_name(hit.depth_part));
     snprintf(out, n,
-             "%s:%d: [instrument] %s: the %s %s go %.1f mm into the %s from t = %.3f s; the "
-             "instrument passes through it (instruments do not collide with surfaces); move "
-             "its path",
-             file ? file : "scene", in->line, in->name,
-             (unsigned)in->kind < 3 ? whose[in->kind] : "instrument's",
-             hit.jaw ? "jaws" : "shanks", 1e3 * hit.depth, where, hit.t);
+             "%s:%d: [instrument] %s: the %s %s %s into the %s at t = %.3f s, %.1f mm deep at "
+             "t = %.3f s%s; the instrument passes through it (instruments do not collide with "
+             "surfaces); move its path",
+             file ? file : "scene", in->line, in->name, owner,
+             rod_instrument_part_name(hit.part), hit.part == ROD_PART_BOX_LOCK ? "goes" : "go",
+             where, hit.t, 1e3 * hit.depth, hit.depth_t,
+             deepest);
     return 1;
 }

@@ -507,6 +507,11 @@ rod_recording *rod_recording_join(rod_recording *const *parts, int count)
     r->surface_count = parts[0]->surface_count;
     parts[0]->surfaces = NULL;
     parts[0]->surface_count = 0;
+    /* the scene's instruments (every rod records them alike): moved */
+    r->instrument_pose = parts[0]->instrument_pose;
+    r->instrument_count = parts[0]->instrument_count;
+    parts[0]->instrument_pose = NULL;
+    parts[0]->instrument_count = 0;
     r->rod_count = count;
     const size_t n = (size_t)nodes;
     size_t first = 0;

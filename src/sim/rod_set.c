@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "sim/contact/between_rods.h"
+#include "sim/instrument.h"
 #include "sim/scene.h"
 #include "sim/scheme_implicit.h"
 #include "sim/tissue/tissue_coupling.h"
@@ -28,10 +29,16 @@ static int refuse_for_several(ini_doc *doc, const rod_set *set, int k, char *err
         return ini_error(doc, "solver", 0, "scheme", err, errlen,
                          "several rods ([rod %s] and others) are stepped by the implicit scheme "
                          "only; accepted here: implicit", rod);
-    if (m->instrument_count > 0)
-        return ini_error(doc, "instrument", 0, "kind", err, errlen,
-                         "instruments are not modelled with several rods yet; accepted: a scene "
-                         "with one [rod], or no [instrument]");
+    for (int i = 0; i < m->instrument_count; i++) {
+        if (m->instruments[i].needle)
+            return ini_error(doc, "instrument", i, "needle", err, errlen,
+                             "a needle holder holding the needle is not modelled with several "
+                             "rods yet; accepted: no");
+        if (m->instruments[i].kind == ROD_INSTRUMENT_SCISSORS)
+            return ini_error(doc, "instrument", i, "kind", err, errlen,
+                             "scissors (cutting) are not modelled with several rods yet; "
+                             "accepted: needle_holder | forceps");
+    }
     if (m->cut_event_count > 0)
         return ini_error(doc, "cut", 0, "t", err, errlen,
                          "a [cut] names no rod: with several rods it is not accepted yet; "
@@ -163,6 +170,11 @@ int scene_read_rods(ini_doc *doc, rod_set *set, char *err, size_t errlen)
         return -1;
     }
     const int pad = tissue_coupling_pad(&set->model[0]) >= 0;
+    for (int k = 0; k < set->count; k++) /* rod = NAME: the other rods' grasps off */
+        for (int i = 0; i < set->model[k].instrument_count; i++) {
+            rod_instrument *in = &set->model[k].instruments[i];
+            in->grasp_off = in->rod[0] && strcmp(in->rod, set->name[k]) != 0;
+        }
     for (int k = 0; named > 1 && k < set->count; k++) {
         set->model[k].between_rods = 1;
         set->model[k].physics.planar = 0; /* the others may push it out of any plane */
@@ -264,6 +276,34 @@ static int couple_pad(const rod_set *set, rod_set_run *run, rod_report *report)
                                      sizeof report->message);
 }
 
+/* After the step: jaws that closed take the rod nearest their middle line
+ * within their reach (of the rods they may take: [instrument] rod), once;
+ * none near: the warning a single rod gives */
+static void take_grasps(const rod_set *set, rod_set_run *run, rod_report *report)
+{
+    const rod_model *m0 = &set->model[0];
+    for (int i = 0; i < m0->instrument_count && i < ROD_MAX_INSTRUMENTS; i++) {
+        const rod_instrument *in = &m0->instruments[i];
+        double jaw;
+        rod_pose pose;
+        rod_instrument_pose(in, run->state[0]->time, &pose, &jaw);
+        const int closed = jaw < ROD_JAW_CLOSED, closing = closed && !run->jaw_closed[i];
+        run->jaw_closed[i] = closed;
+        if (!closing || in->needle || in->kind == ROD_INSTRUMENT_SCISSORS) continue;
+        int best = -1;
+        double best_gap = INFINITY, best_arc = 0.0, nearest = INFINITY, nearest_reach = 0.0;
+        for (int k = 0; k < set->count; k++) {
+            if (set->model[k].instruments[i].grasp_off) continue;
+            double arc, reach;
+            const double gap = rod_grasp_nearest(&set->model[k], i, run->state[k], &arc, &reach);
+            if (gap < nearest) nearest = gap, nearest_reach = reach;
+            if (gap <= reach && gap < best_gap) best = k, best_gap = gap, best_arc = arc;
+        }
+        if (best >= 0) rod_grasp_take(&set->model[best], i, run->state[best], best_arc);
+        else rod_grasp_missed(in, run->state[0]->time, nearest, nearest_reach, report);
+    }
+}
+
 rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_report *report)
 {
     rod_link *l = run->link;
@@ -315,6 +355,7 @@ rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_rep
     }
     for (int k = 0; k < set->count; k++) rod_cross_total(&l->cross[k], run->touch_force[k]);
     if (set->model[0].pad_by_set && couple_pad(set, run, report)) return ROD_FAILED;
+    take_grasps(set, run, report);
     run->steps++;
     return ROD_OK;
 }

@@ -492,6 +492,29 @@ static int read_surfaces(ini_doc *doc, rod_model *m, const char *rod, char *err,
     return 0;
 }
 
+/* [instrument] rod = NAME: the rod its jaws take, one of the scene's [rod
+ * NAME] (a bare [rod] is named rod) */
+static int read_instrument_rod(ini_doc *doc, int i, const char *rod_name, rod_instrument *in,
+                               char *err, size_t errlen)
+{
+    const char *names[64];
+    const int count = ini_section_names(doc, "rod", names, 64);
+    int found = count == 0 && strcmp(rod_name, "rod") == 0;
+    for (int k = 0; k < count && k < 64; k++) found |= strcmp(rod_name, names[k]) == 0;
+    if (!found || strlen(rod_name) >= sizeof in->rod) {
+        char accepted[256] = "rod (the scene's one bare [rod])";
+        if (count > 0) {
+            size_t used = (size_t)snprintf(accepted, sizeof accepted, "the NAME of a [rod NAME]:");
+            for (int k = 0; k < count && k < 64 && used < sizeof accepted; k++)
+                used += (size_t)snprintf(accepted + used, sizeof accepted - used, " %s", names[k]);
+        }
+        return ini_error(doc, "instrument", i, "rod", err, errlen,
+                         "'%s' names no rod of the scene; accepted: %s", rod_name, accepted);
+    }
+    snprintf(in->rod, sizeof in->rod, "%s", rod_name);
+    return 0;
+}
+
 /* Reads [instrument] (repeatable, at most ROD_MAX_INSTRUMENTS): kind, name,
  * path (a CSV t,x,y,z,rx,ry,rz,jaw), size, friction, grip, needle. A needle
  * holder with needle = yes drives the thread's tip (the needle's back, held
@@ -513,10 +536,13 @@ static int read_instruments(ini_doc *doc, rod_model *m, char *err, size_t errlen
                                   err, errlen);
         int has_name = ini_get_string(doc, "instrument", i, "name", &name, err, errlen);
         int has_path = ini_get_string(doc, "instrument", i, "path", &path_text, err, errlen);
-        if (has_kind < 0 || has_name < 0 || has_path < 0 ||
+        const char *rod_name = NULL;
+        int has_rod = ini_get_string(doc, "instrument", i, "rod", &rod_name, err, errlen);
+        if (has_kind < 0 || has_name < 0 || has_path < 0 || has_rod < 0 ||
             ini_get_double(doc, "instrument", i, "size", &in.size, err, errlen) < 0 ||
             ini_get_double(doc, "instrument", i, "friction", &in.friction, err, errlen) < 0 ||
             ini_get_double(doc, "instrument", i, "grip", &in.grip, err, errlen) < 0 ||
+            ini_get_double(doc, "instrument", i, "max_depth", &in.max_depth, err, errlen) < 0 ||
             ini_get_bool(doc, "instrument", i, "needle", &in.needle, err, errlen) < 0)
             return -1;
         if (count == 0) break;
@@ -533,6 +559,10 @@ static int read_instruments(ini_doc *doc, rod_model *m, char *err, size_t errlen
         if (!(in.grip > 0.0) || !isfinite(in.grip))
             return ini_error(doc, "instrument", i, "grip", err, errlen,
                              "must be a force > 0 N (the thread slides through the jaws beyond it)");
+        if (!(in.max_depth >= 0.0) || !isfinite(in.max_depth))
+            return ini_error(doc, "instrument", i, "max_depth", err, errlen,
+                             "must be a depth > 0 m (the deepest its path may take the jaws "
+                             "into a rigid [surface])");
         if (in.needle && in.kind != ROD_INSTRUMENT_NEEDLE_HOLDER)
             return ini_error(doc, "instrument", i, "needle", err, errlen,
                              "only a needle_holder holds the needle");
@@ -541,6 +571,7 @@ static int read_instruments(ini_doc *doc, rod_model *m, char *err, size_t errlen
                              "the needle holder drives the needle (the thread's tip) along its "
                              "path: remove [ends] tip_motion, or set needle = no");
         snprintf(in.name, sizeof in.name, "%s", has_name ? name : rod_instrument_kind_name(in.kind));
+        if (has_rod && read_instrument_rod(doc, i, rod_name, &in, err, errlen)) return -1;
         for (int k = 0; k < m->instrument_count; k++)
             if (strcmp(m->instruments[k].name, in.name) == 0)
                 return ini_error(doc, "instrument", i, "name", err, errlen,

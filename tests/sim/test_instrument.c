@@ -1,7 +1,8 @@
 /* test_instrument.c: surgical instruments and their grasps in the implicit
  * scheme, against independent values: a thread grasped at mid-length and
  * lifted (the point follows the jaws, the jaws carry the weight rho A L g),
- * the capstan law W exp(mu pi) over an instrument's shafts, grasp, release
+ * the capstan law W exp(mu pi) over an instrument's shafts (the tines
+ * carrying both strands' tensions at rest), grasp, release
  * and re-grasp (the arc lengths), the free fall after a release (the centre
  * of mass at g t^2 / 2), and bad input. */
 #include <math.h>
@@ -297,6 +298,9 @@ static void twin_curve(double u, const double par[3], double p[3])
     }
 }
 
+/* N, global: what the thread exerts on the tines at the capstan's end */
+static double capstan_touch[3], capstan_root_z;
+
 /* The root (pinned) driven down by pull over duration, the tip carrying W:
  * the mean |root force| over the middle fifth (as the surfaces' capstan). */
 static double capstan(double mu, double w_load, double pull, double duration, int nodes)
@@ -338,6 +342,8 @@ static double capstan(double mu, double w_load, double pull, double duration, in
     m.instrument_count = 1;
     s = rod_state_create(&m);
     result = capstan_mean_root_force(&m, s, duration);
+    v3_copy(capstan_touch, s->grasp[0].touch);
+    capstan_root_z = s->end_force[0][2];
 done:
     rod_state_destroy(s);
     m.instruments = NULL;
@@ -353,6 +359,10 @@ static void test_capstan(void)
     const double mu = 0.2, w_load = 0.05;
     check_rel("capstan over the forceps' tines (a half turn), NS = 81: root force vs "
               "W exp(mu pi), N", capstan(mu, w_load, 0.03, 2.0, 81), w_load * exp(mu * M_PI), 0.03);
+    /* at the end, the root at rest (the thread held by friction, no
+     * gravity): the tines carry both strands' tensions, W plus the root's */
+    check_rel("the thread's contact force on the tines at rest (grasp state touch) vs W + "
+              "the root's force, down, N", -capstan_touch[2], w_load + capstan_root_z, 1e-3);
 }
 
 /* A moving instrument drags the thread by friction ----------------------- */

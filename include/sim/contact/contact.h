@@ -73,6 +73,8 @@ typedef struct rod_contact {
                               point's velocity (m/s); NULL without instruments */
     double *instrument_force; /* (nodes x 3) global, N: what the instruments exert, this
                               iterate; NULL without instruments */
+    double *instrument_each;  /* (nodes x instruments x 3) global, N: the same by instrument
+                              (for what each feels); NULL without instruments */
     int grasp_instrument[ROD_MAX_INSTRUMENTS]; /* the instrument of punct[puncture_count - grasps
                               + g] for each of this step's grasps */
     int grasp_count;

@@ -33,7 +33,8 @@ void instrument_contact_prepare(rod_contact *ct, const rod_model *m, const rod_s
  * instrument_force and, with want_jacobian, composes its velocity map. */
 void instrument_contact_node(rod_contact *ct, const rod_model *m, int b, double push, double dt);
 
-/* After a step: each grasp's arc length (where the thread passes the jaws
+/* After a step: what the thread exerts on each instrument's parts by
+ * contact (rod_grasp_state touch), each grasp's arc length (where the thread passes the jaws
  * now) and the force the thread exerts on them; a grasp the thread slid out
  * of past its end (farther than a diameter beyond it) is released. */
 void instrument_contact_update(const rod_contact *ct, const rod_model *m, rod_state *s);

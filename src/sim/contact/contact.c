@@ -42,7 +42,8 @@ int rod_contact_create(rod_contact *c, const rod_model *m, const double *pos0, d
         c->instrument_start = calloc(n * (size_t)m->instrument_count * ROD_INSTRUMENT_CAPSULES * 10,
                                      sizeof(double));
         c->instrument_force = calloc(n * 3, sizeof(double));
-        if (!c->instrument_start || !c->instrument_force) return -1;
+        c->instrument_each = calloc(n * 3 * (size_t)m->instrument_count, sizeof(double));
+        if (!c->instrument_start || !c->instrument_force || !c->instrument_each) return -1;
     }
     if (maps) {
         c->velocity_jac = calloc(n * 27, sizeof(double));
@@ -62,6 +63,7 @@ void rod_contact_destroy(rod_contact *c)
     free(c->pad_last);
     free(c->instrument_start);
     free(c->instrument_force);
+    free(c->instrument_each);
     free(c->velocity_jac);
     free(c->touched);
     memset(c, 0, sizeof *c);

@@ -175,6 +175,8 @@ void instrument_contact_node(rod_contact *ct, const rod_model *m, int b, double 
     const double theta = m->options.theta, grow = 0.5 * m->diameter, a = dt * theta * push;
     const int per = m->instrument_count * ROD_INSTRUMENT_CAPSULES;
     v3_set(force, 0.0, 0.0, 0.0);
+    double *each = &ct->instrument_each[3 * (size_t)b * (size_t)m->instrument_count];
+    memset(each, 0, 3 * (size_t)m->instrument_count * sizeof(double));
     double jac[9] = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
     int active = 0;
     for (int q = 0; q < per; q++) {
@@ -193,6 +195,8 @@ void instrument_contact_node(rod_contact *ct, const rod_model *m, int b, double 
         v3_axpy(v1, push, fn);
         v3_axpy(vb, theta * push, fn);
         v3_axpy(force, 1.0, fn);
+        double *mine = &each[3 * (q / ROD_INSTRUMENT_CAPSULES)];
+        v3_axpy(mine, 1.0, fn);
         /* friction against the velocity relative to the capsule's point */
         v3_sub(rel, v1, vc);
         const double vn = v3_dot(rel, n);
@@ -205,6 +209,7 @@ void instrument_contact_node(rod_contact *ct, const rod_model *m, int b, double 
             v3_axpy(v1, push, ft);
             v3_axpy(vb, theta * push, ft);
             v3_axpy(force, 1.0, ft);
+            v3_axpy(mine, 1.0, ft);
         }
         if (ct->want_jacobian)
             capsule_map_jacobian(jac, n, vt, speed, sp, push * limit, mu,
@@ -225,6 +230,16 @@ void instrument_contact_node(rod_contact *ct, const rod_model *m, int b, double 
 
 void instrument_contact_update(const rod_contact *ct, const rod_model *m, rod_state *s)
 {
+    /* what the thread exerts on each instrument's parts: the opposite of
+     * their contact on its nodes */
+    const int count = m->instrument_count < ROD_MAX_INSTRUMENTS ? m->instrument_count
+                                                                : ROD_MAX_INSTRUMENTS;
+    for (int k = 0; k < count; k++) {
+        double *touch = s->grasp[k].touch;
+        v3_set(touch, 0.0, 0.0, 0.0);
+        for (int b = 0; b < m->nodes; b++)
+            v3_axpy(touch, -1.0, &ct->instrument_each[3 * ((size_t)b * (size_t)m->instrument_count + (size_t)k)]);
+    }
     const int first = ct->puncture_count - ct->grasp_count;
     for (int g = 0; g < ct->grasp_count; g++) {
         const int k = ct->grasp_instrument[g];
