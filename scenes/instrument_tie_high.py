@@ -25,20 +25,24 @@ cannot hold):
 - the long end rises from its puncture past the holder's shanks (on their
   +x side) to the forceps, 25-40 mm above the skin;
 - the forceps carry the long end once round the holder's axis there (over
-  it first, a spiral in from where the long end's length keeps them),
-  LEAD nearer the tip than where the long end meets the holder: the strand
-  from the puncture hangs from the turn down and forward, toward the tip,
-  so that the forceps' shaft, parallel to the holder behind its tip, never
-  crosses it;
-- the forceps feed the long end back (the turn loosens: the thread springs
-  open) while the holder's jaws close on the tail's end;
+  it first, a spiral in from where the long end's length keeps them), 4 mm
+  behind the turn (LEAD < 0): the strand from the puncture hangs from the
+  turn down and forward, toward the tip, so that the forceps' shaft,
+  parallel to the holder behind their tip, never crosses it (with the
+  forceps 3 mm ahead of the turn, the long end's 4 mm beyond them swept
+  into that strand and Newton stalled at 1.26 s);
+- the forceps come in to 6.7 mm from the axis (the long end slack) while
+  the holder's jaws close on the tail's end, and stay there;
 - the holder draws back along its axis through the turn: the turn slides
-  along the shanks, over the box lock and off the jaws' tip onto the
-  tail, which the holder draws through it; the long end keeps rising from
-  its puncture to the turn, above it;
+  along the shanks, over the box lock and off the jaws' tip; the long end
+  keeps rising from its puncture to the turn, above it, and neither
+  puncture kinks;
 - the hands cross: the holder lays the tail to the long end's side (+y),
-  the forceps the long end to the tail's side (-y), both low: the half knot
-  is laid down on the wound and pulled snug.
+  the forceps the long end to the tail's side (-y), both low.
+Not yet a half knot: the two strands come out twisted once round each
+other and the cross does not add the third half-twist of a throw (see
+docs/decisions/draft-tie-high.md); the knot identification names the
+thread an unknot throughout.
 """
 import math
 
@@ -50,8 +54,7 @@ MM = 1e-3
 W, DEPTH = 4.0, 3.0          # half the bite's width, its depth under the skin
 TILT = math.radians(20.0)    # the holder pointing down by this
 WRAP_Y, WRAP_H = 8.0, 15.0   # where the holder's axis passes over the long end's side (y, z)
-WRAP_X = 6.5                 # the long end passes the holder's axis this far on its +x side
-LEAD = -4.0                  # the forceps' circle this far from the turn toward the tip (behind it)
+LEAD = -4.0                  # the forceps' circle this far toward the tip from the turn (behind it)
 R_END = 9.0                  # the forceps' distance from the holder's axis after the turn
 PHI0 = math.radians(40.0)    # where the forceps start on their circle (0: +x, 90: above)
 TIP_Z = 2.0                  # the holder's tip where it takes the tail
