@@ -17,32 +17,32 @@ it and leaves at y = +W.
 
 The geometry (the why: a long end that comes up out of its puncture and
 turns back toward the tail's side kinks there, a hairpin the 0.92 mm grid
-cannot hold):
-- the needle holder points at the tail's end and down by TILT, its axis
-  passing HIGH above the long end's puncture, a little beyond it (on the
-  long end's side): its tip takes the tail's end on the skin while its
-  shanks are WRAP_H above the skin over the long end's puncture;
-- the long end rises from its puncture past the holder's shanks (on their
-  +x side) to the forceps, 25-40 mm above the skin;
+cannot hold; and a turn the tail is drawn through ties a half knot only if
+the long end comes into it from the side the tail leaves by):
+- the needle holder points at the tail's end and down by TILT; its tip
+  takes the tail's end on the skin first (held, the tail is not drawn
+  through the punctures while the long end is wound), while its axis passes
+  WRAP_H above the wound (at y = WRAP_Y, between the punctures);
+- the long end rises steeply from its puncture to the forceps, past the
+  holder's shanks on their +x side;
 - the forceps carry the long end once round the holder's axis there (over
-  it first, a spiral in from where the long end's length keeps them), 4 mm
-  behind the turn (LEAD < 0): the strand from the puncture hangs from the
-  turn down and forward, toward the tip, so that the forceps' shaft,
-  parallel to the holder behind their tip, never crosses it (with the
-  forceps 3 mm ahead of the turn, the long end's 4 mm beyond them swept
-  into that strand and Newton stalled at 1.26 s);
-- the forceps come in to 6.7 mm from the axis (the long end slack) while
-  the holder's jaws close on the tail's end, and stay there;
-- the holder draws back along its axis through the turn: the turn slides
-  along the shanks, over the box lock and off the jaws' tip; the long end
-  keeps rising from its puncture to the turn, above it, and neither
-  puncture kinks;
+  it first), a spiral in from where the long end's length keeps them (a
+  loose turn, 7 mm in radius round the shanks' 3.9 mm half width), LEAD
+  nearer the tip than the turn: the strand from the puncture rises to the
+  turn from behind it (the hand's side), so the forceps' shaft, parallel
+  to the holder behind their tip, passes beside it;
+- the forceps come in to 6.7 mm from the axis, the long end slack, and stay;
+- the holder draws back along its axis: the turn slides along the shanks,
+  over the box lock and off the jaws' tip onto the tail, which it draws
+  through the turn (the long end enters the turn from the hand's side, the
+  tail leaves it by that side: a half knot); the long end keeps rising from
+  its puncture to the turn and neither puncture kinks;
 - the hands cross: the holder lays the tail to the long end's side (+y),
   the forceps the long end to the tail's side (-y), both low.
-Not yet a half knot: the two strands come out twisted once round each
-other and the cross does not add the third half-twist of a throw (see
-docs/decisions/draft-tie-high.md); the knot identification names the
-thread an unknot throughout.
+With the turn beyond the long end's puncture (y = +8 mm) the long end came
+into it from the tip's side, as the tail did: the turn came off the tip
+with the strands twisted once round each other, an unknot
+(docs/decisions/draft-tie-high.md).
 """
 import math
 
@@ -53,8 +53,8 @@ import chords
 MM = 1e-3
 W, DEPTH = 4.0, 3.0          # half the bite's width, its depth under the skin
 TILT = math.radians(20.0)    # the holder pointing down by this
-WRAP_Y, WRAP_H = 8.0, 15.0   # where the holder's axis passes over the long end's side (y, z)
-LEAD = -4.0                  # the forceps' circle this far toward the tip from the turn (behind it)
+WRAP_Y, WRAP_H = -3.0, 15.0  # where the turn is made on the holder's axis (y, z): over the wound
+LEAD = 4.0                   # the forceps' circle this far from the turn toward the tip
 R_END = 9.0                  # the forceps' distance from the holder's axis after the turn
 PHI0 = math.radians(40.0)    # where the forceps start on their circle (0: +x, 90: above)
 TIP_Z = 2.0                  # the holder's tip where it takes the tail
@@ -92,7 +92,7 @@ def start_radius():
     """The forceps' starting distance from the axis: the long end straight
     from its puncture past the shanks to them is as long as it is wound
     (puncture to the turn, a turn round the shanks, out to R_END)."""
-    shank = 2 * math.pi * 4.5          # the turn round the shanks, loosely (their 3.9 mm half width)
+    shank = 2 * math.pi * 7.0          # a loose turn round the shanks (their 3.9 mm half width)
     need = np.linalg.norm(P_LONG - TURN) + shank + R_END
     lo, hi = R_END, 200.0
     for _ in range(60):
@@ -234,6 +234,10 @@ def paths():
     # the holder runs along its axis onto the tail, jaws open
     holder.to(0.5, pos=GRASP + 0.5 * AXIS)
     forceps.to(0.5)
+    # the jaws close on the tail's end first: held, the tail is not drawn
+    # through the punctures by the long end while the forceps wind it
+    holder.to(0.7, jaw=0.0)
+    forceps.to(0.7)
     # the forceps carry the long end once round the holder's shanks
     forceps.to(1.7, path=spiral)
     holder.to(1.7)

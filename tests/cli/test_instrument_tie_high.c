@@ -1,24 +1,28 @@
 /* test_instrument_tie_high.c: scenes/instrument_tie_high.ini through the
  * real binary: the first throw of an instrument tie with the long end held
- * high. Nothing is tied in the start: the forceps wind the long end round
- * the needle holder's shanks 15 mm above the skin, the holder's jaws close
- * on the tail's end, the holder draws back through the turn, and the hands
- * cross.
+ * high. Nothing is tied in the start: the holder takes the tail's end, the
+ * forceps wind the long end round its shanks 15 mm over the wound, and the
+ * holder draws back through the turn, which leaves the jaws' tip with the
+ * tail through it: the half knot.
  *
  * Checked with this file's own geometry (tests/test_segment.h, the holder's
- * pose read from its path file, not the contact code):
- * - the run completes, no warnings (an instrument more than its radius into
- *   the pad is one); the holder's jaws take the tail within 8 mm of its end;
+ * pose read from its path file, not the contact code), over the first 4.6 s
+ * (the throw and the start of the cross; the cross's last second costs 20 s
+ * of CPU more):
+ * - the run completes; no instrument goes into the pad (the summary warns
+ *   of any that does); the holder's jaws take the tail within 3 mm of its
+ *   end as they close (0.5-0.7 s);
  * - no two segments 5 or more apart along the thread come closer than 0.95
  *   diameters in any output frame (every 20 ms): nothing passes through;
- * - the turn: the long end winds at least a full turn round the holder's
+ * - the turn: the long end winds at least 3/4 of a turn round the holder's
  *   axis (within 7 mm of it, behind its tip) at 2.2 s, and less than a
- *   quarter turn from 4.4 s on: the turn has left the jaws' tip;
- * - the knot: the last frame with both ends drawn out 0.2 m along their
- *   last segments, named by the library's knot identification (printed:
- *   the tail is not yet drawn through the turn, the run ties nothing).
- * The sanitizer build runs the first second only (the run and the
- * strands' distance). */
+ *   quarter turn from 3.6 s on: the turn has left the jaws' tip;
+ * - the knot: the last frame, both ends drawn out 0.2 m along their last
+ *   segments, is a trefoil by the library's knot identification (a half
+ *   knot closed through the stitch's bite); the summary names the thread
+ *   an unknot until 3.0-3.6 s (the draw-through) and a trefoil at the end.
+ * The sanitizer build runs the first second only (the run, the strands'
+ * distance and the pad). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,12 +36,13 @@
 #include "test_process.h"
 #include "test_segment.h"
 
-#define NODES 98
+#define NODES 128
 #define DIAMETER 0.001 /* m */
 #define MAX_FRAMES 300
-#define LONG_END 36    /* the first node of the long end above the skin */
+#define LONG_END 48    /* the first node of the long end above the skin */
 #define HOLDER "scenes/instrument_tie_high_holder.csv"
-#define OFF_BY 4.4     /* s: the turn is off the jaws' tip by then (the draw-back ends at 3.6 s) */
+#define OFF_BY 3.6     /* s: the turn is off the jaws' tip by then (the draw-back ends) */
+#define UNTIL 4.6      /* s: the throw, the turn off the tip and the start of the cross */
 
 /* The holder's pose at time t from its path file (t,x,y,z,rx,ry,rz,jaw;
  * rows every 20 ms): the row at or after t; the tip into tip, the rotation
@@ -105,7 +110,8 @@ int main(void)
     const char *csv = "/tmp/rodsim_test_instrument_tie_high.csv";
     const char *summary = "/tmp/rodsim_test_instrument_tie_high.json";
     char output[16384];
-    const char *until = sanitized ? "solver.duration=1" : "solver.duration=5.6";
+    char until[64];
+    snprintf(until, sizeof until, "solver.duration=%g", sanitized ? 1.0 : UNTIL);
     const char *args[] = {"run", "scenes/instrument_tie_high.ini", "--no-video", "--csv", csv,
                           "--summary", summary, "--set", until, "--set", "render.fps=50", NULL};
     int status = test_run_rodsim(args, output, sizeof output);
@@ -128,8 +134,14 @@ int main(void)
     char *text = read_text(summary), err[256];
     json_value *v = text ? json_parse(text, err, sizeof err) : NULL;
     const json_value *warnings = json_get(v, "warnings"), *grasps = json_get(v, "grasps");
-    check(warnings && warnings->count == 0, "no warnings (an instrument into the pad is one): %d",
-          warnings ? warnings->count : -1);
+    const json_value *rods = json_get(v, "rods");
+    int into = 0;
+    for (int i = 0; warnings && i < warnings->count; i++) {
+        const json_value *w = warnings->items[i];
+        if (w && w->string && strstr(w->string, " into the ")) into++;
+    }
+    check(warnings && into == 0, "no instrument goes into the pad (the summary's warnings say "
+          "so): %d of %d warnings", into, warnings ? warnings->count : -1);
     if (!sanitized && frames > 1) {
         const json_value *g = NULL;
         for (int i = 0; grasps && i < grasps->count; i++) {
@@ -137,17 +149,17 @@ int main(void)
             if (who && who->string && strcmp(who->string, "holder") == 0) g = grasps->items[i];
         }
         const json_value *t_on = json_get(g, "t_on"), *s = json_get(g, "s");
-        check(t_on && s && t_on->number > 1.9 && t_on->number < 2.1 && s->number < 0.008,
-              "the holder closes on the tail within 8 mm of its end: t = %.4g s (the jaws close "
-              "1.9-2.1 s), s = %.3g mm", t_on ? t_on->number : -1.0, s ? 1e3 * s->number : -1.0);
+        check(t_on && s && t_on->number > 0.5 && t_on->number < 0.7 && s->number < 0.003,
+              "the holder closes on the tail within 3 mm of its end: t = %.4g s (the jaws close "
+              "0.5-0.7 s), s = %.3g mm", t_on ? t_on->number : -1.0, s ? 1e3 * s->number : -1.0);
         double before = NAN, after = -1.0, after_t = 0.0;
         for (int k = 0; k < frames; k++) {
             const double w = winding_at(x[k], t[k]);
             if (fabs(t[k] - 2.2) < 1e-6) before = w;
             if (t[k] >= OFF_BY - 1e-6 && !(w <= after)) after = w, after_t = t[k];
         }
-        check(before >= 2.0 * M_PI, "at 2.2 s the long end winds %.0f degrees round the holder "
-              "(within 7 mm of its axis, behind its tip; at least 360)", before * 180.0 / M_PI);
+        check(before >= 1.5 * M_PI, "at 2.2 s the long end winds %.0f degrees round the holder "
+              "(within 7 mm of its axis, behind its tip; at least 270)", before * 180.0 / M_PI);
         check(after < 0.5 * M_PI, "from %g s on it winds at most %.0f degrees (t = %g s; under "
               "90): the turn has left the jaws' tip", OFF_BY, after * 180.0 / M_PI, after_t);
 
@@ -163,11 +175,21 @@ int main(void)
         rod_knot knot;
         char kerr[256] = "";
         const int rc = rod_knot_identify(p, NODES + 2, &knot, kerr, sizeof kerr);
-        /* not yet the half knot: the turn leaves the tip without the tail
-         * through it (docs/decisions/draft-tie-high.md), so this names what
-         * the run ties and asserts only that the thread is identified */
-        check(rc == 0, "the last frame (t = %g s), its ends drawn out along their last segments, "
-              "is identified: %s", t[frames - 1], rc == 0 ? knot.name : kerr);
+        check(rc == 0 && strncmp(knot.name, "trefoil", 7) == 0, "the last frame (t = %g s), its "
+              "ends drawn out 0.2 m along their last segments: %s (the half knot, closed through "
+              "the bite)", t[frames - 1], rc == 0 ? knot.name : kerr);
+        /* the summary's knot: an unknot until the tail is drawn through the turn */
+        const json_value *k = rods && rods->count ? json_get(rods->items[0], "knot") : NULL;
+        const json_value *type = json_get(k, "type"), *changes = json_get(k, "changes");
+        const json_value *first = changes && changes->count ? changes->items[0] : NULL;
+        const json_value *when_t = first && first->count > 1 ? first->items[0] : NULL;
+        const json_value *what = first && first->count > 1 ? first->items[1] : NULL;
+        check(type && type->string && strncmp(type->string, "trefoil", 7) == 0 && when_t &&
+                  what && what->string && strncmp(what->string, "trefoil", 7) == 0 &&
+                  when_t->number > 3.0 && when_t->number < 3.6,
+              "the summary: the unknot becomes %s at t = %.3g s (3.0-3.6 s: the turn leaves the "
+              "jaws' tip), %s at the end", what && what->string ? what->string : "nothing",
+              when_t ? when_t->number : -1.0, type && type->string ? type->string : "none");
     }
     json_free(v);
     free(text);
