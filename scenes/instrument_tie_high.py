@@ -1,0 +1,297 @@
+#!/usr/bin/env python3
+"""Writes the thread's starting shape and the two instruments' paths for
+instrument_tie_high.ini: the first throw of an instrument tie with the long
+end held high, so that it rises steeply from its puncture and never turns
+back on itself there.
+
+  python3 instrument_tie_high.py
+
+writes instrument_tie_high_shape.csv, instrument_tie_high_holder.csv and
+instrument_tie_high_forceps.csv (poses every 20 ms, eased between key
+poses) and prints the rod's length and the puncture points for the scene.
+
+Lengths in mm below, written in m. The pad's top is z = 0, the wound runs
+along x; the thread's root (node 0) is the short tail's end, lying on the
+skin on the -y side; the thread enters the pad at y = -W, runs DEPTH under
+it and leaves at y = +W.
+
+The geometry (the why: a long end that comes up out of its puncture and
+turns back toward the tail's side kinks there, a hairpin the 0.92 mm grid
+cannot hold; and a turn the tail is drawn through ties a half knot only if
+the long end comes into it from the side the tail leaves by):
+- the needle holder points at the tail's end and down by TILT; its tip
+  takes the tail's end on the skin first (held, the tail is not drawn
+  through the punctures while the long end is wound), while its axis passes
+  WRAP_H above the wound (at y = WRAP_Y, between the punctures);
+- the long end rises steeply from its puncture to the forceps, past the
+  holder's shanks on their +x side;
+- the forceps carry the long end once round the holder's axis there (over
+  it first), a spiral in from where the long end's length keeps them (a
+  loose turn, 7 mm in radius round the shanks' 3.9 mm half width), LEAD
+  nearer the tip than the turn: the strand from the puncture rises to the
+  turn from behind it (the hand's side), so the forceps' shaft, parallel
+  to the holder behind their tip, passes beside it;
+- the forceps come in to 6.7 mm from the axis, the long end slack, and stay;
+- the holder draws back along its axis: the turn slides along the shanks,
+  over the box lock and off the jaws' tip onto the tail, which it draws
+  through the turn (the long end enters the turn from the hand's side, the
+  tail leaves it by that side: a half knot); the long end keeps rising from
+  its puncture to the turn and neither puncture kinks;
+- the hands cross: the holder lays the tail to the long end's side (+y),
+  the forceps the long end to the tail's side (-y), both low.
+With the turn beyond the long end's puncture (y = +8 mm) the long end came
+into it from the tip's side, as the tail did: the turn came off the tip
+with the strands twisted once round each other, an unknot
+(docs/decisions/draft-tie-high.md).
+"""
+import math
+
+import numpy as np
+
+import chords
+
+MM = 1e-3
+W, DEPTH = 4.0, 3.0          # half the bite's width, its depth under the skin
+TILT = math.radians(20.0)    # the holder pointing down by this
+WRAP_Y, WRAP_H = -3.0, 15.0  # where the turn is made on the holder's axis (y, z): over the wound
+LEAD = 4.0                   # the forceps' circle this far from the turn toward the tip
+R_END = 9.0                  # the forceps' distance from the holder's axis after the turn
+PHI0 = math.radians(40.0)    # where the forceps start on their circle (0: +x, 90: above)
+TIP_Z = 2.0                  # the holder's tip where it takes the tail
+STUB = 3.0                   # the long end beyond the forceps
+NODES = 0                    # set below from the length: ds about DS
+DS = 0.92
+DT = 0.02                    # s between path rows
+
+
+def holder_frame():
+    """The holder's rotation (columns: local x to the tip, y, z = the jaws'
+    opening direction = global x), pointing to -y and down by TILT."""
+    c, s = math.cos(TILT), math.sin(TILT)
+    x = np.array([0.0, -c, -s])
+    z = np.array([1.0, 0.0, 0.0])
+    return np.column_stack([x, np.cross(z, x), z])
+
+
+R = holder_frame()
+AXIS = R[:, 0]
+UP = np.array([0.0, -math.sin(TILT), math.cos(TILT)])  # across the axis, upward
+TURN = np.array([0.0, WRAP_Y, WRAP_H])                  # on the axis, where the turn is made
+GRASP = TURN + (WRAP_H - TIP_Z) / math.sin(TILT) * AXIS  # the tip where it takes the tail
+TAIL_END = -GRASP[1] - 1.0   # the tail's end lies 1 mm short of where the jaws' tip takes it
+P_LONG = np.array([0.0, W, 0.0])
+
+
+def around(phi, radius, lead=LEAD):
+    """A point at angle phi about the holder's axis (0: +x, pi/2: above),
+    `lead` from the turn toward the tip."""
+    return TURN + lead * AXIS + radius * (math.cos(phi) * R[:, 2] + math.sin(phi) * UP)
+
+
+def start_radius():
+    """The forceps' starting distance from the axis: the long end straight
+    from its puncture past the shanks to them is as long as it is wound
+    (puncture to the turn, a turn round the shanks, out to R_END)."""
+    shank = 2 * math.pi * 7.0          # a loose turn round the shanks (their 3.9 mm half width)
+    need = np.linalg.norm(P_LONG - TURN) + shank + R_END
+    lo, hi = R_END, 200.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if np.linalg.norm(around(PHI0, mid) - P_LONG) < need:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+R0 = start_radius()
+
+
+def spiral(e):
+    """The forceps on their turn at fraction e: in from R0 to R_END by half a turn."""
+    r = R_END + (R0 - R_END) * max(0.0, 1.0 - 2.0 * e) ** 2
+    return around(PHI0 + 2 * math.pi * e, r)
+
+
+def thread_line():
+    """Waypoints of the starting shape (mm), from the tail's end."""
+    f = around(PHI0, R0)
+    pts = [(0.0, -TAIL_END, 0.6), (0.0, -W - 3.0, 1.0), (0.0, -W - 1.5, 1.4), (0.0, -W, 0.0),
+           (0.0, -W + 1.5, -DEPTH * 0.8), (0.0, 0.0, -DEPTH), (0.0, W - 1.5, -DEPTH * 0.8),
+           (0.0, W, 0.0), (0.6, W + 0.5, 1.5)]
+    d = (f - np.array(pts[-1])) / np.linalg.norm(f - np.array(pts[-1]))
+    pts.append(tuple(f))
+    pts.append(tuple(f + STUB * d))
+    return pts
+
+
+def densify(pts, h=0.02):
+    out = [pts[0]]
+    for a, b in zip(pts, pts[1:]):
+        n = max(1, int(math.dist(a, b) / h))
+        for k in range(1, n + 1):
+            out.append(tuple(a[i] + (b[i] - a[i]) * k / n for i in range(3)))
+    return out
+
+
+def smooth(pts, sigma, h=0.02):
+    half = int(3 * sigma / h)
+    w = [math.exp(-0.5 * (k * h / sigma) ** 2) for k in range(-half, half + 1)]
+    out = []
+    n = len(pts)
+    for j in range(n):
+        lo, hi = max(0, j - half), min(n - 1, j + half)
+        m = min(j - lo, hi - j)
+        s, acc = 0.0, [0.0, 0.0, 0.0]
+        for k in range(j - m, j + m + 1):
+            wk = w[k - j + half]
+            s += wk
+            for i in range(3):
+                acc[i] += wk * pts[k][i]
+        out.append(tuple(c / s for c in acc))
+    return out
+
+
+def quat(r):
+    w = math.sqrt(max(0.0, 1.0 + np.trace(r))) / 2.0
+    if w > 1e-6:
+        return np.array([w, (r[2, 1] - r[1, 2]) / (4 * w), (r[0, 2] - r[2, 0]) / (4 * w),
+                         (r[1, 0] - r[0, 1]) / (4 * w)])
+    i = int(np.argmax(np.diag(r)))
+    j, k = (i + 1) % 3, (i + 2) % 3
+    v = math.sqrt(max(0.0, 1.0 + r[i, i] - r[j, j] - r[k, k])) / 2.0
+    q = np.zeros(4)
+    q[0] = (r[k, j] - r[j, k]) / (4 * v)
+    q[1 + i] = v
+    q[1 + j] = (r[j, i] + r[i, j]) / (4 * v)
+    q[1 + k] = (r[k, i] + r[i, k]) / (4 * v)
+    return q
+
+
+def slerp(q0, q1, u):
+    d = float(np.dot(q0, q1))
+    if d < 0:
+        q1, d = -q1, -d
+    if d > 0.9995:
+        q = q0 + u * (q1 - q0)
+        return q / np.linalg.norm(q)
+    a = math.acos(d)
+    return (math.sin((1 - u) * a) * q0 + math.sin(u * a) * q1) / math.sin(a)
+
+
+def rotvec(q):
+    q = q if q[0] >= 0 else -q
+    n = np.linalg.norm(q[1:])
+    if n < 1e-12:
+        return np.zeros(3)
+    return q[1:] / n * 2.0 * math.atan2(n, q[0])
+
+
+class Track:
+    """Key poses of one instrument: position, rotation, opening; eased
+    between (smoothstep), or along a given path, sampled every DT."""
+
+    def __init__(self, pos, rot, jaw):
+        self.t = 0.0
+        self.p = np.array(pos, float)
+        self.q = quat(rot)
+        self.jaw = jaw
+        self.rows = [(0.0, self.p, self.q, jaw)]
+
+    def to(self, t1, pos=None, rot=None, jaw=None, path=None):
+        p1 = self.p if pos is None else np.array(pos, float)
+        if path is not None:
+            p1 = path(1.0)
+        q1 = self.q if rot is None else quat(rot)
+        j1 = self.jaw if jaw is None else jaw
+        n = max(1, int(round((t1 - self.t) / DT)))
+        for k in range(1, n + 1):
+            u = k / n
+            e = u * u * (3 - 2 * u)
+            p = path(e) if path is not None else self.p + e * (p1 - self.p)
+            self.rows.append((self.t + (t1 - self.t) * u, p, slerp(self.q, q1, e),
+                              self.jaw + e * (j1 - self.jaw)))
+        self.t, self.p, self.q, self.jaw = t1, p1, q1, j1
+
+    def write(self, name):
+        prev = None
+        with open(name, "w") as f:
+            f.write("t,x,y,z,rx,ry,rz,jaw\n")
+            for t, p, q, j in self.rows:
+                rv = rotvec(q)
+                if prev is not None and np.linalg.norm(rv - prev) > 0.5:
+                    raise SystemExit("%s: the rotation vector jumps at t = %g" % (name, t))
+                prev = rv
+                f.write("%.2f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.4f\n" % (
+                    t, p[0] * MM, p[1] * MM, p[2] * MM, rv[0], rv[1], rv[2], j))
+
+
+def paths():
+    """Both instruments' key poses; returns (holder, forceps, the time the
+    draw-back ends)."""
+    holder = Track(GRASP - 12.0 * AXIS, R, 0.22)
+    forceps = Track(around(PHI0, R0), R, 0.0)
+    # the holder runs along its axis onto the tail, jaws open
+    holder.to(0.5, pos=GRASP + 0.5 * AXIS)
+    forceps.to(0.5)
+    # the jaws close on the tail's end first: held, the tail is not drawn
+    # through the punctures by the long end while the forceps wind it
+    holder.to(0.7, jaw=0.0)
+    forceps.to(0.7)
+    # the forceps carry the long end once round the holder's shanks
+    forceps.to(1.7, path=spiral)
+    holder.to(1.7)
+    # the forceps feed the long end back toward the turn (it loosens) while
+    # the jaws close on the tail's end
+    fed = TURN + LEAD * AXIS + 6.0 * (0.5 * R[:, 2] + UP)
+    forceps.to(2.1, pos=fed)
+    holder.to(1.9)
+    holder.to(2.1, jaw=0.0)
+    # the holder draws back along its axis through the turn
+    back = np.linalg.norm(GRASP - TURN) + 4.0
+    t_back = 3.6
+    holder.to(t_back, pos=GRASP - back * AXIS)
+    forceps.to(t_back)                        # the forceps stay: the turn's tension stays low
+    # the hands cross: the tail to +y, the long end to -y, low over the wound
+    holder.to(t_back + 1.0, pos=np.array([0.0, 13.0, 5.0]))
+    forceps.to(t_back + 1.0, pos=np.array([3.0, -13.0, 6.0]))
+    holder.to(t_back + 1.8, pos=np.array([0.0, 16.0, 3.0]))
+    forceps.to(t_back + 1.8, pos=np.array([3.0, -16.0, 3.0]))
+    holder.to(t_back + 2.0)
+    forceps.to(t_back + 2.0)
+    return holder, forceps, t_back
+
+
+def main():
+    global NODES
+    way = thread_line()
+    k = 8                                     # the point above the long end's puncture
+    line = smooth(densify(way[:k + 1]), 1.5)[:-1] + smooth(densify(way[k:]), 4.0)
+    arc = sum(math.dist(a, b) for a, b in zip(line, line[1:]))
+    NODES = int(round(arc / DS)) + 1
+    pts, ds = chords.place(line, NODES)
+    crossings = []
+    for a, b in zip(pts, pts[1:]):
+        if (a[2] > 0) != (b[2] > 0):
+            u = a[2] / (a[2] - b[2])
+            crossings.append(tuple(MM * (a[i] + u * (b[i] - a[i])) for i in range(3)))
+    with open("instrument_tie_high_shape.csv", "w") as f:
+        f.write("x,y,z\n")
+        for p in pts:
+            f.write("%.12f,%.12f,%.12f\n" % tuple(MM * c for c in p))
+    print("nodes = %d; length = %.9f m; ds = %.4f mm" % (NODES, (NODES - 1) * ds * MM, ds))
+    print("tail end y = %.2f mm, grasp %s, turn %s, forceps start %s (r %.1f mm)" % (
+        -TAIL_END, np.round(GRASP, 2), TURN, np.round(around(PHI0, R0), 2), R0))
+    exit2 = max(i for i in range(len(pts)) if pts[i][2] < 0)
+    print("the long end from its puncture: %.1f mm (node %d on)" % ((len(pts) - 1 - exit2) * ds,
+                                                                    exit2 + 1))
+    for c in crossings:
+        print("puncture point = %.9f %.9f %.9f" % c)
+    holder, forceps, t_back = paths()
+    holder.write("instrument_tie_high_holder.csv")
+    forceps.write("instrument_tie_high_forceps.csv")
+    print("duration %.2f s; the draw-back ends %.2f s" % (holder.t, t_back))
+
+
+if __name__ == "__main__":
+    main()
