@@ -62,7 +62,7 @@ LEAD = 8.0                   # mm: the forceps run this much further along it
 TAIL_GRASP = 21.0            # mm: where the holder takes the tail (-y, on side -1)
 TAIL_END = 30.0              # the tail's end: -y (on side -1), lying on the skin
 STUB = 4.0                   # mm: the long end beyond the forceps, along their tines
-NODES = 88
+NODES = 160
 DT = 0.02                    # s between path rows
 
 # (wraps, sense) of each throw; sense +1: the long end goes over the holder

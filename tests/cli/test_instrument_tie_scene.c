@@ -31,10 +31,10 @@
 #include "test_process.h"
 #include "test_segment.h"
 
-#define NODES 88
+#define NODES 160
 #define DIAMETER 0.001 /* m */
 #define MAX_FRAMES 200
-#define LONG_END 40    /* nodes from here on: the long end (the tail and the bite are below) */
+#define LONG_END 73    /* nodes from here on: the long end (the tail and the bite are below) */
 #define JAWS 0.015     /* m: a 14 cm needle holder's jaws */
 
 /* The holder's pose at time t from its path file (t,x,y,z,rx,ry,rz,jaw;
