@@ -860,7 +860,7 @@ void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *thread
      * thread bending into it lies within its radius of the skin (at 45
      * degrees a node is clear of it 0.71 d from the hole), pressed by the
      * skin against the puncture that holds the thread there; the hole's rim
-     * is the puncture's (docs/decisions/draft-tie-fine-grid.md) */
+     * is the puncture's */
     const double slack = fmax(m->ds, m->diameter);
     const int n = m->nodes;
     memset(threaded, 0, (size_t)n * sizeof *threaded);
