@@ -12,9 +12,10 @@ contact and friction of the thread on the jaws and on itself.
 Each writes instrument_tie[_VARIANT]_holder.csv and ..._forceps.csv (poses
 every 20 ms, eased between key poses) and instrument_tie_shape.csv
 (instrument_tie_surgeons_shape.csv for the double first throw), and prints the rod's length and the puncture points for the
-scene. Only the first throw's wrap and grasp run yet (instrument_tie.ini
-stops at 3.4 s); the later poses of every variant are written but untried
-past that (the turn is not yet stripped off the jaws' tip).
+scene. Only the first throw's wrap, grasp and the start of the back-out run
+yet (instrument_tie.ini stops at 5.4 s); the later poses of every variant are
+written but untried past that (the turn is not yet stripped off the jaws'
+tip).
 
 Lengths in mm below, written in m. The pad's top is z = 0, the wound runs
 along x; the thread's root (node 0) is the short tail's end, lying on the
@@ -34,9 +35,9 @@ A throw (the tail on side S of the wound):
 - the holder runs REACH along its axis onto the tail, the forceps LEAD
   further (the long end keeps the turn near the jaws' tip), and its jaws
   close on the tail (the grasp);
-- the holder backs out along its axis while the forceps draw the long end
-  toward the jaws' tip, meant to strip the turns off the tip over the held
-  tail;
+- the holder backs out along its axis and up, turning tip-down, while the
+  forceps feed the long end, meant to strip the turns off the tip over the
+  held tail;
 - the hands cross: the holder carries the tail over the wound to -S, the
   forceps the long end to S, both near the skin;
 - between throws the holder lays the tail down on the other side, lets it
@@ -59,10 +60,16 @@ PITCH = 1.6                  # back along the jaws per turn
 XF = -6.0                    # the forceps' circle along the holder's axis (from its tip)
 REACH = 14.0                 # the holder's run along its axis to the tail
 LEAD = 8.0                   # mm: the forceps run this much further along it
+BACK, BACK_UP = 15.0, 12.0   # mm: the holder's back-out from the grasp, along its axis and up
+BACK_T = 3.0                 # s: over this
+BACK_TILT = math.radians(20.0)  # turning its tip down by this meanwhile
+AHEAD = -16.0                # mm: the forceps meanwhile to this along the holder's axis past
+                             # where its run alone takes them (LEAD: where they are; less feeds)
+FEED_UP = 4.0                # mm: and up
 TAIL_GRASP = 21.0            # mm: where the holder takes the tail (-y, on side -1)
 TAIL_END = 30.0              # the tail's end: -y (on side -1), lying on the skin
 STUB = 4.0                   # mm: the long end beyond the forceps, along their tines
-NODES = 88
+NODES = 160
 DT = 0.02                    # s between path rows
 
 # (wraps, sense) of each throw; sense +1: the long end goes over the holder
@@ -75,10 +82,11 @@ THROWS = {
 }[VARIANT]
 
 
-def holder_frame(side):
+def holder_frame(side, tilt=TILT):
     """The holder's rotation (columns: local x to the tip, y, z = the jaws'
-    opening direction = global x) pointing to side `side` and down."""
-    c, s = math.cos(TILT), math.sin(TILT)
+    opening direction = global x) pointing to side `side` and down by
+    `tilt`."""
+    c, s = math.cos(tilt), math.sin(tilt)
     x = np.array([0.0, side * c, -s])
     z = np.array([1.0, 0.0, 0.0])
     return np.column_stack([x, np.cross(z, x), z])
@@ -289,11 +297,15 @@ def throw(holder, forceps, side, wraps, sense, t):
     t += 0.3
     holder.to(t)
     forceps.to(t)
-    # back out: the loops slide off the tip over the tail
+    # back out: the holder along its axis and up, turning tip-down, while
+    # the forceps feed the long end (the tension stays low: drawing it
+    # toward the tip cinches the turn on the jaws), meant to slide the turn
+    # off the jaws' tip over the held tail
     g = tail_grasp(side)
-    holder.to(t + 1.0, pos=g - 6.0 * x + np.array([0.0, 0.0, 2.0]))
-    forceps.to(t + 1.0, pos=fw + (REACH + 10.0) * x + np.array([0.0, 0.0, 6.0]))
-    t += 1.0
+    up = np.array([0.0, 0.0, 1.0])
+    holder.to(t + BACK_T, pos=g - BACK * x + BACK_UP * up, rot=holder_frame(side, TILT + BACK_TILT))
+    forceps.to(t + BACK_T, pos=fw + (REACH + AHEAD) * x + 3.0 * inward + FEED_UP * up)
+    t += BACK_T
     # the hands cross: the tail to -side, the long end to side, near the skin
     holder.to(t + 1.2, pos=np.array([0.0, -side * 7.0, 4.0]))
     forceps.to(t + 1.2, pos=np.array([2.0, side * 11.0, 4.0]))

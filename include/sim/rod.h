@@ -70,7 +70,8 @@ double rod_nearest_arc_length(const rod_model *m, const double *position, const 
  * the needle's in the order it made them, after the scene's in the order
  * given), the thread between a pair is inside the tissue, and so is the
  * thread past an unpaired one towards the tip; a segment's length of slack
- * each side covers the nodes beside a puncture. threaded: nodes entries. */
+ * each side (at least the thread's diameter) covers the nodes beside a
+ * puncture. threaded: nodes entries. */
 void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *threaded);
 /* The same over segments first..last only (clamped to the rod's). */
 double rod_nearest_arc_length_between(const rod_model *m, const double *position,

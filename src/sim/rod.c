@@ -858,6 +858,13 @@ void rod_state_reset(const rod_model *m, rod_state *s)
 
 void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *threaded)
 {
+    /* m: the slack beside a puncture, a segment's length but at least the
+     * thread's diameter: a node within a diameter of the hole along a
+     * thread bending into it lies within its radius of the skin (at 45
+     * degrees a node is clear of it 0.71 d from the hole), pressed by the
+     * skin against the puncture that holds the thread there; the hole's rim
+     * is the puncture's */
+    const double slack = fmax(m->ds, m->diameter);
     const int n = m->nodes;
     memset(threaded, 0, (size_t)n * sizeof *threaded);
     for (int j = 0; j < m->surface_count && j < 32; j++) {
@@ -870,12 +877,12 @@ void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *thread
             }
             double exit_s = s->puncture[k].s, lo = fmin(entry, exit_s), hi = fmax(entry, exit_s);
             for (int i = 0; i < n; i++)
-                if (i * m->ds >= lo - m->ds && i * m->ds <= hi + m->ds) threaded[i] |= 1u << j;
+                if (i * m->ds >= lo - slack && i * m->ds <= hi + slack) threaded[i] |= 1u << j;
             entry = -1.0;
         }
         if (entry >= 0.0)
             for (int i = 0; i < n; i++)
-                if (i * m->ds >= entry - m->ds) threaded[i] |= 1u << j;
+                if (i * m->ds >= entry - slack) threaded[i] |= 1u << j;
     }
 }
 

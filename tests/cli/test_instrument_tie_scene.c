@@ -1,24 +1,30 @@
 /* test_instrument_tie_scene.c: scenes/instrument_tie.ini through the real
- * binary: the first throw of an instrument tie, as far as it runs (the wrap
- * and the grasp of the tail). Nothing is tied in the start; the turn round
- * the needle holder's jaws is made by the forceps' path and kept by contact
- * and friction.
+ * binary: the first throw of an instrument tie, as far as it runs (the wrap,
+ * the grasp of the tail and the start of the back-out). Nothing is tied in
+ * the start; the turn round the needle holder's jaws is made by the
+ * forceps' path and kept by contact and friction.
  *
  * Checked with this file's own geometry (tests/test_segment.h and the
  * holder's pose read from its path file, not the contact code):
- * - the run completes; the holder's jaws close on the tail within 3 mm of
- *   its end (the summary's grasp), and the thread is an unknot throughout
- *   (the summary: nothing is tied before the tail is drawn through);
- * - no two segments 5 or more apart along the thread come closer than 0.95
- *   diameters in any output frame (every 20 ms): nothing passes through;
- * - at the end (the grasp), the long end winds round the holder's axis by
- *   at least 3/4 of a turn within 5 mm of it (the jaws are 1.7 mm in
- *   radius): the winding angle summed node to node, from the holder's
- *   frame;
- * - the turn has stayed on the front of the jaws while the holder ran 14 mm
+ * - the run completes to 5.4 s; the holder's jaws close on the tail within
+ *   3 mm of its end (the summary's grasp) and hold it to the end, and the
+ *   thread is an unknot throughout (the summary: nothing is tied before the
+ *   tail is drawn through);
+ * - no two segments 9 or more apart along the thread (4.5 mm) come closer
+ *   than 0.95 diameters in any output frame (every 20 ms; every pair of
+ *   segments within reach): nothing passes through;
+ * - at the grasp (3.4 s), the long end winds round the holder's axis by at
+ *   least 3/4 of a turn within 5 mm of it (the jaws are 1.7 mm in radius):
+ *   the winding angle summed node to node, from the holder's frame; the
+ *   turn has stayed on the front of the jaws while the holder ran 14 mm
  *   onto the tail: the point where it has wound half a turn lies within 10
- *   mm of the tip (of the jaws' 15 mm). The sanitizer build runs the first
- *   second only (the run and the strands' distance). */
+ *   mm of the tip (of the jaws' 15 mm);
+ * - at the end (5.4 s, the holder backing out, the forceps feeding), the
+ *   turn still winds 3/4 of a turn round the jaws and has gathered toward
+ *   their tip: the point where it has wound a quarter turn (11-12 mm behind
+ *   the tip at the grasp) lies within 7.5 mm of it.
+ * The sanitizer build runs the first second only (the run and the strands'
+ * distance). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -31,10 +37,15 @@
 #include "test_process.h"
 #include "test_segment.h"
 
-#define NODES 88
+#define STR_(x) #x
+#define STR(x) STR_(x)
+
+#define NODES 160
 #define DIAMETER 0.001 /* m */
-#define MAX_FRAMES 200
-#define LONG_END 40    /* nodes from here on: the long end (the tail and the bite are below) */
+#define MAX_FRAMES 300
+#define GAP 9          /* segments apart (4.5 mm) for the strands' distance */
+#define GRASP_T 3.4    /* s: the frame after the grasp */
+#define LONG_END 73    /* nodes from here on: the long end (the tail and the bite are below) */
 #define JAWS 0.015     /* m: a 14 cm needle holder's jaws */
 
 /* The holder's pose at time t from its path file (t,x,y,z,rx,ry,rz,jaw;
@@ -68,13 +79,15 @@ static int holder_pose(const char *path, double t, double tip[3], double r[9])
 }
 
 /* The long end's winding (rad) about the holder's axis within `radius` of
- * it, and the station (m along the axis from the tip, negative behind it)
- * where the winding reaches half a turn (NAN if it does not). */
+ * it, and the stations (m along the axis from the tip, negative behind it)
+ * where the winding reaches a quarter and half a turn (NAN if it does
+ * not). */
 static double winding(const double *x, const double tip[3], const double r[9], double radius,
-                      double *half_at)
+                      double *quarter_at, double *half_at)
 {
     double sum = 0.0, prev_angle = 0.0;
     int prev_in = 0;
+    *quarter_at = NAN;
     *half_at = NAN;
     for (int i = LONG_END; i < NODES; i++) {
         double d[3], l[3];
@@ -86,6 +99,7 @@ static double winding(const double *x, const double tip[3], const double r[9], d
             double step = angle - prev_angle;
             step -= 2.0 * M_PI * floor((step + M_PI) / (2.0 * M_PI));
             sum += step;
+            if (isnan(*quarter_at) && fabs(sum) >= 0.5 * M_PI) *quarter_at = l[0];
             if (isnan(*half_at) && fabs(sum) >= M_PI) *half_at = l[0];
         }
         prev_in = in;
@@ -100,7 +114,7 @@ int main(void)
     const char *csv = "/tmp/rodsim_test_instrument_tie.csv";
     const char *summary = "/tmp/rodsim_test_instrument_tie.json";
     char output[16384];
-    const char *until = sanitized ? "solver.duration=1" : "solver.duration=3.4";
+    const char *until = sanitized ? "solver.duration=1" : "solver.duration=5.4";
     const char *args[] = {"run", "scenes/instrument_tie.ini", "--no-video", "--csv", csv, "--summary",
                           summary, "--set", until, "--set", "render.fps=50", NULL};
     int status = test_run_rodsim(args, output, sizeof output);
@@ -113,10 +127,10 @@ int main(void)
           frames, NODES, rows);
     double worst = INFINITY, when = 0.0;
     for (int k = 0; k < frames; k++) {
-        double c = closest_strands(x[k], NODES, 5, 4.0 * DIAMETER);
+        double c = closest_strands(x[k], NODES, GAP, 4.0 * DIAMETER);
         if (c < worst) worst = c, when = t[k];
     }
-    check(worst >= 0.95 * DIAMETER, "no two segments 5 or more apart closer than 0.95 diameters in "
+    check(worst >= 0.95 * DIAMETER, "no two segments " STR(GAP) " or more apart closer than 0.95 diameters in "
           "any of %d frames: least %.4g m = %.3f diameters (t = %g s)", frames, worst,
           worst / DIAMETER, when);
 
@@ -132,20 +146,37 @@ int main(void)
             const json_value *who = json_get(grasps->items[i], "instrument");
             if (who && who->string && strcmp(who->string, "holder") == 0) g = grasps->items[i];
         }
-        const json_value *t_on = json_get(g, "t_on"), *s = json_get(g, "s");
+        const json_value *t_on = json_get(g, "t_on"), *s = json_get(g, "s"),
+                         *t_off = json_get(g, "t_off");
         check(t_on && s && t_on->number > 3.1 && t_on->number < 3.3 && s->number < 0.003,
               "the holder closes on the tail within 3 mm of its end: t = %.4g s (the jaws close "
               "3.1-3.3 s), s = %.3g mm", t_on ? t_on->number : -1.0, s ? 1e3 * s->number : -1.0);
-        double tip[3], r[9], half_at = NAN;
-        const double tk = t[frames - 1];
-        if (holder_pose("scenes/instrument_tie_single_holder.csv", tk, tip, r) == 0) {
-            const double w = winding(x[frames - 1], tip, r, 0.005, &half_at);
+        check(g && (!t_off || !json_is(t_off, JSON_NUMBER)), "the holder holds the tail to the "
+              "end (%s)", t_off && json_is(t_off, JSON_NUMBER) ? "it let go" : "no t_off");
+        check(t[frames - 1] > 5.39, "the run's last frame is at %g s (5.4)", t[frames - 1]);
+        int grasp = 0;
+        while (grasp + 1 < frames && t[grasp] < GRASP_T - 1e-9) grasp++;
+        const int at[2] = {grasp, frames - 1};
+        double quarter_grasp = NAN;
+        for (int e = 0; e < 2; e++) {
+            double tip[3], r[9], quarter_at = NAN, half_at = NAN;
+            const double tk = t[at[e]];
+            if (holder_pose("scenes/instrument_tie_single_holder.csv", tk, tip, r)) {
+                check(0, "the holder's path scenes/instrument_tie_single_holder.csv has a row at "
+                      "%g s", tk);
+                continue;
+            }
+            const double w = winding(x[at[e]], tip, r, 0.005, &quarter_at, &half_at);
             check(fabs(w) >= 1.5 * M_PI, "at t = %g s the long end winds %.0f degrees round the "
                   "holder's axis within 5 mm of it (at least 270)", tk, fabs(w) * 180.0 / M_PI);
-            check(half_at > -0.010 && half_at < 0.0, "its half turn is %.1f mm behind the jaws' tip "
-                  "(within the front 10 of their 15 mm)", -1e3 * half_at);
-        } else {
-            check(0, "the holder's path scenes/instrument_tie_single_holder.csv has a row at %g s", tk);
+            if (e == 0) quarter_grasp = quarter_at;
+            if (e == 0)
+                check(half_at > -0.010 && half_at < 0.0, "at the grasp its half turn is %.1f mm "
+                      "behind the jaws' tip (within the front 10 of their 15 mm)", -1e3 * half_at);
+            else
+                check(quarter_at > -0.0075 && quarter_at < 0.0, "backing out, its quarter turn is "
+                      "%.1f mm behind the jaws' tip (within 7.5 mm; %.1f mm at the grasp), its half "
+                      "turn %.1f mm", -1e3 * quarter_at, -1e3 * quarter_grasp, -1e3 * half_at);
         }
     }
     json_free(v);

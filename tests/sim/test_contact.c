@@ -717,6 +717,47 @@ static void test_bad_input(void)
     bad_scene("[surface]\nshape = tetrahedron\n", "shape", "an unknown shape");
 }
 
+/* The nodes beside a puncture left out of the tissue's contact: a segment's
+ * length each side, at least the thread's diameter (a node within a
+ * diameter of the hole along a thread bending into it lies within its radius
+ * of the skin). A 1 mm thread of 61 nodes over 30 mm (ds = 0.5 mm), one
+ * puncture of a tissue plane at s = 10.2 mm, the thread past it toward the
+ * tip inside: threaded from s >= 9.2 mm (node 19 at 9.5 mm; node 18 at 9.0
+ * mm is not); with 11 nodes (ds = 3 mm, over a diameter) from s >= 7.2 mm
+ * (node 3 at 9 mm; node 2 at 6 mm is not). */
+static void test_threaded_slack(void)
+{
+    const int counts[2] = {61, 11}, first[2] = {19, 3};
+    for (int c = 0; c < 2; c++) {
+        rod_model m = thread_model(0.03, 0.001, counts[c]);
+        const double zero[3] = {0, 0, 0}, up[3] = {0, 0, 1};
+        rod_surface skin = plane(zero, up, 0.3);
+        skin.tissue = 1;
+        m.surface_count = 1;
+        m.surfaces = &skin;
+        if (derive(&m)) continue;
+        rod_state *s = rod_state_create(&m);
+        unsigned threaded[61];
+        if (!s) {
+            check(0, "threaded slack: out of memory");
+            continue;
+        }
+        s->puncture_count = 1;
+        memset(&s->puncture[0], 0, sizeof s->puncture[0]);
+        s->puncture[0].s = 0.0102;
+        s->puncture[0].surface = 0;
+        rod_threaded_nodes(&m, s, threaded);
+        int lowest = -1;
+        for (int i = 0; i < m.nodes && lowest < 0; i++)
+            if (threaded[i] & 1u) lowest = i;
+        check(lowest == first[c], "%d nodes (ds = %.2f mm, d = 1 mm): the first node left out of "
+              "the skin's contact is %d (s = %.1f mm), expected %d (%.1f mm before the puncture "
+              "at 10.2 mm)", m.nodes, 1e3 * m.ds, lowest, 1e3 * lowest * m.ds, first[c],
+              c == 0 ? 1.0 : 3.0);
+        rod_state_destroy(s);
+    }
+}
+
 /* A step Newton cannot finish (one iteration allowed, a tolerance below
  * round-off that no split of the step reaches, the patient attempt's
  * included) reports where its residual stayed largest: lying on a plane
@@ -826,6 +867,7 @@ int main(void)
     test_capstan();
     test_puncture();
     test_bad_input();
+    test_threaded_slack();
     test_stall_site();
     test_needle_holes();
     return test_finish();

@@ -270,11 +270,15 @@ static int stall_site(const implicit_work *w, const rod_model *m, char *out, siz
     for (int o = 0; o < 5 && w->contact.surface_count && used > 0 && (size_t)used < len; o++) {
         const int i = node + order[o];
         if (i < 0 || i >= n) continue;
-        int nearest = 0;
+        /* a surface the node is threaded through (beside or between its
+         * punctures) does not touch it: left out of its contact */
+        int nearest = -1;
         const double *gap = &w->contact.start_gap[7 * (size_t)i * (size_t)w->contact.surface_count];
-        for (int j = 1; j < w->contact.surface_count; j++)
-            if (gap[7 * j] < gap[7 * nearest]) nearest = j;
-        if (!(gap[7 * nearest] < 0.25 * m->diameter)) continue;
+        for (int j = 0; j < w->contact.surface_count; j++)
+            if (!(j < 32 && (w->contact.threaded[i] >> j & 1u)) &&
+                (nearest < 0 || gap[7 * j] < gap[7 * nearest]))
+                nearest = j;
+        if (nearest < 0 || !(gap[7 * nearest] < 0.25 * m->diameter)) continue;
         const rod_surface *sf = &w->contact.surfaces[nearest];
         used += snprintf(out + used, len - (size_t)used, ", where node %d touches the %s of "
                          "line %d", i, rod_surface_name(sf->shape), sf->line);
