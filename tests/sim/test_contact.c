@@ -546,7 +546,7 @@ static double puncture_run(double mu, double w_load, double *t_root, double *u1,
                       root0[1], root0[2] + 0.02 * sin(half)};
     char err[512];
     m.root_motion = rod_path_create(rows, 2, 4, err, sizeof err);
-    rod_puncture hole = {{0.0, 0.0, 0.0}, mu};
+    rod_puncture hole = {{0.0, 0.0, 0.0}, mu, 0};
     m.puncture_count = 1;
     m.punctures = &hole;
     double result = NAN;
