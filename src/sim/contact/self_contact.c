@@ -95,6 +95,7 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->clear_pos);
     free(sc->list_pos);
     free(sc->list);
+    free(sc->near);
     rod_proximity_destroy(sc->prox);
     free(sc);
 }
@@ -157,6 +158,20 @@ static int pairs_grown(rod_self_contact *sc, const double *pos0, double threshol
     *capacity = found;
     return rod_proximity_select(sc->prox, pos0, sc->nodes, threshold, sc->skip, only, *buffer,
                                 *capacity);
+}
+
+double rod_self_contact_near_motion(rod_self_contact *sc, const double *pos0, const double *vbar,
+                                    double dt, double moved)
+{
+    const int found = pairs_grown(sc, pos0, sc->diameter + 2.0 * moved, &sc->near,
+                                  &sc->near_capacity, SELF_LIST_MOST_PAIRS);
+    if (found < 0 || found > sc->near_capacity) return moved;
+    double near = 0.0;
+    for (int k = 0; k < found; k++) {
+        const int node[4] = {sc->near[k].i, sc->near[k].i + 1, sc->near[k].j, sc->near[k].j + 1};
+        for (int e = 0; e < 4; e++) near = fmax(near, dt * v3_norm(&vbar[3 * node[e]]));
+    }
+    return near;
 }
 
 int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const double *vbar,

@@ -21,6 +21,17 @@
  * for one iteration, and a monotone search cut it to nothing
  * (docs/decisions/0030-nonmonotone-line-search.md) */
 #define PAIRS_NONMONOTONE 3
+/* ... and below PAIRS_OVERSHOOT times that largest: while pairs part, or
+ * cross friction's corner, Newton's whole step overshoots in their residual
+ * for an iteration or two, and with the bar at 1 the search cut such steps
+ * to 1/8-1/64, iteration after iteration, until CONTACT_STALL split the
+ * step (a loose knot dragged at 1 kHz: 84 steps of 20-33 iterations in 10 s,
+ * 16 failed lines; with 10, 0 failed). The bar still stops a step that
+ * throws the residual up by orders (a surgeon's knot at 5 ms steps:
+ * without any search, no split down to dt/4096 converged), a step whose
+ * residual does not halve is still split (CONTACT_STALL), and the step ends
+ * only at the tolerance (docs/decisions/draft-live-knot-newton.md) */
+#define PAIRS_OVERSHOOT 10.0
 /* With strands touching, a step that took at least PAIRS_SLOW_STEP Newton
  * iterations on a B made PAIRS_B_AGE or more steps before renews B at the
  * next step's first iterate: a knot slides through the rod as it tightens,
@@ -156,7 +167,8 @@ static int start_factorisation(implicit_work *w, const rod_model *m, double t, d
 }
 
 /* What a trial point must beat at iteration it: the iterate's residual, or
- * with pairs touching the largest of it and the last PAIRS_NONMONOTONE */
+ * with pairs touching PAIRS_OVERSHOOT times the largest of it and the last
+ * PAIRS_NONMONOTONE */
 static double line_search_bar(newton_progress *pr, int it, int self_touch)
 {
     double bar = pr->norm;
@@ -164,7 +176,7 @@ static double line_search_bar(newton_progress *pr, int it, int self_touch)
         for (int j = 1; j <= PAIRS_NONMONOTONE && j <= it; j++)
             bar = fmax(bar, pr->recent[(it - j) % PAIRS_NONMONOTONE]);
     pr->recent[it % PAIRS_NONMONOTONE] = pr->norm;
-    return bar;
+    return self_touch ? PAIRS_OVERSHOOT * bar : bar;
 }
 
 /* Contact makes the residual piecewise smooth: a full step can jump across
