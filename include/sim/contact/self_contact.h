@@ -152,8 +152,8 @@ typedef struct rod_self_contact {
     int list_count, list_capacity; /* grown on demand up to SELF_LIST_MOST_PAIRS */
     int list_uses;         /* searches the list has answered since it was made */
     int list_wait;         /* plain searches before a list is made again */
-    rod_segment_pair *near; /* scratch of rod_self_contact_near_motion (grown on demand) */
-    int near_capacity;
+    rod_segment_pair *near; /* (max_pairs) scratch of rod_self_contact_near_motion */
+    int near_capacity;     /* max_pairs */
     long without;          /* steps begun without candidates (rod_self_contact_find,
                               margin 0: nothing was near) */
 } rod_self_contact;
@@ -198,7 +198,7 @@ int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margi
  * diameter + 2 moved in pos0. Two segments farther apart than that cannot
  * touch within the step (their distance falls by at most 2 moved), so the
  * other nodes take no part in the no-pass-through test. `moved` itself when
- * the pairs are more than the scratch can hold. */
+ * the pairs are more than max_pairs (the scratch is never grown). */
 double rod_self_contact_near_motion(rod_self_contact *sc, const double *pos0, const double *vbar,
                                     double dt, double moved);
 

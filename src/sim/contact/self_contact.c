@@ -49,6 +49,8 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->node_map = calloc((size_t)nodes * 9, sizeof(double));
     sc->mapped = calloc((size_t)nodes, 1);
     sc->found_distance = calloc((size_t)sc->max_pairs, sizeof(double));
+    sc->near = calloc((size_t)sc->max_pairs, sizeof *sc->near);
+    sc->near_capacity = sc->max_pairs;
     sc->slot = malloc((size_t)nodes * sizeof(int));
     sc->slot_node = malloc((size_t)SELF_CONTACT_NODE_SLOTS * sizeof(int));
     for (int k = 0; sc->slot && k < nodes; k++) sc->slot[k] = -1;
@@ -64,7 +66,7 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     if (!sc->pair || !sc->found || !sc->node_force || !sc->node_map || !sc->mapped || !sc->prox || !sc->s || !sc->rhs ||
         !sc->last_ab || !sc->last_force || !sc->last_share || !sc->last_frac || !sc->last_to ||
-        !sc->found_distance ||
+        !sc->found_distance || !sc->near ||
         !sc->slot || !sc->slot_node || !sc->clear_pos || !sc->list_pos) {
         rod_self_contact_destroy(sc);
         return NULL;
@@ -163,8 +165,9 @@ static int pairs_grown(rod_self_contact *sc, const double *pos0, double threshol
 double rod_self_contact_near_motion(rod_self_contact *sc, const double *pos0, const double *vbar,
                                     double dt, double moved)
 {
+    /* at most the capacity: never grown in the step loop */
     const int found = pairs_grown(sc, pos0, sc->diameter + 2.0 * moved, &sc->near,
-                                  &sc->near_capacity, SELF_LIST_MOST_PAIRS);
+                                  &sc->near_capacity, sc->near_capacity);
     if (found < 0 || found > sc->near_capacity) return moved;
     double near = 0.0;
     for (int k = 0; k < found; k++) {
