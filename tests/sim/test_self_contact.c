@@ -13,7 +13,9 @@
  * law's gain in closed form against differences (test_law_gain), and the
  * last step's forces as a step's first guess when contacts move across
  * nodes (test_last_force); the thrown strand again on a grid finer than
- * the diameter, its steps begun without candidates (test_thrown_fine). */
+ * the diameter, its steps begun without candidates (test_thrown_fine);
+ * the motion the no-pass-through test counts, that of nodes near another
+ * strand (test_near_motion). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -390,6 +392,52 @@ static void test_reach(void)
     check(count[0] > 0 && count[1] == 0, "reach: strands 3 diameters apart, moved towards each "
           "other by 2.4 diameters within the step: %d pairs able to touch (> 0); by 0.8: %d (0)",
           count[0], count[1]);
+    rod_self_contact_destroy(sc);
+}
+
+/* The motion that counts for the no-pass-through test
+ * (rod_self_contact_near_motion): a hairpin as test_reach's (legs 3
+ * diameters apart, here ds = 2 d, as a thread of 0.2 m at NS = 101) whose
+ * second leg ends in a straight tail of 20 segments leading away from the
+ * first leg. A node of the first leg moves by 0.3 d over the step, the
+ * tail's free end by 2 d: the end is 43 d from the first leg, and the
+ * segments of its own straight tail that are not its neighbours (5 or
+ * more segments along) are 8 d or more from it, farther than one diameter
+ * + 2 x 2 d, so the motion that counts is the leg's 0.3 d. Moved by 25 d,
+ * the end can reach the first leg (d + 50 d covers 43 d): its own 25 d.
+ * Values from the geometry alone. */
+static void test_near_motion(void)
+{
+    const double d = 0.001, ds = 0.002, gap = 3 * d, dt = 0.01, r = 0.5 * gap;
+    const int turn = (int)ceil(M_PI * r / ds), back = 20 + turn + 20, n = back + 21;
+    double pos[3 * 128], vbar[3 * 128];
+    for (int k = 0; k < n; k++) {
+        double *p = &pos[3 * k];
+        if (k <= 20) {
+            v3_set(p, k * ds, 0, 0);
+        } else if (k < 20 + turn) {
+            const double a = M_PI * (k - 20) / turn;
+            v3_set(p, 20 * ds + r * sin(a), r * (1 - cos(a)), 0);
+        } else if (k <= back) {
+            v3_set(p, 20 * ds - (k - 20 - turn) * ds, gap, 0);
+        } else { /* the tail: from the second leg's end, away from the first */
+            v3_set(p, 0, gap + (k - back) * ds, 0);
+        }
+        v3_set(&vbar[3 * k], 0, 0, 0);
+    }
+    rod_self_contact *sc = rod_self_contact_create(n, 6 * (n - 1), 1, 6, d, ds, 0.0);
+    if (!check(sc != NULL, "near motion: self-contact scratch")) return;
+    v3_set(&vbar[3 * 5], 0, 0.3 * d / dt, 0);
+    v3_set(&vbar[3 * (n - 1)], 2 * d / dt, 0, 0);
+    const double far = rod_self_contact_near_motion(sc, pos, vbar, dt, 2 * d);
+    v3_set(&vbar[3 * (n - 1)], 25 * d / dt, 0, 0);
+    const double near = rod_self_contact_near_motion(sc, pos, vbar, dt, 25 * d);
+    check(fabs(far - 0.3 * d) <= 1e-12 * d, "near motion: the free end 43 d from the other leg "
+          "moving 2 d: %.6g m counts, the leg's 0.3 d = %.6g m (relative error %.1e)", far,
+          0.3 * d, fabs(far - 0.3 * d) / (0.3 * d));
+    check(fabs(near - 25 * d) <= 1e-12 * d, "near motion: the end moving 25 d reaches: %.6g m "
+          "counts, its own 25 d = %.6g m (relative error %.1e)", near, 25 * d,
+          fabs(near - 25 * d) / (25 * d));
     rod_self_contact_destroy(sc);
 }
 
@@ -786,6 +834,7 @@ int main(void)
     test_thrown_fine();
     test_converges();
     test_reach();
+    test_near_motion();
     test_clear_until_near();
     test_pair_list();
     test_last_force();

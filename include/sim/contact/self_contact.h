@@ -152,6 +152,8 @@ typedef struct rod_self_contact {
     int list_count, list_capacity; /* grown on demand up to SELF_LIST_MOST_PAIRS */
     int list_uses;         /* searches the list has answered since it was made */
     int list_wait;         /* plain searches before a list is made again */
+    rod_segment_pair *near; /* (max_pairs) scratch of rod_self_contact_near_motion */
+    int near_capacity;     /* max_pairs */
     long without;          /* steps begun without candidates (rod_self_contact_find,
                               margin 0: nothing was near) */
 } rod_self_contact;
@@ -188,6 +190,17 @@ int rod_self_contact_nothing_near(rod_self_contact *sc, const double *pos0, doub
 /* How many non-neighbouring pairs are closer than diameter + margin (m)
  * in pos0 (-1 on bad input); the candidates are left as they are. */
 int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margin);
+
+/* The farthest a node of a segment that could come within one diameter of
+ * another strand moves over a step that moves each node by dt vbar (global,
+ * nodes x 3), given that none moves farther than `moved` (m): the largest
+ * dt |vbar| over the nodes of the non-neighbouring pairs closer than
+ * diameter + 2 moved in pos0. Two segments farther apart than that cannot
+ * touch within the step (their distance falls by at most 2 moved), so the
+ * other nodes take no part in the no-pass-through test. `moved` itself when
+ * the pairs are more than max_pairs (the scratch is never grown). */
+double rod_self_contact_near_motion(rod_self_contact *sc, const double *pos0, const double *vbar,
+                                    double dt, double moved);
 
 /* How many of those pairs could come within one diameter over a step that
  * moves each node by dt vbar (global, nodes x 3) along a straight line

@@ -49,6 +49,8 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->node_map = calloc((size_t)nodes * 9, sizeof(double));
     sc->mapped = calloc((size_t)nodes, 1);
     sc->found_distance = calloc((size_t)sc->max_pairs, sizeof(double));
+    sc->near = calloc((size_t)sc->max_pairs, sizeof *sc->near);
+    sc->near_capacity = sc->max_pairs;
     sc->slot = malloc((size_t)nodes * sizeof(int));
     sc->slot_node = malloc((size_t)SELF_CONTACT_NODE_SLOTS * sizeof(int));
     for (int k = 0; sc->slot && k < nodes; k++) sc->slot[k] = -1;
@@ -64,7 +66,7 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     if (!sc->pair || !sc->found || !sc->node_force || !sc->node_map || !sc->mapped || !sc->prox || !sc->s || !sc->rhs ||
         !sc->last_ab || !sc->last_force || !sc->last_share || !sc->last_frac || !sc->last_to ||
-        !sc->found_distance ||
+        !sc->found_distance || !sc->near ||
         !sc->slot || !sc->slot_node || !sc->clear_pos || !sc->list_pos) {
         rod_self_contact_destroy(sc);
         return NULL;
@@ -95,6 +97,7 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->clear_pos);
     free(sc->list_pos);
     free(sc->list);
+    free(sc->near);
     rod_proximity_destroy(sc->prox);
     free(sc);
 }
@@ -157,6 +160,21 @@ static int pairs_grown(rod_self_contact *sc, const double *pos0, double threshol
     *capacity = found;
     return rod_proximity_select(sc->prox, pos0, sc->nodes, threshold, sc->skip, only, *buffer,
                                 *capacity);
+}
+
+double rod_self_contact_near_motion(rod_self_contact *sc, const double *pos0, const double *vbar,
+                                    double dt, double moved)
+{
+    /* at most the capacity: never grown in the step loop */
+    const int found = pairs_grown(sc, pos0, sc->diameter + 2.0 * moved, &sc->near,
+                                  &sc->near_capacity, sc->near_capacity);
+    if (found < 0 || found > sc->near_capacity) return moved;
+    double near = 0.0;
+    for (int k = 0; k < found; k++) {
+        const int node[4] = {sc->near[k].i, sc->near[k].i + 1, sc->near[k].j, sc->near[k].j + 1};
+        for (int e = 0; e < 4; e++) near = fmax(near, dt * v3_norm(&vbar[3 * node[e]]));
+    }
+    return near;
 }
 
 int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const double *vbar,

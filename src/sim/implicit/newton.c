@@ -21,6 +21,20 @@
  * for one iteration, and a monotone search cut it to nothing
  * (docs/decisions/0030-nonmonotone-line-search.md) */
 #define PAIRS_NONMONOTONE 3
+/* ... and, with no surface or puncture in contact, below PAIRS_OVERSHOOT
+ * times that largest: while pairs part or cross friction's corner, Newton's
+ * whole step overshoots in their residual for an iteration or two, and with
+ * the bar at 1 the search cut such steps to 1/8-1/64, iteration after
+ * iteration, until CONTACT_STALL split the step (a loose knot dragged at
+ * 1 kHz: 84 steps of 20-33 iterations in 10 s, 16 failed lines; with 10,
+ * none failed, and fewer iterations than with no search at all). A step
+ * whose residual does not halve is still split (CONTACT_STALL), and the
+ * step ends only at the tolerance. Not with surfaces or punctures, whose
+ * smooth laws want the search: without it a surgeon's knot at 5 ms steps
+ * did not converge down to dt/4096, and with 10 a knot tied by instruments
+ * on a pad (instrument_tie.ini) needed 55 patient steps and 28 % more CPU
+ * (docs/decisions/draft-live-knot-newton.md) */
+#define PAIRS_OVERSHOOT 10.0
 /* With strands touching, a step that took at least PAIRS_SLOW_STEP Newton
  * iterations on a B made PAIRS_B_AGE or more steps before renews B at the
  * next step's first iterate: a knot slides through the rod as it tightens,
@@ -156,15 +170,17 @@ static int start_factorisation(implicit_work *w, const rod_model *m, double t, d
 }
 
 /* What a trial point must beat at iteration it: the iterate's residual, or
- * with pairs touching the largest of it and the last PAIRS_NONMONOTONE */
-static double line_search_bar(newton_progress *pr, int it, int self_touch)
+ * with pairs touching the largest of it and the last PAIRS_NONMONOTONE,
+ * times PAIRS_OVERSHOOT when nothing else touches (contact: surfaces or
+ * punctures in the residual) */
+static double line_search_bar(newton_progress *pr, int it, int self_touch, int contact)
 {
     double bar = pr->norm;
     if (self_touch)
         for (int j = 1; j <= PAIRS_NONMONOTONE && j <= it; j++)
             bar = fmax(bar, pr->recent[(it - j) % PAIRS_NONMONOTONE]);
     pr->recent[it % PAIRS_NONMONOTONE] = pr->norm;
-    return bar;
+    return self_touch && !contact ? PAIRS_OVERSHOOT * bar : bar;
 }
 
 /* Contact makes the residual piecewise smooth: a full step can jump across
@@ -252,7 +268,7 @@ static int newton_iteration(implicit_work *w, const rod_model *m, double t, doub
     const double rod_full = self_touch ? implicit_max_abs(w->residual, nu) : 0.0;
     double cut = 1.0; /* the fraction of the step the line search kept */
     const int contact = w->has_contact || self_touch;
-    const double bar = line_search_bar(pr, it, self_touch);
+    const double bar = line_search_bar(pr, it, self_touch, w->has_contact);
     if (contact && !(next < bar)) {
         cut = line_search(w, m, t, dt, bar, pr->scale, &next);
         if (cut < 0.0) return -1;

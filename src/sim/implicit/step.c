@@ -84,6 +84,19 @@ static double largest_motion(const implicit_work *w, double dt)
     return moved;
 }
 
+/* m: the farthest a node that could meet another strand within the step
+ * moves (rod_self_contact_near_motion), when the farthest of all nodes
+ * moves beyond what the candidates' margin covers; else that farthest. A
+ * free end whipping at 3-6 m/s at the end of a 4 cm tail below a loose knot
+ * split the knot's steps of its first 0.12 s 4-8 ways by its own motion
+ * (docs/decisions/draft-live-knot-newton.md) */
+static double strands_motion(implicit_work *w, double dt)
+{
+    const double moved = largest_motion(w, dt);
+    if (!(2.0 * moved > w->self->margin)) return moved;
+    return rod_self_contact_near_motion(w->self, w->pos0, w->vbar, dt, moved);
+}
+
 /* Notes that an attempt at this depth moved too far (SPLIT_HOLD_STEPS). */
 static void moved_too_far(implicit_work *w)
 {
@@ -93,8 +106,9 @@ static void moved_too_far(implicit_work *w)
 /* No pass-through: every pair that could have met within the step must
  * have been a candidate. Points move by at most `moved`, so two segments
  * farther apart than one diameter + 2 moved at the start cannot touch on
- * the way; a step that moved farther than the candidates' margin allowed
- * is solved again with a wider one. The margin stays within SELF_MARGIN
+ * the way; only nodes near another strand count (strands_motion); a step
+ * that moved farther than the candidates' margin allowed is solved again
+ * with a wider one. The margin stays within SELF_MARGIN
  * diameters: the pairs' contact is linearised about the start (the
  * half-space between the closest points), which stands for the strands
  * only near them, so a step that would need more is split, unless no
@@ -103,7 +117,7 @@ static void moved_too_far(implicit_work *w)
 static int strands_kept_apart(implicit_work *w, const rod_model *m, const rod_state *s,
                               double dt, rod_report *report)
 {
-    double moved = largest_motion(w, dt);
+    double moved = strands_motion(w, dt);
     int apart = 0; /* no pair could touch within the step */
     for (int tries = 0; tries < 4 && 2.0 * moved > w->self->margin; tries++) {
         const int fast = 3.0 * moved > SELF_MARGIN * m->diameter;
@@ -121,7 +135,7 @@ static int strands_kept_apart(implicit_work *w, const rod_model *m, const rod_st
         }
         if (implicit_prepare_self_contact(w, m, dt, 3.0 * moved, report)) return -2;
         if (implicit_newton(w, m, s->time, dt, report)) return -1;
-        moved = largest_motion(w, dt);
+        moved = strands_motion(w, dt);
     }
     if (!apart && 2.0 * moved > w->self->margin && 3.0 * moved <= SELF_MARGIN * m->diameter) {
         moved_too_far(w);
