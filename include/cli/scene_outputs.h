@@ -49,6 +49,11 @@ int scene_outputs_result_warnings(const rod_model *m, const rod_report *report,
                                   const knot_track *knots, run_warnings *w, char *error,
                                   size_t errlen);
 
+/* The wound's opening (m) of the elastic pad of surface index `pad` at
+ * its stitch: at the mean place of the punctures in it, or the widest
+ * without one (the summary's tissue.wound_gap). */
+double scene_outputs_stitch_gap(const rod_model *m, const rod_state *s, int pad);
+
 /* Checks the output places before any work: out_dir must be a directory
  * (or creatable) when a video is made, and csv a file in one; then removes
  * the temporaries a killed run left there. 0, or -1 with a message. */

@@ -193,9 +193,7 @@ static int report_step_failure(const scene_outputs_options *a, rod_status status
     return RUN_EXIT_FAILURE;
 }
 
-/* The wound's opening (m) of an elastic pad at its stitch: at the mean
- * place of the punctures in it, or the widest without one. */
-static double stitch_gap(const rod_model *m, const rod_state *s, int pad)
+double scene_outputs_stitch_gap(const rod_model *m, const rod_state *s, int pad)
 {
     double at[3] = {0, 0, 0};
     int count = 0;
@@ -272,7 +270,7 @@ static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_
     if (pad >= 0) {
         /* a gap below 0 is the lips pressed together: the contact between
          * them is a penalty, which lets them overlap by its give */
-        const double gap = stitch_gap(m, s, pad);
+        const double gap = scene_outputs_stitch_gap(m, s, pad);
         char opening[128];
         if (gap > 0.0) snprintf(opening, sizeof opening, "the wound's opening at the stitch %.4g mm", 1e3 * gap);
         else snprintf(opening, sizeof opening, "the wound closed at the stitch, its lips pressed "
@@ -466,7 +464,7 @@ static void summary_tissue(run_summary *sum, const rod_model *m, const rod_state
         fmax(sum->tissue_max_displacement, tissue_coupling_max_displacement(m->surfaces[pad].solid));
     if (sum->gap_count < SUMMARY_MAX_GAPS) {
         sum->wound_gap[sum->gap_count][0] = s->time;
-        sum->wound_gap[sum->gap_count++][1] = stitch_gap(m, s, pad);
+        sum->wound_gap[sum->gap_count++][1] = scene_outputs_stitch_gap(m, s, pad);
     }
 }
 
