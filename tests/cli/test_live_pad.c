@@ -1,18 +1,20 @@
 /* test_live_pad.c: `rodsim live` with an elastic pad against the full model.
  * scenes/wound_closure.ini (its skin pad and stitch), the thread's pinned
  * tip driven at 1 kHz along the scene's pull (2 mm up over 2 s) with the
- * hand wavering 1 mm along the wound at 2 Hz, for 1.1 s (the gap half
- * closed); the session's record replayed by `rodsim run` (the full model:
- * the pad's factor renewed at once whenever its residual falls less than
- * fourfold) must give the same answers to within 1e-3 of the largest force:
- * the tip's force at every 20 ms, the four punctures' forces, and the
- * wound's gap at the end within 1e-3 of the gap at rest. Live keeps its pad's factor longer and renews it
- * on a thread of its own (docs/decisions/draft-live-pad.md): measured, the
- * largest difference is 3.5e-4 of the force there (the gap 1.8e-4), most
- * lines 1e-9; a
- * factor made of the wrong matrix, taken half made or never, or a pad
- * solved short would show as an error far above the tolerance. Under the
- * sanitizers the run is 0.1 s. */
+ * hand wavering 2 mm along the wound at 3 Hz, for 1.1 s (the gap more than
+ * half closed); the session's record replayed by `rodsim run` (the full
+ * model: the pad's factor renewed at once whenever its residual falls less
+ * than fourfold) must give the same answers: the tip's force at every
+ * 20 ms and the four punctures' forces at the end within 1e-3 of the
+ * largest, the wound's gap at the end within 1e-3 of the gap at rest.
+ * Live keeps its pad's factor longer and renews it on a thread of its own
+ * (docs/decisions/draft-live-pad.md; the run must take one such factor):
+ * measured, the tip's force differs by at most 4.6e-4 of the largest (at
+ * 1.06 s; most lines by 1e-9), the punctures' forces at the end by 5e-9,
+ * the gap by 5e-10 of its rest value. A factor taken before it is made
+ * (garbage), a pad left short of its equilibrium or a puncture's force
+ * lost on the way would be far outside. Under the sanitizers the run is
+ * 0.1 s. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,11 +29,13 @@
 #define TIP_NODE 48 /* the scene's 49 nodes */
 #define MAX_LINES 2000
 
-/* The tip's path (wound_closure_tip.csv's start and pull, the waver), m */
+/* The tip's path (wound_closure_tip.csv's start and pull, the waver), m:
+ * the waver makes the pad's residual fall slowly once in the run, so its
+ * factor is renewed on the thread and taken as the kept one */
 static void tip_at(double t, double p[3])
 {
     const double s = t < 2.0 ? t / 2.0 : 1.0, r = t < 0.2 ? t / 0.2 : 1.0;
-    p[0] = 0.001 * r * r * (3.0 - 2.0 * r) * sin(4.0 * M_PI * t);
+    p[0] = 0.002 * r * r * (3.0 - 2.0 * r) * sin(6.0 * M_PI * t);
     p[1] = 0.004;
     p[2] = 0.00955083344 + 0.002 * s * s * (3.0 - 2.0 * s);
 }
@@ -115,7 +119,11 @@ int main(void)
         while (p > pad && p[-1] != ';') p--;
         renewed = atol(p + 1);
     }
-    check(behind != NULL, "the pad's factor renewed on its own thread %ld times", renewed);
+    if (test_sanitized())
+        check(behind != NULL, "the pad's factor renewed on its own thread %ld times", renewed);
+    else
+        check(renewed >= 1, "the pad's factor renewed on its own thread %ld times (at least 1)",
+              renewed);
     free(err);
 
     /* the full model: its summary's punctures and gap, its CSV's tip force */
