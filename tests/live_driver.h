@@ -50,11 +50,17 @@ static inline void live_driver_pose(double t, const double start[3], double pos[
     rot[2] = 0.2 * a * sin(M_PI * t);
 }
 
+/* A path: the tip's position (m) and rotation vector (rad) at t (s) from
+ * `start`, as live_driver_pose. */
+typedef void (*live_driver_path)(double t, const double start[3], double pos[3], double rot[3]);
+
 /* Runs `rodsim live` (argv: rodsim's path, "live", scene, options...,
- * NULL) for `seconds` at `rate` lines per second; its stderr goes to
- * `stderr_path` (NULL: inherited). 0, or -1 when it could not run. */
-static inline int live_driver_play(char *const *argv, const double start[3], double seconds,
-                                   double rate, const char *stderr_path, live_driver_result *r)
+ * NULL) for `seconds` at `rate` lines per second along `path`, lines of
+ * t,x,y,z (columns 4: a pinned tip) or t,x,y,z,rx,ry,rz (7); its stderr
+ * goes to `stderr_path` (NULL: inherited). 0, or -1 when it could not run. */
+static inline int live_driver_play_path(char *const *argv, live_driver_path path, int columns,
+                                        const double start[3], double seconds, double rate,
+                                        const char *stderr_path, live_driver_result *r)
 {
     memset(r, 0, sizeof *r);
     int to[2], from[2];
@@ -83,9 +89,12 @@ static inline int live_driver_play(char *const *argv, const double start[3], dou
         struct timespec ts = {(time_t)due, (long)((due - floor(due)) * 1e9)};
         while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL)) {}
         double pos[3], rot[3];
-        live_driver_pose(t, start, pos, rot);
-        snprintf(line, sizeof line, "%.9f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", t, pos[0], pos[1],
-                 pos[2], rot[0], rot[1], rot[2]);
+        path(t, start, pos, rot);
+        if (columns == 4)
+            snprintf(line, sizeof line, "%.9f,%.9g,%.9g,%.9g\n", t, pos[0], pos[1], pos[2]);
+        else
+            snprintf(line, sizeof line, "%.9f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", t, pos[0], pos[1],
+                     pos[2], rot[0], rot[1], rot[2]);
         const double sent = live_driver_now();
         if (fputs(line, in) == EOF || fflush(in)) break;
         r->lines++;
@@ -113,6 +122,13 @@ static inline int live_driver_play(char *const *argv, const double start[3], dou
     }
     free(latency);
     return ok && WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 0 : -1;
+}
+
+/* live_driver_play_path along the needle holder's loop (live_driver_pose) */
+static inline int live_driver_play(char *const *argv, const double start[3], double seconds,
+                                   double rate, const char *stderr_path, live_driver_result *r)
+{
+    return live_driver_play_path(argv, live_driver_pose, 7, start, seconds, rate, stderr_path, r);
 }
 
 #endif

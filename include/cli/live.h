@@ -67,6 +67,18 @@
 #define LIVE_STEP_BUDGET_MIN 60
 #define LIVE_STEP_BUDGET_MAX 1000
 
+/* An elastic pad's Newton in a live session keeps its factor while the
+ * residual falls to at most this fraction per iteration (tissue_keep_factor;
+ * `rodsim run` renews it below a fourfold fall, 0.25): a factorisation
+ * stalls a line (10-15 ms on scenes/wound_closure.ini's pad, a line about
+ * 1 ms), so a live pad takes one only when the kept one stops converging. */
+#define LIVE_PAD_KEEP_FALL 1.0
+/* ...and renews it on a thread of its own (tissue_factor_behind) below a
+ * fourfold fall, taking the new factor this many pad solves after the ask
+ * (about 32 lines at 1 kHz: a factorisation of 10-15 ms CPU finishes
+ * within them on another core; the answers do not depend on the timing). */
+#define LIVE_PAD_BEHIND_SOLVES 64
+
 /* What a session does besides stepping (rodsim live's options). */
 typedef struct live_settings {
     int centreline;        /* 1: the answers carry the node positions */

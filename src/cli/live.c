@@ -164,6 +164,14 @@ static double wall_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* s of CPU this thread has used */
+static double thread_cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 int live_split_numbers(char *line, double *values, int max)
 {
     int count = 0;
@@ -291,6 +299,14 @@ struct live_session {
      * last holds everything longer; made at create) */
     double parse_sum, step_sum, answer_sum;
     unsigned *work_histogram, *step_histogram;
+    /* the CPU time of the work on a line (this thread's: what the line costs
+     * whatever else the machine runs), s: its distribution (as above), sum,
+     * largest, and where the line's started */
+    unsigned *cpu_histogram;
+    double cpu_sum, cpu_max, line_cpu_start;
+    long cpu_max_line;      /* the input line of cpu_max */
+    tissue_costs pad_start; /* the pad's costs when the session started */
+    long pad_factorisations; /* and its factorisations */
     char *answer;           /* an answer line: (7 + 3 NS) numbers, the status (made at create) */
     double wall_origin;     /* --realtime: the wall time at t = 0 */
     /* the instruments driven by lines NAME: t,x,y,z,rx,ry,rz,jaw: their
@@ -825,6 +841,7 @@ static int step_instrument_line(live_session *ls, int k, const double *v)
 static void answer_line(live_session *ls, size_t len)
 {
     ls->line_start = wall_seconds();
+    ls->line_cpu_start = thread_cpu_seconds();
     ls->lines++;
     char err[512];
     const char *kind = NULL;
@@ -892,6 +909,13 @@ static void answer_line(live_session *ls, size_t len)
     ls->step_wall_sum += spent;
     ls->step_wall_max = fmax(ls->step_wall_max, spent);
     histogram_add(ls->work_histogram, spent);
+    const double cpu = thread_cpu_seconds() - ls->line_cpu_start;
+    histogram_add(ls->cpu_histogram, cpu);
+    ls->cpu_sum += cpu;
+    if (cpu > ls->cpu_max) {
+        ls->cpu_max = cpu;
+        ls->cpu_max_line = ls->line_no;
+    }
     if (ls->set.realtime && outcome != LINE_REFUSED && spent > ls->line_gap) {
         /* an overrun: the work on the line took longer than its own gap
          * of simulated time, its wall budget: the next line, due one gap
@@ -976,6 +1000,32 @@ int live_session_feed(live_session *ls, const char *bytes, size_t size)
     return ls->ended;
 }
 
+/* An elastic pad's line: the wound's gap at the stitch and the punctures'
+ * forces at the end (as `rodsim run`'s summary gives them), and what its
+ * part of a line's CPU is made of (tissue_costs since the session began) */
+static void print_pad(live_session *ls)
+{
+    const rod_state *s = ls->state;
+    const int pad = tissue_coupling_pad(ls->model);
+    fprintf(ls->msg, "rodsim live: the pad at t = %.9g s: wound gap %.9g m; punctures' forces "
+                     "(N):", s->time, scene_outputs_stitch_gap(ls->model, s, pad));
+    for (int k = 0; k < s->puncture_count; k++)
+        if (s->puncture[k].linked == pad + 1)
+            fprintf(ls->msg, " %.9g %.9g %.9g;", s->puncture[k].force[0],
+                    s->puncture[k].force[1], s->puncture[k].force[2]);
+    const tissue_costs c = tissue_cost(ls->pad), b = ls->pad_start;
+    const double per = ls->lines ? 1e6 / (double)ls->lines : 0.0;
+    const double coupling = c.coupling_s - b.coupling_s;
+    fprintf(ls->msg, " CPU a line: the pad's coupling %.1f us (assembly %.1f, inversion tests %.1f, "
+                     "%ld factorisations %.1f, %ld solves %.1f), the rest (the rod) %.1f us; "
+                     "%ld factors renewed behind (%.1f ms CPU on their thread)\n",
+            per * coupling, per * (c.assembly_s - b.assembly_s), per * (c.check_s - b.check_s),
+            tissue_factorisations(ls->pad) - ls->pad_factorisations - (c.behind_taken - b.behind_taken),
+            per * (c.factor_s - b.factor_s), c.solves - b.solves, per * (c.solve_s - b.solve_s),
+            per * ls->cpu_sum - per * coupling, c.behind_taken - b.behind_taken,
+            1e3 * (c.behind_s - b.behind_s));
+}
+
 static void print_summary(live_session *ls)
 {
     /* the work per line, then what it is made of: what the latency adds
@@ -1004,10 +1054,15 @@ static void print_summary(live_session *ls)
             per_line * ls->parse_sum, stepped ? 1e6 * ls->step_sum / (double)stepped : 0.0,
             histogram_quantile(ls->step_histogram, stepped, 0.99),
             stepped ? 1e6 * ls->answer_sum / (double)stepped : 0.0);
+    fprintf(ls->msg, "; CPU per line mean %.1f us, p50 %.0f, p99 %.0f, max %.1f us (line %ld)",
+            per_line * ls->cpu_sum, histogram_quantile(ls->cpu_histogram, ls->lines, 0.5),
+            histogram_quantile(ls->cpu_histogram, ls->lines, 0.99), 1e6 * ls->cpu_max,
+            ls->cpu_max_line);
     if (ls->set.realtime)
         fprintf(ls->msg, "; realtime overruns %ld (worst %.1f us)", ls->overruns,
                 1e6 * ls->worst_overrun);
     fprintf(ls->msg, "%s\n", stop_signal ? "; ended by a signal" : "");
+    if (ls->pad) print_pad(ls);
 }
 
 int live_session_finish(live_session *ls, int end_of_input)
@@ -1035,6 +1090,7 @@ void live_session_destroy(live_session *ls)
     free(ls->pad_good);
     free(ls->work_histogram);
     free(ls->step_histogram);
+    free(ls->cpu_histogram);
     free(ls->answer);
     free(ls);
 }
@@ -1082,11 +1138,13 @@ static int setup(live_session *ls, rod_model *m, char *err, size_t errlen)
     ls->good = rod_state_create(m);
     ls->work_histogram = calloc(LIVE_HISTOGRAM_BINS, sizeof *ls->work_histogram);
     ls->step_histogram = calloc(LIVE_HISTOGRAM_BINS, sizeof *ls->step_histogram);
+    ls->cpu_histogram = calloc(LIVE_HISTOGRAM_BINS, sizeof *ls->cpu_histogram);
     ls->answer = malloc((size_t)(8 + 3 * m->nodes) * (NUMFMT_MAX + 1) + 16);
     const int pad = tissue_coupling_pad(m);
     ls->pad = pad >= 0 ? m->surfaces[pad].solid : NULL;
     if (ls->pad) ls->pad_good = malloc(sizeof(double) * tissue_state_doubles(ls->pad));
-    if (!ls->state || !ls->good || !ls->work_histogram || !ls->step_histogram || !ls->answer ||
+    if (!ls->state || !ls->good || !ls->work_histogram || !ls->step_histogram || !ls->cpu_histogram ||
+        !ls->answer ||
         (ls->pad && !ls->pad_good)) {
         snprintf(err, errlen, "out of memory");
         return -1;
@@ -1120,6 +1178,20 @@ static int setup(live_session *ls, rod_model *m, char *err, size_t errlen)
     }
     if (live_instruments(ls, m, err, errlen)) return -1;
     if (rod_solver_init(&ls->solver, ls->stepped, err, errlen)) return -1;
+    if (ls->pad) {
+        /* the punctures linked and their compliances made now, not in the
+         * first line's step (the same work on the same state: the same
+         * answers), so the first answer waits for none of it */
+        if (tissue_coupling_link(ls->stepped, ls->state, err, errlen)) return -1;
+        /* a factorisation is a line's stall (10-15 ms on the wound pad
+         * against about 1 ms a line): it is made on a thread of its own
+         * while the kept factor serves, and at once only when the kept
+         * one stops converging (docs/decisions/draft-live-pad.md) */
+        tissue_keep_factor(ls->pad, LIVE_PAD_KEEP_FALL);
+        if (tissue_factor_behind(ls->pad, LIVE_PAD_BEHIND_SOLVES, err, errlen)) return -1;
+        ls->pad_start = tissue_cost(ls->pad);
+        ls->pad_factorisations = tissue_factorisations(ls->pad);
+    }
     return 0;
 }
 

@@ -18,13 +18,31 @@
  * 1 ms at NS = 101 with tissue contact. The knot (a loose overhand knot
  * hanging from the driven tip, held by self-contact with friction 0.2) has
  * no target in the issue; it is measured to say what a knot costs.
- * `bench_live knot`: the knot's two points alone. */
+ * `bench_live knot`: the knot's two points alone.
+ * The pad (`bench_live pad` alone): scenes/wound_closure.ini, its elastic
+ * skin pad and stitch, the thread's tip (pinned) driven at 1 kHz along the
+ * scene's pull (2 mm up over 2 s) with the holder's hand wavering 1 mm
+ * along the wound at 2 Hz; besides the latency, rodsim's CPU per line (p50,
+ * p99, max) and its split (the pad: assembly, factorisations, solves; the
+ * rod); the target: p99 below 5 ms of CPU a line. */
 #define _GNU_SOURCE /* sched_setaffinity, sched_getcpu */
 #include <sched.h>
 
 #include "live_driver.h"
 
 #define SHAPE "/tmp/rodsim_bench_live_shape.csv"
+
+/* The pad point's tip: wound_closure's pinned tip at rest, pulled 2 mm up
+ * over 2 s (smoothstep, as wound_closure_tip.csv), wavering 1 mm along x
+ * (the wound's direction) at 2 Hz after a 0.2 s ramp, m. */
+static void pad_pull(double t, const double start[3], double pos[3], double rot[3])
+{
+    const double s = t < 2.0 ? t / 2.0 : 1.0, r = t < 0.2 ? t / 0.2 : 1.0;
+    pos[0] = start[0] + 0.001 * r * r * (3.0 - 2.0 * r) * sin(4.0 * M_PI * t);
+    pos[1] = start[1];
+    pos[2] = start[2] + 0.002 * s * s * (3.0 - 2.0 * s);
+    rot[0] = rot[1] = rot[2] = 0.0;
+}
 
 /* The tissue setting's starting centreline: 3 cm along x on the plane z = 0,
  * a quarter circle of radius 3 cm up, then straight up to z = 0.45 m; its
@@ -96,8 +114,11 @@ static int write_knot_shape(double *length, double tip[3])
 
 int main(int argc, char **options)
 {
-    /* bench_live knot: the knot's two points alone */
+    /* bench_live knot | pad: the knot's or the pad's two points alone */
     const int knot_only = argc > 1 && strcmp(options[1], "knot") == 0;
+    const int pad_only = argc > 1 && strcmp(options[1], "pad") == 0;
+    const char *pad_scene = RODSIM_SOURCE_DIR "/scenes/wound_closure.ini";
+    const double pad_tip[3] = {0.0, 0.004, 0.00955083344}; /* wound_closure_tip.csv at t = 0 */
     const char *env = getenv("BENCH_LIVE_SECONDS");
     double seconds = env ? atof(env) : 10.0;
     if (!(seconds > 0.0)) seconds = 10.0;
@@ -126,15 +147,19 @@ int main(int argc, char **options)
     printf("%5s %7s %4s %8s %9s %9s %9s %9s %9s  %s\n", "NS", "contact", "rt", "lines", "p50 us",
            "p99 us", "p99.9 us", "max us", "overruns",
            "rodsim: steps, Jacobian builds, work per line");
-    /* tissue: 0 none, 1 tissue, 2 a knot (self-contact) */
-    const struct { int nodes, tissue; } points[] = {{51, 0}, {101, 0}, {51, 1}, {101, 1}, {101, 2}};
+    /* tissue: 0 none, 1 tissue, 2 a knot (self-contact), 3 the elastic pad */
+    const struct { int nodes, tissue; } points[] = {{51, 0}, {101, 0}, {51, 1}, {101, 1}, {101, 2},
+                                                    {49, 3}};
     int status = 0;
     for (size_t i = 0; i < 2 * sizeof points / sizeof points[0]; i++) {
         const int p = (int)(i / 2), realtime = (int)(i % 2);
-        if (knot_only && points[p].tissue != 2) continue;
+        if ((knot_only && points[p].tissue != 2) || (pad_only && points[p].tissue != 3)) continue;
         char set[64], log[] = "/tmp/rodsim_bench_live_stderr.txt";
         snprintf(set, sizeof set, "rod.nodes=%d", points[p].nodes);
-        const char *which = points[p].tissue == 2 ? knot : points[p].tissue ? tissue : scene;
+        const char *which = points[p].tissue == 3   ? pad_scene
+                            : points[p].tissue == 2 ? knot
+                            : points[p].tissue      ? tissue
+                                                    : scene;
         char *argv[] = {RODSIM_BIN, "live", (char *)which, "--set", set,
                         realtime ? "--realtime" : NULL, NULL};
         /* rt: this driver at SCHED_FIFO 10 on the CPU it runs on; rodsim
@@ -151,14 +176,19 @@ int main(int argc, char **options)
                          sched_setscheduler(0, SCHED_FIFO, &rt) == 0;
         const double hanging[3] = {0.0, 0.0, 0.5};
         live_driver_result r;
-        const double *start = points[p].tissue == 2 ? knot_tip : points[p].tissue ? tissue_tip : hanging;
-        if (live_driver_play(argv, start, seconds, 1000.0, log, &r))
-            status = 1;
+        const double *start = points[p].tissue == 3   ? pad_tip
+                              : points[p].tissue == 2 ? knot_tip
+                              : points[p].tissue      ? tissue_tip
+                                                      : hanging;
+        const int played = points[p].tissue == 3
+                               ? live_driver_play_path(argv, pad_pull, 4, start, seconds, 1000.0, log, &r)
+                               : live_driver_play(argv, start, seconds, 1000.0, log, &r);
+        if (played) status = 1;
         if (realtime) {
             sched_setscheduler(0, SCHED_OTHER, &normal);
             sched_setaffinity(0, sizeof all, &all);
         }
-        char work[1024] = "";
+        char work[1024] = "", pad[1024] = "";
         /* "N steps to t = T s (J Jacobian builds: W within steps, I between
          * lines, mean X us); work per line ..." */
         FILE *e = fopen(log, "r");
@@ -166,14 +196,18 @@ int main(int argc, char **options)
         while (e && fgets(line, sizeof line, e)) {
             char *w = strstr(line, "steps to");
             if (w) snprintf(work, sizeof work, "%s", w);
+            char *q = strstr(line, "the pad at");
+            if (q) snprintf(pad, sizeof pad, "%s", q);
         }
         if (e) fclose(e);
         remove(log);
         work[strcspn(work, "\n")] = '\0';
+        pad[strcspn(pad, "\n")] = '\0';
         printf("%5d %7s %4s %8ld %9.1f %9.1f %9.1f %9.1f %9ld  %s\n", points[p].nodes,
-               points[p].tissue == 2 ? "knot" : points[p].tissue ? "tissue" : "none", !realtime ? "no" : rt_granted ? "yes" : "n/a",
+               points[p].tissue == 3 ? "pad" : points[p].tissue == 2 ? "knot" : points[p].tissue ? "tissue" : "none", !realtime ? "no" : rt_granted ? "yes" : "n/a",
                r.answered, 1e6 * r.p50, 1e6 * r.p99, 1e6 * r.p999, 1e6 * r.max, r.late, work);
         if (r.failed) printf("      (%ld steps failed)\n", r.failed);
+        if (pad[0]) printf("      %s\n", pad);
     }
     remove(scene);
     remove(tissue);

@@ -146,8 +146,27 @@ typedef struct tissue_costs {
     long matrix_assemblies;
     long forces_reused;   /* forces taken from the last assembly at the same positions */
     long solves;
+    double behind_s;      /* factorisations on the renewal thread (its CPU; tissue_factor_behind) */
+    long behind_taken;    /* of them taken as the kept factor (counted in tissue_factorisations) */
 } tissue_costs;
 tissue_costs tissue_cost(const tissue_solid *t);
+
+/* The kept factor serves a Newton iteration while the residual falls to at
+ * most `fall` of the last iteration's (0 or not set: 0.25, a fourfold fall;
+ * 1: while it falls at all, a factorisation only when the kept one stops
+ * converging: fewer factorisations, more iterations); a change of the
+ * coefficients or holds renews it whatever this is. */
+void tissue_keep_factor(tissue_solid *t, double fall);
+
+/* Renews the factor on a thread of its own (made here; solves > 0): when
+ * the residual falls less than fourfold in an iteration (and not so slowly
+ * that tissue_keep_factor renews it at once), the matrix is assembled and
+ * factorised there while the kept factor serves on; the new one replaces
+ * it `solves` solves later (waiting for it then, so the answers do not
+ * depend on the timing), unless the factor was renewed meanwhile. For a
+ * caller whose steps must not wait for a factorisation (`rodsim live`).
+ * 0, or -1 with a message (no thread: the factor is renewed as before). */
+int tissue_factor_behind(tissue_solid *t, long solves, char *err, size_t errlen);
 void tissue_add_coupling_time(tissue_solid *t, double seconds);
 
 /* The pad's state, its nodes' positions and velocities (6 x nodes

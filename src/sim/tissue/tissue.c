@@ -11,6 +11,7 @@
 #include "sim/tissue/tissue.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,6 +25,25 @@
 #define MAX_HALVINGS 12
 /* the most material points tissue_points_compliance takes together */
 #define TISSUE_POINTS_MAX 16
+
+/* The factor renewed on a thread of its own (tissue_factor_behind): the
+ * matrix's values copied at the ask, factorised there into a factor of the
+ * same analysis, taken in place of the kept one at a fixed count of solves
+ * after the ask (waiting for it then), so the answers do not depend on the
+ * timing. */
+typedef struct factor_worker {
+    pthread_t thread;
+    pthread_mutex_t lock;
+    pthread_cond_t wake, finished;
+    int asked, done, quit, ok; /* under lock */
+    long due;                  /* t->costs.solves at which the new factor is taken */
+    long version;              /* t->factorisations at the ask: taken only if unchanged */
+    double mass_coef, stiffness; /* the coefficients of the matrix asked for */
+    double seconds;            /* CPU s of its factorisations (its thread's clock) */
+    cholmod_common cm;         /* the thread's own */
+    cholmod_sparse *A;         /* the matrix's values at the ask */
+    cholmod_factor *L;         /* made there; swapped with the kept one when taken */
+} factor_worker;
 
 struct tissue_solid {
     tissue_config config;
@@ -56,6 +76,10 @@ struct tissue_solid {
     double static_tol;     /* N: tissue_solve_static_to's residual bound (0: the default) */
     int static_iterations; /* tissue_solve_static_to's most iterations (0: MAX_NEWTON) */
     double factor_mass, factor_stiffness; /* the coefficients L was made with */
+    double keep_fall;      /* the kept factor serves while the residual falls to at most
+                              this fraction per iteration (tissue_keep_factor; 0: 0.25) */
+    factor_worker *worker; /* tissue_factor_behind's, or NULL */
+    long behind;           /* solves between a renewal's ask and its take */
     tissue_costs costs;    /* CPU time and counts since create */
     /* the wound's lips: node pairs coincident at rest across the slit (its
      * faces' corners and, quadratic, edge midpoints), pressed apart along the
@@ -286,9 +310,12 @@ static int find_lips(tissue_solid *t)
     return 0;
 }
 
+static void worker_destroy(factor_worker *w);
+
 void tissue_destroy(tissue_solid *t)
 {
     if (!t) return;
+    worker_destroy(t->worker);
     cholmod_free_sparse(&t->A, &t->cm);
     cholmod_free_factor(&t->L, &t->cm);
     cholmod_free_dense(&t->rhs, &t->cm);
@@ -606,6 +633,134 @@ static int factor_solve(tissue_solid *t, tissue_step_info *info, int factorise, 
     return 0;
 }
 
+/* s of CPU the calling thread has used */
+static double thread_cpu(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The renewal thread: factorises each matrix it is asked for */
+static void *worker_main(void *arg)
+{
+    factor_worker *w = arg;
+    pthread_mutex_lock(&w->lock);
+    for (;;) {
+        while (!w->quit && !(w->asked && !w->done)) pthread_cond_wait(&w->wake, &w->lock);
+        if (w->quit) break;
+        pthread_mutex_unlock(&w->lock);
+        const double t0 = thread_cpu();
+        cholmod_factorize(w->A, w->L, &w->cm);
+        const int ok = w->cm.status == CHOLMOD_OK && w->L->minor == w->L->n;
+        const double spent = thread_cpu() - t0;
+        pthread_mutex_lock(&w->lock);
+        w->ok = ok;
+        w->seconds += spent;
+        w->done = 1;
+        pthread_cond_signal(&w->finished);
+    }
+    pthread_mutex_unlock(&w->lock);
+    return NULL;
+}
+
+static void worker_destroy(factor_worker *w)
+{
+    if (!w) return;
+    pthread_mutex_lock(&w->lock);
+    w->quit = 1;
+    pthread_cond_signal(&w->wake);
+    pthread_mutex_unlock(&w->lock);
+    pthread_join(w->thread, NULL);
+    cholmod_free_sparse(&w->A, &w->cm);
+    cholmod_free_factor(&w->L, &w->cm);
+    cholmod_finish(&w->cm);
+    pthread_cond_destroy(&w->finished);
+    pthread_cond_destroy(&w->wake);
+    pthread_mutex_destroy(&w->lock);
+    free(w);
+}
+
+int tissue_factor_behind(tissue_solid *t, long solves, char *err, size_t errlen)
+{
+    t->behind = solves;
+    if (t->worker || solves <= 0) return 0;
+    factor_worker *w = calloc(1, sizeof *w);
+    if (!w) {
+        snprintf(err, errlen, "out of memory for the tissue's factor thread");
+        return -1;
+    }
+    cholmod_start(&w->cm);
+    w->cm.print = 0;
+    w->A = cholmod_copy_sparse(t->A, &w->cm);
+    w->L = cholmod_copy_factor(t->L, &w->cm);
+    int made = 0;
+    if (w->A && w->L && !pthread_mutex_init(&w->lock, NULL)) {
+        made = 1;
+        if (!pthread_cond_init(&w->wake, NULL)) {
+            made = 2;
+            if (!pthread_cond_init(&w->finished, NULL)) {
+                made = 3;
+                if (!pthread_create(&w->thread, NULL, worker_main, w)) made = 4;
+            }
+        }
+    }
+    if (made < 4) {
+        if (made >= 3) pthread_cond_destroy(&w->finished);
+        if (made >= 2) pthread_cond_destroy(&w->wake);
+        if (made >= 1) pthread_mutex_destroy(&w->lock);
+        cholmod_free_sparse(&w->A, &w->cm);
+        cholmod_free_factor(&w->L, &w->cm);
+        cholmod_finish(&w->cm);
+        free(w);
+        snprintf(err, errlen, "the tissue's factor thread could not be made");
+        return -1;
+    }
+    t->worker = w;
+    return 0;
+}
+
+/* Asks the thread for the factor of the matrix just assembled (t->A, of
+ * these coefficients), taken `behind` solves from now */
+static void worker_ask(tissue_solid *t, double mass_coef, double stiffness)
+{
+    factor_worker *w = t->worker;
+    const int *column = t->A->p;
+    memcpy(w->A->x, t->A->x, sizeof(double) * (size_t)column[t->A->ncol]);
+    pthread_mutex_lock(&w->lock);
+    w->mass_coef = mass_coef;
+    w->stiffness = stiffness;
+    w->due = t->costs.solves + t->behind;
+    w->version = t->factorisations;
+    w->done = 0;
+    w->asked = 1;
+    pthread_cond_signal(&w->wake);
+    pthread_mutex_unlock(&w->lock);
+}
+
+/* The factor asked for, once due: waits for the thread and keeps it in
+ * place of the old one when nothing renewed the factor since the ask (the
+ * same coefficients and holds) */
+static void worker_take(tissue_solid *t)
+{
+    factor_worker *w = t->worker;
+    if (!w || !w->asked || t->costs.solves < w->due) return; /* asked: written here only */
+    pthread_mutex_lock(&w->lock);
+    while (!w->done) pthread_cond_wait(&w->finished, &w->lock);
+    w->asked = 0;
+    const int ok = w->ok;
+    t->costs.behind_s = w->seconds;
+    pthread_mutex_unlock(&w->lock);
+    if (ok && t->factor_ok && w->version == t->factorisations && t->factor_mass == w->mass_coef &&
+        t->factor_stiffness == w->stiffness) {
+        cholmod_factor *kept = t->L;
+        t->L = w->L;
+        w->L = kept;
+        t->factorisations++;
+        t->costs.behind_taken++;
+    }
+}
+
 /* 1 when every tet has J > 0 at the positions x (at its integration points;
  * a linear tet's test alone, without its energy) */
 static int all_positive(const tissue_solid *t)
@@ -696,9 +851,26 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
             info->residual = worst;
         }
         if (worst <= force_tol) return 0;
-        int renew = !t->factor_ok || t->factor_mass != coef || t->factor_stiffness != stiffness ||
-                    (it > 0 && worst > 0.25 * last_worst);
+        worker_take(t);
+        const int same = t->factor_ok && t->factor_mass == coef && t->factor_stiffness == stiffness;
+        int renew = !same ||
+                    (it > 0 && worst > (t->keep_fall > 0.0 ? t->keep_fall : 0.25) * last_worst);
+        /* a factor renewed behind (tissue_factor_behind): asked for below a
+         * fourfold fall, kept meanwhile */
+        const int ask = same && !renew && t->worker && !t->worker->asked && it > 0 &&
+                        worst > 0.25 * last_worst;
         last_worst = worst;
+        if (ask) {
+            t0 = cpu_now();
+            if (assemble(t, coef, stiffness)) {
+                snprintf(err, errlen, "a tet inverted (J <= 0) at Newton iteration %d", it);
+                return -1;
+            }
+            const double t_matrix = cpu_now() - t0;
+            t->costs.assembly_s += t_matrix;
+            if (info) info->assembly_s += t_matrix;
+            worker_ask(t, coef, stiffness);
+        }
         if (renew) {
             t0 = cpu_now();
             if (assemble(t, coef, stiffness)) {
@@ -832,6 +1004,9 @@ int tissue_solve_static_to(tissue_solid *t, double force_tol, int max_iterations
 }
 
 long tissue_factorisations(const tissue_solid *t) { return t->factorisations; }
+
+void tissue_keep_factor(tissue_solid *t, double fall) { t->keep_fall = fall; }
+
 
 tissue_costs tissue_cost(const tissue_solid *t) { return t->costs; }
 
