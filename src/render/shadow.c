@@ -20,9 +20,9 @@
 /* texels a side: at most 512 (2 mm for a 1 m motion), fewer when two
  * thirds of the visual radius need fewer (the depth pass's cost is its
  * area). Each look-up is one bilinear comparison, whose soft edge is two
- * texels wide: the four comparisons a texel of half the size apart that
- * this replaced cost 0.6 s more of suture.ini's video and drew the same
- * picture (docs/decisions/draft-video-speed.md). */
+ * texels wide: with four comparisons on a map of texels half the size
+ * suture.ini's run with its video took 6.8 s of CPU against 5.9, for the
+ * same picture (docs/decisions/draft-video-speed.md). */
 #define SHADOW_MAP_MAX 512
 #define SHADOW_MAP_MIN 128
 
