@@ -1,7 +1,7 @@
 #version 330 core
 // Blinn-Phong with a key and a fill light (directional), plus ambient; the
-// key light's shadow from a shadow map, softened by percentage-closer
-// filtering (PCF).
+// key light's shadow from a shadow map, its edge softened by one bilinear
+// depth comparison (percentage-closer filtering, PCF, of 2 x 2 texels).
 in vec3 world_position;
 in vec3 world_normal;
 in vec3 base_color;
@@ -18,7 +18,6 @@ uniform int shadows;          // 1: the key light is blocked where the shadow ma
 uniform sampler2DShadow shadow_map;
 uniform mat4 light_view_projection;
 uniform float shadow_offset;  // m: the point looked up moves this far along its normal (no acne)
-uniform float shadow_spread;  // shadow-map texture units: half the PCF kernel's width
 const int fading = FADING;    // 1: fade to the background away from fade_centre (a plane)
 uniform vec4 fade;            // xyz: centre (m); w: radius where the fade starts (m)
 uniform float fade_end;       // m: radius where only the background remains
@@ -27,8 +26,9 @@ uniform vec3 background;      // linear 0..1
 out vec4 frag_color;
 
 // The fraction of the key light that reaches p (1: lit, 0: in shadow):
-// 2 x 2 bilinear comparisons at +-half a spread: a tent filter about
-// 2 spreads wide (each tap costs as much as the rest of the shading on llvmpipe).
+// one bilinear comparison, a tent filter two texels wide; the map's texels
+// are sized for it (src/render/shadow.c). Each tap costs as much as the rest
+// of the shading on llvmpipe (docs/decisions/draft-video-speed.md).
 float key_visibility(vec3 p, vec3 n)
 {
     vec4 q = light_view_projection * vec4(p + shadow_offset * n, 1.0);
@@ -36,11 +36,7 @@ float key_visibility(vec3 p, vec3 n)
     if (c.x < 0.0 || c.x > 1.0 || c.y < 0.0 || c.y > 1.0) return 1.0;
     // beyond the far plane is behind every caster; nearer than the near plane, before them
     float ref = clamp(c.z, 0.0, 1.0);
-    float h = 0.5 * shadow_spread;
-    return 0.25 * (texture(shadow_map, vec3(c.x - h, c.y - h, ref)) +
-                   texture(shadow_map, vec3(c.x + h, c.y - h, ref)) +
-                   texture(shadow_map, vec3(c.x - h, c.y + h, ref)) +
-                   texture(shadow_map, vec3(c.x + h, c.y + h, ref)));
+    return texture(shadow_map, vec3(c.xy, ref));
 }
 
 void main()

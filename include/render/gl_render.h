@@ -43,10 +43,10 @@ void gl_renderer_set_whole_boxes(gl_renderer *r, int whole, const unsigned char 
 /* Shadows from the key light: a size x size depth map drawn through
  * light_view_projection (column-major, orthographic); a receiver's point is
  * moved `offset` (m) along its normal before the look-up (no self-shadow
- * acne) and filtered over `spread` texture units (soft edges). 0, or -1
+ * acne), which compares the 2 x 2 texels around it (soft edges). 0, or -1
  * with a message. */
 int gl_renderer_set_shadows(gl_renderer *r, const double light_view_projection[16], int size,
-                            double offset, double spread, char *err, size_t errlen);
+                            double offset, char *err, size_t errlen);
 /* The moving part: with shadows, draws the first caster_index_count
  * indices into the shadow map (its time added to *shadow_seconds unless
  * NULL); clears each box (4 ints each: x, y, width, height in

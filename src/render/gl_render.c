@@ -33,7 +33,7 @@ static const char *const shade_defines[SHADE_VARIANTS] = {
 typedef struct scene_program {
     GLuint id;
     GLint u_view_projection, u_orthographic, u_eye, u_view_direction, u_key, u_fill;
-    GLint u_shadows, u_shadow_map, u_light, u_shadow_offset, u_shadow_spread;
+    GLint u_shadows, u_shadow_map, u_light, u_shadow_offset;
     GLint u_fade, u_fade_end, u_background;
 } scene_program;
 
@@ -55,7 +55,7 @@ struct gl_renderer {
     int shadow_size;
     GLuint shadow_program, shadow_fbo, shadow_texture;
     GLint u_shadow_light;
-    float light[16], shadow_offset, shadow_spread;
+    float light[16], shadow_offset;
     int shadow_drawn[4];        /* texels x0, y0, x1, y1 the last depth pass may have drawn
                                    (x0 >= x1: none); the rest of the map is cleared */
 };
@@ -117,7 +117,6 @@ gl_renderer *gl_renderer_create(int width, int height, int samples, int max_vert
         p->u_shadow_map = glGetUniformLocation(p->id, "shadow_map");
         p->u_light = glGetUniformLocation(p->id, "light_view_projection");
         p->u_shadow_offset = glGetUniformLocation(p->id, "shadow_offset");
-        p->u_shadow_spread = glGetUniformLocation(p->id, "shadow_spread");
         p->u_fade = glGetUniformLocation(p->id, "fade");
         p->u_fade_end = glGetUniformLocation(p->id, "fade_end");
         p->u_background = glGetUniformLocation(p->id, "background");
@@ -256,7 +255,6 @@ static void set_camera(gl_renderer *r, const render_camera *cam)
             glUniform1i(p->u_shadow_map, 1);
             glUniformMatrix4fv(p->u_light, 1, GL_FALSE, r->light);
             glUniform1f(p->u_shadow_offset, r->shadow_offset);
-            glUniform1f(p->u_shadow_spread, r->shadow_spread);
         }
     }
 }
@@ -309,7 +307,7 @@ void gl_renderer_set_whole_boxes(gl_renderer *r, int whole, const unsigned char 
 }
 
 int gl_renderer_set_shadows(gl_renderer *r, const double light_view_projection[16], int size,
-                            double offset, double spread, char *err, size_t errlen)
+                            double offset, char *err, size_t errlen)
 {
     if (gl_context_make_current(r->context)) {
         snprintf(err, errlen, "gl: cannot make the context current");
@@ -348,7 +346,6 @@ int gl_renderer_set_shadows(gl_renderer *r, const double light_view_projection[1
     r->shadow_size = size;
     for (int k = 0; k < 16; k++) r->light[k] = (float)light_view_projection[k];
     r->shadow_offset = (float)offset;
-    r->shadow_spread = (float)spread;
     return 0;
 }
 

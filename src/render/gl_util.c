@@ -217,7 +217,7 @@ int gl_target_read_box_rgba(gl_target *t, int x, int y, int width, int height,
 {
     /* resolve only the box (the scissor limits llvmpipe's blit), then read it */
     if (gl_target_resolve_box(t, x, y, width, height)) return -1;
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, t->resolve_fbo);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, t->samples ? t->resolve_fbo : t->draw_fbo);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(x, t->height - (y + height), width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
     glBindFramebuffer(GL_FRAMEBUFFER, t->draw_fbo);
@@ -230,6 +230,7 @@ int gl_target_resolve_box(gl_target *t, int x, int y, int width, int height)
     if (x < 0 || gl_y < 0 || width <= 0 || height <= 0 || x + width > t->width ||
         y + height > t->height)
         return -1;
+    if (t->samples == 0) return 0; /* nothing to resolve: read from where it was drawn */
     glEnable(GL_SCISSOR_TEST);
     glScissor(x, gl_y, width, height);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, t->draw_fbo);
@@ -248,7 +249,7 @@ int gl_target_read_resolved_rgba(gl_target *t, int x, int y, int width, int heig
     if (x < 0 || gl_y < 0 || width <= 0 || height <= 0 || x + width > t->width ||
         y + height > t->height)
         return -1;
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, t->resolve_fbo);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, t->samples ? t->resolve_fbo : t->draw_fbo);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(x, gl_y, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
     glBindFramebuffer(GL_FRAMEBUFFER, t->draw_fbo);

@@ -17,10 +17,14 @@
 
 #define PLANE_FADE_START 1.5  /* a plane fades out from this many motion sizes from its centre ... */
 #define PLANE_FADE_END 3.0    /* ... to this many: a large finite floor, never the framing */
-/* texels a side: at most 1024 (1 mm for a 1 m motion), fewer when a third
- * of the visual radius needs fewer (the depth pass's cost is its area) */
-#define SHADOW_MAP_MAX 1024
-#define SHADOW_MAP_MIN 256
+/* texels a side: at most 512 (2 mm for a 1 m motion), fewer when two
+ * thirds of the visual radius need fewer (the depth pass's cost is its
+ * area). Each look-up is one bilinear comparison, whose soft edge is two
+ * texels wide: with four comparisons on a map of texels half the size
+ * suture.ini's run with its video took 6.8 s of CPU against 5.9, for the
+ * same picture (docs/decisions/draft-video-speed.md). */
+#define SHADOW_MAP_MAX 512
+#define SHADOW_MAP_MIN 128
 
 /* The motion's bounds: the point cloud of the casters (nodes, glyphs,
  * arrows), padded. 0, or -1 when out of memory. */
@@ -261,13 +265,10 @@ int shadow_fit(shadow_scene *s, gl_renderer *gl, const render_camera *cam, doubl
     light[14] = 2 * hi[2] / (hi[2] - lo[2]) - 1;
     light[15] = 1;
     const double texel = extent / s->map_size;
-    /* soft edges: the filter spans half a visual radius, but its 2 x 2
-     * bilinear taps at most 1.5 texels apart (farther apart they band) */
-    const double spread = fmin(fmax(0.5 * radius, texel), 1.5 * texel);
-    if (gl_renderer_set_shadows(gl, light, s->map_size, 1.5 * texel, spread / extent, err,
-                                errlen))
-        return -1;
-    s->shadow_pad = spread + 3 * texel;
+    if (gl_renderer_set_shadows(gl, light, s->map_size, 1.5 * texel, err, errlen)) return -1;
+    /* the soft edge (one bilinear comparison) reaches a texel past the
+     * caster's, the look-up's offset and a margin 3 more */
+    s->shadow_pad = 4 * texel;
     return 0;
 }
 
@@ -396,13 +397,14 @@ static void shadow_light_box(shadow_scene *s, const receiver_plan *plan,
         s->light_lo[a] = lo[a];
         s->light_hi[a] = hi[a];
     }
-    /* the thinnest caster (the tube, or the needle's wire) spans 3 texels or
-     * more of the whole box; the map keeps this size when it is fitted to a
+    /* the thinnest caster (the tube, or the needle's wire) spans 1.5 texels
+     * or more of the whole box; the map keeps this size when it is fitted to a
      * view (shadow_fit), whose texels are then finer */
     s->thinnest = rec->needle_radius > 0 ? fmin(plan->radius, glyph_needle_wire(rec, plan->radius))
                                          : plan->radius;
     s->map_size = SHADOW_MAP_MIN;
-    while (s->map_size < SHADOW_MAP_MAX && extent / s->map_size > s->thinnest / 3) s->map_size *= 2;
+    while (s->map_size < SHADOW_MAP_MAX && extent / s->map_size > s->thinnest / 1.5)
+        s->map_size *= 2;
 }
 
 int shadow_receivers(shadow_scene *s, gl_renderer *gl, const receiver_plan *plan,

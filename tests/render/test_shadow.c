@@ -407,9 +407,9 @@ static void test_keys(void)
 /* A 1.4 m thread crossing itself once (framing knot shows a few
  * centimetres around the crossing), 1 cm above a pad, seen from above:
  * the shadow map's light is fitted to the view (shadow.c's shadow_fit).
- * Its whole box, over the whole thread, is over 1.2 m wide, so its 1024
- * texels would be more than 1.2 mm each, and the shadows' edges take
- * 1.64 mm from lit to dark (measured with the fit taken out); fitted, they
+ * Its whole box, over the whole thread, is over 1.2 m wide, so its 512
+ * texels would be more than 2.4 mm each, and the shadows' edges take
+ * more than one of them from lit to dark; fitted, they
  * must take less than 0.8 mm (0.55 at 0.18 mm a pixel),
  * and the shadow of every part of the thread in the picture must be there
  * (none cut off at the fitted box's edge). Where the shadow falls is
@@ -547,7 +547,7 @@ static void test_fitted_shadow(void)
           "at least 5)", dark, tried);
     check(widest < 8e-4,
           "fitted shadow map: the shadow's edge takes %.3f mm from lit to dark (< 0.8 mm; on the "
-          "whole thread's box, more than 1.2 mm a texel, it took 1.64)", 1e3 * widest);
+          "whole thread's box, more than 2.4 mm a texel, it takes more)", 1e3 * widest);
     image_destroy(img);
     rod_recording_destroy(rec);
 }
