@@ -28,7 +28,7 @@ out vec4 frag_color;
 // The fraction of the key light that reaches p (1: lit, 0: in shadow):
 // one bilinear comparison, a tent filter two texels wide; the map's texels
 // are sized for it (src/render/shadow.c). Each tap costs as much as the rest
-// of the shading on llvmpipe (docs/decisions/draft-video-speed.md).
+// of the shading on llvmpipe (docs/decisions/0105-video-speed.md).
 float key_visibility(vec3 p, vec3 n)
 {
     vec4 q = light_view_projection * vec4(p + shadow_offset * n, 1.0);

@@ -1186,7 +1186,7 @@ static int setup(live_session *ls, rod_model *m, char *err, size_t errlen)
         /* a factorisation is a line's stall (10-15 ms on the wound pad
          * against about 1 ms a line): it is made on a thread of its own
          * while the kept factor serves, and at once only when the kept
-         * one stops converging (docs/decisions/draft-live-pad.md) */
+         * one stops converging (docs/decisions/0104-live-pad.md) */
         tissue_keep_factor(ls->pad, LIVE_PAD_KEEP_FALL);
         if (tissue_factor_behind(ls->pad, LIVE_PAD_BEHIND_SOLVES, err, errlen)) return -1;
         ls->pad_start = tissue_cost(ls->pad);

@@ -22,7 +22,7 @@
  * area). Each look-up is one bilinear comparison, whose soft edge is two
  * texels wide: with four comparisons on a map of texels half the size
  * suture.ini's run with its video took 6.8 s of CPU against 5.9, for the
- * same picture (docs/decisions/draft-video-speed.md). */
+ * same picture (docs/decisions/0105-video-speed.md). */
 #define SHADOW_MAP_MAX 512
 #define SHADOW_MAP_MIN 128
 

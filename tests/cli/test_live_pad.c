@@ -8,7 +8,7 @@
  * 20 ms and the four punctures' forces at the end within 1e-3 of the
  * largest, the wound's gap at the end within 1e-3 of the gap at rest.
  * Live keeps its pad's factor longer and renews it on a thread of its own
- * (docs/decisions/draft-live-pad.md; the run must take one such factor):
+ * (docs/decisions/0104-live-pad.md; the run must take one such factor):
  * measured, the tip's force differs by at most 4.6e-4 of the largest (at
  * 1.06 s; most lines by 1e-9), the punctures' forces at the end by 5e-9,
  * the gap by 5e-10 of its rest value. A factor taken before it is made

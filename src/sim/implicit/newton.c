@@ -33,7 +33,7 @@
  * smooth laws want the search: without it a surgeon's knot at 5 ms steps
  * did not converge down to dt/4096, and with 10 a knot tied by instruments
  * on a pad (instrument_tie.ini) needed 55 patient steps and 28 % more CPU
- * (docs/decisions/draft-live-knot-newton.md) */
+ * (docs/decisions/0103-live-knot-newton.md) */
 #define PAIRS_OVERSHOOT 10.0
 /* With strands touching, a step that took at least PAIRS_SLOW_STEP Newton
  * iterations on a B made PAIRS_B_AGE or more steps before renews B at the

@@ -89,7 +89,7 @@ static double largest_motion(const implicit_work *w, double dt)
  * moves beyond what the candidates' margin covers; else that farthest. A
  * free end whipping at 3-6 m/s at the end of a 4 cm tail below a loose knot
  * split the knot's steps of its first 0.12 s 4-8 ways by its own motion
- * (docs/decisions/draft-live-knot-newton.md) */
+ * (docs/decisions/0103-live-knot-newton.md) */
 static double strands_motion(implicit_work *w, double dt)
 {
     const double moved = largest_motion(w, dt);
