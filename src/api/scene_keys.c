@@ -124,6 +124,10 @@ const ini_key scene_keys_rod[] = {
      "elastic pad: 1 linear tets, 2 quadratic (right at twice the size; ~2x the cost)"},
     {"surface", "wound_refine", "-", "0.333", "(0, 1]",
      "elastic pad: the tets' size at the wound / element_size"},
+    {"surface", "wound_tip_refine", "-", "1", "(0, 1]",
+     "elastic pad: the tets' size at the slit's bottom edge and across its plane / that at the "
+     "wound, growing 1.3 per layer away (a crack front: 0.25 with element_order 2 makes the "
+     "gap converge)"},
     {"surface", "max_nodes", "-", "20000", ">= 1",
      "elastic pad: the mesh budget; a finer mesh is refused before it is made"},
     {"surface", "held", "-", "bottom", "bottom | bottom sides | none",
@@ -131,8 +135,8 @@ const ini_key scene_keys_rod[] = {
     {"surface", "pretension", "-", "0 0 0", "3 strains in (-0.5, 0.5)",
      "elastic pad: the skin's own tension, a strain along x y z at the held faces: opens a wound"},
     {"surface", "wound", "m", "-", "x0 y0 x1 y1 depth",
-     "elastic pad: a slit in the top face along x or y, ends inside the top face, 0 < depth < "
-     "the box's height"},
+     "elastic pad: a slit in the top face along x or y, ends inside the top face (an end on its "
+     "edge cuts the slit through to that face), 0 < depth < the box's height"},
     {"puncture", "point", "m", "required", "3 numbers, on the starting shape",
      "a point the thread passes through, sliding ([puncture] repeats, at most 16); on a tissue surface, pairs in order: the thread between is inside; on an elastic pad, on its skin as settled at t = 0"},
     {"puncture", "friction", "-", "0.2", ">= 0",

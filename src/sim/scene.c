@@ -959,7 +959,8 @@ int scene_refuse_beam(ini_doc *doc, char *err, size_t errlen)
 
 /* Reads an elastic pad's keys on the [surface] boxes with tissue = yes
  * (model, youngs_modulus, poisson_ratio, density, damping, element_size,
- * held, pretension, wound, element_order, wound_refine, max_nodes), checks
+ * held, pretension, wound, element_order, wound_refine, wound_tip_refine,
+ * max_nodes), checks
  * them up front (tissue_config_check: the message names the key), meshes
  * the pad from the box's center and size, and solves its rest under the
  * pretension and gravity (m/s^2, 0 when the scene's gravity is off). A pad
@@ -985,6 +986,8 @@ static int read_tissue_pads(ini_doc *doc, rod_model *m, const rod_model *share,
             (has_wound = ini_get_vector(doc, "surface", i, "wound", c.wound, 5, err, errlen)) < 0 ||
             ini_get_int(doc, "surface", i, "element_order", &c.element_order, err, errlen) < 0 ||
             ini_get_double(doc, "surface", i, "wound_refine", &c.wound_refine, err, errlen) < 0 ||
+            ini_get_double(doc, "surface", i, "wound_tip_refine", &c.wound_tip_refine, err,
+                           errlen) < 0 ||
             ini_get_int(doc, "surface", i, "max_nodes", &c.max_nodes, err, errlen) < 0)
             return -1;
         if (count == 0 || model == 0) continue;

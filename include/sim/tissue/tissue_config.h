@@ -33,10 +33,15 @@ typedef struct tissue_config {
     double damping;        /* s: stiffness-proportional Rayleigh damping, C = damping K */
     double element_size;   /* m: the mesh size away from the wound */
     double wound_refine;   /* (0, 1]: the element size at the wound / element_size */
+    double wound_tip_refine; /* (0, 1]: the spacing at the slit's bottom edge and across its
+                              plane / the wound's, growing by 1.3 per layer away from them
+                              (the edge is a crack front; decision record
+                              draft-wound-gap-convergence); 1: uniform at the wound */
     tissue_held held;
     double pretension[3];  /* strain of the skin's own tension along x y z at the held faces */
     int has_wound;         /* 1: `wound` is a slit */
-    double wound[5];       /* x0 y0 x1 y1 depth (m): a slit in the top face, along x or y */
+    double wound[5];       /* x0 y0 x1 y1 depth (m): a slit in the top face, along x or y;
+                              an end on the pad's edge cuts the slit through to that face */
     double center[3];      /* m: the pad box's centre */
     double size[3];        /* m: the pad box's edge lengths x y z */
     double gravity[3];     /* m/s^2 */

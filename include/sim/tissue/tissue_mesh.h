@@ -4,9 +4,11 @@
  * the wound, element_size * wound_refine at it (growing by 1.3 per layer
  * between), every hex cut into the same 6 tets around its main diagonal
  * (Kuhn's split: neighbours share face diagonals, so the mesh conforms).
+ * Across the slit's plane and from its bottom edge (a crack front) the
+ * spacing starts at that times wound_tip_refine and grows by 1.3 per layer.
  * A wound is a slit along x or y in the top face to a depth: the grid has a
- * plane through it, and the nodes on the slit (its rim and ends excluded)
- * are duplicated, the tets on the far side using the copies, so the two
+ * plane through it, and the nodes on the slit (its rim and ends excluded,
+ * an end on the pad's face included: the slit cut through) are duplicated, the tets on the far side using the copies, so the two
  * faces separate. Quadratic tets add a node at each edge's midpoint (the
  * slit's edges are distinct on its two sides, so their midpoints are too). */
 #ifndef RODSIM_SIM_TISSUE_TISSUE_MESH_H

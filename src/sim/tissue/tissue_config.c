@@ -17,6 +17,7 @@ tissue_config tissue_config_default(void)
         .damping = 0.01,
         .element_size = 0.003,
         .wound_refine = 1.0 / 3.0,
+        .wound_tip_refine = 1.0,
         .held = TISSUE_HELD_BOTTOM,
         .pretension = {0.0, 0.0, 0.0},
         .has_wound = 0,
@@ -81,6 +82,11 @@ int tissue_config_check(const tissue_config *c, tissue_mesh_size *size, char *er
         snprintf(err, errlen, "wound_refine: %g; accepted 0 < wound_refine <= 1", c->wound_refine);
         return -1;
     }
+    if (!(c->wound_tip_refine > 0.0 && c->wound_tip_refine <= 1.0)) {
+        snprintf(err, errlen, "wound_tip_refine: %g; accepted 0 < wound_tip_refine <= 1",
+                 c->wound_tip_refine);
+        return -1;
+    }
     if (c->held != TISSUE_HELD_BOTTOM && c->held != TISSUE_HELD_BOTTOM_SIDES &&
         c->held != TISSUE_HELD_NONE) {
         snprintf(err, errlen, "held: accepted bottom | bottom sides | none");
@@ -134,7 +140,7 @@ int tissue_config_check(const tissue_config *c, tissue_mesh_size *size, char *er
         snprintf(err, errlen,
                  "element_size: %g m (wound_refine %g) makes about %.0f nodes, %.0f stiffness "
                  "entries and a factor of about %.0f MB over size %g %g %g m, above the budget "
-                 "of %d nodes; raise element_size, wound_refine, or shrink size",
+                 "of %d nodes; raise element_size, wound_refine, wound_tip_refine, or shrink size",
                  c->element_size, c->wound_refine, nodes, entries, 8e-6 * factor, c->size[0],
                  c->size[1], c->size[2], c->max_nodes);
         return -1;

@@ -39,29 +39,45 @@ static int graded_spacings(double L, double fine, double coarse, double *s)
     return n;
 }
 
-/* The grid points over [a, b] with a fine zone [c0, c1] (spacing <= fine
- * inside, graded outside); returns the point count, writes them to p (may
- * be NULL). fine == coarse gives a uniform grid. */
-static int grid_1d(double a, double b, double c0, double c1, double fine, double coarse,
-                   double *p)
+/* The grid points over [a, b] with a fine zone [c0, c1]: spacing `edge` at
+ * c0, growing by GROWTH away from it up to `fine` inside the zone and up to
+ * `coarse` below c0; above c1 graded from `fine` (from `edge` when the zone
+ * is a single plane, c0 == c1) to `coarse`. Returns the
+ * point count, writes them to p (may be NULL). edge == fine == coarse gives
+ * a uniform grid. */
+static int grid_1d(double a, double b, double c0, double c1, double edge, double fine,
+                   double coarse, double *p)
 {
-    int n_left = graded_spacings(c0 - a, fine, coarse, NULL);
-    int n_mid = c1 - c0 > 1e-12 * coarse ? (int)ceil((c1 - c0) / fine * (1.0 - 1e-9)) : 0;
-    int n_right = graded_spacings(b - c1, fine, coarse, NULL);
+    int n_left = graded_spacings(c0 - a, edge, coarse, NULL);
+    int n_mid = 0;
+    if (c1 - c0 > 1e-12 * coarse)
+        n_mid = edge < fine ? graded_spacings(c1 - c0, edge, fine, NULL)
+                            : (int)ceil((c1 - c0) / fine * (1.0 - 1e-9));
+    const double start = n_mid > 0 ? fine : edge; /* no zone: both sides from the edge */
+    int n_right = graded_spacings(b - c1, start, coarse, NULL);
     int count = n_left + n_mid + n_right + 1;
     if (!p) return count;
-    double *s = malloc(sizeof *s * (size_t)(n_left > n_right ? n_left + 1 : n_right + 1));
+    int most = n_left > n_right ? n_left : n_right;
+    double *s = malloc(sizeof *s * (size_t)((most > n_mid ? most : n_mid) + 1));
     if (!s) return -1;
     int at = 0;
-    graded_spacings(c0 - a, fine, coarse, s);
+    graded_spacings(c0 - a, edge, coarse, s);
     p[at++] = a;
     double x = a;
     for (int k = n_left - 1; k >= 0; k--) {
         x += s[k];
         p[at++] = k == 0 ? c0 : x;
     }
-    for (int k = 1; k <= n_mid; k++) p[at++] = k == n_mid ? c1 : c0 + (c1 - c0) * k / n_mid;
-    graded_spacings(b - c1, fine, coarse, s);
+    if (n_mid > 0 && edge < fine) {
+        graded_spacings(c1 - c0, edge, fine, s);
+        x = c0;
+        for (int k = 0; k < n_mid; k++) {
+            x += s[k];
+            p[at++] = k == n_mid - 1 ? c1 : x;
+        }
+    } else
+        for (int k = 1; k <= n_mid; k++) p[at++] = k == n_mid ? c1 : c0 + (c1 - c0) * k / n_mid;
+    graded_spacings(b - c1, start, coarse, s);
     x = c1;
     for (int k = 0; k < n_right; k++) {
         x += s[k];
@@ -78,6 +94,8 @@ typedef struct slit_shape {
     double plane;        /* m: coordinate along `across` */
     double from, to;     /* m: range along the other axis */
     double bottom;       /* m: z of the slit's bottom */
+    int through_from;    /* 1: the slit reaches the pad's face at `from` (cut through) */
+    int through_to;      /* 1: the slit reaches the pad's face at `to` */
 } slit_shape;
 
 static int slit_of(const tissue_config *c, slit_shape *sl, char *err, size_t errlen)
@@ -92,10 +110,10 @@ static int slit_of(const tissue_config *c, slit_shape *sl, char *err, size_t err
     for (int e = 0; e < 2; e++)
         for (int i = 0; i < 2; i++) {
             double v = w[2 * e + i];
-            if (!(v > lo[i] && v < hi[i])) {
+            if (!(v >= lo[i] && v <= hi[i])) {
                 snprintf(err, errlen,
                          "wound: end (%g, %g) m lies outside the pad's top face, which spans "
-                         "x %g..%g, y %g..%g m: the ends must lie strictly inside",
+                         "x %g..%g, y %g..%g m: the ends must lie inside or on its edge",
                          w[2 * e], w[2 * e + 1], lo[0], hi[0], lo[1], hi[1]);
                 return -1;
             }
@@ -119,6 +137,14 @@ static int slit_of(const tissue_config *c, slit_shape *sl, char *err, size_t err
     sl->from = along_x ? fmin(w[0], w[2]) : fmin(w[1], w[3]);
     sl->to = along_x ? fmax(w[0], w[2]) : fmax(w[1], w[3]);
     sl->bottom = top - w[4];
+    const int along = 1 - sl->across;
+    sl->through_from = sl->from <= lo[along];
+    sl->through_to = sl->to >= hi[along];
+    if (sl->plane <= lo[sl->across] || sl->plane >= hi[sl->across]) {
+        snprintf(err, errlen, "wound: the slit's plane %g m lies on the pad's edge; it must lie "
+                 "strictly inside %g..%g m", sl->plane, lo[sl->across], hi[sl->across]);
+        return -1;
+    }
     return 1;
 }
 
@@ -128,22 +154,26 @@ static int grid_axes(const tissue_config *c, const slit_shape *sl, int wound, in
 {
     double coarse = c->element_size;
     double fine = wound ? coarse * c->wound_refine : coarse;
+    /* at the slit's bottom edge (a crack front) and across its plane */
+    double tip = fine * (wound ? c->wound_tip_refine : 1.0);
     for (int i = 0; i < 3; i++) {
         double a = c->center[i] - 0.5 * c->size[i], b = c->center[i] + 0.5 * c->size[i];
-        double c0 = a, c1 = a, f = coarse;
+        double c0 = a, c1 = a, f = coarse, e = coarse;
         if (wound) {
-            f = fine;
+            f = e = fine;
             if (i == 2) {
                 c0 = sl->bottom;
                 c1 = b;
+                e = tip;
             } else if (i == sl->across) {
                 c0 = c1 = sl->plane;
+                e = tip;
             } else {
                 c0 = sl->from;
                 c1 = sl->to;
             }
         }
-        grid[i] = grid_1d(a, b, c0, c1, f, coarse, p ? p[i] : NULL);
+        grid[i] = grid_1d(a, b, c0, c1, e, f, coarse, p ? p[i] : NULL);
         if (grid[i] < 2) return -1;
     }
     return 0;
@@ -160,7 +190,7 @@ static int index_of(const double *p, int n, double v)
 int tissue_mesh_count(const tissue_config *c, int grid[3], int *slit_nodes, char *err,
                       size_t errlen)
 {
-    slit_shape sl = {0, 0.0, 0.0, 0.0, 0.0};
+    slit_shape sl = {0, 0.0, 0.0, 0.0, 0.0, 0, 0};
     int wound = slit_of(c, &sl, err, errlen);
     if (wound < 0) return -1;
     if (grid_axes(c, &sl, wound, grid, NULL)) {
@@ -172,7 +202,7 @@ int tissue_mesh_count(const tissue_config *c, int grid[3], int *slit_nodes, char
     if (wound) { /* upper bound: the slit's plane points, rim included */
         double fine = c->element_size * c->wound_refine;
         int along = (int)ceil((sl.to - sl.from) / fine) + 1;
-        int deep = (int)ceil(c->wound[4] / fine) + 1;
+        int deep = (int)ceil(c->wound[4] / (fine * c->wound_tip_refine)) + 1;
         *slit_nodes = along * deep;
     }
     return 0;
@@ -272,7 +302,7 @@ int tissue_mesh_build(const tissue_config *c, tissue_mesh *m, char *err, size_t 
 {
     memset(m, 0, sizeof *m);
     m->slit_axis = -1;
-    slit_shape sl = {0, 0.0, 0.0, 0.0, 0.0};
+    slit_shape sl = {0, 0.0, 0.0, 0.0, 0.0, 0, 0};
     int wound = slit_of(c, &sl, err, errlen);
     if (wound < 0) return -1;
     int *g = m->grid;
@@ -298,6 +328,9 @@ int tissue_mesh_build(const tissue_config *c, tissue_mesh *m, char *err, size_t 
         from = index_of(m->axis[along], g[along], sl.from);
         to = index_of(m->axis[along], g[along], sl.to);
         bottom = index_of(m->axis[2], g[2], sl.bottom);
+        /* a slit cut through to a face has its nodes on that face too */
+        if (sl.through_from) from--;
+        if (sl.through_to) to++;
         copies = (to - from - 1) * (g[2] - 1 - bottom);
         if (copies < 1) copies = 0;
     }
@@ -329,7 +362,7 @@ int tissue_mesh_build(const tissue_config *c, tissue_mesh *m, char *err, size_t 
                     k > bottom) {
                     int d = grid_nodes + m->slit_pairs;
                     memcpy(m->rest + 3 * d, m->rest + 3 * n, sizeof(double) * 3);
-                    m->held[d] = 0;
+                    m->held[d] = m->held[n]; /* a through slit's copy on a held face */
                     copy[n] = d;
                     m->slit_node[m->slit_pairs] = n;
                     m->slit_twin[m->slit_pairs++] = d;
