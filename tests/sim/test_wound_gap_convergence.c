@@ -15,7 +15,7 @@
  * it (wound_tip_refine 1/4); the mesh without the grading is run at the
  * coarsest size for comparison. The observed order is taken from the
  * sequence's own changes, the closed form's 1 % being as large as the
- * finest meshes' error. Decision record draft-wound-gap-convergence. */
+ * finest meshes' error. Decision record 0106-wound-gap-convergence. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

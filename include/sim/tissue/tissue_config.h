@@ -36,7 +36,7 @@ typedef struct tissue_config {
     double wound_tip_refine; /* (0, 1]: the spacing at the slit's bottom edge and across its
                               plane / the wound's, growing by 1.3 per layer away from them
                               (the edge is a crack front; decision record
-                              draft-wound-gap-convergence); 1: uniform at the wound */
+                              0106-wound-gap-convergence); 1: uniform at the wound */
     tissue_held held;
     double pretension[3];  /* strain of the skin's own tension along x y z at the held faces */
     int has_wound;         /* 1: `wound` is a slit */
