@@ -37,8 +37,18 @@ the long end comes into it from the side the tail leaves by):
   through the turn (the long end enters the turn from the hand's side, the
   tail leaves it by that side: a half knot); the long end keeps rising from
   its puncture to the turn and neither puncture kinks;
-- the hands cross: the holder lays the tail to the long end's side (+y),
-  the forceps the long end to the tail's side (-y), both low.
+- the hands cross slowly (1.2 s, then 0.6 s down to 3 mm over the skin):
+  the holder lays the tail to the long end's side (+y), the forceps the
+  long end to the tail's side (-y). Faster (1 s) and on to 16 mm either
+  side, Newton ran past its stall test at 842 steps from 4.75 s (the
+  strands sticking and slipping on the forceps' shaft).
+Not the cinch: the forceps' shaft, parallel to the holder's at 6.7 mm
+from its axis, lies inside the 7 mm turn, so once the turn is off the
+holder's tip the stitch's ring (the long end up from its puncture, over
+the forceps' shaft, down to the knot, the tail, the bite) encircles the
+forceps: drawn apart, the ring tightens on their shaft and the knot stays
+5 mm up (drawn on toward y = -56 mm, the forceps lost the long end at
+6.0 s, 38 mm out, at their 3 N grip).
 With the turn beyond the long end's puncture (y = +8 mm) the long end came
 into it from the tip's side, as the tail did: the turn came off the tip
 with the strands twisted once round each other, an unknot
@@ -62,6 +72,7 @@ STUB = 3.0                   # the long end beyond the forceps
 NODES = 0                    # set below from the length: ds about DS
 DS = 0.92
 DT = 0.02                    # s between path rows
+HOLD_Y = 17.0                # the holder's place over the long end's side after the cross
 
 
 def holder_frame():
@@ -253,12 +264,12 @@ def paths():
     holder.to(t_back, pos=GRASP - back * AXIS)
     forceps.to(t_back)                        # the forceps stay: the turn's tension stays low
     # the hands cross: the tail to +y, the long end to -y, low over the wound
-    holder.to(t_back + 1.0, pos=np.array([0.0, 13.0, 5.0]))
-    forceps.to(t_back + 1.0, pos=np.array([3.0, -13.0, 6.0]))
-    holder.to(t_back + 1.8, pos=np.array([0.0, 16.0, 3.0]))
-    forceps.to(t_back + 1.8, pos=np.array([3.0, -16.0, 3.0]))
-    holder.to(t_back + 2.0)
-    forceps.to(t_back + 2.0)
+    holder.to(t_back + 1.2, pos=np.array([0.0, 14.0, 5.0]))
+    forceps.to(t_back + 1.2, pos=np.array([1.0, -20.0, 5.0]))
+    holder.to(t_back + 1.8, pos=np.array([0.0, HOLD_Y, 3.0]))
+    forceps.to(t_back + 1.8, pos=np.array([1.0, -26.0, 3.0]))
+    holder.to(t_back + 2.2)
+    forceps.to(t_back + 2.2)
     return holder, forceps, t_back
 
 
