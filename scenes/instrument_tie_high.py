@@ -52,7 +52,7 @@ forceps: drawn apart, the ring tightens on their shaft and the knot stays
 With the turn beyond the long end's puncture (y = +8 mm) the long end came
 into it from the tip's side, as the tail did: the turn came off the tip
 with the strands twisted once round each other, an unknot
-(docs/decisions/draft-tie-high.md).
+(docs/decisions/0107-tie-high.md).
 """
 import math
 

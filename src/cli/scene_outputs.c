@@ -942,14 +942,17 @@ int scene_outputs_result_warnings(const rod_model *m, const rod_report *report,
      * physics (an end is a point; a loop can pass over it), not a
      * pass-through: a warning naming the end */
     const int slipped = guarded && knot_track_change_is_slip(knots, m);
-    if (slipped && knots->slip_end < 0)
-        run_warn(w, "the knot type changed at t = %g s (%s -> %s) with no two strands closer "
-                    "than %.3g diameters between that frame and the one before: no strand "
-                    "passed through another, a loop passed over an end of the rod; to keep the "
-                    "knot, lengthen the rod beyond it (rod.length, rod.shape) or raise "
-                    "rod.friction",
-                 knots->change_time, knots->change_from, knots->change_to,
-                 knots->change_gap / m->diameter);
+    if (slipped && knots->slip_end < 0) {
+        /* no pair within the contact's reach in either frame: no distance */
+        char gap[64] = "within reach of each other";
+        if (isfinite(knots->change_gap))
+            snprintf(gap, sizeof gap, "closer than %.3g diameters", knots->change_gap / m->diameter);
+        run_warn(w, "the knot type changed at t = %g s (%s -> %s) with no two strands %s "
+                    "between that frame and the one before: no strand passed through another, "
+                    "a loop passed over an end of the rod; to keep the knot, lengthen the rod "
+                    "beyond it (rod.length, rod.shape) or raise rod.friction",
+                 knots->change_time, knots->change_from, knots->change_to, gap);
+    }
     else if (slipped)
         run_warn(w, "the knot type changed at t = %g s (%s -> %s): the knot slipped off the "
                     "rod's %s end (strands touched %d segment%s from it at t = %g s, the frame "

@@ -22,9 +22,9 @@
  *   knot closed through the stitch's bite); the summary names the thread
  *   an unknot until 3.0-3.6 s (the draw-through), then a trefoil in every
  *   frame to the end (one change only);
- * - the cross costs no Newton stall: under 1.2 CPU s per simulated s (0.35
- *   measured; a cross twice as fast ran Newton past its stall test for 842
- *   steps, 2.2 CPU s per simulated s).
+ * - the run's only warning is the draw-through's (the tail's end passing
+ *   through the turn reads as a loop passing over an end); its speed is
+ *   make bench's, not a test's.
  * The sanitizer build runs the first second only (the run, the strands'
  * distance and the pad). */
 #include <math.h>
@@ -199,9 +199,11 @@ int main(void)
               when_t ? when_t->number : -1.0, type && type->string ? type->string : "none");
         check(changes && changes->count == 1, "the summary: the knot changes %d time(s) (1: the "
               "trefoil stays in every frame after it forms)", changes ? changes->count : -1);
-        const json_value *cpu = json_get(v, "cpu_s_per_sim_s");
-        check(cpu && cpu->number < 1.2, "the run costs %.3g CPU s per simulated s (under 1.2: "
-              "Newton does not stall in the cross)", cpu ? cpu->number : -1.0);
+        const json_value *only = warnings && warnings->count > 0 ? warnings->items[0] : NULL;
+        check(warnings && warnings->count == 1 && only && only->string &&
+                  strstr(only->string, "a loop passed over an end"),
+              "the summary's warnings: %d, the draw-through's (%s)",
+              warnings ? warnings->count : -1, only && only->string ? only->string : "none");
     }
     json_free(v);
     free(text);
