@@ -117,6 +117,12 @@ typedef struct implicit_work {
     int max_reach;         /* the reach the band is sized for; a step uses 2 only while
                               punctures exist (start.c) */
     rod_puncture_state save_puncture[ROD_MAX_PUNCTURES];
+    /* the grasps and their log at the step's start: a split step's half
+     * that was accepted before its other half failed moved them, and the
+     * retry starts from the start again (restore_state) */
+    rod_grasp_state save_grasp[ROD_MAX_INSTRUMENTS];
+    rod_grasp_record save_grasp_log[ROD_MAX_GRASP_LOG];
+    int save_grasp_log_count;
     /* self-contact (sim/contact/self_contact.h): NULL when off */
     rod_self_contact *self;
     int frames_kept;       /* 1: the residual keeps the end-of-step frames, darboux1, d3mid1

@@ -59,6 +59,9 @@ static void save_state(implicit_work *w, const rod_state *s)
     memcpy(w->save_force, s->contact_force, n * 3 * sizeof(double));
     memcpy(w->save_puncture, s->puncture, sizeof s->puncture);
     w->save_puncture_count = s->puncture_count;
+    memcpy(w->save_grasp, s->grasp, sizeof s->grasp);
+    memcpy(w->save_grasp_log, s->grasp_log, sizeof s->grasp_log);
+    w->save_grasp_log_count = s->grasp_log_count;
     w->save_time = s->time;
 }
 
@@ -72,6 +75,9 @@ static void restore_state(const implicit_work *w, rod_state *s)
     memcpy(s->contact_force, w->save_force, n * 3 * sizeof(double));
     memcpy(s->puncture, w->save_puncture, sizeof s->puncture);
     s->puncture_count = w->save_puncture_count;
+    memcpy(s->grasp, w->save_grasp, sizeof s->grasp);
+    memcpy(s->grasp_log, w->save_grasp_log, sizeof s->grasp_log);
+    s->grasp_log_count = w->save_grasp_log_count;
     s->time = w->save_time;
 }
 
