@@ -59,6 +59,8 @@ import math
 import numpy as np
 
 import chords
+# the paths' sampling and key poses, the thread's smoothing: the low tie's
+from instrument_tie import Track, densify, smooth
 
 MM = 1e-3
 W, DEPTH = 4.0, 3.0          # half the bite's width, its depth under the skin
@@ -71,7 +73,6 @@ TIP_Z = 2.0                  # the holder's tip where it takes the tail
 STUB = 3.0                   # the long end beyond the forceps
 NODES = 0                    # set below from the length: ds about DS
 DS = 0.92
-DT = 0.02                    # s between path rows
 HOLD_Y = 17.0                # the holder's place over the long end's side after the cross
 
 
@@ -134,107 +135,6 @@ def thread_line():
     pts.append(tuple(f))
     pts.append(tuple(f + STUB * d))
     return pts
-
-
-def densify(pts, h=0.02):
-    out = [pts[0]]
-    for a, b in zip(pts, pts[1:]):
-        n = max(1, int(math.dist(a, b) / h))
-        for k in range(1, n + 1):
-            out.append(tuple(a[i] + (b[i] - a[i]) * k / n for i in range(3)))
-    return out
-
-
-def smooth(pts, sigma, h=0.02):
-    half = int(3 * sigma / h)
-    w = [math.exp(-0.5 * (k * h / sigma) ** 2) for k in range(-half, half + 1)]
-    out = []
-    n = len(pts)
-    for j in range(n):
-        lo, hi = max(0, j - half), min(n - 1, j + half)
-        m = min(j - lo, hi - j)
-        s, acc = 0.0, [0.0, 0.0, 0.0]
-        for k in range(j - m, j + m + 1):
-            wk = w[k - j + half]
-            s += wk
-            for i in range(3):
-                acc[i] += wk * pts[k][i]
-        out.append(tuple(c / s for c in acc))
-    return out
-
-
-def quat(r):
-    w = math.sqrt(max(0.0, 1.0 + np.trace(r))) / 2.0
-    if w > 1e-6:
-        return np.array([w, (r[2, 1] - r[1, 2]) / (4 * w), (r[0, 2] - r[2, 0]) / (4 * w),
-                         (r[1, 0] - r[0, 1]) / (4 * w)])
-    i = int(np.argmax(np.diag(r)))
-    j, k = (i + 1) % 3, (i + 2) % 3
-    v = math.sqrt(max(0.0, 1.0 + r[i, i] - r[j, j] - r[k, k])) / 2.0
-    q = np.zeros(4)
-    q[0] = (r[k, j] - r[j, k]) / (4 * v)
-    q[1 + i] = v
-    q[1 + j] = (r[j, i] + r[i, j]) / (4 * v)
-    q[1 + k] = (r[k, i] + r[i, k]) / (4 * v)
-    return q
-
-
-def slerp(q0, q1, u):
-    d = float(np.dot(q0, q1))
-    if d < 0:
-        q1, d = -q1, -d
-    if d > 0.9995:
-        q = q0 + u * (q1 - q0)
-        return q / np.linalg.norm(q)
-    a = math.acos(d)
-    return (math.sin((1 - u) * a) * q0 + math.sin(u * a) * q1) / math.sin(a)
-
-
-def rotvec(q):
-    q = q if q[0] >= 0 else -q
-    n = np.linalg.norm(q[1:])
-    if n < 1e-12:
-        return np.zeros(3)
-    return q[1:] / n * 2.0 * math.atan2(n, q[0])
-
-
-class Track:
-    """Key poses of one instrument: position, rotation, opening; eased
-    between (smoothstep), or along a given path, sampled every DT."""
-
-    def __init__(self, pos, rot, jaw):
-        self.t = 0.0
-        self.p = np.array(pos, float)
-        self.q = quat(rot)
-        self.jaw = jaw
-        self.rows = [(0.0, self.p, self.q, jaw)]
-
-    def to(self, t1, pos=None, rot=None, jaw=None, path=None):
-        p1 = self.p if pos is None else np.array(pos, float)
-        if path is not None:
-            p1 = path(1.0)
-        q1 = self.q if rot is None else quat(rot)
-        j1 = self.jaw if jaw is None else jaw
-        n = max(1, int(round((t1 - self.t) / DT)))
-        for k in range(1, n + 1):
-            u = k / n
-            e = u * u * (3 - 2 * u)
-            p = path(e) if path is not None else self.p + e * (p1 - self.p)
-            self.rows.append((self.t + (t1 - self.t) * u, p, slerp(self.q, q1, e),
-                              self.jaw + e * (j1 - self.jaw)))
-        self.t, self.p, self.q, self.jaw = t1, p1, q1, j1
-
-    def write(self, name):
-        prev = None
-        with open(name, "w") as f:
-            f.write("t,x,y,z,rx,ry,rz,jaw\n")
-            for t, p, q, j in self.rows:
-                rv = rotvec(q)
-                if prev is not None and np.linalg.norm(rv - prev) > 0.5:
-                    raise SystemExit("%s: the rotation vector jumps at t = %g" % (name, t))
-                prev = rv
-                f.write("%.2f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.4f\n" % (
-                    t, p[0] * MM, p[1] * MM, p[2] * MM, rv[0], rv[1], rv[2], j))
 
 
 def paths():
