@@ -42,7 +42,7 @@ typedef struct rod_set {
  * one elastic pad, the first rod's, shared by all: rod_surface.solid_shared,
  * rod_model.pad_by_set). Several rods need the implicit scheme and refuse
  * what is not modelled between rods yet (scissors, a needle holder holding
- * the needle, point loads, cuts): the message names the file, line and
+ * the needle, cuts): the message names the file, line and
  * key. Every [instrument] is the scene's: each rod touches all of them;
  * rod = NAME keeps the other rods out of its grasps. Returns 0, or -1 with
  * a message in err (nothing owned then). */

@@ -63,6 +63,8 @@ const ini_key scene_keys_rod[] = {
      "arc length of the load ([point_load] repeats); it acts at the nearest node"},
     {"point_load", "force", "N", "0 0 0", "3 numbers", "global (dead), times the [tip] profile"},
     {"point_load", "moment", "N m", "0 0 0", "3 numbers", "global (dead), times the [tip] profile"},
+    {"point_load", "rod", "-", "-", "a [rod NAME]'s NAME",
+     "several rods: the rod it loads (required with several rods, refused with a bare [rod])"},
 
     {"ends", "root", "-", "clamped", "clamped | pinned | free",
      "clamped: position and frame held; pinned: position held, twist about d3 held, free to "
@@ -367,7 +369,7 @@ void scene_keys_print_markdown(FILE *f, const ini_key *table)
                    "the step, whatever the order of the sections; rods apart cost what each "
                    "costs alone. Drawn in the order's colours "
                    "(`render.rod_color` first). Not with several rods yet: the thesis and static "
-                   "schemes, `[instrument]`, `[point_load]`. Each `[puncture]` names its rod (`puncture.rod`); "
+                   "schemes, scissors, a needle holder holding the needle, `[cut]`. Each `[puncture]` and `[point_load]` names its rod (`puncture.rod`, `point_load.rod`); "
                    "a tissue surface, rigid or an elastic pad, is one for all rods. `--set \"rod NAME.key=V\"` "
                    "sets a key of one rod.\n\n");
     fprintf(f, "| key | unit | default | accepted | meaning |\n| --- | --- | --- | --- | --- |\n");

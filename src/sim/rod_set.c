@@ -43,9 +43,6 @@ static int refuse_for_several(ini_doc *doc, const rod_set *set, int k, char *err
         return ini_error(doc, "cut", 0, "t", err, errlen,
                          "a [cut] names no rod: with several rods it is not accepted yet; "
                          "accepted: a scene with one [rod], or no [cut]");
-    if (m->point_load_count > 0)
-        return ini_error(doc, "point_load", 0, "s", err, errlen,
-                         "a point load names no rod: with several rods it is not accepted yet");
     return 0;
 }
 
@@ -92,8 +89,8 @@ static int refuse_orphans(const ini_doc *doc, const rod_set *set, char *err, siz
 
 /* Every [puncture]'s rod key names a rod of the set (`names`, `count` of
  * them); with several rods it is required. 0, or -1 with a message. */
-static int check_puncture_rods(ini_doc *doc, const char *const *names, int count, char *err,
-                               size_t errlen)
+static int check_section_rods(ini_doc *doc, const char *section, const char *what,
+                              const char *const *names, int count, char *err, size_t errlen)
 {
     char listed[ROD_SET_MAX * (ROD_NAME_LEN + 2)] = "";
     for (int k = 0; k < count && k < ROD_SET_MAX; k++) {
@@ -101,18 +98,18 @@ static int check_puncture_rods(ini_doc *doc, const char *const *names, int count
         snprintf(listed + used, sizeof listed - used, "%s%.*s", k ? ", " : "", ROD_NAME_LEN - 1,
                  names[k]);
     }
-    const int punctures = ini_section_count(doc, "puncture");
-    for (int i = 0; i < punctures; i++) {
+    const int sections = ini_section_count(doc, section);
+    for (int i = 0; i < sections; i++) {
         const char *rod = NULL;
-        if (ini_get_string(doc, "puncture", i, "rod", &rod, err, errlen) < 0) return -1;
+        if (ini_get_string(doc, section, i, "rod", &rod, err, errlen) < 0) return -1;
         if (!rod && count > 1)
-            return ini_error(doc, "puncture", i, "rod", err, errlen,
+            return ini_error(doc, section, i, "rod", err, errlen,
                              "missing; required with several rods: the NAME of the [rod NAME] "
-                             "the thread passing through it is; accepted: %s", listed);
+                             "%s; accepted: %s", what, listed);
         int found = !rod;
         for (int k = 0; k < count && !found; k++) found = strcmp(rod, names[k]) == 0;
         if (!found)
-            return ini_error(doc, "puncture", i, "rod", err, errlen,
+            return ini_error(doc, section, i, "rod", err, errlen,
                              "names no rod of the scene; accepted: %s", listed);
     }
     return 0;
@@ -143,7 +140,10 @@ int scene_read_rods(ini_doc *doc, rod_set *set, char *err, size_t errlen)
                  ini_filename(doc), 0, names[ROD_SET_MAX], ROD_SET_MAX, ROD_SET_MAX);
         return -1;
     }
-    if (check_puncture_rods(doc, names, named, err, errlen)) return -1;
+    if (check_section_rods(doc, "puncture", "the thread passing through it is", names, named,
+                           err, errlen) ||
+        check_section_rods(doc, "point_load", "it loads", names, named, err, errlen))
+        return -1;
     for (int k = 0; k < named; k++) {
         if (strlen(names[k]) >= ROD_NAME_LEN) {
             char section[ROD_NAME_LEN * 4];

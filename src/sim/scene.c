@@ -319,20 +319,30 @@ static int read_ends_physics(ini_doc *doc, rod_model *m, char *err, size_t errle
 }
 
 /* Reads [point_load] (repeatable): s, force, moment. The load acts at the
- * node nearest s (nodes are ds apart: round(s / ds)). */
-static int read_point_loads(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+ * node nearest s (nodes are ds apart: round(s / ds)). With several rods
+ * (rod: this rod's name, NULL for a bare [rod]) each names its rod (rod =
+ * NAME, checked by the set) and a rod takes only its own. */
+static int read_point_loads(ini_doc *doc, rod_model *m, const char *rod, char *err,
+                            size_t errlen)
 {
     int count = ini_section_count(doc, "point_load");
     /* the keys are asked for even without a section: ini strictness is by use */
     for (int i = 0; i < (count > 0 ? count : 1); i++) {
         rod_point_load load = {0};
         double s = -1.0;
+        const char *owner = NULL;
         int has_s = ini_get_double(doc, "point_load", i, "s", &s, err, errlen);
         if (has_s < 0 ||
             ini_get_vector(doc, "point_load", i, "force", load.force, 3, err, errlen) < 0 ||
-            ini_get_vector(doc, "point_load", i, "moment", load.moment, 3, err, errlen) < 0)
+            ini_get_vector(doc, "point_load", i, "moment", load.moment, 3, err, errlen) < 0 ||
+            ini_get_string(doc, "point_load", i, "rod", &owner, err, errlen) < 0)
             return -1;
         if (count == 0) break;
+        if (owner && !rod)
+            return ini_error(doc, "point_load", i, "rod", err, errlen,
+                             "the scene has one bare [rod]: a point load is its own; accepted: "
+                             "no rod key, or [rod NAME] sections");
+        if (owner && strcmp(owner, rod) != 0) continue; /* another rod's */
         if (has_s == 0)
             return ini_error(doc, "point_load", i, "s", err, errlen,
                              "missing; required: the arc length in m where the load acts, 0 to "
@@ -1061,7 +1071,7 @@ int scene_read_rod_of(ini_doc *doc, rod_model *m, const char *rod, const rod_mod
     if (scene_refuse_beam(doc, err, errlen) || read_rod(doc, m, err, errlen) ||
         read_start(doc, m, err, errlen) || read_solver(doc, m, err, errlen) ||
         read_tip(doc, m, err, errlen) || read_loads(doc, m, gravity, err, errlen) ||
-        read_ends_physics(doc, m, err, errlen) || read_point_loads(doc, m, err, errlen) ||
+        read_ends_physics(doc, m, err, errlen) || read_point_loads(doc, m, rod, err, errlen) ||
         read_surfaces(doc, m, rod, err, errlen) || read_instruments(doc, m, err, errlen) ||
         rod_cut_read_scene(doc, m, err, errlen))
         goto fail;

@@ -391,7 +391,8 @@ static void test_refusals(void)
         {"[solver]\nscheme = thesis\n", "implicit scheme only"},
         {"[ends]\nroot = free\n", "[ends] in a scene of named rods"},
         {"[tip c]\nforce = 0 0 1\n", "[tip c] names no rod"},
-        {"[point_load]\ns = 0.1\nforce = 0 0 1\n", "point load names no rod"},
+        {"[point_load]\ns = 0.1\nforce = 0 0 1\n", "[point_load] rod: missing; required with several rods"},
+        {"[point_load]\nrod = c\ns = 0.1\nforce = 0 0 1\n", "names no rod of the scene; accepted: a, b"},
         {"[cut]\nt = 0.1\ns = 0.1\n", "a [cut] names no rod"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -406,6 +407,71 @@ static void test_refusals(void)
         check(rc != 0 && strstr(err, cases[i].expect) && strstr(err, "test.ini:"),
               "refused with its line: %s", err);
     }
+}
+
+/* The largest difference of positions (m) between rod k of run2 (moved
+ * back by dy along y) and the single rod of run1 */
+static double apart_from(const rod_set_run *run2, int k, double dy, const rod_set_run *run1)
+{
+    const rod_state *s = run2->state[k], *o = run1->state[0];
+    double worst = 0.0;
+    for (int n = 0; n < s->nodes; n++)
+        for (int c = 0; c < 3; c++)
+            worst = fmax(worst, fabs(s->position[3 * n + c] - (c == 1 ? dy : 0.0) -
+                                     o->position[3 * n + c]));
+    return worst;
+}
+
+/* A [point_load] names its rod: two ropes 1 m apart, a 2 mN load on rod b
+ * only. Rod a steps as a bare rope without the load, rod b as a bare rope
+ * with it (the same numbers), and the load moves b (by more than a
+ * millimetre: it is not lost) */
+static void test_point_load_per_rod(void)
+{
+    const char *load = "[point_load]\nrod = b\ns = 0.2\nforce = 0 0.002 0.002\n";
+    const char *bare_load = "[point_load]\ns = 0.2\nforce = 0 0.002 0.002\n";
+    char a[1024], b[1024], alone[1024], two[4096], plain[4096], loaded[4096], err[1024];
+    rope_keys(a, sizeof a, "rod a", "ends a", 0.0);
+    rope_keys(b, sizeof b, "rod b", "ends b", 1.0);
+    rope_keys(alone, sizeof alone, "rod", "ends", 0.0);
+    snprintf(two, sizeof two, "%s%s%s%s", a, b, load, shared_keys);
+    snprintf(plain, sizeof plain, "%s%s", alone, shared_keys);
+    snprintf(loaded, sizeof loaded, "%s%s%s", alone, bare_load, shared_keys);
+    rod_set set2, set_plain, set_loaded;
+    int ok = read_set(two, &set2, err, sizeof err) == 0;
+    if (!check(ok, "a point load naming rod b read (%s)", ok ? "ok" : err)) return;
+    ok = read_set(plain, &set_plain, err, sizeof err) == 0 &&
+         read_set(loaded, &set_loaded, err, sizeof err) == 0;
+    if (!check(ok, "the bare ropes read (%s)", ok ? "ok" : err)) return;
+    check(set2.model[0].point_load_count == 0 && set2.model[1].point_load_count == 1,
+          "rod a holds %d point loads (0), rod b %d (1)", set2.model[0].point_load_count,
+          set2.model[1].point_load_count);
+    rod_set_run run2, run_plain, run_loaded;
+    if (rod_set_run_create(&set2, &run2, err, sizeof err) ||
+        rod_set_run_create(&set_plain, &run_plain, err, sizeof err) ||
+        rod_set_run_create(&set_loaded, &run_loaded, err, sizeof err)) {
+        check(0, "runs made: %s", err);
+        return;
+    }
+    rod_report report;
+    int failed = 0;
+    for (int i = 0; i < 250 && !failed; i++)
+        failed |= rod_set_step(&set2, &run2, 0.002, &report) != ROD_OK ||
+                  rod_set_step(&set_plain, &run_plain, 0.002, &report) != ROD_OK ||
+                  rod_set_step(&set_loaded, &run_loaded, 0.002, &report) != ROD_OK;
+    check(!failed, "250 steps of the three runs: %s", failed ? report.message : "ok");
+    check_abs("rod a against the bare rope without the load: largest difference (m)",
+              apart_from(&run2, 0, 0.0, &run_plain), 0.0, 1e-12);
+    check_abs("rod b against the bare rope with the load: largest difference (m)",
+              apart_from(&run2, 1, 1.0, &run_loaded), 0.0, 1e-12);
+    const double moved = apart_from(&run2, 1, 1.0, &run_plain);
+    check(moved > 1e-3, "the load moves rod b: %.4g m from the unloaded rope (over 1 mm)", moved);
+    rod_set_run_destroy(&run2);
+    rod_set_run_destroy(&run_plain);
+    rod_set_run_destroy(&run_loaded);
+    rod_set_release(&set2);
+    rod_set_release(&set_plain);
+    rod_set_release(&set_loaded);
 }
 
 /* A rope half a turn over a clamped taut bar (another rod), a weight W on
@@ -522,5 +588,6 @@ int main(void)
     test_crossing(0.005);  /* mid-segment */
     test_capstan();
     test_refusals();
+    test_point_load_per_rod();
     return test_finish();
 }
