@@ -37,6 +37,7 @@
 #include "test.h"
 #include "test_csv.h"
 #include "test_frames.h"
+#include "test_pose.h"
 #include "test_process.h"
 #include "test_segment.h"
 
@@ -48,36 +49,6 @@
 #define OFF_BY 3.6     /* s: the turn is off the jaws' tip by then (the draw-back ends) */
 #define CROSSED 4.2    /* s: from here the cross carries the holder over the long end */
 #define UNTIL 5.8      /* s: the throw, the turn off the tip and the cross */
-
-/* The holder's pose at time t from its path file (t,x,y,z,rx,ry,rz,jaw;
- * rows every 20 ms): the row at or after t; the tip into tip, the rotation
- * (columns: local axes; x along the jaws to their tip) into r. 0, or -1. */
-static int holder_pose(double t, double tip[3], double r[9])
-{
-    FILE *f = fopen(HOLDER, "r");
-    char line[512];
-    double v[8] = {0};
-    int found = 0;
-    if (f && fgets(line, sizeof line, f))
-        while (!found && fgets(line, sizeof line, f))
-            if (sscanf(line, "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3], &v[4],
-                       &v[5], &v[6], &v[7]) == 8 && v[0] >= t - 1e-9)
-                found = 1;
-    if (f) fclose(f);
-    if (!found) return -1;
-    for (int c = 0; c < 3; c++) tip[c] = v[1 + c];
-    /* Rodrigues: R = I + sin(a) K + (1 - cos(a)) K^2, K the unit axis' cross matrix */
-    const double a = sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
-    const double k[3] = {a > 0 ? v[4] / a : 0, a > 0 ? v[5] / a : 0, a > 0 ? v[6] / a : 0};
-    const double K[9] = {0, -k[2], k[1], k[2], 0, -k[0], -k[1], k[0], 0};
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            double k2 = 0.0;
-            for (int m = 0; m < 3; m++) k2 += K[3 * i + m] * K[3 * m + j];
-            r[3 * i + j] = (i == j) + sin(a) * K[3 * i + j] + (1.0 - cos(a)) * k2;
-        }
-    return 0;
-}
 
 /* The long end's winding (rad) about the holder's axis: summed node to
  * node over the nodes within `radius` of the axis and behind its tip. */
@@ -105,7 +76,7 @@ static double winding(const double *x, const double tip[3], const double r[9], d
 static double winding_at(const double *x, double t)
 {
     double tip[3], r[9];
-    if (holder_pose(t, tip, r) != 0) return NAN;
+    if (test_path_pose(HOLDER, t, tip, r) != 0) return NAN;
     return winding(x, tip, r, 0.007);
 }
 

@@ -34,6 +34,7 @@
 #include "test.h"
 #include "test_csv.h"
 #include "test_frames.h"
+#include "test_pose.h"
 #include "test_process.h"
 #include "test_segment.h"
 
@@ -47,36 +48,6 @@
 #define GRASP_T 3.4    /* s: the frame after the grasp */
 #define LONG_END 73    /* nodes from here on: the long end (the tail and the bite are below) */
 #define JAWS 0.015     /* m: a 14 cm needle holder's jaws */
-
-/* The holder's pose at time t from its path file (t,x,y,z,rx,ry,rz,jaw;
- * rows every 20 ms): the row at or after t; the tip into tip, the rotation
- * (columns: local axes; x along the jaws to their tip) into r. 0, or -1. */
-static int holder_pose(const char *path, double t, double tip[3], double r[9])
-{
-    FILE *f = fopen(path, "r");
-    char line[512];
-    double v[8] = {0};
-    int found = 0;
-    if (f && fgets(line, sizeof line, f))
-        while (!found && fgets(line, sizeof line, f))
-            if (sscanf(line, "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3], &v[4],
-                       &v[5], &v[6], &v[7]) == 8 && v[0] >= t - 1e-9)
-                found = 1;
-    if (f) fclose(f);
-    if (!found) return -1;
-    for (int c = 0; c < 3; c++) tip[c] = v[1 + c];
-    /* Rodrigues: R = I + sin(a) K + (1 - cos(a)) K^2, K the unit axis' cross matrix */
-    const double a = sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
-    const double k[3] = {a > 0 ? v[4] / a : 0, a > 0 ? v[5] / a : 0, a > 0 ? v[6] / a : 0};
-    const double K[9] = {0, -k[2], k[1], k[2], 0, -k[0], -k[1], k[0], 0};
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            double k2 = 0.0;
-            for (int m = 0; m < 3; m++) k2 += K[3 * i + m] * K[3 * m + j];
-            r[3 * i + j] = (i == j) + sin(a) * K[3 * i + j] + (1.0 - cos(a)) * k2;
-        }
-    return 0;
-}
 
 /* The long end's winding (rad) about the holder's axis within `radius` of
  * it, and the stations (m along the axis from the tip, negative behind it)
@@ -161,7 +132,7 @@ int main(void)
         for (int e = 0; e < 2; e++) {
             double tip[3], r[9], quarter_at = NAN, half_at = NAN;
             const double tk = t[at[e]];
-            if (holder_pose("scenes/instrument_tie_single_holder.csv", tk, tip, r)) {
+            if (test_path_pose("scenes/instrument_tie_single_holder.csv", tk, tip, r)) {
                 check(0, "the holder's path scenes/instrument_tie_single_holder.csv has a row at "
                       "%g s", tk);
                 continue;
