@@ -131,4 +131,41 @@ static inline int live_driver_play(char *const *argv, const double start[3], dou
     return live_driver_play_path(argv, live_driver_pose, 7, start, seconds, rate, stderr_path, r);
 }
 
+/* A knotted thread's starting centreline, written to `path` (header x,y,z,
+ * m): a loose overhand knot (Shastri's polynomial trefoil, as
+ * scenes/overhand_path.py, its strands 2.5 diameters of 1 mm apart at the
+ * nearest) with 4 cm straight tails along its end tangents; its polyline
+ * length (m) and its last point (the driven tip, m). -1 when the file
+ * cannot be written. */
+static inline int live_driver_write_knot(const char *path, double *length, double tip[3])
+{
+    FILE *f = fopen(path, "w");
+    if (!f) return -1;
+    const double scale = 2.5 * 0.001 / 0.424, tail = 0.04;
+    const int samples = 4000;
+    double p[3], prev[3] = {0.0, 0.0, 0.0};
+    *length = 0.0;
+    fprintf(f, "x,y,z\n");
+    for (int k = -40; k <= samples + 40; k++) {
+        const int j = k < 0 ? 0 : k > samples ? samples : k;
+        const double t = -1.9 + 3.8 * j / samples;
+        p[0] = scale * (t * t * t - 3.0 * t);
+        p[1] = scale * (t * t * t * t - 4.0 * t * t);
+        p[2] = scale * 0.2 * (t * t * t * t * t - 10.0 * t);
+        /* the tails: along the tangent at each end (derivative of the above) */
+        double d[3] = {3.0 * t * t - 3.0, 4.0 * t * t * t - 8.0 * t, 0.2 * (5.0 * t * t * t * t - 10.0)};
+        const double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        const double along = k < 0 ? tail * k / 40.0 : k > samples ? tail * (k - samples) / 40.0 : 0.0;
+        for (int c = 0; c < 3; c++) p[c] += along * d[c] / n;
+        if (k > -40) {
+            *length += sqrt((p[0] - prev[0]) * (p[0] - prev[0]) + (p[1] - prev[1]) * (p[1] - prev[1]) +
+                            (p[2] - prev[2]) * (p[2] - prev[2]));
+        }
+        fprintf(f, "%.17g,%.17g,%.17g\n", p[0], p[1], p[2]);
+        memcpy(prev, p, sizeof prev);
+    }
+    memcpy(tip, prev, sizeof prev);
+    return fclose(f) ? -1 : 0;
+}
+
 #endif

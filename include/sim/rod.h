@@ -19,7 +19,7 @@ rod_model rod_model_default(void);
  * offending quantity and what is accepted when an input is not physical. */
 int rod_model_derive(rod_model *m, char *err, size_t errlen);
 
-/* Releases what the model owns (the profile table, initial_shape,
+/* Releases what the model owns (the profile table, initial_shape, initial_frames,
  * point_loads, root_motion, tip_motion) and sets them to NULL. A model copied
  * by assignment shares them: release exactly one of the copies. */
 void rod_model_release(rod_model *m);
@@ -58,7 +58,7 @@ void rod_state_destroy(rod_state *s);
 void rod_state_copy(rod_state *to, const rod_state *from);
 /* t = 0: the starting shape (initial_shape, or straight from origin along
  * direction: thesis 4.2's initial condition when those are the defaults),
- * frames twist-free along it, every node moving with initial_velocity, no
+ * frames twist-free along it (or a settled start's, initial_frames), every node moving with initial_velocity, no
  * angular velocity, darboux from the frames, no contact force. */
 void rod_state_reset(const rod_model *m, rod_state *s);
 /* The arc length (m) of the polygon `position` (nodes x 3, ds apart) nearest

@@ -321,6 +321,11 @@ typedef struct rod_model {
                                      resampled to equal arc lengths ds; NULL: straight from
                                      origin along direction. Frames are twist-free along it
                                      (parallel transport from the root's) */
+    double settle;                /* s: the thread's motion from its starting shape before
+                                     t = 0, toward rest (sim/settle.h); 0 (default): none */
+    double *initial_frames;       /* (nodes x 9), owned: the frames at t = 0 when the start
+                                     settled (sim/settle.h), initial_shape then its centreline;
+                                     NULL: twist-free along the shape */
     double shape_tip_moved;       /* m: how far the resampling to NS nodes put the tip from
                                      the shape's last point (0: straight, or given at NS) */
     double shape_moved;           /* m: the farthest the resampled nodes stray from the

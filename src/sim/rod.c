@@ -564,6 +564,8 @@ void rod_model_release(rod_model *m)
     m->profile.table.data = NULL;
     free(m->initial_shape);
     m->initial_shape = NULL;
+    free(m->initial_frames);
+    m->initial_frames = NULL;
     free(m->point_loads);
     m->point_loads = NULL;
     m->point_load_count = 0;
@@ -794,7 +796,10 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     /* the starting shape: positions exactly its nodes; frames twist-free along it. The
      * tangents go in the velocity array (n x 3) until the velocities are written. */
     int bad;
-    if (starting_frames(m, s->frame, s->velocity, &bad)) {
+    if (m->initial_frames) {
+        /* a settled start (sim/settle.h): the frames it left */
+        memcpy(s->frame, m->initial_frames, n * 9 * sizeof(double));
+    } else if (starting_frames(m, s->frame, s->velocity, &bad)) {
         /* rod_model_derive() refuses such a shape; a model not derived gets the default */
         static const double x[3] = {1, 0, 0};
         root_frame(x, s->frame);

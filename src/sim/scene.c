@@ -20,6 +20,7 @@
 #include "sim/cut.h"
 #include "sim/instrument.h"
 #include "sim/rod.h"
+#include "sim/settle.h"
 #include "sim/tissue/tissue.h"
 #include "sim/tissue/tissue_coupling.h"
 
@@ -866,7 +867,7 @@ static double shape_distance(const double *points, int count, const double *node
 }
 
 /* Reads [rod] origin, direction, shape, curvature, initial_velocity,
- * self_contact, friction. */
+ * self_contact, friction, settle. */
 static int read_start(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     int has_origin = ini_get_vector(doc, "rod", 0, "origin", m->origin, 3, err, errlen);
@@ -875,8 +876,13 @@ static int read_start(ini_doc *doc, rod_model *m, char *err, size_t errlen)
         ini_get_vector(doc, "rod", 0, "curvature", m->intrinsic_curvature, 3, err, errlen) < 0 ||
         ini_get_vector(doc, "rod", 0, "initial_velocity", m->initial_velocity, 3, err, errlen) < 0 ||
         ini_get_bool(doc, "rod", 0, "self_contact", &m->self_contact, err, errlen) < 0 ||
-        ini_get_double(doc, "rod", 0, "friction", &m->self_friction, err, errlen) < 0)
+        ini_get_double(doc, "rod", 0, "friction", &m->self_friction, err, errlen) < 0 ||
+        ini_get_double(doc, "rod", 0, "settle", &m->settle, err, errlen) < 0)
         return -1;
+    if (!(m->settle >= 0.0) || !isfinite(m->settle))
+        return ini_error(doc, "rod", 0, "settle", err, errlen,
+                         "must be a finite time >= 0 (s): how long the thread moves from its "
+                         "starting shape toward rest before t = 0 (default 0: none)");
     if (!(m->self_friction >= 0.0) || !isfinite(m->self_friction))
         return ini_error(doc, "rod", 0, "friction", err, errlen,
                          "must be a finite number >= 0: the Coulomb coefficient between strands "
@@ -1058,6 +1064,31 @@ static int read_tissue_pads(ini_doc *doc, rod_model *m, const rod_model *share,
     return 0;
 }
 
+/* [rod] settle: the thread settled from its starting shape (sim/settle.h),
+ * the model complete. What it does not take part with is refused: another
+ * rod, punctures and an elastic pad (their states start from the drawn
+ * shape), instruments and cuts (they act in time). */
+static int settle_start(ini_doc *doc, rod_model *m, const char *rod, char *err, size_t errlen)
+{
+    const char *with = rod                                  ? "several rods"
+                       : m->options.scheme != ROD_SCHEME_IMPLICIT ? "the thesis or static scheme"
+                       : m->puncture_count > 0              ? "a [puncture]"
+                       : m->instrument_count > 0            ? "an [instrument]"
+                       : m->cut_event_count > 0             ? "a [cut]"
+                                                            : NULL;
+    for (int j = 0; j < m->surface_count && !with; j++)
+        if (m->surfaces[j].solid) with = "an elastic pad";
+    if (with)
+        return ini_error(doc, "rod", 0, "settle", err, errlen,
+                         "is not accepted with %s; accepted: one [rod] of the implicit scheme, "
+                         "without punctures, an elastic pad, instruments or cuts, or settle = 0",
+                         with);
+    char why[700];
+    if (rod_model_settle(m, NULL, why, sizeof why))
+        return ini_error(doc, "rod", 0, "settle", err, errlen, "%s", why);
+    return 0;
+}
+
 int scene_read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     return scene_read_rod_of(doc, m, NULL, NULL, err, errlen);
@@ -1100,6 +1131,7 @@ int scene_read_rod_of(ini_doc *doc, rod_model *m, const char *rod, const rod_mod
     /* switched-off physics costs nothing: the loads it would add are zero */
     if (!m->physics.gravity) m->distributed_force[0] = m->distributed_force[1] = m->distributed_force[2] = 0.0;
     if (!m->physics.damping) m->linear_damping = m->angular_damping = 0.0;
+    if (m->settle > 0.0 && settle_start(doc, m, rod, err, errlen)) goto fail;
     return 0;
 fail:
     rod_model_release(m);
