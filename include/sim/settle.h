@@ -22,8 +22,8 @@
 
 #include "sim/rod_types.h"
 
-/* Settles m (derived, m->settle > 0 s, the implicit scheme, no puncture,
- * elastic pad, instrument or cut) as above: its starting shape and frames
+/* Settles m (derived, m->settle > 0 s and at most 100,000 of its steps,
+ * the implicit scheme, no puncture, elastic pad, instrument or cut) as above: its starting shape and frames
  * replaced by the settled ones. Returns 0, or -1 with a message (a step of
  * the settling that failed) and m unchanged. *fastest: the fastest node's
  * speed at the last step, before the velocities were zeroed, m/s (NULL:

@@ -30,7 +30,7 @@ const ini_key scene_keys_rod[] = {
     {"rod", "self_contact", "-", "yes", "yes | no",
      "strands touch at the diameter, never pass (implicit scheme); no: they pass through"},
     {"rod", "friction", "-", "0.2", ">= 0", "Coulomb coefficient between strands that touch"},
-    {"rod", "settle", "s", "0", ">= 0",
+    {"rod", "settle", "s", "0", ">= 0, at most 100000 steps",
      "before t = 0 the thread moves this long from its starting shape, ends held, the tip's "
      "loads as at t = 0, its velocities zeroed whenever its kinetic energy falls; it starts at "
      "rest there (a drawn knot's snap spent before the run; one rod, implicit, no punctures, "

@@ -9,6 +9,10 @@
 
 #include "sim/rod.h"
 
+/* The most steps a settling may take: its time is spent before the run's
+ * first step (a live session's first answer waits for it) */
+#define SETTLE_MAX_STEPS 100000
+
 /* The state's kinetic energy up to the (uniform) mass per length and ds:
  * the sum of its nodes' squared speeds, m^2/s^2 (the test only compares it
  * with the last step's); *fastest: the largest speed, m/s. */
@@ -30,6 +34,13 @@ int rod_model_settle(rod_model *m, double *fastest, char *err, size_t errlen)
     /* the model stepped: the scene's, its ends held where they start (no
      * path) and the tip's loads held at their value at t = 0 (a one-row
      * table replaces them, as a live session holds a free tip's loads) */
+    /* the scene's step, the whole time in equal steps */
+    const double dt = rod_choose_dt(m, NULL);
+    if (!(m->settle / dt <= SETTLE_MAX_STEPS)) {
+        snprintf(err, errlen, "%g s is %.3g steps of the scene's dt = %g s; accepted: at most %d "
+                 "steps", m->settle, m->settle / dt, dt, SETTLE_MAX_STEPS);
+        return -1;
+    }
     rod_model held = *m;
     double row[7] = {0.0};
     rod_tip_load(m, 0.0, &row[1], &row[4]);
@@ -49,8 +60,6 @@ int rod_model_settle(rod_model *m, double *fastest, char *err, size_t errlen)
         goto done;
     }
     if (rod_solver_init(&solver, &held, err, errlen)) goto done;
-    /* the scene's step, the whole time in equal steps */
-    const double dt = rod_choose_dt(m, NULL);
     const long steps = (long)ceil(m->settle / dt - 1e-9);
     const double h = m->settle / (double)steps;
     double last = 0.0, most = 0.0;

@@ -19,8 +19,8 @@
  *   - a straight thread hanging from its clamped tip is at rest already:
  *     settled, it stays straight (every node within 1e-9 m of where it
  *     started);
- *   - settle < 0, or with a puncture: exit 2, the message naming the scene's
- *     line and the key. */
+ *   - settle < 0, with a puncture, or over 100,000 steps: exit 2, the
+ *     message naming the scene's line and the key. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -209,6 +209,7 @@ static void test_refused(void)
     static const struct { const char *extra, *says; } cases[] = {
         {"settle = -1\n", "must be a finite time >= 0"},
         {"settle = 0.01\n[puncture]\npoint = 0 0 0.25\n", "not accepted with a [puncture]"},
+        {"settle = 1000\n", "accepted: at most 100000 steps"},
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         FILE *f = fopen(DIR "/bad.ini", "w");
@@ -230,7 +231,7 @@ static void test_refused(void)
         }
         check(WIFEXITED(rc) && WEXITSTATUS(rc) == 2 && strstr(text, "bad.ini:16: [rod] settle") &&
                   strstr(text, cases[c].says),
-              "%s: exit 2 naming bad.ini:16 [rod] settle, '%s': %s", c ? "with a puncture" : "settle < 0",
+              "case %zu: exit 2 naming bad.ini:16 [rod] settle, '%s': %s", c,
               cases[c].says, text);
     }
 }
