@@ -156,6 +156,17 @@ typedef struct rod_self_contact {
     int near_capacity;     /* max_pairs */
     long without;          /* steps begun without candidates (rod_self_contact_find,
                               margin 0: nothing was near) */
+    /* the rod's bending at the positions of the last search that asked
+     * (shape_skip): turn[k] a bound on the turning angles (rad) summed over
+     * nodes 1..k, most_turn the largest at one node, least_length the
+     * shortest segment (m; 0: a segment without length, no bound) */
+    double *turn;          /* (nodes) */
+    double most_turn, least_length;
+    /* spread[k]: |dt (vbar_{i+1} - vbar_i)| summed over segments 0..k-1 (m),
+     * most_spread the largest one segment's (rod_self_contact_reachable) */
+    double *spread;        /* (nodes) */
+    double most_spread;
+    long shape_skipped;    /* searches whose skip the rod's shape raised (benches) */
 } rod_self_contact;
 
 /* A pair list's skin (rod_self_contact_find), in diameters: the list holds

@@ -62,12 +62,15 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->prox = rod_proximity_create(nodes);
     sc->clear_pos = malloc((size_t)nodes * 3 * sizeof(double));
     sc->list_pos = malloc((size_t)nodes * 3 * sizeof(double));
+    sc->turn = malloc((size_t)nodes * sizeof(double));
+    sc->spread = malloc((size_t)nodes * sizeof(double));
     sc->s = malloc((size_t)9 * SELF_CONTACT_RANK_PAIRS * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     if (!sc->pair || !sc->found || !sc->node_force || !sc->node_map || !sc->mapped || !sc->prox || !sc->s || !sc->rhs ||
         !sc->last_ab || !sc->last_force || !sc->last_share || !sc->last_frac || !sc->last_to ||
         !sc->found_distance || !sc->near ||
-        !sc->slot || !sc->slot_node || !sc->clear_pos || !sc->list_pos) {
+        !sc->slot || !sc->slot_node || !sc->clear_pos || !sc->list_pos || !sc->turn ||
+        !sc->spread) {
         rod_self_contact_destroy(sc);
         return NULL;
     }
@@ -96,6 +99,8 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->rhs);
     free(sc->clear_pos);
     free(sc->list_pos);
+    free(sc->turn);
+    free(sc->spread);
     free(sc->list);
     free(sc->near);
     rod_proximity_destroy(sc->prox);
@@ -128,6 +133,108 @@ int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margi
     return rod_proximity_pairs(sc->prox, pos0, sc->nodes, sc->diameter + margin, sc->skip, NULL, 0);
 }
 
+/* The rod's bending at pos0 into sc->turn, most_turn and least_length
+ * (shape_skip). A node's turning angle 2 asin(c / 2), c the distance
+ * between its two segments' unit tangents, is at most c / sqrt(1 - c^2 /
+ * 4); each is raised over the rounding of the tangents (1e-12 of it and
+ * 1e-14 rad) */
+static void shape_of(rod_self_contact *sc, const double *pos0)
+{
+    const int n = sc->nodes;
+    double before[3] = {0.0, 0.0, 0.0}, least = INFINITY, most = 0.0;
+    sc->turn[0] = 0.0;
+    sc->least_length = 0.0;
+    for (int k = 0; k + 1 < n; k++) {
+        double e[3];
+        v3_sub(e, &pos0[3 * (k + 1)], &pos0[3 * k]);
+        const double length = v3_norm(e);
+        if (!(length > 0.0) || !isfinite(length)) return; /* no bound */
+        least = fmin(least, length);
+        v3_scale(e, e, 1.0 / length);
+        if (k > 0) {
+            double c[3];
+            v3_sub(c, e, before);
+            const double c2 = v3_dot(c, c);
+            /* past 3.96 (some 169 degrees) beyond any bound's use */
+            const double angle = c2 < 3.96 ? sqrt(c2 / (1.0 - 0.25 * c2)) : 4.0;
+            const double bound = angle * (1.0 + 1e-12) + 1e-14;
+            most = fmax(most, bound);
+            sc->turn[k] = sc->turn[k - 1] + bound;
+        }
+        v3_copy(before, e);
+    }
+    if (n > 1) sc->turn[n - 1] = sc->turn[n - 2];
+    sc->most_turn = most;
+    sc->least_length = least;
+}
+
+/* The most of sums over w consecutive entries of a running sum's (sum[k]:
+ * entries 0..k-1; `count` entries), with a margin for their rounding */
+static double most_window(const double *sum, int count, int w)
+{
+    double most = 0.0;
+    for (int i = 0; i + w <= count; i++) most = fmax(most, sum[i + w] - sum[i]);
+    return most + 1e-12 * (sum[count] + fabs(most));
+}
+
+/* The skip `base` (pairs j - i > base are searched) raised to the largest
+ * skip below which the rod's shape (shape_of, at the positions searched)
+ * shows every pair with j - i > base at least threshold (m) apart, so that
+ * a search with it finds the same pairs; with `moving` (spread_of), also
+ * those that cannot come within reach (m) over the step: the same count of
+ * rod_proximity_reachable. For points p on segment i and q on segment j,
+ * q - p is the sum of the m = j - i - 1 segments between and parts of i
+ * and j; every one turns from segment i by at most the turning angles
+ * theta summed over nodes i + 1..j, so along i's tangent |q - p| >=
+ * cos(theta) m least_length >= (1 - theta^2 / 2) m least_length while theta
+ * <= pi / 2. Theta over w nodes is at most w most_turn, and at most
+ * ceil(w / (base + 1)) times the most over any base + 1 nodes. Two of
+ * their nodes' displacements differ by at most the segments' own changes
+ * between them (segments i..j), bounded alike. A rod bent gently over a
+ * few diameters then never walks the stretches near itself in arc length,
+ * only those that may have come round to it */
+static int raised_skip(rod_self_contact *sc, double threshold, double reach, int base, int moving)
+{
+    const int n = sc->nodes, segments = n - 1, w0 = base + 1;
+    if (!(sc->least_length > 0.0) || base + 2 >= segments) return base;
+    const double turn = most_window(sc->turn, n - 1, w0); /* turn[k]: nodes 1..k */
+    const double spread = moving ? most_window(sc->spread, segments, w0 + 1) : 0.0;
+    const double apart = threshold * (1.0 + 1e-9) + 1e-15, beyond = reach * (1.0 + 1e-9) + 1e-15;
+    int skip = base;
+    for (int m = base; m + 1 < segments; m++) {
+        const int w = m + 1; /* nodes turning between segments i and j = i + m + 1 */
+        const double theta = fmin(w * sc->most_turn, (double)((w + w0 - 1) / w0) * turn);
+        if (!(theta < 1.5)) break;
+        const double least = (1.0 - 0.5 * theta * theta) * m * sc->least_length;
+        double moved = INFINITY; /* over segments i..j: w + 1 */
+        if (moving)
+            moved = fmin((w + 1) * sc->most_spread, (double)((w + w0 + 1) / (w0 + 1)) * spread);
+        if (!(least >= apart || least - moved * (1.0 + 1e-12) >= beyond)) break;
+        skip = m + 1;
+    }
+    if (skip > base) sc->shape_skipped++;
+    return skip;
+}
+
+/* spread and most_spread for a step moving each node by dt vbar */
+static void spread_of(rod_self_contact *sc, const double *vbar, double dt)
+{
+    sc->spread[0] = 0.0;
+    sc->most_spread = 0.0;
+    for (int k = 0; k + 1 < sc->nodes; k++) {
+        double d[3];
+        v3_sub(d, &vbar[3 * (k + 1)], &vbar[3 * k]);
+        const double change = dt * v3_norm(d);
+        sc->most_spread = fmax(sc->most_spread, change);
+        sc->spread[k + 1] = sc->spread[k] + change;
+    }
+}
+
+static int shape_skip(rod_self_contact *sc, double threshold, int base)
+{
+    return raised_skip(sc, threshold, 0.0, base, 0);
+}
+
 int rod_self_contact_nothing_near(rod_self_contact *sc, const double *pos0, double near,
                                   double margin)
 {
@@ -136,11 +243,13 @@ int rod_self_contact_nothing_near(rod_self_contact *sc, const double *pos0, doub
      * far apart in index: (j - i - 1) ds < threshold */
     const int straight = 1 + (int)ceil(threshold / sc->ds);
     const int any = ROD_PROXIMITY_ANY | ROD_PROXIMITY_INDEX_ONLY;
-    if (rod_proximity_select(sc->prox, pos0, sc->nodes, sc->diameter + near, sc->skip, any, NULL,
-                             0))
+    shape_of(sc, pos0);
+    if (rod_proximity_select(sc->prox, pos0, sc->nodes, sc->diameter + near,
+                             shape_skip(sc, sc->diameter + near, sc->skip), any, NULL, 0))
         return 0;
     return straight <= sc->skip ||
-           rod_proximity_select(sc->prox, pos0, sc->nodes, threshold, straight, any, NULL, 0) == 0;
+           rod_proximity_select(sc->prox, pos0, sc->nodes, threshold,
+                                shape_skip(sc, threshold, straight), any, NULL, 0) == 0;
 }
 
 /* The non-neighbouring pairs closer than threshold at pos0 into *buffer
@@ -151,20 +260,55 @@ static int pairs_grown(rod_self_contact *sc, const double *pos0, double threshol
                        rod_segment_pair **buffer, int *capacity, int most)
 {
     const int only = ROD_PROXIMITY_INDEX_ONLY; /* from_list measures them again */
-    int found = rod_proximity_select(sc->prox, pos0, sc->nodes, threshold, sc->skip, only, *buffer,
+    shape_of(sc, pos0);
+    const int skip = shape_skip(sc, threshold, sc->skip);
+    int found = rod_proximity_select(sc->prox, pos0, sc->nodes, threshold, skip, only, *buffer,
                                      *capacity);
     if (found <= *capacity || found > most) return found;
     rod_segment_pair *grown = realloc(*buffer, (size_t)found * sizeof *grown);
     if (!grown) return -1;
     *buffer = grown;
     *capacity = found;
-    return rod_proximity_select(sc->prox, pos0, sc->nodes, threshold, sc->skip, only, *buffer,
+    return rod_proximity_select(sc->prox, pos0, sc->nodes, threshold, skip, only, *buffer,
                                 *capacity);
+}
+
+/* 1 when segment a (0..nodes - 2) certainly has a non-neighbour closer
+ * than threshold (m) in pos0: a segment skip + 1 or skip + 2 away along the
+ * rod whose nearest node to a's lies within threshold of it, less 1e-9 of
+ * it over the rounding of both distances (a segment pair's distance is at
+ * most that of any two of their nodes) */
+static int surely_near(const rod_self_contact *sc, const double *pos0, int a, double threshold)
+{
+    const int segments = sc->nodes - 1;
+    const double limit = threshold * (1.0 - 1e-9);
+    for (int gap = sc->skip + 1; gap <= sc->skip + 2; gap++) {
+        const int pairs[2][2] = {{a, a + gap}, {a - gap, a}}; /* (i, j), j - i = gap */
+        for (int k = 0; k < 2; k++) {
+            const int i = pairs[k][0], j = pairs[k][1];
+            if (i < 0 || j >= segments) continue;
+            double d[3];
+            v3_sub(d, &pos0[3 * j], &pos0[3 * (i + 1)]);
+            if (v3_dot(d, d) < limit * limit) return 1;
+        }
+    }
+    return 0;
 }
 
 double rod_self_contact_near_motion(rod_self_contact *sc, const double *pos0, const double *vbar,
                                     double dt, double moved)
 {
+    /* the answer is `moved` when a fastest node's segment is near another
+     * (a straight stretch's arc neighbours within d + 2 moved): shown by
+     * its nodes alone, the pairs unsearched */
+    const double threshold = sc->diameter + 2.0 * moved;
+    for (int i = 0; i < sc->nodes; i++) {
+        if (!(dt * v3_norm(&vbar[3 * i]) == moved)) continue;
+        if ((i > 0 && surely_near(sc, pos0, i - 1, threshold)) ||
+            (i + 1 < sc->nodes && surely_near(sc, pos0, i, threshold)))
+            return moved;
+        break;
+    }
     /* at most the capacity: never grown in the step loop */
     const int found = pairs_grown(sc, pos0, sc->diameter + 2.0 * moved, &sc->near,
                                   &sc->near_capacity, sc->near_capacity);
@@ -180,8 +324,11 @@ double rod_self_contact_near_motion(rod_self_contact *sc, const double *pos0, co
 int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const double *vbar,
                                double dt, double margin)
 {
-    return rod_proximity_reachable(sc->prox, pos0, vbar, dt, sc->nodes, sc->diameter + margin,
-                                   sc->diameter, sc->skip);
+    shape_of(sc, pos0);
+    spread_of(sc, vbar, dt);
+    const double threshold = sc->diameter + margin;
+    return rod_proximity_reachable(sc->prox, pos0, vbar, dt, sc->nodes, threshold, sc->diameter,
+                                   raised_skip(sc, threshold, sc->diameter, sc->skip, 1));
 }
 
 /* Whether every pair within `threshold` (m) at pos0 was within `reach` at
@@ -225,7 +372,9 @@ static void try_clear(rod_self_contact *sc, const double *pos0, double threshold
     const double skin = fmin(threshold, 0.45 * (sc->skip * sc->ds - threshold));
     if (!(skin > 0.05 * threshold) || --sc->clear_wait > 0) return;
     const double reach = threshold + 2.0 * skin;
-    int found = rod_proximity_pairs(sc->prox, pos0, sc->nodes, reach, sc->skip, NULL, 0);
+    shape_of(sc, pos0);
+    int found = rod_proximity_pairs(sc->prox, pos0, sc->nodes, reach,
+                                    shape_skip(sc, reach, sc->skip), NULL, 0);
     if (found == 0) {
         memcpy(sc->clear_pos, pos0, (size_t)sc->nodes * 3 * sizeof(double));
         sc->clear_reach = reach;

@@ -42,6 +42,15 @@
  * press (docs/decisions/0031-b-renewal-policy.md) */
 #define PAIRS_SLOW_STEP 3
 #define PAIRS_B_AGE 10
+/* A slow iteration with strands touching whose full step left the scheme's
+ * own residual below PAIRS_ROD_SOLVED of the iterate's, on a B made 1 to
+ * PAIRS_B_AGE - 1 steps before, keeps B: B solved the rod, and the
+ * slowness is the pairs' overshoot (the line search then cut the step). A
+ * coil lying on itself (NS = 201) renewed B every 2 to 4 steps so, 0.22
+ * Jacobians a step, with no fewer iterations for it; a B made at this
+ * step, or older, is renewed as before (a tight knot's iterations rose by
+ * a fifth without those renewals: docs/decisions/draft-self-contact-idle.md) */
+#define PAIRS_ROD_SOLVED 0.01
 /* A chord iteration that leaves the residual above the tolerance, having
  * contracted it by less than this, marks the factorisation stale, for the
  * next step to renew at its first iterate, or implicit_refresh between
@@ -225,7 +234,10 @@ static int renew_if_slow(implicit_work *w, const rod_model *m, double t, double 
     const int cut_alone = cut < 1.0 && rod_full <= 0.25 * norm &&
                           next <= (1.0 - 0.9 * cut) * norm;
     const int pairs_alone = self_touch && (rod_now <= 0.25 * norm ||
-                                           active_pairs(w) != active_before || cut_alone);
+                                           active_pairs(w) != active_before || cut_alone ||
+                                           (rod_full <= PAIRS_ROD_SOLVED * norm &&
+                                            w->self->b_age >= 1 &&
+                                            w->self->b_age < PAIRS_B_AGE));
     const double slow = w->has_contact && !self_touch ? CONTACT_SLOW_CONTRACTION : 0.25;
     /* slow, and not merely at the round-off floor near the tolerance */
     if (next > slow * norm && next > 10.0 * tol && !pairs_alone &&
