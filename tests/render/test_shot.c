@@ -324,6 +324,13 @@ static void test_shot_caption(void)
              "caption = Needle enters 4 mm from the edge\n", camera);
     snprintf(inside, sizeof inside, "%scaption = Needle enters 4 mm from the edge\n", camera);
     snprintf(outside, sizeof outside, "%scaption = Outside the shot\n", camera);
+    /* a caption longer than the line holds is refused, naming the key */
+    char longer[600], err[512] = "";
+    render_options o;
+    snprintf(longer, sizeof longer, "[shot]\nfrom = 0\nto = 1\ncaption = %0300d\n", 7);
+    check(read_options(longer, &o, err, sizeof err) != 0 && strstr(err, "caption") &&
+              strstr(err, "shorter than 256"),
+          "a 300-character shot caption is refused: %s", err);
     char dir[] = "/tmp/rodsim_captionXXXXXX";
     if (!mkdtemp(dir)) {
         rod_recording_destroy(rec);
