@@ -1,5 +1,9 @@
 #!/bin/sh
 # make demo: renders the headline scenes into out/:
+#   out/stitch.mp4 (+ .png poster): a simple interrupted stitch, a needle
+#     holder driving a curved needle across a gaping wound in elastic skin,
+#     the thread drawn through and the wound's edges drawn together, each
+#     step captioned (about 30 s of CPU);
 #   out/suture.mp4 (+ .png poster, + .csv centreline): a running suture, a
 #     needle making three bites across a wound (about 2 minutes);
 #   out/skin_drop.mp4 (+ .png): a thread dropped on a skin pad (contact,
@@ -14,7 +18,7 @@ cd "$(dirname "$0")/.." || exit 1
 bin=build/release/rodsim
 [ -x "$bin" ] || { echo "demo: $bin is missing; run make first" >&2; exit 1; }
 mkdir -p out
-for scene in suture skin_drop overhand_tight surgeons_knot buckling_twist; do
+for scene in stitch suture skin_drop overhand_tight surgeons_knot buckling_twist; do
     csv=""
     [ "$scene" = suture ] && csv="--csv out/suture.csv"
     # shellcheck disable=SC2086
@@ -25,4 +29,4 @@ for scene in suture skin_drop overhand_tight surgeons_knot buckling_twist; do
         exit "$status"
     fi
 done
-echo "demo: wrote out/suture.mp4, out/suture.png, out/suture.csv, out/skin_drop.mp4, out/skin_drop.png, out/overhand_tight.mp4, out/overhand_tight.png, out/surgeons_knot.mp4, out/surgeons_knot.png, out/buckling_twist.mp4, out/buckling_twist.png"
+echo "demo: wrote out/stitch.mp4, out/stitch.png, out/suture.mp4, out/suture.png, out/suture.csv, out/skin_drop.mp4, out/skin_drop.png, out/overhand_tight.mp4, out/overhand_tight.png, out/surgeons_knot.mp4, out/surgeons_knot.png, out/buckling_twist.mp4, out/buckling_twist.png"

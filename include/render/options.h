@@ -116,6 +116,8 @@ typedef struct render_shot {
                               and elevation; a shot's missing angle from render.view) */
     int has_eye;
     double eye[3];         /* m, global: where the eye stands (sets view and distance) */
+    char caption[256];     /* [shot] caption: the caption line while the shot lasts (over
+                              [render] caption); "": [render]'s */
 } render_shot;
 
 /* A time range played slower ([render] slow_motion = T0 T1 FACTOR). */

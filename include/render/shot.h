@@ -23,6 +23,15 @@ int render_shots_read(ini_doc *doc, render_options *o, char *err, size_t errlen)
  * or -1 for camera_keys. */
 const render_shot *render_shot_at(const render_options *o, double t, int *index);
 
+/* The caption line at simulated time t: the shot's caption while a shot
+ * that gives one lasts, else [render] caption ("" : none). Never NULL. */
+const char *render_caption_at(const render_options *o, double t);
+
+/* 1 when any caption line is drawn at some time ([render]'s or a shot's):
+ * the overlay's band keeps room for it the whole run, so the framing does
+ * not jump at a cut. */
+int render_has_caption(const render_options *o);
+
 /* The camera of shot s from `base` (the framing's camera of this frame, whose
  * projection kind, size in pixels, basis and scale fill in what s leaves
  * out); knot_centre (m, global; NULL: none found) is the point followed

@@ -312,6 +312,8 @@ const ini_key scene_keys_rod[] = {
      "as [render] azimuth (the other angle from the [render] view)"},
     {"shot", "elevation", "deg", "-", "-90 .. 90", "as [render] elevation"},
     {"shot", "eye", "m", "-", "3 numbers", "as [render] eye"},
+    {"shot", "caption", "-", "-", "text",
+     "the caption line while the shot lasts, over [render] caption (absent: [render]'s)"},
     {NULL, NULL, NULL, NULL, NULL, NULL},
 };
 

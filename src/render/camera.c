@@ -7,6 +7,7 @@
 
 #include "base/vec3.h"
 #include "render/geometry.h"
+#include "render/shot.h"
 #include "render/surface.h"
 
 void camera_basis(const double view[3], double back[3], double right[3], double up[3])
@@ -153,7 +154,7 @@ frame_band overlay_band(const rod_recording *rec, const render_options *o, frame
     const unsigned show = o->show;
     int lines = 0;
     if (show & RENDER_SHOW_TITLE) lines++;
-    if ((show & RENDER_SHOW_CAPTION) && o->caption[0]) lines++;
+    if ((show & RENDER_SHOW_CAPTION) && render_has_caption(o)) lines++;
     if (show & RENDER_SHOW_TIME) lines++;
     if (ends_line_shown(rec, o)) lines++;
     if (lines == 0) return base;

@@ -11,6 +11,7 @@
 #include "render/color.h"
 #include "render/geometry.h"
 #include "render/grid.h"
+#include "render/shot.h"
 #include "sim/geometry/knot_across.h"
 
 char *render_format_quantity(char *out, size_t outlen, double value, double scale,
@@ -336,10 +337,11 @@ static void draw_left_column(image *img, const render_overlay *ov, const rod_rec
         left_line(left, ov->title, margin, y, ov->title_text);
         y += 2;
     }
-    if ((show & RENDER_SHOW_CAPTION) && o->caption[0]) {
+    const char *caption = render_caption_at(o, rec->time[frame]);
+    if ((show & RENDER_SHOW_CAPTION) && caption[0]) {
         y += line;
-        text_draw(img, ov->body, margin, y, o->caption, ov->faint);
-        left_line(left, ov->body, margin, y, o->caption);
+        text_draw(img, ov->body, margin, y, caption, ov->faint);
+        left_line(left, ov->body, margin, y, caption);
     }
     if (show & RENDER_SHOW_TIME) {
         y += line;

@@ -137,6 +137,15 @@ static int read_shot(ini_doc *doc, int k, render_options *o, render_shot *s, int
         return ini_error(doc, "shot", k, "ease", err, errlen,
                          "must be 0 (a cut) .. the shot's length %g s", to - from);
     s->ease = ease;
+    const char *caption;
+    status = ini_get_string(doc, "shot", k, "caption", &caption, err, errlen);
+    if (status < 0) return -1;
+    if (status > 0) {
+        if (strlen(caption) >= sizeof s->caption)
+            return ini_error(doc, "shot", k, "caption", err, errlen,
+                             "must be shorter than %d characters", (int)sizeof s->caption);
+        snprintf(s->caption, sizeof s->caption, "%s", caption);
+    }
     /* a shot's azimuth or elevation alone turns the direction the scene gives */
     double view[3];
     v3_copy(view, s->has_view ? s->view : o->view);
@@ -186,6 +195,20 @@ const render_shot *render_shot_at(const render_options *o, double t, int *index)
     }
     if (index) *index = -1;
     return &o->camera_keys;
+}
+
+const char *render_caption_at(const render_options *o, double t)
+{
+    const render_shot *s = render_shot_at(o, t, NULL);
+    return s->caption[0] ? s->caption : o->caption;
+}
+
+int render_has_caption(const render_options *o)
+{
+    if (o->caption[0]) return 1;
+    for (int k = 0; k < o->shot_count; k++)
+        if (o->shots[k].caption[0]) return 1;
+    return 0;
 }
 
 /* The camera looking at target from direction back (unit) at distance

@@ -5,7 +5,10 @@
  * H s / (2 d tan(fov/2)) whatever the framing's own scale); each time is
  * given the camera of the shot that holds it, boundaries included; an ease
  * is halfway at its middle; the drawn frames use these cameras; the title
- * is the opening comment's first sentence, the file's name without one. */
+ * is the opening comment's first sentence, the file's name without one;
+ * a shot's caption is drawn while it lasts and only then: each frame is,
+ * pixel for pixel, the frame of a run whose [render] caption is the one
+ * that time should show. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,6 +18,7 @@
 #include "base/ini.h"
 #include "base/vec3.h"
 #include "render/camera.h"
+#include "render/image.h"
 #include "render/render.h"
 #include "render/shot.h"
 #include "synthetic_recording.h"
@@ -257,6 +261,107 @@ static void test_drawn_cameras(void)
     rod_recording_destroy(rec);
 }
 
+/* Renders rec with the scene text into dir/NAME_frames/ (PNG frames, no
+ * video). 0, or -1. */
+static int render_frames(const rod_recording *rec, const char *text, const char *dir,
+                         const char *name)
+{
+    render_options o;
+    char err[512] = "";
+    if (read_options(text, &o, err, sizeof err)) {
+        check(0, "scene of %s reads (%s)", name, err);
+        return -1;
+    }
+    int rc = render_recording(rec, &o, dir, name, 0, err, sizeof err);
+    check(rc == 0, "%s renders its frames (%s)", name, err);
+    return rc;
+}
+
+/* 1 when frame f of run a and of run b are the same picture. */
+static int same_frame(const char *dir, const char *a, const char *b, int f)
+{
+    char pa[512], pb[512], err[256];
+    snprintf(pa, sizeof pa, "%s/%s_frames/%05d.png", dir, a, f);
+    snprintf(pb, sizeof pb, "%s/%s_frames/%05d.png", dir, b, f);
+    image *x = image_read_png(pa, err, sizeof err), *y = image_read_png(pb, err, sizeof err);
+    int same = x && y && x->width == y->width && x->height == y->height &&
+               memcmp(x->rgb, y->rgb, (size_t)x->width * x->height * 3) == 0;
+    image_destroy(x);
+    image_destroy(y);
+    return same;
+}
+
+static void remove_frames(const char *dir, const char *name, int frames)
+{
+    char path[512];
+    for (int f = 0; f < frames; f++) {
+        snprintf(path, sizeof path, "%s/%s_frames/%05d.png", dir, name, f);
+        unlink(path);
+    }
+    snprintf(path, sizeof path, "%s/%s_frames", dir, name);
+    rmdir(path);
+    snprintf(path, sizeof path, "%s/%s.png", dir, name);
+    unlink(path);
+}
+
+/* [shot] caption: the shot's line replaces [render] caption from its start
+ * to its end and nowhere else. The three runs share one camera (given in
+ * [render], which the shot inherits), so a frame differs only by its
+ * caption line. */
+static void test_shot_caption(void)
+{
+    const int frames = 10;
+    rod_recording *rec = synthetic_recording_create(21, frames, 1.0, 0.01);
+    for (int f = 0; f < frames; f++) {
+        rec->time[f] = f / 10.0;
+        synthetic_arc(rec, f, 2.0 + f, 0);
+    }
+    const char *camera = "[render]\ngrid = no\nframes_png = yes\nlook_at = 0.2 0 0\n"
+                         "distance = 1.5\ntitle = Captions\n";
+    char shots[512], inside[512], outside[512];
+    snprintf(shots, sizeof shots,
+             "%scaption = Outside the shot\n[shot]\nfrom = 0.3\nto = 0.6\n"
+             "caption = Needle enters 4 mm from the edge\n", camera);
+    snprintf(inside, sizeof inside, "%scaption = Needle enters 4 mm from the edge\n", camera);
+    snprintf(outside, sizeof outside, "%scaption = Outside the shot\n", camera);
+    /* a caption longer than the line holds is refused, naming the key */
+    char longer[600], err[512] = "";
+    render_options o;
+    snprintf(longer, sizeof longer, "[shot]\nfrom = 0\nto = 1\ncaption = %0300d\n", 7);
+    check(read_options(longer, &o, err, sizeof err) != 0 && strstr(err, "caption") &&
+              strstr(err, "shorter than 256"),
+          "a 300-character shot caption is refused: %s", err);
+    char dir[] = "/tmp/rodsim_captionXXXXXX";
+    if (!mkdtemp(dir)) {
+        rod_recording_destroy(rec);
+        return;
+    }
+    if (!render_frames(rec, shots, dir, "shots") && !render_frames(rec, inside, dir, "inside") &&
+        !render_frames(rec, outside, dir, "outside")) {
+        int right = 0, seen = 0;
+        for (int f = 0; f < frames; f++) {
+            const int in = rec->time[f] >= 0.3 && rec->time[f] <= 0.6 + 1e-12;
+            const int is_in = same_frame(dir, "shots", "inside", f);
+            const int is_out = same_frame(dir, "shots", "outside", f);
+            seen += !same_frame(dir, "inside", "outside", f);
+            right += in ? is_in && !is_out : is_out && !is_in;
+            if (!(in ? is_in && !is_out : is_out && !is_in))
+                printf("  frame %d (t = %.1f s): as the shot's caption %d, as [render]'s %d\n", f,
+                       rec->time[f], is_in, is_out);
+        }
+        check(seen == frames, "the two captions draw different pixels in %d of %d frames", seen,
+              frames);
+        check(right == frames,
+              "%d of %d frames show the right caption: the shot's at 0.3 .. 0.6 s (4 frames), "
+              "[render]'s elsewhere (6)", right, frames);
+    }
+    remove_frames(dir, "shots", frames);
+    remove_frames(dir, "inside", frames);
+    remove_frames(dir, "outside", frames);
+    rmdir(dir);
+    rod_recording_destroy(rec);
+}
+
 static void test_titles(void)
 {
     static const char *const texts[][2] = {
@@ -318,6 +423,7 @@ int main(void)
     test_fixed_scale();
     test_shots();
     test_titles();
+    test_shot_caption();
     test_drawn_cameras();
     return test_finish();
 }

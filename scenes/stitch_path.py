@@ -1,0 +1,248 @@
+#!/usr/bin/env python3
+"""Writes stitch_shape.csv, stitch_holder.csv and stitch_root.csv, the
+starting thread, the needle holder's path and the tail's path of
+scenes/stitch.ini, and prints the scene's rod length and the planned holes:
+  RODSIM=../build/release/rodsim python3 stitch_path.py
+
+The needle (a 3/8 circle of radius RN) turns about the x axis, the wound's
+direction, in the plane x = 0: the holder holds it at its back (the
+thread's tip), its shafts along x, and pronates: its path's rotation is a
+turn about x by the needle's angle. The needle's circle is centred ZC over
+the skin at the wound, so its point enters the skin BITE before the wound
+(y = -BITE), passes DEPTH under the skin and leaves BITE beyond it.
+
+The thread's starting tip frame is the needle's at the top of its circle
+(d1 down to the centre, d2 = +x, d3 = -y), and the holder's rotation is
+taken from it: the thread starts as a planar curve in x = 0 whose first
+piece runs straight down from the tail (rodsim gives a straight start
+along -z the frame d1 = y, d2 = x, and carries it twist-free along a
+planar curve), so its tip's d2 is +x. From the tail it runs down, turns
+toward +y, runs over the wound HIGH over the skin, turns down and back
+round a half circle, and comes into the needle's back heading -y.
+
+The skin is the pad as it is at t = 0, settled under its pretension;
+wound_closure_path.py's reader of the settled top is used with this
+scene's [surface]."""
+import math
+import os
+
+import wound_closure_path as wcp
+
+RN = 13e-3 / (0.375 * 2 * math.pi)   # m: a P-3 needle, 13 mm along its 3/8 arc: 5.52 mm
+DEPTH = 0.0035                         # m: the bite's depth under the skin (the slit is 2 mm)
+ZC = RN - DEPTH                       # m: the circle's centre over the skin
+BITE = math.sqrt(RN * RN - ZC * ZC)   # m: each hole's distance from the wound's middle
+PHI_IN = math.pi + math.asin(ZC / RN)      # the back's angle with the point at the entry
+PHI_OUT = 2 * math.pi - math.asin(ZC / RN)  # the point at the exit (y = +BITE)
+PHI0 = math.pi / 2                    # the back at the top of its circle at t = 0
+ARC = 0.375 * 2 * math.pi             # the needle's 3/8 circle: its point this far ahead
+PHI_START = PHI_IN - ARC              # the turn's start: the point on the entry hole
+LIFT = (0.0, -0.002, 0.005)           # m: the needle's start, over the bite's circle
+PHI_END = PHI_OUT + 0.35              # the back 2.8 mm out of the exit hole
+
+T_HOLD, T_APPROACH, T_BITE = 0.3, 0.7, 2.4  # s: still, lowered onto the skin, turned through it
+T_PULL = 2.6                          # s: the thread drawn through, the tail coming taut
+T_CLOSE, T_REST = 1.5, 0.5            # s: the ends drawn up and apart; a rest
+PULL_UP = 1.15                        # rad: the long end's rise from the skin, drawn up
+SLACK = 0.002                         # m: thread left slack at the pull's end (its sag)
+PULL_DIR = (0.0, math.cos(PULL_UP), math.sin(PULL_UP))  # the pull's direction from the exit hole
+PHI_PULL = 2 * math.pi + PULL_UP - math.pi / 2  # the needle's back then heading along it (d3)
+CLOSE = (0.0, 0.0005, 0.003)          # m: the holder's further move while the wound closes
+TAIL_TO = (0.0, -0.010, 0.020)        # m: the tail's end (from the entry hole) after the bite
+TAIL_CLOSE = (0.0, -0.0005, 0.003)    # m: its move while the wound closes
+NODES = 81                            # stitch.ini's rod.nodes
+DURATION = T_HOLD + T_APPROACH + T_BITE + T_PULL + T_CLOSE + T_REST
+
+
+def scene_pad():
+    """wound_closure_path's settled top, read with stitch.ini's pad."""
+    wcp.pad_section = lambda scene="stitch.ini", read=wcp.pad_section: read(scene)
+    return wcp.settled_top()
+
+
+def top_at(top, x, y):
+    """z of the settled top at (x, y): wound_closure_path's smallest
+    triangle of the nearest nodes, else (outside the 2 mm cells at the
+    wound, where eight nodes may not surround the point) its nearest
+    triangle of the nearest twelve: a plane through three nodes."""
+    try:
+        return wcp.top_at(top, x, y)
+    except TypeError:
+        near = sorted(top, key=lambda p: (p[0] - x) ** 2 + (p[1] - y) ** 2)[:12]
+        a, b, c = near[0], near[1], next(p for p in near[2:] if abs(
+            (near[1][0] - near[0][0]) * (p[1] - near[0][1]) -
+            (p[0] - near[0][0]) * (near[1][1] - near[0][1])) > 1e-9)
+        det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
+        u = ((x - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (y - a[1])) / det
+        v = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / det
+        return a[2] + u * (b[2] - a[2]) + v * (c[2] - a[2])
+
+
+def smooth(s):
+    """0 .. 1 with zero slope at both ends."""
+    s = min(1.0, max(0.0, s))
+    return 3 * s * s - 2 * s ** 3
+
+
+def back(phi, skin):
+    """The needle's back (the thread's tip) at angle phi of its circle."""
+    return (0.0, RN * math.cos(phi), skin + ZC + RN * math.sin(phi))
+
+
+def start_shape(skin):
+    """The starting centreline, root to tip, as points 0.05 mm apart."""
+    tip = tuple(a + b for a, b in zip(back(PHI0, skin), LIFT))
+    rc = 0.004                       # m: the half circle coming back into the needle
+    high = tip[2] + 2 * rc           # m: the run over the wound
+    ra, drop = 0.003, 0.002          # m: the first turn, the straight start down
+    y_root, y_turn = -0.016, 0.022   # m
+    pts = [(y_root, high + ra + drop)]
+    step = 5e-5
+
+    def line(to):
+        a = pts[-1]
+        n = max(1, int(round(math.dist(a, to) / step)))
+        pts.extend((a[0] + (to[0] - a[0]) * k / n, a[1] + (to[1] - a[1]) * k / n)
+                   for k in range(1, n + 1))
+
+    def arc(cy, cz, r, a0, a1):
+        n = max(2, int(round(abs(a1 - a0) * r / step)))
+        pts.extend((cy + r * math.cos(a0 + (a1 - a0) * k / n), cz + r * math.sin(a0 + (a1 - a0) * k / n))
+                   for k in range(1, n + 1))
+
+    line((y_root, high + ra))
+    arc(y_root + ra, high + ra, ra, math.pi, 1.5 * math.pi)        # down, turning to +y
+    line((y_turn, high))
+    arc(y_turn, high - rc, rc, 0.5 * math.pi, -0.5 * math.pi)     # over and back, to -y
+    line((tip[1], tip[2]))
+    return [(0.0, y, z) for y, z in pts]
+
+
+def on_nodes(fine):
+    """NODES points along the fine polyline, each next one a chord DS from
+    the last, DS chosen so that the last lands on its end: rodsim takes
+    them as they are (resampled, the tip would move off the path's start)."""
+    arc = [0.0]
+    for a, b in zip(fine, fine[1:]):
+        arc.append(arc[-1] + math.dist(a, b))
+
+    def at(s):
+        k = min(max(0, next((i for i, v in enumerate(arc) if v >= s), len(arc) - 1) - 1),
+                len(arc) - 2)
+        f = (s - arc[k]) / (arc[k + 1] - arc[k])
+        return tuple(p + f * (q - p) for p, q in zip(fine[k], fine[k + 1]))
+
+    def walk(ds):
+        pts, s = [fine[0]], 0.0
+        for _ in range(NODES - 1):
+            lo, hi = s, s + 2 * ds
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                if math.dist(at(mid), pts[-1]) < ds:
+                    lo = mid
+                else:
+                    hi = mid
+            s = 0.5 * (lo + hi)
+            pts.append(at(s))
+        return pts, s
+
+    lo, hi = 0.99 * arc[-1] / (NODES - 1), arc[-1] / (NODES - 1)
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        if walk(mid)[1] < arc[-1]:
+            lo = mid
+        else:
+            hi = mid
+    pts = walk(0.5 * (lo + hi))[0]
+    pts[-1] = fine[-1]
+    return pts
+
+
+def holder_rows(skin, pull):
+    """(t, point, angle about x from the start, jaw) of the holder's path."""
+    start = tuple(a + b for a, b in zip(back(PHI0, skin), LIFT))
+    rows = [(0.0, start, 0.0), (T_HOLD, start, 0.0)]
+    for k in range(1, 31):  # lowered and turned until the point touches the entry
+        s = smooth(k / 30)
+        phi = PHI0 + (PHI_START - PHI0) * s
+        p = tuple(a + (1 - s) * b for a, b in zip(back(phi, skin), LIFT))
+        rows.append((T_HOLD + T_APPROACH * k / 30, p, phi - PHI0))
+    t0 = T_HOLD + T_APPROACH
+    n = 120
+    for k in range(1, n + 1):  # the needle's turn, eased in and out
+        phi = PHI_START + (PHI_END - PHI_START) * smooth(k / n)
+        rows.append((t0 + T_BITE * k / n, back(phi, skin), phi - PHI0))
+    out, exit_hole = back(PHI_END, skin), (0.0, BITE, skin)
+    to = tuple(h + pull * p for h, p in zip(exit_hole, PULL_DIR))
+    t0 += T_BITE
+    for k in range(1, 61):  # the needle turned back to lead the thread along the pull
+        s = smooth(k / 60)
+        rows.append((t0 + T_PULL * k / 60, tuple(a + s * (b - a) for a, b in zip(out, to)),
+                     PHI_END + s * (PHI_PULL - PHI_END) - PHI0))
+    t0 += T_PULL
+    for k in range(1, 31):
+        s = smooth(k / 30)
+        rows.append((t0 + T_CLOSE * k / 30, tuple(a + s * c for a, c in zip(to, CLOSE)),
+                     PHI_PULL - PHI0))
+    rows.append((DURATION, rows[-1][1], PHI_PULL - PHI0))
+    return rows
+
+
+def root_rows(shape, skin):
+    """(t, point) of the tail's end: lowered to TAIL_TO from the entry hole
+    over the bite, then drawn out with CLOSE's timing."""
+    start, entry = shape[0], (0.0, -BITE, skin)
+    to = tuple(h + p for h, p in zip(entry, TAIL_TO))
+    rows = [(0.0, start), (T_HOLD, start)]
+    for k in range(1, 41):
+        s = smooth(k / 40)
+        rows.append((T_HOLD + (T_APPROACH + T_BITE) * k / 40,
+                     tuple(a + s * (b - a) for a, b in zip(start, to))))
+    t0 = T_HOLD + T_APPROACH + T_BITE + T_PULL
+    rows.append((t0, to))
+    for k in range(1, 31):
+        s = smooth(k / 30)
+        rows.append((t0 + T_CLOSE * k / 30, tuple(a + s * c for a, c in zip(to, TAIL_CLOSE))))
+    rows.append((DURATION, rows[-1][1]))
+    return rows
+
+
+def main():
+    top = scene_pad()
+    skin = 0.5 * (top_at(top, 0.0, -BITE) + top_at(top, 0.0, BITE))
+    print(f"skin at the holes {top_at(top, 0.0, -BITE):.6g}, {top_at(top, 0.0, BITE):.6g} m")
+    shape = on_nodes(start_shape(skin))
+    length = (NODES - 1) * math.dist(shape[0], shape[1])
+    tail = math.hypot(TAIL_TO[1], TAIL_TO[2])
+    pull = length - tail - 2 * BITE - SLACK  # the long end's length once drawn through
+    with open("stitch_shape.csv", "w") as f:
+        f.write("x,y,z\n")
+        for p in shape:
+            f.write(f"{p[0]:.12g},{p[1]:.12f},{p[2]:.12f}\n")
+    with open("stitch_holder.csv", "w") as f:
+        f.write("t,x,y,z,rx,ry,rz,jaw\n")
+        for t, p, turn in holder_rows(skin, pull):
+            f.write(f"{t:.5f},{p[0]:.12g},{p[1]:.12f},{p[2]:.12f},{turn:.12f},0,0,0\n")
+    with open("stitch_root.csv", "w") as f:
+        f.write("t,x,y,z\n")
+        for t, p in root_rows(shape, skin):
+            f.write(f"{t:.5f},{p[0]:.12g},{p[1]:.12f},{p[2]:.12f}\n")
+    print(f"[rod] length = {length:.12g}")
+    print(f"needle radius {RN:.6g} m, holes at y = -+{BITE:.6g} m on the skin at z = {skin:.6g} m")
+    print(f"tail {tail:.4g} m, long end {pull:.4g} m from the exit hole at the pull's end")
+    for what, phi in (("the point enters", PHI_IN - ARC), ("the point leaves", PHI_OUT - ARC),
+                      ("the back enters", PHI_IN), ("the back leaves", PHI_OUT)):
+        lo, hi = 0.0, 1.0
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if PHI_START + (PHI_END - PHI_START) * smooth(mid) < phi else (lo, mid)
+        print(f"{what} at t = {T_HOLD + T_APPROACH + T_BITE * lo:.3f} s")
+    t0 = T_HOLD + T_APPROACH + T_BITE
+    print(f"the pull {t0:.3g} .. {t0 + T_PULL:.3g} s, the ends drawn up to "
+          f"{t0 + T_PULL + T_CLOSE:.3g} s")
+    print(f"[solver] duration = {DURATION:.6g}")
+
+
+if __name__ == "__main__":
+    os.chdir(os.path.dirname(os.path.abspath(__file__)))
+    main()
