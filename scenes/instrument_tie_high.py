@@ -51,8 +51,8 @@ tightens on whatever passes through it):
   the holder lays the tail to the long end's side (+y), the forceps the
   long end to the tail's side (-y);
 - the cinch: both ends drawn apart low along the skin over 2 s, the
-  holder to CINCH_HOLDER, the forceps to CINCH_FORCEPS, CINCH_Z over the
-  skin, and held 0.7 s: the throw is laid down on the skin between the
+  holder's tip to CINCH_HOLDER, the forceps' to CINCH_FORCEPS (1.5 mm over
+  the skin), and held 0.7 s: the throw is laid down on the skin between the
   punctures (a pull 1 mm shorter each side leaves it 2.2 mm up; 1 mm
   longer kinks the bite, the tail too short).
 With the turn beyond the long end's puncture (y = +8 mm) the long end came
