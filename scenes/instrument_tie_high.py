@@ -17,8 +17,10 @@ it and leaves at y = +W.
 
 The geometry (the why: a long end that comes up out of its puncture and
 turns back toward the tail's side kinks there, a hairpin the 0.92 mm grid
-cannot hold; and a turn the tail is drawn through ties a half knot only if
-the long end comes into it from the side the tail leaves by):
+cannot hold; a turn the tail is drawn through ties a half knot only if the
+long end comes into it from the side the tail leaves by; and the stitch's
+ring, the long end up from its puncture to the knot, the tail and the bite,
+tightens on whatever passes through it):
 - the needle holder points at the tail's end and down by TILT; its tip
   takes the tail's end on the skin first (held, the tail is not drawn
   through the punctures while the long end is wound), while its axis passes
@@ -26,12 +28,20 @@ the long end comes into it from the side the tail leaves by):
 - the long end rises steeply from its puncture to the forceps, past the
   holder's shanks on their +x side;
 - the forceps carry the long end once round the holder's axis there (over
-  it first), a spiral in from where the long end's length keeps them (a
-  loose turn, 7 mm in radius round the shanks' 3.9 mm half width), LEAD
-  nearer the tip than the turn: the strand from the puncture rises to the
-  turn from behind it (the hand's side), so the forceps' shaft, parallel
-  to the holder behind their tip, passes beside it;
-- the forceps come in to 6.7 mm from the axis, the long end slack, and stay;
+  it first), a spiral in from where the long end's length keeps them to
+  R_END (a loose turn, 7 mm in radius round the shanks' 3.9 mm half width:
+  it must pass the box lock), LEAD nearer the tip than the turn, their
+  body turned away from the holder all the way round (body_dir): out from
+  its axis over the top, along -x under it, then round through the forward
+  horizontal to +x once their tip is beside the shanks (x > 5.3 mm, the
+  shanks' half width and the forceps' radius), and out again. A body kept
+  parallel to the holder, as in the first version, passes between the
+  holder and the strand rising from the puncture as the tip goes under
+  (that strand reaches the skin below the holder's axis: no path round it
+  stays above the pad), so the turn's first half is laid over the forceps'
+  jaws and shanks and the ring, once the turn is off the holder, hangs on
+  them: drawn apart it tightened on their shaft, the knot 4-6 mm up;
+- the forceps stay where the spiral ends, outside the turn;
 - the holder draws back along its axis: the turn slides along the shanks,
   over the box lock and off the jaws' tip onto the tail, which it draws
   through the turn (the long end enters the turn from the hand's side, the
@@ -39,16 +49,12 @@ the long end comes into it from the side the tail leaves by):
   its puncture to the turn and neither puncture kinks;
 - the hands cross slowly (1.2 s, then 0.6 s down to 3 mm over the skin):
   the holder lays the tail to the long end's side (+y), the forceps the
-  long end to the tail's side (-y). Faster (1 s) and on to 16 mm either
-  side, Newton ran past its stall test at 842 steps from 4.75 s (the
-  strands sticking and slipping on the forceps' shaft).
-Not the cinch: the forceps' shaft, parallel to the holder's at 6.7 mm
-from its axis, lies inside the 7 mm turn, so once the turn is off the
-holder's tip the stitch's ring (the long end up from its puncture, over
-the forceps' shaft, down to the knot, the tail, the bite) encircles the
-forceps: drawn apart, the ring tightens on their shaft and the knot stays
-5 mm up (drawn on toward y = -56 mm, the forceps lost the long end at
-6.0 s, 38 mm out, at their 3 N grip).
+  long end to the tail's side (-y);
+- the cinch: both ends drawn apart low along the skin over 2 s, the
+  holder's tip to CINCH_HOLDER, the forceps' to CINCH_FORCEPS (1.5 mm over
+  the skin), and held 0.7 s: the throw is laid down on the skin between the
+  punctures (a pull 1 mm shorter each side leaves it 2.2 mm up; 1 mm
+  longer kinks the bite, the tail too short).
 With the turn beyond the long end's puncture (y = +8 mm) the long end came
 into it from the tip's side, as the tail did: the turn came off the tip
 with the strands twisted once round each other, an unknot
@@ -60,7 +66,7 @@ import numpy as np
 
 import chords
 # the paths' sampling and key poses, the thread's smoothing: the low tie's
-from instrument_tie import Track, densify, smooth
+from instrument_tie import DT, Track, densify, quat, rotvec, smooth
 
 MM = 1e-3
 W, DEPTH = 4.0, 3.0          # half the bite's width, its depth under the skin
@@ -74,6 +80,10 @@ STUB = 3.0                   # the long end beyond the forceps
 NODES = 0                    # set below from the length: ds about DS
 DS = 0.92
 HOLD_Y = 17.0                # the holder's place over the long end's side after the cross
+SWING = (300.0, 350.0)       # degrees of the forceps' turn over which their body swings to +x
+SPIN = 1.2                   # rad: the most their rotation vector turns between rows (the swing)
+CINCH_HOLDER = (0.0, 27.0, 1.5)    # the cinch: where the holder's tip draws the tail
+CINCH_FORCEPS = (1.0, -60.0, 1.5)  # and the forceps' tip the long end
 
 
 def holder_frame():
@@ -125,6 +135,71 @@ def spiral(e):
     return around(PHI0 + 2 * math.pi * e, r)
 
 
+def body_dir(phi):
+    """The forceps' body direction (from their tip back, unit) at angle phi
+    (rad, PHI0 .. PHI0 + 2 pi) of their turn round the holder: away from
+    the holder's axis over the top, along -x under it, swinging through the
+    forward horizontal (-y) to +x over SWING, then out again to PHI0."""
+    deg = math.degrees(phi)
+    if deg <= 180.0:
+        return math.cos(phi) * R[:, 2] + math.sin(phi) * UP
+    if deg <= SWING[0]:
+        return -R[:, 2]
+    if deg <= SWING[1]:
+        th = math.pi * (1.0 + (deg - SWING[0]) / (SWING[1] - SWING[0]))
+        return np.array([math.cos(th), math.sin(th), 0.0])
+    a = PHI0 * (deg - SWING[1]) / (math.degrees(PHI0) + 360.0 - SWING[1])
+    return math.cos(a) * R[:, 2] + math.sin(a) * UP
+
+
+def transported(lx, z_before):
+    """The rotation with local x = lx whose z is z_before made normal to it
+    (the jaws' opening plane carried along without twist)."""
+    z = z_before - np.dot(z_before, lx) * lx
+    z /= np.linalg.norm(z)
+    return np.column_stack([lx, np.cross(z, lx), z])
+
+
+class TurningTrack(Track):
+    """A Track whose rotation may follow a direction path (the forceps'
+    turn); its rotation vector is written continuously through half turns
+    (the path file's rotations are interpolated component-wise)."""
+
+    def __init__(self, pos, rot, jaw):
+        super().__init__(pos, rot, jaw)
+        self.rot = rot
+
+    def turn(self, t1, path, direction):
+        """To t1 along path(e), local x = -direction(e) (the body behind
+        the tip), e eased from 0 to 1 (smoothstep)."""
+        n = max(1, int(round((t1 - self.t) / DT)))
+        z = self.rot[:, 2]
+        for k in range(1, n + 1):
+            u = k / n
+            e = u * u * (3 - 2 * u)
+            self.rot = transported(-direction(e), z)
+            z = self.rot[:, 2]
+            self.rows.append((self.t + (t1 - self.t) * u, path(e), quat(self.rot), self.jaw))
+        self.t, self.p, self.q = t1, path(1.0), quat(self.rot)
+
+    def write(self, name):
+        prev = None
+        with open(name, "w") as f:
+            f.write("t,x,y,z,rx,ry,rz,jaw\n")
+            for t, p, q, j in self.rows:
+                rv = rotvec(q)
+                n = np.linalg.norm(rv)
+                if prev is not None and n > 1e-9:
+                    # of the vectors naming this rotation, the nearest the last row's
+                    rv = min((rv + 2 * math.pi * k * rv / n for k in range(-2, 3)),
+                             key=lambda c: np.linalg.norm(c - prev))
+                if prev is not None and np.linalg.norm(rv - prev) > SPIN:
+                    raise SystemExit("%s: the rotation vector jumps at t = %g" % (name, t))
+                prev = rv
+                f.write("%.2f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.4f\n" % (
+                    t, p[0] * MM, p[1] * MM, p[2] * MM, rv[0], rv[1], rv[2], j))
+
+
 def thread_line():
     """Waypoints of the starting shape (mm), from the tail's end."""
     f = around(PHI0, R0)
@@ -141,7 +216,7 @@ def paths():
     """Both instruments' key poses; returns (holder, forceps, the time the
     draw-back ends)."""
     holder = Track(GRASP - 12.0 * AXIS, R, 0.22)
-    forceps = Track(around(PHI0, R0), R, 0.0)
+    forceps = TurningTrack(around(PHI0, R0), transported(-body_dir(PHI0), AXIS), 0.0)
     # the holder runs along its axis onto the tail, jaws open
     holder.to(0.5, pos=GRASP + 0.5 * AXIS)
     forceps.to(0.5)
@@ -149,15 +224,13 @@ def paths():
     # through the punctures by the long end while the forceps wind it
     holder.to(0.7, jaw=0.0)
     forceps.to(0.7)
-    # the forceps carry the long end once round the holder's shanks
-    forceps.to(1.7, path=spiral)
+    # the forceps carry the long end once round the holder's shanks, their
+    # body turned away from it
+    forceps.turn(1.7, spiral, lambda e: body_dir(PHI0 + 2 * math.pi * e))
     holder.to(1.7)
-    # the forceps feed the long end back toward the turn (it loosens) while
-    # the jaws close on the tail's end
-    fed = TURN + LEAD * AXIS + 6.0 * (0.5 * R[:, 2] + UP)
-    forceps.to(2.1, pos=fed)
-    holder.to(1.9)
-    holder.to(2.1, jaw=0.0)
+    # both stay: the forceps outside the turn
+    forceps.to(2.1)
+    holder.to(2.1)
     # the holder draws back along its axis through the turn
     back = np.linalg.norm(GRASP - TURN) + 4.0
     t_back = 3.6
@@ -170,6 +243,11 @@ def paths():
     forceps.to(t_back + 1.8, pos=np.array([1.0, -26.0, 3.0]))
     holder.to(t_back + 2.2)
     forceps.to(t_back + 2.2)
+    # the cinch: the ends drawn apart low along the skin, the throw laid down
+    holder.to(t_back + 4.2, pos=np.array(CINCH_HOLDER))
+    forceps.to(t_back + 4.2, pos=np.array(CINCH_FORCEPS))
+    holder.to(t_back + 4.9)
+    forceps.to(t_back + 4.9)
     return holder, forceps, t_back
 
 

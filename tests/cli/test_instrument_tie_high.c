@@ -4,24 +4,35 @@
  * forceps wind the long end round its shanks 15 mm over the wound, and the
  * holder draws back through the turn, which leaves the jaws' tip with the
  * tail through it: the half knot; then the hands cross, slowly, down to 3
- * mm over the skin.
+ * mm over the skin, and draw the ends apart along it: the cinch.
  *
  * Checked with this file's own geometry (tests/test_segment.h, the holder's
- * pose read from its path file, not the contact code), over the whole 5.8 s:
+ * pose read from its path file, not the contact code), over the whole 8.5 s:
  * - the run completes; no instrument goes into the pad (the summary warns
  *   of any that does); the holder's jaws take the tail within 3 mm of its
  *   end as they close (0.5-0.7 s);
  * - no two segments 5 or more apart along the thread come closer than 0.95
- *   diameters in any output frame (every 20 ms): nothing passes through;
+ *   diameters in any output frame (every 20 ms) to the end of the cross,
+ *   nor than 0.92 in the cinch (the knot's strands pulled tight press into
+ *   each other by 6.5 % of a diameter for a frame as they slide, 7.2 s):
+ *   nothing passes through;
  * - the turn: the long end winds at least 3/4 of a turn round the holder's
- *   axis (within 7 mm of it, behind its tip) at 2.2 s, and less than a
- *   quarter turn from 3.6 to 4.2 s: the turn has left the jaws' tip (later
- *   the cross carries the holder over the long end);
+ *   axis (within 7 mm of it, behind its tip) at 2.2 s, and less than half
+ *   a turn from 3.9 to 4.4 s: the turn has left the jaws' tip (what still
+ *   winds is the knot round the held tail beside the tip; later the cross
+ *   carries the holder over the long end);
  * - the knot: the last frame, both ends drawn out 0.2 m along their last
  *   segments, is a trefoil by the library's knot identification (a half
  *   knot closed through the stitch's bite); the summary names the thread
- *   an unknot until 3.0-3.6 s (the draw-through), then a trefoil in every
+ *   an unknot until 3.6-4.0 s (the draw-through), then a trefoil in every
  *   frame to the end (one change only);
+ * - the cinch: in the last frame the knot (the nodes of segments within
+ *   1.1 diameters of a segment 5 or more apart, above the skin) lies on
+ *   the skin: their mean height over the pad's top at most 2 diameters (a
+ *   strand lying on another is 1.5 up); drawn apart with the forceps'
+ *   shaft inside the stitch's ring, the throw stayed 5 mm up; both grasps
+ *   hold to the end, their largest force under the 5 N grip (nothing slid
+ *   through the jaws);
  * - the run's only warning is the draw-through's (the tail's end passing
  *   through the turn reads as a loop passing over an end); its speed is
  *   make bench's, not a test's.
@@ -43,12 +54,14 @@
 
 #define NODES 128
 #define DIAMETER 0.001 /* m */
-#define MAX_FRAMES 300
+#define MAX_FRAMES 430
 #define LONG_END 48    /* the first node of the long end above the skin */
 #define HOLDER "scenes/instrument_tie_high_holder.csv"
-#define OFF_BY 3.6     /* s: the turn is off the jaws' tip by then (the draw-back ends) */
-#define CROSSED 4.2    /* s: from here the cross carries the holder over the long end */
-#define UNTIL 5.8      /* s: the throw, the turn off the tip and the cross */
+#define OFF_BY 3.9     /* s: the turn is off the jaws' tip by then (the trefoil at 3.82 s) */
+#define CROSSED 4.4    /* s: from here the cross carries the holder over the long end */
+#define UNTIL 8.5      /* s: the throw, the turn off the tip, the cross and the cinch */
+#define CINCH 5.8      /* s: the ends drawn apart from here */
+#define GRIP 5.0       /* N: both instruments' grip in the scene */
 
 /* The long end's winding (rad) about the holder's axis: summed node to
  * node over the nodes within `radius` of the axis and behind its tip. */
@@ -71,6 +84,28 @@ static double winding(const double *x, const double tip[3], const double r[9], d
         prev_angle = angle;
     }
     return fabs(sum);
+}
+
+/* The knot's height (m): the mean height over the pad's top (z = 0) of the
+ * nodes of segments within 1.1 diameters of a segment `gap` or more apart
+ * along the thread, those above the skin; their count into *count. */
+static double knot_height(const double *x, int gap, int *count)
+{
+    int pressing[NODES] = {0};
+    for (int i = 0; i + 1 < NODES; i++)
+        for (int j = i + gap; j + 1 < NODES; j++) {
+            double d[3];
+            for (int c = 0; c < 3; c++) d[c] = x[3 * i + c] - x[3 * j + c];
+            if (v3_norm(d) > 4.0 * DIAMETER) continue;
+            if (segment_distance(&x[3 * i], &x[3 * (i + 1)], &x[3 * j], &x[3 * (j + 1)]) <
+                1.1 * DIAMETER)
+                pressing[i] = pressing[i + 1] = pressing[j] = pressing[j + 1] = 1;
+        }
+    double sum = 0.0;
+    *count = 0;
+    for (int i = 0; i < NODES; i++)
+        if (pressing[i] && x[3 * i + 2] > 0.0) sum += x[3 * i + 2], (*count)++;
+    return *count ? sum / *count : NAN;
 }
 
 static double winding_at(const double *x, double t)
@@ -98,14 +133,24 @@ int main(void)
     int rows = 0, frames = test_read_frames(csv, NODES, MAX_FRAMES, t, &x[0][0], &rows);
     check(frames > 1 && rows == frames * NODES, "the CSV holds %d frames of %d nodes (%d rows)",
           frames, NODES, rows);
-    double worst = INFINITY, when = 0.0;
+    double worst = INFINITY, when = 0.0, tight = INFINITY, tight_t = 0.0;
+    int thrown = 0;
     for (int k = 0; k < frames; k++) {
         double c = closest_strands(x[k], NODES, 5, 4.0 * DIAMETER);
-        if (c < worst) worst = c, when = t[k];
+        if (t[k] <= CINCH + 1e-9) {
+            thrown++;
+            if (c < worst) worst = c, when = t[k];
+        } else if (c < tight) {
+            tight = c, tight_t = t[k];
+        }
     }
     check(worst >= 0.95 * DIAMETER, "no two segments 5 or more apart closer than 0.95 diameters in "
-          "any of %d frames: least %.4g m = %.3f diameters (t = %g s)", frames, worst,
-          worst / DIAMETER, when);
+          "any of %d frames to %g s (the throw and the cross): least %.4g m = %.3f diameters "
+          "(t = %g s)", thrown, CINCH, worst, worst / DIAMETER, when);
+    if (frames > thrown)
+        check(tight >= 0.92 * DIAMETER, "in the cinch (from %g s) none closer than 0.92 "
+              "diameters: least %.3f diameters (t = %g s; the knot's strands, pulled tight, "
+              "press in for a frame while they slide)", CINCH, tight / DIAMETER, tight_t);
 
     char *text = read_text(summary), err[256];
     json_value *v = text ? json_parse(text, err, sizeof err) : NULL;
@@ -137,8 +182,8 @@ int main(void)
         }
         check(before >= 1.5 * M_PI, "at 2.2 s the long end winds %.0f degrees round the holder "
               "(within 7 mm of its axis, behind its tip; at least 270)", before * 180.0 / M_PI);
-        check(after < 0.5 * M_PI, "from %g to %g s it winds at most %.0f degrees (t = %g s; under "
-              "90): the turn has left the jaws' tip", OFF_BY, CROSSED, after * 180.0 / M_PI,
+        check(after < M_PI, "from %g to %g s it winds at most %.0f degrees (t = %g s; under "
+              "180): the turn has left the jaws' tip", OFF_BY, CROSSED, after * 180.0 / M_PI,
               after_t);
 
         /* the knot: both ends drawn out along their last segments */
@@ -164,12 +209,28 @@ int main(void)
         const json_value *what = first && first->count > 1 ? first->items[1] : NULL;
         check(type && type->string && strncmp(type->string, "trefoil", 7) == 0 && when_t &&
                   what && what->string && strncmp(what->string, "trefoil", 7) == 0 &&
-                  when_t->number > 3.0 && when_t->number < 3.6,
-              "the summary: the unknot becomes %s at t = %.3g s (3.0-3.6 s: the turn leaves the "
+                  when_t->number > 3.6 && when_t->number < 4.0,
+              "the summary: the unknot becomes %s at t = %.3g s (3.6-4.0 s: the turn leaves the "
               "jaws' tip), %s at the end", what && what->string ? what->string : "nothing",
               when_t ? when_t->number : -1.0, type && type->string ? type->string : "none");
         check(changes && changes->count == 1, "the summary: the knot changes %d time(s) (1: the "
               "trefoil stays in every frame after it forms)", changes ? changes->count : -1);
+
+        /* the cinch: the throw laid down on the skin, both ends still held */
+        int count = 0;
+        const double height = knot_height(last, 5, &count);
+        check(count >= 8 && height <= 2.0 * DIAMETER, "the last frame (t = %g s): the knot's %d "
+              "pressing nodes above the skin lie %.3g mm over the pad's top on average = %.2f "
+              "diameters (at most 2: the throw on the skin)", t[frames - 1], count, 1e3 * height,
+              height / DIAMETER);
+        for (int i = 0; grasps && i < grasps->count; i++) {
+            const json_value *gi = grasps->items[i], *who = json_get(gi, "instrument");
+            const json_value *off = json_get(gi, "t_off"), *force = json_get(gi, "force");
+            check(!off && force && force->number < GRIP, "the %s holds the thread to the end "
+                  "(t_off %s), its largest force %.3g N under its %g N grip",
+                  who && who->string ? who->string : "?", off ? "set" : "absent",
+                  force ? force->number : -1.0, GRIP);
+        }
         const json_value *only = warnings && warnings->count > 0 ? warnings->items[0] : NULL;
         check(warnings && warnings->count == 1 && only && only->string &&
                   strstr(only->string, "a loop passed over an end"),
