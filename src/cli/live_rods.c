@@ -20,6 +20,7 @@
 #include "cli/live.h"
 #include "cli/run.h"
 #include "base/vec3.h"
+#include "sim/cut.h"
 #include "sim/instrument.h"
 #include "sim/path.h"
 #include "sim/rod_set.h"
@@ -130,13 +131,17 @@ static int make_paths(live_rods *lr, char *err, size_t errlen)
     return 0;
 }
 
-/* Every instrument (several rods hold no needle) follows the lines that
- * name it: live paths in place of each rod's copy of its scene path,
- * starting at its pose and opening at t = 0, at rest. 0, or -1 with err. */
+/* Every instrument but a needle holder holding a rod's needle (its path,
+ * the scene's, drives that rod's tip) follows the lines that name it: live
+ * paths in place of each rod's copy of its scene path, starting at its
+ * pose and opening at t = 0, at rest. 0, or -1 with err. */
 static int make_instrument_paths(live_rods *lr, char *err, size_t errlen)
 {
     const rod_model *m0 = &lr->set.model[0];
     for (int i = 0; i < m0->instrument_count && i < ROD_MAX_INSTRUMENTS; i++) {
+        int needle = 0;
+        for (int k = 0; k < lr->set.count; k++) needle |= lr->set.model[k].instruments[i].needle;
+        if (needle) continue;
         rod_pose pose;
         double jaw, rv[3], *row = lr->instrument_row[i];
         rod_instrument_pose(&m0->instruments[i], 0.0, &pose, &jaw);
@@ -225,7 +230,8 @@ static void record_frame(live_rods *lr)
 {
     if (!lr->record_on) return;
     for (int k = 0; k < lr->set.count; k++)
-        run_csv_frame_into(lr->record.fp, &lr->set.model[k], lr->run.state[k],
+        run_csv_frame_into(lr->record.fp, rod_cut_model(&lr->set.model[k], lr->run.state[k]),
+                           lr->run.state[k],
                            lr->set.count > 1 ? lr->set.name[k] : NULL, lr->force);
 }
 
@@ -342,7 +348,8 @@ static int step_instrument(live_rods *lr, int i, const double *v, char *err, siz
     return -1;
 }
 
-/* The instrument a line "NAME:" names, or -1 */
+/* The instrument a line "NAME:" names (not a needle holder holding a
+ * needle), or -1 */
 static int line_instrument(const live_rods *lr, const char *text)
 {
     const char *colon = strchr(text, ':'), *name = text, *end = colon;
@@ -351,7 +358,7 @@ static int line_instrument(const live_rods *lr, const char *text)
     while (end > name && (end[-1] == ' ' || end[-1] == '\t')) end--;
     const rod_model *m0 = &lr->set.model[0];
     for (int i = 0; i < m0->instrument_count && i < ROD_MAX_INSTRUMENTS; i++)
-        if ((size_t)(end - name) == strlen(m0->instruments[i].name) &&
+        if (lr->instrument_pose[0][i] && (size_t)(end - name) == strlen(m0->instruments[i].name) &&
             strncmp(name, m0->instruments[i].name, (size_t)(end - name)) == 0)
             return i;
     return -1;
