@@ -3,8 +3,8 @@
  * a [cut] or by scissors: the other steps exactly as alone, the cut one as
  * a single rod cut the same way, the piece removed as long as planned;
  * two ropes crossing in contact, the upper one cut beyond the crossing or
- * before it (its nodes renumbered): no pass-through at any step (every
- * segment pair looked at); a needle holder holding one rod's needle; the
+ * before it (its nodes renumbered), or by scissors: no pass-through at any
+ * step (every segment pair looked at); a needle holder holding one rod's needle; the
  * refusals; and for one rod, a step that fails leaves no cut asked by
  * scissors that closed in its discarded attempts. */
 #include <math.h>
@@ -286,25 +286,54 @@ static double brute_closest(const rod_state *a, const rod_state *b)
     return best;
 }
 
-/* scenes/crossing.ini with the upper rope cut at t = 0.3 s at s: no
- * pass-through at any step, the removed piece as planned */
-static void test_crossing_cut(double s, double removed, int first_node)
+/* scenes/crossing.ini with the upper rope cut at s: by a [cut] at 0.3 s,
+ * or (scissors) by level blades closing across it over 0.6 .. 0.7 s, their
+ * middle line along x through y = s - 0.4 m on the floor. No pass-through
+ * at any step, the removed piece as planned. */
+static void test_crossing_cut(double s, double removed, int first_node, int scissors)
 {
     char *base = slurp("scenes/crossing.ini");
     if (!check(base != NULL, "scenes/crossing.ini read as text")) return;
-    const size_t n = strlen(base) + 128;
+    char dir[] = "/tmp/rodsim_crosscut_XXXXXX", path[96] = "", err[1024];
+    if (scissors) {
+        FILE *f = NULL;
+        if (mkdtemp(dir)) {
+            snprintf(path, sizeof path, "%s/snips.csv", dir);
+            f = fopen(path, "w");
+        }
+        if (!check(f != NULL, "the scissors' path written")) {
+            free(base);
+            return;
+        }
+        /* -90 degrees about x: the blades along +x, opening level; the tip
+         * 8 mm past the rope, at its axis' height */
+        fprintf(f, "t,x,y,z,rx,ry,rz,jaw\n");
+        const double rows[][2] = {{0.0, 1.0}, {0.6, 1.0}, {0.7, 0.05}, {2.0, 0.05}};
+        for (int i = 0; i < 4; i++)
+            fprintf(f, "%g,0.008,%.17g,0.002,%.17g,0,0,%g\n", rows[i][0], s - 0.4, -0.5 * M_PI,
+                    rows[i][1]);
+        fclose(f);
+    }
+    const size_t n = strlen(base) + 256;
     char *text = malloc(n);
-    char err[1024];
     char *render = strstr(base, "\n[render]");
     if (render) *render = '\0'; /* the picture is not the simulation's */
-    snprintf(text, n, "%s\n[cut]\nrod = upper\nt = 0.3\ns = %g\n", base, s);
+    if (scissors)
+        snprintf(text, n, "%s\n[instrument]\nkind = scissors\npath = %s\nsize = 0.1\n", base,
+                 path);
+    else
+        snprintf(text, n, "%s\n[cut]\nrod = upper\nt = 0.3\ns = %g\n", base, s);
     free(base);
     rod_set set;
     rod_set_run run;
     int ok = read_set(text, &set, err, sizeof err) == 0;
     free(text);
-    if (!check(ok, "the crossing with a [cut] of the upper rope at s = %g m read (%s)", s,
-               ok ? "ok" : err))
+    if (scissors) {
+        remove(path);
+        rmdir(dir);
+    }
+    if (!check(ok, "the crossing with the upper rope cut at s = %g m by %s read (%s)", s,
+               scissors ? "scissors" : "a [cut]", ok ? "ok" : err))
         return;
     if (rod_set_run_create(&set, &run, err, sizeof err)) {
         check(0, "run made: %s", err);
@@ -526,8 +555,9 @@ int main(void)
 {
     test_cut_far_apart();
     test_scissors_far_apart();
-    test_crossing_cut(0.6, 0.2, 0);   /* beyond the crossing (s = 0.4 m): the tip's side goes */
-    test_crossing_cut(0.15, 0.15, 15); /* before it: the root's side goes, nodes renumbered */
+    test_crossing_cut(0.6, 0.2, 0, 0);   /* beyond the crossing (s = 0.4 m): the tip's side goes */
+    test_crossing_cut(0.15, 0.15, 15, 0); /* before it: the root's side goes, nodes renumbered */
+    test_crossing_cut(0.65, 0.15, 0, 1);  /* scissors beyond it */
     test_needle();
     test_refusals();
     test_failed_step();
