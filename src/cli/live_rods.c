@@ -235,6 +235,26 @@ static void record_frame(live_rods *lr)
                            lr->set.count > 1 ? lr->set.name[k] : NULL, lr->force);
 }
 
+/* --centreline: every rod's node positions (m) after p, one column triple
+ * per node of the uncut rod as the header has it; after a cut (sim/cut.h)
+ * the nodes cut away sit at the cut end, as the recording draws them.
+ * Returns the end. */
+static char *centrelines(const live_rods *lr, char *p)
+{
+    for (int j = 0; lr->centreline && j < lr->set.count; j++) {
+        const rod_state *r = lr->run.state[j];
+        const int first = r->first_node, last = first + r->nodes - 1;
+        for (int i = 0; i < lr->set.model[j].nodes; i++) {
+            const int at = (i < first ? first : i > last ? last : i) - first;
+            for (int c = 0; c < 3; c++) {
+                *p++ = ',';
+                p += numfmt_g(p, r->position[3 * at + c] + 0.0, 12);
+            }
+        }
+    }
+    return p;
+}
+
 /* The answer to a line: rod k's name ("" and zeros for k < 0), the time,
  * the force and moment it exerts on what holds its driven end (a held tip;
  * for a free tip, driven by its loads, the root), the status. */
@@ -252,13 +272,7 @@ static void answer(live_rods *lr, int k, const char *status)
         p += numfmt_g(p, v + 0.0, 12); /* + 0.0: -0 prints as 0 */
     }
     p += snprintf(p, 16, ",%s", status);
-    for (int j = 0; lr->centreline && j < lr->set.count; j++) {
-        const rod_state *r = lr->run.state[j];
-        for (int i = 0; i < 3 * r->nodes; i++) {
-            *p++ = ',';
-            p += numfmt_g(p, r->position[i] + 0.0, 12);
-        }
-    }
+    p = centrelines(lr, p);
     *p++ = '\n';
     fwrite(lr->text, 1, (size_t)(p - lr->text), stdout);
     fflush(stdout);
@@ -287,13 +301,7 @@ static void answer_instrument(live_rods *lr, int i, const char *status)
     p += snprintf(p, ROD_NAME_LEN + 2, ",%s,", held);
     p += numfmt_g(p, at, 12);
     p += snprintf(p, 16, ",%s", status);
-    for (int j = 0; lr->centreline && j < lr->set.count; j++) {
-        const rod_state *r = lr->run.state[j];
-        for (int n = 0; n < 3 * r->nodes; n++) {
-            *p++ = ',';
-            p += numfmt_g(p, r->position[n] + 0.0, 12);
-        }
-    }
+    p = centrelines(lr, p);
     *p++ = '\n';
     fwrite(lr->text, 1, (size_t)(p - lr->text), stdout);
     fflush(stdout);
