@@ -358,12 +358,18 @@ static rod_status make_cuts(const rod_set *set, rod_set_run *run, double t0, rod
         rod_state *s = run->state[k];
         if (m->cut_event_count > 0) rod_cut_scene_events(m, s, t0);
         if (!s->cut_request.pending) continue;
-        const int before = s->cut_count;
+        const int before = s->cut_count, warned = report->warning[0] != '\0';
         if (rod_cut_apply(m, s, report)) {
             char why[sizeof report->message];
             snprintf(why, sizeof why, "%s", report->message);
             snprintf(report->message, sizeof report->message, "rod %s: %.700s", set->name[k], why);
             return ROD_FAILED;
+        }
+        if (!warned && report->warning[0]) { /* the cut dropped: which rod's */
+            char why[sizeof report->warning];
+            snprintf(why, sizeof why, "%s", report->warning);
+            snprintf(report->warning, sizeof report->warning, "rod %.31s: %.440s", set->name[k],
+                     why);
         }
         if (s->cut_count != before && sync_rod(set, run, k, report)) return ROD_FAILED;
     }

@@ -4,9 +4,10 @@
  * a single rod cut the same way, the piece removed as long as planned;
  * two ropes crossing in contact, the upper one cut beyond the crossing or
  * before it (its nodes renumbered), or by scissors: no pass-through at any
- * step (every segment pair looked at); a needle holder holding one rod's needle; the
- * refusals; and for one rod, a step that fails leaves no cut asked by
- * scissors that closed in its discarded attempts. */
+ * step (every segment pair looked at); a needle holder holding one rod's
+ * needle; a cut not made, its warning naming the rod; the refusals; and
+ * for one rod, a step that fails leaves no cut asked by scissors that
+ * closed in its discarded attempts. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -220,7 +221,8 @@ static void test_scissors_far_apart(void)
     /* rod = b: the blades close across a, which they may not cut */
     char only_b[4096], err[1024];
     snprintf(only_b, sizeof only_b, "%s%s%s%srod = b\n", a, b, shared_keys, scissors);
-    if (read_set(only_b, &set, err, sizeof err) || rod_set_run_create(&set, &run, err, sizeof err)) {
+    if (read_set(only_b, &set, err, sizeof err) ||
+        rod_set_run_create(&set, &run, err, sizeof err)) {
         check(0, "scissors with rod = b read and made: %s", err);
     } else {
         rod_report report;
@@ -357,7 +359,8 @@ static void test_crossing_cut(double s, double removed, int first_node, int scis
     }
     check(!failed, "%d steps: %s", steps, failed ? report.message : "ok");
     const rod_state *up = run.state[1];
-    check(up->cut_count == 1 && up->first_node == first_node && up->nodes == 81 - (int)lround(removed / 0.01),
+    const int left = 81 - (int)lround(removed / 0.01);
+    check(up->cut_count == 1 && up->first_node == first_node && up->nodes == left,
           "the upper rope cut once: %d node(s) left from node %d", up->nodes, up->first_node);
     if (up->cut_count == 1)
         check_abs("the piece removed (m) against the planned one", up->cut_log[0].removed,
@@ -461,6 +464,34 @@ static void test_needle(void)
     rod_set_release(&set0);
 }
 
+/* A [cut] of rod b within half a segment of its root is not made: the
+ * warning names the rod */
+static void test_dropped_cut(void)
+{
+    char a[1024], b[1024], two[4096], err[1024];
+    thread_keys(a, sizeof a, "rod a", "ends a", 0.0);
+    thread_keys(b, sizeof b, "rod b", "ends b", 1.0);
+    snprintf(two, sizeof two, "%s%s%s[cut]\nrod = b\nt = 0.01\ns = 0.004\n", a, b, shared_keys);
+    rod_set set;
+    rod_set_run run;
+    if (read_set(two, &set, err, sizeof err) || rod_set_run_create(&set, &run, err, sizeof err)) {
+        check(0, "a [cut] of rod b at s = 0.004 m read and made: %s", err);
+        return;
+    }
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    int failed = 0;
+    for (int i = 0; i < 10 && !failed; i++)
+        failed = rod_set_step(&set, &run, 0.002, &report) != ROD_OK;
+    check(!failed && run.state[1]->cut_count == 0 &&
+              strncmp(report.warning, "rod b: the scene's [cut] at t = 0.01 s", 38) == 0 &&
+              strstr(report.warning, "within half a segment") &&
+              strstr(report.warning, "nothing cut"),
+          "a [cut] 4 mm from rod b's root (ds = 1 cm) is not made: %s", report.warning);
+    rod_set_run_destroy(&run);
+    rod_set_release(&set);
+}
+
 /* What is refused, with the file, line, key and what is accepted */
 static void test_refusals(void)
 {
@@ -559,6 +590,7 @@ int main(void)
     test_crossing_cut(0.15, 0.15, 15, 0); /* before it: the root's side goes, nodes renumbered */
     test_crossing_cut(0.65, 0.15, 0, 1);  /* scissors beyond it */
     test_needle();
+    test_dropped_cut();
     test_refusals();
     test_failed_step();
     return test_finish();
