@@ -53,11 +53,13 @@ typedef struct summary_grasp {
 } summary_grasp;
 
 /* A cut of the thread (sim/cut.h): the scissors' name ("" for the scene's
- * [cut]), when (s), where on the uncut thread (m of arc length from its
- * first node) and the length of the piece taken away (m). */
+ * [cut]), the rod it cut in a scene of named rods ("": the one rod), when
+ * (s), where on the uncut thread (m of arc length from its first node) and
+ * the length of the piece taken away (m). */
 #define SUMMARY_MAX_CUTS 8
 typedef struct summary_cut {
     char instrument[32];
+    char rod[32];
     double t, s, removed;
 } summary_cut;
 /* A rod's knot at the last output frame, as the single rod's knot fields

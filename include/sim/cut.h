@@ -18,7 +18,14 @@
  * grasped when an instrument's jaws hold it there. The side that is not
  * anchored goes; neither anchored: the side not grasped (a grasp on the
  * piece that goes lets go of it); both or neither grasped: the shorter.
- * Both anchored: nothing is cut (a warning): two threads are not modelled. */
+ * Both anchored: nothing is cut (a warning): two threads are not modelled.
+ *
+ * Several rods (sim/rod_set.h): rod_solver_step leaves a rod of a set
+ * (between_rods) uncut; the set's step makes every cut after all the rods'
+ * solves and sweeps, the scissors cutting the rod nearest their blades
+ * (rod_cut_nearest): the contact between rods always sees whole steps of
+ * one thread per rod (the decision record on cutting one of several
+ * rods). */
 #ifndef RODSIM_SIM_CUT_H
 #define RODSIM_SIM_CUT_H
 
@@ -53,6 +60,18 @@ void rod_cut_ask(rod_state *s, int instrument, double arc);
  * or, crossing nothing, says so in report->warning (when it is empty). */
 void rod_cut_on_close(const rod_model *m, int k, rod_state *s, rod_report *report);
 
+/* The thread's point nearest the middle line of scissors k's closed blades
+ * at s->time: the distance (m) returned, its arc length on the thread as it
+ * is now (m) in *arc, and the distance they cut within (m: two blade radii
+ * plus d) in *reach. */
+double rod_cut_nearest(const rod_model *m, int k, const rod_state *s, double *arc, double *reach);
+
+/* Scissors that closed at t on nothing within reach (m) of them, the
+ * nearest thread `distance` (m) away: the warning, in report->warning
+ * when it is empty. */
+void rod_cut_missed(const rod_instrument *in, double t, double distance, double reach,
+                    rod_report *report);
+
 /* Makes the cut s asks for (s->cut_request), m the scene's model: a new
  * rod_cut_model, the state moved onto it, the cut logged (cut_log). A cut
  * that cannot be made (both sides anchored, within half a segment of an
@@ -63,8 +82,10 @@ int rod_cut_apply(const rod_model *m, rod_state *s, rod_report *report);
 
 /* Reads the scene's [cut] sections (repeatable, at most ROD_MAX_CUTS): t
  * (s, > 0) and s (m, inside the thread) into m->cut_events (m->length
- * read before). 0, or -1 with "file:line: [cut] key = value: ..." in err. */
-int rod_cut_read_scene(ini_doc *doc, rod_model *m, char *err, size_t errlen);
+ * read before). rod: the name of the [rod NAME] m is (only the [cut]s
+ * whose rod key names it are its), NULL for a bare [rod] (a rod key is
+ * refused then). 0, or -1 with "file:line: [cut] key = value: ..." in err. */
+int rod_cut_read_scene(ini_doc *doc, rod_model *m, const char *rod, char *err, size_t errlen);
 
 /* The scene's [cut] events whose time falls in the step that went from t0
  * to s->time: asked for (rod_cut_ask). */

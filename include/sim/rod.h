@@ -129,7 +129,8 @@ int rod_solver_init(rod_solver *solver, const rod_model *m, char *err, size_t er
 /* One step of dt from s, m the scene's model. A cut (sim/cut.h) asked for
  * in the step (scissors closing, the scene's [cut]) is made after it; the
  * next step then makes the work again for the thread left and steps that
- * (rod_cut_model(m, s)). */
+ * (rod_cut_model(m, s)). A rod of several (m->between_rods) is not cut
+ * here: the set cuts it after every rod's solve (rod_set_step). */
 rod_status rod_solver_step(rod_solver *solver, const rod_model *m, rod_state *s, double dt,
                            rod_report *report);
 void rod_solver_release(rod_solver *solver);

@@ -40,11 +40,13 @@ typedef struct rod_set {
  * by scene_read_rod (the shared sections, [solver], [loads], [physics],
  * [surface], read for each; each rod's the [puncture]s naming it, and
  * one elastic pad, the first rod's, shared by all: rod_surface.solid_shared,
- * rod_model.pad_by_set). Several rods need the implicit scheme and refuse
- * what is not modelled between rods yet (scissors, a needle holder holding
- * the needle, cuts): the message names the file, line and
- * key. Every [instrument] is the scene's: each rod touches all of them;
- * rod = NAME keeps the other rods out of its grasps. Returns 0, or -1 with
+ * rod_model.pad_by_set). Several rods need the implicit scheme (else the
+ * message names the file, line and key). Each rod's the [cut]s naming it
+ * (rod = NAME, required with several rods). Every [instrument] is the
+ * scene's: each rod touches all of them; rod = NAME keeps the other rods
+ * out of its grasps and cuts; a needle holder with needle = yes holds the
+ * needle of the rod its rod key names (required with several rods): only
+ * that rod's copy has needle set and its tip driven. Returns 0, or -1 with
  * a message in err (nothing owned then). */
 int scene_read_rods(ini_doc *doc, rod_set *set, char *err, size_t errlen);
 void rod_set_release(rod_set *set);
@@ -91,7 +93,12 @@ void rod_set_run_destroy(rod_set_run *run);
  * share, once, under every rod's punctures and contact
  * (tissue_coupling_step_rods). Jaws that closed in the step then take the
  * rod nearest their middle line within their reach (rod_grasp_nearest),
- * once. On failure the message names the rod. */
+ * once; scissors that closed ask the nearest rod within reach for a cut
+ * (rod_cut_nearest). Then the cuts due (scissors', each rod's [cut]s) are
+ * made (rod_cut_apply), each cut rod's solver made again for the thread
+ * left and linked to the others (rod_link_cut): between steps, so that
+ * the sweeps never see a rod change. On failure the message names the
+ * rod. */
 rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_report *report);
 
 /* The step every rod takes: the smallest of each rod's rod_choose_dt. */

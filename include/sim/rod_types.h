@@ -341,7 +341,8 @@ typedef struct rod_model {
     double self_friction;         /* Coulomb coefficient between strands (scene rod.friction) */
     int between_rods;             /* 1: other rods of the scene may touch this one (sim/rod_set.h):
                                      the implicit scheme takes contact's path (line search,
-                                     contact's Jacobian) even without surfaces; 0 (default) */
+                                     contact's Jacobian) even without surfaces; the set makes
+                                     its cuts and takes its grasps; 0 (default) */
     int pad_by_set;               /* 1: its elastic pad is shared with other rods of the scene
                                      (sim/rod_set.h), which couple it after every rod's step:
                                      the rod's own step only links its punctures; 0 (default) */

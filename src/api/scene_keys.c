@@ -179,8 +179,10 @@ const ini_key scene_keys_rod[] = {
     {"instrument", "grip", "N", "5", "> 0",
      "the force along the thread beyond which it slides through closed jaws"},
     {"instrument", "rod", "-", "-", "the NAME of a [rod NAME] (a bare [rod]: rod)",
-     "the only rod its jaws take; absent: the rod nearest their middle when they close (all "
-     "rods touch every instrument); the summary's grasps name the rod"},
+     "the only rod its jaws take (scissors: cut); absent: the rod nearest their middle when "
+     "they close (all rods touch every instrument); the summary's grasps and cuts name the rod; "
+     "with needle = yes and several rods required: the rod whose tip the needle is on (the "
+     "other rods touch the holder, never held by it)"},
     {"instrument", "needle", "-", "no", "yes | no",
      "needle_holder: holds the needle (ends.needle) at its jaws' tip: its path drives the "
      "thread's tip (ends.tip = clamped; no ends.tip_motion)"},
@@ -190,6 +192,9 @@ const ini_key scene_keys_rod[] = {
      "leaves the run (neither held: the shorter)"},
     {"cut", "s", "m", "required", "0 < s < rod.length",
      "where: arc length on the uncut thread from its root, cut at the nearest node"},
+    {"cut", "rod", "-", "-", "a [rod NAME]'s NAME",
+     "several rods: the rod it cuts (required with several rods, refused with a bare [rod]); "
+     "s is on that rod"},
 
     {"physics", "twist", "-", "on", BOOL, "off: twist quasi-static (no torsion waves)"},
     {"physics", "rotary_inertia", "-", "on", BOOL, "off: no rotary inertia (implicit scheme)"},
@@ -375,10 +380,12 @@ void scene_keys_print_markdown(FILE *f, const ini_key *table)
                    "`rod.friction`), each force acting on both rods, equal and opposite, within "
                    "the step, whatever the order of the sections; rods apart cost what each "
                    "costs alone. Drawn in the order's colours "
-                   "(`render.rod_color` first). Not with several rods yet: the thesis and static "
-                   "schemes, scissors, a needle holder holding the needle, `[cut]`. Each `[puncture]` and `[point_load]` names its rod (`puncture.rod`, `point_load.rod`); "
-                   "a tissue surface, rigid or an elastic pad, is one for all rods. `--set \"rod NAME.key=V\"` "
-                   "sets a key of one rod.\n\n");
+                   "(`render.rod_color` first). Not with several rods: the thesis and static "
+                   "schemes. Each `[puncture]`, `[point_load]` and `[cut]` names its rod "
+                   "(`puncture.rod`, `point_load.rod`, `cut.rod`); scissors cut the rod nearest "
+                   "their blades, a needle holder holding the needle names its rod "
+                   "(`instrument.rod`); a tissue surface, rigid or an elastic pad, is one for "
+                   "all rods. `--set \"rod NAME.key=V\"` sets a key of one rod.\n\n");
     fprintf(f, "| key | unit | default | accepted | meaning |\n| --- | --- | --- | --- | --- |\n");
     for (const ini_key *k = table; k->section; k++) {
         fprintf(f, "| `%s.%s` | ", k->section, k->key);

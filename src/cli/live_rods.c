@@ -20,6 +20,7 @@
 #include "cli/live.h"
 #include "cli/run.h"
 #include "base/vec3.h"
+#include "sim/cut.h"
 #include "sim/instrument.h"
 #include "sim/path.h"
 #include "sim/rod_set.h"
@@ -130,13 +131,17 @@ static int make_paths(live_rods *lr, char *err, size_t errlen)
     return 0;
 }
 
-/* Every instrument (several rods hold no needle) follows the lines that
- * name it: live paths in place of each rod's copy of its scene path,
- * starting at its pose and opening at t = 0, at rest. 0, or -1 with err. */
+/* Every instrument but a needle holder holding a rod's needle (its path,
+ * the scene's, drives that rod's tip) follows the lines that name it: live
+ * paths in place of each rod's copy of its scene path, starting at its
+ * pose and opening at t = 0, at rest. 0, or -1 with err. */
 static int make_instrument_paths(live_rods *lr, char *err, size_t errlen)
 {
     const rod_model *m0 = &lr->set.model[0];
     for (int i = 0; i < m0->instrument_count && i < ROD_MAX_INSTRUMENTS; i++) {
+        int needle = 0;
+        for (int k = 0; k < lr->set.count; k++) needle |= lr->set.model[k].instruments[i].needle;
+        if (needle) continue;
         rod_pose pose;
         double jaw, rv[3], *row = lr->instrument_row[i];
         rod_instrument_pose(&m0->instruments[i], 0.0, &pose, &jaw);
@@ -225,8 +230,29 @@ static void record_frame(live_rods *lr)
 {
     if (!lr->record_on) return;
     for (int k = 0; k < lr->set.count; k++)
-        run_csv_frame_into(lr->record.fp, &lr->set.model[k], lr->run.state[k],
+        run_csv_frame_into(lr->record.fp, rod_cut_model(&lr->set.model[k], lr->run.state[k]),
+                           lr->run.state[k],
                            lr->set.count > 1 ? lr->set.name[k] : NULL, lr->force);
+}
+
+/* --centreline: every rod's node positions (m) after p, one column triple
+ * per node of the uncut rod as the header has it; after a cut (sim/cut.h)
+ * the nodes cut away sit at the cut end, as the recording draws them.
+ * Returns the end. */
+static char *centrelines(const live_rods *lr, char *p)
+{
+    for (int j = 0; lr->centreline && j < lr->set.count; j++) {
+        const rod_state *r = lr->run.state[j];
+        const int first = r->first_node, last = first + r->nodes - 1;
+        for (int i = 0; i < lr->set.model[j].nodes; i++) {
+            const int at = (i < first ? first : i > last ? last : i) - first;
+            for (int c = 0; c < 3; c++) {
+                *p++ = ',';
+                p += numfmt_g(p, r->position[3 * at + c] + 0.0, 12);
+            }
+        }
+    }
+    return p;
 }
 
 /* The answer to a line: rod k's name ("" and zeros for k < 0), the time,
@@ -246,13 +272,7 @@ static void answer(live_rods *lr, int k, const char *status)
         p += numfmt_g(p, v + 0.0, 12); /* + 0.0: -0 prints as 0 */
     }
     p += snprintf(p, 16, ",%s", status);
-    for (int j = 0; lr->centreline && j < lr->set.count; j++) {
-        const rod_state *r = lr->run.state[j];
-        for (int i = 0; i < 3 * r->nodes; i++) {
-            *p++ = ',';
-            p += numfmt_g(p, r->position[i] + 0.0, 12);
-        }
-    }
+    p = centrelines(lr, p);
     *p++ = '\n';
     fwrite(lr->text, 1, (size_t)(p - lr->text), stdout);
     fflush(stdout);
@@ -281,13 +301,7 @@ static void answer_instrument(live_rods *lr, int i, const char *status)
     p += snprintf(p, ROD_NAME_LEN + 2, ",%s,", held);
     p += numfmt_g(p, at, 12);
     p += snprintf(p, 16, ",%s", status);
-    for (int j = 0; lr->centreline && j < lr->set.count; j++) {
-        const rod_state *r = lr->run.state[j];
-        for (int n = 0; n < 3 * r->nodes; n++) {
-            *p++ = ',';
-            p += numfmt_g(p, r->position[n] + 0.0, 12);
-        }
-    }
+    p = centrelines(lr, p);
     *p++ = '\n';
     fwrite(lr->text, 1, (size_t)(p - lr->text), stdout);
     fflush(stdout);
@@ -342,7 +356,8 @@ static int step_instrument(live_rods *lr, int i, const double *v, char *err, siz
     return -1;
 }
 
-/* The instrument a line "NAME:" names, or -1 */
+/* The instrument a line "NAME:" names (not a needle holder holding a
+ * needle), or -1 */
 static int line_instrument(const live_rods *lr, const char *text)
 {
     const char *colon = strchr(text, ':'), *name = text, *end = colon;
@@ -351,7 +366,7 @@ static int line_instrument(const live_rods *lr, const char *text)
     while (end > name && (end[-1] == ' ' || end[-1] == '\t')) end--;
     const rod_model *m0 = &lr->set.model[0];
     for (int i = 0; i < m0->instrument_count && i < ROD_MAX_INSTRUMENTS; i++)
-        if ((size_t)(end - name) == strlen(m0->instruments[i].name) &&
+        if (lr->instrument_pose[0][i] && (size_t)(end - name) == strlen(m0->instruments[i].name) &&
             strncmp(name, m0->instruments[i].name, (size_t)(end - name)) == 0)
             return i;
     return -1;

@@ -17,6 +17,7 @@
 #include "cli/scene_outputs.h"
 #include "cli/summary.h"
 #include "sim/contact/between_rods.h"
+#include "sim/cut.h"
 #include "sim/instrument_path.h"
 #include "sim/recording.h"
 #include "sim/rod_set.h"
@@ -118,6 +119,12 @@ static void pad_frame(rods_run *r)
     for (int q = 0; q < r->stitch_count; q++) sum->stitch_gap[g][q] = rod_stitch_gap(r, r->stitch_rod[q]);
 }
 
+/* The model rod k's state is of: after a cut, the thread left's (sim/cut.h) */
+static const rod_model *model_now(const rods_run *r, int k)
+{
+    return rod_cut_model(&r->set.model[k], r->run.state[k]);
+}
+
 /* Identifies rod k's knot in this frame and notes a change. The strands'
  * closest approach between frames is not measured in a run of several rods:
  * 0 is passed, so that only strands touching near an end call a change a
@@ -127,7 +134,7 @@ static void track_knot(rods_run *r, int k)
     knot_track *t = &r->knot[k];
     const int before = t->changes;
     const rod_state *s = r->run.state[k];
-    knot_track_frame(t, &r->set.model[k], s, 0.0);
+    knot_track_frame(t, model_now(r, k), s, 0.0);
     if (t->changes > before && r->knot_change_count[k] < SUMMARY_MAX_KNOT_CHANGES) {
         summary_knot_change *c = &r->knot_changes[k][r->knot_change_count[k]++];
         c->t = s->time;
@@ -170,10 +177,10 @@ static int output_frame(rods_run *r)
 {
     const int several = r->set.count > 1;
     for (int k = 0; k < r->set.count; k++) {
-        if (r->csv && run_csv_frame_named(r->csv, &r->set.model[k], r->run.state[k],
+        if (r->csv && run_csv_frame_named(r->csv, model_now(r, k), r->run.state[k],
                                           several ? r->set.name[k] : NULL))
             return -1;
-        if (r->rec[k] && rod_recording_append(r->rec[k], &r->set.model[k], r->run.state[k]))
+        if (r->rec[k] && rod_recording_append(r->rec[k], model_now(r, k), r->run.state[k]))
             return -1;
         track_knot(r, k);
     }
@@ -271,6 +278,16 @@ static void print_result(const rods_run *r)
                     "force on the jaws %.6g N\n", r->set.model[k].instruments[gr->instrument].name,
                     gr->t_on, off, r->set.name[k], gr->s, gr->force);
         }
+        for (int q = 0; q < s->cut_count; q++) {
+            const rod_cut_record *cr = &s->cut_log[q];
+            char who[64] = "the scene's [cut]";
+            if (cr->instrument >= 0)
+                snprintf(who, sizeof who, "%.40s",
+                         r->set.model[k].instruments[cr->instrument].name);
+            fprintf(f, "    cut by %s: at t = %.6g s, rod %s at s = %.6g m, %.6g m taken away "
+                    "from its %s's side\n", who, cr->t, r->set.name[k], cr->s, cr->removed,
+                    cr->side ? "tip" : "root");
+        }
     }
     if (r->pad >= 0) {
         const tissue_solid *t = r->set.model[0].surfaces[r->pad].solid;
@@ -329,7 +346,7 @@ static void fill_summary(const rods_run *r, run_summary *sum, int ran)
     sum->step_cpu_s = r->step_cpu;
     sum->rod_count = r->set.count < SUMMARY_MAX_RODS ? r->set.count : SUMMARY_MAX_RODS;
     for (int k = 0; k < sum->rod_count; k++) {
-        const rod_model *m = &r->set.model[k];
+        const rod_model *m = model_now(r, k); /* after cuts: the thread left */
         const rod_state *s = r->run.state[k];
         summary_rod *out = &sum->rods[k];
         snprintf(out->name, sizeof out->name, "%s", r->set.name[k]);
@@ -372,6 +389,20 @@ static void fill_summary(const rods_run *r, run_summary *sum, int ran)
             out->t_off = gr->t_off;
             out->s = gr->s;
             out->force = gr->force;
+        }
+    sum->cut_count = 0; /* every rod's, in the order of the rods */
+    for (int k = 0; k < r->set.count; k++)
+        for (int c = 0; c < r->run.state[k]->cut_count && sum->cut_count < SUMMARY_MAX_CUTS; c++) {
+            const rod_cut_record *cr = &r->run.state[k]->cut_log[c];
+            summary_cut *out = &sum->cuts[sum->cut_count++];
+            out->instrument[0] = '\0';
+            if (cr->instrument >= 0)
+                snprintf(out->instrument, sizeof out->instrument, "%s",
+                         r->set.model[k].instruments[cr->instrument].name);
+            if (r->set.named) snprintf(out->rod, sizeof out->rod, "%s", r->set.name[k]);
+            out->t = cr->t;
+            out->s = cr->s;
+            out->removed = cr->removed;
         }
     sum->knot_across_count = 0;
     for (int p = 0; p < r->across_count; p++) {

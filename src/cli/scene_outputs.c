@@ -1095,7 +1095,7 @@ static void summary_result(const scene_run *r, run_summary *sum)
     for (int j = 0; j < r->s->cut_count && j < SUMMARY_MAX_CUTS; j++) {
         const rod_cut_record *c = &r->s->cut_log[j];
         summary_cut *out = &sum->cuts[sum->cut_count++];
-        out->instrument[0] = '\0';
+        out->instrument[0] = out->rod[0] = '\0';
         if (c->instrument >= 0)
             snprintf(out->instrument, sizeof out->instrument, "%s", m->instruments[c->instrument].name);
         out->t = c->t;

@@ -307,6 +307,7 @@ static void cuts_list(json_out *j, const run_summary *s)
         comma(j);
         open_(j, '{');
         if (c->instrument[0]) string_field(j, "instrument", c->instrument); /* absent: [cut] */
+        if (c->rod[0]) string_field(j, "rod", c->rod);
         number_field(j, "t", c->t);
         number_field(j, "s", c->s);
         number_field(j, "removed", c->removed);

@@ -100,7 +100,7 @@ static double segment_distance(const double p0[3], const double p1[3], const dou
     return v3_norm(d);
 }
 
-void rod_cut_on_close(const rod_model *m, int k, rod_state *s, rod_report *report)
+double rod_cut_nearest(const rod_model *m, int k, const rod_state *s, double *arc, double *reach)
 {
     const rod_instrument *in = &m->instruments[k];
     rod_pose pose;
@@ -123,16 +123,30 @@ void rod_cut_on_close(const rod_model *m, int k, rod_state *s, rod_report *repor
             best_s = (j + u) * m->ds;
         }
     }
-    const double reach = 2.0 * rj + m->diameter;
+    *arc = best_s;
+    *reach = 2.0 * rj + m->diameter;
+    return best;
+}
+
+void rod_cut_missed(const rod_instrument *in, double t, double distance, double reach,
+                    rod_report *report)
+{
+    if (report && !report->warning[0])
+        snprintf(report->warning, sizeof report->warning,
+                 "instrument '%s' (scene line %d) closed its blades at t = %.6g s on "
+                 "nothing: the thread is %.3g m from them (they cut within %.3g m); nothing "
+                 "cut", in->name, in->line, t, distance, reach);
+}
+
+void rod_cut_on_close(const rod_model *m, int k, rod_state *s, rod_report *report)
+{
+    double arc, reach;
+    const double best = rod_cut_nearest(m, k, s, &arc, &reach);
     if (best > reach) {
-        if (report && !report->warning[0])
-            snprintf(report->warning, sizeof report->warning,
-                     "instrument '%s' (scene line %d) closed its blades at t = %.6g s on "
-                     "nothing: the thread is %.3g m from them (they cut within %.3g m); nothing "
-                     "cut", in->name, in->line, s->time, best, reach);
+        rod_cut_missed(&m->instruments[k], s->time, best, reach, report);
         return;
     }
-    rod_cut_ask(s, k, best_s);
+    rod_cut_ask(s, k, arc);
 }
 
 void rod_cut_scene_events(const rod_model *m, rod_state *s, double t0)
@@ -336,7 +350,7 @@ int rod_cut_solver_sync(rod_solver *solver, const rod_model *m, const rod_state 
     return 0;
 }
 
-int rod_cut_read_scene(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+int rod_cut_read_scene(ini_doc *doc, rod_model *m, const char *rod, char *err, size_t errlen)
 {
     const int count = ini_section_count(doc, "cut");
     if (count > ROD_MAX_CUTS)
@@ -344,10 +358,17 @@ int rod_cut_read_scene(ini_doc *doc, rod_model *m, char *err, size_t errlen)
                          ROD_MAX_CUTS);
     for (int i = 0; i < (count > 0 ? count : 1); i++) {
         rod_cut_event ev = {0.0, 0.0};
+        const char *owner = NULL;
         const int has_t = ini_get_double(doc, "cut", i, "t", &ev.t, err, errlen);
         const int has_s = has_t < 0 ? -1 : ini_get_double(doc, "cut", i, "s", &ev.s, err, errlen);
-        if (has_t < 0 || has_s < 0) return -1;
+        if (has_t < 0 || has_s < 0 || ini_get_string(doc, "cut", i, "rod", &owner, err, errlen) < 0)
+            return -1;
         if (count == 0) break;
+        if (owner && !rod)
+            return ini_error(doc, "cut", i, "rod", err, errlen,
+                             "the scene has one bare [rod]: a cut is its own; accepted: no rod "
+                             "key, or [rod NAME] sections");
+        if (owner && strcmp(owner, rod) != 0) continue; /* another rod's */
         if (!has_t || !(ev.t > 0.0) || !isfinite(ev.t))
             return ini_error(doc, "cut", i, "t", err, errlen,
                              "required: the time of the cut, s, > 0 (the run's start is whole)");

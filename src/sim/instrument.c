@@ -339,8 +339,9 @@ void rod_instruments_update(const rod_model *m, rod_state *s, rod_report *report
             continue;
         }
         if (m->instruments[k].kind == ROD_INSTRUMENT_SCISSORS) {
-            /* blades cut what they close across; they never hold (sim/cut.h) */
-            if (closed && !g->closed) rod_cut_on_close(m, k, s, report);
+            /* blades cut what they close across; they never hold (sim/cut.h);
+             * several rods: the set cuts the nearest rod after the step */
+            if (closed && !g->closed && !m->between_rods) rod_cut_on_close(m, k, s, report);
             g->closed = closed;
             continue;
         }

@@ -1054,12 +1054,14 @@ rod_status rod_solver_step(rod_solver *solver, const rod_model *m, rod_state *s,
     report->suggested_scale = 0.0;
     report->newton_iterations = 0;
     /* a cut (sim/cut.h) changes the thread between steps: the work is made
-     * again for the thread left, and cuts due after this step are made */
+     * again for the thread left, and cuts due after this step are made
+     * (with several rods, by the set after every rod's solve: rod_set_step) */
     if (solver->cuts != s->cut_count &&
         rod_cut_solver_sync(solver, m, s, report->message, sizeof report->message))
         return ROD_FAILED;
     const double t0 = s->time;
     rod_status status = solver->ops->step(solver->work, rod_cut_model(m, s), s, dt, report);
+    if (m->between_rods) return status;
     if (status == ROD_OK && m->cut_event_count > 0) rod_cut_scene_events(m, s, t0);
     if (status == ROD_OK && s->cut_request.pending && rod_cut_apply(m, s, report))
         status = ROD_FAILED;

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "sim/contact/between_rods.h"
+#include "sim/cut.h"
 #include "sim/instrument.h"
 #include "sim/scene.h"
 #include "sim/scheme_implicit.h"
@@ -19,7 +20,7 @@ int scene_has_named_rods(const ini_doc *doc, int *count)
     return *count > 0;
 }
 
-/* What several rods cannot have yet: the first such part of model k, as a
+/* What several rods cannot have: the first such part of model k, as a
  * message at its line, or 0 */
 static int refuse_for_several(ini_doc *doc, const rod_set *set, int k, char *err, size_t errlen)
 {
@@ -29,20 +30,6 @@ static int refuse_for_several(ini_doc *doc, const rod_set *set, int k, char *err
         return ini_error(doc, "solver", 0, "scheme", err, errlen,
                          "several rods ([rod %s] and others) are stepped by the implicit scheme "
                          "only; accepted here: implicit", rod);
-    for (int i = 0; i < m->instrument_count; i++) {
-        if (m->instruments[i].needle)
-            return ini_error(doc, "instrument", i, "needle", err, errlen,
-                             "a needle holder holding the needle is not modelled with several "
-                             "rods yet; accepted: no");
-        if (m->instruments[i].kind == ROD_INSTRUMENT_SCISSORS)
-            return ini_error(doc, "instrument", i, "kind", err, errlen,
-                             "scissors (cutting) are not modelled with several rods yet; "
-                             "accepted: needle_holder | forceps");
-    }
-    if (m->cut_event_count > 0)
-        return ini_error(doc, "cut", 0, "t", err, errlen,
-                         "a [cut] names no rod: with several rods it is not accepted yet; "
-                         "accepted: a scene with one [rod], or no [cut]");
     return 0;
 }
 
@@ -142,7 +129,8 @@ int scene_read_rods(ini_doc *doc, rod_set *set, char *err, size_t errlen)
     }
     if (check_section_rods(doc, "puncture", "the thread passing through it is", names, named,
                            err, errlen) ||
-        check_section_rods(doc, "point_load", "it loads", names, named, err, errlen))
+        check_section_rods(doc, "point_load", "it loads", names, named, err, errlen) ||
+        check_section_rods(doc, "cut", "it cuts", names, named, err, errlen))
         return -1;
     for (int k = 0; k < named; k++) {
         if (strlen(names[k]) >= ROD_NAME_LEN) {
@@ -210,8 +198,9 @@ int rod_set_run_create(const rod_set *set, rod_set_run *run, char *err, size_t e
     }
     if (set->count > 1) {
         const char *names[ROD_SET_MAX];
-        for (int k = 0; k < set->count; k++) names[k] = set->name[k];
-        run->link = rod_link_create(set->count, set->model, names);
+        const rod_model *models[ROD_SET_MAX];
+        for (int k = 0; k < set->count; k++) names[k] = set->name[k], models[k] = &set->model[k];
+        run->link = rod_link_create(set->count, models, names);
         for (int k = 0; run->link && k < set->count; k++) {
             run->begin[k] = rod_state_create(&set->model[k]);
             if (!run->begin[k]) {
@@ -241,6 +230,30 @@ void rod_set_run_destroy(rod_set_run *run)
     memset(run, 0, sizeof *run);
 }
 
+/* The models the rods' states are of: a cut rod's is the thread left's
+ * (rod_cut_model) */
+static void current_models(const rod_set *set, const rod_set_run *run, const rod_model **out)
+{
+    for (int k = 0; k < set->count; k++) out[k] = rod_cut_model(&set->model[k], run->state[k]);
+}
+
+/* Rod k's solver made again for the thread its state holds (after a cut,
+ * or back to the whole thread after a restore), linked to the other rods
+ * again. 0, or -1 with the message naming the rod. */
+static int sync_rod(const rod_set *set, rod_set_run *run, int k, rod_report *report)
+{
+    char why[sizeof report->message];
+    if (rod_cut_solver_sync(&run->solver[k], &set->model[k], run->state[k], why, sizeof why)) {
+        snprintf(report->message, sizeof report->message, "rod %s: %.700s", set->name[k], why);
+        return -1;
+    }
+    if (run->link) {
+        rod_implicit_link(run->solver[k].work, &run->link->cross[k]);
+        rod_link_cut(run->link, k, run->state[k]->nodes);
+    }
+    return 0;
+}
+
 /* Rod k's solve of the step (from run->begin[k] when `again`) */
 static rod_status solve_one(const rod_set *set, rod_set_run *run, int k, double dt, int again,
                             rod_report *report)
@@ -257,7 +270,11 @@ static rod_status solve_one(const rod_set *set, rod_set_run *run, int k, double 
             snprintf(report->message, sizeof report->message, "rod %s: %.700s", set->name[k], why);
         return st;
     }
-    if (run->link) rod_link_after(run->link, k, set->model, states, dt);
+    if (run->link) {
+        const rod_model *models[ROD_SET_MAX];
+        current_models(set, run, models);
+        rod_link_after(run->link, k, models, states, dt);
+    }
     return ROD_OK;
 }
 
@@ -268,20 +285,41 @@ static int couple_pad(const rod_set *set, rod_set_run *run, rod_report *report)
 {
     const rod_model *models[ROD_SET_MAX];
     double *records[ROD_SET_MAX];
-    for (int k = 0; k < set->count; k++) {
-        models[k] = &set->model[k];
-        records[k] = rod_implicit_pad_record(run->solver[k].work);
-    }
+    current_models(set, run, models);
+    for (int k = 0; k < set->count; k++) records[k] = rod_implicit_pad_record(run->solver[k].work);
     return tissue_coupling_step_rods(set->count, models, run->state, records, report->message,
                                      sizeof report->message);
 }
 
+/* Scissors i closed: the cut asked of the rod nearest their blades' middle
+ * line within their reach (of the rods they may cut: [instrument] rod);
+ * none near: the warning a single rod gives */
+static void scissors_close(const rod_set *set, rod_set_run *run, const rod_model **models,
+                           int i, rod_report *report)
+{
+    int best = -1;
+    double best_gap = INFINITY, best_arc = 0.0, nearest = INFINITY, nearest_reach = 0.0;
+    for (int k = 0; k < set->count; k++) {
+        if (set->model[k].instruments[i].grasp_off) continue;
+        double arc, reach;
+        const double gap = rod_cut_nearest(models[k], i, run->state[k], &arc, &reach);
+        if (gap < nearest) nearest = gap, nearest_reach = reach;
+        if (gap <= reach && gap < best_gap) best = k, best_gap = gap, best_arc = arc;
+    }
+    if (best >= 0) rod_cut_ask(run->state[best], i, best_arc);
+    else rod_cut_missed(&set->model[0].instruments[i], run->state[0]->time, nearest,
+                        nearest_reach, report);
+}
+
 /* After the step: jaws that closed take the rod nearest their middle line
  * within their reach (of the rods they may take: [instrument] rod), once;
- * none near: the warning a single rod gives */
+ * none near: the warning a single rod gives. Scissors that closed ask the
+ * nearest rod for a cut; a holder holding the needle takes nothing. */
 static void take_grasps(const rod_set *set, rod_set_run *run, rod_report *report)
 {
     const rod_model *m0 = &set->model[0];
+    const rod_model *models[ROD_SET_MAX];
+    current_models(set, run, models);
     for (int i = 0; i < m0->instrument_count && i < ROD_MAX_INSTRUMENTS; i++) {
         const rod_instrument *in = &m0->instruments[i];
         double jaw;
@@ -289,19 +327,53 @@ static void take_grasps(const rod_set *set, rod_set_run *run, rod_report *report
         rod_instrument_pose(in, run->state[0]->time, &pose, &jaw);
         const int closed = jaw < ROD_JAW_CLOSED, closing = closed && !run->jaw_closed[i];
         run->jaw_closed[i] = closed;
-        if (!closing || in->needle || in->kind == ROD_INSTRUMENT_SCISSORS) continue;
+        int needle = 0; /* the needle is on one rod's tip: its model's copy says so */
+        for (int k = 0; k < set->count; k++) needle |= set->model[k].instruments[i].needle;
+        if (!closing || needle) continue;
+        if (in->kind == ROD_INSTRUMENT_SCISSORS) {
+            scissors_close(set, run, models, i, report);
+            continue;
+        }
         int best = -1;
         double best_gap = INFINITY, best_arc = 0.0, nearest = INFINITY, nearest_reach = 0.0;
         for (int k = 0; k < set->count; k++) {
             if (set->model[k].instruments[i].grasp_off) continue;
             double arc, reach;
-            const double gap = rod_grasp_nearest(&set->model[k], i, run->state[k], &arc, &reach);
+            const double gap = rod_grasp_nearest(models[k], i, run->state[k], &arc, &reach);
             if (gap < nearest) nearest = gap, nearest_reach = reach;
             if (gap <= reach && gap < best_gap) best = k, best_gap = gap, best_arc = arc;
         }
-        if (best >= 0) rod_grasp_take(&set->model[best], i, run->state[best], best_arc);
+        if (best >= 0) rod_grasp_take(models[best], i, run->state[best], best_arc);
         else rod_grasp_missed(in, run->state[0]->time, nearest, nearest_reach, report);
     }
+}
+
+/* The cuts due after the step that began at t0: the scene's [cut]s of each
+ * rod, and what scissors asked for; each rod cut gets its solver made for
+ * the thread left and its link to the others again (sim/cut.h) */
+static rod_status make_cuts(const rod_set *set, rod_set_run *run, double t0, rod_report *report)
+{
+    for (int k = 0; k < set->count; k++) {
+        const rod_model *m = &set->model[k];
+        rod_state *s = run->state[k];
+        if (m->cut_event_count > 0) rod_cut_scene_events(m, s, t0);
+        if (!s->cut_request.pending) continue;
+        const int before = s->cut_count, warned = report->warning[0] != '\0';
+        if (rod_cut_apply(m, s, report)) {
+            char why[sizeof report->message];
+            snprintf(why, sizeof why, "%s", report->message);
+            snprintf(report->message, sizeof report->message, "rod %s: %.700s", set->name[k], why);
+            return ROD_FAILED;
+        }
+        if (!warned && report->warning[0]) { /* the cut dropped: which rod's */
+            char why[sizeof report->warning];
+            snprintf(why, sizeof why, "%s", report->warning);
+            snprintf(report->warning, sizeof report->warning, "rod %.31s: %.440s", set->name[k],
+                     why);
+        }
+        if (s->cut_count != before && sync_rod(set, run, k, report)) return ROD_FAILED;
+    }
+    return ROD_OK;
 }
 
 rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_report *report)
@@ -312,8 +384,15 @@ rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_rep
         if (st == ROD_OK) run->steps++;
         return st;
     }
+    /* a state restored to another thread than its solver's (rodsim_restore) */
+    for (int k = 0; k < set->count; k++)
+        if (run->solver[k].cuts != run->state[k]->cut_count && sync_rod(set, run, k, report))
+            return ROD_FAILED;
+    const double t0 = run->state[0]->time;
     const rod_state *const *states = (const rod_state *const *)run->state;
-    const int full = rod_link_begin(l, set->model, states, dt);
+    const rod_model *models[ROD_SET_MAX];
+    current_models(set, run, models);
+    const int full = rod_link_begin(l, models, states, dt);
     if (full >= 0) {
         snprintf(report->message, sizeof report->message,
                  "rod %s: at t = %.6g s it lies along the other rods at more points than "
@@ -356,6 +435,7 @@ rod_status rod_set_step(const rod_set *set, rod_set_run *run, double dt, rod_rep
     for (int k = 0; k < set->count; k++) rod_cross_total(&l->cross[k], run->touch_force[k]);
     if (set->model[0].pad_by_set && couple_pad(set, run, report)) return ROD_FAILED;
     take_grasps(set, run, report);
+    if (make_cuts(set, run, t0, report) != ROD_OK) return ROD_FAILED;
     run->steps++;
     return ROD_OK;
 }

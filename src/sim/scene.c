@@ -530,8 +530,11 @@ static int read_instrument_rod(ini_doc *doc, int i, const char *rod_name, rod_in
  * path (a CSV t,x,y,z,rx,ry,rz,jaw), size, friction, grip, needle. A needle
  * holder with needle = yes drives the thread's tip (the needle's back, held
  * in its jaws' tip) along its path: [ends] tip_motion cannot be given too. */
-static int read_instruments(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+static int read_instruments(ini_doc *doc, rod_model *m, const char *rod, char *err,
+                            size_t errlen)
 {
+    const char *rod_names[1];
+    const int several = ini_section_names(doc, "rod", rod_names, 0) > 1;
     const int count = ini_section_count(doc, "instrument");
     if (count > ROD_MAX_INSTRUMENTS)
         return ini_error(doc, "instrument", ROD_MAX_INSTRUMENTS, "kind", err, errlen,
@@ -577,6 +580,13 @@ static int read_instruments(ini_doc *doc, rod_model *m, char *err, size_t errlen
         if (in.needle && in.kind != ROD_INSTRUMENT_NEEDLE_HOLDER)
             return ini_error(doc, "instrument", i, "needle", err, errlen,
                              "only a needle_holder holds the needle");
+        if (in.needle && several && has_rod == 0)
+            return ini_error(doc, "instrument", i, "rod", err, errlen,
+                             "missing; required with several rods and needle = yes: the NAME "
+                             "of the [rod NAME] whose tip the needle is on");
+        /* several rods: the needle is on one rod's tip; the others see a
+         * holder whose jaws they touch and never take (grasp_off) */
+        if (in.needle && rod && has_rod && strcmp(rod_name, rod) != 0) in.needle = 0;
         if (in.needle && m->tip_motion)
             return ini_error(doc, "instrument", i, "needle", err, errlen,
                              "the needle holder drives the needle (the thread's tip) along its "
@@ -1103,8 +1113,8 @@ int scene_read_rod_of(ini_doc *doc, rod_model *m, const char *rod, const rod_mod
         read_start(doc, m, err, errlen) || read_solver(doc, m, err, errlen) ||
         read_tip(doc, m, err, errlen) || read_loads(doc, m, gravity, err, errlen) ||
         read_ends_physics(doc, m, err, errlen) || read_point_loads(doc, m, rod, err, errlen) ||
-        read_surfaces(doc, m, rod, err, errlen) || read_instruments(doc, m, err, errlen) ||
-        rod_cut_read_scene(doc, m, err, errlen))
+        read_surfaces(doc, m, rod, err, errlen) || read_instruments(doc, m, rod, err, errlen) ||
+        rod_cut_read_scene(doc, m, rod, err, errlen))
         goto fail;
     char why[768];
     if (rod_model_derive(m, why, sizeof why)) {

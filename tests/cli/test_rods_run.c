@@ -4,7 +4,10 @@
  * rod by name; a single-rod scene's CSV has no column rod. Each rod's knot
  * is named: an overhand-knotted rod beside a straight one gives a trefoil
  * (Alexander polynomial 1 - t + t^2, determinant 3, the hand the same rod
- * gets run alone) and an unknot (1, determinant 1). */
+ * gets run alone) and an unknot (1, determinant 1). A [cut] of rod b: the
+ * summary's cut names the rod and the piece removed, rods[] and the CSV
+ * the thread left (its nodes numbered as on the uncut rod), the text the
+ * cut under rod b. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -162,6 +165,65 @@ static void check_knots(const char *dir)
     free(said);
 }
 
+/* The two ropes of two.ini, rod b cut at 0.2 s at s = 0.1 m: its root's
+ * side (the shorter, 0.1 m) goes */
+static void check_cut(const char *dir)
+{
+    char path[512], cmd[2048];
+    snprintf(path, sizeof path, "%s/cut.ini", dir);
+    write_text(path, "[rod a]\n" ROPE "origin = -0.15 0 0.01\n[ends a]\nroot = free\ntip = free\n"
+                     "[rod b]\n" ROPE "origin = -0.15 1 0.01\n[ends b]\nroot = free\ntip = free\n"
+                     SHARED "[cut]\nrod = b\nt = 0.2\ns = 0.1\n");
+    snprintf(cmd, sizeof cmd, "%s run %s --no-video --csv %s/cut.csv --summary %s/cut.json > "
+             "%s/cut.txt", RODSIM_BIN, path, dir, dir, dir);
+    int status = system(cmd);
+    check(status == 0, "two rods, rod b cut: exit 0 (status %d)", status);
+    snprintf(path, sizeof path, "%s/cut.json", dir);
+    char *json = read_all(path);
+    snprintf(path, sizeof path, "%s/cut.csv", dir);
+    char *csv = read_all(path);
+    snprintf(path, sizeof path, "%s/cut.txt", dir);
+    char *said = read_all(path);
+    if (!json || !csv || !said) {
+        check(0, "the cut run's outputs are readable");
+    } else {
+        const char *cut = strstr(json, "\"cuts\":[{\"rod\":\"b\",\"t\":");
+        double t = NAN, s = NAN, removed = NAN;
+        if (cut) sscanf(cut + 24, "%lf,\"s\":%lf,\"removed\":%lf", &t, &s, &removed);
+        check(cut && fabs(t - 0.2) < 1e-9 && fabs(s - 0.1) < 1e-12 && fabs(removed - 0.1) < 1e-12,
+              "the summary's cut names rod b: t = %.9g s, s = %.9g m, removed %.9g m (0.2, 0.1, "
+              "0.1: node 10, the root's side)", t, s, removed);
+        check(strstr(json, "{\"name\":\"a\",\"nodes\":31,") &&
+                  strstr(json, "{\"name\":\"b\",\"nodes\":21,"),
+              "rods[]: a whole (31 nodes), b the thread left (21)");
+        /* the last frame's rows of rod b: nodes 10 .. 30 of the uncut rod */
+        const char *last = strrchr(csv, '\n');
+        while (last > csv && last[-1] != '\n') last--; /* the last row */
+        double t_last;
+        sscanf(last, "%lf", &t_last);
+        int rows_b = 0, first = -1;
+        for (const char *p = strchr(csv, '\n') + 1; *p; p = strchr(p, '\n') + 1) {
+            double tr;
+            char rod[32];
+            int node;
+            if (sscanf(p, "%lf,%31[^,],%d,", &tr, rod, &node) == 3 && tr == t_last &&
+                strcmp(rod, "b") == 0) {
+                if (first < 0) first = node;
+                rows_b++;
+            }
+        }
+        check(rows_b == 21 && first == 10, "the CSV's last frame: %d rows of rod b from node %d "
+              "(21 from node 10)", rows_b, first);
+        const char *rod_b = strstr(said, "rod b:");
+        check(rod_b && strstr(rod_b, "cut by the scene's [cut]: at t = 0.2 s, rod b at s = 0.1 m, "
+                              "0.1 m taken away from its root's side"),
+              "the text tells the cut under rod b");
+    }
+    free(json);
+    free(csv);
+    free(said);
+}
+
 int main(void)
 {
     char dir[] = "/tmp/rodsim_rodsXXXXXX", path[512], cmd[2048];
@@ -205,6 +267,7 @@ int main(void)
     free(one);
     free(json);
     check_knots(dir);
+    check_cut(dir);
     /* a bad key of a named rod is reported at its line, with the rod's section */
     snprintf(path, sizeof path, "%s/bad.ini", dir);
     write_text(path, "[rod a]\n" ROPE "origin = 0 0 0.01\n[rod b]\n" ROPE "origin = 0 1 0.01\n"

@@ -393,7 +393,7 @@ static void test_refusals(void)
         {"[tip c]\nforce = 0 0 1\n", "[tip c] names no rod"},
         {"[point_load]\ns = 0.1\nforce = 0 0 1\n", "[point_load] rod: missing; required with several rods"},
         {"[point_load]\nrod = c\ns = 0.1\nforce = 0 0 1\n", "names no rod of the scene; accepted: a, b"},
-        {"[cut]\nt = 0.1\ns = 0.1\n", "a [cut] names no rod"},
+        {"[cut]\nt = 0.1\ns = 0.1\n", "[cut] rod: missing; required with several rods"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         const char *solver = strstr(cases[i].extra, "[solver]") ? "" : "[solver]\nscheme = implicit\n";

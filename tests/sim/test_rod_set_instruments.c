@@ -5,7 +5,8 @@
  * jaws carry the lifted thread's weight rho A L g (closed form) and the
  * lower thread does not move; the same forceps kept to the lower rod (rod =
  * lower) close on nothing and say so; rod = NAME naming no rod is refused
- * with the names accepted; a single named rod steps as the bare [rod]. */
+ * with the names accepted, scissors are read; a single named rod steps as
+ * the bare [rod]. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -209,11 +210,12 @@ static void test_refusals(void)
     check(rc != 0 && strstr(err, "test.ini:") && strstr(err, "rod") &&
               strstr(err, "'middle' names no rod") && strstr(err, "upper lower"),
           "rod = middle refused: %s", err);
+    /* scissors cut the rod nearest them (test_rod_set_cut) */
     two_threads(text, sizeof text, "scissors", "");
     err[0] = '\0';
     rc = read_set(text, &set, err, sizeof err);
-    check(rc != 0 && strstr(err, "scissors") && strstr(err, "several rods"),
-          "scissors with several rods refused: %s", err);
+    if (rc == 0) rod_set_release(&set);
+    check(rc == 0, "scissors with several rods read: %s", rc == 0 ? "ok" : err);
 }
 
 /* One named rod with the forceps steps exactly as the bare [rod] */

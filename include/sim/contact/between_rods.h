@@ -121,15 +121,17 @@ typedef struct rod_link {
                             when none */
 } rod_link;
 
-/* NULL when out of memory. models and names: the set's (count). */
-rod_link *rod_link_create(int count, const rod_model *models, const char *const *names);
+/* NULL when out of memory. models and names: the set's (count). The
+ * models passed to every call are those the states are of (rod_cut_model:
+ * a cut rod's is the thread left's). */
+rod_link *rod_link_create(int count, const rod_model *const *models, const char *const *names);
 void rod_link_destroy(rod_link *l);
 
 /* Begins a step of dt from the states (count, all at the step's start):
  * every owner's pairs, the other rods' motion predicted from their
  * velocities. Returns -1, or the first rod whose pairs are more than its
  * room. */
-int rod_link_begin(rod_link *l, const rod_model *models, const rod_state *const *states,
+int rod_link_begin(rod_link *l, const rod_model *const *models, const rod_state *const *states,
                    double dt);
 
 /* Before rod k's solve: the forces of the pairs others hold with it, as its
@@ -139,8 +141,8 @@ void rod_link_before(rod_link *l, int k);
 /* After rod k's solve (states[k] at the step's end): its motion at the
  * pairs others hold with it, against the motion they took (mismatch: the
  * change of their forces it implies). */
-void rod_link_after(rod_link *l, int k, const rod_model *models, const rod_state *const *states,
-                    double dt);
+void rod_link_after(rod_link *l, int k, const rod_model *const *models,
+                    const rod_state *const *states, double dt);
 
 /* Between sweeps: each pair's other rod's motion moved towards its last
  * solve's, by Aitken's relaxation after the first sweep, by the interface
@@ -148,6 +150,11 @@ void rod_link_after(rod_link *l, int k, const rod_model *models, const rod_state
  * 4 sweeps' changes, for each owner and other rod) after the
  * later ones (sweep: the sweep just ended, from 0). */
 void rod_link_relax(rod_link *l, int sweep);
+
+/* Rod k was cut (sim/cut.h): it has `nodes` nodes now, renumbered; the
+ * pairs kept from the last step are forgotten (made again at the next
+ * rod_link_begin). Its arrays keep the size of the uncut rod. */
+void rod_link_cut(rod_link *l, int k, int nodes);
 
 /* Inside rod k's residual, after the surfaces and the strands' pairs:
  * each pair's force from its law, applied to the velocities vel1 and vbar

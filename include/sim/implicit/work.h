@@ -123,6 +123,9 @@ typedef struct implicit_work {
     rod_grasp_state save_grasp[ROD_MAX_INSTRUMENTS];
     rod_grasp_record save_grasp_log[ROD_MAX_GRASP_LOG];
     int save_grasp_log_count;
+    /* the cut asked for at the step's start (sim/cut.h): scissors that
+     * closed in a discarded half asked for one where the thread was then */
+    rod_cut_request save_cut_request;
     /* self-contact (sim/contact/self_contact.h): NULL when off */
     rod_self_contact *self;
     int frames_kept;       /* 1: the residual keeps the end-of-step frames, darboux1, d3mid1

@@ -26,16 +26,17 @@
  * rest), then the thinner, then the name first in alphabetical order; a
  * total order, so that every contact has one holder whatever the rods'
  * listing order */
-static int holds(const rod_model *models, const char *const *names, int k, int j)
+static int holds(const rod_model *const *models, const char *const *names, int k, int j)
 {
-    const double sk = models[k].length / (models[k].nodes - 1);
-    const double sj = models[j].length / (models[j].nodes - 1);
+    const double sk = models[k]->length / (models[k]->nodes - 1);
+    const double sj = models[j]->length / (models[j]->nodes - 1);
     if (fabs(sk - sj) > 1e-9 * fmax(sk, sj)) return sk < sj;
-    if (models[k].diameter != models[j].diameter) return models[k].diameter < models[j].diameter;
+    if (models[k]->diameter != models[j]->diameter)
+        return models[k]->diameter < models[j]->diameter;
     return strcmp(names[k], names[j]) < 0;
 }
 
-rod_link *rod_link_create(int count, const rod_model *models, const char *const *names)
+rod_link *rod_link_create(int count, const rod_model *const *models, const char *const *names)
 {
     if (count > ROD_SET_MAX) return NULL;
     rod_link *l = calloc(1, sizeof *l);
@@ -62,8 +63,8 @@ rod_link *rod_link_create(int count, const rod_model *models, const char *const 
     }
     for (int k = 0; k < count; k++) {
         rod_cross *c = &l->cross[k];
-        const size_t n = (size_t)models[k].nodes;
-        c->nodes = models[k].nodes;
+        const size_t n = (size_t)models[k]->nodes;
+        c->nodes = models[k]->nodes;
         c->capacity = CROSS_PAIRS_PER_NODE * c->nodes + 16;
         c->pair = calloc((size_t)c->capacity, sizeof *c->pair);
         c->load = calloc(n * 3, sizeof(double));
@@ -196,11 +197,12 @@ static void fill_pair(rod_link *l, rod_cross_pair *p, const double *pa, const do
  * j (its own pair, on no other node: a wrap of short segments over a thick
  * rod is held at every node, as by a cylinder surface), against j's
  * nearest segment; -1 when out of room */
-static int node_pairs(rod_link *l, int k, int j, const rod_model *models, const double *pa,
-                      const double *pb, const rod_state *const *states, double threshold)
+static int node_pairs(rod_link *l, int k, int j, const rod_model *const *models,
+                      const double *pa, const double *pb, const rod_state *const *states,
+                      double threshold)
 {
     rod_cross *c = &l->cross[k];
-    const rod_model *mk = &models[k], *mj = &models[j];
+    const rod_model *mk = models[k], *mj = models[j];
     const double reach = 0.5 * (mk->diameter + mj->diameter);
     for (int i = 0; i < mk->nodes; i++) {
         if (c->used[i]) continue;
@@ -229,11 +231,11 @@ static int node_pairs(rod_link *l, int k, int j, const rod_model *models, const 
 }
 
 /* Rod k's pairs with rod j into c (appended); -1 when out of room */
-static int pairs_with(rod_link *l, int k, int j, const rod_model *models,
+static int pairs_with(rod_link *l, int k, int j, const rod_model *const *models,
                       const rod_state *const *states, double margin)
 {
     rod_cross *c = &l->cross[k];
-    const rod_model *mk = &models[k], *mj = &models[j];
+    const rod_model *mk = models[k], *mj = models[j];
     const double *pa = l->start[k];
     const double *pb = l->start[j];
     const double reach = 0.5 * (mk->diameter + mj->diameter);
@@ -364,21 +366,22 @@ static void point_now(const rod_state *s, int b, double beta, double pos[3], dou
 
 /* m: how far rods k and j may close over the step, at their speeds (m/s)
  * at its start, beyond the contact distance */
-static double margin_of(const rod_model *models, const double *speed, int k, int j, double dt)
+static double margin_of(const rod_model *const *models, const double *speed, int k, int j,
+                        double dt)
 {
-    return CROSS_MARGIN * fmin(models[k].diameter, models[j].diameter) +
+    return CROSS_MARGIN * fmin(models[k]->diameter, models[j]->diameter) +
            2.0 * dt * (speed[k] + speed[j]);
 }
 
 /* The mean height (m, against `down`) of rod k's nodes inside rod j's box
  * grown by grow (m); NAN when none */
-static double height_near(const rod_link *l, const rod_model *models, int k, int j,
+static double height_near(const rod_link *l, const rod_model *const *models, int k, int j,
                           double grow, const double down[3])
 {
     double lo[3], hi[3], sum = 0.0;
     int count = 0;
-    box_of(l->start[j], models[j].nodes, grow, lo, hi);
-    for (int i = 0; i < models[k].nodes; i++) {
+    box_of(l->start[j], models[j]->nodes, grow, lo, hi);
+    for (int i = 0; i < models[k]->nodes; i++) {
         const double *x = &l->start[k][3 * i];
         if (x[0] < lo[0] || x[0] > hi[0] || x[1] < lo[1] || x[1] > hi[1] || x[2] < lo[2] ||
             x[2] > hi[2])
@@ -393,13 +396,14 @@ static double height_near(const rod_link *l, const rod_model *models, int k, int
  * the one above where they are near (it rests on the other: the other's
  * motion, a support's, changes little with the force, and the sweeps
  * settle in one or two), else the rule of rest (holds) */
-static int holds_now(const rod_link *l, const rod_model *models, int k, int j, double margin)
+static int holds_now(const rod_link *l, const rod_model *const *models, int k, int j,
+                     double margin)
 {
-    const double reach = 0.5 * (models[k].diameter + models[j].diameter);
+    const double reach = 0.5 * (models[k]->diameter + models[j]->diameter);
     double down[3];
-    v3_add(down, models[k].distributed_force, models[j].distributed_force);
+    v3_add(down, models[k]->distributed_force, models[j]->distributed_force);
     const double weight = v3_norm(down);
-    if (weight > 0.0 && models[k].physics.gravity && models[j].physics.gravity) {
+    if (weight > 0.0 && models[k]->physics.gravity && models[j]->physics.gravity) {
         v3_scale(down, down, 1.0 / weight);
         const double hk = height_near(l, models, k, j, reach + margin, down);
         const double hj = height_near(l, models, j, k, reach + margin, down);
@@ -428,7 +432,7 @@ static void order_owners_first(rod_link *l)
     }
 }
 
-int rod_link_begin(rod_link *l, const rod_model *models, const rod_state *const *states,
+int rod_link_begin(rod_link *l, const rod_model *const *models, const rod_state *const *states,
                    double dt)
 {
     const int n = l->count;
@@ -449,10 +453,10 @@ int rod_link_begin(rod_link *l, const rod_model *models, const rod_state *const 
     for (int k = 0; k < n; k++)
         for (int j = k + 1; j < n; j++) {
             const double margin = margin_of(models, speed, k, j, dt);
-            const double grow = 0.5 * (models[k].diameter + models[j].diameter) + margin;
+            const double grow = 0.5 * (models[k]->diameter + models[j]->diameter) + margin;
             double klo[3], khi[3], jlo[3], jhi[3];
-            box_of(l->start[k], models[k].nodes, grow, klo, khi);
-            box_of(l->start[j], models[j].nodes, 0.0, jlo, jhi);
+            box_of(l->start[k], models[k]->nodes, grow, klo, khi);
+            box_of(l->start[j], models[j]->nodes, 0.0, jlo, jhi);
             int apart = 0;
             for (int e = 0; e < 3; e++) apart |= klo[e] > jhi[e] || jlo[e] > khi[e];
             /* apart: neither holds pairs with the other (nothing compared) */
@@ -528,11 +532,11 @@ static double pair_after(rod_cross_pair *p, const rod_cross *ck, const rod_state
     return apart || !(compliance > 0.0) ? 0.0 : change / compliance;
 }
 
-void rod_link_after(rod_link *l, int k, const rod_model *models, const rod_state *const *states,
-                    double dt)
+void rod_link_after(rod_link *l, int k, const rod_model *const *models,
+                    const rod_state *const *states, double dt)
 {
     l->stepped[k] = 1;
-    const double theta = models[k].options.theta;
+    const double theta = models[k]->options.theta;
     for (int j = 0; j < l->count; j++) {
         if (j == k) continue;
         rod_cross *o = &l->cross[j];
@@ -798,4 +802,13 @@ void rod_cross_total(const rod_cross *c, double out[3])
     v3_set(out, 0.0, 0.0, 0.0);
     for (int q = 0; q < c->count; q++) v3_axpy(out, 1.0, c->pair[q].force);
     for (int i = 0; c->has_load && i < c->nodes; i++) v3_axpy(out, 1.0, &c->load[3 * i]);
+}
+
+void rod_link_cut(rod_link *l, int k, int nodes)
+{
+    rod_cross *c = &l->cross[k];
+    /* the segments paired at the last step are numbered on the uncut rod */
+    memset(c->paired, 0, (size_t)c->nodes);
+    memset(c->last, 0, (size_t)c->nodes);
+    c->nodes = nodes;
 }

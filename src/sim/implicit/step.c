@@ -62,6 +62,7 @@ static void save_state(implicit_work *w, const rod_state *s)
     memcpy(w->save_grasp, s->grasp, sizeof s->grasp);
     memcpy(w->save_grasp_log, s->grasp_log, sizeof s->grasp_log);
     w->save_grasp_log_count = s->grasp_log_count;
+    w->save_cut_request = s->cut_request;
     w->save_time = s->time;
 }
 
@@ -78,6 +79,7 @@ static void restore_state(const implicit_work *w, rod_state *s)
     memcpy(s->grasp, w->save_grasp, sizeof s->grasp);
     memcpy(s->grasp_log, w->save_grasp_log, sizeof s->grasp_log);
     s->grasp_log_count = w->save_grasp_log_count;
+    s->cut_request = w->save_cut_request;
     s->time = w->save_time;
 }
 
