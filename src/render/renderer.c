@@ -644,6 +644,8 @@ static void renderer_composite(const renderer *r, const unsigned char *rgba, con
         }
     } else {
         memcpy(out->rgb, r->backdrop->rgb, (size_t)out->width * (size_t)out->height * 3);
+        /* boxes from the receivers' cache: the shadows darken the backdrop */
+        gl_renderer_darken(r->gl, &r->boxes[0][0], r->box_count, out);
     }
     for (int b = 0; !r->follow && b < r->box_count; b++) {
         const int *box = r->boxes[b];
