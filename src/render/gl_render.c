@@ -82,18 +82,36 @@ struct gl_renderer {
     unsigned short *key_colors; /* (height x width x 3): the key light's colour, 1/256 of a level */
     float *map;                 /* (shadow_size^2): the shadow map's depths, read back */
     int map_read[4];            /* texels x0, y0, x1, y1 read into map (the rest 1: cleared) */
+    float *block_least;         /* per block of MAP_BLOCK^2 texels, the least depth of its
+                                   texels and of the next column and row's (1: none drawn) */
+    unsigned short *block_lit;  /* the same in look-ups' depths: ref <= it is lit */
+    struct tile_reach *tiles;   /* (tiles_x x tiles_y, rows bottom-up) */
+    int tiles_x, tiles_y;
+    int blocks;                 /* blocks a side */
 };
 
 /* A receiver pixel's look-up in the shadow map (its coordinates fixed by
- * the still camera and light): the 2 x 2 texels around it (clamped to the
- * edge; i0 < 0: no look-up, the pixel is no receiver lit by the key), the
- * bilinear weights of the second column and row (1/65535), and the depth
- * compared. */
+ * the still camera and light): the 2 x 2 texels from (i0, j0) (the second
+ * column and row clamped to the map's edge; j0 LOOK_UP_NONE: no look-up,
+ * the pixel is no receiver lit by the key), the bilinear weights of the
+ * second column and row (1/255), the depth compared (1/65535). 8 bytes: a
+ * frame streams them over every pixel of its boxes. */
 typedef struct map_look_up {
-    short i0, i1, j0, j1;
-    unsigned short wx, wy;
-    float ref;
+    unsigned short i0, j0;
+    unsigned char wx, wy;
+    unsigned short ref;
 } map_look_up;
+#define LOOK_UP_NONE 0xffff
+/* What the look-ups of a tile of DARKEN_TILE^2 pixels reach: the blocks
+ * (bx0..bx1, by0..by1; bx0 > bx1: no look-up) and the largest depth
+ * compared. A tile whose blocks hold nothing nearer the light than that is
+ * lit whole: its pixels are not read (they were most of the time). */
+typedef struct tile_reach {
+    unsigned short bx0, bx1, by0, by1, ref;
+} tile_reach;
+#define DARKEN_TILE 32
+/* texels a side of the blocks whose least depth rejects most look-ups at once */
+#define MAP_BLOCK 8
 
 static void set_vertex_layout(void)
 {
@@ -219,6 +237,9 @@ void gl_renderer_destroy(gl_renderer *r)
     free(r->look_ups);
     free(r->key_colors);
     free(r->map);
+    free(r->block_least);
+    free(r->block_lit);
+    free(r->tiles);
     free(r);
 }
 
@@ -524,7 +545,10 @@ static int cache_create(gl_renderer *r)
     const size_t pixels = (size_t)r->width * (size_t)r->height;
     r->look_ups = malloc(pixels * sizeof *r->look_ups);
     r->key_colors = malloc(pixels * 3 * sizeof(unsigned short));
-    if (!r->look_ups || !r->key_colors) return -1;
+    r->tiles_x = (r->width + DARKEN_TILE - 1) / DARKEN_TILE;
+    r->tiles_y = (r->height + DARKEN_TILE - 1) / DARKEN_TILE;
+    r->tiles = malloc((size_t)r->tiles_x * (size_t)r->tiles_y * sizeof *r->tiles);
+    if (!r->look_ups || !r->key_colors || !r->tiles) return -1;
     glGenFramebuffers(1, &r->cache_fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, r->cache_fbo);
     /* depth as the target's, so that a box's is a plain copy */
@@ -554,17 +578,17 @@ static int cache_create(gl_renderer *r)
  * edge on a map of n texels a side. */
 static map_look_up look_up_of(const float *c, int n)
 {
-    map_look_up m = {-1, -1, -1, -1, 0, 0, 0.0f};
+    map_look_up m = {0, LOOK_UP_NONE, 0, 0, 0};
     if (c[3] == 0.0f || c[0] < 0.0f || c[0] > 1.0f || c[1] < 0.0f || c[1] > 1.0f) return m;
     const float s = c[0] * (float)n - 0.5f, t = c[1] * (float)n - 0.5f;
     const int i = (int)floorf(s), j = (int)floorf(t);
-    m.i0 = (short)(i < 0 ? 0 : i);
-    m.i1 = (short)(i + 1 >= n ? n - 1 : i + 1);
-    m.j0 = (short)(j < 0 ? 0 : j);
-    m.j1 = (short)(j + 1 >= n ? n - 1 : j + 1);
-    m.wx = (unsigned short)((s - (float)i) * 65535.0f + 0.5f);
-    m.wy = (unsigned short)((t - (float)j) * 65535.0f + 0.5f);
-    m.ref = c[2] < 0.0f ? 0.0f : c[2] > 1.0f ? 1.0f : c[2];
+    /* before the first texel: both columns (rows) the first, its weight 0 */
+    m.i0 = (unsigned short)(i < 0 ? 0 : i);
+    m.j0 = (unsigned short)(j < 0 ? 0 : j);
+    m.wx = (unsigned char)(i < 0 ? 0 : (s - (float)i) * 255.0f + 0.5f);
+    m.wy = (unsigned char)(j < 0 ? 0 : (t - (float)j) * 255.0f + 0.5f);
+    const float ref = c[2] < 0.0f ? 0.0f : c[2] > 1.0f ? 1.0f : c[2];
+    m.ref = (unsigned short)(ref * 65535.0f + 0.5f);
     return m;
 }
 
@@ -581,7 +605,21 @@ static int cache_read(gl_renderer *r)
     glReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_FLOAT, scratch);
     for (size_t i = 0; i < pixels; i++)
         r->look_ups[i] = r->shadow_size > 0 ? look_up_of(&scratch[4 * i], r->shadow_size)
-                                            : (map_look_up){-1, -1, -1, -1, 0, 0, 0.0f};
+                                            : (map_look_up){0, LOOK_UP_NONE, 0, 0, 0};
+    for (int t = 0; t < r->tiles_x * r->tiles_y; t++)
+        r->tiles[t] = (tile_reach){0xffff, 0, 0xffff, 0, 0};
+    for (int y = 0; y < r->height; y++)
+        for (int x = 0; x < r->width; x++) {
+            const map_look_up *m = &r->look_ups[(size_t)y * (size_t)r->width + (size_t)x];
+            if (m->j0 == LOOK_UP_NONE) continue;
+            tile_reach *t = &r->tiles[(y / DARKEN_TILE) * r->tiles_x + x / DARKEN_TILE];
+            const unsigned short bx = m->i0 / MAP_BLOCK, by = m->j0 / MAP_BLOCK;
+            t->bx0 = bx < t->bx0 ? bx : t->bx0;
+            t->bx1 = bx > t->bx1 ? bx : t->bx1;
+            t->by0 = by < t->by0 ? by : t->by0;
+            t->by1 = by > t->by1 ? by : t->by1;
+            t->ref = m->ref > t->ref ? m->ref : t->ref;
+        }
     glReadBuffer(GL_COLOR_ATTACHMENT2);
     glReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_FLOAT, scratch);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
@@ -665,6 +703,31 @@ static void boxes_from_cache(gl_renderer *r, const render_camera *cam, const int
     glDisable(GL_SCISSOR_TEST);
 }
 
+/* Each block's least depth (r->block_least) over its texels and those of
+ * the column and row after it (a look-up's second texels), from r->map;
+ * 1 outside the texels read (cleared). */
+static void block_least(gl_renderer *r)
+{
+    const int n = r->shadow_size, *read = r->map_read;
+    for (int i = 0; i < r->blocks * r->blocks; i++) r->block_least[i] = 1.0f;
+    for (int y = read[1]; y < read[3]; y++) {
+        const float *row = &r->map[(size_t)y * (size_t)n];
+        for (int x = read[0]; x < read[2]; x++) {
+            if (row[x] >= 1.0f) continue;
+            /* the blocks whose look-ups can reach texel (x, y): its own, and
+             * those before it when it starts a column or row of blocks */
+            for (int by = y / MAP_BLOCK; by >= 0 && by >= (y - 1) / MAP_BLOCK; by--)
+                for (int bx = x / MAP_BLOCK; bx >= 0 && bx >= (x - 1) / MAP_BLOCK; bx--) {
+                    float *least = &r->block_least[by * r->blocks + bx];
+                    if (row[x] < *least) *least = row[x];
+                }
+        }
+    }
+    /* a look-up's ref / 65535 <= least */
+    for (int i = 0; i < r->blocks * r->blocks; i++)
+        r->block_lit[i] = (unsigned short)floorf(r->block_least[i] * 65535.0f);
+}
+
 /* The shadow map's texels the last depth pass drew (r->shadow_drawn) read
  * into r->map, the texels read before and not now set to 1 (cleared). 0,
  * or -1 on a GL error. */
@@ -672,9 +735,13 @@ static int map_read(gl_renderer *r)
 {
     const int n = r->shadow_size;
     if (!r->map) {
+        r->blocks = (n + MAP_BLOCK - 1) / MAP_BLOCK;
         r->map = malloc((size_t)n * (size_t)n * sizeof(float));
-        if (!r->map) return -1;
+        r->block_least = malloc((size_t)r->blocks * (size_t)r->blocks * sizeof(float));
+        r->block_lit = malloc((size_t)r->blocks * (size_t)r->blocks * sizeof(unsigned short));
+        if (!r->map || !r->block_least || !r->block_lit) return -1;
         for (size_t i = 0; i < (size_t)n * (size_t)n; i++) r->map[i] = 1.0f;
+        for (int i = 0; i < r->blocks * r->blocks; i++) r->block_least[i] = 1.0f;
     }
     int *was = r->map_read;
     for (int y = was[1]; y < was[3]; y++)
@@ -689,6 +756,7 @@ static int map_read(gl_renderer *r)
                  &r->map[(size_t)now[1] * (size_t)n + (size_t)now[0]]);
     glPixelStorei(GL_PACK_ROW_LENGTH, 0);
     gl_target_bind(r->target);
+    block_least(r);
     return glGetError() == GL_NO_ERROR ? 0 : -1;
 }
 
@@ -696,17 +764,49 @@ static int map_read(gl_renderer *r)
  * key_visibility: one bilinear comparison, GL_LEQUAL) against r->map. */
 static float map_visibility(const gl_renderer *r, const map_look_up *m)
 {
-    const int *read = r->map_read;
-    /* all four texels cleared (1: nothing in front): lit */
-    if (m->i1 < read[0] || m->i0 >= read[2] || m->j1 < read[1] || m->j0 >= read[3]) return 1.0f;
-    const size_t n = (size_t)r->shadow_size;
-    const float *row0 = &r->map[(size_t)m->j0 * n], *row1 = &r->map[(size_t)m->j1 * n];
-    const float ref = m->ref;
-    const float a = ref <= row0[m->i0], b = ref <= row0[m->i1];
-    const float c = ref <= row1[m->i0], d = ref <= row1[m->i1];
-    if (a + b + c + d == 4.0f) return 1.0f;
-    const float fx = m->wx * (1.0f / 65535.0f), fy = m->wy * (1.0f / 65535.0f);
+    const float ref = m->ref * (1.0f / 65535.0f);
+    const int n = r->shadow_size;
+    const int i1 = m->i0 + 1 < n ? m->i0 + 1 : n - 1, j1 = m->j0 + 1 < n ? m->j0 + 1 : n - 1;
+    const float *row0 = &r->map[(size_t)m->j0 * (size_t)n], *row1 = &r->map[(size_t)j1 * (size_t)n];
+    const float a = ref <= row0[m->i0], b = ref <= row0[i1];
+    const float c = ref <= row1[m->i0], d = ref <= row1[i1];
+    const float fx = m->wx * (1.0f / 255.0f), fy = m->wy * (1.0f / 255.0f);
     return (1 - fy) * ((1 - fx) * a + fx * b) + fy * ((1 - fx) * c + fx * d);
+}
+
+/* Whether every look-up of tile t is lit: its blocks hold nothing nearer
+ * the light than its largest depth compared. */
+static int tile_lit(const gl_renderer *r, const tile_reach *t)
+{
+    for (int by = t->by0; by <= t->by1; by++)
+        for (int bx = t->bx0; bx <= t->bx1; bx++)
+            if (t->ref > r->block_lit[by * r->blocks + bx]) return 0;
+    return 1; /* also no look-up: bx0 > bx1 */
+}
+
+/* Darkens the pixels x0 <= x < x1, y0 <= y < y1 (GL's, bottom-up) of out. */
+static void darken_rect(const gl_renderer *r, int x0, int y0, int x1, int y1, image *out)
+{
+    for (int y = y0; y < y1; y++) {
+        const size_t row = (size_t)y * (size_t)r->width;
+        unsigned char *dst =
+            out->rgb + ((size_t)(r->height - 1 - y) * (size_t)out->width + (size_t)x0) * 3;
+        for (int x = x0; x < x1; x++, dst += 3) {
+            const map_look_up *m = &r->look_ups[row + (size_t)x];
+            /* no look-up, or nothing nearer the light in its block: lit */
+            if (m->j0 == LOOK_UP_NONE ||
+                m->ref <= r->block_lit[(m->j0 / MAP_BLOCK) * r->blocks + m->i0 / MAP_BLOCK])
+                continue;
+            const float shade = 1.0f - map_visibility(r, m);
+            if (shade <= 0.0f) continue;
+            const unsigned short *key = &r->key_colors[3 * (row + (size_t)x)];
+            for (int k = 0; k < 3; k++) {
+                /* in 1/256 of a level, rounded */
+                int v = dst[k] * 256 - (int)(shade * (float)key[k]) + 128;
+                dst[k] = (unsigned char)(v < 0 ? 0 : v >> 8);
+            }
+        }
+    }
 }
 
 int gl_renderer_darken(const gl_renderer *r, const int *boxes, int box_count, image *out)
@@ -715,22 +815,17 @@ int gl_renderer_darken(const gl_renderer *r, const int *boxes, int box_count, im
     if (r->shadow_size <= 0) return 1;
     for (int b = 0; b < box_count; b++) {
         const int *box = &boxes[4 * b];
-        for (int y = box[1]; y < box[1] + box[3]; y++) {
-            const size_t row = (size_t)(r->height - 1 - y) * (size_t)r->width; /* GL's, bottom-up */
-            unsigned char *dst = out->rgb + ((size_t)y * (size_t)out->width + (size_t)box[0]) * 3;
-            for (int x = box[0]; x < box[0] + box[2]; x++, dst += 3) {
-                const map_look_up *m = &r->look_ups[row + (size_t)x];
-                if (m->i0 < 0) continue;
-                const float shade = 1.0f - map_visibility(r, m);
-                if (shade <= 0.0f) continue;
-                const unsigned short *key = &r->key_colors[3 * (row + (size_t)x)];
-                for (int k = 0; k < 3; k++) {
-                    /* in 1/256 of a level, rounded */
-                    int v = dst[k] * 256 - (int)(shade * (float)key[k]) + 128;
-                    dst[k] = (unsigned char)(v < 0 ? 0 : v >> 8);
-                }
+        /* GL's rows, bottom-up */
+        const int x0 = box[0], x1 = box[0] + box[2];
+        const int y0 = r->height - (box[1] + box[3]), y1 = r->height - box[1];
+        for (int ty = y0 / DARKEN_TILE; ty * DARKEN_TILE < y1; ty++)
+            for (int tx = x0 / DARKEN_TILE; tx * DARKEN_TILE < x1; tx++) {
+                if (tile_lit(r, &r->tiles[ty * r->tiles_x + tx])) continue;
+                const int ax = tx * DARKEN_TILE, ay = ty * DARKEN_TILE;
+                darken_rect(r, ax > x0 ? ax : x0, ay > y0 ? ay : y0,
+                            ax + DARKEN_TILE < x1 ? ax + DARKEN_TILE : x1,
+                            ay + DARKEN_TILE < y1 ? ay + DARKEN_TILE : y1, out);
             }
-        }
     }
     return 1;
 }
