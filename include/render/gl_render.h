@@ -55,8 +55,9 @@ int gl_renderer_set_shadows(gl_renderer *r, const double light_view_projection[1
  * wound counter-clockwise seen from outside; the indices after
  * caster_index_count matte: the punctures), resolves each box, and reads
  * the boxes' bounding rectangle back (a still camera over receivers
- * without samples: the boxes hold only the frame's triangles, their depth
- * from the receivers drawn once; see gl_renderer_darken)
+ * without samples: only drawn_boxes, the boxes something is drawn in, and
+ * they hold only the frame's triangles, their depth from the receivers
+ * drawn once; see gl_renderer_darken)
  * as premultiplied RGBA (coverage in alpha), rows bottom-up; read_box gets
  * that rectangle (x, y, width, height). Only the boxes cost much time
  * (clear, multisample resolve). Returns the pixels, owned by r and valid
@@ -65,7 +66,9 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
                                             const render_vertex *vertices, int vertex_count,
                                             const unsigned *indices, int index_count,
                                             int caster_index_count, const int *boxes,
-                                            int box_count, int read_box[4], double *shadow_seconds);
+                                            int box_count, const int *drawn_boxes,
+                                            int drawn_box_count, int read_box[4],
+                                            double *shadow_seconds);
 /* After gl_renderer_draw_boxes: 1 when its boxes came from the receivers'
  * cache (a still camera over receivers, no samples), transparent but for
  * the frame's triangles (composite them over the backdrop); then, with

@@ -834,7 +834,9 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
                                             const render_vertex *vertices, int vertex_count,
                                             const unsigned *indices, int index_count,
                                             int caster_index_count, const int *boxes,
-                                            int box_count, int read_box[4], double *shadow_seconds)
+                                            int box_count, const int *drawn_boxes,
+                                            int drawn_box_count, int read_box[4],
+                                            double *shadow_seconds)
 {
     if (gl_context_make_current(r->context)) return NULL;
     if (vertex_count > r->max_vertices) vertex_count = r->max_vertices;
@@ -867,6 +869,9 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
                        gl_target_samples(r->target) == 0 && receiver_cache(r, cam) == 0;
     r->cached = cached;
     if (cached) {
+        /* the boxes a shadow only falls in are the backdrop's, darkened */
+        boxes = drawn_boxes;
+        box_count = drawn_box_count;
         boxes_from_cache(r, cam, boxes, box_count);
         if (r->shadow_size > 0 && map_read(r)) return NULL;
     }
