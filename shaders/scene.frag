@@ -25,18 +25,15 @@ uniform vec3 background;      // linear 0..1
 
 layout(location = 0) out vec4 frag_color;
 // CACHE 1 (the static receivers drawn once for a still camera, matte only):
-// the colour lit, and what the key light's shadow may take from it, so that
-// a frame darkens the cached colour (shaders/darken.frag) instead of
-// drawing the receivers again
+// the colour lit, the look-up of the shadow map and what the key light's
+// shadow may take from the colour, so that a frame darkens the backdrop
+// (gl_renderer_darken in src/render/gl_render.c, the same comparison as
+// key_visibility) instead of drawing the receivers again
 #if CACHE
 layout(location = 1) out vec4 cache_look_up;  // xyz: the shadow map's coordinates; w 1: looked up
 layout(location = 2) out vec4 cache_key;      // rgb: the colour lit less the colour in full shadow
 #endif
 
-// The fraction of the key light that reaches p (1: lit, 0: in shadow):
-// one bilinear comparison, a tent filter two texels wide; the map's texels
-// are sized for it (src/render/shadow.c). Each tap costs as much as the rest
-// of the shading on llvmpipe (docs/decisions/0105-video-speed.md).
 // The shadow map's coordinates of p (orthographic: w = 1), moved along n
 vec3 look_up(vec3 p, vec3 n)
 {
