@@ -23,7 +23,23 @@ uniform vec4 fade;            // xyz: centre (m); w: radius where the fade start
 uniform float fade_end;       // m: radius where only the background remains
 uniform vec3 background;      // linear 0..1
 
-out vec4 frag_color;
+layout(location = 0) out vec4 frag_color;
+// CACHE 1 (the static receivers drawn once for a still camera, matte only):
+// the colour lit, the look-up of the shadow map and what the key light's
+// shadow may take from the colour, so that a frame darkens the backdrop
+// (gl_renderer_darken in src/render/gl_render.c, the same comparison as
+// key_visibility) instead of drawing the receivers again
+#if CACHE
+layout(location = 1) out vec4 cache_look_up;  // xyz: the shadow map's coordinates; w 1: looked up
+layout(location = 2) out vec4 cache_key;      // rgb: the colour lit less the colour in full shadow
+#endif
+
+// The shadow map's coordinates of p (orthographic: w = 1), moved along n
+vec3 look_up(vec3 p, vec3 n)
+{
+    vec4 q = light_view_projection * vec4(p + shadow_offset * n, 1.0);
+    return q.xyz * 0.5 + 0.5;
+}
 
 // The fraction of the key light that reaches p (1: lit, 0: in shadow):
 // one bilinear comparison, a tent filter two texels wide; the map's texels
@@ -31,23 +47,16 @@ out vec4 frag_color;
 // of the shading on llvmpipe (docs/decisions/0105-video-speed.md).
 float key_visibility(vec3 p, vec3 n)
 {
-    vec4 q = light_view_projection * vec4(p + shadow_offset * n, 1.0);
-    vec3 c = q.xyz * 0.5 + 0.5;  // orthographic: w = 1
+    vec3 c = look_up(p, n);
     if (c.x < 0.0 || c.x > 1.0 || c.y < 0.0 || c.y > 1.0) return 1.0;
     // beyond the far plane is behind every caster; nearer than the near plane, before them
     float ref = clamp(c.z, 0.0, 1.0);
     return texture(shadow_map, vec3(c.xy, ref));
 }
 
-void main()
+// The colour of the surface of unit normal n with the given part of the key light
+vec3 shaded(vec3 n, float visible)
 {
-    if (lit == 0) {
-        frag_color = vec4(base_color, 1.0);
-        return;
-    }
-    vec3 n = normalize(world_normal);
-    // a side turned from the key light has no key light to lose
-    float visible = shadows == 1 && dot(n, key_direction) > 0.0 ? key_visibility(world_position, n) : 1.0;
     vec3 v = orthographic == 1 ? view_direction : normalize(eye - world_position);
     if (dot(n, v) < 0.0) n = -n;  // two-sided: caps and ribbons seen from behind
     float key_diffuse = max(dot(n, key_direction), 0.0) * visible;
@@ -66,5 +75,29 @@ void main()
         float d = distance(world_position, fade.xyz);
         c = mix(c, background, smoothstep(fade.w, fade_end, d));
     }
+    return c;
+}
+
+void main()
+{
+    if (lit == 0) {
+        frag_color = vec4(base_color, 1.0);
+#if CACHE
+        cache_look_up = vec4(0.0);
+        cache_key = vec4(0.0);
+#endif
+        return;
+    }
+    vec3 n = normalize(world_normal);
+    // a side turned from the key light has no key light to lose
+    bool keyed = shadows == 1 && dot(n, key_direction) > 0.0;
+#if CACHE
+    vec3 c = shaded(n, 1.0);
     frag_color = vec4(c, 1.0);
+    cache_look_up = keyed ? vec4(look_up(world_position, n), 1.0) : vec4(0.0);
+    cache_key = vec4(keyed ? c - shaded(n, 0.0) : vec3(0.0), 0.0);
+#else
+    float visible = keyed ? key_visibility(world_position, n) : 1.0;
+    frag_color = vec4(shaded(n, visible), 1.0);
+#endif
 }

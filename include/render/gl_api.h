@@ -37,11 +37,15 @@ int gl_functions_load(gl_proc (*get_proc)(const char *name), char *err, size_t e
     X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer) \
     X(PFNGLBINDTEXTUREPROC, BindTexture) \
     X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray) \
+    X(PFNGLBLENDEQUATIONPROC, BlendEquation) \
+    X(PFNGLBLENDEQUATIONSEPARATEPROC, BlendEquationSeparate) \
+    X(PFNGLBLENDFUNCPROC, BlendFunc) \
     X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer) \
     X(PFNGLBUFFERDATAPROC, BufferData) \
     X(PFNGLBUFFERSUBDATAPROC, BufferSubData) \
     X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus) \
     X(PFNGLCLEARPROC, Clear) \
+    X(PFNGLCLEARBUFFERFVPROC, ClearBufferfv) \
     X(PFNGLCLEARCOLORPROC, ClearColor) \
     X(PFNGLCOMPILESHADERPROC, CompileShader) \
     X(PFNGLCREATEPROGRAMPROC, CreateProgram) \
@@ -54,9 +58,11 @@ int gl_functions_load(gl_proc (*get_proc)(const char *name), char *err, size_t e
     X(PFNGLDELETESHADERPROC, DeleteShader) \
     X(PFNGLDELETETEXTURESPROC, DeleteTextures) \
     X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays) \
+    X(PFNGLDEPTHMASKPROC, DepthMask) \
     X(PFNGLDISABLEPROC, Disable) \
     X(PFNGLDRAWARRAYSPROC, DrawArrays) \
     X(PFNGLDRAWBUFFERPROC, DrawBuffer) \
+    X(PFNGLDRAWBUFFERSPROC, DrawBuffers) \
     X(PFNGLDRAWELEMENTSPROC, DrawElements) \
     X(PFNGLENABLEPROC, Enable) \
     X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray) \
@@ -116,11 +122,15 @@ extern gl_functions gl_fn;
 #define glBindRenderbuffer gl_fn.BindRenderbuffer
 #define glBindTexture gl_fn.BindTexture
 #define glBindVertexArray gl_fn.BindVertexArray
+#define glBlendEquation gl_fn.BlendEquation
+#define glBlendEquationSeparate gl_fn.BlendEquationSeparate
+#define glBlendFunc gl_fn.BlendFunc
 #define glBlitFramebuffer gl_fn.BlitFramebuffer
 #define glBufferData gl_fn.BufferData
 #define glBufferSubData gl_fn.BufferSubData
 #define glCheckFramebufferStatus gl_fn.CheckFramebufferStatus
 #define glClear gl_fn.Clear
+#define glClearBufferfv gl_fn.ClearBufferfv
 #define glClearColor gl_fn.ClearColor
 #define glCompileShader gl_fn.CompileShader
 #define glCreateProgram gl_fn.CreateProgram
@@ -133,9 +143,11 @@ extern gl_functions gl_fn;
 #define glDeleteShader gl_fn.DeleteShader
 #define glDeleteTextures gl_fn.DeleteTextures
 #define glDeleteVertexArrays gl_fn.DeleteVertexArrays
+#define glDepthMask gl_fn.DepthMask
 #define glDisable gl_fn.Disable
 #define glDrawArrays gl_fn.DrawArrays
 #define glDrawBuffer gl_fn.DrawBuffer
+#define glDrawBuffers gl_fn.DrawBuffers
 #define glDrawElements gl_fn.DrawElements
 #define glEnable gl_fn.Enable
 #define glEnableVertexAttribArray gl_fn.EnableVertexAttribArray

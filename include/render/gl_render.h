@@ -54,7 +54,10 @@ int gl_renderer_set_shadows(gl_renderer *r, const double light_view_projection[1
  * draws the lit triangles once with back faces culled (closed surfaces,
  * wound counter-clockwise seen from outside; the indices after
  * caster_index_count matte: the punctures), resolves each box, and reads
- * the boxes' bounding rectangle back
+ * the boxes' bounding rectangle back (a still camera over receivers
+ * without samples: only drawn_boxes, the boxes something is drawn in, and
+ * they hold only the frame's triangles, their depth from the receivers
+ * drawn once; see gl_renderer_darken)
  * as premultiplied RGBA (coverage in alpha), rows bottom-up; read_box gets
  * that rectangle (x, y, width, height). Only the boxes cost much time
  * (clear, multisample resolve). Returns the pixels, owned by r and valid
@@ -63,7 +66,16 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
                                             const render_vertex *vertices, int vertex_count,
                                             const unsigned *indices, int index_count,
                                             int caster_index_count, const int *boxes,
-                                            int box_count, int read_box[4], double *shadow_seconds);
+                                            int box_count, const int *drawn_boxes,
+                                            int drawn_box_count, int read_box[4],
+                                            double *shadow_seconds);
+/* After gl_renderer_draw_boxes: 1 when its boxes came from the receivers'
+ * cache (a still camera over receivers, no samples), transparent but for
+ * the frame's triangles (composite them over the backdrop); then, with
+ * shadows, the backdrop's pixels in the boxes (out, y down) darkened where
+ * the key light's shadow falls on a receiver, as the receivers' shading
+ * darkens them. 0: the boxes are whole, out untouched. */
+int gl_renderer_darken(const gl_renderer *r, const int *boxes, int box_count, image *out);
 const char *gl_renderer_description(const gl_renderer *r);
 
 #endif

@@ -41,5 +41,8 @@ int gl_target_read_resolved_rgba(gl_target *t, int x, int y, int width, int heig
                                  unsigned char *rgba);
 /* Samples actually in use. */
 int gl_target_samples(const gl_target *t);
+/* The framebuffer drawn into (colour RGBA8, depth 24 bits), e.g. to blit a
+ * cached picture of the same formats into. */
+unsigned gl_target_framebuffer(const gl_target *t);
 
 #endif

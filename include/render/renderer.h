@@ -38,9 +38,13 @@ typedef struct renderer {
     image *backdrop;             /* background and grid, drawn once */
     double pad;                  /* m, reach of the geometry around the points that carry it */
     int tiles_x, tiles_y;        /* tile grid over the picture, TILE pixels, from the bottom */
-    unsigned char *tile_marked;  /* (tiles_y x tiles_x) */
+    unsigned char *tile_marked;  /* (tiles_y x tiles_x): TILE_DRAWN | TILE_SHADOW bits */
+    int marking;                 /* the bit mark_points sets */
     int (*boxes)[4];             /* disjoint boxes over the marked tiles: x, y (down), w, h */
     int box_count;
+    int (*drawn_boxes)[4];       /* the same over the tiles something is drawn in (not only a
+                                    shadow falls): all GL draws when the receivers are cached */
+    int drawn_box_count;
     rod_recording *view;         /* magnify != 1: frame 0 the run's first, 1 the drawn frame */
     double *values;              /* (nodes), the colour's quantity */
     float *colors;               /* (nodes x 3), linear 0..1; NULL: solid */

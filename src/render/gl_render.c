@@ -5,6 +5,7 @@
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "render/gl_api.h"
@@ -22,12 +23,20 @@ static double gl_seconds(void)
  * constants: llvmpipe runs both sides of a branch for every pixel, so one
  * shader for all paid the rod's highlight and the plane's fade on every
  * pixel of every surface. */
-enum { SHADE_FLAT, SHADE_GLOSSY, SHADE_MATTE, SHADE_MATTE_FADED, SHADE_VARIANTS };
+/* The _CACHED variants draw the static picture once into the receivers'
+ * cache (receiver_cache): the flat lines and the matte receivers. */
+enum {
+    SHADE_FLAT, SHADE_GLOSSY, SHADE_MATTE, SHADE_MATTE_FADED,
+    SHADE_FLAT_CACHED, SHADE_MATTE_CACHED, SHADE_MATTE_FADED_CACHED, SHADE_VARIANTS
+};
 static const char *const shade_defines[SHADE_VARIANTS] = {
-    [SHADE_FLAT] = "#define LIT 0\n#define FADING 0\n",
-    [SHADE_GLOSSY] = "#define LIT 1\n#define FADING 0\n",
-    [SHADE_MATTE] = "#define LIT 2\n#define FADING 0\n",
-    [SHADE_MATTE_FADED] = "#define LIT 2\n#define FADING 1\n",
+    [SHADE_FLAT] = "#define LIT 0\n#define FADING 0\n#define CACHE 0\n",
+    [SHADE_GLOSSY] = "#define LIT 1\n#define FADING 0\n#define CACHE 0\n",
+    [SHADE_MATTE] = "#define LIT 2\n#define FADING 0\n#define CACHE 0\n",
+    [SHADE_MATTE_FADED] = "#define LIT 2\n#define FADING 1\n#define CACHE 0\n",
+    [SHADE_FLAT_CACHED] = "#define LIT 0\n#define FADING 0\n#define CACHE 1\n",
+    [SHADE_MATTE_CACHED] = "#define LIT 2\n#define FADING 0\n#define CACHE 1\n",
+    [SHADE_MATTE_FADED_CACHED] = "#define LIT 2\n#define FADING 1\n#define CACHE 1\n",
 };
 
 typedef struct scene_program {
@@ -58,7 +67,51 @@ struct gl_renderer {
     float light[16], shadow_offset;
     int shadow_drawn[4];        /* texels x0, y0, x1, y1 the last depth pass may have drawn
                                    (x0 >= x1: none); the rest of the map is cleared */
+    /* the receivers' cache, for a still camera and a target without samples:
+     * the lines and receivers drawn once (depth, and for each pixel of a
+     * receiver lit by the key light its shadow map's look-up and the colour
+     * the key light adds); a frame's boxes take their depth from it and are
+     * otherwise transparent, the backdrop under them darkened on the CPU
+     * where the shadow map says the key light is blocked
+     * (gl_renderer_darken) */
+    GLuint cache_fbo, cache_color, cache_depth, cache_look_up, cache_key;
+    int cache_valid, cached;    /* cached: the last boxes were drawn from it */
+    int cache_failed;           /* 1: it could not be made; boxes are drawn whole */
+    float cache_camera[16], cache_light[16], cache_offset; /* what it was drawn with */
+    struct map_look_up *look_ups; /* (height x width, rows bottom-up) */
+    unsigned short *key_colors; /* (height x width x 3): the key light's colour, 1/256 of a level */
+    float *map;                 /* (shadow_size^2): the shadow map's depths, read back */
+    int map_read[4];            /* texels x0, y0, x1, y1 read into map (the rest 1: cleared) */
+    float *block_least;         /* per block of MAP_BLOCK^2 texels, the least depth of its
+                                   texels and of the next column and row's (1: none drawn) */
+    unsigned short *block_lit;  /* the same in look-ups' depths: ref <= it is lit */
+    struct tile_reach *tiles;   /* (tiles_x x tiles_y, rows bottom-up) */
+    int tiles_x, tiles_y;
+    int blocks;                 /* blocks a side */
 };
+
+/* A receiver pixel's look-up in the shadow map (its coordinates fixed by
+ * the still camera and light): the 2 x 2 texels from (i0, j0) (the second
+ * column and row clamped to the map's edge; j0 LOOK_UP_NONE: no look-up,
+ * the pixel is no receiver lit by the key), the bilinear weights of the
+ * second column and row (1/255), the depth compared (1/65535). 8 bytes: a
+ * frame streams them over every pixel of its boxes. */
+typedef struct map_look_up {
+    unsigned short i0, j0;
+    unsigned char wx, wy;
+    unsigned short ref;
+} map_look_up;
+#define LOOK_UP_NONE 0xffff
+/* What the look-ups of a tile of DARKEN_TILE^2 pixels reach: the blocks
+ * (bx0..bx1, by0..by1; bx0 > bx1: no look-up) and the largest depth
+ * compared. A tile whose blocks hold nothing nearer the light than that is
+ * lit whole: its pixels are not read (they were most of the time). */
+typedef struct tile_reach {
+    unsigned short bx0, bx1, by0, by1, ref;
+} tile_reach;
+#define DARKEN_TILE 32
+/* texels a side of the blocks whose least depth rejects most look-ups at once */
+#define MAP_BLOCK 8
 
 static void set_vertex_layout(void)
 {
@@ -166,6 +219,11 @@ void gl_renderer_destroy(gl_renderer *r)
     if (r->shadow_fbo) glDeleteFramebuffers(1, &r->shadow_fbo);
     if (r->shadow_texture) glDeleteTextures(1, &r->shadow_texture);
     if (r->shadow_program) glDeleteProgram(r->shadow_program);
+    if (r->cache_fbo) glDeleteFramebuffers(1, &r->cache_fbo);
+    if (r->cache_color) glDeleteRenderbuffers(1, &r->cache_color);
+    if (r->cache_depth) glDeleteRenderbuffers(1, &r->cache_depth);
+    if (r->cache_look_up) glDeleteTextures(1, &r->cache_look_up);
+    if (r->cache_key) glDeleteTextures(1, &r->cache_key);
     if (r->vao) glDeleteVertexArrays(1, &r->vao);
     if (r->line_vao) glDeleteVertexArrays(1, &r->line_vao);
     if (r->vbo) glDeleteBuffers(1, &r->vbo);
@@ -176,6 +234,12 @@ void gl_renderer_destroy(gl_renderer *r)
     gl_target_destroy(r->target);
     gl_context_destroy(r->context);
     free(r->box_pixels);
+    free(r->look_ups);
+    free(r->key_colors);
+    free(r->map);
+    free(r->block_least);
+    free(r->block_lit);
+    free(r->tiles);
     free(r);
 }
 
@@ -291,6 +355,7 @@ int gl_renderer_set_receivers(gl_renderer *r, const render_vertex *vertices, int
     for (int k = 0; k < 4; k++) r->fade[k] = (float)fade[k];
     r->fade_end = (float)fade[4];
     for (int k = 0; k < 3; k++) r->background_rgb[k] = background[k] / 255.0f;
+    r->cache_valid = 0;
     for (int v = 0; v < SHADE_VARIANTS; v++) {
         glUseProgram(r->programs[v].id);
         glUniform3fv(r->programs[v].u_background, 1, r->background_rgb);
@@ -423,17 +488,17 @@ static void draw_shadow_map(gl_renderer *r, int caster_indices, const render_ver
 /* The static receivers, inside the scissor box set: the solids, then the
  * planes (faded) behind them, whose hidden pixels the depth test then
  * drops before they are shaded (llvmpipe tests depth first). */
-static void draw_receivers(gl_renderer *r)
+static void draw_receivers(gl_renderer *r, int cached)
 {
     if (r->receiver_indices <= 0) return;
     glBindVertexArray(r->receiver_vao);
-    use_shading(r, SHADE_MATTE);
+    use_shading(r, cached ? SHADE_MATTE_CACHED : SHADE_MATTE);
     if (r->receiver_indices > r->receiver_plane_indices)
         glDrawElements(GL_TRIANGLES, r->receiver_indices - r->receiver_plane_indices,
                        GL_UNSIGNED_INT,
                        (const void *)((size_t)r->receiver_plane_indices * sizeof(unsigned)));
     if (r->receiver_plane_indices > 0) {
-        use_shading(r, SHADE_MATTE_FADED);
+        use_shading(r, cached ? SHADE_MATTE_FADED_CACHED : SHADE_MATTE_FADED);
         glDrawElements(GL_TRIANGLES, r->receiver_plane_indices, GL_UNSIGNED_INT, NULL);
     }
     glBindVertexArray(0);
@@ -455,15 +520,323 @@ int gl_renderer_draw_backdrop(gl_renderer *r, const render_camera *cam,
         glDrawArrays(GL_LINES, 0, r->line_count);
         glBindVertexArray(0);
     }
-    draw_receivers(r);
+    draw_receivers(r, 0);
     return gl_target_read(r->target, out);
+}
+
+/* A texture of the picture's size (format internal), nearest texels, for texelFetch. */
+static GLuint cache_texture(const gl_renderer *r, GLenum internal, GLenum type)
+{
+    GLuint t = 0;
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D, t);
+    glTexImage2D(GL_TEXTURE_2D, 0, (GLint)internal, r->width, r->height, 0, GL_RGBA, type, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return t;
+}
+
+/* The receivers' cache's framebuffer and its CPU copies, made once. 0, or
+ * -1 (then boxes are drawn whole, as without the cache). */
+static int cache_create(gl_renderer *r)
+{
+    if (r->cache_fbo) return 0;
+    const size_t pixels = (size_t)r->width * (size_t)r->height;
+    r->look_ups = malloc(pixels * sizeof *r->look_ups);
+    r->key_colors = malloc(pixels * 3 * sizeof(unsigned short));
+    r->tiles_x = (r->width + DARKEN_TILE - 1) / DARKEN_TILE;
+    r->tiles_y = (r->height + DARKEN_TILE - 1) / DARKEN_TILE;
+    r->tiles = malloc((size_t)r->tiles_x * (size_t)r->tiles_y * sizeof *r->tiles);
+    if (!r->look_ups || !r->key_colors || !r->tiles) return -1;
+    glGenFramebuffers(1, &r->cache_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->cache_fbo);
+    /* depth as the target's, so that a box's is a plain copy */
+    glGenRenderbuffers(1, &r->cache_color);
+    glBindRenderbuffer(GL_RENDERBUFFER, r->cache_color);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, r->width, r->height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                              r->cache_color);
+    glGenRenderbuffers(1, &r->cache_depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, r->cache_depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, r->width, r->height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->cache_depth);
+    r->cache_look_up = cache_texture(r, GL_RGBA32F, GL_FLOAT);
+    r->cache_key = cache_texture(r, GL_RGBA32F, GL_FLOAT);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, r->cache_look_up,
+                           0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT2, GL_TEXTURE_2D, r->cache_key, 0);
+    const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glDrawBuffers(3, buffers);
+    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return status == GL_FRAMEBUFFER_COMPLETE && glGetError() == GL_NO_ERROR ? 0 : -1;
+}
+
+/* The look-up of the shadow map's coordinates c (xyz; w 0: none), as
+ * scene.frag's key_visibility makes it with GL_LINEAR and clamping to the
+ * edge on a map of n texels a side. */
+static map_look_up look_up_of(const float *c, int n)
+{
+    map_look_up m = {0, LOOK_UP_NONE, 0, 0, 0};
+    if (c[3] == 0.0f || c[0] < 0.0f || c[0] > 1.0f || c[1] < 0.0f || c[1] > 1.0f) return m;
+    const float s = c[0] * (float)n - 0.5f, t = c[1] * (float)n - 0.5f;
+    const int i = (int)floorf(s), j = (int)floorf(t);
+    /* before the first texel: both columns (rows) the first, its weight 0 */
+    m.i0 = (unsigned short)(i < 0 ? 0 : i);
+    m.j0 = (unsigned short)(j < 0 ? 0 : j);
+    m.wx = (unsigned char)(i < 0 ? 0 : (s - (float)i) * 255.0f + 0.5f);
+    m.wy = (unsigned char)(j < 0 ? 0 : (t - (float)j) * 255.0f + 0.5f);
+    const float ref = c[2] < 0.0f ? 0.0f : c[2] > 1.0f ? 1.0f : c[2];
+    m.ref = (unsigned short)(ref * 65535.0f + 0.5f);
+    return m;
+}
+
+/* The cache's look-ups and key colours read into r's CPU copies (through
+ * a scratch of 4 floats a pixel). 0, or -1. */
+static int cache_read(gl_renderer *r)
+{
+    const size_t pixels = (size_t)r->width * (size_t)r->height;
+    float *scratch = malloc(pixels * 4 * sizeof(float));
+    if (!scratch) return -1;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, r->cache_fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    glReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_FLOAT, scratch);
+    for (size_t i = 0; i < pixels; i++)
+        r->look_ups[i] = r->shadow_size > 0 ? look_up_of(&scratch[4 * i], r->shadow_size)
+                                            : (map_look_up){0, LOOK_UP_NONE, 0, 0, 0};
+    for (int t = 0; t < r->tiles_x * r->tiles_y; t++)
+        r->tiles[t] = (tile_reach){0xffff, 0, 0xffff, 0, 0};
+    for (int y = 0; y < r->height; y++)
+        for (int x = 0; x < r->width; x++) {
+            const map_look_up *m = &r->look_ups[(size_t)y * (size_t)r->width + (size_t)x];
+            if (m->j0 == LOOK_UP_NONE) continue;
+            tile_reach *t = &r->tiles[(y / DARKEN_TILE) * r->tiles_x + x / DARKEN_TILE];
+            const unsigned short bx = m->i0 / MAP_BLOCK, by = m->j0 / MAP_BLOCK;
+            t->bx0 = bx < t->bx0 ? bx : t->bx0;
+            t->bx1 = bx > t->bx1 ? bx : t->bx1;
+            t->by0 = by < t->by0 ? by : t->by0;
+            t->by1 = by > t->by1 ? by : t->by1;
+            t->ref = m->ref > t->ref ? m->ref : t->ref;
+        }
+    glReadBuffer(GL_COLOR_ATTACHMENT2);
+    glReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_FLOAT, scratch);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    for (size_t i = 0; i < pixels; i++)
+        for (int c = 0; c < 3; c++) {
+            /* 1/256 of a level */
+            float k = scratch[4 * i + c] * 255.0f * 256.0f + 0.5f;
+            r->key_colors[3 * i + c] = (unsigned short)(k < 0 ? 0 : k > 65535 ? 65535 : k);
+        }
+    free(scratch);
+    return glGetError() == GL_NO_ERROR ? 0 : -1;
+}
+
+/* The receivers' cache for this camera and light (set_camera done): drawn
+ * unless it already holds them. 0, or -1 when it cannot be made (then
+ * never tried again); the target bound either way. */
+static int receiver_cache(gl_renderer *r, const render_camera *cam)
+{
+    float camera[16];
+    for (int i = 0; i < 16; i++) camera[i] = (float)cam->view_projection[i];
+    if (r->cache_valid && !memcmp(camera, r->cache_camera, sizeof camera) &&
+        !memcmp(r->light, r->cache_light, sizeof r->light) && r->shadow_offset == r->cache_offset)
+        return 0;
+    if (r->cache_failed || cache_create(r)) {
+        r->cache_failed = 1;
+        gl_target_bind(r->target);
+        return -1;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, r->cache_fbo);
+    glViewport(0, 0, r->width, r->height);
+    glDisable(GL_SCISSOR_TEST);
+    const float background[4] = {r->background_rgb[0], r->background_rgb[1],
+                                 r->background_rgb[2], 1};
+    const float none[4] = {0, 0, 0, 0};
+    glClearBufferfv(GL_COLOR, 0, background);
+    glClearBufferfv(GL_COLOR, 1, none);
+    glClearBufferfv(GL_COLOR, 2, none);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    if (r->line_count > 0) {
+        use_shading(r, SHADE_FLAT_CACHED);
+        glBindVertexArray(r->line_vao);
+        glDrawArrays(GL_LINES, 0, r->line_count);
+        glBindVertexArray(0);
+    }
+    draw_receivers(r, 1);
+    const int read = cache_read(r);
+    gl_target_bind(r->target);
+    if (read) {
+        r->cache_failed = 1;
+        return -1;
+    }
+    memcpy(r->cache_camera, camera, sizeof camera);
+    memcpy(r->cache_light, r->light, sizeof r->light);
+    r->cache_offset = r->shadow_offset;
+    r->cache_valid = 1;
+    return 0;
+}
+
+/* The boxes from the receivers' cache: transparent, their depth copied
+ * (no scissor: a plain copy), so that the receivers hide what they should. */
+static void boxes_from_cache(gl_renderer *r, const render_camera *cam, const int *boxes,
+                             int box_count)
+{
+    glDisable(GL_SCISSOR_TEST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, r->cache_fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, gl_target_framebuffer(r->target));
+    for (int b = 0; b < box_count; b++) {
+        const int *box = &boxes[4 * b];
+        const int y0 = cam->height - (box[1] + box[3]), y1 = cam->height - box[1];
+        glBlitFramebuffer(box[0], y0, box[0] + box[2], y1, box[0], y0, box[0] + box[2], y1,
+                          GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    }
+    gl_target_bind(r->target);
+    glClearColor(0, 0, 0, 0);
+    glEnable(GL_SCISSOR_TEST);
+    for (int b = 0; b < box_count; b++) {
+        const int *box = &boxes[4 * b];
+        glScissor(box[0], cam->height - (box[1] + box[3]), box[2], box[3]);
+        glClear(GL_COLOR_BUFFER_BIT);
+    }
+    glDisable(GL_SCISSOR_TEST);
+}
+
+/* Each block's least depth (r->block_least) over its texels and those of
+ * the column and row after it (a look-up's second texels), from r->map;
+ * 1 outside the texels read (cleared). */
+static void block_least(gl_renderer *r)
+{
+    const int n = r->shadow_size, *read = r->map_read;
+    for (int i = 0; i < r->blocks * r->blocks; i++) r->block_least[i] = 1.0f;
+    for (int y = read[1]; y < read[3]; y++) {
+        const float *row = &r->map[(size_t)y * (size_t)n];
+        for (int x = read[0]; x < read[2]; x++) {
+            if (row[x] >= 1.0f) continue;
+            /* the blocks whose look-ups can reach texel (x, y): its own, and
+             * those before it when it starts a column or row of blocks */
+            for (int by = y / MAP_BLOCK; by >= 0 && by >= (y - 1) / MAP_BLOCK; by--)
+                for (int bx = x / MAP_BLOCK; bx >= 0 && bx >= (x - 1) / MAP_BLOCK; bx--) {
+                    float *least = &r->block_least[by * r->blocks + bx];
+                    if (row[x] < *least) *least = row[x];
+                }
+        }
+    }
+    /* a look-up's ref / 65535 <= least */
+    for (int i = 0; i < r->blocks * r->blocks; i++)
+        r->block_lit[i] = (unsigned short)floorf(r->block_least[i] * 65535.0f);
+}
+
+/* The shadow map's texels the last depth pass drew (r->shadow_drawn) read
+ * into r->map, the texels read before and not now set to 1 (cleared). 0,
+ * or -1 on a GL error. */
+static int map_read(gl_renderer *r)
+{
+    const int n = r->shadow_size;
+    if (!r->map) {
+        r->blocks = (n + MAP_BLOCK - 1) / MAP_BLOCK;
+        r->map = malloc((size_t)n * (size_t)n * sizeof(float));
+        r->block_least = malloc((size_t)r->blocks * (size_t)r->blocks * sizeof(float));
+        r->block_lit = malloc((size_t)r->blocks * (size_t)r->blocks * sizeof(unsigned short));
+        if (!r->map || !r->block_least || !r->block_lit) return -1;
+        for (size_t i = 0; i < (size_t)n * (size_t)n; i++) r->map[i] = 1.0f;
+        for (int i = 0; i < r->blocks * r->blocks; i++) r->block_least[i] = 1.0f;
+    }
+    int *was = r->map_read;
+    for (int y = was[1]; y < was[3]; y++)
+        for (int x = was[0]; x < was[2]; x++) r->map[(size_t)y * (size_t)n + (size_t)x] = 1.0f;
+    const int *now = r->shadow_drawn;
+    for (int k = 0; k < 4; k++) was[k] = now[k];
+    if (now[0] >= now[2] || now[1] >= now[3]) return 0;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, r->shadow_fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glPixelStorei(GL_PACK_ROW_LENGTH, n);
+    glReadPixels(now[0], now[1], now[2] - now[0], now[3] - now[1], GL_DEPTH_COMPONENT, GL_FLOAT,
+                 &r->map[(size_t)now[1] * (size_t)n + (size_t)now[0]]);
+    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+    gl_target_bind(r->target);
+    block_least(r);
+    return glGetError() == GL_NO_ERROR ? 0 : -1;
+}
+
+/* The key light reaching a receiver's pixel of look-up m (scene.frag's
+ * key_visibility: one bilinear comparison, GL_LEQUAL) against r->map. */
+static float map_visibility(const gl_renderer *r, const map_look_up *m)
+{
+    const float ref = m->ref * (1.0f / 65535.0f);
+    const int n = r->shadow_size;
+    const int i1 = m->i0 + 1 < n ? m->i0 + 1 : n - 1, j1 = m->j0 + 1 < n ? m->j0 + 1 : n - 1;
+    const float *row0 = &r->map[(size_t)m->j0 * (size_t)n], *row1 = &r->map[(size_t)j1 * (size_t)n];
+    const float a = ref <= row0[m->i0], b = ref <= row0[i1];
+    const float c = ref <= row1[m->i0], d = ref <= row1[i1];
+    const float fx = m->wx * (1.0f / 255.0f), fy = m->wy * (1.0f / 255.0f);
+    return (1 - fy) * ((1 - fx) * a + fx * b) + fy * ((1 - fx) * c + fx * d);
+}
+
+/* Whether every look-up of tile t is lit: its blocks hold nothing nearer
+ * the light than its largest depth compared. */
+static int tile_lit(const gl_renderer *r, const tile_reach *t)
+{
+    for (int by = t->by0; by <= t->by1; by++)
+        for (int bx = t->bx0; bx <= t->bx1; bx++)
+            if (t->ref > r->block_lit[by * r->blocks + bx]) return 0;
+    return 1; /* also no look-up: bx0 > bx1 */
+}
+
+/* Darkens the pixels x0 <= x < x1, y0 <= y < y1 (GL's, bottom-up) of out. */
+static void darken_rect(const gl_renderer *r, int x0, int y0, int x1, int y1, image *out)
+{
+    for (int y = y0; y < y1; y++) {
+        const size_t row = (size_t)y * (size_t)r->width;
+        unsigned char *dst =
+            out->rgb + ((size_t)(r->height - 1 - y) * (size_t)out->width + (size_t)x0) * 3;
+        for (int x = x0; x < x1; x++, dst += 3) {
+            const map_look_up *m = &r->look_ups[row + (size_t)x];
+            /* no look-up, or nothing nearer the light in its block: lit */
+            if (m->j0 == LOOK_UP_NONE ||
+                m->ref <= r->block_lit[(m->j0 / MAP_BLOCK) * r->blocks + m->i0 / MAP_BLOCK])
+                continue;
+            const float shade = 1.0f - map_visibility(r, m);
+            if (shade <= 0.0f) continue;
+            const unsigned short *key = &r->key_colors[3 * (row + (size_t)x)];
+            for (int k = 0; k < 3; k++) {
+                /* in 1/256 of a level, rounded */
+                int v = dst[k] * 256 - (int)(shade * (float)key[k]) + 128;
+                dst[k] = (unsigned char)(v < 0 ? 0 : v >> 8);
+            }
+        }
+    }
+}
+
+int gl_renderer_darken(const gl_renderer *r, const int *boxes, int box_count, image *out)
+{
+    if (!r->cached) return 0;
+    if (r->shadow_size <= 0) return 1;
+    for (int b = 0; b < box_count; b++) {
+        const int *box = &boxes[4 * b];
+        /* GL's rows, bottom-up */
+        const int x0 = box[0], x1 = box[0] + box[2];
+        const int y0 = r->height - (box[1] + box[3]), y1 = r->height - box[1];
+        for (int ty = y0 / DARKEN_TILE; ty * DARKEN_TILE < y1; ty++)
+            for (int tx = x0 / DARKEN_TILE; tx * DARKEN_TILE < x1; tx++) {
+                if (tile_lit(r, &r->tiles[ty * r->tiles_x + tx])) continue;
+                const int ax = tx * DARKEN_TILE, ay = ty * DARKEN_TILE;
+                darken_rect(r, ax > x0 ? ax : x0, ay > y0 ? ay : y0,
+                            ax + DARKEN_TILE < x1 ? ax + DARKEN_TILE : x1,
+                            ay + DARKEN_TILE < y1 ? ay + DARKEN_TILE : y1, out);
+            }
+    }
+    return 1;
 }
 
 const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera *cam,
                                             const render_vertex *vertices, int vertex_count,
                                             const unsigned *indices, int index_count,
                                             int caster_index_count, const int *boxes,
-                                            int box_count, int read_box[4], double *shadow_seconds)
+                                            int box_count, const int *drawn_boxes,
+                                            int drawn_box_count, int read_box[4],
+                                            double *shadow_seconds)
 {
     if (gl_context_make_current(r->context)) return NULL;
     if (vertex_count > r->max_vertices) vertex_count = r->max_vertices;
@@ -491,12 +864,23 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
      * then the rod): the shadow changes them. Else they are cleared to
      * transparent and only the rod is composited over the backdrop. */
     int opaque = r->receiver_indices > 0 || r->whole_boxes;
+    /* a still camera over receivers: the boxes from their cache (drawn once) */
+    const int cached = r->receiver_indices > 0 && !r->whole_boxes &&
+                       gl_target_samples(r->target) == 0 && receiver_cache(r, cam) == 0;
+    r->cached = cached;
+    if (cached) {
+        /* the boxes a shadow only falls in are the backdrop's, darkened */
+        boxes = drawn_boxes;
+        box_count = drawn_box_count;
+        boxes_from_cache(r, cam, boxes, box_count);
+        if (r->shadow_size > 0 && map_read(r)) return NULL;
+    }
     if (opaque)
         glClearColor(r->background_rgb[0], r->background_rgb[1], r->background_rgb[2], 1.0f);
     else
         glClearColor(0, 0, 0, 0);
     glEnable(GL_SCISSOR_TEST);
-    for (int b = 0; b < box_count; b++) {
+    for (int b = 0; !cached && b < box_count; b++) {
         const int *box = &boxes[4 * b];
         glScissor(box[0], cam->height - (box[1] + box[3]), box[2], box[3]);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -508,7 +892,7 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
             glDrawArrays(GL_LINES, 0, r->line_count);
             glBindVertexArray(0);
         }
-        draw_receivers(r);
+        draw_receivers(r, 0);
     }
     glDisable(GL_SCISSOR_TEST);
     /* One draw for all boxes: the boxes cover the geometry by construction,

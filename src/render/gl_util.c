@@ -190,6 +190,8 @@ void gl_target_bind(gl_target *t)
 
 int gl_target_samples(const gl_target *t) { return t->samples; }
 
+unsigned gl_target_framebuffer(const gl_target *t) { return t->draw_fbo; }
+
 int gl_target_read(gl_target *t, image *out)
 {
     if (out->width != t->width || out->height != t->height) return -1;

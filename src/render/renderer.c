@@ -17,6 +17,9 @@
 /* pixels; measured with 4x MSAA: less area to clear and resolve than 64
  * (llvmpipe's tile), and fewer boxes (GL calls) than 16 */
 #define TILE 32
+/* a tile's marks: something is drawn in it; a shadow may fall in it */
+#define TILE_DRAWN 1
+#define TILE_SHADOW 2
 /* grid lines a direction at most, the camera following (drawn every frame,
  * multisampled over the whole picture: about 0.1 ms each at 720p) */
 #define FOLLOW_GRID_LINES 40
@@ -61,7 +64,8 @@ static void mark_points(renderer *r, const double *points, int count, double pad
     int ty0 = (int)fmax(0, floor((height - hi[1]) / TILE));
     int ty1 = (int)fmin(r->tiles_y - 1, floor((height - lo[1]) / TILE));
     for (int ty = ty0; ty <= ty1; ty++)
-        for (int tx = tx0; tx <= tx1; tx++) r->tile_marked[ty * r->tiles_x + tx] = 1;
+        for (int tx = tx0; tx <= tx1; tx++)
+            r->tile_marked[ty * r->tiles_x + tx] |= (unsigned char)r->marking;
 }
 
 /* Marks the tiles where the shadow of the points (a polyline when chain,
@@ -72,6 +76,7 @@ static void mark_shadow(renderer *r, const double *points, int count, int chain,
 {
     const shadow_scene *sh = &r->shadow;
     double reach = SHADOW_REACH * sh->size, hull[3 * 16 * 64];
+    r->marking = TILE_SHADOW;
     for (int c = 0; c < sh->catcher_count; c++) {
         int kept = 0;
         for (int i = 0; i < count; i++)
@@ -94,6 +99,29 @@ static void mark_shadow(renderer *r, const double *points, int count, int chain,
             }
         if (kept > 0) mark_points(r, hull, kept, pad * sh->catchers[c].stretch + sh->shadow_pad);
     }
+    r->marking = TILE_DRAWN;
+}
+
+/* The runs of tiles in each tile row with one of the bits `bits` marked,
+ * as boxes into boxes; their count. */
+static int tile_runs(const renderer *r, int bits, int (*boxes)[4])
+{
+    int count = 0, width = r->camera.width, height = r->camera.height;
+    for (int ty = 0; ty < r->tiles_y; ty++)
+        for (int tx = 0; tx < r->tiles_x; tx++) {
+            if (!(r->tile_marked[ty * r->tiles_x + tx] & bits)) continue;
+            int run = tx;
+            while (run + 1 < r->tiles_x && r->tile_marked[ty * r->tiles_x + run + 1] & bits) run++;
+            int gl_y0 = ty * TILE, gl_y1 = (ty + 1) * TILE < height ? (ty + 1) * TILE : height;
+            int x1 = (run + 1) * TILE < width ? (run + 1) * TILE : width;
+            int *box = boxes[count++];
+            box[0] = tx * TILE;
+            box[1] = height - gl_y1;
+            box[2] = x1 - tx * TILE;
+            box[3] = gl_y1 - gl_y0;
+            tx = run;
+        }
+    return count;
 }
 
 /* The disjoint boxes that hold this frame's tube, stripe, end glyphs and arrows:
@@ -108,9 +136,12 @@ static void frame_boxes(renderer *r, const rod_recording *rec, int frame,
         r->boxes[0][0] = r->boxes[0][1] = 0;
         r->boxes[0][2] = r->camera.width;
         r->boxes[0][3] = r->camera.height;
+        memcpy(r->drawn_boxes[0], r->boxes[0], sizeof r->boxes[0]);
+        r->drawn_box_count = 1;
         return;
     }
     memset(r->tile_marked, 0, (size_t)r->tiles_x * (size_t)r->tiles_y);
+    r->marking = TILE_DRAWN;
     for (int k = 0; k + 1 < rec->nodes; k++)
         mark_points(r, node_position(rec, frame, k), 2, r->pad);
     for (int end = 0; end < 2; end++) {
@@ -163,22 +194,8 @@ static void frame_boxes(renderer *r, const rod_recording *rec, int frame,
         }
     }
     /* runs of marked tiles in each tile row become boxes */
-    r->box_count = 0;
-    int width = r->camera.width, height = r->camera.height;
-    for (int ty = 0; ty < r->tiles_y; ty++)
-        for (int tx = 0; tx < r->tiles_x; tx++) {
-            if (!r->tile_marked[ty * r->tiles_x + tx]) continue;
-            int run = tx;
-            while (run + 1 < r->tiles_x && r->tile_marked[ty * r->tiles_x + run + 1]) run++;
-            int gl_y0 = ty * TILE, gl_y1 = (ty + 1) * TILE < height ? (ty + 1) * TILE : height;
-            int x1 = (run + 1) * TILE < width ? (run + 1) * TILE : width;
-            int *box = r->boxes[r->box_count++];
-            box[0] = tx * TILE;
-            box[1] = height - gl_y1;
-            box[2] = x1 - tx * TILE;
-            box[3] = gl_y1 - gl_y0;
-            tx = run;
-        }
+    r->box_count = tile_runs(r, TILE_DRAWN | TILE_SHADOW, r->boxes);
+    r->drawn_box_count = tile_runs(r, TILE_DRAWN, r->drawn_boxes);
 }
 
 void renderer_destroy(renderer *r)
@@ -187,6 +204,7 @@ void renderer_destroy(renderer *r)
     image_destroy(r->backdrop);
     free(r->tile_marked);
     free(r->boxes);
+    free(r->drawn_boxes);
     overlay_destroy(&r->overlay);
     follow_destroy(r->follow);
     free(r->mesh.vertices);
@@ -351,8 +369,9 @@ static int renderer_backdrop(renderer *r, const render_options *o, char *err, si
     r->tiles_y = (o->height + TILE - 1) / TILE;
     r->tile_marked = malloc((size_t)r->tiles_x * (size_t)r->tiles_y);
     r->boxes = malloc((size_t)r->tiles_x * (size_t)r->tiles_y * sizeof *r->boxes);
+    r->drawn_boxes = malloc((size_t)r->tiles_x * (size_t)r->tiles_y * sizeof *r->drawn_boxes);
     r->backdrop = image_create(o->width, o->height);
-    if (!r->tile_marked || !r->boxes) {
+    if (!r->tile_marked || !r->boxes || !r->drawn_boxes) {
         snprintf(err, errlen, "render: out of memory");
         return -1;
     }
@@ -631,6 +650,8 @@ static void renderer_composite(const renderer *r, const unsigned char *rgba, con
 {
     /* premultiplied rod over the backdrop: out = C + (1 - alpha) B, inside the boxes only
      * (the read rectangle outside them holds stale pixels) */
+    int(*boxes)[4] = r->boxes;
+    int box_count = r->box_count;
     if (r->follow) {
         /* one opaque box, the whole picture: its pixels as they are */
         for (int y = 0; y < out->height; y++) {
@@ -644,9 +665,15 @@ static void renderer_composite(const renderer *r, const unsigned char *rgba, con
         }
     } else {
         memcpy(out->rgb, r->backdrop->rgb, (size_t)out->width * (size_t)out->height * 3);
+        /* boxes from the receivers' cache: the shadows darken the backdrop,
+         * the GL drew only where something is drawn */
+        if (gl_renderer_darken(r->gl, &r->boxes[0][0], r->box_count, out)) {
+            boxes = r->drawn_boxes;
+            box_count = r->drawn_box_count;
+        }
     }
-    for (int b = 0; !r->follow && b < r->box_count; b++) {
-        const int *box = r->boxes[b];
+    for (int b = 0; !r->follow && b < box_count; b++) {
+        const int *box = boxes[b];
         for (int y = box[1]; y < box[1] + box[3]; y++) {
             int row = read_box[1] + read_box[3] - 1 - y; /* GL rows run bottom-up */
             const unsigned char *src =
@@ -686,7 +713,8 @@ int renderer_draw(renderer *r, const rod_recording *rec, int frame, image *out)
     int read_box[4];
     const unsigned char *rgba = gl_renderer_draw_boxes(
         r->gl, &r->camera, m->vertices, m->vertex_count, m->indices, m->index_count,
-        r->caster_indices, &r->boxes[0][0], r->box_count, read_box, timing ? &timing->shadow : NULL);
+        r->caster_indices, &r->boxes[0][0], r->box_count, &r->drawn_boxes[0][0], r->drawn_box_count,
+        read_box, timing ? &timing->shadow : NULL);
     if (!rgba) return -1;
     double t2 = timing ? now_seconds() : 0;
     renderer_composite(r, rgba, read_box, out);

@@ -152,6 +152,23 @@ static void test_plane_shadow(void)
           "shadows = no: no shadow there (%.1f vs %.1f, within 3 %%)", under_off, lit_off);
     check(fabs(lit - lit_off) < 0.5,
           "the lit plane is the same with and without shadows (%.1f vs %.1f)", lit, lit_off);
+    /* in the shadow's core the matte shading keeps its ambient and fill
+     * terms only (shaders/scene.frag): 0.40 + 0.15 fill against 0.40 + 0.60
+     * key + 0.15 fill lit, the lights' directions as the GL layer sets them
+     * (the key from render_key_light, the fill 0.5 d - 0.2 up + 0.9 right) */
+    double key[3], fill[3];
+    render_key_light(&cam, key);
+    for (int c = 0; c < 3; c++)
+        fill[c] = 0.5 * cam.direction[c] - 0.2 * cam.up[c] + 0.9 * cam.right[c];
+    /* the plane's normal is +z */
+    const double key_up = fmax(key[2] / sqrt(key[0] * key[0] + key[1] * key[1] + key[2] * key[2]),
+                               0);
+    const double fill_up =
+        fmax(fill[2] / sqrt(fill[0] * fill[0] + fill[1] * fill[1] + fill[2] * fill[2]), 0);
+    const double expect = (0.40 + 0.15 * fill_up) / (0.40 + 0.60 * key_up + 0.15 * fill_up);
+    check(fabs(under / lit - expect) < 0.02 * expect,
+          "the shadow's core keeps the ambient and fill light: %.4f of the lit plane against "
+          "%.4f (error %.2g)", under / lit, expect, fabs(under / lit - expect) / expect);
 
     /* raised by LIFT, the shadow moves by LIFT key_xy / key_z on the plane */
     double moved = hypot(px_shadow[1][0] - px_shadow[0][0], px_shadow[1][1] - px_shadow[0][1]);
