@@ -85,6 +85,14 @@ int needle_grasp_read(ini_doc *doc, rod_model *m, char *err, size_t errlen)
     if (count > ROD_MAX_NEEDLE_GRASPS)
         return ini_error(doc, "needle_grasp", ROD_MAX_NEEDLE_GRASPS, "t", err, errlen,
                          "at most %d needle grasps", ROD_MAX_NEEDLE_GRASPS);
+    if (count == 0) { /* its keys asked all the same: the key table lists what is read */
+        double t;
+        const char *name;
+        return ini_get_double(doc, "needle_grasp", 0, "t", &t, err, errlen) < 0 ||
+                       ini_get_string(doc, "needle_grasp", 0, "instrument", &name, err, errlen) < 0
+                   ? -1
+                   : 0;
+    }
     const int holder = needle_holder(m);
     for (int i = 0; i < count; i++) {
         if (read_one(doc, m, i, holder, err, errlen)) return -1;
