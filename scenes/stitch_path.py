@@ -1,15 +1,26 @@
 #!/usr/bin/env python3
-"""Writes stitch_shape.csv, stitch_holder.csv and stitch_root.csv, the
-starting thread, the needle holder's path and the tail's path of
-scenes/stitch.ini, and prints the scene's rod length and the planned holes:
+"""Writes stitch_shape.csv, stitch_holder.csv, stitch_forceps.csv and
+stitch_root.csv, the starting thread, the needle holder's and the forceps'
+paths and the tail's path of scenes/stitch.ini, and prints the scene's rod
+length, the handover's time and the planned holes:
   RODSIM=../build/release/rodsim python3 stitch_path.py
 
-The needle (a 3/8 circle of radius RN) turns about the x axis, the wound's
+The needle (a 1/2 circle of radius RN) turns about the x axis, the wound's
 direction, in the plane x = 0: the holder holds it at its back (the
 thread's tip), its shafts along x, and pronates: its path's rotation is a
 turn about x by the needle's angle. The needle's circle is centred ZC over
 the skin at the wound, so its point enters the skin BITE before the wound
 (y = -BITE), passes DEPTH under the skin and leaves BITE beyond it.
+
+The holder drives the needle until its point is out beyond the exit and
+its back still over the entry, its jaws (1.44 mm thick) clear of the skin:
+the bite's arc between the holes (137 degrees) leaves a 1/2 circle 43
+degrees for both. The forceps, their shafts along x too, come down onto
+the needle GRASP_BACK behind its point, close, and take it (the scene's
+[needle_grasp] at T_GRASP); the holder opens and backs away, and the
+forceps draw the needle out along its circle (a turn about x about the
+circle's centre, the forceps turning about their own shafts) and then
+pull the thread through, the needle carried as they took it.
 
 The thread's starting tip frame is the needle's at the top of its circle
 (d1 down to the centre, d2 = +x, d3 = -y), and the holder's rotation is
@@ -28,30 +39,45 @@ import os
 
 import wound_closure_path as wcp
 
-RN = 13e-3 / (0.375 * 2 * math.pi)   # m: a P-3 needle, 13 mm along its 3/8 arc: 5.52 mm
-DEPTH = 0.0035                         # m: the bite's depth under the skin (the slit is 2 mm)
+RN = 0.0065                           # m: the needle's radius, a 1/2 circle 20.4 mm along its arc
+DEPTH = 0.0040                         # m: the bite's depth under the skin (the slit is 2 mm)
 ZC = RN - DEPTH                       # m: the circle's centre over the skin
 BITE = math.sqrt(RN * RN - ZC * ZC)   # m: each hole's distance from the wound's middle
 PHI_IN = math.pi + math.asin(ZC / RN)      # the back's angle with the point at the entry
 PHI_OUT = 2 * math.pi - math.asin(ZC / RN)  # the point at the exit (y = +BITE)
 PHI0 = math.pi / 2                    # the back at the top of its circle at t = 0
-ARC = 0.375 * 2 * math.pi             # the needle's 3/8 circle: its point this far ahead
+ARC = math.pi                         # the needle's 1/2 circle: its point this far ahead
 PHI_START = PHI_IN - ARC              # the turn's start: the point on the entry hole
 LIFT = (0.0, -0.002, 0.005)           # m: the needle's start, over the bite's circle
+HAND_HIGH = 0.0021                    # m: the back over the holes at the handover, the grip as
+                                      # high: the shafts, along x, 0.5 mm over the pad's held
+                                      # edge (the skin 1.7 mm higher there than at the holes)
+CLEAR = math.asin(ZC / RN) + math.asin((HAND_HIGH - ZC) / RN)  # rad: the back this far
+                                      # before the entry at the handover, the grip as far
+                                      # beyond the exit
+PHI_HAND = PHI_IN - CLEAR             # the back's angle when the holder lets go
+PHI_GRASP = PHI_OUT + CLEAR           # the forceps' grip on the circle
+GRASP_BACK = PHI_HAND + ARC - PHI_GRASP  # rad: the grip behind the point (1.6 mm)
 PHI_END = PHI_OUT + 0.35              # the back 2.8 mm out of the exit hole
 
-T_HOLD, T_APPROACH, T_BITE = 0.3, 0.7, 2.4  # s: still, lowered onto the skin, turned through it
+T_HOLD, T_APPROACH, T_BITE = 0.3, 0.7, 2.0  # s: still, lowered onto the skin, turned in
+T_REACH, T_CLOSE_F = 0.9, 0.2         # s: the forceps come onto the needle, close
+T_HAND = 0.6                          # s: the needle still, handed over
+T_GRASP = T_HOLD + T_APPROACH + T_BITE + 0.55  # s: the forceps hold the needle ([needle_grasp])
+T_DRAW = 1.4                          # s: the needle drawn out along its circle
 T_PULL = 2.6                          # s: the thread drawn through, the tail coming taut
-T_CLOSE, T_REST = 1.5, 0.5            # s: the ends drawn up and apart; a rest
+T_CLOSE, T_REST = 2.5, 0.5            # s: the ends drawn up and apart; a rest
 PULL_UP = 1.15                        # rad: the long end's rise from the skin, drawn up
 SLACK = 0.002                         # m: thread left slack at the pull's end (its sag)
 PULL_DIR = (0.0, math.cos(PULL_UP), math.sin(PULL_UP))  # the pull's direction from the exit hole
 PHI_PULL = 2 * math.pi + PULL_UP - math.pi / 2  # the needle's back then heading along it (d3)
-CLOSE = (0.0, 0.0005, 0.003)          # m: the holder's further move while the wound closes
+CLOSE = (0.0, 0.0005, 0.0034)         # m: the holder's further move while the wound closes
 TAIL_TO = (0.0, -0.010, 0.020)        # m: the tail's end (from the entry hole) after the bite
-TAIL_CLOSE = (0.0, -0.0005, 0.003)    # m: its move while the wound closes
+TAIL_CLOSE = (0.0, -0.0005, 0.0034)   # m: its move while the wound closes
 NODES = 81                            # stitch.ini's rod.nodes
-DURATION = T_HOLD + T_APPROACH + T_BITE + T_PULL + T_CLOSE + T_REST
+FORCEPS_FROM = (0.0, 0.008, 0.005)    # m: the forceps' start from their grip: beyond the
+                                      # exit, under the thread's starting run back to the needle
+DURATION = T_HOLD + T_APPROACH + T_BITE + T_HAND + T_DRAW + T_PULL + T_CLOSE + T_REST
 
 
 def scene_pad():
@@ -158,8 +184,9 @@ def on_nodes(fine):
     return pts
 
 
-def holder_rows(skin, pull):
-    """(t, point, angle about x from the start, jaw) of the holder's path."""
+def needle_rows(skin, pull):
+    """(t, back, angle about x from the start) of the needle's back, the
+    thread's tip, the whole run."""
     start = tuple(a + b for a, b in zip(back(PHI0, skin), LIFT))
     rows = [(0.0, start, 0.0), (T_HOLD, start, 0.0)]
     for k in range(1, 31):  # lowered and turned until the point touches the entry
@@ -168,13 +195,19 @@ def holder_rows(skin, pull):
         p = tuple(a + (1 - s) * b for a, b in zip(back(phi, skin), LIFT))
         rows.append((T_HOLD + T_APPROACH * k / 30, p, phi - PHI0))
     t0 = T_HOLD + T_APPROACH
-    n = 120
-    for k in range(1, n + 1):  # the needle's turn, eased in and out
-        phi = PHI_START + (PHI_END - PHI_START) * smooth(k / n)
-        rows.append((t0 + T_BITE * k / n, back(phi, skin), phi - PHI0))
+    for k in range(1, 101):  # the holder's turn, eased in and out: the point out
+        phi = PHI_START + (PHI_HAND - PHI_START) * smooth(k / 100)
+        rows.append((t0 + T_BITE * k / 100, back(phi, skin), phi - PHI0))
+    t0 += T_BITE
+    for k in range(1, 7):  # still while the forceps take it
+        rows.append((t0 + T_HAND * k / 6, back(PHI_HAND, skin), PHI_HAND - PHI0))
+    t0 += T_HAND
+    for k in range(1, 71):  # drawn out along its circle by the forceps
+        phi = PHI_HAND + (PHI_END - PHI_HAND) * smooth(k / 70)
+        rows.append((t0 + T_DRAW * k / 70, back(phi, skin), phi - PHI0))
     out, exit_hole = back(PHI_END, skin), (0.0, BITE, skin)
     to = tuple(h + pull * p for h, p in zip(exit_hole, PULL_DIR))
-    t0 += T_BITE
+    t0 += T_DRAW
     for k in range(1, 61):  # the needle turned back to lead the thread along the pull
         s = smooth(k / 60)
         rows.append((t0 + T_PULL * k / 60, tuple(a + s * (b - a) for a, b in zip(out, to)),
@@ -188,6 +221,53 @@ def holder_rows(skin, pull):
     return rows
 
 
+def turn_x(v, a):
+    """v turned by a about the x axis."""
+    return (v[0], v[1] * math.cos(a) - v[2] * math.sin(a), v[1] * math.sin(a) + v[2] * math.cos(a))
+
+
+def holder_rows(skin, pull):
+    """(t, point, angle about x, jaw) of the holder's path: the needle's
+    back until the handover, then opened and backed away along its shafts
+    (-x) and up."""
+    rows = [r + (0.0,) for r in needle_rows(skin, pull) if r[0] <= T_GRASP + 1e-9]
+    at, turn = back(PHI_HAND, skin), PHI_HAND - PHI0
+    t0 = T_GRASP + 0.05
+    rows += [(t0, at, turn, 0.0), (t0 + 0.2, at, turn, 0.4)]  # opened (the shanks clear)
+    for k in range(1, 21):  # lifted off the needle, then backed away along -x
+        s = smooth(k / 20)
+        rows.append((t0 + 0.2 + 0.8 * k / 20,
+                     (at[0] - 0.015 * s ** 2, at[1] - 0.004 * s, at[2] + 0.012 * s), turn, 0.4))
+    rows.append((DURATION, rows[-1][1], turn, 0.4))
+    return rows
+
+
+def forceps_rows(skin, pull):
+    """(t, point, angle about x, jaw) of the forceps: their shafts along x,
+    their jaws opening across the needle's wire (their local z along the
+    circle's radius at the grip); still and open, lowered onto the grip,
+    closed; from the handover carrying the needle as they took it."""
+    grip = (0.0, RN * math.cos(PHI_GRASP), skin + ZC + RN * math.sin(PHI_GRASP))
+    turn0 = -math.pi / 2  # local z (0, -sin, cos) = +y: the jaws open level, across the wire
+    start = tuple(g + f for g, f in zip(grip, FORCEPS_FROM))
+    t_reach = T_HOLD + T_APPROACH + T_BITE - 0.6  # s: they set off before the holder stops
+    rows = [(0.0, start, turn0, 0.5), (t_reach, start, turn0, 0.5)]
+    for k in range(1, 21):
+        s = smooth(k / 20)
+        rows.append((t_reach + T_REACH * k / 20,
+                     tuple(g + (1 - s) * f for g, f in zip(grip, FORCEPS_FROM)), turn0, 0.5))
+    t0 = t_reach + T_REACH
+    rows.append((t0 + T_CLOSE_F, grip, turn0, 0.0))
+    b0 = back(PHI_HAND, skin)
+    rel = tuple(g - b for g, b in zip(grip, b0))
+    for t, b, turn in needle_rows(skin, pull):
+        if t <= T_GRASP + 1e-9:
+            continue
+        a = turn - (PHI_HAND - PHI0)
+        rows.append((t, tuple(p + q for p, q in zip(b, turn_x(rel, a))), turn0 + a, 0.0))
+    return rows
+
+
 def root_rows(shape, skin):
     """(t, point) of the tail's end: lowered to TAIL_TO from the entry hole
     over the bite, then drawn out with CLOSE's timing."""
@@ -196,9 +276,9 @@ def root_rows(shape, skin):
     rows = [(0.0, start), (T_HOLD, start)]
     for k in range(1, 41):
         s = smooth(k / 40)
-        rows.append((T_HOLD + (T_APPROACH + T_BITE) * k / 40,
+        rows.append((T_HOLD + (T_APPROACH + T_BITE + T_HAND + T_DRAW) * k / 40,
                      tuple(a + s * (b - a) for a, b in zip(start, to))))
-    t0 = T_HOLD + T_APPROACH + T_BITE + T_PULL
+    t0 = T_HOLD + T_APPROACH + T_BITE + T_HAND + T_DRAW + T_PULL
     rows.append((t0, to))
     for k in range(1, 31):
         s = smooth(k / 30)
@@ -219,10 +299,12 @@ def main():
         f.write("x,y,z\n")
         for p in shape:
             f.write(f"{p[0]:.12g},{p[1]:.12f},{p[2]:.12f}\n")
-    with open("stitch_holder.csv", "w") as f:
-        f.write("t,x,y,z,rx,ry,rz,jaw\n")
-        for t, p, turn in holder_rows(skin, pull):
-            f.write(f"{t:.5f},{p[0]:.12g},{p[1]:.12f},{p[2]:.12f},{turn:.12f},0,0,0\n")
+    for name, rows in (("stitch_holder.csv", holder_rows(skin, pull)),
+                       ("stitch_forceps.csv", forceps_rows(skin, pull))):
+        with open(name, "w") as f:
+            f.write("t,x,y,z,rx,ry,rz,jaw\n")
+            for t, p, turn, jaw in rows:
+                f.write(f"{t:.5f},{p[0]:.12g},{p[1]:.12f},{p[2]:.12f},{turn:.12f},0,0,{jaw:g}\n")
     with open("stitch_root.csv", "w") as f:
         f.write("t,x,y,z\n")
         for t, p in root_rows(shape, skin):
@@ -230,14 +312,15 @@ def main():
     print(f"[rod] length = {length:.12g}")
     print(f"needle radius {RN:.6g} m, holes at y = -+{BITE:.6g} m on the skin at z = {skin:.6g} m")
     print(f"tail {tail:.4g} m, long end {pull:.4g} m from the exit hole at the pull's end")
+    rows = needle_rows(skin, pull)
     for what, phi in (("the point enters", PHI_IN - ARC), ("the point leaves", PHI_OUT - ARC),
                       ("the back enters", PHI_IN), ("the back leaves", PHI_OUT)):
-        lo, hi = 0.0, 1.0
-        for _ in range(60):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if PHI_START + (PHI_END - PHI_START) * smooth(mid) < phi else (lo, mid)
-        print(f"{what} at t = {T_HOLD + T_APPROACH + T_BITE * lo:.3f} s")
-    t0 = T_HOLD + T_APPROACH + T_BITE
+        (t0, _, a0), (t1, _, a1) = next((r, q) for r, q in zip(rows, rows[1:])
+                                        if r[2] + PHI0 - 1e-9 <= phi <= q[2] + PHI0 and q[2] > r[2])
+        print(f"{what} at t = {t0 + (t1 - t0) * (phi - PHI0 - a0) / (a1 - a0):.3f} s")
+    print(f"[needle_grasp] t = {T_GRASP:.6g}  # the forceps take the needle {RN * GRASP_BACK:.3g} m "
+          f"behind its point")
+    t0 = T_HOLD + T_APPROACH + T_BITE + T_HAND + T_DRAW
     print(f"the pull {t0:.3g} .. {t0 + T_PULL:.3g} s, the ends drawn up to "
           f"{t0 + T_PULL + T_CLOSE:.3g} s")
     print(f"[solver] duration = {DURATION:.6g}")

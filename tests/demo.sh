@@ -2,8 +2,9 @@
 # make demo: renders the headline scenes into out/:
 #   out/stitch.mp4 (+ .png poster): a simple interrupted stitch, a needle
 #     holder driving a curved needle across a gaping wound in elastic skin,
-#     the thread drawn through and the wound's edges drawn together, each
-#     step captioned (about 30 s of CPU);
+#     forceps taking it by its point and drawing it out, the thread drawn
+#     through and the wound's edges drawn together, each step captioned
+#     (about 45 s of CPU);
 #   out/suture.mp4 (+ .png poster, + .csv centreline): a running suture, a
 #     needle making three bites across a wound (about 2 minutes);
 #   out/skin_drop.mp4 (+ .png): a thread dropped on a skin pad (contact,

@@ -62,6 +62,13 @@ typedef struct summary_cut {
     char rod[32];
     double t, s, removed;
 } summary_cut;
+/* The needle handed over (scene [needle_grasp]): when (s), from whose jaws
+ * to whose. */
+#define SUMMARY_MAX_NEEDLE_GRASPS 8
+typedef struct summary_needle_grasp {
+    char from[32], to[32];
+    double t;
+} summary_needle_grasp;
 /* A rod's knot at the last output frame, as the single rod's knot fields
  * below: its name, Alexander polynomial's coefficients, determinant,
  * signature, the rope in it and every change between output frames. */
@@ -153,6 +160,8 @@ typedef struct run_summary {
     summary_grasp grasps[SUMMARY_MAX_GRASPS];
     int cut_count;
     summary_cut cuts[SUMMARY_MAX_CUTS];
+    int needle_grasp_count;     /* the handovers the run reached */
+    summary_needle_grasp needle_grasps[SUMMARY_MAX_NEEDLE_GRASPS];
     /* an elastic pad ([surface] model = elastic) */
     int has_tissue;
     double tissue_max_displacement; /* m: the farthest a pad node is from its rest place,

@@ -100,6 +100,19 @@ double rod_path_end(const rod_path *p);
  * plane turning about z only (rod_model_loads_planar). */
 int rod_path_planar(const rod_path *p);
 
+/* A copy of the path (its own rows); NULL when out of memory. */
+rod_path *rod_path_copy(const rod_path *p);
+
+/* A path handed over at time `at` (s): `before`'s poses before it, then
+ * `after` carrying the pose before had at `at` rigidly, as `after` held it
+ * then (the needle handed from one instrument's jaws to another's: its pose
+ * continuous at `at`, its velocity that of the new jaws). Both paths of 7
+ * columns, `at` after before's start. Takes both (destroyed with it; on
+ * failure the caller keeps them); NULL with a message. Chains: `before`
+ * may itself be handed over. */
+rod_path *rod_path_handover(rod_path *before, double at, rod_path *after, char *err,
+                            size_t errlen);
+
 /* The pose at time t (any t: held before the first and after the last row). */
 void rod_path_eval(const rod_path *p, double t, rod_pose *pose);
 

@@ -150,6 +150,15 @@ typedef struct rod_instrument {
     int line;          /* the scene line of its [instrument] header (messages); 0: none */
 } rod_instrument;
 
+/* The needle handed to an instrument's jaws (scene [needle_grasp],
+ * sim/needle_grasp.h): from time t they hold it as it was at t. */
+#define ROD_MAX_NEEDLE_GRASPS 8
+typedef struct rod_needle_grasp {
+    double t;          /* s */
+    int instrument;    /* index in the model's instruments */
+    int line;          /* the scene line of its [needle_grasp] header (messages) */
+} rod_needle_grasp;
+
 /* An instrument's grasp as the run sees it now (rod_state). */
 typedef struct rod_grasp_state {
     int held;          /* 1: the closed jaws hold the thread */
@@ -359,6 +368,8 @@ typedef struct rod_model {
     rod_puncture *punctures;      /* (puncture_count), owned */
     int instrument_count;         /* scene [instrument], at most ROD_MAX_INSTRUMENTS */
     rod_instrument *instruments;  /* (instrument_count), owned */
+    int needle_grasp_count;       /* scene [needle_grasp], times increasing */
+    rod_needle_grasp needle_grasps[ROD_MAX_NEEDLE_GRASPS];
     int cut_event_count;          /* scene [cut]: cuts at given times, without scissors */
     struct rod_cut_event *cut_events; /* (cut_event_count), owned */
 

@@ -186,6 +186,12 @@ const ini_key scene_keys_rod[] = {
     {"instrument", "needle", "-", "no", "yes | no",
      "needle_holder: holds the needle (ends.needle) at its jaws' tip: its path drives the "
      "thread's tip (ends.tip = clamped; no ends.tip_motion)"},
+    {"needle_grasp", "t", "s", "required", "increasing, after the holder's path starts",
+     "the needle handed over ([needle_grasp] repeats, at most 8; the summary's needle_grasps): "
+     "from t it stays as it was at t in the named jaws, which must be within a jaw length of "
+     "it then; before the first, the needle = yes holder holds it"},
+    {"needle_grasp", "instrument", "-", "required", "an [instrument]'s name, not scissors",
+     "whose jaws take the needle (their jaws touch no thread from then, take none ever)"},
     {"cut", "t", "s", "required", "> 0",
      "the thread is cut at this time, without scissors ([cut] repeats, at most 8; the summary's "
      "cuts): the piece from the cut to the free end on the side no end, grasp or puncture holds "

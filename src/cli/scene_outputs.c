@@ -1091,6 +1091,19 @@ static void summary_result(const scene_run *r, run_summary *sum)
         out->s = g->s;
         out->force = g->force;
     }
+    sum->needle_grasp_count = 0; /* the handovers reached by the run's last time */
+    for (int j = 0; j < m->needle_grasp_count && j < SUMMARY_MAX_NEEDLE_GRASPS; j++) {
+        const rod_needle_grasp *g = &m->needle_grasps[j];
+        if (g->t > r->s->time) break;
+        summary_needle_grasp *out = &sum->needle_grasps[sum->needle_grasp_count++];
+        const int from = j > 0 ? m->needle_grasps[j - 1].instrument : -1;
+        for (int k = 0; k < m->instrument_count && from < 0; k++)
+            if (m->instruments[k].needle)
+                snprintf(out->from, sizeof out->from, "%s", m->instruments[k].name);
+        if (from >= 0) snprintf(out->from, sizeof out->from, "%s", m->instruments[from].name);
+        snprintf(out->to, sizeof out->to, "%s", m->instruments[g->instrument].name);
+        out->t = g->t;
+    }
     sum->cut_count = 0;
     for (int j = 0; j < r->s->cut_count && j < SUMMARY_MAX_CUTS; j++) {
         const rod_cut_record *c = &r->s->cut_log[j];

@@ -298,6 +298,22 @@ static void grasps_list(json_out *j, const run_summary *s)
     close_(j, ']');
 }
 
+static void needle_grasps_list(json_out *j, const run_summary *s)
+{
+    key(j, "needle_grasps");
+    open_(j, '[');
+    for (int i = 0; i < s->needle_grasp_count; i++) {
+        const summary_needle_grasp *g = &s->needle_grasps[i];
+        comma(j);
+        open_(j, '{');
+        number_field(j, "t", g->t);
+        string_field(j, "from", g->from);
+        string_field(j, "to", g->to);
+        close_(j, '}');
+    }
+    close_(j, ']');
+}
+
 static void cuts_list(json_out *j, const run_summary *s)
 {
     key(j, "cuts");
@@ -403,6 +419,7 @@ int summary_print(FILE *f, const run_summary *s)
     if (s->puncture_count > 0) punctures_list(&j, s);
     if (s->grasp_count > 0) grasps_list(&j, s);
     if (s->cut_count > 0) cuts_list(&j, s);
+    if (s->needle_grasp_count > 0) needle_grasps_list(&j, s);
     if (s->has_tissue) tissue_object(&j, s);
     close_(&j, '}');
     fputc('\n', f);

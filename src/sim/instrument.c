@@ -12,6 +12,7 @@
 #include "base/textline.h"
 #include "base/vec3.h"
 #include "sim/cut.h"
+#include "sim/needle_grasp.h"
 #include "sim/rod.h"
 
 const char *const rod_instrument_kind_names[] = {"needle_holder", "forceps", "scissors", NULL};
@@ -334,7 +335,7 @@ void rod_instruments_update(const rod_model *m, rod_state *s, rod_report *report
         double jaw;
         rod_instrument_pose(&m->instruments[k], s->time, &pose, &jaw);
         const int closed = jaw < ROD_JAW_CLOSED;
-        if (m->instruments[k].needle) {
+        if (needle_grasp_takes_needle(m, k)) {
             g->closed = closed; /* its jaws hold the needle, not the thread */
             continue;
         }

@@ -77,11 +77,17 @@ struct rod_path {
     double *acceleration; /* (rows x components) at the rows: m/s^2, rad/s^2; NULL when the
                              velocity is given (cubic Hermite intervals) */
     int live;             /* 1: rows are pushed (rod_path_push), at most LIVE_ROWS kept */
+    /* a handed-over path (rod_path_handover): `before` until `at`, then
+     * `after` carrying the pose as it was at `at`; no rows of its own */
+    rod_path *before, *after; /* owned */
+    double at;                /* s */
 };
 
 void rod_path_destroy(rod_path *p)
 {
     if (!p) return;
+    rod_path_destroy(p->before);
+    rod_path_destroy(p->after);
     free(p->time);
     free(p->value);
     free(p->velocity);
@@ -91,17 +97,29 @@ void rod_path_destroy(rod_path *p)
 
 void rod_path_translate(rod_path *p, const double shift[3])
 {
+    /* the pose after the handover is carried from the one before it */
+    if (p->before) rod_path_translate(p->before, shift);
     for (int r = 0; r < p->rows; r++)
         for (int k = 0; k < 3; k++) p->value[p->components * r + k] += shift[k];
 }
 
 int rod_path_columns(const rod_path *p) { return p->columns; }
-int rod_path_has_velocity(const rod_path *p) { return p->acceleration == NULL; }
-double rod_path_start(const rod_path *p) { return p->time[0]; }
-double rod_path_end(const rod_path *p) { return p->time[p->rows - 1]; }
+int rod_path_has_velocity(const rod_path *p)
+{
+    return p->before ? rod_path_has_velocity(p->before) : p->acceleration == NULL;
+}
+double rod_path_start(const rod_path *p)
+{
+    return p->before ? rod_path_start(p->before) : p->time[0];
+}
+double rod_path_end(const rod_path *p)
+{
+    return p->before ? fmax(p->at, rod_path_end(p->after)) : p->time[p->rows - 1];
+}
 
 int rod_path_planar(const rod_path *p)
 {
+    if (p->before) return rod_path_planar(p->before) && rod_path_planar(p->after);
     for (int r = 0; r < p->rows; r++) {
         const double *v = &p->value[r * p->components];
         if (v[2] != 0.0) return 0;
@@ -250,6 +268,30 @@ static rod_path *path_alloc(int capacity, int columns, int with_acceleration)
         return NULL;
     }
     return p;
+}
+
+rod_path *rod_path_copy(const rod_path *p)
+{
+    if (p->before) {
+        rod_path *b = rod_path_copy(p->before), *a = rod_path_copy(p->after), *h = NULL;
+        char why[160];
+        if (a && b) h = rod_path_handover(b, p->at, a, why, sizeof why);
+        if (!h) {
+            rod_path_destroy(a);
+            rod_path_destroy(b);
+        }
+        return h;
+    }
+    rod_path *c = path_alloc(p->rows, p->columns, p->acceleration != NULL);
+    if (!c) return NULL;
+    const size_t n = (size_t)p->rows, nc = (size_t)p->components;
+    c->rows = p->rows;
+    c->live = p->live;
+    memcpy(c->time, p->time, n * sizeof(double));
+    memcpy(c->value, p->value, n * nc * sizeof(double));
+    memcpy(c->velocity, p->velocity, n * nc * sizeof(double));
+    if (p->acceleration) memcpy(c->acceleration, p->acceleration, n * nc * sizeof(double));
+    return c;
 }
 
 rod_path *rod_path_create_with_velocity(const double *data, int rows, int columns, char *err,
@@ -522,8 +564,67 @@ static void jacobian_coefficients(double q, double *b, double *c, double *db, do
     *dc = ((1.0 - cs) * x - 3.0 * (x - sn)) / (2.0 * q * q * x);
 }
 
+rod_path *rod_path_handover(rod_path *before, double at, rod_path *after, char *err,
+                            size_t errlen)
+{
+    if (!(at > rod_path_start(before)) || !isfinite(at) || rod_path_columns(before) != 7 ||
+        rod_path_columns(after) != 7) {
+        snprintf(err, errlen, "a handover needs two paths of poses (t,x,y,z,rx,ry,rz) and a "
+                 "time after the first path's start");
+        return NULL;
+    }
+    rod_path *p = calloc(1, sizeof *p);
+    if (!p) {
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    p->columns = 7;
+    p->components = 6;
+    p->before = before;
+    p->after = after;
+    p->at = at;
+    return p;
+}
+
+/* The pose of a handed-over path after its handover: A(t) carrying the
+ * pose B(at) as A(at) held it. With A's rotation Ra, position a: the
+ * offset d = Ra(t) Ra(at)^T (b(at) - a(at)) and rotation Ra(t) Ra(at)^T
+ * Rb(at); velocity v_a + w x d, acceleration a_a + alpha x d + w x (w x d),
+ * angular velocity and acceleration A's. */
+static void handover_eval(const rod_path *p, double t, rod_pose *pose)
+{
+    rod_pose b, a0, a;
+    rod_path_eval(p->before, p->at, &b);
+    rod_path_eval(p->after, p->at, &a0);
+    rod_path_eval(p->after, t, &a);
+    double turn[9], rel[3], local[3], d[3], wd[3], wwd[3], ad[3];
+    for (int i = 0; i < 3; i++) /* Ra(t) Ra(at)^T */
+        for (int j = 0; j < 3; j++)
+            turn[3 * i + j] = a.rotation[3 * i] * a0.rotation[3 * j] +
+                              a.rotation[3 * i + 1] * a0.rotation[3 * j + 1] +
+                              a.rotation[3 * i + 2] * a0.rotation[3 * j + 2];
+    v3_sub(rel, b.position, a0.position);
+    m3_mul_tv(local, a0.rotation, rel);
+    m3_mul_v(d, a.rotation, local);
+    *pose = a;
+    m3_mul(pose->rotation, turn, b.rotation);
+    v3_cross(wd, a.angular_velocity, d);
+    v3_cross(wwd, a.angular_velocity, wd);
+    v3_cross(ad, a.angular_acceleration, d);
+    for (int k = 0; k < 3; k++) {
+        pose->position[k] = a.position[k] + d[k];
+        pose->velocity[k] = a.velocity[k] + wd[k];
+        pose->acceleration[k] = a.acceleration[k] + ad[k] + wwd[k];
+    }
+}
+
 void rod_path_eval(const rod_path *p, double t, rod_pose *pose)
 {
+    if (p->before) {
+        if (t < p->at) rod_path_eval(p->before, t, pose);
+        else handover_eval(p, t, pose);
+        return;
+    }
     double value[6], velocity[6], acceleration[6];
     interpolate(p, t, value, velocity, acceleration);
     memset(pose, 0, sizeof *pose);

@@ -14,6 +14,7 @@
 #include "base/textfile.h"
 #include "base/textline.h"
 #include "base/vec3.h"
+#include "sim/needle_grasp.h"
 #include "sim/path.h"
 #include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
@@ -1114,7 +1115,7 @@ int scene_read_rod_of(ini_doc *doc, rod_model *m, const char *rod, const rod_mod
         read_tip(doc, m, err, errlen) || read_loads(doc, m, gravity, err, errlen) ||
         read_ends_physics(doc, m, err, errlen) || read_point_loads(doc, m, rod, err, errlen) ||
         read_surfaces(doc, m, rod, err, errlen) || read_instruments(doc, m, rod, err, errlen) ||
-        rod_cut_read_scene(doc, m, rod, err, errlen))
+        needle_grasp_read(doc, m, rod, err, errlen) || rod_cut_read_scene(doc, m, rod, err, errlen))
         goto fail;
     char why[768];
     if (rod_model_derive(m, why, sizeof why)) {
@@ -1134,7 +1135,7 @@ int scene_read_rod_of(ini_doc *doc, rod_model *m, const char *rod, const rod_mod
      * as it is at t = 0, settled */
     if (read_tissue_pads(doc, m, share, m->physics.gravity ? gravity : (const double[3]){0, 0, 0},
                          err, errlen) ||
-        check_start_outside(doc, m, err, errlen))
+        check_start_outside(doc, m, err, errlen) || needle_grasp_check(doc, m, err, errlen))
         goto fail;
     /* gravity acts on the mass per length: f = rho A g, added to any given distributed force */
     for (int k = 0; k < 3; k++) m->distributed_force[k] += m->mass_per_length * gravity[k];

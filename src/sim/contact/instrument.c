@@ -8,6 +8,7 @@
 #include "base/vec3.h"
 #include "sim/contact/friction.h"
 #include "sim/instrument.h"
+#include "sim/needle_grasp.h"
 #include "sim/rod.h"
 
 #define START_STRIDE 10 /* gap, n[3], p1[3], vc[3] */
@@ -84,7 +85,7 @@ void instrument_contact_prepare(rod_contact *ct, const rod_model *m, const rod_s
          * wound round them (an instrument tie) slide along them and off
          * their tip. */
         const int held = k < ROD_MAX_INSTRUMENTS && s->grasp[k].held;
-        const int jaws_off = in->needle;
+        const int jaws_off = needle_grasp_jaws_on_needle(m, k, t0);
         const int jaws_inside_off = held || jaw < 2.0 * ROD_JAW_CLOSED;
         double lj, rj, rs;
         rod_instrument_dimensions(in, &lj, &rj, &rs);
