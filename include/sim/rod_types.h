@@ -409,9 +409,10 @@ typedef struct rod_state {
                                  each node (contact and friction), 0 where none touches */
     double *self_force;       /* (nodes x 3), N, global: the force other strands of the rod
                                  exert on each node (self-contact), 0 where none touches */
-    double strand_gap;        /* m: the closest two of this step's self-contact candidate
-                                 pairs (non-neighbouring segments that could touch) are at
-                                 its end; INFINITY when there are none (implicit scheme) */
+    double strand_gap;        /* m: the closest two non-neighbouring segments at the step's
+                                 end, of those within the self-contact candidates' reach
+                                 (all that could touch); INFINITY when none is (implicit
+                                 scheme) */
     int puncture_count;       /* punctures the thread passes through now */
     rod_puncture_state puncture[ROD_MAX_PUNCTURES];
     rod_grasp_state grasp[ROD_MAX_INSTRUMENTS]; /* one per instrument of the model */

@@ -12,6 +12,8 @@
  *   end as they close (0.5-0.7 s);
  * - no two segments 5 or more apart along the thread come closer than 0.95
  *   diameters in any output frame (every 20 ms): nothing passes through;
+ *   the summary's min_strand_gap_d (over every step) is no larger than
+ *   that frames' least;
  * - the knot: every frame from KNOT_BY to the end, both ends drawn out
  *   0.2 m along their last segments, is a trefoil by the library's knot
  *   identification (the half knot closed through the stitch's bite); the
@@ -111,6 +113,10 @@ int main(void)
     json_value *v = text ? json_parse(text, err, sizeof err) : NULL;
     const json_value *warnings = json_get(v, "warnings"), *grasps = json_get(v, "grasps");
     const json_value *rods = json_get(v, "rods");
+    const json_value *gap = rods && rods->count ? json_get(rods->items[0], "min_strand_gap_d") : NULL;
+    check(gap && gap->number <= worst / DIAMETER + 1e-9, "the summary's closest strands (over "
+          "every step) are no farther apart than the frames' (a subset of the steps): %.4f <= "
+          "%.4f diameters", gap ? gap->number : -1.0, worst / DIAMETER);
     int into = 0;
     for (int i = 0; warnings && i < warnings->count; i++) {
         const json_value *w = warnings->items[i];

@@ -152,7 +152,8 @@ typedef struct rod_self_contact {
     int list_count, list_capacity; /* grown on demand up to SELF_LIST_MOST_PAIRS */
     int list_uses;         /* searches the list has answered since it was made */
     int list_wait;         /* plain searches before a list is made again */
-    rod_segment_pair *near; /* (max_pairs) scratch of rod_self_contact_near_motion */
+    rod_segment_pair *near; /* (max_pairs) scratch of rod_self_contact_near_motion and
+                               rod_self_contact_closest */
     int near_capacity;     /* max_pairs */
     long without;          /* steps begun without candidates (rod_self_contact_find,
                               margin 0: nothing was near) */
@@ -212,6 +213,14 @@ int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margi
  * the pairs are more than max_pairs (the scratch is never grown). */
 double rod_self_contact_near_motion(rod_self_contact *sc, const double *pos0, const double *vbar,
                                     double dt, double moved);
+
+/* The least distance (m) between two non-neighbouring segments (j - i >
+ * skip) in pos that are closer than threshold (m); INFINITY when none is
+ * (or on bad input). Every pair is measured, also those the candidates
+ * leave out as standing for a neighbour's contact (rod_self_contact_find):
+ * the closest strands of a step's end, as a brute force over all pairs
+ * finds them. */
+double rod_self_contact_closest(rod_self_contact *sc, const double *pos, double threshold);
 
 /* How many of those pairs could come within one diameter over a step that
  * moves each node by dt vbar (global, nodes x 3) along a straight line

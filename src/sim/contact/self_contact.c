@@ -351,6 +351,37 @@ static int still_within(const rod_self_contact *sc, const double *pos0, const do
     return threshold + 2.0 * sqrt(moved2) < reach;
 }
 
+/* rod_self_contact_closest: from an empty wider search (try_clear) or the
+ * pair list (search_pairs) while the nodes stay near where it was made,
+ * else a search of its own */
+double rod_self_contact_closest(rod_self_contact *sc, const double *pos, double threshold)
+{
+    if (sc->clear_reach > 0.0 && still_within(sc, pos, sc->clear_pos, threshold, sc->clear_reach))
+        return INFINITY;
+    if (sc->list_reach > 0.0 && still_within(sc, pos, sc->list_pos, threshold, sc->list_reach)) {
+        /* the pair list holds every pair within threshold (search_pairs) */
+        double least = INFINITY;
+        for (int k = 0; k < sc->list_count; k++) {
+            const double *a = &pos[3 * sc->list[k].i], *b = &pos[3 * sc->list[k].j];
+            const double d = rod_segment_distance(a, a + 3, b, b + 3, NULL, NULL);
+            if (d < threshold) least = fmin(least, d);
+        }
+        return least;
+    }
+    /* at most the capacity: never grown in the step loop */
+    const int found = rod_proximity_select(sc->prox, pos, sc->nodes, threshold, sc->skip, 0,
+                                           sc->near, sc->near_capacity);
+    if (found <= 0) return INFINITY; /* none, or bad input */
+    if (found > sc->near_capacity) {
+        rod_segment_pair closest;
+        return rod_proximity_min(sc->prox, pos, sc->nodes, sc->skip, &closest) == 1
+                   ? closest.distance : INFINITY;
+    }
+    double least = INFINITY;
+    for (int k = 0; k < found; k++) least = fmin(least, sc->near[k].distance);
+    return least;
+}
+
 static int still_clear(rod_self_contact *sc, const double *pos0, double threshold)
 {
     if (!(sc->clear_reach > 0.0)) return 0;
@@ -484,6 +515,13 @@ static void take_last(rod_self_contact *sc)
     }
 }
 
+/* 1 when a pair's closest point is a segment's end on either strand
+ * (fractions s, t) */
+static int at_segment_end(double s, double t)
+{
+    return s <= 0.0 || s >= 1.0 || t <= 0.0 || t >= 1.0;
+}
+
 int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margin)
 {
     const int n = sc->nodes, last = n - 2; /* segments 0..n-2 */
@@ -508,16 +546,22 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
         if (f->s >= 1.0 && f->i + 1 <= last && f->j - f->i - 1 > sc->skip) continue;
         if (f->t >= 1.0 && f->j + 1 <= last) continue;
         /* one pair per touching region: a pair whose closest points lie
-         * within 3/4 of a segment of a kept pair's on both strands stands
-         * for the same contact (a point near a node has a closest point on
-         * each segment beside it); the nearer of the two is kept. Two such
-         * pairs would share the contact's load at will and leave Newton's
-         * system nearly singular */
+         * within 3/4 of a segment of a kept pair's on both strands, one of
+         * the two at a segment's end, stands for the same contact (a point
+         * near a node has a closest point on each segment beside it); the
+         * nearer of the two is kept. Two such pairs would share the
+         * contact's load at will and leave Newton's system nearly singular.
+         * Two pairs whose closest points are both inside their segments
+         * are two contacts (the distance has a minimum at each): strands
+         * lying side by side touch along a line, held at both; one of them
+         * alone let the strands turn about it and the other close to 0.84
+         * diameters within a step (docs/decisions/draft-strand-gap-audit.md) */
         const double sa = f->i + f->s, sb = f->j + f->t;
         int same = -1;
         for (int q = sc->count - 1; q >= 0 && sc->pair[q].a >= f->i - 1; q--) {
             const self_pair *o = &sc->pair[q];
-            if (fabs(o->a + o->alpha - sa) < 0.75 && fabs(o->b + o->beta - sb) < 0.75) {
+            if (fabs(o->a + o->alpha - sa) < 0.75 && fabs(o->b + o->beta - sb) < 0.75 &&
+                (at_segment_end(f->s, f->t) || at_segment_end(o->alpha, o->beta))) {
                 same = q;
                 break;
             }

@@ -103,16 +103,17 @@ static int accept_contact(implicit_work *w, const rod_model *m, rod_state *s, do
         memcpy(s->self_force, w->self->node_force, (size_t)n * 3 * sizeof(double));
     else
         memset(s->self_force, 0, (size_t)n * 3 * sizeof(double));
-    /* the candidates hold every pair that could meet within the step (the
-     * no-pass-through guard): their end distances bound every strand's */
+    /* the closest strands at the step's end, of every pair within the
+     * candidates' reach: the no-pass-through guard keeps any pair that
+     * could meet within the step inside it, so this is the least distance
+     * of all non-neighbouring pairs wherever that is below one diameter +
+     * margin. Not the candidates' own: they keep one pair per touching
+     * region, and a neighbour of the kept pair can end closer than it; a
+     * step without candidates (margin 0) had nothing near */
     s->strand_gap = INFINITY;
-    for (int k = 0; w->self && k < w->self->count; k++) {
-        const self_pair *p = &w->self->pair[k];
-        const double *q = s->position;
-        s->strand_gap = fmin(s->strand_gap,
-                             rod_segment_distance(&q[3 * p->a], &q[3 * p->a + 3], &q[3 * p->b],
-                                                  &q[3 * p->b + 3], NULL, NULL));
-    }
+    if (w->self && w->self->margin > 0.0)
+        s->strand_gap = rod_self_contact_closest(w->self, s->position,
+                                                 m->diameter + w->self->margin);
     puncture_update(&w->contact, m, s);
     if (w->contact.needle_tissue && w->ends[1].held && puncture_needle_holes(m, s, report))
         return -2;
