@@ -92,6 +92,10 @@ typedef struct rod_surface {
     double size[3];    /* m: the box's edge lengths; size[0] the cylinder's, sphere's radius */
     double friction;   /* Coulomb coefficient mu >= 0 between the rod and the surface */
     int tissue;        /* 1: a needle passing through it makes punctures */
+    double track_spacing; /* m: > 0, the needle's path inside the tissue leaves punctures
+                             this far apart along the thread (at least two node spacings),
+                             so the thread lies in the needle's track; 0 (default): only
+                             where it enters and leaves */
     double rounding;   /* m: a box's edges and corners rounded to this radius (0: sharp) */
     int line;          /* the scene line of its [surface] header (messages); 0: none */
     struct rod_mesh *mesh; /* shape mesh: its triangles, owned by the model (released with
@@ -221,6 +225,8 @@ typedef struct rod_puncture_state {
     double friction;   /* Coulomb coefficient along the thread */
     double force[3];   /* N, global: the force the thread exerts on the tissue there */
     int surface;       /* index of the tissue surface it was made in; -1: given in the scene */
+    int track;         /* 1: a point of the needle's track inside the tissue (not where the
+                          thread enters or leaves it) */
     /* in an elastic pad (rod_surface.solid): the material point it moves with */
     int linked;        /* 1: tet, bary, offset and compliance are set */
     int tet;           /* the pad's tet holding it */

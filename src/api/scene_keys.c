@@ -107,6 +107,12 @@ const ini_key scene_keys_rod[] = {
     {"surface", "friction", "-", "0.3", ">= 0", "Coulomb coefficient between rod and surface"},
     {"surface", "tissue", "-", "no", BOOL,
      "yes: the needle (driven tip) passing through makes punctures"},
+    {"surface", "track_spacing", "m", "0", ">= 0; tissue only",
+     "> 0: the needle's path inside the tissue leaves punctures this far apart along the "
+     "thread (at least 2 node spacings; each a point of the tissue, frictional as the holes; "
+     "made one node spacing behind the needle's back; none once 3 of the run's 16 punctures "
+     "remain), so the thread lies in the needle's track, under a wound it bit below; 0: "
+     "only the holes where it enters and leaves (the thread a straight chord between)"},
     {"surface", "rounding", "m", "0", ">= 0, below half the shortest edge; box only",
      "the radius a box's edges and corners are rounded to (a skin pad's, a table's); an elastic pad's deformed surface has its convex edges rounded to it where the thread touches"},
     {"surface", "file", "-", "-", "FILE.stl (ASCII or binary); mesh only, required",

@@ -875,7 +875,8 @@ void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *thread
     for (int j = 0; j < m->surface_count && j < 32; j++) {
         double entry = -1.0;
         for (int k = 0; k < s->puncture_count; k++) {
-            if (s->puncture[k].surface != j) continue;
+            /* a track's points lie between its holes: threaded with them */
+            if (s->puncture[k].surface != j || s->puncture[k].track) continue;
             if (entry < 0.0) {
                 entry = s->puncture[k].s;
                 continue;

@@ -421,8 +421,17 @@ static int read_surfaces(ini_doc *doc, rod_model *m, const char *rod, char *err,
             ini_get_vector(doc, "surface", i, "normal", sf.normal, 3, err, errlen) < 0 ||
             ini_get_double(doc, "surface", i, "friction", &sf.friction, err, errlen) < 0 ||
             ini_get_bool(doc, "surface", i, "tissue", &sf.tissue, err, errlen) < 0 ||
-            ini_get_double(doc, "surface", i, "rounding", &sf.rounding, err, errlen) < 0)
+            ini_get_double(doc, "surface", i, "rounding", &sf.rounding, err, errlen) < 0 ||
+            ini_get_double(doc, "surface", i, "track_spacing", &sf.track_spacing, err, errlen) < 0)
             return -1;
+        if (!(sf.track_spacing >= 0.0) || !isfinite(sf.track_spacing))
+            return ini_error(doc, "surface", i, "track_spacing", err, errlen,
+                             "must be a length >= 0, m (0: no track, only the holes where "
+                             "the needle enters and leaves)");
+        if (sf.track_spacing > 0.0 && !sf.tissue)
+            return ini_error(doc, "surface", i, "track_spacing", err, errlen,
+                             "only a tissue surface (tissue = yes) keeps a needle's track; "
+                             "set tissue = yes or remove the key");
         sf.shape = (rod_surface_shape)shape;
         const char *size_text = NULL;
         has_size = ini_get_string(doc, "surface", i, "size", &size_text, err, errlen);

@@ -428,6 +428,48 @@ void puncture_prepare(rod_contact *ct, const rod_model *m, const rod_state *s)
     }
 }
 
+/* Track points are made only while this many of ROD_MAX_PUNCTURES are free
+ * after them: the holes where the needle leaves (the wound's walls and the
+ * exit) always find room. */
+#define TRACK_KEEP_FREE 3
+
+/* After the holes of tissue surface j: while the needle is inside it (an
+ * odd number of its holes), a point of the needle's track becomes a
+ * puncture once it lies track_spacing (at least two node spacings, so no
+ * segment holds two) along the thread beyond the surface's last one and
+ * half that under the surface (a track point a segment before the exit
+ * stalled Newton where the thread turns out of the skin). The
+ * point is the thread's, one node spacing behind the held tip (the
+ * needle's back): there the thread leaves the needle along its arc (within
+ * ds^2 / 2R of it) and moves with compliance push, not near the held node's
+ * 0 (docs/decisions/0015-needle-holes.md), and the puncture is made where
+ * the thread already is (no miss to correct). */
+static void needle_track(const rod_model *m, rod_state *s, int j, const rod_surface *sf)
+{
+    const double spacing = fmax(sf->track_spacing, 2.0 * m->ds), at = m->length - m->ds;
+    int holes = 0;
+    double last = -1.0;
+    for (int k = 0; k < s->puncture_count; k++) {
+        if (s->puncture[k].surface != j) continue;
+        holes += !s->puncture[k].track;
+        last = fmax(last, s->puncture[k].s);
+    }
+    if (holes % 2 == 0 || last < 0.0 || at - last < spacing) return;
+    if (s->puncture_count > ROD_MAX_PUNCTURES - 1 - TRACK_KEEP_FREE) return;
+    const int i = m->nodes - 2; /* the node one spacing behind the tip */
+    const double *point = &s->position[3 * i];
+    /* half a spacing under the surface at least (not in a wound's opening):
+     * the hole where the needle leaves then lies that far on at least */
+    if (!(rod_surface_gap(sf, point, 0.0, NULL, NULL) < -0.5 * spacing)) return;
+    rod_puncture_state *ps = &s->puncture[s->puncture_count++];
+    memset(ps, 0, sizeof *ps);
+    v3_copy(ps->point, point);
+    ps->s = at;
+    ps->friction = sf->friction;
+    ps->surface = j;
+    ps->track = 1;
+}
+
 int puncture_needle_holes(const rod_model *m, rod_state *s, rod_report *report)
 {
     const int n = m->nodes;
@@ -460,7 +502,8 @@ int puncture_needle_holes(const rod_model *m, rod_state *s, rod_report *report)
             for (int k = 0; k < s->puncture_count && !held; k++) {
                 double d[3];
                 v3_sub(d, s->puncture[k].point, point);
-                held = s->puncture[k].surface == j && v3_norm(d) < 2.0 * m->ds;
+                held = s->puncture[k].surface == j && !s->puncture[k].track &&
+                       v3_norm(d) < 2.0 * m->ds;
             }
             if (held) continue;
             if (s->puncture_count >= ROD_MAX_PUNCTURES) {
@@ -478,6 +521,7 @@ int puncture_needle_holes(const rod_model *m, rod_state *s, rod_report *report)
             ps->friction = sf->friction;
             ps->surface = j;
         }
+        if (sf->track_spacing > 0.0) needle_track(m, s, j, sf);
     }
     return 0;
 }
