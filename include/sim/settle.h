@@ -14,7 +14,7 @@
  * become the model's starting shape (initial_shape, initial_frames), so
  * every run of the model (rodsim run, live, the library) starts there, and
  * `rodsim run` replays a live session's record from the same start
- * (docs/decisions/draft-live-knot-first.md). */
+ * (docs/decisions/0110-live-knot-first.md). */
 #ifndef RODSIM_SIM_SETTLE_H
 #define RODSIM_SIM_SETTLE_H
 

@@ -555,7 +555,7 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
          * are two contacts (the distance has a minimum at each): strands
          * lying side by side touch along a line, held at both; one of them
          * alone let the strands turn about it and the other close to 0.84
-         * diameters within a step (docs/decisions/draft-strand-gap-audit.md) */
+         * diameters within a step (docs/decisions/0115-strand-gap-audit.md) */
         const double sa = f->i + f->s, sb = f->j + f->t;
         int same = -1;
         for (int q = sc->count - 1; q >= 0 && sc->pair[q].a >= f->i - 1; q--) {

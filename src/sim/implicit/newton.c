@@ -49,7 +49,7 @@
  * coil lying on itself (NS = 201) renewed B every 2 to 4 steps so, 0.22
  * Jacobians a step, with no fewer iterations for it; a B made at this
  * step, or older, is renewed as before (a tight knot's iterations rose by
- * a fifth without those renewals: docs/decisions/draft-self-contact-idle.md) */
+ * a fifth without those renewals: docs/decisions/0109-self-contact-idle.md) */
 #define PAIRS_ROD_SOLVED 0.01
 /* A chord iteration that leaves the residual above the tolerance, having
  * contracted it by less than this, marks the factorisation stale, for the
