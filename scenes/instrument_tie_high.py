@@ -53,8 +53,10 @@ tightens on whatever passes through it):
 - the cinch: both ends drawn apart low along the skin over 2 s, the
   holder's tip to CINCH_HOLDER, the forceps' to CINCH_FORCEPS (1.5 mm over
   the skin), and held 0.7 s: the throw is laid down on the skin between the
-  punctures (a pull 1 mm shorter each side leaves it 2.2 mm up; 1 mm
-  longer kinks the bite, the tail too short).
+  punctures. A narrow window: the forceps' pull 0.5 mm shorter leaves it
+  1.8 mm up, 1 mm longer, or the holder's 0.25 mm either way, kinks the
+  bite by the tail's puncture or stalls Newton (the knot's strands pressed
+  onto the pad).
 With the turn beyond the long end's puncture (y = +8 mm) the long end came
 into it from the tip's side, as the tail did: the turn came off the tip
 with the strands twisted once round each other, an unknot
@@ -82,7 +84,7 @@ DS = 0.92
 HOLD_Y = 17.0                # the holder's place over the long end's side after the cross
 SWING = (300.0, 350.0)       # degrees of the forceps' turn over which their body swings to +x
 SPIN = 1.2                   # rad: the most their rotation vector turns between rows (the swing)
-CINCH_HOLDER = (0.0, 27.0, 1.5)    # the cinch: where the holder's tip draws the tail
+CINCH_HOLDER = (0.0, 26.0, 1.5)    # the cinch: where the holder's tip draws the tail
 CINCH_FORCEPS = (1.0, -60.0, 1.5)  # and the forceps' tip the long end
 
 
