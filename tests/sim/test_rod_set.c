@@ -19,6 +19,7 @@
 #include "sim/geometry/proximity.h"
 #include "sim/rod_set.h"
 #include "test.h"
+#include "test_rod_set.h"
 
 /* A rope on a floor, falling onto it: the rod's keys for `section` */
 static void rope_keys(char *out, size_t n, const char *rod, const char *ends, double y)
@@ -35,19 +36,6 @@ static const char *const shared_keys =
     "[loads]\ngravity = 0 0 -9.81\nlinear_damping = 0.01\n"
     "[surface]\nshape = plane\ncenter = 0 0 0\nnormal = 0 0 1\nfriction = 0.4\n";
 
-static int read_set(const char *text, rod_set *set, char *err, size_t errlen)
-{
-    ini_doc *doc = ini_parse("test.ini", text, err, errlen);
-    if (!doc) return -1;
-    int rc = scene_read_rods(doc, set, err, errlen);
-    if (rc == 0 && ini_check_unused(doc, err, errlen)) {
-        rod_set_release(set);
-        rc = -1;
-    }
-    ini_destroy(doc);
-    return rc;
-}
-
 /* Two identical ropes 1 m apart, dropped on a floor: each steps as it does
  * alone (the same numbers: the contact between rods is never looked at
  * for rods whose boxes are apart) */
@@ -61,9 +49,9 @@ static void test_far_apart(void)
     snprintf(one, sizeof one, "%s%s", alone, shared_keys);
     rod_set set2, set1;
     rod_set_run run2, run1;
-    int ok = read_set(two, &set2, err, sizeof err) == 0;
+    int ok = test_read_set(two, &set2, err, sizeof err) == 0;
     if (!check(ok, "two named rods read (%s)", ok ? "ok" : err)) return;
-    ok = read_set(one, &set1, err, sizeof err) == 0;
+    ok = test_read_set(one, &set1, err, sizeof err) == 0;
     if (!check(ok, "the bare rod read (%s)", ok ? "ok" : err)) return;
     check(set2.count == 2 && strcmp(set2.name[0], "a") == 0 && strcmp(set2.name[1], "b") == 0,
           "named rods: count %d, names %s, %s", set2.count, set2.name[0], set2.name[1]);
@@ -333,7 +321,7 @@ static void test_momentum(void)
              -push);
     rod_set set;
     rod_set_run run;
-    int ok = read_set(text, &set, err, sizeof err) == 0;
+    int ok = test_read_set(text, &set, err, sizeof err) == 0;
     if (!check(ok, "two ropes in space read (%s)", ok ? "ok" : err)) return;
     if (rod_set_run_create(&set, &run, err, sizeof err)) {
         check(0, "run made: %s", err);
@@ -402,7 +390,7 @@ static void test_refusals(void)
         text[strlen(text) - strlen("[solver]\n")] = '\0';
         rod_set set;
         err[0] = '\0';
-        int rc = read_set(text, &set, err, sizeof err);
+        int rc = test_read_set(text, &set, err, sizeof err);
         if (rc == 0) rod_set_release(&set);
         check(rc != 0 && strstr(err, cases[i].expect) && strstr(err, "test.ini:"),
               "refused with its line: %s", err);
@@ -438,10 +426,10 @@ static void test_point_load_per_rod(void)
     snprintf(plain, sizeof plain, "%s%s", alone, shared_keys);
     snprintf(loaded, sizeof loaded, "%s%s%s", alone, bare_load, shared_keys);
     rod_set set2, set_plain, set_loaded;
-    int ok = read_set(two, &set2, err, sizeof err) == 0;
+    int ok = test_read_set(two, &set2, err, sizeof err) == 0;
     if (!check(ok, "a point load naming rod b read (%s)", ok ? "ok" : err)) return;
-    ok = read_set(plain, &set_plain, err, sizeof err) == 0 &&
-         read_set(loaded, &set_loaded, err, sizeof err) == 0;
+    ok = test_read_set(plain, &set_plain, err, sizeof err) == 0 &&
+         test_read_set(loaded, &set_loaded, err, sizeof err) == 0;
     if (!check(ok, "the bare ropes read (%s)", ok ? "ok" : err)) return;
     check(set2.model[0].point_load_count == 0 && set2.model[1].point_load_count == 1,
           "rod a holds %d point loads (0), rod b %d (1)", set2.model[0].point_load_count,
@@ -525,7 +513,7 @@ static void test_capstan(void)
              mu, shape, mu, path, -W, t_end);
     rod_set set;
     rod_set_run run;
-    int ok = read_set(text, &set, err, sizeof err) == 0;
+    int ok = test_read_set(text, &set, err, sizeof err) == 0;
     remove(shape);
     remove(path);
     rmdir(dir);

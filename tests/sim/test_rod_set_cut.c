@@ -20,19 +20,7 @@
 #include "sim/path.h"
 #include "sim/rod_set.h"
 #include "test.h"
-
-static int read_set(const char *text, rod_set *set, char *err, size_t errlen)
-{
-    ini_doc *doc = ini_parse("test.ini", text, err, errlen);
-    if (!doc) return -1;
-    int rc = scene_read_rods(doc, set, err, errlen);
-    if (rc == 0 && ini_check_unused(doc, err, errlen)) {
-        rod_set_release(set);
-        rc = -1;
-    }
-    ini_destroy(doc);
-    return rc;
-}
+#include "test_rod_set.h"
 
 /* A thread hanging from its clamped root at (0, y, 0) under gravity (a
  * little tilted: it swings): the keys of [rod...] `rod` and [ends...]
@@ -81,14 +69,14 @@ static int run_three(const char *two, const char *cut_one, const char *plain, in
     char err[1024];
     rod_set set1, set0;
     rod_set_run run1, run0;
-    int ok = read_set(two, set2, err, sizeof err) == 0;
+    int ok = test_read_set(two, set2, err, sizeof err) == 0;
     if (!check(ok, "two named threads read (%s)", ok ? "ok" : err)) return -1;
-    ok = read_set(cut_one, &set1, err, sizeof err) == 0;
+    ok = test_read_set(cut_one, &set1, err, sizeof err) == 0;
     if (!check(ok, "the bare thread cut the same way read (%s)", ok ? "ok" : err)) {
         rod_set_release(set2);
         return -1;
     }
-    ok = read_set(plain, &set0, err, sizeof err) == 0;
+    ok = test_read_set(plain, &set0, err, sizeof err) == 0;
     if (!check(ok, "the bare thread read (%s)", ok ? "ok" : err)) {
         rod_set_release(set2);
         rod_set_release(&set1);
@@ -221,7 +209,7 @@ static void test_scissors_far_apart(void)
     /* rod = b: the blades close across a, which they may not cut */
     char only_b[4096], err[1024];
     snprintf(only_b, sizeof only_b, "%s%s%s%srod = b\n", a, b, shared_keys, scissors);
-    if (read_set(only_b, &set, err, sizeof err) ||
+    if (test_read_set(only_b, &set, err, sizeof err) ||
         rod_set_run_create(&set, &run, err, sizeof err)) {
         check(0, "scissors with rod = b read and made: %s", err);
     } else {
@@ -328,7 +316,7 @@ static void test_crossing_cut(double s, double removed, int first_node, int scis
     free(base);
     rod_set set;
     rod_set_run run;
-    int ok = read_set(text, &set, err, sizeof err) == 0;
+    int ok = test_read_set(text, &set, err, sizeof err) == 0;
     free(text);
     if (scissors) {
         remove(path);
@@ -413,11 +401,11 @@ static void test_needle(void)
              "tip = clamped\n%s", keys, solver);
     rod_set set2, set1, set0;
     rod_set_run run2, run1, run0;
-    int ok = read_set(two, &set2, err, sizeof err) == 0;
+    int ok = test_read_set(two, &set2, err, sizeof err) == 0;
     check(ok, "two threads, the holder holding a's needle, read (%s)", ok ? "ok" : err);
-    int ok1 = read_set(one, &set1, err, sizeof err) == 0;
+    int ok1 = test_read_set(one, &set1, err, sizeof err) == 0;
     check(ok1, "a bare thread with the same holder read (%s)", ok1 ? "ok" : err);
-    int ok0 = read_set(alone, &set0, err, sizeof err) == 0;
+    int ok0 = test_read_set(alone, &set0, err, sizeof err) == 0;
     check(ok0, "a bare thread held in place read (%s)", ok0 ? "ok" : err);
     remove(path);
     rmdir(dir);
@@ -474,7 +462,7 @@ static void test_dropped_cut(void)
     snprintf(two, sizeof two, "%s%s%s[cut]\nrod = b\nt = 0.01\ns = 0.004\n", a, b, shared_keys);
     rod_set set;
     rod_set_run run;
-    if (read_set(two, &set, err, sizeof err) || rod_set_run_create(&set, &run, err, sizeof err)) {
+    if (test_read_set(two, &set, err, sizeof err) || rod_set_run_create(&set, &run, err, sizeof err)) {
         check(0, "a [cut] of rod b at s = 0.004 m read and made: %s", err);
         return;
     }
@@ -521,7 +509,7 @@ static void test_refusals(void)
             snprintf(text, sizeof text, "%s%s%s", bare, shared_keys, cases[i].extra);
         rod_set set;
         err[0] = '\0';
-        int rc = read_set(text, &set, err, sizeof err);
+        int rc = test_read_set(text, &set, err, sizeof err);
         if (rc == 0) rod_set_release(&set);
         check(rc != 0 && strstr(err, cases[i].expect) && strstr(err, "test.ini:"),
               "refused with its line: %s", err);
@@ -557,7 +545,7 @@ static void test_failed_step(void)
              bare, shared_keys, path);
     rod_set set;
     rod_set_run run;
-    int ok = read_set(text, &set, err, sizeof err) == 0;
+    int ok = test_read_set(text, &set, err, sizeof err) == 0;
     remove(path);
     rmdir(dir);
     if (!check(ok, "a thread, scissors and a late tip moment read (%s)", ok ? "ok" : err)) return;

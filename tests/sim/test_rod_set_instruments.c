@@ -18,6 +18,7 @@
 #include "sim/instrument.h"
 #include "sim/rod_set.h"
 #include "test.h"
+#include "test_rod_set.h"
 
 #define GRAVITY 9.81 /* m/s^2 */
 #define DIAMETER 0.0005 /* m */
@@ -63,19 +64,6 @@ static void two_threads(char *out, size_t n, const char *kind, const char *extra
              kind, path_file, extra);
 }
 
-static int read_set(const char *text, rod_set *set, char *err, size_t errlen)
-{
-    ini_doc *doc = ini_parse("test.ini", text, err, errlen);
-    if (!doc) return -1;
-    int rc = scene_read_rods(doc, set, err, errlen);
-    if (rc == 0 && ini_check_unused(doc, err, errlen)) {
-        rod_set_release(set);
-        rc = -1;
-    }
-    ini_destroy(doc);
-    return rc;
-}
-
 /* The thread's point at arc length s (m) */
 static void point_at(const rod_model *m, const rod_state *s, double arc, double p[3])
 {
@@ -93,7 +81,7 @@ static void test_lift_upper(void)
     two_threads(text, sizeof text, "forceps", "");
     rod_set set;
     rod_set_run run;
-    int ok = read_set(text, &set, err, sizeof err) == 0;
+    int ok = test_read_set(text, &set, err, sizeof err) == 0;
     if (!check(ok, "two threads and forceps read (%s)", ok ? "ok" : err)) return;
     if (!check(rod_set_run_create(&set, &run, err, sizeof err) == 0, "run made (%s)", err)) {
         rod_set_release(&set);
@@ -179,7 +167,7 @@ static void test_kept_to_lower(void)
     two_threads(text, sizeof text, "forceps", "rod = lower\n");
     rod_set set;
     rod_set_run run;
-    int ok = read_set(text, &set, err, sizeof err) == 0;
+    int ok = test_read_set(text, &set, err, sizeof err) == 0;
     if (!check(ok, "rod = lower read (%s)", ok ? "ok" : err)) return;
     if (!check(rod_set_run_create(&set, &run, err, sizeof err) == 0, "run made (%s)", err)) {
         rod_set_release(&set);
@@ -206,14 +194,14 @@ static void test_refusals(void)
     char text[4096], err[1024] = "";
     rod_set set;
     two_threads(text, sizeof text, "forceps", "rod = middle\n");
-    int rc = read_set(text, &set, err, sizeof err);
+    int rc = test_read_set(text, &set, err, sizeof err);
     check(rc != 0 && strstr(err, "test.ini:") && strstr(err, "rod") &&
               strstr(err, "'middle' names no rod") && strstr(err, "upper lower"),
           "rod = middle refused: %s", err);
     /* scissors cut the rod nearest them (test_rod_set_cut) */
     two_threads(text, sizeof text, "scissors", "");
     err[0] = '\0';
-    rc = read_set(text, &set, err, sizeof err);
+    rc = test_read_set(text, &set, err, sizeof err);
     if (rc == 0) rod_set_release(&set);
     check(rc == 0, "scissors with several rods read: %s", rc == 0 ? "ok" : err);
 }
@@ -229,8 +217,8 @@ static void test_one_named(void)
     snprintf(bare, sizeof bare, form, "rod", "ends", path_file, "");
     rod_set a, b;
     rod_set_run ra, rb;
-    if (!check(read_set(named, &a, err, sizeof err) == 0, "one named rod read (%s)", err)) return;
-    if (!check(read_set(bare, &b, err, sizeof err) == 0, "bare rod read (%s)", err)) {
+    if (!check(test_read_set(named, &a, err, sizeof err) == 0, "one named rod read (%s)", err)) return;
+    if (!check(test_read_set(bare, &b, err, sizeof err) == 0, "bare rod read (%s)", err)) {
         rod_set_release(&a);
         return;
     }
