@@ -114,9 +114,16 @@ int main(void)
     const json_value *warnings = json_get(v, "warnings"), *grasps = json_get(v, "grasps");
     const json_value *rods = json_get(v, "rods");
     const json_value *gap = rods && rods->count ? json_get(rods->items[0], "min_strand_gap_d") : NULL;
-    check(gap && gap->number <= worst / DIAMETER + 1e-9, "the summary's closest strands (over "
-          "every step) are no farther apart than the frames' (a subset of the steps): %.4f <= "
-          "%.4f diameters", gap ? gap->number : -1.0, worst / DIAMETER);
+    /* absent: no two strands came within one diameter plus the contact's
+     * margin at any step, so the frames' closest must be farther than d */
+    if (gap)
+        check(gap->number <= worst / DIAMETER + 1e-9, "the summary's closest strands (over "
+              "every step) are no farther apart than the frames' (a subset of the steps): "
+              "%.4f <= %.4f diameters", gap->number, worst / DIAMETER);
+    else
+        check(worst > DIAMETER, "the summary gives no closest strands (none came within reach "
+              "at any step) and the frames' closest are farther than a diameter: %.4f > 1 "
+              "diameter", worst / DIAMETER);
     int into = 0;
     for (int i = 0; warnings && i < warnings->count; i++) {
         const json_value *w = warnings->items[i];
