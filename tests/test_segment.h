@@ -5,6 +5,7 @@
 #define RODSIM_TEST_SEGMENT_H
 
 #include <math.h>
+#include <stddef.h>
 
 #include "base/vec3.h"
 
@@ -73,6 +74,21 @@ static inline double closest_strands(const double *x, int nodes, int gap, double
             best = fmin(best, segment_distance(&x[3 * i], &x[3 * (i + 1)], &x[3 * j], &x[3 * (j + 1)]));
         }
     return best;
+}
+
+/* closest_strands over recorded frames: frame k's nodes at x + 3 nodes k,
+ * its time t[k]; the least over all of them, *when its frame's time (0
+ * without frames). */
+static inline double closest_strands_in_frames(const double *x, const double *t, int frames,
+                                               int nodes, int gap, double within, double *when)
+{
+    double worst = INFINITY;
+    *when = 0.0;
+    for (int k = 0; k < frames; k++) {
+        double c = closest_strands(x + (size_t)3 * nodes * k, nodes, gap, within);
+        if (c < worst) worst = c, *when = t[k];
+    }
+    return worst;
 }
 
 #endif

@@ -54,12 +54,7 @@ static int faster_path(const char *name, double faster, const char *path)
  * over the frames, and when (s). */
 static double closest_in_frames(double (*x)[NODES * 3], const double *t, int frames, double *when)
 {
-    double worst = INFINITY;
-    for (int k = 0; k < frames; k++) {
-        double c = closest_strands(x[k], NODES, 6, 4.0 * DIAMETER);
-        if (c < worst) worst = c, *when = t[k];
-    }
-    return worst;
+    return closest_strands_in_frames(&x[0][0], t, frames, NODES, 6, 4.0 * DIAMETER, when);
 }
 
 static double knot_arc(const double *x, double ds)
