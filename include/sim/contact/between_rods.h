@@ -117,7 +117,9 @@ typedef struct rod_link {
                             change that rod k's pairs take at the next sweep (Aitken's, from
                             the last two; kept from step to step) */
     double closest;      /* m: the smallest surface gap between two rods (centre distance
-                            less the contact distance) among the last step's pairs; INFINITY
+                            less the contact distance) over every pair of segments within the
+                            candidates' reach (the contact distance and the margin) at the
+                            step's start, the last step's end, kept as pairs or not; INFINITY
                             when none */
 } rod_link;
 

@@ -147,14 +147,29 @@ static void global_velocity(const rod_state *s, int i, double out[3])
     m3_mul_v(out, &s->frame[9 * i], &s->velocity[3 * i]);
 }
 
-/* Whether a kept pair stands for the same touching region as (a + alpha,
- * rod, b + beta): within 3/4 of a segment on both strands (as the strands'
- * own pairs, rod_self_contact_find) */
-static int same_region(const rod_cross *c, int upto, int rod, double sa, double sb)
+/* Whether a pair touches at a segment's end: its point on either rod a
+ * node (a fraction 0 or 1, a point snapped to its node included) */
+static int at_segment_end(double alpha, double beta)
 {
+    return alpha <= 0.0 || alpha >= 1.0 || beta <= 0.0 || beta >= 1.0;
+}
+
+/* Whether a kept pair stands for the same touching region as (a + alpha,
+ * rod, b + beta): within 3/4 of a segment on both rods and one of the two
+ * touching at a segment's end (end: the candidate's), the point near a
+ * node that has a closest point on each segment beside it. Two pairs
+ * whose points both lie inside their segments are two minima of the
+ * distance, two contacts (a rope wrapped over a bar touches it at a point
+ * of each of its chords), as for the strands' own pairs
+ * (rod_self_contact_find) */
+static int same_region(const rod_cross *c, int upto, int rod, int a, double alpha, int b,
+                       double beta, int end)
+{
+    const double sa = a + alpha, sb = b + beta;
     for (int q = 0; q < upto; q++) {
         const rod_cross_pair *o = &c->pair[q];
-        if (o->rod == rod && fabs(o->a + o->alpha - sa) < 0.75 && fabs(o->b + o->beta - sb) < 0.75)
+        if (o->rod == rod && fabs(o->a + o->alpha - sa) < 0.75 &&
+            fabs(o->b + o->beta - sb) < 0.75 && (end || at_segment_end(o->alpha, o->beta)))
             return 1;
     }
     return 0;
@@ -281,6 +296,9 @@ static int pairs_with(rod_link *l, int k, int j, const rod_model *const *models,
             if (d < best) best = d, best_s = s, best_t = t, nearest = b;
         }
         if (nearest < 0) continue;
+        /* every candidate's gap, kept or not (the least over all segment
+         * pairs within the threshold) */
+        l->closest = fmin(l->closest, best - reach);
         if (c->count == c->capacity) return -1;
         rod_cross_pair *p = &c->pair[c->count++];
         memset(p, 0, sizeof *p);
@@ -307,10 +325,6 @@ static int pairs_with(rod_link *l, int k, int j, const rod_model *const *models,
         const int x = y % found, pass = y / found;
         if (c->last[c->candidate[x].a] != !pass) continue;
         rod_cross_pair p = c->candidate[x];
-        if (same_region(c, c->count, j, p.a + p.alpha, p.b + p.beta)) continue;
-        /* no node in two pairs: a pair's force then moves its own two nodes
-         * only, so the residual stays local (the band holds its Jacobian);
-         * along a wrap every other segment carries a pair, every node one */
         /* a point near a node is that node's (its other node stays free for
          * the next segment's pair: along a wrap every node is held) */
         double along[3];
@@ -318,7 +332,18 @@ static int pairs_with(rod_link *l, int k, int j, const rod_model *const *models,
         /* as a fraction of segment a, at most a quarter (a wrap around a
          * thick rod: every node held, and each pair's segment half free) */
         const double snap = fmin(0.25, CROSS_SNAP * reach / v3_norm(along));
-        if (p.alpha < snap || p.alpha > 1.0 - snap) {
+        const int at_node = p.alpha < snap || p.alpha > 1.0 - snap;
+        if (same_region(c, c->count, j, p.a, p.alpha, p.b, p.beta,
+                        at_node || at_segment_end(p.alpha, p.beta)))
+            continue;
+        /* no node in two pairs: a pair's force then moves its own two nodes
+         * only, so the residual stays local (the band holds its Jacobian);
+         * along a wrap every other segment carries a pair, every node one.
+         * So a pair beside a kept one (sharing a node) is left out even when
+         * same_region calls it a contact of its own: kept as well, nodes in
+         * two pairs, Newton's method failed within 50 ms on a rope pressed
+         * slant over a bar (test_between_rods_wrap) */
+        if (at_node) {
             p.alpha = p.alpha < 0.5 ? 0.0 : 1.0;
             const int i = p.a + (int)p.alpha;
             if (c->used[i]) continue;
