@@ -14,8 +14,11 @@
 #include "sim/rod.h"
 
 typedef struct knot_track {
-    rod_knot first, last;
+    rod_knot first, last;    /* the first and the last frame's (either may be KNOT_FORMING) */
+    rod_knot named;          /* the last frame's that named a knot (has_named) */
+    int has_named;
     int frames, changes, failures;
+    int forming;             /* frames whose knot was KNOT_FORMING */
     double first_time, last_time, change_time; /* s */
     char change_from[96], change_to[96];
     char failure[256];       /* the first identification that failed, or "" */
@@ -48,7 +51,20 @@ void knot_track_release(knot_track *k);
  * halfway. */
 #define KNOT_PASS_GAP 0.5
 
-/* Identifies the knot of the output frame s and notes a change; `gap` (m)
+/* The name of a frame whose knot is still forming: its ends are not drawn
+ * out of it, so that the closures of knot.h (radial, tangent, apart) finish
+ * it into different knots (a double throw on an instrument, its tail not
+ * yet through the turns, closed radially, reads as the finished throw). A
+ * knot is named only when the three agree. */
+#define KNOT_FORMING "forming"
+
+/* 1 when k is KNOT_FORMING's (its polynomial empty, determinant 0) */
+int knot_track_is_forming(const rod_knot *k);
+
+/* Identifies the knot of the output frame s (KNOT_FORMING when the
+ * closures disagree) and notes a change (between the knots named: a
+ * forming frame is none, so that unknot, forming, trefoil is one change,
+ * at the trefoil's first frame); `gap` (m)
  * is the closest non-neighbouring strands came at a step's end since the
  * last frame (run_stats.closest_gap_frame; INFINITY when unknown or never
  * touching). */
@@ -72,7 +88,8 @@ int knot_track_change_is_slip(const knot_track *k, const rod_model *m);
 int knot_track_can_knot(const rod_model *m);
 
 /* 1 when the run's centreline was knotted at some output frame (a scene
- * may start knotted whatever it can do). */
+ * may start knotted whatever it can do): a knot named, not the unknot nor
+ * KNOT_FORMING. */
 int knot_track_was_knotted(const knot_track *k);
 
 /* The rope in the knot at the last frame, diameters: the arc between the

@@ -83,22 +83,55 @@ static void track_touch(knot_track *k, const rod_state *s)
     k->touch_time = s->time;
 }
 
+/* The knot of an open centreline: the radial closure's when the other
+ * closures (knot.h) give the same knot, else KNOT_FORMING (no polynomial:
+ * terms 0, determinant 0, no signature). A closure whose identification
+ * fails is left out; the radial one's failure is the frame's. */
+static int identify_open(knot_track *k, const rod_state *s, rod_knot *now, char *err,
+                         size_t errlen)
+{
+    if (rod_knot_identify_in(k->scratch, s->position, s->nodes, 0, now, err, errlen)) return -1;
+    for (int c = ROD_KNOT_CLOSE_RADIAL + 1; c < ROD_KNOT_CLOSURES; c++) {
+        rod_knot other;
+        char why[200];
+        if (rod_knot_identify_closure(k->scratch, s->position, s->nodes, c, &other, why,
+                                      sizeof why))
+            continue;
+        if (!knot_track_same(now, &other)) {
+            memset(now, 0, sizeof *now);
+            snprintf(now->name, sizeof now->name, "%s", KNOT_FORMING);
+            return 0;
+        }
+    }
+    return 0;
+}
+
+int knot_track_is_forming(const rod_knot *k)
+{
+    return strcmp(k->name, KNOT_FORMING) == 0;
+}
+
 void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s, double gap)
 {
     double start = wall_seconds();
     rod_knot now;
     char err[200];
     k->moved = frame_motion(k, s);
-    if (rod_knot_identify_in(k->scratch, s->position, s->nodes, 0, &now, err, sizeof err)) {
+    if (identify_open(k, s, &now, err, sizeof err)) {
         if (!k->failures++)
             snprintf(k->failure, sizeof k->failure, "at t = %g s: %s", s->time, err);
     } else {
         if (k->frames == 0) {
             k->first = now;
             k->first_time = s->time;
-        } else if (!knot_track_same(&now, &k->last) && k->changes++ == 0) {
+        }
+        /* a forming frame is no change: the changes are those of the knot
+         * named, from the last frame that named one */
+        const int named = !knot_track_is_forming(&now);
+        if (named && k->has_named && !knot_track_same(&now, &k->named) &&
+            k->changes++ == 0) {
             k->change_time = s->time;
-            snprintf(k->change_from, sizeof k->change_from, "%s", k->last.name);
+            snprintf(k->change_from, sizeof k->change_from, "%s", k->named.name);
             snprintf(k->change_to, sizeof k->change_to, "%s", now.name);
             /* strands touching near an end in the frame before: the knot
              * slipped off it (an end is a point a loop can pass over) */
@@ -114,6 +147,8 @@ void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s, dou
             k->slip_time = k->touch_time;
             k->change_gap = gap;
         }
+        if (named) k->named = now, k->has_named = 1;
+        k->forming += !named;
         k->last = now;
         k->last_time = s->time;
         k->frames++;
@@ -137,16 +172,20 @@ int knot_track_can_knot(const rod_model *m)
            m->length > KNOT_SHORTEST_ROPE * m->diameter;
 }
 
+/* A knot named: neither the unknot nor KNOT_FORMING */
+static int is_knot(const rod_knot *k)
+{
+    return strcmp(k->name, "unknot") != 0 && !knot_track_is_forming(k);
+}
+
 int knot_track_was_knotted(const knot_track *k)
 {
-    return k->frames > 0 && (k->changes > 0 || strcmp(k->first.name, "unknot") != 0 ||
-                             strcmp(k->last.name, "unknot") != 0);
+    return k->frames > 0 && (k->changes > 0 || is_knot(&k->first) || is_knot(&k->last));
 }
 
 double knot_track_rope(const knot_track *k, const rod_model *m)
 {
-    if (k->frames == 0 || strcmp(k->last.name, "unknot") == 0 || k->touch_lo < 0 ||
-        k->touch_time != k->last_time)
+    if (k->frames == 0 || !is_knot(&k->last) || k->touch_lo < 0 || k->touch_time != k->last_time)
         return NAN;
     /* the arc between the outermost nodes the strands press on */
     return (k->touch_hi - k->touch_lo) * m->ds / m->diameter;
@@ -157,12 +196,17 @@ void knot_track_print(FILE *f, const knot_track *k, const rod_model *m)
     if (k->frames > 0) {
         char poly[128];
         rod_knot_polynomial_text(&k->first, poly, sizeof poly);
-        if (k->changes == 0)
+        if (k->changes == 0 && k->forming == 0)
             fprintf(f, "        knot: %s at t = %g s and at t = %g s, the same in all %d output "
                        "frames (Alexander polynomial %s, determinant %lld, signature %d%s)\n",
                     k->first.name, k->first_time, k->last_time, k->frames, poly,
                     k->first.determinant, k->first.signature,
                     k->first.has_signature ? "" : " not computed");
+        else if (k->changes == 0)
+            fprintf(f, "        knot: %s at t = %g s, %s at t = %g s: forming (the closures of "
+                       "its open ends disagree) in %d of %d output frames, no change of the "
+                       "knot named\n", k->first.name, k->first_time, k->last.name,
+                    k->last_time, k->forming, k->frames);
         else
             fprintf(f, "        knot: %s at t = %g s, %s at t = %g s: CHANGED %d time%s over %d "
                        "output frames, first at t = %g s (%s -> %s%s)\n",

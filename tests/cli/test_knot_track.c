@@ -1,10 +1,11 @@
 /* test_knot_track.c: telling a knot that came undone over an end from a
  * strand that passed through another.
  *
- * An open overhand knot (a 0.97-turn trefoil, 1 m, d = 2 mm, NS = 401) is
- * the first frame; in the second the rope's tail has been drawn back out of
- * the loop (the same curve cut short and its last part laid straight along
- * its end tangent, away from every other strand), so the knot is gone.
+ * An open overhand knot (a 0.97-turn trefoil about 1 m long, d = 2 mm,
+ * between tails drawn out 0.15 m, NS = 401) is the first frame; in the
+ * second the rope's tail has been drawn back out of the loop (the same
+ * curve from 0.6 of the turn laid straight radially out, away from every
+ * other strand), so the knot is gone.
  * Whether that was a slip or a pass-through depends on how close the strands
  * came in between: with no strand ever closer than 0.996 d (a loop passing
  * over the end, as in a tightening knot whose tail slides out), it is a slip;
@@ -27,20 +28,22 @@ static void trefoil(double t, double x[3])
     v3_set(x, sin(t) + 2.0 * sin(2.0 * t), cos(t) - 2.0 * cos(2.0 * t), -sin(3.0 * t));
 }
 
-/* The open trefoil's polygon, scaled so that it is about 1 m long; with
- * `undone`, the part past parameter `cut` runs straight along the tangent
- * there, so the tail no longer passes through the loop. */
+/* The open trefoil's polygon, scaled so that it is about 1 m long, between
+ * two straight tails of TAIL nodes drawn out radially (0.15 m: the knot is
+ * named alike under every closure of its ends, knot_track.h); with
+ * `undone`, the part past parameter `cut` and the tip's tail run straight
+ * out radially from there, so the tail no longer passes through the loop. */
+#define TAIL 60
 static void overhand(double *position, int undone)
 {
-    const double scale = 1.0 / 28.0, cut = 0.8 * TURN;
-    for (int i = 0; i < NODES; i++) {
-        double t = TURN * i / (NODES - 1), x[3];
+    const double scale = 1.0 / 28.0, cut = 0.6 * TURN, tail = 0.15 / TAIL;
+    const int knot = NODES - 2 * TAIL; /* the trefoil's nodes */
+    for (int i = 0; i < knot; i++) {
+        double t = TURN * i / (knot - 1), x[3];
         if (undone && t > cut) {
-            double a[3], b[3], d[3];
+            double a[3], d[3];
             trefoil(cut, a);
-            trefoil(cut - 1e-4, b);
-            v3_sub(d, a, b);
-            v3_scale(d, d, 1.0 / v3_norm(d));
+            v3_scale(d, a, 1.0 / v3_norm(a)); /* radially out from there */
             double along = 0.0; /* the arc length the tail had past the cut */
             for (double u = cut; u < t; u += 1e-3) {
                 double p[3], q[3], e[3];
@@ -54,7 +57,18 @@ static void overhand(double *position, int undone)
         } else {
             trefoil(t, x);
         }
-        v3_scale(&position[3 * i], x, scale);
+        v3_scale(&position[3 * (TAIL + i)], x, scale);
+    }
+    for (int e = 0; e < 2; e++) { /* the tails: radially out, or on along the last segment */
+        const int from = e ? NODES - TAIL - 1 : TAIL, step = e ? 1 : -1;
+        double d[3];
+        if (e && undone) v3_sub(d, &position[3 * from], &position[3 * (from - 1)]);
+        else v3_copy(d, &position[3 * from]);
+        v3_scale(d, d, tail / v3_norm(d));
+        for (int k = 1; k <= TAIL; k++) {
+            v3_copy(&position[3 * (from + step * k)], &position[3 * from]);
+            v3_axpy(&position[3 * (from + step * k)], k, d);
+        }
     }
 }
 

@@ -67,6 +67,19 @@ void rod_knot_scratch_destroy(rod_knot_scratch *scratch);
 int rod_knot_identify_in(rod_knot_scratch *scratch, const double *points, int nodes, int closed,
                          rod_knot *out, char *err, size_t errlen);
 
+/* How an open polygon's ends are taken out to the far sphere where they are
+ * joined: radially from the centroid (rod_knot_identify's), along each
+ * end's own last segment, or each straight away from the other end. A knot
+ * tied away from its ends, the tails leaving it, has the same type under
+ * all three; a knot still forming (a tail ending among its turns, or only
+ * just through them) may not: the closures finish it differently. */
+enum { ROD_KNOT_CLOSE_RADIAL, ROD_KNOT_CLOSE_TANGENT, ROD_KNOT_CLOSE_APART, ROD_KNOT_CLOSURES };
+
+/* rod_knot_identify_in of an open polygon (closed = 0) closed by `closure`
+ * (ROD_KNOT_CLOSE_...). */
+int rod_knot_identify_closure(rod_knot_scratch *scratch, const double *points, int nodes,
+                              int closure, rod_knot *out, char *err, size_t errlen);
+
 /* A closed polygon (count x 3, as rod_knot_identify_closed) made of short
  * pieces and long joins far outside (two threads closed into one:
  * knot_across.h): segments [short_ranges[0] = 0, short_ranges[1]) and

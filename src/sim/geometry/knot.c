@@ -951,7 +951,8 @@ static int alexander(projection *pr, rod_knot *out, char *err, size_t errlen)
 /* The closed polygon (count x 3) and how many of its first segments are the
  * curve's own; NULL out of memory. */
 static double *close_polygon(rod_knot_scratch *sc, const double *p, int nodes, int closed,
-                             const double centre[3], double extent, int *count, int *own)
+                             int closure, const double centre[3], double extent, int *count,
+                             int *own)
 {
     if (closed) {
         double *q = take(sc, (size_t)nodes * 3 * sizeof *q, 0);
@@ -963,9 +964,14 @@ static double *close_polygon(rod_knot_scratch *sc, const double *p, int nodes, i
     double R = KNOT_CLOSURE_RADIUS * extent, dir[2][3];
     for (int e = 0; e < 2; e++) {
         const double *end = &p[3 * (e ? nodes - 1 : 0)], *next = &p[3 * (e ? nodes - 2 : 1)];
+        /* out of the end: from the centroid (radial), along the end's own
+         * segment (tangent), or away from the other end (apart) */
+        const double *from = closure == ROD_KNOT_CLOSE_TANGENT ? next
+                             : closure == ROD_KNOT_CLOSE_APART ? &p[3 * (e ? 0 : nodes - 1)]
+                                                                : centre;
         double d[3], len = 0.0;
         for (int k = 0; k < 3; k++) {
-            d[k] = end[k] - centre[k];
+            d[k] = end[k] - from[k];
             len += d[k] * d[k];
         }
         if (sqrt(len) <= 1e-9 * extent) { /* the end at the centroid: along its tangent */
@@ -1035,7 +1041,8 @@ static double *close_polygon(rod_knot_scratch *sc, const double *p, int nodes, i
 }
 
 static int identify(rod_knot_scratch *sc, const double *points, int nodes, int closed,
-                    const int *short_ranges, rod_knot *out, char *err, size_t errlen)
+                    int closure, const int *short_ranges, rod_knot *out, char *err,
+                    size_t errlen)
 {
     memset(out, 0, sizeof *out);
     if (!points || nodes < (closed ? 3 : 2) || nodes > ROD_KNOT_MAX_POINTS) {
@@ -1064,7 +1071,7 @@ static int identify(rod_knot_scratch *sc, const double *points, int nodes, int c
     projection pr = {0};
     pr.extent = extent;
     pr.scratch = sc;
-    double *q = close_polygon(sc, points, nodes, closed, centre, extent, &pr.count,
+    double *q = close_polygon(sc, points, nodes, closed, closure, centre, extent, &pr.count,
                               &pr.knot_segments);
     if (short_ranges) { /* a closed polygon whose joins are long */
         pr.knot_segments = short_ranges[1];
@@ -1154,14 +1161,16 @@ done:
 int rod_knot_identify_in(rod_knot_scratch *scratch, const double *points, int nodes, int closed,
                          rod_knot *out, char *err, size_t errlen)
 {
-    if (scratch) return identify(scratch, points, nodes, closed, NULL, out, err, errlen);
+    if (scratch)
+        return identify(scratch, points, nodes, closed, ROD_KNOT_CLOSE_RADIAL, NULL, out, err,
+                        errlen);
     rod_knot_scratch *own = rod_knot_scratch_create();
     if (!own) {
         memset(out, 0, sizeof *out);
         snprintf(err, errlen, "out of memory");
         return -1;
     }
-    int rc = identify(own, points, nodes, closed, NULL, out, err, errlen);
+    int rc = identify(own, points, nodes, closed, ROD_KNOT_CLOSE_RADIAL, NULL, out, err, errlen);
     rod_knot_scratch_destroy(own);
     return rc;
 }
@@ -1176,14 +1185,16 @@ int rod_knot_identify_joined(rod_knot_scratch *scratch, const double *points, in
                  short_ranges[0], short_ranges[1], short_ranges[2], short_ranges[3]);
         return -1;
     }
-    if (scratch) return identify(scratch, points, count, 1, short_ranges, out, err, errlen);
+    if (scratch)
+        return identify(scratch, points, count, 1, ROD_KNOT_CLOSE_RADIAL, short_ranges, out, err,
+                        errlen);
     rod_knot_scratch *own = rod_knot_scratch_create();
     if (!own) {
         memset(out, 0, sizeof *out);
         snprintf(err, errlen, "out of memory");
         return -1;
     }
-    int rc = identify(own, points, count, 1, short_ranges, out, err, errlen);
+    int rc = identify(own, points, count, 1, ROD_KNOT_CLOSE_RADIAL, short_ranges, out, err, errlen);
     rod_knot_scratch_destroy(own);
     return rc;
 }
@@ -1197,4 +1208,19 @@ int rod_knot_identify_closed(const double *points, int nodes, rod_knot *out, cha
                              size_t errlen)
 {
     return rod_knot_identify_in(NULL, points, nodes, 1, out, err, errlen);
+}
+
+int rod_knot_identify_closure(rod_knot_scratch *scratch, const double *points, int nodes,
+                              int closure, rod_knot *out, char *err, size_t errlen)
+{
+    if (scratch) return identify(scratch, points, nodes, 0, closure, NULL, out, err, errlen);
+    rod_knot_scratch *own = rod_knot_scratch_create();
+    if (!own) {
+        memset(out, 0, sizeof *out);
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    int rc = identify(own, points, nodes, 0, closure, NULL, out, err, errlen);
+    rod_knot_scratch_destroy(own);
+    return rc;
 }
