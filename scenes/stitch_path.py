@@ -68,7 +68,7 @@ T_DRAW = 1.4                          # s: the needle drawn out along its circle
 T_PULL = 2.6                          # s: the thread drawn through, the tail coming taut
 T_CLOSE, T_REST = 2.5, 0.5            # s: the ends drawn up and apart; a rest
 PULL_UP = 1.15                        # rad: the long end's rise from the skin, drawn up
-SLACK = 0.002                         # m: thread left slack at the pull's end (its sag)
+SLACK = 0.001                         # m: thread left slack at the pull's end (its sag)
 PULL_DIR = (0.0, math.cos(PULL_UP), math.sin(PULL_UP))  # the pull's direction from the exit hole
 PHI_PULL = 2 * math.pi + PULL_UP - math.pi / 2  # the needle's back then heading along it (d3)
 CLOSE = (0.0, 0.0005, 0.0034)         # m: the holder's further move while the wound closes
@@ -294,7 +294,9 @@ def main():
     shape = on_nodes(start_shape(skin))
     length = (NODES - 1) * math.dist(shape[0], shape[1])
     tail = math.hypot(TAIL_TO[1], TAIL_TO[2])
-    pull = length - tail - 2 * BITE - SLACK  # the long end's length once drawn through
+    # the long end's length once drawn through: the thread between the holes
+    # lies in the needle's track ([surface] track_spacing), along the bite's arc
+    pull = length - tail - RN * (PHI_OUT - PHI_IN) - SLACK
     with open("stitch_shape.csv", "w") as f:
         f.write("x,y,z\n")
         for p in shape:

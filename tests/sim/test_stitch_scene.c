@@ -7,8 +7,14 @@
  *    radius RN = ends.needle, centred RN - D over the skin, D = 4 mm the
  *    bite's depth), within 0.5 mm, in the stitch's plane x = 0;
  *  - at the end the thread passes through both, in order (root, entry,
- *    exit, tip), its centreline within 0.05 mm of each, the tail (root to
- *    entry) 2 to 3 cm long;
+ *    exit, tip), and through the points of the needle's track between
+ *    them, its centreline within 0.05 mm of each, the tail (root to entry)
+ *    2 to 3 cm long;
+ *  - drawn through (7.6 s, before the ends are drawn up) the thread lies
+ *    in the needle's track: its deepest point between the holes within
+ *    10 % of D under them (the needle's circle reaches D under the skin at
+ *    its holes); drawn up, still deeper under the holes than the wound
+ *    (2 mm), not on the chord above it;
  *  - the wound's gap at the stitch falls from its value at rest to under
  *    2 % of it;
  *  - no node of the thread outside the holes is inside the deformed pad
@@ -36,6 +42,8 @@
 
 #define SCENE RODSIM_SOURCE_DIR "/scenes/stitch.ini"
 #define DEPTH 0.004 /* m: the bite's depth under the skin */
+#define WOUND_DEPTH 0.002 /* m: the incision's depth (surface.wound) */
+#define T_PULLED 7.6 /* s: the thread drawn through, the ends not yet drawn up */
 
 static char *load_text(const char *path)
 {
@@ -97,6 +105,30 @@ static double to_centreline(const double *x, int nodes, const double p[3])
     return best;
 }
 
+/* The indices of the entry and exit holes (the first two punctures not of
+ * the needle's track) in k; how many there are. */
+static int holes(const rod_state *s, int k[2])
+{
+    int count = 0;
+    for (int p = 0; p < s->puncture_count && count < 2; p++)
+        if (!s->puncture[p].track) k[count++] = p;
+    return count;
+}
+
+/* m: how far the thread's deepest node between the holes lies under the
+ * holes' mean height (0 before both are made) */
+static double thread_depth(const rod_model *m, const rod_state *s)
+{
+    int k[2];
+    if (holes(s, k) < 2) return 0.0;
+    const double ds = m->length / (m->nodes - 1), lo = s->puncture[k[0]].s,
+                 hi = s->puncture[k[1]].s;
+    double low = INFINITY;
+    for (int i = 0; i < m->nodes; i++)
+        if (i * ds > lo && i * ds < hi) low = fmin(low, s->position[3 * i + 2]);
+    return 0.5 * (s->puncture[k[0]].point[2] + s->puncture[k[1]].point[2]) - low;
+}
+
 int main(void)
 {
     char *text = load_text(SCENE), err[1024];
@@ -135,8 +167,8 @@ int main(void)
     const double h = 1.0 / 30 / 34, duration = test_sanitized() ? 4.0 : 10.6;
     const int steps = (int)lround(duration / h), every = (int)lround(0.1 / h);
     double made_at[2][3] = {{0}}, made_t[2] = {0, 0}, entered_t = 0.0;
-    int made = 0, through = 0, through_node = -1, failed = 0, entered = 0, entered_k = -1;
-    double through_t = 0.0;
+    int made = 0, seen = 0, tracks = 0, pulled = 0, through = 0, through_node = -1, failed = 0, entered = 0, entered_k = -1;
+    double through_t = 0.0, deep_pulled = 0.0;
     rod_report report;
     const double ds = m->length / (m->nodes - 1);
     for (int i = 1; i <= steps && !failed; i++) {
@@ -145,9 +177,19 @@ int main(void)
             check(0, "step %d (t = %.4f s): %s", i, i * h, report.message);
             break;
         }
-        while (made < s->puncture_count && made < 2) {
-            v3_copy(made_at[made], s->puncture[made].point);
-            made_t[made++] = s->time;
+        for (; seen < s->puncture_count; seen++) {
+            if (s->puncture[seen].track) {
+                tracks++;
+                continue;
+            }
+            if (made < 2) {
+                v3_copy(made_at[made], s->puncture[seen].point);
+                made_t[made++] = s->time;
+            }
+        }
+        if (!pulled && s->time >= T_PULLED && made == 2) {
+            pulled = 1;
+            deep_pulled = thread_depth(m, s);
         }
         if (i % every && i != steps) continue;
         /* the thread outside the holes: outside the pad */
@@ -156,7 +198,7 @@ int main(void)
             lo = fmin(lo, s->puncture[p].s - ds);
             hi = fmax(hi, s->puncture[p].s + ds);
         }
-        if (s->puncture_count == 1) hi = m->length + ds; /* the tip still inside */
+        if (made == 1) hi = m->length + ds; /* the tip still inside */
         for (int k = 0; k < m->nodes; k++) {
             const double sk = k * ds;
             if (sk >= lo && sk <= hi) continue;
@@ -184,9 +226,9 @@ int main(void)
     }
     check(!failed, "%d steps of %.6f s to t = %.1f s", steps, h, duration);
     if (!failed) {
-        check(made >= 1 && s->puncture_count == (test_sanitized() ? 1 : 2),
-              "%d holes made (expected %d: entry%s)", s->puncture_count,
-              test_sanitized() ? 1 : 2, test_sanitized() ? "" : " and exit");
+        check(made == (test_sanitized() ? 1 : 2),
+              "%d holes made (expected %d: entry%s), %d points of the needle's track",
+              made, test_sanitized() ? 1 : 2, test_sanitized() ? "" : " and exit", tracks);
         static const char *const names[2] = {"entry", "exit"};
         for (int p = 0; p < made; p++) {
             const double want = p == 0 ? -bite : bite;
@@ -204,19 +246,36 @@ int main(void)
               "%s's at t = %.3f s)", entered,
               entered_k >= 0 ? m->instruments[entered_k].name : "none", entered_t);
         if (!test_sanitized()) {
-            const double entry_s = s->puncture[0].s, exit_s = s->puncture[1].s;
+            int k[2] = {0, 1};
+            holes(s, k);
+            const double entry_s = s->puncture[k[0]].s, exit_s = s->puncture[k[1]].s;
             check(0 < entry_s && entry_s < exit_s && exit_s < m->length,
                   "the thread through both holes in order: entry at s = %.2f mm, exit at %.2f mm "
                   "of %.2f mm", 1e3 * entry_s, 1e3 * exit_s, 1e3 * m->length);
-            const double d0 = to_centreline(s->position, m->nodes, s->puncture[0].point),
-                         d1 = to_centreline(s->position, m->nodes, s->puncture[1].point);
-            check(d0 < 5e-5 && d1 < 5e-5,
-                  "the centreline passes the holes: %.4f and %.4f mm from them (tolerance 0.05)",
-                  1e3 * d0, 1e3 * d1);
+            double far = 0.0; /* m: the centreline's farthest from a puncture */
+            int in_order = 1;
+            for (int p = 0; p < s->puncture_count; p++) {
+                far = fmax(far, to_centreline(s->position, m->nodes, s->puncture[p].point));
+                if (s->puncture[p].track)
+                    in_order &= entry_s < s->puncture[p].s && s->puncture[p].s < exit_s;
+            }
+            check(far < 5e-5 && in_order,
+                  "the centreline passes the holes and the %d track points between them, in "
+                  "order: %.4f mm from them at most (tolerance 0.05)", tracks, 1e3 * far);
+            /* the needle's circle reaches DEPTH under the skin at its holes */
+            check(tracks >= 2 && fabs(deep_pulled - DEPTH) <= 0.1 * DEPTH,
+                  "drawn through (%.1f s), the thread lies in the needle's track: its deepest "
+                  "point %.3f mm under the holes, the needle's arc %.3f mm (off %.1f %%, "
+                  "tolerance 10)", T_PULLED, 1e3 * deep_pulled, 1e3 * DEPTH,
+                  100.0 * fabs(deep_pulled - DEPTH) / DEPTH);
+            const double deep_end = thread_depth(m, s);
+            check(deep_end > WOUND_DEPTH,
+                  "drawn up, the thread still runs under the wound: %.3f mm under the holes "
+                  "(the wound %.1f mm deep)", 1e3 * deep_end, 1e3 * WOUND_DEPTH);
             check(entry_s >= 0.02 && entry_s <= 0.03, "the tail %.1f mm long (2 to 3 cm)",
                   1e3 * entry_s);
             double at[3];
-            v3_add(at, s->puncture[0].point, s->puncture[1].point);
+            v3_add(at, s->puncture[k[0]].point, s->puncture[k[1]].point);
             v3_scale(at, at, 0.5);
             const double gap_end = tissue_coupling_gap_at(pad, at);
             check(gap_end < 0.02 * gap_rest,
