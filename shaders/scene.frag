@@ -18,6 +18,8 @@ uniform int shadows;          // 1: the key light is blocked where the shadow ma
 uniform sampler2DShadow shadow_map;
 uniform mat4 light_view_projection;
 uniform float shadow_offset;  // m: the point looked up moves this far along its normal (no acne)
+uniform vec4 unshadowed;      // xyz: faces of this unit normal receive no shadow (a cutaway's
+                              // cap, where no light falls); w 1: on, 0: off
 const int fading = FADING;    // 1: fade to the background away from fade_centre (a plane)
 uniform vec4 fade;            // xyz: centre (m); w: radius where the fade starts (m)
 uniform float fade_end;       // m: radius where only the background remains
@@ -89,8 +91,9 @@ void main()
         return;
     }
     vec3 n = normalize(world_normal);
-    // a side turned from the key light has no key light to lose
-    bool keyed = shadows == 1 && dot(n, key_direction) > 0.0;
+    // a side turned from the key light has no key light to lose; a section's face none to
+    bool keyed = shadows == 1 && dot(n, key_direction) > 0.0 &&
+                 !(unshadowed.w > 0.5 && dot(n, unshadowed.xyz) > 0.9999);
 #if CACHE
     vec3 c = shaded(n, 1.0);
     frag_color = vec4(c, 1.0);

@@ -40,6 +40,10 @@ int gl_renderer_set_receivers(gl_renderer *r, const render_vertex *vertices, int
  * the frame's triangles) as with receivers, even without any; for a camera
  * that moves every frame (no backdrop to composite over). */
 void gl_renderer_set_whole_boxes(gl_renderer *r, int whole, const unsigned char background[3]);
+/* Faces of this unit normal (world; a cutaway's cap, all of whose vertices
+ * carry the plane's normal) receive no shadow; the key light shades them
+ * as if nothing stood in its way. */
+void gl_renderer_set_unshadowed(gl_renderer *r, const double normal[3]);
 /* Shadows from the key light: a size x size depth map drawn through
  * light_view_projection (column-major, orthographic); a receiver's point is
  * moved `offset` (m) along its normal before the look-up (no self-shadow

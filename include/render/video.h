@@ -14,7 +14,8 @@
 typedef struct video_writer video_writer;
 
 /* path: the final .mp4 name. width and height must be even (yuv420p).
- * crf: 0..51; preset: an x264 preset name ("veryfast"), NULL for "veryfast".
+ * crf: 0..51; preset: an x264 preset name ("veryfast"), NULL for "veryfast";
+ * veryfast searches motion as superfast does (me=dia, subme=1).
  * The MP4 gets +faststart (index first: plays while downloading). NULL with
  * a message on failure (a missing libav* library: named, with its package). */
 video_writer *video_writer_create(const char *path, int width, int height, int fps, int crf,

@@ -221,7 +221,7 @@ const ini_key scene_keys_rod[] = {
     {"render", "height", "px", "720", "even, 16 .. 4320", "video height"},
     {"render", "crf", "-", "18", "0 .. 51", "H.264 quality: 0 lossless, lower is better"},
     {"render", "preset", "-", "veryfast",
-     "ultrafast .. veryslow", "x264 speed preset"},
+     "ultrafast .. veryslow", "x264 speed preset (veryfast: superfast's motion search)"},
     {"render", "samples", "-", "4", "0 .. 16",
      "multisample antialiasing (the backdrop's, with antialias fxaa), 0 = off"},
     {"render", "antialias", "-", "fxaa", "fxaa | msaa",

@@ -44,6 +44,7 @@ typedef struct scene_program {
     GLint u_view_projection, u_orthographic, u_eye, u_view_direction, u_key, u_fill;
     GLint u_shadows, u_shadow_map, u_light, u_shadow_offset;
     GLint u_fade, u_fade_end, u_background;
+    GLint u_unshadowed;
 } scene_program;
 
 struct gl_renderer {
@@ -65,6 +66,7 @@ struct gl_renderer {
     GLuint shadow_program, shadow_fbo, shadow_texture;
     GLint u_shadow_light;
     float light[16], shadow_offset;
+    float unshadowed[4];        /* xyz: faces of this normal receive no shadow; w 1: on */
     int shadow_drawn[4];        /* texels x0, y0, x1, y1 the last depth pass may have drawn
                                    (x0 >= x1: none); the rest of the map is cleared */
     /* the receivers' cache, for a still camera and a target without samples:
@@ -173,6 +175,7 @@ gl_renderer *gl_renderer_create(int width, int height, int samples, int max_vert
         p->u_fade = glGetUniformLocation(p->id, "fade");
         p->u_fade_end = glGetUniformLocation(p->id, "fade_end");
         p->u_background = glGetUniformLocation(p->id, "background");
+        p->u_unshadowed = glGetUniformLocation(p->id, "unshadowed");
     }
     r->max_vertices = max_vertices;
     r->max_indices = max_indices;
@@ -319,6 +322,7 @@ static void set_camera(gl_renderer *r, const render_camera *cam)
             glUniform1i(p->u_shadow_map, 1);
             glUniformMatrix4fv(p->u_light, 1, GL_FALSE, r->light);
             glUniform1f(p->u_shadow_offset, r->shadow_offset);
+            glUniform4fv(p->u_unshadowed, 1, r->unshadowed);
         }
     }
 }
@@ -363,6 +367,12 @@ int gl_renderer_set_receivers(gl_renderer *r, const render_vertex *vertices, int
         glUniform1f(r->programs[v].u_fade_end, r->fade_end);
     }
     return glGetError() == GL_NO_ERROR ? 0 : -1;
+}
+
+void gl_renderer_set_unshadowed(gl_renderer *r, const double normal[3])
+{
+    for (int c = 0; c < 3; c++) r->unshadowed[c] = (float)normal[c];
+    r->unshadowed[3] = 1.0f;
 }
 
 void gl_renderer_set_whole_boxes(gl_renderer *r, int whole, const unsigned char background[3])

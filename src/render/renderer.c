@@ -357,6 +357,10 @@ static int renderer_gl(renderer *r, const rod_recording *rec, const render_optio
     if (!r->gl) return -1;
     if (o->grid) gl_renderer_set_lines(r->gl, r->grid.lines, r->grid.count);
     if (r->follow) gl_renderer_set_whole_boxes(r->gl, 1, o->background);
+    /* the cut face is a section through the tissue, where no light falls:
+     * shaded, never shadowed (the key light's map, grazing it, drew its
+     * texels there as steps) */
+    if (r->cut.on) gl_renderer_set_unshadowed(r->gl, r->cut.normal);
     r->pad = STRIPE_LIFT * r->radius;
     return shadow_receivers(&r->shadow, r->gl, plan, rec, o, &r->camera, err, errlen);
 }

@@ -368,6 +368,31 @@ static void test_pictures(void)
         }
         check(same_image(whole, missed),
               "%s pad: a plane that misses it leaves the picture as without the key", kind);
+        /* the cap receives no shadow (a section, where no light falls): the
+         * thread in front of it darkens none of its pixels */
+        o.shadows = 1;
+        memcpy(o.cutaway_plane, plane, sizeof plane);
+        snprintf(name, sizeof name, "%s_cut_shadowed", kind);
+        image *shadowed = render(r, &o, name);
+        o.shadows = 0;
+        if (cut && shadowed) {
+            long cap = 0, darker = 0, elsewhere = 0;
+            for (size_t i = 0; i < (size_t)cut->width * (size_t)cut->height; i++) {
+                const unsigned char *p = &cut->rgb[3 * i], *q = &shadowed->rgb[3 * i];
+                shade a = classify(p), b = classify(q);
+                int lost = (p[0] + p[1] + p[2]) - (q[0] + q[1] + q[2]);
+                if ((a == DERMIS || a == SUBCUTIS) && a == b) cap++, darker += lost > 12;
+                else elsewhere += lost > 12;
+            }
+            /* drawn with the cap's shadow, 1,280 of about 14,000 were; the
+             * antialiased edge along the thread may leave a few */
+            check(cap > 1000 && darker <= 4,
+                  "%s pad cut, shadows on: %ld of %ld cap pixels darker than without shadows "
+                  "(at most 4)", kind, darker, cap);
+            check(elsewhere > 0, "%s pad cut, shadows on: the shadow is drawn elsewhere (%ld "
+                  "pixels darker)", kind, elsewhere);
+        }
+        image_destroy(shadowed);
         image_destroy(whole);
         image_destroy(cut);
         image_destroy(missed);
