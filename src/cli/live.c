@@ -54,6 +54,7 @@
 #include "base/numfmt.h"
 #include "base/outfile.h"
 #include "cli/args.h"
+#include "cli/live_needle.h"
 #include "cli/live_rods.h"
 #include "cli/scene_outputs.h"
 #include "base/vec3.h"
@@ -314,6 +315,8 @@ struct live_session {
      * the needle (its path is the scene's) */
     rod_path *instrument_pose[ROD_MAX_INSTRUMENTS], *instrument_jaw[ROD_MAX_INSTRUMENTS];
     double instrument_row[ROD_MAX_INSTRUMENTS][8]; /* each one's last row: t, pose, opening */
+    live_needle needle;     /* pose mode: the jaws holding the needle ([needle_grasp]) */
+    int needle_said;        /* the grasps said so far */
 };
 
 /* Says the end of a run of lines that ended alike (complain). */
@@ -645,6 +648,27 @@ static void say_failed(live_session *ls, double t, rod_status status, const rod_
              report->message[0] ? report->message : "(no message)", where);
 }
 
+/* Takes the [needle_grasp]s before t (live_needle.h) and says each once;
+ * then, when jaws hold the needle, writes the tip's row at t (the needle
+ * carried by them) into row and returns 1 when the row moves with a path
+ * (the line's instrument's, or the scene's for jaws no line drives), -1 when
+ * the jaws are held (a row at rest), 0 when the tip's lines drive it. */
+static int needle_row(live_session *ls, double t, int k, double *row)
+{
+    if (!ls->pose_mode) return 0;
+    live_needle_take(&ls->needle, ls->path, t);
+    const rod_model *m = ls->model;
+    for (; ls->needle_said < ls->needle.next; ls->needle_said++) {
+        const rod_needle_grasp *g = &m->needle_grasps[ls->needle_said];
+        fprintf(ls->msg, "rodsim live: input line %ld: the needle in %s's jaws from t = %.9g s "
+                "([needle_grasp]): it follows them; the tip's lines step the time, their poses "
+                "not used\n", ls->line_no, m->instruments[g->instrument].name, g->t);
+    }
+    if (!live_needle_row(&ls->needle, t, ls->columns, &ls->last_row[4], row)) return 0;
+    const int jaws = ls->needle.jaws;
+    return jaws == k || !ls->instrument_pose[jaws] ? 1 : -1;
+}
+
 /* One data line, parsed into values[count], checked: stepped to (or part
  * of the way: line_tries), answered and recorded. LINE_OK or LINE_FAILED. */
 static int step_line(live_session *ls, const double *values, int count)
@@ -656,6 +680,9 @@ static int step_line(live_session *ls, const double *values, int count)
     }
     double row[7] = {0}, velocity[6] = {0}, reached[7];
     memcpy(row, values, (size_t)count * sizeof(double)); /* 4 numbers on a clamped tip: no turn */
+    /* jaws holding the needle: the tip goes with them, the line's pose unused */
+    const live_needle needle_before = ls->needle;
+    const int carried = needle_row(ls, row[0], -1, row);
     memcpy(reached, row, sizeof row);
     const double before = s->time;
     ls->line_gap = values[0] - before;
@@ -687,7 +714,8 @@ static int step_line(live_session *ls, const double *values, int count)
             reached[c] = try->fraction == 1.0 ? row[c]
                          : ls->last_row[c] + try->fraction * (row[c] - ls->last_row[c]);
         set_budget(ls, try->rescue ? 0 : ls->budget);
-        failed = try_row(ls, reached, row[0], try->fraction == 0.0, velocity, &status, &report);
+        failed = try_row(ls, reached, row[0], try->fraction == 0.0 || carried < 0, velocity,
+                         &status, &report);
         if (tried++ == 0) {
             first_status = status;
             memcpy(&first_report, &report, sizeof report);
@@ -700,6 +728,7 @@ static int step_line(live_session *ls, const double *values, int count)
     const int ok = !failed && ls->fraction == 1.0;
     ls->stuck = failed ? ls->stuck + 1 : 0;
     ls->held = !failed && ls->fraction == 0.0;
+    if (failed) ls->needle = needle_before;
     if (!failed) {
         memcpy(ls->last_row, reached, sizeof reached);
         ls->recent[ls->recent_count++ % LIVE_RECENT_LINES] = ls->line_step_max;
@@ -804,12 +833,16 @@ static int step_instrument_line(live_session *ls, int k, const double *v)
     memcpy(tip_row, ls->last_row, sizeof tip_row);
     tip_row[0] = v[0];
     double velocity[6] = {0};
+    /* jaws holding the needle carry it (moving when they are these) */
+    const live_needle needle_before = ls->needle;
+    const int carried = failed ? 0 : needle_row(ls, v[0], k, tip_row);
     for (int rescue = 0; rescue < 2 && failed == 0; rescue++) {
         set_budget(ls, rescue ? 0 : ls->budget);
-        if (try_row(ls, tip_row, v[0], 1, velocity, &status, &report) == 0) break;
+        if (try_row(ls, tip_row, v[0], carried <= 0, velocity, &status, &report) == 0) break;
         if (rescue) failed = 1;
     }
     if (failed) {
+        ls->needle = needle_before;
         for (int r = 0; r < 1 + hold; r++) {
             rod_path_pop(ls->instrument_pose[k]);
             rod_path_pop(ls->instrument_jaw[k]);
@@ -832,6 +865,7 @@ static int step_instrument_line(live_session *ls, int k, const double *v)
         for (int c = 1; c < 8; c++) fprintf(ls->record, ",%.17g", v[c]);
         fputc('\n', ls->record);
         record_check(ls);
+        if (carried) record_row(ls, tip_row, velocity); /* the needle's path */
     }
     return failed ? LINE_FAILED : LINE_OK;
 }
@@ -1177,6 +1211,7 @@ static int setup(live_session *ls, rod_model *m, char *err, size_t errlen)
         ls->stepped = &ls->loads_model;
     }
     if (live_instruments(ls, m, err, errlen)) return -1;
+    live_needle_init(&ls->needle, m);
     if (rod_solver_init(&ls->solver, ls->stepped, err, errlen)) return -1;
     if (ls->pad) {
         /* the punctures linked and their compliances made now, not in the
