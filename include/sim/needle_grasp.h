@@ -16,7 +16,8 @@
 /* Reads [needle_grasp] (repeatable: t, s; instrument, NAME) after
  * [instrument]: the names known, the needle held by a needle = yes holder,
  * times increasing after its path's start, each handing the needle to other
- * jaws than hold it; hands the model's tip_motion over at each. rod: the
+ * jaws than hold it; hands the model's tip_motion over at each (none when
+ * [ends] tip_motion gave the needle's path whole: needle_path_given). rod: the
  * rod read (several rods; NULL for a bare [rod]): a rod whose tip no
  * holder's needle is on takes no grasps when another rod's is. 0, or -1
  * with "file:line: [needle_grasp] key = value: ..." naming what is accepted. */
@@ -24,7 +25,8 @@ int needle_grasp_read(ini_doc *doc, rod_model *m, const char *rod, char *err, si
 
 /* After the start is known (rod_model_derive): refuses a grasp whose jaws'
  * tip is farther than a jaw length from the needle at its time (the
- * needle's arc: [render] needle_arc, 3/8 or 1/2 of a circle). */
+ * needle's arc: [render] needle_arc, 3/8 or 1/2 of a circle); none when
+ * the needle's path is given whole. */
 int needle_grasp_check(ini_doc *doc, const rod_model *m, char *err, size_t errlen);
 
 /* The distance (m) from instrument k's jaws' tip to the needle at time t:

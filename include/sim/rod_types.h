@@ -376,6 +376,10 @@ typedef struct rod_model {
     rod_instrument *instruments;  /* (instrument_count), owned */
     int needle_grasp_count;       /* scene [needle_grasp], times increasing */
     rod_needle_grasp needle_grasps[ROD_MAX_NEEDLE_GRASPS];
+    /* 1: [ends] tip_motion given with a needle = yes holder: the needle's
+     * path whole (a rodsim live record's, its handovers in it); the
+     * holder's path moves its jaws only and no grasp hands a path over */
+    int needle_path_given;
     int cut_event_count;          /* scene [cut]: cuts at given times, without scissors */
     struct rod_cut_event *cut_events; /* (cut_event_count), owned */
 

@@ -191,11 +191,14 @@ const ini_key scene_keys_rod[] = {
      "other rods touch the holder, never held by it)"},
     {"instrument", "needle", "-", "no", "yes | no",
      "needle_holder: holds the needle (ends.needle) at its jaws' tip: its path drives the "
-     "thread's tip (ends.tip = clamped; no ends.tip_motion)"},
+     "thread's tip (ends.tip = clamped); with ends.tip_motion given too, that is the needle's "
+     "path whole (a rodsim live record, its handovers in it) and the holder's path moves its "
+     "jaws only"},
     {"needle_grasp", "t", "s", "required", "increasing, after the holder's path starts",
      "the needle handed over ([needle_grasp] repeats, at most 8; the summary's needle_grasps): "
      "from t it stays as it was at t in the named jaws, which must be within a jaw length of "
-     "it then; before the first, the needle = yes holder holds it"},
+     "it then; before the first, the needle = yes holder holds it; rodsim live hands it to "
+     "the jaws its lines drive the same way"},
     {"needle_grasp", "instrument", "-", "required", "an [instrument]'s name, not scissors",
      "whose jaws take the needle (their jaws touch no thread from then, take none ever)"},
     {"cut", "t", "s", "required", "> 0",

@@ -39,6 +39,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
+#include <malloc.h> /* mallopt: the heap --realtime keeps */
 #include <math.h>
 #include <sched.h>
 #include <signal.h>
@@ -54,10 +55,12 @@
 #include "base/numfmt.h"
 #include "base/outfile.h"
 #include "cli/args.h"
+#include "cli/live_needle.h"
 #include "cli/live_rods.h"
 #include "cli/scene_outputs.h"
 #include "base/vec3.h"
 #include "sim/instrument.h"
+#include "sim/contact/self_contact.h"
 #include "sim/path.h"
 #include "sim/rod.h"
 #include "sim/rod_set.h"
@@ -128,14 +131,40 @@ static int parse_args(int argc, char **argv, live_args *a, char *err, size_t err
     return 0;
 }
 
-/* --realtime: locks the memory, takes a real-time priority (SCHED_FIFO 10:
- * above every ordinary process, below the kernel's own threads, and the
- * kernel's RT throttling still leaves 5 % of each second to the rest) and
- * pins the process to the CPU it runs on (no migration between lines).
- * What is not permitted (no CAP_IPC_LOCK or CAP_SYS_NICE) is said, and the
- * session goes on without it. */
-void live_realtime_setup(void)
+/* The heap reserved besides the self-contact's columns, bytes: the rest
+ * of what a step may allocate on demand (pair lists, a Jacobian's band). */
+#define LIVE_HEAP_BASE ((size_t)16 << 20)
+
+size_t live_heap_bytes(long nodes)
 {
+    /* the pairs' node columns (at most SELF_CONTACT_NODE_SLOTS, 3 each) and
+     * their solutions (3 a ranked pair), 6 unknowns a node, doubles */
+    const size_t columns = (size_t)3 * (SELF_CONTACT_NODE_SLOTS + SELF_CONTACT_RANK_PAIRS);
+    return LIVE_HEAP_BASE + 2 * columns * 6 * (size_t)(nodes > 0 ? nodes : 0) * sizeof(double);
+}
+
+/* --realtime: reserves the heap, locks the memory, takes a real-time
+ * priority (SCHED_FIFO 10: above every ordinary process, below the
+ * kernel's own threads, and the kernel's RT throttling still leaves 5 % of
+ * each second to the rest) and pins the process to the CPU it runs on (no
+ * migration between lines). The heap: the self-contact grows its columns
+ * when strands first touch (a run that never touches holds none), and with
+ * the memory locked each new page is faulted in at once: a knot's line
+ * that grew them by 1 MB took 0.6 ms of CPU instead of 0.3 (256 faults),
+ * its first line 0.7-1.0 ms instead of 0.35. So the heap is grown once,
+ * touched, and kept (malloc neither trims it nor maps blocks of its own):
+ * later allocations reuse its locked pages. What is not permitted (no
+ * CAP_IPC_LOCK or CAP_SYS_NICE) is said, and the session goes on without it. */
+void live_realtime_setup(size_t heap_bytes)
+{
+    mallopt(M_MMAP_MAX, 0);
+    mallopt(M_TRIM_THRESHOLD, -1);
+    char *heap = malloc(heap_bytes);
+    if (heap) {
+        volatile char *touch = heap;
+        for (size_t i = 0; i < heap_bytes; i += 4096) touch[i] = 0;
+    }
+    free(heap);
     if (mlockall(MCL_CURRENT | MCL_FUTURE))
         fprintf(stderr, "rodsim live: --realtime: could not lock memory (%s); going on\n",
                 strerror(errno));
@@ -314,6 +343,8 @@ struct live_session {
      * the needle (its path is the scene's) */
     rod_path *instrument_pose[ROD_MAX_INSTRUMENTS], *instrument_jaw[ROD_MAX_INSTRUMENTS];
     double instrument_row[ROD_MAX_INSTRUMENTS][8]; /* each one's last row: t, pose, opening */
+    live_needle needle;     /* pose mode: the jaws holding the needle ([needle_grasp]) */
+    int needle_said;        /* the grasps said so far */
 };
 
 /* Says the end of a run of lines that ended alike (complain). */
@@ -645,6 +676,27 @@ static void say_failed(live_session *ls, double t, rod_status status, const rod_
              report->message[0] ? report->message : "(no message)", where);
 }
 
+/* Takes the [needle_grasp]s before t (live_needle.h) and says each once;
+ * then, when jaws hold the needle, writes the tip's row at t (the needle
+ * carried by them) into row and returns 1 when the row moves with a path
+ * (the line's instrument's, or the scene's for jaws no line drives), -1 when
+ * the jaws are held (a row at rest), 0 when the tip's lines drive it. */
+static int needle_row(live_session *ls, double t, int k, double *row)
+{
+    if (!ls->pose_mode) return 0;
+    live_needle_take(&ls->needle, ls->path, t);
+    const rod_model *m = ls->model;
+    for (; ls->needle_said < ls->needle.next; ls->needle_said++) {
+        const rod_needle_grasp *g = &m->needle_grasps[ls->needle_said];
+        fprintf(ls->msg, "rodsim live: input line %ld: the needle in %s's jaws from t = %.9g s "
+                "([needle_grasp]): it follows them; the tip's lines step the time, their poses "
+                "not used\n", ls->line_no, m->instruments[g->instrument].name, g->t);
+    }
+    if (!live_needle_row(&ls->needle, t, ls->columns, &ls->last_row[4], row)) return 0;
+    const int jaws = ls->needle.jaws;
+    return jaws == k || !ls->instrument_pose[jaws] ? 1 : -1;
+}
+
 /* One data line, parsed into values[count], checked: stepped to (or part
  * of the way: line_tries), answered and recorded. LINE_OK or LINE_FAILED. */
 static int step_line(live_session *ls, const double *values, int count)
@@ -656,6 +708,9 @@ static int step_line(live_session *ls, const double *values, int count)
     }
     double row[7] = {0}, velocity[6] = {0}, reached[7];
     memcpy(row, values, (size_t)count * sizeof(double)); /* 4 numbers on a clamped tip: no turn */
+    /* jaws holding the needle: the tip goes with them, the line's pose unused */
+    const live_needle needle_before = ls->needle;
+    const int carried = needle_row(ls, row[0], -1, row);
     memcpy(reached, row, sizeof row);
     const double before = s->time;
     ls->line_gap = values[0] - before;
@@ -687,7 +742,8 @@ static int step_line(live_session *ls, const double *values, int count)
             reached[c] = try->fraction == 1.0 ? row[c]
                          : ls->last_row[c] + try->fraction * (row[c] - ls->last_row[c]);
         set_budget(ls, try->rescue ? 0 : ls->budget);
-        failed = try_row(ls, reached, row[0], try->fraction == 0.0, velocity, &status, &report);
+        failed = try_row(ls, reached, row[0], try->fraction == 0.0 || carried < 0, velocity,
+                         &status, &report);
         if (tried++ == 0) {
             first_status = status;
             memcpy(&first_report, &report, sizeof report);
@@ -700,6 +756,7 @@ static int step_line(live_session *ls, const double *values, int count)
     const int ok = !failed && ls->fraction == 1.0;
     ls->stuck = failed ? ls->stuck + 1 : 0;
     ls->held = !failed && ls->fraction == 0.0;
+    if (failed) ls->needle = needle_before;
     if (!failed) {
         memcpy(ls->last_row, reached, sizeof reached);
         ls->recent[ls->recent_count++ % LIVE_RECENT_LINES] = ls->line_step_max;
@@ -804,12 +861,16 @@ static int step_instrument_line(live_session *ls, int k, const double *v)
     memcpy(tip_row, ls->last_row, sizeof tip_row);
     tip_row[0] = v[0];
     double velocity[6] = {0};
+    /* jaws holding the needle carry it (moving when they are these) */
+    const live_needle needle_before = ls->needle;
+    const int carried = failed ? 0 : needle_row(ls, v[0], k, tip_row);
     for (int rescue = 0; rescue < 2 && failed == 0; rescue++) {
         set_budget(ls, rescue ? 0 : ls->budget);
-        if (try_row(ls, tip_row, v[0], 1, velocity, &status, &report) == 0) break;
+        if (try_row(ls, tip_row, v[0], carried <= 0, velocity, &status, &report) == 0) break;
         if (rescue) failed = 1;
     }
     if (failed) {
+        ls->needle = needle_before;
         for (int r = 0; r < 1 + hold; r++) {
             rod_path_pop(ls->instrument_pose[k]);
             rod_path_pop(ls->instrument_jaw[k]);
@@ -832,6 +893,7 @@ static int step_instrument_line(live_session *ls, int k, const double *v)
         for (int c = 1; c < 8; c++) fprintf(ls->record, ",%.17g", v[c]);
         fputc('\n', ls->record);
         record_check(ls);
+        if (carried) record_row(ls, tip_row, velocity); /* the needle's path */
     }
     return failed ? LINE_FAILED : LINE_OK;
 }
@@ -1177,6 +1239,7 @@ static int setup(live_session *ls, rod_model *m, char *err, size_t errlen)
         ls->stepped = &ls->loads_model;
     }
     if (live_instruments(ls, m, err, errlen)) return -1;
+    live_needle_init(&ls->needle, m);
     if (rod_solver_init(&ls->solver, ls->stepped, err, errlen)) return -1;
     if (ls->pad) {
         /* the punctures linked and their compliances made now, not in the
@@ -1327,7 +1390,7 @@ static int run_session(live_session *ls, const live_args *a, const rod_model *m)
         if (err[0]) fprintf(stderr, "rodsim live: %s\n", err);
         return RUN_EXIT_FAILURE;
     }
-    if (a->realtime) live_realtime_setup();
+    if (a->realtime) live_realtime_setup(live_heap_bytes(m->nodes));
     /* the session ends on these like at the end of input (the record is kept);
      * no SA_RESTART: a read or a wait returns at once */
     struct sigaction sa;

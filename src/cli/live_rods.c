@@ -645,7 +645,11 @@ int live_rods_run(ini_doc *doc, const char *scene, const live_rods_options *o)
         else run_csv_header(lr->record.fp);
         record_frame(lr); /* t = 0 */
     }
-    if (lr->realtime) live_realtime_setup();
+    if (lr->realtime) {
+        long nodes = 0;
+        for (int k = 0; k < lr->set.count; k++) nodes += lr->set.model[k].nodes;
+        live_realtime_setup(live_heap_bytes(nodes));
+    }
     /* t = 0 on the wall clock before the header goes out: a client pacing
      * itself from the header is never ahead of this clock */
     lr->wall_origin = wall_seconds();

@@ -112,6 +112,7 @@ int needle_grasp_read(ini_doc *doc, rod_model *m, const char *rod, char *err, si
     for (int i = 0; i < count; i++) {
         if (read_one(doc, m, i, holder, err, errlen)) return -1;
         m->needle_grasp_count = i + 1;
+        if (m->needle_path_given) continue; /* its handovers are in the path given */
         char why[256];
         rod_path *after = rod_path_copy(m->instruments[m->needle_grasps[i].instrument].pose);
         rod_path *handed = after ? rod_path_handover(m->tip_motion, m->needle_grasps[i].t, after,
@@ -153,7 +154,8 @@ double needle_grasp_distance(const rod_model *m, const double tip0[9], double ar
 
 int needle_grasp_check(ini_doc *doc, const rod_model *m, char *err, size_t errlen)
 {
-    if (m->needle_grasp_count == 0) return 0;
+    /* a path given whole (a live record) is where the session's jaws took it */
+    if (m->needle_grasp_count == 0 || m->needle_path_given) return 0;
     /* the needle drawn: [render] needle_arc, 3/8 unless 1/2 */
     static const char *const arcs[] = {"3/8", "1/2", NULL};
     int choice = 0;

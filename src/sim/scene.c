@@ -539,7 +539,9 @@ static int read_instrument_rod(ini_doc *doc, int i, const char *rod_name, rod_in
 /* Reads [instrument] (repeatable, at most ROD_MAX_INSTRUMENTS): kind, name,
  * path (a CSV t,x,y,z,rx,ry,rz,jaw), size, friction, grip, needle. A needle
  * holder with needle = yes drives the thread's tip (the needle's back, held
- * in its jaws' tip) along its path: [ends] tip_motion cannot be given too. */
+ * in its jaws' tip) along its path; with [ends] tip_motion given too, that
+ * is the needle's path whole (a rodsim live record replayed: the session's
+ * handovers in it) and the holder's path moves its jaws only. */
 static int read_instruments(ini_doc *doc, rod_model *m, const char *rod, char *err,
                             size_t errlen)
 {
@@ -597,10 +599,8 @@ static int read_instruments(ini_doc *doc, rod_model *m, const char *rod, char *e
         /* several rods: the needle is on one rod's tip; the others see a
          * holder whose jaws they touch and never take (grasp_off) */
         if (in.needle && rod && has_rod && strcmp(rod_name, rod) != 0) in.needle = 0;
-        if (in.needle && m->tip_motion)
-            return ini_error(doc, "instrument", i, "needle", err, errlen,
-                             "the needle holder drives the needle (the thread's tip) along its "
-                             "path: remove [ends] tip_motion, or set needle = no");
+        /* [ends] tip_motion given: the needle's path whole (a live record) */
+        if (in.needle && m->tip_motion) m->needle_path_given = 1;
         snprintf(in.name, sizeof in.name, "%s", has_name ? name : rod_instrument_kind_name(in.kind));
         if (has_rod && read_instrument_rod(doc, i, rod_name, &in, err, errlen)) return -1;
         for (int k = 0; k < m->instrument_count; k++)
@@ -621,7 +621,7 @@ static int read_instruments(ini_doc *doc, rod_model *m, const char *rod, char *e
             return ini_error(doc, "instrument", i, "path", err, errlen, "%s", why);
         in.line = ini_section_line(doc, "instrument", i);
         m->instruments[m->instrument_count++] = in;
-        if (in.needle) {
+        if (in.needle && !m->needle_path_given) {
             rod_path *jaw = NULL;
             if (rod_instrument_load_path(file, &m->tip_motion, &jaw, why, sizeof why))
                 return ini_error(doc, "instrument", i, "path", err, errlen, "%s", why);
@@ -1132,7 +1132,7 @@ int scene_read_rod_of(ini_doc *doc, rod_model *m, const char *rod, const rod_mod
         int holder = -1;
         for (int k = 0; k < m->instrument_count && holder < 0; k++)
             if (m->instruments[k].needle) holder = k;
-        if (holder >= 0 && strncmp(why, "tip_motion: ", 12) == 0)
+        if (holder >= 0 && !m->needle_path_given && strncmp(why, "tip_motion: ", 12) == 0)
             ini_error(doc, "instrument", holder, "path", err, errlen,
                       "the needle holder drives the thread's tip (ends.tip = clamped or pinned): %s",
                       why + 12);

@@ -16,6 +16,8 @@
  *     settles the scene's start as the session did. The same record
  *     replayed from the drawn shape (rod.settle = 0) is off by more than
  *     the weight (measured 11 times it): the comparison sees the start;
+ *   - the same session with --realtime (a heap reserved and locked for the
+ *     self-contact's columns, live.h) answers the same bytes;
  *   - a straight thread hanging from its clamped tip is at rest already:
  *     settled, it stays straight (every node within 1e-9 m of where it
  *     started);
@@ -28,6 +30,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include "cli/live.h"
 #include "live_driver.h"
 #include "test.h"
 
@@ -73,6 +76,20 @@ static double largest_move(double a[NODES][3], double b[NODES][3])
     return most;
 }
 
+/* A file's text (NULL when unreadable) */
+static char *read_file(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    const long n = ftell(f);
+    rewind(f);
+    char *text = n >= 0 ? malloc((size_t)n + 1) : NULL;
+    if (text) text[fread(text, 1, (size_t)n, f)] = '\0';
+    fclose(f);
+    return text;
+}
+
 /* rodsim run replaying the record, the extra --set (or ""): its exit status */
 static int replay(const char *extra, const char *csv, double duration)
 {
@@ -115,6 +132,20 @@ static void test_knot(void)
     snprintf(cmd, sizeof cmd, "%s live %s/knot.ini --record %s/rec.csv < %s/in.csv > %s/live.csv "
              "2> %s/live_err.txt", RODSIM_BIN, DIR, DIR, DIR, DIR, DIR);
     check(system(cmd) == 0, "rodsim live on the settled knot exits 0");
+    /* --realtime reserves and locks a heap (live.h): the same answers */
+    snprintf(cmd, sizeof cmd, "%s live %s/knot.ini --realtime < %s/in.csv > %s/live_rt.csv "
+             "2> %s/live_rt_err.txt", RODSIM_BIN, DIR, DIR, DIR, DIR);
+    const int rt_rc = system(cmd);
+    char *plain = read_file(DIR "/live.csv"), *paced = read_file(DIR "/live_rt.csv");
+    check(rt_rc == 0 && plain && paced && strcmp(plain, paced) == 0,
+          "--realtime (its heap reserved, %zu bytes at NS = %d) answers the same bytes",
+          live_heap_bytes(NODES), NODES);
+    free(plain);
+    free(paced);
+    /* 16 MiB and twice the columns: 3 (384 + 96) doubles for each of 6 x 101 unknowns */
+    check(live_heap_bytes(NODES) == 16777216 + 2 * 3 * 480 * 606 * 8,
+          "the heap reserved at NS = %d: %zu bytes (16 MiB + 2 x 3 x 480 x 606 doubles: %d)", NODES,
+          live_heap_bytes(NODES), 16777216 + 2 * 3 * 480 * 606 * 8);
     check(replay("", DIR "/run.csv", duration) == 0, "rodsim run replays the record (settled)");
     check(replay("--set rod.settle=0", DIR "/drawn.csv", duration) == 0,
           "rodsim run replays it from the drawn shape");

@@ -637,9 +637,11 @@ static void test_bad_input(void)
                "did you mean forceps?", "an unknown kind: did you mean");
     scene_case("", "[instrument]\nkind = forceps\n", far_path, 2, "path",
                "an instrument without its path");
+    /* tip_motion with a needle holder: the needle's path whole (a live
+     * record replayed), the holder's path (far off) moving its jaws only */
     scene_case("tip = clamped\ntip_motion = tip.csv\n", "[instrument]\nkind = needle_holder\n"
-               "path = path.csv\nneedle = yes\n", far_path, 2, "remove [ends] tip_motion",
-               "both tip_motion and a needle holder holding the needle");
+               "path = path.csv\nneedle = yes\n", far_path, 0, "tip at (0.2, 0, 0.05)",
+               "both tip_motion and a needle holder holding the needle: the tip on tip_motion");
     /* the holder's path drives the thread's tip: (0.2, 0, 0.05) up 2 mm */
     scene_case("tip = clamped\nneedle = 0.01\n",
                "[instrument]\nkind = needle_holder\npath = path.csv\nneedle = yes\n",
