@@ -14,18 +14,22 @@ The stitch, the grasp, the turn's place and the cross are
 instrument_tie_high.py's and instrument_tie_hand.py's (imported); what
 differs:
 - the double throw: the hand carries the long end TWICE round the holder's
-  shanks, its circle moving PITCH toward the jaws' tip per turn, so that
-  the second turn lies beside the first, nearer the tip; the long end is
-  longer by what a second turn takes (a straight line at the start, from
-  its puncture past the shanks to the hand, as long as it is wound);
-- the holder draws back through both turns farther (they slide off the
-  jaws' tip together onto the tail);
-- the cinch draws the hand farther, by the long end's extra length.
-The scene runs to 5.6 s: the turn nearer the tip comes off the jaws and
-the tail is drawn through it, the other turn is still on the shanks; the
-poses after 5.5 s (drawing on, the cross, the cinch) are written but no
-run reached them (docs/decisions/draft-tie-surgeons.md). BACK_ON,
-BACK_HOLD and HAND_OUT are the variants tried there (0: off).
+  shanks, its circle moving PITCH toward the jaws' tip per turn; the long
+  end is longer by what a second turn takes (a straight line at the start,
+  from its puncture past the shanks to the hand, as long as it is wound);
+  the first turn lies where the long end from its puncture meets the
+  shanks, 10-15 mm behind the second;
+- the holder draws back through both turns farther: the single throw's
+  draw-back and BACK_MORE (the turn nearer the tip off it onto the tail),
+  then BACK_ON more along its axis (the turn behind, past the box lock and
+  off the tip too);
+- the cinch draws the hand and the holder farther and slower (HAND_CINCH,
+  HOLD_CINCH, CINCH_T): a double throw slides down its stitch harder than a
+  single one.
+The scene's holder has friction 0.05 on the thread (0.15 in the single
+throw): at 0.15 Newton stalls at 3.2 s, where the turns slide on the
+shanks (docs/decisions/draft-tie-surgeons.md). HAND_OUT and BACK_HOLD are
+variants tried there (0: off).
 """
 import math
 
@@ -44,8 +48,10 @@ PITCH = 1.6                      # mm: the hand's circle toward the tip per turn
 WIND_T = 1.0                     # s per turn
 BACK_T = 2.4                     # s: the holder's draw-back through both turns (1.8: Newton stalled at 3.25 s)
 BACK_MORE = 4.0                  # mm: beyond the single throw's draw-back
-BACK_ON, BACK_ON_T = 0.0, 1.0    # mm, s: then on along the axis (the turn nearer the box lock off the tip)
-HAND_CINCH = np.array([0.0, -80.0, 1.2])
+BACK_ON, BACK_ON_T = 22.0, 1.0   # mm, s: then on along the axis, the turn nearer the box lock off the tip too
+HAND_CINCH = np.array([0.0, -80.0, 1.2])  # mm: the hand there (-84 to -88: kinks)
+HOLD_CINCH = np.array([0.0, 31.0, 1.5])  # mm: the holder's tip at the cinch's end (+23: 3.8 mm up)
+CINCH_T = 5.5                    # s: the draw apart along the skin
 HAND_OUT = 0.0                   # mm: the hand this far from the axis during the draw-back (0: stays)
 BACK_HOLD = 0.0                  # s: the holder still before it draws on
 FEED = 6.0                       # mm: the hand's place from the axis after the turns (toward +x and up)
@@ -129,8 +135,8 @@ def paths():
     holder.to(t, pos=hand_tie.HOLD_LOW)
     hand.to(t, pos=hand_tie.HAND_LOW)
     # the cinch: apart along the skin
-    t += hand_tie.CINCH_T
-    holder.to(t, pos=hand_tie.HOLD_CINCH)
+    t += CINCH_T
+    holder.to(t, pos=HOLD_CINCH)
     hand.to(t, pos=HAND_CINCH)
     t += hand_tie.HOLD_END
     holder.to(t)
