@@ -129,6 +129,11 @@ typedef struct rod_self_contact {
     double *node_map;      /* (nodes x 9) row-major: d v / d v_in of the surfaces' contact on a
                               node the pairs push (surface_contact_after_pairs), where mapped */
     unsigned char *mapped; /* (nodes) 1: node_map holds the node's map at this iterate */
+    double *held_map;      /* (nodes x 27) row-major: d v_k / d u_{k-1}, d u_k, d u_{k+1} (u the
+                              free velocities) of a law that moved node k before the pairs act
+                              (a puncture, an instrument, a surface not solved again after
+                              them), where held (rod_self_contact_hold_maps) */
+    unsigned char *held;   /* (nodes) 1: held_map holds the node's map at this iterate */
     double gnorm;          /* N: the largest |g| of the last rod_self_contact_forces */
     double fmax;           /* N: the largest force a pair's law asked for there */
     int last_count;        /* pairs with a force at the end of the last accepted step */
@@ -250,6 +255,17 @@ void rod_self_contact_apply(rod_self_contact *sc, double *vel1, double *vbar, co
                             double theta);
 void rod_self_contact_laws(rod_self_contact *sc, const double *pos0, double *vel1, double *vbar,
                            const double *push, double dt, double theta);
+
+/* Inside the residual, after rod_self_contact_apply and the surfaces'
+ * second pass: for each node of a pair that a law moved before the pairs
+ * act (touched: 1 where velocity_jac, nodes x 27, holds its map) and that
+ * the surfaces did not solve again after them (mapped), the node's map, so
+ * that the pairs' rows in Newton's solve see how its velocity follows the
+ * unknowns through that law (a puncture holds a node across the thread,
+ * and a pair there moved with it as if free made Newton's step no descent
+ * direction). */
+void rod_self_contact_hold_maps(rod_self_contact *sc, const unsigned char *touched,
+                                const double *velocity_jac);
 
 /* Pair p's law: its force (on a's point) for the relative position d and
  * velocity z over the step with its own force taken out (z also with

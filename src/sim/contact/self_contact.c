@@ -48,6 +48,8 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->node_force = calloc((size_t)nodes * 3, sizeof(double));
     sc->node_map = calloc((size_t)nodes * 9, sizeof(double));
     sc->mapped = calloc((size_t)nodes, 1);
+    sc->held_map = calloc((size_t)nodes * 27, sizeof(double));
+    sc->held = calloc((size_t)nodes, 1);
     sc->found_distance = calloc((size_t)sc->max_pairs, sizeof(double));
     sc->near = calloc((size_t)sc->max_pairs, sizeof *sc->near);
     sc->near_capacity = sc->max_pairs;
@@ -66,7 +68,7 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->spread = malloc((size_t)nodes * sizeof(double));
     sc->s = malloc((size_t)9 * SELF_CONTACT_RANK_PAIRS * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
-    if (!sc->pair || !sc->found || !sc->node_force || !sc->node_map || !sc->mapped || !sc->prox || !sc->s || !sc->rhs ||
+    if (!sc->pair || !sc->found || !sc->node_force || !sc->node_map || !sc->mapped || !sc->held_map || !sc->held || !sc->prox || !sc->s || !sc->rhs ||
         !sc->last_ab || !sc->last_force || !sc->last_share || !sc->last_frac || !sc->last_to ||
         !sc->found_distance || !sc->near ||
         !sc->slot || !sc->slot_node || !sc->clear_pos || !sc->list_pos || !sc->turn ||
@@ -85,6 +87,8 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->node_force);
     free(sc->node_map);
     free(sc->mapped);
+    free(sc->held_map);
+    free(sc->held);
     free(sc->found_distance);
     free(sc->slot);
     free(sc->slot_node);
@@ -750,6 +754,7 @@ void rod_self_contact_apply(rod_self_contact *sc, double *vel1, double *vbar, co
     const int n = sc->nodes;
     memset(sc->node_force, 0, (size_t)n * 3 * sizeof(double));
     memset(sc->mapped, 0, (size_t)n);
+    memset(sc->held, 0, (size_t)n);
     for (int q = 0; q < sc->count; q++) {
         self_pair *p = &sc->pair[q];
         p->compliance = 0.0;
@@ -768,6 +773,18 @@ void rod_self_contact_forces(rod_self_contact *sc, const double *pos0, double *v
 {
     rod_self_contact_apply(sc, vel1, vbar, push, theta);
     if (law) rod_self_contact_laws(sc, pos0, vel1, vbar, push, dt, theta);
+}
+
+void rod_self_contact_hold_maps(rod_self_contact *sc, const unsigned char *touched,
+                                const double *velocity_jac)
+{
+    for (int q = 0; q < sc->count; q++)
+        for (int e = 0; e < 4; e++) {
+            const int k = sc->pair[q].node[e];
+            if (sc->held[k] || sc->mapped[k] || !touched[k]) continue;
+            memcpy(&sc->held_map[27 * k], &velocity_jac[27 * k], 27 * sizeof(double));
+            sc->held[k] = 1;
+        }
 }
 
 void rod_self_contact_laws(rod_self_contact *sc, const double *pos0, double *vel1, double *vbar,
@@ -972,22 +989,52 @@ static void add_mapped(const rod_self_contact *sc, int k, const double u[3], dou
     for (int l = 0; l < 3; l++) out[l] += map[3 * l] * u[0] + map[3 * l + 1] * u[1] + map[3 * l + 2] * u[2];
 }
 
-/* The pair's V^T v for a pair with a mapped node: how its relative velocity
- * moves for the change v of the unknowns (v unknowns long) */
+/* 1 when a pair's rows pass through a node's map: a surface's after the
+ * pairs (mapped) or a law's before them (held) */
+static int pair_rows_mapped(const rod_self_contact *sc, const self_pair *p)
+{
+    int any = pair_mapped(sc, p);
+    for (int e = 0; e < 4; e++) any |= sc->held[p->node[e]];
+    return any;
+}
+
+/* The change of node k's free velocity u_k for the change v of the
+ * unknowns, times w: w push_k (dN_{k+1/2} - dN_{k-1/2}) */
+static void free_change(const rod_self_contact *sc, int k, double w, const double *push,
+                        const double *v, double u[3])
+{
+    const double g = w * push[k];
+    v3_set(u, 0.0, 0.0, 0.0);
+    if (g == 0.0) return;
+    for (int l = 0; l < 3; l++) {
+        if (k >= 1) u[l] -= g * v[row_of(sc, k, l)];
+        if (k + 1 <= sc->nodes - 1) u[l] += g * v[row_of(sc, k + 1, l)];
+    }
+}
+
+/* The pair's V^T v for a pair with a mapped or held node: how its relative
+ * velocity moves for the change v of the unknowns (v unknowns long). A held
+ * node's velocity follows its neighbours' free ones too (a puncture's
+ * point lies between two nodes). */
 static void mapped_rows(const rod_self_contact *sc, const self_pair *p, const double *push,
                         const double *v, double t[3])
 {
     v3_set(t, 0.0, 0.0, 0.0);
     for (int e = 0; e < 4; e++) {
         const int k = p->node[e];
-        const double g = p->weight[e] * push[k];
-        if (g == 0.0) continue;
-        double u[3] = {0.0, 0.0, 0.0};
-        for (int l = 0; l < 3; l++) {
-            if (k >= 1) u[l] -= g * v[row_of(sc, k, l)];
-            if (k + 1 <= sc->nodes - 1) u[l] += g * v[row_of(sc, k + 1, l)];
+        double u[3];
+        if (!sc->held[k]) {
+            free_change(sc, k, p->weight[e], push, v, u);
+            add_mapped(sc, k, u, t);
+            continue;
         }
-        add_mapped(sc, k, u, t);
+        for (int blk = 0; blk < 3; blk++) {
+            const int i = k - 1 + blk;
+            if (i < 0 || i >= sc->nodes) continue;
+            const double *map = &sc->held_map[27 * k + 9 * blk];
+            free_change(sc, i, p->weight[e], push, v, u);
+            for (int l = 0; l < 3; l++) t[l] += map[3 * l] * u[0] + map[3 * l + 1] * u[1] + map[3 * l + 2] * u[2];
+        }
     }
 }
 
@@ -1144,7 +1191,7 @@ static void assemble_system(rod_self_contact *sc, int m, const double *dx, const
         int block[8];
         double coef[8];
         const int count = pair_columns(sc, pr, push, block, coef);
-        const int mapped = pair_mapped(sc, pr);
+        const int mapped = pair_rows_mapped(sc, pr);
         double t[3] = {0.0, 0.0, 0.0};
         if (mapped) mapped_rows(sc, pr, push, dx, t);
         else

@@ -437,6 +437,8 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
         if (contact && w->contact.surface_count)
             surface_contact_after_pairs(&w->contact, m, w->self->node_force, w->node_push, dt,
                                         w->self->node_map, w->self->mapped);
+        if (contact && w->contact.want_jacobian)
+            rod_self_contact_hold_maps(w->self, w->contact.touched, w->contact.velocity_jac);
         if (!w->self_off)
             rod_self_contact_laws(w->self, w->pos0, w->vel1, w->vbar, w->node_push, dt, theta);
     }

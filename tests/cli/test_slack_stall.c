@@ -1,0 +1,197 @@
+/* test_slack_stall.c: a cinched half knot let slack, through the real
+ * binary (tests/cli/slack_stall/slack_stall.ini): instrument_tie_hand.ini's
+ * thread at 9.58 s as the starting shape, at rest; the needle holder lets
+ * go of the tail (its jaws open from 0.02 s) and the long end, where it
+ * leaves its puncture, is pressed by the tail's strand. There a
+ * self-contact pair acts on a node the puncture holds: the pairs' rows in
+ * Newton's solve must follow that node's velocity through the puncture's
+ * law, or Newton's step is no descent direction and the step fails (as
+ * the scheme did at 0.118 s, the grasp let go at 0.114 s).
+ *
+ * Checked with this file's own geometry (the CSV's node positions, every
+ * 20 ms):
+ * - the run completes, and the grasp let go (0.05-0.25 s);
+ * - no two segments 5 or more apart come closer than 0.95 diameters in
+ *   any frame (brute force): nothing passes through;
+ * - the knot: every frame, both ends drawn out 0.2 m along their last
+ *   segments, is a trefoil, and the summary names no change;
+ * - energy: with the hand fixed and the jaws only opening, nothing does
+ *   work on the thread but gravity, so its bending energy (sum over the
+ *   interior nodes of B/2 (turn/ds)^2 ds, B = E pi d^4 / 64) in no frame
+ *   exceeds the first frame's plus the thread's weight times its highest
+ *   node's height over its lowest.
+ *
+ * Then the whole 11 s of that scene (tests/cli/slack_stall/tie_hand_11.ini:
+ * the tie from its start, the jaws opening at 9.5-9.7 s, the knot slack to
+ * 11 s), whose steps split from 10.59 s: a sub-step that follows one solved
+ * afresh must start from that solution while strands touch, or Newton
+ * starts far off (a residual of 8e2 against 0.08) and the run stalled at
+ * 10.828 s. Checked from its summary: it completes to 11 s; the knot is a
+ * trefoil at the end and changed only once, before the jaws open (its
+ * throw, unknot to trefoil); no two strands came closer than 0.95
+ * diameters. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "json.h"
+#include "sim/geometry/knot.h"
+#include "test.h"
+#include "test_csv.h"
+#include "test_frames.h"
+#include "test_process.h"
+#include "test_segment.h"
+
+#define NODES 125
+#define DIAMETER 0.00099            /* m: the scene's */
+#define LENGTH 0.113887633          /* m */
+#define YOUNGS 5e7                  /* Pa */
+#define DENSITY 1140.0              /* kg/m^3 */
+#define MAX_FRAMES 32
+
+/* The identified knot of frame x, both ends drawn out 0.2 m along their
+ * last segments. 0, or -1. */
+static int knot_of(const double *x, rod_knot *knot, char *err, size_t n)
+{
+    static double p[(NODES + 2) * 3];
+    memcpy(&p[3], x, sizeof(double) * 3 * NODES);
+    for (int c = 0; c < 3; c++) {
+        p[c] = x[c] + 200.0 * (x[c] - x[3 + c]);
+        p[3 * (NODES + 1) + c] = x[3 * (NODES - 1) + c] +
+                                 200.0 * (x[3 * (NODES - 1) + c] - x[3 * (NODES - 2) + c]);
+    }
+    return rod_knot_identify(p, NODES + 2, knot, err, n);
+}
+
+/* J: the bending energy of the polygon x (NODES x 3, m), from each
+ * interior node's turn between its segments */
+static double bending_energy(const double *x)
+{
+    const double ds = LENGTH / (NODES - 1);
+    const double stiffness = YOUNGS * M_PI * pow(DIAMETER, 4) / 64.0; /* N m^2 */
+    double energy = 0.0;
+    for (int i = 1; i < NODES - 1; i++) {
+        double a[3], b[3], dot = 0.0, na = 0.0, nb = 0.0;
+        for (int c = 0; c < 3; c++) {
+            a[c] = x[3 * i + c] - x[3 * (i - 1) + c];
+            b[c] = x[3 * (i + 1) + c] - x[3 * i + c];
+            dot += a[c] * b[c], na += a[c] * a[c], nb += b[c] * b[c];
+        }
+        const double turn = acos(fmax(-1.0, fmin(1.0, dot / sqrt(na * nb))));
+        energy += 0.5 * stiffness * (turn / ds) * (turn / ds) * ds;
+    }
+    return energy;
+}
+
+/* The whole 11 s of tie_hand_11.ini, from its summary */
+static void whole_run(void)
+{
+    const char *summary = "/tmp/rodsim_test_slack_stall_11.json";
+    char output[16384], err[256];
+    const char *args[] = {"run", "tests/cli/slack_stall/tie_hand_11.ini", "--no-video",
+                          "--summary", summary, NULL};
+    int status = test_run_rodsim(args, output, sizeof output);
+    const char *why = status ? strstr(output, "rodsim run: the") : NULL;
+    char *text = read_text(summary);
+    json_value *v = text ? json_parse(text, err, sizeof err) : NULL;
+    const json_value *t_end = json_get(v, "t_end"), *cpu = json_get(v, "cpu_s");
+    check(status == 0 && t_end && fabs(t_end->number - 11.0) < 1e-9,
+          "tie_hand_11.ini: the run completes to 11 s (exit %d, t = %.6g s, %.3g CPU s)%s%.240s",
+          status, t_end ? t_end->number : -1.0, cpu ? cpu->number : -1.0, why ? ": " : "",
+          why ? why + 12 : "");
+    const json_value *rods = json_get(v, "rods");
+    const json_value *rod = rods && rods->count ? rods->items[0] : NULL;
+    const json_value *knot = json_get(rod, "knot"), *type = json_get(knot, "type");
+    const json_value *changes = json_get(knot, "changes"), *gap = json_get(rod, "min_strand_gap_d");
+    const json_value *change = changes && changes->count ? changes->items[0] : NULL;
+    const json_value *when = change && change->count ? change->items[0] : NULL;
+    check(type && type->string && strncmp(type->string, "trefoil", 7) == 0 && changes &&
+              changes->count == 1 && when && when->number < 9.5,
+          "tie_hand_11.ini: a %s at the end, the knot changed %d time(s), first at t = %.4g s "
+          "(a trefoil, changed once, by the throw before the jaws open at 9.5 s)",
+          type && type->string ? type->string : "?", changes ? changes->count : -1,
+          when ? when->number : -1.0);
+    check(gap && gap->number >= 0.95, "tie_hand_11.ini: the closest strands %.4g diameters "
+          "apart over the run (at least 0.95)", gap ? gap->number : -1.0);
+    json_free(v);
+    free(text);
+    remove(summary);
+}
+
+int main(void)
+{
+    const char *csv = "/tmp/rodsim_test_slack_stall.csv";
+    const char *summary = "/tmp/rodsim_test_slack_stall.json";
+    char output[16384];
+    const char *args[] = {"run", "tests/cli/slack_stall/slack_stall.ini", "--no-video", "--csv", csv,
+                          "--summary", summary, NULL};
+    int status = test_run_rodsim(args, output, sizeof output);
+    const char *why = status ? strstr(output, "rodsim run: the") : NULL;
+    check(status == 0, "slack_stall.ini: the run completes (exit %d)%s%.240s", status,
+          why ? ": " : "", why ? why + 12 : "");
+
+    char *text = read_text(summary), err[256];
+    json_value *v = text ? json_parse(text, err, sizeof err) : NULL;
+    const json_value *grasps = json_get(v, "grasps"), *rods = json_get(v, "rods");
+    const json_value *g = grasps && grasps->count ? grasps->items[0] : NULL;
+    const json_value *t_off = json_get(g, "t_off"), *cpu = json_get(v, "cpu_s");
+    check(t_off && t_off->number > 0.05 && t_off->number < 0.25, "the holder's grasp of the tail "
+          "let go at t = %.4g s as its jaws opened (0.05-0.25 s); the run took %.3g CPU s",
+          t_off ? t_off->number : -1.0, cpu ? cpu->number : -1.0);
+
+    static double x[MAX_FRAMES][NODES * 3];
+    double t[MAX_FRAMES];
+    int rows = 0, frames = test_read_frames(csv, NODES, MAX_FRAMES, t, &x[0][0], &rows);
+    check(frames > 10 && rows == frames * NODES, "the CSV holds %d frames of %d nodes (%d rows)",
+          frames, NODES, rows);
+    double when;
+    const double worst =
+        closest_strands_in_frames(&x[0][0], t, frames, NODES, 5, 4.0 * DIAMETER, &when);
+    check(frames > 0 && worst >= 0.95 * DIAMETER, "no two segments 5 or more apart closer than "
+          "0.95 diameters in any of %d frames: least %.4g m = %.3f diameters (t = %g s)", frames,
+          worst, worst / DIAMETER, when);
+
+    int knotted = 0;
+    char first_bad[128] = "";
+    for (int k = 0; k < frames; k++) {
+        rod_knot knot;
+        char kerr[256] = "";
+        if (knot_of(x[k], &knot, kerr, sizeof kerr) == 0 && strncmp(knot.name, "trefoil", 7) == 0)
+            knotted++;
+        else if (!first_bad[0])
+            snprintf(first_bad, sizeof first_bad, " (first not: t = %g s)", t[k]);
+    }
+    check(frames > 0 && knotted == frames, "the knot, its ends drawn out: a trefoil in %d of %d "
+          "frames%s", knotted, frames, first_bad);
+    const json_value *k = rods && rods->count ? json_get(rods->items[0], "knot") : NULL;
+    const json_value *changes = json_get(k, "changes");
+    check(changes && changes->count == 0, "the summary names %d change(s) of the knot (none)",
+          changes ? changes->count : -1);
+
+    if (frames > 1) {
+        double top = -INFINITY, bottom = INFINITY, most = 0.0;
+        int at = 0;
+        for (int f = 0; f < frames; f++)
+            for (int i = 0; i < NODES; i++) {
+                top = fmax(top, x[f][3 * i + 2]);
+                bottom = fmin(bottom, x[f][3 * i + 2]);
+            }
+        for (int f = 1; f < frames; f++)
+            if (bending_energy(x[f]) > most) most = bending_energy(x[f]), at = f;
+        const double start = bending_energy(x[0]), end = bending_energy(x[frames - 1]);
+        const double weight = LENGTH * DENSITY * M_PI * 0.25 * DIAMETER * DIAMETER * 9.81;
+        const double bound = start + weight * (top - bottom);
+        check(most <= bound, "the bending energy: %.4g mJ at the start, at most %.4g mJ after "
+              "(t = %g s), %.4g mJ at the end: no more than the start plus the weight %.3g mN "
+              "times %.2f mm of height, %.4g mJ (relative margin %.2g)", 1e3 * start, 1e3 * most,
+              t[at], 1e3 * end, 1e3 * weight, 1e3 * (top - bottom), 1e3 * bound,
+              (bound - most) / bound);
+    }
+    json_free(v);
+    free(text);
+    remove(csv);
+    remove(summary);
+    whole_run();
+    return test_finish();
+}
