@@ -148,14 +148,8 @@ static void accept_end_loads(const implicit_work *w, const rod_model *m, rod_sta
 
 /* The next step starts here: its start-of-step frames, and the solutions
  * its first iterate extrapolates. The last solution becomes the one
- * before; a step solved afresh (not continuing: a run's first, or a retry
- * after a failed attempt) has no predecessor, so the next step cannot
- * extrapolate yet: without pairs it starts from the state (dt_last = 0);
- * while strands touch it starts from this solution (dt_last = dt, the
- * first iterate of pairs): rebuilt from the state, its pairs' last forces
- * met node forces from the stored contact forces, and after a split the
- * sub-step began far off (residual 8e2 against 0.08) and stalled
- * (docs/decisions/draft-slack-stall.md). */
+ * before; a first step (dt_last = 0) has no predecessor, so the next step
+ * cannot extrapolate yet. */
 static void keep_solution(implicit_work *w, const rod_state *s, double dt, int continuing)
 {
     memcpy(w->frame0, s->frame, (size_t)w->nodes * 9 * sizeof(double));
@@ -167,7 +161,7 @@ static void keep_solution(implicit_work *w, const rod_state *s, double dt, int c
     memcpy(w->x_before, continuing ? w->x_last : w->x, (size_t)w->unknowns * sizeof(double));
     memcpy(w->x_last, w->x, (size_t)w->unknowns * sizeof(double));
     w->dt_before = continuing ? w->dt_last : 0.0;
-    w->dt_last = continuing || (w->self && w->self->count) ? dt : 0.0;
+    w->dt_last = continuing ? dt : 0.0;
 }
 
 int implicit_accept_step(implicit_work *w, const rod_model *m, rod_state *s, double dt,
