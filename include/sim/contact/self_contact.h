@@ -157,6 +157,12 @@ typedef struct rod_self_contact {
     int list_count, list_capacity; /* grown on demand up to SELF_LIST_MOST_PAIRS */
     int list_uses;         /* searches the list has answered since it was made */
     int list_wait;         /* plain searches before a list is made again */
+    /* the list's pairs' distance fields hold their distances (m; -INFINITY:
+     * not measured) at the positions measured_pos (nodes x 3) while
+     * list_measured is 1 (from_list): rod_self_contact_closest measures
+     * again only those that could be the closest */
+    double *measured_pos;
+    int list_measured;
     rod_segment_pair *near; /* (max_pairs) scratch of rod_self_contact_near_motion and
                                rod_self_contact_closest */
     int near_capacity;     /* max_pairs */

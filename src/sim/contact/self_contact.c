@@ -64,6 +64,7 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->prox = rod_proximity_create(nodes);
     sc->clear_pos = malloc((size_t)nodes * 3 * sizeof(double));
     sc->list_pos = malloc((size_t)nodes * 3 * sizeof(double));
+    sc->measured_pos = malloc((size_t)nodes * 3 * sizeof(double));
     sc->turn = malloc((size_t)nodes * sizeof(double));
     sc->spread = malloc((size_t)nodes * sizeof(double));
     sc->s = malloc((size_t)9 * SELF_CONTACT_RANK_PAIRS * SELF_CONTACT_RANK_PAIRS * sizeof(double));
@@ -71,8 +72,8 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     if (!sc->pair || !sc->found || !sc->node_force || !sc->node_map || !sc->mapped || !sc->held_map || !sc->held || !sc->prox || !sc->s || !sc->rhs ||
         !sc->last_ab || !sc->last_force || !sc->last_share || !sc->last_frac || !sc->last_to ||
         !sc->found_distance || !sc->near ||
-        !sc->slot || !sc->slot_node || !sc->clear_pos || !sc->list_pos || !sc->turn ||
-        !sc->spread) {
+        !sc->slot || !sc->slot_node || !sc->clear_pos || !sc->list_pos || !sc->measured_pos ||
+        !sc->turn || !sc->spread) {
         rod_self_contact_destroy(sc);
         return NULL;
     }
@@ -103,6 +104,7 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->rhs);
     free(sc->clear_pos);
     free(sc->list_pos);
+    free(sc->measured_pos);
     free(sc->turn);
     free(sc->spread);
     free(sc->list);
@@ -335,6 +337,18 @@ int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const d
                                    raised_skip(sc, threshold, sc->diameter, sc->skip, 1));
 }
 
+/* The largest distance (m) a node of pos lies from where it was in then */
+static double most_moved(const rod_self_contact *sc, const double *pos, const double *then)
+{
+    double moved2 = 0.0;
+    for (int i = 0; i < sc->nodes; i++) {
+        double d[3];
+        v3_sub(d, &pos[3 * i], &then[3 * i]);
+        moved2 = fmax(moved2, v3_dot(d, d));
+    }
+    return sqrt(moved2);
+}
+
 /* Whether every pair within `threshold` (m) at pos0 was within `reach` at
  * the positions `then` of a wider search: no node has moved by more than
  * `moved` since, and two segments' distance changes by at most the largest
@@ -346,26 +360,37 @@ int rod_self_contact_reachable(rod_self_contact *sc, const double *pos0, const d
 static int still_within(const rod_self_contact *sc, const double *pos0, const double *then,
                         double threshold, double reach)
 {
-    double moved2 = 0.0;
-    for (int i = 0; i < sc->nodes; i++) {
-        double d[3];
-        v3_sub(d, &pos0[3 * i], &then[3 * i]);
-        moved2 = fmax(moved2, v3_dot(d, d));
-    }
-    return threshold + 2.0 * sqrt(moved2) < reach;
+    return threshold + 2.0 * most_moved(sc, pos0, then) < reach;
 }
 
 /* rod_self_contact_closest: from an empty wider search (try_clear) or the
  * pair list (search_pairs) while the nodes stay near where it was made,
- * else a search of its own */
+ * else a search of its own. From the list, a pair is measured again only
+ * when it could be the closest: its distance at measured_pos (from_list,
+ * the step's start) less twice the nodes' largest move since (two
+ * segments' distance changes by at most that: still_within) bounds its
+ * distance now from below, and a pair whose bound is not below the least
+ * found so far (the pairs that were within the threshold first) cannot
+ * change it; 1e-9 of the threshold over the rounding of the distances */
 double rod_self_contact_closest(rod_self_contact *sc, const double *pos, double threshold)
 {
     if (sc->clear_reach > 0.0 && still_within(sc, pos, sc->clear_pos, threshold, sc->clear_reach))
         return INFINITY;
     if (sc->list_reach > 0.0 && still_within(sc, pos, sc->list_pos, threshold, sc->list_reach)) {
         /* the pair list holds every pair within threshold (search_pairs) */
+        const double moved = sc->list_measured ? most_moved(sc, pos, sc->measured_pos) : INFINITY;
+        int first = -1; /* the pair that was the closest: measured first */
+        double lowest = INFINITY;
+        for (int k = 0; k < sc->list_count; k++)
+            if (sc->list[k].distance < lowest) lowest = sc->list[k].distance, first = k;
         double least = INFINITY;
-        for (int k = 0; k < sc->list_count; k++) {
+        for (int q = -1; q < sc->list_count; q++) {
+            const int k = q < 0 ? first : q;
+            if (k < 0 || (q >= 0 && k == first)) continue;
+            /* its distance at measured_pos; -INFINITY: not measured */
+            if (q >= 0 && sc->list[k].distance - 2.0 * moved > fmin(least, threshold) +
+                                                                  1e-9 * threshold)
+                continue;
             const double *a = &pos[3 * sc->list[k].i], *b = &pos[3 * sc->list[k].j];
             const double d = rod_segment_distance(a, a + 3, b, b + 3, NULL, NULL);
             if (d < threshold) least = fmin(least, d);
@@ -426,16 +451,20 @@ static int from_list(rod_self_contact *sc, const double *pos0, double threshold)
     int count = 0;
     const int last = sc->nodes - 2; /* segments 0..last */
     for (int k = 0; k < sc->list_count; k++) {
-        const rod_segment_pair *l = &sc->list[k];
+        rod_segment_pair *l = &sc->list[k];
         const double *a0 = &pos0[3 * l->i], *b0 = &pos0[3 * l->j];
         const int shared = rod_proximity_next_stands(l->i, l->j, last + 1, sc->skip);
+        l->distance = -INFINITY; /* not measured (rod_self_contact_closest) */
         if (shared && rod_segment_closest_is_end(a0, a0 + 3, b0, b0 + 3)) continue;
         double s, t;
         const double d = rod_segment_distance(a0, a0 + 3, b0, b0 + 3, &s, &t);
+        l->distance = d;
         if (!(d < threshold) || (shared && s >= 1.0)) continue;
         if (count < sc->max_pairs) sc->found[count] = (rod_segment_pair){l->i, l->j, s, t, d};
         count++;
     }
+    memcpy(sc->measured_pos, pos0, (size_t)sc->nodes * 3 * sizeof(double));
+    sc->list_measured = 1;
     return count;
 }
 
@@ -463,6 +492,7 @@ static int search_pairs(rod_self_contact *sc, const double *pos0, double thresho
         }
         if (sc->list_uses == 0) sc->list_wait = 8;
         sc->list_reach = 0.0;
+        sc->list_measured = 0;
     }
     const double reach = threshold + 2.0 * SELF_LIST_SKIN * sc->diameter;
     int listed = -1; /* while the list waits: a plain search */
