@@ -28,7 +28,7 @@ differs:
   single one.
 The scene's holder has friction 0.05 on the thread (0.15 in the single
 throw): at 0.15 Newton stalls at 3.2 s, where the turns slide on the
-shanks (docs/decisions/draft-tie-surgeons.md). HAND_OUT and BACK_HOLD are
+shanks (docs/decisions/0122-tie-surgeons.md). HAND_OUT and BACK_HOLD are
 variants tried there (0: off).
 """
 import math

@@ -341,7 +341,7 @@ video_writer *video_writer_create(const char *path, int width, int height, int f
      * subpixel level 1), keeping its macroblock tree: a rod over a still
      * backdrop costs x264 about a fifth less for a file about a tenth
      * larger, every frame within 50 dB PSNR of the full search's
-     * (docs/decisions/draft-video-speed-3.md) */
+     * (docs/decisions/0125-video-speed-3.md) */
     if (strcmp(preset, "veryfast") == 0)
         av_opt_set(v->codec->priv_data, "x264-params", "me=dia:subme=1", 0);
     code = avcodec_open2(v->codec, encoder, NULL);
