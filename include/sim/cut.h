@@ -14,10 +14,12 @@
  * node nearest the crossing: the length left is right to half a segment.
  *
  * Which side goes (docs/decisions/0077-trimming.md): a side is anchored
- * when a held or driven end, the needle's holder or a puncture is on it,
- * grasped when an instrument's jaws hold it there. The side that is not
- * anchored goes; neither anchored: the side not grasped (a grasp on the
- * piece that goes lets go of it); both or neither grasped: the shorter.
+ * when an end fixed in place (clamped or pinned, no path) or a puncture is
+ * on it, held when an instrument's jaws grasp it or its end is driven (a
+ * path: a hand, the needle in its jaws). The side that is not anchored
+ * goes; neither anchored: the side not held; both or neither held: the
+ * shorter. The piece that goes takes its holds with it: its grasps let go,
+ * its driven end is dropped (a tail cut in the hand or the needle's jaws).
  * Both anchored: nothing is cut (a warning): two threads are not modelled.
  *
  * Several rods (sim/rod_set.h): rod_solver_step leaves a rod of a set

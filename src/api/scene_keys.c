@@ -171,7 +171,8 @@ const ini_key scene_keys_rod[] = {
      "x along the shafts to the tip, z the jaws' opening plane) and the jaws' opening (0 "
      "closed .. 1 open), interpolated smoothly; jaws closing below 0.1 grasp the thread "
      "between them, opening release it; scissors' blades closing below 0.1 cut it where it "
-     "crosses them (the piece on the side no end, grasp or puncture holds leaves the run); "
+     "crosses them (the piece on the side no fixed end or puncture holds leaves the run, "
+     "with its grasps and driven end); "
      "instruments pass through surfaces: a path taking a jaw, shank or box lock more than "
      "its radius into a [surface] (sampled every 1 ms) is a warning naming the part, the time "
      "and the depth; the jaws deeper than max_depth into a rigid [surface]: refused"},
@@ -193,18 +194,22 @@ const ini_key scene_keys_rod[] = {
      "needle_holder: holds the needle (ends.needle) at its jaws' tip: its path drives the "
      "thread's tip (ends.tip = clamped); with ends.tip_motion given too, that is the needle's "
      "path whole (a rodsim live record, its handovers in it) and the holder's path moves its "
-     "jaws only"},
+     "jaws only; its jaws touch and take no thread until a [needle_grasp] hands the needle to "
+     "other jaws (its shanks and box lock touch it)"},
     {"needle_grasp", "t", "s", "required", "increasing, after the holder's path starts",
      "the needle handed over ([needle_grasp] repeats, at most 8; the summary's needle_grasps): "
      "from t it stays as it was at t in the named jaws, which must be within a jaw length of "
      "it then; before the first, the needle = yes holder holds it; rodsim live hands it to "
      "the jaws its lines drive the same way"},
     {"needle_grasp", "instrument", "-", "required", "an [instrument]'s name, not scissors",
-     "whose jaws take the needle (their jaws touch no thread from then, take none ever)"},
+     "whose jaws take the needle: jaws holding it touch no thread; jaws a grasp names take "
+     "none before it (they close on the needle) but touch it; jaws that have handed the "
+     "needle on touch and take the thread as any jaws do"},
     {"cut", "t", "s", "required", "> 0",
      "the thread is cut at this time, without scissors ([cut] repeats, at most 8; the summary's "
-     "cuts): the piece from the cut to the free end on the side no end, grasp or puncture holds "
-     "leaves the run (neither held: the shorter)"},
+     "cuts): the piece from the cut to the end on the side no fixed end (no path) or puncture "
+     "holds leaves the run, its grasps and driven end letting go (neither side anchored: the "
+     "side no grasp or path holds, then the shorter; both: refused, a warning)"},
     {"cut", "s", "m", "required", "0 < s < rod.length",
      "where: arc length on the uncut thread from its root, cut at the nearest node"},
     {"cut", "rod", "-", "-", "a [rod NAME]'s NAME",

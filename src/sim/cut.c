@@ -161,14 +161,17 @@ void rod_cut_scene_events(const rod_model *m, rod_state *s, double t0)
     }
 }
 
-/* Who holds each side of a cut at arc length `arc`: bit 2 anchored (a held
- * or driven end, the needle's holder, a puncture), bit 1 grasped; [0] the
- * root's side, [1] the tip's. */
+/* Who holds each side of a cut at arc length `arc`: bit 2 anchored (an end
+ * fixed in place, a puncture), bit 1 held by what can let go (a grasp, an
+ * end driven along a path: a hand, or the needle in its jaws); [0] the
+ * root's side, [1] the tip's. A driven end is a hand's hold: a tail is cut
+ * while the hand or the needle's jaws hold it, the piece going with them. */
 static void sides_held(const rod_model *cur, const rod_state *s, double arc, int held[2])
 {
-    held[0] = cur->root_end != ROD_END_FREE || cur->root_motion ? 2 : 0;
-    held[1] = cur->tip_end != ROD_END_FREE || cur->tip_motion || rod_instrument_holds_needle(cur)
-                  ? 2 : 0;
+    const int driven[2] = {cur->root_motion != NULL,
+                           cur->tip_motion != NULL || rod_instrument_holds_needle(cur)};
+    const int fixed[2] = {cur->root_end != ROD_END_FREE, cur->tip_end != ROD_END_FREE};
+    for (int e = 0; e < 2; e++) held[e] = driven[e] ? 1 : fixed[e] ? 2 : 0;
     for (int k = 0; k < s->puncture_count; k++) held[s->puncture[k].s > arc] |= 2;
     for (int k = 0; k < cur->instrument_count && k < ROD_MAX_INSTRUMENTS; k++)
         if (s->grasp[k].held) held[s->grasp[k].s > arc] |= 1;
@@ -262,11 +265,12 @@ int rod_cut_apply(const rod_model *m, rod_state *s, rod_report *report)
     sides_held(cur, s, q.s, held);
     if ((held[0] & 2) && (held[1] & 2)) {
         dropped(cur, &q, s->time, arc0, report,
-                "both sides are held (an end, the needle or a puncture on each), and one "
-                "thread cannot become two");
+                "both sides are held (an end fixed in place or a puncture on each), and "
+                "one thread cannot become two");
         return 0;
     }
-    /* the side that goes: not anchored, then not grasped, then the shorter */
+    /* the side that goes: not anchored, then not grasped or driven, then the
+     * shorter; its driven end (trimmed_model) and grasps let go with it */
     int side;
     if (held[0] != held[1]) side = held[0] < held[1] ? 0 : 1;
     else side = q.s < 0.5 * cur->length ? 0 : 1;
