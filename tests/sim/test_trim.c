@@ -206,7 +206,7 @@ static void test_two_tails(void)
      * middle; both ends free: the tails fall and hang */
     const double origin[3] = {0.0, 0.0, 0.0}, along[3] = {1.0, 0.0, 0.0};
     rod_model m = hanging_model(ROD_END_FREE, ROD_END_FREE, origin, along);
-    rod_puncture punctures[2] = {{{0.08, 0.0, 0.0}, 0.3}, {{0.12, 0.0, 0.0}, 0.3}};
+    rod_puncture punctures[2] = {{{0.08, 0.0, 0.0}, 0.3, 0}, {{0.12, 0.0, 0.0}, 0.3, 1}};
     m.punctures = punctures;
     m.puncture_count = 2;
     rod_state *s = NULL;
