@@ -40,6 +40,7 @@
 #include "test_frames.h"
 #include "test_process.h"
 #include "test_segment.h"
+#include "test_tie.h"
 
 #define NODES 125
 #define DIAMETER 0.001 /* m */
@@ -122,18 +123,9 @@ int main(void)
         check(worst > DIAMETER, "the summary gives no closest strands (none came within reach "
               "at any step) and the frames' closest are farther than a diameter: %.4f > 1 "
               "diameter", worst / DIAMETER);
-    int into = 0;
-    for (int i = 0; warnings && i < warnings->count; i++) {
-        const json_value *w = warnings->items[i];
-        if (w && w->string && strstr(w->string, " into the ")) into++;
-    }
-    check(warnings && into == 0, "no instrument goes into the pad (the summary's warnings say "
-          "so): %d of %d warnings", into, warnings ? warnings->count : -1);
+    check_nothing_into_pad(warnings);
     const json_value *g = grasps && grasps->count ? grasps->items[0] : NULL;
-    const json_value *t_on = json_get(g, "t_on"), *s = json_get(g, "s");
-    check(t_on && s && t_on->number > 0.5 && t_on->number < 0.7 && s->number < 0.003,
-          "the holder closes on the tail within 3 mm of its end: t = %.4g s (the jaws close "
-          "0.5-0.7 s), s = %.3g mm", t_on ? t_on->number : -1.0, s ? 1e3 * s->number : -1.0);
+    check_tail_taken(g, 0.5, 0.7);
 
     if (!sanitized && frames > 1) {
         /* the knot in every frame from KNOT_BY */

@@ -50,6 +50,7 @@
 #include "test_pose.h"
 #include "test_process.h"
 #include "test_segment.h"
+#include "test_tie.h"
 
 #define NODES 128
 #define DIAMETER 0.001 /* m */
@@ -142,23 +143,14 @@ int main(void)
     json_value *v = text ? json_parse(text, err, sizeof err) : NULL;
     const json_value *warnings = json_get(v, "warnings"), *grasps = json_get(v, "grasps");
     const json_value *rods = json_get(v, "rods");
-    int into = 0;
-    for (int i = 0; warnings && i < warnings->count; i++) {
-        const json_value *w = warnings->items[i];
-        if (w && w->string && strstr(w->string, " into the ")) into++;
-    }
-    check(warnings && into == 0, "no instrument goes into the pad (the summary's warnings say "
-          "so): %d of %d warnings", into, warnings ? warnings->count : -1);
+    check_nothing_into_pad(warnings);
     if (!sanitized && frames > 1) {
         const json_value *g = NULL;
         for (int i = 0; grasps && i < grasps->count; i++) {
             const json_value *who = json_get(grasps->items[i], "instrument");
             if (who && who->string && strcmp(who->string, "holder") == 0) g = grasps->items[i];
         }
-        const json_value *t_on = json_get(g, "t_on"), *s = json_get(g, "s");
-        check(t_on && s && t_on->number > 0.5 && t_on->number < 0.7 && s->number < 0.003,
-              "the holder closes on the tail within 3 mm of its end: t = %.4g s (the jaws close "
-              "0.5-0.7 s), s = %.3g mm", t_on ? t_on->number : -1.0, s ? 1e3 * s->number : -1.0);
+        check_tail_taken(g, 0.5, 0.7);
         double before = NAN, after = -1.0, after_t = 0.0;
         for (int k = 0; k < frames; k++) {
             const double w = winding_at(x[k], t[k]);
