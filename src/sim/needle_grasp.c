@@ -184,36 +184,8 @@ int needle_grasp_check(ini_doc *doc, const rod_model *m, char *err, size_t errle
     return 0;
 }
 
-/* The instrument holding the needle at time t: the last [needle_grasp]'s
- * at or before t, else the needle = yes holder (-1: none). */
-static int needle_in(const rod_model *m, double t)
+int needle_grasp_takes_needle(const rod_model *m, int k)
 {
-    int k = needle_holder(m);
-    for (int i = 0; i < m->needle_grasp_count && m->needle_grasps[i].t <= t; i++)
-        k = m->needle_grasps[i].instrument;
-    return k;
-}
-
-/* 1 when instrument k held the needle and has handed it to other jaws by
- * time t, not taken back: from then it is an ordinary jaws instrument. */
-static int handed_away(const rod_model *m, int k, double t)
-{
-    if (needle_in(m, t) == k) return 0;
-    int from = needle_holder(m);
-    for (int i = 0; i < m->needle_grasp_count && m->needle_grasps[i].t <= t; i++) {
-        if (from == k) return 1;
-        from = m->needle_grasps[i].instrument;
-    }
-    return 0;
-}
-
-/* The rule (needle_grasp.h): jaws on the needle touch and take no thread,
- * the needle's back lying between them; jaws that will take the needle by a
- * later grasp take no thread before it (they close on the needle), but
- * touch it; jaws that have handed the needle away are ordinary jaws. */
-int needle_grasp_takes_needle(const rod_model *m, int k, double t)
-{
-    if (handed_away(m, k, t)) return 0;
     if (m->instruments[k].needle) return 1;
     for (int i = 0; i < m->needle_grasp_count; i++)
         if (m->needle_grasps[i].instrument == k) return 1;
@@ -222,7 +194,6 @@ int needle_grasp_takes_needle(const rod_model *m, int k, double t)
 
 int needle_grasp_jaws_on_needle(const rod_model *m, int k, double t)
 {
-    if (handed_away(m, k, t)) return 0;
     if (m->instruments[k].needle) return 1;
     for (int i = 0; i < m->needle_grasp_count; i++)
         if (m->needle_grasps[i].instrument == k && t >= m->needle_grasps[i].t) return 1;
