@@ -885,6 +885,29 @@ static inline int row_of(const rod_self_contact *sc, int b, int c)
     return sc->block * (b - sc->first) + c;
 }
 
+/* The columns solved at a time (band_solve_rows' group: two vectors of
+ * LANES a row) */
+#define SOLVE_GROUP (2 * LANES)
+
+/* Solves the count columns from v (nu long each) in groups of SOLVE_GROUP,
+ * each group from the first row any of its columns has (firsts[], one a
+ * column): the rows above a column's first are 0 and stay so until kl rows
+ * above it, where the forward pass starts, so a later start leaves each
+ * column's numbers as they were; a group of columns from pairs further
+ * down the rod skips the rows above them (pairs come in the rod's order) */
+static void solve_groups(double *v, int nu, int count, const int *firsts,
+                         void (*solve)(const void *ctx, double *v, int count, int first),
+                         const void *ctx)
+{
+    for (int c0 = 0; c0 < count; c0 += SOLVE_GROUP) {
+        const int cc = count - c0 < SOLVE_GROUP ? count - c0 : SOLVE_GROUP;
+        int first = nu;
+        for (int c = c0; c < c0 + cc; c++)
+            if (firsts[c] < first) first = firsts[c];
+        solve(ctx, &v[(size_t)c0 * (size_t)nu], cc, first);
+    }
+}
+
 /* The nodes' columns Z_k = B^-1 U_k that the first m ranked pairs without
  * columns need and have not got (a node held still, push 0, takes no force
  * and needs none), solved together: one pass over B's factors for all.
@@ -909,7 +932,7 @@ static int node_columns(rod_self_contact *sc, int m, const double *push,
         sc->slot_capacity = capacity;
     }
     const int from = sc->slots;
-    int first = nu; /* the first row any new U has */
+    int firsts[3 * SELF_CONTACT_NODE_SLOTS]; /* the first row of each new U */
     for (int r = 0; r < m; r++) {
         const self_pair *p = &sc->pair[sc->ranked[r]];
         if (p->column >= 0) continue;
@@ -927,11 +950,12 @@ static int node_columns(rod_self_contact *sc, int m, const double *push,
                 if (k + 1 <= sc->nodes - 1) col[row_of(sc, k + 1, comp)] += 1.0;
             }
             const int row = row_of(sc, k >= 1 ? k : k + 1, 0);
-            if (row < first) first = row;
+            for (int comp = 0; comp < 3; comp++) firsts[3 * (s - from) + comp] = row;
         }
     }
     const int count = 3 * (sc->slots - from);
-    if (count) solve(ctx, &sc->z[(size_t)3 * (size_t)from * (size_t)nu], count, first);
+    if (count)
+        solve_groups(&sc->z[(size_t)3 * (size_t)from * (size_t)nu], nu, count, firsts, solve, ctx);
     return 0;
 }
 
@@ -1137,17 +1161,17 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
     if (sc->columns + 3 * missing > 3 * SELF_CONTACT_RANK_PAIRS) forget_columns(sc);
     const int direct = sc->b_age < 2, from = sc->columns;
     if (!direct && node_columns(sc, m, push, solve, ctx)) return -1;
-    int first = nu; /* the first row of any new V (direct) */
+    int firsts[3 * SELF_CONTACT_RANK_PAIRS]; /* the first row of each new V (direct) */
     for (int r = 0; r < m; r++) {
         self_pair *p = &sc->pair[sc->ranked[r]];
         if (p->column >= 0) continue;
         p->column = sc->columns;
         sc->columns += 3;
+        int first = nu;
         p->column_mapped = pair_mapped(sc, p);
-        if (p->column_mapped) {
-            mapped_columns(sc, p, push, direct, &first);
-            continue;
-        }
+        if (p->column_mapped) mapped_columns(sc, p, push, direct, &first);
+        for (int comp = 0; comp < 3; comp++) firsts[p->column - from + comp] = first;
+        if (p->column_mapped) continue;
         int block[8];
         double coef[8];
         const int count = pair_columns(sc, p, push, block, coef);
@@ -1158,7 +1182,8 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
                 for (int e = 0; e < count; e++) {
                     const int row = row_of(sc, block[e], comp);
                     col[row] += coef[e];
-                    if (row < first) first = row;
+                    if (row < firsts[p->column - from + comp])
+                        firsts[p->column - from + comp] = row;
                 }
                 continue;
             }
@@ -1185,7 +1210,8 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
         }
     }
     if (direct && sc->columns > from)
-        solve(ctx, &sc->y[(size_t)from * (size_t)nu], sc->columns - from, first);
+        solve_groups(&sc->y[(size_t)from * (size_t)nu], nu, sc->columns - from, firsts, solve,
+                     ctx);
     return 0;
 }
 
@@ -1222,11 +1248,13 @@ static void assemble_system(rod_self_contact *sc, int m, const double *dx, const
         double coef[8];
         const int count = pair_columns(sc, pr, push, block, coef);
         const int mapped = pair_rows_mapped(sc, pr);
+        int rows[8]; /* the first row of each block: found once for every q */
+        for (int e = 0; e < count; e++) rows[e] = row_of(sc, block[e], 0);
         double t[3] = {0.0, 0.0, 0.0};
         if (mapped) mapped_rows(sc, pr, push, dx, t);
         else
             for (int e = 0; e < count; e++)
-                for (int l = 0; l < 3; l++) t[l] += coef[e] * dx[row_of(sc, block[e], l)];
+                for (int l = 0; l < 3; l++) t[l] += coef[e] * dx[rows[e] + l];
         for (int i = 0; i < 3; i++)
             rhs[3 * r + i] = pr->g[i] + pr->gain[3 * i] * t[0] + pr->gain[3 * i + 1] * t[1] +
                              pr->gain[3 * i + 2] * t[2];
@@ -1241,11 +1269,17 @@ static void assemble_system(rod_self_contact *sc, int m, const double *dx, const
                     for (int l = 0; l < 3; l++) h[3 * l + j] = c * g[l];
                     continue;
                 }
-                for (int l = 0; l < 3; l++) {
-                    double g = 0.0;
-                    for (int e = 0; e < count; e++) g += coef[e] * col[row_of(sc, block[e], l)];
-                    h[3 * l + j] = c * g;
+                /* the three components together, each summed over e in order */
+                double g0 = 0.0, g1 = 0.0, g2 = 0.0;
+                for (int e = 0; e < count; e++) {
+                    const double *x = &col[rows[e]];
+                    g0 += coef[e] * x[0];
+                    g1 += coef[e] * x[1];
+                    g2 += coef[e] * x[2];
                 }
+                h[j] = c * g0;
+                h[3 + j] = c * g1;
+                h[6 + j] = c * g2;
             }
             if (q != r) {
                 const double a = pair_coupling(pr, pq, push);
