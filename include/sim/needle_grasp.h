@@ -38,12 +38,18 @@ int needle_grasp_check(ini_doc *doc, const rod_model *m, char *err, size_t errle
 double needle_grasp_distance(const rod_model *m, const double tip0[9], double arc, int k,
                              double t);
 
-/* 1 when instrument k's jaws hold the needle, not the thread, at time t:
- * the needle = yes holder always (its jaws stay on the needle's back), an
- * instrument named by a [needle_grasp] always (its jaws take no thread;
- * they touch it until their grasp), 0 otherwise. */
+/* 1 when instrument k's jaws hold the needle, not the thread, at time t
+ * (they touch no thread): the needle = yes holder and an instrument a
+ * [needle_grasp] names from its grasp on, 0 otherwise. Jaws that have
+ * handed the needle to others, not taken it back, are ordinary jaws (they
+ * touch the thread) from their first close (opening below ROD_JAW_CLOSED)
+ * after they have opened (rod_needle_grasp freed); before it the needle's
+ * back, the thread's tip, lies between them or their opening tips. */
 int needle_grasp_jaws_on_needle(const rod_model *m, int k, double t);
-/* 1 when instrument k's jaws never take the thread (holders of the needle). */
-int needle_grasp_takes_needle(const rod_model *m, int k);
+/* 1 when instrument k's jaws closing at time t take no thread: the
+ * needle = yes holder and every instrument a [needle_grasp] names, until
+ * they have handed the needle on and opened and closed again since (that
+ * close takes the thread as any jaws' do), 0 otherwise. */
+int needle_grasp_takes_needle(const rod_model *m, int k, double t);
 
 #endif

@@ -161,6 +161,9 @@ typedef struct rod_needle_grasp {
     double t;          /* s */
     int instrument;    /* index in the model's instruments */
     int line;          /* the scene line of its [needle_grasp] header (messages) */
+    double freed;      /* s: the first close (opening below ROD_JAW_CLOSED) of the jaws
+                          that handed the needle over here, after they have opened
+                          (INFINITY: never): from then on they are ordinary jaws */
 } rod_needle_grasp;
 
 /* An instrument's grasp as the run sees it now (rod_state). */

@@ -194,14 +194,19 @@ const ini_key scene_keys_rod[] = {
      "needle_holder: holds the needle (ends.needle) at its jaws' tip: its path drives the "
      "thread's tip (ends.tip = clamped); with ends.tip_motion given too, that is the needle's "
      "path whole (a rodsim live record, its handovers in it) and the holder's path moves its "
-     "jaws only"},
+     "jaws only; its jaws touch and take no thread until a [needle_grasp] has handed the "
+     "needle to other jaws and they have opened and closed again (its shanks and box lock "
+     "touch it)"},
     {"needle_grasp", "t", "s", "required", "increasing, after the holder's path starts",
      "the needle handed over ([needle_grasp] repeats, at most 8; the summary's needle_grasps): "
      "from t it stays as it was at t in the named jaws, which must be within a jaw length of "
      "it then; before the first, the needle = yes holder holds it; rodsim live hands it to "
      "the jaws its lines drive the same way"},
     {"needle_grasp", "instrument", "-", "required", "an [instrument]'s name, not scissors",
-     "whose jaws take the needle (their jaws touch no thread from then, take none ever)"},
+     "whose jaws take the needle: jaws holding it touch no thread; jaws a grasp names take "
+     "none before it (they close on the needle) but touch it; jaws that have handed the "
+     "needle on are ordinary jaws (touch the thread, closing on it takes it) from their first "
+     "close after they have opened, so that they let go of the needle's back first"},
     {"cut", "t", "s", "required", "> 0",
      "the thread is cut at this time, without scissors ([cut] repeats, at most 8; the summary's "
      "cuts): the piece from the cut to the end on the side no fixed end (no path) or puncture "

@@ -335,7 +335,7 @@ void rod_instruments_update(const rod_model *m, rod_state *s, rod_report *report
         double jaw;
         rod_instrument_pose(&m->instruments[k], s->time, &pose, &jaw);
         const int closed = jaw < ROD_JAW_CLOSED;
-        if (needle_grasp_takes_needle(m, k)) {
+        if (needle_grasp_takes_needle(m, k, s->time)) {
             g->closed = closed; /* its jaws hold the needle, not the thread */
             continue;
         }

@@ -29,6 +29,53 @@ static int needle_holder(const rod_model *m)
     return -1;
 }
 
+/* Samples of a jaw path's opening looked at after a handover: every 0.1 ms
+ * (a jaw closes or opens over tens of ms), at most this many. */
+#define OPEN_SAMPLES 1000000
+#define OPEN_STEP 1e-4 /* s */
+
+static int open_at(const rod_instrument *in, double t)
+{
+    double jaw;
+    rod_pose pose;
+    rod_instrument_pose(in, t, &pose, &jaw);
+    return jaw >= ROD_JAW_CLOSED;
+}
+
+/* The first time from t on at which the jaws of `in` are open (want 1) or
+ * closed (want 0: opening below ROD_JAW_CLOSED), to 1e-9 s: sampled every
+ * OPEN_STEP to the jaw path's end (held after it), then bisected; INFINITY
+ * when they never are. */
+static double first_time(const rod_instrument *in, double t, int want)
+{
+    if (!isfinite(t)) return INFINITY;
+    if (open_at(in, t) == want) return t;
+    const double end = rod_path_end(in->jaw);
+    if (!(end > t)) return INFINITY;
+    const double step = fmax(OPEN_STEP, (end - t) / OPEN_SAMPLES);
+    for (double lo = t;;) {
+        const double hi = fmin(lo + step, end);
+        if (open_at(in, hi) == want) {
+            double a = lo, b = hi; /* not yet at a, at b */
+            while (b - a > 1e-9) {
+                const double c = 0.5 * (a + b);
+                if (open_at(in, c) == want) b = c;
+                else a = c;
+            }
+            return b;
+        }
+        if (hi >= end) return INFINITY;
+        lo = hi;
+    }
+}
+
+/* When jaws that handed the needle over at t let the thread in: at their
+ * first close after they have opened (sim/needle_grasp.h). */
+static double freed_time(const rod_instrument *in, double t)
+{
+    return first_time(in, first_time(in, t, 1), 0);
+}
+
 /* One [needle_grasp]: its time and instrument checked, into m->needle_grasps. */
 static int read_one(ini_doc *doc, rod_model *m, int i, int holder, char *err, size_t errlen)
 {
@@ -75,7 +122,9 @@ static int read_one(ini_doc *doc, rod_model *m, int i, int holder, char *err, si
         return ini_error(doc, "needle_grasp", i, "instrument", err, errlen,
                          "'%s' holds the needle already; accepted: another instrument's name",
                          name);
-    m->needle_grasps[i] = (rod_needle_grasp){t, k, ini_section_line(doc, "needle_grasp", i)};
+    m->needle_grasps[i] =
+        (rod_needle_grasp){t, k, ini_section_line(doc, "needle_grasp", i),
+                           freed_time(&m->instruments[from], t)};
     return 0;
 }
 
@@ -184,8 +233,35 @@ int needle_grasp_check(ini_doc *doc, const rod_model *m, char *err, size_t errle
     return 0;
 }
 
-int needle_grasp_takes_needle(const rod_model *m, int k)
+/* The instrument holding the needle at time t: the last [needle_grasp]'s
+ * at or before t, else the needle = yes holder (-1: none). */
+static int needle_in(const rod_model *m, double t)
 {
+    int k = needle_holder(m);
+    for (int i = 0; i < m->needle_grasp_count && m->needle_grasps[i].t <= t; i++)
+        k = m->needle_grasps[i].instrument;
+    return k;
+}
+
+/* 1 when instrument k has handed the needle to other jaws by time t, not
+ * taken it back, and its jaws have opened and closed again since that
+ * handover: from that close on it is an ordinary jaws instrument. Before
+ * it they stay as they were: closed, the needle's back, the thread's tip,
+ * lies between them; opening, their tips sweep past it. */
+static int handed_away(const rod_model *m, int k, double t)
+{
+    if (needle_in(m, t) == k) return 0;
+    int from = needle_holder(m), last = -1;
+    for (int i = 0; i < m->needle_grasp_count && m->needle_grasps[i].t <= t; i++) {
+        if (from == k) last = i;
+        from = m->needle_grasps[i].instrument;
+    }
+    return last >= 0 && t >= m->needle_grasps[last].freed;
+}
+
+int needle_grasp_takes_needle(const rod_model *m, int k, double t)
+{
+    if (handed_away(m, k, t)) return 0;
     if (m->instruments[k].needle) return 1;
     for (int i = 0; i < m->needle_grasp_count; i++)
         if (m->needle_grasps[i].instrument == k) return 1;
@@ -194,6 +270,7 @@ int needle_grasp_takes_needle(const rod_model *m, int k)
 
 int needle_grasp_jaws_on_needle(const rod_model *m, int k, double t)
 {
+    if (handed_away(m, k, t)) return 0;
     if (m->instruments[k].needle) return 1;
     for (int i = 0; i < m->needle_grasp_count; i++)
         if (m->needle_grasps[i].instrument == k && t >= m->needle_grasps[i].t) return 1;
