@@ -1,13 +1,63 @@
-/* test_tie.h: the checks every instrument-tie scene's test makes on its run
- * summary: no instrument driven into the pad, and the needle holder taking the
- * tail by its end. */
+/* test_tie.h: what every instrument-tie scene's test measures: its frames'
+ * knot with the ends drawn out, the knotted part's place over the pad, and
+ * the checks on its run summary (no instrument driven into the pad, the
+ * needle holder taking the tail by its end). */
 #ifndef RODSIM_TEST_TIE_H
 #define RODSIM_TEST_TIE_H
 
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "json.h"
+#include "sim/geometry/knot.h"
 #include "test.h"
+#include "test_frames.h"
+
+/* The knot identified in frame x (nodes x 3, m), both ends drawn out 200
+ * segments along their last ones (the stitch closed far away). 0, or -1
+ * with the reason in err. */
+static inline int tie_knot_of(const double *x, int nodes, rod_knot *knot, char *err, size_t n)
+{
+    double *p = malloc(sizeof(double) * 3 * (size_t)(nodes + 2));
+    if (!p) {
+        snprintf(err, n, "out of memory");
+        return -1;
+    }
+    memcpy(&p[3], x, sizeof(double) * 3 * (size_t)nodes);
+    for (int c = 0; c < 3; c++) {
+        p[c] = x[c] + 200.0 * (x[c] - x[3 + c]);
+        p[3 * (nodes + 1) + c] = x[3 * (nodes - 1) + c] +
+                                 200.0 * (x[3 * (nodes - 1) + c] - x[3 * (nodes - 2) + c]);
+    }
+    const int r = rod_knot_identify(p, nodes + 2, knot, err, n);
+    free(p);
+    return r;
+}
+
+/* The knotted part of frame x: its nodes at or above the pad's top (z = 0)
+ * where strands touch (test_touching). Returns their number; c their centre
+ * (m), *low the lowest one's height (m), *lo and *hi the first and last
+ * index (-1 when none). */
+static inline int tie_knotted_part(const double *x, int nodes, double diameter, double c[3],
+                                   double *low, int *lo, int *hi)
+{
+    int n = 0;
+    c[0] = c[1] = c[2] = 0.0;
+    *low = INFINITY;
+    *lo = *hi = -1;
+    for (int i = 0; i < nodes; i++) {
+        if (!test_touching(x, nodes, diameter, i) || x[3 * i + 2] < 0.0) continue;
+        for (int m = 0; m < 3; m++) c[m] += x[3 * i + m];
+        *low = fmin(*low, x[3 * i + 2]);
+        if (*lo < 0) *lo = i;
+        *hi = i;
+        n++;
+    }
+    for (int m = 0; n > 0 && m < 3; m++) c[m] /= n;
+    return n;
+}
 
 /* The summary's warnings name no instrument driven " into the " pad. */
 static inline void check_nothing_into_pad(const json_value *warnings)

@@ -49,20 +49,6 @@
 #define UNTIL 9.4      /* s: the throw, the cross and the cinch */
 #define TAIL_NODE 10   /* a node of the tail between the holder's jaws and the knot */
 
-/* The identified knot of frame x, both ends drawn out 0.2 m along their
- * last segments (the stitch closed far away). 0, or -1. */
-static int knot_of(const double *x, rod_knot *knot, char *err, size_t n)
-{
-    static double p[(NODES + 2) * 3];
-    memcpy(&p[3], x, sizeof(double) * 3 * NODES);
-    for (int c = 0; c < 3; c++) {
-        p[c] = x[c] + 200.0 * (x[c] - x[3 + c]);
-        p[3 * (NODES + 1) + c] = x[3 * (NODES - 1) + c] +
-                                 200.0 * (x[3 * (NODES - 1) + c] - x[3 * (NODES - 2) + c]);
-    }
-    return rod_knot_identify(p, NODES + 2, knot, err, n);
-}
-
 /* The internal force's size (N) at `node` in the CSV's row at time t; -1
  * when there is none. */
 static double internal_force(const char *csv, double t, int node)
@@ -136,7 +122,8 @@ int main(void)
             from++;
             rod_knot knot;
             char kerr[256] = "";
-            if (knot_of(x[k], &knot, kerr, sizeof kerr) == 0 && strncmp(knot.name, "trefoil", 7) == 0)
+            if (tie_knot_of(x[k], NODES, &knot, kerr, sizeof kerr) == 0 &&
+                strncmp(knot.name, "trefoil", 7) == 0)
                 knotted++;
             else if (!first_bad[0])
                 snprintf(first_bad, sizeof first_bad, " (first not: t = %g s)", t[k]);
@@ -159,17 +146,9 @@ int main(void)
 
         /* the knot's height above the pad's top at the end */
         const double *last = x[frames - 1];
-        double c[3] = {0.0, 0.0, 0.0}, low = INFINITY;
-        int n = 0, lo = -1, hi = -1;
-        for (int i = 0; i < NODES; i++) {
-            if (!test_touching(last, NODES, DIAMETER, i) || last[3 * i + 2] < 0.0) continue;
-            for (int m = 0; m < 3; m++) c[m] += last[3 * i + m];
-            low = fmin(low, last[3 * i + 2]);
-            if (lo < 0) lo = i;
-            hi = i;
-            n++;
-        }
-        for (int m = 0; n > 0 && m < 3; m++) c[m] /= n;
+        double c[3], low;
+        int lo, hi;
+        const int n = tie_knotted_part(last, NODES, DIAMETER, c, &low, &lo, &hi);
         check(n > 0 && c[2] <= 2.0 * DIAMETER, "at t = %g s the knotted part (%d nodes of %d..%d, "
               "strands within 1.15 d) has its centre at (%.2f, %.2f, %.2f) mm: %.2f diameters "
               "above the pad's top (at most 2)", t[frames - 1], n, lo, hi, 1e3 * c[0], 1e3 * c[1],

@@ -70,20 +70,6 @@
 #define HALF_BITE 0.0041   /* m: the punctures' distance from the wound's plane y = 0 */
 #define HOLDER "scenes/instrument_tie_surgeons_holder.csv"
 
-/* The identified knot of frame x, both ends drawn out 0.2 m along their
- * last segments (the stitch closed far away). 0, or -1. */
-static int knot_of(const double *x, rod_knot *knot, char *err, size_t n)
-{
-    static double p[(NODES + 2) * 3];
-    memcpy(&p[3], x, sizeof(double) * 3 * NODES);
-    for (int c = 0; c < 3; c++) {
-        p[c] = x[c] + 200.0 * (x[c] - x[3 + c]);
-        p[3 * (NODES + 1) + c] = x[3 * (NODES - 1) + c] +
-                                 200.0 * (x[3 * (NODES - 1) + c] - x[3 * (NODES - 2) + c]);
-    }
-    return rod_knot_identify(p, NODES + 2, knot, err, n);
-}
-
 /* Node i of frame x in the holder's local axes at time t (x along the jaws
  * to their tip, from the tip); -1 when the holder's path has no such row. */
 static int in_holder(const double *x, int i, double t, double q[3])
@@ -202,7 +188,7 @@ int main(void)
             char kerr[256] = "";
             if (t[k] < UNKNOT_TO - 1e-9) {
                 if ((t[k] < 1.0 || k % 5 == 0) &&
-                    (knot_of(x[k], &knot, kerr, sizeof kerr) != 0 ||
+                    (tie_knot_of(x[k], NODES, &knot, kerr, sizeof kerr) != 0 ||
                      strcmp(knot.name, "unknot") != 0)) {
                     if (!early)
                         snprintf(first_early, sizeof first_early, " (first: t = %g s, %s)", t[k],
@@ -212,7 +198,7 @@ int main(void)
             }
             if (t[k] < CINQUEFOIL_BY - 1e-9) continue;
             from++;
-            if (knot_of(x[k], &knot, kerr, sizeof kerr) == 0 &&
+            if (tie_knot_of(x[k], NODES, &knot, kerr, sizeof kerr) == 0 &&
                 strncmp(knot.name, "cinquefoil (5_1)", 16) == 0)
                 double_throw++;
             else if (!first_bad[0])
@@ -244,17 +230,9 @@ int main(void)
 
         /* laid down at the end */
         const double *end = x[frames - 1];
-        double c[3] = {0.0, 0.0, 0.0}, low = INFINITY;
-        int n = 0, lo = -1, hi = -1;
-        for (int i = 0; i < NODES; i++) {
-            if (!test_touching(end, NODES, DIAMETER, i) || end[3 * i + 2] < 0.0) continue;
-            for (int m = 0; m < 3; m++) c[m] += end[3 * i + m];
-            low = fmin(low, end[3 * i + 2]);
-            if (lo < 0) lo = i;
-            hi = i;
-            n++;
-        }
-        for (int m = 0; n > 0 && m < 3; m++) c[m] /= n;
+        double c[3], low;
+        int lo, hi;
+        const int n = tie_knotted_part(end, NODES, DIAMETER, c, &low, &lo, &hi);
         check(n > 0 && c[2] <= 2.0 * DIAMETER && fabs(c[1]) <= HALF_BITE + 4.0 * DIAMETER,
               "at t = %g s the knotted part (%d nodes of %d..%d, strands within 1.15 d) has its "
               "centre at (%.2f, %.2f, %.2f) mm: %.2f diameters over the pad's top (at most 2), "

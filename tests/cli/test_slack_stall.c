@@ -32,6 +32,7 @@
 #include "test_frames.h"
 #include "test_process.h"
 #include "test_segment.h"
+#include "test_tie.h"
 
 #define NODES 125
 #define DIAMETER 0.00099            /* m: the scene's */
@@ -39,20 +40,6 @@
 #define YOUNGS 5e7                  /* Pa */
 #define DENSITY 1140.0              /* kg/m^3 */
 #define MAX_FRAMES 32
-
-/* The identified knot of frame x, both ends drawn out 0.2 m along their
- * last segments. 0, or -1. */
-static int knot_of(const double *x, rod_knot *knot, char *err, size_t n)
-{
-    static double p[(NODES + 2) * 3];
-    memcpy(&p[3], x, sizeof(double) * 3 * NODES);
-    for (int c = 0; c < 3; c++) {
-        p[c] = x[c] + 200.0 * (x[c] - x[3 + c]);
-        p[3 * (NODES + 1) + c] = x[3 * (NODES - 1) + c] +
-                                 200.0 * (x[3 * (NODES - 1) + c] - x[3 * (NODES - 2) + c]);
-    }
-    return rod_knot_identify(p, NODES + 2, knot, err, n);
-}
 
 /* J: the bending energy of the polygon x (NODES x 3, m), from each
  * interior node's turn between its segments */
@@ -112,7 +99,8 @@ int main(void)
     for (int k = 0; k < frames; k++) {
         rod_knot knot;
         char kerr[256] = "";
-        if (knot_of(x[k], &knot, kerr, sizeof kerr) == 0 && strncmp(knot.name, "trefoil", 7) == 0)
+        if (tie_knot_of(x[k], NODES, &knot, kerr, sizeof kerr) == 0 &&
+            strncmp(knot.name, "trefoil", 7) == 0)
             knotted++;
         else if (!first_bad[0])
             snprintf(first_bad, sizeof first_bad, " (first not: t = %g s)", t[k]);
