@@ -104,8 +104,11 @@ def write_hand(hand, start, name):
             f.write("%.2f,%.9f,%.9f,%.9f\n" % (t, q[0] * MM, q[1] * MM, q[2] * MM))
 
 
-def main():
-    way = thread_line()
+def write_scene(prefix, way, paths):
+    """Writes PREFIX_shape.csv (the thread along WAY, the points of a stitch
+    and its long end, mm), PREFIX_holder.csv and PREFIX_hand.csv (PATHS()
+    gives the holder's and the hand's tracks and the draw-back's end) and
+    prints what the scene's .ini takes from them."""
     k = 8                                     # the point above the long end's puncture
     line = smooth(densify(way[:k + 1]), 1.5)[:-1] + smooth(densify(way[k:]), 4.0)
     arc = sum(math.dist(a, b) for a, b in zip(line, line[1:]))
@@ -116,7 +119,7 @@ def main():
         if (a[2] > 0) != (b[2] > 0):
             u = a[2] / (a[2] - b[2])
             crossings.append(tuple(MM * (a[i] + u * (b[i] - a[i])) for i in range(3)))
-    with open("instrument_tie_hand_shape.csv", "w") as f:
+    with open(prefix + "_shape.csv", "w") as f:
         f.write("x,y,z\n")
         for p in pts:
             f.write("%.12f,%.12f,%.12f\n" % tuple(MM * c for c in p))
@@ -127,10 +130,14 @@ def main():
     for c in crossings:
         print("puncture point = %.9f %.9f %.9f" % c)
     holder, hand, t_back = paths()
-    holder.write("instrument_tie_hand_holder.csv")
-    write_hand(hand, np.array(pts[-1]), "instrument_tie_hand_hand.csv")
+    holder.write(prefix + "_holder.csv")
+    write_hand(hand, np.array(pts[-1]), prefix + "_hand.csv")
     print("duration %.2f s; the draw-back ends %.2f s; the tip starts %s mm (path %s)" % (
         holder.t, t_back, np.round(pts[-1], 3), np.round(hand.rows[0][1], 3)))
+
+
+def main():
+    write_scene("instrument_tie_hand", thread_line(), paths)
 
 
 if __name__ == "__main__":

@@ -35,13 +35,10 @@ import math
 
 import numpy as np
 
-import chords
 import instrument_tie_high as high
 import instrument_tie_hand as hand_tie
-from instrument_tie import Track, densify, smooth
+from instrument_tie import Track
 
-MM = 1e-3
-DS = 0.92
 WRAPS = 2
 PER_TURN = 2 * math.pi * 6.0     # mm of thread a loose turn round the shanks takes
 PITCH = 1.6                      # mm: the hand's circle toward the tip per turn
@@ -145,32 +142,7 @@ def paths():
 
 
 def main():
-    way = thread_line()
-    k = 8                                     # the point above the long end's puncture
-    line = smooth(densify(way[:k + 1]), 1.5)[:-1] + smooth(densify(way[k:]), 4.0)
-    arc = sum(math.dist(a, b) for a, b in zip(line, line[1:]))
-    nodes = int(round(arc / DS)) + 1
-    pts, ds = chords.place(line, nodes)
-    crossings = []
-    for a, b in zip(pts, pts[1:]):
-        if (a[2] > 0) != (b[2] > 0):
-            u = a[2] / (a[2] - b[2])
-            crossings.append(tuple(MM * (a[i] + u * (b[i] - a[i])) for i in range(3)))
-    with open("instrument_tie_surgeons_shape.csv", "w") as f:
-        f.write("x,y,z\n")
-        for p in pts:
-            f.write("%.12f,%.12f,%.12f\n" % tuple(MM * c for c in p))
-    print("nodes = %d; length = %.9f m; ds = %.4f mm" % (nodes, (nodes - 1) * ds * MM, ds))
-    exit2 = max(i for i in range(len(pts)) if pts[i][2] < 0)
-    print("the long end from its puncture: %.1f mm (node %d on)" % ((len(pts) - 1 - exit2) * ds,
-                                                                    exit2 + 1))
-    for c in crossings:
-        print("puncture point = %.9f %.9f %.9f" % c)
-    holder, hand, t_back = paths()
-    holder.write("instrument_tie_surgeons_holder.csv")
-    hand_tie.write_hand(hand, np.array(pts[-1]), "instrument_tie_surgeons_hand.csv")
-    print("duration %.2f s; the draw-back ends %.2f s; the tip starts %s mm (path %s)" % (
-        holder.t, t_back, np.round(pts[-1], 3), np.round(hand.rows[0][1], 3)))
+    hand_tie.write_scene("instrument_tie_surgeons", thread_line(), paths)
 
 
 if __name__ == "__main__":
