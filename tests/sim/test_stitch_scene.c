@@ -126,24 +126,64 @@ static int holes(const rod_state *s, int k[2])
     return count;
 }
 
-/* The pad's top-face nodes (the skin) within 3 mm of the stitch's plane
- * (x = 0) and 0.5 to 8 mm of the wound (y = 0), as the pad is at rest:
- * their indices in node[], their heights in z[] (m); how many. */
-static int skin_beside(tissue_solid *pad, const rod_model *m, int pad_index, int node[SKIN_MAX],
-                       double z[SKIN_MAX])
+/* What the draw does to the pad: the skin beside the wound (the pad's
+ * top-face nodes within 3 mm of the stitch's plane x = 0 and 0.5 to 8 mm
+ * of the wound y = 0, as the pad is at rest), its largest rise, and the
+ * ends' pull when the edges first meet. */
+typedef struct {
+    int skins, skin[SKIN_MAX]; /* the nodes beside the wound */
+    double rest[SKIN_MAX];     /* m: their heights at rest */
+    double lift, lift_t;       /* m, s: their largest rise over rest, when */
+    double met_t, met_pull[2]; /* s, N: the gap first 0 (-1: not yet), |N| at the ends then */
+} draw_watch;
+
+static void draw_watch_start(draw_watch *w, tissue_solid *pad, const rod_model *m, int pad_index)
 {
     const double *rest = tissue_rest_positions(pad), *x = tissue_positions(pad);
     const double top = m->surfaces[pad_index].center[2] + 0.5 * m->surfaces[pad_index].size[2];
-    int count = 0;
-    for (int n = 0; n < tissue_node_count(pad) && count < SKIN_MAX; n++) {
+    memset(w, 0, sizeof *w);
+    w->met_t = -1.0;
+    for (int n = 0; n < tissue_node_count(pad) && w->skins < SKIN_MAX; n++) {
         const double *p = x + 3 * n;
         if (fabs(rest[3 * n + 2] - top) > 1e-9 || fabs(p[0]) > 0.003 || fabs(p[1]) <= 0.0005 ||
             fabs(p[1]) > 0.008)
             continue;
-        node[count] = n;
-        z[count++] = p[2];
+        w->skin[w->skins] = n;
+        w->rest[w->skins++] = p[2];
     }
-    return count;
+}
+
+/* at a frame while the ends are drawn */
+static void draw_watch_frame(draw_watch *w, tissue_solid *pad, const rod_state *s,
+                             const double middle[3])
+{
+    const double *x = tissue_positions(pad);
+    for (int k = 0; k < w->skins; k++)
+        if (x[3 * w->skin[k] + 2] - w->rest[k] > w->lift) {
+            w->lift = x[3 * w->skin[k] + 2] - w->rest[k];
+            w->lift_t = s->time;
+        }
+    if (w->met_t < 0 && tissue_coupling_gap_at(pad, middle) <= 0.0) {
+        w->met_t = s->time;
+        w->met_pull[0] = v3_norm(s->end_force[0]);
+        w->met_pull[1] = v3_norm(s->end_force[1]);
+    }
+}
+
+/* the ends' pull when the edges meet and at the end, the skin's rise */
+static void draw_watch_check(const draw_watch *w, const rod_state *s)
+{
+    check(w->met_t > 0 && w->met_pull[0] < MOST_PULL && w->met_pull[1] < MOST_PULL,
+          "the edges meet (the gap first 0) at t = %.3f s, the ends pulled %.2f N (tail) and "
+          "%.2f N (long end), under %.0f N", w->met_t, w->met_pull[0], w->met_pull[1], MOST_PULL);
+    const double end_pull[2] = {v3_norm(s->end_force[0]), v3_norm(s->end_force[1])};
+    check(end_pull[0] < MOST_PULL && end_pull[1] < MOST_PULL,
+          "at %.1f s the ends pulled %.2f N (tail) and %.2f N (long end), under %.0f N (4-0 "
+          "nylon breaks at about 10 N)", s->time, end_pull[0], end_pull[1], MOST_PULL);
+    check(w->skins >= 8 && w->lift < MOST_LIFT,
+          "the skin beside the wound not tented: %d top nodes within 3 mm of the stitch and "
+          "0.5 to 8 mm of the wound rise %.3f mm at most over their place at rest (at t = "
+          "%.2f s), under %.1f mm", w->skins, 1e3 * w->lift, w->lift_t, 1e3 * MOST_LIFT);
 }
 
 /* m: how far the thread's deepest node between the holes lies under the
@@ -194,9 +234,8 @@ int main(void)
     /* the gap at rest, at the stitch's place (the wound's middle) */
     const double middle[3] = {0.0, 0.0, -0.0017};
     const double gap_rest = tissue_coupling_gap_at(pad, middle);
-    int skin[SKIN_MAX];
-    double skin_rest[SKIN_MAX], lift = 0.0, lift_t = 0.0, met_t = -1.0, met_pull[2] = {0, 0};
-    const int skins = skin_beside(pad, m, pad_index, skin, skin_rest);
+    draw_watch watch;
+    draw_watch_start(&watch, pad, m, pad_index);
 
     const double h = 1.0 / 30 / 34, duration = test_sanitized() ? 4.0 : 10.6;
     const int steps = (int)lround(duration / h), every = (int)lround(0.1 / h);
@@ -225,19 +264,7 @@ int main(void)
             pulled = 1;
             deep_pulled = thread_depth(m, s);
         }
-        if (pulled && i % 34 == 0) { /* every frame while the ends are drawn */
-            const double *x = tissue_positions(pad);
-            for (int k = 0; k < skins; k++)
-                if (x[3 * skin[k] + 2] - skin_rest[k] > lift) {
-                    lift = x[3 * skin[k] + 2] - skin_rest[k];
-                    lift_t = s->time;
-                }
-            if (met_t < 0 && tissue_coupling_gap_at(pad, middle) <= 0.0) {
-                met_t = s->time;
-                met_pull[0] = v3_norm(s->end_force[0]);
-                met_pull[1] = v3_norm(s->end_force[1]);
-            }
-        }
+        if (pulled && i % 34 == 0) draw_watch_frame(&watch, pad, s, middle); /* a frame */
         if (i % every && i != steps) continue;
         /* the thread outside the holes: outside the pad */
         double lo = INFINITY, hi = -INFINITY;
@@ -328,20 +355,7 @@ int main(void)
             check(gap_end < 0.02 * gap_rest,
                   "the gap at the stitch falls: %.4f mm at rest, %.4f mm at %.1f s (below 2 %%)",
                   1e3 * gap_rest, 1e3 * gap_end, duration);
-            check(met_t > 0 && met_pull[0] < MOST_PULL && met_pull[1] < MOST_PULL,
-                  "the edges meet (the gap first 0) at t = %.3f s, the ends pulled %.2f N (tail) "
-                  "and %.2f N (long end), under %.0f N", met_t, met_pull[0], met_pull[1],
-                  MOST_PULL);
-            const double end_pull[2] = {v3_norm(s->end_force[0]), v3_norm(s->end_force[1])};
-            check(end_pull[0] < MOST_PULL && end_pull[1] < MOST_PULL,
-                  "at %.1f s the ends pulled %.2f N (tail) and %.2f N (long end), under %.0f N "
-                  "(4-0 nylon breaks at about 10 N)", duration, end_pull[0], end_pull[1],
-                  MOST_PULL);
-            check(skins >= 8 && lift < MOST_LIFT,
-                  "the skin beside the wound not tented: %d top nodes within 3 mm of the "
-                  "stitch and 0.5 to 8 mm of the wound rise %.3f mm at most over their place at "
-                  "rest (at t = %.2f s), under %.1f mm", skins, 1e3 * lift, lift_t,
-                  1e3 * MOST_LIFT);
+            draw_watch_check(&watch, s);
         }
     }
     rod_set_run_destroy(&run);
