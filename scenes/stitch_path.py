@@ -31,7 +31,7 @@ from the wound, the pad gets T (1 - cos a) toward the wound and T sin a
 up at each side; the needle's track (a U 4 mm deep) carries the up part
 to the tissue under the wound. Drawn up at 66 degrees (0.59 T toward the
 wound, 0.91 T up) the pad's middle rises 3.2 mm and the ends reach 30 N
-before the edges meet; swung to 120 degrees (1.5 T toward the wound,
+as the edges meet; swung to 120 degrees (1.5 T toward the wound,
 0.87 T up) they meet at 3.1 N.
 
 The thread's starting tip frame is the needle's at the top of its circle
