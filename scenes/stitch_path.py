@@ -22,6 +22,18 @@ forceps draw the needle out along its circle (a turn about x about the
 circle's centre, the forceps turning about their own shafts) and then
 pull the thread through, the needle carried as they took it.
 
+The ends are then swung over the wound, each about its hole at its
+length, from rising away from the wound to ACROSS (60 degrees over the
+skin toward the other side, as a throw's crossed ends are drawn), and
+drawn DRAW each. The thread's pull at a hole is its tension along both
+strands: with the strand outside rising at angle a from the skin, away
+from the wound, the pad gets T (1 - cos a) toward the wound and T sin a
+up at each side; the needle's track (a U 4 mm deep) carries the up part
+to the tissue under the wound. Drawn up at 66 degrees (0.59 T toward the
+wound, 0.91 T up) the pad's middle rises 3.2 mm and the ends reach 30 N
+as the edges meet; swung to 120 degrees (1.5 T toward the wound,
+0.87 T up) they meet at 3.1 N.
+
 The thread's starting tip frame is the needle's at the top of its circle
 (d1 down to the centre, d2 = +x, d3 = -y), and the holder's rotation is
 taken from it: the thread starts as a planar curve in x = 0 whose first
@@ -66,14 +78,22 @@ T_HAND = 0.6                          # s: the needle still, handed over
 T_GRASP = T_HOLD + T_APPROACH + T_BITE + 0.55  # s: the forceps hold the needle ([needle_grasp])
 T_DRAW = 1.4                          # s: the needle drawn out along its circle
 T_PULL = 2.6                          # s: the thread drawn through, the tail coming taut
-T_CLOSE, T_REST = 2.5, 0.5            # s: the ends drawn up and apart; a rest
-PULL_UP = 1.15                        # rad: the long end's rise from the skin, drawn up
+T_CLOSE, T_REST = 2.5, 0.5            # s: the ends swung over the wound and drawn; a rest
+PULL_UP = 1.15                        # rad: the long end's rise from the skin, drawn through
 SLACK = 0.001                         # m: thread left slack at the pull's end (its sag)
 PULL_DIR = (0.0, math.cos(PULL_UP), math.sin(PULL_UP))  # the pull's direction from the exit hole
 PHI_PULL = 2 * math.pi + PULL_UP - math.pi / 2  # the needle's back then heading along it (d3)
-CLOSE = (0.0, 0.0005, 0.0034)         # m: the holder's further move while the wound closes
 TAIL_TO = (0.0, -0.010, 0.020)        # m: the tail's end (from the entry hole) after the bite
-TAIL_CLOSE = (0.0, -0.0005, 0.0034)   # m: its move while the wound closes
+ACROSS = 2 * math.pi / 3              # rad: each end's angle from the skin, away from its
+                                      # hole's side, once swung over the wound: 60 degrees
+                                      # over the skin toward the other side, crossing its
+                                      # fellow as a throw's ends do
+TAIL_X = 0.004                        # m: the tail's end moved aside (+x) as it swings over,
+                                      # clear of the long end where they cross
+SWEEP = 0.5                           # the share of T_CLOSE spent swinging the ends over, at
+                                      # their lengths from the holes; then they are drawn
+DRAW = 0.0019                         # m: each end's draw: the edges meet at 1.73 mm (3.1 N
+                                      # on each end), the thread first tight at about 0.4 mm
 NODES = 81                            # stitch.ini's rod.nodes
 FORCEPS_FROM = (0.0, 0.008, 0.005)    # m: the forceps' start from their grip: beyond the
                                       # exit, under the thread's starting run back to the needle
@@ -108,6 +128,14 @@ def smooth(s):
     """0 .. 1 with zero slope at both ends."""
     s = min(1.0, max(0.0, s))
     return 3 * s * s - 2 * s ** 3
+
+
+def drawn(f, up, length):
+    """(angle from the skin, away from the wound; distance from its hole) of
+    an end f of the way through the draw-up: swung over the wound at its
+    length, then drawn DRAW."""
+    return (up + (ACROSS - up) * smooth(f / SWEEP),
+            length + DRAW * smooth((f - SWEEP) / (1 - SWEEP)))
 
 
 def back(phi, skin):
@@ -213,11 +241,14 @@ def needle_rows(skin, pull):
         rows.append((t0 + T_PULL * k / 60, tuple(a + s * (b - a) for a, b in zip(out, to)),
                      PHI_END + s * (PHI_PULL - PHI_END) - PHI0))
     t0 += T_PULL
-    for k in range(1, 31):
-        s = smooth(k / 30)
-        rows.append((t0 + T_CLOSE * k / 30, tuple(a + s * c for a, c in zip(to, CLOSE)),
-                     PHI_PULL - PHI0))
-    rows.append((DURATION, rows[-1][1], PHI_PULL - PHI0))
+    for k in range(1, 61):  # swung over the wound, then drawn: the needle's back still
+                            # heading along the thread (d3 along the pull)
+        turn, length = drawn(k / 60, PULL_UP, pull)
+        rows.append((t0 + T_CLOSE * k / 60,
+                     tuple(h + length * c for h, c in zip(exit_hole, (0.0, math.cos(turn),
+                                                                       math.sin(turn)))),
+                     2 * math.pi + turn - math.pi / 2 - PHI0))
+    rows.append((DURATION, rows[-1][1], rows[-1][2]))
     return rows
 
 
@@ -270,7 +301,8 @@ def forceps_rows(skin, pull):
 
 def root_rows(shape, skin):
     """(t, point) of the tail's end: lowered to TAIL_TO from the entry hole
-    over the bite, then drawn out with CLOSE's timing."""
+    over the bite, then swung over the wound and drawn as the long end is
+    (drawn), moved TAIL_X aside."""
     start, entry = shape[0], (0.0, -BITE, skin)
     to = tuple(h + p for h, p in zip(entry, TAIL_TO))
     rows = [(0.0, start), (T_HOLD, start)]
@@ -280,9 +312,13 @@ def root_rows(shape, skin):
                      tuple(a + s * (b - a) for a, b in zip(start, to))))
     t0 = T_HOLD + T_APPROACH + T_BITE + T_HAND + T_DRAW + T_PULL
     rows.append((t0, to))
-    for k in range(1, 31):
-        s = smooth(k / 30)
-        rows.append((t0 + T_CLOSE * k / 30, tuple(a + s * c for a, c in zip(to, TAIL_CLOSE))))
+    up, tail = math.atan2(TAIL_TO[2], -TAIL_TO[1]), math.hypot(TAIL_TO[1], TAIL_TO[2])
+    for k in range(1, 61):
+        turn, length = drawn(k / 60, up, tail)
+        side = TAIL_X * smooth(k / 60 / SWEEP)
+        v = (side, -length * math.cos(turn), length * math.sin(turn))
+        rows.append((t0 + T_CLOSE * k / 60,
+                     tuple(h + length * c / math.hypot(*v) for h, c in zip(entry, v))))
     rows.append((DURATION, rows[-1][1]))
     return rows
 
@@ -323,7 +359,8 @@ def main():
     print(f"[needle_grasp] t = {T_GRASP:.6g}  # the forceps take the needle {RN * GRASP_BACK:.3g} m "
           f"behind its point")
     t0 = T_HOLD + T_APPROACH + T_BITE + T_HAND + T_DRAW
-    print(f"the pull {t0:.3g} .. {t0 + T_PULL:.3g} s, the ends drawn up to "
+    print(f"the pull {t0:.3g} .. {t0 + T_PULL:.3g} s, the ends swung over the wound to "
+          f"{t0 + T_PULL + SWEEP * T_CLOSE:.3g} s, drawn {1e3 * DRAW:.3g} mm each to "
           f"{t0 + T_PULL + T_CLOSE:.3g} s")
     print(f"[solver] duration = {DURATION:.6g}")
 

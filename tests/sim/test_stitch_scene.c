@@ -10,13 +10,21 @@
  *    exit, tip), and through the points of the needle's track between
  *    them, its centreline within 0.05 mm of each, the tail (root to entry)
  *    2 to 3 cm long;
- *  - drawn through (7.6 s, before the ends are drawn up) the thread lies
+ *  - drawn through (7.6 s, before the ends are drawn) the thread lies
  *    in the needle's track: its deepest point between the holes within
  *    10 % of D under them (the needle's circle reaches D under the skin at
- *    its holes); drawn up, still deeper under the holes than the wound
+ *    its holes); drawn across, still deeper under the holes than the wound
  *    (2 mm), not on the chord above it;
  *  - the wound's gap at the stitch falls from its value at rest to under
  *    2 % of it;
+ *  - the ends, swung over the wound and drawn, hold the thread at a
+ *    surgeon's tension: under 5 N on each end (the end's force, |N| at the
+ *    held end) when the gap first reaches 0 and at the end (4-0 nylon
+ *    breaks at about 10 N; a pull of 30 N is what drawing the ends
+ *    straight up takes);
+ *  - the skin is not tented: no node of the pad's top within 3 mm of the
+ *    stitch's plane and 0.5 to 8 mm of the wound rises more than 0.5 mm
+ *    over its place at rest while the ends are drawn;
  *  - no node of the thread outside the holes is inside the deformed pad
  *    (barycentric test on every tet, every 0.1 s): the thread never passes
  *    through the skin;
@@ -43,7 +51,10 @@
 #define SCENE RODSIM_SOURCE_DIR "/scenes/stitch.ini"
 #define DEPTH 0.004 /* m: the bite's depth under the skin */
 #define WOUND_DEPTH 0.002 /* m: the incision's depth (surface.wound) */
-#define T_PULLED 7.6 /* s: the thread drawn through, the ends not yet drawn up */
+#define T_PULLED 7.6 /* s: the thread drawn through, the ends not yet drawn */
+#define MOST_PULL 5.0 /* N: a surgeon's few newtons on each end */
+#define MOST_LIFT 0.0005 /* m: the skin beside the wound, within this of its place at rest */
+#define SKIN_MAX 64 /* the pad's top nodes beside the wound, at most */
 
 static char *load_text(const char *path)
 {
@@ -115,6 +126,66 @@ static int holes(const rod_state *s, int k[2])
     return count;
 }
 
+/* What the draw does to the pad: the skin beside the wound (the pad's
+ * top-face nodes within 3 mm of the stitch's plane x = 0 and 0.5 to 8 mm
+ * of the wound y = 0, as the pad is at rest), its largest rise, and the
+ * ends' pull when the edges first meet. */
+typedef struct {
+    int skins, skin[SKIN_MAX]; /* the nodes beside the wound */
+    double rest[SKIN_MAX];     /* m: their heights at rest */
+    double lift, lift_t;       /* m, s: their largest rise over rest, when */
+    double met_t, met_pull[2]; /* s, N: the gap first 0 (-1: not yet), |N| at the ends then */
+} draw_watch;
+
+static void draw_watch_start(draw_watch *w, tissue_solid *pad, const rod_model *m, int pad_index)
+{
+    const double *rest = tissue_rest_positions(pad), *x = tissue_positions(pad);
+    const double top = m->surfaces[pad_index].center[2] + 0.5 * m->surfaces[pad_index].size[2];
+    memset(w, 0, sizeof *w);
+    w->met_t = -1.0;
+    for (int n = 0; n < tissue_node_count(pad) && w->skins < SKIN_MAX; n++) {
+        const double *p = x + 3 * n;
+        if (fabs(rest[3 * n + 2] - top) > 1e-9 || fabs(p[0]) > 0.003 || fabs(p[1]) <= 0.0005 ||
+            fabs(p[1]) > 0.008)
+            continue;
+        w->skin[w->skins] = n;
+        w->rest[w->skins++] = p[2];
+    }
+}
+
+/* at a frame while the ends are drawn */
+static void draw_watch_frame(draw_watch *w, tissue_solid *pad, const rod_state *s,
+                             const double middle[3])
+{
+    const double *x = tissue_positions(pad);
+    for (int k = 0; k < w->skins; k++)
+        if (x[3 * w->skin[k] + 2] - w->rest[k] > w->lift) {
+            w->lift = x[3 * w->skin[k] + 2] - w->rest[k];
+            w->lift_t = s->time;
+        }
+    if (w->met_t < 0 && tissue_coupling_gap_at(pad, middle) <= 0.0) {
+        w->met_t = s->time;
+        w->met_pull[0] = v3_norm(s->end_force[0]);
+        w->met_pull[1] = v3_norm(s->end_force[1]);
+    }
+}
+
+/* the ends' pull when the edges meet and at the end, the skin's rise */
+static void draw_watch_check(const draw_watch *w, const rod_state *s)
+{
+    check(w->met_t > 0 && w->met_pull[0] < MOST_PULL && w->met_pull[1] < MOST_PULL,
+          "the edges meet (the gap first 0) at t = %.3f s, the ends pulled %.2f N (tail) and "
+          "%.2f N (long end), under %.0f N", w->met_t, w->met_pull[0], w->met_pull[1], MOST_PULL);
+    const double end_pull[2] = {v3_norm(s->end_force[0]), v3_norm(s->end_force[1])};
+    check(end_pull[0] < MOST_PULL && end_pull[1] < MOST_PULL,
+          "at %.1f s the ends pulled %.2f N (tail) and %.2f N (long end), under %.0f N (4-0 "
+          "nylon breaks at about 10 N)", s->time, end_pull[0], end_pull[1], MOST_PULL);
+    check(w->skins >= 8 && w->lift < MOST_LIFT,
+          "the skin beside the wound not tented: %d top nodes within 3 mm of the stitch and "
+          "0.5 to 8 mm of the wound rise %.3f mm at most over their place at rest (at t = "
+          "%.2f s), under %.1f mm", w->skins, 1e3 * w->lift, w->lift_t, 1e3 * MOST_LIFT);
+}
+
 /* m: how far the thread's deepest node between the holes lies under the
  * holes' mean height (0 before both are made) */
 static double thread_depth(const rod_model *m, const rod_state *s)
@@ -163,6 +234,8 @@ int main(void)
     /* the gap at rest, at the stitch's place (the wound's middle) */
     const double middle[3] = {0.0, 0.0, -0.0017};
     const double gap_rest = tissue_coupling_gap_at(pad, middle);
+    draw_watch watch;
+    draw_watch_start(&watch, pad, m, pad_index);
 
     const double h = 1.0 / 30 / 34, duration = test_sanitized() ? 4.0 : 10.6;
     const int steps = (int)lround(duration / h), every = (int)lround(0.1 / h);
@@ -191,6 +264,7 @@ int main(void)
             pulled = 1;
             deep_pulled = thread_depth(m, s);
         }
+        if (pulled && i % 34 == 0) draw_watch_frame(&watch, pad, s, middle); /* a frame */
         if (i % every && i != steps) continue;
         /* the thread outside the holes: outside the pad */
         double lo = INFINITY, hi = -INFINITY;
@@ -270,7 +344,7 @@ int main(void)
                   100.0 * fabs(deep_pulled - DEPTH) / DEPTH);
             const double deep_end = thread_depth(m, s);
             check(deep_end > WOUND_DEPTH,
-                  "drawn up, the thread still runs under the wound: %.3f mm under the holes "
+                  "drawn across, the thread still runs under the wound: %.3f mm under the holes "
                   "(the wound %.1f mm deep)", 1e3 * deep_end, 1e3 * WOUND_DEPTH);
             check(entry_s >= 0.02 && entry_s <= 0.03, "the tail %.1f mm long (2 to 3 cm)",
                   1e3 * entry_s);
@@ -281,6 +355,7 @@ int main(void)
             check(gap_end < 0.02 * gap_rest,
                   "the gap at the stitch falls: %.4f mm at rest, %.4f mm at %.1f s (below 2 %%)",
                   1e3 * gap_rest, 1e3 * gap_end, duration);
+            draw_watch_check(&watch, s);
         }
     }
     rod_set_run_destroy(&run);
