@@ -13,6 +13,10 @@
  * file on this thread only sets it aside; outfile_transaction_commit() gives
  * them all their names at once (SIGINT and SIGTERM held off meanwhile), and
  * outfile_transaction_abort() or a signal discards them all.
+ *
+ * A destination that is a device, a pipe or a socket (/dev/null, /dev/stdout)
+ * is written in place instead (nothing can be renamed over a device), and a
+ * symbolic link to a file keeps its link: the file it names is replaced.
  */
 #ifndef RODSIM_OUTFILE_H
 #define RODSIM_OUTFILE_H
@@ -30,6 +34,7 @@ typedef struct outfile {
     int slot;                        /* index in the cleanup registry of named temporaries */
     int is_dir;                      /* made by outfile_dir_open() */
     int watch;                       /* its outfile_watch_dir() handle, or -1 */
+    int direct;                      /* a device or pipe: written in place (tmp_path = path) */
 } outfile;
 
 /* Creates the parent directory if needed and opens a temporary file beside

@@ -148,6 +148,29 @@ int outfile_reserve(outfile *f, const char *path, char *err, size_t errlen)
         snprintf(err, errlen, "%s: not a usable output file name", path);
         return -1;
     }
+    /* A device, a pipe or a socket (/dev/null, /dev/stdout, a FIFO) is
+     * written in place, as the bytes come: a finished file renamed over it
+     * would put a regular file where the device was (as root, /dev/null
+     * itself). A symbolic link to a file keeps its link: the file it names
+     * is the one replaced. */
+    struct stat st;
+    if (strncmp(path, "/dev/", 5) == 0 || strncmp(path, "/proc/", 6) == 0 ||
+        (stat(path, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))) {
+        f->direct = 1;
+        snprintf(f->tmp_path, sizeof f->tmp_path, "%s", path);
+        return 0;
+    }
+    char *real = NULL;
+    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode) && (real = realpath(path, NULL)) != NULL) {
+        int fits = snprintf(f->path, sizeof f->path, "%s", real) < (int)sizeof f->path;
+        free(real);
+        if (!fits) {
+            snprintf(err, errlen, "%s: path too long", path);
+            return -1;
+        }
+        path = f->path;
+        slash = strrchr(path, '/');
+    }
     if (make_parent(path, err, errlen)) return -1;
     char dir[OUTFILE_PATH_MAX];
     if (!slash) snprintf(dir, sizeof dir, ".");
@@ -316,6 +339,10 @@ int outfile_commit(outfile *f, char *err, size_t errlen)
     if (finish_writing(f, err, errlen)) {
         outfile_abort(f);
         return -1;
+    }
+    if (f->direct) { /* written in place: nothing to name */
+        f->tmp_path[0] = '\0';
+        return 0;
     }
     if (transaction.open) {
         if (transaction.count == OUTFILE_TRANSACTION_MAX) {

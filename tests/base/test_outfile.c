@@ -2,8 +2,8 @@
  * written has no name in its directory (O_TMPFILE), a commit gives it its
  * name (replacing an older file), a transaction names all its files at once
  * or none, the temporaries a killed process left are removed by the next run
- * (and those of a live process kept), and -o's check tells a file from a
- * directory. */
+ * (and those of a live process kept), -o's check tells a file from a
+ * directory, and a device or a link is written through, never replaced. */
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -172,6 +172,43 @@ static void test_check_dir(void)
     unlink(file);
 }
 
+/* A destination that is a device or a pipe is written in place: a link in
+ * the test's folder to /dev/null stays a link to the device (before: the
+ * commit renamed a regular file over the link; `--csv /dev/null` as root
+ * put a regular file where /dev/null was). A link to a file keeps its link
+ * and the file it names gets the new content. */
+static void test_devices_and_links(void)
+{
+    char sink[128], real[128], link[128], err[256];
+    snprintf(sink, sizeof sink, "%s/sink", dir);
+    snprintf(real, sizeof real, "%s/real.csv", dir);
+    snprintf(link, sizeof link, "%s/link.csv", dir);
+    if (!check(symlink("/dev/null", sink) == 0, "a link %s to /dev/null", sink)) return;
+    outfile f;
+    int opened = outfile_open(&f, sink, err, sizeof err) == 0;
+    if (opened) fputs("nothing\n", f.fp);
+    int committed = opened && outfile_commit(&f, err, sizeof err) == 0;
+    struct stat st, dev;
+    check(committed && lstat(sink, &st) == 0 && S_ISLNK(st.st_mode) && stat(sink, &dev) == 0 &&
+              S_ISCHR(dev.st_mode) && entries() == 1,
+          "writing to a link to /dev/null: committed %d, still a link to the character device "
+          "(%d entries)",
+          committed, entries());
+    unlink(sink);
+
+    write_text(real, "old\n");
+    if (!check(symlink("real.csv", link) == 0, "a link %s to real.csv", link)) return;
+    opened = outfile_open(&f, link, err, sizeof err) == 0;
+    if (opened) fputs("new\n", f.fp);
+    committed = opened && outfile_commit(&f, err, sizeof err) == 0;
+    check(committed && lstat(link, &st) == 0 && S_ISLNK(st.st_mode) &&
+              strcmp(content(real), "new\n") == 0 && entries() == 2,
+          "writing to a link to a file: the link stays (%d), the file reads '%s' (new), %d entries",
+          committed && lstat(link, &st) == 0 && S_ISLNK(st.st_mode), content(real), entries());
+    unlink(link);
+    unlink(real);
+}
+
 int main(void)
 {
     if (!check(mkdtemp(dir) != NULL, "temporary directory")) return test_finish();
@@ -179,6 +216,7 @@ int main(void)
     test_transaction();
     test_stale();
     test_check_dir();
+    test_devices_and_links();
     test_remove_tree(dir);
     return test_finish();
 }
