@@ -70,4 +70,11 @@ int rod_instruments_overlap(const rod_model *m, double t_end, rod_instrument_ove
  * a run says nothing of it, the summary's closest approach shows it). */
 int rod_instruments_overlap_message(const rod_model *m, const char *file, char *out, size_t n);
 
+/* The closest two instruments come up to t_end (s; < 0: the whole paths)
+ * as a line for people into out: "forceps (shank) and holder (box lock)
+ * 1.2 mm apart at t = 3.420 s" (or "... overlap by 1.2 mm at ..."), by
+ * their names. Returns 0 with fewer than two instruments (out empty),
+ * else 1. */
+int rod_instruments_closest_text(const rod_model *m, double t_end, char *out, size_t n);
+
 #endif

@@ -311,6 +311,10 @@ static void print_result(const rods_run *r)
                                     r->set.name[r->across[p].rod[1]]);
     if (isfinite(r->closest_gap))
         fprintf(f, "  closest approach between rods: %.3g m beyond contact\n", r->closest_gap);
+    char closest[256]; /* driven instruments: their closest from their paths */
+    if (rod_instruments_closest_text(&r->set.model[0], r->run.state[0]->time, closest,
+                                     sizeof closest))
+        fprintf(f, "  instruments at their closest: %s\n", closest);
     if (r->run.sweeps > 0) /* the steps' sweeps over rods in contact (sim/rod_set.h) */
         fprintf(f, "  contact between rods: %.3g sweeps a step, %ld Newton "
                 "solves in all; %ld steps stopped short of the tolerance\n",

@@ -269,6 +269,9 @@ static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_
                 "away from the %s's side\n", k + 1, who, c->t, c->s, c->removed,
                 c->side ? "tip" : "root");
     }
+    char closest[256]; /* driven instruments: their closest from their paths */
+    if (rod_instruments_closest_text(m, s->time, closest, sizeof closest))
+        fprintf(f, "        instruments at their closest: %s\n", closest);
     const int pad = tissue_coupling_pad(m);
     if (pad >= 0) {
         /* a gap below 0 is the lips pressed together: the contact between

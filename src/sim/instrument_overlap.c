@@ -154,6 +154,10 @@ int rod_instruments_overlap_message(const rod_model *m, const char *file, char *
                  -1e3 * o.deepest.gap, owner(a), rod_instrument_capsule_name(o.deepest.part_a),
                  owner(b), rod_instrument_capsule_name(o.deepest.part_b), o.deepest.t);
     const int jaws = o.first.part_a < 2 && o.first.part_b < 2;
+    char rule[96] = "jaws may graze jaws by the thinner jaw's radius";
+    if (!jaws)
+        snprintf(rule, sizeof rule, "other parts may touch by %g of the thinner part's radius",
+                 ROD_INSTRUMENT_OVERLAP_SHARE);
     snprintf(out, n,
              "%s:%d: [instrument] %s and %s (line %d): the %s %s and the %s %s overlap by "
              "%.2f mm at t = %.3f s%s (%s: %.2f mm); driven instruments cannot push each other "
@@ -161,11 +165,24 @@ int rod_instruments_overlap_message(const rod_model *m, const char *file, char *
              file ? file : "scene", a->line, a->name, b->name, b->line, owner(a),
              rod_instrument_capsule_name(o.first.part_a), owner(b),
              rod_instrument_capsule_name(o.first.part_b), -1e3 * o.first.gap, o.first.t, deepest,
-             jaws ? "jaws may graze jaws by the thinner jaw's radius"
-                  : "other parts may touch by a tenth of the thinner part's radius",
-             1e3 * o.allowed, path_a, path_b,
+             rule, 1e3 * o.allowed, path_a, path_b,
              allowed ? "; allowed by may_overlap = yes"
                      : ", or set may_overlap = yes in either [instrument] to run them through "
                        "each other");
     return allowed ? 1 : -1;
+}
+
+int rod_instruments_closest_text(const rod_model *m, double t_end, char *out, size_t n)
+{
+    if (n) out[0] = '\0';
+    rod_instrument_overlap o;
+    rod_instruments_overlap(m, t_end, &o);
+    const rod_instrument_contact *c = &o.closest;
+    if (c->t < 0.0) return 0;
+    const rod_instrument *a = &m->instruments[c->a], *b = &m->instruments[c->b];
+    snprintf(out, n, "%s (%s) and %s (%s) %s%.3g mm%s at t = %.3f s", a->name,
+             rod_instrument_capsule_name(c->part_a), b->name,
+             rod_instrument_capsule_name(c->part_b), c->gap < 0.0 ? "overlap by " : "",
+             1e3 * fabs(c->gap), c->gap < 0.0 ? "" : " apart", c->t);
+    return 1;
 }
