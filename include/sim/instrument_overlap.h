@@ -47,7 +47,9 @@ typedef struct rod_instrument_contact {
 
 typedef struct rod_instrument_overlap {
     rod_instrument_contact closest; /* the least gap of any two instruments over the time */
-    rod_instrument_contact first;   /* the first sampled overlap beyond the allowed depth */
+    rod_instrument_contact first;   /* the first sampled overlap beyond the allowed depth,
+                                       of two instruments neither of which has may_overlap
+                                       when there is one, else of any two */
     rod_instrument_contact deepest; /* the same two instruments' deepest overlap beyond it */
     double allowed;                 /* m: the depth allowed to first's two capsules */
 } rod_instrument_overlap;

@@ -51,13 +51,22 @@ static double moved(const capsule_set *s0, const capsule_set *s1, int n)
     return most;
 }
 
-/* Every pair of capsules of different instruments at time t: the closest,
- * the first overlap beyond the allowed depth, that pair of instruments'
- * deepest. */
-static void check_at(const capsule_set *set, int n, double t, rod_instrument_overlap *out)
+/* The first overlap beyond the allowed depth and that pair's deepest, of
+ * the pairs neither of which may overlap ([0]) and of the others ([1]) */
+typedef struct overlap_found {
+    rod_instrument_contact first[2], deepest[2];
+    double allowed[2];
+} overlap_found;
+
+/* Every pair of capsules of different instruments at time t: the closest
+ * into out, the overlaps into found. */
+static void check_at(const rod_model *m, const capsule_set *set, int n, double t,
+                     rod_instrument_overlap *out, overlap_found *found)
 {
     for (int a = 0; a < n; a++)
-        for (int b = a + 1; b < n; b++)
+        for (int b = a + 1; b < n; b++) {
+            const int kind = m->instruments[a].may_overlap || m->instruments[b].may_overlap;
+            rod_instrument_contact *first = &found->first[kind], *deepest = &found->deepest[kind];
             for (int i = 0; i < set->count[a]; i++)
                 for (int j = 0; j < set->count[b]; j++) {
                     const rod_capsule *p = &set->c[a][i], *q = &set->c[b][j];
@@ -66,14 +75,14 @@ static void check_at(const capsule_set *set, int n, double t, rod_instrument_ove
                     if (out->closest.t < 0.0 || gap < out->closest.gap) out->closest = here;
                     const double allowed = rod_capsule_overlap_allowed(p, q);
                     if (-gap <= allowed) continue;
-                    if (out->first.t < 0.0) {
-                        out->first = out->deepest = here;
-                        out->allowed = allowed;
-                    } else if (out->first.a == a && out->first.b == b &&
-                               gap < out->deepest.gap) {
-                        out->deepest = here;
+                    if (first->t < 0.0) {
+                        *first = *deepest = here;
+                        found->allowed[kind] = allowed;
+                    } else if (first->a == a && first->b == b && gap < deepest->gap) {
+                        *deepest = here;
                     }
                 }
+        }
 }
 
 int rod_instruments_overlap(const rod_model *m, double t_end, rod_instrument_overlap *out)
@@ -101,9 +110,10 @@ int rod_instruments_overlap(const rod_model *m, double t_end, rod_instrument_ove
     else if (m->options.duration > 0.0 && m->options.duration < t1) t1 = m->options.duration;
     if (t1 < t0) t1 = t0;
     const double limit = ROD_INSTRUMENT_PATH_MOVE * thinnest; /* m per sample */
+    overlap_found found = {{none, none}, {none, none}, {0.0, 0.0}};
     capsule_set now, next, mid;
     capsules_at(m, n, t0, &now);
-    check_at(&now, n, t0, out);
+    check_at(m, &now, n, t0, out, &found);
     const long steps = (long)ceil((t1 - t0) / ROD_INSTRUMENT_PATH_STEP - 1e-9);
     double t = t0;
     for (long s = 1; s <= steps; s++) {
@@ -115,12 +125,17 @@ int rod_instruments_overlap(const rod_model *m, double t_end, rod_instrument_ove
         for (int p = 1; p < parts; p++) {
             const double tp = t + (target - t) * p / parts;
             capsules_at(m, n, tp, &mid);
-            check_at(&mid, n, tp, out);
+            check_at(m, &mid, n, tp, out, &found);
         }
-        check_at(&next, n, target, out);
+        check_at(m, &next, n, target, out, &found);
         now = next;
         t = target;
     }
+    /* a pair that may not overlap first: it is refused whatever the others do */
+    const int kind = found.first[0].t >= 0.0 ? 0 : 1;
+    out->first = found.first[kind];
+    out->deepest = found.deepest[kind];
+    out->allowed = found.allowed[kind];
     return out->first.t >= 0.0;
 }
 

@@ -11,7 +11,8 @@
  *   at the time the gap passes minus the allowed depth (within one sampling
  *   step after), the deepest at the end, the message naming the file, both
  *   lines, the parts, the depth, the time and both path keys; with
- *   may_overlap = yes allowed (1), without refused (-1);
+ *   may_overlap = yes allowed (1), without refused (-1); a third crossing
+ *   the lower one 3 mm above it, without may_overlap: that pair refused;
  * - a handover: a needle holder's and forceps' jaws tip to tip, 0.82 mm
  *   into each other, under the forceps' jaw radius 1.2 mm: not flagged;
  * - scenes/stitch.ini (its needle handed from holder to forceps at
@@ -188,6 +189,19 @@ static void test_crossing(void)
     said = rod_instruments_overlap_message(&m, "cross.ini", text, sizeof text);
     check(said == 1 && strstr(text, "allowed by may_overlap = yes"),
           "may_overlap = yes on one of them: allowed (1: %d): %s", said, text);
+    /* a third, "other", across the lower one 3 mm above it at x = -0.08
+     * from the start: that pair is refused though the first is allowed */
+    rod_instrument three[3] = {in[0], in[1]};
+    const double other[3] = {-0.08, 0.05, 0.003};
+    three[2] = on_path(ROD_INSTRUMENT_FORCEPS, 0.12, "other", 40, other, other, 0.5 * pi);
+    m.instruments = three;
+    m.instrument_count = 3;
+    said = rod_instruments_overlap_message(&m, "cross.ini", text, sizeof text);
+    check(said == -1 && strstr(text, "[instrument] lower and other (line 40)") &&
+              strstr(text, "overlap by 2.28 mm at t = 0.000 s"),
+          "three: lower and other 2.28 mm into each other from t = 0 refused (-1: %d), the "
+          "allowed pair not named: %s", said, text);
+    release(&three[2], 1);
     release(in, 2);
 }
 
