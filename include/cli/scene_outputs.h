@@ -55,6 +55,11 @@ int scene_outputs_result_warnings(const rod_model *m, const rod_report *report,
  * without one. */
 double scene_outputs_stitch_gap(const rod_model *m, const rod_state *s, int pad);
 
+/* The closest two of m's instruments come from their paths' start to
+ * t_end (s) into the summary's min_instrument_gap (left out with fewer
+ * than two instruments). */
+void scene_outputs_instrument_gap(struct run_summary *sum, const rod_model *m, double t_end);
+
 /* --tissue-csv's rows at a frame: t,node,x,y,z (s, -, m, m, m) of the
  * elastic pad's top-face nodes (nothing without a pad). */
 void scene_outputs_tissue_csv_frame(FILE *f, const rod_model *m, const rod_state *s);

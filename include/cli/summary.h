@@ -162,6 +162,15 @@ typedef struct run_summary {
     summary_cut cuts[SUMMARY_MAX_CUTS];
     int needle_grasp_count;     /* the handovers the run reached */
     summary_needle_grasp needle_grasps[SUMMARY_MAX_NEEDLE_GRASPS];
+    /* the closest two instruments came over the run, from their paths
+     * (sim/instrument_overlap.h): their capsules' surfaces apart (m; below
+     * 0: overlapping by that much; INFINITY: fewer than two instruments,
+     * left out), when (s), whose (names) and which parts ("jaw", "shank",
+     * "box lock") */
+    double min_instrument_gap;
+    double min_instrument_gap_t;
+    char min_instrument_gap_between[2][32];
+    char min_instrument_gap_parts[2][16];
     /* an elastic pad ([surface] model = elastic) */
     int has_tissue;
     double tissue_max_displacement; /* m: the farthest a pad node is from its rest place,

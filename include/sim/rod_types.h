@@ -152,6 +152,9 @@ typedef struct rod_instrument {
     int grasp_off;     /* 1: its jaws never take this model's rod (rod = another rod's
                           name); they still touch it */
     int line;          /* the scene line of its [instrument] header (messages); 0: none */
+    int may_overlap;   /* 1: its path may take it through another instrument (allowed,
+                          not refused: sim/instrument_overlap.h) */
+    char path_name[96]; /* its path key's value as the scene gives it (messages); "": none */
 } rod_instrument;
 
 /* The needle handed to an instrument's jaws (scene [needle_grasp],

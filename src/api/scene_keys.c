@@ -179,6 +179,13 @@ const ini_key scene_keys_rod[] = {
     {"instrument", "max_depth", "m", "-", "> 0",
      "the deepest the path may take the jaws into a rigid [surface] (deeper: the run is "
      "refused, exit 2); absent: the jaws' thickness, 2 jaw radii"},
+    {"instrument", "may_overlap", "-", "no", "yes | no",
+     "instruments do not collide with each other (both are driven): paths taking a jaw, "
+     "shank or box lock into another instrument's (sampled every 1 ms) are refused, exit 2, "
+     "naming both, the parts, the time and the depth; jaws may graze jaws by the thinner "
+     "jaw's radius (a needle handed over), other parts touch by a tenth of the thinner's "
+     "radius; yes in either of two instruments: allowed, they run through each other (the "
+     "summary's min_instrument_gap, below 0, tells how deep)"},
     {"instrument", "size", "m", "0.14", "> 0",
      "overall length; jaws and shanks scale with it (a 0.14 m needle holder: 15 mm jaws)"},
     {"instrument", "friction", "-", "0.3", ">= 0",

@@ -18,6 +18,7 @@
 #include "cli/summary.h"
 #include "sim/contact/between_rods.h"
 #include "sim/cut.h"
+#include "sim/instrument_overlap.h"
 #include "sim/instrument_path.h"
 #include "sim/recording.h"
 #include "sim/rod_set.h"
@@ -310,6 +311,10 @@ static void print_result(const rods_run *r)
                                     r->set.name[r->across[p].rod[1]]);
     if (isfinite(r->closest_gap))
         fprintf(f, "  closest approach between rods: %.3g m beyond contact\n", r->closest_gap);
+    char closest[256]; /* driven instruments: their closest from their paths */
+    if (rod_instruments_closest_text(&r->set.model[0], r->run.state[0]->time, closest,
+                                     sizeof closest))
+        fprintf(f, "  instruments at their closest: %s\n", closest);
     if (r->run.sweeps > 0) /* the steps' sweeps over rods in contact (sim/rod_set.h) */
         fprintf(f, "  contact between rods: %.3g sweeps a step, %ld Newton "
                 "solves in all; %ld steps stopped short of the tolerance\n",
@@ -343,6 +348,7 @@ static void fill_summary(const rods_run *r, run_summary *sum, int ran)
     sum->steps = r->run.steps;
     sum->frames = r->frames;
     sum->t_end = r->run.state[0]->time;
+    scene_outputs_instrument_gap(sum, m0, sum->t_end);
     sum->step_cpu_s = r->step_cpu;
     sum->rod_count = r->set.count < SUMMARY_MAX_RODS ? r->set.count : SUMMARY_MAX_RODS;
     for (int k = 0; k < sum->rod_count; k++) {
@@ -482,6 +488,13 @@ static int check_paths(rods_run *r, char *err, size_t errlen)
             return -1;
         }
         if (said) run_warn(&r->warnings, "%s", text);
+    }
+    /* instruments through each other: refused (nothing pushes driven
+     * instruments apart); may_overlap = yes allows it */
+    char text[RUN_WARNING_LEN];
+    if (rod_instruments_overlap_message(m, r->o->label, text, sizeof text) < 0) {
+        snprintf(err, errlen, "%s; nothing was run", text);
+        return -1;
     }
     return 0;
 }

@@ -26,6 +26,7 @@
 #include "cli/summary.h"
 #include "render/gl_context.h"
 #include "sim/cut.h"
+#include "sim/instrument_overlap.h"
 #include "sim/instrument_path.h"
 #include "sim/rod.h"
 #include "sim/scene.h"
@@ -268,6 +269,9 @@ static void print_result(FILE *f, const rod_model *m, const rod_state *s, int64_
                 "away from the %s's side\n", k + 1, who, c->t, c->s, c->removed,
                 c->side ? "tip" : "root");
     }
+    char closest[256]; /* driven instruments: their closest from their paths */
+    if (rod_instruments_closest_text(m, s->time, closest, sizeof closest))
+        fprintf(f, "        instruments at their closest: %s\n", closest);
     const int pad = tissue_coupling_pad(m);
     if (pad >= 0) {
         /* a gap below 0 is the lips pressed together: the contact between
@@ -740,6 +744,13 @@ static int plan_run(scene_run *r)
         }
         if (said) run_warn(&r->warnings, "%s", text);
     }
+    /* instruments through each other: refused (nothing pushes driven
+     * instruments apart); may_overlap = yes allows it */
+    char overlap[RUN_WARNING_LEN];
+    if (rod_instruments_overlap_message(m, r->o->label, overlap, sizeof overlap) < 0) {
+        complain(r->o, "rodsim run: %s; nothing was run\n", overlap);
+        return -1;
+    }
     run_warnings_print(stderr, &r->warnings, 0);
     /* a long run shows where it is on a terminal; --progress shows it anywhere */
     r->progress.on = r->o->progress ||
@@ -1035,6 +1046,23 @@ static void summary_knot(const scene_run *r, run_summary *sum)
     sum->rope_in_knot_d = knot_track_rope(k, m); /* NAN: none */
 }
 
+void scene_outputs_instrument_gap(run_summary *sum, const rod_model *m, double t_end)
+{
+    rod_instrument_overlap o;
+    rod_instruments_overlap(m, t_end, &o);
+    if (o.closest.t < 0.0) return; /* fewer than two instruments */
+    const rod_instrument_contact *c = &o.closest;
+    sum->min_instrument_gap = c->gap;
+    sum->min_instrument_gap_t = c->t;
+    const int who[2] = {c->a, c->b}, part[2] = {c->part_a, c->part_b};
+    for (int e = 0; e < 2; e++) {
+        snprintf(sum->min_instrument_gap_between[e], sizeof sum->min_instrument_gap_between[e],
+                 "%s", m->instruments[who[e]].name);
+        snprintf(sum->min_instrument_gap_parts[e], sizeof sum->min_instrument_gap_parts[e], "%s",
+                 rod_instrument_capsule_name(part[e]));
+    }
+}
+
 /* What the summary knows after the run, whatever its outcome. */
 static void summary_result(const scene_run *r, run_summary *sum)
 {
@@ -1046,6 +1074,7 @@ static void summary_result(const scene_run *r, run_summary *sum)
     sum->steps = r->stats.steps;
     sum->frames = r->sink.index;
     sum->t_end = r->s->time;
+    scene_outputs_instrument_gap(sum, m, r->s->time);
     sum->step_cpu_s = r->step_cpu;
     if (r->committed) {
         char path[SUMMARY_TEXT_LEN];

@@ -12,6 +12,7 @@ void summary_init(run_summary *s)
     memset(s, 0, sizeof *s);
     s->rope_in_knot_d = NAN;
     s->min_strand_gap_d = INFINITY;
+    s->min_instrument_gap = INFINITY;
 }
 
 static void copy_text(char *dst, size_t n, const char *src)
@@ -298,6 +299,30 @@ static void grasps_list(json_out *j, const run_summary *s)
     close_(j, ']');
 }
 
+/* The closest two instruments came: the gap (m), and where */
+static void instrument_gap(json_out *j, const run_summary *s)
+{
+    number_field(j, "min_instrument_gap", s->min_instrument_gap);
+    key(j, "min_instrument_gap_at");
+    open_(j, '{');
+    number_field(j, "t", s->min_instrument_gap_t);
+    key(j, "instruments");
+    open_(j, '[');
+    for (int i = 0; i < 2; i++) {
+        comma(j);
+        summary_json_string(j->f, s->min_instrument_gap_between[i]);
+    }
+    close_(j, ']');
+    key(j, "parts");
+    open_(j, '[');
+    for (int i = 0; i < 2; i++) {
+        comma(j);
+        summary_json_string(j->f, s->min_instrument_gap_parts[i]);
+    }
+    close_(j, ']');
+    close_(j, '}');
+}
+
 static void needle_grasps_list(json_out *j, const run_summary *s)
 {
     key(j, "needle_grasps");
@@ -420,6 +445,7 @@ int summary_print(FILE *f, const run_summary *s)
     if (s->grasp_count > 0) grasps_list(&j, s);
     if (s->cut_count > 0) cuts_list(&j, s);
     if (s->needle_grasp_count > 0) needle_grasps_list(&j, s);
+    if (isfinite(s->min_instrument_gap)) instrument_gap(&j, s);
     if (s->has_tissue) tissue_object(&j, s);
     close_(&j, '}');
     fputc('\n', f);

@@ -569,7 +569,8 @@ static int read_instruments(ini_doc *doc, rod_model *m, const char *rod, char *e
             ini_get_double(doc, "instrument", i, "friction", &in.friction, err, errlen) < 0 ||
             ini_get_double(doc, "instrument", i, "grip", &in.grip, err, errlen) < 0 ||
             ini_get_double(doc, "instrument", i, "max_depth", &in.max_depth, err, errlen) < 0 ||
-            ini_get_bool(doc, "instrument", i, "needle", &in.needle, err, errlen) < 0)
+            ini_get_bool(doc, "instrument", i, "needle", &in.needle, err, errlen) < 0 ||
+            ini_get_bool(doc, "instrument", i, "may_overlap", &in.may_overlap, err, errlen) < 0)
             return -1;
         if (count == 0) break;
         if (has_kind == 0)
@@ -620,6 +621,7 @@ static int read_instruments(ini_doc *doc, rod_model *m, const char *rod, char *e
         if (rod_instrument_load_path(file, &in.pose, &in.jaw, why, sizeof why))
             return ini_error(doc, "instrument", i, "path", err, errlen, "%s", why);
         in.line = ini_section_line(doc, "instrument", i);
+        snprintf(in.path_name, sizeof in.path_name, "%s", path_text);
         m->instruments[m->instrument_count++] = in;
         if (in.needle && !m->needle_path_given) {
             rod_path *jaw = NULL;

@@ -102,6 +102,7 @@ static int write_scene(void)
              "[instrument]\nkind = needle_holder\nname = holder\npath = holder.csv\n"
              "needle = yes\nsize = 0.12\n"
              "[instrument]\nkind = forceps\nname = forceps\npath = forceps.csv\nsize = 0.12\n"
+             "may_overlap = yes\n" /* its shank 3 mm beside the holder's: 0.35 mm into it */
              "[needle_grasp]\nt = %g\ninstrument = forceps\n"
              "[loads]\ngravity = 0 0 -9.81\n"
              "[solver]\nscheme = implicit\ndt = 0.001\nduration = %g\nnewton_tolerance = 1e-12\n"
