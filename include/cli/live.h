@@ -34,6 +34,7 @@
 #include <stddef.h>
 #include <stdio.h>
 
+#include "cli/live_realtime.h" /* live_realtime_setup, live_heap_bytes */
 #include "sim/rod.h"
 
 /* The record's first lines (then the CSV header and rows): the magic and
@@ -124,16 +125,6 @@ int live_command(int argc, char **argv);
 
 void live_usage(FILE *f);
 
-/* --realtime: reserves a heap of heap_bytes (live_heap_bytes) that the
- * session's later allocations take without a page fault, locks the memory,
- * takes a real-time priority (SCHED_FIFO 10) and pins the process to its
- * CPU; what is not permitted is said on standard error and the session
- * goes on without it. */
-void live_realtime_setup(size_t heap_bytes);
-/* The heap a session of rods of `nodes` nodes in all reserves: what the
- * self-contact's columns may grow to (sim/contact/self_contact.h), twice
- * (a realloc holds the old block while it copies), and LIVE_HEAP_BASE. */
-size_t live_heap_bytes(long nodes);
 
 /* Splits a line at commas into at most `max` numbers (the count); -1 at a
  * field that is not a number (strtod: "nan", "inf" parse, finiteness is

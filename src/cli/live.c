@@ -11,8 +11,14 @@
  *     (line_tries): the end stops where the thread lets it (a needle
  *     holder pressed into tissue), the time goes on, and the next line
  *     asks for a small move, so the stream recovers as soon as the request
- *     is reachable again. Only when every try fails does the last good
- *     state stay (the line dropped from the path);
+ *     is reachable again; an instrument's line the same, its jaws part of
+ *     the way or held. Only when every try fails does the last good
+ *     state stay (the line dropped from the path), nothing of the tries
+ *     kept (the state, the pad, the paths' rows, the needle's grasp); the
+ *     next line is tried from it. A state no try continues (the stitch's
+ *     thread caught between the pad's top and the exit's puncture) drops
+ *     every line after it: from the 2nd such line in a row the session
+ *     says it is stuck there, at the 2nd, 4th, 8th ..., and what to do;
  *   - the scene starts at t = 0 at rest; a first line's t must exceed 0;
  *   - the record holds only the rows that were stepped (a partial move's
  *     row as reached), with the velocity the live path gave each row:
@@ -33,20 +39,18 @@
  * No allocation after live_session_create: the line, the path's rows, the
  * load table and the snapshot of the last good state are made there.
  */
-#define _GNU_SOURCE /* mlockall flags, clock_nanosleep, sched_setaffinity */
+#define _GNU_SOURCE /* clock_nanosleep, sched_getscheduler */
 #include "cli/live.h"
 
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
-#include <malloc.h> /* mallopt: the heap --realtime keeps */
 #include <math.h>
 #include <sched.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -60,7 +64,6 @@
 #include "cli/scene_outputs.h"
 #include "base/vec3.h"
 #include "sim/instrument.h"
-#include "sim/contact/self_contact.h"
 #include "sim/path.h"
 #include "sim/rod.h"
 #include "sim/rod_set.h"
@@ -77,8 +80,8 @@ void live_usage(FILE *f)
         "leading NAME: names the rod (one bare [rod]: rod).\n"
         "stdout, a header, then per line, flushed: t,fx,fy,fz,mx,my,mz,status, what the\n"
         "thread exerts on the driven tip (free tip: its root); status ok | failed (moved\n"
-        "part way or held) | bad_input (over %d bytes, a NUL, not 4 or 7 numbers, NaN,\n"
-        "t not increasing or > %d steps ahead; --on-error stop: exit 2)\n"
+        "part way, held, or none: stuck) | bad_input (over %d bytes, a NUL, not 4 or 7\n"
+        "numbers, NaN, t not increasing or > %d steps ahead; --on-error stop: exit 2)\n"
         "  --centreline   x0,y0,z0,... of each node follow on the line\n"
         "  --record FILE  the session, row by row (rodsim render FILE: its video)\n"
         "  --realtime     pace to the wall clock, count overruns; mlock, SCHED_FIFO, pin\n"
@@ -129,56 +132,6 @@ static int parse_args(int argc, char **argv, live_args *a, char *err, size_t err
         return -1;
     }
     return 0;
-}
-
-/* The heap reserved besides the self-contact's columns, bytes: the rest
- * of what a step may allocate on demand (pair lists, a Jacobian's band). */
-#define LIVE_HEAP_BASE ((size_t)16 << 20)
-
-size_t live_heap_bytes(long nodes)
-{
-    /* the pairs' node columns (at most SELF_CONTACT_NODE_SLOTS, 3 each) and
-     * their solutions (3 a ranked pair), 6 unknowns a node, doubles */
-    const size_t columns = (size_t)3 * (SELF_CONTACT_NODE_SLOTS + SELF_CONTACT_RANK_PAIRS);
-    return LIVE_HEAP_BASE + 2 * columns * 6 * (size_t)(nodes > 0 ? nodes : 0) * sizeof(double);
-}
-
-/* --realtime: reserves the heap, locks the memory, takes a real-time
- * priority (SCHED_FIFO 10: above every ordinary process, below the
- * kernel's own threads, and the kernel's RT throttling still leaves 5 % of
- * each second to the rest) and pins the process to the CPU it runs on (no
- * migration between lines). The heap: the self-contact grows its columns
- * when strands first touch (a run that never touches holds none), and with
- * the memory locked each new page is faulted in at once: a knot's line
- * that grew them by 1 MB took 0.6 ms of CPU instead of 0.3 (256 faults),
- * its first line 0.7-1.0 ms instead of 0.35. So the heap is grown once,
- * touched, and kept (malloc neither trims it nor maps blocks of its own):
- * later allocations reuse its locked pages. What is not permitted (no
- * CAP_IPC_LOCK or CAP_SYS_NICE) is said, and the session goes on without it. */
-void live_realtime_setup(size_t heap_bytes)
-{
-    mallopt(M_MMAP_MAX, 0);
-    mallopt(M_TRIM_THRESHOLD, -1);
-    char *heap = malloc(heap_bytes);
-    if (heap) {
-        volatile char *touch = heap;
-        for (size_t i = 0; i < heap_bytes; i += 4096) touch[i] = 0;
-    }
-    free(heap);
-    if (mlockall(MCL_CURRENT | MCL_FUTURE))
-        fprintf(stderr, "rodsim live: --realtime: could not lock memory (%s); going on\n",
-                strerror(errno));
-    struct sched_param priority = {.sched_priority = 10};
-    if (sched_setscheduler(0, SCHED_FIFO, &priority))
-        fprintf(stderr, "rodsim live: --realtime: no real-time priority (%s); going on\n",
-                strerror(errno));
-    int cpu = sched_getcpu();
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    if (cpu >= 0) CPU_SET(cpu, &set);
-    if (cpu < 0 || sched_setaffinity(0, sizeof set, &set))
-        fprintf(stderr, "rodsim live: --realtime: not pinned to a CPU (%s); going on\n",
-                strerror(errno));
 }
 
 /* Set by SIGINT and SIGTERM (rodsim live installs the handler); read
@@ -343,6 +296,7 @@ struct live_session {
      * the needle (its path is the scene's) */
     rod_path *instrument_pose[ROD_MAX_INSTRUMENTS], *instrument_jaw[ROD_MAX_INSTRUMENTS];
     double instrument_row[ROD_MAX_INSTRUMENTS][8]; /* each one's last row: t, pose, opening */
+    int instrument_held[ROD_MAX_INSTRUMENTS]; /* 1: its last line held its jaws (line_tries) */
     live_needle needle;     /* pose mode: the jaws holding the needle ([needle_grasp]) */
     int needle_said;        /* the grasps said so far */
 };
@@ -651,17 +605,37 @@ static void count_line(live_session *ls, int outcome, double gap)
     }
 }
 
-/* A failed line's message: why the row asked for failed, then where the
- * end went (fraction of the way; < 0: nowhere, and why the last try failed). */
-static void say_failed(live_session *ls, double t, rod_status status, const rod_report *report,
-                       double fraction, const rod_report *last)
+/* Lines in a row that no try stepped (ls->stuck): said at the 2nd, 4th,
+ * 8th ... of them, whatever the run of messages (complain) counts, so that
+ * a session that steps nowhere says so as it goes: what stuck and what to
+ * do about it. */
+static void say_stuck(live_session *ls)
 {
-    char where[1024];
+    if (ls->stuck < 2 || (ls->stuck & (ls->stuck - 1)) != 0) return;
+    const double t = ls->state->time;
+    fprintf(ls->msg, "rodsim live: input line %ld: stuck: %ld lines in a row stepped nowhere, "
+            "the state at t = %.9g s (the last good one) continues with none of their rows, "
+            "held where they were included; each line is tried from it (the scheme's own "
+            "budget at the 1st, 2nd, 4th ... of them). To go on: rows back toward the poses "
+            "of t = %.9g s, or end the session (the record holds every row to t = %.9g s)\n",
+            ls->line_no, ls->stuck, t, t, t);
+}
+
+/* A failed line's message: why the row asked for failed, then where the
+ * end (or instrument `name`'s jaws; NULL: the driven end) went (fraction
+ * of the way; < 0: nowhere, and why the last try failed). */
+static void say_failed(live_session *ls, double t, const char *name, rod_status status,
+                       const rod_report *report, double fraction, const rod_report *last)
+{
+    char what[64], where[1024];
+    if (name) snprintf(what, sizeof what, "%s's jaws", name);
+    else snprintf(what, sizeof what, "the end");
     if (fraction > 0.0)
-        snprintf(where, sizeof where, "the end moved %g of the way toward it, answered with "
-                 "that state", fraction);
+        snprintf(where, sizeof where, "%s moved %g of the way toward it, answered with "
+                 "that state", what, fraction);
     else if (fraction == 0.0)
-        snprintf(where, sizeof where, "the end held where it was, answered with that state");
+        snprintf(where, sizeof where, "%s held where %s, answered with that state", what,
+                 name ? "they were" : "it was");
     else
         snprintf(where, sizeof where, "no try stepped (the last: %s); answered with the last "
                  "good state (t = %.9g s), the line dropped from the path",
@@ -670,10 +644,12 @@ static void say_failed(live_session *ls, double t, rod_status status, const rod_
                       : status == ROD_UNSTABLE     ? "unstable"
                                                    : "failure";
     char kind[64];
-    snprintf(kind, sizeof kind, "the step failed (%s), %s", why,
-             fraction > 0.0 ? "moved part of the way" : fraction == 0.0 ? "held" : "dropped");
-    complain(ls, kind, " (t = %.9g s): the step failed (%s): %s; %s", t, why,
-             report->message[0] ? report->message : "(no message)", where);
+    snprintf(kind, sizeof kind, "%s step failed (%s), %s", name ? "the jaws'" : "the",
+             why, fraction > 0.0 ? "moved part of the way" : fraction == 0.0 ? "held" : "dropped");
+    complain(ls, kind, " (t = %.9g s): %s%sthe step failed (%s): %s; %s", t, name ? name : "",
+             name ? "'s line: " : "", why, report->message[0] ? report->message : "(no message)",
+             where);
+    if (fraction < 0.0) say_stuck(ls);
 }
 
 /* Takes the [needle_grasp]s before t (live_needle.h) and says each once;
@@ -765,7 +741,7 @@ static int step_line(live_session *ls, const double *values, int count)
     print_answer(ls, ok ? "ok" : "failed");
     ls->answer_sum += wall_seconds() - step_end;
     if (ok) close_run(ls);
-    else say_failed(ls, row[0], first_status, &first_report, failed ? -1.0 : ls->fraction,
+    else say_failed(ls, row[0], NULL, first_status, &first_report, failed ? -1.0 : ls->fraction,
                     &report);
     /* the record after the answer: its formatting is not in the latency */
     if (ls->record) {
@@ -821,11 +797,67 @@ static int line_instrument(const live_session *ls, const char *name, size_t len)
     return -1;
 }
 
-/* A line of instrument k: t,x,y,z,rx,ry,rz,jaw (values, checked): its
- * paths pushed (the opening at rest at each row, as a path file's), every
- * part stepped to t; a try within the line's budget, then the scheme's own
- * (line_tries' first and last); none steps: the rows taken back, the last
- * good state answered failed. LINE_OK or LINE_FAILED. */
+/* Pushes instrument k's row (t, pose, opening: 8 numbers) onto its live
+ * paths, at rest there when `hold` (else the pose with the backward
+ * difference; the opening at rest at each row, as a path file's). 0, or -1
+ * with err and nothing pushed. */
+static int push_instrument_row(live_session *ls, int k, const double *row, int hold, char *err,
+                               size_t errlen)
+{
+    const double opening[4] = {row[0], row[7], 0.0, 0.0}, rest[6] = {0.0};
+    rod_path *pose = ls->instrument_pose[k], *jaw = ls->instrument_jaw[k];
+    if (hold ? rod_path_push_with_velocity(pose, row, rest, err, errlen)
+             : rod_path_push(pose, row, NULL, err, errlen))
+        return -1;
+    if (rod_path_push_with_velocity(jaw, opening, rest, err, errlen) == 0) return 0;
+    rod_path_pop(pose);
+    return -1;
+}
+
+static void pop_instrument_row(live_session *ls, int k)
+{
+    rod_path_pop(ls->instrument_pose[k]);
+    rod_path_pop(ls->instrument_jaw[k]);
+}
+
+/* One try of instrument k's line (line_tries): its jaws `fraction` of the
+ * way from their last row toward the line's v (0: held at rest one step
+ * after the state's time, as a tip line's), the driven tip held where the
+ * last line left it or carried by the jaws holding the needle, every part
+ * stepped to v[0]. 0 with reached (the jaws' row) and tip_row, velocity,
+ * *carried set; or -1 with the rows and the needle taken back. */
+static int try_instrument(live_session *ls, int k, const double *v, double fraction,
+                          double *reached, double *tip_row, double *velocity, int *carried,
+                          rod_status *status, rod_report *report)
+{
+    const double *last = ls->instrument_row[k], before = ls->state->time;
+    reached[0] = fraction == 0.0 ? fmin(v[0], before + ls->dt) : v[0];
+    for (int c = 1; c < 8; c++) reached[c] = last[c] + fraction * (v[c] - last[c]);
+    char err[256];
+    if (push_instrument_row(ls, k, reached, fraction == 0.0, err, sizeof err)) {
+        *status = ROD_FAILED;
+        snprintf(report->message, sizeof report->message, "%s", err);
+        return -1;
+    }
+    memcpy(tip_row, ls->last_row, 7 * sizeof(double));
+    tip_row[0] = v[0];
+    /* jaws holding the needle carry it (moving when they are these and move) */
+    const live_needle needle_before = ls->needle;
+    *carried = needle_row(ls, v[0], k, tip_row);
+    if (try_row(ls, tip_row, v[0], *carried <= 0 || fraction == 0.0, velocity, status,
+                report) == 0)
+        return 0;
+    ls->needle = needle_before;
+    pop_instrument_row(ls, k);
+    return -1;
+}
+
+/* A line of instrument k: t,x,y,z,rx,ry,rz,jaw (values, checked): tried
+ * as a tip's line is (line_tries: the jaws' row asked for within the
+ * line's budget, half way toward it, held where they were while the time
+ * goes on, the scheme's own budget at the 1st, 2nd, 4th ... line in a row
+ * that stuck); none steps: the rows taken back, the last good state
+ * answered failed. LINE_OK or LINE_FAILED (a row short of the line's). */
 static int step_instrument_line(live_session *ls, int k, const double *v)
 {
     if (ls->set.realtime) {
@@ -836,66 +868,69 @@ static int step_instrument_line(live_session *ls, int k, const double *v)
     ls->line_gap = v[0] - before;
     ls->line_iterations = ls->line_builds = ls->line_step_max = 0;
     ls->budget = line_budget(ls);
-    const double opening[4] = {v[0], v[7], 0.0, 0.0}, still[3] = {0.0, 0.0, 0.0};
+    if (ls->budget > ls->budget_max) ls->budget_max = ls->budget;
     char err[256];
-    rod_status status = ROD_FAILED;
-    rod_report report;
+    rod_status status = ROD_FAILED, first_status = ROD_FAILED;
+    rod_report report, first_report;
     memset(&report, 0, sizeof report);
+    memset(&first_report, 0, sizeof first_report);
     /* held since its last row (other lines between): a row at rest at the
      * state's time first, so that the path from it is what it does */
-    double *last = ls->instrument_row[k], held_row[7];
+    double *last = ls->instrument_row[k], held_row[8], reached[8], tip_row[7];
     const int hold = last[0] < before;
     memcpy(held_row, last, sizeof held_row);
     held_row[0] = before;
-    const double held_opening[4] = {before, last[7], 0.0, 0.0}, rest[6] = {0};
-    int failed = (hold && (rod_path_push_with_velocity(ls->instrument_pose[k], held_row, rest, err,
-                                                       sizeof err) ||
-                           rod_path_push_with_velocity(ls->instrument_jaw[k], held_opening,
-                                                       still, err, sizeof err))) ||
-                 rod_path_push(ls->instrument_pose[k], v, NULL, err, sizeof err) ||
-                 rod_path_push_with_velocity(ls->instrument_jaw[k], opening, still, err,
-                                             sizeof err);
-    if (failed) snprintf(report.message, sizeof report.message, "%s", err);
-    /* the driven tip (or its loads) held where the last line left it */
-    double tip_row[7];
-    memcpy(tip_row, ls->last_row, sizeof tip_row);
-    tip_row[0] = v[0];
-    double velocity[6] = {0};
-    /* jaws holding the needle carry it (moving when they are these) */
-    const live_needle needle_before = ls->needle;
-    const int carried = failed ? 0 : needle_row(ls, v[0], k, tip_row);
-    for (int rescue = 0; rescue < 2 && failed == 0; rescue++) {
-        set_budget(ls, rescue ? 0 : ls->budget);
-        if (try_row(ls, tip_row, v[0], carried <= 0, velocity, &status, &report) == 0) break;
-        if (rescue) failed = 1;
-    }
-    if (failed) {
-        ls->needle = needle_before;
-        for (int r = 0; r < 1 + hold; r++) {
-            rod_path_pop(ls->instrument_pose[k]);
-            rod_path_pop(ls->instrument_jaw[k]);
+    int failed = hold && push_instrument_row(ls, k, held_row, 1, err, sizeof err);
+    if (failed) snprintf(first_report.message, sizeof first_report.message, "%s", err);
+    double velocity[6] = {0}, fraction = 1.0;
+    int carried = 0, tried = 0;
+    const int rescue = ls->stuck == 0 || (ls->stuck & (ls->stuck - 1)) == 0;
+    const int tries = failed ? 0 : (int)(sizeof line_tries / sizeof *line_tries);
+    failed = 1;
+    for (int t = 0; t < tries && failed && (t == 0 || !stop_signal); t++) {
+        const live_try *try = &line_tries[t];
+        if (try->rescue && !rescue) continue;
+        /* held at the line before: at what stops them, half way no nearer */
+        if (try->fraction > 0.0 && try->fraction < 1.0 && ls->instrument_held[k]) continue;
+        set_budget(ls, try->rescue ? 0 : ls->budget);
+        failed = try_instrument(ls, k, v, try->fraction, reached, tip_row, velocity, &carried,
+                                &status, &report);
+        if (tried++ == 0) {
+            first_status = status;
+            memcpy(&first_report, &report, sizeof report);
         }
-    } else {
-        memcpy(last, v, 8 * sizeof(double));
+        if (!failed) fraction = try->fraction;
+    }
+    if (failed && hold) pop_instrument_row(ls, k);
+    const int ok = !failed && fraction == 1.0;
+    if (!failed) {
+        memcpy(last, reached, sizeof reached);
         memcpy(ls->last_row, tip_row, sizeof tip_row);
         ls->recent[ls->recent_count++ % LIVE_RECENT_LINES] = ls->line_step_max;
     }
+    ls->instrument_held[k] = !failed && fraction == 0.0;
     ls->stuck = failed ? ls->stuck + 1 : 0;
-    count_line(ls, failed ? LINE_FAILED : LINE_OK, failed ? 0.0 : v[0] - before);
-    print_instrument_answer(ls, k, failed ? "failed" : "ok");
-    if (failed)
-        complain(ls, "an instrument's step failed", " (t = %.9g s): %s's step failed: %s; "
-                 "answered with the last good state, the line dropped", v[0],
-                 ls->model->instruments[k].name, report.message[0] ? report.message : "no message");
-    else close_run(ls);
+    count_line(ls, ok ? LINE_OK : LINE_FAILED, failed ? 0.0 : v[0] - before);
+    print_instrument_answer(ls, k, ok ? "ok" : "failed");
+    if (ok) close_run(ls);
+    else say_failed(ls, v[0], ls->model->instruments[k].name, first_status, &first_report,
+                    failed ? -1.0 : fraction, &report);
+    if (ls->record && failed) {
+        fprintf(ls->record, "# input line %ld (t = %.17g s) failed: not replayed\n",
+                ls->line_no, v[0]);
+        record_check(ls);
+    }
     if (ls->record && !failed) { /* kept as a comment: the replay drives the tip only */
-        fprintf(ls->record, "# %s: %.17g", ls->model->instruments[k].name, v[0]);
-        for (int c = 1; c < 8; c++) fprintf(ls->record, ",%.17g", v[c]);
+        if (!ok)
+            fprintf(ls->record, "# input line %ld (t = %.17g s) not reached: %g of the way\n",
+                    ls->line_no, v[0], fraction);
+        fprintf(ls->record, "# %s: %.17g", ls->model->instruments[k].name, reached[0]);
+        for (int c = 1; c < 8; c++) fprintf(ls->record, ",%.17g", reached[c]);
         fputc('\n', ls->record);
         record_check(ls);
         if (carried) record_row(ls, tip_row, velocity); /* the needle's path */
     }
-    return failed ? LINE_FAILED : LINE_OK;
+    return ok ? LINE_OK : LINE_FAILED;
 }
 
 /* The line in ls->line (len bytes, its line break taken off) answered:
