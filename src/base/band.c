@@ -103,6 +103,61 @@ static inline __attribute__((always_inline)) void band_solve_many_kl(const band_
     }
 }
 
+/* band_solve_many_kl for one right-hand side, b[j + 1] (b[j - 1] in the
+ * back substitution) carried in a register to the next column, whose
+ * value it is unless that column pivots: its serial chain then waits on
+ * no store and load. The same operations in the same order. */
+static inline __attribute__((always_inline)) void band_solve_one_kl(const band_lu *lu,
+                                                                   double *restrict b,
+                                                                   const int kl)
+{
+    const int n = lu->n, kv = 2 * kl, ld = lu->ldab;
+    const double *restrict ab = lu->ab;
+    const double *restrict inv_diag = lu->inv_diag;
+    const int *restrict pivot = lu->pivot;
+    const int *restrict lower = lu->lower, *restrict upper = lu->upper;
+    double next = b[0]; /* b[j]'s value at column j */
+    for (int j = 0; j < n - 1; j++) {
+        const int p = pivot[j] - 1, len = lower[j];
+        const double *col = &ab[(size_t)j * ld + kv + 1];
+        double bj = next;
+        if (p != j) {
+            bj = b[p];
+            b[p] = next;
+        }
+        b[j] = bj;
+        if (len == kl) {
+            next = b[j + 1] - col[0] * bj;
+            b[j + 1] = next;
+            for (int i = 1; i < kl; i++) b[j + 1 + i] -= col[i] * bj;
+        } else if (len == SHORT_COLUMN) {
+            next = b[j + 1] - col[0] * bj;
+            b[j + 1] = next;
+            for (int i = 1; i < SHORT_COLUMN; i++) b[j + 1 + i] -= col[i] * bj;
+        } else if (len > 0) {
+            next = b[j + 1] - col[0] * bj;
+            b[j + 1] = next;
+            for (int i = 1; i < len; i++) b[j + 1 + i] -= col[i] * bj;
+        } else {
+            next = b[j + 1];
+        }
+    }
+    double here = b[n - 1]; /* b[j]'s value at column j */
+    for (int j = n - 1; j >= 0; j--) {
+        const double *col = &ab[(size_t)j * ld + kv - j]; /* col[i] = U(i, j) */
+        const int lo = upper[j];
+        const double bj = here * inv_diag[j];
+        b[j] = bj;
+        if (lo < j) {
+            here = b[j - 1] - col[j - 1] * bj;
+            b[j - 1] = here;
+            for (int i = lo; i < j - 1; i++) b[i] -= col[i] * bj;
+        } else if (j > 0) {
+            here = b[j - 1];
+        }
+    }
+}
+
 /* band_solve_many_kl for `lanes` right-hand sides side by side, stored by
  * rows (t[LANES (i * width + v) + l] is row i of right-hand side
  * LANES v + l, width vectors a row): each step of the substitutions updates
@@ -394,10 +449,10 @@ void band_solve_many(const band_lu *lu, double *b, int count, int first)
 void band_solve(const band_lu *lu, double *b)
 {
     switch (lu->kl) {
-    case 8: band_solve_many_kl(lu, b, 1, 0, 8); break;
-    case 14: band_solve_many_kl(lu, b, 1, 0, 14); break;
-    case 5: band_solve_many_kl(lu, b, 1, 0, 5); break;
-    default: band_solve_many_kl(lu, b, 1, 0, lu->kl); break;
+    case 8: band_solve_one_kl(lu, b, 8); break;
+    case 14: band_solve_one_kl(lu, b, 14); break;
+    case 5: band_solve_one_kl(lu, b, 5); break;
+    default: band_solve_one_kl(lu, b, lu->kl); break;
     }
 }
 
