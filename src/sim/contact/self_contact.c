@@ -953,25 +953,36 @@ static int node_columns(rod_self_contact *sc, int m, const double *push,
     }
     const int from = sc->slots;
     int firsts[3 * SELF_CONTACT_NODE_SLOTS]; /* the first row of each new U */
-    sc->entries = 0;
+    /* the new nodes in the rod's order (a pair's two strands lie far apart
+     * along it): each group of columns then starts its forward pass near
+     * its own nodes (solve_groups); the slots' order changes no number */
+    int fresh[SELF_CONTACT_NODE_SLOTS], count_fresh = 0;
     for (int r = 0; r < m; r++) {
         const self_pair *p = &sc->pair[sc->ranked[r]];
         if (p->column >= 0) continue;
         for (int e = 0; e < 4; e++) {
             const int k = p->node[e];
-            if (push[k] == 0.0 || sc->slot[k] >= 0) continue;
-            const int s = sc->slots++;
-            sc->slot[k] = s;
-            sc->slot_node[s] = k;
-            for (int comp = 0; comp < 3; comp++) {
-                /* U_k: as pair_columns, per unit force */
-                begin_column(sc, 3 * (s - from) + comp);
-                if (k >= 1) add_entry(sc, row_of(sc, k, comp), -1.0);
-                if (k + 1 <= sc->nodes - 1) add_entry(sc, row_of(sc, k + 1, comp), 1.0);
-            }
-            const int row = row_of(sc, k >= 1 ? k : k + 1, 0);
-            for (int comp = 0; comp < 3; comp++) firsts[3 * (s - from) + comp] = row;
+            if (push[k] == 0.0 || sc->slot[k] != -1) continue;
+            sc->slot[k] = -2; /* taken, its slot below */
+            int at = count_fresh++;
+            for (; at > 0 && fresh[at - 1] > k; at--) fresh[at] = fresh[at - 1];
+            fresh[at] = k;
         }
+    }
+    sc->entries = 0;
+    for (int f = 0; f < count_fresh; f++) {
+        const int k = fresh[f];
+        const int s = sc->slots++;
+        sc->slot[k] = s;
+        sc->slot_node[s] = k;
+        for (int comp = 0; comp < 3; comp++) {
+            /* U_k: as pair_columns, per unit force */
+            begin_column(sc, 3 * (s - from) + comp);
+            if (k >= 1) add_entry(sc, row_of(sc, k, comp), -1.0);
+            if (k + 1 <= sc->nodes - 1) add_entry(sc, row_of(sc, k + 1, comp), 1.0);
+        }
+        const int row = row_of(sc, k >= 1 ? k : k + 1, 0);
+        for (int comp = 0; comp < 3; comp++) firsts[3 * (s - from) + comp] = row;
     }
     const int count = 3 * (sc->slots - from);
     if (count)
