@@ -45,9 +45,18 @@ void band_solve(const band_lu *lu, double *b);
  * and count > 1, else one column at a time. */
 void band_solve_many(const band_lu *lu, double *b, int count, int first);
 
-/* band_solve_many by rows: up to 2 LANES right-hand sides side by side,
+/* band_solve_many by rows: up to 4 LANES right-hand sides side by side,
  * each step of the substitutions one vector operation for LANES of them.
  * Needs the rows scratch (band_lu_create's `rows`). */
 void band_solve_rows(const band_lu *lu, double *b, int count, int first);
+
+/* band_solve_rows for count right-hand sides given by their entries:
+ * column c is 0 but for value[k] added at row[k], in order, for k =
+ * start[c] .. start[c + 1] - 1, none above row `first`. The solutions go
+ * into b (column-major, n apart; nothing in it is read): the numbers
+ * band_solve_rows gives for those columns written out, without writing
+ * them out. Needs the rows scratch. */
+void band_solve_entries(const band_lu *lu, double *b, int count, int first, const int *start,
+                        const int *row, const double *value);
 
 #endif

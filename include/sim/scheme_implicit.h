@@ -39,12 +39,13 @@ double rod_implicit_jacobian_error(const rod_model *m, const rod_state *s, doubl
 double rod_implicit_contact_jacobian_error(const rod_model *m, const rod_state *s, double dt,
                                            double perturb, int *column, double *floor);
 
-/* band_solve_rows (several right-hand sides side by side, by rows) against
- * band_solve (one at a time) on the rod's Jacobian at the first iterate of
- * the step of dt from s, factored: `count` right-hand sides, zero above
- * row `first`. Returns the largest entry of A x - b (A the Jacobian, x the
- * rows kernel's solution, b's entries within 1); *differ = the entries of
- * the two solutions that differ in any bit. NaN (*differ = -1) when it
+/* band_solve_rows (several right-hand sides side by side, by rows) and
+ * band_solve_entries (the same given by their entries) against band_solve
+ * (one at a time) on the rod's Jacobian at the first iterate of the step
+ * of dt from s, factored: `count` right-hand sides, zero above row
+ * `first`. Returns the largest entry of A x - b (A the Jacobian, x the
+ * rows kernel's solution, b's entries within 1); *differ = the entries
+ * where either differs from band_solve's in any bit. NaN (*differ = -1) when it
  * cannot be set up (the planar path, or self-contact off: the rows kernel
  * is self-contact's). */
 double rod_implicit_rows_solve_check(const rod_model *m, const rod_state *s, double dt, int count,

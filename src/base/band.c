@@ -10,8 +10,10 @@
 /* Loops over a column of L shorter than this run this length
  * (band_factor_kl) */
 #define SHORT_COLUMN 8
-/* Right-hand sides band_solve_rows takes at a time: two vectors a row */
-#define ROWS_CHUNK (2 * LANES)
+/* Right-hand sides band_solve_rows takes at a time: up to four vectors a
+ * row (each pass over the factors serves them all) */
+#define ROWS_WIDTH 4
+#define ROWS_CHUNK (ROWS_WIDTH * LANES)
 
 int band_lu_create(band_lu *lu, int n, int kl, int rows)
 {
@@ -101,6 +103,61 @@ static inline __attribute__((always_inline)) void band_solve_many_kl(const band_
     }
 }
 
+/* band_solve_many_kl for one right-hand side, b[j + 1] (b[j - 1] in the
+ * back substitution) carried in a register to the next column, whose
+ * value it is unless that column pivots: its serial chain then waits on
+ * no store and load. The same operations in the same order. */
+static inline __attribute__((always_inline)) void band_solve_one_kl(const band_lu *lu,
+                                                                   double *restrict b,
+                                                                   const int kl)
+{
+    const int n = lu->n, kv = 2 * kl, ld = lu->ldab;
+    const double *restrict ab = lu->ab;
+    const double *restrict inv_diag = lu->inv_diag;
+    const int *restrict pivot = lu->pivot;
+    const int *restrict lower = lu->lower, *restrict upper = lu->upper;
+    double next = b[0]; /* b[j]'s value at column j */
+    for (int j = 0; j < n - 1; j++) {
+        const int p = pivot[j] - 1, len = lower[j];
+        const double *col = &ab[(size_t)j * ld + kv + 1];
+        double bj = next;
+        if (p != j) {
+            bj = b[p];
+            b[p] = next;
+        }
+        b[j] = bj;
+        if (len == kl) {
+            next = b[j + 1] - col[0] * bj;
+            b[j + 1] = next;
+            for (int i = 1; i < kl; i++) b[j + 1 + i] -= col[i] * bj;
+        } else if (len == SHORT_COLUMN) {
+            next = b[j + 1] - col[0] * bj;
+            b[j + 1] = next;
+            for (int i = 1; i < SHORT_COLUMN; i++) b[j + 1 + i] -= col[i] * bj;
+        } else if (len > 0) {
+            next = b[j + 1] - col[0] * bj;
+            b[j + 1] = next;
+            for (int i = 1; i < len; i++) b[j + 1 + i] -= col[i] * bj;
+        } else {
+            next = b[j + 1];
+        }
+    }
+    double here = b[n - 1]; /* b[j]'s value at column j */
+    for (int j = n - 1; j >= 0; j--) {
+        const double *col = &ab[(size_t)j * ld + kv - j]; /* col[i] = U(i, j) */
+        const int lo = upper[j];
+        const double bj = here * inv_diag[j];
+        b[j] = bj;
+        if (lo < j) {
+            here = b[j - 1] - col[j - 1] * bj;
+            b[j - 1] = here;
+            for (int i = lo; i < j - 1; i++) b[i] -= col[i] * bj;
+        } else if (j > 0) {
+            here = b[j - 1];
+        }
+    }
+}
+
 /* band_solve_many_kl for `lanes` right-hand sides side by side, stored by
  * rows (t[LANES (i * width + v) + l] is row i of right-hand side
  * LANES v + l, width vectors a row): each step of the substitutions updates
@@ -121,7 +178,7 @@ band_solve_rows_kl(const band_lu *lu, lanes *restrict t, int first, const int kl
     for (int j = first > kl ? first - kl : 0; j < n - 1; j++) {
         const int p = pivot[j] - 1, len = lower[j];
         const double *col = &ab[(size_t)j * ld + kv + 1];
-        lanes bj[2];
+        lanes bj[ROWS_WIDTH];
         for (int v = 0; v < width; v++) {
             bj[v] = t[p * width + v];
             t[p * width + v] = t[j * width + v];
@@ -133,7 +190,7 @@ band_solve_rows_kl(const band_lu *lu, lanes *restrict t, int first, const int kl
     for (int j = n - 1; j >= 0; j--) {
         const double *col = &ab[(size_t)j * ld + kv - j]; /* col[i] = U(i, j) */
         const int lo = upper[j];
-        lanes bj[2];
+        lanes bj[ROWS_WIDTH];
         for (int v = 0; v < width; v++) {
             bj[v] = t[j * width + v] * inv_diag[j];
             t[j * width + v] = bj[v];
@@ -159,6 +216,62 @@ band_solve_rows_width(const band_lu *lu, lanes *t, int first, const int width)
     }
 }
 
+/* A vector stored at any double's address */
+typedef double lanes_unaligned __attribute__((vector_size(LANES * sizeof(double)), aligned(8)));
+
+/* Columns c of t (n rows, `wide` a row) into b's columns (n apart), c <
+ * cc: each LANES x LANES block of LANES rows and columns transposed in
+ * registers (a column read down t alone touches a cache line a row) */
+static inline __attribute__((always_inline)) void rows_copy_out(const double *t, int wide, int n,
+                                                                double *b, int cc)
+{
+    const size_t w = (size_t)wide, stride = (size_t)n;
+    int c0 = 0;
+#if LANES == 4
+    for (; c0 + 4 <= cc; c0 += 4) {
+        double *b0 = b + (size_t)c0 * stride, *b1 = b0 + stride, *b2 = b1 + stride,
+               *b3 = b2 + stride;
+        int i = 0;
+        for (; i + 4 <= n; i += 4) {
+            const lanes *r = (const lanes *)(t + (size_t)i * w + (size_t)c0);
+            const size_t v = w / 4; /* vectors a row */
+            const lanes r0 = r[0], r1 = r[v], r2 = r[2 * v], r3 = r[3 * v];
+            const lanes e0 = __builtin_shufflevector(r0, r1, 0, 4, 2, 6);
+            const lanes e1 = __builtin_shufflevector(r0, r1, 1, 5, 3, 7);
+            const lanes e2 = __builtin_shufflevector(r2, r3, 0, 4, 2, 6);
+            const lanes e3 = __builtin_shufflevector(r2, r3, 1, 5, 3, 7);
+            *(lanes_unaligned *)&b0[i] = __builtin_shufflevector(e0, e2, 0, 1, 4, 5);
+            *(lanes_unaligned *)&b1[i] = __builtin_shufflevector(e1, e3, 0, 1, 4, 5);
+            *(lanes_unaligned *)&b2[i] = __builtin_shufflevector(e0, e2, 2, 3, 6, 7);
+            *(lanes_unaligned *)&b3[i] = __builtin_shufflevector(e1, e3, 2, 3, 6, 7);
+        }
+        for (; i < n; i++) {
+            const double *ti = t + (size_t)i * w + (size_t)c0;
+            b0[i] = ti[0], b1[i] = ti[1], b2[i] = ti[2], b3[i] = ti[3];
+        }
+    }
+#endif
+    for (int c = c0; c < cc; c++) {
+        double *bc = b + (size_t)c * stride;
+        for (int i = 0; i < n; i++) bc[i] = t[(size_t)i * w + (size_t)c];
+    }
+}
+
+/* A chunk of band_solve_rows: its right-hand sides in t (`wide` a row,
+ * cc of them in use) solved, and copied out into cc columns of b */
+static inline __attribute__((always_inline)) void
+rows_chunk_solve(const band_lu *lu, double *t, int wide, int first, double *b, int cc)
+{
+    const int n = lu->n;
+    switch (wide / LANES) {
+    case 4: band_solve_rows_width(lu, (lanes *)t, first, 4); break;
+    case 3: band_solve_rows_width(lu, (lanes *)t, first, 3); break;
+    case 2: band_solve_rows_width(lu, (lanes *)t, first, 2); break;
+    default: band_solve_rows_width(lu, (lanes *)t, first, 1); break;
+    }
+    rows_copy_out(t, wide, n, b, cc);
+}
+
 /* band_solve_rows_kl, ROWS_CHUNK right-hand sides at a time (fewer in the
  * last chunk, up to LANES of them in one vector a row), copied into the rows
  * scratch and back: about half the time of the columns one at a time
@@ -170,7 +283,7 @@ LANES_TARGET void band_solve_rows(const band_lu *lu, double *b, int count, int f
     double *t = lu->rows;
     for (int c0 = 0; c0 < count; c0 += ROWS_CHUNK) {
         const int cc = count - c0 < ROWS_CHUNK ? count - c0 : ROWS_CHUNK;
-        const int width = cc > LANES ? 2 : 1, wide = LANES * width;
+        const int wide = LANES * ((cc + LANES - 1) / LANES);
         /* rows above `first` are 0 in every column: the forward pass leaves
          * them so until kl rows above it, where it starts */
         for (int i = 0; i < n; i++) {
@@ -179,12 +292,25 @@ LANES_TARGET void band_solve_rows(const band_lu *lu, double *b, int count, int f
             for (; c < cc; c++) ti[c] = b[(size_t)(c0 + c) * stride + (size_t)i];
             for (; c < wide; c++) ti[c] = 0.0;
         }
-        if (width == 2) band_solve_rows_width(lu, (lanes *)t, first, 2);
-        else band_solve_rows_width(lu, (lanes *)t, first, 1);
-        for (int c = 0; c < cc; c++) {
-            double *bc = b + (size_t)(c0 + c) * stride;
-            for (int i = 0; i < n; i++) bc[i] = t[(size_t)i * (size_t)wide + (size_t)c];
-        }
+        rows_chunk_solve(lu, t, wide, first, b + (size_t)c0 * stride, cc);
+    }
+}
+
+/* band_solve_rows with the right-hand sides put into the rows scratch
+ * from their entries: the scratch zeroed, each entry added at its row */
+LANES_TARGET void band_solve_entries(const band_lu *lu, double *b, int count, int first,
+                                     const int *start, const int *row, const double *value)
+{
+    const int n = lu->n;
+    double *t = lu->rows;
+    for (int c0 = 0; c0 < count; c0 += ROWS_CHUNK) {
+        const int cc = count - c0 < ROWS_CHUNK ? count - c0 : ROWS_CHUNK;
+        const int wide = LANES * ((cc + LANES - 1) / LANES);
+        memset(t, 0, (size_t)n * (size_t)wide * sizeof(double));
+        for (int c = 0; c < cc; c++)
+            for (int k = start[c0 + c]; k < start[c0 + c + 1]; k++)
+                t[(size_t)row[k] * (size_t)wide + (size_t)c] += value[k];
+        rows_chunk_solve(lu, t, wide, first, b + (size_t)c0 * (size_t)n, cc);
     }
 }
 
@@ -323,10 +449,10 @@ void band_solve_many(const band_lu *lu, double *b, int count, int first)
 void band_solve(const band_lu *lu, double *b)
 {
     switch (lu->kl) {
-    case 8: band_solve_many_kl(lu, b, 1, 0, 8); break;
-    case 14: band_solve_many_kl(lu, b, 1, 0, 14); break;
-    case 5: band_solve_many_kl(lu, b, 1, 0, 5); break;
-    default: band_solve_many_kl(lu, b, 1, 0, lu->kl); break;
+    case 8: band_solve_one_kl(lu, b, 8); break;
+    case 14: band_solve_one_kl(lu, b, 14); break;
+    case 5: band_solve_one_kl(lu, b, 5); break;
+    default: band_solve_one_kl(lu, b, lu->kl); break;
     }
 }
 

@@ -180,7 +180,10 @@ double rod_implicit_rows_solve_check(const rod_model *m, const rod_state *s, dou
     const size_t size = (size_t)ld * (size_t)nu, all = (size_t)nu * (size_t)count;
     double *a = malloc(size * sizeof(double)), *b = calloc(all, sizeof(double));
     double *x = malloc(all * sizeof(double)), *y = malloc(all * sizeof(double));
-    if (a && b && x && y) {
+    /* the same right-hand sides by their entries (band_solve_entries) */
+    double *z = malloc(all * sizeof(double)), *value = malloc(all * sizeof(double));
+    int *start = malloc(((size_t)count + 1) * sizeof(int)), *row = malloc(all * sizeof(int));
+    if (a && b && x && y && z && value && start && row) {
         memcpy(a, w->lu.ab, size * sizeof(double));
         if (implicit_factor_band(w, dt) == 0) {
             /* right-hand sides zero above row `first`, as the pairs' are */
@@ -189,10 +192,20 @@ double rod_implicit_rows_solve_check(const rod_model *m, const rod_state *s, dou
                     b[(size_t)c * (size_t)nu + (size_t)i] = sin(1.0 + 0.37 * i + 1.3 * c);
             memcpy(x, b, all * sizeof(double));
             memcpy(y, b, all * sizeof(double));
+            int entries = 0;
+            for (int c = 0; c < count; c++) {
+                start[c] = entries;
+                for (int i = first; i < nu; i++, entries++)
+                    row[entries] = i, value[entries] = b[(size_t)c * (size_t)nu + (size_t)i];
+            }
+            start[count] = entries;
             band_solve_rows(&w->lu, x, count, first);
+            band_solve_entries(&w->lu, z, count, first, start, row, value);
             for (int c = 0; c < count; c++) band_solve(&w->lu, &y[(size_t)c * (size_t)nu]);
             *differ = 0;
-            for (size_t k = 0; k < all; k++) *differ += memcmp(&x[k], &y[k], sizeof(double)) != 0;
+            for (size_t k = 0; k < all; k++)
+                *differ += memcmp(&x[k], &y[k], sizeof(double)) != 0 ||
+                           memcmp(&z[k], &y[k], sizeof(double)) != 0;
             /* |A x - b| over b's largest entry, A the matrix before its factors */
             worst = 0.0;
             for (int c = 0; c < count; c++) {
@@ -211,6 +224,10 @@ double rod_implicit_rows_solve_check(const rod_model *m, const rod_state *s, dou
     free(b);
     free(x);
     free(y);
+    free(z);
+    free(value);
+    free(start);
+    free(row);
 done:
     implicit_destroy(w);
     return worst;

@@ -97,6 +97,18 @@ typedef struct self_pair {
     double last_largest;   /* N: the largest of them */
 } self_pair;
 
+/* solve(ctx, v, count, first, start, row, value): B v = e for count
+ * columns (v column-major, unknowns long; nothing in it read), e's column c
+ * 0 but for value[k] added at row[k], in order, for k = start[c] ..
+ * start[c + 1] - 1, none above row first */
+typedef void (*rod_self_contact_solve)(const void *ctx, double *v, int count, int first,
+                                       const int *start, const int *row, const double *value);
+
+/* The most entries of the columns one correction solves: 3 a pair, each at
+ * most 24 (a pair whose nodes a surface holds: 2 rows for each of its 4
+ * nodes' 3 components), or 3 a node, each 2 */
+#define SELF_CONTACT_ENTRIES (3 * 24 * SELF_CONTACT_RANK_PAIRS)
+
 typedef struct rod_self_contact {
     int nodes;
     double diameter, friction, ds;
@@ -124,6 +136,11 @@ typedef struct rod_self_contact {
     int columns;           /* of Y in use (3 per pair in the correction) */
     int ranked[SELF_CONTACT_RANK_PAIRS]; /* pairs in the correction, by column / 3 */
     double *y;             /* (unknowns x 3 SELF_CONTACT_RANK_PAIRS) B^-1 V, column-major */
+    /* the columns to solve, by their entries (rod_self_contact_solve):
+     * entry_start (3 SELF_CONTACT_NODE_SLOTS + 1), entry_row and entry_value
+     * (SELF_CONTACT_ENTRIES); entries in use */
+    int *entry_start, *entry_row, entries;
+    double *entry_value;
     double *s, *rhs;       /* dense system of the correction */
     double *node_force;    /* (nodes x 3) N, global: what the other strands exert on each node */
     double *node_map;      /* (nodes x 9) row-major: d v / d v_in of the surfaces' contact on a
@@ -299,12 +316,10 @@ void rod_self_contact_invalidate(rod_self_contact *sc);
 /* Newton's correction: dx holds B^-1 r on entry and the scheme's part of
  * the correction on return; each pair's delta its force's (the system
  * above), for the g and gains of the last rod_self_contact_forces call.
- * solve(ctx, v, count, first) solves B v = v in place for count columns
- * (v column-major, unknowns long), whose rows above first are 0. c = theta
+ * solve (rod_self_contact_solve) solves B v = e for count columns. c = theta
  * dt / ds. Returns 0, or -1 when the dense system is singular or the
  * nodes' columns find no memory (dx is then B^-1 r, delta g). */
 int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *push, double c,
-                             void (*solve)(const void *ctx, double *v, int count, int first),
-                             const void *ctx);
+                             rod_self_contact_solve solve, const void *ctx);
 
 #endif

@@ -69,11 +69,14 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
     sc->spread = malloc((size_t)nodes * sizeof(double));
     sc->s = malloc((size_t)9 * SELF_CONTACT_RANK_PAIRS * SELF_CONTACT_RANK_PAIRS * sizeof(double));
     sc->rhs = malloc((size_t)3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
+    sc->entry_start = malloc((size_t)(3 * SELF_CONTACT_NODE_SLOTS + 1) * sizeof(int));
+    sc->entry_row = malloc((size_t)SELF_CONTACT_ENTRIES * sizeof(int));
+    sc->entry_value = malloc((size_t)SELF_CONTACT_ENTRIES * sizeof(double));
     if (!sc->pair || !sc->found || !sc->node_force || !sc->node_map || !sc->mapped || !sc->held_map || !sc->held || !sc->prox || !sc->s || !sc->rhs ||
         !sc->last_ab || !sc->last_force || !sc->last_share || !sc->last_frac || !sc->last_to ||
         !sc->found_distance || !sc->near ||
         !sc->slot || !sc->slot_node || !sc->clear_pos || !sc->list_pos || !sc->measured_pos ||
-        !sc->turn || !sc->spread) {
+        !sc->turn || !sc->spread || !sc->entry_start || !sc->entry_row || !sc->entry_value) {
         rod_self_contact_destroy(sc);
         return NULL;
     }
@@ -102,6 +105,9 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->y);
     free(sc->s);
     free(sc->rhs);
+    free(sc->entry_start);
+    free(sc->entry_row);
+    free(sc->entry_value);
     free(sc->clear_pos);
     free(sc->list_pos);
     free(sc->measured_pos);
@@ -885,9 +891,9 @@ static inline int row_of(const rod_self_contact *sc, int b, int c)
     return sc->block * (b - sc->first) + c;
 }
 
-/* The columns solved at a time (band_solve_rows' group: two vectors of
- * LANES a row) */
-#define SOLVE_GROUP (2 * LANES)
+/* The columns solved at a time (band_solve_entries' group: four vectors
+ * of LANES a row) */
+#define SOLVE_GROUP (4 * LANES)
 
 /* Solves the count columns from v (nu long each) in groups of SOLVE_GROUP,
  * each group from the first row any of its columns has (firsts[], one a
@@ -895,17 +901,32 @@ static inline int row_of(const rod_self_contact *sc, int b, int c)
  * above it, where the forward pass starts, so a later start leaves each
  * column's numbers as they were; a group of columns from pairs further
  * down the rod skips the rows above them (pairs come in the rod's order) */
-static void solve_groups(double *v, int nu, int count, const int *firsts,
-                         void (*solve)(const void *ctx, double *v, int count, int first),
-                         const void *ctx)
+static void solve_groups(rod_self_contact *sc, double *v, int count, const int *firsts,
+                         rod_self_contact_solve solve, const void *ctx)
 {
+    const int nu = sc->unknowns;
+    sc->entry_start[count] = sc->entries;
     for (int c0 = 0; c0 < count; c0 += SOLVE_GROUP) {
         const int cc = count - c0 < SOLVE_GROUP ? count - c0 : SOLVE_GROUP;
         int first = nu;
         for (int c = c0; c < c0 + cc; c++)
             if (firsts[c] < first) first = firsts[c];
-        solve(ctx, &v[(size_t)c0 * (size_t)nu], cc, first);
+        solve(ctx, &v[(size_t)c0 * (size_t)nu], cc, first, &sc->entry_start[c0], sc->entry_row,
+              sc->entry_value);
     }
+}
+
+/* Column c (from the first to solve) begins its entries */
+static void begin_column(rod_self_contact *sc, int c)
+{
+    sc->entry_start[c] = sc->entries;
+}
+
+/* value added at row of the column begun last */
+static void add_entry(rod_self_contact *sc, int row, double value)
+{
+    sc->entry_row[sc->entries] = row;
+    sc->entry_value[sc->entries++] = value;
 }
 
 /* The nodes' columns Z_k = B^-1 U_k that the first m ranked pairs without
@@ -913,8 +934,7 @@ static void solve_groups(double *v, int nu, int count, const int *firsts,
  * and needs none), solved together: one pass over B's factors for all.
  * Returns 0, or -1 when out of memory. */
 static int node_columns(rod_self_contact *sc, int m, const double *push,
-                        void (*solve)(const void *ctx, double *v, int count, int first),
-                        const void *ctx)
+                        rod_self_contact_solve solve, const void *ctx)
 {
     const int nu = sc->unknowns;
     int need = 0;
@@ -933,29 +953,40 @@ static int node_columns(rod_self_contact *sc, int m, const double *push,
     }
     const int from = sc->slots;
     int firsts[3 * SELF_CONTACT_NODE_SLOTS]; /* the first row of each new U */
+    /* the new nodes in the rod's order (a pair's two strands lie far apart
+     * along it): each group of columns then starts its forward pass near
+     * its own nodes (solve_groups); the slots' order changes no number */
+    int fresh[SELF_CONTACT_NODE_SLOTS], count_fresh = 0;
     for (int r = 0; r < m; r++) {
         const self_pair *p = &sc->pair[sc->ranked[r]];
         if (p->column >= 0) continue;
         for (int e = 0; e < 4; e++) {
             const int k = p->node[e];
-            if (push[k] == 0.0 || sc->slot[k] >= 0) continue;
-            const int s = sc->slots++;
-            sc->slot[k] = s;
-            sc->slot_node[s] = k;
-            for (int comp = 0; comp < 3; comp++) {
-                /* U_k: as pair_columns, per unit force */
-                double *col = &sc->z[(size_t)(3 * s + comp) * (size_t)nu];
-                memset(col, 0, (size_t)nu * sizeof(double));
-                if (k >= 1) col[row_of(sc, k, comp)] -= 1.0;
-                if (k + 1 <= sc->nodes - 1) col[row_of(sc, k + 1, comp)] += 1.0;
-            }
-            const int row = row_of(sc, k >= 1 ? k : k + 1, 0);
-            for (int comp = 0; comp < 3; comp++) firsts[3 * (s - from) + comp] = row;
+            if (push[k] == 0.0 || sc->slot[k] != -1) continue;
+            sc->slot[k] = -2; /* taken, its slot below */
+            int at = count_fresh++;
+            for (; at > 0 && fresh[at - 1] > k; at--) fresh[at] = fresh[at - 1];
+            fresh[at] = k;
         }
+    }
+    sc->entries = 0;
+    for (int f = 0; f < count_fresh; f++) {
+        const int k = fresh[f];
+        const int s = sc->slots++;
+        sc->slot[k] = s;
+        sc->slot_node[s] = k;
+        for (int comp = 0; comp < 3; comp++) {
+            /* U_k: as pair_columns, per unit force */
+            begin_column(sc, 3 * (s - from) + comp);
+            if (k >= 1) add_entry(sc, row_of(sc, k, comp), -1.0);
+            if (k + 1 <= sc->nodes - 1) add_entry(sc, row_of(sc, k + 1, comp), 1.0);
+        }
+        const int row = row_of(sc, k >= 1 ? k : k + 1, 0);
+        for (int comp = 0; comp < 3; comp++) firsts[3 * (s - from) + comp] = row;
     }
     const int count = 3 * (sc->slots - from);
     if (count)
-        solve_groups(&sc->z[(size_t)3 * (size_t)from * (size_t)nu], nu, count, firsts, solve, ctx);
+        solve_groups(sc, &sc->z[(size_t)3 * (size_t)from * (size_t)nu], count, firsts, solve, ctx);
     return 0;
 }
 
@@ -1113,12 +1144,13 @@ static int rank_pairs(rod_self_contact *sc)
  * mapped node: a unit force component j at node k moves it by push w
  * M_k e_j */
 static void mapped_columns(rod_self_contact *sc, const self_pair *p, const double *push,
-                           int direct, int *first)
+                           int direct, int from, int *first)
 {
     const int nu = sc->unknowns;
     for (int j = 0; j < 3; j++) {
         double *col = &sc->y[(size_t)(p->column + j) * (size_t)nu];
-        memset(col, 0, (size_t)nu * sizeof(double));
+        if (direct) begin_column(sc, p->column - from + j);
+        else memset(col, 0, (size_t)nu * sizeof(double));
         for (int e = 0; e < 4; e++) {
             const int k = p->node[e];
             const double g = p->weight[e] * push[k];
@@ -1128,9 +1160,9 @@ static void mapped_columns(rod_self_contact *sc, const self_pair *p, const doubl
             add_mapped(sc, k, unit, mj); /* M_k e_j */
             for (int l = 0; l < 3; l++) {
                 if (mj[l] == 0.0) continue;
-                if (direct) {
-                    if (k >= 1) col[row_of(sc, k, l)] -= g * mj[l];
-                    if (k + 1 <= sc->nodes - 1) col[row_of(sc, k + 1, l)] += g * mj[l];
+                if (direct) { /* 0 - x and 0 + -x: the same number */
+                    if (k >= 1) add_entry(sc, row_of(sc, k, l), -(g * mj[l]));
+                    if (k + 1 <= sc->nodes - 1) add_entry(sc, row_of(sc, k + 1, l), g * mj[l]);
                     const int row = row_of(sc, k >= 1 ? k : k + 1, 0);
                     if (row < *first) *first = row;
                 } else {
@@ -1152,8 +1184,7 @@ static void mapped_columns(rod_self_contact *sc, const self_pair *p, const doubl
  * SELF_CONTACT_RANK_PAIRS: then they fit). Returns 0, or -1 when the
  * nodes' columns find no memory. */
 static int pair_solutions(rod_self_contact *sc, int m, const double *push,
-                          void (*solve)(const void *ctx, double *v, int count, int first),
-                          const void *ctx)
+                          rod_self_contact_solve solve, const void *ctx)
 {
     const int nu = sc->unknowns;
     int missing = 0;
@@ -1162,6 +1193,7 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
     const int direct = sc->b_age < 2, from = sc->columns;
     if (!direct && node_columns(sc, m, push, solve, ctx)) return -1;
     int firsts[3 * SELF_CONTACT_RANK_PAIRS]; /* the first row of each new V (direct) */
+    sc->entries = 0;
     for (int r = 0; r < m; r++) {
         self_pair *p = &sc->pair[sc->ranked[r]];
         if (p->column >= 0) continue;
@@ -1169,7 +1201,7 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
         sc->columns += 3;
         int first = nu;
         p->column_mapped = pair_mapped(sc, p);
-        if (p->column_mapped) mapped_columns(sc, p, push, direct, &first);
+        if (p->column_mapped) mapped_columns(sc, p, push, direct, from, &first);
         for (int comp = 0; comp < 3; comp++) firsts[p->column - from + comp] = first;
         if (p->column_mapped) continue;
         int block[8];
@@ -1178,10 +1210,10 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
         for (int comp = 0; comp < 3; comp++) {
             double *col = &sc->y[(size_t)(p->column + comp) * (size_t)nu];
             if (direct) {
-                memset(col, 0, (size_t)nu * sizeof(double));
+                begin_column(sc, p->column - from + comp);
                 for (int e = 0; e < count; e++) {
                     const int row = row_of(sc, block[e], comp);
-                    col[row] += coef[e];
+                    add_entry(sc, row, coef[e]);
                     if (row < firsts[p->column - from + comp])
                         firsts[p->column - from + comp] = row;
                 }
@@ -1210,7 +1242,7 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
         }
     }
     if (direct && sc->columns > from)
-        solve_groups(&sc->y[(size_t)from * (size_t)nu], nu, sc->columns - from, firsts, solve,
+        solve_groups(sc, &sc->y[(size_t)from * (size_t)nu], sc->columns - from, firsts, solve,
                      ctx);
     return 0;
 }
@@ -1342,8 +1374,7 @@ static void apply_correction(rod_self_contact *sc, int m, double *dx, double c)
 }
 
 int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *push, double c,
-                             void (*solve)(const void *ctx, double *v, int count, int first),
-                             const void *ctx)
+                             rod_self_contact_solve solve, const void *ctx)
 {
     const int m = rank_pairs(sc);
     if (m == 0) return 0;

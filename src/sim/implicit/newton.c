@@ -77,10 +77,12 @@ int implicit_same_dt(double dt_factored, double dt)
     return fabs(dt - dt_factored) <= 1e-9 * fabs(dt);
 }
 
-/* self-contact's solve of B v = v for count columns (rod_self_contact_correct) */
-static void solve_many(const void *ctx, double *b, int count, int first)
+/* self-contact's solve of B v = e for count columns given by their entries
+ * (rod_self_contact_solve) */
+static void solve_entries(const void *ctx, double *b, int count, int first, const int *start,
+                          const int *row, const double *value)
 {
-    band_solve_many(ctx, b, count, first);
+    band_solve_entries(ctx, b, count, first, start, row, value);
 }
 
 /* Newton's correction dx = J^-1 r: the banded factors, and the self-contact
@@ -91,7 +93,7 @@ static void newton_solve(implicit_work *w, const rod_model *m, double dt)
     band_solve(&w->lu, w->dx);
     if (w->self && w->self->count)
         rod_self_contact_correct(w->self, w->dx, w->node_push, m->options.theta * dt / m->ds,
-                                 solve_many, &w->lu);
+                                 solve_entries, &w->lu);
 }
 
 /* N: what the self-contact pairs' residual is measured against, the force

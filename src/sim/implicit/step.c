@@ -57,7 +57,9 @@ static void save_state(implicit_work *w, const rod_state *s)
     memcpy(w->save_vel, s->velocity, n * 3 * sizeof(double));
     memcpy(w->save_omega, s->angular_velocity, n * 3 * sizeof(double));
     memcpy(w->save_force, s->contact_force, n * 3 * sizeof(double));
-    memcpy(w->save_puncture, s->puncture, sizeof s->puncture);
+    /* the punctures in use: those past the count are zero (each made
+     * zeroed, none removed; restore_state zeroes those a try made) */
+    memcpy(w->save_puncture, s->puncture, (size_t)s->puncture_count * sizeof *s->puncture);
     w->save_puncture_count = s->puncture_count;
     memcpy(w->save_grasp, s->grasp, sizeof s->grasp);
     memcpy(w->save_grasp_log, s->grasp_log, sizeof s->grasp_log);
@@ -74,8 +76,10 @@ static void restore_state(const implicit_work *w, rod_state *s)
     memcpy(s->velocity, w->save_vel, n * 3 * sizeof(double));
     memcpy(s->angular_velocity, w->save_omega, n * 3 * sizeof(double));
     memcpy(s->contact_force, w->save_force, n * 3 * sizeof(double));
-    memcpy(s->puncture, w->save_puncture, sizeof s->puncture);
-    s->puncture_count = w->save_puncture_count;
+    const int kept = w->save_puncture_count, made = s->puncture_count;
+    memcpy(s->puncture, w->save_puncture, (size_t)kept * sizeof *s->puncture);
+    if (made > kept) memset(&s->puncture[kept], 0, (size_t)(made - kept) * sizeof *s->puncture);
+    s->puncture_count = kept;
     memcpy(s->grasp, w->save_grasp, sizeof s->grasp);
     memcpy(s->grasp_log, w->save_grasp_log, sizeof s->grasp_log);
     s->grasp_log_count = w->save_grasp_log_count;
