@@ -278,15 +278,15 @@ static int retry_with_differences(implicit_work *w, const rod_model *m, rod_stat
 /* The step's last resort, when every try above failed (split == -1) and
  * the run would end, with self-contact: the step again from its start,
  * splits included, with RESORT_BUDGET_FACTOR budgets of its own, the
- * exact Jacobian, Newton patient (PATIENT_FACTOR), and every sub-step's first iterate from the
- * last sub-step's solution (keep_solution), also after one solved afresh,
- * whose first iterate rebuilt from the state started 1e4 times farther
- * from its solution; at the deepest split a sub-step may end within
- * ROD_LOOSE_FACTOR x the tolerance (newton.c's end_loose). Counted
- * (resorted_steps, loose_substeps) for the run's warnings: never silent,
- * and no step any earlier try solved gets here, so no run that ran
- * without it changes (docs/decisions/draft-stall-fallback.md). Returns
- * split_step's result. */
+ * exact Jacobian, Newton patient (PATIENT_FACTOR), and every sub-step's
+ * first iterate from the last sub-step's solution (keep_solution), also
+ * after one solved afresh, whose first iterate rebuilt from the state
+ * started some 5e3 times farther from its solution than its first half's;
+ * at the deepest split a sub-step may end within ROD_LOOSE_FACTOR x the
+ * tolerance (newton.c's end_loose). Counted (resorted_steps,
+ * loose_substeps) for the run's warnings: never silent, and no step any
+ * earlier try solved gets here, so no run that ran without it changes
+ * (docs/decisions/draft-stall-fallback.md). Returns split_step's result. */
 static int last_resort(implicit_work *w, const rod_model *m, rod_state *s, double dt,
                        rod_report *report, int split)
 {
