@@ -448,15 +448,6 @@ typedef enum {
     ROD_FAILED          /* out of memory or another failure */
 } rod_status;
 
-/* The implicit step's last resort (src/sim/implicit/step.c) ends a
- * sub-step of its deepest split whose Newton iteration stalls, runs out of
- * iterations or of the step's budget, when the residual there is within
- * this many times solver.newton_tolerance: only a step that would
- * otherwise end the run gets there, and each such sub-step is counted in
- * the run's warnings with the largest residual so accepted
- * (docs/decisions/draft-stall-fallback.md) */
-#define ROD_LOOSE_FACTOR 100.0
-
 typedef struct rod_report {
     char message[768];      /* for people: what diverged, the limit broken, what would work */
     char warning[512];      /* for people, on success: a caveat of the answer (e.g. the side
@@ -471,9 +462,6 @@ typedef struct rod_report {
     long resorted_steps;    /* implicit: steps that every usual attempt failed and the last
                                resort solved (src/sim/implicit/step.c), cumulative */
     double resorted_first;  /* s: the time the first of them started at */
-    long loose_substeps;    /* implicit: sub-steps of those ended above the Newton tolerance
-                               (within ROD_LOOSE_FACTOR x it), cumulative */
-    double loose_worst;     /* the largest scaled residual such a sub-step ended at */
 } rod_report;
 
 #endif

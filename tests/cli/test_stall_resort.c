@@ -10,9 +10,7 @@
  * Checked with this file's own geometry (the CSV's node positions, every
  * 20 ms), not the scheme's:
  * - the run completes to 11 s, and the summary's warnings name the steps
- *   the last resort solved (at least one, none before 10 s) and the
- *   largest residual a sub-step of them ended at, within 100 times the
- *   tolerance (1e-8);
+ *   the last resort solved (at least one, none before 10 s);
  * - no two segments 5 or more apart come closer than 0.98 diameters in
  *   any frame (brute force): nothing passes through;
  * - the knot: a trefoil in every frame from 3.7 s (both ends drawn out
@@ -22,7 +20,9 @@
  *   stand open, so nothing does work on the thread but gravity: its
  *   bending energy (sum over the interior nodes of B/2 (turn/ds)^2 ds,
  *   B = E pi d^4 / 64) in no later frame exceeds that at 9.8 s plus the
- *   thread's weight times its highest node's height over its lowest. */
+ *   thread's weight times its highest node's height over its lowest.
+ * Under the sanitizers only the first second runs (the run and the
+ * strands' gap). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -42,7 +42,6 @@
 #define LENGTH 0.113887633          /* m */
 #define YOUNGS 5e7                  /* Pa */
 #define DENSITY 1140.0              /* kg/m^3 */
-#define TOLERANCE 1e-8              /* the scene's Newton tolerance (the default) */
 #define MAX_FRAMES 560
 #define QUIET_FROM 9.8              /* s: the hand and the holder still from here */
 
@@ -79,19 +78,14 @@ static const char *resort_warning(const json_value *warnings)
 static void check_warning(const json_value *v)
 {
     const char *w = resort_warning(json_get(v, "warnings"));
-    long steps = -1, loose = -1;
-    double first = -1.0, worst = -1.0;
+    long steps = -1;
+    double first = -1.0;
     const char *at = w ? strstr(w, "scheme: ") : NULL;
     if (at) steps = strtol(at + 8, NULL, 10);
     if (w && (at = strstr(w, "the first at t = "))) first = strtod(at + 17, NULL);
-    if (w && (at = strstr(w, " s; "))) loose = strtol(at + 4, NULL, 10);
-    if (w && (at = strstr(w, "the largest residual "))) worst = strtod(at + 21, NULL);
     check(w != NULL, "the summary's warnings name the last resort: %.300s", w ? w : "(none)");
     check(steps >= 1 && first >= 10.0 && first <= 11.0, "%ld step(s) solved by the last resort "
           "(at least 1), the first at t = %.6g s (10-11 s: the slack knot)", steps, first);
-    check(loose >= 0 && worst >= 0.0 && worst <= 100.0 * TOLERANCE, "%ld sub-step(s) ended above "
-          "the tolerance, the largest residual %.3g within 100 x %.0e = %.0e", loose, worst,
-          TOLERANCE, 100.0 * TOLERANCE);
 }
 
 int main(void)
@@ -99,8 +93,14 @@ int main(void)
     const char *csv = "/tmp/rodsim_test_stall_resort.csv";
     const char *summary = "/tmp/rodsim_test_stall_resort.json";
     char output[16384];
+    /* under the sanitizers (about 8x the CPU) the first second only: the
+     * run and the strands' gap; the last resort is reached in the release
+     * build's run */
+    const int sanitized = test_sanitized();
+    const double until = sanitized ? 1.0 : 11.0;
     const char *args[] = {"run", "tests/cli/slack_stall/tie_hand_11.ini", "--no-video", "--csv",
-                          csv, "--summary", summary, NULL};
+                          csv, "--summary", summary, sanitized ? "--set" : NULL,
+                          "solver.duration=1", NULL};
     int status = test_run_rodsim(args, output, sizeof output);
     const char *why = status ? strstr(output, "rodsim run: the") : NULL;
     check(status == 0, "tie_hand_11.ini: the run completes (exit %d)%s%.240s", status,
@@ -109,15 +109,16 @@ int main(void)
     char *text = read_text(summary), err[256];
     json_value *v = text ? json_parse(text, err, sizeof err) : NULL;
     const json_value *t_end = json_get(v, "t_end"), *cpu = json_get(v, "cpu_s");
-    check(t_end && fabs(t_end->number - 11.0) < 1e-9, "the run ends at t = %.6g s (11 s) in %.3g "
-          "CPU s", t_end ? t_end->number : -1.0, cpu ? cpu->number : -1.0);
-    check_warning(v);
+    check(t_end && fabs(t_end->number - until) < 1e-9, "the run ends at t = %.6g s (%g s) in %.3g "
+          "CPU s", t_end ? t_end->number : -1.0, until, cpu ? cpu->number : -1.0);
+    if (!sanitized) check_warning(v);
 
     static double x[MAX_FRAMES][NODES * 3];
     static double t[MAX_FRAMES];
     int rows = 0, frames = test_read_frames(csv, NODES, MAX_FRAMES, t, &x[0][0], &rows);
-    check(frames == 551 && rows == frames * NODES, "the CSV holds %d frames of %d nodes (551)",
-          frames, NODES);
+    const int expect = sanitized ? 51 : 551;
+    check(frames == expect && rows == frames * NODES, "the CSV holds %d frames of %d nodes (%d)",
+          frames, NODES, expect);
     double when;
     const double worst =
         closest_strands_in_frames(&x[0][0], t, frames, NODES, 5, 4.0 * DIAMETER, &when);
@@ -125,6 +126,13 @@ int main(void)
           "0.98 diameters in any of %d frames: least %.4g m = %.3f diameters (t = %g s)", frames,
           worst, worst / DIAMETER, when);
 
+    if (sanitized) {
+        json_free(v);
+        free(text);
+        remove(csv);
+        remove(summary);
+        return test_finish();
+    }
     int knotted = 0, counted = 0;
     char first_bad[128] = "";
     for (int k = 0; k < frames; k++) {

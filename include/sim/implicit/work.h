@@ -113,14 +113,9 @@ typedef struct implicit_work {
     int patience_used;     /* a patient attempt of this step went past the stall test or
                               newton_max_iterations */
     int last_resort;       /* 1: this attempt is the step's last resort (step.c): patient,
-                              each sub-step starting from the last one's solution, and at
-                              the deepest split ended within ROD_LOOSE_FACTOR x the
-                              tolerance (loose_allowed) */
-    int loose_allowed;     /* 1: this sub-step is the last resort's at the deepest split */
+                              each sub-step starting from the last one's solution */
     long resorted_steps;   /* steps since create the last resort solved */
     double resorted_first; /* s: the time the first of them started at */
-    long loose_substeps;   /* sub-steps since create ended above the tolerance (last resort) */
-    double loose_worst;    /* the largest residual (scaled) such a sub-step ended at */
     double fd_step;        /* relative step of the finite-difference Jacobian */
     int reach;             /* blocks a block's unknowns reach: 1, or 2 with punctures */
     int max_reach;         /* the reach the band is sized for; a step uses 2 only while

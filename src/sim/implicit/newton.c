@@ -318,22 +318,6 @@ static int stalled(implicit_work *w, const rod_model *m, int it, newton_progress
     return 0;
 }
 
-/* A sub-step of the last resort at the deepest split (w->loose_allowed)
- * that Newton left above the tolerance: ended there (0) when its residual,
- * evaluated again at the iterate, is within ROD_LOOSE_FACTOR x the tolerance,
- * counted with the largest such residual; else -1 (the step fails) */
-static int end_loose(implicit_work *w, const rod_model *m, double t, double dt)
-{
-    const double tol = m->options.newton_tolerance;
-    if (!w->loose_allowed) return -1;
-    implicit_evaluate_iterate(w, m, t, dt);
-    const double norm = residual_norm_at(w, pair_scale(w));
-    if (!(norm <= ROD_LOOSE_FACTOR * tol)) return -1;
-    w->loose_substeps++;
-    if (norm > w->loose_worst) w->loose_worst = norm;
-    return 0;
-}
-
 int implicit_newton(implicit_work *w, const rod_model *m, double t, double dt, rod_report *report)
 {
     const double tol = m->options.newton_tolerance;
@@ -351,12 +335,12 @@ int implicit_newton(implicit_work *w, const rod_model *m, double t, double dt, r
                              w->self->b_age >= PAIRS_B_AGE && pr.rod_led;
             return 0;
         }
-        if (--w->budget < 0) return end_loose(w, m, t, dt);
+        if (--w->budget < 0) return -1;
         if (it >= m->options.newton_max_iterations) w->patience_used = 1;
         w->newton_total++;
         if (newton_iteration(w, m, t, dt, it, &pr)) return -1;
-        if (stalled(w, m, it, &pr)) return end_loose(w, m, t, dt);
+        if (stalled(w, m, it, &pr)) return -1;
     }
     report->newton_iterations = max_it;
-    return pr.norm <= tol ? 0 : end_loose(w, m, t, dt);
+    return pr.norm <= tol ? 0 : -1;
 }

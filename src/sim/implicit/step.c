@@ -192,9 +192,7 @@ static int split_step(implicit_work *w, const rod_model *m, rod_state *s, double
     int rc = -1;
     if (depth >= w->start_depth) {
         w->split_depth = depth;
-        w->loose_allowed = w->last_resort && depth >= MAX_SPLIT_DEPTH;
         rc = single_step(w, m, s, dt, report);
-        w->loose_allowed = 0;
     } else {
         w->budget++; /* split without an attempt (SPLIT_HOLD_STEPS) */
     }
@@ -281,10 +279,9 @@ static int retry_with_differences(implicit_work *w, const rod_model *m, rod_stat
  * exact Jacobian, Newton patient (PATIENT_FACTOR), and every sub-step's
  * first iterate from the last sub-step's solution (keep_solution), also
  * after one solved afresh, whose first iterate rebuilt from the state
- * started some 5e3 times farther from its solution than its first half's;
- * at the deepest split a sub-step may end within ROD_LOOSE_FACTOR x the
- * tolerance (newton.c's end_loose). Counted (resorted_steps,
- * loose_substeps) for the run's warnings: never silent, and no step any
+ * started some 5e3 times farther from its solution than its first half's.
+ * Every sub-step still converges to the tolerance. Counted
+ * (resorted_steps) for the run's warnings: never silent, and no step any
  * earlier try solved gets here, so no run that ran without it changes
  * (docs/decisions/draft-stall-fallback.md). Returns split_step's result. */
 static int last_resort(implicit_work *w, const rod_model *m, rod_state *s, double dt,
@@ -308,10 +305,8 @@ static int last_resort(implicit_work *w, const rod_model *m, rod_state *s, doubl
         snprintf(report->warning, sizeof report->warning,
                  "implicit scheme: the step at t = %.6g s, which Newton's method could not "
                  "solve, split down to dt/%d, was solved by the last resort (Newton patient, "
-                 "each sub-step from the last one's solution); sub-steps so far ended above the "
-                 "tolerance: %ld, the largest residual %.3g (at most %g x the tolerance %.1e)",
-                 w->save_time, 1 << MAX_SPLIT_DEPTH, w->loose_substeps, w->loose_worst,
-                 ROD_LOOSE_FACTOR, m->options.newton_tolerance);
+                 "each sub-step from the last one's solution, to the tolerance %.1e)",
+                 w->save_time, 1 << MAX_SPLIT_DEPTH, m->options.newton_tolerance);
     return split;
 }
 
@@ -471,8 +466,6 @@ rod_status implicit_step(implicit_work *w, const rod_model *m, rod_state *s, dou
     report->newton_total = w->newton_total;
     report->resorted_steps = w->resorted_steps;
     report->resorted_first = w->resorted_first;
-    report->loose_substeps = w->loose_substeps;
-    report->loose_worst = w->loose_worst;
     if (split == -2) {
         restore_state(w, s);
         w->have_factor = 0;
