@@ -462,6 +462,9 @@ typedef struct rod_report {
                                (cumulative, for benches and tests); other schemes leave it */
     long newton_total;      /* implicit: Newton iterations since rod_solver_init, those of
                                attempts that failed and split included (cumulative) */
+    long resorted_steps;    /* implicit: steps that every usual attempt failed and the last
+                               resort solved (src/sim/implicit/step.c), cumulative */
+    double resorted_first;  /* s: the time the first of them started at */
 } rod_report;
 
 #endif

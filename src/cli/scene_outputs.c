@@ -944,6 +944,13 @@ int scene_outputs_result_warnings(const rod_model *m, const rod_report *report,
                                   size_t errlen)
 {
     if (report->warning[0]) run_warn(w, "%s", report->warning);
+    if (report->resorted_steps)
+        run_warn(w, "implicit scheme: %ld step%s that Newton's method could not solve, split "
+                    "down to dt/4096, solved by the last resort (Newton patient, each sub-step "
+                    "from the last one's solution, each sub-step to the tolerance %.1e), the "
+                    "first at t = %.6g s",
+                 report->resorted_steps, report->resorted_steps == 1 ? "" : "s",
+                 m->options.newton_tolerance, report->resorted_first);
     /* Without self-contact a strand may pass through another and change the
      * knot: a warning. With it (the implicit scheme in 3-D) a change is a
      * pass-through the contact failed to stop: a failure (exit 1), the

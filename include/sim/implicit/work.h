@@ -112,6 +112,10 @@ typedef struct implicit_work {
     int patient_hold;      /* steps left that start patient (PATIENT_HOLD_STEPS) */
     int patience_used;     /* a patient attempt of this step went past the stall test or
                               newton_max_iterations */
+    int last_resort;       /* 1: this attempt is the step's last resort (step.c): patient,
+                              each sub-step starting from the last one's solution */
+    long resorted_steps;   /* steps since create the last resort solved */
+    double resorted_first; /* s: the time the first of them started at */
     double fd_step;        /* relative step of the finite-difference Jacobian */
     int reach;             /* blocks a block's unknowns reach: 1, or 2 with punctures */
     int max_reach;         /* the reach the band is sized for; a step uses 2 only while

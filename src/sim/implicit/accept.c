@@ -161,7 +161,9 @@ static void keep_solution(implicit_work *w, const rod_state *s, double dt, int c
     memcpy(w->x_before, continuing ? w->x_last : w->x, (size_t)w->unknowns * sizeof(double));
     memcpy(w->x_last, w->x, (size_t)w->unknowns * sizeof(double));
     w->dt_before = continuing ? w->dt_last : 0.0;
-    w->dt_last = continuing ? dt : 0.0;
+    /* the last resort's sub-steps start from the last solution, also
+     * after one solved afresh (step.c's last_resort) */
+    w->dt_last = continuing || w->last_resort ? dt : 0.0;
 }
 
 int implicit_accept_step(implicit_work *w, const rod_model *m, rod_state *s, double dt,

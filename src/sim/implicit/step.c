@@ -40,6 +40,13 @@
  * strand settling onto another on a floor), and the failed tries of one
  * cost about 20 steps' time (docs/decisions/0072-pile-planar.md) */
 #define PATIENT_HOLD_STEPS 4
+/* The last resort's budget, in steps' budgets (step_budget): started from
+ * the last solution, a knot's sub-steps of dt/64 - dt/128 converge but
+ * slowly (the surgeon's knot by instruments at strand friction 0.3:
+ * 25 - 40 iterations each), and one budget ran out 0.9 ms into the step
+ * (docs/decisions/draft-stall-fallback.md); not with a caller's own
+ * budget (rod_options.iteration_budget) */
+#define RESORT_BUDGET_FACTOR 4
 
 /* The Newton iterations one try of a step may spend: the caller's
  * rod_options.iteration_budget when > 0 (rodsim live bounds each line),
@@ -270,6 +277,43 @@ static int retry_with_differences(implicit_work *w, const rod_model *m, rod_stat
     return split;
 }
 
+/* The step's last resort, when every try above failed (split == -1) and
+ * the run would end, with self-contact: the step again from its start,
+ * splits included, with RESORT_BUDGET_FACTOR budgets of its own, the
+ * exact Jacobian, Newton patient (PATIENT_FACTOR), and every sub-step's
+ * first iterate from the last sub-step's solution (keep_solution), also
+ * after one solved afresh, whose first iterate rebuilt from the state
+ * started some 5e3 times farther from its solution than its first half's.
+ * Every sub-step still converges to the tolerance. Counted
+ * (resorted_steps) for the run's warnings: never silent, and no step any
+ * earlier try solved gets here, so no run that ran without it changes
+ * (docs/decisions/draft-stall-fallback.md). Returns split_step's result. */
+static int last_resort(implicit_work *w, const rod_model *m, rod_state *s, double dt,
+                       rod_report *report, int split)
+{
+    if (split != -1 || !w->self) return split;
+    restore_state(w, s);
+    w->last_resort = 1;
+    w->patient = 1;
+    w->have_factor = 0;
+    /* a caller's own bound (rodsim live's lines) kept as the retries keep it */
+    w->budget = (m->options.iteration_budget > 0 ? 1 : RESORT_BUDGET_FACTOR) * step_budget(m);
+    split = split_step(w, m, s, dt, report, 0);
+    w->patient = 0;
+    w->last_resort = 0;
+    w->have_factor = 0;
+    if (split == 0 && w->resorted_steps++ == 0) w->resorted_first = w->save_time;
+    /* a rod of a set: its caller says each step's warning as it comes
+     * (a single rod's says the counts at the run's end) */
+    if (split == 0 && w->cross && !report->warning[0])
+        snprintf(report->warning, sizeof report->warning,
+                 "implicit scheme: the step at t = %.6g s, which Newton's method could not "
+                 "solve, split down to dt/%d, was solved by the last resort (Newton patient, "
+                 "each sub-step from the last one's solution, to the tolerance %.1e)",
+                 w->save_time, 1 << MAX_SPLIT_DEPTH, m->options.newton_tolerance);
+    return split;
+}
+
 /* Where a step that did not converge left its residual largest (the last
  * attempt's last evaluation, w->residual): ", its residual largest in the
  * moment balance of node b (s = ... m)" and what touches the rod there
@@ -421,8 +465,11 @@ rod_status implicit_step(implicit_work *w, const rod_model *m, rod_state *s, dou
     if (w->self) hold_split_depth(w, dt, split == 0);
     w->start_depth = 0; /* the retries from the whole step */
     split = retry_with_differences(w, m, s, dt, report, split);
+    split = last_resort(w, m, s, dt, report, split);
     report->jacobian_builds = w->jacobian_builds;
     report->newton_total = w->newton_total;
+    report->resorted_steps = w->resorted_steps;
+    report->resorted_first = w->resorted_first;
     if (split == -2) {
         restore_state(w, s);
         w->have_factor = 0;
