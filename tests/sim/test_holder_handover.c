@@ -107,6 +107,9 @@ static void write_scene(double t_handover, const char *name)
              "[instrument]\nkind = needle_holder\nname = holder\npath = holder.csv\n"
              "needle = yes\nsize = 0.12\ngrip = 50\n"
              "[instrument]\nkind = forceps\nname = forceps\npath = %s\nsize = 0.12\n"
+             /* the forceps come to the needle where the holder's jaws are, their
+              * bodies on the same line: the test's placement, not a surgeon's */
+             "may_overlap = yes\n"
              "%s[solver]\nscheme = implicit\ndt = 0.001\nduration = 1.6\n"
              "[render]\nneedle_arc = 1/2\n",
              DIAMETER, t_handover >= 0.0 ? "forceps.csv" : "away.csv", grasp);

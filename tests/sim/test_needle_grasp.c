@@ -62,6 +62,9 @@ static void write_scene(const char *extra, const char *forceps, const char *name
              "[instrument]\nkind = needle_holder\nname = holder\npath = holder.csv\n"
              "needle = yes\nsize = 0.12\n"
              "[instrument]\nkind = forceps\nname = forceps\npath = %s\nsize = 0.12\n"
+             /* the forceps come to the needle where the holder's jaws are, their
+              * bodies on the same line: the test's placement, not a surgeon's */
+             "may_overlap = yes\n"
              "[instrument]\nkind = scissors\nname = scissors\npath = scissors.csv\n"
              "[solver]\nscheme = implicit\ndt = 0.001\nduration = 0.6\n"
              "[render]\nneedle_arc = 1/2\n%s",
