@@ -17,10 +17,11 @@ its back still over the entry, its jaws (1.44 mm thick) clear of the skin:
 the bite's arc between the holes (137 degrees) leaves a 1/2 circle 43
 degrees for both. The forceps, their shafts along x too, come down onto
 the needle GRASP_BACK behind its point, close, and take it (the scene's
-[needle_grasp] at T_GRASP); the holder opens and backs away, and the
-forceps draw the needle out along its circle (a turn about x about the
-circle's centre, the forceps turning about their own shafts) and then
-pull the thread through, the needle carried as they took it.
+[needle_grasp] at T_GRASP); the holder opens, backs off along its shafts,
+closes and moves aside, out of their way, and the forceps draw the
+needle out along its circle (a turn about x about the circle's centre,
+the forceps turning about their own shafts) and then pull the thread
+through, the needle carried as they took it.
 
 The ends are then swung over the wound, each about its hole at its
 length, from rising away from the wound to ACROSS (60 degrees over the
@@ -95,8 +96,22 @@ SWEEP = 0.5                           # the share of T_CLOSE spent swinging the 
 DRAW = 0.0019                         # m: each end's draw: the edges meet at 1.73 mm (3.1 N
                                       # on each end), the thread first tight at about 0.4 mm
 NODES = 81                            # stitch.ini's rod.nodes
-FORCEPS_FROM = (0.0, 0.008, 0.005)    # m: the forceps' start from their grip: beyond the
-                                      # exit, under the thread's starting run back to the needle
+FORCEPS_FROM = (0.0, 0.0105, 0.005)   # m: the forceps' start from their grip: beyond the
+                                      # exit, under the thread's starting run back to the needle,
+                                      # their open jaws 1.7 mm clear of the holder's box lock as
+                                      # it lowers the needle past them (0.9 .. 1.3 s)
+HOLDER_OPEN = 0.2                     # the holder's opening off the needle: the jaws' tips 1.8 mm
+                                      # apart; its shanks, which cross at the box lock, spread
+                                      # 72 mm x sin(0.35 x opening) each at their back ends (5 mm)
+HOLDER_SHUT = 0.12                    # ... and as it goes: 3 mm, not closed (under 0.1 its jaws
+                                      # would take the thread as ordinary jaws do)
+HOLDER_BACK = 0.015                   # m: the holder backed off along its shafts (-x): its
+                                      # jaws' tips clear of the needle and the thread (x = 0)
+HOLDER_ASIDE = 0.012                  # m: and moved aside (-y) once they are, out of the
+                                      # forceps' way over the needle's circle and back to the
+                                      # entry (their shanks 1.6 mm apart at 4.25 s)
+HOLDER_UP = 0.004                     # m: and lifted (lifted 5 mm, its shanks come within
+                                      # 1.3 mm of the forceps' at the top of the circle)
 DURATION = T_HOLD + T_APPROACH + T_BITE + T_HAND + T_DRAW + T_PULL + T_CLOSE + T_REST
 
 
@@ -259,17 +274,23 @@ def turn_x(v, a):
 
 def holder_rows(skin, pull):
     """(t, point, angle about x, jaw) of the holder's path: the needle's
-    back until the handover, then opened and backed away along its shafts
-    (-x) and up."""
+    back until the handover, then opened a little, backed off along its
+    shafts (-x) and lifted, its jaws closing again, and moved aside (-y):
+    the forceps draw the needle over the top of its circle to where the
+    holder held it, and then up and over the wound; the two shapes stay
+    1.6 mm apart at least (the scene's check refuses paths that take one
+    instrument through another)."""
     rows = [r + (0.0,) for r in needle_rows(skin, pull) if r[0] <= T_GRASP + 1e-9]
     at, turn = back(PHI_HAND, skin), PHI_HAND - PHI0
     t0 = T_GRASP + 0.05
-    rows += [(t0, at, turn, 0.0), (t0 + 0.2, at, turn, 0.4)]  # opened (the shanks clear)
-    for k in range(1, 21):  # lifted off the needle, then backed away along -x
-        s = smooth(k / 20)
+    rows += [(t0, at, turn, 0.0), (t0 + 0.2, at, turn, HOLDER_OPEN)]  # opened off the needle
+    for k in range(1, 21):  # backed off and lifted, its jaws closing once their tips are
+                            # 2.3 mm back (k = 5), then moved aside: out of the forceps' way
+        s, late = smooth(k / 20), smooth(k / 10 - 1)
         rows.append((t0 + 0.2 + 0.8 * k / 20,
-                     (at[0] - 0.015 * s ** 2, at[1] - 0.004 * s, at[2] + 0.012 * s), turn, 0.4))
-    rows.append((DURATION, rows[-1][1], turn, 0.4))
+                     (at[0] - HOLDER_BACK * s, at[1] - HOLDER_ASIDE * late, at[2] + HOLDER_UP * s),
+                     turn, HOLDER_OPEN - (HOLDER_OPEN - HOLDER_SHUT) * smooth((k - 5) / 5)))
+    rows.append((DURATION, rows[-1][1], turn, rows[-1][3]))
     return rows
 
 
