@@ -44,7 +44,7 @@
  * the last solution, a knot's sub-steps of dt/64 - dt/128 converge but
  * slowly (the surgeon's knot by instruments at strand friction 0.3:
  * 25 - 40 iterations each), and one budget ran out 0.9 ms into the step
- * (docs/decisions/draft-stall-fallback.md); not with a caller's own
+ * (docs/decisions/0135-stall-fallback.md); not with a caller's own
  * budget (rod_options.iteration_budget) */
 #define RESORT_BUDGET_FACTOR 4
 
@@ -287,7 +287,7 @@ static int retry_with_differences(implicit_work *w, const rod_model *m, rod_stat
  * Every sub-step still converges to the tolerance. Counted
  * (resorted_steps) for the run's warnings: never silent, and no step any
  * earlier try solved gets here, so no run that ran without it changes
- * (docs/decisions/draft-stall-fallback.md). Returns split_step's result. */
+ * (docs/decisions/0135-stall-fallback.md). Returns split_step's result. */
 static int last_resort(implicit_work *w, const rod_model *m, rod_state *s, double dt,
                        rod_report *report, int split)
 {
