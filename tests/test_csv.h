@@ -9,14 +9,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The file at path as a string (at most 1 MB; the caller frees it), NULL
- * when it cannot be read */
+/* The file at path as a string (the caller frees it), NULL when it cannot
+ * be read */
 static inline char *read_text(const char *path)
 {
     FILE *f = fopen(path, "rb");
     if (!f) return NULL;
-    char *text = calloc(1, 1 << 20);
-    if (text) text[fread(text, 1, (1 << 20) - 1, f)] = '\0';
+    fseek(f, 0, SEEK_END);
+    const long n = ftell(f);
+    rewind(f);
+    char *text = n >= 0 ? malloc((size_t)n + 1) : NULL;
+    if (text) text[fread(text, 1, (size_t)n, f)] = '\0';
     fclose(f);
     return text;
 }

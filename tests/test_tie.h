@@ -1,5 +1,6 @@
 /* test_tie.h: what every instrument-tie scene's test measures: its frames'
- * knot with the ends drawn out, the knotted part's place over the pad, and
+ * knot with the ends drawn out, the knotted part's place over the pad, its
+ * bending energy, and
  * the checks on its run summary (no instrument driven into the pad, the
  * needle holder taking the tail by its end). */
 #ifndef RODSIM_TEST_TIE_H
@@ -14,6 +15,29 @@
 #include "sim/geometry/knot.h"
 #include "test.h"
 #include "test_frames.h"
+
+/* J: the bending energy of the polygon x (nodes x 3, m) of a thread of
+ * length (m), Young's modulus youngs (Pa) and diameter (m): over its
+ * interior nodes, B/2 (turn/ds)^2 ds with B = E pi d^4 / 64 and turn the
+ * angle between a node's two segments */
+static inline double tie_bending_energy(const double *x, int nodes, double length, double youngs,
+                                        double diameter)
+{
+    const double ds = length / (nodes - 1);
+    const double stiffness = youngs * M_PI * pow(diameter, 4) / 64.0; /* N m^2 */
+    double energy = 0.0;
+    for (int i = 1; i < nodes - 1; i++) {
+        double a[3], b[3], dot = 0.0, na = 0.0, nb = 0.0;
+        for (int c = 0; c < 3; c++) {
+            a[c] = x[3 * i + c] - x[3 * (i - 1) + c];
+            b[c] = x[3 * (i + 1) + c] - x[3 * i + c];
+            dot += a[c] * b[c], na += a[c] * a[c], nb += b[c] * b[c];
+        }
+        const double turn = acos(fmax(-1.0, fmin(1.0, dot / sqrt(na * nb))));
+        energy += 0.5 * stiffness * (turn / ds) * (turn / ds) * ds;
+    }
+    return energy;
+}
 
 /* The knot identified in frame x (nodes x 3, m), both ends drawn out 200
  * segments along their last ones (the stitch closed far away). 0, or -1

@@ -21,6 +21,7 @@
 
 #include "json.h"
 #include "test.h"
+#include "test_csv.h"
 #include "test_process.h"
 
 static char dir[64];
@@ -31,23 +32,6 @@ static int write_text(const char *path, const char *text)
     if (!f) return -1;
     fputs(text, f);
     return fclose(f);
-}
-
-static char *read_all(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    rewind(f);
-    char *text = malloc((size_t)n + 1);
-    if (text && fread(text, 1, (size_t)n, f) != (size_t)n) {
-        free(text);
-        text = NULL;
-    }
-    if (text) text[n] = '\0';
-    fclose(f);
-    return text;
 }
 
 /* 12 cm forceps: jaws' radius 0.010 x 0.12, the tines' back parts'
@@ -86,7 +70,7 @@ static void write_scene(const char *ini, double h, int second)
 
 static json_value *summary(const char *path)
 {
-    char *text = read_all(path), err[256];
+    char *text = read_text(path), err[256];
     json_value *v = text ? json_parse(text, err, sizeof err) : NULL;
     free(text);
     return v;

@@ -41,6 +41,7 @@
 #include "sim/instrument.h"
 #include "sim/path.h"
 #include "test.h"
+#include "test_csv.h"
 
 #define DIR "/tmp/rodsim_test_live_needle"
 #define NODES 26
@@ -167,19 +168,6 @@ static int run_nodes(const char *rows, double t, double pos[NODES][3])
     return found == NODES ? 0 : -1;
 }
 
-static char *read_all(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    const long n = ftell(f);
-    rewind(f);
-    char *text = n >= 0 ? malloc((size_t)n + 1) : NULL;
-    if (text) text[fread(text, 1, (size_t)n, f)] = '\0';
-    fclose(f);
-    return text;
-}
-
 static double live_pos[LINES + 2][NODES][3];
 static int live_have[LINES + 2];
 
@@ -243,9 +231,9 @@ static void test_handover(void)
     const int replay_rc = system(cmd);
     check(live_rc == 0 && run_rc == 0 && replay_rc == 0, "live, run and the replay ended (%d, %d, "
           "%d)", live_rc, run_rc, replay_rc);
-    char *answers = read_all(DIR "/answers.csv"), *rows = read_all(DIR "/run.csv"),
-         *record = read_all(DIR "/rec.csv"), *log = read_all(DIR "/live.log"),
-         *replayed = read_all(DIR "/replay.csv");
+    char *answers = read_text(DIR "/answers.csv"), *rows = read_text(DIR "/run.csv"),
+         *record = read_text(DIR "/rec.csv"), *log = read_text(DIR "/live.log"),
+         *replayed = read_text(DIR "/replay.csv");
     if (!check(answers && rows && record && log && replayed, "answers, run CSV, record, "
                "messages and the replay's CSV read"))
         goto done;

@@ -32,6 +32,7 @@
 #include <sys/stat.h>
 
 #include "test.h"
+#include "test_csv.h"
 
 #define DIR "/tmp/rodsim_test_live_recover"
 #define MAX_LINES 400
@@ -45,19 +46,6 @@ static int write_file(const char *name, const char *text)
     if (!f) return -1;
     fputs(text, f);
     return fclose(f);
-}
-
-static char *read_all(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    const long n = ftell(f);
-    rewind(f);
-    char *text = n >= 0 ? malloc((size_t)n + 1) : NULL;
-    if (text) text[fread(text, 1, (size_t)n, f)] = '\0';
-    fclose(f);
-    return text;
 }
 
 /* A session's answers: status and centreline by line (1-based) */
@@ -78,7 +66,7 @@ static void run_session(session *s, const char *scene, const char *lines, const 
     snprintf(cmd, sizeof cmd, "%s live %s/%s --centreline < %s/%s > %s/answers.csv 2> %s/%s",
              RODSIM_BIN, DIR, scene, DIR, lines, DIR, DIR, log);
     s->rc = system(cmd);
-    char *text = read_all(DIR "/answers.csv");
+    char *text = read_text(DIR "/answers.csv");
     for (char *p = text; p && *p; p = strchr(p, '\n') ? strchr(p, '\n') + 1 : NULL) {
         if (*p == 't') continue;
         const int named = strncmp(p, "forceps,", 8) == 0;
@@ -143,7 +131,7 @@ static void test_tip_line(void)
         return;
     run_session(&first, "ceiling.ini", "tip_bad.txt", "tip_bad.log", 21);
     run_session(&second, "ceiling.ini", "tip_still.txt", "tip_still.log", 21);
-    char *log = read_all(DIR "/tip_bad.log");
+    char *log = read_text(DIR "/tip_bad.log");
     check(first.rc == 0 && second.rc == 0 && first.lines == LINES && second.lines == LINES,
           "tip: both sessions answered every line (%d, %d; exit %d, %d)", first.lines,
           second.lines, first.rc, second.rc);
@@ -200,7 +188,7 @@ static void test_instrument_line(void)
         return;
     run_session(&first, "floor.ini", "jaws_bad.txt", "jaws_bad.log", 26);
     run_session(&second, "floor.ini", "jaws_still.txt", "jaws_still.log", 26);
-    char *log = read_all(DIR "/jaws_bad.log");
+    char *log = read_text(DIR "/jaws_bad.log");
     const int all = grasp + LINES, bad = grasp + BAD_LINE;
     check(first.rc == 0 && second.rc == 0 && first.lines == all && second.lines == all,
           "jaws: both sessions answered every line (%d, %d; exit %d, %d)", first.lines,
@@ -240,7 +228,7 @@ static void test_stuck(void)
                "stuck: scene and lines written"))
         return;
     run_session(&first, "stuck.ini", "stuck.txt", "stuck.log", 21);
-    char *log = read_all(DIR "/stuck.log");
+    char *log = read_text(DIR "/stuck.log");
     /* the first line that stepped nowhere, from the messages */
     const char *first_stuck = log ? strstr(log, "dropped from the path") : NULL;
     while (first_stuck && first_stuck > log && strncmp(first_stuck, "input line ", 11) != 0)

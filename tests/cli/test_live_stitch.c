@@ -36,6 +36,7 @@
 #include "sim/instrument.h"
 #include "sim/path.h"
 #include "test.h"
+#include "test_csv.h"
 
 #define DIR "/tmp/rodsim_test_live_stitch"
 #define SCENES RODSIM_SOURCE_DIR "/scenes/"
@@ -97,19 +98,6 @@ static int write_lines(int end_ms)
     rod_path_destroy(forceps.pose);
     rod_path_destroy(forceps.jaw);
     return f ? fclose(f) : -1;
-}
-
-static char *read_all(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    const long n = ftell(f);
-    rewind(f);
-    char *text = n >= 0 ? malloc((size_t)n + 1) : NULL;
-    if (text) text[fread(text, 1, (size_t)n, f)] = '\0';
-    fclose(f);
-    return text;
 }
 
 /* the answers' centrelines at every whole ms (tip lines: t, 6 loads,
@@ -192,8 +180,8 @@ int main(void)
              RODSIM_BIN, SCENES, end_ms * 1e-3, DIR, DIR, DIR);
     const int run_rc = system(cmd);
     check(live_rc == 0 && run_rc == 0, "live and run ended (%d, %d)", live_rc, run_rc);
-    char *text = read_all(DIR "/answers.csv"), *input = read_all(DIR "/lines.txt"),
-         *rows = read_all(DIR "/run.csv");
+    char *text = read_text(DIR "/answers.csv"), *input = read_text(DIR "/lines.txt"),
+         *rows = read_text(DIR "/run.csv");
     if (!check(text && input && rows, "answers, lines and run's CSV read")) goto done;
     const int expected = end_ms + (end_ms > T_FORCEPS_MS
                                        ? (end_ms < T_GRASP_MS ? end_ms : T_GRASP_MS) - T_FORCEPS_MS

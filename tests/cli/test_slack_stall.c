@@ -45,20 +45,7 @@
  * interior node's turn between its segments */
 static double bending_energy(const double *x)
 {
-    const double ds = LENGTH / (NODES - 1);
-    const double stiffness = YOUNGS * M_PI * pow(DIAMETER, 4) / 64.0; /* N m^2 */
-    double energy = 0.0;
-    for (int i = 1; i < NODES - 1; i++) {
-        double a[3], b[3], dot = 0.0, na = 0.0, nb = 0.0;
-        for (int c = 0; c < 3; c++) {
-            a[c] = x[3 * i + c] - x[3 * (i - 1) + c];
-            b[c] = x[3 * (i + 1) + c] - x[3 * i + c];
-            dot += a[c] * b[c], na += a[c] * a[c], nb += b[c] * b[c];
-        }
-        const double turn = acos(fmax(-1.0, fmin(1.0, dot / sqrt(na * nb))));
-        energy += 0.5 * stiffness * (turn / ds) * (turn / ds) * ds;
-    }
-    return energy;
+    return tie_bending_energy(x, NODES, LENGTH, YOUNGS, DIAMETER);
 }
 
 int main(void)
