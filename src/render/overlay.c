@@ -58,18 +58,25 @@ void overlay_destroy(render_overlay *ov)
 
 /* The knot of a recording's frame: its rod's, or of two rods the knot they
  * make together (sim/geometry/knot_across.h: their concatenation would
- * join one's tip to the other's root straight through the knot). 0, or -1
- * (not identified, or more than two rods). */
+ * join one's tip to the other's root straight through the knot). Only the
+ * thread left after a cut (rod_recording_kept): the nodes cut away, piled
+ * on the cut end, would give the closure no last segment to draw the end
+ * out along. 0, or -1 (not identified, or more than two rods). */
 static int frame_knot(rod_knot_scratch *scratch, const rod_recording *rec, int frame, rod_knot *k)
 {
     char err[200];
     const double *points = node_position(rec, frame, 0);
-    if (rec->rod_count < 2) return rod_knot_identify_in(scratch, points, rec->nodes, 0, k, err,
-                                                        sizeof err);
+    if (rec->rod_count < 2) {
+        int first;
+        const int kept = rod_recording_kept(rec, frame, 0, rec->nodes, &first);
+        return rod_knot_identify_in(scratch, &points[3 * first], kept, 0, k, err, sizeof err);
+    }
     if (rec->rod_count > 2) return -1;
-    const int na = rec->rod_first[1], nb = rec->rod_first[2] - na;
+    int a, b;
+    const int na = rod_recording_kept(rec, frame, 0, rec->rod_first[1], &a);
+    const int nb = rod_recording_kept(rec, frame, rec->rod_first[1], rec->rod_first[2], &b);
     double *work = malloc((size_t)rod_knot_across_points(na, nb) * 3 * sizeof *work);
-    int rc = !work ? -1 : rod_knot_identify_across(scratch, points, na, &points[3 * na], nb,
+    int rc = !work ? -1 : rod_knot_identify_across(scratch, &points[3 * a], na, &points[3 * b], nb,
                                                     work, k, err, sizeof err);
     free(work);
     return rc;
