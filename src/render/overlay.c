@@ -338,6 +338,10 @@ static void draw_left_column(image *img, const render_overlay *ov, const rod_rec
     unsigned show = o->show;
     int y = margin + text_ascent(ov->title) - line - 2;
     char text[512];
+    /* after a cut (one rod): the nodes left, and an end cut away is "cut" */
+    int first = 0, kept = rec->nodes;
+    if (rec->rod_count < 2) kept = rod_recording_kept(rec, frame, 0, rec->nodes, &first);
+    const int cut[2] = {first > 0, first + kept < rec->nodes};
     if (show & RENDER_SHOW_TITLE) {
         y += line + 2;
         text_draw(img, ov->title, margin, y, ov->title_text, ov->ink);
@@ -354,8 +358,10 @@ static void draw_left_column(image *img, const render_overlay *ov, const rod_rec
         y += line;
         int x = draw_time(img, ov, margin, y, rec->time[frame]);
         if (o->overlay_solver) {
-            snprintf(text, sizeof text, "      scheme: %s      %d nodes",
-                     rec->scheme[0] ? rec->scheme : "?", rec->nodes);
+            int used = snprintf(text, sizeof text, "      scheme: %s      %d nodes",
+                                rec->scheme[0] ? rec->scheme : "?", rec->nodes);
+            if (kept < rec->nodes && used > 0 && (size_t)used < sizeof text)
+                snprintf(text + used, sizeof text - (size_t)used, ", %d left", kept);
             text_draw(img, ov->body, x, y, text, ov->ink);
             left_line(left, ov->body, x, y, text);
         } else {
@@ -367,9 +373,12 @@ static void draw_left_column(image *img, const render_overlay *ov, const rod_rec
     if (ends_line_shown(rec, o)) {
         static const char *const kinds[] = {"clamped", "pinned", "free"};
         static const char *const held[] = {"", " on a slide", " on a slide, not turning"};
-        int used = snprintf(text, sizeof text, "root %s%s%s, tip %s%s%s", kinds[root->kind],
-                            root->driven ? " (driven)" : "", held[root->sliding % 3],
-                            kinds[tip->kind], tip->driven ? " (driven)" : "", held[tip->sliding % 3]);
+        int used = snprintf(text, sizeof text, "root %s%s%s, tip %s%s%s",
+                            cut[0] ? "cut" : kinds[root->kind],
+                            !cut[0] && root->driven ? " (driven)" : "",
+                            cut[0] ? "" : held[root->sliding % 3], cut[1] ? "cut" : kinds[tip->kind],
+                            !cut[1] && tip->driven ? " (driven)" : "",
+                            cut[1] ? "" : held[tip->sliding % 3]);
         if (rec->needle_radius > 0 && used > 0 && (size_t)used < sizeof text) {
             char radius[32];
             format_length(radius, sizeof radius, rec->needle_radius);
