@@ -185,6 +185,14 @@ void rod_recording_halve(rod_recording *r);
  * instruments' poses move into the joined one. NULL when out of memory or the parts differ in frames. */
 rod_recording *rod_recording_join(rod_recording *const *parts, int count);
 
+/* The thread left in frame `frame` among nodes lo .. hi - 1 (one rod of
+ * the recording: 0 .. nodes, or rod_first[k] .. rod_first[k + 1]): after a
+ * cut, rod_recording_append puts the nodes cut away on the cut end, each an
+ * exact copy of its position and frame (no two nodes of a thread coincide
+ * otherwise). Returns how many nodes are left, the first of them in *first;
+ * hi - lo and lo when nothing was cut. */
+int rod_recording_kept(const rod_recording *r, int frame, int lo, int hi, int *first);
+
 /* Appends the state as a frame; the tip load at s->time comes from the model.
  * A state of a cut thread (sim/cut.h; m its model) fills its nodes of the
  * recording's and puts the ones cut away at the cut end. Returns 0, or -1

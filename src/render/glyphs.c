@@ -2,6 +2,7 @@
 #include "render/glyphs.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "base/vec3.h"
 #include "render/geometry.h"
@@ -18,11 +19,114 @@
 
 /* What is drawn at an end: the needle (tip only) replaces the tip's block or
  * ball, since the holder grips the needle and the thread is swaged into its
- * back; a free tip with a needle still shows it (a dropped needle). */
+ * back; a free tip with a needle still shows it (a dropped needle). An end
+ * cut away (rod_recording_kept) went with its piece, and what held it:
+ * nothing is drawn on the cut end; the needle, when jaws held it, is drawn
+ * in them (needle_pose). */
 typedef enum { GLYPH_NONE, GLYPH_BLOCK, GLYPH_BALL, GLYPH_NEEDLE } glyph_kind;
 
-static glyph_kind end_glyph(const rod_recording *rec, int end)
+/* The nodes of the rod whose ends the glyphs are (a joined recording's
+ * last: its tip is the recording's last node). */
+static int glyph_rod_first(const rod_recording *rec)
 {
+    return rec->rod_count > 1 ? rec->rod_first[rec->rod_count - 1] : 0;
+}
+
+/* 1 when end `end` of the thread is cut away in `frame`. */
+static int end_cut(const rod_recording *rec, int frame, int end)
+{
+    int first;
+    const int lo = glyph_rod_first(rec);
+    const int kept = rod_recording_kept(rec, frame, lo, rec->nodes, &first);
+    return end ? first + kept < rec->nodes : first > lo;
+}
+
+/* The needle's arc from its back r and frame q (defined below). */
+static void arc_points_at(const rod_recording *rec, const render_options *o, const double r[3],
+                          const double q[9], double *out);
+
+/* The distance (m) from p to the segment a-b. */
+static double segment_distance(const double a[3], const double b[3], const double p[3])
+{
+    double ab[3], ap[3], at[3];
+    v3_sub(ab, b, a);
+    v3_sub(ap, p, a);
+    const double len2 = v3_dot(ab, ab);
+    const double t = len2 > 0 ? fmin(1.0, fmax(0.0, v3_dot(ap, ab) / len2)) : 0.0;
+    v3_copy(at, a);
+    v3_axpy(at, t, ab);
+    v3_sub(ap, p, at);
+    return v3_norm(ap);
+}
+
+/* The jaws holding the needle after its piece was cut away, as a surgeon
+ * sees it: the needle stays where it was in the instrument that held it
+ * (the piece left the run with it; the instrument's path carries it). At
+ * the last frame before the cut the instrument whose jaws (their segment,
+ * jaw_length back from the tip) come nearest the needle's arc, within two
+ * jaw radii and the wire, holds it; none: the needle is not drawn (it fell
+ * with its piece). The needle's back r (m) and frame q (row-major, columns
+ * d1 d2 d3) in `frame` into r, q; 0 when not drawn. */
+static int carried_needle(const rod_recording *rec, const render_options *o, int frame,
+                          double r[3], double q[9])
+{
+    int before = frame - 1;
+    while (before >= 0 && end_cut(rec, before, 1)) before--;
+    if (before < 0 || rec->instrument_count < 1 || !rec->instrument_pose) return 0;
+    const double *r0 = node_position(rec, before, rec->nodes - 1);
+    const double *q0 = node_frame(rec, before, rec->nodes - 1);
+    double arc[3 * (NEEDLE_SEGMENTS + 1)];
+    arc_points_at(rec, o, r0, q0, arc);
+    int holder = -1;
+    double nearest = INFINITY;
+    for (int k = 0; k < rec->instrument_count; k++) {
+        const recording_instrument *in = &rec->instruments[k];
+        const double *pose = rod_recording_instrument(rec, before, k);
+        if (in->kind == RECORDING_SCISSORS || !pose) continue;
+        double axis[3], heel[3];
+        m3_column(axis, pose + 3, 0);
+        v3_copy(heel, pose);
+        v3_axpy(heel, -in->jaw_length, axis);
+        double reach = 2 * in->jaw_radius + 0.12 * rec->needle_radius;
+        for (int j = 0; j <= NEEDLE_SEGMENTS; j++) {
+            double d = segment_distance(heel, pose, &arc[3 * j]);
+            if (d <= reach && d < nearest) nearest = d, holder = k;
+        }
+    }
+    if (holder < 0) return 0;
+    /* q = R(t) R(t0)^T q0, r = p(t) + R(t) R(t0)^T (r0 - p(t0)) */
+    const double *then = rod_recording_instrument(rec, before, holder);
+    const double *now = rod_recording_instrument(rec, frame, holder);
+    double rel[9], offset[3], local[3];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            rel[3 * i + j] = now[3 + 3 * i] * then[3 + 3 * j] + now[4 + 3 * i] * then[4 + 3 * j] +
+                             now[5 + 3 * i] * then[5 + 3 * j];
+    m3_mul(q, rel, q0);
+    v3_sub(offset, r0, then);
+    m3_mul_v(local, rel, offset);
+    v3_add(r, now, local);
+    return 1;
+}
+
+/* The needle's back and frame in `frame`: the tip's, or after the tip was
+ * cut away the jaws' that held it (carried_needle). 0: not drawn. */
+static int needle_pose(const rod_recording *rec, const render_options *o, int frame, double r[3],
+                       double q[9])
+{
+    if (end_cut(rec, frame, 1)) return carried_needle(rec, o, frame, r, q);
+    v3_copy(r, node_position(rec, frame, rec->nodes - 1));
+    memcpy(q, node_frame(rec, frame, rec->nodes - 1), 9 * sizeof(double));
+    return 1;
+}
+
+static glyph_kind end_glyph(const rod_recording *rec, const render_options *o, int frame, int end)
+{
+    if (end_cut(rec, frame, end)) {
+        double r[3], q[9];
+        return end == 1 && rec->needle_radius > 0 && needle_pose(rec, o, frame, r, q) ? GLYPH_NEEDLE
+                                                                                     : GLYPH_NONE;
+    }
     if (end == 1 && rec->needle_radius > 0) return GLYPH_NEEDLE;
     switch (rec->ends[end].kind) {
     case RECORDING_END_CLAMPED: return GLYPH_BLOCK;
@@ -57,11 +161,9 @@ double glyph_needle_wire(const rod_recording *rec, double radius)
  * d3 there (the back continues the thread), in the plane of d3 and d1,
  * bending toward d1: p(theta) = r + R sin(theta) d3 + R (1 - cos(theta)) d1,
  * theta = 0 (back) .. 2 pi arc (point). NEEDLE_SEGMENTS + 1 points into out. */
-static void needle_arc_points(const rod_recording *rec, const render_options *o, int frame,
-                              double *out)
+static void arc_points_at(const rod_recording *rec, const render_options *o, const double r[3],
+                          const double q[9], double *out)
 {
-    int node = rec->nodes - 1;
-    const double *q = node_frame(rec, frame, node), *r = node_position(rec, frame, node);
     double d1[3], d3[3], big = rec->needle_radius;
     m3_column(d1, q, 0);
     m3_column(d3, q, 2);
@@ -78,7 +180,8 @@ int glyph_points(const rod_recording *rec, const render_options *o, double radiu
 {
     *pad = 0;
     *chain = 0;
-    switch (end_glyph(rec, end)) {
+    double needle_back[3], needle_frame[9];
+    switch (end_glyph(rec, o, frame, end)) {
     case GLYPH_BLOCK: {
         double centre[3], axes[3][3], half[3];
         clamp_box(rec, radius, frame, end, centre, axes, half);
@@ -94,7 +197,8 @@ int glyph_points(const rod_recording *rec, const render_options *o, double radiu
         *pad = BALL_RADIUS * radius;
         return 1;
     case GLYPH_NEEDLE:
-        needle_arc_points(rec, o, frame, out);
+        needle_pose(rec, o, frame, needle_back, needle_frame);
+        arc_points_at(rec, o, needle_back, needle_frame, out);
         *pad = glyph_needle_wire(rec, radius);
         *chain = 1;
         return NEEDLE_SEGMENTS + 1;
@@ -113,9 +217,9 @@ static void add_ball(render_mesh *m, const double centre[3], double ball_radius)
 static void add_needle(render_mesh *m, const rod_recording *rec, const render_options *o, int frame,
                        double radius)
 {
-    double arc[3 * (NEEDLE_SEGMENTS + 1)], wire = glyph_needle_wire(rec, radius);
-    needle_arc_points(rec, o, frame, arc);
-    const double *q = node_frame(rec, frame, rec->nodes - 1);
+    double arc[3 * (NEEDLE_SEGMENTS + 1)], wire = glyph_needle_wire(rec, radius), r[3], q[9];
+    if (!needle_pose(rec, o, frame, r, q)) return;
+    arc_points_at(rec, o, r, q, arc);
     double d1[3], d2[3], d3[3];
     m3_column(d1, q, 0);
     m3_column(d2, q, 1);
@@ -153,7 +257,7 @@ void glyph_add_ends(render_mesh *m, const rod_recording *rec, const render_optio
                     double radius)
 {
     for (int end = 0; end < 2; end++) {
-        switch (end_glyph(rec, end)) {
+        switch (end_glyph(rec, o, frame, end)) {
         case GLYPH_BLOCK: {
             double centre[3], axes[3][3], half[3];
             clamp_box(rec, radius, frame, end, centre, axes, half);

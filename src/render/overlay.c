@@ -58,18 +58,25 @@ void overlay_destroy(render_overlay *ov)
 
 /* The knot of a recording's frame: its rod's, or of two rods the knot they
  * make together (sim/geometry/knot_across.h: their concatenation would
- * join one's tip to the other's root straight through the knot). 0, or -1
- * (not identified, or more than two rods). */
+ * join one's tip to the other's root straight through the knot). Only the
+ * thread left after a cut (rod_recording_kept): the nodes cut away, piled
+ * on the cut end, would give the closure no last segment to draw the end
+ * out along. 0, or -1 (not identified, or more than two rods). */
 static int frame_knot(rod_knot_scratch *scratch, const rod_recording *rec, int frame, rod_knot *k)
 {
     char err[200];
     const double *points = node_position(rec, frame, 0);
-    if (rec->rod_count < 2) return rod_knot_identify_in(scratch, points, rec->nodes, 0, k, err,
-                                                        sizeof err);
+    if (rec->rod_count < 2) {
+        int first;
+        const int kept = rod_recording_kept(rec, frame, 0, rec->nodes, &first);
+        return rod_knot_identify_in(scratch, &points[3 * first], kept, 0, k, err, sizeof err);
+    }
     if (rec->rod_count > 2) return -1;
-    const int na = rec->rod_first[1], nb = rec->rod_first[2] - na;
+    int a, b;
+    const int na = rod_recording_kept(rec, frame, 0, rec->rod_first[1], &a);
+    const int nb = rod_recording_kept(rec, frame, rec->rod_first[1], rec->rod_first[2], &b);
     double *work = malloc((size_t)rod_knot_across_points(na, nb) * 3 * sizeof *work);
-    int rc = !work ? -1 : rod_knot_identify_across(scratch, points, na, &points[3 * na], nb,
+    int rc = !work ? -1 : rod_knot_identify_across(scratch, &points[3 * a], na, &points[3 * b], nb,
                                                     work, k, err, sizeof err);
     free(work);
     return rc;
@@ -331,6 +338,10 @@ static void draw_left_column(image *img, const render_overlay *ov, const rod_rec
     unsigned show = o->show;
     int y = margin + text_ascent(ov->title) - line - 2;
     char text[512];
+    /* after a cut (one rod): the nodes left, and an end cut away is "cut" */
+    int first = 0, kept = rec->nodes;
+    if (rec->rod_count < 2) kept = rod_recording_kept(rec, frame, 0, rec->nodes, &first);
+    const int cut[2] = {first > 0, first + kept < rec->nodes};
     if (show & RENDER_SHOW_TITLE) {
         y += line + 2;
         text_draw(img, ov->title, margin, y, ov->title_text, ov->ink);
@@ -347,8 +358,10 @@ static void draw_left_column(image *img, const render_overlay *ov, const rod_rec
         y += line;
         int x = draw_time(img, ov, margin, y, rec->time[frame]);
         if (o->overlay_solver) {
-            snprintf(text, sizeof text, "      scheme: %s      %d nodes",
-                     rec->scheme[0] ? rec->scheme : "?", rec->nodes);
+            int used = snprintf(text, sizeof text, "      scheme: %s      %d nodes",
+                                rec->scheme[0] ? rec->scheme : "?", rec->nodes);
+            if (kept < rec->nodes && used > 0 && (size_t)used < sizeof text)
+                snprintf(text + used, sizeof text - (size_t)used, ", %d left", kept);
             text_draw(img, ov->body, x, y, text, ov->ink);
             left_line(left, ov->body, x, y, text);
         } else {
@@ -360,9 +373,12 @@ static void draw_left_column(image *img, const render_overlay *ov, const rod_rec
     if (ends_line_shown(rec, o)) {
         static const char *const kinds[] = {"clamped", "pinned", "free"};
         static const char *const held[] = {"", " on a slide", " on a slide, not turning"};
-        int used = snprintf(text, sizeof text, "root %s%s%s, tip %s%s%s", kinds[root->kind],
-                            root->driven ? " (driven)" : "", held[root->sliding % 3],
-                            kinds[tip->kind], tip->driven ? " (driven)" : "", held[tip->sliding % 3]);
+        int used = snprintf(text, sizeof text, "root %s%s%s, tip %s%s%s",
+                            cut[0] ? "cut" : kinds[root->kind],
+                            !cut[0] && root->driven ? " (driven)" : "",
+                            cut[0] ? "" : held[root->sliding % 3], cut[1] ? "cut" : kinds[tip->kind],
+                            !cut[1] && tip->driven ? " (driven)" : "",
+                            cut[1] ? "" : held[tip->sliding % 3]);
         if (rec->needle_radius > 0 && used > 0 && (size_t)used < sizeof text) {
             char radius[32];
             format_length(radius, sizeof radius, rec->needle_radius);

@@ -408,6 +408,23 @@ int rod_recording_append(rod_recording *r, const rod_model *m, const rod_state *
     return 0;
 }
 
+/* Node b is a copy of node a (a node cut away, put on the cut end). */
+static int same_node(const rod_recording *r, size_t a, size_t b)
+{
+    return !memcmp(&r->position[3 * a], &r->position[3 * b], 3 * sizeof(double)) &&
+           !memcmp(&r->frame[9 * a], &r->frame[9 * b], 9 * sizeof(double));
+}
+
+int rod_recording_kept(const rod_recording *r, int frame, int lo, int hi, int *first)
+{
+    const size_t base = (size_t)frame * (size_t)r->nodes;
+    int a = lo, b = hi - 1;
+    while (a < b && same_node(r, base + (size_t)a, base + (size_t)a + 1)) a++;
+    while (b > a && same_node(r, base + (size_t)b, base + (size_t)b - 1)) b--;
+    *first = a;
+    return hi > lo ? b - a + 1 : 0;
+}
+
 const double *rod_recording_instrument(const rod_recording *r, int frame, int k)
 {
     if (!r->instrument_pose || k < 0 || k >= r->instrument_count || frame < 0 ||
