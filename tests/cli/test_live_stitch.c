@@ -38,8 +38,12 @@
 #include "sim/path.h"
 #include "test.h"
 #include "test_csv.h"
+#include "test_process.h"
 
-#define DIR "/tmp/rodsim_test_live_stitch"
+/* the test's own folder (two runs at once, release and sanitizers, do
+ * not share one) */
+static char dir_name[] = "/tmp/rodsim_test_live_stitch_XXXXXX";
+#define DIR dir_name
 #define SCENES RODSIM_SOURCE_DIR "/scenes/"
 #define NODES 81
 #define T_GRASP_MS 3550 /* the scene's [needle_grasp] t, ms */
@@ -86,7 +90,9 @@ static int write_lines(int end_ms)
         printf("paths: %s\n", err);
         return -1;
     }
-    FILE *f = fopen(DIR "/lines.txt", "w");
+    char name[128];
+    snprintf(name, sizeof name, "%s/lines.txt", DIR);
+    FILE *f = fopen(name, "w");
     double rv_tip[3] = {0}, rv_forceps[3] = {0};
     for (int i = 1; f && i <= end_ms; i++) {
         if (i > T_FORCEPS_MS && i <= T_GRASP_MS)
@@ -167,7 +173,7 @@ static void read_run(const char *rows)
 
 int main(void)
 {
-    mkdir(DIR, 0755);
+    if (!check(mkdtemp(dir_name) != NULL, "the test's folder")) return test_finish();
     const int end_ms = test_sanitized() ? 800 : MAX_MS;
     if (!check(write_lines(end_ms) == 0, "the lines written (the holder's and the forceps' "
                "paths to %g s)", end_ms * 1e-3))
@@ -181,8 +187,12 @@ int main(void)
              RODSIM_BIN, SCENES, end_ms * 1e-3, DIR, DIR, DIR);
     const int run_rc = system(cmd);
     check(live_rc == 0 && run_rc == 0, "live and run ended (%d, %d)", live_rc, run_rc);
-    char *text = read_text(DIR "/answers.csv"), *input = read_text(DIR "/lines.txt"),
-         *rows = read_text(DIR "/run.csv");
+    char answers_name[128], lines_name[128], run_name[128];
+    snprintf(answers_name, sizeof answers_name, "%s/answers.csv", DIR);
+    snprintf(lines_name, sizeof lines_name, "%s/lines.txt", DIR);
+    snprintf(run_name, sizeof run_name, "%s/run.csv", DIR);
+    char *text = read_text(answers_name), *input = read_text(lines_name),
+         *rows = read_text(run_name);
     if (!check(text && input && rows, "answers, lines and run's CSV read")) goto done;
     const int expected = end_ms + (end_ms > T_FORCEPS_MS
                                        ? (end_ms < T_GRASP_MS ? end_ms : T_GRASP_MS) - T_FORCEPS_MS
@@ -235,5 +245,6 @@ done:
     free(text);
     free(input);
     free(rows);
+    test_remove_tree(DIR);
     return test_finish();
 }
