@@ -1,6 +1,7 @@
 /* test_process.h: helpers for tests that drive the real rodsim binary and
- * look at what it wrote: run it capturing its output, count the entries of a
- * directory, remove a scratch directory. Header-only, tests only. */
+ * look at what it wrote: run it capturing its output, write a file into a
+ * scratch directory, count its entries, remove it. Header-only, tests
+ * only. */
 #ifndef RODSIM_TEST_PROCESS_H
 #define RODSIM_TEST_PROCESS_H
 
@@ -58,6 +59,19 @@ static inline int test_run_rodsim(const char *const *args, char *output, size_t 
 }
 
 /* Entries of a directory other than . and ..; -1 when it does not exist. */
+/* Writes text to the file `name` in directory dir (a scene, a path); a
+ * file that cannot be written shows when the test reads it back. */
+static inline void test_write_in(const char *dir, const char *name, const char *text)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "w");
+    if (f) {
+        fputs(text, f);
+        fclose(f);
+    }
+}
+
 static inline int test_dir_entries(const char *dir)
 {
     DIR *d = opendir(dir);

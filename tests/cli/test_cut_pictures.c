@@ -43,13 +43,7 @@ static char dir[] = "/tmp/rodsim_cut_picturesXXXXXX";
 
 static void write_file(const char *name, const char *text)
 {
-    char path[512];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "w");
-    if (f) {
-        fputs(text, f);
-        fclose(f);
-    }
+    test_write_in(dir, name, text);
 }
 
 /* The scene run with frames every FRAME_STEP to its duration: the

@@ -26,13 +26,7 @@ static char dir[] = "/tmp/rodsim_cut_heldXXXXXX";
 
 static void write_file(const char *name, const char *text)
 {
-    char path[256];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "w");
-    if (f) {
-        fputs(text, f);
-        fclose(f);
-    }
+    test_write_in(dir, name, text);
 }
 
 /* The number after "key": in text, or NAN. */

@@ -40,6 +40,7 @@
 #include "sim/scene.h"
 #include "test.h"
 #include "test_process.h"
+#include "test_scene_file.h"
 
 #define DIAMETER 0.0005 /* m */
 #define Y_GRASP -0.025  /* m: the jaws' middle over the thread, 25 mm from its root */
@@ -49,13 +50,7 @@ static char dir[] = "/tmp/rodsim_holder_handoverXXXXXX";
 
 static void write_file(const char *name, const char *text)
 {
-    char path[256];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "w");
-    if (f) {
-        fputs(text, f);
-        fclose(f);
-    }
+    test_write_in(dir, name, text);
 }
 
 /* A 5 cm thread along +y from (0, -0.05, 0), its tip (0, 0, 0) clamped to
@@ -129,19 +124,7 @@ static int replace(char *text, size_t size, const char *from, const char *to)
 
 static int read_scene(const char *name, rod_model *m, char *err, size_t errlen)
 {
-    char path[256];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "r");
-    if (!f) return -1;
-    char text[8192] = "";
-    size_t got = fread(text, 1, sizeof text - 1, f);
-    text[got] = '\0';
-    fclose(f);
-    ini_doc *doc = ini_parse(path, text, err, errlen);
-    if (!doc) return -1;
-    int rc = scene_read_rod(doc, m, err, errlen);
-    ini_destroy(doc);
-    return rc;
+    return test_read_scene_in(dir, name, m, err, errlen);
 }
 
 /* The thread's point at arc length s. */

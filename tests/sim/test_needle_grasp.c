@@ -29,6 +29,7 @@
 #include "sim/scene.h"
 #include "test.h"
 #include "test_process.h"
+#include "test_scene_file.h"
 
 #define T_GRASP 0.5 /* s */
 #define OMEGA 2.0   /* rad/s: the forceps' turn about x after the grasp */
@@ -37,13 +38,7 @@ static char dir[] = "/tmp/rodsim_needle_graspXXXXXX";
 
 static void write_file(const char *name, const char *text)
 {
-    char path[256];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "w");
-    if (f) {
-        fputs(text, f);
-        fclose(f);
-    }
+    test_write_in(dir, name, text);
 }
 
 /* The scene: a 5 cm thread along -z from (0, 0, 0.05), its tip (0, 0, 0)
@@ -94,19 +89,7 @@ static void write_paths(void)
 /* Reads scene `name`; 0 or -1 with err. */
 static int read_scene(const char *name, rod_model *m, char *err, size_t errlen)
 {
-    char path[256];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "r");
-    if (!f) return -1;
-    char text[8192] = "";
-    size_t got = fread(text, 1, sizeof text - 1, f);
-    text[got] = '\0';
-    fclose(f);
-    ini_doc *doc = ini_parse(path, text, err, errlen);
-    if (!doc) return -1;
-    int rc = scene_read_rod(doc, m, err, errlen);
-    ini_destroy(doc);
-    return rc;
+    return test_read_scene_in(dir, name, m, err, errlen);
 }
 
 static double rot_diff(const double *a, const double *b)
