@@ -26,7 +26,9 @@
  * Errors: every function that can fail returns a rodsim_status; the message
  * for people is rodsim_last_error(scene) (or rodsim_last_error(NULL): the
  * last one of the calling thread, the only one when a load failed). A bad
- * scene gets the message `rodsim run` prints after "rodsim run: ".
+ * scene gets the message `rodsim run` prints after "rodsim run: ", also a
+ * scene whose instruments' paths take one through another (unless
+ * instrument.may_overlap = yes).
  */
 #ifndef RODSIM_H
 #define RODSIM_H

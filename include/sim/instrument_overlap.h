@@ -64,6 +64,22 @@ typedef struct rod_instrument_overlap {
  * (first, deepest), else 0. */
 int rod_instruments_overlap(const rod_model *m, double t_end, rod_instrument_overlap *out);
 
+/* The same over [t0, t1] only (s; the ends sampled, every
+ * ROD_INSTRUMENT_PATH_STEP from t0 between them): what a step from t0 to
+ * t1 does, where the paths grow as it goes (rodsim live's lines). */
+int rod_instruments_overlap_between(const rod_model *m, double t0, double t1,
+                                    rod_instrument_overlap *out);
+
+/* 1 when the pair of o's first overlap may overlap (either has
+ * may_overlap = yes), 0 when it is refused; o from a call that returned 1. */
+int rod_instruments_overlap_allowed(const rod_model *m, const rod_instrument_overlap *o);
+
+/* o's first overlap as a short line for people into out: "the forceps'
+ * shank (forceps) and the needle holder's box lock (holder) overlap by
+ * 2.28 mm at t = 0.512 s (0.14 mm allowed)". */
+void rod_instruments_overlap_text(const rod_model *m, const rod_instrument_overlap *o, char *out,
+                                  size_t n);
+
 /* The check over the whole paths as a message for people into out: names
  * `file`, both [instrument]s' lines and names, the parts, the first time,
  * the depth, the deepest, and the keys that change it (both paths,

@@ -21,6 +21,7 @@
 #include "render/gl_context.h"
 #include "sim/cut.h"
 #include "sim/geometry/knot.h"
+#include "sim/instrument_overlap.h"
 #include "sim/path.h"
 #include "sim/recording.h"
 #include "sim/rod.h"
@@ -123,6 +124,17 @@ void rodsim_free(rodsim_scene *sc)
     free(sc);
 }
 
+/* Instruments whose paths take them through each other: refused as `rodsim
+ * run` refuses them, in its words (nothing pushes driven instruments
+ * apart); may_overlap = yes allows it. 0, or -1 with the message in err. */
+static int instruments_through(const rod_model *m, const ini_doc *doc, char *err, size_t errlen)
+{
+    char text[RODSIM_ERR_LEN - 32]; /* room for the words after it */
+    if (rod_instruments_overlap_message(m, ini_filename(doc), text, sizeof text) >= 0) return 0;
+    snprintf(err, errlen, "%s; nothing was run", text);
+    return -1;
+}
+
 /* The scene of named rods from its parsed INI (the overrides applied), read
  * as `rodsim run` reads it (rods_run.c): the set, its run at t = 0, no
  * recording (rodsim_render refuses it). */
@@ -145,7 +157,8 @@ static rodsim_status make_rods_scene(ini_doc *doc, rodsim_scene **scene)
         return fail(NULL, RODSIM_BAD_INPUT, "%s", err);
     }
     rodsim_status st = RODSIM_BAD_INPUT;
-    if (run_read_output(doc, &sc->out, err, sizeof err) || ini_check_unused(doc, err, sizeof err))
+    if (run_read_output(doc, &sc->out, err, sizeof err) || ini_check_unused(doc, err, sizeof err) ||
+        instruments_through(&sc->set->model[0], doc, err, sizeof err))
         goto fail;
     st = RODSIM_FAILED;
     if (rod_set_run_create(sc->set, sc->run, err, sizeof err)) {
@@ -201,7 +214,8 @@ static rodsim_status make_scene(ini_doc *doc, const char *const *overrides, int 
         rodsim_free(sc);
         return make_rods_scene(doc, scene);
     }
-    if (run_read_scene(doc, &sc->model, &sc->out, err, sizeof err)) {
+    if (run_read_scene(doc, &sc->model, &sc->out, err, sizeof err) ||
+        instruments_through(&sc->model, doc, err, sizeof err)) {
         rodsim_free(sc);
         return fail(NULL, RODSIM_BAD_INPUT, "%s", err);
     }

@@ -60,6 +60,7 @@
 #include "base/outfile.h"
 #include "cli/args.h"
 #include "cli/live_needle.h"
+#include "cli/live_overlap.h"
 #include "cli/live_rods.h"
 #include "cli/scene_outputs.h"
 #include "base/vec3.h"
@@ -673,6 +674,28 @@ static int needle_row(live_session *ls, double t, int k, double *row)
     return jaws == k || !ls->instrument_pose[jaws] ? 1 : -1;
 }
 
+/* A line whose step would take an instrument through another (`text`,
+ * live_overlap.h), instrument k's (-1: the tip's): nothing stepped, answered
+ * failed with the last good state, said; the session goes on from it. */
+static void print_instrument_answer(live_session *ls, int k, const char *status);
+static int refuse_overlap(live_session *ls, double t, int k, const char *text)
+{
+    count_line(ls, LINE_FAILED, 0.0);
+    if (k >= 0) print_instrument_answer(ls, k, "failed");
+    else print_answer(ls, "failed");
+    complain(ls, "instruments through each other",
+             " (t = %.9g s): %s%s%s; not stepped: driven instruments cannot push each other "
+             "apart; answered with the last good state (t = %.9g s); may_overlap = yes in "
+             "either [instrument] allows it", t, k >= 0 ? ls->model->instruments[k].name : "",
+             k >= 0 ? "'s line: " : "", text, ls->state->time);
+    if (ls->record) {
+        fprintf(ls->record, "# input line %ld (t = %.17g s) failed: not replayed\n",
+                ls->line_no, t);
+        record_check(ls);
+    }
+    return LINE_FAILED;
+}
+
 /* One data line, parsed into values[count], checked: stepped to (or part
  * of the way: line_tries), answered and recorded. LINE_OK or LINE_FAILED. */
 static int step_line(live_session *ls, const double *values, int count)
@@ -693,6 +716,12 @@ static int step_line(live_session *ls, const double *values, int count)
     ls->line_iterations = ls->line_builds = ls->line_step_max = 0;
     ls->budget = line_budget(ls);
     if (ls->budget > ls->budget_max) ls->budget_max = ls->budget;
+    /* the time goes on: a needle holder on its scene path moves */
+    char overlap[LIVE_OVERLAP_LEN];
+    if (live_overlap_line(ls->model, before, row[0], overlap, sizeof overlap)) {
+        ls->needle = needle_before;
+        return refuse_overlap(ls, row[0], -1, overlap);
+    }
     const double step_start = wall_seconds();
     rod_status status = ROD_OK, first_status = ROD_OK;
     rod_report report, first_report;
@@ -882,6 +911,17 @@ static int step_instrument_line(live_session *ls, int k, const double *v)
     held_row[0] = before;
     int failed = hold && push_instrument_row(ls, k, held_row, 1, err, sizeof err);
     if (failed) snprintf(first_report.message, sizeof first_report.message, "%s", err);
+    /* the row asked for, through another instrument: refused whole (a
+     * part of the way could pass, but it is not what was asked) */
+    char overlap[LIVE_OVERLAP_LEN];
+    if (!failed && push_instrument_row(ls, k, v, 0, err, sizeof err) == 0) {
+        const int through = live_overlap_line(ls->model, before, v[0], overlap, sizeof overlap);
+        pop_instrument_row(ls, k);
+        if (through) {
+            if (hold) pop_instrument_row(ls, k);
+            return refuse_overlap(ls, v[0], k, overlap);
+        }
+    }
     double velocity[6] = {0}, fraction = 1.0;
     int carried = 0, tried = 0;
     const int rescue = ls->stuck == 0 || (ls->stuck & (ls->stuck - 1)) == 0;
@@ -1508,7 +1548,9 @@ int live_command(int argc, char **argv)
         goto fail;
     }
     if (run_read_scene(doc, &m, &out, err, sizeof err)) goto fail;
-    if (!(ls = live_session_create(&m, &settings, err, sizeof err))) goto fail;
+    if (!(ls = live_session_create(&m, &settings, err, sizeof err)) ||
+        live_overlap_start(&m, a.scene, err, sizeof err))
+        goto fail;
     status = run_session(ls, &a, &m);
     goto done;
 fail:

@@ -18,6 +18,7 @@
 #include "base/outfile.h"
 #include "cli/args.h"
 #include "cli/live.h"
+#include "cli/live_overlap.h"
 #include "cli/run.h"
 #include "base/vec3.h"
 #include "sim/cut.h"
@@ -199,6 +200,8 @@ static int setup(live_rods *lr, ini_doc *doc, const char *default_rod, char *err
                  ini_filename(doc), default_rod, names);
         return -1;
     }
+    /* at t = 0 the scene's paths are where the live ones start: bad input */
+    if (live_overlap_start(&lr->set.model[0], ini_filename(doc), err, errlen)) return -1;
     lr->status = RUN_EXIT_FAILURE;
     if (make_paths(lr, err, errlen) || make_instrument_paths(lr, err, errlen)) return -1;
     if (rod_set_run_create(&lr->set, &lr->run, err, errlen)) return -1;
@@ -331,6 +334,13 @@ static int step_instrument(live_rods *lr, int i, const double *v, char *err, siz
     rod_status st = ROD_FAILED;
     rod_report report;
     memset(&report, 0, sizeof report);
+    char overlap[LIVE_OVERLAP_LEN];
+    if (!failed && live_overlap_line(&lr->set.model[0], now, v[0], overlap, sizeof overlap)) {
+        failed = 1;
+        snprintf(err, errlen, "%s; not stepped: driven instruments cannot push each other "
+                 "apart; answered with the last good state (t = %.9g s); may_overlap = yes in "
+                 "either [instrument] allows it", overlap, now);
+    }
     if (!failed) {
         for (int j = 0; j < lr->set.count; j++) rod_state_copy(lr->good[j], lr->run.state[j]);
         const double n = stepping_count(v[0] - now, lr->dt);

@@ -19,6 +19,7 @@
 #include "cli/summary.h"
 #include "cli/sweep_export.h"
 #include "cli/sweep_plot.h"
+#include "sim/instrument_overlap.h"
 #include "sim/rod.h"
 #include "study/buckling.h"
 
@@ -353,6 +354,16 @@ static void run_point(const sweep *sw, int point, sweep_point_result *r)
         run_read_scene(doc, &m, &out, err, sizeof err)) {
         /* the scene was checked up front: only memory can fail here */
         set_message(r, SWEEP_POINT_FAILED, "%s", set ? err : "out of memory");
+        goto done;
+    }
+    /* instruments through each other: this point refused in its row, the
+     * others run. A sweep explores a range: a value that puts one
+     * instrument through another is one of its outcomes (as a point
+     * over the time budget, or unstable), not a typo to refuse the whole
+     * sweep for; a scene of named rods comes out the same way (rods_run.c) */
+    char overlap[sizeof r->message];
+    if (rod_instruments_overlap_message(&m, sw->scene_arg, overlap, sizeof overlap) < 0) {
+        set_message(r, SWEEP_POINT_REFUSED, "%s", overlap);
         goto done;
     }
     const char *why = "";

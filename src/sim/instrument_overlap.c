@@ -85,15 +85,16 @@ static void check_at(const rod_model *m, const capsule_set *set, int n, double t
         }
 }
 
+static int instrument_count(const rod_model *m)
+{
+    return m->instrument_count < ROD_MAX_INSTRUMENTS ? m->instrument_count : ROD_MAX_INSTRUMENTS;
+}
+
 int rod_instruments_overlap(const rod_model *m, double t_end, rod_instrument_overlap *out)
 {
-    const rod_instrument_contact none = {-1.0, INFINITY, -1, -1, -1, -1};
-    out->closest = out->first = out->deepest = none;
-    out->allowed = 0.0;
-    const int n = m->instrument_count < ROD_MAX_INSTRUMENTS ? m->instrument_count
-                                                            : ROD_MAX_INSTRUMENTS;
-    if (n < 2) return 0;
-    double t0 = INFINITY, t1 = -INFINITY, thinnest = INFINITY;
+    const int n = instrument_count(m);
+    if (n < 2) return rod_instruments_overlap_between(m, 0.0, 0.0, out); /* nothing to meet */
+    double t0 = INFINITY, t1 = -INFINITY;
     for (int k = 0; k < n; k++) {
         const rod_instrument *in = &m->instruments[k];
         t0 = fmin(t0, rod_path_start(in->pose));
@@ -102,12 +103,27 @@ int rod_instruments_overlap(const rod_model *m, double t_end, rod_instrument_ove
             t0 = fmin(t0, rod_path_start(in->jaw));
             t1 = fmax(t1, rod_path_end(in->jaw));
         }
-        double lj, rj, rs;
-        rod_instrument_dimensions(in, &lj, &rj, &rs);
-        thinnest = fmin(thinnest, fmin(rj, rs));
     }
     if (t_end >= 0.0) t1 = t_end;
     else if (m->options.duration > 0.0 && m->options.duration < t1) t1 = m->options.duration;
+    if (t1 < t0) t1 = t0;
+    return rod_instruments_overlap_between(m, t0, t1, out);
+}
+
+int rod_instruments_overlap_between(const rod_model *m, double t0, double t1,
+                                    rod_instrument_overlap *out)
+{
+    const rod_instrument_contact none = {-1.0, INFINITY, -1, -1, -1, -1};
+    out->closest = out->first = out->deepest = none;
+    out->allowed = 0.0;
+    const int n = instrument_count(m);
+    if (n < 2) return 0;
+    double thinnest = INFINITY;
+    for (int k = 0; k < n; k++) {
+        double lj, rj, rs;
+        rod_instrument_dimensions(&m->instruments[k], &lj, &rj, &rs);
+        thinnest = fmin(thinnest, fmin(rj, rs));
+    }
     if (t1 < t0) t1 = t0;
     const double limit = ROD_INSTRUMENT_PATH_MOVE * thinnest; /* m per sample */
     overlap_found found = {{none, none}, {none, none}, {0.0, 0.0}};
@@ -200,4 +216,20 @@ int rod_instruments_closest_text(const rod_model *m, double t_end, char *out, si
              rod_instrument_capsule_name(c->part_b), c->gap < 0.0 ? "overlap by " : "",
              1e3 * fabs(c->gap), c->gap < 0.0 ? "" : " apart", c->t);
     return 1;
+}
+
+int rod_instruments_overlap_allowed(const rod_model *m, const rod_instrument_overlap *o)
+{
+    return m->instruments[o->first.a].may_overlap || m->instruments[o->first.b].may_overlap;
+}
+
+void rod_instruments_overlap_text(const rod_model *m, const rod_instrument_overlap *o, char *out,
+                                  size_t n)
+{
+    const rod_instrument *a = &m->instruments[o->first.a], *b = &m->instruments[o->first.b];
+    snprintf(out, n, "the %s %s (%s, line %d) and the %s %s (%s, line %d) overlap by %.2f mm "
+             "at t = %.3f s (%.2f mm allowed)", owner(a),
+             rod_instrument_capsule_name(o->first.part_a), a->name, a->line, owner(b),
+             rod_instrument_capsule_name(o->first.part_b), b->name, b->line,
+             -1e3 * o->first.gap, o->first.t, 1e3 * o->allowed);
 }

@@ -161,6 +161,7 @@ static void test_instrument_line(void)
         "[instrument]\nkind = needle_holder\nname = holder\npath = holder.csv\nneedle = yes\n"
         "size = 0.12\n"
         "[instrument]\nkind = forceps\nname = forceps\npath = forceps.csv\nsize = 0.12\n"
+        "may_overlap = yes\n" /* 3 mm beside the holder: shanks 0.35 mm into each other */
         "[needle_grasp]\nt = 0.1\ninstrument = forceps\n"
         "[loads]\ngravity = 0 0 -9.81\n"
         "[solver]\nscheme = implicit\ndt = 0.001\nduration = 1\nnewton_tolerance = 1e-12\n"

@@ -117,6 +117,32 @@ def test_bad_scene_message_is_the_cli_s(tmp_path):
     assert cli.stderr == "rodsim run: %s\n" % e.value
 
 
+def test_instruments_through_each_other(tmp_path):
+    """Two straight 12 cm forceps crossing at right angles 3 mm apart: their
+    shanks overlap by 2 r_jaw + 2 r_shank - h = 2.4 + 2.88 - 3 = 2.28 mm (by
+    hand): refused with `rodsim run`'s message, loaded with may_overlap."""
+    (tmp_path / "lower.csv").write_text("t,x,y,z,rx,ry,rz,jaw\n0,0,0,0,0,0,0,0\n"
+                                        "1,0,0,0,0,0,0,0\n")
+    (tmp_path / "upper.csv").write_text("t,x,y,z,rx,ry,rz,jaw\n"
+                                        "0,-0.05,0.05,0.003,0,0,1.5707963267948966,0\n"
+                                        "1,-0.05,0.05,0.003,0,0,1.5707963267948966,0\n")
+    scene = tmp_path / "through.ini"
+    scene.write_text(HANGING.replace("duration = 4", "duration = 0.01") +
+                     "[instrument]\nkind = forceps\nname = lower\npath = lower.csv\n"
+                     "size = 0.12\n[instrument]\nkind = forceps\nname = upper\n"
+                     "path = upper.csv\nsize = 0.12\n")
+    cli = subprocess.run([RODSIM_BIN, "run", str(scene), "--no-video", "--quiet"],
+                         capture_output=True, text=True)
+    with pytest.raises(rodsim.Error) as e:
+        rodsim.Scene(scene)
+    assert cli.returncode == 2 and e.value.status == "bad_input"
+    assert "rodsim run: %s\n" % e.value in cli.stderr
+    assert "the forceps' shank and the forceps' shank overlap by 2.28 mm at t = 0.000 s" \
+        in str(e.value)
+    with rodsim.Scene(scene, overrides={"instrument.upper.may_overlap": "yes"}) as s:
+        assert s.nodes == 31
+
+
 def test_overrides_and_state_shapes():
     with rodsim.Scene(HANGING, overrides={"rod.nodes": 11, "solver.dt": 0.004}) as s:
         assert s.nodes == 11 and s.dt == 0.004
