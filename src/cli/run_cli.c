@@ -187,9 +187,6 @@ static int check_summary_path(const char *path, char *err, size_t errlen)
     else snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
     char why[512];
     if (outfile_check_dir(dir, why, sizeof why)) {
-        size_t cut = strcspn(why, "("); /* its advice names -o */
-        while (cut > 0 && why[cut - 1] == ' ') cut--;
-        why[cut] = '\0';
         snprintf(err, errlen, "--summary %s: %s", path, why);
         return -1;
     }

@@ -1199,9 +1199,13 @@ int scene_outputs_write(const scene_outputs_options *o, const char *name, const 
 
 int scene_outputs_check(const scene_outputs_options *a, char *err, size_t errlen)
 {
+    char why[512];
     if (!a->no_video) {
         if (gl_context_check_env(err, errlen)) return -1; /* RODSIM_GL: bad input, exit 2 */
-        if (outfile_check_dir(a->out_dir, err, errlen)) return -1;
+        if (outfile_check_dir(a->out_dir, why, sizeof why)) {
+            snprintf(err, errlen, "-o %s (the video's directory): %s", a->out_dir, why);
+            return -1;
+        }
         outfile_remove_stale(a->out_dir);
     }
     if (a->csv && strcmp(a->csv, "-") != 0) {
@@ -1219,7 +1223,10 @@ int scene_outputs_check(const scene_outputs_options *a, char *err, size_t errlen
             snprintf(err, errlen, "--csv %s: names a directory, not a file", a->csv);
             return -1;
         }
-        if (outfile_check_dir(dir, err, errlen)) return -1;
+        if (outfile_check_dir(dir, why, sizeof why)) {
+            snprintf(err, errlen, "--csv %s: %s", a->csv, why);
+            return -1;
+        }
         outfile_remove_stale(dir);
     }
     return 0;

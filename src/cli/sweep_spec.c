@@ -872,23 +872,32 @@ int sweep_check_outputs(const sweep *sw, char *err, size_t errlen)
 {
     /* --print-commands, --snakefile, --sbatch write no results now: only the script */
     int later = sw->print_commands || sw->snakefile || sw->sbatch;
-    if (sw->result_dir && !later && outfile_check_dir(sw->result_dir, err, errlen))
+    char why[512];
+    if (sw->result_dir && !later && outfile_check_dir(sw->result_dir, why, sizeof why)) {
+        snprintf(err, errlen, "--result %s: %s", sw->result_dir, why);
         return -1;
+    }
     const char *files[6] = {sw->csv && strcmp(sw->csv, "-") != 0 ? sw->csv : NULL, sw->png,
                             sw->svg, sw->plot_arg ? sw->plot_csv : NULL, sw->snakefile,
                             sw->sbatch};
+    /* the option that names each file (the plot's data is FILE.csv beside --png) */
+    const char *const option[6] = {"--csv", "--png", "--svg", "the plot's data", "--snakefile",
+                                   "--sbatch"};
     for (int i = later ? 4 : 0; i < 6; i++) {
         if (!files[i]) continue;
         struct stat st;
         if (stat(files[i], &st) == 0 && S_ISDIR(st.st_mode)) {
-            snprintf(err, errlen, "%s: is a directory, not a file", files[i]);
+            snprintf(err, errlen, "%s %s: is a directory, not a file", option[i], files[i]);
             return -1;
         }
         char dir[OUTFILE_PATH_MAX];
         const char *slash = strrchr(files[i], '/');
         if (!slash) snprintf(dir, sizeof dir, ".");
         else snprintf(dir, sizeof dir, "%.*s", (int)(slash - files[i] + 1), files[i]);
-        if (outfile_check_dir(dir, err, errlen)) return -1;
+        if (outfile_check_dir(dir, why, sizeof why)) {
+            snprintf(err, errlen, "%s %s: %s", option[i], files[i], why);
+            return -1;
+        }
     }
     return 0;
 }
