@@ -1,6 +1,8 @@
 /* test_output_paths.c: an output path that cannot be used is refused before
  * any work (exit 2), and the message names the option the user gave for it
- * (a --csv under a file names --csv, not -o), and nothing is written. */
+ * (a --csv under a file names --csv, not -o), and nothing is written.
+ * --tissue-csv takes a file only: "-" is refused (it is no standard output
+ * there), not written as a file named "-". */
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -52,6 +54,28 @@ static void test_messages_name_the_option(const char *scene)
     expect_named("sweep --result under a file", result, "--result", "-o ");
 }
 
+/* The elastic pad's scene, run briefly in tmp_dir (cwd), so that a file
+ * named "-" would land there. */
+static void test_tissue_csv_dash(void)
+{
+    char output[4096], cwd[512];
+    if (!getcwd(cwd, sizeof cwd) || chdir(tmp_dir)) {
+        check(0, "chdir %s", tmp_dir);
+        return;
+    }
+    const char *args[] = {"run", RODSIM_SOURCE_DIR "/scenes/suture_elastic.ini", "--no-video",
+                          "--quiet", "--set", "solver.duration=0.02", "--tissue-csv", "-", NULL};
+    int status = test_run_rodsim(args, output, sizeof output);
+    char *nl = strchr(output, '\n');
+    if (nl) *nl = '\0';
+    int dash_written = access("-", F_OK) == 0;
+    unlink("-");
+    check(status == 2 && strstr(output, "--tissue-csv") && !dash_written,
+          "run --tissue-csv -: exit %d (want 2), message '%s', a file named '-' %s", status,
+          output, dash_written ? "written (want none)" : "not written");
+    if (chdir(cwd)) check(0, "chdir back to %s", cwd);
+}
+
 int main(void)
 {
     if (!mkdtemp(tmp_dir)) {
@@ -65,6 +89,7 @@ int main(void)
     test_write_in(tmp_dir, "file", "not a directory\n");
 
     test_messages_name_the_option(scene);
+    test_tissue_csv_dash();
 
     check(test_dir_entries(tmp_dir) == 2, "nothing written beside the scene and the file: %d "
           "entries (want 2)", test_dir_entries(tmp_dir));
