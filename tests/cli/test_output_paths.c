@@ -2,7 +2,9 @@
  * any work (exit 2), and the message names the option the user gave for it
  * (a --csv under a file names --csv, not -o), and nothing is written.
  * --tissue-csv takes a file only: "-" is refused (it is no standard output
- * there), not written as a file named "-". */
+ * there), not written as a file named "-"; a --tissue-csv under a file, or
+ * naming a directory, is refused up front like --csv (exit 2), not after
+ * the run (exit 1). */
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -50,6 +52,13 @@ static void test_messages_name_the_option(const char *scene)
     const char *sweep_png[] = {"sweep",      scene, "--vary", "rod.nodes=11,21", "--plot",
                                "rod.nodes:tip_y", "--png", png, NULL};
     expect_named("sweep --png under a file", sweep_png, "--png", "-o ");
+    const char *pad = RODSIM_SOURCE_DIR "/scenes/suture_elastic.ini";
+    const char *tissue[] = {"run", pad, "--no-video", "--set", "solver.duration=0.02",
+                            "--tissue-csv", under, NULL};
+    expect_named("run --tissue-csv under a file", tissue, "--tissue-csv", "-o ");
+    const char *tissue_dir[] = {"run", pad, "--no-video", "--set", "solver.duration=0.02",
+                                "--tissue-csv", tmp_dir, NULL};
+    expect_named("run --tissue-csv naming a directory", tissue_dir, "--tissue-csv", NULL);
     const char *result[] = {"sweep", scene, "--vary", "rod.nodes=11,21", "--result", dir, NULL};
     expect_named("sweep --result under a file", result, "--result", "-o ");
 }
