@@ -5,6 +5,7 @@
  * the README is at most 30 KB and every
  * repository path it names exists. */
 #include <ctype.h>
+#include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -85,6 +86,30 @@ static void test_every_command_documented(void)
           "commands, %d without a block", commands, missing);
 }
 
+/* Every shipped scene (each .ini file in scenes/) is named in scenes/README.md's guide,
+ * which lists what each shows. */
+static void test_every_scene_listed(const char *guide)
+{
+    DIR *d = opendir(RODSIM_SOURCE_DIR "/scenes");
+    if (!check(d != NULL, "scenes/ opens")) return;
+    int scenes = 0, missing = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        size_t n = strlen(e->d_name);
+        if (n < 5 || strcmp(e->d_name + n - 4, ".ini") != 0) continue;
+        char named[300];
+        snprintf(named, sizeof named, "`%s`", e->d_name);
+        scenes++;
+        if (!strstr(guide, named)) {
+            missing++;
+            check(0, "scenes/README.md does not name %s", named);
+        }
+    }
+    closedir(d);
+    check(scenes > 10 && missing == 0, "scenes/README.md names every scene: %d scenes, %d not "
+          "named", scenes, missing);
+}
+
 static char *read_readme(const char *path, long *size)
 {
     FILE *f = fopen(path, "rb");
@@ -157,9 +182,11 @@ int main(void)
     free(text);
     /* the scenes' guide too: the key tables stand in docs/scene-keys.md */
     text = read_readme(SCENES_README, &size);
-    if (check(text != NULL, "scenes/README.md reads"))
+    if (check(text != NULL, "scenes/README.md reads")) {
         check(size <= 30 * 1024, "scenes/README.md is %ld bytes, at most 30 KB (%d)", size,
               30 * 1024);
+        test_every_scene_listed(text);
+    }
     free(text);
     return test_finish();
 }
