@@ -276,8 +276,7 @@ static int add_scheme(const char *name, rod_scheme_kind *schemes, int *n, char *
 {
     rod_scheme_kind kind;
     if (!rod_scheme_find(name, &kind)) {
-        snprintf(err, errlen, "--scheme '%s': unknown scheme; accepted: thesis | implicit | "
-                              "static", name);
+        cli_unknown_name(err, errlen, "--scheme", name, "scheme", cli_scheme_names());
         return -1;
     }
     for (int k = 0; k < *n; k++)

@@ -296,11 +296,8 @@ static int read_lists(validate_args *a, const cli_list *cases, const cli_list *s
     for (int i = 0; i < cases->count; i++) {
         int c = validate_case_index(cases->items[i]);
         if (c < 0) {
-            int len = snprintf(err, errlen, "--case '%s': unknown case; accepted:",
-                               cases->items[i]);
-            for (const char *const *n = validate_case_names(); *n && len >= 0 &&
-                                                               (size_t)len < errlen; n++)
-                len += snprintf(err + len, errlen - (size_t)len, " %s", *n);
+            cli_unknown_name(err, errlen, "--case", cases->items[i], "case",
+                             validate_case_names());
             return -1;
         }
         if (a->case_count < max_list) a->case_list[a->case_count++] = c;
@@ -308,8 +305,8 @@ static int read_lists(validate_args *a, const cli_list *cases, const cli_list *s
     for (int i = 0; i < schemes->count; i++) {
         rod_scheme_kind kind;
         if (!rod_scheme_find(schemes->items[i], &kind)) {
-            snprintf(err, errlen, "--scheme '%s': unknown scheme; accepted: thesis | implicit | "
-                                  "static", schemes->items[i]);
+            cli_unknown_name(err, errlen, "--scheme", schemes->items[i], "scheme",
+                             cli_scheme_names());
             return -1;
         }
         if (a->scheme_count < (int)(sizeof a->scheme_list / sizeof a->scheme_list[0]))
