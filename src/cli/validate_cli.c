@@ -136,8 +136,10 @@ static void write_csv_rows(FILE *f, const plan *p)
                "quantity,note\n");
     for (int k = 0; k < p->count; k++) {
         const validate_row *r = &p->rows[k];
-        fprintf(f, "%s,%s,%d,%.9g,%.12g,%.12g,%.6e,%.6f,%d,", r->case_name, r->scheme, r->nodes,
-                r->dt, r->computed, r->reference, r->relative_error, r->wall_seconds, r->status);
+        /* status as the table words it (ok, n/a, FAILED), not validate_row's code */
+        fprintf(f, "%s,%s,%d,%.9g,%.12g,%.12g,%.6e,%.6f,%s,", r->case_name, r->scheme, r->nodes,
+                r->dt, r->computed, r->reference, r->relative_error, r->wall_seconds,
+                status_word(r->status));
         csv_field(f, r->quantity);
         fputc(',', f);
         csv_field(f, r->note);
