@@ -91,8 +91,8 @@ void live_usage(FILE *f)
         "their last lines left them; answer NAME,t,fx,..,mz,status for rod NAME (an empty\n"
         "NAME: bad_input, no such rod), --centreline: then every rod's, NAME.x0,...;\n"
         "--record: rodsim run's --csv (column rod), a frame a line ok.\n"
-        "End of input, SIGINT, SIGTERM end it, the record kept: exit 0; 2 if no line was\n"
-        "ok, 1 on an I/O error.\n",
+        "End of input, SIGINT, SIGTERM end it, the record kept: exit 0 (no line at all\n"
+        "too); 2 if lines came and none was ok, 1 on an I/O error.\n",
         LIVE_LINE_MAX, LIVE_MAX_STEPS_AHEAD);
 }
 
