@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 
 #include "base/ini.h"
+#include "base/suggest.h"
 #include "base/textfile.h"
 #include "cli/print_commands.h"
 #include "api/scene_keys.h"
@@ -356,14 +357,26 @@ static int parse_plot(sweep *sw, char *err, size_t errlen)
         snprintf(measures + strlen(measures), sizeof measures - strlen(measures), "%s%s",
                  m ? ", " : "", sweep_measure_names[m]);
     }
+    /* "did you mean ...?" for a misspelt axis, as for a misspelt --set key */
+    const char *names[SWEEP_M_COUNT + 65]; /* the measures, or the first 64 varied keys */
+    const char *near = NULL;
     if (sw->plot_x < 0) {
-        snprintf(err, errlen, "--plot %s: the x axis must be a varied key; accepted: %s",
-                 sw->plot_arg, sw->vary_count ? varied : "(no --vary given)");
+        int n = 0;
+        for (int i = 0; i < sw->vary_count && i < 64; i++) names[n++] = sw->varies[i].name;
+        names[n] = NULL;
+        near = suggest_nearest(x, names);
+        snprintf(err, errlen, "--plot %s: the x axis must be a varied key; %s%s%saccepted: %s",
+                 sw->plot_arg, near ? "did you mean " : "", near ? near : "", near ? "? " : "",
+                 sw->vary_count ? varied : "(no --vary given)");
         return -1;
     }
     if (sw->plot_y < 0) {
-        snprintf(err, errlen, "--plot %s: the y axis must be a measure; accepted: %s",
-                 sw->plot_arg, measures);
+        for (int m = 0; m < SWEEP_M_COUNT; m++) names[m] = sweep_measure_names[m];
+        names[SWEEP_M_COUNT] = NULL;
+        near = colon ? suggest_nearest(colon + 1, names) : NULL;
+        snprintf(err, errlen, "--plot %s: the y axis must be a measure; %s%s%saccepted: %s",
+                 sw->plot_arg, near ? "did you mean " : "", near ? near : "", near ? "? " : "",
+                 measures);
         return -1;
     }
     if (sw->plot_y == SWEEP_M_KNOT) {
