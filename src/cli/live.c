@@ -184,9 +184,14 @@ static void histogram_add(unsigned *bins, double seconds)
 }
 
 /* The q-quantile (0..1) of `count` values in the histogram, us: the upper
- * edge of the bin that holds it (the last bin: a lower bound). */
+ * edge of the bin that holds it (the last bin: a lower bound). Over the
+ * values the bins hold when fewer (a line --on-error stop ended is counted
+ * but not timed): an empty histogram's is 0, not the last bin's 20 ms. */
 static double histogram_quantile(const unsigned *bins, long count, double q)
 {
+    long held = 0;
+    for (int i = 0; i < LIVE_HISTOGRAM_BINS; i++) held += bins[i];
+    if (count > held) count = held;
     if (count <= 0) return 0.0;
     long rank = (long)(q * (double)(count - 1)), seen = 0;
     for (int i = 0; i < LIVE_HISTOGRAM_BINS; i++) {
