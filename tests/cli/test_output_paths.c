@@ -4,7 +4,8 @@
  * --tissue-csv takes a file only: "-" is refused (it is no standard output
  * there), not written as a file named "-"; a --tissue-csv under a file, or
  * naming a directory, is refused up front like --csv (exit 2), not after
- * the run (exit 1). */
+ * the run (exit 1). fem's --png FILE beside --no-png is refused (exit 2),
+ * not silently drawn nowhere. */
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -85,6 +86,19 @@ static void test_tissue_csv_dash(void)
     if (chdir(cwd)) check(0, "chdir back to %s", cwd);
 }
 
+static void test_fem_png_and_no_png(void)
+{
+    char png[128], output[4096];
+    snprintf(png, sizeof png, "%s/rod.png", tmp_dir);
+    const char *args[] = {"fem", RODSIM_SOURCE_DIR "/scenes/fishing_rod.ini", "--png", png,
+                          "--no-png", NULL};
+    int status = test_run_rodsim(args, output, sizeof output);
+    char *nl = strchr(output, '\n');
+    if (nl) *nl = '\0';
+    check(status == 2 && strstr(output, "--no-png") && access(png, F_OK) != 0,
+          "fem --png FILE --no-png: exit %d (want 2), '%s', no PNG", status, output);
+}
+
 int main(void)
 {
     if (!mkdtemp(tmp_dir)) {
@@ -99,6 +113,7 @@ int main(void)
 
     test_messages_name_the_option(scene);
     test_tissue_csv_dash();
+    test_fem_png_and_no_png();
 
     check(test_dir_entries(tmp_dir) == 2, "nothing written beside the scene and the file: %d "
           "entries (want 2)", test_dir_entries(tmp_dir));
