@@ -5,7 +5,8 @@
  * there), not written as a file named "-"; a --tissue-csv under a file, or
  * naming a directory, is refused up front like --csv (exit 2), not after
  * the run (exit 1). fem's --png FILE beside --no-png is refused (exit 2),
- * not silently drawn nowhere. */
+ * not silently drawn nowhere. validate's --csv is checked before its runs
+ * (minutes of them), not after (exit 1). */
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -60,6 +61,9 @@ static void test_messages_name_the_option(const char *scene)
     const char *tissue_dir[] = {"run", pad, "--no-video", "--set", "solver.duration=0.02",
                                 "--tissue-csv", tmp_dir, NULL};
     expect_named("run --tissue-csv naming a directory", tissue_dir, "--tissue-csv", NULL);
+    const char *validate[] = {"validate", "--case", "tip_load_small", "--scheme", "static",
+                              "--nodes", "11", "--csv", under, NULL};
+    expect_named("validate --csv under a file", validate, "--csv", "-o ");
     const char *result[] = {"sweep", scene, "--vary", "rod.nodes=11,21", "--result", dir, NULL};
     expect_named("sweep --result under a file", result, "--result", "-o ");
 }
