@@ -75,6 +75,11 @@ void cli_release(const cli_option *options);
 void cli_unknown_name(char *err, size_t errlen, const char *option, const char *word,
                       const char *what, const char *const *names);
 
+/* An output file named by `option` (--csv FILE), checked before any work:
+ * not a directory, in a directory that is or can be made. "-" (standard
+ * output) passes. 0, or -1 with "OPTION FILE: why" in err. */
+int cli_check_output_file(const char *option, const char *path, char *err, size_t errlen);
+
 /* The schemes' names (thesis, implicit, static), NULL-terminated. */
 const char *const *cli_scheme_names(void);
 

@@ -5,7 +5,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
+#include "base/outfile.h"
 #include "base/suggest.h"
 #include "sim/rod.h"
 
@@ -231,4 +233,25 @@ const char *const *cli_scheme_names(void)
     for (int k = 0; k < ROD_SCHEME_COUNT; k++) names[k] = rod_scheme_get((rod_scheme_kind)k)->name;
     names[ROD_SCHEME_COUNT] = NULL;
     return names;
+}
+
+int cli_check_output_file(const char *option, const char *path, char *err, size_t errlen)
+{
+    if (strcmp(path, "-") == 0) return 0;
+    struct stat st;
+    size_t n = strlen(path);
+    if ((stat(path, &st) == 0 && S_ISDIR(st.st_mode)) || (n > 0 && path[n - 1] == '/')) {
+        snprintf(err, errlen, "%s %s: names a directory, not a file", option, path);
+        return -1;
+    }
+    char dir[OUTFILE_PATH_MAX], why[512];
+    const char *slash = strrchr(path, '/');
+    if (!slash) snprintf(dir, sizeof dir, ".");
+    else if (slash == path) snprintf(dir, sizeof dir, "/");
+    else snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    if (outfile_check_dir(dir, why, sizeof why)) {
+        snprintf(err, errlen, "%s %s: %s", option, path, why);
+        return -1;
+    }
+    return 0;
 }

@@ -1197,29 +1197,16 @@ int scene_outputs_write(const scene_outputs_options *o, const char *name, const 
     return status;
 }
 
-/* A file output named by `option` (--csv, --tissue-csv): not a directory, in
- * a directory that is or can be made; its stale temporaries removed. */
+/* A file output named by `option` (--csv, --tissue-csv): its place
+ * (args.h), then its stale temporaries removed. */
 static int check_output_file(const char *option, const char *path, char *err, size_t errlen)
 {
-    struct stat st;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
-        snprintf(err, errlen, "%s %s: is a directory, not a file", option, path);
-        return -1;
-    }
-    char dir[OUTFILE_PATH_MAX];
+    if (cli_check_output_file(option, path, err, errlen)) return -1;
     const char *slash = strrchr(path, '/');
+    char dir[OUTFILE_PATH_MAX];
     if (!slash) snprintf(dir, sizeof dir, ".");
     else if (slash == path) snprintf(dir, sizeof dir, "/");
     else snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
-    if (slash && slash[1] == '\0') {
-        snprintf(err, errlen, "%s %s: names a directory, not a file", option, path);
-        return -1;
-    }
-    char why[512];
-    if (outfile_check_dir(dir, why, sizeof why)) {
-        snprintf(err, errlen, "%s %s: %s", option, path, why);
-        return -1;
-    }
     outfile_remove_stale(dir);
     return 0;
 }

@@ -312,5 +312,9 @@ int stability_command(int argc, char **argv)
     if (parsed != CLI_PARSED) return cli_usage_error("stability", err);
     if (n_schemes == 0)
         for (int k = 0; k < ROD_SCHEME_COUNT; k++) schemes[n_schemes++] = (rod_scheme_kind)k;
+    char where[1024];
+    if ((csv && cli_check_output_file("--csv", csv, where, sizeof where)) ||
+        (png && cli_check_output_file("--png", png, where, sizeof where)))
+        return cli_usage_error("stability", where); /* before the trials, not after */
     return stability_run(schemes, n_schemes, quick, jobs, csv, png);
 }

@@ -11,7 +11,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include "base/outfile.h"
@@ -502,29 +501,6 @@ static int print_point_commands(const plan *p)
     return fflush(stdout) ? RUN_EXIT_FAILURE : RUN_EXIT_OK;
 }
 
-/* --csv FILE's place, checked before any run: not a directory, in one that
- * is or can be made. 0, or -1 with a message. */
-static int check_csv_place(const char *csv, char *err, size_t errlen)
-{
-    if (strcmp(csv, "-") == 0) return 0;
-    struct stat st;
-    size_t n = strlen(csv);
-    if ((stat(csv, &st) == 0 && S_ISDIR(st.st_mode)) || csv[n - 1] == '/') {
-        snprintf(err, errlen, "--csv %s: names a directory, not a file", csv);
-        return -1;
-    }
-    char dir[OUTFILE_PATH_MAX], why[512];
-    const char *slash = strrchr(csv, '/');
-    if (!slash) snprintf(dir, sizeof dir, ".");
-    else if (slash == csv) snprintf(dir, sizeof dir, "/");
-    else snprintf(dir, sizeof dir, "%.*s", (int)(slash - csv), csv);
-    if (outfile_check_dir(dir, why, sizeof why)) {
-        snprintf(err, errlen, "--csv %s: %s", csv, why);
-        return -1;
-    }
-    return 0;
-}
-
 /* The CSV of the rows, to a file (atomically) or standard output. 0, or 1
  * (reported). */
 static int write_csv(const char *csv, const plan *p)
@@ -584,7 +560,7 @@ int validate_command(int argc, char **argv)
         return RUN_EXIT_FAILURE;
     }
     int status, too_many = make_plan(p, &a);
-    if (a.csv && !a.print_commands && check_csv_place(a.csv, err, sizeof err)) {
+    if (a.csv && !a.print_commands && cli_check_output_file("--csv", a.csv, err, sizeof err)) {
         status = cli_usage_error("validate", err); /* before minutes of runs, not after */
     } else if (a.dt_count > 0 && check_dt_range(p, err, sizeof err)) {
         status = cli_usage_error("validate", err);

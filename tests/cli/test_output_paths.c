@@ -5,8 +5,8 @@
  * there), not written as a file named "-"; a --tissue-csv under a file, or
  * naming a directory, is refused up front like --csv (exit 2), not after
  * the run (exit 1). fem's --png FILE beside --no-png is refused (exit 2),
- * not silently drawn nowhere. validate's --csv is checked before its runs
- * (minutes of them), not after (exit 1). */
+ * not silently drawn nowhere. validate's and stability's --csv are checked
+ * before their runs (minutes of them), not after (exit 1). */
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -64,6 +64,9 @@ static void test_messages_name_the_option(const char *scene)
     const char *validate[] = {"validate", "--case", "tip_load_small", "--scheme", "static",
                               "--nodes", "11", "--csv", under, NULL};
     expect_named("validate --csv under a file", validate, "--csv", "-o ");
+    const char *stability[] = {"stability", "--scheme", "static", "--quick", "--csv", under,
+                               NULL};
+    expect_named("stability --csv under a file", stability, "--csv", "-o ");
     const char *result[] = {"sweep", scene, "--vary", "rod.nodes=11,21", "--result", dir, NULL};
     expect_named("sweep --result under a file", result, "--result", "-o ");
 }
