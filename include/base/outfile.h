@@ -63,7 +63,8 @@ void outfile_transaction_abort(void);
 int outfile_mkdirs(const char *dir, char *err, size_t errlen);
 
 /* Checks that `dir` is a directory or can be made (each existing ancestor a
- * directory). 0, or -1 with a message. Makes nothing. */
+ * directory). 0, or -1 with a message naming the path only: the caller adds
+ * the option or field that named it. Makes nothing. */
 int outfile_check_dir(const char *dir, char *err, size_t errlen);
 
 /* Removes from `dir` the hidden temporaries (".NAME.tmpPID[.EXT]", files or

@@ -69,6 +69,20 @@ int cli_parse(int argc, char **argv, const cli_option *options, const cli_operan
  * cli_list items); the lists are left empty. */
 void cli_release(const cli_option *options);
 
+/* A word that is none of `names` (NULL-terminated): "OPTION 'WORD': unknown
+ * WHAT; did you mean NAME? accepted: A | B | ..." into err, the suggestion
+ * only when a name is near (suggest.h). */
+void cli_unknown_name(char *err, size_t errlen, const char *option, const char *word,
+                      const char *what, const char *const *names);
+
+/* An output file named by `option` (--csv FILE), checked before any work:
+ * not a directory, in a directory that is or can be made. "-" (standard
+ * output) passes. 0, or -1 with "OPTION FILE: why" in err. */
+int cli_check_output_file(const char *option, const char *path, char *err, size_t errlen);
+
+/* The schemes' names (thesis, implicit, static), NULL-terminated. */
+const char *const *cli_scheme_names(void);
+
 /* Prints "rodsim COMMAND: MESSAGE" and where the options are listed to
  * stderr. Returns RUN_EXIT_BAD_INPUT, the status of every usage error. */
 int cli_usage_error(const char *command, const char *message);

@@ -65,7 +65,7 @@ void scene_outputs_instrument_gap(struct run_summary *sum, const rod_model *m, d
 void scene_outputs_tissue_csv_frame(FILE *f, const rod_model *m, const rod_state *s);
 
 /* Checks the output places before any work: out_dir must be a directory
- * (or creatable) when a video is made, and csv a file in one; then removes
+ * (or creatable) when a video is made, csv and tissue_csv files in one; then removes
  * the temporaries a killed run left there. 0, or -1 with a message. */
 int scene_outputs_check(const scene_outputs_options *o, char *err, size_t errlen);
 

@@ -1065,8 +1065,9 @@ rodsim_status rodsim_render(rodsim_scene *sc, const char *out_dir)
     char err[RODSIM_ERR_LEN] = "";
     if (one_rod_only(sc, "rodsim_render")) return RODSIM_BAD_INPUT;
     if (!out_dir) return fail(sc, RODSIM_BAD_INPUT, "rodsim_render: out_dir is NULL");
-    if (gl_context_check_env(err, sizeof err) || outfile_check_dir(out_dir, err, sizeof err))
-        return fail(sc, RODSIM_BAD_INPUT, "%s", err);
+    if (gl_context_check_env(err, sizeof err)) return fail(sc, RODSIM_BAD_INPUT, "%s", err);
+    if (outfile_check_dir(out_dir, err, sizeof err))
+        return fail(sc, RODSIM_BAD_INPUT, "rodsim_render: out_dir %s: %s", out_dir, err);
     outfile_remove_stale(out_dir);
     if (outfile_mkdirs(out_dir, err, sizeof err) ||
         run_write_video(sc->rec, &sc->out, out_dir, err, sizeof err)) /* rodsim run's */

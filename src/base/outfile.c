@@ -72,8 +72,7 @@ int outfile_check_dir(const char *dir, char *err, size_t errlen)
             struct stat st;
             if (stat(buf, &st) == 0) {
                 if (!S_ISDIR(st.st_mode)) {
-                    snprintf(err, errlen, "%s: is a file, not a directory (-o names the output "
-                                          "directory)", buf);
+                    snprintf(err, errlen, "%s: is a file, not a directory", buf);
                     return -1;
                 }
                 snprintf(deepest, sizeof deepest, "%s", buf);

@@ -5,8 +5,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
+#include "base/outfile.h"
 #include "base/suggest.h"
+#include "sim/rod.h"
 
 static int is_help(const char *word)
 {
@@ -212,4 +215,43 @@ int cli_usage_error(const char *command, const char *message)
     fprintf(stderr, "rodsim %s: %s\n  (rodsim %s --help for the options)\n", command, message,
             command);
     return RUN_EXIT_BAD_INPUT;
+}
+
+void cli_unknown_name(char *err, size_t errlen, const char *option, const char *word,
+                      const char *what, const char *const *names)
+{
+    const char *near = suggest_nearest(word, names);
+    int len = snprintf(err, errlen, "%s '%s': unknown %s; %s%s%saccepted:", option, word, what,
+                       near ? "did you mean " : "", near ? near : "", near ? "? " : "");
+    for (int i = 0; names[i] && len >= 0 && (size_t)len < errlen; i++)
+        len += snprintf(err + len, errlen - (size_t)len, "%s %s", i ? " |" : "", names[i]);
+}
+
+const char *const *cli_scheme_names(void)
+{
+    static const char *names[ROD_SCHEME_COUNT + 1];
+    for (int k = 0; k < ROD_SCHEME_COUNT; k++) names[k] = rod_scheme_get((rod_scheme_kind)k)->name;
+    names[ROD_SCHEME_COUNT] = NULL;
+    return names;
+}
+
+int cli_check_output_file(const char *option, const char *path, char *err, size_t errlen)
+{
+    if (strcmp(path, "-") == 0) return 0;
+    struct stat st;
+    size_t n = strlen(path);
+    if ((stat(path, &st) == 0 && S_ISDIR(st.st_mode)) || (n > 0 && path[n - 1] == '/')) {
+        snprintf(err, errlen, "%s %s: names a directory, not a file", option, path);
+        return -1;
+    }
+    char dir[OUTFILE_PATH_MAX], why[512];
+    const char *slash = strrchr(path, '/');
+    if (!slash) snprintf(dir, sizeof dir, ".");
+    else if (slash == path) snprintf(dir, sizeof dir, "/");
+    else snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    if (outfile_check_dir(dir, why, sizeof why)) {
+        snprintf(err, errlen, "%s %s: %s", option, path, why);
+        return -1;
+    }
+    return 0;
 }

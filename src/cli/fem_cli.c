@@ -927,6 +927,10 @@ int fem_command(int argc, char **argv)
         {0}};
     const cli_operand scene = {.name = "SCENE", .target = &a.scene};
     int parsed = cli_parse(argc, argv, options, &scene, err, sizeof err), status = 0;
+    if (parsed == CLI_PARSED && a.png && a.no_png) { /* which one was meant? */
+        snprintf(err, sizeof err, "--png %s and --no-png: give one of them", a.png);
+        parsed = CLI_ERROR;
+    }
     if (parsed == CLI_HELP) usage(stdout);
     else if (parsed != CLI_PARSED) status = cli_usage_error("fem", err);
     else status = fem_scene(&a);

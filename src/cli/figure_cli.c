@@ -245,7 +245,16 @@ int figure_command(int argc, char **argv)
     const figure_spec *specs[64];
     int n = 0, n_specs = 0;
     if (select_figures(a.name, figs, &n, specs, &n_specs)) {
-        fprintf(stderr, "rodsim figure: unknown figure '%s'\n\n", a.name);
+        const char *names[64];
+        int k = 0;
+        for (const figure_def *const *f = figure_list(); *f && k < 62; f++)
+            names[k++] = figure_name(*f);
+        for (const figure_spec *const *f = figure_spec_list(); *f && k < 62; f++)
+            names[k++] = (*f)->name;
+        names[k++] = "all";
+        names[k] = NULL;
+        cli_unknown_name(err, sizeof err, "figure", a.name, "figure", names);
+        fprintf(stderr, "rodsim figure: %s\n\n", err);
         figure_usage(stderr);
         return RUN_EXIT_BAD_INPUT;
     }

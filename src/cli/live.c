@@ -92,8 +92,8 @@ void live_usage(FILE *f)
         "their last lines left them; answer NAME,t,fx,..,mz,status for rod NAME (an empty\n"
         "NAME: bad_input, no such rod), --centreline: then every rod's, NAME.x0,...;\n"
         "--record: rodsim run's --csv (column rod), a frame a line ok.\n"
-        "End of input, SIGINT, SIGTERM end it, the record kept: exit 0; 2 if no line was\n"
-        "ok, 1 on an I/O error.\n",
+        "End of input, SIGINT, SIGTERM end it, the record kept: exit 0 (no line at all\n"
+        "too); 2 if lines came and none was ok, 1 on an I/O error.\n",
         LIVE_LINE_MAX, LIVE_MAX_STEPS_AHEAD);
 }
 
@@ -185,9 +185,14 @@ static void histogram_add(unsigned *bins, double seconds)
 }
 
 /* The q-quantile (0..1) of `count` values in the histogram, us: the upper
- * edge of the bin that holds it (the last bin: a lower bound). */
+ * edge of the bin that holds it (the last bin: a lower bound). Over the
+ * values the bins hold when fewer (a line --on-error stop ended is counted
+ * but not timed): an empty histogram's is 0, not the last bin's 20 ms. */
 static double histogram_quantile(const unsigned *bins, long count, double q)
 {
+    long held = 0;
+    for (int i = 0; i < LIVE_HISTOGRAM_BINS; i++) held += bins[i];
+    if (count > held) count = held;
     if (count <= 0) return 0.0;
     long rank = (long)(q * (double)(count - 1)), seen = 0;
     for (int i = 0; i < LIVE_HISTOGRAM_BINS; i++) {

@@ -187,9 +187,6 @@ static int check_summary_path(const char *path, char *err, size_t errlen)
     else snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
     char why[512];
     if (outfile_check_dir(dir, why, sizeof why)) {
-        size_t cut = strcspn(why, "("); /* its advice names -o */
-        while (cut > 0 && why[cut - 1] == ' ') cut--;
-        why[cut] = '\0';
         snprintf(err, errlen, "--summary %s: %s", path, why);
         return -1;
     }
@@ -227,7 +224,8 @@ int run_command(int argc, char **argv)
         {.name = "--set", .value = CLI_SETTING, .target = &sets, .repeated = 1},
         {.name = "-o", .value = CLI_DIR, .target = &o.out_dir},
         {.name = "--csv", .value = CLI_OUTPUT, .target = &o.csv},
-        {.name = "--tissue-csv", .value = CLI_OUTPUT, .target = &o.tissue_csv},
+        /* a named file only: "-" is refused, not written as a file named "-" */
+        {.name = "--tissue-csv", .value = CLI_FILE, .target = &o.tissue_csv},
         {.name = "--summary", .value = CLI_OUTPUT, .target = &summary_path},
         {.name = "--no-video", .value = CLI_FLAG, .target = &o.no_video},
         {.name = "--allow-long", .value = CLI_FLAG, .target = &o.allow_long},

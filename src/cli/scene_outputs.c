@@ -1197,30 +1197,34 @@ int scene_outputs_write(const scene_outputs_options *o, const char *name, const 
     return status;
 }
 
+/* A file output named by `option` (--csv, --tissue-csv): its place
+ * (args.h), then its stale temporaries removed. */
+static int check_output_file(const char *option, const char *path, char *err, size_t errlen)
+{
+    if (cli_check_output_file(option, path, err, errlen)) return -1;
+    const char *slash = strrchr(path, '/');
+    char dir[OUTFILE_PATH_MAX];
+    if (!slash) snprintf(dir, sizeof dir, ".");
+    else if (slash == path) snprintf(dir, sizeof dir, "/");
+    else snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    outfile_remove_stale(dir);
+    return 0;
+}
+
 int scene_outputs_check(const scene_outputs_options *a, char *err, size_t errlen)
 {
     if (!a->no_video) {
         if (gl_context_check_env(err, errlen)) return -1; /* RODSIM_GL: bad input, exit 2 */
-        if (outfile_check_dir(a->out_dir, err, errlen)) return -1;
+        char why[512];
+        if (outfile_check_dir(a->out_dir, why, sizeof why)) {
+            snprintf(err, errlen, "-o %s (the video's directory): %s", a->out_dir, why);
+            return -1;
+        }
         outfile_remove_stale(a->out_dir);
     }
-    if (a->csv && strcmp(a->csv, "-") != 0) {
-        struct stat st;
-        if (stat(a->csv, &st) == 0 && S_ISDIR(st.st_mode)) {
-            snprintf(err, errlen, "--csv %s: is a directory, not a file", a->csv);
-            return -1;
-        }
-        char dir[OUTFILE_PATH_MAX];
-        const char *slash = strrchr(a->csv, '/');
-        if (!slash) snprintf(dir, sizeof dir, ".");
-        else if (slash == a->csv) snprintf(dir, sizeof dir, "/");
-        else snprintf(dir, sizeof dir, "%.*s", (int)(slash - a->csv), a->csv);
-        if (slash && slash[1] == '\0') {
-            snprintf(err, errlen, "--csv %s: names a directory, not a file", a->csv);
-            return -1;
-        }
-        if (outfile_check_dir(dir, err, errlen)) return -1;
-        outfile_remove_stale(dir);
-    }
+    if (a->csv && strcmp(a->csv, "-") != 0 && check_output_file("--csv", a->csv, err, errlen))
+        return -1;
+    if (a->tissue_csv && check_output_file("--tissue-csv", a->tissue_csv, err, errlen))
+        return -1;
     return 0;
 }

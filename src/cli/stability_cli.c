@@ -276,8 +276,7 @@ static int add_scheme(const char *name, rod_scheme_kind *schemes, int *n, char *
 {
     rod_scheme_kind kind;
     if (!rod_scheme_find(name, &kind)) {
-        snprintf(err, errlen, "--scheme '%s': unknown scheme; accepted: thesis | implicit | "
-                              "static", name);
+        cli_unknown_name(err, errlen, "--scheme", name, "scheme", cli_scheme_names());
         return -1;
     }
     for (int k = 0; k < *n; k++)
@@ -313,5 +312,9 @@ int stability_command(int argc, char **argv)
     if (parsed != CLI_PARSED) return cli_usage_error("stability", err);
     if (n_schemes == 0)
         for (int k = 0; k < ROD_SCHEME_COUNT; k++) schemes[n_schemes++] = (rod_scheme_kind)k;
+    char where[1024];
+    if ((csv && cli_check_output_file("--csv", csv, where, sizeof where)) ||
+        (png && cli_check_output_file("--png", png, where, sizeof where)))
+        return cli_usage_error("stability", where); /* before the trials, not after */
     return stability_run(schemes, n_schemes, quick, jobs, csv, png);
 }

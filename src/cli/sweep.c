@@ -765,11 +765,15 @@ static int write_outputs(const sweep_progress *pg)
             goto done;
         }
     }
-    if (!sw->quiet)
-        fprintf(stderr, "rodsim sweep: %d points: %d run, %d from %s; %d not ok%s%s\n",
-                sw->point_count, pg->ran, pg->reused, sw->result_dir ? sw->result_dir : "-",
-                failed, sw->csv && !to_stdout ? "; wrote " : "",
+    if (!sw->quiet) {
+        /* "K from DIR" only with --result: without it every point is run */
+        char reused[OUTFILE_PATH_MAX + 32] = "";
+        if (sw->result_dir)
+            snprintf(reused, sizeof reused, ", %d from %s", pg->reused, sw->result_dir);
+        fprintf(stderr, "rodsim sweep: %d points: %d run%s; %d not ok%s%s\n", sw->point_count,
+                pg->ran, reused, failed, sw->csv && !to_stdout ? "; wrote " : "",
                 sw->csv && !to_stdout ? sw->csv : "");
+    }
     status = RUN_EXIT_OK;
     goto done;
 fail:

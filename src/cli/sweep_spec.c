@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 
 #include "base/ini.h"
+#include "base/suggest.h"
 #include "base/textfile.h"
 #include "cli/print_commands.h"
 #include "api/scene_keys.h"
@@ -356,14 +357,26 @@ static int parse_plot(sweep *sw, char *err, size_t errlen)
         snprintf(measures + strlen(measures), sizeof measures - strlen(measures), "%s%s",
                  m ? ", " : "", sweep_measure_names[m]);
     }
+    /* "did you mean ...?" for a misspelt axis, as for a misspelt --set key */
+    const char *names[SWEEP_M_COUNT + 65]; /* the measures, or the first 64 varied keys */
+    const char *near = NULL;
     if (sw->plot_x < 0) {
-        snprintf(err, errlen, "--plot %s: the x axis must be a varied key; accepted: %s",
-                 sw->plot_arg, sw->vary_count ? varied : "(no --vary given)");
+        int n = 0;
+        for (int i = 0; i < sw->vary_count && i < 64; i++) names[n++] = sw->varies[i].name;
+        names[n] = NULL;
+        near = suggest_nearest(x, names);
+        snprintf(err, errlen, "--plot %s: the x axis must be a varied key; %s%s%saccepted: %s",
+                 sw->plot_arg, near ? "did you mean " : "", near ? near : "", near ? "? " : "",
+                 sw->vary_count ? varied : "(no --vary given)");
         return -1;
     }
     if (sw->plot_y < 0) {
-        snprintf(err, errlen, "--plot %s: the y axis must be a measure; accepted: %s",
-                 sw->plot_arg, measures);
+        for (int m = 0; m < SWEEP_M_COUNT; m++) names[m] = sweep_measure_names[m];
+        names[SWEEP_M_COUNT] = NULL;
+        near = colon ? suggest_nearest(colon + 1, names) : NULL;
+        snprintf(err, errlen, "--plot %s: the y axis must be a measure; %s%s%saccepted: %s",
+                 sw->plot_arg, near ? "did you mean " : "", near ? near : "", near ? "? " : "",
+                 measures);
         return -1;
     }
     if (sw->plot_y == SWEEP_M_KNOT) {
@@ -872,23 +885,32 @@ int sweep_check_outputs(const sweep *sw, char *err, size_t errlen)
 {
     /* --print-commands, --snakefile, --sbatch write no results now: only the script */
     int later = sw->print_commands || sw->snakefile || sw->sbatch;
-    if (sw->result_dir && !later && outfile_check_dir(sw->result_dir, err, errlen))
+    char why[512];
+    if (sw->result_dir && !later && outfile_check_dir(sw->result_dir, why, sizeof why)) {
+        snprintf(err, errlen, "--result %s: %s", sw->result_dir, why);
         return -1;
+    }
     const char *files[6] = {sw->csv && strcmp(sw->csv, "-") != 0 ? sw->csv : NULL, sw->png,
                             sw->svg, sw->plot_arg ? sw->plot_csv : NULL, sw->snakefile,
                             sw->sbatch};
+    /* the option that names each file (the plot's data is FILE.csv beside --png) */
+    const char *const option[6] = {"--csv", "--png", "--svg", "the plot's data", "--snakefile",
+                                   "--sbatch"};
     for (int i = later ? 4 : 0; i < 6; i++) {
         if (!files[i]) continue;
         struct stat st;
         if (stat(files[i], &st) == 0 && S_ISDIR(st.st_mode)) {
-            snprintf(err, errlen, "%s: is a directory, not a file", files[i]);
+            snprintf(err, errlen, "%s %s: is a directory, not a file", option[i], files[i]);
             return -1;
         }
         char dir[OUTFILE_PATH_MAX];
         const char *slash = strrchr(files[i], '/');
         if (!slash) snprintf(dir, sizeof dir, ".");
         else snprintf(dir, sizeof dir, "%.*s", (int)(slash - files[i] + 1), files[i]);
-        if (outfile_check_dir(dir, err, errlen)) return -1;
+        if (outfile_check_dir(dir, why, sizeof why)) {
+            snprintf(err, errlen, "%s %s: %s", option[i], files[i], why);
+            return -1;
+        }
     }
     return 0;
 }

@@ -136,8 +136,10 @@ static void write_csv_rows(FILE *f, const plan *p)
                "quantity,note\n");
     for (int k = 0; k < p->count; k++) {
         const validate_row *r = &p->rows[k];
-        fprintf(f, "%s,%s,%d,%.9g,%.12g,%.12g,%.6e,%.6f,%d,", r->case_name, r->scheme, r->nodes,
-                r->dt, r->computed, r->reference, r->relative_error, r->wall_seconds, r->status);
+        /* status as the table words it (ok, n/a, FAILED), not validate_row's code */
+        fprintf(f, "%s,%s,%d,%.9g,%.12g,%.12g,%.6e,%.6f,%s,", r->case_name, r->scheme, r->nodes,
+                r->dt, r->computed, r->reference, r->relative_error, r->wall_seconds,
+                status_word(r->status));
         csv_field(f, r->quantity);
         fputc(',', f);
         csv_field(f, r->note);
@@ -296,11 +298,8 @@ static int read_lists(validate_args *a, const cli_list *cases, const cli_list *s
     for (int i = 0; i < cases->count; i++) {
         int c = validate_case_index(cases->items[i]);
         if (c < 0) {
-            int len = snprintf(err, errlen, "--case '%s': unknown case; accepted:",
-                               cases->items[i]);
-            for (const char *const *n = validate_case_names(); *n && len >= 0 &&
-                                                               (size_t)len < errlen; n++)
-                len += snprintf(err + len, errlen - (size_t)len, " %s", *n);
+            cli_unknown_name(err, errlen, "--case", cases->items[i], "case",
+                             validate_case_names());
             return -1;
         }
         if (a->case_count < max_list) a->case_list[a->case_count++] = c;
@@ -308,8 +307,8 @@ static int read_lists(validate_args *a, const cli_list *cases, const cli_list *s
     for (int i = 0; i < schemes->count; i++) {
         rod_scheme_kind kind;
         if (!rod_scheme_find(schemes->items[i], &kind)) {
-            snprintf(err, errlen, "--scheme '%s': unknown scheme; accepted: thesis | implicit | "
-                                  "static", schemes->items[i]);
+            cli_unknown_name(err, errlen, "--scheme", schemes->items[i], "scheme",
+                             cli_scheme_names());
             return -1;
         }
         if (a->scheme_count < (int)(sizeof a->scheme_list / sizeof a->scheme_list[0]))
@@ -561,7 +560,9 @@ int validate_command(int argc, char **argv)
         return RUN_EXIT_FAILURE;
     }
     int status, too_many = make_plan(p, &a);
-    if (a.dt_count > 0 && check_dt_range(p, err, sizeof err)) {
+    if (a.csv && !a.print_commands && cli_check_output_file("--csv", a.csv, err, sizeof err)) {
+        status = cli_usage_error("validate", err); /* before minutes of runs, not after */
+    } else if (a.dt_count > 0 && check_dt_range(p, err, sizeof err)) {
         status = cli_usage_error("validate", err);
     } else if (too_many) {
         snprintf(err, sizeof err, "more than %d runs asked for; give fewer --case, --scheme, "

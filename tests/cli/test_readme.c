@@ -5,6 +5,7 @@
  * the README is at most 30 KB and every
  * repository path it names exists. */
 #include <ctype.h>
+#include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,6 +45,69 @@ static void test_generated_blocks(const char *readme, int want)
     check(status == 0 && differ == 0 && same >= want,
           "every generated block of %s equals the program's output: %d same, %d differ "
           "(want >= %d and 0), status %d", readme, same, differ, want, status);
+}
+
+/* Every command `rodsim help` lists (its lines "  NAME   summary" between
+ * "commands:" and the blank line) has its --help block in docs/commands.md,
+ * which says it holds every command and option. */
+static void test_every_command_documented(void)
+{
+    char command[1024];
+    snprintf(command, sizeof command, "'%s' help", RODSIM_BIN);
+    fflush(stdout);
+    FILE *p = popen(command, "r");
+    if (!check(p != NULL, "rodsim help runs")) return;
+    FILE *doc = fopen(COMMANDS_DOC, "rb");
+    static char text[200000]; /* docs/commands.md: about 30 KB */
+    size_t got = doc ? fread(text, 1, sizeof text - 1, doc) : 0;
+    text[got] = '\0';
+    if (doc) fclose(doc);
+    char line[512];
+    int listing = 0, commands = 0, missing = 0;
+    while (fgets(line, sizeof line, p)) {
+        if (strncmp(line, "commands:", 9) == 0) {
+            listing = 1;
+            continue;
+        }
+        if (!listing) continue;
+        char name[64];
+        if (line[0] == '\n' || sscanf(line, " %63s", name) != 1) break;
+        char block[160];
+        snprintf(block, sizeof block, "<!-- generated: rodsim %s --help -->", name);
+        commands++;
+        if (!strstr(text, block)) {
+            missing++;
+            check(0, "docs/commands.md has no block '%s'", block);
+        }
+    }
+    pclose(p);
+    check(commands >= 9 && missing == 0,
+          "docs/commands.md holds the --help of every command rodsim help lists: %d "
+          "commands, %d without a block", commands, missing);
+}
+
+/* Every shipped scene (each .ini file in scenes/) is named in scenes/README.md's guide,
+ * which lists what each shows. */
+static void test_every_scene_listed(const char *guide)
+{
+    DIR *d = opendir(RODSIM_SOURCE_DIR "/scenes");
+    if (!check(d != NULL, "scenes/ opens")) return;
+    int scenes = 0, missing = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        size_t n = strlen(e->d_name);
+        if (n < 5 || strcmp(e->d_name + n - 4, ".ini") != 0) continue;
+        char named[300];
+        snprintf(named, sizeof named, "`%s`", e->d_name);
+        scenes++;
+        if (!strstr(guide, named)) {
+            missing++;
+            check(0, "scenes/README.md does not name %s", named);
+        }
+    }
+    closedir(d);
+    check(scenes > 10 && missing == 0, "scenes/README.md names every scene: %d scenes, %d not "
+          "named", scenes, missing);
 }
 
 static char *read_readme(const char *path, long *size)
@@ -106,7 +170,8 @@ static void test_paths_exist(const char *text)
 int main(void)
 {
     test_generated_blocks(README, 1);        /* help */
-    test_generated_blocks(COMMANDS_DOC, 7);  /* run, fem, validate, stability, figure, sweep, live */
+    test_generated_blocks(COMMANDS_DOC, 9);  /* every command's --help */
+    test_every_command_documented();
     test_generated_blocks(SCENE_KEYS_DOC, 2); /* help scene, help beam */
     long size = 0;
     char *text = read_readme(README, &size);
@@ -117,9 +182,11 @@ int main(void)
     free(text);
     /* the scenes' guide too: the key tables stand in docs/scene-keys.md */
     text = read_readme(SCENES_README, &size);
-    if (check(text != NULL, "scenes/README.md reads"))
+    if (check(text != NULL, "scenes/README.md reads")) {
         check(size <= 30 * 1024, "scenes/README.md is %ld bytes, at most 30 KB (%d)", size,
               30 * 1024);
+        test_every_scene_listed(text);
+    }
     free(text);
     return test_finish();
 }

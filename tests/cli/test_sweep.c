@@ -427,7 +427,7 @@ static void test_plot(void)
     refused("a plot axis that is not a measure",
             (const char *const[]){"--vary", "rod.nodes=11,21", "--plot", "rod.nodes:tip",
                                   "--png", "/dev/null/x.png", NULL},
-            "the y axis must be a measure; accepted: tip_x");
+            "the y axis must be a measure; did you mean tip_x? accepted: tip_x");
 }
 
 /* --svg: valid XML (xmllint parses it), text as text with real minus
