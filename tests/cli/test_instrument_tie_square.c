@@ -102,10 +102,17 @@ static void run_knot(const char *label, const char *const *sets, const char *sec
     const json_value *warnings = json_get(v, "warnings"), *grasps = json_get(v, "grasps");
     const json_value *rods = json_get(v, "rods");
     const json_value *gap = rods && rods->count ? json_get(rods->items[0], "min_strand_gap_d") : NULL;
-    check(gap && gap->number >= 0.98 && gap->number <= worst / DIAMETER + 1e-9,
-          "the summary's closest strands over every step: %.4f diameters (at least 0.98, and no "
-          "farther than the frames' %.4f: a subset of the steps)", gap ? gap->number : -1.0,
-          worst / DIAMETER);
+    /* absent: no two strands came within one diameter plus the contact's
+     * margin at any step, so the frames' closest must be farther than d */
+    if (gap)
+        check(gap->number >= 0.98 && gap->number <= worst / DIAMETER + 1e-9,
+              "the summary's closest strands over every step: %.4f diameters (at least 0.98, "
+              "and no farther than the frames' %.4f: a subset of the steps)", gap->number,
+              worst / DIAMETER);
+    else
+        check(worst > DIAMETER, "the summary gives no closest strands (none came within reach "
+              "at any step) and the frames' closest are farther than a diameter: %.4f > 1 "
+              "diameter", worst / DIAMETER);
     check_nothing_into_pad(warnings);
     check_tail_taken(grasps && grasps->count ? grasps->items[0] : NULL, 0.5, 0.7);
 
