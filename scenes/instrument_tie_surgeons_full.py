@@ -4,7 +4,7 @@ hand's path for a trial of the whole surgeon's knot thrown with
 instruments: instrument_tie_surgeons.ini's double throw (its paths and
 shape, imported from instrument_tie_surgeons.py), then a single throw the
 other way on top. It does not run through yet (Newton stalls in the
-second throw's draw-back or cinch: docs/decisions/draft-surgeons-single.md),
+second throw's draw-back or cinch: docs/decisions/0140-surgeons-single.md),
 so no scene of it is shipped.
 
   python3 instrument_tie_surgeons_full.py
