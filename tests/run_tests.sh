@@ -31,13 +31,31 @@ jobs=${RODSIM_TEST_JOBS:-$(nproc 2>/dev/null || echo 1)}
 [ "$jobs" -lt 1 ] && jobs=1
 logs=$(mktemp -d)
 find "$build/tests" -type f -name 'test_*' | sort >"$logs/list"
+# Longest first, so no core idles at the end while one long test finishes
+# alone: each test's seconds from this build's last run ($build/test_times),
+# else from tests/test_times (this flavour's lines, measured on 2 cores); a
+# test in neither (a new one) starts first, as if it were the longest.
+times=$build/test_times
+[ -s "$times" ] || times=tests/test_times
+while read -r t; do
+    n=$(basename "$t")
+    s=$(awk -v f="$flavour" -v n="$n" '$1 == f && $2 == n { print $3; exit }' "$times" 2>/dev/null)
+    echo "${s:-9999} $t"
+done <"$logs/list" | sort -k1,1nr -k2,2 | cut -d' ' -f2- >"$logs/order"
 # shellcheck disable=SC2016
 xargs -P "$jobs" -I{} sh -c '
     t=$1; d=$2; n=$(basename "$t")
     [ -x "$t" ] || exit 0
+    start=$(date +%s.%N)
     "$t" >"$d/$n.log" 2>&1
     echo $? >"$d/$n.status"
-' run_one {} "$logs" <"$logs/list"
+    echo "$start $(date +%s.%N)" >"$d/$n.time"
+' run_one {} "$logs" <"$logs/order"
+# this run's seconds per test (wall), for the next run's order
+while read -r t; do
+    n=$(basename "$t")
+    [ -f "$logs/$n.time" ] && awk -v f="$flavour" -v n="$n" '{ printf "%s %s %.1f\n", f, n, $2 - $1 }' "$logs/$n.time"
+done <"$logs/list" >"$build/test_times.new" && mv "$build/test_times.new" "$build/test_times"
 while read -r t; do
     [ -x "$t" ] || continue
     name=$(basename "$t")
