@@ -1,9 +1,10 @@
 /* knot_track.h: the knot type of a run's centreline at every output frame,
  * for `rodsim run`'s summary: the first and last, whether and when it
- * changed, and whether a change was the knot slipping off an end (the
- * strands touched near it the frame before, or no two strands came closer
- * than KNOT_PASS_GAP diameters between the two frames: a loop passed over an
- * end without touching it) rather than a pass-through.
+ * changed, and whether a change happened at an end (the strands touched
+ * near it the frame before, or no two strands came closer than
+ * KNOT_PASS_GAP diameters between the two frames: a loop passed over an end
+ * without touching it) rather than by a pass-through; at an end, whether the
+ * knot was tied there or slipped off (KNOT_TIED, KNOT_SLIPPED).
  * Summary only, no CSV column: one name per frame would repeat itself. */
 #ifndef RODSIM_KNOT_TRACK_H
 #define RODSIM_KNOT_TRACK_H
@@ -19,14 +20,20 @@ typedef struct knot_track {
     int has_named;
     int frames, changes, failures;
     int forming;             /* frames whose knot was KNOT_FORMING */
-    double first_time, last_time, change_time; /* s */
-    char change_from[96], change_to[96];
+    double first_time, last_time; /* s */
+    /* the first change that was no tie (KNOT_TIED): change_* and slip_*
+     * below; ties: the changes that were, the first in tie_* */
+    int ties;
+    double change_time, tie_time; /* s */
+    char change_from[96], change_to[96], tie_from[96], tie_to[96];
+    int tie_end;             /* 0 root, 1 tip, -1 an end not told (a loop passed over it) */
+    int last_how, last_end;  /* the latest change's KNOT_... and end (as tie_end) */
     char failure[256];       /* the first identification that failed, or "" */
     /* the strands' outermost touching nodes in the last frame (-1: none), to
      * tell a knot that slipped off an end from a pass-through */
     int touch_lo, touch_hi;
     double touch_time;
-    int slip_end;            /* at the first change: 0 root, 1 tip, -1 neither */
+    int slip_end;            /* at the first change no tie: 0 root, 1 tip, -1 neither */
     int slip_reach;          /* segments from that end the strands touched */
     double *prev_pos;        /* (nodes x 3) m, owned: the last frame's positions, or NULL */
     int prev_first;          /* the uncut thread's node that was node 0 then (sim/cut.h) */
@@ -74,7 +81,25 @@ void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s, dou
  * signature (a knot turning into its mirror image is a change). */
 int knot_track_same(const rod_knot *a, const rod_knot *b);
 
-/* The first change was no pass-through: the knot slipped off an end (see
+/* How a change of the knot named came about. At an end (strands touched
+ * near it the frame before, or none came within KNOT_PASS_GAP diameters:
+ * an end passed through a loop, no strand through another): KNOT_TIED when
+ * the knot became more complex (a larger crossing_number, knot.h: an end
+ * drawn through a loop ties a knot there) and self-contact is on (without
+ * it a strand may pass through another anywhere), else KNOT_SLIPPED
+ * (simpler: it slipped off or came undone at that end; as complex, e.g. a
+ * knot turned into its mirror: a crossing was undone as one was made, and
+ * no throw makes a knot's mirror, so it is no tie either).
+ * Elsewhere KNOT_THROUGH: a strand passed through another.
+ * The decision record "a knot tied at an end" has the alternatives. */
+enum { KNOT_THROUGH, KNOT_SLIPPED, KNOT_TIED };
+
+/* "tied at the root end", "slipped off the tip end", "tied at an end", "a
+ * loop passed over an end" (how, end as knot_track's last_how, last_end),
+ * or NULL for KNOT_THROUGH */
+const char *knot_track_how_text(int how, int end);
+
+/* The first change no tie was no pass-through: the knot slipped off an end (see
  * slip_end) or no strands came within KNOT_PASS_GAP diameters. */
 int knot_track_change_is_slip(const knot_track *k, const rod_model *m);
 

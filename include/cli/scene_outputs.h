@@ -42,7 +42,8 @@ typedef struct scene_outputs_options {
 void scene_outputs_plan_warnings(const rod_model *m, double dt, run_warnings *w);
 
 /* The warnings of a finished run: the scheme's caveat (report->warning), a
- * knot that changed or slipped off an end (knots). Into w. Returns 1, with
+ * knot that changed or slipped off an end (knots; a knot tied at an end,
+ * KNOT_TIED, is none). Into w. Returns 1, with
  * the message in `error`, when the knot changed where self-contact should
  * have kept it (a strand passed through another: the run fails, exit 1,
  * its outputs kept for a look); else 0. */

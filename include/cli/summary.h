@@ -24,6 +24,8 @@
 typedef struct summary_knot_change {
     double t;
     char type[96];
+    char how[32]; /* at an end: "tied at the root end", "slipped off the tip end", ... (as
+                     knot_track_how_text), "" for a pass-through or not told */
 } summary_knot_change;
 
 /* A puncture: made at t (s; 0 for one the scene gives), its point (m,

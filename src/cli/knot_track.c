@@ -18,7 +18,7 @@ void knot_track_init(knot_track *k, int nodes)
     memset(k, 0, sizeof *k);
     k->scratch = rod_knot_scratch_create();
     k->touch_lo = k->touch_hi = -1;
-    k->slip_end = -1;
+    k->slip_end = k->tie_end = k->last_end = -1;
     k->prev_pos = malloc((size_t)nodes * 3 * sizeof(double));
 }
 
@@ -111,6 +111,67 @@ int knot_track_is_forming(const rod_knot *k)
     return strcmp(k->name, KNOT_FORMING) == 0;
 }
 
+/* The end near which strands touched in the frame before (0 root, 1 tip,
+ * -1 neither: an end is a point a loop can pass over) and how far from it
+ * (segments); the root when within reach of both (an instrument tie draws
+ * the held tail, the root, through the loop while the long end lies in
+ * touching turns near the tip) */
+static int change_end(const knot_track *k, const rod_model *m, int nodes, int *reach_out)
+{
+    const int reach = slip_reach(m, k->moved), last = nodes - 1;
+    if (k->touch_lo >= 0 && k->touch_lo <= reach) return *reach_out = k->touch_lo, 0;
+    if (k->touch_hi >= 0 && last - k->touch_hi <= reach) return *reach_out = last - k->touch_hi, 1;
+    return -1;
+}
+
+/* A change of the knot named, from k->named to now at frame s; gap as
+ * knot_track_frame's. The rule of KNOT_TIED (knot_track.h): at an end, and
+ * more crossings (the identified type's crossing number) than before. */
+static void note_change(knot_track *k, const rod_model *m, const rod_knot *now,
+                        const rod_state *s, double gap)
+{
+    const double t = s->time; /* s */
+    int reach = 0;
+    const int end = change_end(k, m, s->nodes, &reach);
+    const int at_end = end >= 0 || !(gap < KNOT_PASS_GAP * m->diameter);
+    /* without self-contact a strand may pass through another anywhere:
+     * no change is told a tie */
+    const int guarded = m->self_contact && m->options.scheme == ROD_SCHEME_IMPLICIT;
+    const int how = !at_end ? KNOT_THROUGH
+                    : guarded && now->crossing_number > k->named.crossing_number ? KNOT_TIED
+                                                                                 : KNOT_SLIPPED;
+    k->changes++;
+    k->last_how = how;
+    k->last_end = at_end ? end : -1;
+    if (how == KNOT_TIED) {
+        if (k->ties++ == 0) {
+            k->tie_time = t;
+            snprintf(k->tie_from, sizeof k->tie_from, "%s", k->named.name);
+            snprintf(k->tie_to, sizeof k->tie_to, "%s", now->name);
+            k->tie_end = end;
+        }
+        return;
+    }
+    if (k->changes - k->ties > 1) return;
+    k->change_time = t;
+    snprintf(k->change_from, sizeof k->change_from, "%s", k->named.name);
+    snprintf(k->change_to, sizeof k->change_to, "%s", now->name);
+    k->slip_end = end;
+    k->slip_reach = reach;
+    k->slip_time = k->touch_time;
+    k->change_gap = gap;
+}
+
+const char *knot_track_how_text(int how, int end)
+{
+    static const char *const tied[3] = {"tied at an end", "tied at the root end",
+                                        "tied at the tip end"};
+    static const char *const slipped[3] = {"a loop passed over an end",
+                                           "slipped off the root end", "slipped off the tip end"};
+    if (how == KNOT_THROUGH || end < -1 || end > 1) return NULL;
+    return how == KNOT_TIED ? tied[end + 1] : slipped[end + 1];
+}
+
 void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s, double gap)
 {
     double start = wall_seconds();
@@ -128,25 +189,8 @@ void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s, dou
         /* a forming frame is no change: the changes are those of the knot
          * named, from the last frame that named one */
         const int named = !knot_track_is_forming(&now);
-        if (named && k->has_named && !knot_track_same(&now, &k->named) &&
-            k->changes++ == 0) {
-            k->change_time = s->time;
-            snprintf(k->change_from, sizeof k->change_from, "%s", k->named.name);
-            snprintf(k->change_to, sizeof k->change_to, "%s", now.name);
-            /* strands touching near an end in the frame before: the knot
-             * slipped off it (an end is a point a loop can pass over) */
-            const int reach = slip_reach(m, k->moved), last = s->nodes - 1;
-            k->slip_end = -1;
-            if (k->touch_lo >= 0 && k->touch_lo <= reach) {
-                k->slip_end = 0;
-                k->slip_reach = k->touch_lo;
-            } else if (k->touch_hi >= 0 && last - k->touch_hi <= reach) {
-                k->slip_end = 1;
-                k->slip_reach = last - k->touch_hi;
-            }
-            k->slip_time = k->touch_time;
-            k->change_gap = gap;
-        }
+        if (named && k->has_named && !knot_track_same(&now, &k->named))
+            note_change(k, m, &now, s, gap);
         if (named) k->named = now, k->has_named = 1;
         k->forming += !named;
         k->last = now;
@@ -159,7 +203,7 @@ void knot_track_frame(knot_track *k, const rod_model *m, const rod_state *s, dou
 
 int knot_track_change_is_slip(const knot_track *k, const rod_model *m)
 {
-    return k->changes > 0 &&
+    return k->changes > k->ties &&
            (k->slip_end >= 0 || !(k->change_gap < KNOT_PASS_GAP * m->diameter));
 }
 
@@ -191,6 +235,27 @@ double knot_track_rope(const knot_track *k, const rod_model *m)
     return (k->touch_hi - k->touch_lo) * m->ds / m->diameter;
 }
 
+/* The changes' line: all of them, the first tie and the first change no
+ * tie (in capitals when there was one: a knot tied is no failure) */
+static void print_changes(FILE *f, const knot_track *k, const rod_model *m)
+{
+    const int others = k->changes - k->ties;
+    fprintf(f, "        knot: %s at t = %g s, %s at t = %g s: %s %d time%s over %d output frames",
+            k->first.name, k->first_time, k->last.name, k->last_time,
+            others ? "CHANGED" : "changed", k->changes, k->changes == 1 ? "" : "s", k->frames);
+    if (k->ties)
+        fprintf(f, ", %s at t = %g s (%s -> %s, %s)", others ? "the first tie" : "first",
+                k->tie_time, k->tie_from, k->tie_to, knot_track_how_text(KNOT_TIED, k->tie_end));
+    if (others) {
+        const char *how = knot_track_how_text(KNOT_SLIPPED, k->slip_end);
+        fprintf(f, ", %s at t = %g s (%s -> %s%s%s)",
+                k->ties ? "the first change no tie" : "first", k->change_time, k->change_from,
+                k->change_to, knot_track_change_is_slip(k, m) ? ", " : "",
+                knot_track_change_is_slip(k, m) ? how : "");
+    }
+    fputc('\n', f);
+}
+
 void knot_track_print(FILE *f, const knot_track *k, const rod_model *m)
 {
     if (k->frames > 0) {
@@ -208,14 +273,7 @@ void knot_track_print(FILE *f, const knot_track *k, const rod_model *m)
                        "knot named\n", k->first.name, k->first_time, k->last.name,
                     k->last_time, k->forming, k->frames);
         else
-            fprintf(f, "        knot: %s at t = %g s, %s at t = %g s: CHANGED %d time%s over %d "
-                       "output frames, first at t = %g s (%s -> %s%s)\n",
-                    k->first.name, k->first_time, k->last.name, k->last_time, k->changes,
-                    k->changes == 1 ? "" : "s", k->frames, k->change_time, k->change_from,
-                    k->change_to,
-                    k->slip_end == 0 ? ", slipped off the root end"
-                    : k->slip_end == 1 ? ", slipped off the tip end"
-                    : knot_track_change_is_slip(k, m) ? ", a loop passed over an end" : "");
+            print_changes(f, k, m);
         const double rope = knot_track_rope(k, m);
         if (!isnan(rope)) {
             fprintf(f, "        knot: rope in the knot at t = %g s: %.1f diameters, between the "

@@ -143,6 +143,8 @@ static void track_knot(rods_run *r, int k)
          * part of r to another reads as an overlap to the compiler) */
         memcpy(c->type, t->last.name, sizeof c->type);
         c->type[sizeof c->type - 1] = '\0';
+        const char *how = knot_track_how_text(t->last_how, t->last_end);
+        snprintf(c->how, sizeof c->how, "%s", how ? how : "");
     }
 }
 

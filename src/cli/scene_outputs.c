@@ -453,6 +453,8 @@ static void summary_frame(run_summary *sum, const knot_track *k, int changes_bef
         summary_knot_change *c = &sum->knot_changes[sum->knot_change_count++];
         c->t = s->time;
         snprintf(c->type, sizeof c->type, "%s", k->last.name);
+        const char *how = knot_track_how_text(k->last_how, k->last_end);
+        snprintf(c->how, sizeof c->how, "%s", how ? how : "");
     }
     for (int j = sum->puncture_count; j < s->puncture_count && j < SUMMARY_MAX_PUNCTURES; j++) {
         sum->punctures[j].t = s->time; /* at t = 0 for the scene's own */
@@ -956,6 +958,9 @@ int scene_outputs_result_warnings(const rod_model *m, const rod_report *report,
      * pass-through the contact failed to stop: a failure (exit 1), the
      * output kept for a look. */
     const int guarded = m->self_contact && m->options.scheme == ROD_SCHEME_IMPLICIT;
+    /* A knot tied by an end drawn through a loop (KNOT_TIED, knot_track.h)
+     * is no warning: the changes below are the others */
+    const int others = knots->changes - knots->ties;
     /* A knot that slipped off an end under self-contact is the model's
      * physics (an end is a point; a loop can pass over it), not a
      * pass-through: a warning naming the end */
@@ -979,16 +984,16 @@ int scene_outputs_result_warnings(const rod_model *m, const rod_report *report,
                  knots->change_time, knots->change_from, knots->change_to,
                  knots->slip_end ? "tip" : "root", knots->slip_reach,
                  knots->slip_reach == 1 ? "" : "s", knots->slip_time);
-    else if (knots->changes && !guarded)
+    else if (others && !guarded)
         run_warn(w, "the knot type changed %d time%s between output frames, first at t = %g s "
                     "(%s -> %s)",
-                 knots->changes, knots->changes == 1 ? "" : "s", knots->change_time,
+                 others, others == 1 ? "" : "s", knots->change_time,
                  knots->change_from, knots->change_to);
-    else if (knots->changes) {
+    else if (others) {
         snprintf(error, errlen, "the knot type changed %d time%s between output frames, first "
                                 "at t = %g s (%s -> %s): a strand passed through another "
                                 "despite self-contact",
-                 knots->changes, knots->changes == 1 ? "" : "s", knots->change_time,
+                 others, others == 1 ? "" : "s", knots->change_time,
                  knots->change_from, knots->change_to);
         return 1;
     }

@@ -168,6 +168,10 @@ static void knot_object(json_out *j, const summary_rod_knot *k)
         summary_json_number(j->f, k->changes[i].t);
         comma(j);
         summary_json_string(j->f, k->changes[i].type);
+        if (k->changes[i].how[0]) {
+            comma(j);
+            summary_json_string(j->f, k->changes[i].how);
+        }
         close_(j, ']');
     }
     close_(j, ']');

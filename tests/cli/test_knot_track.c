@@ -1,5 +1,5 @@
 /* test_knot_track.c: telling a knot that came undone over an end from a
- * strand that passed through another.
+ * strand that passed through another, and from a knot tied at an end.
  *
  * An open overhand knot (a 0.97-turn trefoil about 1 m long, d = 2 mm,
  * between tails drawn out 0.15 m, NS = 401) is the first frame; in the
@@ -9,7 +9,19 @@
  * Whether that was a slip or a pass-through depends on how close the strands
  * came in between: with no strand ever closer than 0.996 d (a loop passing
  * over the end, as in a tightening knot whose tail slides out), it is a slip;
- * with two strands 0.1 d apart at some step, a pass-through. */
+ * with two strands 0.1 d apart at some step, a pass-through.
+ *
+ * The same frames the other way round (the tail drawn back in through the
+ * loop: the unknot, then the trefoil) tie a knot at that end: more
+ * crossings (3, Rolfsen's table, from 0) where an end passed through a
+ * loop. The nodes numbered from that end (the root) and strands touching
+ * 3 segments from it the frame before, that is "tied at the root end": no
+ * warning, said in the summary's change and the prose; with no touch and
+ * no strands within reach, "tied at an end". The overhand undone with the
+ * same touch "slipped off the root end" and is warned. A trefoil turning
+ * into its mirror at the root end (3 crossings to 3) is no tie: warned as a
+ * slip. The unknot to the trefoil with strands 0.1 d apart, none near an
+ * end, is a pass-through: the run's error. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,6 +29,7 @@
 
 #include "base/vec3.h"
 #include "cli/knot_track.h"
+#include "cli/scene_outputs.h"
 #include "test.h"
 #include "sim/rod.h"
 
@@ -72,18 +85,130 @@ static void overhand(double *position, int undone)
     }
 }
 
-static void two_frames(double gap_between, knot_track *k, rod_model *m)
+/* The nodes in reverse order: the tail drawn out is then the root's */
+static void reverse_nodes(double *position)
+{
+    for (int i = 0, j = NODES - 1; i < j; i++, j--)
+        for (int c = 0; c < 3; c++) {
+            double x = position[3 * i + c];
+            position[3 * i + c] = position[3 * j + c];
+            position[3 * j + c] = x;
+        }
+}
+
+/* Two frames, 0.1 s apart: the overhand (undone: drawn out) then again
+ * (undone_after; mirror: z -> -z, the other hand); `touch`: strands press
+ * on each other that many segments from the end drawn out in the first (0:
+ * nowhere); `at_root`: the nodes reversed, that end the root */
+static void frames_of(int undone, int undone_after, int mirror, int touch, int at_root,
+                      double gap_between, knot_track *k, rod_model *m)
 {
     rod_state *s = rod_state_create(m);
     memset(s->self_force, 0, (size_t)NODES * 3 * sizeof(double));
+    if (touch > 0) s->self_force[3 * (at_root ? touch : NODES - 1 - touch) + 2] = 1.0;
     knot_track_init(k, NODES);
-    overhand(s->position, 0);
+    overhand(s->position, undone);
+    if (at_root) reverse_nodes(s->position);
     s->time = 0.0;
     knot_track_frame(k, m, s, INFINITY);
-    overhand(s->position, 1);
+    memset(s->self_force, 0, (size_t)NODES * 3 * sizeof(double));
+    overhand(s->position, undone_after);
+    if (at_root) reverse_nodes(s->position);
+    for (int i = 0; mirror && i < NODES; i++) s->position[3 * i + 2] *= -1.0;
     s->time = 0.1;
     knot_track_frame(k, m, s, gap_between);
     rod_state_destroy(s);
+}
+
+static void two_frames(double gap_between, knot_track *k, rod_model *m)
+{
+    frames_of(0, 1, 0, 0, 0, gap_between, k, m);
+}
+
+/* The run's warnings of k: their count, the first in `first`, 1 for an error */
+static int warnings_of(const knot_track *k, const rod_model *m, char *first, size_t n)
+{
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    run_warnings w = {0};
+    char error[RUN_WARNING_LEN] = "";
+    int failed = scene_outputs_result_warnings(m, &report, k, &w, error, sizeof error);
+    snprintf(first, n, "%s", failed ? error : w.count ? w.text[0] : "");
+    return failed ? -1 : w.count;
+}
+
+/* The prose knot line of k holds `text` */
+static int prose_says(const knot_track *k, const rod_model *m, const char *text)
+{
+    char line[1024] = "";
+    FILE *f = tmpfile();
+    if (!f) return 0;
+    knot_track_print(f, k, m);
+    rewind(f);
+    size_t got = fread(line, 1, sizeof line - 1, f);
+    line[got] = '\0';
+    fclose(f);
+    return strstr(line, text) != NULL;
+}
+
+static void tied_at_an_end(rod_model *m)
+{
+    knot_track k;
+    char said[RUN_WARNING_LEN];
+    const char *how;
+
+    frames_of(1, 0, 0, 3, 1, INFINITY, &k, m);
+    how = knot_track_how_text(k.last_how, k.last_end);
+    check(strcmp(k.first.name, "unknot") == 0 && strncmp(k.last.name, "trefoil", 7) == 0 &&
+              k.first.crossing_number == 0 && k.last.crossing_number == 3,
+          "the tail drawn through the loop: %s (%d crossings, reference 0) -> %s (%d, "
+          "reference 3)", k.first.name, k.first.crossing_number, k.last.name,
+          k.last.crossing_number);
+    check(k.changes == 1 && k.ties == 1 && k.tie_end == 0 && how &&
+              strcmp(how, "tied at the root end") == 0,
+          "strands touching 3 segments from the root: %d change(s), %d tie(s), the summary "
+          "says '%s' (reference 'tied at the root end')", k.changes, k.ties, how ? how : "");
+    int n = warnings_of(&k, m, said, sizeof said);
+    check(n == 0 && !strstr(said, "slipped"), "a knot tied: %d warnings (reference 0) %s", n,
+          said);
+    check(prose_says(&k, m, "first at t = 0.1 s (unknot -> trefoil, ") &&
+              prose_says(&k, m, "-handed, tied at the root end)") &&
+              !prose_says(&k, m, "CHANGED"),
+          "the prose knot line says the knot was tied at the root end, no CHANGED");
+    knot_track_release(&k);
+
+    frames_of(1, 0, 0, 0, 0, INFINITY, &k, m);
+    how = knot_track_how_text(k.last_how, k.last_end);
+    n = warnings_of(&k, m, said, sizeof said);
+    check(k.ties == 1 && n == 0 && how && strcmp(how, "tied at an end") == 0,
+          "no strands near an end nor within reach between the frames: '%s' (reference 'tied "
+          "at an end'), %d warnings", how ? how : "", n);
+    knot_track_release(&k);
+
+    frames_of(0, 1, 0, 3, 1, INFINITY, &k, m);
+    how = knot_track_how_text(k.last_how, k.last_end);
+    n = warnings_of(&k, m, said, sizeof said);
+    check(k.changes == 1 && k.ties == 0 && n == 1 &&
+              strstr(said, "slipped off the rod's root end") &&
+              strstr(said, "lengthen the rod") && how &&
+              strcmp(how, "slipped off the root end") == 0,
+          "the reverse, trefoil -> unknot (3 crossings to 0) at the root: warned '%s'; the "
+          "summary says '%s'", said, how ? how : "");
+    knot_track_release(&k);
+
+    frames_of(0, 0, 1, 3, 1, INFINITY, &k, m);
+    n = warnings_of(&k, m, said, sizeof said);
+    check(k.changes == 1 && k.ties == 0 && n == 1 && strstr(said, "slipped off"),
+          "%s -> %s at the root (3 crossings to %d): no tie, warned '%s'", k.first.name,
+          k.last.name, k.last.crossing_number, said);
+    knot_track_release(&k);
+
+    frames_of(1, 0, 0, 0, 0, 0.1 * m->diameter, &k, m);
+    n = warnings_of(&k, m, said, sizeof said);
+    check(k.ties == 0 && n == -1 && strstr(said, "passed through"),
+          "unknot -> trefoil with strands 0.1 d apart, none near an end: no tie, the run's "
+          "error '%s'", said);
+    knot_track_release(&k);
 }
 
 int main(void)
@@ -116,6 +241,8 @@ int main(void)
           "two strands 0.1 d apart at a step between the frames (limit %.1f d): a pass-through",
           KNOT_PASS_GAP);
     knot_track_release(&k);
+
+    tied_at_an_end(&m);
 
     rod_model_release(&m);
     return test_finish();

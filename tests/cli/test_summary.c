@@ -155,8 +155,10 @@ static int knot_ok(const json_value *k)
         return 0;
     for (int i = 0; i < changes->count; i++) {
         const json_value *c = changes->items[i];
-        if (!json_is(c, JSON_ARRAY) || c->count != 2 || c->items[0]->type != JSON_NUMBER ||
-            c->items[1]->type != JSON_STRING)
+        /* [t, type] or, at an end, [t, type, how] */
+        if (!json_is(c, JSON_ARRAY) || c->count < 2 || c->count > 3 ||
+            c->items[0]->type != JSON_NUMBER || c->items[1]->type != JSON_STRING ||
+            (c->count == 3 && c->items[2]->type != JSON_STRING))
             return 0;
     }
     return 1;

@@ -38,6 +38,8 @@ typedef struct rod_knot {
     int signature;            /* sigma(K) (Gordon-Litherland): 0 unknot, figure-eight and
                                  square knot, +-2 trefoil, +-4 granny; sign: handedness */
     int has_signature;        /* 0: the diagram's faces were not understood */
+    int crossing_number;      /* of the knot named (0 unknot, 3 trefoil, 8 surgeon's knot);
+                                 an unnamed one's lower bound: degree of Delta + 1 */
     int crossings;            /* of the projection used (closure included) */
     int writhe;               /* sum of the crossings' signs in that projection */
     double direction[3];      /* unit: the projection's direction */

@@ -516,25 +516,27 @@ typedef struct signed_name {
 
 static const struct {
     const char *name;
+    int crossing_number; /* of the knot named (Rolfsen's table; a composite's: the sum
+                            of its parts', as for every alternating knot) */
     int terms;
     long long c[9];
     signed_name by_signature[2];
 } known_knots[] = {
-    {"unknot", 1, {1}, {{0, NULL}}},
-    {"trefoil", 3, {1, -1, 1}, {{0, NULL}}},
-    {"figure-eight", 3, {1, -3, 1}, {{0, NULL}}},
-    {"cinquefoil (5_1)", 5, {1, -1, 1, -1, 1}, {{0, NULL}}},
-    {"three-twist (5_2)", 3, {2, -3, 2}, {{0, NULL}}},
-    {"stevedore (6_1)", 3, {2, -5, 2}, {{0, NULL}}},
-    {"6_2", 5, {1, -3, 3, -3, 1}, {{0, NULL}}},
-    {"6_3", 5, {1, -3, 5, -3, 1}, {{0, NULL}}},
-    {"7_1", 7, {1, -1, 1, -1, 1, -1, 1}, {{0, NULL}}},
+    {"unknot", 0, 1, {1}, {{0, NULL}}},
+    {"trefoil", 3, 3, {1, -1, 1}, {{0, NULL}}},
+    {"figure-eight", 4, 3, {1, -3, 1}, {{0, NULL}}},
+    {"cinquefoil (5_1)", 5, 5, {1, -1, 1, -1, 1}, {{0, NULL}}},
+    {"three-twist (5_2)", 5, 3, {2, -3, 2}, {{0, NULL}}},
+    {"stevedore (6_1)", 6, 3, {2, -5, 2}, {{0, NULL}}},
+    {"6_2", 6, 5, {1, -3, 3, -3, 1}, {{0, NULL}}},
+    {"6_3", 6, 5, {1, -3, 5, -3, 1}, {{0, NULL}}},
+    {"7_1", 7, 7, {1, -1, 1, -1, 1, -1, 1}, {{0, NULL}}},
     /* the Alexander polynomial cannot tell the square knot (trefoil # its mirror)
      * from the granny (trefoil # trefoil): both (t^2 - t + 1)^2; the signature
      * does (0 and +-4), when it is known */
-    {"square or granny (composite of two trefoils)", 5, {1, -2, 3, -2, 1},
+    {"square or granny (composite of two trefoils)", 6, 5, {1, -2, 3, -2, 1},
      {{0, "square knot (trefoil # mirror trefoil)"}, {4, "granny knot (trefoil # trefoil)"}}},
-    {"trefoil # figure-eight", 5, {1, -4, 5, -4, 1}, {{0, NULL}}},
+    {"trefoil # figure-eight", 7, 5, {1, -4, 5, -4, 1}, {{0, NULL}}},
     /* Delta and signature of the surgical knots (KnotInfo, knotinfo.math.indiana.edu:
      * 3_1 1 - t + t^2, sigma -2; 5_1 1 - t + t^2 - t^3 + t^4, sigma -4, both for
      * the positive (right-handed) diagram; Rolfsen, Knots and Links, app. C):
@@ -544,10 +546,10 @@ static const struct {
      * 8 crossings has this polynomial (Rolfsen's table). The signature tells
      * the surgeon's knot, whose throws turn opposite ways as a square knot's
      * (+-4 -+ 2 = +-2), from its granny (+-6) */
-    {"cinquefoil # trefoil", 7, {1, -2, 3, -3, 3, -2, 1},
+    {"cinquefoil # trefoil", 8, 7, {1, -2, 3, -3, 3, -2, 1},
      {{2, "surgeon's knot (cinquefoil # mirror trefoil)"},
       {6, "granny surgeon's knot (cinquefoil # trefoil)"}}},
-    {"figure-eight # figure-eight", 5, {1, -6, 11, -6, 1}, {{0, NULL}}},
+    {"figure-eight # figure-eight", 8, 5, {1, -6, 11, -6, 1}, {{0, NULL}}},
 };
 
 void rod_knot_polynomial_text(const rod_knot *k, char *buf, size_t n)
@@ -877,6 +879,9 @@ static int normalise_polynomial(const long long *value, int m, int c, rod_knot *
 static void name_knot(rod_knot *out, int terms)
 {
     snprintf(out->name, sizeof out->name, "unknown (degree %d)", terms - 1);
+    /* unnamed: a lower bound (a diagram of n crossings has Delta of degree
+     * at most n - 1, its Alexander matrix being n - 1 square, linear in t) */
+    out->crossing_number = terms;
     int named = 0;
     for (size_t k = 0; k < sizeof known_knots / sizeof known_knots[0] && !named; k++) {
         if (known_knots[k].terms != terms) continue;
@@ -896,6 +901,7 @@ static void name_knot(rod_knot *out, int terms)
                            : out->signature < 0                       ? ", right-handed"
                                                                       : ", left-handed";
         snprintf(out->name, sizeof out->name, "%s%s", name, hand);
+        out->crossing_number = known_knots[k].crossing_number;
     }
     if (!named && terms <= ROD_KNOT_MAX_TERMS) {
         char text[72];
