@@ -44,10 +44,12 @@ void figure_usage(FILE *f)
             "  --print-sweep     the `rodsim sweep` lines of a sweep (FILE_sweep*.csv)\n\n"
             "figures (sweep: drawn by `rodsim sweep`'s code):\n");
     const figure_def *const *list = figure_list();
-    for (int i = 0; list[i]; i++)
-        fprintf(f, "  %-17s %2d points (%d quick): %s\n", figure_name(list[i]),
-                figure_point_count(list[i], 0), figure_point_count(list[i], 1),
+    for (int i = 0; list[i]; i++) {
+        const int full = figure_point_count(list[i], 0);
+        fprintf(f, "  %-17s %2d %-6s (%d quick): %s\n", figure_name(list[i]), full,
+                full == 1 ? "point" : "points", figure_point_count(list[i], 1),
                 figure_summary(list[i]));
+    }
     const figure_spec *const *specs = figure_spec_list();
     for (int i = 0; specs[i]; i++) {
         int full = 0, quick = 0;
@@ -55,8 +57,8 @@ void figure_usage(FILE *f)
             full += figure_spec_points(specs[i], k, 0);
             quick += figure_spec_points(specs[i], k, 1);
         }
-        fprintf(f, "  %-17s %2d points (%d quick): sweep: %s\n", specs[i]->name, full, quick,
-                specs[i]->summary);
+        fprintf(f, "  %-17s %2d %-6s (%d quick): sweep: %s\n", specs[i]->name, full,
+                full == 1 ? "point" : "points", quick, specs[i]->summary);
     }
 }
 
@@ -293,8 +295,8 @@ int figure_command(int argc, char **argv)
     } else {
         int total = 0;
         for (int k = 0; k < n; k++) total += figure_point_count(figs[k], a.quick);
-        printf("rodsim figure %s: %d points, %d at a time%s\n", a.name, total, a.jobs,
-               a.quick ? " (quick)" : "");
+        printf("rodsim figure %s: %d point%s, %d at a time%s\n", a.name, total,
+               total == 1 ? "" : "s", a.jobs, a.quick ? " (quick)" : "");
         if (figure_sweep(figs, n, a.quick, a.jobs, stdout, points, err, sizeof err)) {
             fprintf(stderr, "rodsim figure: %s\n", err);
             status = RUN_EXIT_FAILURE;

@@ -136,9 +136,9 @@ static int figure_print_commands(const figure_spec *fig, const figure_part *part
     }
     int total = 0;
     for (int k = 0; k < fig->parts; k++) total += parts[k].sw.point_count;
-    printf("# rodsim figure %s: %d points; each line runs one into %s (skipped when its\n"
+    printf("# rodsim figure %s: %d point%s; each line runs one into %s (skipped when its\n"
            "# result file is there); then the # assemble: line draws the figure\n",
-           fig->name, total, dir);
+           fig->name, total, total == 1 ? "" : "s", dir);
     for (int point = 0; point < total; point++) {
         cli_print_shell_word(stdout, self);
         printf(" figure %s%s --point %d --result ", fig->name, o->quick ? " --quick" : "",
@@ -230,7 +230,7 @@ static int prepare_parts(const figure_spec *fig, const sweep_figure_options *o,
         part->pg.digests = calloc((size_t)n, sizeof *part->pg.digests);
         part->pg.done = calloc((size_t)n, sizeof *part->pg.done);
         if (!part->set || !part->pg.rows || !part->pg.digests || !part->pg.done) {
-            snprintf(err, errlen, "out of memory for %d points", n);
+            snprintf(err, errlen, "out of memory for %d point%s", n, n == 1 ? "" : "s");
             return -1;
         }
         if ((!o->print_commands && o->point < 0 && sweep_check_outputs(sw, err, errlen)) ||
