@@ -13,6 +13,7 @@
 #include "cli/sweep_figure.h"
 #include "study/figure.h"
 #include "base/outfile.h"
+#include "base/worker.h"
 
 typedef struct figure_args {
     const char *name;      /* a figure or "all" */
@@ -36,7 +37,7 @@ void figure_usage(FILE *f)
             "       rodsim figure NAME --point K --result DIR | --print-sweep (a sweep)\n"
             "       rodsim figure --list\n\n"
             "  --out DIR         where the figures go (default out/figures)\n"
-            "  --jobs N          points at once, one process each (default: cores)\n"
+            "  --jobs N          points at once, one process each (1..64; default: cores)\n"
             "  --quick           fewer points and shorter runs (what the tests use)\n"
             "  --print-commands  a command line per point, then a '# assemble:' line\n"
             "  --point K         point K only: into --csv F (- = stdout), or --result DIR\n"
@@ -106,6 +107,7 @@ static int check_args(const figure_args *a, char *err, size_t errlen)
 static int parse_args(int argc, char **argv, figure_args *a, char *err, size_t errlen)
 {
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    if (cores > WORKER_MAX_JOBS) cores = WORKER_MAX_JOBS;
     *a = (figure_args){.out_dir = "out/figures", .point = -1, .jobs = cores > 0 ? (int)cores : 1};
     const cli_option options[] = {
         {.name = "--list", .value = CLI_FLAG, .target = &a->list},
@@ -116,7 +118,8 @@ static int parse_args(int argc, char **argv, figure_args *a, char *err, size_t e
         {.name = "--out", .value = CLI_DIR, .target = &a->out_dir},
         {.name = "--from", .value = CLI_DIR, .target = &a->from_dir},
         {.name = "--csv", .value = CLI_OUTPUT, .target = &a->csv},
-        {.name = "--jobs", .value = CLI_COUNT, .target = &a->jobs, .lo = 1, .hi = 1024},
+        {.name = "--jobs", .value = CLI_COUNT, .target = &a->jobs, .lo = 1,
+         .hi = WORKER_MAX_JOBS},
         {.name = "--point", .value = CLI_COUNT, .target = &a->point, .lo = 0, .hi = 999999},
         {0}};
     const cli_operand name = {.name = "NAME", .optional = 1, .target = &a->name};

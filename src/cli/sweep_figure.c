@@ -10,6 +10,7 @@
 
 #include "base/embedded.h"
 #include "base/outfile.h"
+#include "base/worker.h"
 #include "cli/print_commands.h"
 #include "cli/sweep.h"
 #include "cli/sweep_plot.h"
@@ -61,7 +62,7 @@ static int figure_argv(const figure_spec *fig, int k, const sweep_figure_options
         part->argv[n++] = args[i];
     }
     snprintf(part->jobs, sizeof part->jobs, "%d",
-             o->jobs < 1 ? 1 : o->jobs > SWEEP_MAX_JOBS ? SWEEP_MAX_JOBS : o->jobs);
+             o->jobs < 1 ? 1 : o->jobs > WORKER_MAX_JOBS ? WORKER_MAX_JOBS : o->jobs);
     const char *tail[] = {"--measure", fig->measure, "--plot", part->plot_arg, "--png", part->png,
                           "--svg", part->svg, "--csv", part->csv, "--jobs", part->jobs};
     for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) part->argv[n++] = tail[i];

@@ -11,6 +11,7 @@
 #include "base/ini.h"
 #include "base/suggest.h"
 #include "base/textfile.h"
+#include "base/worker.h"
 #include "cli/print_commands.h"
 #include "api/scene_keys.h"
 #include "cli/scene_outputs.h"
@@ -501,7 +502,7 @@ int sweep_parse_args(int argc, char **argv, sweep *sw, char *err, size_t errlen)
         {.name = "--snakefile", .value = CLI_FILE, .target = &sw->snakefile},
         {.name = "--result", .value = CLI_DIR, .target = &sw->result_dir},
         {.name = "--jobs", .alias = "-j", .value = CLI_COUNT, .target = &sw->jobs, .lo = 1,
-         .hi = SWEEP_MAX_JOBS},
+         .hi = WORKER_MAX_JOBS},
         {0}};
     const cli_operand scene = {.name = "SCENE", .target = &sw->scene_arg};
     int parsed = cli_parse(argc, argv, options, &scene, err, errlen);
