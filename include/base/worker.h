@@ -8,6 +8,12 @@
 #include <stdio.h>
 #include <sys/types.h>
 
+/* The most worker processes a command's --jobs N may ask for (sweep,
+ * figure, validate, stability alike): each holds a process and a pipe
+ * here, and far more than a machine's cores only queue; 1024 workers with
+ * their pipes would reach the usual limit of 1024 open files. */
+#define WORKER_MAX_JOBS 64
+
 /* Call first in the child of fork(), with the parent's pid taken before the
  * fork. The worker stays in its parent's process group (a Ctrl-C reaches
  * both) and dies with its parent: PR_SET_PDEATHSIG covers SIGTERM and kill -9

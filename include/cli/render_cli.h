@@ -14,7 +14,8 @@
 
 #include <stdio.h>
 
-/* `rodsim render ...`: argv[0] is "render". Returns an exit status: 0, 2 on
+/* `rodsim render ...`: argv[0] is "render" (or "run": `rodsim run` given a
+ * record, and its messages then say "rodsim run: "). Returns an exit status: 0, 2 on
  * bad usage or a record or scene that cannot be read, 1 on another failure.
  * Never calls exit(). */
 int render_command(int argc, char **argv);

@@ -161,8 +161,9 @@ typedef struct run_warnings {
 
 /* Adds a warning (printf format); past RUN_WARNINGS_MAX it is dropped. */
 void run_warn(run_warnings *w, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-/* Prints warnings from..count-1 to f, "rodsim run: warning: TEXT" each. */
-void run_warnings_print(FILE *f, const run_warnings *w, int from);
+/* Prints warnings from..count-1 to f, "COMMAND: warning: TEXT" each (the
+ * command the user typed: "rodsim run", "rodsim render"). */
+void run_warnings_print(FILE *f, const char *command, const run_warnings *w, int from);
 /* The warnings joined with "; " into out (cut to n bytes), appended to what
  * out holds, after "; " when it holds something. */
 void run_warnings_join(const run_warnings *w, char *out, size_t n);

@@ -27,6 +27,8 @@
 /* Where a scene's outputs go and how it is run. */
 typedef struct scene_outputs_options {
     const char *label;   /* the scene's (or record's) path: heads the summary */
+    const char *command; /* names the messages and the summary ("rodsim render");
+                            NULL: "rodsim run" */
     const char *out_dir; /* the video and poster, DIR/NAME.mp4 and DIR/NAME.png */
     const char *csv;     /* the centreline CSV; "-": standard output; NULL: none */
     const char *tissue_csv; /* an elastic pad's top-face nodes per frame; NULL: none */

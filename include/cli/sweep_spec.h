@@ -20,7 +20,6 @@
 #include "cli/args.h"
 
 #define SWEEP_ERR_LEN 2048
-#define SWEEP_MAX_JOBS 64
 #define SWEEP_MAX_POINTS 1000000
 #define SWEEP_VALUE_LEN 1024 /* a setting's value, bytes */
 #define SWEEP_KEY_LEN 128

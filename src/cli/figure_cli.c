@@ -13,6 +13,7 @@
 #include "cli/sweep_figure.h"
 #include "study/figure.h"
 #include "base/outfile.h"
+#include "base/worker.h"
 
 typedef struct figure_args {
     const char *name;      /* a figure or "all" */
@@ -36,7 +37,7 @@ void figure_usage(FILE *f)
             "       rodsim figure NAME --point K --result DIR | --print-sweep (a sweep)\n"
             "       rodsim figure --list\n\n"
             "  --out DIR         where the figures go (default out/figures)\n"
-            "  --jobs N          points at once, one process each (default: cores)\n"
+            "  --jobs N          points at once, one process each (1..64; default: cores)\n"
             "  --quick           fewer points and shorter runs (what the tests use)\n"
             "  --print-commands  a command line per point, then a '# assemble:' line\n"
             "  --point K         point K only: into --csv F (- = stdout), or --result DIR\n"
@@ -44,10 +45,12 @@ void figure_usage(FILE *f)
             "  --print-sweep     the `rodsim sweep` lines of a sweep (FILE_sweep*.csv)\n\n"
             "figures (sweep: drawn by `rodsim sweep`'s code):\n");
     const figure_def *const *list = figure_list();
-    for (int i = 0; list[i]; i++)
-        fprintf(f, "  %-17s %2d points (%d quick): %s\n", figure_name(list[i]),
-                figure_point_count(list[i], 0), figure_point_count(list[i], 1),
+    for (int i = 0; list[i]; i++) {
+        const int full = figure_point_count(list[i], 0);
+        fprintf(f, "  %-17s %2d %-6s (%d quick): %s\n", figure_name(list[i]), full,
+                full == 1 ? "point" : "points", figure_point_count(list[i], 1),
                 figure_summary(list[i]));
+    }
     const figure_spec *const *specs = figure_spec_list();
     for (int i = 0; specs[i]; i++) {
         int full = 0, quick = 0;
@@ -55,8 +58,8 @@ void figure_usage(FILE *f)
             full += figure_spec_points(specs[i], k, 0);
             quick += figure_spec_points(specs[i], k, 1);
         }
-        fprintf(f, "  %-17s %2d points (%d quick): sweep: %s\n", specs[i]->name, full, quick,
-                specs[i]->summary);
+        fprintf(f, "  %-17s %2d %-6s (%d quick): sweep: %s\n", specs[i]->name, full,
+                full == 1 ? "point" : "points", quick, specs[i]->summary);
     }
 }
 
@@ -104,6 +107,7 @@ static int check_args(const figure_args *a, char *err, size_t errlen)
 static int parse_args(int argc, char **argv, figure_args *a, char *err, size_t errlen)
 {
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    if (cores > WORKER_MAX_JOBS) cores = WORKER_MAX_JOBS;
     *a = (figure_args){.out_dir = "out/figures", .point = -1, .jobs = cores > 0 ? (int)cores : 1};
     const cli_option options[] = {
         {.name = "--list", .value = CLI_FLAG, .target = &a->list},
@@ -114,7 +118,8 @@ static int parse_args(int argc, char **argv, figure_args *a, char *err, size_t e
         {.name = "--out", .value = CLI_DIR, .target = &a->out_dir},
         {.name = "--from", .value = CLI_DIR, .target = &a->from_dir},
         {.name = "--csv", .value = CLI_OUTPUT, .target = &a->csv},
-        {.name = "--jobs", .value = CLI_COUNT, .target = &a->jobs, .lo = 1, .hi = 1024},
+        {.name = "--jobs", .value = CLI_COUNT, .target = &a->jobs, .lo = 1,
+         .hi = WORKER_MAX_JOBS},
         {.name = "--point", .value = CLI_COUNT, .target = &a->point, .lo = 0, .hi = 999999},
         {0}};
     const cli_operand name = {.name = "NAME", .optional = 1, .target = &a->name};
@@ -293,8 +298,8 @@ int figure_command(int argc, char **argv)
     } else {
         int total = 0;
         for (int k = 0; k < n; k++) total += figure_point_count(figs[k], a.quick);
-        printf("rodsim figure %s: %d points, %d at a time%s\n", a.name, total, a.jobs,
-               a.quick ? " (quick)" : "");
+        printf("rodsim figure %s: %d point%s, %d at a time%s\n", a.name, total,
+               total == 1 ? "" : "s", a.jobs, a.quick ? " (quick)" : "");
         if (figure_sweep(figs, n, a.quick, a.jobs, stdout, points, err, sizeof err)) {
             fprintf(stderr, "rodsim figure: %s\n", err);
             status = RUN_EXIT_FAILURE;

@@ -242,12 +242,12 @@ static int render_record(const char *record, const cli_list *sets, scene_outputs
     if (r.truncated_line || !r.closed) {
         /* what the session recorded before it was cut short */
         if (r.truncated_line)
-            fprintf(stderr, "rodsim render: %s:%d: an incomplete last line (the session was "
+            fprintf(stderr, "%s: %s:%d: an incomplete last line (the session was "
                     "cut short while recording it): rendered to its last complete row, "
-                    "t = %.9g s\n", record, r.truncated_line, r.end);
+                    "t = %.9g s\n", o->command, record, r.truncated_line, r.end);
         else
-            fprintf(stderr, "rodsim render: %s: no closing '# replay:' line (the session was "
-                    "killed): rendered to its last row, t = %.9g s\n", record, r.end);
+            fprintf(stderr, "%s: %s: no closing '# replay:' line (the session was "
+                    "killed): rendered to its last row, t = %.9g s\n", o->command, record, r.end);
     }
     if (r.truncated_line) {
         if (complete_copy(record, r.complete_bytes, &copy, inputs, sizeof inputs, err,
@@ -293,7 +293,7 @@ static int render_record(const char *record, const cli_list *sets, scene_outputs
     status = scene_outputs_write(o, name, &m, &out);
     goto done;
 fail:
-    fprintf(stderr, "rodsim render: %s\n", err);
+    fprintf(stderr, "%s: %s\n", o->command, err);
 done:
     rod_model_release(&m);
     ini_destroy(doc);
@@ -320,7 +320,10 @@ int render_command(int argc, char **argv)
     char err[1024] = "";
     const char *record = NULL;
     cli_list sets = {0};
-    scene_outputs_options o = {.out_dir = "out"};
+    /* argv[0] is "run" when `rodsim run` was given a record: its messages say run */
+    char command[32];
+    snprintf(command, sizeof command, "rodsim %s", argv[0]);
+    scene_outputs_options o = {.out_dir = "out", .command = command};
     const cli_option options[] = {
         {.name = "--set", .value = CLI_SETTING, .target = &sets, .repeated = 1},
         {.name = "-o", .value = CLI_DIR, .target = &o.out_dir},
@@ -334,7 +337,7 @@ int render_command(int argc, char **argv)
     int status = RUN_EXIT_OK;
     if (parsed == CLI_HELP) render_usage(stdout);
     else if (parsed != CLI_PARSED || check_render_sets(&sets, err, sizeof err))
-        status = cli_usage_error("render", err);
+        status = cli_usage_error(argv[0], err);
     else
         status = render_record(record, &sets, &o);
     cli_release(options);

@@ -519,7 +519,7 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
     if (run_read_output(doc, &r.out, err, sizeof err) || ini_check_unused(doc, err, sizeof err))
         goto fail;
     if (check_paths(&r, err, sizeof err)) goto fail;
-    run_warnings_print(stderr, &r.warnings, 0);
+    run_warnings_print(stderr, "rodsim run", &r.warnings, 0);
     const int path_warnings = r.warnings.count;
     r.dt = rod_set_choose_dt(&r.set, NULL);
     r.pad = tissue_coupling_pad(&r.set.model[0]);
@@ -578,7 +578,7 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
         }
     }
     status = 0;
-    run_warnings_print(stderr, &r.warnings, path_warnings);
+    run_warnings_print(stderr, "rodsim run", &r.warnings, path_warnings);
     print_result(&r);
     if (o->summary) {
         fill_summary(&r, o->summary, ran);

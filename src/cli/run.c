@@ -343,9 +343,9 @@ void run_warn(run_warnings *w, const char *fmt, ...)
     va_end(ap);
 }
 
-void run_warnings_print(FILE *f, const run_warnings *w, int from)
+void run_warnings_print(FILE *f, const char *command, const run_warnings *w, int from)
 {
-    for (int i = from; i < w->count; i++) fprintf(f, "rodsim run: warning: %s\n", w->text[i]);
+    for (int i = from; i < w->count; i++) fprintf(f, "%s: warning: %s\n", command, w->text[i]);
 }
 
 void run_warnings_join(const run_warnings *w, char *out, size_t n)

@@ -60,24 +60,45 @@ static double recording_budget(void)
     return budget_from_env("RODSIM_RECORDING_BUDGET", RUN_RECORDING_BUDGET);
 }
 
-/* An error for people on stderr (fmt starts "rodsim run: "), kept without
- * that prefix as the run summary's message (appended: one failure may take
- * several lines). */
+/* The command the user typed, which names its messages ("rodsim run"). */
+static const char *command_name(const scene_outputs_options *a)
+{
+    return a->command ? a->command : "rodsim run";
+}
+
+/* An error for people on stderr, after the command's name, kept without
+ * that name as the run summary's message (appended: one failure may take
+ * several lines). complain() starts a message, complain_more() goes on. */
+static void complain_with(const scene_outputs_options *a, int start, const char *fmt,
+                          va_list ap)
+{
+    char text[SUMMARY_TEXT_LEN];
+    vsnprintf(text, sizeof text, fmt, ap);
+    if (start) fprintf(stderr, "%s: ", command_name(a));
+    fputs(text, stderr);
+    if (!a->summary) return;
+    size_t used = strlen(a->summary->message);
+    snprintf(a->summary->message + used, sizeof a->summary->message - used, "%s", text);
+}
+
 static void complain(const scene_outputs_options *a, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 static void complain(const scene_outputs_options *a, const char *fmt, ...)
 {
-    char text[SUMMARY_TEXT_LEN];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(text, sizeof text, fmt, ap);
+    complain_with(a, 1, fmt, ap);
     va_end(ap);
-    fputs(text, stderr);
-    if (!a->summary) return;
-    const char *prefix = "rodsim run: ";
-    const char *body = strncmp(text, prefix, strlen(prefix)) == 0 ? text + strlen(prefix) : text;
-    size_t used = strlen(a->summary->message);
-    snprintf(a->summary->message + used, sizeof a->summary->message - used, "%s", body);
+}
+
+static void complain_more(const scene_outputs_options *a, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+static void complain_more(const scene_outputs_options *a, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    complain_with(a, 0, fmt, ap);
+    va_end(ap);
 }
 
 static const char *profile_text(const rod_profile *p, char *buf, size_t n)
@@ -94,12 +115,12 @@ static const char *profile_text(const rod_profile *p, char *buf, size_t n)
     return buf;
 }
 
-static void print_summary(FILE *f, const char *scene_path, const char *scene,
-                          const rod_model *m, double dt, const char *why, const run_output *out,
-                          const run_plan *plan, double estimate)
+static void print_summary(FILE *f, const char *command, const char *scene_path,
+                          const char *scene, const rod_model *m, double dt, const char *why,
+                          const run_output *out, const run_plan *plan, double estimate)
 {
     char prof[96];
-    fprintf(f, "rodsim run: %s (%s)\n", scene, scene_path);
+    fprintf(f, "%s: %s (%s)\n", command, scene, scene_path);
     fprintf(f, "  rod      L = %g m, d = %g m, rho = %g kg/m^3, E = %g Pa, G = %g Pa\n",
             m->length, m->diameter, m->density, m->youngs_modulus, m->shear_modulus);
     fprintf(f, "           NS = %d nodes, ds = %g m, EI = %.4g N m^2, GJ = %.4g N m^2",
@@ -153,43 +174,43 @@ static int report_step_failure(const scene_outputs_options *a, rod_status status
 {
     const char *scheme = rod_scheme_get(m->options.scheme)->name;
     if (status == ROD_UNSTABLE) {
-        complain(a, "rodsim run: the %s scheme stopped: the run became unstable at t = %g s "
+        complain(a, "the %s scheme stopped: the run became unstable at t = %g s "
                     "(dt = %g s)", scheme, s->time, dt);
-        if (non_finite) complain(a, ": the state is no longer finite");
-        complain(a, "\n");
-        if (report->message[0]) complain(a, "  %s\n", report->message);
+        if (non_finite) complain_more(a, ": the state is no longer finite");
+        complain_more(a, "\n");
+        if (report->message[0]) complain_more(a, "  %s\n", report->message);
         if (report->suggested_scale > 0.0 && report->suggested_dt > 0.0)
-            complain(a, "  what would work: --set rod.rotary_inertia_scale=%g --set "
-                        "solver.dt=%g\n",
-                    report->suggested_scale, report->suggested_dt);
+            complain_more(a, "  what would work: --set rod.rotary_inertia_scale=%g --set "
+                             "solver.dt=%g\n",
+                         report->suggested_scale, report->suggested_dt);
         else if (report->suggested_scale > 0.0)
-            complain(a, "  what would work: --set rod.rotary_inertia_scale=%g\n",
-                    report->suggested_scale);
+            complain_more(a, "  what would work: --set rod.rotary_inertia_scale=%g\n",
+                         report->suggested_scale);
         else if (report->suggested_dt > 0.0)
-            complain(a, "  what would work: --set solver.dt=%g\n", report->suggested_dt);
+            complain_more(a, "  what would work: --set solver.dt=%g\n", report->suggested_dt);
         if (!report->message[0] && report->suggested_dt <= 0.0 && report->suggested_scale <= 0.0)
-            complain(a, "  try a smaller solver.dt%s\n",
-                    m->options.scheme == ROD_SCHEME_IMPLICIT
-                        ? " or a slower load (tip.profile = ramp T)"
-                        : ", or --set solver.scheme=implicit");
-        complain(a, "  nothing was written.\n");
+            complain_more(a, "  try a smaller solver.dt%s\n",
+                         m->options.scheme == ROD_SCHEME_IMPLICIT
+                             ? " or a slower load (tip.profile = ramp T)"
+                             : ", or --set solver.scheme=implicit");
+        complain_more(a, "  nothing was written.\n");
         return RUN_EXIT_BAD_INPUT;
     }
     if (status == ROD_NO_CONVERGENCE) {
-        complain(a, "rodsim run: the %s scheme's Newton iteration did not converge at "
+        complain(a, "the %s scheme's Newton iteration did not converge at "
                     "t = %g s (dt = %g s)\n",
                 scheme, s->time, dt);
         /* the scheme's message says what to change (and, for the implicit
          * scheme, where Newton stalled: a smaller dt does not help a stall
          * at a contact) */
         if (report->message[0])
-            complain(a, "  %s\n  nothing was written.\n", report->message);
+            complain_more(a, "  %s\n  nothing was written.\n", report->message);
         else
-            complain(a, "  try a smaller solver.dt, a slower load (tip.profile = ramp T) or "
-                        "more solver.newton_max_iterations; nothing was written.\n");
+            complain_more(a, "  try a smaller solver.dt, a slower load (tip.profile = ramp T) or "
+                             "more solver.newton_max_iterations; nothing was written.\n");
         return RUN_EXIT_BAD_INPUT;
     }
-    complain(a, "rodsim run: the %s scheme failed at t = %g s: %s\n", scheme, s->time,
+    complain(a, "the %s scheme failed at t = %g s: %s\n", scheme, s->time,
             report->message[0] ? report->message : "(no message)");
     return RUN_EXIT_FAILURE;
 }
@@ -326,30 +347,30 @@ static void print_too_long(const scene_outputs_options *a, const rod_model *m,
     int video_pixels = a->no_video ? 0 : out->width * out->height;
     char when[48], limit[48], spent[48];
     complain(a,
-            "rodsim run: %s: this run would take about %s (the limit is %s): %lld steps of "
+            "%s: this run would take about %s (the limit is %s): %lld steps of "
             "%.3g s (solver.duration = %g s, solver.dt = %g s) at ~%.3g us per step",
             a->label, duration_text(seconds, when, sizeof when),
             duration_text(run_time_limit(), limit, sizeof limit), (long long)plan->steps,
             plan->step, m->options.duration, dt,
             1e6 * (pace ? pace->rate : plan->seconds_per_step));
     if (pace)
-        complain(a, " of CPU as measured (the model's %.3g us for the %s scheme at "
-                    "rod.nodes = %d)",
-                1e6 * plan->seconds_per_step, scheme, m->nodes);
+        complain_more(a, " of CPU as measured (the model's %.3g us for the %s scheme at "
+                         "rod.nodes = %d)",
+                     1e6 * plan->seconds_per_step, scheme, m->nodes);
     else
-        complain(a, " (the %s scheme at rod.nodes = %d)", scheme, m->nodes);
+        complain_more(a, " (the %s scheme at rod.nodes = %d)", scheme, m->nodes);
     if (video_pixels)
-        complain(a, ", and %lld video frames of %dx%d (render.fps = %d)",
-                (long long)plan->frames, out->width, out->height, out->fps);
+        complain_more(a, ", and %lld video frames of %dx%d (render.fps = %d)",
+                     (long long)plan->frames, out->width, out->height, out->fps);
     if (pace)
-        complain(a, "; stopped at t = %g s after %s of CPU, nothing was written.\n",
-                stopped_at, duration_text(pace->cpu, spent, sizeof spent));
+        complain_more(a, "; stopped at t = %g s after %s of CPU, nothing was written.\n",
+                     stopped_at, duration_text(pace->cpu, spent, sizeof spent));
     else
-        complain(a, "; nothing was run.\n");
-    complain(a, "  to shorten it: a larger solver.dt (solver.dt = auto picks the largest "
-                "stable one), a shorter solver.duration, fewer rod.nodes%s; or "
-                "--allow-long to run it anyway\n",
-            video_pixels ? ", a lower render.fps or render.width/height, or --no-video" : "");
+        complain_more(a, "; nothing was run.\n");
+    complain_more(a, "  to shorten it: a larger solver.dt (solver.dt = auto picks the largest "
+                     "stable one), a shorter solver.duration, fewer rod.nodes%s; or "
+                     "--allow-long to run it anyway\n",
+                 video_pixels ? ", a lower render.fps or render.width/height, or --no-video" : "");
 }
 
 /* Refuses, before any work, a run that cannot be counted, would outlast the
@@ -361,7 +382,7 @@ static int check_budget(const scene_outputs_options *a, const rod_model *m,
     double seconds = estimate_seconds(a, m, out, plan);
     if (!countable) {
         complain(a,
-                "rodsim run: %s: this run needs %.3g steps of at most solver.dt = %g s over "
+                "%s: this run needs %.3g steps of at most solver.dt = %g s over "
                 "solver.duration = %g s and %.3g frames at render.fps = %d: more than %.0e, "
                 "where the time no longer advances by a step; nothing was run.\n"
                 "  change: a larger solver.dt (or solver.dt = auto), a shorter "
@@ -569,7 +590,7 @@ static int stream_video(const scene_outputs_options *a, const char *scene, const
     rod_solver_release(solver);
     memset(solver, 0, sizeof *solver);
     if (rod_solver_init(solver, m, err, sizeof err)) {
-        complain(a, "rodsim run: cannot restart the scheme for the video: %s\n", err);
+        complain(a, "cannot restart the scheme for the video: %s\n", err);
         return RUN_EXIT_FAILURE;
     }
     rod_state_reset(m, s);
@@ -580,19 +601,19 @@ static int stream_video(const scene_outputs_options *a, const char *scene, const
                            : NULL;
     int status = RUN_EXIT_FAILURE;
     if (!sink.stream) {
-        complain(a, "rodsim run: video: %s\n", sink.rec ? err : "out of memory");
+        complain(a, "video: %s\n", sink.rec ? err : "out of memory");
         goto done;
     }
     rod_report report;
     run_stats stats;
     rod_status st = run_simulate(solver, m, s, plan, out->fps, on_frame, &sink, &report, &stats);
     if (st != ROD_OK) {
-        complain(a, "rodsim run: video: %s\n",
+        complain(a, "video: %s\n",
                 sink.failed ? report.message : "the second pass did not repeat the first");
         goto done;
     }
     if (render_stream_finish(sink.stream, err, sizeof err)) {
-        complain(a, "rodsim run: video: %s\n", err);
+        complain(a, "video: %s\n", err);
         goto done;
     }
     status = 0;
@@ -703,8 +724,8 @@ static int plan_run(scene_run *r)
         /* dt = auto found no stable step (the thesis scheme below its rotary
          * inertia threshold): run at one step per frame, where the scheme
          * detects the divergence within a few steps and says what would work */
-        fprintf(stderr, "rodsim run: the %s scheme has no stable time step for this model (%s)\n",
-                rod_scheme_get(m->options.scheme)->name, r->why);
+        fprintf(stderr, "%s: the %s scheme has no stable time step for this model (%s)\n",
+                command_name(r->o), rod_scheme_get(m->options.scheme)->name, r->why);
         r->dt = 1.0 / r->out->fps;
         r->why = "no stable dt exists; one step per frame to report the divergence";
         if (r->o->summary) {
@@ -729,8 +750,8 @@ static int plan_run(scene_run *r)
     r->csv_stdout = r->o->csv && strcmp(r->o->csv, "-") == 0;
     r->talk = r->csv_stdout || r->o->talk_stderr ? stderr : stdout;
     if (!r->o->quiet)
-        print_summary(r->talk, r->o->label, r->name, m, r->dt, r->why, r->out, &r->plan,
-                      estimate_seconds(r->o, m, r->out, &r->plan));
+        print_summary(r->talk, command_name(r->o), r->o->label, r->name, m, r->dt, r->why,
+                      r->out, &r->plan, estimate_seconds(r->o, m, r->out, &r->plan));
     if (!r->o->quiet && r->slow_note[0]) fprintf(r->talk, "  slow     %s\n", r->slow_note);
     scene_outputs_plan_warnings(m, r->dt, &r->warnings);
     /* a path that takes an instrument into a surface: a warning (the run
@@ -741,7 +762,7 @@ static int plan_run(scene_run *r)
         char text[RUN_WARNING_LEN];
         const int said = rod_instrument_path_warning(m, k, r->o->label, text, sizeof text);
         if (said < 0) {
-            complain(r->o, "rodsim run: %s; nothing was run\n", text);
+            complain(r->o, "%s; nothing was run\n", text);
             return -1;
         }
         if (said) run_warn(&r->warnings, "%s", text);
@@ -750,10 +771,10 @@ static int plan_run(scene_run *r)
      * instruments apart); may_overlap = yes allows it */
     char overlap[RUN_WARNING_LEN];
     if (rod_instruments_overlap_message(m, r->o->label, overlap, sizeof overlap) < 0) {
-        complain(r->o, "rodsim run: %s; nothing was run\n", overlap);
+        complain(r->o, "%s; nothing was run\n", overlap);
         return -1;
     }
-    run_warnings_print(stderr, &r->warnings, 0);
+    run_warnings_print(stderr, command_name(r->o), &r->warnings, 0);
     /* a long run shows where it is on a terminal; --progress shows it anywhere */
     r->progress.on = r->o->progress ||
                      (!r->o->quiet && isatty(STDERR_FILENO) &&
@@ -775,9 +796,10 @@ static void tell_revision(void *context, const run_pace *pace)
         return;
     char when[48], spent[48];
     progress_clear(&r->progress); /* the line is drawn again at the next frame */
-    fprintf(stderr, "rodsim run: revised estimate at t = %g of %g s: about %s of CPU (%.3g us "
+    fprintf(stderr, "%s: revised estimate at t = %g of %g s: about %s of CPU (%.3g us "
                     "per step as measured, the model's %.3g us; %s spent)\n",
-            r->s->time, r->m->options.duration, duration_text(pace->estimate, when, sizeof when),
+            command_name(r->o), r->s->time, r->m->options.duration,
+            duration_text(pace->estimate, when, sizeof when),
             1e6 * pace->rate, 1e6 * r->plan.seconds_per_step,
             duration_text(pace->cpu, spent, sizeof spent));
     r->told = pace->estimate;
@@ -806,7 +828,7 @@ static int open_run(scene_run *r)
     const rod_model *m = r->m;
     char err[SCENE_OUTPUTS_ERR_LEN] = "";
     if (rod_solver_init(&r->solver, m, err, sizeof err)) {
-        complain(a, "rodsim run: %s: cannot start the %s scheme: %s\n", a->label,
+        complain(a, "%s: cannot start the %s scheme: %s\n", a->label,
                 rod_scheme_get(m->options.scheme)->name, err);
         /* a scheme refuses what it does not model (an end combination, a key):
          * bad input; only running out of memory is another failure */
@@ -826,20 +848,20 @@ static int open_run(scene_run *r)
         sink->rec = rod_recording_create(m, r->name, (int)r->plan.frames);
     }
     if (!r->s || (!a->no_video && !sink->rec)) {
-        complain(a, "rodsim run: out of memory for rod.nodes = %d%s\n", m->nodes,
+        complain(a, "out of memory for rod.nodes = %d%s\n", m->nodes,
                 a->no_video ? "" : " and the video's frames (render.fps, solver.duration)");
         return RUN_EXIT_FAILURE;
     }
     if (r->csv_stdout) {
         sink->csv = tmpfile(); /* copied to stdout when the run has succeeded */
         if (!sink->csv) {
-            complain(a, "rodsim run: CSV: cannot make a temporary file: %s\n",
+            complain(a, "CSV: cannot make a temporary file: %s\n",
                     strerror(errno));
             return RUN_EXIT_FAILURE;
         }
     } else if (a->csv) {
         if (outfile_open(&r->csv_file, a->csv, err, sizeof err)) {
-            complain(a, "rodsim run: %s\n", err);
+            complain(a, "%s\n", err);
             return RUN_EXIT_FAILURE;
         }
         sink->csv = r->csv_file.fp;
@@ -847,12 +869,12 @@ static int open_run(scene_run *r)
     if (sink->csv) run_csv_header(sink->csv);
     if (a->tissue_csv) {
         if (tissue_coupling_pad(m) < 0) {
-            complain(a, "rodsim run: --tissue-csv %s: the scene has no elastic pad (a [surface] "
+            complain(a, "--tissue-csv %s: the scene has no elastic pad (a [surface] "
                         "box with tissue = yes and model = elastic)\n", a->tissue_csv);
             return RUN_EXIT_BAD_INPUT;
         }
         if (outfile_open(&r->tissue_file, a->tissue_csv, err, sizeof err)) {
-            complain(a, "rodsim run: %s\n", err);
+            complain(a, "%s\n", err);
             return RUN_EXIT_FAILURE;
         }
         sink->tissue_csv = r->tissue_file.fp;
@@ -882,7 +904,7 @@ static int step_run(scene_run *r)
         return RUN_EXIT_BAD_INPUT;
     }
     if (r->sink.failed) {
-        complain(r->o, "rodsim run: %s\n", r->report.message);
+        complain(r->o, "%s\n", r->report.message);
         return RUN_EXIT_FAILURE;
     }
     return report_step_failure(r->o, st, r->stats.non_finite, r->m, r->s,
@@ -898,7 +920,7 @@ static int finish_streamed_video(scene_run *r)
     if (rec->frame_count > 0 && rec->time[rec->frame_count - 1] != r->s->time) {
         if (rec->frame_count == r->sink.sample_cap) rod_recording_halve(rec);
         if (rod_recording_append(rec, rod_cut_model(r->m, r->s), r->s)) {
-            complain(r->o, "rodsim run: out of memory\n");
+            complain(r->o, "out of memory\n");
             return RUN_EXIT_FAILURE;
         }
     }
@@ -916,26 +938,26 @@ static int commit_outputs(scene_run *r)
     const scene_outputs_options *a = r->o;
     char err[SCENE_OUTPUTS_ERR_LEN] = "";
     if (a->csv && !r->csv_stdout && outfile_commit(&r->csv_file, err, sizeof err)) {
-        complain(a, "rodsim run: %s\n", err);
+        complain(a, "%s\n", err);
         return RUN_EXIT_FAILURE;
     }
     if (a->tissue_csv && outfile_commit(&r->tissue_file, err, sizeof err)) {
-        complain(a, "rodsim run: %s\n", err);
+        complain(a, "%s\n", err);
         return RUN_EXIT_FAILURE;
     }
     if (r->streamed) {
         int video_status = finish_streamed_video(r);
         if (video_status) return video_status;
     } else if (!a->no_video && run_write_video(r->sink.rec, r->out, a->out_dir, err, sizeof err)) {
-        complain(a, "rodsim run: video: %s\n", err);
+        complain(a, "video: %s\n", err);
         return RUN_EXIT_FAILURE;
     }
     if (outfile_transaction_commit(err, sizeof err)) {
-        complain(a, "rodsim run: %s; nothing was written\n", err);
+        complain(a, "%s; nothing was written\n", err);
         return RUN_EXIT_FAILURE;
     }
     if (r->csv_stdout && copy_to_stdout(r->sink.csv, err, sizeof err)) {
-        complain(a, "rodsim run: %s\n", err);
+        complain(a, "%s\n", err);
         return RUN_EXIT_FAILURE;
     }
     return 0;
@@ -1012,8 +1034,8 @@ static int report_run(scene_run *r)
     char error[RUN_WARNING_LEN] = "";
     int passed_through =
         scene_outputs_result_warnings(m, &r->report, knots, &r->warnings, error, sizeof error);
-    run_warnings_print(stderr, &r->warnings, from);
-    if (passed_through) complain(a, "rodsim run: error: %s\n", error);
+    run_warnings_print(stderr, command_name(r->o), &r->warnings, from);
+    if (passed_through) complain(a, "error: %s\n", error);
     if (!a->quiet) {
         FILE *talk = r->talk;
         print_result(talk, rod_cut_model(m, r->s), r->s, r->stats.steps, r->stats.wall_seconds,

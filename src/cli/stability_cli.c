@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "base/outfile.h"
+#include "base/worker.h"
 #include "cli/args.h"
 #include "sim/rod.h"
 
@@ -298,7 +299,8 @@ int stability_command(int argc, char **argv)
          .noun = "a scheme"},
         {.name = "--csv", .value = CLI_FILE, .target = &csv},
         {.name = "--png", .value = CLI_FILE, .target = &png},
-        {.name = "--jobs", .value = CLI_COUNT, .target = &jobs, .lo = 1, .hi = 64},
+        {.name = "--jobs", .value = CLI_COUNT, .target = &jobs, .lo = 1,
+         .hi = WORKER_MAX_JOBS},
         {0}};
     int parsed = cli_parse(argc, argv, options, NULL, err, sizeof err);
     for (int i = 0; parsed == CLI_PARSED && i < scheme_names.count; i++)

@@ -594,7 +594,8 @@ int sweep_run_points(sweep_progress *pg, char *err, size_t errlen)
     const sweep *sw = pg->sw;
     int *todo = malloc(sizeof(int) * (size_t)(sw->point_count + 1)), count = 0;
     if (!todo) {
-        snprintf(err, errlen, "out of memory for %d points", sw->point_count);
+        snprintf(err, errlen, "out of memory for %d point%s", sw->point_count,
+                 sw->point_count == 1 ? "" : "s");
         return -1;
     }
     for (int k = 0; k < sw->point_count; k++)
@@ -687,8 +688,9 @@ static int export_points(const sweep *sw, sweep_setting *set, const uint64_t *di
             return RUN_EXIT_BAD_INPUT;
         }
         if (!sw->quiet)
-            fprintf(stderr, "rodsim sweep: wrote %s (%d points); run: snakemake -s %s "
-                            "--cores N\n", sw->snakefile, sw->point_count, sw->snakefile);
+            fprintf(stderr, "rodsim sweep: wrote %s (%d point%s); run: snakemake -s %s "
+                            "--cores N\n", sw->snakefile, sw->point_count,
+                    sw->point_count == 1 ? "" : "s", sw->snakefile);
         return RUN_EXIT_OK;
     }
     if (sw->sbatch) {
@@ -723,10 +725,11 @@ static int load_results(sweep_progress *pg, char *err, size_t errlen)
         char what[512], path[OUTFILE_PATH_MAX];
         sweep_describe_point(sw, first_missing, what, sizeof what);
         result_path(sw, pg->digests[first_missing], path, sizeof path);
-        fprintf(stderr, "rodsim sweep: %d of %d points have no result in %s (the first: "
+        fprintf(stderr, "rodsim sweep: %d of %d point%s %s no result in %s (the first: "
                         "point %d%s%s%s, %s); run their commands (--print-commands), or "
                         "the sweep without --assemble; nothing was written\n",
-                missing, sw->point_count, sw->result_dir, first_missing + 1,
+                missing, sw->point_count, sw->point_count == 1 ? "" : "s",
+                missing == 1 ? "has" : "have", sw->result_dir, first_missing + 1,
                 what[0] ? " (" : "", what, what[0] ? ")" : "", path);
         return 1;
     }
@@ -770,8 +773,8 @@ static int write_outputs(const sweep_progress *pg)
         char reused[OUTFILE_PATH_MAX + 32] = "";
         if (sw->result_dir)
             snprintf(reused, sizeof reused, ", %d from %s", pg->reused, sw->result_dir);
-        fprintf(stderr, "rodsim sweep: %d points: %d run%s; %d not ok%s%s\n", sw->point_count,
-                pg->ran, reused, failed, sw->csv && !to_stdout ? "; wrote " : "",
+        fprintf(stderr, "rodsim sweep: %d point%s: %d run%s; %d not ok%s%s\n",
+                sw->point_count, sw->point_count == 1 ? "" : "s", pg->ran, reused, failed, sw->csv && !to_stdout ? "; wrote " : "",
                 sw->csv && !to_stdout ? sw->csv : "");
     }
     status = RUN_EXIT_OK;
@@ -812,7 +815,8 @@ static int sweep_run(sweep *sw)
     pg.digests = calloc((size_t)sw->point_count, sizeof *pg.digests);
     pg.done = calloc((size_t)sw->point_count, sizeof *pg.done);
     if (!set || !pg.rows || !pg.digests || !pg.done) {
-        fprintf(stderr, "rodsim sweep: out of memory for %d points\n", sw->point_count);
+        fprintf(stderr, "rodsim sweep: out of memory for %d point%s\n", sw->point_count,
+                sw->point_count == 1 ? "" : "s");
         status = RUN_EXIT_FAILURE;
     } else if (sweep_check_outputs(sw, err, sizeof err) || sweep_read_scene(sw, err, sizeof err) ||
                sweep_read_bases(sw, err, sizeof err) ||

@@ -95,9 +95,9 @@ int sweep_print_commands(const sweep *sw, sweep_setting *set, char *err, size_t 
     if (cli_self_path(self, sizeof self, err, errlen) ||
         cli_absolute_path(sw->result_dir, dir, sizeof dir, err, errlen))
         return -1;
-    printf("# rodsim sweep: %d points of %s; each line runs one point into %s (skipped when "
+    printf("# rodsim sweep: %d point%s of %s; each line runs one point into %s (skipped when "
            "its result file is there)\n",
-           sw->point_count, sw->scene_path, dir);
+           sw->point_count, sw->point_count == 1 ? "" : "s", sw->scene_path, dir);
     for (int k = 0; k < sw->point_count; k++) {
         if (write_point_command(stdout, sw, k, set, self, dir, err, errlen)) return -1;
         printf("\n");
@@ -148,8 +148,8 @@ int sweep_write_snakefile(const sweep *sw, sweep_setting *set, const uint64_t *d
     outfile out = {.fd = -1, .slot = -1};
     if (outfile_open(&out, sw->snakefile, err, errlen)) return -1;
     FILE *f = out.fp;
-    fprintf(f, "# Snakefile written by rodsim %s sweep --snakefile: %d points of %s.\n",
-            RODSIM_VERSION, sw->point_count, sw->scene_path);
+    fprintf(f, "# Snakefile written by rodsim %s sweep --snakefile: %d point%s of %s.\n",
+            RODSIM_VERSION, sw->point_count, sw->point_count == 1 ? "" : "s", sw->scene_path);
     fprintf(f, "# snakemake -s THIS_FILE --cores N: rule point runs one point into its result\n"
                "# file %s/DIGEST.csv (DIGEST: of the point's inputs; an existing file is not\n"
                "# run again), then rule assemble writes the results CSV from them.\n\n",
@@ -244,14 +244,15 @@ int sweep_write_sbatch(const sweep *sw, sweep_setting *set, char *err, size_t er
                "#SBATCH --ntasks=1\n"
                "#SBATCH --cpus-per-task=1\n",
             sw->point_count);
-    fprintf(f, "# Slurm job array written by rodsim %s sweep --sbatch: %d points of %s.\n"
+    fprintf(f, "# Slurm job array written by rodsim %s sweep --sbatch: %d point%s of %s.\n"
                "# sbatch THIS_FILE: task i runs point i into its result file\n"
                "# %s/DIGEST.csv (an existing file is not run again);\n"
                "# sbatch --array=1-%d%%K THIS_FILE runs at most K at once (over 1000 tasks:\n"
                "# Slurm's MaxArraySize must allow them). When all are done,\n"
                "# assemble the CSV (or: sbatch --dependency=afterok:JOBID --wrap 'LINE'):\n"
                "# assemble: ",
-            RODSIM_VERSION, sw->point_count, sw->scene_path, dir, sw->point_count);
+            RODSIM_VERSION, sw->point_count, sw->point_count == 1 ? "" : "s", sw->scene_path, dir,
+            sw->point_count);
     int rc = write_assemble_command(f, sw, self, dir, err, errlen);
     fprintf(f, "\ncase \"${SLURM_ARRAY_TASK_ID:-}\" in\n");
     for (int k = 0; !rc && k < sw->point_count; k++) {

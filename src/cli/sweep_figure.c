@@ -10,6 +10,7 @@
 
 #include "base/embedded.h"
 #include "base/outfile.h"
+#include "base/worker.h"
 #include "cli/print_commands.h"
 #include "cli/sweep.h"
 #include "cli/sweep_plot.h"
@@ -61,7 +62,7 @@ static int figure_argv(const figure_spec *fig, int k, const sweep_figure_options
         part->argv[n++] = args[i];
     }
     snprintf(part->jobs, sizeof part->jobs, "%d",
-             o->jobs < 1 ? 1 : o->jobs > SWEEP_MAX_JOBS ? SWEEP_MAX_JOBS : o->jobs);
+             o->jobs < 1 ? 1 : o->jobs > WORKER_MAX_JOBS ? WORKER_MAX_JOBS : o->jobs);
     const char *tail[] = {"--measure", fig->measure, "--plot", part->plot_arg, "--png", part->png,
                           "--svg", part->svg, "--csv", part->csv, "--jobs", part->jobs};
     for (size_t i = 0; i < sizeof tail / sizeof tail[0]; i++) part->argv[n++] = tail[i];
@@ -136,9 +137,9 @@ static int figure_print_commands(const figure_spec *fig, const figure_part *part
     }
     int total = 0;
     for (int k = 0; k < fig->parts; k++) total += parts[k].sw.point_count;
-    printf("# rodsim figure %s: %d points; each line runs one into %s (skipped when its\n"
+    printf("# rodsim figure %s: %d point%s; each line runs one into %s (skipped when its\n"
            "# result file is there); then the # assemble: line draws the figure\n",
-           fig->name, total, dir);
+           fig->name, total, total == 1 ? "" : "s", dir);
     for (int point = 0; point < total; point++) {
         cli_print_shell_word(stdout, self);
         printf(" figure %s%s --point %d --result ", fig->name, o->quick ? " --quick" : "",
@@ -230,7 +231,7 @@ static int prepare_parts(const figure_spec *fig, const sweep_figure_options *o,
         part->pg.digests = calloc((size_t)n, sizeof *part->pg.digests);
         part->pg.done = calloc((size_t)n, sizeof *part->pg.done);
         if (!part->set || !part->pg.rows || !part->pg.digests || !part->pg.done) {
-            snprintf(err, errlen, "out of memory for %d points", n);
+            snprintf(err, errlen, "out of memory for %d point%s", n, n == 1 ? "" : "s");
             return -1;
         }
         if ((!o->print_commands && o->point < 0 && sweep_check_outputs(sw, err, errlen)) ||

@@ -11,6 +11,7 @@
 #include "base/ini.h"
 #include "base/suggest.h"
 #include "base/textfile.h"
+#include "base/worker.h"
 #include "cli/print_commands.h"
 #include "api/scene_keys.h"
 #include "cli/scene_outputs.h"
@@ -352,10 +353,12 @@ static int parse_plot(sweep *sw, char *err, size_t errlen)
         snprintf(varied + strlen(varied), sizeof varied - strlen(varied), "%s%s", i ? ", " : "",
                  sw->varies[i].name);
     }
+    /* the y axes offered: every measure but the knot's type (a name, below) */
     for (int m = 0; m < SWEEP_M_COUNT; m++) {
         if (colon && strcmp(colon + 1, sweep_measure_names[m]) == 0) sw->plot_y = m;
+        if (m == SWEEP_M_KNOT) continue;
         snprintf(measures + strlen(measures), sizeof measures - strlen(measures), "%s%s",
-                 m ? ", " : "", sweep_measure_names[m]);
+                 measures[0] ? ", " : "", sweep_measure_names[m]);
     }
     /* "did you mean ...?" for a misspelt axis, as for a misspelt --set key */
     const char *names[SWEEP_M_COUNT + 65]; /* the measures, or the first 64 varied keys */
@@ -371,8 +374,10 @@ static int parse_plot(sweep *sw, char *err, size_t errlen)
         return -1;
     }
     if (sw->plot_y < 0) {
-        for (int m = 0; m < SWEEP_M_COUNT; m++) names[m] = sweep_measure_names[m];
-        names[SWEEP_M_COUNT] = NULL;
+        int n = 0;
+        for (int m = 0; m < SWEEP_M_COUNT; m++)
+            if (m != SWEEP_M_KNOT) names[n++] = sweep_measure_names[m];
+        names[n] = NULL;
         near = colon ? suggest_nearest(colon + 1, names) : NULL;
         snprintf(err, errlen, "--plot %s: the y axis must be a measure; %s%s%saccepted: %s",
                  sw->plot_arg, near ? "did you mean " : "", near ? near : "", near ? "? " : "",
@@ -501,7 +506,7 @@ int sweep_parse_args(int argc, char **argv, sweep *sw, char *err, size_t errlen)
         {.name = "--snakefile", .value = CLI_FILE, .target = &sw->snakefile},
         {.name = "--result", .value = CLI_DIR, .target = &sw->result_dir},
         {.name = "--jobs", .alias = "-j", .value = CLI_COUNT, .target = &sw->jobs, .lo = 1,
-         .hi = SWEEP_MAX_JOBS},
+         .hi = WORKER_MAX_JOBS},
         {0}};
     const cli_operand scene = {.name = "SCENE", .target = &sw->scene_arg};
     int parsed = cli_parse(argc, argv, options, &scene, err, errlen);

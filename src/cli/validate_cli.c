@@ -366,7 +366,8 @@ static int parse_args(int argc, char **argv, validate_args *a, char *err, size_t
         {.name = "--nodes", .value = CLI_WORD, .target = &nodes, .repeated = 1, .noun = "NS"},
         {.name = "--dt", .value = CLI_WORD, .target = &dts, .repeated = 1, .noun = "a time step"},
         {.name = "--csv", .value = CLI_OUTPUT, .target = &a->csv},
-        {.name = "--jobs", .value = CLI_COUNT, .target = &a->jobs, .lo = 1, .hi = 64},
+        {.name = "--jobs", .value = CLI_COUNT, .target = &a->jobs, .lo = 1,
+         .hi = WORKER_MAX_JOBS},
         {0}};
     int parsed = cli_parse(argc, argv, options, NULL, err, errlen);
     if (parsed == CLI_PARSED && read_lists(a, &cases, &schemes, &nodes, &dts, err, errlen))

@@ -3,7 +3,12 @@
  * -->") equals what RODSIM_BIN prints for ARGS (tests/readme.sh check; `make
  * readme` rewrites them), in the README, docs/commands.md and docs/scene-keys.md;
  * the README is at most 30 KB and every
- * repository path it names exists. */
+ * repository path it names exists. The exit statuses a signal gives (128 +
+ * the signal: 130 SIGINT, 143 SIGTERM; every command but live takes them
+ * through outfile's cleanup handler) are in the sentence on every command's
+ * exit status (README, docs/commands.md) and in the prose of
+ * docs/commands.md's run section. */
+#include <signal.h>
 #include <ctype.h>
 #include <dirent.h>
 #include <stdio.h>
@@ -110,6 +115,23 @@ static void test_every_scene_listed(const char *guide)
           "named", scenes, missing);
 }
 
+/* Whether the text from `start` to the next `end` after it names 128 +
+ * SIGINT and 128 + SIGTERM. */
+static void check_signal_statuses(const char *text, const char *start, const char *end,
+                                  const char *what)
+{
+    const char *from = text ? strstr(text, start) : NULL;
+    const char *to = from ? strstr(from, end) : NULL;
+    char want_int[8], want_term[8];
+    snprintf(want_int, sizeof want_int, "%d", 128 + SIGINT);
+    snprintf(want_term, sizeof want_term, "%d", 128 + SIGTERM);
+    const char *said_int = from ? strstr(from, want_int) : NULL;
+    const char *said_term = from ? strstr(from, want_term) : NULL;
+    int ok = from && to && said_int && said_int < to && said_term && said_term < to;
+    check(ok, "%s names the exit statuses %s (SIGINT) and %s (SIGTERM): %s", what, want_int,
+          want_term, ok ? "yes" : "no");
+}
+
 static char *read_readme(const char *path, long *size)
 {
     FILE *f = fopen(path, "rb");
@@ -178,7 +200,19 @@ int main(void)
     if (check(text != NULL, "README.md reads")) {
         check(size <= 30 * 1024, "README.md is %ld bytes, at most 30 KB (%d)", size, 30 * 1024);
         test_paths_exist(text);
+        check_signal_statuses(text, "Exit status of every command", "\n\n",
+                              "README's exit status of every command");
     }
+    free(text);
+    /* docs/commands.md's run section: its prose after the generated --help,
+     * before its subsections (the summary's says a stopped run has none) */
+    text = read_readme(COMMANDS_DOC, &size);
+    const char *run = text ? strstr(text, "<!-- generated: rodsim run --help -->") : NULL;
+    const char *prose = run ? strstr(run, "<!-- end generated -->") : NULL;
+    check_signal_statuses(prose, "<!-- end generated -->", "\n### ",
+                          "docs/commands.md's run section (its prose)");
+    check_signal_statuses(text, "Exit status of every command", "\n\n",
+                          "docs/commands.md's exit status of every command");
     free(text);
     /* the scenes' guide too: the key tables stand in docs/scene-keys.md */
     text = read_readme(SCENES_README, &size);

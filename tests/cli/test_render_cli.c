@@ -8,7 +8,8 @@
  * answer at T projects (and not where the thread started). A record cut in
  * the middle of a row renders to the row before, also through `rodsim run`;
  * a file that is not a record, and a --set outside [render], are refused
- * with exit 2. */
+ * with exit 2. Its summary, warnings and errors name the command typed:
+ * "rodsim render: ", and the same record through `rodsim run`, "rodsim run: ". */
 #define DECODE_KEEP 16
 #include <fcntl.h>
 #include <math.h>
@@ -323,6 +324,34 @@ static void test_run_on_record(void)
     if (frames >= 0) decoded_release(&d);
 }
 
+/* The command the user typed heads the summary and the errors: a render
+ * and a render refused over the time limit say "rodsim render: ", never
+ * "rodsim run: "; the same refusal through `rodsim run` says "rodsim run: ". */
+static void test_command_named(void)
+{
+    static char output[1 << 16];
+    const char *render[] = {"render", DIR "/cut.csv", "-o", DIR "/named", "--set",
+                            "render.width=64", "--set", "render.height=48", NULL};
+    int rc = test_run_rodsim_within(render, 300, output, sizeof output);
+    const char *head = strstr(output, "\nrodsim render: cut (");
+    check(rc == 0 && head && strstr(output, "rodsim run") == NULL,
+          "rodsim render's summary line starts \"rodsim render: cut (\", no \"rodsim run\": "
+          "exit %d, \"%.24s\"", rc, head ? head + 1 : output);
+    setenv("RODSIM_TIME_LIMIT", "1e-9", 1); /* every run is over the limit */
+    rc = test_run_rodsim_within(render, 60, output, sizeof output);
+    check(rc == 2 && strstr(output, "rodsim render: " DIR "/cut.csv: this run would take about") &&
+              strstr(output, "rodsim run") == NULL,
+          "a render over the time limit: exit %d, \"rodsim render: ...would take about\", "
+          "no \"rodsim run\"", rc);
+    const char *run[] = {"run", DIR "/cut.csv", "-o", DIR "/named", NULL};
+    rc = test_run_rodsim_within(run, 60, output, sizeof output);
+    check(rc == 2 && strstr(output, "rodsim run: " DIR "/cut.csv: this run would take about") &&
+              strstr(output, "rodsim render") == NULL,
+          "the same through rodsim run: exit %d, \"rodsim run: ...would take about\", no "
+          "\"rodsim render\"", rc);
+    unsetenv("RODSIM_TIME_LIMIT");
+}
+
 static void test_refused(void)
 {
     static char output[1 << 14];
@@ -351,6 +380,7 @@ int main(void)
     test_killed_session_renders();
     test_cut_row();
     test_run_on_record();
+    test_command_named();
     test_refused();
     test_remove_tree(DIR);
     return test_finish();
