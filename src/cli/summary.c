@@ -168,13 +168,23 @@ static void knot_object(json_out *j, const summary_rod_knot *k)
         summary_json_number(j->f, k->changes[i].t);
         comma(j);
         summary_json_string(j->f, k->changes[i].type);
-        if (k->changes[i].how[0]) {
+        close_(j, ']');
+    }
+    close_(j, ']');
+    /* How each change came, beside `changes` and in its order, so that
+     * `changes` keeps its fixed [t, type] pairs: "" where no end was
+     * involved. Left out when no change says how. */
+    int any_how = 0;
+    for (int i = 0; i < k->change_count; i++) any_how |= k->changes[i].how[0] != '\0';
+    if (any_how) {
+        key(j, "changes_how");
+        open_(j, '[');
+        for (int i = 0; i < k->change_count; i++) {
             comma(j);
             summary_json_string(j->f, k->changes[i].how);
         }
         close_(j, ']');
     }
-    close_(j, ']');
     close_(j, '}');
 }
 

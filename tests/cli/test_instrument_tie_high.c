@@ -210,9 +210,8 @@ int main(void)
                   force ? force->number : -1.0, GRIP);
         }
         const json_value *only = warnings && warnings->count > 0 ? warnings->items[0] : NULL;
-        const json_value *tie = json_get(k, "changes");
-        tie = tie && tie->count ? tie->items[0] : NULL;
-        const json_value *how = tie && tie->count > 2 ? tie->items[2] : NULL;
+        const json_value *hows = json_get(k, "changes_how");
+        const json_value *how = hows && hows->count ? hows->items[0] : NULL;
         check(warnings && warnings->count == 0 && how && how->string &&
                   strcmp(how->string, "tied at an end") == 0,
               "the summary's warnings: %d (%s; reference 0), the draw-through's change: '%s' "

@@ -155,12 +155,16 @@ static int knot_ok(const json_value *k)
         return 0;
     for (int i = 0; i < changes->count; i++) {
         const json_value *c = changes->items[i];
-        /* [t, type] or, at an end, [t, type, how] */
-        if (!json_is(c, JSON_ARRAY) || c->count < 2 || c->count > 3 ||
-            c->items[0]->type != JSON_NUMBER || c->items[1]->type != JSON_STRING ||
-            (c->count == 3 && c->items[2]->type != JSON_STRING))
+        /* exactly [t, type]: the fixed pairs */
+        if (!json_is(c, JSON_ARRAY) || c->count != 2 || c->items[0]->type != JSON_NUMBER ||
+            c->items[1]->type != JSON_STRING)
             return 0;
     }
+    /* changes_how, when there: a string per change, in its order */
+    const json_value *how = json_get(k, "changes_how");
+    if (how && (!json_is(how, JSON_ARRAY) || how->count != changes->count)) return 0;
+    for (int i = 0; how && i < how->count; i++)
+        if (how->items[i]->type != JSON_STRING) return 0;
     return 1;
 }
 
