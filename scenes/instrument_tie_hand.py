@@ -104,11 +104,10 @@ def write_hand(hand, start, name):
             f.write("%.2f,%.9f,%.9f,%.9f\n" % (t, q[0] * MM, q[1] * MM, q[2] * MM))
 
 
-def write_scene(prefix, way, paths):
-    """Writes PREFIX_shape.csv (the thread along WAY, the points of a stitch
-    and its long end, mm), PREFIX_holder.csv and PREFIX_hand.csv (PATHS()
-    gives the holder's and the hand's tracks and the draw-back's end) and
-    prints what the scene's .ini takes from them."""
+def write_shape(name, way):
+    """Writes NAME (the thread along WAY, the points of a stitch and its
+    long end, mm, as nodes DS apart), prints what the scene's .ini takes
+    from it and returns the nodes (mm)."""
     k = 8                                     # the point above the long end's puncture
     line = smooth(densify(way[:k + 1]), 1.5)[:-1] + smooth(densify(way[k:]), 4.0)
     arc = sum(math.dist(a, b) for a, b in zip(line, line[1:]))
@@ -119,7 +118,7 @@ def write_scene(prefix, way, paths):
         if (a[2] > 0) != (b[2] > 0):
             u = a[2] / (a[2] - b[2])
             crossings.append(tuple(MM * (a[i] + u * (b[i] - a[i])) for i in range(3)))
-    with open(prefix + "_shape.csv", "w") as f:
+    with open(name, "w") as f:
         f.write("x,y,z\n")
         for p in pts:
             f.write("%.12f,%.12f,%.12f\n" % tuple(MM * c for c in p))
@@ -129,6 +128,14 @@ def write_scene(prefix, way, paths):
                                                                     exit2 + 1))
     for c in crossings:
         print("puncture point = %.9f %.9f %.9f" % c)
+    return pts
+
+
+def write_scene(prefix, way, paths):
+    """Writes PREFIX_shape.csv (write_shape), PREFIX_holder.csv and
+    PREFIX_hand.csv (PATHS() gives the holder's and the hand's tracks and
+    the draw-back's end) and prints what the scene's .ini takes from them."""
+    pts = write_shape(prefix + "_shape.csv", way)
     holder, hand, t_back = paths()
     holder.write(prefix + "_holder.csv")
     write_hand(hand, np.array(pts[-1]), prefix + "_hand.csv")

@@ -47,10 +47,9 @@ import numpy as np
 AIM_WITH = sys.argv[2] if len(sys.argv) == 3 and sys.argv[1] == "--aim" else None
 del sys.argv[1:]
 
-import chords
 import instrument_tie_high as high
 import instrument_tie_hand as hand_tie
-from instrument_tie import Track, densify, smooth
+from instrument_tie import Track
 
 MM = 1e-3
 DS = 0.92
@@ -388,24 +387,7 @@ def hand_tie_long_beyond_knot():
 
 
 def main():
-    way = thread_line()
-    k = 8
-    line = smooth(densify(way[:k + 1]), 1.5)[:-1] + smooth(densify(way[k:]), 4.0)
-    arc = sum(math.dist(a, b) for a, b in zip(line, line[1:]))
-    nodes = int(round(arc / DS)) + 1
-    pts, ds = chords.place(line, nodes)
-    crossings = []
-    for a, b in zip(pts, pts[1:]):
-        if (a[2] > 0) != (b[2] > 0):
-            u = a[2] / (a[2] - b[2])
-            crossings.append(tuple(MM * (a[i] + u * (b[i] - a[i])) for i in range(3)))
-    with open("instrument_tie_square_shape.csv", "w") as f:
-        f.write("x,y,z\n")
-        for p in pts:
-            f.write("%.12f,%.12f,%.12f\n" % tuple(MM * c for c in p))
-    print("nodes = %d; length = %.9f m; ds = %.4f mm" % (nodes, (nodes - 1) * ds * MM, ds))
-    for c in crossings:
-        print("puncture point = %.9f %.9f %.9f" % c)
+    pts = hand_tie.write_shape("instrument_tie_square_shape.csv", thread_line())
     # the second turn the mirror of the first (sense -1 in the holder's
     # turned frame): the square knot; the first's copy turned half round
     # (+1): the granny
