@@ -993,19 +993,45 @@ static int node_columns(rod_self_contact *sc, int m, const double *push,
 /* out = (((start + g_0 c_0) + g_1 c_1) + g_2 c_2) + g_3 c_3, entry by entry
  * (start: out's own entries when add, else 0.0), the terms in this order:
  * the same numbers on the baseline and on AVX2 (LANES_TARGET: no fused
- * multiply-add), one pass over out for four columns */
+ * multiply-add), one pass over out for four columns; terms (0 to 4) the
+ * columns taken: fewer give the same numbers as out zeroed (unless add)
+ * and then one pass a column, in one pass */
 LANES_TARGET static void sum_columns(double *restrict out, int n, const double *const c[4],
-                                     const double g[4], int add)
+                                     const double g[4], int terms, int add)
 {
     const double *restrict c0 = c[0], *restrict c1 = c[1], *restrict c2 = c[2],
                            *restrict c3 = c[3];
     const double g0 = g[0], g1 = g[1], g2 = g[2], g3 = g[3];
-    if (add)
-        for (int i = 0; i < n; i++)
-            out[i] = (((out[i] + g0 * c0[i]) + g1 * c1[i]) + g2 * c2[i]) + g3 * c3[i];
-    else
+    switch (terms * 2 + add) {
+    case 0: memset(out, 0, (size_t)n * sizeof(double)); break;
+    case 1: break;
+    case 2:
+        for (int i = 0; i < n; i++) out[i] = 0.0 + g0 * c0[i];
+        break;
+    case 3:
+        for (int i = 0; i < n; i++) out[i] = out[i] + g0 * c0[i];
+        break;
+    case 4:
+        for (int i = 0; i < n; i++) out[i] = (0.0 + g0 * c0[i]) + g1 * c1[i];
+        break;
+    case 5:
+        for (int i = 0; i < n; i++) out[i] = (out[i] + g0 * c0[i]) + g1 * c1[i];
+        break;
+    case 6:
+        for (int i = 0; i < n; i++) out[i] = ((0.0 + g0 * c0[i]) + g1 * c1[i]) + g2 * c2[i];
+        break;
+    case 7:
+        for (int i = 0; i < n; i++) out[i] = ((out[i] + g0 * c0[i]) + g1 * c1[i]) + g2 * c2[i];
+        break;
+    case 8:
         for (int i = 0; i < n; i++)
             out[i] = (((0.0 + g0 * c0[i]) + g1 * c1[i]) + g2 * c2[i]) + g3 * c3[i];
+        break;
+    default:
+        for (int i = 0; i < n; i++)
+            out[i] = (((out[i] + g0 * c0[i]) + g1 * c1[i]) + g2 * c2[i]) + g3 * c3[i];
+        break;
+    }
 }
 
 /* Solves S x = b in place (S column-major, n x n, overwritten by its LU
@@ -1220,10 +1246,10 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
                 continue;
             }
             /* col = 0 + g_0 Z_0 + g_1 Z_1 + ... in the nodes' order, in one
-             * pass (0.0 + first keeps a -0 term's sum what four passes over
-             * the zeroed column gave) */
-            const double *zs[4];
-            double gs[4];
+             * pass (0.0 + first keeps a -0 term's sum what passes over the
+             * zeroed column gave) */
+            const double *zs[4] = {NULL, NULL, NULL, NULL};
+            double gs[4] = {0.0, 0.0, 0.0, 0.0};
             int terms = 0;
             for (int e = 0; e < 4; e++) {
                 const int k = p->node[e];
@@ -1232,13 +1258,7 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
                 zs[terms] = &sc->z[(size_t)(3 * sc->slot[k] + comp) * (size_t)nu];
                 gs[terms++] = g;
             }
-            if (terms == 4) {
-                sum_columns(col, nu, zs, gs, 0);
-            } else {
-                memset(col, 0, (size_t)nu * sizeof(double));
-                for (int t = 0; t < terms; t++)
-                    for (int i = 0; i < nu; i++) col[i] += gs[t] * zs[t][i];
-            }
+            sum_columns(col, nu, zs, gs, terms, 0);
         }
     }
     if (direct && sc->columns > from)
@@ -1367,10 +1387,13 @@ static void apply_correction(rod_self_contact *sc, int m, double *dx, double c)
             gs[used++] = g;
         }
     }
-    int k = 0;
-    for (; k + 4 <= used; k += 4) sum_columns(dx, nu, &cols[k], &gs[k], 1);
-    for (; k < used; k++)
-        for (int i = 0; i < nu; i++) dx[i] += gs[k] * cols[k][i];
+    for (int k = 0; k < used; k += 4) {
+        const double *four[4] = {NULL, NULL, NULL, NULL};
+        double g4[4] = {0.0, 0.0, 0.0, 0.0};
+        const int terms = used - k < 4 ? used - k : 4;
+        for (int t = 0; t < terms; t++) four[t] = cols[k + t], g4[t] = gs[k + t];
+        sum_columns(dx, nu, four, g4, terms, 1);
+    }
 }
 
 int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *push, double c,
