@@ -136,6 +136,13 @@ typedef struct rod_self_contact {
     int columns;           /* of Y in use (3 per pair in the correction) */
     int ranked[SELF_CONTACT_RANK_PAIRS]; /* pairs in the correction, by column / 3 */
     double *y;             /* (unknowns x 3 SELF_CONTACT_RANK_PAIRS) B^-1 V, column-major */
+    /* the dense system's blocks c G_rq + A_rq of the last correction (9 each, m x m, by
+     * rank), kept while its pairs, their columns and c stay (h_valid): the next
+     * Newton iteration of the step needs the same numbers */
+    double *h_cache;       /* (9 SELF_CONTACT_RANK_PAIRS^2), allocated with y */
+    int h_valid, h_m;      /* h_cache holds h_m ranked pairs' blocks */
+    double h_c;            /* the c they were made with */
+    int h_ranked[SELF_CONTACT_RANK_PAIRS]; /* their pairs */
     /* the columns to solve, by their entries (rod_self_contact_solve):
      * entry_start (3 SELF_CONTACT_NODE_SLOTS + 1), entry_row and entry_value
      * (SELF_CONTACT_ENTRIES); entries in use */

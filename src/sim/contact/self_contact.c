@@ -103,6 +103,7 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->last_frac);
     free(sc->last_to);
     free(sc->y);
+    free(sc->h_cache);
     free(sc->s);
     free(sc->rhs);
     free(sc->entry_start);
@@ -122,6 +123,7 @@ void rod_self_contact_destroy(rod_self_contact *sc)
 /* Forget the pairs' columns Y (the nodes' stay) */
 static void forget_columns(rod_self_contact *sc)
 {
+    sc->h_valid = 0;
     sc->columns = 0;
     for (int p = 0; p < sc->count; p++) sc->pair[p].column = -1;
 }
@@ -576,6 +578,7 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
     /* every pair's columns are built again at its fractions of this step
      * (rod_self_contact_correct) */
     sc->columns = 0;
+    sc->h_valid = 0;
     sc->b_age++;
     sc->count = 0;
     if (found < 0 || found > sc->max_pairs) return -1;
@@ -993,19 +996,45 @@ static int node_columns(rod_self_contact *sc, int m, const double *push,
 /* out = (((start + g_0 c_0) + g_1 c_1) + g_2 c_2) + g_3 c_3, entry by entry
  * (start: out's own entries when add, else 0.0), the terms in this order:
  * the same numbers on the baseline and on AVX2 (LANES_TARGET: no fused
- * multiply-add), one pass over out for four columns */
+ * multiply-add), one pass over out for four columns; terms (0 to 4) the
+ * columns taken: fewer give the same numbers as out zeroed (unless add)
+ * and then one pass a column, in one pass */
 LANES_TARGET static void sum_columns(double *restrict out, int n, const double *const c[4],
-                                     const double g[4], int add)
+                                     const double g[4], int terms, int add)
 {
     const double *restrict c0 = c[0], *restrict c1 = c[1], *restrict c2 = c[2],
                            *restrict c3 = c[3];
     const double g0 = g[0], g1 = g[1], g2 = g[2], g3 = g[3];
-    if (add)
-        for (int i = 0; i < n; i++)
-            out[i] = (((out[i] + g0 * c0[i]) + g1 * c1[i]) + g2 * c2[i]) + g3 * c3[i];
-    else
+    switch (terms * 2 + add) {
+    case 0: memset(out, 0, (size_t)n * sizeof(double)); break;
+    case 1: break;
+    case 2:
+        for (int i = 0; i < n; i++) out[i] = 0.0 + g0 * c0[i];
+        break;
+    case 3:
+        for (int i = 0; i < n; i++) out[i] = out[i] + g0 * c0[i];
+        break;
+    case 4:
+        for (int i = 0; i < n; i++) out[i] = (0.0 + g0 * c0[i]) + g1 * c1[i];
+        break;
+    case 5:
+        for (int i = 0; i < n; i++) out[i] = (out[i] + g0 * c0[i]) + g1 * c1[i];
+        break;
+    case 6:
+        for (int i = 0; i < n; i++) out[i] = ((0.0 + g0 * c0[i]) + g1 * c1[i]) + g2 * c2[i];
+        break;
+    case 7:
+        for (int i = 0; i < n; i++) out[i] = ((out[i] + g0 * c0[i]) + g1 * c1[i]) + g2 * c2[i];
+        break;
+    case 8:
         for (int i = 0; i < n; i++)
             out[i] = (((0.0 + g0 * c0[i]) + g1 * c1[i]) + g2 * c2[i]) + g3 * c3[i];
+        break;
+    default:
+        for (int i = 0; i < n; i++)
+            out[i] = (((out[i] + g0 * c0[i]) + g1 * c1[i]) + g2 * c2[i]) + g3 * c3[i];
+        break;
+    }
 }
 
 /* Solves S x = b in place (S column-major, n x n, overwritten by its LU
@@ -1189,6 +1218,7 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
     const int nu = sc->unknowns;
     int missing = 0;
     for (int r = 0; r < m; r++) missing += sc->pair[sc->ranked[r]].column < 0;
+    if (missing) sc->h_valid = 0; /* new columns: the dense blocks change */
     if (sc->columns + 3 * missing > 3 * SELF_CONTACT_RANK_PAIRS) forget_columns(sc);
     const int direct = sc->b_age < 2, from = sc->columns;
     if (!direct && node_columns(sc, m, push, solve, ctx)) return -1;
@@ -1220,10 +1250,10 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
                 continue;
             }
             /* col = 0 + g_0 Z_0 + g_1 Z_1 + ... in the nodes' order, in one
-             * pass (0.0 + first keeps a -0 term's sum what four passes over
-             * the zeroed column gave) */
-            const double *zs[4];
-            double gs[4];
+             * pass (0.0 + first keeps a -0 term's sum what passes over the
+             * zeroed column gave) */
+            const double *zs[4] = {NULL, NULL, NULL, NULL};
+            double gs[4] = {0.0, 0.0, 0.0, 0.0};
             int terms = 0;
             for (int e = 0; e < 4; e++) {
                 const int k = p->node[e];
@@ -1232,13 +1262,7 @@ static int pair_solutions(rod_self_contact *sc, int m, const double *push,
                 zs[terms] = &sc->z[(size_t)(3 * sc->slot[k] + comp) * (size_t)nu];
                 gs[terms++] = g;
             }
-            if (terms == 4) {
-                sum_columns(col, nu, zs, gs, 0);
-            } else {
-                memset(col, 0, (size_t)nu * sizeof(double));
-                for (int t = 0; t < terms; t++)
-                    for (int i = 0; i < nu; i++) col[i] += gs[t] * zs[t][i];
-            }
+            sum_columns(col, nu, zs, gs, terms, 0);
         }
     }
     if (direct && sc->columns > from)
@@ -1269,11 +1293,57 @@ static void pair_coupling_mapped(const rod_self_contact *sc, const self_pair *p,
     }
 }
 
+/* The block h of pairs r (pr) and q (pq) of the dense system, before
+ * r's own tangential compliance (assemble_system): c G_rq (G_rq = V_r^T
+ * Y_q, through r's maps where mapped; else from r's count blocks at rows
+ * with coefficients coef) plus the direct coupling A_rq */
+static void pair_block(const rod_self_contact *sc, const self_pair *pr, const self_pair *pq,
+                       int same, int mapped, int count, const int *rows, const double *coef,
+                       const double *push, double c, double h[9])
+{
+    const int nu = sc->unknowns;
+    for (int j = 0; j < 3; j++) {
+        const double *col = &sc->y[(size_t)(pq->column + j) * (size_t)nu];
+        if (mapped) {
+            double g[3];
+            mapped_rows(sc, pr, push, col, g);
+            for (int l = 0; l < 3; l++) h[3 * l + j] = c * g[l];
+            continue;
+        }
+        /* the three components together, each summed over e in order */
+        double g0 = 0.0, g1 = 0.0, g2 = 0.0;
+        for (int e = 0; e < count; e++) {
+            const double *x = &col[rows[e]];
+            g0 += coef[e] * x[0];
+            g1 += coef[e] * x[1];
+            g2 += coef[e] * x[2];
+        }
+        h[j] = c * g0;
+        h[3 + j] = c * g1;
+        h[6 + j] = c * g2;
+    }
+    if (!same) {
+        const double a = pair_coupling(pr, pq, push);
+        h[0] += a, h[4] += a, h[8] += a;
+        pair_coupling_mapped(sc, pr, pq, push, h);
+    } else {
+        pair_coupling_mapped(sc, pr, pr, push, h);
+    }
+}
+
 static void assemble_system(rod_self_contact *sc, int m, const double *dx, const double *push,
                             double c)
 {
-    const int nu = sc->unknowns, size = 3 * m;
+    const int size = 3 * m;
     double *s = sc->s, *rhs = sc->rhs;
+    /* the blocks h (before a pair's own tangential compliance) from the
+     * last correction when its ranked pairs, their columns and c are
+     * these; kept for the next unless a pair passes through a map (its
+     * rows change with the iterate) */
+    int keep = 1;
+    for (int r = 0; r < m; r++) keep &= !pair_rows_mapped(sc, &sc->pair[sc->ranked[r]]);
+    const int reuse = keep && sc->h_valid && sc->h_m == m && sc->h_c == c &&
+                      memcmp(sc->h_ranked, sc->ranked, (size_t)m * sizeof(int)) == 0;
     for (int r = 0; r < m; r++) {
         const self_pair *pr = &sc->pair[sc->ranked[r]];
         int block[8];
@@ -1293,32 +1363,11 @@ static void assemble_system(rod_self_contact *sc, int m, const double *dx, const
         for (int q = 0; q < m; q++) {
             const self_pair *pq = &sc->pair[sc->ranked[q]];
             double h[9] = {0.0};
-            for (int j = 0; j < 3; j++) {
-                const double *col = &sc->y[(size_t)(pq->column + j) * (size_t)nu];
-                if (mapped) {
-                    double g[3];
-                    mapped_rows(sc, pr, push, col, g);
-                    for (int l = 0; l < 3; l++) h[3 * l + j] = c * g[l];
-                    continue;
-                }
-                /* the three components together, each summed over e in order */
-                double g0 = 0.0, g1 = 0.0, g2 = 0.0;
-                for (int e = 0; e < count; e++) {
-                    const double *x = &col[rows[e]];
-                    g0 += coef[e] * x[0];
-                    g1 += coef[e] * x[1];
-                    g2 += coef[e] * x[2];
-                }
-                h[j] = c * g0;
-                h[3 + j] = c * g1;
-                h[6 + j] = c * g2;
-            }
-            if (q != r) {
-                const double a = pair_coupling(pr, pq, push);
-                h[0] += a, h[4] += a, h[8] += a;
-                pair_coupling_mapped(sc, pr, pq, push, h);
-            } else {
-                pair_coupling_mapped(sc, pr, pr, push, h);
+            double *kept = &sc->h_cache[9 * ((size_t)r * (size_t)m + (size_t)q)];
+            if (reuse) memcpy(h, kept, sizeof h);
+            else pair_block(sc, pr, pq, q == r, mapped, count, rows, coef, push, c, h);
+            if (keep && !reuse) memcpy(kept, h, sizeof h);
+            if (q == r) {
                 /* the pair's tangential compliance through the rod,
                  * compliance + P h P over the two tangential directions,
                  * over its compliance (for the next step's share), and the
@@ -1344,6 +1393,10 @@ static void assemble_system(rod_self_contact *sc, int m, const double *dx, const
                 }
         }
     }
+    sc->h_valid = keep;
+    sc->h_m = m;
+    sc->h_c = c;
+    memcpy(sc->h_ranked, sc->ranked, (size_t)m * sizeof(int));
 }
 
 /* Each ranked pair's delta from the solved system (in sc->rhs), and dx +=
@@ -1367,10 +1420,13 @@ static void apply_correction(rod_self_contact *sc, int m, double *dx, double c)
             gs[used++] = g;
         }
     }
-    int k = 0;
-    for (; k + 4 <= used; k += 4) sum_columns(dx, nu, &cols[k], &gs[k], 1);
-    for (; k < used; k++)
-        for (int i = 0; i < nu; i++) dx[i] += gs[k] * cols[k][i];
+    for (int k = 0; k < used; k += 4) {
+        const double *four[4] = {NULL, NULL, NULL, NULL};
+        double g4[4] = {0.0, 0.0, 0.0, 0.0};
+        const int terms = used - k < 4 ? used - k : 4;
+        for (int t = 0; t < terms; t++) four[t] = cols[k + t], g4[t] = gs[k + t];
+        sum_columns(dx, nu, four, g4, terms, 1);
+    }
 }
 
 int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *push, double c,
@@ -1382,7 +1438,9 @@ int rod_self_contact_correct(rod_self_contact *sc, double *dx, const double *pus
         /* allocated when a pair first touches: a run without self-contact
          * never holds it */
         sc->y = malloc((size_t)sc->unknowns * 3 * SELF_CONTACT_RANK_PAIRS * sizeof(double));
-        if (!sc->y) return -1;
+        sc->h_cache = malloc((size_t)9 * SELF_CONTACT_RANK_PAIRS * SELF_CONTACT_RANK_PAIRS *
+                             sizeof(double));
+        if (!sc->y || !sc->h_cache) return -1;
     }
     /* out of memory for the nodes' columns, the pairs move to their laws'
      * forces (delta g) */

@@ -197,10 +197,10 @@ static double line_search_bar(newton_progress *pr, int it, int self_touch, int c
 /* Contact makes the residual piecewise smooth: a full step can jump across
  * contacts that switch on or off, so back along it (halving, at most 8
  * times) until the residual falls below bar. *next: the residual's size at
- * the point kept; returns the fraction of the step kept, or -1 when the
- * step's budget runs out. */
+ * the point kept, *rod: the scheme's own part of it (scaled); returns the
+ * fraction of the step kept, or -1 when the step's budget runs out. */
 static double line_search(implicit_work *w, const rod_model *m, double t, double dt, double bar,
-                          double scale, double *next)
+                          double scale, double *next, double *rod)
 {
     const int nu = w->unknowns;
     double step = 1.0;
@@ -209,7 +209,8 @@ static double line_search(implicit_work *w, const rod_model *m, double t, double
         for (int i = 0; i < nu; i++) w->x[i] += step * w->dx[i];
         if (w->self) rod_self_contact_move(w->self, step);
         implicit_evaluate_iterate(w, m, t, dt);
-        *next = residual_norm_at(w, scale);
+        *rod = implicit_max_abs(w->residual, nu);
+        *next = norm_with_pairs(w, *rod, scale);
         if (--w->budget < 0) return -1.0;
     }
     return step;
@@ -276,20 +277,23 @@ static int newton_iteration(implicit_work *w, const rod_model *m, double t, doub
     for (int i = 0; i < nu; i++) w->x[i] -= w->dx[i];
     if (w->self) rod_self_contact_move(w->self, -1.0);
     implicit_evaluate_iterate(w, m, t, dt);
-    double next = residual_norm_at(w, pr->scale);
+    /* the scheme's own residual at the full step (renew_if_slow), measured
+     * once: it gives the residual's size, and rod_now unless the line
+     * search moves the iterate */
+    const double rod_at_full = implicit_max_abs(w->residual, nu);
+    double next = norm_with_pairs(w, rod_at_full, pr->scale);
     const int self_touch = w->self && w->self->count;
-    /* the scheme's own residual at the full step (renew_if_slow) */
-    const double rod_full = self_touch ? implicit_max_abs(w->residual, nu) : 0.0;
+    const double rod_full = self_touch ? rod_at_full : 0.0;
     double cut = 1.0; /* the fraction of the step the line search kept */
     const int contact = w->has_contact || self_touch;
     const double bar = line_search_bar(pr, it, self_touch, w->has_contact);
+    /* the scheme's own residual at the point kept */
+    double rod_now = rod_at_full;
     if (contact && !(next < bar)) {
-        cut = line_search(w, m, t, dt, bar, pr->scale, &next);
+        cut = line_search(w, m, t, dt, bar, pr->scale, &next, &rod_now);
         if (cut < 0.0) return -1;
     }
     if (!isfinite(next)) return -1;
-    /* the scheme's own residual at the point kept */
-    const double rod_now = implicit_max_abs(w->residual, nu);
     /* the iterate before this one left the scheme's residual above the
      * pairs' (PAIRS_SLOW_STEP) */
     pr->rod_led = pr->rod_leads;
