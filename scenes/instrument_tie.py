@@ -151,6 +151,18 @@ def on_circle(side, phi, xf, radius=RF):
                                                      math.sin(phi) * up_of(r))
 
 
+def radius_reaching(at, target, length, lo, hi):
+    """The distance r in [lo, hi] (mm) of a hand or forceps on its circle,
+    at(r), whose straight line to target is length long: 60 halvings."""
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if np.linalg.norm(at(mid) - target) < length:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
 def spiral_radius(wraps, e):
     """The forceps' distance from the holder's axis at the fraction e of the
     wraps: what the turns round the jaws take, given back as they are made
@@ -160,13 +172,7 @@ def spiral_radius(wraps, e):
     p2 = np.array([0.0, W, 0.0])
     axis = tip_wrap(-1) + XF * holder_frame(-1)[:, 0]
     need = np.linalg.norm(p2 - axis) + 2.0 * math.pi * WRAP_R * wraps + RF
-    lo, hi = RF, 200.0
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if np.linalg.norm(on_circle(-1, 0.0, XF, mid) - p2) < need:
-            lo = mid
-        else:
-            hi = mid
+    lo = radius_reaching(lambda r: on_circle(-1, 0.0, XF, r), p2, need, RF, 200.0)
     # in to RF by half a turn (the forceps' passage under the holder stays
     # clear of the skin); the slack that leaves is taken up after the wraps
     return RF + (lo - RF) * max(0.0, 1.0 - 2.0 * e) ** 2

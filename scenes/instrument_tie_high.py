@@ -68,7 +68,7 @@ import numpy as np
 
 import chords
 # the paths' sampling and key poses, the thread's smoothing: the low tie's
-from instrument_tie import DT, Track, densify, quat, rotvec, smooth
+from instrument_tie import DT, Track, densify, quat, radius_reaching, rotvec, smooth
 
 MM = 1e-3
 W, DEPTH = 4.0, 3.0          # half the bite's width, its depth under the skin
@@ -118,14 +118,7 @@ def start_radius():
     (puncture to the turn, a turn round the shanks, out to R_END)."""
     shank = 2 * math.pi * 7.0          # a loose turn round the shanks (their 3.9 mm half width)
     need = np.linalg.norm(P_LONG - TURN) + shank + R_END
-    lo, hi = R_END, 200.0
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if np.linalg.norm(around(PHI0, mid) - P_LONG) < need:
-            lo = mid
-        else:
-            hi = mid
-    return lo
+    return radius_reaching(lambda r: around(PHI0, r), P_LONG, need, R_END, 200.0)
 
 
 R0 = start_radius()

@@ -49,7 +49,7 @@ del sys.argv[1:]
 
 import instrument_tie_high as high
 import instrument_tie_hand as hand_tie
-from instrument_tie import Track
+from instrument_tie import Track, radius_reaching
 
 MM = 1e-3
 DS = 0.92
@@ -95,14 +95,8 @@ BACK2_T, CROSS2_T, LOW2_T, CINCH2_T = 1.5, 1.2, 0.6, 5.0  # s: the draw back, th
 def start_radius():
     """instrument_tie_high's start radius for a long end EXTRA longer."""
     need = np.linalg.norm(high.P_LONG - high.TURN) + 2 * math.pi * 7.0 + high.R_END + EXTRA
-    lo, hi = high.R_END, 300.0
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if np.linalg.norm(high.around(high.PHI0, mid) - high.P_LONG) < need:
-            lo = mid
-        else:
-            hi = mid
-    return lo
+    return radius_reaching(lambda r: high.around(high.PHI0, r), high.P_LONG, need, high.R_END,
+                           300.0)
 
 
 R0 = start_radius()
@@ -165,14 +159,7 @@ def around2(phi, radius, lead=LEAD2):
 def start2(avail, phi0):
     """The hand's distance from the axis at the second spiral's start: the
     long end straight from the first knot to it, avail long."""
-    lo, hi = R_END2, 300.0
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if np.linalg.norm(around2(phi0, mid) - KNOT1) < avail:
-            lo = mid
-        else:
-            hi = mid
-    return lo
+    return radius_reaching(lambda r: around2(phi0, r), KNOT1, avail, R_END2, 300.0)
 
 
 def first_throw():
@@ -331,14 +318,7 @@ def paths_kept(sense):
         return centre + r * (math.cos(phi) * rk[:, 2] + math.sin(phi) * up)
     phi0 = math.radians(40.0) if sense > 0 else math.radians(140.0)
     avail = hand_tie_long_beyond_knot() - KEEP_SLACK
-    lo, hi = KEEP_REND, 300.0
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if np.linalg.norm(around_k(phi0, mid) - KNOT1) < avail:
-            lo = mid
-        else:
-            hi = mid
-    r0 = lo
+    r0 = radius_reaching(lambda r: around_k(phi0, r), KNOT1, avail, KEEP_REND, 300.0)
     hand.to(t + 1.0, pos=around_k(phi0, r0))
     holder.to(t + 1.0)
     t += 1.0

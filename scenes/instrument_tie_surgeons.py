@@ -37,7 +37,7 @@ import numpy as np
 
 import instrument_tie_high as high
 import instrument_tie_hand as hand_tie
-from instrument_tie import Track
+from instrument_tie import Track, radius_reaching
 
 WRAPS = 2
 PER_TURN = 2 * math.pi * 6.0     # mm of thread a loose turn round the shanks takes
@@ -59,14 +59,8 @@ def start_radius():
     straight from its puncture past the shanks to it is as long as it is
     wound (puncture to the turn, WRAPS turns, out to R_END)."""
     need = np.linalg.norm(high.P_LONG - high.TURN) + WRAPS * PER_TURN + high.R_END
-    lo, hi = high.R_END, 300.0
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if np.linalg.norm(high.around(high.PHI0, mid) - high.P_LONG) < need:
-            lo = mid
-        else:
-            hi = mid
-    return lo
+    return radius_reaching(lambda r: high.around(high.PHI0, r), high.P_LONG, need, high.R_END,
+                           300.0)
 
 
 R0 = start_radius()

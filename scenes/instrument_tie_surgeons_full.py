@@ -29,6 +29,7 @@ import numpy as np
 import instrument_tie_high as high
 import instrument_tie_hand as hand_tie
 import instrument_tie_surgeons as surg
+from instrument_tie import radius_reaching
 
 SENSE = -1                       # the turn about the holder's axis (+1: the double throw's start, mirrored for -1)
 PHI2 = None                      # degrees: the hand's start about the axis (None: by SENSE)
@@ -75,14 +76,7 @@ def start_radius2():
     """The hand's starting distance from the axis: the long end straight
     from EXIT to it as long as the turn takes, at most LONG - SLACK2."""
     need = min(np.linalg.norm(EXIT - turn_centre()) + PER_TURN2 + R_END2, LONG - SLACK2)
-    lo, hi = R_END2, 300.0
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if np.linalg.norm(around2(phi_of(0.0), mid) - EXIT) < need:
-            lo = mid
-        else:
-            hi = mid
-    return lo
+    return radius_reaching(lambda r: around2(phi_of(0.0), r), EXIT, need, R_END2, 300.0)
 
 
 def spiral2(e):

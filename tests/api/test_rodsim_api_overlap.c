@@ -19,25 +19,15 @@
 
 static char dir[64];
 
-static void write_file(const char *name, const char *text)
-{
-    char path[160];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "w");
-    if (f) {
-        fputs(text, f);
-        fclose(f);
-    }
-}
-
 /* The lower forceps along x, tip at the origin; the upper a quarter turn
  * about z, tip at (-0.05, 0.05, 0.003); a thread (rods: two named) far
  * from both on a table */
 static void write_scene(const char *name, int rods)
 {
-    write_file("lower.csv", "t,x,y,z,rx,ry,rz,jaw\n0,0,0,0,0,0,0,0\n1,0,0,0,0,0,0,0\n");
-    write_file("upper.csv", "t,x,y,z,rx,ry,rz,jaw\n0,-0.05,0.05,0.003,0,0,1.5707963267948966,0\n"
-                            "1,-0.05,0.05,0.003,0,0,1.5707963267948966,0\n");
+    test_write_in(dir, "lower.csv", "t,x,y,z,rx,ry,rz,jaw\n0,0,0,0,0,0,0,0\n1,0,0,0,0,0,0,0\n");
+    test_write_in(dir, "upper.csv",
+                  "t,x,y,z,rx,ry,rz,jaw\n0,-0.05,0.05,0.003,0,0,1.5707963267948966,0\n"
+                  "1,-0.05,0.05,0.003,0,0,1.5707963267948966,0\n");
     const char *rod = "length = 0.05\ndiameter = 0.0005\ndensity = 850\n"
                       "youngs_modulus = 87.5e6\nshear_modulus = 31.25e6\nnodes = 11\n"
                       "direction = 1 0 0\n";
@@ -57,7 +47,7 @@ static void write_scene(const char *name, int rods)
              "[instrument]\nkind = forceps\nname = upper\npath = upper.csv\nsize = 0.12\n"
              "[solver]\nscheme = implicit\ndt = 0.001\nduration = 0.01\n"
              "[loads]\ngravity = 0 0 -9.81\n");
-    write_file(name, text);
+    test_write_in(dir, name, text);
 }
 
 static void test_refused(const char *name, int rods)

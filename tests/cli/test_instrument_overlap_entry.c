@@ -39,17 +39,6 @@ static char dir[64];
 #define R_SHANK 0.00144
 #define TOUCH (0.1 * R_SHANK) /* m, a shank against a shank: a tenth of its radius */
 
-static void write_file(const char *name, const char *text)
-{
-    char path[160];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "w");
-    if (f) {
-        fputs(text, f);
-        fclose(f);
-    }
-}
-
 /* The upper forceps' path at height h (m), at rest over 1 s */
 static void write_upper(const char *name, double h)
 {
@@ -57,7 +46,7 @@ static void write_upper(const char *name, double h)
     snprintf(text, sizeof text,
              "t,x,y,z,rx,ry,rz,jaw\n0,-0.05,0.05,%.6g,0,0,1.5707963267948966,0\n"
              "1,-0.05,0.05,%.6g,0,0,1.5707963267948966,0\n", h, h);
-    write_file(name, text);
+    test_write_in(dir, name, text);
 }
 
 /* The scene: a thread on a table 10 mm under the lower forceps, far from
@@ -66,7 +55,7 @@ static void write_upper(const char *name, double h)
 static void write_scene(const char *name, const char *upper)
 {
     char text[2048];
-    write_file("lower.csv", "t,x,y,z,rx,ry,rz,jaw\n0,0,0,0,0,0,0,0\n1,0,0,0,0,0,0,0\n");
+    test_write_in(dir, "lower.csv", "t,x,y,z,rx,ry,rz,jaw\n0,0,0,0,0,0,0,0\n1,0,0,0,0,0,0,0\n");
     snprintf(text, sizeof text,
              "[rod]\nlength = 0.05\ndiameter = 0.0005\ndensity = 850\nyoungs_modulus = 87.5e6\n"
              "shear_modulus = 31.25e6\nnodes = 11\norigin = 0 0.2 -0.00975\ndirection = 1 0 0\n"
@@ -77,7 +66,7 @@ static void write_scene(const char *name, const char *upper)
              "[solver]\nscheme = implicit\ndt = 0.001\nduration = 0.1\n"
              "[loads]\ngravity = 0 0 -9.81\n",
              upper);
-    write_file(name, text);
+    test_write_in(dir, name, text);
 }
 
 /* The same with two named rods, a and b, side by side on the table
@@ -96,7 +85,7 @@ static void write_rods_scene(const char *name, const char *upper)
              "[solver]\nscheme = implicit\ndt = 0.001\nduration = 0.1\n"
              "[loads]\ngravity = 0 0 -9.81\n",
              rod, rod, upper);
-    write_file(name, text);
+    test_write_in(dir, name, text);
 }
 
 /* rodsim live SCENE [--set may] < lines; the answers and stderr into
@@ -141,7 +130,7 @@ static void test_live_start(void)
     const double h = 0.003, depth = 2.0 * R_JAW + 2.0 * R_SHANK - h; /* 2.28 mm */
     write_upper("near.csv", h);
     write_scene("near.ini", "near.csv");
-    write_file("one.txt", "lower: 0.001,0,0,-0.0005,0,0,0,0\n");
+    test_write_in(dir, "one.txt", "lower: 0.001,0,0,-0.0005,0,0,0,0\n");
     int rc = live("near.ini", "one.txt", NULL, "start");
     char *err = read_in("start", "err"), *out = read_in("start", "out"), want[160], where[256];
     snprintf(want, sizeof want, "overlap by %.2f mm at t = 0.000 s", 1e3 * depth);
@@ -173,7 +162,7 @@ static void write_raise(void)
         snprintf(text + strlen(text), sizeof text - strlen(text),
                  "lower: %.3f,0,0,%.4f,0,0,0,0\n", 1e-3 * k, 5e-4 * k);
     snprintf(text + strlen(text), sizeof text - strlen(text), "lower: 0.010,0,0,0.0046,0,0,0,0\n");
-    write_file("raise.txt", text);
+    test_write_in(dir, "raise.txt", text);
 }
 
 static void test_live_line(void)
@@ -221,7 +210,7 @@ static void test_live_rods(void)
 {
     write_upper("near.csv", 0.003);
     write_rods_scene("rods_near.ini", "near.csv");
-    write_file("one.txt", "lower: 0.001,0,0,-0.0005,0,0,0,0\n");
+    test_write_in(dir, "one.txt", "lower: 0.001,0,0,-0.0005,0,0,0,0\n");
     int rc = live("rods_near.ini", "one.txt", NULL, "rods_start");
     char *err = read_in("rods_start", "err"), where[256];
     snprintf(where, sizeof where, "rods_near.ini:29: [instrument] lower and upper (line 34) at "
@@ -254,7 +243,8 @@ static void test_sweep(void)
     write_upper("far.csv", 0.01);
     write_scene("sweep.ini", "far.csv");
     /* the lower one raised 7 mm: 3 mm under the upper */
-    write_file("raised.csv", "t,x,y,z,rx,ry,rz,jaw\n0,0,0,0.007,0,0,0,0\n1,0,0,0.007,0,0,0,0\n");
+    test_write_in(dir, "raised.csv",
+                  "t,x,y,z,rx,ry,rz,jaw\n0,0,0,0.007,0,0,0,0\n1,0,0,0.007,0,0,0,0\n");
     char scene[128], csv[128], out[8192];
     snprintf(scene, sizeof scene, "%s/sweep.ini", dir);
     snprintf(csv, sizeof csv, "%s/sweep.csv", dir);

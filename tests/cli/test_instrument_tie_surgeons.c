@@ -138,11 +138,9 @@ int main(void)
     int rows = 0, frames = test_read_frames(csv, NODES, MAX_FRAMES, t, &x[0][0], &rows);
     check(frames > 1 && rows == frames * NODES, "the CSV holds %d frames of %d nodes (%d rows)",
           frames, NODES, rows);
-    double worst = INFINITY, when = 0.0;
-    for (int k = 0; k < frames; k++) {
-        double c = closest_strands(x[k], NODES, 5, 4.0 * DIAMETER);
-        if (c < worst) worst = c, when = t[k];
-    }
+    double when;
+    const double worst =
+        closest_strands_in_frames(&x[0][0], t, frames, NODES, 5, 4.0 * DIAMETER, &when);
     check(worst >= 0.95 * DIAMETER, "no two segments 5 or more apart closer than 0.95 diameters in "
           "any of %d frames: least %.4g m = %.3f diameters (t = %g s)", frames, worst,
           worst / DIAMETER, when);
