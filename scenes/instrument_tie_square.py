@@ -83,6 +83,12 @@ HAND2_CINCH = np.array([0.0, 60.0, 1.2])
 # the granny's at 0.9 stalls at 21.18 s)
 HOLD2_CINCH_M = np.array([0.0, -20.0, 0.9])
 HAND2_CINCH_M = np.array([0.0, 60.0, 0.9])
+# the square's cinch after the hands are down: stages (s, the holder's tip,
+# the hand (mm; None: stays), the holder's axis: None kept, a number its
+# pitch below the horizontal (rad, heading kept), (heading, pitch) (rad,
+# heading from +x), "R2" the second throw's); the variants tried with a
+# press of the holder on the knot, record 0129
+CINCH2_M = [(5.0, HOLD2_CINCH_M, HAND2_CINCH_M, None), (1.0, None, None, None)]
 TURNS2, TURNS2_M = 1.0, 1.0       # the hand's turns round the holder (sense +1, -1)
 # mm: the tail's end where the holder takes it, for each sense (None: on
 # along its axis to GRASP2); measured by aim() (python3 instrument_tie_square.py --aim RODSIM)
@@ -267,13 +273,54 @@ def paths(sense):
     holder.to(t + LOW2_T, pos=HOLD2_LOW)
     hand.to(t + LOW2_T, pos=HAND2_LOW)
     t += LOW2_T
-    holder.to(t + CINCH2_T, pos=HOLD2_CINCH if sense > 0 else HOLD2_CINCH_M)
-    hand.to(t + CINCH2_T, pos=HAND2_CINCH if sense > 0 else HAND2_CINCH_M)
-    t += CINCH2_T
-    holder.to(t + 1.0)
-    hand.to(t + 1.0)
-    t += 1.0
+    if sense > 0:
+        holder.to(t + CINCH2_T, pos=HOLD2_CINCH)
+        hand.to(t + CINCH2_T, pos=HAND2_CINCH)
+        t += CINCH2_T
+        holder.to(t + 1.0)
+        hand.to(t + 1.0)
+        t += 1.0
+        return holder, hand
+    # the square's cinch: its stages in turn
+    for dur, hold, hnd, turn in CINCH2_M:
+        if turn is None:
+            rot = None
+        elif isinstance(turn, str):
+            rot = R2
+        elif isinstance(turn, tuple):
+            rot = headed(holder_rot(holder), turn[0], turn[1])
+        else:
+            rot = pitched(holder_rot(holder), turn)
+        holder.to(t + dur, pos=hold, rot=rot)
+        hand.to(t + dur, pos=hnd)
+        t += dur
     return holder, hand
+
+
+def holder_rot(track):
+    """The track's present rotation as a matrix."""
+    w, x, y, z = track.q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def headed(r, heading, pitch):
+    """The holder's rotation with its axis (local x) at `heading` about the
+    vertical (rad, from +x) and `pitch` below the horizontal (rad), local z
+    horizontal and local y down when r's is (up when r's is up): no roll
+    through half a turn."""
+    ax = np.array([math.cos(heading) * math.cos(pitch), math.sin(heading) * math.cos(pitch),
+                   -math.sin(pitch)])
+    z = np.array([-math.sin(heading), math.cos(heading), 0.0])  # local y = z x x then down
+    if r[2, 1] > 0:
+        z = -z
+    return np.column_stack([ax, np.cross(z, ax), z])
+
+
+def pitched(r, pitch):
+    """headed() with r's heading kept."""
+    return headed(r, math.atan2(r[1, 0], r[0, 0]), pitch)
 
 
 # the second throw with the tail kept: the holder lifts it on an arc over
