@@ -83,12 +83,6 @@ HAND2_CINCH = np.array([0.0, 60.0, 1.2])
 # the granny's at 0.9 stalls at 21.18 s)
 HOLD2_CINCH_M = np.array([0.0, -20.0, 0.9])
 HAND2_CINCH_M = np.array([0.0, 60.0, 0.9])
-# the square's cinch after the hands are down: stages (s, the holder's tip,
-# the hand (mm; None: stays), the holder's axis: None kept, a number its
-# pitch below the horizontal (rad, heading kept), (heading, pitch) (rad,
-# heading from +x), "R2" the second throw's); the variants tried with a
-# press of the holder on the knot, record 0129
-CINCH2_M = [(5.0, HOLD2_CINCH_M, HAND2_CINCH_M, None), (1.0, None, None, None)]
 TURNS2, TURNS2_M = 1.0, 1.0       # the hand's turns round the holder (sense +1, -1)
 # mm: the tail's end where the holder takes it, for each sense (None: on
 # along its axis to GRASP2); measured by aim() (python3 instrument_tie_square.py --aim RODSIM)
@@ -96,6 +90,12 @@ TAKE2 = {-1: (-8.9, -2.0, 1.2), +1: None}
 TAKE2_YAW = 0.0                   # rad: the holder turned by this about the vertical as it takes it
 TAKE2_ON = 0.5                    # mm: its tip this far past the end along its axis
 BACK2_T, CROSS2_T, LOW2_T, CINCH2_T = 1.5, 1.2, 0.6, 5.0  # s: the draw back, the cross, down, the cinch (3: stalls)
+# the square's cinch after the hands are down: stages (s, the holder's tip,
+# the hand (mm; None: stays), the holder's axis: None kept, a number its
+# pitch below the horizontal (rad, heading kept), (heading, pitch) (rad,
+# heading from +x), "R2" the second throw's); the variants tried with a
+# press of the holder on the knot, record 0129
+CINCH2_M = [(CINCH2_T, HOLD2_CINCH_M, HAND2_CINCH_M, None), (1.0, None, None, None)]
 
 
 def start_radius():
