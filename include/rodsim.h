@@ -28,7 +28,8 @@
  * last one of the calling thread, the only one when a load failed). A bad
  * scene gets the message `rodsim run` prints after "rodsim run: ", also a
  * scene whose instruments' paths take one through another (unless
- * instrument.may_overlap = yes).
+ * instrument.may_overlap = yes) or drive the jaws deeper than
+ * instrument.max_depth into a rigid surface.
  */
 #ifndef RODSIM_H
 #define RODSIM_H

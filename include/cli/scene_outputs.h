@@ -43,6 +43,15 @@ typedef struct scene_outputs_options {
  * agree (m->adjusted), a dt above the scheme's stable limit. Into w. */
 void scene_outputs_plan_warnings(const rod_model *m, double dt, run_warnings *w);
 
+/* The instruments' paths, checked before a run is stepped (the scene's
+ * instruments, every rod's alike): a path into a surface is a warning into
+ * w; the jaws driven deeper than max_depth into a rigid surface, or
+ * instruments through each other (may_overlap = yes allows it), refuse the
+ * run: -1 with `rodsim run`'s message in err (`file` names the scene; the
+ * caller says what was not run). Else 0. */
+int scene_outputs_path_checks(const rod_model *m, const char *file, run_warnings *w, char *err,
+                              size_t errlen);
+
 /* The warnings of a finished run: the scheme's caveat (report->warning), a
  * knot that changed or slipped off an end (knots; a knot tied at an end,
  * KNOT_TIED, is none). Into w. Returns 1, with

@@ -22,6 +22,7 @@
 #include "sim/cut.h"
 #include "sim/geometry/knot.h"
 #include "sim/instrument_overlap.h"
+#include "sim/instrument_path.h"
 #include "sim/path.h"
 #include "sim/recording.h"
 #include "sim/rod.h"
@@ -124,13 +125,20 @@ void rodsim_free(rodsim_scene *sc)
     free(sc);
 }
 
-/* Instruments whose paths take them through each other: refused as `rodsim
- * run` refuses them, in its words (nothing pushes driven instruments
- * apart); may_overlap = yes allows it. 0, or -1 with the message in err. */
-static int instruments_through(const rod_model *m, const ini_doc *doc, char *err, size_t errlen)
+/* The instruments' paths refused as `rodsim run` refuses them, in its
+ * words: the jaws driven deeper than max_depth into a rigid surface (the
+ * thread would be pressed into it), then instruments through each other
+ * (nothing pushes driven instruments apart; may_overlap = yes allows it).
+ * A path only into a surface is a warning of the run's: loaded here. 0, or
+ * -1 with the message in err. */
+static int instruments_refused(const rod_model *m, const ini_doc *doc, char *err, size_t errlen)
 {
     char text[RODSIM_ERR_LEN - 32]; /* room for the words after it */
-    if (rod_instruments_overlap_message(m, ini_filename(doc), text, sizeof text) >= 0) return 0;
+    int refused = 0;
+    for (int k = 0; k < m->instrument_count && !refused; k++)
+        refused = rod_instrument_path_warning(m, k, ini_filename(doc), text, sizeof text) < 0;
+    if (!refused && rod_instruments_overlap_message(m, ini_filename(doc), text, sizeof text) >= 0)
+        return 0;
     snprintf(err, errlen, "%s; nothing was run", text);
     return -1;
 }
@@ -158,7 +166,7 @@ static rodsim_status make_rods_scene(ini_doc *doc, rodsim_scene **scene)
     }
     rodsim_status st = RODSIM_BAD_INPUT;
     if (run_read_output(doc, &sc->out, err, sizeof err) || ini_check_unused(doc, err, sizeof err) ||
-        instruments_through(&sc->set->model[0], doc, err, sizeof err))
+        instruments_refused(&sc->set->model[0], doc, err, sizeof err))
         goto fail;
     st = RODSIM_FAILED;
     if (rod_set_run_create(sc->set, sc->run, err, sizeof err)) {
@@ -215,7 +223,7 @@ static rodsim_status make_scene(ini_doc *doc, const char *const *overrides, int 
         return make_rods_scene(doc, scene);
     }
     if (run_read_scene(doc, &sc->model, &sc->out, err, sizeof err) ||
-        instruments_through(&sc->model, doc, err, sizeof err)) {
+        instruments_refused(&sc->model, doc, err, sizeof err)) {
         rodsim_free(sc);
         return fail(NULL, RODSIM_BAD_INPUT, "%s", err);
     }

@@ -704,7 +704,8 @@ static void usage(FILE *out)
             "  --png FILE   figure path instead of DIR/<scene>.png; --no-png: no PNG\n"
             "  --svg FILE   the same figure as SVG too (text as text, for papers; needs no GL)\n"
             "  -o DIR       directory of the figure (default out)\n"
-            "Exit status: 0 done, 2 bad input or a mechanism, 1 other failure.\n");
+            "Exit status: 0 done, 2 bad input (an output path that cannot be used too:\n"
+            "refused before any work) or a mechanism, 1 other failure.\n");
 }
 
 /* Linear theory holds for small displacements only (see FEM_WARN_*): warns
@@ -913,6 +914,23 @@ static int fem_scene(const fem_args *a)
     return status;
 }
 
+/* Where the outputs go, checked before the scene is read or solved: each
+ * file (args.h), and -o DIR when the PNG takes its default place there.
+ * 0, or -1 with a message naming the option and the path. */
+static int check_outputs(const fem_args *a, char *err, size_t errlen)
+{
+    const char *const option[4] = {"--csv", "--md", "--png", "--svg"};
+    const char *const path[4] = {a->csv, a->md, a->png, a->svg};
+    for (int i = 0; i < 4; i++)
+        if (path[i] && cli_check_output_file(option[i], path[i], err, errlen)) return -1;
+    char why[512];
+    if (!a->no_png && !a->png && outfile_check_dir(a->out_dir, why, sizeof why)) {
+        snprintf(err, errlen, "-o %s (the figure's directory): %s", a->out_dir, why);
+        return -1;
+    }
+    return 0;
+}
+
 int fem_command(int argc, char **argv)
 {
     char err[1024] = "";
@@ -932,6 +950,7 @@ int fem_command(int argc, char **argv)
         snprintf(err, sizeof err, "--png %s and --no-png: give one of them", a.png);
         parsed = CLI_ERROR;
     }
+    if (parsed == CLI_PARSED && check_outputs(&a, err, sizeof err)) parsed = CLI_ERROR;
     if (parsed == CLI_HELP) usage(stdout);
     else if (parsed != CLI_PARSED) status = cli_usage_error("fem", err);
     else status = fem_scene(&a);

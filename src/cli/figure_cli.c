@@ -236,6 +236,26 @@ static void print_outputs(const figure_def *f, const char *out_dir)
     for (int i = 0; files[i]; i++) printf("wrote %s/%s\n", out_dir, files[i]);
 }
 
+/* Where the outputs go, checked before any point is computed: --csv FILE
+ * and --result DIR of one point, else --out DIR (and --result DIR, whose
+ * result files a sweep figure reuses). The --print-* forms write only to
+ * standard output. 0, or -1 with a message naming the option and the path. */
+static int check_outputs(const figure_args *a, char *err, size_t errlen)
+{
+    if (a->print_commands || a->print_sweep) return 0;
+    if (a->csv) return cli_check_output_file("--csv", a->csv, err, errlen);
+    char why[512];
+    if (a->result_dir && outfile_check_dir(a->result_dir, why, sizeof why)) {
+        snprintf(err, errlen, "--result %s: %s", a->result_dir, why);
+        return -1;
+    }
+    if (a->point < 0 && outfile_check_dir(a->out_dir, why, sizeof why)) {
+        snprintf(err, errlen, "--out %s: %s", a->out_dir, why);
+        return -1;
+    }
+    return 0;
+}
+
 int figure_command(int argc, char **argv)
 {
     char err[1024] = "";
@@ -263,6 +283,7 @@ int figure_command(int argc, char **argv)
         figure_usage(stderr);
         return RUN_EXIT_BAD_INPUT;
     }
+    if (check_outputs(&a, err, sizeof err)) return cli_usage_error("figure", err);
     int status = RUN_EXIT_OK;
     if (a.print_commands && n > 0) status = print_commands(figs, n, &a);
     if (a.print_commands || a.print_sweep || a.point >= 0 || n == 0) {

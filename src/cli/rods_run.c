@@ -19,7 +19,6 @@
 #include "sim/contact/between_rods.h"
 #include "sim/cut.h"
 #include "sim/instrument_overlap.h"
-#include "sim/instrument_path.h"
 #include "sim/recording.h"
 #include "sim/rod_set.h"
 #include "sim/tissue/tissue.h"
@@ -477,28 +476,16 @@ static int write_video(rods_run *r, char *err, size_t errlen)
     return rc ? RUN_EXIT_FAILURE : 0;
 }
 
-/* The instruments' paths against the surfaces (the scene's, every rod's
- * alike): warnings, or a refusal in err (-1) */
+/* The instruments' paths (the scene's, every rod's alike; scene_outputs.h):
+ * warnings, or a refusal in err (-1) */
 static int check_paths(rods_run *r, char *err, size_t errlen)
 {
-    const rod_model *m = &r->set.model[0];
-    for (int k = 0; k < m->instrument_count; k++) {
-        char text[RUN_WARNING_LEN];
-        const int said = rod_instrument_path_warning(m, k, r->o->label, text, sizeof text);
-        if (said < 0) {
-            snprintf(err, errlen, "%s; nothing was run", text);
-            return -1;
-        }
-        if (said) run_warn(&r->warnings, "%s", text);
-    }
-    /* instruments through each other: refused (nothing pushes driven
-     * instruments apart); may_overlap = yes allows it */
     char text[RUN_WARNING_LEN];
-    if (rod_instruments_overlap_message(m, r->o->label, text, sizeof text) < 0) {
-        snprintf(err, errlen, "%s; nothing was run", text);
-        return -1;
-    }
-    return 0;
+    if (scene_outputs_path_checks(&r->set.model[0], r->o->label, &r->warnings, text,
+                                  sizeof text) == 0)
+        return 0;
+    snprintf(err, errlen, "%s; nothing was run", text);
+    return -1;
 }
 
 int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *scene)

@@ -168,31 +168,6 @@ static const char *summary_path_of(int argc, char **argv)
     return path && path[0] ? path : NULL;
 }
 
-/* The summary's place, checked before any work: a file, in a directory that
- * is or can be made. 0, or -1 with a message (the summary cannot be written
- * then: only the message says why). */
-static int check_summary_path(const char *path, char *err, size_t errlen)
-{
-    struct stat st;
-    if (strcmp(path, "-") == 0) return 0;
-    size_t n = strlen(path);
-    if ((stat(path, &st) == 0 && S_ISDIR(st.st_mode)) || path[n - 1] == '/') {
-        snprintf(err, errlen, "--summary %s: names a directory, not a file", path);
-        return -1;
-    }
-    char dir[OUTFILE_PATH_MAX];
-    const char *slash = strrchr(path, '/');
-    if (!slash) snprintf(dir, sizeof dir, ".");
-    else if (slash == path) snprintf(dir, sizeof dir, "/");
-    else snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
-    char why[512];
-    if (outfile_check_dir(dir, why, sizeof why)) {
-        snprintf(err, errlen, "--summary %s: %s", path, why);
-        return -1;
-    }
-    return 0;
-}
-
 /* The summary completed (exit status, times) and written. Returns the exit
  * status: the run's, or 1 when a run that succeeded cannot write it. */
 static int finish_summary(const char *path, run_summary *summary, int status, double wall_start)
@@ -240,13 +215,13 @@ int run_command(int argc, char **argv)
                                   "give one of them a file");
         parsed = CLI_ERROR;
     }
-    if (parsed == CLI_PARSED && summary_path && check_summary_path(summary_path, err, sizeof err)) {
+    if (parsed == CLI_PARSED && summary_path && cli_check_output_file("--summary", summary_path, err, sizeof err)) {
         summary_path = NULL; /* it cannot be written */
         parsed = CLI_ERROR;
     } else if (parsed == CLI_ERROR && !summary_path) {
         summary_path = summary_path_of(argc, argv);
         char unused[512];
-        if (summary_path && check_summary_path(summary_path, unused, sizeof unused))
+        if (summary_path && cli_check_output_file("--summary", summary_path, unused, sizeof unused))
             summary_path = NULL; /* the usage error is the one reported */
     }
     if (summary_path) {

@@ -687,6 +687,27 @@ void scene_outputs_plan_warnings(const rod_model *m, double dt, run_warnings *w)
                  dt, ops->name, stable, limit);
 }
 
+int scene_outputs_path_checks(const rod_model *m, const char *file, run_warnings *w, char *err,
+                              size_t errlen)
+{
+    /* a path that takes an instrument into a surface: a warning (the run
+     * is still what was asked: instruments pass through surfaces; a
+     * hand-made path that grazes the skin is common); the jaws driven deep
+     * into a rigid surface: refused */
+    for (int k = 0; k < m->instrument_count; k++) {
+        char text[RUN_WARNING_LEN];
+        const int said = rod_instrument_path_warning(m, k, file, text, sizeof text);
+        if (said < 0) {
+            snprintf(err, errlen, "%s", text);
+            return -1;
+        }
+        if (said) run_warn(w, "%s", text);
+    }
+    /* instruments through each other: refused (nothing pushes driven
+     * instruments apart); may_overlap = yes allows it */
+    return rod_instruments_overlap_message(m, file, err, errlen) < 0 ? -1 : 0;
+}
+
 /* slow_motion = auto: a first pass of the run finds where the knot
  * tightens fastest; the output read from then on is a copy with that range
  * (none when no knot tightens; a failing pass leaves it to the run itself
@@ -754,24 +775,9 @@ static int plan_run(scene_run *r)
                       r->out, &r->plan, estimate_seconds(r->o, m, r->out, &r->plan));
     if (!r->o->quiet && r->slow_note[0]) fprintf(r->talk, "  slow     %s\n", r->slow_note);
     scene_outputs_plan_warnings(m, r->dt, &r->warnings);
-    /* a path that takes an instrument into a surface: a warning (the run
-     * is still what was asked: instruments pass through surfaces; a
-     * hand-made path that grazes the skin is common); the jaws driven deep
-     * into a rigid surface: refused, nothing run */
-    for (int k = 0; k < m->instrument_count; k++) {
-        char text[RUN_WARNING_LEN];
-        const int said = rod_instrument_path_warning(m, k, r->o->label, text, sizeof text);
-        if (said < 0) {
-            complain(r->o, "%s; nothing was run\n", text);
-            return -1;
-        }
-        if (said) run_warn(&r->warnings, "%s", text);
-    }
-    /* instruments through each other: refused (nothing pushes driven
-     * instruments apart); may_overlap = yes allows it */
-    char overlap[RUN_WARNING_LEN];
-    if (rod_instruments_overlap_message(m, r->o->label, overlap, sizeof overlap) < 0) {
-        complain(r->o, "%s; nothing was run\n", overlap);
+    char refused[RUN_WARNING_LEN];
+    if (scene_outputs_path_checks(m, r->o->label, &r->warnings, refused, sizeof refused)) {
+        complain(r->o, "%s; nothing was run\n", refused);
         return -1;
     }
     run_warnings_print(stderr, command_name(r->o), &r->warnings, 0);

@@ -19,7 +19,6 @@
 #include "cli/summary.h"
 #include "cli/sweep_export.h"
 #include "cli/sweep_plot.h"
-#include "sim/instrument_overlap.h"
 #include "sim/rod.h"
 #include "study/buckling.h"
 
@@ -316,6 +315,12 @@ static void run_rods_point(const sweep *sw, int point, sweep_point_result *r)
             v[sweep_rod_slot(SWEEP_M_TIP_F)] = norm3(rod->end_force[1]);
         }
     r->status = SWEEP_POINT_OK;
+    for (int w = 0; w < sum->warning_count; w++) { /* the run's warnings, as a rod's point has */
+        size_t used = strlen(r->message);
+        if (used + 1 >= sizeof r->message) break;
+        snprintf(r->message + used, sizeof r->message - used, "%s%s", used ? "; " : "",
+                 sum->warnings[w]);
+    }
 done:
     r->value[SWEEP_M_WALL] = clock_seconds(CLOCK_MONOTONIC) - wall0;
     r->value[SWEEP_M_CPU] = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
@@ -356,16 +361,6 @@ static void run_point(const sweep *sw, int point, sweep_point_result *r)
         set_message(r, SWEEP_POINT_FAILED, "%s", set ? err : "out of memory");
         goto done;
     }
-    /* instruments through each other: this point refused in its row, the
-     * others run. A sweep explores a range: a value that puts one
-     * instrument through another is one of its outcomes (as a point
-     * over the time budget, or unstable), not a typo to refuse the whole
-     * sweep for; a scene of named rods comes out the same way (rods_run.c) */
-    char overlap[sizeof r->message];
-    if (rod_instruments_overlap_message(&m, sw->scene_arg, overlap, sizeof overlap) < 0) {
-        set_message(r, SWEEP_POINT_REFUSED, "%s", overlap);
-        goto done;
-    }
     const char *why = "";
     double dt = rod_choose_dt(&m, &why);
     if (!(dt > 0.0)) dt = 1.0 / out.fps; /* as run.c: the scheme then reports the divergence */
@@ -383,11 +378,22 @@ static void run_point(const sweep *sw, int point, sweep_point_result *r)
                     estimate, (long long)plan.steps, scheme, m.nodes, run_time_limit());
         goto done;
     }
+    scene_outputs_plan_warnings(&m, dt, &warnings);
+    /* the jaws deep into a rigid surface, instruments through each other:
+     * this point refused in its row with the run's message, the others
+     * run. A sweep explores a range: a value that does so is one of its
+     * outcomes (as a point over the time budget, or unstable), not a typo
+     * to refuse the whole sweep for; a scene of named rods comes out the
+     * same way (rods_run.c) */
+    char refused[sizeof r->message];
+    if (scene_outputs_path_checks(&m, sw->scene_arg, &warnings, refused, sizeof refused)) {
+        set_message(r, SWEEP_POINT_REFUSED, "%s", refused);
+        goto done;
+    }
     if (rod_solver_init(&solver, &m, err, sizeof err)) {
         set_message(r, SWEEP_POINT_REFUSED, "cannot start the %s scheme: %s", scheme, err);
         goto done;
     }
-    scene_outputs_plan_warnings(&m, dt, &warnings);
     s = rod_state_create(&m);
     knot_track_init(&frames.knots, m.nodes);
     if (plan.frames <= SWEEP_MAX_SAMPLES) {

@@ -6,7 +6,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "base/ini.h"
 #include "base/suggest.h"
@@ -901,21 +900,7 @@ int sweep_check_outputs(const sweep *sw, char *err, size_t errlen)
     /* the option that names each file (the plot's data is FILE.csv beside --png) */
     const char *const option[6] = {"--csv", "--png", "--svg", "the plot's data", "--snakefile",
                                    "--sbatch"};
-    for (int i = later ? 4 : 0; i < 6; i++) {
-        if (!files[i]) continue;
-        struct stat st;
-        if (stat(files[i], &st) == 0 && S_ISDIR(st.st_mode)) {
-            snprintf(err, errlen, "%s %s: is a directory, not a file", option[i], files[i]);
-            return -1;
-        }
-        char dir[OUTFILE_PATH_MAX];
-        const char *slash = strrchr(files[i], '/');
-        if (!slash) snprintf(dir, sizeof dir, ".");
-        else snprintf(dir, sizeof dir, "%.*s", (int)(slash - files[i] + 1), files[i]);
-        if (outfile_check_dir(dir, why, sizeof why)) {
-            snprintf(err, errlen, "%s %s: %s", option[i], files[i], why);
-            return -1;
-        }
-    }
+    for (int i = later ? 4 : 0; i < 6; i++)
+        if (files[i] && cli_check_output_file(option[i], files[i], err, errlen)) return -1;
     return 0;
 }

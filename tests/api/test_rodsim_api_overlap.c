@@ -3,7 +3,11 @@
  * its words, and loads it with may_overlap = yes. Two straight 12 cm forceps
  * crossing at right angles 3 mm apart (test_instrument_overlap_run's
  * geometry): their shanks overlap by 2 r_jaw + 2 r_shank - h = 2.28 mm, by
- * hand. A scene of two named rods beside them: the same. */
+ * hand. A scene of two named rods beside them: the same. Forceps driven 4
+ * mm into a rigid pad (test_rods_instruments' scene: the open tines' round
+ * ends 4.87 mm deep, over max_depth, 2 jaw radii = 2.40 mm): refused by
+ * the library as by `rodsim run`, in its words, one rod and a named one;
+ * loaded and run with max_depth = 6 mm. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -75,12 +79,58 @@ static void test_refused(const char *name, int rods)
     rodsim_free(sc);
 }
 
+/* A thread on a rigid pad (top at z = 0), forceps pointing down driven
+ * to 4 mm under its top by t = 0.5 s; rod: "" or " thread" (named) */
+static void write_pad_scene(const char *name, const char *rod)
+{
+    const char *rv = "1.2091996,1.2091996,-1.2091996";
+    char text[1024];
+    snprintf(text, sizeof text, "t,x,y,z,rx,ry,rz,jaw\n0,0,0,0.03,%s,1\n0.5,0,0,-0.004,%s,1\n",
+             rv, rv);
+    test_write_in(dir, "deep.csv", text);
+    snprintf(text, sizeof text,
+             "[rod%s]\nlength = 0.1\ndiameter = 0.0005\ndensity = 850\n"
+             "youngs_modulus = 87.5e6\nshear_modulus = 31.25e6\nnodes = 11\n"
+             "origin = -0.05 0.02 0.00025\ndirection = 1 0 0\n[surface]\nshape = box\n"
+             "center = 0 0 -0.005\nsize = 0.2 0.2 0.01\n[instrument]\nkind = forceps\n"
+             "path = deep.csv\nsize = 0.12\n[solver]\nscheme = implicit\nduration = 0.6\n"
+             "[loads]\ngravity = 0 0 -9.81\n", rod);
+    test_write_in(dir, name, text);
+}
+
+static void test_jaws_refused(const char *name, const char *rod)
+{
+    char path[160], output[8192], expected[2048];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    write_pad_scene(name, rod);
+    const char *args[] = {"run", path, "--no-video", "--quiet", NULL};
+    const int status = test_run_rodsim(args, output, sizeof output);
+    rodsim_scene *sc = NULL;
+    rodsim_status st = rodsim_load_file(path, NULL, 0, &sc);
+    snprintf(expected, sizeof expected, "rodsim run: %s\n", rodsim_last_error(NULL));
+    const char *who = rod[0] ? "a named rod" : "one rod";
+    check(status == 2 && st == RODSIM_BAD_INPUT && !sc && strstr(output, expected) &&
+              strstr(expected, "forceps' jaws 4.87 mm into the rigid") &&
+              strstr(expected, "max_depth = 2.40 mm"),
+          "jaws into a rigid pad, %s: rodsim run refuses it (exit %d) and rodsim_load_file "
+          "(status %d, 1) says the same after \"rodsim run: \": %s", who, status, (int)st,
+          rodsim_last_error(NULL));
+    const char *sets[] = {"instrument.max_depth=0.006"};
+    st = rodsim_load_file(path, sets, 1, &sc);
+    check(st == RODSIM_OK && sc && rodsim_run(sc, -1.0) == RODSIM_OK,
+          "jaws into a rigid pad, %s, max_depth = 6 mm: loaded and run to its duration (%s)",
+          who, st ? rodsim_last_error(NULL) : "ok");
+    rodsim_free(sc);
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/rodsim_api_overlap_%ld", (long)getpid());
     mkdir(dir, 0700);
     test_refused("through.ini", 0);
     test_refused("rods.ini", 1);
+    test_jaws_refused("pad.ini", "");
+    test_jaws_refused("pad_rods.ini", " thread");
     if (!getenv("KEEP")) test_remove_tree(dir);
     return test_finish();
 }

@@ -7,8 +7,11 @@
  *    (x, z), the deformed ones at (x + S u, z + S w), S the deformation
  *    scale `rodsim fem` prints; within 0.02 px (the SVG's coordinates have
  *    two decimals);
- *  - a path it cannot write is an error (exit 1) that leaves no file, the
- *    PNG's neither. */
+ *  - a path that cannot be written (under a file) is refused before the
+ *    scene is solved (exit 2, the message naming --svg and the path, no
+ *    nodal table printed), leaving no file, the PNG's neither;
+ *  - a write that fails part way (/dev/full: the disk full) is exit 1, no
+ *    PNG left. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -195,10 +198,18 @@ static void test_svg_alone(void)
     unlink(png);
     const char *bad[] = {"fem", scene, "--svg", svg, "--png", png, NULL};
     rc = test_run_rodsim(bad, output, sizeof output);
+    int solved = strstr(output, "condition number") != NULL; /* the table's heading */
     char *nl = strchr(output, '\n');
     if (nl) *nl = '\0';
-    check(rc == 1 && test_dir_entries(dir) == 1, "--svg where no file can go: exit %d (1), "
-          "no PNG left either (%d files): %s", rc, test_dir_entries(dir), output);
+    check(rc == 2 && !solved && strstr(output, "--svg") && strstr(output, svg) &&
+              test_dir_entries(dir) == 1,
+          "--svg where no file can go: exit %d (2), refused before solving (table printed: %d), "
+          "no PNG left either (%d files): %s", rc, solved, test_dir_entries(dir), output);
+    const char *full[] = {"fem", scene, "--svg", "/dev/full", "--png", png, NULL};
+    rc = test_run_rodsim(full, output, sizeof output);
+    check(rc == 1 && test_dir_entries(dir) == 1,
+          "--svg /dev/full (the disk full part way): exit %d (1), no PNG left (%d files)", rc,
+          test_dir_entries(dir));
 }
 
 int main(void)

@@ -6,7 +6,10 @@
  * naming a directory, is refused up front like --csv (exit 2), not after
  * the run (exit 1). fem's --png FILE beside --no-png is refused (exit 2),
  * not silently drawn nowhere. validate's and stability's --csv are checked
- * before their runs (minutes of them), not after (exit 1). */
+ * before their runs (minutes of them), not after (exit 1). fem's --csv,
+ * --md, --png, --svg and -o, and figure's --out, --csv and --result are
+ * checked before the scene is solved or a point computed (nothing of the
+ * work printed: no nodal table, no point line), not after (exit 1). */
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -71,6 +74,55 @@ static void test_messages_name_the_option(const char *scene)
     expect_named("sweep --result under a file", result, "--result", "-o ");
 }
 
+/* Runs args, expects exit 2 before any work: a message naming `option`
+ * and `path`, and none of `work` (what the work prints first) */
+static void expect_before_work(const char *what, const char *const *args, const char *option,
+                               const char *path, const char *work)
+{
+    char output[8192];
+    int status = test_run_rodsim(args, output, sizeof output);
+    int worked = strstr(output, work) != NULL;
+    char *nl = strchr(output, '\n');
+    if (nl) *nl = '\0';
+    check(status == 2 && strstr(output, option) && strstr(output, path) && !worked,
+          "%s: exit %d (want 2), message '%s' names '%s' and the path; '%s' %s", what, status,
+          output, option, work, worked ? "printed (the work was done)" : "not printed");
+}
+
+static void test_fem_and_figure(void)
+{
+    const char *fem_scene = RODSIM_SOURCE_DIR "/scenes/fishing_rod.ini";
+    const char *table = "condition number"; /* the nodal table's heading */
+    char under[4][160], dir[160];
+    const char *const option[4] = {"--csv", "--md", "--png", "--svg"};
+    for (int i = 0; i < 4; i++) {
+        snprintf(under[i], sizeof under[i], "%s/sub/x.%s", blocker, option[i] + 2);
+        const char *args[] = {"fem", fem_scene, option[i], under[i], NULL};
+        char what[64];
+        snprintf(what, sizeof what, "fem %s under a file", option[i]);
+        expect_before_work(what, args, option[i], under[i], table);
+    }
+    snprintf(dir, sizeof dir, "%s/sub", blocker);
+    const char *fem_dir[] = {"fem", fem_scene, "-o", dir, NULL};
+    expect_before_work("fem -o under a file", fem_dir, "-o ", dir, table);
+    const char *fem_csv_dir[] = {"fem", fem_scene, "--no-png", "--csv", tmp_dir, NULL};
+    expect_before_work("fem --csv naming a directory", fem_csv_dir, "--csv", tmp_dir, table);
+    /* each computes a point first, printing its count ("1 point") */
+    const char *figure_out[] = {"figure", "impulse", "--quick", "--out", dir, NULL};
+    expect_before_work("figure --out under a file", figure_out, "--out", dir, "point");
+    const char *sweep_out[] = {"figure", "buckling-length", "--quick", "--out", dir, NULL};
+    expect_before_work("figure (a sweep figure) --out under a file", sweep_out, "--out", dir,
+                       "point");
+    const char *figure_csv[] = {"figure", "impulse", "--quick", "--point", "0", "--csv",
+                                under[0], NULL};
+    expect_before_work("figure --point --csv under a file", figure_csv, "--csv", under[0],
+                       "point 0");
+    const char *figure_result[] = {"figure", "buckling-length", "--quick", "--point", "0",
+                                   "--result", dir, NULL};
+    expect_before_work("figure --point --result under a file", figure_result, "--result", dir,
+                       "point 1");
+}
+
 /* The elastic pad's scene, run briefly in tmp_dir (cwd), so that a file
  * named "-" would land there. */
 static void test_tissue_csv_dash(void)
@@ -121,6 +173,7 @@ int main(void)
     test_messages_name_the_option(scene);
     test_tissue_csv_dash();
     test_fem_png_and_no_png();
+    test_fem_and_figure();
 
     check(test_dir_entries(tmp_dir) == 2, "nothing written beside the scene and the file: %d "
           "entries (want 2)", test_dir_entries(tmp_dir));

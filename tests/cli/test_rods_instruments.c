@@ -4,7 +4,12 @@
  * byte; two threads, the forceps closing on the upper: the summary's grasp
  * names the rod; a path driving the jaws through a rigid pad is refused
  * (exit 2, naming [instrument] max_depth, nothing written), and with
- * max_depth raised only warns, naming the jaws, the time and the depth. */
+ * max_depth raised only warns, naming the jaws, the time and the depth;
+ * `rodsim sweep` over max_depth (3 mm, 6 mm) refuses the first point in its
+ * row with the run's message (4.87 mm, max_depth) and runs the second, the
+ * run's warning in its message, exit 0: a scene of one rod (its points run
+ * in the sweep's process) and of a named rod (through `rodsim run`'s own
+ * entry) alike. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +17,7 @@
 #include <unistd.h>
 
 #include "test.h"
+#include "test_csv.h"
 #include "test_process.h"
 
 static char dir[64];
@@ -109,6 +115,17 @@ static void write_down_path(const char *file, double z_end)
     write_text(file, text);
 }
 
+/* A thread on a rigid pad (top at z = 0) and forceps driven down to
+ * deep.csv's end; %s: the rod's name (" thread" or ""), then more
+ * [instrument] keys */
+static const char pad_form[] =
+    "[rod%s]\nlength = 0.1\ndiameter = 0.0005\ndensity = 850\nyoungs_modulus = 87.5e6\n"
+    "shear_modulus = 31.25e6\nnodes = 11\norigin = -0.05 0.02 "
+    "0.00025\ndirection = 1 0 0\n[surface]\nshape = box\ncenter = 0 0 -0.005\n"
+    "size = 0.2 0.2 0.01\n[instrument]\nkind = forceps\npath = deep.csv\n"
+    "size = 0.12\n%s[solver]\nscheme = implicit\nduration = 0.6\n"
+    "[loads]\ngravity = 0 0 -9.81\n";
+
 static void test_into_pad(void)
 {
     char scene[1024], path[128], csv[128], out[8192], ini[128], json[128];
@@ -118,13 +135,8 @@ static void test_into_pad(void)
     snprintf(json, sizeof json, "%s/deep.json", dir);
     /* 4 mm into the pad: the open tines' round ends 4.87 mm deep */
     write_down_path(path, -0.004);
-    const char *form = "[rod]\nlength = 0.1\ndiameter = 0.0005\ndensity = 850\nyoungs_modulus = 87.5e6\n"
-                       "shear_modulus = 31.25e6\nnodes = 11\norigin = -0.05 0.02 "
-                       "0.00025\ndirection = 1 0 0\n[surface]\nshape = box\ncenter = 0 0 -0.005\n"
-                       "size = 0.2 0.2 0.01\n[instrument]\nkind = forceps\npath = deep.csv\n"
-                       "size = 0.12\n%s[solver]\nscheme = implicit\nduration = 0.6\n"
-                       "[loads]\ngravity = 0 0 -9.81\n";
-    snprintf(scene, sizeof scene, form, "");
+    const char *form = pad_form;
+    snprintf(scene, sizeof scene, form, "", "");
     write_text(ini, scene);
     const char *args[] = {"run", ini, "--no-video", "--csv", csv, "--summary", json, NULL};
     int rc = test_run_rodsim(args, out, sizeof out);
@@ -133,12 +145,47 @@ static void test_into_pad(void)
               strstr(out, "nothing was run") && stat(csv, &st) != 0,
           "jaws 4.87 mm into a rigid pad: exit %d (2), names max_depth, no CSV: %.200s", rc,
           strstr(out, "[instrument]") ? strstr(out, "[instrument]") : out);
-    snprintf(scene, sizeof scene, form, "max_depth = 0.006\n");
+    snprintf(scene, sizeof scene, form, "", "max_depth = 0.006\n");
     write_text(ini, scene);
     rc = test_run_rodsim(args, out, sizeof out);
     check(rc == 0 && strstr(out, "warning") && strstr(out, "forceps' jaws go into") &&
               strstr(out, "4.9 mm deep at t = 0.500 s") && stat(csv, &st) == 0,
           "max_depth = 6 mm: a warning naming the jaws, the time, the depth; run (exit %d)", rc);
+}
+
+/* The pad swept over max_depth: 3 mm refused in its row, 6 mm run */
+static void test_into_pad_sweep(const char *rod)
+{
+    char scene[1024], path[128], ini[128], csv[128], out[8192];
+    snprintf(path, sizeof path, "%s/deep.csv", dir);
+    snprintf(ini, sizeof ini, "%s/deep_sweep.ini", dir);
+    snprintf(csv, sizeof csv, "%s/deep_sweep.csv", dir);
+    write_down_path(path, -0.004);
+    snprintf(scene, sizeof scene, pad_form, rod, "");
+    write_text(ini, scene);
+    unlink(csv);
+    const char *args[] = {"sweep", ini, "--vary", "instrument.max_depth=0.003,0.006",
+                          "--measure", "steps", "--csv", csv, "--quiet", NULL};
+    const int rc = test_run_rodsim(args, out, sizeof out);
+    char *rows = read_text(csv);
+    const int status = rows ? csv_column(rows, "status") : -1;
+    const int message = rows ? csv_column(rows, "message") : -1;
+    char refused[2][16] = {"", ""}, said[2][1024] = {"", ""};
+    for (int k = 0; k < 2 && status >= 0 && message >= 0; k++) {
+        csv_cell(rows, k + 1, status, refused[k], sizeof refused[k]);
+        csv_cell(rows, k + 1, message, said[k], sizeof said[k]);
+    }
+    const char *who = rod[0] ? "a named rod" : "one rod";
+    check(rc == 0 && strcmp(refused[0], "refused") == 0 &&
+              strstr(said[0], "forceps' jaws 4.87 mm into the rigid") &&
+              strstr(said[0], "deeper than max_depth = 3.00 mm"),
+          "sweep, %s: max_depth 3 mm refused in its row with the run's message (exit %d, "
+          "status %s): %.300s", who, rc, refused[0], said[0]);
+    check(strcmp(refused[1], "ok") == 0 && strstr(said[1], "forceps' jaws go into") &&
+              strstr(said[1], "4.9 mm deep at t = 0.500 s"),
+          "sweep, %s: max_depth 6 mm run (status %s), the run's warning in its message: %.300s",
+          who, refused[1], said[1]);
+    free(rows);
 }
 
 static void test_two_rods_summary(void)
@@ -178,6 +225,8 @@ int main(void)
     mkdir(dir, 0700);
     test_one_named_csv();
     test_into_pad();
+    test_into_pad_sweep("");
+    test_into_pad_sweep(" thread");
     test_two_rods_summary();
     if (!getenv("KEEP")) test_remove_tree(dir);
     return test_finish();

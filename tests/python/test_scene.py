@@ -143,6 +143,32 @@ def test_instruments_through_each_other(tmp_path):
         assert s.nodes == 31
 
 
+def test_jaws_into_a_rigid_pad(tmp_path):
+    """Forceps pointing down driven 4 mm under a rigid pad's top: the open
+    tines' round ends 4.87 mm deep, over max_depth (2 jaw radii, 2.40 mm):
+    refused with `rodsim run`'s message, loaded with max_depth = 6 mm."""
+    rv = "1.2091996,1.2091996,-1.2091996"
+    (tmp_path / "deep.csv").write_text("t,x,y,z,rx,ry,rz,jaw\n0,0,0,0.03,%s,1\n"
+                                       "0.5,0,0,-0.004,%s,1\n" % (rv, rv))
+    scene = tmp_path / "pad.ini"
+    scene.write_text("[rod]\nlength = 0.1\ndiameter = 0.0005\ndensity = 850\n"
+                     "youngs_modulus = 87.5e6\nshear_modulus = 31.25e6\nnodes = 11\n"
+                     "origin = -0.05 0.02 0.00025\ndirection = 1 0 0\n[surface]\nshape = box\n"
+                     "center = 0 0 -0.005\nsize = 0.2 0.2 0.01\n[instrument]\nkind = forceps\n"
+                     "path = deep.csv\nsize = 0.12\n[solver]\nscheme = implicit\n"
+                     "duration = 0.6\n[loads]\ngravity = 0 0 -9.81\n")
+    cli = subprocess.run([RODSIM_BIN, "run", str(scene), "--no-video", "--quiet"],
+                         capture_output=True, text=True)
+    with pytest.raises(rodsim.Error) as e:
+        rodsim.Scene(scene)
+    assert cli.returncode == 2 and e.value.status == "bad_input"
+    assert "rodsim run: %s\n" % e.value in cli.stderr
+    assert "the forceps' jaws 4.87 mm into the rigid" in str(e.value)
+    assert "max_depth = 2.40 mm" in str(e.value)
+    with rodsim.Scene(scene, overrides={"instrument.max_depth": 0.006}) as s:
+        assert s.nodes == 11
+
+
 def test_overrides_and_state_shapes():
     with rodsim.Scene(HANGING, overrides={"rod.nodes": 11, "solver.dt": 0.004}) as s:
         assert s.nodes == 11 and s.dt == 0.004
