@@ -61,8 +61,8 @@
  * times the most a step of the last LIVE_RECENT_LINES lines that stepped
  * took, within LIVE_STEP_BUDGET_MIN and LIVE_STEP_BUDGET_MAX. A line of one
  * step these three tries fail or step costs at most 9 times that; only when
- * all three fail is the line tried with the scheme's own budget (live.c
- * line_tries). */
+ * all three fail is the line tried with the scheme's own budget
+ * (live_step.c, live_line_tries). */
 #define LIVE_BUDGET_FACTOR 4
 #define LIVE_RECENT_LINES 32
 #define LIVE_STEP_BUDGET_MIN 60
