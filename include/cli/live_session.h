@@ -171,10 +171,18 @@ struct live_session {
 void live_line_done(live_session *ls);
 
 /* live_step.c: a line of the driven tip, and what an instrument's line shares of it */
+/* 1 with err and kind at the first of values[count] that is not finite, else 0 */
+int live_check_finite(const double *values, int count, char *err, size_t errlen,
+                      const char **kind);
 int live_check_line(live_session *ls, const double *values, int count, char *err,
                     size_t errlen, const char **kind);
 int live_step_line(live_session *ls, const double *values, int count);
 int live_line_budget(const live_session *ls);
+/* --realtime: waits until t on the wall clock; the line's work starts then */
+void live_line_wait(live_session *ls, double t);
+/* A line to t begins: its gap of simulated time, its Newton counts zeroed,
+ * its budget (live_line_budget) */
+void live_line_begin(live_session *ls, double t);
 void live_set_budget(live_session *ls, int budget);
 int live_try_row(live_session *ls, const double *row, double t, int hold, double *velocity,
                  rod_status *status, rod_report *report);

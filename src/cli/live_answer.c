@@ -45,6 +45,21 @@ void live_complain(live_session *ls, const char *kind, const char *fmt, ...)
     ls->run_count = 1;
 }
 
+/* The answer in ls->answer up to p: with --centreline the node positions
+ * (m) follow; written and flushed in one write. */
+static void write_answer(live_session *ls, char *p)
+{
+    const rod_state *s = ls->state;
+    if (ls->set.centreline)
+        for (int i = 0; i < 3 * s->nodes; i++) {
+            *p++ = ',';
+            p += numfmt_g(p, s->position[i] + 0.0, 12);
+        }
+    *p++ = '\n';
+    fwrite(ls->answer, 1, (size_t)(p - ls->answer), ls->out);
+    fflush(ls->out);
+}
+
 void live_print_answer(live_session *ls, const char *status)
 {
     const rod_state *s = ls->state;
@@ -61,14 +76,7 @@ void live_print_answer(live_session *ls, const char *status)
     }
     *p++ = ',';
     p += snprintf(p, 16, "%s", status);
-    if (ls->set.centreline)
-        for (int i = 0; i < 3 * s->nodes; i++) {
-            *p++ = ',';
-            p += numfmt_g(p, s->position[i] + 0.0, 12);
-        }
-    *p++ = '\n';
-    fwrite(ls->answer, 1, (size_t)(p - ls->answer), ls->out);
-    fflush(ls->out);
+    write_answer(ls, p);
 }
 
 /* Instrument k's answer: NAME,t,fx,fy,fz,held,s,status: the force the
@@ -90,14 +98,7 @@ void live_print_instrument_answer(live_session *ls, int k, const char *status)
     p += snprintf(p, 8, ",%d,", g->held);
     p += numfmt_g(p, g->held ? g->s : -1.0, 12);
     p += snprintf(p, 16, ",%s", status);
-    if (ls->set.centreline)
-        for (int i = 0; i < 3 * s->nodes; i++) {
-            *p++ = ',';
-            p += numfmt_g(p, s->position[i] + 0.0, 12);
-        }
-    *p++ = '\n';
-    fwrite(ls->answer, 1, (size_t)(p - ls->answer), ls->out);
-    fflush(ls->out);
+    write_answer(ls, p);
 }
 
 /* After a write to the record: a row that did not reach the file ends the
@@ -150,6 +151,13 @@ static void say_stuck(live_session *ls)
             ls->line_no, ls->stuck, t, t, t);
 }
 
+const char *live_failure_word(rod_status status)
+{
+    return status == ROD_NO_CONVERGENCE ? "no convergence"
+           : status == ROD_UNSTABLE     ? "unstable"
+                                        : "failure";
+}
+
 /* A failed line's message: why the row asked for failed, then where the
  * end (or instrument `name`'s jaws; NULL: the driven end) went (fraction
  * of the way; < 0: nowhere, and why the last try failed). */
@@ -169,9 +177,7 @@ void live_say_failed(live_session *ls, double t, const char *name, rod_status st
         snprintf(where, sizeof where, "no try stepped (the last: %s); answered with the last "
                  "good state (t = %.9g s), the line dropped from the path",
                  last->message[0] ? last->message : "no message", ls->state->time);
-    const char *why = status == ROD_NO_CONVERGENCE ? "no convergence"
-                      : status == ROD_UNSTABLE     ? "unstable"
-                                                   : "failure";
+    const char *why = live_failure_word(status);
     char kind[64];
     snprintf(kind, sizeof kind, "%s step failed (%s), %s", name ? "the jaws'" : "the",
              why, fraction > 0.0 ? "moved part of the way" : fraction == 0.0 ? "held" : "dropped");

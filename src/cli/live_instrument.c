@@ -19,12 +19,7 @@ int live_check_instrument_line(live_session *ls, const double *values, int count
         *kind = "the count of numbers";
         return 1;
     }
-    for (int k = 0; k < count; k++)
-        if (!isfinite(values[k])) {
-            snprintf(err, errlen, "column %d is not a finite number", k + 1);
-            *kind = "a number not finite";
-            return 1;
-        }
+    if (live_check_finite(values, count, err, errlen, kind)) return 1;
     if (!(values[7] >= 0.0 && values[7] <= 1.0)) {
         snprintf(err, errlen, "jaw %.17g: the opening is 0 (closed) .. 1 (open)", values[7]);
         *kind = "an opening out of range";
@@ -114,15 +109,9 @@ static int try_instrument(live_session *ls, int k, const double *v, double fract
  * answered failed. LINE_OK or LINE_FAILED (a row short of the line's). */
 int live_step_instrument_line(live_session *ls, int k, const double *v)
 {
-    if (ls->set.realtime) {
-        live_pace(ls->wall_origin, v[0]);
-        ls->line_start = live_wall_seconds();
-    }
+    live_line_wait(ls, v[0]);
     const double before = ls->state->time;
-    ls->line_gap = v[0] - before;
-    ls->line_iterations = ls->line_builds = ls->line_step_max = 0;
-    ls->budget = live_line_budget(ls);
-    if (ls->budget > ls->budget_max) ls->budget_max = ls->budget;
+    live_line_begin(ls, v[0]);
     char err[256];
     rod_status status = ROD_FAILED, first_status = ROD_FAILED;
     rod_report report, first_report;
@@ -206,25 +195,39 @@ int live_instruments_start(live_session *ls, rod_model *m, char *err, size_t err
     for (int k = 0; k < m->instrument_count && k < ROD_MAX_INSTRUMENTS; k++) {
         rod_instrument *in = &m->instruments[k];
         if (in->needle) continue;
-        rod_pose pose;
-        double jaw, row[7] = {0.0}, rv[3];
-        rod_instrument_pose(in, 0.0, &pose, &jaw);
-        m3_log(rv, pose.rotation);
-        memcpy(&row[1], pose.position, sizeof pose.position);
-        memcpy(&row[4], rv, sizeof rv);
-        const double opening[4] = {0.0, jaw, 0.0, 0.0};
-        rod_path *p = rod_path_create_live(7, row, err, errlen);
-        rod_path *o = p ? rod_path_create_live(4, opening, err, errlen) : NULL;
-        if (!o) {
-            rod_path_destroy(p);
+        live_instrument_start_row(in, ls->instrument_row[k]);
+        if (live_instrument_follow(in, ls->instrument_row[k], &ls->instrument_pose[k],
+                                   &ls->instrument_jaw[k], err, errlen))
             return -1;
-        }
-        memcpy(ls->instrument_row[k], row, sizeof row);
-        ls->instrument_row[k][7] = jaw;
-        rod_path_destroy(in->pose);
-        rod_path_destroy(in->jaw);
-        in->pose = ls->instrument_pose[k] = p;
-        in->jaw = ls->instrument_jaw[k] = o;
     }
+    return 0;
+}
+
+void live_instrument_start_row(const rod_instrument *in, double row[8])
+{
+    rod_pose pose;
+    double jaw, rv[3];
+    rod_instrument_pose(in, 0.0, &pose, &jaw);
+    m3_log(rv, pose.rotation);
+    row[0] = 0.0;
+    memcpy(&row[1], pose.position, sizeof pose.position);
+    memcpy(&row[4], rv, sizeof rv);
+    row[7] = jaw;
+}
+
+int live_instrument_follow(rod_instrument *in, const double row[8], rod_path **pose,
+                           rod_path **jaw, char *err, size_t errlen)
+{
+    const double opening[4] = {0.0, row[7], 0.0, 0.0};
+    rod_path *p = rod_path_create_live(7, row, err, errlen);
+    rod_path *o = p ? rod_path_create_live(4, opening, err, errlen) : NULL;
+    if (!o) {
+        rod_path_destroy(p);
+        return -1;
+    }
+    rod_path_destroy(in->pose);
+    rod_path_destroy(in->jaw);
+    in->pose = *pose = p;
+    in->jaw = *jaw = o;
     return 0;
 }

@@ -21,6 +21,15 @@ static double thread_cpu_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+const char *live_line_name(const char *line, const char *colon, size_t *len)
+{
+    const char *name = line, *end = colon;
+    while (*name == ' ' || *name == '\t') name++;
+    while (end > name && (end[-1] == ' ' || end[-1] == '\t')) end--;
+    *len = (size_t)(end - name);
+    return name;
+}
+
 int live_split_numbers(char *line, double *values, int max)
 {
     int count = 0;
@@ -61,11 +70,10 @@ static void answer_line(live_session *ls, size_t len)
         char *numbers = ls->line, *colon = strchr(ls->line, ':');
         int named_ok = 1, instrument = -1;
         if (colon) {
-            char *name = ls->line, *end = colon;
-            while (*name == ' ' || *name == '\t') name++;
-            while (end > name && (end[-1] == ' ' || end[-1] == '\t')) end--;
-            instrument = live_line_instrument(ls, name, (size_t)(end - name));
-            named_ok = instrument >= 0 || (end - name == 3 && strncmp(name, "rod", 3) == 0);
+            size_t name_len;
+            const char *name = live_line_name(ls->line, colon, &name_len);
+            instrument = live_line_instrument(ls, name, name_len);
+            named_ok = instrument >= 0 || (name_len == 3 && strncmp(name, "rod", 3) == 0);
             numbers = colon + 1;
         }
         int count = named_ok ? live_split_numbers(numbers, values, instrument >= 0 ? 8 : 7) : -3;

@@ -98,6 +98,21 @@ int live_line_budget(const live_session *ls)
                                            : (int)budget;
 }
 
+void live_line_wait(live_session *ls, double t)
+{
+    if (!ls->set.realtime) return;
+    live_pace(ls->wall_origin, t);
+    ls->line_start = live_wall_seconds();
+}
+
+void live_line_begin(live_session *ls, double t)
+{
+    ls->line_gap = t - ls->state->time;
+    ls->line_iterations = ls->line_builds = ls->line_step_max = 0;
+    ls->budget = live_line_budget(ls);
+    if (ls->budget > ls->budget_max) ls->budget_max = ls->budget;
+}
+
 /* Sets rod_options.iteration_budget of the model stepped (0: the scheme's own). */
 void live_set_budget(live_session *ls, int budget)
 {
@@ -134,6 +149,18 @@ int live_try_row(live_session *ls, const double *row, double t, int hold, double
     return -1;
 }
 
+int live_check_finite(const double *values, int count, char *err, size_t errlen,
+                      const char **kind)
+{
+    for (int k = 0; k < count; k++)
+        if (!isfinite(values[k])) {
+            snprintf(err, errlen, "column %d is not a finite number", k + 1);
+            *kind = "a number not finite";
+            return 1;
+        }
+    return 0;
+}
+
 /* Refuses a line that cannot be stepped: the count of numbers, their
  * finiteness, t against the state's time. 0, or 1 with err and kind. */
 int live_check_line(live_session *ls, const double *values, int count, char *err,
@@ -146,12 +173,7 @@ int live_check_line(live_session *ls, const double *values, int count, char *err
         *kind = "the count of numbers";
         return 1;
     }
-    for (int k = 0; k < count; k++)
-        if (!isfinite(values[k])) {
-            snprintf(err, errlen, "column %d is not a finite number", k + 1);
-            *kind = "a number not finite";
-            return 1;
-        }
+    if (live_check_finite(values, count, err, errlen, kind)) return 1;
     if (!(values[0] > now)) {
         snprintf(err, errlen, "t = %.17g s does not increase (the state is at %.17g s)",
                  values[0], now);
@@ -238,10 +260,7 @@ int live_refuse_overlap(live_session *ls, double t, int k, const char *text)
 int live_step_line(live_session *ls, const double *values, int count)
 {
     rod_state *s = ls->state;
-    if (ls->set.realtime) {
-        live_pace(ls->wall_origin, values[0]);
-        ls->line_start = live_wall_seconds();
-    }
+    live_line_wait(ls, values[0]);
     double row[7] = {0}, velocity[6] = {0}, reached[7];
     memcpy(row, values, (size_t)count * sizeof(double)); /* 4 numbers on a clamped tip: no turn */
     /* jaws holding the needle: the tip goes with them, the line's pose unused */
@@ -249,10 +268,7 @@ int live_step_line(live_session *ls, const double *values, int count)
     const int carried = live_tip_needle_row(ls, row[0], -1, row);
     memcpy(reached, row, sizeof row);
     const double before = s->time;
-    ls->line_gap = values[0] - before;
-    ls->line_iterations = ls->line_builds = ls->line_step_max = 0;
-    ls->budget = live_line_budget(ls);
-    if (ls->budget > ls->budget_max) ls->budget_max = ls->budget;
+    live_line_begin(ls, values[0]);
     /* the time goes on: a needle holder on its scene path moves */
     char overlap[LIVE_OVERLAP_LEN];
     if (live_overlap_line(ls->model, before, row[0], overlap, sizeof overlap)) {
