@@ -61,8 +61,8 @@
  * times the most a step of the last LIVE_RECENT_LINES lines that stepped
  * took, within LIVE_STEP_BUDGET_MIN and LIVE_STEP_BUDGET_MAX. A line of one
  * step these three tries fail or step costs at most 9 times that; only when
- * all three fail is the line tried with the scheme's own budget (live.c
- * line_tries). */
+ * all three fail is the line tried with the scheme's own budget
+ * (live_step.c, live_line_tries). */
 #define LIVE_BUDGET_FACTOR 4
 #define LIVE_RECENT_LINES 32
 #define LIVE_STEP_BUDGET_MIN 60
@@ -130,5 +130,26 @@ void live_usage(FILE *f);
  * field that is not a number (strtod: "nan", "inf" parse, finiteness is
  * checked after), -2 when there are more than `max`. */
 int live_split_numbers(char *line, double *values, int max);
+
+/* What the sessions of one rod and of several share (live_line.c,
+ * live_instrument.c, live_answer.c): */
+
+/* The name before a line's colon (line .. colon), blanks and tabs around
+ * it taken off: its first byte, *len its length. */
+const char *live_line_name(const char *line, const char *colon, size_t *len);
+
+/* An instrument's row at t = 0 from its scene path: t, its pose (x,y,z m,
+ * the rotation vector rad) and the jaws' opening (0..1). */
+void live_instrument_start_row(const rod_instrument *in, double row[8]);
+
+/* The instrument follows live paths that start at `row` (t, pose,
+ * opening), at rest, in place of its scene paths (freed); *pose and *jaw
+ * are the new paths (the instrument owns them). 0, or -1 with err and the
+ * instrument as it was. */
+int live_instrument_follow(rod_instrument *in, const double row[8], rod_path **pose,
+                           rod_path **jaw, char *err, size_t errlen);
+
+/* A failed step's status in a message: no convergence, unstable, failure. */
+const char *live_failure_word(rod_status status);
 
 #endif

@@ -1,14 +1,17 @@
-/* live_realtime.c: rodsim live's --realtime set-up (live_realtime.h). */
-#define _GNU_SOURCE /* mlockall flags, sched_setaffinity */
+/* live_realtime.c: rodsim live's --realtime set-up, clock and stop
+ * signals (live_realtime.h). */
+#define _GNU_SOURCE /* mlockall flags, sched_setaffinity, clock_nanosleep */
 #include "cli/live_realtime.h"
 
 #include <errno.h>
 #include <malloc.h> /* mallopt: the heap --realtime keeps */
+#include <math.h>
 #include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
+#include <time.h>
 
 #include "sim/contact/self_contact.h"
 
@@ -60,4 +63,35 @@ void live_realtime_setup(size_t heap_bytes)
     if (cpu < 0 || sched_setaffinity(0, sizeof set, &set))
         fprintf(stderr, "rodsim live: --realtime: not pinned to a CPU (%s); going on\n",
                 strerror(errno));
+}
+
+volatile sig_atomic_t live_stop_signal;
+static void on_stop_signal(int sig) { live_stop_signal = sig; }
+
+void live_stop_signals_install(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN);
+}
+
+double live_wall_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void live_pace(double wall_origin, double t)
+{
+    /* t is at most a session's max_ahead steps ahead, but solver.dt may be
+     * huge: the wait stays within time_t's range */
+    const double due = wall_origin + fmin(t, 1e9);
+    struct timespec ts = {(time_t)due, (long)((due - floor(due)) * 1e9)};
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR &&
+           !live_stop_signal) {}
 }

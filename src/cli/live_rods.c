@@ -5,11 +5,9 @@
 
 #include <errno.h>
 #include <math.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "api/scene_keys.h"
 #include "api/scene_read.h"
@@ -20,9 +18,7 @@
 #include "cli/live.h"
 #include "cli/live_overlap.h"
 #include "cli/run.h"
-#include "base/vec3.h"
 #include "sim/cut.h"
-#include "sim/instrument.h"
 #include "sim/path.h"
 #include "sim/rod_set.h"
 
@@ -60,26 +56,6 @@ typedef struct live_rods {
     rod_path *instrument_jaw[ROD_SET_MAX][ROD_MAX_INSTRUMENTS];
     double instrument_row[ROD_MAX_INSTRUMENTS][8];
 } live_rods;
-
-/* Set by SIGINT and SIGTERM: the session ends like at the end of input */
-static volatile sig_atomic_t stop_signal;
-static void on_stop_signal(int sig) { stop_signal = sig; }
-
-static double wall_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* --realtime: waits until t (s, at most LIVE_MAX_STEPS_AHEAD steps after
- * the state's) on the wall clock; a stop signal ends the wait */
-static void pace(const live_rods *lr, double t)
-{
-    const double due = lr->wall_origin + fmin(t, 1e9); /* within time_t's range */
-    struct timespec ts = {(time_t)due, (long)((due - floor(due)) * 1e9)};
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR && !stop_signal) {}
-}
 
 /* The rods' names, ", " between them: all (which 0), those with a held tip
  * (1) or a free one (2) */
@@ -143,28 +119,12 @@ static int make_instrument_paths(live_rods *lr, char *err, size_t errlen)
         int needle = 0;
         for (int k = 0; k < lr->set.count; k++) needle |= lr->set.model[k].instruments[i].needle;
         if (needle) continue;
-        rod_pose pose;
-        double jaw, rv[3], *row = lr->instrument_row[i];
-        rod_instrument_pose(&m0->instruments[i], 0.0, &pose, &jaw);
-        m3_log(rv, pose.rotation);
-        row[0] = 0.0;
-        memcpy(&row[1], pose.position, sizeof pose.position);
-        memcpy(&row[4], rv, sizeof rv);
-        row[7] = jaw;
-        const double opening[4] = {0.0, jaw, 0.0, 0.0};
-        for (int k = 0; k < lr->set.count; k++) {
-            rod_instrument *in = &lr->set.model[k].instruments[i];
-            rod_path *p = rod_path_create_live(7, row, err, errlen);
-            rod_path *o = p ? rod_path_create_live(4, opening, err, errlen) : NULL;
-            if (!o) {
-                rod_path_destroy(p);
+        live_instrument_start_row(&m0->instruments[i], lr->instrument_row[i]);
+        for (int k = 0; k < lr->set.count; k++)
+            if (live_instrument_follow(&lr->set.model[k].instruments[i], lr->instrument_row[i],
+                                       &lr->instrument_pose[k][i], &lr->instrument_jaw[k][i],
+                                       err, errlen))
                 return -1;
-            }
-            rod_path_destroy(in->pose);
-            rod_path_destroy(in->jaw);
-            in->pose = lr->instrument_pose[k][i] = p;
-            in->jaw = lr->instrument_jaw[k][i] = o;
-        }
     }
     return 0;
 }
@@ -258,6 +218,16 @@ static char *centrelines(const live_rods *lr, char *p)
     return p;
 }
 
+/* The answer in lr->text up to p, every rod's centreline after it with
+ * --centreline: written and flushed in one write. */
+static void write_text(live_rods *lr, char *p)
+{
+    p = centrelines(lr, p);
+    *p++ = '\n';
+    fwrite(lr->text, 1, (size_t)(p - lr->text), stdout);
+    fflush(stdout);
+}
+
 /* The answer to a line: rod k's name ("" and zeros for k < 0), the time,
  * the force and moment it exerts on what holds its driven end (a held tip;
  * for a free tip, driven by its loads, the root), the status. */
@@ -275,10 +245,7 @@ static void answer(live_rods *lr, int k, const char *status)
         p += numfmt_g(p, v + 0.0, 12); /* + 0.0: -0 prints as 0 */
     }
     p += snprintf(p, 16, ",%s", status);
-    p = centrelines(lr, p);
-    *p++ = '\n';
-    fwrite(lr->text, 1, (size_t)(p - lr->text), stdout);
-    fflush(stdout);
+    write_text(lr, p);
 }
 
 /* Instrument i's answer: NAME,t,fx,fy,fz,ROD,s,status: the force the
@@ -304,10 +271,7 @@ static void answer_instrument(live_rods *lr, int i, const char *status)
     p += snprintf(p, ROD_NAME_LEN + 2, ",%s,", held);
     p += numfmt_g(p, at, 12);
     p += snprintf(p, 16, ",%s", status);
-    p = centrelines(lr, p);
-    *p++ = '\n';
-    fwrite(lr->text, 1, (size_t)(p - lr->text), stdout);
-    fflush(stdout);
+    write_text(lr, p);
 }
 
 /* Instrument i to the pose and opening of v (t,x,y,z,rx,ry,rz,jaw, checked),
@@ -352,9 +316,7 @@ static int step_instrument(live_rods *lr, int i, const double *v, char *err, siz
         }
         for (int j = 0; j < lr->set.count; j++) rod_state_copy(lr->run.state[j], lr->good[j]);
         snprintf(err, errlen, "the step failed (%s): %s; answered with the last good state (t = "
-                 "%.9g s), the line dropped",
-                 st == ROD_NO_CONVERGENCE ? "no convergence" : st == ROD_UNSTABLE ? "unstable"
-                                                                                : "failure",
+                 "%.9g s), the line dropped", live_failure_word(st),
                  report.message[0] ? report.message : "no message", now);
     }
     /* the rows pushed taken back (a partly pushed rod's too: pop leaves the first row) */
@@ -370,16 +332,39 @@ static int step_instrument(live_rods *lr, int i, const double *v, char *err, siz
  * needle), or -1 */
 static int line_instrument(const live_rods *lr, const char *text)
 {
-    const char *colon = strchr(text, ':'), *name = text, *end = colon;
+    const char *colon = strchr(text, ':');
     if (!colon) return -1;
-    while (*name == ' ' || *name == '\t') name++;
-    while (end > name && (end[-1] == ' ' || end[-1] == '\t')) end--;
+    size_t len;
+    const char *name = live_line_name(text, colon, &len);
     const rod_model *m0 = &lr->set.model[0];
     for (int i = 0; i < m0->instrument_count && i < ROD_MAX_INSTRUMENTS; i++)
-        if (lr->instrument_pose[0][i] && (size_t)(end - name) == strlen(m0->instruments[i].name) &&
-            strncmp(name, m0->instruments[i].name, (size_t)(end - name)) == 0)
+        if (lr->instrument_pose[0][i] && len == strlen(m0->instruments[i].name) &&
+            strncmp(name, m0->instruments[i].name, len) == 0)
             return i;
     return -1;
+}
+
+/* After an answer: 1 when standard output failed (the session ends, exit
+ * 1), else 0 */
+static int answered(live_rods *lr)
+{
+    return ferror(stdout) ? (lr->status = RUN_EXIT_FAILURE, 1) : 0;
+}
+
+/* A refused line, said: --on-error stop ends the session (1, exit 2), else
+ * the line is answered bad_input, instrument i's answer (i >= 0) or rod
+ * k's; answered's. */
+static int refused(live_rods *lr, int i, int k)
+{
+    if (lr->stop_on_error) {
+        fprintf(stderr, "rodsim live: stopped at input line %ld (--on-error stop)\n",
+                lr->line_no);
+        lr->status = RUN_EXIT_BAD_INPUT;
+        return 1;
+    }
+    if (i >= 0) answer_instrument(lr, i, "bad_input");
+    else answer(lr, k, "bad_input");
+    return answered(lr);
 }
 
 /* An instrument's line: answered; 1 when the session ends */
@@ -401,16 +386,9 @@ static int serve_instrument_line(live_rods *lr, int i, char *text)
         lr->bad++;
         fprintf(stderr, "rodsim live: input line %ld: %s; an instrument's line is "
                 "NAME:t,x,y,z,rx,ry,rz,jaw (s, m, rad, 0..1), t increasing\n", lr->line_no, err);
-        if (lr->stop_on_error) {
-            fprintf(stderr, "rodsim live: stopped at input line %ld (--on-error stop)\n",
-                    lr->line_no);
-            lr->status = RUN_EXIT_BAD_INPUT;
-            return 1;
-        }
-        answer_instrument(lr, i, "bad_input");
-        return ferror(stdout) ? (lr->status = RUN_EXIT_FAILURE, 1) : 0;
+        return refused(lr, i, -1);
     }
-    if (lr->realtime) pace(lr, v[0]);
+    if (lr->realtime) live_pace(lr->wall_origin, v[0]);
     if (step_instrument(lr, i, v, err, sizeof err) == 0) {
         lr->ok++;
         answer_instrument(lr, i, "ok");
@@ -421,7 +399,7 @@ static int serve_instrument_line(live_rods *lr, int i, char *text)
                 lr->line_no, lr->set.model[0].instruments[i].name, v[0], err);
         answer_instrument(lr, i, "failed");
     }
-    return ferror(stdout) ? (lr->status = RUN_EXIT_FAILURE, 1) : 0;
+    return answered(lr);
 }
 
 /* Which rod the line addresses: "NAME:" taken off *text, or the default.
@@ -430,18 +408,16 @@ static int line_rod(live_rods *lr, char **text, char *err, size_t errlen)
 {
     char *colon = strchr(*text, ':');
     if (!colon) return lr->default_rod;
-    char *name = *text, *end = colon;
-    while (*name == ' ' || *name == '\t') name++;
-    while (end > name && (end[-1] == ' ' || end[-1] == '\t')) end--;
+    size_t len;
+    const char *name = live_line_name(*text, colon, &len);
     *text = colon + 1;
     for (int k = 0; k < lr->set.count; k++)
-        if ((size_t)(end - name) == strlen(lr->set.name[k]) &&
-            strncmp(name, lr->set.name[k], (size_t)(end - name)) == 0)
+        if (len == strlen(lr->set.name[k]) && strncmp(name, lr->set.name[k], len) == 0)
             return k;
     char names[ROD_SET_MAX * (ROD_NAME_LEN + 2)];
     rod_names(lr, 0, names, sizeof names);
-    snprintf(err, errlen, "no rod named '%.*s'; accepted: %s", (int)(end - name > 64 ? 64 : end - name),
-             name, names);
+    snprintf(err, errlen, "no rod named '%.*s'; accepted: %s", (int)(len > 64 ? 64 : len), name,
+             names);
     return -1;
 }
 
@@ -518,9 +494,7 @@ static int step_line(live_rods *lr, int k, const double *row, char *err, size_t 
         rod_path_pop(lr->path[k]);
     }
     snprintf(err, errlen, "the step failed (%s): %s; answered with the last good state (t = "
-             "%.9g s), the line dropped",
-             st == ROD_NO_CONVERGENCE ? "no convergence" : st == ROD_UNSTABLE ? "unstable"
-                                                                            : "failure",
+             "%.9g s), the line dropped", live_failure_word(st),
              report.message[0] ? report.message : "no message", now);
     return -1;
 }
@@ -542,10 +516,10 @@ static int serve_line(live_rods *lr, char *text, int too_long, int nul)
     if (k >= 0 && check_line(lr, k, v, count, err, sizeof err) == 0) {
         memcpy(row, v, (size_t)count * sizeof(double)); /* 4 numbers on a clamped tip: no turn */
         const double gap = row[0] - lr->run.state[0]->time;
-        if (lr->realtime) pace(lr, row[0]);
-        const double start = wall_seconds();
+        if (lr->realtime) live_pace(lr->wall_origin, row[0]);
+        const double start = live_wall_seconds();
         const int stepped = step_line(lr, k, row, err, sizeof err);
-        const double spent = wall_seconds() - start;
+        const double spent = live_wall_seconds() - start;
         if (lr->realtime && spent > gap) { /* the next line, one gap later, waits */
             lr->overruns++;
             lr->worst_overrun = fmax(lr->worst_overrun, spent);
@@ -566,20 +540,13 @@ static int serve_line(live_rods *lr, char *text, int too_long, int nul)
                     lr->set.name[k], row[0], err);
             answer(lr, k, "failed");
         }
-        return ferror(stdout) ? (lr->status = RUN_EXIT_FAILURE, 1) : 0;
+        return answered(lr);
     }
     lr->bad++;
     fprintf(stderr, "rodsim live: input line %ld: %s; a line is [NAME:]t,x,y,z[,rx,ry,rz] (s, "
             "m, rad; a held tip) or [NAME:]t,fx,fy,fz,mx,my,mz (N, N m; a free tip), t "
             "increasing\n", lr->line_no, err);
-    if (lr->stop_on_error) {
-        fprintf(stderr, "rodsim live: stopped at input line %ld (--on-error stop)\n",
-                lr->line_no);
-        lr->status = RUN_EXIT_BAD_INPUT;
-        return 1;
-    }
-    answer(lr, k, "bad_input");
-    return ferror(stdout) ? (lr->status = RUN_EXIT_FAILURE, 1) : 0;
+    return refused(lr, -1, k);
 }
 
 /* Reads standard input line by line until its end, a stop signal or the
@@ -591,12 +558,12 @@ static void serve(live_rods *lr)
     for (;;) {
         size_t len = 0;
         int c = 0, nul = 0;
-        while (!stop_signal && (c = getchar()) != EOF && c != '\n') {
+        while (!live_stop_signal && (c = getchar()) != EOF && c != '\n') {
             if (c == '\0') nul = 1;
             if (len < sizeof lr->line - 1) lr->line[len] = (char)c;
             len++;
         }
-        if (stop_signal) return;
+        if (live_stop_signal) return;
         if (c == EOF && ferror(stdin) && errno != EINTR) {
             fprintf(stderr, "rodsim live: reading standard input after input line %ld: %s\n",
                     lr->line_no, strerror(errno));
@@ -634,13 +601,7 @@ int live_rods_run(ini_doc *doc, const char *scene, const live_rods_options *o)
         free(lr);
         return status;
     }
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_stop_signal; /* no SA_RESTART: a read returns at once */
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
-    signal(SIGPIPE, SIG_IGN);
+    live_stop_signals_install(); /* the session ends like at the end of input */
     char held[ROD_SET_MAX * (ROD_NAME_LEN + 2)], free_tips[ROD_SET_MAX * (ROD_NAME_LEN + 2)];
     rod_names(lr, 1, held, sizeof held);
     rod_names(lr, 2, free_tips, sizeof free_tips);
@@ -662,7 +623,7 @@ int live_rods_run(ini_doc *doc, const char *scene, const live_rods_options *o)
     }
     /* t = 0 on the wall clock before the header goes out: a client pacing
      * itself from the header is never ahead of this clock */
-    lr->wall_origin = wall_seconds();
+    lr->wall_origin = live_wall_seconds();
     printf("rod,t,fx,fy,fz,mx,my,mz,status");
     for (int k = 0; lr->centreline && k < lr->set.count; k++)
         for (int i = 0; i < lr->set.model[k].nodes; i++)
@@ -677,7 +638,7 @@ int live_rods_run(ini_doc *doc, const char *scene, const live_rods_options *o)
     if (lr->realtime)
         fprintf(stderr, "; realtime overruns %ld (worst %.1f us)", lr->overruns,
                 1e6 * lr->worst_overrun);
-    fprintf(stderr, "%s\n", stop_signal ? "; ended by a signal" : "");
+    fprintf(stderr, "%s\n", live_stop_signal ? "; ended by a signal" : "");
     int status = lr->status;
     if (status == RUN_EXIT_OK && lines > 0 && lr->ok == 0) {
         fprintf(stderr, "rodsim live: none of the %ld lines was answered ok (exit 2)\n", lines);
