@@ -77,10 +77,8 @@ static void test_refused(const char *name, int rods)
 
 int main(void)
 {
-    snprintf(dir, sizeof dir, "/tmp/rodsim_api_overlap_%ld", (long)getpid());
-    mkdir(dir, 0700);
+    snprintf(dir, sizeof dir, "%s", test_dir());
     test_refused("through.ini", 0);
     test_refused("rods.ini", 1);
-    if (!getenv("KEEP")) test_remove_tree(dir);
     return test_finish();
 }
