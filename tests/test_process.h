@@ -1,7 +1,7 @@
 /* test_process.h: helpers for tests that drive the real rodsim binary and
  * look at what it wrote: run it capturing its output, write a file into a
- * scratch directory, count its entries, remove it. Header-only, tests
- * only. */
+ * scratch directory, count its entries (test.h removes it). Header-only,
+ * tests only. */
 #ifndef RODSIM_TEST_PROCESS_H
 #define RODSIM_TEST_PROCESS_H
 
@@ -12,6 +12,8 @@
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include "test.h" /* test_remove_tree */
 
 /* Runs RODSIM_BIN with args (NULL-terminated, without argv[0]); its stdout
  * and stderr go to `output`. When seconds > 0 the run is killed (SIGALRM)
@@ -82,22 +84,6 @@ static inline int test_dir_entries(const char *dir)
         if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
     closedir(d);
     return n;
-}
-
-/* Removes a directory and everything below it. */
-static inline void test_remove_tree(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return;
-    struct dirent *e;
-    char path[1400];
-    while ((e = readdir(d))) {
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-        if (snprintf(path, sizeof path, "%s/%s", dir, e->d_name) >= (int)sizeof path) continue;
-        if (unlink(path)) test_remove_tree(path);
-    }
-    closedir(d);
-    rmdir(dir);
 }
 
 #endif

@@ -125,12 +125,10 @@ static void test_jaws_refused(const char *name, const char *rod)
 
 int main(void)
 {
-    snprintf(dir, sizeof dir, "/tmp/rodsim_api_overlap_%ld", (long)getpid());
-    mkdir(dir, 0700);
+    snprintf(dir, sizeof dir, "%s", test_dir());
     test_refused("through.ini", 0);
     test_refused("rods.ini", 1);
     test_jaws_refused("pad.ini", "");
     test_jaws_refused("pad_rods.ini", " thread");
-    if (!getenv("KEEP")) test_remove_tree(dir);
     return test_finish();
 }

@@ -22,11 +22,11 @@
 
 #include "live_driver.h"
 #include "rodsim.h"
+#include "test.h"
 
 #define ROOT RODSIM_SOURCE_DIR
 #define LIB ROOT "/build/release/librodsim.so"
 #define SCENE ROOT "/scenes/impulse.ini"
-#define HANG "/tmp/rodsim_bench_api_hanging.ini"
 
 static double cpu_now(void)
 {
@@ -105,18 +105,19 @@ static int compare(const void *a, const void *b) { return live_driver_compare(a,
 
 static void live_against_in_process(double seconds)
 {
-    FILE *f = fopen(HANG, "w");
+    const char *scene = test_path("hanging.ini");
+    FILE *f = fopen(scene, "w");
     if (!f) return;
     fputs(hanging, f);
     fclose(f);
     const double start[3] = {0.0, 0.0, 0.3}, rate = 1000.0;
-    char *argv[] = {RODSIM_BIN, "live", HANG, NULL};
+    char *argv[] = {RODSIM_BIN, "live", (char *)scene, NULL};
     live_driver_result r;
     int played = live_driver_play(argv, start, seconds, rate, "/dev/null", &r);
     rodsim_scene *sc = NULL;
     const long lines = (long)(seconds * rate);
     double *wall = malloc((size_t)lines * sizeof *wall);
-    if (!wall || rodsim_load_file(HANG, NULL, 0, &sc)) {
+    if (!wall || rodsim_load_file(scene, NULL, 0, &sc)) {
         free(wall);
         return;
     }
@@ -142,7 +143,7 @@ static void live_against_in_process(double seconds)
                done);
     rodsim_free(sc);
     free(wall);
-    remove(HANG);
+    remove(scene);
 }
 
 int main(void)
@@ -151,5 +152,6 @@ int main(void)
     double seconds = env ? atof(env) : 5.0;
     python_overhead();
     live_against_in_process(seconds > 0.0 ? seconds : 5.0);
+    test_dir_remove();
     return 0;
 }

@@ -30,8 +30,7 @@
 #include <sched.h>
 
 #include "live_driver.h"
-
-#define SHAPE "/tmp/rodsim_bench_live_shape.csv"
+#include "test.h"
 
 /* The pad point's tip: wound_closure's pinned tip at rest, pulled 2 mm up
  * over 2 s (smoothstep, as wound_closure_tip.csv), wavering 1 mm along x
@@ -48,10 +47,10 @@ static void pad_pull(double t, const double start[3], double pos[3], double rot[
 /* The tissue setting's starting centreline: 3 cm along x on the plane z = 0,
  * a quarter circle of radius 3 cm up, then straight up to z = 0.45 m; its
  * polyline length (the scene's rod length) and its upper end (the driven
- * tip's start, m). -1 when the file cannot be written. */
-static int write_tissue_shape(double *length, double tip[3])
+ * tip's start, m), written to path. -1 when the file cannot be written. */
+static int write_tissue_shape(const char *path, double *length, double tip[3])
 {
-    FILE *f = fopen(SHAPE, "w");
+    FILE *f = fopen(path, "w");
     if (!f) return -1;
     const double flat = 0.03, radius = 0.03, top = 0.45;
     double prev[3] = {0.0, 0.0, 0.0};
@@ -76,8 +75,6 @@ static int write_tissue_shape(double *length, double tip[3])
     return fclose(f) ? -1 : 0;
 }
 
-#define KNOT_SHAPE "/tmp/rodsim_bench_live_knot.csv"
-
 int main(int argc, char **options)
 {
     /* bench_live knot | pad: the knot's or the pad's two points alone */
@@ -88,28 +85,29 @@ int main(int argc, char **options)
     const char *env = getenv("BENCH_LIVE_SECONDS");
     double seconds = env ? atof(env) : 10.0;
     if (!(seconds > 0.0)) seconds = 10.0;
-    const char *scene = "/tmp/rodsim_bench_live.ini", *tissue = "/tmp/rodsim_bench_live_tissue.ini";
+    const char *scene = test_path("hanging.ini"), *tissue = test_path("tissue.ini");
+    const char *shape = test_path("tissue_shape.csv"), *knot_shape = test_path("knot_shape.csv");
     const char *common = "diameter = 0.001\ndensity = 1000\nyoungs_modulus = 87.5e6\n"
                          "shear_modulus = 31.25e6\nnodes = 51\n"
                          "[solver]\nscheme = implicit\ndt = 0.001\nduration = 1\n"
                          "[loads]\ngravity = 0 0 -9.81\n[ends]\nroot = free\ntip = clamped\n";
-    const char *knot = "/tmp/rodsim_bench_live_knotted.ini";
+    const char *knot = test_path("knotted.ini"), *log = test_path("stderr.txt");
     double length, tissue_tip[3], knot_length, knot_tip[3];
     FILE *f = fopen(scene, "w"), *g = fopen(tissue, "w"), *h = fopen(knot, "w");
-    if (!f || !g || !h || write_tissue_shape(&length, tissue_tip) ||
-        live_driver_write_knot(KNOT_SHAPE, &knot_length, knot_tip))
+    if (!f || !g || !h || write_tissue_shape(shape, &length, tissue_tip) ||
+        live_driver_write_knot(knot_shape, &knot_length, knot_tip))
         return 1;
     /* the knot hangs from the driven tip; self-contact (friction 0.2) holds
      * it; drawn from a polynomial, it settles 0.2 s before t = 0 (rod.settle:
      * its strands snap from the drawn shape at ~3 m/s, and its fastest node
      * is at 3 mm/s after 0.2 s), so the session starts from a knot at rest */
-    fprintf(h, "[rod]\nlength = %.17g\nshape = %s\nsettle = 0.2\n%s", knot_length, KNOT_SHAPE,
+    fprintf(h, "[rod]\nlength = %.17g\nshape = %s\nsettle = 0.2\n%s", knot_length, knot_shape,
             common);
     fclose(h);
     fprintf(f, "[rod]\nlength = 0.5\ndirection = 0 0 1\n%s", common);
     /* the nodes' centres touch the plane at the radius */
     fprintf(g, "[rod]\nlength = %.17g\nshape = %s\n%s[surface]\nshape = plane\n"
-               "center = 0 0 -0.0005\ntissue = yes\nfriction = 0.3\n", length, SHAPE, common);
+               "center = 0 0 -0.0005\ntissue = yes\nfriction = 0.3\n", length, shape, common);
     fclose(f);
     fclose(g);
     printf("bench_live: rodsim live at 1 kHz through pipes, %g s per point "
@@ -124,7 +122,7 @@ int main(int argc, char **options)
     for (size_t i = 0; i < 2 * sizeof points / sizeof points[0]; i++) {
         const int p = (int)(i / 2), realtime = (int)(i % 2);
         if ((knot_only && points[p].tissue != 2) || (pad_only && points[p].tissue != 3)) continue;
-        char set[64], log[] = "/tmp/rodsim_bench_live_stderr.txt";
+        char set[64];
         snprintf(set, sizeof set, "rod.nodes=%d", points[p].nodes);
         const char *which = points[p].tissue == 3   ? pad_scene
                             : points[p].tissue == 2 ? knot
@@ -179,10 +177,6 @@ int main(int argc, char **options)
         if (r.failed) printf("      (%ld steps failed)\n", r.failed);
         if (pad[0]) printf("      %s\n", pad);
     }
-    remove(scene);
-    remove(tissue);
-    remove(knot);
-    remove(SHAPE);
-    remove(KNOT_SHAPE);
+    test_dir_remove();
     return status;
 }

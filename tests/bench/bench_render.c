@@ -24,6 +24,7 @@
 #include "render/render.h"
 #include "synthetic_recording.h"
 #include "render/video.h"
+#include "test.h"
 
 #define FRAMES 240
 #define MAX_REPEATS 20
@@ -100,7 +101,7 @@ static int suture_rows(int repeats)
 {
     const char *scene = RODSIM_SOURCE_DIR "/scenes/suture.ini";
     char dir[256], summary[400], video[400], again[400], err[1024];
-    snprintf(dir, sizeof dir, "/tmp/rodsim_bench_suture_%ld", (long)getpid());
+    snprintf(dir, sizeof dir, "%s/suture", test_dir());
     snprintf(summary, sizeof summary, "%s/summary.json", dir);
     snprintf(video, sizeof video, "%s/suture.mp4", dir);
     snprintf(again, sizeof again, "%s/again.mp4", dir);
@@ -175,7 +176,7 @@ int main(int argc, char **argv)
     if (repeats < 1 || repeats > MAX_REPEATS) repeats = 3;
     if (suture_rows(repeats)) return 1;
     char dir[256], path[400], err[1024];
-    snprintf(dir, sizeof dir, "/tmp/rodsim_bench_render_%ld", (long)getpid());
+    snprintf(dir, sizeof dir, "%s/render", test_dir());
     snprintf(path, sizeof path, "%s/bench.mp4", dir);
     rod_recording *rec = synthetic_recording_create(51, FRAMES, 1.0, 0.001);
     for (int f = 0; f < FRAMES; f++) {
@@ -312,5 +313,6 @@ int main(int argc, char **argv)
            "4x MSAA %.2f) (target at 720p: <= 1.5)\n",
            floor_run.best / pipeline[0].best, hd_floor.best / hd.best,
            floor_run.best / pipeline[4].best);
+    test_dir_remove();
     return 0;
 }

@@ -21,8 +21,8 @@
 #include <unistd.h>
 
 #include "base/dtoa.h"
+#include "test.h"
 
-#define TINY "/tmp/rodsim_bench_startup.ini"
 #define NUMBERS 1000000
 
 /* CPU seconds (user + sys) of RODSIM_BIN with args; -1 when it failed. */
@@ -123,9 +123,10 @@ static void startup_row(const char *what, const char *const *args, int runs)
 
 int main(void)
 {
-    FILE *f = fopen(TINY, "w");
+    const char *tiny_scene = test_path("tiny.ini");
+    FILE *f = fopen(tiny_scene, "w");
     if (!f) {
-        printf("bench_startup: cannot write %s\n", TINY);
+        printf("bench_startup: cannot write %s\n", tiny_scene);
         return 1;
     }
     fprintf(f, "[rod]\nlength = 1.0\ndiameter = 0.001\ndensity = 850\nyoungs_modulus = 87.5e6\n"
@@ -136,15 +137,14 @@ int main(void)
     printf("%-34s %10s %10s\n", "command", "median ms", "lowest ms");
     const char *version[] = {"--version", NULL};
     const char *help[] = {"help", NULL};
-    const char *tiny[] = {"run", TINY, "--no-video", "--quiet", NULL};
+    const char *tiny[] = {"run", tiny_scene, "--no-video", "--quiet", NULL};
     startup_row("rodsim --version", version, runs);
     startup_row("rodsim help", help, runs);
     startup_row("rodsim run --no-video (11 nodes)", tiny, runs);
-    remove(TINY);
+    remove(tiny_scene);
 
     const int pairs = env_count("BENCH_CSV_PAIRS", 3);
-    char csv[64];
-    snprintf(csv, sizeof csv, "/tmp/rodsim_bench_csv_%d.csv", (int)getpid());
+    const char *csv = test_path("suture.csv");
     const char *plain[] = {"run", RODSIM_SOURCE_DIR "/scenes/suture.ini", "--no-video", "--quiet",
                            NULL};
     const char *with_csv[] = {"run", RODSIM_SOURCE_DIR "/scenes/suture.ini", "--no-video", "--quiet",
@@ -158,7 +158,7 @@ int main(void)
         b[i] = child_cpu(with_csv);
         if (a[i] <= 0 || b[i] <= 0) {
             printf("  failed\n");
-            remove(csv);
+            test_dir_remove();
             return 1;
         }
         ratio[i] = b[i] / a[i];
@@ -176,5 +176,6 @@ int main(void)
     printf("median: %.3f s without, %.3f s with --csv (%.1f MB): ratio %.3fx, the CSV %.3f s\n",
            ma, mb, 1e-6 * (double)bytes, mr, mb - ma);
     number_rows();
+    test_dir_remove();
     return 0;
 }

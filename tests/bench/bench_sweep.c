@@ -17,6 +17,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "test.h"
+
 #define SCENES RODSIM_SOURCE_DIR "/scenes/"
 
 static double now(void)
@@ -81,8 +83,7 @@ static void point_cpu(const char *csv, double *slowest, double *total)
 int main(void)
 {
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    char csv[64];
-    snprintf(csv, sizeof csv, "/tmp/rodsim_bench_sweep_%d.csv", (int)getpid());
+    const char *csv = test_path("sweep.csv");
     double wall, cpu;
     /* start-up: 6 points that read the scene and take no steps */
     const char *empty[] = {"sweep", SCENES "table2_450nN.ini", "--set", "solver.duration=1e-9",
@@ -115,6 +116,6 @@ int main(void)
         else printf("speed-up of --jobs 2 over --jobs 1: %.2f (CPU of the points: %.3f s)\n",
                     base / wall, total);
     }
-    unlink(csv);
+    test_dir_remove();
     return 0;
 }

@@ -214,11 +214,9 @@ static void test_svg_alone(void)
 
 int main(void)
 {
-    snprintf(scratch, sizeof scratch, "/tmp/rodsim_test_fem_svg_%d", (int)getpid());
-    mkdir(scratch, 0755);
+    snprintf(scratch, sizeof scratch, "%s", test_dir());
     test_scene("fishing_rod");
     test_scene("fishing_rod_curved");
     test_svg_alone();
-    test_remove_tree(scratch);
     return test_finish();
 }

@@ -271,12 +271,10 @@ static void test_sweep(void)
 
 int main(void)
 {
-    snprintf(dir, sizeof dir, "/tmp/rodsim_overlap_entry_%ld", (long)getpid());
-    mkdir(dir, 0700);
+    snprintf(dir, sizeof dir, "%s", test_dir());
     test_live_start();
     test_live_line();
     test_live_rods();
     test_sweep();
-    if (!getenv("KEEP")) test_remove_tree(dir);
     return test_finish();
 }

@@ -172,11 +172,9 @@ static void test_one_instrument(void)
 
 int main(void)
 {
-    snprintf(dir, sizeof dir, "/tmp/rodsim_instr_cross_%ld", (long)getpid());
-    mkdir(dir, 0700);
+    snprintf(dir, sizeof dir, "%s", test_dir());
     test_gap_reported();
     test_refused();
     test_one_instrument();
-    if (!getenv("KEEP")) test_remove_tree(dir);
     return test_finish();
 }

@@ -72,8 +72,8 @@ static double internal_force(const char *csv, double t, int node)
 int main(void)
 {
     const int sanitized = test_sanitized();
-    const char *csv = "/tmp/rodsim_test_instrument_tie_hand.csv";
-    const char *summary = "/tmp/rodsim_test_instrument_tie_hand.json";
+    const char *csv = test_path("instrument_tie_hand.csv");
+    const char *summary = test_path("instrument_tie_hand.json");
     char output[16384];
     char until[64];
     snprintf(until, sizeof until, "solver.duration=%g", sanitized ? 1.0 : UNTIL);

@@ -117,8 +117,8 @@ static double winding_at(const double *x, double t)
 int main(void)
 {
     const int sanitized = test_sanitized();
-    const char *csv = "/tmp/rodsim_test_instrument_tie_high.csv";
-    const char *summary = "/tmp/rodsim_test_instrument_tie_high.json";
+    const char *csv = test_path("instrument_tie_high.csv");
+    const char *summary = test_path("instrument_tie_high.json");
     char output[16384];
     char until[64];
     snprintf(until, sizeof until, "solver.duration=%g", sanitized ? 1.0 : UNTIL);

@@ -82,8 +82,8 @@ static double winding(const double *x, const double tip[3], const double r[9], d
 int main(void)
 {
     const int sanitized = test_sanitized();
-    const char *csv = "/tmp/rodsim_test_instrument_tie.csv";
-    const char *summary = "/tmp/rodsim_test_instrument_tie.json";
+    const char *csv = test_path("instrument_tie.csv");
+    const char *summary = test_path("instrument_tie.json");
     char output[16384];
     const char *until = sanitized ? "solver.duration=1" : "solver.duration=5.4";
     const char *args[] = {"run", "scenes/instrument_tie.ini", "--no-video", "--csv", csv, "--summary",

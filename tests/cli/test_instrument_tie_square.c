@@ -71,8 +71,8 @@ static double t[MAX_FRAMES];
  * "granny knot") at the end. */
 static void run_knot(const char *label, const char *const *sets, const char *second, int sanitized)
 {
-    const char *csv = "/tmp/rodsim_test_instrument_tie_square.csv";
-    const char *summary = "/tmp/rodsim_test_instrument_tie_square.json";
+    const char *csv = test_path("instrument_tie_square.csv");
+    const char *summary = test_path("instrument_tie_square.json");
     const char *args[32] = {"run", "scenes/instrument_tie_square.ini", "--no-video", "--csv", csv,
                             "--summary", summary};
     int n = 7;

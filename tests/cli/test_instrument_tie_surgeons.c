@@ -123,8 +123,8 @@ static int frame_at(const double *t, int frames, double when)
 int main(void)
 {
     const int sanitized = test_sanitized();
-    const char *csv = "/tmp/rodsim_test_instrument_tie_surgeons.csv";
-    const char *summary = "/tmp/rodsim_test_instrument_tie_surgeons.json";
+    const char *csv = test_path("instrument_tie_surgeons.csv");
+    const char *summary = test_path("instrument_tie_surgeons.json");
     char output[16384];
     const char *args[] = {"run", "scenes/instrument_tie_surgeons.ini", "--no-video", "--csv", csv,
                           "--summary", summary, sanitized ? "--set" : NULL,

@@ -9,14 +9,14 @@
 #include "test_process.h"
 
 #define SCENE RODSIM_SOURCE_DIR "/scenes/table2_450nN.ini"
-#define RESULT "/tmp/rodsim_test_jobs_limit"
 
 int main(void)
 {
     static char output[1 << 16];
+    const char *result = test_path("result");
     /* figure's --out: a figure that took 65 would draw there, not in out/ */
     const char *refused[][8] = {{"sweep", SCENE, "--jobs", "65", NULL},
-                                {"figure", "table2", "--jobs", "65", "--quick", "--out", RESULT,
+                                {"figure", "table2", "--jobs", "65", "--quick", "--out", result,
                                  NULL},
                                 {"validate", "--jobs", "65", NULL},
                                 {"stability", "--jobs", "65", NULL}};
@@ -26,14 +26,14 @@ int main(void)
               "%s --jobs 65: exit %d (want 2), names 1 .. 64: %s", refused[i][0], rc,
               strstr(output, "1 .. 64") ? "yes" : "no");
     }
-    const char *sweep[] = {"sweep", SCENE, "--jobs", "64", "--result", RESULT, "--print-commands",
+    const char *sweep[] = {"sweep", SCENE, "--jobs", "64", "--result", result, "--print-commands",
                            NULL};
     int rc = test_run_rodsim_within(sweep, 60, output, sizeof output);
     check(rc == 0, "sweep --jobs 64 --print-commands: exit %d (want 0)", rc);
-    const char *figure[] = {"figure", "table2", "--jobs", "64", "--quick", "--out", RESULT,
+    const char *figure[] = {"figure", "table2", "--jobs", "64", "--quick", "--out", result,
                             "--print-commands", NULL};
     rc = test_run_rodsim_within(figure, 60, output, sizeof output);
     check(rc == 0, "figure table2 --jobs 64 --print-commands: exit %d (want 0)", rc);
-    test_remove_tree(RESULT);
+    test_remove_tree(result);
     return test_finish();
 }

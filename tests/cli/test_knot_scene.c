@@ -147,7 +147,7 @@ static void test_pulled_tight(const char *dir)
 
 int main(void)
 {
-    const char *dir = "/tmp/rodsim_test_knot_scene";
+    const char *dir = test_path("knot_scene");
     char csv[256], output[16384];
     test_remove_tree(dir);
     snprintf(csv, sizeof csv, "%s.csv", dir);

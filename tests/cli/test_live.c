@@ -33,7 +33,6 @@
 #include "test_process.h"
 #include "sim/rod.h"
 
-#define DIR "/tmp/rodsim_test_live"
 static const char scene_text[] =
     "[rod]\nlength = 0.5\ndiameter = 0.001\ndensity = 1000\nyoungs_modulus = 87.5e6\n"
     "shear_modulus = 31.25e6\nnodes = 21\ndirection = 0 0 1\n"
@@ -45,7 +44,8 @@ typedef struct live_proc {
     FILE *in, *out; /* its stdin (we write), its stdout (we read) */
 } live_proc;
 
-/* Starts rodsim live with args; stderr to DIR/stderr.txt; killed after 60 s. */
+/* Starts rodsim live with args; stderr to stderr.txt in the test's folder;
+ * killed after 60 s. */
 static int live_start(live_proc *p, const char *const *args)
 {
     int to[2], from[2];
@@ -56,12 +56,13 @@ static int live_start(live_proc *p, const char *const *args)
     argv[n++] = "live";
     for (int i = 0; args[i] && n < 31; i++) argv[n++] = args[i];
     argv[n] = NULL;
+    const char *stderr_path = test_path("stderr.txt");
     fflush(stdout);
     p->pid = fork();
     if (p->pid == 0) {
         dup2(to[0], 0);
         dup2(from[1], 1);
-        int e = open(DIR "/stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int e = open(stderr_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         if (e >= 0) dup2(e, 2);
         close(to[0]); close(to[1]); close(from[0]); close(from[1]);
         alarm(60);
@@ -97,7 +98,7 @@ static int exchange(live_proc *p, const char *line, char *answer, size_t n)
 static char stderr_text[1 << 16];
 static void read_stderr(void)
 {
-    FILE *f = fopen(DIR "/stderr.txt", "r");
+    FILE *f = fopen(test_path("stderr.txt"), "r");
     size_t got = f ? fread(stderr_text, 1, sizeof stderr_text - 1, f) : 0;
     stderr_text[got] = '\0';
     if (f) fclose(f);
@@ -106,7 +107,7 @@ static void read_stderr(void)
 static void test_hanging_weight_lockstep(void)
 {
     live_proc p;
-    const char *args[] = {DIR "/hang.ini", NULL};
+    const char *args[] = {test_path("hang.ini"), NULL};
     alarm(120); /* a lost flush would block both sides: the alarm ends the test */
     if (!check(live_start(&p, args) == 0, "rodsim live started")) return;
     char answer[8192], line[256];
@@ -136,7 +137,7 @@ static void test_hanging_weight_lockstep(void)
 static void test_bad_lines(void)
 {
     live_proc p;
-    const char *args[] = {DIR "/hang.ini", "--record", DIR "/bad.csv", NULL};
+    const char *args[] = {test_path("hang.ini"), "--record", test_path("bad.csv"), NULL};
     alarm(120);
     if (!check(live_start(&p, args) == 0, "rodsim live started (skip)")) return;
     char answer[8192];
@@ -167,14 +168,14 @@ static void test_bad_lines(void)
     for (int i = 0; i < 7; i++)
         check(strstr(stderr_text, msgs[i]) != NULL, "stderr names the line: \"%s\"", msgs[i]);
 
-    const char *stop_args[] = {DIR "/hang.ini", "--on-error", "stop", "--record",
-                               DIR "/stop.csv", NULL};
+    const char *stop_args[] = {test_path("hang.ini"), "--on-error", "stop", "--record",
+                               test_path("stop.csv"), NULL};
     if (!check(live_start(&p, stop_args) == 0, "rodsim live started (stop)")) return;
     if (!fgets(answer, sizeof answer, p.out)) return;
     int first_ok = exchange(&p, "0.001,0,0,0.5\n", answer, sizeof answer) == 0;
     fputs("0.002,0,0,x\n0.003,0,0,0.5\n", p.in);
     check(live_finish(&p) == 2 && first_ok, "--on-error stop: exit 2 at the bad line");
-    FILE *f = fopen(DIR "/stop.csv", "r");
+    FILE *f = fopen(test_path("stop.csv"), "r");
     int rows = 0, has_first = 0;
     char row[512];
     while (f && fgets(row, sizeof row, f)) {
@@ -192,25 +193,26 @@ static void test_bad_lines(void)
  * lines in lock-step, each answered ok before the next is written. */
 static void test_fifos(void)
 {
-    unlink(DIR "/in.fifo");
-    unlink(DIR "/out.fifo");
-    if (!check(mkfifo(DIR "/in.fifo", 0600) == 0 && mkfifo(DIR "/out.fifo", 0600) == 0,
-               "two FIFOs made"))
+    const char *in_fifo = test_path("in.fifo"), *out_fifo = test_path("out.fifo");
+    const char *stderr_path = test_path("stderr.txt"), *scene = test_path("hang.ini");
+    unlink(in_fifo);
+    unlink(out_fifo);
+    if (!check(mkfifo(in_fifo, 0600) == 0 && mkfifo(out_fifo, 0600) == 0, "two FIFOs made"))
         return;
     alarm(120); /* a lost flush or open would block: the alarm ends the test */
     fflush(stdout);
     pid_t pid = fork();
     if (pid == 0) { /* opens in the same order as the parent: in, then out */
-        int in = open(DIR "/in.fifo", O_RDONLY), out = open(DIR "/out.fifo", O_WRONLY);
-        int e = open(DIR "/stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int in = open(in_fifo, O_RDONLY), out = open(out_fifo, O_WRONLY);
+        int e = open(stderr_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         if (in < 0 || out < 0) _exit(126);
         dup2(in, 0);
         dup2(out, 1);
         if (e >= 0) dup2(e, 2);
-        execl(RODSIM_BIN, RODSIM_BIN, "live", DIR "/hang.ini", (char *)NULL);
+        execl(RODSIM_BIN, RODSIM_BIN, "live", scene, (char *)NULL);
         _exit(127);
     }
-    FILE *in = fopen(DIR "/in.fifo", "w"), *out = fopen(DIR "/out.fifo", "r");
+    FILE *in = fopen(in_fifo, "w"), *out = fopen(out_fifo, "r");
     char answer[512];
     int ok = 0;
     if (in && out && fgets(answer, sizeof answer, out))
@@ -236,12 +238,12 @@ static void test_fifos(void)
  * changed dt; 1571 builds instead of 369 in bench_live's 10 s). */
 static void test_one_step_per_line(void)
 {
-    FILE *f = fopen(DIR "/still.csv", "w");
+    FILE *f = fopen(test_path("still.csv"), "w");
     if (!f) return;
     for (int k = 1; k <= 8500; k++) fprintf(f, "%.3f,0,0,0.5\n", k * 1e-3);
     fclose(f);
-    int rc = system(RODSIM_BIN " live " DIR "/hang.ini < " DIR "/still.csv > /dev/null 2> " DIR
-                    "/stderr.txt");
+    int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/hang.ini < $RODSIM_TEST_DIR/still.csv > "
+                    "/dev/null 2> $RODSIM_TEST_DIR/stderr.txt");
     read_stderr();
     const char *steps = strstr(stderr_text, " steps to t = 8.5 s");
     const char *count = steps;
@@ -259,18 +261,19 @@ static void test_one_step_per_line(void)
  * and the session goes on. */
 static void test_realtime(void)
 {
-    FILE *f = fopen(DIR "/paced.csv", "w");
+    FILE *f = fopen(test_path("paced.csv"), "w");
     if (!f) return;
     for (int k = 1; k <= 100; k++) fprintf(f, "%.3f,0,0,0.5\n", k * 1e-3);
     fclose(f);
     struct timespec a, b;
     clock_gettime(CLOCK_MONOTONIC, &a);
-    int rc = system(RODSIM_BIN " live " DIR "/hang.ini --realtime < " DIR "/paced.csv > " DIR
-                    "/paced_out.csv 2> " DIR "/stderr.txt");
+    int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/hang.ini --realtime < "
+                    "$RODSIM_TEST_DIR/paced.csv > $RODSIM_TEST_DIR/paced_out.csv 2> "
+                    "$RODSIM_TEST_DIR/stderr.txt");
     clock_gettime(CLOCK_MONOTONIC, &b);
     double wall = (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
     read_stderr();
-    f = fopen(DIR "/paced_out.csv", "r");
+    f = fopen(test_path("paced_out.csv"), "r");
     char line[512];
     int ok = 0;
     while (f && fgets(line, sizeof line, f)) ok += strstr(line, ",ok") != NULL;
@@ -283,7 +286,7 @@ static void test_realtime(void)
 /* The same path live and replayed by rodsim run from the record: tip force. */
 static void test_replay(void)
 {
-    FILE *in = fopen(DIR "/path_in.csv", "w");
+    FILE *in = fopen(test_path("path_in.csv"), "w");
     if (!in) return;
     for (int k = 1; k <= 40; k++) { /* every 10 ms: one frame interval at fps 100 */
         double t = 0.01 * k, a = fmin(t / 0.2, 1.0);
@@ -298,21 +301,24 @@ static void test_replay(void)
      * at the default 1e-8 those differ by up to 1e-8 L a step, over 400
      * steps of 1 ms (1.8e-8 L seen), beyond the bounds below. At 1e-10 the
      * differences stay 100 times below them, which are the default's */
-    int rc = system(RODSIM_BIN " live " DIR "/hang.ini --set solver.newton_tolerance=1e-10 "
-                    "--centreline --record " DIR "/rec.csv < " DIR "/path_in.csv > " DIR
-                    "/live_out.csv 2>/dev/null");
+    int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/hang.ini "
+                    "--set solver.newton_tolerance=1e-10 --centreline --record "
+                    "$RODSIM_TEST_DIR/rec.csv < $RODSIM_TEST_DIR/path_in.csv > "
+                    "$RODSIM_TEST_DIR/live_out.csv 2>/dev/null");
     check(rc == 0, "live session with --record: exit 0");
-    const char *run_args[] = {"run", DIR "/hang.ini", "--set", "solver.newton_tolerance=1e-10",
-                              "--set", "ends.tip_motion=" DIR "/rec.csv",
+    char tip_motion[600];
+    snprintf(tip_motion, sizeof tip_motion, "ends.tip_motion=%s", test_path("rec.csv"));
+    const char *run_args[] = {"run", test_path("hang.ini"), "--set",
+                              "solver.newton_tolerance=1e-10", "--set", tip_motion,
                               "--set", "solver.duration=0.4", "--set", "render.fps=100",
-                              "--no-video", "--csv", DIR "/run.csv", "-o", DIR, NULL};
+                              "--no-video", "--csv", test_path("run.csv"), "-o", test_dir(), NULL};
     rc = test_run_rodsim_within(run_args, 120, out, sizeof out);
     if (!check(rc == 0, "rodsim run replays the record: exit %d", rc)) {
         printf("%s\n", out);
         return;
     }
     static double live_force[64][3], live_centreline[64][63];
-    FILE *f = fopen(DIR "/live_out.csv", "r");
+    FILE *f = fopen(test_path("live_out.csv"), "r");
     char line[4096];
     int n = 0;
     while (f && fgets(line, sizeof line, f) && n < 64) {
@@ -331,7 +337,7 @@ static void test_replay(void)
         }
     }
     if (f) fclose(f);
-    f = fopen(DIR "/run.csv", "r");
+    f = fopen(test_path("run.csv"), "r");
     double worst = 0.0, worst_position = 0.0;
     int compared = 0, positions = 0;
     while (f && fgets(line, sizeof line, f)) {
@@ -375,9 +381,9 @@ static void test_driver(void)
     snprintf(slash + 1, sizeof driver - (size_t)(slash + 1 - driver), "tests/live_driver");
     char command[2048];
     snprintf(command, sizeof command, "%s %s %s/hang.ini 0.3 > %s/driver.txt 2>&1", driver,
-             RODSIM_BIN, DIR, DIR);
+             RODSIM_BIN, test_dir(), test_dir());
     int rc = system(command);
-    FILE *f = fopen(DIR "/driver.txt", "r");
+    FILE *f = fopen(test_path("driver.txt"), "r");
     char text[2048] = "";
     size_t got = f ? fread(text, 1, sizeof text - 1, f) : 0;
     text[got] = '\0';
@@ -392,19 +398,19 @@ static void test_driver(void)
  * at the origin), r_tip from the --centreline columns. */
 static void test_free_tip_loads(void)
 {
-    FILE *f = fopen(DIR "/cant.ini", "w");
+    FILE *f = fopen(test_path("cant.ini"), "w");
     if (!f) return;
     fputs("[rod]\nlength = 1\ndiameter = 0.001\ndensity = 850\nyoungs_modulus = 87.5e6\n"
           "shear_modulus = 31.25e6\nnodes = 21\n[solver]\nscheme = static\ndt = 0.01\n"
           "[tip]\nframe = global\n", f);
     fclose(f);
-    f = fopen(DIR "/loads_in.csv", "w");
+    f = fopen(test_path("loads_in.csv"), "w");
     if (!f) return;
     fputs("0.01,0,1e-7,0,0,0,0\n0.02,2e-7,1e-7,0,0,0,3e-8\n", f);
     fclose(f);
-    int rc = system(RODSIM_BIN " live " DIR "/cant.ini --centreline < " DIR "/loads_in.csv > " DIR
-                    "/loads_out.csv 2>/dev/null");
-    f = fopen(DIR "/loads_out.csv", "r");
+    int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/cant.ini --centreline < "
+                    "$RODSIM_TEST_DIR/loads_in.csv > $RODSIM_TEST_DIR/loads_out.csv 2>/dev/null");
+    f = fopen(test_path("loads_out.csv"), "r");
     static char line[1 << 14];
     double v[8 + 63] = {0};
     int rows = 0;
@@ -433,13 +439,14 @@ static void test_free_tip_loads(void)
  * too), the time goes on to the line's, and the stream goes on. */
 static void test_failed_step(void)
 {
-    FILE *f = fopen(DIR "/kink_in.csv", "w");
+    FILE *f = fopen(test_path("kink_in.csv"), "w");
     if (!f) return;
     fputs("0.01,0,1e-7,0,0,0,0\n0.02,0,1e3,0,0,0,0\n0.03,0,1e-7,0,0,0,0\n", f);
     fclose(f);
-    int rc = system(RODSIM_BIN " live " DIR "/cant.ini --set solver.scheme=implicit < " DIR
-                    "/kink_in.csv > " DIR "/kink_out.csv 2> " DIR "/stderr.txt");
-    f = fopen(DIR "/kink_out.csv", "r");
+    int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/cant.ini --set solver.scheme=implicit < "
+                    "$RODSIM_TEST_DIR/kink_in.csv > $RODSIM_TEST_DIR/kink_out.csv 2> "
+                    "$RODSIM_TEST_DIR/stderr.txt");
+    f = fopen(test_path("kink_out.csv"), "r");
     char line[1024], statuses[64] = "";
     double t2 = -1.0;
     while (f && fgets(line, sizeof line, f)) {
@@ -472,7 +479,7 @@ typedef struct lowered {
 static lowered lower_onto_table(const char *normal, const char *youngs)
 {
     lowered r = {0, 0, 0, -1, 0.0, 1.0};
-    FILE *f = fopen(DIR "/table.ini", "w");
+    FILE *f = fopen(test_path("table.ini"), "w");
     if (!f) return r;
     fprintf(f,
             "[rod]\nlength = 0.5\ndiameter = 0.001\ndensity = 1000\nyoungs_modulus = %s\n"
@@ -485,7 +492,7 @@ static lowered lower_onto_table(const char *normal, const char *youngs)
     double nrm[3] = {0.0, 0.0, 0.0};
     if (sscanf(normal, "%lf %lf %lf", &nrm[0], &nrm[1], &nrm[2]) != 3) return r;
     const double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-    f = fopen(DIR "/lower.csv", "w");
+    f = fopen(test_path("lower.csv"), "w");
     if (!f) return r;
     for (int k = 1; k <= 1500; k++) { /* 1 s lowering 0.2 m (smoothly), 0.5 s held */
         double t = k * 1e-3, u = t < 1.0 ? t : 1.0;
@@ -493,9 +500,10 @@ static lowered lower_onto_table(const char *normal, const char *youngs)
         fprintf(f, "%.3f,0,0,%.9f\n", t, z);
     }
     fclose(f);
-    r.rc = system(RODSIM_BIN " live " DIR "/table.ini --centreline < " DIR "/lower.csv > " DIR
-                  "/lower_out.csv 2> " DIR "/stderr.txt");
-    f = fopen(DIR "/lower_out.csv", "r");
+    r.rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/table.ini --centreline < "
+                  "$RODSIM_TEST_DIR/lower.csv > $RODSIM_TEST_DIR/lower_out.csv 2> "
+                  "$RODSIM_TEST_DIR/stderr.txt");
+    f = fopen(test_path("lower_out.csv"), "r");
     static char line[65536];
     if (f && fgets(line, sizeof line, f)) {
         while (fgets(line, sizeof line, f)) {
@@ -597,12 +605,12 @@ static double summary_number(const char *key)
  * failed to the end). */
 static void test_pose_beyond_reach(void)
 {
-    FILE *f = fopen(DIR "/ceiling.ini", "w");
+    FILE *f = fopen(test_path("ceiling.ini"), "w");
     if (!f) return;
     fputs(scene_text, f);
     fputs("[surface]\nshape = plane\ncenter = 0 0 0.52\nnormal = 0 0 -1\nfriction = 0.3\n", f);
     fclose(f);
-    f = fopen(DIR "/up.csv", "w");
+    f = fopen(test_path("up.csv"), "w");
     if (!f) return;
     const int lines = 1500;
     for (int k = 1; k <= lines; k++) { /* up 5 cm and back within 1.2 s, then held */
@@ -610,10 +618,10 @@ static void test_pose_beyond_reach(void)
         fprintf(f, "%.3f,0,0,%.9f\n", t, 0.5 + 0.05 * a * a);
     }
     fclose(f);
-    int rc = system(RODSIM_BIN " live " DIR "/ceiling.ini < " DIR "/up.csv > " DIR
-                    "/up_out.csv 2> " DIR "/stderr.txt");
+    int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/ceiling.ini < $RODSIM_TEST_DIR/up.csv > "
+                    "$RODSIM_TEST_DIR/up_out.csv 2> $RODSIM_TEST_DIR/stderr.txt");
     read_stderr();
-    f = fopen(DIR "/up_out.csv", "r");
+    f = fopen(test_path("up_out.csv"), "r");
     static char line[4096];
     int answered = 0, failed = 0, own_t = 0, last_failed = 0, first_failed = 0;
     while (f && fgets(line, sizeof line, f)) {
@@ -657,25 +665,28 @@ static void test_pose_beyond_reach(void)
  * failed lines. Newton tolerance 1e-10 in both (test_replay). */
 static void test_beyond_reach_replay(void)
 {
-    FILE *f = fopen(DIR "/up10.csv", "w");
+    FILE *f = fopen(test_path("up10.csv"), "w");
     if (!f) return;
     for (int k = 1; k <= 150; k++) {
         double t = k * 0.01, a = t < 1.2 ? sin(M_PI * t / 1.2) : 0.0;
         fprintf(f, "%.2f,0,0,%.9f\n", t, 0.5 + 0.05 * a * a);
     }
     fclose(f);
-    int rc = system(RODSIM_BIN " live " DIR "/ceiling.ini --set solver.newton_tolerance=1e-10 "
-                    "--record " DIR "/up10_rec.csv < " DIR "/up10.csv > " DIR
-                    "/up10_out.csv 2>/dev/null");
+    int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/ceiling.ini "
+                    "--set solver.newton_tolerance=1e-10 --record $RODSIM_TEST_DIR/up10_rec.csv "
+                    "< $RODSIM_TEST_DIR/up10.csv > $RODSIM_TEST_DIR/up10_out.csv 2>/dev/null");
     char out[1 << 14];
-    const char *run_args[] = {"run", DIR "/ceiling.ini", "--set", "solver.newton_tolerance=1e-10",
-                              "--set", "ends.tip_motion=" DIR "/up10_rec.csv",
+    char tip_motion[600];
+    snprintf(tip_motion, sizeof tip_motion, "ends.tip_motion=%s", test_path("up10_rec.csv"));
+    const char *run_args[] = {"run", test_path("ceiling.ini"), "--set",
+                              "solver.newton_tolerance=1e-10", "--set", tip_motion,
                               "--set", "solver.duration=1.5", "--set", "render.fps=100",
-                              "--no-video", "--csv", DIR "/up10_run.csv", "-o", DIR, NULL};
+                              "--no-video", "--csv", test_path("up10_run.csv"), "-o", test_dir(),
+                              NULL};
     int run_rc = test_run_rodsim_within(run_args, 120, out, sizeof out);
     static double live_force[160][3];
     static int live_failed[160];
-    f = fopen(DIR "/up10_out.csv", "r");
+    f = fopen(test_path("up10_out.csv"), "r");
     char line[1024];
     int answers = 0, failed = 0;
     while (f && fgets(line, sizeof line, f)) {
@@ -689,7 +700,7 @@ static void test_beyond_reach_replay(void)
         answers++;
     }
     if (f) fclose(f);
-    f = fopen(DIR "/up10_run.csv", "r");
+    f = fopen(test_path("up10_run.csv"), "r");
     double worst = 0.0, worst_failed = 0.0;
     int compared = 0;
     while (f && fgets(line, sizeof line, f)) {
@@ -724,7 +735,7 @@ static void test_beyond_reach_replay(void)
 static void test_far_ahead(void)
 {
     live_proc p;
-    const char *args[] = {DIR "/hang.ini", "--realtime", NULL};
+    const char *args[] = {test_path("hang.ini"), "--realtime", NULL};
     alarm(60);
     if (!check(live_start(&p, args) == 0, "rodsim live --realtime started")) return;
     char answer[8192], limit[64];
@@ -749,12 +760,12 @@ static void test_far_ahead(void)
               strstr(stderr_text, limit) != NULL,
           "the message names the line and the limit (\"%s\")", limit);
     /* exactly LIVE_MAX_STEPS_AHEAD steps ahead is stepped (without --realtime) */
-    FILE *f = fopen(DIR "/ahead.csv", "w");
+    FILE *f = fopen(test_path("ahead.csv"), "w");
     if (!f) return;
     fprintf(f, "0.001,0,0,0.5\n%s", at_limit);
     fclose(f);
-    int rc = system(RODSIM_BIN " live " DIR "/hang.ini < " DIR "/ahead.csv > " DIR
-                    "/ahead_out.csv 2> " DIR "/stderr.txt");
+    int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/hang.ini < $RODSIM_TEST_DIR/ahead.csv > "
+                    "$RODSIM_TEST_DIR/ahead_out.csv 2> $RODSIM_TEST_DIR/stderr.txt");
     read_stderr();
     char text[128];
     snprintf(text, sizeof text, "2 lines: 2 ok, 0 failed (0 moved part of the way or held), "
@@ -771,7 +782,7 @@ static void test_far_ahead(void)
  * for the line's last step. */
 static void test_signal_within_line(void)
 {
-    const char *args[] = {DIR "/hang.ini", "--set", "rod.nodes=401", NULL};
+    const char *args[] = {test_path("hang.ini"), "--set", "rod.nodes=401", NULL};
     live_proc p;
     alarm(60);
     if (!check(live_start(&p, args) == 0, "rodsim live started (signal)")) return;
@@ -835,13 +846,13 @@ static void test_line_bytes(void)
     text[n++] = '\n';
     /* 6: the last line without its newline */
     n += (size_t)snprintf(text + n, sizeof text - n, "0.003,0,0,0.5");
-    FILE *f = fopen(DIR "/bytes.csv", "w");
+    FILE *f = fopen(test_path("bytes.csv"), "w");
     if (!f) return;
     fwrite(text, 1, n, f);
     fclose(f);
-    int rc = system(RODSIM_BIN " live " DIR "/hang.ini < " DIR "/bytes.csv > " DIR
-                    "/bytes_out.csv 2> " DIR "/stderr.txt");
-    f = fopen(DIR "/bytes_out.csv", "r");
+    int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/hang.ini < $RODSIM_TEST_DIR/bytes.csv > "
+                    "$RODSIM_TEST_DIR/bytes_out.csv 2> $RODSIM_TEST_DIR/stderr.txt");
+    f = fopen(test_path("bytes_out.csv"), "r");
     char line[512], statuses[128] = "";
     int answers = 0;
     while (f && fgets(line, sizeof line, f)) {
@@ -872,12 +883,12 @@ static void test_line_bytes(void)
  * before), exit 2 as no line was answered ok. */
 static void test_repeated_message(void)
 {
-    FILE *f = fopen(DIR "/junk.csv", "w");
+    FILE *f = fopen(test_path("junk.csv"), "w");
     if (!f) return;
     for (int k = 0; k < 6000; k++) fputs("junk\n", f);
     fclose(f);
-    int rc = system(RODSIM_BIN " live " DIR "/hang.ini < " DIR "/junk.csv > " DIR
-                    "/junk_out.csv 2> " DIR "/stderr.txt");
+    int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/hang.ini < $RODSIM_TEST_DIR/junk.csv > "
+                    "$RODSIM_TEST_DIR/junk_out.csv 2> $RODSIM_TEST_DIR/stderr.txt");
     read_stderr();
     int messages = 0;
     for (const char *c = stderr_text; (c = strstr(c, "rodsim live: ")); c++) messages++;
@@ -892,12 +903,14 @@ static void test_repeated_message(void)
 /* Standard input closed or unreadable (a directory): exit 1, said. */
 static void test_unreadable_input(void)
 {
-    int rc = system(RODSIM_BIN " live " DIR "/hang.ini <&- > /dev/null 2> " DIR "/stderr.txt");
+    int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/hang.ini <&- > /dev/null 2> "
+                    "$RODSIM_TEST_DIR/stderr.txt");
     read_stderr();
     check(WIFEXITED(rc) && WEXITSTATUS(rc) == 1 &&
               strstr(stderr_text, "standard input is closed"),
           "standard input closed: exit %d (1), said", WIFEXITED(rc) ? WEXITSTATUS(rc) : -1);
-    rc = system(RODSIM_BIN " live " DIR "/hang.ini < " DIR " > /dev/null 2> " DIR "/stderr.txt");
+    rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/hang.ini < $RODSIM_TEST_DIR > /dev/null 2> "
+                "$RODSIM_TEST_DIR/stderr.txt");
     read_stderr();
     check(WIFEXITED(rc) && WEXITSTATUS(rc) == 1 &&
               strstr(stderr_text, "reading standard input after input line 0"),
@@ -911,14 +924,15 @@ static void test_unreadable_input(void)
  * at the end, every line answered as if recorded). */
 static void test_record_write_error(void)
 {
-    FILE *f = fopen(DIR "/rec_in.csv", "w");
+    FILE *f = fopen(test_path("rec_in.csv"), "w");
     if (!f) return;
     for (int k = 1; k <= 400; k++) fprintf(f, "%.3f,0,0,0.5\n", k * 1e-3);
     fclose(f);
-    int rc = system(RODSIM_BIN " live " DIR "/hang.ini --record /dev/full < " DIR
-                    "/rec_in.csv > " DIR "/rec_out.csv 2> " DIR "/stderr.txt");
+    int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/hang.ini --record /dev/full < "
+                    "$RODSIM_TEST_DIR/rec_in.csv > $RODSIM_TEST_DIR/rec_out.csv 2> "
+                    "$RODSIM_TEST_DIR/stderr.txt");
     read_stderr();
-    f = fopen(DIR "/rec_out.csv", "r");
+    f = fopen(test_path("rec_out.csv"), "r");
     char line[512];
     int answers = 0;
     while (f && fgets(line, sizeof line, f)) answers += line[0] != 't';
@@ -929,20 +943,21 @@ static void test_record_write_error(void)
           "--record /dev/full: exit %d (1) before any line (%d answered), said at once",
           WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, answers);
 
+    const char *rec_in = test_path("rec_in.csv"), *stderr_path = test_path("stderr.txt");
+    const char *scene = test_path("hang.ini"), *full = test_path("full.csv");
     fflush(stdout);
     pid_t pid = fork();
     if (pid == 0) {
         struct rlimit limit = {16384, 16384};
         setrlimit(RLIMIT_FSIZE, &limit);
         signal(SIGXFSZ, SIG_IGN); /* the write fails with EFBIG instead */
-        int in = open(DIR "/rec_in.csv", O_RDONLY), out = open("/dev/null", O_WRONLY);
-        int e = open(DIR "/stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int in = open(rec_in, O_RDONLY), out = open("/dev/null", O_WRONLY);
+        int e = open(stderr_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         if (in < 0 || out < 0 || e < 0) _exit(126);
         dup2(in, 0);
         dup2(out, 1);
         dup2(e, 2);
-        execl(RODSIM_BIN, RODSIM_BIN, "live", DIR "/hang.ini", "--record", DIR "/full.csv",
-              (char *)NULL);
+        execl(RODSIM_BIN, RODSIM_BIN, "live", scene, "--record", full, (char *)NULL);
         _exit(127);
     }
     int status = 0;
@@ -963,9 +978,9 @@ static void test_record_write_error(void)
  * near critically, 1e-8 of it left). Then bad names, and --rod. */
 static void test_several_rods(void)
 {
-    if (!check(hanging_rods_write(DIR "/rods.ini") == 0, "wrote the two rods' scene")) return;
+    if (!check(hanging_rods_write(test_path("rods.ini")) == 0, "wrote the two rods' scene")) return;
     live_proc p;
-    const char *args[] = {DIR "/rods.ini", "--rod", "long", NULL};
+    const char *args[] = {test_path("rods.ini"), "--rod", "long", NULL};
     alarm(120);
     if (!check(live_start(&p, args) == 0, "rodsim live of two rods started")) return;
     char answer[8192], line[256];
@@ -1034,12 +1049,12 @@ static void test_several_rods(void)
           "and the pinned tip's accepted numbers");
     /* --rod a name the scene lacks, refused before any line */
     char out[4096];
-    const char *bad_rod[] = {"live", DIR "/rods.ini", "--rod", "middle", NULL};
+    const char *bad_rod[] = {"live", test_path("rods.ini"), "--rod", "middle", NULL};
     int rc = test_run_rodsim_within(bad_rod, 30, out, sizeof out);
     check(rc == 2 && strstr(out, "--rod middle:") && strstr(out, "its rods: short, long"),
           "--rod middle: exit %d (2): %s", rc, out);
     /* one bare [rod]: its name is rod */
-    const char *one[] = {DIR "/hang.ini", NULL};
+    const char *one[] = {test_path("hang.ini"), NULL};
     if (live_start(&p, one) == 0) {
         fgets(answer, sizeof answer, p.out);
         char first[256] = "", second[256] = "";
@@ -1060,12 +1075,12 @@ static void test_several_rods(void)
  * 0.2 s; its root carries its weight and the force, rho A g L + F. */
 static void test_several_rods_loads(void)
 {
-    FILE *f = fopen(DIR "/loaded.ini", "w");
+    FILE *f = fopen(test_path("loaded.ini"), "w");
     if (!f) return;
     fputs(HANGING_RODS_SCENE "[tip long]\nframe = global\n", f);
     fclose(f);
     live_proc p;
-    const char *args[] = {DIR "/loaded.ini", "--set", "ends long.root=clamped", "--set",
+    const char *args[] = {test_path("loaded.ini"), "--set", "ends long.root=clamped", "--set",
                           "ends long.tip=free", "--set", "rod long.origin=0.2 0 0", "--set",
                           "rod long.direction=0 0 -1", NULL};
     alarm(120);
@@ -1103,9 +1118,8 @@ static void test_several_rods_loads(void)
 int main(void)
 {
     signal(SIGPIPE, SIG_IGN);
-    test_remove_tree(DIR);
-    if (system("mkdir -p " DIR) != 0) return 1;
-    FILE *f = fopen(DIR "/hang.ini", "w");
+    test_dir(); /* made now: the shell commands name it $RODSIM_TEST_DIR */
+    FILE *f = fopen(test_path("hang.ini"), "w");
     if (!f) return 1;
     fputs(scene_text, f);
     fclose(f);
@@ -1135,6 +1149,5 @@ int main(void)
     test_repeated_message();
     test_unreadable_input();
     test_record_write_error();
-    test_remove_tree(DIR);
     return test_finish();
 }

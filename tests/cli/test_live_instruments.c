@@ -260,14 +260,8 @@ done:
 
 int main(void)
 {
-    snprintf(dir, sizeof dir, "/tmp/rodsim_live_instr_%ld", (long)getpid());
-    mkdir(dir, 0700);
+    snprintf(dir, sizeof dir, "%s", test_dir());
     test_live_against_run();
     test_two_rods();
-    if (!getenv("KEEP")) {
-        char cmd[128];
-        snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-        if (system(cmd)) {}
-    }
     return test_finish();
 }

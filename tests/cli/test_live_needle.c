@@ -43,7 +43,6 @@
 #include "test.h"
 #include "test_csv.h"
 
-#define DIR "/tmp/rodsim_test_live_needle"
 #define NODES 26
 #define T_GRASP 0.1   /* s */
 #define T_END 0.5     /* s */
@@ -54,7 +53,7 @@
 static int write_file(const char *name, const char *text)
 {
     char path[256];
-    snprintf(path, sizeof path, "%s/%s", DIR, name);
+    snprintf(path, sizeof path, "%s/%s", test_dir(), name);
     FILE *f = fopen(path, "w");
     if (!f) return -1;
     fputs(text, f);
@@ -121,10 +120,12 @@ static int write_lines(void)
     memset(&holder, 0, sizeof holder);
     memset(&forceps, 0, sizeof forceps);
     char err[512];
-    if (rod_instrument_load_path(DIR "/holder.csv", &holder.pose, &holder.jaw, err, sizeof err) ||
-        rod_instrument_load_path(DIR "/forceps.csv", &forceps.pose, &forceps.jaw, err, sizeof err))
+    if (rod_instrument_load_path(test_path("holder.csv"), &holder.pose, &holder.jaw, err,
+                                 sizeof err) ||
+        rod_instrument_load_path(test_path("forceps.csv"), &forceps.pose, &forceps.jaw, err,
+                                 sizeof err))
         return -1;
-    FILE *f = fopen(DIR "/lines.txt", "w");
+    FILE *f = fopen(test_path("lines.txt"), "w");
     for (int i = 1; f && i <= (int)lround(T_END * 1e3); i++) {
         const double t = 1e-3 * i;
         const int tip = t <= T_GRASP + 1e-12;
@@ -217,23 +218,24 @@ static void test_handover(void)
 {
     if (!check(write_scene() == 0 && write_lines() == 0, "scene, paths and lines written")) return;
     char cmd[1024];
+    const char *dir = test_dir();
     snprintf(cmd, sizeof cmd, "%s live %s/needle.ini --centreline --record %s/rec.csv < "
-             "%s/lines.txt > %s/answers.csv 2> %s/live.log", RODSIM_BIN, DIR, DIR, DIR, DIR, DIR);
+             "%s/lines.txt > %s/answers.csv 2> %s/live.log", RODSIM_BIN, dir, dir, dir, dir, dir);
     const int live_rc = system(cmd);
     snprintf(cmd, sizeof cmd, "%s run %s/needle.ini --no-video --quiet --csv %s/run.csv -o "
-             "%s/out > %s/run.log 2>&1", RODSIM_BIN, DIR, DIR, DIR, DIR);
+             "%s/out > %s/run.log 2>&1", RODSIM_BIN, dir, dir, dir, dir);
     const int run_rc = system(cmd);
     /* the record replayed: the needle's path from it (the holder's and the
      * forceps' paths the scene's, as the lines gave them) */
     snprintf(cmd, sizeof cmd, "%s run %s/needle.ini --set ends.tip_motion=%s/rec.csv --no-video "
-             "--quiet --csv %s/replay.csv -o %s/out > %s/replay.log 2>&1", RODSIM_BIN, DIR, DIR,
-             DIR, DIR, DIR);
+             "--quiet --csv %s/replay.csv -o %s/out > %s/replay.log 2>&1", RODSIM_BIN, dir, dir,
+             dir, dir, dir);
     const int replay_rc = system(cmd);
     check(live_rc == 0 && run_rc == 0 && replay_rc == 0, "live, run and the replay ended (%d, %d, "
           "%d)", live_rc, run_rc, replay_rc);
-    char *answers = read_text(DIR "/answers.csv"), *rows = read_text(DIR "/run.csv"),
-         *record = read_text(DIR "/rec.csv"), *log = read_text(DIR "/live.log"),
-         *replayed = read_text(DIR "/replay.csv");
+    char *answers = read_text(test_path("answers.csv")), *rows = read_text(test_path("run.csv")),
+         *record = read_text(test_path("rec.csv")), *log = read_text(test_path("live.log")),
+         *replayed = read_text(test_path("replay.csv"));
     if (!check(answers && rows && record && log && replayed, "answers, run CSV, record, "
                "messages and the replay's CSV read"))
         goto done;
@@ -337,7 +339,6 @@ done:
 
 int main(void)
 {
-    mkdir(DIR, 0755);
     test_handover();
     return test_finish();
 }

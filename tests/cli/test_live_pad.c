@@ -24,7 +24,6 @@
 #include "json.h"
 #include "test.h"
 
-#define DIR "/tmp/rodsim_test_live_pad"
 #define SCENE RODSIM_SOURCE_DIR "/scenes/wound_closure.ini"
 #define TIP_NODE 48 /* the scene's 49 nodes */
 #define MAX_LINES 2000
@@ -61,8 +60,8 @@ int main(void)
     const double duration = test_sanitized() ? 0.1 : 1.1;
     const int lines = (int)lround(duration * 1000.0);
     char cmd[2048];
-    mkdir(DIR, 0755);
-    FILE *in = fopen(DIR "/in.csv", "w");
+    const char *dir = test_dir();
+    FILE *in = fopen(test_path("in.csv"), "w");
     if (!check(in != NULL, "the input lines written")) return test_finish();
     for (int k = 1; k <= lines; k++) {
         double p[3];
@@ -72,18 +71,18 @@ int main(void)
     fclose(in);
     snprintf(cmd, sizeof cmd,
              "%s live %s --record %s/rec.csv < %s/in.csv > %s/answers.csv 2> %s/err.txt",
-             RODSIM_BIN, SCENE, DIR, DIR, DIR, DIR);
+             RODSIM_BIN, SCENE, dir, dir, dir, dir);
     check(system(cmd) == 0, "rodsim live on the wound pad exits 0");
     snprintf(cmd, sizeof cmd,
              "%s run %s --set ends.tip_motion=%s/rec.csv --set solver.duration=%g "
              "--set solver.dt=0.001 --set render.fps=50 --no-video --summary %s/sum.json "
              "--csv %s/run.csv -o %s/out > %s/run.txt 2>&1",
-             RODSIM_BIN, SCENE, DIR, duration, DIR, DIR, DIR, DIR);
+             RODSIM_BIN, SCENE, dir, duration, dir, dir, dir, dir);
     check(system(cmd) == 0, "rodsim run replays the session's record (the full model)");
 
     /* live: the answers (t,fx,fy,fz,...,status) and the pad's line */
     static double answer[MAX_LINES + 1][3];
-    char *text = read_all(DIR "/answers.csv");
+    char *text = read_all(test_path("answers.csv"));
     int ok_lines = 0;
     for (char *line = text ? strtok(text, "\n") : NULL; line; line = strtok(NULL, "\n")) {
         double t, f[3];
@@ -94,7 +93,7 @@ int main(void)
     }
     free(text);
     check(ok_lines == lines, "every line answered ok: %d of %d", ok_lines, lines);
-    char *err = read_all(DIR "/err.txt");
+    char *err = read_all(test_path("err.txt"));
     const char *pad = err ? strstr(err, "the pad at t = ") : NULL;
     double live_gap = NAN, live_force[4][3];
     int forces = 0;
@@ -127,7 +126,7 @@ int main(void)
     free(err);
 
     /* the full model: its summary's punctures and gap, its CSV's tip force */
-    char *sum_text = read_all(DIR "/sum.json"), why[256];
+    char *sum_text = read_all(test_path("sum.json")), why[256];
     json_value *sum = sum_text ? json_parse(sum_text, why, sizeof why) : NULL;
     free(sum_text);
     const json_value *punctures = json_get(sum, "punctures");
@@ -172,7 +171,7 @@ int main(void)
 
     /* the tip's force at every output frame: the answer is what the thread
      * exerts on its tip, the CSV's n there the force on the thread */
-    FILE *csv = fopen(DIR "/run.csv", "r");
+    FILE *csv = fopen(test_path("run.csv"), "r");
     char row[1024];
     int frames = 0;
     double worst = 0.0, worst_t = 0.0, scale = 0.0;

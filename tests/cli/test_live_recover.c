@@ -34,14 +34,13 @@
 #include "test.h"
 #include "test_csv.h"
 
-#define DIR "/tmp/rodsim_test_live_recover"
 #define MAX_LINES 400
 #define MAX_NODES 26
 
 static int write_file(const char *name, const char *text)
 {
     char path[256];
-    snprintf(path, sizeof path, "%s/%s", DIR, name);
+    snprintf(path, sizeof path, "%s/%s", test_dir(), name);
     FILE *f = fopen(path, "w");
     if (!f) return -1;
     fputs(text, f);
@@ -63,10 +62,11 @@ static void run_session(session *s, const char *scene, const char *lines, const 
 {
     memset(s, 0, sizeof *s);
     char cmd[1024];
+    const char *dir = test_dir();
     snprintf(cmd, sizeof cmd, "%s live %s/%s --centreline < %s/%s > %s/answers.csv 2> %s/%s",
-             RODSIM_BIN, DIR, scene, DIR, lines, DIR, DIR, log);
+             RODSIM_BIN, dir, scene, dir, lines, dir, dir, log);
     s->rc = system(cmd);
-    char *text = read_text(DIR "/answers.csv");
+    char *text = read_text(test_path("answers.csv"));
     for (char *p = text; p && *p; p = strchr(p, '\n') ? strchr(p, '\n') + 1 : NULL) {
         if (*p == 't') continue;
         const int named = strncmp(p, "forceps,", 8) == 0;
@@ -119,7 +119,7 @@ static void test_tip_line(void)
         "[solver]\nscheme = implicit\ndt = 0.001\nduration = 1\nnewton_tolerance = 1e-12\n"
         "[loads]\ngravity = 0 0 -9.81\n[ends]\nroot = free\ntip = clamped\n"
         "[surface]\nshape = plane\ncenter = 0 0 0.52\nnormal = 0 0 -1\nfriction = 0.3\n";
-    FILE *a = fopen(DIR "/tip_bad.txt", "w"), *b = fopen(DIR "/tip_still.txt", "w");
+    FILE *a = fopen(test_path("tip_bad.txt"), "w"), *b = fopen(test_path("tip_still.txt"), "w");
     for (int k = 1; a && b && k <= LINES; k++) {
         fprintf(b, "%.3f,%.17g,0,0.5\n", k * 1e-3, carried_x(k));
         if (k == BAD_LINE) fprintf(a, "%.3f,%.17g,0,0.6\n", k * 1e-3, carried_x(k));
@@ -131,7 +131,7 @@ static void test_tip_line(void)
         return;
     run_session(&first, "ceiling.ini", "tip_bad.txt", "tip_bad.log", 21);
     run_session(&second, "ceiling.ini", "tip_still.txt", "tip_still.log", 21);
-    char *log = read_text(DIR "/tip_bad.log");
+    char *log = read_text(test_path("tip_bad.log"));
     check(first.rc == 0 && second.rc == 0 && first.lines == LINES && second.lines == LINES,
           "tip: both sessions answered every line (%d, %d; exit %d, %d)", first.lines,
           second.lines, first.rc, second.rc);
@@ -168,7 +168,7 @@ static void test_instrument_line(void)
         "[surface]\nshape = plane\ncenter = 0 0 -0.06\nnormal = 0 0 1\nfriction = 0.3\n"
         "[render]\nneedle_arc = 1/2\n";
     /* the tip's lines (the holder's path) to 0.1 s, then the forceps' */
-    FILE *a = fopen(DIR "/jaws_bad.txt", "w"), *b = fopen(DIR "/jaws_still.txt", "w");
+    FILE *a = fopen(test_path("jaws_bad.txt"), "w"), *b = fopen(test_path("jaws_still.txt"), "w");
     const int grasp = 100;
     for (int k = 1; a && b && k <= grasp + LINES; k++) {
         const double t = k * 1e-3, u = t / 0.1;
@@ -189,7 +189,7 @@ static void test_instrument_line(void)
         return;
     run_session(&first, "floor.ini", "jaws_bad.txt", "jaws_bad.log", 26);
     run_session(&second, "floor.ini", "jaws_still.txt", "jaws_still.log", 26);
-    char *log = read_text(DIR "/jaws_bad.log");
+    char *log = read_text(test_path("jaws_bad.log"));
     const int all = grasp + LINES, bad = grasp + BAD_LINE;
     check(first.rc == 0 && second.rc == 0 && first.lines == all && second.lines == all,
           "jaws: both sessions answered every line (%d, %d; exit %d, %d)", first.lines,
@@ -221,7 +221,7 @@ static void test_stuck(void)
         "[loads]\ngravity = 0 0 -9.81\n[ends]\nroot = clamped\ntip = free\n"
         "root_motion = root.csv\n"
         "[surface]\nshape = plane\ncenter = 0 0 0.02\nnormal = 0 0 -1\nfriction = 0.3\n";
-    FILE *f = fopen(DIR "/stuck.txt", "w");
+    FILE *f = fopen(test_path("stuck.txt"), "w");
     const int lines = 60;
     for (int k = 1; f && k <= lines; k++) fprintf(f, "%.3f,0,0,0,0,0,0\n", k * 1e-3);
     if (!check(f && fclose(f) == 0 && write_file("root.csv", root) == 0 &&
@@ -229,7 +229,7 @@ static void test_stuck(void)
                "stuck: scene and lines written"))
         return;
     run_session(&first, "stuck.ini", "stuck.txt", "stuck.log", 21);
-    char *log = read_text(DIR "/stuck.log");
+    char *log = read_text(test_path("stuck.log"));
     /* the first line that stepped nowhere, from the messages */
     const char *first_stuck = log ? strstr(log, "dropped from the path") : NULL;
     while (first_stuck && first_stuck > log && strncmp(first_stuck, "input line ", 11) != 0)
@@ -256,7 +256,6 @@ static void test_stuck(void)
 
 int main(void)
 {
-    mkdir(DIR, 0755);
     test_tip_line();
     test_instrument_line();
     test_stuck();

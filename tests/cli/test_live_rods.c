@@ -19,7 +19,6 @@
 #include "test_hanging_rods.h"
 #include "test_process.h"
 
-#define DIR "/tmp/rodsim_test_live_rods"
 #define LINES 400   /* lines, 0.01 s apart: t = 4 s at the end */
 #define ROWS (16 + 26) /* a frame's rows: the two rods' nodes */
 
@@ -87,20 +86,20 @@ static void read_record(const char *path, record_summary *r)
 
 static void test_record_and_centreline(void)
 {
-    FILE *in = fopen(DIR "/in.txt", "w");
+    FILE *in = fopen(test_path("in.txt"), "w");
     if (!check(in != NULL, "wrote the input lines")) return;
     for (int i = 1; i <= LINES; i++) {
         if (i == 100) fprintf(in, "middle:%.2f,0,0,0\n", i * 0.01); /* bad: no frame */
         fprintf(in, i % 2 ? "short:%.2f,0,0,0\n" : "long:%.2f,0.2,0,0\n", i * 0.01);
     }
     fclose(in);
-    const int rc = system(RODSIM_BIN " live " DIR "/rods.ini --centreline --record "
-                          DIR "/out/rec.csv < " DIR "/in.txt > " DIR "/answers.txt 2> "
-                          DIR "/stderr.txt");
+    const int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/rods.ini --centreline --record "
+                          "$RODSIM_TEST_DIR/out/rec.csv < $RODSIM_TEST_DIR/in.txt > "
+                          "$RODSIM_TEST_DIR/answers.txt 2> $RODSIM_TEST_DIR/stderr.txt");
     check(rc == 0, "rodsim live --centreline --record of two rods: exit %d (0)", rc);
     record_summary *r = calloc(1, sizeof *r);
     if (!r) return;
-    read_record(DIR "/out/rec.csv", r);
+    read_record(test_path("out/rec.csv"), r);
     check(r->header_ok, "the record's header: t,rod,node,s,x,y,z,...,nx,ny,nz (rodsim run --csv)");
     check(r->frames == LINES + 1 && r->frames_right == r->frames && r->names_both == r->frames,
           "%d frames (%d: t = 0 and the %d lines ok, not the bad one); %d of them of %d rows "
@@ -120,7 +119,7 @@ static void test_record_and_centreline(void)
     check_abs("long's horizontal internal force at its tip, N", hypot(r->last[41][8],
               r->last[41][9]), 0.0, 1e-6 * w_long);
     /* the answers: both centrelines after each, the last equal to the record's */
-    long got = read_file(DIR "/answers.txt", text, sizeof text);
+    long got = read_file(test_path("answers.txt"), text, sizeof text);
     const char *header = text, *last = NULL;
     int answers = 0;
     for (char *c = text; got > 0 && *c; c++)
@@ -156,7 +155,8 @@ static void test_record_and_centreline(void)
 static void test_refused(void)
 {
     char out[4096];
-    const char *bad_dir[] = {"live", DIR "/rods.ini", "--record", DIR "/rods.ini/r.csv", NULL};
+    const char *bad_dir[] = {"live", test_path("rods.ini"), "--record", test_path("rods.ini/r.csv"),
+                             NULL};
     int rc = test_run_rodsim_within(bad_dir, 30, out, sizeof out);
     check(rc == 1 && strstr(out, "rods.ini") && !strstr(out, "rod,t,"),
           "--record under a file: exit %d (1), no answer: %s", rc, out);
@@ -166,22 +166,23 @@ static void test_refused(void)
  * their 0.2 s of wall clock, each answered ok, the overruns counted */
 static void test_realtime(void)
 {
-    FILE *f = fopen(DIR "/paced.txt", "w");
+    FILE *f = fopen(test_path("paced.txt"), "w");
     if (!f) return;
     for (int i = 1; i <= 100; i++)
         fprintf(f, i % 2 ? "short:%.3f,0,0,0\n" : "long:%.3f,0.2,0,0\n", i * 2e-3);
     fclose(f);
     struct timespec a, b;
     clock_gettime(CLOCK_MONOTONIC, &a);
-    const int rc = system(RODSIM_BIN " live " DIR "/rods.ini --realtime < " DIR "/paced.txt > "
-                          DIR "/paced_out.txt 2> " DIR "/stderr.txt");
+    const int rc = system(RODSIM_BIN " live $RODSIM_TEST_DIR/rods.ini --realtime < "
+                          "$RODSIM_TEST_DIR/paced.txt > $RODSIM_TEST_DIR/paced_out.txt 2> "
+                          "$RODSIM_TEST_DIR/stderr.txt");
     clock_gettime(CLOCK_MONOTONIC, &b);
     const double wall = (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
-    long got = read_file(DIR "/paced_out.txt", text, sizeof text);
+    long got = read_file(test_path("paced_out.txt"), text, sizeof text);
     int ok = 0;
     for (const char *c = text; got > 0 && (c = strstr(c, ",ok\n")); c++) ok++;
     char err[4096] = "";
-    read_file(DIR "/stderr.txt", err, sizeof err);
+    read_file(test_path("stderr.txt"), err, sizeof err);
     printf("%s", err);
     check(rc == 0 && ok == 100 && wall >= 0.2 && strstr(err, "realtime overruns") != NULL,
           "--realtime, two rods: 100 lines 2 ms apart answered ok (%d) in %.3f s >= 0.2 s, "
@@ -190,12 +191,10 @@ static void test_realtime(void)
 
 int main(void)
 {
-    test_remove_tree(DIR);
-    if (system("mkdir -p " DIR) != 0) return 1;
-    if (!check(hanging_rods_write(DIR "/rods.ini") == 0, "wrote the two rods' scene")) return 1;
+    if (!check(hanging_rods_write(test_path("rods.ini")) == 0, "wrote the two rods' scene"))
+        return 1;
     test_record_and_centreline();
     test_refused();
     test_realtime();
-    test_remove_tree(DIR);
     return test_finish();
 }

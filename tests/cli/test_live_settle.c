@@ -34,7 +34,6 @@
 #include "live_driver.h"
 #include "test.h"
 
-#define DIR "/tmp/rodsim_test_live_settle"
 #define NODES 101
 #define MAX_STEPS 400 /* ms */
 
@@ -94,10 +93,11 @@ static char *read_file(const char *path)
 static int replay(const char *extra, const char *csv, double duration)
 {
     char cmd[2048];
+    const char *dir = test_dir();
     snprintf(cmd, sizeof cmd,
              "%s run %s/knot.ini %s --set ends.tip_motion=%s/rec.csv --set solver.duration=%g "
              "--set render.fps=100 --no-video --csv %s -o %s/out > %s/run.txt 2>&1",
-             RODSIM_BIN, DIR, extra, DIR, duration, csv, DIR, DIR);
+             RODSIM_BIN, dir, extra, dir, duration, csv, dir, dir);
     const int rc = system(cmd);
     return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
 }
@@ -107,9 +107,10 @@ static void test_knot(void)
     const double duration = test_sanitized() ? 0.05 : 0.2; /* s */
     const int lines = (int)lround(duration * 1000.0);
     double length = 0.0, tip[3] = {0.0, 0.0, 0.0};
-    if (!check(live_driver_write_knot(DIR "/knot.csv", &length, tip) == 0, "the knot's shape written"))
+    if (!check(live_driver_write_knot(test_path("knot.csv"), &length, tip) == 0,
+               "the knot's shape written"))
         return;
-    FILE *f = fopen(DIR "/knot.ini", "w"), *in = fopen(DIR "/in.csv", "w");
+    FILE *f = fopen(test_path("knot.ini"), "w"), *in = fopen(test_path("in.csv"), "w");
     if (!check(f && in, "the scene and the input lines written")) {
         if (f) fclose(f);
         if (in) fclose(in);
@@ -129,14 +130,15 @@ static void test_knot(void)
     }
     fclose(in);
     char cmd[2048];
+    const char *dir = test_dir();
     snprintf(cmd, sizeof cmd, "%s live %s/knot.ini --record %s/rec.csv < %s/in.csv > %s/live.csv "
-             "2> %s/live_err.txt", RODSIM_BIN, DIR, DIR, DIR, DIR, DIR);
+             "2> %s/live_err.txt", RODSIM_BIN, dir, dir, dir, dir, dir);
     check(system(cmd) == 0, "rodsim live on the settled knot exits 0");
     /* --realtime reserves and locks a heap (live.h): the same answers */
     snprintf(cmd, sizeof cmd, "%s live %s/knot.ini --realtime < %s/in.csv > %s/live_rt.csv "
-             "2> %s/live_rt_err.txt", RODSIM_BIN, DIR, DIR, DIR, DIR);
+             "2> %s/live_rt_err.txt", RODSIM_BIN, dir, dir, dir, dir);
     const int rt_rc = system(cmd);
-    char *plain = read_file(DIR "/live.csv"), *paced = read_file(DIR "/live_rt.csv");
+    char *plain = read_file(test_path("live.csv")), *paced = read_file(test_path("live_rt.csv"));
     check(rt_rc == 0 && plain && paced && strcmp(plain, paced) == 0,
           "--realtime (its heap reserved, %zu bytes at NS = %d) answers the same bytes",
           live_heap_bytes(NODES), NODES);
@@ -146,16 +148,17 @@ static void test_knot(void)
     check(live_heap_bytes(NODES) == 16777216 + 2 * 3 * 480 * 606 * 8,
           "the heap reserved at NS = %d: %zu bytes (16 MiB + 2 x 3 x 480 x 606 doubles: %d)", NODES,
           live_heap_bytes(NODES), 16777216 + 2 * 3 * 480 * 606 * 8);
-    check(replay("", DIR "/run.csv", duration) == 0, "rodsim run replays the record (settled)");
-    check(replay("--set rod.settle=0", DIR "/drawn.csv", duration) == 0,
+    check(replay("", test_path("run.csv"), duration) == 0,
+          "rodsim run replays the record (settled)");
+    check(replay("--set rod.settle=0", test_path("drawn.csv"), duration) == 0,
           "rodsim run replays it from the drawn shape");
 
     /* the start: settled (run.csv) against drawn (drawn.csv) */
     static double settled[NODES][3], drawn[NODES][3], settled_later[NODES][3], drawn_later[NODES][3];
-    if (!check(run_csv_at(DIR "/run.csv", 0.0, settled, NULL) == 0 &&
-                   run_csv_at(DIR "/drawn.csv", 0.0, drawn, NULL) == 0 &&
-                   run_csv_at(DIR "/run.csv", 0.01, settled_later, NULL) == 0 &&
-                   run_csv_at(DIR "/drawn.csv", 0.01, drawn_later, NULL) == 0,
+    if (!check(run_csv_at(test_path("run.csv"), 0.0, settled, NULL) == 0 &&
+                   run_csv_at(test_path("drawn.csv"), 0.0, drawn, NULL) == 0 &&
+                   run_csv_at(test_path("run.csv"), 0.01, settled_later, NULL) == 0 &&
+                   run_csv_at(test_path("drawn.csv"), 0.01, drawn_later, NULL) == 0,
                "both runs' nodes at t = 0 and 0.01 s"))
         return;
     check_abs("the held tip where it was drawn (m)", distance(settled[NODES - 1], drawn[NODES - 1]),
@@ -172,7 +175,7 @@ static void test_knot(void)
     /* the answers against the replays */
     static double answer[MAX_STEPS + 1][3];
     static int have[MAX_STEPS + 1];
-    FILE *a = fopen(DIR "/live.csv", "r");
+    FILE *a = fopen(test_path("live.csv"), "r");
     char line[1024];
     int ok_lines = 0;
     while (a && fgets(line, sizeof line, a)) {
@@ -190,10 +193,11 @@ static void test_knot(void)
     const double weight = 1000.0 * M_PI * 0.0005 * 0.0005 * length * 9.81; /* N */
     double worst = 0.0, worst_drawn = 0.0;
     int compared = 0;
+    const char *run_csv = test_path("run.csv"), *drawn_csv = test_path("drawn.csv");
     for (int k = 10; k <= lines; k += 10) {
         double f_run[3], f_drawn[3];
-        if (!have[k] || run_csv_at(DIR "/run.csv", k * 1e-3, NULL, f_run) ||
-            run_csv_at(DIR "/drawn.csv", k * 1e-3, NULL, f_drawn))
+        if (!have[k] || run_csv_at(run_csv, k * 1e-3, NULL, f_run) ||
+            run_csv_at(drawn_csv, k * 1e-3, NULL, f_drawn))
             continue;
         for (int c = 0; c < 3; c++) {
             worst = fmax(worst, fabs(f_run[c] - answer[k][c]));
@@ -212,7 +216,7 @@ static void test_knot(void)
 /* A straight thread hanging from its clamped tip settles to itself. */
 static void test_straight(void)
 {
-    FILE *f = fopen(DIR "/hang.ini", "w");
+    FILE *f = fopen(test_path("hang.ini"), "w");
     if (!f) return;
     fprintf(f, "[rod]\nlength = 0.5\ndirection = 0 0 1\nsettle = 0.05\ndiameter = 0.001\n"
                "density = 1000\nyoungs_modulus = 87.5e6\nshear_modulus = 31.25e6\nnodes = %d\n"
@@ -220,11 +224,13 @@ static void test_straight(void)
                "[loads]\ngravity = 0 0 -9.81\n[ends]\nroot = free\ntip = clamped\n", NODES);
     fclose(f);
     char cmd[1024];
+    const char *dir = test_dir();
     snprintf(cmd, sizeof cmd, "%s run %s/hang.ini --no-video --csv %s/hang.csv -o %s/out > "
-             "%s/hang.txt 2>&1", RODSIM_BIN, DIR, DIR, DIR, DIR);
+             "%s/hang.txt 2>&1", RODSIM_BIN, dir, dir, dir, dir);
     check(system(cmd) == 0, "rodsim run on the settled hanging thread exits 0");
     static double pos[NODES][3];
-    if (!check(run_csv_at(DIR "/hang.csv", 0.0, pos, NULL) == 0, "its nodes at t = 0")) return;
+    if (!check(run_csv_at(test_path("hang.csv"), 0.0, pos, NULL) == 0, "its nodes at t = 0"))
+        return;
     double most = 0.0;
     for (int i = 0; i < NODES; i++) {
         const double straight[3] = {0.0, 0.0, 0.5 * i / (NODES - 1)};
@@ -243,7 +249,7 @@ static void test_refused(void)
         {"settle = 1000\n", "accepted: at most 100000 steps"},
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-        FILE *f = fopen(DIR "/bad.ini", "w");
+        FILE *f = fopen(test_path("bad.ini"), "w");
         if (!f) return;
         fprintf(f, "[solver]\nscheme = implicit\ndt = 0.001\nduration = 0.001\n[ends]\nroot = free\n"
                    "tip = clamped\n[rod]\nlength = 0.5\ndirection = 0 0 1\ndiameter = 0.001\n"
@@ -251,10 +257,11 @@ static void test_refused(void)
                    "nodes = 21\n%s", cases[c].extra);
         fclose(f);
         char cmd[1024];
+        const char *dir = test_dir();
         snprintf(cmd, sizeof cmd, "%s run %s/bad.ini --no-video -o %s/out > %s/bad.txt 2>&1",
-                 RODSIM_BIN, DIR, DIR, DIR);
+                 RODSIM_BIN, dir, dir, dir);
         const int rc = system(cmd);
-        FILE *o = fopen(DIR "/bad.txt", "r");
+        FILE *o = fopen(test_path("bad.txt"), "r");
         char text[2048] = "";
         if (o) {
             text[fread(text, 1, sizeof text - 1, o)] = '\0';
@@ -269,7 +276,6 @@ static void test_refused(void)
 
 int main(void)
 {
-    mkdir(DIR, 0755);
     test_knot();
     test_straight();
     test_refused();

@@ -32,11 +32,11 @@ int main(void)
     expect("figure tabel2", fig, "did you mean table2?");
     const char *plot_y[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/table2_450nN.ini", "--vary",
                             "rod.nodes=11,21", "--plot", "rod.nodes:tip_yy", "--png",
-                            "/tmp/rodsim_near_names.png", NULL};
+                            test_path("near_names.png"), NULL};
     expect("sweep --plot rod.nodes:tip_yy", plot_y, "did you mean tip_y?");
     const char *plot_x[] = {"sweep", RODSIM_SOURCE_DIR "/scenes/table2_450nN.ini", "--vary",
                             "rod.nodes=11,21", "--plot", "rod.node:tip_y", "--png",
-                            "/tmp/rodsim_near_names.png", NULL};
+                            test_path("near_names.png"), NULL};
     expect("sweep --plot rod.node:tip_y", plot_x, "did you mean rod.nodes?");
     const char *far[] = {"validate", "--case", "qqq", NULL};
     expect("validate --case qqq (near none)", far, NULL);

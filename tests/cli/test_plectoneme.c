@@ -128,7 +128,7 @@ int main(void)
           "the path starts below and ends above the critical rotation (%.2f < %.2f < %.2f rad)",
           PHI0, phi_c, end_rotation(DURATION));
 
-    const char *dir = "/tmp/rodsim_test_plectoneme";
+    const char *dir = test_path("plectoneme");
     char scene[300], csv[300], output[16384];
     snprintf(scene, sizeof scene, "%s.ini", dir);
     snprintf(csv, sizeof csv, "%s.csv", dir);

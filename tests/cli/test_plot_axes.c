@@ -17,7 +17,7 @@ static int plot(const char *y, char *output, size_t outlen)
     char axes[64];
     snprintf(axes, sizeof axes, "rod.nodes:%s", y);
     const char *args[] = {"sweep", SCENE, "--vary", "rod.nodes=11,21", "--plot", axes,
-                          "--png", "/tmp/rodsim_test_plot_axes.png", NULL};
+                          "--png", test_path("plot_axes.png"), NULL};
     return test_run_rodsim_within(args, 60, output, outlen);
 }
 

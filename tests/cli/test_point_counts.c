@@ -6,11 +6,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "test.h"
 #include "test_process.h"
 
-#define DIR "/tmp/rodsim_test_point_counts"
 #define SCENE RODSIM_SOURCE_DIR "/scenes/table2_450nN.ini"
 
 /* Runs rodsim; checks the exit status, that `want` is in what it printed
@@ -40,30 +40,28 @@ static void expect_file(const char *path, const char *want)
 
 int main(void)
 {
-    test_remove_tree(DIR);
-    if (system("mkdir -p " DIR) != 0) return 1;
-    const char *one[] = {"sweep", SCENE, "--csv", DIR "/one.csv", NULL};
+    const char *one[] = {"sweep", SCENE, "--csv", test_path("one.csv"), NULL};
     expect("sweep without --vary", one, 0, "rodsim sweep: 1 point: 1 run;");
-    const char *two[] = {"sweep", SCENE, "--vary", "rod.nodes=11,21", "--csv", DIR "/two.csv",
-                         NULL};
+    const char *two[] = {"sweep", SCENE, "--vary", "rod.nodes=11,21", "--csv",
+                         test_path("two.csv"), NULL};
     expect("sweep of two points", two, 0, "rodsim sweep: 2 points: 2 run;");
-    const char *missing[] = {"sweep", SCENE, "--result", DIR "/empty", "--assemble", "--csv",
-                             DIR "/assembled.csv", NULL};
-    if (system("mkdir -p " DIR "/empty") != 0) return 1;
+    const char *missing[] = {"sweep", SCENE, "--result", test_path("empty"), "--assemble", "--csv",
+                             test_path("assembled.csv"), NULL};
+    if (mkdir(test_path("empty"), 0700) != 0) return 1;
     expect("--assemble, the one point missing", missing, 1,
            "rodsim sweep: 1 of 1 point has no result");
-    const char *commands[] = {"sweep", SCENE, "--result", DIR "/res", "--print-commands", NULL};
+    const char *commands[] = {"sweep", SCENE, "--result", test_path("res"), "--print-commands",
+                              NULL};
     expect("--print-commands of one point", commands, 0, "# rodsim sweep: 1 point of ");
-    const char *snake[] = {"sweep", SCENE, "--result", DIR "/res", "--csv", DIR "/snake.csv",
-                           "--snakefile", DIR "/Snakefile", NULL};
+    const char *snake[] = {"sweep", SCENE, "--result", test_path("res"), "--csv",
+                           test_path("snake.csv"), "--snakefile", test_path("Snakefile"), NULL};
     expect("--snakefile of one point", snake, 0, "Snakefile (1 point); run: snakemake");
-    expect_file(DIR "/Snakefile", "--snakefile: 1 point of ");
-    const char *sbatch[] = {"sweep", SCENE, "--result", DIR "/res", "--sbatch", DIR "/job.sh",
-                            NULL};
+    expect_file(test_path("Snakefile"), "--snakefile: 1 point of ");
+    const char *sbatch[] = {"sweep", SCENE, "--result", test_path("res"), "--sbatch",
+                            test_path("job.sh"), NULL};
     expect("--sbatch of one point", sbatch, 0, "");
-    expect_file(DIR "/job.sh", "--sbatch: 1 point of ");
+    expect_file(test_path("job.sh"), "--sbatch: 1 point of ");
     const char *list[] = {"figure", "--list", NULL};
     expect("figure --list", list, 0, "impulse            1 point  (1 quick)");
-    test_remove_tree(DIR);
     return test_finish();
 }

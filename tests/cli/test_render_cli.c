@@ -30,7 +30,6 @@
 #include "test_process.h"
 #include "sim/rod.h"
 
-#define DIR "/tmp/rodsim_test_render_cli"
 #define NODES 21
 #define LINES 400 /* 1 kHz: T = 0.4 s */
 #define FPS 30
@@ -96,17 +95,19 @@ static int killed_session(void)
 {
     int to[2], from[2];
     if (pipe(to) || pipe(from)) return -1;
+    const char *stderr_path = test_path("live_stderr.txt"), *scene = test_path("hang.ini");
+    const char *record = test_path("rec.csv");
     fflush(stdout);
     pid_t pid = fork();
     if (pid == 0) {
         dup2(to[0], 0);
         dup2(from[1], 1);
-        int e = open(DIR "/live_stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int e = open(stderr_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         if (e >= 0) dup2(e, 2);
         close(to[0]); close(to[1]); close(from[0]); close(from[1]);
         alarm(120);
-        execl(RODSIM_BIN, RODSIM_BIN, "live", DIR "/hang.ini", "--centreline", "--record",
-              DIR "/rec.csv", (char *)NULL);
+        execl(RODSIM_BIN, RODSIM_BIN, "live", scene, "--centreline", "--record", record,
+              (char *)NULL);
         _exit(127);
     }
     close(to[0]);
@@ -132,7 +133,7 @@ static int killed_session(void)
         answered += got == 3 * NODES && strstr(answer, ",ok,") != NULL;
     }
     /* the last row is written just after its answer: wait for it, then kill */
-    for (int wait = 0; wait < 2000 && record_rows(DIR "/rec.csv") < LINES + 1; wait++) {
+    for (int wait = 0; wait < 2000 && record_rows(record) < LINES + 1; wait++) {
         struct timespec ts = {0, 10000000};
         nanosleep(&ts, NULL);
     }
@@ -161,10 +162,12 @@ static int expected_frames(double duration, int fps)
 static int fit_camera(render_camera *cam, int frames)
 {
     char err[1024];
-    ini_doc *doc = ini_load(DIR "/hang.ini", err, sizeof err);
+    ini_doc *doc = ini_load(test_path("hang.ini"), err, sizeof err);
     if (!doc) return -1;
     for (int i = 0; i < RENDER_SETS; i++) ini_set(doc, render_sets[i], err, sizeof err);
-    ini_set(doc, "ends.tip_motion=" DIR "/rec.csv", err, sizeof err);
+    char tip_motion[600];
+    snprintf(tip_motion, sizeof tip_motion, "ends.tip_motion=%s", test_path("rec.csv"));
+    ini_set(doc, tip_motion, err, sizeof err);
     rod_model m = rod_model_default();
     run_output out;
     int rc = run_read_scene(doc, &m, &out, err, sizeof err);
@@ -227,15 +230,15 @@ static void check_last_frame(const image *img, const render_camera *cam, int r, 
 static void test_killed_session_renders(void)
 {
     if (killed_session()) return;
-    int rows = record_rows(DIR "/rec.csv");
+    int rows = record_rows(test_path("rec.csv"));
     check(rows == LINES + 1, "the killed session's record kept its t = 0 row and all %d "
           "stepped rows: %d", LINES, rows);
     const char *args[4 + 2 * RENDER_SETS + 1];
     int n = 0;
     args[n++] = "render";
-    args[n++] = DIR "/rec.csv";
+    args[n++] = test_path("rec.csv");
     args[n++] = "-o";
-    args[n++] = DIR "/out";
+    args[n++] = test_path("out");
     for (int i = 0; i < RENDER_SETS; i++) {
         args[n++] = "--set";
         args[n++] = render_sets[i];
@@ -250,20 +253,20 @@ static void test_killed_session_renders(void)
     }
     const int frames = expected_frames(LINES * 1e-3, FPS);
     decoded d;
-    if (!check(decode_video(DIR "/out/rec.mp4", &d) == 0, "out/rec.mp4 decodes")) return;
+    if (!check(decode_video(test_path("out/rec.mp4"), &d) == 0, "out/rec.mp4 decodes")) return;
     check(d.frames == frames && d.width == 320 && d.height == 240,
           "the video has %d frames of 320x240 (floor(0.4 x 30) + 1 = %d)", d.frames, frames);
     check_abs("video duration, s (frames / fps)", d.duration, (double)frames / FPS, 0.5 / FPS);
-    check(test_dir_entries(DIR "/out/rec_frames") == frames, "%d PNG frames written (%d)",
-          test_dir_entries(DIR "/out/rec_frames"), frames);
+    check(test_dir_entries(test_path("out/rec_frames")) == frames, "%d PNG frames written (%d)",
+          test_dir_entries(test_path("out/rec_frames")), frames);
     render_camera cam;
-    char err[512], path[256];
+    char err[512], path[600];
     if (check(fit_camera(&cam, frames) == 0, "camera fitted to live's centreline")) {
-        snprintf(path, sizeof path, DIR "/out/rec_frames/%05d.png", frames - 1);
+        snprintf(path, sizeof path, "%s/out/rec_frames/%05d.png", test_dir(), frames - 1);
         image *last = image_read_png(path, err, sizeof err);
-        if (!last) snprintf(path, sizeof path, DIR "/out/rec_frames/%05d.png", frames);
+        if (!last) snprintf(path, sizeof path, "%s/out/rec_frames/%05d.png", test_dir(), frames);
         if (!last) last = image_read_png(path, err, sizeof err);
-        image *poster = image_read_png(DIR "/out/rec.png", err, sizeof err);
+        image *poster = image_read_png(test_path("out/rec.png"), err, sizeof err);
         if (check(last && poster, "the last PNG frame and the poster read")) {
             check_last_frame(last, &cam, 1, "last PNG frame");
             check_last_frame(poster, &cam, 1, "poster");
@@ -280,7 +283,7 @@ static void test_killed_session_renders(void)
  * to the row before: T = 0.3 s, 10 frames. */
 static void test_cut_row(void)
 {
-    FILE *in = fopen(DIR "/rec.csv", "r"), *out = fopen(DIR "/cut.csv", "w");
+    FILE *in = fopen(test_path("rec.csv"), "r"), *out = fopen(test_path("cut.csv"), "w");
     if (!in || !out) {
         if (in) fclose(in);
         if (out) fclose(out);
@@ -296,12 +299,13 @@ static void test_cut_row(void)
     }
     fclose(in);
     fclose(out);
-    const char *args[] = {"render", DIR "/cut.csv", "-o", DIR "/out", "--set", "render.width=64",
-                          "--set", "render.height=48", "--set", "render.fps=30", NULL};
+    const char *args[] = {"render", test_path("cut.csv"), "-o", test_path("out"), "--set",
+                          "render.width=64", "--set", "render.height=48", "--set", "render.fps=30",
+                          NULL};
     static char output[1 << 16];
     int rc = test_run_rodsim_within(args, 300, output, sizeof output);
     decoded d;
-    int frames = rc == 0 && decode_video(DIR "/out/cut.mp4", &d) == 0 ? d.frames : -1;
+    int frames = rc == 0 && decode_video(test_path("out/cut.mp4"), &d) == 0 ? d.frames : -1;
     check(rc == 0 && strstr(output, "cut.csv:") && strstr(output, "incomplete last line") &&
               frames == expected_frames(0.3, FPS),
           "a record cut inside the row of t = 0.301 s: exit %d, named, rendered to t = 0.3 s: "
@@ -312,12 +316,12 @@ static void test_cut_row(void)
 /* `rodsim run` on a record renders it as `rodsim render` does. */
 static void test_run_on_record(void)
 {
-    const char *args[] = {"run", DIR "/cut.csv", "-o", DIR "/run_out", "--set", "render.width=64",
-                          "--set", "render.height=48", "--quiet", NULL};
+    const char *args[] = {"run", test_path("cut.csv"), "-o", test_path("run_out"), "--set",
+                          "render.width=64", "--set", "render.height=48", "--quiet", NULL};
     static char output[1 << 16];
     int rc = test_run_rodsim_within(args, 300, output, sizeof output);
     decoded d;
-    int frames = rc == 0 && decode_video(DIR "/run_out/cut.mp4", &d) == 0 ? d.frames : -1;
+    int frames = rc == 0 && decode_video(test_path("run_out/cut.mp4"), &d) == 0 ? d.frames : -1;
     check(rc == 0 && frames == expected_frames(0.3, FPS),
           "rodsim run on a record: exit %d, run_out/cut.mp4 with %d frames (%d)", rc, frames,
           expected_frames(0.3, FPS));
@@ -330,7 +334,12 @@ static void test_run_on_record(void)
 static void test_command_named(void)
 {
     static char output[1 << 16];
-    const char *render[] = {"render", DIR "/cut.csv", "-o", DIR "/named", "--set",
+    char render_refused[700], run_refused[700];
+    snprintf(render_refused, sizeof render_refused,
+             "rodsim render: %s: this run would take about", test_path("cut.csv"));
+    snprintf(run_refused, sizeof run_refused, "rodsim run: %s: this run would take about",
+             test_path("cut.csv"));
+    const char *render[] = {"render", test_path("cut.csv"), "-o", test_path("named"), "--set",
                             "render.width=64", "--set", "render.height=48", NULL};
     int rc = test_run_rodsim_within(render, 300, output, sizeof output);
     const char *head = strstr(output, "\nrodsim render: cut (");
@@ -339,13 +348,13 @@ static void test_command_named(void)
           "exit %d, \"%.24s\"", rc, head ? head + 1 : output);
     setenv("RODSIM_TIME_LIMIT", "1e-9", 1); /* every run is over the limit */
     rc = test_run_rodsim_within(render, 60, output, sizeof output);
-    check(rc == 2 && strstr(output, "rodsim render: " DIR "/cut.csv: this run would take about") &&
+    check(rc == 2 && strstr(output, render_refused) &&
               strstr(output, "rodsim run") == NULL,
           "a render over the time limit: exit %d, \"rodsim render: ...would take about\", "
           "no \"rodsim run\"", rc);
-    const char *run[] = {"run", DIR "/cut.csv", "-o", DIR "/named", NULL};
+    const char *run[] = {"run", test_path("cut.csv"), "-o", test_path("named"), NULL};
     rc = test_run_rodsim_within(run, 60, output, sizeof output);
-    check(rc == 2 && strstr(output, "rodsim run: " DIR "/cut.csv: this run would take about") &&
+    check(rc == 2 && strstr(output, run_refused) &&
               strstr(output, "rodsim render") == NULL,
           "the same through rodsim run: exit %d, \"rodsim run: ...would take about\", no "
           "\"rodsim render\"", rc);
@@ -355,25 +364,23 @@ static void test_command_named(void)
 static void test_refused(void)
 {
     static char output[1 << 14];
-    int before = test_dir_entries(DIR "/out");
-    const char *scene[] = {"render", DIR "/hang.ini", "-o", DIR "/out", NULL};
+    int before = test_dir_entries(test_path("out"));
+    const char *scene[] = {"render", test_path("hang.ini"), "-o", test_path("out"), NULL};
     int rc = test_run_rodsim_within(scene, 60, output, sizeof output);
     check(rc == 2 && strstr(output, "hang.ini:1: not a rodsim live record") != NULL,
           "a scene given to render: exit %d, named at line 1", rc);
-    const char *physics[] = {"render", DIR "/rec.csv", "--set", "rod.nodes=5", NULL};
+    const char *physics[] = {"render", test_path("rec.csv"), "--set", "rod.nodes=5", NULL};
     rc = test_run_rodsim_within(physics, 60, output, sizeof output);
     check(rc == 2 && strstr(output, "only render.KEY=VALUE") != NULL,
           "render --set rod.nodes=5: exit %d, only [render] keys", rc);
-    check(test_dir_entries(DIR "/out") == before, "the refused renders wrote nothing to out/ "
-          "(%d entries, %d before)", test_dir_entries(DIR "/out"), before);
+    check(test_dir_entries(test_path("out")) == before, "the refused renders wrote nothing to out/ "
+          "(%d entries, %d before)", test_dir_entries(test_path("out")), before);
 }
 
 int main(void)
 {
     signal(SIGPIPE, SIG_IGN);
-    test_remove_tree(DIR);
-    if (system("mkdir -p " DIR) != 0) return 1;
-    FILE *f = fopen(DIR "/hang.ini", "w");
+    FILE *f = fopen(test_path("hang.ini"), "w");
     if (!f) return 1;
     fputs(scene_text, f);
     fclose(f);
@@ -382,6 +389,5 @@ int main(void)
     test_run_on_record();
     test_command_named();
     test_refused();
-    test_remove_tree(DIR);
     return test_finish();
 }

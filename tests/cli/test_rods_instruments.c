@@ -221,13 +221,11 @@ static void test_two_rods_summary(void)
 
 int main(void)
 {
-    snprintf(dir, sizeof dir, "/tmp/rodsim_rods_instr_%ld", (long)getpid());
-    mkdir(dir, 0700);
+    snprintf(dir, sizeof dir, "%s", test_dir());
     test_one_named_csv();
     test_into_pad();
     test_into_pad_sweep("");
     test_into_pad_sweep(" thread");
     test_two_rods_summary();
-    if (!getenv("KEEP")) test_remove_tree(dir);
     return test_finish();
 }

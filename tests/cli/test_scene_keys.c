@@ -205,7 +205,7 @@ static void test_rod_table(void)
         return;
     }
     /* [instrument] too (its kind and path are required), with a path file */
-    const char *tool_path = "/tmp/rodsim_test_scene_keys_instrument.csv";
+    const char *tool_path = test_path("scene_keys_instrument.csv");
     FILE *tool_file = fopen(tool_path, "w");
     if (tool_file) {
         fputs("t,x,y,z,rx,ry,rz,jaw\n0,0.5,0,0.1,0,0,0,1\n", tool_file);

@@ -26,7 +26,7 @@
  * the run or its CSV fails; *worst_node and *tip_speed tell where. */
 static double largest_excess(const char *shape, int *worst_node, double *tip_speed, double *speed)
 {
-    const char *csv = "/tmp/rodsim_test_scene_rest.csv";
+    const char *csv = test_path("scene_rest.csv");
     char set_shape[256];
     snprintf(set_shape, sizeof set_shape, "rod.shape=%s", shape);
     const char *args[] = {"run", "scenes/suture.ini", "--no-video", "--csv", csv, "--set",

@@ -50,8 +50,8 @@ static double bending_energy(const double *x)
 
 int main(void)
 {
-    const char *csv = "/tmp/rodsim_test_slack_stall.csv";
-    const char *summary = "/tmp/rodsim_test_slack_stall.json";
+    const char *csv = test_path("slack_stall.csv");
+    const char *summary = test_path("slack_stall.json");
     char output[16384];
     const char *args[] = {"run", "tests/cli/slack_stall/slack_stall.ini", "--no-video", "--csv", csv,
                           "--summary", summary, NULL};

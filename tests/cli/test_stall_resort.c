@@ -77,8 +77,8 @@ static void check_warning(const json_value *v)
 
 int main(void)
 {
-    const char *csv = "/tmp/rodsim_test_stall_resort.csv";
-    const char *summary = "/tmp/rodsim_test_stall_resort.json";
+    const char *csv = test_path("stall_resort.csv");
+    const char *summary = test_path("stall_resort.json");
     char output[16384];
     /* under the sanitizers (about 8x the CPU) the first second only: the
      * run and the strands' gap; the last resort is reached in the release

@@ -41,7 +41,7 @@ static double to_thread(const double *x, const double p[3])
 int main(void)
 {
     const int sanitized = test_sanitized();
-    const char *csv = "/tmp/rodsim_test_surgeons_knot.csv";
+    const char *csv = test_path("surgeons_knot.csv");
     const char *until = sanitized ? "1" : "6.5";
     char duration[32];
     snprintf(duration, sizeof duration, "solver.duration=%s", until);

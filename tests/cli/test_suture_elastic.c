@@ -75,9 +75,9 @@ static double lowest_between(const char *text, double hole_y)
 
 int main(void)
 {
-    const char *csv = "/tmp/rodsim_test_suture_elastic.csv",
-               *pad = "/tmp/rodsim_test_suture_elastic_pad.csv",
-               *summary = "/tmp/rodsim_test_suture_elastic.json";
+    const char *csv = test_path("suture_elastic.csv"),
+               *pad = test_path("suture_elastic_pad.csv"),
+               *summary = test_path("suture_elastic.json");
     char duration[64];
     snprintf(duration, sizeof duration, "solver.duration=%g", T_END);
     const char *args[] = {"run", "scenes/suture_elastic.ini", "--no-video", "--quiet", "--csv", csv,

@@ -369,7 +369,7 @@ static void test_bad_input(void)
     refused("--print-commands without --result",
             (const char *const[]){"--print-commands", NULL}, "needs --result DIR");
     refused("--snakefile without --result",
-            (const char *const[]){"--snakefile", "/tmp/rodsim_never_Snakefile", NULL},
+            (const char *const[]){"--snakefile", test_path("never_Snakefile"), NULL},
             "--snakefile needs --result DIR");
     char snakefile[320], results[320];
     snprintf(snakefile, sizeof snakefile, "%s/refused/Snakefile", scratch);
@@ -1024,8 +1024,7 @@ static void test_sbatch(void)
 
 int main(void)
 {
-    snprintf(scratch, sizeof scratch, "/tmp/rodsim_test_sweep_%d", (int)getpid());
-    mkdir(scratch, 0755);
+    snprintf(scratch, sizeof scratch, "%s", test_dir());
     test_fnv();
     test_deflection_against_load();
     test_first_frequency();
@@ -1040,6 +1039,5 @@ int main(void)
     test_commands_and_resume();
     test_snakemake();
     test_sbatch();
-    test_remove_tree(scratch);
     return test_finish();
 }

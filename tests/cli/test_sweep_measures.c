@@ -381,8 +381,7 @@ static void test_tables(void)
 
 int main(void)
 {
-    snprintf(scratch, sizeof scratch, "/tmp/rodsim_test_sweep_measures_%d", (int)getpid());
-    mkdir(scratch, 0755);
+    snprintf(scratch, sizeof scratch, "%s", test_dir());
     test_tables();
     test_end_force();
     test_punctures();
@@ -390,6 +389,5 @@ int main(void)
     test_refused();
     test_labels();
     test_log_axes();
-    test_remove_tree(scratch);
     return test_finish();
 }

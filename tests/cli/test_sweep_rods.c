@@ -175,8 +175,7 @@ static void refused(const char *what, const char *vary, const char *measure, con
 
 int main(void)
 {
-    snprintf(scratch, sizeof scratch, "/tmp/rodsim_test_sweep_rods_%d", (int)getpid());
-    mkdir(scratch, 0755);
+    snprintf(scratch, sizeof scratch, "%s", test_dir());
     test_two_rods();
     test_end_forces();
     refused("unknown rod", "rod middle.youngs_modulus=2e7,5e7", "tip",
@@ -185,6 +184,5 @@ int main(void)
             "knot does not apply to");
     refused("puncture measures", "rod upper.youngs_modulus=2e7", "puncture_count",
             "the measures that apply: tip_x, tip_y, tip_z, root_fx");
-    test_remove_tree(scratch);
     return test_finish();
 }

@@ -117,7 +117,7 @@ static void test_knot_shown(void)
 
     /* the line drawn: dark text in the top right's first row only with it */
     char dir[256];
-    snprintf(dir, sizeof dir, "/tmp/rodsim_test_crossings_%ld", (long)getpid());
+    snprintf(dir, sizeof dir, "%s/line", test_dir());
     mkdir(dir, 0777);
     render_options_default(&o);
     o.width = 640;
@@ -228,7 +228,7 @@ static void test_occlusion_render(void)
     v3_set(o.view, 0, 0, 1);
     o.visual_radius = radius;
     char dir[256], err[1024], path[1200];
-    snprintf(dir, sizeof dir, "/tmp/rodsim_test_crossings_ao_%ld", (long)getpid());
+    snprintf(dir, sizeof dir, "%s/ao", test_dir());
     mkdir(dir, 0777);
     int status = render_recording(rec, &o, dir, "cross", 0, err, sizeof err);
     snprintf(path, sizeof path, "%s/cross.png", dir);
@@ -270,7 +270,7 @@ static void test_occlusion_render(void)
 static void test_overlay_layout(void)
 {
     char dir[256];
-    snprintf(dir, sizeof dir, "/tmp/rodsim_test_crossings_layout_%ld", (long)getpid());
+    snprintf(dir, sizeof dir, "%s/layout", test_dir());
     mkdir(dir, 0777);
     render_options o;
     render_options_default(&o);
@@ -323,7 +323,7 @@ static void test_overlay_layout(void)
     image_destroy(img[0]);
     image_destroy(img[1]);
     rod_recording_destroy(rec);
-    if (!getenv("KEEP")) test_remove_tree(dir);
+    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir);
 }
 
 int main(void)

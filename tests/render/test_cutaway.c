@@ -405,8 +405,7 @@ static void test_pictures(void)
 
 int main(void)
 {
-    snprintf(dir, sizeof dir, "/tmp/rodsim_test_cutaway_%ld", (long)getpid());
-    mkdir(dir, 0777);
+    snprintf(dir, sizeof dir, "%s", test_dir());
     cutaway_scratch *s = cutaway_scratch_create();
     if (check(s != NULL, "cutaway scratch")) {
         test_box(s);
@@ -415,6 +414,5 @@ int main(void)
     cutaway_scratch_destroy(s);
     test_stitch_plane();
     test_pictures();
-    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir); /* keep the pictures to look at */
     return test_finish();
 }

@@ -58,7 +58,7 @@ static render_options plain_options(int width, int height)
 
 static void make_temp_dir(char *dir, size_t len, const char *tag)
 {
-    snprintf(dir, len, "/tmp/rodsim_test_framing_%s_%ld", tag, (long)getpid());
+    snprintf(dir, len, "%s/%s", test_dir(), tag);
     mkdir(dir, 0777);
 }
 
@@ -162,7 +162,7 @@ static void test_follow_fall(void)
     check(run_fill < 0.4 * follow_fill, "run framing: the rod is smaller on screen (%.2f) than "
           "followed (%.2f)", run_fill, follow_fill);
     rod_recording_destroy(rec);
-    if (!getenv("RODSIM_KEEP_TEST_OUTPUT")) test_remove_tree(dir);
+    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir);
 }
 
 /* A recording of the frames `which[0 .. count)` of rec. */
@@ -221,7 +221,7 @@ static void test_follow_streamed(void)
           "every frame inside the free band (%d outside)", outside);
     rod_recording_destroy(sample);
     rod_recording_destroy(rec);
-    if (!getenv("RODSIM_KEEP_TEST_OUTPUT")) test_remove_tree(dir);
+    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir);
 }
 
 /* A steady drift is followed without lag: the rod stays on the same pixels
@@ -272,7 +272,7 @@ static void test_follow_smooth(void)
     check(bend < 0.1 * 4 * jitter, "jitter of +-1 cm frame to frame: the aim's second difference "
           "along y is %.2g m, under a tenth of the rod's %.2g m", bend, 4 * jitter);
     rod_recording_destroy(rec);
-    if (!getenv("RODSIM_KEEP_TEST_OUTPUT")) test_remove_tree(dir);
+    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir);
 }
 
 /* An arc in the x-y plane seen from the top and from the front side by
@@ -323,7 +323,7 @@ static void test_views(void)
         image_destroy(img);
     }
     rod_recording_destroy(rec);
-    if (!getenv("RODSIM_KEEP_TEST_OUTPUT")) test_remove_tree(dir);
+    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir);
 }
 
 /* The frames go through the writer thread (drawn while the previous one is
@@ -364,7 +364,7 @@ static void test_threaded_same_as_serial(void)
     image_destroy(a);
     image_destroy(b);
     rod_recording_destroy(rec);
-    if (!getenv("RODSIM_KEEP_TEST_OUTPUT")) test_remove_tree(dir);
+    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir);
 }
 
 static void test_options(void)

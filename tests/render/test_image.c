@@ -23,7 +23,7 @@ static void test_png_round_trip(void)
             p[2] = (unsigned char)(x * y);
         }
     char path[256];
-    snprintf(path, sizeof path, "/tmp/rodsim_test_image_%ld/a.png", (long)getpid());
+    snprintf(path, sizeof path, "%s/a.png", test_path("image")); /* a folder not made yet */
     int written = image_write_png(img, path, err, sizeof err);
     check(written == 0, "PNG written to %s (%s)", path, written ? err : "ok");
     image *back = image_read_png(path, err, sizeof err);
@@ -33,9 +33,7 @@ static void test_png_round_trip(void)
               "PNG round trip is lossless (PSNR %.1f dB)", image_psnr(img, back));
     image_destroy(back);
     unlink(path);
-    char dir[256];
-    snprintf(dir, sizeof dir, "/tmp/rodsim_test_image_%ld", (long)getpid());
-    rmdir(dir);
+    rmdir(test_path("image"));
 
     /* an unwritable place leaves nothing and says why */
     int failed = image_write_png(img, "/proc/rodsim_cannot_write/x.png", err, sizeof err);

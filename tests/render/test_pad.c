@@ -255,10 +255,8 @@ done:
 
 int main(void)
 {
-    snprintf(dir, sizeof dir, "/tmp/rodsim_test_pad_%ld", (long)getpid());
-    mkdir(dir, 0777);
+    snprintf(dir, sizeof dir, "%s", test_dir());
     test_grid_faces();
     test_frames_and_picture();
-    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir); /* keep the pictures to look at */
     return test_finish();
 }

@@ -87,7 +87,7 @@ static int is_stripe_colour(const unsigned char *p) { return p[0] > 150 && p[1] 
 
 static void make_temp_dir(char *dir, size_t len, const char *tag)
 {
-    snprintf(dir, len, "/tmp/rodsim_test_render_%s_%ld", tag, (long)getpid());
+    snprintf(dir, len, "%s/%s", test_dir(), tag);
     mkdir(dir, 0777);
 }
 
@@ -398,7 +398,7 @@ static void test_end_glyphs(void)
         image_destroy(img);
     }
     rod_recording_destroy(rec);
-    if (!getenv("RODSIM_KEEP_TEST_OUTPUT")) test_remove_tree(dir); /* keep the pictures to look at */
+    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir); /* keep the pictures to look at */
 }
 
 static void test_atomic_failure(void)
@@ -708,7 +708,7 @@ static void test_teaching_overlay(void)
         image_destroy(img);
     }
     rod_recording_destroy(rec);
-    if (!getenv("RODSIM_KEEP_TEST_OUTPUT")) test_remove_tree(dir);
+    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir);
 }
 
 /* Speed by finite difference between frames, and magnification. */
@@ -778,7 +778,7 @@ static void test_speed_and_magnify(void)
         image_destroy(img);
     }
     rod_recording_destroy(rec);
-    if (!getenv("RODSIM_KEEP_TEST_OUTPUT")) test_remove_tree(dir);
+    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir);
 }
 
 static void test_teaching_options(void)

@@ -571,8 +571,7 @@ static void test_fitted_shadow(void)
 
 int main(void)
 {
-    snprintf(dir, sizeof dir, "/tmp/rodsim_test_shadow_%ld", (long)getpid());
-    mkdir(dir, 0777);
+    snprintf(dir, sizeof dir, "%s", test_dir());
     test_keys();
     test_framing();
     test_plane_shadow();
@@ -580,6 +579,5 @@ int main(void)
     test_mesh_pad();
     test_ground();
     test_fitted_shadow();
-    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir); /* keep the pictures to look at */
     return test_finish();
 }

@@ -83,7 +83,7 @@ static void test_changed_regions_only(const char *dir)
 int main(void)
 {
     char dir[256], err[1024], path[1200];
-    snprintf(dir, sizeof dir, "/tmp/rodsim_test_video_%ld", (long)getpid());
+    snprintf(dir, sizeof dir, "%s", test_path("video")); /* render_recording makes it */
     rod_recording *rec = synthetic_recording_create(31, FRAMES, 1.0, 0.002);
     for (int f = 0; f < FRAMES; f++) {
         double k = (f + 1.0) / FRAMES;

@@ -650,7 +650,7 @@ static void test_puncture(void)
 
 static void bad_scene(const char *surface_lines, const char *key, const char *what)
 {
-    const char *dir = "/tmp/rodsim_test_contact_bad";
+    const char *dir = test_path("bad");
     test_remove_tree(dir);
     mkdir(dir, 0700);
     char scene[256], out[300];
@@ -684,7 +684,7 @@ static void test_bad_input(void)
               "[puncture]\npoint = 0.1 0 0.01\n[puncture]\npoint = 0.2 0 0.01\n", "center",
               "a thread through a box that is not tissue, between two punctures");
     {   /* the same box as tissue: the thread between the punctures is inside it */
-        const char *dir = "/tmp/rodsim_test_contact_threaded";
+        const char *dir = test_path("threaded");
         test_remove_tree(dir);
         mkdir(dir, 0700);
         char scene[256], out[300], output[4096];

@@ -575,20 +575,19 @@ done:
 
 /* Bad input ------------------------------------------------------------ */
 
-#define BAD_DIR "/tmp/rodsim_test_instrument_bad"
-
 /* Runs a scene of a thread with `ends` in its [ends], `lines` added and a path file `path_text`
  * (as path.csv beside it); `expect` must appear in the output. want_exit:
  * the exit status wanted. */
 static void scene_case(const char *ends, const char *lines, const char *path_text, int want_exit, const char *expect,
                        const char *what)
 {
-    test_remove_tree(BAD_DIR);
-    mkdir(BAD_DIR, 0700);
+    const char *bad_dir = test_path("bad");
+    test_remove_tree(bad_dir);
+    mkdir(bad_dir, 0700);
     char scene[256], path[256], out[300];
-    snprintf(scene, sizeof scene, "%s/bad.ini", BAD_DIR);
-    snprintf(path, sizeof path, "%s/path.csv", BAD_DIR);
-    snprintf(out, sizeof out, "%s/out", BAD_DIR);
+    snprintf(scene, sizeof scene, "%s/bad.ini", bad_dir);
+    snprintf(path, sizeof path, "%s/path.csv", bad_dir);
+    snprintf(out, sizeof out, "%s/out", bad_dir);
     FILE *f = fopen(scene, "w");
     FILE *g = fopen(path, "w");
     if (!f || !g) {
@@ -603,7 +602,7 @@ static void scene_case(const char *ends, const char *lines, const char *path_tex
     fputs(path_text, g);
     fclose(f);
     fclose(g);
-    snprintf(path, sizeof path, "%s/tip.csv", BAD_DIR); /* a tip_motion path */
+    snprintf(path, sizeof path, "%s/tip.csv", bad_dir); /* a tip_motion path */
     if ((g = fopen(path, "w"))) {
         fputs("t,x,y,z\n0,0.2,0,0.05\n", g);
         fclose(g);
@@ -616,7 +615,7 @@ static void scene_case(const char *ends, const char *lines, const char *path_tex
               (want_exit == 0 || test_dir_entries(out) <= 0),
           "%s: exit %d (%d), the output says \"%s\"%s: %s", what, status, want_exit, expect,
           want_exit ? ", nothing written" : "", output);
-    test_remove_tree(BAD_DIR);
+    test_remove_tree(bad_dir);
 }
 
 static void test_bad_input(void)

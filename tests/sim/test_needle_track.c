@@ -18,7 +18,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <time.h>
 
 #include "base/ini.h"
@@ -27,7 +26,6 @@
 #include "test.h"
 #include "test_process.h"
 
-#define DIR "/tmp/rodsim_test_needle_track"
 #define RADIUS 0.005517 /* m: the needle's circle */
 #define DEPTH 0.0035    /* m: the bite's depth under the skin (z = 0) */
 #define SWEEP 1.7       /* s: the needle's back from -85 to +85 degrees */
@@ -79,8 +77,8 @@ static outcome run_bite(double spacing)
 {
     outcome o = {0};
     char scene[256], path[256], err[1024];
-    snprintf(scene, sizeof scene, "%s/bite.ini", DIR);
-    snprintf(path, sizeof path, "%s/back.csv", DIR);
+    snprintf(scene, sizeof scene, "%s/bite.ini", test_dir());
+    snprintf(path, sizeof path, "%s/back.csv", test_dir());
     FILE *f = fopen(path, "w");
     if (!f) return o;
     fprintf(f, "t,x,y,z\n");
@@ -193,8 +191,6 @@ int main(void)
 {
     bad_spacing("tissue = yes\ntrack_spacing = -0.001\n", ">= 0", "a negative track_spacing");
     bad_spacing("track_spacing = 0.002\n", "tissue = yes", "a track in a surface not tissue");
-    test_remove_tree(DIR);
-    mkdir(DIR, 0700);
     const double spacing = 0.002;
     outcome on = run_bite(spacing), off = run_bite(0.0);
     if (on.ok) {
@@ -229,6 +225,5 @@ int main(void)
     }
     printf("# CPU: %.2f s with the track, %.2f s without (%.1f simulated s each)\n", on.cpu,
            off.cpu, SWEEP + DRAW);
-    test_remove_tree(DIR);
     return test_finish();
 }

@@ -32,7 +32,7 @@ static char path_file[64];
  * from 1.2 to 3.2 s, then held */
 static int write_path(void)
 {
-    snprintf(path_file, sizeof path_file, "/tmp/rodsim_set_instr_%ld.csv", (long)getpid());
+    snprintf(path_file, sizeof path_file, "%s", test_path("holder.csv"));
     FILE *f = fopen(path_file, "w");
     if (!f) return -1;
     const char *rv = "1.2091996,1.2091996,-1.2091996";
