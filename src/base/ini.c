@@ -471,7 +471,7 @@ static int set_variant(ini_doc *doc, const char *name, char *err, size_t errlen)
             snprintf(inner, sizeof inner, "a variant sets no variant's key");
         /* a plain section.key: its value's messages name this line */
         const char *dot = strchr(assignment, '.'), *eq = strchr(assignment, '=');
-        if (!rc && dot < eq && !memchr(dot + 1, '.', (size_t)(eq - dot - 1)) &&
+        if (!rc && dot && eq && dot < eq && !memchr(dot + 1, '.', (size_t)(eq - dot - 1)) &&
             !memchr(assignment, ' ', (size_t)(dot - assignment))) {
             char *target = dup_range(assignment, dot), *keyname = dup_range(dot + 1, eq);
             ini_entry *e = target && keyname ? find_entry(doc, target, 0, keyname) : NULL;
