@@ -27,7 +27,7 @@ turn; the hands cross back and draw the ends apart along the skin. The
 holder's frame is the first throw's turned, so the hand's turn in the
 first throw's sense (+1) makes a copy of the first half knot, turned: the
 granny; the turn's mirror (-1) the square knot, its long end first lifted
-(SLACKEN2_M) and carried over the far side of the holder's axis (FAR2_M)
+(SLACKEN2[-1]) and carried over the far side of the holder's axis (FAR2_M)
 so that the turn starts under the shanks, the mirror of the granny's
 start. That lift draws the first knot round and the square's tail in
 (its end 11 mm from where the granny's lies), so the square's holder runs
@@ -68,7 +68,7 @@ R_END2 = 9.0                      # the hand's distance from the axis after the 
 PHI2 = math.radians(40.0)         # where the hand starts on its circle (sense +1)
 PHI2_M = math.radians(170.0)      # and with sense -1 (140: the long end then over the holder)
 FAR2_M = 0.8                      # with sense -1 the hand first over its start, at this x r0
-SLACKEN2_M = np.array([0.0, -15.0, 35.0])  # with sense -1 the hand here (mm) as the holder rises
+SLACKEN2 = {-1: np.array([0.0, -15.0, 35.0]), +1: None}  # mm: the hand here as the holder rises (None: stays)
 LEAD2 = 4.0                       # the hand's circle toward the tip from the turn
 SLACK2 = 3.0                      # mm of the long end left slack at the spiral's start
 SLACK2_M = 3.0                    # and with sense -1
@@ -210,7 +210,7 @@ def paths(sense):
     hand.to(t + 0.6)
     t += 0.6
     holder.to(t + 0.8, pos=HIGH2)
-    hand.to(t + 0.8, pos=SLACKEN2_M if (sense < 0 and SLACKEN2_M is not None) else None)
+    hand.to(t + 0.8, pos=SLACKEN2.get(sense))
     t += 0.8
     # turns round high over the wound and comes down, its tip short of the tail
     holder.to(t + 1.0, pos=GRASP2 - 12.0 * AXIS2 + np.array([0.0, 0.0, 20.0]), rot=R2)
@@ -426,7 +426,7 @@ def main():
 
 
 # each knot's hand and holder paths: the scene's (the square) and the
-# granny's (--set ends.tip_motion and --set instrument.path)
+# granny's (the scene's [variant granny]: --set variant=granny)
 FILES = {-1: ("instrument_tie_square_hand.csv", "instrument_tie_square_holder.csv"),
          +1: ("instrument_tie_square_granny.csv", "instrument_tie_square_granny_holder.csv")}
 
@@ -444,10 +444,9 @@ def tail_end(rodsim, sense, until):
     fd, csv = tempfile.mkstemp(suffix=".csv")
     os.close(fd)
     try:
+        knot = ["--set", "variant=granny"] if sense > 0 else []
         subprocess.run([rodsim, "run", "instrument_tie_square.ini", "--no-video", "--quiet",
-                        "--csv", csv, "--set", "ends.tip_motion=" + FILES[sense][0],
-                        "--set", "instrument.path=" + FILES[sense][1],
-                        "--set", "solver.duration=%g" % until], check=True)
+                        "--csv", csv] + knot + ["--set", "solver.duration=%g" % until], check=True)
         rows = {}
         with open(csv) as f:
             next(f)

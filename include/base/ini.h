@@ -45,7 +45,11 @@ void ini_destroy(ini_doc *doc);
  * repeatable section whose `name` is NAME (an [instrument]'s), refused when
  * none is; "word NAME.key=value" sets it in the named section [word NAME]
  * (a rod of several: --set "rod a.length=0.3"). Messages about it name
- * "--set section.key" instead of a line. */
+ * "--set section.key" instead of a line. "variant=NAME" applies the lines
+ * of the file's [variant NAME] section (keys written section.key, any form
+ * above) in file order, each value's messages naming its line there; an
+ * unknown NAME is refused, naming those the file has. ini_check_keys and
+ * ini_check_unused pass over [variant NAME] sections: unchosen, unread. */
 int ini_set(ini_doc *doc, const char *assignment, char *err, size_t errlen);
 
 const char *ini_filename(const ini_doc *doc);

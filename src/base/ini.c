@@ -93,6 +93,25 @@ static int valid_section(const char *begin, const char *end)
     return space ? valid_name(begin, space) && valid_name(space + 1, end) : valid_name(begin, end);
 }
 
+/* A scene's named set of --set assignments, [variant NAME]: its keys are
+ * section.key (ini_set's forms), applied by --set variant=NAME. */
+static int is_variant(const char *section)
+{
+    return strncmp(section, "variant ", 8) == 0;
+}
+
+/* A [variant NAME]'s key: ini_set's left-hand side, words joined by dots
+ * (one space in a named section's word: "rod a.length") */
+static int valid_assigned_key(const char *begin, const char *end)
+{
+    const char *dot = memchr(begin, '.', (size_t)(end - begin));
+    if (!dot || dot == begin || dot + 1 == end) return 0;
+    for (const char *p = begin; p < end; p++)
+        if (!isalnum((unsigned char)*p) && *p != '_' && *p != '-' && *p != '.' && *p != ' ')
+            return 0;
+    return 1;
+}
+
 static int section_instances(const ini_doc *doc, const char *name)
 {
     int n = 0;
@@ -273,6 +292,11 @@ ini_doc *ini_parse(const char *name, const char *text, char *err, size_t errlen)
                           "or two such words, [rod NAME])", name, line);
                 goto fail;
             }
+            if (we - wb == 7 && strncmp(wb, "variant", 7) == 0 && mb == me) {
+                set_error(err, errlen, "%s:%d: [variant] needs a name: [variant NAME], chosen "
+                          "by --set variant=NAME", name, line);
+                goto fail;
+            }
             free(current_owned);
             current_owned = malloc((size_t)(ne - nb) + 2);
             if (current_owned)
@@ -298,9 +322,14 @@ ini_doc *ini_parse(const char *name, const char *text, char *err, size_t errlen)
                       name, line, (int)(ke - kb < 64 ? ke - kb : 64), kb);
             goto fail;
         }
-        if (!valid_name(kb, ke)) {
-            set_error(err, errlen, "%s:%d: bad key name '%.*s' (letters, digits, _ and - only)",
-                      name, line, (int)(ke - kb), kb);
+        if (is_variant(current) ? !valid_assigned_key(kb, ke) : !valid_name(kb, ke)) {
+            if (is_variant(current))
+                set_error(err, errlen, "%s:%d: [%s]: bad key '%.*s'; accepted: section.key = "
+                          "value, as --set takes it (e.g. ends.tip_motion = FILE.csv)",
+                          name, line, current, (int)(ke - kb), kb);
+            else
+                set_error(err, errlen, "%s:%d: bad key name '%.*s' (letters, digits, _ and - "
+                          "only)", name, line, (int)(ke - kb), kb);
             goto fail;
         }
         if (ve - vb >= 2 && *vb == '"' && ve[-1] == '"') { vb++; ve--; }
@@ -406,10 +435,72 @@ static int set_named(ini_doc *doc, const char *assignment, const char *dot, cons
     return rc;
 }
 
+/* ini_set's "variant=NAME": the assignments of [variant NAME], in file
+ * order, each at its own line (a bad value is reported there). */
+static int set_variant(ini_doc *doc, const char *name, char *err, size_t errlen)
+{
+    char section[96];
+    snprintf(section, sizeof section, "variant %s", name);
+    if (!*name || strlen(name) + 9 > sizeof section || !find_section(doc, section, 0)) {
+        char list[256] = "";
+        size_t used = 0;
+        for (int i = 0; i < doc->section_count; i++) {
+            const char *s = doc->sections[i].name;
+            if (!is_variant(s)) continue;
+            int w = snprintf(list + used, sizeof list - used, "%s%s", used ? ", " : "", s + 8);
+            if (w < 0 || used + (size_t)w >= sizeof list) break;
+            used += (size_t)w;
+        }
+        set_error(err, errlen, "--set variant=%s: %s has no [variant %s]; accepted: %s", name,
+                  doc->filename, name, used ? list : "none (the scene names no [variant NAME])");
+        return -1;
+    }
+    for (int i = 0; i < doc->entry_count; i++) {
+        if (strcmp(doc->entries[i].section, section) != 0) continue;
+        const int line = doc->entries[i].line;
+        const char *key = doc->entries[i].key;
+        const size_t n = strlen(key) + strlen(doc->entries[i].value) + 2;
+        char *assignment = malloc(n), inner[400];
+        if (!assignment) {
+            set_error(err, errlen, "--set: out of memory");
+            return -1;
+        }
+        snprintf(assignment, n, "%s=%s", key, doc->entries[i].value);
+        const int rc = is_variant(key) ? -1 : ini_set(doc, assignment, inner, sizeof inner);
+        if (rc && is_variant(key))
+            snprintf(inner, sizeof inner, "a variant sets no variant's key");
+        /* a plain section.key: its value's messages name this line */
+        const char *dot = strchr(assignment, '.'), *eq = strchr(assignment, '=');
+        if (!rc && dot && eq && dot < eq && !memchr(dot + 1, '.', (size_t)(eq - dot - 1)) &&
+            !memchr(assignment, ' ', (size_t)(dot - assignment))) {
+            char *target = dup_range(assignment, dot), *keyname = dup_range(dot + 1, eq);
+            ini_entry *e = target && keyname ? find_entry(doc, target, 0, keyname) : NULL;
+            if (e) e->line = line;
+            free(target);
+            free(keyname);
+        }
+        free(assignment);
+        if (rc) {
+            set_error(err, errlen, "%s:%d: [%s]: %s", doc->filename, line, section, inner);
+            return -1;
+        }
+    }
+    return 0;
+}
+
 int ini_set(ini_doc *doc, const char *assignment, char *err, size_t errlen)
 {
     const char *dot = strchr(assignment, '.');
     const char *eq = strchr(assignment, '=');
+    if (eq && eq - assignment == 7 && strncmp(assignment, "variant", 7) == 0) {
+        const char *vb = eq + 1, *ve = eq + strlen(eq);
+        trim(&vb, &ve);
+        char *name = dup_range(vb, ve);
+        const int rc = name ? set_variant(doc, name, err, errlen) : -1;
+        if (!name) set_error(err, errlen, "--set: out of memory");
+        free(name);
+        return rc;
+    }
     const char *dot2 = dot && eq ? memchr(dot + 1, '.', (size_t)(eq - dot - 1)) : NULL;
     if (dot2 && valid_name(assignment, dot) && valid_name(dot + 1, dot2) && valid_name(dot2 + 1, eq))
         return set_named(doc, assignment, dot, dot2, eq, err, errlen);
@@ -692,7 +783,7 @@ int ini_check_unused(const ini_doc *doc, char *err, size_t errlen)
                       doc->filename, s->line, s->name, first ? first->line : 0, s->name);
             return -1;
         }
-        if (section_is_known(doc, s->name)) continue;
+        if (section_is_known(doc, s->name) || is_variant(s->name)) continue;
         known_list(doc, NULL, list, sizeof list);
         if (s->line > 0)
             set_error(err, errlen, "%s:%d: unknown section [%s]; accepted sections: %s",
@@ -704,7 +795,7 @@ int ini_check_unused(const ini_doc *doc, char *err, size_t errlen)
     }
     for (int i = 0; i < doc->entry_count; i++) {
         const ini_entry *e = &doc->entries[i];
-        if (e->used) continue;
+        if (e->used || is_variant(e->section)) continue;
         int known = 0;
         for (int k = 0; k < doc->known_count; k++)
             if (doc->known[k].key && strcmp(doc->known[k].section, e->section) == 0 &&
@@ -816,7 +907,8 @@ int ini_check_keys(const ini_doc *doc, const ini_key *table, char *err, size_t e
     for (int i = 0; i < doc->section_count; i++) {
         const ini_section *s = &doc->sections[i];
         long order = s->line > 0 ? s->line : 1L << 30;
-        if (!table_has_section(table, s->name) && (first < 0 || order < first)) {
+        if (!table_has_section(table, s->name) && !is_variant(s->name) &&
+            (first < 0 || order < first)) {
             bad_section = s;
             first = order;
         }

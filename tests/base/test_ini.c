@@ -159,11 +159,73 @@ static void test_key_table(void)
     ini_destroy(doc);
 }
 
+/* [variant NAME]: a named set of --set assignments, applied by
+ * --set variant=NAME in file order; the file's values stand without it. */
+static void test_variants(void)
+{
+    const char *text = "[rod]\nlength = 1\n[tip]\nforce = 0 0 0\n"
+                       "[variant long]   # a variant\nrod.length = 3\ntip.force = 1 2 3\n"
+                       "[variant bad]\nrod.length = x\n";
+    char err[512] = "";
+    double length = 0, force[3] = {0};
+    ini_doc *doc = ini_parse("v.ini", text, err, sizeof err);
+    int ok = doc && ini_get_double(doc, "rod", 0, "length", &length, err, sizeof err) == 1 &&
+             ini_get_vector(doc, "tip", 0, "force", force, 3, err, sizeof err) == 1 &&
+             ini_check_unused(doc, err, sizeof err) == 0;
+    check(ok && length == 1.0, "a scene with variants, none chosen: the file's length %g (1), "
+          "its variants not unused keys (%s)", length, err);
+    ini_destroy(doc);
+    doc = ini_parse("v.ini", text, err, sizeof err);
+    ok = doc && ini_set(doc, "variant=long", err, sizeof err) == 0 &&
+         ini_get_double(doc, "rod", 0, "length", &length, err, sizeof err) == 1 &&
+         ini_get_vector(doc, "tip", 0, "force", force, 3, err, sizeof err) == 1 &&
+         ini_check_unused(doc, err, sizeof err) == 0;
+    check(ok && length == 3.0 && force[0] == 1.0 && force[1] == 2.0 && force[2] == 3.0,
+          "--set variant=long: length %g (3), force %g %g %g (1 2 3) (%s)", length, force[0],
+          force[1], force[2], err);
+    ini_destroy(doc);
+    doc = ini_parse("v.ini", text, err, sizeof err);
+    ok = doc && ini_set(doc, "variant=long", err, sizeof err) == 0 &&
+         ini_set(doc, "rod.length=5", err, sizeof err) == 0 &&
+         ini_get_double(doc, "rod", 0, "length", &length, err, sizeof err) == 1;
+    check(ok && length == 5.0, "a --set after the variant's overrides it: length %g (5)", length);
+    check(doc && ini_set(doc, "variant=lon", err, sizeof err) < 0 &&
+              strstr(err, "--set variant=lon: v.ini has no [variant lon]; accepted: long, bad"),
+          "an unknown variant named with those accepted: '%s'", err);
+    check(doc && ini_set(doc, "variant=bad", err, sizeof err) == 0 &&
+              ini_get_double(doc, "rod", 0, "length", &length, err, sizeof err) < 0 &&
+              strstr(err, "v.ini:9: [rod] length = x: not a number"),
+          "a variant's bad value reported at the variant's line: '%s'", err);
+    ini_destroy(doc);
+    expect_error("[rod]\nlength = 1\n[variant a]\nlength = 2\n",
+                 "bad.ini:4: [variant a]: bad key 'length'; accepted: section.key = value",
+                 "a variant's key without its section");
+    expect_error("[rod]\nlength = 1\n[variant]\nrod.length = 2\n",
+                 "bad.ini:3: [variant] needs a name: [variant NAME]", "a variant without a name");
+    static const ini_key table[] = {
+        {"rod", "length", "m", "required", "> 0", ""},
+        {NULL, NULL, NULL, NULL, NULL, NULL},
+    };
+    doc = ini_parse("v.ini", "[rod]\nlength = 1\n[variant a]\nrod.lenth = 2\n", err, sizeof err);
+    check(doc && ini_check_keys(doc, table, err, sizeof err) == 0 &&
+              ini_set(doc, "variant=a", err, sizeof err) == 0 &&
+              ini_check_keys(doc, table, err, sizeof err) < 0 &&
+              strstr(err, "v.ini:4: [rod] lenth: unknown key"),
+          "a variant's misspelt key reported at its line when chosen, not before: '%s'", err);
+    ini_destroy(doc);
+    doc = ini_parse("v.ini", "[rod]\nlength = 1\n", err, sizeof err);
+    check(doc && ini_set(doc, "variant=a", err, sizeof err) < 0 &&
+              strstr(err, "v.ini has no [variant a]; accepted: none"),
+          "a variant asked of a scene with none: '%s'", err);
+    ini_destroy(doc);
+}
+
 int main(void)
 {
     test_values();
     test_errors();
     test_files();
     test_key_table();
+    test_variants();
     return test_finish();
 }
