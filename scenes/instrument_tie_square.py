@@ -191,16 +191,23 @@ def first_throw():
     t += hand_tie.HOLD_END
     hand.to(t)
     assert abs(t - holder.t) < 1e-9
-    # the holder's rows again as a track whose rotation vector is written
-    # continuously through the half turn
+    return turning(holder), hand
+
+
+def turning(holder):
+    """The holder's rows again as a track whose rotation vector is written
+    continuously through the second throw's half turn."""
     h2 = high.TurningTrack(holder.p, high.R, holder.jaw)
     h2.rows = holder.rows
     h2.t, h2.p, h2.q, h2.jaw = holder.t, holder.p, holder.q, holder.jaw
-    return h2, hand
+    return h2
 
 
-def paths(sense):
-    holder, hand = first_throw()
+def paths(sense, first=None, avail=None):
+    """The second throw after FIRST() (the holder's and the hand's tracks
+    at the first cinch's end; default first_throw), AVAIL mm of the long
+    end beyond the first knot (default hand_tie_long_beyond_knot())."""
+    holder, hand = (first or first_throw)()
     t = holder.t
     # the second throw: the holder opens, backs off along its axis and up
     holder.to(t + OPEN_T, jaw=0.22)
@@ -214,7 +221,8 @@ def paths(sense):
     t += 0.8
     # turns round high over the wound and comes down, its tip short of the tail
     holder.to(t + 1.0, pos=GRASP2 - 12.0 * AXIS2 + np.array([0.0, 0.0, 20.0]), rot=R2)
-    avail = hand_tie_long_beyond_knot()
+    if avail is None:
+        avail = hand_tie_long_beyond_knot()
     phi0 = PHI2 if sense > 0 else PHI2_M
     r0 = start2(avail - (SLACK2 if sense > 0 else SLACK2_M), phi0)
     # the hand over its start (the long end then under the holder's shanks,
@@ -434,19 +442,22 @@ FILES = {-1: ("instrument_tie_square_hand.csv", "instrument_tie_square_holder.cs
 AIM_T = 15.0                      # s: the hand's turn done, the holder about to run on
 
 
-def tail_end(rodsim, sense, until):
-    """Runs the scene (written in this folder) to `until` (s) with the
-    knot's paths and returns the tail's end (node 0, mm) and the direction
-    of its last 3 segments in the last frame."""
+def tail_end(rodsim, sense, until, scene="instrument_tie_square.ini", files=None):
+    """Runs SCENE (written in this folder) to `until` (s) with the knot's
+    paths (FILES[sense], default this scene's) and returns the tail's end
+    (node 0, mm) and the direction of its last 3 segments in the last
+    frame."""
+    files = files or FILES
     import os
     import subprocess
     import tempfile
     fd, csv = tempfile.mkstemp(suffix=".csv")
     os.close(fd)
     try:
-        knot = ["--set", "variant=granny"] if sense > 0 else []
-        subprocess.run([rodsim, "run", "instrument_tie_square.ini", "--no-video", "--quiet",
-                        "--csv", csv] + knot + ["--set", "solver.duration=%g" % until], check=True)
+        subprocess.run([rodsim, "run", scene, "--no-video", "--quiet",
+                        "--csv", csv, "--set", "ends.tip_motion=" + files[sense][0],
+                        "--set", "instrument.path=" + files[sense][1],
+                        "--set", "solver.duration=%g" % until], check=True)
         rows = {}
         with open(csv) as f:
             next(f)

@@ -54,11 +54,11 @@ BACK_HOLD = 0.0                  # s: the holder still before it draws on
 FEED = 6.0                       # mm: the hand's place from the axis after the turns (toward +x and up)
 
 
-def start_radius():
+def start_radius(extra=0.0):
     """The hand's starting distance from the holder's axis: the long end
     straight from its puncture past the shanks to it is as long as it is
-    wound (puncture to the turn, WRAPS turns, out to R_END)."""
-    need = np.linalg.norm(high.P_LONG - high.TURN) + WRAPS * PER_TURN + high.R_END
+    wound (puncture to the turn, WRAPS turns, out to R_END), and EXTRA mm."""
+    need = np.linalg.norm(high.P_LONG - high.TURN) + WRAPS * PER_TURN + high.R_END + extra
     return radius_reaching(lambda r: high.around(high.PHI0, r), high.P_LONG, need, high.R_END,
                            300.0)
 
