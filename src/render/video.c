@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "base/outfile.h"
 #include "render/dynlib.h"
@@ -360,6 +361,11 @@ video_writer *video_writer_create(const char *path, int width, int height, int f
     /* No B-frames: less of the encoder's CPU on rod frames for a somewhat
      * larger file, and not a worse picture (docs/decisions/0051-no-b-frames.md) */
     v->codec->max_b_frames = 0;
+    /* x264's frame threads: one a core, not its 1.5 a core and a look-ahead
+     * thread: the drawing and llvmpipe share the cores; any count gives the
+     * same frames (docs/decisions/draft-video-slots.md) */
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    v->codec->thread_count = cores > 0 && cores < 64 ? (int)cores : 0;
     /* BT.709, limited range: what browsers assume for HD H.264 */
     v->codec->colorspace = AVCOL_SPC_BT709;
     v->codec->color_primaries = AVCOL_PRI_BT709;
