@@ -17,6 +17,7 @@ image *image_create(int width, int height)
     if (!img) return NULL;
     img->width = width;
     img->height = height;
+    img->changed = NULL;
     img->rgb = calloc((size_t)width * (size_t)height, 3);
     if (!img->rgb) {
         free(img);
@@ -29,7 +30,41 @@ void image_destroy(image *img)
 {
     if (!img) return;
     free(img->rgb);
+    free(img->changed);
     free(img);
+}
+
+int image_track_changes(image *img)
+{
+    if (!img->changed) img->changed = malloc((size_t)img->height * 2 * sizeof(int));
+    if (!img->changed) return -1;
+    image_changes_reset(img);
+    image_mark(img, 0, 0, img->width, img->height);
+    return 0;
+}
+
+void image_mark(image *img, int x0, int y0, int x1, int y1)
+{
+    if (!img->changed) return;
+    x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
+    x1 = x1 > img->width ? img->width : x1, y1 = y1 > img->height ? img->height : y1;
+    if (x0 >= x1) return;
+    for (int y = y0; y < y1; y++) {
+        int *span = &img->changed[2 * y];
+        if (span[0] >= span[1]) {
+            span[0] = x0;
+            span[1] = x1;
+        } else {
+            span[0] = x0 < span[0] ? x0 : span[0];
+            span[1] = x1 > span[1] ? x1 : span[1];
+        }
+    }
+}
+
+void image_changes_reset(image *img)
+{
+    for (int y = 0; img->changed && y < img->height; y++)
+        img->changed[2 * y] = img->changed[2 * y + 1] = 0;
 }
 
 void image_fill(image *img, unsigned char r, unsigned char g, unsigned char b)
@@ -41,6 +76,7 @@ void image_fill(image *img, unsigned char r, unsigned char g, unsigned char b)
         p[1] = g;
         p[2] = b;
     }
+    image_mark(img, 0, 0, img->width, img->height);
 }
 
 void image_fill_rect(image *img, int x, int y, int w, int h, const unsigned char rgb[3],
@@ -50,6 +86,7 @@ void image_fill_rect(image *img, int x, int y, int w, int h, const unsigned char
     int x1 = x + w > img->width ? img->width : x + w;
     int y1 = y + h > img->height ? img->height : y + h;
     int a = (int)lround((alpha < 0 ? 0 : alpha > 1 ? 1 : alpha) * 256.0);
+    image_mark(img, x0, y0, x1, y1);
     for (int row = y0; row < y1; row++) {
         unsigned char *p = img->rgb + ((size_t)row * (size_t)img->width + (size_t)x0) * 3;
         for (int col = x0; col < x1; col++, p += 3)

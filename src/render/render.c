@@ -221,6 +221,7 @@ static int stream_draw_tiles(render_stream *st, const rod_recording *rec, int fr
     for (int k = 0; k < st->tile_count; k++) {
         view_tile *t = &st->tiles[k];
         if (renderer_draw(&t->r, rec, frame, t->picture)) return -1;
+        image_mark(out, t->x, 0, t->x + t->o.width, out->height);
         for (int y = 0; y < out->height; y++)
             memcpy(out->rgb + ((size_t)y * (size_t)out->width + (size_t)t->x) * 3,
                    t->picture->rgb + (size_t)y * (size_t)t->o.width * 3, (size_t)t->o.width * 3);
@@ -276,8 +277,11 @@ render_stream *render_stream_begin(const rod_recording *extent, const render_opt
     st->call_start = now_seconds();
     if (o->timing) memset(o->timing, 0, sizeof *o->timing);
     int status = 0;
+    /* each slot tracked: a frame is drawn over the last one in it (renderer.c), and
+     * the encoder converts only what changed between frames (video.c) */
     for (int i = 0; i < QUEUE_SLOTS; i++)
-        if (!(q->slots[i] = image_create(o->width, o->height))) status = -1;
+        if (!(q->slots[i] = image_create(o->width, o->height)) || image_track_changes(q->slots[i]))
+            status = -1;
     if (status) snprintf(err, errlen, "render: out of memory for %dx%d frames", o->width, o->height);
     if (!status && want_video) {
         q->video = video_writer_create(video_path, o->width, o->height, o->fps, o->crf, o->preset,

@@ -647,6 +647,30 @@ static void renderer_meshes(renderer *r, const rod_recording *rec, int frame,
     frame_boxes(r, rec, frame, given, given_frame);
 }
 
+/* out made the backdrop again. A tracked frame (image_track_changes) is
+ * the backdrop but where it was written since: only those pixels are
+ * copied (a 720p frame is 2.7 MB; the rod and the overlay cover a few %),
+ * and its marks become this frame's boxes, where the composite, the
+ * shadows and FXAA write; the overlay marks its own. */
+static void restore_backdrop(const renderer *r, image *out)
+{
+    if (!out->changed) {
+        memcpy(out->rgb, r->backdrop->rgb, (size_t)out->width * (size_t)out->height * 3);
+        return;
+    }
+    for (int y = 0; y < out->height; y++) {
+        const int lo = out->changed[2 * y], hi = out->changed[2 * y + 1];
+        if (lo >= hi) continue;
+        const size_t at = ((size_t)y * (size_t)out->width + (size_t)lo) * 3;
+        memcpy(out->rgb + at, r->backdrop->rgb + at, (size_t)(hi - lo) * 3);
+    }
+    image_changes_reset(out);
+    for (int b = 0; b < r->box_count; b++) {
+        const int *box = r->boxes[b];
+        image_mark(out, box[0], box[1], box[0] + box[2], box[1] + box[3]);
+    }
+}
+
 /* The drawn boxes (premultiplied RGBA read back in read_box, rows
  * bottom-up) over the backdrop into out. */
 static void renderer_composite(const renderer *r, const unsigned char *rgba, const int read_box[4],
@@ -658,6 +682,7 @@ static void renderer_composite(const renderer *r, const unsigned char *rgba, con
     int box_count = r->box_count;
     if (r->follow) {
         /* one opaque box, the whole picture: its pixels as they are */
+        image_mark(out, 0, 0, out->width, out->height);
         for (int y = 0; y < out->height; y++) {
             const unsigned char *src = rgba + (size_t)(out->height - 1 - y) * (size_t)out->width * 4;
             unsigned char *dst = out->rgb + (size_t)y * (size_t)out->width * 3;
@@ -668,7 +693,7 @@ static void renderer_composite(const renderer *r, const unsigned char *rgba, con
             }
         }
     } else {
-        memcpy(out->rgb, r->backdrop->rgb, (size_t)out->width * (size_t)out->height * 3);
+        restore_backdrop(r, out);
         /* boxes from the receivers' cache: the shadows darken the backdrop,
          * the GL drew only where something is drawn */
         if (gl_renderer_darken(r->gl, &r->boxes[0][0], r->box_count, out)) {

@@ -194,6 +194,10 @@ static void blend(unsigned char *p, const unsigned char rgb[3], unsigned coverag
 static void draw_glyph(image *img, const glyph *g, int x, int y, int vertical,
                        const unsigned char rgb[3])
 {
+    if (vertical)
+        image_mark(img, x - g->top, y - g->left - g->width + 1, x - g->top + g->rows, y - g->left + 1);
+    else
+        image_mark(img, x + g->left, y - g->top, x + g->left + g->width, y - g->top + g->rows);
     for (int row = 0; row < g->rows; row++) {
         for (int col = 0; col < g->width; col++) {
             unsigned coverage = g->coverage[row * g->width + col];
@@ -228,6 +232,7 @@ static void draw_glyph_halo(image *img, const glyph *g, int x, int y, const unsi
             other = abs(p[0] - rgb[0]) > 40 || abs(p[1] - rgb[1]) > 40 || abs(p[2] - rgb[2]) > 40;
     }
     if (!other) return;
+    image_mark(img, x0, y0, x1, y1);
     static const int offset[12][2] = {{1, 0}, {-1, 0}, {0, 1},  {0, -1}, {1, 1},  {1, -1},
                                       {-1, 1}, {-1, -1}, {2, 0}, {-2, 0}, {0, 2}, {0, -2}};
     for (int row = 0; row < g->rows; row++) {

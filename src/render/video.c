@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "base/outfile.h"
 #include "render/dynlib.h"
@@ -183,6 +184,7 @@ struct video_writer {
     AVPacket *packet;   /* reused */
     unsigned char *previous; /* the last frame added, RGB (height x width x 3) */
     int have_previous;
+    int *previous_changed;   /* (height x 2): its rows' changed columns (image.h); NULL: untracked */
     int32_t coef[9];         /* RGB to Y, Cb, Cr, 16-bit fixed point (BT.709) */
     int width, height;
     int64_t next_pts;
@@ -249,18 +251,44 @@ static void convert_span(video_writer *v, const unsigned char *rgb, int y, int x
     }
 }
 
-/* Brings the yuv frame up to date with rgb: every pixel of the first frame;
- * afterwards only the blocks of CHUNK x 2 pixels that differ from the frame
- * before (a rod crossing a row changes a few short runs of it). */
-#define CHUNK 32
-static void convert_changed(video_writer *v, const unsigned char *rgb)
+/* The columns [*lo, *hi) of rows y, y + 1 where this frame or the one
+ * before were written over their common backdrop (image.h's tracking):
+ * outside them the two are the same. The whole row when either is untracked. */
+static void changed_columns(const video_writer *v, const image *frame, int y, int *lo, int *hi)
 {
+    *lo = 0;
+    *hi = v->width;
+    if (!frame->changed || !v->previous_changed) return;
+    *lo = v->width;
+    *hi = 0;
+    for (int row = y; row < y + 2; row++)
+        for (int k = 0; k < 2; k++) {
+            const int *span = k ? &frame->changed[2 * row] : &v->previous_changed[2 * row];
+            if (span[0] >= span[1]) continue;
+            *lo = span[0] < *lo ? span[0] : *lo;
+            *hi = span[1] > *hi ? span[1] : *hi;
+        }
+}
+
+/* Brings the yuv frame up to date with the frame: every pixel of the first;
+ * afterwards only the blocks of CHUNK x 2 pixels that differ from the frame
+ * before (a rod crossing a row changes a few short runs of it), looked for
+ * where either frame was written (changed_columns). */
+#define CHUNK 32
+static void convert_changed(video_writer *v, const image *frame)
+{
+    const unsigned char *rgb = frame->rgb;
     size_t row_bytes = (size_t)v->width * 3;
     for (int y = 0; y < v->height; y += 2) {
         size_t at = (size_t)y * row_bytes;
+        int lo = 0, hi = v->width;
+        if (v->have_previous) changed_columns(v, frame, y, &lo, &hi);
+        if (lo >= hi) continue;
         /* most row pairs are unchanged: one comparison settles them */
-        if (v->have_previous && memcmp(rgb + at, v->previous + at, 2 * row_bytes) == 0) continue;
-        for (int x0 = 0; x0 < v->width; x0 += CHUNK) {
+        if (v->have_previous && lo == 0 && hi == v->width &&
+            memcmp(rgb + at, v->previous + at, 2 * row_bytes) == 0)
+            continue;
+        for (int x0 = lo / CHUNK * CHUNK; x0 < hi; x0 += CHUNK) {
             int x1 = x0 + CHUNK < v->width ? x0 + CHUNK : v->width;
             size_t from = at + (size_t)x0 * 3, bytes = (size_t)(x1 - x0) * 3;
             const unsigned char *top = rgb + from, *bottom = top + row_bytes;
@@ -274,6 +302,12 @@ static void convert_changed(video_writer *v, const unsigned char *rgb)
         }
     }
     v->have_previous = 1;
+    if (frame->changed && v->previous_changed)
+        memcpy(v->previous_changed, frame->changed, (size_t)v->height * 2 * sizeof(int));
+    else {
+        free(v->previous_changed); /* untracked: whole rows from now on */
+        v->previous_changed = NULL;
+    }
 }
 
 video_writer *video_writer_create(const char *path, int width, int height, int fps, int crf,
@@ -327,6 +361,11 @@ video_writer *video_writer_create(const char *path, int width, int height, int f
     /* No B-frames: less of the encoder's CPU on rod frames for a somewhat
      * larger file, and not a worse picture (docs/decisions/0051-no-b-frames.md) */
     v->codec->max_b_frames = 0;
+    /* x264's frame threads: one a core, not its 1.5 a core and a look-ahead
+     * thread: the drawing and llvmpipe share the cores; any count gives the
+     * same frames (docs/decisions/draft-video-slots.md) */
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    v->codec->thread_count = cores > 0 && cores < 64 ? (int)cores : 0;
     /* BT.709, limited range: what browsers assume for HD H.264 */
     v->codec->colorspace = AVCOL_SPC_BT709;
     v->codec->color_primaries = AVCOL_PRI_BT709;
@@ -363,7 +402,8 @@ video_writer *video_writer_create(const char *path, int width, int height, int f
         return NULL;
     }
     v->previous = malloc((size_t)width * (size_t)height * 3);
-    if (!v->previous) {
+    v->previous_changed = malloc((size_t)height * 2 * sizeof(int));
+    if (!v->previous || !v->previous_changed) {
         snprintf(err, errlen, "%s: out of memory", path);
         video_writer_destroy(v);
         return NULL;
@@ -427,7 +467,7 @@ int video_writer_add(video_writer *v, const image *frame, char *err, size_t errl
         return -1;
     }
     double start = now_seconds();
-    convert_changed(v, frame->rgb);
+    convert_changed(v, frame);
     v->frame->pts = v->next_pts++;
     double converted = now_seconds();
     int status = encode(v, v->frame, err, errlen);
@@ -465,6 +505,7 @@ void video_writer_destroy(video_writer *v)
     if (v->format && v->format->pb) avio_closep(&v->format->pb);
     if (!v->finished) outfile_abort(&v->file);
     free(v->previous);
+    free(v->previous_changed);
     av_packet_free(&v->packet);
     av_frame_free(&v->frame);
     avcodec_free_context(&v->codec);

@@ -12,6 +12,7 @@
 #include "base/ini.h"
 #include "render/image.h"
 #include "render/render.h"
+#include "render/renderer.h"
 #include "synthetic_recording.h"
 #include "test.h"
 #include "test_process.h"
@@ -244,6 +245,79 @@ static void test_box_and_punctures(void)
     }
     image_destroy(img[0]);
     image_destroy(img[1]);
+    rod_recording_destroy(rec);
+}
+
+/* A frame drawn in place over the one three frames before in its slot
+ * (render.c's queue of three: only what was written since is made the
+ * backdrop again, image_track_changes) is the frame drawn over a fresh
+ * copy of the whole backdrop (an untracked image), by a second renderer
+ * given the same frames: every byte, over a pad with shadows (its cached
+ * receivers), the overlay's text changing, the rod bending and moving
+ * across the picture and back. And outside what it marks, a tracked frame
+ * is the backdrop. */
+static void test_drawn_in_place(void)
+{
+    enum { FRAMES = 9, SLOTS = 3 };
+    /* the pad under the whole picture: the overlay's text takes its halo there */
+    recording_surface pad = {.shape = RECORDING_SURFACE_BOX, .center = {0.5, 0.2, -0.05},
+                             .size = {4, 3, 0.04}, .tissue = 1};
+    rod_recording *rec = synthetic_recording_create(41, FRAMES, 1.0, 0.01);
+    for (int f = 0; f < FRAMES; f++) {
+        synthetic_arc(rec, f, f % 3 == 0 ? INFINITY : 0.4 + 0.2 * f, 0);
+        for (int k = 0; k < rec->nodes; k++) {
+            double *q = &rec->position[3 * ((size_t)f * (size_t)rec->nodes + (size_t)k)];
+            q[1] += 0.05 * (f < 5 ? f : 9 - f);
+            q[2] += 0.02 * (f % 2);
+        }
+        rec->time[f] = 0.5 * f;
+        rec->tip_force[3 * f + 1] = 0.1 * f;
+    }
+    render_options o = scene_options(rec, &pad, 1);
+    o.overlay = 1;
+    const frame_band band = overlay_band(rec, &o, frame_band_full);
+    renderer tracked, whole;
+    char err[1024];
+    int made = renderer_create(&tracked, rec, &o, "in_place", &band, err, sizeof err) == 0;
+    made = made && renderer_create(&whole, rec, &o, "in_place", &band, err, sizeof err) == 0;
+    check(made, "two renderers made%s%s", made ? "" : ": ", made ? "" : err);
+    if (!made) {
+        rod_recording_destroy(rec);
+        return;
+    }
+    tracked.draws_overlay = whole.draws_overlay = 1;
+    image *slot[SLOTS], *fresh = image_create(WIDTH, HEIGHT);
+    for (int k = 0; k < SLOTS; k++) {
+        slot[k] = image_create(WIDTH, HEIGHT);
+        check(slot[k] && image_track_changes(slot[k]) == 0, "slot %d tracked", k);
+    }
+    int differing = 0, outside = 0, drawn = 0;
+    for (int f = 0; f < FRAMES; f++) {
+        image *in_place = slot[f % SLOTS];
+        if (renderer_draw(&tracked, rec, f, in_place) || renderer_draw(&whole, rec, f, fresh)) {
+            check(0, "frame %d drawn", f);
+            break;
+        }
+        drawn++;
+        for (int y = 0; y < HEIGHT; y++)
+            for (int x = 0; x < WIDTH; x++) {
+                size_t at = 3 * ((size_t)y * WIDTH + (size_t)x);
+                differing += memcmp(&in_place->rgb[at], &fresh->rgb[at], 3) != 0;
+                int marked = x >= in_place->changed[2 * y] && x < in_place->changed[2 * y + 1];
+                outside += !marked && memcmp(&in_place->rgb[at], &tracked.backdrop->rgb[at], 3) != 0;
+            }
+    }
+    printf("     %d frames drawn in place against over the whole backdrop: %d pixels differ; %d "
+           "unmarked pixels differ from the backdrop\n", drawn, differing, outside);
+    check(drawn == FRAMES && differing == 0,
+          "each frame drawn in place over its slot's last is byte-identical to it drawn over the "
+          "whole backdrop (%d of %d frames, %d pixels differ)", drawn, FRAMES, differing);
+    check(drawn == FRAMES && outside == 0,
+          "outside its marks a frame drawn in place is the backdrop (%d pixels differ)", outside);
+    for (int k = 0; k < SLOTS; k++) image_destroy(slot[k]);
+    image_destroy(fresh);
+    renderer_destroy(&tracked);
+    renderer_destroy(&whole);
     rod_recording_destroy(rec);
 }
 
@@ -576,6 +650,7 @@ int main(void)
     test_framing();
     test_plane_shadow();
     test_box_and_punctures();
+    test_drawn_in_place();
     test_mesh_pad();
     test_ground();
     test_fitted_shadow();
