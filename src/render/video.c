@@ -363,7 +363,7 @@ video_writer *video_writer_create(const char *path, int width, int height, int f
     v->codec->max_b_frames = 0;
     /* x264's frame threads: one a core, not its 1.5 a core and a look-ahead
      * thread: the drawing and llvmpipe share the cores; any count gives the
-     * same frames (docs/decisions/draft-video-slots.md) */
+     * same frames (docs/decisions/0146-video-slots.md) */
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     v->codec->thread_count = cores > 0 && cores < 64 ? (int)cores : 0;
     /* BT.709, limited range: what browsers assume for HD H.264 */
