@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "base/outfile.h"
 #include "base/suggest.h"
@@ -242,6 +243,14 @@ int cli_check_output_file(const char *option, const char *path, char *err, size_
     size_t n = strlen(path);
     if ((stat(path, &st) == 0 && S_ISDIR(st.st_mode)) || (n > 0 && path[n - 1] == '/')) {
         snprintf(err, errlen, "%s %s: names a directory, not a file", option, path);
+        return -1;
+    }
+    /* a device, a pipe or a socket is written in place (outfile_reserve),
+     * so it is the path itself that must be writable, not its folder */
+    if (strncmp(path, "/dev/", 5) == 0 || strncmp(path, "/proc/", 6) == 0 ||
+        (stat(path, &st) == 0 && !S_ISREG(st.st_mode))) {
+        if (access(path, W_OK) == 0) return 0;
+        snprintf(err, errlen, "%s %s: cannot write there: %s", option, path, strerror(errno));
         return -1;
     }
     char dir[OUTFILE_PATH_MAX], why[512];

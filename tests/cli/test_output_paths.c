@@ -9,12 +9,18 @@
  * before their runs (minutes of them), not after (exit 1). fem's --csv,
  * --md, --png, --svg and -o, and figure's --out, --csv and --result are
  * checked before the scene is solved or a point computed (nothing of the
- * work printed: no nodal table, no point line), not after (exit 1). */
+ * work printed: no nodal table, no point line), not after (exit 1). A
+ * device (/dev/null) is written in place, so it passes the check where its
+ * folder is not writable (a user who is not root: /dev), and a device that
+ * cannot be written is refused naming it. */
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <sys/wait.h>
+
+#include "cli/args.h"
 #include "test.h"
 #include "test_process.h"
 
@@ -158,8 +164,34 @@ static void test_fem_png_and_no_png(void)
           "fem --png FILE --no-png: exit %d (want 2), '%s', no PNG", status, output);
 }
 
+/* The check as a user who may not write in /dev (root's children become
+ * nobody, uid 65534; another user is one already): /dev/null is accepted,
+ * /dev/rodsim-no-such-device refused naming the option and the path. The
+ * child's verdicts come back as its exit status (bit 0, bit 1). */
+static void test_device_output(void)
+{
+    pid_t pid = fork();
+    if (pid == 0) {
+        if (geteuid() == 0 && (setgid(65534) != 0 || setuid(65534) != 0)) _exit(4);
+        if (access("/dev", W_OK) == 0) _exit(8); /* /dev writable: proves nothing */
+        char err[512] = "";
+        int null_ok = cli_check_output_file("--csv", "/dev/null", err, sizeof err) == 0;
+        int missing_refused =
+            cli_check_output_file("--csv", "/dev/rodsim-no-such-device", err, sizeof err) != 0 &&
+            strstr(err, "--csv /dev/rodsim-no-such-device") != NULL;
+        _exit((null_ok ? 0 : 1) | (missing_refused ? 0 : 2));
+    }
+    int status = -1;
+    if (pid > 0) waitpid(pid, &status, 0);
+    int code = pid > 0 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    check(code == 0 || code == 2, "--csv /dev/null, /dev not writable: accepted (child %d)", code);
+    check(code == 0 || code == 1, "--csv /dev/rodsim-no-such-device: refused naming it (child %d)",
+          code);
+}
+
 int main(void)
 {
+    test_device_output();
     if (!mkdtemp(tmp_dir)) {
         check(0, "mkdtemp %s", tmp_dir);
         return test_finish();
