@@ -117,6 +117,18 @@ def test_bad_scene_message_is_the_cli_s(tmp_path):
     assert cli.stderr == "rodsim run: %s\n" % e.value
 
 
+def refused_as_by_run(scene):
+    """rodsim.Scene refuses SCENE (bad_input) with the words `rodsim run`
+    prints after "rodsim run: " as it exits 2; returns them."""
+    cli = subprocess.run([RODSIM_BIN, "run", str(scene), "--no-video", "--quiet"],
+                         capture_output=True, text=True)
+    with pytest.raises(rodsim.Error) as e:
+        rodsim.Scene(scene)
+    assert cli.returncode == 2 and e.value.status == "bad_input"
+    assert "rodsim run: %s\n" % e.value in cli.stderr
+    return str(e.value)
+
+
 def test_instruments_through_each_other(tmp_path):
     """Two straight 12 cm forceps crossing at right angles 3 mm apart: their
     shanks overlap by 2 r_jaw + 2 r_shank - h = 2.4 + 2.88 - 3 = 2.28 mm (by
@@ -131,14 +143,9 @@ def test_instruments_through_each_other(tmp_path):
                      "[instrument]\nkind = forceps\nname = lower\npath = lower.csv\n"
                      "size = 0.12\n[instrument]\nkind = forceps\nname = upper\n"
                      "path = upper.csv\nsize = 0.12\n")
-    cli = subprocess.run([RODSIM_BIN, "run", str(scene), "--no-video", "--quiet"],
-                         capture_output=True, text=True)
-    with pytest.raises(rodsim.Error) as e:
-        rodsim.Scene(scene)
-    assert cli.returncode == 2 and e.value.status == "bad_input"
-    assert "rodsim run: %s\n" % e.value in cli.stderr
+    message = refused_as_by_run(scene)
     assert "the forceps' shank and the forceps' shank overlap by 2.28 mm at t = 0.000 s" \
-        in str(e.value)
+        in message
     with rodsim.Scene(scene, overrides={"instrument.upper.may_overlap": "yes"}) as s:
         assert s.nodes == 31
 
@@ -157,14 +164,9 @@ def test_jaws_into_a_rigid_pad(tmp_path):
                      "center = 0 0 -0.005\nsize = 0.2 0.2 0.01\n[instrument]\nkind = forceps\n"
                      "path = deep.csv\nsize = 0.12\n[solver]\nscheme = implicit\n"
                      "duration = 0.6\n[loads]\ngravity = 0 0 -9.81\n")
-    cli = subprocess.run([RODSIM_BIN, "run", str(scene), "--no-video", "--quiet"],
-                         capture_output=True, text=True)
-    with pytest.raises(rodsim.Error) as e:
-        rodsim.Scene(scene)
-    assert cli.returncode == 2 and e.value.status == "bad_input"
-    assert "rodsim run: %s\n" % e.value in cli.stderr
-    assert "the forceps' jaws 4.87 mm into the rigid" in str(e.value)
-    assert "max_depth = 2.40 mm" in str(e.value)
+    message = refused_as_by_run(scene)
+    assert "the forceps' jaws 4.87 mm into the rigid" in message
+    assert "max_depth = 2.40 mm" in message
     with rodsim.Scene(scene, overrides={"instrument.max_depth": 0.006}) as s:
         assert s.nodes == 11
 
