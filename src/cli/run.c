@@ -201,14 +201,14 @@ static double cpu_seconds(void)
  * are RUN_PACE_READING s of CPU apart, then about that often. */
 #define RUN_PACE_READING 0.01
 
-static void pace_start(run_pace *pace, const run_plan *plan)
+void run_pace_start(run_pace *pace, const run_plan *plan)
 {
     pace->total_steps = plan->steps;
     pace->cpu_start = pace->stretch_cpu = pace->last_reading = cpu_seconds();
     pace->stretch_steps = pace->steps = 0;
     pace->next_check = pace->stride = 1;
     pace->cpu = pace->rate = pace->estimate = 0.0;
-    pace->revisions = pace->stopped = 0;
+    pace->revisions = pace->stopped = pace->over = 0;
 }
 
 /* The step count that ends the current stretch. */
@@ -226,8 +226,9 @@ static void pace_next(run_pace *pace, int64_t steps)
 }
 
 /* The clock read after `steps` steps; at a stretch's end, the estimate
- * revised (run.h). 1 when the revision passed the limit: the run stops. */
-static int pace_check(run_pace *pace, int64_t steps)
+ * revised (run.h). 1 when RUN_PACE_OVER revisions in a row passed the
+ * limit: the run stops. */
+int run_pace_check(run_pace *pace, int64_t steps)
 {
     double now = cpu_seconds();
     double since = now - pace->last_reading;
@@ -252,7 +253,8 @@ static int pace_check(run_pace *pace, int64_t steps)
     pace->stretch_steps = steps;
     pace_next(pace, steps);
     if (pace->on_revise) pace->on_revise(pace->context, pace);
-    pace->stopped = pace->estimate > pace->limit && !pace->keep_going;
+    pace->over = pace->estimate > pace->limit ? pace->over + 1 : 0;
+    pace->stopped = pace->over >= RUN_PACE_OVER && !pace->keep_going;
     return pace->stopped;
 }
 
@@ -278,7 +280,7 @@ static rod_status advance(rod_solver *solver, const rod_model *m, rod_state *s, 
             return ROD_UNSTABLE;
         }
         note_closest_gap(s, stats);
-        if (pace && stats->steps >= pace->next_check && pace_check(pace, stats->steps)) {
+        if (pace && stats->steps >= pace->next_check && run_pace_check(pace, stats->steps)) {
             snprintf(report->message, sizeof report->message,
                      "stopped at t = %g s: the revised estimate, %.3g s of CPU, passes the "
                      "limit of %.3g s", s->time, pace->estimate, pace->limit);
@@ -306,7 +308,7 @@ rod_status run_simulate_paced(rod_solver *solver, const rod_model *m, rod_state 
     stats->closest_gap = stats->closest_gap_frame = INFINITY;
     double start = wall_seconds();
     rod_status status = ROD_OK;
-    if (pace) pace_start(pace, plan);
+    if (pace) run_pace_start(pace, plan);
     /* the frames see the thread as it is: after a cut, the thread left (sim/cut.h) */
     if (on_frame && on_frame(context, rod_cut_model(m, s), s, report->message,
                              sizeof report->message))
