@@ -54,16 +54,28 @@ static void write_scene(const char *name, int rods)
     test_write_in(dir, name, text);
 }
 
+/* The scene at path through `rodsim run` (its exit status, its output in
+ * output) and rodsim_load_file (*st, *sc); expected gets the run's line
+ * for the library's message: "rodsim run: " and rodsim_last_error(). */
+static int run_and_load(const char *path, char *output, size_t output_size, char *expected,
+                        size_t expected_size, rodsim_status *st, rodsim_scene **sc)
+{
+    const char *args[] = {"run", path, "--no-video", "--quiet", NULL};
+    const int status = test_run_rodsim(args, output, output_size);
+    *st = rodsim_load_file(path, NULL, 0, sc);
+    snprintf(expected, expected_size, "rodsim run: %s\n", rodsim_last_error(NULL));
+    return status;
+}
+
 static void test_refused(const char *name, int rods)
 {
     char path[160], output[8192], expected[2048], want[128];
     snprintf(path, sizeof path, "%s/%s", dir, name);
     write_scene(name, rods);
-    const char *args[] = {"run", path, "--no-video", "--quiet", NULL};
-    const int status = test_run_rodsim(args, output, sizeof output);
     rodsim_scene *sc = NULL;
-    rodsim_status st = rodsim_load_file(path, NULL, 0, &sc);
-    snprintf(expected, sizeof expected, "rodsim run: %s\n", rodsim_last_error(NULL));
+    rodsim_status st;
+    const int status = run_and_load(path, output, sizeof output, expected, sizeof expected,
+                                    &st, &sc);
     snprintf(want, sizeof want, "the forceps' shank and the forceps' shank overlap by %.2f mm "
              "at t = 0.000 s", 1e3 * (2.0 * R_JAW + 2.0 * R_SHANK - 0.003));
     check(status == 2 && st == RODSIM_BAD_INPUT && !sc && strstr(output, expected) &&
@@ -103,11 +115,10 @@ static void test_jaws_refused(const char *name, const char *rod)
     char path[160], output[8192], expected[2048];
     snprintf(path, sizeof path, "%s/%s", dir, name);
     write_pad_scene(name, rod);
-    const char *args[] = {"run", path, "--no-video", "--quiet", NULL};
-    const int status = test_run_rodsim(args, output, sizeof output);
     rodsim_scene *sc = NULL;
-    rodsim_status st = rodsim_load_file(path, NULL, 0, &sc);
-    snprintf(expected, sizeof expected, "rodsim run: %s\n", rodsim_last_error(NULL));
+    rodsim_status st;
+    const int status = run_and_load(path, output, sizeof output, expected, sizeof expected,
+                                    &st, &sc);
     const char *who = rod[0] ? "a named rod" : "one rod";
     check(status == 2 && st == RODSIM_BAD_INPUT && !sc && strstr(output, expected) &&
               strstr(expected, "forceps' jaws 4.87 mm into the rigid") &&
