@@ -43,6 +43,10 @@ int outfile_open(outfile *f, const char *path, char *err, size_t errlen);
 /* Like outfile_open but does not open a FILE: for writers that open the name
  * themselves (libavformat). Use f->tmp_path. */
 int outfile_reserve(outfile *f, const char *path, char *err, size_t errlen);
+
+/* 1 when path is written in place, not staged and renamed: a device, a
+ * pipe or a socket (/dev/..., /proc/..., or an existing non-regular file). */
+int outfile_in_place(const char *path);
 /* Closes (if open) and gives the file its final name; inside a transaction on
  * this thread, sets it aside for outfile_transaction_commit(). */
 int outfile_commit(outfile *f, char *err, size_t errlen);

@@ -135,6 +135,13 @@ static int hidden_name(char *out, size_t outlen, const char *path)
                : 0;
 }
 
+int outfile_in_place(const char *path)
+{
+    struct stat st;
+    return strncmp(path, "/dev/", 5) == 0 || strncmp(path, "/proc/", 6) == 0 ||
+           (stat(path, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode));
+}
+
 int outfile_reserve(outfile *f, const char *path, char *err, size_t errlen)
 {
     memset(f, 0, sizeof *f);
@@ -153,8 +160,7 @@ int outfile_reserve(outfile *f, const char *path, char *err, size_t errlen)
      * itself). A symbolic link to a file keeps its link: the file it names
      * is the one replaced. */
     struct stat st;
-    if (strncmp(path, "/dev/", 5) == 0 || strncmp(path, "/proc/", 6) == 0 ||
-        (stat(path, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))) {
+    if (outfile_in_place(path)) {
         f->direct = 1;
         snprintf(f->tmp_path, sizeof f->tmp_path, "%s", path);
         return 0;

@@ -247,8 +247,7 @@ int cli_check_output_file(const char *option, const char *path, char *err, size_
     }
     /* a device, a pipe or a socket is written in place (outfile_reserve),
      * so it is the path itself that must be writable, not its folder */
-    if (strncmp(path, "/dev/", 5) == 0 || strncmp(path, "/proc/", 6) == 0 ||
-        (stat(path, &st) == 0 && !S_ISREG(st.st_mode))) {
+    if (outfile_in_place(path)) {
         if (access(path, W_OK) == 0) return 0;
         snprintf(err, errlen, "%s %s: cannot write there: %s", option, path, strerror(errno));
         return -1;
