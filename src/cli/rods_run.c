@@ -4,10 +4,10 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
 #include "api/scene_keys.h"
 #include "api/scene_read.h"
+#include "base/clocks.h"
 #include "base/outfile.h"
 #include "base/vec3.h"
 #include "cli/args.h"
@@ -25,13 +25,6 @@
 #include "sim/tissue/tissue_coupling.h"
 
 #define RODS_ERR_LEN 1024
-
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* What the run holds */
 typedef struct rods_run {
@@ -201,9 +194,9 @@ static int output_frame(rods_run *r)
 static rod_status advance(rods_run *r, long long n, double h, double target, rod_report *report)
 {
     for (long long j = 0; j < n; j++) {
-        double t0 = cpu_now();
+        double t0 = cpu_seconds();
         rod_status st = rod_set_step(&r->set, &r->run, h, report);
-        r->step_cpu += cpu_now() - t0;
+        r->step_cpu += cpu_seconds() - t0;
         if (st != ROD_OK) return st;
         if (report->warning[0]) { /* said once each (a full list drops the rest) */
             if (r->warned_steps++ < RUN_WARNINGS_MAX / 2)

@@ -6,8 +6,8 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
-#include <time.h>
 
+#include "base/clocks.h"
 #include "base/ini.h"
 #include "base/outfile.h"
 #include "cli/args.h"
@@ -107,13 +107,6 @@ done:
     return status;
 }
 
-static double wall_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* s: the process's CPU so far, user + system */
 static double cpu_used(void)
 {
@@ -174,7 +167,7 @@ static int finish_summary(const char *path, run_summary *summary, int status, do
 {
     summary->exit_code = status;
     summary->cpu_s = cpu_used();
-    summary->wall_s = wall_now() - wall_start;
+    summary->wall_s = wall_seconds() - wall_start;
     size_t n = strlen(summary->message); /* the prose's last newline */
     while (n > 0 && (summary->message[n - 1] == '\n' || summary->message[n - 1] == ' '))
         summary->message[--n] = '\0';
@@ -188,7 +181,7 @@ static int finish_summary(const char *path, run_summary *summary, int status, do
 
 int run_command(int argc, char **argv)
 {
-    double wall_start = wall_now();
+    double wall_start = wall_seconds();
     char err[RUN_ERR_LEN] = "";
     scene_outputs_options o = {.out_dir = "out"};
     cli_list sets = {0};
