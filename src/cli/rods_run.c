@@ -499,7 +499,7 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
     if (run_read_output(doc, &r.out, err, sizeof err) || ini_check_unused(doc, err, sizeof err))
         goto fail;
     if (check_paths(&r, err, sizeof err)) goto fail;
-    run_warnings_print(stderr, "rodsim run", &r.warnings, 0);
+    if (!o->silent) run_warnings_print(stderr, "rodsim run", &r.warnings, 0);
     const int path_warnings = r.warnings.count;
     r.dt = rod_set_choose_dt(&r.set, NULL);
     r.pad = tissue_coupling_pad(&r.set.model[0]);
@@ -558,7 +558,7 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
         }
     }
     status = 0;
-    run_warnings_print(stderr, "rodsim run", &r.warnings, path_warnings);
+    if (!o->silent) run_warnings_print(stderr, "rodsim run", &r.warnings, path_warnings);
     print_result(&r);
     if (o->summary) {
         fill_summary(&r, o->summary, ran);
@@ -579,7 +579,7 @@ abort:
     outfile_abort(&r.tissue_file);
     outfile_transaction_abort();
 fail:
-    fprintf(stderr, "rodsim run: %s\n", err);
+    if (!o->silent) fprintf(stderr, "rodsim run: %s\n", err);
     if (o->summary) {
         summary_set_message(o->summary, err);
         fill_summary(&r, o->summary, ran && r.run.count > 0);

@@ -265,9 +265,10 @@ static void set_stopped(sweep_point_result *r, rod_status st, const rod_model *m
 }
 
 /* A point of a scene of named rods, run by `rodsim run`'s own entry for
- * them (rods_run.h: quiet, no video, no CSV), so that it equals `rodsim run
- * SCENE --set ...` bit for bit; measured from its summary: each rod's tip,
- * the steps. */
+ * them (rods_run.h: silent, no video, no CSV), so that it equals `rodsim
+ * run SCENE --set ...` bit for bit; measured from its summary: each rod's
+ * tip, the steps; its warnings and its error go to its row only, as a
+ * point of one rod's. */
 static void run_rods_point(const sweep *sw, int point, sweep_point_result *r)
 {
     double wall0 = wall_seconds();
@@ -283,7 +284,8 @@ static void run_rods_point(const sweep *sw, int point, sweep_point_result *r)
     }
     summary_init(sum);
     scene_outputs_options o = {.label = sw->scene_arg, .out_dir = ".", .no_video = 1,
-                               .allow_long = sw->allow_long, .quiet = 1, .summary = sum};
+                               .allow_long = sw->allow_long, .quiet = 1, .silent = 1,
+                               .summary = sum};
     int status = rods_run_scene(&o, doc, "sweep");
     if (sum->has_run) r->value[SWEEP_M_STEPS] = (double)sum->steps;
     if (status != RUN_EXIT_OK) {

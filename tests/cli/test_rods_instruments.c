@@ -7,9 +7,9 @@
  * max_depth raised only warns, naming the jaws, the time and the depth;
  * `rodsim sweep` over max_depth (3 mm, 6 mm) refuses the first point in its
  * row with the run's message (4.87 mm, max_depth) and runs the second, the
- * run's warning in its message, exit 0: a scene of one rod (its points run
- * in the sweep's process) and of a named rod (through `rodsim run`'s own
- * entry) alike. */
+ * run's warning in its message, exit 0, printing no "rodsim run" line: a
+ * scene of one rod (its points run in the sweep's process) and of a named
+ * rod (through `rodsim run`'s own entry) alike. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -185,6 +185,9 @@ static void test_into_pad_sweep(const char *rod)
               strstr(said[1], "4.9 mm deep at t = 0.500 s"),
           "sweep, %s: max_depth 6 mm run (status %s), the run's warning in its message: %.300s",
           who, refused[1], said[1]);
+    /* the points' warnings and refusals are their rows', printed by none */
+    check(!strstr(out, "rodsim run"), "sweep --quiet, %s: no \"rodsim run\" line printed: %.300s",
+          who, out);
     free(rows);
 }
 
