@@ -382,7 +382,7 @@ static void run_point(const sweep *sw, int point, sweep_point_result *r)
      * same way (rods_run.c) */
     char refused[sizeof r->message];
     if (scene_outputs_path_checks(&m, sw->scene_arg, &warnings, refused, sizeof refused)) {
-        set_message(r, SWEEP_POINT_REFUSED, "%s", refused);
+        set_message(r, SWEEP_POINT_REFUSED, "%s; nothing was run", refused);
         goto done;
     }
     if (rod_solver_init(&solver, &m, err, sizeof err)) {

@@ -6,10 +6,11 @@
  * (exit 2, naming [instrument] max_depth, nothing written), and with
  * max_depth raised only warns, naming the jaws, the time and the depth;
  * `rodsim sweep` over max_depth (3 mm, 6 mm) refuses the first point in its
- * row with the run's message (4.87 mm, max_depth) and runs the second, the
- * run's warning in its message, exit 0, printing no "rodsim run" line: a
- * scene of one rod (its points run in the sweep's process) and of a named
- * rod (through `rodsim run`'s own entry) alike. */
+ * row with the run's message (4.87 mm, max_depth; "nothing was run", the
+ * same words for both) and runs the second, the run's warning in its
+ * message, exit 0, printing no "rodsim run" line: a scene of one rod (its
+ * points run in the sweep's process) and of a named rod (through `rodsim
+ * run`'s own entry) alike. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -178,7 +179,8 @@ static void test_into_pad_sweep(const char *rod)
     const char *who = rod[0] ? "a named rod" : "one rod";
     check(rc == 0 && strcmp(refused[0], "refused") == 0 &&
               strstr(said[0], "forceps' jaws 4.87 mm into the rigid") &&
-              strstr(said[0], "deeper than max_depth = 3.00 mm"),
+              strstr(said[0], "deeper than max_depth = 3.00 mm") &&
+              strstr(said[0], "; nothing was run"),
           "sweep, %s: max_depth 3 mm refused in its row with the run's message (exit %d, "
           "status %s): %.300s", who, rc, refused[0], said[0]);
     check(strcmp(refused[1], "ok") == 0 && strstr(said[1], "forceps' jaws go into") &&
@@ -188,6 +190,13 @@ static void test_into_pad_sweep(const char *rod)
     /* the points' warnings and refusals are their rows', printed by none */
     check(!strstr(out, "rodsim run"), "sweep --quiet, %s: no \"rodsim run\" line printed: %.300s",
           who, out);
+    /* one rod's refused row and a named rod's: the same words */
+    static char first_refused[1024];
+    if (!rod[0]) snprintf(first_refused, sizeof first_refused, "%s", said[0]);
+    else
+        check(strcmp(first_refused, said[0]) == 0,
+              "sweep: the refused row's message of a named rod is one rod's:\n  %s\n  %s",
+              said[0], first_refused);
     free(rows);
 }
 
