@@ -165,6 +165,11 @@ static int setup(live_rods *lr, ini_doc *doc, const char *default_rod, char *err
     if (live_overlap_start(&lr->set.model[0], ini_filename(doc), err, errlen)) return -1;
     lr->status = RUN_EXIT_FAILURE;
     if (make_paths(lr, err, errlen) || make_instrument_paths(lr, err, errlen)) return -1;
+    /* the jaws where the session keeps them, deep in a rigid surface: bad input */
+    if (live_jaws_start(&lr->set.model[0], ini_filename(doc), err, errlen)) {
+        lr->status = RUN_EXIT_BAD_INPUT;
+        return -1;
+    }
     if (rod_set_run_create(&lr->set, &lr->run, err, errlen)) return -1;
     lr->run_made = 1;
     for (int k = 0; k < lr->set.count; k++)

@@ -10,11 +10,14 @@
  * same words for both) and runs the second, the run's warning in its
  * message, exit 0, printing no "rodsim run" line: a scene of one rod (its
  * points run in the sweep's process) and of a named rod (through `rodsim
- * run`'s own entry) alike. */
+ * run`'s own entry) alike; `rodsim live` with the jaws 4.87 mm into the
+ * pad at t = 0 is refused up front as the run is (exit 2, max_depth), and
+ * starts with max_depth raised: one rod and a named rod alike. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "test.h"
@@ -106,13 +109,14 @@ static void test_one_named_csv(void)
     free(forceps);
 }
 
-/* Forceps pointing down (as grasp_lift's), their tip driven to z_end */
-static void write_down_path(const char *file, double z_end)
+/* Forceps pointing down (as grasp_lift's), their tip driven from z_start
+ * at t = 0 to z_end at 0.5 s */
+static void write_down_path(const char *file, double z_start, double z_end)
 {
     char text[512];
     const char *rv = "1.2091996,1.2091996,-1.2091996";
-    snprintf(text, sizeof text, "t,x,y,z,rx,ry,rz,jaw\n0,0,0,0.03,%s,1\n0.5,0,0,%.6g,%s,1\n",
-             rv, z_end, rv);
+    snprintf(text, sizeof text, "t,x,y,z,rx,ry,rz,jaw\n0,0,0,%.6g,%s,1\n0.5,0,0,%.6g,%s,1\n",
+             z_start, rv, z_end, rv);
     write_text(file, text);
 }
 
@@ -135,7 +139,7 @@ static void test_into_pad(void)
     snprintf(csv, sizeof csv, "%s/deep_out.csv", dir);
     snprintf(json, sizeof json, "%s/deep.json", dir);
     /* 4 mm into the pad: the open tines' round ends 4.87 mm deep */
-    write_down_path(path, -0.004);
+    write_down_path(path, 0.03, -0.004);
     const char *form = pad_form;
     snprintf(scene, sizeof scene, form, "", "");
     write_text(ini, scene);
@@ -161,7 +165,7 @@ static void test_into_pad_sweep(const char *rod)
     snprintf(path, sizeof path, "%s/deep.csv", dir);
     snprintf(ini, sizeof ini, "%s/deep_sweep.ini", dir);
     snprintf(csv, sizeof csv, "%s/deep_sweep.csv", dir);
-    write_down_path(path, -0.004);
+    write_down_path(path, 0.03, -0.004);
     snprintf(scene, sizeof scene, pad_form, rod, "");
     write_text(ini, scene);
     unlink(csv);
@@ -198,6 +202,38 @@ static void test_into_pad_sweep(const char *rod)
               "sweep: the refused row's message of a named rod is one rod's:\n  %s\n  %s",
               said[0], first_refused);
     free(rows);
+}
+
+/* `rodsim live` with the forceps' jaws 4.87 mm into the pad from t = 0:
+ * refused up front as `rodsim run` refuses it; with max_depth 6 mm, the
+ * session starts (no lines: exit 0) */
+static void test_into_pad_live(const char *rod)
+{
+    char scene[1024], path[128], ini[128], cmd[512], err[128];
+    snprintf(path, sizeof path, "%s/deep.csv", dir);
+    snprintf(ini, sizeof ini, "%s/deep_live.ini", dir);
+    snprintf(err, sizeof err, "%s/deep_live.err", dir);
+    write_down_path(path, -0.004, -0.004);
+    const char *who = rod[0] ? "a named rod" : "one rod";
+    for (int raised = 0; raised < 2; raised++) {
+        snprintf(scene, sizeof scene, pad_form, rod, raised ? "max_depth = 0.006\n" : "");
+        write_text(ini, scene);
+        snprintf(cmd, sizeof cmd, "%s live %s < /dev/null > /dev/null 2> %s", RODSIM_BIN, ini,
+                 err);
+        const int status = system(cmd);
+        const int rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        char *said = read_all(err);
+        if (!raised)
+            check(rc == 2 && said && strstr(said, "rodsim live: ") &&
+                      strstr(said, "forceps' jaws 4.87 mm into the rigid") &&
+                      strstr(said, "max_depth"),
+                  "live, %s: the jaws 4.87 mm into the pad at t = 0 refused up front (exit %d, "
+                  "2): %.300s", who, rc, said ? said : "(nothing)");
+        else
+            check(rc == 0, "live, %s: with max_depth = 6 mm the session starts (exit %d): %.300s",
+                  who, rc, said ? said : "(nothing)");
+        free(said);
+    }
 }
 
 static void test_two_rods_summary(void)
@@ -238,6 +274,8 @@ int main(void)
     test_into_pad();
     test_into_pad_sweep("");
     test_into_pad_sweep(" thread");
+    test_into_pad_live("");
+    test_into_pad_live(" thread");
     test_two_rods_summary();
     return test_finish();
 }
