@@ -12,6 +12,8 @@
 #ifndef RODSIM_NUMFMT_H
 #define RODSIM_NUMFMT_H
 
+#include <stddef.h>
+
 /* Room for any result, with its terminating '\0'. */
 #define NUMFMT_MAX 32
 
@@ -20,5 +22,13 @@
  * exponent is in -4 .. digits - 1, else d.ddde+XX; trailing zeros dropped.
  * Returns the number of characters written (without the '\0'). */
 int numfmt_g(char *out, double v, int digits);
+
+/* v for a sentence, as printf's "%.*e" writes it with `digits` after the
+ * point, or, when v is NaN or infinite, words in its place ("not finite
+ * (NaN)", "not finite (+infinity)"): a message that prints a measure
+ * gone wrong reads "residual not finite (NaN)", not "residual nan" or
+ * "1.8e+308". Into out (n bytes); returns out. */
+#define NUMFMT_WORDS_MAX 32
+const char *numfmt_e_or_words(char *out, size_t n, double v, int digits);
 
 #endif

@@ -4,7 +4,9 @@
  * and each line's step, from the state's time to the line's with the
  * line's row on its instrument's live path and the scene's path of a
  * needle holder holding the needle (the one path live does not replace). A
- * pair either of which has may_overlap = yes is not refused. */
+ * pair either of which has may_overlap = yes is not refused. The jaws
+ * driven deeper than max_depth into a rigid surface are refused up front
+ * as `rodsim run` refuses them (sim/instrument_path.h). */
 #ifndef RODSIM_CLI_LIVE_OVERLAP_H
 #define RODSIM_CLI_LIVE_OVERLAP_H
 
@@ -18,6 +20,13 @@
 /* The session's start: 0, or -1 with "FILE: [instrument] A and B (line N)
  * ..." in err naming both, their parts, the depth and the keys to change. */
 int live_overlap_start(const rod_model *m, const char *file, char *err, size_t errlen);
+
+/* The jaws against the rigid surfaces along the paths the session keeps
+ * (m's, live paths in place: each instrument at its pose at t = 0, a
+ * needle holder holding the needle along its scene path): 0, or -1 with
+ * `rodsim run`'s refusal in err (the jaws deeper than max_depth: the
+ * instrument, the depth, the surface's line, the key). */
+int live_jaws_start(const rod_model *m, const char *file, char *err, size_t errlen);
 
 /* A line's step from t0 to t1 (s), its rows pushed: 0, or -1 with the
  * overlap in words in text (rod_instruments_overlap_text). */

@@ -30,9 +30,6 @@ extern volatile sig_atomic_t live_stop_signal;
  * error of the write). */
 void live_stop_signals_install(void);
 
-/* s on the monotonic clock */
-double live_wall_seconds(void);
-
 /* --realtime: waits until t (s from the wall time wall_origin, s) on the
  * wall clock; a stop signal ends the wait. */
 void live_pace(double wall_origin, double t);

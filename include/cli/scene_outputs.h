@@ -36,6 +36,8 @@ typedef struct scene_outputs_options {
     int progress;         /* 1: the progress line on stderr whatever stderr is (--progress);
                              0: only on a terminal, for a run estimated over 2 s */
     int talk_stderr;      /* 1: the prose goes to stderr (stdout carries the summary) */
+    int silent;           /* 1: nothing printed, the warnings and the error only into the
+                             summary (a sweep's point: its row says them) */
     struct run_summary *summary; /* filled as the run goes (summary.h), or NULL */
 } scene_outputs_options;
 

@@ -76,3 +76,11 @@ int numfmt_g(char *out, double v, int digits)
     *p = '\0';
     return (int)(p - out);
 }
+
+const char *numfmt_e_or_words(char *out, size_t n, double v, int digits)
+{
+    if (isnan(v)) snprintf(out, n, "not finite (NaN)");
+    else if (isinf(v)) snprintf(out, n, "not finite (%sinfinity)", v > 0 ? "+" : "-");
+    else snprintf(out, n, "%.*e", digits, v);
+    return out;
+}

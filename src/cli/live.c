@@ -258,7 +258,8 @@ int live_command(int argc, char **argv)
     }
     if (run_read_scene(doc, &m, &out, err, sizeof err)) goto fail;
     if (!(ls = live_session_create(&m, &settings, err, sizeof err)) ||
-        live_overlap_start(&m, a.scene, err, sizeof err))
+        live_overlap_start(&m, a.scene, err, sizeof err) ||
+        live_jaws_start(&m, a.scene, err, sizeof err))
         goto fail;
     status = run_session(ls, &a, &m);
     goto done;

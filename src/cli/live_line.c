@@ -8,18 +8,10 @@
 #include <sched.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "base/clocks.h"
 #include "cli/args.h"
 #include "cli/live_session.h"
-
-/* s of CPU this thread has used */
-static double thread_cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 const char *live_line_name(const char *line, const char *colon, size_t *len)
 {
@@ -52,7 +44,7 @@ int live_split_numbers(char *line, double *values, int max)
  * refused (bad_input), or stepped. */
 static void answer_line(live_session *ls, size_t len)
 {
-    ls->line_start = live_wall_seconds();
+    ls->line_start = wall_seconds();
     ls->line_cpu_start = thread_cpu_seconds();
     ls->lines++;
     char err[512];
@@ -77,7 +69,7 @@ static void answer_line(live_session *ls, size_t len)
             numbers = colon + 1;
         }
         int count = named_ok ? live_split_numbers(numbers, values, instrument >= 0 ? 8 : 7) : -3;
-        ls->parse_sum += live_wall_seconds() - ls->line_start;
+        ls->parse_sum += wall_seconds() - ls->line_start;
         if (count == -3) {
             snprintf(err, sizeof err, "no rod named '%.*s'; accepted: rod (the scene's one "
                      "rod)", (int)(colon - ls->line > 64 ? 64 : colon - ls->line), ls->line);
@@ -116,7 +108,7 @@ static void answer_line(live_session *ls, size_t len)
         if (answered_by >= 0) live_print_instrument_answer(ls, answered_by, "bad_input");
         else live_print_answer(ls, "bad_input");
     }
-    double spent = live_wall_seconds() - ls->line_start;
+    double spent = wall_seconds() - ls->line_start;
     ls->step_wall_sum += spent;
     ls->step_wall_max = fmax(ls->step_wall_max, spent);
     live_histogram_add(ls->work_histogram, spent);
@@ -149,11 +141,11 @@ static void answer_line(live_session *ls, size_t len)
          * process for its slice (bench_live on a loaded VM: p99 0.2 to 4
          * ms with it and without, the load decides) */
         if (ls->realtime_policy) sched_yield();
-        const double idle_start = live_wall_seconds();
+        const double idle_start = wall_seconds();
         if (rod_solver_refresh(&ls->solver, ls->stepped, ls->state, ls->last_step) > 0) {
             ls->idle_builds++;
             ls->jacobian_builds++; /* the next step's count includes it */
-            ls->idle_sum += live_wall_seconds() - idle_start;
+            ls->idle_sum += wall_seconds() - idle_start;
         }
     }
     if (ferror(ls->out)) {

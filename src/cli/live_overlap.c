@@ -1,10 +1,11 @@
-/* live_overlap.c: rodsim live's instruments against each other
- * (live_overlap.h). */
+/* live_overlap.c: rodsim live's instruments against each other and its
+ * jaws against rigid surfaces (live_overlap.h). */
 #include "cli/live_overlap.h"
 
 #include <stdio.h>
 
 #include "sim/instrument_overlap.h"
+#include "sim/instrument_path.h"
 
 int live_overlap_start(const rod_model *m, const char *file, char *err, size_t errlen)
 {
@@ -30,4 +31,12 @@ int live_overlap_line(const rod_model *m, double t0, double t1, char *text, size
         return 0;
     rod_instruments_overlap_text(m, &o, text, n);
     return -1;
+}
+
+int live_jaws_start(const rod_model *m, const char *file, char *err, size_t errlen)
+{
+    for (int k = 0; k < m->instrument_count; k++)
+        if (rod_instrument_path_warning(m, k, file, err, errlen) < 0) return -1;
+    if (errlen) err[0] = '\0'; /* a path only into a surface: not live's to say */
+    return 0;
 }

@@ -79,13 +79,6 @@ void live_stop_signals_install(void)
     signal(SIGPIPE, SIG_IGN);
 }
 
-double live_wall_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 void live_pace(double wall_origin, double t)
 {
     /* t is at most a session's max_ahead steps ahead, but solver.dt may be

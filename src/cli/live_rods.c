@@ -12,6 +12,7 @@
 #include "api/scene_keys.h"
 #include "api/scene_read.h"
 #include "api/stepping.h"
+#include "base/clocks.h"
 #include "base/numfmt.h"
 #include "base/outfile.h"
 #include "cli/args.h"
@@ -164,6 +165,11 @@ static int setup(live_rods *lr, ini_doc *doc, const char *default_rod, char *err
     if (live_overlap_start(&lr->set.model[0], ini_filename(doc), err, errlen)) return -1;
     lr->status = RUN_EXIT_FAILURE;
     if (make_paths(lr, err, errlen) || make_instrument_paths(lr, err, errlen)) return -1;
+    /* the jaws where the session keeps them, deep in a rigid surface: bad input */
+    if (live_jaws_start(&lr->set.model[0], ini_filename(doc), err, errlen)) {
+        lr->status = RUN_EXIT_BAD_INPUT;
+        return -1;
+    }
     if (rod_set_run_create(&lr->set, &lr->run, err, errlen)) return -1;
     lr->run_made = 1;
     for (int k = 0; k < lr->set.count; k++)
@@ -517,9 +523,9 @@ static int serve_line(live_rods *lr, char *text, int too_long, int nul)
         memcpy(row, v, (size_t)count * sizeof(double)); /* 4 numbers on a clamped tip: no turn */
         const double gap = row[0] - lr->run.state[0]->time;
         if (lr->realtime) live_pace(lr->wall_origin, row[0]);
-        const double start = live_wall_seconds();
+        const double start = wall_seconds();
         const int stepped = step_line(lr, k, row, err, sizeof err);
-        const double spent = live_wall_seconds() - start;
+        const double spent = wall_seconds() - start;
         if (lr->realtime && spent > gap) { /* the next line, one gap later, waits */
             lr->overruns++;
             lr->worst_overrun = fmax(lr->worst_overrun, spent);
@@ -623,7 +629,7 @@ int live_rods_run(ini_doc *doc, const char *scene, const live_rods_options *o)
     }
     /* t = 0 on the wall clock before the header goes out: a client pacing
      * itself from the header is never ahead of this clock */
-    lr->wall_origin = live_wall_seconds();
+    lr->wall_origin = wall_seconds();
     printf("rod,t,fx,fy,fz,mx,my,mz,status");
     for (int k = 0; lr->centreline && k < lr->set.count; k++)
         for (int i = 0; i < lr->set.model[k].nodes; i++)

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/clocks.h"
 #include "base/numfmt.h"
 #include "cli/args.h"
 #include "cli/live_session.h"
@@ -109,7 +110,7 @@ void live_session_start(live_session *ls)
      * paces itself from the header on is then never ahead of rodsim's clock
      * (taken after, the header's reader could start its clock first, and
      * --realtime would hold every line back by the difference) */
-    ls->wall_origin = live_wall_seconds();
+    ls->wall_origin = wall_seconds();
     fprintf(ls->out, "t,fx,fy,fz,mx,my,mz,status");
     if (ls->set.centreline)
         for (int i = 0; i < ls->state->nodes; i++) fprintf(ls->out, ",x%d,y%d,z%d", i, i, i);

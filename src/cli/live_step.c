@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "api/stepping.h"
+#include "base/clocks.h"
 #include "cli/live_overlap.h"
 #include "cli/live_session.h"
 
@@ -102,7 +103,7 @@ void live_line_wait(live_session *ls, double t)
 {
     if (!ls->set.realtime) return;
     live_pace(ls->wall_origin, t);
-    ls->line_start = live_wall_seconds();
+    ls->line_start = wall_seconds();
 }
 
 void live_line_begin(live_session *ls, double t)
@@ -275,7 +276,7 @@ int live_step_line(live_session *ls, const double *values, int count)
         ls->needle = needle_before;
         return live_refuse_overlap(ls, row[0], -1, overlap);
     }
-    const double step_start = live_wall_seconds();
+    const double step_start = wall_seconds();
     rod_status status = ROD_OK, first_status = ROD_OK;
     rod_report report, first_report;
     memset(&first_report, 0, sizeof first_report);
@@ -308,7 +309,7 @@ int live_step_line(live_session *ls, const double *values, int count)
         }
         if (!failed) ls->fraction = try->fraction;
     }
-    const double step_end = live_wall_seconds();
+    const double step_end = wall_seconds();
     ls->step_sum += step_end - step_start;
     live_histogram_add(ls->step_histogram, step_end - step_start);
     const int ok = !failed && ls->fraction == 1.0;
@@ -321,7 +322,7 @@ int live_step_line(live_session *ls, const double *values, int count)
     }
     live_count_line(ls, ok ? LINE_OK : LINE_FAILED, failed ? 0.0 : row[0] - before);
     live_print_answer(ls, ok ? "ok" : "failed");
-    ls->answer_sum += live_wall_seconds() - step_end;
+    ls->answer_sum += wall_seconds() - step_end;
     if (ok) live_close_run(ls);
     else live_say_failed(ls, row[0], NULL, first_status, &first_report,
                          failed ? -1.0 : ls->fraction, &report);

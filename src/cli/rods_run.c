@@ -4,10 +4,10 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
 #include "api/scene_keys.h"
 #include "api/scene_read.h"
+#include "base/clocks.h"
 #include "base/outfile.h"
 #include "base/vec3.h"
 #include "cli/args.h"
@@ -25,13 +25,6 @@
 #include "sim/tissue/tissue_coupling.h"
 
 #define RODS_ERR_LEN 1024
-
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* What the run holds */
 typedef struct rods_run {
@@ -201,9 +194,9 @@ static int output_frame(rods_run *r)
 static rod_status advance(rods_run *r, long long n, double h, double target, rod_report *report)
 {
     for (long long j = 0; j < n; j++) {
-        double t0 = cpu_now();
+        double t0 = cpu_seconds();
         rod_status st = rod_set_step(&r->set, &r->run, h, report);
-        r->step_cpu += cpu_now() - t0;
+        r->step_cpu += cpu_seconds() - t0;
         if (st != ROD_OK) return st;
         if (report->warning[0]) { /* said once each (a full list drops the rest) */
             if (r->warned_steps++ < RUN_WARNINGS_MAX / 2)
@@ -506,7 +499,7 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
     if (run_read_output(doc, &r.out, err, sizeof err) || ini_check_unused(doc, err, sizeof err))
         goto fail;
     if (check_paths(&r, err, sizeof err)) goto fail;
-    run_warnings_print(stderr, "rodsim run", &r.warnings, 0);
+    if (!o->silent) run_warnings_print(stderr, "rodsim run", &r.warnings, 0);
     const int path_warnings = r.warnings.count;
     r.dt = rod_set_choose_dt(&r.set, NULL);
     r.pad = tissue_coupling_pad(&r.set.model[0]);
@@ -565,7 +558,7 @@ int rods_run_scene(const scene_outputs_options *o, ini_doc *doc, const char *sce
         }
     }
     status = 0;
-    run_warnings_print(stderr, "rodsim run", &r.warnings, path_warnings);
+    if (!o->silent) run_warnings_print(stderr, "rodsim run", &r.warnings, path_warnings);
     print_result(&r);
     if (o->summary) {
         fill_summary(&r, o->summary, ran);
@@ -586,7 +579,7 @@ abort:
     outfile_abort(&r.tissue_file);
     outfile_transaction_abort();
 fail:
-    fprintf(stderr, "rodsim run: %s\n", err);
+    if (!o->silent) fprintf(stderr, "rodsim run: %s\n", err);
     if (o->summary) {
         summary_set_message(o->summary, err);
         fill_summary(&r, o->summary, ran && r.run.count > 0);

@@ -9,9 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "api/stepping.h"
+#include "base/clocks.h"
 #include "base/dtoa.h"
 #include "sim/cut.h"
 #include "sim/recording.h"
@@ -173,13 +173,6 @@ void run_csv_frame_into(FILE *f, const rod_model *m, const rod_state *s, const c
     }
 }
 
-static double wall_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* How close non-neighbouring strands came at a step's end: the scheme's
  * own measure over the pairs that could touch (rod_state.strand_gap;
  * INFINITY where none could, or where the scheme has no self-contact). */
@@ -187,13 +180,6 @@ static void note_closest_gap(const rod_state *s, run_stats *stats)
 {
     stats->closest_gap = fmin(stats->closest_gap, s->strand_gap);
     stats->closest_gap_frame = fmin(stats->closest_gap_frame, s->strand_gap);
-}
-
-static double cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* Reading the CPU clock is a system call (about 0.3 us), as dear as a thesis

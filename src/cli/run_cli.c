@@ -6,8 +6,8 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
-#include <time.h>
 
+#include "base/clocks.h"
 #include "base/ini.h"
 #include "base/outfile.h"
 #include "cli/args.h"
@@ -54,8 +54,8 @@ void run_usage(FILE *f)
             "  --progress               show the progress line (simulated time, CPU s per\n"
             "                           simulated s, time left) on standard error; by\n"
             "                           default only on a terminal for a run over ~2 s\n"
-            "  --quiet                  print only errors (no progress line unless\n"
-            "                           --progress)\n"
+            "  --quiet                  print only warnings and errors (no progress\n"
+            "                           line unless --progress)\n"
             "The outputs (CSV, video, poster) appear together when the run succeeds, and\n"
             "none otherwise. Exit status: 0 success; 2 bad scene, bad usage, a run refused up\n"
             "front or stopped (too long, too large) or numerically unstable (nothing is\n"
@@ -105,13 +105,6 @@ done:
     rod_model_release(&m);
     ini_destroy(doc);
     return status;
-}
-
-static double wall_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* s: the process's CPU so far, user + system */
@@ -174,7 +167,7 @@ static int finish_summary(const char *path, run_summary *summary, int status, do
 {
     summary->exit_code = status;
     summary->cpu_s = cpu_used();
-    summary->wall_s = wall_now() - wall_start;
+    summary->wall_s = wall_seconds() - wall_start;
     size_t n = strlen(summary->message); /* the prose's last newline */
     while (n > 0 && (summary->message[n - 1] == '\n' || summary->message[n - 1] == ' '))
         summary->message[--n] = '\0';
@@ -188,7 +181,7 @@ static int finish_summary(const char *path, run_summary *summary, int status, do
 
 int run_command(int argc, char **argv)
 {
-    double wall_start = wall_now();
+    double wall_start = wall_seconds();
     char err[RUN_ERR_LEN] = "";
     scene_outputs_options o = {.out_dir = "out"};
     cli_list sets = {0};

@@ -13,9 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "base/clocks.h"
 #include "base/outfile.h"
 #include "base/vec3.h"
 #include "cli/args.h"
@@ -398,20 +398,6 @@ static int check_budget(const scene_outputs_options *a, const rod_model *m,
     return 0;
 }
 
-static double wall_clock(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static double cpu_clock(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* The progress line on stderr: one line rewritten with \r at most every
  * PROGRESS_PERIOD s of wall time, cleared when the run ends. */
 #define PROGRESS_PERIOD 0.25  /* s */
@@ -425,10 +411,10 @@ typedef struct progress_line {
 
 static void progress_show(progress_line *p, double t)
 {
-    double wall = wall_clock();
+    double wall = wall_seconds();
     if (!p->on || (p->shown > 0.0 && wall - p->shown < PROGRESS_PERIOD && t < p->duration))
         return;
-    double spent = wall - p->wall_start, cpu = cpu_clock() - p->cpu_start;
+    double spent = wall - p->wall_start, cpu = cpu_seconds() - p->cpu_start;
     char line[160], left[48];
     double share = p->duration > 0.0 ? 100.0 * t / p->duration : 100.0;
     int n = t > 0.0 ? snprintf(line, sizeof line, "  t = %.4g of %g s (%.0f %%), %.3g CPU s per "
@@ -893,12 +879,12 @@ static int open_run(scene_run *r)
 /* The run itself. 0, or the exit status of its failure (reported). */
 static int step_run(scene_run *r)
 {
-    r->progress.wall_start = wall_clock();
-    r->progress.cpu_start = cpu_clock();
+    r->progress.wall_start = wall_seconds();
+    r->progress.cpu_start = cpu_seconds();
     r->sink.progress = &r->progress;
     rod_status st = run_simulate_paced(&r->solver, r->m, r->s, &r->plan, r->out->fps, on_frame,
                                        &r->sink, &r->pace, &r->report, &r->stats);
-    r->step_cpu = cpu_clock() - r->progress.cpu_start;
+    r->step_cpu = cpu_seconds() - r->progress.cpu_start;
     progress_clear(&r->progress);
     if (st == ROD_OK) return 0;
     if ((st == ROD_UNSTABLE || st == ROD_NO_CONVERGENCE) && !r->pace.stopped && !r->sink.failed &&

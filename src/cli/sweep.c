@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
-#include <time.h>
 
+#include "base/clocks.h"
 #include "base/outfile.h"
 #include "base/spectrum.h"
 #include "base/worker.h"
@@ -78,13 +78,6 @@ void sweep_usage(FILE *f)
 }
 
 /* Running a point -------------------------------------------------------- */
-
-static double clock_seconds(clockid_t id)
-{
-    struct timespec ts;
-    clock_gettime(id, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 typedef struct tip_samples {
     double *xyz; /* (count x 3), m */
@@ -272,13 +265,14 @@ static void set_stopped(sweep_point_result *r, rod_status st, const rod_model *m
 }
 
 /* A point of a scene of named rods, run by `rodsim run`'s own entry for
- * them (rods_run.h: quiet, no video, no CSV), so that it equals `rodsim run
- * SCENE --set ...` bit for bit; measured from its summary: each rod's tip,
- * the steps. */
+ * them (rods_run.h: silent, no video, no CSV), so that it equals `rodsim
+ * run SCENE --set ...` bit for bit; measured from its summary: each rod's
+ * tip, the steps; its warnings and its error go to its row only, as a
+ * point of one rod's. */
 static void run_rods_point(const sweep *sw, int point, sweep_point_result *r)
 {
-    double wall0 = clock_seconds(CLOCK_MONOTONIC);
-    double cpu0 = clock_seconds(CLOCK_PROCESS_CPUTIME_ID);
+    double wall0 = wall_seconds();
+    double cpu0 = cpu_seconds();
     char err[SWEEP_ERR_LEN] = "";
     sweep_setting *set = calloc((size_t)(sw->sets.count + sw->vary_count + 1), sizeof *set);
     run_summary *sum = malloc(sizeof *sum);
@@ -290,7 +284,8 @@ static void run_rods_point(const sweep *sw, int point, sweep_point_result *r)
     }
     summary_init(sum);
     scene_outputs_options o = {.label = sw->scene_arg, .out_dir = ".", .no_video = 1,
-                               .allow_long = sw->allow_long, .quiet = 1, .summary = sum};
+                               .allow_long = sw->allow_long, .quiet = 1, .silent = 1,
+                               .summary = sum};
     int status = rods_run_scene(&o, doc, "sweep");
     if (sum->has_run) r->value[SWEEP_M_STEPS] = (double)sum->steps;
     if (status != RUN_EXIT_OK) {
@@ -322,8 +317,8 @@ static void run_rods_point(const sweep *sw, int point, sweep_point_result *r)
                  sum->warnings[w]);
     }
 done:
-    r->value[SWEEP_M_WALL] = clock_seconds(CLOCK_MONOTONIC) - wall0;
-    r->value[SWEEP_M_CPU] = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
+    r->value[SWEEP_M_WALL] = wall_seconds() - wall0;
+    r->value[SWEEP_M_CPU] = cpu_seconds() - cpu0;
     ini_destroy(doc);
     free(sum);
     free(set);
@@ -335,8 +330,8 @@ done:
  * the message, joined with "; ". */
 static void run_point(const sweep *sw, int point, sweep_point_result *r)
 {
-    double wall0 = clock_seconds(CLOCK_MONOTONIC);
-    double cpu0 = clock_seconds(CLOCK_PROCESS_CPUTIME_ID);
+    double wall0 = wall_seconds();
+    double cpu0 = cpu_seconds();
     memset(r, 0, sizeof *r);
     for (int i = 0; i < SWEEP_M_COUNT; i++) r->value[i] = NAN;
     for (int k = 0; k < SWEEP_MAX_RODS; k++)
@@ -387,7 +382,7 @@ static void run_point(const sweep *sw, int point, sweep_point_result *r)
      * same way (rods_run.c) */
     char refused[sizeof r->message];
     if (scene_outputs_path_checks(&m, sw->scene_arg, &warnings, refused, sizeof refused)) {
-        set_message(r, SWEEP_POINT_REFUSED, "%s", refused);
+        set_message(r, SWEEP_POINT_REFUSED, "%s; nothing was run", refused);
         goto done;
     }
     if (rod_solver_init(&solver, &m, err, sizeof err)) {
@@ -424,8 +419,8 @@ static void run_point(const sweep *sw, int point, sweep_point_result *r)
         r->status = SWEEP_POINT_FAILED;
 done:
     run_warnings_join(&warnings, r->message, sizeof r->message);
-    r->value[SWEEP_M_WALL] = clock_seconds(CLOCK_MONOTONIC) - wall0;
-    r->value[SWEEP_M_CPU] = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
+    r->value[SWEEP_M_WALL] = wall_seconds() - wall0;
+    r->value[SWEEP_M_CPU] = cpu_seconds() - cpu0;
     /* not timed: not the run */
     if (sw->critical && r->status == SWEEP_POINT_OK) critical_loads(&m, r);
     free(frames.tip.xyz);

@@ -6,18 +6,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "base/clocks.h"
 #include "render/gl_api.h"
 #include "render/gl_context.h"
 #include "render/gl_util.h"
-
-static double gl_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* The scene shader's variants, each with its kind of shading folded in as
  * constants: llvmpipe runs both sides of a branch for every pixel, so one
@@ -860,12 +853,12 @@ const unsigned char *gl_renderer_draw_boxes(gl_renderer *r, const render_camera 
                     indices);
     glBindVertexArray(0);
     if (r->shadow_size > 0) {
-        double started = shadow_seconds ? gl_seconds() : 0;
+        double started = shadow_seconds ? wall_seconds() : 0;
         draw_shadow_map(r, caster_index_count, vertices, vertex_count);
         if (shadow_seconds) {
             /* llvmpipe draws when asked for the result: wait for it to time the pass */
             glFinish();
-            *shadow_seconds += gl_seconds() - started;
+            *shadow_seconds += wall_seconds() - started;
         }
     }
     gl_target_bind(r->target);

@@ -9,19 +9,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "base/clocks.h"
 #include "base/outfile.h"
 #include "render/renderer.h"
 #include "render/video.h"
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 #define QUEUE_SLOTS 3
 
@@ -58,11 +51,11 @@ static void *writer_thread(void *arg)
         int status = 0;
         if (q->video) status = video_writer_add(q->video, frame, err, sizeof err);
         if (!status && q->frames_dir) {
-            double png_start = q->timing ? now_seconds() : 0;
+            double png_start = q->timing ? wall_seconds() : 0;
             char path[OUTFILE_PATH_MAX];
             snprintf(path, sizeof path, "%s/%05d.png", q->frames_dir, index);
             status = image_write_png_level(frame, path, 2, err, sizeof err);
-            if (q->timing) q->timing->png += now_seconds() - png_start;
+            if (q->timing) q->timing->png += wall_seconds() - png_start;
         }
         pthread_mutex_lock(&q->lock);
         if (status) {
@@ -79,7 +72,7 @@ static void *writer_thread(void *arg)
 
 static void progress(int done, int total, double started, int final)
 {
-    double elapsed = now_seconds() - started, rate = done / fmax(elapsed, 1e-9);
+    double elapsed = wall_seconds() - started, rate = done / fmax(elapsed, 1e-9);
     fprintf(stderr, "\rrodsim: frame %d/%d, %.1f frames/s, %.0f s left   ", done, total, rate,
             (total - done) / fmax(rate, 1e-9));
     if (final) fputc('\n', stderr);
@@ -274,7 +267,7 @@ render_stream *render_stream_begin(const rod_recording *extent, const render_opt
     if (st->own_transaction) outfile_transaction_begin();
     frame_queue *q = &st->q;
     q->timing = o->timing;
-    st->call_start = now_seconds();
+    st->call_start = wall_seconds();
     if (o->timing) memset(o->timing, 0, sizeof *o->timing);
     int status = 0;
     /* each slot tracked: a frame is drawn over the last one in it (renderer.c), and
@@ -312,7 +305,7 @@ render_stream *render_stream_begin(const rod_recording *extent, const render_opt
         return NULL;
     }
     st->show_progress = isatty(2) && st->total > 1;
-    st->started = now_seconds();
+    st->started = wall_seconds();
     st->last = q->slots[0];
     st->announced = total_frames;
     return st;
@@ -347,14 +340,14 @@ int render_stream_frame(render_stream *st, const rod_recording *rec, int frame, 
     }
     int k = st->all_frames ? index : 0;
     if (st->threaded) {
-        double wait_start = st->o->timing ? now_seconds() : 0;
+        double wait_start = st->o->timing ? wall_seconds() : 0;
         pthread_mutex_lock(&q->lock);
         while (q->produced - q->consumed == QUEUE_SLOTS && !q->failed)
             pthread_cond_wait(&q->changed, &q->lock);
         int failed = q->failed;
         if (failed) snprintf(st->err, sizeof st->err, "%s", q->err);
         pthread_mutex_unlock(&q->lock);
-        if (st->o->timing) st->o->timing->wait += now_seconds() - wait_start;
+        if (st->o->timing) st->o->timing->wait += wall_seconds() - wait_start;
         if (failed) {
             st->status = -1;
             snprintf(err, errlen, "%s", st->err);
@@ -376,8 +369,8 @@ int render_stream_frame(render_stream *st, const rod_recording *rec, int frame, 
         pthread_cond_broadcast(&q->changed);
         pthread_mutex_unlock(&q->lock);
     }
-    if (st->show_progress && (now_seconds() - st->last_report > 0.25 || k + 1 == st->total)) {
-        st->last_report = now_seconds();
+    if (st->show_progress && (wall_seconds() - st->last_report > 0.25 || k + 1 == st->total)) {
+        st->last_report = wall_seconds();
         progress(k + 1, st->total, st->started, k + 1 == st->total);
     }
     return 0;
@@ -419,7 +412,7 @@ int render_stream_finish(render_stream *st, char *err, size_t errlen)
     if (o->timing) {
         if (q->video) video_writer_times(q->video, &o->timing->convert, &o->timing->encode);
         o->timing->frames = q->consumed;
-        o->timing->wall = now_seconds() - st->call_start;
+        o->timing->wall = wall_seconds() - st->call_start;
     }
     if (!status && o->poster && image_write_png(st->last, st->poster_path, st->err, sizeof st->err))
         status = -1;

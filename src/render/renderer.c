@@ -5,8 +5,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "base/clocks.h"
 #include "base/vec3.h"
 #include "render/color.h"
 #include "render/geometry.h"
@@ -23,13 +23,6 @@
 /* grid lines a direction at most, the camera following (drawn every frame,
  * multisampled over the whole picture: about 0.1 ms each at 720p) */
 #define FOLLOW_GRID_LINES 40
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 /* Pixels per metre at a point (perspective: at its depth). */
 static double pixels_per_metre(const render_camera *cam, const double p[3])
@@ -723,7 +716,7 @@ static void renderer_composite(const renderer *r, const unsigned char *rgba, con
 int renderer_draw(renderer *r, const rod_recording *rec, int frame, image *out)
 {
     render_timing *timing = r->o->timing;
-    double t0 = timing ? now_seconds() : 0;
+    double t0 = timing ? wall_seconds() : 0;
     render_mesh *m = &r->mesh;
     m->vertex_count = m->index_count = 0;
     /* the colours come from the true motion, the shapes from the drawn (magnified) one */
@@ -738,25 +731,25 @@ int renderer_draw(renderer *r, const rod_recording *rec, int frame, image *out)
     }
     if (r->follow) renderer_follow(r, drawn, drawn_frame, given->time[given_frame]);
     renderer_meshes(r, drawn, drawn_frame, given, given_frame);
-    double t1 = timing ? now_seconds() : 0;
+    double t1 = timing ? wall_seconds() : 0;
     int read_box[4];
     const unsigned char *rgba = gl_renderer_draw_boxes(
         r->gl, &r->camera, m->vertices, m->vertex_count, m->indices, m->index_count,
         r->caster_indices, &r->boxes[0][0], r->box_count, &r->drawn_boxes[0][0], r->drawn_box_count,
         read_box, timing ? &timing->shadow : NULL);
     if (!rgba) return -1;
-    double t2 = timing ? now_seconds() : 0;
+    double t2 = timing ? wall_seconds() : 0;
     renderer_composite(r, rgba, read_box, out);
     /* before the text, which FreeType draws antialiased (framing follow: one
      * box, the whole picture) */
     if (r->edge_aa) edge_aa_frame(r->edge_aa, out, (const int(*)[4])r->boxes, r->box_count);
-    double t3 = timing ? now_seconds() : 0;
+    double t3 = timing ? wall_seconds() : 0;
     if (r->o->overlay && r->draws_overlay) {
         overlay_knot(&r->overlay, given, given_frame);
         overlay_draw(out, &r->overlay, drawn, r->o, &r->camera, drawn_frame);
     }
     if (timing) {
-        double t4 = now_seconds();
+        double t4 = wall_seconds();
         timing->mesh += t1 - t0;
         timing->gl += t2 - t1;
         timing->composite += t3 - t2;

@@ -18,9 +18,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "base/clocks.h"
 #include "base/outfile.h"
 #include "render/dynlib.h"
 
@@ -191,13 +191,6 @@ struct video_writer {
     int header_written, finished;
     double convert_seconds, encode_seconds; /* for the benchmark */
 };
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 static void av_message(char *err, size_t errlen, const char *path, const char *what, int code)
 {
@@ -466,13 +459,13 @@ int video_writer_add(video_writer *v, const image *frame, char *err, size_t errl
         snprintf(err, errlen, "%s: out of memory", v->file.path);
         return -1;
     }
-    double start = now_seconds();
+    double start = wall_seconds();
     convert_changed(v, frame);
     v->frame->pts = v->next_pts++;
-    double converted = now_seconds();
+    double converted = wall_seconds();
     int status = encode(v, v->frame, err, errlen);
     v->convert_seconds += converted - start;
-    v->encode_seconds += now_seconds() - converted;
+    v->encode_seconds += wall_seconds() - converted;
     return status;
 }
 
@@ -484,9 +477,9 @@ void video_writer_times(const video_writer *v, double *convert, double *encode_s
 
 int video_writer_finish(video_writer *v, char *err, size_t errlen)
 {
-    double start = now_seconds();
+    double start = wall_seconds();
     int status = encode(v, NULL, err, errlen); /* the frames x264 still holds */
-    v->encode_seconds += now_seconds() - start;
+    v->encode_seconds += wall_seconds() - start;
     if (status) return -1;
     int code = av_write_trailer(v->format);
     if (code < 0) {

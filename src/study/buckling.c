@@ -29,6 +29,7 @@
 #include <stdio.h>
 
 #include "sim/scheme_static.h"
+#include "base/numfmt.h"
 #include "base/vec3.h"
 
 static const double scan_growth = 1.15;
@@ -47,9 +48,10 @@ static int probe_at(static_work *w, const rod_model *m, double lambda, probe *p,
     if (static_straight_determinant(w, m, lambda, &p->log_abs, &p->phase, &residual, err, errlen))
         return -1;
     if (!(residual < 1e-6)) {
+        char said[NUMFMT_WORDS_MAX];
         snprintf(err, errlen,
                  "buckling: the straight rod is not an equilibrium at lambda = %g (scaled "
-                 "residual %.2e)", lambda, residual);
+                 "residual %s)", lambda, numfmt_e_or_words(said, sizeof said, residual, 2));
         return -1;
     }
     return 0;

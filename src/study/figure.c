@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
-#include <time.h>
 
+#include "base/clocks.h"
 #include "base/embedded.h"
 #include "base/outfile.h"
 #include "base/worker.h"
@@ -71,13 +71,6 @@ static const double *row_of(const figure_points *p, int r)
 }
 
 /* ---- simulations shared by the figures -------------------------------------- */
-
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 static const unsigned char scheme_rgb[ROD_SCHEME_COUNT][3] = {
     {200, 110, 0},  /* thesis: orange */
@@ -1176,7 +1169,7 @@ static int pool_computed(void *context, int task, const char *bytes, size_t n, i
     t->length = n;
     if (c->log)
         fprintf(c->log, "  %s point %d/%d done (%d of %d, %.1f s)\n", f->name, t->point + 1,
-                figure_point_count(f, c->quick), c->done, c->total, now_seconds() - c->start);
+                figure_point_count(f, c->quick), c->done, c->total, wall_seconds() - c->start);
     return 0;
 }
 
@@ -1199,7 +1192,7 @@ int figure_sweep(const figure_def *const *figs, int n, int quick, int jobs, FILE
             tasks[t].figure = k;
             tasks[t].point = i;
         }
-    sweep_context c = {figs, tasks, quick, total, 0, log, now_seconds(), err, errlen};
+    sweep_context c = {figs, tasks, quick, total, 0, log, wall_seconds(), err, errlen};
     worker_pool pool = {.jobs = jobs, .context = &c, .run = pool_compute, .done = pool_computed};
     int rc = worker_pool_run(&pool, NULL, total, err, errlen) ? -1 : 0;
     /* collect in point order */

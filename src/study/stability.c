@@ -11,9 +11,9 @@
 #include <string.h>
 #include <sys/types.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "base/clocks.h"
 #include "base/worker.h"
 #include "sim/rod.h"
 #include "study/reference.h"
@@ -183,13 +183,6 @@ void stability_predict(const stability_case *c, rod_scheme_kind scheme, stabilit
 
 /* One trial ------------------------------------------------------------------ */
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* Deterministic pseudo-random angular velocity, all components, nodes 1..NS-1. */
 static void seed_perturbation(const rod_model *m, rod_state *s)
 {
@@ -209,7 +202,7 @@ static void trial_in_process(const stability_case *c, rod_scheme_kind scheme, do
 {
     memset(t, 0, sizeof *t);
     t->dt = dt;
-    double start = now_seconds();
+    double start = wall_seconds();
     rod_model m;
     char err[sizeof t->message];
     if (stability_case_model(c, scheme, &m, err, sizeof err)) {
@@ -265,7 +258,7 @@ static void trial_in_process(const stability_case *c, rod_scheme_kind scheme, do
                      "nothing within %d more steps", ratio, k + 1, steps);
             steps = k + 1 + steps;
         }
-        if (o->trial_wall_limit > 0.0 && now_seconds() - start > o->trial_wall_limit) {
+        if (o->trial_wall_limit > 0.0 && wall_seconds() - start > o->trial_wall_limit) {
             t->outcome = STABILITY_TIMEOUT;
             snprintf(t->message, sizeof t->message,
                      "%d of %d steps took more than %g s of wall time", k + 1, steps,
@@ -277,7 +270,7 @@ done:
     rod_state_destroy(s);
     rod_solver_release(&solver);
     rod_model_release(&m);
-    t->wall_seconds = now_seconds() - start;
+    t->wall_seconds = wall_seconds() - start;
 }
 
 /* Reads exactly n bytes (or fewer at end of file); returns the count. */
@@ -316,7 +309,7 @@ static void trial_guarded(const stability_case *c, rod_scheme_kind scheme, doubl
     }
     fflush(stdout);
     fflush(stderr);
-    double start = now_seconds();
+    double start = wall_seconds();
     pid_t parent = getpid();
     pid_t pid = fork();
     if (pid < 0) {
@@ -339,7 +332,7 @@ static void trial_guarded(const stability_case *c, rod_scheme_kind scheme, doubl
     double limit = 2.0 * o->trial_wall_limit + 1.0;
     int ready = 0;
     for (;;) {
-        double left = limit - (now_seconds() - start);
+        double left = limit - (wall_seconds() - start);
         if (left <= 0.0) break;
         struct pollfd p = {.fd = fd[0], .events = POLLIN};
         int r = poll(&p, 1, (int)ceil(left * 1000.0));
@@ -356,7 +349,7 @@ static void trial_guarded(const stability_case *c, rod_scheme_kind scheme, doubl
     if (got == sizeof *t) return;
     memset(t, 0, sizeof *t);
     t->dt = dt;
-    t->wall_seconds = now_seconds() - start;
+    t->wall_seconds = wall_seconds() - start;
     if (!ready) {
         t->outcome = STABILITY_TIMEOUT;
         snprintf(t->message, sizeof t->message,
@@ -402,7 +395,7 @@ static int try_dt(const stability_case *c, rod_scheme_kind scheme, double dt,
 void stability_find(const stability_case *c, rod_scheme_kind scheme, const stability_options *o,
                     stability_row *row)
 {
-    double start = now_seconds();
+    double start = wall_seconds();
     memset(row, 0, sizeof *row);
     row->c = *c;
     row->scheme = scheme;
@@ -414,7 +407,7 @@ void stability_find(const stability_case *c, rod_scheme_kind scheme, const stabi
         row->trials = 1;
         row->first_failure = t;
         row->finding = stability_outcome_is_finding(t.outcome);
-        row->wall_seconds = now_seconds() - start;
+        row->wall_seconds = wall_seconds() - start;
         return;
     }
     double lo = o->dt_min, hi = o->dt_max;
@@ -430,7 +423,7 @@ void stability_find(const stability_case *c, rod_scheme_kind scheme, const stabi
         if (try_dt(c, scheme, mid, o, row)) lo = mid; else hi = mid;
     }
 done:
-    row->wall_seconds = now_seconds() - start;
+    row->wall_seconds = wall_seconds() - start;
 }
 
 /* The sweep -------------------------------------------------------------------- */

@@ -8,8 +8,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "base/clocks.h"
 #include "sim/rod.h"
 #include "study/reference.h"
 #include "base/spectrum.h"
@@ -102,22 +102,6 @@ double validate_order_fit(const double *h, const double *error, int n)
 }
 
 /* Helpers --------------------------------------------------------------- */
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* The process's CPU clock: what a run costs on a shared machine (the
- * Pareto charts, figure.c), where the wall clock also counts the others. */
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static void note(validate_row *row, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static void note(validate_row *row, const char *fmt, ...)
@@ -280,11 +264,11 @@ static void run_settle(const case_def *c, rod_scheme_kind scheme, int nodes, dou
     }
     row->dt = dt;
     rod_report report;
-    double start = now_seconds(), cpu_start = cpu_now();
+    double start = wall_seconds(), cpu_start = cpu_seconds();
     rod_state *s = simulate(&m, scheme == ROD_SCHEME_STATIC ? 1.0 : dt, duration, NULL, NULL,
                             row, &report);
-    row->wall_seconds = now_seconds() - start;
-    row->cpu_seconds = cpu_now() - cpu_start;
+    row->wall_seconds = wall_seconds() - start;
+    row->cpu_seconds = cpu_seconds() - cpu_start;
     if (!s) {
         rod_model_release(&m);
         return;
@@ -339,10 +323,10 @@ static void run_buckling(const case_def *c, rod_scheme_kind scheme, int nodes, v
 #if VALIDATE_HAVE_BUCKLING
     char err[256];
     double lambda = 0.0;
-    double start = now_seconds(), cpu_start = cpu_now();
+    double start = wall_seconds(), cpu_start = cpu_seconds();
     int failed = rod_buckling_factor(&m, 20.0, 1e-7, &lambda, err, sizeof err);
-    row->wall_seconds = now_seconds() - start;
-    row->cpu_seconds = cpu_now() - cpu_start;
+    row->wall_seconds = wall_seconds() - start;
+    row->cpu_seconds = cpu_seconds() - cpu_start;
     if (failed) {
         row->status = 2;
         note(row, "rod_buckling_factor: %.120s", err);
@@ -503,7 +487,7 @@ static void run_frequency(const case_def *c, rod_scheme_kind scheme, int nodes, 
         return;
     }
     rod_report report;
-    double start = now_seconds(), cpu_start = cpu_now();
+    double start = wall_seconds(), cpu_start = cpu_seconds();
     rod_state *s = simulate(&m, dt, duration, sample_tip, &sig, row, &report);
     if (s) {
         /* search from the pulse's end: the forced part is not free vibration */
@@ -517,8 +501,8 @@ static void run_frequency(const case_def *c, rod_scheme_kind scheme, int nodes, 
         }
         note(row, "%ld steps%s", steps, scheme == ROD_SCHEME_IMPLICIT ? ", Crank-Nicolson" : "");
     }
-    row->wall_seconds = now_seconds() - start;
-    row->cpu_seconds = cpu_now() - cpu_start;
+    row->wall_seconds = wall_seconds() - start;
+    row->cpu_seconds = cpu_seconds() - cpu_start;
     rod_state_destroy(s);
     free(sig.samples);
     rod_model_release(&m);

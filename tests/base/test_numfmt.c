@@ -88,8 +88,28 @@ static void test_random(int digits)
           digits, same, total, near, worst);
 }
 
+/* A measure for a sentence: printf's %.3e when finite, words otherwise */
+static void test_e_or_words(void)
+{
+    char out[NUMFMT_WORDS_MAX], ref[NUMFMT_WORDS_MAX];
+    static const double finite[] = {0.0, 1.25e-8, -3.5, 1.7976931348623157e308};
+    int same = 0;
+    for (int i = 0; i < 4; i++) {
+        snprintf(ref, sizeof ref, "%.3e", finite[i]);
+        same += strcmp(numfmt_e_or_words(out, sizeof out, finite[i], 3), ref) == 0;
+    }
+    check(same == 4, "finite values as %%.3e writes them (%d of 4; DBL_MAX: %s)", same, out);
+    check(strcmp(numfmt_e_or_words(out, sizeof out, NAN, 3), "not finite (NaN)") == 0,
+          "NaN in words: '%s'", out);
+    check(strcmp(numfmt_e_or_words(out, sizeof out, INFINITY, 2), "not finite (+infinity)") == 0,
+          "+inf in words: '%s'", out);
+    check(strcmp(numfmt_e_or_words(out, sizeof out, -INFINITY, 2), "not finite (-infinity)") == 0,
+          "-inf in words: '%s'", out);
+}
+
 int main(void)
 {
+    test_e_or_words();
     test_forms();
     test_random(12);
     test_random(6);

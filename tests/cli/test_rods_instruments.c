@@ -6,14 +6,18 @@
  * (exit 2, naming [instrument] max_depth, nothing written), and with
  * max_depth raised only warns, naming the jaws, the time and the depth;
  * `rodsim sweep` over max_depth (3 mm, 6 mm) refuses the first point in its
- * row with the run's message (4.87 mm, max_depth) and runs the second, the
- * run's warning in its message, exit 0: a scene of one rod (its points run
- * in the sweep's process) and of a named rod (through `rodsim run`'s own
- * entry) alike. */
+ * row with the run's message (4.87 mm, max_depth; "nothing was run", the
+ * same words for both) and runs the second, the run's warning in its
+ * message, exit 0, printing no "rodsim run" line: a scene of one rod (its
+ * points run in the sweep's process) and of a named rod (through `rodsim
+ * run`'s own entry) alike; `rodsim live` with the jaws 4.87 mm into the
+ * pad at t = 0 is refused up front as the run is (exit 2, max_depth), and
+ * starts with max_depth raised: one rod and a named rod alike. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "test.h"
@@ -105,13 +109,14 @@ static void test_one_named_csv(void)
     free(forceps);
 }
 
-/* Forceps pointing down (as grasp_lift's), their tip driven to z_end */
-static void write_down_path(const char *file, double z_end)
+/* Forceps pointing down (as grasp_lift's), their tip driven from z_start
+ * at t = 0 to z_end at 0.5 s */
+static void write_down_path(const char *file, double z_start, double z_end)
 {
     char text[512];
     const char *rv = "1.2091996,1.2091996,-1.2091996";
-    snprintf(text, sizeof text, "t,x,y,z,rx,ry,rz,jaw\n0,0,0,0.03,%s,1\n0.5,0,0,%.6g,%s,1\n",
-             rv, z_end, rv);
+    snprintf(text, sizeof text, "t,x,y,z,rx,ry,rz,jaw\n0,0,0,%.6g,%s,1\n0.5,0,0,%.6g,%s,1\n",
+             z_start, rv, z_end, rv);
     write_text(file, text);
 }
 
@@ -134,7 +139,7 @@ static void test_into_pad(void)
     snprintf(csv, sizeof csv, "%s/deep_out.csv", dir);
     snprintf(json, sizeof json, "%s/deep.json", dir);
     /* 4 mm into the pad: the open tines' round ends 4.87 mm deep */
-    write_down_path(path, -0.004);
+    write_down_path(path, 0.03, -0.004);
     const char *form = pad_form;
     snprintf(scene, sizeof scene, form, "", "");
     write_text(ini, scene);
@@ -160,7 +165,7 @@ static void test_into_pad_sweep(const char *rod)
     snprintf(path, sizeof path, "%s/deep.csv", dir);
     snprintf(ini, sizeof ini, "%s/deep_sweep.ini", dir);
     snprintf(csv, sizeof csv, "%s/deep_sweep.csv", dir);
-    write_down_path(path, -0.004);
+    write_down_path(path, 0.03, -0.004);
     snprintf(scene, sizeof scene, pad_form, rod, "");
     write_text(ini, scene);
     unlink(csv);
@@ -178,14 +183,57 @@ static void test_into_pad_sweep(const char *rod)
     const char *who = rod[0] ? "a named rod" : "one rod";
     check(rc == 0 && strcmp(refused[0], "refused") == 0 &&
               strstr(said[0], "forceps' jaws 4.87 mm into the rigid") &&
-              strstr(said[0], "deeper than max_depth = 3.00 mm"),
+              strstr(said[0], "deeper than max_depth = 3.00 mm") &&
+              strstr(said[0], "; nothing was run"),
           "sweep, %s: max_depth 3 mm refused in its row with the run's message (exit %d, "
           "status %s): %.300s", who, rc, refused[0], said[0]);
     check(strcmp(refused[1], "ok") == 0 && strstr(said[1], "forceps' jaws go into") &&
               strstr(said[1], "4.9 mm deep at t = 0.500 s"),
           "sweep, %s: max_depth 6 mm run (status %s), the run's warning in its message: %.300s",
           who, refused[1], said[1]);
+    /* the points' warnings and refusals are their rows', printed by none */
+    check(!strstr(out, "rodsim run"), "sweep --quiet, %s: no \"rodsim run\" line printed: %.300s",
+          who, out);
+    /* one rod's refused row and a named rod's: the same words */
+    static char first_refused[1024];
+    if (!rod[0]) snprintf(first_refused, sizeof first_refused, "%s", said[0]);
+    else
+        check(strcmp(first_refused, said[0]) == 0,
+              "sweep: the refused row's message of a named rod is one rod's:\n  %s\n  %s",
+              said[0], first_refused);
     free(rows);
+}
+
+/* `rodsim live` with the forceps' jaws 4.87 mm into the pad from t = 0:
+ * refused up front as `rodsim run` refuses it; with max_depth 6 mm, the
+ * session starts (no lines: exit 0) */
+static void test_into_pad_live(const char *rod)
+{
+    char scene[1024], path[128], ini[128], cmd[512], err[128];
+    snprintf(path, sizeof path, "%s/deep.csv", dir);
+    snprintf(ini, sizeof ini, "%s/deep_live.ini", dir);
+    snprintf(err, sizeof err, "%s/deep_live.err", dir);
+    write_down_path(path, -0.004, -0.004);
+    const char *who = rod[0] ? "a named rod" : "one rod";
+    for (int raised = 0; raised < 2; raised++) {
+        snprintf(scene, sizeof scene, pad_form, rod, raised ? "max_depth = 0.006\n" : "");
+        write_text(ini, scene);
+        snprintf(cmd, sizeof cmd, "%s live %s < /dev/null > /dev/null 2> %s", RODSIM_BIN, ini,
+                 err);
+        const int status = system(cmd);
+        const int rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        char *said = read_all(err);
+        if (!raised)
+            check(rc == 2 && said && strstr(said, "rodsim live: ") &&
+                      strstr(said, "forceps' jaws 4.87 mm into the rigid") &&
+                      strstr(said, "max_depth"),
+                  "live, %s: the jaws 4.87 mm into the pad at t = 0 refused up front (exit %d, "
+                  "2): %.300s", who, rc, said ? said : "(nothing)");
+        else
+            check(rc == 0, "live, %s: with max_depth = 6 mm the session starts (exit %d): %.300s",
+                  who, rc, said ? said : "(nothing)");
+        free(said);
+    }
 }
 
 static void test_two_rods_summary(void)
@@ -226,6 +274,8 @@ int main(void)
     test_into_pad();
     test_into_pad_sweep("");
     test_into_pad_sweep(" thread");
+    test_into_pad_live("");
+    test_into_pad_live(" thread");
     test_two_rods_summary();
     return test_finish();
 }

@@ -813,6 +813,51 @@ static void stall(int on_plane)
     rod_model_release(&m);
 }
 
+/* A step whose residual is not finite (one node thrown at 1e308 m/s: its
+ * momentum overflows) says so: how many entries are NaN or infinite and
+ * where (the first one's place, or the nodes they span, the thrown one
+ * among them), with the advice of a free rod; no number for the residual
+ * (an overflowing one was printed 1.8e+308). */
+static void stall_not_finite(void)
+{
+    rod_model m = thread_model(0.2, 0.001, 21);
+    v3_set(m.direction, 0.0, 1.0, 0.0);
+    if (derive(&m)) return;
+    rod_state *s = rod_state_create(&m);
+    rod_solver solver;
+    char err[512];
+    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
+        check(0, "not finite: create: %s", s ? err : "out of memory");
+        rod_state_destroy(s);
+        rod_model_release(&m);
+        return;
+    }
+    const int thrown = 10;
+    v3_set(&s->velocity[3 * thrown], 1e308, 1e308, 0.0);
+    rod_report report;
+    memset(&report, 0, sizeof report);
+    rod_status st = rod_solver_step(&solver, &m, s, 1e-3, &report);
+    printf("     %s\n", report.message);
+    const char *site = strstr(report.message, "its residual was not finite (");
+    int bad = 0, entries = 0, from = -1, to = -1, nodes = 0;
+    if (site) sscanf(site, "its residual was not finite (%d of its %d entries", &bad, &entries);
+    const char *span = site ? strstr(site, "from node ") : NULL;
+    const char *at = site ? strstr(site, "of node ") : NULL;
+    if (span) sscanf(span, "from node %d to node %d of %d", &from, &to, &nodes);
+    else if (at && sscanf(at, "of node %d of %d", &from, &nodes) == 2) to = from;
+    check(st == ROD_NO_CONVERGENCE && site && bad > 0 && bad <= entries && nodes == m.nodes &&
+              from - 1 <= thrown && thrown <= to + 1,
+          "a residual not finite: status %d (%d), said so: %d of %d entries, nodes %d to %d of "
+          "%d (the thrown node %d among them, or beside)", (int)st, (int)ROD_NO_CONVERGENCE,
+          bad, entries, from, to, nodes, thrown);
+    check(!strstr(report.message, "stayed largest") && !strstr(report.message, "e+3") &&
+              strstr(report.message, "try a smaller dt"),
+          "its message gives no number for it, and the advice of a free rod (a smaller dt)");
+    rod_solver_release(&solver);
+    rod_state_destroy(s);
+    rod_model_release(&m);
+}
+
 /* The needle's holes in suture.ini lie where its path crosses the skin:
  * suture_path.py turns the needle on circles across the wound (x = -12, 0,
  * 12 mm) that meet the skin's top z = 0 at y = -4 mm (entry) and +4 mm
@@ -856,6 +901,7 @@ static void test_stall_site(void)
 {
     stall(1);
     stall(0);
+    stall_not_finite();
 }
 
 int main(void)

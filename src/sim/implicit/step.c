@@ -314,25 +314,58 @@ static int last_resort(implicit_work *w, const rod_model *m, rod_state *s, doubl
     return split;
 }
 
+/* Nodes over which the non-finite entries of a stalled step's residual
+ * may lie for stall_site to name the first one's place */
+#define STALL_SITE_SPREAD 4
+
 /* Where a step that did not converge left its residual largest (the last
- * attempt's last evaluation, w->residual): ", its residual largest in the
- * moment balance of node b (s = ... m)" and what touches the rod there
- * (within two nodes): a surface (its shape and scene line), a puncture or
- * another strand. Returns 1 when something touches it there. */
+ * attempt's last evaluation, w->residual): ", its residual stayed largest
+ * (...) in the moment balance of node b (s = ... m)". When entries of it
+ * are NaN or infinite, no number (it would mean nothing): that it was not
+ * finite, how many, and where: the first of them, or, spread beyond
+ * STALL_SITE_SPREAD nodes, the nodes they span and the largest of the
+ * finite rest. Then what touches the rod there (within two nodes): a
+ * surface (its shape and scene line), a puncture or another strand.
+ * Returns 1 when something touches it there. */
 static int stall_site(const implicit_work *w, const rod_model *m, char *out, size_t len)
 {
     out[0] = '\0';
-    int worst = -1;
+    int worst = -1, first_bad = -1, last_bad = -1, bad_count = 0;
     double big = 0.0;
-    for (int i = 0; i < w->unknowns; i++)
-        if (isfinite(w->residual[i]) && fabs(w->residual[i]) > big) big = fabs(w->residual[i]), worst = i;
-    if (worst < 0) return 0;
-    const int n = w->nodes, node = worst / w->block + w->first, comp = worst % w->block;
+    for (int i = 0; i < w->unknowns; i++) {
+        const double r = w->residual[i];
+        if (!isfinite(r)) {
+            if (bad_count++ == 0) first_bad = i;
+            last_bad = i;
+        } else if (fabs(r) > big) {
+            big = fabs(r);
+            worst = i;
+        }
+    }
+    const int n = w->nodes;
+    int used = 0;
+    if (first_bad >= 0) {
+        const int from = first_bad / w->block + w->first, to = last_bad / w->block + w->first;
+        used = snprintf(out, len, "; its residual was not finite (%d of its %d entries NaN or "
+                        "infinite", bad_count, w->unknowns);
+        if (to - from <= STALL_SITE_SPREAD) {
+            worst = first_bad;
+            used += snprintf(out + used, len - (size_t)used, "), the first (%s) in",
+                             isnan(w->residual[first_bad]) ? "NaN" : "infinite");
+        } else {
+            used += snprintf(out + used, len - (size_t)used, ", from node %d to node %d of %d)%s",
+                             from, to, n, worst >= 0 ? "; of the rest, the largest in" : "");
+        }
+    }
+    if (worst < 0 || used < 0 || (size_t)used >= len) return 0;
+    const int node = worst / w->block + w->first, comp = worst % w->block;
     const char *what = w->planar ? "the balances of"
                        : comp < 3    ? "the length constraint (3.14) of the segment up to"
                                      : "the moment balance (3.6)_2 of";
-    int used = snprintf(out, len, "; its residual stayed largest (%.2g) in %s node %d of %d "
-                        "(s = %.4g m)", big, what, node, n, node * m->ds);
+    if (first_bad < 0)
+        used = snprintf(out, len, "; its residual stayed largest (%.2g) in", big);
+    used += snprintf(out + used, len - (size_t)used, " %s node %d of %d (s = %.4g m)", what, node,
+                     n, node * m->ds);
     /* a surface within a quarter diameter of a node at the step's start (the
      * last evaluation may have left contact out: a Jacobian's differences) */
     int touching = 0;
@@ -392,7 +425,7 @@ static rod_status no_convergence(implicit_work *w, const rod_model *m, rod_state
     if (angle > 0.5 * ROD_UNRESOLVED_BEND) return unresolved(m, s, angle, segment, report);
     const int both_held = w->ends[0].held && !w->ends[0].sliding && w->ends[1].held &&
                           !w->ends[1].sliding;
-    char site[256];
+    char site[320];
     const int contact_site = stall_site(w, m, site, sizeof site);
     /* at most 768 bytes (rod_report): a longer one loses its last words */
     const int written = snprintf(report->message, sizeof report->message,

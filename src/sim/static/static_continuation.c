@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "base/numfmt.h"
 #include "sim/rod.h"
 #include "sim/rod_geometry.h"
 #include "sim/static/static_internal.h"
@@ -622,15 +623,17 @@ static rod_status explain_failure(static_work *w, const rod_model *m, const rod_
                  plan->time, span_of(target), text);
         return ROD_NO_CONVERGENCE;
     }
+    char said[NUMFMT_WORDS_MAX];
     snprintf(report->message, sizeof report->message,
              "static: Newton did not converge for the load at t = %g s (%.200s): %s; reached "
-             "%.4g%% of the load change from t = %g s%s; scaled residual %.3e above the "
-             "tolerance %.1e after %d iterations (newton_max_iterations = %d). The state "
+             "%.4g%% of the load change from t = %g s%s; scaled residual %s, not below the "
+             "tolerance %.1e, after %d iterations (newton_max_iterations = %d). The state "
              "is left at t = %g s. Smaller load steps (a ramp profile, shorter dt), more "
              "Newton iterations or a looser newton_tolerance may work; a load far beyond "
              "EI/L^2 = %g N bends the rod into a kink no grid resolves.",
              plan->time, text, progress->why, 100.0 * progress->reached, s->time,
-             progress->solved_once ? "" : " (no sub-step converged)", progress->last_residual,
+             progress->solved_once ? "" : " (no sub-step converged)",
+             numfmt_e_or_words(said, sizeof said, progress->last_residual, 3),
              plan->tolerance, progress->last_iterations, plan->max_iterations, s->time,
              m->stiffness[0] / (m->length * m->length));
     return ROD_NO_CONVERGENCE;

@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "base/numfmt.h"
 #include "sim/rod.h"
 #include "sim/rod_geometry.h"
 #include "sim/static/static_internal.h"
@@ -375,14 +376,16 @@ rod_status static_settle_stable(static_work *w, const rod_model *m, const static
                                    &symmetric, iterations, &residual);
         if (rc != 0) {
             static_describe_load(m, load, text, sizeof text);
+            char said[NUMFMT_WORDS_MAX];
             snprintf(report->message, sizeof report->message,
                      "static: the equilibrium at t = %g s (%s) is unstable (%d unstable mode%s) "
                      "and the descent to a stable one, along either side of its critical mode, "
-                     "did not settle within %d iterations (scaled residual %.3e, tolerance "
+                     "did not settle within %d iterations (scaled residual %s, tolerance "
                      "%.1e). The state is left at the last stable time. A ramped load with more "
                      "output frames (render.fps), or a dynamic scheme (solver.scheme = "
                      "implicit), follows the rod through the instability.", time, text, count,
-                     count == 1 ? "" : "s", max_descent_iterations, residual, tolerance);
+                     count == 1 ? "" : "s", max_descent_iterations,
+                     numfmt_e_or_words(said, sizeof said, residual, 3), tolerance);
             return ROD_NO_CONVERGENCE;
         }
         if (symmetric && !report->warning[0])

@@ -16,8 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <suitesparse/cholmod.h>
-#include <time.h>
 
+#include "base/clocks.h"
 #include "sim/tissue/tissue_law.h"
 #include "sim/tissue/tissue_mesh.h"
 
@@ -95,13 +95,6 @@ struct tissue_solid {
     cholmod_factor *L;
     cholmod_dense *rhs, *sol, *work_y, *work_e;
 };
-
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int compare_pairs(const void *a, const void *b)
 {
@@ -608,7 +601,7 @@ static int assemble(tissue_solid *t, double mass_coef, double stiffness)
 static int factor_solve(tissue_solid *t, tissue_step_info *info, int factorise, double mass_coef,
                         double stiffness)
 {
-    double t0 = cpu_now();
+    double t0 = cpu_seconds();
     if (factorise) {
         t->factor_ok = 0;
         cholmod_factorize(t->A, t->L, &t->cm);
@@ -618,11 +611,11 @@ static int factor_solve(tissue_solid *t, tissue_step_info *info, int factorise, 
         t->factor_mass = mass_coef;
         t->factor_stiffness = stiffness;
     }
-    double t1 = cpu_now();
+    double t1 = cpu_seconds();
     if (!cholmod_solve2(CHOLMOD_A, t->L, t->rhs, NULL, &t->sol, NULL, &t->work_y, &t->work_e,
                         &t->cm))
         return -1;
-    double t2 = cpu_now();
+    double t2 = cpu_seconds();
     if (info) {
         info->factor_s += t1 - t0;
         info->solve_s += t2 - t1;
@@ -631,14 +624,6 @@ static int factor_solve(tissue_solid *t, tissue_step_info *info, int factorise, 
     t->costs.solve_s += t2 - t1;
     t->costs.solves++;
     return 0;
-}
-
-/* s of CPU the calling thread has used */
-static double thread_cpu(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* The renewal thread: factorises each matrix it is asked for */
@@ -650,10 +635,10 @@ static void *worker_main(void *arg)
         while (!w->quit && !(w->asked && !w->done)) pthread_cond_wait(&w->wake, &w->lock);
         if (w->quit) break;
         pthread_mutex_unlock(&w->lock);
-        const double t0 = thread_cpu();
+        const double t0 = thread_cpu_seconds();
         cholmod_factorize(w->A, w->L, &w->cm);
         const int ok = w->cm.status == CHOLMOD_OK && w->L->minor == w->L->n;
-        const double spent = thread_cpu() - t0;
+        const double spent = thread_cpu_seconds() - t0;
         pthread_mutex_lock(&w->lock);
         w->ok = ok;
         w->seconds += spent;
@@ -828,12 +813,12 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
         /* the forces first; the matrix only when the factor is renewed
          * (its tangent costs most of an assembly, and the kept factor
          * serves most iterations) */
-        double t0 = cpu_now();
+        double t0 = cpu_seconds();
         if (assemble(t, coef, 0.0)) {
             snprintf(err, errlen, "a tet inverted (J <= 0) at Newton iteration %d", it);
             return -1;
         }
-        const double t_forces = cpu_now() - t0;
+        const double t_forces = cpu_seconds() - t0;
         t->costs.assembly_s += t_forces;
         if (info) info->assembly_s += t_forces;
         double *rhs = t->rhs->x, worst = 0.0;
@@ -861,23 +846,23 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
                         worst > 0.25 * last_worst;
         last_worst = worst;
         if (ask) {
-            t0 = cpu_now();
+            t0 = cpu_seconds();
             if (assemble(t, coef, stiffness)) {
                 snprintf(err, errlen, "a tet inverted (J <= 0) at Newton iteration %d", it);
                 return -1;
             }
-            const double t_matrix = cpu_now() - t0;
+            const double t_matrix = cpu_seconds() - t0;
             t->costs.assembly_s += t_matrix;
             if (info) info->assembly_s += t_matrix;
             worker_ask(t, coef, stiffness);
         }
         if (renew) {
-            t0 = cpu_now();
+            t0 = cpu_seconds();
             if (assemble(t, coef, stiffness)) {
                 snprintf(err, errlen, "a tet inverted (J <= 0) at Newton iteration %d", it);
                 return -1;
             }
-            const double t_matrix = cpu_now() - t0;
+            const double t_matrix = cpu_seconds() - t0;
             t->costs.assembly_s += t_matrix;
             if (info) info->assembly_s += t_matrix;
         }
@@ -898,12 +883,12 @@ static int newton(tissue_solid *t, double dt, tissue_step_info *info, char *err,
             t->x[d] += dx[d];
             largest = fmax(largest, fabs(dx[d]));
         }
-        const double t_check = cpu_now();
+        const double t_check = cpu_seconds();
         for (int k = 0; k < MAX_HALVINGS && !all_positive(t); k++) {
             fraction *= 0.5;
             for (int d = 0; d < t->dofs; d++) t->x[d] -= fraction * dx[d];
         }
-        t->costs.check_s += cpu_now() - t_check;
+        t->costs.check_s += cpu_seconds() - t_check;
         shift = shift > 1e-6 * c->youngs_modulus * h / mean_mass ? 0.1 * shift : 0.0;
         if (dt == 0.0 && t->static_iterations > 0 && it + 1 >= t->static_iterations && shift == 0.0 &&
             fraction == 1.0)
@@ -930,12 +915,12 @@ int tissue_step(tissue_solid *t, double dt, tissue_step_info *info, char *err, s
     memcpy(t->v_start, t->v, bytes);
     /* the start's acceleration from the equation of motion (the caller may
      * have changed the state or the loads since the last step) */
-    double t0 = cpu_now();
+    double t0 = cpu_seconds();
     if (assemble(t, 0.0, 0.0)) {
         snprintf(err, errlen, "a tet is inverted at the step's start");
         return -1;
     }
-    const double t_start = cpu_now() - t0;
+    const double t_start = cpu_seconds() - t0;
     t->costs.assembly_s += t_start;
     if (info) info->assembly_s += t_start;
     for (int d = 0; d < t->dofs; d++) {
@@ -1083,12 +1068,12 @@ int tissue_patches_compliance(tissue_solid *t, int count, const int *counts, con
     /* the factor kept from the last Newton iteration serves when it is of the
      * same coefficients and holds (3 solves); else one is made here */
     const int renew = !t->factor_ok || t->factor_mass != mass_coef || t->factor_stiffness != stiffness;
-    const double t0 = cpu_now();
+    const double t0 = cpu_seconds();
     if (renew && assemble(t, mass_coef, stiffness)) {
         snprintf(err, errlen, "a tet is inverted");
         return -1;
     }
-    t->costs.assembly_s += cpu_now() - t0;
+    t->costs.assembly_s += cpu_seconds() - t0;
     double *rhs = t->rhs->x;
     const int row = 3 * count;
     /* tissue_step takes the start's acceleration under the same loads:

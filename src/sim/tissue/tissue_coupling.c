@@ -6,8 +6,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "base/clocks.h"
 #include "base/vec3.h"
 #include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
@@ -28,15 +28,6 @@
  * (test_tissue_patch: to Kelvin's solution; 0096-wound-refinement.md). */
 #define PATCH_RADIUS 1.5e-3
 
-
-/* CPU s (the process clock): the coupling's time, added to each pad's
- * account (tissue_cost) */
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 int tissue_coupling_pad(const rod_model *m)
 {
@@ -273,12 +264,12 @@ int tissue_coupling_link(const rod_model *m, rod_state *s, char *err, size_t err
 {
     for (int j = 0; j < m->surface_count; j++) {
         if (!m->surfaces[j].solid) continue;
-        const double t0 = cpu_now();
+        const double t0 = cpu_seconds();
         if (link_new(m, j, s, err, errlen)) return -1;
         /* the rod's contact sees the pad's surface where it is now */
         if (m->surfaces[j].mesh)
             rod_mesh_move(m->surfaces[j].mesh, tissue_positions(m->surfaces[j].solid), s->time);
-        tissue_add_coupling_time(m->surfaces[j].solid, cpu_now() - t0);
+        tissue_add_coupling_time(m->surfaces[j].solid, cpu_seconds() - t0);
     }
     return 0;
 }
@@ -551,9 +542,9 @@ int tissue_coupling_step_rods(int count, const rod_model *const *m, rod_state *c
     const pad_rods r = {count, m, s, pad_force};
     for (int j = 0; j < m[0]->surface_count; j++) {
         if (!m[0]->surfaces[j].solid) continue;
-        const double t0 = cpu_now();
+        const double t0 = cpu_seconds();
         const int rc = couple_pad(&r, j, err, errlen);
-        tissue_add_coupling_time(m[0]->surfaces[j].solid, cpu_now() - t0);
+        tissue_add_coupling_time(m[0]->surfaces[j].solid, cpu_seconds() - t0);
         if (rc) return -1;
     }
     return 0;
