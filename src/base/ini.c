@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <unistd.h>
 
 #include "base/suggest.h"
 #include "base/textfile.h"
@@ -361,7 +362,16 @@ fail:
 ini_doc *ini_load(const char *path, char *err, size_t errlen)
 {
     char *text;
-    if (textfile_read(path, "scene", INI_MAX_BYTES, &text, NULL, err, errlen)) return NULL;
+    if (textfile_read(path, "scene", INI_MAX_BYTES, &text, NULL, err, errlen)) {
+        /* "rodsim run my_rod" for my_rod.ini: name the file that is there */
+        char with_ini[4096];
+        size_t n = err ? strlen(err) : 0;
+        if (err && n + 1 < errlen && access(path, F_OK) != 0 &&
+            snprintf(with_ini, sizeof with_ini, "%s.ini", path) < (int)sizeof with_ini &&
+            access(with_ini, R_OK) == 0)
+            snprintf(err + n, errlen - n, "; did you mean %s?", with_ini);
+        return NULL;
+    }
     ini_doc *doc = ini_parse(path, text, err, errlen);
     free(text);
     return doc;

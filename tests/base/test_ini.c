@@ -89,6 +89,21 @@ static void test_errors(void)
     check(ini_load("/nonexistent/scene.ini", err, sizeof err) == NULL &&
               strstr(err, "/nonexistent/scene.ini: cannot open") != NULL,
           "missing file: '%s'", err);
+    /* "rodsim run my_rod" where my_rod.ini is: the message names it */
+    const char *with_ini = test_path("my_rod.ini");
+    FILE *f = fopen(with_ini, "w");
+    if (f) {
+        fputs("[rod]\nlength = 1\n", f);
+        fclose(f);
+    }
+    char bare[256], want[700];
+    snprintf(bare, sizeof bare, "%.*s", (int)(strlen(with_ini) - 4), with_ini);
+    snprintf(want, sizeof want, "%s: cannot open the scene file: No such file or directory; "
+             "did you mean %s?", bare, with_ini);
+    check(f && ini_load(bare, err, sizeof err) == NULL && strcmp(err, want) == 0,
+          "the name without .ini: '%s' (want '%s')", err, want);
+    check(ini_load("/nonexistent/scene", err, sizeof err) == NULL && !strstr(err, "did you mean"),
+          "no .ini beside it, no suggestion: '%s'", err);
 }
 
 /* A UTF-8 byte-order mark before the first line is skipped; files that are
