@@ -944,7 +944,7 @@ static void unit_squeeze(const char *unit, char *out, size_t outlen)
 }
 
 /* The factor from `written` to the key's SI unit `si`: the same unit, or it
- * with an SI prefix (cm, MPa, uN, ms), or g/cm^3 for kg/m^3, Hz for 1/s.
+ * with an SI prefix (cm, MPa, uN, ms), or g/cm^3 for kg/m^3, Hz or fps for 1/s.
  * 0 when it is none of these. */
 static double unit_factor(const char *written, const char *si)
 {
