@@ -123,7 +123,10 @@ typedef struct ini_key {
 /* Checks every section and key of the file (and of --set) against the table,
  * before anything is read. The first unknown one in file order (--set ones
  * last) is reported at its own line, with the nearest accepted name ("did you
- * mean density?") and the accepted list. Returns 0, or -1 with the message. */
+ * mean density?") and the accepted list. Then a value of numbers followed by
+ * a unit ("50 cm", for a key whose unit is not "-") is reported, with the
+ * numbers converted to the key's unit when the unit is that one with an SI
+ * prefix. Returns 0, or -1 with the message. */
 int ini_check_keys(const ini_doc *doc, const ini_key *table, char *err, size_t errlen);
 
 /* Edit distance between a and b (insertions, deletions, substitutions and

@@ -76,8 +76,8 @@ int outfile_check_dir(const char *dir, char *err, size_t errlen);
 int outfile_remove_stale(const char *dir);
 
 /* Installs SIGINT/SIGTERM handlers that discard every temporary file not yet
- * committed, then exit with status 128 + the signal (130 for SIGINT, 143 for
- * SIGTERM). Call once from main. */
+ * committed, print a line naming the signal on stderr, then exit with status
+ * 128 + the signal (130 for SIGINT, 143 for SIGTERM). Call once from main. */
 void outfile_install_signal_cleanup(void);
 
 /* A directory of outputs (a frame sequence): made under a hidden name

@@ -398,8 +398,9 @@ void scene_keys_print_markdown(FILE *f, const ini_key *table)
                    "repeat (`--set` changes the first); nodes count from 1.\n\n");
     else
         fprintf(f, "A rod scene (`rodsim run`): `[section]`, `key = value`, `#` comments, SI "
-                   "units; vectors: numbers separated by blanks or commas; booleans: true false "
-                   "yes no on off 1 0. A bad key or value is an error naming `file:line` (exit "
+                   "units, numbers without a unit (`length = 50 cm` is an error that says "
+                   "`write 0.5 (m)`); vectors: numbers separated by blanks or commas; "
+                   "booleans: true false yes no on off 1 0. A bad key or value is an error naming `file:line` (exit "
                    "2). Variants: a `[variant NAME]` section holds `section.key = value` lines, "
                    "applied in order by `--set variant=NAME` (later `--set`s override them); "
                    "without it they are not read (`instrument_tie_square.ini`: the granny's "

@@ -8,6 +8,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <unistd.h>
 
 #include "base/suggest.h"
 #include "base/textfile.h"
@@ -360,7 +362,16 @@ fail:
 ini_doc *ini_load(const char *path, char *err, size_t errlen)
 {
     char *text;
-    if (textfile_read(path, "scene", INI_MAX_BYTES, &text, NULL, err, errlen)) return NULL;
+    if (textfile_read(path, "scene", INI_MAX_BYTES, &text, NULL, err, errlen)) {
+        /* "rodsim run my_rod" for my_rod.ini: name the file that is there */
+        char with_ini[4096];
+        size_t n = err ? strlen(err) : 0;
+        if (err && n + 1 < errlen && access(path, F_OK) != 0 &&
+            snprintf(with_ini, sizeof with_ini, "%s.ini", path) < (int)sizeof with_ini &&
+            access(with_ini, R_OK) == 0)
+            snprintf(err + n, errlen - n, "; did you mean %s?", with_ini);
+        return NULL;
+    }
     ini_doc *doc = ini_parse(path, text, err, errlen);
     free(text);
     return doc;
@@ -898,6 +909,134 @@ static const ini_key *nearest_key(const ini_key *table, const char *section, con
     return best;
 }
 
+/* The end of a plain decimal at p ([+-]digits[.digits][e[+-]digits]), or p. */
+static const char *decimal_end(const char *p)
+{
+    const char *q = p;
+    if (*q == '+' || *q == '-') q++;
+    const char *digits = q;
+    while (isdigit((unsigned char)*q)) q++;
+    if (*q == '.') q++;
+    while (isdigit((unsigned char)*q)) q++;
+    if (q == digits || (q == digits + 1 && *digits == '.')) return p;
+    if (*q == 'e' || *q == 'E') {
+        const char *x = q + 1;
+        if (*x == '+' || *x == '-') x++;
+        if (isdigit((unsigned char)*x)) {
+            while (isdigit((unsigned char)*x)) x++;
+            q = x;
+        }
+    }
+    return q;
+}
+
+/* A unit written with its symbols only: spaces, '*', '.', '^' and the middle
+ * dot dropped ("N m" -> "Nm", "kg/m^3" -> "kg/m3"). */
+static void unit_squeeze(const char *unit, char *out, size_t outlen)
+{
+    size_t n = 0;
+    for (const char *c = unit; *c && n + 1 < outlen; c++) {
+        if (*c == ' ' || *c == '*' || *c == '.' || *c == '^') continue;
+        if ((unsigned char)c[0] == 0xC2 && (unsigned char)c[1] == 0xB7) { c++; continue; }
+        out[n++] = *c;
+    }
+    out[n] = '\0';
+}
+
+/* The factor from `written` to the key's SI unit `si`: the same unit, or it
+ * with an SI prefix (cm, MPa, uN, ms), or g/cm^3 for kg/m^3, Hz or fps for 1/s.
+ * 0 when it is none of these. */
+static double unit_factor(const char *written, const char *si)
+{
+    static const struct { const char *prefix; double factor; } prefixes[] = {
+        {"", 1}, {"n", 1e-9}, {"u", 1e-6}, {"\xC2\xB5", 1e-6}, {"m", 1e-3}, {"c", 1e-2},
+        {"k", 1e3}, {"M", 1e6}, {"G", 1e9},
+    };
+    char w[64], k[64];
+    unit_squeeze(written, w, sizeof w);
+    unit_squeeze(si, k, sizeof k);
+    if (strcmp(k, "kg/m3") == 0 && strcmp(w, "g/cm3") == 0) return 1e3;
+    if (strcmp(k, "1/s") == 0 && (strcmp(w, "Hz") == 0 || strcmp(w, "fps") == 0)) return 1;
+    for (size_t i = 0; i < sizeof prefixes / sizeof prefixes[0]; i++) {
+        size_t n = strlen(prefixes[i].prefix);
+        if (strncmp(w, prefixes[i].prefix, n) == 0 && strcmp(w + n, k) == 0)
+            return prefixes[i].factor;
+    }
+    return 0;
+}
+
+/* v to 12 digits, in the shorter of %g's forms that read back the same
+ * (1140, 0.0005, 1e+08 rather than 100000000). */
+static void shortest_number(double v, char *out, size_t outlen)
+{
+    char fixed[32];
+    snprintf(fixed, sizeof fixed, "%.12g", v);
+    double target = strtod(fixed, NULL);
+    for (int digits = 1; digits < 12; digits++) {
+        char shorter[32];
+        snprintf(shorter, sizeof shorter, "%.*g", digits, v);
+        if (strtod(shorter, NULL) == target && strlen(shorter) < strlen(fixed)) {
+            snprintf(out, outlen, "%s", shorter);
+            return;
+        }
+    }
+    snprintf(out, outlen, "%s", fixed);
+}
+
+/* A value of numbers followed by a unit ("50 cm", "0.5mm", "0 -10 0 uN") for
+ * a key whose table unit is `si`: a message saying to write the bare numbers
+ * in `si`, converted when the unit is `si` with a prefix. 0 when the value
+ * is not so. */
+static int unit_after_numbers(const char *value, const char *si, char *out, size_t outlen)
+{
+    double numbers[16];
+    int count = 0;
+    const char *p = value;
+    for (;;) {
+        while (*p == ' ' || *p == '\t' || *p == ',') p++;
+        const char *end = decimal_end(p);
+        if (end == p || count == 16) break;
+        char buf[64];
+        size_t n = (size_t)(end - p);
+        if (n >= sizeof buf) return 0;
+        memcpy(buf, p, n);
+        buf[n] = '\0';
+        numbers[count++] = strtod(buf, NULL);
+        p = end;
+        if (*p && *p != ' ' && *p != '\t' && *p != ',') break; /* "0.5mm": glued */
+    }
+    const char *unit = p;
+    if (count == 0 || !(isalpha((unsigned char)*unit) || (unsigned char)*unit >= 0x80))
+        return 0;
+    /* "5e": a cut exponent; "0 0 inf": not a finite number; neither is a unit */
+    if (strcmp(unit, "e") == 0 || strcmp(unit, "E") == 0 || strncasecmp(unit, "inf", 3) == 0 ||
+        strncasecmp(unit, "nan", 3) == 0)
+        return 0;
+    for (const char *c = unit; *c; c++)
+        if (!isalnum((unsigned char)*c) && !strchr(" /^*.-", *c) && (unsigned char)*c < 0x80)
+            return 0;
+    const char *plural = count > 1 ? "s" : "";
+    double factor = unit_factor(unit, si);
+    if (factor == 0)
+        return snprintf(out, outlen, "a unit after the number%s ('%s'); a scene's values are "
+                        "bare numbers in the key's unit: write the number%s in %s, "
+                        "without a unit",
+                        plural, unit, plural, si) > 0;
+    char converted[256] = "";
+    size_t used = 0;
+    for (int i = 0; i < count; i++) {
+        char number[32];
+        shortest_number(numbers[i] * factor, number, sizeof number);
+        int w = snprintf(converted + used, sizeof converted - used, "%s%s", i ? " " : "",
+                         number);
+        if (w < 0 || used + (size_t)w >= sizeof converted) return 0;
+        used += (size_t)w;
+    }
+    return snprintf(out, outlen, "a unit after the number%s ('%s'); a scene's values are bare "
+                    "numbers in the key's unit: write %s (%s)", plural, unit,
+                    converted, si) > 0;
+}
+
 int ini_check_keys(const ini_doc *doc, const ini_key *table, char *err, size_t errlen)
 {
     /* the first offender in file order; --set ones (line 0) after the file's */
@@ -958,6 +1097,28 @@ int ini_check_keys(const ini_doc *doc, const ini_key *table, char *err, size_t e
         else
             set_error(err, errlen, "--set %s.%s=%s: unknown key;%s accepted keys in [%s]: %s",
                       e->section, e->key, e->value, hint, e->section, list);
+        return -1;
+    }
+    /* a value with a unit after it ("length = 50 cm"), the first in file order */
+    const ini_entry *with_unit = NULL;
+    char why[512] = "";
+    first = -1;
+    for (int i = 0; i < doc->entry_count; i++) {
+        const ini_entry *e = &doc->entries[i];
+        long order = e->line > 0 ? e->line : (1L << 30) + 1 + i;
+        const ini_key *k = table_find(table, e->section, e->key);
+        if (k && strcmp(k->unit, "-") != 0 && (first < 0 || order < first) &&
+            unit_after_numbers(e->value, k->unit, why, sizeof why)) {
+            with_unit = e;
+            first = order;
+        }
+    }
+    if (with_unit) {
+        /* why: the message of the last match written, which is with_unit's */
+        char where[512];
+        describe(doc, with_unit, with_unit->section, with_unit->instance, with_unit->key, where,
+                 sizeof where);
+        set_error(err, errlen, "%s: %s", where, why);
         return -1;
     }
     return 0;

@@ -505,7 +505,17 @@ static void on_signal(int sig)
         if (pending_used[i]) unlink(pending[i]);
     for (int i = 0; i < OUTFILE_DIR_SLOTS; i++)
         if (watched_used[i]) remove_flat_dir_repeatedly(watched[i]);
-    /* nameless temporaries vanish with the process */
+    /* nameless temporaries vanish with the process; a line says why it
+     * stopped (write(2): safe in a handler, unlike stdio) */
+    static const char stopped_int[] =
+        "rodsim: stopped by SIGINT (Ctrl-C): exit 130, unfinished outputs removed\n";
+    static const char stopped_term[] =
+        "rodsim: stopped by SIGTERM: exit 143, unfinished outputs removed\n";
+    const char *line = sig == SIGINT ? stopped_int : stopped_term;
+    size_t length = sig == SIGINT ? sizeof stopped_int - 1 : sizeof stopped_term - 1;
+    if (write(STDERR_FILENO, line, length) < 0) {
+        /* nothing to do: the exit status still says it */
+    }
     _exit(128 + sig);
 }
 

@@ -89,6 +89,21 @@ static void test_errors(void)
     check(ini_load("/nonexistent/scene.ini", err, sizeof err) == NULL &&
               strstr(err, "/nonexistent/scene.ini: cannot open") != NULL,
           "missing file: '%s'", err);
+    /* "rodsim run my_rod" where my_rod.ini is: the message names it */
+    const char *with_ini = test_path("my_rod.ini");
+    FILE *f = fopen(with_ini, "w");
+    if (f) {
+        fputs("[rod]\nlength = 1\n", f);
+        fclose(f);
+    }
+    char bare[256], want[700];
+    snprintf(bare, sizeof bare, "%.*s", (int)(strlen(with_ini) - 4), with_ini);
+    snprintf(want, sizeof want, "%s: cannot open the scene file: No such file or directory; "
+             "did you mean %s?", bare, with_ini);
+    check(f && ini_load(bare, err, sizeof err) == NULL && strcmp(err, want) == 0,
+          "the name without .ini: '%s' (want '%s')", err, want);
+    check(ini_load("/nonexistent/scene", err, sizeof err) == NULL && !strstr(err, "did you mean"),
+          "no .ini beside it, no suggestion: '%s'", err);
 }
 
 /* A UTF-8 byte-order mark before the first line is skipped; files that are
@@ -157,6 +172,47 @@ static void test_key_table(void)
                           "sections: rod, tip"),
           "misspelt section at its line: '%s'", err);
     ini_destroy(doc);
+
+    /* a unit after a number: refused at its line, the value converted by hand */
+    static const struct { const char *text, *needle; } units[] = {
+        {"[rod]\nlength = 50 cm\n", "k.ini:2: [rod] length = 50 cm: a unit after the number "
+                                    "('cm'); a scene's values are bare numbers in the key's "
+                                    "unit: write 0.5 (m)"},
+        {"[rod]\nlength = 0.5mm\n", "length = 0.5mm: a unit after the number ('mm'); "},
+        {"[rod]\nlength = 0.5mm\n", "write 0.0005 (m)"},
+        {"[rod]\ndensity = 1.14 g/cm^3\n", "write 1140 (kg/m^3)"},
+        {"[tip]\nforce = 0 -10 0 uN\n", "a unit after the numbers ('uN'); a scene's values are "
+                                        "bare numbers in the key's unit: write 0 -1e-05 0 (N)"},
+        {"[rod]\nlength = 2 furlongs\n", "('furlongs'); a scene's values are bare numbers in the "
+                                         "key's unit: write the number in m, without a unit"},
+        {"[rod]\nlength = 1 m\ndensity = 2 kg\n", "k.ini:2: [rod] length = 1 m: a unit"},
+    };
+    for (size_t i = 0; i < sizeof units / sizeof units[0]; i++) {
+        doc = ini_parse("k.ini", units[i].text, err, sizeof err);
+        check(doc && ini_check_keys(doc, table, err, sizeof err) < 0 &&
+                  strstr(err, units[i].needle),
+              "a unit after the number, '%s': '%s' contains '%s'", units[i].text, err,
+              units[i].needle);
+        ini_destroy(doc);
+    }
+    doc = ini_parse("k.ini", "[rod]\nlength = 1\n", err, sizeof err);
+    check(doc && ini_set(doc, "rod.length=3 mm", err, sizeof err) == 0 &&
+              ini_check_keys(doc, table, err, sizeof err) < 0 &&
+              strstr(err, "--set rod.length=3 mm: a unit after the number ('mm'); a scene's "
+                          "values are bare numbers in the key's unit: write 0.003 (m)"),
+          "--set of a value with a unit: '%s'", err);
+    ini_destroy(doc);
+    /* not units: a cut exponent, a non-finite number, plain numbers */
+    static const char *const plain[] = {"[rod]\nlength = 5e\n", "[tip]\nforce = 0 0 inf\n",
+                                        "[rod]\nlength = 1e-3\ndensity = +2.5E+3\n"};
+    for (size_t i = 0; i < sizeof plain / sizeof plain[0]; i++) {
+        doc = ini_parse("k.ini", plain[i], err, sizeof err);
+        err[0] = '\0';
+        check(doc && ini_check_keys(doc, table, err, sizeof err) == 0,
+              "'%s' is not a number with a unit (left to the value's reader): '%s'", plain[i],
+              err);
+        ini_destroy(doc);
+    }
 }
 
 /* [variant NAME]: a named set of --set assignments, applied by
