@@ -66,7 +66,7 @@ TEST_BIN:= $(patsubst tests/%.c,$(BUILD)/tests/%,$(TESTS))
 BENCHES := $(wildcard tests/bench/bench_*.c)
 BENCH_BIN := $(patsubst tests/%.c,$(BUILD)/tests/%,$(BENCHES))
 
-.PHONY: all deps deps-demo deps-test lib rodsim tests test test-release test-asan fuzz fuzzers demo bench figures readme install clean
+.PHONY: all deps deps-demo deps-test lib rodsim tests test test-release test-asan build-release build-asan fuzz fuzzers demo bench figures readme install clean
 .DEFAULT_GOAL := all
 
 all: rodsim lib
@@ -140,12 +140,17 @@ deps: deps-test
 test: deps-test
 	@sh tests/run_all.sh
 
-test-release:
+# build-FLAVOUR builds what test-FLAVOUR runs (tests/run_all.sh times the two apart).
+build-release:
 	@$(MAKE) --no-print-directory BUILD=build/release tests rodsim lib
+
+test-release: build-release
 	@sh tests/run_tests.sh build/release
 
-test-asan:
+build-asan:
 	@$(MAKE) --no-print-directory BUILD=build/asan CFLAGS="$(SAN_FLAGS)" LDFLAGS="-fsanitize=address,undefined" tests
+
+test-asan: build-asan
 	@sh tests/run_tests.sh build/asan
 
 # Fuzzing (make test runs it): each parser's libFuzzer harness, tests/fuzz/fuzz_NAME.c,

@@ -10,6 +10,8 @@
  * thread more than 5 apart along it (4 diameters of arc: no bend of a
  * thread this stiff is tighter), must stay >= 0.95 diameters (the strands
  * touch at one diameter; a strand passing through another is at 0 halfway).
+ * (test_segment.h's sorted search; every frame also by trying every pair,
+ * which must give the same distances.)
  * Every 1/30 s (the scenes' output frames) the knot across the two threads
  * is named (sim/geometry/knot_across.h): the reef must stay the square
  * knot, and the granny the granny, as the scenes' comments say the physics
@@ -28,34 +30,12 @@
 
 #define FAR_SEGMENTS 5
 
-/* Least distance (m) between a segment of x (na nodes) and one of y, below
- * `within` (else within): pairs whose midpoints are farther apart than
- * within + half their lengths are skipped */
-static double closest_between(const double *x, int na, const double *y, int nb, double within)
-{
-    double best = within;
-    for (int i = 0; i + 1 < na; i++)
-        for (int j = 0; j + 1 < nb; j++) {
-            const double *a0 = &x[3 * i], *a1 = &x[3 * i + 3], *b0 = &y[3 * j], *b1 = &y[3 * j + 3];
-            double mi[3], mj[3], li = 0.0, lj = 0.0, d = 0.0;
-            for (int k = 0; k < 3; k++) {
-                mi[k] = 0.5 * (a0[k] + a1[k]);
-                mj[k] = 0.5 * (b0[k] + b1[k]);
-                li += (a1[k] - a0[k]) * (a1[k] - a0[k]);
-                lj += (b1[k] - b0[k]) * (b1[k] - b0[k]);
-                d += (mi[k] - mj[k]) * (mi[k] - mj[k]);
-            }
-            if (sqrt(d) > best + 0.5 * (sqrt(li) + sqrt(lj))) continue;
-            best = fmin(best, segment_distance(a0, a1, b0, b1));
-        }
-    return best;
-}
-
 typedef struct outcome {
     double least_between, least_within; /* diameters */
     double t_between, t_within;         /* s: where */
     char first[96], last[96];
     int changes, failures, frames;
+    int sweep_frames, sweep_differ;     /* frames whose distances were measured both ways */
     double first_change_t;              /* s */
     double t_end;                       /* s: the run's end */
     char first_change[96];
@@ -99,13 +79,21 @@ static int run_scene(const char *file, outcome *o)
         if (i > 0) failed = rod_set_step(&set, &run, dt, &report) != ROD_OK;
         const rod_state *a = run.state[0], *b = run.state[1];
         const double t = i * dt;
-        const double between = closest_between(a->position, na, b->position, nb, 2.0 * d) / d;
+        const double between = segments_closest(a->position, na, b->position, nb, 0, 2.0 * d) / d;
         const double within = fmin(closest_strands(a->position, na, FAR_SEGMENTS, 2.0 * d),
                                    closest_strands(b->position, nb, FAR_SEGMENTS, 2.0 * d)) / d;
         if (between < o->least_between) o->least_between = between, o->t_between = t;
         if (within < o->least_within) o->least_within = within, o->t_within = t;
         if (t + 1e-9 < next_frame && i < steps) continue;
         next_frame += frame;
+        /* every frame: the sorted search against trying every pair */
+        o->sweep_differ += segments_closest(a->position, na, b->position, nb, 0, 2.0 * d) !=
+                           closest_between_all(a->position, na, b->position, nb, 2.0 * d);
+        o->sweep_differ += closest_strands(a->position, na, FAR_SEGMENTS, 2.0 * d) !=
+                           closest_strands_all(a->position, na, FAR_SEGMENTS, 2.0 * d);
+        o->sweep_differ += closest_strands(b->position, nb, FAR_SEGMENTS, 2.0 * d) !=
+                           closest_strands_all(b->position, nb, FAR_SEGMENTS, 2.0 * d);
+        o->sweep_frames++;
         rod_knot k;
         if (rod_knot_identify_across(scratch, a->position, na, b->position, nb, work, &k, err,
                                      sizeof err)) {
@@ -125,6 +113,10 @@ static int run_scene(const char *file, outcome *o)
     o->t_end = duration;
     check(!failed && work, "%s: %d steps of %.3g s run (%s); %.2f s of CPU with the checks", file,
           steps, dt, failed ? report.message : "ok", (double)(clock() - t0) / CLOCKS_PER_SEC);
+    check(o->sweep_frames > 0 && o->sweep_differ == 0,
+          "%s: the distances by the sorted search (test_segment.h) equal those of trying every "
+          "pair in all %d frames (3 per frame; %d differ)", file, o->sweep_frames,
+          o->sweep_differ);
     free(work);
     rod_knot_scratch_destroy(scratch);
     rod_set_run_destroy(&run);

@@ -153,7 +153,7 @@ int main(void)
     memcpy(pos1, pos0, sizeof pos1);
     v3_axpy(&pos1[3 * mj], by, n);
     v3_axpy(&pos1[3 * mj + 3], by, n);
-    const double brute = closest_strands(pos1, NODES, sc->skip + 1, 4.0 * D);
+    const double brute = closest_strands_all(pos1, NODES, sc->skip + 1, 4.0 * D);
     const double summary = rod_self_contact_closest(sc, pos1, D + margin);
     const double contact = candidates_closest(sc, pos1);
     printf("     pressed at pair (%d, %d), %d segments apart: brute force %.4f d, "
@@ -172,6 +172,7 @@ int main(void)
      * the nodes moved by up to 0.2 d each (within the list's skin) */
     unsigned seed = 12345u;
     double worst = 0.0;
+    int sweep_differ = 0, sweep_within = 0;
     const int trials = 40;
     for (int trial = 0; trial < trials; trial++) {
         const double most = 0.005 * D * (trial + 1); /* up to 0.2 d, a coordinate 0.115 d */
@@ -180,10 +181,25 @@ int main(void)
             const double r = (double)((seed >> 8) & 0xffff) / 65535.0 * 2.0 - 1.0;
             pos1[k] = pos0[k] + r * most / sqrt(3.0);
         }
-        const double want = closest_strands(pos1, NODES, sc->skip + 1, 4.0 * D);
+        const double want = closest_strands_all(pos1, NODES, sc->skip + 1, 4.0 * D);
         const double got = rod_self_contact_closest(sc, pos1, D + margin);
         worst = fmax(worst, fabs(got - want) / want);
+        /* the tests' own sorted search against trying every pair: the
+         * strands of the rod, and its two halves as two threads */
+        const double swept = closest_strands(pos1, NODES, sc->skip + 1, 4.0 * D);
+        const double apart = segments_closest(pos1, NODES / 2, pos1 + 3 * (NODES / 2),
+                                              NODES - NODES / 2, 0, 4.0 * D);
+        const double apart_all = closest_between_all(pos1, NODES / 2, pos1 + 3 * (NODES / 2),
+                                                     NODES - NODES / 2, 4.0 * D);
+        sweep_differ += swept != want;
+        sweep_differ += apart != apart_all;
+        sweep_within += swept < 4.0 * D && apart < 4.0 * D;
     }
+    check(sweep_differ == 0 && sweep_within == trials,
+          "test_segment.h's sorted search (closest_strands, segments_closest) gives the least "
+          "distance of trying every pair exactly in %d of %d cases (the rod's strands and "
+          "between its two halves, each within 4 d in %d of %d motions)",
+          2 * trials - sweep_differ, 2 * trials, sweep_within, trials);
     check(sc->list_reach > 0.0 && sc->list_measured && worst < 1e-9,
           "the closest strands from the list's pairs that could be the closest, %d motions of "
           "up to 0.2 d: largest relative error against the brute force %.3e (tolerance 1e-9)",
