@@ -16,6 +16,7 @@
 #include "sim/implicit/start.h"
 #include "sim/rod.h"
 #include "sim/rod_geometry.h"
+#include "sim/rod_grid.h"
 
 #define MAX_SPLIT_DEPTH 12
 /* With self-contact, a step some attempt of which moved the strands too
@@ -332,7 +333,8 @@ static int stall_site(const implicit_work *w, const rod_model *m, char *out, siz
                        : comp < 3    ? "the length constraint (3.14) of the segment up to"
                                      : "the moment balance (3.6)_2 of";
     int used = snprintf(out, len, "; its residual stayed largest (%.2g) in %s node %d of %d "
-                        "(s = %.4g m)", big, what, node, n, node * m->ds);
+                        "(s = %.4g m)", big, what, node, n,
+                        m->segment_length ? rod_node_arc(m, node) : node * m->ds);
     /* a surface within a quarter diameter of a node at the step's start (the
      * last evaluation may have left contact out: a Jacobian's differences) */
     int touching = 0;
