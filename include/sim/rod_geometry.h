@@ -2,7 +2,8 @@
  * (implicit, static): the Darboux vector at segment midpoints from the
  * frames (exact, by the log map), the midpoint frames, and the centreline
  * from d3 at the midpoints, which keeps every segment exactly ds long
- * (inextensible, unshearable: (3.11), (3.12)). */
+ * (inextensible, unshearable: (3.11), (3.12)). On a graded grid
+ * (sim/rod_grid.h) segment i's ds is its own rest length ds_i. */
 #ifndef RODSIM_ROD_GEOMETRY_H
 #define RODSIM_ROD_GEOMETRY_H
 

@@ -279,6 +279,16 @@ typedef struct rod_profile {
     rod_table table;
 } rod_profile;
 
+/* A stretch of the rod whose grid is finer (scene [rod] refine): segments
+ * in s0 .. s1 are `factor` times shorter than outside (sim/rod_grid.h). */
+typedef struct rod_refine {
+    double s0, s1;     /* m, arc length from the root, 0 <= s0 < s1 <= L */
+    double factor;     /* 1 < factor <= ROD_MAX_REFINE_FACTOR */
+} rod_refine;
+
+#define ROD_MAX_REFINES 8
+#define ROD_MAX_REFINE_FACTOR 100.0
+
 /* Options of the run: which scheme, its step, how long. */
 typedef struct rod_options {
     rod_scheme_kind scheme;
@@ -391,8 +401,17 @@ typedef struct rod_model {
 
     rod_options options;
 
+    /* inputs: the grid (scene [rod] refine); refine_count 0: uniform, ds apart */
+    int refine_count;
+    rod_refine refine[ROD_MAX_REFINES];
+
     /* derived by rod_model_derive() */
-    double ds;                   /* m, L / (NS - 1)   (4.1) */
+    double ds;                   /* m, L / (NS - 1)   (4.1): the spacing of a uniform grid,
+                                    the mean spacing of a graded one */
+    double *segment_length;      /* (nodes - 1) m, owned: a graded grid's rest lengths, segment
+                                    j from node j to j + 1 (sim/rod_grid.h); NULL: uniform, every
+                                    segment ds. Made by the first rod_model_derive with refine
+                                    intervals, refilled in place by later ones (same nodes) */
     double area;                 /* m^2, pi d^2 / 4 */
     double second_moment;        /* I1 = I2 = pi d^4 / 64, m^4 */
     double polar_moment;         /* J = pi d^4 / 32, m^4 */

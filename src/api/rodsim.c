@@ -26,6 +26,7 @@
 #include "sim/path.h"
 #include "sim/recording.h"
 #include "sim/rod.h"
+#include "sim/rod_grid.h"
 #include "sim/rod_set.h"
 
 #define RODSIM_ERR_LEN 1024
@@ -223,7 +224,9 @@ static rodsim_status make_scene(ini_doc *doc, const char *const *overrides, int 
         return make_rods_scene(doc, scene);
     }
     if (run_read_scene(doc, &sc->model, &sc->out, err, sizeof err) ||
-        instruments_refused(&sc->model, doc, err, sizeof err)) {
+        instruments_refused(&sc->model, doc, err, sizeof err) ||
+        rod_grid_refuse(&sc->model, "the library (rodsim_load_file, rodsim_load_text)", err,
+                        sizeof err)) {
         rodsim_free(sc);
         return fail(NULL, RODSIM_BAD_INPUT, "%s", err);
     }

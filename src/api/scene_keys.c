@@ -14,6 +14,9 @@ const ini_key scene_keys_rod[] = {
     {"rod", "youngs_modulus", "Pa", "required", "> 0", "E"},
     {"rod", "shear_modulus", "Pa", "required", "> 0", "G"},
     {"rod", "nodes", "-", "required", "3 .. 100001", "NS, nodes along the rod; ds = L/(NS-1)"},
+    {"rod", "refine", "m m -", "-", "S0 S1 FACTOR[, ...], 1 < FACTOR <= 100, up to 8",
+     "a graded grid: segments between arc lengths S0 and S1 FACTOR times shorter, NS kept "
+     "(implicit scheme; no self-contact, contact, cuts, shape or video)"},
     {"rod", "rotary_inertia_scale", "-", "1", "> 0",
      "multiplies rho I and rho J (the thesis scheme needs about 1e7)"},
     {"rod", "origin", "m", "0 0 0", "3 numbers",

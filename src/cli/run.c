@@ -149,15 +149,18 @@ void run_csv_frame_into(FILE *f, const rod_model *m, const rod_state *s, const c
     rod_internal_force(s, force);
     /* node and s are the uncut thread's: a cut taking the root's side leaves
      * the rows of the nodes left under their own numbers */
+    double arc = 0.0; /* a graded grid's s (never cut: rod_grid.h) */
     for (int i = 0; i < s->nodes; i++) {
         const int node = i + s->first_node;
+        const double at = m->segment_length ? arc : (double)node * m->ds;
+        if (m->segment_length && node + 1 < m->nodes) arc += m->segment_length[node];
         const double *r = &s->position[3 * i];
         const double *q = &s->frame[9 * i];
         const double *n = &force[3 * i];
         /* d3 is column 3 of Q (row-major): q[2], q[5], q[8]; + 0.0 writes -0 as 0.
          * Shortest texts that read back to the same doubles (dtoa.h): 55 ns a
          * number against printf's 160 (%.17g) or 125 (%.10g, which loses bits) */
-        const double field[12] = {s->time, (double)node * m->ds, r[0], r[1], r[2], q[2], q[5], q[8],
+        const double field[12] = {s->time, at, r[0], r[1], r[2], q[2], q[5], q[8],
                                   rod_recording_node_twist(s, i), n[0] + 0.0, n[1] + 0.0,
                                   n[2] + 0.0};
         char line[13 * DTOA_MAX + 64];

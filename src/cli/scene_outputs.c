@@ -29,6 +29,7 @@
 #include "sim/instrument_overlap.h"
 #include "sim/instrument_path.h"
 #include "sim/rod.h"
+#include "sim/rod_grid.h"
 #include "sim/scene.h"
 #include "sim/tissue/tissue.h"
 #include "sim/tissue/tissue_coupling.h"
@@ -128,6 +129,12 @@ static void print_summary(FILE *f, const char *command, const char *scene_path,
     if (m->rotary_inertia_scale != 1.0)
         fprintf(f, ", rotary inertia x %g", m->rotary_inertia_scale);
     fprintf(f, "\n");
+    if (m->segment_length) {
+        double lo = m->segment_length[0], hi = lo;
+        for (int j = 1; j + 1 < m->nodes; j++)
+            lo = fmin(lo, m->segment_length[j]), hi = fmax(hi, m->segment_length[j]);
+        fprintf(f, "           graded grid (rod.refine): segments %.4g .. %.4g m\n", lo, hi);
+    }
     fprintf(f, "  tip      force (%g, %g, %g) N, moment (%g, %g, %g) N m, %s frame, profile %s\n",
             m->tip_force[0], m->tip_force[1], m->tip_force[2], m->tip_moment[0],
             m->tip_moment[1], m->tip_moment[2],
@@ -819,6 +826,10 @@ static int open_run(scene_run *r)
     const scene_outputs_options *a = r->o;
     const rod_model *m = r->m;
     char err[SCENE_OUTPUTS_ERR_LEN] = "";
+    if (!a->no_video && rod_grid_refuse(m, "the renderer", err, sizeof err)) {
+        complain(a, "%s: %s\n", a->label, err);
+        return RUN_EXIT_BAD_INPUT;
+    }
     if (rod_solver_init(&r->solver, m, err, sizeof err)) {
         complain(a, "%s: cannot start the %s scheme: %s\n", a->label,
                 rod_scheme_get(m->options.scheme)->name, err);

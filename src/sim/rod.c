@@ -10,6 +10,7 @@
 #include "sim/path.h"
 #include "sim/geometry/proximity.h"
 #include "sim/rod_geometry.h"
+#include "sim/rod_grid.h"
 #include "sim/contact/mesh.h"
 #include "sim/contact/surface.h"
 #include "sim/cut.h"
@@ -484,6 +485,38 @@ static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
     return 0;
 }
 
+/* A graded grid (rod.refine): its segment lengths, and the parts of a
+ * scene that model a uniform grid only refused by name. */
+static int derive_grid(rod_model *m, char *err, size_t errlen)
+{
+    if (m->refine_count == 0) {
+        free(m->segment_length);
+        m->segment_length = NULL;
+        return 0;
+    }
+    if (rod_grid_check(m, err, errlen)) return -1;
+    const char *part = NULL;
+    if (m->options.scheme != ROD_SCHEME_IMPLICIT) part = "the thesis and static schemes";
+    else if (m->self_contact) part = "self-contact (rod.self_contact = yes)";
+    else if (m->surface_count > 0) part = "a [surface]";
+    else if (m->puncture_count > 0) part = "a [puncture]";
+    else if (m->instrument_count > 0) part = "an [instrument]";
+    else if (m->cut_event_count > 0) part = "a [cut]";
+    else if (m->initial_shape) part = "a starting shape (rod.shape)";
+    else if (m->settle > 0.0) part = "settling (rod.settle)";
+    else if (m->between_rods) part = "contact between rods";
+    if (part) return rod_grid_refuse(m, part, err, errlen);
+    if (!m->segment_length) {
+        m->segment_length = malloc((size_t)(m->nodes - 1) * sizeof *m->segment_length);
+        if (!m->segment_length) {
+            snprintf(err, errlen, "refine: out of memory");
+            return -1;
+        }
+    }
+    rod_grid_segment_lengths(m, m->segment_length);
+    return 0;
+}
+
 int rod_model_derive(rod_model *m, char *err, size_t errlen)
 {
     const char *bad = NULL;
@@ -505,6 +538,7 @@ int rod_model_derive(rod_model *m, char *err, size_t errlen)
     }
     double d = m->diameter;
     m->ds = m->length / (m->nodes - 1);                 /* (4.1) */
+    if (derive_grid(m, err, errlen)) return -1;
     m->area = M_PI * d * d / 4.0;
     m->second_moment = M_PI * pow(d, 4) / 64.0;         /* I = pi d^4 / 64 */
     m->polar_moment = M_PI * pow(d, 4) / 32.0;          /* J = pi d^4 / 32 */
@@ -566,6 +600,8 @@ void rod_model_release(rod_model *m)
     m->initial_shape = NULL;
     free(m->initial_frames);
     m->initial_frames = NULL;
+    free(m->segment_length);
+    m->segment_length = NULL;
     free(m->point_loads);
     m->point_loads = NULL;
     m->point_load_count = 0;
@@ -816,9 +852,13 @@ void rod_state_reset(const rod_model *m, rod_state *s)
         /* thesis 4.2: straight from the origin along d3 (+x by default: d1 = y, d2 = z) */
         double d3[3];
         m3_column(d3, s->frame, 2);
-        for (size_t i = 0; i < n; i++)
+        double arc = 0.0; /* a graded grid's s_i */
+        for (size_t i = 0; i < n; i++) {
             for (int k = 0; k < 3; k++)
-                s->position[3 * i + k] = m->origin[k] + (double)i * m->ds * d3[k];
+                s->position[3 * i + k] =
+                    m->origin[k] + (m->segment_length ? arc : (double)i * m->ds) * d3[k];
+            if (m->segment_length && i + 1 < n) arc += m->segment_length[i];
+        }
     }
     /* initial_velocity is global; the state keeps velocity in director components */
     for (size_t i = 0; i < n; i++) m3_mul_tv(&s->velocity[3 * i], &s->frame[9 * i], m->initial_velocity);
@@ -960,7 +1000,9 @@ double rod_kinetic_energy(const rod_model *m, const rod_state *s)
 {
     double e = 0.0;
     for (int i = 1; i < s->nodes; i++) {
-        double w = (i == s->nodes - 1) ? 0.5 * m->ds : m->ds;
+        double w = m->segment_length        ? rod_cell_length(m, i)
+                   : (i == s->nodes - 1) ? 0.5 * m->ds
+                                         : m->ds;
         const double *v = &s->velocity[3 * i], *om = &s->angular_velocity[3 * i];
         e += 0.5 * w * m->mass_per_length * v3_dot(v, v);
         for (int k = 0; k < 3; k++) e += 0.5 * w * m->rotary_inertia[k] * om[k] * om[k];
@@ -988,7 +1030,8 @@ double rod_segment_length_error(const rod_model *m, const rod_state *s)
     for (int i = 0; i + 1 < s->nodes; i++) {
         double d[3];
         v3_sub(d, &s->position[3 * (i + 1)], &s->position[3 * i]);
-        double e = fabs(v3_norm(d) - m->ds) / m->ds;
+        const double ds = rod_segment_ds(m, i);
+        double e = fabs(v3_norm(d) - ds) / ds;
         if (e > worst) worst = e;
     }
     return worst;
@@ -1042,6 +1085,8 @@ int rod_solver_init(rod_solver *solver, const rod_model *m, char *err, size_t er
         snprintf(err, errlen, "unknown scheme %d", (int)m->options.scheme);
         return -1;
     }
+    if (m->segment_length && m->options.scheme != ROD_SCHEME_IMPLICIT)
+        return rod_grid_refuse(m, "the thesis and static schemes", err, errlen);
     solver->work = solver->ops->create(m, err, errlen);
     solver->cuts = 0;
     return solver->work ? 0 : -1;

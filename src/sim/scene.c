@@ -21,6 +21,7 @@
 #include "sim/cut.h"
 #include "sim/instrument.h"
 #include "sim/rod.h"
+#include "sim/rod_grid.h"
 #include "sim/settle.h"
 #include "sim/tissue/tissue.h"
 #include "sim/tissue/tissue_coupling.h"
@@ -66,6 +67,39 @@ static int check_positive(ini_doc *doc, const char *section, const char *key, do
     return ini_error(doc, section, 0, key, err, errlen, "must be > 0 (%s)", what);
 }
 
+/* [rod] refine = S0 S1 FACTOR[, S0 S1 FACTOR ...]: a graded grid
+ * (sim/rod_grid.h); the intervals' ranges are checked by rod_model_derive. */
+static int read_refine(ini_doc *doc, rod_model *m, char *err, size_t errlen)
+{
+    const char *text;
+    int rc = ini_get_string(doc, "rod", 0, "refine", &text, err, errlen);
+    if (rc <= 0) return rc;
+    const char *at = text;
+    m->refine_count = 0;
+    while (*at) {
+        rod_refine r;
+        int used = 0;
+        if (m->refine_count == ROD_MAX_REFINES ||
+            sscanf(at, " %lf %lf %lf %n", &r.s0, &r.s1, &r.factor, &used) != 3 ||
+            (at[used] != '\0' && at[used] != ','))
+            return ini_error(doc, "rod", 0, "refine", err, errlen,
+                             "must be S0 S1 FACTOR (m, m, -): segments between arc lengths S0 "
+                             "and S1 FACTOR times shorter, 1 < FACTOR <= %g; up to %d intervals "
+                             "separated by commas, e.g. 0.018 0.024 8, 0.035 0.040 8",
+                             ROD_MAX_REFINE_FACTOR, ROD_MAX_REFINES);
+        m->refine[m->refine_count++] = r;
+        at += used;
+        if (*at == ',') at++;
+    }
+    if (m->refine_count == 0)
+        return ini_error(doc, "rod", 0, "refine", err, errlen,
+                         "is empty; give S0 S1 FACTOR, or leave the key out for a uniform grid");
+    char why[512];
+    if (rod_grid_check(m, why, sizeof why))
+        return ini_error(doc, "rod", 0, "refine", err, errlen, "%s", why + strlen("refine: "));
+    return 0;
+}
+
 static int read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
 {
     static const struct {
@@ -103,7 +137,7 @@ static int read_rod(ini_doc *doc, rod_model *m, char *err, size_t errlen)
         check_positive(doc, "rod", "rotary_inertia_scale", m->rotary_inertia_scale,
                        "1 = physical rotary inertia rho I", err, errlen))
         return -1;
-    return 0;
+    return read_refine(doc, m, err, errlen);
 }
 
 static int read_solver(ini_doc *doc, rod_model *m, char *err, size_t errlen)
@@ -356,6 +390,7 @@ static int read_point_loads(ini_doc *doc, rod_model *m, const char *rod, char *e
         double ds = m->length / (m->nodes - 1);
         load.node = (int)lround(s / ds);
         if (load.node > m->nodes - 1) load.node = m->nodes - 1;
+        if (m->refine_count > 0) load.node = rod_grid_nearest_node(m, s);
         if (!m->point_loads) {
             m->point_loads = calloc((size_t)count, sizeof *m->point_loads);
             if (!m->point_loads)
@@ -964,6 +999,7 @@ static int derive_error(ini_doc *doc, const char *why, char *err, size_t errlen)
     static const struct { const char *key, *section; } keys[] = {
         {"origin", "rod"}, {"direction", "rod"}, {"shape", "rod"}, {"curvature", "rod"},
         {"initial_velocity", "rod"}, {"distributed_moment", "loads"}, {"needle", "ends"},
+        {"refine", "rod"},
         {"root_slide", "ends"}, {"tip_slide", "ends"}, {"root_motion", "ends"},
         {"tip_motion", "ends"}, {"root_twist", "ends"}, {"tip_twist", "ends"},
     };

@@ -7,7 +7,7 @@
  * with contact (the rod's part and contact's, friction and punctures
  * included) against differences of the whole residual, with a thread on
  * a skin pad and in the running suture while the needle pulls thread
- * through its punctures (contact_cases). */
+ * through its punctures (contact_cases). Graded grids (rod.refine) too. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -24,7 +24,7 @@
 
 typedef struct jacobian_case {
     const char *scene;
-    const char *set[8]; /* overrides, NULL-terminated */
+    const char *set[10]; /* overrides, NULL-terminated */
     int steps;          /* taken before the comparison */
 } jacobian_case;
 
@@ -42,6 +42,15 @@ static const jacobian_case cases[] = {
     {"skin_drop.ini", {NULL}, 60},
     {"buckling_twist.ini", {"rod.nodes=41", NULL}, 400},
     {"suture.ini", {"solver.dt=0.005", NULL}, 300}, /* 1.5 s in: the thread on the skin */
+    /* graded grids (rod.refine): each segment's own length and each node's cell */
+    {"impulse.ini", {"physics.planar=off", "rod.self_contact=no", "rod.refine=0 0.2 5, 0.6 0.7 3",
+                     NULL}, 20},
+    {"table2_450nN.ini", {"solver.scheme=implicit", "solver.dt=0.01", "physics.planar=off",
+                          "tip.frame=director", "solver.theta=0.5", "tip.moment=1e-7 -2e-7 3e-7",
+                          "rod.self_contact=no", "rod.refine=0.1 0.3 8", NULL}, 30},
+    {"impulse.ini", {"physics.planar=off", "rod.self_contact=no", "rod.refine=0.5 1 4",
+                     "ends.root=pinned", "loads.gravity=0 -1e-3 0", "loads.linear_damping=1e-4",
+                     NULL}, 20},
 };
 
 static int load(const jacobian_case *c, rod_model *m)

@@ -55,7 +55,9 @@
  * neighbours. A held end's mean velocity over the step returns it to its
  * place (or its slide's line, or its path) from wherever rounding left it,
  * so held ends never drift; the centreline is chained from a held end.
- * The planar path models only today's cantilever; every other case is 3-D. */
+ * The planar path models only today's cantilever; every other case is 3-D.
+ * A graded grid (rod.refine) replaces ds by each segment's ds_j and w_b by
+ * node b's cell (sim/rod_grid.h, where the orders of accuracy are). */
 #ifndef RODSIM_SIM_IMPLICIT_RESIDUAL_H
 #define RODSIM_SIM_IMPLICIT_RESIDUAL_H
 

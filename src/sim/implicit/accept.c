@@ -12,6 +12,7 @@
 #include "sim/implicit/planar.h"
 #include "sim/implicit/residual.h"
 #include "sim/implicit/start.h"
+#include "sim/rod_grid.h"
 #include "sim/instrument.h"
 
 /* The frames at the end of the step (a clamped end's from its path) and the
@@ -51,16 +52,20 @@ static void accept_centreline(const implicit_work *w, const rod_model *m, rod_st
     if (root->held || !tip_end->held) {
         if (root->held && !root->sliding) v3_copy(s->position, root->pos1);
         else v3_axpy(s->position, dt, &w->vbar[0]);
-        for (int j = 0; j + 1 < n; j++)
+        for (int j = 0; j + 1 < n; j++) {
+            const double ds = rod_segment_ds(m, j);
             for (int k = 0; k < 3; k++)
-                s->position[3 * (j + 1) + k] = s->position[3 * j + k] + m->ds * w->d3mid1[3 * j + k];
+                s->position[3 * (j + 1) + k] = s->position[3 * j + k] + ds * w->d3mid1[3 * j + k];
+        }
     } else {
         double *last = &s->position[3 * (n - 1)];
         if (!tip_end->sliding) v3_copy(last, tip_end->pos1);
         else v3_axpy(last, dt, &w->vbar[3 * (n - 1)]);
-        for (int j = n - 2; j >= 0; j--)
+        for (int j = n - 2; j >= 0; j--) {
+            const double ds = rod_segment_ds(m, j);
             for (int k = 0; k < 3; k++)
-                s->position[3 * j + k] = s->position[3 * (j + 1) + k] - m->ds * w->d3mid1[3 * j + k];
+                s->position[3 * j + k] = s->position[3 * (j + 1) + k] - ds * w->d3mid1[3 * j + k];
+        }
     }
 }
 
@@ -83,7 +88,7 @@ static void accept_velocities(const implicit_work *w, const rod_model *m, rod_st
         /* Q_mid^T N = exp(-h) Q_{b-1}^T N, h = ds/2 u, in the frame at the midpoint */
         double local[3], back[3];
         m3_mul_tv(local, &w->frame1[9 * (b - 1)], block_force(w, w->x, b));
-        v3_scale(back, &w->darboux1[3 * (b - 1)], -0.5 * m->ds);
+        v3_scale(back, &w->darboux1[3 * (b - 1)], -0.5 * rod_segment_ds(m, b - 1));
         v3_rotate(&s->contact_force[3 * (b - 1)], back, local);
     }
 }

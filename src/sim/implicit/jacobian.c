@@ -9,6 +9,7 @@
 #include "base/vec3_lanes.h"
 #include "sim/implicit/residual.h"
 #include "sim/rod.h"
+#include "sim/rod_grid.h"
 
 /* Finite-difference Jacobian into lu by a (2 reach + 1)-colouring of the
  * blocks (3 colours: 18 residual evaluations, 15 in the plane), where a
@@ -191,7 +192,7 @@ static int vbar_force_slope(const implicit_work *w, const rod_model *m, int i, i
 static inline __attribute__((always_inline)) void
 jacobian_segment(implicit_work *w, const rod_model *m, const double *turn, int j)
 {
-    const double ds = m->ds;
+    const double ds = rod_segment_ds(m, j);
     double *seg = w->jac_seg;
     double *d3l = &seg[36 * j], *d3r = d3l + 9, *dml = d3l + 18, *dmr = d3l + 27;
     const double *q = &w->frame1[9 * j];
@@ -277,7 +278,8 @@ LANES_TARGET static void jacobian_segments(implicit_work *w, const rod_model *m,
     const int segments = w->nodes - 1;
     const double ds = m->ds;
     int j = 0;
-    for (; j + LANES <= segments; j += LANES) {
+    /* a graded grid's segments one at a time (their lengths differ) */
+    for (; !m->segment_length && j + LANES <= segments; j += LANES) {
         lanes phi[3], h[3], bu[3], dar[3], th, tp;
         lanes_load3(dar, w->darboux1, j, 3);
         for (int k = 0; k < 3; k++) {
@@ -436,21 +438,36 @@ static void follower_tip_slopes(const implicit_work *w, const rod_model *m, doub
     }
 }
 
+/* A graded grid's 1 / (w_i (m / dt + theta c)) of node i, w_i its cell
+ * inside and its end segment's full length at an end (vbar_force_slope
+ * doubles it there) */
+static double node_push(const rod_model *m, int i, double dt)
+{
+    const double coeff = m->mass_per_length / dt + m->options.theta * m->linear_damping;
+    if (i == 0) return 1.0 / (rod_segment_ds(m, 0) * coeff);
+    if (i == m->nodes - 1) return 1.0 / (rod_segment_ds(m, m->nodes - 2) * coeff);
+    return 1.0 / (rod_cell_length(m, i) * coeff);
+}
+
 /* (3.14) rows of block b (segment j = b - 1):
  * (vbar_b - vbar_j) dt/ds - (d3_j(t+dt) - d3_j(t)) */
 static void constraint_rows(implicit_work *w, const rod_model *m, double dt, const double dtipf[9])
 {
     const int n = w->nodes;
-    const double theta = m->options.theta, ds = m->ds, c = m->linear_damping, dt_ds = dt / ds;
+    const double theta = m->options.theta, ds = m->ds, c = m->linear_damping;
     const double push = 1.0 / (ds * (m->mass_per_length / dt + theta * c));
-    const double *seg = w->jac_seg;
+    const double *seg = w->jac_seg, *graded = m->segment_length;
     for (int b = 1; b < n; b++) {
         const int j = b - 1;
+        const double dt_ds = dt / (graded ? graded[j] : ds);
+        /* a graded grid: each node's own compliance (its cell, residual.c) */
+        const double push_b = graded ? node_push(m, b, dt) : push;
+        const double push_j = graded ? node_push(m, j, dt) : push;
         double g[9];
         for (int cb = j; cb <= b + 1; cb++) {
             if (cb < 1 || cb > n - 1) continue;
-            if (vbar_force_slope(w, m, b, cb, push, g)) band_add3(w, b, 0, cb, 0, g, dt_ds);
-            if (vbar_force_slope(w, m, j, cb, push, g)) band_add3(w, b, 0, cb, 0, g, -dt_ds);
+            if (vbar_force_slope(w, m, b, cb, push_b, g)) band_add3(w, b, 0, cb, 0, g, dt_ds);
+            if (vbar_force_slope(w, m, j, cb, push_j, g)) band_add3(w, b, 0, cb, 0, g, -dt_ds);
         }
         if (b == n - 1 && !(w->ends[1].held && !w->ends[1].sliding) &&
             m->tip_frame == ROD_FRAME_DIRECTOR) {
@@ -464,7 +481,7 @@ static void constraint_rows(implicit_work *w, const rod_model *m, double dt, con
                     for (int bb = 0; bb < 3; bb++) ss[3 * a + bb] = e->slide[a] * e->slide[bb];
                 m3_mul(p, ss, p);
             }
-            band_add3(w, b, 0, b, 3, p, 2.0 * theta * push * dt_ds);
+            band_add3(w, b, 0, b, 3, p, 2.0 * theta * push_b * dt_ds);
         }
         band_add3(w, b, 0, j, 3, &seg[36 * j], -1.0);
         band_add3(w, b, 0, b, 3, &seg[36 * j + 9], -1.0);
@@ -480,7 +497,7 @@ static void own_omega_slope(const implicit_work *w, const rod_model *m, double d
 {
     const double theta = m->options.theta, ds = m->ds;
     const int left = b > 0, right = b < w->nodes - 1;
-    const double wb = (left && right) ? ds : 0.5 * ds;
+    const double wb = m->segment_length ? rod_cell_length(m, b) : (left && right) ? ds : 0.5 * ds;
     const double *om = block_omega(w, w->x, b), *inertia = m->rotary_inertia;
     double wbar[3], iw[3], sk[9], tmp[9];
     for (int k = 0; k < 3; k++) {
@@ -511,7 +528,7 @@ static void cell_moment_slopes(const implicit_work *w, const rod_model *m, int b
                                const double d3l[3], const double d3r[3], const double dtipm[9],
                                double dom[3][9], double dn[2][9])
 {
-    const double theta = m->options.theta, ds = m->ds;
+    const double theta = m->options.theta;
     const int left = b > 0, right = b < w->nodes - 1;
     const double *seg = w->jac_seg;
     double tmp[9];
@@ -525,6 +542,7 @@ static void cell_moment_slopes(const implicit_work *w, const rod_model *m, int b
             dom[1][k] += theta * s[18 + k];
             dom[2][k] += theta * s[27 + k];
         }
+        const double ds = rod_segment_ds(m, b);
         m3_mul(tmp, snr, s);     /* [N]x d3l */
         for (int k = 0; k < 9; k++) dom[1][k] -= 0.5 * ds * theta * tmp[k];
         m3_mul(tmp, snr, s + 9);
@@ -542,6 +560,7 @@ static void cell_moment_slopes(const implicit_work *w, const rod_model *m, int b
             dom[0][k] -= theta * s[18 + k];
             dom[1][k] -= theta * s[27 + k];
         }
+        const double ds = rod_segment_ds(m, b - 1);
         m3_mul(tmp, snl, s);
         for (int k = 0; k < 9; k++) dom[0][k] -= 0.5 * ds * theta * tmp[k];
         m3_mul(tmp, snl, s + 9);

@@ -14,6 +14,7 @@
 #include "sim/implicit/planar.h"
 #include "sim/rod.h"
 #include "sim/rod_geometry.h"
+#include "sim/rod_grid.h"
 
 void implicit_tip_load_global(const rod_model *m, double t, const double *tip_frame,
                               double force[3], double moment[3])
@@ -43,12 +44,21 @@ void implicit_elastic_state(const rod_model *m, const double *frame, double *dar
     }
 }
 
+/* Node b's cell length w_b (rod_grid.h): ds inside a uniform grid, ds/2 at
+ * an end (left, right: 1 where a segment is beside it). */
+static inline __attribute__((always_inline)) double cell_weight(const rod_model *m, int b,
+                                                                int left, int right)
+{
+    if (m->segment_length) return rod_cell_length(m, b);
+    return (left && right) ? m->ds : 0.5 * m->ds;
+}
+
 /* end_geometry's segment j, one at a time */
 static inline __attribute__((always_inline)) void
 end_geometry_segment(const rod_model *m, const double *frame, int j, double *darboux,
                      double *d3mid, double *moment)
 {
-    const double inv_ds = 1.0 / m->ds;
+    const double inv_ds = 1.0 / rod_segment_ds(m, j);
     double rel[9], phi[3], half[3], bu[3], e3[3] = {0.0, 0.0, 1.0}, local[3];
     const double *q = &frame[9 * j];
     m3_mul_tn(rel, q, &frame[9 * (j + 1)]);
@@ -78,14 +88,20 @@ LANES_TARGET static void end_geometry(const rod_model *m, const double *frame, d
     const int segments = m->nodes - 1;
     int j = 0;
     for (; j + LANES <= segments; j += LANES) {
-        lanes q[9], next[9], rel[9], phi[3], half[3], bu[3], dar[3], local[3], t;
+        lanes q[9], next[9], rel[9], phi[3], half[3], bu[3], dar[3], local[3], t, inv = {0.0};
+        inv += inv_ds;
+        if (m->segment_length) { /* a graded grid: each segment's own */
+            lanes ds;
+            memcpy(&ds, &m->segment_length[j], sizeof ds);
+            inv = 1.0 / ds;
+        }
         lanes_load9(q, frame, j, 9);
         lanes_load9(next, frame, j + 1, 9);
         lanes_mul_tn(rel, q, next);
         int series = lanes_log(phi, rel);
         if (series) {
             for (int k = 0; k < 3; k++) {
-                dar[k] = phi[k] * inv_ds;
+                dar[k] = phi[k] * inv;
                 half[k] = 0.5 * phi[k];
                 bu[k] = m->stiffness[k] * (dar[k] - m->intrinsic_curvature[k]);
             }
@@ -120,8 +136,8 @@ cell_moment(const implicit_work *w, const rod_model *m, const double *x, int b,
             double d3l[3], double d3r[3])
 {
     const int j = b - 1;
-    const double theta = m->options.theta, ds = m->ds;
-    const double wb = (left && right) ? ds : 0.5 * ds;
+    const double theta = m->options.theta;
+    const double wb = cell_weight(m, b, left, right);
     double cr[3];
     if (right) {
         const double *n_right = block_force(w, x, b + 1);
@@ -130,7 +146,7 @@ cell_moment(const implicit_work *w, const rod_model *m, const double *x, int b,
             d3r[k] = theta * w->d3mid1[3 * b + k] + (1.0 - theta) * w->d3mid0[3 * b + k];
         }
         v3_cross(cr, d3r, n_right);
-        v3_axpy(total, 0.5 * ds, cr);
+        v3_axpy(total, 0.5 * rod_segment_ds(m, b), cr);
     } else {
         v3_copy(total, tipm);
     }
@@ -141,7 +157,7 @@ cell_moment(const implicit_work *w, const rod_model *m, const double *x, int b,
             d3l[k] = theta * w->d3mid1[3 * j + k] + (1.0 - theta) * w->d3mid0[3 * j + k];
         }
         v3_cross(cr, d3l, n_left);
-        v3_axpy(total, 0.5 * ds, cr);
+        v3_axpy(total, 0.5 * rod_segment_ds(m, j), cr);
     }
     if (w->distributed_moment) v3_axpy(total, wb, m->distributed_moment);
     if (w->point_moment) v3_axpy(total, w->point_factor, &w->point_moment[3 * b]);
@@ -163,8 +179,8 @@ angular_balance(const implicit_work *w, const rod_model *m, const double *x, int
                 const double tipm[3], const double *frame_th, const double om[3], double raw[3],
                 const int left, const int right)
 {
-    const double theta = m->options.theta, ds = m->ds;
-    const double wb = (left && right) ? ds : 0.5 * ds;
+    const double theta = m->options.theta;
+    const double wb = cell_weight(m, b, left, right);
     double total[3], d3l[3], d3r[3];
     cell_moment(w, m, x, b, tipm, left, right, total, d3l, d3r);
     double body[3], wbar[3], iw[3], gyro[3];
@@ -241,8 +257,8 @@ static void end_velocity(implicit_work *w, const rod_model *m, const end_conditi
                          const double n_left[3], const double n_right[3], double dt,
                          double applied[3])
 {
-    const double theta = m->options.theta, wb = 0.5 * m->ds, c = m->linear_damping;
-    const double mass = m->mass_per_length;
+    const double theta = m->options.theta, c = m->linear_damping;
+    const double wb = 0.5 * rod_segment_ds(m, b == 0 ? 0 : b - 1), mass = m->mass_per_length;
     for (int k = 0; k < 3; k++) applied[k] = n_right[k] - n_left[k] + wb * m->distributed_force[k];
     if (w->point_force) v3_axpy(applied, w->point_factor, &w->point_force[3 * b]);
     if (w->cross && w->cross->has_load) v3_axpy(applied, 1.0, &w->cross->load[3 * b]);
@@ -313,11 +329,20 @@ LANES_TARGET static int interior_rows(const implicit_work *w, const rod_model *m
         lanes vb[3], vj[3], d31j[3], d30j[3], d31b[3], d30b[3], m1b[3], m0b[3], m1j[3], m0j[3];
         lanes nl[3], nr[3], om[3], om0[3], q[9], r[3], total[3], d3[3], cr[3], body[3];
         lanes wbar[3], iw[3], gyro[3];
+        /* the cells, the arms and dt / ds of the segments left (j) and right (b) */
+        lanes wbv = {0.0}, dt_dsv = {0.0}, arm_l = {0.0}, arm_r = {0.0};
+        wbv += wb, dt_dsv += dt_ds, arm_l += arm, arm_r += arm;
+        if (m->segment_length) {
+            lanes ds_l, ds_r;
+            memcpy(&ds_l, &m->segment_length[j], sizeof ds_l);
+            memcpy(&ds_r, &m->segment_length[b], sizeof ds_r);
+            wbv = 0.5 * (ds_l + ds_r), dt_dsv = dt / ds_l, arm_l = 0.5 * ds_l, arm_r = 0.5 * ds_r;
+        }
         lanes_load3(vb, w->vbar, b, 3);
         lanes_load3(vj, w->vbar, j, 3);
         lanes_load3(d31j, w->d3mid1, j, 3);
         lanes_load3(d30j, w->d3mid0, j, 3);
-        for (int k = 0; k < 3; k++) r[k] = (vb[k] - vj[k]) * dt_ds - (d31j[k] - d30j[k]);
+        for (int k = 0; k < 3; k++) r[k] = (vb[k] - vj[k]) * dt_dsv - (d31j[k] - d30j[k]);
         lanes_store3(res, b - first, BLOCK, r);
         /* cell_moment with segments on both sides */
         lanes_load3(m1b, w->moment1, b, 3);
@@ -330,7 +355,7 @@ LANES_TARGET static int interior_rows(const implicit_work *w, const rod_model *m
             d3[k] = theta * d31b[k] + (1.0 - theta) * d30b[k];
         }
         lanes_cross(cr, d3, nr);
-        for (int k = 0; k < 3; k++) total[k] += arm * cr[k];
+        for (int k = 0; k < 3; k++) total[k] += arm_r * cr[k];
         lanes_load3(m1j, w->moment1, j, 3);
         lanes_load3(m0j, w->moment0, j, 3);
         lanes_load3(nl, x, b - first, BLOCK);
@@ -339,9 +364,9 @@ LANES_TARGET static int interior_rows(const implicit_work *w, const rod_model *m
             d3[k] = theta * d31j[k] + (1.0 - theta) * d30j[k];
         }
         lanes_cross(cr, d3, nl);
-        for (int k = 0; k < 3; k++) total[k] += arm * cr[k];
+        for (int k = 0; k < 3; k++) total[k] += arm_l * cr[k];
         if (w->distributed_moment)
-            for (int k = 0; k < 3; k++) total[k] += wb * m->distributed_moment[k];
+            for (int k = 0; k < 3; k++) total[k] += wbv * m->distributed_moment[k];
         if (w->point_moment) {
             lanes point[3];
             lanes_load3(point, w->point_moment, b, 3);
@@ -358,8 +383,8 @@ LANES_TARGET static int interior_rows(const implicit_work *w, const rod_model *m
         }
         lanes_cross(gyro, wbar, iw);
         for (int k = 0; k < 3; k++) {
-            const lanes inertial = wb * (inertia[k] * (om[k] - om0[k]) * inv_dt + gyro[k]);
-            r[k] = (inertial - body[k] + wb * m->angular_damping * wbar[k]) * ms;
+            const lanes inertial = wbv * (inertia[k] * (om[k] - om0[k]) * inv_dt + gyro[k]);
+            r[k] = (inertial - body[k] + wbv * m->angular_damping * wbar[k]) * ms;
         }
         lanes_store3(res + 3, b - first, BLOCK, r);
     }
@@ -405,16 +430,20 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
     if (w->contact.want_jacobian) memset(w->contact.touched, 0, (size_t)n);
     const double keep = (mass * inv_dt - (1.0 - theta) * c) / (mass * inv_dt + theta * c);
     const double push = 1.0 / (ds * (mass * inv_dt + theta * c));
+    const double *graded = m->segment_length;
     for (int b = 1; b < n - 1; b++) {
         const double *n_left = block_force(w, x, b), *n_right = block_force(w, x, b + 1);
         double *v1 = &w->vel1[3 * b], *vb = &w->vbar[3 * b];
         const double *v0 = &w->vel0[3 * b];
+        /* a graded grid: node b's own cell w_b (rod_grid.h) */
+        const double wb = graded ? rod_cell_length(m, b) : ds;
+        const double push_b = graded ? 1.0 / (wb * (mass * inv_dt + theta * c)) : push;
         for (int k = 0; k < 3; k++) {
-            double f = n_right[k] - n_left[k] + ds * m->distributed_force[k];
-            v1[k] = keep * v0[k] + f * push;
+            double f = n_right[k] - n_left[k] + wb * m->distributed_force[k];
+            v1[k] = keep * v0[k] + f * push_b;
         }
         if (w->point_force)
-            v3_axpy(v1, w->point_factor * push, &w->point_force[3 * b]);
+            v3_axpy(v1, w->point_factor * push_b, &w->point_force[3 * b]);
         if (w->cross && w->cross->has_load) v3_axpy(v1, push, &w->cross->load[3 * b]);
         for (int k = 0; k < 3; k++) vb[k] = theta * v1[k] + (1.0 - theta) * v0[k];
         if (contact && w->contact.surface_count) surface_contact_node(&w->contact, m, b, push, dt);
@@ -457,8 +486,9 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
     for (int b = interior_rows(w, m, x, dt, res); b < n; b++) {
         double *r = &res[BLOCK * (b - first)];
         const int j = b - 1; /* segment to the left of node b */
+        const double dt_dsj = graded ? dt / graded[j] : dt_ds;
         for (int k = 0; k < 3; k++)
-            r[k] = (w->vbar[3 * b + k] - w->vbar[3 * j + k]) * dt_ds -
+            r[k] = (w->vbar[3 * b + k] - w->vbar[3 * j + k]) * dt_dsj -
                    (w->d3mid1[3 * j + k] - w->d3mid0[3 * j + k]);
         if (b == n - 1) break;
         double raw[3];
@@ -476,13 +506,14 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
 void implicit_end_reactions(implicit_work *w, const rod_model *m, double t, double dt)
 {
     const int n = w->nodes;
-    const double theta = m->options.theta, c = m->linear_damping, wb = 0.5 * m->ds;
+    const double theta = m->options.theta, c = m->linear_damping;
     const double *frame_th = theta < 1.0 ? w->frame_th : w->frame1;
     double tipf[3], tipm[3];
     implicit_tip_load_mean(w, m, t, dt, frame_th, tipf, tipm);
     for (int which = 0; which < 2; which++) {
         end_condition *e = &w->ends[which];
         const int b = which ? n - 1 : 0;
+        const double wb = 0.5 * rod_segment_ds(m, which ? n - 2 : 0);
         v3_set(e->reaction, 0.0, 0.0, 0.0);
         v3_set(e->reaction_moment, 0.0, 0.0, 0.0);
         if (!e->held) continue;

@@ -9,6 +9,7 @@
 #include "base/vec3.h"
 #include "sim/rod.h"
 #include "sim/rod_geometry.h"
+#include "sim/rod_grid.h"
 
 void implicit_destroy(implicit_work *w)
 {
@@ -112,7 +113,8 @@ static void choose_layout(implicit_work *w, const rod_model *m)
                 vector_zero(m->intrinsic_curvature) && m->point_load_count == 0 &&
                 vector_zero(m->distributed_moment) && !m->initial_shape &&
                 m->initial_velocity[2] == 0.0 && m->direction[2] == 0.0 &&
-                m->surface_count == 0 && m->puncture_count == 0 && m->instrument_count == 0;
+                m->surface_count == 0 && m->puncture_count == 0 && m->instrument_count == 0 &&
+                !m->segment_length; /* planar.c is written for a uniform grid */
     w->planar = m->physics.planar && rod_model_loads_planar(m) && plain;
     w->distributed_moment = !vector_zero(m->distributed_moment);
     w->first = (w->planar || ends[0].clamped) ? 1 : 0;
@@ -243,6 +245,9 @@ implicit_work *implicit_create(const rod_model *m, char *err, size_t errlen)
 {
     end_condition ends[2];
     if (read_ends(m, ends, err, errlen)) return NULL;
+    if (m->segment_length && m->between_rods &&
+        rod_grid_refuse(m, "contact between rods", err, errlen))
+        return NULL;
     implicit_work *w = calloc(1, sizeof *w);
     if (!w) goto oom;
     memcpy(w->ends, ends, sizeof ends);
