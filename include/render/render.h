@@ -41,6 +41,9 @@ int render_recording(const rod_recording *rec, const render_options *o, const ch
  * recording itself), then render_stream_frame() is called total_frames
  * times, in order, with a recording whose frame 0 is the run's first (the
  * clamp and the stripe's material direction) and `frame` the one to draw.
+ * A frame drawn is a function of `extent`, o and the frame alone, not of
+ * the frames drawn before it; only render.color = speed takes its
+ * difference with the frame given before (the order matters for it).
  * render_stream_finish() completes the outputs (0, or -1 with a message);
  * render_stream_destroy() frees, discarding what is not finished. */
 typedef struct render_stream render_stream;

@@ -888,6 +888,198 @@ static void test_smooth_tube(void)
     test_remove_tree(dir);
 }
 
+/* A rod that bends, lifts, crosses the picture and comes back, its tip load
+ * growing: every part of the picture that could keep something of the
+ * frame before (the overlay's time and loads, the arrows, the shadows on a
+ * pad, the speed's colours) changes from one frame to the next. */
+static rod_recording *moving_rod(int frames)
+{
+    rod_recording *rec = synthetic_recording_create(41, frames, 1.0, 0.01);
+    rec->ends[0].kind = RECORDING_END_FREE;
+    for (int f = 0; f < frames; f++) {
+        synthetic_arc(rec, f, f % 3 == 0 ? INFINITY : 0.4 + 0.2 * f, 2.0);
+        for (int k = 0; k < rec->nodes; k++) {
+            double *q = &rec->position[3 * ((size_t)f * (size_t)rec->nodes + (size_t)k)];
+            const int out_and_back = f <= frames / 2 ? f : frames - f;
+            q[0] += 0.3 * out_and_back / frames;
+            q[1] += 0.05 * out_and_back;
+            q[2] += 0.02 * (f % 2);
+        }
+        rec->time[f] = 0.25 * f;
+        rec->tip_force[3 * f + 1] = 0.1 * f;
+        rec->tip_moment[3 * f + 2] = 0.01 * (frames - f);
+    }
+    return rec;
+}
+
+/* Frame k drawn alone, as a poster-only render draws it (a fresh renderer
+ * given frame k - 1 for the speed's colours, then frame k): the poster
+ * dir/STEM.png. 0, or -1 (reported). */
+static int frame_alone(const rod_recording *rec, const render_options *seq, const char *dir,
+                       const char *stem, int k)
+{
+    render_options o = *seq;
+    o.frames_png = 0;
+    o.poster = 1;
+    char err[1024];
+    render_stream *st = render_stream_begin(rec, &o, dir, stem, 0, k > 0 ? 2 : 1, err, sizeof err);
+    int status = st ? 0 : -1;
+    if (!status && k > 0) status = render_stream_frame(st, rec, k - 1, err, sizeof err);
+    if (!status) status = render_stream_frame(st, rec, k, err, sizeof err);
+    if (!status) status = render_stream_finish(st, err, sizeof err);
+    render_stream_destroy(st);
+    check(status == 0, "%s: frame %d drawn alone (%s)", stem, k, status ? err : "ok");
+    return status;
+}
+
+/* Pixels of a and b (same size) that differ, and the largest difference
+ * of a channel (0..255) in *most. */
+static long pixels_differing(const image *a, const image *b, int *most)
+{
+    long count = 0;
+    *most = 0;
+    for (size_t i = 0; i < (size_t)a->width * (size_t)a->height; i++) {
+        int d = 0;
+        for (int c = 0; c < 3; c++) {
+            int e = abs(a->rgb[3 * i + c] - b->rgb[3 * i + c]);
+            d = e > d ? e : d;
+        }
+        count += d > 0;
+        *most = d > *most ? d : *most;
+    }
+    return count;
+}
+
+/* The frames of the sequence `name` (name_frames/NNNNN.png) that the
+ * frames of `other` (other_frames/NNNNN.png, or other.png when count is 1)
+ * are: frame order[j] against other's j-th. Prints each; returns the
+ * pixels that differ in all, the largest difference in *most, the pairs
+ * compared in *compared. */
+static long compare_frames(const char *dir, const char *name, const char *other, const int *order,
+                           int count, int *most, int *compared)
+{
+    long total = 0;
+    *most = 0;
+    *compared = 0;
+    for (int j = 0; j < count; j++) {
+        char a_path[1400], b_path[1400], err[512];
+        snprintf(a_path, sizeof a_path, "%s/%s_frames/%05d.png", dir, name, order[j]);
+        if (count == 1) snprintf(b_path, sizeof b_path, "%s/%s.png", dir, other);
+        else snprintf(b_path, sizeof b_path, "%s/%s_frames/%05d.png", dir, other, j);
+        image *a = image_read_png(a_path, err, sizeof err), *b = image_read_png(b_path, err, sizeof err);
+        if (a && b && a->width == b->width && a->height == b->height) {
+            int largest;
+            long differ = pixels_differing(a, b, &largest);
+            printf("     %s frame %d against %s's %s %d: %ld pixels differ, largest difference "
+                   "%d\n", name, order[j], other, count == 1 ? "poster" : "frame", j, differ,
+                   largest);
+            total += differ;
+            *most = largest > *most ? largest : *most;
+            ++*compared;
+        }
+        image_destroy(a);
+        image_destroy(b);
+    }
+    return total;
+}
+
+/* A frame is a function of the run and of which frame it is, not of what
+ * was drawn before it (the queue slot it is drawn in place over, the
+ * receivers' cache, FXAA's luma of the last boxes, the shadow map cleared
+ * only where it was drawn): the frames of a video drawn in order are byte
+ * for byte the same frames drawn by a second renderer in another order,
+ * each after a frame far from it, and a frame drawn alone by a fresh
+ * renderer (a poster-only render), in three set-ups that take the
+ * renderer's different paths. The poster is the last frame. */
+static void test_frame_alone(void)
+{
+    enum { FRAMES = 9 };
+    const int shuffled[FRAMES] = {8, 0, 7, 1, 6, 2, 5, 3, 4};
+    char dir[256];
+    make_temp_dir(dir, sizeof dir, "alone");
+    rod_recording *rec = moving_rod(FRAMES);
+    /* a tissue pad under the rod: its shadows, the text's halos over it */
+    recording_surface pad = {.shape = RECORDING_SURFACE_BOX, .center = {0.6, 0.25, -0.08},
+                             .size = {1.4, 0.8, 0.04}, .tissue = 1};
+    if (synthetic_recording_surfaces(rec, &pad, 1)) check(0, "out of memory for the pad");
+    render_options base;
+    render_options_default(&base);
+    base.width = 480;
+    base.height = 270;
+    base.frames_png = 1;
+    base.poster = 1;
+    /* one title for every output (not their names) */
+    snprintf(base.title, sizeof base.title, "frames alone");
+    const char *names[] = {"still", "follow", "views"};
+    for (int setup = 0; setup < 3; setup++) {
+        render_options o = base;
+        if (setup > 0) { /* the GL's whole-picture paths need fewer pixels to show */
+            o.width = 320;
+            o.height = 180;
+        }
+        if (setup == 1) { /* the camera follows: the whole picture drawn by GL each frame */
+            o.framing = RENDER_FRAMING_FOLLOW;
+        } else if (setup == 2) { /* multisampled, two views side by side */
+            o.antialias = RENDER_AA_MSAA;
+            o.view_count = 2;
+            o.views[0] = RENDER_VIEW_PERSPECTIVE;
+            o.views[1] = RENDER_VIEW_TOP;
+        }
+        char err[1024], other[160];
+        int status = render_recording(rec, &o, dir, names[setup], 0, err, sizeof err);
+        if (!check(status == 0, "%s: the sequence renders (%s)", names[setup], status ? err : "ok"))
+            continue;
+        /* the same frames out of order: each drawn over one far from it */
+        snprintf(other, sizeof other, "%s_shuffled", names[setup]);
+        render_stream *st = render_stream_begin(rec, &o, dir, other, 0, FRAMES, err, sizeof err);
+        status = st ? 0 : -1;
+        for (int j = 0; !status && j < FRAMES; j++)
+            status = render_stream_frame(st, rec, shuffled[j], err, sizeof err);
+        if (!status) status = render_stream_finish(st, err, sizeof err);
+        render_stream_destroy(st);
+        int most, compared;
+        long differ = status ? -1 : compare_frames(dir, names[setup], other, shuffled, FRAMES,
+                                                   &most, &compared);
+        check(differ == 0 && compared == FRAMES,
+              "%s: each of %d frames drawn in order is byte for byte the frame drawn out of "
+              "order (%d compared, %ld pixels differ, largest difference %d; expected 0)",
+              names[setup], FRAMES, status ? 0 : compared, differ, status ? -1 : most);
+        /* the comparison has something to catch: the frames change as the rod moves */
+        int after[FRAMES - 1], largest, pairs;
+        for (int k = 0; k + 1 < FRAMES; k++) after[k] = k + 1;
+        long moved = compare_frames(dir, names[setup], names[setup], after, FRAMES - 1, &largest,
+                                    &pairs);
+        check(pairs == FRAMES - 1 && moved > 100L * (FRAMES - 1),
+              "%s: each frame differs from the one before (%ld pixels in all, > 100 a frame)",
+              names[setup], moved);
+        /* the poster is the last frame */
+        const int last = FRAMES - 1;
+        differ = compare_frames(dir, names[setup], names[setup], &last, 1, &most, &compared);
+        check(differ == 0 && compared == 1, "%s: the poster is the last frame (%ld pixels differ)",
+              names[setup], differ);
+    }
+    /* frames drawn alone, as a poster-only render draws them (the frame before given for
+     * the speed's colours) */
+    render_options o = base;
+    o.color = RENDER_COLOR_SPEED;
+    char err[1024];
+    int status = render_recording(rec, &o, dir, "speed", 0, err, sizeof err);
+    check(status == 0, "speed: the sequence renders (%s)", status ? err : "ok");
+    const int alone[] = {1, 5, FRAMES - 1};
+    for (int j = 0; status == 0 && j < 3; j++) {
+        char stem[64];
+        snprintf(stem, sizeof stem, "speed_alone_%d", alone[j]);
+        if (frame_alone(rec, &o, dir, stem, alone[j])) continue;
+        int most, compared;
+        long differ = compare_frames(dir, "speed", stem, &alone[j], 1, &most, &compared);
+        check(differ == 0 && compared == 1, "speed: frame %d drawn alone is byte for byte the "
+              "frame drawn in sequence (%ld pixels differ, largest difference %d; expected 0)",
+              alone[j], differ, most);
+    }
+    rod_recording_destroy(rec);
+    if (!getenv("RODSIM_TEST_KEEP")) test_remove_tree(dir);
+}
+
 int main(void)
 {
     test_stripe_geometry();
@@ -901,5 +1093,6 @@ int main(void)
     test_teaching_overlay();
     test_speed_and_magnify();
     test_smooth_tube();
+    test_frame_alone();
     return test_finish();
 }
