@@ -366,7 +366,7 @@ static int stall_site(const implicit_work *w, const rod_model *m, char *out, siz
     if (first_bad < 0)
         used = snprintf(out, len, "; its residual stayed largest (%.2g) in", big);
     used += snprintf(out + used, len - (size_t)used, " %s node %d of %d (s = %.4g m)", what, node,
-                     n, m->segment_length ? rod_node_arc(m, node) : node * m->ds);
+                     n, rod_node_arc(m, node));
     /* a surface within a quarter diameter of a node at the step's start (the
      * last evaluation may have left contact out: a Jacobian's differences) */
     int touching = 0;
