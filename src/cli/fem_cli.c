@@ -705,7 +705,7 @@ static void usage(FILE *out)
             "  --svg FILE   the same figure as SVG too (text as text, for papers; needs no GL)\n"
             "  -o DIR       directory of the figure (default out)\n"
             "Exit status: 0 done, 2 bad input (an output path that cannot be used too:\n"
-            "refused before any work) or a mechanism, 1 other failure.\n");
+            "refused before any work) or a mechanism, 1 other failure; 130 SIGINT, 143 SIGTERM.\n");
 }
 
 /* Linear theory holds for small displacements only (see FEM_WARN_*): warns

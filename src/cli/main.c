@@ -72,7 +72,8 @@ static void usage(FILE *f)
                "  rodsim help scene     every key of a rod scene (run), as a Markdown table\n"
                "  rodsim help beam      every key of a beam scene (fem), as a Markdown table\n");
     fprintf(f, "\nexit status: 0 success, 2 bad input or usage (or a numerically unstable run),\n"
-               "1 any other failure.\n");
+               "1 any other failure, 130 stopped by SIGINT (Ctrl-C), 143 by SIGTERM (unfinished\n"
+               "outputs removed; live ends its session instead: 0).\n");
 }
 
 /* `rodsim help [COMMAND | scene | beam]`: argv[0] is "help". */

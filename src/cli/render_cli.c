@@ -47,7 +47,8 @@ void render_usage(FILE *f)
             "  -o DIR                  directory for the video (default out/)\n"
             "  --allow-long, --quiet   as for rodsim run\n"
             "Exit status: 0 success; 2 bad usage, a record or scene that cannot be read;\n"
-            "1 any other failure. Nothing is written unless the whole video is.\n");
+            "1 any other failure; 130 SIGINT, 143 SIGTERM. Nothing is written unless the whole\n"
+            "video is.\n");
 }
 
 /* What a record holds, read by record_scan. */

@@ -209,7 +209,8 @@ static void usage(FILE *f)
             "  --png FILE   the map: largest stable dt against NS, log-log\n"
             "  --jobs N     rows computed by N processes at a time (default 1)\n"
             "exit status: 0 every run completed or stopped with the scheme's message; 1 a finding\n"
-            "(crash, hang, NaN without a message) or an output not written; 2 usage.\n");
+            "(crash, hang, NaN without a message) or an output not written; 2 usage; 130 SIGINT,\n"
+            "143 SIGTERM.\n");
 }
 
 /* The grid over the schemes: the table, then the CSV and the map. An exit

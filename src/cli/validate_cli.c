@@ -73,7 +73,8 @@ static void usage(FILE *out)
             "  --csv FILE     also the rows as CSV (- for stdout, then no table)\n"
             "  --jobs N       N worker processes (1..64; default 1)\n"
             "  --print-commands  one command line per point instead of running them\n"
-            "exit status: 0 every applicable row ran (errors are data), 1 a run failed, 2 usage.\n");
+            "exit status: 0 every applicable row ran (errors are data), 1 a run failed, 2 usage;\n"
+            "130 SIGINT, 143 SIGTERM.\n");
 }
 
 static int parse_int(const char *text, long lo, long hi, int *out)

@@ -206,6 +206,20 @@ static void test_usage(void)
           "unknown option: exit 2, named");
     const char *no_scene[] = {"run", NULL};
     check(test_run_rodsim(no_scene, output, sizeof output) == 2, "run without SCENE: exit 2");
+
+    /* every help that lists exit statuses lists the signals' too (every
+     * command stops with them: test_signals) */
+    static const char *const commands[] = {NULL, "run", "fem", "render", "stability", "validate"};
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
+        const char *args[] = {commands[i] ? commands[i] : "--help", "--help", NULL};
+        if (!commands[i]) args[1] = NULL;
+        int status = test_run_rodsim(args, output, sizeof output);
+        const char *listed = strstr(output, "xit status");
+        check(status == 0 && listed && strstr(listed, "130") && strstr(listed, "SIGINT") &&
+                  strstr(listed, "143") && strstr(listed, "SIGTERM"),
+              "rodsim %s%s--help: its exit statuses name 130 (SIGINT) and 143 (SIGTERM)",
+              commands[i] ? commands[i] : "", commands[i] ? " " : "");
+    }
 }
 
 /* Reads the CSV: returns rows (excluding the header) and checks each row. */

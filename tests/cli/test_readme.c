@@ -5,9 +5,9 @@
  * the README is at most 30 KB and every
  * repository path it names exists. The exit statuses a signal gives (128 +
  * the signal: 130 SIGINT, 143 SIGTERM; every command but live takes them
- * through outfile's cleanup handler) are in the sentence on every command's
- * exit status (README, docs/commands.md) and in the prose of
- * docs/commands.md's run section. */
+ * through outfile's cleanup handler) are in `rodsim help` as the README
+ * shows it, in docs/commands.md's sentence on every command's exit status
+ * and in the prose of docs/commands.md's run section. */
 #include <signal.h>
 #include <ctype.h>
 #include <dirent.h>
@@ -200,8 +200,8 @@ int main(void)
     if (check(text != NULL, "README.md reads")) {
         check(size <= 30 * 1024, "README.md is %ld bytes, at most 30 KB (%d)", size, 30 * 1024);
         test_paths_exist(text);
-        check_signal_statuses(text, "Exit status of every command", "\n\n",
-                              "README's exit status of every command");
+        check_signal_statuses(text, "<!-- generated: rodsim help -->", "<!-- end generated -->",
+                              "README's rodsim help (every command's exit status)");
     }
     free(text);
     /* docs/commands.md's run section: its prose after the generated --help,
