@@ -171,7 +171,14 @@ static int table2_decorate(plot *p, int ratio, double x_last)
         ty[i] = ratio ? table2_thesis_values[i] / table2_linear(table2_loads[i])
                       : table2_thesis_values[i] * 1e3;
     }
-    static const char *const labels[3] = {"0.0352 m", "0.0627 m", "0.0782 m"};
+    /* the thesis' values in the y axis' millimetres (the ratio figure's
+     * points are labelled with the same deflections) */
+    char text[3][24];
+    const char *labels[3];
+    for (int i = 0; i < 3; i++) {
+        snprintf(text[i], sizeof text[i], "%.1f mm", table2_thesis_values[i] * 1e3);
+        labels[i] = text[i];
+    }
     plot_style thesis = plot_style_line(0, 150, 60, 2.5, PLOT_SOLID);
     thesis.marker_size = 14;
     thesis.filled = 0;

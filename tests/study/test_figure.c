@@ -182,6 +182,19 @@ static void test_table2_values(void)
               "%s: 1200x800 with drawn data (%ld coloured pixels > 300)", pngs[k], coloured);
         image_destroy(img);
     }
+    /* the thesis' points are labelled in the deflection axis' unit: its table 2
+     * gives 0.0352, 0.0627, 0.0782 m at 450, 800, 1000 nN, the axis is in mm */
+    char svg_path[256];
+    snprintf(svg_path, sizeof svg_path, "%s/table2.svg", serial);
+    char *svg = read_text(svg_path);
+    static const char *const in_mm[3] = {">35.2 mm<", ">62.7 mm<", ">78.2 mm<"};
+    int labelled = 0;
+    for (int i = 0; i < 3; i++) labelled += svg && strstr(svg, in_mm[i]) != NULL;
+    check(svg && strstr(svg, "tip deflection y [mm]") && labelled == 3 && !strstr(svg, " m<"),
+          "table2.svg: axis in mm, %d of 3 thesis points labelled in mm (35.2, 62.7, 78.2), "
+          "none in m",
+          labelled);
+    free(svg);
     rod_model_release(&m);
     test_remove_tree(serial);
     test_remove_tree(parallel);
