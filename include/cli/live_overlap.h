@@ -5,8 +5,9 @@
  * line's row on its instrument's live path and the scene's path of a
  * needle holder holding the needle (the one path live does not replace). A
  * pair either of which has may_overlap = yes is not refused. The jaws
- * driven deeper than max_depth into a rigid surface are refused up front
- * as `rodsim run` refuses them (sim/instrument_path.h). */
+ * driven deeper than max_depth into a rigid surface are refused as
+ * `rodsim run` refuses them (sim/instrument_path.h): at the session's start
+ * and at each instrument line's pose (the line not stepped). */
 #ifndef RODSIM_CLI_LIVE_OVERLAP_H
 #define RODSIM_CLI_LIVE_OVERLAP_H
 
@@ -31,5 +32,14 @@ int live_jaws_start(const rod_model *m, const char *file, char *err, size_t errl
 /* A line's step from t0 to t1 (s), its rows pushed: 0, or -1 with the
  * overlap in words in text (rod_instruments_overlap_text). */
 int live_overlap_line(const rod_model *m, double t0, double t1, char *text, size_t n);
+
+/* Instrument k at its line's pose (time t, s, its row pushed): 0, or -1
+ * with "the forceps' jaws 4.20 mm into the rigid [surface] of line 30 at
+ * t = ..., deeper than max_depth = ..." in text (rod_instrument_jaws_too_deep).
+ * The pose asked for, not the way there: a line that turns the jaws back
+ * from near the limit (their path a cubic through the rows, sim/path.h)
+ * may overshoot by a fraction of a line's motion on the way, and checking
+ * it would refuse every line that turns back. */
+int live_jaws_line(const rod_model *m, int k, double t, char *text, size_t n);
 
 #endif

@@ -189,6 +189,7 @@ int live_try_row(live_session *ls, const double *row, double t, int hold, double
 void live_count_line(live_session *ls, int outcome, double gap);
 int live_tip_needle_row(live_session *ls, double t, int k, double *row);
 int live_refuse_overlap(live_session *ls, double t, int k, const char *text);
+int live_refuse_jaws(live_session *ls, double t, int k, const char *text);
 
 /* live_instrument.c: a line NAME:t,x,y,z,rx,ry,rz,jaw of an instrument */
 int live_line_instrument(const live_session *ls, const char *name, size_t len);

@@ -59,6 +59,17 @@ double rod_instrument_max_depth(const rod_instrument *in);
  * rod_instrument_max_depth into a rigid one; else 0. */
 int rod_instrument_path_intrusion(const rod_model *m, int k, rod_instrument_intrusion *out);
 
+/* The same over [t0, t1] only (rodsim live: the stretch one line adds). */
+int rod_instrument_path_intrusion_between(const rod_model *m, int k, double t0, double t1,
+                                          rod_instrument_intrusion *out);
+
+/* When hit's jaws go deeper than rod_instrument_max_depth into a rigid
+ * surface: 1 with "the forceps' jaws 2.10 mm into the rigid [surface] of
+ * line 30 at t = 0.800 s, deeper than max_depth = ...: the thread would be
+ * pressed into the surface" in out; else 0 (out empty). */
+int rod_instrument_jaws_too_deep(const rod_model *m, int k, const rod_instrument_intrusion *hit,
+                                 char *out, size_t n);
+
 /* The same as a warning for people into out: names `file`, the
  * [instrument]'s line, its name, the part that goes in first (jaws,
  * shanks, box lock), the first time, the depth (mm) and the [surface]'s

@@ -130,10 +130,12 @@ int live_step_instrument_line(live_session *ls, int k, const double *v)
     char overlap[LIVE_OVERLAP_LEN];
     if (!failed && push_instrument_row(ls, k, v, 0, err, sizeof err) == 0) {
         const int through = live_overlap_line(ls->model, before, v[0], overlap, sizeof overlap);
+        const int deep = !through && live_jaws_line(ls->model, k, v[0], overlap, sizeof overlap);
         pop_instrument_row(ls, k);
-        if (through) {
+        if (through || deep) {
             if (hold) pop_instrument_row(ls, k);
-            return live_refuse_overlap(ls, v[0], k, overlap);
+            return through ? live_refuse_overlap(ls, v[0], k, overlap)
+                           : live_refuse_jaws(ls, v[0], k, overlap);
         }
     }
     double velocity[6] = {0}, fraction = 1.0;

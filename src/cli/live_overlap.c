@@ -40,3 +40,10 @@ int live_jaws_start(const rod_model *m, const char *file, char *err, size_t errl
     if (errlen) err[0] = '\0'; /* a path only into a surface: not live's to say */
     return 0;
 }
+
+int live_jaws_line(const rod_model *m, int k, double t, char *text, size_t n)
+{
+    rod_instrument_intrusion hit;
+    rod_instrument_path_intrusion_between(m, k, t, t, &hit);
+    return rod_instrument_jaws_too_deep(m, k, &hit, text, n) ? -1 : 0;
+}

@@ -310,6 +310,11 @@ static int step_instrument(live_rods *lr, int i, const double *v, char *err, siz
         snprintf(err, errlen, "%s; not stepped: driven instruments cannot push each other "
                  "apart; answered with the last good state (t = %.9g s); may_overlap = yes in "
                  "either [instrument] allows it", overlap, now);
+    } else if (!failed && live_jaws_line(&lr->set.model[0], i, v[0], overlap, sizeof overlap)) {
+        failed = 1;
+        snprintf(err, errlen, "%s; not stepped; answered with the last good state (t = %.9g s); "
+                 "keep the jaws out of the surface, or raise [instrument] max_depth (m)",
+                 overlap, now);
     }
     if (!failed) {
         for (int j = 0; j < lr->set.count; j++) rod_state_copy(lr->good[j], lr->run.state[j]);

@@ -238,22 +238,37 @@ int live_tip_needle_row(live_session *ls, double t, int k, double *row)
 /* A line whose step would take an instrument through another (`text`,
  * live_overlap.h), instrument k's (-1: the tip's): nothing stepped, answered
  * failed with the last good state, said; the session goes on from it. */
-int live_refuse_overlap(live_session *ls, double t, int k, const char *text)
+/* A line refused before any step: answered failed with the last good state,
+ * said (kind: the run of like lines said once), recorded as not replayed. */
+static int refuse_line(live_session *ls, double t, int k, const char *kind, const char *text,
+                       const char *why, const char *remedy)
 {
     live_count_line(ls, LINE_FAILED, 0.0);
     if (k >= 0) live_print_instrument_answer(ls, k, "failed");
     else live_print_answer(ls, "failed");
-    live_complain(ls, "instruments through each other",
-                  " (t = %.9g s): %s%s%s; not stepped: driven instruments cannot push each other "
-                  "apart; answered with the last good state (t = %.9g s); may_overlap = yes in "
-                  "either [instrument] allows it", t, k >= 0 ? ls->model->instruments[k].name : "",
-                  k >= 0 ? "'s line: " : "", text, ls->state->time);
+    live_complain(ls, kind,
+                  " (t = %.9g s): %s%s%s; not stepped%s; answered with the last good state "
+                  "(t = %.9g s); %s", t, k >= 0 ? ls->model->instruments[k].name : "",
+                  k >= 0 ? "'s line: " : "", text, why, ls->state->time, remedy);
     if (ls->record) {
         fprintf(ls->record, "# input line %ld (t = %.17g s) failed: not replayed\n",
                 ls->line_no, t);
         live_record_check(ls);
     }
     return LINE_FAILED;
+}
+
+int live_refuse_overlap(live_session *ls, double t, int k, const char *text)
+{
+    return refuse_line(ls, t, k, "instruments through each other", text,
+                       ": driven instruments cannot push each other apart",
+                       "may_overlap = yes in either [instrument] allows it");
+}
+
+int live_refuse_jaws(live_session *ls, double t, int k, const char *text)
+{
+    return refuse_line(ls, t, k, "jaws into a surface", text, "",
+                       "keep the jaws out of the surface, or raise [instrument] max_depth (m)");
 }
 
 /* One data line, parsed into values[count], checked: stepped to (or part

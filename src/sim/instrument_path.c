@@ -126,13 +126,20 @@ static void check_at(const rod_model *m, const rod_capsule *c, int count, double
 int rod_instrument_path_intrusion(const rod_model *m, int k, rod_instrument_intrusion *out)
 {
     const rod_instrument *in = &m->instruments[k];
-    rod_instrument_intrusion found = {.t = -1.0, .surface = -1, .jaw_surface = -1};
     double t0 = rod_path_start(in->pose), t1 = rod_path_end(in->pose);
     if (in->jaw) {
         t0 = fmin(t0, rod_path_start(in->jaw));
         t1 = fmax(t1, rod_path_end(in->jaw));
     }
     if (m->options.duration > 0.0 && m->options.duration < t1) t1 = m->options.duration;
+    return rod_instrument_path_intrusion_between(m, k, t0, t1, out);
+}
+
+int rod_instrument_path_intrusion_between(const rod_model *m, int k, double t0, double t1,
+                                          rod_instrument_intrusion *out)
+{
+    const rod_instrument *in = &m->instruments[k];
+    rod_instrument_intrusion found = {.t = -1.0, .surface = -1, .jaw_surface = -1};
     if (t1 < t0) t1 = t0;
     double lj, rj, rs;
     rod_instrument_dimensions(in, &lj, &rj, &rs);
@@ -170,6 +177,30 @@ static void surface_where(const rod_model *m, int j, char *where, size_t n)
     else snprintf(where, n, "[surface] %d (%s)", j + 1, rod_surface_name(s->shape));
 }
 
+/* the possessive: "the forceps' jaws", "the needle holder's box lock" */
+static const char *owner_of(const rod_instrument *in)
+{
+    static const char *const whose[] = {"needle holder's", "forceps'", "scissors'"};
+    return (unsigned)in->kind < 3 ? whose[in->kind] : "instrument's";
+}
+
+int rod_instrument_jaws_too_deep(const rod_model *m, int k, const rod_instrument_intrusion *hit,
+                                 char *out, size_t n)
+{
+    if (n) out[0] = '\0';
+    const rod_instrument *in = &m->instruments[k];
+    const double limit = rod_instrument_max_depth(in);
+    if (!(hit->jaw_depth > limit)) return 0;
+    char where[64];
+    surface_where(m, hit->jaw_surface, where, sizeof where);
+    snprintf(out, n,
+             "the %s jaws %.2f mm into the rigid %s at t = %.3f s, deeper than max_depth = "
+             "%.2f mm (%s): the thread would be pressed into the surface",
+             owner_of(in), 1e3 * hit->jaw_depth, where, hit->jaw_t, 1e3 * limit,
+             in->max_depth > 0.0 ? "given" : "the jaws' thickness, when not given");
+    return 1;
+}
+
 int rod_instrument_path_warning(const rod_model *m, int k, const char *file, char *out,
                                 size_t n)
 {
@@ -177,21 +208,13 @@ int rod_instrument_path_warning(const rod_model *m, int k, const char *file, cha
     rod_instrument_intrusion hit;
     if (!rod_instrument_path_intrusion(m, k, &hit)) return 0;
     const rod_instrument *in = &m->instruments[k];
-    /* the possessive: "the forceps' jaws", "the needle holder's box lock" */
-    static const char *const whose[] = {"needle holder's", "forceps'", "scissors'"};
-    const char *owner = (unsigned)in->kind < 3 ? whose[in->kind] : "instrument's";
-    char where[64];
-    const double limit = rod_instrument_max_depth(in);
-    if (hit.jaw_depth > limit) {
-        surface_where(m, hit.jaw_surface, where, sizeof where);
+    const char *owner = owner_of(in);
+    char where[64], jaws[320];
+    if (rod_instrument_jaws_too_deep(m, k, &hit, jaws, sizeof jaws)) {
         snprintf(out, n,
-                 "%s:%d: [instrument] %s: the path drives the %s jaws %.2f mm into the rigid "
-                 "%s at t = %.3f s, deeper than max_depth = %.2f mm (%s): the thread would "
-                 "be pressed into the surface; move the path, or raise [instrument] max_depth "
-                 "(m)",
-                 file ? file : "scene", in->line, in->name, owner, 1e3 * hit.jaw_depth, where,
-                 hit.jaw_t, 1e3 * limit,
-                 in->max_depth > 0.0 ? "given" : "the jaws' thickness, when not given");
+                 "%s:%d: [instrument] %s: the path drives %s; move the path, or raise "
+                 "[instrument] max_depth (m)",
+                 file ? file : "scene", in->line, in->name, jaws);
         return -1;
     }
     if (hit.t < 0.0) return 0;

@@ -10,7 +10,9 @@
  * 7 numbers is refused (bad_input, the forceps' answer). Two threads
  * crossing (named rods): the forceps driven live take the upper at the
  * step rodsim run takes it, the answer names the rod, and both threads end
- * where the run leaves them. */
+ * where the run leaves them. Lines driving the forceps' jaws deeper than
+ * max_depth into a pad are answered failed, not stepped, with the depth,
+ * the surface and the key (test_jaws_into_surface). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -258,10 +260,95 @@ done:
     free(rows);
 }
 
+/* The forceps driven open straight down beside the thread's middle, into
+ * the left pad (its top z = 0, grasp_lift.ini's [surface] of line 33) at
+ * 1 cm in 0.6 s, then back up: while their tips stay above the top, the
+ * jaws are at most their radius deep (under max_depth = 1 mm, set) and
+ * every line is stepped; the first line taking them deeper is answered
+ * failed with the depth, the surface's line and the key, not stepped, and
+ * so is every line deeper; a line back above the pad is stepped again. As
+ * `rodsim run` refuses such a path up front (sim/instrument_path.h). */
+static void test_jaws_into_surface(void)
+{
+    char lines[128], answers[128], log[128], cmd[1024];
+    snprintf(lines, sizeof lines, "%s/deep_lines.txt", dir);
+    snprintf(answers, sizeof answers, "%s/deep_answers.csv", dir);
+    snprintf(log, sizeof log, "%s/deep.log", dir);
+    const char *rv = "1.2091996,1.2091996,-1.2091996";
+    enum { DOWN = 120, UP = 10 };
+    double tip_z[DOWN + UP];
+    FILE *f = fopen(lines, "w");
+    if (!f) return;
+    for (int i = 0; i < DOWN + UP; i++) {
+        const double t = 0.005 * (i + 1);
+        tip_z[i] = i < DOWN ? 0.03 - 0.04 * t / 0.6 : 0.03;
+        fprintf(f, "forceps:%.3f,0.05,0,%.6f,%s,1\n", t, tip_z[i], rv);
+    }
+    fclose(f);
+    snprintf(cmd, sizeof cmd,
+             "%s live scenes/grasp_lift.ini --set instrument.forceps.max_depth=0.001 < %s > %s "
+             "2> %s", RODSIM_BIN, lines, answers, log);
+    const int rc = system(cmd);
+    char *ans = read_all(answers), *said = read_all(log);
+    if (!check(rc == 0 && ans && said, "jaws into the pad: live ended (status %d)", rc)) goto done;
+    int row = -1, above_failed = 0, first_refused = -1, deep_ok = 0, back_ok = 0;
+    for (char *line = strtok(ans, "\n"); line; line = strtok(NULL, "\n")) {
+        if (strncmp(line, "forceps,", 8) != 0) continue;
+        row++;
+        const int ok = strstr(line, ",ok") != NULL;
+        if (row >= DOWN + UP) break;
+        if (row >= DOWN) back_ok += ok;
+        else if (tip_z[row] >= 0.0) above_failed += !ok;
+        else if (!ok && first_refused < 0) first_refused = row;
+        else if (ok && first_refused >= 0) deep_ok++;
+    }
+    const char *msg = strstr(said, "the forceps' jaws ");
+    const double depth = msg ? atof(msg + strlen("the forceps' jaws ")) : 0.0;
+    check(row + 1 == DOWN + UP && above_failed == 0 && first_refused > 0 && deep_ok == 0 &&
+              back_ok == UP,
+          "jaws into the pad: %d answers; lines with the tips above the top refused %d (want 0); "
+          "the first refused at tip z = %.2f mm (below the top), none deeper stepped (%d), "
+          "%d of %d back above stepped",
+          row + 1, above_failed, first_refused >= 0 ? 1e3 * tip_z[first_refused] : 0.0, deep_ok,
+          back_ok, UP);
+    check(first_refused > 0 && tip_z[first_refused] < 0.0 && msg && depth > 1.0 &&
+              strstr(msg, "[surface] of line 33") && strstr(msg, "max_depth = 1.00 mm") &&
+              strstr(msg, "not stepped"),
+          "jaws into the pad: the message gives the depth %.2f mm > max_depth 1 mm, the "
+          "[surface]'s line and the key: '%.160s'",
+          depth, msg ? msg : "");
+    /* named rods (test_two_rods' scene, the same pad under the forceps): the
+     * same lines refused */
+    snprintf(cmd, sizeof cmd,
+             "%s live %s/two.ini --set instrument.forceps.max_depth=0.001 < %s 2>/dev/null",
+             RODSIM_BIN, dir, lines);
+    FILE *p = popen(cmd, "r");
+    char line[512];
+    int named_row = -1, named_first = -1, named_refused = 0;
+    while (p && fgets(line, sizeof line, p)) {
+        if (strncmp(line, "forceps,", 8) != 0) continue;
+        named_row++;
+        if (strstr(line, ",failed")) {
+            named_refused++;
+            if (named_first < 0) named_first = named_row;
+        }
+    }
+    const int named_rc = p ? pclose(p) : -1;
+    int refused = 0;
+    for (int i = first_refused; i >= 0 && i < DOWN; i++) refused++;
+    check(named_rc == 0 && named_first == first_refused && named_refused == refused,
+          "jaws into the pad, named rods: line %d first refused (one rod: %d), %d refused (%d)",
+          named_first + 1, first_refused + 1, named_refused, refused);
+done:
+    free(ans);
+    free(said);
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "%s", test_dir());
     test_live_against_run();
     test_two_rods();
+    test_jaws_into_surface();
     return test_finish();
 }
