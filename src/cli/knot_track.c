@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "base/clocks.h"
+#include "sim/rod_grid.h"
 
 void knot_track_init(knot_track *k, int nodes)
 {
@@ -110,11 +111,30 @@ int knot_track_is_forming(const rod_knot *k)
  * (segments); the root when within reach of both (an instrument tie draws
  * the held tail, the root, through the loop while the long end lies in
  * touching turns near the tip) */
+/* Whether node `node` (the count segments from end `which`'s node) lies
+ * within slip_reach of that end; on a graded grid by arc length from the
+ * end: as the uniform count ceil(x / ds) >= count, the node count - 1 from
+ * the end less than 3 d or that count - 2 less than twice moved along it,
+ * or at most 6 segments */
+static int within_reach(const rod_model *m, double moved, int which, int count)
+{
+    if (!m->segment_length) return count <= slip_reach(m, moved);
+    if (count <= 6) return 1;
+    const double length = rod_node_arc(m, m->nodes - 1);
+    const int a = which ? m->nodes - 1 - (count - 1) : count - 1;
+    const int b = which ? m->nodes - 1 - (count - 2) : count - 2;
+    const double arc_a = which ? length - rod_node_arc(m, a) : rod_node_arc(m, a);
+    const double arc_b = which ? length - rod_node_arc(m, b) : rod_node_arc(m, b);
+    return arc_a < 3.0 * m->diameter || arc_b < 2.0 * moved;
+}
+
 static int change_end(const knot_track *k, const rod_model *m, int nodes, int *reach_out)
 {
-    const int reach = slip_reach(m, k->moved), last = nodes - 1;
-    if (k->touch_lo >= 0 && k->touch_lo <= reach) return *reach_out = k->touch_lo, 0;
-    if (k->touch_hi >= 0 && last - k->touch_hi <= reach) return *reach_out = last - k->touch_hi, 1;
+    const int last = nodes - 1;
+    if (k->touch_lo >= 0 && within_reach(m, k->moved, 0, k->touch_lo))
+        return *reach_out = k->touch_lo, 0;
+    if (k->touch_hi >= 0 && within_reach(m, k->moved, 1, last - k->touch_hi))
+        return *reach_out = last - k->touch_hi, 1;
     return -1;
 }
 
@@ -226,6 +246,8 @@ double knot_track_rope(const knot_track *k, const rod_model *m)
     if (k->frames == 0 || !is_knot(&k->last) || k->touch_lo < 0 || k->touch_time != k->last_time)
         return NAN;
     /* the arc between the outermost nodes the strands press on */
+    if (m->segment_length)
+        return (rod_node_arc(m, k->touch_hi) - rod_node_arc(m, k->touch_lo)) / m->diameter;
     return (k->touch_hi - k->touch_lo) * m->ds / m->diameter;
 }
 

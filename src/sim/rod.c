@@ -497,7 +497,6 @@ static int derive_grid(rod_model *m, char *err, size_t errlen)
     if (rod_grid_check(m, err, errlen)) return -1;
     const char *part = NULL;
     if (m->options.scheme != ROD_SCHEME_IMPLICIT) part = "the thesis and static schemes";
-    else if (m->self_contact) part = "self-contact (rod.self_contact = yes)";
     else if (m->surface_count > 0) part = "a [surface]";
     else if (m->puncture_count > 0) part = "a [puncture]";
     else if (m->instrument_count > 0) part = "an [instrument]";

@@ -32,6 +32,7 @@
 #include "cli/scene_outputs.h"
 #include "test.h"
 #include "sim/rod.h"
+#include "sim/rod_grid.h"
 
 #define NODES 401
 #define TURN (0.97 * 2.0 * M_PI)
@@ -211,8 +212,58 @@ static void tied_at_an_end(rod_model *m)
     knot_track_release(&k);
 }
 
+/* A graded grid (rod.refine = 0 0.1 5 on 1 m, 400 segments: the stretched
+ * length 0.1 x 5 + 0.9 = 1.4 m over 400, so ds = 0.7 mm for 0.1 m at the
+ * root and 3.5 mm beyond): the tracker measures along the rod. Strands
+ * touching 8 segments from the root (5.6 mm of rod, within 3 d = 6 mm of
+ * the end) tie the knot at the root end (these frames move the tail by
+ * decimetres, so the slide alone puts any touch near the root within
+ * reach). The knot's rope between nodes 2 and 300
+ * is 0.65 - 0.0014 m (the last 100 segments 3.5 mm: 1 - 0.35; the first
+ * two 0.7 mm), 324.3 d (the uniform count would say 298 x 2.5 mm = 372.5
+ * d). */
+static void graded_grid(void)
+{
+    rod_model m = rod_model_default();
+    m.nodes = NODES;
+    m.diameter = 0.002;
+    m.self_contact = 1;
+    m.refine_count = 1;
+    m.refine[0] = (rod_refine){0.0, 0.1, 5.0};
+    char err[512] = "";
+    if (!check(rod_model_derive(&m, err, sizeof err) == 0, "graded model derives %s", err))
+        return;
+    printf("     graded grid: ds %.6g m at the root, %.6g m at the tip\n",
+           rod_segment_ds(&m, 0), rod_segment_ds(&m, NODES - 2));
+    knot_track k;
+    const char *how;
+    frames_of(1, 0, 0, 8, 1, INFINITY, &k, &m);
+    how = knot_track_how_text(k.last_how, k.last_end);
+    check(k.ties == 1 && how && strcmp(how, "tied at the root end") == 0,
+          "graded grid, strands touching 8 fine segments (5.6 mm) from the root: '%s' "
+          "(reference 'tied at the root end')", how ? how : "");
+    knot_track_release(&k);
+    /* the rope: one frame of the overhand, strands pressed at nodes 2 and 300 */
+    rod_state *s = rod_state_create(&m);
+    memset(s->self_force, 0, (size_t)NODES * 3 * sizeof(double));
+    s->self_force[3 * 2 + 2] = 1.0;
+    s->self_force[3 * 300 + 2] = -1.0;
+    overhand(s->position, 0);
+    s->time = 0.0;
+    knot_track_init(&k, NODES);
+    knot_track_frame(&k, &m, s, INFINITY);
+    check(strncmp(k.last.name, "trefoil", 7) == 0, "graded grid: the overhand named %s "
+          "(reference trefoil)", k.last.name);
+    check_rel("graded grid: the knot's rope (diameters) between nodes 2 and 300, by hand",
+              knot_track_rope(&k, &m), (0.65 - 0.0014) / 0.002, 1e-9);
+    knot_track_release(&k);
+    rod_state_destroy(s);
+    rod_model_release(&m);
+}
+
 int main(void)
 {
+    graded_grid();
     rod_model m = rod_model_default();
     m.nodes = NODES;
     m.diameter = 0.002;

@@ -284,7 +284,6 @@ static void test_refusals(void)
             "[solver]\nscheme = thesis\n", "thesis and static schemes");
     refused("the static scheme", ROD_TEXT "self_contact = no\nrefine = 0 0.1 4\n"
             "[solver]\nscheme = static\n", "thesis and static schemes");
-    refused("self-contact (the default)", ROD_TEXT "refine = 0 0.1 4\n", "self-contact");
     refused("a surface", ROD_TEXT "self_contact = no\nrefine = 0 0.1 4\n[surface]\n"
             "shape = plane\ncenter = 0 0 -0.5\n", "[surface]");
     refused("a cut", ROD_TEXT "self_contact = no\nrefine = 0 0.1 4\n[cut]\nt = 0.1\ns = 0.5\n",
@@ -321,6 +320,14 @@ static void test_refusals(void)
     const char *csv_args[] = {"run", scene, "-o", out_dir, "--no-video", "--csv", "-", NULL};
     check(test_run_rodsim(csv_args, output, sizeof output) == 0 && strstr(output, "0.1,20,1,"),
           "rodsim run --no-video --csv -: runs, the tip's row at s = 1 m");
+    /* self-contact (the default) on a graded grid: read and run */
+    snprintf(scene, sizeof scene, "%s/graded_self.ini", dir);
+    test_write_in(dir, "graded_self.ini", ROD_TEXT "refine = 0 0.1 4\n[solver]\nduration = 0.1\n");
+    const char *self_args[] = {"run", scene, "-o", out_dir, "--no-video", "--csv", "-", NULL};
+    const int self_status = test_run_rodsim(self_args, output, sizeof output);
+    check(self_status == 0 && strstr(output, "0.1,20,1,"),
+          "self-contact (the default) on a graded grid: rodsim run --no-video exits %d (0), the "
+          "tip's row at s = 1 m", self_status);
 }
 
 int main(void)

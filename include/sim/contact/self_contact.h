@@ -111,8 +111,17 @@ typedef void (*rod_self_contact_solve)(const void *ctx, double *v, int count, in
 
 typedef struct rod_self_contact {
     int nodes;
-    double diameter, friction, ds;
-    int skip;              /* rod_proximity_skip */
+    double diameter, friction, ds; /* ds: a graded grid's shortest segment */
+    int skip;              /* rod_proximity_skip; a graded grid's least neighbour[i] - i - 1 */
+    /* a graded grid (rod_self_contact_set_grid), else NULL: arc (nodes) the
+     * nodes' arc lengths (m); neighbour (nodes - 1) each segment's first
+     * non-neighbour by arc length (rod_proximity_arc_neighbours); straight
+     * (nodes - 1) scratch of rod_self_contact_nothing_near; ratio (nodes)
+     * ds_ref / ds_{b-1}: how much more a force enters block b's (3.14)
+     * rows than c = theta dt / ds_ref says */
+    double *arc, *ratio;
+    int *neighbour, *straight;
+    double skip_arc;       /* m: the least arc between nearest non-neighbours (graded) */
     int max_pairs, count;  /* candidate pairs of this step */
     self_pair *pair;
     rod_segment_pair *found;
@@ -220,6 +229,13 @@ rod_self_contact *rod_self_contact_create(int nodes, int unknowns, int first, in
                                           double diameter, double ds, double friction);
 void rod_self_contact_destroy(rod_self_contact *sc);
 
+/* A graded grid (rod.refine): the segments' rest lengths (nodes - 1, m)
+ * and the grid's reference ds_ref (m), by which the caller's c = theta dt
+ * / ds_ref is meant. Pairs are then non-neighbours by arc length: the
+ * segments between them span at least pi d / 2 and are at least 4. Create
+ * with ds the shortest segment. Returns 0, or -1 when out of memory. */
+int rod_self_contact_set_grid(rod_self_contact *sc, const double *segment_length, double ds_ref);
+
 /* The candidate pairs of a step from the positions at its start: every
  * non-neighbouring pair of segments closer than diameter + margin, one per
  * touching region (a pair whose closest point is the shared node of two
@@ -230,7 +246,9 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
 
 /* 1 when no non-neighbouring pair is closer than diameter + near (m) in
  * pos0, and none closer than diameter + margin (m) but those a straight
- * stretch's own arc puts there (j - i - 1 < (diameter + margin) / ds) */
+ * stretch's own arc puts there (j - i - 1 < (diameter + margin) / ds;
+ * on a graded grid, the segments between spanning less than diameter +
+ * margin) */
 int rod_self_contact_nothing_near(rod_self_contact *sc, const double *pos0, double near,
                                   double margin);
 

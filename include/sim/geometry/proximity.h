@@ -22,6 +22,9 @@ typedef struct rod_proximity {
     int max_nodes;
     void *entries;     /* the tree and its walk's scratch */
     long long narrow_tests;  /* segment pairs whose distance the last call computed */
+    /* NULL: the non-neighbours are j - i > skip alone; else also j >=
+     * first[i] (rod_proximity_set_neighbours) */
+    const int *first;
 } rod_proximity;
 
 /* NULL when out of memory or max_nodes < 2. */
@@ -34,6 +37,19 @@ void rod_proximity_destroy(rod_proximity *p);
  * apart needs at least a half turn of radius d / 2. So j - i - 1 segments
  * between them must span pi d / 2; at least 1 (segments sharing a node). */
 int rod_proximity_skip(double diameter, double ds);
+
+/* A graded grid's non-neighbours by arc length: first[i] (for each of
+ * the nodes - 1 segments) the least j >= i + least + 1 whose segments
+ * between, i + 1..j - 1, span at least gap (m) along the rod: arc[j] -
+ * arc[i + 1] >= gap (1 - 1e-12), arc the nodes' arc lengths (m); nodes - 1
+ * where no segment is that far. Non-decreasing in i. On a uniform grid
+ * with least + 1 <= skip it gives first[i] = i + skip + 1,
+ * skip = rod_proximity_skip(2 gap / pi, ds). */
+void rod_proximity_arc_neighbours(const double *arc, int nodes, double gap, int least, int *first);
+
+/* Every search after this also leaves out the pairs j < first[i] (first:
+ * nodes - 1 entries, non-decreasing, kept by the caller; NULL: none) */
+void rod_proximity_set_neighbours(rod_proximity *p, const int *first);
 
 /* Every pair i < j, j - i > skip, closer than threshold (m, > 0); writes up to
  * max_pairs of them into pairs (NULL when max_pairs is 0), sorted by (i, j).
@@ -65,6 +81,13 @@ enum { ROD_PROXIMITY_SHARED_END = 1, ROD_PROXIMITY_INDEX_ONLY = 2, ROD_PROXIMITY
 static inline int rod_proximity_next_stands(int i, int j, int segments, int skip)
 {
     return i + 1 < segments && j - i - 1 > skip;
+}
+
+/* rod_proximity_next_stands with a graded grid's first (NULL: the same) */
+static inline int rod_proximity_next_stands_first(int i, int j, int segments, int skip,
+                                                  const int *first)
+{
+    return rod_proximity_next_stands(i, j, segments, skip) && (!first || j >= first[i + 1]);
 }
 
 /* rod_proximity_pairs with `flags` (ROD_PROXIMITY_*, or 0: the same) */

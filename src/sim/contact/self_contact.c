@@ -116,8 +116,44 @@ void rod_self_contact_destroy(rod_self_contact *sc)
     free(sc->spread);
     free(sc->list);
     free(sc->near);
+    free(sc->arc);
+    free(sc->ratio);
+    free(sc->neighbour);
+    free(sc->straight);
     rod_proximity_destroy(sc->prox);
     free(sc);
+}
+
+int rod_self_contact_set_grid(rod_self_contact *sc, const double *segment_length, double ds_ref)
+{
+    const int n = sc->nodes, segments = n - 1;
+    if (segments < 1) return 0;
+    sc->arc = malloc((size_t)n * sizeof(double));
+    sc->ratio = malloc((size_t)n * sizeof(double));
+    sc->neighbour = malloc((size_t)segments * sizeof(int));
+    sc->straight = malloc((size_t)segments * sizeof(int));
+    if (!sc->arc || !sc->ratio || !sc->neighbour || !sc->straight) return -1;
+    sc->arc[0] = 0.0;
+    sc->ratio[0] = 1.0;
+    for (int j = 0; j < segments; j++) {
+        sc->arc[j + 1] = sc->arc[j] + segment_length[j];
+        sc->ratio[j + 1] = ds_ref / segment_length[j]; /* block j + 1: segment j's rows */
+    }
+    /* pi d / 2 between them along the rod (rod_proximity_skip), and 4
+     * segments at least (the create's rule for a grid's sharpest bend) */
+    rod_proximity_arc_neighbours(sc->arc, n, M_PI * sc->diameter / 2.0, 4, sc->neighbour);
+    int skip = -1;
+    double least = INFINITY;
+    for (int i = 0; i < segments; i++) {
+        if (sc->neighbour[i] >= segments) break;
+        const int own = sc->neighbour[i] - i - 1;
+        if (skip < 0 || own < skip) skip = own;
+        least = fmin(least, sc->arc[sc->neighbour[i]] - sc->arc[i + 1]);
+    }
+    sc->skip = skip < 0 ? segments : skip;
+    sc->skip_arc = least;
+    rod_proximity_set_neighbours(sc->prox, sc->neighbour);
+    return 0;
 }
 
 /* Forget the pairs' columns Y (the nodes' stay) */
@@ -140,6 +176,13 @@ void rod_self_contact_invalidate(rod_self_contact *sc)
     forget_columns(sc);
     forget_nodes(sc);
     sc->b_age = 0;
+}
+
+/* 1 when segments i < j are non-neighbours (the skip, and on a graded
+ * grid the arc between them) */
+static inline int non_neighbours(const rod_self_contact *sc, int i, int j)
+{
+    return j - i > sc->skip && (!sc->neighbour || j >= sc->neighbour[i]);
 }
 
 int rod_self_contact_near(rod_self_contact *sc, const double *pos0, double margin)
@@ -261,6 +304,23 @@ int rod_self_contact_nothing_near(rod_self_contact *sc, const double *pos0, doub
     if (rod_proximity_select(sc->prox, pos0, sc->nodes, sc->diameter + near,
                              shape_skip(sc, sc->diameter + near, sc->skip), any, NULL, 0))
         return 0;
+    if (sc->neighbour) {
+        /* by arc length: the pairs whose segments between span at least
+         * threshold, beyond the non-neighbours */
+        const int segments = sc->nodes - 1;
+        rod_proximity_arc_neighbours(sc->arc, sc->nodes, threshold, 0, sc->straight);
+        int base = segments;
+        for (int i = 0; i < segments; i++) {
+            if (sc->straight[i] < sc->neighbour[i]) sc->straight[i] = sc->neighbour[i];
+            if (sc->straight[i] < segments && sc->straight[i] - i - 1 < base)
+                base = sc->straight[i] - i - 1;
+        }
+        rod_proximity_set_neighbours(sc->prox, sc->straight);
+        const int found = rod_proximity_select(sc->prox, pos0, sc->nodes, threshold,
+                                               shape_skip(sc, threshold, base), any, NULL, 0);
+        rod_proximity_set_neighbours(sc->prox, sc->neighbour);
+        return found == 0;
+    }
     return straight <= sc->skip ||
            rod_proximity_select(sc->prox, pos0, sc->nodes, threshold,
                                 shape_skip(sc, threshold, straight), any, NULL, 0) == 0;
@@ -300,7 +360,7 @@ static int surely_near(const rod_self_contact *sc, const double *pos0, int a, do
         const int pairs[2][2] = {{a, a + gap}, {a - gap, a}}; /* (i, j), j - i = gap */
         for (int k = 0; k < 2; k++) {
             const int i = pairs[k][0], j = pairs[k][1];
-            if (i < 0 || j >= segments) continue;
+            if (i < 0 || j >= segments || !non_neighbours(sc, i, j)) continue;
             double d[3];
             v3_sub(d, &pos0[3 * j], &pos0[3 * (i + 1)]);
             if (v3_dot(d, d) < limit * limit) return 1;
@@ -437,7 +497,8 @@ static int still_clear(rod_self_contact *sc, const double *pos0, double threshol
  * grid too fine for any skin the wider search is not tried */
 static void try_clear(rod_self_contact *sc, const double *pos0, double threshold)
 {
-    const double skin = fmin(threshold, 0.45 * (sc->skip * sc->ds - threshold));
+    const double between = sc->neighbour ? sc->skip_arc : sc->skip * sc->ds;
+    const double skin = fmin(threshold, 0.45 * (between - threshold));
     if (!(skin > 0.05 * threshold) || --sc->clear_wait > 0) return;
     const double reach = threshold + 2.0 * skin;
     shape_of(sc, pos0);
@@ -461,7 +522,8 @@ static int from_list(rod_self_contact *sc, const double *pos0, double threshold)
     for (int k = 0; k < sc->list_count; k++) {
         rod_segment_pair *l = &sc->list[k];
         const double *a0 = &pos0[3 * l->i], *b0 = &pos0[3 * l->j];
-        const int shared = rod_proximity_next_stands(l->i, l->j, last + 1, sc->skip);
+        const int shared = rod_proximity_next_stands_first(l->i, l->j, last + 1, sc->skip,
+                                                           sc->neighbour);
         l->distance = -INFINITY; /* not measured (rod_self_contact_closest) */
         if (shared && rod_segment_closest_is_end(a0, a0 + 3, b0, b0 + 3)) continue;
         double s, t;
@@ -586,7 +648,7 @@ int rod_self_contact_find(rod_self_contact *sc, const double *pos0, double margi
         const rod_segment_pair *f = &sc->found[k];
         /* a closest point on the node two segments share belongs to the
          * later one (its fraction 0 there), so the region counts once */
-        if (f->s >= 1.0 && f->i + 1 <= last && f->j - f->i - 1 > sc->skip) continue;
+        if (f->s >= 1.0 && f->i + 1 <= last && non_neighbours(sc, f->i + 1, f->j)) continue;
         if (f->t >= 1.0 && f->j + 1 <= last) continue;
         /* one pair per touching region: a pair whose closest points lie
          * within 3/4 of a segment of a kept pair's on both strands, one of
@@ -928,6 +990,8 @@ static void begin_column(rod_self_contact *sc, int c)
 /* value added at row of the column begun last */
 static void add_entry(rod_self_contact *sc, int row, double value)
 {
+    /* a graded grid: block b's (3.14) rows take the force by dt / ds_{b-1} */
+    if (sc->ratio) value *= sc->ratio[row / sc->block + sc->first];
     sc->entry_row[sc->entries] = row;
     sc->entry_value[sc->entries++] = value;
 }

@@ -126,6 +126,23 @@ void rod_proximity_destroy(rod_proximity *p)
     free(p);
 }
 
+void rod_proximity_arc_neighbours(const double *arc, int nodes, double gap, int least, int *first)
+{
+    const int segments = nodes - 1;
+    const double need = gap * (1.0 - 1e-12);
+    int j = 0;
+    for (int i = 0; i < segments; i++) {
+        if (j < i + least + 1) j = i + least + 1;
+        while (j < segments && arc[j] - arc[i + 1] < need) j++;
+        first[i] = j < segments ? j : segments;
+    }
+}
+
+void rod_proximity_set_neighbours(rod_proximity *p, const int *first)
+{
+    p->first = first;
+}
+
 int rod_proximity_skip(double diameter, double ds)
 {
     if (!(ds > 0.0) || !(diameter > 0.0)) return 1;
@@ -423,14 +440,27 @@ typedef struct walk {
     int segments;
     int collect;           /* 1: the pairs of leaves met go to w->met (leaf_pairs later) */
     int overflow;          /* 1: more than w->met_max of them */
+    const int *first;      /* rod_proximity's (NULL: by skip alone) */
 } walk;
+
+/* The first segment j that is a non-neighbour of segment i */
+static inline int first_of(const walk *k, int i)
+{
+    const int j = i + k->skip + 1;
+    return k->first && k->first[i] > j ? k->first[i] : j;
+}
+
+static inline int next_stands(const walk *k, int i, int j)
+{
+    return rod_proximity_next_stands_first(i, j, k->segments, k->skip, k->first);
+}
 
 /* Whether the pair of tree nodes a, b (a's segments before b's, or a ==
  * b) may hold a pair the walk looks for */
 static int nodes_may_hold(const walk *k, const scratch *w, int a, int b)
 {
     const tree_node *ta = &w->node[a], *tb = &w->node[b];
-    if (tb->hi - ta->lo <= k->skip) return 0; /* every pair a neighbour */
+    if (tb->hi < first_of(k, ta->lo)) return 0; /* every pair a neighbour */
     if (!boxes_overlap(&w->node_box[6 * a], &w->node_box[6 * b])) return 0;
     if (!k->move || a == b) return 1;
     /* reachable: the boxes (grown by threshold / 2 each) are at least gap
@@ -504,7 +534,7 @@ static void pair_test(walk *k, const scratch *w, int i, int j)
     const double *a0 = &pt[3 * i], *a1 = &pt[3 * i + 3], *b0 = &pt[3 * j], *b1 = &pt[3 * j + 3];
     /* the next segment's pair stands for this one (ROD_PROXIMITY_SHARED_END) */
     const int shared = (k->flags & ROD_PROXIMITY_SHARED_END) &&
-                       rod_proximity_next_stands(i, j, k->segments, k->skip);
+                       next_stands(k, i, j);
     if (shared && closest_is_end(a0, a1, b0, b1)) return;
     if ((k->flags & ROD_PROXIMITY_INDEX_ONLY) && !shared &&
         rod_segment_surely_within(a0, a1, b0, b1, k->threshold)) {
@@ -546,7 +576,7 @@ static void leaf_pairs(walk *k, scratch *w, int a, int b)
     }
     const tree_node *ta = &w->node[a], *tb = &w->node[b];
     for (int i = ta->lo; i <= ta->hi; i++)
-        for (int j = tb->lo > i + k->skip + 1 ? tb->lo : i + k->skip + 1; j <= tb->hi; j++)
+        for (int j = tb->lo > first_of(k, i) ? tb->lo : first_of(k, i); j <= tb->hi; j++)
             pair_test(k, w, i, j);
 }
 
@@ -579,12 +609,12 @@ static void met_pairs(walk *k, scratch *w)
         for (int i = ta->lo; i <= ta->hi; i++)
             for (int x = start[a]; x < start[a + 1]; x++) {
                 const tree_node *tb = &w->node[sorted[x]];
-                int j = tb->lo > i + k->skip + 1 ? tb->lo : i + k->skip + 1;
+                int j = tb->lo > first_of(k, i) ? tb->lo : first_of(k, i);
                 if (shared) {
                     /* past the first pair the next segment's stands for,
                      * four at a time: those shown (and stood for) left
                      * out, the others tested in order */
-                    for (; j <= tb->hi && !rod_proximity_next_stands(i, j, k->segments, k->skip);
+                    for (; j <= tb->hi && !next_stands(k, i, j);
                          j++)
                         pair_test(k, w, i, j);
                     /* lanes past the leaf's end (segments still) are shown
@@ -594,7 +624,7 @@ static void met_pairs(walk *k, scratch *w)
                                                                i, j);
                         for (int l = 0; l < LANES && j + l <= tb->hi; l++)
                             if (!(shown >> l & 1) ||
-                                !rod_proximity_next_stands(i, j + l, k->segments, k->skip))
+                                !next_stands(k, i, j + l))
                                 pair_test(k, w, i, j + l);
                     }
                 }
@@ -678,7 +708,7 @@ static int search(rod_proximity *p, const double *points, int nodes, double thre
      * walk meeting more pairs of leaves than noted (segments piled in one
      * place) tests them as it meets them and sorts what it found */
     walk k = {p,      points,    NULL, 0.0, threshold, 0.0, skip, pairs,
-              best,   max_pairs, 0,    flags, segments, 1,   0};
+              best,   max_pairs, 0,    flags, segments, 1,   0, p->first};
     walk_tree(&k, w);
     if (!k.overflow) {
         met_pairs(&k, w);
@@ -725,7 +755,8 @@ int rod_proximity_reachable(rod_proximity *p, const double *points, const double
                 m[3 + c] = most(m[3 + c], vel[3 * i + c]);
             }
     }
-    walk k = {p, points, vel, dt, threshold, reach, skip, NULL, NULL, 0, 0, 0, nodes - 1, 0, 0};
+    walk k = {p, points, vel, dt, threshold, reach, skip, NULL, NULL, 0, 0, 0, nodes - 1, 0, 0,
+              p->first};
     walk_tree(&k, w);
     return k.count;
 }
@@ -748,7 +779,9 @@ int rod_proximity_min(rod_proximity *p, const double *points, int nodes, int ski
 {
     if (!points || nodes > p->max_nodes) return -1;
     if (skip < 1) skip = 1;
-    if (nodes - 1 <= skip + 1) return 0; /* no pair j - i > skip */
+    const int segments = nodes - 1;
+    const int first0 = p->first && segments > 0 && p->first[0] > skip + 1 ? p->first[0] : skip + 1;
+    if (segments <= first0) return 0; /* no pair j - i > skip (nor j >= first[i]) */
     double lo[3], hi[3], longest = 0.0;
     memcpy(lo, points, sizeof lo);
     memcpy(hi, points, sizeof hi);
@@ -766,7 +799,7 @@ int rod_proximity_min(rod_proximity *p, const double *points, int nodes, int ski
     double diagonal = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                            (hi[2] - lo[2]) * (hi[2] - lo[2]));
     if (!(diagonal > 0.0)) { /* every point the same: every pair at distance 0 */
-        *closest = (rod_segment_pair){0, skip + 1, 0.0, 0.0, 0.0};
+        *closest = (rod_segment_pair){0, first0, 0.0, 0.0, 0.0};
         p->narrow_tests = 0;
         return 1;
     }

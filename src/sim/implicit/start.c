@@ -16,6 +16,7 @@
 #include "sim/implicit/residual.h"
 #include "sim/path.h"
 #include "sim/rod.h"
+#include "sim/rod_grid.h"
 
 int implicit_continues_from(const implicit_work *w, const rod_state *s, double dt)
 {
@@ -190,13 +191,17 @@ int implicit_prepare_self_contact(implicit_work *w, const rod_model *m, double d
                                   rod_report *report)
 {
     const int n = w->nodes;
-    const double push = 1.0 / (m->ds * (m->mass_per_length / dt + m->options.theta * m->linear_damping));
-    for (int i = 0; i < n; i++) w->node_push[i] = push;
+    const double coeff = m->mass_per_length / dt + m->options.theta * m->linear_damping;
+    const double push = 1.0 / (m->ds * coeff);
+    /* each node's own cell on a graded grid (rod_grid.h), as the residual's */
+    for (int i = 0; i < n; i++)
+        w->node_push[i] = m->segment_length ? 1.0 / (rod_cell_length(m, i) * coeff) : push;
     for (int which = 0; which < 2; which++) {
         /* a held end moves with its support (a sleeve's slide is left out
          * of the pairs' compliance: its force still acts) */
         const end_condition *e = &w->ends[which];
-        w->node_push[which ? n - 1 : 0] = e->held ? 0.0 : 2.0 * push;
+        const int b = which ? n - 1 : 0;
+        w->node_push[b] = e->held ? 0.0 : m->segment_length ? w->node_push[b] : 2.0 * push;
     }
     if (rod_self_contact_find(w->self, w->pos0, margin) < 0) {
         snprintf(report->message, sizeof report->message,

@@ -173,10 +173,17 @@ static int allocate(implicit_work *w, const rod_model *m)
         if (!w->band_smooth || !w->trail_jac || !w->trail_touched) return -1;
     }
     if (self) {
+        /* a graded grid: sized by its shortest segment, non-neighbours by
+         * arc length (rod_self_contact_set_grid) */
+        double shortest = m->ds;
+        for (int j = 0; m->segment_length && j + 1 < m->nodes; j++)
+            shortest = fmin(shortest, m->segment_length[j]);
         w->self = rod_self_contact_create(m->nodes, w->unknowns, w->first, BLOCK, m->diameter,
-                                          m->ds, m->self_friction);
+                                          shortest, m->self_friction);
         w->node_push = calloc(n, sizeof(double));
         if (!w->self || !w->node_push) return -1;
+        if (m->segment_length && rod_self_contact_set_grid(w->self, m->segment_length, m->ds))
+            return -1;
     }
     return 0;
 }
