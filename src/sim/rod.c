@@ -498,14 +498,19 @@ static int derive_grid(rod_model *m, char *err, size_t errlen)
     const char *part = NULL;
     /* rigid surfaces are ported (each node's own cell); tissue's punctures
      * and an elastic pad's coupling (a pad is tissue) are not */
-    int tissue = 0;
+    int tissue = 0, scissors = 0;
     for (int k = 0; k < m->surface_count; k++) tissue |= m->surfaces[k].tissue;
+    for (int k = 0; k < m->instrument_count; k++)
+        scissors |= m->instruments[k].kind == ROD_INSTRUMENT_SCISSORS;
     if (m->options.scheme != ROD_SCHEME_IMPLICIT) part = "the thesis and static schemes";
     else if (m->self_contact) part = "self-contact (rod.self_contact = yes)";
     else if (tissue)
         part = "a tissue [surface] (tissue = yes, an elastic pad's too; rigid surfaces without "
                "it are accepted)";
     else if (m->puncture_count > 0) part = "a [puncture]";
+    else if (scissors)
+        part = "scissors (instrument.kind = scissors: they cut; forceps and needle holders are "
+               "accepted)";
     else if (m->cut_event_count > 0) part = "a [cut]";
     else if (m->initial_shape) part = "a starting shape (rod.shape)";
     else if (m->settle > 0.0) part = "settling (rod.settle)";
