@@ -80,6 +80,11 @@ int rod_instrument_load_path(const char *filename, rod_path **pose, rod_path **j
 void rod_grasp_point(const rod_model *m, int k, const rod_grasp_state *g, double t,
                      double point[3], double velocity[3]);
 
+/* The segment j (0..nodes-2) holding arc length arc (m) on the model's
+ * grid and the point's fraction along it in *fraction (arc = s_j +
+ * fraction ds_j, rod_grid.h), clamped to the thread. */
+int rod_grasp_segment(const rod_model *m, double arc, double *fraction);
+
 /* The thread's point nearest the middle line of instrument k's jaws at
  * s->time: its distance (m), its arc length in *arc (m) and the distance
  * within which the jaws take it in *reach (m: two jaw radii plus d). */

@@ -14,6 +14,7 @@
 #include "sim/cut.h"
 #include "sim/needle_grasp.h"
 #include "sim/rod.h"
+#include "sim/rod_grid.h"
 
 const char *const rod_instrument_kind_names[] = {"needle_holder", "forceps", "scissors", NULL};
 
@@ -246,14 +247,30 @@ void rod_grasp_point(const rod_model *m, int k, const rod_grasp_state *g, double
     }
 }
 
+int rod_grasp_segment(const rod_model *m, double arc, double *fraction)
+{
+    const double *graded = m->segment_length;
+    if (!graded) {
+        double u = arc / m->ds;
+        int j = (int)floor(u);
+        if (j > m->nodes - 2) j = m->nodes - 2;
+        if (j < 0) j = 0;
+        *fraction = u - j;
+        return j;
+    }
+    /* the last segment starting at or before arc (the root's before 0) */
+    int j = 0;
+    double s_j = 0.0;
+    while (j < m->nodes - 2 && s_j + graded[j] <= arc) s_j += graded[j++];
+    *fraction = (arc - s_j) / graded[j];
+    return j;
+}
+
 /* The thread's point at arc length s (m). */
 static void thread_point(const rod_model *m, const rod_state *s, double arc, double p[3])
 {
-    double u = arc / m->ds;
-    int j = (int)floor(u);
-    if (j > m->nodes - 2) j = m->nodes - 2;
-    if (j < 0) j = 0;
-    double f = u - j;
+    double f;
+    const int j = rod_grasp_segment(m, arc, &f);
     for (int c = 0; c < 3; c++)
         p[c] = (1.0 - f) * s->position[3 * j + c] + f * s->position[3 * (j + 1) + c];
 }

@@ -496,10 +496,20 @@ static int derive_grid(rod_model *m, char *err, size_t errlen)
     }
     if (rod_grid_check(m, err, errlen)) return -1;
     const char *part = NULL;
+    /* rigid surfaces are ported (each node's own cell); tissue's punctures
+     * and an elastic pad's coupling (a pad is tissue) are not */
+    int tissue = 0, scissors = 0;
+    for (int k = 0; k < m->surface_count; k++) tissue |= m->surfaces[k].tissue;
+    for (int k = 0; k < m->instrument_count; k++)
+        scissors |= m->instruments[k].kind == ROD_INSTRUMENT_SCISSORS;
     if (m->options.scheme != ROD_SCHEME_IMPLICIT) part = "the thesis and static schemes";
-    else if (m->surface_count > 0) part = "a [surface]";
+    else if (tissue)
+        part = "a tissue [surface] (tissue = yes, an elastic pad's too; rigid surfaces without "
+               "it are accepted)";
     else if (m->puncture_count > 0) part = "a [puncture]";
-    else if (m->instrument_count > 0) part = "an [instrument]";
+    else if (scissors)
+        part = "scissors (instrument.kind = scissors: they cut; forceps and needle holders are "
+               "accepted)";
     else if (m->cut_event_count > 0) part = "a [cut]";
     else if (m->initial_shape) part = "a starting shape (rod.shape)";
     else if (m->settle > 0.0) part = "settling (rod.settle)";
@@ -936,8 +946,11 @@ double rod_nearest_arc_length_between(const rod_model *m, const double *position
 {
     if (first < 0) first = 0;
     if (last > m->nodes - 2) last = m->nodes - 2;
-    double best = INFINITY, best_s = first * m->ds;
-    for (int j = first; j <= last; j++) {
+    /* arc length s_j + f ds_j of segment j's point at fraction f */
+    const double *graded = m->segment_length;
+    double best = INFINITY, best_s = graded ? rod_node_arc(m, first) : first * m->ds;
+    double s_j = best_s;
+    for (int j = first; j <= last; s_j += graded ? graded[j] : 0.0, j++) {
         const double *a = &position[3 * j], *b = &position[3 * (j + 1)];
         double ab[3], ap[3], q[3];
         v3_sub(ab, b, a);
@@ -948,7 +961,7 @@ double rod_nearest_arc_length_between(const rod_model *m, const double *position
         double d = v3_norm(q);
         if (d < best) {
             best = d;
-            best_s = (j + f) * m->ds;
+            best_s = graded ? s_j + f * graded[j] : (j + f) * m->ds;
         }
     }
     if (distance) *distance = best;

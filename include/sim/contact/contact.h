@@ -38,6 +38,9 @@ typedef struct rod_contact {
     int nodes;
     int held[2];           /* 1: the root's (0) or the tip's (1) position is held: its
                               velocity is its support's, no contact moves it */
+    double ds;             /* m: the uniform grid's segment length */
+    const double *segment_length; /* the model's graded segment lengths (rod_grid.h); NULL on
+                              a uniform grid */
     /* the scheme's arrays the laws read and correct (not owned) */
     const double *pos0;    /* (nodes x 3) global, m: positions at the start of the step */
     double *vel1, *vbar;   /* (nodes x 3) global, m/s: velocities at the end of the step and
@@ -89,6 +92,19 @@ typedef struct rod_contact {
                               after contact, u the free one */
     unsigned char *touched;/* (nodes) 1: velocity_jac of the node is set (else the identity) */
 } rod_contact;
+
+/* Node i's compliance (m/s per N) from the interior's push = 1 / (ds (rho A
+ * / dt + theta c)): push inside a uniform grid and 2 push at its ends (half
+ * a cell), push ds / w_i on a graded grid, w_i node i's own cell
+ * (rod_cell_length), as the residual's push_b. */
+static inline double contact_node_push(const rod_contact *c, int i, double push)
+{
+    const int n = c->nodes;
+    const double *sl = c->segment_length;
+    if (!sl) return (i == 0 || i == n - 1) ? 2.0 * push : push;
+    const double w = i == 0 ? 0.5 * sl[0] : i == n - 1 ? 0.5 * sl[n - 2] : 0.5 * (sl[i - 1] + sl[i]);
+    return push * (c->ds / w);
+}
 
 /* Makes c for the model's surfaces and needle, reading and correcting the
  * scheme's arrays pos0, vel1 and vbar (nodes x 3, kept by the caller for

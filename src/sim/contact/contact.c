@@ -14,6 +14,8 @@ int rod_contact_create(rod_contact *c, const rod_model *m, const double *pos0, d
     c->nodes = m->nodes;
     c->held[0] = held[0];
     c->held[1] = held[1];
+    c->ds = m->ds;
+    c->segment_length = m->segment_length;
     c->pos0 = pos0;
     c->vel1 = vel1;
     c->vbar = vbar;

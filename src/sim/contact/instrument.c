@@ -10,6 +10,7 @@
 #include "sim/instrument.h"
 #include "sim/needle_grasp.h"
 #include "sim/rod.h"
+#include "sim/rod_grid.h"
 
 #define START_STRIDE 10 /* gap, n[3], p1[3], vc[3] */
 
@@ -35,11 +36,8 @@ static void grasp_prepare(rod_contact *ct, const rod_model *m, const rod_state *
         if (!g->held) continue;
         contact_puncture *p = &ct->punct[ct->puncture_count++];
         ct->grasp_instrument[ct->grasp_count++] = k;
-        double u = g->s / m->ds;
-        int j = (int)floor(u);
-        if (j > n - 2) j = n - 2;
-        if (j < 0) j = 0;
-        const double al = u - j;
+        double al;
+        const int j = rod_grasp_segment(m, g->s, &al);
         p->j = j;
         p->alpha = al < 0.0 ? 0.0 : al > 1.0 ? 1.0 : al;
         rod_grasp_point(m, k, g, s->time + dt, p->point, p->velocity);
@@ -105,10 +103,12 @@ void instrument_contact_prepare(rod_contact *ct, const rod_model *m, const rod_s
             v3_sub(da, c1[q].a, c0[q].a);
             v3_sub(db, c1[q].b, c0[q].b);
             const double speed_c = fmax(v3_norm(da), v3_norm(db)) / dt;
-            for (int b = 0; b < m->nodes; b++) {
+            double arc_b = 0.0; /* node b's arc length on a graded grid */
+            for (int b = 0; b < m->nodes; arc_b += b < m->nodes - 1 ? rod_segment_ds(m, b) : 0.0, b++) {
                 double *st = &ct->instrument_start[START_STRIDE * ((size_t)b * (size_t)per +
                                                                    (size_t)(k * ROD_INSTRUMENT_CAPSULES + q))];
-                if (off || (near_held && fabs(b * m->ds - held_s) < window)) {
+                const double s_b = m->segment_length ? arc_b : b * m->ds;
+                if (off || (near_held && fabs(s_b - held_s) < window)) {
                     st[0] = INFINITY;
                     continue;
                 }

@@ -154,8 +154,8 @@ static int puncture_place(const rod_contact *ct, int k, double push, double dt, 
     const int n = ct->nodes, j = ct->punct[k].j, i2 = j + 1;
     const double al = ct->punct[k].alpha, *t = ct->punct[k].tangent;
     a->j = j;
-    a->pj = (j == 0 || j == n - 1) ? 2.0 * push : push;
-    a->pk = (i2 == n - 1) ? 2.0 * push : push;
+    a->pj = contact_node_push(ct, j, push); /* each node's own cell */
+    a->pk = contact_node_push(ct, i2, push);
     if (j == 0 && ct->held[0]) a->pj = 0.0; /* a held end's velocity is its support's */
     if (i2 == n - 1 && ct->held[1]) a->pk = 0.0;
     a->wj = 1.0 - al;

@@ -659,7 +659,8 @@ void implicit_add_contact_jacobian(implicit_work *w, const rod_model *m, double 
             const int bp = b + o; /* the node whose free velocity moves v_b */
             if (bp < 0 || bp >= n) continue;
             const int end = bp == 0 ? 0 : bp == n - 1 ? 1 : -1;
-            const double p = end < 0 ? push : w->ends[end].held ? 0.0 : 2.0 * push;
+            /* node bp's own compliance (its cell: half a segment at an end) */
+            const double p = end >= 0 && w->ends[end].held ? 0.0 : contact_node_push(&w->contact, bp, push);
             if (p == 0.0) continue;
             double delta[9];
             memcpy(delta, &w->contact.velocity_jac[27 * b + 9 * (o + 1)], sizeof delta);
@@ -671,7 +672,10 @@ void implicit_add_contact_jacobian(implicit_work *w, const rod_model *m, double 
                 for (int rs = 0; rs < 2; rs++) {
                     const int rb = b + rs; /* v_b enters r_b (+) and r_{b+1} (-) */
                     if (rb < 1 || rb > n - 1) continue;
-                    const double g = coef * p * (side ? 1.0 : -1.0) * (rs ? -1.0 : 1.0);
+                    /* row rb: (3.14) of segment rb - 1, over its own length */
+                    const double row_coef = w->contact.segment_length
+                                                ? theta * dt / w->contact.segment_length[rb - 1] : coef;
+                    const double g = row_coef * p * (side ? 1.0 : -1.0) * (rs ? -1.0 : 1.0);
                     for (int k = 0; k < 3; k++)
                         for (int l = 0; l < 3; l++) {
                             const int row = BLOCK * (rb - first) + k, col = BLOCK * (cb - first) + l;

@@ -446,18 +446,22 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
             v3_axpy(v1, w->point_factor * push_b, &w->point_force[3 * b]);
         if (w->cross && w->cross->has_load) v3_axpy(v1, push, &w->cross->load[3 * b]);
         for (int k = 0; k < 3; k++) vb[k] = theta * v1[k] + (1.0 - theta) * v0[k];
-        if (contact && w->contact.surface_count) surface_contact_node(&w->contact, m, b, push, dt);
-        if (contact && w->contact.instrument_count) instrument_contact_node(&w->contact, m, b, push, dt);
+        if (contact && w->contact.surface_count) surface_contact_node(&w->contact, m, b, push_b, dt);
+        if (contact && w->contact.instrument_count) instrument_contact_node(&w->contact, m, b, push_b, dt);
     }
     end_velocity(w, m, root, 0, zero3, block_force(w, x, 1), dt, applied);
     end_velocity(w, m, tip, n - 1, block_force(w, x, n - 1), tipf, dt, applied);
+    /* an end's cell is half its segment: 2 push on a uniform grid */
     if (contact && w->contact.surface_count)
         for (int which = 0; which < 2; which++)
-            if (!w->ends[which].held) surface_contact_node(&w->contact, m, which ? n - 1 : 0, 2.0 * push, dt);
+            if (!w->ends[which].held)
+                surface_contact_node(&w->contact, m, which ? n - 1 : 0,
+                                     contact_node_push(&w->contact, which ? n - 1 : 0, push), dt);
     if (contact && w->contact.instrument_count)
         for (int which = 0; which < 2; which++)
             if (!w->ends[which].held)
-                instrument_contact_node(&w->contact, m, which ? n - 1 : 0, 2.0 * push, dt);
+                instrument_contact_node(&w->contact, m, which ? n - 1 : 0,
+                                        contact_node_push(&w->contact, which ? n - 1 : 0, push), dt);
     if (contact && w->contact.puncture_count) puncture_forces(&w->contact, m, push, dt);
     if (w->self && w->self->count) {
         /* the surfaces act on the velocities with the pair forces in place: a
