@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "sim/rod.h"
+#include "sim/rod_grid.h"
 
 /* Regular intervals in duration and whether a partial one ends it (as run.c:
  * to a relative 1e-9, an interval of k / rate is k intervals). */
@@ -127,7 +128,10 @@ static int note_rope(void *context, const rod_model *m, const rod_state *s, char
         hi = i;
     }
     r->time[r->count] = s->time;
-    r->rope[r->count] = lo >= 0 && hi > lo ? (hi - lo) * m->ds : NAN;
+    /* the arc between them: a graded grid's (rod_node_arc), i ds on a uniform one */
+    const double rope = m->segment_length ? rod_node_arc(m, hi) - rod_node_arc(m, lo)
+                                          : (hi - lo) * m->ds;
+    r->rope[r->count] = lo >= 0 && hi > lo ? rope : NAN;
     r->count++;
     return 0;
 }
