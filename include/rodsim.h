@@ -43,7 +43,7 @@ extern "C" {
 /* The version of this header: a new MINOR adds, a new MAJOR changes or
  * removes (and the library's soname, librodsim.so.MAJOR, follows it). */
 #define RODSIM_API_VERSION_MAJOR 1
-#define RODSIM_API_VERSION_MINOR 1
+#define RODSIM_API_VERSION_MINOR 2
 #define RODSIM_API_VERSION (RODSIM_API_VERSION_MAJOR * 1000 + RODSIM_API_VERSION_MINOR)
 
 /* The library's version, MAJOR * 1000 + MINOR: compare with
@@ -184,6 +184,14 @@ int rodsim_rod_nodes(const rodsim_scene *scene, int rod);
 /* rodsim_get of rod `rod` (count at least its NS x 3, or NS x 9). */
 rodsim_status rodsim_get_rod(const rodsim_scene *scene, int rod, rodsim_field field, double *out,
                              size_t count);
+
+/* Rod `rod`'s nodes' arc lengths from its root, s_i (m, at rest; NS
+ * doubles into out, count at least its NS): i L / (NS - 1) on a uniform
+ * grid; on a graded grid (rod.refine: the segments `factor` times shorter
+ * inside its intervals) the sums of the segments' rest lengths, not i
+ * times a spacing. The s of `rodsim run`'s CSV; after a cut, the nodes
+ * left keep the uncut thread's s. (Version 1.2.) */
+rodsim_status rodsim_node_arc(const rodsim_scene *scene, int rod, double *out, size_t count);
 
 /* rodsim_end_load of rod `rod`'s end. */
 rodsim_status rodsim_end_load_rod(const rodsim_scene *scene, int rod, rodsim_end end,

@@ -15,7 +15,8 @@ const float *color_stripe(const render_options *o);
 
 /* The colour's quantity at each node of `frame` into out (nodes): bending
  * curvature |(u1, u2)| from the director frames of neighbouring nodes
- * (Q_{k+1} = Q_k exp(ds u), the mean of the two segments beside a node);
+ * (Q_{k+1} = Q_k exp(ds_k u), ds_k segment k's rest length, rod_recording_segment:
+ * a graded grid's own; the mean of the two segments beside a node);
  * twist u3 and tension N . d3 as recorded; speed |r - r_prev| / (t - t_prev), a backward
  * difference between drawn frames (0 for the first, previous = NULL). */
 void color_values(const rod_recording *rec, int frame, render_color_mode mode,

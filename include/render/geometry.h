@@ -30,7 +30,9 @@ double render_visual_radius(const rod_recording *rec, const render_options *o);
  *   components) that points along +z at s = 0 in the first frame: the
  *   thesis' line through (0, 0, d/2) when radius = d/2.
  * FORMULA: (4.17) literally: r(s_i) + radius (0, -sin(s_i u3_i), cos(s_i u3_i)),
- *   s_i = i ds (node i of the recording is R(i+1) of the thesis' 1-based text). */
+ *   s_i the node's arc length from its rod's root (rod_recording_arc: i ds on
+ *   a uniform grid, node i of the recording being R(i+1) of the thesis'
+ *   1-based text; a graded grid's s_i, not i times a spacing). */
 void render_stripe_points(const rod_recording *rec, int frame, render_stripe_mode mode,
                           double radius, double *out);
 

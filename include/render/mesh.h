@@ -102,11 +102,18 @@ typedef struct strand_occlusion {
 } strand_occlusion;
 
 /* Sized for `nodes` nodes, `rings` rings of `sides` sides, a tube of
- * `radius` (m) over segments of ds (m). 0, or -1 when out of memory (then
+ * `radius` (m) over segments of ds (m; a graded grid's longest, the pairs
+ * then kept by arc length: occlusion_shade). 0, or -1 when out of memory (then
  * occlusion_destroy frees what was made). */
 int occlusion_create(strand_occlusion *s, int nodes, int rings, int sides, double radius,
                      double ds);
 void occlusion_destroy(strand_occlusion *s);
+/* Keeps of pairs[0 .. count) (sorted) those whose segments i < j have at
+ * least `span` (m) of arc between them, s_j - s_(i+1) >= span (the
+ * recording's arc lengths), in order; their count. rod_proximity_skip's
+ * rule in arc length, for a graded grid whose skip counted the longest
+ * segment. */
+int recording_far_pairs(const rod_recording *rec, rod_segment_pair *pairs, int count, double span);
 /* Darkens the tube's and the stripe's vertices (from `tube` and `stripe`,
  * -1: none) by the other strands near them (render_occlusion): where one
  * strand passes over another, the one below is shaded beside it, and the

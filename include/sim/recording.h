@@ -106,7 +106,11 @@ typedef struct rod_recording {
     int rod_first[RECORDING_MAX_RODS + 1];
     recording_end rod_end[RECORDING_MAX_RODS][2];
     double length;        /* m */
-    double ds;            /* m, node spacing */
+    double ds;            /* m, node spacing of a uniform grid (L / (NS - 1)) */
+    double *arc;          /* (nodes), m, owned: each node's arc length from its rod's root
+                             on a graded grid (rod.refine; a joined recording: each rod's
+                             from its own root); NULL: uniform, node i at i ds
+                             (rod_recording_arc) */
     double diameter;      /* m, true diameter */
     int self_contact;     /* 1: strands touched in a frame appended (the renderer then draws
                              the true radius, so that touching strands look touching) */
@@ -144,6 +148,22 @@ typedef struct rod_recording {
     double needle_frame0[9]; /* a pinned tip's frame at the first frame (its needle's turn
                                 is recorded from it: rod_recording_append) */
 } rod_recording;
+
+/* Node `node`'s arc length from its rod's root, m: i ds on a uniform grid. */
+static inline double rod_recording_arc(const rod_recording *r, int node)
+{
+    return r->arc ? r->arc[node] : node * r->ds;
+}
+/* Segment k's (node k to k + 1) rest length, m: ds on a uniform grid. */
+static inline double rod_recording_segment(const rod_recording *r, int k)
+{
+    return r->arc ? r->arc[k + 1] - r->arc[k] : r->ds;
+}
+/* The longest segment, m (ds on a uniform grid). */
+double rod_recording_longest_segment(const rod_recording *r);
+/* Gives r its own copy of `arc` (r->nodes of them; NULL: a uniform grid,
+ * r->arc freed). 0, or -1 when out of memory (r->arc then NULL). */
+int rod_recording_set_arc(rod_recording *r, const double *arc);
 
 /* Instrument k's pose in `frame`: its RECORDING_INSTRUMENT_NUMBERS numbers,
  * or NULL when the recording has none. */

@@ -25,7 +25,7 @@ import numpy as np
 __all__ = ["Scene", "Error", "api_version", "library_path"]
 
 _MAJOR = 1  # the major of rodsim.h this package speaks
-_MINOR = 1  # the least minor it needs (1: several rods)
+_MINOR = 2  # the least minor it needs (1: several rods; 2: rodsim_node_arc)
 
 # rodsim_status and rodsim_field (rodsim.h)
 _STATUS = {0: "ok", 1: "bad_input", 2: "unstable", 3: "no_convergence", 4: "failed"}
@@ -114,6 +114,7 @@ def _declare(lib):
         "rodsim_rod_nodes": (ctypes.c_int, [c_scene, ctypes.c_int]),
         "rodsim_get_rod": (ctypes.c_int, [c_scene, ctypes.c_int, ctypes.c_int, dblp,
                                           ctypes.c_size_t]),
+        "rodsim_node_arc": (ctypes.c_int, [c_scene, ctypes.c_int, dblp, ctypes.c_size_t]),
         "rodsim_end_load_rod": (ctypes.c_int, [c_scene, ctypes.c_int, ctypes.c_int, dblp, dblp]),
         "rodsim_set_end_pose_rod": (ctypes.c_int, [c_scene, ctypes.c_int, ctypes.c_int, dblp,
                                                    dblp]),
@@ -270,8 +271,20 @@ class Scene:
         k = self._rod(rod)
         return self._field(_POSITIONS, (_lib.rodsim_rod_nodes(self._h, k), 3), k)
 
+    def arc(self, rod=None):
+        """The nodes' arc lengths from the root, s_i (NS, m, at rest; rod:
+        its name in a scene of several rods): i L / (NS - 1) on a uniform
+        grid, the segments' rest lengths summed on a graded one (rod.refine),
+        the s of `rodsim run`'s CSV."""
+        k = self._rod(rod)
+        out = np.empty(_lib.rodsim_rod_nodes(self._h, k))
+        self._check(_lib.rodsim_node_arc(self._h, k, _ptr(out), out.size))
+        return out
+
     def state(self, rod=None):
-        """The state as numpy arrays (copies): t (s), positions (NS x 3, m),
+        """The state as numpy arrays (copies): t (s), arc (NS, m: each
+        node's arc length from the root, the graded grid's on one, as
+        arc()), positions (NS x 3, m),
         directors (NS x 3 x 3, rows d1 d2 d3, global), velocities (NS x 3,
         m/s), forces (NS x 3, N: the internal force, the CSV's nx,ny,nz),
         and for each end the force (N) and moment (N m) the rod exerts on
@@ -282,6 +295,7 @@ class Scene:
         r = self._rod(rod)
         n = _lib.rodsim_rod_nodes(h, r)
         out = {"t": _lib.rodsim_time(h),
+               "arc": self.arc(rod),
                "positions": self._field(_POSITIONS, (n, 3), r),
                "directors": self._field(_DIRECTORS, (n, 3, 3), r),
                "velocities": self._field(_VELOCITIES, (n, 3), r),

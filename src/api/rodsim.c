@@ -224,9 +224,7 @@ static rodsim_status make_scene(ini_doc *doc, const char *const *overrides, int 
         return make_rods_scene(doc, scene);
     }
     if (run_read_scene(doc, &sc->model, &sc->out, err, sizeof err) ||
-        instruments_refused(&sc->model, doc, err, sizeof err) ||
-        rod_grid_refuse(&sc->model, "the library (rodsim_load_file, rodsim_load_text)", err,
-                        sizeof err)) {
+        instruments_refused(&sc->model, doc, err, sizeof err)) {
         rodsim_free(sc);
         return fail(NULL, RODSIM_BAD_INPUT, "%s", err);
     }
@@ -600,6 +598,25 @@ rodsim_status rodsim_get_rod(const rodsim_scene *sc, int rod, rodsim_field field
         return fail(w, RODSIM_BAD_INPUT, "rodsim_get_rod: field %d of rod %d takes %zu "
                     "doubles, not %zu", (int)field, rod, size, out ? count : 0);
     fill(s, field, out);
+    return RODSIM_OK;
+}
+
+rodsim_status rodsim_node_arc(const rodsim_scene *sc, int rod, double *out, size_t count)
+{
+    rodsim_scene *w = (rodsim_scene *)sc; /* only its message changes */
+    if (check_rod(sc, rod, "rodsim_node_arc")) return RODSIM_BAD_INPUT;
+    const rod_state *s = state_of(sc, rod);
+    const rod_model *m = model_of(w, rod);
+    if (!out || count < (size_t)s->nodes)
+        return fail(w, RODSIM_BAD_INPUT, "rodsim_node_arc: rod %d takes %d doubles, not %zu", rod,
+                    s->nodes, out ? count : 0);
+    /* as the CSV's s (run_csv_frame_into): the segments summed from the root */
+    double arc = 0.0;
+    for (int node = 0; node < s->first_node + s->nodes; node++) {
+        if (node >= s->first_node)
+            out[node - s->first_node] = m->segment_length ? arc : (double)node * m->ds;
+        if (m->segment_length && node + 1 < m->nodes) arc += m->segment_length[node];
+    }
     return RODSIM_OK;
 }
 

@@ -826,10 +826,6 @@ static int open_run(scene_run *r)
     const scene_outputs_options *a = r->o;
     const rod_model *m = r->m;
     char err[SCENE_OUTPUTS_ERR_LEN] = "";
-    if (!a->no_video && rod_grid_refuse(m, "the renderer", err, sizeof err)) {
-        complain(a, "%s: %s\n", a->label, err);
-        return RUN_EXIT_BAD_INPUT;
-    }
     if (rod_solver_init(&r->solver, m, err, sizeof err)) {
         complain(a, "%s: cannot start the %s scheme: %s\n", a->label,
                 rod_scheme_get(m->options.scheme)->name, err);

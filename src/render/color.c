@@ -46,7 +46,9 @@ void color_values(const rod_recording *rec, int frame, render_color_mode mode,
             double relative[9], u[3];
             m3_mul_tn(relative, node_frame(rec, frame, k), node_frame(rec, frame, k + 1));
             m3_log(u, relative);
-            double curvature = hypot(u[0], u[1]) / rec->ds;
+            const double length = rod_recording_segment(rec, k);
+            if (!(length > 0)) continue; /* a joined recording's step from one rod to the next */
+            double curvature = hypot(u[0], u[1]) / length;
             out[k] += 0.5 * curvature;
             out[k + 1] += 0.5 * curvature;
         }

@@ -6,6 +6,7 @@
 
 #include "base/vec3.h"
 #include "render/geometry.h"
+#include "render/mesh.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -49,19 +50,30 @@ static void follow_cloud(follow_path *fp, const rod_recording *rec, const render
         const double reach = KNOT_FRAMING_REACH * rec->diameter;
         /* far: points closer than pi reach / 2 in arc cannot come within
          * reach of each other (rod_proximity_skip's argument, for reach) */
-        int skip = (int)ceil(0.5 * M_PI * reach / rec->ds) + 1;
+        const double longest = rod_recording_longest_segment(rec);
+        int skip = (int)ceil(0.5 * M_PI * reach / longest) + 1;
         int count = rod_proximity_pairs(fp->prox, node_position(rec, f, 0), rec->nodes, reach,
                                         skip, fp->pairs, fp->max_pairs);
         if (count > fp->max_pairs) count = fp->max_pairs; /* the rest, nearer the middle */
+        /* a graded grid: the skip counted its longest segment; the pairs
+         * nearer than pi reach / 2 in arc are one strand */
+        if (count > 0 && rec->arc)
+            count = recording_far_pairs(rec, fp->pairs, count, 0.5 * M_PI * reach);
         if (count > 0) {
             int lo = rec->nodes, hi = 0;
             for (int k = 0; k < count; k++) {
                 lo = fp->pairs[k].i < lo ? fp->pairs[k].i : lo;
                 hi = fp->pairs[k].j + 1 > hi ? fp->pairs[k].j + 1 : hi;
             }
-            int margin = (int)ceil(reach / rec->ds);
-            lo = lo - margin > 0 ? lo - margin : 0;
-            hi = hi + margin < rec->nodes - 1 ? hi + margin : rec->nodes - 1;
+            if (rec->arc) { /* reach of arc beyond either end */
+                const double from = rec->arc[lo] - reach, to = rec->arc[hi] + reach;
+                while (lo > 0 && rec->arc[lo] > from) lo--;
+                while (hi < rec->nodes - 1 && rec->arc[hi] < to) hi++;
+            } else {
+                int margin = (int)ceil(reach / rec->ds);
+                lo = lo - margin > 0 ? lo - margin : 0;
+                hi = hi + margin < rec->nodes - 1 ? hi + margin : rec->nodes - 1;
+            }
             for (int k = lo; k <= hi; k++)
                 v3_copy(&fp->frame.points[3 * fp->frame.count++], node_position(rec, f, k));
             return;

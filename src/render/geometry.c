@@ -30,7 +30,7 @@ double material_stripe_angle(const rod_recording *rec)
 
 void stripe_formula_offset(const rod_recording *rec, int frame, int node, double out[3])
 {
-    double angle = node * rec->ds * rec->twist[(size_t)frame * (size_t)rec->nodes + (size_t)node];
+    double angle = rod_recording_arc(rec, node) * rec->twist[(size_t)frame * (size_t)rec->nodes + (size_t)node];
     v3_set(out, 0, -sin(angle), cos(angle));
 }
 
@@ -74,6 +74,7 @@ rod_recording *recording_like(const rod_recording *rec, int frames)
     /* the surfaces too: the copy is drawn with them, and outlives nothing of rec */
     r->surfaces = NULL;
     r->surface_count = 0;
+    r->arc = NULL;
     size_t n = (size_t)rec->nodes, f = (size_t)(frames > 0 ? frames : 1);
     r->frame_count = r->capacity = (int)f;
     r->time = malloc(f * sizeof(double));
@@ -106,7 +107,8 @@ rod_recording *recording_like(const rod_recording *rec, int frames)
         }
     }
     if (!r->time || !r->position || !r->frame || !r->twist || !r->tension || !r->tip_force ||
-        !r->tip_moment || (r->surface_count > 0 && !r->surfaces)) {
+        !r->tip_moment || (r->surface_count > 0 && !r->surfaces) ||
+        rod_recording_set_arc(r, rec->arc)) {
         rod_recording_destroy(r);
         return NULL;
     }

@@ -375,6 +375,16 @@ int occlusion_create(strand_occlusion *s, int nodes, int rings, int sides, doubl
     return s->proximity && s->pairs && s->occlusion ? 0 : -1;
 }
 
+int recording_far_pairs(const rod_recording *rec, rod_segment_pair *pairs, int count, double span)
+{
+    int kept = 0;
+    for (int k = 0; k < count; k++)
+        if (rod_recording_arc(rec, pairs[k].j) - rod_recording_arc(rec, pairs[k].i + 1) >=
+            span * (1 - 1e-12))
+            pairs[kept++] = pairs[k];
+    return kept;
+}
+
 void occlusion_destroy(strand_occlusion *s)
 {
     rod_proximity_destroy(s->proximity);
@@ -420,6 +430,10 @@ void occlusion_shade(strand_occlusion *s, render_mesh *m, const render_centrelin
                                     s->pairs, s->max_pairs);
     if (found <= 0) return; /* none, or a non-finite point (drawn as it is) */
     if (found > s->max_pairs) found = s->max_pairs;
+    /* a graded grid: the skip counted its longest segment; one strand is
+     * half a turn of radius `radius` in arc (rod_proximity_skip's rule) */
+    if (rec->arc) found = recording_far_pairs(rec, s->pairs, found, M_PI * radius);
+    if (found <= 0) return;
     memset(s->occlusion, 0, (size_t)line->count * (size_t)per_node * sizeof(float));
     for (int k = 0; k < found; k++) {
         int i = pairs[k].i, j = pairs[k].j;

@@ -273,7 +273,8 @@ static int renderer_buffers(renderer *r, const rod_recording *rec, const render_
         r->mesh.max_indices += CUTAWAY_EXTRA_INDICES(PUNCTURE_INDICES / 3);
         r->cut_scratch = cutaway_scratch_create();
     }
-    int shading = occlusion_create(&r->shading, rec->nodes, rings, sides, r->radius, rec->ds);
+    int shading = occlusion_create(&r->shading, rec->nodes, rings, sides, r->radius,
+                                   rod_recording_longest_segment(rec));
     r->mesh.vertices = malloc((size_t)r->mesh.max_vertices * sizeof(render_vertex));
     r->mesh.indices = malloc((size_t)r->mesh.max_indices * sizeof(unsigned));
     r->grid.capacity = o->grid ? 4 * (GRID_MAX_LINES + 2) : 0;
@@ -588,6 +589,7 @@ static void renderer_rods(renderer *r, const rod_recording *rec, int frame)
         view.needle_radius = 0.0;
         view.ends[0] = rec->rod_end[k][0];
         view.ends[1] = rec->rod_end[k][1];
+        view.arc = rec->arc ? &rec->arc[first] : NULL; /* borrowed: rod k's own arc */
         const float *solid = k == 0 ? r->o->rod_color : rod_palette[(k - 1) % (RECORDING_MAX_RODS - 1)];
         const float *colors = r->o->color != RENDER_COLOR_SOLID && r->colors ? r->colors + 3 * first : NULL;
         centreline_rings(&r->line, &view, 0, r->o->smooth);

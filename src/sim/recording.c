@@ -11,6 +11,7 @@
 #include "sim/instrument.h"
 #include "sim/path.h"
 #include "sim/rod.h"
+#include "sim/rod_grid.h"
 #include "sim/tissue/tissue.h"
 
 static int reserve(rod_recording *r, int capacity)
@@ -238,6 +239,14 @@ rod_recording *rod_recording_create(const rod_model *m, const char *scene, int c
     r->length = m->length;
     r->ds = m->ds;
     r->diameter = m->diameter;
+    if (m->segment_length) {
+        r->arc = malloc((size_t)m->nodes * sizeof *r->arc);
+        if (!r->arc) {
+            free(r);
+            return NULL;
+        }
+        for (int i = 0; i < m->nodes; i++) r->arc[i] = rod_node_arc(m, i);
+    }
 
     snprintf(r->scheme, sizeof r->scheme, "%s", rod_scheme_get(m->options.scheme)->name);
     snprintf(r->scene, sizeof r->scene, "%s", scene ? scene : "");
@@ -271,6 +280,7 @@ void rod_recording_destroy(rod_recording *r)
     free(r->twist);
     free(r->tension);
     free(r->force_scratch);
+    free(r->arc);
     free(r->tip_force);
     free(r->tip_moment);
     free(r->puncture_count);
@@ -285,6 +295,25 @@ void rod_recording_destroy(rod_recording *r)
     free(r->surfaces);
     free(r->instrument_pose);
     free(r);
+}
+
+double rod_recording_longest_segment(const rod_recording *r)
+{
+    if (!r->arc) return r->ds;
+    double longest = 0.0;
+    for (int k = 0; k + 1 < r->nodes; k++) longest = fmax(longest, r->arc[k + 1] - r->arc[k]);
+    return longest;
+}
+
+int rod_recording_set_arc(rod_recording *r, const double *arc)
+{
+    free(r->arc);
+    r->arc = NULL;
+    if (!arc) return 0;
+    r->arc = malloc((size_t)r->nodes * sizeof *r->arc);
+    if (!r->arc) return -1;
+    memcpy(r->arc, arc, (size_t)r->nodes * sizeof *r->arc);
+    return 0;
 }
 
 double rod_recording_node_twist(const rod_state *s, int node)
@@ -510,6 +539,7 @@ rod_recording *rod_recording_join(rod_recording *const *parts, int count)
     r->time = r->position = r->frame = r->twist = r->tension = NULL;
     r->tip_force = r->tip_moment = r->puncture = r->instrument_pose = NULL;
     r->puncture_count = NULL;
+    r->arc = NULL;
     r->instrument_count = 0;
     r->surfaces = NULL;
     r->surface_count = 0;
@@ -531,6 +561,12 @@ rod_recording *rod_recording_join(rod_recording *const *parts, int count)
     parts[0]->instrument_count = 0;
     r->rod_count = count;
     const size_t n = (size_t)nodes;
+    int graded = 0;
+    for (int k = 0; k < count; k++) graded |= parts[k]->arc != NULL;
+    if (graded && !(r->arc = malloc(n * sizeof *r->arc))) {
+        rod_recording_destroy(r);
+        return NULL;
+    }
     size_t first = 0;
     for (int k = 0; k < count; k++) {
         const rod_recording *p = parts[k];
@@ -540,6 +576,7 @@ rod_recording *rod_recording_join(rod_recording *const *parts, int count)
         r->rod_end[k][1] = p->ends[1];
         r->diameter = fmax(r->diameter, p->diameter);
         r->self_contact |= p->self_contact;
+        for (int i = 0; graded && i < p->nodes; i++) r->arc[first + (size_t)i] = rod_recording_arc(p, i);
         for (size_t f = 0; f < (size_t)frames; f++) {
             memcpy(&r->position[(f * n + first) * 3], &p->position[f * pn * 3], pn * 3 * sizeof(double));
             memcpy(&r->frame[(f * n + first) * 9], &p->frame[f * pn * 9], pn * 9 * sizeof(double));

@@ -297,25 +297,24 @@ static void test_refusals(void)
     refused("nine intervals", ROD_TEXT "self_contact = no\nrefine = 0 0.1 2, 0.1 0.2 2, "
             "0.2 0.3 2, 0.3 0.4 2, 0.4 0.5 2, 0.5 0.6 2, 0.6 0.7 2, 0.7 0.8 2, 0.8 0.9 2\n",
             "up to 8");
-    /* the renderer: rodsim run without --no-video stops before writing */
+    /* the renderer and the library draw and load a graded grid
+     * (tests/render/test_grid_render.c measures them) */
     const char *dir = test_dir();
     char out_dir[512], scene[512];
     static char output[1 << 16];
     snprintf(out_dir, sizeof out_dir, "%s/out", dir);
     snprintf(scene, sizeof scene, "%s/graded.ini", dir);
     test_write_in(dir, "graded.ini", ROD_TEXT "self_contact = no\nrefine = 0 0.1 4\n"
-                  "[solver]\nduration = 0.1\n");
+                  "[solver]\nduration = 0.1\n[render]\nwidth = 320\nheight = 180\n");
     const char *args[] = {"run", scene, "-o", out_dir, NULL};
     const int status = test_run_rodsim(args, output, sizeof output);
-    check(status == 2 && strstr(output, "refine") && strstr(output, "--no-video"),
-          "rodsim run with a video: exit %d (2), %s", status, output);
-    check(test_dir_entries(out_dir) <= 0, "nothing written in out/ (%d entries)",
-          test_dir_entries(out_dir));
+    check(status == 0, "rodsim run with a video: exit %d (0)%s%s", status, status ? ": " : "",
+          status ? output : "");
     rodsim_scene *handle = NULL;
     const rodsim_status loaded = rodsim_load_text("graded", ROD_TEXT "self_contact = no\n"
                                                   "refine = 0 0.1 4\n", NULL, 0, &handle);
-    check(loaded != RODSIM_OK && !handle && strstr(rodsim_last_error(NULL), "refine"),
-          "the library refuses it: %s", rodsim_last_error(NULL));
+    check(loaded == RODSIM_OK && handle, "the library loads it (%s)",
+          loaded == RODSIM_OK ? "ok" : rodsim_last_error(NULL));
     rodsim_free(handle);
     const char *csv_args[] = {"run", scene, "-o", out_dir, "--no-video", "--csv", "-", NULL};
     check(test_run_rodsim(csv_args, output, sizeof output) == 0 && strstr(output, "0.1,20,1,"),
