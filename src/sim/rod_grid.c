@@ -115,8 +115,9 @@ int rod_grid_refuse(const rod_model *m, const char *what, char *err, size_t errl
     if (m->refine_count == 0) return 0;
     snprintf(err, errlen,
              "refine: a graded grid (rod.refine) does not work with %s yet; it runs with "
-             "solver.scheme = implicit, rod.self_contact = no, no [surface], [puncture], "
-             "[instrument], [cut], rod.shape, rod.settle or other rods, and rodsim run --no-video; remove "
-             "rod.refine for %s", what, what);
+             "solver.scheme = implicit, self-contact, rigid [surface]s, forceps and needle "
+             "holders, video and the library, without tissue surfaces, [puncture], scissors, "
+             "[cut], rod.shape, rod.settle or other rods; remove rod.refine for %s",
+             what, what);
     return -1;
 }
