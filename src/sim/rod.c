@@ -499,7 +499,6 @@ static int derive_grid(rod_model *m, char *err, size_t errlen)
     if (m->options.scheme != ROD_SCHEME_IMPLICIT) part = "the thesis and static schemes";
     else if (m->self_contact) part = "self-contact (rod.self_contact = yes)";
     else if (m->surface_count > 0) part = "a [surface]";
-    else if (m->puncture_count > 0) part = "a [puncture]";
     else if (m->instrument_count > 0) part = "an [instrument]";
     else if (m->cut_event_count > 0) part = "a [cut]";
     else if (m->initial_shape) part = "a starting shape (rod.shape)";
@@ -901,6 +900,15 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     }
 }
 
+/* A graded grid's slack beside a puncture at node i (rod_threaded_nodes):
+ * the longer of the node's segments, but at least the thread's diameter. */
+static double node_slack(const rod_model *m, int i)
+{
+    const double left = i > 0 ? m->segment_length[i - 1] : 0.0,
+                 right = i < m->nodes - 1 ? m->segment_length[i] : 0.0;
+    return fmax(fmax(left, right), m->diameter);
+}
+
 void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *threaded)
 {
     /* m: the slack beside a puncture, a segment's length but at least the
@@ -911,6 +919,9 @@ void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *thread
      * is the puncture's */
     const double slack = fmax(m->ds, m->diameter);
     const int n = m->nodes;
+    /* a graded grid: s_i summed from the root as rod_node_arc, the slack by
+     * node i's longer segment */
+    const double *seg = m->segment_length;
     memset(threaded, 0, (size_t)n * sizeof *threaded);
     for (int j = 0; j < m->surface_count && j < 32; j++) {
         double entry = -1.0;
@@ -922,13 +933,22 @@ void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *thread
                 continue;
             }
             double exit_s = s->puncture[k].s, lo = fmin(entry, exit_s), hi = fmax(entry, exit_s);
-            for (int i = 0; i < n; i++)
-                if (i * m->ds >= lo - slack && i * m->ds <= hi + slack) threaded[i] |= 1u << j;
+            double arc = 0.0;
+            for (int i = 0; i < n; i++) {
+                const double si = seg ? arc : i * m->ds, sl = seg ? node_slack(m, i) : slack;
+                if (si >= lo - sl && si <= hi + sl) threaded[i] |= 1u << j;
+                if (seg && i + 1 < n) arc += seg[i];
+            }
             entry = -1.0;
         }
-        if (entry >= 0.0)
-            for (int i = 0; i < n; i++)
-                if (i * m->ds >= entry - slack) threaded[i] |= 1u << j;
+        if (entry >= 0.0) {
+            double arc = 0.0;
+            for (int i = 0; i < n; i++) {
+                const double si = seg ? arc : i * m->ds, sl = seg ? node_slack(m, i) : slack;
+                if (si >= entry - sl) threaded[i] |= 1u << j;
+                if (seg && i + 1 < n) arc += seg[i];
+            }
+        }
     }
 }
 
@@ -937,7 +957,9 @@ double rod_nearest_arc_length_between(const rod_model *m, const double *position
 {
     if (first < 0) first = 0;
     if (last > m->nodes - 2) last = m->nodes - 2;
-    double best = INFINITY, best_s = first * m->ds;
+    /* a graded grid's s_j, summed from the root as rod_node_arc */
+    double arc = m->segment_length ? rod_node_arc(m, first) : 0.0;
+    double best = INFINITY, best_s = m->segment_length ? arc : first * m->ds;
     for (int j = first; j <= last; j++) {
         const double *a = &position[3 * j], *b = &position[3 * (j + 1)];
         double ab[3], ap[3], q[3];
@@ -949,8 +971,9 @@ double rod_nearest_arc_length_between(const rod_model *m, const double *position
         double d = v3_norm(q);
         if (d < best) {
             best = d;
-            best_s = (j + f) * m->ds;
+            best_s = m->segment_length ? arc + f * m->segment_length[j] : (j + f) * m->ds;
         }
+        if (m->segment_length) arc += m->segment_length[j];
     }
     if (distance) *distance = best;
     return best_s;
