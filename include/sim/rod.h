@@ -61,8 +61,8 @@ void rod_state_copy(rod_state *to, const rod_state *from);
  * frames twist-free along it (or a settled start's, initial_frames), every node moving with initial_velocity, no
  * angular velocity, darboux from the frames, no contact force. */
 void rod_state_reset(const rod_model *m, rod_state *s);
-/* The arc length (m) of the polygon `position` (nodes x 3, ds apart) nearest
- * the point p, and that distance (m) in *distance when not NULL. */
+/* The arc length (m) of the polygon `position` (nodes x 3, the model's
+ * segments apart: s_j + f ds_j on segment j, rod_grid.h) nearest the point p, and that distance (m) in *distance when not NULL. */
 double rod_nearest_arc_length(const rod_model *m, const double *position, const double p[3],
                               double *distance);
 /* Which nodes are threaded through each tissue surface (bit j: surface j,
@@ -70,8 +70,8 @@ double rod_nearest_arc_length(const rod_model *m, const double *position, const 
  * the needle's in the order it made them, after the scene's in the order
  * given), the thread between a pair is inside the tissue, and so is the
  * thread past an unpaired one towards the tip; a segment's length of slack
- * each side (at least the thread's diameter) covers the nodes beside a
- * puncture. threaded: nodes entries. */
+ * each side (at least the thread's diameter; on a graded grid the longer of
+ * the node's two segments) covers the nodes beside a puncture. threaded: nodes entries. */
 void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *threaded);
 /* The same over segments first..last only (clamped to the rod's). */
 double rod_nearest_arc_length_between(const rod_model *m, const double *position,

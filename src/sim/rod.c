@@ -506,7 +506,6 @@ static int derive_grid(rod_model *m, char *err, size_t errlen)
     else if (tissue)
         part = "a tissue [surface] (tissue = yes, an elastic pad's too; rigid surfaces without "
                "it are accepted)";
-    else if (m->puncture_count > 0) part = "a [puncture]";
     else if (scissors)
         part = "scissors (instrument.kind = scissors: they cut; forceps and needle holders are "
                "accepted)";
@@ -910,6 +909,15 @@ void rod_state_reset(const rod_model *m, rod_state *s)
     }
 }
 
+/* A graded grid's slack beside a puncture at node i (rod_threaded_nodes):
+ * the longer of the node's segments, but at least the thread's diameter. */
+static double node_slack(const rod_model *m, int i)
+{
+    const double left = i > 0 ? m->segment_length[i - 1] : 0.0,
+                 right = i < m->nodes - 1 ? m->segment_length[i] : 0.0;
+    return fmax(fmax(left, right), m->diameter);
+}
+
 void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *threaded)
 {
     /* m: the slack beside a puncture, a segment's length but at least the
@@ -920,6 +928,9 @@ void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *thread
      * is the puncture's */
     const double slack = fmax(m->ds, m->diameter);
     const int n = m->nodes;
+    /* a graded grid: s_i summed from the root as rod_node_arc, the slack by
+     * node i's longer segment */
+    const double *seg = m->segment_length;
     memset(threaded, 0, (size_t)n * sizeof *threaded);
     for (int j = 0; j < m->surface_count && j < 32; j++) {
         double entry = -1.0;
@@ -931,13 +942,22 @@ void rod_threaded_nodes(const rod_model *m, const rod_state *s, unsigned *thread
                 continue;
             }
             double exit_s = s->puncture[k].s, lo = fmin(entry, exit_s), hi = fmax(entry, exit_s);
-            for (int i = 0; i < n; i++)
-                if (i * m->ds >= lo - slack && i * m->ds <= hi + slack) threaded[i] |= 1u << j;
+            double arc = 0.0;
+            for (int i = 0; i < n; i++) {
+                const double si = seg ? arc : i * m->ds, sl = seg ? node_slack(m, i) : slack;
+                if (si >= lo - sl && si <= hi + sl) threaded[i] |= 1u << j;
+                if (seg && i + 1 < n) arc += seg[i];
+            }
             entry = -1.0;
         }
-        if (entry >= 0.0)
-            for (int i = 0; i < n; i++)
-                if (i * m->ds >= entry - slack) threaded[i] |= 1u << j;
+        if (entry >= 0.0) {
+            double arc = 0.0;
+            for (int i = 0; i < n; i++) {
+                const double si = seg ? arc : i * m->ds, sl = seg ? node_slack(m, i) : slack;
+                if (si >= entry - sl) threaded[i] |= 1u << j;
+                if (seg && i + 1 < n) arc += seg[i];
+            }
+        }
     }
 }
 

@@ -116,7 +116,7 @@ int rod_grid_refuse(const rod_model *m, const char *what, char *err, size_t errl
     snprintf(err, errlen,
              "refine: a graded grid (rod.refine) does not work with %s yet; it runs with "
              "solver.scheme = implicit, self-contact, rigid [surface]s, forceps and needle "
-             "holders, video and the library, without tissue surfaces, [puncture], scissors, "
+             "holders, punctures, video and the library, without tissue surfaces, scissors, "
              "[cut], rod.shape, rod.settle or other rods; remove rod.refine for %s",
              what, what);
     return -1;

@@ -8,6 +8,12 @@
 #include "sim/contact/contact.h"
 #include "sim/rod_types.h"
 
+/* The segment j (nodes j, j + 1) holding arc length s (m) and the fraction
+ * alpha in [0, 1] along it: s = s_j + alpha ds_j (rod_grid.h), clamped to
+ * the thread. A point carried in arc length so crosses a node where the
+ * spacing jumps without a jump in its place. */
+void puncture_locate(const rod_model *m, double s, int *j, double *alpha);
+
 /* Segment and fraction of each puncture for the step from the state, and
  * the thread's direction there (from the start of the step). */
 void puncture_prepare(rod_contact *ct, const rod_model *m, const rod_state *s);
@@ -21,8 +27,9 @@ void puncture_prepare(rod_contact *ct, const rod_model *m, const rod_state *s);
  * (contact_creep_speed), so the tension drops across a puncture by at most
  * mu |F_across| while the thread slides through. The force acts on the two
  * nodes by the weights 1 - alpha, alpha; the point's velocity responds with
- * the compliance (1-alpha)^2 push_j + alpha^2 push_j+1 (push: an interior
- * node's compliance, m/s per N; twice at a free end, 0 at a held one).
+ * the compliance (1-alpha)^2 push_j + alpha^2 push_j+1 (push: a uniform
+ * grid's interior node's compliance, m/s per N; twice at a free end, 0 at a
+ * held one; on a graded grid push ds / w_i, w_i node i's cell).
  * Where the thread passes is updated after each step (puncture_update), so
  * it slides through at whatever arc length. */
 void puncture_forces(rod_contact *ct, const rod_model *m, double push, double dt);

@@ -10,6 +10,7 @@
 #include "sim/contact/friction.h"
 #include "sim/contact/surface.h"
 #include "sim/rod.h"
+#include "sim/rod_grid.h"
 
 /* A needle's hole is made where the thread crosses the tissue, but not on
  * the segment at the needle's back (the held tip) farther toward it than
@@ -147,9 +148,32 @@ typedef struct puncture_at {
     double e[3], miss;       /* m: the thread's point minus the puncture's, across t; |e| */
 } puncture_at;
 
+void puncture_locate(const rod_model *m, double s, int *j, double *alpha)
+{
+    const int n = m->nodes;
+    if (!m->segment_length) {
+        const double u = s / m->ds;
+        int jj = (int)floor(u);
+        if (jj > n - 2) jj = n - 2;
+        if (jj < 0) jj = 0;
+        const double al = u - jj;
+        *j = jj;
+        *alpha = al < 0.0 ? 0.0 : al > 1.0 ? 1.0 : al;
+        return;
+    }
+    /* s_j summed from the root as rod_node_arc; the segment holding s */
+    double arc = 0.0;
+    int jj = 0;
+    while (jj < n - 2 && arc + m->segment_length[jj] <= s) arc += m->segment_length[jj++];
+    const double al = (s - arc) / m->segment_length[jj];
+    *j = jj;
+    *alpha = al < 0.0 ? 0.0 : al > 1.0 ? 1.0 : al;
+}
+
 /* Where puncture k's thread point is, from the iterate: 0, or -1 when the
  * point cannot move (a held end's node: the support holds it there). */
-static int puncture_place(const rod_contact *ct, int k, double push, double dt, puncture_at *a)
+static int puncture_place(const rod_contact *ct, int k, double push, double dt,
+                          puncture_at *a)
 {
     const int n = ct->nodes, j = ct->punct[k].j, i2 = j + 1;
     const double al = ct->punct[k].alpha, *t = ct->punct[k].tangent;
@@ -372,13 +396,11 @@ void puncture_prepare(rod_contact *ct, const rod_model *m, const rod_state *s)
         ct->punct[k].cross = NULL;
     }
     for (int k = 0; k < s->puncture_count; k++) {
-        double u = s->puncture[k].s / m->ds;
-        int j = (int)floor(u);
-        if (j > n - 2) j = n - 2;
-        if (j < 0) j = 0;
-        double al = u - j;
+        int j;
+        double al;
+        puncture_locate(m, s->puncture[k].s, &j, &al);
         ct->punct[k].j = j;
-        ct->punct[k].alpha = al < 0.0 ? 0.0 : al > 1.0 ? 1.0 : al;
+        ct->punct[k].alpha = al;
         v3_copy(ct->punct[k].point, s->puncture[k].point);
         /* in an elastic pad the point moves by C (F - F_last) with the force F
          * on the pad: at the point with the last force removed, C F added by
@@ -418,13 +440,18 @@ void puncture_prepare(rod_contact *ct, const rod_model *m, const rod_state *s)
     /* the thread between a tissue surface's punctures is inside it (no
      * contact with that surface: rod_threaded_nodes) */
     rod_threaded_nodes(m, s, ct->threaded);
+    /* the thread within a needle radius of its tip follows the needle into
+     * the hole its point cuts before the back (the tip) crosses the surface,
+     * where the puncture is made: no contact with tissue there (nor on the
+     * tip's segment beyond) */
+    const double needle_from = m->length - m->needle_radius - rod_segment_ds(m, n - 2);
     for (int j = 0; j < m->surface_count && j < 32; j++) {
-        /* the thread within a needle radius of its tip follows the needle
-         * into the hole its point cuts before the back (the tip) crosses the
-         * surface, where the puncture is made: no contact with tissue there */
-        if (ct->needle_tissue && m->surfaces[j].tissue)
-            for (int i = 0; i < n; i++)
-                if (i * m->ds >= m->length - m->needle_radius - m->ds) ct->threaded[i] |= 1u << j;
+        if (!(ct->needle_tissue && m->surfaces[j].tissue)) continue;
+        double arc = 0.0; /* s_i, summed as rod_node_arc */
+        for (int i = 0; i < n; i++) {
+            if ((m->segment_length ? arc : i * m->ds) >= needle_from) ct->threaded[i] |= 1u << j;
+            if (m->segment_length && i + 1 < n) arc += m->segment_length[i];
+        }
     }
 }
 
@@ -436,7 +463,7 @@ void puncture_prepare(rod_contact *ct, const rod_model *m, const rod_state *s)
 /* After the holes of tissue surface j: while the needle is inside it (an
  * odd number of its holes), a point of the needle's track becomes a
  * puncture once it lies track_spacing (at least two node spacings, so no
- * segment holds two) along the thread beyond the surface's last one and
+ * segment holds two: on a graded grid two of its longest segments) along the thread beyond the surface's last one and
  * half that under the surface (a track point a segment before the exit
  * stalled Newton where the thread turns out of the skin). The
  * point is the thread's, one node spacing behind the held tip (the
@@ -446,7 +473,11 @@ void puncture_prepare(rod_contact *ct, const rod_model *m, const rod_state *s)
  * the thread already is (no miss to correct). */
 static void needle_track(const rod_model *m, rod_state *s, int j, const rod_surface *sf)
 {
-    const double spacing = fmax(sf->track_spacing, 2.0 * m->ds), at = m->length - m->ds;
+    double longest = m->ds;
+    if (m->segment_length)
+        for (int q = 0; q + 1 < m->nodes; q++) longest = fmax(longest, m->segment_length[q]);
+    const double spacing = fmax(sf->track_spacing, 2.0 * longest);
+    const double at = m->length - rod_segment_ds(m, m->nodes - 2);
     int holes = 0;
     double last = -1.0;
     for (int k = 0; k < s->puncture_count; k++) {
@@ -470,9 +501,20 @@ static void needle_track(const rod_model *m, rod_state *s, int j, const rod_surf
     ps->track = 1;
 }
 
+/* Whether node i is within the needle holes' reach of the tip: (NS-1-i) ds
+ * <= reach (the needle's radius and two segments) on a uniform grid; on a
+ * graded one node i + 2 (two segments on toward the tip) within the
+ * needle's radius of it. */
+static int within_reach(const rod_model *m, int i, double reach)
+{
+    if (!m->segment_length) return (m->nodes - 1 - i) * m->ds <= reach;
+    return i + 2 >= m->nodes - 1 || m->length - rod_node_arc(m, i + 2) <= m->needle_radius;
+}
+
 int puncture_needle_holes(const rod_model *m, rod_state *s, rod_report *report)
 {
     const int n = m->nodes;
+    /* the segments within the needle's radius of the tip and two more */
     const double reach = m->needle_radius + 2.0 * m->ds;
     for (int j = 0; j < m->surface_count && j < 32; j++) {
         /* an elastic pad's holes are made where the needle crosses its
@@ -480,7 +522,7 @@ int puncture_needle_holes(const rod_model *m, rod_state *s, rod_report *report)
         rod_surface scratch;
         const rod_surface *sf = rod_surface_contact_view(&m->surfaces[j], &scratch);
         if (!sf->tissue) continue;
-        for (int i = n - 2; i >= 0 && (n - 1 - i) * m->ds <= reach; i--) {
+        for (int i = n - 2; i >= 0 && within_reach(m, i, reach); i--) {
             const double *a = &s->position[3 * i], *b = &s->position[3 * (i + 1)];
             double ga = rod_surface_gap(sf, a, 0.0, NULL, NULL);
             double gb = rod_surface_gap(sf, b, 0.0, NULL, NULL);
@@ -503,7 +545,7 @@ int puncture_needle_holes(const rod_model *m, rod_state *s, rod_report *report)
                 double d[3];
                 v3_sub(d, s->puncture[k].point, point);
                 held = s->puncture[k].surface == j && !s->puncture[k].track &&
-                       v3_norm(d) < 2.0 * m->ds;
+                       v3_norm(d) < 2.0 * rod_segment_ds(m, i);
             }
             if (held) continue;
             if (s->puncture_count >= ROD_MAX_PUNCTURES) {
@@ -517,7 +559,8 @@ int puncture_needle_holes(const rod_model *m, rod_state *s, rod_report *report)
             rod_puncture_state *ps = &s->puncture[s->puncture_count++];
             memset(ps, 0, sizeof *ps);
             v3_copy(ps->point, point);
-            ps->s = (i + f) * m->ds;
+            ps->s = m->segment_length ? rod_node_arc(m, i) + f * m->segment_length[i]
+                                      : (i + f) * m->ds;
             ps->friction = sf->friction;
             ps->surface = j;
         }

@@ -391,8 +391,11 @@ static int stall_site(const implicit_work *w, const rod_model *m, char *out, siz
     }
     for (int k = 0; k < w->contact.puncture_count && used > 0 && (size_t)used < len; k++)
         if (w->contact.punct[k].j >= node - 2 && w->contact.punct[k].j <= node + 1) {
+            const int pj = w->contact.punct[k].j;
+            const double al = w->contact.punct[k].alpha;
             used += snprintf(out + used, len - (size_t)used, ", beside the puncture at s = %.4g m",
-                             (w->contact.punct[k].j + w->contact.punct[k].alpha) * m->ds);
+                             m->segment_length ? rod_node_arc(m, pj) + al * m->segment_length[pj]
+                                               : (pj + al) * m->ds);
             touching = 1;
             break;
         }
