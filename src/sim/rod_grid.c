@@ -116,7 +116,7 @@ int rod_grid_refuse(const rod_model *m, const char *what, char *err, size_t errl
     snprintf(err, errlen,
              "refine: a graded grid (rod.refine) does not work with %s yet; it runs with "
              "solver.scheme = implicit, rod.self_contact = no, no [surface], [puncture], "
-             "[instrument], [cut], rod.shape, rod.settle or other rods, and rodsim run --no-video; remove "
+             "[instrument] or contact between rods, and rodsim run --no-video; remove "
              "rod.refine for %s", what, what);
     return -1;
 }
