@@ -28,4 +28,8 @@ void spline3_eval(const spline3 *s, double u, double out[3]);
  * its straight continuation). Writes `points` points (points x 3). */
 void spline3_walk(const spline3 *s, double step, int points, double *out);
 
+/* spline3_walk with a straight distance of its own before each point:
+ * out[i] is steps[i - 1] from out[i - 1] (steps: points - 1 of them). */
+void spline3_walk_steps(const spline3 *s, const double *steps, int points, double *out);
+
 #endif

@@ -12,6 +12,11 @@
  * state with rod_cut_model(m, s) (the CSV, the recording, contact, the knot
  * tracker, the summary) then sees only the thread left. The cut lands on the
  * node nearest the crossing: the length left is right to half a segment.
+ * On a graded grid (rod.refine, sim/rod_grid.h) "nearest" is by the nodes'
+ * arc lengths, and the thread left keeps its segments' lengths (a slice of
+ * segment_length); its refine intervals stay the scene's (they only mark
+ * the grid graded), and first_arc keeps the uncut arc length of its first
+ * node (the CSV's s).
  *
  * Which side goes (docs/decisions/0077-trimming.md): a side is anchored
  * when an end fixed in place (clamped or pinned, no path) or a puncture is
@@ -46,6 +51,9 @@ typedef struct rod_cut_thread {
                              instruments, punctures, paths) with its own nodes, length and
                              ends; never passed to rod_model_release */
     rod_point_load *point_loads; /* owned: the point loads left, renumbered (or NULL) */
+    double *segment_length; /* owned: a graded grid's segments left (model.segment_length),
+                               or NULL on a uniform grid */
+    double first_arc;     /* m: the uncut thread's arc length at the first node left */
 } rod_cut_thread;
 
 /* The model the state is of: the cut thread's when it was cut, else m (the

@@ -143,7 +143,9 @@ static double distance_at(const spline3 *s, double u, int *hint, const double fr
     return v3_norm(d);
 }
 
-void spline3_walk(const spline3 *s, double step, int points, double *out)
+/* spline3_walk with step `step`, or steps[i - 1] before out[i] when steps
+ * is given. */
+static void walk(const spline3 *s, double step, const double *steps, int points, double *out)
 {
     int hint = 0;
     double u = 0.0;
@@ -153,6 +155,7 @@ void spline3_walk(const spline3 *s, double step, int points, double *out)
      * Each march ends: beyond the curve's end the distance grows linearly. */
     for (int i = 1; i < points; i++) {
         const double *from = &out[3 * (i - 1)];
+        if (steps) step = steps[i - 1];
         double below = u, above = u + 0.25 * step;
         while (distance_at(s, above, &hint, from) < step) {
             below = above;
@@ -166,4 +169,14 @@ void spline3_walk(const spline3 *s, double step, int points, double *out)
         u = above;
         eval_hinted(s, u, &hint, &out[3 * i]);
     }
+}
+
+void spline3_walk(const spline3 *s, double step, int points, double *out)
+{
+    walk(s, step, NULL, points, out);
+}
+
+void spline3_walk_steps(const spline3 *s, const double *steps, int points, double *out)
+{
+    walk(s, 0.0, steps, points, out);
 }

@@ -148,12 +148,14 @@ void run_csv_frame_into(FILE *f, const rod_model *m, const rod_state *s, const c
 {
     rod_internal_force(s, force);
     /* node and s are the uncut thread's: a cut taking the root's side leaves
-     * the rows of the nodes left under their own numbers */
-    double arc = 0.0; /* a graded grid's s (never cut: rod_grid.h) */
+     * the rows of the nodes left under their own numbers; a graded grid's s
+     * runs along the thread left's own segments from its first node's */
+    const rod_model *left = rod_cut_model(m, s);
+    double arc = s->cut ? s->cut->first_arc : 0.0;
     for (int i = 0; i < s->nodes; i++) {
         const int node = i + s->first_node;
-        const double at = m->segment_length ? arc : (double)node * m->ds;
-        if (m->segment_length && node + 1 < m->nodes) arc += m->segment_length[node];
+        const double at = left->segment_length ? arc : (double)node * m->ds;
+        if (left->segment_length && i + 1 < s->nodes) arc += left->segment_length[i];
         const double *r = &s->position[3 * i];
         const double *q = &s->frame[9 * i];
         const double *n = &force[3 * i];

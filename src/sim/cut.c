@@ -10,6 +10,7 @@
 #include "base/vec3.h"
 #include "sim/instrument.h"
 #include "sim/rod.h"
+#include "sim/rod_grid.h"
 
 const rod_model *rod_cut_model(const rod_model *m, const rod_state *s)
 {
@@ -29,6 +30,7 @@ static void cut_model_release(rod_cut_thread *c)
 {
     if (!c || --c->refs > 0) return;
     free(c->point_loads);
+    free(c->segment_length);
     free(c);
 }
 
@@ -113,15 +115,16 @@ double rod_cut_nearest(const rod_model *m, int k, const rod_state *s, double *ar
     v3_copy(tip, pose.position);
     m3_mul_v(back, pose.rotation, local);
     v3_add(back, back, pose.position);
-    double best = INFINITY, best_s = 0.0;
+    double best = INFINITY, best_s = 0.0, arc_j = 0.0; /* arc_j: node j's s, graded */
     for (int j = 0; j + 1 < m->nodes; j++) {
         double u, v;
         const double d = segment_distance(&s->position[3 * j], &s->position[3 * (j + 1)], tip,
                                           back, &u, &v);
         if (d < best) {
             best = d;
-            best_s = (j + u) * m->ds;
+            best_s = m->segment_length ? arc_j + u * m->segment_length[j] : (j + u) * m->ds;
         }
+        if (m->segment_length) arc_j += m->segment_length[j];
     }
     *arc = best_s;
     *reach = 2.0 * rj + m->diameter;
@@ -157,7 +160,8 @@ void rod_cut_scene_events(const rod_model *m, rod_state *s, double t0)
          * past where their sum ended: the steps' ends with that hair */
         const double hair = 1e-9 * fmax(1.0, fabs(ev->t));
         if (ev->t > t0 + hair && ev->t <= s->time + hair)
-            rod_cut_ask(s, -1, ev->s - s->first_node * m->ds);
+            rod_cut_ask(s, -1, ev->s - (m->segment_length ? rod_node_arc(m, s->first_node)
+                                                          : s->first_node * m->ds));
     }
 }
 
@@ -198,6 +202,19 @@ static int trimmed_model(rod_cut_thread *c, const rod_model *cur, const rod_stat
     *t = *cur;
     t->nodes = nodes;
     t->length = (nodes - 1) * cur->ds;
+    c->segment_length = NULL;
+    if (cur->segment_length) {
+        /* a graded grid: the thread left keeps its segments' lengths (its
+         * refine intervals stay the scene's, in the uncut thread's arc
+         * length: they only mark the grid graded) */
+        c->segment_length = malloc((size_t)(nodes - 1) * sizeof *c->segment_length);
+        if (!c->segment_length) return -1;
+        memcpy(c->segment_length, cur->segment_length + first,
+               (size_t)(nodes - 1) * sizeof *c->segment_length);
+        t->length = 0.0;
+        for (int j = 0; j + 1 < nodes; j++) t->length += c->segment_length[j];
+    }
+    t->segment_length = c->segment_length;
     t->initial_shape = NULL; /* the start is past */
     t->shape_tip_moved = t->shape_moved = 0.0;
     t->adjusted[0] = '\0';
@@ -256,7 +273,9 @@ int rod_cut_apply(const rod_model *m, rod_state *s, rod_report *report)
     if (!q.pending) return 0;
     const rod_model *cur = rod_cut_model(m, s);
     const int n = s->nodes;
-    const double ds = cur->ds, arc0 = s->first_node * ds + q.s;
+    const double ds = cur->ds;
+    const double arc0 = (cur->segment_length ? rod_node_arc(m, s->first_node)
+                                             : s->first_node * ds) + q.s;
     if (s->cut_count >= ROD_MAX_CUTS) {
         dropped(cur, &q, s->time, arc0, report, "the run has made the most cuts it logs");
         return 0;
@@ -274,11 +293,19 @@ int rod_cut_apply(const rod_model *m, rod_state *s, rod_report *report)
     int side;
     if (held[0] != held[1]) side = held[0] < held[1] ? 0 : 1;
     else side = q.s < 0.5 * cur->length ? 0 : 1;
-    if (q.s < -0.5 * ds || q.s > cur->length + 0.5 * ds) {
+    /* the node nearest the cut (on a graded grid by the nodes' arc lengths) */
+    const double half_first = 0.5 * rod_segment_ds(cur, 0), half_last = 0.5 * rod_segment_ds(cur, n - 2);
+    if (q.s < -half_first || q.s > cur->length + half_last) {
         dropped(cur, &q, s->time, arc0, report, "that part of the thread was cut off before");
         return 0;
     }
-    const int j = (int)lround(q.s / ds);
+    int j = 0;
+    if (!cur->segment_length) {
+        j = (int)lround(q.s / ds);
+    } else {
+        double at = 0.0;
+        while (j < n - 1 && q.s > at + 0.5 * cur->segment_length[j]) at += cur->segment_length[j++];
+    }
     const int first = side == 0 ? j : 0, nodes = side == 0 ? n - j : j + 1;
     if (j <= 0 || j >= n - 1) {
         dropped(cur, &q, s->time, arc0, report, "within half a segment of the thread's end");
@@ -290,7 +317,7 @@ int rod_cut_apply(const rod_model *m, rod_state *s, rod_report *report)
     }
     rod_cut_thread *c = calloc(1, sizeof *c);
     if (!c || trimmed_model(c, cur, s, first, nodes, side)) {
-        if (c) free(c->point_loads);
+        if (c) free(c->point_loads), free(c->segment_length);
         free(c);
         snprintf(report->message, sizeof report->message,
                  "out of memory cutting the thread at t = %g s", s->time);
@@ -308,7 +335,7 @@ int rod_cut_apply(const rod_model *m, rod_state *s, rod_report *report)
     }
     /* the state onto the nodes left; the cut end is free: no force, no
      * moment there (N = 0, u = u0) */
-    const double shift = first * ds;
+    const double shift = cur->segment_length ? rod_node_arc(cur, first) : first * ds;
     if (side == 0) {
         shift_state(s, first, nodes);
         s->first_node += first;
@@ -328,11 +355,12 @@ int rod_cut_apply(const rod_model *m, rod_state *s, rod_report *report)
         v3_copy(&s->darboux[3 * j], cur->intrinsic_curvature);
     }
     s->nodes = nodes;
+    c->first_arc = m->segment_length ? rod_node_arc(m, s->first_node) : s->first_node * m->ds;
     rod_cut_record *r = &s->cut_log[s->cut_count++];
     r->instrument = q.instrument;
     r->t = s->time;
     r->s = arc0;
-    r->removed = (n - nodes) * ds;
+    r->removed = cur->segment_length ? cur->length - c->model.length : (n - nodes) * ds;
     r->side = side;
     cut_model_release(s->cut);
     s->cut = c;

@@ -96,7 +96,8 @@ static void root_frame(const double tangent[3], double q[9])
     m3_mul(q, r, straight);
 }
 
-/* Node tangents of a polygon with segments exactly ds long (initial_shape).
+/* Node tangents of a polygon with segments exactly ds long (initial_shape;
+ * on a graded grid each its own ds_j: the chain below holds for any lengths).
  * The staggered schemes take d3 of the midpoint frame, the geodesic midpoint
  * of the frames at a segment's two nodes, as the segment's direction (3.12),
  * so the node tangents must satisfy (n_i + n_{i+1}) / |n_i + n_{i+1}| = t_i,
@@ -209,16 +210,24 @@ static int shape_self_contact(const rod_model *m, char *err, size_t errlen)
         snprintf(err, errlen, "shape: out of memory");
         return -1;
     }
+    /* on a graded grid the neighbours skipped are counted in the shortest
+     * segments (the most of them within pi d / 2) */
+    double shortest = m->ds;
+    for (int j = 0; m->segment_length && j + 1 < m->nodes; j++)
+        shortest = fmin(shortest, m->segment_length[j]);
     rod_segment_pair c;
     int found = rod_proximity_min(prox, m->initial_shape, m->nodes,
-                                  rod_proximity_skip(m->diameter, m->ds), &c);
+                                  rod_proximity_skip(m->diameter, shortest), &c);
     rod_proximity_destroy(prox);
     if (found == 1 && c.distance < m->diameter * (1.0 - 1e-6)) {
+        const double si = m->segment_length ? rod_node_arc(m, c.i) + c.s * rod_segment_ds(m, c.i)
+                                            : (c.i + c.s) * m->ds;
+        const double sj = m->segment_length ? rod_node_arc(m, c.j) + c.t * rod_segment_ds(m, c.j)
+                                            : (c.j + c.t) * m->ds;
         snprintf(err, errlen, "shape: intersects itself: segments %d (s = %.6g m) and %d "
                  "(s = %.6g m) come %.6g m apart, closer than the diameter %.6g m; move the "
                  "strands at least one diameter apart",
-                 c.i + 1, (c.i + c.s) * m->ds, c.j + 1, (c.j + c.t) * m->ds, c.distance,
-                 m->diameter);
+                 c.i + 1, si, c.j + 1, sj, c.distance, m->diameter);
         return -1;
     }
     return 0;
@@ -278,19 +287,26 @@ static int check_point_loads(const rod_model *m, char *err, size_t errlen)
     return 0;
 }
 
-/* A starting shape: segments ds long, bends resolved, no self-intersection; it sets the
+/* A starting shape: segments ds (ds_j) long, bends resolved, no self-intersection; it sets the
  * origin and the direction. */
 static int check_shape(rod_model *m, char *err, size_t errlen)
 {
-    /* resampled (scene_read_rod): every segment ds long, to 1e-6 */
+    /* resampled (scene_read_rod): every segment ds long (on a graded grid its
+     * own ds_j, sim/rod_grid.h), to 1e-6 */
     for (int j = 0; j + 1 < m->nodes; j++) {
         const double *a = &m->initial_shape[3 * j], *b = &m->initial_shape[3 * (j + 1)];
+        const double ds = rod_segment_ds(m, j);
         double d[3];
         v3_sub(d, b, a);
-        if (!finite3(a) || !finite3(b) || !(fabs(v3_norm(d) - m->ds) <= 1e-6 * m->ds)) {
-            snprintf(err, errlen, "shape: segment %d is %.9g m long; the starting shape must "
-                     "have NS = %d finite nodes %.9g m apart (length / (NS - 1))", j + 1,
-                     v3_norm(d), m->nodes, m->ds);
+        if (!finite3(a) || !finite3(b) || !(fabs(v3_norm(d) - ds) <= 1e-6 * ds)) {
+            if (m->segment_length)
+                snprintf(err, errlen, "shape: segment %d is %.9g m long; the starting shape must "
+                         "have NS = %d finite nodes, segment %d %.9g m long (the graded grid of "
+                         "rod.refine)", j + 1, v3_norm(d), m->nodes, j + 1, ds);
+            else
+                snprintf(err, errlen, "shape: segment %d is %.9g m long; the starting shape must "
+                         "have NS = %d finite nodes %.9g m apart (length / (NS - 1))", j + 1,
+                         v3_norm(d), m->nodes, m->ds);
             return -1;
         }
     }
@@ -308,7 +324,8 @@ static int check_shape(rod_model *m, char *err, size_t errlen)
     if (rc) {
         snprintf(err, errlen, "shape: turns by more than %.1f rad between the segments "
                  "beside node %d (s = %.6g m): the grid does not resolve it; raise rod.nodes "
-                 "or smooth the shape", ROD_UNRESOLVED_BEND, bad, bad * m->ds);
+                 "or smooth the shape", ROD_UNRESOLVED_BEND, bad,
+                 m->segment_length ? rod_node_arc(m, bad) : bad * m->ds);
         return -1;
     }
     return shape_self_contact(m, err, errlen);
@@ -509,9 +526,6 @@ static int derive_grid(rod_model *m, char *err, size_t errlen)
     else if (scissors)
         part = "scissors (instrument.kind = scissors: they cut; forceps and needle holders are "
                "accepted)";
-    else if (m->cut_event_count > 0) part = "a [cut]";
-    else if (m->initial_shape) part = "a starting shape (rod.shape)";
-    else if (m->settle > 0.0) part = "settling (rod.settle)";
     else if (m->between_rods) part = "contact between rods";
     if (part) return rod_grid_refuse(m, part, err, errlen);
     if (!m->segment_length) {

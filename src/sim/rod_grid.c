@@ -116,8 +116,8 @@ int rod_grid_refuse(const rod_model *m, const char *what, char *err, size_t errl
     snprintf(err, errlen,
              "refine: a graded grid (rod.refine) does not work with %s yet; it runs with "
              "solver.scheme = implicit, self-contact, rigid [surface]s, forceps and needle "
-             "holders, punctures, video and the library, without tissue surfaces, scissors, "
-             "[cut], rod.shape, rod.settle or other rods; remove rod.refine for %s",
+             "holders, punctures, [cut], rod.shape, rod.settle, video and the library, without "
+             "tissue surfaces, scissors or contact between rods; remove rod.refine for %s",
              what, what);
     return -1;
 }

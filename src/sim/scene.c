@@ -833,13 +833,17 @@ static int load_polyline(const char *path, double **points, int *count, int *las
 }
 
 /* The nodes along a polyline, each next one the first point further along
- * it exactly ds from the previous (linear between the polyline's points). */
-static void walk_polyline(const double *points, int count, int nodes, double ds, double *out)
+ * it exactly ds from the previous, or step[i - 1] before node i when step is
+ * given (a graded grid's segment lengths); linear between the polyline's
+ * points. */
+static void walk_polyline(const double *points, int count, int nodes, double ds,
+                          const double *step, double *out)
 {
     v3_copy(out, points);
     int j = 0;         /* current polyline segment: points[j] -> points[j+1] */
     for (int i = 1; i < nodes; i++) {
         const double *current = &out[3 * (i - 1)];
+        if (step) ds = step[i - 1];
         /* advance to the first segment whose end is at least ds away */
         while (j + 2 < count) {
             double d[3];
@@ -860,30 +864,36 @@ static void walk_polyline(const double *points, int count, int nodes, double ds,
 /* The rod's nodes along the shape: node 0 at its first point, each next node
  * the first point further along the shape's smooth curve (base/spline.h)
  * exactly ds from the previous one, so every segment is ds long, as the
- * inextensible schemes keep it. The curve, not the polyline: resampled finer
+ * inextensible schemes keep it; on a graded grid (step given: the segments'
+ * lengths, sim/rod_grid.h) node i is step[i - 1] from node i - 1. The curve,
+ * not the polyline: resampled finer
  * or coarser than its own points, a polyline's corners would become kinks
  * between runs of straight segments, and the node tangents that the
  * staggered schemes need (rod.c: shape_tangents) then drift by up to half a
  * turn (a 301-point trefoil at NS = 601: 3 rad). A shape given at the rod's
- * nodes (its chords ds to 1e-6) is taken as it is, its chords made exactly
- * ds along its own polyline. The last node falls short of the shape's end by
- * the chords' shortfall, about L (k ds)^2 / 24 for a curvature k. Writes
- * nodes (nodes x 3); -1 when out of memory. */
-static int resample(const double *points, int count, int nodes, double ds, double *out)
+ * nodes (its chords ds, or step[j], to 1e-6) is taken as it is, its chords
+ * made exactly those lengths along its own polyline. The last node falls
+ * short of the shape's end by the chords' shortfall, about the sum of
+ * ds_j (k ds_j)^2 / 24 for a curvature k. Writes nodes (nodes x 3); -1 when
+ * out of memory. */
+static int resample(const double *points, int count, int nodes, double ds, const double *step,
+                    double *out)
 {
     int as_given = count == nodes;
     for (int j = 0; as_given && j + 1 < count; j++) {
         double d[3];
+        const double chord = step ? step[j] : ds;
         v3_sub(d, &points[3 * (j + 1)], &points[3 * j]);
-        as_given = fabs(v3_norm(d) - ds) <= 1e-6 * ds;
+        as_given = fabs(v3_norm(d) - chord) <= 1e-6 * chord;
     }
     if (as_given) {
-        walk_polyline(points, count, nodes, ds, out);
+        walk_polyline(points, count, nodes, ds, step, out);
         return 0;
     }
     spline3 *curve = spline3_create(points, count);
     if (!curve) return -1;
-    spline3_walk(curve, ds, nodes, out);
+    if (step) spline3_walk_steps(curve, step, nodes, out);
+    else spline3_walk(curve, ds, nodes, out);
     spline3_destroy(curve);
     return 0;
 }
@@ -980,7 +990,19 @@ static int read_start(ini_doc *doc, rod_model *m, char *err, size_t errlen)
         free(points);
         return ini_error(doc, "rod", 0, "shape", err, errlen, "out of memory");
     }
-    int failed = resample(points, count, m->nodes, m->length / (m->nodes - 1), m->initial_shape);
+    /* a graded grid's segment lengths (the intervals were checked by read_refine) */
+    double *step = NULL;
+    if (m->refine_count > 0 && m->nodes >= 3 && m->nodes <= 100001) {
+        step = malloc((size_t)(m->nodes - 1) * sizeof *step);
+        if (!step) {
+            free(points);
+            return ini_error(doc, "rod", 0, "shape", err, errlen, "out of memory");
+        }
+        rod_grid_segment_lengths(m, step);
+    }
+    int failed = resample(points, count, m->nodes, m->length / (m->nodes - 1), step,
+                          m->initial_shape);
+    free(step);
     if (!failed) {
         double moved[3];
         v3_sub(moved, &m->initial_shape[3 * (m->nodes - 1)], &points[3 * (count - 1)]);

@@ -8,21 +8,23 @@
 #include <string.h>
 
 #include "sim/rod.h"
+#include "sim/rod_grid.h"
 
 /* The most steps a settling may take: its time is spent before the run's
  * first step (a live session's first answer waits for it) */
 #define SETTLE_MAX_STEPS 100000
 
 /* The state's kinetic energy up to the (uniform) mass per length and ds:
- * the sum of its nodes' squared speeds, m^2/s^2 (the test only compares it
+ * the sum of its nodes' squared speeds, m^2/s^2, on a graded grid each
+ * weighted by its cell over ds (sim/rod_grid.h) (the test only compares it
  * with the last step's); *fastest: the largest speed, m/s. */
-static double speeds(const rod_state *s, double *fastest)
+static double speeds(const rod_model *m, const rod_state *s, double *fastest)
 {
     double sum = 0.0, most = 0.0;
     for (int i = 0; i < s->nodes; i++) {
         const double *v = &s->velocity[3 * i];
         const double v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-        sum += v2;
+        sum += m->segment_length ? rod_cell_length(m, i) / m->ds * v2 : v2;
         most = fmax(most, v2);
     }
     *fastest = sqrt(most);
@@ -71,7 +73,7 @@ int rod_model_settle(rod_model *m, double *fastest, char *err, size_t errlen)
                      "the %g s: %s", s->time, m->settle, report.message);
             goto done;
         }
-        const double energy = speeds(s, &most);
+        const double energy = speeds(m, s, &most);
         if (energy < last) {
             /* past a peak of kinetic energy: at rest here, and on */
             memset(s->velocity, 0, n * 3 * sizeof(double));
