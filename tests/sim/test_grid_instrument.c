@@ -24,6 +24,7 @@
 #include "sim/scheme_implicit.h"
 #include "test.h"
 #include "test_capstan.h"
+#include "test_instrument_rows.h"
 #include "test_process.h"
 #include "test_scene_run.h"
 
@@ -131,43 +132,6 @@ done:
 }
 
 /* Grasp at mid-length and lift ------------------------------------------ */
-
-/* An instrument from rows (t, x, y, z, rx, ry, rz, jaw). */
-static rod_instrument instrument(rod_instrument_kind kind, double size, const double *rows,
-                                 int count, double friction, double grip)
-{
-    rod_instrument in;
-    memset(&in, 0, sizeof in);
-    in.kind = kind;
-    snprintf(in.name, sizeof in.name, "%s", rod_instrument_kind_name(kind));
-    in.size = size;
-    in.friction = friction;
-    in.grip = grip;
-    double *pose = malloc((size_t)count * 7 * sizeof(double)), *jaw = malloc((size_t)count * 7 * sizeof(double));
-    for (int r = 0; r < count; r++) {
-        memcpy(&pose[7 * r], &rows[8 * r], 7 * sizeof(double));
-        const double o[7] = {rows[8 * r], rows[8 * r + 7], 0.0, 0.0, 0.0, 0.0, 0.0};
-        memcpy(&jaw[7 * r], o, sizeof o);
-    }
-    char err[256];
-    in.pose = rod_path_create(pose, count, 7, err, sizeof err);
-    in.jaw = rod_instrument_jaw_path(jaw, count, err, sizeof err);
-    free(pose);
-    free(jaw);
-    return in;
-}
-
-/* The rotation vector of the rotation whose columns are a, b, c. */
-static void rotation_vector(const double a[3], const double b[3], const double c[3], double rv[3])
-{
-    double r[9];
-    for (int i = 0; i < 3; i++) {
-        r[3 * i] = a[i];
-        r[3 * i + 1] = b[i];
-        r[3 * i + 2] = c[i];
-    }
-    m3_log(rv, r);
-}
 
 /* Closed forceps pointing down, across a thread along x, grasp it at x =
  * L/2 + off and lift it by 5 cm; the grid refined over [s0, s1] by 5. */

@@ -18,6 +18,7 @@
 #include "sim/scheme_implicit.h"
 #include "test.h"
 #include "test_capstan.h"
+#include "test_instrument_rows.h"
 #include "test_curve.h"
 #include "test_process.h"
 
@@ -35,43 +36,6 @@ static rod_model thread_model(double length, double diameter, int nodes)
     m.tip_end = ROD_END_FREE;
     m.self_contact = 0;
     return m;
-}
-
-/* An instrument from rows (t, x, y, z, rx, ry, rz, jaw); NULL paths on failure. */
-static rod_instrument instrument(rod_instrument_kind kind, double size, const double *rows,
-                                 int count, double friction, double grip)
-{
-    rod_instrument in;
-    memset(&in, 0, sizeof in);
-    in.kind = kind;
-    snprintf(in.name, sizeof in.name, "%s", rod_instrument_kind_name(kind));
-    in.size = size;
-    in.friction = friction;
-    in.grip = grip;
-    double *pose = malloc((size_t)count * 7 * sizeof(double)), *jaw = malloc((size_t)count * 7 * sizeof(double));
-    for (int r = 0; r < count; r++) {
-        memcpy(&pose[7 * r], &rows[8 * r], 7 * sizeof(double));
-        const double o[7] = {rows[8 * r], rows[8 * r + 7], 0.0, 0.0, 0.0, 0.0, 0.0};
-        memcpy(&jaw[7 * r], o, sizeof o);
-    }
-    char err[256];
-    in.pose = rod_path_create(pose, count, 7, err, sizeof err);
-    in.jaw = rod_instrument_jaw_path(jaw, count, err, sizeof err);
-    free(pose);
-    free(jaw);
-    return in;
-}
-
-/* The rotation vector of the rotation whose columns are a, b, c. */
-static void rotation_vector(const double a[3], const double b[3], const double c[3], double rv[3])
-{
-    double r[9];
-    for (int i = 0; i < 3; i++) {
-        r[3 * i] = a[i];
-        r[3 * i + 1] = b[i];
-        r[3 * i + 2] = c[i];
-    }
-    m3_log(rv, r);
 }
 
 /* Forceps pointing down (local x = -z), closing across a thread along x
