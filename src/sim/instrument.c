@@ -316,8 +316,10 @@ void rod_grasp_take(const rod_model *m, int k, rod_state *s, double arc)
     g->log = -1;
     if (s->grasp_log_count < ROD_MAX_GRASP_LOG) {
         g->log = s->grasp_log_count++;
-        /* the arc length on the uncut thread (a cut may have taken its root's side) */
-        const rod_grasp_record r = {k, s->time, -1.0, arc + s->first_node * m->ds, 0.0};
+        /* the arc length on the uncut thread (a cut may have taken its root's
+         * side): its first node's there, first_node ds on a uniform grid */
+        const double first_arc = s->cut ? s->cut->first_arc : 0.0;
+        const rod_grasp_record r = {k, s->time, -1.0, arc + first_arc, 0.0};
         s->grasp_log[g->log] = r;
     }
 }

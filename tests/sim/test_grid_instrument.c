@@ -9,8 +9,8 @@
  *   - a thread over the forceps' closed tines, its root pulled slowly, the
  *     wrap refined: the capstan law W exp(mu pi) at the root;
  *   - a graded scene with a plane and an instrument runs (rodsim run
- *     --no-video); a tissue surface (an elastic pad's too) and scissors are
- *     refused by name. */
+ *     --no-video); a tissue surface (an elastic pad's too) is refused by
+ *     name (scissors: test_grid_scissors.c). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -387,12 +387,6 @@ static void test_scene(void)
     check(pstatus == 2 && strstr(output, "refine") && strstr(output, "tissue [surface]") &&
           strstr(output, "elastic pad"),
           "a graded scene with an elastic pad: exit %d (2), %.300s", pstatus, output);
-    test_write_in(dir, "scissors.ini", SCENE_ROD "[instrument]\nkind = scissors\npath = jaws.csv\n");
-    snprintf(scene, sizeof scene, "%s/scissors.ini", dir);
-    const char *sargs[] = {"run", scene, "-o", out_dir, "--no-video", NULL};
-    const int sstatus = test_run_rodsim(sargs, output, sizeof output);
-    check(sstatus == 2 && strstr(output, "refine") && strstr(output, "scissors"),
-          "a graded scene with scissors: exit %d (2), %.300s", sstatus, output);
 }
 
 int main(void)
