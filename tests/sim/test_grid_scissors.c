@@ -27,48 +27,25 @@
 #include "sim/rod.h"
 #include "sim/rod_grid.h"
 #include "test.h"
+#include "test_hanging_thread.h"
 #include "test_instrument_rows.h"
 #include "test_process.h"
 
-#define GRAVITY 9.81 /* m/s^2 */
-#define LENGTH 0.2   /* m */
-#define NODES 41
+#define LENGTH HANGING_LENGTH /* m */
+#define NODES HANGING_NODES
 #define FINE0 0.06   /* m: the refine interval, factor 5 */
 #define FINE1 0.10
 
-/* A graded thread of table 1's material (d = 0.5 mm) along `direction`
- * from `origin`, damped (it settles within 0.3 s). */
+/* The cut tests' hanging thread, 5 times finer between FINE0 and FINE1. */
 static rod_model graded_model(rod_end_kind root, rod_end_kind tip, const double origin[3],
                               const double direction[3])
 {
-    rod_model m = rod_model_default();
-    m.length = LENGTH;
-    m.diameter = 0.0005;
-    m.nodes = NODES;
-    m.options.scheme = ROD_SCHEME_IMPLICIT;
-    m.root_end = root;
-    m.tip_end = tip;
-    m.self_contact = 0;
-    m.linear_damping = 2e-3; /* N s/m^2 */
+    rod_model m = hanging_model(root, tip, origin, direction);
     m.refine[0].s0 = FINE0;
     m.refine[0].s1 = FINE1;
     m.refine[0].factor = 5.0;
     m.refine_count = 1;
-    v3_copy(m.origin, origin);
-    v3_copy(m.direction, direction);
     return m;
-}
-
-/* Derives m and adds its weight; 0, or -1 (a failed check). */
-static int derive(rod_model *m)
-{
-    char err[512];
-    if (rod_model_derive(m, err, sizeof err)) {
-        check(0, "model: %s", err);
-        return -1;
-    }
-    m->distributed_force[2] = -m->mass_per_length * GRAVITY;
-    return 0;
 }
 
 /* Node arc lengths summed from the segment lengths (arc[NODES]). */
@@ -101,16 +78,17 @@ static rod_instrument blades(rod_instrument_kind kind, double z)
     return instrument(kind, 0.1, rows, 4, 0.2, 1.0);
 }
 
-/* Steps s to t_end by dt; 0, or -1 (a failed check). */
-static int run_to(rod_solver *solver, const rod_model *m, rod_state *s, double t_end, double dt,
-                  rod_report *report)
+/* Frees a run's solver, state, the instrument's paths and the model
+ * (which does not own the instrument). */
+static void release_run(rod_model *m, rod_instrument *in, rod_solver *solver, rod_state *s)
 {
-    while (s->time < t_end - 0.5 * dt)
-        if (rod_solver_step(solver, m, s, dt, report) != ROD_OK) {
-            check(0, "step at t = %g s: %s", s->time, report->message);
-            return -1;
-        }
-    return 0;
+    m->instruments = NULL;
+    m->instrument_count = 0;
+    rod_path_destroy(in->pose);
+    rod_path_destroy(in->jaw);
+    rod_solver_release(solver);
+    rod_state_destroy(s);
+    rod_model_release(m);
 }
 
 /* Scissors closing across the graded thread hanging from its root at
@@ -125,12 +103,8 @@ static void scissors_cut(const char *where, double depth)
     rod_state *s = NULL;
     rod_solver solver = {0};
     if (derive(&m)) goto done;
-    s = rod_state_create(&m);
-    char err[512];
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        check(0, "%s: %s", where, err);
-        goto done;
-    }
+    s = hanging_start(&m, &solver, where);
+    if (!s) goto done;
     rod_report report;
     memset(&report, 0, sizeof report);
     if (run_to(&solver, &m, s, 0.2, 1e-3, &report)) goto done;
@@ -167,13 +141,7 @@ static void scissors_cut(const char *where, double depth)
     v3_sub(span, &s->position[3 * (s->nodes - 1)], &s->position[0]);
     check_rel("  the thread left's span (m) against its length", v3_norm(span), cut->length, 1e-5);
 done:
-    m.instruments = NULL;
-    m.instrument_count = 0;
-    rod_path_destroy(in.pose);
-    rod_path_destroy(in.jaw);
-    rod_solver_release(&solver);
-    rod_state_destroy(s);
-    rod_model_release(&m);
+    release_run(&m, &in, &solver, s);
 }
 
 static void test_scissors(void)
@@ -220,12 +188,8 @@ static void after_root_cut(rod_instrument_kind kind)
     node_arcs(&m, arc);
     int cut_node = 0;
     while (cut_node < NODES - 1 && arc[cut_node] < 0.5 * (FINE0 + FINE1)) cut_node++;
-    s = rod_state_create(&m);
-    char err[512];
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        check(0, "%s after a cut: %s", who, err);
-        goto done;
-    }
+    s = hanging_start(&m, &solver, who);
+    if (!s) goto done;
     rod_report report;
     memset(&report, 0, sizeof report);
     rod_cut_ask(s, -1, arc[cut_node]);
@@ -272,13 +236,7 @@ static void after_root_cut(rod_instrument_kind kind)
                   cut->length + s->cut_log[0].removed + s->cut_log[1].removed, LENGTH, 1e-14);
     }
 done:
-    m.instruments = NULL;
-    m.instrument_count = 0;
-    rod_path_destroy(in.pose);
-    rod_path_destroy(in.jaw);
-    rod_solver_release(&solver);
-    rod_state_destroy(s);
-    rod_model_release(&m);
+    release_run(&m, &in, &solver, s);
 }
 
 /* A graded scene with scissors runs ---------------------------------------- */

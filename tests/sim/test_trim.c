@@ -21,54 +21,12 @@
 #include "sim/rod.h"
 #include "sim/scene.h"
 #include "test.h"
+#include "test_hanging_thread.h"
 #include "test_process.h"
 
-#define GRAVITY 9.81 /* m/s^2 */
-#define LENGTH 0.2   /* m */
-#define NODES 41     /* ds = 5 mm */
-
-/* A thread of table 1's material (d = 0.5 mm), hanging straight down from
- * `origin` along `direction`, damped (it settles within 0.3 s). */
-static rod_model hanging_model(rod_end_kind root, rod_end_kind tip, const double origin[3],
-                               const double direction[3])
-{
-    rod_model m = rod_model_default();
-    m.length = LENGTH;
-    m.diameter = 0.0005;
-    m.nodes = NODES;
-    m.options.scheme = ROD_SCHEME_IMPLICIT;
-    m.root_end = root;
-    m.tip_end = tip;
-    m.self_contact = 0;
-    m.linear_damping = 2e-3; /* N s/m^2: m / c = 0.08 s */
-    v3_copy(m.origin, origin);
-    v3_copy(m.direction, direction);
-    return m;
-}
-
-/* Derives m and adds its weight; 0, or -1 (a failed check). */
-static int derive(rod_model *m)
-{
-    char err[512];
-    if (rod_model_derive(m, err, sizeof err)) {
-        check(0, "model: %s", err);
-        return -1;
-    }
-    m->distributed_force[2] = -m->mass_per_length * GRAVITY;
-    return 0;
-}
-
-/* Steps s to time t_end by dt; 0, or -1 (a failed check). */
-static int run_to(rod_solver *solver, const rod_model *m, rod_state *s, double t_end, double dt,
-                  rod_report *report)
-{
-    while (s->time < t_end - 0.5 * dt)
-        if (rod_solver_step(solver, m, s, dt, report) != ROD_OK) {
-            check(0, "step at t = %g s: %s", s->time, report->message);
-            return -1;
-        }
-    return 0;
-}
+#define GRAVITY HANGING_GRAVITY
+#define LENGTH HANGING_LENGTH
+#define NODES HANGING_NODES /* ds = 5 mm */
 
 /* The largest difference between the tension N . d3 at the nodes and the
  * hanging thread's rho A g (l - s) (s from the held end), over rho A g l. */
@@ -98,12 +56,8 @@ static void test_hanging_cut(void)
     rod_state *s = NULL;
     rod_solver solver = {0};
     if (derive(&m)) goto done;
-    s = rod_state_create(&m);
-    char err[512];
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        check(0, "hanging: %s", err);
-        goto done;
-    }
+    s = hanging_start(&m, &solver, "hanging");
+    if (!s) goto done;
     rod_report report;
     memset(&report, 0, sizeof report);
     const double dt = 1e-3, w = m.mass_per_length * GRAVITY;
@@ -212,12 +166,8 @@ static void test_two_tails(void)
     rod_state *s = NULL;
     rod_solver solver = {0};
     if (derive(&m)) goto done;
-    s = rod_state_create(&m);
-    char err[512];
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        check(0, "two tails: %s", err);
-        goto done;
-    }
+    s = hanging_start(&m, &solver, "two tails");
+    if (!s) goto done;
     rod_report report;
     memset(&report, 0, sizeof report);
     const double dt = 1e-3;
@@ -302,12 +252,8 @@ static int scissors_run(double z, double *arc, char *warning, size_t n)
     *arc = NAN;
     warning[0] = '\0';
     if (derive(&m)) goto done;
-    s = rod_state_create(&m);
-    char err[512];
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        check(0, "scissors: %s", err);
-        goto done;
-    }
+    s = hanging_start(&m, &solver, "scissors");
+    if (!s) goto done;
     rod_report report;
     memset(&report, 0, sizeof report);
     if (run_to(&solver, &m, s, 0.3, 1e-3, &report)) goto done;
