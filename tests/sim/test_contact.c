@@ -18,6 +18,7 @@
 #include "test_capstan.h"
 #include "test_curve.h"
 #include "test_process.h"
+#include "test_puncture_pull.h"
 
 #define GRAVITY 9.81 /* m/s^2 */
 
@@ -551,13 +552,9 @@ static double puncture_run(double mu, double w_load, double *t_root, double *u1,
     m.punctures = &hole;
     double result = NAN;
     if (!m.root_motion || derive(&m)) goto done_model;
-    rod_state *s = rod_state_create(&m);
     rod_solver solver;
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        printf("     create: %s\n", err);
-        rod_state_destroy(s);
-        goto done_model;
-    }
+    rod_state *s = pull_start(&m, &solver);
+    if (!s) goto done_model;
     rod_report report;
     memset(&report, 0, sizeof report);
     const double dt = 2e-3;
@@ -584,11 +581,7 @@ static double puncture_run(double mu, double w_load, double *t_root, double *u1,
         result = s->puncture[0].s - s_start; /* m slid through */
     }
     /* the strands' directions away from the puncture, from their far ends */
-    double a[3], b[3];
-    v3_sub(a, &s->position[0], hole.point);
-    v3_sub(b, &s->position[3 * (m.nodes - 1)], hole.point);
-    v3_scale(u1, a, 1.0 / v3_norm(a));
-    v3_scale(u2, b, 1.0 / v3_norm(b));
+    strand_directions(s->position, m.nodes, hole.point, u1, u2);
     double total = 0.0;
     for (int j = 0; j + 1 < m.nodes; j++) {
         double dd[3];
@@ -605,25 +598,6 @@ done_model:
     return result;
 }
 
-/* The root tension the Coulomb law gives: the puncture holds F = -(T1 u1 +
- * W u2); along the thread (t from strand 1 to strand 2) at most mu times
- * across. Bisection on T1 in [W, 20 W]. */
-static double puncture_reference(double mu, double w_load, const double u1[3], const double u2[3])
-{
-    double t[3];
-    v3_sub(t, u2, u1);
-    v3_scale(t, t, 1.0 / v3_norm(t));
-    double lo = w_load, hi = 20.0 * w_load;
-    for (int it = 0; it < 200; it++) {
-        double t1 = 0.5 * (lo + hi), f[3];
-        for (int c = 0; c < 3; c++) f[c] = t1 * u1[c] + w_load * u2[c];
-        double along = fabs(v3_dot(f, t)), across2 = v3_dot(f, f) - along * along;
-        if (along < mu * sqrt(fmax(across2, 0.0))) lo = t1;
-        else hi = t1;
-    }
-    return 0.5 * (lo + hi);
-}
-
 static void test_puncture(void)
 {
     const double w_load = 0.05;
@@ -636,7 +610,7 @@ static void test_puncture(void)
         check_rel(mus[k] > 0.0 ? "puncture, mu = 0.3: root tension vs Coulomb's law at the "
                                  "puncture, N"
                                : "puncture, mu = 0: root tension vs the load W, N",
-                  t_root, puncture_reference(mus[k], w_load, u1, u2), 0.02);
+                  t_root, coulomb_root_tension(mus[k], w_load, u1, u2), 0.02);
         check(length_error < 1e-9, "puncture, mu = %.1f: the thread's length is conserved "
               "(relative change %.2e)", mus[k], length_error);
         /* the polygon's chord across the tight bend at the point (radius

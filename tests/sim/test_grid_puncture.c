@@ -25,6 +25,7 @@
 #include "sim/rod_grid.h"
 #include "test.h"
 #include "test_process.h"
+#include "test_puncture_pull.h"
 
 /* A thread of table 1's material (0.2 m, 0.3 mm), implicit, root pinned,
  * straight along +x from the origin; `refine` intervals (count of them) or
@@ -150,13 +151,9 @@ static int pull(int nodes, const rod_refine *refine, int refine_count, double mu
     int rc = -1;
     memset(r, 0, sizeof *r);
     if (!m.root_motion || derive(&m)) goto done_model;
-    rod_state *s = rod_state_create(&m);
     rod_solver solver;
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        printf("     create: %s\n", err);
-        rod_state_destroy(s);
-        goto done_model;
-    }
+    rod_state *s = pull_start(&m, &solver);
+    if (!s) goto done_model;
     rod_report report;
     memset(&report, 0, sizeof report);
     const int steps = (int)lround(duration / dt);
@@ -200,11 +197,7 @@ static int pull(int nodes, const rod_refine *refine, int refine_count, double mu
         r->t_root = sum / count;
         r->slid = s->puncture[0].s - s_start;
         r->force_jump = fjump / (fsum / fcount);
-        double a[3], b[3];
-        v3_sub(a, &s->position[0], hole.point);
-        v3_sub(b, &s->position[3 * (m.nodes - 1)], hole.point);
-        v3_scale(r->u1, a, 1.0 / v3_norm(a));
-        v3_scale(r->u2, b, 1.0 / v3_norm(b));
+        strand_directions(s->position, m.nodes, hole.point, r->u1, r->u2);
     } else {
         rc = -1;
     }
@@ -215,25 +208,6 @@ done_model:
     m.puncture_count = 0;
     rod_model_release(&m);
     return rc;
-}
-
-/* The root tension Coulomb's law gives: the puncture holds F = -(T1 u1 +
- * W u2); along the thread (t from strand 1 to strand 2) at most mu times
- * across. Bisection on T1 in [W, 20 W]. */
-static double coulomb_root_tension(double mu, double w_load, const double u1[3], const double u2[3])
-{
-    double t[3];
-    v3_sub(t, u2, u1);
-    v3_scale(t, t, 1.0 / v3_norm(t));
-    double lo = w_load, hi = 20.0 * w_load;
-    for (int it = 0; it < 200; it++) {
-        double t1 = 0.5 * (lo + hi), f[3];
-        for (int c = 0; c < 3; c++) f[c] = t1 * u1[c] + w_load * u2[c];
-        double along = fabs(v3_dot(f, t)), across2 = v3_dot(f, f) - along * along;
-        if (along < mu * sqrt(fmax(across2, 0.0))) lo = t1;
-        else hi = t1;
-    }
-    return 0.5 * (lo + hi);
 }
 
 static void test_pull(void)

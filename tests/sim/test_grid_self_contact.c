@@ -28,33 +28,6 @@
 #include "test_helix.h"
 #include "test_segment.h"
 
-/* The helix of test_helix.h on the model's own grid: frames Q(s_i) = Q0
- * exp(s_i [u0]x), the centreline chained from the midpoint frames by each
- * segment's own length */
-static void helix_state_graded(const rod_model *m, rod_state *s)
-{
-    const double *u0 = m->intrinsic_curvature, a = atan2(u0[0], u0[2]);
-    double q0[9] = {cos(a), 0.0, -sin(a), 0.0, 1.0, 0.0, sin(a), 0.0, cos(a)};
-    v3_set(s->position, 0.0, 0.0, 0.0);
-    for (int i = 0; i < m->nodes; i++) {
-        double phi[3], rot[9];
-        v3_scale(phi, u0, rod_node_arc(m, i));
-        m3_exp(rot, phi);
-        m3_mul(&s->frame[9 * i], q0, rot);
-        v3_copy(&s->darboux[3 * i], u0);
-        v3_set(&s->velocity[3 * i], 0.0, 0.0, 0.0);
-        v3_set(&s->angular_velocity[3 * i], 0.0, 0.0, 0.0);
-        if (i == 0) continue;
-        const double ds = rod_segment_ds(m, i - 1);
-        double half[3], hr[9], mid[9], d3[3];
-        v3_scale(half, u0, 0.5 * ds);
-        m3_exp(hr, half);
-        m3_mul(mid, &s->frame[9 * (i - 1)], hr);
-        m3_column(d3, mid, 2);
-        for (int k = 0; k < 3; k++) s->position[3 * i + k] = s->position[3 * (i - 1) + k] + ds * d3[k];
-    }
-}
-
 static double distance(const double a[3], const double b[3])
 {
     double d[3];
@@ -107,19 +80,7 @@ static coil_run coil(double r, double P, double overlap, double force, double t_
 {
     coil_run out = {ROD_FAILED, 0, 0, {0, 0, 0}, NAN, INFINITY, NAN, 0.0, NAN, NAN};
     rod_model m = rod_model_default();
-    m.diameter = 0.002;
-    m.density = 1100.0;
-    m.youngs_modulus = 1e9;
-    m.shear_modulus = 1e9 / 2.6;
-    helix_model(&m, r, P, overlap, nodes);
-    m.tip_frame = ROD_FRAME_GLOBAL;
-    v3_set(m.tip_force, 0.0, 0.0, -force);
-    m.profile.kind = pulse ? ROD_PROFILE_PULSE : ROD_PROFILE_RAMP;
-    m.profile.t1 = pulse ? 0.0 : t_ramp;
-    m.profile.t2 = t_ramp;
-    m.linear_damping = damping;
-    m.self_contact = self_contact;
-    m.self_friction = 0.2;
+    helix_loaded(&m, r, P, overlap, nodes, force, t_ramp, pulse, damping, self_contact);
     if (refine > 0.0) {
         m.refine_count = 2;
         m.refine[0] = (rod_refine){0.0, refine, factor};
@@ -136,15 +97,12 @@ static coil_run coil(double r, double P, double overlap, double force, double t_
         out.shortest = fmin(out.shortest, rod_segment_ds(&m, j));
         out.longest = fmax(out.longest, rod_segment_ds(&m, j));
     }
-    rod_state *s = rod_state_create(&m);
     rod_solver solver;
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        printf("     create: %s\n", err);
-        rod_state_destroy(s);
+    rod_state *s = helix_start(&m, &solver);
+    if (!s) {
         rod_model_release(&m);
         return out;
     }
-    helix_state_graded(&m, s);
     rod_report report;
     memset(&report, 0, sizeof report);
     const int steps = (int)lround(duration / dt);

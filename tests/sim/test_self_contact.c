@@ -74,34 +74,19 @@ static helix_run helix(double r, double P, double overlap, double force, double 
     helix_run out = {ROD_FAILED, {0, 0, 0}, NAN, INFINITY, INFINITY, NAN, 0.0, 0, 0, 0.0, NAN, NAN, NAN, 0,
                       0};
     rod_model m = rod_model_default();
-    m.diameter = 0.002;
-    m.density = 1100.0;
-    m.youngs_modulus = 1e9;
-    m.shear_modulus = 1e9 / 2.6;
-    helix_model(&m, r, P, overlap, nodes);
-    m.tip_frame = ROD_FRAME_GLOBAL;
-    v3_set(m.tip_force, 0.0, 0.0, -force);
-    m.profile.kind = pulse ? ROD_PROFILE_PULSE : ROD_PROFILE_RAMP;
-    m.profile.t1 = pulse ? 0.0 : t_ramp;
-    m.profile.t2 = t_ramp;
-    m.linear_damping = damping;
-    m.self_contact = self_contact;
-    m.self_friction = 0.2;
+    helix_loaded(&m, r, P, overlap, nodes, force, t_ramp, pulse, damping, self_contact);
     char err[512];
     if (rod_model_derive(&m, err, sizeof err)) {
         printf("     derive: %s\n", err);
         rod_model_release(&m);
         return out;
     }
-    rod_state *s = rod_state_create(&m);
     rod_solver solver;
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        printf("     create: %s\n", err);
-        rod_state_destroy(s);
+    rod_state *s = helix_start(&m, &solver);
+    if (!s) {
         rod_model_release(&m);
         return out;
     }
-    helix_state(&m, s);
     rod_report report;
     memset(&report, 0, sizeof report);
     /* far segments: a straight stretch between them of a diameter at least */
