@@ -10,6 +10,7 @@
 #include "base/vec3.h"
 #include "sim/rod.h"
 #include "test.h"
+#include "test_run_start.h"
 
 #define HANGING_GRAVITY 9.81 /* m/s^2 */
 #define HANGING_LENGTH 0.2   /* m */
@@ -50,13 +51,8 @@ static inline int derive(rod_model *m)
  * failed check naming `what`) when either cannot be made. */
 static inline rod_state *hanging_start(const rod_model *m, rod_solver *solver, const char *what)
 {
-    rod_state *s = rod_state_create(m);
-    char err[512] = "out of memory for the state";
-    if (!s || rod_solver_init(solver, m, err, sizeof err)) {
-        check(0, "%s: %s", what, err);
-        rod_state_destroy(s);
-        return NULL;
-    }
+    rod_state *s = run_start(m, solver);
+    if (!s) check(0, "%s: the state or its solver cannot be made (above)", what);
     return s;
 }
 

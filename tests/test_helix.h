@@ -5,11 +5,11 @@
 #define RODSIM_TEST_HELIX_H
 
 #include <math.h>
-#include <stdio.h>
 
 #include "base/vec3.h"
 #include "sim/rod.h"
 #include "sim/rod_grid.h"
+#include "test_run_start.h"
 
 /* A rod at rest in a helix of radius r and pitch P about +z from the
  * origin: intrinsic Darboux vector u0 = (kappa, 0, tau) (director
@@ -81,14 +81,8 @@ static inline void helix_loaded(rod_model *m, double r, double P, double overlap
  * solver for it; NULL (the reason printed) when either cannot be made. */
 static inline rod_state *helix_start(const rod_model *m, rod_solver *solver)
 {
-    char err[512] = "out of memory for the state";
-    rod_state *s = rod_state_create(m);
-    if (!s || rod_solver_init(solver, m, err, sizeof err)) {
-        printf("     create: %s\n", err);
-        rod_state_destroy(s);
-        return NULL;
-    }
-    helix_state(m, s);
+    rod_state *s = run_start(m, solver);
+    if (s) helix_state(m, s);
     return s;
 }
 

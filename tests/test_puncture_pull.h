@@ -1,29 +1,13 @@
 /* test_puncture_pull.h: a thread pulled through a puncture
  * (tests/sim/test_contact.c on a uniform grid, tests/sim/test_grid_puncture.c
- * on a graded one): its start, the strands' directions away from the
- * hole, and the root tension Coulomb's law gives there. */
+ * on a graded one): the strands' directions away from the hole, and the
+ * root tension Coulomb's law gives there. */
 #ifndef RODSIM_TEST_PUNCTURE_PULL_H
 #define RODSIM_TEST_PUNCTURE_PULL_H
 
 #include <math.h>
-#include <stdio.h>
 
 #include "base/vec3.h"
-#include "sim/rod.h"
-
-/* A state of the derived m at its start and the solver for it; NULL (the
- * reason printed) when either cannot be made. */
-static inline rod_state *pull_start(const rod_model *m, rod_solver *solver)
-{
-    char err[512] = "out of memory for the state";
-    rod_state *s = rod_state_create(m);
-    if (!s || rod_solver_init(solver, m, err, sizeof err)) {
-        printf("     create: %s\n", err);
-        rod_state_destroy(s);
-        return NULL;
-    }
-    return s;
-}
 
 /* The unit directions from the hole to the root (u1) and to the tip (u2). */
 static inline void strand_directions(const double *position, int nodes, const double hole[3],

@@ -19,6 +19,7 @@
 #include "test_curve.h"
 #include "test_process.h"
 #include "test_puncture_pull.h"
+#include "test_run_start.h"
 
 #define GRAVITY 9.81 /* m/s^2 */
 
@@ -553,7 +554,7 @@ static double puncture_run(double mu, double w_load, double *t_root, double *u1,
     double result = NAN;
     if (!m.root_motion || derive(&m)) goto done_model;
     rod_solver solver;
-    rod_state *s = pull_start(&m, &solver);
+    rod_state *s = run_start(&m, &solver);
     if (!s) goto done_model;
     rod_report report;
     memset(&report, 0, sizeof report);

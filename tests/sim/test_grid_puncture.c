@@ -26,6 +26,7 @@
 #include "test.h"
 #include "test_process.h"
 #include "test_puncture_pull.h"
+#include "test_run_start.h"
 
 /* A thread of table 1's material (0.2 m, 0.3 mm), implicit, root pinned,
  * straight along +x from the origin; `refine` intervals (count of them) or
@@ -152,7 +153,7 @@ static int pull(int nodes, const rod_refine *refine, int refine_count, double mu
     memset(r, 0, sizeof *r);
     if (!m.root_motion || derive(&m)) goto done_model;
     rod_solver solver;
-    rod_state *s = pull_start(&m, &solver);
+    rod_state *s = run_start(&m, &solver);
     if (!s) goto done_model;
     rod_report report;
     memset(&report, 0, sizeof report);
