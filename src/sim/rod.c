@@ -513,16 +513,12 @@ static int derive_grid(rod_model *m, char *err, size_t errlen)
     }
     if (rod_grid_check(m, err, errlen)) return -1;
     const char *part = NULL;
-    /* rigid surfaces are ported (each node's own cell); tissue's punctures
-     * and an elastic pad's coupling (a pad is tissue) are not */
-    int tissue = 0, scissors = 0;
-    for (int k = 0; k < m->surface_count; k++) tissue |= m->surfaces[k].tissue;
+    /* surfaces are ported, rigid and tissue (each node's own cell; a tissue
+     * surface's holes, track and an elastic pad's coupling in arc length) */
+    int scissors = 0;
     for (int k = 0; k < m->instrument_count; k++)
         scissors |= m->instruments[k].kind == ROD_INSTRUMENT_SCISSORS;
     if (m->options.scheme != ROD_SCHEME_IMPLICIT) part = "the thesis and static schemes";
-    else if (tissue)
-        part = "a tissue [surface] (tissue = yes, an elastic pad's too; rigid surfaces without "
-               "it are accepted)";
     else if (scissors)
         part = "scissors (instrument.kind = scissors: they cut; forceps and needle holders are "
                "accepted)";
