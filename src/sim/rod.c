@@ -513,14 +513,10 @@ static int derive_grid(rod_model *m, char *err, size_t errlen)
     }
     if (rod_grid_check(m, err, errlen)) return -1;
     const char *part = NULL;
-    /* rigid surfaces are ported (each node's own cell); tissue's punctures
-     * and an elastic pad's coupling (a pad is tissue) are not */
-    int tissue = 0;
-    for (int k = 0; k < m->surface_count; k++) tissue |= m->surfaces[k].tissue;
+    /* surfaces are ported, rigid and tissue (each node's own cell; a tissue
+     * surface's holes, track and an elastic pad's coupling in arc length),
+     * as are instruments, scissors included */
     if (m->options.scheme != ROD_SCHEME_IMPLICIT) part = "the thesis and static schemes";
-    else if (tissue)
-        part = "a tissue [surface] (tissue = yes, an elastic pad's too; rigid surfaces without "
-               "it are accepted)";
     else if (m->between_rods) part = "contact between rods";
     if (part) return rod_grid_refuse(m, part, err, errlen);
     if (!m->segment_length) {

@@ -17,6 +17,7 @@
 #include "sim/needle_grasp.h"
 #include "sim/path.h"
 #include "sim/contact/mesh.h"
+#include "sim/contact/puncture.h"
 #include "sim/contact/surface.h"
 #include "sim/cut.h"
 #include "sim/instrument.h"
@@ -709,7 +710,7 @@ static int check_start_outside(ini_doc *doc, rod_model *m, char *err, size_t err
                                "(s = %.6g m, at %.6g %.6g %.6g m) is %.3g m deep (the rod "
                                "touches at its radius %.3g m); move the surface or the rod "
                                "(rod.origin, rod.direction, rod.shape)",
-                               rod_surface_name(sf->shape), i, i * m->ds,
+                               rod_surface_name(sf->shape), i, rod_node_arc(m, i),
                                s->position[3 * i], s->position[3 * i + 1], s->position[3 * i + 2],
                                -gap, radius);
                 break;
@@ -727,8 +728,9 @@ static int check_start_outside(ini_doc *doc, rod_model *m, char *err, size_t err
         } else if (distance > slack) {
             /* the shape given passes here; resampled to rod.nodes it strays by
              * up to shape_moved: the puncture moves onto the thread */
-            int i = (int)fmin(along / m->ds, m->nodes - 2);
-            double tau = along / m->ds - i, *point = m->punctures[j].point;
+            int i;
+            double tau, *point = m->punctures[j].point;
+            puncture_locate(m, along, &i, &tau); /* s_i + tau ds_i = along */
             for (int k = 0; k < 3; k++)
                 point[k] = (1.0 - tau) * s->position[3 * i + k] + tau * s->position[3 * (i + 1) + k];
             size_t used = strlen(m->adjusted);

@@ -9,8 +9,8 @@
  *   - a thread over the forceps' closed tines, its root pulled slowly, the
  *     wrap refined: the capstan law W exp(mu pi) at the root;
  *   - a graded scene with a plane and an instrument runs (rodsim run
- *     --no-video); a tissue surface (an elastic pad's too) is refused by
- *     name (scissors: test_grid_scissors.c). */
+ *     --no-video), as do one with a tissue surface and one with an elastic
+ *     pad (scissors: test_grid_scissors.c). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -378,15 +378,14 @@ static void test_scene(void)
                   "tissue = yes\n");
     const char *targs[] = {"run", tissue, "-o", out_dir, "--no-video", NULL};
     const int tstatus = test_run_rodsim(targs, output, sizeof output);
-    check(tstatus == 2 && strstr(output, "refine") && strstr(output, "tissue [surface]"),
-          "a graded scene with a tissue surface: exit %d (2), %.300s", tstatus, output);
+    check(tstatus == 0, "a graded scene with a tissue surface runs: exit %d (0)%s%.300s",
+          tstatus, tstatus ? ": " : "", tstatus ? output : "");
     test_write_in(dir, "pad.ini", SCENE_ROD "[surface]\nshape = box\ncenter = 0 0 -0.005\n"
                   "size = 0.05 0.05 0.01\nmodel = elastic\ntissue = yes\n");
     const char *pargs[] = {"run", pad, "-o", out_dir, "--no-video", NULL};
     const int pstatus = test_run_rodsim(pargs, output, sizeof output);
-    check(pstatus == 2 && strstr(output, "refine") && strstr(output, "tissue [surface]") &&
-          strstr(output, "elastic pad"),
-          "a graded scene with an elastic pad: exit %d (2), %.300s", pstatus, output);
+    check(pstatus == 0, "a graded scene with an elastic pad runs: exit %d (0)%s%.300s", pstatus,
+          pstatus ? ": " : "", pstatus ? output : "");
 }
 
 int main(void)

@@ -284,8 +284,6 @@ static void test_refusals(void)
             "[solver]\nscheme = thesis\n", "thesis and static schemes");
     refused("the static scheme", ROD_TEXT "self_contact = no\nrefine = 0 0.1 4\n"
             "[solver]\nscheme = static\n", "thesis and static schemes");
-    refused("a tissue surface", ROD_TEXT "self_contact = no\nrefine = 0 0.1 4\n[surface]\n"
-            "shape = plane\ncenter = 0 0 -0.5\ntissue = yes\n", "tissue [surface]");
     refused("no factor", ROD_TEXT "self_contact = no\nrefine = 0 0.1\n", "S0 S1 FACTOR");
     refused("a factor of 1", ROD_TEXT "self_contact = no\nrefine = 0 0.1 1\n", "1 < FACTOR");
     refused("an interval past the tip", ROD_TEXT "self_contact = no\nrefine = 0.5 1.5 4\n",
