@@ -16,8 +16,8 @@ const ini_key scene_keys_rod[] = {
     {"rod", "nodes", "-", "required", "3 .. 100001", "NS, nodes along the rod; ds = L/(NS-1)"},
     {"rod", "refine", "m m -", "-", "S0 S1 FACTOR[, ...], 1 < FACTOR <= 100, up to 8",
      "a graded grid: segments between arc lengths S0 and S1 FACTOR times shorter, NS kept "
-     "(implicit scheme; self-contact, rigid surfaces, forceps, needle holders, punctures, cuts, "
-     "shape, settle, video; no tissue, scissors or other rods)"},
+     "(implicit scheme; self-contact, surfaces rigid or tissue, elastic pads, instruments, "
+     "punctures, the needle's holes, cuts, shape, settle, video; no other rods)"},
     {"rod", "rotary_inertia_scale", "-", "1", "> 0",
      "multiplies rho I and rho J (the thesis scheme needs about 1e7)"},
     {"rod", "origin", "m", "0 0 0", "3 numbers",
