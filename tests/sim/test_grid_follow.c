@@ -248,8 +248,10 @@ static int regrid(rod_model *m, rod_state *s, const rod_refine *r, int count, do
 {
     const int n = m->nodes;
     double *old_arc = malloc((size_t)n * sizeof(double));
-    double *pos = malloc((size_t)n * 3 * sizeof(double)), *frame = malloc((size_t)n * 9 * sizeof(double));
-    double *vel = malloc((size_t)n * 3 * sizeof(double)), *omega = malloc((size_t)n * 3 * sizeof(double));
+    double *pos = malloc((size_t)n * 3 * sizeof(double));
+    double *frame = malloc((size_t)n * 9 * sizeof(double));
+    double *vel = malloc((size_t)n * 3 * sizeof(double));
+    double *omega = malloc((size_t)n * 3 * sizeof(double));
     double *cf = malloc((size_t)n * 3 * sizeof(double));
     if (!old_arc || !pos || !frame || !vel || !omega || !cf) {
         free(old_arc), free(pos), free(frame), free(vel), free(omega), free(cf);
@@ -342,7 +344,8 @@ static int regrid(rod_model *m, rod_state *s, const rod_refine *r, int count, do
 static double worst_shear(const rod_model *m, const rod_state *s)
 {
     const int n = m->nodes;
-    double *u = malloc((size_t)n * 3 * sizeof(double)), *mid = malloc((size_t)n * 9 * sizeof(double));
+    double *u = malloc((size_t)n * 3 * sizeof(double));
+    double *mid = malloc((size_t)n * 9 * sizeof(double));
     double worst = 0.0;
     if (u && mid) {
         rod_darboux_from_frames(m, s->frame, u);
@@ -371,6 +374,7 @@ typedef struct follow_result {
     double t_capstan;    /* N: mean of W exp(mu (theta_A + theta_B)) there */
     double slid;         /* m: the puncture at A's arc length's change */
     double worst_bend;   /* rad: the largest turn between neighbouring frames */
+    double worst_bend_t, worst_bend_s; /* s, m: when and where (the segment's midpoint) */
     double jump;         /* largest step-to-step change of the root tension over its mean */
     int regrids;
     double shear_before; /* rad: worst_shear just before a regrid, the largest */
@@ -460,7 +464,11 @@ static int follow(int nodes, const rod_refine *refine, int count, double follow_
         int seg;
         rod_darboux_from_frames(&m, s->frame, s->darboux);
         const double bend = rod_sharpest_bend(&m, s->darboux, &seg);
-        r->worst_bend = fmax(r->worst_bend, bend);
+        if (bend > r->worst_bend) {
+            r->worst_bend = bend;
+            r->worst_bend_t = s->time;
+            r->worst_bend_s = rod_node_arc(&m, seg) + 0.5 * rod_segment_ds(&m, seg);
+        }
         if (follow_window > 0.0) {
             const double sa = s->puncture[0].s, sb = s->puncture[1].s;
             if (fabs(sa - centre[0]) > 0.5 * follow_window ||
@@ -474,7 +482,8 @@ static int follow(int nodes, const rod_refine *refine, int count, double follow_
                 newton += report.newton_total;
                 rod_solver_release(&solver);
                 r->shear_before = fmax(r->shear_before, worst_shear(&m, s));
-                if (regrid(&m, s, w, wc, &r->moved) || rod_solver_init(&solver, &m, err, sizeof err)) {
+                if (regrid(&m, s, w, wc, &r->moved) ||
+                    rod_solver_init(&solver, &m, err, sizeof err)) {
                     printf("     regrid: %s\n", err);
                     rc = -1;
                     break;
@@ -531,21 +540,26 @@ done:
 static void print_result(const char *name, const follow_result *r)
 {
     printf("     %-34s nodes %4d  %s  CPU %.2f s / simulated s  Newton %.2f a step  "
-           "largest turn %.3f rad", name, r->nodes, r->ok ? "ran" : "stopped",
-           r->cpu / (r->ok ? T_END : fmax(r->stopped_at, DT)), r->newton, r->worst_bend);
+           "largest turn %.3f rad (t = %.3f s, s = %.2f mm)", name, r->nodes,
+           r->ok ? "ran" : "stopped", r->cpu / (r->ok ? T_END : fmax(r->stopped_at, DT)),
+           r->newton, r->worst_bend, r->worst_bend_t, 1e3 * r->worst_bend_s);
     if (r->ok)
-        printf("  root %.5g N, law %.5g N (%+.2e), bisector's %.5g N, capstan %.5g N, slid %.2f mm, tension's "
-               "largest step %.2e, regrids %d (shear %.2e rad before, %.2e after; nodes moved %.2e m)", r->t_root, r->t_law,
-               r->t_root / r->t_law - 1.0, r->t_bisector, r->t_capstan, 1e3 * r->slid, r->jump, r->regrids, r->shear_before, r->shear_after, r->moved);
+        printf("  root %.5g N, law %.5g N (%+.2e), bisector's %.5g N, capstan %.5g N, "
+               "slid %.2f mm, tension's largest step %.2e, regrids %d (shear %.2e rad before, "
+               "%.2e after; nodes moved %.2e m)", r->t_root, r->t_law,
+               r->t_root / r->t_law - 1.0, r->t_bisector, r->t_capstan, 1e3 * r->slid, r->jump,
+               r->regrids, r->shear_before, r->shear_after, r->moved);
     else
         printf("  at t = %.3f s", r->stopped_at);
     printf("\n");
 }
 
-/* The law's tolerance: the root's tension sits 4.3-4.8 % over it on every
+/* The law's tolerance: the law is quasi-static and the draw is at the
+ * stitch's speed; the root's tension sits 4.4-4.8 % over the law on every
  * grid fine at the holes (0.1 mm: uniform, graded over the slide,
- * regridded; 2.9 % at 0.025 mm), the node crossings' own scatter of the
- * tension (about 60 % step to step at 0.1 mm) averaged over the draw. */
+ * regridded) and moves with the speed ((b) drawn in 7.8 s: -1.7 %, in
+ * 1.3 s: +9.2 %), its scatter step to step 60-80 % of its mean at 0.1 mm
+ * (the hole crossing nodes) averaged over the draw. */
 #define LAW_TOLERANCE 0.06
 
 int main(int argc, char **argv)
