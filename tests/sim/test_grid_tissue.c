@@ -20,7 +20,8 @@
  *   - a [puncture] beside a graded starting shape moved onto the thread at
  *     its arc length (half the shape's polyline);
  *   - graded scenes with a tissue surface and with an elastic pad run
- *     (rodsim run, exit 0), as does one with tissue and scissors. */
+ *     (rodsim run, exit 0), as does one with tissue and open scissors held
+ *     above it (their cuts: test_grid_scissors.c). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -520,8 +521,8 @@ static void test_scenes(void)
                   "youngs_modulus = 2e3\nelement_size = 0.004\n");
     test_write_in(dir, "tissue.ini", GRADED_ROD "[surface]\nshape = plane\ncenter = 0 0 0\n"
                   "tissue = yes\n");
-    test_write_in(dir, "jaws.csv", "t,x,y,z,rx,ry,rz,jaw\n0,0,0,0.01,0,0,0,1\n"
-                  "0.02,0,0,0.01,0,0,0,1\n");
+    test_write_in(dir, "jaws.csv", "t,x,y,z,rx,ry,rz,jaw\n0,0,0,0.05,0,0,0,1\n"
+                  "0.02,0,0,0.05,0,0,0,1\n");
     test_write_in(dir, "scissors.ini", GRADED_ROD "[surface]\nshape = plane\ncenter = 0 0 0\n"
                   "tissue = yes\n[instrument]\nkind = scissors\npath = jaws.csv\n");
     static const char *const names[2] = {"pad.ini", "tissue.ini"};
