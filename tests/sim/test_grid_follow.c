@@ -1,6 +1,6 @@
 /* test_grid_follow.c: a suture drawn 25 mm through two holes on a graded
  * grid (scene [rod] refine, sim/rod_grid.h) whose fine stretch must follow
- * the material in the holes (docs/decisions/draft-grid-follow.md):
+ * the material in the holes (docs/decisions/0159-grid-follow.md):
  *   - stitch.ini's thread (0.18 mm nylon, E = 1.5 GPa, EI = 7.7e-8 N m^2,
  *     record 0139's sqrt(EI / T) = 0.16 mm at 3 N), two [puncture]s 4 mm
  *     apart (entry A, exit B), the thread turning 113 degrees into each
