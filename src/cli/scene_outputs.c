@@ -124,17 +124,22 @@ static void print_summary(FILE *f, const char *command, const char *scene_path,
     fprintf(f, "%s: %s (%s)\n", command, scene, scene_path);
     fprintf(f, "  rod      L = %g m, d = %g m, rho = %g kg/m^3, E = %g Pa, G = %g Pa\n",
             m->length, m->diameter, m->density, m->youngs_modulus, m->shear_modulus);
-    fprintf(f, "           NS = %d nodes, ds = %g m, EI = %.4g N m^2, GJ = %.4g N m^2",
-            m->nodes, m->ds, m->stiffness[0], m->stiffness[2]);
-    if (m->rotary_inertia_scale != 1.0)
-        fprintf(f, ", rotary inertia x %g", m->rotary_inertia_scale);
-    fprintf(f, "\n");
+    /* a graded grid's spacing is its segments' range (m->ds, L / (NS - 1),
+     * is no segment's length there) */
+    char spacing[64];
     if (m->segment_length) {
         double lo = m->segment_length[0], hi = lo;
         for (int j = 1; j + 1 < m->nodes; j++)
             lo = fmin(lo, m->segment_length[j]), hi = fmax(hi, m->segment_length[j]);
-        fprintf(f, "           graded grid (rod.refine): segments %.4g .. %.4g m\n", lo, hi);
+        snprintf(spacing, sizeof spacing, "ds = %.4g .. %.4g m (graded: rod.refine)", lo, hi);
+    } else {
+        snprintf(spacing, sizeof spacing, "ds = %g m", m->ds);
     }
+    fprintf(f, "           NS = %d nodes, %s, EI = %.4g N m^2, GJ = %.4g N m^2", m->nodes,
+            spacing, m->stiffness[0], m->stiffness[2]);
+    if (m->rotary_inertia_scale != 1.0)
+        fprintf(f, ", rotary inertia x %g", m->rotary_inertia_scale);
+    fprintf(f, "\n");
     fprintf(f, "  tip      force (%g, %g, %g) N, moment (%g, %g, %g) N m, %s frame, profile %s\n",
             m->tip_force[0], m->tip_force[1], m->tip_force[2], m->tip_moment[0],
             m->tip_moment[1], m->tip_moment[2],

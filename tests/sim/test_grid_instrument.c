@@ -374,6 +374,15 @@ static void test_scene(void)
     const int status = test_run_rodsim(args, output, sizeof output);
     check(status == 0, "a graded scene with a plane and forceps runs (rodsim run --no-video): "
           "exit %d (0)%s%.300s", status, status ? ": " : "", status ? output : "");
+    /* the summary's spacing by hand: 40 segments, 0.16 m of them h long and
+     * 0.04 m of them h / 5, so 0.16 / h + 0.2 / h = 40: h = 9 mm, 1.8 mm */
+    const char *spacing = strstr(output, "NS = 41 nodes, ds = ");
+    double lo = 0.0, hi = 0.0;
+    const int got = spacing ? sscanf(spacing, "NS = 41 nodes, ds = %lg .. %lg m (graded", &lo, &hi) : 0;
+    check(got == 2 && fabs(lo - 0.0018) < 1e-9 && fabs(hi - 0.009) < 1e-9,
+          "the run's summary gives the graded spacing: ds = %.6g .. %.6g m, by hand 0.0018 .. "
+          "0.009 m (rel. error %.2g, %.2g)", lo, hi, fabs(lo - 0.0018) / 0.0018,
+          fabs(hi - 0.009) / 0.009);
     test_write_in(dir, "tissue.ini", SCENE_ROD "[surface]\nshape = plane\ncenter = 0 0 0\n"
                   "tissue = yes\n");
     const char *targs[] = {"run", tissue, "-o", out_dir, "--no-video", NULL};
