@@ -904,7 +904,8 @@ static int resample(const double *points, int count, int nodes, double ds, const
  * (count x 3): the largest distance from a point to the nodes' polygon,
  * searched along the curve (a window of segments around the point's share
  * of the length), not across to another strand. m. */
-static double shape_distance(const double *points, int count, const double *node, int nodes)
+static double shape_distance(const double *points, int count, const double *node, int nodes,
+                             const double *step)
 {
     double along = 0.0, total = 0.0, largest = 0.0;
     for (int k = 0; k + 1 < count; k++) {
@@ -920,6 +921,14 @@ static double shape_distance(const double *points, int count, const double *node
             along += v3_norm(d);
         }
         int centre = total > 0.0 ? (int)(along / total * (nodes - 1)) : 0;
+        if (step && total > 0.0) {
+            /* a graded grid: the node at the same fraction of the arc length */
+            double length = 0.0, at = 0.0;
+            for (int j = 0; j + 1 < nodes; j++) length += step[j];
+            const double target = along / total * length;
+            centre = 0;
+            while (centre + 1 < nodes && at + step[centre] <= target) at += step[centre++];
+        }
         double nearest = INFINITY;
         for (int j = centre - window; j <= centre + window; j++) {
             if (j < 0 || j + 1 >= nodes) continue;
@@ -1004,13 +1013,13 @@ static int read_start(ini_doc *doc, rod_model *m, char *err, size_t errlen)
     }
     int failed = resample(points, count, m->nodes, m->length / (m->nodes - 1), step,
                           m->initial_shape);
-    free(step);
     if (!failed) {
         double moved[3];
         v3_sub(moved, &m->initial_shape[3 * (m->nodes - 1)], &points[3 * (count - 1)]);
         m->shape_tip_moved = v3_norm(moved);
-        m->shape_moved = shape_distance(points, count, m->initial_shape, m->nodes);
+        m->shape_moved = shape_distance(points, count, m->initial_shape, m->nodes, step);
     }
+    free(step);
     free(points);
     if (failed) return ini_error(doc, "rod", 0, "shape", err, errlen, "out of memory");
     return 0;
