@@ -49,7 +49,21 @@ SO_MINOR := $(shell sed -n 's/^\#define RODSIM_API_VERSION_MINOR \([0-9]*\).*/\1
 
 # Build flavours: release (default) and asan (AddressSanitizer + UBSan).
 BUILD   ?= build/release
-SAN_FLAGS := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+# -fno-var-tracking: no location lists for variables in the debug
+# information (what a debugger shows of a variable in optimized code);
+# the machine code is the same, and the sanitizers' reports keep their
+# file:line and inlined frames (the line tables). Without it GCC compiles
+# the library 15 % and the tests 18 % faster under the sanitizers, the
+# tests 10 % in release: make test's ASan build, and every test binary
+# (TEST_CFLAGS), compile without it; the release library keeps it.
+SAN_FLAGS := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined \
+             -fno-var-tracking
+TEST_CFLAGS := -fno-var-tracking
+# The test binaries link with GNU gold where the compiler can use it
+# (binutils has it on Debian 12): each links the whole static librodsim.a
+# with its debug information, 0.5-0.9 CPU s with ld.bfd under the
+# sanitizers, 0.03-0.3 with gold. The program and librodsim.so keep ld.bfd.
+TEST_LDFLAGS := $(shell $(CC) -fuse-ld=gold -Wl,--version >/dev/null 2>&1 && echo -fuse-ld=gold)
 
 # One folder per layer (README "Layout"): src/LAYER/[ROOM/]NAME.c,
 # include/LAYER/[ROOM/]NAME.h, tests/LAYER/test_NAME.c; benchmarks in tests/bench/.
@@ -119,7 +133,7 @@ $(BUILD)/obj/gen/%.o: $(BUILD)/gen/%.c $(HEADERS) Makefile
 # Tests (not the program) may read the source tree: RODSIM_SOURCE_DIR.
 $(BUILD)/tests/%: tests/%.c $(wildcard tests/*.h) $(BUILD)/librodsim.a $(BUILD)/rodsim
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -Itests -DRODSIM_SOURCE_DIR='"$(CURDIR)"' -DRODSIM_BIN='"$(CURDIR)/$(BUILD)/rodsim"' $(LDFLAGS) -o $@ $< $(BUILD)/librodsim.a $(TEST_LDLIBS) $(LDLIBS)
+	$(CC) $(ALL_CFLAGS) $(TEST_CFLAGS) -Itests -DRODSIM_SOURCE_DIR='"$(CURDIR)"' -DRODSIM_BIN='"$(CURDIR)/$(BUILD)/rodsim"' $(LDFLAGS) $(TEST_LDFLAGS) -o $@ $< $(BUILD)/librodsim.a $(TEST_LDLIBS) $(LDLIBS)
 
 tests: $(TEST_BIN)
 
