@@ -526,7 +526,6 @@ static int derive_grid(rod_model *m, char *err, size_t errlen)
     else if (scissors)
         part = "scissors (instrument.kind = scissors: they cut; forceps and needle holders are "
                "accepted)";
-    else if (m->between_rods) part = "contact between rods";
     if (part) return rod_grid_refuse(m, part, err, errlen);
     if (!m->segment_length) {
         m->segment_length = malloc((size_t)(m->nodes - 1) * sizeof *m->segment_length);
