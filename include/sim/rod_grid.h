@@ -17,7 +17,7 @@
  * varies by O(ds^2) from node to node (inside and outside the refine
  * intervals), first order at the nodes where it jumps (an interval's two
  * ends, one node each). The thesis and static schemes keep (4.1) and refuse
- * a graded grid, as do the parts named in rod_grid_refuse's callers. */
+ * a graded grid (rod_grid_refuse). */
 #ifndef RODSIM_ROD_GRID_H
 #define RODSIM_ROD_GRID_H
 
@@ -57,9 +57,9 @@ int rod_grid_check(const rod_model *m, char *err, size_t errlen);
  * interval is f times shorter than one outside. */
 void rod_grid_segment_lengths(const rod_model *m, double *segment_length);
 
-/* For a part of the program that models a uniform grid only: 0 when the
- * grid is uniform, else -1 with a message naming rod.refine, the part
- * (`what`) and what is accepted. */
+/* For a part of the program that models a uniform grid only (the thesis
+ * and static schemes): 0 when the grid is uniform, else -1 with a message
+ * naming rod.refine, the part (`what`) and what is accepted. */
 int rod_grid_refuse(const rod_model *m, const char *what, char *err, size_t errlen);
 
 #endif

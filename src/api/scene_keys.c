@@ -17,7 +17,7 @@ const ini_key scene_keys_rod[] = {
     {"rod", "refine", "m m -", "-", "S0 S1 FACTOR[, ...], 1 < FACTOR <= 100, up to 8",
      "a graded grid: segments between arc lengths S0 and S1 FACTOR times shorter, NS kept "
      "(implicit scheme; self-contact, surfaces rigid or tissue, elastic pads, instruments, "
-     "punctures, the needle's holes, cuts, shape, settle, video; no other rods)"},
+     "punctures, the needle's holes, cuts, shape, settle, other rods, video)"},
     {"rod", "rotary_inertia_scale", "-", "1", "> 0",
      "multiplies rho I and rho J (the thesis scheme needs about 1e7)"},
     {"rod", "origin", "m", "0 0 0", "3 numbers",

@@ -502,8 +502,8 @@ static int derive_ends_and_shape(rod_model *m, char *err, size_t errlen)
     return 0;
 }
 
-/* A graded grid (rod.refine): its segment lengths, and the parts of a
- * scene that model a uniform grid only refused by name. */
+/* A graded grid (rod.refine): its segment lengths, and the schemes that
+ * model a uniform grid only refused by name. */
 static int derive_grid(rod_model *m, char *err, size_t errlen)
 {
     if (m->refine_count == 0) {
@@ -512,13 +512,10 @@ static int derive_grid(rod_model *m, char *err, size_t errlen)
         return 0;
     }
     if (rod_grid_check(m, err, errlen)) return -1;
-    const char *part = NULL;
-    /* surfaces are ported, rigid and tissue (each node's own cell; a tissue
-     * surface's holes, track and an elastic pad's coupling in arc length),
-     * as are instruments, scissors included */
-    if (m->options.scheme != ROD_SCHEME_IMPLICIT) part = "the thesis and static schemes";
-    else if (m->between_rods) part = "contact between rods";
-    if (part) return rod_grid_refuse(m, part, err, errlen);
+    /* every part of a scene runs on it (records 0152-0158 and 0161) but
+     * the thesis and static schemes, which keep (4.1) */
+    if (m->options.scheme != ROD_SCHEME_IMPLICIT)
+        return rod_grid_refuse(m, "the thesis and static schemes", err, errlen);
     if (!m->segment_length) {
         m->segment_length = malloc((size_t)(m->nodes - 1) * sizeof *m->segment_length);
         if (!m->segment_length) {

@@ -114,11 +114,10 @@ int rod_grid_refuse(const rod_model *m, const char *what, char *err, size_t errl
 {
     if (m->refine_count == 0) return 0;
     snprintf(err, errlen,
-             "refine: a graded grid (rod.refine) does not work with %s yet; it runs with "
-             "solver.scheme = implicit, self-contact, [surface]s (rigid, tissue and elastic "
-             "pads), forceps, needle holders and scissors, punctures and the needle's "
-             "holes, [cut], rod.shape, rod.settle, video and the library, without contact "
-             "between rods; remove rod.refine for %s",
+             "refine: a graded grid (rod.refine) does not work with %s; it runs with "
+             "solver.scheme = implicit (with every part of a scene: contact, tissue, "
+             "punctures, instruments, cuts, other rods, video and the library); remove "
+             "rod.refine for %s",
              what, what);
     return -1;
 }

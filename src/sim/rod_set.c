@@ -9,7 +9,6 @@
 #include "sim/contact/between_rods.h"
 #include "sim/cut.h"
 #include "sim/instrument.h"
-#include "sim/rod_grid.h"
 #include "sim/scene.h"
 #include "sim/scheme_implicit.h"
 #include "sim/tissue/tissue_coupling.h"
@@ -165,13 +164,6 @@ int scene_read_rods(ini_doc *doc, rod_set *set, char *err, size_t errlen)
             in->grasp_off = in->rod[0] && strcmp(in->rod, set->name[k]) != 0;
         }
     for (int k = 0; named > 1 && k < set->count; k++) {
-        char why[768], section[ROD_NAME_LEN + 8];
-        if (rod_grid_refuse(&set->model[k], "contact between rods", why, sizeof why)) {
-            snprintf(section, sizeof section, "rod %s", set->name[k]);
-            ini_error(doc, section, 0, "refine", err, errlen, "%s", why + strlen("refine: "));
-            rod_set_release(set);
-            return -1;
-        }
         set->model[k].between_rods = 1;
         set->model[k].physics.planar = 0; /* the others may push it out of any plane */
         set->model[k].pad_by_set = pad;   /* one pad, coupled once a step for all */

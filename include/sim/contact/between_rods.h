@@ -4,7 +4,8 @@
  * Each contact between two rods is held over a step by a pair list of one
  * of them, its owner: under gravity the rod above where the two are near
  * (it rests on the other); else, and when level, the rod with the shorter
- * segments (it samples the contact more finely), then the thinner, then
+ * segments (its shortest on a graded grid, rod.refine: it samples the
+ * contact more finely), then the thinner, then
  * the name first in alphabetical order. Nothing depends on the order the
  * [rod] sections are listed in. A pair joins the point at fraction alpha
  * of the owner's segment a to the point at fraction beta of the other
@@ -13,7 +14,8 @@
  * near the other rod instead, alpha 0 or 1, no node in two pairs either
  * way); its force follows the strands' own law (rod_self_contact_pair_law:
  * compliant normal force, regularised Coulomb friction at its corner)
- * with the owner's two nodes' compliance, solved in closed form in the
+ * with the owner's two nodes' compliance (each node's own cell's on a
+ * graded grid: rod_cross_compliance), solved in closed form in the
  * owner's residual like a surface's, against the other rod's point moving
  * over the step as the other rod's solve has it; the surfaces act again on
  * the owner's nodes with it in place. The other rod takes the opposite
@@ -73,9 +75,9 @@ typedef struct rod_cross {
     double *load;        /* (nodes x 3) N, global: the other rods' reactions on each node */
     int has_load;        /* 1: load is not all 0 */
     double *node_force;  /* (nodes x 3) N, global: the pairs' forces on each node */
-    double *push;        /* (nodes) m/s per N: each node's compliance over the step */
-    double node_push;    /* m/s per N: an interior node's compliance (the last residual) */
-    int held[2];         /* its root, tip held (no compliance) */
+    double *push;        /* (nodes) m/s per N: each node's compliance over the step, its
+                            cell's (rod_grid.h), 0 at a held end (rod_cross_compliance at
+                            the last residual) */
     double *node_map;    /* (nodes x 9), unsigned char *mapped (nodes): the surfaces' maps
                             of the nodes they act on again (surface_contact_after_pairs) */
     unsigned char *mapped;
@@ -158,16 +160,21 @@ void rod_link_relax(rod_link *l, int sweep);
  * rod_link_begin). Its arrays keep the size of the uncut rod. */
 void rod_link_cut(rod_link *l, int k, int nodes);
 
-/* Inside rod k's residual, after the surfaces and the strands' pairs:
- * each pair's force from its law, applied to the velocities vel1 and vbar
- * (global, nodes x 3) of its two nodes by their compliance (push, m/s per
- * N; twice at a free end, 0 at a held one: held[2]), then the surfaces of
- * m again on those nodes (ct); with ct->want_jacobian, each node's velocity
- * map composed with the pair's own (its coupling of the two nodes left
- * out). */
+/* Inside rod k's residual: each node's compliance (push: an interior
+ * node's on a uniform grid, m/s per N, 1 / (ds (rho A / dt + theta c)); a
+ * node's own cell's on a graded grid, push ds / w_i; twice at a free end
+ * of a uniform grid, 0 at a held one: held[2]), read by its own pairs and
+ * by the pairs other rods hold with it. */
+void rod_cross_compliance(rod_cross *c, const rod_model *m, double push, const int held[2]);
+
+/* Inside rod k's residual, after the surfaces, the strands' pairs and
+ * rod_cross_compliance: each pair's force from its law, applied to the
+ * velocities vel1 and vbar (global, nodes x 3) of its two nodes by their
+ * compliance, then the surfaces of m again on those nodes (ct); with
+ * ct->want_jacobian, each node's velocity map composed with the pair's own
+ * (its coupling of the two nodes left out). */
 void rod_cross_apply(rod_cross *c, const rod_model *m, const double *pos0, double *vel1,
-                     double *vbar, double push, const int held[2], double dt, double theta,
-                     rod_contact *ct);
+                     double *vbar, double dt, double theta, rod_contact *ct);
 
 /* The total force (N, global) the other rods exert on this one at the last
  * evaluation: the pairs' forces and the loads (the others' pairs). */

@@ -8,6 +8,7 @@
 #include "base/vec3.h"
 #include "sim/contact/surface_contact.h"
 #include "sim/geometry/proximity.h"
+#include "sim/rod_grid.h"
 #include "sim/rod_set.h"
 
 /* Pairs per node a rod's list holds: each segment keeps its nearest
@@ -22,14 +23,23 @@
  * other rod by 1 - sqrt(1 - 0.2^2) = 2 % of the contact distance */
 #define CROSS_SNAP 0.2
 
+/* A rod's shortest segment at rest, m: L / (NS - 1) on a uniform grid */
+static double shortest_segment(const rod_model *m)
+{
+    if (!m->segment_length) return m->length / (m->nodes - 1);
+    double shortest = m->segment_length[0];
+    for (int j = 1; j + 1 < m->nodes; j++) shortest = fmin(shortest, m->segment_length[j]);
+    return shortest;
+}
+
 /* Whether rod k holds the pairs with rod j: the shorter segments (m, at
- * rest), then the thinner, then the name first in alphabetical order; a
- * total order, so that every contact has one holder whatever the rods'
- * listing order */
+ * rest; a graded grid's shortest, rod.refine), then the thinner, then the
+ * name first in alphabetical order; a total order, so that every contact
+ * has one holder whatever the rods' listing order */
 static int holds(const rod_model *const *models, const char *const *names, int k, int j)
 {
-    const double sk = models[k]->length / (models[k]->nodes - 1);
-    const double sj = models[j]->length / (models[j]->nodes - 1);
+    const double sk = shortest_segment(models[k]);
+    const double sj = shortest_segment(models[j]);
     if (fabs(sk - sj) > 1e-9 * fmax(sk, sj)) return sk < sj;
     if (models[k]->diameter != models[j]->diameter)
         return models[k]->diameter < models[j]->diameter;
@@ -161,7 +171,8 @@ static int at_segment_end(double alpha, double beta)
  * whose points both lie inside their segments are two minima of the
  * distance, two contacts (a rope wrapped over a bar touches it at a point
  * of each of its chords), as for the strands' own pairs
- * (rod_self_contact_find) */
+ * (rod_self_contact_find). Counted in segments on a graded grid too: the
+ * region is a node's two segments whatever their lengths */
 static int same_region(const rod_cross *c, int upto, int rod, int a, double alpha, int b,
                        double beta, int end)
 {
@@ -364,16 +375,11 @@ static int pairs_with(rod_link *l, int k, int j, const rod_model *const *models,
 }
 
 /* Rod j's compliance (m/s per N) at the point beta of its segment b: its
- * nodes' by the weights squared (an end node's twice, a held one's 0) */
+ * two nodes' own (rod_cross_compliance, its last residual's) by the
+ * weights squared */
 static double point_push(const rod_cross *c, int b, double beta)
 {
-    double push[2];
-    for (int e = 0; e < 2; e++) {
-        const int i = b + e;
-        const int end = i == 0 ? 0 : i == c->nodes - 1 ? 1 : -1;
-        push[e] = end < 0 ? c->node_push : c->held[end] ? 0.0 : 2.0 * c->node_push;
-    }
-    return (1.0 - beta) * (1.0 - beta) * push[0] + beta * beta * push[1];
+    return (1.0 - beta) * (1.0 - beta) * c->push[b] + beta * beta * c->push[b + 1];
 }
 
 /* Rod j's point at fraction beta of its segment b: its position (m) and
@@ -779,15 +785,26 @@ static void solve_pair(rod_cross *c, rod_cross_pair *p, const double *pos0, doub
 #define CROSS_SWEEP_TOLERANCE 1e-12
 #define CROSS_SWEEPS 60
 
+void rod_cross_compliance(rod_cross *c, const rod_model *m, double push, const int held[2])
+{
+    const int n = c->nodes;
+    if (!m->segment_length) {
+        for (int i = 0; i < n; i++) c->push[i] = push;
+        c->push[0] = held[0] ? 0.0 : 2.0 * push;
+        c->push[n - 1] = held[1] ? 0.0 : 2.0 * push;
+        return;
+    }
+    /* node i's cell w_i (rod_grid.h): push ds / w_i, as contact_node_push */
+    for (int i = 0; i < n; i++) c->push[i] = push * (m->ds / rod_cell_length(m, i));
+    if (held[0]) c->push[0] = 0.0;
+    if (held[1]) c->push[n - 1] = 0.0;
+}
+
 void rod_cross_apply(rod_cross *c, const rod_model *m, const double *pos0, double *vel1,
-                     double *vbar, double push, const int held[2], double dt, double theta,
-                     rod_contact *ct)
+                     double *vbar, double dt, double theta, rod_contact *ct)
 {
     const int n = c->nodes;
     const int jac = ct && ct->want_jacobian;
-    for (int i = 0; i < n; i++) c->push[i] = push;
-    c->push[0] = held[0] ? 0.0 : 2.0 * push;
-    c->push[n - 1] = held[1] ? 0.0 : 2.0 * push;
     memset(c->node_force, 0, (size_t)n * 3 * sizeof(double));
     for (int q = 0; q < c->count; q++) v3_set(c->pair[q].force, 0.0, 0.0, 0.0);
     for (int sweep = 0; sweep < CROSS_SWEEPS; sweep++) {

@@ -444,7 +444,7 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
         }
         if (w->point_force)
             v3_axpy(v1, w->point_factor * push_b, &w->point_force[3 * b]);
-        if (w->cross && w->cross->has_load) v3_axpy(v1, push, &w->cross->load[3 * b]);
+        if (w->cross && w->cross->has_load) v3_axpy(v1, push_b, &w->cross->load[3 * b]);
         for (int k = 0; k < 3; k++) vb[k] = theta * v1[k] + (1.0 - theta) * v0[k];
         if (contact && w->contact.surface_count) surface_contact_node(&w->contact, m, b, push_b, dt);
         if (contact && w->contact.instrument_count) instrument_contact_node(&w->contact, m, b, push_b, dt);
@@ -476,14 +476,11 @@ static void residual(implicit_work *w, const rod_model *m, const double *x, doub
             rod_self_contact_laws(w->self, w->pos0, w->vel1, w->vbar, w->node_push, dt, theta);
     }
     if (w->cross) { /* the other rods' pairs on this one read its compliance */
-        w->cross->node_push = push;
-        w->cross->held[0] = w->ends[0].held, w->cross->held[1] = w->ends[1].held;
-    }
-    if (contact && w->cross && w->cross->count) {
         const int held[2] = {w->ends[0].held, w->ends[1].held};
-        rod_cross_apply(w->cross, m, w->pos0, w->vel1, w->vbar, push, held, dt, theta,
-                        &w->contact);
+        rod_cross_compliance(w->cross, m, push, held);
     }
+    if (contact && w->cross && w->cross->count)
+        rod_cross_apply(w->cross, m, w->pos0, w->vel1, w->vbar, dt, theta, &w->contact);
 
     /* (3.14) constraint on segment b-1 and (3.6)_2 on node b: block b */
     const double ms = 1.0 / w->moment_scale;

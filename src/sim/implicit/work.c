@@ -9,7 +9,6 @@
 #include "base/vec3.h"
 #include "sim/rod.h"
 #include "sim/rod_geometry.h"
-#include "sim/rod_grid.h"
 
 void implicit_destroy(implicit_work *w)
 {
@@ -252,9 +251,6 @@ implicit_work *implicit_create(const rod_model *m, char *err, size_t errlen)
 {
     end_condition ends[2];
     if (read_ends(m, ends, err, errlen)) return NULL;
-    if (m->segment_length && m->between_rods &&
-        rod_grid_refuse(m, "contact between rods", err, errlen))
-        return NULL;
     implicit_work *w = calloc(1, sizeof *w);
     if (!w) goto oom;
     memcpy(w->ends, ends, sizeof ends);
