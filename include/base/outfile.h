@@ -80,6 +80,18 @@ int outfile_remove_stale(const char *dir);
  * 128 + the signal (130 for SIGINT, 143 for SIGTERM). Call once from main. */
 void outfile_install_signal_cleanup(void);
 
+/* A step loop that can end cleanly (rodsim run's): once allowed
+ * (outfile_signal_defer_allow(1), by the command), a SIGINT/SIGTERM that
+ * arrives while the loop holds the window open (outfile_signal_defer(1))
+ * is only noted, with a line on stderr; the loop ends at its next step and
+ * the command writes its summary, removes its unfinished outputs and exits
+ * 128 + the signal. A second signal, or one outside the window, acts at
+ * once as above. outfile_signal_defer returns the noted signal (0: none);
+ * outfile_stop_signal reads it. */
+void outfile_signal_defer_allow(int on);
+int outfile_signal_defer(int on);
+int outfile_stop_signal(void);
+
 /* A directory of outputs (a frame sequence): made under a hidden name
  * ".NAME.tmpPID" beside `dir` (f->tmp_path; the signal handler removes it),
  * then renamed over `dir` (replacing an older one) by outfile_commit(), or,

@@ -499,8 +499,30 @@ int outfile_remove_stale(const char *dir)
     return removed;
 }
 
+static volatile sig_atomic_t defer_allowed, deferring, deferred;
+
+void outfile_signal_defer_allow(int on) { defer_allowed = on; }
+
+int outfile_signal_defer(int on)
+{
+    deferring = on && defer_allowed;
+    return deferred;
+}
+
+int outfile_stop_signal(void) { return deferred; }
+
 static void on_signal(int sig)
 {
+    if (deferring && !deferred) {
+        /* the step loop ends at its next step and the command says the rest */
+        deferred = sig;
+        static const char noted[] =
+            "rodsim: stopping at the next step (the same signal again stops at once)\n";
+        if (write(STDERR_FILENO, noted, sizeof noted - 1) < 0) {
+            /* nothing to do: the stop still happens */
+        }
+        return;
+    }
     for (int i = 0; i < OUTFILE_SLOTS; i++)
         if (pending_used[i]) unlink(pending[i]);
     for (int i = 0; i < OUTFILE_DIR_SLOTS; i++)

@@ -2,6 +2,7 @@
 #include "cli/rods_run.h"
 
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -194,6 +195,12 @@ static int output_frame(rods_run *r)
 static rod_status advance(rods_run *r, long long n, double h, double target, rod_report *report)
 {
     for (long long j = 0; j < n; j++) {
+        const int sig = outfile_stop_signal(); /* the user's stop (base/outfile.h) */
+        if (sig) {
+            snprintf(report->message, sizeof report->message, "stopped by %s at t = %g s",
+                     sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM", r->run.state[0]->time);
+            return ROD_FAILED;
+        }
         double t0 = cpu_seconds();
         rod_status st = rod_set_step(&r->set, &r->run, h, report);
         r->step_cpu += cpu_seconds() - t0;
@@ -216,7 +223,7 @@ static rod_status advance(rods_run *r, long long n, double h, double target, rod
     return ROD_OK;
 }
 
-static rod_status simulate(rods_run *r, rod_report *report)
+static rod_status simulate_steps(rods_run *r, rod_report *report)
 {
     memset(report, 0, sizeof *report);
     if (output_frame(r)) {
@@ -237,6 +244,21 @@ static rod_status simulate(rods_run *r, rod_report *report)
         }
     }
     return ROD_OK;
+}
+
+/* The steps with SIGINT/SIGTERM ending them at a step (noted since the
+ * command began); after them one acts at once (base/outfile.h). */
+static rod_status simulate(rods_run *r, rod_report *report)
+{
+    outfile_signal_defer(1);
+    rod_status st = simulate_steps(r, report);
+    const int sig = outfile_signal_defer(0);
+    if (sig && st == ROD_OK) {
+        snprintf(report->message, sizeof report->message, "stopped by %s at t = %g s",
+                 sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM", r->run.state[0]->time);
+        st = ROD_FAILED;
+    }
+    return st;
 }
 
 /* The result in prose: each rod's tip, held ends and the force of the

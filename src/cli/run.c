@@ -4,6 +4,7 @@
 
 #include <limits.h>
 #include <math.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -13,6 +14,7 @@
 #include "api/stepping.h"
 #include "base/clocks.h"
 #include "base/dtoa.h"
+#include "base/outfile.h"
 #include "sim/cut.h"
 #include "sim/recording.h"
 #include "sim/rod.h"
@@ -252,11 +254,23 @@ int run_pace_check(run_pace *pace, int64_t steps)
 /* Takes n steps of h from the output time s->time to the next one, `target`.
  * Equal steps: dt is the same for every step of every whole interval, so an
  * implicit scheme keeps its Jacobian factorised across them. */
+/* A SIGINT/SIGTERM noted while the loop runs (base/outfile.h): the run
+ * ends here, as a failure the command turns into 128 + the signal. */
+static int stopped_by_signal(const rod_state *s, rod_report *report)
+{
+    const int sig = outfile_stop_signal();
+    if (!sig) return 0;
+    snprintf(report->message, sizeof report->message, "stopped by %s at t = %g s",
+             sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM", s->time);
+    return 1;
+}
+
 static rod_status advance(rod_solver *solver, const rod_model *m, rod_state *s, int64_t n,
                           double h, double target, rod_report *report, run_stats *stats,
                           run_pace *pace)
 {
     for (int64_t j = 0; j < n; j++) {
+        if (stopped_by_signal(s, report)) return ROD_FAILED;
         /* no rod_solver_refresh() here: a Jacobian the last step found stale
          * is renewed by the step itself at its first iterate (the implicit
          * scheme's single_step), which spares an evaluation; refresh() is
@@ -300,6 +314,7 @@ rod_status run_simulate_paced(rod_solver *solver, const rod_model *m, rod_state 
     double start = wall_seconds();
     rod_status status = ROD_OK;
     if (pace) run_pace_start(pace, plan);
+    outfile_signal_defer(1); /* a signal ends the loop at a step (rodsim run only) */
     /* the frames see the thread as it is: after a cut, the thread left (sim/cut.h) */
     if (on_frame && on_frame(context, rod_cut_model(m, s), s, report->message,
                              sizeof report->message))
@@ -323,6 +338,10 @@ rod_status run_simulate_paced(rod_solver *solver, const rod_model *m, rod_state 
             status = ROD_FAILED;
         stats->closest_gap_frame = INFINITY;
     }
+    /* a signal noted after the last step still stops the run; from here on
+     * (the video's end, the outputs' names) one acts at once */
+    if (outfile_signal_defer(0) && status == ROD_OK && stopped_by_signal(s, report))
+        status = ROD_FAILED;
     stats->wall_seconds = wall_seconds() - start;
     return status;
 }

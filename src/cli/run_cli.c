@@ -2,6 +2,7 @@
  * --set overrides, then scene_outputs.h. */
 #include "cli/run_cli.h"
 
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
@@ -59,7 +60,9 @@ void run_usage(FILE *f)
             "The outputs (CSV, video, poster) appear together when the run succeeds, and\n"
             "none otherwise. Exit status: 0 success; 2 bad scene, bad usage, a run refused up\n"
             "front or stopped (too long, too large) or numerically unstable (nothing is\n"
-            "written then); 1 any other failure; 130 SIGINT, 143 SIGTERM.\n");
+            "written then); 1 any other failure; 130 SIGINT, 143 SIGTERM (the run ends at\n"
+            "its next step, removes its outputs and writes its summary, status stopped; the\n"
+            "same signal again, or one while the outputs are finished, stops at once).\n");
 }
 
 /* 1 when the file starts as a `rodsim live --record` record does. Only a
@@ -237,7 +240,20 @@ int run_command(int argc, char **argv)
         summary_set_message(&summary, err);
         status = RUN_EXIT_BAD_INPUT;
     } else {
+        /* SIGINT/SIGTERM from here to the end of the step loop end the run
+         * at a step, its summary written (base/outfile.h) */
+        outfile_signal_defer_allow(1);
+        outfile_signal_defer(1);
         status = run_scene(&o, &sets);
+        outfile_signal_defer(0);
+        outfile_signal_defer_allow(0);
+        const int sig = outfile_stop_signal();
+        if (sig) { /* the loop ended at a step; the outputs were not written */
+            status = 128 + sig;
+            summary.status = "stopped";
+            fprintf(stderr, "rodsim: stopped by %s: exit %d, unfinished outputs removed\n",
+                    sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM", status);
+        }
     }
     if (summary_path) status = finish_summary(summary_path, &summary, status, wall_start);
     cli_release(options);

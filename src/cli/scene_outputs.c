@@ -222,6 +222,10 @@ static int report_step_failure(const scene_outputs_options *a, rod_status status
                              "more solver.newton_max_iterations; nothing was written.\n");
         return RUN_EXIT_BAD_INPUT;
     }
+    if (outfile_stop_signal()) { /* not the scheme's failure: the user's stop */
+        complain(a, "%s\n", report->message);
+        return RUN_EXIT_FAILURE;
+    }
     complain(a, "the %s scheme failed at t = %g s: %s\n", scheme, s->time,
             report->message[0] ? report->message : "(no message)");
     return RUN_EXIT_FAILURE;

@@ -22,7 +22,9 @@
 #include "sim/rod.h"
 #include "cli/run.h"
 #include "cli/version.h"
+#include "json.h"
 #include "test.h"
+#include "test_csv.h"
 #include "test_process.h"
 
 static char tmp_dir[] = "/tmp/rodsim_cli_XXXXXX";
@@ -918,15 +920,19 @@ static int child_is_writing(pid_t pid, const char *dir)
     return writing;
 }
 
-/* SIGINT, SIGTERM and kill -9 mid-render leave nothing. */
+/* SIGINT, SIGTERM and kill -9 mid-render leave nothing in the outputs; the
+ * first two end the run at a step and write its summary (status stopped,
+ * the time reached); the same signal twice stops at once. */
 static void test_signals(void)
 {
-    char scene[96], output[8192];
+    char scene[96], output[8192], summary_path[128];
     snprintf(scene, sizeof scene, "%s/small.ini", tmp_dir);
+    snprintf(summary_path, sizeof summary_path, "%s/stopped.json", tmp_dir);
     write_small_scene(scene, NULL);
     /* 20 s at 100 fps: 2001 frames, long enough to be caught rendering */
     const char *args[] = {"run", scene, "-o", out_dir, "--csv", csv_path, "--set",
-                          "solver.duration=20", "--set", "render.fps=100", NULL};
+                          "solver.duration=20", "--set", "render.fps=100", "--summary",
+                          summary_path, NULL};
     static const struct {
         int sig, want;
         const char *name;
@@ -946,7 +952,24 @@ static void test_signals(void)
               "%s mid-render: exit %d (want %d), out dir entries %d (want 0: no CSV, no "
               "video, no temporary)",
               cases[i].name, status, cases[i].want, out_dir_entries());
-        if (cases[i].want < 0) continue; /* SIGKILL: nothing can be said */
+        if (cases[i].want < 0) { /* SIGKILL: nothing can be said */
+            check(access(summary_path, F_OK) != 0, "SIGKILL mid-render: no summary");
+            continue;
+        }
+        char *text = read_text(summary_path), err[256] = "";
+        json_value *v = text ? json_parse(text, err, sizeof err) : NULL;
+        const json_value *st = json_get(v, "status"), *code = json_get(v, "exit_code"),
+                         *t_end = json_get(v, "t_end");
+        check(json_is(st, JSON_STRING) && strcmp(st->string, "stopped") == 0 &&
+                  json_is(code, JSON_NUMBER) && code->number == cases[i].want &&
+                  json_is(t_end, JSON_NUMBER) && t_end->number >= 0.0 && t_end->number < 20.0,
+              "%s mid-render: the summary says stopped (%s), exit_code %g (want %d), at t = %g s "
+              "(0 <= t < 20: where it stopped, before the end)%s%s", cases[i].name, json_is(st, JSON_STRING) ? st->string : "-",
+              json_is(code, JSON_NUMBER) ? code->number : -1.0, cases[i].want,
+              json_is(t_end, JSON_NUMBER) ? t_end->number : -1.0, err[0] ? ": " : "", err);
+        json_free(v);
+        free(text);
+        unlink(summary_path);
         char said[96];
         snprintf(said, sizeof said, "rodsim: stopped by %s", cases[i].name);
         const char *line = strstr(output, said);
