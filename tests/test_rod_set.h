@@ -1,11 +1,15 @@
 /* test_rod_set.h: a scene of several rods read from text, for tests of
- * the rod set. */
+ * the rod set; two ropes pressed together in space and their momentum
+ * (tests/sim/test_rod_set.c, tests/sim/test_grid_rods.c). */
 #ifndef RODSIM_TEST_ROD_SET_H
 #define RODSIM_TEST_ROD_SET_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "base/ini.h"
+#include "base/vec3.h"
+#include "sim/rod_grid.h"
 #include "sim/rod_set.h"
 
 /* Reads a scene of [rod NAME] sections from text into set, every key used
@@ -22,6 +26,57 @@ static inline int test_read_set(const char *text, rod_set *set, char *err, size_
     }
     ini_destroy(doc);
     return rc;
+}
+
+/* Linear momentum (kg m/s, global) of a rod: each node's cell mass
+ * rho A w_b (rod_cell_length, the implicit scheme's lumped masses) times
+ * its velocity. */
+static inline void test_rod_momentum(const rod_model *m, const rod_state *s, double out[3])
+{
+    v3_set(out, 0.0, 0.0, 0.0);
+    for (int i = 0; i < s->nodes; i++) {
+        double v[3];
+        m3_mul_v(v, &s->frame[9 * i], &s->velocity[3 * i]);
+        v3_axpy(out, m->mass_per_length * rod_cell_length(m, i), v);
+    }
+}
+
+/* Two ropes crossing in space, no gravity, damping or surface (dt 1 ms,
+ * 0.3 s): rod a 0.3 m along x, rod b 0.2 m along y over it, b's tip
+ * pressed down by push (N, global -z). refine_a, refine_b: each rod's
+ * "refine = ...\n" line, "" for a uniform grid. */
+static inline void test_pressed_ropes(char *text, size_t n, const char *refine_a,
+                                      const char *refine_b, double push)
+{
+    snprintf(text, n,
+             "[rod a]\nlength = 0.3\ndiameter = 0.004\ndensity = 1100\nyoungs_modulus = 5e7\n"
+             "shear_modulus = 1.9e7\nnodes = 31\norigin = -0.15 0 0\ndirection = 1 0 0\n"
+             "friction = 0.3\n%s[ends a]\nroot = free\ntip = free\n"
+             "[rod b]\nlength = 0.2\ndiameter = 0.004\ndensity = 1100\nyoungs_modulus = 5e7\n"
+             "shear_modulus = 1.9e7\nnodes = 21\norigin = 0.003 -0.19 0.0045\n"
+             "direction = 0 1 0\nfriction = 0.3\n%s[ends b]\nroot = free\ntip = free\n"
+             "[tip b]\nframe = global\nforce = 0 0 %.17g\n"
+             "[solver]\nscheme = implicit\ndt = 0.001\nduration = 0.3\n"
+             "[physics]\ngravity = off\n",
+             refine_a, refine_b, -push);
+}
+
+/* The size (kg m/s) of the sum of the two rods' momentum changes since
+ * p0, less the impulse of b's tip force push (N, -z) over `steps` steps
+ * of dt (s). */
+static inline double test_momentum_excess(const rod_set *set, const rod_set_run *run,
+                                          double p0[2][3], double push, int steps,
+                                          double dt)
+{
+    double total[3] = {0.0, 0.0, 0.0};
+    for (int k = 0; k < 2; k++) {
+        double p[3];
+        test_rod_momentum(&set->model[k], run->state[k], p);
+        v3_axpy(total, 1.0, p);
+        v3_axpy(total, -1.0, p0[k]);
+    }
+    total[2] += push * steps * dt;
+    return v3_norm(total);
 }
 
 #endif
