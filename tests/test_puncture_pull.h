@@ -1,7 +1,8 @@
 /* test_puncture_pull.h: a thread pulled through a puncture
  * (tests/sim/test_contact.c on a uniform grid, tests/sim/test_grid_puncture.c
- * on a graded one): the strands' directions away from the hole, and the
- * root tension Coulomb's law gives there. */
+ * on a graded one, tests/sim/test_grid_tissue.c through a pad): the
+ * strands' directions away from the hole, and the root tension Coulomb's
+ * law gives there. */
 #ifndef RODSIM_TEST_PUNCTURE_PULL_H
 #define RODSIM_TEST_PUNCTURE_PULL_H
 

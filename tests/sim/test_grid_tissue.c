@@ -37,6 +37,7 @@
 #include "sim/tissue/tissue.h"
 #include "test.h"
 #include "test_process.h"
+#include "test_puncture_pull.h"
 #include "test_needle_bite.h"
 #include "test_scene_run.h"
 
@@ -165,25 +166,6 @@ typedef struct pull_result {
     int linked;       /* the hole is a point of the pad */
 } pull_result;
 
-/* The root tension Coulomb's law gives: the puncture holds F = -(T1 u1 +
- * W u2); along the thread (t from strand 1 to strand 2) at most mu times
- * across. Bisection on T1 in [W, 20 W]. */
-static double coulomb_root_tension(double mu, double w_load, const double u1[3], const double u2[3])
-{
-    double t[3];
-    v3_sub(t, u2, u1);
-    v3_scale(t, t, 1.0 / v3_norm(t));
-    double lo = w_load, hi = 20.0 * w_load;
-    for (int it = 0; it < 200; it++) {
-        double t1 = 0.5 * (lo + hi), f[3];
-        for (int c = 0; c < 3; c++) f[c] = t1 * u1[c] + w_load * u2[c];
-        double along = fabs(v3_dot(f, t)), across2 = v3_dot(f, f) - along * along;
-        if (along < mu * sqrt(fmax(across2, 0.0))) lo = t1;
-        else hi = t1;
-    }
-    return 0.5 * (lo + hi);
-}
-
 /* A thread of 60 mm (0.3 mm), its root pulled along -x at 20 mm/s for
  * 0.3 s, through a hole at (30, 0, 0) mm in the face x = 30 mm of an
  * elastic pad (E 500 kPa, 30 x 30 x 40 mm, held at its bottom, gravity
@@ -248,16 +230,13 @@ static int pull_through_pad(const char *grid, double mu, double w_load, pull_res
             sum += v3_norm(s->end_force[0]);
             count++;
             /* the strands' directions away from the hole where it is now */
-            v3_sub(u1, &s->position[0], hole);
-            v3_sub(u2, &s->position[3 * (m.nodes - 1)], hole);
+            strand_directions(s->position, m.nodes, hole, u1, u2);
         }
     }
     if (rc == 0 && count) {
         r->t_root = sum / count;
         r->slid = s->puncture[0].s - s_start;
         r->linked = s->puncture[0].linked == 1;
-        v3_scale(u1, u1, 1.0 / v3_norm(u1));
-        v3_scale(u2, u2, 1.0 / v3_norm(u2));
         r->reference = coulomb_root_tension(mu, w_load, u1, u2);
     } else {
         rc = -1;
