@@ -36,29 +36,13 @@
 #include "sim/scene.h"
 #include "sim/tissue/tissue.h"
 #include "test.h"
+#include "test_needle_bite.h"
+#include "test_pad_reaction.h"
 #include "test_process.h"
 #include "test_puncture_pull.h"
-#include "test_needle_bite.h"
 #include "test_scene_run.h"
 
 /* ---- a wire lying on a pad ---- */
-
-/* What the pad's holders take (N, z up) less the pad's own weight: the
- * load the wire puts on it. */
-static double pad_reaction(tissue_solid *t, double g)
-{
-    const double *rest = tissue_rest_positions(t), *mass = tissue_node_masses(t);
-    double low = INFINITY, sum = 0.0, weight = 0.0;
-    for (int n = 0; n < tissue_node_count(t); n++) low = fmin(low, rest[3 * n + 2]);
-    for (int n = 0; n < tissue_node_count(t); n++) {
-        weight += mass[n] * g;
-        if (rest[3 * n + 2] > low + 1e-12) continue;
-        double r[3];
-        tissue_reaction(t, n, r);
-        sum += r[2];
-    }
-    return sum - weight;
-}
 
 typedef struct rest_result {
     double weight;  /* N: rho A L g */
