@@ -4,6 +4,7 @@
 #ifndef RODSIM_TEST_ROD_SET_H
 #define RODSIM_TEST_ROD_SET_H
 
+#include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 
@@ -11,6 +12,7 @@
 #include "base/vec3.h"
 #include "sim/rod_grid.h"
 #include "sim/rod_set.h"
+#include "test.h"
 
 /* Reads a scene of [rod NAME] sections from text into set, every key used
  * (an unused key is an error, as `rodsim run` makes it). 0, or -1 with the
@@ -77,6 +79,58 @@ static inline double test_momentum_excess(const rod_set *set, const rod_set_run 
     }
     total[2] += push * steps * dt;
     return v3_norm(total);
+}
+
+/* What test_pressed_ropes_run measures over its 300 steps of 1 ms. */
+typedef struct test_pressed {
+    int failed;      /* a step failed (checked, with its message) */
+    double worst;    /* kg m/s: test_momentum_excess, largest over the steps */
+    double impulse;  /* kg m/s: the tip force's over the run */
+    double touch;    /* N: the largest contact force on rod a */
+    double least;    /* m: gap's least value over the steps (INFINITY without) */
+    long sweeps, steps, solves, unsettled; /* the run's counts at its end */
+} test_pressed;
+
+/* Reads and runs test_pressed_ropes (push, N; each rod's refine line),
+ * checking that it reads, that its run is made and that every step
+ * succeeds; gap (may be NULL) is measured after every step. 0, or -1 when
+ * the scene does not read or its run is not made. */
+static inline int test_pressed_ropes_run(const char *refine_a, const char *refine_b,
+                                         double push, double (*gap)(const rod_set_run *),
+                                         test_pressed *out)
+{
+    char text[4096], err[1024];
+    test_pressed_ropes(text, sizeof text, refine_a, refine_b, push);
+    rod_set set;
+    rod_set_run run;
+    int ok = test_read_set(text, &set, err, sizeof err) == 0;
+    if (!check(ok, "two ropes in space read (%s)", ok ? "ok" : err)) return -1;
+    if (rod_set_run_create(&set, &run, err, sizeof err)) {
+        check(0, "run made: %s", err);
+        rod_set_release(&set);
+        return -1;
+    }
+    const double dt = 0.001;
+    const int steps = 300;
+    double p0[2][3];
+    for (int k = 0; k < 2; k++) test_rod_momentum(&set.model[k], run.state[k], p0[k]);
+    *out = (test_pressed){.least = INFINITY};
+    rod_report report;
+    for (int i = 0; i < steps && !out->failed; i++) {
+        out->failed = rod_set_step(&set, &run, dt, &report) != ROD_OK;
+        out->worst = fmax(out->worst, test_momentum_excess(&set, &run, p0, push, i + 1, dt));
+        out->touch = fmax(out->touch, v3_norm(run.touch_force[0]));
+        if (gap) out->least = fmin(out->least, gap(&run));
+    }
+    check(!out->failed, "%d steps: %s", steps, out->failed ? report.message : "ok");
+    out->impulse = push * steps * dt;
+    out->sweeps = run.sweeps;
+    out->steps = run.steps;
+    out->solves = run.solves;
+    out->unsettled = run.unsettled;
+    rod_set_run_destroy(&run);
+    rod_set_release(&set);
+    return 0;
 }
 
 #endif

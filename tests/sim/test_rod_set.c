@@ -284,6 +284,16 @@ static void test_order(void)
     }
 }
 
+#define ROPE_REACH 0.004 /* m: two ropes' contact distance (their diameter) */
+
+/* The least distance between the pressed ropes' centrelines less their
+ * contact distance (m) */
+static double pressed_gap(const rod_set_run *run)
+{
+    double h;
+    return closest(run->state[0], run->state[1], &h) - ROPE_REACH;
+}
+
 /* Two ropes crossing in space, no gravity, damping or surface: a tip force
  * (global, constant) presses the tip of one onto the middle of the other.
  * The sum of the two rods' momentum changes equals the tip force's impulse
@@ -291,46 +301,19 @@ static void test_order(void)
  * opposite, in the same step */
 static void test_momentum(void)
 {
-    char text[4096], err[1024];
     const double push = 0.02; /* N, -z on b's tip */
-    test_pressed_ropes(text, sizeof text, "", "", push);
-    rod_set set;
-    rod_set_run run;
-    int ok = test_read_set(text, &set, err, sizeof err) == 0;
-    if (!check(ok, "two ropes in space read (%s)", ok ? "ok" : err)) return;
-    if (rod_set_run_create(&set, &run, err, sizeof err)) {
-        check(0, "run made: %s", err);
-        rod_set_release(&set);
-        return;
-    }
-    const double dt = 0.001;
-    const int steps = 300;
-    double p0[2][3], worst = 0.0, touch = 0.0, least = INFINITY;
-    for (int k = 0; k < 2; k++) test_rod_momentum(&set.model[k], run.state[k], p0[k]);
-    const double reach = 0.004;
-    int failed = 0;
-    rod_report report;
-    for (int i = 0; i < steps && !failed; i++) {
-        failed = rod_set_step(&set, &run, dt, &report) != ROD_OK;
-        worst = fmax(worst, test_momentum_excess(&set, &run, p0, push, i + 1, dt));
-        touch = fmax(touch, v3_norm(run.touch_force[0]));
-        double h;
-        least = fmin(least, closest(run.state[0], run.state[1], &h) - reach);
-    }
-    check(!failed, "%d steps: %s", steps, failed ? report.message : "ok");
-    check(touch > 0.5 * push, "the ropes touch: the largest contact force %.4g N (tip force %.3g N)",
-          touch, push);
-    const double impulse = push * steps * dt;
+    test_pressed r;
+    if (test_pressed_ropes_run("", "", push, pressed_gap, &r)) return;
+    check(r.touch > 0.5 * push, "the ropes touch: the largest contact force %.4g N (tip force "
+          "%.3g N)", r.touch, push);
     printf("  momentum: sum of changes less the tip force's impulse, largest over the steps "
-           "%.3g kg m/s (the impulse %.4g kg m/s; %.3g of it)\n", worst, impulse,
-           worst / impulse);
-    check(worst < 1e-12 * impulse + 1e-15, "momentum: the rods' momentum changes sum to the "
-          "external impulse to round-off at every step (%.3g of it)", worst / impulse);
-    check(least > -0.05 * reach, "no pass-through at any step: least gap %.3g m", least);
+           "%.3g kg m/s (the impulse %.4g kg m/s; %.3g of it)\n", r.worst, r.impulse,
+           r.worst / r.impulse);
+    check(r.worst < 1e-12 * r.impulse + 1e-15, "momentum: the rods' momentum changes sum to the "
+          "external impulse to round-off at every step (%.3g of it)", r.worst / r.impulse);
+    check(r.least > -0.05 * ROPE_REACH, "no pass-through at any step: least gap %.3g m", r.least);
     printf("  sweeps: %ld in %ld steps, %ld Newton solves; %ld steps short of the tolerance\n",
-           run.sweeps, run.steps, run.solves, run.unsettled);
-    rod_set_run_destroy(&run);
-    rod_set_release(&set);
+           r.sweeps, r.steps, r.solves, r.unsettled);
 }
 
 /* A scene of several rods that asks for what they do not model is refused
