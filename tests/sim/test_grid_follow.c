@@ -36,6 +36,7 @@
 #include "sim/rod_grid.h"
 #include "test.h"
 #include "test_puncture_pull.h"
+#include "test_run_start.h"
 
 #define LENGTH 0.055     /* m */
 #define BITE 0.004       /* m: entry to exit */
@@ -426,12 +427,9 @@ static int follow(int nodes, const rod_refine *refine, int count, double follow_
         printf("     derive: %s\n", err);
         goto done;
     }
-    s = rod_state_create(&m);
     rod_solver solver;
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        printf("     create: %s\n", err);
-        goto done;
-    }
+    s = run_start(&m, &solver);
+    if (!s) goto done;
     rod_report report;
     memset(&report, 0, sizeof report);
     const int steps = (int)lround(T_END / DT);

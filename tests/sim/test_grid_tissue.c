@@ -40,6 +40,7 @@
 #include "test_pad_reaction.h"
 #include "test_process.h"
 #include "test_puncture_pull.h"
+#include "test_run_start.h"
 #include "test_scene_run.h"
 
 /* ---- a wire lying on a pad ---- */
@@ -184,11 +185,9 @@ static int pull_through_pad(const char *grid, double mu, double w_load, pull_res
         return -1;
     }
     memset(r, 0, sizeof *r);
-    rod_state *s = rod_state_create(&m);
     rod_solver solver;
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        printf("     create: %s\n", err);
-        rod_state_destroy(s);
+    rod_state *s = run_start(&m, &solver);
+    if (!s) {
         rod_model_release(&m);
         return -1;
     }
@@ -282,11 +281,9 @@ static bite run_bite(const char *grid, double spacing)
         printf("     the bite's scene: %s\n", err);
         return o;
     }
-    rod_state *s = rod_state_create(&m);
     rod_solver solver;
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        printf("     create: %s\n", err);
-        rod_state_destroy(s);
+    rod_state *s = run_start(&m, &solver);
+    if (!s) {
         rod_model_release(&m);
         return o;
     }
