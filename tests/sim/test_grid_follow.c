@@ -35,6 +35,8 @@
 #include "sim/rod_geometry.h"
 #include "sim/rod_grid.h"
 #include "test.h"
+#include "test_puncture_pull.h"
+#include "test_run_start.h"
 
 #define LENGTH 0.055     /* m */
 #define BITE 0.004       /* m: entry to exit */
@@ -52,7 +54,7 @@
 /* The strands' directions away from the holes: the tail's from A rising
  * back over the bite, the needle's end from B likewise, each turning TURN
  * into the bite (A to B along +x), aside in y so they do not cross. */
-static void strand_directions(double u1[3], double u2[3])
+static void start_directions(double u1[3], double u2[3])
 {
     const double c = -cos(TURN), y = 0.3, z = sqrt(1.0 - c * c - y * y);
     v3_set(u1, c, -y, z);
@@ -66,7 +68,7 @@ static void strand_directions(double u1[3], double u2[3])
 static int centreline(double h, double *p, int cap)
 {
     double u1[3], u2[3], a[3], x[3] = {1, 0, 0}, k[3], c[3], t[3], kt[3];
-    strand_directions(u1, u2);
+    start_directions(u1, u2);
     v3_scale(a, u1, -1.0);
     const double arc = FILLET * TURN, total = LENGTH + 0.01;
     int n = 0;
@@ -197,22 +199,10 @@ static int nodes_for(const rod_refine *r, int count, double coarse)
 }
 
 /* The root tension Coulomb's law gives at a puncture whose strands leave it
- * along u1 (the puller's side, tension T1) and u2 (tension t2): the force
- * along the thread at most mu times the force across. */
+ * along u1 (the puller's side, tension T1) and u2 (tension t2). */
 static double coulomb_in(double t2, const double u1[3], const double u2[3])
 {
-    double t[3];
-    v3_sub(t, u2, u1);
-    v3_scale(t, t, 1.0 / v3_norm(t));
-    double lo = t2, hi = 50.0 * t2;
-    for (int it = 0; it < 200; it++) {
-        double t1 = 0.5 * (lo + hi), f[3];
-        for (int c = 0; c < 3; c++) f[c] = t1 * u1[c] + t2 * u2[c];
-        double along = fabs(v3_dot(f, t)), across2 = v3_dot(f, f) - along * along;
-        if (along < MU * sqrt(fmax(across2, 0.0))) lo = t1;
-        else hi = t1;
-    }
-    return 0.5 * (lo + hi);
+    return coulomb_tension_up_to(MU, t2, u1, u2, 50.0);
 }
 
 /* The same law where the grid resolves the bend (ds below sqrt(EI / T)):
@@ -406,7 +396,7 @@ static int follow(int nodes, const rod_refine *refine, int count, double follow_
     m.refine_count = count;
     for (int k = 0; k < count; k++) m.refine[k] = refine[k];
     double u1[3], u2[3];
-    strand_directions(u1, u2);
+    start_directions(u1, u2);
     m.tip_frame = ROD_FRAME_GLOBAL;
     v3_scale(m.tip_force, u2, W_LOAD);
     m.profile.kind = ROD_PROFILE_RAMP;
@@ -437,12 +427,9 @@ static int follow(int nodes, const rod_refine *refine, int count, double follow_
         printf("     derive: %s\n", err);
         goto done;
     }
-    s = rod_state_create(&m);
     rod_solver solver;
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        printf("     create: %s\n", err);
-        goto done;
-    }
+    s = run_start(&m, &solver);
+    if (!s) goto done;
     rod_report report;
     memset(&report, 0, sizeof report);
     const int steps = (int)lround(T_END / DT);

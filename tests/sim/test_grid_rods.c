@@ -30,18 +30,6 @@
 
 #define GRAVITY 9.81 /* m/s^2 */
 
-/* Linear momentum (kg m/s, global) of a rod: each node's cell mass
- * rho A w_b (rod_cell_length) times its velocity */
-static void momentum(const rod_model *m, const rod_state *s, double out[3])
-{
-    v3_set(out, 0.0, 0.0, 0.0);
-    for (int i = 0; i < s->nodes; i++) {
-        double v[3];
-        m3_mul_v(v, &s->frame[9 * i], &s->velocity[3 * i]);
-        v3_axpy(out, m->mass_per_length * rod_cell_length(m, i), v);
-    }
-}
-
 /* A point at fraction f of segment j: its arc length s_j + f ds_j, m */
 static double point_arc(const rod_model *m, int j, double f)
 {
@@ -52,61 +40,19 @@ static double point_arc(const rod_model *m, int j, double f)
 
 static void test_momentum(const char *refine_a, const char *refine_b)
 {
-    char text[4096], err[1024];
     const double push = 0.02; /* N, -z on b's tip */
-    snprintf(text, sizeof text,
-             "[rod a]\nlength = 0.3\ndiameter = 0.004\ndensity = 1100\nyoungs_modulus = 5e7\n"
-             "shear_modulus = 1.9e7\nnodes = 31\norigin = -0.15 0 0\ndirection = 1 0 0\n"
-             "friction = 0.3\n%s[ends a]\nroot = free\ntip = free\n"
-             "[rod b]\nlength = 0.2\ndiameter = 0.004\ndensity = 1100\nyoungs_modulus = 5e7\n"
-             "shear_modulus = 1.9e7\nnodes = 21\norigin = 0.003 -0.19 0.0045\n"
-             "direction = 0 1 0\nfriction = 0.3\n%s[ends b]\nroot = free\ntip = free\n"
-             "[tip b]\nframe = global\nforce = 0 0 %.17g\n"
-             "[solver]\nscheme = implicit\ndt = 0.001\nduration = 0.3\n"
-             "[physics]\ngravity = off\n",
-             refine_a, refine_b, -push);
     printf("  two ropes pressed in space: a %s, b %s\n", *refine_a ? refine_a : "uniform\n",
            *refine_b ? refine_b : "uniform\n");
-    rod_set set;
-    rod_set_run run;
-    int ok = test_read_set(text, &set, err, sizeof err) == 0;
-    if (!check(ok, "two ropes in space read (%s)", ok ? "ok" : err)) return;
-    if (rod_set_run_create(&set, &run, err, sizeof err)) {
-        check(0, "run made: %s", err);
-        rod_set_release(&set);
-        return;
-    }
-    const double dt = 0.001;
-    const int steps = 300;
-    double p0[2][3], worst = 0.0, touch = 0.0;
-    for (int k = 0; k < 2; k++) momentum(&set.model[k], run.state[k], p0[k]);
-    int failed = 0;
-    rod_report report;
-    for (int i = 0; i < steps && !failed; i++) {
-        failed = rod_set_step(&set, &run, dt, &report) != ROD_OK;
-        double total[3] = {0.0, 0.0, 0.0};
-        for (int k = 0; k < 2; k++) {
-            double p[3];
-            momentum(&set.model[k], run.state[k], p);
-            v3_axpy(total, 1.0, p);
-            v3_axpy(total, -1.0, p0[k]);
-        }
-        total[2] += push * (i + 1) * dt; /* less the impulse of the tip force */
-        worst = fmax(worst, v3_norm(total));
-        touch = fmax(touch, v3_norm(run.touch_force[0]));
-    }
-    check(!failed, "%d steps: %s", steps, failed ? report.message : "ok");
-    check(touch > 0.5 * push, "the ropes touch: the largest contact force %.4g N (tip force %.3g N)",
-          touch, push);
-    const double impulse = push * steps * dt;
+    test_pressed r;
+    if (test_pressed_ropes_run(refine_a, refine_b, push, NULL, &r)) return;
+    check(r.touch > 0.5 * push, "the ropes touch: the largest contact force %.4g N (tip force "
+          "%.3g N)", r.touch, push);
     printf("  momentum (cell masses rho A w_b): sum of changes less the tip force's impulse, "
-           "largest over the steps %.3g kg m/s (the impulse %.4g kg m/s; %.3g of it)\n", worst,
-           impulse, worst / impulse);
-    check(worst < 1e-12 * impulse + 1e-15, "momentum: the rods' momentum changes sum to the "
+           "largest over the steps %.3g kg m/s (the impulse %.4g kg m/s; %.3g of it)\n", r.worst,
+           r.impulse, r.worst / r.impulse);
+    check(r.worst < 1e-12 * r.impulse + 1e-15, "momentum: the rods' momentum changes sum to the "
           "external impulse to round-off at every step (%.3g of it, tolerance 1e-12)",
-          worst / impulse);
-    rod_set_run_destroy(&run);
-    rod_set_release(&set);
+          r.worst / r.impulse);
 }
 
 /* A lever on a bar ------------------------------------------------------ */

@@ -36,27 +36,14 @@
 #include "sim/scene.h"
 #include "sim/tissue/tissue.h"
 #include "test.h"
+#include "test_needle_bite.h"
+#include "test_pad_reaction.h"
 #include "test_process.h"
+#include "test_puncture_pull.h"
+#include "test_run_start.h"
 #include "test_scene_run.h"
 
 /* ---- a wire lying on a pad ---- */
-
-/* What the pad's holders take (N, z up) less the pad's own weight: the
- * load the wire puts on it. */
-static double pad_reaction(tissue_solid *t, double g)
-{
-    const double *rest = tissue_rest_positions(t), *mass = tissue_node_masses(t);
-    double low = INFINITY, sum = 0.0, weight = 0.0;
-    for (int n = 0; n < tissue_node_count(t); n++) low = fmin(low, rest[3 * n + 2]);
-    for (int n = 0; n < tissue_node_count(t); n++) {
-        weight += mass[n] * g;
-        if (rest[3 * n + 2] > low + 1e-12) continue;
-        double r[3];
-        tissue_reaction(t, n, r);
-        sum += r[2];
-    }
-    return sum - weight;
-}
 
 typedef struct rest_result {
     double weight;  /* N: rho A L g */
@@ -164,25 +151,6 @@ typedef struct pull_result {
     int linked;       /* the hole is a point of the pad */
 } pull_result;
 
-/* The root tension Coulomb's law gives: the puncture holds F = -(T1 u1 +
- * W u2); along the thread (t from strand 1 to strand 2) at most mu times
- * across. Bisection on T1 in [W, 20 W]. */
-static double coulomb_root_tension(double mu, double w_load, const double u1[3], const double u2[3])
-{
-    double t[3];
-    v3_sub(t, u2, u1);
-    v3_scale(t, t, 1.0 / v3_norm(t));
-    double lo = w_load, hi = 20.0 * w_load;
-    for (int it = 0; it < 200; it++) {
-        double t1 = 0.5 * (lo + hi), f[3];
-        for (int c = 0; c < 3; c++) f[c] = t1 * u1[c] + w_load * u2[c];
-        double along = fabs(v3_dot(f, t)), across2 = v3_dot(f, f) - along * along;
-        if (along < mu * sqrt(fmax(across2, 0.0))) lo = t1;
-        else hi = t1;
-    }
-    return 0.5 * (lo + hi);
-}
-
 /* A thread of 60 mm (0.3 mm), its root pulled along -x at 20 mm/s for
  * 0.3 s, through a hole at (30, 0, 0) mm in the face x = 30 mm of an
  * elastic pad (E 500 kPa, 30 x 30 x 40 mm, held at its bottom, gravity
@@ -217,11 +185,9 @@ static int pull_through_pad(const char *grid, double mu, double w_load, pull_res
         return -1;
     }
     memset(r, 0, sizeof *r);
-    rod_state *s = rod_state_create(&m);
     rod_solver solver;
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        printf("     create: %s\n", err);
-        rod_state_destroy(s);
+    rod_state *s = run_start(&m, &solver);
+    if (!s) {
         rod_model_release(&m);
         return -1;
     }
@@ -247,16 +213,13 @@ static int pull_through_pad(const char *grid, double mu, double w_load, pull_res
             sum += v3_norm(s->end_force[0]);
             count++;
             /* the strands' directions away from the hole where it is now */
-            v3_sub(u1, &s->position[0], hole);
-            v3_sub(u2, &s->position[3 * (m.nodes - 1)], hole);
+            strand_directions(s->position, m.nodes, hole, u1, u2);
         }
     }
     if (rc == 0 && count) {
         r->t_root = sum / count;
         r->slid = s->puncture[0].s - s_start;
         r->linked = s->puncture[0].linked == 1;
-        v3_scale(u1, u1, 1.0 / v3_norm(u1));
-        v3_scale(u2, u2, 1.0 / v3_norm(u2));
         r->reference = coulomb_root_tension(mu, w_load, u1, u2);
     } else {
         rc = -1;
@@ -297,26 +260,6 @@ static void test_pull(void)
 
 /* ---- a needle through tissue ---- */
 
-#define RADIUS 0.005517 /* m: the needle's circle */
-#define DEPTH 0.0035    /* m: the bite's depth under the skin (z = 0) */
-#define SWEEP 1.7       /* s: the needle's back from -85 to +85 degrees */
-#define DRAW 0.5        /* s: then drawn up and on */
-
-/* The needle's back at time t: on the circle, then straight on. */
-static void back_at(double t, double p[3])
-{
-    const double zc = RADIUS - DEPTH, a0 = -85.0 * M_PI / 180.0;
-    double u = t < SWEEP ? t / SWEEP : 1.0, a = a0 + u * (-2.0 * a0);
-    p[0] = 0.0;
-    p[1] = RADIUS * sin(a);
-    p[2] = zc - RADIUS * cos(a);
-    if (t > SWEEP) {
-        const double w = (t - SWEEP) / DRAW > 1.0 ? 1.0 : (t - SWEEP) / DRAW;
-        p[1] += 0.010 * w;
-        p[2] += 0.005 * w;
-    }
-}
-
 typedef struct bite {
     int ok, holes, tracks;
     double point[2][3]; /* m: the entry's and the exit's points */
@@ -325,51 +268,28 @@ typedef struct bite {
     double tip_ds;      /* m: the tip's segment */
 } bite;
 
-/* The bite of test_needle_track.c (a 40 mm thread of 0.18 mm, its tip the
- * needle's back, root free, the tissue box's top at z = 0); `grid` the
+/* The bite of test_needle_bite.h (as test_needle_track.c's); `grid` the
  * [rod] lines nodes and refine. */
 static bite run_bite(const char *grid, double spacing)
 {
     bite o = {0};
     char path[512], text[2048], err[1024] = "";
     snprintf(path, sizeof path, "%s/back.csv", test_dir());
-    FILE *f = fopen(path, "w");
-    if (!f) return o;
-    fprintf(f, "t,x,y,z\n");
-    for (int i = 0; i <= 110; i++) {
-        double t = 0.02 * i, p[3];
-        back_at(t, p);
-        fprintf(f, "%.6f,%.9f,%.9f,%.9f\n", t, p[0], p[1], p[2]);
-    }
-    fclose(f);
-    double start[3];
-    back_at(0.0, start);
-    const double length = 0.04;
-    snprintf(text, sizeof text,
-             "[rod]\nlength = %g\ndiameter = 0.00018\ndensity = 1140\nyoungs_modulus = 1.5e9\n"
-             "shear_modulus = 0.55e9\n%sorigin = 0 %.9f %.9f\ndirection = 0 1 0\n"
-             "[ends]\nroot = free\ntip = pinned\ntip_motion = %s\nneedle = %g\n"
-             "[solver]\nscheme = implicit\ndt = 0.001\nduration = %g\n"
-             "[loads]\ngravity = 0 0 -9.81\nlinear_damping = 2e-3\n"
-             "[surface]\nshape = box\ncenter = 0 0 -0.004\nsize = 0.04 0.06 0.008\n"
-             "friction = 0.3\ntissue = yes\ntrack_spacing = %g\n",
-             length, grid, start[1] - length, start[2], path, RADIUS, SWEEP + DRAW, spacing);
+    if (bite_scene(path, grid, spacing, text, sizeof text)) return o;
     rod_model m;
     if (read_scene_text(text, &m, err, sizeof err)) {
         printf("     the bite's scene: %s\n", err);
         return o;
     }
-    rod_state *s = rod_state_create(&m);
     rod_solver solver;
-    if (!s || rod_solver_init(&solver, &m, err, sizeof err)) {
-        printf("     create: %s\n", err);
-        rod_state_destroy(s);
+    rod_state *s = run_start(&m, &solver);
+    if (!s) {
         rod_model_release(&m);
         return o;
     }
     rod_report report;
     memset(&report, 0, sizeof report);
-    const int steps = (int)lround((SWEEP + DRAW) / 0.001);
+    const int steps = (int)lround((BITE_SWEEP + BITE_DRAW) / 0.001);
     o.ok = 1;
     for (int i = 1; i <= steps && o.ok; i++)
         if (rod_solver_step(&solver, &m, s, 0.001, &report) != ROD_OK) {
@@ -418,7 +338,8 @@ static void test_needle(void)
      * is cut where the thread crosses the skin once the needle's back is
      * about its segment past it (puncture_needle_holes), so within that
      * segment's length of the circle's crossing */
-    const double y_skin = sqrt(RADIUS * RADIUS - (RADIUS - DEPTH) * (RADIUS - DEPTH));
+    const double zc = BITE_RADIUS - BITE_DEPTH;
+    const double y_skin = sqrt(BITE_RADIUS * BITE_RADIUS - zc * zc);
     static const char *const name[2] = {"entry", "exit"};
     for (int h = 0; h < 2; h++) {
         char what[200];
@@ -445,7 +366,7 @@ static void test_needle(void)
     check(t.holes == 2 && t.tracks >= 2, "graded, track_spacing 3 mm: %d holes (2) and %d track "
           "points (at least 2 along the 11 mm under the skin)", t.holes, t.tracks);
     check_rel("graded with the track: the thread's deepest point between the holes against the "
-              "circle's depth (m)", t.deepest, DEPTH, 0.10);
+              "circle's depth (m)", t.deepest, BITE_DEPTH, 0.10);
 }
 
 /* ---- a puncture on a graded starting shape ---- */

@@ -24,27 +24,8 @@
 #include "base/vec3.h"
 #include "sim/rod_set.h"
 #include "test.h"
+#include "test_needle_bite.h"
 #include "test_process.h"
-
-#define RADIUS 0.005517 /* m: the needle's circle */
-#define DEPTH 0.0035    /* m: the bite's depth under the skin (z = 0) */
-#define SWEEP 1.7       /* s: the needle's back from -85 to +85 degrees */
-#define DRAW 0.5        /* s: then drawn up and on */
-
-/* The needle's back at time t: on the circle, then straight on. */
-static void back_at(double t, double p[3])
-{
-    const double zc = RADIUS - DEPTH, a0 = -85.0 * M_PI / 180.0;
-    double u = t < SWEEP ? t / SWEEP : 1.0, a = a0 + u * (-2.0 * a0);
-    p[0] = 0.0;
-    p[1] = RADIUS * sin(a);
-    p[2] = zc - RADIUS * cos(a);
-    if (t > SWEEP) { /* up and on, 10 mm along y and 5 mm up */
-        const double w = (t - SWEEP) / DRAW > 1.0 ? 1.0 : (t - SWEEP) / DRAW;
-        p[1] += 0.010 * w;
-        p[2] += 0.005 * w;
-    }
-}
 
 /* m: the distance from p to the centreline (nodes x 3) */
 static double to_centreline(const double *x, int nodes, const double p[3])
@@ -79,29 +60,9 @@ static outcome run_bite(double spacing)
     char scene[256], path[256], err[1024];
     snprintf(scene, sizeof scene, "%s/bite.ini", test_dir());
     snprintf(path, sizeof path, "%s/back.csv", test_dir());
-    FILE *f = fopen(path, "w");
-    if (!f) return o;
-    fprintf(f, "t,x,y,z\n");
-    for (int i = 0; i <= 110; i++) {
-        double t = 0.02 * i, p[3];
-        back_at(t, p);
-        fprintf(f, "%.6f,%.9f,%.9f,%.9f\n", t, p[0], p[1], p[2]);
-    }
-    fclose(f);
-    double start[3];
-    back_at(0.0, start);
-    const double length = 0.04;
     char text[2048];
-    snprintf(text, sizeof text,
-             "[rod]\nlength = %g\ndiameter = 0.00018\ndensity = 1140\nyoungs_modulus = 1.5e9\n"
-             "shear_modulus = 0.55e9\nnodes = 41\norigin = 0 %.9f %.9f\ndirection = 0 1 0\n"
-             "[ends]\nroot = free\ntip = pinned\ntip_motion = %s\nneedle = %g\n"
-             "[solver]\nscheme = implicit\ndt = 0.001\nduration = %g\n"
-             "[loads]\ngravity = 0 0 -9.81\nlinear_damping = 2e-3\n"
-             "[surface]\nshape = box\ncenter = 0 0 -0.004\nsize = 0.04 0.06 0.008\n"
-             "friction = 0.3\ntissue = yes\ntrack_spacing = %g\n",
-             length, start[1] - length, start[2], path, RADIUS, SWEEP + DRAW, spacing);
-    f = fopen(scene, "w");
+    if (bite_scene(path, "nodes = 41\n", spacing, text, sizeof text)) return o;
+    FILE *f = fopen(scene, "w");
     if (f) {
         fputs(text, f);
         fclose(f);
@@ -120,7 +81,7 @@ static outcome run_bite(double spacing)
     const rod_model *m = &set.model[0];
     rod_state *s = run.state[0];
     const double h = 0.001, c0 = (double)clock() / CLOCKS_PER_SEC;
-    const int steps = (int)lround((SWEEP + DRAW) / h);
+    const int steps = (int)lround((BITE_SWEEP + BITE_DRAW) / h);
     rod_report report;
     o.ok = 1;
     for (int i = 1; i <= steps && o.ok; i++) {
@@ -145,13 +106,13 @@ static outcome run_bite(double spacing)
     o.cpu = (double)clock() / CLOCKS_PER_SEC - c0;
     /* the holes and the track points, in the order they were made */
     double entry_s = -1.0, exit_s = -1.0, last_s = -INFINITY;
-    const double zc = RADIUS - DEPTH;
+    const double zc = BITE_RADIUS - BITE_DEPTH;
     o.in_order = 1;
     for (int k = 0; k < s->puncture_count; k++) {
         const rod_puncture_state *p = &s->puncture[k];
         if (p->track) {
             o.tracks++;
-            const double off = hypot(p->point[1], p->point[2] - zc) - RADIUS;
+            const double off = hypot(p->point[1], p->point[2] - zc) - BITE_RADIUS;
             o.worst_circle = fmax(o.worst_circle, fabs(off));
         } else {
             o.holes++;
@@ -198,11 +159,11 @@ int main(void)
               "with the track (%.1f mm): %d holes (expected 2, entry and exit) and %d track "
               "points (expected at least 3 along the 11 mm under the skin)",
               1e3 * spacing, on.holes, on.tracks);
-        const double rel = fabs(on.deepest - DEPTH) / DEPTH;
+        const double rel = fabs(on.deepest - BITE_DEPTH) / BITE_DEPTH;
         check(rel <= 0.10,
               "with the track the thread's deepest point between the holes is %.3f mm under "
               "the skin, the needle's circle %.3f mm: relative error %.3f (at most 0.10)",
-              1e3 * on.deepest, 1e3 * DEPTH, rel);
+              1e3 * on.deepest, 1e3 * BITE_DEPTH, rel);
         check(on.worst_circle <= 3e-4,
               "the track points on the needle's circle: at most %.3f mm off it (tolerance 0.3)",
               1e3 * on.worst_circle);
@@ -218,12 +179,12 @@ int main(void)
         check(off.holes == 2 && off.tracks == 0,
               "without the track: %d holes and %d track points (expected 2 and 0)", off.holes,
               off.tracks);
-        check(off.deepest <= 0.25 * DEPTH,
+        check(off.deepest <= 0.25 * BITE_DEPTH,
               "without the track the thread between the holes is the chord (sagging under its "
               "weight): its deepest point %.3f mm under the skin, a quarter of the needle's "
-              "circle's %.3f mm at most", 1e3 * off.deepest, 1e3 * DEPTH);
+              "circle's %.3f mm at most", 1e3 * off.deepest, 1e3 * BITE_DEPTH);
     }
     printf("# CPU: %.2f s with the track, %.2f s without (%.1f simulated s each)\n", on.cpu,
-           off.cpu, SWEEP + DRAW);
+           off.cpu, BITE_SWEEP + BITE_DRAW);
     return test_finish();
 }

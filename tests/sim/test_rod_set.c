@@ -284,19 +284,14 @@ static void test_order(void)
     }
 }
 
-/* Linear momentum (kg m/s, global) of a rod: its nodes' lumped masses
- * (rho A ds, half at the two ends, as the implicit scheme's cells) times
- * their velocities */
-static void momentum(const rod_model *m, const rod_state *s, double out[3])
+#define ROPE_REACH 0.004 /* m: two ropes' contact distance (their diameter) */
+
+/* The least distance between the pressed ropes' centrelines less their
+ * contact distance (m) */
+static double pressed_gap(const rod_set_run *run)
 {
-    const double ds = m->length / (m->nodes - 1);
-    v3_set(out, 0.0, 0.0, 0.0);
-    for (int i = 0; i < s->nodes; i++) {
-        double v[3];
-        m3_mul_v(v, &s->frame[9 * i], &s->velocity[3 * i]);
-        const double mass = m->mass_per_length * ds * (i == 0 || i == s->nodes - 1 ? 0.5 : 1.0);
-        v3_axpy(out, mass, v);
-    }
+    double h;
+    return closest(run->state[0], run->state[1], &h) - ROPE_REACH;
 }
 
 /* Two ropes crossing in space, no gravity, damping or surface: a tip force
@@ -306,64 +301,19 @@ static void momentum(const rod_model *m, const rod_state *s, double out[3])
  * opposite, in the same step */
 static void test_momentum(void)
 {
-    char text[4096], err[1024];
     const double push = 0.02; /* N, -z on b's tip */
-    snprintf(text, sizeof text,
-             "[rod a]\nlength = 0.3\ndiameter = 0.004\ndensity = 1100\nyoungs_modulus = 5e7\n"
-             "shear_modulus = 1.9e7\nnodes = 31\norigin = -0.15 0 0\ndirection = 1 0 0\n"
-             "friction = 0.3\n[ends a]\nroot = free\ntip = free\n"
-             "[rod b]\nlength = 0.2\ndiameter = 0.004\ndensity = 1100\nyoungs_modulus = 5e7\n"
-             "shear_modulus = 1.9e7\nnodes = 21\norigin = 0.003 -0.19 0.0045\n"
-             "direction = 0 1 0\nfriction = 0.3\n[ends b]\nroot = free\ntip = free\n"
-             "[tip b]\nframe = global\nforce = 0 0 %.17g\n"
-             "[solver]\nscheme = implicit\ndt = 0.001\nduration = 0.3\n"
-             "[physics]\ngravity = off\n",
-             -push);
-    rod_set set;
-    rod_set_run run;
-    int ok = test_read_set(text, &set, err, sizeof err) == 0;
-    if (!check(ok, "two ropes in space read (%s)", ok ? "ok" : err)) return;
-    if (rod_set_run_create(&set, &run, err, sizeof err)) {
-        check(0, "run made: %s", err);
-        rod_set_release(&set);
-        return;
-    }
-    const double dt = 0.001;
-    const int steps = 300;
-    double p0[2][3], worst = 0.0, touch = 0.0, least = INFINITY;
-    for (int k = 0; k < 2; k++) momentum(&set.model[k], run.state[k], p0[k]);
-    const double reach = 0.004;
-    int failed = 0;
-    rod_report report;
-    for (int i = 0; i < steps && !failed; i++) {
-        failed = rod_set_step(&set, &run, dt, &report) != ROD_OK;
-        double total[3] = {0.0, 0.0, 0.0};
-        for (int k = 0; k < 2; k++) {
-            double p[3];
-            momentum(&set.model[k], run.state[k], p);
-            v3_axpy(total, 1.0, p);
-            v3_axpy(total, -1.0, p0[k]);
-        }
-        total[2] += push * (i + 1) * dt; /* less the impulse of the tip force */
-        worst = fmax(worst, v3_norm(total));
-        touch = fmax(touch, v3_norm(run.touch_force[0]));
-        double h;
-        least = fmin(least, closest(run.state[0], run.state[1], &h) - reach);
-    }
-    check(!failed, "%d steps: %s", steps, failed ? report.message : "ok");
-    check(touch > 0.5 * push, "the ropes touch: the largest contact force %.4g N (tip force %.3g N)",
-          touch, push);
-    const double impulse = push * steps * dt;
+    test_pressed r;
+    if (test_pressed_ropes_run("", "", push, pressed_gap, &r)) return;
+    check(r.touch > 0.5 * push, "the ropes touch: the largest contact force %.4g N (tip force "
+          "%.3g N)", r.touch, push);
     printf("  momentum: sum of changes less the tip force's impulse, largest over the steps "
-           "%.3g kg m/s (the impulse %.4g kg m/s; %.3g of it)\n", worst, impulse,
-           worst / impulse);
-    check(worst < 1e-12 * impulse + 1e-15, "momentum: the rods' momentum changes sum to the "
-          "external impulse to round-off at every step (%.3g of it)", worst / impulse);
-    check(least > -0.05 * reach, "no pass-through at any step: least gap %.3g m", least);
+           "%.3g kg m/s (the impulse %.4g kg m/s; %.3g of it)\n", r.worst, r.impulse,
+           r.worst / r.impulse);
+    check(r.worst < 1e-12 * r.impulse + 1e-15, "momentum: the rods' momentum changes sum to the "
+          "external impulse to round-off at every step (%.3g of it)", r.worst / r.impulse);
+    check(r.least > -0.05 * ROPE_REACH, "no pass-through at any step: least gap %.3g m", r.least);
     printf("  sweeps: %ld in %ld steps, %ld Newton solves; %ld steps short of the tolerance\n",
-           run.sweeps, run.steps, run.solves, run.unsettled);
-    rod_set_run_destroy(&run);
-    rod_set_release(&set);
+           r.sweeps, r.steps, r.solves, r.unsettled);
 }
 
 /* A scene of several rods that asks for what they do not model is refused

@@ -26,24 +26,8 @@
 #include "sim/tissue/tissue.h"
 #include "sim/tissue/tissue_coupling.h"
 #include "test.h"
+#include "test_pad_reaction.h"
 #include "test_scene_run.h"
-
-/* What the pad's holders take (N, z up) less the pad's own weight (its
- * lumped masses times g): the load the thread puts on it. */
-static double pad_reaction(tissue_solid *t, double g)
-{
-    const double *rest = tissue_rest_positions(t), *mass = tissue_node_masses(t);
-    double low = INFINITY, sum = 0.0, weight = 0.0;
-    for (int n = 0; n < tissue_node_count(t); n++) low = fmin(low, rest[3 * n + 2]);
-    for (int n = 0; n < tissue_node_count(t); n++) {
-        weight += mass[n] * g;
-        if (rest[3 * n + 2] > low + 1e-12) continue;
-        double r[3];
-        tissue_reaction(t, n, r);
-        sum += r[2];
-    }
-    return sum - weight;
-}
 
 /* The moving mesh's tree answers what the fixed mesh's grid does on the
  * same triangles: the pad's surface, deformed, at 3000 points about it. */
