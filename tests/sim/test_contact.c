@@ -49,16 +49,6 @@ static rod_surface plane(const double center[3], const double normal[3], double 
     return s;
 }
 
-static int derive(rod_model *m)
-{
-    char err[512];
-    if (rod_model_derive(m, err, sizeof err)) {
-        printf("     derive: %s\n", err);
-        return -1;
-    }
-    return 0;
-}
-
 /* Gravitational and elastic energy, J (the kinetic energy is rod_kinetic_energy). */
 static double potential_energy(const rod_model *m, const rod_state *s)
 {
@@ -267,7 +257,7 @@ static drop_result drop(double dt, double duration)
     rod_model m = thread_model(0.3, 0.001, 31);
     v3_set(m.origin, 0.0, 0.0, 0.02);
     v3_set(m.direction, 1.0, 0.0, 0.2);
-    if (derive(&m)) return r;
+    if (model_derive(&m)) return r;
     v3_set(m.distributed_force, 0.0, 0.0, -m.mass_per_length * GRAVITY);
     double zero[3] = {0, 0, 0}, up[3] = {0, 0, 1};
     rod_surface floor_plane = plane(zero, up, 0.3);
@@ -346,7 +336,7 @@ static int incline(double alpha, double mu, double t1, double t2, double *v1, do
     const double radius = 0.5 * m.diameter;
     v3_scale(m.origin, n, radius); /* touching, across the slope (along y) */
     v3_set(m.direction, 0.0, 1.0, 0.0);
-    if (derive(&m)) return -1;
+    if (model_derive(&m)) return -1;
     v3_set(m.distributed_force, 0.0, 0.0, -m.mass_per_length * GRAVITY);
     double zero[3] = {0, 0, 0};
     rod_surface slope = plane(zero, n, mu);
@@ -462,7 +452,7 @@ static double capstan(double mu, double w_load, double pull, double duration, in
     char err[512];
     m.root_motion = rod_path_create(rows, 2, 4, err, sizeof err);
     double result = NAN;
-    if (!m.root_motion || derive(&m)) {
+    if (!m.root_motion || model_derive(&m)) {
         printf("     capstan model: %s\n", err);
         rod_model_release(&m);
         return NAN;
@@ -552,7 +542,7 @@ static double puncture_run(double mu, double w_load, double *t_root, double *u1,
     m.puncture_count = 1;
     m.punctures = &hole;
     double result = NAN;
-    if (!m.root_motion || derive(&m)) goto done_model;
+    if (!m.root_motion || model_derive(&m)) goto done_model;
     rod_solver solver;
     rod_state *s = run_start(&m, &solver);
     if (!s) goto done_model;
@@ -710,7 +700,7 @@ static void test_threaded_slack(void)
         skin.tissue = 1;
         m.surface_count = 1;
         m.surfaces = &skin;
-        if (derive(&m)) continue;
+        if (model_derive(&m)) continue;
         rod_state *s = rod_state_create(&m);
         unsigned threaded[61];
         if (!s) {
@@ -746,7 +736,7 @@ static void stall(int on_plane)
     v3_set(m.direction, 0.0, 1.0, 0.0);
     m.options.newton_max_iterations = 1;
     m.options.newton_tolerance = 1e-30;
-    if (derive(&m)) return;
+    if (model_derive(&m)) return;
     v3_set(m.distributed_force, 0.0, 0.0, -m.mass_per_length * GRAVITY);
     const double zero[3] = {0, 0, 0}, up[3] = {0, 0, 1};
     rod_surface floor = plane(zero, up, 0.5);
@@ -797,7 +787,7 @@ static void stall_not_finite(void)
 {
     rod_model m = thread_model(0.2, 0.001, 21);
     v3_set(m.direction, 0.0, 1.0, 0.0);
-    if (derive(&m)) return;
+    if (model_derive(&m)) return;
     rod_state *s = rod_state_create(&m);
     rod_solver solver;
     char err[512];

@@ -46,16 +46,6 @@ static rod_model thread_model(int nodes, const rod_refine *refine, int refine_co
     return m;
 }
 
-static int derive(rod_model *m)
-{
-    char err[512];
-    if (rod_model_derive(m, err, sizeof err)) {
-        printf("     derive: %s\n", err);
-        return -1;
-    }
-    return 0;
-}
-
 /* The straight graded thread: puncture_locate's (j, alpha) for arc lengths
  * swept across the whole thread put the point (1 - alpha) r_j + alpha r_j+1
  * at x = s; the nearest arc length of a point beside the thread is its x. */
@@ -63,7 +53,7 @@ static void test_locate(void)
 {
     const rod_refine refine = {0.11, 0.2, 4.0};
     rod_model m = thread_model(101, &refine, 1);
-    if (!check(derive(&m) == 0 && m.segment_length, "a graded thread with a puncture derives"))
+    if (!check(model_derive(&m) == 0 && m.segment_length, "a graded thread with a puncture derives"))
         return;
     rod_state *s = rod_state_create(&m);
     if (!s) {
@@ -151,7 +141,7 @@ static int pull(int nodes, const rod_refine *refine, int refine_count, double mu
     m.punctures = &hole;
     int rc = -1;
     memset(r, 0, sizeof *r);
-    if (!m.root_motion || derive(&m)) goto done_model;
+    if (!m.root_motion || model_derive(&m)) goto done_model;
     rod_solver solver;
     rod_state *s = run_start(&m, &solver);
     if (!s) goto done_model;

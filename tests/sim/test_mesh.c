@@ -22,6 +22,7 @@
 #include "test_capstan.h"
 #include "test_curve.h"
 #include "test_process.h"
+#include "test_run_start.h"
 
 #define GRAVITY 9.81 /* m/s^2 */
 
@@ -192,16 +193,6 @@ static rod_model thread_model(double length, double diameter, int nodes)
     return m;
 }
 
-static int derive(rod_model *m)
-{
-    char err[512];
-    if (rod_model_derive(m, err, sizeof err)) {
-        printf("     derive: %s\n", err);
-        return -1;
-    }
-    return 0;
-}
-
 /* A thread dropped from a slant onto surface sf (z = 0 its top), run for
  * `duration`: its final nodes into out (nodes x 3). Returns 0 or -1. */
 static int drop_on(const rod_surface *sf, double duration, double *out, int nodes)
@@ -209,7 +200,7 @@ static int drop_on(const rod_surface *sf, double duration, double *out, int node
     rod_model m = thread_model(0.3, 0.001, nodes);
     v3_set(m.origin, -0.15, 0.0, 0.01);
     v3_set(m.direction, 1.0, 0.0, 0.05);
-    if (derive(&m)) return -1;
+    if (model_derive(&m)) return -1;
     v3_set(m.distributed_force, 0.0, 0.0, -m.mass_per_length * GRAVITY);
     m.surface_count = 1;
     m.surfaces = (rod_surface *)sf;
@@ -310,7 +301,7 @@ static double capstan(const rod_surface *drum, double R, double w_load, double p
     char err[512];
     m.root_motion = rod_path_create(rows, 2, 4, err, sizeof err);
     double result = NAN;
-    if (!m.root_motion || derive(&m)) {
+    if (!m.root_motion || model_derive(&m)) {
         rod_model_release(&m);
         return NAN;
     }
@@ -355,7 +346,7 @@ static void test_box_drop(void)
     const double radius = 0.001;
     v3_set(m.origin, -0.06, -0.02, 0.03);
     v3_set(m.direction, 1.0, 0.3, -0.15);
-    if (derive(&m)) return;
+    if (model_derive(&m)) return;
     v3_set(m.distributed_force, 0.0, 0.0, -m.mass_per_length * GRAVITY);
     m.linear_damping = 0.01;
     m.surface_count = 1;
