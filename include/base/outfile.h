@@ -92,6 +92,13 @@ void outfile_signal_defer_allow(int on);
 int outfile_signal_defer(int on);
 int outfile_stop_signal(void);
 
+/* "SIGINT (Ctrl-C)" or "SIGTERM". */
+const char *outfile_signal_name(int sig);
+
+/* The noted signal's stop in words, "stopped by SIGTERM at t = T s", into
+ * out: 1, or 0 (out untouched) when none was noted. */
+int outfile_stop_message(double t, char *out, size_t n);
+
 /* A directory of outputs (a frame sequence): made under a hidden name
  * ".NAME.tmpPID" beside `dir` (f->tmp_path; the signal handler removes it),
  * then renamed over `dir` (replacing an older one) by outfile_commit(), or,

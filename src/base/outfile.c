@@ -511,6 +511,15 @@ int outfile_signal_defer(int on)
 
 int outfile_stop_signal(void) { return deferred; }
 
+const char *outfile_signal_name(int sig) { return sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM"; }
+
+int outfile_stop_message(double t, char *out, size_t n)
+{
+    if (!deferred) return 0;
+    snprintf(out, n, "stopped by %s at t = %g s", outfile_signal_name(deferred), t);
+    return 1;
+}
+
 static void on_signal(int sig)
 {
     if (deferring && !deferred) {

@@ -2,7 +2,6 @@
 #include "cli/rods_run.h"
 
 #include <math.h>
-#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -195,12 +194,9 @@ static int output_frame(rods_run *r)
 static rod_status advance(rods_run *r, long long n, double h, double target, rod_report *report)
 {
     for (long long j = 0; j < n; j++) {
-        const int sig = outfile_stop_signal(); /* the user's stop (base/outfile.h) */
-        if (sig) {
-            snprintf(report->message, sizeof report->message, "stopped by %s at t = %g s",
-                     sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM", r->run.state[0]->time);
+        /* the user's stop (base/outfile.h) */
+        if (outfile_stop_message(r->run.state[0]->time, report->message, sizeof report->message))
             return ROD_FAILED;
-        }
         double t0 = cpu_seconds();
         rod_status st = rod_set_step(&r->set, &r->run, h, report);
         r->step_cpu += cpu_seconds() - t0;
@@ -252,12 +248,9 @@ static rod_status simulate(rods_run *r, rod_report *report)
 {
     outfile_signal_defer(1);
     rod_status st = simulate_steps(r, report);
-    const int sig = outfile_signal_defer(0);
-    if (sig && st == ROD_OK) {
-        snprintf(report->message, sizeof report->message, "stopped by %s at t = %g s",
-                 sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM", r->run.state[0]->time);
+    if (outfile_signal_defer(0) && st == ROD_OK &&
+        outfile_stop_message(r->run.state[0]->time, report->message, sizeof report->message))
         st = ROD_FAILED;
-    }
     return st;
 }
 

@@ -4,7 +4,6 @@
 
 #include <limits.h>
 #include <math.h>
-#include <signal.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -251,20 +250,16 @@ int run_pace_check(run_pace *pace, int64_t steps)
     return pace->stopped;
 }
 
-/* Takes n steps of h from the output time s->time to the next one, `target`.
- * Equal steps: dt is the same for every step of every whole interval, so an
- * implicit scheme keeps its Jacobian factorised across them. */
 /* A SIGINT/SIGTERM noted while the loop runs (base/outfile.h): the run
  * ends here, as a failure the command turns into 128 + the signal. */
 static int stopped_by_signal(const rod_state *s, rod_report *report)
 {
-    const int sig = outfile_stop_signal();
-    if (!sig) return 0;
-    snprintf(report->message, sizeof report->message, "stopped by %s at t = %g s",
-             sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM", s->time);
-    return 1;
+    return outfile_stop_message(s->time, report->message, sizeof report->message);
 }
 
+/* Takes n steps of h from the output time s->time to the next one, `target`.
+ * Equal steps: dt is the same for every step of every whole interval, so an
+ * implicit scheme keeps its Jacobian factorised across them. */
 static rod_status advance(rod_solver *solver, const rod_model *m, rod_state *s, int64_t n,
                           double h, double target, rod_report *report, run_stats *stats,
                           run_pace *pace)

@@ -2,7 +2,6 @@
  * --set overrides, then scene_outputs.h. */
 #include "cli/run_cli.h"
 
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
@@ -252,7 +251,7 @@ int run_command(int argc, char **argv)
             status = 128 + sig;
             summary.status = "stopped";
             fprintf(stderr, "rodsim: stopped by %s: exit %d, unfinished outputs removed\n",
-                    sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM", status);
+                    outfile_signal_name(sig), status);
         }
     }
     if (summary_path) status = finish_summary(summary_path, &summary, status, wall_start);
