@@ -116,7 +116,8 @@ typedef struct summary_knot_across {
 /* What a run tells; every `has_` flag says the part is known (else left
  * out of the JSON). Strings are copied in (fixed size: no ownership). */
 typedef struct run_summary {
-    const char *status;   /* "ok" | "refused" | "unstable" | "failed"; NULL: from exit_code */
+    /* "ok" | "refused" | "unstable" | "failed" | "stopped"; NULL: from exit_code */
+    const char *status;
     int exit_code;
     char message[SUMMARY_TEXT_LEN];           /* why the run did not succeed ("" when ok) */
     int warning_count;
